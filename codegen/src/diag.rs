@@ -1,0 +1,99 @@
+//! Diagnostics: what the readers and the validator say about a description file.
+//!
+//! A diagnostic has a stable rule code (see [`crate::rules`]), a severity, a one-line message, the
+//! primary span in the file, an optional label for the underline and an optional `help:` line.
+//! Rendering (rustc-style text and JSON) lives in [`crate::render`].
+
+use crate::model::Span;
+use crate::rules::Rule;
+
+/// How serious a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Severity {
+    /// A dialect was normalised or something is worth knowing; never fails anything.
+    Info,
+    /// Suspicious, or the established tools disagree; fails only with `--deny warnings`.
+    Warning,
+    /// The file breaks the standard, or code generated from it would be wrong.
+    Error,
+}
+
+impl Severity {
+    /// The lowercase name used in output (`error`, `warning`, `info`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Severity::Info => "info",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        }
+    }
+}
+
+/// One finding about one file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// The rule that fired.
+    pub rule: &'static Rule,
+    /// The severity of this instance (usually `rule.severity`; rules with a secondary severity may
+    /// use the other one).
+    pub severity: Severity,
+    /// A one-line message, specific to this instance.
+    pub message: String,
+    /// The primary span; `None` for findings about the file as a whole (no line to show).
+    pub span: Option<Span>,
+    /// The label printed under the underline.
+    pub label: Option<String>,
+    /// A `help:` line, where a fix is known.
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    /// A diagnostic for `rule` at its default severity.
+    pub fn new(rule: &'static Rule, span: Option<Span>, message: impl Into<String>) -> Self {
+        Diagnostic {
+            rule,
+            severity: rule.severity,
+            message: message.into(),
+            span,
+            label: None,
+            help: None,
+        }
+    }
+
+    /// Overrides the severity (for rules with a secondary severity).
+    pub fn with_severity(mut self, severity: Severity) -> Self {
+        self.severity = severity;
+        self
+    }
+
+    /// Adds the label shown under the underlined span.
+    pub fn with_label(mut self, label: impl Into<String>) -> Self {
+        self.label = Some(label.into());
+        self
+    }
+
+    /// Adds a `help:` line.
+    pub fn with_help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// The rule code, e.g. `EDS301`.
+    pub fn code(&self) -> &'static str {
+        self.rule.code
+    }
+}
+
+/// Sorts diagnostics into the order they are shown: by line, then column, then code.
+pub fn sort(diags: &mut [Diagnostic]) {
+    diags.sort_by(|a, b| {
+        let key = |d: &Diagnostic| {
+            (
+                d.span.map_or(0, |s| s.line),
+                d.span.map_or(0, |s| s.column),
+                d.rule.code,
+            )
+        };
+        key(a).cmp(&key(b))
+    });
+}

@@ -1,0 +1,220 @@
+//! The object-dictionary interface between the protocol cores and a device's data.
+//!
+//! Generated code implements [`ObjectDictionary`] for each device struct: a sorted `const` table
+//! of [`EntryDescriptor`]s plus `read`/`write` by (index, sub) into byte buffers. The OD checks
+//! what only it can know (lengths, LowLimit/HighLimit, value ranges of odd-width integers); the
+//! protocols check access rights against the descriptor (an SDO write to a `ro` entry, a PDO
+//! mapping of a non-mappable one), so the same OD serves SDO, PDO and the node's own updates.
+
+/// A CiA 301 data type, as the runtime needs it (the wire size and how a value is checked).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[allow(missing_docs)]
+pub enum DataType {
+    Boolean,
+    Integer8,
+    Integer16,
+    Integer24,
+    Integer32,
+    Integer40,
+    Integer48,
+    Integer56,
+    Integer64,
+    Unsigned8,
+    Unsigned16,
+    Unsigned24,
+    Unsigned32,
+    Unsigned40,
+    Unsigned48,
+    Unsigned56,
+    Unsigned64,
+    Real32,
+    Real64,
+    VisibleString,
+    OctetString,
+    UnicodeString,
+    TimeOfDay,
+    TimeDifference,
+    Domain,
+}
+
+impl DataType {
+    /// The fixed size in bytes, or `None` for strings and DOMAIN (variable length).
+    pub const fn fixed_size(self) -> Option<usize> {
+        Some(match self {
+            DataType::Boolean | DataType::Integer8 | DataType::Unsigned8 => 1,
+            DataType::Integer16 | DataType::Unsigned16 => 2,
+            DataType::Integer24 | DataType::Unsigned24 => 3,
+            DataType::Integer32 | DataType::Unsigned32 | DataType::Real32 => 4,
+            DataType::Integer40 | DataType::Unsigned40 => 5,
+            DataType::Integer48
+            | DataType::Unsigned48
+            | DataType::TimeOfDay
+            | DataType::TimeDifference => 6,
+            DataType::Integer56 | DataType::Unsigned56 => 7,
+            DataType::Integer64 | DataType::Unsigned64 | DataType::Real64 => 8,
+            DataType::VisibleString
+            | DataType::OctetString
+            | DataType::UnicodeString
+            | DataType::Domain => return None,
+        })
+    }
+}
+
+/// Access rights of an entry (CiA 306 spelling).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Access {
+    /// Read only.
+    Ro,
+    /// Write only.
+    Wo,
+    /// Read and write.
+    Rw,
+    /// Read and write; TPDO-mappable.
+    Rwr,
+    /// Read and write; RPDO-mappable.
+    Rww,
+    /// Constant.
+    Const,
+}
+
+impl Access {
+    /// Whether an SDO client may read the entry.
+    pub const fn readable(self) -> bool {
+        !matches!(self, Access::Wo)
+    }
+    /// Whether an SDO client may write the entry.
+    pub const fn writable(self) -> bool {
+        matches!(self, Access::Wo | Access::Rw | Access::Rwr | Access::Rww)
+    }
+}
+
+/// What the protocols need to know about one entry, without touching its value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct EntryDescriptor {
+    /// OD index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// Data type.
+    pub data_type: DataType,
+    /// Access rights.
+    pub access: Access,
+    /// Whether the entry may be mapped into a PDO.
+    pub pdo_mappable: bool,
+    /// Size in bytes: the fixed size, or the capacity of a string, octet string or domain.
+    pub size: u16,
+}
+
+/// SDO abort codes (CiA 301 table 22).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum SdoAbort {
+    /// Toggle bit not alternated.
+    ToggleBit = 0x0503_0000,
+    /// SDO protocol timed out.
+    Timeout = 0x0504_0000,
+    /// Client/server command specifier not valid or unknown.
+    InvalidCommand = 0x0504_0001,
+    /// Invalid block size (block mode only).
+    InvalidBlockSize = 0x0504_0002,
+    /// Invalid sequence number (block mode only).
+    InvalidSequence = 0x0504_0003,
+    /// CRC error (block mode only).
+    CrcError = 0x0504_0004,
+    /// Out of memory.
+    OutOfMemory = 0x0504_0005,
+    /// Unsupported access to an object.
+    UnsupportedAccess = 0x0601_0000,
+    /// Attempt to read a write-only object.
+    WriteOnly = 0x0601_0001,
+    /// Attempt to write a read-only object.
+    ReadOnly = 0x0601_0002,
+    /// Object does not exist in the object dictionary.
+    NoObject = 0x0602_0000,
+    /// Object cannot be mapped to the PDO.
+    NotMappable = 0x0604_0041,
+    /// The number and length of the objects to be mapped would exceed the PDO length.
+    PdoTooLong = 0x0604_0042,
+    /// General parameter incompatibility.
+    ParameterIncompatible = 0x0604_0043,
+    /// General internal incompatibility in the device.
+    InternalIncompatible = 0x0604_0047,
+    /// Access failed due to a hardware error.
+    Hardware = 0x0606_0000,
+    /// Data type does not match, length of service parameter does not match.
+    LengthMismatch = 0x0607_0010,
+    /// Data type does not match, length of service parameter too high.
+    LengthTooHigh = 0x0607_0012,
+    /// Data type does not match, length of service parameter too low.
+    LengthTooLow = 0x0607_0013,
+    /// Sub-index does not exist.
+    NoSubIndex = 0x0609_0011,
+    /// Invalid value for parameter (download only).
+    InvalidValue = 0x0609_0030,
+    /// Value of parameter written too high (download only).
+    ValueTooHigh = 0x0609_0031,
+    /// Value of parameter written too low (download only).
+    ValueTooLow = 0x0609_0032,
+    /// Maximum value is less than minimum value.
+    MaxBelowMin = 0x0609_0036,
+    /// Resource not available: SDO connection.
+    NoResource = 0x060A_0023,
+    /// General error.
+    General = 0x0800_0000,
+    /// Data cannot be transferred or stored to the application.
+    CannotStore = 0x0800_0020,
+    /// Data cannot be transferred or stored because of local control.
+    LocalControl = 0x0800_0021,
+    /// Data cannot be transferred or stored because of the present device state.
+    DeviceState = 0x0800_0022,
+    /// Object dictionary dynamic generation fails or no object dictionary is present.
+    NoDictionary = 0x0800_0023,
+    /// No data available.
+    NoData = 0x0800_0024,
+}
+
+impl SdoAbort {
+    /// The 32-bit abort code as sent on the wire.
+    pub const fn code(self) -> u32 {
+        self as u32
+    }
+}
+
+/// An object dictionary the protocol cores can serve.
+///
+/// `read` and `write` do not check access rights: the caller (SDO server, PDO engine, the node
+/// itself) does, using [`ObjectDictionary::find`]. They do check lengths and value limits.
+pub trait ObjectDictionary {
+    /// Every entry, sorted by (index, sub).
+    fn entries(&self) -> &[EntryDescriptor];
+
+    /// The descriptor of (index, sub): `NoObject` if the index is absent, `NoSubIndex` if only
+    /// the sub-index is.
+    fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
+        let entries = self.entries();
+        match entries.binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub))) {
+            Ok(pos) => Ok(&entries[pos]),
+            Err(pos) => {
+                let index_exists = entries.get(pos).is_some_and(|e| e.index == index)
+                    || (pos > 0 && entries[pos - 1].index == index);
+                Err(if index_exists {
+                    SdoAbort::NoSubIndex
+                } else {
+                    SdoAbort::NoObject
+                })
+            }
+        }
+    }
+
+    /// The current length in bytes of the value at (index, sub) (shorter than the capacity for a
+    /// string or domain holding less).
+    fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort>;
+
+    /// Copies the value's little-endian bytes, starting `offset` bytes into the value, into
+    /// `buf`; returns how many bytes were copied (fewer than `buf.len()` at the end of the value).
+    fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort>;
+
+    /// Replaces the value at (index, sub) with `data` (little-endian), after checking its length
+    /// and limits. On error the value is unchanged.
+    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort>;
+}
