@@ -11,6 +11,7 @@ pub mod entry;
 pub mod frame;
 pub mod od;
 pub mod time;
+pub mod wire;
 
 pub use entry::{Entry, OdValue};
 pub use frame::{CanFrame, CanId};

@@ -1,0 +1,6 @@
+//! Frame layouts only: a typed view of each CANopen message's bytes, with parse and emit.
+//!
+//! State machines live elsewhere and never index bytes themselves. Every layout is tested byte for
+//! byte against the manuals' examples.
+
+pub mod sdo;
