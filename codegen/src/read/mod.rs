@@ -10,6 +10,7 @@ use crate::model::{Device, Format};
 
 pub mod eds;
 pub mod text;
+pub mod value;
 pub mod xdd;
 
 /// What a reader produced: the model, the diagnostics about the text, and the decoded text (for
