@@ -53,6 +53,8 @@ rules! {
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
     EMPTY_FILE = "EDS022" Error "the file holds no sections";
+    COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled [DeviceCommissioning] (two m); read as the spec's [DeviceComissioning]";
+    ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
 }
 
 /// Looks a rule up by its code.

@@ -9,6 +9,7 @@ use crate::diag::Diagnostic;
 use crate::model::{Device, Format};
 
 pub mod eds;
+pub mod ini;
 pub mod text;
 pub mod value;
 pub mod xdd;
