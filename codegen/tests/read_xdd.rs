@@ -374,13 +374,11 @@ fn faulhaber_xdc_namespace_1_0_resolves_limits_and_access() {
     // 2313h sub 19h: accessType="rw" PDOmapping="RPDO" becomes rww.
     let virtual_input = &device.objects[&0x2313].subs[&0x19];
     assert_eq!(virtual_input.access, Some(AccessType::Rww));
-    // 2313h sub 0Ah: the parameter says readWriteInput, PDOmapping says RPDO: rww, and a warning.
+    // 2313h sub 0Ah: the parameter says readWriteInput (written by the network), PDOmapping
+    // says RPDO: rww, and no conflict.
     let enable = &device.objects[&0x2313].subs[&0x0A];
     assert_eq!(enable.access, Some(AccessType::Rww));
-    assert!(
-        codes.contains(&("EDS608", Severity::Warning, Some(897))),
-        "{codes:?}"
-    );
+    assert!(!codes.iter().any(|c| c.0 == "EDS608"), "{codes:?}");
 }
 
 #[test]
@@ -576,8 +574,8 @@ fn parameter_access_values_map_to_canopen_access() {
         (r#" access="read""#, AccessType::Ro),
         (r#" access="write""#, AccessType::Wo),
         (r#" access="readWrite""#, AccessType::Rw),
-        (r#" access="readWriteInput""#, AccessType::Rwr),
-        (r#" access="readWriteOutput""#, AccessType::Rww),
+        (r#" access="readWriteInput""#, AccessType::Rww),
+        (r#" access="readWriteOutput""#, AccessType::Rwr),
         ("", AccessType::Ro),
     ];
     for (attribute, expected) in cases {
@@ -689,4 +687,20 @@ fn xdc_extension_gives_the_xdc_format() {
     assert_eq!(read.device.source.format, Format::Xdc);
     let read = read_xml("t.xdd", &container("", PARAMETER, OBJECT));
     assert_eq!(read.device.source.format, Format::Xdd);
+}
+
+#[test]
+fn pdo_mapping_direction_wins_over_a_contrary_access_with_a_warning() {
+    let object = r#"<CANopenObject index="6040" name="Controlword" objectType="7" dataType="0006" accessType="rwr" PDOmapping="RPDO"/>"#;
+    let read = read_xml("t.xdd", &container("", "", object));
+    let found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .map(|d| (d.rule.code, d.severity, d.span.map(|s| s.line)))
+        .collect();
+    assert_eq!(found, vec![("EDS608", Severity::Warning, Some(16))]);
+    assert_eq!(
+        read.device.objects[&0x6040].subs[&0].access,
+        Some(AccessType::Rww)
+    );
 }
