@@ -724,3 +724,81 @@ fn pdo_mapping_direction_wins_over_a_contrary_access_with_a_warning() {
         Some(AccessType::Rww)
     );
 }
+
+/// The objects of a dump, by index, without the ones named in `except`.
+fn dumped_objects(read: &Read, except: &[u64]) -> Vec<serde_json::Value> {
+    let dump = edsgen_codegen::dump::to_json(&read.device);
+    dump["objects"]
+        .as_array()
+        .expect("objects array")
+        .iter()
+        .filter(|o| !except.contains(&o["index"].as_u64().unwrap()))
+        .cloned()
+        .collect()
+}
+
+#[test]
+fn canopen_editor_exports_read_the_same_as_eds_and_xdd() {
+    let Some(dir) = corpus() else { return };
+    // CANopenEditor wrote both files of each pair from one project: every object, sub-object,
+    // type, access, mapping, value and limit must agree.
+    let eds = read_corpus(
+        &dir,
+        "CANopenNode__CANopenSocket/examples__basicDevice__basicDevice.eds",
+    );
+    let xdd = read_corpus(
+        &dir,
+        "CANopenNode__CANopenSocket/examples__basicDevice__basicDevice.xdd",
+    );
+    assert_eq!(dumped_objects(&xdd, &[]), dumped_objects(&eds, &[]));
+
+    // The demo device's XDD also holds 1280h, which the project disables (CO_disabled) and the
+    // EDS export leaves out.
+    let eds = read_corpus(&dir, "CANopenNode__CANopenDemo/demo__demoDevice.eds");
+    let xdd = read_corpus(&dir, "CANopenNode__CANopenDemo/demo__demoDevice.xdd");
+    assert_eq!(dumped_objects(&xdd, &[0x1280]), dumped_objects(&eds, &[]));
+    let disabled = &xdd.device.objects[&0x1280];
+    assert!(disabled
+        .custom
+        .contains(&("CO_disabled".to_owned(), "true".to_owned())));
+}
+
+#[test]
+fn truncated_xml_never_panics_and_reports_malformed_xml() {
+    let Some(dir) = corpus() else { return };
+    let bytes = std::fs::read(dir.join("CANopenNode__CANopenEditor/Tests__minimal_project.xdd"))
+        .expect("corpus file");
+    for cut in (1..bytes.len()).step_by(97) {
+        let read = read_bytes(Path::new("cut.xdd"), &bytes[..cut]);
+        let codes: Vec<_> = read.diagnostics.iter().map(|d| d.rule.code).collect();
+        assert_eq!(codes, vec!["EDS601"], "cut at {cut}");
+        assert!(read.device.objects.is_empty(), "cut at {cut}");
+    }
+}
+
+#[test]
+fn byte_order_mark_and_windows_1252_text() {
+    let xml = container("", PARAMETER, OBJECT);
+    let mut with_bom = b"\xEF\xBB\xBF".to_vec();
+    with_bom.extend_from_slice(xml.as_bytes());
+    let read = read_bytes(Path::new("t.xdd"), &with_bom);
+    assert_eq!(read.diagnostics, vec![]);
+    assert_eq!(read.device.source.encoding, TextEncoding::Utf8Bom);
+    assert_eq!(read.device.objects[&0x2000].span, Span::new(22, 1, 14));
+
+    // "Vitesse d\xE9sir\xE9e" in Windows-1252: decoded, with one warning for the whole file.
+    let latin = xml.replace(r#"name="Speed""#, "name=\"Vitesse d\u{e9}sir\u{e9}e\"");
+    let (bytes, _, _) = encoding_rs::WINDOWS_1252.encode(&latin);
+    let read = read_bytes(Path::new("t.xdd"), &bytes);
+    let found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .map(|d| (d.rule.code, d.severity, d.span))
+        .collect();
+    assert_eq!(found, vec![("EDS002", Severity::Warning, None)]);
+    assert_eq!(read.device.source.encoding, TextEncoding::Windows1252);
+    assert_eq!(
+        read.device.objects[&0x2000].name,
+        "Vitesse d\u{e9}sir\u{e9}e"
+    );
+}
