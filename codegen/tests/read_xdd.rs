@@ -802,3 +802,41 @@ fn byte_order_mark_and_windows_1252_text() {
         "Vitesse d\u{e9}sir\u{e9}e"
     );
 }
+
+#[test]
+fn dynamic_channels_and_unread_feature_attributes_are_kept() {
+    let xml = container("", "", OBJECT).replace(
+        "</ApplicationLayers>",
+        r#"<dynamicChannels><dynamicChannel dataType="0007" accessType="readWriteOutput" startIndex="A4C0" endIndex="A4FF" maxNumber="64" addressOffset="0" bitAlignment="32"/></dynamicChannels>
+</ApplicationLayers>
+<NetworkManagement><CANopenGeneralFeatures granularity="8" SDORequestingDevice="false"/><CANopenMasterFeatures bootUpMaster="true" flyingMaster="false"/></NetworkManagement>"#,
+    );
+    let read = read_xml("t.xdd", &xml);
+    let device = &read.device;
+    let channels = device
+        .other_sections
+        .iter()
+        .find(|s| s.name == "dynamicChannels")
+        .expect("dynamicChannels kept");
+    let keys: Vec<(&str, &str)> = channels
+        .entries
+        .iter()
+        .map(|e| (e.key.as_str(), e.value.as_str()))
+        .collect();
+    assert_eq!(keys[0], ("dynamicChannel1.dataType", "0007"));
+    assert_eq!(keys[2], ("dynamicChannel1.startIndex", "A4C0"));
+    assert_eq!(keys.len(), 7);
+    assert!(device.device_info.simple_boot_up_master);
+    let general = device
+        .other_sections
+        .iter()
+        .find(|s| s.name == "CANopenGeneralFeatures")
+        .expect("unread general features kept");
+    assert_eq!(general.entries[0].key, "SDORequestingDevice");
+    let master = device
+        .other_sections
+        .iter()
+        .find(|s| s.name == "CANopenMasterFeatures")
+        .expect("unread master features kept");
+    assert_eq!(master.entries[0].key, "flyingMaster");
+}

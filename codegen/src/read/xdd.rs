@@ -358,6 +358,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                 "CANopenGeneralFeatures" => self.read_general_features(node, device),
                 "CANopenMasterFeatures" => self.read_master_features(node, device),
                 "deviceCommissioning" => self.read_commissioning(node, device),
+                "dynamicChannels" => self.read_dynamic_channels(node, device),
                 _ => {}
             }
         }
@@ -1106,6 +1107,26 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                 span: self.element_span(node),
             });
         }
+    }
+
+    /// `dynamicChannels/dynamicChannel` (CiA 302/405): kept verbatim, one entry per attribute
+    /// (`dynamicChannel1.startIndex`), like the EDS `[DynamicChannels]` section.
+    fn read_dynamic_channels(&mut self, node: Node, device: &mut Device) {
+        let mut entries = Vec::new();
+        for (number, channel) in children(node, "dynamicChannel").enumerate() {
+            for attr in channel.attributes() {
+                entries.push(RawEntry {
+                    key: format!("dynamicChannel{}.{}", number + 1, attr.name()),
+                    value: attr.value().to_owned(),
+                    span: self.attribute_span(&attr),
+                });
+            }
+        }
+        device.other_sections.push(RawSection {
+            name: "dynamicChannels".to_owned(),
+            entries,
+            span: self.element_span(node),
+        });
     }
 
     fn read_general_features(&mut self, node: Node, device: &mut Device) {
