@@ -558,6 +558,27 @@ fn block_upload_of_a_small_value_without_protocol_switch() {
 }
 
 #[test]
+fn block_upload_of_an_empty_string_sends_one_empty_segment() {
+    let mut rig = Server512::new();
+    rig.od.set_value(0x2005, 0, b"");
+    assert_eq!(
+        rig.ask([0xA4, 0x05, 0x20, 0x00, 0x7F, 0x00, 0, 0]),
+        [0xC6, 0x05, 0x20, 0x00, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        rig.send_and_drain([0xA3, 0, 0, 0, 0, 0, 0, 0]),
+        vec![[0x81, 0, 0, 0, 0, 0, 0, 0]]
+    );
+    // n = 7, CRC of nothing = 0.
+    assert_eq!(
+        rig.ask([0xA2, 0x01, 0x7F, 0, 0, 0, 0, 0]),
+        [0xDD, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(rig.send(&[0xA1, 0, 0, 0, 0, 0, 0, 0]), (None, None));
+    assert_eq!(rig.server.poll_timeout(), None);
+}
+
+#[test]
 fn block_upload_switches_to_expedited_upload_below_the_threshold() {
     let mut rig = Server512::new();
     assert_eq!(

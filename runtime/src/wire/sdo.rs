@@ -79,8 +79,9 @@ impl InitiatePayload {
         match self {
             InitiatePayload::Expedited { data, len } => {
                 let len = len.clamp(1, 4);
-                let mut bytes = [0u8; 4];
-                bytes[..len as usize].copy_from_slice(&data[..len as usize]);
+                // Bytes past `len` are sent as zero.
+                let mask = u32::MAX >> (8 * (4 - u32::from(len)));
+                let bytes = (u32::from_le_bytes(data) & mask).to_le_bytes();
                 (((4 - len) << 2) | 0b11, bytes)
             }
             InitiatePayload::ExpeditedUnsized { data } => (0b10, data),
@@ -625,6 +626,18 @@ mod tests {
                 ],
             );
         }
+    }
+
+    #[test]
+    fn expedited_emit_zeroes_bytes_past_the_length() {
+        let response = ServerResponse::InitiateUpload {
+            mux: Multiplexer::new(0x2004, 0),
+            payload: InitiatePayload::Expedited {
+                data: [0xFE, 0xAA, 0xBB, 0xCC],
+                len: 1,
+            },
+        };
+        assert_eq!(response.emit(), [0x4F, 0x04, 0x20, 0x00, 0xFE, 0, 0, 0]);
     }
 
     #[test]
