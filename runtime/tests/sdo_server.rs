@@ -739,6 +739,36 @@ fn abort_0504_0000_on_timeout() {
 }
 
 #[test]
+fn abort_0504_0000_on_timeout_of_downloads() {
+    let mut rig = Server512::new();
+    rig.ask([0x21, 0x05, 0x20, 0x00, 0x0E, 0x00, 0x00, 0x00]);
+    rig.ask(download_segment(false, b"1234567", false));
+    rig.advance(100);
+    rig.server.handle_timeout(rig.now);
+    assert_eq!(
+        rig.server.poll_transmit(rig.now, &rig.od),
+        Some([0x80, 0x05, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
+    );
+    // A block download waiting for the rest of its sub-block.
+    rig.ask([0xC6, 0x06, 0x20, 0x00, 0x2C, 0x01, 0, 0]);
+    rig.tell(block_segment(1, false, b"1234567"));
+    rig.advance(100);
+    rig.server.handle_timeout(rig.now);
+    assert_eq!(
+        rig.server.poll_transmit(rig.now, &rig.od),
+        Some([0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
+    );
+    assert_eq!(rig.server.poll_timeout(), None);
+    assert_eq!(rig.od.value(0x2005, 0), b"hello");
+    assert_eq!(rig.od.value(0x2006, 0), &domain_pattern()[..]);
+    // The next transfer starts afresh.
+    assert_eq!(
+        rig.ask([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+        [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]
+    );
+}
+
+#[test]
 fn abort_0504_0001_on_unknown_or_misplaced_command() {
     let mut rig = Server512::new();
     // ccs = 7 does not exist.
