@@ -840,3 +840,15 @@ fn dynamic_channels_and_unread_feature_attributes_are_kept() {
         .expect("unread master features kept");
     assert_eq!(master.entries[0].key, "flyingMaster");
 }
+
+#[test]
+fn a_dtd_is_refused_as_malformed() {
+    let xml = "<?xml version=\"1.0\"?>\n<!DOCTYPE a [<!ENTITY x \"xx\">]>\n<a>&x;</a>\n";
+    let read = read_xml("t.xdd", xml);
+    let found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .map(|d| (d.rule.code, d.span.map(|s| s.line)))
+        .collect();
+    assert_eq!(found, vec![("EDS601", Some(2))]);
+}

@@ -37,14 +37,25 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
             .with_help("save the file as UTF-8, as its XML declaration most likely says"),
         );
     }
-    let options = roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..Default::default()
-    };
-    match Document::parse_with_options(&text, options) {
+    // DTDs stay refused (roxmltree's default): no CiA 311 file has one, and entity expansion is
+    // a way to make a small file huge.
+    match Document::parse(&text) {
         Ok(doc) => {
             let mut reader = XmlReader::new(&doc, &text, &mut diagnostics);
             reader.read_device(&mut device);
+        }
+        Err(roxmltree::Error::DtdDetected) => {
+            // roxmltree reports no useful position for this one: point at the declaration.
+            let at = text.find("<!DOCTYPE").unwrap_or(0);
+            let span = LineIndex::new(&text).span(&text, at..at + "<!DOCTYPE".len());
+            diagnostics.push(
+                Diagnostic::new(
+                    &rules::XML_MALFORMED,
+                    Some(span),
+                    "the file has a DTD (`<!DOCTYPE`), which a CiA 311 description never needs",
+                )
+                .with_help("remove the DOCTYPE declaration"),
+            );
         }
         Err(err) => {
             let pos = err.pos();
