@@ -852,3 +852,16 @@ fn a_dtd_is_refused_as_malformed() {
         .collect();
     assert_eq!(found, vec![("EDS601", Some(2))]);
 }
+
+#[test]
+fn dump_of_the_minimal_xdc() {
+    let Some(dir) = corpus() else { return };
+    let mut read = read_corpus(
+        &dir,
+        "dborgards__eds-dcf-net/tests__EdsDcfNet.Tests__Fixtures__minimal.xdc",
+    );
+    // The snapshot must not depend on where the corpus is.
+    read.device.source.path = PathBuf::from("minimal.xdc");
+    let dump = edsgen_codegen::dump::to_json(&read.device);
+    insta::assert_snapshot!(serde_json::to_string_pretty(&dump).unwrap());
+}
