@@ -865,3 +865,34 @@ fn dump_of_the_minimal_xdc() {
     let dump = edsgen_codegen::dump::to_json(&read.device);
     insta::assert_snapshot!(serde_json::to_string_pretty(&dump).unwrap());
 }
+
+#[test]
+fn object_counts_match_python_canopen_xdd_branch() {
+    // The corpus baseline records what python canopen's XDD branch (PR 614) imports; python adds
+    // one object per `DummyNNNN=1`, which edsgen keeps as dummy usage instead.
+    let Some(dir) = corpus() else { return };
+    let table = std::fs::read_to_string(dir.join("python_canopen_baseline.tsv")).unwrap();
+    let mut compared = 0;
+    for line in table.lines().skip(1) {
+        let cols: Vec<&str> = line.split('\t').collect();
+        if cols.len() < 9 || cols[7] != "ok" {
+            continue;
+        }
+        let read = read_corpus(&dir, cols[0]);
+        let dummies = read
+            .device
+            .dummy_usage
+            .values()
+            .filter(|used| **used)
+            .count();
+        let python_objects: usize = cols[8].parse().unwrap();
+        assert_eq!(
+            read.device.objects.len() + dummies,
+            python_objects,
+            "{}",
+            cols[0]
+        );
+        compared += 1;
+    }
+    assert_eq!(compared, 7);
+}
