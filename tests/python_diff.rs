@@ -5,8 +5,12 @@
 //! PDO mappability and default values. Every disagreement on a corpus file must be listed in
 //! [`KNOWN_DIFFERENCES`], exactly (file, index, sub-index, field), with the reason edsgen is right;
 //! an unlisted difference, or a listed one that no longer occurs, fails the test. The bundled cards
-//! in `eds/` must match python exactly. The corpus files python cannot import must still read in
+//! in `eds/` must match python exactly, with one rule instead of a list: in a CompactSubObj array
+//! python 2.4.1 invents sub-index 0 and the names (see [`compare`]), so there only types, access,
+//! mapping and defaults are compared. The corpus files python cannot import must still read in
 //! edsgen.
+//!
+//! Run with `EDSGEN_PYTHON_DIFF_JSON=FILE` to get every difference as JSON lines for review.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
