@@ -896,3 +896,28 @@ fn object_counts_match_python_canopen_xdd_branch() {
     }
     assert_eq!(compared, 7);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+    /// Any byte edits of a valid description read without a panic, and whatever is read keeps
+    /// spans inside the text.
+    #[test]
+    fn edited_xml_never_panics(edits in proptest::collection::vec((0usize..4096, proptest::prelude::any::<u8>()), 0..12)) {
+        let mut bytes = container("", PARAMETER, OBJECT).into_bytes();
+        for (at, byte) in edits {
+            let at = at % bytes.len();
+            bytes[at] = byte;
+        }
+        let read = read_bytes(Path::new("t.xdd"), &bytes);
+        let lines = read.text.lines().count() as u32 + 1;
+        for object in read.device.objects.values() {
+            proptest::prop_assert!(object.span.line >= 1 && object.span.line <= lines);
+        }
+        for diag in &read.diagnostics {
+            if let Some(span) = diag.span {
+                proptest::prop_assert!(span.line >= 1 && span.line <= lines, "{:?}", diag);
+            }
+        }
+    }
+}
