@@ -195,17 +195,15 @@ const COMMISSIONING_KEYS: &[&str] = &[
     "LSS_SerialNumber",
 ];
 
-/// Parses a hex number of at most `max_digits` significant digits (no `0x`), and says whether it
-/// had more leading zeros than `canonical_digits` allows.
-fn parse_hex_name(text: &str, max_value: u32) -> Option<(u32, bool)> {
+/// Parses a hex number written without `0x` (as in section names and `DummyXXXX` keys), at most
+/// eight digits and at most `max_value`.
+fn parse_hex_name(text: &str, max_value: u32) -> Option<u32> {
     if text.is_empty() || text.len() > 8 || !text.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;
     }
-    let value = u32::from_str_radix(text, 16).ok()?;
-    if value > max_value {
-        return None;
-    }
-    Some((value, false))
+    u32::from_str_radix(text, 16)
+        .ok()
+        .filter(|value| *value <= max_value)
 }
 
 /// Classifies a section name. Returns the kind, and whether an index/sub-index in it has extra
@@ -234,7 +232,7 @@ fn classify(name: &str) -> (SectionKind, bool, bool) {
         }
     }
     let index_of = |text: &str| -> Option<(u16, bool)> {
-        let (value, _) = parse_hex_name(text, 0xFFFF)?;
+        let value = parse_hex_name(text, 0xFFFF)?;
         Some((u16::try_from(value).ok()?, text.len() > 4))
     };
     for (suffix, make) in [
@@ -254,7 +252,7 @@ fn classify(name: &str) -> (SectionKind, bool, bool) {
     }
     if let Some(at) = lower.rfind("sub") {
         let (index_text, sub_text) = (&lower[..at], &lower[at + 3..]);
-        if let (Some((index, index_zeros)), Some((sub, _))) =
+        if let (Some((index, index_zeros)), Some(sub)) =
             (index_of(index_text), parse_hex_name(sub_text, 0xFF))
         {
             let sub_zeros = sub_text.len() > 1 && sub_text.starts_with('0');
@@ -654,7 +652,7 @@ impl Reader {
                 .filter(|p| p.eq_ignore_ascii_case("Dummy"))
                 .and_then(|_| entry.key.get(5..))
                 .and_then(|hex| parse_hex_name(hex, 0xFFFF))
-                .and_then(|(v, _)| u16::try_from(v).ok());
+                .and_then(|v| u16::try_from(v).ok());
             match index {
                 Some(index) => {
                     if !entry.key.starts_with("Dummy") {

@@ -10,6 +10,8 @@
 //! keeps the last value, with an EDS006 error. Keys repeated across the two parts of a merged
 //! section also keep the last value (covered by the EDS005 error). Nothing is dropped silently.
 
+use std::collections::HashMap;
+
 use crate::diag::Diagnostic;
 use crate::model::Span;
 use crate::rules;
@@ -123,6 +125,8 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
     // seen in the current occurrence of it.
     let mut current: Option<usize> = None;
     let mut keys_here: Vec<String> = Vec::new();
+    // Lowercase section name -> position in `file.sections`.
+    let mut section_at: HashMap<String, usize> = HashMap::new();
     for (number, line) in lines(text).into_iter().enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         let chars = line.chars().count();
@@ -202,11 +206,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 continue;
             }
             keys_here.clear();
-            if let Some(existing) = file
-                .sections
-                .iter()
-                .position(|s| s.name.eq_ignore_ascii_case(name))
-            {
+            if let Some(&existing) = section_at.get(&name.to_ascii_lowercase()) {
                 let first_line = file.sections[existing].span.line;
                 diags.push(
                     Diagnostic::new(
@@ -220,12 +220,13 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 );
                 current = Some(existing);
             } else {
+                section_at.insert(name.to_ascii_lowercase(), file.sections.len());
+                current = Some(file.sections.len());
                 file.sections.push(IniSection {
                     name: name.to_owned(),
                     span: header_span,
                     entries: Vec::new(),
                 });
-                current = Some(file.sections.len() - 1);
             }
             continue;
         }
