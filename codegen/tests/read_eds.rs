@@ -340,6 +340,7 @@ fn eds002_windows_1252_and_utf8_are_reported_with_the_first_line() {
     assert_eq!(read.device.source.encoding, TextEncoding::Windows1252);
     assert_eq!(diags(&read), vec![("EDS002", Severity::Warning, 2)]);
     assert!(read.diagnostics[0].message.contains("Windows-1252"));
+    assert_eq!(read.diagnostics[0].span, Some(Span::new(2, 20, 1)));
     assert_eq!(read.device.entry(0x1000, 0).unwrap().name, "Temp \u{b0}C");
     bytes = "[1000]\nDataType=0x0007\nParameterName=abc\u{2713}\n"
         .as_bytes()

@@ -294,10 +294,10 @@ impl Reader {
             return;
         }
         let name = super::text::encoding_name(encoding);
-        let diag = match super::text::first_non_ascii_line(text) {
-            Some(line) => Diagnostic::new(
+        let diag = match super::text::first_non_ascii(text) {
+            Some((line, column)) => Diagnostic::new(
                 &rules::NON_ASCII,
-                Some(Span::new(line, 1, 0)),
+                Some(Span::new(line, column, 1)),
                 format!("the file is not ASCII; it was decoded as {name} (first non-ASCII character on line {line})"),
             ),
             None => Diagnostic::new(
