@@ -905,3 +905,41 @@ proptest::proptest! {
         let _ = read::read_bytes(Path::new("x.eds"), &bytes);
     }
 }
+
+#[test]
+fn eds005_same_object_under_two_spellings() {
+    let text = "[1000]\nParameterName=A\n[01000]\nParameterName=B\n[1018]\nObjectType=0x9\n[1018sub1]\nParameterName=X\n[1018sub01]\nParameterName=Y\n";
+    let read = read_eds(text);
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS005", Severity::Error, 3),
+            ("EDS010", Severity::Warning, 3),
+            ("EDS005", Severity::Error, 9),
+            ("EDS010", Severity::Warning, 9),
+        ]
+    );
+    assert_eq!(read.device.objects[&0x1000].name, "B");
+    assert_eq!(read.device.entry(0x1018, 1).unwrap().name, "Y");
+    let kept: Vec<&str> = read
+        .device
+        .other_sections
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(kept, vec!["1000", "1018sub1"]);
+}
+
+#[test]
+fn dcf_domain_upload_and_download_files() {
+    let text = "[1F50]\nParameterName=Program\nObjectType=0x2\nUploadFile=up.bin\nDownloadFile=down.bin\nParameterValue=00ff\n";
+    let read = read_as("x.dcf", text);
+    assert_eq!(diags(&read), vec![]);
+    let e = read.device.entry(0x1F50, 0).unwrap();
+    assert_eq!(e.upload_file.as_deref(), Some("up.bin"));
+    assert_eq!(e.download_file.as_deref(), Some("down.bin"));
+    assert_eq!(
+        value_of(&e.parameter_value),
+        Some(Value::Bytes(vec![0, 0xff]))
+    );
+}

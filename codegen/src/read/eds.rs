@@ -388,22 +388,33 @@ impl Reader {
                     self.keep(section);
                 }
                 SectionKind::Object(index) => {
-                    objects.entry(index).or_default().main = Some(section)
+                    let slot = &mut objects.entry(index).or_default().main;
+                    let replaced = slot.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::Sub(index, sub) => {
-                    objects.entry(index).or_default().subs.insert(sub, section);
+                    let replaced = objects.entry(index).or_default().subs.insert(sub, section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::SubNames(index) => {
-                    objects.entry(index).or_default().names = Some(section)
+                    let replaced = objects.entry(index).or_default().names.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::SubValues(index) => {
-                    objects.entry(index).or_default().values = Some(section)
+                    let replaced = objects.entry(index).or_default().values.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::SubDenotations(index) => {
-                    objects.entry(index).or_default().denotations = Some(section)
+                    let replaced = objects
+                        .entry(index)
+                        .or_default()
+                        .denotations
+                        .replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::ObjectLinks(index) => {
-                    objects.entry(index).or_default().links = Some(section)
+                    let replaced = objects.entry(index).or_default().links.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
             }
         }
@@ -412,6 +423,24 @@ impl Reader {
         }
         self.expand_compact_pdo();
         self.resolve_values();
+    }
+
+    /// Two differently written names for the same object section (`[1000]` and `[01000]`): the
+    /// later one wins (EDS005), and the earlier one is kept in `other_sections`.
+    fn same_section_twice(&mut self, earlier: Option<&IniSection>, later: &IniSection) {
+        let Some(earlier) = earlier else { return };
+        self.diags.push(
+            Diagnostic::new(
+                &rules::DUPLICATE_SECTION,
+                Some(later.span),
+                format!(
+                    "section [{}] describes the same item as [{}] on line {}; this one wins",
+                    later.name, earlier.name, earlier.span.line
+                ),
+            )
+            .with_label("the earlier section is kept but not interpreted"),
+        );
+        self.keep(earlier);
     }
 
     fn keep(&mut self, section: &IniSection) {
