@@ -19,7 +19,15 @@
 //! - Keys that CiA 306 defines but that an object type does not use (`DataType` on an ARRAY
 //!   without CompactSubObj, ...) are kept in the object's `custom` for the validator.
 //! - A DOMAIN object without `DataType`/`AccessType` gets the spec's replacement values
-//!   (0x000F, `rw`).
+//!   (0x000F, `rw`); a missing `ObjectType` means VAR. An `ObjectType` that is no CiA 301 code is
+//!   an EDS011 error and read as RECORD when sub-index sections exist, else VAR.
+//! - `ObjectType` (other than 7), `SubNumber` and `CompactSubObj` in a sub-index section stay in
+//!   that entry's `custom`.
+//! - Sections about an object or sub-index the file does not describe (a `[xxxxsubN]` without
+//!   `[xxxx]`, a sub-index section of a VAR) are kept in `other_sections` with an EDS024 warning;
+//!   a `[xxxxName]`/`[xxxxValue]`/`[xxxxDenotation]` entry for a missing sub-index gets EDS024 and
+//!   is not applied. Nothing is invented: listed indices without a section are not objects.
+//! - The same object section written two ways (`[1000]` and `[01000]`): the later wins, EDS005.
 //! - CompactSubObj and CompactPDO are expanded into implicit sub-objects and objects (see
 //!   [`expand_compact_sub_obj`] and [`expand_compact_pdo`]).
 
