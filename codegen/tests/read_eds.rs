@@ -943,3 +943,31 @@ fn dcf_domain_upload_and_download_files() {
         Some(Value::Bytes(vec![0, 0xff]))
     );
 }
+
+#[test]
+fn canopen_editor_storage_location_comments_are_kept() {
+    let text = "\
+[1017]
+ParameterName=Producer heartbeat time
+;StorageLocation=PERSIST_COMM
+DataType=0x0006
+[1018]
+ParameterName=Identity
+ObjectType=0x9
+;StorageLocation=ROM
+[1018sub0]
+ParameterName=N
+DataType=0x0005
+";
+    let read = read_eds(text);
+    assert_eq!(diags(&read), vec![]);
+    assert_eq!(
+        read.device.entry(0x1017, 0).unwrap().custom,
+        vec![("StorageLocation".to_owned(), "PERSIST_COMM".to_owned())]
+    );
+    assert_eq!(
+        read.device.objects[&0x1018].custom,
+        vec![("StorageLocation".to_owned(), "ROM".to_owned())]
+    );
+    assert!(read.device.entry(0x1018, 0).unwrap().custom.is_empty());
+}

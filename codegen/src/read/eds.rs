@@ -16,6 +16,8 @@
 //!   never from strings (where EDS004 only warns).
 //! - Values are parsed against their entry's data type after all sections are read, DEFTYPE
 //!   objects first, so a data type may point at a DEFTYPE index.
+//! - CANopenEditor's commented keys (`;StorageLocation=RAM`, `;TPDODetectCos=1`) are kept in
+//!   the entry's `custom` as `StorageLocation`/`TPDODetectCos`, as CANopenEditor reads them back.
 //! - Keys that CiA 306 defines but that an object type does not use (`DataType` on an ARRAY
 //!   without CompactSubObj, ...) are kept in the object's `custom` for the validator.
 //! - A DOMAIN object without `DataType`/`AccessType` gets the spec's replacement values
@@ -925,6 +927,15 @@ impl Reader {
             self.unknown_key(entry, section);
             custom.push((entry.key.clone(), entry.value.clone()));
         }
+        // CANopenEditor's commented keys, unless the key is also written for real.
+        for entry in &section.commented {
+            if !custom
+                .iter()
+                .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
+            {
+                custom.push((entry.key.clone(), entry.value.clone()));
+            }
+        }
         SubObject {
             sub_index,
             name: Self::string(get("ParameterName")).unwrap_or_default(),
@@ -1036,6 +1047,16 @@ impl Reader {
             for entry in rest {
                 self.unknown_key(entry, main);
                 object.custom.push((entry.key.clone(), entry.value.clone()));
+            }
+            // CANopenEditor's commented keys, unless the key is also written for real.
+            for entry in &main.commented {
+                if !object
+                    .custom
+                    .iter()
+                    .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
+                {
+                    object.custom.push((entry.key.clone(), entry.value.clone()));
+                }
             }
             // Standard keys that an ARRAY/RECORD main section does not use without
             // CompactSubObj stay visible to the validator in `custom`.

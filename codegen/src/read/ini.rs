@@ -57,6 +57,9 @@ pub struct IniSection {
     pub span: Span,
     /// The entries, in file order; a key appears at most once (case-insensitively).
     pub entries: Vec<IniEntry>,
+    /// The CANopenEditor comment extensions (`;StorageLocation=RAM`, `;TPDODetectCos=1`) found in
+    /// the section, without the `;`. They are comments to CiA 306, and read back by CANopenEditor.
+    pub commented: Vec<IniEntry>,
 }
 
 impl IniSection {
@@ -74,6 +77,9 @@ pub struct IniFile {
     /// The sections in order of first appearance.
     pub sections: Vec<IniSection>,
 }
+
+/// The keys CANopenEditor writes as comments (`;StorageLocation=RAM`) and reads back.
+pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
@@ -118,6 +124,25 @@ pub fn is_plain_key(key: &str) -> bool {
     !key.is_empty() && key.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
 }
 
+/// A `;Key=value` comment line whose key is one of [`COMMENTED_KEYS`], as an entry.
+fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry> {
+    let body = line.strip_prefix(';')?;
+    let eq = body.find('=')?;
+    let key = body[..eq].trim();
+    if !COMMENTED_KEYS.iter().any(|k| k.eq_ignore_ascii_case(key)) {
+        return None;
+    }
+    let value_raw = &body[eq + 1..];
+    let value = value_raw.trim();
+    let value_at = 1 + eq + 1 + (value_raw.len() - value_raw.trim_start().len());
+    Some(IniEntry {
+        key: key.to_owned(),
+        key_span: Span::new(line_no, 2, char_len(key)),
+        value: value.to_owned(),
+        value_span: Span::new(line_no, column_of(line, value_at), char_len(value)),
+    })
+}
+
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006 and EDS007.
 pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
     let mut file = IniFile::default();
@@ -153,6 +178,10 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                     Some(Span::new(line_no, first_col, char_len(trimmed))),
                     "comment does not start in column 1",
                 ));
+            } else if let Some(section) = current.and_then(|i| file.sections.get_mut(i)) {
+                if let Some(entry) = commented_entry(line, line_no) {
+                    section.commented.push(entry);
+                }
             }
             continue;
         }
@@ -226,6 +255,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                     name: name.to_owned(),
                     span: header_span,
                     entries: Vec::new(),
+                    commented: Vec::new(),
                 });
             }
             continue;
@@ -404,6 +434,25 @@ mod tests {
             Some(("3", 6))
         );
         assert_eq!(a.get("z").map(|e| e.value.as_str()), Some("4"));
+    }
+
+    #[test]
+    fn canopen_editor_comment_extensions_are_kept() {
+        let (file, diags) = lex("[2000]\n;StorageLocation=RAM\n;Other=1\n;TPDODetectCos = 1\n");
+        assert!(diags.is_empty());
+        let kept: Vec<(&str, &str, Span)> = file.sections[0]
+            .commented
+            .iter()
+            .map(|e| (e.key.as_str(), e.value.as_str(), e.value_span))
+            .collect();
+        assert_eq!(
+            kept,
+            vec![
+                ("StorageLocation", "RAM", Span::new(2, 18, 3)),
+                ("TPDODetectCos", "1", Span::new(4, 18, 1))
+            ]
+        );
+        assert!(file.sections[0].entries.is_empty());
     }
 
     #[test]
