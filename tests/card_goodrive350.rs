@@ -185,6 +185,14 @@ fn manufacturer_records_cover_sub_indices_0_to_f() {
         let subs: Vec<u8> = device.objects[&index].subs.keys().copied().collect();
         assert_eq!(subs, (0..=0xF).collect::<Vec<u8>>(), "{index:04X}h");
     }
+    // Setting k is 2100h sub k+2 (received PZD k+1), returned value k is 2000h sub k+2
+    // (transmitted PZD k+1), k = 1..11 (Tables 3-19, 3-20, 3-22, 3-23).
+    for k in 1..=11u8 {
+        let setting = device.entry(0x2100, k + 2).map(|e| e.name.as_str());
+        assert_eq!(setting, Some(format!("Setting {k}").as_str()));
+        let returned = device.entry(0x2000, k + 2).map(|e| e.name.as_str());
+        assert_eq!(returned, Some(format!("Returned value {k}").as_str()));
+    }
 }
 
 /// Default mappings: Appendix A 1600h-1A03h, with the two completions the file's comments explain.
