@@ -335,13 +335,27 @@ fn decode(device: &Device, mapping_index: u16, payload: &[u8]) -> Vec<((u16, u8)
 }
 
 fn cob_id(device: &Device, comm_index: u16, node_id: u8) -> u32 {
+    node_relative(device, comm_index, 1, node_id)
+}
+
+fn node_relative(device: &Device, index: u16, sub: u8, node_id: u8) -> u32 {
     match device
-        .entry(comm_index, 1)
+        .entry(index, sub)
         .and_then(|e| e.default.as_ref()?.value.clone())
     {
         Some(Value::NodeRelative(offset)) => (offset + i64::from(node_id)) as u32,
-        other => panic!("{comm_index:04X}h:01 is not node-relative: {other:?}"),
+        other => panic!("{index:04X}h:{sub:02X} is not node-relative: {other:?}"),
     }
+}
+
+#[test]
+fn sdo_and_emcy_cob_ids_match_the_examples_for_node_3() {
+    let device = read().device;
+    // 3.4.9: requests on 0x603, answers on 0x583.
+    assert_eq!(node_relative(&device, 0x1200, 1, 3), 0x603);
+    assert_eq!(node_relative(&device, 0x1200, 2, 3), 0x583);
+    // 3.4.8: EMCY of node 3 on 0x83.
+    assert_eq!(node_relative(&device, 0x1014, 0, 3), 0x83);
 }
 
 #[test]
