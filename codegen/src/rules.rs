@@ -146,6 +146,29 @@ pub fn by_code(code: &str) -> Option<&'static Rule> {
         .find(|r| r.code.eq_ignore_ascii_case(code))
 }
 
+/// The rule table as Markdown: the content of `docs/rules.md`, generated from [`ALL`].
+pub fn markdown() -> String {
+    let mut out = String::from(
+        "# edsgen validation rules\n\n\
+         Generated from `codegen/src/rules.rs` by the test `rules_doc_is_current`\n\
+         (`EDSGEN_UPDATE_DOCS=1 cargo test -p edsgen-codegen --test rules` rewrites it). \
+         Do not edit by hand.\n\n\
+         Severities: **error** fails `edsgen validate` and the build; **warning** fails only with \
+         `--deny warnings`; **info** never fails. Some rules report a secondary severity for some \
+         instances; their summary says so.\n\n\
+         | Code | Severity | What it checks |\n|---|---|---|\n",
+    );
+    for rule in ALL {
+        out.push_str(&format!(
+            "| {} | {} | {} |\n",
+            rule.code,
+            rule.severity.as_str(),
+            rule.summary.replace('|', "\\|")
+        ));
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
