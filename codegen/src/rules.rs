@@ -88,7 +88,7 @@ rules! {
     MISSING_NAME = "EDS301" Error "an object or sub-object has no ParameterName";
     LONG_NAME = "EDS302" Warning "a ParameterName longer than 241 characters";
     MISSING_KEY = "EDS303" Error "a key the CiA 306 object table makes mandatory is missing (DataType or AccessType of an entry; SubNumber of an ARRAY/RECORD)";
-    KEY_NOT_ALLOWED = "EDS304" Warning "a key the CiA 306 object table does not allow for this object type (SubNumber on a VAR, PDOMapping or limits on a DOMAIN)";
+    KEY_NOT_ALLOWED = "EDS304" Warning "a key the CiA 306 object table does not allow: SubNumber on a VAR, PDOMapping on a DOMAIN (info, once per file: VAR keys on ARRAY/RECORD mains, a common dialect)";
     SUBNUMBER_AND_COMPACT = "EDS305" Error "both SubNumber and CompactSubObj are non-zero";
     SUBNUMBER_MISMATCH = "EDS306" Warning "SubNumber differs from the number of sub-objects described (warning: edsgen uses the sections; Lely loads only SubNumber of them)";
     SUB_INDEX_RESERVED = "EDS307" Error "a sub-object at sub-index FFh, which is reserved for the structure description";

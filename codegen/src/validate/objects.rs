@@ -25,6 +25,7 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
         }
     }
     default_cob_ids(device, out);
+    entry_keys_on_records(device, out);
 }
 
 /// Whether an entry's sub-index 0 is a count that legitimately differs from the highest
@@ -92,15 +93,38 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
     }
 
     if !o.object_type.has_subs() {
-        if let Some(n) = &o.sub_number {
+        let kind = if o.object_type == ObjectType::Domain {
+            "DOMAIN"
+        } else {
+            "VAR"
+        };
+        let sub_number = o
+            .sub_number
+            .as_ref()
+            .map(|n| n.span)
+            .or_else(|| custom_key(o, "SubNumber").map(|_| o.span));
+        if let Some(span) = sub_number {
             out.push(
                 Diagnostic::new(
                     &rules::KEY_NOT_ALLOWED,
-                    Some(n.span),
-                    format!("{name} is a {:?} but has SubNumber", o.object_type),
+                    Some(span),
+                    format!("{name} is a {kind} but has SubNumber"),
                 )
                 .with_label("SubNumber is only for ARRAY and RECORD")
                 .with_help("remove SubNumber, or fix ObjectType"),
+            );
+        }
+        if let Some(value) =
+            custom_key(o, "CompactSubObj").filter(|v| super::parse_int(v).is_some_and(|n| n != 0))
+        {
+            out.push(
+                Diagnostic::new(
+                    &rules::COMPACT_SUB_OBJ_MISUSE,
+                    Some(o.span),
+                    format!("{name} is a {kind} but has CompactSubObj={value}"),
+                )
+                .with_label("only ARRAY, RECORD and DEFSTRUCT can be compact")
+                .with_help("remove CompactSubObj, or set ObjectType=0x8 (ARRAY)"),
             );
         }
         return;
@@ -186,6 +210,61 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         array_homogeneity(device, o, out);
     }
     gaps(o, out);
+}
+
+/// The value of a key the reader kept uninterpreted in the object's `custom`, if non-empty.
+fn custom_key<'a>(o: &'a Object, key: &str) -> Option<&'a str> {
+    o.custom
+        .iter()
+        .find(|(k, v)| k.trim().eq_ignore_ascii_case(key) && !v.trim().is_empty())
+        .map(|(_, v)| v.as_str())
+}
+
+/// Keys of the VAR table that an ARRAY/RECORD main section without CompactSubObj does not use.
+const ENTRY_KEYS: [&str; 6] = [
+    "DataType",
+    "AccessType",
+    "DefaultValue",
+    "PDOMapping",
+    "LowLimit",
+    "HighLimit",
+];
+
+/// One info for the whole file: ARRAY/RECORD main sections carrying VAR keys (a common dialect
+/// that CANeds reports as "no value allowed"; the keys are ignored).
+fn entry_keys_on_records(device: &Device, out: &mut Vec<Diagnostic>) {
+    let mut first = None;
+    let mut found = Vec::new();
+    for o in device.objects.values() {
+        if !o.object_type.has_subs() || o.compact_sub_obj.as_ref().is_some_and(|c| c.value != 0) {
+            continue;
+        }
+        let keys: Vec<&str> = ENTRY_KEYS
+            .iter()
+            .copied()
+            .filter(|k| custom_key(o, k).is_some())
+            .collect();
+        if !keys.is_empty() {
+            first.get_or_insert(o.span);
+            found.push(format!("{} ({})", obj(o.index), keys.join(", ")));
+        }
+    }
+    if !found.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &rules::KEY_NOT_ALLOWED,
+                first,
+                format!(
+                    "{} ARRAY/RECORD object(s) carry keys CiA 306 does not allow on them (ignored): {}",
+                    found.len(),
+                    super::short_list(&found)
+                ),
+            )
+            .with_severity(Severity::Info)
+            .with_label("DataType/AccessType/... belong in the sub-index sections")
+            .with_help("remove these keys from the main section, or use CompactSubObj"),
+        );
+    }
 }
 
 /// The number of sub-objects written in the file (not implied), FFh not counted.
@@ -327,10 +406,12 @@ fn gaps(o: &Object, out: &mut Vec<Diagnostic>) {
     if !o.subs.contains_key(&0) {
         return;
     }
-    let pdo_comm = matches!(o.index, 0x1400..=0x15FF | 0x1800..=0x19FF);
+    // PDO communication records implement sub 3, 5 and 6 at will (and sub 4 is reserved).
+    if matches!(o.index, 0x1400..=0x15FF | 0x1800..=0x19FF) {
+        return;
+    }
     let missing: Vec<u8> = (1..highest_sub(o))
         .filter(|s| !o.subs.contains_key(s))
-        .filter(|s| !(pdo_comm && *s == 4)) // sub 4 of PDO communication is reserved.
         .collect();
     let Some(first) = missing.first() else { return };
     let list: Vec<String> = missing.iter().map(u8::to_string).collect();

@@ -162,57 +162,41 @@ fn count_is_valid(text: &str) -> bool {
 }
 
 fn comments(device: &Device, out: &mut Vec<Diagnostic>) {
-    let section = raw_section(device, "Comments");
-    if let Some(section) = section {
-        let lines: Vec<&RawEntry> = section
-            .entries
-            .iter()
-            .filter(|e| {
-                let k = e.key.trim().to_ascii_lowercase();
-                k.strip_prefix("line")
-                    .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-            })
-            .collect();
-        if let Some(declared) = key(section, "Lines") {
-            if parse_int(&declared.value) != Some(lines.len() as i128) {
-                out.push(
-                    Diagnostic::new(
-                        &rules::COMMENTS_LINES,
-                        Some(declared.span),
-                        format!(
-                            "[Comments] Lines is {} but {} LineN keys are present",
-                            declared.value,
-                            lines.len()
-                        ),
-                    )
-                    .with_label(format!("{} lines present", lines.len()))
-                    .with_help(format!("set Lines={}", lines.len())),
-                );
-            }
+    let present = device.comments.len();
+    if let Some(declared) = &device.comment_lines {
+        if declared.value as usize != present {
+            out.push(
+                Diagnostic::new(
+                    &rules::COMMENTS_LINES,
+                    Some(declared.span),
+                    format!(
+                        "[Comments] Lines is {} but {present} LineN keys are present",
+                        declared.value
+                    ),
+                )
+                .with_label(format!("{present} lines present"))
+                .with_help(format!(
+                    "set Lines={present}; python's canopen fails on a missing LineN"
+                )),
+            );
         }
-        for line in lines {
-            let len = line.value.chars().count();
-            if len > MAX_COMMENT_LINE {
-                out.push(
-                    Diagnostic::new(&rules::COMMENTS_LINES, Some(line.span), format!("[Comments] {} is {len} characters long; CiA 306 allows {MAX_COMMENT_LINE}", line.key))
-                        .with_label("too long"),
-                );
-            }
-        }
-        return;
     }
-    for (i, line) in device.comments.iter().enumerate() {
-        let len = line.chars().count();
-        if len > MAX_COMMENT_LINE {
-            out.push(Diagnostic::new(
-                &rules::COMMENTS_LINES,
-                None,
-                format!(
-                    "[Comments] Line{} is {len} characters long; CiA 306 allows {MAX_COMMENT_LINE}",
-                    i + 1
-                ),
-            ));
-        }
+    let long: Vec<String> = device
+        .comments
+        .iter()
+        .enumerate()
+        .filter(|(_, line)| line.chars().count() > MAX_COMMENT_LINE)
+        .map(|(i, _)| format!("Line{}", i + 1))
+        .collect();
+    if !long.is_empty() {
+        out.push(Diagnostic::new(
+            &rules::COMMENTS_LINES,
+            device.comment_lines.as_ref().map(|l| l.span),
+            format!(
+                "[Comments] lines longer than {MAX_COMMENT_LINE} characters: {}",
+                short_list(&long)
+            ),
+        ));
     }
 }
 
