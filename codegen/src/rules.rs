@@ -100,12 +100,12 @@ rules! {
     SUB_INDEX_GAPS = "EDS313" Info "gaps in the sub-indices of a RECORD (info) or of an ARRAY (warning: arrays become [T; N])";
     UNKNOWN_DATA_TYPE = "EDS314" Error "a DataType that is neither a basic type nor a DEFTYPE/DEFSTRUCT of the file";
     DOMAIN_DATA_TYPE = "EDS315" Error "a DOMAIN object whose DataType is not 000Fh";
-    LIMITS_INVERTED = "EDS316" Error "LowLimit is greater than HighLimit";
+    LIMITS_INVERTED = "EDS316" Error "LowLimit is greater than HighLimit (warning when a hex limit on a signed type, read as two's complement, causes it)";
     VALUE_OUTSIDE_LIMITS = "EDS317" Warning "DefaultValue or ParameterValue outside [LowLimit, HighLimit] (for node-IDs 1..127 if $NODEID-relative)";
     LIMITS_ON_NON_NUMERIC = "EDS318" Warning "LowLimit/HighLimit on a string, OCTET_STRING or DOMAIN entry";
     NODEID_OVERFLOW = "EDS319" Warning "a $NODEID value that leaves the range of its type for some node-IDs 1..127 (error if for all of them)";
-    DEFAULT_COB_ID = "EDS320" Warning "the default COB-ID of 1014h, 1200h, 1400h..1403h or 1800h..1803h is not $NODEID plus the predefined-connection-set base";
-    OBJ_FLAGS_RESERVED = "EDS321" Error "ObjFlags has reserved bits 2..31 set";
+    DEFAULT_COB_ID = "EDS320" Warning "the default COB-ID of 1014h, 1200h, 1400h..1403h or 1800h..1803h is not $NODEID plus the predefined-connection-set base (not checked for masters)";
+    OBJ_FLAGS_RESERVED = "EDS321" Warning "ObjFlags with reserved bits 2..31 set, once per file (warning: vendor tools store other flags there; nothing generated depends on them)";
     COMPACT_SUB_OBJ_MISUSE = "EDS322" Error "CompactSubObj on a VAR or DOMAIN, or above 254";
 
     // ---- EDS4xx: PDOs (validator) ----
@@ -116,7 +116,7 @@ rules! {
     COB_ID_RESTRICTED = "EDS405" Warning "a PDO COB-ID in a CAN-ID range CiA 301 restricts (NMT, SYNC/EMCY, TIME, SDO, LSS, heartbeat)";
     TRANSMISSION_TYPE_RESERVED = "EDS406" Warning "a reserved PDO transmission type (241..251 for a TPDO, 241..253 for an RPDO)";
     MAPPING_COUNT = "EDS407" Error "the number of mapped objects (mapping sub 0) is above 64 or above the mapping entries present";
-    MAPPING_TARGET_MISSING = "EDS408" Error "a PDO mapping entry points to an entry that does not exist";
+    MAPPING_TARGET_MISSING = "EDS408" Error "a PDO mapping entry points to an entry that does not exist (warning for empty entries within the count, once per mapping; and with modules)";
     MAPPING_NOT_MAPPABLE = "EDS409" Error "a PDO mapping entry points to an entry with PDOMapping=0";
     MAPPING_DIRECTION = "EDS410" Error "a PDO mapping entry whose access does not fit the direction (RPDO to ro/const/rwr, TPDO to wo/rww)";
     DUMMY_NOT_ENABLED = "EDS411" Error "a dummy mapping entry for a data type that [DummyUsage] does not enable";
@@ -124,10 +124,10 @@ rules! {
     MAPPING_TOO_LONG = "EDS413" Error "a PDO maps more than 64 bits";
     MAPPING_GRANULARITY = "EDS414" Warning "a PDO mapping length that is not a multiple of Granularity, or more than 8 entries with Granularity 8";
     DUPLICATE_PDO_COB_ID = "EDS415" Warning "two enabled TPDOs, or two enabled RPDOs, have the same default COB-ID";
-    DUMMY_USAGE_KEY = "EDS416" Warning "a [DummyUsage] key outside Dummy0001..Dummy0007";
+    DUMMY_USAGE_KEY = "EDS416" Info "[DummyUsage] keys outside Dummy0001..Dummy0007 (info: Lely writes Dummy0000..Dummy001F)";
 
     // ---- EDS5xx: DCF, commissioning, modules, comments, object links, dynamic channels (validator) ----
-    DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127";
+    DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127 (warning for 255: unconfigured, assigned by LSS)";
     DCF_BAUDRATE = "EDS502" Error "the DCF Baudrate is not a CiA 301 bit rate, or not one [DeviceInfo] enables";
     LSS_SERIAL_MISMATCH = "EDS503" Warning "LSS_SerialNumber differs from the value of 1018h sub 4";
     COMMISSIONING_NAME_LENGTH = "EDS504" Warning "NodeName longer than 246 or NetworkName longer than 243 characters";

@@ -891,7 +891,7 @@ fn eds320_fixed_emcy_cob_id() {
 fn eds321_reserved_obj_flags() {
     let body = var(0x2000, "Speed", 6, "rw", "0", false) + "ObjFlags=0x4\n";
     let t = eds(&[], &[0x2000], &body);
-    assert_eq!(diags(&t), vec![d("EDS321", Error, line_of(&t, "[2000]"))]);
+    assert_eq!(diags(&t), vec![d("EDS321", Warning, line_of(&t, "[2000]"))]);
 }
 
 #[test]
@@ -1080,7 +1080,7 @@ fn eds416_dummy_usage_key_out_of_range() {
         "Dummy0007=1",
         "Dummy0007=1\nDummy0010=1",
     );
-    assert_eq!(diags(&t), vec![d("EDS416", Warning, 0)]);
+    assert_eq!(diags(&t), vec![d("EDS416", Info, 0)]);
 }
 
 // ---- EDS5xx ----
@@ -1248,6 +1248,70 @@ fn eds513_object_inside_a_dynamic_channel_range() {
         diags(&t),
         vec![d("EDS513", Info, line_of(&t, "Range1=0xA000-0xA0FF"))]
     );
+}
+
+#[test]
+fn eds316_hex_limit_on_a_signed_type_is_a_warning() {
+    let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x00\nHighLimit=0xFF\n";
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0x00"))]
+    );
+}
+
+#[test]
+fn eds317_dcf_checks_nodeid_values_at_its_node_id() {
+    let body = var(0x2000, "Id", 7, "rw", "$NODEID+0x10", false)
+        + "ParameterValue=0x15\nLowLimit=$NODEID+0x10\nHighLimit=$NODEID+0x20\n";
+    let t = edit(
+        &dcf(&body),
+        "[ManufacturerObjects]\nSupportedObjects=0",
+        "[ManufacturerObjects]\nSupportedObjects=1\n1=0x2000",
+    );
+    assert_eq!(diags_for("t.dcf", &t), vec![]);
+    let t = edit(&t, "ParameterValue=0x15", "ParameterValue=0x14");
+    assert_eq!(
+        diags_for("t.dcf", &t),
+        vec![d("EDS317", Warning, line_of(&t, "ParameterValue=0x14"))]
+    );
+}
+
+#[test]
+fn eds320_not_checked_for_a_master() {
+    let t = eds(
+        &[0x1014],
+        &[],
+        &var(0x1014, "COB-ID EMCY", 7, "rw", "0x81", false),
+    );
+    let t = edit(&t, "SimpleBootUpMaster=0", "SimpleBootUpMaster=1");
+    assert_eq!(diags(&t), vec![]);
+}
+
+#[test]
+fn eds408_empty_entries_within_the_count_are_one_warning() {
+    let t = one_rpdo(&["0", "0"]);
+    let line = line_of(&t, "[1600sub1]") + 5;
+    assert_eq!(diags(&t), vec![d("EDS408", Warning, line)]);
+}
+
+#[test]
+fn eds501_node_id_255_is_a_warning() {
+    let t = edit(&dcf(""), "NodeID=5", "NodeID=255");
+    assert_eq!(
+        diags_for("t.dcf", &t),
+        vec![d("EDS501", Warning, line_of(&t, "NodeID=255"))]
+    );
+}
+
+#[test]
+fn eds321_reserved_obj_flags_are_one_warning_per_file() {
+    let body = var(0x2000, "Speed", 6, "rw", "0", false)
+        + "ObjFlags=0x4\n"
+        + &var(0x2001, "Torque", 6, "rw", "0", false)
+        + "ObjFlags=0x10000\n";
+    let t = eds(&[], &[0x2000, 0x2001], &body);
+    assert_eq!(diags(&t), vec![d("EDS321", Warning, line_of(&t, "[2000]"))]);
 }
 
 // ---- the rule table ----

@@ -9,7 +9,7 @@
 
 use super::device_info::STANDARD_BAUD_RATES;
 use super::{at, effective_int, entry_name, short_list};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, Severity};
 use crate::model::{AccessType, Device, Format, ObjectType, Span};
 use crate::rules;
 
@@ -36,7 +36,14 @@ fn commissioning(device: &Device, out: &mut Vec<Diagnostic>) {
         return;
     };
     if let Some(id) = &c.node_id {
-        if !(1..=127).contains(&id.value) {
+        if id.value == 255 {
+            out.push(
+                Diagnostic::new(&rules::DCF_NODE_ID, Some(id.span), "NodeID 255 means unconfigured: the node-ID is assigned by LSS")
+                    .with_severity(Severity::Warning)
+                    .with_label("unconfigured node-ID")
+                    .with_help("$NODEID values of this DCF cannot be resolved until LSS assigns a node-ID 1..127"),
+            );
+        } else if !(1..=127).contains(&id.value) {
             out.push(
                 Diagnostic::new(
                     &rules::DCF_NODE_ID,

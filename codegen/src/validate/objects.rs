@@ -11,7 +11,7 @@
 
 use super::{at, effective_int, entry_name, obj, value_span};
 use crate::diag::{Diagnostic, Severity};
-use crate::model::{BasicType, Device, Object, ObjectType, Span, SubObject, Value, ValueSource};
+use crate::model::{BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource};
 use crate::rules;
 
 /// Longest ParameterName CiA 306 allows.
@@ -26,6 +26,7 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
     }
     default_cob_ids(device, out);
     entry_keys_on_records(device, out);
+    obj_flags(device, out);
 }
 
 /// Whether an entry's sub-index 0 is a count that legitimately differs from the highest
@@ -57,9 +58,6 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                 .with_label("name too long"),
             );
         }
-    }
-    if o.obj_flags & !0b11 != 0 {
-        out.push(obj_flags_diag(&name, o.obj_flags, o.span));
     }
 
     let compact = o.compact_sub_obj.as_ref().filter(|c| c.value != 0);
@@ -450,14 +448,45 @@ fn type_name(device: &Device, dt: u16) -> String {
     }
 }
 
-fn obj_flags_diag(name: &str, flags: u32, span: Span) -> Diagnostic {
-    Diagnostic::new(
-        &rules::OBJ_FLAGS_RESERVED,
-        Some(span),
-        format!("{name} has ObjFlags={flags:#X}; bits 2..31 are reserved"),
-    )
-    .with_label("reserved bits set")
-    .with_help("only bit 0 (refuse write on download) and bit 1 (refuse read on scan) are defined")
+/// One diagnostic per file for reserved ObjFlags bits (vendor tools write other flags there;
+/// they change nothing edsgen generates).
+fn obj_flags(device: &Device, out: &mut Vec<Diagnostic>) {
+    let mut first = None;
+    let mut found = Vec::new();
+    for o in device.objects.values() {
+        if o.obj_flags & !0b11 != 0 {
+            first.get_or_insert(o.span);
+            found.push(format!("{} ({:#X})", obj(o.index), o.obj_flags));
+        }
+        for sub in o.subs.values().filter(|_| o.object_type.has_subs()) {
+            if sub.obj_flags & !0b11 != 0 {
+                first.get_or_insert(sub.span);
+                found.push(format!(
+                    "{} ({:#X})",
+                    at(o.index, sub.sub_index),
+                    sub.obj_flags
+                ));
+            }
+        }
+    }
+    if !found.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &rules::OBJ_FLAGS_RESERVED,
+                first,
+                format!(
+                    "ObjFlags with reserved bits 2..31 set on {} entr{}: {}",
+                    found.len(),
+                    if found.len() == 1 { "y" } else { "ies" },
+                    super::short_list(&found)
+                ),
+            )
+            .with_label("reserved bits set")
+            .with_help(
+                "only bit 0 (refuse write on download) and bit 1 (refuse read on scan) are defined",
+            ),
+        );
+    }
 }
 
 /// Whether an entry is described by the key table as a VAR (needs DataType and AccessType).
@@ -492,9 +521,6 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
                 )
                 .with_label("name too long"),
             );
-        }
-        if sub.obj_flags & !0b11 != 0 {
-            out.push(obj_flags_diag(&name, sub.obj_flags, sub.span));
         }
     }
     if needs_var_keys(o, sub) {
@@ -563,7 +589,13 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
     let Some(ty) = device.basic_type(dt) else {
         return;
     };
-    limits(&name, ty, o, sub, out);
+    let node_id = device
+        .commissioning
+        .as_ref()
+        .and_then(|c| c.node_id.as_ref())
+        .map(|n| i128::from(n.value))
+        .filter(|n| (1..=127).contains(n));
+    limits(&name, ty, o, sub, node_id, out);
     nodeid_ranges(&name, ty, sub, out);
 }
 
@@ -605,7 +637,14 @@ fn is_relative(a: Linear) -> bool {
     matches!(a, Linear::Int(_, 1))
 }
 
-fn limits(name: &str, ty: BasicType, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>) {
+fn limits(
+    name: &str,
+    ty: BasicType,
+    o: &Object,
+    sub: &SubObject,
+    node_id: Option<i128>,
+    out: &mut Vec<Diagnostic>,
+) {
     let non_numeric = ty.bits().is_none() || o.object_type == ObjectType::Domain;
     if non_numeric {
         for (key, limit) in [("LowLimit", &sub.low_limit), ("HighLimit", &sub.high_limit)] {
@@ -625,21 +664,32 @@ fn limits(name: &str, ty: BasicType, o: &Object, sub: &SubObject, out: &mut Vec<
     }
     let lin = |v: &Option<ValueSource>| v.as_ref().and_then(|v| v.value.as_ref()).and_then(linear);
     let (low, high) = (lin(&sub.low_limit), lin(&sub.high_limit));
-    if let (Some(lo), Some(hi), Some(lo_src)) = (low, high, sub.low_limit.as_ref()) {
+    if let (Some(lo), Some(hi), Some(lo_src), Some(hi_src)) =
+        (low, high, sub.low_limit.as_ref(), sub.high_limit.as_ref())
+    {
         if less(hi, lo, 1) == Some(true) || less(hi, lo, 127) == Some(true) {
-            out.push(
-                Diagnostic::new(
-                    &rules::LIMITS_INVERTED,
-                    Some(lo_src.span),
-                    format!(
-                        "{name} has LowLimit {} above HighLimit {}",
-                        lo_src.raw,
-                        sub.high_limit.as_ref().map_or("", |h| h.raw.as_str())
-                    ),
-                )
-                .with_label("above HighLimit")
-                .with_help("swap the limits"),
-            );
+            // A hex limit on a signed type is read as two's complement (0xFF is -1 for
+            // INTEGER8); vendors often mean the unsigned number. That ambiguity is a warning.
+            let is_hex = |raw: &str| raw.trim().to_ascii_lowercase().starts_with("0x");
+            let ambiguous = ty.is_signed_integer() && (is_hex(&lo_src.raw) || is_hex(&hi_src.raw));
+            let mut diag = Diagnostic::new(
+                &rules::LIMITS_INVERTED,
+                Some(lo_src.span),
+                format!(
+                    "{name} has LowLimit {} above HighLimit {}",
+                    lo_src.raw, hi_src.raw
+                ),
+            )
+            .with_label("above HighLimit");
+            diag = if ambiguous {
+                diag.with_severity(Severity::Warning).with_help(format!(
+                    "{} is signed: a hex limit is read as two's complement; write the limits in decimal",
+                    ty.name()
+                ))
+            } else {
+                diag.with_help("swap the limits")
+            };
+            out.push(diag);
             return;
         }
     }
@@ -653,8 +703,12 @@ fn limits(name: &str, ty: BasicType, o: &Object, sub: &SubObject, out: &mut Vec<
         };
         let relative =
             is_relative(v) || low.is_some_and(is_relative) || high.is_some_and(is_relative);
-        let nodes: &[i128] = if relative { &[1, 127] } else { &[1] };
-        for &node in nodes {
+        let nodes: Vec<i128> = match node_id {
+            Some(n) if relative => vec![n],
+            _ if relative => vec![1, 127],
+            _ => vec![1],
+        };
+        for &node in &nodes {
             let below = low.and_then(|lo| less(v, lo, node)) == Some(true);
             let above = high.and_then(|hi| less(hi, v, node)) == Some(true);
             if !(below || above) {
@@ -750,6 +804,15 @@ const PREDEFINED: [(u16, u8, u32, &str); 11] = [
 ];
 
 fn default_cob_ids(device: &Device, out: &mut Vec<Diagnostic>) {
+    // A master's PDOs carry the COB-IDs of the slaves it talks to, not its own defaults.
+    let master = device.device_info.simple_boot_up_master
+        || device
+            .commissioning
+            .as_ref()
+            .is_some_and(|c| c.canopen_manager);
+    if master {
+        return;
+    }
     for (index, sub_index, base, what) in PREDEFINED {
         let Some(sub) = device.entry(index, sub_index) else {
             continue;

@@ -284,6 +284,8 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
     let modules = has_modules(device);
     let granularity = device.device_info.granularity.as_ref().map(|g| g.value);
     let mut total_bits: u32 = 0;
+    let mut empty = Vec::new();
+    let mut first_empty = None;
     for s in 1..=count {
         let Some(entry) = o.subs.get(&s) else {
             continue;
@@ -309,17 +311,8 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
             }
         }
         if index == 0 {
-            out.push(
-                Diagnostic::new(
-                    &rules::MAPPING_TARGET_MISSING,
-                    span,
-                    format!(
-                        "{here} is an empty mapping entry ({raw:#010X}) within the mapped count"
-                    ),
-                )
-                .with_label("maps nothing")
-                .with_help(format!("lower {} or fill this entry", at(o.index, 0))),
-            );
+            empty.push(s.to_string());
+            first_empty.get_or_insert(value_span(entry));
             continue;
         }
         let target = format!("{index:04X}h sub {sub}");
@@ -381,6 +374,26 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
         if let Some(ty) = mapped.data_type.and_then(|dt| device.basic_type(dt)) {
             length(&here, &target, ty, len, granularity, span, out);
         }
+    }
+    if !empty.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &rules::MAPPING_TARGET_MISSING,
+                first_empty,
+                format!(
+                    "{} maps {count} objects but sub-index {} {} empty (0)",
+                    obj(o.index),
+                    short_list(&empty),
+                    if empty.len() == 1 { "is" } else { "are" }
+                ),
+            )
+            .with_severity(Severity::Warning)
+            .with_label("empty mapping entry")
+            .with_help(format!(
+                "set {} to the number of real entries",
+                at(o.index, 0)
+            )),
+        );
     }
     if total_bits > 64 {
         out.push(
