@@ -85,14 +85,14 @@ rules! {
     ERROR_CONTROL_MISSING = "EDS209" Warning "neither 1017h (heartbeat producer) nor 100Ch/100Dh (node guarding) is present";
 
     // ---- EDS3xx: objects and sub-objects (validator) ----
-    MISSING_NAME = "EDS301" Error "an object or sub-object has no ParameterName";
+    MISSING_NAME = "EDS301" Error "an object or sub-object has no ParameterName (once per object for its subs; warning for ARRAY elements, which are indexed)";
     LONG_NAME = "EDS302" Warning "a ParameterName longer than 241 characters";
     MISSING_KEY = "EDS303" Error "a key the CiA 306 object table makes mandatory is missing (DataType or AccessType of an entry; SubNumber of an ARRAY/RECORD)";
     KEY_NOT_ALLOWED = "EDS304" Warning "a key the CiA 306 object table does not allow: SubNumber on a VAR, PDOMapping on a DOMAIN (info, once per file: VAR keys on ARRAY/RECORD mains, a common dialect)";
     SUBNUMBER_AND_COMPACT = "EDS305" Error "both SubNumber and CompactSubObj are non-zero";
     SUBNUMBER_MISMATCH = "EDS306" Warning "SubNumber differs from the number of sub-objects described (warning: edsgen uses the sections; Lely loads only SubNumber of them)";
     SUB_INDEX_RESERVED = "EDS307" Error "a sub-object at sub-index FFh, which is reserved for the structure description";
-    SUB0_MISSING = "EDS308" Error "an ARRAY or RECORD has no sub-index 0, or its sub-index 0 is not UNSIGNED8";
+    SUB0_MISSING = "EDS308" Error "an ARRAY has no sub-index 0 or a sub-index 0 that is not UNSIGNED8 (warning for a RECORD, whose sub 0 some vendors use as a value)";
     SUB0_ACCESS = "EDS309" Warning "sub-index 0 of an ARRAY/RECORD is writable (except 1003h and the PDO mapping objects)";
     SUB0_VALUE = "EDS310" Warning "the default of sub-index 0 differs from the highest sub-index present";
     ARRAY_MIXED_TYPES = "EDS311" Error "the elements of an ARRAY have different data types";

@@ -607,6 +607,31 @@ fn eds301_missing_parameter_name() {
 }
 
 #[test]
+fn eds301_unnamed_array_elements_are_one_warning_per_object() {
+    let body = record(0x2000, "Arr", 8, 3)
+        + &sub(0x2000, 0, "Count", 5, "ro", "2", false)
+        + &sub(0x2000, 1, "", 6, "rw", "0", false)
+        + &sub(0x2000, 2, "", 6, "rw", "0", false);
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS301", Warning, line_of(&t, "[2000sub1]"))]
+    );
+}
+
+#[test]
+fn eds301_unnamed_record_field_is_an_error() {
+    let body = record(0x2000, "Rec", 9, 2)
+        + &sub(0x2000, 0, "Count", 5, "ro", "1", false)
+        + &sub(0x2000, 1, "", 6, "rw", "0", false);
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS301", Error, line_of(&t, "[2000sub1]"))]
+    );
+}
+
+#[test]
 fn eds302_long_parameter_name() {
     let name = "N".repeat(242);
     let t = eds(&[], &[0x2000], &var(0x2000, &name, 6, "rw", "0", false));
@@ -695,7 +720,7 @@ fn eds307_sub_index_ff() {
 fn eds308_record_without_sub0() {
     let body = record(0x2000, "Rec", 9, 1) + &sub(0x2000, 1, "A", 6, "rw", "0", false);
     let t = eds(&[], &[0x2000], &body);
-    assert_eq!(diags(&t), vec![d("EDS308", Error, line_of(&t, "[2000]"))]);
+    assert_eq!(diags(&t), vec![d("EDS308", Warning, line_of(&t, "[2000]"))]);
 }
 
 #[test]
@@ -706,8 +731,15 @@ fn eds308_sub0_not_unsigned8() {
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS308", Error, line_of(&t, "[2000sub0]"))]
+        vec![d("EDS308", Warning, line_of(&t, "[2000sub0]"))]
     );
+}
+
+#[test]
+fn eds308_array_without_sub0_is_an_error() {
+    let body = record(0x2000, "Arr", 8, 1) + &sub(0x2000, 1, "Arr1", 6, "rw", "0", false);
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(diags(&t), vec![d("EDS308", Error, line_of(&t, "[2000]"))]);
 }
 
 #[test]
