@@ -1370,3 +1370,119 @@ fn rules_doc_is_current() {
     let have = std::fs::read_to_string(path).unwrap_or_default();
     assert!(have == want, "docs/rules.md is stale: run `EDSGEN_UPDATE_DOCS=1 cargo test -p edsgen-codegen --test rules rules_doc_is_current`");
 }
+
+// ---- robustness ----
+
+mod no_panic {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Lines that stress the validator: odd numbers, `$NODEID`, PDO entries, list entries.
+    fn line() -> impl Strategy<Value = String> {
+        let sections = prop::sample::select(vec![
+            "[1000]",
+            "[1018]",
+            "[1018sub0]",
+            "[1400]",
+            "[1400sub1]",
+            "[1600]",
+            "[1600sub0]",
+            "[1600sub1]",
+            "[1A00]",
+            "[1A00sub1]",
+            "[1800sub2]",
+            "[2000]",
+            "[2000sub0]",
+            "[2000subFF]",
+            "[MandatoryObjects]",
+            "[OptionalObjects]",
+            "[DeviceInfo]",
+            "[DeviceComissioning]",
+            "[DynamicChannels]",
+            "[ConnectedModules]",
+            "[M1SubExt2000]",
+            "[Comments]",
+            "[2000ObjectLinks]",
+            "[FileInfo]",
+            "[DummyUsage]",
+        ]);
+        let keys = prop::sample::select(vec![
+            "ParameterName",
+            "ObjectType",
+            "DataType",
+            "AccessType",
+            "DefaultValue",
+            "PDOMapping",
+            "SubNumber",
+            "CompactSubObj",
+            "LowLimit",
+            "HighLimit",
+            "ObjFlags",
+            "ParameterValue",
+            "SupportedObjects",
+            "1",
+            "2",
+            "NrOfRXPDO",
+            "Granularity",
+            "NodeID",
+            "Baudrate",
+            "Lines",
+            "NrOfSeg",
+            "Range1",
+            "Type1",
+            "Count",
+            "NrOfEntries",
+            "ObjectLinks",
+            "Dummy0010",
+            "LSS_SerialNumber",
+            "CompactPDO",
+            "EDSVersion",
+            "CreationDate",
+        ]);
+        let values = prop::sample::select(vec![
+            "0",
+            "1",
+            "0x7",
+            "0x9",
+            "0x8",
+            "0xFF",
+            "255",
+            "256",
+            "-1",
+            "0x80000000",
+            "$NODEID+0x180",
+            "$NODEID+0x7FFFFFFF",
+            "0x20000010",
+            "0x00010008",
+            "0xFFFFFFFF",
+            "rw",
+            "ro",
+            "wo",
+            "rww",
+            "0xA000-0xA0FF",
+            "0;2",
+            "x",
+            "",
+            "0x1018",
+            "1.5",
+            "99999999999999999999999",
+        ]);
+        prop_oneof![
+            sections.prop_map(str::to_owned),
+            (keys, values).prop_map(|(k, v)| format!("{k}={v}")),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        #[test]
+        fn validator_never_panics(lines in prop::collection::vec(line(), 0..80), dcf in any::<bool>()) {
+            let text = lines.join("\n");
+            let path = if dcf { "p.dcf" } else { "p.eds" };
+            let read = read::read_bytes(Path::new(path), text.as_bytes());
+            let diags = validate::validate(&read.device);
+            let rendered = edsgen_codegen::render::human(path, &read.text, &diags, false);
+            prop_assert_eq!(diags.is_empty(), rendered.is_empty());
+        }
+    }
+}

@@ -229,7 +229,7 @@ fn object_links(device: &Device, out: &mut Vec<Diagnostic>) {
     }
     for s in &device.other_sections {
         let name = s.name.trim();
-        let Some(prefix) = name.len().checked_sub(11).map(|n| &name[..n]) else {
+        let Some(prefix) = name.len().checked_sub(11).and_then(|n| name.get(..n)) else {
             continue;
         };
         if !name.to_ascii_lowercase().ends_with("objectlinks") || prefix.is_empty() {
