@@ -659,6 +659,16 @@ fn eds303_record_without_sub_number() {
 }
 
 #[test]
+fn eds303_compact_array_without_data_type() {
+    let body = "\n[2000]\nParameterName=Arr\nObjectType=0x8\nCompactSubObj=3\nAccessType=rw\nDefaultValue=0\nPDOMapping=0\n";
+    let t = eds(&[], &[0x2000], body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS303", Error, line_of(&t, "CompactSubObj=3"))]
+    );
+}
+
+#[test]
 fn eds304_sub_number_on_a_var() {
     let t = eds(&[], &[0x2000], &var(0x2000, "Speed", 6, "rw", "0", false));
     let t = edit(
@@ -1083,6 +1093,17 @@ fn eds414_length_not_a_multiple_of_granularity() {
     assert_eq!(
         diags(&t),
         vec![d("EDS414", Warning, line_of(&t, "DefaultValue=0x20030008"))]
+    );
+}
+
+#[test]
+fn eds414_more_than_8_entries_with_granularity_8() {
+    let entries = ["0x00050008"; 9];
+    let t = one_rpdo(&entries);
+    let line = line_of(&t, "[1600sub0]") + 5;
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS413", Error, line), d("EDS414", Warning, line)]
     );
 }
 

@@ -130,6 +130,29 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
 
     // ARRAY, RECORD, DEFSTRUCT from here on.
     unnamed_subs(o, out);
+    if let (Some(c), Some(element)) = (compact, o.subs.get(&1).filter(|s| s.implicit)) {
+        let missing: Vec<&str> = [
+            (element.data_type.is_none(), "DataType"),
+            (element.access.is_none(), "AccessType"),
+        ]
+        .into_iter()
+        .filter_map(|(m, k)| m.then_some(k))
+        .collect();
+        if !missing.is_empty() {
+            out.push(
+                Diagnostic::new(
+                    &rules::MISSING_KEY,
+                    Some(c.span),
+                    format!(
+                        "{name} uses CompactSubObj but has no valid {}",
+                        missing.join(" or ")
+                    ),
+                )
+                .with_label("the sub-objects take their type and access from this section")
+                .with_help("add DataType and AccessType to the main section"),
+            );
+        }
+    }
     let sub_number = o.sub_number.as_ref().filter(|n| n.value != 0);
     match (sub_number, compact) {
         (Some(n), Some(c)) => out.push(

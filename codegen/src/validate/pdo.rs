@@ -283,6 +283,20 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
     }
     let modules = has_modules(device);
     let granularity = device.device_info.granularity.as_ref().map(|g| g.value);
+    if granularity == Some(8) && count > 8 {
+        out.push(
+            Diagnostic::new(
+                &rules::MAPPING_GRANULARITY,
+                Some(value_span(sub0)),
+                format!(
+                    "{} maps {count} objects with Granularity 8; byte-wise mapping fits at most 8",
+                    at(o.index, 0)
+                ),
+            )
+            .with_label(format!("{count} entries"))
+            .with_help("CANopenNode and most devices accept at most 8 entries per PDO"),
+        );
+    }
     let mut total_bits: u32 = 0;
     let mut empty = Vec::new();
     let mut first_empty = None;
