@@ -91,6 +91,35 @@ fn render_one(renderer: &Renderer, path: &str, lines: &[&str], d: &Diagnostic) -
     }
 }
 
+/// The lines of a text as the readers count them: LF, CR LF and a lone CR each end a line.
+fn split_lines(text: &str) -> Vec<&str> {
+    let mut lines = Vec::new();
+    let mut start = 0;
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\n' => {
+                lines.push(&text[start..i]);
+                start = i + 1;
+            }
+            b'\r' => {
+                lines.push(&text[start..i]);
+                if bytes.get(i + 1) == Some(&b'\n') {
+                    i += 1;
+                }
+                start = i + 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    if start < text.len() {
+        lines.push(&text[start..]);
+    }
+    lines
+}
+
 /// Renders diagnostics for one file as rustc-style text, one blank line between diagnostics.
 pub fn human(path: &str, text: &str, diags: &[Diagnostic], color: bool) -> String {
     let renderer = if color {
@@ -98,7 +127,7 @@ pub fn human(path: &str, text: &str, diags: &[Diagnostic], color: bool) -> Strin
     } else {
         Renderer::plain()
     };
-    let lines: Vec<&str> = text.lines().collect();
+    let lines = split_lines(text);
     let mut out = String::new();
     for d in diags {
         out.push_str(&render_one(&renderer, path, &lines, d));
@@ -185,6 +214,13 @@ mod tests {
         let d = Diagnostic::new(&rules::MISSING_NAME, Some(Span::new(99, 200, 5)), "x");
         let text = human("dev.eds", TEXT, &[d], false);
         assert_eq!(text, "error[EDS301]: x\n --> dev.eds:99:200\n\n");
+    }
+
+    #[test]
+    fn lines_end_at_lf_crlf_and_lone_cr() {
+        assert_eq!(split_lines("a\nb\r\nc\rd"), vec!["a", "b", "c", "d"]);
+        assert_eq!(split_lines("a\n"), vec!["a"]);
+        assert_eq!(split_lines(""), Vec::<&str>::new());
     }
 
     #[test]
