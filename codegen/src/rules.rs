@@ -22,6 +22,8 @@ macro_rules! rules {
     ($($name:ident = $code:literal $sev:ident $summary:literal;)*) => {
         $(
             #[doc = $summary]
+            // Summaries name sections like `[FileInfo]`, which rustdoc would read as links.
+            #[allow(rustdoc::broken_intra_doc_links)]
             pub static $name: Rule = Rule { code: $code, severity: Severity::$sev, summary: $summary };
         )*
         /// Every rule, in code order.
