@@ -80,8 +80,8 @@ rules! {
     OBJECT_LIST_MISSING = "EDS202" Warning "[OptionalObjects] or [ManufacturerObjects] is missing although objects of its range exist";
     SUPPORTED_OBJECTS_COUNT = "EDS203" Warning "SupportedObjects is missing or differs from the numbered entries, or the entries are not 1..N (warning: edsgen uses the union of lists and sections)";
     LISTED_WITHOUT_SECTION = "EDS204" Error "an object list names an index that has no [xxxx] section";
-    UNLISTED_OBJECT = "EDS205" Warning "an [xxxx] section that no object list names (Lely ignores it, python uses it)";
-    WRONG_OBJECT_LIST = "EDS206" Warning "an index in the wrong object list for its range";
+    UNLISTED_OBJECT = "EDS205" Warning "[xxxx] sections that no object list names, once per list (Lely ignores them, python uses them)";
+    WRONG_OBJECT_LIST = "EDS206" Warning "indices in the wrong object list for their range, once per list";
     LISTED_TWICE = "EDS207" Warning "an index listed twice in the object lists (warning: harmless to edsgen, which uses the union)";
     REQUIRED_OBJECT_MISSING = "EDS208" Error "1000h (device type), 1001h (error register) or 1018h (identity) is missing";
     ERROR_CONTROL_MISSING = "EDS209" Warning "neither 1017h (heartbeat producer) nor 100Ch/100Dh (node guarding) is present";

@@ -550,8 +550,10 @@ fn eds204_listed_without_section() {
 }
 
 #[test]
-fn eds205_section_not_listed() {
-    let t = eds(&[], &[], &var(0x2000, "Speed", 6, "rw", "0", false));
+fn eds205_sections_not_listed_are_one_warning_per_list() {
+    let body =
+        var(0x2000, "Speed", 6, "rw", "0", false) + &var(0x2001, "Torque", 6, "rw", "0", false);
+    let t = eds(&[], &[], &body);
     assert_eq!(diags(&t), vec![d("EDS205", Warning, line_of(&t, "[2000]"))]);
 }
 

@@ -92,6 +92,8 @@ fn lists(device: &Device, out: &mut Vec<Diagnostic>) {
     }
 
     let mut first_listing: BTreeMap<u16, (ObjectListKind, Span)> = BTreeMap::new();
+    // (list it is in, list it belongs in) -> (first entry, indices)
+    let mut wrong: BTreeMap<(&str, &str), (Span, Vec<String>)> = BTreeMap::new();
     for list in &device.object_lists {
         let name = list_name(list.kind);
         match &list.supported_objects {
@@ -158,15 +160,11 @@ fn lists(device: &Device, out: &mut Vec<Diagnostic>) {
             }
             first_listing.insert(index, (list.kind, entry.span));
             if !allowed_in(index, list.kind) {
-                out.push(
-                    Diagnostic::new(
-                        &rules::WRONG_OBJECT_LIST,
-                        Some(entry.span),
-                        format!("{} is listed in {}", obj(index), name),
-                    )
-                    .with_label("wrong list for this index")
-                    .with_help(format!("move it to {}", list_name(home_list(index)))),
-                );
+                wrong
+                    .entry((list_name(list.kind), list_name(home_list(index))))
+                    .or_insert((entry.span, Vec::new()))
+                    .1
+                    .push(obj(index));
             }
             let described = device
                 .objects
@@ -188,6 +186,24 @@ fn lists(device: &Device, out: &mut Vec<Diagnostic>) {
         }
     }
 
+    for ((in_list, home), (span, items)) in wrong {
+        out.push(
+            Diagnostic::new(
+                &rules::WRONG_OBJECT_LIST,
+                Some(span),
+                format!(
+                    "{} index(es) listed in {in_list} belong in {home}: {}",
+                    items.len(),
+                    short_list(&items)
+                ),
+            )
+            .with_label("wrong list for this index")
+            .with_help(format!("move them to {home}")),
+        );
+    }
+
+    // Unlisted sections: one diagnostic per list they belong in.
+    let mut unlisted: BTreeMap<&str, (Span, Vec<String>)> = BTreeMap::new();
     for o in device.objects.values() {
         if o.implicit || o.index < 0x1000 || first_listing.contains_key(&o.index) {
             continue;
@@ -196,20 +212,25 @@ fn lists(device: &Device, out: &mut Vec<Diagnostic>) {
         if !has(home) {
             continue; // EDS201/EDS202 already cover the whole list.
         }
+        unlisted
+            .entry(list_name(home))
+            .or_insert((o.span, Vec::new()))
+            .1
+            .push(obj(o.index));
+    }
+    for (home, (span, items)) in unlisted {
         out.push(
             Diagnostic::new(
                 &rules::UNLISTED_OBJECT,
-                Some(o.span),
+                Some(span),
                 format!(
-                    "{} is described but not listed in any object list",
-                    obj(o.index)
+                    "{} described object(s) are not listed in any object list: {}",
+                    items.len(),
+                    short_list(&items)
                 ),
             )
             .with_label("not listed")
-            .with_help(format!(
-                "add it to {} and raise SupportedObjects",
-                list_name(home)
-            )),
+            .with_help(format!("add them to {home} and raise SupportedObjects")),
         );
     }
 }
