@@ -139,7 +139,7 @@ rules! {
     PARAMETER_VALUE_READ_ONLY = "EDS508" Warning "ParameterValue differs from DefaultValue on a ro/const entry, which a download cannot write";
     MODULES = "EDS509" Warning "module sections that do not fit together (ConnectedModules, SupportedModules, Mx sections, Count, NrOfEntries)";
     COMMENTS_LINES = "EDS510" Warning "[Comments] Lines differs from the LineN keys, or a comment line is longer than 249 characters";
-    OBJECT_LINK_MISSING = "EDS511" Warning "an [xxxxObjectLinks] entry names an object that does not exist, or its count differs from its entries";
+    OBJECT_LINK_MISSING = "EDS511" Warning "an [xxxxObjectLinks] entry names an object that does not exist";
     DYNAMIC_CHANNELS_SECTION = "EDS512" Warning "[DynamicChannels] NrOfSeg differs from its segments, or a TypeN/DirN/RangeN is malformed";
     DYNAMIC_CHANNEL_OBJECTS = "EDS513" Info "objects described in the EDS inside a range [DynamicChannels] covers";
 

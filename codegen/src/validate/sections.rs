@@ -227,33 +227,6 @@ fn object_links(device: &Device, out: &mut Vec<Diagnostic>) {
             );
         }
     }
-    for s in &device.other_sections {
-        let name = s.name.trim();
-        let Some(prefix) = name.len().checked_sub(11).and_then(|n| name.get(..n)) else {
-            continue;
-        };
-        if !name.to_ascii_lowercase().ends_with("objectlinks") || prefix.is_empty() {
-            continue;
-        }
-        let links = numbered(s);
-        if let Some(declared) = key(s, "ObjectLinks") {
-            if parse_int(&declared.value) != Some(links.len() as i128) {
-                out.push(
-                    Diagnostic::new(
-                        &rules::OBJECT_LINK_MISSING,
-                        Some(declared.span),
-                        format!(
-                            "[{name}] ObjectLinks is {} but {} links are listed",
-                            declared.value,
-                            links.len()
-                        ),
-                    )
-                    .with_label(format!("{} listed", links.len()))
-                    .with_help(format!("set ObjectLinks={}", links.len())),
-                );
-            }
-        }
-    }
 }
 
 /// A `[DynamicChannels]` range `0xA000-0xA0FF`, parsed.
