@@ -33,7 +33,7 @@ macro_rules! rules {
 
 rules! {
     // ---- EDS0xx: text and values (readers) ----
-    UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a [section] or key=value";
+    UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a `[section]` or `key=value`";
     NON_ASCII = "EDS002" Warning "bytes outside ASCII (the file was decoded as UTF-8 or Windows-1252)";
     LONG_LINE = "EDS003" Warning "a line longer than 255 characters";
     INLINE_COMMENT = "EDS004" Warning "a comment not in column 1, or an inline `;` comment after a value";
@@ -55,7 +55,7 @@ rules! {
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
     EMPTY_FILE = "EDS022" Error "the file holds no sections";
-    COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled [DeviceCommissioning] (two m); read as the spec's [DeviceComissioning]";
+    COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled `[DeviceCommissioning]` (two m); read as the spec's `[DeviceComissioning]`";
     ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
 
 
