@@ -232,6 +232,42 @@ fn pdo1_tx_is_eight_bytes_with_reserved_byte6_and_byte7() {
     );
 }
 
+/// The 1-based number of the line that reads exactly `line` in the file text.
+fn line_of(text: &str, line: &str) -> u32 {
+    let position = text.lines().position(|l| l.trim_end() == line);
+    position.map(|i| i as u32 + 1).expect(line)
+}
+
+/// Read and validate diagnostics above info, as (code, severity, line), sorted.
+fn warnings_and_errors(read: &Read) -> Vec<(&'static str, Severity, Option<u32>)> {
+    let validated = edsgen_codegen::validate::validate(&read.device);
+    let mut found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .chain(validated.iter())
+        .filter(|d| d.severity > Severity::Info)
+        .map(|d| (d.rule.code, d.severity, d.span.map(|s| s.line)))
+        .collect();
+    found.sort_by_key(|(code, _, line)| (*line, *code));
+    found
+}
+
+#[test]
+fn validates_with_only_the_card_s_own_deviation_from_cia_301() {
+    // 2000h:00 and 2100h:00 are 16-bit data on this card (section 8.2.2: 0x2000.00 is the response code), not the UNSIGNED8
+    // number of entries; the file describes them as they are, and its [Comments] say so.
+    let read = read();
+    let sub0_2000 = Some(line_of(&read.text, "[2000sub0]"));
+    let sub0_2100 = Some(line_of(&read.text, "[2100sub0]"));
+    assert_eq!(
+        warnings_and_errors(&read),
+        [
+            ("EDS308", Severity::Warning, sub0_2000),
+            ("EDS308", Severity::Warning, sub0_2100),
+        ]
+    );
+}
+
 #[test]
 fn reads_without_diagnostics_above_info() {
     let read = read();
