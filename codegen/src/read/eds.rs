@@ -90,6 +90,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         device_info: DeviceInfo::default(),
         dummy_usage: Default::default(),
         comments: Vec::new(),
+        comment_lines: None,
         objects: Default::default(),
         object_lists: Vec::new(),
         commissioning: None,
@@ -757,6 +758,7 @@ impl Reader {
         let mut lines: Vec<(u32, String)> = Vec::new();
         for entry in &section.entries {
             if entry.key.eq_ignore_ascii_case("Lines") {
+                self.device.comment_lines = self.number(Some(entry), u32::from(u16::MAX));
                 continue;
             }
             match self.numbered_key(entry, "Line") {
