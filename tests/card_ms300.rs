@@ -60,6 +60,8 @@ fn manual_rows() -> Vec<Row> {
     use AccessType::{Ro, Rw};
     use BasicType::{Integer16, Integer32, Integer8, Unsigned16, Unsigned32, Unsigned8};
     vec![
+        // 15-5: each fault sets a bit (0-7) of the CANopen fault register, 1001h.
+        row(0x1001, 0, "Error register", Unsigned8, Ro, int(0), false),
         // 15-1 (CiA 301 data, the manual gives no 1000h value): DSP-402 frequency converter.
         row(
             0x1000,
@@ -177,6 +179,8 @@ fn manual_rows() -> Vec<Row> {
         row(0x2026, 0x61, "AVI", Unsigned16, Ro, None, true),
         // 15-4 Delta standard (new): 2060h sub1 control word, RW, U16.
         row(0x2060, 1, "Control word", Unsigned16, Rw, None, true),
+        // 15-3-1 control mode table: 2060-04 torque limit (%); 15-4: RW, U16.
+        row(0x2060, 4, "Torque limit", Unsigned16, Rw, None, true),
         // 15-4: 2060h sub 5, RW, S32, no definition.
         row(0x2060, 5, "Reserved command 5", Integer32, Rw, None, true),
         // 15-4: 2061h sub 3 actual output frequency, R, U16.
