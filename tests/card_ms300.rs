@@ -385,19 +385,19 @@ fn model_snapshot() {
 fn reads_and_validates_clean() {
     let read = read_file(Path::new(EDS)).expect("eds/ms300.eds is readable");
     let judged = edsgen_codegen::validate::validate(&read.device);
-    let mut findings: Vec<(String, &str, u32)> = read
+    let mut findings: Vec<(&str, &str, u32)> = read
         .diagnostics
         .iter()
         .chain(judged.iter())
         .filter(|d| d.severity > Severity::Info)
         .map(|d| {
             (
-                d.severity.as_str().to_string(),
+                d.severity.as_str(),
                 d.rule.code,
                 d.span.map_or(0, |s| s.line),
             )
         })
         .collect();
     findings.sort();
-    assert_eq!(findings, Vec::<(String, &str, u32)>::new());
+    assert_eq!(findings, Vec::<(&str, &str, u32)>::new());
 }
