@@ -620,7 +620,7 @@ DefaultValue=0x3F800000
         diags(&read),
         vec![
             ("EDS013", Severity::Error, 4),
-            ("EDS013", Severity::Error, 5),
+            ("EDS013", Severity::Warning, 5),
             ("EDS016", Severity::Warning, 6),
             ("EDS014", Severity::Info, 10),
             ("EDS019", Severity::Warning, 14),
@@ -970,4 +970,87 @@ DataType=0x0005
         vec![("StorageLocation".to_owned(), "ROM".to_owned())]
     );
     assert!(read.device.entry(0x1018, 0).unwrap().custom.is_empty());
+}
+
+#[test]
+fn eds013_limits_beyond_the_type_are_warnings_and_ignored() {
+    let text = "\
+[2000]
+ParameterName=Signed
+DataType=0x0003
+LowLimit=-40000
+HighLimit=65535
+[2001]
+ParameterName=Unsigned
+DataType=0x0006
+LowLimit=70000
+HighLimit=0xffffffff
+";
+    let read = read_eds(text);
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS013", Severity::Warning, 4),
+            ("EDS013", Severity::Warning, 5),
+            ("EDS013", Severity::Error, 9),
+            ("EDS013", Severity::Warning, 10),
+        ]
+    );
+    assert_eq!(
+        read.diagnostics[1].message,
+        "HighLimit `65535` is above the maximum 32767 of INTEGER16; it restricts nothing and is ignored"
+    );
+    assert_eq!(
+        read.diagnostics[1].help.as_deref(),
+        Some("remove the HighLimit, or write 32767")
+    );
+    let signed = read.device.entry(0x2000, 0).unwrap();
+    assert_eq!(value_of(&signed.low_limit), None);
+    assert_eq!(value_of(&signed.high_limit), None);
+    assert_eq!(signed.high_limit.as_ref().unwrap().raw, "65535");
+}
+
+#[test]
+fn eds025_eds026_c_suffixes_and_prefixed_bytes_are_read() {
+    let text = "\
+[2000]
+ParameterName=Big
+DataType=0x0015
+DefaultValue=0x1234567890ABCDEFLL
+[2001]
+ParameterName=Float
+DataType=0x0008
+DefaultValue=2.5f
+[2002]
+ParameterName=Blob
+ObjectType=0x2
+DataType=0x000F
+DefaultValue=0x0004a0ff
+ParameterValue=0
+";
+    let read = read_as("t.dcf", text);
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS025", Severity::Warning, 4),
+            ("EDS025", Severity::Warning, 8),
+            ("EDS026", Severity::Warning, 13),
+            ("EDS026", Severity::Warning, 14),
+        ]
+    );
+    assert_eq!(
+        read.diagnostics[0].message,
+        "INTEGER64 value `0x1234567890ABCDEFLL` has a C literal suffix; read as `0x1234567890ABCDEF`"
+    );
+    let value = |index| value_of(&read.device.entry(index, 0).unwrap().default);
+    assert_eq!(value(0x2000), Some(Value::Integer(0x1234_5678_90AB_CDEF)));
+    assert_eq!(value(0x2001), Some(Value::Real(2.5)));
+    assert_eq!(
+        value(0x2002),
+        Some(Value::Bytes(vec![0x00, 0x04, 0xa0, 0xff]))
+    );
+    assert_eq!(
+        value_of(&read.device.entry(0x2002, 0).unwrap().parameter_value),
+        Some(Value::Bytes(vec![]))
+    );
 }

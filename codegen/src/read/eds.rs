@@ -1278,7 +1278,43 @@ fn resolve_value(
             );
         }
     }
-    source.value = parse_value(&source.raw, basic, source.span, diags);
+    let mut found = Vec::new();
+    source.value = parse_value(&source.raw, basic, source.span, &mut found);
+    if let Some(ty) = basic {
+        for diag in &mut found {
+            soften_limit_beyond_type(diag, key, &source.raw, ty);
+        }
+    }
+    diags.append(&mut found);
+}
+
+/// A LowLimit below the type's minimum or a HighLimit above its maximum restricts nothing: the
+/// limit is dropped (the type's own range applies) and EDS013 becomes a warning. Vendors write
+/// `HighLimit=65535` on INTEGER16 or `0xFFFFFFFF` on UNSIGNED16 to mean "no limit". A limit beyond
+/// the other end (which would exclude every value) stays an error.
+fn soften_limit_beyond_type(diag: &mut Diagnostic, key: &str, raw: &str, ty: BasicType) {
+    if diag.rule.code != rules::OUT_OF_RANGE.code {
+        return;
+    }
+    let (Some(value), Some((min, max))) = (parse_integer(raw), ty.integer_range()) else {
+        return;
+    };
+    let (beyond, bound) = match key {
+        "HighLimit" if value > max => ("above the maximum", max),
+        "LowLimit" if value < min => ("below the minimum", min),
+        _ => return,
+    };
+    *diag = Diagnostic::new(
+        &rules::OUT_OF_RANGE,
+        diag.span,
+        format!(
+            "{key} `{}` is {beyond} {bound} of {}; it restricts nothing and is ignored",
+            raw.trim(),
+            ty.name()
+        ),
+    )
+    .with_severity(Severity::Warning)
+    .with_help(format!("remove the {key}, or write {bound}"));
 }
 
 /// Expands `CompactSubObj=N` into implicit sub-objects 0..N (CiA 306 4.6.3.4): sub 0

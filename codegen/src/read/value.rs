@@ -93,7 +93,9 @@ pub fn strips_inline_comment(data_type: Option<BasicType>) -> bool {
 ///   IEEE 754 bit pattern (EDS019, except for zero, which both readings agree on).
 /// - VISIBLE_STRING/UNICODE_STRING: kept as written; surrounding quotes are kept and reported
 ///   (EDS018).
-/// - OCTET_STRING/DOMAIN: hex digit pairs, spaces between bytes tolerated.
+/// - A C literal suffix (`LL`, `U`, `f`) on an integer or REAL is dropped (EDS025).
+/// - OCTET_STRING/DOMAIN: hex digit pairs, spaces between bytes tolerated; a `0x` prefix before
+///   an even number of hex digits is dropped and a DOMAIN `0` is empty (both EDS026).
 /// - TIME_OF_DAY/TIME_DIFFERENCE: an integer (the 48-bit value), or `<days> <ms>` (Lely), stored as
 ///   `ms | days << 32`.
 pub fn parse_value(
@@ -229,6 +231,13 @@ fn parse_int_value(
             return Some(Value::Integer(i128::from(lower == "true")));
         }
     }
+    let text = match strip_integer_suffix(text) {
+        Some(stripped) => {
+            push_suffix_warning(text, stripped, ty, span, diags);
+            stripped
+        }
+        None => text,
+    };
     let (value, radix) = match parse_integer_with_radix(text) {
         Some(parsed) => parsed,
         None => return parse_int_fallback(text, ty, (min, max), span, diags),
@@ -331,6 +340,43 @@ fn parse_int_fallback(
     None
 }
 
+/// The literal without a C integer suffix (`U`, `L`, `UL`, `LL`, `ULL`, any case) if it has one and
+/// the rest is an integer literal.
+fn strip_integer_suffix(text: &str) -> Option<&str> {
+    let body = text.trim_end_matches(['u', 'U', 'l', 'L']);
+    let suffix = text[body.len()..].to_ascii_lowercase();
+    let is_c_suffix = ["u", "l", "ul", "lu", "ll", "ull", "llu"].contains(&suffix.as_str());
+    (is_c_suffix && parse_integer_with_radix(body).is_some()).then_some(body)
+}
+
+/// The literal without a C float suffix (`f`/`F`) if it has one and the rest is a decimal float.
+fn strip_float_suffix(text: &str) -> Option<&str> {
+    let body = text.strip_suffix(['f', 'F'])?;
+    (looks_like_float(body) && body.parse::<f64>().is_ok()).then_some(body)
+}
+
+fn push_suffix_warning(
+    text: &str,
+    stripped: &str,
+    ty: BasicType,
+    span: Span,
+    diags: &mut Vec<Diagnostic>,
+) {
+    diags.push(
+        Diagnostic::new(
+            &rules::C_LITERAL_SUFFIX,
+            Some(span),
+            format!(
+                "{} value `{text}` has a C literal suffix; read as `{stripped}`",
+                ty.name()
+            ),
+        )
+        .with_help(format!(
+            "write `{stripped}`: CiA 306 numbers have no suffix"
+        )),
+    );
+}
+
 fn range_checked(
     text: &str,
     value: i128,
@@ -372,6 +418,13 @@ fn parse_real(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
         ));
         return None;
     }
+    let text = match strip_float_suffix(text) {
+        Some(stripped) => {
+            push_suffix_warning(text, stripped, ty, span, diags);
+            stripped
+        }
+        None => text,
+    };
     let bits = if ty == BasicType::Real32 { 32 } else { 64 };
     if let Some((pattern, Radix::Hex)) = parse_integer_with_radix(text) {
         if pattern >= 0 && pattern < (1i128 << bits) {
@@ -432,6 +485,41 @@ fn parse_bytes(
     span: Span,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Value> {
+    if ty == BasicType::Domain && text == "0" {
+        diags.push(
+            Diagnostic::new(
+                &rules::BYTES_DIALECT,
+                Some(span),
+                "DOMAIN value `0` is read as empty (no bytes)".to_owned(),
+            )
+            .with_help("leave the value empty, or write the bytes as hex digit pairs (e.g. `00`)"),
+        );
+        return Some(Value::Bytes(Vec::new()));
+    }
+    let prefixed = text.strip_prefix("0x").or_else(|| text.strip_prefix("0X"));
+    if let Some(body) = prefixed {
+        let digits: Vec<char> = body.chars().filter(|c| !c.is_whitespace()).collect();
+        if !digits.is_empty() && digits.len() % 2 == 0 && digits.iter().all(char::is_ascii_hexdigit)
+        {
+            let shown = if body.len() > 16 {
+                format!("{}...", &body[..16])
+            } else {
+                body.to_owned()
+            };
+            diags.push(
+                Diagnostic::new(
+                    &rules::BYTES_DIALECT,
+                    Some(span),
+                    format!(
+                        "{} value written as a `0x` literal; read as the bytes `{shown}` in written order",
+                        ty.name()
+                    ),
+                )
+                .with_help("drop the `0x`: CiA 306 writes bytes as hex digit pairs"),
+            );
+            return parse_bytes(body, ty, span, diags);
+        }
+    }
     let digits: Vec<char> = text.chars().filter(|c| !c.is_whitespace()).collect();
     let all_hex = digits.iter().all(char::is_ascii_hexdigit);
     if !all_hex || digits.len() % 2 != 0 {
@@ -750,6 +838,81 @@ mod tests {
         );
         assert_eq!(
             parse("0x12", BasicType::Domain),
+            (
+                Some(Value::Bytes(vec![0x12])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x000400ff", BasicType::OctetString),
+            (
+                Some(Value::Bytes(vec![0x00, 0x04, 0x00, 0xff])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x123", BasicType::Domain),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+        assert_eq!(
+            parse("0", BasicType::Domain),
+            (
+                Some(Value::Bytes(vec![])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0", BasicType::OctetString),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+        assert_eq!(
+            parse("@ABCD", BasicType::Domain),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+    }
+
+    #[test]
+    fn c_literal_suffixes() {
+        assert_eq!(
+            parse("0x1234567890ABCDEFLL", BasicType::Integer64),
+            (
+                Some(Value::Integer(0x1234_5678_90AB_CDEF)),
+                vec![("EDS025", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0xFFFFFFFFFFFFFFFFULL", BasicType::Unsigned64),
+            (
+                Some(Value::Integer(i128::from(u64::MAX))),
+                vec![("EDS025", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("10u", BasicType::Unsigned8),
+            (
+                Some(Value::Integer(10)),
+                vec![("EDS025", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0.0f", BasicType::Real32),
+            (Some(Value::Real(0.0)), vec![("EDS025", Severity::Warning)])
+        );
+        assert_eq!(
+            parse("-1.5F", BasicType::Real64),
+            (Some(Value::Real(-1.5)), vec![("EDS025", Severity::Warning)])
+        );
+        // A hex REAL ending in the digit F is a bit pattern, not a suffix.
+        assert_eq!(
+            parse("0x3F80000F", BasicType::Real32).1,
+            vec![("EDS019", Severity::Warning)]
+        );
+        assert_eq!(
+            parse("10LLL", BasicType::Unsigned8),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+        assert_eq!(
+            parse("L", BasicType::Unsigned8),
             (None, vec![("EDS012", Severity::Error)])
         );
     }

@@ -1212,84 +1212,14 @@ fn super_parse_integer(raw: &str) -> Option<i128> {
     Some(if negative { -magnitude } else { magnitude })
 }
 
+/// Values in XML take the same text forms as in EDS (CiA 311 reuses them, and CANopenEditor
+/// writes the same dialects, e.g. `0x80+$NODEID`): one shared parser reads both.
 fn local_parse_value(
     raw: &str,
     data_type: Option<BasicType>,
     span: Span,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Value> {
-    let text = raw.trim();
-    let data_type = data_type?;
-    let bad = |diags: &mut Vec<Diagnostic>| {
-        diags.push(Diagnostic::new(
-            &rules::BAD_VALUE,
-            Some(span),
-            format!("`{text}` is not a {} value", data_type.name()),
-        ));
-        None
-    };
-    match data_type {
-        BasicType::VisibleString | BasicType::UnicodeString => Some(Value::Text(text.to_owned())),
-        BasicType::OctetString | BasicType::Domain => {
-            let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-            if digits.len() % 2 != 0 {
-                return bad(diags);
-            }
-            let mut bytes = Vec::new();
-            for i in (0..digits.len()).step_by(2) {
-                match digits
-                    .get(i..i + 2)
-                    .and_then(|d| u8::from_str_radix(d, 16).ok())
-                {
-                    Some(b) => bytes.push(b),
-                    None => return bad(diags),
-                }
-            }
-            Some(Value::Bytes(bytes))
-        }
-        BasicType::Real32 | BasicType::Real64 => {
-            if text.is_empty() {
-                return None;
-            }
-            match text.parse::<f64>() {
-                Ok(v) => Some(Value::Real(v)),
-                Err(_) => bad(diags),
-            }
-        }
-        _ => {
-            if text.is_empty() {
-                return None;
-            }
-            let upper = text.to_ascii_uppercase();
-            if let Some(rest) = upper.strip_prefix("$NODEID") {
-                let rest = rest.trim();
-                let offset = if rest.is_empty() {
-                    Some(0)
-                } else {
-                    rest.strip_prefix('+')
-                        .and_then(super_parse_integer)
-                        .and_then(|v| i64::try_from(v).ok())
-                };
-                return match offset {
-                    Some(o) => Some(Value::NodeRelative(o)),
-                    None => bad(diags),
-                };
-            }
-            let Some(v) = super_parse_integer(text) else {
-                return bad(diags);
-            };
-            let Some((low, high)) = data_type.integer_range() else {
-                return Some(Value::Integer(v));
-            };
-            if v < low || v > high {
-                diags.push(Diagnostic::new(
-                    &rules::OUT_OF_RANGE,
-                    Some(span),
-                    format!("`{text}` is outside the range of {}", data_type.name()),
-                ));
-                return None;
-            }
-            Some(Value::Integer(v))
-        }
-    }
+    data_type?;
+    super::value::parse_value(raw, data_type, span, diags)
 }
