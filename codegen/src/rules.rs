@@ -131,8 +131,8 @@ rules! {
     DUMMY_USAGE_KEY = "EDS416" Info "[DummyUsage] keys outside Dummy0001..Dummy0007 (info: Lely writes Dummy0000..Dummy001F)";
 
     // ---- EDS5xx: DCF, commissioning, modules, comments, object links, dynamic channels (validator) ----
-    DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127 (warning for 255: unconfigured, assigned by LSS)";
-    DCF_BAUDRATE = "EDS502" Error "the DCF Baudrate is not a CiA 301 bit rate, or not one [DeviceInfo] enables";
+    DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127 (warning for 255: unconfigured, assigned by LSS; and for 0: not commissioned, as CANopenEditor writes it)";
+    DCF_BAUDRATE = "EDS502" Error "the DCF Baudrate is not a CiA 301 bit rate, or not one [DeviceInfo] enables (warning for 0: not commissioned, as CANopenEditor writes it)";
     LSS_SERIAL_MISMATCH = "EDS503" Warning "LSS_SerialNumber differs from the value of 1018h sub 4";
     COMMISSIONING_NAME_LENGTH = "EDS504" Warning "NodeName longer than 246 or NetworkName longer than 243 characters";
     DCF_ITEM_IN_EDS = "EDS505" Warning "a DCF-only item (ParameterValue, Denotation, [DeviceComissioning]) in an .eds file";

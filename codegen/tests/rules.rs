@@ -1153,10 +1153,23 @@ fn dcf_base_is_clean() {
 
 #[test]
 fn eds501_node_id_out_of_range() {
-    let t = edit(&dcf(""), "NodeID=5", "NodeID=0");
+    let t = edit(&dcf(""), "NodeID=5", "NodeID=128");
     assert_eq!(
         diags_for("t.dcf", &t),
-        vec![d("EDS501", Error, line_of(&t, "NodeID=0"))]
+        vec![d("EDS501", Error, line_of(&t, "NodeID=128"))]
+    );
+}
+
+#[test]
+fn eds501_eds502_zero_means_not_commissioned_and_is_a_warning() {
+    let t = edit(&dcf(""), "NodeID=5", "NodeID=0");
+    let t = edit(&t, "Baudrate=250", "Baudrate=0");
+    assert_eq!(
+        diags_for("t.dcf", &t),
+        vec![
+            d("EDS501", Warning, line_of(&t, "NodeID=0")),
+            d("EDS502", Warning, line_of(&t, "Baudrate=0")),
+        ]
     );
 }
 

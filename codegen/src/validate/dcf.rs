@@ -43,6 +43,13 @@ fn commissioning(device: &Device, out: &mut Vec<Diagnostic>) {
                     .with_label("unconfigured node-ID")
                     .with_help("$NODEID values of this DCF cannot be resolved until LSS assigns a node-ID 1..127"),
             );
+        } else if id.value == 0 {
+            out.push(
+                Diagnostic::new(&rules::DCF_NODE_ID, Some(id.span), "NodeID 0 means not commissioned: the DCF names no node-ID")
+                    .with_severity(Severity::Warning)
+                    .with_label("no node-ID")
+                    .with_help("set the node-ID 1..127 the device will use; CANopenEditor writes 0 when none is set"),
+            );
         } else if !(1..=127).contains(&id.value) {
             out.push(
                 Diagnostic::new(
@@ -56,7 +63,14 @@ fn commissioning(device: &Device, out: &mut Vec<Diagnostic>) {
         }
     }
     if let Some(rate) = &c.baudrate {
-        if !STANDARD_BAUD_RATES.contains(&rate.value) {
+        if rate.value == 0 {
+            out.push(
+                Diagnostic::new(&rules::DCF_BAUDRATE, Some(rate.span), "Baudrate 0 means not commissioned: the DCF names no bit rate")
+                    .with_severity(Severity::Warning)
+                    .with_label("no bit rate")
+                    .with_help("set the bit rate in kbit/s (10, 20, 50, 125, 250, 500, 800 or 1000); CANopenEditor writes 0 when none is set"),
+            );
+        } else if !STANDARD_BAUD_RATES.contains(&rate.value) {
             out.push(
                 Diagnostic::new(
                     &rules::DCF_BAUDRATE,

@@ -172,8 +172,12 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                 &rules::MISSING_KEY,
                 Some(o.span),
                 format!(
-                    "{name} is an {:?} without SubNumber or CompactSubObj",
-                    o.object_type
+                    "{name} is {} without SubNumber or CompactSubObj",
+                    match o.object_type {
+                        ObjectType::Array => "an ARRAY",
+                        ObjectType::Record => "a RECORD",
+                        _ => "a DEFSTRUCT",
+                    }
                 ),
             )
             .with_label("no SubNumber")
