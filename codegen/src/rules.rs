@@ -45,10 +45,10 @@ rules! {
     LEADING_ZEROS = "EDS010" Warning "a numbered key or a section name with extra leading zeros";
     BAD_NUMBER = "EDS011" Error "a value that should be a number is not one";
     BAD_VALUE = "EDS012" Error "a value cannot be parsed for its data type";
-    OUT_OF_RANGE = "EDS013" Error "a value outside the range of its data type (warning for a LowLimit below or a HighLimit above the range, which restricts nothing and is ignored)";
+    OUT_OF_RANGE = "EDS013" Error "a value outside the range of its data type (warning for a LowLimit below or a HighLimit above the range, which restricts nothing and is ignored, once per kind per file naming the other lines)";
     TWOS_COMPLEMENT = "EDS014" Info "an unsigned hex literal read as two's complement for a signed type";
     NODEID_FORMULA = "EDS015" Error "a $NODEID formula that is not `$NODEID + number`, or on a non-integer type";
-    NODEID_DIALECT = "EDS016" Warning "a $NODEID formula in a form the spec does not define (postfix, other case)";
+    NODEID_DIALECT = "EDS016" Warning "a $NODEID formula in a form the spec does not define (postfix, other case); once per form per file, naming the other lines";
     OCTAL_LITERAL = "EDS017" Info "an integer with a leading 0 read as octal, as CiA 306 says";
     QUOTED_STRING = "EDS018" Info "a string value wrapped in quotes (kept literally, per the spec)";
     REAL_BIT_PATTERN = "EDS019" Warning "a REAL value written as a hex integer (read as an IEEE 754 bit pattern)";
@@ -57,8 +57,8 @@ rules! {
     EMPTY_FILE = "EDS022" Error "the file holds no sections";
     COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled `[DeviceCommissioning]` (two m); read as the spec's `[DeviceComissioning]`";
     ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
-    C_LITERAL_SUFFIX = "EDS025" Warning "an integer or REAL value with a C literal suffix (`LL`, `U`, `f`; written by CANopenNode/CANopenEditor), read without the suffix";
-    BYTES_DIALECT = "EDS026" Warning "an OCTET_STRING/DOMAIN value written as a `0x` literal (read as its hex digits in written order, Sevcon dialect) or a DOMAIN value `0` (read as empty, CANopenNode dialect)";
+    C_LITERAL_SUFFIX = "EDS025" Warning "an integer or REAL value with a C literal suffix (`LL`, `U`, `f`; written by CANopenNode/CANopenEditor), read without the suffix; once per type per file, naming the other lines";
+    BYTES_DIALECT = "EDS026" Warning "an OCTET_STRING/DOMAIN value written as a `0x` literal (read as its hex digits in written order, Sevcon dialect) or a DOMAIN value `0` (read as empty, CANopenNode dialect); once per form per file, naming the other lines";
 
 
     // ---- EDS1xx: [FileInfo] and [DeviceInfo] (validator) ----

@@ -136,6 +136,70 @@ pub fn parse_value(
     }
 }
 
+/// Rules whose instances in one file share one cause (the tool that wrote the file) and one fix:
+/// [`aggregate_dialects`] folds them.
+const FOLDED_DIALECTS: &[&str] = &["EDS013", "EDS016", "EDS025", "EDS026"];
+
+/// Folds repeated dialect warnings of one kind (same rule, severity and message shape) into the
+/// first one, which keeps its span and names the lines of the others. Errors and infos are never
+/// folded; EDS013 is folded only as the warning for limits beyond the type.
+pub fn aggregate_dialects(diags: &mut Vec<Diagnostic>) {
+    let shape = |d: &Diagnostic| -> Option<(&'static str, String)> {
+        if d.severity != Severity::Warning || !FOLDED_DIALECTS.contains(&d.code()) {
+            return None;
+        }
+        let mut shape = String::new();
+        let mut quoted = false;
+        for c in d.message.chars() {
+            if c == '`' {
+                quoted = !quoted;
+                shape.push(c);
+            } else if !quoted && !c.is_ascii_digit() {
+                shape.push(c);
+            }
+        }
+        Some((d.code(), shape))
+    };
+    let mut first_of: std::collections::HashMap<(&'static str, String), usize> =
+        std::collections::HashMap::new();
+    let mut more: Vec<Vec<u32>> = vec![Vec::new(); diags.len()];
+    let mut keep = vec![true; diags.len()];
+    for (i, d) in diags.iter().enumerate() {
+        let Some(key) = shape(d) else { continue };
+        match first_of.get(&key) {
+            Some(&first) => {
+                more[first].push(d.span.map_or(0, |s| s.line));
+                keep[i] = false;
+            }
+            None => {
+                first_of.insert(key, i);
+            }
+        }
+    }
+    for (d, lines) in diags.iter_mut().zip(&more) {
+        if lines.is_empty() {
+            continue;
+        }
+        let shown: Vec<String> = lines.iter().take(8).map(u32::to_string).collect();
+        let rest = if lines.len() > 8 {
+            format!(" and {} more", lines.len() - 8)
+        } else {
+            String::new()
+        };
+        d.message = format!(
+            "{}; the same on {} more line(s): {}{rest}",
+            d.message,
+            lines.len(),
+            shown.join(", ")
+        );
+    }
+    let mut index = 0;
+    diags.retain(|_| {
+        index += 1;
+        keep[index - 1]
+    });
+}
+
 fn contains_nodeid(text: &str) -> bool {
     text.to_ascii_lowercase().contains("$nodeid")
 }
@@ -869,6 +933,49 @@ mod tests {
             parse("@ABCD", BasicType::Domain),
             (None, vec![("EDS012", Severity::Error)])
         );
+    }
+
+    #[test]
+    fn repeated_dialects_fold_into_the_first() {
+        let at = |line| Span::new(line, 14, 3);
+        let mut diags = Vec::new();
+        for line in 1..=11 {
+            parse_value(
+                "0x80+$NODEID",
+                Some(BasicType::Unsigned32),
+                at(line),
+                &mut diags,
+            );
+        }
+        parse_value("$NodeId+1", Some(BasicType::Unsigned32), at(20), &mut diags);
+        parse_value(
+            "0x300+$NODEID",
+            Some(BasicType::Unsigned32),
+            at(21),
+            &mut diags,
+        );
+        parse_value("-1", Some(BasicType::Unsigned8), at(22), &mut diags);
+        parse_value("-1", Some(BasicType::Unsigned8), at(23), &mut diags);
+        aggregate_dialects(&mut diags);
+        let found: Vec<_> = diags
+            .iter()
+            .map(|d| (d.code(), d.severity, d.span.map_or(0, |s| s.line)))
+            .collect();
+        assert_eq!(
+            found,
+            vec![
+                ("EDS016", Severity::Warning, 1),
+                ("EDS016", Severity::Warning, 20),
+                ("EDS013", Severity::Error, 22),
+                ("EDS013", Severity::Error, 23),
+            ]
+        );
+        assert_eq!(
+            diags[0].message,
+            "`0x80+$NODEID` puts `$NODEID` after the offset; the same on 11 more line(s): \
+             2, 3, 4, 5, 6, 7, 8, 9 and 3 more"
+        );
+        assert_eq!(diags[1].message, "`$NodeId` is not spelled `$NODEID`");
     }
 
     #[test]
