@@ -81,7 +81,7 @@ rules! {
     MANDATORY_LIST_MISSING = "EDS201" Error "[MandatoryObjects] is missing";
     OBJECT_LIST_MISSING = "EDS202" Warning "[OptionalObjects] or [ManufacturerObjects] is missing although objects of its range exist";
     SUPPORTED_OBJECTS_COUNT = "EDS203" Warning "SupportedObjects is missing or differs from the numbered entries, or the entries are not 1..N (warning: edsgen uses the union of lists and sections)";
-    LISTED_WITHOUT_SECTION = "EDS204" Error "an object list names an index that has no [xxxx] section";
+    LISTED_WITHOUT_SECTION = "EDS204" Error "an object list names an index that has no [xxxx] section (warning for an entry numbered beyond SupportedObjects, which Lely ignores)";
     UNLISTED_OBJECT = "EDS205" Warning "[xxxx] sections that no object list names, once per list (Lely ignores them, python uses them)";
     WRONG_OBJECT_LIST = "EDS206" Warning "indices in the wrong object list for their range, once per list";
     LISTED_TWICE = "EDS207" Warning "an index listed twice in the object lists (warning: harmless to edsgen, which uses the union)";

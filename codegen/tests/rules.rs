@@ -550,6 +550,22 @@ fn eds204_listed_without_section() {
 }
 
 #[test]
+fn eds204_entry_beyond_supported_objects_is_a_warning() {
+    let t = edit(
+        &eds(&[], &[0x2005], ""),
+        "[ManufacturerObjects]\nSupportedObjects=1",
+        "[ManufacturerObjects]\nSupportedObjects=0",
+    );
+    assert_eq!(
+        diags(&t),
+        vec![
+            d("EDS203", Warning, line_of(&t, "SupportedObjects=0")),
+            d("EDS204", Warning, line_of(&t, "1=0x2005")),
+        ]
+    );
+}
+
+#[test]
 fn eds205_sections_not_listed_are_one_warning_per_list() {
     let body =
         var(0x2000, "Speed", 6, "rw", "0", false) + &var(0x2001, "Torque", 6, "rw", "0", false);
