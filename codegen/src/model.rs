@@ -493,6 +493,20 @@ pub struct SubObject {
     /// Set when this entry was not written out in the file but implied (CompactSubObj,
     /// CompactPDO); the emitter treats it exactly like a written one.
     pub implicit: bool,
+    /// Where the DataType, AccessType and PDOMapping values are written, so that diagnostics
+    /// about them point at the key rather than the section. Empty when not known.
+    pub key_spans: KeySpans,
+}
+
+/// Where some keys of an entry are written (the value text), when the reader knows it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KeySpans {
+    /// The DataType value.
+    pub data_type: Option<Span>,
+    /// The AccessType value.
+    pub access: Option<Span>,
+    /// The PDOMapping value.
+    pub pdo_mapping: Option<Span>,
 }
 
 /// One object (one OD index).

@@ -759,7 +759,8 @@ fn eds308_sub0_not_unsigned8() {
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS308", Warning, line_of(&t, "[2000sub0]"))]
+        // At the DataType key: three lines below the header.
+        vec![d("EDS308", Warning, line_of(&t, "[2000sub0]") + 3)]
     );
 }
 
@@ -778,7 +779,8 @@ fn eds309_writable_sub0() {
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS309", Warning, line_of(&t, "[2000sub0]"))]
+        // At the AccessType key.
+        vec![d("EDS309", Warning, line_of(&t, "[2000sub0]") + 4)]
     );
 }
 
@@ -806,7 +808,7 @@ fn eds311_array_of_mixed_types() {
     let t = eds(&[], &[0x2000], &array2(6, "rw", 7, "rw"));
     assert_eq!(
         diags(&t),
-        vec![d("EDS311", Error, line_of(&t, "[2000sub2]"))]
+        vec![d("EDS311", Error, line_of(&t, "[2000sub2]") + 3)]
     );
 }
 
@@ -815,7 +817,7 @@ fn eds312_array_of_mixed_access() {
     let t = eds(&[], &[0x2000], &array2(6, "rw", 6, "ro"));
     assert_eq!(
         diags(&t),
-        vec![d("EDS312", Warning, line_of(&t, "[2000sub2]"))]
+        vec![d("EDS312", Warning, line_of(&t, "[2000sub2]") + 4)]
     );
 }
 
@@ -845,14 +847,37 @@ fn eds314_unknown_data_type() {
         &var(0x2000, "Speed", 0x99, "rw", "0", false),
     );
     let found = diags(&t);
-    assert_eq!(found, vec![d("EDS314", Error, line_of(&t, "[2000]"))]);
+    assert_eq!(
+        found,
+        vec![d("EDS314", Error, line_of(&t, "DataType=0x0099"))]
+    );
+}
+
+#[test]
+fn eds314_standard_record_type_on_a_var_is_named() {
+    let t = eds(&[], &[0x2000], &var(0x2000, "Pdo", 0x20, "rw", "", false));
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    let found = validate::validate(&read.device);
+    assert_eq!(found.len(), 1);
+    assert_eq!(
+        found[0].span.map(|s| s.line),
+        Some(line_of(&t, "DataType=0x0020"))
+    );
+    assert_eq!(
+        found[0].message,
+        "2000h has DataType 0020h, the CiA 301 record type PDO_COMMUNICATION_PARAMETER, \
+         which this file does not describe as a DEFSTRUCT"
+    );
 }
 
 #[test]
 fn eds315_domain_with_a_data_type() {
     let body = "\n[2000]\nParameterName=Blob\nObjectType=0x2\nDataType=0x0007\nAccessType=rw\n";
     let t = eds(&[], &[0x2000], body);
-    assert_eq!(diags(&t), vec![d("EDS315", Error, line_of(&t, "[2000]"))]);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS315", Error, line_of(&t, "ParameterName=Blob") + 2)]
+    );
 }
 
 #[test]

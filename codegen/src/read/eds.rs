@@ -957,6 +957,11 @@ impl Reader {
             span: section.span,
             custom,
             implicit: false,
+            key_spans: KeySpans {
+                data_type: get("DataType").map(|e| e.value_span),
+                access: get("AccessType").map(|e| e.value_span),
+                pdo_mapping: get("PDOMapping").map(|e| e.value_span),
+            },
         }
     }
 
@@ -1346,6 +1351,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
             span,
             custom: Vec::new(),
             implicit: true,
+            key_spans: KeySpans::default(),
         },
     );
     for n in 1..=count.value.min(255) {
@@ -1371,6 +1377,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
                 span,
                 custom: Vec::new(),
                 implicit: true,
+                key_spans: template.key_spans,
             },
         );
     }
@@ -1429,6 +1436,7 @@ fn implicit_entry(
         span,
         custom: Vec::new(),
         implicit: true,
+        key_spans: KeySpans::default(),
     }
 }
 

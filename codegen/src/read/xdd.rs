@@ -1009,6 +1009,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             span,
             custom: parameter.custom,
             implicit: false,
+            key_spans: KeySpans::default(),
         }
     }
 
