@@ -393,13 +393,32 @@ fn parse_int_fallback(
             }
         }
     }
+    if text.starts_with('<') && text.ends_with('>') {
+        diags.push(
+            Diagnostic::new(
+                &rules::BAD_VALUE,
+                Some(span),
+                format!(
+                    "`{text}` is a template placeholder, not a {} value",
+                    ty.name()
+                ),
+            )
+            .with_label("placeholder")
+            .with_help("this file is a template: fill in the placeholders before using it"),
+        );
+        return None;
+    }
     diags.push(
         Diagnostic::new(
             &rules::BAD_VALUE,
             Some(span),
-            format!("`{text}` is not a {} value", ty.name()),
+            format!("`{text}` cannot be read as {}", ty.name()),
         )
-        .with_label("not an integer"),
+        .with_label("not an integer")
+        .with_help(format!(
+            "write a decimal, `0x` hexadecimal or `$NODEID+n` value for {}",
+            ty.name()
+        )),
     );
     None
 }
@@ -536,7 +555,7 @@ fn parse_real(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
         Diagnostic::new(
             &rules::BAD_VALUE,
             Some(span),
-            format!("`{text}` is not a {} value", ty.name()),
+            format!("`{text}` cannot be read as {}", ty.name()),
         )
         .with_label("not a number"),
     );
@@ -632,7 +651,7 @@ fn parse_time(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
                 Diagnostic::new(
                     &rules::BAD_VALUE,
                     Some(span),
-                    format!("`{text}` is not a {} value", ty.name()),
+                    format!("`{text}` cannot be read as {}", ty.name()),
                 )
                 .with_help("write the 48-bit value as an integer, or `<days> <milliseconds>`"),
             );
@@ -976,6 +995,28 @@ mod tests {
              2, 3, 4, 5, 6, 7, 8, 9 and 3 more"
         );
         assert_eq!(diags[1].message, "`$NodeId` is not spelled `$NODEID`");
+    }
+
+    #[test]
+    fn unreadable_integers_say_why() {
+        let mut diags = Vec::new();
+        parse_value(
+            "<!pole_pairs.16.0>",
+            Some(BasicType::Unsigned16),
+            span(),
+            &mut diags,
+        );
+        parse_value("12abc", Some(BasicType::Unsigned16), span(), &mut diags);
+        let messages: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
+        assert_eq!(
+            messages,
+            vec![
+                "`<!pole_pairs.16.0>` is a template placeholder, not a UNSIGNED16 value",
+                "`12abc` cannot be read as UNSIGNED16",
+            ]
+        );
+        assert_eq!(diags[0].code(), "EDS012");
+        assert_eq!(diags[1].severity, Severity::Error);
     }
 
     #[test]
