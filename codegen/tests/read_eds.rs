@@ -985,6 +985,11 @@ ParameterName=Unsigned
 DataType=0x0006
 LowLimit=70000
 HighLimit=0xffffffff
+[2002]
+ParameterName=Sevcon
+DataType=0x0006
+LowLimit=-2
+HighLimit=-1
 ";
     let read = read_eds(text);
     assert_eq!(
@@ -994,7 +999,13 @@ HighLimit=0xffffffff
             ("EDS013", Severity::Warning, 5),
             ("EDS013", Severity::Error, 9),
             ("EDS013", Severity::Warning, 10),
+            ("EDS013", Severity::Warning, 14),
+            ("EDS013", Severity::Warning, 15),
         ]
+    );
+    assert_eq!(
+        read.diagnostics[5].message,
+        "HighLimit `-1` is all ones, the maximum 65535 of UNSIGNED16; it restricts nothing and is ignored"
     );
     assert_eq!(
         read.diagnostics[1].message,

@@ -1296,7 +1296,8 @@ fn resolve_value(
 /// A LowLimit below the type's minimum or a HighLimit above its maximum restricts nothing: the
 /// limit is dropped (the type's own range applies) and EDS013 becomes a warning. Vendors write
 /// `HighLimit=65535` on INTEGER16 or `0xFFFFFFFF` on UNSIGNED16 to mean "no limit". A limit beyond
-/// the other end (which would exclude every value) stays an error.
+/// the other end (which would exclude every value) stays an error, except `HighLimit=-1` on an
+/// unsigned type, which C and .NET tools read as all ones.
 fn soften_limit_beyond_type(diag: &mut Diagnostic, key: &str, raw: &str, ty: BasicType) {
     if diag.rule.code != rules::OUT_OF_RANGE.code {
         return;
@@ -1307,6 +1308,9 @@ fn soften_limit_beyond_type(diag: &mut Diagnostic, key: &str, raw: &str, ty: Bas
     let (beyond, bound) = match key {
         "HighLimit" if value > max => ("above the maximum", max),
         "LowLimit" if value < min => ("below the minimum", min),
+        // Sevcon writes HighLimit=-1 on unsigned entries: all ones, the maximum, as C and .NET
+        // tools read it.
+        "HighLimit" if value == -1 && min == 0 => ("all ones, the maximum", max),
         _ => return,
     };
     *diag = Diagnostic::new(
