@@ -45,7 +45,7 @@ rules! {
     LEADING_ZEROS = "EDS010" Warning "a numbered key or a section name with extra leading zeros";
     BAD_NUMBER = "EDS011" Error "a value that should be a number is not one";
     BAD_VALUE = "EDS012" Error "a value cannot be parsed for its data type";
-    OUT_OF_RANGE = "EDS013" Error "a value outside the range of its data type (warning for a LowLimit below or a HighLimit above the range, or HighLimit=-1 on an unsigned type, which restrict nothing and are ignored, once per kind per file naming the other lines)";
+    OUT_OF_RANGE = "EDS013" Error "a value outside the range of its data type (warning for a LowLimit below or a HighLimit above the range, for HighLimit=-1 on an unsigned type, or a hex HighLimit on a signed type that two's complement would put below LowLimit: they restrict nothing and are ignored, once per kind per file naming the other lines)";
     TWOS_COMPLEMENT = "EDS014" Info "an unsigned hex literal read as two's complement for a signed type";
     NODEID_FORMULA = "EDS015" Error "a $NODEID formula that is not `$NODEID + number`, or on a non-integer type";
     NODEID_DIALECT = "EDS016" Warning "a $NODEID formula in a form the spec does not define (postfix, other case); once per form per file, naming the other lines";

@@ -990,6 +990,16 @@ ParameterName=Sevcon
 DataType=0x0006
 LowLimit=-2
 HighLimit=-1
+[2003]
+ParameterName=Hex on signed
+DataType=0x0003
+LowLimit=0
+HighLimit=0xFFFF
+[2004]
+ParameterName=Hex on signed, not inverting
+DataType=0x0003
+LowLimit=0x8000
+HighLimit=0x7FFF
 ";
     let read = read_eds(text);
     assert_eq!(
@@ -1001,8 +1011,21 @@ HighLimit=-1
             ("EDS013", Severity::Warning, 10),
             ("EDS013", Severity::Warning, 14),
             ("EDS013", Severity::Warning, 15),
+            ("EDS013", Severity::Warning, 20),
+            ("EDS014", Severity::Info, 24),
         ]
     );
+    assert_eq!(
+        read.diagnostics[6].message,
+        "HighLimit `0xFFFF` read as two's complement (-1) is below the LowLimit; as the unsigned \
+         number meant, it is above the maximum 32767 of INTEGER16: it restricts nothing and is ignored"
+    );
+    let hex = read.device.entry(0x2003, 0).unwrap();
+    assert_eq!(value_of(&hex.low_limit), Some(Value::Integer(0)));
+    assert_eq!(value_of(&hex.high_limit), None);
+    let kept = read.device.entry(0x2004, 0).unwrap();
+    assert_eq!(value_of(&kept.low_limit), Some(Value::Integer(-0x8000)));
+    assert_eq!(value_of(&kept.high_limit), Some(Value::Integer(0x7FFF)));
     assert_eq!(
         read.diagnostics[5].message,
         "HighLimit `-1` is all ones, the maximum 65535 of UNSIGNED16; it restricts nothing and is ignored"

@@ -1361,11 +1361,31 @@ fn eds513_object_inside_a_dynamic_channel_range() {
 
 #[test]
 fn eds316_hex_limit_on_a_signed_type_is_a_warning() {
-    let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x00\nHighLimit=0xFF\n";
+    let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x7F\nHighLimit=100\n";
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0x00"))]
+        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0x7F"))]
+    );
+}
+
+#[test]
+fn eds316_hex_high_limit_inverted_by_twos_complement_is_dropped_by_the_reader() {
+    // 0xFF on INTEGER8 reads as -1, below LowLimit 0: the reader drops that HighLimit (EDS013
+    // warning), so nothing is inverted here.
+    let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x00\nHighLimit=0xFF\n";
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(diags(&t), vec![]);
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    assert_eq!(
+        read.device
+            .entry(0x2000, 0)
+            .unwrap()
+            .high_limit
+            .as_ref()
+            .unwrap()
+            .value,
+        None
     );
 }
 

@@ -1246,9 +1246,50 @@ impl Reader {
                         (source.raw.clone(), source.span, source.value.clone()),
                     );
                 }
+                if let Some(ty) = basic {
+                    drop_inverting_hex_high_limit(entry, ty, &mut self.diags);
+                }
             }
         }
     }
+}
+
+/// `LowLimit=0` with `HighLimit=0xFFFF` on an INTEGER16 (Sevcon, Faulhaber): read as two's
+/// complement the high limit is -1, below the low limit, and every value would be refused. The
+/// vendor means the unsigned number, which is above the type's maximum and restricts nothing: the
+/// high limit is dropped and the two's-complement info (EDS014) becomes an EDS013 warning.
+fn drop_inverting_hex_high_limit(entry: &mut SubObject, ty: BasicType, diags: &mut [Diagnostic]) {
+    let (Some(low), Some(high)) = (entry.low_limit.as_ref(), entry.high_limit.as_mut()) else {
+        return;
+    };
+    let (Some(Value::Integer(lo)), Some(Value::Integer(hi))) = (&low.value, &high.value) else {
+        return;
+    };
+    let is_hex = high.raw.trim().to_ascii_lowercase().starts_with("0x");
+    if !(ty.is_signed_integer() && is_hex && *hi < 0 && lo > hi) {
+        return;
+    }
+    let (hi, span) = (*hi, high.span);
+    high.value = None;
+    // CompactSubObj entries share one written limit: report it once.
+    let Some(at) = diags
+        .iter()
+        .rposition(|d| d.rule.code == rules::TWOS_COMPLEMENT.code && d.span == Some(span))
+    else {
+        return;
+    };
+    let max = ty.integer_range().map_or(0, |(_, max)| max);
+    diags[at] = Diagnostic::new(
+        &rules::OUT_OF_RANGE,
+        Some(span),
+        format!(
+            "HighLimit `{}` read as two's complement ({hi}) is below the LowLimit; as the unsigned number meant, it is above the maximum {max} of {}: it restricts nothing and is ignored",
+            high.raw.trim(),
+            ty.name()
+        ),
+    )
+    .with_severity(Severity::Warning)
+    .with_help(format!("remove the HighLimit, or write {max}"));
 }
 
 /// Strips an inline comment where the type allows it, then parses the value.
