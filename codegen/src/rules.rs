@@ -51,7 +51,7 @@ rules! {
     NODEID_DIALECT = "EDS016" Warning "a $NODEID formula in a form the spec does not define (postfix, other case); once per form per file, naming the other lines";
     OCTAL_LITERAL = "EDS017" Info "an integer with a leading 0 read as octal, as CiA 306 says";
     QUOTED_STRING = "EDS018" Info "a string value wrapped in quotes (kept literally, per the spec)";
-    REAL_BIT_PATTERN = "EDS019" Warning "a REAL value written as a hex integer (read as an IEEE 754 bit pattern)";
+    REAL_BIT_PATTERN = "EDS019" Warning "a REAL value written as a hex integer (read as an IEEE 754 bit pattern when it has the type's full 8 or 16 digits, else as a number)";
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
     EMPTY_FILE = "EDS022" Error "the file holds no sections";

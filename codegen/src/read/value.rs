@@ -89,8 +89,9 @@ pub fn strips_inline_comment(data_type: Option<BasicType>) -> bool {
 ///   (EDS014), out-of-range values are errors (EDS013) and give `None`, a float literal with an
 ///   integral value is accepted (EDS020), `$NODEID` formulas give [`Value::NodeRelative`]
 ///   (postfix or other spellings: EDS016; malformed: EDS015).
-/// - REAL32/REAL64: decimal or scientific text; a `0x` literal that fits the type width is an
-///   IEEE 754 bit pattern (EDS019, except for zero, which both readings agree on).
+/// - REAL32/REAL64: decimal or scientific text; a `0x` literal of the type's full width (8 or 16
+///   digits) is an IEEE 754 bit pattern, a shorter one a number (both EDS019, except for zero,
+///   which every reading agrees on).
 /// - VISIBLE_STRING/UNICODE_STRING: kept as written; surrounding quotes are kept and reported
 ///   (EDS018).
 /// - A C literal suffix (`LL`, `U`, `f`) on an integer or REAL is dropped (EDS025).
@@ -510,6 +511,25 @@ fn parse_real(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
     };
     let bits = if ty == BasicType::Real32 { 32 } else { 64 };
     if let Some((pattern, Radix::Hex)) = parse_integer_with_radix(text) {
+        let digits = text.trim_start_matches(['-', '+'])[2..].len();
+        if digits < bits / 4 && pattern != 0 {
+            // Fewer digits than the type width: a number written in hex (Sevcon's
+            // `HighLimit=0xFFFF`), not a bit pattern, which would be a meaningless denormal.
+            let value = pattern as f64;
+            diags.push(
+                Diagnostic::new(
+                    &rules::REAL_BIT_PATTERN,
+                    Some(span),
+                    format!(
+                        "{} value `{text}` has fewer than {} hex digits: read as the number {value}, not as a bit pattern",
+                        ty.name(),
+                        bits / 4
+                    ),
+                )
+                .with_help(format!("write `{value}` in decimal")),
+            );
+            return Some(Value::Real(value));
+        }
         if pattern >= 0 && pattern < (1i128 << bits) {
             let value = if bits == 32 {
                 f64::from(f32::from_bits(pattern as u32))
@@ -878,6 +898,25 @@ mod tests {
         );
         assert_eq!(
             parse("0x00000000", BasicType::Real32),
+            (Some(Value::Real(0.0)), vec![])
+        );
+        // Fewer digits than the width: a number in hex, not a bit pattern.
+        assert_eq!(
+            parse("0xFFFF", BasicType::Real32),
+            (
+                Some(Value::Real(65535.0)),
+                vec![("EDS019", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x3F800000", BasicType::Real64),
+            (
+                Some(Value::Real(1_065_353_216.0)),
+                vec![("EDS019", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x0", BasicType::Real64),
             (Some(Value::Real(0.0)), vec![])
         );
         assert_eq!(
