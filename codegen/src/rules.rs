@@ -35,7 +35,7 @@ rules! {
     // ---- EDS0xx: text and values (readers) ----
     UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a `[section]` or `key=value`";
     NON_ASCII = "EDS002" Warning "bytes outside ASCII (the file was decoded as UTF-8 or Windows-1252)";
-    LONG_LINE = "EDS003" Warning "a line longer than 255 characters";
+    LONG_LINE = "EDS003" Warning "a line longer than 255 characters (once per file, naming the other lines)";
     INLINE_COMMENT = "EDS004" Warning "a comment not in column 1, or an inline `;` comment after a value";
     DUPLICATE_SECTION = "EDS005" Error "a section appears twice (case-insensitive); the last one wins";
     DUPLICATE_KEY = "EDS006" Error "a key appears twice in one section; the last one wins";

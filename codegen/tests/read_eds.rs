@@ -362,6 +362,20 @@ fn eds003_long_line_is_kept_whole() {
 }
 
 #[test]
+fn eds003_long_lines_are_one_warning_per_file() {
+    let long = "N".repeat(300);
+    let read = read_eds(&format!(
+        "{VAR_1000}[2000]\nParameterName={long}\nDataType=0x0005\nDefaultValue=1\n\
+         [2001]\nParameterName={long}x\nDataType=0x0005\n"
+    ));
+    assert_eq!(diags(&read), vec![("EDS003", Severity::Warning, 6)]);
+    assert_eq!(
+        read.diagnostics[0].message,
+        "line has 314 characters; CiA 306 allows 255; the same on 1 more line(s): 10"
+    );
+}
+
+#[test]
 fn eds004_comments_stripped_from_numbers_kept_in_strings() {
     let text = "\
 [1000]

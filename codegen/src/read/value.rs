@@ -139,7 +139,7 @@ pub fn parse_value(
 
 /// Rules whose instances in one file share one cause (the tool that wrote the file) and one fix:
 /// [`aggregate_dialects`] folds them.
-const FOLDED_DIALECTS: &[&str] = &["EDS013", "EDS016", "EDS025", "EDS026"];
+const FOLDED_DIALECTS: &[&str] = &["EDS003", "EDS013", "EDS016", "EDS025", "EDS026"];
 
 /// Folds repeated dialect warnings of one kind (same rule, severity and message shape) into the
 /// first one, which keeps its span and names the lines of the others. Errors and infos are never
