@@ -1074,6 +1074,21 @@ fn eds407_more_mapped_than_entries() {
 }
 
 #[test]
+fn eds407_mpdo_modes_are_not_counts() {
+    for mode in ["0xFE", "0xFF", "65"] {
+        let t = one_rpdo(&["0x20000010"]);
+        let t = edit(&t, "ParameterName=Number of mapped objects\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue=1", &format!("ParameterName=Number of mapped objects\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue={mode}"));
+        let line = line_of(&t, "[1600sub0]") + 5;
+        let want = if mode == "65" {
+            vec![d("EDS407", Error, line)]
+        } else {
+            vec![]
+        };
+        assert_eq!(diags(&t), want, "sub 0 = {mode}");
+    }
+}
+
+#[test]
 fn eds408_mapping_to_a_missing_entry() {
     let t = one_rpdo(&["0x20050010"]);
     assert_eq!(
