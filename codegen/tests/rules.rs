@@ -986,6 +986,16 @@ fn eds322_compact_sub_obj_on_a_var() {
     assert_eq!(diags(&t), vec![d("EDS322", Error, line_of(&t, "[2000]"))]);
 }
 
+#[test]
+fn eds322_compact_sub_obj_255_is_one_error_not_also_eds307() {
+    let body = "\n[2000]\nParameterName=Errors\nObjectType=0x8\nCompactSubObj=255\nDataType=0x0007\nAccessType=ro\nPDOMapping=0\n";
+    let t = eds(&[], &[0x2000], body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS322", Error, line_of(&t, "CompactSubObj=255"))]
+    );
+}
+
 // ---- EDS4xx ----
 
 #[test]

@@ -85,7 +85,8 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                         c.value
                     ),
                 )
-                .with_label("above 254"),
+                .with_label("above 254")
+                .with_help("describe at most 254 sub-objects; sub-index FFh is reserved"),
             );
         }
     }
@@ -203,7 +204,8 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         _ => {}
     }
 
-    if let Some(sub) = o.subs.get(&0xFF) {
+    // A sub FFh implied by CompactSubObj=255 is already EDS322's finding.
+    if let Some(sub) = o.subs.get(&0xFF).filter(|s| !s.implicit) {
         out.push(
             Diagnostic::new(
                 &rules::SUB_INDEX_RESERVED,
