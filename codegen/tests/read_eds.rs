@@ -458,6 +458,23 @@ fn eds007_spacing_and_odd_key_characters() {
 }
 
 #[test]
+fn eds007_hash_is_not_a_comment_and_the_help_says_so() {
+    let read = read_eds("[1000]\nParameterName=D\nDataType=0x0007\n#ParameterValue=5\n");
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS007", Severity::Warning, 4),
+            ("EDS009", Severity::Info, 4),
+        ]
+    );
+    assert_eq!(
+        read.diagnostics[0].help.as_deref(),
+        Some("`#` does not start a comment in CiA 306: write `;` to comment the line out")
+    );
+    assert_eq!(read.device.entry(0x1000, 0).unwrap().parameter_value, None);
+}
+
+#[test]
 fn eds008_case_only_matches_are_reported_once_per_name() {
     let text = "\
 [fileinfo]

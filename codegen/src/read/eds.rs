@@ -519,14 +519,17 @@ impl Reader {
     fn plain_value<'e>(&mut self, entry: &'e IniEntry) -> Option<(&'e str, Span)> {
         let (value, comment) = split_inline_comment(&entry.value);
         if comment.is_some() {
-            self.diags.push(Diagnostic::new(
-                &rules::INLINE_COMMENT,
-                Some(entry.value_span),
-                format!(
-                    "inline comment after the value of `{}` is ignored",
-                    entry.key
-                ),
-            ));
+            self.diags.push(
+                Diagnostic::new(
+                    &rules::INLINE_COMMENT,
+                    Some(entry.value_span),
+                    format!(
+                        "inline comment after the value of `{}` is ignored",
+                        entry.key
+                    ),
+                )
+                .with_help("put the comment on its own line, starting with `;`"),
+            );
         }
         if value.is_empty() {
             return None;
@@ -1305,11 +1308,14 @@ fn resolve_value(
     let (value, comment) = split_inline_comment(&source.raw);
     if comment.is_some() {
         if strips_inline_comment(basic) {
-            diags.push(Diagnostic::new(
-                &rules::INLINE_COMMENT,
-                Some(source.span),
-                format!("inline comment after the {key} is ignored"),
-            ));
+            diags.push(
+                Diagnostic::new(
+                    &rules::INLINE_COMMENT,
+                    Some(source.span),
+                    format!("inline comment after the {key} is ignored"),
+                )
+                .with_help("put the comment on its own line, starting with `;`"),
+            );
             let value = value.to_owned();
             source.span.len = u32::try_from(value.chars().count()).unwrap_or(u32::MAX);
             source.raw = value;

@@ -95,7 +95,10 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
                         Some(section),
                         format!("{key} `{v}` is not an UNSIGNED8 (0..255)"),
                     )
-                    .with_label("in this section"),
+                    .with_label("in this section")
+                    .with_help(format!(
+                        "write {key} as a whole number 0..255, e.g. `{key}=1`"
+                    )),
                 );
             }
         }
@@ -114,7 +117,8 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
                         Some(section),
                         format!("{key} is {len} characters long; CiA 306 allows {max}"),
                     )
-                    .with_label("in this section"),
+                    .with_label("in this section")
+                    .with_help(format!("shorten {key} to {max} characters")),
                 );
             }
         }
