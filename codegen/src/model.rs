@@ -566,6 +566,9 @@ pub struct FileInfo {
     pub last_eds: Option<String>,
     /// Where the section is (its header), if present.
     pub span: Option<Span>,
+    /// Where each key's value is written, by canonical key name (`FileVersion`, ...), when the
+    /// reader knows it; diagnostics about one key point there.
+    pub key_spans: BTreeMap<String, Span>,
 }
 
 /// `[DeviceInfo]` (EDS/DCF) or DeviceIdentity and the general features (XML).

@@ -357,13 +357,20 @@ fn eds103_iso_dates_are_info_once_per_file() {
         "CreationDate=2026-01-31",
     );
     let t = edit(&t, "ModificationTime=10:30PM", "ModificationTime=22:30:00");
-    assert_eq!(diags(&t), vec![d("EDS103", Info, 1)]);
+    // At the first offending key.
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS103", Info, line_of(&t, "CreationDate=2026-01-31"))]
+    );
 }
 
 #[test]
 fn eds104_file_version_not_u8() {
     let t = edit(&eds(&[], &[], ""), "FileVersion=1", "FileVersion=300");
-    assert_eq!(diags(&t), vec![d("EDS104", Warning, 1)]);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS104", Warning, line_of(&t, "FileVersion=300"))]
+    );
 }
 
 #[test]

@@ -626,6 +626,10 @@ impl Reader {
             modified_by: get("ModifiedBy"),
             last_eds: get("LastEDS"),
             span: Some(section.span),
+            key_spans: keys
+                .iter()
+                .map(|(key, entry)| ((*key).to_owned(), entry.value_span))
+                .collect(),
         };
         self.device.file_info = info;
     }
