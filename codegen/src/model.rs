@@ -507,6 +507,10 @@ pub struct KeySpans {
     pub access: Option<Span>,
     /// The PDOMapping value.
     pub pdo_mapping: Option<Span>,
+    /// The DCF UploadFile value.
+    pub upload_file: Option<Span>,
+    /// The DCF DownloadFile value.
+    pub download_file: Option<Span>,
 }
 
 /// One object (one OD index).

@@ -1317,7 +1317,7 @@ fn eds507_upload_file_on_a_var() {
     );
     assert_eq!(
         diags_for("t.dcf", &t),
-        vec![d("EDS507", Warning, line_of(&t, "[2000]"))]
+        vec![d("EDS507", Warning, line_of(&t, "UploadFile=speed.bin"))]
     );
 }
 

@@ -968,6 +968,8 @@ impl Reader {
                 data_type: get("DataType").map(|e| e.value_span),
                 access: get("AccessType").map(|e| e.value_span),
                 pdo_mapping: get("PDOMapping").map(|e| e.value_span),
+                upload_file: get("UploadFile").map(|e| e.value_span),
+                download_file: get("DownloadFile").map(|e| e.value_span),
             },
         }
     }

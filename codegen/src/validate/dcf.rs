@@ -241,14 +241,21 @@ fn domain_files(device: &Device, out: &mut Vec<Diagnostic>) {
         for s in o.subs.values() {
             let is_domain = o.object_type == ObjectType::Domain || s.data_type == Some(0x000F);
             let name = entry_name(device, o.index, s.sub_index);
-            for (key, file, max, ok_access) in [
+            for (key, file, at_key, max, ok_access) in [
                 (
                     "UploadFile",
                     &s.upload_file,
+                    s.key_spans.upload_file,
                     244,
                     &[AccessType::Ro, AccessType::Const][..],
                 ),
-                ("DownloadFile", &s.download_file, 242, &[AccessType::Wo][..]),
+                (
+                    "DownloadFile",
+                    &s.download_file,
+                    s.key_spans.download_file,
+                    242,
+                    &[AccessType::Wo][..],
+                ),
             ] {
                 let Some(file) = file else { continue };
                 let problem = if !is_domain {
@@ -263,9 +270,15 @@ fn domain_files(device: &Device, out: &mut Vec<Diagnostic>) {
                 };
                 if let Some(problem) = problem {
                     out.push(
-                        Diagnostic::new(&rules::DOMAIN_FILE_KEYS, Some(s.span), problem)
-                            .with_label(format!("{key} here"))
-                            .with_help("UploadFile belongs on ro/const DOMAINs, DownloadFile on wo DOMAINs"),
+                        Diagnostic::new(
+                            &rules::DOMAIN_FILE_KEYS,
+                            Some(at_key.unwrap_or(s.span)),
+                            problem,
+                        )
+                        .with_label(format!("{key} here"))
+                        .with_help(
+                            "UploadFile belongs on ro/const DOMAINs, DownloadFile on wo DOMAINs",
+                        ),
                     );
                 }
             }
