@@ -149,15 +149,19 @@ pub fn aggregate_dialects(diags: &mut Vec<Diagnostic>) {
         if d.severity != Severity::Warning || !FOLDED_DIALECTS.contains(&d.code()) {
             return None;
         }
+        // Quoted text and free-standing numbers vary; words (type names like UNSIGNED16, with
+        // their digits) do not.
         let mut shape = String::new();
         let mut quoted = false;
+        let mut in_word = false;
         for c in d.message.chars() {
             if c == '`' {
                 quoted = !quoted;
                 shape.push(c);
-            } else if !quoted && !c.is_ascii_digit() {
+            } else if !quoted && (!c.is_ascii_digit() || in_word) {
                 shape.push(c);
             }
+            in_word = c.is_ascii_alphabetic() || (in_word && c.is_ascii_alphanumeric());
         }
         Some((d.code(), shape))
     };
@@ -1014,6 +1018,9 @@ mod tests {
         );
         parse_value("-1", Some(BasicType::Unsigned8), at(22), &mut diags);
         parse_value("-1", Some(BasicType::Unsigned8), at(23), &mut diags);
+        parse_value("1LL", Some(BasicType::Unsigned16), at(24), &mut diags);
+        parse_value("2LL", Some(BasicType::Unsigned8), at(25), &mut diags);
+        parse_value("3LL", Some(BasicType::Unsigned16), at(26), &mut diags);
         aggregate_dialects(&mut diags);
         let found: Vec<_> = diags
             .iter()
@@ -1026,7 +1033,14 @@ mod tests {
                 ("EDS016", Severity::Warning, 20),
                 ("EDS013", Severity::Error, 22),
                 ("EDS013", Severity::Error, 23),
+                ("EDS025", Severity::Warning, 24),
+                ("EDS025", Severity::Warning, 25),
             ]
+        );
+        // UNSIGNED16 and UNSIGNED8 are different kinds.
+        assert_eq!(
+            diags[4].message,
+            "UNSIGNED16 value `1LL` has a C literal suffix; read as `1`; the same on 1 more line(s): 26"
         );
         assert_eq!(
             diags[0].message,
