@@ -608,8 +608,8 @@ fn parse_bytes(
         let digits: Vec<char> = body.chars().filter(|c| !c.is_whitespace()).collect();
         if !digits.is_empty() && digits.len() % 2 == 0 && digits.iter().all(char::is_ascii_hexdigit)
         {
-            let shown = if body.len() > 16 {
-                format!("{}...", &body[..16])
+            let shown = if body.chars().count() > 16 {
+                format!("{}...", body.chars().take(16).collect::<String>())
             } else {
                 body.to_owned()
             };
@@ -973,6 +973,16 @@ mod tests {
             parse("0x000400ff", BasicType::OctetString),
             (
                 Some(Value::Bytes(vec![0x00, 0x04, 0x00, 0xff])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        // Unicode whitespace between bytes: no slicing inside a character.
+        assert_eq!(
+            parse("0x001122334455667\u{3000}78899", BasicType::Domain),
+            (
+                Some(Value::Bytes(vec![
+                    0x00, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88, 0x99
+                ])),
                 vec![("EDS026", Severity::Warning)]
             )
         );
