@@ -124,7 +124,7 @@ rules! {
     MAPPING_NOT_MAPPABLE = "EDS409" Error "a PDO mapping entry points to an entry with PDOMapping=0";
     MAPPING_DIRECTION = "EDS410" Error "a PDO mapping entry whose access does not fit the direction (RPDO to ro/const/rwr, TPDO to wo/rww)";
     DUMMY_NOT_ENABLED = "EDS411" Error "a dummy mapping entry for a data type that [DummyUsage] does not enable";
-    MAPPING_LENGTH = "EDS412" Error "a PDO mapping length that differs from the bit width of the mapped entry";
+    MAPPING_LENGTH = "EDS412" Error "a PDO mapping length that differs from the bit width of the mapped entry (warning for a part of the entry that a Granularity below 8 allows)";
     MAPPING_TOO_LONG = "EDS413" Error "a PDO maps more than 64 bits";
     MAPPING_GRANULARITY = "EDS414" Warning "a PDO mapping length that is not a multiple of Granularity, or more than 8 entries with Granularity 8";
     DUPLICATE_PDO_COB_ID = "EDS415" Warning "two enabled TPDOs, or two enabled RPDOs, have the same default COB-ID";

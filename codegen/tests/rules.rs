@@ -1377,6 +1377,38 @@ fn eds512_dynamic_channels_segment_count() {
 }
 
 #[test]
+fn eds512_malformed_segment_keys_say_why() {
+    let body =
+        "\n[DynamicChannels]\nNrOfSeg=1\nType1=0x0000\nDir1=RX\nRange1=0xA000\nPPOffset1=0\n";
+    let t = edit(
+        &eds(&[], &[], body),
+        "DynamicChannelsSupported=0",
+        "DynamicChannelsSupported=1",
+    );
+    assert_eq!(
+        diags(&t),
+        vec![
+            d("EDS512", Warning, line_of(&t, "Type1=0x0000")),
+            d("EDS512", Warning, line_of(&t, "Dir1=RX")),
+            d("EDS512", Warning, line_of(&t, "Range1=0xA000")),
+        ]
+    );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    let messages: Vec<String> = validate::validate(&read.device)
+        .into_iter()
+        .map(|d| d.message)
+        .collect();
+    assert_eq!(
+        messages,
+        vec![
+            "[DynamicChannels] Type1=`0x0000` is not a CiA 301 basic data type index",
+            "[DynamicChannels] Dir1=`RX` is not an access type",
+            "[DynamicChannels] Range1=`0xA000` is not an index range `0xLLLL-0xHHHH`",
+        ]
+    );
+}
+
+#[test]
 fn eds513_object_inside_a_dynamic_channel_range() {
     let body = "\n[DynamicChannels]\nNrOfSeg=1\nType1=0x0007\nDir1=rww\nRange1=0xA000-0xA0FF\nPPOffset1=0\n".to_owned()
         + &var(0xA000, "Net var", 7, "rww", "0", true);
