@@ -80,14 +80,14 @@ const CORPUS_XML: &[CorpusCase] = &[
         Format::Xdd,
         173,
         1149,
-        &[("EDS012", 2)],
+        &[("EDS025", 2)],
     ),
     (
         "CANopenNode__CANopenSocket/examples__basicDevice__basicDevice.xdd",
         Format::Xdd,
         44,
         279,
-        &[("EDS016", 11)],
+        &[("EDS016", 1)],
     ),
     (
         "canopen-python__canopen/test__sample.xdd",
@@ -122,7 +122,7 @@ const CORPUS_XML: &[CorpusCase] = &[
         Format::Xdd,
         106,
         631,
-        &[("EDS016", 33)],
+        &[("EDS016", 1)],
     ),
     (
         "oresat__oresat-firmware/src__f0__app_imu__source__ObjDict__app_OD.xdd",
@@ -920,4 +920,36 @@ proptest::proptest! {
             }
         }
     }
+}
+fn xml_values_use_the_eds_value_forms() {
+    let objects = r#"<CANopenObject index="1014" name="COB-ID EMCY" objectType="7" dataType="0007" accessType="ro" defaultValue="0x80+$NODEID"/>
+<CANopenObject index="2000" name="Big" objectType="7" dataType="0015" accessType="ro" defaultValue="0x1234567890ABCDEFLL"/>
+<CANopenObject index="2001" name="Min" objectType="7" dataType="0004" accessType="ro" lowLimit="0x80000000"/>"#;
+    let read = read_xml("t.xdd", &container("", "", objects));
+    let found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .map(|d| (d.code(), d.severity, d.span.map_or(0, |s| s.line)))
+        .collect();
+    assert_eq!(
+        found,
+        vec![
+            ("EDS016", Severity::Warning, 16),
+            ("EDS025", Severity::Warning, 17),
+            ("EDS014", Severity::Info, 18),
+        ]
+    );
+    let entry = |index| &read.device.objects[&index].subs[&0];
+    assert_eq!(
+        value(&entry(0x1014).default),
+        Some(&Value::NodeRelative(0x80))
+    );
+    assert_eq!(
+        value(&entry(0x2000).default),
+        Some(&Value::Integer(0x1234_5678_90AB_CDEF))
+    );
+    assert_eq!(
+        value(&entry(0x2001).low_limit),
+        Some(&Value::Integer(-0x8000_0000))
+    );
 }

@@ -1025,6 +1025,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             span,
             custom: parameter.custom,
             implicit: false,
+            key_spans: KeySpans::default(),
         }
     }
 
