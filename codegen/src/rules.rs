@@ -53,6 +53,15 @@ rules! {
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
     EMPTY_FILE = "EDS022" Error "the file holds no sections";
+
+    // ---- EDS7xx: code generation ----
+    NAME_COLLISION = "EDS701" Info "a generated Rust name collided with an earlier one and was made unique";
+    UNREPRESENTABLE_TYPE = "EDS702" Error "an entry's data type cannot be represented in generated code";
+    UNREPRESENTABLE_VALUE = "EDS703" Error "a default or parameter value does not fit its entry's Rust type";
+    UNTYPED_PDO = "EDS704" Warning "a default PDO mapping cannot be typed; no PDO struct is generated for it";
+    NO_DEFAULT = "EDS705" Info "an entry without a default value; its generated field starts at zero or empty";
+    UNUSABLE_LIMIT = "EDS706" Warning "a LowLimit or HighLimit the generated write cannot check (not a constant of the entry's type)";
+    CAPACITY_TOO_LARGE = "EDS707" Error "a string, octet string or domain longer than 65535 bytes";
 }
 
 /// Looks a rule up by its code.
