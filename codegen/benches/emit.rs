@@ -1,0 +1,80 @@
+//! Code generation and generated code, per call: generating the biggest corpus file, typed PDO
+//! encode/decode, and OD read/write through the generated `ObjectDictionary` implementation.
+
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use edsgen_codegen::{emit, read};
+use edsgen_runtime::ObjectDictionary;
+
+#[allow(dead_code, missing_docs)]
+mod generated {
+    include!("../tests/generated/gd350.rs");
+}
+use generated::gd350::{pdo, Od};
+
+fn biggest_corpus_file() -> Option<PathBuf> {
+    let dir = std::env::var_os("EDSGEN_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"));
+    let mut best: Option<(u64, PathBuf)> = None;
+    for entry in std::fs::read_dir(&dir).ok()?.flatten() {
+        for file in std::fs::read_dir(entry.path()).into_iter().flatten().flatten() {
+            let len = file.metadata().map(|m| m.len()).unwrap_or(0);
+            if best.as_ref().is_none_or(|(l, _)| len > *l) {
+                best = Some((len, file.path()));
+            }
+        }
+    }
+    best.map(|(_, p)| p)
+}
+
+fn generation(c: &mut Criterion) {
+    let Some(path) = biggest_corpus_file() else {
+        eprintln!("no corpus (set EDSGEN_CORPUS); skipping the generation benchmark");
+        return;
+    };
+    let device = read::read_file(&path).expect("readable").device;
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    c.bench_function(&format!("generate {name}"), |b| {
+        b.iter(|| emit::generate(black_box(&device), "device"))
+    });
+}
+
+fn pdos(c: &mut Criterion) {
+    let rpdo = pdo::Rpdo2 {
+        control_word: 1,
+        setting_2: 5000,
+        ..Default::default()
+    };
+    c.bench_function("Rpdo2 encode (4 x u16)", |b| b.iter(|| black_box(&rpdo).encode()));
+    let frame = [0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00];
+    c.bench_function("Tpdo2 decode (4 x u16)", |b| {
+        b.iter(|| pdo::Tpdo2::decode(black_box(&frame)))
+    });
+    let t3 = pdo::Tpdo3 {
+        nibble: 5,
+        signed_24: -2,
+        type_: 3,
+        flag: true,
+    };
+    c.bench_function("Tpdo3 encode (bit-packed)", |b| b.iter(|| black_box(&t3).encode()));
+}
+
+fn od_access(c: &mut Criterion) {
+    let mut od = Od::new(3);
+    c.bench_function("OD write u16 6040h", |b| {
+        b.iter(|| od.write(black_box(0x6040), black_box(0), black_box(&[0x0F, 0x00])))
+    });
+    c.bench_function("OD read u32 1018h:01", |b| {
+        let mut buf = [0u8; 8];
+        b.iter(|| od.read(black_box(0x1018), black_box(1), 0, &mut buf))
+    });
+    c.bench_function("OD write with limits 2102h", |b| {
+        b.iter(|| od.write(black_box(0x2102), black_box(0), black_box(&[0x64, 0x00])))
+    });
+}
+
+criterion_group!(benches, generation, pdos, od_access);
+criterion_main!(benches);
