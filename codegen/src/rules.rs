@@ -53,6 +53,19 @@ rules! {
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
     EMPTY_FILE = "EDS022" Error "the file holds no sections";
+    COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled [DeviceCommissioning] (two m); read as the spec's [DeviceComissioning]";
+    ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
+
+    // ---- EDS6xx: XML (XDD/XDC) ----
+    XML_MALFORMED = "EDS601" Error "the file is not well-formed XML; nothing could be read";
+    XML_NO_OBJECT_LIST = "EDS602" Error "an XML description without a CANopenObjectList";
+    XML_MISSING_ATTRIBUTE = "EDS603" Error "a required attribute is missing (CANopenObject@index, CANopenSubObject@subIndex, @name, @objectType)";
+    XML_BAD_ATTRIBUTE = "EDS604" Error "an attribute or element value that cannot be read (hexBinary, number, boolean, enumeration)";
+    XML_UNRESOLVED_REF = "EDS605" Error "a uniqueIDRef that names no parameter (or a dataTypeIDRef that names no data type)";
+    XML_DUPLICATE = "EDS606" Error "an index, sub-index or uniqueID described twice; the last one wins";
+    XML_SUBS_ON_VAR = "EDS607" Error "CANopenSubObject elements inside a VAR or DOMAIN object (ignored)";
+    XML_TYPE_CONFLICT = "EDS608" Warning "the parameter disagrees with the object: data type (the parameter wins) or access direction vs PDOmapping (PDOmapping wins)";
+    XML_UNKNOWN_TYPE = "EDS609" Warning "a parameter data type with no CANopen equivalent (variableRef, struct, array on a VAR)";
 
     // ---- EDS7xx: code generation ----
     NAME_COLLISION = "EDS701" Info "a generated Rust name collided with an earlier one and was made unique";

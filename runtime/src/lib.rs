@@ -10,6 +10,7 @@
 pub mod entry;
 pub mod frame;
 pub mod od;
+pub mod sdo;
 pub mod time;
 pub mod typed;
 pub mod wire;
