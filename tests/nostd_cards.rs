@@ -26,7 +26,8 @@ fn cards_build_for_thumbv7em() {
         .map(|path| {
             let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
             let module = edsgen_codegen::emit::module_name(&stem);
-            let code = generate(path, &module).unwrap_or_else(|d| panic!("{}: {d:?}", path.display()));
+            let code =
+                generate(path, &module).unwrap_or_else(|d| panic!("{}: {d:?}", path.display()));
             (module, code)
         })
         .collect();

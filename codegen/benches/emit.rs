@@ -20,7 +20,11 @@ fn biggest_corpus_file() -> Option<PathBuf> {
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"));
     let mut best: Option<(u64, PathBuf)> = None;
     for entry in std::fs::read_dir(&dir).ok()?.flatten() {
-        for file in std::fs::read_dir(entry.path()).into_iter().flatten().flatten() {
+        for file in std::fs::read_dir(entry.path())
+            .into_iter()
+            .flatten()
+            .flatten()
+        {
             let len = file.metadata().map(|m| m.len()).unwrap_or(0);
             if best.as_ref().is_none_or(|(l, _)| len > *l) {
                 best = Some((len, file.path()));
@@ -36,7 +40,10 @@ fn generation(c: &mut Criterion) {
         return;
     };
     let device = read::read_file(&path).expect("readable").device;
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     c.bench_function(&format!("generate {name}"), |b| {
         b.iter(|| emit::generate(black_box(&device), "device"))
     });
@@ -48,7 +55,9 @@ fn pdos(c: &mut Criterion) {
         setting_2: 5000,
         ..Default::default()
     };
-    c.bench_function("Rpdo2 encode (4 x u16)", |b| b.iter(|| black_box(&rpdo).encode()));
+    c.bench_function("Rpdo2 encode (4 x u16)", |b| {
+        b.iter(|| black_box(&rpdo).encode())
+    });
     let frame = [0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00];
     c.bench_function("Tpdo2 decode (4 x u16)", |b| {
         b.iter(|| pdo::Tpdo2::decode(black_box(&frame)))
@@ -59,7 +68,9 @@ fn pdos(c: &mut Criterion) {
         type_: 3,
         flag: true,
     };
-    c.bench_function("Tpdo3 encode (bit-packed)", |b| b.iter(|| black_box(&t3).encode()));
+    c.bench_function("Tpdo3 encode (bit-packed)", |b| {
+        b.iter(|| black_box(&t3).encode())
+    });
 }
 
 fn od_access(c: &mut Criterion) {

@@ -363,11 +363,11 @@ fn keyword_and_digit_names_are_escaped() {
     let code = emit::generate(&device, "x").unwrap();
     for needle in [
         "pub type_: u8,",
-        "pub const TYPE: ::edsgen_runtime::Entry<u8>",
+        "pub const TYPE: Entry<u8>",
         "pub n_1st_gear: u8,",
-        "pub const N_1ST_GEAR: ::edsgen_runtime::Entry<u8>",
+        "pub const N_1ST_GEAR: Entry<u8>",
         "pub object_2002: u8,",
-        "pub const OBJECT_2002: ::edsgen_runtime::Entry<u8>",
+        "pub const OBJECT_2002: Entry<u8>",
     ] {
         assert!(code.contains(needle), "missing {needle}");
     }

@@ -94,6 +94,13 @@ pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
     n
 }
 
+/// The first `len` little-endian bytes of `raw`, in `scratch` (`len` is clamped to 8): the wire
+/// form of a fixed-size value for `ObjectDictionary::read`.
+pub fn le(scratch: &mut [u8; 8], raw: u64, len: usize) -> &[u8] {
+    *scratch = raw.to_le_bytes();
+    &scratch[..len.min(8)]
+}
+
 /// Exactly `N` bytes of `data`: `LengthTooHigh` if longer, `LengthTooLow` if shorter.
 pub fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], SdoAbort> {
     if data.len() > N {

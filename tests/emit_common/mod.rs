@@ -26,7 +26,10 @@ pub fn corpus_dir() -> Option<PathBuf> {
         "the corpus is missing at {} (set EDSGEN_CORPUS)",
         dir.display()
     );
-    eprintln!("skipping: no corpus at {} (set EDSGEN_CORPUS)", dir.display());
+    eprintln!(
+        "skipping: no corpus at {} (set EDSGEN_CORPUS)",
+        dir.display()
+    );
     None
 }
 
@@ -48,8 +51,9 @@ pub fn card_files() -> Vec<PathBuf> {
         .map(|dir| {
             dir.filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| {
-                    p.extension()
-                        .is_some_and(|e| e.eq_ignore_ascii_case("eds") || e.eq_ignore_ascii_case("dcf"))
+                    p.extension().is_some_and(|e| {
+                        e.eq_ignore_ascii_case("eds") || e.eq_ignore_ascii_case("dcf")
+                    })
                 })
                 .collect()
         })

@@ -35,6 +35,8 @@ pub struct EntryPlan {
     pub limits: Option<(TokenStream, TokenStream)>,
     /// Rustdoc lines.
     pub doc: Vec<String>,
+    /// One-paragraph rustdoc for the typed address.
+    pub short_doc: Vec<String>,
     /// The typed-address constant's name.
     pub const_name: Ident,
     /// The field path below `self` (`controlword`, `identity.vendor_id`, `errors.items[0]`).
@@ -438,13 +440,13 @@ impl Planner<'_> {
             _ => None,
         };
         let access = sub.access.unwrap_or(AccessType::Ro);
-        let mut doc = vec![format!(" {}", doc_text(&sub.name))];
-        if sub.name != object.name && object.object_type.has_subs() {
-            doc[0] = format!(" {}: {}", doc_text(&object.name), doc_text(&sub.name));
-        }
-        doc.push(String::new());
+        let title = if sub.name != object.name && object.object_type.has_subs() {
+            format!("{}: {}", doc_text(&object.name), doc_text(&sub.name))
+        } else {
+            doc_text(&sub.name)
+        };
         let mut facts = format!(
-            " Object {:04X}h sub {}: {}, {}, {}.",
+            "{:04X}h sub {}: {}, {}, {}",
             object.index,
             sub.sub_index,
             basic.name(),
@@ -456,39 +458,43 @@ impl Planner<'_> {
             }
         );
         if let RustType::Bytes(n) = ty {
-            facts.push_str(&format!(" Capacity {n} bytes."));
+            facts.push_str(&format!(", capacity {n} bytes"));
         }
-        doc.push(facts);
-        if let Some(d) = &sub.default {
-            doc.push(format!(" Default `{}`.", d.raw.replace('`', "'")));
+        let value_text = |raw: &str| raw.replace('`', "'");
+        if let Some(p) = sub.parameter_value.as_ref().filter(|p| p.value.is_some()) {
+            facts.push_str(&format!("; ParameterValue `{}`", value_text(&p.raw)));
+        } else if let Some(d) = &sub.default {
+            facts.push_str(&format!("; default `{}`", value_text(&d.raw)));
         }
-        if let Some(p) = &sub.parameter_value {
-            doc.push(format!(
-                " Configured (ParameterValue) `{}`.",
-                p.raw.replace('`', "'")
+        if sub.low_limit.is_some() || sub.high_limit.is_some() {
+            facts.push_str(&format!(
+                "; limits `{}` to `{}`",
+                sub.low_limit
+                    .as_ref()
+                    .map_or("-".to_owned(), |v| value_text(&v.raw)),
+                sub.high_limit
+                    .as_ref()
+                    .map_or("-".to_owned(), |v| value_text(&v.raw))
             ));
         }
-        match (&sub.low_limit, &sub.high_limit) {
-            (None, None) => {}
-            (low, high) => doc.push(format!(
-                " Limits `{}` to `{}`.",
-                low.as_ref()
-                    .map_or("-", |v| v.raw.as_str())
-                    .replace('`', "'"),
-                high.as_ref()
-                    .map_or("-", |v| v.raw.as_str())
-                    .replace('`', "'")
-            )),
-        }
+        let mut extra = Vec::new();
         if let Some(d) = &sub.denotation {
-            doc.push(format!(" Denotation: {}.", doc_text(d)));
+            extra.push(format!(" Denotation: {}.", doc_text(d)));
         }
         for (key, value) in sub.custom.iter().chain(object.custom.iter()) {
             let k = key.to_ascii_lowercase();
             if matches!(k.as_str(), "unit" | "description" | "factor") {
-                doc.push(format!(" {}: {}.", doc_text(key), doc_text(value)));
+                extra.push(format!(" {}: {}.", doc_text(key), doc_text(value)));
             }
         }
+        let mut doc = vec![
+            format!(" {title}"),
+            String::new(),
+            format!(" Object {facts}."),
+        ];
+        doc.extend(extra.iter().cloned());
+        let mut short_doc = vec![format!(" {title} ({facts}).")];
+        short_doc.extend(extra);
         Some(EntryPlan {
             index: object.index,
             sub: sub.sub_index,
@@ -499,6 +505,7 @@ impl Planner<'_> {
             init,
             limits,
             doc,
+            short_doc,
             const_name,
             path,
             pdo_name: ident(

@@ -109,7 +109,7 @@ impl RustType {
     }
 }
 
-/// The runtime `DataType` variant of a basic type.
+/// The runtime `DataType` variant of a basic type (as `D::Variant`, inside the table's `use`).
 pub fn data_type_tokens(basic: BasicType) -> TokenStream {
     use BasicType as B;
     let v = match basic {
@@ -139,18 +139,18 @@ pub fn data_type_tokens(basic: BasicType) -> TokenStream {
         B::TimeDifference => quote!(TimeDifference),
         B::Domain => quote!(Domain),
     };
-    quote!(::edsgen_runtime::DataType::#v)
+    quote!(D::#v)
 }
 
-/// The runtime `Access` variant.
+/// The runtime `Access` variant (as `A::Variant`, inside the table's `use`).
 pub fn access_tokens(access: AccessType) -> TokenStream {
     match access {
-        AccessType::Ro => quote!(::edsgen_runtime::Access::Ro),
-        AccessType::Wo => quote!(::edsgen_runtime::Access::Wo),
-        AccessType::Rw => quote!(::edsgen_runtime::Access::Rw),
-        AccessType::Rwr => quote!(::edsgen_runtime::Access::Rwr),
-        AccessType::Rww => quote!(::edsgen_runtime::Access::Rww),
-        AccessType::Const => quote!(::edsgen_runtime::Access::Const),
+        AccessType::Ro => quote!(A::Ro),
+        AccessType::Wo => quote!(A::Wo),
+        AccessType::Rw => quote!(A::Rw),
+        AccessType::Rwr => quote!(A::Rwr),
+        AccessType::Rww => quote!(A::Rww),
+        AccessType::Const => quote!(A::Const),
     }
 }
 

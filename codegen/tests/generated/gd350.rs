@@ -20,8 +20,7 @@ pub mod gd350 {
     pub struct Od {
         /// Device type
         ///
-        /// Object 1000h sub 0: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `65938`.
+        /// Object 1000h sub 0: UNSIGNED32, ro, not PDO-mappable; default `65938`.
         pub device_type: u32,
         /// Pre-defined error field
         ///
@@ -29,18 +28,15 @@ pub mod gd350 {
         pub pre_defined_error_field: records::PreDefinedErrorField,
         /// Manufacturer device name
         ///
-        /// Object 1008h sub 0: VISIBLE_STRING, const, not PDO-mappable. Capacity 5 bytes.
-        /// Default `GD350`.
+        /// Object 1008h sub 0: VISIBLE_STRING, const, not PDO-mappable, capacity 5 bytes; default `GD350`.
         pub manufacturer_device_name: ::edsgen_runtime::FixedBytes<5>,
         /// Manufacturer hardware version
         ///
-        /// Object 1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable. Capacity 32 bytes.
-        /// Default `1.0`.
+        /// Object 1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable, capacity 32 bytes; default `1.0`.
         pub manufacturer_hardware_version: ::edsgen_runtime::FixedBytes<32>,
         /// COB-ID EMCY
         ///
-        /// Object 1014h sub 0: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `$NODEID+128`.
+        /// Object 1014h sub 0: UNSIGNED32, ro, not PDO-mappable; default `$NODEID+128`.
         pub cob_id_emcy: u32,
         /// Identity object
         ///
@@ -72,13 +68,11 @@ pub mod gd350 {
         pub returned_values: records::ReturnedValues,
         /// Status word
         ///
-        /// Object 2001h sub 0: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
+        /// Object 2001h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`.
         pub status_word: u16,
         /// Nibble
         ///
-        /// Object 2002h sub 0: UNSIGNED8, ro, PDO-mappable.
-        /// Default `0`.
+        /// Object 2002h sub 0: UNSIGNED8, ro, PDO-mappable; default `0`.
         pub nibble: u8,
         /// Sparse record
         ///
@@ -86,13 +80,11 @@ pub mod gd350 {
         pub sparse_record: records::SparseRecord,
         /// Flag
         ///
-        /// Object 2004h sub 0: BOOLEAN, rw, PDO-mappable.
-        /// Default `1`.
+        /// Object 2004h sub 0: BOOLEAN, rw, PDO-mappable; default `1`.
         pub flag: bool,
         /// Gain
         ///
-        /// Object 2005h sub 0: REAL32, rw, not PDO-mappable.
-        /// Default `1.5`.
+        /// Object 2005h sub 0: REAL32, rw, not PDO-mappable; default `1.5`.
         pub gain: f32,
         /// Settings
         ///
@@ -100,24 +92,19 @@ pub mod gd350 {
         pub settings: records::Settings,
         /// Control word
         ///
-        /// Object 2101h sub 0: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
+        /// Object 2101h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`.
         pub control_word: u16,
         /// Setting limited
         ///
-        /// Object 2102h sub 0: UNSIGNED16, rw, PDO-mappable.
-        /// Default `100`.
-        /// Limits `10` to `5000`.
+        /// Object 2102h sub 0: UNSIGNED16, rw, PDO-mappable; default `100`; limits `10` to `5000`.
         pub setting_limited: u16,
         /// Controlword
         ///
-        /// Object 6040h sub 0: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
+        /// Object 6040h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`.
         pub controlword: u16,
         /// Status word
         ///
-        /// Object 6041h sub 0: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
+        /// Object 6041h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`.
         pub status_word_6041: u16,
     }
     impl Od {
@@ -128,7 +115,7 @@ pub mod gd350 {
                 device_type: 0x10192,
                 pre_defined_error_field: records::PreDefinedErrorField {
                     number_of_errors: 0,
-                    items: [0, 0],
+                    items: [0; 2],
                 },
                 manufacturer_device_name: ::edsgen_runtime::FixedBytes::from_slice(
                     b"GD350",
@@ -177,7 +164,7 @@ pub mod gd350 {
                 },
                 returned_values: records::ReturnedValues {
                     number_of_entries: 4,
-                    items: [0, 0, 0, 0],
+                    items: [0; 4],
                 },
                 status_word: 0,
                 nibble: 0,
@@ -191,7 +178,7 @@ pub mod gd350 {
                 gain: 1.5,
                 settings: records::Settings {
                     number_of_entries: 4,
-                    items: [0, 0, 0, 0],
+                    items: [0; 4],
                 },
                 control_word: 0,
                 setting_limited: 100,
@@ -209,8 +196,7 @@ pub mod gd350 {
         pub struct PreDefinedErrorField {
             /// Pre-defined error field: Number of errors
             ///
-            /// Object 1003h sub 0: UNSIGNED8, rw, not PDO-mappable.
-            /// Default `0`.
+            /// Object 1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`.
             pub number_of_errors: u8,
             /// Sub-indices 1 to 2: element `i` is sub-index `i + 1`.
             pub items: [u32; 2],
@@ -222,23 +208,19 @@ pub mod gd350 {
         pub struct IdentityObject {
             /// Identity object: Number of entries
             ///
-            /// Object 1018h sub 0: UNSIGNED8, const, not PDO-mappable.
-            /// Default `3`.
+            /// Object 1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`.
             pub number_of_entries: u8,
             /// Identity object: Vendor-ID
             ///
-            /// Object 1018h sub 1: UNSIGNED32, ro, not PDO-mappable.
-            /// Default `1240`.
+            /// Object 1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`.
             pub vendor_id: u32,
             /// Identity object: Product code
             ///
-            /// Object 1018h sub 2: UNSIGNED32, ro, not PDO-mappable.
-            /// Default `37458`.
+            /// Object 1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`.
             pub product_code: u32,
             /// Identity object: Revision number
             ///
-            /// Object 1018h sub 3: UNSIGNED32, ro, not PDO-mappable.
-            /// Default `65537`.
+            /// Object 1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`.
             pub revision_number: u32,
         }
         /// RPDO2 communication parameter
@@ -248,18 +230,15 @@ pub mod gd350 {
         pub struct Rpdo2CommunicationParameter {
             /// RPDO2 communication parameter: Highest sub-index supported
             ///
-            /// Object 1401h sub 0: UNSIGNED8, const, not PDO-mappable.
-            /// Default `2`.
+            /// Object 1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`.
             pub highest_sub_index_supported: u8,
             /// RPDO2 communication parameter: COB-ID
             ///
-            /// Object 1401h sub 1: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `$NODEID+768`.
+            /// Object 1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`.
             pub cob_id: u32,
             /// RPDO2 communication parameter: Transmission type
             ///
-            /// Object 1401h sub 2: UNSIGNED8, rw, not PDO-mappable.
-            /// Default `255`.
+            /// Object 1401h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`.
             pub transmission_type: u8,
         }
         /// RPDO2 mapping parameter
@@ -269,28 +248,23 @@ pub mod gd350 {
         pub struct Rpdo2MappingParameter {
             /// RPDO2 mapping parameter: Number of mapped objects
             ///
-            /// Object 1601h sub 0: UNSIGNED8, rw, not PDO-mappable.
-            /// Default `4`.
+            /// Object 1601h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`.
             pub number_of_mapped_objects: u8,
             /// RPDO2 mapping parameter: Mapped object 1
             ///
-            /// Object 1601h sub 1: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `553713680`.
+            /// Object 1601h sub 1: UNSIGNED32, rw, not PDO-mappable; default `553713680`.
             pub mapped_object_1: u32,
             /// RPDO2 mapping parameter: Mapped object 2
             ///
-            /// Object 1601h sub 2: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `553648400`.
+            /// Object 1601h sub 2: UNSIGNED32, rw, not PDO-mappable; default `553648400`.
             pub mapped_object_2: u32,
             /// RPDO2 mapping parameter: Mapped object 3
             ///
-            /// Object 1601h sub 3: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `553648656`.
+            /// Object 1601h sub 3: UNSIGNED32, rw, not PDO-mappable; default `553648656`.
             pub mapped_object_3: u32,
             /// RPDO2 mapping parameter: Mapped object 4
             ///
-            /// Object 1601h sub 4: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `553648912`.
+            /// Object 1601h sub 4: UNSIGNED32, rw, not PDO-mappable; default `553648912`.
             pub mapped_object_4: u32,
         }
         /// TPDO2 communication parameter
@@ -300,18 +274,15 @@ pub mod gd350 {
         pub struct Tpdo2CommunicationParameter {
             /// TPDO2 communication parameter: Highest sub-index supported
             ///
-            /// Object 1801h sub 0: UNSIGNED8, const, not PDO-mappable.
-            /// Default `2`.
+            /// Object 1801h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`.
             pub highest_sub_index_supported: u8,
             /// TPDO2 communication parameter: COB-ID
             ///
-            /// Object 1801h sub 1: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `$NODEID+640`.
+            /// Object 1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`.
             pub cob_id: u32,
             /// TPDO2 communication parameter: Transmission type
             ///
-            /// Object 1801h sub 2: UNSIGNED8, rw, not PDO-mappable.
-            /// Default `255`.
+            /// Object 1801h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`.
             pub transmission_type: u8,
         }
         /// TPDO2 mapping parameter
@@ -321,28 +292,23 @@ pub mod gd350 {
         pub struct Tpdo2MappingParameter {
             /// TPDO2 mapping parameter: Number of mapped objects
             ///
-            /// Object 1A01h sub 0: UNSIGNED8, rw, not PDO-mappable.
-            /// Default `4`.
+            /// Object 1A01h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`.
             pub number_of_mapped_objects: u8,
             /// TPDO2 mapping parameter: Mapped object 1
             ///
-            /// Object 1A01h sub 1: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `536936464`.
+            /// Object 1A01h sub 1: UNSIGNED32, rw, not PDO-mappable; default `536936464`.
             pub mapped_object_1: u32,
             /// TPDO2 mapping parameter: Mapped object 2
             ///
-            /// Object 1A01h sub 2: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `536871184`.
+            /// Object 1A01h sub 2: UNSIGNED32, rw, not PDO-mappable; default `536871184`.
             pub mapped_object_2: u32,
             /// TPDO2 mapping parameter: Mapped object 3
             ///
-            /// Object 1A01h sub 3: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `536871440`.
+            /// Object 1A01h sub 3: UNSIGNED32, rw, not PDO-mappable; default `536871440`.
             pub mapped_object_3: u32,
             /// TPDO2 mapping parameter: Mapped object 4
             ///
-            /// Object 1A01h sub 4: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `536871696`.
+            /// Object 1A01h sub 4: UNSIGNED32, rw, not PDO-mappable; default `536871696`.
             pub mapped_object_4: u32,
         }
         /// TPDO3 mapping parameter
@@ -352,33 +318,27 @@ pub mod gd350 {
         pub struct Tpdo3MappingParameter {
             /// TPDO3 mapping parameter: Number of mapped objects
             ///
-            /// Object 1A02h sub 0: UNSIGNED8, rw, not PDO-mappable.
-            /// Default `5`.
+            /// Object 1A02h sub 0: UNSIGNED8, rw, not PDO-mappable; default `5`.
             pub number_of_mapped_objects: u8,
             /// TPDO3 mapping parameter: Mapped object 1
             ///
-            /// Object 1A02h sub 1: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `537001988`.
+            /// Object 1A02h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537001988`.
             pub mapped_object_1: u32,
             /// TPDO3 mapping parameter: Mapped object 2
             ///
-            /// Object 1A02h sub 2: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `327684`.
+            /// Object 1A02h sub 2: UNSIGNED32, rw, not PDO-mappable; default `327684`.
             pub mapped_object_2: u32,
             /// TPDO3 mapping parameter: Mapped object 3
             ///
-            /// Object 1A02h sub 3: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `537067800`.
+            /// Object 1A02h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537067800`.
             pub mapped_object_3: u32,
             /// TPDO3 mapping parameter: Mapped object 4
             ///
-            /// Object 1A02h sub 4: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `537068040`.
+            /// Object 1A02h sub 4: UNSIGNED32, rw, not PDO-mappable; default `537068040`.
             pub mapped_object_4: u32,
             /// TPDO3 mapping parameter: Mapped object 5
             ///
-            /// Object 1A02h sub 5: UNSIGNED32, rw, not PDO-mappable.
-            /// Default `537133057`.
+            /// Object 1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`.
             pub mapped_object_5: u32,
         }
         /// Returned values
@@ -388,8 +348,7 @@ pub mod gd350 {
         pub struct ReturnedValues {
             /// Returned values: Number of entries
             ///
-            /// Object 2000h sub 0: UNSIGNED8, const, not PDO-mappable.
-            /// Default `4`.
+            /// Object 2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`.
             pub number_of_entries: u8,
             /// Sub-indices 1 to 4: element `i` is sub-index `i + 1`.
             pub items: [u16; 4],
@@ -401,23 +360,19 @@ pub mod gd350 {
         pub struct SparseRecord {
             /// Sparse record: Highest sub-index supported
             ///
-            /// Object 2003h sub 0: UNSIGNED8, const, not PDO-mappable.
-            /// Default `5`.
+            /// Object 2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`.
             pub highest_sub_index_supported: u8,
             /// Sparse record: Signed 24
             ///
-            /// Object 2003h sub 1: INTEGER24, rw, PDO-mappable.
-            /// Default `-5`.
+            /// Object 2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`.
             pub signed_24: i32,
             /// Sparse record: type
             ///
-            /// Object 2003h sub 2: INTEGER8, rw, PDO-mappable.
-            /// Default `-1`.
+            /// Object 2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`.
             pub type_: i8,
             /// Sparse record: Big
             ///
-            /// Object 2003h sub 5: UNSIGNED64, rw, not PDO-mappable.
-            /// Default `281474976710655`.
+            /// Object 2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`.
             pub big: u64,
         }
         /// Settings
@@ -427,456 +382,73 @@ pub mod gd350 {
         pub struct Settings {
             /// Settings: Number of entries
             ///
-            /// Object 2100h sub 0: UNSIGNED8, const, not PDO-mappable.
-            /// Default `4`.
+            /// Object 2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`.
             pub number_of_entries: u8,
             /// Sub-indices 1 to 4: element `i` is sub-index `i + 1`.
             pub items: [u16; 4],
         }
     }
     /// Every entry's descriptor, sorted by (index, sub-index).
-    pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; 55] = [
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1000,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1003,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1003,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1003,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1008,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::VisibleString,
-            access: ::edsgen_runtime::Access::Const,
-            pdo_mappable: false,
-            size: 5,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1009,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::VisibleString,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 32,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1014,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1018,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Const,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1018,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1018,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1018,
-            sub: 0x03,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1401,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Const,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1401,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1401,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1601,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1601,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1601,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1601,
-            sub: 0x03,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1601,
-            sub: 0x04,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1801,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Const,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1801,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1801,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A01,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A01,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A01,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A01,
-            sub: 0x03,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A01,
-            sub: 0x04,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A02,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A02,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A02,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A02,
-            sub: 0x03,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A02,
-            sub: 0x04,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x1A02,
-            sub: 0x05,
-            data_type: ::edsgen_runtime::DataType::Unsigned32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2000,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Const,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2000,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2000,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2000,
-            sub: 0x03,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2000,
-            sub: 0x04,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2001,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2002,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: true,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2003,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Const,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2003,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Integer24,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 3,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2003,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Integer8,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2003,
-            sub: 0x05,
-            data_type: ::edsgen_runtime::DataType::Unsigned64,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 8,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2004,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Boolean,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2005,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Real32,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: false,
-            size: 4,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2100,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned8,
-            access: ::edsgen_runtime::Access::Const,
-            pdo_mappable: false,
-            size: 1,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2100,
-            sub: 0x01,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2100,
-            sub: 0x02,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2100,
-            sub: 0x03,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2100,
-            sub: 0x04,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2101,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x2102,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x6040,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Rw,
-            pdo_mappable: true,
-            size: 2,
-        },
-        ::edsgen_runtime::EntryDescriptor {
-            index: 0x6041,
-            sub: 0x00,
-            data_type: ::edsgen_runtime::DataType::Unsigned16,
-            access: ::edsgen_runtime::Access::Ro,
-            pdo_mappable: true,
-            size: 2,
-        },
-    ];
+    pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; 55] = {
+        use ::edsgen_runtime::{Access as A, DataType as D, EntryDescriptor as E};
+        [
+            E::new(0x1000, 0x00, D::Unsigned32, A::Ro, false, 4),
+            E::new(0x1003, 0x00, D::Unsigned8, A::Rw, false, 1),
+            E::new(0x1003, 0x01, D::Unsigned32, A::Ro, false, 4),
+            E::new(0x1003, 0x02, D::Unsigned32, A::Ro, false, 4),
+            E::new(0x1008, 0x00, D::VisibleString, A::Const, false, 5),
+            E::new(0x1009, 0x00, D::VisibleString, A::Rw, false, 32),
+            E::new(0x1014, 0x00, D::Unsigned32, A::Ro, false, 4),
+            E::new(0x1018, 0x00, D::Unsigned8, A::Const, false, 1),
+            E::new(0x1018, 0x01, D::Unsigned32, A::Ro, false, 4),
+            E::new(0x1018, 0x02, D::Unsigned32, A::Ro, false, 4),
+            E::new(0x1018, 0x03, D::Unsigned32, A::Ro, false, 4),
+            E::new(0x1401, 0x00, D::Unsigned8, A::Const, false, 1),
+            E::new(0x1401, 0x01, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1401, 0x02, D::Unsigned8, A::Rw, false, 1),
+            E::new(0x1601, 0x00, D::Unsigned8, A::Rw, false, 1),
+            E::new(0x1601, 0x01, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1601, 0x02, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1601, 0x03, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1601, 0x04, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1801, 0x00, D::Unsigned8, A::Const, false, 1),
+            E::new(0x1801, 0x01, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1801, 0x02, D::Unsigned8, A::Rw, false, 1),
+            E::new(0x1A01, 0x00, D::Unsigned8, A::Rw, false, 1),
+            E::new(0x1A01, 0x01, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A01, 0x02, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A01, 0x03, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A01, 0x04, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A02, 0x00, D::Unsigned8, A::Rw, false, 1),
+            E::new(0x1A02, 0x01, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A02, 0x02, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A02, 0x03, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A02, 0x04, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A02, 0x05, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x2000, 0x00, D::Unsigned8, A::Const, false, 1),
+            E::new(0x2000, 0x01, D::Unsigned16, A::Ro, true, 2),
+            E::new(0x2000, 0x02, D::Unsigned16, A::Ro, true, 2),
+            E::new(0x2000, 0x03, D::Unsigned16, A::Ro, true, 2),
+            E::new(0x2000, 0x04, D::Unsigned16, A::Ro, true, 2),
+            E::new(0x2001, 0x00, D::Unsigned16, A::Ro, true, 2),
+            E::new(0x2002, 0x00, D::Unsigned8, A::Ro, true, 1),
+            E::new(0x2003, 0x00, D::Unsigned8, A::Const, false, 1),
+            E::new(0x2003, 0x01, D::Integer24, A::Rw, true, 3),
+            E::new(0x2003, 0x02, D::Integer8, A::Rw, true, 1),
+            E::new(0x2003, 0x05, D::Unsigned64, A::Rw, false, 8),
+            E::new(0x2004, 0x00, D::Boolean, A::Rw, true, 1),
+            E::new(0x2005, 0x00, D::Real32, A::Rw, false, 4),
+            E::new(0x2100, 0x00, D::Unsigned8, A::Const, false, 1),
+            E::new(0x2100, 0x01, D::Unsigned16, A::Rw, true, 2),
+            E::new(0x2100, 0x02, D::Unsigned16, A::Rw, true, 2),
+            E::new(0x2100, 0x03, D::Unsigned16, A::Rw, true, 2),
+            E::new(0x2100, 0x04, D::Unsigned16, A::Rw, true, 2),
+            E::new(0x2101, 0x00, D::Unsigned16, A::Rw, true, 2),
+            E::new(0x2102, 0x00, D::Unsigned16, A::Rw, true, 2),
+            E::new(0x6040, 0x00, D::Unsigned16, A::Rw, true, 2),
+            E::new(0x6041, 0x00, D::Unsigned16, A::Ro, true, 2),
+        ]
+    };
     impl ::edsgen_runtime::ObjectDictionary for Od {
         fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
             &ENTRIES
@@ -909,528 +481,244 @@ pub mod gd350 {
             offset: usize,
             buf: &mut [u8],
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-            match (index, sub) {
-                (0x1000, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.device_type.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
+            use ::edsgen_runtime::typed as t;
+            let mut s = [0u8; 8];
+            let value: &[u8] = match (index, sub) {
+                (0x1000, 0x00) => t::le(&mut s, u64::from(self.device_type), 4),
                 (0x1003, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.pre_defined_error_field.number_of_errors.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.pre_defined_error_field.number_of_errors),
+                        1,
                     )
                 }
-                (0x1003, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.pre_defined_error_field.items[0].to_le_bytes(),
-                            offset,
-                            buf,
+                (0x1003, sub @ 0x01..=0x02) => {
+                    t::le(
+                        &mut s,
+                        u64::from(
+                            self.pre_defined_error_field.items[usize::from(sub) - 1],
                         ),
+                        4,
                     )
                 }
-                (0x1003, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.pre_defined_error_field.items[1].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x1008, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            self.manufacturer_device_name.as_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x1009, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            self.manufacturer_hardware_version.as_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x1014, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.cob_id_emcy.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
+                (0x1008, 0x00) => self.manufacturer_device_name.as_bytes(),
+                (0x1009, 0x00) => self.manufacturer_hardware_version.as_bytes(),
+                (0x1014, 0x00) => t::le(&mut s, u64::from(self.cob_id_emcy), 4),
                 (0x1018, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.identity_object.number_of_entries.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
+                    t::le(&mut s, u64::from(self.identity_object.number_of_entries), 1)
                 }
                 (0x1018, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.identity_object.vendor_id.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
+                    t::le(&mut s, u64::from(self.identity_object.vendor_id), 4)
                 }
                 (0x1018, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.identity_object.product_code.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
+                    t::le(&mut s, u64::from(self.identity_object.product_code), 4)
                 }
                 (0x1018, 0x03) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.identity_object.revision_number.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
+                    t::le(&mut s, u64::from(self.identity_object.revision_number), 4)
                 }
                 (0x1401, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
+                    t::le(
+                        &mut s,
+                        u64::from(
+                            self
                                 .rpdo2_communication_parameter
-                                .highest_sub_index_supported
-                                .to_le_bytes(),
-                            offset,
-                            buf,
+                                .highest_sub_index_supported,
                         ),
+                        1,
                     )
                 }
                 (0x1401, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.rpdo2_communication_parameter.cob_id.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.rpdo2_communication_parameter.cob_id),
+                        4,
                     )
                 }
                 (0x1401, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
-                                .rpdo2_communication_parameter
-                                .transmission_type
-                                .to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.rpdo2_communication_parameter.transmission_type),
+                        1,
                     )
                 }
                 (0x1601, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
-                                .rpdo2_mapping_parameter
-                                .number_of_mapped_objects
-                                .to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.rpdo2_mapping_parameter.number_of_mapped_objects),
+                        1,
                     )
                 }
                 (0x1601, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.rpdo2_mapping_parameter.mapped_object_1.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.rpdo2_mapping_parameter.mapped_object_1),
+                        4,
                     )
                 }
                 (0x1601, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.rpdo2_mapping_parameter.mapped_object_2.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.rpdo2_mapping_parameter.mapped_object_2),
+                        4,
                     )
                 }
                 (0x1601, 0x03) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.rpdo2_mapping_parameter.mapped_object_3.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.rpdo2_mapping_parameter.mapped_object_3),
+                        4,
                     )
                 }
                 (0x1601, 0x04) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.rpdo2_mapping_parameter.mapped_object_4.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.rpdo2_mapping_parameter.mapped_object_4),
+                        4,
                     )
                 }
                 (0x1801, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
+                    t::le(
+                        &mut s,
+                        u64::from(
+                            self
                                 .tpdo2_communication_parameter
-                                .highest_sub_index_supported
-                                .to_le_bytes(),
-                            offset,
-                            buf,
+                                .highest_sub_index_supported,
                         ),
+                        1,
                     )
                 }
                 (0x1801, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo2_communication_parameter.cob_id.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo2_communication_parameter.cob_id),
+                        4,
                     )
                 }
                 (0x1801, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
-                                .tpdo2_communication_parameter
-                                .transmission_type
-                                .to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo2_communication_parameter.transmission_type),
+                        1,
                     )
                 }
                 (0x1A01, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
-                                .tpdo2_mapping_parameter
-                                .number_of_mapped_objects
-                                .to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo2_mapping_parameter.number_of_mapped_objects),
+                        1,
                     )
                 }
                 (0x1A01, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo2_mapping_parameter.mapped_object_1.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo2_mapping_parameter.mapped_object_1),
+                        4,
                     )
                 }
                 (0x1A01, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo2_mapping_parameter.mapped_object_2.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo2_mapping_parameter.mapped_object_2),
+                        4,
                     )
                 }
                 (0x1A01, 0x03) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo2_mapping_parameter.mapped_object_3.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo2_mapping_parameter.mapped_object_3),
+                        4,
                     )
                 }
                 (0x1A01, 0x04) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo2_mapping_parameter.mapped_object_4.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo2_mapping_parameter.mapped_object_4),
+                        4,
                     )
                 }
                 (0x1A02, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
-                                .tpdo3_mapping_parameter
-                                .number_of_mapped_objects
-                                .to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo3_mapping_parameter.number_of_mapped_objects),
+                        1,
                     )
                 }
                 (0x1A02, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo3_mapping_parameter.mapped_object_1.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo3_mapping_parameter.mapped_object_1),
+                        4,
                     )
                 }
                 (0x1A02, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo3_mapping_parameter.mapped_object_2.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo3_mapping_parameter.mapped_object_2),
+                        4,
                     )
                 }
                 (0x1A02, 0x03) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo3_mapping_parameter.mapped_object_3.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo3_mapping_parameter.mapped_object_3),
+                        4,
                     )
                 }
                 (0x1A02, 0x04) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo3_mapping_parameter.mapped_object_4.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo3_mapping_parameter.mapped_object_4),
+                        4,
                     )
                 }
                 (0x1A02, 0x05) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.tpdo3_mapping_parameter.mapped_object_5.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo3_mapping_parameter.mapped_object_5),
+                        4,
                     )
                 }
                 (0x2000, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.returned_values.number_of_entries.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(&mut s, u64::from(self.returned_values.number_of_entries), 1)
+                }
+                (0x2000, sub @ 0x01..=0x04) => {
+                    t::le(
+                        &mut s,
+                        u64::from(self.returned_values.items[usize::from(sub) - 1]),
+                        2,
                     )
                 }
-                (0x2000, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.returned_values.items[0].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2000, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.returned_values.items[1].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2000, 0x03) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.returned_values.items[2].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2000, 0x04) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.returned_values.items[3].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2001, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.status_word.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2002, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.nibble.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
+                (0x2001, 0x00) => t::le(&mut s, u64::from(self.status_word), 2),
+                (0x2002, 0x00) => t::le(&mut s, u64::from(self.nibble), 1),
                 (0x2003, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self
-                                .sparse_record
-                                .highest_sub_index_supported
-                                .to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(
+                        &mut s,
+                        u64::from(self.sparse_record.highest_sub_index_supported),
+                        1,
                     )
                 }
-                (0x2003, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.sparse_record.signed_24.to_le_bytes()[..3],
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2003, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.sparse_record.type_.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2003, 0x05) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.sparse_record.big.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2004, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &[u8::from(self.flag)],
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2005, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.gain.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
+                (0x2003, 0x01) => t::le(&mut s, self.sparse_record.signed_24 as u64, 3),
+                (0x2003, 0x02) => t::le(&mut s, self.sparse_record.type_ as u64, 1),
+                (0x2003, 0x05) => t::le(&mut s, self.sparse_record.big, 8),
+                (0x2004, 0x00) => t::le(&mut s, u64::from(self.flag), 1),
+                (0x2005, 0x00) => t::le(&mut s, u64::from(self.gain.to_bits()), 4),
                 (0x2100, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.settings.number_of_entries.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
+                    t::le(&mut s, u64::from(self.settings.number_of_entries), 1)
+                }
+                (0x2100, sub @ 0x01..=0x04) => {
+                    t::le(
+                        &mut s,
+                        u64::from(self.settings.items[usize::from(sub) - 1]),
+                        2,
                     )
                 }
-                (0x2100, 0x01) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.settings.items[0].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2100, 0x02) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.settings.items[1].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2100, 0x03) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.settings.items[2].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2100, 0x04) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.settings.items[3].to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2101, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.control_word.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x2102, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.setting_limited.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x6040, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.controlword.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                (0x6041, 0x00) => {
-                    Ok(
-                        ::edsgen_runtime::typed::read_bytes(
-                            &self.status_word_6041.to_le_bytes(),
-                            offset,
-                            buf,
-                        ),
-                    )
-                }
-                _ => Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub)),
-            }
+                (0x2101, 0x00) => t::le(&mut s, u64::from(self.control_word), 2),
+                (0x2102, 0x00) => t::le(&mut s, u64::from(self.setting_limited), 2),
+                (0x6040, 0x00) => t::le(&mut s, u64::from(self.controlword), 2),
+                (0x6041, 0x00) => t::le(&mut s, u64::from(self.status_word_6041), 2),
+                _ => return Err(t::missing(&ENTRIES, index, sub)),
+            };
+            Ok(t::read_bytes(value, offset, buf))
         }
         fn write(
             &mut self,
@@ -1438,749 +726,418 @@ pub mod gd350 {
             sub: u8,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
+            use ::edsgen_runtime::typed as t;
             match (index, sub) {
-                (0x1000, 0x00) => {
-                    self.device_type = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
+                (0x1000, 0x00) => self.device_type = u32::from_le_bytes(t::exact(data)?),
                 (0x1003, 0x00) => {
                     self.pre_defined_error_field.number_of_errors = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
-                (0x1003, 0x01) => {
-                    self.pre_defined_error_field.items[0] = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                (0x1003, sub @ 0x01..=0x02) => {
+                    self.pre_defined_error_field.items[usize::from(sub) - 1] = u32::from_le_bytes(
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
-                (0x1003, 0x02) => {
-                    self.pre_defined_error_field.items[1] = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x1008, 0x00) => self.manufacturer_device_name.set(data),
-                (0x1009, 0x00) => self.manufacturer_hardware_version.set(data),
-                (0x1014, 0x00) => {
-                    self.cob_id_emcy = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
+                (0x1008, 0x00) => self.manufacturer_device_name.set(data)?,
+                (0x1009, 0x00) => self.manufacturer_hardware_version.set(data)?,
+                (0x1014, 0x00) => self.cob_id_emcy = u32::from_le_bytes(t::exact(data)?),
                 (0x1018, 0x00) => {
                     self.identity_object.number_of_entries = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1018, 0x01) => {
-                    self.identity_object.vendor_id = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
+                    self.identity_object.vendor_id = u32::from_le_bytes(t::exact(data)?);
                 }
                 (0x1018, 0x02) => {
                     self.identity_object.product_code = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1018, 0x03) => {
                     self.identity_object.revision_number = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1401, 0x00) => {
                     self.rpdo2_communication_parameter.highest_sub_index_supported = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1401, 0x01) => {
                     self.rpdo2_communication_parameter.cob_id = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1401, 0x02) => {
                     self.rpdo2_communication_parameter.transmission_type = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1601, 0x00) => {
                     self.rpdo2_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1601, 0x01) => {
                     self.rpdo2_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1601, 0x02) => {
                     self.rpdo2_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1601, 0x03) => {
                     self.rpdo2_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1601, 0x04) => {
                     self.rpdo2_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1801, 0x00) => {
                     self.tpdo2_communication_parameter.highest_sub_index_supported = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1801, 0x01) => {
                     self.tpdo2_communication_parameter.cob_id = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1801, 0x02) => {
                     self.tpdo2_communication_parameter.transmission_type = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A01, 0x00) => {
                     self.tpdo2_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A01, 0x01) => {
                     self.tpdo2_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A01, 0x02) => {
                     self.tpdo2_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A01, 0x03) => {
                     self.tpdo2_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A01, 0x04) => {
                     self.tpdo2_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A02, 0x00) => {
                     self.tpdo3_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A02, 0x01) => {
                     self.tpdo3_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A02, 0x02) => {
                     self.tpdo3_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A02, 0x03) => {
                     self.tpdo3_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A02, 0x04) => {
                     self.tpdo3_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x1A02, 0x05) => {
                     self.tpdo3_mapping_parameter.mapped_object_5 = u32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x2000, 0x00) => {
                     self.returned_values.number_of_entries = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
-                (0x2000, 0x01) => {
-                    self.returned_values.items[0] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                (0x2000, sub @ 0x01..=0x04) => {
+                    self.returned_values.items[usize::from(sub) - 1] = u16::from_le_bytes(
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
-                (0x2000, 0x02) => {
-                    self.returned_values.items[1] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x2000, 0x03) => {
-                    self.returned_values.items[2] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x2000, 0x04) => {
-                    self.returned_values.items[3] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x2001, 0x00) => {
-                    self.status_word = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x2002, 0x00) => {
-                    self.nibble = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
+                (0x2001, 0x00) => self.status_word = u16::from_le_bytes(t::exact(data)?),
+                (0x2002, 0x00) => self.nibble = u8::from_le_bytes(t::exact(data)?),
                 (0x2003, 0x00) => {
                     self.sparse_record.highest_sub_index_supported = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
                 (0x2003, 0x01) => {
-                    self.sparse_record.signed_24 = ::edsgen_runtime::typed::int_le::<
-                        3,
-                    >(data)? as i32;
-                    Ok(())
+                    self.sparse_record.signed_24 = t::int_le::<3>(data)? as i32;
                 }
                 (0x2003, 0x02) => {
-                    self.sparse_record.type_ = i8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
+                    self.sparse_record.type_ = i8::from_le_bytes(t::exact(data)?);
                 }
                 (0x2003, 0x05) => {
-                    self.sparse_record.big = u64::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
+                    self.sparse_record.big = u64::from_le_bytes(t::exact(data)?);
                 }
-                (0x2004, 0x00) => {
-                    self.flag = ::edsgen_runtime::typed::boolean(data)?;
-                    Ok(())
-                }
-                (0x2005, 0x00) => {
-                    self.gain = f32::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
+                (0x2004, 0x00) => self.flag = t::boolean(data)?,
+                (0x2005, 0x00) => self.gain = f32::from_le_bytes(t::exact(data)?),
                 (0x2100, 0x00) => {
-                    self.settings.number_of_entries = u8::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
+                    self.settings.number_of_entries = u8::from_le_bytes(t::exact(data)?);
                 }
-                (0x2100, 0x01) => {
-                    self.settings.items[0] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
+                (0x2100, sub @ 0x01..=0x04) => {
+                    self.settings.items[usize::from(sub) - 1] = u16::from_le_bytes(
+                        t::exact(data)?,
                     );
-                    Ok(())
                 }
-                (0x2100, 0x02) => {
-                    self.settings.items[1] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x2100, 0x03) => {
-                    self.settings.items[2] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x2100, 0x04) => {
-                    self.settings.items[3] = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
-                (0x2101, 0x00) => {
-                    self.control_word = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
+                (0x2101, 0x00) => self.control_word = u16::from_le_bytes(t::exact(data)?),
                 (0x2102, 0x00) => {
-                    let value = ::edsgen_runtime::typed::check_limits(
-                        u16::from_le_bytes(::edsgen_runtime::typed::exact(data)?),
+                    self.setting_limited = t::check_limits(
+                        u16::from_le_bytes(t::exact(data)?),
                         10,
                         0x1388,
                     )?;
-                    self.setting_limited = value;
-                    Ok(())
                 }
-                (0x6040, 0x00) => {
-                    self.controlword = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
-                }
+                (0x6040, 0x00) => self.controlword = u16::from_le_bytes(t::exact(data)?),
                 (0x6041, 0x00) => {
-                    self.status_word_6041 = u16::from_le_bytes(
-                        ::edsgen_runtime::typed::exact(data)?,
-                    );
-                    Ok(())
+                    self.status_word_6041 = u16::from_le_bytes(t::exact(data)?);
                 }
-                _ => Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub)),
+                _ => return Err(t::missing(&ENTRIES, index, sub)),
             }
+            Ok(())
         }
     }
     /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
     pub mod od {
-        /// Device type
-        ///
-        /// Object 1000h sub 0: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `65938`.
-        pub const DEVICE_TYPE: ::edsgen_runtime::Entry<u32> = ::edsgen_runtime::Entry::new(
-            0x1000,
+        use ::edsgen_runtime::{Entry, FixedBytes};
+        /// Device type (1000h sub 0: UNSIGNED32, ro, not PDO-mappable; default `65938`).
+        pub const DEVICE_TYPE: Entry<u32> = Entry::new(0x1000, 0x00);
+        /// Pre-defined error field: Number of errors (1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`).
+        pub const PRE_DEFINED_ERROR_FIELD_NUMBER_OF_ERRORS: Entry<u8> = Entry::new(
+            0x1003,
             0x00,
         );
-        /// Pre-defined error field: Number of errors
-        ///
-        /// Object 1003h sub 0: UNSIGNED8, rw, not PDO-mappable.
-        /// Default `0`.
-        pub const PRE_DEFINED_ERROR_FIELD_NUMBER_OF_ERRORS: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1003, 0x00);
-        /// Pre-defined error field: Standard error field
-        ///
-        /// Object 1003h sub 1: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `0`.
-        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1003, 0x01);
-        /// Pre-defined error field: Standard error field
-        ///
-        /// Object 1003h sub 2: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `0`.
-        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1003, 0x02);
-        /// Manufacturer device name
-        ///
-        /// Object 1008h sub 0: VISIBLE_STRING, const, not PDO-mappable. Capacity 5 bytes.
-        /// Default `GD350`.
-        pub const MANUFACTURER_DEVICE_NAME: ::edsgen_runtime::Entry<
-            ::edsgen_runtime::FixedBytes<5>,
-        > = ::edsgen_runtime::Entry::new(0x1008, 0x00);
-        /// Manufacturer hardware version
-        ///
-        /// Object 1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable. Capacity 32 bytes.
-        /// Default `1.0`.
-        pub const MANUFACTURER_HARDWARE_VERSION: ::edsgen_runtime::Entry<
-            ::edsgen_runtime::FixedBytes<32>,
-        > = ::edsgen_runtime::Entry::new(0x1009, 0x00);
-        /// COB-ID EMCY
-        ///
-        /// Object 1014h sub 0: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `$NODEID+128`.
-        pub const COB_ID_EMCY: ::edsgen_runtime::Entry<u32> = ::edsgen_runtime::Entry::new(
-            0x1014,
-            0x00,
-        );
-        /// Identity object: Number of entries
-        ///
-        /// Object 1018h sub 0: UNSIGNED8, const, not PDO-mappable.
-        /// Default `3`.
-        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: ::edsgen_runtime::Entry<u8> = ::edsgen_runtime::Entry::new(
-            0x1018,
-            0x00,
-        );
-        /// Identity object: Vendor-ID
-        ///
-        /// Object 1018h sub 1: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `1240`.
-        pub const IDENTITY_OBJECT_VENDOR_ID: ::edsgen_runtime::Entry<u32> = ::edsgen_runtime::Entry::new(
-            0x1018,
+        /// Pre-defined error field: Standard error field (1003h sub 1: UNSIGNED32, ro, not PDO-mappable; default `0`).
+        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: Entry<u32> = Entry::new(
+            0x1003,
             0x01,
         );
-        /// Identity object: Product code
-        ///
-        /// Object 1018h sub 2: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `37458`.
-        pub const IDENTITY_OBJECT_PRODUCT_CODE: ::edsgen_runtime::Entry<u32> = ::edsgen_runtime::Entry::new(
-            0x1018,
+        /// Pre-defined error field: Standard error field (1003h sub 2: UNSIGNED32, ro, not PDO-mappable; default `0`).
+        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2: Entry<u32> = Entry::new(
+            0x1003,
             0x02,
         );
-        /// Identity object: Revision number
-        ///
-        /// Object 1018h sub 3: UNSIGNED32, ro, not PDO-mappable.
-        /// Default `65537`.
-        pub const IDENTITY_OBJECT_REVISION_NUMBER: ::edsgen_runtime::Entry<u32> = ::edsgen_runtime::Entry::new(
-            0x1018,
-            0x03,
+        /// Manufacturer device name (1008h sub 0: VISIBLE_STRING, const, not PDO-mappable, capacity 5 bytes; default `GD350`).
+        pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<5>> = Entry::new(
+            0x1008,
+            0x00,
         );
-        /// RPDO2 communication parameter: Highest sub-index supported
-        ///
-        /// Object 1401h sub 0: UNSIGNED8, const, not PDO-mappable.
-        /// Default `2`.
-        pub const RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1401, 0x00);
-        /// RPDO2 communication parameter: COB-ID
-        ///
-        /// Object 1401h sub 1: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `$NODEID+768`.
-        pub const RPDO2_COMMUNICATION_PARAMETER_COB_ID: ::edsgen_runtime::Entry<u32> = ::edsgen_runtime::Entry::new(
+        /// Manufacturer hardware version (1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable, capacity 32 bytes; default `1.0`).
+        pub const MANUFACTURER_HARDWARE_VERSION: Entry<FixedBytes<32>> = Entry::new(
+            0x1009,
+            0x00,
+        );
+        /// COB-ID EMCY (1014h sub 0: UNSIGNED32, ro, not PDO-mappable; default `$NODEID+128`).
+        pub const COB_ID_EMCY: Entry<u32> = Entry::new(0x1014, 0x00);
+        /// Identity object: Number of entries (1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`).
+        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(
+            0x1018,
+            0x00,
+        );
+        /// Identity object: Vendor-ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
+        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32> = Entry::new(0x1018, 0x01);
+        /// Identity object: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
+        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32> = Entry::new(0x1018, 0x02);
+        /// Identity object: Revision number (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`).
+        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32> = Entry::new(0x1018, 0x03);
+        /// RPDO2 communication parameter: Highest sub-index supported (1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
+        pub const RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
+            0x1401,
+            0x00,
+        );
+        /// RPDO2 communication parameter: COB-ID (1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`).
+        pub const RPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32> = Entry::new(
             0x1401,
             0x01,
         );
-        /// RPDO2 communication parameter: Transmission type
-        ///
-        /// Object 1401h sub 2: UNSIGNED8, rw, not PDO-mappable.
-        /// Default `255`.
-        pub const RPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1401, 0x02);
-        /// RPDO2 mapping parameter: Number of mapped objects
-        ///
-        /// Object 1601h sub 0: UNSIGNED8, rw, not PDO-mappable.
-        /// Default `4`.
-        pub const RPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1601, 0x00);
-        /// RPDO2 mapping parameter: Mapped object 1
-        ///
-        /// Object 1601h sub 1: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `553713680`.
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1601, 0x01);
-        /// RPDO2 mapping parameter: Mapped object 2
-        ///
-        /// Object 1601h sub 2: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `553648400`.
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1601, 0x02);
-        /// RPDO2 mapping parameter: Mapped object 3
-        ///
-        /// Object 1601h sub 3: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `553648656`.
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1601, 0x03);
-        /// RPDO2 mapping parameter: Mapped object 4
-        ///
-        /// Object 1601h sub 4: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `553648912`.
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1601, 0x04);
-        /// TPDO2 communication parameter: Highest sub-index supported
-        ///
-        /// Object 1801h sub 0: UNSIGNED8, const, not PDO-mappable.
-        /// Default `2`.
-        pub const TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1801, 0x00);
-        /// TPDO2 communication parameter: COB-ID
-        ///
-        /// Object 1801h sub 1: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `$NODEID+640`.
-        pub const TPDO2_COMMUNICATION_PARAMETER_COB_ID: ::edsgen_runtime::Entry<u32> = ::edsgen_runtime::Entry::new(
+        /// RPDO2 communication parameter: Transmission type (1401h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
+        pub const RPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<u8> = Entry::new(
+            0x1401,
+            0x02,
+        );
+        /// RPDO2 mapping parameter: Number of mapped objects (1601h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
+        pub const RPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
+            0x1601,
+            0x00,
+        );
+        /// RPDO2 mapping parameter: Mapped object 1 (1601h sub 1: UNSIGNED32, rw, not PDO-mappable; default `553713680`).
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+            0x1601,
+            0x01,
+        );
+        /// RPDO2 mapping parameter: Mapped object 2 (1601h sub 2: UNSIGNED32, rw, not PDO-mappable; default `553648400`).
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+            0x1601,
+            0x02,
+        );
+        /// RPDO2 mapping parameter: Mapped object 3 (1601h sub 3: UNSIGNED32, rw, not PDO-mappable; default `553648656`).
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+            0x1601,
+            0x03,
+        );
+        /// RPDO2 mapping parameter: Mapped object 4 (1601h sub 4: UNSIGNED32, rw, not PDO-mappable; default `553648912`).
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
+            0x1601,
+            0x04,
+        );
+        /// TPDO2 communication parameter: Highest sub-index supported (1801h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
+        pub const TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
+            0x1801,
+            0x00,
+        );
+        /// TPDO2 communication parameter: COB-ID (1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`).
+        pub const TPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32> = Entry::new(
             0x1801,
             0x01,
         );
-        /// TPDO2 communication parameter: Transmission type
-        ///
-        /// Object 1801h sub 2: UNSIGNED8, rw, not PDO-mappable.
-        /// Default `255`.
-        pub const TPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1801, 0x02);
-        /// TPDO2 mapping parameter: Number of mapped objects
-        ///
-        /// Object 1A01h sub 0: UNSIGNED8, rw, not PDO-mappable.
-        /// Default `4`.
-        pub const TPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1A01, 0x00);
-        /// TPDO2 mapping parameter: Mapped object 1
-        ///
-        /// Object 1A01h sub 1: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `536936464`.
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A01, 0x01);
-        /// TPDO2 mapping parameter: Mapped object 2
-        ///
-        /// Object 1A01h sub 2: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `536871184`.
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A01, 0x02);
-        /// TPDO2 mapping parameter: Mapped object 3
-        ///
-        /// Object 1A01h sub 3: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `536871440`.
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A01, 0x03);
-        /// TPDO2 mapping parameter: Mapped object 4
-        ///
-        /// Object 1A01h sub 4: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `536871696`.
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A01, 0x04);
-        /// TPDO3 mapping parameter: Number of mapped objects
-        ///
-        /// Object 1A02h sub 0: UNSIGNED8, rw, not PDO-mappable.
-        /// Default `5`.
-        pub const TPDO3_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x1A02, 0x00);
-        /// TPDO3 mapping parameter: Mapped object 1
-        ///
-        /// Object 1A02h sub 1: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `537001988`.
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_1: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A02, 0x01);
-        /// TPDO3 mapping parameter: Mapped object 2
-        ///
-        /// Object 1A02h sub 2: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `327684`.
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_2: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A02, 0x02);
-        /// TPDO3 mapping parameter: Mapped object 3
-        ///
-        /// Object 1A02h sub 3: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `537067800`.
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_3: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A02, 0x03);
-        /// TPDO3 mapping parameter: Mapped object 4
-        ///
-        /// Object 1A02h sub 4: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `537068040`.
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_4: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A02, 0x04);
-        /// TPDO3 mapping parameter: Mapped object 5
-        ///
-        /// Object 1A02h sub 5: UNSIGNED32, rw, not PDO-mappable.
-        /// Default `537133057`.
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_5: ::edsgen_runtime::Entry<
-            u32,
-        > = ::edsgen_runtime::Entry::new(0x1A02, 0x05);
-        /// Returned values: Number of entries
-        ///
-        /// Object 2000h sub 0: UNSIGNED8, const, not PDO-mappable.
-        /// Default `4`.
-        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: ::edsgen_runtime::Entry<u8> = ::edsgen_runtime::Entry::new(
-            0x2000,
-            0x00,
-        );
-        /// Returned values: Returned value 1
-        ///
-        /// Object 2000h sub 1: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
-        pub const RETURNED_VALUES_RETURNED_VALUE_1: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2000,
-            0x01,
-        );
-        /// Returned values: Returned value 2
-        ///
-        /// Object 2000h sub 2: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
-        pub const RETURNED_VALUES_RETURNED_VALUE_2: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2000,
+        /// TPDO2 communication parameter: Transmission type (1801h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
+        pub const TPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<u8> = Entry::new(
+            0x1801,
             0x02,
         );
-        /// Returned values: Returned value 3
-        ///
-        /// Object 2000h sub 3: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
-        pub const RETURNED_VALUES_RETURNED_VALUE_3: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2000,
+        /// TPDO2 mapping parameter: Number of mapped objects (1A01h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
+        pub const TPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
+            0x1A01,
+            0x00,
+        );
+        /// TPDO2 mapping parameter: Mapped object 1 (1A01h sub 1: UNSIGNED32, rw, not PDO-mappable; default `536936464`).
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+            0x1A01,
+            0x01,
+        );
+        /// TPDO2 mapping parameter: Mapped object 2 (1A01h sub 2: UNSIGNED32, rw, not PDO-mappable; default `536871184`).
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+            0x1A01,
+            0x02,
+        );
+        /// TPDO2 mapping parameter: Mapped object 3 (1A01h sub 3: UNSIGNED32, rw, not PDO-mappable; default `536871440`).
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+            0x1A01,
             0x03,
         );
-        /// Returned values: Returned value 4
-        ///
-        /// Object 2000h sub 4: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
-        pub const RETURNED_VALUES_RETURNED_VALUE_4: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2000,
+        /// TPDO2 mapping parameter: Mapped object 4 (1A01h sub 4: UNSIGNED32, rw, not PDO-mappable; default `536871696`).
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
+            0x1A01,
             0x04,
         );
-        /// Status word
-        ///
-        /// Object 2001h sub 0: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
-        pub const STATUS_WORD: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2001,
+        /// TPDO3 mapping parameter: Number of mapped objects (1A02h sub 0: UNSIGNED8, rw, not PDO-mappable; default `5`).
+        pub const TPDO3_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
+            0x1A02,
             0x00,
         );
-        /// Nibble
-        ///
-        /// Object 2002h sub 0: UNSIGNED8, ro, PDO-mappable.
-        /// Default `0`.
-        pub const NIBBLE: ::edsgen_runtime::Entry<u8> = ::edsgen_runtime::Entry::new(
-            0x2002,
-            0x00,
-        );
-        /// Sparse record: Highest sub-index supported
-        ///
-        /// Object 2003h sub 0: UNSIGNED8, const, not PDO-mappable.
-        /// Default `5`.
-        pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: ::edsgen_runtime::Entry<
-            u8,
-        > = ::edsgen_runtime::Entry::new(0x2003, 0x00);
-        /// Sparse record: Signed 24
-        ///
-        /// Object 2003h sub 1: INTEGER24, rw, PDO-mappable.
-        /// Default `-5`.
-        pub const SPARSE_RECORD_SIGNED_24: ::edsgen_runtime::Entry<i32> = ::edsgen_runtime::Entry::new(
-            0x2003,
+        /// TPDO3 mapping parameter: Mapped object 1 (1A02h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537001988`).
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+            0x1A02,
             0x01,
         );
-        /// Sparse record: type
-        ///
-        /// Object 2003h sub 2: INTEGER8, rw, PDO-mappable.
-        /// Default `-1`.
-        pub const SPARSE_RECORD_TYPE: ::edsgen_runtime::Entry<i8> = ::edsgen_runtime::Entry::new(
-            0x2003,
+        /// TPDO3 mapping parameter: Mapped object 2 (1A02h sub 2: UNSIGNED32, rw, not PDO-mappable; default `327684`).
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+            0x1A02,
             0x02,
         );
-        /// Sparse record: Big
-        ///
-        /// Object 2003h sub 5: UNSIGNED64, rw, not PDO-mappable.
-        /// Default `281474976710655`.
-        pub const SPARSE_RECORD_BIG: ::edsgen_runtime::Entry<u64> = ::edsgen_runtime::Entry::new(
-            0x2003,
+        /// TPDO3 mapping parameter: Mapped object 3 (1A02h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537067800`).
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+            0x1A02,
+            0x03,
+        );
+        /// TPDO3 mapping parameter: Mapped object 4 (1A02h sub 4: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
+            0x1A02,
+            0x04,
+        );
+        /// TPDO3 mapping parameter: Mapped object 5 (1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_5: Entry<u32> = Entry::new(
+            0x1A02,
             0x05,
         );
-        /// Flag
-        ///
-        /// Object 2004h sub 0: BOOLEAN, rw, PDO-mappable.
-        /// Default `1`.
-        pub const FLAG: ::edsgen_runtime::Entry<bool> = ::edsgen_runtime::Entry::new(
-            0x2004,
+        /// Returned values: Number of entries (2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
+        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(
+            0x2000,
             0x00,
         );
-        /// Gain
-        ///
-        /// Object 2005h sub 0: REAL32, rw, not PDO-mappable.
-        /// Default `1.5`.
-        pub const GAIN: ::edsgen_runtime::Entry<f32> = ::edsgen_runtime::Entry::new(
-            0x2005,
-            0x00,
-        );
-        /// Settings: Number of entries
-        ///
-        /// Object 2100h sub 0: UNSIGNED8, const, not PDO-mappable.
-        /// Default `4`.
-        pub const SETTINGS_NUMBER_OF_ENTRIES: ::edsgen_runtime::Entry<u8> = ::edsgen_runtime::Entry::new(
-            0x2100,
-            0x00,
-        );
-        /// Settings: Setting 1
-        ///
-        /// Object 2100h sub 1: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
-        pub const SETTINGS_SETTING_1: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2100,
+        /// Returned values: Returned value 1 (2000h sub 1: UNSIGNED16, ro, PDO-mappable; default `0`).
+        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16> = Entry::new(
+            0x2000,
             0x01,
         );
-        /// Settings: Setting 2
-        ///
-        /// Object 2100h sub 2: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
-        pub const SETTINGS_SETTING_2: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2100,
+        /// Returned values: Returned value 2 (2000h sub 2: UNSIGNED16, ro, PDO-mappable; default `0`).
+        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16> = Entry::new(
+            0x2000,
             0x02,
         );
-        /// Settings: Setting 3
-        ///
-        /// Object 2100h sub 3: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
-        pub const SETTINGS_SETTING_3: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2100,
+        /// Returned values: Returned value 3 (2000h sub 3: UNSIGNED16, ro, PDO-mappable; default `0`).
+        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16> = Entry::new(
+            0x2000,
             0x03,
         );
-        /// Settings: Setting 4
-        ///
-        /// Object 2100h sub 4: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
-        pub const SETTINGS_SETTING_4: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2100,
+        /// Returned values: Returned value 4 (2000h sub 4: UNSIGNED16, ro, PDO-mappable; default `0`).
+        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16> = Entry::new(
+            0x2000,
             0x04,
         );
-        /// Control word
-        ///
-        /// Object 2101h sub 0: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
-        pub const CONTROL_WORD: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2101,
+        /// Status word (2001h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
+        pub const STATUS_WORD: Entry<u16> = Entry::new(0x2001, 0x00);
+        /// Nibble (2002h sub 0: UNSIGNED8, ro, PDO-mappable; default `0`).
+        pub const NIBBLE: Entry<u8> = Entry::new(0x2002, 0x00);
+        /// Sparse record: Highest sub-index supported (2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`).
+        pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
+            0x2003,
             0x00,
         );
-        /// Setting limited
-        ///
-        /// Object 2102h sub 0: UNSIGNED16, rw, PDO-mappable.
-        /// Default `100`.
-        /// Limits `10` to `5000`.
-        pub const SETTING_LIMITED: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x2102,
-            0x00,
-        );
-        /// Controlword
-        ///
-        /// Object 6040h sub 0: UNSIGNED16, rw, PDO-mappable.
-        /// Default `0`.
-        pub const CONTROLWORD: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x6040,
-            0x00,
-        );
-        /// Status word
-        ///
-        /// Object 6041h sub 0: UNSIGNED16, ro, PDO-mappable.
-        /// Default `0`.
-        pub const STATUS_WORD_6041: ::edsgen_runtime::Entry<u16> = ::edsgen_runtime::Entry::new(
-            0x6041,
-            0x00,
-        );
+        /// Sparse record: Signed 24 (2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`).
+        pub const SPARSE_RECORD_SIGNED_24: Entry<i32> = Entry::new(0x2003, 0x01);
+        /// Sparse record: type (2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`).
+        pub const SPARSE_RECORD_TYPE: Entry<i8> = Entry::new(0x2003, 0x02);
+        /// Sparse record: Big (2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`).
+        pub const SPARSE_RECORD_BIG: Entry<u64> = Entry::new(0x2003, 0x05);
+        /// Flag (2004h sub 0: BOOLEAN, rw, PDO-mappable; default `1`).
+        pub const FLAG: Entry<bool> = Entry::new(0x2004, 0x00);
+        /// Gain (2005h sub 0: REAL32, rw, not PDO-mappable; default `1.5`).
+        pub const GAIN: Entry<f32> = Entry::new(0x2005, 0x00);
+        /// Settings: Number of entries (2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
+        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x2100, 0x00);
+        /// Settings: Setting 1 (2100h sub 1: UNSIGNED16, rw, PDO-mappable; default `0`).
+        pub const SETTINGS_SETTING_1: Entry<u16> = Entry::new(0x2100, 0x01);
+        /// Settings: Setting 2 (2100h sub 2: UNSIGNED16, rw, PDO-mappable; default `0`).
+        pub const SETTINGS_SETTING_2: Entry<u16> = Entry::new(0x2100, 0x02);
+        /// Settings: Setting 3 (2100h sub 3: UNSIGNED16, rw, PDO-mappable; default `0`).
+        pub const SETTINGS_SETTING_3: Entry<u16> = Entry::new(0x2100, 0x03);
+        /// Settings: Setting 4 (2100h sub 4: UNSIGNED16, rw, PDO-mappable; default `0`).
+        pub const SETTINGS_SETTING_4: Entry<u16> = Entry::new(0x2100, 0x04);
+        /// Control word (2101h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`).
+        pub const CONTROL_WORD: Entry<u16> = Entry::new(0x2101, 0x00);
+        /// Setting limited (2102h sub 0: UNSIGNED16, rw, PDO-mappable; default `100`; limits `10` to `5000`).
+        pub const SETTING_LIMITED: Entry<u16> = Entry::new(0x2102, 0x00);
+        /// Controlword (6040h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`).
+        pub const CONTROLWORD: Entry<u16> = Entry::new(0x6040, 0x00);
+        /// Status word (6041h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
+        pub const STATUS_WORD_6041: Entry<u16> = Entry::new(0x6041, 0x00);
     }
     /// Typed PDOs: one struct per default mapping of the description.
     pub mod pdo {
