@@ -26,7 +26,7 @@ fn biggest_corpus_file() -> Option<PathBuf> {
             .flatten()
         {
             let len = file.metadata().map(|m| m.len()).unwrap_or(0);
-            if best.as_ref().is_none_or(|(l, _)| len > *l) {
+            if best.as_ref().map_or(true, |(l, _)| len > *l) {
                 best = Some((len, file.path()));
             }
         }
