@@ -372,3 +372,42 @@ fn keyword_and_digit_names_are_escaped() {
         assert!(code.contains(needle), "missing {needle}");
     }
 }
+
+#[test]
+fn time_of_day_days_and_milliseconds() {
+    // Lely writes TIME_OF_DAY as "<days> <ms>": ms in bits 0-27, days in bits 32-47.
+    let device = device(vec![var(
+        0x2000,
+        "Stamp",
+        0x0C,
+        AccessType::Rw,
+        Some(Value::Text("365 43200000".into())),
+        false,
+    )]);
+    let code = emit::generate(&device, "x").unwrap();
+    assert!(code.contains("stamp: 0x16D02932E00"), "{code}");
+    assert!(code.contains("pub stamp: u64,"));
+    assert!(code.contains("t::le(&mut s, self.stamp, 6)"));
+}
+
+#[test]
+fn colliding_type_names_stay_upper_camel_case() {
+    let rec = |index: u16| {
+        object(
+            index,
+            "Remote mapping",
+            ObjectType::Record,
+            vec![sub(
+                0,
+                "Count",
+                0x05,
+                AccessType::Ro,
+                Some(Value::Integer(0)),
+                false,
+            )],
+        )
+    };
+    let code = emit::generate(&device(vec![rec(0x5E11), rec(0x5E12)]), "x").unwrap();
+    assert!(code.contains("pub struct RemoteMapping {"));
+    assert!(code.contains("pub struct RemoteMapping5E12 {"));
+}

@@ -217,7 +217,7 @@ impl Planner<'_> {
             });
         }
         let upper = format!("{:04X}", object.index);
-        let (type_name, changed) = self.types.claim(
+        let (type_name, changed) = self.types.claim_camel(
             &ident(&object.name, Case::Camel, &format!("Object{upper}")),
             std::slice::from_ref(&upper),
         );

@@ -283,8 +283,28 @@ pub fn scalar_tokens(
         (Prim::Unsigned(_) | Prim::Signed(_), Value::Integer(v)) => {
             Ok(int_literal(normalise_integer(*v, basic)?, prim))
         }
+        (Prim::Unsigned(_), Value::Text(text))
+            if matches!(basic, BasicType::TimeOfDay | BasicType::TimeDifference) =>
+        {
+            Ok(int_literal(time_of_day(text)?, prim))
+        }
         _ => Err(ValueProblem::WrongKind),
     }
+}
+
+/// A TIME_OF_DAY / TIME_DIFFERENCE written as `<days> <milliseconds>` (the form Lely's tools
+/// use): milliseconds in bits 0-27, days in bits 32-47 (CiA 301).
+fn time_of_day(text: &str) -> Result<i128, ValueProblem> {
+    let mut parts = text.split_whitespace();
+    let (Some(days), Some(ms), None) = (parts.next(), parts.next(), parts.next()) else {
+        return Err(ValueProblem::WrongKind);
+    };
+    let days: u64 = days.parse().map_err(|_| ValueProblem::WrongKind)?;
+    let ms: u64 = ms.parse().map_err(|_| ValueProblem::WrongKind)?;
+    if days > 0xFFFF || ms >= 1 << 28 {
+        return Err(ValueProblem::OutOfRange);
+    }
+    Ok(i128::from(ms | (days << 32)))
 }
 
 /// The tokens of a `$NODEID + offset` value of an integer type, evaluated in `new(node_id)`.
