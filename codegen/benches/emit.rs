@@ -14,39 +14,52 @@ mod generated {
 }
 use generated::gd350::{pdo, Od};
 
-fn biggest_corpus_file() -> Option<PathBuf> {
+/// The corpus files, biggest first.
+fn corpus_by_size() -> Vec<PathBuf> {
     let dir = std::env::var_os("EDSGEN_CORPUS")
         .map(PathBuf::from)
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"));
-    let mut best: Option<(u64, PathBuf)> = None;
-    for entry in std::fs::read_dir(&dir).ok()?.flatten() {
+    let mut files: Vec<(u64, PathBuf)> = Vec::new();
+    for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
         for file in std::fs::read_dir(entry.path())
             .into_iter()
             .flatten()
             .flatten()
         {
             let len = file.metadata().map(|m| m.len()).unwrap_or(0);
-            if best.as_ref().map_or(true, |(l, _)| len > *l) {
-                best = Some((len, file.path()));
-            }
+            files.push((len, file.path()));
         }
     }
-    best.map(|(_, p)| p)
+    files.sort_by(|a, b| b.cmp(a));
+    files.into_iter().map(|(_, p)| p).collect()
 }
 
 fn generation(c: &mut Criterion) {
-    let Some(path) = biggest_corpus_file() else {
+    // The biggest corpus file the emitter generates code for (bigger ones fail validation).
+    let found = corpus_by_size().into_iter().find_map(|path| {
+        let device = read::read_file(&path).ok()?.device;
+        emit::generate(&device, "device").ok()?;
+        Some((path, device))
+    });
+    let Some((path, device)) = found else {
         eprintln!("no corpus (set EDSGEN_CORPUS); skipping the generation benchmark");
         return;
     };
-    let device = read::read_file(&path).expect("readable").device;
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    c.bench_function(&format!("generate {name}"), |b| {
+    let entries: usize = device.objects.values().map(|o| o.subs.len()).sum();
+    c.bench_function(&format!("generate {name} ({entries} entries)"), |b| {
         b.iter(|| emit::generate(black_box(&device), "device"))
     });
+    let rd11 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/rd11.eds");
+    if let Ok(read) = read::read_file(&rd11) {
+        let entries: usize = read.device.objects.values().map(|o| o.subs.len()).sum();
+        c.bench_function(&format!("generate rd11.eds ({entries} entries)"), |b| {
+            b.iter(|| emit::generate(black_box(&read.device), "rd11"))
+        });
+    }
 }
 
 fn pdos(c: &mut Criterion) {

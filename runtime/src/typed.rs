@@ -190,28 +190,35 @@ pub const fn fits_signed(value: i64, bits: u32) -> bool {
 /// Writes the low `bits` bits of `value` into `buf` starting at bit `offset`, least significant
 /// bit first (the CiA 301 PDO layout). Bits beyond `buf` are dropped.
 pub fn put_bits(buf: &mut [u8], offset: usize, bits: u32, value: u64) {
-    for i in 0..bits as usize {
-        let bit = (value >> i) & 1;
-        let pos = offset + i;
+    let bits = bits.min(64) as usize;
+    let mut done = 0usize;
+    while done < bits {
+        let pos = offset + done;
+        let shift = pos % 8;
+        let take = (8 - shift).min(bits - done);
+        let mask = (((1u16 << take) - 1) as u8) << shift;
+        let chunk = ((value >> done) as u8) << shift;
         if let Some(byte) = buf.get_mut(pos / 8) {
-            let mask = 1u8 << (pos % 8);
-            if bit == 1 {
-                *byte |= mask;
-            } else {
-                *byte &= !mask;
-            }
+            *byte = (*byte & !mask) | (chunk & mask);
         }
+        done += take;
     }
 }
 
 /// Reads `bits` bits of `buf` starting at bit `offset`, least significant bit first. Bits beyond
 /// `buf` read as zero.
 pub fn get_bits(buf: &[u8], offset: usize, bits: u32) -> u64 {
+    let bits = bits.min(64) as usize;
     let mut value = 0u64;
-    for i in 0..(bits.min(64) as usize) {
-        let pos = offset + i;
-        let bit = buf.get(pos / 8).map_or(0, |b| (b >> (pos % 8)) & 1);
-        value |= u64::from(bit) << i;
+    let mut done = 0usize;
+    while done < bits {
+        let pos = offset + done;
+        let shift = pos % 8;
+        let take = (8 - shift).min(bits - done);
+        let byte = buf.get(pos / 8).copied().unwrap_or(0);
+        let chunk = (byte >> shift) & (((1u16 << take) - 1) as u8);
+        value |= u64::from(chunk) << done;
+        done += take;
     }
     value
 }
@@ -269,6 +276,36 @@ mod tests {
         assert_eq!(get_bits(&buf, 4, 12), 0xABC);
         put_bits(&mut buf, 0, 4, 0x5);
         assert_eq!(buf, [0xC5, 0xAB, 0x00]);
+    }
+
+    #[test]
+    fn bits_match_a_bit_by_bit_reference() {
+        // Every offset/length pair over a 3-byte buffer, against a one-bit-at-a-time model.
+        let pattern = 0xDEAD_BEEF_F00D_u64;
+        for offset in 0..24usize {
+            for bits in 1..=(24 - offset) as u32 {
+                let mut buf = [0x5Au8; 3];
+                let mut reference = buf;
+                put_bits(&mut buf, offset, bits, pattern);
+                for i in 0..bits as usize {
+                    let pos = offset + i;
+                    let bit = ((pattern >> i) & 1) as u8;
+                    reference[pos / 8] =
+                        (reference[pos / 8] & !(1 << (pos % 8))) | (bit << (pos % 8));
+                }
+                assert_eq!(buf, reference, "offset {offset} bits {bits}");
+                let mask = if bits == 64 {
+                    u64::MAX
+                } else {
+                    (1 << bits) - 1
+                };
+                assert_eq!(get_bits(&buf, offset, bits), pattern & mask);
+            }
+        }
+        let mut wide = [0u8; 9];
+        put_bits(&mut wide, 4, 64, u64::MAX);
+        assert_eq!(wide, [0xF0, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x0F]);
+        assert_eq!(get_bits(&wide, 4, 64), u64::MAX);
     }
 
     #[test]
