@@ -340,6 +340,7 @@ fn eds002_windows_1252_and_utf8_are_reported_with_the_first_line() {
     assert_eq!(read.device.source.encoding, TextEncoding::Windows1252);
     assert_eq!(diags(&read), vec![("EDS002", Severity::Warning, 2)]);
     assert!(read.diagnostics[0].message.contains("Windows-1252"));
+    assert_eq!(read.diagnostics[0].span, Some(Span::new(2, 20, 1)));
     assert_eq!(read.device.entry(0x1000, 0).unwrap().name, "Temp \u{b0}C");
     bytes = "[1000]\nDataType=0x0007\nParameterName=abc\u{2713}\n"
         .as_bytes()
@@ -903,4 +904,70 @@ proptest::proptest! {
     fn never_panics_on_bytes(bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..200)) {
         let _ = read::read_bytes(Path::new("x.eds"), &bytes);
     }
+}
+
+#[test]
+fn eds005_same_object_under_two_spellings() {
+    let text = "[1000]\nParameterName=A\n[01000]\nParameterName=B\n[1018]\nObjectType=0x9\n[1018sub1]\nParameterName=X\n[1018sub01]\nParameterName=Y\n";
+    let read = read_eds(text);
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS005", Severity::Error, 3),
+            ("EDS010", Severity::Warning, 3),
+            ("EDS005", Severity::Error, 9),
+            ("EDS010", Severity::Warning, 9),
+        ]
+    );
+    assert_eq!(read.device.objects[&0x1000].name, "B");
+    assert_eq!(read.device.entry(0x1018, 1).unwrap().name, "Y");
+    let kept: Vec<&str> = read
+        .device
+        .other_sections
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(kept, vec!["1000", "1018sub1"]);
+}
+
+#[test]
+fn dcf_domain_upload_and_download_files() {
+    let text = "[1F50]\nParameterName=Program\nObjectType=0x2\nUploadFile=up.bin\nDownloadFile=down.bin\nParameterValue=00ff\n";
+    let read = read_as("x.dcf", text);
+    assert_eq!(diags(&read), vec![]);
+    let e = read.device.entry(0x1F50, 0).unwrap();
+    assert_eq!(e.upload_file.as_deref(), Some("up.bin"));
+    assert_eq!(e.download_file.as_deref(), Some("down.bin"));
+    assert_eq!(
+        value_of(&e.parameter_value),
+        Some(Value::Bytes(vec![0, 0xff]))
+    );
+}
+
+#[test]
+fn canopen_editor_storage_location_comments_are_kept() {
+    let text = "\
+[1017]
+ParameterName=Producer heartbeat time
+;StorageLocation=PERSIST_COMM
+DataType=0x0006
+[1018]
+ParameterName=Identity
+ObjectType=0x9
+;StorageLocation=ROM
+[1018sub0]
+ParameterName=N
+DataType=0x0005
+";
+    let read = read_eds(text);
+    assert_eq!(diags(&read), vec![]);
+    assert_eq!(
+        read.device.entry(0x1017, 0).unwrap().custom,
+        vec![("StorageLocation".to_owned(), "PERSIST_COMM".to_owned())]
+    );
+    assert_eq!(
+        read.device.objects[&0x1018].custom,
+        vec![("StorageLocation".to_owned(), "ROM".to_owned())]
+    );
+    assert!(read.device.entry(0x1018, 0).unwrap().custom.is_empty());
 }

@@ -558,6 +558,27 @@ fn block_upload_of_a_small_value_without_protocol_switch() {
 }
 
 #[test]
+fn block_upload_of_an_empty_string_sends_one_empty_segment() {
+    let mut rig = Server512::new();
+    rig.od.set_value(0x2005, 0, b"");
+    assert_eq!(
+        rig.ask([0xA4, 0x05, 0x20, 0x00, 0x7F, 0x00, 0, 0]),
+        [0xC6, 0x05, 0x20, 0x00, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        rig.send_and_drain([0xA3, 0, 0, 0, 0, 0, 0, 0]),
+        vec![[0x81, 0, 0, 0, 0, 0, 0, 0]]
+    );
+    // n = 7, CRC of nothing = 0.
+    assert_eq!(
+        rig.ask([0xA2, 0x01, 0x7F, 0, 0, 0, 0, 0]),
+        [0xDD, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(rig.send(&[0xA1, 0, 0, 0, 0, 0, 0, 0]), (None, None));
+    assert_eq!(rig.server.poll_timeout(), None);
+}
+
+#[test]
 fn block_upload_switches_to_expedited_upload_below_the_threshold() {
     let mut rig = Server512::new();
     assert_eq!(
@@ -714,6 +735,36 @@ fn abort_0504_0000_on_timeout() {
     assert_eq!(
         rig.server.poll_transmit(deadline, &rig.od),
         Some([0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
+    );
+}
+
+#[test]
+fn abort_0504_0000_on_timeout_of_downloads() {
+    let mut rig = Server512::new();
+    rig.ask([0x21, 0x05, 0x20, 0x00, 0x0E, 0x00, 0x00, 0x00]);
+    rig.ask(download_segment(false, b"1234567", false));
+    rig.advance(100);
+    rig.server.handle_timeout(rig.now);
+    assert_eq!(
+        rig.server.poll_transmit(rig.now, &rig.od),
+        Some([0x80, 0x05, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
+    );
+    // A block download waiting for the rest of its sub-block.
+    rig.ask([0xC6, 0x06, 0x20, 0x00, 0x2C, 0x01, 0, 0]);
+    rig.tell(block_segment(1, false, b"1234567"));
+    rig.advance(100);
+    rig.server.handle_timeout(rig.now);
+    assert_eq!(
+        rig.server.poll_transmit(rig.now, &rig.od),
+        Some([0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
+    );
+    assert_eq!(rig.server.poll_timeout(), None);
+    assert_eq!(rig.od.value(0x2005, 0), b"hello");
+    assert_eq!(rig.od.value(0x2006, 0), &domain_pattern()[..]);
+    // The next transfer starts afresh.
+    assert_eq!(
+        rig.ask([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+        [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]
     );
 }
 

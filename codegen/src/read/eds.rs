@@ -16,10 +16,20 @@
 //!   never from strings (where EDS004 only warns).
 //! - Values are parsed against their entry's data type after all sections are read, DEFTYPE
 //!   objects first, so a data type may point at a DEFTYPE index.
+//! - CANopenEditor's commented keys (`;StorageLocation=RAM`, `;TPDODetectCos=1`) are kept in
+//!   the entry's `custom` as `StorageLocation`/`TPDODetectCos`, as CANopenEditor reads them back.
 //! - Keys that CiA 306 defines but that an object type does not use (`DataType` on an ARRAY
 //!   without CompactSubObj, ...) are kept in the object's `custom` for the validator.
 //! - A DOMAIN object without `DataType`/`AccessType` gets the spec's replacement values
-//!   (0x000F, `rw`).
+//!   (0x000F, `rw`); a missing `ObjectType` means VAR. An `ObjectType` that is no CiA 301 code is
+//!   an EDS011 error and read as RECORD when sub-index sections exist, else VAR.
+//! - `ObjectType` (other than 7), `SubNumber` and `CompactSubObj` in a sub-index section stay in
+//!   that entry's `custom`.
+//! - Sections about an object or sub-index the file does not describe (a `[xxxxsubN]` without
+//!   `[xxxx]`, a sub-index section of a VAR) are kept in `other_sections` with an EDS024 warning;
+//!   a `[xxxxName]`/`[xxxxValue]`/`[xxxxDenotation]` entry for a missing sub-index gets EDS024 and
+//!   is not applied. Nothing is invented: listed indices without a section are not objects.
+//! - The same object section written two ways (`[1000]` and `[01000]`): the later wins, EDS005.
 //! - CompactSubObj and CompactPDO are expanded into implicit sub-objects and objects (see
 //!   [`expand_compact_sub_obj`] and [`expand_compact_pdo`]).
 
@@ -80,6 +90,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         device_info: DeviceInfo::default(),
         dummy_usage: Default::default(),
         comments: Vec::new(),
+        comment_lines: None,
         objects: Default::default(),
         object_lists: Vec::new(),
         commissioning: None,
@@ -195,17 +206,15 @@ const COMMISSIONING_KEYS: &[&str] = &[
     "LSS_SerialNumber",
 ];
 
-/// Parses a hex number of at most `max_digits` significant digits (no `0x`), and says whether it
-/// had more leading zeros than `canonical_digits` allows.
-fn parse_hex_name(text: &str, max_value: u32) -> Option<(u32, bool)> {
+/// Parses a hex number written without `0x` (as in section names and `DummyXXXX` keys), at most
+/// eight digits and at most `max_value`.
+fn parse_hex_name(text: &str, max_value: u32) -> Option<u32> {
     if text.is_empty() || text.len() > 8 || !text.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;
     }
-    let value = u32::from_str_radix(text, 16).ok()?;
-    if value > max_value {
-        return None;
-    }
-    Some((value, false))
+    u32::from_str_radix(text, 16)
+        .ok()
+        .filter(|value| *value <= max_value)
 }
 
 /// Classifies a section name. Returns the kind, and whether an index/sub-index in it has extra
@@ -234,7 +243,7 @@ fn classify(name: &str) -> (SectionKind, bool, bool) {
         }
     }
     let index_of = |text: &str| -> Option<(u16, bool)> {
-        let (value, _) = parse_hex_name(text, 0xFFFF)?;
+        let value = parse_hex_name(text, 0xFFFF)?;
         Some((u16::try_from(value).ok()?, text.len() > 4))
     };
     for (suffix, make) in [
@@ -254,7 +263,7 @@ fn classify(name: &str) -> (SectionKind, bool, bool) {
     }
     if let Some(at) = lower.rfind("sub") {
         let (index_text, sub_text) = (&lower[..at], &lower[at + 3..]);
-        if let (Some((index, index_zeros)), Some((sub, _))) =
+        if let (Some((index, index_zeros)), Some(sub)) =
             (index_of(index_text), parse_hex_name(sub_text, 0xFF))
         {
             let sub_zeros = sub_text.len() > 1 && sub_text.starts_with('0');
@@ -296,10 +305,10 @@ impl Reader {
             return;
         }
         let name = super::text::encoding_name(encoding);
-        let diag = match super::text::first_non_ascii_line(text) {
-            Some(line) => Diagnostic::new(
+        let diag = match super::text::first_non_ascii(text) {
+            Some((line, column)) => Diagnostic::new(
                 &rules::NON_ASCII,
-                Some(Span::new(line, 1, 0)),
+                Some(Span::new(line, column, 1)),
                 format!("the file is not ASCII; it was decoded as {name} (first non-ASCII character on line {line})"),
             ),
             None => Diagnostic::new(
@@ -390,22 +399,33 @@ impl Reader {
                     self.keep(section);
                 }
                 SectionKind::Object(index) => {
-                    objects.entry(index).or_default().main = Some(section)
+                    let slot = &mut objects.entry(index).or_default().main;
+                    let replaced = slot.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::Sub(index, sub) => {
-                    objects.entry(index).or_default().subs.insert(sub, section);
+                    let replaced = objects.entry(index).or_default().subs.insert(sub, section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::SubNames(index) => {
-                    objects.entry(index).or_default().names = Some(section)
+                    let replaced = objects.entry(index).or_default().names.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::SubValues(index) => {
-                    objects.entry(index).or_default().values = Some(section)
+                    let replaced = objects.entry(index).or_default().values.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::SubDenotations(index) => {
-                    objects.entry(index).or_default().denotations = Some(section)
+                    let replaced = objects
+                        .entry(index)
+                        .or_default()
+                        .denotations
+                        .replace(section);
+                    self.same_section_twice(replaced, section);
                 }
                 SectionKind::ObjectLinks(index) => {
-                    objects.entry(index).or_default().links = Some(section)
+                    let replaced = objects.entry(index).or_default().links.replace(section);
+                    self.same_section_twice(replaced, section);
                 }
             }
         }
@@ -414,6 +434,24 @@ impl Reader {
         }
         self.expand_compact_pdo();
         self.resolve_values();
+    }
+
+    /// Two differently written names for the same object section (`[1000]` and `[01000]`): the
+    /// later one wins (EDS005), and the earlier one is kept in `other_sections`.
+    fn same_section_twice(&mut self, earlier: Option<&IniSection>, later: &IniSection) {
+        let Some(earlier) = earlier else { return };
+        self.diags.push(
+            Diagnostic::new(
+                &rules::DUPLICATE_SECTION,
+                Some(later.span),
+                format!(
+                    "section [{}] describes the same item as [{}] on line {}; this one wins",
+                    later.name, earlier.name, earlier.span.line
+                ),
+            )
+            .with_label("the earlier section is kept but not interpreted"),
+        );
+        self.keep(earlier);
     }
 
     fn keep(&mut self, section: &IniSection) {
@@ -654,7 +692,7 @@ impl Reader {
                 .filter(|p| p.eq_ignore_ascii_case("Dummy"))
                 .and_then(|_| entry.key.get(5..))
                 .and_then(|hex| parse_hex_name(hex, 0xFFFF))
-                .and_then(|(v, _)| u16::try_from(v).ok());
+                .and_then(|v| u16::try_from(v).ok());
             match index {
                 Some(index) => {
                     if !entry.key.starts_with("Dummy") {
@@ -720,6 +758,7 @@ impl Reader {
         let mut lines: Vec<(u32, String)> = Vec::new();
         for entry in &section.entries {
             if entry.key.eq_ignore_ascii_case("Lines") {
+                self.device.comment_lines = self.number(Some(entry), u32::from(u16::MAX));
                 continue;
             }
             match self.numbered_key(entry, "Line") {
@@ -890,6 +929,15 @@ impl Reader {
             self.unknown_key(entry, section);
             custom.push((entry.key.clone(), entry.value.clone()));
         }
+        // CANopenEditor's commented keys, unless the key is also written for real.
+        for entry in &section.commented {
+            if !custom
+                .iter()
+                .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
+            {
+                custom.push((entry.key.clone(), entry.value.clone()));
+            }
+        }
         SubObject {
             sub_index,
             name: Self::string(get("ParameterName")).unwrap_or_default(),
@@ -1001,6 +1049,16 @@ impl Reader {
             for entry in rest {
                 self.unknown_key(entry, main);
                 object.custom.push((entry.key.clone(), entry.value.clone()));
+            }
+            // CANopenEditor's commented keys, unless the key is also written for real.
+            for entry in &main.commented {
+                if !object
+                    .custom
+                    .iter()
+                    .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
+                {
+                    object.custom.push((entry.key.clone(), entry.value.clone()));
+                }
             }
             // Standard keys that an ARRAY/RECORD main section does not use without
             // CompactSubObj stay visible to the validator in `custom`.

@@ -10,6 +10,8 @@
 //! keeps the last value, with an EDS006 error. Keys repeated across the two parts of a merged
 //! section also keep the last value (covered by the EDS005 error). Nothing is dropped silently.
 
+use std::collections::HashMap;
+
 use crate::diag::Diagnostic;
 use crate::model::Span;
 use crate::rules;
@@ -55,6 +57,9 @@ pub struct IniSection {
     pub span: Span,
     /// The entries, in file order; a key appears at most once (case-insensitively).
     pub entries: Vec<IniEntry>,
+    /// The CANopenEditor comment extensions (`;StorageLocation=RAM`, `;TPDODetectCos=1`) found in
+    /// the section, without the `;`. They are comments to CiA 306, and read back by CANopenEditor.
+    pub commented: Vec<IniEntry>,
 }
 
 impl IniSection {
@@ -72,6 +77,9 @@ pub struct IniFile {
     /// The sections in order of first appearance.
     pub sections: Vec<IniSection>,
 }
+
+/// The keys CANopenEditor writes as comments (`;StorageLocation=RAM`) and reads back.
+pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
@@ -116,6 +124,25 @@ pub fn is_plain_key(key: &str) -> bool {
     !key.is_empty() && key.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
 }
 
+/// A `;Key=value` comment line whose key is one of [`COMMENTED_KEYS`], as an entry.
+fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry> {
+    let body = line.strip_prefix(';')?;
+    let eq = body.find('=')?;
+    let key = body[..eq].trim();
+    if !COMMENTED_KEYS.iter().any(|k| k.eq_ignore_ascii_case(key)) {
+        return None;
+    }
+    let value_raw = &body[eq + 1..];
+    let value = value_raw.trim();
+    let value_at = 1 + eq + 1 + (value_raw.len() - value_raw.trim_start().len());
+    Some(IniEntry {
+        key: key.to_owned(),
+        key_span: Span::new(line_no, 2, char_len(key)),
+        value: value.to_owned(),
+        value_span: Span::new(line_no, column_of(line, value_at), char_len(value)),
+    })
+}
+
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006 and EDS007.
 pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
     let mut file = IniFile::default();
@@ -123,6 +150,8 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
     // seen in the current occurrence of it.
     let mut current: Option<usize> = None;
     let mut keys_here: Vec<String> = Vec::new();
+    // Lowercase section name -> position in `file.sections`.
+    let mut section_at: HashMap<String, usize> = HashMap::new();
     for (number, line) in lines(text).into_iter().enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         let chars = line.chars().count();
@@ -149,6 +178,10 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                     Some(Span::new(line_no, first_col, char_len(trimmed))),
                     "comment does not start in column 1",
                 ));
+            } else if let Some(section) = current.and_then(|i| file.sections.get_mut(i)) {
+                if let Some(entry) = commented_entry(line, line_no) {
+                    section.commented.push(entry);
+                }
             }
             continue;
         }
@@ -202,11 +235,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 continue;
             }
             keys_here.clear();
-            if let Some(existing) = file
-                .sections
-                .iter()
-                .position(|s| s.name.eq_ignore_ascii_case(name))
-            {
+            if let Some(&existing) = section_at.get(&name.to_ascii_lowercase()) {
                 let first_line = file.sections[existing].span.line;
                 diags.push(
                     Diagnostic::new(
@@ -220,12 +249,14 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 );
                 current = Some(existing);
             } else {
+                section_at.insert(name.to_ascii_lowercase(), file.sections.len());
+                current = Some(file.sections.len());
                 file.sections.push(IniSection {
                     name: name.to_owned(),
                     span: header_span,
                     entries: Vec::new(),
+                    commented: Vec::new(),
                 });
-                current = Some(file.sections.len() - 1);
             }
             continue;
         }
@@ -403,6 +434,25 @@ mod tests {
             Some(("3", 6))
         );
         assert_eq!(a.get("z").map(|e| e.value.as_str()), Some("4"));
+    }
+
+    #[test]
+    fn canopen_editor_comment_extensions_are_kept() {
+        let (file, diags) = lex("[2000]\n;StorageLocation=RAM\n;Other=1\n;TPDODetectCos = 1\n");
+        assert!(diags.is_empty());
+        let kept: Vec<(&str, &str, Span)> = file.sections[0]
+            .commented
+            .iter()
+            .map(|e| (e.key.as_str(), e.value.as_str(), e.value_span))
+            .collect();
+        assert_eq!(
+            kept,
+            vec![
+                ("StorageLocation", "RAM", Span::new(2, 18, 3)),
+                ("TPDODetectCos", "1", Span::new(4, 18, 1))
+            ]
+        );
+        assert!(file.sections[0].entries.is_empty());
     }
 
     #[test]

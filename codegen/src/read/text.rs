@@ -20,12 +20,18 @@ pub fn decode(bytes: &[u8]) -> (String, TextEncoding) {
     }
 }
 
-/// The 1-based line number of the first line holding a non-ASCII character, if any.
-pub fn first_non_ascii_line(text: &str) -> Option<u32> {
+/// The 1-based line and character column of the first non-ASCII character, if any.
+pub fn first_non_ascii(text: &str) -> Option<(u32, u32)> {
     super::ini::lines(text)
         .iter()
-        .position(|line| !line.is_ascii())
-        .map(|i| u32::try_from(i + 1).unwrap_or(u32::MAX))
+        .enumerate()
+        .find_map(|(number, line)| {
+            let column = line.chars().position(|c| !c.is_ascii())?;
+            Some((
+                u32::try_from(number + 1).unwrap_or(u32::MAX),
+                u32::try_from(column + 1).unwrap_or(u32::MAX),
+            ))
+        })
 }
 
 /// A human name of an encoding, for messages.
@@ -56,7 +62,7 @@ mod tests {
 
     #[test]
     fn finds_the_first_non_ascii_line() {
-        assert_eq!(first_non_ascii_line("a\r\nb\r\nc\u{b0}"), Some(3));
-        assert_eq!(first_non_ascii_line("a\nb"), None);
+        assert_eq!(first_non_ascii("a\r\nb\r\nc\u{b0}"), Some((3, 2)));
+        assert_eq!(first_non_ascii("a\nb"), None);
     }
 }

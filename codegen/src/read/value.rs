@@ -90,7 +90,7 @@ pub fn strips_inline_comment(data_type: Option<BasicType>) -> bool {
 ///   integral value is accepted (EDS020), `$NODEID` formulas give [`Value::NodeRelative`]
 ///   (postfix or other spellings: EDS016; malformed: EDS015).
 /// - REAL32/REAL64: decimal or scientific text; a `0x` literal that fits the type width is an
-///   IEEE 754 bit pattern (EDS019).
+///   IEEE 754 bit pattern (EDS019, except for zero, which both readings agree on).
 /// - VISIBLE_STRING/UNICODE_STRING: kept as written; surrounding quotes are kept and reported
 ///   (EDS018).
 /// - OCTET_STRING/DOMAIN: hex digit pairs, spaces between bytes tolerated.
@@ -380,6 +380,10 @@ fn parse_real(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
             } else {
                 f64::from_bits(pattern as u64)
             };
+            // Zero is 0.0 under both readings: nothing to report.
+            if pattern == 0 {
+                return Some(Value::Real(0.0));
+            }
             diags.push(
                 Diagnostic::new(
                     &rules::REAL_BIT_PATTERN,
@@ -700,6 +704,10 @@ mod tests {
         assert_eq!(
             parse("0x3FF0000000000000", BasicType::Real64),
             (Some(Value::Real(1.0)), vec![("EDS019", Severity::Warning)])
+        );
+        assert_eq!(
+            parse("0x00000000", BasicType::Real32),
+            (Some(Value::Real(0.0)), vec![])
         );
         assert_eq!(
             parse("nan", BasicType::Real32),

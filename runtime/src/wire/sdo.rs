@@ -57,7 +57,7 @@ impl Multiplexer {
 pub enum InitiatePayload {
     /// Expedited transfer with size indicated: the first `len` (1..=4) bytes of `data` are the value.
     Expedited {
-        /// Bytes 4..8 of the frame.
+        /// Bytes 4..8 of the frame; those past `len` are zero after parse and sent as zero.
         data: [u8; 4],
         /// How many of them are data (1..=4).
         len: u8,
@@ -79,8 +79,9 @@ impl InitiatePayload {
         match self {
             InitiatePayload::Expedited { data, len } => {
                 let len = len.clamp(1, 4);
-                let mut bytes = [0u8; 4];
-                bytes[..len as usize].copy_from_slice(&data[..len as usize]);
+                // Bytes past `len` are sent as zero.
+                let mask = u32::MAX >> (8 * (4 - u32::from(len)));
+                let bytes = (u32::from_le_bytes(data) & mask).to_le_bytes();
                 (((4 - len) << 2) | 0b11, bytes)
             }
             InitiatePayload::ExpeditedUnsized { data } => (0b10, data),
@@ -94,10 +95,15 @@ impl InitiatePayload {
         let expedited = command & 0b10 != 0;
         let size_indicated = command & 0b01 != 0;
         match (expedited, size_indicated) {
-            (true, true) => InitiatePayload::Expedited {
-                data,
-                len: 4 - ((command >> 2) & 0b11),
-            },
+            (true, true) => {
+                let len = 4 - ((command >> 2) & 0b11);
+                // Bytes past `len` carry no data: keep them as zero.
+                let mask = u32::MAX >> (8 * (4 - u32::from(len)));
+                InitiatePayload::Expedited {
+                    data: (u32::from_le_bytes(data) & mask).to_le_bytes(),
+                    len,
+                }
+            }
             (true, false) => InitiatePayload::ExpeditedUnsized { data },
             (false, true) => InitiatePayload::Sized(u32::from_le_bytes(data)),
             (false, false) => InitiatePayload::Unsized,
@@ -628,6 +634,18 @@ mod tests {
     }
 
     #[test]
+    fn expedited_emit_zeroes_bytes_past_the_length() {
+        let response = ServerResponse::InitiateUpload {
+            mux: Multiplexer::new(0x2004, 0),
+            payload: InitiatePayload::Expedited {
+                data: [0xFE, 0xAA, 0xBB, 0xCC],
+                len: 1,
+            },
+        };
+        assert_eq!(response.emit(), [0x4F, 0x04, 0x20, 0x00, 0xFE, 0, 0, 0]);
+    }
+
+    #[test]
     fn expedited_download_without_size() {
         round_trip_request(
             ClientRequest::InitiateDownload {
@@ -940,6 +958,28 @@ mod tests {
         };
         assert_eq!(last.emit(), [0xFF, 9, 0, 0, 0, 0, 0, 0]);
         assert_eq!(BlockSegment::parse(&last.emit()), Ok(last));
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn any_parsed_request_emits_to_a_frame_that_parses_the_same(bytes in proptest::array::uniform8(0u8..)) {
+            if let Ok(request) = ClientRequest::parse(&bytes) {
+                proptest::prop_assert_eq!(ClientRequest::parse(&request.emit()), Ok(request));
+            }
+        }
+
+        #[test]
+        fn any_parsed_response_emits_to_a_frame_that_parses_the_same(bytes in proptest::array::uniform8(0u8..)) {
+            if let Ok(response) = ServerResponse::parse(&bytes) {
+                proptest::prop_assert_eq!(ServerResponse::parse(&response.emit()), Ok(response));
+            }
+        }
+
+        #[test]
+        fn block_segments_round_trip_exactly(bytes in proptest::array::uniform8(0u8..)) {
+            let segment = BlockSegment::parse(&bytes).unwrap();
+            proptest::prop_assert_eq!(segment.emit(), bytes);
+        }
     }
 
     #[test]
