@@ -22,11 +22,11 @@ const CORPUS_SHAPES: [(&str, &str); 6] = [
     ),
     (
         "dcf_parameter_value",
-        "dborgards__eds-dcf-net/tests__EdsDcfNet.Tests__Fixtures__full_features.dcf",
+        "ros-industrial__ros2_canopen/canopen_tests__config__robot_control__prbt_0_1.dcf",
     ),
     (
         "xdd",
-        "CANopenNode__CANopenEditor/Tests__minimal_project.xdd",
+        "davidsenoner__emec-drv-canopen-tester/doc__Slave_06__emecdrv5.xdd",
     ),
     (
         "cia402_drive",
@@ -34,7 +34,7 @@ const CORPUS_SHAPES: [(&str, &str); 6] = [
     ),
     (
         "sparse_records",
-        "victronenergy__dbus-canopen-motordrive/tools__simulators__sevcon_gen4.eds",
+        "CANopenNode__CANopenEditor/demo__eds__demo_drive.eds",
     ),
     (
         "wide_ints_and_strings",

@@ -147,7 +147,11 @@ impl Builder {
                         continue;
                     }
                     if cargo {
-                        for line in warnings.iter().flat_map(|w| w.lines()) {
+                        for line in warnings
+                            .iter()
+                            .flat_map(|w| w.lines())
+                            .filter(|l| !l.trim().is_empty())
+                        {
                             println!("cargo:warning={line}");
                         }
                     }

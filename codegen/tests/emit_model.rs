@@ -411,3 +411,33 @@ fn colliding_type_names_stay_upper_camel_case() {
     assert!(code.contains("pub struct RemoteMapping {"));
     assert!(code.contains("pub struct RemoteMapping5E12 {"));
 }
+
+#[test]
+fn time_of_day_as_a_48_bit_integer() {
+    let device = device(vec![var(
+        0x2000,
+        "Stamp",
+        0x0D,
+        AccessType::Rw,
+        Some(Value::Integer(1_567_706_263_040)),
+        false,
+    )]);
+    let code = emit::generate(&device, "x").unwrap();
+    assert!(code.contains("stamp: 0x16D02932E00"), "{code}");
+    let too_big = device_with(0x0C, Value::Integer(1 << 48));
+    assert_eq!(
+        emit::generate_module(&too_big, "x").unwrap_err()[0].code(),
+        "EDS703"
+    );
+}
+
+fn device_with(data_type: u16, default: Value) -> edsgen_codegen::model::Device {
+    device(vec![var(
+        0x2000,
+        "Stamp",
+        data_type,
+        AccessType::Rw,
+        Some(default),
+        false,
+    )])
+}

@@ -255,7 +255,11 @@ pub enum ValueProblem {
 /// An integer value normalised into `basic`'s range (two's complement read back for signed types
 /// written as unsigned hex).
 pub fn normalise_integer(value: i128, basic: BasicType) -> Result<i128, ValueProblem> {
-    let (min, max) = basic.integer_range().ok_or(ValueProblem::WrongKind)?;
+    let (min, max) = match basic {
+        // 48-bit values: milliseconds in bits 0-27, days in bits 32-47.
+        BasicType::TimeOfDay | BasicType::TimeDifference => (0, (1i128 << 48) - 1),
+        _ => basic.integer_range().ok_or(ValueProblem::WrongKind)?,
+    };
     if (min..=max).contains(&value) {
         return Ok(value);
     }

@@ -97,6 +97,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         },
         dummy_usage: BTreeMap::new(),
         comments: Vec::new(),
+        comment_lines: None,
         objects: objects.into_iter().map(|o| (o.index, o)).collect(),
         object_lists: Vec::new(),
         commissioning: None,
