@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use edsgen_codegen::{emit, read, Builder};
 
 fn card(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../eds")
+        .join(name)
 }
 
 fn temp_dir(tag: &str) -> PathBuf {
@@ -35,7 +37,11 @@ fn writes_one_module_per_device_with_warnings() {
         .unwrap()
         .contains("\npub mod cp_301_card {\n"));
     // hd1e.eds has a 16-bit sub-index 0 on 2000h (the card really has it): a warning, not an error.
-    assert!(output.warnings.iter().any(|w| w.contains("EDS308")), "{:?}", output.warnings);
+    assert!(
+        output.warnings.iter().any(|w| w.contains("EDS308")),
+        "{:?}",
+        output.warnings
+    );
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -72,7 +78,10 @@ fn missing_file_and_duplicate_module_are_errors() {
         .generate()
         .unwrap_err();
     let message = err.message();
-    assert!(message.contains("two devices would both be module `hd1e`"), "{message}");
+    assert!(
+        message.contains("two devices would both be module `hd1e`"),
+        "{message}"
+    );
     assert!(message.contains("cannot read"), "{message}");
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -71,3 +71,31 @@ impl OdValue for bool {
         }
     }
 }
+
+impl<const N: usize> OdValue for crate::typed::FixedBytes<N> {
+    fn encode(&self, buf: &mut [u8]) -> Option<usize> {
+        let bytes = self.as_bytes();
+        buf.get_mut(..bytes.len())?.copy_from_slice(bytes);
+        Some(bytes.len())
+    }
+    fn decode(bytes: &[u8]) -> Option<Self> {
+        (bytes.len() <= N).then(|| Self::from_slice(bytes))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::typed::FixedBytes;
+
+    #[test]
+    fn fixed_bytes_travel_as_their_bytes() {
+        let name = FixedBytes::<8>::from_slice(b"CP301");
+        let mut buf = [0u8; 8];
+        assert_eq!(name.encode(&mut buf), Some(5));
+        assert_eq!(&buf[..5], b"CP301");
+        assert_eq!(name.encode(&mut [0u8; 4]), None);
+        assert_eq!(FixedBytes::<8>::decode(b"CP301"), Some(name));
+        assert_eq!(FixedBytes::<4>::decode(b"CP301"), None);
+    }
+}

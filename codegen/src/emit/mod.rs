@@ -167,7 +167,7 @@ fn header(device: &Device) -> TokenStream {
             });
         match (from_od, info) {
             (Some(v), _) => (v, format!("1018h sub {sub}")),
-            (None, Some(v)) => (v, "[DeviceInfo]".to_owned()),
+            (None, Some(v)) => (v, "`[DeviceInfo]`".to_owned()),
             (None, None) => (0, "not given by the file; 0".to_owned()),
         }
     };
@@ -177,7 +177,7 @@ fn header(device: &Device) -> TokenStream {
     let (revision, revision_src) = identity(3, info.revision_number.as_ref().map(|v| v.value));
     let count = |range: std::ops::RangeInclusive<u16>, given: Option<u32>| -> (u32, &'static str) {
         match given {
-            Some(n) => (n, "[DeviceInfo]"),
+            Some(n) => (n, "`[DeviceInfo]`"),
             None => (
                 device.objects.keys().filter(|i| range.contains(i)).count() as u32,
                 "counted communication parameter objects",
