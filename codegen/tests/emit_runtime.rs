@@ -249,3 +249,17 @@ fn write_strings_booleans_and_reals() {
     assert_eq!(od.settings.items[2], 5000);
     assert_eq!(od.write(0x2100, 5, &[0, 0]), Err(SdoAbort::NoSubIndex));
 }
+
+#[test]
+fn typed_address_of_a_narrow_entry_encodes_its_wire_width() {
+    let mut dict = Od::new(3);
+    let entry = od::SPARSE_RECORD_SIGNED_24;
+    assert_eq!(entry.wire_width(), Some(3));
+    let mut buf = [0u8; 8];
+    let n = entry.encode(&-300, &mut buf).unwrap();
+    assert_eq!(dict.write(entry.index, entry.sub, &buf[..n]), Ok(()));
+    assert_eq!(dict.sparse_record.signed_24, -300);
+    assert_eq!(entry.encode(&(1 << 23), &mut buf), None);
+    let back = read_all(&dict, entry.index, entry.sub);
+    assert_eq!(entry.decode(&back), Some(-300));
+}

@@ -369,9 +369,18 @@ pub fn addresses(plan: &Plan) -> TokenStream {
             let index = hex16(e.index);
             let sub = hex8(e.sub);
             let doc = docs(&e.short_doc);
+            let constructor = match e.ty {
+                RustType::Scalar(prim, wire)
+                    if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool =>
+                {
+                    let w = Literal::u8_unsuffixed(wire as u8);
+                    quote!(Entry::with_width(#index, #sub, #w))
+                }
+                _ => quote!(Entry::new(#index, #sub)),
+            };
             quote! {
                 #doc
-                pub const #name: Entry<#ty> = Entry::new(#index, #sub);
+                pub const #name: Entry<#ty> = #constructor;
             }
         })
         .collect();

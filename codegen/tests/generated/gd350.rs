@@ -1111,7 +1111,11 @@ pub mod gd350 {
             0x00,
         );
         /// Sparse record: Signed 24 (2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`).
-        pub const SPARSE_RECORD_SIGNED_24: Entry<i32> = Entry::new(0x2003, 0x01);
+        pub const SPARSE_RECORD_SIGNED_24: Entry<i32> = Entry::with_width(
+            0x2003,
+            0x01,
+            3,
+        );
         /// Sparse record: type (2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`).
         pub const SPARSE_RECORD_TYPE: Entry<i8> = Entry::new(0x2003, 0x02);
         /// Sparse record: Big (2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`).
