@@ -96,7 +96,28 @@ fn non_aligned_pdo_is_bit_exact() {
     );
 }
 
+#[test]
+fn byte_string_field_at_an_odd_bit_offset() {
+    // BOOLEAN at bit 0, a 4-byte OCTET_STRING at bit 1, INTEGER8 at bit 33.
+    let t = pdo::Tpdo4 {
+        flag: true,
+        tag: [0x80, 0x01, 0xFF, 0x00],
+        type_: -1,
+    };
+    assert_eq!(t.encode(), Ok([0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]));
+    assert_eq!(
+        pdo::Tpdo4::decode(&[0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]),
+        Ok(t)
+    );
+}
+
 proptest! {
+    #[test]
+    fn tpdo4_round_trips(flag in any::<bool>(), tag in any::<[u8; 4]>(), type_ in any::<i8>()) {
+        let t = pdo::Tpdo4 { flag, tag, type_ };
+        prop_assert_eq!(pdo::Tpdo4::decode(&t.encode().unwrap()), Ok(t));
+    }
+
     #[test]
     fn tpdo3_round_trips(nibble in 0u8..16, signed_24 in -(1i32 << 23)..(1i32 << 23), type_ in any::<i8>(), flag in any::<bool>()) {
         let t = pdo::Tpdo3 { nibble, signed_24, type_, flag };

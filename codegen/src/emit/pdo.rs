@@ -358,9 +358,9 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                         }
                         let n_lit = Literal::usize_unsuffixed(*n);
                         let at = if offset == 0 {
-                            quote!(8 * i as u32)
+                            quote!(8 * i)
                         } else {
-                            quote!(#off + 8 * i as u32)
+                            quote!(#off + 8 * i)
                         };
                         fields.push(quote!(#[doc = #doc] pub #field: [u8; #n_lit],));
                         encodes.push(quote! {

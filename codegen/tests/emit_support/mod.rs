@@ -249,6 +249,11 @@ pub fn goodrive_like() -> Device {
                 0x2004_0001,
             ],
         ),
+        mapping(
+            0x1A03,
+            "TPDO4 mapping parameter",
+            &[0x2004_0001, 0x2006_0020, 0x2003_0208],
+        ),
         object(
             0x2000,
             "Returned values",
@@ -283,6 +288,7 @@ pub fn goodrive_like() -> Device {
         ),
         var(0x2004, "Flag", 0x01, Rw, Some(Integer(1)), true),
         var(0x2005, "Gain", 0x08, Rw, Some(Real(1.5)), false),
+        var(0x2006, "Tag", 0x0A, Rw, Some(Bytes(vec![1, 2, 3, 4])), true),
         object(
             0x2100,
             "Settings",

@@ -62,6 +62,10 @@ pub mod gd350 {
         ///
         /// Object 1A02h, RECORD, sub-indices 0, 1, 2, 3, 4, 5.
         pub tpdo3_mapping_parameter: records::Tpdo3MappingParameter,
+        /// TPDO4 mapping parameter
+        ///
+        /// Object 1A03h, RECORD, sub-indices 0, 1, 2, 3.
+        pub tpdo4_mapping_parameter: records::Tpdo4MappingParameter,
         /// Returned values
         ///
         /// Object 2000h, ARRAY, sub-indices 0, 1, 2, 3, 4.
@@ -86,6 +90,10 @@ pub mod gd350 {
         ///
         /// Object 2005h sub 0: REAL32, rw, not PDO-mappable; default `1.5`.
         pub gain: f32,
+        /// Tag
+        ///
+        /// Object 2006h sub 0: OCTET_STRING, rw, PDO-mappable, capacity 32 bytes; default `01020304`.
+        pub tag: ::edsgen_runtime::FixedBytes<32>,
         /// Settings
         ///
         /// Object 2100h, ARRAY, sub-indices 0, 1, 2, 3, 4.
@@ -162,6 +170,12 @@ pub mod gd350 {
                     mapped_object_4: 0x20030208,
                     mapped_object_5: 0x20040001,
                 },
+                tpdo4_mapping_parameter: records::Tpdo4MappingParameter {
+                    number_of_mapped_objects: 3,
+                    mapped_object_1: 0x20040001,
+                    mapped_object_2: 0x20060020,
+                    mapped_object_3: 0x20030208,
+                },
                 returned_values: records::ReturnedValues {
                     number_of_entries: 4,
                     items: [0; 4],
@@ -176,6 +190,7 @@ pub mod gd350 {
                 },
                 flag: true,
                 gain: 1.5,
+                tag: ::edsgen_runtime::FixedBytes::from_slice(b"\x01\x02\x03\x04"),
                 settings: records::Settings {
                     number_of_entries: 4,
                     items: [0; 4],
@@ -341,6 +356,28 @@ pub mod gd350 {
             /// Object 1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`.
             pub mapped_object_5: u32,
         }
+        /// TPDO4 mapping parameter
+        ///
+        /// Object 1A03h, RECORD, sub-indices 0, 1, 2, 3.
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct Tpdo4MappingParameter {
+            /// TPDO4 mapping parameter: Number of mapped objects
+            ///
+            /// Object 1A03h sub 0: UNSIGNED8, rw, not PDO-mappable; default `3`.
+            pub number_of_mapped_objects: u8,
+            /// TPDO4 mapping parameter: Mapped object 1
+            ///
+            /// Object 1A03h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537133057`.
+            pub mapped_object_1: u32,
+            /// TPDO4 mapping parameter: Mapped object 2
+            ///
+            /// Object 1A03h sub 2: UNSIGNED32, rw, not PDO-mappable; default `537264160`.
+            pub mapped_object_2: u32,
+            /// TPDO4 mapping parameter: Mapped object 3
+            ///
+            /// Object 1A03h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537068040`.
+            pub mapped_object_3: u32,
+        }
         /// Returned values
         ///
         /// Object 2000h, ARRAY, sub-indices 0, 1, 2, 3, 4.
@@ -389,7 +426,7 @@ pub mod gd350 {
         }
     }
     /// Every entry's descriptor, sorted by (index, sub-index).
-    pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; 55] = {
+    pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; 60] = {
         use ::edsgen_runtime::{Access as A, DataType as D, EntryDescriptor as E};
         [
             E::new(0x1000, 0x00, D::Unsigned32, A::Ro, false, 4),
@@ -425,6 +462,10 @@ pub mod gd350 {
             E::new(0x1A02, 0x03, D::Unsigned32, A::Rw, false, 4),
             E::new(0x1A02, 0x04, D::Unsigned32, A::Rw, false, 4),
             E::new(0x1A02, 0x05, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A03, 0x00, D::Unsigned8, A::Rw, false, 1),
+            E::new(0x1A03, 0x01, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A03, 0x02, D::Unsigned32, A::Rw, false, 4),
+            E::new(0x1A03, 0x03, D::Unsigned32, A::Rw, false, 4),
             E::new(0x2000, 0x00, D::Unsigned8, A::Const, false, 1),
             E::new(0x2000, 0x01, D::Unsigned16, A::Ro, true, 2),
             E::new(0x2000, 0x02, D::Unsigned16, A::Ro, true, 2),
@@ -438,6 +479,7 @@ pub mod gd350 {
             E::new(0x2003, 0x05, D::Unsigned64, A::Rw, false, 8),
             E::new(0x2004, 0x00, D::Boolean, A::Rw, true, 1),
             E::new(0x2005, 0x00, D::Real32, A::Rw, false, 4),
+            E::new(0x2006, 0x00, D::OctetString, A::Rw, true, 32),
             E::new(0x2100, 0x00, D::Unsigned8, A::Const, false, 1),
             E::new(0x2100, 0x01, D::Unsigned16, A::Rw, true, 2),
             E::new(0x2100, 0x02, D::Unsigned16, A::Rw, true, 2),
@@ -471,6 +513,7 @@ pub mod gd350 {
             match (index, sub) {
                 (0x1008, 0x00) => Ok(self.manufacturer_device_name.len()),
                 (0x1009, 0x00) => Ok(self.manufacturer_hardware_version.len()),
+                (0x2006, 0x00) => Ok(self.tag.len()),
                 _ => Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub)),
             }
         }
@@ -678,6 +721,34 @@ pub mod gd350 {
                         4,
                     )
                 }
+                (0x1A03, 0x00) => {
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo4_mapping_parameter.number_of_mapped_objects),
+                        1,
+                    )
+                }
+                (0x1A03, 0x01) => {
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo4_mapping_parameter.mapped_object_1),
+                        4,
+                    )
+                }
+                (0x1A03, 0x02) => {
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo4_mapping_parameter.mapped_object_2),
+                        4,
+                    )
+                }
+                (0x1A03, 0x03) => {
+                    t::le(
+                        &mut s,
+                        u64::from(self.tpdo4_mapping_parameter.mapped_object_3),
+                        4,
+                    )
+                }
                 (0x2000, 0x00) => {
                     t::le(&mut s, u64::from(self.returned_values.number_of_entries), 1)
                 }
@@ -702,6 +773,7 @@ pub mod gd350 {
                 (0x2003, 0x05) => t::le(&mut s, self.sparse_record.big, 8),
                 (0x2004, 0x00) => t::le(&mut s, u64::from(self.flag), 1),
                 (0x2005, 0x00) => t::le(&mut s, u64::from(self.gain.to_bits()), 4),
+                (0x2006, 0x00) => self.tag.as_bytes(),
                 (0x2100, 0x00) => {
                     t::le(&mut s, u64::from(self.settings.number_of_entries), 1)
                 }
@@ -870,6 +942,26 @@ pub mod gd350 {
                         t::exact(data)?,
                     );
                 }
+                (0x1A03, 0x00) => {
+                    self.tpdo4_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
+                        t::exact(data)?,
+                    );
+                }
+                (0x1A03, 0x01) => {
+                    self.tpdo4_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
+                        t::exact(data)?,
+                    );
+                }
+                (0x1A03, 0x02) => {
+                    self.tpdo4_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
+                        t::exact(data)?,
+                    );
+                }
+                (0x1A03, 0x03) => {
+                    self.tpdo4_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
+                        t::exact(data)?,
+                    );
+                }
                 (0x2000, 0x00) => {
                     self.returned_values.number_of_entries = u8::from_le_bytes(
                         t::exact(data)?,
@@ -898,6 +990,7 @@ pub mod gd350 {
                 }
                 (0x2004, 0x00) => self.flag = t::boolean(data)?,
                 (0x2005, 0x00) => self.gain = f32::from_le_bytes(t::exact(data)?),
+                (0x2006, 0x00) => self.tag.set(data)?,
                 (0x2100, 0x00) => {
                     self.settings.number_of_entries = u8::from_le_bytes(t::exact(data)?);
                 }
@@ -1076,6 +1169,26 @@ pub mod gd350 {
             0x1A02,
             0x05,
         );
+        /// TPDO4 mapping parameter: Number of mapped objects (1A03h sub 0: UNSIGNED8, rw, not PDO-mappable; default `3`).
+        pub const TPDO4_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
+            0x1A03,
+            0x00,
+        );
+        /// TPDO4 mapping parameter: Mapped object 1 (1A03h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
+        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+            0x1A03,
+            0x01,
+        );
+        /// TPDO4 mapping parameter: Mapped object 2 (1A03h sub 2: UNSIGNED32, rw, not PDO-mappable; default `537264160`).
+        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+            0x1A03,
+            0x02,
+        );
+        /// TPDO4 mapping parameter: Mapped object 3 (1A03h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
+        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+            0x1A03,
+            0x03,
+        );
         /// Returned values: Number of entries (2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
         pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(
             0x2000,
@@ -1124,6 +1237,8 @@ pub mod gd350 {
         pub const FLAG: Entry<bool> = Entry::new(0x2004, 0x00);
         /// Gain (2005h sub 0: REAL32, rw, not PDO-mappable; default `1.5`).
         pub const GAIN: Entry<f32> = Entry::new(0x2005, 0x00);
+        /// Tag (2006h sub 0: OCTET_STRING, rw, PDO-mappable, capacity 32 bytes; default `01020304`).
+        pub const TAG: Entry<FixedBytes<32>> = Entry::new(0x2006, 0x00);
         /// Settings: Number of entries (2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
         pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x2100, 0x00);
         /// Settings: Setting 1 (2100h sub 1: UNSIGNED16, rw, PDO-mappable; default `0`).
@@ -1371,6 +1486,78 @@ pub mod gd350 {
                         8,
                     ) as i8,
                     flag: ::edsgen_runtime::typed::get_bits(&payload, 40, 1) != 0,
+                })
+            }
+        }
+        /// TPDO 4 with its default mapping (1A03h), 6 bytes:
+        ///
+        /// - bits 0 to 0: `flag`
+        /// - bits 1 to 32: `tag`
+        /// - bits 33 to 40: `type_`
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+        pub struct Tpdo4 {
+            /// Flag (2004h sub 0, BOOLEAN): bits 0 to 0 of the payload.
+            pub flag: bool,
+            /// Tag (2006h sub 0, OCTET_STRING): bits 1 to 32 of the payload.
+            pub tag: [u8; 4],
+            /// Sparse record: type (2003h sub 2, INTEGER8): bits 33 to 40 of the payload.
+            pub type_: i8,
+        }
+        impl Tpdo4 {
+            /// The payload length in bytes.
+            pub const LEN: usize = 6;
+            /// The COB-ID for a node-ID.
+            ///
+            /// 1803h sub 1 gives no COB-ID; this is the predefined connection set's `0x480 + node-ID`.
+            pub const fn cob_id(node_id: u8) -> u32 {
+                (node_id as u32).wrapping_add(0x480)
+            }
+            /// The payload, bit-exact (little-endian, least significant bit first); an error if a
+            /// field does not fit its mapped length.
+            pub fn encode(&self) -> Result<[u8; 6], ::edsgen_runtime::PdoError> {
+                let mut payload = [0u8; 6];
+                ::edsgen_runtime::typed::put_bits(
+                    &mut payload,
+                    0,
+                    1,
+                    u64::from(self.flag),
+                );
+                for (i, byte) in self.tag.iter().enumerate() {
+                    ::edsgen_runtime::typed::put_bits(
+                        &mut payload,
+                        1 + 8 * i,
+                        8,
+                        u64::from(*byte),
+                    );
+                }
+                ::edsgen_runtime::typed::put_bits(
+                    &mut payload,
+                    33,
+                    8,
+                    i64::from(self.type_) as u64,
+                );
+                Ok(payload)
+            }
+            /// The fields of a payload; an error if its length is not [`Self::LEN`].
+            pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
+                let payload = ::edsgen_runtime::typed::payload::<6>(payload)?;
+                Ok(Self {
+                    flag: ::edsgen_runtime::typed::get_bits(&payload, 0, 1) != 0,
+                    tag: {
+                        let mut bytes = [0u8; 4];
+                        for (i, byte) in bytes.iter_mut().enumerate() {
+                            *byte = ::edsgen_runtime::typed::get_bits(
+                                &payload,
+                                1 + 8 * i,
+                                8,
+                            ) as u8;
+                        }
+                        bytes
+                    },
+                    type_: ::edsgen_runtime::typed::sign_extend(
+                        ::edsgen_runtime::typed::get_bits(&payload, 33, 8),
+                        8,
+                    ) as i8,
                 })
             }
         }
