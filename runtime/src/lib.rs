@@ -12,9 +12,13 @@ pub mod frame;
 pub mod od;
 pub mod sdo;
 pub mod time;
+pub mod typed;
 pub mod wire;
+
+mod macros;
 
 pub use entry::{Entry, OdValue};
 pub use frame::{CanFrame, CanId};
 pub use od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 pub use time::{Duration, Instant};
+pub use typed::{FixedBytes, PdoError};
