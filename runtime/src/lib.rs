@@ -9,11 +9,15 @@
 
 pub mod entry;
 pub mod frame;
+pub mod node;
 pub mod od;
 pub mod time;
+#[cfg(feature = "std")]
+pub mod vbus;
 pub mod wire;
 
 pub use entry::{Entry, OdValue};
 pub use frame::{CanFrame, CanId};
+pub use node::{Event, Node, NodeHooks, NmtState, ResetKind};
 pub use od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 pub use time::{Duration, Instant};
