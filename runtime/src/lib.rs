@@ -18,6 +18,6 @@ pub mod wire;
 
 pub use entry::{Entry, OdValue};
 pub use frame::{CanFrame, CanId};
-pub use node::{Event, Node, NodeHooks, NmtState, ResetKind};
+pub use node::{Event, NmtState, Node, NodeHooks, ResetKind};
 pub use od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 pub use time::{Duration, Instant};

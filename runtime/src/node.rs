@@ -211,8 +211,9 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     announce_no_error: bool,
 }
 
-impl<O: ObjectDictionary, const RPDOS: usize, const TPDOS: usize> Node<O, (), RPDOS, TPDOS> {
-    /// A node without persistence hooks. See [`Node::with_hooks`].
+impl<O: ObjectDictionary> Node<O> {
+    /// A node with 4 RPDOs and 4 TPDOs and no persistence hooks. See [`Node::with_hooks`] for
+    /// other PDO counts (`Node::<O, (), 8, 8>::with_hooks(od, (), node_id, now)`).
     pub fn new(od: O, node_id: u8, now: Instant) -> Result<Self, InvalidNodeId> {
         Node::with_hooks(od, (), node_id, now)
     }
@@ -419,7 +420,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn configure_sdo(&mut self) {
         let node = u32::from(self.node_id);
-        let defaults = [(0x600 + node, 0x580 + node), (CobIdEntry::INVALID, CobIdEntry::INVALID)];
+        let defaults = [
+            (0x600 + node, 0x580 + node),
+            (CobIdEntry::INVALID, CobIdEntry::INVALID),
+        ];
         for (n, channel) in self.sdo.iter_mut().enumerate() {
             let index = 0x1200 + n as u16;
             let present = self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok();
@@ -473,13 +477,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.error_control.configure_guarding(&self.od);
             }
             0x1200..=0x1201 => self.configure_sdo(),
-            0x1400..=0x15FF | 0x1600..=0x17FF => {
+            0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
                     self.rpdos[n] = Rpdo::load(&self.od, n as u16);
                 }
             }
-            0x1800..=0x19FF | 0x1A00..=0x1BFF => {
+            0x1800..=0x1BFF => {
                 let n = usize::from((index - 0x1800) & 0x1FF);
                 if n < TPDOS {
                     let mut tpdo = Tpdo::load(&self.od, n as u16);
@@ -553,7 +557,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         if (0x701..=0x77F).contains(&id) && frame.dlc() == 1 {
-            self.error_control.heartbeat_received((id - 0x700) as u8, now);
+            self.error_control
+                .heartbeat_received((id - 0x700) as u8, now);
         }
     }
 
@@ -800,7 +805,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if tpdo.event_driven() && !tpdo.inhibit_passed(now) {
                 continue;
             }
-            let data = tpdo.data.take().unwrap_or_else(|| tpdo.mapping.pack(&self.od));
+            let data = tpdo
+                .data
+                .take()
+                .unwrap_or_else(|| tpdo.mapping.pack(&self.od));
             tpdo.pending = false;
             tpdo.sync_deadline = None;
             tpdo.last_data = data;
@@ -851,7 +859,11 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if at <= now {
                 ec.heartbeat_due = true;
                 let next = at + ec.producer_period;
-                ec.next_heartbeat = Some(if next <= now { now + ec.producer_period } else { next });
+                ec.next_heartbeat = Some(if next <= now {
+                    now + ec.producer_period
+                } else {
+                    next
+                });
             }
         }
         for n in 0..ec.consumer_count {
@@ -867,17 +879,17 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             ec.life_deadline = None;
             ec.life_lost = true;
             self.events.push(Event::LifeGuardingLost);
-            self.emcy.raise(
-                &mut self.od,
-                0x8130,
-                error_register::COMMUNICATION,
-                [0; 5],
-            );
+            self.emcy
+                .raise(&mut self.od, 0x8130, error_register::COMMUNICATION, [0; 5]);
         }
         if let Some(at) = self.sync.next {
             if at <= now {
                 let next = at + self.sync.period;
-                self.sync.next = Some(if next <= now { now + self.sync.period } else { next });
+                self.sync.next = Some(if next <= now {
+                    now + self.sync.period
+                } else {
+                    next
+                });
                 let counter = (self.sync.overflow != 0).then(|| {
                     self.sync.counter = if self.sync.counter >= self.sync.overflow {
                         1
@@ -892,7 +904,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if self.state == NmtState::Operational {
             for tpdo in &mut self.tpdos {
-                if tpdo.enabled && tpdo.event_driven() && tpdo.event_deadline.is_some_and(|at| at <= now) {
+                if tpdo.enabled
+                    && tpdo.event_driven()
+                    && tpdo.event_deadline.is_some_and(|at| at <= now)
+                {
                     tpdo.event_deadline = None;
                     tpdo.pending = true;
                 }

@@ -55,7 +55,13 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         read_uint(self.od, comm_index, 1).is_some_and(|cob| CobIdEntry(cob).valid())
     }
 
-    fn check_pdo_comm(&self, index: u16, sub: u8, value: u32, receive: bool) -> Result<(), SdoAbort> {
+    fn check_pdo_comm(
+        &self,
+        index: u16,
+        sub: u8,
+        value: u32,
+        receive: bool,
+    ) -> Result<(), SdoAbort> {
         match sub {
             1 => check_cob_id(read_uint(self.od, index, 1), value, true),
             2 => match value {
@@ -69,7 +75,13 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         }
     }
 
-    fn check_pdo_mapping(&self, index: u16, sub: u8, value: u32, direction: Direction) -> Result<(), SdoAbort> {
+    fn check_pdo_mapping(
+        &self,
+        index: u16,
+        sub: u8,
+        value: u32,
+        direction: Direction,
+    ) -> Result<(), SdoAbort> {
         if self.pdo_valid(index - 0x200) {
             return Err(SdoAbort::DeviceState);
         }

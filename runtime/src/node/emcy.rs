@@ -66,13 +66,12 @@ pub(crate) struct Emcy {
 impl Emcy {
     /// Reads 1014h, 1015h and the size of 1003h (reset communication or an SDO write).
     pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, node_id: u8) {
-        let cob = read_uint(od, 0x1014, 0).map_or(
-            CobIdEntry(0x80 + u32::from(node_id)),
-            CobIdEntry,
-        );
+        let cob =
+            read_uint(od, 0x1014, 0).map_or(CobIdEntry(0x80 + u32::from(node_id)), CobIdEntry);
         self.cob_id = cob.can_id();
         self.enabled = cob.valid() && !cob.extended();
-        self.inhibit = Duration::from_micros(u64::from(read_uint(od, 0x1015, 0).unwrap_or(0)) * 100);
+        self.inhibit =
+            Duration::from_micros(u64::from(read_uint(od, 0x1015, 0).unwrap_or(0)) * 100);
         self.history_len = od
             .entries()
             .iter()
@@ -89,7 +88,9 @@ impl Emcy {
     }
 
     pub fn is_active(&self, code: u16) -> bool {
-        self.active[..self.active_count].iter().any(|e| e.code == code)
+        self.active[..self.active_count]
+            .iter()
+            .any(|e| e.code == code)
     }
 
     pub fn any_active(&self) -> bool {

@@ -27,7 +27,16 @@ impl EmcyRepr {
     pub const fn emit(&self) -> [u8; 8] {
         let code = self.code.to_le_bytes();
         let m = self.manufacturer;
-        [code[0], code[1], self.register, m[0], m[1], m[2], m[3], m[4]]
+        [
+            code[0],
+            code[1],
+            self.register,
+            m[0],
+            m[1],
+            m[2],
+            m[3],
+            m[4],
+        ]
     }
 }
 

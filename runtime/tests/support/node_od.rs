@@ -14,7 +14,13 @@ pub struct TestOd {
     defaults: Vec<[u8; 8]>,
 }
 
-fn entry(index: u16, sub: u8, data_type: DataType, access: Access, pdo_mappable: bool) -> EntryDescriptor {
+fn entry(
+    index: u16,
+    sub: u8,
+    data_type: DataType,
+    access: Access,
+    pdo_mappable: bool,
+) -> EntryDescriptor {
     EntryDescriptor {
         index,
         sub,
@@ -88,30 +94,56 @@ impl TestOd {
         let tpdo_maps: [&[u32]; 4] = [&[0x6041_0010], &[0x2001_0020], &[], &[]];
         let tpdo_types = [255u64, 1, 255, 255];
         for n in 0..4u16 {
-            let valid_r = if rpdo_maps[n as usize].is_empty() { 0x8000_0000 } else { 0 };
+            let valid_r = if rpdo_maps[n as usize].is_empty() {
+                0x8000_0000
+            } else {
+                0
+            };
             let comm = 0x1400 + n;
             table.push((entry(comm, 0, Unsigned8, Ro, false), 5));
-            table.push((entry(comm, 1, Unsigned32, Rw, false), valid_r | (0x200 + 0x100 * u64::from(n) + id)));
+            table.push((
+                entry(comm, 1, Unsigned32, Rw, false),
+                valid_r | (0x200 + 0x100 * u64::from(n) + id),
+            ));
             table.push((entry(comm, 2, Unsigned8, Rw, false), rpdo_types[n as usize]));
             table.push((entry(comm, 5, Unsigned16, Rw, false), 0));
             let map = 0x1600 + n;
-            table.push((entry(map, 0, Unsigned8, Rw, false), rpdo_maps[n as usize].len() as u64));
+            table.push((
+                entry(map, 0, Unsigned8, Rw, false),
+                rpdo_maps[n as usize].len() as u64,
+            ));
             for sub in 1..=8u8 {
-                let value = rpdo_maps[n as usize].get(sub as usize - 1).copied().unwrap_or(0);
+                let value = rpdo_maps[n as usize]
+                    .get(sub as usize - 1)
+                    .copied()
+                    .unwrap_or(0);
                 table.push((entry(map, sub, Unsigned32, Rw, false), u64::from(value)));
             }
-            let valid_t = if tpdo_maps[n as usize].is_empty() { 0x8000_0000 } else { 0 };
+            let valid_t = if tpdo_maps[n as usize].is_empty() {
+                0x8000_0000
+            } else {
+                0
+            };
             let comm = 0x1800 + n;
             table.push((entry(comm, 0, Unsigned8, Ro, false), 6));
-            table.push((entry(comm, 1, Unsigned32, Rw, false), valid_t | (0x180 + 0x100 * u64::from(n) + id)));
+            table.push((
+                entry(comm, 1, Unsigned32, Rw, false),
+                valid_t | (0x180 + 0x100 * u64::from(n) + id),
+            ));
             table.push((entry(comm, 2, Unsigned8, Rw, false), tpdo_types[n as usize]));
             table.push((entry(comm, 3, Unsigned16, Rw, false), 0));
             table.push((entry(comm, 5, Unsigned16, Rw, false), 0));
             table.push((entry(comm, 6, Unsigned8, Rw, false), 0));
             let map = 0x1A00 + n;
-            table.push((entry(map, 0, Unsigned8, Rw, false), tpdo_maps[n as usize].len() as u64));
+            table.push((
+                entry(map, 0, Unsigned8, Rw, false),
+                tpdo_maps[n as usize].len() as u64,
+            ));
             for sub in 1..=8u8 {
-                let value = tpdo_maps[n as usize].get(sub as usize - 1).copied().unwrap_or(0);
+                let value = tpdo_maps[n as usize]
+                    .get(sub as usize - 1)
+                    .copied()
+                    .unwrap_or(0);
                 table.push((entry(map, sub, Unsigned32, Rw, false), u64::from(value)));
             }
         }
