@@ -748,11 +748,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 return Some(frame);
             }
         }
+        // A channel disabled by the write it is answering still sends that answer.
         for channel in &mut self.sdo {
-            if channel.enabled {
-                if let Some(response) = channel.server.poll_transmit(now, &self.od) {
-                    return Some(CanFrame::from_parts(channel.tx, response, 8));
-                }
+            if let Some(response) = channel.server.poll_transmit(now, &self.od) {
+                return Some(CanFrame::from_parts(channel.tx, response, 8));
             }
         }
         let state = ErrorControlRepr {

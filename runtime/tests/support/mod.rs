@@ -45,3 +45,38 @@ pub fn at_ms(list: &[(u64, &str)]) -> Vec<(u64, String)> {
         .map(|(t, s)| (t * 1000, s.to_string()))
         .collect()
 }
+
+/// An expedited SDO download request to node 3 with a value of `len` bytes.
+pub fn sdo_write(index: u16, sub: u8, value: u32, len: usize) -> CanFrame {
+    let command = match len {
+        1 => 0x2F,
+        2 => 0x2B,
+        3 => 0x27,
+        _ => 0x23,
+    };
+    let i = index.to_le_bytes();
+    let v = value.to_le_bytes();
+    frame(0x603, &[command, i[0], i[1], sub, v[0], v[1], v[2], v[3]])
+}
+
+/// An SDO upload request to node 3.
+pub fn sdo_read(index: u16, sub: u8) -> CanFrame {
+    let i = index.to_le_bytes();
+    frame(0x603, &[0x40, i[0], i[1], sub, 0, 0, 0, 0])
+}
+
+/// The server's answer to a download, as text.
+pub fn sdo_ok(index: u16, sub: u8) -> String {
+    let i = index.to_le_bytes();
+    format!("583: 60 {:02X} {:02X} {sub:02X} 00 00 00 00", i[0], i[1])
+}
+
+/// The server's abort, as text.
+pub fn sdo_abort(index: u16, sub: u8, code: u32) -> String {
+    let i = index.to_le_bytes();
+    let c = code.to_le_bytes();
+    format!(
+        "583: 80 {:02X} {:02X} {sub:02X} {:02X} {:02X} {:02X} {:02X}",
+        i[0], i[1], c[0], c[1], c[2], c[3]
+    )
+}
