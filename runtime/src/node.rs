@@ -209,6 +209,11 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     events: EventQueue,
     /// After a reset node that cleared errors, announce "no error" once.
     announce_no_error: bool,
+    /// An RPDO length error (8210h/8220h) is active.
+    length_error_raised: bool,
+    /// Some TPDO may have something to send or a change to look for (a fast path for
+    /// [`Node::poll_transmit`]).
+    tpdo_attention: bool,
 }
 
 impl<O: ObjectDictionary> Node<O> {
@@ -243,6 +248,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             tpdos: [Tpdo::default(); TPDOS],
             events: EventQueue::new(),
             announce_no_error: false,
+            length_error_raised: false,
+            tpdo_attention: false,
         };
         node.hooks.reset(ResetKind::Node, &mut node.od);
         node.reset_communication(now);
@@ -271,6 +278,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     pub fn od_mut(&mut self) -> &mut O {
         for tpdo in &mut self.tpdos {
             tpdo.check_change = true;
+            self.tpdo_attention = true;
         }
         &mut self.od
     }
@@ -330,7 +338,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         match tpdo.transmission {
             0 => tpdo.acyclic_request = true,
-            254 | 255 => tpdo.pending = true,
+            254 | 255 => {
+                tpdo.pending = true;
+                self.tpdo_attention = true;
+            }
             _ => return false,
         }
         true
@@ -360,6 +371,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 for tpdo in &mut self.tpdos {
                     if tpdo.enabled && tpdo.event_driven() {
                         tpdo.pending = true;
+                        self.tpdo_attention = true;
                     }
                 }
             }
@@ -398,6 +410,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         for n in 0..TPDOS {
             self.tpdos[n] = Tpdo::load(&self.od, n as u16);
         }
+        self.link_pdos();
+        self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);
         self.boot_up_due = true;
         self.set_state(NmtState::PreOperational, now);
     }
@@ -497,6 +511,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                         }
                         if tpdo.event_driven() && !self.tpdos[n].enabled {
                             tpdo.pending = true;
+                            self.tpdo_attention = true;
                         }
                     }
                     self.tpdos[n] = tpdo;
@@ -504,7 +519,22 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             _ => {}
         }
+        if (0x1400..=0x1BFF).contains(&index) {
+            self.link_pdos();
+        }
         self.mark_changed(index, sub);
+    }
+
+    /// Notes which RPDOs write objects that a TPDO maps, so that a received PDO looks for
+    /// changes of state only when it can cause one.
+    fn link_pdos(&mut self) {
+        for rpdo in &mut self.rpdos {
+            rpdo.feeds_tpdo = rpdo.mapping.objects().iter().any(|object| {
+                self.tpdos
+                    .iter()
+                    .any(|tpdo| tpdo.mapping.contains(object.index, object.sub))
+            });
+        }
     }
 
     /// An OD entry changed: TPDOs that map it compare before their next transmission.
@@ -512,6 +542,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         for tpdo in &mut self.tpdos {
             if tpdo.mapping.contains(index, sub) {
                 tpdo.check_change = true;
+                self.tpdo_attention = true;
             }
         }
     }
@@ -593,11 +624,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                         if let Some(sample) = tpdo.rtr_sample {
                             tpdo.data = Some(sample);
                             tpdo.pending = true;
+                            self.tpdo_attention = true;
                         }
                     }
                     _ => {
                         tpdo.data = None;
                         tpdo.pending = true;
+                        self.tpdo_attention = true;
                     }
                 }
                 return;
@@ -629,15 +662,19 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 buffer[..expected].copy_from_slice(&data[..expected]);
                 rpdo.buffered = Some(buffer);
             } else {
-                let mapping = rpdo.mapping;
-                mapping.unpack(&mut self.od, data);
-                for object in mapping.objects() {
-                    self.mark_changed(object.index, object.sub);
+                rpdo.mapping.unpack(&mut self.od, data);
+                if rpdo.feeds_tpdo {
+                    let mapping = rpdo.mapping;
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
                 }
                 self.events.push(Event::RpdoReceived { pdo: n as u16 });
             }
         }
-        self.update_length_errors(data.len());
+        if data.len() != expected || self.length_error_raised {
+            self.update_length_errors(data.len());
+        }
     }
 
     /// Raises or clears 8210h (too short, not processed) and 8220h (too long, processed).
@@ -653,6 +690,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.emcy.clear(&mut self.od, code);
             }
         }
+        self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);
     }
 
     fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
@@ -664,8 +702,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if let Some(data) = self.rpdos[n].buffered.take() {
                 let mapping = self.rpdos[n].mapping;
                 mapping.unpack(&mut self.od, &data);
-                for object in mapping.objects() {
-                    self.mark_changed(object.index, object.sub);
+                if self.rpdos[n].feeds_tpdo {
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
                 }
                 self.events.push(Event::RpdoReceived { pdo: n as u16 });
             }
@@ -716,6 +756,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if send {
                 tpdo.data = Some(tpdo.mapping.pack(&self.od));
                 tpdo.pending = true;
+                self.tpdo_attention = true;
                 tpdo.sync_deadline = window_end;
             }
         }
@@ -743,7 +784,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 return Some(CanFrame::from_parts(self.emcy.cob_id, emcy.emit(), 8));
             }
         }
-        if self.state == NmtState::Operational {
+        if self.state == NmtState::Operational && self.tpdo_attention {
             if let Some(frame) = self.poll_tpdo(now) {
                 return Some(frame);
             }
@@ -787,6 +828,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 let data = tpdo.mapping.pack(&self.od);
                 if data != tpdo.last_data {
                     tpdo.pending = true;
+                    self.tpdo_attention = true;
                 }
             }
             if !tpdo.pending {
@@ -817,6 +859,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             return Some(CanFrame::from_parts(tpdo.cob_id, data, tpdo.mapping.len));
         }
+        // Whatever is still pending waits for an inhibit time; poll_timeout reports when.
+        self.tpdo_attention = self.tpdos.iter().any(|t| t.pending);
         None
     }
 
@@ -909,6 +953,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 {
                     tpdo.event_deadline = None;
                     tpdo.pending = true;
+                    self.tpdo_attention = true;
                 }
             }
         }

@@ -81,17 +81,22 @@ impl Emcy {
     }
 
     /// The error register: every active error's bits.
+    #[inline]
     pub fn register(&self) -> u8 {
         self.active[..self.active_count]
             .iter()
             .fold(0, |acc, e| acc | e.register)
     }
 
+    #[inline]
+
     pub fn is_active(&self, code: u16) -> bool {
         self.active[..self.active_count]
             .iter()
             .any(|e| e.code == code)
     }
+
+    #[inline]
 
     pub fn any_active(&self) -> bool {
         self.active_count > 0
@@ -191,6 +196,7 @@ impl Emcy {
     }
 
     /// When the next emergency may go out, if one is waiting.
+    #[inline]
     pub fn ready_at(&self) -> Option<Instant> {
         if self.queued == 0 || !self.enabled {
             return None;
@@ -202,6 +208,7 @@ impl Emcy {
     }
 
     /// The next emergency, if one is waiting and the inhibit time has passed.
+    #[inline]
     pub fn poll(&mut self, now: Instant) -> Option<EmcyRepr> {
         if self.ready_at()? > now {
             return None;

@@ -21,6 +21,7 @@ pub(crate) struct MappedObject {
 }
 
 impl MappedObject {
+    #[inline]
     fn is_dummy(self) -> bool {
         MappingEntry {
             index: self.index,
@@ -41,9 +42,12 @@ pub(crate) struct Mapping {
 }
 
 impl Mapping {
+    #[inline]
     pub fn objects(&self) -> &[MappedObject] {
         &self.objects[..self.count as usize]
     }
+
+    #[inline]
 
     pub fn contains(&self, index: u16, sub: u8) -> bool {
         self.objects()
@@ -52,6 +56,7 @@ impl Mapping {
     }
 
     /// Reads the mapped objects into a payload.
+    #[inline]
     pub fn pack<O: ObjectDictionary + ?Sized>(&self, od: &O) -> [u8; 8] {
         let mut data = [0u8; 8];
         let mut offset = 0usize;
@@ -69,6 +74,7 @@ impl Mapping {
 
     /// Writes a payload's bytes into the mapped objects; returns how many writes the OD refused
     /// (a value outside its limits).
+    #[inline]
     pub fn unpack<O: ObjectDictionary + ?Sized>(&self, od: &mut O, data: &[u8]) -> usize {
         let mut offset = 0usize;
         let mut refused = 0;
@@ -195,6 +201,8 @@ pub(crate) struct Rpdo {
     pub mapping: Mapping,
     /// Data received for a synchronous RPDO, applied at the next SYNC.
     pub buffered: Option<[u8; 8]>,
+    /// Some TPDO maps an object this PDO writes (change-of-state detection must look).
+    pub feeds_tpdo: bool,
     /// The last frame was shorter / longer than the mapping.
     pub too_short: bool,
     pub too_long: bool,
@@ -213,10 +221,13 @@ impl Rpdo {
             transmission: super::read_uint(od, comm, 2).unwrap_or(255) as u8,
             mapping: mapping.unwrap_or_default(),
             buffered: None,
+            feeds_tpdo: false,
             too_short: false,
             too_long: false,
         }
     }
+
+    #[inline]
 
     pub fn synchronous(&self) -> bool {
         self.transmission <= 240
@@ -278,6 +289,8 @@ impl Tpdo {
         }
     }
 
+    #[inline]
+
     pub fn event_driven(&self) -> bool {
         self.transmission >= 254
     }
@@ -295,6 +308,7 @@ impl Tpdo {
     }
 
     /// Whether the inhibit time since the last transmission has passed.
+    #[inline]
     pub fn inhibit_passed(&self, now: Instant) -> bool {
         match self.last_sent {
             Some(sent) => now >= sent + self.inhibit,

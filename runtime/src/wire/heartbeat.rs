@@ -20,6 +20,7 @@ pub enum NmtState {
 
 impl NmtState {
     /// The 7-bit state code.
+    #[inline]
     pub const fn code(self) -> u8 {
         match self {
             NmtState::Initialising => 0x00,
@@ -69,11 +70,13 @@ impl ErrorControlRepr {
     }
 
     /// The data byte.
+    #[inline]
     pub const fn emit(&self) -> u8 {
         self.state.code() | if self.toggle { 0x80 } else { 0 }
     }
 
     /// The COB-ID for the node `node_id`.
+    #[inline]
     pub const fn cob_id(node_id: u8) -> u16 {
         ERROR_CONTROL_BASE + node_id as u16
     }

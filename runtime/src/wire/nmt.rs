@@ -29,6 +29,7 @@ impl NmtCommand {
     }
 
     /// The command for a specifier byte, or `None` for an unknown one.
+    #[inline]
     pub const fn from_specifier(cs: u8) -> Option<Self> {
         Some(match cs {
             0x01 => NmtCommand::Start,
@@ -56,6 +57,7 @@ pub struct NmtRepr {
 impl NmtRepr {
     /// Parses the data bytes of a frame received on COB-ID 000h. `None` unless the frame has
     /// exactly two bytes and a known command specifier.
+    #[inline]
     pub fn parse(data: &[u8]) -> Option<Self> {
         match *data {
             [cs, node_id] => Some(NmtRepr {
@@ -72,6 +74,7 @@ impl NmtRepr {
     }
 
     /// Whether the command addresses the node `node_id` (directly or by broadcast).
+    #[inline]
     pub const fn addresses(&self, node_id: u8) -> bool {
         self.node_id == 0 || self.node_id == node_id
     }

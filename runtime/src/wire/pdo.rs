@@ -15,18 +15,22 @@ impl CobIdEntry {
     pub const EXTENDED: u32 = 1 << 29;
 
     /// Whether the object is valid (bit 31 clear).
+    #[inline]
     pub const fn valid(self) -> bool {
         self.0 & Self::INVALID == 0
     }
     /// Bit 30.
+    #[inline]
     pub const fn bit30(self) -> bool {
         self.0 & Self::BIT30 != 0
     }
     /// Whether the identifier is a 29-bit one (bit 29).
+    #[inline]
     pub const fn extended(self) -> bool {
         self.0 & Self::EXTENDED != 0
     }
     /// The 11-bit CAN identifier.
+    #[inline]
     pub const fn can_id(self) -> u16 {
         (self.0 & 0x7FF) as u16
     }
@@ -45,6 +49,7 @@ pub struct MappingEntry {
 
 impl MappingEntry {
     /// Splits a 32-bit mapping value.
+    #[inline]
     pub const fn from_u32(value: u32) -> Self {
         MappingEntry {
             index: (value >> 16) as u16,
@@ -59,6 +64,7 @@ impl MappingEntry {
     }
 
     /// Whether the entry is a dummy (a data-type index, 0001h–0007h).
+    #[inline]
     pub const fn is_dummy(self) -> bool {
         self.index >= 0x0001 && self.index <= 0x0007
     }

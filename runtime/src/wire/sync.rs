@@ -10,6 +10,7 @@ pub struct SyncRepr {
 
 impl SyncRepr {
     /// Parses the data bytes. `None` unless there are zero bytes or one.
+    #[inline]
     pub fn parse(data: &[u8]) -> Option<Self> {
         match *data {
             [] => Some(SyncRepr { counter: None }),
@@ -21,6 +22,7 @@ impl SyncRepr {
     }
 
     /// The data bytes and their number.
+    #[inline]
     pub const fn emit(&self) -> ([u8; 1], usize) {
         match self.counter {
             Some(counter) => ([counter], 1),

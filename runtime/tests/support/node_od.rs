@@ -10,6 +10,8 @@ use edsgen_runtime::od::{Access, DataType, EntryDescriptor, ObjectDictionary, Sd
 #[derive(Debug, Clone)]
 pub struct TestOd {
     entries: Vec<EntryDescriptor>,
+    /// `index << 8 | sub` of each entry, for a tight binary search.
+    keys: Vec<u32>,
     values: Vec<[u8; 8]>,
     defaults: Vec<[u8; 8]>,
 }
@@ -29,6 +31,10 @@ fn entry(
         pdo_mappable,
         size: data_type.fixed_size().unwrap_or(8) as u16,
     }
+}
+
+fn key(index: u16, sub: u8) -> u32 {
+    u32::from(index) << 8 | u32::from(sub)
 }
 
 use Access::{Const, Ro, Rw, Rwr, Rww};
@@ -151,20 +157,22 @@ impl TestOd {
             table.push((entry(0x1003, sub, Unsigned32, Ro, false), 0));
         }
         table.sort_by_key(|(e, _)| (e.index, e.sub));
-        let entries = table.iter().map(|(e, _)| *e).collect();
+        let entries: Vec<EntryDescriptor> = table.iter().map(|(e, _)| *e).collect();
+        let keys = entries.iter().map(|e| key(e.index, e.sub)).collect();
         let values: Vec<[u8; 8]> = table.iter().map(|(_, v)| v.to_le_bytes()).collect();
         TestOd {
             entries,
+            keys,
             defaults: values.clone(),
             values,
         }
     }
 
     fn position(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
-        self.find(index, sub)?;
-        self.entries
-            .binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub)))
-            .map_err(|_| SdoAbort::NoObject)
+        match self.keys.binary_search(&key(index, sub)) {
+            Ok(pos) => Ok(pos),
+            Err(_) => Err(self.find(index, sub).err().unwrap_or(SdoAbort::NoObject)),
+        }
     }
 
     /// The value of an entry as an unsigned integer (tests only: panics if it is absent).
@@ -202,6 +210,21 @@ impl TestOd {
 impl ObjectDictionary for TestOd {
     fn entries(&self) -> &[EntryDescriptor] {
         &self.entries
+    }
+
+    fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
+        match self.keys.binary_search(&key(index, sub)) {
+            Ok(pos) => Ok(&self.entries[pos]),
+            Err(pos) => {
+                let index_exists = self.entries.get(pos).is_some_and(|e| e.index == index)
+                    || (pos > 0 && self.entries[pos - 1].index == index);
+                Err(if index_exists {
+                    SdoAbort::NoSubIndex
+                } else {
+                    SdoAbort::NoObject
+                })
+            }
+        }
     }
 
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
