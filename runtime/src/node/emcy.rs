@@ -89,7 +89,6 @@ impl Emcy {
     }
 
     #[inline]
-
     pub fn is_active(&self, code: u16) -> bool {
         self.active[..self.active_count]
             .iter()
@@ -97,7 +96,6 @@ impl Emcy {
     }
 
     #[inline]
-
     pub fn any_active(&self) -> bool {
         self.active_count > 0
     }

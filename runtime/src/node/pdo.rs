@@ -48,7 +48,6 @@ impl Mapping {
     }
 
     #[inline]
-
     pub fn contains(&self, index: u16, sub: u8) -> bool {
         self.objects()
             .iter()
@@ -228,7 +227,6 @@ impl Rpdo {
     }
 
     #[inline]
-
     pub fn synchronous(&self) -> bool {
         self.transmission <= 240
     }
@@ -290,7 +288,6 @@ impl Tpdo {
     }
 
     #[inline]
-
     pub fn event_driven(&self) -> bool {
         self.transmission >= 254
     }
