@@ -111,6 +111,11 @@ fn main() -> ExitCode {
     }
 }
 
+/// Writes to standard output, ignoring a closed pipe (`edsgen dump f.eds | head` must not panic).
+fn print_stdout(text: &str) {
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
 fn fail(message: impl std::fmt::Display) -> ExitCode {
     eprintln!("error: {message}");
     ExitCode::from(EXIT_USAGE)
@@ -183,7 +188,7 @@ fn cmd_dump(path: &std::path::Path) -> ExitCode {
     let json = edsgen_codegen::dump::to_json(&read.device);
     match serde_json::to_string_pretty(&json) {
         Ok(text) => {
-            println!("{text}");
+            print_stdout(&format!("{text}\n"));
             ExitCode::SUCCESS
         }
         Err(err) => fail(err),
@@ -232,7 +237,7 @@ fn cmd_generate(
             Err(err) => fail(format!("cannot write `{}`: {err}", out.display())),
         },
         None => {
-            print!("{code}");
+            print_stdout(&code);
             ExitCode::SUCCESS
         }
     }
@@ -241,14 +246,18 @@ fn cmd_generate(
 fn cmd_rules(format: OutputFormat) -> ExitCode {
     match format {
         OutputFormat::Human => {
-            for rule in rules::ALL {
-                println!(
-                    "{}  {:<7}  {}",
-                    rule.code,
-                    rule.severity.as_str(),
-                    rule.summary
-                );
-            }
+            let table: String = rules::ALL
+                .iter()
+                .map(|rule| {
+                    format!(
+                        "{}  {:<7}  {}\n",
+                        rule.code,
+                        rule.severity.as_str(),
+                        rule.summary
+                    )
+                })
+                .collect();
+            print_stdout(&table);
         }
         OutputFormat::Json => {
             let list: Vec<_> = rules::ALL
@@ -257,10 +266,10 @@ fn cmd_rules(format: OutputFormat) -> ExitCode {
                     serde_json::json!({"code": r.code, "severity": r.severity.as_str(), "summary": r.summary})
                 })
                 .collect();
-            println!(
-                "{}",
+            print_stdout(&format!(
+                "{}\n",
                 serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into())
-            );
+            ));
         }
     }
     ExitCode::SUCCESS

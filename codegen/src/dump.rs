@@ -1,8 +1,192 @@
-//! `edsgen dump`: the resolved model as JSON. Placeholder until the dump lands.
+//! `edsgen dump`: the resolved model as JSON, in the schema other tools and tests rely on.
+//!
+//! Every key is always present (`null` where the file gives nothing). Integers are exact JSON
+//! integers (never floats), `$NODEID` formulas are `{"nodeid_offset": N}`, octet strings and
+//! domains are lowercase hex strings, strings are as written, reals are numbers. Objects are sorted
+//! by index and sub-objects by sub-index (the model's `BTreeMap` order).
 
-use crate::model::Device;
+use serde_json::{json, Map, Value as Json};
+
+use crate::model::{
+    Commissioning, Device, DeviceInfo, FileInfo, Format, Object, SubObject, TextEncoding, Value,
+    ValueSource,
+};
 
 /// The model as a JSON value, with the field names and encodings of the design's contract.
-pub fn to_json(device: &Device) -> serde_json::Value {
-    serde_json::json!({ "objects": device.objects.len() })
+pub fn to_json(device: &Device) -> Json {
+    let format = match device.source.format {
+        Format::Eds => "eds",
+        Format::Dcf => "dcf",
+        Format::Xdd => "xdd",
+        Format::Xdc => "xdc",
+    };
+    let encoding = match device.source.encoding {
+        TextEncoding::Ascii => "ascii",
+        TextEncoding::Utf8 => "utf-8",
+        TextEncoding::Utf8Bom => "utf-8-bom",
+        TextEncoding::Windows1252 => "windows-1252",
+    };
+    let dummy_usage: Map<String, Json> = device
+        .dummy_usage
+        .iter()
+        .map(|(index, used)| (index.to_string(), Json::Bool(*used)))
+        .collect();
+    json!({
+        "file": device.source.path.display().to_string(),
+        "format": format,
+        "encoding": encoding,
+        "file_info": file_info(&device.file_info),
+        "device_info": device_info(&device.device_info),
+        "dummy_usage": dummy_usage,
+        "comments": device.comments,
+        "commissioning": device.commissioning.as_ref().map(commissioning),
+        "objects": device.objects.values().map(object).collect::<Vec<_>>(),
+        "other_sections": device.other_sections.iter().map(|s| s.name.clone()).collect::<Vec<_>>(),
+    })
+}
+
+fn file_info(info: &FileInfo) -> Json {
+    json!({
+        "file_name": info.file_name,
+        "file_version": info.file_version,
+        "file_revision": info.file_revision,
+        "eds_version": info.eds_version.as_ref().map(|v| v.value.clone()),
+        "description": info.description,
+        "creation_time": info.creation_time,
+        "creation_date": info.creation_date,
+        "created_by": info.created_by,
+        "modification_time": info.modification_time,
+        "modification_date": info.modification_date,
+        "modified_by": info.modified_by,
+        "last_eds": info.last_eds,
+    })
+}
+
+fn device_info(info: &DeviceInfo) -> Json {
+    let baud_rates: Map<String, Json> = info
+        .baud_rates
+        .iter()
+        .map(|(rate, supported)| (rate.to_string(), Json::Bool(*supported)))
+        .collect();
+    json!({
+        "vendor_name": info.vendor_name,
+        "vendor_number": info.vendor_number.as_ref().map(|v| v.value),
+        "product_name": info.product_name,
+        "product_number": info.product_number.as_ref().map(|v| v.value),
+        "revision_number": info.revision_number.as_ref().map(|v| v.value),
+        "order_code": info.order_code,
+        "baud_rates": baud_rates,
+        "simple_boot_up_master": info.simple_boot_up_master,
+        "simple_boot_up_slave": info.simple_boot_up_slave,
+        "granularity": info.granularity.as_ref().map(|v| v.value),
+        "dynamic_channels_supported": info.dynamic_channels_supported,
+        "group_messaging": info.group_messaging,
+        "nr_of_rx_pdo": info.nr_of_rx_pdo.as_ref().map(|v| v.value),
+        "nr_of_tx_pdo": info.nr_of_tx_pdo.as_ref().map(|v| v.value),
+        "lss_supported": info.lss_supported,
+        "compact_pdo": info.compact_pdo.as_ref().map(|v| v.value),
+    })
+}
+
+fn commissioning(c: &Commissioning) -> Json {
+    json!({
+        "node_id": c.node_id.as_ref().map(|v| v.value),
+        "node_name": c.node_name,
+        "baudrate": c.baudrate.as_ref().map(|v| v.value),
+        "net_number": c.net_number,
+        "network_name": c.network_name,
+        "canopen_manager": c.canopen_manager,
+        "lss_serial_number": c.lss_serial_number,
+    })
+}
+
+fn object(o: &Object) -> Json {
+    json!({
+        "index": o.index,
+        "name": o.name,
+        "object_type": o.object_type.code(),
+        "implicit": o.implicit,
+        "obj_flags": o.obj_flags,
+        "subs": o.subs.values().map(sub_object).collect::<Vec<_>>(),
+    })
+}
+
+fn sub_object(s: &SubObject) -> Json {
+    json!({
+        "sub": s.sub_index,
+        "name": s.name,
+        "data_type": s.data_type,
+        "access": s.access.map(|a| a.as_str()),
+        "pdo_mapping": s.pdo_mapping,
+        "default": value(s.default.as_ref()),
+        "parameter_value": value(s.parameter_value.as_ref()),
+        "low_limit": value(s.low_limit.as_ref()),
+        "high_limit": value(s.high_limit.as_ref()),
+        "obj_flags": s.obj_flags,
+        "denotation": s.denotation,
+        "implicit": s.implicit,
+    })
+}
+
+/// A value in the dump's encoding; `null` when absent or unparseable.
+pub fn value(source: Option<&ValueSource>) -> Json {
+    match source.and_then(|s| s.value.as_ref()) {
+        None => Json::Null,
+        Some(Value::Integer(v)) => integer(*v),
+        Some(Value::NodeRelative(offset)) => json!({ "nodeid_offset": offset }),
+        Some(Value::Real(v)) => serde_json::Number::from_f64(*v).map_or(Json::Null, Json::Number),
+        Some(Value::Text(text)) => Json::String(text.clone()),
+        Some(Value::Bytes(bytes)) => {
+            Json::String(bytes.iter().map(|b| format!("{b:02x}")).collect())
+        }
+    }
+}
+
+/// An exact JSON integer: i64 or u64; a decimal string if it fits neither (no CiA type does).
+fn integer(v: i128) -> Json {
+    if let Ok(small) = i64::try_from(v) {
+        Json::from(small)
+    } else if let Ok(big) = u64::try_from(v) {
+        Json::from(big)
+    } else {
+        Json::String(v.to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Span;
+
+    fn source(value: Value) -> ValueSource {
+        ValueSource {
+            value: Some(value),
+            raw: String::new(),
+            span: Span::default(),
+        }
+    }
+
+    #[test]
+    fn values_are_encoded_exactly() {
+        assert_eq!(value(None), Json::Null);
+        assert_eq!(
+            value(Some(&source(Value::Integer(u64::MAX as i128)))).to_string(),
+            "18446744073709551615"
+        );
+        assert_eq!(value(Some(&source(Value::Integer(-5)))).to_string(), "-5");
+        assert_eq!(
+            value(Some(&source(Value::NodeRelative(0x180)))).to_string(),
+            r#"{"nodeid_offset":384}"#
+        );
+        assert_eq!(
+            value(Some(&source(Value::Bytes(vec![0x01, 0xAB])))).to_string(),
+            r#""01ab""#
+        );
+        assert_eq!(value(Some(&source(Value::Real(1.5)))).to_string(), "1.5");
+        assert_eq!(value(Some(&source(Value::Real(f64::NAN)))), Json::Null);
+        assert_eq!(
+            value(Some(&source(Value::Text("\"a\"".into())))).to_string(),
+            r#""\"a\"""#
+        );
+    }
 }

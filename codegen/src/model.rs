@@ -650,6 +650,8 @@ pub struct Device {
     pub dummy_usage: BTreeMap<u16, bool>,
     /// `[Comments]` lines, in order.
     pub comments: Vec<String>,
+    /// `[Comments]` `Lines` as written (the declared number of comment lines), for the validator.
+    pub comment_lines: Option<Spanned<u32>>,
     /// The objects, by index. DEFTYPE/DEFSTRUCT objects (0x0001-0x0FFF) are here too.
     pub objects: BTreeMap<u16, Object>,
     /// The object lists (`[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]`) as

@@ -22,6 +22,8 @@ macro_rules! rules {
     ($($name:ident = $code:literal $sev:ident $summary:literal;)*) => {
         $(
             #[doc = $summary]
+            // Summaries name sections like `[FileInfo]`, which rustdoc would read as links.
+            #[allow(rustdoc::broken_intra_doc_links)]
             pub static $name: Rule = Rule { code: $code, severity: Severity::$sev, summary: $summary };
         )*
         /// Every rule, in code order.
@@ -31,7 +33,7 @@ macro_rules! rules {
 
 rules! {
     // ---- EDS0xx: text and values (readers) ----
-    UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a [section] or key=value";
+    UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a `[section]` or `key=value`";
     NON_ASCII = "EDS002" Warning "bytes outside ASCII (the file was decoded as UTF-8 or Windows-1252)";
     LONG_LINE = "EDS003" Warning "a line longer than 255 characters";
     INLINE_COMMENT = "EDS004" Warning "a comment not in column 1, or an inline `;` comment after a value";
@@ -53,6 +55,104 @@ rules! {
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
     EMPTY_FILE = "EDS022" Error "the file holds no sections";
+    COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled `[DeviceCommissioning]` (two m); read as the spec's `[DeviceComissioning]`";
+    ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
+
+
+    // ---- EDS1xx: [FileInfo] and [DeviceInfo] (validator) ----
+    FILE_INFO_MISSING = "EDS101" Warning "[FileInfo] is missing (mandatory in CiA 306; warning because nothing generated depends on it)";
+    EDS_VERSION = "EDS102" Warning "EDSVersion is missing (meaning 3.0) or is not of the form x.y";
+    FILE_DATE_FORMAT = "EDS103" Info "a FileInfo time or date not in the CiA 306 form hh:mm(AM|PM) / mm-dd-yyyy (info: cosmetic, widespread)";
+    FILE_INFO_LIMITS = "EDS104" Warning "FileVersion/FileRevision not an UNSIGNED8, or Description/CreatedBy/ModifiedBy longer than CiA 306 allows";
+    DEVICE_INFO_MISSING = "EDS105" Error "[DeviceInfo] is missing";
+    IDENTITY_MISMATCH = "EDS106" Warning "VendorNumber/ProductNumber/RevisionNumber differs from the default of 1018h sub 1/2/3";
+    BAUD_RATES = "EDS107" Warning "no BaudRate_x=1 at all, or a BaudRate_x key for a bit rate CiA 301 does not define";
+    GRANULARITY_RANGE = "EDS108" Error "Granularity is above 64";
+    GRANULARITY_ZERO_WRITABLE = "EDS109" Warning "Granularity is 0 (mapping not modifiable) but a PDO mapping sub-object is writable";
+    PDO_COUNT_MISMATCH = "EDS110" Warning "NrOfRXPDO/NrOfTXPDO differs from the number of PDO communication objects";
+    PDO_COUNT_LIMIT = "EDS111" Error "NrOfRXPDO or NrOfTXPDO is above 512";
+    COMPACT_PDO_BITS = "EDS112" Warning "CompactPDO has bits set above 0x3F";
+    LSS_IDENTITY = "EDS113" Warning "LSS_Supported=1 but 1018h sub 1..4 (the LSS address) are not all present";
+    DYNAMIC_CHANNELS_FLAG = "EDS114" Warning "DynamicChannelsSupported is non-zero without [DynamicChannels], or the reverse";
+
+    // ---- EDS2xx: object lists (validator) ----
+    MANDATORY_LIST_MISSING = "EDS201" Error "[MandatoryObjects] is missing";
+    OBJECT_LIST_MISSING = "EDS202" Warning "[OptionalObjects] or [ManufacturerObjects] is missing although objects of its range exist";
+    SUPPORTED_OBJECTS_COUNT = "EDS203" Warning "SupportedObjects is missing or differs from the numbered entries, or the entries are not 1..N (warning: edsgen uses the union of lists and sections)";
+    LISTED_WITHOUT_SECTION = "EDS204" Error "an object list names an index that has no [xxxx] section";
+    UNLISTED_OBJECT = "EDS205" Warning "[xxxx] sections that no object list names, once per list (Lely ignores them, python uses them)";
+    WRONG_OBJECT_LIST = "EDS206" Warning "indices in the wrong object list for their range, once per list";
+    LISTED_TWICE = "EDS207" Warning "an index listed twice in the object lists (warning: harmless to edsgen, which uses the union)";
+    REQUIRED_OBJECT_MISSING = "EDS208" Error "1000h (device type), 1001h (error register) or 1018h (identity) is missing";
+    ERROR_CONTROL_MISSING = "EDS209" Warning "neither 1017h (heartbeat producer) nor 100Ch/100Dh (node guarding) is present";
+
+    // ---- EDS3xx: objects and sub-objects (validator) ----
+    MISSING_NAME = "EDS301" Error "an object or sub-object has no ParameterName (once per object for its subs; warning for ARRAY elements, which are indexed)";
+    LONG_NAME = "EDS302" Warning "a ParameterName longer than 241 characters";
+    MISSING_KEY = "EDS303" Error "a key the CiA 306 object table makes mandatory is missing (DataType or AccessType of an entry; SubNumber of an ARRAY/RECORD)";
+    KEY_NOT_ALLOWED = "EDS304" Warning "a key the CiA 306 object table does not allow: SubNumber on a VAR, PDOMapping on a DOMAIN (info, once per file: VAR keys on ARRAY/RECORD mains, a common dialect)";
+    SUBNUMBER_AND_COMPACT = "EDS305" Error "both SubNumber and CompactSubObj are non-zero";
+    SUBNUMBER_MISMATCH = "EDS306" Warning "SubNumber differs from the number of sub-objects described (warning: edsgen uses the sections; Lely loads only SubNumber of them)";
+    SUB_INDEX_RESERVED = "EDS307" Error "a sub-object at sub-index FFh, which is reserved for the structure description";
+    SUB0_MISSING = "EDS308" Error "an ARRAY has no sub-index 0 or a sub-index 0 that is not UNSIGNED8 (warning for a RECORD, whose sub 0 some vendors use as a value)";
+    SUB0_ACCESS = "EDS309" Warning "sub-index 0 of an ARRAY/RECORD is writable (except 1003h and the PDO mapping objects)";
+    SUB0_VALUE = "EDS310" Warning "the default of sub-index 0 differs from the highest sub-index present";
+    ARRAY_MIXED_TYPES = "EDS311" Error "the elements of an ARRAY have different data types";
+    ARRAY_MIXED_ACCESS = "EDS312" Warning "the elements of an ARRAY have different AccessType or PDOMapping";
+    SUB_INDEX_GAPS = "EDS313" Info "gaps in the sub-indices of a RECORD (info) or of an ARRAY (warning: arrays become [T; N])";
+    UNKNOWN_DATA_TYPE = "EDS314" Error "a DataType that is neither a basic type nor a DEFTYPE/DEFSTRUCT of the file";
+    DOMAIN_DATA_TYPE = "EDS315" Error "a DOMAIN object whose DataType is not 000Fh";
+    LIMITS_INVERTED = "EDS316" Error "LowLimit is greater than HighLimit (warning when a hex limit on a signed type, read as two's complement, causes it)";
+    VALUE_OUTSIDE_LIMITS = "EDS317" Warning "DefaultValue or ParameterValue outside [LowLimit, HighLimit] (for node-IDs 1..127 if $NODEID-relative)";
+    LIMITS_ON_NON_NUMERIC = "EDS318" Warning "LowLimit/HighLimit on a string, OCTET_STRING or DOMAIN entry";
+    NODEID_OVERFLOW = "EDS319" Warning "a $NODEID value that leaves the range of its type for some node-IDs 1..127 (error if for all of them)";
+    DEFAULT_COB_ID = "EDS320" Warning "the default COB-ID of 1014h, 1200h, 1400h..1403h or 1800h..1803h is not $NODEID plus the predefined-connection-set base (not checked for masters)";
+    OBJ_FLAGS_RESERVED = "EDS321" Warning "ObjFlags with reserved bits 2..31 set, once per file (warning: vendor tools store other flags there; nothing generated depends on them)";
+    COMPACT_SUB_OBJ_MISUSE = "EDS322" Error "CompactSubObj on a VAR or DOMAIN, or above 254";
+
+    // ---- EDS4xx: PDOs (validator) ----
+    PDO_PAIR = "EDS401" Error "a PDO communication object without its mapping object, or the reverse";
+    PDO_COMM_SUB_TYPE = "EDS402" Error "a PDO communication sub-object with the wrong data type (COB-ID U32, type U8, inhibit U16, event timer U16, SYNC start U8)";
+    PDO_COMM_SUB4 = "EDS403" Info "a PDO communication record implements sub-index 4 (reserved, a compatibility entry)";
+    RPDO_TPDO_ONLY_SUB = "EDS404" Info "an RPDO communication record implements inhibit time (sub 3) or SYNC start (sub 6), which only TPDOs use";
+    COB_ID_RESTRICTED = "EDS405" Warning "a PDO COB-ID in a CAN-ID range CiA 301 restricts (NMT, SYNC/EMCY, TIME, SDO, LSS, heartbeat)";
+    TRANSMISSION_TYPE_RESERVED = "EDS406" Warning "a reserved PDO transmission type (241..251 for a TPDO, 241..253 for an RPDO)";
+    MAPPING_COUNT = "EDS407" Error "the number of mapped objects (mapping sub 0) is above 64 or above the mapping entries present";
+    MAPPING_TARGET_MISSING = "EDS408" Error "a PDO mapping entry points to an entry that does not exist (warning for empty entries within the count, once per mapping; and with modules)";
+    MAPPING_NOT_MAPPABLE = "EDS409" Error "a PDO mapping entry points to an entry with PDOMapping=0";
+    MAPPING_DIRECTION = "EDS410" Error "a PDO mapping entry whose access does not fit the direction (RPDO to ro/const/rwr, TPDO to wo/rww)";
+    DUMMY_NOT_ENABLED = "EDS411" Error "a dummy mapping entry for a data type that [DummyUsage] does not enable";
+    MAPPING_LENGTH = "EDS412" Error "a PDO mapping length that differs from the bit width of the mapped entry";
+    MAPPING_TOO_LONG = "EDS413" Error "a PDO maps more than 64 bits";
+    MAPPING_GRANULARITY = "EDS414" Warning "a PDO mapping length that is not a multiple of Granularity, or more than 8 entries with Granularity 8";
+    DUPLICATE_PDO_COB_ID = "EDS415" Warning "two enabled TPDOs, or two enabled RPDOs, have the same default COB-ID";
+    DUMMY_USAGE_KEY = "EDS416" Info "[DummyUsage] keys outside Dummy0001..Dummy0007 (info: Lely writes Dummy0000..Dummy001F)";
+
+    // ---- EDS5xx: DCF, commissioning, modules, comments, object links, dynamic channels (validator) ----
+    DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127 (warning for 255: unconfigured, assigned by LSS)";
+    DCF_BAUDRATE = "EDS502" Error "the DCF Baudrate is not a CiA 301 bit rate, or not one [DeviceInfo] enables";
+    LSS_SERIAL_MISMATCH = "EDS503" Warning "LSS_SerialNumber differs from the value of 1018h sub 4";
+    COMMISSIONING_NAME_LENGTH = "EDS504" Warning "NodeName longer than 246 or NetworkName longer than 243 characters";
+    DCF_ITEM_IN_EDS = "EDS505" Warning "a DCF-only item (ParameterValue, Denotation, [DeviceComissioning]) in an .eds file";
+    DCF_WITHOUT_COMMISSIONING = "EDS506" Warning "a .dcf file without [DeviceComissioning] (warning: vendors ship EDS files renamed to .dcf)";
+    DOMAIN_FILE_KEYS = "EDS507" Warning "UploadFile/DownloadFile on a non-DOMAIN, with an access that cannot upload/download, or a name too long";
+    PARAMETER_VALUE_READ_ONLY = "EDS508" Warning "ParameterValue differs from DefaultValue on a ro/const entry, which a download cannot write";
+    MODULES = "EDS509" Warning "module sections that do not fit together (ConnectedModules, SupportedModules, Mx sections, Count, NrOfEntries)";
+    COMMENTS_LINES = "EDS510" Warning "[Comments] Lines differs from the LineN keys, or a comment line is longer than 249 characters";
+    OBJECT_LINK_MISSING = "EDS511" Warning "an [xxxxObjectLinks] entry names an object that does not exist";
+    DYNAMIC_CHANNELS_SECTION = "EDS512" Warning "[DynamicChannels] NrOfSeg differs from its segments, or a TypeN/DirN/RangeN is malformed";
+    DYNAMIC_CHANNEL_OBJECTS = "EDS513" Info "objects described in the EDS inside a range [DynamicChannels] covers";
+
+    // ---- EDS6xx: XML (XDD/XDC) ----
+    XML_MALFORMED = "EDS601" Error "the file is not well-formed XML; nothing could be read";
+    XML_NO_OBJECT_LIST = "EDS602" Error "an XML description without a CANopenObjectList";
+    XML_MISSING_ATTRIBUTE = "EDS603" Error "a required attribute is missing (CANopenObject@index, CANopenSubObject@subIndex, @name, @objectType)";
+    XML_BAD_ATTRIBUTE = "EDS604" Error "an attribute or element value that cannot be read (hexBinary, number, boolean, enumeration)";
+    XML_UNRESOLVED_REF = "EDS605" Error "a uniqueIDRef that names no parameter (or a dataTypeIDRef that names no data type)";
+    XML_DUPLICATE = "EDS606" Error "an index, sub-index or uniqueID described twice; the last one wins";
+    XML_SUBS_ON_VAR = "EDS607" Error "CANopenSubObject elements inside a VAR or DOMAIN object (ignored)";
+    XML_TYPE_CONFLICT = "EDS608" Warning "the parameter disagrees with the object: data type (the parameter wins) or access direction vs PDOmapping (PDOmapping wins)";
+    XML_UNKNOWN_TYPE = "EDS609" Warning "a parameter data type with no CANopen equivalent (variableRef, struct, array on a VAR)";
 }
 
 /// Looks a rule up by its code.
@@ -60,6 +160,29 @@ pub fn by_code(code: &str) -> Option<&'static Rule> {
     ALL.iter()
         .copied()
         .find(|r| r.code.eq_ignore_ascii_case(code))
+}
+
+/// The rule table as Markdown: the content of `docs/rules.md`, generated from [`ALL`].
+pub fn markdown() -> String {
+    let mut out = String::from(
+        "# edsgen validation rules\n\n\
+         Generated from `codegen/src/rules.rs` by the test `rules_doc_is_current`\n\
+         (`EDSGEN_UPDATE_DOCS=1 cargo test -p edsgen-codegen --test rules` rewrites it). \
+         Do not edit by hand.\n\n\
+         Severities: **error** fails `edsgen validate` and the build; **warning** fails only with \
+         `--deny warnings`; **info** never fails. Some rules report a secondary severity for some \
+         instances; their summary says so.\n\n\
+         | Code | Severity | What it checks |\n|---|---|---|\n",
+    );
+    for rule in ALL {
+        out.push_str(&format!(
+            "| {} | {} | {} |\n",
+            rule.code,
+            rule.severity.as_str(),
+            rule.summary.replace('|', "\\|")
+        ));
+    }
+    out
 }
 
 #[cfg(test)]

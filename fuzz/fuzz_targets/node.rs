@@ -11,7 +11,7 @@ use edsgen_runtime::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use edsgen_runtime::{CanFrame, Instant};
 use libfuzzer_sys::fuzz_target;
 
-#[path = "../../runtime/tests/support/node_od.rs"]
+#[path = "../../runtime/tests/node_support/node_od.rs"]
 mod node_od;
 
 use node_od::TestOd;

@@ -7,7 +7,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::{CanFrame, Instant};
 
-#[path = "../tests/support/node_od.rs"]
+#[path = "../tests/node_support/node_od.rs"]
 mod node_od;
 
 use node_od::TestOd;

@@ -7,7 +7,7 @@ use edsgen_runtime::node::Node;
 use edsgen_runtime::{CanFrame, Instant};
 use std::hint::black_box;
 
-#[path = "../tests/support/node_od.rs"]
+#[path = "../tests/node_support/node_od.rs"]
 mod node_od;
 
 fn main() {

@@ -11,6 +11,7 @@ pub mod entry;
 pub mod frame;
 pub mod node;
 pub mod od;
+pub mod sdo;
 pub mod time;
 #[cfg(feature = "std")]
 pub mod vbus;

@@ -16,7 +16,6 @@ mod comm;
 mod emcy;
 mod error_control;
 mod pdo;
-mod sdo_stub;
 
 pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
 pub use self::emcy::{error_register, MAX_ACTIVE_ERRORS};
@@ -28,9 +27,9 @@ use self::comm::CommGuard;
 use self::emcy::{Emcy, Raised};
 use self::error_control::ErrorControl;
 use self::pdo::{Rpdo, Tpdo};
-use self::sdo_stub::{SdoEvent, SdoServer};
 use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
+use crate::sdo::{SdoEvent, SdoServer};
 use crate::time::{Duration, Instant};
 use crate::wire::heartbeat::ErrorControlRepr;
 use crate::wire::nmt::{NmtCommand, NmtRepr, NMT_COB_ID};
@@ -126,6 +125,9 @@ pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u
 
 struct SdoChannel {
     server: SdoServer<SDO_BUFFER>,
+    /// The server may have frames to send (it was fed a request or a timeout since it last
+    /// said it had none).
+    busy: bool,
     enabled: bool,
     rx: u16,
     tx: u16,
@@ -135,6 +137,7 @@ impl SdoChannel {
     const fn new() -> Self {
         SdoChannel {
             server: SdoServer::new(SDO_TIMEOUT),
+            busy: false,
             enabled: false,
             rx: 0,
             tx: 0,
@@ -643,6 +646,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             od: &mut self.od,
             hooks: &mut self.hooks,
         };
+        self.sdo[n].busy = true;
         if let Some(SdoEvent::Written { index, sub }) =
             self.sdo[n].server.handle(now, request, &mut guard)
         {
@@ -791,8 +795,11 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         // A channel disabled by the write it is answering still sends that answer.
         for channel in &mut self.sdo {
-            if let Some(response) = channel.server.poll_transmit(now, &self.od) {
-                return Some(CanFrame::from_parts(channel.tx, response, 8));
+            if channel.busy {
+                match channel.server.poll_transmit(now, &self.od) {
+                    Some(response) => return Some(CanFrame::from_parts(channel.tx, response, 8)),
+                    None => channel.busy = false,
+                }
             }
         }
         let state = ErrorControlRepr {
@@ -960,6 +967,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         for channel in &mut self.sdo {
             if channel.server.poll_timeout().is_some_and(|at| at <= now) {
                 channel.server.handle_timeout(now);
+                channel.busy = true;
             }
         }
     }

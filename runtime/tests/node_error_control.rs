@@ -1,13 +1,13 @@
 //! Error control: heartbeat producer (1017h), heartbeat consumer (1016h), node guarding with the
 //! toggle bit and life guarding (100Ch/100Dh), stepped on the virtual bus with exact timing.
 
-mod support;
+mod node_support;
 
 use edsgen_runtime::node::{Event, Node};
 use edsgen_runtime::vbus::{ScriptedPeer, VirtualBus};
 use edsgen_runtime::CanFrame;
-use support::node_od::TestOd;
-use support::{at_ms, frame, ms, sent};
+use node_support::node_od::TestOd;
+use node_support::{at_ms, frame, ms, sent};
 
 fn booted() -> (Node<TestOd>, VirtualBus) {
     let mut node = Node::new(TestOd::new(3), 3, ms(0)).unwrap();
@@ -146,7 +146,7 @@ fn life_guarding_event_and_emcy_when_guarding_stops() {
         .take_log()
         .into_iter()
         .filter(|(_, sender, _)| *sender == 0)
-        .map(|(t, _, f)| (t.as_micros(), support::show(&f)))
+        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
         .collect();
     assert_eq!(
         node_frames,

@@ -1,12 +1,12 @@
 //! NMT slave: boot-up, the state machine, broadcast and addressed commands, resets and which
 //! services run in which state.
 
-mod support;
+mod node_support;
 
 use edsgen_runtime::node::{Event, NmtState, Node, ResetKind};
 use edsgen_runtime::vbus::{BusDevice, VirtualBus};
-use support::node_od::{RecordingHooks, TestOd};
-use support::{at_ms, frame, ms, sent, show};
+use node_support::node_od::{RecordingHooks, TestOd};
+use node_support::{at_ms, frame, ms, sent, show};
 
 fn node() -> Node<TestOd, RecordingHooks> {
     Node::with_hooks(TestOd::new(3), RecordingHooks::default(), 3, ms(0)).unwrap()

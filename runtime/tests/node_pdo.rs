@@ -2,13 +2,13 @@
 //! start value, RTR, the CiA 301 dynamic-mapping procedure with its aborts, and the EMCYs of
 //! wrong-length RPDOs.
 
-mod support;
+mod node_support;
 
 use edsgen_runtime::node::{Event, Node};
 use edsgen_runtime::vbus::VirtualBus;
 use edsgen_runtime::CanFrame;
-use support::node_od::TestOd;
-use support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_write, sent};
+use node_support::node_od::TestOd;
+use node_support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_write, sent};
 
 /// A booted node in pre-operational, boot-up already on the bus and events drained.
 fn booted() -> (Node<TestOd>, VirtualBus) {

@@ -1,12 +1,12 @@
 //! SYNC producer and consumer, EMCY producer with 1001h/1003h, store/restore through the hooks,
 //! the second SDO server channel, and the application events.
 
-mod support;
+mod node_support;
 
 use edsgen_runtime::node::{error_register, Event, NmtState, Node, ResetKind};
 use edsgen_runtime::vbus::{ScriptedPeer, VirtualBus};
-use support::node_od::{RecordingHooks, TestOd};
-use support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_read, sdo_write, sent};
+use node_support::node_od::{RecordingHooks, TestOd};
+use node_support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_read, sdo_write, sent};
 
 fn booted() -> (Node<TestOd, RecordingHooks>, VirtualBus) {
     let mut node = Node::with_hooks(TestOd::new(3), RecordingHooks::default(), 3, ms(0)).unwrap();
@@ -101,7 +101,7 @@ fn sync_window_drops_late_synchronous_tpdos() {
     assert_eq!(node.poll_transmit(ms(2)), None, "outside the window");
     node.handle_frame(ms(3), &frame(0x080, &[]));
     let tpdo = node.poll_transmit(ms(3)).unwrap();
-    assert_eq!(support::show(&tpdo), "283: 00 00 00 00");
+    assert_eq!(node_support::show(&tpdo), "283: 00 00 00 00");
 }
 
 #[test]

@@ -9,7 +9,9 @@ use crate::diag::Diagnostic;
 use crate::model::{Device, Format};
 
 pub mod eds;
+pub mod ini;
 pub mod text;
+pub mod value;
 pub mod xdd;
 
 /// What a reader produced: the model, the diagnostics about the text, and the decoded text (for

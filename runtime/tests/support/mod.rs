@@ -1,82 +1,195 @@
-//! Shared helpers of the node tests: the test OD, frame construction and a readable bus log.
-#![allow(dead_code)]
+//! A hand-written object dictionary for the protocol tests: entries of every access type and
+//! several data types, with lengths and limits checked the way generated dictionaries check them.
 
-pub mod node_od;
+use edsgen_runtime::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 
-use edsgen_runtime::vbus::VirtualBus;
-use edsgen_runtime::{CanFrame, Instant};
-
-/// A data frame.
-pub fn frame(id: u16, data: &[u8]) -> CanFrame {
-    CanFrame::new(id, data).unwrap()
+/// The 300 bytes 0x2006 (DOMAIN) holds at start.
+pub fn domain_pattern() -> Vec<u8> {
+    (0..300u32).map(|i| (i * 7 + 1) as u8).collect()
 }
 
-/// Milliseconds as an instant.
-pub fn ms(millis: u64) -> Instant {
-    Instant::from_millis(millis)
+/// Inclusive limits of an unsigned value.
+type Limits = Option<(u64, u64)>;
+
+struct Value {
+    bytes: Vec<u8>,
+    /// Inclusive limits of an unsigned value, checked on write.
+    limits: Limits,
 }
 
-/// A frame as the manuals print it: `703: 85`, `583: 60 01 18 03 00 00 00 00`, `703: RTR`.
-pub fn show(frame: &CanFrame) -> String {
-    let id = frame.std_id().unwrap();
-    if frame.is_remote() {
-        return format!("{id:03X}: RTR");
+/// The test dictionary.
+pub struct TestOd {
+    descriptors: Vec<EntryDescriptor>,
+    values: Vec<Value>,
+}
+
+fn descriptor(
+    index: u16,
+    sub: u8,
+    data_type: DataType,
+    access: Access,
+    size: u16,
+) -> EntryDescriptor {
+    EntryDescriptor {
+        index,
+        sub,
+        data_type,
+        access,
+        pdo_mappable: matches!(access, Access::Rwr | Access::Rww),
+        size,
     }
-    let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
-    if bytes.is_empty() {
-        format!("{id:03X}:")
-    } else {
-        format!("{id:03X}: {}", bytes.join(" "))
+}
+
+impl TestOd {
+    /// The dictionary with its initial values.
+    pub fn new() -> Self {
+        use Access::*;
+        use DataType::*;
+        let table: Vec<(EntryDescriptor, Vec<u8>, Limits)> = vec![
+            (
+                descriptor(0x1000, 0, Unsigned32, Ro, 4),
+                0x0002_0192u32.to_le_bytes().to_vec(),
+                None,
+            ),
+            (
+                descriptor(0x1008, 0, VisibleString, Const, 20),
+                b"edsgen".to_vec(),
+                None,
+            ),
+            (descriptor(0x1017, 0, Unsigned16, Rw, 2), vec![0, 0], None),
+            (descriptor(0x1018, 0, Unsigned8, Const, 1), vec![1], None),
+            (
+                descriptor(0x1018, 1, Unsigned32, Ro, 4),
+                0x0000_0123u32.to_le_bytes().to_vec(),
+                None,
+            ),
+            (descriptor(0x1801, 3, Unsigned16, Rw, 2), vec![0, 0], None),
+            (
+                descriptor(0x2000, 0, Unsigned16, Rw, 2),
+                100u16.to_le_bytes().to_vec(),
+                Some((10, 1000)),
+            ),
+            (descriptor(0x2001, 0, Unsigned32, Wo, 4), vec![0; 4], None),
+            (descriptor(0x2002, 0, Unsigned8, Ro, 1), vec![3], None),
+            (
+                descriptor(0x2002, 3, Unsigned16, Rw, 2),
+                0x0102u16.to_le_bytes().to_vec(),
+                None,
+            ),
+            (
+                descriptor(0x2003, 0, Unsigned64, Rw, 8),
+                0x1122_3344_5566_7788u64.to_le_bytes().to_vec(),
+                None,
+            ),
+            (descriptor(0x2004, 0, Integer8, Rww, 1), vec![0xFE], None),
+            (
+                descriptor(0x2005, 0, VisibleString, Rw, 20),
+                b"hello".to_vec(),
+                None,
+            ),
+            (
+                descriptor(0x2006, 0, Domain, Rw, 300),
+                domain_pattern(),
+                None,
+            ),
+            (
+                descriptor(0x2007, 0, Unsigned32, Rwr, 4),
+                0x1234_5678u32.to_le_bytes().to_vec(),
+                None,
+            ),
+            (
+                descriptor(0x2008, 0, Unsigned24, Rw, 3),
+                vec![0x01, 0x02, 0x03],
+                None,
+            ),
+            (
+                descriptor(0x2009, 0, Real32, Rw, 4),
+                1.5f32.to_le_bytes().to_vec(),
+                None,
+            ),
+        ];
+        let mut od = TestOd {
+            descriptors: Vec::new(),
+            values: Vec::new(),
+        };
+        for (descriptor, bytes, limits) in table {
+            od.descriptors.push(descriptor);
+            od.values.push(Value { bytes, limits });
+        }
+        assert!(od
+            .descriptors
+            .windows(2)
+            .all(|pair| (pair[0].index, pair[0].sub) < (pair[1].index, pair[1].sub)));
+        od
+    }
+
+    fn position(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        self.find(index, sub)?;
+        self.descriptors
+            .iter()
+            .position(|d| d.index == index && d.sub == sub)
+            .ok_or(SdoAbort::NoObject)
+    }
+
+    /// The current value of (index, sub).
+    pub fn value(&self, index: u16, sub: u8) -> &[u8] {
+        &self.values[self.position(index, sub).unwrap()].bytes
+    }
+
+    /// Replaces the value of (index, sub) behind the protocol's back (the application's side).
+    pub fn set_value(&mut self, index: u16, sub: u8, bytes: &[u8]) {
+        let position = self.position(index, sub).unwrap();
+        self.values[position].bytes = bytes.to_vec();
     }
 }
 
-/// The bus log since the last call, as (microseconds, frame text), without injected frames.
-pub fn sent(bus: &mut VirtualBus) -> Vec<(u64, String)> {
-    bus.take_log()
-        .into_iter()
-        .filter(|(_, sender, _)| *sender != usize::MAX)
-        .map(|(at, _, f)| (at.as_micros(), show(&f)))
-        .collect()
+impl Default for TestOd {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
-/// `(ms, text)` pairs, for writing expectations.
-pub fn at_ms(list: &[(u64, &str)]) -> Vec<(u64, String)> {
-    list.iter()
-        .map(|(t, s)| (t * 1000, s.to_string()))
-        .collect()
-}
+impl ObjectDictionary for TestOd {
+    fn entries(&self) -> &[EntryDescriptor] {
+        &self.descriptors
+    }
 
-/// An expedited SDO download request to node 3 with a value of `len` bytes.
-pub fn sdo_write(index: u16, sub: u8, value: u32, len: usize) -> CanFrame {
-    let command = match len {
-        1 => 0x2F,
-        2 => 0x2B,
-        3 => 0x27,
-        _ => 0x23,
-    };
-    let i = index.to_le_bytes();
-    let v = value.to_le_bytes();
-    frame(0x603, &[command, i[0], i[1], sub, v[0], v[1], v[2], v[3]])
-}
+    fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        Ok(self.values[self.position(index, sub)?].bytes.len())
+    }
 
-/// An SDO upload request to node 3.
-pub fn sdo_read(index: u16, sub: u8) -> CanFrame {
-    let i = index.to_le_bytes();
-    frame(0x603, &[0x40, i[0], i[1], sub, 0, 0, 0, 0])
-}
+    fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
+        let bytes = &self.values[self.position(index, sub)?].bytes;
+        let rest = bytes.get(offset..).unwrap_or(&[]);
+        let len = rest.len().min(buf.len());
+        buf[..len].copy_from_slice(&rest[..len]);
+        Ok(len)
+    }
 
-/// The server's answer to a download, as text.
-pub fn sdo_ok(index: u16, sub: u8) -> String {
-    let i = index.to_le_bytes();
-    format!("583: 60 {:02X} {:02X} {sub:02X} 00 00 00 00", i[0], i[1])
-}
-
-/// The server's abort, as text.
-pub fn sdo_abort(index: u16, sub: u8, code: u32) -> String {
-    let i = index.to_le_bytes();
-    let c = code.to_le_bytes();
-    format!(
-        "583: 80 {:02X} {:02X} {sub:02X} {:02X} {:02X} {:02X} {:02X}",
-        i[0], i[1], c[0], c[1], c[2], c[3]
-    )
+    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        let position = self.position(index, sub)?;
+        let descriptor = self.descriptors[position];
+        match descriptor.data_type.fixed_size() {
+            Some(size) if data.len() > size => return Err(SdoAbort::LengthTooHigh),
+            Some(size) if data.len() < size => return Err(SdoAbort::LengthTooLow),
+            None if data.len() > usize::from(descriptor.size) => {
+                return Err(SdoAbort::LengthTooHigh)
+            }
+            _ => {}
+        }
+        let value = &mut self.values[position];
+        if let Some((low, high)) = value.limits {
+            let mut le = [0u8; 8];
+            le[..data.len()].copy_from_slice(data);
+            let number = u64::from_le_bytes(le);
+            if number > high {
+                return Err(SdoAbort::ValueTooHigh);
+            }
+            if number < low {
+                return Err(SdoAbort::ValueTooLow);
+            }
+        }
+        value.bytes = data.to_vec();
+        Ok(())
+    }
 }

@@ -1,0 +1,152 @@
+//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx) judged over the resolved model.
+//!
+//! It never looks at the text: everything it knows comes from [`Device`], so the same rules serve
+//! EDS, DCF, XDD and XDC. One submodule per area; each says which rules it owns and why a rule has
+//! the severity it has. Policy: an error means the file breaks CiA 306/301 in a way that makes
+//! generated code (or a master configuring the device) wrong; dialects real vendor files use are
+//! warnings or infos. One diagnostic per distinct problem; rules that would fire on every object
+//! for a cosmetic reason are aggregated into one diagnostic per file.
+//!
+//! Messages name entries as `1A00h sub 3`: the index in hex with an `h` suffix, the sub-index in
+//! decimal. Spans point at the key's line where the model has one (values, SubNumber, DeviceInfo
+//! numbers), else at the section header of the object or sub-object.
+
+use crate::diag::{self, Diagnostic};
+use crate::model::{Device, Format, RawSection, Span, SubObject, Value, ValueSource};
+
+mod dcf;
+mod device_info;
+mod file_info;
+mod object_lists;
+mod objects;
+mod pdo;
+mod sections;
+
+/// Judges a device model; the diagnostics come sorted by position.
+pub fn validate(device: &Device) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    file_info::check(device, &mut out);
+    device_info::check(device, &mut out);
+    object_lists::check(device, &mut out);
+    objects::check(device, &mut out);
+    pdo::check(device, &mut out);
+    dcf::check(device, &mut out);
+    sections::check(device, &mut out);
+    diag::sort(&mut out);
+    out
+}
+
+/// `1A00h`.
+fn obj(index: u16) -> String {
+    format!("{index:04X}h")
+}
+
+/// `1A00h sub 3`.
+fn at(index: u16, sub: u8) -> String {
+    format!("{index:04X}h sub {sub}")
+}
+
+/// `1A00h` for a VAR or DOMAIN entry (sub 0 of an object without subs), else `1A00h sub 3`.
+fn entry_name(device: &Device, index: u16, sub: u8) -> String {
+    match device.objects.get(&index) {
+        Some(o) if !o.object_type.has_subs() && sub == 0 => obj(index),
+        _ => at(index, sub),
+    }
+}
+
+/// Whether the file is an INI-style description (EDS or DCF), where the INI sections exist.
+fn is_ini(device: &Device) -> bool {
+    matches!(device.source.format, Format::Eds | Format::Dcf)
+}
+
+/// The value that counts for an entry: the DCF ParameterValue if there is one, else the default.
+fn effective(sub: &SubObject) -> Option<&ValueSource> {
+    sub.parameter_value
+        .as_ref()
+        .filter(|v| v.value.is_some())
+        .or(sub.default.as_ref())
+}
+
+/// The parsed value of [`effective`].
+fn effective_value(sub: &SubObject) -> Option<&Value> {
+    effective(sub)?.value.as_ref()
+}
+
+/// The effective value as a plain integer (not `$NODEID`-relative).
+fn effective_int(sub: &SubObject) -> Option<i128> {
+    match effective_value(sub)? {
+        Value::Integer(v) => Some(*v),
+        _ => None,
+    }
+}
+
+/// The span of the effective value, else the entry's own span.
+fn value_span(sub: &SubObject) -> Span {
+    effective(sub).map_or(sub.span, |v| v.span)
+}
+
+/// An integer as CiA 306 writes it: decimal, `0x` hex, or octal with a leading `0`.
+fn parse_int(text: &str) -> Option<i128> {
+    let t = text.trim();
+    let (neg, t) = match t.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, t),
+    };
+    let v = if let Some(hex) = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        i128::from_str_radix(hex, 16).ok()?
+    } else if t.len() > 1 && t.starts_with('0') {
+        i128::from_str_radix(&t[1..], 8).ok()?
+    } else {
+        t.parse::<i128>().ok()?
+    };
+    Some(if neg { -v } else { v })
+}
+
+/// The kept-verbatim section with this name (case-insensitive).
+fn raw_section<'a>(device: &'a Device, name: &str) -> Option<&'a RawSection> {
+    device
+        .other_sections
+        .iter()
+        .find(|s| s.name.trim().eq_ignore_ascii_case(name))
+}
+
+/// A short list of items for a message: the first few, then "and N more".
+fn short_list(items: &[String]) -> String {
+    const SHOWN: usize = 4;
+    if items.len() <= SHOWN {
+        items.join(", ")
+    } else {
+        format!(
+            "{}, and {} more",
+            items[..SHOWN].join(", "),
+            items.len() - SHOWN
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_int_reads_cia306_forms() {
+        assert_eq!(parse_int("10"), Some(10));
+        assert_eq!(parse_int("0x1A"), Some(26));
+        assert_eq!(parse_int("012"), Some(10));
+        assert_eq!(parse_int("0"), Some(0));
+        assert_eq!(parse_int("-5"), Some(-5));
+        assert_eq!(parse_int("x"), None);
+    }
+
+    #[test]
+    fn entry_names_use_one_format() {
+        assert_eq!(at(0x1A00, 10), "1A00h sub 10");
+        assert_eq!(obj(0x1000), "1000h");
+    }
+
+    #[test]
+    fn short_list_elides_after_four() {
+        let items: Vec<String> = (1..=6).map(|i| i.to_string()).collect();
+        assert_eq!(short_list(&items), "1, 2, 3, 4, and 2 more");
+    }
+}

@@ -1,0 +1,587 @@
+//! PDO rules (EDS401..EDS416): communication/mapping pairs, communication sub-object types,
+//! COB-IDs, transmission types, and every mapping entry against the entry it maps.
+//!
+//! Errors are what breaks the generated PDO structs or a device's PDO configuration: a mapping
+//! to a missing, non-mappable or wrong-direction entry, a length that is not the entry's width,
+//! more than 64 bits, a dummy entry that `[DummyUsage]` does not enable, a missing mapping or
+//! communication object, and sub-objects of the wrong type. The reserved sub-index 4 and the
+//! TPDO-only sub-objects on an RPDO are common in vendor files and harmless: one info per file.
+//! With module sections present a mapping may name objects that modules add, so a missing
+//! target is then a warning. Values are the DCF ParameterValue where given, else the default.
+
+use std::collections::BTreeMap;
+
+use super::{at, effective_int, effective_value, entry_name, obj, short_list, value_span};
+use crate::diag::{Diagnostic, Severity};
+use crate::model::{AccessType, BasicType, Device, Object, Span, Value};
+use crate::rules;
+
+/// The direction of a PDO.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Dir {
+    Rx,
+    Tx,
+}
+
+impl Dir {
+    fn name(self) -> &'static str {
+        match self {
+            Dir::Rx => "RPDO",
+            Dir::Tx => "TPDO",
+        }
+    }
+}
+
+/// The direction and number (0-based) of a PDO communication object.
+fn comm(index: u16) -> Option<(Dir, u16)> {
+    match index {
+        0x1400..=0x15FF => Some((Dir::Rx, index - 0x1400)),
+        0x1800..=0x19FF => Some((Dir::Tx, index - 0x1800)),
+        _ => None,
+    }
+}
+
+/// The direction and number (0-based) of a PDO mapping object.
+fn mapping(index: u16) -> Option<(Dir, u16)> {
+    match index {
+        0x1600..=0x17FF => Some((Dir::Rx, index - 0x1600)),
+        0x1A00..=0x1BFF => Some((Dir::Tx, index - 0x1A00)),
+        _ => None,
+    }
+}
+
+pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
+    let mut sub4 = Vec::new();
+    let mut rx_only = Vec::new();
+    let mut first_sub4: Option<Span> = None;
+    let mut first_rx_only: Option<Span> = None;
+    for o in device.objects.values() {
+        if let Some((dir, _)) = comm(o.index) {
+            if !device.objects.contains_key(&(o.index + 0x200)) {
+                out.push(pair_diag(o, o.index + 0x200, "mapping"));
+            }
+            comm_subs(device, o, dir, out);
+            if let Some(s) = o.subs.get(&4).filter(|s| !s.implicit) {
+                sub4.push(obj(o.index));
+                first_sub4.get_or_insert(s.span);
+            }
+            if dir == Dir::Rx {
+                if let Some(s) = [3u8, 6]
+                    .iter()
+                    .find_map(|i| o.subs.get(i))
+                    .filter(|s| !s.implicit)
+                {
+                    rx_only.push(obj(o.index));
+                    first_rx_only.get_or_insert(s.span);
+                }
+            }
+        } else if let Some((dir, _)) = mapping(o.index) {
+            if !device.objects.contains_key(&(o.index - 0x200)) {
+                out.push(pair_diag(o, o.index - 0x200, "communication"));
+            }
+            mapping_entries(device, o, dir, out);
+        }
+    }
+    if !sub4.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &rules::PDO_COMM_SUB4,
+                first_sub4,
+                format!(
+                    "{} PDO communication record(s) implement the reserved sub-index 4: {}",
+                    sub4.len(),
+                    short_list(&sub4)
+                ),
+            )
+            .with_label("reserved (compatibility entry)")
+            .with_help(
+                "CiA 301 says sub-index 4 shall not be implemented; edsgen keeps it as described",
+            ),
+        );
+    }
+    if !rx_only.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &rules::RPDO_TPDO_ONLY_SUB,
+                first_rx_only,
+                format!(
+                    "{} RPDO communication record(s) implement inhibit time (sub 3) or SYNC start (sub 6), which only TPDOs use: {}",
+                    rx_only.len(),
+                    short_list(&rx_only)
+                ),
+            )
+            .with_label("TPDO-only sub-object"),
+        );
+    }
+    duplicate_cob_ids(device, out);
+    dummy_usage_keys(device, out);
+}
+
+fn pair_diag(o: &Object, other: u16, what: &str) -> Diagnostic {
+    Diagnostic::new(
+        &rules::PDO_PAIR,
+        Some(o.span),
+        format!("{} has no {what} object {}", obj(o.index), obj(other)),
+    )
+    .with_label(format!("{what} object missing"))
+    .with_help(format!(
+        "describe {} too; a PDO needs both its communication and mapping objects",
+        obj(other)
+    ))
+}
+
+fn comm_subs(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnostic>) {
+    for (sub_index, want, what) in [
+        (1u8, BasicType::Unsigned32, "COB-ID"),
+        (2, BasicType::Unsigned8, "transmission type"),
+        (3, BasicType::Unsigned16, "inhibit time"),
+        (5, BasicType::Unsigned16, "event timer"),
+        (6, BasicType::Unsigned8, "SYNC start value"),
+    ] {
+        let Some(sub) = o.subs.get(&sub_index) else {
+            continue;
+        };
+        let Some(got) = sub.data_type.and_then(|dt| device.basic_type(dt)) else {
+            continue;
+        };
+        if got != want {
+            out.push(
+                Diagnostic::new(
+                    &rules::PDO_COMM_SUB_TYPE,
+                    Some(sub.span),
+                    format!(
+                        "{} ({what}) is {} but must be {}",
+                        at(o.index, sub_index),
+                        got.name(),
+                        want.name()
+                    ),
+                )
+                .with_label(format!("expected {}", want.name()))
+                .with_help(format!("set DataType={:#06X}", want.index())),
+            );
+        }
+    }
+    if let Some(sub) = o.subs.get(&1) {
+        cob_id_range(o.index, sub, out);
+    }
+    if let Some(sub) = o.subs.get(&2) {
+        if let Some(t) = effective_int(sub) {
+            let reserved = match dir {
+                Dir::Tx => (241..=251).contains(&t),
+                Dir::Rx => (241..=253).contains(&t),
+            };
+            if reserved {
+                out.push(
+                    Diagnostic::new(
+                        &rules::TRANSMISSION_TYPE_RESERVED,
+                        Some(value_span(sub)),
+                        format!(
+                            "{} transmission type {t} is reserved for a {}",
+                            at(o.index, 2),
+                            dir.name()
+                        ),
+                    )
+                    .with_label("reserved transmission type")
+                    .with_help(match dir {
+                        Dir::Tx => {
+                            "use 0..240 (synchronous), 252/253 (RTR) or 254/255 (event-driven)"
+                        }
+                        Dir::Rx => "use 0..240 (synchronous) or 254/255 (event-driven)",
+                    }),
+                );
+            }
+        }
+    }
+}
+
+/// CiA 301 restricted CAN-IDs, as (first, last, what).
+const RESTRICTED: [(u32, u32, &str); 8] = [
+    (0x000, 0x000, "NMT"),
+    (0x001, 0x07F, "reserved"),
+    (0x101, 0x180, "TIME / reserved"),
+    (0x581, 0x5FF, "SDO server transmit"),
+    (0x601, 0x67F, "SDO server receive"),
+    (0x6E0, 0x6FF, "reserved"),
+    (0x701, 0x77F, "NMT error control (heartbeat)"),
+    (0x780, 0x7FF, "reserved (LSS)"),
+];
+
+fn cob_id_range(index: u16, sub: &crate::model::SubObject, out: &mut Vec<Diagnostic>) {
+    let ids: Vec<(u32, Option<i128>)> = match effective_value(sub) {
+        Some(Value::Integer(v)) => vec![(*v as u32, None)],
+        Some(Value::NodeRelative(o)) => [1i128, 127]
+            .iter()
+            .map(|n| ((i128::from(*o) + n) as u32, Some(*n)))
+            .collect(),
+        _ => return,
+    };
+    for (cob, node) in ids {
+        if cob & 0x8000_0000 != 0 || cob & 0x2000_0000 != 0 {
+            return; // PDO not valid, or a 29-bit identifier.
+        }
+        let id = cob & 0x7FF;
+        if let Some((_, _, what)) = RESTRICTED
+            .iter()
+            .find(|(lo, hi, _)| (*lo..=*hi).contains(&id))
+        {
+            let for_node = node.map_or(String::new(), |n| format!(" for node-ID {n}"));
+            out.push(
+                Diagnostic::new(
+                    &rules::COB_ID_RESTRICTED,
+                    Some(value_span(sub)),
+                    format!(
+                        "{} COB-ID {id:#05X}{for_node} is in a restricted range ({what})",
+                        at(index, 1)
+                    ),
+                )
+                .with_label("restricted CAN-ID")
+                .with_help("use a CAN-ID of the PDO ranges, e.g. $NODEID+0x180 for TPDO1"),
+            );
+            return;
+        }
+    }
+}
+
+fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnostic>) {
+    let Some(sub0) = o.subs.get(&0) else { return };
+    let Some(count) = effective_int(sub0) else {
+        return;
+    };
+    if count > 64 {
+        out.push(
+            Diagnostic::new(
+                &rules::MAPPING_COUNT,
+                Some(value_span(sub0)),
+                format!("{} maps {count} objects; at most 64 fit", at(o.index, 0)),
+            )
+            .with_label("above 64"),
+        );
+        return;
+    }
+    let count = count.max(0) as u8;
+    let present = (1..=count).filter(|s| o.subs.contains_key(s)).count();
+    if present < count as usize {
+        let missing: Vec<String> = (1..=count)
+            .filter(|s| !o.subs.contains_key(s))
+            .map(|s| s.to_string())
+            .collect();
+        out.push(
+            Diagnostic::new(
+                &rules::MAPPING_COUNT,
+                Some(value_span(sub0)),
+                format!(
+                    "{} maps {count} objects but sub-index {} is not described",
+                    at(o.index, 0),
+                    short_list(&missing)
+                ),
+            )
+            .with_label(format!("{present} mapping entries present"))
+            .with_help(format!(
+                "set the number of mapped objects to {present}, or describe the missing entries"
+            )),
+        );
+    }
+    let modules = has_modules(device);
+    let granularity = device.device_info.granularity.as_ref().map(|g| g.value);
+    if granularity == Some(8) && count > 8 {
+        out.push(
+            Diagnostic::new(
+                &rules::MAPPING_GRANULARITY,
+                Some(value_span(sub0)),
+                format!(
+                    "{} maps {count} objects with Granularity 8; byte-wise mapping fits at most 8",
+                    at(o.index, 0)
+                ),
+            )
+            .with_label(format!("{count} entries"))
+            .with_help("CANopenNode and most devices accept at most 8 entries per PDO"),
+        );
+    }
+    let mut total_bits: u32 = 0;
+    let mut empty = Vec::new();
+    let mut first_empty = None;
+    for s in 1..=count {
+        let Some(entry) = o.subs.get(&s) else {
+            continue;
+        };
+        let Some(raw) = effective_int(entry) else {
+            continue;
+        };
+        let raw = raw as u32;
+        let (index, sub, len) = ((raw >> 16) as u16, (raw >> 8) as u8, raw & 0xFF);
+        total_bits += len;
+        let here = at(o.index, s);
+        let span = Some(value_span(entry));
+        if let Some(g) = granularity.filter(|g| (1..64).contains(g)) {
+            if len % g != 0 {
+                out.push(
+                    Diagnostic::new(
+                        &rules::MAPPING_GRANULARITY,
+                        span,
+                        format!("{here} maps {len} bits, not a multiple of Granularity {g}"),
+                    )
+                    .with_label(format!("{len} bits")),
+                );
+            }
+        }
+        if index == 0 {
+            empty.push(s.to_string());
+            first_empty.get_or_insert(value_span(entry));
+            continue;
+        }
+        let target = format!("{index:04X}h sub {sub}");
+        if (0x0001..=0x001F).contains(&index) && sub == 0 {
+            dummy(device, &here, index, len, span, out);
+            continue;
+        }
+        let Some(mapped) = device.entry(index, sub) else {
+            out.push(
+                Diagnostic::new(&rules::MAPPING_TARGET_MISSING, span, format!("{here} maps {target}, which does not exist"))
+                    .with_severity(if modules { Severity::Warning } else { Severity::Error })
+                    .with_label(format!("{raw:#010X}: no such entry"))
+                    .with_help("describe the mapped entry, or fix the mapping value (index << 16 | sub << 8 | bits)"),
+            );
+            continue;
+        };
+        let target = entry_name(device, index, sub);
+        if !mapped.pdo_mapping {
+            out.push(
+                Diagnostic::new(
+                    &rules::MAPPING_NOT_MAPPABLE,
+                    span,
+                    format!("{here} maps {target}, which has PDOMapping=0"),
+                )
+                .with_label("not mappable")
+                .with_help(format!(
+                    "set PDOMapping=1 on {target}, or remove it from the mapping"
+                )),
+            );
+        }
+        if let Some(access) = mapped.access {
+            let wrong = match dir {
+                Dir::Rx => matches!(access, AccessType::Ro | AccessType::Const | AccessType::Rwr),
+                Dir::Tx => matches!(access, AccessType::Wo | AccessType::Rww),
+            };
+            if wrong {
+                out.push(
+                    Diagnostic::new(
+                        &rules::MAPPING_DIRECTION,
+                        span,
+                        format!(
+                            "{here} maps {target} ({}) into an {}",
+                            access.as_str(),
+                            dir.name()
+                        ),
+                    )
+                    .with_label(format!(
+                        "{} cannot carry a {} entry",
+                        dir.name(),
+                        access.as_str()
+                    ))
+                    .with_help(match dir {
+                        Dir::Rx => "an RPDO writes the entry: it must be wo, rw or rww",
+                        Dir::Tx => "a TPDO reads the entry: it must be ro, const, rw or rwr",
+                    }),
+                );
+            }
+        }
+        if let Some(ty) = mapped.data_type.and_then(|dt| device.basic_type(dt)) {
+            length(&here, &target, ty, len, granularity, span, out);
+        }
+    }
+    if !empty.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &rules::MAPPING_TARGET_MISSING,
+                first_empty,
+                format!(
+                    "{} maps {count} objects but sub-index {} {} empty (0)",
+                    obj(o.index),
+                    short_list(&empty),
+                    if empty.len() == 1 { "is" } else { "are" }
+                ),
+            )
+            .with_severity(Severity::Warning)
+            .with_label("empty mapping entry")
+            .with_help(format!(
+                "set {} to the number of real entries",
+                at(o.index, 0)
+            )),
+        );
+    }
+    if total_bits > 64 {
+        out.push(
+            Diagnostic::new(
+                &rules::MAPPING_TOO_LONG,
+                Some(value_span(sub0)),
+                format!(
+                    "{} maps {total_bits} bits; a CAN frame holds 64",
+                    obj(o.index)
+                ),
+            )
+            .with_label(format!("{total_bits} bits mapped"))
+            .with_help("map fewer or shorter entries"),
+        );
+    }
+}
+
+fn length(
+    here: &str,
+    target: &str,
+    ty: BasicType,
+    len: u32,
+    granularity: Option<u32>,
+    span: Option<Span>,
+    out: &mut Vec<Diagnostic>,
+) {
+    let wrong = |msg: String, sev: Severity| {
+        Diagnostic::new(&rules::MAPPING_LENGTH, span, msg)
+            .with_severity(sev)
+            .with_label(format!("{len} bits"))
+            .with_help("the low byte of a mapping entry is the entry's width in bits")
+    };
+    match ty.bits() {
+        None => {
+            if len == 0 || len % 8 != 0 {
+                out.push(wrong(
+                    format!(
+                        "{here} maps {len} bits of {target} ({}), not a whole number of bytes",
+                        ty.name()
+                    ),
+                    Severity::Error,
+                ));
+            }
+        }
+        Some(width) => {
+            // BOOLEAN is mapped as 1 bit, or as 8 bits by byte-granular devices.
+            let ok = len == width || (ty == BasicType::Boolean && len == 8);
+            if ok {
+                return;
+            }
+            let partial = len > 0
+                && len < width
+                && granularity.is_some_and(|g| g != 0 && g < 8 && len % g == 0);
+            out.push(wrong(
+                format!(
+                    "{here} maps {len} bits of {target}, which is {} ({width} bits)",
+                    ty.name()
+                ),
+                if partial {
+                    Severity::Warning
+                } else {
+                    Severity::Error
+                },
+            ));
+        }
+    }
+}
+
+fn dummy(
+    device: &Device,
+    here: &str,
+    index: u16,
+    len: u32,
+    span: Option<Span>,
+    out: &mut Vec<Diagnostic>,
+) {
+    let ty = BasicType::from_index(index);
+    let type_name = ty.map_or_else(|| format!("{index:04X}h"), |t| t.name().to_owned());
+    if device.dummy_usage.get(&index) != Some(&true) {
+        out.push(
+            Diagnostic::new(
+                &rules::DUMMY_NOT_ENABLED,
+                span,
+                format!("{here} maps a dummy {type_name} but [DummyUsage] does not enable Dummy{index:04X}"),
+            )
+            .with_label("dummy entry not supported")
+            .with_help(format!("add `Dummy{index:04X}=1` to [DummyUsage]")),
+        );
+    }
+    if let Some(width) = ty.and_then(BasicType::bits) {
+        if len != width && !(ty == Some(BasicType::Boolean) && len == 8) {
+            out.push(
+                Diagnostic::new(
+                    &rules::MAPPING_LENGTH,
+                    span,
+                    format!("{here} maps {len} bits of a dummy {type_name} ({width} bits)"),
+                )
+                .with_label(format!("{len} bits"))
+                .with_help("the low byte of a mapping entry is the entry's width in bits"),
+            );
+        }
+    }
+}
+
+fn has_modules(device: &Device) -> bool {
+    device.other_sections.iter().any(|s| {
+        let n = s.name.trim().to_ascii_lowercase();
+        n == "supportedmodules" || n == "connectedmodules"
+    })
+}
+
+/// A COB-ID for comparison: fixed, or `$NODEID`-relative, flags masked.
+#[derive(PartialEq, Eq, PartialOrd, Ord, Clone, Copy)]
+enum CobKey {
+    Fixed(u32),
+    Relative(i64),
+}
+
+fn duplicate_cob_ids(device: &Device, out: &mut Vec<Diagnostic>) {
+    for (range, dir) in [(0x1400..=0x15FF, Dir::Rx), (0x1800..=0x19FF, Dir::Tx)] {
+        let mut seen: BTreeMap<CobKey, u16> = BTreeMap::new();
+        for o in device.objects.range(range) {
+            let (index, o) = o;
+            let Some(sub) = o.subs.get(&1) else { continue };
+            let key = match effective_value(sub) {
+                Some(Value::Integer(v)) if (*v as u32) & 0x8000_0000 == 0 => {
+                    CobKey::Fixed((*v as u32) & 0x1FFF_FFFF)
+                }
+                Some(Value::NodeRelative(off)) if (*off as u32) & 0x8000_0000 == 0 => {
+                    CobKey::Relative(*off & 0x1FFF_FFFF)
+                }
+                _ => continue,
+            };
+            if let Some(first) = seen.get(&key) {
+                out.push(
+                    Diagnostic::new(
+                        &rules::DUPLICATE_PDO_COB_ID,
+                        Some(value_span(sub)),
+                        format!(
+                            "{} has the same COB-ID as {} ({} {})",
+                            at(*index, 1),
+                            at(*first, 1),
+                            dir.name(),
+                            "both enabled"
+                        ),
+                    )
+                    .with_label("duplicate COB-ID")
+                    .with_help("give each enabled PDO its own COB-ID, or disable one (bit 31)"),
+                );
+            } else {
+                seen.insert(key, *index);
+            }
+        }
+    }
+}
+
+fn dummy_usage_keys(device: &Device, out: &mut Vec<Diagnostic>) {
+    let odd: Vec<String> = device
+        .dummy_usage
+        .keys()
+        .filter(|k| !(0x0001..=0x0007).contains(*k))
+        .map(|k| format!("Dummy{k:04X}"))
+        .collect();
+    if !odd.is_empty() {
+        out.push(
+            Diagnostic::new(
+                &rules::DUMMY_USAGE_KEY,
+                None,
+                format!(
+                    "[DummyUsage] has keys outside Dummy0001..Dummy0007: {}",
+                    short_list(&odd)
+                ),
+            )
+            .with_help("CiA 306 defines Dummy0001..Dummy0007; other tools may ignore the rest"),
+        );
+    }
+}

@@ -1,0 +1,786 @@
+//! The SDO server (CiA 301 §7.2.4.3): one client, every transfer type, no allocation.
+//!
+//! Feed each request payload to [`SdoServer::handle`], send what [`SdoServer::poll_transmit`]
+//! returns, and call [`SdoServer::handle_timeout`] once [`SdoServer::poll_timeout`] has passed.
+//!
+//! Protocol choices (all within CiA 301):
+//! - Access rights are checked here against the entry's descriptor (write to `ro`/`const`:
+//!   0601 0002; read of `wo`: 0601 0001); lengths and limits are checked by the object
+//!   dictionary's `write`, whose abort code is passed on unchanged.
+//! - Uploads of 1 to 4 bytes are answered expedited with the size indicated: the command byte is
+//!   `0x43 | (4 - len) << 2`, so a 2-byte value gives `4B` and a 4-byte value `43`. (Some device
+//!   manuals print `43` for every expedited upload; CiA 301 defines `n` as the number of bytes
+//!   that do not contain data, which this server follows.) Longer or empty values are uploaded
+//!   segmented (or by block transfer), streamed from the dictionary without a copy of the value.
+//! - An expedited download without the size indicated is accepted when the entry's size is 1 to
+//!   4 bytes: that many bytes are written. For a longer entry it is aborted with 0607 0010, as the
+//!   server cannot know how many of the four bytes the client meant.
+//! - Segmented and block downloads collect the value in an `N`-byte buffer and write it to the
+//!   dictionary once, when complete. An announced size above the entry's size is aborted with
+//!   0607 0012, below a fixed-size entry's size with 0607 0013, above `N` with 0504 0005; data
+//!   beyond the announced size, or a final length that differs from it, with 0607 0010.
+//! - Block download: the server's block size is `N / 7` clamped to 1..=127. A segment whose
+//!   sequence number is 0 or above the block size is aborted with 0504 0003; an out-of-order one
+//!   within range is ignored and the sub-block acknowledged up to the last segment received in
+//!   order, so the client repeats the rest (CiA 301's retransmission). CRC is supported and
+//!   checked when the client supports it too (mismatch: 0504 0004).
+//! - Block upload: a client block size of 0 or above 127 is aborted with 0504 0002, an
+//!   acknowledged sequence number above the segments sent with 0504 0003. When the client's
+//!   protocol switch threshold is non-zero and at least the value's size, a normal upload answers.
+//! - A new initiate request replaces any transfer in progress (the client has given up on it),
+//!   except during a block download sub-block, where every frame is a segment. A client abort
+//!   ends the transfer without a response. A frame that is not 8 bytes long, has an unknown
+//!   command specifier, or does not fit the transfer in progress is aborted with 0504 0001.
+//! - Each request queues at most one response; one not yet taken by `poll_transmit` is replaced.
+
+use super::crc::{crc16, Crc16};
+use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
+use crate::time::{Duration, Instant};
+use crate::wire::sdo::{
+    abort_frame, BlockSegment, ClientRequest, InitiatePayload, Multiplexer, SegmentData,
+    ServerResponse, FRAME_LEN, MAX_BLOCK_SIZE, SEGMENT_DATA_LEN,
+};
+
+/// What the server tells the application after a request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SdoEvent {
+    /// A client wrote (index, sub); the value is in the object dictionary.
+    Written {
+        /// OD index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+    },
+}
+
+/// A normal (segmented) download: data collected in the buffer.
+#[derive(Debug, Clone, Copy)]
+struct Download {
+    toggle: bool,
+    size: Option<u32>,
+    entry_size: usize,
+    len: usize,
+}
+
+/// A normal (segmented) upload streamed from the dictionary.
+#[derive(Debug, Clone, Copy)]
+struct Upload {
+    toggle: bool,
+    offset: usize,
+    total: usize,
+}
+
+/// A block download: data collected in the buffer.
+#[derive(Debug, Clone, Copy)]
+struct BlockDownload {
+    crc: bool,
+    size: Option<u32>,
+    entry_size: usize,
+    /// Segment bytes received in order, padding of the last segment included.
+    received: usize,
+    /// The sequence number of the last segment received in order in this sub-block.
+    ackseq: u8,
+    /// Whether the last segment (c = 1) was received: only the end request may follow.
+    complete: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum BlockUploadPhase {
+    /// Initiate answered; waiting for the start request.
+    WaitStart,
+    /// Sending the segments of a sub-block.
+    Sending,
+    /// Sub-block sent; waiting for the client's acknowledgement.
+    WaitAck,
+    /// End request sent; waiting for the client's end response.
+    WaitEnd,
+}
+
+/// A block upload streamed from the dictionary.
+#[derive(Debug, Clone, Copy)]
+struct BlockUpload {
+    crc: bool,
+    total: usize,
+    blksize: u8,
+    /// Segments of the whole value acknowledged by the client.
+    acked_segments: usize,
+    /// Segments sent in the current sub-block.
+    sent: u8,
+    phase: BlockUploadPhase,
+}
+
+impl BlockUpload {
+    /// Segments of the whole value (an empty value still takes one, carrying no data).
+    fn segments(&self) -> usize {
+        self.total.div_ceil(SEGMENT_DATA_LEN).max(1)
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Transfer {
+    Idle,
+    Download(Download),
+    Upload(Upload),
+    BlockDownload(BlockDownload),
+    BlockUpload(BlockUpload),
+}
+
+/// An SDO server for one client.
+///
+/// `N` is the buffer capacity in bytes for segmented and block downloads (the value is written to
+/// the object dictionary only when complete); uploads need no buffer.
+#[derive(Debug, Clone)]
+pub struct SdoServer<const N: usize> {
+    timeout: Duration,
+    transfer: Transfer,
+    mux: Multiplexer,
+    deadline: Option<Instant>,
+    pending: Option<[u8; FRAME_LEN]>,
+    buffer: [u8; N],
+}
+
+/// What handling one request did, when it did not abort.
+type Handled = Result<Option<SdoEvent>, SdoAbort>;
+
+impl<const N: usize> SdoServer<N> {
+    /// The block size this server offers for block downloads: `N / 7`, clamped to 1..=127.
+    pub const BLOCK_SIZE: u8 = {
+        let segments = N / SEGMENT_DATA_LEN;
+        if segments == 0 {
+            1
+        } else if segments > MAX_BLOCK_SIZE as usize {
+            MAX_BLOCK_SIZE
+        } else {
+            segments as u8
+        }
+    };
+
+    /// A server with no transfer in progress, aborting a transfer after `timeout` without a
+    /// request from the client.
+    pub const fn new(timeout: Duration) -> Self {
+        SdoServer {
+            timeout,
+            transfer: Transfer::Idle,
+            mux: Multiplexer::new(0, 0),
+            deadline: None,
+            pending: None,
+            buffer: [0; N],
+        }
+    }
+
+    /// Handles one request payload (the data of a frame sent to this server's rx COB-ID). Any
+    /// response is queued for [`SdoServer::poll_transmit`].
+    pub fn handle<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        now: Instant,
+        request: &[u8],
+        od: &mut O,
+    ) -> Option<SdoEvent> {
+        if let Transfer::Idle = self.transfer {
+            // Until an initiate request names an entry, aborts name none.
+            self.mux = Multiplexer::new(0, 0);
+        }
+        let outcome = if request.len() != FRAME_LEN {
+            Err(SdoAbort::InvalidCommand)
+        } else if let Transfer::BlockDownload(block) = self.transfer {
+            if block.complete {
+                self.handle_request(request, od)
+            } else if request[0] == 0x80 {
+                // 0x80 as a segment would have sequence number 0, which is invalid: it is the
+                // client's abort.
+                self.end_transfer();
+                Ok(None)
+            } else {
+                self.block_download_segment(block, request)
+            }
+        } else {
+            self.handle_request(request, od)
+        };
+        match outcome {
+            Ok(event) => {
+                self.deadline = match self.transfer {
+                    Transfer::Idle => None,
+                    _ => Some(now + self.timeout),
+                };
+                event
+            }
+            Err(abort) => {
+                self.abort(abort);
+                None
+            }
+        }
+    }
+
+    /// The next response payload to send (8 bytes, always DLC 8), including block-upload
+    /// sub-block segments.
+    pub fn poll_transmit<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        now: Instant,
+        od: &O,
+    ) -> Option<[u8; FRAME_LEN]> {
+        if let Some(frame) = self.pending.take() {
+            return Some(frame);
+        }
+        let Transfer::BlockUpload(upload) = &mut self.transfer else {
+            return None;
+        };
+        if upload.phase != BlockUploadPhase::Sending {
+            return None;
+        }
+        let segment_index = upload.acked_segments + usize::from(upload.sent);
+        let offset = segment_index * SEGMENT_DATA_LEN;
+        let chunk = upload.total.saturating_sub(offset).min(SEGMENT_DATA_LEN);
+        let mut data = [0u8; SEGMENT_DATA_LEN];
+        match od.read(self.mux.index, self.mux.sub, offset, &mut data[..chunk]) {
+            Ok(read) if read == chunk => {}
+            Ok(_) => {
+                self.abort(SdoAbort::General);
+                return self.pending.take();
+            }
+            Err(abort) => {
+                self.abort(abort);
+                return self.pending.take();
+            }
+        }
+        upload.sent += 1;
+        let last = segment_index + 1 == upload.segments();
+        if last || upload.sent == upload.blksize {
+            upload.phase = BlockUploadPhase::WaitAck;
+        }
+        let frame = BlockSegment {
+            seqno: upload.sent,
+            last,
+            data,
+        }
+        .emit();
+        self.deadline = Some(now + self.timeout);
+        Some(frame)
+    }
+
+    /// When the server next needs [`SdoServer::handle_timeout`] (an SDO transfer in progress),
+    /// if ever.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.deadline
+    }
+
+    /// Aborts a transfer whose timeout has passed (queues abort 0504 0000).
+    pub fn handle_timeout(&mut self, now: Instant) {
+        if let Some(deadline) = self.deadline {
+            if now >= deadline {
+                self.abort(SdoAbort::Timeout);
+            }
+        }
+    }
+
+    /// Drops any transfer in progress and any queued response (NMT reset communication).
+    pub fn reset(&mut self) {
+        self.end_transfer();
+        self.pending = None;
+        self.mux = Multiplexer::new(0, 0);
+    }
+
+    fn end_transfer(&mut self) {
+        self.transfer = Transfer::Idle;
+        self.deadline = None;
+    }
+
+    /// Queues an abort of the current transfer (or of the last addressed entry) and ends it.
+    fn abort(&mut self, abort: SdoAbort) {
+        self.pending = Some(abort_frame(self.mux, abort.code()));
+        self.end_transfer();
+    }
+
+    fn respond(&mut self, response: ServerResponse) {
+        self.pending = Some(response.emit());
+    }
+
+    fn handle_request<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        request: &[u8],
+        od: &mut O,
+    ) -> Handled {
+        let request = ClientRequest::parse(request).map_err(|_| SdoAbort::InvalidCommand)?;
+        match (request, self.transfer) {
+            (ClientRequest::Abort { .. }, _) => {
+                self.end_transfer();
+                Ok(None)
+            }
+            (ClientRequest::InitiateDownload { mux, payload }, _) => {
+                self.start(mux);
+                self.initiate_download(mux, payload, od)
+            }
+            (ClientRequest::InitiateUpload { mux }, _) => {
+                self.start(mux);
+                self.initiate_upload(mux, od)
+            }
+            (ClientRequest::BlockDownloadInitiate { mux, crc, size }, _) => {
+                self.start(mux);
+                self.initiate_block_download(mux, crc, size, od)
+            }
+            (
+                ClientRequest::BlockUploadInitiate {
+                    mux,
+                    crc,
+                    blksize,
+                    pst,
+                },
+                _,
+            ) => {
+                self.start(mux);
+                self.initiate_block_upload(mux, crc, blksize, pst, od)
+            }
+            (
+                ClientRequest::DownloadSegment { toggle, data, last },
+                Transfer::Download(download),
+            ) => self.download_segment(download, toggle, data, last, od),
+            (ClientRequest::UploadSegment { toggle }, Transfer::Upload(upload)) => {
+                self.upload_segment(upload, toggle, od)
+            }
+            (ClientRequest::BlockDownloadEnd { unused, crc }, Transfer::BlockDownload(block)) => {
+                self.end_block_download(block, unused, crc, od)
+            }
+            (ClientRequest::BlockUploadStart, Transfer::BlockUpload(mut upload))
+                if upload.phase == BlockUploadPhase::WaitStart =>
+            {
+                upload.phase = BlockUploadPhase::Sending;
+                self.transfer = Transfer::BlockUpload(upload);
+                Ok(None)
+            }
+            (ClientRequest::BlockUploadAck { ackseq, blksize }, Transfer::BlockUpload(upload))
+                if upload.phase == BlockUploadPhase::WaitAck =>
+            {
+                self.block_upload_ack(upload, ackseq, blksize, od)
+            }
+            (ClientRequest::BlockUploadEnd, Transfer::BlockUpload(upload))
+                if upload.phase == BlockUploadPhase::WaitEnd =>
+            {
+                self.end_transfer();
+                Ok(None)
+            }
+            _ => Err(SdoAbort::InvalidCommand),
+        }
+    }
+
+    /// Forgets any transfer in progress and addresses `mux`.
+    fn start(&mut self, mux: Multiplexer) {
+        self.transfer = Transfer::Idle;
+        self.mux = mux;
+    }
+
+    fn writable_entry<O: ObjectDictionary + ?Sized>(
+        mux: Multiplexer,
+        od: &O,
+    ) -> Result<EntryDescriptor, SdoAbort> {
+        let entry = *od.find(mux.index, mux.sub)?;
+        if !entry.access.writable() {
+            return Err(SdoAbort::ReadOnly);
+        }
+        Ok(entry)
+    }
+
+    fn readable_entry<O: ObjectDictionary + ?Sized>(
+        mux: Multiplexer,
+        od: &O,
+    ) -> Result<EntryDescriptor, SdoAbort> {
+        let entry = *od.find(mux.index, mux.sub)?;
+        if !entry.access.readable() {
+            return Err(SdoAbort::WriteOnly);
+        }
+        Ok(entry)
+    }
+
+    /// Checks a download's announced size against the entry and the buffer.
+    fn check_announced_size(entry: &EntryDescriptor, size: Option<u32>) -> Result<(), SdoAbort> {
+        let Some(size) = size else { return Ok(()) };
+        let size = size as usize;
+        if size > usize::from(entry.size) {
+            return Err(SdoAbort::LengthTooHigh);
+        }
+        if entry
+            .data_type
+            .fixed_size()
+            .is_some_and(|fixed| size < fixed)
+        {
+            return Err(SdoAbort::LengthTooLow);
+        }
+        if size > N {
+            return Err(SdoAbort::OutOfMemory);
+        }
+        Ok(())
+    }
+
+    /// Checks that `len` bytes of download data fit the announced size, the entry and the buffer.
+    fn check_received(len: usize, size: Option<u32>, entry_size: usize) -> Result<(), SdoAbort> {
+        if size.is_some_and(|size| len > size as usize) {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        if len > entry_size {
+            return Err(SdoAbort::LengthTooHigh);
+        }
+        if len > N {
+            return Err(SdoAbort::OutOfMemory);
+        }
+        Ok(())
+    }
+
+    /// Writes the collected download to the dictionary.
+    fn commit<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        len: usize,
+        size: Option<u32>,
+        entry_size: usize,
+        od: &mut O,
+    ) -> Result<SdoEvent, SdoAbort> {
+        Self::check_received(len, size, entry_size)?;
+        if size.is_some_and(|size| len != size as usize) {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        let data = self.buffer.get(..len).ok_or(SdoAbort::OutOfMemory)?;
+        od.write(self.mux.index, self.mux.sub, data)?;
+        Ok(SdoEvent::Written {
+            index: self.mux.index,
+            sub: self.mux.sub,
+        })
+    }
+
+    fn initiate_download<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mux: Multiplexer,
+        payload: InitiatePayload,
+        od: &mut O,
+    ) -> Handled {
+        let entry = Self::writable_entry(mux, od)?;
+        let written = SdoEvent::Written {
+            index: mux.index,
+            sub: mux.sub,
+        };
+        match payload {
+            InitiatePayload::Expedited { data, len } => {
+                let len = usize::from(len).min(data.len());
+                od.write(mux.index, mux.sub, &data[..len])?;
+                self.respond(ServerResponse::InitiateDownload { mux });
+                Ok(Some(written))
+            }
+            InitiatePayload::ExpeditedUnsized { data } => {
+                let len = usize::from(entry.size);
+                if !(1..=data.len()).contains(&len) {
+                    return Err(SdoAbort::LengthMismatch);
+                }
+                od.write(mux.index, mux.sub, &data[..len])?;
+                self.respond(ServerResponse::InitiateDownload { mux });
+                Ok(Some(written))
+            }
+            InitiatePayload::Sized(size) => self.start_download(mux, &entry, Some(size)),
+            InitiatePayload::Unsized => self.start_download(mux, &entry, None),
+        }
+    }
+
+    fn start_download(
+        &mut self,
+        mux: Multiplexer,
+        entry: &EntryDescriptor,
+        size: Option<u32>,
+    ) -> Handled {
+        Self::check_announced_size(entry, size)?;
+        self.transfer = Transfer::Download(Download {
+            toggle: false,
+            size,
+            entry_size: usize::from(entry.size),
+            len: 0,
+        });
+        self.respond(ServerResponse::InitiateDownload { mux });
+        Ok(None)
+    }
+
+    fn download_segment<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mut download: Download,
+        toggle: bool,
+        data: SegmentData,
+        last: bool,
+        od: &mut O,
+    ) -> Handled {
+        if toggle != download.toggle {
+            return Err(SdoAbort::ToggleBit);
+        }
+        let bytes = data.as_slice();
+        let end = download.len + bytes.len();
+        Self::check_received(end, download.size, download.entry_size)?;
+        self.buffer
+            .get_mut(download.len..end)
+            .ok_or(SdoAbort::OutOfMemory)?
+            .copy_from_slice(bytes);
+        download.len = end;
+        let event = if last {
+            let event = self.commit(end, download.size, download.entry_size, od)?;
+            self.transfer = Transfer::Idle;
+            Some(event)
+        } else {
+            download.toggle = !toggle;
+            self.transfer = Transfer::Download(download);
+            None
+        };
+        self.respond(ServerResponse::DownloadSegment { toggle });
+        Ok(event)
+    }
+
+    fn initiate_upload<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mux: Multiplexer,
+        od: &O,
+    ) -> Handled {
+        Self::readable_entry(mux, od)?;
+        let total = od.value_len(mux.index, mux.sub)?;
+        self.start_upload(mux, total, od)
+    }
+
+    /// Answers an upload of `total` bytes: expedited when it fits, else the first step of a
+    /// segmented upload.
+    fn start_upload<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mux: Multiplexer,
+        total: usize,
+        od: &O,
+    ) -> Handled {
+        let mut data = [0u8; 4];
+        if (1..=data.len()).contains(&total) {
+            let read = od.read(mux.index, mux.sub, 0, &mut data[..total])?;
+            if read != total {
+                return Err(SdoAbort::General);
+            }
+            self.respond(ServerResponse::InitiateUpload {
+                mux,
+                payload: InitiatePayload::Expedited {
+                    data,
+                    len: total as u8,
+                },
+            });
+        } else {
+            let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
+            self.transfer = Transfer::Upload(Upload {
+                toggle: false,
+                offset: 0,
+                total,
+            });
+            self.respond(ServerResponse::InitiateUpload {
+                mux,
+                payload: InitiatePayload::Sized(size),
+            });
+        }
+        Ok(None)
+    }
+
+    fn upload_segment<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mut upload: Upload,
+        toggle: bool,
+        od: &O,
+    ) -> Handled {
+        if toggle != upload.toggle {
+            return Err(SdoAbort::ToggleBit);
+        }
+        let chunk = upload
+            .total
+            .saturating_sub(upload.offset)
+            .min(SEGMENT_DATA_LEN);
+        let mut bytes = [0u8; SEGMENT_DATA_LEN];
+        let read = od.read(
+            self.mux.index,
+            self.mux.sub,
+            upload.offset,
+            &mut bytes[..chunk],
+        )?;
+        if read != chunk {
+            // The value shrank during the upload: what was announced cannot be delivered.
+            return Err(SdoAbort::General);
+        }
+        upload.offset += chunk;
+        let last = upload.offset >= upload.total;
+        let data = SegmentData::new(&bytes[..chunk]).ok_or(SdoAbort::General)?;
+        if last {
+            self.transfer = Transfer::Idle;
+        } else {
+            upload.toggle = !toggle;
+            self.transfer = Transfer::Upload(upload);
+        }
+        self.respond(ServerResponse::UploadSegment { toggle, data, last });
+        Ok(None)
+    }
+
+    fn initiate_block_download<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mux: Multiplexer,
+        crc: bool,
+        size: Option<u32>,
+        od: &O,
+    ) -> Handled {
+        let entry = Self::writable_entry(mux, od)?;
+        Self::check_announced_size(&entry, size)?;
+        self.transfer = Transfer::BlockDownload(BlockDownload {
+            crc,
+            size,
+            entry_size: usize::from(entry.size),
+            received: 0,
+            ackseq: 0,
+            complete: false,
+        });
+        self.respond(ServerResponse::BlockDownloadInitiate {
+            mux,
+            crc: true,
+            blksize: Self::BLOCK_SIZE,
+        });
+        Ok(None)
+    }
+
+    fn block_download_segment(&mut self, mut block: BlockDownload, request: &[u8]) -> Handled {
+        let segment = BlockSegment::parse(request).map_err(|_| SdoAbort::InvalidCommand)?;
+        if segment.seqno == 0 || segment.seqno > Self::BLOCK_SIZE {
+            return Err(SdoAbort::InvalidSequence);
+        }
+        let in_order = segment.seqno == block.ackseq + 1;
+        if in_order {
+            if !segment.last {
+                // Only the last segment may carry padding, so the others must fit whole.
+                Self::check_received(
+                    block.received + SEGMENT_DATA_LEN,
+                    block.size,
+                    block.entry_size,
+                )?;
+            }
+            // Store what fits; the last segment's padding may lie beyond the buffer.
+            let start = block.received.min(N);
+            let end = (block.received + SEGMENT_DATA_LEN).min(N);
+            if let Some(target) = self.buffer.get_mut(start..end) {
+                target.copy_from_slice(&segment.data[..end - start]);
+            }
+            block.received += SEGMENT_DATA_LEN;
+            block.ackseq = segment.seqno;
+            block.complete = segment.last;
+        }
+        if segment.seqno == Self::BLOCK_SIZE || segment.last || block.complete {
+            self.respond(ServerResponse::BlockDownloadAck {
+                ackseq: block.ackseq,
+                blksize: Self::BLOCK_SIZE,
+            });
+            block.ackseq = 0;
+        }
+        self.transfer = Transfer::BlockDownload(block);
+        Ok(None)
+    }
+
+    fn end_block_download<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        block: BlockDownload,
+        unused: u8,
+        crc: u16,
+        od: &mut O,
+    ) -> Handled {
+        if !block.complete {
+            return Err(SdoAbort::InvalidCommand);
+        }
+        let len = block
+            .received
+            .checked_sub(usize::from(unused))
+            .ok_or(SdoAbort::LengthMismatch)?;
+        Self::check_received(len, block.size, block.entry_size)?;
+        if block.size.is_some_and(|size| len != size as usize) {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        if block.crc {
+            let data = self.buffer.get(..len).ok_or(SdoAbort::OutOfMemory)?;
+            if crc16(data) != crc {
+                return Err(SdoAbort::CrcError);
+            }
+        }
+        let event = self.commit(len, block.size, block.entry_size, od)?;
+        self.transfer = Transfer::Idle;
+        self.respond(ServerResponse::BlockDownloadEnd);
+        Ok(Some(event))
+    }
+
+    fn initiate_block_upload<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mux: Multiplexer,
+        crc: bool,
+        blksize: u8,
+        pst: u8,
+        od: &O,
+    ) -> Handled {
+        Self::readable_entry(mux, od)?;
+        let total = od.value_len(mux.index, mux.sub)?;
+        if blksize == 0 || blksize > MAX_BLOCK_SIZE {
+            return Err(SdoAbort::InvalidBlockSize);
+        }
+        if pst != 0 && total <= usize::from(pst) {
+            return self.start_upload(mux, total, od);
+        }
+        let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
+        self.transfer = Transfer::BlockUpload(BlockUpload {
+            crc,
+            total,
+            blksize,
+            acked_segments: 0,
+            sent: 0,
+            phase: BlockUploadPhase::WaitStart,
+        });
+        self.respond(ServerResponse::BlockUploadInitiate {
+            mux,
+            crc: true,
+            size: Some(size),
+        });
+        Ok(None)
+    }
+
+    fn block_upload_ack<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mut upload: BlockUpload,
+        ackseq: u8,
+        blksize: u8,
+        od: &O,
+    ) -> Handled {
+        if ackseq > upload.sent {
+            return Err(SdoAbort::InvalidSequence);
+        }
+        if blksize == 0 || blksize > MAX_BLOCK_SIZE {
+            return Err(SdoAbort::InvalidBlockSize);
+        }
+        upload.acked_segments += usize::from(ackseq);
+        upload.sent = 0;
+        upload.blksize = blksize;
+        if upload.acked_segments >= upload.segments() {
+            let crc = if upload.crc {
+                self.value_crc(upload.total, od)?
+            } else {
+                0
+            };
+            let unused = (upload.segments() * SEGMENT_DATA_LEN - upload.total) as u8;
+            upload.phase = BlockUploadPhase::WaitEnd;
+            self.respond(ServerResponse::BlockUploadEnd { unused, crc });
+        } else {
+            upload.phase = BlockUploadPhase::Sending;
+        }
+        self.transfer = Transfer::BlockUpload(upload);
+        Ok(None)
+    }
+
+    /// The CRC of the first `total` bytes of the addressed value, read from the dictionary.
+    fn value_crc<O: ObjectDictionary + ?Sized>(
+        &self,
+        total: usize,
+        od: &O,
+    ) -> Result<u16, SdoAbort> {
+        let mut crc = Crc16::new();
+        let mut chunk = [0u8; 32];
+        let mut offset = 0;
+        while offset < total {
+            let want = (total - offset).min(chunk.len());
+            let read = od.read(self.mux.index, self.mux.sub, offset, &mut chunk[..want])?;
+            if read != want {
+                return Err(SdoAbort::General);
+            }
+            crc.update(&chunk[..want]);
+            offset += want;
+        }
+        Ok(crc.value())
+    }
+}
