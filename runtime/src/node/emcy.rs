@@ -145,7 +145,11 @@ impl Emcy {
         else {
             return false;
         };
-        self.active.copy_within(pos + 1..self.active_count, pos);
+        // Element by element rather than `copy_within`, which would pull `memmove` into the
+        // image for a handful of bytes.
+        for i in pos..self.active_count - 1 {
+            self.active[i] = self.active[i + 1];
+        }
         self.active_count -= 1;
         let register = self.register();
         let _ = od.write(0x1001, 0, &[register]);
@@ -212,7 +216,9 @@ impl Emcy {
             return None;
         }
         let repr = self.queue[0];
-        self.queue.copy_within(1..self.queued, 0);
+        for i in 1..self.queued {
+            self.queue[i - 1] = self.queue[i];
+        }
         self.queued -= 1;
         self.last_sent = Some(now);
         Some(repr)
