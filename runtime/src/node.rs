@@ -43,6 +43,9 @@ pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
 /// Events kept until the application polls them; older ones are kept, newer ones counted as lost.
 pub const EVENT_QUEUE: usize = 16;
 
+/// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h (communication error).
+pub const SYNC_TIMEOUT_CODE: u16 = 0x8100;
+
 /// Which parameters an NMT reset re-initialises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ResetKind {
@@ -155,6 +158,8 @@ struct SyncState {
     counter: u8,
     next: Option<Instant>,
     due: Option<SyncRepr>,
+    /// Consumer: when a missing SYNC becomes an error (1.5 × 1006h after the last one).
+    timeout: Option<Instant>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -384,6 +389,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
                 self.sync.next = None;
                 self.sync.due = None;
+                self.sync.timeout = None;
             }
             _ => {}
         }
@@ -469,6 +475,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     fn restart_sync_producer(&mut self, now: Instant) {
+        // Consumer monitoring restarts at the next SYNC.
+        self.sync.timeout = None;
         let active = self.sync.producer
             && self.sync.period != Duration::ZERO
             && matches!(self.state, NmtState::PreOperational | NmtState::Operational);
@@ -699,6 +707,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
         self.events.push(Event::Sync { counter });
+        if !self.sync.producer && self.sync.period != Duration::ZERO {
+            self.sync.timeout = Some(now + Duration(self.sync.period.as_micros() * 3 / 2));
+            if self.emcy.is_active(SYNC_TIMEOUT_CODE) {
+                self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
+            }
+        }
         if self.state != NmtState::Operational {
             return;
         }
@@ -881,6 +895,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         };
         consider(self.sync.next);
+        consider(self.sync.timeout);
         if self.state != NmtState::Stopped {
             consider(self.emcy.ready_at());
         }
@@ -931,6 +946,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             self.events.push(Event::LifeGuardingLost);
             self.emcy
                 .raise(&mut self.od, 0x8130, error_register::COMMUNICATION, [0; 5]);
+        }
+        if self.sync.timeout.is_some_and(|at| at <= now) {
+            self.sync.timeout = None;
+            self.emcy.raise(
+                &mut self.od,
+                SYNC_TIMEOUT_CODE,
+                error_register::COMMUNICATION,
+                [0; 5],
+            );
         }
         if let Some(at) = self.sync.next {
             if at <= now {

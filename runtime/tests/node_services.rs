@@ -90,6 +90,31 @@ fn sync_producer_refuses_counter_change_while_running_and_id_change_while_produc
 }
 
 #[test]
+fn sync_consumer_raises_8100_when_sync_stops_for_one_and_a_half_periods() {
+    let (mut node, mut bus) = booted();
+    bus.inject(sdo_write(0x1006, 0, 10_000, 4), &mut [&mut node]);
+    sent(&mut bus);
+    let mut master = ScriptedPeer::new();
+    for t in [0, 10, 50] {
+        master.send_at(ms(t), frame(0x080, &[]));
+    }
+    bus.run_until(ms(60), &mut [&mut node, &mut master]);
+    let node_frames: Vec<_> = bus
+        .take_log()
+        .into_iter()
+        .filter(|(_, sender, _)| *sender == 0)
+        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
+        .collect();
+    assert_eq!(
+        node_frames,
+        at_ms(&[
+            (25, "083: 00 81 10 00 00 00 00 00"),
+            (50, "083: 00 00 00 00 00 00 00 00")
+        ])
+    );
+}
+
+#[test]
 fn sync_window_drops_late_synchronous_tpdos() {
     let (mut node, mut bus) = booted();
     // 1007h = 500 µs; TPDO2 (type 1) inhibited by nothing, but we hold the bus: the node is
