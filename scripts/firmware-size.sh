@@ -1,18 +1,21 @@
 #!/usr/bin/env bash
-# Builds the Cortex-M4F firmware example (firmware/: a minimal node with NMT, heartbeat, SDO
-# server, 4+4 PDOs, SYNC and EMCY) and prints its flash and RAM use: text/data/bss from the
-# image, and the node's RAM on main's stack (size of the Node with its OD, read from the image).
+# Builds the Cortex-M4F firmware examples (firmware/src/bin/: a node with NMT, heartbeat, SDO
+# server, 4+4 PDOs, SYNC and EMCY over each example's OD) and prints their flash and RAM use:
+# text/data/bss from the image, and the node's RAM on main's stack (the size of the Node with its
+# OD, which the image records in EDSGEN_NODE_RAM_BYTES).
 set -euo pipefail
 cd "$(dirname "$0")/../firmware"
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
 cargo build --release --quiet
-elf=target/thumbv7em-none-eabihf/release/edsgen-firmware-example
 size_tool=$(command -v llvm-size || true)
 if [ -z "$size_tool" ]; then
     rustup component add llvm-tools >/dev/null 2>&1 || true
     size_tool=$(find "$(rustc --print sysroot)" -name llvm-size -type f | head -1)
 fi
 [ -n "$size_tool" ] || { echo "llvm-size not found (apt-get install llvm, or rustup component add llvm-tools)"; exit 2; }
+for src in src/bin/*.rs; do
+elf=target/thumbv7em-none-eabihf/release/$(basename "$src" .rs)
+echo "== $(basename "$src" .rs)"
 "$size_tool" "$elf"
 python3 - "$elf" <<'PY'
 import struct, sys
@@ -32,3 +35,4 @@ for off in range(symtab[4], symtab[4] + symtab[5], 16):
         print(f"node RAM (state + OD values, on main's stack): {ram} bytes")
         break
 PY
+done
