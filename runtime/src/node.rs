@@ -404,6 +404,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         for channel in &mut self.sdo {
             channel.server.reset();
         }
+        self.emcy
+            .forget_communication_errors(&[0x8100, 0x8130, 0x8210, 0x8220]);
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
         self.configure_sdo();

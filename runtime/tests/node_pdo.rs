@@ -316,3 +316,16 @@ fn dynamic_mapping_follows_the_cia_301_procedure() {
         ])
     );
 }
+
+#[test]
+fn reset_communication_forgets_rpdo_length_errors() {
+    let (mut node, mut bus) = booted();
+    start(&mut node, &mut bus);
+    bus.inject(frame(0x203, &[0x34]), &mut [&mut node]);
+    assert!(node.error_active(0x8210));
+    node.raise_error(0x5000, 0x01, [0; 5]);
+    bus.inject(frame(0x000, &[0x82, 0x03]), &mut [&mut node]);
+    assert!(!node.error_active(0x8210));
+    assert!(node.error_active(0x5000), "application errors stay");
+    assert_eq!(node.od().get(0x1001, 0), 0x01);
+}

@@ -136,9 +136,8 @@ impl Emcy {
         Raised::New
     }
 
-    /// Clears an active error; queues the error-reset emergency (code 0000h). `false` if the
-    /// code was not active.
-    pub fn clear<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O, code: u16) -> bool {
+    /// Removes an error from the active list without an emergency (1001h is not rewritten).
+    fn remove(&mut self, code: u16) -> bool {
         let Some(pos) = self.active[..self.active_count]
             .iter()
             .position(|e| e.code == code)
@@ -151,6 +150,23 @@ impl Emcy {
             self.active[i] = self.active[i + 1];
         }
         self.active_count -= 1;
+        true
+    }
+
+    /// Forgets errors the communication layer raised itself (a reset communication starts its
+    /// monitoring afresh); 1001h is rewritten by [`Emcy::reset_queue`].
+    pub fn forget_communication_errors(&mut self, codes: &[u16]) {
+        for &code in codes {
+            self.remove(code);
+        }
+    }
+
+    /// Clears an active error; queues the error-reset emergency (code 0000h). `false` if the
+    /// code was not active.
+    pub fn clear<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O, code: u16) -> bool {
+        if !self.remove(code) {
+            return false;
+        }
         let register = self.register();
         let _ = od.write(0x1001, 0, &[register]);
         self.enqueue(EmcyRepr {
