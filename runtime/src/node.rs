@@ -225,20 +225,32 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
 }
 
 impl<O: ObjectDictionary> Node<O> {
-    /// A node with 4 RPDOs and 4 TPDOs and no persistence hooks. See [`Node::with_hooks`] for
-    /// other PDO counts (`Node::<O, (), 8, 8>::with_hooks(od, (), node_id, now)`).
+    /// A node with 4 RPDOs and 4 TPDOs and no persistence hooks. See [`Node::with_capacity`].
     pub fn new(od: O, node_id: u8, now: Instant) -> Result<Self, InvalidNodeId> {
-        Node::with_hooks(od, (), node_id, now)
+        Node::with_capacity(od, (), node_id, now)
+    }
+}
+
+impl<O: ObjectDictionary, H: NodeHooks<O>> Node<O, H> {
+    /// A node with 4 RPDOs and 4 TPDOs and the application's hooks. See [`Node::with_capacity`].
+    pub fn with_hooks(od: O, hooks: H, node_id: u8, now: Instant) -> Result<Self, InvalidNodeId> {
+        Node::with_capacity(od, hooks, node_id, now)
     }
 }
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>
 {
-    /// Powers the node on at `now`: the hooks load power-on values ([`ResetKind::Node`]), the
-    /// node reads its communication parameters, queues the boot-up message and enters
-    /// pre-operational. `node_id` must be 1..=127.
-    pub fn with_hooks(od: O, hooks: H, node_id: u8, now: Instant) -> Result<Self, InvalidNodeId> {
+    /// Powers the node on at `now`, with room for `RPDOS` receive and `TPDOS` transmit PDOs
+    /// (`Node::<Od, Hooks, 8, 8>::with_capacity(od, hooks, 3, now)`): the hooks load power-on
+    /// values ([`ResetKind::Node`]), the node reads its communication parameters, queues the
+    /// boot-up message and enters pre-operational. `node_id` must be 1..=127.
+    pub fn with_capacity(
+        od: O,
+        hooks: H,
+        node_id: u8,
+        now: Instant,
+    ) -> Result<Self, InvalidNodeId> {
         if !(1..=127).contains(&node_id) {
             return Err(InvalidNodeId(node_id));
         }
