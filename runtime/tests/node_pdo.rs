@@ -282,6 +282,7 @@ fn dynamic_mapping_follows_the_cia_301_procedure() {
         (0x1600, 2, 0x2000_0010, 4, None),
         (0x1600, 0, 2, 1, None),
         (0x1400, 2, 252, 1, Some(0x0609_0030)), // RTR types are TPDO-only
+        (0x1400, 2, 300, 4, Some(0x0607_0012)), // wrong length: the length abort first
         (0x1400, 1, 0x0000_0203, 4, None),
     ];
     for &(index, sub, value, len, abort) in steps {

@@ -190,8 +190,17 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
     }
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        if (0x1000..=0x1FFF).contains(&index) && !self.check(index, sub, data)? {
-            return Ok(());
+        if (0x1000..=0x1FFF).contains(&index) {
+            // A value of the wrong length gets the OD's length abort, not a rule's.
+            let length_ok = self
+                .od
+                .find(index, sub)?
+                .data_type
+                .fixed_size()
+                .map_or(true, |size| size == data.len());
+            if length_ok && !self.check(index, sub, data)? {
+                return Ok(());
+            }
         }
         self.od.write(index, sub, data)
     }
