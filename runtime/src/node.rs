@@ -86,6 +86,17 @@ pub enum Event {
     },
     /// The NMT master stopped guarding this node within the life time (100Ch × 100Dh).
     LifeGuardingLost,
+    /// A PDO whose COB-ID is valid in the OD is not served, because its mapping (1600h+n or
+    /// 1A00h+n) was refused: reported when the node reads its configuration (power-on, reset
+    /// communication).
+    PdoMappingRejected {
+        /// Transmit (1A00h+n) or receive (1600h+n).
+        transmit: bool,
+        /// The PDO's number n, from 0.
+        pdo: u16,
+        /// Why: 0604 0041 (an object cannot be mapped) or 0604 0042 (too long).
+        reason: SdoAbort,
+    },
 }
 
 /// What the application provides to the node: re-initialisation on reset, and the persistence
@@ -432,6 +443,24 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         for n in 0..TPDOS {
             self.tpdos[n] = Tpdo::load(&self.od, n as u16);
+        }
+        for (n, rpdo) in self.rpdos.iter().enumerate() {
+            if let Some(reason) = rpdo.rejected {
+                self.events.push(Event::PdoMappingRejected {
+                    transmit: false,
+                    pdo: n as u16,
+                    reason,
+                });
+            }
+        }
+        for (n, tpdo) in self.tpdos.iter().enumerate() {
+            if let Some(reason) = tpdo.rejected {
+                self.events.push(Event::PdoMappingRejected {
+                    transmit: true,
+                    pdo: n as u16,
+                    reason,
+                });
+            }
         }
         self.link_pdos();
         self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);

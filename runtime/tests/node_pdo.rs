@@ -259,7 +259,7 @@ fn dynamic_mapping_follows_the_cia_301_procedure() {
         (0x1A00, 1, 0x2002_0008, 4, Some(0x0604_0041)), // not mappable
         (0x1A00, 1, 0x6000_0010, 4, Some(0x0604_0041)), // no such object
         (0x1A00, 1, 0x2000_0008, 4, Some(0x0604_0041)), // wrong length
-        (0x1A00, 1, 0x0006_0010, 4, Some(0x0604_0041)), // dummy in a TPDO
+        (0x1A00, 1, 0x0006_0020, 4, Some(0x0604_0041)), // dummy of the wrong length
         (0x1A00, 1, 0x2000_0010, 4, None),              // 3. entries
         (0x1A00, 2, 0x2001_0020, 4, None),
         (0x1A00, 3, 0x6041_0010, 4, None),
@@ -329,4 +329,45 @@ fn reset_communication_forgets_rpdo_length_errors() {
     assert!(!node.error_active(0x8210));
     assert!(node.error_active(0x5000), "application errors stay");
     assert_eq!(node.od().get(0x1001, 0), 0x01);
+}
+
+#[test]
+fn a_tpdo_padded_with_a_dummy_sends_zeros_there() {
+    let (mut node, mut bus) = booted();
+    configure(
+        &mut node,
+        &mut bus,
+        &[
+            (0x1800, 1, 0x8000_0183, 4),
+            (0x1A00, 0, 0, 1),
+            (0x1A00, 1, 0x6041_0010, 4),
+            (0x1A00, 2, 0x0006_0010, 4),
+            (0x1A00, 3, 0x6041_0010, 4),
+            (0x1A00, 0, 3, 1),
+            (0x1800, 1, 0x0000_0183, 4),
+        ],
+    );
+    node.od_mut().set(0x6041, 0, 0xBEEF);
+    start(&mut node, &mut bus);
+    assert_eq!(sent(&mut bus), at_ms(&[(0, "183: EF BE 00 00 EF BE")]));
+}
+
+#[test]
+fn a_valid_pdo_with_a_refused_mapping_is_reported_not_served() {
+    let mut od = TestOd::new(3);
+    od.set(0x1A00, 1, 0x2002_0008); // 2002h is not mappable
+    let mut node = Node::new(od, 3, ms(0)).unwrap();
+    let events: Vec<Event> = std::iter::from_fn(|| node.poll_event()).collect();
+    assert_eq!(
+        events,
+        [
+            Event::PdoMappingRejected {
+                transmit: true,
+                pdo: 0,
+                reason: edsgen_runtime::SdoAbort::NotMappable
+            },
+            Event::NmtStateChanged(edsgen_runtime::NmtState::PreOperational),
+        ]
+    );
+    assert!(!node.trigger_tpdo(0));
 }

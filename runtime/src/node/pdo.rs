@@ -54,13 +54,17 @@ impl Mapping {
             .any(|o| o.index == index && o.sub == sub)
     }
 
-    /// Reads the mapped objects into a payload.
+    /// Reads the mapped objects into a payload (dummies give zeros).
     #[inline]
     pub fn pack<O: ObjectDictionary + ?Sized>(&self, od: &O) -> [u8; 8] {
         let mut data = [0u8; 8];
         let mut offset = 0usize;
         for object in self.objects() {
             let end = offset + object.len as usize;
+            if object.is_dummy() {
+                offset = end;
+                continue;
+            }
             if let Some(slot) = data.get_mut(offset..end) {
                 // A failed read leaves zeros: the mapping was checked, so this only happens
                 // when the OD refuses its own entry.
@@ -111,7 +115,8 @@ fn dummy_bits(index: u16) -> Option<u8> {
 }
 
 /// Checks one mapping entry against the OD: 0604 0041 if the object is absent, not mappable in
-/// this direction, or its length does not match.
+/// this direction, or its length does not match. Dummy entries (0002h–0007h with their type's
+/// length) are accepted in both directions.
 pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     od: &O,
     entry: MappingEntry,
@@ -122,8 +127,10 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     }
     let len = entry.bits / 8;
     if entry.is_dummy() {
-        return match (direction, dummy_bits(entry.index)) {
-            (Direction::Receive, Some(bits)) if bits == entry.bits => Ok(MappedObject {
+        // CiA 301 defines dummies for RPDOs (bytes to skip); vendor EDS files also pad TPDOs
+        // with them (the Goodrive350 card's TPDO1), which then carry zeros there.
+        return match dummy_bits(entry.index) {
+            Some(bits) if bits == entry.bits => Ok(MappedObject {
                 index: entry.index,
                 sub: entry.sub,
                 len,
@@ -195,6 +202,8 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 pub(crate) struct Rpdo {
     /// Whether the PDO exists and is valid.
     pub enabled: bool,
+    /// The COB-ID says valid, but the mapping in the OD was refused for this reason.
+    pub rejected: Option<SdoAbort>,
     pub cob_id: u16,
     pub transmission: u8,
     pub mapping: Mapping,
@@ -216,6 +225,7 @@ impl Rpdo {
         let mapping = load_mapping(od, 0x1600 + n, Direction::Receive);
         Rpdo {
             enabled: cob.valid() && !cob.extended() && mapping.is_ok(),
+            rejected: if cob.valid() { mapping.err() } else { None },
             cob_id: cob.can_id(),
             transmission: super::read_uint(od, comm, 2).unwrap_or(255) as u8,
             mapping: mapping.unwrap_or_default(),
@@ -236,6 +246,8 @@ impl Rpdo {
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Tpdo {
     pub enabled: bool,
+    /// The COB-ID says valid, but the mapping in the OD was refused for this reason.
+    pub rejected: Option<SdoAbort>,
     pub cob_id: u16,
     pub rtr_allowed: bool,
     pub transmission: u8,
@@ -272,6 +284,7 @@ impl Tpdo {
         let mapping = load_mapping(od, 0x1A00 + n, Direction::Transmit);
         Tpdo {
             enabled: cob.valid() && !cob.extended() && mapping.is_ok(),
+            rejected: if cob.valid() { mapping.err() } else { None },
             cob_id: cob.can_id(),
             rtr_allowed: !cob.bit30(),
             transmission: super::read_uint(od, comm, 2).unwrap_or(255) as u8,
