@@ -921,6 +921,8 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
 fn xml_values_use_the_eds_value_forms() {
     let objects = r#"<CANopenObject index="1014" name="COB-ID EMCY" objectType="7" dataType="0007" accessType="ro" defaultValue="0x80+$NODEID"/>
 <CANopenObject index="2000" name="Big" objectType="7" dataType="0015" accessType="ro" defaultValue="0x1234567890ABCDEFLL"/>
