@@ -85,7 +85,8 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                         c.value
                     ),
                 )
-                .with_label("above 254"),
+                .with_label("above 254")
+                .with_help("describe at most 254 sub-objects; sub-index FFh is reserved"),
             );
         }
     }
@@ -172,8 +173,12 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                 &rules::MISSING_KEY,
                 Some(o.span),
                 format!(
-                    "{name} is an {:?} without SubNumber or CompactSubObj",
-                    o.object_type
+                    "{name} is {} without SubNumber or CompactSubObj",
+                    match o.object_type {
+                        ObjectType::Array => "an ARRAY",
+                        ObjectType::Record => "a RECORD",
+                        _ => "a DEFSTRUCT",
+                    }
                 ),
             )
             .with_label("no SubNumber")
@@ -199,7 +204,8 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         _ => {}
     }
 
-    if let Some(sub) = o.subs.get(&0xFF) {
+    // A sub FFh implied by CompactSubObj=255 is already EDS322's finding.
+    if let Some(sub) = o.subs.get(&0xFF).filter(|s| !s.implicit) {
         out.push(
             Diagnostic::new(
                 &rules::SUB_INDEX_RESERVED,
@@ -369,7 +375,7 @@ fn sub0_checks(
             out.push(
                 Diagnostic::new(
                     &rules::SUB0_MISSING,
-                    Some(sub0.span),
+                    Some(sub0.key_spans.data_type.unwrap_or(sub0.span)),
                     format!(
                         "{} is {} but must be UNSIGNED8",
                         at(o.index, 0),
@@ -390,7 +396,7 @@ fn sub0_checks(
         out.push(
             Diagnostic::new(
                 &rules::SUB0_ACCESS,
-                Some(sub0.span),
+                Some(sub0.key_spans.access.unwrap_or(sub0.span)),
                 format!(
                     "{} is {} but sub-index 0 of an ARRAY/RECORD is read-only",
                     at(o.index, 0),
@@ -420,6 +426,18 @@ fn sub0_checks(
     }
 }
 
+/// The CiA 301 complex (record) data types 0020h..0023h: standard structures, but an entry
+/// cannot have one as its DataType unless the file describes it.
+fn standard_record_type(dt: u16) -> Option<&'static str> {
+    match dt {
+        0x0020 => Some("PDO_COMMUNICATION_PARAMETER"),
+        0x0021 => Some("PDO_MAPPING"),
+        0x0022 => Some("SDO_PARAMETER"),
+        0x0023 => Some("IDENTITY"),
+        _ => None,
+    }
+}
+
 fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
     let elements: Vec<&SubObject> = o
         .subs
@@ -439,7 +457,7 @@ fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         out.push(
             Diagnostic::new(
                 &rules::ARRAY_MIXED_TYPES,
-                Some(odd.span),
+                Some(odd.key_spans.data_type.unwrap_or(odd.span)),
                 format!(
                     "{} is {} but {} is {}; ARRAY elements share one type",
                     at(o.index, odd.sub_index),
@@ -458,10 +476,15 @@ fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         .iter()
         .find(|s| s.access != first.access || s.pdo_mapping != first.pdo_mapping)
     {
+        let key = if odd.access != first.access {
+            odd.key_spans.access
+        } else {
+            odd.key_spans.pdo_mapping
+        };
         out.push(
             Diagnostic::new(
                 &rules::ARRAY_MIXED_ACCESS,
-                Some(odd.span),
+                Some(key.unwrap_or(odd.span)),
                 format!(
                     "{} differs from {} in AccessType or PDOMapping",
                     at(o.index, odd.sub_index),
@@ -626,7 +649,7 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
             out.push(
                 Diagnostic::new(
                     &rules::DOMAIN_DATA_TYPE,
-                    Some(sub.span),
+                    Some(sub.key_spans.data_type.unwrap_or(sub.span)),
                     format!("{name} is a DOMAIN object with DataType {dt:04X}h"),
                 )
                 .with_label("expected 000Fh")
@@ -640,9 +663,11 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
         out.push(
             Diagnostic::new(
                 &rules::UNKNOWN_DATA_TYPE,
-                Some(sub.span),
+                Some(sub.key_spans.data_type.unwrap_or(sub.span)),
                 if reserved {
                     format!("{name} has DataType {dt:04X}h, a reserved code")
+                } else if let Some(record) = standard_record_type(dt) {
+                    format!("{name} has DataType {dt:04X}h, the CiA 301 record type {record}, which this file does not describe as a DEFSTRUCT")
                 } else {
                     format!("{name} has DataType {dt:04X}h, which is not a basic type nor defined in this file")
                 },
