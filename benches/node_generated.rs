@@ -38,7 +38,10 @@ fn frame_cost(c: &mut Criterion) {
             "goodrive350_sdo_expedited_upload_1017",
             frame(0x603, &[0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0]),
         ),
-        ("goodrive350_rpdo_2_bytes_into_od", frame(0x203, &[0x34, 0x12])),
+        (
+            "goodrive350_rpdo_2_bytes_into_od",
+            frame(0x203, &[0x34, 0x12]),
+        ),
     ] {
         let mut node = operational_node(now);
         c.bench_function(name, |b| {

@@ -26,7 +26,11 @@ pub fn operational_node(now: Instant) -> Node<Od> {
     ] {
         node.handle_frame(now, &request);
         while let Some(response) = node.poll_transmit(now) {
-            assert_ne!(response.data().first(), Some(&0x80), "setup aborted: {response:?}");
+            assert_ne!(
+                response.data().first(),
+                Some(&0x80),
+                "setup aborted: {response:?}"
+            );
         }
     }
     while node.poll_event().is_some() {}

@@ -81,28 +81,53 @@ fn node_guarding_answers_85_then_05() {
 #[test]
 fn heartbeat_every_100_ms_and_disabled_by_sdo() {
     let (mut node, mut bus) = booted();
-    assert_eq!(node.od().producer_heartbeat_time, 0, "off by default (§3.4.5)");
-    bus.inject(frame(0x603, &[0x2B, 0x17, 0x10, 0x00, 0x64, 0x00, 0x00, 0x00]), &mut [&mut node]);
+    assert_eq!(
+        node.od().producer_heartbeat_time,
+        0,
+        "off by default (§3.4.5)"
+    );
+    bus.inject(
+        frame(0x603, &[0x2B, 0x17, 0x10, 0x00, 0x64, 0x00, 0x00, 0x00]),
+        &mut [&mut node],
+    );
     bus.inject(frame(0x000, &[0x01, 0x00]), &mut [&mut node]);
     let setup = sent(&mut bus);
-    assert_eq!(setup[..2], expect(&[(0, "703: 00"), (0, "583: 60 17 10 00 00 00 00 00")]));
+    assert_eq!(
+        setup[..2],
+        expect(&[(0, "703: 00"), (0, "583: 60 17 10 00 00 00 00 00")])
+    );
     bus.run_until(ms(300), &mut [&mut node]);
     assert_eq!(
         sent(&mut bus),
         expect(&[(100, "703: 05"), (200, "703: 05"), (300, "703: 05")])
     );
-    bus.inject(frame(0x603, &[0x2B, 0x17, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00]), &mut [&mut node]);
+    bus.inject(
+        frame(0x603, &[0x2B, 0x17, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00]),
+        &mut [&mut node],
+    );
     bus.run_until(ms(1000), &mut [&mut node]);
-    assert_eq!(sent(&mut bus), expect(&[(300, "583: 60 17 10 00 00 00 00 00")]));
+    assert_eq!(
+        sent(&mut bus),
+        expect(&[(300, "583: 60 17 10 00 00 00 00 00")])
+    );
 }
 
 #[test]
 fn sdo_write_and_read_of_1801h_03() {
     let (mut node, mut bus) = booted();
     sent(&mut bus);
-    bus.inject(frame(0x603, &[0x23, 0x01, 0x18, 0x01, 0x83, 0x02, 0x00, 0x80]), &mut [&mut node]);
-    bus.inject(frame(0x603, &[0x2B, 0x01, 0x18, 0x03, 0xE8, 0x03, 0x00, 0x00]), &mut [&mut node]);
-    bus.inject(frame(0x603, &[0x40, 0x01, 0x18, 0x03, 0x00, 0x00, 0x00, 0x00]), &mut [&mut node]);
+    bus.inject(
+        frame(0x603, &[0x23, 0x01, 0x18, 0x01, 0x83, 0x02, 0x00, 0x80]),
+        &mut [&mut node],
+    );
+    bus.inject(
+        frame(0x603, &[0x2B, 0x01, 0x18, 0x03, 0xE8, 0x03, 0x00, 0x00]),
+        &mut [&mut node],
+    );
+    bus.inject(
+        frame(0x603, &[0x40, 0x01, 0x18, 0x03, 0x00, 0x00, 0x00, 0x00]),
+        &mut [&mut node],
+    );
     assert_eq!(
         sent(&mut bus),
         expect(&[
@@ -112,8 +137,14 @@ fn sdo_write_and_read_of_1801h_03() {
         ])
     );
     // While TPDO2 is valid, CiA 301 refuses the change.
-    bus.inject(frame(0x603, &[0x23, 0x01, 0x18, 0x01, 0x83, 0x02, 0x00, 0x00]), &mut [&mut node]);
-    bus.inject(frame(0x603, &[0x2B, 0x01, 0x18, 0x03, 0xE8, 0x03, 0x00, 0x00]), &mut [&mut node]);
+    bus.inject(
+        frame(0x603, &[0x23, 0x01, 0x18, 0x01, 0x83, 0x02, 0x00, 0x00]),
+        &mut [&mut node],
+    );
+    bus.inject(
+        frame(0x603, &[0x2B, 0x01, 0x18, 0x03, 0xE8, 0x03, 0x00, 0x00]),
+        &mut [&mut node],
+    );
     assert_eq!(
         sent(&mut bus),
         expect(&[
@@ -127,8 +158,14 @@ fn sdo_write_and_read_of_1801h_03() {
 fn sdo_read_of_a_missing_object_aborts_0602_0000() {
     let (mut node, mut bus) = booted();
     sent(&mut bus);
-    bus.inject(frame(0x603, &[0x40, 0x00, 0x60, 0x00, 0x00, 0x00, 0x00, 0x00]), &mut [&mut node]);
-    assert_eq!(sent(&mut bus), expect(&[(0, "583: 80 00 60 00 00 00 02 06")]));
+    bus.inject(
+        frame(0x603, &[0x40, 0x00, 0x60, 0x00, 0x00, 0x00, 0x00, 0x00]),
+        &mut [&mut node],
+    );
+    assert_eq!(
+        sent(&mut bus),
+        expect(&[(0, "583: 80 00 60 00 00 00 02 06")])
+    );
 }
 
 #[test]
@@ -142,6 +179,9 @@ fn emergency_for_fault_out1_and_after_its_reset() {
     bus.run_until(ms(2), &mut [&mut node]);
     assert_eq!(
         sent(&mut bus),
-        expect(&[(0, "083: 00 30 04 01 00 00 00 00"), (1, "083: 00 00 00 00 00 00 00 00")])
+        expect(&[
+            (0, "083: 00 30 04 01 00 00 00 00"),
+            (1, "083: 00 00 00 00 00 00 00 00")
+        ])
     );
 }
