@@ -47,6 +47,7 @@ pub fn sub(
         span: Span::new(u32::from(index_sub) + 1, 1, 0),
         custom: Vec::new(),
         implicit: false,
+        key_spans: Default::default(),
     }
 }
 
