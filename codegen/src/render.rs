@@ -33,6 +33,10 @@ fn byte_range(line: &str, span: Span) -> std::ops::Range<usize> {
         let end_char = (start_char + span.len as usize).min(chars);
         return offsets[start_char]..offsets[end_char];
     }
+    if span.len == 0 && start_char > 0 && start_char == chars {
+        // Just past the end of the line (an empty value after `=`): point there.
+        return line.len()..line.len();
+    }
     let trimmed_start = line.len() - line.trim_start().len();
     let trimmed_end = line.trim_end().len();
     if trimmed_start < trimmed_end {
@@ -51,7 +55,8 @@ fn render_one(renderer: &Renderer, path: &str, lines: &[&str], d: &Diagnostic) -
         .and_then(|s| s.line.checked_sub(1))
         .and_then(|i| lines.get(i as usize));
     match (d.span, source_line) {
-        (Some(span), Some(line)) => {
+        // A blank line has nothing to underline (and annotate-snippets would misplace it).
+        (Some(span), Some(line)) if !line.trim().is_empty() => {
             let range = byte_range(line, span);
             // annotate-snippets shows a tab as four spaces but neither moves the underline nor
             // counts the column with it: show each tab as one space, so the underline sits under
@@ -253,6 +258,20 @@ mod tests {
                 "warning[EDS003]: long\n --> dev.eds:2:1\n  |\n2 | ParameterName={long}\n  | {}\n  |\n\n",
                 "-".repeat(314)
             )
+        );
+    }
+
+    #[test]
+    fn empty_values_and_blank_lines_keep_their_place() {
+        let after_equals = Diagnostic::new(&rules::BAD_VALUE, Some(Span::new(2, 14, 0)), "empty");
+        assert_eq!(
+            human("dev.eds", "[2000]\r\nDefaultValue=", &[after_equals], false),
+            "error[EDS012]: empty\n --> dev.eds:2:14\n  |\n2 | DefaultValue=\n  |              ^\n  |\n\n"
+        );
+        let blank = Diagnostic::new(&rules::MISSING_NAME, Some(Span::new(2, 1, 0)), "blank");
+        assert_eq!(
+            human("dev.eds", "[2000]\n\t\n", &[blank], false),
+            "error[EDS301]: blank\n --> dev.eds:2:1\n\n"
         );
     }
 

@@ -826,6 +826,11 @@ fn eds312_array_of_mixed_access() {
         diags(&t),
         vec![d("EDS312", Warning, line_of(&t, "[2000sub2]") + 4)]
     );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    assert_eq!(
+        validate::validate(&read.device)[0].message,
+        "2000h sub 2 differs from 2000h sub 1 in AccessType ro vs rw"
+    );
 }
 
 #[test]
@@ -1425,11 +1430,40 @@ fn eds513_object_inside_a_dynamic_channel_range() {
 
 #[test]
 fn eds316_hex_limit_on_a_signed_type_is_a_warning() {
+    // 0x81 on INTEGER8 reads as -127, above -128 only because of two's complement.
+    let body = var(0x2000, "Mode", 2, "rw", "-128", false) + "LowLimit=0x81\nHighLimit=-128\n";
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0x81"))]
+    );
+}
+
+#[test]
+fn eds316_narrow_hex_pattern_on_a_wider_signed_type_is_a_warning() {
+    let body = var(0x2000, "Offset", 4, "rw", "0", false) + "LowLimit=0xEC78\nHighLimit=0x1388\n";
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0xEC78"))]
+    );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    assert_eq!(
+        validate::validate(&read.device)[0].help.as_deref(),
+        Some(
+            "`0xEC78` is 60536 in INTEGER32, though as a 16-bit two's complement it would be \
+             -5000; write the limits in decimal"
+        )
+    );
+}
+
+#[test]
+fn eds316_hex_limits_inverted_under_any_reading_are_an_error() {
     let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x7F\nHighLimit=100\n";
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0x7F"))]
+        vec![d("EDS316", Error, line_of(&t, "LowLimit=0x7F"))]
     );
 }
 

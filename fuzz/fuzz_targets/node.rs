@@ -22,7 +22,9 @@ struct Watched(TestOd);
 impl Watched {
     fn u32_at(&self, index: u16, sub: u8) -> u32 {
         let mut bytes = [0u8; 4];
-        self.0.read(index, sub, 0, &mut bytes).expect("entry exists");
+        self.0
+            .read(index, sub, 0, &mut bytes)
+            .expect("entry exists");
         u32::from_le_bytes(bytes)
     }
 }
@@ -42,24 +44,30 @@ impl ObjectDictionary for Watched {
     }
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let descriptor = *self.0.find(index, sub)?;
-        let node_owned = index == 0x1001 || index == 0x1003;
-        assert!(
-            descriptor.access.writable() || node_owned,
-            "write to non-writable {index:04X}:{sub}"
-        );
-        if (0x1600..=0x17FF).contains(&index) || (0x1A00..=0x1BFF).contains(&index) {
-            let comm = index - 0x200;
-            assert!(
-                self.u32_at(comm, 1) & 0x8000_0000 != 0,
-                "mapping {index:04X}:{sub} written while the PDO is valid"
-            );
-            if sub != 0 {
-                assert_eq!(self.u32_at(index, 0), 0, "mapping {index:04X}:{sub} written while enabled");
-            }
-        }
+        // The state the write meets, judged only if the write changes the OD.
+        let mapping = (0x1600..=0x17FF).contains(&index) || (0x1A00..=0x1BFF).contains(&index);
+        let pdo_valid = mapping && self.u32_at(index - 0x200, 1) & 0x8000_0000 == 0;
+        let mapping_enabled = mapping && self.u32_at(index, 0) != 0;
         let result = self.0.write(index, sub, data);
         if result.is_ok() {
-            assert_eq!(data.len(), usize::from(descriptor.size), "{index:04X}:{sub} size");
+            let node_owned = index == 0x1001 || index == 0x1003;
+            assert!(
+                descriptor.access.writable() || node_owned,
+                "write to non-writable {index:04X}:{sub}"
+            );
+            assert!(
+                !pdo_valid,
+                "mapping {index:04X}:{sub} written while the PDO is valid"
+            );
+            assert!(
+                sub == 0 || !mapping_enabled,
+                "mapping {index:04X}:{sub} written while enabled"
+            );
+            assert_eq!(
+                data.len(),
+                usize::from(descriptor.size),
+                "{index:04X}:{sub} size"
+            );
         }
         result
     }
@@ -100,11 +108,15 @@ fuzz_target!(|input: &[u8]| {
                 let frame = if flags & 1 == 1 {
                     CanFrame::remote(id, len as u8)
                 } else {
-                    CanFrame::from_parts(id, {
-                        let mut d = [0u8; 8];
-                        d[..data.len()].copy_from_slice(&data);
-                        d
-                    }, data.len() as u8)
+                    CanFrame::from_parts(
+                        id,
+                        {
+                            let mut d = [0u8; 8];
+                            d[..data.len()].copy_from_slice(&data);
+                            d
+                        },
+                        data.len() as u8,
+                    )
                 };
                 node.handle_frame(now, &frame);
             }
@@ -118,7 +130,8 @@ fuzz_target!(|input: &[u8]| {
             }
             // The application raises or clears an error, or triggers a TPDO.
             5 => {
-                let code = u16::from_le_bytes([bytes.next().unwrap_or(0), bytes.next().unwrap_or(0)]);
+                let code =
+                    u16::from_le_bytes([bytes.next().unwrap_or(0), bytes.next().unwrap_or(0)]);
                 if code & 1 == 0 {
                     node.raise_error(code, (code >> 8) as u8, [1, 2, 3, 4, 5]);
                 } else {

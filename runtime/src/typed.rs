@@ -87,6 +87,7 @@ impl<const N: usize> core::fmt::Debug for FixedBytes<N> {
 
 /// Copies `value[offset..]` into `buf` and returns how many bytes were copied (0 when `offset`
 /// is at or past the end).
+#[inline]
 pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
     let rest = value.get(offset..).unwrap_or(&[]);
     let n = rest.len().min(buf.len());
@@ -96,12 +97,14 @@ pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
 
 /// The first `len` little-endian bytes of `raw`, in `scratch` (`len` is clamped to 8): the wire
 /// form of a fixed-size value for `ObjectDictionary::read`.
+#[inline]
 pub fn le(scratch: &mut [u8; 8], raw: u64, len: usize) -> &[u8] {
     *scratch = raw.to_le_bytes();
     &scratch[..len.min(8)]
 }
 
 /// Exactly `N` bytes of `data`: `LengthTooHigh` if longer, `LengthTooLow` if shorter.
+#[inline]
 pub fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], SdoAbort> {
     if data.len() > N {
         return Err(SdoAbort::LengthTooHigh);
@@ -110,6 +113,7 @@ pub fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], SdoAbort> {
 }
 
 /// An unsigned integer of exactly `N` little-endian bytes (`N` ≤ 8).
+#[inline]
 pub fn uint_le<const N: usize>(data: &[u8]) -> Result<u64, SdoAbort> {
     let bytes = exact::<N>(data)?;
     let mut wide = [0u8; 8];
@@ -119,12 +123,14 @@ pub fn uint_le<const N: usize>(data: &[u8]) -> Result<u64, SdoAbort> {
 }
 
 /// A signed (two's complement) integer of exactly `N` little-endian bytes (`N` ≤ 8).
+#[inline]
 pub fn int_le<const N: usize>(data: &[u8]) -> Result<i64, SdoAbort> {
     let raw = uint_le::<N>(data)?;
     Ok(sign_extend(raw, (N.min(8) * 8) as u32))
 }
 
 /// A BOOLEAN from exactly one byte: 0 is false, 1 is true, anything else `InvalidValue`.
+#[inline]
 pub fn boolean(data: &[u8]) -> Result<bool, SdoAbort> {
     match exact::<1>(data)? {
         [0] => Ok(false),
@@ -135,6 +141,7 @@ pub fn boolean(data: &[u8]) -> Result<bool, SdoAbort> {
 
 /// Checks `value` against LowLimit/HighLimit: `ValueTooLow` below `low`, `ValueTooHigh` above
 /// `high`.
+#[inline]
 pub fn check_limits<T: PartialOrd>(value: T, low: T, high: T) -> Result<T, SdoAbort> {
     if value < low {
         Err(SdoAbort::ValueTooLow)
@@ -161,6 +168,7 @@ pub fn missing(entries: &[EntryDescriptor], index: u16, sub: u8) -> SdoAbort {
 }
 
 /// The low `bits` bits of `raw` read as a two's-complement number (`bits` in 1..=64).
+#[inline]
 pub const fn sign_extend(raw: u64, bits: u32) -> i64 {
     if bits == 0 || bits >= 64 {
         return raw as i64;
@@ -170,11 +178,13 @@ pub const fn sign_extend(raw: u64, bits: u32) -> i64 {
 }
 
 /// Whether `value` fits in `bits` unsigned bits.
+#[inline]
 pub const fn fits_unsigned(value: u64, bits: u32) -> bool {
     bits >= 64 || value >> bits == 0
 }
 
 /// Whether `value` fits in `bits` two's-complement bits.
+#[inline]
 pub const fn fits_signed(value: i64, bits: u32) -> bool {
     if bits >= 64 {
         return true;
@@ -189,6 +199,7 @@ pub const fn fits_signed(value: i64, bits: u32) -> bool {
 
 /// Writes the low `bits` bits of `value` into `buf` starting at bit `offset`, least significant
 /// bit first (the CiA 301 PDO layout). Bits beyond `buf` are dropped.
+#[inline]
 pub fn put_bits(buf: &mut [u8], offset: usize, bits: u32, value: u64) {
     let bits = bits.min(64) as usize;
     let mut done = 0usize;
@@ -207,6 +218,7 @@ pub fn put_bits(buf: &mut [u8], offset: usize, bits: u32, value: u64) {
 
 /// Reads `bits` bits of `buf` starting at bit `offset`, least significant bit first. Bits beyond
 /// `buf` read as zero.
+#[inline]
 pub fn get_bits(buf: &[u8], offset: usize, bits: u32) -> u64 {
     let bits = bits.min(64) as usize;
     let mut value = 0u64;
@@ -257,6 +269,7 @@ impl core::fmt::Display for PdoError {
 }
 
 /// The payload as an array of exactly `N` bytes, or `WrongLength`.
+#[inline]
 pub fn payload<const N: usize>(data: &[u8]) -> Result<[u8; N], PdoError> {
     data.try_into().map_err(|_| PdoError::WrongLength {
         expected: N,

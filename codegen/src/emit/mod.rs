@@ -55,6 +55,8 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
     let module_doc = module_doc(device);
     let tokens = quote! {
         #(#[doc = #module_doc])*
+        // Defaults and limits are the file's numbers, even when they resemble a constant.
+        #[allow(clippy::approx_constant)]
         pub mod #module_ident {
             #header
             #structs

@@ -460,7 +460,15 @@ impl Planner<'_> {
         if let RustType::Bytes(n) = ty {
             facts.push_str(&format!(", capacity {n} bytes"));
         }
-        let value_text = |raw: &str| raw.replace('`', "'");
+        let value_text = |raw: &str| {
+            raw.chars()
+                .map(|c| match c {
+                    '`' => '\'',
+                    c if c.is_control() => ' ',
+                    c => c,
+                })
+                .collect::<String>()
+        };
         if let Some(p) = sub.parameter_value.as_ref().filter(|p| p.value.is_some()) {
             facts.push_str(&format!("; ParameterValue `{}`", value_text(&p.raw)));
         } else if let Some(d) = &sub.default {

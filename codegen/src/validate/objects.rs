@@ -11,7 +11,9 @@
 
 use super::{at, effective_int, entry_name, obj, value_span};
 use crate::diag::{Diagnostic, Severity};
-use crate::model::{BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource};
+use crate::model::{
+    AccessType, BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource,
+};
 use crate::rules;
 
 /// Longest ParameterName CiA 306 allows.
@@ -476,17 +478,28 @@ fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         .iter()
         .find(|s| s.access != first.access || s.pdo_mapping != first.pdo_mapping)
     {
-        let key = if odd.access != first.access {
-            odd.key_spans.access
+        let access = |s: &SubObject| s.access.map_or("missing", AccessType::as_str);
+        let (key, what) = if odd.access != first.access {
+            (
+                odd.key_spans.access,
+                format!("AccessType {} vs {}", access(odd), access(first)),
+            )
         } else {
-            odd.key_spans.pdo_mapping
+            (
+                odd.key_spans.pdo_mapping,
+                format!(
+                    "PDOMapping {} vs {}",
+                    u8::from(odd.pdo_mapping),
+                    u8::from(first.pdo_mapping)
+                ),
+            )
         };
         out.push(
             Diagnostic::new(
                 &rules::ARRAY_MIXED_ACCESS,
                 Some(key.unwrap_or(odd.span)),
                 format!(
-                    "{} differs from {} in AccessType or PDOMapping",
+                    "{} differs from {} in {what}",
                     at(o.index, odd.sub_index),
                     at(o.index, first.sub_index)
                 ),
@@ -758,10 +771,34 @@ fn limits(
         (low, high, sub.low_limit.as_ref(), sub.high_limit.as_ref())
     {
         if less(hi, lo, 1) == Some(true) || less(hi, lo, 127) == Some(true) {
-            // A hex limit on a signed type is read as two's complement (0xFF is -1 for
-            // INTEGER8); vendors often mean the unsigned number. That ambiguity is a warning.
-            let is_hex = |raw: &str| raw.trim().to_ascii_lowercase().starts_with("0x");
-            let ambiguous = ty.is_signed_integer() && (is_hex(&lo_src.raw) || is_hex(&hi_src.raw));
+            // A hex limit on a signed type is ambiguous when two's complement made it negative
+            // (0xFF is -1 for INTEGER8), or when it is a negative two's-complement pattern of a
+            // narrower width (0xEC78 is -5000 in 16 bits, 60536 in INTEGER32): a warning that
+            // says which reading was taken. Other inverted limits are errors.
+            let ambiguity = |src: &ValueSource| -> Option<String> {
+                let raw = src.raw.trim();
+                let digits = raw.strip_prefix("0x").or_else(|| raw.strip_prefix("0X"))?;
+                let Some(Value::Integer(v)) = src.value else {
+                    return None;
+                };
+                if v < 0 {
+                    return Some(format!("`{raw}` is read as the two's complement {v}"));
+                }
+                let bits = u32::try_from(digits.len()).ok()?.checked_mul(4)?;
+                let narrower = bits < ty.bits().unwrap_or(0) && bits > 0 && bits < 127;
+                (narrower && v >= 1i128 << (bits - 1)).then(|| {
+                    format!(
+                        "`{raw}` is {v} in {}, though as a {bits}-bit two's complement it would be {}",
+                        ty.name(),
+                        v - (1i128 << bits)
+                    )
+                })
+            };
+            let why = if ty.is_signed_integer() {
+                ambiguity(lo_src).or_else(|| ambiguity(hi_src))
+            } else {
+                None
+            };
             let mut diag = Diagnostic::new(
                 &rules::LIMITS_INVERTED,
                 Some(lo_src.span),
@@ -771,13 +808,11 @@ fn limits(
                 ),
             )
             .with_label("above HighLimit");
-            diag = if ambiguous {
-                diag.with_severity(Severity::Warning).with_help(format!(
-                    "{} is signed: a hex limit is read as two's complement; write the limits in decimal",
-                    ty.name()
-                ))
-            } else {
-                diag.with_help("swap the limits")
+            diag = match why {
+                Some(why) => diag
+                    .with_severity(Severity::Warning)
+                    .with_help(format!("{why}; write the limits in decimal")),
+                None => diag.with_help("swap the limits"),
             };
             out.push(diag);
             return;

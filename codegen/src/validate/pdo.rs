@@ -176,7 +176,7 @@ fn comm_subs(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnostic>) {
                         &rules::TRANSMISSION_TYPE_RESERVED,
                         Some(value_span(sub)),
                         format!(
-                            "{} transmission type {t} is reserved for a {}",
+                            "{} transmission type {t} is reserved for an {}",
                             at(o.index, 2),
                             dir.name()
                         ),
