@@ -86,6 +86,12 @@ const UNKNOWN_TYPE_DEFAULT: &str = "python's substitute DOMAIN cannot read `0x0`
 const SHORT_SECTION: &str = "[A0] is a CANfestival type-definition section, index 0x00A0; \
     python reads only 4-digit section names";
 
+const HEX_PREFIX_BYTES: &str = "an OCTET_STRING/DOMAIN written with a 0x prefix is read as \
+    its bytes (EDS026); python's bytes.fromhex rejects the prefix and loses the value";
+const ZERO_DOMAIN: &str = "a DOMAIN default written `0` means no content and reads as empty \
+    (EDS026); python's bytes.fromhex cannot read a single digit";
+const C_SUFFIX: &str = "a C literal suffix (`0.0f`, `LL`) is read past, with a warning \
+    (EDS025); python's float()/int() fail and lose the value";
 /// Every disagreement with python canopen 2.4.1 on the corpus, and why edsgen is right.
 const KNOWN_DIFFERENCES: &[Known] = &[
     known("CANopenNode__CANopenDemo/demo__demoDevice.eds", &[0x1008, 0x1009, 0x100A, 0x2122], Subs::One(0), &["default"], EMPTY_DEFAULT),
@@ -99,6 +105,7 @@ const KNOWN_DIFFERENCES: &[Known] = &[
     known("Xeryon-Precision__XLA-INTG_prog_examples/eds__xeryon_xla_5_eds.eds", &[0x2013], Subs::One(1), &["default"], REAL_HEX),
     known("Xeryon-Precision__XLA-INTG_prog_examples/eds__xeryon_xla_5_eds.eds", &[0x3001], Subs::One(3), &["default"], REAL_HEX),
     known("amperaufsc__Sevcon/V6.dcf", &[0x2870], Subs::One(3), &["default"], SIGNED_HEX),
+    known("brtiberio__Sevcon_gen4/Gen4.eds", &[0x4617], Subs::One(1), &["default"], HEX_PREFIX_BYTES),
     known("brtiberio__Sevcon_gen4/Gen4.eds", &[0x2870], Subs::One(3), &["default"], SIGNED_HEX),
     known("brtiberio__Sevcon_gen4/Gen4.eds", &[0x2870], Subs::One(7), &["default"], SIGNED_HEX),
     known("brtiberio__Sevcon_gen4/documents__2019-06-24-MOTEUR-UK0319-55-110V-300A-S4-GEN4-Config-origine.dcf", &[0x2870], Subs::One(3), &["default"], SIGNED_HEX),
@@ -124,6 +131,7 @@ const KNOWN_DIFFERENCES: &[Known] = &[
     known("dianhuaeven__Eyou_Canopen_master/config__master.dcf", &[0x1003, 0x1016, 0x1028, 0x1029, 0x1F25, 0x1F55, 0x1F81, 0x1F82, 0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88, 0x1F8A, 0x5A00, 0x5A01, 0x5A02, 0x5A03, 0x5A04, 0x5A05, 0x5A06, 0x5A07, 0x5A08, 0x5A09, 0x5A0A, 0x5A0B, 0x5E00, 0x5E01, 0x5E02, 0x5E03, 0x5E04, 0x5E05, 0x5E06, 0x5E07, 0x5E08, 0x5E09, 0x5E0A, 0x5E0B, 0x5E0C, 0x5E0D, 0x5E0E, 0x5E0F], Subs::One(0), &["access", "default", "name"], COMPACT_SUB0),
     known("heig-vd-iai__canopen-stack/example__example.eds", &[0x1009, 0x4040, 0x4041, 0x6503, 0x6505], Subs::One(0), &["default"], EMPTY_DEFAULT),
     known("heig-vd-iai__canopen-stack/example__example.eds", &[0x1F50], Subs::Range(1, 2), &["default"], EMPTY_DEFAULT),
+    known("heig-vd-iai__canopen-stack/od.eds", &[0x2003, 0x2004], Subs::One(0), &["default"], C_SUFFIX),
     known("hellantos__trinamic_pd42_can/config__TMCM-1270.eds", &[0x607D], Subs::One(1), &["default"], SIGNED_HEX),
     known("hellantos__trinamic_pd42_can/config__TMCM-1270.eds", &[0x60C2], Subs::One(2), &["default"], SIGNED_HEX),
     known("hellantos__trinamic_pd42_can/config__master.dcf", &[0x1003, 0x1029], Subs::Range(1, 254), &["name"], COMPACT_NAMES),
@@ -144,9 +152,11 @@ const KNOWN_DIFFERENCES: &[Known] = &[
     known("ipa320__schunk_robots/schunk_pg70__config__Schunk_0_63.dcf", &[0x1014], Subs::One(0), &["default"], NODEID_CASE),
     known("ipa320__schunk_robots/schunk_pg70__config__Schunk_0_63.dcf", &[0x1200], Subs::Range(1, 2), &["default"], NODEID_CASE),
     known("ipa320__schunk_robots/schunk_pg70__config__Schunk_0_63.dcf", &[0x1400, 0x1401, 0x1800, 0x1801, 0x1802, 0x1803], Subs::One(1), &["default"], NODEID_CASE),
+    known("isPointless__Sevcon/Sevcon_DVT__drive_wizard__Installation_DriveWizard__drivewizard__build__0001_alpha__Source__bin__Release__EDS__Gen4_pc0x0701182d_rev0x0001000d.eds", &[0x5810], Subs::One(7), &["default"], ZERO_DOMAIN),
     known("isPointless__Sevcon/Sevcon_DVT__drive_wizard__Installation_DriveWizard__drivewizard__build__0001_alpha__Source__bin__Release__EDS__espAC_pc0x00000000_rev0x00000000.eds", &[0x467E, 0x467F, 0x468E, 0x468F], Subs::One(0), &["default"], EMPTY_DEFAULT),
     known("isPointless__Sevcon/Sevcon_config_files__DCF_files__Sev_001.dcf", &[0x2870], Subs::One(3), &["default"], SIGNED_HEX),
     known("isPointless__Sevcon/Sevcon_config_files__DCF_files__Sev_001.dcf", &[0x2870], Subs::One(7), &["default"], SIGNED_HEX),
+    known("isPointless__Sevcon/Sevcon_config_files__DCF_files__Sev_001.dcf", &[0x5810], Subs::One(7), &["default"], ZERO_DOMAIN),
     known("lely-industries__lely-core/test__gw_txt-slave.dcf", &[0x1400, 0x1600, 0x1800, 0x1A00], Subs::Object, &["presence"], COMPACT_PDO),
     known("lely-industries__lely-core/tools__cocatd.dcf", &[0x1003], Subs::Range(1, 254), &["name"], COMPACT_NAMES),
     known("lely-industries__lely-core/tools__cocatd.dcf", &[0x1003], Subs::One(0), &["access", "default", "name"], COMPACT_SUB0),
@@ -214,6 +224,7 @@ const KNOWN_DIFFERENCES: &[Known] = &[
     known("ros-industrial__ros_canopen/ros2_canopen_core__tests__test_concurrency__concurrency.dcf", &[0x5A00, 0x5A01, 0x5A02, 0x5A03, 0x5A04, 0x5A05, 0x5A06, 0x5A07, 0x5A08, 0x5A09, 0x5A0A, 0x5A0B, 0x5A0C, 0x5A0D, 0x5A0E, 0x5A0F, 0x5A10, 0x5A11, 0x5A12, 0x5E00, 0x5E01, 0x5E02, 0x5E03, 0x5E04, 0x5E05, 0x5E06, 0x5E07, 0x5E08, 0x5E09, 0x5E0A, 0x5E0B, 0x5E0C, 0x5E0D, 0x5E0E, 0x5E0F, 0x5E10, 0x5E11, 0x5E12], Subs::One(1), &["name"], COMPACT_NAMES),
     known("ros-industrial__ros_canopen/ros2_canopen_core__tests__test_concurrency__concurrency.dcf", &[0x1600, 0x1601, 0x1602, 0x1603, 0x1604, 0x1605, 0x1606, 0x1607, 0x1608, 0x1609, 0x160A, 0x160B, 0x160C, 0x160D, 0x160E, 0x160F, 0x1610, 0x1611, 0x1612, 0x1A00, 0x1A01, 0x1A02, 0x1A03, 0x1A04, 0x1A05, 0x1A06, 0x1A07, 0x1A08, 0x1A09, 0x1A0A, 0x1A0B, 0x1A0C, 0x1A0D, 0x1A0E, 0x1A0F, 0x1A10, 0x1A11, 0x1A12], Subs::Range(0, 1), &["presence"], COMPACT_RECORD),
     known("ros-industrial__ros_canopen/ros2_canopen_core__tests__test_concurrency__concurrency.dcf", &[0x1003, 0x1016, 0x1028, 0x1029, 0x1F25, 0x1F55, 0x1F81, 0x1F82, 0x1F84, 0x1F85, 0x1F86, 0x1F87, 0x1F88, 0x1F8A, 0x5A00, 0x5A01, 0x5A02, 0x5A03, 0x5A04, 0x5A05, 0x5A06, 0x5A07, 0x5A08, 0x5A09, 0x5A0A, 0x5A0B, 0x5A0C, 0x5A0D, 0x5A0E, 0x5A0F, 0x5A10, 0x5A11, 0x5A12, 0x5E00, 0x5E01, 0x5E02, 0x5E03, 0x5E04, 0x5E05, 0x5E06, 0x5E07, 0x5E08, 0x5E09, 0x5E0A, 0x5E0B, 0x5E0C, 0x5E0D, 0x5E0E, 0x5E0F, 0x5E10, 0x5E11, 0x5E12], Subs::One(0), &["access", "default", "name"], COMPACT_SUB0),
+    known("samsamfire__gocanopen/pkg__od__base.eds", &[0x200F], Subs::One(0), &["default"], ZERO_DOMAIN),
 ];
 
 // ---------------------------------------------------------------------------------------------

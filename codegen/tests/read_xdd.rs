@@ -51,7 +51,7 @@ fn raw(source: &Option<ValueSource>) -> Option<&str> {
 /// and entries are counted from the file text (`<CANopenObject` elements; VAR objects plus
 /// `<CANopenSubObject` elements); the diagnostics are the files' real problems: postfix
 /// `0x80+$NODEID` (EDS016), signed limits written as unsigned hex (EDS014), C literals `0x...LL`
-/// (EDS012), a baud rate without its unit (EDS604, info).
+/// (EDS025), a baud rate without its unit (EDS604, info).
 type CorpusCase = (
     &'static str,
     Format,
@@ -379,6 +379,18 @@ fn faulhaber_xdc_namespace_1_0_resolves_limits_and_access() {
     // <CANopenSubObject subIndex="08" ... accessType="wo" PDOmapping="no" objFlags="0003" .../>
     let debug = &device.objects[&0x2310].subs[&8];
     assert_eq!(debug.access, Some(AccessType::Wo));
+    assert_eq!(
+        debug.key_spans.data_type.map(|s| (s.line, s.len)),
+        Some((858, 4))
+    );
+    assert_eq!(
+        debug.key_spans.access.map(|s| (s.line, s.len)),
+        Some((858, 2))
+    );
+    assert_eq!(
+        debug.key_spans.pdo_mapping.map(|s| (s.line, s.len)),
+        Some((858, 2))
+    );
     assert_eq!(debug.obj_flags, 3);
     assert_eq!(value(&debug.high_limit), Some(&Value::Integer(255)));
 
@@ -514,6 +526,16 @@ fn parameter_overrides_object_attributes() {
     assert_eq!(value(&sub.low_limit), Some(&Value::Integer(-100)));
     assert_eq!(value(&sub.high_limit), Some(&Value::Integer(100)));
     assert_eq!(sub.denotation.as_deref(), Some("Speed set"));
+    // The spans point at what decided: the parameter's <INT/> and access, the object's PDOmapping.
+    assert_eq!(
+        sub.key_spans,
+        KeySpans {
+            data_type: Some(Span::new(9, 1, 4)),
+            access: Some(Span::new(7, 34, 9)),
+            pdo_mapping: Some(Span::new(22, 145, 4)),
+            ..KeySpans::default()
+        }
+    );
     assert_eq!(read.device.file_info.file_name.as_deref(), Some("t.xdd"));
     assert_eq!(read.device.file_info.file_version.as_deref(), Some("2"));
 }
@@ -551,12 +573,17 @@ fn namespaces_1_0_1_1_prefixed_and_none_read_alike() {
         assert_eq!(other.diagnostics, vec![]);
         assert_eq!(other.device.objects, plain.device.objects);
     }
-    // The `q1:` prefix lengthens the element spans by three characters, and nothing else.
+    // The `q1:` prefix lengthens the element spans by three characters, and shifts what follows
+    // a prefixed name on its line by three columns; nothing else.
     let mut unprefixed = prefixed.device.objects.clone();
     for object in unprefixed.values_mut() {
         object.span.len -= 3;
         for sub in object.subs.values_mut() {
             sub.span.len -= 3;
+            let keys = &mut sub.key_spans;
+            keys.data_type.as_mut().unwrap().len -= 3;
+            keys.access.as_mut().unwrap().column -= 3;
+            keys.pdo_mapping.as_mut().unwrap().column -= 3;
         }
     }
     assert_eq!(prefixed.diagnostics, vec![]);

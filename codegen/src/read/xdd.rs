@@ -161,8 +161,12 @@ struct ParameterFacts {
     resolved: bool,
     /// The parameter's `access`, if written.
     access: Option<AccessType>,
+    /// Where the `access` value is written.
+    access_span: Option<Span>,
     /// The data type from an IEC element, `derived`/`enum` base type, or `None`.
     data_type: Option<u16>,
+    /// Where the type element (or `dataTypeIDRef`) is.
+    data_type_span: Option<Span>,
     /// The parameter names `BITSTRING`: OCTET_STRING or DOMAIN, decided with the default value.
     bitstring: bool,
     default: Option<RawValue>,
@@ -763,6 +767,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         };
         if let Some(access) = attribute(parameter, "access") {
             facts.access = parse_parameter_access(access.value());
+            facts.access_span = Some(self.attribute_span(&access));
             if facts.access.is_none() {
                 let span = self.attribute_span(&access);
                 self.push(Diagnostic::new(
@@ -782,11 +787,16 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             let name = local(item);
             if name == "BITSTRING" {
                 facts.bitstring = true;
+                facts.data_type_span = Some(self.element_span(item));
             } else if let Some((_, basic)) = IEC_TYPES.iter().find(|(n, _)| *n == name) {
                 facts.data_type = Some(basic.index());
+                facts.data_type_span = Some(self.element_span(item));
             }
             match name {
-                "dataTypeIDRef" => facts.data_type = self.referenced_type(item),
+                "dataTypeIDRef" => {
+                    facts.data_type = self.referenced_type(item);
+                    facts.data_type_span = Some(self.element_span(item));
+                }
                 "variableRef" => {
                     let span = self.element_span(item);
                     self.push(Diagnostic::new(
@@ -889,6 +899,17 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let default = parameter
             .default
             .or_else(|| attrs.default_value.as_ref().map(|a| self.raw_value(a)));
+        let attribute_type_span = attrs.data_type.as_ref().map(|a| self.attribute_span(a));
+        let mut key_spans = KeySpans {
+            data_type: match parameter.data_type {
+                Some(_) => parameter.data_type_span,
+                None => attribute_type_span.or(parameter.data_type_span),
+            },
+            access: parameter
+                .access_span
+                .or_else(|| attrs.access_type.as_ref().map(|a| self.attribute_span(a))),
+            ..KeySpans::default()
+        };
         let data_type = match (parameter.data_type, attribute_type) {
             (Some(from_parameter), Some(from_attribute)) => {
                 if from_parameter != from_attribute {
@@ -916,6 +937,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             (None, None) => None,
         };
 
+        key_spans.pdo_mapping = attrs.pdo_mapping.as_ref().map(|a| self.attribute_span(a));
         let pdo_mapping_kind = attrs.pdo_mapping.as_ref().map(|a| (a.value(), *a));
         let mut pdo_mapping = false;
         let mut direction = None;
@@ -1025,7 +1047,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             span,
             custom: parameter.custom,
             implicit: false,
-            key_spans: KeySpans::default(),
+            key_spans,
         }
     }
 
