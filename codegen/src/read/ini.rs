@@ -11,10 +11,69 @@
 //! section also keep the last value (covered by the EDS005 error). Nothing is dropped silently.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::diag::Diagnostic;
 use crate::model::Span;
 use crate::rules;
+
+/// A small, fast, non-cryptographic hasher (the Fx scheme) for the reader's lookup tables, whose
+/// keys are short names; the standard SipHash showed up in profiles.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct FxHasher {
+    hash: u64,
+}
+
+impl FxHasher {
+    fn add(&mut self, word: u64) {
+        const SEED: u64 = 0x51_7c_c1_b7_27_22_0a_95;
+        self.hash = (self.hash.rotate_left(5) ^ word).wrapping_mul(SEED);
+    }
+}
+
+impl Hasher for FxHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        let mut chunks = bytes.chunks_exact(8);
+        for chunk in &mut chunks {
+            let mut word = [0u8; 8];
+            word.copy_from_slice(chunk);
+            self.add(u64::from_le_bytes(word));
+        }
+        let tail = chunks.remainder();
+        if !tail.is_empty() {
+            let mut word = [0u8; 8];
+            word[..tail.len()].copy_from_slice(tail);
+            self.add(u64::from_le_bytes(word));
+        }
+    }
+
+    fn write_u8(&mut self, n: u8) {
+        self.add(u64::from(n));
+    }
+
+    fn write_u16(&mut self, n: u16) {
+        self.add(u64::from(n));
+    }
+
+    fn write_u32(&mut self, n: u32) {
+        self.add(u64::from(n));
+    }
+
+    fn write_u64(&mut self, n: u64) {
+        self.add(n);
+    }
+
+    fn write_usize(&mut self, n: usize) {
+        self.add(n as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.hash
+    }
+}
+
+/// The [`std::hash::BuildHasher`] of [`FxHasher`].
+pub(crate) type FastHash = BuildHasherDefault<FxHasher>;
 
 /// The longest line CiA 306 allows, in characters.
 pub const MAX_LINE_CHARS: usize = 255;
@@ -83,29 +142,30 @@ pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
-    let mut out = Vec::new();
-    let bytes = text.as_bytes();
-    let mut start = 0;
-    let mut i = 0;
-    while i < bytes.len() {
-        match bytes[i] {
-            b'\n' => {
-                out.push(&text[start..i]);
-                start = i + 1;
+    let mut out = Vec::with_capacity(text.len() / 32 + 1);
+    let mut rest = text;
+    while !rest.is_empty() {
+        // One LF-terminated piece (or the unterminated tail); lone CRs inside it end lines too.
+        let piece = match rest.find('\n') {
+            Some(nl) => {
+                let piece = &rest[..nl];
+                rest = &rest[nl + 1..];
+                piece
             }
-            b'\r' => {
-                out.push(&text[start..i]);
-                if bytes.get(i + 1) == Some(&b'\n') {
-                    i += 1;
-                }
-                start = i + 1;
-            }
-            _ => {}
+            None => std::mem::take(&mut rest),
+        };
+        if !piece.contains('\r') {
+            out.push(piece);
+            continue;
         }
-        i += 1;
-    }
-    if start < bytes.len() {
-        out.push(&text[start..]);
+        let mut parts = piece.split('\r').peekable();
+        while let Some(part) = parts.next() {
+            // After the last CR: empty when the CR ends a CR LF or the text; else a line.
+            if parts.peek().is_none() && part.is_empty() {
+                break;
+            }
+            out.push(part);
+        }
     }
     out
 }
@@ -114,9 +174,29 @@ fn char_len(s: &str) -> u32 {
     u32::try_from(s.chars().count()).unwrap_or(u32::MAX)
 }
 
+/// [`char_len`] for a piece of a line known to be ASCII or not.
+fn char_len_in(s: &str, ascii: bool) -> u32 {
+    if ascii {
+        u32::try_from(s.len()).unwrap_or(u32::MAX)
+    } else {
+        char_len(s)
+    }
+}
+
 /// The 1-based character column of byte offset `at` in `line`.
 fn column_of(line: &str, at: usize) -> u32 {
     char_len(line.get(..at).unwrap_or(line)).saturating_add(1)
+}
+
+/// [`column_of`] for a line known to be ASCII or not.
+fn column_in(line: &str, at: usize, ascii: bool) -> u32 {
+    if ascii {
+        u32::try_from(at.min(line.len()))
+            .unwrap_or(u32::MAX)
+            .saturating_add(1)
+    } else {
+        column_of(line, at)
+    }
 }
 
 /// Whether a key is written only with `[A-Za-z0-9_]`.
@@ -146,15 +226,21 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry> {
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006 and EDS007.
 pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
     let mut file = IniFile::default();
-    // Index into `file.sections` of the section that receives entries, and the lowercase keys
-    // seen in the current occurrence of it.
+    // Index into `file.sections` of the section that receives entries, and the keys seen in the
+    // current occurrence of it (compared case-insensitively).
     let mut current: Option<usize> = None;
-    let mut keys_here: Vec<String> = Vec::new();
+    let mut keys_here: Vec<&str> = Vec::new();
     // Lowercase section name -> position in `file.sections`.
-    let mut section_at: HashMap<String, usize> = HashMap::new();
+    let mut section_at: HashMap<String, usize, FastHash> = HashMap::default();
+    let mut lower_name = String::new();
     for (number, line) in lines(text).into_iter().enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
-        let chars = line.chars().count();
+        // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
+        let chars = if line.len() > MAX_LINE_CHARS {
+            line.chars().count()
+        } else {
+            0
+        };
         if chars > MAX_LINE_CHARS {
             diags.push(
                 Diagnostic::new(
@@ -169,13 +255,14 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
         if trimmed.is_empty() {
             continue;
         }
+        let ascii = line.is_ascii();
         let indent = line.len() - line.trim_start().len();
-        let first_col = column_of(line, indent);
+        let first_col = column_in(line, indent, ascii);
         if trimmed.starts_with(';') {
             if indent > 0 {
                 diags.push(Diagnostic::new(
                     &rules::INLINE_COMMENT,
-                    Some(Span::new(line_no, first_col, char_len(trimmed))),
+                    Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                     "comment does not start in column 1",
                 ));
             } else if let Some(section) = current.and_then(|i| file.sections.get_mut(i)) {
@@ -190,7 +277,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 diags.push(
                     Diagnostic::new(
                         &rules::UNPARSEABLE_LINE,
-                        Some(Span::new(line_no, first_col, char_len(trimmed))),
+                        Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                         "section header without a closing `]`",
                     )
                     .with_label("the line is ignored"),
@@ -199,7 +286,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             };
             let inner = &trimmed[1..close];
             let name = inner.trim();
-            let header_span = Span::new(line_no, first_col, char_len(&trimmed[..=close]));
+            let header_span = Span::new(line_no, first_col, char_len_in(&trimmed[..=close], ascii));
             if indent > 0 || name.len() != inner.len() {
                 diags.push(
                     Diagnostic::new(
@@ -220,7 +307,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             } else if !rest.is_empty() {
                 diags.push(Diagnostic::new(
                     &rules::UNPARSEABLE_LINE,
-                    Some(Span::new(line_no, first_col, char_len(trimmed))),
+                    Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                     format!("text `{rest}` after the section header `[{name}]` is ignored"),
                 ));
             }
@@ -235,7 +322,10 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 continue;
             }
             keys_here.clear();
-            if let Some(&existing) = section_at.get(&name.to_ascii_lowercase()) {
+            lower_name.clear();
+            lower_name.push_str(name);
+            lower_name.make_ascii_lowercase();
+            if let Some(&existing) = section_at.get(lower_name.as_str()) {
                 let first_line = file.sections[existing].span.line;
                 diags.push(
                     Diagnostic::new(
@@ -249,7 +339,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 );
                 current = Some(existing);
             } else {
-                section_at.insert(name.to_ascii_lowercase(), file.sections.len());
+                section_at.insert(lower_name.clone(), file.sections.len());
                 current = Some(file.sections.len());
                 file.sections.push(IniSection {
                     name: name.to_owned(),
@@ -264,7 +354,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             diags.push(
                 Diagnostic::new(
                     &rules::UNPARSEABLE_LINE,
-                    Some(Span::new(line_no, first_col, char_len(trimmed))),
+                    Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                     "line is not a comment, a [section] or key=value",
                 )
                 .with_label("the line is ignored"),
@@ -273,15 +363,19 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
         };
         let key_raw = &line[..eq];
         let key = key_raw.trim();
-        let key_span = Span::new(line_no, first_col, char_len(key));
+        let key_span = Span::new(line_no, first_col, char_len_in(key, ascii));
         let value_raw = &line[eq + 1..];
         let value = value_raw.trim();
         let value_at = eq + 1 + (value_raw.len() - value_raw.trim_start().len());
-        let value_span = Span::new(line_no, column_of(line, value_at), char_len(value));
+        let value_span = Span::new(
+            line_no,
+            column_in(line, value_at, ascii),
+            char_len_in(value, ascii),
+        );
         if key.is_empty() {
             diags.push(Diagnostic::new(
                 &rules::UNPARSEABLE_LINE,
-                Some(Span::new(line_no, first_col, char_len(trimmed))),
+                Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                 "entry without a key name is ignored",
             ));
             continue;
@@ -289,7 +383,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
         let Some(section) = current.and_then(|i| file.sections.get_mut(i)) else {
             diags.push(Diagnostic::new(
                 &rules::UNPARSEABLE_LINE,
-                Some(Span::new(line_no, first_col, char_len(trimmed))),
+                Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                 format!("entry `{key}` before any section is ignored"),
             ));
             continue;
@@ -311,14 +405,18 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 format!("key `{key}` has characters other than letters, digits and `_`"),
             ));
         }
-        let lower = key.to_ascii_lowercase();
         let entry = IniEntry {
             key: key.to_owned(),
             key_span,
             value: value.to_owned(),
             value_span,
         };
-        if keys_here.contains(&lower) {
+        let existing = section
+            .entries
+            .iter()
+            .position(|e| e.key.eq_ignore_ascii_case(key));
+        // A key seen in this occurrence of the section is always among the entries.
+        if existing.is_some() && keys_here.iter().any(|k| k.eq_ignore_ascii_case(key)) {
             let first = section.get(key).map_or(0, |e| e.key_span.line);
             diags.push(Diagnostic::new(
                 &rules::DUPLICATE_KEY,
@@ -329,16 +427,11 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 ),
             ));
         } else {
-            keys_here.push(lower);
+            keys_here.push(key);
         }
-        if let Some(existing) = section
-            .entries
-            .iter_mut()
-            .find(|e| e.key.eq_ignore_ascii_case(key))
-        {
-            *existing = entry;
-        } else {
-            section.entries.push(entry);
+        match existing.and_then(|at| section.entries.get_mut(at)) {
+            Some(existing) => *existing = entry,
+            None => section.entries.push(entry),
         }
     }
     file
