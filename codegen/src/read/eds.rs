@@ -36,7 +36,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 
-use super::ini::{self, IniEntry, IniSection};
+use super::ini::{self, FastHash, IniEntry, IniSection};
 use super::value::{parse_integer, parse_value, split_inline_comment, strips_inline_comment};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
@@ -53,7 +53,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
     let mut reader = Reader {
         device: empty_device(path, format, encoding),
         diags: Vec::new(),
-        reported: HashSet::new(),
+        reported: HashSet::default(),
     };
     reader.check_encoding(&text, encoding);
     let file = ini::parse(&text, &mut reader.diags);
@@ -221,12 +221,12 @@ fn parse_hex_name(text: &str, max_value: u32) -> Option<u32> {
 /// leading zeros (more than four index digits, or a sub-index with a leading 0), and whether `sub`
 /// is spelled other than lowercase.
 fn classify(name: &str) -> (SectionKind, bool, bool) {
-    let lower = name.to_ascii_lowercase();
     for (canonical, kind) in NAMED_SECTIONS {
-        if lower == canonical.to_ascii_lowercase() {
+        if name.eq_ignore_ascii_case(canonical) {
             return (*kind, false, false);
         }
     }
+    let lower = name.to_ascii_lowercase();
     // Module sections: [M<n>...] and tool sections: [Tool<n>].
     let bytes = lower.as_bytes();
     if bytes.first() == Some(&b'm')
@@ -281,6 +281,42 @@ fn classify(name: &str) -> (SectionKind, bool, bool) {
     (SectionKind::Unknown, false, false)
 }
 
+/// The most keys a known-key list ([`OBJECT_KEYS`], ...) has.
+const MAX_KNOWN_KEYS: usize = 16;
+const _: () = assert!(
+    OBJECT_KEYS.len() <= MAX_KNOWN_KEYS
+        && FILE_INFO_KEYS.len() <= MAX_KNOWN_KEYS
+        && DEVICE_INFO_KEYS.len() <= MAX_KNOWN_KEYS
+        && COMMISSIONING_KEYS.len() <= MAX_KNOWN_KEYS
+);
+
+/// The entries of a section found for a list of known keys, by canonical key.
+struct KnownKeys<'s> {
+    known: &'static [&'static str],
+    /// The entry for `known[i]`, at `i`.
+    found: [Option<&'s IniEntry>; MAX_KNOWN_KEYS],
+}
+
+impl<'s> KnownKeys<'s> {
+    /// The entry for a canonical key.
+    fn get(&self, key: &str) -> Option<&&'s IniEntry> {
+        let at = self.known.iter().position(|k| *k == key)?;
+        self.found.get(at)?.as_ref()
+    }
+
+    /// The found (canonical key, entry) pairs, sorted by key.
+    fn sorted(&self) -> Vec<(&'static str, &'s IniEntry)> {
+        let mut pairs: Vec<_> = self
+            .known
+            .iter()
+            .zip(self.found.iter())
+            .filter_map(|(key, entry)| entry.map(|e| (*key, e)))
+            .collect();
+        pairs.sort_by_key(|(key, _)| *key);
+        pairs
+    }
+}
+
 /// The sections that describe one object, gathered before it is built.
 #[derive(Default)]
 struct ObjectSections<'a> {
@@ -296,7 +332,7 @@ struct Reader {
     device: Device,
     diags: Vec<Diagnostic>,
     /// (rule code, lowercase name) pairs already reported, to report each dialect once per file.
-    reported: HashSet<(&'static str, String)>,
+    reported: HashSet<(&'static str, String), FastHash>,
 }
 
 impl Reader {
@@ -475,13 +511,20 @@ impl Reader {
     fn split_keys<'s>(
         &mut self,
         section: &'s IniSection,
-        known: &[&'static str],
-    ) -> (BTreeMap<&'static str, &'s IniEntry>, Vec<&'s IniEntry>) {
-        let mut found = BTreeMap::new();
+        known: &'static [&'static str],
+    ) -> (KnownKeys<'s>, Vec<&'s IniEntry>) {
+        let mut found = KnownKeys {
+            known,
+            found: [None; MAX_KNOWN_KEYS],
+        };
         let mut rest = Vec::new();
         for entry in &section.entries {
-            match known.iter().find(|k| k.eq_ignore_ascii_case(&entry.key)) {
-                Some(canonical) => {
+            match known
+                .iter()
+                .position(|k| k.eq_ignore_ascii_case(&entry.key))
+            {
+                Some(at) => {
+                    let canonical = &known[at];
                     if *canonical != entry.key {
                         self.once(
                             Diagnostic::new(
@@ -492,7 +535,9 @@ impl Reader {
                             canonical,
                         );
                     }
-                    found.insert(*canonical, entry);
+                    if let Some(slot) = found.found.get_mut(at) {
+                        *slot = Some(entry);
+                    }
                 }
                 None => rest.push(entry),
             }
@@ -1063,7 +1108,7 @@ impl Reader {
             // Standard keys that an ARRAY/RECORD main section does not use without
             // CompactSubObj stay visible to the validator in `custom`.
             if object.compact_sub_obj.is_none() {
-                for (key, entry) in &keys {
+                for (key, entry) in &keys.sorted() {
                     if !matches!(
                         *key,
                         "ParameterName" | "ObjectType" | "SubNumber" | "ObjFlags" | "CompactSubObj"
@@ -1198,7 +1243,8 @@ impl Reader {
     /// Parses every kept value text against its entry's data type, DEFTYPE objects first.
     fn resolve_values(&mut self) {
         type Parsed = (String, Span, Option<Value>);
-        let mut parsed: HashMap<(Span, String, Option<BasicType>), Parsed> = HashMap::new();
+        let mut parsed: HashMap<(Span, String, Option<BasicType>), Parsed, FastHash> =
+            HashMap::default();
         for deftypes_pass in [true, false] {
             let mut work = Vec::new();
             for (index, object) in &self.device.objects {
@@ -1320,7 +1366,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
             sub_index,
             SubObject {
                 sub_index,
-                name: format!("{}{n}", object.name),
+                name: numbered_name(&object.name, n),
                 data_type: template.data_type,
                 access: template.access,
                 pdo_mapping: template.pdo_mapping,
@@ -1338,6 +1384,25 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
             },
         );
     }
+}
+
+/// `<name><n>` (decimal), without the formatting machinery: it runs once per compact sub-object.
+fn numbered_name(name: &str, n: u32) -> String {
+    let mut digits = [0u8; 10];
+    let mut at = digits.len();
+    let mut rest = n;
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (rest % 10) as u8;
+        rest /= 10;
+        if rest == 0 {
+            break;
+        }
+    }
+    let mut out = String::with_capacity(name.len() + digits.len() - at);
+    out.push_str(name);
+    out.extend(digits[at..].iter().map(|d| char::from(*d)));
+    out
 }
 
 /// The entry layout of the PDO communication sub-indices 1..6 (CiA 301): name, data type.
