@@ -142,32 +142,71 @@ pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
-    let mut out = Vec::with_capacity(text.len() / 32 + 1);
-    let mut rest = text;
-    while !rest.is_empty() {
-        // One LF-terminated piece (or the unterminated tail); lone CRs inside it end lines too.
-        let piece = match rest.find('\n') {
-            Some(nl) => {
-                let piece = &rest[..nl];
-                rest = &rest[nl + 1..];
-                piece
-            }
-            None => std::mem::take(&mut rest),
-        };
-        if !piece.contains('\r') {
-            out.push(piece);
-            continue;
-        }
-        let mut parts = piece.split('\r').peekable();
-        while let Some(part) = parts.next() {
-            // After the last CR: empty when the CR ends a CR LF or the text; else a line.
-            if parts.peek().is_none() && part.is_empty() {
-                break;
-            }
-            out.push(part);
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len() / 32 + 1);
+    let mut start = 0;
+    while let Some(at) = next_line_break(bytes, start) {
+        out.push(&text[start..at]);
+        start = at + 1;
+        if bytes[at] == b'\r' && bytes.get(start) == Some(&b'\n') {
+            start += 1;
         }
     }
+    if start < bytes.len() {
+        out.push(&text[start..]);
+    }
     out
+}
+
+/// The position of the first CR or LF at or after `from`, eight bytes at a time.
+fn next_line_break(bytes: &[u8], from: usize) -> Option<usize> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    // Whether any byte of `word` is `byte` (the classic zero-byte test on word ^ byte pattern).
+    let has = |word: u64, byte: u8| {
+        let x = word ^ (ONES * u64::from(byte));
+        x.wrapping_sub(ONES) & !x & HIGHS != 0
+    };
+    let mut at = from;
+    while let Some(chunk) = bytes.get(at..at + 8) {
+        let mut word = [0u8; 8];
+        word.copy_from_slice(chunk);
+        let word = u64::from_le_bytes(word);
+        if has(word, b'\n') || has(word, b'\r') {
+            break;
+        }
+        at += 8;
+    }
+    let tail = bytes.get(at..)?;
+    tail.iter()
+        .position(|b| matches!(b, b'\n' | b'\r'))
+        .map(|p| at + p)
+}
+
+/// Whether an ASCII byte is white space to [`char::is_whitespace`].
+fn is_ascii_space(b: u8) -> bool {
+    matches!(b, b'\t' | b'\n' | 0x0B | 0x0C | b'\r' | b' ')
+}
+
+/// [`str::trim_start`] for text known to be ASCII or not.
+fn trim_start_in(s: &str, ascii: bool) -> &str {
+    if ascii {
+        let n = s.bytes().take_while(|b| is_ascii_space(*b)).count();
+        &s[n..]
+    } else {
+        s.trim_start()
+    }
+}
+
+/// [`str::trim`] for text known to be ASCII or not.
+fn trim_in(s: &str, ascii: bool) -> &str {
+    if ascii {
+        let s = trim_start_in(s, true);
+        let n = s.bytes().rev().take_while(|b| is_ascii_space(*b)).count();
+        &s[..s.len() - n]
+    } else {
+        s.trim()
+    }
 }
 
 fn char_len(s: &str) -> u32 {
@@ -251,12 +290,12 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 .with_help("shorten the value; some tools truncate long lines"),
             );
         }
-        let trimmed = line.trim();
+        let ascii = line.is_ascii();
+        let trimmed = trim_in(line, ascii);
         if trimmed.is_empty() {
             continue;
         }
-        let ascii = line.is_ascii();
-        let indent = line.len() - line.trim_start().len();
+        let indent = line.len() - trim_start_in(line, ascii).len();
         let first_col = column_in(line, indent, ascii);
         if trimmed.starts_with(';') {
             if indent > 0 {
@@ -350,7 +389,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             }
             continue;
         }
-        let Some(eq) = line.find('=') else {
+        let Some(eq) = line.bytes().position(|b| b == b'=') else {
             diags.push(
                 Diagnostic::new(
                     &rules::UNPARSEABLE_LINE,
@@ -362,11 +401,11 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             continue;
         };
         let key_raw = &line[..eq];
-        let key = key_raw.trim();
+        let key = trim_in(key_raw, ascii);
         let key_span = Span::new(line_no, first_col, char_len_in(key, ascii));
         let value_raw = &line[eq + 1..];
-        let value = value_raw.trim();
-        let value_at = eq + 1 + (value_raw.len() - value_raw.trim_start().len());
+        let value = trim_in(value_raw, ascii);
+        let value_at = eq + 1 + (value_raw.len() - trim_start_in(value_raw, ascii).len());
         let value_span = Span::new(
             line_no,
             column_in(line, value_at, ascii),
@@ -458,6 +497,71 @@ mod tests {
         assert_eq!(lines("a\n"), vec!["a"]);
         assert_eq!(lines("a\r\n\r\nb"), vec!["a", "", "b"]);
         assert_eq!(lines(""), Vec::<&str>::new());
+    }
+
+    /// The byte-at-a-time line splitter `lines` replaced, as the reference.
+    fn reference_lines(text: &str) -> Vec<&str> {
+        let mut out = Vec::new();
+        let bytes = text.as_bytes();
+        let (mut start, mut i) = (0, 0);
+        while i < bytes.len() {
+            match bytes[i] {
+                b'\n' => {
+                    out.push(&text[start..i]);
+                    start = i + 1;
+                }
+                b'\r' => {
+                    out.push(&text[start..i]);
+                    if bytes.get(i + 1) == Some(&b'\n') {
+                        i += 1;
+                    }
+                    start = i + 1;
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        if start < bytes.len() {
+            out.push(&text[start..]);
+        }
+        out
+    }
+
+    #[test]
+    fn lines_agree_with_the_bytewise_reference() {
+        // Every text of up to 7 characters over {a, CR, LF}, and the same padded past the
+        // eight-byte stride with long runs before and after.
+        let alphabet = ['a', '\r', '\n'];
+        let mut checked = 0;
+        for len in 0..=7u32 {
+            for mut code in 0..3usize.pow(len) {
+                let mut text = String::new();
+                for _ in 0..len {
+                    text.push(alphabet[code % 3]);
+                    code /= 3;
+                }
+                for padded in [
+                    text.clone(),
+                    format!("{}{text}", "x".repeat(13)),
+                    format!("{text}{}", "é".repeat(9)),
+                ] {
+                    assert_eq!(lines(&padded), reference_lines(&padded), "{padded:?}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(
+            checked,
+            3 * (1..=7).map(|n| 3usize.pow(n)).sum::<usize>() + 3
+        );
+    }
+
+    #[test]
+    fn ascii_trims_match_the_unicode_ones() {
+        for text in ["", " ", "\t a \x0B\x0C", "\r\n key \t", "k", " \x1F k\x1F "] {
+            assert_eq!(trim_in(text, true), text.trim(), "{text:?}");
+            assert_eq!(trim_start_in(text, true), text.trim_start(), "{text:?}");
+        }
     }
 
     #[test]
