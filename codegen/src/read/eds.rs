@@ -1245,6 +1245,24 @@ impl Reader {
         type Parsed = (String, Span, Option<Value>);
         let mut parsed: HashMap<(Span, String, Option<BasicType>), Parsed, FastHash> =
             HashMap::default();
+        // Only a span written into several entries (CompactSubObj) can hit the cache: count them
+        // first, so values with a span of their own skip the cache (and its copies).
+        let mut span_uses: HashMap<Span, u32, FastHash> = HashMap::default();
+        for object in self.device.objects.values() {
+            for entry in object.subs.values() {
+                for source in [
+                    &entry.default,
+                    &entry.parameter_value,
+                    &entry.low_limit,
+                    &entry.high_limit,
+                ]
+                .into_iter()
+                .flatten()
+                {
+                    *span_uses.entry(source.span).or_default() += 1;
+                }
+            }
+        }
         for deftypes_pass in [true, false] {
             let mut work = Vec::new();
             for (index, object) in &self.device.objects {
@@ -1272,6 +1290,10 @@ impl Reader {
                     ("HighLimit", &mut entry.high_limit),
                 ] {
                     let Some(source) = slot else { continue };
+                    if span_uses.get(&source.span).copied().unwrap_or(0) < 2 {
+                        resolve_value(source, key, basic, &mut self.diags);
+                        continue;
+                    }
                     // CompactSubObj copies one written value into many entries: parse it (and
                     // report it) once.
                     let cache_key = (source.span, source.raw.clone(), basic);

@@ -135,7 +135,10 @@ pub fn parse_value(
 }
 
 fn contains_nodeid(text: &str) -> bool {
-    text.to_ascii_lowercase().contains("$nodeid")
+    const NEEDLE: &[u8] = b"$nodeid";
+    text.as_bytes()
+        .windows(NEEDLE.len())
+        .any(|w| w.eq_ignore_ascii_case(NEEDLE))
 }
 
 /// Parses a `$NODEID` formula into its offset. Accepted: `$NODEID`, `$NODEID+n{+n}` with optional
