@@ -294,18 +294,18 @@ const _: () = assert!(
 struct KnownKeys<'s> {
     known: &'static [&'static str],
     /// The entry for `known[i]`, at `i`.
-    found: [Option<&'s IniEntry>; MAX_KNOWN_KEYS],
+    found: [Option<&'s IniEntry<'s>>; MAX_KNOWN_KEYS],
 }
 
 impl<'s> KnownKeys<'s> {
     /// The entry for a canonical key.
-    fn get(&self, key: &str) -> Option<&&'s IniEntry> {
+    fn get(&self, key: &str) -> Option<&&'s IniEntry<'s>> {
         let at = self.known.iter().position(|k| *k == key)?;
         self.found.get(at)?.as_ref()
     }
 
     /// The found (canonical key, entry) pairs, sorted by key.
-    fn sorted(&self) -> Vec<(&'static str, &'s IniEntry)> {
+    fn sorted(&self) -> Vec<(&'static str, &'s IniEntry<'s>)> {
         let mut pairs: Vec<_> = self
             .known
             .iter()
@@ -320,12 +320,12 @@ impl<'s> KnownKeys<'s> {
 /// The sections that describe one object, gathered before it is built.
 #[derive(Default)]
 struct ObjectSections<'a> {
-    main: Option<&'a IniSection>,
-    subs: BTreeMap<u8, &'a IniSection>,
-    names: Option<&'a IniSection>,
-    values: Option<&'a IniSection>,
-    denotations: Option<&'a IniSection>,
-    links: Option<&'a IniSection>,
+    main: Option<&'a IniSection<'a>>,
+    subs: BTreeMap<u8, &'a IniSection<'a>>,
+    names: Option<&'a IniSection<'a>>,
+    values: Option<&'a IniSection<'a>>,
+    denotations: Option<&'a IniSection<'a>>,
+    links: Option<&'a IniSection<'a>>,
 }
 
 struct Reader {
@@ -497,8 +497,8 @@ impl Reader {
                 .entries
                 .iter()
                 .map(|e| RawEntry {
-                    key: e.key.clone(),
-                    value: e.value.clone(),
+                    key: e.key.as_str().to_owned(),
+                    value: e.value.as_str().to_owned(),
                     span: e.line_span(),
                 })
                 .collect(),
@@ -510,9 +510,9 @@ impl Reader {
     /// entries that are not in `known`.
     fn split_keys<'s>(
         &mut self,
-        section: &'s IniSection,
+        section: &'s IniSection<'s>,
         known: &'static [&'static str],
-    ) -> (KnownKeys<'s>, Vec<&'s IniEntry>) {
+    ) -> (KnownKeys<'s>, Vec<&'s IniEntry<'s>>) {
         let mut found = KnownKeys {
             known,
             found: [None; MAX_KNOWN_KEYS],
@@ -642,7 +642,7 @@ impl Reader {
     fn string(entry: Option<&IniEntry>) -> Option<String> {
         entry
             .filter(|e| !e.value.is_empty())
-            .map(|e| e.value.clone())
+            .map(|e| e.value.as_str().to_owned())
     }
 
     fn read_file_info(&mut self, section: &IniSection) {
@@ -658,7 +658,7 @@ impl Reader {
             eds_version: keys
                 .get("EDSVersion")
                 .filter(|e| !e.value.is_empty())
-                .map(|e| Spanned::new(e.value.clone(), e.value_span)),
+                .map(|e| Spanned::new(e.value.as_str().to_owned(), e.value_span)),
             description: get("Description"),
             creation_time: get("CreationTime"),
             creation_date: get("CreationDate"),
@@ -807,7 +807,7 @@ impl Reader {
                 continue;
             }
             match self.numbered_key(entry, "Line") {
-                Some(n) => lines.push((n, entry.value.clone())),
+                Some(n) => lines.push((n, entry.value.as_str().to_owned())),
                 None => self.unknown_key(entry, section),
             }
         }
@@ -912,7 +912,7 @@ impl Reader {
     fn raw_value(entry: Option<&IniEntry>) -> Option<ValueSource> {
         entry.filter(|e| !e.value.is_empty()).map(|e| ValueSource {
             value: None,
-            raw: e.value.clone(),
+            raw: e.value.as_str().to_owned(),
             span: e.value_span,
         })
     }
@@ -967,12 +967,18 @@ impl Reader {
         // Object-level keys: the caller decides what they mean here.
         for key in ["ObjectType", "SubNumber", "CompactSubObj"] {
             if let Some(entry) = get(key) {
-                custom.push((entry.key.clone(), entry.value.clone()));
+                custom.push((
+                    entry.key.as_str().to_owned(),
+                    entry.value.as_str().to_owned(),
+                ));
             }
         }
         for entry in rest {
             self.unknown_key(entry, section);
-            custom.push((entry.key.clone(), entry.value.clone()));
+            custom.push((
+                entry.key.as_str().to_owned(),
+                entry.value.as_str().to_owned(),
+            ));
         }
         // CANopenEditor's commented keys, unless the key is also written for real.
         for entry in &section.commented {
@@ -980,7 +986,10 @@ impl Reader {
                 .iter()
                 .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
             {
-                custom.push((entry.key.clone(), entry.value.clone()));
+                custom.push((
+                    entry.key.as_str().to_owned(),
+                    entry.value.as_str().to_owned(),
+                ));
             }
         }
         SubObject {
@@ -1093,7 +1102,10 @@ impl Reader {
                 .map_or(0, |n| n.value);
             for entry in rest {
                 self.unknown_key(entry, main);
-                object.custom.push((entry.key.clone(), entry.value.clone()));
+                object.custom.push((
+                    entry.key.as_str().to_owned(),
+                    entry.value.as_str().to_owned(),
+                ));
             }
             // CANopenEditor's commented keys, unless the key is also written for real.
             for entry in &main.commented {
@@ -1102,7 +1114,10 @@ impl Reader {
                     .iter()
                     .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
                 {
-                    object.custom.push((entry.key.clone(), entry.value.clone()));
+                    object.custom.push((
+                        entry.key.as_str().to_owned(),
+                        entry.value.as_str().to_owned(),
+                    ));
                 }
             }
             // Standard keys that an ARRAY/RECORD main section does not use without
@@ -1113,7 +1128,10 @@ impl Reader {
                         *key,
                         "ParameterName" | "ObjectType" | "SubNumber" | "ObjFlags" | "CompactSubObj"
                     ) {
-                        object.custom.push((entry.key.clone(), entry.value.clone()));
+                        object.custom.push((
+                            entry.key.as_str().to_owned(),
+                            entry.value.as_str().to_owned(),
+                        ));
                     }
                 }
             }
@@ -1146,7 +1164,9 @@ impl Reader {
             }
             for key in ["SubNumber", "CompactSubObj"] {
                 if let Some(e) = main.get(key) {
-                    object.custom.push((e.key.clone(), e.value.clone()));
+                    object
+                        .custom
+                        .push((e.key.as_str().to_owned(), e.value.as_str().to_owned()));
                 }
             }
             object.subs.insert(0, entry);
@@ -1221,15 +1241,15 @@ impl Reader {
                     continue;
                 }
                 match what {
-                    What::Name => target.name = entry.value.clone(),
+                    What::Name => target.name = entry.value.as_str().to_owned(),
                     What::Value => {
                         target.parameter_value = Some(ValueSource {
                             value: None,
-                            raw: entry.value.clone(),
+                            raw: entry.value.as_str().to_owned(),
                             span: entry.value_span,
                         })
                     }
-                    What::Denotation => target.denotation = Some(entry.value.clone()),
+                    What::Denotation => target.denotation = Some(entry.value.as_str().to_owned()),
                 }
             }
         }

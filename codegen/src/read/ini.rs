@@ -78,20 +78,70 @@ pub(crate) type FastHash = BuildHasherDefault<FxHasher>;
 /// The longest line CiA 306 allows, in characters.
 pub const MAX_LINE_CHARS: usize = 255;
 
+/// A piece of the lexed text, borrowed: the lexer copies no key or value (copies were most of
+/// its cost). Reads like a `&str`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct IniText<'t>(&'t str);
+
+impl<'t> IniText<'t> {
+    /// The text.
+    pub fn as_str(&self) -> &'t str {
+        self.0
+    }
+}
+
+impl std::ops::Deref for IniText<'_> {
+    type Target = str;
+
+    fn deref(&self) -> &str {
+        self.0
+    }
+}
+
+impl std::fmt::Debug for IniText<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Debug::fmt(self.0, f)
+    }
+}
+
+impl std::fmt::Display for IniText<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Display::fmt(self.0, f)
+    }
+}
+
+impl PartialEq<str> for IniText<'_> {
+    fn eq(&self, other: &str) -> bool {
+        self.0 == other
+    }
+}
+
+impl PartialEq<&str> for IniText<'_> {
+    fn eq(&self, other: &&str) -> bool {
+        self.0 == *other
+    }
+}
+
+impl PartialEq<IniText<'_>> for &str {
+    fn eq(&self, other: &IniText<'_>) -> bool {
+        *self == other.0
+    }
+}
+
 /// One `key=value` line.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IniEntry {
+pub struct IniEntry<'t> {
     /// The key as written (trimmed).
-    pub key: String,
+    pub key: IniText<'t>,
     /// Where the key is.
     pub key_span: Span,
     /// The value, trimmed (possibly empty).
-    pub value: String,
+    pub value: IniText<'t>,
     /// Where the value is (length 0 and just after `=` when empty).
     pub value_span: Span,
 }
 
-impl IniEntry {
+impl IniEntry<'_> {
     /// The span of the whole `key=value` text.
     pub fn line_span(&self) -> Span {
         let end = if self.value.is_empty() {
@@ -109,21 +159,21 @@ impl IniEntry {
 
 /// One section: its name and its entries in file order (duplicates already resolved).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IniSection {
+pub struct IniSection<'t> {
     /// The name between the brackets, as first written (trimmed).
     pub name: String,
     /// Where the section header is (the whole `[name]`).
     pub span: Span,
     /// The entries, in file order; a key appears at most once (case-insensitively).
-    pub entries: Vec<IniEntry>,
+    pub entries: Vec<IniEntry<'t>>,
     /// The CANopenEditor comment extensions (`;StorageLocation=RAM`, `;TPDODetectCos=1`) found in
     /// the section, without the `;`. They are comments to CiA 306, and read back by CANopenEditor.
-    pub commented: Vec<IniEntry>,
+    pub commented: Vec<IniEntry<'t>>,
 }
 
-impl IniSection {
+impl<'t> IniSection<'t> {
     /// The entry for `key`, compared case-insensitively.
-    pub fn get(&self, key: &str) -> Option<&IniEntry> {
+    pub fn get(&self, key: &str) -> Option<&IniEntry<'t>> {
         self.entries
             .iter()
             .find(|e| e.key.eq_ignore_ascii_case(key))
@@ -132,9 +182,9 @@ impl IniSection {
 
 /// A lexed file.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct IniFile {
+pub struct IniFile<'t> {
     /// The sections in order of first appearance.
-    pub sections: Vec<IniSection>,
+    pub sections: Vec<IniSection<'t>>,
 }
 
 /// The keys CANopenEditor writes as comments (`;StorageLocation=RAM`) and reads back.
@@ -244,7 +294,7 @@ pub fn is_plain_key(key: &str) -> bool {
 }
 
 /// A `;Key=value` comment line whose key is one of [`COMMENTED_KEYS`], as an entry.
-fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry> {
+fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     let body = line.strip_prefix(';')?;
     let eq = body.find('=')?;
     let key = body[..eq].trim();
@@ -255,15 +305,15 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry> {
     let value = value_raw.trim();
     let value_at = 1 + eq + 1 + (value_raw.len() - value_raw.trim_start().len());
     Some(IniEntry {
-        key: key.to_owned(),
+        key: IniText(key),
         key_span: Span::new(line_no, 2, char_len(key)),
-        value: value.to_owned(),
+        value: IniText(value),
         value_span: Span::new(line_no, column_of(line, value_at), char_len(value)),
     })
 }
 
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006 and EDS007.
-pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
+pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     let mut file = IniFile::default();
     // Index into `file.sections` of the section that receives entries, and the keys seen in the
     // current occurrence of it (compared case-insensitively).
@@ -445,9 +495,9 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             ));
         }
         let entry = IniEntry {
-            key: key.to_owned(),
+            key: IniText(key),
             key_span,
-            value: value.to_owned(),
+            value: IniText(value),
             value_span,
         };
         let existing = section
@@ -481,7 +531,7 @@ mod tests {
     use super::*;
     use crate::diag::Severity;
 
-    fn lex(text: &str) -> (IniFile, Vec<(&'static str, Severity, u32)>) {
+    fn lex(text: &str) -> (IniFile<'_>, Vec<(&'static str, Severity, u32)>) {
         let mut diags = Vec::new();
         let file = parse(text, &mut diags);
         let codes = diags
