@@ -519,10 +519,16 @@ impl Reader {
         };
         let mut rest = Vec::new();
         for entry in &section.entries {
-            match known
+            // Most files write the canonical spelling: try that before comparing case-blind.
+            let at = known
                 .iter()
-                .position(|k| k.eq_ignore_ascii_case(&entry.key))
-            {
+                .position(|k| *k == entry.key.as_str())
+                .or_else(|| {
+                    known
+                        .iter()
+                        .position(|k| k.eq_ignore_ascii_case(&entry.key))
+                });
+            match at {
                 Some(at) => {
                     let canonical = &known[at];
                     if *canonical != entry.key {

@@ -433,7 +433,8 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 file.sections.push(IniSection {
                     name: name.to_owned(),
                     span: header_span,
-                    entries: Vec::new(),
+                    // Most object sections have up to eight keys: one allocation for them.
+                    entries: Vec::with_capacity(8),
                     commented: Vec::new(),
                 });
             }
