@@ -192,14 +192,33 @@ pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    // The high bit of each byte of `word` that is zero; a 0x01 byte just above a zero byte may
+    // be flagged too, so every candidate is checked again.
+    let zero_bytes = |word: u64| word.wrapping_sub(ONES) & !word & HIGHS;
     let bytes = text.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len() / 32 + 1);
+    let mut out = Vec::with_capacity(bytes.len() / 16 + 1);
     let mut start = 0;
-    while let Some(at) = next_line_break(bytes, start) {
-        out.push(&text[start..at]);
-        start = at + 1;
-        if bytes[at] == b'\r' && bytes.get(start) == Some(&b'\n') {
-            start += 1;
+    // Eight bytes at a time: most bytes are neither CR nor LF.
+    let mut chunks = bytes.chunks_exact(8);
+    let mut base = 0;
+    for chunk in &mut chunks {
+        let mut word = [0u8; 8];
+        word.copy_from_slice(chunk);
+        let word = u64::from_le_bytes(word);
+        let mut candidates = zero_bytes(word ^ (ONES * u64::from(b'\n')))
+            | zero_bytes(word ^ (ONES * u64::from(b'\r')));
+        while candidates != 0 {
+            let at = base + (candidates.trailing_zeros() / 8) as usize;
+            candidates &= candidates - 1;
+            line_break(text, at, &mut start, &mut out);
+        }
+        base += 8;
+    }
+    for (offset, byte) in chunks.remainder().iter().enumerate() {
+        if matches!(byte, b'\n' | b'\r') {
+            line_break(text, base + offset, &mut start, &mut out);
         }
     }
     if start < bytes.len() {
@@ -208,29 +227,20 @@ pub fn lines(text: &str) -> Vec<&str> {
     out
 }
 
-/// The position of the first CR or LF at or after `from`, eight bytes at a time.
-fn next_line_break(bytes: &[u8], from: usize) -> Option<usize> {
-    const ONES: u64 = 0x0101_0101_0101_0101;
-    const HIGHS: u64 = 0x8080_8080_8080_8080;
-    // Whether any byte of `word` is `byte` (the classic zero-byte test on word ^ byte pattern).
-    let has = |word: u64, byte: u8| {
-        let x = word ^ (ONES * u64::from(byte));
-        x.wrapping_sub(ONES) & !x & HIGHS != 0
-    };
-    let mut at = from;
-    while let Some(chunk) = bytes.get(at..at + 8) {
-        let mut word = [0u8; 8];
-        word.copy_from_slice(chunk);
-        let word = u64::from_le_bytes(word);
-        if has(word, b'\n') || has(word, b'\r') {
-            break;
-        }
-        at += 8;
+/// Ends the line that starts at `start` if `at` is a line break: a CR or LF at or after `start`
+/// (the LF of a CR LF is skipped).
+#[inline]
+fn line_break<'t>(text: &'t str, at: usize, start: &mut usize, out: &mut Vec<&'t str>) {
+    let bytes = text.as_bytes();
+    let Some(&byte) = bytes.get(at) else { return };
+    if at < *start || !matches!(byte, b'\n' | b'\r') {
+        return;
     }
-    let tail = bytes.get(at..)?;
-    tail.iter()
-        .position(|b| matches!(b, b'\n' | b'\r'))
-        .map(|p| at + p)
+    out.push(&text[*start..at]);
+    *start = at + 1;
+    if byte == b'\r' && bytes.get(at + 1) == Some(&b'\n') {
+        *start += 1;
+    }
 }
 
 /// Whether an ASCII byte is white space to [`char::is_whitespace`].
@@ -239,21 +249,31 @@ fn is_ascii_space(b: u8) -> bool {
 }
 
 /// [`str::trim_start`] for text known to be ASCII or not.
+#[inline]
 fn trim_start_in(s: &str, ascii: bool) -> &str {
     if ascii {
-        let n = s.bytes().take_while(|b| is_ascii_space(*b)).count();
-        &s[n..]
+        let bytes = s.as_bytes();
+        let mut start = 0;
+        while start < bytes.len() && is_ascii_space(bytes[start]) {
+            start += 1;
+        }
+        &s[start..]
     } else {
         s.trim_start()
     }
 }
 
 /// [`str::trim`] for text known to be ASCII or not.
+#[inline]
 fn trim_in(s: &str, ascii: bool) -> &str {
     if ascii {
         let s = trim_start_in(s, true);
-        let n = s.bytes().rev().take_while(|b| is_ascii_space(*b)).count();
-        &s[..s.len() - n]
+        let bytes = s.as_bytes();
+        let mut end = bytes.len();
+        while end > 0 && is_ascii_space(bytes[end - 1]) {
+            end -= 1;
+        }
+        &s[..end]
     } else {
         s.trim()
     }
