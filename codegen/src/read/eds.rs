@@ -317,6 +317,18 @@ impl<'s> KnownKeys<'s> {
     }
 }
 
+/// What `Reader::read_entry` does with the object-level keys (`ObjectType`, `SubNumber`,
+/// `CompactSubObj`) of the section it reads.
+#[derive(Clone, Copy)]
+enum ObjectKeys {
+    /// Keep them in the entry's `custom`.
+    Keep,
+    /// Keep them, except an `ObjectType` of 7 (VAR), which a sub-index section may state.
+    KeepUnlessVarType,
+    /// Leave them out (a VAR or DOMAIN main section: they belong to the object).
+    Drop,
+}
+
 /// The sections that describe one object, gathered before it is built.
 #[derive(Default)]
 struct ObjectSections<'a> {
@@ -926,7 +938,12 @@ impl Reader {
     /// Reads the entry keys of a section (an object's main section for VAR/DOMAIN, or a sub-index
     /// section) into a sub-object. Keys that belong to the object level are returned for the
     /// caller.
-    fn read_entry(&mut self, section: &IniSection, sub_index: u8) -> SubObject {
+    fn read_entry(
+        &mut self,
+        section: &IniSection,
+        sub_index: u8,
+        object_keys: ObjectKeys,
+    ) -> SubObject {
         let (keys, rest) = self.split_keys(section, OBJECT_KEYS);
         let get = |k: &str| keys.get(k).copied();
         let data_type = self
@@ -973,6 +990,17 @@ impl Reader {
         // Object-level keys: the caller decides what they mean here.
         for key in ["ObjectType", "SubNumber", "CompactSubObj"] {
             if let Some(entry) = get(key) {
+                let dropped = match object_keys {
+                    ObjectKeys::Keep => false,
+                    ObjectKeys::KeepUnlessVarType => {
+                        key == "ObjectType"
+                            && parse_integer(split_inline_comment(&entry.value).0) == Some(7)
+                    }
+                    ObjectKeys::Drop => true,
+                };
+                if dropped {
+                    continue;
+                }
                 custom.push((
                     entry.key.as_str().to_owned(),
                     entry.value.as_str().to_owned(),
@@ -1142,27 +1170,16 @@ impl Reader {
                 }
             }
             if let Some(count) = object.compact_sub_obj.clone() {
-                let template = self.read_entry(main, 0);
+                let template = self.read_entry(main, 0, ObjectKeys::Keep);
                 expand_compact_sub_obj(&mut object, &template, count);
             }
             for (sub, section) in &sections.subs {
-                let mut entry = self.read_entry(section, *sub);
-                if let Some(pos) = entry.custom.iter().position(|(k, v)| {
-                    k.eq_ignore_ascii_case("ObjectType")
-                        && parse_integer(split_inline_comment(v).0) == Some(7)
-                }) {
-                    entry.custom.remove(pos);
-                }
+                let entry = self.read_entry(section, *sub, ObjectKeys::KeepUnlessVarType);
                 object.subs.insert(*sub, entry);
             }
         } else {
-            let mut entry = self.read_entry(main, 0);
-            // The object-level keys are not entry keys; remove them from the entry's custom.
-            entry.custom.retain(|(k, _)| {
-                !["ObjectType", "SubNumber", "CompactSubObj"]
-                    .iter()
-                    .any(|o| o.eq_ignore_ascii_case(k))
-            });
+            // The object-level keys are not entry keys: they stay out of the entry's custom.
+            let mut entry = self.read_entry(main, 0, ObjectKeys::Drop);
             object.obj_flags = entry.obj_flags;
             if object_type == ObjectType::Domain {
                 entry.data_type.get_or_insert(BasicType::Domain.index());
