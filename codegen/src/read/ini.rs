@@ -75,6 +75,26 @@ impl Hasher for FxHasher {
 /// The [`std::hash::BuildHasher`] of [`FxHasher`].
 pub(crate) type FastHash = BuildHasherDefault<FxHasher>;
 
+/// A name hashed and compared ignoring ASCII case, borrowed from the text.
+#[derive(Debug, Clone, Copy)]
+struct Caseless<'t>(&'t str);
+
+impl PartialEq for Caseless<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.eq_ignore_ascii_case(other.0)
+    }
+}
+
+impl Eq for Caseless<'_> {}
+
+impl std::hash::Hash for Caseless<'_> {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        for byte in self.0.bytes() {
+            state.write_u8(byte.to_ascii_lowercase());
+        }
+    }
+}
+
 /// The longest line CiA 306 allows, in characters.
 pub const MAX_LINE_CHARS: usize = 255;
 
@@ -339,9 +359,8 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     // current occurrence of it (compared case-insensitively).
     let mut current: Option<usize> = None;
     let mut keys_here: Vec<&str> = Vec::new();
-    // Lowercase section name -> position in `file.sections`.
-    let mut section_at: HashMap<String, usize, FastHash> = HashMap::default();
-    let mut lower_name = String::new();
+    // Section name (case-insensitively) -> position in `file.sections`.
+    let mut section_at: HashMap<Caseless<'t>, usize, FastHash> = HashMap::default();
     for (number, line) in lines(text).into_iter().enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
@@ -431,10 +450,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 continue;
             }
             keys_here.clear();
-            lower_name.clear();
-            lower_name.push_str(name);
-            lower_name.make_ascii_lowercase();
-            if let Some(&existing) = section_at.get(lower_name.as_str()) {
+            if let Some(&existing) = section_at.get(&Caseless(name)) {
                 let first_line = file.sections[existing].span.line;
                 diags.push(
                     Diagnostic::new(
@@ -448,7 +464,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 );
                 current = Some(existing);
             } else {
-                section_at.insert(lower_name.clone(), file.sections.len());
+                section_at.insert(Caseless(name), file.sections.len());
                 current = Some(file.sections.len());
                 file.sections.push(IniSection {
                     name: name.to_owned(),
