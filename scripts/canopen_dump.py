@@ -7,6 +7,9 @@ has: {"file", "objects": [{"index", "name", "object_type", "dummy", "subs": [{"s
 "data_type", "access", "pdo_mapping", "default"}]}]}, or {"file", "error"} when the import fails.
 
 - object_type: 7 for a python ODVariable (python does not keep VAR vs DOMAIN), 8 ODArray, 9 ODRecord.
+- lazy (arrays): the entry python creates on access for a sub-index the array does not hold (from
+  sub-index 1; `name_prefix` + "_" + the sub-index in lowercase hex), as python's own `arr[i]`
+  gives it.
 - dummy: the object was created by python from [DummyUsage] (DummyNNNN=1), not from a section.
 - default: as python holds it (integers exact, floats, strings, bytes as lowercase hex, null). A
   default written with $NODEID becomes {"nodeid_offset": N}, N computed from `default_raw` the way
@@ -90,7 +93,23 @@ def object_entry(obj):
         "object_type": object_type,
         "dummy": False,
         "subs": [sub_entry(obj.subindices[i]) for i in sorted(obj.subindices)],
+        "lazy": lazy_entry(obj),
     }
+
+
+def lazy_entry(obj):
+    """What an ODArray answers for a sub-index it does not hold: python makes it on access from
+    sub-index 1, named "<sub 1 name>_<sub-index in lowercase hex>". Null when it cannot."""
+    if not isinstance(obj, ODArray) or 1 not in obj.subindices:
+        return None
+    missing = next((i for i in range(2, 256) if i not in obj.subindices), None)
+    if missing is None:
+        return None
+    entry = sub_entry(obj[missing])
+    del entry["sub"]
+    entry["name_prefix"] = obj.subindices[1].name
+    del entry["name"]
+    return entry
 
 
 def dump(path):

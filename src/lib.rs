@@ -3,3 +3,5 @@
 //! This crate is the `edsgen` command-line tool; the generator is `edsgen-codegen` and the
 //! runtime `edsgen-runtime`.
 #![forbid(unsafe_code)]
+
+pub mod cards;

@@ -503,8 +503,17 @@ fn validates_with_only_the_card_s_own_deviation_from_cia_301() {
     // 2000h:00 and 2100h:00 are 16-bit data on this card (Tables 3-19/3-20, App. A 1600h/1A00h), not the UNSIGNED8
     // number of entries; the file describes them as they are, and its [Comments] say so.
     let read = read();
-    let sub0_2000 = Some(line_of(&read.text, "[2000sub0]"));
-    let sub0_2100 = Some(line_of(&read.text, "[2100sub0]"));
+    // Each at the DataType key of the sub-0 section.
+    let data_type_of = |header: &str| {
+        let start = line_of(&read.text, header);
+        let below = read.text.lines().skip(start as usize);
+        below
+            .take_while(|l| !l.starts_with('['))
+            .position(|l| l.starts_with("DataType="))
+            .map(|i| start + i as u32 + 1)
+    };
+    let sub0_2000 = data_type_of("[2000sub0]");
+    let sub0_2100 = data_type_of("[2100sub0]");
     assert_eq!(
         warnings_and_errors(&read),
         [

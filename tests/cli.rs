@@ -220,13 +220,18 @@ fn json_output_is_exact() {
     let out = run(&["validate", "--format", "json", p]);
     assert_eq!(code(&out), 1);
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let line = with_error().lines().position(|l| l == "[2000]").unwrap() + 1;
+    // At the DataType value, not the section header.
+    let line = with_error()
+        .lines()
+        .position(|l| l == "DataType=0x0099")
+        .unwrap()
+        + 1;
     assert_eq!(
         json,
         serde_json::json!([{
             "file": p,
             "line": line,
-            "column": 1,
+            "column": 10,
             "severity": "error",
             "code": "EDS314",
             "message": "2000h has DataType 0099h, which is not a basic type nor defined in this file",

@@ -1,11 +1,67 @@
-//! `Builder`: the build.rs entry point. Placeholder until code generation lands.
+//! `Builder`: the build.rs entry point. Reads each device description, validates it, generates
+//! its module into `OUT_DIR/NAME.rs` (for `edsgen_runtime::include_device!("NAME")`), prints
+//! `cargo:rerun-if-changed` for every input and warnings as `cargo:warning`, and fails on errors
+//! with the rendered diagnostics.
 
-use std::path::PathBuf;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::diag::{self, Severity};
+use crate::{emit, read, render, validate};
 
 /// Generates typed bindings for one or more devices from build.rs.
+///
+/// ```no_run
+/// // build.rs
+/// fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
+///     edsgen_codegen::Builder::new()
+///         .device("eds/cp301.eds")
+///         .device("eds/ms300.eds")
+///         .generate()
+/// }
+/// // in the crate: edsgen_runtime::include_device!("cp301");
+/// ```
 #[derive(Debug, Default, Clone)]
 pub struct Builder {
-    devices: Vec<PathBuf>,
+    devices: Vec<(PathBuf, Option<String>)>,
+    out_dir: Option<PathBuf>,
+    cargo_output: Option<bool>,
+}
+
+/// Why generation failed: the rendered diagnostics or the I/O problem, ready to print.
+pub struct BuildError {
+    message: String,
+}
+
+impl BuildError {
+    /// The rendered message.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+impl fmt::Display for BuildError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+// `main` returning `Err` prints the Debug form: make it the readable message.
+impl fmt::Debug for BuildError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for BuildError {}
+
+/// What [`Builder::generate_to`] wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Output {
+    /// (module name, file written) per device, in the order given.
+    pub modules: Vec<(String, PathBuf)>,
+    /// Warnings, rendered (also printed as `cargo:warning` lines when running under cargo).
+    pub warnings: Vec<String>,
 }
 
 impl Builder {
@@ -14,9 +70,153 @@ impl Builder {
         Self::default()
     }
 
-    /// Adds a device description file.
+    /// Adds a device description file; its module is named after the file stem in snake case.
     pub fn device(mut self, path: impl Into<PathBuf>) -> Self {
-        self.devices.push(path.into());
+        self.devices.push((path.into(), None));
         self
+    }
+
+    /// Adds a device description file with an explicit module name.
+    pub fn device_as(mut self, path: impl Into<PathBuf>, module: &str) -> Self {
+        self.devices.push((path.into(), Some(module.to_owned())));
+        self
+    }
+
+    /// Writes into `dir` instead of `$OUT_DIR`.
+    pub fn out_dir(mut self, dir: impl Into<PathBuf>) -> Self {
+        self.out_dir = Some(dir.into());
+        self
+    }
+
+    /// Whether to print `cargo:` lines (default: when `$OUT_DIR` is set, i.e. under build.rs).
+    pub fn cargo_output(mut self, on: bool) -> Self {
+        self.cargo_output = Some(on);
+        self
+    }
+
+    /// Generates every device; see [`Builder::generate_to`].
+    pub fn generate(self) -> Result<(), BuildError> {
+        self.generate_to().map(|_| ())
+    }
+
+    /// Generates every device and says what was written. Every device is tried, so one build
+    /// shows the errors of all of them.
+    pub fn generate_to(self) -> Result<Output, BuildError> {
+        let out_dir = match self
+            .out_dir
+            .clone()
+            .or_else(|| std::env::var_os("OUT_DIR").map(PathBuf::from))
+        {
+            Some(dir) => dir,
+            None => {
+                return Err(BuildError {
+                    message:
+                        "edsgen: OUT_DIR is not set; call from build.rs or use Builder::out_dir"
+                            .into(),
+                })
+            }
+        };
+        let cargo = self
+            .cargo_output
+            .unwrap_or_else(|| std::env::var_os("OUT_DIR").is_some());
+        let mut errors = String::new();
+        let mut output = Output {
+            modules: Vec::new(),
+            warnings: Vec::new(),
+        };
+        let mut seen = std::collections::BTreeSet::new();
+        for (path, module) in &self.devices {
+            if cargo {
+                println!("cargo:rerun-if-changed={}", path.display());
+            }
+            let module = emit::module_name(&module.clone().unwrap_or_else(|| stem(path)));
+            if !seen.insert(module.clone()) {
+                errors.push_str(&format!(
+                    "error: edsgen: two devices would both be module `{module}`; use Builder::device_as\n"
+                ));
+                continue;
+            }
+            match generate_one(path, &module) {
+                Ok((code, warnings)) => {
+                    let file = out_dir.join(format!("{module}.rs"));
+                    if let Err(err) = write_if_changed(&file, &code) {
+                        errors.push_str(&format!(
+                            "error: edsgen: cannot write `{}`: {err}\n",
+                            file.display()
+                        ));
+                        continue;
+                    }
+                    if cargo {
+                        for line in warnings
+                            .iter()
+                            .flat_map(|w| w.lines())
+                            .filter(|l| !l.trim().is_empty())
+                        {
+                            println!("cargo:warning={line}");
+                        }
+                    }
+                    output.warnings.extend(warnings);
+                    output.modules.push((module, file));
+                }
+                Err(message) => errors.push_str(&message),
+            }
+        }
+        if errors.is_empty() {
+            Ok(output)
+        } else {
+            eprint!("{errors}");
+            Err(BuildError { message: errors })
+        }
+    }
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "device".into())
+}
+
+fn write_if_changed(file: &Path, code: &str) -> std::io::Result<()> {
+    if std::fs::read(file).ok().as_deref() == Some(code.as_bytes()) {
+        return Ok(());
+    }
+    std::fs::write(file, code)
+}
+
+/// Reads, validates and generates one device: the code and rendered warnings, or the rendered
+/// errors (and warnings).
+fn generate_one(path: &Path, module: &str) -> Result<(String, Vec<String>), String> {
+    let read = read::read_file(path).map_err(|err| format!("error: edsgen: {err}\n"))?;
+    let name = path.display().to_string();
+    let mut diags = read.diagnostics;
+    diags.extend(validate::validate(&read.device));
+    let emitted = if diags.iter().any(|d| d.severity == Severity::Error) {
+        None
+    } else {
+        match emit::generate_module(&read.device, module) {
+            Ok(generated) => {
+                diags.extend(generated.diagnostics);
+                Some(generated.code)
+            }
+            Err(emit_diags) => {
+                diags.extend(emit_diags);
+                None
+            }
+        }
+    };
+    diag::sort(&mut diags);
+    let shown: Vec<_> = diags
+        .iter()
+        .filter(|d| d.severity != Severity::Info)
+        .cloned()
+        .collect();
+    let warnings: Vec<_> = shown
+        .iter()
+        .filter(|d| d.severity == Severity::Warning)
+        .map(|d| render::human(&name, &read.text, std::slice::from_ref(d), false))
+        .collect();
+    match emitted {
+        Some(code) => Ok((code, warnings)),
+        None => Err(render::human(&name, &read.text, &shown, false)),
     }
 }

@@ -17,5 +17,5 @@ pub mod render;
 pub mod rules;
 pub mod validate;
 
-mod builder;
+pub mod builder;
 pub use builder::Builder;

@@ -493,6 +493,24 @@ pub struct SubObject {
     /// Set when this entry was not written out in the file but implied (CompactSubObj,
     /// CompactPDO); the emitter treats it exactly like a written one.
     pub implicit: bool,
+    /// Where the DataType, AccessType and PDOMapping values are written, so that diagnostics
+    /// about them point at the key rather than the section. Empty when not known.
+    pub key_spans: KeySpans,
+}
+
+/// Where some keys of an entry are written (the value text), when the reader knows it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KeySpans {
+    /// The DataType value.
+    pub data_type: Option<Span>,
+    /// The AccessType value.
+    pub access: Option<Span>,
+    /// The PDOMapping value.
+    pub pdo_mapping: Option<Span>,
+    /// The DCF UploadFile value.
+    pub upload_file: Option<Span>,
+    /// The DCF DownloadFile value.
+    pub download_file: Option<Span>,
 }
 
 /// One object (one OD index).
@@ -552,6 +570,9 @@ pub struct FileInfo {
     pub last_eds: Option<String>,
     /// Where the section is (its header), if present.
     pub span: Option<Span>,
+    /// Where each key's value is written, by canonical key name (`FileVersion`, ...), when the
+    /// reader knows it; diagnostics about one key point there.
+    pub key_spans: BTreeMap<String, Span>,
 }
 
 /// `[DeviceInfo]` (EDS/DCF) or DeviceIdentity and the general features (XML).

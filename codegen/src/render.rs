@@ -33,6 +33,10 @@ fn byte_range(line: &str, span: Span) -> std::ops::Range<usize> {
         let end_char = (start_char + span.len as usize).min(chars);
         return offsets[start_char]..offsets[end_char];
     }
+    if span.len == 0 && start_char > 0 && start_char == chars {
+        // Just past the end of the line (an empty value after `=`): point there.
+        return line.len()..line.len();
+    }
     let trimmed_start = line.len() - line.trim_start().len();
     let trimmed_end = line.trim_end().len();
     if trimmed_start < trimmed_end {
@@ -51,8 +55,14 @@ fn render_one(renderer: &Renderer, path: &str, lines: &[&str], d: &Diagnostic) -
         .and_then(|s| s.line.checked_sub(1))
         .and_then(|i| lines.get(i as usize));
     match (d.span, source_line) {
-        (Some(span), Some(line)) => {
+        // A blank line has nothing to underline (and annotate-snippets would misplace it).
+        (Some(span), Some(line)) if !line.trim().is_empty() => {
             let range = byte_range(line, span);
+            // annotate-snippets shows a tab as four spaces but neither moves the underline nor
+            // counts the column with it: show each tab as one space, so the underline sits under
+            // the span and the column stays the character column the readers report.
+            let line = line.replace('\t', " ");
+            let line = line.as_str();
             let mut annotation = level(d.severity).span(range);
             if let Some(label) = d.label.as_deref() {
                 annotation = annotation.label(label);
@@ -214,6 +224,55 @@ mod tests {
         let d = Diagnostic::new(&rules::MISSING_NAME, Some(Span::new(99, 200, 5)), "x");
         let text = human("dev.eds", TEXT, &[d], false);
         assert_eq!(text, "error[EDS301]: x\n --> dev.eds:99:200\n\n");
+    }
+
+    #[test]
+    fn tabs_keep_the_underline_and_the_column() {
+        let text = "[2000]\r\n\tDefaultValue=\t300\r\n";
+        let d = Diagnostic::new(&rules::OUT_OF_RANGE, Some(Span::new(2, 16, 3)), "too big")
+            .with_label("out of range");
+        assert_eq!(
+            human("dev.eds", text, &[d], false),
+            "error[EDS013]: too big\n --> dev.eds:2:16\n  |\n\
+             2 |  DefaultValue= 300\n  |                ^^^ out of range\n  |\n\n"
+        );
+    }
+
+    #[test]
+    fn non_ascii_crlf_long_lines_and_the_last_line() {
+        // Windows-1252 text arrives decoded; columns count characters, not bytes.
+        let long = "x".repeat(300);
+        let text = format!("[2000]\r\nParameterName={long}\r\nHighLimit=\u{e9}\u{e9}\u{e9}");
+        let non_ascii = Diagnostic::new(&rules::BAD_VALUE, Some(Span::new(3, 11, 3)), "bad");
+        let rendered = human("dev.eds", &text, &[non_ascii], false);
+        assert_eq!(
+            rendered,
+            "error[EDS012]: bad\n --> dev.eds:3:11\n  |\n\
+             3 | HighLimit=\u{e9}\u{e9}\u{e9}\n  |           ^^^\n  |\n\n"
+        );
+        let at_long = Diagnostic::new(&rules::LONG_LINE, Some(Span::new(2, 1, 0)), "long");
+        let rendered = human("dev.eds", &text, &[at_long], false);
+        assert_eq!(
+            rendered,
+            format!(
+                "warning[EDS003]: long\n --> dev.eds:2:1\n  |\n2 | ParameterName={long}\n  | {}\n  |\n\n",
+                "-".repeat(314)
+            )
+        );
+    }
+
+    #[test]
+    fn empty_values_and_blank_lines_keep_their_place() {
+        let after_equals = Diagnostic::new(&rules::BAD_VALUE, Some(Span::new(2, 14, 0)), "empty");
+        assert_eq!(
+            human("dev.eds", "[2000]\r\nDefaultValue=", &[after_equals], false),
+            "error[EDS012]: empty\n --> dev.eds:2:14\n  |\n2 | DefaultValue=\n  |              ^\n  |\n\n"
+        );
+        let blank = Diagnostic::new(&rules::MISSING_NAME, Some(Span::new(2, 1, 0)), "blank");
+        assert_eq!(
+            human("dev.eds", "[2000]\n\t\n", &[blank], false),
+            "error[EDS301]: blank\n --> dev.eds:2:1\n\n"
+        );
     }
 
     #[test]

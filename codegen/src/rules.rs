@@ -35,7 +35,7 @@ rules! {
     // ---- EDS0xx: text and values (readers) ----
     UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a `[section]` or `key=value`";
     NON_ASCII = "EDS002" Warning "bytes outside ASCII (the file was decoded as UTF-8 or Windows-1252)";
-    LONG_LINE = "EDS003" Warning "a line longer than 255 characters";
+    LONG_LINE = "EDS003" Warning "a line longer than 255 characters (once per file, naming the other lines)";
     INLINE_COMMENT = "EDS004" Warning "a comment not in column 1, or an inline `;` comment after a value";
     DUPLICATE_SECTION = "EDS005" Error "a section appears twice (case-insensitive); the last one wins";
     DUPLICATE_KEY = "EDS006" Error "a key appears twice in one section; the last one wins";
@@ -45,18 +45,20 @@ rules! {
     LEADING_ZEROS = "EDS010" Warning "a numbered key or a section name with extra leading zeros";
     BAD_NUMBER = "EDS011" Error "a value that should be a number is not one";
     BAD_VALUE = "EDS012" Error "a value cannot be parsed for its data type";
-    OUT_OF_RANGE = "EDS013" Error "a value outside the range of its data type";
+    OUT_OF_RANGE = "EDS013" Error "a value outside the range of its data type (warning for a LowLimit below or a HighLimit above the range, for HighLimit=-1 on an unsigned type, or a hex HighLimit on a signed type that two's complement would put below LowLimit: they restrict nothing and are ignored, once per kind per file naming the other lines)";
     TWOS_COMPLEMENT = "EDS014" Info "an unsigned hex literal read as two's complement for a signed type";
     NODEID_FORMULA = "EDS015" Error "a $NODEID formula that is not `$NODEID + number`, or on a non-integer type";
-    NODEID_DIALECT = "EDS016" Warning "a $NODEID formula in a form the spec does not define (postfix, other case)";
+    NODEID_DIALECT = "EDS016" Warning "a $NODEID formula in a form the spec does not define (postfix, other case); once per form per file, naming the other lines";
     OCTAL_LITERAL = "EDS017" Info "an integer with a leading 0 read as octal, as CiA 306 says";
     QUOTED_STRING = "EDS018" Info "a string value wrapped in quotes (kept literally, per the spec)";
-    REAL_BIT_PATTERN = "EDS019" Warning "a REAL value written as a hex integer (read as an IEEE 754 bit pattern)";
+    REAL_BIT_PATTERN = "EDS019" Warning "a REAL value written as a hex integer (read as an IEEE 754 bit pattern when it has the type's full 8 or 16 digits, else as a number)";
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
     EMPTY_FILE = "EDS022" Error "the file holds no sections";
     COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled `[DeviceCommissioning]` (two m); read as the spec's `[DeviceComissioning]`";
     ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
+    C_LITERAL_SUFFIX = "EDS025" Warning "an integer or REAL value with a C literal suffix (`LL`, `U`, `f`; written by CANopenNode/CANopenEditor), read without the suffix; once per type per file, naming the other lines";
+    BYTES_DIALECT = "EDS026" Warning "an OCTET_STRING/DOMAIN value written as a `0x` literal (read as its hex digits in written order, Sevcon dialect) or a DOMAIN value `0` (read as empty, CANopenNode dialect); once per form per file, naming the other lines";
 
 
     // ---- EDS1xx: [FileInfo] and [DeviceInfo] (validator) ----
@@ -79,7 +81,7 @@ rules! {
     MANDATORY_LIST_MISSING = "EDS201" Error "[MandatoryObjects] is missing";
     OBJECT_LIST_MISSING = "EDS202" Warning "[OptionalObjects] or [ManufacturerObjects] is missing although objects of its range exist";
     SUPPORTED_OBJECTS_COUNT = "EDS203" Warning "SupportedObjects is missing or differs from the numbered entries, or the entries are not 1..N (warning: edsgen uses the union of lists and sections)";
-    LISTED_WITHOUT_SECTION = "EDS204" Error "an object list names an index that has no [xxxx] section";
+    LISTED_WITHOUT_SECTION = "EDS204" Error "an object list names an index that has no [xxxx] section (warning for an entry numbered beyond SupportedObjects, which Lely ignores)";
     UNLISTED_OBJECT = "EDS205" Warning "[xxxx] sections that no object list names, once per list (Lely ignores them, python uses them)";
     WRONG_OBJECT_LIST = "EDS206" Warning "indices in the wrong object list for their range, once per list";
     LISTED_TWICE = "EDS207" Warning "an index listed twice in the object lists (warning: harmless to edsgen, which uses the union)";
@@ -102,7 +104,7 @@ rules! {
     SUB_INDEX_GAPS = "EDS313" Info "gaps in the sub-indices of a RECORD (info) or of an ARRAY (warning: arrays become [T; N])";
     UNKNOWN_DATA_TYPE = "EDS314" Error "a DataType that is neither a basic type nor a DEFTYPE/DEFSTRUCT of the file";
     DOMAIN_DATA_TYPE = "EDS315" Error "a DOMAIN object whose DataType is not 000Fh";
-    LIMITS_INVERTED = "EDS316" Error "LowLimit is greater than HighLimit (warning when a hex limit on a signed type, read as two's complement, causes it)";
+    LIMITS_INVERTED = "EDS316" Error "LowLimit is greater than HighLimit (warning when a hex limit on a signed type causes it: read as two's complement, or a narrower two's-complement pattern such as 0xEC78 on INTEGER32)";
     VALUE_OUTSIDE_LIMITS = "EDS317" Warning "DefaultValue or ParameterValue outside [LowLimit, HighLimit] (for node-IDs 1..127 if $NODEID-relative)";
     LIMITS_ON_NON_NUMERIC = "EDS318" Warning "LowLimit/HighLimit on a string, OCTET_STRING or DOMAIN entry";
     NODEID_OVERFLOW = "EDS319" Warning "a $NODEID value that leaves the range of its type for some node-IDs 1..127 (error if for all of them)";
@@ -117,20 +119,20 @@ rules! {
     RPDO_TPDO_ONLY_SUB = "EDS404" Info "an RPDO communication record implements inhibit time (sub 3) or SYNC start (sub 6), which only TPDOs use";
     COB_ID_RESTRICTED = "EDS405" Warning "a PDO COB-ID in a CAN-ID range CiA 301 restricts (NMT, SYNC/EMCY, TIME, SDO, LSS, heartbeat)";
     TRANSMISSION_TYPE_RESERVED = "EDS406" Warning "a reserved PDO transmission type (241..251 for a TPDO, 241..253 for an RPDO)";
-    MAPPING_COUNT = "EDS407" Error "the number of mapped objects (mapping sub 0) is above 64 or above the mapping entries present";
+    MAPPING_COUNT = "EDS407" Error "the number of mapped objects (mapping sub 0) is above 64 or above the mapping entries present (FEh and FFh are the MPDO modes, not counts)";
     MAPPING_TARGET_MISSING = "EDS408" Error "a PDO mapping entry points to an entry that does not exist (warning for empty entries within the count, once per mapping; and with modules)";
     MAPPING_NOT_MAPPABLE = "EDS409" Error "a PDO mapping entry points to an entry with PDOMapping=0";
     MAPPING_DIRECTION = "EDS410" Error "a PDO mapping entry whose access does not fit the direction (RPDO to ro/const/rwr, TPDO to wo/rww)";
     DUMMY_NOT_ENABLED = "EDS411" Error "a dummy mapping entry for a data type that [DummyUsage] does not enable";
-    MAPPING_LENGTH = "EDS412" Error "a PDO mapping length that differs from the bit width of the mapped entry";
+    MAPPING_LENGTH = "EDS412" Error "a PDO mapping length that differs from the bit width of the mapped entry (warning for a part of the entry that a Granularity below 8 allows)";
     MAPPING_TOO_LONG = "EDS413" Error "a PDO maps more than 64 bits";
     MAPPING_GRANULARITY = "EDS414" Warning "a PDO mapping length that is not a multiple of Granularity, or more than 8 entries with Granularity 8";
     DUPLICATE_PDO_COB_ID = "EDS415" Warning "two enabled TPDOs, or two enabled RPDOs, have the same default COB-ID";
     DUMMY_USAGE_KEY = "EDS416" Info "[DummyUsage] keys outside Dummy0001..Dummy0007 (info: Lely writes Dummy0000..Dummy001F)";
 
     // ---- EDS5xx: DCF, commissioning, modules, comments, object links, dynamic channels (validator) ----
-    DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127 (warning for 255: unconfigured, assigned by LSS)";
-    DCF_BAUDRATE = "EDS502" Error "the DCF Baudrate is not a CiA 301 bit rate, or not one [DeviceInfo] enables";
+    DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127 (warning for 255: unconfigured, assigned by LSS; and for 0: not commissioned, as CANopenEditor writes it)";
+    DCF_BAUDRATE = "EDS502" Error "the DCF Baudrate is not a CiA 301 bit rate, or not one [DeviceInfo] enables (warning for 0: not commissioned, as CANopenEditor writes it)";
     LSS_SERIAL_MISMATCH = "EDS503" Warning "LSS_SerialNumber differs from the value of 1018h sub 4";
     COMMISSIONING_NAME_LENGTH = "EDS504" Warning "NodeName longer than 246 or NetworkName longer than 243 characters";
     DCF_ITEM_IN_EDS = "EDS505" Warning "a DCF-only item (ParameterValue, Denotation, [DeviceComissioning]) in an .eds file";
@@ -153,6 +155,15 @@ rules! {
     XML_SUBS_ON_VAR = "EDS607" Error "CANopenSubObject elements inside a VAR or DOMAIN object (ignored)";
     XML_TYPE_CONFLICT = "EDS608" Warning "the parameter disagrees with the object: data type (the parameter wins) or access direction vs PDOmapping (PDOmapping wins)";
     XML_UNKNOWN_TYPE = "EDS609" Warning "a parameter data type with no CANopen equivalent (variableRef, struct, array on a VAR)";
+
+    // ---- EDS7xx: code generation ----
+    NAME_COLLISION = "EDS701" Info "a generated Rust name collided with an earlier one and was made unique";
+    UNREPRESENTABLE_TYPE = "EDS702" Error "an entry's data type cannot be represented in generated code";
+    UNREPRESENTABLE_VALUE = "EDS703" Error "a default or parameter value does not fit its entry's Rust type";
+    UNTYPED_PDO = "EDS704" Warning "a default PDO mapping cannot be typed; no PDO struct is generated for it";
+    NO_DEFAULT = "EDS705" Info "an entry without a default value; its generated field starts at zero or empty";
+    UNUSABLE_LIMIT = "EDS706" Warning "a LowLimit or HighLimit the generated write cannot check (not a constant of the entry's type)";
+    CAPACITY_TOO_LARGE = "EDS707" Error "a string, octet string or domain longer than 65535 bytes";
 }
 
 /// Looks a rule up by its code.

@@ -362,6 +362,20 @@ fn eds003_long_line_is_kept_whole() {
 }
 
 #[test]
+fn eds003_long_lines_are_one_warning_per_file() {
+    let long = "N".repeat(300);
+    let read = read_eds(&format!(
+        "{VAR_1000}[2000]\nParameterName={long}\nDataType=0x0005\nDefaultValue=1\n\
+         [2001]\nParameterName={long}x\nDataType=0x0005\n"
+    ));
+    assert_eq!(diags(&read), vec![("EDS003", Severity::Warning, 6)]);
+    assert_eq!(
+        read.diagnostics[0].message,
+        "line has 314 characters; CiA 306 allows 255; the same on 1 more line(s): 10"
+    );
+}
+
+#[test]
 fn eds004_comments_stripped_from_numbers_kept_in_strings() {
     let text = "\
 [1000]
@@ -441,6 +455,23 @@ fn eds007_spacing_and_odd_key_characters() {
     );
     assert_eq!(read.device.entry(0x1000, 0).unwrap().name, "Device type");
     assert!(read.device.objects.contains_key(&0x1001));
+}
+
+#[test]
+fn eds007_hash_is_not_a_comment_and_the_help_says_so() {
+    let read = read_eds("[1000]\nParameterName=D\nDataType=0x0007\n#ParameterValue=5\n");
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS007", Severity::Warning, 4),
+            ("EDS009", Severity::Info, 4),
+        ]
+    );
+    assert_eq!(
+        read.diagnostics[0].help.as_deref(),
+        Some("`#` does not start a comment in CiA 306: write `;` to comment the line out")
+    );
+    assert_eq!(read.device.entry(0x1000, 0).unwrap().parameter_value, None);
 }
 
 #[test]
@@ -620,7 +651,7 @@ DefaultValue=0x3F800000
         diags(&read),
         vec![
             ("EDS013", Severity::Error, 4),
-            ("EDS013", Severity::Error, 5),
+            ("EDS013", Severity::Warning, 5),
             ("EDS016", Severity::Warning, 6),
             ("EDS014", Severity::Info, 10),
             ("EDS019", Severity::Warning, 14),
@@ -970,4 +1001,121 @@ DataType=0x0005
         vec![("StorageLocation".to_owned(), "ROM".to_owned())]
     );
     assert!(read.device.entry(0x1018, 0).unwrap().custom.is_empty());
+}
+
+#[test]
+fn eds013_limits_beyond_the_type_are_warnings_and_ignored() {
+    let text = "\
+[2000]
+ParameterName=Signed
+DataType=0x0003
+LowLimit=-40000
+HighLimit=65535
+[2001]
+ParameterName=Unsigned
+DataType=0x0006
+LowLimit=70000
+HighLimit=0xffffffff
+[2002]
+ParameterName=Sevcon
+DataType=0x0006
+LowLimit=-2
+HighLimit=-1
+[2003]
+ParameterName=Hex on signed
+DataType=0x0003
+LowLimit=0
+HighLimit=0xFFFF
+[2004]
+ParameterName=Hex on signed, not inverting
+DataType=0x0003
+LowLimit=0x8000
+HighLimit=0x7FFF
+";
+    let read = read_eds(text);
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS013", Severity::Warning, 4),
+            ("EDS013", Severity::Warning, 5),
+            ("EDS013", Severity::Error, 9),
+            ("EDS013", Severity::Warning, 10),
+            ("EDS013", Severity::Warning, 14),
+            ("EDS013", Severity::Warning, 15),
+            ("EDS013", Severity::Warning, 20),
+            ("EDS014", Severity::Info, 24),
+        ]
+    );
+    assert_eq!(
+        read.diagnostics[6].message,
+        "HighLimit `0xFFFF` read as two's complement (-1) is below the LowLimit; as the unsigned \
+         number meant, it is above the maximum 32767 of INTEGER16: it restricts nothing and is ignored"
+    );
+    let hex = read.device.entry(0x2003, 0).unwrap();
+    assert_eq!(value_of(&hex.low_limit), Some(Value::Integer(0)));
+    assert_eq!(value_of(&hex.high_limit), None);
+    let kept = read.device.entry(0x2004, 0).unwrap();
+    assert_eq!(value_of(&kept.low_limit), Some(Value::Integer(-0x8000)));
+    assert_eq!(value_of(&kept.high_limit), Some(Value::Integer(0x7FFF)));
+    assert_eq!(
+        read.diagnostics[5].message,
+        "HighLimit `-1` is all ones, the maximum 65535 of UNSIGNED16; it restricts nothing and is ignored"
+    );
+    assert_eq!(
+        read.diagnostics[1].message,
+        "HighLimit `65535` is above the maximum 32767 of INTEGER16; it restricts nothing and is ignored"
+    );
+    assert_eq!(
+        read.diagnostics[1].help.as_deref(),
+        Some("remove the HighLimit, or write 32767")
+    );
+    let signed = read.device.entry(0x2000, 0).unwrap();
+    assert_eq!(value_of(&signed.low_limit), None);
+    assert_eq!(value_of(&signed.high_limit), None);
+    assert_eq!(signed.high_limit.as_ref().unwrap().raw, "65535");
+}
+
+#[test]
+fn eds025_eds026_c_suffixes_and_prefixed_bytes_are_read() {
+    let text = "\
+[2000]
+ParameterName=Big
+DataType=0x0015
+DefaultValue=0x1234567890ABCDEFLL
+[2001]
+ParameterName=Float
+DataType=0x0008
+DefaultValue=2.5f
+[2002]
+ParameterName=Blob
+ObjectType=0x2
+DataType=0x000F
+DefaultValue=0x0004a0ff
+ParameterValue=0
+";
+    let read = read_as("t.dcf", text);
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS025", Severity::Warning, 4),
+            ("EDS025", Severity::Warning, 8),
+            ("EDS026", Severity::Warning, 13),
+            ("EDS026", Severity::Warning, 14),
+        ]
+    );
+    assert_eq!(
+        read.diagnostics[0].message,
+        "INTEGER64 value `0x1234567890ABCDEFLL` has a C literal suffix; read as `0x1234567890ABCDEF`"
+    );
+    let value = |index| value_of(&read.device.entry(index, 0).unwrap().default);
+    assert_eq!(value(0x2000), Some(Value::Integer(0x1234_5678_90AB_CDEF)));
+    assert_eq!(value(0x2001), Some(Value::Real(2.5)));
+    assert_eq!(
+        value(0x2002),
+        Some(Value::Bytes(vec![0x00, 0x04, 0xa0, 0xff]))
+    );
+    assert_eq!(
+        value_of(&read.device.entry(0x2002, 0).unwrap().parameter_value),
+        Some(Value::Bytes(vec![]))
+    );
 }

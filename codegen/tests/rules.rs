@@ -357,13 +357,20 @@ fn eds103_iso_dates_are_info_once_per_file() {
         "CreationDate=2026-01-31",
     );
     let t = edit(&t, "ModificationTime=10:30PM", "ModificationTime=22:30:00");
-    assert_eq!(diags(&t), vec![d("EDS103", Info, 1)]);
+    // At the first offending key.
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS103", Info, line_of(&t, "CreationDate=2026-01-31"))]
+    );
 }
 
 #[test]
 fn eds104_file_version_not_u8() {
     let t = edit(&eds(&[], &[], ""), "FileVersion=1", "FileVersion=300");
-    assert_eq!(diags(&t), vec![d("EDS104", Warning, 1)]);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS104", Warning, line_of(&t, "FileVersion=300"))]
+    );
 }
 
 #[test]
@@ -547,6 +554,22 @@ fn eds203_supported_objects_count_differs() {
 fn eds204_listed_without_section() {
     let t = eds(&[], &[0x2005], "");
     assert_eq!(diags(&t), vec![d("EDS204", Error, line_of(&t, "1=0x2005"))]);
+}
+
+#[test]
+fn eds204_entry_beyond_supported_objects_is_a_warning() {
+    let t = edit(
+        &eds(&[], &[0x2005], ""),
+        "[ManufacturerObjects]\nSupportedObjects=1",
+        "[ManufacturerObjects]\nSupportedObjects=0",
+    );
+    assert_eq!(
+        diags(&t),
+        vec![
+            d("EDS203", Warning, line_of(&t, "SupportedObjects=0")),
+            d("EDS204", Warning, line_of(&t, "1=0x2005")),
+        ]
+    );
 }
 
 #[test]
@@ -743,7 +766,8 @@ fn eds308_sub0_not_unsigned8() {
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS308", Warning, line_of(&t, "[2000sub0]"))]
+        // At the DataType key: three lines below the header.
+        vec![d("EDS308", Warning, line_of(&t, "[2000sub0]") + 3)]
     );
 }
 
@@ -762,7 +786,8 @@ fn eds309_writable_sub0() {
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS309", Warning, line_of(&t, "[2000sub0]"))]
+        // At the AccessType key.
+        vec![d("EDS309", Warning, line_of(&t, "[2000sub0]") + 4)]
     );
 }
 
@@ -790,7 +815,7 @@ fn eds311_array_of_mixed_types() {
     let t = eds(&[], &[0x2000], &array2(6, "rw", 7, "rw"));
     assert_eq!(
         diags(&t),
-        vec![d("EDS311", Error, line_of(&t, "[2000sub2]"))]
+        vec![d("EDS311", Error, line_of(&t, "[2000sub2]") + 3)]
     );
 }
 
@@ -799,7 +824,12 @@ fn eds312_array_of_mixed_access() {
     let t = eds(&[], &[0x2000], &array2(6, "rw", 6, "ro"));
     assert_eq!(
         diags(&t),
-        vec![d("EDS312", Warning, line_of(&t, "[2000sub2]"))]
+        vec![d("EDS312", Warning, line_of(&t, "[2000sub2]") + 4)]
+    );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    assert_eq!(
+        validate::validate(&read.device)[0].message,
+        "2000h sub 2 differs from 2000h sub 1 in AccessType ro vs rw"
     );
 }
 
@@ -829,14 +859,37 @@ fn eds314_unknown_data_type() {
         &var(0x2000, "Speed", 0x99, "rw", "0", false),
     );
     let found = diags(&t);
-    assert_eq!(found, vec![d("EDS314", Error, line_of(&t, "[2000]"))]);
+    assert_eq!(
+        found,
+        vec![d("EDS314", Error, line_of(&t, "DataType=0x0099"))]
+    );
+}
+
+#[test]
+fn eds314_standard_record_type_on_a_var_is_named() {
+    let t = eds(&[], &[0x2000], &var(0x2000, "Pdo", 0x20, "rw", "", false));
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    let found = validate::validate(&read.device);
+    assert_eq!(found.len(), 1);
+    assert_eq!(
+        found[0].span.map(|s| s.line),
+        Some(line_of(&t, "DataType=0x0020"))
+    );
+    assert_eq!(
+        found[0].message,
+        "2000h has DataType 0020h, the CiA 301 record type PDO_COMMUNICATION_PARAMETER, \
+         which this file does not describe as a DEFSTRUCT"
+    );
 }
 
 #[test]
 fn eds315_domain_with_a_data_type() {
     let body = "\n[2000]\nParameterName=Blob\nObjectType=0x2\nDataType=0x0007\nAccessType=rw\n";
     let t = eds(&[], &[0x2000], body);
-    assert_eq!(diags(&t), vec![d("EDS315", Error, line_of(&t, "[2000]"))]);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS315", Error, line_of(&t, "ParameterName=Blob") + 2)]
+    );
 }
 
 #[test]
@@ -945,6 +998,16 @@ fn eds322_compact_sub_obj_on_a_var() {
     assert_eq!(diags(&t), vec![d("EDS322", Error, line_of(&t, "[2000]"))]);
 }
 
+#[test]
+fn eds322_compact_sub_obj_255_is_one_error_not_also_eds307() {
+    let body = "\n[2000]\nParameterName=Errors\nObjectType=0x8\nCompactSubObj=255\nDataType=0x0007\nAccessType=ro\nPDOMapping=0\n";
+    let t = eds(&[], &[0x2000], body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS322", Error, line_of(&t, "CompactSubObj=255"))]
+    );
+}
+
 // ---- EDS4xx ----
 
 #[test]
@@ -1030,6 +1093,21 @@ fn eds407_more_mapped_than_entries() {
     let t = edit(&t, "ParameterName=Number of mapped objects\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue=1", "ParameterName=Number of mapped objects\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue=2");
     let line = line_of(&t, "[1600sub0]") + 5;
     assert_eq!(diags(&t), vec![d("EDS407", Error, line)]);
+}
+
+#[test]
+fn eds407_mpdo_modes_are_not_counts() {
+    for mode in ["0xFE", "0xFF", "65"] {
+        let t = one_rpdo(&["0x20000010"]);
+        let t = edit(&t, "ParameterName=Number of mapped objects\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue=1", &format!("ParameterName=Number of mapped objects\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue={mode}"));
+        let line = line_of(&t, "[1600sub0]") + 5;
+        let want = if mode == "65" {
+            vec![d("EDS407", Error, line)]
+        } else {
+            vec![]
+        };
+        assert_eq!(diags(&t), want, "sub 0 = {mode}");
+    }
 }
 
 #[test]
@@ -1153,10 +1231,23 @@ fn dcf_base_is_clean() {
 
 #[test]
 fn eds501_node_id_out_of_range() {
-    let t = edit(&dcf(""), "NodeID=5", "NodeID=0");
+    let t = edit(&dcf(""), "NodeID=5", "NodeID=128");
     assert_eq!(
         diags_for("t.dcf", &t),
-        vec![d("EDS501", Error, line_of(&t, "NodeID=0"))]
+        vec![d("EDS501", Error, line_of(&t, "NodeID=128"))]
+    );
+}
+
+#[test]
+fn eds501_eds502_zero_means_not_commissioned_and_is_a_warning() {
+    let t = edit(&dcf(""), "NodeID=5", "NodeID=0");
+    let t = edit(&t, "Baudrate=250", "Baudrate=0");
+    assert_eq!(
+        diags_for("t.dcf", &t),
+        vec![
+            d("EDS501", Warning, line_of(&t, "NodeID=0")),
+            d("EDS502", Warning, line_of(&t, "Baudrate=0")),
+        ]
     );
 }
 
@@ -1231,7 +1322,7 @@ fn eds507_upload_file_on_a_var() {
     );
     assert_eq!(
         diags_for("t.dcf", &t),
-        vec![d("EDS507", Warning, line_of(&t, "[2000]"))]
+        vec![d("EDS507", Warning, line_of(&t, "UploadFile=speed.bin"))]
     );
 }
 
@@ -1291,6 +1382,38 @@ fn eds512_dynamic_channels_segment_count() {
 }
 
 #[test]
+fn eds512_malformed_segment_keys_say_why() {
+    let body =
+        "\n[DynamicChannels]\nNrOfSeg=1\nType1=0x0000\nDir1=RX\nRange1=0xA000\nPPOffset1=0\n";
+    let t = edit(
+        &eds(&[], &[], body),
+        "DynamicChannelsSupported=0",
+        "DynamicChannelsSupported=1",
+    );
+    assert_eq!(
+        diags(&t),
+        vec![
+            d("EDS512", Warning, line_of(&t, "Type1=0x0000")),
+            d("EDS512", Warning, line_of(&t, "Dir1=RX")),
+            d("EDS512", Warning, line_of(&t, "Range1=0xA000")),
+        ]
+    );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    let messages: Vec<String> = validate::validate(&read.device)
+        .into_iter()
+        .map(|d| d.message)
+        .collect();
+    assert_eq!(
+        messages,
+        vec![
+            "[DynamicChannels] Type1=`0x0000` is not a CiA 301 basic data type index",
+            "[DynamicChannels] Dir1=`RX` is not an access type",
+            "[DynamicChannels] Range1=`0xA000` is not an index range `0xLLLL-0xHHHH`",
+        ]
+    );
+}
+
+#[test]
 fn eds513_object_inside_a_dynamic_channel_range() {
     let body = "\n[DynamicChannels]\nNrOfSeg=1\nType1=0x0007\nDir1=rww\nRange1=0xA000-0xA0FF\nPPOffset1=0\n".to_owned()
         + &var(0xA000, "Net var", 7, "rww", "0", true);
@@ -1307,11 +1430,60 @@ fn eds513_object_inside_a_dynamic_channel_range() {
 
 #[test]
 fn eds316_hex_limit_on_a_signed_type_is_a_warning() {
-    let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x00\nHighLimit=0xFF\n";
+    // 0x81 on INTEGER8 reads as -127, above -128 only because of two's complement.
+    let body = var(0x2000, "Mode", 2, "rw", "-128", false) + "LowLimit=0x81\nHighLimit=-128\n";
     let t = eds(&[], &[0x2000], &body);
     assert_eq!(
         diags(&t),
-        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0x00"))]
+        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0x81"))]
+    );
+}
+
+#[test]
+fn eds316_narrow_hex_pattern_on_a_wider_signed_type_is_a_warning() {
+    let body = var(0x2000, "Offset", 4, "rw", "0", false) + "LowLimit=0xEC78\nHighLimit=0x1388\n";
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS316", Warning, line_of(&t, "LowLimit=0xEC78"))]
+    );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    assert_eq!(
+        validate::validate(&read.device)[0].help.as_deref(),
+        Some(
+            "`0xEC78` is 60536 in INTEGER32, though as a 16-bit two's complement it would be \
+             -5000; write the limits in decimal"
+        )
+    );
+}
+
+#[test]
+fn eds316_hex_limits_inverted_under_any_reading_are_an_error() {
+    let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x7F\nHighLimit=100\n";
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS316", Error, line_of(&t, "LowLimit=0x7F"))]
+    );
+}
+
+#[test]
+fn eds316_hex_high_limit_inverted_by_twos_complement_is_dropped_by_the_reader() {
+    // 0xFF on INTEGER8 reads as -1, below LowLimit 0: the reader drops that HighLimit (EDS013
+    // warning), so nothing is inverted here.
+    let body = var(0x2000, "Mode", 2, "rw", "0", false) + "LowLimit=0x00\nHighLimit=0xFF\n";
+    let t = eds(&[], &[0x2000], &body);
+    assert_eq!(diags(&t), vec![]);
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    assert_eq!(
+        read.device
+            .entry(0x2000, 0)
+            .unwrap()
+            .high_limit
+            .as_ref()
+            .unwrap()
+            .value,
+        None
     );
 }
 

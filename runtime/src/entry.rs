@@ -12,6 +12,7 @@ pub struct Entry<T> {
     pub index: u16,
     /// Sub-index.
     pub sub: u8,
+    width: u8,
     _value: PhantomData<fn() -> T>,
 }
 
@@ -28,7 +29,47 @@ impl<T> Entry<T> {
         Entry {
             index,
             sub,
+            width: 0,
             _value: PhantomData,
+        }
+    }
+
+    /// The entry at (index, sub) whose value travels in `width` bytes, fewer than `T` holds
+    /// (an INTEGER24 in an `i32`, an UNSIGNED48 in a `u64`).
+    pub const fn with_width(index: u16, sub: u8, width: u8) -> Self {
+        Entry {
+            index,
+            sub,
+            width,
+            _value: PhantomData,
+        }
+    }
+
+    /// The wire width in bytes when it is narrower than `T` (see [`Entry::with_width`]).
+    pub const fn wire_width(&self) -> Option<usize> {
+        if self.width == 0 {
+            None
+        } else {
+            Some(self.width as usize)
+        }
+    }
+}
+
+impl<T: OdValue> Entry<T> {
+    /// Writes `value` as this entry's wire bytes; `None` if `buf` is too short or the value does
+    /// not fit the entry's width (a 24-bit entry refuses `1 << 23` in an `i32`).
+    pub fn encode(&self, value: &T, buf: &mut [u8]) -> Option<usize> {
+        match self.wire_width() {
+            None => value.encode(buf),
+            Some(width) => value.encode_width(width, buf),
+        }
+    }
+
+    /// Reads this entry's value from exactly its wire bytes (sign-extending narrow signed ones).
+    pub fn decode(&self, bytes: &[u8]) -> Option<T> {
+        match self.wire_width() {
+            None => T::decode(bytes),
+            Some(width) => T::decode_width(width, bytes),
         }
     }
 }
@@ -40,7 +81,69 @@ pub trait OdValue: Sized {
     fn encode(&self, buf: &mut [u8]) -> Option<usize>;
     /// Reads a value from exactly the bytes of one value; `None` if the length is wrong.
     fn decode(bytes: &[u8]) -> Option<Self>;
+
+    /// Writes the value in exactly `width` bytes; `None` if it does not fit (or `buf` is too
+    /// short). Integers override this for the odd CiA 301 widths.
+    fn encode_width(&self, width: usize, buf: &mut [u8]) -> Option<usize> {
+        let n = self.encode(buf)?;
+        (n == width).then_some(n)
+    }
+
+    /// Reads a value from exactly `width` bytes.
+    fn decode_width(width: usize, bytes: &[u8]) -> Option<Self> {
+        if bytes.len() == width {
+            Self::decode(bytes)
+        } else {
+            None
+        }
+    }
 }
+
+macro_rules! od_value_narrow {
+    ($($t:ty => $signed:literal),*) => {$(
+        impl OdValue for $t {
+            fn encode(&self, buf: &mut [u8]) -> Option<usize> {
+                let bytes = self.to_le_bytes();
+                buf.get_mut(..bytes.len())?.copy_from_slice(&bytes);
+                Some(bytes.len())
+            }
+            fn decode(bytes: &[u8]) -> Option<Self> {
+                Some(<$t>::from_le_bytes(bytes.try_into().ok()?))
+            }
+            fn encode_width(&self, width: usize, buf: &mut [u8]) -> Option<usize> {
+                if width == 0 || width > core::mem::size_of::<$t>() {
+                    return None;
+                }
+                let bits = (width * 8) as u32;
+                let fits = if $signed {
+                    crate::typed::fits_signed(*self as i64, bits)
+                } else {
+                    crate::typed::fits_unsigned(*self as u64, bits)
+                };
+                if !fits {
+                    return None;
+                }
+                let bytes = self.to_le_bytes();
+                buf.get_mut(..width)?.copy_from_slice(bytes.get(..width)?);
+                Some(width)
+            }
+            fn decode_width(width: usize, bytes: &[u8]) -> Option<Self> {
+                if width == 0 || width > core::mem::size_of::<$t>() || bytes.len() != width {
+                    return None;
+                }
+                let mut wide = [0u8; 8];
+                wide.get_mut(..width)?.copy_from_slice(bytes);
+                let raw = u64::from_le_bytes(wide);
+                Some(if $signed {
+                    crate::typed::sign_extend(raw, (width * 8) as u32) as $t
+                } else {
+                    raw as $t
+                })
+            }
+        }
+    )*};
+}
+od_value_narrow!(u32 => false, u64 => false, i32 => true, i64 => true);
 
 macro_rules! od_value_int {
     ($($t:ty),*) => {$(
@@ -56,7 +159,7 @@ macro_rules! od_value_int {
         }
     )*};
 }
-od_value_int!(u8, u16, u32, u64, i8, i16, i32, i64, f32, f64);
+od_value_int!(u8, u16, i8, i16, f32, f64);
 
 impl OdValue for bool {
     fn encode(&self, buf: &mut [u8]) -> Option<usize> {
@@ -69,5 +172,53 @@ impl OdValue for bool {
             [1] => Some(true),
             _ => None,
         }
+    }
+}
+
+impl<const N: usize> OdValue for crate::typed::FixedBytes<N> {
+    fn encode(&self, buf: &mut [u8]) -> Option<usize> {
+        let bytes = self.as_bytes();
+        buf.get_mut(..bytes.len())?.copy_from_slice(bytes);
+        Some(bytes.len())
+    }
+    fn decode(bytes: &[u8]) -> Option<Self> {
+        (bytes.len() <= N).then(|| Self::from_slice(bytes))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::typed::FixedBytes;
+
+    #[test]
+    fn narrow_entries_check_range_and_sign_extend() {
+        let i24: Entry<i32> = Entry::with_width(0x2003, 1, 3);
+        let mut buf = [0u8; 4];
+        assert_eq!(i24.encode(&-2, &mut buf), Some(3));
+        assert_eq!(&buf[..3], &[0xFE, 0xFF, 0xFF]);
+        assert_eq!(i24.encode(&(1 << 23), &mut buf), None);
+        assert_eq!(i24.decode(&[0x00, 0x00, 0x80]), Some(-(1 << 23)));
+        assert_eq!(i24.decode(&[0, 0, 0, 0]), None);
+        let u48: Entry<u64> = Entry::with_width(0x2003, 5, 6);
+        let mut buf8 = [0u8; 8];
+        assert_eq!(u48.encode(&0xFFFF_FFFF_FFFF, &mut buf8), Some(6));
+        assert_eq!(u48.encode(&(1 << 48), &mut buf8), None);
+        assert_eq!(u48.decode(&[1, 0, 0, 0, 0, 0x80]), Some(0x8000_0000_0001));
+        let plain: Entry<u32> = Entry::new(0x1000, 0);
+        assert_eq!(plain.wire_width(), None);
+        assert_eq!(plain.encode(&0x0102_0304, &mut buf), Some(4));
+        assert_eq!(plain.decode(&[4, 3, 2, 1]), Some(0x0102_0304));
+    }
+
+    #[test]
+    fn fixed_bytes_travel_as_their_bytes() {
+        let name = FixedBytes::<8>::from_slice(b"CP301");
+        let mut buf = [0u8; 8];
+        assert_eq!(name.encode(&mut buf), Some(5));
+        assert_eq!(&buf[..5], b"CP301");
+        assert_eq!(name.encode(&mut [0u8; 4]), None);
+        assert_eq!(FixedBytes::<8>::decode(b"CP301"), Some(name));
+        assert_eq!(FixedBytes::<4>::decode(b"CP301"), None);
     }
 }

@@ -39,6 +39,7 @@ impl CanFrame {
 
     /// A data frame from a full 8-byte payload and a length (used by the protocol cores, which
     /// build payloads in place). `len` is clamped to 8 and `id` masked to 11 bits.
+    #[inline]
     pub const fn from_parts(id: u16, data: [u8; 8], len: u8) -> Self {
         CanFrame {
             id: CanId::Standard(id & 0x7FF),
@@ -74,11 +75,13 @@ impl CanFrame {
     }
 
     /// The identifier.
+    #[inline]
     pub const fn id(&self) -> CanId {
         self.id
     }
 
     /// The 11-bit identifier, or `None` for an extended frame.
+    #[inline]
     pub const fn std_id(&self) -> Option<u16> {
         match self.id {
             CanId::Standard(id) => Some(id),
@@ -87,6 +90,7 @@ impl CanFrame {
     }
 
     /// The data bytes (empty for a remote request).
+    #[inline]
     pub fn data(&self) -> &[u8] {
         if self.rtr {
             &[]
@@ -96,11 +100,13 @@ impl CanFrame {
     }
 
     /// The data length code.
+    #[inline]
     pub const fn dlc(&self) -> u8 {
         self.len
     }
 
     /// Whether this is a remote-transmission request.
+    #[inline]
     pub const fn is_remote(&self) -> bool {
         self.rtr
     }

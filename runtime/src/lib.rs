@@ -9,12 +9,20 @@
 
 pub mod entry;
 pub mod frame;
+pub mod node;
 pub mod od;
 pub mod sdo;
 pub mod time;
+pub mod typed;
+#[cfg(feature = "std")]
+pub mod vbus;
 pub mod wire;
+
+mod macros;
 
 pub use entry::{Entry, OdValue};
 pub use frame::{CanFrame, CanId};
+pub use node::{Event, NmtState, Node, NodeHooks, ResetKind};
 pub use od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 pub use time::{Duration, Instant};
+pub use typed::{FixedBytes, PdoError};

@@ -105,6 +105,27 @@ pub struct EntryDescriptor {
     pub size: u16,
 }
 
+impl EntryDescriptor {
+    /// A descriptor from its parts (the compact form generated tables use).
+    pub const fn new(
+        index: u16,
+        sub: u8,
+        data_type: DataType,
+        access: Access,
+        pdo_mappable: bool,
+        size: u16,
+    ) -> Self {
+        EntryDescriptor {
+            index,
+            sub,
+            data_type,
+            access,
+            pdo_mappable,
+            size,
+        }
+    }
+}
+
 /// SDO abort codes (CiA 301 table 22).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(u32)]

@@ -582,14 +582,17 @@ impl Reader {
     fn plain_value<'e>(&mut self, entry: &'e IniEntry) -> Option<(&'e str, Span)> {
         let (value, comment) = split_inline_comment(&entry.value);
         if comment.is_some() {
-            self.diags.push(Diagnostic::new(
-                &rules::INLINE_COMMENT,
-                Some(entry.value_span),
-                format!(
-                    "inline comment after the value of `{}` is ignored",
-                    entry.key
-                ),
-            ));
+            self.diags.push(
+                Diagnostic::new(
+                    &rules::INLINE_COMMENT,
+                    Some(entry.value_span),
+                    format!(
+                        "inline comment after the value of `{}` is ignored",
+                        entry.key
+                    ),
+                )
+                .with_help("put the comment on its own line, starting with `;`"),
+            );
         }
         if value.is_empty() {
             return None;
@@ -686,6 +689,11 @@ impl Reader {
             modified_by: get("ModifiedBy"),
             last_eds: get("LastEDS"),
             span: Some(section.span),
+            key_spans: keys
+                .sorted()
+                .into_iter()
+                .map(|(key, entry)| ((*key).to_owned(), entry.value_span))
+                .collect(),
         };
         self.device.file_info = info;
     }
@@ -1045,6 +1053,13 @@ impl Reader {
             span: section.span,
             custom,
             implicit: false,
+            key_spans: KeySpans {
+                data_type: get("DataType").map(|e| e.value_span),
+                access: get("AccessType").map(|e| e.value_span),
+                pdo_mapping: get("PDOMapping").map(|e| e.value_span),
+                upload_file: get("UploadFile").map(|e| e.value_span),
+                download_file: get("DownloadFile").map(|e| e.value_span),
+            },
         }
     }
 
@@ -1352,9 +1367,50 @@ impl Reader {
                         (source.raw.clone(), source.span, source.value.clone()),
                     );
                 }
+                if let Some(ty) = basic {
+                    drop_inverting_hex_high_limit(entry, ty, &mut self.diags);
+                }
             }
         }
     }
+}
+
+/// `LowLimit=0` with `HighLimit=0xFFFF` on an INTEGER16 (Sevcon, Faulhaber): read as two's
+/// complement the high limit is -1, below the low limit, and every value would be refused. The
+/// vendor means the unsigned number, which is above the type's maximum and restricts nothing: the
+/// high limit is dropped and the two's-complement info (EDS014) becomes an EDS013 warning.
+fn drop_inverting_hex_high_limit(entry: &mut SubObject, ty: BasicType, diags: &mut [Diagnostic]) {
+    let (Some(low), Some(high)) = (entry.low_limit.as_ref(), entry.high_limit.as_mut()) else {
+        return;
+    };
+    let (Some(Value::Integer(lo)), Some(Value::Integer(hi))) = (&low.value, &high.value) else {
+        return;
+    };
+    let is_hex = high.raw.trim().to_ascii_lowercase().starts_with("0x");
+    if !(ty.is_signed_integer() && is_hex && *hi < 0 && lo > hi) {
+        return;
+    }
+    let (hi, span) = (*hi, high.span);
+    high.value = None;
+    // CompactSubObj entries share one written limit: report it once.
+    let Some(at) = diags
+        .iter()
+        .rposition(|d| d.rule.code == rules::TWOS_COMPLEMENT.code && d.span == Some(span))
+    else {
+        return;
+    };
+    let max = ty.integer_range().map_or(0, |(_, max)| max);
+    diags[at] = Diagnostic::new(
+        &rules::OUT_OF_RANGE,
+        Some(span),
+        format!(
+            "HighLimit `{}` read as two's complement ({hi}) is below the LowLimit; as the unsigned number meant, it is above the maximum {max} of {}: it restricts nothing and is ignored",
+            high.raw.trim(),
+            ty.name()
+        ),
+    )
+    .with_severity(Severity::Warning)
+    .with_help(format!("remove the HighLimit, or write {max}"));
 }
 
 /// Strips an inline comment where the type allows it, then parses the value.
@@ -1370,11 +1426,14 @@ fn resolve_value(
     let (value, comment) = split_inline_comment(&source.raw);
     if comment.is_some() {
         if strips_inline_comment(basic) {
-            diags.push(Diagnostic::new(
-                &rules::INLINE_COMMENT,
-                Some(source.span),
-                format!("inline comment after the {key} is ignored"),
-            ));
+            diags.push(
+                Diagnostic::new(
+                    &rules::INLINE_COMMENT,
+                    Some(source.span),
+                    format!("inline comment after the {key} is ignored"),
+                )
+                .with_help("put the comment on its own line, starting with `;`"),
+            );
             let value = value.to_owned();
             source.span.len = u32::try_from(value.chars().count()).unwrap_or(u32::MAX);
             source.raw = value;
@@ -1389,7 +1448,47 @@ fn resolve_value(
             );
         }
     }
-    source.value = parse_value(&source.raw, basic, source.span, diags);
+    let mut found = Vec::new();
+    source.value = parse_value(&source.raw, basic, source.span, &mut found);
+    if let Some(ty) = basic {
+        for diag in &mut found {
+            soften_limit_beyond_type(diag, key, &source.raw, ty);
+        }
+    }
+    diags.append(&mut found);
+}
+
+/// A LowLimit below the type's minimum or a HighLimit above its maximum restricts nothing: the
+/// limit is dropped (the type's own range applies) and EDS013 becomes a warning. Vendors write
+/// `HighLimit=65535` on INTEGER16 or `0xFFFFFFFF` on UNSIGNED16 to mean "no limit". A limit beyond
+/// the other end (which would exclude every value) stays an error, except `HighLimit=-1` on an
+/// unsigned type, which C and .NET tools read as all ones.
+fn soften_limit_beyond_type(diag: &mut Diagnostic, key: &str, raw: &str, ty: BasicType) {
+    if diag.rule.code != rules::OUT_OF_RANGE.code {
+        return;
+    }
+    let (Some(value), Some((min, max))) = (parse_integer(raw), ty.integer_range()) else {
+        return;
+    };
+    let (beyond, bound) = match key {
+        "HighLimit" if value > max => ("above the maximum", max),
+        "LowLimit" if value < min => ("below the minimum", min),
+        // Sevcon writes HighLimit=-1 on unsigned entries: all ones, the maximum, as C and .NET
+        // tools read it.
+        "HighLimit" if value == -1 && min == 0 => ("all ones, the maximum", max),
+        _ => return,
+    };
+    *diag = Diagnostic::new(
+        &rules::OUT_OF_RANGE,
+        diag.span,
+        format!(
+            "{key} `{}` is {beyond} {bound} of {}; it restricts nothing and is ignored",
+            raw.trim(),
+            ty.name()
+        ),
+    )
+    .with_severity(Severity::Warning)
+    .with_help(format!("remove the {key}, or write {bound}"));
 }
 
 /// Expands `CompactSubObj=N` into implicit sub-objects 0..N (CiA 306 4.6.3.4): sub 0
@@ -1421,6 +1520,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
             span,
             custom: Vec::new(),
             implicit: true,
+            key_spans: KeySpans::default(),
         },
     );
     for n in 1..=count.value.min(255) {
@@ -1446,6 +1546,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
                 span,
                 custom: Vec::new(),
                 implicit: true,
+                key_spans: template.key_spans,
             },
         );
     }
@@ -1523,6 +1624,7 @@ fn implicit_entry(
         span,
         custom: Vec::new(),
         implicit: true,
+        key_spans: KeySpans::default(),
     }
 }
 

@@ -483,7 +483,8 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                     Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                     "line is not a comment, a [section] or key=value",
                 )
-                .with_label("the line is ignored"),
+                .with_label("the line is ignored")
+                .with_help("start the line with `;` if it is a comment, or remove it"),
             );
             continue;
         };
@@ -525,11 +526,19 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             );
         }
         if !is_plain_key(key) {
-            diags.push(Diagnostic::new(
-                &rules::KEY_SPELLING,
-                Some(key_span),
-                format!("key `{key}` has characters other than letters, digits and `_`"),
-            ));
+            let help = if key.starts_with('#') {
+                "`#` does not start a comment in CiA 306: write `;` to comment the line out"
+            } else {
+                "CiA 306 keys are letters, digits and `_`; other tools may not find this key"
+            };
+            diags.push(
+                Diagnostic::new(
+                    &rules::KEY_SPELLING,
+                    Some(key_span),
+                    format!("key `{key}` has characters other than letters, digits and `_`"),
+                )
+                .with_help(help),
+            );
         }
         let entry = IniEntry {
             key: IniText(key),

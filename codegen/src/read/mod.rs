@@ -51,10 +51,12 @@ pub fn read_file(path: &Path) -> Result<Read, ReadError> {
 
 /// Reads a description from bytes; `path` names it (and its extension picks the format).
 pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
-    match detect_format(path, bytes) {
+    let mut read = match detect_format(path, bytes) {
         Format::Eds | Format::Dcf => eds::read(path, bytes),
         Format::Xdd | Format::Xdc => xdd::read(path, bytes),
-    }
+    };
+    value::aggregate_dialects(&mut read.diagnostics);
+    read
 }
 
 /// The format of a file: by extension (case-insensitive), else XML if the first non-blank byte

@@ -98,11 +98,14 @@ pub fn strips_inline_comment(data_type: Option<BasicType>) -> bool {
 ///   (EDS014), out-of-range values are errors (EDS013) and give `None`, a float literal with an
 ///   integral value is accepted (EDS020), `$NODEID` formulas give [`Value::NodeRelative`]
 ///   (postfix or other spellings: EDS016; malformed: EDS015).
-/// - REAL32/REAL64: decimal or scientific text; a `0x` literal that fits the type width is an
-///   IEEE 754 bit pattern (EDS019, except for zero, which both readings agree on).
+/// - REAL32/REAL64: decimal or scientific text; a `0x` literal of the type's full width (8 or 16
+///   digits) is an IEEE 754 bit pattern, a shorter one a number (both EDS019, except for zero,
+///   which every reading agrees on).
 /// - VISIBLE_STRING/UNICODE_STRING: kept as written; surrounding quotes are kept and reported
 ///   (EDS018).
-/// - OCTET_STRING/DOMAIN: hex digit pairs, spaces between bytes tolerated.
+/// - A C literal suffix (`LL`, `U`, `f`) on an integer or REAL is dropped (EDS025).
+/// - OCTET_STRING/DOMAIN: hex digit pairs, spaces between bytes tolerated; a `0x` prefix before
+///   an even number of hex digits is dropped and a DOMAIN `0` is empty (both EDS026).
 /// - TIME_OF_DAY/TIME_DIFFERENCE: an integer (the 48-bit value), or `<days> <ms>` (Lely), stored as
 ///   `ms | days << 32`.
 pub fn parse_value(
@@ -141,6 +144,74 @@ pub fn parse_value(
         BasicType::TimeOfDay | BasicType::TimeDifference => parse_time(text, ty, span, diags),
         _ => parse_int_value(text, ty, span, diags),
     }
+}
+
+/// Rules whose instances in one file share one cause (the tool that wrote the file) and one fix:
+/// [`aggregate_dialects`] folds them.
+const FOLDED_DIALECTS: &[&str] = &["EDS003", "EDS013", "EDS016", "EDS025", "EDS026"];
+
+/// Folds repeated dialect warnings of one kind (same rule, severity and message shape) into the
+/// first one, which keeps its span and names the lines of the others. Errors and infos are never
+/// folded; EDS013 is folded only as the warning for limits beyond the type.
+pub fn aggregate_dialects(diags: &mut Vec<Diagnostic>) {
+    let shape = |d: &Diagnostic| -> Option<(&'static str, String)> {
+        if d.severity != Severity::Warning || !FOLDED_DIALECTS.contains(&d.code()) {
+            return None;
+        }
+        // Quoted text and free-standing numbers vary; words (type names like UNSIGNED16, with
+        // their digits) do not.
+        let mut shape = String::new();
+        let mut quoted = false;
+        let mut in_word = false;
+        for c in d.message.chars() {
+            if c == '`' {
+                quoted = !quoted;
+                shape.push(c);
+            } else if !quoted && (!c.is_ascii_digit() || in_word) {
+                shape.push(c);
+            }
+            in_word = c.is_ascii_alphabetic() || (in_word && c.is_ascii_alphanumeric());
+        }
+        Some((d.code(), shape))
+    };
+    let mut first_of: std::collections::HashMap<(&'static str, String), usize> =
+        std::collections::HashMap::new();
+    let mut more: Vec<Vec<u32>> = vec![Vec::new(); diags.len()];
+    let mut keep = vec![true; diags.len()];
+    for (i, d) in diags.iter().enumerate() {
+        let Some(key) = shape(d) else { continue };
+        match first_of.get(&key) {
+            Some(&first) => {
+                more[first].push(d.span.map_or(0, |s| s.line));
+                keep[i] = false;
+            }
+            None => {
+                first_of.insert(key, i);
+            }
+        }
+    }
+    for (d, lines) in diags.iter_mut().zip(&more) {
+        if lines.is_empty() {
+            continue;
+        }
+        let shown: Vec<String> = lines.iter().take(8).map(u32::to_string).collect();
+        let rest = if lines.len() > 8 {
+            format!(" and {} more", lines.len() - 8)
+        } else {
+            String::new()
+        };
+        d.message = format!(
+            "{}; the same on {} more line(s): {}{rest}",
+            d.message,
+            lines.len(),
+            shown.join(", ")
+        );
+    }
+    let mut index = 0;
+    diags.retain(|_| {
+        index += 1;
+        keep[index - 1]
+    });
 }
 
 fn contains_nodeid(text: &str) -> bool {
@@ -241,6 +312,13 @@ fn parse_int_value(
             return Some(Value::Integer(i128::from(lower == "true")));
         }
     }
+    let text = match strip_integer_suffix(text) {
+        Some(stripped) => {
+            push_suffix_warning(text, stripped, ty, span, diags);
+            stripped
+        }
+        None => text,
+    };
     let (value, radix) = match parse_integer_with_radix(text) {
         Some(parsed) => parsed,
         None => return parse_int_fallback(text, ty, (min, max), span, diags),
@@ -332,15 +410,71 @@ fn parse_int_fallback(
             }
         }
     }
+    if text.starts_with('<') && text.ends_with('>') {
+        diags.push(
+            Diagnostic::new(
+                &rules::BAD_VALUE,
+                Some(span),
+                format!(
+                    "`{text}` is a template placeholder, not a {} value",
+                    ty.name()
+                ),
+            )
+            .with_label("placeholder")
+            .with_help("this file is a template: fill in the placeholders before using it"),
+        );
+        return None;
+    }
     diags.push(
         Diagnostic::new(
             &rules::BAD_VALUE,
             Some(span),
-            format!("`{text}` is not a {} value", ty.name()),
+            format!("`{text}` cannot be read as {}", ty.name()),
         )
-        .with_label("not an integer"),
+        .with_label("not an integer")
+        .with_help(format!(
+            "write a decimal, `0x` hexadecimal or `$NODEID+n` value for {}",
+            ty.name()
+        )),
     );
     None
+}
+
+/// The literal without a C integer suffix (`U`, `L`, `UL`, `LL`, `ULL`, any case) if it has one and
+/// the rest is an integer literal.
+fn strip_integer_suffix(text: &str) -> Option<&str> {
+    let body = text.trim_end_matches(['u', 'U', 'l', 'L']);
+    let suffix = text[body.len()..].to_ascii_lowercase();
+    let is_c_suffix = ["u", "l", "ul", "lu", "ll", "ull", "llu"].contains(&suffix.as_str());
+    (is_c_suffix && parse_integer_with_radix(body).is_some()).then_some(body)
+}
+
+/// The literal without a C float suffix (`f`/`F`) if it has one and the rest is a decimal float.
+fn strip_float_suffix(text: &str) -> Option<&str> {
+    let body = text.strip_suffix(['f', 'F'])?;
+    (looks_like_float(body) && body.parse::<f64>().is_ok()).then_some(body)
+}
+
+fn push_suffix_warning(
+    text: &str,
+    stripped: &str,
+    ty: BasicType,
+    span: Span,
+    diags: &mut Vec<Diagnostic>,
+) {
+    diags.push(
+        Diagnostic::new(
+            &rules::C_LITERAL_SUFFIX,
+            Some(span),
+            format!(
+                "{} value `{text}` has a C literal suffix; read as `{stripped}`",
+                ty.name()
+            ),
+        )
+        .with_help(format!(
+            "write `{stripped}`: CiA 306 numbers have no suffix"
+        )),
+    );
 }
 
 fn range_checked(
@@ -384,8 +518,34 @@ fn parse_real(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
         ));
         return None;
     }
+    let text = match strip_float_suffix(text) {
+        Some(stripped) => {
+            push_suffix_warning(text, stripped, ty, span, diags);
+            stripped
+        }
+        None => text,
+    };
     let bits = if ty == BasicType::Real32 { 32 } else { 64 };
     if let Some((pattern, Radix::Hex)) = parse_integer_with_radix(text) {
+        let digits = text.trim_start_matches(['-', '+'])[2..].len();
+        if digits < bits / 4 && pattern != 0 {
+            // Fewer digits than the type width: a number written in hex (Sevcon's
+            // `HighLimit=0xFFFF`), not a bit pattern, which would be a meaningless denormal.
+            let value = pattern as f64;
+            diags.push(
+                Diagnostic::new(
+                    &rules::REAL_BIT_PATTERN,
+                    Some(span),
+                    format!(
+                        "{} value `{text}` has fewer than {} hex digits: read as the number {value}, not as a bit pattern",
+                        ty.name(),
+                        bits / 4
+                    ),
+                )
+                .with_help(format!("write `{value}` in decimal")),
+            );
+            return Some(Value::Real(value));
+        }
         if pattern >= 0 && pattern < (1i128 << bits) {
             let value = if bits == 32 {
                 f64::from(f32::from_bits(pattern as u32))
@@ -431,7 +591,7 @@ fn parse_real(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
         Diagnostic::new(
             &rules::BAD_VALUE,
             Some(span),
-            format!("`{text}` is not a {} value", ty.name()),
+            format!("`{text}` cannot be read as {}", ty.name()),
         )
         .with_label("not a number"),
     );
@@ -444,6 +604,41 @@ fn parse_bytes(
     span: Span,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Value> {
+    if ty == BasicType::Domain && text == "0" {
+        diags.push(
+            Diagnostic::new(
+                &rules::BYTES_DIALECT,
+                Some(span),
+                "DOMAIN value `0` is read as empty (no bytes)".to_owned(),
+            )
+            .with_help("leave the value empty, or write the bytes as hex digit pairs (e.g. `00`)"),
+        );
+        return Some(Value::Bytes(Vec::new()));
+    }
+    let prefixed = text.strip_prefix("0x").or_else(|| text.strip_prefix("0X"));
+    if let Some(body) = prefixed {
+        let digits: Vec<char> = body.chars().filter(|c| !c.is_whitespace()).collect();
+        if !digits.is_empty() && digits.len() % 2 == 0 && digits.iter().all(char::is_ascii_hexdigit)
+        {
+            let shown = if body.chars().count() > 16 {
+                format!("{}...", body.chars().take(16).collect::<String>())
+            } else {
+                body.to_owned()
+            };
+            diags.push(
+                Diagnostic::new(
+                    &rules::BYTES_DIALECT,
+                    Some(span),
+                    format!(
+                        "{} value written as a `0x` literal; read as the bytes `{shown}` in written order",
+                        ty.name()
+                    ),
+                )
+                .with_help("drop the `0x`: CiA 306 writes bytes as hex digit pairs"),
+            );
+            return parse_bytes(body, ty, span, diags);
+        }
+    }
     let digits: Vec<char> = text.chars().filter(|c| !c.is_whitespace()).collect();
     let all_hex = digits.iter().all(char::is_ascii_hexdigit);
     if !all_hex || digits.len() % 2 != 0 {
@@ -492,7 +687,7 @@ fn parse_time(text: &str, ty: BasicType, span: Span, diags: &mut Vec<Diagnostic>
                 Diagnostic::new(
                     &rules::BAD_VALUE,
                     Some(span),
-                    format!("`{text}` is not a {} value", ty.name()),
+                    format!("`{text}` cannot be read as {}", ty.name()),
                 )
                 .with_help("write the 48-bit value as an integer, or `<days> <milliseconds>`"),
             );
@@ -721,6 +916,25 @@ mod tests {
             parse("0x00000000", BasicType::Real32),
             (Some(Value::Real(0.0)), vec![])
         );
+        // Fewer digits than the width: a number in hex, not a bit pattern.
+        assert_eq!(
+            parse("0xFFFF", BasicType::Real32),
+            (
+                Some(Value::Real(65535.0)),
+                vec![("EDS019", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x3F800000", BasicType::Real64),
+            (
+                Some(Value::Real(1_065_353_216.0)),
+                vec![("EDS019", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x0", BasicType::Real64),
+            (Some(Value::Real(0.0)), vec![])
+        );
         assert_eq!(
             parse("nan", BasicType::Real32),
             (None, vec![("EDS012", Severity::Error)])
@@ -762,6 +976,166 @@ mod tests {
         );
         assert_eq!(
             parse("0x12", BasicType::Domain),
+            (
+                Some(Value::Bytes(vec![0x12])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x000400ff", BasicType::OctetString),
+            (
+                Some(Value::Bytes(vec![0x00, 0x04, 0x00, 0xff])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        // Unicode whitespace between bytes: no slicing inside a character.
+        assert_eq!(
+            parse("0x001122334455667\u{3000}78899", BasicType::Domain),
+            (
+                Some(Value::Bytes(vec![
+                    0x00, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88, 0x99
+                ])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0x123", BasicType::Domain),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+        assert_eq!(
+            parse("0", BasicType::Domain),
+            (
+                Some(Value::Bytes(vec![])),
+                vec![("EDS026", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0", BasicType::OctetString),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+        assert_eq!(
+            parse("@ABCD", BasicType::Domain),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+    }
+
+    #[test]
+    fn repeated_dialects_fold_into_the_first() {
+        let at = |line| Span::new(line, 14, 3);
+        let mut diags = Vec::new();
+        for line in 1..=11 {
+            parse_value(
+                "0x80+$NODEID",
+                Some(BasicType::Unsigned32),
+                at(line),
+                &mut diags,
+            );
+        }
+        parse_value("$NodeId+1", Some(BasicType::Unsigned32), at(20), &mut diags);
+        parse_value(
+            "0x300+$NODEID",
+            Some(BasicType::Unsigned32),
+            at(21),
+            &mut diags,
+        );
+        parse_value("-1", Some(BasicType::Unsigned8), at(22), &mut diags);
+        parse_value("-1", Some(BasicType::Unsigned8), at(23), &mut diags);
+        parse_value("1LL", Some(BasicType::Unsigned16), at(24), &mut diags);
+        parse_value("2LL", Some(BasicType::Unsigned8), at(25), &mut diags);
+        parse_value("3LL", Some(BasicType::Unsigned16), at(26), &mut diags);
+        aggregate_dialects(&mut diags);
+        let found: Vec<_> = diags
+            .iter()
+            .map(|d| (d.code(), d.severity, d.span.map_or(0, |s| s.line)))
+            .collect();
+        assert_eq!(
+            found,
+            vec![
+                ("EDS016", Severity::Warning, 1),
+                ("EDS016", Severity::Warning, 20),
+                ("EDS013", Severity::Error, 22),
+                ("EDS013", Severity::Error, 23),
+                ("EDS025", Severity::Warning, 24),
+                ("EDS025", Severity::Warning, 25),
+            ]
+        );
+        // UNSIGNED16 and UNSIGNED8 are different kinds.
+        assert_eq!(
+            diags[4].message,
+            "UNSIGNED16 value `1LL` has a C literal suffix; read as `1`; the same on 1 more line(s): 26"
+        );
+        assert_eq!(
+            diags[0].message,
+            "`0x80+$NODEID` puts `$NODEID` after the offset; the same on 11 more line(s): \
+             2, 3, 4, 5, 6, 7, 8, 9 and 3 more"
+        );
+        assert_eq!(diags[1].message, "`$NodeId` is not spelled `$NODEID`");
+    }
+
+    #[test]
+    fn unreadable_integers_say_why() {
+        let mut diags = Vec::new();
+        parse_value(
+            "<!pole_pairs.16.0>",
+            Some(BasicType::Unsigned16),
+            span(),
+            &mut diags,
+        );
+        parse_value("12abc", Some(BasicType::Unsigned16), span(), &mut diags);
+        let messages: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
+        assert_eq!(
+            messages,
+            vec![
+                "`<!pole_pairs.16.0>` is a template placeholder, not a UNSIGNED16 value",
+                "`12abc` cannot be read as UNSIGNED16",
+            ]
+        );
+        assert_eq!(diags[0].code(), "EDS012");
+        assert_eq!(diags[1].severity, Severity::Error);
+    }
+
+    #[test]
+    fn c_literal_suffixes() {
+        assert_eq!(
+            parse("0x1234567890ABCDEFLL", BasicType::Integer64),
+            (
+                Some(Value::Integer(0x1234_5678_90AB_CDEF)),
+                vec![("EDS025", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0xFFFFFFFFFFFFFFFFULL", BasicType::Unsigned64),
+            (
+                Some(Value::Integer(i128::from(u64::MAX))),
+                vec![("EDS025", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("10u", BasicType::Unsigned8),
+            (
+                Some(Value::Integer(10)),
+                vec![("EDS025", Severity::Warning)]
+            )
+        );
+        assert_eq!(
+            parse("0.0f", BasicType::Real32),
+            (Some(Value::Real(0.0)), vec![("EDS025", Severity::Warning)])
+        );
+        assert_eq!(
+            parse("-1.5F", BasicType::Real64),
+            (Some(Value::Real(-1.5)), vec![("EDS025", Severity::Warning)])
+        );
+        // A hex REAL ending in the digit F is a bit pattern, not a suffix.
+        assert_eq!(
+            parse("0x3F80000F", BasicType::Real32).1,
+            vec![("EDS019", Severity::Warning)]
+        );
+        assert_eq!(
+            parse("10LLL", BasicType::Unsigned8),
+            (None, vec![("EDS012", Severity::Error)])
+        );
+        assert_eq!(
+            parse("L", BasicType::Unsigned8),
             (None, vec![("EDS012", Severity::Error)])
         );
     }

@@ -12,6 +12,7 @@ use std::path::Path;
 
 use roxmltree::{Attribute, Document, Node};
 
+use super::value::{parse_integer, parse_value};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
@@ -36,14 +37,25 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
             .with_help("save the file as UTF-8, as its XML declaration most likely says"),
         );
     }
-    let options = roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..Default::default()
-    };
-    match Document::parse_with_options(&text, options) {
+    // DTDs stay refused (roxmltree's default): no CiA 311 file has one, and entity expansion is
+    // a way to make a small file huge.
+    match Document::parse(&text) {
         Ok(doc) => {
             let mut reader = XmlReader::new(&doc, &text, &mut diagnostics);
             reader.read_device(&mut device);
+        }
+        Err(roxmltree::Error::DtdDetected) => {
+            // roxmltree reports no useful position for this one: point at the declaration.
+            let at = text.find("<!DOCTYPE").unwrap_or(0);
+            let span = LineIndex::new(&text).span(&text, at..at + "<!DOCTYPE".len());
+            diagnostics.push(
+                Diagnostic::new(
+                    &rules::XML_MALFORMED,
+                    Some(span),
+                    "the file has a DTD (`<!DOCTYPE`), which a CiA 311 description never needs",
+                )
+                .with_help("remove the DOCTYPE declaration"),
+            );
         }
         Err(err) => {
             let pos = err.pos();
@@ -265,8 +277,11 @@ fn parse_parameter_access(text: &str) -> Option<AccessType> {
         "read" => AccessType::Ro,
         "write" => AccessType::Wo,
         "readWrite" => AccessType::Rw,
-        "readWriteInput" => AccessType::Rwr,
-        "readWriteOutput" => AccessType::Rww,
+        // Directions are the device application's: an input is written by the network (an
+        // RPDO, `rww`), an output is read by it (a TPDO, `rwr`). Faulhaber's tooling writes
+        // readWriteInput on every RPDO-mapped parameter.
+        "readWriteInput" => AccessType::Rww,
+        "readWriteOutput" => AccessType::Rwr,
         _ => return None,
     })
 }
@@ -354,6 +369,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                 "CANopenGeneralFeatures" => self.read_general_features(node, device),
                 "CANopenMasterFeatures" => self.read_master_features(node, device),
                 "deviceCommissioning" => self.read_commissioning(node, device),
+                "dynamicChannels" => self.read_dynamic_channels(node, device),
                 _ => {}
             }
         }
@@ -426,7 +442,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                 "orderNumber" => device.device_info.order_code = text,
                 "vendorID" | "productID" => {
                     let Some(text) = text else { continue };
-                    let number = super_parse_integer(&text).and_then(|n| u32::try_from(n).ok());
+                    let number = parse_integer(&text).and_then(|n| u32::try_from(n).ok());
                     let Some(number) = number else {
                         self.push(Diagnostic::new(
                             &rules::XML_BAD_ATTRIBUTE,
@@ -649,7 +665,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             return guess;
         };
         let value_span = self.attribute_span(&attr);
-        let code = super_parse_integer(attr.value()).and_then(|c| u32::try_from(c).ok());
+        let code = parse_integer(attr.value()).and_then(|c| u32::try_from(c).ok());
         match code.and_then(ObjectType::from_code) {
             Some(t) => t,
             None => {
@@ -687,7 +703,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
     fn optional_number(&mut self, node: Node, name: &str) -> Option<Spanned<u32>> {
         let attr = attribute(node, name)?;
         let span = self.attribute_span(&attr);
-        match super_parse_integer(attr.value()).and_then(|n| u32::try_from(n).ok()) {
+        match parse_integer(attr.value()).and_then(|n| u32::try_from(n).ok()) {
             Some(n) => Some(Spanned::new(n, span)),
             None => {
                 self.push(Diagnostic::new(
@@ -951,7 +967,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                     &rules::XML_TYPE_CONFLICT,
                     Some(span),
                     format!(
-                        "the parameter's access is {} but PDOmapping says {}; {} is used",
+                        "the access is {} but PDOmapping says {}; {} is used",
                         current.as_str(),
                         direction.as_str(),
                         direction.as_str()
@@ -966,7 +982,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let basic = data_type.and_then(BasicType::from_index);
         let value = |reader: &mut Self, raw: Option<RawValue>| {
             raw.map(|raw| ValueSource {
-                value: local_parse_value(&raw.text, basic, raw.span, reader.diags),
+                value: parse_value(&raw.text, basic, raw.span, reader.diags),
                 raw: raw.text,
                 span: raw.span,
             })
@@ -1009,6 +1025,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             span,
             custom: parameter.custom,
             implicit: false,
+            key_spans: KeySpans::default(),
         }
     }
 
@@ -1104,6 +1121,26 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         }
     }
 
+    /// `dynamicChannels/dynamicChannel` (CiA 302/405): kept verbatim, one entry per attribute
+    /// (`dynamicChannel1.startIndex`), like the EDS `[DynamicChannels]` section.
+    fn read_dynamic_channels(&mut self, node: Node, device: &mut Device) {
+        let mut entries = Vec::new();
+        for (number, channel) in children(node, "dynamicChannel").enumerate() {
+            for attr in channel.attributes() {
+                entries.push(RawEntry {
+                    key: format!("dynamicChannel{}.{}", number + 1, attr.name()),
+                    value: attr.value().to_owned(),
+                    span: self.attribute_span(&attr),
+                });
+            }
+        }
+        device.other_sections.push(RawSection {
+            name: "dynamicChannels".to_owned(),
+            entries,
+            span: self.element_span(node),
+        });
+    }
+
     fn read_general_features(&mut self, node: Node, device: &mut Device) {
         let info = &mut device.device_info;
         info.span.get_or_insert(self.element_span(node));
@@ -1185,111 +1222,5 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             }
         }
         device.commissioning = Some(commissioning);
-    }
-}
-
-// ---- temporary value parsing, replaced by `read::value` once it is merged ----
-
-fn super_parse_integer(raw: &str) -> Option<i128> {
-    let t = raw.trim();
-    let (negative, digits) = match t.strip_prefix('-') {
-        Some(rest) => (true, rest.trim_start()),
-        None => (false, t.strip_prefix('+').unwrap_or(t)),
-    };
-    let magnitude = if let Some(hex) = digits
-        .strip_prefix("0x")
-        .or_else(|| digits.strip_prefix("0X"))
-    {
-        i128::from_str_radix(hex, 16).ok()?
-    } else if digits.len() > 1 && digits.starts_with('0') {
-        i128::from_str_radix(&digits[1..], 8).ok()?
-    } else {
-        if !digits.bytes().all(|b| b.is_ascii_digit()) || digits.is_empty() {
-            return None;
-        }
-        digits.parse::<i128>().ok()?
-    };
-    Some(if negative { -magnitude } else { magnitude })
-}
-
-fn local_parse_value(
-    raw: &str,
-    data_type: Option<BasicType>,
-    span: Span,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<Value> {
-    let text = raw.trim();
-    let data_type = data_type?;
-    let bad = |diags: &mut Vec<Diagnostic>| {
-        diags.push(Diagnostic::new(
-            &rules::BAD_VALUE,
-            Some(span),
-            format!("`{text}` is not a {} value", data_type.name()),
-        ));
-        None
-    };
-    match data_type {
-        BasicType::VisibleString | BasicType::UnicodeString => Some(Value::Text(text.to_owned())),
-        BasicType::OctetString | BasicType::Domain => {
-            let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-            if digits.len() % 2 != 0 {
-                return bad(diags);
-            }
-            let mut bytes = Vec::new();
-            for i in (0..digits.len()).step_by(2) {
-                match digits
-                    .get(i..i + 2)
-                    .and_then(|d| u8::from_str_radix(d, 16).ok())
-                {
-                    Some(b) => bytes.push(b),
-                    None => return bad(diags),
-                }
-            }
-            Some(Value::Bytes(bytes))
-        }
-        BasicType::Real32 | BasicType::Real64 => {
-            if text.is_empty() {
-                return None;
-            }
-            match text.parse::<f64>() {
-                Ok(v) => Some(Value::Real(v)),
-                Err(_) => bad(diags),
-            }
-        }
-        _ => {
-            if text.is_empty() {
-                return None;
-            }
-            let upper = text.to_ascii_uppercase();
-            if let Some(rest) = upper.strip_prefix("$NODEID") {
-                let rest = rest.trim();
-                let offset = if rest.is_empty() {
-                    Some(0)
-                } else {
-                    rest.strip_prefix('+')
-                        .and_then(super_parse_integer)
-                        .and_then(|v| i64::try_from(v).ok())
-                };
-                return match offset {
-                    Some(o) => Some(Value::NodeRelative(o)),
-                    None => bad(diags),
-                };
-            }
-            let Some(v) = super_parse_integer(text) else {
-                return bad(diags);
-            };
-            let Some((low, high)) = data_type.integer_range() else {
-                return Some(Value::Integer(v));
-            };
-            if v < low || v > high {
-                diags.push(Diagnostic::new(
-                    &rules::OUT_OF_RANGE,
-                    Some(span),
-                    format!("`{text}` is outside the range of {}", data_type.name()),
-                ));
-                return None;
-            }
-            Some(Value::Integer(v))
-        }
     }
 }

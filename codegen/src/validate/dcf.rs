@@ -43,6 +43,13 @@ fn commissioning(device: &Device, out: &mut Vec<Diagnostic>) {
                     .with_label("unconfigured node-ID")
                     .with_help("$NODEID values of this DCF cannot be resolved until LSS assigns a node-ID 1..127"),
             );
+        } else if id.value == 0 {
+            out.push(
+                Diagnostic::new(&rules::DCF_NODE_ID, Some(id.span), "NodeID 0 means not commissioned: the DCF names no node-ID")
+                    .with_severity(Severity::Warning)
+                    .with_label("no node-ID")
+                    .with_help("set the node-ID 1..127 the device will use; CANopenEditor writes 0 when none is set"),
+            );
         } else if !(1..=127).contains(&id.value) {
             out.push(
                 Diagnostic::new(
@@ -56,7 +63,14 @@ fn commissioning(device: &Device, out: &mut Vec<Diagnostic>) {
         }
     }
     if let Some(rate) = &c.baudrate {
-        if !STANDARD_BAUD_RATES.contains(&rate.value) {
+        if rate.value == 0 {
+            out.push(
+                Diagnostic::new(&rules::DCF_BAUDRATE, Some(rate.span), "Baudrate 0 means not commissioned: the DCF names no bit rate")
+                    .with_severity(Severity::Warning)
+                    .with_label("no bit rate")
+                    .with_help("set the bit rate in kbit/s (10, 20, 50, 125, 250, 500, 800 or 1000); CANopenEditor writes 0 when none is set"),
+            );
+        } else if !STANDARD_BAUD_RATES.contains(&rate.value) {
             out.push(
                 Diagnostic::new(
                     &rules::DCF_BAUDRATE,
@@ -227,14 +241,21 @@ fn domain_files(device: &Device, out: &mut Vec<Diagnostic>) {
         for s in o.subs.values() {
             let is_domain = o.object_type == ObjectType::Domain || s.data_type == Some(0x000F);
             let name = EntryName::new(device, o.index, s.sub_index);
-            for (key, file, max, ok_access) in [
+            for (key, file, at_key, max, ok_access) in [
                 (
                     "UploadFile",
                     &s.upload_file,
+                    s.key_spans.upload_file,
                     244,
                     &[AccessType::Ro, AccessType::Const][..],
                 ),
-                ("DownloadFile", &s.download_file, 242, &[AccessType::Wo][..]),
+                (
+                    "DownloadFile",
+                    &s.download_file,
+                    s.key_spans.download_file,
+                    242,
+                    &[AccessType::Wo][..],
+                ),
             ] {
                 let Some(file) = file else { continue };
                 let problem = if !is_domain {
@@ -249,9 +270,15 @@ fn domain_files(device: &Device, out: &mut Vec<Diagnostic>) {
                 };
                 if let Some(problem) = problem {
                     out.push(
-                        Diagnostic::new(&rules::DOMAIN_FILE_KEYS, Some(s.span), problem)
-                            .with_label(format!("{key} here"))
-                            .with_help("UploadFile belongs on ro/const DOMAINs, DownloadFile on wo DOMAINs"),
+                        Diagnostic::new(
+                            &rules::DOMAIN_FILE_KEYS,
+                            Some(at_key.unwrap_or(s.span)),
+                            problem,
+                        )
+                        .with_label(format!("{key} here"))
+                        .with_help(
+                            "UploadFile belongs on ro/const DOMAINs, DownloadFile on wo DOMAINs",
+                        ),
                     );
                 }
             }

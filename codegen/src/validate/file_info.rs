@@ -67,10 +67,16 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
         }
     }
     if !bad_formats.is_empty() {
+        // At the first offending key in the file.
+        let first_bad = bad_formats
+            .iter()
+            .filter_map(|b| b.split('=').next())
+            .filter_map(|k| info.key_spans.get(k).copied())
+            .min_by_key(|span| span.line);
         out.push(
             Diagnostic::new(
                 &rules::FILE_DATE_FORMAT,
-                Some(section),
+                first_bad.or(Some(section)),
                 format!(
                     "[FileInfo] times/dates not in the CiA 306 form: {}",
                     bad_formats.join(", ")
@@ -92,10 +98,13 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
                 out.push(
                     Diagnostic::new(
                         &rules::FILE_INFO_LIMITS,
-                        Some(section),
+                        info.key_spans.get(key).copied().or(Some(section)),
                         format!("{key} `{v}` is not an UNSIGNED8 (0..255)"),
                     )
-                    .with_label("in this section"),
+                    .with_label("in this section")
+                    .with_help(format!(
+                        "write {key} as a whole number 0..255, e.g. `{key}=1`"
+                    )),
                 );
             }
         }
@@ -111,10 +120,11 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
                 out.push(
                     Diagnostic::new(
                         &rules::FILE_INFO_LIMITS,
-                        Some(section),
+                        info.key_spans.get(key).copied().or(Some(section)),
                         format!("{key} is {len} characters long; CiA 306 allows {max}"),
                     )
-                    .with_label("in this section"),
+                    .with_label("in this section")
+                    .with_help(format!("shorten {key} to {max} characters")),
                 );
             }
         }

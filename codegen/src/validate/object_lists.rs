@@ -11,7 +11,7 @@
 use std::collections::BTreeMap;
 
 use super::{is_ini, obj, short_list};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, Severity};
 use crate::model::{Device, ObjectListKind, Span};
 use crate::rules;
 
@@ -139,7 +139,8 @@ fn lists(device: &Device, out: &mut Vec<Diagnostic>) {
                 }
             }
         }
-        for (_, entry) in &list.entries {
+        let count = list.supported_objects.as_ref().map(|n| n.value);
+        for (number, entry) in &list.entries {
             let index = entry.value;
             if let Some((first_kind, first_span)) = first_listing.get(&index) {
                 out.push(
@@ -171,17 +172,30 @@ fn lists(device: &Device, out: &mut Vec<Diagnostic>) {
                 .get(&index)
                 .is_some_and(|o| o.implicit || o.span != entry.span);
             if !described {
-                out.push(
-                    Diagnostic::new(
-                        &rules::LISTED_WITHOUT_SECTION,
-                        Some(entry.span),
-                        format!("{} is listed but has no [{:X}] section", obj(index), index),
-                    )
-                    .with_label("no description for this object")
-                    .with_help(format!(
-                        "describe the object in a [{index:X}] section, or remove it from the list"
-                    )),
-                );
+                // An entry numbered beyond SupportedObjects is not part of the list for tools
+                // that honour the count (Lely); only a warning then (EDS203 reports the count).
+                let beyond_count = count.is_some_and(|n| *number > n);
+                let mut diag = Diagnostic::new(
+                    &rules::LISTED_WITHOUT_SECTION,
+                    Some(entry.span),
+                    if beyond_count {
+                        format!(
+                            "{} is listed (entry {number}, beyond SupportedObjects) but has no [{:X}] section",
+                            obj(index),
+                            index
+                        )
+                    } else {
+                        format!("{} is listed but has no [{:X}] section", obj(index), index)
+                    },
+                )
+                .with_label("no description for this object")
+                .with_help(format!(
+                    "describe the object in a [{index:X}] section, or remove it from the list"
+                ));
+                if beyond_count {
+                    diag = diag.with_severity(Severity::Warning);
+                }
+                out.push(diag);
             }
         }
     }

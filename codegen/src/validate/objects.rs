@@ -11,7 +11,9 @@
 
 use super::{at, effective_int, entry_name, obj, value_span, EntryName, ObjName};
 use crate::diag::{Diagnostic, Severity};
-use crate::model::{BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource};
+use crate::model::{
+    AccessType, BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource,
+};
 use crate::rules;
 
 /// Longest ParameterName CiA 306 allows.
@@ -85,7 +87,8 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                         c.value
                     ),
                 )
-                .with_label("above 254"),
+                .with_label("above 254")
+                .with_help("describe at most 254 sub-objects; sub-index FFh is reserved"),
             );
         }
     }
@@ -172,8 +175,12 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                 &rules::MISSING_KEY,
                 Some(o.span),
                 format!(
-                    "{name} is an {:?} without SubNumber or CompactSubObj",
-                    o.object_type
+                    "{name} is {} without SubNumber or CompactSubObj",
+                    match o.object_type {
+                        ObjectType::Array => "an ARRAY",
+                        ObjectType::Record => "a RECORD",
+                        _ => "a DEFSTRUCT",
+                    }
                 ),
             )
             .with_label("no SubNumber")
@@ -199,7 +206,8 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         _ => {}
     }
 
-    if let Some(sub) = o.subs.get(&0xFF) {
+    // A sub FFh implied by CompactSubObj=255 is already EDS322's finding.
+    if let Some(sub) = o.subs.get(&0xFF).filter(|s| !s.implicit) {
         out.push(
             Diagnostic::new(
                 &rules::SUB_INDEX_RESERVED,
@@ -369,7 +377,7 @@ fn sub0_checks(
             out.push(
                 Diagnostic::new(
                     &rules::SUB0_MISSING,
-                    Some(sub0.span),
+                    Some(sub0.key_spans.data_type.unwrap_or(sub0.span)),
                     format!(
                         "{} is {} but must be UNSIGNED8",
                         at(o.index, 0),
@@ -390,7 +398,7 @@ fn sub0_checks(
         out.push(
             Diagnostic::new(
                 &rules::SUB0_ACCESS,
-                Some(sub0.span),
+                Some(sub0.key_spans.access.unwrap_or(sub0.span)),
                 format!(
                     "{} is {} but sub-index 0 of an ARRAY/RECORD is read-only",
                     at(o.index, 0),
@@ -420,6 +428,18 @@ fn sub0_checks(
     }
 }
 
+/// The CiA 301 complex (record) data types 0020h..0023h: standard structures, but an entry
+/// cannot have one as its DataType unless the file describes it.
+fn standard_record_type(dt: u16) -> Option<&'static str> {
+    match dt {
+        0x0020 => Some("PDO_COMMUNICATION_PARAMETER"),
+        0x0021 => Some("PDO_MAPPING"),
+        0x0022 => Some("SDO_PARAMETER"),
+        0x0023 => Some("IDENTITY"),
+        _ => None,
+    }
+}
+
 fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
     let elements: Vec<&SubObject> = o
         .subs
@@ -439,7 +459,7 @@ fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         out.push(
             Diagnostic::new(
                 &rules::ARRAY_MIXED_TYPES,
-                Some(odd.span),
+                Some(odd.key_spans.data_type.unwrap_or(odd.span)),
                 format!(
                     "{} is {} but {} is {}; ARRAY elements share one type",
                     at(o.index, odd.sub_index),
@@ -458,12 +478,28 @@ fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         .iter()
         .find(|s| s.access != first.access || s.pdo_mapping != first.pdo_mapping)
     {
+        let access = |s: &SubObject| s.access.map_or("missing", AccessType::as_str);
+        let (key, what) = if odd.access != first.access {
+            (
+                odd.key_spans.access,
+                format!("AccessType {} vs {}", access(odd), access(first)),
+            )
+        } else {
+            (
+                odd.key_spans.pdo_mapping,
+                format!(
+                    "PDOMapping {} vs {}",
+                    u8::from(odd.pdo_mapping),
+                    u8::from(first.pdo_mapping)
+                ),
+            )
+        };
         out.push(
             Diagnostic::new(
                 &rules::ARRAY_MIXED_ACCESS,
-                Some(odd.span),
+                Some(key.unwrap_or(odd.span)),
                 format!(
-                    "{} differs from {} in AccessType or PDOMapping",
+                    "{} differs from {} in {what}",
                     at(o.index, odd.sub_index),
                     at(o.index, first.sub_index)
                 ),
@@ -626,7 +662,7 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
             out.push(
                 Diagnostic::new(
                     &rules::DOMAIN_DATA_TYPE,
-                    Some(sub.span),
+                    Some(sub.key_spans.data_type.unwrap_or(sub.span)),
                     format!("{name} is a DOMAIN object with DataType {dt:04X}h"),
                 )
                 .with_label("expected 000Fh")
@@ -640,9 +676,11 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
         out.push(
             Diagnostic::new(
                 &rules::UNKNOWN_DATA_TYPE,
-                Some(sub.span),
+                Some(sub.key_spans.data_type.unwrap_or(sub.span)),
                 if reserved {
                     format!("{name} has DataType {dt:04X}h, a reserved code")
+                } else if let Some(record) = standard_record_type(dt) {
+                    format!("{name} has DataType {dt:04X}h, the CiA 301 record type {record}, which this file does not describe as a DEFSTRUCT")
                 } else {
                     format!("{name} has DataType {dt:04X}h, which is not a basic type nor defined in this file")
                 },
@@ -733,10 +771,34 @@ fn limits(
         (low, high, sub.low_limit.as_ref(), sub.high_limit.as_ref())
     {
         if less(hi, lo, 1) == Some(true) || less(hi, lo, 127) == Some(true) {
-            // A hex limit on a signed type is read as two's complement (0xFF is -1 for
-            // INTEGER8); vendors often mean the unsigned number. That ambiguity is a warning.
-            let is_hex = |raw: &str| raw.trim().to_ascii_lowercase().starts_with("0x");
-            let ambiguous = ty.is_signed_integer() && (is_hex(&lo_src.raw) || is_hex(&hi_src.raw));
+            // A hex limit on a signed type is ambiguous when two's complement made it negative
+            // (0xFF is -1 for INTEGER8), or when it is a negative two's-complement pattern of a
+            // narrower width (0xEC78 is -5000 in 16 bits, 60536 in INTEGER32): a warning that
+            // says which reading was taken. Other inverted limits are errors.
+            let ambiguity = |src: &ValueSource| -> Option<String> {
+                let raw = src.raw.trim();
+                let digits = raw.strip_prefix("0x").or_else(|| raw.strip_prefix("0X"))?;
+                let Some(Value::Integer(v)) = src.value else {
+                    return None;
+                };
+                if v < 0 {
+                    return Some(format!("`{raw}` is read as the two's complement {v}"));
+                }
+                let bits = u32::try_from(digits.len()).ok()?.checked_mul(4)?;
+                let narrower = bits < ty.bits().unwrap_or(0) && bits > 0 && bits < 127;
+                (narrower && v >= 1i128 << (bits - 1)).then(|| {
+                    format!(
+                        "`{raw}` is {v} in {}, though as a {bits}-bit two's complement it would be {}",
+                        ty.name(),
+                        v - (1i128 << bits)
+                    )
+                })
+            };
+            let why = if ty.is_signed_integer() {
+                ambiguity(lo_src).or_else(|| ambiguity(hi_src))
+            } else {
+                None
+            };
             let mut diag = Diagnostic::new(
                 &rules::LIMITS_INVERTED,
                 Some(lo_src.span),
@@ -746,13 +808,11 @@ fn limits(
                 ),
             )
             .with_label("above HighLimit");
-            diag = if ambiguous {
-                diag.with_severity(Severity::Warning).with_help(format!(
-                    "{} is signed: a hex limit is read as two's complement; write the limits in decimal",
-                    ty.name()
-                ))
-            } else {
-                diag.with_help("swap the limits")
+            diag = match why {
+                Some(why) => diag
+                    .with_severity(Severity::Warning)
+                    .with_help(format!("{why}; write the limits in decimal")),
+                None => diag.with_help("swap the limits"),
             };
             out.push(diag);
             return;

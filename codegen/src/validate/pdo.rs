@@ -176,7 +176,7 @@ fn comm_subs(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnostic>) {
                         &rules::TRANSMISSION_TYPE_RESERVED,
                         Some(value_span(sub)),
                         format!(
-                            "{} transmission type {t} is reserved for a {}",
+                            "{} transmission type {t} is reserved for an {}",
                             at(o.index, 2),
                             dir.name()
                         ),
@@ -247,6 +247,11 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
     let Some(count) = effective_int(sub0) else {
         return;
     };
+    if count == 0xFE || count == 0xFF {
+        // CiA 301 multiplexed PDOs: FEh is SAM-MPDO, FFh DAM-MPDO; the mapping then lives in
+        // the object scanner/dispatcher lists (1FA0h..1FCFh), not in sub-indices 1..64.
+        return;
+    }
     if count > 64 {
         out.push(
             Diagnostic::new(

@@ -272,30 +272,33 @@ fn dynamic_channels(device: &Device, out: &mut Vec<Diagnostic>) {
     let mut covered = Vec::new();
     for e in &section.entries {
         let k = e.key.trim().to_ascii_lowercase();
-        let bad = if k.starts_with("type") {
+        let why = if k.starts_with("type") {
             parse_int(&e.value)
                 .and_then(|t| u16::try_from(t).ok())
                 .and_then(BasicType::from_index)
                 .is_none()
+                .then_some("is not a CiA 301 basic data type index")
         } else if k.starts_with("dir") {
-            AccessType::parse(&e.value).is_none()
+            AccessType::parse(&e.value)
+                .is_none()
+                .then_some("is not an access type")
         } else if k.starts_with("range") {
             match range(&e.value) {
                 Some(r) => {
                     covered.push((r, e.span));
-                    false
+                    None
                 }
-                None => true,
+                None => Some("is not an index range `0xLLLL-0xHHHH`"),
             }
         } else {
-            false
+            None
         };
-        if bad {
+        if let Some(why) = why {
             out.push(
                 Diagnostic::new(
                     &rules::DYNAMIC_CHANNELS_SECTION,
                     Some(e.span),
-                    format!("[DynamicChannels] {}=`{}` is malformed", e.key.trim(), e.value),
+                    format!("[DynamicChannels] {}=`{}` {why}", e.key.trim(), e.value),
                 )
                 .with_label("malformed")
                 .with_help("TypeN is a data type index (e.g. 0x0007), DirN an access type (ro/rw/...), RangeN `0xA000-0xA0FF`"),

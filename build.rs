@@ -1,0 +1,13 @@
+//! Generates the typed bindings of the bundled cards from `eds/`, exactly as a user's build.rs
+//! would: one `.device()` line per card. An error in a card's EDS fails the build with the
+//! rendered diagnostics; warnings show as cargo warnings.
+
+fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
+    edsgen_codegen::Builder::new()
+        .device("eds/cp301.eds")
+        .device("eds/goodrive350.eds")
+        .device("eds/hd1e.eds")
+        .device("eds/ms300.eds")
+        .device("eds/rd11.eds")
+        .generate()
+}

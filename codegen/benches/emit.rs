@@ -1,0 +1,104 @@
+//! Code generation and generated code, per call: generating the biggest corpus file, typed PDO
+//! encode/decode, and OD read/write through the generated `ObjectDictionary` implementation.
+
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use edsgen_codegen::{emit, read};
+use edsgen_runtime::ObjectDictionary;
+
+#[allow(dead_code, missing_docs)]
+mod generated {
+    include!("../tests/generated/gd350.rs");
+}
+use generated::gd350::{pdo, Od};
+
+/// The corpus files, biggest first.
+fn corpus_by_size() -> Vec<PathBuf> {
+    let dir = std::env::var_os("EDSGEN_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"));
+    let mut files: Vec<(u64, PathBuf)> = Vec::new();
+    for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+        for file in std::fs::read_dir(entry.path())
+            .into_iter()
+            .flatten()
+            .flatten()
+        {
+            let len = file.metadata().map(|m| m.len()).unwrap_or(0);
+            files.push((len, file.path()));
+        }
+    }
+    files.sort_by(|a, b| b.cmp(a));
+    files.into_iter().map(|(_, p)| p).collect()
+}
+
+fn generation(c: &mut Criterion) {
+    // The biggest corpus file the emitter generates code for (bigger ones fail validation).
+    let found = corpus_by_size().into_iter().find_map(|path| {
+        let device = read::read_file(&path).ok()?.device;
+        emit::generate(&device, "device").ok()?;
+        Some((path, device))
+    });
+    let Some((path, device)) = found else {
+        eprintln!("no corpus (set EDSGEN_CORPUS); skipping the generation benchmark");
+        return;
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let entries: usize = device.objects.values().map(|o| o.subs.len()).sum();
+    c.bench_function(&format!("generate {name} ({entries} entries)"), |b| {
+        b.iter(|| emit::generate(black_box(&device), "device"))
+    });
+    let rd11 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/rd11.eds");
+    if let Ok(read) = read::read_file(&rd11) {
+        let entries: usize = read.device.objects.values().map(|o| o.subs.len()).sum();
+        c.bench_function(&format!("generate rd11.eds ({entries} entries)"), |b| {
+            b.iter(|| emit::generate(black_box(&read.device), "rd11"))
+        });
+    }
+}
+
+fn pdos(c: &mut Criterion) {
+    let rpdo = pdo::Rpdo2 {
+        control_word: 1,
+        setting_2: 5000,
+        ..Default::default()
+    };
+    c.bench_function("Rpdo2 encode (4 x u16)", |b| {
+        b.iter(|| black_box(&rpdo).encode())
+    });
+    let frame = [0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00];
+    c.bench_function("Tpdo2 decode (4 x u16)", |b| {
+        b.iter(|| pdo::Tpdo2::decode(black_box(&frame)))
+    });
+    let t3 = pdo::Tpdo3 {
+        nibble: 5,
+        signed_24: -2,
+        type_: 3,
+        flag: true,
+    };
+    c.bench_function("Tpdo3 encode (bit-packed)", |b| {
+        b.iter(|| black_box(&t3).encode())
+    });
+}
+
+fn od_access(c: &mut Criterion) {
+    let mut od = Od::new(3);
+    c.bench_function("OD write u16 6040h", |b| {
+        b.iter(|| od.write(black_box(0x6040), black_box(0), black_box(&[0x0F, 0x00])))
+    });
+    c.bench_function("OD read u32 1018h:01", |b| {
+        let mut buf = [0u8; 8];
+        b.iter(|| od.read(black_box(0x1018), black_box(1), 0, &mut buf))
+    });
+    c.bench_function("OD write with limits 2102h", |b| {
+        b.iter(|| od.write(black_box(0x2102), black_box(0), black_box(&[0x64, 0x00])))
+    });
+}
+
+criterion_group!(benches, generation, pdos, od_access);
+criterion_main!(benches);

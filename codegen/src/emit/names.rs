@@ -1,0 +1,150 @@
+//! Rust names from ParameterNames: heck case conversion on an ASCII-only rendering of the name,
+//! Rust keywords escaped, a leading digit prefixed, and collisions made unique deterministically.
+//!
+//! Rules (stable, documented in the generated code's contract):
+//! - every character that is not an ASCII letter or digit separates words;
+//! - an empty result takes the caller's fallback (built from the index and sub-index);
+//! - a result starting with a digit gets `n_` (fields), `N_` (constants) or `N` (types) in front;
+//! - a keyword gets `_` appended (`type` becomes `type_`, `Self` becomes `Self_`);
+//! - in one namespace, the first name in (index, sub) order keeps its name, a later equal one
+//!   gets the suffix the caller gives (the hex index, then the sub-index), then `_2`, `_3`, ...
+
+use std::collections::BTreeSet;
+
+use heck::{ToShoutySnakeCase, ToSnakeCase, ToUpperCamelCase};
+
+/// The case a name is rendered in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Case {
+    /// `snake_case`: fields and modules.
+    Snake,
+    /// `SHOUTY_SNAKE_CASE`: constants.
+    Shouty,
+    /// `UpperCamelCase`: types.
+    Camel,
+}
+
+const KEYWORDS: &[&str] = &[
+    "abstract", "as", "async", "await", "become", "box", "break", "const", "continue", "crate",
+    "do", "dyn", "else", "enum", "extern", "false", "final", "fn", "for", "gen", "if", "impl",
+    "in", "let", "loop", "macro", "match", "mod", "move", "mut", "override", "priv", "pub", "ref",
+    "return", "self", "Self", "static", "struct", "super", "trait", "true", "try", "type",
+    "typeof", "unsafe", "unsized", "use", "virtual", "where", "while", "yield",
+];
+
+/// Renders `text` as an identifier in `case`; `fallback` (already a valid identifier in that case)
+/// when nothing of `text` survives.
+pub fn ident(text: &str, case: Case, fallback: &str) -> String {
+    let ascii: String = text
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { ' ' })
+        .collect();
+    let mut name = match case {
+        Case::Snake => ascii.to_snake_case(),
+        Case::Shouty => ascii.to_shouty_snake_case(),
+        Case::Camel => ascii.to_upper_camel_case(),
+    };
+    if name.is_empty() {
+        name = fallback.to_owned();
+    }
+    if name.starts_with(|c: char| c.is_ascii_digit()) {
+        name = match case {
+            Case::Snake => format!("n_{name}"),
+            Case::Shouty => format!("N_{name}"),
+            Case::Camel => format!("N{name}"),
+        };
+    }
+    if KEYWORDS.contains(&name.as_str()) {
+        name.push('_');
+    }
+    name
+}
+
+/// One namespace of generated names (the fields of a struct, the constants of a module, ...).
+#[derive(Debug, Default)]
+pub struct Namespace {
+    taken: BTreeSet<String>,
+}
+
+impl Namespace {
+    /// A namespace with `reserved` names already taken.
+    pub fn with_reserved(reserved: &[&str]) -> Self {
+        Namespace {
+            taken: reserved.iter().map(|s| (*s).to_owned()).collect(),
+        }
+    }
+
+    /// Claims `wanted`, or the first free of `wanted` + each of `suffixes` (joined by `_`), then
+    /// numbered variants. Returns the name and whether it had to change.
+    pub fn claim(&mut self, wanted: &str, suffixes: &[String]) -> (String, bool) {
+        self.claim_joined(wanted, suffixes, "_", "_")
+    }
+
+    /// [`Namespace::claim`] for `UpperCamelCase` names: suffixes are appended directly and
+    /// numbered variants get `V2`, `V3`, ...
+    pub fn claim_camel(&mut self, wanted: &str, suffixes: &[String]) -> (String, bool) {
+        self.claim_joined(wanted, suffixes, "", "V")
+    }
+
+    fn claim_joined(
+        &mut self,
+        wanted: &str,
+        suffixes: &[String],
+        separator: &str,
+        number_prefix: &str,
+    ) -> (String, bool) {
+        if self.taken.insert(wanted.to_owned()) {
+            return (wanted.to_owned(), false);
+        }
+        let mut base = wanted.to_owned();
+        for suffix in suffixes {
+            base = format!("{base}{separator}{suffix}");
+            if self.taken.insert(base.clone()) {
+                return (base, true);
+            }
+        }
+        let mut n = 2u32;
+        loop {
+            let candidate = format!("{base}{number_prefix}{n}");
+            if self.taken.insert(candidate.clone()) {
+                return (candidate, true);
+            }
+            n += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_valid_identifiers() {
+        assert_eq!(ident("Controlword", Case::Shouty, "X"), "CONTROLWORD");
+        assert_eq!(ident("Identity object", Case::Camel, "X"), "IdentityObject");
+        assert_eq!(ident("Vendor-ID", Case::Snake, "x"), "vendor_id");
+        assert_eq!(ident("type", Case::Snake, "x"), "type_");
+        assert_eq!(ident("Self", Case::Camel, "X"), "Self_");
+        assert_eq!(ident("1st axis", Case::Snake, "x"), "n_1st_axis");
+        assert_eq!(ident("1st axis", Case::Shouty, "X"), "N_1ST_AXIS");
+        assert_eq!(
+            ident("Übertemperatur °C", Case::Snake, "x"),
+            "bertemperatur_c"
+        );
+        assert_eq!(ident("°", Case::Snake, "entry_2000"), "entry_2000");
+    }
+
+    #[test]
+    fn collisions_take_the_suffixes_in_order() {
+        let mut ns = Namespace::default();
+        assert_eq!(ns.claim("speed", &["2000".into()]), ("speed".into(), false));
+        assert_eq!(
+            ns.claim("speed", &["2001".into()]),
+            ("speed_2001".into(), true)
+        );
+        assert_eq!(
+            ns.claim("speed", &["2001".into()]),
+            ("speed_2001_2".into(), true)
+        );
+    }
+}

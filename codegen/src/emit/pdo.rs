@@ -1,0 +1,459 @@
+//! Tokens for the typed PDOs of one device: one struct per default mapping (16xxh as `RpdoN`,
+//! 1Axxh as `TpdoN`), with bit-exact `encode`/`decode` of the payload, its length, and the COB-ID
+//! as a function of the node-ID.
+//!
+//! Fields follow the mapping order; dummy entries (indices 0001h-0007h) take their bits but no
+//! field and encode as zeros. A field mapped with fewer bits than its type is range-checked on
+//! `encode`, and sign-extended on `decode` when signed.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use super::names::Namespace;
+use super::plan::{id, Plan};
+use super::types::{hex, initial_value, Prim, RustType};
+use crate::diag::Diagnostic;
+use crate::model::{Device, Value};
+use crate::rules;
+
+/// Direction of a PDO.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Direction {
+    Rx,
+    Tx,
+}
+
+enum Slot {
+    Dummy {
+        bits: u32,
+    },
+    Field {
+        name: String,
+        ty: FieldType,
+        bits: u32,
+        doc: String,
+    },
+}
+
+#[derive(Clone, Copy)]
+enum FieldType {
+    Scalar(Prim),
+    Bytes(usize),
+}
+
+struct PdoPlan {
+    direction: Direction,
+    number: u16,
+    mapping_index: u16,
+    slots: Vec<Slot>,
+    cob_id: TokenStream,
+    cob_doc: String,
+    uses_node_id: bool,
+    transmission: Option<i128>,
+}
+
+/// The `pdo` module, and how many RPDO and TPDO structs it holds.
+pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> TokenStream {
+    let mut structs = Vec::new();
+    for object in device.objects.values() {
+        let (direction, base) = match object.index {
+            0x1600..=0x17FF => (Direction::Rx, 0x1600),
+            0x1A00..=0x1BFF => (Direction::Tx, 0x1A00),
+            _ => continue,
+        };
+        let number = object.index - base + 1;
+        match plan_pdo(device, plan, object.index, direction, number) {
+            Ok(Some(p)) => structs.push(emit_pdo(&p)),
+            Ok(None) => {}
+            Err(why) => diagnostics.push(
+                Diagnostic::new(
+                    &rules::UNTYPED_PDO,
+                    Some(object.span),
+                    format!(
+                        "{}PDO {number} ({:04X}h): {why}",
+                        if direction == Direction::Rx { "R" } else { "T" },
+                        object.index
+                    ),
+                )
+                .with_label("no PDO struct is generated for this mapping"),
+            ),
+        }
+    }
+    if structs.is_empty() {
+        return quote!();
+    }
+    quote! {
+        /// Typed PDOs: one struct per default mapping of the description.
+        pub mod pdo {
+            #(#structs)*
+        }
+    }
+}
+
+fn integer(value: Option<&Value>) -> Option<i128> {
+    match value {
+        Some(Value::Integer(v)) => Some(*v),
+        _ => None,
+    }
+}
+
+fn plan_pdo(
+    device: &Device,
+    plan: &Plan,
+    mapping_index: u16,
+    direction: Direction,
+    number: u16,
+) -> Result<Option<PdoPlan>, String> {
+    let Some(object) = device.objects.get(&mapping_index) else {
+        return Ok(None);
+    };
+    let count = match object.subs.get(&0).map(|s| integer(initial_value(s))) {
+        Some(Some(n)) => n,
+        _ => {
+            return Err("sub-index 0 has no integer default (the number of mapped objects)".into())
+        }
+    };
+    if count == 0 {
+        return Ok(None);
+    }
+    if !(1..=64).contains(&count) {
+        return Err(format!("{count} mapped objects; at most 64 are allowed"));
+    }
+    let mut names = Namespace::default();
+    let mut slots = Vec::new();
+    let mut offset = 0u32;
+    for k in 1..=count as u8 {
+        let Some(sub) = object.subs.get(&k) else {
+            return Err(format!("mapping sub-index {k} is missing"));
+        };
+        let Some(raw) = integer(initial_value(sub)) else {
+            return Err(format!("mapping sub-index {k} has no integer default"));
+        };
+        let raw = raw as u32;
+        let (index, sub_index, bits) = ((raw >> 16) as u16, ((raw >> 8) & 0xFF) as u8, raw & 0xFF);
+        if bits == 0 {
+            return Err(format!("mapping sub-index {k} ({raw:08X}h) has length 0"));
+        }
+        if (0x0001..=0x0007).contains(&index) {
+            slots.push(Slot::Dummy { bits });
+            offset += bits;
+            continue;
+        }
+        let Some(entry) = plan.entry(index, sub_index) else {
+            return Err(format!(
+                "mapping sub-index {k} points to {index:04X}h sub {sub_index}, which is not in the dictionary"
+            ));
+        };
+        let ty = match entry.ty {
+            RustType::Scalar(prim @ (Prim::F32 | Prim::F64), _) => {
+                if bits != prim.bits() {
+                    return Err(format!(
+                        "{index:04X}h sub {sub_index} is a REAL mapped with {bits} bits"
+                    ));
+                }
+                FieldType::Scalar(prim)
+            }
+            RustType::Scalar(prim, wire) => {
+                if bits > (wire as u32) * 8 {
+                    return Err(format!(
+                        "{index:04X}h sub {sub_index} is mapped with {bits} bits, more than its {} bits",
+                        wire * 8
+                    ));
+                }
+                FieldType::Scalar(prim)
+            }
+            RustType::Bytes(_) => {
+                if bits % 8 != 0 {
+                    return Err(format!(
+                        "{index:04X}h sub {sub_index} is a string mapped with {bits} bits (not whole bytes)"
+                    ));
+                }
+                FieldType::Bytes((bits / 8) as usize)
+            }
+        };
+        let (name, _) = names.claim(&entry.pdo_name, &[format!("{index:04x}_{sub_index}")]);
+        let first_line = entry
+            .doc
+            .first()
+            .map_or("", String::as_str)
+            .trim()
+            .to_owned();
+        let doc = format!(
+            " {first_line} ({index:04X}h sub {sub_index}, {}): bits {offset} to {} of the payload.",
+            entry.basic.name(),
+            offset + bits - 1
+        );
+        slots.push(Slot::Field {
+            name,
+            ty,
+            bits,
+            doc,
+        });
+        offset += bits;
+    }
+    let comm_index = mapping_index - 0x200;
+    let comm_cob = device
+        .entry(comm_index, 1)
+        .and_then(|s| initial_value(s).cloned());
+    let predefined = if number <= 4 {
+        Some(match direction {
+            Direction::Rx => 0x200 + 0x100 * u32::from(number - 1),
+            Direction::Tx => 0x180 + 0x100 * u32::from(number - 1),
+        })
+    } else {
+        None
+    };
+    let (cob_id, cob_doc, uses_node_id) = match comm_cob {
+        Some(Value::Integer(v)) => {
+            let lit = hex(u128::from(v as u32), 1);
+            (lit, format!(" The COB-ID of {comm_index:04X}h sub 1: `0x{:X}`, whatever the node-ID.", v as u32), false)
+        }
+        Some(Value::NodeRelative(off)) => {
+            let lit = hex(u128::from(off as u32), 1);
+            (
+                quote!((node_id as u32).wrapping_add(#lit)),
+                format!(" The COB-ID of {comm_index:04X}h sub 1: `$NODEID + 0x{:X}`.", off as u32),
+                true,
+            )
+        }
+        _ => match predefined {
+            Some(base) => {
+                let lit = hex(u128::from(base), 1);
+                (
+                    quote!((node_id as u32).wrapping_add(#lit)),
+                    format!(" {comm_index:04X}h sub 1 gives no COB-ID; this is the predefined connection set's `0x{base:X} + node-ID`."),
+                    true,
+                )
+            }
+            None => (
+                quote!(0x8000_0000),
+                format!(" {comm_index:04X}h sub 1 gives no COB-ID and there is no predefined one: `0x8000_0000` (not valid)."),
+                false,
+            ),
+        },
+    };
+    let transmission = device
+        .entry(comm_index, 2)
+        .and_then(|s| integer(initial_value(s)));
+    Ok(Some(PdoPlan {
+        direction,
+        number,
+        mapping_index,
+        slots,
+        cob_id,
+        cob_doc,
+        uses_node_id,
+        transmission,
+    }))
+}
+
+fn emit_pdo(p: &PdoPlan) -> TokenStream {
+    let (prefix, word) = match p.direction {
+        Direction::Rx => ("Rpdo", "RPDO"),
+        Direction::Tx => ("Tpdo", "TPDO"),
+    };
+    let name = id(&format!("{prefix}{}", p.number));
+    let total_bits: u32 = p
+        .slots
+        .iter()
+        .map(|s| match s {
+            Slot::Dummy { bits } | Slot::Field { bits, .. } => *bits,
+        })
+        .sum();
+    let len = total_bits.div_ceil(8) as usize;
+    let len_lit = Literal::usize_unsuffixed(len);
+    let mut fields = Vec::new();
+    let mut encodes = Vec::new();
+    let mut decodes = Vec::new();
+    let mut eq = true;
+    let mut default = true;
+    let mut layout = Vec::new();
+    let mut offset = 0u32;
+    for slot in &p.slots {
+        match slot {
+            Slot::Dummy { bits } => {
+                layout.push(format!(" - bits {offset} to {}: dummy", offset + bits - 1));
+                offset += bits;
+            }
+            Slot::Field {
+                name,
+                ty,
+                bits,
+                doc,
+            } => {
+                let field = id(name);
+                let off = Literal::u32_unsuffixed(offset);
+                let nbits = Literal::u32_unsuffixed(*bits);
+                layout.push(format!(
+                    " - bits {offset} to {}: `{name}`",
+                    offset + bits - 1
+                ));
+                match ty {
+                    FieldType::Scalar(prim) => {
+                        let t = prim.tokens();
+                        fields.push(quote!(#[doc = #doc] pub #field: #t,));
+                        let narrow = *bits < prim.bits();
+                        let (raw, check, decode) = match prim {
+                            Prim::Bool => (
+                                quote!(u64::from(self.#field)),
+                                None,
+                                quote!(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits) != 0),
+                            ),
+                            Prim::F32 => {
+                                eq = false;
+                                (
+                                    quote!(u64::from(self.#field.to_bits())),
+                                    None,
+                                    quote!(f32::from_bits(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits) as u32)),
+                                )
+                            }
+                            Prim::F64 => {
+                                eq = false;
+                                (
+                                    quote!(self.#field.to_bits()),
+                                    None,
+                                    quote!(f64::from_bits(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits))),
+                                )
+                            }
+                            Prim::Unsigned(w) => {
+                                let raw = if *w == 64 {
+                                    quote!(self.#field)
+                                } else {
+                                    quote!(u64::from(self.#field))
+                                };
+                                let check = narrow.then(
+                                    || quote!(::edsgen_runtime::typed::fits_unsigned(#raw, #nbits)),
+                                );
+                                let get = quote!(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits));
+                                let decode = if *w == 64 { get } else { quote!(#get as #t) };
+                                (raw, check, decode)
+                            }
+                            Prim::Signed(w) => {
+                                let wide = if *w == 64 {
+                                    quote!(self.#field)
+                                } else {
+                                    quote!(i64::from(self.#field))
+                                };
+                                let check = narrow.then(
+                                    || quote!(::edsgen_runtime::typed::fits_signed(#wide, #nbits)),
+                                );
+                                let get = quote!(::edsgen_runtime::typed::sign_extend(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits), #nbits));
+                                let decode = if *w == 64 { get } else { quote!(#get as #t) };
+                                (quote!(#wide as u64), check, decode)
+                            }
+                        };
+                        if let Some(check) = check {
+                            encodes.push(quote! {
+                                if !#check {
+                                    return Err(::edsgen_runtime::PdoError::OutOfRange { field: #name });
+                                }
+                            });
+                        }
+                        encodes.push(quote!(::edsgen_runtime::typed::put_bits(&mut payload, #off, #nbits, #raw);));
+                        decodes.push(quote!(#field: #decode,));
+                    }
+                    FieldType::Bytes(n) => {
+                        if *n > 32 {
+                            default = false;
+                        }
+                        let n_lit = Literal::usize_unsuffixed(*n);
+                        let at = if offset == 0 {
+                            quote!(8 * i)
+                        } else {
+                            quote!(#off + 8 * i)
+                        };
+                        fields.push(quote!(#[doc = #doc] pub #field: [u8; #n_lit],));
+                        encodes.push(quote! {
+                            for (i, byte) in self.#field.iter().enumerate() {
+                                ::edsgen_runtime::typed::put_bits(&mut payload, #at, 8, u64::from(*byte));
+                            }
+                        });
+                        decodes.push(quote!(#field: {
+                            let mut bytes = [0u8; #n_lit];
+                            for (i, byte) in bytes.iter_mut().enumerate() {
+                                *byte = ::edsgen_runtime::typed::get_bits(&payload, #at, 8) as u8;
+                            }
+                            bytes
+                        },));
+                    }
+                }
+                offset += bits;
+            }
+        }
+    }
+    let mut doc = vec![
+        format!(
+            " {word} {} with its default mapping ({:04X}h), {len} bytes:",
+            p.number, p.mapping_index
+        ),
+        String::new(),
+    ];
+    doc.extend(layout);
+    if let Some(t) = p.transmission {
+        doc.push(String::new());
+        doc.push(format!(" Default transmission type {t}."));
+    }
+    let doc_attrs = doc.iter().map(|l| quote!(#[doc = #l]));
+    let mut derives = vec![
+        quote!(Debug),
+        quote!(Clone),
+        quote!(Copy),
+        quote!(PartialEq),
+    ];
+    if eq {
+        derives.push(quote!(Eq));
+    }
+    if default {
+        derives.push(quote!(Default));
+    }
+    let node_param = if p.uses_node_id {
+        quote!(node_id)
+    } else {
+        quote!(_node_id)
+    };
+    let cob_id = &p.cob_id;
+    let cob_doc = &p.cob_doc;
+    let payload_binding = if decodes.is_empty() {
+        quote!(_payload)
+    } else {
+        quote!(payload)
+    };
+    let encode_binding = if encodes.is_empty() {
+        quote!(let payload = [0u8; #len_lit];)
+    } else {
+        quote!(let mut payload = [0u8; #len_lit];)
+    };
+    quote! {
+        #(#doc_attrs)*
+        #[derive(#(#derives),*)]
+        pub struct #name {
+            #(#fields)*
+        }
+
+        impl #name {
+            /// The payload length in bytes.
+            pub const LEN: usize = #len_lit;
+
+            /// The COB-ID for a node-ID.
+            #[doc = ""]
+            #[doc = #cob_doc]
+            pub const fn cob_id(#node_param: u8) -> u32 {
+                #cob_id
+            }
+
+            /// The payload, bit-exact (little-endian, least significant bit first); an error if a
+            /// field does not fit its mapped length.
+            pub fn encode(&self) -> Result<[u8; #len_lit], ::edsgen_runtime::PdoError> {
+                #encode_binding
+                #(#encodes)*
+                Ok(payload)
+            }
+
+            /// The fields of a payload; an error if its length is not [`Self::LEN`].
+            pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
+                let #payload_binding = ::edsgen_runtime::typed::payload::<#len_lit>(payload)?;
+                Ok(Self { #(#decodes)* })
+            }
+        }
+    }
+}

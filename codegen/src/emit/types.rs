@@ -1,0 +1,347 @@
+//! The Rust side of CiA 301 data types: which Rust type holds each basic type, how many bytes it
+//! travels as, and the tokens of its default value, limits and descriptor data type.
+//!
+//! Odd-width integers (24, 40, 48, 56 bits, and TIME_OF_DAY/TIME_DIFFERENCE as 48-bit unsigned)
+//! live in the smallest fitting Rust integer; the OD write reads exactly their wire width and sign
+//! extends, so a stored value is always in range. Strings, octet strings and domains are
+//! `FixedBytes<N>` (see [`capacity`] for `N`).
+
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use crate::model::{AccessType, BasicType, SubObject, Value};
+
+/// Writable strings and domains get at least this many bytes of capacity.
+pub const MIN_WRITABLE_CAPACITY: usize = 32;
+
+/// A Rust primitive holding a fixed-size CiA 301 value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Prim {
+    /// `bool`
+    Bool,
+    /// `u8`..`u64`
+    Unsigned(u32),
+    /// `i8`..`i64`
+    Signed(u32),
+    /// `f32`
+    F32,
+    /// `f64`
+    F64,
+}
+
+/// The Rust type of one entry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RustType {
+    /// A fixed-size value: the primitive and its wire width in bytes (3 for a 24-bit integer in an
+    /// `i32`).
+    Scalar(Prim, usize),
+    /// `FixedBytes<N>` with capacity `N`.
+    Bytes(usize),
+}
+
+impl Prim {
+    /// The primitive's width in bits.
+    pub fn bits(self) -> u32 {
+        match self {
+            Prim::Bool => 8,
+            Prim::Unsigned(b) | Prim::Signed(b) => b,
+            Prim::F32 => 32,
+            Prim::F64 => 64,
+        }
+    }
+
+    /// The type's tokens (`u16`).
+    pub fn tokens(self) -> TokenStream {
+        match self {
+            Prim::Bool => quote!(bool),
+            Prim::Unsigned(8) => quote!(u8),
+            Prim::Unsigned(16) => quote!(u16),
+            Prim::Unsigned(32) => quote!(u32),
+            Prim::Unsigned(_) => quote!(u64),
+            Prim::Signed(8) => quote!(i8),
+            Prim::Signed(16) => quote!(i16),
+            Prim::Signed(32) => quote!(i32),
+            Prim::Signed(_) => quote!(i64),
+            Prim::F32 => quote!(f32),
+            Prim::F64 => quote!(f64),
+        }
+    }
+}
+
+impl RustType {
+    /// The Rust type of a basic type; `capacity` is used for strings and domains only.
+    pub fn of(basic: BasicType, capacity: usize) -> RustType {
+        use BasicType as B;
+        let wire = basic.bits().map_or(0, |b| (b as usize).div_ceil(8));
+        let prim = match basic {
+            B::Boolean => Prim::Bool,
+            B::Integer8 => Prim::Signed(8),
+            B::Integer16 => Prim::Signed(16),
+            B::Integer24 | B::Integer32 => Prim::Signed(32),
+            B::Integer40 | B::Integer48 | B::Integer56 | B::Integer64 => Prim::Signed(64),
+            B::Unsigned8 => Prim::Unsigned(8),
+            B::Unsigned16 => Prim::Unsigned(16),
+            B::Unsigned24 | B::Unsigned32 => Prim::Unsigned(32),
+            B::Unsigned40
+            | B::Unsigned48
+            | B::Unsigned56
+            | B::Unsigned64
+            | B::TimeOfDay
+            | B::TimeDifference => Prim::Unsigned(64),
+            B::Real32 => Prim::F32,
+            B::Real64 => Prim::F64,
+            B::VisibleString | B::OctetString | B::UnicodeString | B::Domain => {
+                return RustType::Bytes(capacity)
+            }
+        };
+        RustType::Scalar(prim, wire)
+    }
+
+    /// The type's tokens.
+    pub fn tokens(self) -> TokenStream {
+        match self {
+            RustType::Scalar(p, _) => p.tokens(),
+            RustType::Bytes(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(::edsgen_runtime::FixedBytes<#n>)
+            }
+        }
+    }
+}
+
+/// The runtime `DataType` variant of a basic type (as `D::Variant`, inside the table's `use`).
+pub fn data_type_tokens(basic: BasicType) -> TokenStream {
+    use BasicType as B;
+    let v = match basic {
+        B::Boolean => quote!(Boolean),
+        B::Integer8 => quote!(Integer8),
+        B::Integer16 => quote!(Integer16),
+        B::Integer24 => quote!(Integer24),
+        B::Integer32 => quote!(Integer32),
+        B::Integer40 => quote!(Integer40),
+        B::Integer48 => quote!(Integer48),
+        B::Integer56 => quote!(Integer56),
+        B::Integer64 => quote!(Integer64),
+        B::Unsigned8 => quote!(Unsigned8),
+        B::Unsigned16 => quote!(Unsigned16),
+        B::Unsigned24 => quote!(Unsigned24),
+        B::Unsigned32 => quote!(Unsigned32),
+        B::Unsigned40 => quote!(Unsigned40),
+        B::Unsigned48 => quote!(Unsigned48),
+        B::Unsigned56 => quote!(Unsigned56),
+        B::Unsigned64 => quote!(Unsigned64),
+        B::Real32 => quote!(Real32),
+        B::Real64 => quote!(Real64),
+        B::VisibleString => quote!(VisibleString),
+        B::OctetString => quote!(OctetString),
+        B::UnicodeString => quote!(UnicodeString),
+        B::TimeOfDay => quote!(TimeOfDay),
+        B::TimeDifference => quote!(TimeDifference),
+        B::Domain => quote!(Domain),
+    };
+    quote!(D::#v)
+}
+
+/// The runtime `Access` variant (as `A::Variant`, inside the table's `use`).
+pub fn access_tokens(access: AccessType) -> TokenStream {
+    match access {
+        AccessType::Ro => quote!(A::Ro),
+        AccessType::Wo => quote!(A::Wo),
+        AccessType::Rw => quote!(A::Rw),
+        AccessType::Rwr => quote!(A::Rwr),
+        AccessType::Rww => quote!(A::Rww),
+        AccessType::Const => quote!(A::Const),
+    }
+}
+
+/// The bytes a string, octet string or domain value holds (UNICODE_STRING text as UTF-16LE).
+pub fn value_bytes(basic: BasicType, value: &Value) -> Option<Vec<u8>> {
+    match value {
+        Value::Text(text) if basic == BasicType::UnicodeString => {
+            Some(text.encode_utf16().flat_map(u16::to_le_bytes).collect())
+        }
+        Value::Text(text) => Some(text.as_bytes().to_vec()),
+        Value::Bytes(bytes) => Some(bytes.clone()),
+        _ => None,
+    }
+}
+
+/// The configured value of an entry: the DCF ParameterValue when it parsed, else the default.
+pub fn initial_value(sub: &SubObject) -> Option<&Value> {
+    sub.parameter_value
+        .as_ref()
+        .and_then(|v| v.value.as_ref())
+        .or_else(|| sub.default.as_ref().and_then(|v| v.value.as_ref()))
+}
+
+/// The capacity of a string, octet string or domain entry: the longest of its DefaultValue and
+/// ParameterValue, and at least [`MIN_WRITABLE_CAPACITY`] when it is writable.
+pub fn capacity(basic: BasicType, sub: &SubObject) -> usize {
+    let len_of = |v: Option<&crate::model::ValueSource>| {
+        v.and_then(|v| v.value.as_ref())
+            .and_then(|v| value_bytes(basic, v))
+            .map_or(0, |b| b.len())
+    };
+    let longest = len_of(sub.default.as_ref()).max(len_of(sub.parameter_value.as_ref()));
+    if sub.access.is_some_and(AccessType::writable) {
+        longest.max(MIN_WRITABLE_CAPACITY)
+    } else {
+        longest
+    }
+}
+
+/// A hexadecimal literal of at least `digits` digits (`0x0180`).
+pub fn hex(value: u128, digits: usize) -> TokenStream {
+    syn::LitInt::new(
+        &format!("0x{value:0digits$X}"),
+        proc_macro2::Span::call_site(),
+    )
+    .into_token_stream()
+}
+
+/// An integer literal: hexadecimal from 256 up for unsigned types, decimal otherwise.
+pub fn int_literal(value: i128, prim: Prim) -> TokenStream {
+    if value < 0 {
+        let magnitude = Literal::u128_unsuffixed(value.unsigned_abs());
+        return quote!(-#magnitude);
+    }
+    if matches!(prim, Prim::Unsigned(_)) && value >= 256 {
+        return hex(value as u128, 1);
+    }
+    Literal::u128_unsuffixed(value as u128).into_token_stream()
+}
+
+use quote::ToTokens;
+
+/// The tokens of a REAL value, finite or not.
+pub fn float_literal(value: f64, prim: Prim) -> TokenStream {
+    let ty = prim.tokens();
+    if value.is_nan() {
+        return quote!(#ty::NAN);
+    }
+    if value.is_infinite() {
+        return if value > 0.0 {
+            quote!(#ty::INFINITY)
+        } else {
+            quote!(#ty::NEG_INFINITY)
+        };
+    }
+    let lit = if prim == Prim::F32 {
+        Literal::f32_unsuffixed(value as f32)
+    } else {
+        Literal::f64_unsuffixed(value)
+    };
+    if value.is_sign_negative() {
+        let positive = if prim == Prim::F32 {
+            Literal::f32_unsuffixed(-(value as f32))
+        } else {
+            Literal::f64_unsuffixed(-value)
+        };
+        quote!(-#positive)
+    } else {
+        lit.into_token_stream()
+    }
+}
+
+/// Why a value cannot initialise or bound an entry.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ValueProblem {
+    /// The value is outside the type's range.
+    OutOfRange,
+    /// The value is of another kind (text for an integer, `$NODEID` on a REAL, ...).
+    WrongKind,
+}
+
+/// An integer value normalised into `basic`'s range (two's complement read back for signed types
+/// written as unsigned hex).
+pub fn normalise_integer(value: i128, basic: BasicType) -> Result<i128, ValueProblem> {
+    let (min, max) = match basic {
+        // 48-bit values: milliseconds in bits 0-27, days in bits 32-47.
+        BasicType::TimeOfDay | BasicType::TimeDifference => (0, (1i128 << 48) - 1),
+        _ => basic.integer_range().ok_or(ValueProblem::WrongKind)?,
+    };
+    if (min..=max).contains(&value) {
+        return Ok(value);
+    }
+    let bits = basic.bits().unwrap_or(0);
+    if basic.is_signed_integer() && value > max && value < (1i128 << bits) {
+        return Ok(value - (1i128 << bits));
+    }
+    Err(ValueProblem::OutOfRange)
+}
+
+/// The tokens of a constant value (not `$NODEID`) of a scalar type.
+pub fn scalar_tokens(
+    value: &Value,
+    basic: BasicType,
+    prim: Prim,
+) -> Result<TokenStream, ValueProblem> {
+    match (prim, value) {
+        (Prim::Bool, Value::Integer(v)) => match v {
+            0 => Ok(quote!(false)),
+            1 => Ok(quote!(true)),
+            _ => Err(ValueProblem::OutOfRange),
+        },
+        (Prim::F32 | Prim::F64, Value::Real(f)) => Ok(float_literal(*f, prim)),
+        (Prim::F32 | Prim::F64, Value::Integer(i)) => Ok(float_literal(*i as f64, prim)),
+        (Prim::Unsigned(_) | Prim::Signed(_), Value::Integer(v)) => {
+            Ok(int_literal(normalise_integer(*v, basic)?, prim))
+        }
+        (Prim::Unsigned(_), Value::Text(text))
+            if matches!(basic, BasicType::TimeOfDay | BasicType::TimeDifference) =>
+        {
+            Ok(int_literal(time_of_day(text)?, prim))
+        }
+        _ => Err(ValueProblem::WrongKind),
+    }
+}
+
+/// A TIME_OF_DAY / TIME_DIFFERENCE written as `<days> <milliseconds>` (the form Lely's tools
+/// use): milliseconds in bits 0-27, days in bits 32-47 (CiA 301).
+fn time_of_day(text: &str) -> Result<i128, ValueProblem> {
+    let mut parts = text.split_whitespace();
+    let (Some(days), Some(ms), None) = (parts.next(), parts.next(), parts.next()) else {
+        return Err(ValueProblem::WrongKind);
+    };
+    let days: u64 = days.parse().map_err(|_| ValueProblem::WrongKind)?;
+    let ms: u64 = ms.parse().map_err(|_| ValueProblem::WrongKind)?;
+    if days > 0xFFFF || ms >= 1 << 28 {
+        return Err(ValueProblem::OutOfRange);
+    }
+    Ok(i128::from(ms | (days << 32)))
+}
+
+/// The tokens of a `$NODEID + offset` value of an integer type, evaluated in `new(node_id)`.
+pub fn node_relative_tokens(
+    offset: i64,
+    basic: BasicType,
+    prim: Prim,
+) -> Result<TokenStream, ValueProblem> {
+    if !basic.is_integer() {
+        return Err(ValueProblem::WrongKind);
+    }
+    let bits = basic.bits().unwrap_or(64);
+    let (min, max) = basic.integer_range().ok_or(ValueProblem::WrongKind)?;
+    let offset = i128::from(offset);
+    if offset < min || offset > max {
+        return Err(ValueProblem::OutOfRange);
+    }
+    let ty = prim.tokens();
+    let lit = int_literal(offset, prim);
+    let sum = if prim == Prim::Unsigned(8) {
+        quote!(node_id.wrapping_add(#lit))
+    } else {
+        quote!((node_id as #ty).wrapping_add(#lit))
+    };
+    if bits < prim.bits() {
+        let mask = int_literal((1i128 << bits) - 1, Prim::Unsigned(64));
+        if basic.is_signed_integer() {
+            let shift = Literal::u32_unsuffixed(prim.bits() - bits);
+            Ok(quote!((((#sum) << #shift) >> #shift)))
+        } else {
+            Ok(quote!(((#sum) & #mask)))
+        }
+    } else {
+        Ok(sum)
+    }
+}

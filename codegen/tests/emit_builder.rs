@@ -1,0 +1,87 @@
+//! `Builder` (the build.rs entry point): writes one module per device under its snake-case name,
+//! reports warnings, and fails with the rendered diagnostics on errors.
+
+use std::path::{Path, PathBuf};
+
+use edsgen_codegen::{emit, read, Builder};
+
+fn card(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../eds")
+        .join(name)
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("edsgen-builder-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn writes_one_module_per_device_with_warnings() {
+    let out = temp_dir("ok");
+    let output = Builder::new()
+        .device(card("hd1e.eds"))
+        .device_as(card("cp301.eds"), "CP-301 card")
+        .out_dir(&out)
+        .cargo_output(false)
+        .generate_to()
+        .unwrap();
+    let names: Vec<_> = output.modules.iter().map(|(m, _)| m.as_str()).collect();
+    assert_eq!(names, ["hd1e", "cp_301_card"]);
+    let written = std::fs::read_to_string(out.join("hd1e.rs")).unwrap();
+    let device = read::read_file(&card("hd1e.eds")).unwrap().device;
+    assert_eq!(written, emit::generate(&device, "hd1e").unwrap());
+    assert!(std::fs::read_to_string(out.join("cp_301_card.rs"))
+        .unwrap()
+        .contains("\npub mod cp_301_card {\n"));
+    // hd1e.eds has a 16-bit sub-index 0 on 2000h (the card really has it): a warning, not an error.
+    assert!(
+        output.warnings.iter().any(|w| w.contains("EDS308")),
+        "{:?}",
+        output.warnings
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn errors_fail_with_rendered_diagnostics() {
+    let out = temp_dir("err");
+    let bad = out.join("bad.eds");
+    std::fs::write(&bad, "[FileInfo]\nFileName=bad.eds\n[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=0x1FFFFFFFF\nPDOMapping=0\n").unwrap();
+    let err = Builder::new()
+        .device(card("hd1e.eds"))
+        .device(&bad)
+        .out_dir(&out)
+        .cargo_output(false)
+        .generate()
+        .unwrap_err();
+    let message = err.message();
+    assert!(message.contains("error[EDS013]"), "{message}");
+    assert!(message.contains("bad.eds:8"), "{message}");
+    assert!(!out.join("bad.rs").exists());
+    // The good device was still generated: one build shows every device's problems.
+    assert!(out.join("hd1e.rs").exists());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn missing_file_and_duplicate_module_are_errors() {
+    let out = temp_dir("dup");
+    let err = Builder::new()
+        .device(card("hd1e.eds"))
+        .device_as(card("cp301.eds"), "hd1e")
+        .device(out.join("absent.eds"))
+        .out_dir(&out)
+        .cargo_output(false)
+        .generate()
+        .unwrap_err();
+    let message = err.message();
+    assert!(
+        message.contains("two devices would both be module `hd1e`"),
+        "{message}"
+    );
+    assert!(message.contains("cannot read"), "{message}");
+    let _ = std::fs::remove_dir_all(&out);
+}

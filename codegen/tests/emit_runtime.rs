@@ -1,0 +1,286 @@
+//! The generated code at work: `tests/generated/gd350.rs` (kept current by `emit_model.rs`)
+//! compiled against the runtime, its OD read/write semantics, typed addresses, and typed PDOs,
+//! including the Goodrive350 manual's PDO2 frames.
+#![deny(warnings, missing_docs)]
+
+/// The generated module (a test binary uses only part of it, hence `dead_code`).
+#[allow(dead_code)]
+mod generated {
+    include!("generated/gd350.rs");
+}
+
+use edsgen_runtime::{ObjectDictionary, PdoError, SdoAbort};
+use generated::gd350::{self, od, pdo, Od};
+use proptest::prelude::*;
+
+fn read_all(od: &Od, index: u16, sub: u8) -> Vec<u8> {
+    let mut buf = [0u8; 64];
+    let n = od.read(index, sub, 0, &mut buf).unwrap();
+    buf[..n].to_vec()
+}
+
+#[test]
+fn goodrive_pdo2_rx_encodes_the_manual_frame() {
+    let rpdo = pdo::Rpdo2 {
+        control_word: 0x0001,
+        setting_2: 5000,
+        ..Default::default()
+    };
+    assert_eq!(
+        rpdo.encode(),
+        Ok([0x01, 0x00, 0x00, 0x00, 0x88, 0x13, 0x00, 0x00])
+    );
+    assert_eq!(pdo::Rpdo2::cob_id(3), 0x303);
+    assert_eq!(pdo::Rpdo2::LEN, 8);
+}
+
+#[test]
+fn goodrive_pdo2_tx_decodes_the_manual_frame() {
+    let tpdo = pdo::Tpdo2::decode(&[0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00]).unwrap();
+    assert_eq!(
+        tpdo,
+        pdo::Tpdo2 {
+            status_word: 0x0101,
+            returned_value_1: 5000,
+            returned_value_2: 380,
+            returned_value_3: 0,
+        }
+    );
+    assert_eq!(pdo::Tpdo2::cob_id(3), 0x283);
+}
+
+#[test]
+fn pdo_of_wrong_length_is_an_error() {
+    assert_eq!(
+        pdo::Tpdo2::decode(&[1, 2, 3]),
+        Err(PdoError::WrongLength {
+            expected: 8,
+            actual: 3
+        })
+    );
+    assert_eq!(
+        pdo::Tpdo3::decode(&[0; 7]),
+        Err(PdoError::WrongLength {
+            expected: 6,
+            actual: 7
+        })
+    );
+}
+
+#[test]
+fn non_aligned_pdo_is_bit_exact() {
+    // nibble 4 bits, dummy 4 bits, INTEGER24 at bit 8, INTEGER8 at bit 32, BOOLEAN at bit 40.
+    let t = pdo::Tpdo3 {
+        nibble: 0xA,
+        signed_24: -2,
+        type_: -128,
+        flag: true,
+    };
+    assert_eq!(t.encode(), Ok([0x0A, 0xFE, 0xFF, 0xFF, 0x80, 0x01]));
+    assert_eq!(
+        pdo::Tpdo3::decode(&[0xFA, 0xFE, 0xFF, 0xFF, 0x80, 0x01]),
+        Ok(t)
+    );
+    let too_wide = pdo::Tpdo3 { nibble: 0x10, ..t };
+    assert_eq!(
+        too_wide.encode(),
+        Err(PdoError::OutOfRange { field: "nibble" })
+    );
+    let too_big = pdo::Tpdo3 {
+        signed_24: 1 << 23,
+        ..t
+    };
+    assert_eq!(
+        too_big.encode(),
+        Err(PdoError::OutOfRange { field: "signed_24" })
+    );
+}
+
+#[test]
+fn byte_string_field_at_an_odd_bit_offset() {
+    // BOOLEAN at bit 0, a 4-byte OCTET_STRING at bit 1, INTEGER8 at bit 33.
+    let t = pdo::Tpdo4 {
+        flag: true,
+        tag: [0x80, 0x01, 0xFF, 0x00],
+        type_: -1,
+    };
+    assert_eq!(t.encode(), Ok([0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]));
+    assert_eq!(
+        pdo::Tpdo4::decode(&[0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]),
+        Ok(t)
+    );
+}
+
+proptest! {
+    #[test]
+    fn tpdo4_round_trips(flag in any::<bool>(), tag in any::<[u8; 4]>(), type_ in any::<i8>()) {
+        let t = pdo::Tpdo4 { flag, tag, type_ };
+        prop_assert_eq!(pdo::Tpdo4::decode(&t.encode().unwrap()), Ok(t));
+    }
+
+    #[test]
+    fn tpdo3_round_trips(nibble in 0u8..16, signed_24 in -(1i32 << 23)..(1i32 << 23), type_ in any::<i8>(), flag in any::<bool>()) {
+        let t = pdo::Tpdo3 { nibble, signed_24, type_, flag };
+        let bytes = t.encode().unwrap();
+        prop_assert_eq!(pdo::Tpdo3::decode(&bytes), Ok(t));
+    }
+
+    #[test]
+    fn rpdo2_round_trips(payload in any::<[u8; 8]>()) {
+        let r = pdo::Rpdo2::decode(&payload).unwrap();
+        prop_assert_eq!(r.encode(), Ok(payload));
+    }
+
+    #[test]
+    fn od_write_then_read_round_trips(value in any::<u16>()) {
+        let mut od = Od::new(1);
+        od.write(0x6040, 0, &value.to_le_bytes()).unwrap();
+        prop_assert_eq!(od.controlword, value);
+        prop_assert_eq!(read_all(&od, 0x6040, 0), value.to_le_bytes().to_vec());
+    }
+}
+
+#[test]
+fn new_resolves_nodeid_defaults() {
+    let od = Od::new(3);
+    assert_eq!(od.cob_id_emcy, 0x83);
+    assert_eq!(od.rpdo2_communication_parameter.cob_id, 0x303);
+    assert_eq!(Od::new(0x7F).cob_id_emcy, 0xFF);
+    assert_eq!(od.identity_object.vendor_id, 0x4D8);
+    assert_eq!(od.manufacturer_device_name.as_str(), Some("GD350"));
+    assert_eq!(od.sparse_record.signed_24, -5);
+    assert_eq!(od.sparse_record.big, 0xFFFF_FFFF_FFFF);
+    assert!(od.flag);
+    assert_eq!(od.gain, 1.5);
+}
+
+#[test]
+fn identity_and_pdo_count_constants() {
+    assert_eq!(gd350::VENDOR_ID, 0x4D8);
+    assert_eq!(gd350::PRODUCT_CODE, 0x9252);
+    assert_eq!(gd350::REVISION_NUMBER, 0x10001);
+    assert_eq!((gd350::NR_OF_RXPDO, gd350::NR_OF_TXPDO), (1, 1));
+}
+
+#[test]
+fn typed_addresses_name_index_and_sub() {
+    let cw: edsgen_runtime::Entry<u16> = od::CONTROLWORD;
+    assert_eq!((cw.index, cw.sub), (0x6040, 0));
+    let s24: edsgen_runtime::Entry<i32> = od::SPARSE_RECORD_SIGNED_24;
+    assert_eq!((s24.index, s24.sub), (0x2003, 1));
+    assert_eq!(
+        (od::STATUS_WORD_6041.index, od::STATUS_WORD_6041.sub),
+        (0x6041, 0)
+    );
+    assert_eq!(
+        (
+            od::PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2.index,
+            od::PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2.sub
+        ),
+        (0x1003, 2)
+    );
+}
+
+#[test]
+fn entries_are_sorted_and_found() {
+    let od = Od::new(1);
+    let entries = od.entries();
+    assert!(entries
+        .windows(2)
+        .all(|w| (w[0].index, w[0].sub) < (w[1].index, w[1].sub)));
+    let d = od.find(0x2003, 5).unwrap();
+    assert_eq!(d.data_type, edsgen_runtime::DataType::Unsigned64);
+    assert_eq!(d.size, 8);
+    assert_eq!(od.find(0x2003, 3), Err(SdoAbort::NoSubIndex));
+    assert_eq!(od.find(0x6000, 0), Err(SdoAbort::NoObject));
+    let s = od.find(0x1009, 0).unwrap();
+    assert_eq!((s.size, s.access), (32, edsgen_runtime::Access::Rw));
+}
+
+#[test]
+fn read_gives_little_endian_bytes_and_honours_offset() {
+    let od = Od::new(3);
+    assert_eq!(read_all(&od, 0x1018, 1), vec![0xD8, 0x04, 0, 0]);
+    assert_eq!(read_all(&od, 0x2003, 1), vec![0xFB, 0xFF, 0xFF]); // INTEGER24 -5: three bytes
+    assert_eq!(read_all(&od, 0x2004, 0), vec![1]);
+    assert_eq!(read_all(&od, 0x1008, 0), b"GD350".to_vec());
+    let mut two = [0u8; 2];
+    assert_eq!(od.read(0x1008, 0, 3, &mut two), Ok(2));
+    assert_eq!(&two, b"50");
+    assert_eq!(od.read(0x1008, 0, 9, &mut two), Ok(0));
+    assert_eq!(od.value_len(0x1008, 0), Ok(5));
+    assert_eq!(od.value_len(0x2003, 1), Ok(3));
+    assert_eq!(od.read(0x2003, 4, 0, &mut two), Err(SdoAbort::NoSubIndex));
+    assert_eq!(od.read(0x5FFF, 0, 0, &mut two), Err(SdoAbort::NoObject));
+    assert_eq!(od.value_len(0x5FFF, 0), Err(SdoAbort::NoObject));
+}
+
+#[test]
+fn write_checks_length() {
+    let mut od = Od::new(3);
+    assert_eq!(
+        od.write(0x6040, 0, &[1, 2, 3]),
+        Err(SdoAbort::LengthTooHigh)
+    );
+    assert_eq!(od.write(0x6040, 0, &[1]), Err(SdoAbort::LengthTooLow));
+    assert_eq!(
+        od.write(0x2003, 1, &[0, 0, 0, 0]),
+        Err(SdoAbort::LengthTooHigh)
+    );
+    assert_eq!(od.controlword, 0);
+    assert_eq!(od.write(0x2003, 1, &[0x00, 0x00, 0x80]), Ok(()));
+    assert_eq!(od.sparse_record.signed_24, -(1 << 23));
+    assert_eq!(od.write(0x2003, 5, &[1, 2, 3, 4, 5, 6, 7, 8]), Ok(()));
+    assert_eq!(od.sparse_record.big, 0x0807_0605_0403_0201);
+}
+
+#[test]
+fn write_checks_limits() {
+    let mut od = Od::new(3);
+    assert_eq!(
+        od.write(0x2102, 0, &9u16.to_le_bytes()),
+        Err(SdoAbort::ValueTooLow)
+    );
+    assert_eq!(
+        od.write(0x2102, 0, &5001u16.to_le_bytes()),
+        Err(SdoAbort::ValueTooHigh)
+    );
+    assert_eq!(od.setting_limited, 100);
+    assert_eq!(od.write(0x2102, 0, &5000u16.to_le_bytes()), Ok(()));
+    assert_eq!(od.setting_limited, 5000);
+}
+
+#[test]
+fn write_strings_booleans_and_reals() {
+    let mut od = Od::new(3);
+    assert_eq!(od.write(0x1009, 0, b"2.0-rc1"), Ok(()));
+    assert_eq!(od.manufacturer_hardware_version.as_str(), Some("2.0-rc1"));
+    assert_eq!(od.value_len(0x1009, 0), Ok(7));
+    assert_eq!(
+        od.write(0x1009, 0, &[b'x'; 33]),
+        Err(SdoAbort::LengthTooHigh)
+    );
+    assert_eq!(od.write(0x1008, 0, b"LONGER"), Err(SdoAbort::LengthTooHigh));
+    assert_eq!(od.write(0x2004, 0, &[2]), Err(SdoAbort::InvalidValue));
+    assert_eq!(od.write(0x2004, 0, &[0]), Ok(()));
+    assert!(!od.flag);
+    assert_eq!(od.write(0x2005, 0, &2.25f32.to_le_bytes()), Ok(()));
+    assert_eq!(od.gain, 2.25);
+    assert_eq!(od.write(0x2100, 3, &5000u16.to_le_bytes()), Ok(()));
+    assert_eq!(od.settings.items[2], 5000);
+    assert_eq!(od.write(0x2100, 5, &[0, 0]), Err(SdoAbort::NoSubIndex));
+}
+
+#[test]
+fn typed_address_of_a_narrow_entry_encodes_its_wire_width() {
+    let mut dict = Od::new(3);
+    let entry = od::SPARSE_RECORD_SIGNED_24;
+    assert_eq!(entry.wire_width(), Some(3));
+    let mut buf = [0u8; 8];
+    let n = entry.encode(&-300, &mut buf).unwrap();
+    assert_eq!(dict.write(entry.index, entry.sub, &buf[..n]), Ok(()));
+    assert_eq!(dict.sparse_record.signed_24, -300);
+    assert_eq!(entry.encode(&(1 << 23), &mut buf), None);
+    let back = read_all(&dict, entry.index, entry.sub);
+    assert_eq!(entry.decode(&back), Some(-300));
+}

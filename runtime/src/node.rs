@@ -1,0 +1,1041 @@
+//! The device side of CiA 301: a sans-IO [`Node`] that serves an object dictionary.
+//!
+//! A node owns the OD and its node-ID. It takes received frames with a timestamp
+//! ([`Node::handle_frame`]) and offers frames to send ([`Node::poll_transmit`]), its next deadline
+//! ([`Node::poll_timeout`], then [`Node::handle_timeout`]) and application events
+//! ([`Node::poll_event`]). It implements the NMT slave, the SDO server (1200h and, if the OD has
+//! it, 1201h), heartbeat producer and consumer, node guarding, SYNC consumer and producer, the EMCY
+//! producer with 1001h/1003h, TPDOs and RPDOs of every transmission type with dynamic mapping, and
+//! store/restore (1010h/1011h) through [`NodeHooks`]. No allocation, no clock reads.
+//!
+//! Services by NMT state (CiA 301 table 80): pre-operational serves SDO, SYNC, EMCY and error
+//! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node
+//! guarding, heartbeat consumer).
+
+mod comm;
+mod emcy;
+mod error_control;
+mod pdo;
+
+pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
+pub use self::emcy::{error_register, MAX_ACTIVE_ERRORS};
+pub use self::error_control::MAX_HEARTBEAT_CONSUMERS;
+pub use self::pdo::MAX_MAPPED;
+pub use crate::wire::heartbeat::NmtState;
+
+use self::comm::CommGuard;
+use self::emcy::{Emcy, Raised};
+use self::error_control::ErrorControl;
+use self::pdo::{Rpdo, Tpdo};
+use crate::frame::CanFrame;
+use crate::od::{ObjectDictionary, SdoAbort};
+use crate::sdo::{SdoEvent, SdoServer};
+use crate::time::{Duration, Instant};
+use crate::wire::heartbeat::ErrorControlRepr;
+use crate::wire::nmt::{NmtCommand, NmtRepr, NMT_COB_ID};
+use crate::wire::pdo::CobIdEntry;
+use crate::wire::sync::SyncRepr;
+
+/// Buffer size of each SDO server channel (the longest segmented value it moves).
+pub const SDO_BUFFER: usize = 32;
+/// The SDO server's segment timeout.
+pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
+/// Events kept until the application polls them; older ones are kept, newer ones counted as lost.
+pub const EVENT_QUEUE: usize = 16;
+
+/// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h (communication error).
+pub const SYNC_TIMEOUT_CODE: u16 = 0x8100;
+
+/// Which parameters an NMT reset re-initialises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ResetKind {
+    /// Reset node: application and communication parameters (and power-on).
+    Node,
+    /// Reset communication: communication parameters (1000h–1FFFh) only.
+    Communication,
+}
+
+/// What the application learns from the node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Event {
+    /// The NMT state changed (after a reset: to pre-operational, following [`Event::Reset`]).
+    NmtStateChanged(NmtState),
+    /// An NMT reset ran; [`NodeHooks::reset`] has re-initialised the OD.
+    Reset(ResetKind),
+    /// An SDO client wrote an entry.
+    Written {
+        /// OD index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+    },
+    /// A receive PDO wrote its mapped entries (`pdo` n is the one at 1400h + n).
+    RpdoReceived {
+        /// The PDO's number, from 0.
+        pdo: u16,
+    },
+    /// A SYNC was received (or produced by this node).
+    Sync {
+        /// The SYNC counter, if the message carries one.
+        counter: Option<u8>,
+    },
+    /// A node watched by the heartbeat consumer (1016h) missed its heartbeat.
+    HeartbeatLost {
+        /// The silent node.
+        node_id: u8,
+    },
+    /// The NMT master stopped guarding this node within the life time (100Ch × 100Dh).
+    LifeGuardingLost,
+    /// A PDO whose COB-ID is valid in the OD is not served, because its mapping (1600h+n or
+    /// 1A00h+n) was refused: reported when the node reads its configuration (power-on, reset
+    /// communication).
+    PdoMappingRejected {
+        /// Transmit (1A00h+n) or receive (1600h+n).
+        transmit: bool,
+        /// The PDO's number n, from 0.
+        pdo: u16,
+        /// Why: 0604 0041 (an object cannot be mapped) or 0604 0042 (too long).
+        reason: SdoAbort,
+    },
+}
+
+/// What the application provides to the node: re-initialisation on reset, and the persistence
+/// behind store (1010h) and restore (1011h). Every method has a default that does nothing or
+/// refuses, so `()` is a valid hook for a node without persistence.
+pub trait NodeHooks<O: ?Sized> {
+    /// Sets the parameters that `kind` re-initialises to their power-on values (stored ones, or
+    /// defaults after a restore). Called at power-on with [`ResetKind::Node`] and on NMT resets.
+    fn reset(&mut self, kind: ResetKind, od: &mut O) {
+        let _ = (kind, od);
+    }
+
+    /// Stores parameters after "save" was written to 1010h:`sub` (1 all, 2 communication,
+    /// 3 application, 4+ manufacturer). An error becomes the SDO abort.
+    fn save(&mut self, sub: u8, od: &O) -> Result<(), SdoAbort> {
+        let _ = (sub, od);
+        Err(SdoAbort::CannotStore)
+    }
+
+    /// Restores default parameters after "load" was written to 1011h:`sub`; they take effect at
+    /// the next reset. An error becomes the SDO abort.
+    fn restore_defaults(&mut self, sub: u8) -> Result<(), SdoAbort> {
+        let _ = sub;
+        Err(SdoAbort::CannotStore)
+    }
+}
+
+impl<O: ?Sized> NodeHooks<O> for () {}
+
+/// Why a node could not be created.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InvalidNodeId(pub u8);
+
+/// Reads an unsigned value of up to 4 bytes, zero-extended.
+pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u8) -> Option<u32> {
+    let mut bytes = [0u8; 4];
+    od.read(index, sub, 0, &mut bytes).ok()?;
+    Some(u32::from_le_bytes(bytes))
+}
+
+struct SdoChannel {
+    server: SdoServer<SDO_BUFFER>,
+    /// The server may have frames to send (it was fed a request or a timeout since it last
+    /// said it had none).
+    busy: bool,
+    enabled: bool,
+    rx: u16,
+    tx: u16,
+}
+
+impl SdoChannel {
+    const fn new() -> Self {
+        SdoChannel {
+            server: SdoServer::new(SDO_TIMEOUT),
+            busy: false,
+            enabled: false,
+            rx: 0,
+            tx: 0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct SyncState {
+    cob_id: u16,
+    producer: bool,
+    period: Duration,
+    window: Duration,
+    overflow: u8,
+    counter: u8,
+    next: Option<Instant>,
+    due: Option<SyncRepr>,
+    /// Consumer: when a missing SYNC becomes an error (1.5 × 1006h after the last one).
+    timeout: Option<Instant>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct EventQueue {
+    events: [Event; EVENT_QUEUE],
+    head: usize,
+    len: usize,
+    lost: u32,
+}
+
+impl EventQueue {
+    const fn new() -> Self {
+        EventQueue {
+            events: [Event::LifeGuardingLost; EVENT_QUEUE],
+            head: 0,
+            len: 0,
+            lost: 0,
+        }
+    }
+
+    fn push(&mut self, event: Event) {
+        if self.len == EVENT_QUEUE {
+            self.lost = self.lost.saturating_add(1);
+            return;
+        }
+        self.events[(self.head + self.len) % EVENT_QUEUE] = event;
+        self.len += 1;
+    }
+
+    fn pop(&mut self) -> Option<Event> {
+        if self.len == 0 {
+            return None;
+        }
+        let event = self.events[self.head];
+        self.head = (self.head + 1) % EVENT_QUEUE;
+        self.len -= 1;
+        Some(event)
+    }
+}
+
+/// A CANopen device serving the object dictionary `O`, with `RPDOS` receive and `TPDOS`
+/// transmit PDOs (1400h.. and 1800h.., as far as the OD has them).
+pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
+    od: O,
+    hooks: H,
+    node_id: u8,
+    state: NmtState,
+    boot_up_due: bool,
+    sdo: [SdoChannel; 2],
+    error_control: ErrorControl,
+    sync: SyncState,
+    emcy: Emcy,
+    rpdos: [Rpdo; RPDOS],
+    tpdos: [Tpdo; TPDOS],
+    events: EventQueue,
+    /// After a reset node that cleared errors, announce "no error" once.
+    announce_no_error: bool,
+    /// An RPDO length error (8210h/8220h) is active.
+    length_error_raised: bool,
+    /// Some TPDO may have something to send or a change to look for (a fast path for
+    /// [`Node::poll_transmit`]).
+    tpdo_attention: bool,
+}
+
+impl<O: ObjectDictionary> Node<O> {
+    /// A node with 4 RPDOs and 4 TPDOs and no persistence hooks. See [`Node::with_capacity`].
+    pub fn new(od: O, node_id: u8, now: Instant) -> Result<Self, InvalidNodeId> {
+        Node::with_capacity(od, (), node_id, now)
+    }
+}
+
+impl<O: ObjectDictionary, H: NodeHooks<O>> Node<O, H> {
+    /// A node with 4 RPDOs and 4 TPDOs and the application's hooks. See [`Node::with_capacity`].
+    pub fn with_hooks(od: O, hooks: H, node_id: u8, now: Instant) -> Result<Self, InvalidNodeId> {
+        Node::with_capacity(od, hooks, node_id, now)
+    }
+}
+
+impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
+    Node<O, H, RPDOS, TPDOS>
+{
+    /// Powers the node on at `now`, with room for `RPDOS` receive and `TPDOS` transmit PDOs
+    /// (`Node::<Od, Hooks, 8, 8>::with_capacity(od, hooks, 3, now)`): the hooks load power-on
+    /// values ([`ResetKind::Node`]), the node reads its communication parameters, queues the
+    /// boot-up message and enters pre-operational. `node_id` must be 1..=127.
+    pub fn with_capacity(
+        od: O,
+        hooks: H,
+        node_id: u8,
+        now: Instant,
+    ) -> Result<Self, InvalidNodeId> {
+        if !(1..=127).contains(&node_id) {
+            return Err(InvalidNodeId(node_id));
+        }
+        let mut node = Node {
+            od,
+            hooks,
+            node_id,
+            state: NmtState::Initialising,
+            boot_up_due: false,
+            sdo: [SdoChannel::new(), SdoChannel::new()],
+            error_control: ErrorControl::default(),
+            sync: SyncState::default(),
+            emcy: Emcy::default(),
+            rpdos: [Rpdo::default(); RPDOS],
+            tpdos: [Tpdo::default(); TPDOS],
+            events: EventQueue::new(),
+            announce_no_error: false,
+            length_error_raised: false,
+            tpdo_attention: false,
+        };
+        node.hooks.reset(ResetKind::Node, &mut node.od);
+        node.reset_communication(now);
+        Ok(node)
+    }
+
+    /// The node-ID.
+    pub fn node_id(&self) -> u8 {
+        self.node_id
+    }
+
+    /// The NMT state.
+    pub fn nmt_state(&self) -> NmtState {
+        self.state
+    }
+
+    /// The object dictionary.
+    pub fn od(&self) -> &O {
+        &self.od
+    }
+
+    /// The object dictionary, for the application to update. Event-driven and acyclic TPDOs
+    /// compare their mapped values before the next transmission (change-of-state detection).
+    /// Writes to communication objects here bypass the CiA 301 checks and are applied at the
+    /// next reset communication.
+    pub fn od_mut(&mut self) -> &mut O {
+        for tpdo in &mut self.tpdos {
+            tpdo.check_change = true;
+            self.tpdo_attention = true;
+        }
+        &mut self.od
+    }
+
+    /// The hooks.
+    pub fn hooks(&self) -> &H {
+        &self.hooks
+    }
+
+    /// The hooks, mutably.
+    pub fn hooks_mut(&mut self) -> &mut H {
+        &mut self.hooks
+    }
+
+    /// Events dropped because the application did not poll them in time.
+    pub fn events_lost(&self) -> u32 {
+        self.events.lost
+    }
+
+    /// Emergencies dropped because more were raised than the inhibit time let out.
+    pub fn emergencies_dropped(&self) -> u32 {
+        self.emcy.dropped
+    }
+
+    /// The error register (1001h) as the node computes it from the active errors.
+    pub fn error_register(&self) -> u8 {
+        self.emcy.register()
+    }
+
+    /// Raises an error: sets its `register` bits (see [`error_register`]) in 1001h, records
+    /// `code` in 1003h and queues an emergency with the `manufacturer` bytes. Returns `false`
+    /// (and sends nothing) if `code` is already active or [`MAX_ACTIVE_ERRORS`] are.
+    pub fn raise_error(&mut self, code: u16, register: u8, manufacturer: [u8; 5]) -> bool {
+        self.emcy.raise(&mut self.od, code, register, manufacturer) == Raised::New
+    }
+
+    /// Clears an active error and queues the error-reset emergency (code 0000h with the
+    /// remaining error register: all zeros once nothing is active). `false` if it was not active.
+    pub fn clear_error(&mut self, code: u16) -> bool {
+        self.emcy.clear(&mut self.od, code)
+    }
+
+    /// Whether an error code is active.
+    pub fn error_active(&self, code: u16) -> bool {
+        self.emcy.is_active(code)
+    }
+
+    /// An application event for TPDO `n` (1800h + n): an event-driven PDO (254/255) is sent as
+    /// soon as its inhibit time allows, an acyclic synchronous one (0) at the next SYNC.
+    /// `false` if the PDO does not exist, is not valid, or has another transmission type.
+    pub fn trigger_tpdo(&mut self, n: usize) -> bool {
+        let Some(tpdo) = self.tpdos.get_mut(n) else {
+            return false;
+        };
+        if !tpdo.enabled {
+            return false;
+        }
+        match tpdo.transmission {
+            0 => tpdo.acyclic_request = true,
+            254 | 255 => {
+                tpdo.pending = true;
+                self.tpdo_attention = true;
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// The next application event.
+    pub fn poll_event(&mut self) -> Option<Event> {
+        self.events.pop()
+    }
+
+    fn set_state(&mut self, state: NmtState, now: Instant) {
+        if self.state == state {
+            return;
+        }
+        let was = self.state;
+        self.state = state;
+        if was == NmtState::Operational {
+            for tpdo in &mut self.tpdos {
+                tpdo.stop();
+            }
+            for rpdo in &mut self.rpdos {
+                rpdo.buffered = None;
+            }
+        }
+        match state {
+            NmtState::Operational => {
+                for tpdo in &mut self.tpdos {
+                    if tpdo.enabled && tpdo.event_driven() {
+                        tpdo.pending = true;
+                        self.tpdo_attention = true;
+                    }
+                }
+            }
+            NmtState::Stopped => {
+                for channel in &mut self.sdo {
+                    channel.server.reset();
+                }
+                self.sync.next = None;
+                self.sync.due = None;
+                self.sync.timeout = None;
+            }
+            _ => {}
+        }
+        if was == NmtState::Stopped || was == NmtState::Initialising {
+            self.restart_sync_producer(now);
+        }
+        self.events.push(Event::NmtStateChanged(state));
+    }
+
+    fn reset_communication(&mut self, now: Instant) {
+        self.state = NmtState::Initialising;
+        for channel in &mut self.sdo {
+            channel.server.reset();
+        }
+        self.emcy
+            .forget_communication_errors(&[0x8100, 0x8130, 0x8210, 0x8220]);
+        self.emcy.reset_queue(&mut self.od);
+        self.emcy.configure(&self.od, self.node_id);
+        self.configure_sdo();
+        self.error_control = ErrorControl::default();
+        self.error_control.configure_producer(&self.od, now);
+        self.error_control.configure_guarding(&self.od);
+        self.error_control.configure_consumers(&self.od);
+        self.configure_sync();
+        self.sync.counter = 0;
+        for n in 0..RPDOS {
+            self.rpdos[n] = Rpdo::load(&self.od, n as u16);
+        }
+        for n in 0..TPDOS {
+            self.tpdos[n] = Tpdo::load(&self.od, n as u16);
+        }
+        for (n, rpdo) in self.rpdos.iter().enumerate() {
+            if let Some(reason) = rpdo.rejected {
+                self.events.push(Event::PdoMappingRejected {
+                    transmit: false,
+                    pdo: n as u16,
+                    reason,
+                });
+            }
+        }
+        for (n, tpdo) in self.tpdos.iter().enumerate() {
+            if let Some(reason) = tpdo.rejected {
+                self.events.push(Event::PdoMappingRejected {
+                    transmit: true,
+                    pdo: n as u16,
+                    reason,
+                });
+            }
+        }
+        self.link_pdos();
+        self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);
+        self.boot_up_due = true;
+        self.set_state(NmtState::PreOperational, now);
+    }
+
+    fn reset(&mut self, kind: ResetKind, now: Instant) {
+        if kind == ResetKind::Node {
+            if self.emcy.any_active() {
+                self.announce_no_error = true;
+            }
+            self.emcy.clear_all(&mut self.od);
+        }
+        self.hooks.reset(kind, &mut self.od);
+        self.events.push(Event::Reset(kind));
+        self.reset_communication(now);
+        if core::mem::take(&mut self.announce_no_error) {
+            // The master saw errors before the reset: tell it they are gone.
+            self.emcy.announce_no_error();
+        }
+    }
+
+    fn configure_sdo(&mut self) {
+        let node = u32::from(self.node_id);
+        let defaults = [
+            (0x600 + node, 0x580 + node),
+            (CobIdEntry::INVALID, CobIdEntry::INVALID),
+        ];
+        for (n, channel) in self.sdo.iter_mut().enumerate() {
+            let index = 0x1200 + n as u16;
+            let present = self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok();
+            let (rx, tx) = if present {
+                (
+                    read_uint(&self.od, index, 1).unwrap_or(defaults[n].0),
+                    read_uint(&self.od, index, 2).unwrap_or(defaults[n].1),
+                )
+            } else {
+                defaults[n]
+            };
+            let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
+            channel.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
+            channel.rx = rx.can_id();
+            channel.tx = tx.can_id();
+        }
+    }
+
+    fn configure_sync(&mut self) {
+        let cob = CobIdEntry(read_uint(&self.od, 0x1005, 0).unwrap_or(0x80));
+        self.sync.cob_id = cob.can_id();
+        self.sync.producer = cob.bit30() && !cob.extended();
+        self.sync.period = Duration(u64::from(read_uint(&self.od, 0x1006, 0).unwrap_or(0)));
+        self.sync.window = Duration(u64::from(read_uint(&self.od, 0x1007, 0).unwrap_or(0)));
+        self.sync.overflow = read_uint(&self.od, 0x1019, 0).unwrap_or(0) as u8;
+    }
+
+    fn restart_sync_producer(&mut self, now: Instant) {
+        // Consumer monitoring restarts at the next SYNC.
+        self.sync.timeout = None;
+        let active = self.sync.producer
+            && self.sync.period != Duration::ZERO
+            && matches!(self.state, NmtState::PreOperational | NmtState::Operational);
+        self.sync.next = active.then(|| now + self.sync.period);
+        if !active {
+            self.sync.due = None;
+        }
+    }
+
+    /// Applies an accepted SDO write to the node's running state.
+    fn apply_write(&mut self, index: u16, sub: u8, now: Instant) {
+        match index {
+            0x1005 | 0x1006 | 0x1007 | 0x1019 => {
+                self.configure_sync();
+                self.sync.counter = 0;
+                self.restart_sync_producer(now);
+            }
+            0x100C | 0x100D => self.error_control.configure_guarding(&self.od),
+            0x1014 | 0x1015 => self.emcy.configure(&self.od, self.node_id),
+            0x1016 => self.error_control.configure_consumers(&self.od),
+            0x1017 => {
+                self.error_control.configure_producer(&self.od, now);
+                self.error_control.configure_guarding(&self.od);
+            }
+            0x1200..=0x1201 => self.configure_sdo(),
+            0x1400..=0x17FF => {
+                let n = usize::from((index - 0x1400) & 0x1FF);
+                if n < RPDOS {
+                    self.rpdos[n] = Rpdo::load(&self.od, n as u16);
+                }
+            }
+            0x1800..=0x1BFF => {
+                let n = usize::from((index - 0x1800) & 0x1FF);
+                if n < TPDOS {
+                    let mut tpdo = Tpdo::load(&self.od, n as u16);
+                    // A running PDO keeps its timing history across a change of its event
+                    // timer or transmission type.
+                    tpdo.last_sent = self.tpdos[n].last_sent;
+                    tpdo.last_data = self.tpdos[n].last_data;
+                    if self.state == NmtState::Operational && tpdo.enabled {
+                        if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
+                            tpdo.event_deadline = Some(now + tpdo.event_timer);
+                        }
+                        if tpdo.event_driven() && !self.tpdos[n].enabled {
+                            tpdo.pending = true;
+                            self.tpdo_attention = true;
+                        }
+                    }
+                    self.tpdos[n] = tpdo;
+                }
+            }
+            _ => {}
+        }
+        if (0x1400..=0x1BFF).contains(&index) {
+            self.link_pdos();
+        }
+        self.mark_changed(index, sub);
+    }
+
+    /// Notes which RPDOs write objects that a TPDO maps, so that a received PDO looks for
+    /// changes of state only when it can cause one.
+    fn link_pdos(&mut self) {
+        for rpdo in &mut self.rpdos {
+            rpdo.feeds_tpdo = rpdo.mapping.objects().iter().any(|object| {
+                self.tpdos
+                    .iter()
+                    .any(|tpdo| tpdo.mapping.contains(object.index, object.sub))
+            });
+        }
+    }
+
+    /// An OD entry changed: TPDOs that map it compare before their next transmission.
+    fn mark_changed(&mut self, index: u16, sub: u8) {
+        for tpdo in &mut self.tpdos {
+            if tpdo.mapping.contains(index, sub) {
+                tpdo.check_change = true;
+                self.tpdo_attention = true;
+            }
+        }
+    }
+
+    /// Takes a received frame.
+    pub fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
+        let Some(id) = frame.std_id() else {
+            return;
+        };
+        if id == NMT_COB_ID {
+            if let Some(nmt) = NmtRepr::parse(frame.data()) {
+                if !frame.is_remote() && nmt.addresses(self.node_id) {
+                    self.handle_nmt(nmt.command, now);
+                }
+            }
+            return;
+        }
+        if frame.is_remote() {
+            self.handle_remote(id, now);
+            return;
+        }
+        let serving = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
+        if serving {
+            if id == self.sync.cob_id {
+                if let Some(sync) = SyncRepr::parse(frame.data()) {
+                    self.handle_sync(sync.counter, now);
+                }
+                return;
+            }
+            for n in 0..self.sdo.len() {
+                if self.sdo[n].enabled && id == self.sdo[n].rx {
+                    self.handle_sdo(n, frame.data(), now);
+                    return;
+                }
+            }
+        }
+        if self.state == NmtState::Operational {
+            for n in 0..RPDOS {
+                if self.rpdos[n].enabled && id == self.rpdos[n].cob_id {
+                    self.handle_rpdo(n, frame.data());
+                    return;
+                }
+            }
+        }
+        if (0x701..=0x77F).contains(&id) && frame.dlc() == 1 {
+            self.error_control
+                .heartbeat_received((id - 0x700) as u8, now);
+        }
+    }
+
+    fn handle_nmt(&mut self, command: NmtCommand, now: Instant) {
+        match command {
+            NmtCommand::Start => self.set_state(NmtState::Operational, now),
+            NmtCommand::Stop => self.set_state(NmtState::Stopped, now),
+            NmtCommand::EnterPreOperational => self.set_state(NmtState::PreOperational, now),
+            NmtCommand::ResetNode => self.reset(ResetKind::Node, now),
+            NmtCommand::ResetCommunication => self.reset(ResetKind::Communication, now),
+        }
+    }
+
+    fn handle_remote(&mut self, id: u16, now: Instant) {
+        if id == ErrorControlRepr::cob_id(self.node_id) {
+            self.error_control.guard_answer_due = true;
+            if let Some(life) = self.error_control.life_time() {
+                self.error_control.life_deadline = Some(now + life);
+                if core::mem::take(&mut self.error_control.life_lost) {
+                    self.emcy.clear(&mut self.od, 0x8130);
+                }
+            }
+            return;
+        }
+        if self.state != NmtState::Operational {
+            return;
+        }
+        for tpdo in &mut self.tpdos {
+            if tpdo.enabled && tpdo.rtr_allowed && tpdo.cob_id == id {
+                match tpdo.transmission {
+                    252 => {
+                        if let Some(sample) = tpdo.rtr_sample {
+                            tpdo.data = Some(sample);
+                            tpdo.pending = true;
+                            self.tpdo_attention = true;
+                        }
+                    }
+                    _ => {
+                        tpdo.data = None;
+                        tpdo.pending = true;
+                        self.tpdo_attention = true;
+                    }
+                }
+                return;
+            }
+        }
+    }
+
+    fn handle_sdo(&mut self, n: usize, request: &[u8], now: Instant) {
+        let mut guard = CommGuard {
+            od: &mut self.od,
+            hooks: &mut self.hooks,
+        };
+        self.sdo[n].busy = true;
+        if let Some(SdoEvent::Written { index, sub }) =
+            self.sdo[n].server.handle(now, request, &mut guard)
+        {
+            self.apply_write(index, sub, now);
+            self.events.push(Event::Written { index, sub });
+        }
+    }
+
+    fn handle_rpdo(&mut self, n: usize, data: &[u8]) {
+        let rpdo = &mut self.rpdos[n];
+        let expected = usize::from(rpdo.mapping.len);
+        rpdo.too_short = data.len() < expected;
+        rpdo.too_long = data.len() > expected;
+        if !rpdo.too_short {
+            if rpdo.synchronous() {
+                let mut buffer = [0u8; 8];
+                buffer[..expected].copy_from_slice(&data[..expected]);
+                rpdo.buffered = Some(buffer);
+            } else {
+                rpdo.mapping.unpack(&mut self.od, data);
+                if rpdo.feeds_tpdo {
+                    let mapping = rpdo.mapping;
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
+                }
+                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+            }
+        }
+        if data.len() != expected || self.length_error_raised {
+            self.update_length_errors(data.len());
+        }
+    }
+
+    /// Raises or clears 8210h (too short, not processed) and 8220h (too long, processed).
+    fn update_length_errors(&mut self, received: usize) {
+        let short = self.rpdos.iter().any(|r| r.too_short);
+        let long = self.rpdos.iter().any(|r| r.too_long);
+        let info = [received as u8, 0, 0, 0, 0];
+        for (code, now_bad) in [(0x8210, short), (0x8220, long)] {
+            if now_bad {
+                self.emcy
+                    .raise(&mut self.od, code, error_register::COMMUNICATION, info);
+            } else if self.emcy.is_active(code) {
+                self.emcy.clear(&mut self.od, code);
+            }
+        }
+        self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);
+    }
+
+    fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
+        self.events.push(Event::Sync { counter });
+        if !self.sync.producer && self.sync.period != Duration::ZERO {
+            self.sync.timeout = Some(now + Duration(self.sync.period.as_micros() * 3 / 2));
+            if self.emcy.is_active(SYNC_TIMEOUT_CODE) {
+                self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
+            }
+        }
+        if self.state != NmtState::Operational {
+            return;
+        }
+        for n in 0..RPDOS {
+            if let Some(data) = self.rpdos[n].buffered.take() {
+                let mapping = self.rpdos[n].mapping;
+                mapping.unpack(&mut self.od, &data);
+                if self.rpdos[n].feeds_tpdo {
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
+                }
+                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+            }
+        }
+        let window_end = (self.sync.window != Duration::ZERO).then(|| now + self.sync.window);
+        let use_start = self.sync.overflow != 0;
+        for tpdo in &mut self.tpdos {
+            if !tpdo.enabled {
+                continue;
+            }
+            let send = match tpdo.transmission {
+                0 => {
+                    if tpdo.check_change {
+                        let data = tpdo.mapping.pack(&self.od);
+                        tpdo.check_change = false;
+                        if data != tpdo.last_data {
+                            tpdo.acyclic_request = true;
+                        }
+                    }
+                    core::mem::take(&mut tpdo.acyclic_request)
+                }
+                every @ 1..=240 => {
+                    let start = if use_start { tpdo.sync_start } else { 0 };
+                    // SYNCs left until the next transmission, counting this one.
+                    let left = match tpdo.sync_countdown {
+                        Some(left) => Some(left),
+                        None if start != 0 => (counter == Some(start)).then_some(1),
+                        None => Some(every),
+                    };
+                    match left {
+                        Some(left) if left <= 1 => {
+                            tpdo.sync_countdown = Some(every);
+                            true
+                        }
+                        Some(left) => {
+                            tpdo.sync_countdown = Some(left - 1);
+                            false
+                        }
+                        None => false,
+                    }
+                }
+                252 => {
+                    tpdo.rtr_sample = Some(tpdo.mapping.pack(&self.od));
+                    false
+                }
+                _ => false,
+            };
+            if send {
+                tpdo.data = Some(tpdo.mapping.pack(&self.od));
+                tpdo.pending = true;
+                self.tpdo_attention = true;
+                tpdo.sync_deadline = window_end;
+            }
+        }
+    }
+
+    /// The next frame to send, if any. Frames go out in CAN priority order of their function:
+    /// boot-up first, then SYNC, EMCY, TPDOs, SDO responses, node guarding and heartbeat.
+    pub fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        let error_control_id = ErrorControlRepr::cob_id(self.node_id);
+        if core::mem::take(&mut self.boot_up_due) {
+            return Some(CanFrame::from_parts(
+                error_control_id,
+                [ErrorControlRepr::BOOT_UP.emit(), 0, 0, 0, 0, 0, 0, 0],
+                1,
+            ));
+        }
+        if let Some(sync) = self.sync.due.take() {
+            let (data, len) = sync.emit();
+            let mut bytes = [0u8; 8];
+            bytes[..1].copy_from_slice(&data);
+            return Some(CanFrame::from_parts(self.sync.cob_id, bytes, len as u8));
+        }
+        if self.state != NmtState::Stopped {
+            if let Some(emcy) = self.emcy.poll(now) {
+                return Some(CanFrame::from_parts(self.emcy.cob_id, emcy.emit(), 8));
+            }
+        }
+        if self.state == NmtState::Operational && self.tpdo_attention {
+            if let Some(frame) = self.poll_tpdo(now) {
+                return Some(frame);
+            }
+        }
+        // A channel disabled by the write it is answering still sends that answer.
+        for channel in &mut self.sdo {
+            if channel.busy {
+                match channel.server.poll_transmit(now, &self.od) {
+                    Some(response) => return Some(CanFrame::from_parts(channel.tx, response, 8)),
+                    None => channel.busy = false,
+                }
+            }
+        }
+        let state = ErrorControlRepr {
+            state: self.state,
+            toggle: false,
+        };
+        if core::mem::take(&mut self.error_control.guard_answer_due) {
+            let toggle = self.error_control.toggle;
+            self.error_control.toggle = !toggle;
+            let answer = ErrorControlRepr { toggle, ..state };
+            return Some(CanFrame::from_parts(
+                error_control_id,
+                [answer.emit(), 0, 0, 0, 0, 0, 0, 0],
+                1,
+            ));
+        }
+        if core::mem::take(&mut self.error_control.heartbeat_due) {
+            return Some(CanFrame::from_parts(
+                error_control_id,
+                [state.emit(), 0, 0, 0, 0, 0, 0, 0],
+                1,
+            ));
+        }
+        None
+    }
+
+    fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {
+        for tpdo in &mut self.tpdos {
+            if !tpdo.enabled {
+                continue;
+            }
+            if tpdo.event_driven() && core::mem::take(&mut tpdo.check_change) {
+                let data = tpdo.mapping.pack(&self.od);
+                if data != tpdo.last_data {
+                    tpdo.pending = true;
+                    self.tpdo_attention = true;
+                }
+            }
+            if !tpdo.pending {
+                continue;
+            }
+            if let Some(deadline) = tpdo.sync_deadline {
+                if now > deadline {
+                    // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
+                    tpdo.pending = false;
+                    tpdo.data = None;
+                    tpdo.sync_deadline = None;
+                    continue;
+                }
+            }
+            if tpdo.event_driven() && !tpdo.inhibit_passed(now) {
+                continue;
+            }
+            let data = tpdo
+                .data
+                .take()
+                .unwrap_or_else(|| tpdo.mapping.pack(&self.od));
+            tpdo.pending = false;
+            tpdo.sync_deadline = None;
+            tpdo.last_data = data;
+            tpdo.last_sent = Some(now);
+            if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
+                tpdo.event_deadline = Some(now + tpdo.event_timer);
+            }
+            return Some(CanFrame::from_parts(tpdo.cob_id, data, tpdo.mapping.len));
+        }
+        // Whatever is still pending waits for an inhibit time; poll_timeout reports when.
+        self.tpdo_attention = self.tpdos.iter().any(|t| t.pending);
+        None
+    }
+
+    /// The next instant at which [`handle_timeout`](Self::handle_timeout) has work, or at which a
+    /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        let mut next = self.error_control.next_deadline();
+        let mut consider = |at: Option<Instant>| {
+            if let Some(at) = at {
+                next = Some(next.map_or(at, |n: Instant| n.min(at)));
+            }
+        };
+        consider(self.sync.next);
+        consider(self.sync.timeout);
+        if self.state != NmtState::Stopped {
+            consider(self.emcy.ready_at());
+        }
+        if self.state == NmtState::Operational {
+            for tpdo in &self.tpdos {
+                if !tpdo.enabled || !tpdo.event_driven() {
+                    continue;
+                }
+                consider(tpdo.event_deadline);
+                if tpdo.pending {
+                    consider(tpdo.last_sent.map(|sent| sent + tpdo.inhibit));
+                }
+            }
+        }
+        for channel in &self.sdo {
+            consider(channel.server.poll_timeout());
+        }
+        next
+    }
+
+    /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
+    /// SYNC production, TPDO event timers and SDO timeouts.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        let ec = &mut self.error_control;
+        if let Some(at) = ec.next_heartbeat {
+            if at <= now {
+                ec.heartbeat_due = true;
+                let next = at + ec.producer_period;
+                ec.next_heartbeat = Some(if next <= now {
+                    now + ec.producer_period
+                } else {
+                    next
+                });
+            }
+        }
+        for n in 0..ec.consumer_count {
+            let consumer = &mut ec.consumers[n];
+            if consumer.deadline.is_some_and(|at| at <= now) {
+                consumer.deadline = None;
+                self.events.push(Event::HeartbeatLost {
+                    node_id: consumer.node_id,
+                });
+            }
+        }
+        if ec.life_deadline.is_some_and(|at| at <= now) {
+            ec.life_deadline = None;
+            ec.life_lost = true;
+            self.events.push(Event::LifeGuardingLost);
+            self.emcy
+                .raise(&mut self.od, 0x8130, error_register::COMMUNICATION, [0; 5]);
+        }
+        if self.sync.timeout.is_some_and(|at| at <= now) {
+            self.sync.timeout = None;
+            self.emcy.raise(
+                &mut self.od,
+                SYNC_TIMEOUT_CODE,
+                error_register::COMMUNICATION,
+                [0; 5],
+            );
+        }
+        if let Some(at) = self.sync.next {
+            if at <= now {
+                let next = at + self.sync.period;
+                self.sync.next = Some(if next <= now {
+                    now + self.sync.period
+                } else {
+                    next
+                });
+                let counter = (self.sync.overflow != 0).then(|| {
+                    self.sync.counter = if self.sync.counter >= self.sync.overflow {
+                        1
+                    } else {
+                        self.sync.counter + 1
+                    };
+                    self.sync.counter
+                });
+                self.sync.due = Some(SyncRepr { counter });
+                self.handle_sync(counter, now);
+            }
+        }
+        if self.state == NmtState::Operational {
+            for tpdo in &mut self.tpdos {
+                if tpdo.enabled
+                    && tpdo.event_driven()
+                    && tpdo.event_deadline.is_some_and(|at| at <= now)
+                {
+                    tpdo.event_deadline = None;
+                    tpdo.pending = true;
+                    self.tpdo_attention = true;
+                }
+            }
+        }
+        for channel in &mut self.sdo {
+            if channel.server.poll_timeout().is_some_and(|at| at <= now) {
+                channel.server.handle_timeout(now);
+                channel.busy = true;
+            }
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! The CiA 301 rules for SDO writes to communication objects (1003h–1029h, 1200h–1BFFh).
+//!
+//! [`CommGuard`] wraps the device's object dictionary while the SDO server runs: it implements
+//! [`ObjectDictionary`], delegates everything, and checks each write to a communication object
+//! before it reaches the OD (the PDO mapping procedure, COB-ID valid-bit rules, the store and
+//! restore signatures). The node applies an accepted write to its running state afterwards.
+
+use super::pdo::{self, Direction};
+use super::{read_uint, NodeHooks};
+use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
+use crate::wire::pdo::{CobIdEntry, MappingEntry};
+
+/// The "save" signature for 1010h (CiA 301 §7.5.2.13), as the little-endian bytes of 65766173h.
+pub const SAVE_SIGNATURE: [u8; 4] = *b"save";
+/// The "load" signature for 1011h (CiA 301 §7.5.2.14), as the little-endian bytes of 64616F6Ch.
+pub const LOAD_SIGNATURE: [u8; 4] = *b"load";
+
+/// The OD as the SDO server sees it: writes to communication objects are checked first.
+pub(crate) struct CommGuard<'a, O: ?Sized, H> {
+    pub od: &'a mut O,
+    pub hooks: &'a mut H,
+}
+
+fn value_u32(data: &[u8]) -> u32 {
+    let mut bytes = [0u8; 4];
+    for (slot, byte) in bytes.iter_mut().zip(data) {
+        *slot = *byte;
+    }
+    u32::from_le_bytes(bytes)
+}
+
+/// COB-IDs a configurable PDO must not use (CiA 301 table 53: NMT, SYNC/EMCY/TIME of node 0,
+/// the default SDO, LSS and error-control ranges).
+fn restricted(can_id: u16) -> bool {
+    matches!(can_id, 0x000..=0x07F | 0x101..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x7FF)
+}
+
+/// A COB-ID entry may change its CAN-ID only while invalid; 29-bit identifiers are not served.
+fn check_cob_id(old: Option<u32>, new: u32, check_restricted: bool) -> Result<(), SdoAbort> {
+    let new = CobIdEntry(new);
+    if !new.valid() {
+        return Ok(());
+    }
+    if new.extended() || (check_restricted && restricted(new.can_id())) {
+        return Err(SdoAbort::InvalidValue);
+    }
+    match old.map(CobIdEntry) {
+        Some(old) if old.valid() && old.can_id() != new.can_id() => Err(SdoAbort::InvalidValue),
+        _ => Ok(()),
+    }
+}
+
+impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
+    fn pdo_valid(&self, comm_index: u16) -> bool {
+        read_uint(self.od, comm_index, 1).is_some_and(|cob| CobIdEntry(cob).valid())
+    }
+
+    fn check_pdo_comm(
+        &self,
+        index: u16,
+        sub: u8,
+        value: u32,
+        receive: bool,
+    ) -> Result<(), SdoAbort> {
+        match sub {
+            1 => check_cob_id(read_uint(self.od, index, 1), value, true),
+            2 => match value {
+                0..=240 | 254 | 255 => Ok(()),
+                252 | 253 if !receive => Ok(()),
+                _ => Err(SdoAbort::InvalidValue),
+            },
+            3 if self.pdo_valid(index) => Err(SdoAbort::InvalidValue),
+            6 if self.pdo_valid(index) || value > 240 => Err(SdoAbort::InvalidValue),
+            _ => Ok(()),
+        }
+    }
+
+    fn check_pdo_mapping(
+        &self,
+        index: u16,
+        sub: u8,
+        value: u32,
+        direction: Direction,
+    ) -> Result<(), SdoAbort> {
+        if self.pdo_valid(index - 0x200) {
+            return Err(SdoAbort::DeviceState);
+        }
+        if sub == 0 {
+            pdo::check_mapping(self.od, index, value, direction).map(|_| ())
+        } else if read_uint(self.od, index, 0).unwrap_or(0) != 0 {
+            Err(SdoAbort::DeviceState)
+        } else if value == 0 {
+            Ok(())
+        } else {
+            let entry = MappingEntry::from_u32(value);
+            pdo::check_entry(self.od, entry, direction).map(|_| ())
+        }
+    }
+
+    fn check_heartbeat_consumer(&self, sub: u8, value: u32) -> Result<(), SdoAbort> {
+        let node = (value >> 16) as u8;
+        let time = value as u16;
+        if node == 0 || time == 0 {
+            return Ok(());
+        }
+        let count = read_uint(self.od, 0x1016, 0).unwrap_or(0) as u8;
+        let duplicate = (1..=count).filter(|&s| s != sub).any(|s| {
+            read_uint(self.od, 0x1016, s)
+                .is_some_and(|other| (other >> 16) as u8 == node && other as u16 != 0)
+        });
+        if duplicate {
+            Err(SdoAbort::ParameterIncompatible)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Checks a write; `Ok(true)` means delegate it to the OD, `Ok(false)` that it was handled.
+    fn check(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<bool, SdoAbort> {
+        let value = value_u32(data);
+        match index {
+            0x1003 if sub == 0 && value != 0 => Err(SdoAbort::InvalidValue),
+            0x1005 => {
+                let old = read_uint(self.od, 0x1005, 0).map(CobIdEntry);
+                let new = CobIdEntry(value);
+                if new.extended() {
+                    return Err(SdoAbort::InvalidValue);
+                }
+                match old {
+                    Some(old) if old.bit30() && new.bit30() && old.can_id() != new.can_id() => {
+                        Err(SdoAbort::InvalidValue)
+                    }
+                    _ => Ok(true),
+                }
+            }
+            0x1010 if sub >= 1 => {
+                if data != SAVE_SIGNATURE.as_slice() {
+                    return Err(SdoAbort::CannotStore);
+                }
+                self.hooks.save(sub, self.od).map(|()| false)
+            }
+            0x1011 if sub >= 1 => {
+                if data != LOAD_SIGNATURE.as_slice() {
+                    return Err(SdoAbort::CannotStore);
+                }
+                self.hooks.restore_defaults(sub).map(|()| false)
+            }
+            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, false).map(|()| true),
+            0x1016 if sub >= 1 => self.check_heartbeat_consumer(sub, value).map(|()| true),
+            0x1019 => {
+                if read_uint(self.od, 0x1006, 0).unwrap_or(0) != 0 {
+                    Err(SdoAbort::DeviceState)
+                } else if value == 1 || value > 240 {
+                    Err(SdoAbort::InvalidValue)
+                } else {
+                    Ok(true)
+                }
+            }
+            0x1200..=0x127F if sub == 1 || sub == 2 => {
+                check_cob_id(read_uint(self.od, index, sub), value, false).map(|()| true)
+            }
+            0x1400..=0x15FF => self.check_pdo_comm(index, sub, value, true).map(|()| true),
+            0x1600..=0x17FF => self
+                .check_pdo_mapping(index, sub, value, Direction::Receive)
+                .map(|()| true),
+            0x1800..=0x19FF => self.check_pdo_comm(index, sub, value, false).map(|()| true),
+            0x1A00..=0x1BFF => self
+                .check_pdo_mapping(index, sub, value, Direction::Transmit)
+                .map(|()| true),
+            _ => Ok(true),
+        }
+    }
+}
+
+impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGuard<'_, O, H> {
+    fn entries(&self) -> &[EntryDescriptor] {
+        self.od.entries()
+    }
+
+    fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
+        self.od.find(index, sub)
+    }
+
+    fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        self.od.value_len(index, sub)
+    }
+
+    fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
+        self.od.read(index, sub, offset, buf)
+    }
+
+    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        if (0x1000..=0x1FFF).contains(&index) {
+            // A value of the wrong length gets the OD's length abort, not a rule's.
+            let length_ok = self
+                .od
+                .find(index, sub)?
+                .data_type
+                .fixed_size()
+                .map_or(true, |size| size == data.len());
+            if length_ok && !self.check(index, sub, data)? {
+                return Ok(());
+            }
+        }
+        self.od.write(index, sub, data)
+    }
+}

@@ -1,0 +1,242 @@
+//! EMCY producer state (CiA 301 §7.2.7): the active errors behind the error register (1001h),
+//! the pre-defined error field (1003h), and the queue of emergencies waiting for the inhibit time
+//! (1015h).
+
+use super::read_uint;
+use crate::od::ObjectDictionary;
+use crate::time::{Duration, Instant};
+use crate::wire::emcy::EmcyRepr;
+use crate::wire::pdo::CobIdEntry;
+
+/// Bits of the error register (1001h, CiA 301 §7.5.2.2).
+pub mod error_register {
+    /// Generic error.
+    pub const GENERIC: u8 = 0x01;
+    /// Current.
+    pub const CURRENT: u8 = 0x02;
+    /// Voltage.
+    pub const VOLTAGE: u8 = 0x04;
+    /// Temperature.
+    pub const TEMPERATURE: u8 = 0x08;
+    /// Communication error (overrun, error state, life guard, heartbeat, PDO length).
+    pub const COMMUNICATION: u8 = 0x10;
+    /// Device-profile specific.
+    pub const DEVICE_PROFILE: u8 = 0x20;
+    /// Manufacturer specific.
+    pub const MANUFACTURER: u8 = 0x80;
+}
+
+/// The most errors active at once, and the most emergencies waiting for the inhibit time.
+pub const MAX_ACTIVE_ERRORS: usize = 8;
+const QUEUE: usize = 4;
+
+#[derive(Debug, Clone, Copy, Default)]
+struct ActiveError {
+    code: u16,
+    register: u8,
+}
+
+/// Why [`raise`](Emcy::raise) refused an error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Raised {
+    /// New: an emergency was queued.
+    New,
+    /// The code was already active: nothing sent.
+    AlreadyActive,
+    /// The table of active errors is full.
+    Full,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Emcy {
+    pub cob_id: u16,
+    pub enabled: bool,
+    pub inhibit: Duration,
+    last_sent: Option<Instant>,
+    queue: [EmcyRepr; QUEUE],
+    queued: usize,
+    /// Emergencies dropped because the queue was full.
+    pub dropped: u32,
+    active: [ActiveError; MAX_ACTIVE_ERRORS],
+    active_count: usize,
+    /// Sub-indices of 1003h beyond 0.
+    history_len: u8,
+}
+
+impl Emcy {
+    /// Reads 1014h, 1015h and the size of 1003h (reset communication or an SDO write).
+    pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, node_id: u8) {
+        let cob =
+            read_uint(od, 0x1014, 0).map_or(CobIdEntry(0x80 + u32::from(node_id)), CobIdEntry);
+        self.cob_id = cob.can_id();
+        self.enabled = cob.valid() && !cob.extended();
+        self.inhibit =
+            Duration::from_micros(u64::from(read_uint(od, 0x1015, 0).unwrap_or(0)) * 100);
+        self.history_len = od
+            .entries()
+            .iter()
+            .filter(|e| e.index == 0x1003 && e.sub > 0)
+            .count()
+            .min(254) as u8;
+    }
+
+    /// The error register: every active error's bits.
+    #[inline]
+    pub fn register(&self) -> u8 {
+        self.active[..self.active_count]
+            .iter()
+            .fold(0, |acc, e| acc | e.register)
+    }
+
+    #[inline]
+    pub fn is_active(&self, code: u16) -> bool {
+        self.active[..self.active_count]
+            .iter()
+            .any(|e| e.code == code)
+    }
+
+    #[inline]
+    pub fn any_active(&self) -> bool {
+        self.active_count > 0
+    }
+
+    fn enqueue(&mut self, repr: EmcyRepr) {
+        if self.queued < QUEUE {
+            self.queue[self.queued] = repr;
+            self.queued += 1;
+        } else {
+            self.dropped = self.dropped.saturating_add(1);
+        }
+    }
+
+    /// Records an error, updates 1001h and 1003h, and queues its emergency.
+    pub fn raise<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &mut O,
+        code: u16,
+        register: u8,
+        manufacturer: [u8; 5],
+    ) -> Raised {
+        if self.is_active(code) {
+            return Raised::AlreadyActive;
+        }
+        if self.active_count == MAX_ACTIVE_ERRORS {
+            return Raised::Full;
+        }
+        self.active[self.active_count] = ActiveError { code, register };
+        self.active_count += 1;
+        let register = self.register();
+        let _ = od.write(0x1001, 0, &[register]);
+        self.push_history(od, u32::from(code));
+        self.enqueue(EmcyRepr {
+            code,
+            register,
+            manufacturer,
+        });
+        Raised::New
+    }
+
+    /// Removes an error from the active list without an emergency (1001h is not rewritten).
+    fn remove(&mut self, code: u16) -> bool {
+        let Some(pos) = self.active[..self.active_count]
+            .iter()
+            .position(|e| e.code == code)
+        else {
+            return false;
+        };
+        // Element by element rather than `copy_within`, which would pull `memmove` into the
+        // image for a handful of bytes.
+        for i in pos..self.active_count - 1 {
+            self.active[i] = self.active[i + 1];
+        }
+        self.active_count -= 1;
+        true
+    }
+
+    /// Forgets errors the communication layer raised itself (a reset communication starts its
+    /// monitoring afresh); 1001h is rewritten by [`Emcy::reset_queue`].
+    pub fn forget_communication_errors(&mut self, codes: &[u16]) {
+        for &code in codes {
+            self.remove(code);
+        }
+    }
+
+    /// Clears an active error; queues the error-reset emergency (code 0000h). `false` if the
+    /// code was not active.
+    pub fn clear<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O, code: u16) -> bool {
+        if !self.remove(code) {
+            return false;
+        }
+        let register = self.register();
+        let _ = od.write(0x1001, 0, &[register]);
+        self.enqueue(EmcyRepr {
+            code: 0,
+            register,
+            manufacturer: [0; 5],
+        });
+        true
+    }
+
+    /// Forgets every active error (reset node): 1001h becomes 0.
+    pub fn clear_all<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
+        self.active_count = 0;
+        self.queued = 0;
+        self.last_sent = None;
+        let _ = od.write(0x1001, 0, &[0]);
+    }
+
+    /// Drops queued emergencies and the inhibit timer (reset communication); the active errors
+    /// stay, and 1001h is rewritten from them.
+    pub fn reset_queue<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
+        self.queued = 0;
+        self.last_sent = None;
+        let _ = od.write(0x1001, 0, &[self.register()]);
+    }
+
+    /// Queues the "no error" emergency (code 0000h, register 0).
+    pub fn announce_no_error(&mut self) {
+        self.enqueue(EmcyRepr::default());
+    }
+
+    fn push_history<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O, value: u32) {
+        if self.history_len == 0 {
+            return;
+        }
+        let count = (read_uint(od, 0x1003, 0).unwrap_or(0) as u8).min(self.history_len);
+        let kept = count.min(self.history_len - 1);
+        for sub in (1..=kept).rev() {
+            if let Some(older) = read_uint(od, 0x1003, sub) {
+                let _ = od.write(0x1003, sub + 1, &older.to_le_bytes());
+            }
+        }
+        let _ = od.write(0x1003, 1, &value.to_le_bytes());
+        let _ = od.write(0x1003, 0, &[kept + 1]);
+    }
+
+    /// When the next emergency may go out, if one is waiting.
+    #[inline]
+    pub fn ready_at(&self) -> Option<Instant> {
+        if self.queued == 0 || !self.enabled {
+            return None;
+        }
+        Some(match self.last_sent {
+            Some(sent) => sent + self.inhibit,
+            None => Instant::from_micros(0),
+        })
+    }
+
+    /// The next emergency, if one is waiting and the inhibit time has passed.
+    #[inline]
+    pub fn poll(&mut self, now: Instant) -> Option<EmcyRepr> {
+        if self.ready_at()? > now {
+            return None;
+        }
+        let repr = self.queue[0];
+        for i in 1..self.queued {
+            self.queue[i - 1] = self.queue[i];
+        }
+        self.queued -= 1;
+        self.last_sent = Some(now);
+        Some(repr)
+    }
+}

@@ -1,0 +1,111 @@
+//! Error-control state (CiA 301 §7.2.8.3.2): the heartbeat producer (1017h), the heartbeat
+//! consumers (1016h), and node guarding with its toggle bit and life time (100Ch × 100Dh).
+
+use super::read_uint;
+use crate::od::ObjectDictionary;
+use crate::time::{Duration, Instant};
+
+/// The most remote nodes whose heartbeat one node watches; 1016h entries beyond are not served.
+pub const MAX_HEARTBEAT_CONSUMERS: usize = 8;
+
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Consumer {
+    pub node_id: u8,
+    pub period: Duration,
+    /// Set once the first heartbeat arrived; cleared on a timeout.
+    pub deadline: Option<Instant>,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ErrorControl {
+    pub producer_period: Duration,
+    pub next_heartbeat: Option<Instant>,
+    pub heartbeat_due: bool,
+    pub guard_time: Duration,
+    pub life_time_factor: u8,
+    pub toggle: bool,
+    pub guard_answer_due: bool,
+    /// Life guarding runs after the first guard request, while guarding is configured.
+    pub life_deadline: Option<Instant>,
+    pub life_lost: bool,
+    pub consumers: [Consumer; MAX_HEARTBEAT_CONSUMERS],
+    pub consumer_count: usize,
+}
+
+impl ErrorControl {
+    /// Reads 1017h; a change takes effect at once: the next heartbeat is one period from `now`.
+    pub fn configure_producer<O: ObjectDictionary + ?Sized>(&mut self, od: &O, now: Instant) {
+        let ms = read_uint(od, 0x1017, 0).unwrap_or(0);
+        self.producer_period = Duration::from_millis(u64::from(ms));
+        self.next_heartbeat = (ms != 0).then(|| now + self.producer_period);
+        self.heartbeat_due = false;
+    }
+
+    /// Reads 100Ch and 100Dh.
+    pub fn configure_guarding<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
+        self.guard_time = Duration::from_millis(u64::from(read_uint(od, 0x100C, 0).unwrap_or(0)));
+        self.life_time_factor = read_uint(od, 0x100D, 0).unwrap_or(0) as u8;
+        if self.life_time().is_none() {
+            self.life_deadline = None;
+        }
+    }
+
+    /// Reads 1016h. Monitoring of a consumer whose entry did not change continues.
+    pub fn configure_consumers<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
+        let previous = self.consumers;
+        let previous_count = self.consumer_count;
+        let count = read_uint(od, 0x1016, 0).unwrap_or(0).min(127) as u8;
+        self.consumer_count = 0;
+        for sub in 1..=count {
+            let Some(value) = read_uint(od, 0x1016, sub) else {
+                continue;
+            };
+            let node_id = (value >> 16) as u8;
+            let ms = value as u16;
+            if node_id == 0 || node_id > 127 || ms == 0 {
+                continue;
+            }
+            if self.consumer_count == MAX_HEARTBEAT_CONSUMERS {
+                break;
+            }
+            let period = Duration::from_millis(u64::from(ms));
+            let deadline = previous[..previous_count]
+                .iter()
+                .find(|c| c.node_id == node_id && c.period == period)
+                .and_then(|c| c.deadline);
+            self.consumers[self.consumer_count] = Consumer {
+                node_id,
+                period,
+                deadline,
+            };
+            self.consumer_count += 1;
+        }
+    }
+
+    /// The life time (guard time × life time factor), if guarding is configured and the
+    /// heartbeat producer is off (CiA 301: heartbeat takes precedence).
+    pub fn life_time(&self) -> Option<Duration> {
+        let life = self.guard_time.as_micros() * u64::from(self.life_time_factor);
+        (life != 0 && self.producer_period == Duration::ZERO).then_some(Duration(life))
+    }
+
+    /// Restarts a watched node's timer when its heartbeat (or boot-up) arrives.
+    pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) {
+        for consumer in &mut self.consumers[..self.consumer_count] {
+            if consumer.node_id == node_id {
+                consumer.deadline = Some(now + consumer.period);
+            }
+        }
+    }
+
+    pub fn next_deadline(&self) -> Option<Instant> {
+        let consumers = self.consumers[..self.consumer_count]
+            .iter()
+            .filter_map(|c| c.deadline)
+            .min();
+        [self.next_heartbeat, self.life_deadline, consumers]
+            .into_iter()
+            .flatten()
+            .min()
+    }
+}

@@ -1,0 +1,328 @@
+//! PDO state: the mapping a PDO packs or unpacks, the receive and transmit PDOs' configuration as
+//! read from 1400h–1BFFh, and the checks a mapping entry must pass (CiA 301 §7.4.7).
+//!
+//! Mappings are byte-granular: each mapped object takes its whole size in whole bytes (a mapping
+//! length that is not a multiple of 8 is refused with 0604 0041). At most [`MAX_MAPPED`] objects
+//! per PDO.
+
+use crate::od::{DataType, ObjectDictionary, SdoAbort};
+use crate::time::{Duration, Instant};
+use crate::wire::pdo::{CobIdEntry, MappingEntry};
+
+/// The most objects one PDO can map.
+pub const MAX_MAPPED: usize = 8;
+
+/// One mapped object, checked: where its bytes go in the payload.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct MappedObject {
+    pub index: u16,
+    pub sub: u8,
+    pub len: u8,
+}
+
+impl MappedObject {
+    #[inline]
+    fn is_dummy(self) -> bool {
+        MappingEntry {
+            index: self.index,
+            sub: self.sub,
+            bits: 0,
+        }
+        .is_dummy()
+    }
+}
+
+/// The checked mapping of one PDO.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct Mapping {
+    pub objects: [MappedObject; MAX_MAPPED],
+    pub count: u8,
+    /// Payload length in bytes.
+    pub len: u8,
+}
+
+impl Mapping {
+    #[inline]
+    pub fn objects(&self) -> &[MappedObject] {
+        &self.objects[..self.count as usize]
+    }
+
+    #[inline]
+    pub fn contains(&self, index: u16, sub: u8) -> bool {
+        self.objects()
+            .iter()
+            .any(|o| o.index == index && o.sub == sub)
+    }
+
+    /// Reads the mapped objects into a payload (dummies give zeros).
+    #[inline]
+    pub fn pack<O: ObjectDictionary + ?Sized>(&self, od: &O) -> [u8; 8] {
+        let mut data = [0u8; 8];
+        let mut offset = 0usize;
+        for object in self.objects() {
+            let end = offset + object.len as usize;
+            if object.is_dummy() {
+                offset = end;
+                continue;
+            }
+            if let Some(slot) = data.get_mut(offset..end) {
+                // A failed read leaves zeros: the mapping was checked, so this only happens
+                // when the OD refuses its own entry.
+                let _ = od.read(object.index, object.sub, 0, slot);
+            }
+            offset = end;
+        }
+        data
+    }
+
+    /// Writes a payload's bytes into the mapped objects; returns how many writes the OD refused
+    /// (a value outside its limits).
+    #[inline]
+    pub fn unpack<O: ObjectDictionary + ?Sized>(&self, od: &mut O, data: &[u8]) -> usize {
+        let mut offset = 0usize;
+        let mut refused = 0;
+        for object in self.objects() {
+            let end = offset + object.len as usize;
+            if !object.is_dummy() {
+                if let Some(bytes) = data.get(offset..end) {
+                    if od.write(object.index, object.sub, bytes).is_err() {
+                        refused += 1;
+                    }
+                }
+            }
+            offset = end;
+        }
+        refused
+    }
+}
+
+/// Direction of a PDO, for the mapping checks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Direction {
+    Receive,
+    Transmit,
+}
+
+/// Size in bits of a dummy-mapping data type (0002h–0007h); BOOLEAN (0001h) is bit-sized and
+/// not supported.
+fn dummy_bits(index: u16) -> Option<u8> {
+    match index {
+        0x0002 | 0x0005 => Some(8),
+        0x0003 | 0x0006 => Some(16),
+        0x0004 | 0x0007 => Some(32),
+        _ => None,
+    }
+}
+
+/// Checks one mapping entry against the OD: 0604 0041 if the object is absent, not mappable in
+/// this direction, or its length does not match. Dummy entries (0002h–0007h with their type's
+/// length) are accepted in both directions.
+pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
+    od: &O,
+    entry: MappingEntry,
+    direction: Direction,
+) -> Result<MappedObject, SdoAbort> {
+    if entry.bits == 0 || entry.bits % 8 != 0 {
+        return Err(SdoAbort::NotMappable);
+    }
+    let len = entry.bits / 8;
+    if entry.is_dummy() {
+        // CiA 301 defines dummies for RPDOs (bytes to skip); vendor EDS files also pad TPDOs
+        // with them (the Goodrive350 card's TPDO1), which then carry zeros there.
+        return match dummy_bits(entry.index) {
+            Some(bits) if bits == entry.bits => Ok(MappedObject {
+                index: entry.index,
+                sub: entry.sub,
+                len,
+            }),
+            _ => Err(SdoAbort::NotMappable),
+        };
+    }
+    let descriptor = od
+        .find(entry.index, entry.sub)
+        .map_err(|_| SdoAbort::NotMappable)?;
+    let allowed = match direction {
+        Direction::Receive => descriptor.access.writable(),
+        Direction::Transmit => descriptor.access.readable(),
+    };
+    let size = descriptor.data_type.fixed_size();
+    if !descriptor.pdo_mappable
+        || !allowed
+        || size != Some(len as usize)
+        || descriptor.data_type == DataType::Domain
+    {
+        return Err(SdoAbort::NotMappable);
+    }
+    Ok(MappedObject {
+        index: entry.index,
+        sub: entry.sub,
+        len,
+    })
+}
+
+/// Reads and checks the mapping record at `index` (1600h+n or 1A00h+n).
+pub(crate) fn load_mapping<O: ObjectDictionary + ?Sized>(
+    od: &O,
+    index: u16,
+    direction: Direction,
+) -> Result<Mapping, SdoAbort> {
+    let count = super::read_uint(od, index, 0).ok_or(SdoAbort::NoObject)?;
+    check_mapping(od, index, count, direction)
+}
+
+/// Checks that the first `count` entries of the mapping record at `index` form a valid mapping:
+/// 0604 0042 if there are too many or they exceed 8 bytes, 0604 0041 if one cannot be mapped.
+pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
+    od: &O,
+    index: u16,
+    count: u32,
+    direction: Direction,
+) -> Result<Mapping, SdoAbort> {
+    if count as usize > MAX_MAPPED {
+        return Err(SdoAbort::PdoTooLong);
+    }
+    let mut mapping = Mapping::default();
+    let mut total = 0usize;
+    for sub in 1..=count as u8 {
+        let raw = super::read_uint(od, index, sub).ok_or(SdoAbort::NotMappable)?;
+        let object = check_entry(od, MappingEntry::from_u32(raw), direction)?;
+        total += object.len as usize;
+        if total > 8 {
+            return Err(SdoAbort::PdoTooLong);
+        }
+        mapping.objects[mapping.count as usize] = object;
+        mapping.count += 1;
+    }
+    mapping.len = total as u8;
+    Ok(mapping)
+}
+
+/// A receive PDO.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Rpdo {
+    /// Whether the PDO exists and is valid.
+    pub enabled: bool,
+    /// The COB-ID says valid, but the mapping in the OD was refused for this reason.
+    pub rejected: Option<SdoAbort>,
+    pub cob_id: u16,
+    pub transmission: u8,
+    pub mapping: Mapping,
+    /// Data received for a synchronous RPDO, applied at the next SYNC.
+    pub buffered: Option<[u8; 8]>,
+    /// Some TPDO maps an object this PDO writes (change-of-state detection must look).
+    pub feeds_tpdo: bool,
+    /// The last frame was shorter / longer than the mapping.
+    pub too_short: bool,
+    pub too_long: bool,
+}
+
+impl Rpdo {
+    pub fn load<O: ObjectDictionary + ?Sized>(od: &O, n: u16) -> Rpdo {
+        let comm = 0x1400 + n;
+        let Some(cob) = super::read_uint(od, comm, 1).map(CobIdEntry) else {
+            return Rpdo::default();
+        };
+        let mapping = load_mapping(od, 0x1600 + n, Direction::Receive);
+        Rpdo {
+            enabled: cob.valid() && !cob.extended() && mapping.is_ok(),
+            rejected: if cob.valid() { mapping.err() } else { None },
+            cob_id: cob.can_id(),
+            transmission: super::read_uint(od, comm, 2).unwrap_or(255) as u8,
+            mapping: mapping.unwrap_or_default(),
+            buffered: None,
+            feeds_tpdo: false,
+            too_short: false,
+            too_long: false,
+        }
+    }
+
+    #[inline]
+    pub fn synchronous(&self) -> bool {
+        self.transmission <= 240
+    }
+}
+
+/// A transmit PDO.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Tpdo {
+    pub enabled: bool,
+    /// The COB-ID says valid, but the mapping in the OD was refused for this reason.
+    pub rejected: Option<SdoAbort>,
+    pub cob_id: u16,
+    pub rtr_allowed: bool,
+    pub transmission: u8,
+    pub inhibit: Duration,
+    pub event_timer: Duration,
+    pub sync_start: u8,
+    pub mapping: Mapping,
+    /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous).
+    pub pending: bool,
+    pub data: Option<[u8; 8]>,
+    /// For synchronous PDOs: the latest sample (252) and the window deadline.
+    pub sync_deadline: Option<Instant>,
+    /// Type 0: an event occurred since the last SYNC.
+    pub acyclic_request: bool,
+    /// SYNCs left until the next cyclic transmission; `None` before the first SYNC, `Some(0)`
+    /// while waiting for the SYNC start value.
+    pub sync_countdown: Option<u8>,
+    /// Type 252: the data sampled at the last SYNC, sent on a remote request.
+    pub rtr_sample: Option<[u8; 8]>,
+    /// The payload last sent (change-of-state detection).
+    pub last_data: [u8; 8],
+    pub last_sent: Option<Instant>,
+    pub event_deadline: Option<Instant>,
+    /// A mapped object may have changed: compare before the next transmission decision.
+    pub check_change: bool,
+}
+
+impl Tpdo {
+    pub fn load<O: ObjectDictionary + ?Sized>(od: &O, n: u16) -> Tpdo {
+        let comm = 0x1800 + n;
+        let Some(cob) = super::read_uint(od, comm, 1).map(CobIdEntry) else {
+            return Tpdo::default();
+        };
+        let mapping = load_mapping(od, 0x1A00 + n, Direction::Transmit);
+        Tpdo {
+            enabled: cob.valid() && !cob.extended() && mapping.is_ok(),
+            rejected: if cob.valid() { mapping.err() } else { None },
+            cob_id: cob.can_id(),
+            rtr_allowed: !cob.bit30(),
+            transmission: super::read_uint(od, comm, 2).unwrap_or(255) as u8,
+            inhibit: Duration::from_micros(
+                u64::from(super::read_uint(od, comm, 3).unwrap_or(0)) * 100,
+            ),
+            event_timer: Duration::from_millis(u64::from(
+                super::read_uint(od, comm, 5).unwrap_or(0),
+            )),
+            sync_start: super::read_uint(od, comm, 6).unwrap_or(0) as u8,
+            mapping: mapping.unwrap_or_default(),
+            ..Tpdo::default()
+        }
+    }
+
+    #[inline]
+    pub fn event_driven(&self) -> bool {
+        self.transmission >= 254
+    }
+
+    /// Forgets everything a running PDO accumulated (leaving operational, reconfiguring).
+    pub fn stop(&mut self) {
+        self.pending = false;
+        self.data = None;
+        self.rtr_sample = None;
+        self.sync_deadline = None;
+        self.acyclic_request = false;
+        self.sync_countdown = None;
+        self.event_deadline = None;
+        self.check_change = false;
+    }
+
+    /// Whether the inhibit time since the last transmission has passed.
+    #[inline]
+    pub fn inhibit_passed(&self, now: Instant) -> bool {
+        match self.last_sent {
+            Some(sent) => now >= sent + self.inhibit,
+            None => true,
+        }
+    }
+}

@@ -1,0 +1,356 @@
+//! What generated device code builds on: fixed-capacity byte strings, the byte conversions behind
+//! a generated `ObjectDictionary::read`/`write` (lengths, odd-width integers, limits), and the bit
+//! packing of typed PDO payloads. Everything here is `no_std`, allocation-free and panic-free.
+
+use crate::od::{EntryDescriptor, SdoAbort};
+
+/// A VISIBLE_STRING, OCTET_STRING, UNICODE_STRING or DOMAIN value of at most `N` bytes.
+///
+/// The capacity is fixed at generation time; the current length may be anything up to it.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FixedBytes<const N: usize> {
+    len: usize,
+    bytes: [u8; N],
+}
+
+impl<const N: usize> FixedBytes<N> {
+    /// The capacity in bytes.
+    pub const CAPACITY: usize = N;
+
+    /// An empty value.
+    pub const fn empty() -> Self {
+        FixedBytes {
+            len: 0,
+            bytes: [0; N],
+        }
+    }
+
+    /// A value holding the first `N` bytes of `src` (all of them when they fit).
+    pub const fn from_slice(src: &[u8]) -> Self {
+        let mut bytes = [0u8; N];
+        let len = if src.len() < N { src.len() } else { N };
+        let mut i = 0;
+        while i < len {
+            bytes[i] = src[i];
+            i += 1;
+        }
+        FixedBytes { len, bytes }
+    }
+
+    /// Replaces the value; `LengthTooHigh` (and the value unchanged) if `src` exceeds the
+    /// capacity.
+    pub fn set(&mut self, src: &[u8]) -> Result<(), SdoAbort> {
+        let target = self
+            .bytes
+            .get_mut(..src.len())
+            .ok_or(SdoAbort::LengthTooHigh)?;
+        target.copy_from_slice(src);
+        self.len = src.len();
+        Ok(())
+    }
+
+    /// The bytes currently held.
+    pub fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or(&self.bytes)
+    }
+
+    /// The value as text, if it is valid UTF-8.
+    pub fn as_str(&self) -> Option<&str> {
+        core::str::from_utf8(self.as_bytes()).ok()
+    }
+
+    /// The current length in bytes.
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the value is empty.
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+impl<const N: usize> Default for FixedBytes<N> {
+    fn default() -> Self {
+        Self::empty()
+    }
+}
+
+impl<const N: usize> core::fmt::Debug for FixedBytes<N> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self.as_str() {
+            Some(text) => write!(f, "{text:?}"),
+            None => write!(f, "{:02x?}", self.as_bytes()),
+        }
+    }
+}
+
+/// Copies `value[offset..]` into `buf` and returns how many bytes were copied (0 when `offset`
+/// is at or past the end).
+#[inline]
+pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
+    let rest = value.get(offset..).unwrap_or(&[]);
+    let n = rest.len().min(buf.len());
+    buf[..n].copy_from_slice(&rest[..n]);
+    n
+}
+
+/// The first `len` little-endian bytes of `raw`, in `scratch` (`len` is clamped to 8): the wire
+/// form of a fixed-size value for `ObjectDictionary::read`.
+#[inline]
+pub fn le(scratch: &mut [u8; 8], raw: u64, len: usize) -> &[u8] {
+    *scratch = raw.to_le_bytes();
+    &scratch[..len.min(8)]
+}
+
+/// Exactly `N` bytes of `data`: `LengthTooHigh` if longer, `LengthTooLow` if shorter.
+#[inline]
+pub fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], SdoAbort> {
+    if data.len() > N {
+        return Err(SdoAbort::LengthTooHigh);
+    }
+    data.try_into().map_err(|_| SdoAbort::LengthTooLow)
+}
+
+/// An unsigned integer of exactly `N` little-endian bytes (`N` ≤ 8).
+#[inline]
+pub fn uint_le<const N: usize>(data: &[u8]) -> Result<u64, SdoAbort> {
+    let bytes = exact::<N>(data)?;
+    let mut wide = [0u8; 8];
+    let n = N.min(8);
+    wide[..n].copy_from_slice(&bytes[..n]);
+    Ok(u64::from_le_bytes(wide))
+}
+
+/// A signed (two's complement) integer of exactly `N` little-endian bytes (`N` ≤ 8).
+#[inline]
+pub fn int_le<const N: usize>(data: &[u8]) -> Result<i64, SdoAbort> {
+    let raw = uint_le::<N>(data)?;
+    Ok(sign_extend(raw, (N.min(8) * 8) as u32))
+}
+
+/// A BOOLEAN from exactly one byte: 0 is false, 1 is true, anything else `InvalidValue`.
+#[inline]
+pub fn boolean(data: &[u8]) -> Result<bool, SdoAbort> {
+    match exact::<1>(data)? {
+        [0] => Ok(false),
+        [1] => Ok(true),
+        _ => Err(SdoAbort::InvalidValue),
+    }
+}
+
+/// Checks `value` against LowLimit/HighLimit: `ValueTooLow` below `low`, `ValueTooHigh` above
+/// `high`.
+#[inline]
+pub fn check_limits<T: PartialOrd>(value: T, low: T, high: T) -> Result<T, SdoAbort> {
+    if value < low {
+        Err(SdoAbort::ValueTooLow)
+    } else if value > high {
+        Err(SdoAbort::ValueTooHigh)
+    } else {
+        Ok(value)
+    }
+}
+
+/// The abort for an (index, sub) that is not in `entries`: `NoSubIndex` when the index exists,
+/// else `NoObject`.
+pub fn missing(entries: &[EntryDescriptor], index: u16, sub: u8) -> SdoAbort {
+    if entries.iter().any(|e| e.index == index) {
+        if entries.iter().any(|e| e.index == index && e.sub == sub) {
+            // Described but not served: cannot happen in generated code, report it generally.
+            SdoAbort::General
+        } else {
+            SdoAbort::NoSubIndex
+        }
+    } else {
+        SdoAbort::NoObject
+    }
+}
+
+/// The low `bits` bits of `raw` read as a two's-complement number (`bits` in 1..=64).
+#[inline]
+pub const fn sign_extend(raw: u64, bits: u32) -> i64 {
+    if bits == 0 || bits >= 64 {
+        return raw as i64;
+    }
+    let shift = 64 - bits;
+    ((raw << shift) as i64) >> shift
+}
+
+/// Whether `value` fits in `bits` unsigned bits.
+#[inline]
+pub const fn fits_unsigned(value: u64, bits: u32) -> bool {
+    bits >= 64 || value >> bits == 0
+}
+
+/// Whether `value` fits in `bits` two's-complement bits.
+#[inline]
+pub const fn fits_signed(value: i64, bits: u32) -> bool {
+    if bits >= 64 {
+        return true;
+    }
+    if bits == 0 {
+        return value == 0;
+    }
+    let min = -(1i64 << (bits - 1));
+    let max = (1i64 << (bits - 1)) - 1;
+    value >= min && value <= max
+}
+
+/// Writes the low `bits` bits of `value` into `buf` starting at bit `offset`, least significant
+/// bit first (the CiA 301 PDO layout). Bits beyond `buf` are dropped.
+#[inline]
+pub fn put_bits(buf: &mut [u8], offset: usize, bits: u32, value: u64) {
+    let bits = bits.min(64) as usize;
+    let mut done = 0usize;
+    while done < bits {
+        let pos = offset + done;
+        let shift = pos % 8;
+        let take = (8 - shift).min(bits - done);
+        let mask = (((1u16 << take) - 1) as u8) << shift;
+        let chunk = ((value >> done) as u8) << shift;
+        if let Some(byte) = buf.get_mut(pos / 8) {
+            *byte = (*byte & !mask) | (chunk & mask);
+        }
+        done += take;
+    }
+}
+
+/// Reads `bits` bits of `buf` starting at bit `offset`, least significant bit first. Bits beyond
+/// `buf` read as zero.
+#[inline]
+pub fn get_bits(buf: &[u8], offset: usize, bits: u32) -> u64 {
+    let bits = bits.min(64) as usize;
+    let mut value = 0u64;
+    let mut done = 0usize;
+    while done < bits {
+        let pos = offset + done;
+        let shift = pos % 8;
+        let take = (8 - shift).min(bits - done);
+        let byte = buf.get(pos / 8).copied().unwrap_or(0);
+        let chunk = (byte >> shift) & (((1u16 << take) - 1) as u8);
+        value |= u64::from(chunk) << done;
+        done += take;
+    }
+    value
+}
+
+/// Why a typed PDO could not be encoded or decoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PdoError {
+    /// The payload does not have the mapping's length.
+    WrongLength {
+        /// The mapping's length in bytes.
+        expected: usize,
+        /// The payload's length in bytes.
+        actual: usize,
+    },
+    /// A field's value does not fit the number of bits the mapping gives it.
+    OutOfRange {
+        /// The field's name.
+        field: &'static str,
+    },
+}
+
+impl core::fmt::Display for PdoError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            PdoError::WrongLength { expected, actual } => {
+                write!(
+                    f,
+                    "PDO payload of {actual} bytes, the mapping needs {expected}"
+                )
+            }
+            PdoError::OutOfRange { field } => {
+                write!(f, "value of `{field}` does not fit its mapped length")
+            }
+        }
+    }
+}
+
+/// The payload as an array of exactly `N` bytes, or `WrongLength`.
+#[inline]
+pub fn payload<const N: usize>(data: &[u8]) -> Result<[u8; N], PdoError> {
+    data.try_into().map_err(|_| PdoError::WrongLength {
+        expected: N,
+        actual: data.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bits_round_trip_across_byte_boundaries() {
+        let mut buf = [0u8; 3];
+        put_bits(&mut buf, 4, 12, 0xABC);
+        assert_eq!(buf, [0xC0, 0xAB, 0x00]);
+        assert_eq!(get_bits(&buf, 4, 12), 0xABC);
+        put_bits(&mut buf, 0, 4, 0x5);
+        assert_eq!(buf, [0xC5, 0xAB, 0x00]);
+    }
+
+    #[test]
+    fn bits_match_a_bit_by_bit_reference() {
+        // Every offset/length pair over a 3-byte buffer, against a one-bit-at-a-time model.
+        let pattern = 0xDEAD_BEEF_F00D_u64;
+        for offset in 0..24usize {
+            for bits in 1..=(24 - offset) as u32 {
+                let mut buf = [0x5Au8; 3];
+                let mut reference = buf;
+                put_bits(&mut buf, offset, bits, pattern);
+                for i in 0..bits as usize {
+                    let pos = offset + i;
+                    let bit = ((pattern >> i) & 1) as u8;
+                    reference[pos / 8] =
+                        (reference[pos / 8] & !(1 << (pos % 8))) | (bit << (pos % 8));
+                }
+                assert_eq!(buf, reference, "offset {offset} bits {bits}");
+                let mask = if bits == 64 {
+                    u64::MAX
+                } else {
+                    (1 << bits) - 1
+                };
+                assert_eq!(get_bits(&buf, offset, bits), pattern & mask);
+            }
+        }
+        let mut wide = [0u8; 9];
+        put_bits(&mut wide, 4, 64, u64::MAX);
+        assert_eq!(wide, [0xF0, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x0F]);
+        assert_eq!(get_bits(&wide, 4, 64), u64::MAX);
+    }
+
+    #[test]
+    fn exact_length_aborts() {
+        assert_eq!(exact::<2>(&[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
+        assert_eq!(exact::<2>(&[1]), Err(SdoAbort::LengthTooLow));
+        assert_eq!(exact::<2>(&[1, 2]), Ok([1, 2]));
+    }
+
+    #[test]
+    fn odd_width_integers_sign_extend() {
+        assert_eq!(int_le::<3>(&[0xFF, 0xFF, 0xFF]), Ok(-1));
+        assert_eq!(int_le::<3>(&[0xFF, 0xFF, 0x7F]), Ok(0x7F_FFFF));
+        assert_eq!(uint_le::<5>(&[1, 0, 0, 0, 0x80]), Ok(0x80_0000_0001));
+        assert!(fits_signed(-8_388_608, 24) && !fits_signed(8_388_608, 24));
+        assert!(fits_unsigned(0xFF_FFFF, 24) && !fits_unsigned(0x100_0000, 24));
+    }
+
+    #[test]
+    fn fixed_bytes_refuse_overlong_writes() {
+        let mut s = FixedBytes::<4>::from_slice(b"ab");
+        assert_eq!(s.as_str(), Some("ab"));
+        assert_eq!(s.set(b"abcde"), Err(SdoAbort::LengthTooHigh));
+        assert_eq!(s.as_bytes(), b"ab");
+        assert_eq!(s.set(b"wxyz"), Ok(()));
+        assert_eq!(s.len(), 4);
+    }
+
+    #[test]
+    fn limits_pick_the_right_abort() {
+        assert_eq!(check_limits(5, 10, 20), Err(SdoAbort::ValueTooLow));
+        assert_eq!(check_limits(25, 10, 20), Err(SdoAbort::ValueTooHigh));
+        assert_eq!(check_limits(15, 10, 20), Ok(15));
+    }
+}

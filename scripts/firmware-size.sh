@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Builds the Cortex-M4F firmware examples (firmware/src/bin/: a node with NMT, heartbeat, SDO
+# server, 4+4 PDOs, SYNC and EMCY over each example's OD) and prints their flash and RAM use:
+# text/data/bss from the image, and the node's RAM on main's stack (the size of the Node with its
+# OD, which the image records in EDSGEN_NODE_RAM_BYTES).
+set -euo pipefail
+cd "$(dirname "$0")/../firmware"
+rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
+cargo build --release --quiet
+size_tool=$(command -v llvm-size || true)
+if [ -z "$size_tool" ]; then
+    rustup component add llvm-tools >/dev/null 2>&1 || true
+    size_tool=$(find "$(rustc --print sysroot)" -name llvm-size -type f | head -1)
+fi
+[ -n "$size_tool" ] || { echo "llvm-size not found (apt-get install llvm, or rustup component add llvm-tools)"; exit 2; }
+for src in src/bin/*.rs; do
+elf=target/thumbv7em-none-eabihf/release/$(basename "$src" .rs)
+echo "== $(basename "$src" .rs)"
+"$size_tool" "$elf"
+python3 - "$elf" <<'PY'
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+# ELF32 little-endian: section headers, then the symbol table.
+shoff, = struct.unpack_from("<I", data, 0x20)
+shentsize, shnum, shstrndx = struct.unpack_from("<HHH", data, 0x2E)
+sections = [struct.unpack_from("<IIIIIIIIII", data, shoff + i * shentsize) for i in range(shnum)]
+symtab = next(s for s in sections if s[1] == 2)
+strtab = sections[symtab[6]]
+for off in range(symtab[4], symtab[4] + symtab[5], 16):
+    name, value, size, info, other, shndx = struct.unpack_from("<IIIBBH", data, off)
+    end = data.index(b"\0", strtab[4] + name)
+    if data[strtab[4] + name:end] == b"EDSGEN_NODE_RAM_BYTES":
+        sec = sections[shndx]
+        ram, = struct.unpack_from("<I", data, sec[4] + value - sec[3])
+        print(f"node RAM (state + OD values, on main's stack): {ram} bytes")
+        break
+PY
+done

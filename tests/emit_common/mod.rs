@@ -1,0 +1,136 @@
+//! Shared by the code-generation integration tests: where the corpus and the cards are, reading
+//! and generating a file, and building `tests/compile-check` against generated modules.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use edsgen_codegen::diag::{self, Diagnostic, Severity};
+use edsgen_codegen::{emit, read, validate};
+
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The corpus directory, or `None` (and a message) when it is absent; absent under `CI=true`
+/// fails.
+pub fn corpus_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("EDSGEN_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("../shared/eds-corpus"));
+    if dir.join("MANIFEST.tsv").is_file() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var("CI").as_deref() != Ok("true"),
+        "the corpus is missing at {} (set EDSGEN_CORPUS)",
+        dir.display()
+    );
+    eprintln!(
+        "skipping: no corpus at {} (set EDSGEN_CORPUS)",
+        dir.display()
+    );
+    None
+}
+
+/// Every corpus file (relative name, path), in MANIFEST order.
+pub fn corpus_files(dir: &Path) -> Vec<(String, PathBuf)> {
+    let manifest = std::fs::read_to_string(dir.join("MANIFEST.tsv")).unwrap();
+    manifest
+        .lines()
+        .skip(1)
+        .filter_map(|line| line.split('\t').next())
+        .filter(|f| !f.is_empty())
+        .map(|f| (f.to_owned(), dir.join(f)))
+        .collect()
+}
+
+/// The card description files in `eds/`, sorted.
+pub fn card_files() -> Vec<PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(root().join("eds"))
+        .map(|dir| {
+            dir.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| {
+                    p.extension().is_some_and(|e| {
+                        e.eq_ignore_ascii_case("eds") || e.eq_ignore_ascii_case("dcf")
+                    })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    files
+}
+
+/// Reads, validates and generates one file: the code, or the first error diagnostic (read,
+/// validation or generation) that stops it.
+pub fn generate(path: &Path, module: &str) -> Result<String, Diagnostic> {
+    let read = read::read_file(path).unwrap();
+    generate_from(read, module)
+}
+
+pub fn generate_from(read: read::Read, module: &str) -> Result<String, Diagnostic> {
+    let mut diags = read.diagnostics;
+    diags.extend(validate::validate(&read.device));
+    diag::sort(&mut diags);
+    if let Some(first) = diags.iter().find(|d| d.severity == Severity::Error) {
+        return Err(first.clone());
+    }
+    emit::generate_module(&read.device, module)
+        .map(|g| g.code)
+        .map_err(|diags| {
+            diags
+                .into_iter()
+                .find(|d| d.severity == Severity::Error)
+                .unwrap()
+        })
+}
+
+/// Builds `tests/compile-check` including `generated` with `RUSTFLAGS=-D warnings`, for `target`
+/// (the host when `None`), in `target/<target_dir>`.
+pub fn build_compile_check(generated: &Path, target: Option<&str>, target_dir: &str) {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.arg("build")
+        .arg("--manifest-path")
+        .arg(root().join("tests/compile-check/Cargo.toml"))
+        .arg("--target-dir")
+        .arg(root().join("target").join(target_dir))
+        .env("RUSTFLAGS", "-D warnings")
+        .env("EDSGEN_GENERATED", generated)
+        .env_remove("CARGO_TARGET_DIR")
+        .env_remove("CARGO_ENCODED_RUSTFLAGS");
+    if let Some(t) = target {
+        cmd.arg("--target").arg(t);
+    }
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "building generated code failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Writes generated modules and an index including them into `target/<dir>/`; returns the index.
+pub fn write_modules(dir: &str, modules: &[(String, String)]) -> PathBuf {
+    let out = root().join("target").join(dir).join("generated");
+    std::fs::create_dir_all(&out).unwrap();
+    let mut index = String::new();
+    for (name, code) in modules {
+        let file = out.join(format!("{name}.rs"));
+        if std::fs::read_to_string(&file).ok().as_deref() != Some(code.as_str()) {
+            std::fs::write(&file, code).unwrap();
+        }
+        index.push_str(&format!("include!({:?});\n", file.display().to_string()));
+    }
+    let index_file = out.join("all.rs");
+    if std::fs::read_to_string(&index_file).ok().as_deref() != Some(index.as_str()) {
+        std::fs::write(&index_file, index).unwrap();
+    }
+    index_file
+}
+
+/// A unique module name for a corpus file.
+pub fn corpus_module(name: &str) -> String {
+    emit::module_name(name)
+}

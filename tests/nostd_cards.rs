@@ -1,0 +1,43 @@
+//! The generated code of the cards in `eds/`, with the runtime's object-dictionary trait, builds
+//! for `thumbv7em-none-eabihf` (no `std`, no `alloc`).
+
+mod emit_common;
+
+use emit_common::*;
+
+#[test]
+fn cards_build_for_thumbv7em() {
+    let installed = std::process::Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).contains("thumbv7em-none-eabihf"))
+        .unwrap_or(false);
+    if !installed {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "thumbv7em-none-eabihf is not installed (rustup target add thumbv7em-none-eabihf)"
+        );
+        eprintln!("skipping: thumbv7em-none-eabihf is not installed");
+        return;
+    }
+    let cards = card_files();
+    assert_eq!(cards.len(), 5, "the five cards in eds/");
+    let modules: Vec<_> = cards
+        .iter()
+        .map(|path| {
+            let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+            let module = edsgen_codegen::emit::module_name(&stem);
+            let code =
+                generate(path, &module).unwrap_or_else(|d| panic!("{}: {d:?}", path.display()));
+            (module, code)
+        })
+        .collect();
+    // The hand-built module of the codegen tests exercises odd widths, strings and bit-packed PDOs.
+    let mut modules = modules;
+    modules.push((
+        "gd350".to_owned(),
+        std::fs::read_to_string(root().join("codegen/tests/generated/gd350.rs")).unwrap(),
+    ));
+    let index = write_modules("nostd-cards", &modules);
+    build_compile_check(&index, Some("thumbv7em-none-eabihf"), "nostd-cards");
+}
