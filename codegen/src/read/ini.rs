@@ -336,7 +336,7 @@ pub fn is_plain_key(key: &str) -> bool {
 /// A `;Key=value` comment line whose key is one of [`COMMENTED_KEYS`], as an entry.
 fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     let body = line.strip_prefix(';')?;
-    let eq = body.find('=')?;
+    let eq = body.bytes().position(|b| b == b'=')?;
     let key = body[..eq].trim();
     if !COMMENTED_KEYS.iter().any(|k| k.eq_ignore_ascii_case(key)) {
         return None;
@@ -361,6 +361,10 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     let mut keys_here: Vec<&str> = Vec::new();
     // Section name (case-insensitively) -> position in `file.sections`.
     let mut section_at: HashMap<Caseless<'t>, usize, FastHash> = HashMap::default();
+    // (section, key case-insensitively) -> position in its entries, for the sections with at
+    // least INDEXED_FROM entries (long object lists, [xxxxValue]); smaller ones are scanned.
+    const INDEXED_FROM: usize = 16;
+    let mut entry_at: HashMap<(usize, Caseless<'t>), usize, FastHash> = HashMap::default();
     for (number, line) in lines(text).into_iter().enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
@@ -401,7 +405,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             continue;
         }
         if trimmed.starts_with('[') {
-            let Some(close) = trimmed.find(']') else {
+            let Some(close) = trimmed.bytes().position(|b| b == b']') else {
                 diags.push(
                     Diagnostic::new(
                         &rules::UNPARSEABLE_LINE,
@@ -507,7 +511,9 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             ));
             continue;
         }
-        let Some(section) = current.and_then(|i| file.sections.get_mut(i)) else {
+        let Some((section_index, section)) =
+            current.and_then(|i| Some((i, file.sections.get_mut(i)?)))
+        else {
             diags.push(Diagnostic::new(
                 &rules::UNPARSEABLE_LINE,
                 Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
@@ -546,10 +552,14 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             value: IniText(value),
             value_span,
         };
-        let existing = section
-            .entries
-            .iter()
-            .position(|e| e.key.eq_ignore_ascii_case(key));
+        let existing = if section.entries.len() >= INDEXED_FROM {
+            entry_at.get(&(section_index, Caseless(key))).copied()
+        } else {
+            section
+                .entries
+                .iter()
+                .position(|e| e.key.eq_ignore_ascii_case(key))
+        };
         // A key seen in this occurrence of the section is always among the entries.
         if existing.is_some() && keys_here.iter().any(|k| k.eq_ignore_ascii_case(key)) {
             let first = section.get(key).map_or(0, |e| e.key_span.line);
@@ -566,7 +576,17 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
         }
         match existing.and_then(|at| section.entries.get_mut(at)) {
             Some(existing) => *existing = entry,
-            None => section.entries.push(entry),
+            None => {
+                section.entries.push(entry);
+                let count = section.entries.len();
+                if count == INDEXED_FROM {
+                    for (at, e) in section.entries.iter().enumerate() {
+                        entry_at.insert((section_index, Caseless(e.key.as_str())), at);
+                    }
+                } else if count > INDEXED_FROM {
+                    entry_at.insert((section_index, Caseless(key)), count - 1);
+                }
+            }
         }
     }
     file
@@ -727,6 +747,33 @@ mod tests {
             Some(("3", 6))
         );
         assert_eq!(a.get("z").map(|e| e.value.as_str()), Some("4"));
+    }
+
+    #[test]
+    fn duplicates_in_long_sections_merge_and_last_wins() {
+        // Past INDEXED_FROM entries, keys are found through the index instead of a scan.
+        let mut text = String::from("[A]\n");
+        for n in 0..20 {
+            text.push_str(&format!("k{n}={n}\n"));
+        }
+        text.push_str("K3=x\nk19=y\n[b]\n[a]\nk5=z\nk20=w\n");
+        let (file, diags) = lex(&text);
+        assert_eq!(
+            diags,
+            vec![
+                ("EDS006", Severity::Error, 22),
+                ("EDS006", Severity::Error, 23),
+                ("EDS005", Severity::Error, 25)
+            ]
+        );
+        let a = &file.sections[0];
+        assert_eq!(a.entries.len(), 21);
+        let value = |key: &str| a.get(key).map(|e| (e.value.as_str(), e.key_span.line));
+        assert_eq!(value("k3"), Some(("x", 22)));
+        assert_eq!(value("k19"), Some(("y", 23)));
+        assert_eq!(value("k5"), Some(("z", 26)));
+        assert_eq!(value("k20"), Some(("w", 27)));
+        assert_eq!(value("k0"), Some(("0", 2)));
     }
 
     #[test]
