@@ -281,6 +281,41 @@ fn classify(name: &str) -> (SectionKind, bool, bool) {
     (SectionKind::Unknown, false, false)
 }
 
+/// The position of `key` in `keys`, computed at compile time (a missing key fails the build).
+const fn key_index(keys: &[&str], key: &str) -> usize {
+    let mut i = 0;
+    while i < keys.len() {
+        let (a, b) = (keys[i].as_bytes(), key.as_bytes());
+        if a.len() == b.len() {
+            let mut j = 0;
+            while j < a.len() && a[j] == b[j] {
+                j += 1;
+            }
+            if j == a.len() {
+                return i;
+            }
+        }
+        i += 1;
+    }
+    panic!("not a known key");
+}
+
+const KEY_ACCESS_TYPE: usize = key_index(OBJECT_KEYS, "AccessType");
+const KEY_COMPACT_SUB_OBJ: usize = key_index(OBJECT_KEYS, "CompactSubObj");
+const KEY_DATA_TYPE: usize = key_index(OBJECT_KEYS, "DataType");
+const KEY_DEFAULT_VALUE: usize = key_index(OBJECT_KEYS, "DefaultValue");
+const KEY_DENOTATION: usize = key_index(OBJECT_KEYS, "Denotation");
+const KEY_DOWNLOAD_FILE: usize = key_index(OBJECT_KEYS, "DownloadFile");
+const KEY_HIGH_LIMIT: usize = key_index(OBJECT_KEYS, "HighLimit");
+const KEY_LOW_LIMIT: usize = key_index(OBJECT_KEYS, "LowLimit");
+const KEY_OBJ_FLAGS: usize = key_index(OBJECT_KEYS, "ObjFlags");
+const KEY_OBJECT_TYPE: usize = key_index(OBJECT_KEYS, "ObjectType");
+const KEY_PDO_MAPPING: usize = key_index(OBJECT_KEYS, "PDOMapping");
+const KEY_PARAMETER_NAME: usize = key_index(OBJECT_KEYS, "ParameterName");
+const KEY_PARAMETER_VALUE: usize = key_index(OBJECT_KEYS, "ParameterValue");
+const KEY_SUB_NUMBER: usize = key_index(OBJECT_KEYS, "SubNumber");
+const KEY_UPLOAD_FILE: usize = key_index(OBJECT_KEYS, "UploadFile");
+
 /// The most keys a known-key list ([`OBJECT_KEYS`], ...) has.
 const MAX_KNOWN_KEYS: usize = 16;
 const _: () = assert!(
@@ -302,6 +337,11 @@ impl<'s> KnownKeys<'s> {
     fn get(&self, key: &str) -> Option<&&'s IniEntry<'s>> {
         let at = self.known.iter().position(|k| *k == key)?;
         self.found.get(at)?.as_ref()
+    }
+
+    /// The entry for `known[at]`.
+    fn at(&self, at: usize) -> Option<&'s IniEntry<'s>> {
+        self.found.get(at).copied().flatten()
     }
 
     /// The found (canonical key, entry) pairs, sorted by key.
@@ -953,11 +993,11 @@ impl Reader {
         object_keys: ObjectKeys,
     ) -> SubObject {
         let (keys, rest) = self.split_keys(section, OBJECT_KEYS);
-        let get = |k: &str| keys.get(k).copied();
+        let get = |at: usize| keys.at(at);
         let data_type = self
-            .number(get("DataType"), u32::from(u16::MAX))
+            .number(get(KEY_DATA_TYPE), u32::from(u16::MAX))
             .and_then(|n| u16::try_from(n.value).ok());
-        let access = match get("AccessType") {
+        let access = match get(KEY_ACCESS_TYPE) {
             Some(entry) => {
                 match self.plain_value(entry) {
                     Some((text, span)) => match AccessType::parse(text) {
@@ -996,8 +1036,12 @@ impl Reader {
         };
         let mut custom = Vec::new();
         // Object-level keys: the caller decides what they mean here.
-        for key in ["ObjectType", "SubNumber", "CompactSubObj"] {
-            if let Some(entry) = get(key) {
+        for (key, at) in [
+            ("ObjectType", KEY_OBJECT_TYPE),
+            ("SubNumber", KEY_SUB_NUMBER),
+            ("CompactSubObj", KEY_COMPACT_SUB_OBJ),
+        ] {
+            if let Some(entry) = get(at) {
                 let dropped = match object_keys {
                     ObjectKeys::Keep => false,
                     ObjectKeys::KeepUnlessVarType => {
@@ -1036,29 +1080,29 @@ impl Reader {
         }
         SubObject {
             sub_index,
-            name: Self::string(get("ParameterName")).unwrap_or_default(),
+            name: Self::string(get(KEY_PARAMETER_NAME)).unwrap_or_default(),
             data_type,
             access,
-            pdo_mapping: self.boolean(get("PDOMapping")),
-            default: Self::raw_value(get("DefaultValue")),
-            parameter_value: Self::raw_value(get("ParameterValue")),
-            low_limit: Self::raw_value(get("LowLimit")),
-            high_limit: Self::raw_value(get("HighLimit")),
+            pdo_mapping: self.boolean(get(KEY_PDO_MAPPING)),
+            default: Self::raw_value(get(KEY_DEFAULT_VALUE)),
+            parameter_value: Self::raw_value(get(KEY_PARAMETER_VALUE)),
+            low_limit: Self::raw_value(get(KEY_LOW_LIMIT)),
+            high_limit: Self::raw_value(get(KEY_HIGH_LIMIT)),
             obj_flags: self
-                .number(get("ObjFlags"), u32::MAX)
+                .number(get(KEY_OBJ_FLAGS), u32::MAX)
                 .map_or(0, |n| n.value),
-            denotation: Self::string(get("Denotation")),
-            upload_file: Self::string(get("UploadFile")),
-            download_file: Self::string(get("DownloadFile")),
+            denotation: Self::string(get(KEY_DENOTATION)),
+            upload_file: Self::string(get(KEY_UPLOAD_FILE)),
+            download_file: Self::string(get(KEY_DOWNLOAD_FILE)),
             span: section.span,
             custom,
             implicit: false,
             key_spans: KeySpans {
-                data_type: get("DataType").map(|e| e.value_span),
-                access: get("AccessType").map(|e| e.value_span),
-                pdo_mapping: get("PDOMapping").map(|e| e.value_span),
-                upload_file: get("UploadFile").map(|e| e.value_span),
-                download_file: get("DownloadFile").map(|e| e.value_span),
+                data_type: get(KEY_DATA_TYPE).map(|e| e.value_span),
+                access: get(KEY_ACCESS_TYPE).map(|e| e.value_span),
+                pdo_mapping: get(KEY_PDO_MAPPING).map(|e| e.value_span),
+                upload_file: get(KEY_UPLOAD_FILE).map(|e| e.value_span),
+                download_file: get(KEY_DOWNLOAD_FILE).map(|e| e.value_span),
             },
         }
     }
