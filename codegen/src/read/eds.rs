@@ -316,6 +316,20 @@ const KEY_PARAMETER_VALUE: usize = key_index(OBJECT_KEYS, "ParameterValue");
 const KEY_SUB_NUMBER: usize = key_index(OBJECT_KEYS, "SubNumber");
 const KEY_UPLOAD_FILE: usize = key_index(OBJECT_KEYS, "UploadFile");
 
+/// An access type written exactly as CiA 306 spells it: what [`AccessType::parse`] gives for it,
+/// without that function's lowercase copy.
+fn canonical_access(text: &str) -> Option<AccessType> {
+    Some(match text {
+        "ro" => AccessType::Ro,
+        "wo" => AccessType::Wo,
+        "rw" => AccessType::Rw,
+        "rwr" => AccessType::Rwr,
+        "rww" => AccessType::Rww,
+        "const" => AccessType::Const,
+        _ => return None,
+    })
+}
+
 /// The most keys a known-key list ([`OBJECT_KEYS`], ...) has.
 const MAX_KNOWN_KEYS: usize = 16;
 const _: () = assert!(
@@ -998,9 +1012,9 @@ impl Reader {
             .number(get(KEY_DATA_TYPE), u32::from(u16::MAX))
             .and_then(|n| u16::try_from(n.value).ok());
         let access = match get(KEY_ACCESS_TYPE) {
-            Some(entry) => {
-                match self.plain_value(entry) {
-                    Some((text, span)) => match AccessType::parse(text) {
+            Some(entry) => match self.plain_value(entry) {
+                Some((text, span)) => {
+                    match canonical_access(text).or_else(|| AccessType::parse(text)) {
                         Some(access) => {
                             if access.as_str() != text {
                                 self.once(
@@ -1028,10 +1042,10 @@ impl Reader {
                         );
                             None
                         }
-                    },
-                    None => None,
+                    }
                 }
-            }
+                None => None,
+            },
             None => None,
         };
         let mut custom = Vec::new();
