@@ -264,8 +264,10 @@ fn line_break<'t>(text: &'t str, at: usize, start: &mut usize, out: &mut Vec<&'t
 }
 
 /// Whether an ASCII byte is white space to [`char::is_whitespace`].
+#[inline]
 fn is_ascii_space(b: u8) -> bool {
-    matches!(b, b'\t' | b'\n' | 0x0B | 0x0C | b'\r' | b' ')
+    // One comparison for the common case, a byte above the space.
+    b <= b' ' && matches!(b, b'\t' | b'\n' | 0x0B | 0x0C | b'\r' | b' ')
 }
 
 /// [`str::trim_start`] for text known to be ASCII or not.
