@@ -24,6 +24,7 @@ use crate::{emit, read, render, validate};
 #[derive(Debug, Default, Clone)]
 pub struct Builder {
     devices: Vec<(PathBuf, Option<String>)>,
+    allowed: Vec<String>,
     out_dir: Option<PathBuf>,
     cargo_output: Option<bool>,
 }
@@ -82,6 +83,15 @@ impl Builder {
         self
     }
 
+    /// Silences the warnings of the rule `code` (e.g. `"EDS308"`) for every device, like an
+    /// `#[allow]`: for a warning the description cannot avoid without lying about the device.
+    /// Errors of that rule still fail the build (the generated code would be wrong); an unknown
+    /// code fails the build too.
+    pub fn allow(mut self, code: &str) -> Self {
+        self.allowed.push(code.to_owned());
+        self
+    }
+
     /// Writes into `dir` instead of `$OUT_DIR`.
     pub fn out_dir(mut self, dir: impl Into<PathBuf>) -> Self {
         self.out_dir = Some(dir.into());
@@ -124,6 +134,15 @@ impl Builder {
             modules: Vec::new(),
             warnings: Vec::new(),
         };
+        let mut allowed = Vec::new();
+        for code in &self.allowed {
+            match crate::rules::by_code(code) {
+                Some(rule) => allowed.push(rule.code),
+                None => errors.push_str(&format!(
+                    "error: edsgen: Builder::allow(\"{code}\"): no such rule (see `edsgen rules`)\n"
+                )),
+            }
+        }
         let mut seen = std::collections::BTreeSet::new();
         for (path, module) in &self.devices {
             if cargo {
@@ -136,7 +155,7 @@ impl Builder {
                 ));
                 continue;
             }
-            match generate_one(path, &module) {
+            match generate_one(path, &module, &allowed) {
                 Ok((code, warnings)) => {
                     let file = out_dir.join(format!("{module}.rs"));
                     if let Err(err) = write_if_changed(&file, &code) {
@@ -185,7 +204,11 @@ fn write_if_changed(file: &Path, code: &str) -> std::io::Result<()> {
 
 /// Reads, validates and generates one device: the code and rendered warnings, or the rendered
 /// errors (and warnings).
-fn generate_one(path: &Path, module: &str) -> Result<(String, Vec<String>), String> {
+fn generate_one(
+    path: &Path,
+    module: &str,
+    allowed: &[&str],
+) -> Result<(String, Vec<String>), String> {
     let read = read::read_file(path).map_err(|err| format!("error: edsgen: {err}\n"))?;
     let name = path.display().to_string();
     let mut diags = read.diagnostics;
@@ -208,6 +231,7 @@ fn generate_one(path: &Path, module: &str) -> Result<(String, Vec<String>), Stri
     let shown: Vec<_> = diags
         .iter()
         .filter(|d| d.severity != Severity::Info)
+        .filter(|d| d.severity == Severity::Error || !allowed.contains(&d.rule.code))
         .cloned()
         .collect();
     let warnings: Vec<_> = shown

@@ -85,3 +85,41 @@ fn missing_file_and_duplicate_module_are_errors() {
     assert!(message.contains("cannot read"), "{message}");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn allowed_warnings_are_silenced_but_errors_still_fail() {
+    let out = temp_dir("allow");
+    let output = Builder::new()
+        .device(card("hd1e.eds"))
+        .allow("eds308")
+        .out_dir(&out)
+        .cargo_output(false)
+        .generate_to()
+        .unwrap();
+    assert_eq!(output.warnings, Vec::<String>::new());
+    assert!(out.join("hd1e.rs").exists());
+
+    let bad = out.join("bad.eds");
+    std::fs::write(&bad, "[FileInfo]\nFileName=bad.eds\n[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=0x1FFFFFFFF\nPDOMapping=0\n").unwrap();
+    let err = Builder::new()
+        .device(&bad)
+        .allow("EDS013")
+        .out_dir(&out)
+        .cargo_output(false)
+        .generate()
+        .unwrap_err();
+    assert!(err.message().contains("error[EDS013]"), "{}", err.message());
+
+    let err = Builder::new()
+        .device(card("hd1e.eds"))
+        .allow("EDS999")
+        .out_dir(&out)
+        .cargo_output(false)
+        .generate()
+        .unwrap_err();
+    assert_eq!(
+        err.message(),
+        "error: edsgen: Builder::allow(\"EDS999\"): no such rule (see `edsgen rules`)\n"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
