@@ -36,7 +36,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 
-use super::ini::{self, IniEntry, IniSection};
+use super::ini::{self, FastHash, IniEntry, IniSection};
 use super::value::{parse_integer, parse_value, split_inline_comment, strips_inline_comment};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
@@ -53,7 +53,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
     let mut reader = Reader {
         device: empty_device(path, format, encoding),
         diags: Vec::new(),
-        reported: HashSet::new(),
+        reported: HashSet::default(),
     };
     reader.check_encoding(&text, encoding);
     let file = ini::parse(&text, &mut reader.diags);
@@ -221,12 +221,12 @@ fn parse_hex_name(text: &str, max_value: u32) -> Option<u32> {
 /// leading zeros (more than four index digits, or a sub-index with a leading 0), and whether `sub`
 /// is spelled other than lowercase.
 fn classify(name: &str) -> (SectionKind, bool, bool) {
-    let lower = name.to_ascii_lowercase();
     for (canonical, kind) in NAMED_SECTIONS {
-        if lower == canonical.to_ascii_lowercase() {
+        if name.eq_ignore_ascii_case(canonical) {
             return (*kind, false, false);
         }
     }
+    let lower = name.to_ascii_lowercase();
     // Module sections: [M<n>...] and tool sections: [Tool<n>].
     let bytes = lower.as_bytes();
     if bytes.first() == Some(&b'm')
@@ -281,22 +281,124 @@ fn classify(name: &str) -> (SectionKind, bool, bool) {
     (SectionKind::Unknown, false, false)
 }
 
+/// The position of `key` in `keys`, computed at compile time (a missing key fails the build).
+const fn key_index(keys: &[&str], key: &str) -> usize {
+    let mut i = 0;
+    while i < keys.len() {
+        let (a, b) = (keys[i].as_bytes(), key.as_bytes());
+        if a.len() == b.len() {
+            let mut j = 0;
+            while j < a.len() && a[j] == b[j] {
+                j += 1;
+            }
+            if j == a.len() {
+                return i;
+            }
+        }
+        i += 1;
+    }
+    panic!("not a known key");
+}
+
+const KEY_ACCESS_TYPE: usize = key_index(OBJECT_KEYS, "AccessType");
+const KEY_COMPACT_SUB_OBJ: usize = key_index(OBJECT_KEYS, "CompactSubObj");
+const KEY_DATA_TYPE: usize = key_index(OBJECT_KEYS, "DataType");
+const KEY_DEFAULT_VALUE: usize = key_index(OBJECT_KEYS, "DefaultValue");
+const KEY_DENOTATION: usize = key_index(OBJECT_KEYS, "Denotation");
+const KEY_DOWNLOAD_FILE: usize = key_index(OBJECT_KEYS, "DownloadFile");
+const KEY_HIGH_LIMIT: usize = key_index(OBJECT_KEYS, "HighLimit");
+const KEY_LOW_LIMIT: usize = key_index(OBJECT_KEYS, "LowLimit");
+const KEY_OBJ_FLAGS: usize = key_index(OBJECT_KEYS, "ObjFlags");
+const KEY_OBJECT_TYPE: usize = key_index(OBJECT_KEYS, "ObjectType");
+const KEY_PDO_MAPPING: usize = key_index(OBJECT_KEYS, "PDOMapping");
+const KEY_PARAMETER_NAME: usize = key_index(OBJECT_KEYS, "ParameterName");
+const KEY_PARAMETER_VALUE: usize = key_index(OBJECT_KEYS, "ParameterValue");
+const KEY_SUB_NUMBER: usize = key_index(OBJECT_KEYS, "SubNumber");
+const KEY_UPLOAD_FILE: usize = key_index(OBJECT_KEYS, "UploadFile");
+
+/// An access type written exactly as CiA 306 spells it: what [`AccessType::parse`] gives for it,
+/// without that function's lowercase copy.
+fn canonical_access(text: &str) -> Option<AccessType> {
+    Some(match text {
+        "ro" => AccessType::Ro,
+        "wo" => AccessType::Wo,
+        "rw" => AccessType::Rw,
+        "rwr" => AccessType::Rwr,
+        "rww" => AccessType::Rww,
+        "const" => AccessType::Const,
+        _ => return None,
+    })
+}
+
+/// The most keys a known-key list ([`OBJECT_KEYS`], ...) has.
+const MAX_KNOWN_KEYS: usize = 16;
+const _: () = assert!(
+    OBJECT_KEYS.len() <= MAX_KNOWN_KEYS
+        && FILE_INFO_KEYS.len() <= MAX_KNOWN_KEYS
+        && DEVICE_INFO_KEYS.len() <= MAX_KNOWN_KEYS
+        && COMMISSIONING_KEYS.len() <= MAX_KNOWN_KEYS
+);
+
+/// The entries of a section found for a list of known keys, by canonical key.
+struct KnownKeys<'s> {
+    known: &'static [&'static str],
+    /// The entry for `known[i]`, at `i`.
+    found: [Option<&'s IniEntry<'s>>; MAX_KNOWN_KEYS],
+}
+
+impl<'s> KnownKeys<'s> {
+    /// The entry for a canonical key.
+    fn get(&self, key: &str) -> Option<&&'s IniEntry<'s>> {
+        let at = self.known.iter().position(|k| *k == key)?;
+        self.found.get(at)?.as_ref()
+    }
+
+    /// The entry for `known[at]`.
+    fn at(&self, at: usize) -> Option<&'s IniEntry<'s>> {
+        self.found.get(at).copied().flatten()
+    }
+
+    /// The found (canonical key, entry) pairs, sorted by key.
+    fn sorted(&self) -> Vec<(&'static str, &'s IniEntry<'s>)> {
+        let mut pairs: Vec<_> = self
+            .known
+            .iter()
+            .zip(self.found.iter())
+            .filter_map(|(key, entry)| entry.map(|e| (*key, e)))
+            .collect();
+        pairs.sort_by_key(|(key, _)| *key);
+        pairs
+    }
+}
+
+/// What `Reader::read_entry` does with the object-level keys (`ObjectType`, `SubNumber`,
+/// `CompactSubObj`) of the section it reads.
+#[derive(Clone, Copy)]
+enum ObjectKeys {
+    /// Keep them in the entry's `custom`.
+    Keep,
+    /// Keep them, except an `ObjectType` of 7 (VAR), which a sub-index section may state.
+    KeepUnlessVarType,
+    /// Leave them out (a VAR or DOMAIN main section: they belong to the object).
+    Drop,
+}
+
 /// The sections that describe one object, gathered before it is built.
 #[derive(Default)]
 struct ObjectSections<'a> {
-    main: Option<&'a IniSection>,
-    subs: BTreeMap<u8, &'a IniSection>,
-    names: Option<&'a IniSection>,
-    values: Option<&'a IniSection>,
-    denotations: Option<&'a IniSection>,
-    links: Option<&'a IniSection>,
+    main: Option<&'a IniSection<'a>>,
+    subs: BTreeMap<u8, &'a IniSection<'a>>,
+    names: Option<&'a IniSection<'a>>,
+    values: Option<&'a IniSection<'a>>,
+    denotations: Option<&'a IniSection<'a>>,
+    links: Option<&'a IniSection<'a>>,
 }
 
 struct Reader {
     device: Device,
     diags: Vec<Diagnostic>,
     /// (rule code, lowercase name) pairs already reported, to report each dialect once per file.
-    reported: HashSet<(&'static str, String)>,
+    reported: HashSet<(&'static str, String), FastHash>,
 }
 
 impl Reader {
@@ -461,8 +563,8 @@ impl Reader {
                 .entries
                 .iter()
                 .map(|e| RawEntry {
-                    key: e.key.clone(),
-                    value: e.value.clone(),
+                    key: e.key.as_str().to_owned(),
+                    value: e.value.as_str().to_owned(),
                     span: e.line_span(),
                 })
                 .collect(),
@@ -474,14 +576,27 @@ impl Reader {
     /// entries that are not in `known`.
     fn split_keys<'s>(
         &mut self,
-        section: &'s IniSection,
-        known: &[&'static str],
-    ) -> (BTreeMap<&'static str, &'s IniEntry>, Vec<&'s IniEntry>) {
-        let mut found = BTreeMap::new();
+        section: &'s IniSection<'s>,
+        known: &'static [&'static str],
+    ) -> (KnownKeys<'s>, Vec<&'s IniEntry<'s>>) {
+        let mut found = KnownKeys {
+            known,
+            found: [None; MAX_KNOWN_KEYS],
+        };
         let mut rest = Vec::new();
         for entry in &section.entries {
-            match known.iter().find(|k| k.eq_ignore_ascii_case(&entry.key)) {
-                Some(canonical) => {
+            // Most files write the canonical spelling: try that before comparing case-blind.
+            let at = known
+                .iter()
+                .position(|k| *k == entry.key.as_str())
+                .or_else(|| {
+                    known
+                        .iter()
+                        .position(|k| k.eq_ignore_ascii_case(&entry.key))
+                });
+            match at {
+                Some(at) => {
+                    let canonical = &known[at];
                     if *canonical != entry.key {
                         self.once(
                             Diagnostic::new(
@@ -492,7 +607,9 @@ impl Reader {
                             canonical,
                         );
                     }
-                    found.insert(*canonical, entry);
+                    if let Some(slot) = found.found.get_mut(at) {
+                        *slot = Some(entry);
+                    }
                 }
                 None => rest.push(entry),
             }
@@ -600,7 +717,7 @@ impl Reader {
     fn string(entry: Option<&IniEntry>) -> Option<String> {
         entry
             .filter(|e| !e.value.is_empty())
-            .map(|e| e.value.clone())
+            .map(|e| e.value.as_str().to_owned())
     }
 
     fn read_file_info(&mut self, section: &IniSection) {
@@ -616,7 +733,7 @@ impl Reader {
             eds_version: keys
                 .get("EDSVersion")
                 .filter(|e| !e.value.is_empty())
-                .map(|e| Spanned::new(e.value.clone(), e.value_span)),
+                .map(|e| Spanned::new(e.value.as_str().to_owned(), e.value_span)),
             description: get("Description"),
             creation_time: get("CreationTime"),
             creation_date: get("CreationDate"),
@@ -627,7 +744,8 @@ impl Reader {
             last_eds: get("LastEDS"),
             span: Some(section.span),
             key_spans: keys
-                .iter()
+                .sorted()
+                .into_iter()
                 .map(|(key, entry)| ((*key).to_owned(), entry.value_span))
                 .collect(),
         };
@@ -769,7 +887,7 @@ impl Reader {
                 continue;
             }
             match self.numbered_key(entry, "Line") {
-                Some(n) => lines.push((n, entry.value.clone())),
+                Some(n) => lines.push((n, entry.value.as_str().to_owned())),
                 None => self.unknown_key(entry, section),
             }
         }
@@ -874,7 +992,7 @@ impl Reader {
     fn raw_value(entry: Option<&IniEntry>) -> Option<ValueSource> {
         entry.filter(|e| !e.value.is_empty()).map(|e| ValueSource {
             value: None,
-            raw: e.value.clone(),
+            raw: e.value.as_str().to_owned(),
             span: e.value_span,
         })
     }
@@ -882,16 +1000,21 @@ impl Reader {
     /// Reads the entry keys of a section (an object's main section for VAR/DOMAIN, or a sub-index
     /// section) into a sub-object. Keys that belong to the object level are returned for the
     /// caller.
-    fn read_entry(&mut self, section: &IniSection, sub_index: u8) -> SubObject {
+    fn read_entry(
+        &mut self,
+        section: &IniSection,
+        sub_index: u8,
+        object_keys: ObjectKeys,
+    ) -> SubObject {
         let (keys, rest) = self.split_keys(section, OBJECT_KEYS);
-        let get = |k: &str| keys.get(k).copied();
+        let get = |at: usize| keys.at(at);
         let data_type = self
-            .number(get("DataType"), u32::from(u16::MAX))
+            .number(get(KEY_DATA_TYPE), u32::from(u16::MAX))
             .and_then(|n| u16::try_from(n.value).ok());
-        let access = match get("AccessType") {
-            Some(entry) => {
-                match self.plain_value(entry) {
-                    Some((text, span)) => match AccessType::parse(text) {
+        let access = match get(KEY_ACCESS_TYPE) {
+            Some(entry) => match self.plain_value(entry) {
+                Some((text, span)) => {
+                    match canonical_access(text).or_else(|| AccessType::parse(text)) {
                         Some(access) => {
                             if access.as_str() != text {
                                 self.once(
@@ -919,22 +1042,43 @@ impl Reader {
                         );
                             None
                         }
-                    },
-                    None => None,
+                    }
                 }
-            }
+                None => None,
+            },
             None => None,
         };
         let mut custom = Vec::new();
         // Object-level keys: the caller decides what they mean here.
-        for key in ["ObjectType", "SubNumber", "CompactSubObj"] {
-            if let Some(entry) = get(key) {
-                custom.push((entry.key.clone(), entry.value.clone()));
+        for (key, at) in [
+            ("ObjectType", KEY_OBJECT_TYPE),
+            ("SubNumber", KEY_SUB_NUMBER),
+            ("CompactSubObj", KEY_COMPACT_SUB_OBJ),
+        ] {
+            if let Some(entry) = get(at) {
+                let dropped = match object_keys {
+                    ObjectKeys::Keep => false,
+                    ObjectKeys::KeepUnlessVarType => {
+                        key == "ObjectType"
+                            && parse_integer(split_inline_comment(&entry.value).0) == Some(7)
+                    }
+                    ObjectKeys::Drop => true,
+                };
+                if dropped {
+                    continue;
+                }
+                custom.push((
+                    entry.key.as_str().to_owned(),
+                    entry.value.as_str().to_owned(),
+                ));
             }
         }
         for entry in rest {
             self.unknown_key(entry, section);
-            custom.push((entry.key.clone(), entry.value.clone()));
+            custom.push((
+                entry.key.as_str().to_owned(),
+                entry.value.as_str().to_owned(),
+            ));
         }
         // CANopenEditor's commented keys, unless the key is also written for real.
         for entry in &section.commented {
@@ -942,34 +1086,37 @@ impl Reader {
                 .iter()
                 .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
             {
-                custom.push((entry.key.clone(), entry.value.clone()));
+                custom.push((
+                    entry.key.as_str().to_owned(),
+                    entry.value.as_str().to_owned(),
+                ));
             }
         }
         SubObject {
             sub_index,
-            name: Self::string(get("ParameterName")).unwrap_or_default(),
+            name: Self::string(get(KEY_PARAMETER_NAME)).unwrap_or_default(),
             data_type,
             access,
-            pdo_mapping: self.boolean(get("PDOMapping")),
-            default: Self::raw_value(get("DefaultValue")),
-            parameter_value: Self::raw_value(get("ParameterValue")),
-            low_limit: Self::raw_value(get("LowLimit")),
-            high_limit: Self::raw_value(get("HighLimit")),
+            pdo_mapping: self.boolean(get(KEY_PDO_MAPPING)),
+            default: Self::raw_value(get(KEY_DEFAULT_VALUE)),
+            parameter_value: Self::raw_value(get(KEY_PARAMETER_VALUE)),
+            low_limit: Self::raw_value(get(KEY_LOW_LIMIT)),
+            high_limit: Self::raw_value(get(KEY_HIGH_LIMIT)),
             obj_flags: self
-                .number(get("ObjFlags"), u32::MAX)
+                .number(get(KEY_OBJ_FLAGS), u32::MAX)
                 .map_or(0, |n| n.value),
-            denotation: Self::string(get("Denotation")),
-            upload_file: Self::string(get("UploadFile")),
-            download_file: Self::string(get("DownloadFile")),
+            denotation: Self::string(get(KEY_DENOTATION)),
+            upload_file: Self::string(get(KEY_UPLOAD_FILE)),
+            download_file: Self::string(get(KEY_DOWNLOAD_FILE)),
             span: section.span,
             custom,
             implicit: false,
             key_spans: KeySpans {
-                data_type: get("DataType").map(|e| e.value_span),
-                access: get("AccessType").map(|e| e.value_span),
-                pdo_mapping: get("PDOMapping").map(|e| e.value_span),
-                upload_file: get("UploadFile").map(|e| e.value_span),
-                download_file: get("DownloadFile").map(|e| e.value_span),
+                data_type: get(KEY_DATA_TYPE).map(|e| e.value_span),
+                access: get(KEY_ACCESS_TYPE).map(|e| e.value_span),
+                pdo_mapping: get(KEY_PDO_MAPPING).map(|e| e.value_span),
+                upload_file: get(KEY_UPLOAD_FILE).map(|e| e.value_span),
+                download_file: get(KEY_DOWNLOAD_FILE).map(|e| e.value_span),
             },
         }
     }
@@ -1062,7 +1209,10 @@ impl Reader {
                 .map_or(0, |n| n.value);
             for entry in rest {
                 self.unknown_key(entry, main);
-                object.custom.push((entry.key.clone(), entry.value.clone()));
+                object.custom.push((
+                    entry.key.as_str().to_owned(),
+                    entry.value.as_str().to_owned(),
+                ));
             }
             // CANopenEditor's commented keys, unless the key is also written for real.
             for entry in &main.commented {
@@ -1071,43 +1221,38 @@ impl Reader {
                     .iter()
                     .any(|(k, _)| k.eq_ignore_ascii_case(&entry.key))
                 {
-                    object.custom.push((entry.key.clone(), entry.value.clone()));
+                    object.custom.push((
+                        entry.key.as_str().to_owned(),
+                        entry.value.as_str().to_owned(),
+                    ));
                 }
             }
             // Standard keys that an ARRAY/RECORD main section does not use without
             // CompactSubObj stay visible to the validator in `custom`.
             if object.compact_sub_obj.is_none() {
-                for (key, entry) in &keys {
+                for (key, entry) in &keys.sorted() {
                     if !matches!(
                         *key,
                         "ParameterName" | "ObjectType" | "SubNumber" | "ObjFlags" | "CompactSubObj"
                     ) {
-                        object.custom.push((entry.key.clone(), entry.value.clone()));
+                        object.custom.push((
+                            entry.key.as_str().to_owned(),
+                            entry.value.as_str().to_owned(),
+                        ));
                     }
                 }
             }
             if let Some(count) = object.compact_sub_obj.clone() {
-                let template = self.read_entry(main, 0);
+                let template = self.read_entry(main, 0, ObjectKeys::Keep);
                 expand_compact_sub_obj(&mut object, &template, count);
             }
             for (sub, section) in &sections.subs {
-                let mut entry = self.read_entry(section, *sub);
-                if let Some(pos) = entry.custom.iter().position(|(k, v)| {
-                    k.eq_ignore_ascii_case("ObjectType")
-                        && parse_integer(split_inline_comment(v).0) == Some(7)
-                }) {
-                    entry.custom.remove(pos);
-                }
+                let entry = self.read_entry(section, *sub, ObjectKeys::KeepUnlessVarType);
                 object.subs.insert(*sub, entry);
             }
         } else {
-            let mut entry = self.read_entry(main, 0);
-            // The object-level keys are not entry keys; remove them from the entry's custom.
-            entry.custom.retain(|(k, _)| {
-                !["ObjectType", "SubNumber", "CompactSubObj"]
-                    .iter()
-                    .any(|o| o.eq_ignore_ascii_case(k))
-            });
+            // The object-level keys are not entry keys: they stay out of the entry's custom.
+            let mut entry = self.read_entry(main, 0, ObjectKeys::Drop);
             object.obj_flags = entry.obj_flags;
             if object_type == ObjectType::Domain {
                 entry.data_type.get_or_insert(BasicType::Domain.index());
@@ -1115,7 +1260,9 @@ impl Reader {
             }
             for key in ["SubNumber", "CompactSubObj"] {
                 if let Some(e) = main.get(key) {
-                    object.custom.push((e.key.clone(), e.value.clone()));
+                    object
+                        .custom
+                        .push((e.key.as_str().to_owned(), e.value.as_str().to_owned()));
                 }
             }
             object.subs.insert(0, entry);
@@ -1190,15 +1337,15 @@ impl Reader {
                     continue;
                 }
                 match what {
-                    What::Name => target.name = entry.value.clone(),
+                    What::Name => target.name = entry.value.as_str().to_owned(),
                     What::Value => {
                         target.parameter_value = Some(ValueSource {
                             value: None,
-                            raw: entry.value.clone(),
+                            raw: entry.value.as_str().to_owned(),
                             span: entry.value_span,
                         })
                     }
-                    What::Denotation => target.denotation = Some(entry.value.clone()),
+                    What::Denotation => target.denotation = Some(entry.value.as_str().to_owned()),
                 }
             }
         }
@@ -1212,7 +1359,26 @@ impl Reader {
     /// Parses every kept value text against its entry's data type, DEFTYPE objects first.
     fn resolve_values(&mut self) {
         type Parsed = (String, Span, Option<Value>);
-        let mut parsed: HashMap<(Span, String, Option<BasicType>), Parsed> = HashMap::new();
+        let mut parsed: HashMap<(Span, String, Option<BasicType>), Parsed, FastHash> =
+            HashMap::default();
+        // Only a span written into several entries (CompactSubObj) can hit the cache: count them
+        // first, so values with a span of their own skip the cache (and its copies).
+        let mut span_uses: HashMap<Span, u32, FastHash> = HashMap::default();
+        for object in self.device.objects.values() {
+            for entry in object.subs.values() {
+                for source in [
+                    &entry.default,
+                    &entry.parameter_value,
+                    &entry.low_limit,
+                    &entry.high_limit,
+                ]
+                .into_iter()
+                .flatten()
+                {
+                    *span_uses.entry(source.span).or_default() += 1;
+                }
+            }
+        }
         for deftypes_pass in [true, false] {
             let mut work = Vec::new();
             for (index, object) in &self.device.objects {
@@ -1240,6 +1406,10 @@ impl Reader {
                     ("HighLimit", &mut entry.high_limit),
                 ] {
                     let Some(source) = slot else { continue };
+                    if span_uses.get(&source.span).copied().unwrap_or(0) < 2 {
+                        resolve_value(source, key, basic, &mut self.diags);
+                        continue;
+                    }
                     // CompactSubObj copies one written value into many entries: parse it (and
                     // report it) once.
                     let cache_key = (source.span, source.raw.clone(), basic);
@@ -1419,7 +1589,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
             sub_index,
             SubObject {
                 sub_index,
-                name: format!("{}{n}", object.name),
+                name: numbered_name(&object.name, n),
                 data_type: template.data_type,
                 access: template.access,
                 pdo_mapping: template.pdo_mapping,
@@ -1438,6 +1608,25 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
             },
         );
     }
+}
+
+/// `<name><n>` (decimal), without the formatting machinery: it runs once per compact sub-object.
+fn numbered_name(name: &str, n: u32) -> String {
+    let mut digits = [0u8; 10];
+    let mut at = digits.len();
+    let mut rest = n;
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (rest % 10) as u8;
+        rest /= 10;
+        if rest == 0 {
+            break;
+        }
+    }
+    let mut out = String::with_capacity(name.len() + digits.len() - at);
+    out.push_str(name);
+    out.extend(digits[at..].iter().map(|d| char::from(*d)));
+    out
 }
 
 /// The entry layout of the PDO communication sub-indices 1..6 (CiA 301): name, data type.

@@ -11,28 +11,157 @@
 //! section also keep the last value (covered by the EDS005 error). Nothing is dropped silently.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::diag::Diagnostic;
 use crate::model::Span;
 use crate::rules;
 
+/// A small, fast, non-cryptographic hasher (the Fx scheme) for the reader's lookup tables, whose
+/// keys are short names; the standard SipHash showed up in profiles.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct FxHasher {
+    hash: u64,
+}
+
+impl FxHasher {
+    fn add(&mut self, word: u64) {
+        const SEED: u64 = 0x51_7c_c1_b7_27_22_0a_95;
+        self.hash = (self.hash.rotate_left(5) ^ word).wrapping_mul(SEED);
+    }
+}
+
+impl Hasher for FxHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        let mut chunks = bytes.chunks_exact(8);
+        for chunk in &mut chunks {
+            let mut word = [0u8; 8];
+            word.copy_from_slice(chunk);
+            self.add(u64::from_le_bytes(word));
+        }
+        let tail = chunks.remainder();
+        if !tail.is_empty() {
+            let mut word = [0u8; 8];
+            word[..tail.len()].copy_from_slice(tail);
+            self.add(u64::from_le_bytes(word));
+        }
+    }
+
+    fn write_u8(&mut self, n: u8) {
+        self.add(u64::from(n));
+    }
+
+    fn write_u16(&mut self, n: u16) {
+        self.add(u64::from(n));
+    }
+
+    fn write_u32(&mut self, n: u32) {
+        self.add(u64::from(n));
+    }
+
+    fn write_u64(&mut self, n: u64) {
+        self.add(n);
+    }
+
+    fn write_usize(&mut self, n: usize) {
+        self.add(n as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.hash
+    }
+}
+
+/// The [`std::hash::BuildHasher`] of [`FxHasher`].
+pub(crate) type FastHash = BuildHasherDefault<FxHasher>;
+
+/// A name hashed and compared ignoring ASCII case, borrowed from the text.
+#[derive(Debug, Clone, Copy)]
+struct Caseless<'t>(&'t str);
+
+impl PartialEq for Caseless<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.eq_ignore_ascii_case(other.0)
+    }
+}
+
+impl Eq for Caseless<'_> {}
+
+impl std::hash::Hash for Caseless<'_> {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        for byte in self.0.bytes() {
+            state.write_u8(byte.to_ascii_lowercase());
+        }
+    }
+}
+
 /// The longest line CiA 306 allows, in characters.
 pub const MAX_LINE_CHARS: usize = 255;
 
+/// A piece of the lexed text, borrowed: the lexer copies no key or value (copies were most of
+/// its cost). Reads like a `&str`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct IniText<'t>(&'t str);
+
+impl<'t> IniText<'t> {
+    /// The text.
+    pub fn as_str(&self) -> &'t str {
+        self.0
+    }
+}
+
+impl std::ops::Deref for IniText<'_> {
+    type Target = str;
+
+    fn deref(&self) -> &str {
+        self.0
+    }
+}
+
+impl std::fmt::Debug for IniText<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Debug::fmt(self.0, f)
+    }
+}
+
+impl std::fmt::Display for IniText<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Display::fmt(self.0, f)
+    }
+}
+
+impl PartialEq<str> for IniText<'_> {
+    fn eq(&self, other: &str) -> bool {
+        self.0 == other
+    }
+}
+
+impl PartialEq<&str> for IniText<'_> {
+    fn eq(&self, other: &&str) -> bool {
+        self.0 == *other
+    }
+}
+
+impl PartialEq<IniText<'_>> for &str {
+    fn eq(&self, other: &IniText<'_>) -> bool {
+        *self == other.0
+    }
+}
+
 /// One `key=value` line.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IniEntry {
+pub struct IniEntry<'t> {
     /// The key as written (trimmed).
-    pub key: String,
+    pub key: IniText<'t>,
     /// Where the key is.
     pub key_span: Span,
     /// The value, trimmed (possibly empty).
-    pub value: String,
+    pub value: IniText<'t>,
     /// Where the value is (length 0 and just after `=` when empty).
     pub value_span: Span,
 }
 
-impl IniEntry {
+impl IniEntry<'_> {
     /// The span of the whole `key=value` text.
     pub fn line_span(&self) -> Span {
         let end = if self.value.is_empty() {
@@ -50,21 +179,21 @@ impl IniEntry {
 
 /// One section: its name and its entries in file order (duplicates already resolved).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IniSection {
+pub struct IniSection<'t> {
     /// The name between the brackets, as first written (trimmed).
     pub name: String,
     /// Where the section header is (the whole `[name]`).
     pub span: Span,
     /// The entries, in file order; a key appears at most once (case-insensitively).
-    pub entries: Vec<IniEntry>,
+    pub entries: Vec<IniEntry<'t>>,
     /// The CANopenEditor comment extensions (`;StorageLocation=RAM`, `;TPDODetectCos=1`) found in
     /// the section, without the `;`. They are comments to CiA 306, and read back by CANopenEditor.
-    pub commented: Vec<IniEntry>,
+    pub commented: Vec<IniEntry<'t>>,
 }
 
-impl IniSection {
+impl<'t> IniSection<'t> {
     /// The entry for `key`, compared case-insensitively.
-    pub fn get(&self, key: &str) -> Option<&IniEntry> {
+    pub fn get(&self, key: &str) -> Option<&IniEntry<'t>> {
         self.entries
             .iter()
             .find(|e| e.key.eq_ignore_ascii_case(key))
@@ -73,9 +202,9 @@ impl IniSection {
 
 /// A lexed file.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct IniFile {
+pub struct IniFile<'t> {
     /// The sections in order of first appearance.
-    pub sections: Vec<IniSection>,
+    pub sections: Vec<IniSection<'t>>,
 }
 
 /// The keys CANopenEditor writes as comments (`;StorageLocation=RAM`) and reads back.
@@ -83,26 +212,34 @@ pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
-    let mut out = Vec::new();
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    // The high bit of each byte of `word` that is zero; a 0x01 byte just above a zero byte may
+    // be flagged too, so every candidate is checked again.
+    let zero_bytes = |word: u64| word.wrapping_sub(ONES) & !word & HIGHS;
     let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len() / 16 + 1);
     let mut start = 0;
-    let mut i = 0;
-    while i < bytes.len() {
-        match bytes[i] {
-            b'\n' => {
-                out.push(&text[start..i]);
-                start = i + 1;
-            }
-            b'\r' => {
-                out.push(&text[start..i]);
-                if bytes.get(i + 1) == Some(&b'\n') {
-                    i += 1;
-                }
-                start = i + 1;
-            }
-            _ => {}
+    // Eight bytes at a time: most bytes are neither CR nor LF.
+    let mut chunks = bytes.chunks_exact(8);
+    let mut base = 0;
+    for chunk in &mut chunks {
+        let mut word = [0u8; 8];
+        word.copy_from_slice(chunk);
+        let word = u64::from_le_bytes(word);
+        let mut candidates = zero_bytes(word ^ (ONES * u64::from(b'\n')))
+            | zero_bytes(word ^ (ONES * u64::from(b'\r')));
+        while candidates != 0 {
+            let at = base + (candidates.trailing_zeros() / 8) as usize;
+            candidates &= candidates - 1;
+            line_break(text, at, &mut start, &mut out);
         }
-        i += 1;
+        base += 8;
+    }
+    for (offset, byte) in chunks.remainder().iter().enumerate() {
+        if matches!(byte, b'\n' | b'\r') {
+            line_break(text, base + offset, &mut start, &mut out);
+        }
     }
     if start < bytes.len() {
         out.push(&text[start..]);
@@ -110,13 +247,87 @@ pub fn lines(text: &str) -> Vec<&str> {
     out
 }
 
+/// Ends the line that starts at `start` if `at` is a line break: a CR or LF at or after `start`
+/// (the LF of a CR LF is skipped).
+#[inline]
+fn line_break<'t>(text: &'t str, at: usize, start: &mut usize, out: &mut Vec<&'t str>) {
+    let bytes = text.as_bytes();
+    let Some(&byte) = bytes.get(at) else { return };
+    if at < *start || !matches!(byte, b'\n' | b'\r') {
+        return;
+    }
+    out.push(&text[*start..at]);
+    *start = at + 1;
+    if byte == b'\r' && bytes.get(at + 1) == Some(&b'\n') {
+        *start += 1;
+    }
+}
+
+/// Whether an ASCII byte is white space to [`char::is_whitespace`].
+#[inline]
+fn is_ascii_space(b: u8) -> bool {
+    // One comparison for the common case, a byte above the space.
+    b <= b' ' && matches!(b, b'\t' | b'\n' | 0x0B | 0x0C | b'\r' | b' ')
+}
+
+/// [`str::trim_start`] for text known to be ASCII or not.
+#[inline]
+fn trim_start_in(s: &str, ascii: bool) -> &str {
+    if ascii {
+        let bytes = s.as_bytes();
+        let mut start = 0;
+        while start < bytes.len() && is_ascii_space(bytes[start]) {
+            start += 1;
+        }
+        &s[start..]
+    } else {
+        s.trim_start()
+    }
+}
+
+/// [`str::trim`] for text known to be ASCII or not.
+#[inline]
+fn trim_in(s: &str, ascii: bool) -> &str {
+    if ascii {
+        let s = trim_start_in(s, true);
+        let bytes = s.as_bytes();
+        let mut end = bytes.len();
+        while end > 0 && is_ascii_space(bytes[end - 1]) {
+            end -= 1;
+        }
+        &s[..end]
+    } else {
+        s.trim()
+    }
+}
+
 fn char_len(s: &str) -> u32 {
     u32::try_from(s.chars().count()).unwrap_or(u32::MAX)
+}
+
+/// [`char_len`] for a piece of a line known to be ASCII or not.
+fn char_len_in(s: &str, ascii: bool) -> u32 {
+    if ascii {
+        u32::try_from(s.len()).unwrap_or(u32::MAX)
+    } else {
+        char_len(s)
+    }
 }
 
 /// The 1-based character column of byte offset `at` in `line`.
 fn column_of(line: &str, at: usize) -> u32 {
     char_len(line.get(..at).unwrap_or(line)).saturating_add(1)
+}
+
+/// [`column_of`] for a line known to be ASCII or not.
+fn column_in(line: &str, at: usize, ascii: bool) -> u32 {
+    if ascii {
+        u32::try_from(at.min(line.len()))
+            .unwrap_or(u32::MAX)
+            .saturating_add(1)
+    } else {
+        column_of(line, at)
+    }
 }
 
 /// Whether a key is written only with `[A-Za-z0-9_]`.
@@ -125,9 +336,9 @@ pub fn is_plain_key(key: &str) -> bool {
 }
 
 /// A `;Key=value` comment line whose key is one of [`COMMENTED_KEYS`], as an entry.
-fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry> {
+fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     let body = line.strip_prefix(';')?;
-    let eq = body.find('=')?;
+    let eq = body.bytes().position(|b| b == b'=')?;
     let key = body[..eq].trim();
     if !COMMENTED_KEYS.iter().any(|k| k.eq_ignore_ascii_case(key)) {
         return None;
@@ -136,25 +347,34 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry> {
     let value = value_raw.trim();
     let value_at = 1 + eq + 1 + (value_raw.len() - value_raw.trim_start().len());
     Some(IniEntry {
-        key: key.to_owned(),
+        key: IniText(key),
         key_span: Span::new(line_no, 2, char_len(key)),
-        value: value.to_owned(),
+        value: IniText(value),
         value_span: Span::new(line_no, column_of(line, value_at), char_len(value)),
     })
 }
 
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006 and EDS007.
-pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
+pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     let mut file = IniFile::default();
-    // Index into `file.sections` of the section that receives entries, and the lowercase keys
-    // seen in the current occurrence of it.
+    // Index into `file.sections` of the section that receives entries, and the keys seen in the
+    // current occurrence of it (compared case-insensitively).
     let mut current: Option<usize> = None;
-    let mut keys_here: Vec<String> = Vec::new();
-    // Lowercase section name -> position in `file.sections`.
-    let mut section_at: HashMap<String, usize> = HashMap::new();
+    let mut keys_here: Vec<&str> = Vec::new();
+    // Section name (case-insensitively) -> position in `file.sections`.
+    let mut section_at: HashMap<Caseless<'t>, usize, FastHash> = HashMap::default();
+    // (section, key case-insensitively) -> position in its entries, for the sections with at
+    // least INDEXED_FROM entries (long object lists, [xxxxValue]); smaller ones are scanned.
+    const INDEXED_FROM: usize = 16;
+    let mut entry_at: HashMap<(usize, Caseless<'t>), usize, FastHash> = HashMap::default();
     for (number, line) in lines(text).into_iter().enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
-        let chars = line.chars().count();
+        // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
+        let chars = if line.len() > MAX_LINE_CHARS {
+            line.chars().count()
+        } else {
+            0
+        };
         if chars > MAX_LINE_CHARS {
             diags.push(
                 Diagnostic::new(
@@ -165,17 +385,18 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 .with_help("shorten the value; some tools truncate long lines"),
             );
         }
-        let trimmed = line.trim();
+        let ascii = line.is_ascii();
+        let trimmed = trim_in(line, ascii);
         if trimmed.is_empty() {
             continue;
         }
-        let indent = line.len() - line.trim_start().len();
-        let first_col = column_of(line, indent);
+        let indent = line.len() - trim_start_in(line, ascii).len();
+        let first_col = column_in(line, indent, ascii);
         if trimmed.starts_with(';') {
             if indent > 0 {
                 diags.push(Diagnostic::new(
                     &rules::INLINE_COMMENT,
-                    Some(Span::new(line_no, first_col, char_len(trimmed))),
+                    Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                     "comment does not start in column 1",
                 ));
             } else if let Some(section) = current.and_then(|i| file.sections.get_mut(i)) {
@@ -186,11 +407,11 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             continue;
         }
         if trimmed.starts_with('[') {
-            let Some(close) = trimmed.find(']') else {
+            let Some(close) = trimmed.bytes().position(|b| b == b']') else {
                 diags.push(
                     Diagnostic::new(
                         &rules::UNPARSEABLE_LINE,
-                        Some(Span::new(line_no, first_col, char_len(trimmed))),
+                        Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                         "section header without a closing `]`",
                     )
                     .with_label("the line is ignored"),
@@ -199,7 +420,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             };
             let inner = &trimmed[1..close];
             let name = inner.trim();
-            let header_span = Span::new(line_no, first_col, char_len(&trimmed[..=close]));
+            let header_span = Span::new(line_no, first_col, char_len_in(&trimmed[..=close], ascii));
             if indent > 0 || name.len() != inner.len() {
                 diags.push(
                     Diagnostic::new(
@@ -220,7 +441,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             } else if !rest.is_empty() {
                 diags.push(Diagnostic::new(
                     &rules::UNPARSEABLE_LINE,
-                    Some(Span::new(line_no, first_col, char_len(trimmed))),
+                    Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                     format!("text `{rest}` after the section header `[{name}]` is ignored"),
                 ));
             }
@@ -235,7 +456,7 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 continue;
             }
             keys_here.clear();
-            if let Some(&existing) = section_at.get(&name.to_ascii_lowercase()) {
+            if let Some(&existing) = section_at.get(&Caseless(name)) {
                 let first_line = file.sections[existing].span.line;
                 diags.push(
                     Diagnostic::new(
@@ -249,22 +470,23 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 );
                 current = Some(existing);
             } else {
-                section_at.insert(name.to_ascii_lowercase(), file.sections.len());
+                section_at.insert(Caseless(name), file.sections.len());
                 current = Some(file.sections.len());
                 file.sections.push(IniSection {
                     name: name.to_owned(),
                     span: header_span,
-                    entries: Vec::new(),
+                    // Most object sections have up to eight keys: one allocation for them.
+                    entries: Vec::with_capacity(8),
                     commented: Vec::new(),
                 });
             }
             continue;
         }
-        let Some(eq) = line.find('=') else {
+        let Some(eq) = line.bytes().position(|b| b == b'=') else {
             diags.push(
                 Diagnostic::new(
                     &rules::UNPARSEABLE_LINE,
-                    Some(Span::new(line_no, first_col, char_len(trimmed))),
+                    Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                     "line is not a comment, a [section] or key=value",
                 )
                 .with_label("the line is ignored")
@@ -273,24 +495,30 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
             continue;
         };
         let key_raw = &line[..eq];
-        let key = key_raw.trim();
-        let key_span = Span::new(line_no, first_col, char_len(key));
+        let key = trim_in(key_raw, ascii);
+        let key_span = Span::new(line_no, first_col, char_len_in(key, ascii));
         let value_raw = &line[eq + 1..];
-        let value = value_raw.trim();
-        let value_at = eq + 1 + (value_raw.len() - value_raw.trim_start().len());
-        let value_span = Span::new(line_no, column_of(line, value_at), char_len(value));
+        let value = trim_in(value_raw, ascii);
+        let value_at = eq + 1 + (value_raw.len() - trim_start_in(value_raw, ascii).len());
+        let value_span = Span::new(
+            line_no,
+            column_in(line, value_at, ascii),
+            char_len_in(value, ascii),
+        );
         if key.is_empty() {
             diags.push(Diagnostic::new(
                 &rules::UNPARSEABLE_LINE,
-                Some(Span::new(line_no, first_col, char_len(trimmed))),
+                Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                 "entry without a key name is ignored",
             ));
             continue;
         }
-        let Some(section) = current.and_then(|i| file.sections.get_mut(i)) else {
+        let Some((section_index, section)) =
+            current.and_then(|i| Some((i, file.sections.get_mut(i)?)))
+        else {
             diags.push(Diagnostic::new(
                 &rules::UNPARSEABLE_LINE,
-                Some(Span::new(line_no, first_col, char_len(trimmed))),
+                Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
                 format!("entry `{key}` before any section is ignored"),
             ));
             continue;
@@ -320,14 +548,22 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 .with_help(help),
             );
         }
-        let lower = key.to_ascii_lowercase();
         let entry = IniEntry {
-            key: key.to_owned(),
+            key: IniText(key),
             key_span,
-            value: value.to_owned(),
+            value: IniText(value),
             value_span,
         };
-        if keys_here.contains(&lower) {
+        let existing = if section.entries.len() >= INDEXED_FROM {
+            entry_at.get(&(section_index, Caseless(key))).copied()
+        } else {
+            section
+                .entries
+                .iter()
+                .position(|e| e.key.eq_ignore_ascii_case(key))
+        };
+        // A key seen in this occurrence of the section is always among the entries.
+        if existing.is_some() && keys_here.iter().any(|k| k.eq_ignore_ascii_case(key)) {
             let first = section.get(key).map_or(0, |e| e.key_span.line);
             diags.push(Diagnostic::new(
                 &rules::DUPLICATE_KEY,
@@ -338,16 +574,21 @@ pub fn parse(text: &str, diags: &mut Vec<Diagnostic>) -> IniFile {
                 ),
             ));
         } else {
-            keys_here.push(lower);
+            keys_here.push(key);
         }
-        if let Some(existing) = section
-            .entries
-            .iter_mut()
-            .find(|e| e.key.eq_ignore_ascii_case(key))
-        {
-            *existing = entry;
-        } else {
-            section.entries.push(entry);
+        match existing.and_then(|at| section.entries.get_mut(at)) {
+            Some(existing) => *existing = entry,
+            None => {
+                section.entries.push(entry);
+                let count = section.entries.len();
+                if count == INDEXED_FROM {
+                    for (at, e) in section.entries.iter().enumerate() {
+                        entry_at.insert((section_index, Caseless(e.key.as_str())), at);
+                    }
+                } else if count > INDEXED_FROM {
+                    entry_at.insert((section_index, Caseless(key)), count - 1);
+                }
+            }
         }
     }
     file
@@ -358,7 +599,7 @@ mod tests {
     use super::*;
     use crate::diag::Severity;
 
-    fn lex(text: &str) -> (IniFile, Vec<(&'static str, Severity, u32)>) {
+    fn lex(text: &str) -> (IniFile<'_>, Vec<(&'static str, Severity, u32)>) {
         let mut diags = Vec::new();
         let file = parse(text, &mut diags);
         let codes = diags
@@ -374,6 +615,71 @@ mod tests {
         assert_eq!(lines("a\n"), vec!["a"]);
         assert_eq!(lines("a\r\n\r\nb"), vec!["a", "", "b"]);
         assert_eq!(lines(""), Vec::<&str>::new());
+    }
+
+    /// The byte-at-a-time line splitter `lines` replaced, as the reference.
+    fn reference_lines(text: &str) -> Vec<&str> {
+        let mut out = Vec::new();
+        let bytes = text.as_bytes();
+        let (mut start, mut i) = (0, 0);
+        while i < bytes.len() {
+            match bytes[i] {
+                b'\n' => {
+                    out.push(&text[start..i]);
+                    start = i + 1;
+                }
+                b'\r' => {
+                    out.push(&text[start..i]);
+                    if bytes.get(i + 1) == Some(&b'\n') {
+                        i += 1;
+                    }
+                    start = i + 1;
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        if start < bytes.len() {
+            out.push(&text[start..]);
+        }
+        out
+    }
+
+    #[test]
+    fn lines_agree_with_the_bytewise_reference() {
+        // Every text of up to 7 characters over {a, CR, LF}, and the same padded past the
+        // eight-byte stride with long runs before and after.
+        let alphabet = ['a', '\r', '\n'];
+        let mut checked = 0;
+        for len in 0..=7u32 {
+            for mut code in 0..3usize.pow(len) {
+                let mut text = String::new();
+                for _ in 0..len {
+                    text.push(alphabet[code % 3]);
+                    code /= 3;
+                }
+                for padded in [
+                    text.clone(),
+                    format!("{}{text}", "x".repeat(13)),
+                    format!("{text}{}", "é".repeat(9)),
+                ] {
+                    assert_eq!(lines(&padded), reference_lines(&padded), "{padded:?}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(
+            checked,
+            3 * (1..=7).map(|n| 3usize.pow(n)).sum::<usize>() + 3
+        );
+    }
+
+    #[test]
+    fn ascii_trims_match_the_unicode_ones() {
+        for text in ["", " ", "\t a \x0B\x0C", "\r\n key \t", "k", " \x1F k\x1F "] {
+            assert_eq!(trim_in(text, true), text.trim(), "{text:?}");
+            assert_eq!(trim_start_in(text, true), text.trim_start(), "{text:?}");
+        }
     }
 
     #[test]
@@ -443,6 +749,33 @@ mod tests {
             Some(("3", 6))
         );
         assert_eq!(a.get("z").map(|e| e.value.as_str()), Some("4"));
+    }
+
+    #[test]
+    fn duplicates_in_long_sections_merge_and_last_wins() {
+        // Past INDEXED_FROM entries, keys are found through the index instead of a scan.
+        let mut text = String::from("[A]\n");
+        for n in 0..20 {
+            text.push_str(&format!("k{n}={n}\n"));
+        }
+        text.push_str("K3=x\nk19=y\n[b]\n[a]\nk5=z\nk20=w\n");
+        let (file, diags) = lex(&text);
+        assert_eq!(
+            diags,
+            vec![
+                ("EDS006", Severity::Error, 22),
+                ("EDS006", Severity::Error, 23),
+                ("EDS005", Severity::Error, 25)
+            ]
+        );
+        let a = &file.sections[0];
+        assert_eq!(a.entries.len(), 21);
+        let value = |key: &str| a.get(key).map(|e| (e.value.as_str(), e.key_span.line));
+        assert_eq!(value("k3"), Some(("x", 22)));
+        assert_eq!(value("k19"), Some(("y", 23)));
+        assert_eq!(value("k5"), Some(("z", 26)));
+        assert_eq!(value("k20"), Some(("w", 27)));
+        assert_eq!(value("k0"), Some(("0", 2)));
     }
 
     #[test]

@@ -49,11 +49,20 @@ fn parse_integer_with_radix(raw: &str) -> Option<(i128, Radix)> {
         return None;
     }
     let mut value: i128 = 0;
-    for c in digits.chars() {
-        let digit = c.to_digit(base)?;
-        value = value
-            .checked_mul(i128::from(base))?
-            .checked_add(i128::from(digit))?;
+    if digits.len() <= 15 {
+        // At most 15 digits cannot overflow 64 bits (16^15 = 2^60): skip the 128-bit checks.
+        let mut small: u64 = 0;
+        for c in digits.chars() {
+            small = small * u64::from(base) + u64::from(c.to_digit(base)?);
+        }
+        value = i128::from(small);
+    } else {
+        for c in digits.chars() {
+            let digit = c.to_digit(base)?;
+            value = value
+                .checked_mul(i128::from(base))?
+                .checked_add(i128::from(digit))?;
+        }
     }
     Some((if negative { -value } else { value }, radix))
 }
@@ -206,7 +215,10 @@ pub fn aggregate_dialects(diags: &mut Vec<Diagnostic>) {
 }
 
 fn contains_nodeid(text: &str) -> bool {
-    text.to_ascii_lowercase().contains("$nodeid")
+    const NEEDLE: &[u8] = b"$nodeid";
+    text.as_bytes()
+        .windows(NEEDLE.len())
+        .any(|w| w.eq_ignore_ascii_case(NEEDLE))
 }
 
 /// Parses a `$NODEID` formula into its offset. Accepted: `$NODEID`, `$NODEID+n{+n}` with optional

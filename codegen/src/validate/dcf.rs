@@ -8,7 +8,7 @@
 //! hundred. XDC files carry the same data (deviceCommissioning, actualValue) and get the same rules.
 
 use super::device_info::STANDARD_BAUD_RATES;
-use super::{at, effective_int, entry_name, short_list};
+use super::{at, effective_int, entry_name, short_list, EntryName};
 use crate::diag::{Diagnostic, Severity};
 use crate::model::{AccessType, Device, Format, ObjectType, Span};
 use crate::rules;
@@ -240,7 +240,7 @@ fn domain_files(device: &Device, out: &mut Vec<Diagnostic>) {
     for o in device.objects.values() {
         for s in o.subs.values() {
             let is_domain = o.object_type == ObjectType::Domain || s.data_type == Some(0x000F);
-            let name = entry_name(device, o.index, s.sub_index);
+            let name = EntryName::new(device, o.index, s.sub_index);
             for (key, file, at_key, max, ok_access) in [
                 (
                     "UploadFile",

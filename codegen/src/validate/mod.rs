@@ -54,6 +54,34 @@ fn entry_name(device: &Device, index: u16, sub: u8) -> String {
     }
 }
 
+/// [`entry_name`] as a [`std::fmt::Display`]: the text is built only when a message uses it.
+struct EntryName<'d> {
+    device: &'d Device,
+    index: u16,
+    sub: u8,
+}
+
+impl<'d> EntryName<'d> {
+    fn new(device: &'d Device, index: u16, sub: u8) -> Self {
+        EntryName { device, index, sub }
+    }
+}
+
+impl std::fmt::Display for EntryName<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&entry_name(self.device, self.index, self.sub))
+    }
+}
+
+/// [`obj`] as a [`std::fmt::Display`]: the text is built only when a message uses it.
+struct ObjName(u16);
+
+impl std::fmt::Display for ObjName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&obj(self.0))
+    }
+}
+
 /// Whether the file is an INI-style description (EDS or DCF), where the INI sections exist.
 fn is_ini(device: &Device) -> bool {
     matches!(device.source.format, Format::Eds | Format::Dcf)

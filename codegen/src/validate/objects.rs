@@ -9,7 +9,7 @@
 //! RECORD gaps are legal (info); ARRAY gaps are warnings, as arrays become `[T; N]`.
 //! Unparseable values and out-of-type-range values are the reader's (EDS012, EDS013).
 
-use super::{at, effective_int, entry_name, obj, value_span};
+use super::{at, effective_int, entry_name, obj, value_span, EntryName, ObjName};
 use crate::diag::{Diagnostic, Severity};
 use crate::model::{
     AccessType, BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource,
@@ -38,7 +38,7 @@ fn sub0_is_special(index: u16) -> bool {
 }
 
 fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
-    let name = obj(o.index);
+    let name = ObjName(o.index);
     if !o.implicit {
         if o.name.trim().is_empty() {
             out.push(
@@ -610,7 +610,7 @@ fn needs_var_keys(o: &Object, sub: &SubObject) -> bool {
 }
 
 fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>) {
-    let name = entry_name(device, o.index, sub.sub_index);
+    let name = EntryName::new(device, o.index, sub.sub_index);
     if o.object_type.has_subs() && !sub.implicit && sub.name.chars().count() > MAX_NAME {
         out.push(
             Diagnostic::new(
@@ -741,7 +741,7 @@ fn is_relative(a: Linear) -> bool {
 }
 
 fn limits(
-    name: &str,
+    name: &dyn std::fmt::Display,
     ty: BasicType,
     o: &Object,
     sub: &SubObject,
@@ -867,7 +867,12 @@ fn limits(
     }
 }
 
-fn nodeid_ranges(name: &str, ty: BasicType, sub: &SubObject, out: &mut Vec<Diagnostic>) {
+fn nodeid_ranges(
+    name: &dyn std::fmt::Display,
+    ty: BasicType,
+    sub: &SubObject,
+    out: &mut Vec<Diagnostic>,
+) {
     let Some((min, max)) = ty.integer_range() else {
         return;
     };
