@@ -112,6 +112,35 @@ pub fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], SdoAbort> {
     data.try_into().map_err(|_| SdoAbort::LengthTooLow)
 }
 
+/// A fixed-size number that a generated `ObjectDictionary::write` decodes from exactly its own
+/// width of little-endian bytes.
+pub trait LeNumber: Sized {
+    /// The value of `data`: `LengthTooHigh` if longer than the type, `LengthTooLow` if shorter.
+    fn from_le(data: &[u8]) -> Result<Self, SdoAbort>;
+}
+
+macro_rules! le_numbers {
+    ($($ty:ty),*) => {$(
+        impl LeNumber for $ty {
+            #[inline]
+            fn from_le(data: &[u8]) -> Result<Self, SdoAbort> {
+                Ok(<$ty>::from_le_bytes(exact(data)?))
+            }
+        }
+    )*};
+}
+le_numbers!(u8, u16, u32, u64, i8, i16, i32, i64, f32, f64);
+
+/// Stores `data` into `field` (exactly the type's width, else the length abort and `field`
+/// unchanged): the write of a plain number in a generated `ObjectDictionary::write`.
+///
+/// Never inlined: there is one copy per number type, and each entry's match arm stays a call.
+#[inline(never)]
+pub fn store<T: LeNumber>(field: &mut T, data: &[u8]) -> Result<(), SdoAbort> {
+    *field = T::from_le(data)?;
+    Ok(())
+}
+
 /// An unsigned integer of exactly `N` little-endian bytes (`N` ≤ 8).
 #[inline]
 pub fn uint_le<const N: usize>(data: &[u8]) -> Result<u64, SdoAbort> {
@@ -326,6 +355,22 @@ mod tests {
         assert_eq!(exact::<2>(&[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
         assert_eq!(exact::<2>(&[1]), Err(SdoAbort::LengthTooLow));
         assert_eq!(exact::<2>(&[1, 2]), Ok([1, 2]));
+    }
+
+    #[test]
+    fn store_takes_exactly_the_width() {
+        let mut field = 7u16;
+        assert_eq!(store(&mut field, &[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
+        assert_eq!(store(&mut field, &[1]), Err(SdoAbort::LengthTooLow));
+        assert_eq!(field, 7);
+        assert_eq!(store(&mut field, &[0x34, 0x12]), Ok(()));
+        assert_eq!(field, 0x1234);
+        let mut real = 0f32;
+        assert_eq!(store(&mut real, &1.5f32.to_le_bytes()), Ok(()));
+        assert_eq!(real, 1.5);
+        let mut signed = 0i8;
+        assert_eq!(store(&mut signed, &[0xFF]), Ok(()));
+        assert_eq!(signed, -1);
     }
 
     #[test]

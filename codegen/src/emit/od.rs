@@ -220,8 +220,11 @@ fn arms(
                 }
                 _ => quote!(#ty::from_le_bytes(t::exact(data)?)),
             };
+            let plain = !matches!(prim, Prim::Bool) && (wire as u32) * 8 >= prim.bits();
             match &e.limits {
                 Some((low, high)) => quote!(self.#path = t::check_limits(#decode, #low, #high)?),
+                // One shared, non-inlined store per type keeps the arm small in flash.
+                None if plain => quote!(t::store(&mut self.#path, data)?),
                 None => quote!(self.#path = #decode),
             }
         }

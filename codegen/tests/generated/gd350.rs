@@ -801,206 +801,160 @@ pub mod gd350 {
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
             use ::edsgen_runtime::typed as t;
             match (index, sub) {
-                (0x1000, 0x00) => self.device_type = u32::from_le_bytes(t::exact(data)?),
+                (0x1000, 0x00) => t::store(&mut self.device_type, data)?,
                 (0x1003, 0x00) => {
-                    self.pre_defined_error_field.number_of_errors = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.pre_defined_error_field.number_of_errors, data)?
                 }
                 (0x1003, sub @ 0x01..=0x02) => {
-                    self.pre_defined_error_field.items[usize::from(sub) - 1] = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.pre_defined_error_field.items[usize::from(sub) - 1],
+                        data,
+                    )?
                 }
                 (0x1008, 0x00) => self.manufacturer_device_name.set(data)?,
                 (0x1009, 0x00) => self.manufacturer_hardware_version.set(data)?,
-                (0x1014, 0x00) => self.cob_id_emcy = u32::from_le_bytes(t::exact(data)?),
+                (0x1014, 0x00) => t::store(&mut self.cob_id_emcy, data)?,
                 (0x1018, 0x00) => {
-                    self.identity_object.number_of_entries = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.identity_object.number_of_entries, data)?
                 }
-                (0x1018, 0x01) => {
-                    self.identity_object.vendor_id = u32::from_le_bytes(t::exact(data)?);
-                }
-                (0x1018, 0x02) => {
-                    self.identity_object.product_code = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
+                (0x1018, 0x01) => t::store(&mut self.identity_object.vendor_id, data)?,
+                (0x1018, 0x02) => t::store(&mut self.identity_object.product_code, data)?,
                 (0x1018, 0x03) => {
-                    self.identity_object.revision_number = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.identity_object.revision_number, data)?
                 }
                 (0x1401, 0x00) => {
-                    self.rpdo2_communication_parameter.highest_sub_index_supported = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self
+                            .rpdo2_communication_parameter
+                            .highest_sub_index_supported,
+                        data,
+                    )?
                 }
                 (0x1401, 0x01) => {
-                    self.rpdo2_communication_parameter.cob_id = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.rpdo2_communication_parameter.cob_id, data)?
                 }
                 (0x1401, 0x02) => {
-                    self.rpdo2_communication_parameter.transmission_type = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.rpdo2_communication_parameter.transmission_type,
+                        data,
+                    )?
                 }
                 (0x1601, 0x00) => {
-                    self.rpdo2_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.rpdo2_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
                 (0x1601, 0x01) => {
-                    self.rpdo2_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.rpdo2_mapping_parameter.mapped_object_1, data)?
                 }
                 (0x1601, 0x02) => {
-                    self.rpdo2_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.rpdo2_mapping_parameter.mapped_object_2, data)?
                 }
                 (0x1601, 0x03) => {
-                    self.rpdo2_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.rpdo2_mapping_parameter.mapped_object_3, data)?
                 }
                 (0x1601, 0x04) => {
-                    self.rpdo2_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.rpdo2_mapping_parameter.mapped_object_4, data)?
                 }
                 (0x1801, 0x00) => {
-                    self.tpdo2_communication_parameter.highest_sub_index_supported = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self
+                            .tpdo2_communication_parameter
+                            .highest_sub_index_supported,
+                        data,
+                    )?
                 }
                 (0x1801, 0x01) => {
-                    self.tpdo2_communication_parameter.cob_id = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo2_communication_parameter.cob_id, data)?
                 }
                 (0x1801, 0x02) => {
-                    self.tpdo2_communication_parameter.transmission_type = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.tpdo2_communication_parameter.transmission_type,
+                        data,
+                    )?
                 }
                 (0x1A01, 0x00) => {
-                    self.tpdo2_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.tpdo2_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
                 (0x1A01, 0x01) => {
-                    self.tpdo2_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo2_mapping_parameter.mapped_object_1, data)?
                 }
                 (0x1A01, 0x02) => {
-                    self.tpdo2_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo2_mapping_parameter.mapped_object_2, data)?
                 }
                 (0x1A01, 0x03) => {
-                    self.tpdo2_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo2_mapping_parameter.mapped_object_3, data)?
                 }
                 (0x1A01, 0x04) => {
-                    self.tpdo2_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo2_mapping_parameter.mapped_object_4, data)?
                 }
                 (0x1A02, 0x00) => {
-                    self.tpdo3_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.tpdo3_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
                 (0x1A02, 0x01) => {
-                    self.tpdo3_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo3_mapping_parameter.mapped_object_1, data)?
                 }
                 (0x1A02, 0x02) => {
-                    self.tpdo3_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo3_mapping_parameter.mapped_object_2, data)?
                 }
                 (0x1A02, 0x03) => {
-                    self.tpdo3_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo3_mapping_parameter.mapped_object_3, data)?
                 }
                 (0x1A02, 0x04) => {
-                    self.tpdo3_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo3_mapping_parameter.mapped_object_4, data)?
                 }
                 (0x1A02, 0x05) => {
-                    self.tpdo3_mapping_parameter.mapped_object_5 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo3_mapping_parameter.mapped_object_5, data)?
                 }
                 (0x1A03, 0x00) => {
-                    self.tpdo4_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.tpdo4_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
                 (0x1A03, 0x01) => {
-                    self.tpdo4_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo4_mapping_parameter.mapped_object_1, data)?
                 }
                 (0x1A03, 0x02) => {
-                    self.tpdo4_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo4_mapping_parameter.mapped_object_2, data)?
                 }
                 (0x1A03, 0x03) => {
-                    self.tpdo4_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.tpdo4_mapping_parameter.mapped_object_3, data)?
                 }
                 (0x2000, 0x00) => {
-                    self.returned_values.number_of_entries = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.returned_values.number_of_entries, data)?
                 }
                 (0x2000, sub @ 0x01..=0x04) => {
-                    self.returned_values.items[usize::from(sub) - 1] = u16::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(
+                        &mut self.returned_values.items[usize::from(sub) - 1],
+                        data,
+                    )?
                 }
-                (0x2001, 0x00) => self.status_word = u16::from_le_bytes(t::exact(data)?),
-                (0x2002, 0x00) => self.nibble = u8::from_le_bytes(t::exact(data)?),
+                (0x2001, 0x00) => t::store(&mut self.status_word, data)?,
+                (0x2002, 0x00) => t::store(&mut self.nibble, data)?,
                 (0x2003, 0x00) => {
-                    self.sparse_record.highest_sub_index_supported = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.sparse_record.highest_sub_index_supported, data)?
                 }
                 (0x2003, 0x01) => {
                     self.sparse_record.signed_24 = t::int_le::<3>(data)? as i32;
                 }
-                (0x2003, 0x02) => {
-                    self.sparse_record.type_ = i8::from_le_bytes(t::exact(data)?);
-                }
-                (0x2003, 0x05) => {
-                    self.sparse_record.big = u64::from_le_bytes(t::exact(data)?);
-                }
+                (0x2003, 0x02) => t::store(&mut self.sparse_record.type_, data)?,
+                (0x2003, 0x05) => t::store(&mut self.sparse_record.big, data)?,
                 (0x2004, 0x00) => self.flag = t::boolean(data)?,
-                (0x2005, 0x00) => self.gain = f32::from_le_bytes(t::exact(data)?),
+                (0x2005, 0x00) => t::store(&mut self.gain, data)?,
                 (0x2006, 0x00) => self.tag.set(data)?,
-                (0x2100, 0x00) => {
-                    self.settings.number_of_entries = u8::from_le_bytes(t::exact(data)?);
-                }
+                (0x2100, 0x00) => t::store(&mut self.settings.number_of_entries, data)?,
                 (0x2100, sub @ 0x01..=0x04) => {
-                    self.settings.items[usize::from(sub) - 1] = u16::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                    t::store(&mut self.settings.items[usize::from(sub) - 1], data)?
                 }
-                (0x2101, 0x00) => self.control_word = u16::from_le_bytes(t::exact(data)?),
+                (0x2101, 0x00) => t::store(&mut self.control_word, data)?,
                 (0x2102, 0x00) => {
                     self.setting_limited = t::check_limits(
                         u16::from_le_bytes(t::exact(data)?),
@@ -1008,10 +962,8 @@ pub mod gd350 {
                         0x1388,
                     )?;
                 }
-                (0x6040, 0x00) => self.controlword = u16::from_le_bytes(t::exact(data)?),
-                (0x6041, 0x00) => {
-                    self.status_word_6041 = u16::from_le_bytes(t::exact(data)?);
-                }
+                (0x6040, 0x00) => t::store(&mut self.controlword, data)?,
+                (0x6041, 0x00) => t::store(&mut self.status_word_6041, data)?,
                 _ => return Err(t::missing(&ENTRIES, index, sub)),
             }
             Ok(())
