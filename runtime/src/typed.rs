@@ -181,6 +181,22 @@ pub fn check_limits<T: PartialOrd>(value: T, low: T, high: T) -> Result<T, SdoAb
     }
 }
 
+/// Where (index, sub) is in `entries` (sorted by index, then sub-index): a generated `read` or
+/// `write` dispatches on this position. `NoObject` if the index is absent, `NoSubIndex` if only
+/// the sub-index is.
+#[inline(never)]
+pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usize, SdoAbort> {
+    entries
+        .binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub)))
+        .map_err(|_| {
+            if entries.iter().any(|e| e.index == index) {
+                SdoAbort::NoSubIndex
+            } else {
+                SdoAbort::NoObject
+            }
+        })
+}
+
 /// The abort for an (index, sub) that is not in `entries`: `NoSubIndex` when the index exists,
 /// else `NoObject`.
 pub fn missing(entries: &[EntryDescriptor], index: u16, sub: u8) -> SdoAbort {
@@ -355,6 +371,25 @@ mod tests {
         assert_eq!(exact::<2>(&[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
         assert_eq!(exact::<2>(&[1]), Err(SdoAbort::LengthTooLow));
         assert_eq!(exact::<2>(&[1, 2]), Ok([1, 2]));
+    }
+
+    #[test]
+    fn position_finds_entries_and_tells_missing_index_from_sub() {
+        use crate::od::{Access, DataType};
+        let entries = [
+            EntryDescriptor::new(0x1000, 0, DataType::Unsigned32, Access::Ro, false, 4),
+            EntryDescriptor::new(0x1018, 0, DataType::Unsigned8, Access::Ro, false, 1),
+            EntryDescriptor::new(0x1018, 2, DataType::Unsigned32, Access::Ro, false, 4),
+            EntryDescriptor::new(0x6040, 0, DataType::Unsigned16, Access::Rw, true, 2),
+        ];
+        assert_eq!(position(&entries, 0x1000, 0), Ok(0));
+        assert_eq!(position(&entries, 0x1018, 2), Ok(2));
+        assert_eq!(position(&entries, 0x6040, 0), Ok(3));
+        assert_eq!(position(&entries, 0x1018, 1), Err(SdoAbort::NoSubIndex));
+        assert_eq!(position(&entries, 0x6040, 1), Err(SdoAbort::NoSubIndex));
+        assert_eq!(position(&entries, 0x1001, 0), Err(SdoAbort::NoObject));
+        assert_eq!(position(&entries, 0x7000, 0), Err(SdoAbort::NoObject));
+        assert_eq!(position(&[], 0x1000, 0), Err(SdoAbort::NoObject));
     }
 
     #[test]
