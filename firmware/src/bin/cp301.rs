@@ -22,8 +22,8 @@ static NODE_RAM_BYTES: u32 = core::mem::size_of::<Node<cp301::Od>>() as u32;
 #[entry]
 fn main() -> ! {
     let (now, _) = common::receive();
-    let Ok(node) = Node::new(cp301::Od::new(common::NODE_ID), common::NODE_ID, now) else {
+    let Ok(mut node) = Node::new(cp301::Od::new(common::NODE_ID), common::NODE_ID, now) else {
         panic!("node-ID out of range");
     };
-    common::run(node)
+    common::run(&mut node)
 }

@@ -22,8 +22,8 @@ static NODE_RAM_BYTES: u32 = core::mem::size_of::<Node<minimal_od::MinimalOd>>()
 fn main() -> ! {
     let (now, _) = common::receive();
     let od = minimal_od::MinimalOd::new(common::NODE_ID);
-    let Ok(node) = Node::new(od, common::NODE_ID, now) else {
+    let Ok(mut node) = Node::new(od, common::NODE_ID, now) else {
         panic!("node-ID out of range");
     };
-    common::run(node)
+    common::run(&mut node)
 }
