@@ -197,6 +197,38 @@ fn entries_are_sorted_and_found() {
     assert_eq!((s.size, s.access), (32, edsgen_runtime::Access::Rw));
 }
 
+/// `read` and `write` dispatch on the position in `ENTRIES`: every described entry is served at
+/// its own address, and no two addresses share a value.
+#[test]
+fn every_entry_reads_and_writes_its_own_value() {
+    let mut od = Od::new(3);
+    let addresses: Vec<(u16, u8, usize)> = od
+        .entries()
+        .iter()
+        .map(|e| (e.index, e.sub, usize::from(e.size)))
+        .collect();
+    let mut written = Vec::new();
+    for (i, &(index, sub, size)) in addresses.iter().enumerate() {
+        // A pattern unique to this entry (its position in the first byte); limited entries may
+        // refuse it, which leaves them out of the check.
+        let len = od.value_len(index, sub).unwrap().max(1).min(size);
+        let pattern: Vec<u8> = (0..len)
+            .map(|k| (i as u8).wrapping_add(k as u8 * 7))
+            .collect();
+        if od.write(index, sub, &pattern).is_ok() {
+            assert_eq!(read_all(&od, index, sub), pattern, "{index:04X}h sub {sub}");
+            written.push((index, sub, pattern));
+        }
+    }
+    assert!(
+        written.len() > addresses.len() / 2,
+        "most entries take a write"
+    );
+    for (index, sub, pattern) in written {
+        assert_eq!(read_all(&od, index, sub), pattern, "{index:04X}h sub {sub}");
+    }
+}
+
 #[test]
 fn read_gives_little_endian_bytes_and_honours_offset() {
     let od = Od::new(3);

@@ -28,7 +28,7 @@ fn transmit(frame: CanFrame) {
 }
 
 /// Runs a node forever.
-pub fn run<O: ObjectDictionary>(mut node: Node<O>) -> ! {
+pub fn run<O: ObjectDictionary>(node: &mut Node<O>) -> ! {
     loop {
         let (now, frame) = receive();
         if let Some(frame) = frame {

@@ -130,6 +130,17 @@ impl<O: ?Sized> NodeHooks<O> for () {}
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct InvalidNodeId(pub u8);
 
+/// The earlier of two optional instants (either one when the other is `None`). Not inlined:
+/// [`Node::poll_timeout`] calls it once per timer, and one copy keeps that small in flash.
+#[inline(never)]
+pub(crate) fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, None) => a,
+        (None, b) => b,
+    }
+}
+
 /// Reads an unsigned value of up to 4 bytes, zero-extended.
 pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u8) -> Option<u32> {
     let mut bytes = [0u8; 4];
@@ -932,11 +943,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
         let mut next = self.error_control.next_deadline();
-        let mut consider = |at: Option<Instant>| {
-            if let Some(at) = at {
-                next = Some(next.map_or(at, |n: Instant| n.min(at)));
-            }
-        };
+        let mut consider = |at: Option<Instant>| next = earliest(next, at);
         consider(self.sync.next);
         consider(self.sync.timeout);
         if self.state != NmtState::Stopped {

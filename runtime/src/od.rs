@@ -212,19 +212,10 @@ pub trait ObjectDictionary {
     /// The descriptor of (index, sub): `NoObject` if the index is absent, `NoSubIndex` if only
     /// the sub-index is.
     fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
+        // The search generated `read`/`write` dispatch on too: one copy in flash.
         let entries = self.entries();
-        match entries.binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub))) {
-            Ok(pos) => Ok(&entries[pos]),
-            Err(pos) => {
-                let index_exists = entries.get(pos).is_some_and(|e| e.index == index)
-                    || (pos > 0 && entries[pos - 1].index == index);
-                Err(if index_exists {
-                    SdoAbort::NoSubIndex
-                } else {
-                    SdoAbort::NoObject
-                })
-            }
-        }
+        let pos = crate::typed::position(entries, index, sub)?;
+        entries.get(pos).ok_or(SdoAbort::NoObject)
     }
 
     /// The current length in bytes of the value at (index, sub) (shorter than the capacity for a

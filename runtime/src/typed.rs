@@ -112,6 +112,35 @@ pub fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], SdoAbort> {
     data.try_into().map_err(|_| SdoAbort::LengthTooLow)
 }
 
+/// A fixed-size number that a generated `ObjectDictionary::write` decodes from exactly its own
+/// width of little-endian bytes.
+pub trait LeNumber: Sized {
+    /// The value of `data`: `LengthTooHigh` if longer than the type, `LengthTooLow` if shorter.
+    fn from_le(data: &[u8]) -> Result<Self, SdoAbort>;
+}
+
+macro_rules! le_numbers {
+    ($($ty:ty),*) => {$(
+        impl LeNumber for $ty {
+            #[inline]
+            fn from_le(data: &[u8]) -> Result<Self, SdoAbort> {
+                Ok(<$ty>::from_le_bytes(exact(data)?))
+            }
+        }
+    )*};
+}
+le_numbers!(u8, u16, u32, u64, i8, i16, i32, i64, f32, f64);
+
+/// Stores `data` into `field` (exactly the type's width, else the length abort and `field`
+/// unchanged): the write of a plain number in a generated `ObjectDictionary::write`.
+///
+/// Never inlined: there is one copy per number type, and each entry's match arm stays a call.
+#[inline(never)]
+pub fn store<T: LeNumber>(field: &mut T, data: &[u8]) -> Result<(), SdoAbort> {
+    *field = T::from_le(data)?;
+    Ok(())
+}
+
 /// An unsigned integer of exactly `N` little-endian bytes (`N` ≤ 8).
 #[inline]
 pub fn uint_le<const N: usize>(data: &[u8]) -> Result<u64, SdoAbort> {
@@ -150,6 +179,22 @@ pub fn check_limits<T: PartialOrd>(value: T, low: T, high: T) -> Result<T, SdoAb
     } else {
         Ok(value)
     }
+}
+
+/// Where (index, sub) is in `entries` (sorted by index, then sub-index): a generated `read` or
+/// `write` dispatches on this position. `NoObject` if the index is absent, `NoSubIndex` if only
+/// the sub-index is.
+#[inline(never)]
+pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usize, SdoAbort> {
+    entries
+        .binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub)))
+        .map_err(|_| {
+            if entries.iter().any(|e| e.index == index) {
+                SdoAbort::NoSubIndex
+            } else {
+                SdoAbort::NoObject
+            }
+        })
 }
 
 /// The abort for an (index, sub) that is not in `entries`: `NoSubIndex` when the index exists,
@@ -326,6 +371,41 @@ mod tests {
         assert_eq!(exact::<2>(&[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
         assert_eq!(exact::<2>(&[1]), Err(SdoAbort::LengthTooLow));
         assert_eq!(exact::<2>(&[1, 2]), Ok([1, 2]));
+    }
+
+    #[test]
+    fn position_finds_entries_and_tells_missing_index_from_sub() {
+        use crate::od::{Access, DataType};
+        let entries = [
+            EntryDescriptor::new(0x1000, 0, DataType::Unsigned32, Access::Ro, false, 4),
+            EntryDescriptor::new(0x1018, 0, DataType::Unsigned8, Access::Ro, false, 1),
+            EntryDescriptor::new(0x1018, 2, DataType::Unsigned32, Access::Ro, false, 4),
+            EntryDescriptor::new(0x6040, 0, DataType::Unsigned16, Access::Rw, true, 2),
+        ];
+        assert_eq!(position(&entries, 0x1000, 0), Ok(0));
+        assert_eq!(position(&entries, 0x1018, 2), Ok(2));
+        assert_eq!(position(&entries, 0x6040, 0), Ok(3));
+        assert_eq!(position(&entries, 0x1018, 1), Err(SdoAbort::NoSubIndex));
+        assert_eq!(position(&entries, 0x6040, 1), Err(SdoAbort::NoSubIndex));
+        assert_eq!(position(&entries, 0x1001, 0), Err(SdoAbort::NoObject));
+        assert_eq!(position(&entries, 0x7000, 0), Err(SdoAbort::NoObject));
+        assert_eq!(position(&[], 0x1000, 0), Err(SdoAbort::NoObject));
+    }
+
+    #[test]
+    fn store_takes_exactly_the_width() {
+        let mut field = 7u16;
+        assert_eq!(store(&mut field, &[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
+        assert_eq!(store(&mut field, &[1]), Err(SdoAbort::LengthTooLow));
+        assert_eq!(field, 7);
+        assert_eq!(store(&mut field, &[0x34, 0x12]), Ok(()));
+        assert_eq!(field, 0x1234);
+        let mut real = 0f32;
+        assert_eq!(store(&mut real, &1.5f32.to_le_bytes()), Ok(()));
+        assert_eq!(real, 1.5);
+        let mut signed = 0i8;
+        assert_eq!(store(&mut signed, &[0xFF]), Ok(()));
+        assert_eq!(signed, -1);
     }
 
     #[test]

@@ -188,6 +188,7 @@ fn key(index: u16, sub: u8) -> TokenStream {
 fn arms(
     e: &EntryPlan,
     key: TokenStream,
+    position: TokenStream,
     path: &TokenStream,
 ) -> (TokenStream, TokenStream, Option<TokenStream>) {
     let read_source = match e.ty {
@@ -220,16 +221,19 @@ fn arms(
                 }
                 _ => quote!(#ty::from_le_bytes(t::exact(data)?)),
             };
+            let plain = !matches!(prim, Prim::Bool) && (wire as u32) * 8 >= prim.bits();
             match &e.limits {
                 Some((low, high)) => quote!(self.#path = t::check_limits(#decode, #low, #high)?),
+                // One shared, non-inlined store per type keeps the arm small in flash.
+                None if plain => quote!(t::store(&mut self.#path, data)?),
                 None => quote!(self.#path = #decode),
             }
         }
     };
     let len = matches!(e.ty, RustType::Bytes(_)).then(|| quote!(#key => Ok(self.#path.len()),));
     (
-        quote!(#key => #read_source,),
-        quote!(#key => #write_stmt,),
+        quote!(#position => #read_source,),
+        quote!(#position => #write_stmt,),
         len,
     )
 }
@@ -239,6 +243,20 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
     let mut len_arms = Vec::new();
     let mut read_arms = Vec::new();
     let mut write_arms = Vec::new();
+    // `read` and `write` dispatch on the entry's position in `ENTRIES` (one binary search, then
+    // a dense jump table), which is much smaller in flash than a match on (index, sub).
+    let mut next_position = 0usize;
+    let mut position = |count: usize| {
+        let first = next_position;
+        next_position += count;
+        let start = Literal::usize_unsuffixed(first);
+        if count == 1 {
+            quote!(#start)
+        } else {
+            let end = Literal::usize_unsuffixed(first + count - 1);
+            quote!(#start..=#end)
+        }
+    };
     for object in &plan.objects {
         if let ObjectPlan::Array {
             field,
@@ -261,7 +279,7 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             });
             if uniform && items.len() > 1 {
                 let (e0, e) = (&sub0.1, &items[0]);
-                let (r, w, l) = arms(e0, key(e0.index, e0.sub), &e0.path);
+                let (r, w, l) = arms(e0, key(e0.index, e0.sub), position(1), &e0.path);
                 read_arms.push(r);
                 write_arms.push(w);
                 len_arms.extend(l);
@@ -269,7 +287,7 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
                 let last = hex8(items.len() as u8);
                 let ranged_key = quote!((#index, sub @ 0x01..=#last));
                 let path = quote!(#field.#items_field[usize::from(sub) - 1]);
-                let (r, w, l) = arms(e, ranged_key, &path);
+                let (r, w, l) = arms(e, ranged_key, position(items.len()), &path);
                 read_arms.push(r);
                 write_arms.push(w);
                 len_arms.extend(l);
@@ -277,7 +295,7 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             }
         }
         for e in object.entries() {
-            let (r, w, l) = arms(e, key(e.index, e.sub), &e.path);
+            let (r, w, l) = arms(e, key(e.index, e.sub), position(1), &e.path);
             read_arms.push(r);
             write_arms.push(w);
             len_arms.extend(l);
@@ -304,7 +322,7 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             quote! {
                 use ::edsgen_runtime::typed as t;
                 #scratch
-                let value: &[u8] = match (index, sub) {
+                let value: &[u8] = match t::position(&ENTRIES, index, sub)? {
                     #(#read_arms)*
                     _ => return Err(t::missing(&ENTRIES, index, sub)),
                 };
@@ -312,7 +330,7 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             },
             quote! {
                 use ::edsgen_runtime::typed as t;
-                match (index, sub) {
+                match t::position(&ENTRIES, index, sub)? {
                     #(#write_arms)*
                     _ => return Err(t::missing(&ENTRIES, index, sub)),
                 }

@@ -527,16 +527,16 @@ pub mod gd350 {
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
             use ::edsgen_runtime::typed as t;
             let mut s = [0u8; 8];
-            let value: &[u8] = match (index, sub) {
-                (0x1000, 0x00) => t::le(&mut s, u64::from(self.device_type), 4),
-                (0x1003, 0x00) => {
+            let value: &[u8] = match t::position(&ENTRIES, index, sub)? {
+                0 => t::le(&mut s, u64::from(self.device_type), 4),
+                1 => {
                     t::le(
                         &mut s,
                         u64::from(self.pre_defined_error_field.number_of_errors),
                         1,
                     )
                 }
-                (0x1003, sub @ 0x01..=0x02) => {
+                2..=3 => {
                     t::le(
                         &mut s,
                         u64::from(
@@ -545,22 +545,14 @@ pub mod gd350 {
                         4,
                     )
                 }
-                (0x1008, 0x00) => self.manufacturer_device_name.as_bytes(),
-                (0x1009, 0x00) => self.manufacturer_hardware_version.as_bytes(),
-                (0x1014, 0x00) => t::le(&mut s, u64::from(self.cob_id_emcy), 4),
-                (0x1018, 0x00) => {
-                    t::le(&mut s, u64::from(self.identity_object.number_of_entries), 1)
-                }
-                (0x1018, 0x01) => {
-                    t::le(&mut s, u64::from(self.identity_object.vendor_id), 4)
-                }
-                (0x1018, 0x02) => {
-                    t::le(&mut s, u64::from(self.identity_object.product_code), 4)
-                }
-                (0x1018, 0x03) => {
-                    t::le(&mut s, u64::from(self.identity_object.revision_number), 4)
-                }
-                (0x1401, 0x00) => {
+                4 => self.manufacturer_device_name.as_bytes(),
+                5 => self.manufacturer_hardware_version.as_bytes(),
+                6 => t::le(&mut s, u64::from(self.cob_id_emcy), 4),
+                7 => t::le(&mut s, u64::from(self.identity_object.number_of_entries), 1),
+                8 => t::le(&mut s, u64::from(self.identity_object.vendor_id), 4),
+                9 => t::le(&mut s, u64::from(self.identity_object.product_code), 4),
+                10 => t::le(&mut s, u64::from(self.identity_object.revision_number), 4),
+                11 => {
                     t::le(
                         &mut s,
                         u64::from(
@@ -571,56 +563,56 @@ pub mod gd350 {
                         1,
                     )
                 }
-                (0x1401, 0x01) => {
+                12 => {
                     t::le(
                         &mut s,
                         u64::from(self.rpdo2_communication_parameter.cob_id),
                         4,
                     )
                 }
-                (0x1401, 0x02) => {
+                13 => {
                     t::le(
                         &mut s,
                         u64::from(self.rpdo2_communication_parameter.transmission_type),
                         1,
                     )
                 }
-                (0x1601, 0x00) => {
+                14 => {
                     t::le(
                         &mut s,
                         u64::from(self.rpdo2_mapping_parameter.number_of_mapped_objects),
                         1,
                     )
                 }
-                (0x1601, 0x01) => {
+                15 => {
                     t::le(
                         &mut s,
                         u64::from(self.rpdo2_mapping_parameter.mapped_object_1),
                         4,
                     )
                 }
-                (0x1601, 0x02) => {
+                16 => {
                     t::le(
                         &mut s,
                         u64::from(self.rpdo2_mapping_parameter.mapped_object_2),
                         4,
                     )
                 }
-                (0x1601, 0x03) => {
+                17 => {
                     t::le(
                         &mut s,
                         u64::from(self.rpdo2_mapping_parameter.mapped_object_3),
                         4,
                     )
                 }
-                (0x1601, 0x04) => {
+                18 => {
                     t::le(
                         &mut s,
                         u64::from(self.rpdo2_mapping_parameter.mapped_object_4),
                         4,
                     )
                 }
-                (0x1801, 0x00) => {
+                19 => {
                     t::le(
                         &mut s,
                         u64::from(
@@ -631,164 +623,160 @@ pub mod gd350 {
                         1,
                     )
                 }
-                (0x1801, 0x01) => {
+                20 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo2_communication_parameter.cob_id),
                         4,
                     )
                 }
-                (0x1801, 0x02) => {
+                21 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo2_communication_parameter.transmission_type),
                         1,
                     )
                 }
-                (0x1A01, 0x00) => {
+                22 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo2_mapping_parameter.number_of_mapped_objects),
                         1,
                     )
                 }
-                (0x1A01, 0x01) => {
+                23 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo2_mapping_parameter.mapped_object_1),
                         4,
                     )
                 }
-                (0x1A01, 0x02) => {
+                24 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo2_mapping_parameter.mapped_object_2),
                         4,
                     )
                 }
-                (0x1A01, 0x03) => {
+                25 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo2_mapping_parameter.mapped_object_3),
                         4,
                     )
                 }
-                (0x1A01, 0x04) => {
+                26 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo2_mapping_parameter.mapped_object_4),
                         4,
                     )
                 }
-                (0x1A02, 0x00) => {
+                27 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo3_mapping_parameter.number_of_mapped_objects),
                         1,
                     )
                 }
-                (0x1A02, 0x01) => {
+                28 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo3_mapping_parameter.mapped_object_1),
                         4,
                     )
                 }
-                (0x1A02, 0x02) => {
+                29 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo3_mapping_parameter.mapped_object_2),
                         4,
                     )
                 }
-                (0x1A02, 0x03) => {
+                30 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo3_mapping_parameter.mapped_object_3),
                         4,
                     )
                 }
-                (0x1A02, 0x04) => {
+                31 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo3_mapping_parameter.mapped_object_4),
                         4,
                     )
                 }
-                (0x1A02, 0x05) => {
+                32 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo3_mapping_parameter.mapped_object_5),
                         4,
                     )
                 }
-                (0x1A03, 0x00) => {
+                33 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo4_mapping_parameter.number_of_mapped_objects),
                         1,
                     )
                 }
-                (0x1A03, 0x01) => {
+                34 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo4_mapping_parameter.mapped_object_1),
                         4,
                     )
                 }
-                (0x1A03, 0x02) => {
+                35 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo4_mapping_parameter.mapped_object_2),
                         4,
                     )
                 }
-                (0x1A03, 0x03) => {
+                36 => {
                     t::le(
                         &mut s,
                         u64::from(self.tpdo4_mapping_parameter.mapped_object_3),
                         4,
                     )
                 }
-                (0x2000, 0x00) => {
-                    t::le(&mut s, u64::from(self.returned_values.number_of_entries), 1)
-                }
-                (0x2000, sub @ 0x01..=0x04) => {
+                37 => t::le(&mut s, u64::from(self.returned_values.number_of_entries), 1),
+                38..=41 => {
                     t::le(
                         &mut s,
                         u64::from(self.returned_values.items[usize::from(sub) - 1]),
                         2,
                     )
                 }
-                (0x2001, 0x00) => t::le(&mut s, u64::from(self.status_word), 2),
-                (0x2002, 0x00) => t::le(&mut s, u64::from(self.nibble), 1),
-                (0x2003, 0x00) => {
+                42 => t::le(&mut s, u64::from(self.status_word), 2),
+                43 => t::le(&mut s, u64::from(self.nibble), 1),
+                44 => {
                     t::le(
                         &mut s,
                         u64::from(self.sparse_record.highest_sub_index_supported),
                         1,
                     )
                 }
-                (0x2003, 0x01) => t::le(&mut s, self.sparse_record.signed_24 as u64, 3),
-                (0x2003, 0x02) => t::le(&mut s, self.sparse_record.type_ as u64, 1),
-                (0x2003, 0x05) => t::le(&mut s, self.sparse_record.big, 8),
-                (0x2004, 0x00) => t::le(&mut s, u64::from(self.flag), 1),
-                (0x2005, 0x00) => t::le(&mut s, u64::from(self.gain.to_bits()), 4),
-                (0x2006, 0x00) => self.tag.as_bytes(),
-                (0x2100, 0x00) => {
-                    t::le(&mut s, u64::from(self.settings.number_of_entries), 1)
-                }
-                (0x2100, sub @ 0x01..=0x04) => {
+                45 => t::le(&mut s, self.sparse_record.signed_24 as u64, 3),
+                46 => t::le(&mut s, self.sparse_record.type_ as u64, 1),
+                47 => t::le(&mut s, self.sparse_record.big, 8),
+                48 => t::le(&mut s, u64::from(self.flag), 1),
+                49 => t::le(&mut s, u64::from(self.gain.to_bits()), 4),
+                50 => self.tag.as_bytes(),
+                51 => t::le(&mut s, u64::from(self.settings.number_of_entries), 1),
+                52..=55 => {
                     t::le(
                         &mut s,
                         u64::from(self.settings.items[usize::from(sub) - 1]),
                         2,
                     )
                 }
-                (0x2101, 0x00) => t::le(&mut s, u64::from(self.control_word), 2),
-                (0x2102, 0x00) => t::le(&mut s, u64::from(self.setting_limited), 2),
-                (0x6040, 0x00) => t::le(&mut s, u64::from(self.controlword), 2),
-                (0x6041, 0x00) => t::le(&mut s, u64::from(self.status_word_6041), 2),
+                56 => t::le(&mut s, u64::from(self.control_word), 2),
+                57 => t::le(&mut s, u64::from(self.setting_limited), 2),
+                58 => t::le(&mut s, u64::from(self.controlword), 2),
+                59 => t::le(&mut s, u64::from(self.status_word_6041), 2),
                 _ => return Err(t::missing(&ENTRIES, index, sub)),
             };
             Ok(t::read_bytes(value, offset, buf))
@@ -800,218 +788,124 @@ pub mod gd350 {
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
             use ::edsgen_runtime::typed as t;
-            match (index, sub) {
-                (0x1000, 0x00) => self.device_type = u32::from_le_bytes(t::exact(data)?),
-                (0x1003, 0x00) => {
-                    self.pre_defined_error_field.number_of_errors = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+            match t::position(&ENTRIES, index, sub)? {
+                0 => t::store(&mut self.device_type, data)?,
+                1 => t::store(&mut self.pre_defined_error_field.number_of_errors, data)?,
+                2..=3 => {
+                    t::store(
+                        &mut self.pre_defined_error_field.items[usize::from(sub) - 1],
+                        data,
+                    )?
                 }
-                (0x1003, sub @ 0x01..=0x02) => {
-                    self.pre_defined_error_field.items[usize::from(sub) - 1] = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                4 => self.manufacturer_device_name.set(data)?,
+                5 => self.manufacturer_hardware_version.set(data)?,
+                6 => t::store(&mut self.cob_id_emcy, data)?,
+                7 => t::store(&mut self.identity_object.number_of_entries, data)?,
+                8 => t::store(&mut self.identity_object.vendor_id, data)?,
+                9 => t::store(&mut self.identity_object.product_code, data)?,
+                10 => t::store(&mut self.identity_object.revision_number, data)?,
+                11 => {
+                    t::store(
+                        &mut self
+                            .rpdo2_communication_parameter
+                            .highest_sub_index_supported,
+                        data,
+                    )?
                 }
-                (0x1008, 0x00) => self.manufacturer_device_name.set(data)?,
-                (0x1009, 0x00) => self.manufacturer_hardware_version.set(data)?,
-                (0x1014, 0x00) => self.cob_id_emcy = u32::from_le_bytes(t::exact(data)?),
-                (0x1018, 0x00) => {
-                    self.identity_object.number_of_entries = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                12 => t::store(&mut self.rpdo2_communication_parameter.cob_id, data)?,
+                13 => {
+                    t::store(
+                        &mut self.rpdo2_communication_parameter.transmission_type,
+                        data,
+                    )?
                 }
-                (0x1018, 0x01) => {
-                    self.identity_object.vendor_id = u32::from_le_bytes(t::exact(data)?);
+                14 => {
+                    t::store(
+                        &mut self.rpdo2_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
-                (0x1018, 0x02) => {
-                    self.identity_object.product_code = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                15 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_1, data)?,
+                16 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_2, data)?,
+                17 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_3, data)?,
+                18 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_4, data)?,
+                19 => {
+                    t::store(
+                        &mut self
+                            .tpdo2_communication_parameter
+                            .highest_sub_index_supported,
+                        data,
+                    )?
                 }
-                (0x1018, 0x03) => {
-                    self.identity_object.revision_number = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                20 => t::store(&mut self.tpdo2_communication_parameter.cob_id, data)?,
+                21 => {
+                    t::store(
+                        &mut self.tpdo2_communication_parameter.transmission_type,
+                        data,
+                    )?
                 }
-                (0x1401, 0x00) => {
-                    self.rpdo2_communication_parameter.highest_sub_index_supported = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                22 => {
+                    t::store(
+                        &mut self.tpdo2_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
-                (0x1401, 0x01) => {
-                    self.rpdo2_communication_parameter.cob_id = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                23 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_1, data)?,
+                24 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_2, data)?,
+                25 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_3, data)?,
+                26 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_4, data)?,
+                27 => {
+                    t::store(
+                        &mut self.tpdo3_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
-                (0x1401, 0x02) => {
-                    self.rpdo2_communication_parameter.transmission_type = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                28 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_1, data)?,
+                29 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_2, data)?,
+                30 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_3, data)?,
+                31 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_4, data)?,
+                32 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_5, data)?,
+                33 => {
+                    t::store(
+                        &mut self.tpdo4_mapping_parameter.number_of_mapped_objects,
+                        data,
+                    )?
                 }
-                (0x1601, 0x00) => {
-                    self.rpdo2_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                34 => t::store(&mut self.tpdo4_mapping_parameter.mapped_object_1, data)?,
+                35 => t::store(&mut self.tpdo4_mapping_parameter.mapped_object_2, data)?,
+                36 => t::store(&mut self.tpdo4_mapping_parameter.mapped_object_3, data)?,
+                37 => t::store(&mut self.returned_values.number_of_entries, data)?,
+                38..=41 => {
+                    t::store(
+                        &mut self.returned_values.items[usize::from(sub) - 1],
+                        data,
+                    )?
                 }
-                (0x1601, 0x01) => {
-                    self.rpdo2_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                42 => t::store(&mut self.status_word, data)?,
+                43 => t::store(&mut self.nibble, data)?,
+                44 => {
+                    t::store(&mut self.sparse_record.highest_sub_index_supported, data)?
                 }
-                (0x1601, 0x02) => {
-                    self.rpdo2_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
+                45 => self.sparse_record.signed_24 = t::int_le::<3>(data)? as i32,
+                46 => t::store(&mut self.sparse_record.type_, data)?,
+                47 => t::store(&mut self.sparse_record.big, data)?,
+                48 => self.flag = t::boolean(data)?,
+                49 => t::store(&mut self.gain, data)?,
+                50 => self.tag.set(data)?,
+                51 => t::store(&mut self.settings.number_of_entries, data)?,
+                52..=55 => {
+                    t::store(&mut self.settings.items[usize::from(sub) - 1], data)?
                 }
-                (0x1601, 0x03) => {
-                    self.rpdo2_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1601, 0x04) => {
-                    self.rpdo2_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1801, 0x00) => {
-                    self.tpdo2_communication_parameter.highest_sub_index_supported = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1801, 0x01) => {
-                    self.tpdo2_communication_parameter.cob_id = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1801, 0x02) => {
-                    self.tpdo2_communication_parameter.transmission_type = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A01, 0x00) => {
-                    self.tpdo2_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A01, 0x01) => {
-                    self.tpdo2_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A01, 0x02) => {
-                    self.tpdo2_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A01, 0x03) => {
-                    self.tpdo2_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A01, 0x04) => {
-                    self.tpdo2_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A02, 0x00) => {
-                    self.tpdo3_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A02, 0x01) => {
-                    self.tpdo3_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A02, 0x02) => {
-                    self.tpdo3_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A02, 0x03) => {
-                    self.tpdo3_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A02, 0x04) => {
-                    self.tpdo3_mapping_parameter.mapped_object_4 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A02, 0x05) => {
-                    self.tpdo3_mapping_parameter.mapped_object_5 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A03, 0x00) => {
-                    self.tpdo4_mapping_parameter.number_of_mapped_objects = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A03, 0x01) => {
-                    self.tpdo4_mapping_parameter.mapped_object_1 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A03, 0x02) => {
-                    self.tpdo4_mapping_parameter.mapped_object_2 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x1A03, 0x03) => {
-                    self.tpdo4_mapping_parameter.mapped_object_3 = u32::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x2000, 0x00) => {
-                    self.returned_values.number_of_entries = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x2000, sub @ 0x01..=0x04) => {
-                    self.returned_values.items[usize::from(sub) - 1] = u16::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x2001, 0x00) => self.status_word = u16::from_le_bytes(t::exact(data)?),
-                (0x2002, 0x00) => self.nibble = u8::from_le_bytes(t::exact(data)?),
-                (0x2003, 0x00) => {
-                    self.sparse_record.highest_sub_index_supported = u8::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x2003, 0x01) => {
-                    self.sparse_record.signed_24 = t::int_le::<3>(data)? as i32;
-                }
-                (0x2003, 0x02) => {
-                    self.sparse_record.type_ = i8::from_le_bytes(t::exact(data)?);
-                }
-                (0x2003, 0x05) => {
-                    self.sparse_record.big = u64::from_le_bytes(t::exact(data)?);
-                }
-                (0x2004, 0x00) => self.flag = t::boolean(data)?,
-                (0x2005, 0x00) => self.gain = f32::from_le_bytes(t::exact(data)?),
-                (0x2006, 0x00) => self.tag.set(data)?,
-                (0x2100, 0x00) => {
-                    self.settings.number_of_entries = u8::from_le_bytes(t::exact(data)?);
-                }
-                (0x2100, sub @ 0x01..=0x04) => {
-                    self.settings.items[usize::from(sub) - 1] = u16::from_le_bytes(
-                        t::exact(data)?,
-                    );
-                }
-                (0x2101, 0x00) => self.control_word = u16::from_le_bytes(t::exact(data)?),
-                (0x2102, 0x00) => {
+                56 => t::store(&mut self.control_word, data)?,
+                57 => {
                     self.setting_limited = t::check_limits(
                         u16::from_le_bytes(t::exact(data)?),
                         10,
                         0x1388,
                     )?;
                 }
-                (0x6040, 0x00) => self.controlword = u16::from_le_bytes(t::exact(data)?),
-                (0x6041, 0x00) => {
-                    self.status_word_6041 = u16::from_le_bytes(t::exact(data)?);
-                }
+                58 => t::store(&mut self.controlword, data)?,
+                59 => t::store(&mut self.status_word_6041, data)?,
                 _ => return Err(t::missing(&ENTRIES, index, sub)),
             }
             Ok(())

@@ -22,7 +22,9 @@ static NODE_RAM_BYTES: u32 = core::mem::size_of::<Node<minimal_od::MinimalOd>>()
 fn main() -> ! {
     let (now, _) = common::receive();
     let od = minimal_od::MinimalOd::new(common::NODE_ID);
-    let Ok(node) = Node::new(od, common::NODE_ID, now) else {
+    // Borrowed where it lies rather than moved out of the `Result`: one copy of the node.
+    let mut created = Node::new(od, common::NODE_ID, now);
+    let Ok(node) = &mut created else {
         panic!("node-ID out of range");
     };
     common::run(node)

@@ -99,13 +99,10 @@ impl ErrorControl {
     }
 
     pub fn next_deadline(&self) -> Option<Instant> {
-        let consumers = self.consumers[..self.consumer_count]
-            .iter()
-            .filter_map(|c| c.deadline)
-            .min();
-        [self.next_heartbeat, self.life_deadline, consumers]
-            .into_iter()
-            .flatten()
-            .min()
+        let mut next = super::earliest(self.next_heartbeat, self.life_deadline);
+        for consumer in self.consumers.iter().take(self.consumer_count) {
+            next = super::earliest(next, consumer.deadline);
+        }
+        next
     }
 }

@@ -1,20 +1,22 @@
 //! CRC-16-CCITT as SDO block transfer uses it (CiA 301 §7.2.4.3.16): polynomial 0x1021
 //! (x^16 + x^12 + x^5 + 1), initial value 0, no reflection, no final XOR (the "XMODEM" variant).
 //!
-//! A 256-entry table computed at compile time; [`Crc16`] accumulates over chunks so that a value
-//! streamed in pieces gets the same CRC as the whole.
+//! A 16-entry table (one per nibble, 32 bytes of flash instead of 512 for a byte table) computed
+//! at compile time; [`Crc16`] accumulates over chunks so that a value streamed in pieces gets the
+//! same CRC as the whole.
 
 const POLYNOMIAL: u16 = 0x1021;
 
-const TABLE: [u16; 256] = build_table();
+/// The CRC register's change for each value of its top four bits shifted out.
+const TABLE: [u16; 16] = build_table();
 
-const fn build_table() -> [u16; 256] {
-    let mut table = [0u16; 256];
-    let mut byte = 0;
-    while byte < 256 {
-        let mut crc = (byte as u16) << 8;
+const fn build_table() -> [u16; 16] {
+    let mut table = [0u16; 16];
+    let mut nibble = 0;
+    while nibble < 16 {
+        let mut crc = (nibble as u16) << 12;
         let mut bit = 0;
-        while bit < 8 {
+        while bit < 4 {
             crc = if crc & 0x8000 != 0 {
                 (crc << 1) ^ POLYNOMIAL
             } else {
@@ -22,8 +24,8 @@ const fn build_table() -> [u16; 256] {
             };
             bit += 1;
         }
-        table[byte] = crc;
-        byte += 1;
+        table[nibble] = crc;
+        nibble += 1;
     }
     table
 }
@@ -41,8 +43,12 @@ impl Crc16 {
     /// Adds `bytes` to the CRC.
     pub fn update(&mut self, bytes: &[u8]) {
         for &byte in bytes {
-            let position = ((self.0 >> 8) as u8 ^ byte) as usize;
-            self.0 = (self.0 << 8) ^ TABLE[position];
+            let mut crc = self.0;
+            for nibble in [byte >> 4, byte & 0x0F] {
+                let top = usize::from((crc >> 12) as u8 ^ nibble) & 0x0F;
+                crc = (crc << 4) ^ TABLE[top];
+            }
+            self.0 = crc;
         }
     }
 
@@ -102,5 +108,12 @@ mod tests {
         }
         let data: [u8; 64] = core::array::from_fn(|i| (i * 31 + 11) as u8);
         assert_eq!(crc16(&data), bitwise(&data));
+        for byte in 0..=255u8 {
+            assert_eq!(
+                crc16(&[byte, 0x5A]),
+                bitwise(&[byte, 0x5A]),
+                "byte {byte:#04x}"
+            );
+        }
     }
 }
