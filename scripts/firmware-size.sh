@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../firmware"
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
-cargo build --release --quiet
+cargo build --release --quiet --locked
 size_tool=$(command -v llvm-size || true)
 if [ -z "$size_tool" ]; then
     rustup component add llvm-tools >/dev/null 2>&1 || true

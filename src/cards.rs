@@ -4,6 +4,18 @@
 //! Each module holds the card's `Od` (object dictionary struct, `Od::new(node_id)`, and its
 //! `ObjectDictionary` implementation), the typed addresses in `od`, the typed default PDOs in
 //! `pdo`, and the identity constants.
+//!
+//! ```
+//! use edsgen::cards::cp301::{od, pdo, Od};
+//!
+//! let dict = Od::new(3); // $NODEID defaults resolve here, at run time
+//! assert_eq!(dict.rpdo1_communication_parameter.cob_id_used_by_rpdo, 0x203);
+//! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.encode()?;
+//! assert_eq!(frame, [0x0F, 0x00, 0xDC, 0x05]);
+//! assert_eq!(pdo::Rpdo1::cob_id(3), 0x203);
+//! let _: edsgen_runtime::Entry<i16> = od::VL_TARGET_VELOCITY; // a master's read returns i16
+//! # Ok::<(), edsgen_runtime::PdoError>(())
+//! ```
 
 edsgen_runtime::include_device!("cp301");
 edsgen_runtime::include_device!("goodrive350");
