@@ -571,17 +571,17 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
-                    let old = self.rpdos[n];
+                    let (deadline, timed_out) = (self.rpdos[n].deadline, self.rpdos[n].timed_out);
                     let mut rpdo = Rpdo::load(&self.od, n as u16);
                     // A valid PDO keeps its deadline monitoring across other changes (its
                     // transmission type). A new event timer stops it: CiA 301 activates the
                     // monitoring with the next reception after the event timer is configured.
                     if rpdo.enabled && !(index == 0x1400 + n as u16 && sub == 5) {
-                        rpdo.deadline = old.deadline;
-                        rpdo.timed_out = old.timed_out;
+                        rpdo.deadline = deadline;
+                        rpdo.timed_out = timed_out;
                     }
                     self.rpdos[n] = rpdo;
-                    if old.timed_out && !rpdo.timed_out {
+                    if timed_out && !rpdo.timed_out {
                         self.end_rpdo_timeout();
                     }
                 }
