@@ -624,3 +624,19 @@ fn reset_communication_forgets_an_rpdo_timeout() {
         ])
     );
 }
+
+#[test]
+fn a_too_short_rpdo_does_not_restart_the_deadline() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(50), &mut [&mut node]);
+    bus.inject(frame(0x203, &[0x34]), &mut [&mut node]);
+    bus.run_until(ms(200), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[
+            (50, "083: 10 82 10 01 00 00 00 00"),
+            (100, "083: 50 82 10 00 00 00 00 00"),
+        ])
+    );
+}
