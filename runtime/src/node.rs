@@ -5,8 +5,9 @@
 //! ([`Node::poll_timeout`], then [`Node::handle_timeout`]) and application events
 //! ([`Node::poll_event`]). It implements the NMT slave, the SDO server (1200h and, if the OD has
 //! it, 1201h), heartbeat producer and consumer, node guarding, SYNC consumer and producer, the EMCY
-//! producer with 1001h/1003h, TPDOs and RPDOs of every transmission type with dynamic mapping, and
-//! store/restore (1010h/1011h) through [`NodeHooks`]. No allocation, no clock reads.
+//! producer with 1001h/1003h, TPDOs and RPDOs of every transmission type with dynamic mapping,
+//! RPDO deadline monitoring (event timer, EMCY 8250h), and store/restore (1010h/1011h) through
+//! [`NodeHooks`]. No allocation, no clock reads.
 //!
 //! Services by NMT state (CiA 301 table 80): pre-operational serves SDO, SYNC, EMCY and error
 //! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node
@@ -45,6 +46,9 @@ pub const EVENT_QUEUE: usize = 16;
 
 /// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h (communication error).
 pub const SYNC_TIMEOUT_CODE: u16 = 0x8100;
+/// The emergency code of an RPDO that did not arrive within its event timer (communication
+/// error, CiA 301 "RPDO timeout").
+pub const RPDO_TIMEOUT_CODE: u16 = 0x8250;
 
 /// Which parameters an NMT reset re-initialises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -71,6 +75,13 @@ pub enum Event {
     },
     /// A receive PDO wrote its mapped entries (`pdo` n is the one at 1400h + n).
     RpdoReceived {
+        /// The PDO's number, from 0.
+        pdo: u16,
+    },
+    /// A receive PDO with deadline monitoring (event timer, 1400h+n sub 05h) did not arrive
+    /// within that time of its last reception; EMCY 8250h is raised with it, and cleared when
+    /// the PDO arrives again. Reported once per timeout.
+    RpdoTimeout {
         /// The PDO's number, from 0.
         pdo: u16,
     },
@@ -406,6 +417,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             for rpdo in &mut self.rpdos {
                 rpdo.buffered = None;
+                rpdo.deadline = None;
             }
         }
         match state {
@@ -439,7 +451,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             channel.server.reset();
         }
         self.emcy
-            .forget_communication_errors(&[0x8100, 0x8130, 0x8210, 0x8220]);
+            .forget_communication_errors(&[0x8100, 0x8130, 0x8210, 0x8220, RPDO_TIMEOUT_CODE]);
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
         self.configure_sdo();
@@ -559,7 +571,19 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
-                    self.rpdos[n] = Rpdo::load(&self.od, n as u16);
+                    let (deadline, timed_out) = (self.rpdos[n].deadline, self.rpdos[n].timed_out);
+                    let mut rpdo = Rpdo::load(&self.od, n as u16);
+                    // A valid PDO keeps its deadline monitoring across other changes (its
+                    // transmission type). A new event timer stops it: CiA 301 activates the
+                    // monitoring with the next reception after the event timer is configured.
+                    if rpdo.enabled && !(index == 0x1400 + n as u16 && sub == 5) {
+                        rpdo.deadline = deadline;
+                        rpdo.timed_out = timed_out;
+                    }
+                    self.rpdos[n] = rpdo;
+                    if timed_out && !rpdo.timed_out {
+                        self.end_rpdo_timeout();
+                    }
                 }
             }
             0x1800..=0x1BFF => {
@@ -647,7 +671,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if self.state == NmtState::Operational {
             for n in 0..RPDOS {
                 if self.rpdos[n].enabled && id == self.rpdos[n].cob_id {
-                    self.handle_rpdo(n, frame.data());
+                    self.handle_rpdo(n, frame.data(), now);
                     return;
                 }
             }
@@ -717,12 +741,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
-    fn handle_rpdo(&mut self, n: usize, data: &[u8]) {
+    fn handle_rpdo(&mut self, n: usize, data: &[u8], now: Instant) {
         let rpdo = &mut self.rpdos[n];
         let expected = usize::from(rpdo.mapping.len);
         rpdo.too_short = data.len() < expected;
         rpdo.too_long = data.len() > expected;
+        let mut recovered = false;
         if !rpdo.too_short {
+            // CiA 301, 1400h+n sub 05h: a non-zero event timer of an RPDO is its deadline; the
+            // monitoring is activated with the next reception of the RPDO (after entering
+            // operational or configuring the event timer) and restarts with each one. A frame
+            // too short to be processed is no reception.
+            let timer = Duration::from_millis(u64::from(rpdo.event_timer_ms));
+            rpdo.deadline = (rpdo.event_timer_ms != 0).then(|| now + timer);
+            recovered = core::mem::take(&mut rpdo.timed_out);
             if rpdo.synchronous() {
                 let mut buffer = [0u8; 8];
                 buffer[..expected].copy_from_slice(&data[..expected]);
@@ -740,6 +772,16 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if data.len() != expected || self.length_error_raised {
             self.update_length_errors(data.len());
+        }
+        if recovered {
+            self.end_rpdo_timeout();
+        }
+    }
+
+    /// Clears 8250h (with its error-reset emergency) once no RPDO is timed out any more.
+    fn end_rpdo_timeout(&mut self) {
+        if !self.rpdos.iter().any(|r| r.timed_out) {
+            self.emcy.clear(&mut self.od, RPDO_TIMEOUT_CODE);
         }
     }
 
@@ -950,6 +992,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             consider(self.emcy.ready_at());
         }
         if self.state == NmtState::Operational {
+            for rpdo in &self.rpdos {
+                consider(rpdo.deadline);
+            }
             for tpdo in &self.tpdos {
                 if !tpdo.enabled || !tpdo.event_driven() {
                     continue;
@@ -967,7 +1012,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
-    /// SYNC production, TPDO event timers and SDO timeouts.
+    /// SYNC production, TPDO event timers, RPDO deadlines and SDO timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
         let ec = &mut self.error_control;
         if let Some(at) = ec.next_heartbeat {
@@ -1027,6 +1072,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         if self.state == NmtState::Operational {
+            for (n, rpdo) in self.rpdos.iter_mut().enumerate() {
+                if rpdo.deadline.is_some_and(|at| at <= now) {
+                    rpdo.deadline = None;
+                    rpdo.timed_out = true;
+                    self.events.push(Event::RpdoTimeout { pdo: n as u16 });
+                    // Already active when another RPDO timed out first: one emergency for both.
+                    self.emcy.raise(
+                        &mut self.od,
+                        RPDO_TIMEOUT_CODE,
+                        error_register::COMMUNICATION,
+                        [0; 5],
+                    );
+                }
+            }
             for tpdo in &mut self.tpdos {
                 if tpdo.enabled
                     && tpdo.event_driven()

@@ -1,11 +1,11 @@
 //! TPDOs and RPDOs: every transmission type, inhibit time, event timer, change of state, SYNC
-//! start value, RTR, the CiA 301 dynamic-mapping procedure with its aborts, and the EMCYs of
-//! wrong-length RPDOs.
+//! start value, RTR, the CiA 301 dynamic-mapping procedure with its aborts, the EMCYs of
+//! wrong-length RPDOs, and RPDO deadline monitoring (event timer, EMCY 8250h).
 
 mod node_support;
 
 use edsgen_runtime::node::{Event, Node};
-use edsgen_runtime::vbus::VirtualBus;
+use edsgen_runtime::vbus::{ScriptedPeer, VirtualBus};
 use edsgen_runtime::CanFrame;
 use node_support::node_od::TestOd;
 use node_support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_write, sent};
@@ -370,4 +370,273 @@ fn a_valid_pdo_with_a_refused_mapping_is_reported_not_served() {
         ]
     );
     assert!(!node.trigger_tpdo(0));
+}
+
+/// The node's events, drained.
+fn events(node: &mut Node<TestOd>) -> Vec<Event> {
+    std::iter::from_fn(|| node.poll_event()).collect()
+}
+
+/// A started node whose RPDO1 (203h) has the event timer `ms` (1400h:05), events and frames
+/// drained; the clock is at 0.
+fn started_with_rpdo_deadline(ms: u32) -> (Node<TestOd>, VirtualBus) {
+    let (mut node, mut bus) = booted();
+    configure(&mut node, &mut bus, &[(0x1400, 5, ms, 2)]);
+    start(&mut node, &mut bus);
+    sent(&mut bus);
+    while node.poll_event().is_some() {}
+    (node, bus)
+}
+
+#[test]
+fn rpdo_event_timer_raises_8250_once_when_the_rpdo_stops() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    assert_eq!(
+        node.poll_timeout(),
+        None,
+        "no monitoring before the first reception"
+    );
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), Some(ms(100)));
+    assert_eq!(events(&mut node), [Event::RpdoReceived { pdo: 0 }]);
+    bus.run_until(ms(99), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), vec![]);
+    assert_eq!(events(&mut node), []);
+    bus.run_until(ms(100), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[(100, "083: 50 82 10 00 00 00 00 00")])
+    );
+    assert_eq!(events(&mut node), [Event::RpdoTimeout { pdo: 0 }]);
+    assert_eq!(node.od().get(0x1001, 0), 0x10);
+    assert_eq!(node.od().get(0x1003, 1), 0x8250);
+    assert!(node.error_active(0x8250));
+    assert_eq!(node.poll_timeout(), None);
+    bus.run_until(ms(1000), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), vec![], "reported once");
+    assert_eq!(events(&mut node), []);
+}
+
+#[test]
+fn rpdo_deadline_found_late_is_reported_at_the_first_timeout_after_it() {
+    let (mut node, _bus) = started_with_rpdo_deadline(100);
+    node.handle_frame(ms(0), &frame(0x203, &[0x34, 0x12]));
+    while node.poll_event().is_some() {}
+    node.handle_timeout(ms(99));
+    assert_eq!(node.poll_transmit(ms(99)), None);
+    assert_eq!(node.poll_event(), None);
+    node.handle_timeout(ms(250));
+    let emcy = node.poll_transmit(ms(250)).unwrap();
+    assert_eq!(node_support::show(&emcy), "083: 50 82 10 00 00 00 00 00");
+    assert_eq!(node.poll_transmit(ms(250)), None);
+    assert_eq!(events(&mut node), [Event::RpdoTimeout { pdo: 0 }]);
+    node.handle_timeout(ms(400));
+    assert_eq!(node.poll_transmit(ms(400)), None);
+    assert_eq!(node.poll_event(), None);
+}
+
+#[test]
+fn rpdo_reception_clears_the_timeout_and_rearms_the_deadline() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    let mut master = ScriptedPeer::new();
+    // 60 ms apart: within the deadline; then silent until 300, then once more at 330.
+    for t in [0, 60, 300, 330] {
+        master.send_at(ms(t), frame(0x203, &[0x34, 0x12]));
+    }
+    bus.run_until(ms(600), &mut [&mut node, &mut master]);
+    let node_frames: Vec<_> = bus
+        .take_log()
+        .into_iter()
+        .filter(|(_, sender, _)| *sender == 0)
+        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
+        .collect();
+    assert_eq!(
+        node_frames,
+        at_ms(&[
+            (160, "083: 50 82 10 00 00 00 00 00"),
+            (300, "083: 00 00 00 00 00 00 00 00"),
+            (430, "083: 50 82 10 00 00 00 00 00"),
+        ])
+    );
+    let timeouts: Vec<Event> = events(&mut node)
+        .into_iter()
+        .filter(|e| !matches!(e, Event::RpdoReceived { .. }))
+        .collect();
+    assert_eq!(
+        timeouts,
+        [Event::RpdoTimeout { pdo: 0 }, Event::RpdoTimeout { pdo: 0 }]
+    );
+    assert_eq!(node.od().get(0x1003, 0), 2, "two timeouts in the history");
+}
+
+#[test]
+fn rpdo_event_timer_zero_never_times_out() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(0);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), None);
+    bus.run_until(ms(10_000), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), vec![]);
+    assert_eq!(events(&mut node), [Event::RpdoReceived { pdo: 0 }]);
+}
+
+#[test]
+fn rpdo_deadline_is_monitored_only_in_operational() {
+    let (mut node, mut bus) = booted();
+    configure(&mut node, &mut bus, &[(0x1400, 5, 100, 2)]);
+    // Pre-operational: the RPDO is not processed, so nothing is armed.
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(500), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), vec![]);
+    // Operational, received at 500, back to pre-operational at 550: the deadline is dropped.
+    start(&mut node, &mut bus);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(550), &mut [&mut node]);
+    bus.inject(frame(0x000, &[0x80, 0x03]), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), None);
+    bus.run_until(ms(1000), &mut [&mut node]);
+    // Operational again: monitoring waits for the first reception.
+    start(&mut node, &mut bus);
+    bus.run_until(ms(2000), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[(500, "183: 00 00"), (1000, "183: 00 00")])
+    );
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(2100), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[(2100, "083: 50 82 10 00 00 00 00 00")])
+    );
+    let timeouts = events(&mut node)
+        .into_iter()
+        .filter(|e| matches!(e, Event::RpdoTimeout { .. }))
+        .count();
+    assert_eq!(timeouts, 1);
+}
+
+#[test]
+fn writing_the_rpdo_event_timer_by_sdo_restarts_monitoring_with_the_new_period() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(50), &mut [&mut node]);
+    bus.inject(sdo_write(0x1400, 5, 200, 2), &mut [&mut node]);
+    // CiA 301: monitoring starts again with the next reception, so nothing at 100 or 150.
+    assert_eq!(node.poll_timeout(), None);
+    bus.run_until(ms(500), &mut [&mut node]);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), Some(ms(700)));
+    bus.run_until(ms(699), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), at_ms(&[(50, &sdo_ok(0x1400, 5))]));
+    bus.run_until(ms(700), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[(700, "083: 50 82 10 00 00 00 00 00")])
+    );
+    // Switching monitoring off ends the timeout it reported.
+    bus.inject(sdo_write(0x1400, 5, 0, 2), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[
+            (700, "083: 00 00 00 00 00 00 00 00"),
+            (700, &sdo_ok(0x1400, 5)),
+        ])
+    );
+    assert!(!node.error_active(0x8250));
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(5000), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), vec![]);
+}
+
+#[test]
+fn changing_the_rpdo_transmission_type_keeps_its_deadline() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(40), &mut [&mut node]);
+    bus.inject(sdo_write(0x1400, 2, 254, 1), &mut [&mut node]);
+    bus.run_until(ms(100), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[
+            (40, &sdo_ok(0x1400, 2)),
+            (100, "083: 50 82 10 00 00 00 00 00"),
+        ])
+    );
+}
+
+#[test]
+fn disabling_a_monitored_rpdo_stops_its_deadline() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.inject(sdo_write(0x1400, 1, 0x8000_0203, 4), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), None);
+    bus.run_until(ms(1000), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), at_ms(&[(0, &sdo_ok(0x1400, 1))]));
+}
+
+#[test]
+fn two_timed_out_rpdos_share_one_8250_until_both_are_back() {
+    let (mut node, mut bus) = booted();
+    configure(
+        &mut node,
+        &mut bus,
+        &[(0x1400, 5, 100, 2), (0x1401, 5, 150, 2)],
+    );
+    start(&mut node, &mut bus);
+    sent(&mut bus);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.inject(frame(0x303, &[0, 0, 0, 0]), &mut [&mut node]);
+    while node.poll_event().is_some() {}
+    bus.run_until(ms(200), &mut [&mut node]);
+    assert_eq!(
+        events(&mut node),
+        [Event::RpdoTimeout { pdo: 0 }, Event::RpdoTimeout { pdo: 1 }]
+    );
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    assert!(node.error_active(0x8250), "RPDO2 is still missing");
+    bus.inject(frame(0x303, &[0, 0, 0, 0]), &mut [&mut node]);
+    assert!(!node.error_active(0x8250));
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[
+            (100, "083: 50 82 10 00 00 00 00 00"),
+            (200, "083: 00 00 00 00 00 00 00 00"),
+        ])
+    );
+}
+
+#[test]
+fn reset_communication_forgets_an_rpdo_timeout() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(100), &mut [&mut node]);
+    assert!(node.error_active(0x8250));
+    bus.inject(frame(0x000, &[0x82, 0x03]), &mut [&mut node]);
+    assert!(!node.error_active(0x8250));
+    assert_eq!(node.od().get(0x1001, 0), 0);
+    start(&mut node, &mut bus);
+    bus.run_until(ms(1000), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[
+            (100, "083: 50 82 10 00 00 00 00 00"),
+            (100, "703: 00"),
+            (100, "183: 00 00"),
+        ])
+    );
+}
+
+#[test]
+fn a_too_short_rpdo_does_not_restart_the_deadline() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    bus.run_until(ms(50), &mut [&mut node]);
+    bus.inject(frame(0x203, &[0x34]), &mut [&mut node]);
+    bus.run_until(ms(200), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[
+            (50, "083: 10 82 10 01 00 00 00 00"),
+            (100, "083: 50 82 10 00 00 00 00 00"),
+        ])
+    );
 }

@@ -214,6 +214,13 @@ pub(crate) struct Rpdo {
     /// The last frame was shorter / longer than the mapping.
     pub too_short: bool,
     pub too_long: bool,
+    /// Deadline monitoring (1400h+n sub 05h, ms; 0 = off): the PDO must arrive again within
+    /// this time of its last reception.
+    pub event_timer_ms: u16,
+    /// When the next reception is due; armed by a reception in operational.
+    pub deadline: Option<Instant>,
+    /// The deadline passed and the PDO has not arrived since (EMCY 8250h is active for it).
+    pub timed_out: bool,
 }
 
 impl Rpdo {
@@ -233,6 +240,9 @@ impl Rpdo {
             feeds_tpdo: false,
             too_short: false,
             too_long: false,
+            event_timer_ms: super::read_uint(od, comm, 5).unwrap_or(0) as u16,
+            deadline: None,
+            timed_out: false,
         }
     }
 
