@@ -2,62 +2,21 @@
 //! manual (seed 002, chapter 3 and Appendix A): object by object, the default PDO mappings
 //! against the manual's example frames, the model dump (snapshot), and the validator's verdict.
 
-use std::path::Path;
+mod card_support;
 
+use card_support::{
+    above_info, baud_rates, check_absent, check_rows, cob_id, decode, dump, integer_default,
+    key_line, node_relative, read, row, subs, warnings_and_errors, DefaultValue, Finding, Row,
+};
 use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::{AccessType, BasicType, Device, Value};
-use edsgen_codegen::read::{read_file, Read};
-
-const EDS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/eds/goodrive350.eds");
-
-fn read() -> Read {
-    read_file(Path::new(EDS)).expect("eds/goodrive350.eds is readable")
-}
-
-/// What the manual says the default value is.
-#[derive(Debug, Clone, Copy)]
-enum DefaultValue {
-    /// The manual gives none (runtime value): no DefaultValue in the file.
-    Absent,
-    Int(i128),
-    NodeId(i64),
-    Text(&'static str),
-}
-
-/// One object-dictionary entry as the manual describes it.
-struct Row {
-    index: u16,
-    sub: u8,
-    data_type: BasicType,
-    access: AccessType,
-    default: DefaultValue,
-    pdo_mapping: bool,
-    source: &'static str,
-}
-
-const fn row(
-    index: u16,
-    sub: u8,
-    data_type: BasicType,
-    access: AccessType,
-    default: DefaultValue,
-    pdo_mapping: bool,
-    source: &'static str,
-) -> Row {
-    Row {
-        index,
-        sub,
-        data_type,
-        access,
-        default,
-        pdo_mapping,
-        source,
-    }
-}
+use edsgen_codegen::model::{AccessType, BasicType};
 
 use AccessType::{Const, Ro, Rw};
 use BasicType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8, VisibleString as Str};
 use DefaultValue::{Absent, Int, NodeId, Text};
+
+/// The EDS under test, relative to the package root.
+const EDS: &str = "eds/goodrive350.eds";
 
 #[rustfmt::skip]
 const ROWS: &[Row] = &[
@@ -134,56 +93,23 @@ const ABSENT: &[(u16, u8, &str)] = &[
     (0x1012, 0, "3.2: the time stamp service is not supported"),
 ];
 
-fn default_matches(device: &Device, index: u16, sub: u8, expected: DefaultValue) -> bool {
-    let Some(entry) = device.entry(index, sub) else {
-        return false;
-    };
-    let value = entry.default.as_ref().and_then(|d| d.value.clone());
-    match expected {
-        Absent => entry.default.is_none(),
-        Int(v) => value == Some(Value::Integer(v)),
-        NodeId(offset) => value == Some(Value::NodeRelative(offset)),
-        Text(text) => value == Some(Value::Text(text.to_string())),
-    }
-}
-
 #[test]
 fn objects_match_the_manual() {
-    let device = read().device;
-    for r in ROWS {
-        let at = format!("{:04X}h:{:02X} ({})", r.index, r.sub, r.source);
-        let entry = device
-            .entry(r.index, r.sub)
-            .unwrap_or_else(|| panic!("{at}: missing"));
-        assert_eq!(
-            entry.data_type,
-            Some(r.data_type.index()),
-            "{at}: data type"
-        );
-        assert_eq!(entry.access, Some(r.access), "{at}: access");
-        assert_eq!(entry.pdo_mapping, r.pdo_mapping, "{at}: PDO mapping");
-        assert!(
-            default_matches(&device, r.index, r.sub, r.default),
-            "{at}: default {:?}, expected {:?}",
-            entry.default,
-            r.default
-        );
-    }
-    for (index, sub, source) in ABSENT {
-        assert!(
-            device.entry(*index, *sub).is_none(),
-            "{index:04X}h:{sub:02X} must not exist ({source})"
-        );
-    }
+    let device = read(EDS).device;
+    check_rows(&device, ROWS);
+    check_absent(&device, ABSENT);
 }
 
 #[test]
 fn manufacturer_records_cover_sub_indices_0_to_f() {
     // Tables 3-19 and 3-20 list sub-indices 0..F of 2100h and 2000h.
-    let device = read().device;
+    let device = read(EDS).device;
     for index in [0x2000u16, 0x2100] {
-        let subs: Vec<u8> = device.objects[&index].subs.keys().copied().collect();
-        assert_eq!(subs, (0..=0xF).collect::<Vec<u8>>(), "{index:04X}h");
+        assert_eq!(
+            subs(&device, index),
+            (0..=0xF).collect::<Vec<u8>>(),
+            "{index:04X}h"
+        );
     }
     // Setting k is 2100h sub k+2 (received PZD k+1), returned value k is 2000h sub k+2
     // (transmitted PZD k+1), k = 1..11 (Tables 3-19, 3-20, 3-22, 3-23).
@@ -239,16 +165,9 @@ const MAPPINGS: &[(u16, &[u32], &str)] = &[
     ),
 ];
 
-fn integer_default(device: &Device, index: u16, sub: u8) -> Option<i128> {
-    match device.entry(index, sub)?.default.as_ref()?.value {
-        Some(Value::Integer(v)) => Some(v),
-        _ => None,
-    }
-}
-
 #[test]
 fn default_pdo_mappings_match_the_manual() {
-    let device = read().device;
+    let device = read(EDS).device;
     for (index, entries, source) in MAPPINGS {
         let at = format!("{index:04X}h ({source})");
         assert_eq!(
@@ -283,74 +202,9 @@ fn default_pdo_mappings_match_the_manual() {
     }
 }
 
-/// Splits a PDO payload by the default mapping of `mapping_index`, checking each mapped entry
-/// exists, is mappable and has the mapped width. Returns ((index, sub), value) per entry; dummy
-/// entries come back with their data-type index and sub 0.
-fn decode(device: &Device, mapping_index: u16, payload: &[u8]) -> Vec<((u16, u8), u64)> {
-    let count = integer_default(device, mapping_index, 0).expect("mapping sub0") as u8;
-    let mut bit = 0usize;
-    let mut out = Vec::new();
-    for sub in 1..=count {
-        let word = integer_default(device, mapping_index, sub).expect("mapping entry") as u32;
-        let (index, target_sub, bits) = ((word >> 16) as u16, (word >> 8) as u8, word as u8);
-        if (1..=7).contains(&index) && target_sub == 0 {
-            assert_eq!(
-                device.dummy_usage.get(&index),
-                Some(&true),
-                "Dummy{index:04X}"
-            );
-            assert_eq!(
-                BasicType::from_index(index).and_then(BasicType::bits),
-                Some(u32::from(bits))
-            );
-        } else {
-            let entry = device
-                .entry(index, target_sub)
-                .unwrap_or_else(|| panic!("{index:04X}h:{target_sub:02X} mapped but missing"));
-            assert!(
-                entry.pdo_mapping,
-                "{index:04X}h:{target_sub:02X} not mappable"
-            );
-            let width = entry
-                .data_type
-                .and_then(|t| device.basic_type(t))
-                .and_then(BasicType::bits);
-            assert_eq!(
-                width,
-                Some(u32::from(bits)),
-                "{index:04X}h:{target_sub:02X}"
-            );
-        }
-        assert_eq!(bit % 8, 0, "byte-aligned mapping");
-        let bytes = &payload[bit / 8..(bit + bits as usize) / 8];
-        let value = bytes
-            .iter()
-            .rev()
-            .fold(0u64, |acc, b| (acc << 8) | u64::from(*b));
-        out.push(((index, target_sub), value));
-        bit += bits as usize;
-    }
-    assert_eq!(bit, payload.len() * 8, "PDO length = frame length");
-    out
-}
-
-fn cob_id(device: &Device, comm_index: u16, node_id: u8) -> u32 {
-    node_relative(device, comm_index, 1, node_id)
-}
-
-fn node_relative(device: &Device, index: u16, sub: u8, node_id: u8) -> u32 {
-    match device
-        .entry(index, sub)
-        .and_then(|e| e.default.as_ref()?.value.clone())
-    {
-        Some(Value::NodeRelative(offset)) => (offset + i64::from(node_id)) as u32,
-        other => panic!("{index:04X}h:{sub:02X} is not node-relative: {other:?}"),
-    }
-}
-
 #[test]
 fn sdo_and_emcy_cob_ids_match_the_examples_for_node_3() {
-    let device = read().device;
+    let device = read(EDS).device;
     // 3.4.9: requests on 0x603, answers on 0x583.
     assert_eq!(node_relative(&device, 0x1200, 1, 3), 0x603);
     assert_eq!(node_relative(&device, 0x1200, 2, 3), 0x583);
@@ -361,7 +215,7 @@ fn sdo_and_emcy_cob_ids_match_the_examples_for_node_3() {
 #[test]
 fn pdo1_rx_frame_sets_p15_13_to_1() {
     // 3.5.2.1 example: 203: 02 00 0D 0F 01 00 (request 2 = write, address 0x0F0D = P15.13, data 1).
-    let device = read().device;
+    let device = read(EDS).device;
     assert_eq!(cob_id(&device, 0x1400, 3), 0x203);
     assert_eq!(
         decode(&device, 0x1600, &[0x02, 0x00, 0x0D, 0x0F, 0x01, 0x00]),
@@ -372,7 +226,7 @@ fn pdo1_rx_frame_sets_p15_13_to_1() {
 #[test]
 fn pdo1_tx_frame_answers_the_write() {
     // 3.5.2.2 example: 183: 01 00 00 00 01 00 00 00 (response 1 = success, error 0, data 1).
-    let device = read().device;
+    let device = read(EDS).device;
     assert_eq!(cob_id(&device, 0x1800, 3), 0x183);
     assert_eq!(
         decode(
@@ -392,7 +246,7 @@ fn pdo1_tx_frame_answers_the_write() {
 #[test]
 fn pdo2_rx_frame_runs_forward_at_50_hz() {
     // 3.5.3 example: 303: 01 00 00 00 88 13 00 00 (CW 1 = forward, setting 2 = 5000 = 50.00 Hz).
-    let device = read().device;
+    let device = read(EDS).device;
     assert_eq!(cob_id(&device, 0x1401, 3), 0x303);
     assert_eq!(
         decode(
@@ -412,7 +266,7 @@ fn pdo2_rx_frame_runs_forward_at_50_hz() {
 #[test]
 fn pdo2_tx_frame_reports_50_hz_and_380_v() {
     // 3.5.4 example: 283: 01 01 88 13 7C 01 00 00 (SW 0x0101, returned values 5000, 380, 0).
-    let device = read().device;
+    let device = read(EDS).device;
     assert_eq!(cob_id(&device, 0x1801, 3), 0x283);
     assert_eq!(
         decode(
@@ -432,7 +286,7 @@ fn pdo2_tx_frame_reports_50_hz_and_380_v() {
 #[test]
 fn pdo3_and_pdo4_carry_settings_and_returned_values_4_to_11() {
     // 3.5.5 and 3.5.6: four 16-bit words each, in order.
-    let device = read().device;
+    let device = read(EDS).device;
     let frame = [0x01, 0x00, 0x02, 0x00, 0x03, 0x00, 0x04, 0x00];
     for (comm, mapping, base, first_sub, cob) in [
         (0x1402u16, 0x1602u16, 0x2100u16, 6u8, 0x403u32),
@@ -450,17 +304,10 @@ fn pdo3_and_pdo4_carry_settings_and_returned_values_4_to_11() {
 
 #[test]
 fn device_info_matches_the_manual() {
-    let device = read().device;
+    let device = read(EDS).device;
     let info = &device.device_info;
     // Table 3-1: 1000/800/500/250/125/100/50/20 kbit/s; 100 has no CiA 306 key.
-    let mut enabled: Vec<u32> = info
-        .baud_rates
-        .iter()
-        .filter(|(_, on)| *on)
-        .map(|(rate, _)| *rate)
-        .collect();
-    enabled.sort_unstable();
-    assert_eq!(enabled, [20, 50, 125, 250, 500, 800, 1000]);
+    assert_eq!(baud_rates(&device), [20, 50, 125, 250, 500, 800, 1000]);
     // 3.2: four PDO pairs.
     assert_eq!(info.nr_of_rx_pdo.as_ref().map(|s| s.value), Some(4));
     assert_eq!(info.nr_of_tx_pdo.as_ref().map(|s| s.value), Some(4));
@@ -478,42 +325,15 @@ fn device_info_matches_the_manual() {
     assert_eq!(dummies, [0x0006]);
 }
 
-/// The 1-based number of the line that reads exactly `line` in the file text.
-fn line_of(text: &str, line: &str) -> u32 {
-    let position = text.lines().position(|l| l.trim_end() == line);
-    position.map(|i| i as u32 + 1).expect(line)
-}
-
-/// Read and validate diagnostics above info, as (code, severity, line), sorted.
-fn warnings_and_errors(read: &Read) -> Vec<(&'static str, Severity, Option<u32>)> {
-    let validated = edsgen_codegen::validate::validate(&read.device);
-    let mut found: Vec<_> = read
-        .diagnostics
-        .iter()
-        .chain(validated.iter())
-        .filter(|d| d.severity > Severity::Info)
-        .map(|d| (d.rule.code, d.severity, d.span.map(|s| s.line)))
-        .collect();
-    found.sort_by_key(|(code, _, line)| (*line, *code));
-    found
-}
-
 #[test]
 fn validates_with_only_the_card_s_own_deviation_from_cia_301() {
-    // 2000h:00 and 2100h:00 are 16-bit data on this card (Tables 3-19/3-20, App. A 1600h/1A00h), not the UNSIGNED8
-    // number of entries; the file describes them as they are, and its [Comments] say so.
-    let read = read();
+    // 2000h:00 and 2100h:00 are 16-bit data on this card (Tables 3-19/3-20, App. A 1600h/1A00h),
+    // not the UNSIGNED8 number of entries; the file describes them as they are, and its
+    // [Comments] say so.
+    let read = read(EDS);
     // Each at the DataType key of the sub-0 section.
-    let data_type_of = |header: &str| {
-        let start = line_of(&read.text, header);
-        let below = read.text.lines().skip(start as usize);
-        below
-            .take_while(|l| !l.starts_with('['))
-            .position(|l| l.starts_with("DataType="))
-            .map(|i| start + i as u32 + 1)
-    };
-    let sub0_2000 = data_type_of("[2000sub0]");
-    let sub0_2100 = data_type_of("[2100sub0]");
+    let sub0_2000 = key_line(&read.text, "[2000sub0]", "DataType");
+    let sub0_2100 = key_line(&read.text, "[2100sub0]", "DataType");
     assert_eq!(
         warnings_and_errors(&read),
         [
@@ -525,20 +345,12 @@ fn validates_with_only_the_card_s_own_deviation_from_cia_301() {
 
 #[test]
 fn reads_without_diagnostics_above_info() {
-    let read = read();
-    let loud: Vec<_> = read
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity > Severity::Info)
-        .collect();
-    assert!(loud.is_empty(), "{loud:#?}");
+    let read = read(EDS);
+    assert_eq!(above_info(&read.diagnostics), Vec::<Finding>::new());
 }
 
 #[test]
 fn dump_snapshot() {
-    let device = read().device;
-    let mut dump = edsgen_codegen::dump::to_json(&device);
-    // The dump names the file as given (an absolute path here); keep the snapshot portable.
-    dump["file"] = "eds/goodrive350.eds".into();
-    insta::assert_json_snapshot!("goodrive350_dump", dump);
+    let device = read(EDS).device;
+    insta::assert_json_snapshot!("goodrive350_dump", dump(&device, EDS));
 }

@@ -2,61 +2,21 @@
 //! 8.2.2 and Tables 19-21): the PDO1 parameter-access objects and mappings, the frame layout of
 //! PDO1 Rx/Tx, the model dump (snapshot), and the validator's verdict.
 
-use std::path::Path;
+mod card_support;
 
+use card_support::{
+    above_info, check_rows, decode, dump, integer_default, is_dummy, key_line, read, row,
+    warnings_and_errors, DefaultValue, Finding, Row,
+};
 use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::{AccessType, BasicType, Device, Value};
-use edsgen_codegen::read::{read_file, Read};
-
-const EDS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/eds/hd1e.eds");
-
-fn read() -> Read {
-    read_file(Path::new(EDS)).expect("eds/hd1e.eds is readable")
-}
-
-/// What the file gives as the default value.
-#[derive(Debug, Clone, Copy)]
-enum DefaultValue {
-    /// The manual gives none (runtime value): no DefaultValue in the file.
-    Absent,
-    Int(i128),
-    NodeId(i64),
-}
-
-/// One object-dictionary entry as the manual describes it.
-struct Row {
-    index: u16,
-    sub: u8,
-    data_type: BasicType,
-    access: AccessType,
-    default: DefaultValue,
-    pdo_mapping: bool,
-    source: &'static str,
-}
-
-const fn row(
-    index: u16,
-    sub: u8,
-    data_type: BasicType,
-    access: AccessType,
-    default: DefaultValue,
-    pdo_mapping: bool,
-    source: &'static str,
-) -> Row {
-    Row {
-        index,
-        sub,
-        data_type,
-        access,
-        default,
-        pdo_mapping,
-        source,
-    }
-}
+use edsgen_codegen::model::{AccessType, BasicType, Device};
 
 use AccessType::{Ro, Rw};
 use BasicType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
 use DefaultValue::{Absent, Int, NodeId};
+
+/// The EDS under test, relative to the package root.
+const EDS: &str = "eds/hd1e.eds";
 
 #[rustfmt::skip]
 const ROWS: &[Row] = &[
@@ -78,45 +38,14 @@ const ROWS: &[Row] = &[
     row(0x1200, 1, U32, Ro, NodeId(0x600), false, "SDO server"),
 ];
 
-fn default_matches(device: &Device, index: u16, sub: u8, expected: DefaultValue) -> bool {
-    let Some(entry) = device.entry(index, sub) else {
-        return false;
-    };
-    let value = entry.default.as_ref().and_then(|d| d.value.clone());
-    match expected {
-        Absent => entry.default.is_none(),
-        Int(v) => value == Some(Value::Integer(v)),
-        NodeId(offset) => value == Some(Value::NodeRelative(offset)),
-    }
-}
-
 #[test]
 fn objects_match_the_fragment() {
-    let device = read().device;
-    for r in ROWS {
-        let at = format!("{:04X}h:{:02X} ({})", r.index, r.sub, r.source);
-        let entry = device
-            .entry(r.index, r.sub)
-            .unwrap_or_else(|| panic!("{at}: missing"));
-        assert_eq!(
-            entry.data_type,
-            Some(r.data_type.index()),
-            "{at}: data type"
-        );
-        assert_eq!(entry.access, Some(r.access), "{at}: access");
-        assert_eq!(entry.pdo_mapping, r.pdo_mapping, "{at}: PDO mapping");
-        assert!(
-            default_matches(&device, r.index, r.sub, r.default),
-            "{at}: default {:?}, expected {:?}",
-            entry.default,
-            r.default
-        );
-    }
+    check_rows(&read(EDS).device, ROWS);
 }
 
 #[test]
 fn only_the_pdo1_pair_is_described() {
-    let device = read().device;
+    let device = read(EDS).device;
     let indices: Vec<u16> = device.objects.keys().copied().collect();
     assert_eq!(
         indices,
@@ -135,16 +64,9 @@ fn only_the_pdo1_pair_is_described() {
     );
 }
 
-fn integer_default(device: &Device, index: u16, sub: u8) -> Option<i128> {
-    match device.entry(index, sub)?.default.as_ref()?.value {
-        Some(Value::Integer(v)) => Some(v),
-        _ => None,
-    }
-}
-
 #[test]
 fn pdo1_mappings_carry_the_protocol_fields() {
-    let device = read().device;
+    let device = read(EDS).device;
     for (index, entries) in [
         (0x1600u16, &[0x2100_0010u32, 0x2100_0110, 0x2100_0210][..]),
         (
@@ -168,46 +90,29 @@ fn pdo1_mappings_carry_the_protocol_fields() {
     assert_eq!(device.dummy_usage.get(&0x0006), Some(&true));
 }
 
-/// Splits a PDO payload by the default mapping of `mapping_index`, checking each mapped entry
-/// exists, is mappable and has the mapped width.
-fn decode(device: &Device, mapping_index: u16, payload: &[u8]) -> Vec<((u16, u8), u64)> {
-    let count = integer_default(device, mapping_index, 0).expect("mapping sub0") as u8;
-    let mut bit = 0usize;
-    let mut out = Vec::new();
-    for sub in 1..=count {
-        let word = integer_default(device, mapping_index, sub).expect("mapping entry") as u32;
-        let (index, target_sub, bits) = ((word >> 16) as u16, (word >> 8) as u8, word as u8);
-        if (1..=7).contains(&index) && target_sub == 0 {
-            assert_eq!(
-                device.dummy_usage.get(&index),
-                Some(&true),
-                "Dummy{index:04X}"
-            );
+/// Splits a PDO1 payload like [`decode`], checking also that every field is an UNSIGNED16 word
+/// (8.2.2: two bytes each).
+fn decode_words(device: &Device, mapping_index: u16, payload: &[u8]) -> Vec<((u16, u8), u64)> {
+    let fields = decode(device, mapping_index, payload);
+    for ((index, sub), _) in &fields {
+        let data_type = if is_dummy(*index, *sub) {
+            Some(*index)
         } else {
-            let entry = device.entry(index, target_sub).expect("mapped entry");
-            assert!(entry.pdo_mapping, "{index:04X}h:{target_sub:02X}");
-            assert_eq!(entry.data_type, Some(BasicType::Unsigned16.index()));
-        }
-        assert_eq!(bits, 16);
-        let bytes = &payload[bit / 8..(bit + bits as usize) / 8];
-        let value = bytes
-            .iter()
-            .rev()
-            .fold(0u64, |acc, b| (acc << 8) | u64::from(*b));
-        out.push(((index, target_sub), value));
-        bit += bits as usize;
+            device.entry(*index, *sub).and_then(|e| e.data_type)
+        };
+        let unsigned16 = Some(BasicType::Unsigned16.index());
+        assert_eq!(data_type, unsigned16, "{index:04X}h:{sub:02X}");
     }
-    assert_eq!(bit, payload.len() * 8, "PDO length = frame length");
-    out
+    fields
 }
 
 #[test]
 fn pdo1_rx_is_six_bytes_and_reads_p10_01() {
     // p. 15: PDO1 Rx data must be six bytes; address of P10.01 is 0x0A01 (high byte 10, low 01);
     // request data in Byte4 (low) and Byte5 (high). Request code 1 = read.
-    let device = read().device;
+    let device = read(EDS).device;
     assert_eq!(
-        decode(&device, 0x1600, &[0x01, 0x00, 0x01, 0x0A, 0x00, 0x00]),
+        decode_words(&device, 0x1600, &[0x01, 0x00, 0x01, 0x0A, 0x00, 0x00]),
         vec![((0x2100, 0), 1), ((0x2100, 1), 0x0A01), ((0x2100, 2), 0)]
     );
 }
@@ -216,9 +121,9 @@ fn pdo1_rx_is_six_bytes_and_reads_p10_01() {
 fn pdo1_tx_is_eight_bytes_with_reserved_byte6_and_byte7() {
     // 8.2.2: response code Byte0-1, error code Byte2-3 (Table 21: 07H read-only parameter),
     // response data from Byte4 (low), Byte6-7 reserved 0x00.
-    let device = read().device;
+    let device = read(EDS).device;
     assert_eq!(
-        decode(
+        decode_words(
             &device,
             0x1A00,
             &[0x03, 0x00, 0x07, 0x00, 0x34, 0x12, 0x00, 0x00]
@@ -232,42 +137,15 @@ fn pdo1_tx_is_eight_bytes_with_reserved_byte6_and_byte7() {
     );
 }
 
-/// The 1-based number of the line that reads exactly `line` in the file text.
-fn line_of(text: &str, line: &str) -> u32 {
-    let position = text.lines().position(|l| l.trim_end() == line);
-    position.map(|i| i as u32 + 1).expect(line)
-}
-
-/// Read and validate diagnostics above info, as (code, severity, line), sorted.
-fn warnings_and_errors(read: &Read) -> Vec<(&'static str, Severity, Option<u32>)> {
-    let validated = edsgen_codegen::validate::validate(&read.device);
-    let mut found: Vec<_> = read
-        .diagnostics
-        .iter()
-        .chain(validated.iter())
-        .filter(|d| d.severity > Severity::Info)
-        .map(|d| (d.rule.code, d.severity, d.span.map(|s| s.line)))
-        .collect();
-    found.sort_by_key(|(code, _, line)| (*line, *code));
-    found
-}
-
 #[test]
 fn validates_with_only_the_card_s_own_deviation_from_cia_301() {
-    // 2000h:00 and 2100h:00 are 16-bit data on this card (section 8.2.2: 0x2000.00 is the response code), not the UNSIGNED8
-    // number of entries; the file describes them as they are, and its [Comments] say so.
-    let read = read();
+    // 2000h:00 and 2100h:00 are 16-bit data on this card (section 8.2.2: 0x2000.00 is the
+    // response code), not the UNSIGNED8 number of entries; the file describes them as they are,
+    // and its [Comments] say so.
+    let read = read(EDS);
     // Each at the DataType key of the sub-0 section.
-    let data_type_of = |header: &str| {
-        let start = line_of(&read.text, header);
-        let below = read.text.lines().skip(start as usize);
-        below
-            .take_while(|l| !l.starts_with('['))
-            .position(|l| l.starts_with("DataType="))
-            .map(|i| start + i as u32 + 1)
-    };
-    let sub0_2000 = data_type_of("[2000sub0]");
-    let sub0_2100 = data_type_of("[2100sub0]");
+    let sub0_2000 = key_line(&read.text, "[2000sub0]", "DataType");
+    let sub0_2100 = key_line(&read.text, "[2100sub0]", "DataType");
     assert_eq!(
         warnings_and_errors(&read),
         [
@@ -279,20 +157,12 @@ fn validates_with_only_the_card_s_own_deviation_from_cia_301() {
 
 #[test]
 fn reads_without_diagnostics_above_info() {
-    let read = read();
-    let loud: Vec<_> = read
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity > Severity::Info)
-        .collect();
-    assert!(loud.is_empty(), "{loud:#?}");
+    let read = read(EDS);
+    assert_eq!(above_info(&read.diagnostics), Vec::<Finding>::new());
 }
 
 #[test]
 fn dump_snapshot() {
-    let device = read().device;
-    let mut dump = edsgen_codegen::dump::to_json(&device);
-    // The dump names the file as given (an absolute path here); keep the snapshot portable.
-    dump["file"] = "eds/hd1e.eds".into();
-    insta::assert_json_snapshot!("hd1e_dump", dump);
+    let device = read(EDS).device;
+    insta::assert_json_snapshot!("hd1e_dump", dump(&device, EDS));
 }

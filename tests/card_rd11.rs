@@ -3,61 +3,20 @@
 //! (F groups, power-down-save groups, C00 monitoring, the 0x3000 address group), the default PDO
 //! mapping of Table 3.9, the model dump (snapshot), and the validator's verdict.
 
-use std::path::Path;
+mod card_support;
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::{AccessType, BasicType, Device, ObjectType, Value};
-use edsgen_codegen::read::{read_file, Read};
-
-const EDS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/eds/rd11.eds");
-
-fn read() -> Read {
-    read_file(Path::new(EDS)).expect("eds/rd11.eds is readable")
-}
-
-/// What the file gives as the default value.
-#[derive(Debug, Clone, Copy)]
-enum DefaultValue {
-    /// The manual gives none (the value lives in the drive): no DefaultValue in the file.
-    Absent,
-    Int(i128),
-    NodeId(i64),
-}
-
-/// One object-dictionary entry as the manual describes it.
-struct Row {
-    index: u16,
-    sub: u8,
-    data_type: BasicType,
-    access: AccessType,
-    default: DefaultValue,
-    pdo_mapping: bool,
-    source: &'static str,
-}
-
-const fn row(
-    index: u16,
-    sub: u8,
-    data_type: BasicType,
-    access: AccessType,
-    default: DefaultValue,
-    pdo_mapping: bool,
-    source: &'static str,
-) -> Row {
-    Row {
-        index,
-        sub,
-        data_type,
-        access,
-        default,
-        pdo_mapping,
-        source,
-    }
-}
+use card_support::{
+    above_info, baud_rates, check_absent, check_rows, dump, integer_default, read, row,
+    warnings_and_errors, DefaultValue, Finding, Row,
+};
+use edsgen_codegen::model::{AccessType, BasicType, ObjectType};
 
 use AccessType::{Ro, Rw, Wo};
 use BasicType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
 use DefaultValue::{Absent, Int, NodeId};
+
+/// The EDS under test, relative to the package root.
+const EDS: &str = "eds/rd11.eds";
 
 #[rustfmt::skip]
 const ROWS: &[Row] = &[
@@ -120,53 +79,18 @@ const ABSENT: &[(u16, u8, &str)] = &[
     (0x1800, 4, "TPDO sub4 is reserved by CiA 301"),
 ];
 
-fn default_matches(device: &Device, index: u16, sub: u8, expected: DefaultValue) -> bool {
-    let Some(entry) = device.entry(index, sub) else {
-        return false;
-    };
-    let value = entry.default.as_ref().and_then(|d| d.value.clone());
-    match expected {
-        Absent => entry.default.is_none(),
-        Int(v) => value == Some(Value::Integer(v)),
-        NodeId(offset) => value == Some(Value::NodeRelative(offset)),
-    }
-}
-
 #[test]
 fn objects_match_the_manual() {
-    let device = read().device;
-    for r in ROWS {
-        let at = format!("{:04X}h:{:02X} ({})", r.index, r.sub, r.source);
-        let entry = device
-            .entry(r.index, r.sub)
-            .unwrap_or_else(|| panic!("{at}: missing"));
-        assert_eq!(
-            entry.data_type,
-            Some(r.data_type.index()),
-            "{at}: data type"
-        );
-        assert_eq!(entry.access, Some(r.access), "{at}: access");
-        assert_eq!(entry.pdo_mapping, r.pdo_mapping, "{at}: PDO mapping");
-        assert!(
-            default_matches(&device, r.index, r.sub, r.default),
-            "{at}: default {:?}, expected {:?}",
-            entry.default,
-            r.default
-        );
-    }
-    for (index, sub, source) in ABSENT {
-        assert!(
-            device.entry(*index, *sub).is_none(),
-            "{index:04X}h:{sub:02X} must not exist ({source})"
-        );
-    }
+    let device = read(EDS).device;
+    check_rows(&device, ROWS);
+    check_absent(&device, ABSENT);
 }
 
 #[test]
 fn every_function_code_group_has_a_parameter_and_a_save_index() {
     // 3.1.3: F00-F15 -> 2000h-200Fh and 20F0h-20FFh; F16-F31 -> 2010h-201Fh and 20A0h-20AFh.
     // Each is an ARRAY of 100 UNSIGNED16 entries (sub-index = parameter number + 1).
-    let device = read().device;
+    let device = read(EDS).device;
     for group in 0u16..32 {
         let save = if group < 16 {
             0x20F0 + group
@@ -196,7 +120,7 @@ fn every_function_code_group_has_a_parameter_and_a_save_index() {
 fn sdo_examples_address_existing_entries() {
     // 3.1.4: the index/sub-index bytes of every SDO example frame name an entry of the file, of
     // the 2-byte type their 4B answers carry.
-    let device = read().device;
+    let device = read(EDS).device;
     for frame in [
         [0x40u8, 0x02, 0x20, 0x03, 0x00, 0x00, 0x00, 0x00], // read F02.02
         [0x2B, 0x02, 0x20, 0x03, 0x03, 0x00, 0x00, 0x00],   // write 3 to F02.02
@@ -246,16 +170,9 @@ const MAPPINGS: &[(u16, &[u32], &str)] = &[
     (0x1A03, &[], "TPDO4: no default mapping"),
 ];
 
-fn integer_default(device: &Device, index: u16, sub: u8) -> Option<i128> {
-    match device.entry(index, sub)?.default.as_ref()?.value {
-        Some(Value::Integer(v)) => Some(v),
-        _ => None,
-    }
-}
-
 #[test]
 fn default_pdo_mappings_follow_table_3_9() {
-    let device = read().device;
+    let device = read(EDS).device;
     for (index, entries, source) in MAPPINGS {
         let at = format!("{index:04X}h ({source})");
         assert_eq!(
@@ -292,7 +209,7 @@ fn default_pdo_mappings_follow_table_3_9() {
 
 #[test]
 fn mapped_entries_are_named_after_table_3_9() {
-    let device = read().device;
+    let device = read(EDS).device;
     for (index, sub, name) in [
         (0x2030u16, 2u8, "Control command (0x3001)"),
         (0x2030, 1, "Frequency command (0x3000)"),
@@ -311,17 +228,10 @@ fn mapped_entries_are_named_after_table_3_9() {
 
 #[test]
 fn device_info_matches_the_manual() {
-    let device = read().device;
+    let device = read(EDS).device;
     let info = &device.device_info;
     // Table 1.2, Tables 3.1/3.2: 20k, 50k, 100k, 125k, 250k, 500k, 1M; 100k has no CiA 306 key.
-    let mut enabled: Vec<u32> = info
-        .baud_rates
-        .iter()
-        .filter(|(_, on)| *on)
-        .map(|(rate, _)| *rate)
-        .collect();
-    enabled.sort_unstable();
-    assert_eq!(enabled, [20, 50, 125, 250, 500, 1000]);
+    assert_eq!(baud_rates(&device), [20, 50, 125, 250, 500, 1000]);
     // 3.1.1: 4 TPDO, 4 RPDO.
     assert_eq!(info.nr_of_rx_pdo.as_ref().map(|s| s.value), Some(4));
     assert_eq!(info.nr_of_tx_pdo.as_ref().map(|s| s.value), Some(4));
@@ -330,26 +240,13 @@ fn device_info_matches_the_manual() {
 
 #[test]
 fn validates_without_warnings_or_errors() {
-    let read = read();
-    let validated = edsgen_codegen::validate::validate(&read.device);
-    let loud: Vec<_> = read
-        .diagnostics
-        .iter()
-        .chain(validated.iter())
-        .filter(|d| d.severity > Severity::Info)
-        .collect();
-    assert!(loud.is_empty(), "{loud:#?}");
+    assert_eq!(warnings_and_errors(&read(EDS)), Vec::<Finding>::new());
 }
 
 #[test]
 fn reads_without_diagnostics_above_info() {
-    let read = read();
-    let loud: Vec<_> = read
-        .diagnostics
-        .iter()
-        .filter(|d| d.severity > Severity::Info)
-        .collect();
-    assert!(loud.is_empty(), "{loud:#?}");
+    let read = read(EDS);
+    assert_eq!(above_info(&read.diagnostics), Vec::<Finding>::new());
 }
 
 /// Whether `index` is one of the 64 function-code group arrays (parameters or power-down save).
@@ -359,10 +256,8 @@ fn is_parameter_group(index: u16) -> bool {
 
 #[test]
 fn dump_snapshot() {
-    let device = read().device;
-    let mut dump = edsgen_codegen::dump::to_json(&device);
-    // The dump names the file as given (an absolute path here); keep the snapshot portable.
-    dump["file"] = "eds/rd11.eds".into();
+    let device = read(EDS).device;
+    let mut dump = dump(&device, EDS);
     // The 64 parameter-group arrays hold 6400 implied entries that differ only in name and
     // sub-index (every_function_code_group_has_a_parameter_and_a_save_index checks them all);
     // the snapshot keeps sub 0, 1 and 100 of each so that it stays reviewable.
