@@ -669,6 +669,8 @@ pub struct Device {
     pub device_info: DeviceInfo,
     /// `[DummyUsage]`: data type index → whether it may be used as a dummy mapping entry.
     pub dummy_usage: BTreeMap<u16, bool>,
+    /// Where dummy usage is declared (the `[DummyUsage]` header or the XML element), if it is.
+    pub dummy_usage_span: Option<Span>,
     /// `[Comments]` lines, in order.
     pub comments: Vec<String>,
     /// `[Comments]` `Lines` as written (the declared number of comment lines), for the validator.

@@ -40,7 +40,7 @@ rules! {
     DUPLICATE_SECTION = "EDS005" Error "a section appears twice (case-insensitive); the last one wins";
     DUPLICATE_KEY = "EDS006" Error "a key appears twice in one section; the last one wins";
     KEY_SPELLING = "EDS007" Warning "whitespace before `=`, around a section name, or a key with characters other than [A-Za-z0-9_]";
-    CASE_ONLY_MATCH = "EDS008" Info "a section or key that matches its canonical name only case-insensitively";
+    CASE_ONLY_MATCH = "EDS008" Info "a section or key that matches its canonical name only case-insensitively (warning for `LineN` in [Comments] and `DummyNNNN` in [DummyUsage]: python canopen looks them up case-sensitively and cannot import the file)";
     UNKNOWN_ITEM = "EDS009" Info "an unknown section or key (kept, not interpreted)";
     LEADING_ZEROS = "EDS010" Warning "a numbered key or a section name with extra leading zeros";
     BAD_NUMBER = "EDS011" Error "a value that should be a number is not one";
@@ -59,6 +59,8 @@ rules! {
     ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
     C_LITERAL_SUFFIX = "EDS025" Warning "an integer or REAL value with a C literal suffix (`LL`, `U`, `f`; written by CANopenNode/CANopenEditor), read without the suffix; once per type per file, naming the other lines";
     BYTES_DIALECT = "EDS026" Warning "an OCTET_STRING/DOMAIN value written as a `0x` literal (read as its hex digits in written order, Sevcon dialect) or a DOMAIN value `0` (read as empty, CANopenNode dialect); once per form per file, naming the other lines";
+    COMMENT_CONTINUATION = "EDS027" Warning "a line without `;` or `=` right after a comment line: read as the comment's continuation (a comment with a line break in it)";
+    EMPTY_NUMBER = "EDS028" Warning "an empty [DeviceInfo] number or boolean, or [Comments] Lines (`VendorNumber=`): read as absent, as CiA 306 says, but python canopen cannot import the file";
 
 
     // ---- EDS1xx: [FileInfo] and [DeviceInfo] (validator) ----
@@ -129,6 +131,7 @@ rules! {
     MAPPING_GRANULARITY = "EDS414" Warning "a PDO mapping length that is not a multiple of Granularity, or more than 8 entries with Granularity 8";
     DUPLICATE_PDO_COB_ID = "EDS415" Warning "two enabled TPDOs, or two enabled RPDOs, have the same default COB-ID";
     DUMMY_USAGE_KEY = "EDS416" Info "[DummyUsage] keys outside Dummy0001..Dummy0007 (info: Lely writes Dummy0000..Dummy001F)";
+    DUMMY_USAGE_MISSING = "EDS417" Warning "[DummyUsage] without one of Dummy0001..Dummy0007 (CiA 306 lists all seven; python canopen cannot import the file)";
 
     // ---- EDS5xx: DCF, commissioning, modules, comments, object links, dynamic channels (validator) ----
     DCF_NODE_ID = "EDS501" Error "the DCF NodeID is outside 1..127 (warning for 255: unconfigured, assigned by LSS; and for 0: not commissioned, as CANopenEditor writes it)";

@@ -334,6 +334,56 @@ fn eds001_junk_line_is_an_error_and_ignored() {
 }
 
 #[test]
+fn eds027_line_after_a_comment_continues_it() {
+    // A Sevcon file breaks a `;SEVCONFIELD PARAMETERNAME=` comment over two lines.
+    let read = read_eds(
+        "[1000]\n;SEVCONFIELD PARAMETERNAME=\nDirection reference\nmore of it\nParameterName=Device type\nDataType=0x0007\n",
+    );
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS027", Severity::Warning, 3),
+            ("EDS027", Severity::Warning, 4)
+        ]
+    );
+    assert_eq!(
+        read.diagnostics[1].message,
+        "line continues the comment on line 2"
+    );
+    assert_eq!(read.diagnostics[0].span, Some(Span::new(3, 1, 19)));
+    assert_eq!(read.device.entry(0x1000, 0).unwrap().data_type, Some(7));
+}
+
+#[test]
+fn eds001_after_a_blank_line_a_stray_line_is_not_a_comment_continuation() {
+    let read = read_eds("[1000]\n; comment\n\nstray\nDataType=0x0007\n");
+    assert_eq!(diags(&read), vec![("EDS001", Severity::Error, 4)]);
+    let read = read_eds("[1000]\nDataType=0x0007\nstray\n");
+    assert_eq!(diags(&read), vec![("EDS001", Severity::Error, 3)]);
+}
+
+#[test]
+fn eds028_empty_number_key_is_absent_and_reported() {
+    let read = read_eds("[DeviceInfo]\nVendorName=x\nVendorNumber=\nProductNumber=0x2\n");
+    assert_eq!(diags(&read), vec![("EDS028", Severity::Warning, 3)]);
+    assert_eq!(read.diagnostics[0].span, Some(Span::new(3, 1, 12)));
+    assert_eq!(read.device.device_info.vendor_number, None);
+    assert_eq!(
+        read.device.device_info.product_number.map(|n| n.value),
+        Some(2)
+    );
+}
+
+#[test]
+fn eds008_is_a_warning_for_keys_python_looks_up_case_sensitively() {
+    let read = read_eds("[DummyUsage]\ndummy0001=0\n[1000]\nDataType=0x0007\nPDOMapping=0\n");
+    assert_eq!(diags(&read), vec![("EDS008", Severity::Warning, 2)]);
+    assert_eq!(read.device.dummy_usage.get(&1), Some(&false));
+    let read = read_eds("[1000]\nDataType=0x0007\nparametername=Device type\n");
+    assert_eq!(diags(&read), vec![("EDS008", Severity::Info, 3)]);
+}
+
+#[test]
 fn eds002_windows_1252_and_utf8_are_reported_with_the_first_line() {
     let mut bytes = b"[1000]\nParameterName=Temp \xB0C\nDataType=0x0007\n".to_vec();
     let read = read::read_bytes(Path::new("t.eds"), &bytes);
@@ -776,7 +826,7 @@ fn utf8_bom_is_accepted_and_reported() {
 #[test]
 fn comments_keep_every_line_even_when_lines_is_wrong() {
     let read = read_eds("[Comments]\nLines=1\nLine1=one\nLine3=three\nline2=two\n");
-    assert_eq!(diags(&read), vec![("EDS008", Severity::Info, 5)]);
+    assert_eq!(diags(&read), vec![("EDS008", Severity::Warning, 5)]);
     assert_eq!(read.device.comments, vec!["one", "two", "three"]);
 }
 

@@ -1213,7 +1213,23 @@ fn eds416_dummy_usage_key_out_of_range() {
         "Dummy0007=1",
         "Dummy0007=1\nDummy0010=1",
     );
-    assert_eq!(diags(&t), vec![d("EDS416", Info, 0)]);
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS416", Info, line_of(&t, "[DummyUsage]"))]
+    );
+}
+
+#[test]
+fn eds417_dummy_usage_without_dummy0001() {
+    // lely's DCFs list only the dummies they use; python canopen 2.4.1 raises on the first absent.
+    let t = edit(&eds(&[], &[], ""), "Dummy0001=0\n", "");
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS417", Warning, line_of(&t, "[DummyUsage]"))]
+    );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    let found = validate::validate(&read.device);
+    assert_eq!(found[0].message, "[DummyUsage] has no Dummy0001");
 }
 
 // ---- EDS5xx ----

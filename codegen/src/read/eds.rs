@@ -89,6 +89,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         file_info: FileInfo::default(),
         device_info: DeviceInfo::default(),
         dummy_usage: Default::default(),
+        dummy_usage_span: None,
         comments: Vec::new(),
         comment_lines: None,
         objects: Default::default(),
@@ -119,6 +120,10 @@ enum SectionKind {
 }
 
 /// Sections with a fixed name: canonical spelling and kind.
+/// The help for a key python canopen looks up by its exact spelling (it raises without it).
+const CASE_SENSITIVE_TOOLS: &str =
+    "write it as CiA 306 does: python canopen looks it up case-sensitively and cannot import the file";
+
 const NAMED_SECTIONS: &[(&str, SectionKind)] = &[
     ("FileInfo", SectionKind::FileInfo),
     ("DeviceInfo", SectionKind::DeviceInfo),
@@ -194,6 +199,21 @@ const DEVICE_INFO_KEYS: &[&str] = &[
     "NrOfTXPDO",
     "LSS_Supported",
     "CompactPDO",
+];
+
+/// The [DeviceInfo] keys python canopen reads with `int()` and no fallback for an empty value.
+const PYTHON_INT_KEYS: &[&str] = &[
+    "VendorNumber",
+    "ProductNumber",
+    "RevisionNumber",
+    "SimpleBootUpMaster",
+    "SimpleBootUpSlave",
+    "Granularity",
+    "DynamicChannelsSupported",
+    "GroupMessaging",
+    "NrOfRXPDO",
+    "NrOfTXPDO",
+    "LSS_Supported",
 ];
 
 const COMMISSIONING_KEYS: &[&str] = &[
@@ -681,6 +701,27 @@ impl Reader {
         }
     }
 
+    /// EDS028 for an empty number or boolean that python canopen reads with `int()` and no
+    /// fallback (the [DeviceInfo] numbers and booleans, [Comments] `Lines`): CiA 306 reads it
+    /// as absent, which edsgen does, but python cannot import the file.
+    fn empty_number(&mut self, entry: &IniEntry) {
+        if !entry.value.as_str().trim().is_empty() {
+            return;
+        }
+        self.diags.push(
+            Diagnostic::new(
+                &rules::EMPTY_NUMBER,
+                Some(entry.key_span),
+                format!("`{}` has an empty value", entry.key),
+            )
+            .with_label("read as absent, as CiA 306 says")
+            .with_help(format!(
+                "write the number, or remove the key: python canopen cannot import `{}=`",
+                entry.key
+            )),
+        );
+    }
+
     /// A boolean key: `0`/`1`; other spellings are read with EDS021. Missing or empty is false.
     fn boolean(&mut self, entry: Option<&IniEntry>) -> bool {
         let Some(entry) = entry else { return false };
@@ -778,6 +819,7 @@ impl Reader {
                             "BaudRate_",
                         );
                     }
+                    self.empty_number(entry);
                     let supported = self.boolean(Some(entry));
                     baud_rates.push((rate, supported));
                 }
@@ -785,6 +827,11 @@ impl Reader {
             }
         }
         let get = |k: &str| keys.get(k).copied();
+        for key in PYTHON_INT_KEYS {
+            if let Some(entry) = get(key) {
+                self.empty_number(entry);
+            }
+        }
         let info = DeviceInfo {
             vendor_name: Self::string(get("VendorName")),
             vendor_number: self.number(get("VendorNumber"), u32::MAX),
@@ -810,6 +857,7 @@ impl Reader {
     }
 
     fn read_dummy_usage(&mut self, section: &IniSection) {
+        self.device.dummy_usage_span = Some(section.span);
         for entry in &section.entries {
             let index = entry
                 .key
@@ -829,7 +877,9 @@ impl Reader {
                                     "key `{}` is spelled `Dummy{index:04X}` in CiA 306",
                                     entry.key
                                 ),
-                            ),
+                            )
+                            .with_severity(Severity::Warning)
+                            .with_help(CASE_SENSITIVE_TOOLS),
                             "Dummy",
                         );
                     }
@@ -867,14 +917,19 @@ impl Reader {
             );
         }
         if head != prefix {
-            self.once(
-                Diagnostic::new(
-                    &rules::CASE_ONLY_MATCH,
-                    Some(entry.key_span),
-                    format!("key `{}` is spelled `{prefix}{n}` in CiA 306", entry.key),
-                ),
-                prefix,
+            let diag = Diagnostic::new(
+                &rules::CASE_ONLY_MATCH,
+                Some(entry.key_span),
+                format!("key `{}` is spelled `{prefix}{n}` in CiA 306", entry.key),
             );
+            // python canopen finds the [Comments] lines by their exact spelling.
+            let diag = if prefix == "Line" {
+                diag.with_severity(Severity::Warning)
+                    .with_help(CASE_SENSITIVE_TOOLS)
+            } else {
+                diag
+            };
+            self.once(diag, prefix);
         }
         Some(n)
     }
@@ -883,6 +938,7 @@ impl Reader {
         let mut lines: Vec<(u32, String)> = Vec::new();
         for entry in &section.entries {
             if entry.key.eq_ignore_ascii_case("Lines") {
+                self.empty_number(entry);
                 self.device.comment_lines = self.number(Some(entry), u32::from(u16::MAX));
                 continue;
             }

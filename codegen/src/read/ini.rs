@@ -354,7 +354,8 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     })
 }
 
-/// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006 and EDS007.
+/// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006, EDS007 and
+/// EDS027.
 pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     let mut file = IniFile::default();
     // Index into `file.sections` of the section that receives entries, and the keys seen in the
@@ -367,6 +368,9 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     // least INDEXED_FROM entries (long object lists, [xxxxValue]); smaller ones are scanned.
     const INDEXED_FROM: usize = 16;
     let mut entry_at: HashMap<(usize, Caseless<'t>), usize, FastHash> = HashMap::default();
+    // The line of the comment that the previous line was or continued: a line without `;` or
+    // `=` right after it continues that comment (a comment with a line break in it, EDS027).
+    let mut comment_from: Option<u32> = None;
     for (number, line) in lines(text).into_iter().enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
@@ -387,12 +391,14 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
         }
         let ascii = line.is_ascii();
         let trimmed = trim_in(line, ascii);
+        let after_comment = comment_from.take();
         if trimmed.is_empty() {
             continue;
         }
         let indent = line.len() - trim_start_in(line, ascii).len();
         let first_col = column_in(line, indent, ascii);
         if trimmed.starts_with(';') {
+            comment_from = Some(line_no);
             if indent > 0 {
                 diags.push(Diagnostic::new(
                     &rules::INLINE_COMMENT,
@@ -483,6 +489,19 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             continue;
         }
         let Some(eq) = line.bytes().position(|b| b == b'=') else {
+            if let Some(comment_line) = after_comment {
+                diags.push(
+                    Diagnostic::new(
+                        &rules::COMMENT_CONTINUATION,
+                        Some(Span::new(line_no, first_col, char_len_in(trimmed, ascii))),
+                        format!("line continues the comment on line {comment_line}"),
+                    )
+                    .with_label("read as part of that comment")
+                    .with_help("start the line with `;`, or join it to the comment"),
+                );
+                comment_from = Some(comment_line);
+                continue;
+            }
             diags.push(
                 Diagnostic::new(
                     &rules::UNPARSEABLE_LINE,

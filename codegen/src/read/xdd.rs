@@ -1052,6 +1052,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
     }
 
     fn read_dummy_usage(&mut self, node: Node, device: &mut Device) {
+        device.dummy_usage_span = Some(self.element_span(node));
         for dummy in children(node, "dummy") {
             let Some(entry) = attribute(dummy, "entry") else {
                 continue;

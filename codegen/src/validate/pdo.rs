@@ -570,6 +570,26 @@ fn duplicate_cob_ids(device: &Device, out: &mut Vec<Diagnostic>) {
 }
 
 fn dummy_usage_keys(device: &Device, out: &mut Vec<Diagnostic>) {
+    if let Some(span) = device.dummy_usage_span {
+        let missing: Vec<String> = (0x0001..=0x0007u16)
+            .filter(|k| !device.dummy_usage.contains_key(k))
+            .map(|k| format!("Dummy{k:04X}"))
+            .collect();
+        if !missing.is_empty() {
+            out.push(
+                Diagnostic::new(
+                    &rules::DUMMY_USAGE_MISSING,
+                    Some(span),
+                    format!("[DummyUsage] has no {}", short_list(&missing)),
+                )
+                .with_label("CiA 306 lists Dummy0001..Dummy0007")
+                .with_help(format!(
+                    "add {}=0 (or =1 where the device accepts that dummy type); python canopen cannot import the file without them",
+                    missing[0]
+                )),
+            );
+        }
+    }
     let odd: Vec<String> = device
         .dummy_usage
         .keys()
@@ -580,7 +600,7 @@ fn dummy_usage_keys(device: &Device, out: &mut Vec<Diagnostic>) {
         out.push(
             Diagnostic::new(
                 &rules::DUMMY_USAGE_KEY,
-                None,
+                device.dummy_usage_span,
                 format!(
                     "[DummyUsage] has keys outside Dummy0001..Dummy0007: {}",
                     short_list(&odd)

@@ -97,6 +97,7 @@ pub fn device(objects: Vec<Object>) -> Device {
             ..DeviceInfo::default()
         },
         dummy_usage: BTreeMap::new(),
+        dummy_usage_span: None,
         comments: Vec::new(),
         comment_lines: None,
         objects: objects.into_iter().map(|o| (o.index, o)).collect(),
