@@ -441,3 +441,16 @@ fn device_with(data_type: u16, default: Value) -> edsgen_codegen::model::Device 
         false,
     )])
 }
+
+#[test]
+fn string_longer_than_an_entry_can_hold_is_eds707() {
+    let device = device_with(0x0009, Value::Text("x".repeat(70_000)));
+    let diags = emit::generate_module(&device, "x").unwrap_err();
+    assert_eq!(diags.len(), 1);
+    assert_eq!(diags[0].code(), "EDS707");
+    assert_eq!(diags[0].severity, Severity::Error);
+    assert_eq!(
+        diags[0].message,
+        "2000h sub 0 `Stamp`: needs 70000 bytes; an entry holds at most 65535"
+    );
+}

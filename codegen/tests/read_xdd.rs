@@ -982,3 +982,22 @@ fn xml_values_use_the_eds_value_forms() {
         Some(&Value::Integer(-0x8000_0000))
     );
 }
+
+#[test]
+fn variable_ref_parameter_is_eds609_and_keeps_the_object_type() {
+    let parameter = r#"<parameter uniqueID="V" access="read">
+<variableRef position="1"><instanceIDRef uniqueIDRef="I"/></variableRef>
+</parameter>"#;
+    let object = r#"<CANopenObject index="2002" name="Ref" objectType="7" dataType="0006" accessType="ro" uniqueIDRef="V"/>"#;
+    let read = read_xml("t.xdd", &container("", parameter, object));
+    let found: Vec<(&str, Severity, u32)> = read
+        .diagnostics
+        .iter()
+        .map(|d| (d.code(), d.severity, d.span.map_or(0, |s| s.line)))
+        .collect();
+    assert_eq!(found, vec![("EDS609", Severity::Warning, 8)]);
+    assert_eq!(
+        read.device.objects[&0x2002].subs[&0].data_type,
+        Some(0x0006)
+    );
+}

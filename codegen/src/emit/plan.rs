@@ -425,7 +425,7 @@ impl Planner<'_> {
                 &rules::CAPACITY_TOO_LARGE,
                 Some(sub.span),
                 format!(
-                    "{where_} `{}` needs {cap} bytes; an entry holds at most 65535",
+                    "{where_} `{}`: needs {cap} bytes; an entry holds at most 65535",
                     sub.name
                 ),
             ));
