@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use edsgen_codegen::diag::{self, Severity};
-use edsgen_codegen::{emit, read, render, rules, validate};
+use edsgen_codegen::{read, render, rules, validate};
 
 #[derive(Parser)]
 #[command(
@@ -200,22 +200,8 @@ fn cmd_generate(
     output: Option<&std::path::Path>,
     module: Option<&str>,
 ) -> ExitCode {
-    let read = match read::read_file(path) {
-        Ok(read) => read,
-        Err(err) => return fail(err),
-    };
-    let mut diags = read.diagnostics;
-    diags.extend(validate::validate(&read.device));
-    diag::sort(&mut diags);
-    let errors: Vec<_> = diags
-        .iter()
-        .filter(|d| d.severity == Severity::Error)
-        .cloned()
-        .collect();
-    let name = path.display().to_string();
-    if !errors.is_empty() {
-        eprint!("{}", render::human(&name, &read.text, &errors, false));
-        return ExitCode::from(1);
+    if !path.is_file() {
+        return fail(format!("cannot read `{}`: not a file", path.display()));
     }
     let module = match module {
         Some(m) => m.to_owned(),
@@ -224,10 +210,16 @@ fn cmd_generate(
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "device".into()),
     };
-    let code = match emit::generate(&read.device, &module) {
-        Ok(code) => code,
-        Err(err) => {
-            eprintln!("error: {name}: {err}");
+    // The same function build.rs runs, overlay included: the output is what build.rs would write.
+    let code = match edsgen_codegen::builder::generate_device(path, &module, &[]) {
+        Ok((code, warnings)) => {
+            for warning in warnings {
+                eprint!("{warning}");
+            }
+            code
+        }
+        Err(errors) => {
+            eprint!("{errors}");
             return ExitCode::from(1);
         }
     };

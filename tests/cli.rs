@@ -247,3 +247,70 @@ fn human_output_is_rustc_style() {
     let text = String::from_utf8_lossy(&out.stdout).replace(path.to_str().unwrap(), "warn.eds");
     insta::assert_snapshot!(text);
 }
+
+/// CLEAN with 2000h a writable VISIBLE_STRING (capacity 32 by the generator's rule).
+fn with_string() -> String {
+    CLEAN.replace(
+        "ParameterName=Speed\nObjectType=0x7\nDataType=0x0006\nAccessType=rw\nDefaultValue=0",
+        "ParameterName=Label\nObjectType=0x7\nDataType=0x0009\nAccessType=rw\nDefaultValue=drive",
+    )
+}
+
+#[test]
+fn generate_applies_the_overlay_beside_the_file() {
+    let path = file("overlay", "dev.eds", &with_string());
+    let p = path.to_str().unwrap();
+    let out = run(&["generate", p]);
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    let code_text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(code_text.contains("pub label: ::edsgen_runtime::FixedBytes<32>,"));
+
+    std::fs::write(path.with_extension("toml"), "[capacity]\n2000 = 200\n").unwrap();
+    let out = run(&["generate", p]);
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    let with_overlay = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(with_overlay.contains("pub label: ::edsgen_runtime::FixedBytes<200>,"));
+    assert_eq!(
+        with_overlay
+            .replace("FixedBytes<200>", "FixedBytes<32>")
+            .replace("capacity 200 bytes", "capacity 32 bytes")
+            .replace("A::Rw, false, 200)", "A::Rw, false, 32)"),
+        code_text,
+        "the overlay changes the capacity (type, docs, descriptor) and nothing else"
+    );
+}
+
+#[test]
+fn generate_reports_overlay_errors_at_their_line_and_exits_1() {
+    let path = file("overlay-bad", "dev.eds", &with_string());
+    let overlay = path.with_extension("toml");
+    std::fs::write(&overlay, "# capacities\n[capacity]\n2000 = 3\n").unwrap();
+    let out = run(&["generate", path.to_str().unwrap()]);
+    assert_eq!(code(&out), 1);
+    assert!(out.stdout.is_empty());
+    let stderr =
+        String::from_utf8_lossy(&out.stderr).replace(overlay.to_str().unwrap(), "dev.toml");
+    assert_eq!(
+        stderr,
+        "\
+error[EDS708]: 2000h sub 0 `Label` holds 5 bytes by default, more than the capacity 3
+ --> dev.toml:3:8
+  |
+3 | 2000 = 3
+  |        ^
+  |
+  = help: give it at least 5 bytes
+
+"
+    );
+}
+
+#[test]
+fn generate_of_a_missing_file_exits_2() {
+    let out = run(&["generate", "/nonexistent/edsgen/none.eds"]);
+    assert_eq!(code(&out), 2);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "error: cannot read `/nonexistent/edsgen/none.eds`: not a file\n"
+    );
+}

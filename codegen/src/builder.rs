@@ -1,13 +1,14 @@
 //! `Builder`: the build.rs entry point. Reads each device description, validates it, generates
 //! its module into `OUT_DIR/NAME.rs` (for `edsgen_runtime::include_device!("NAME")`), prints
 //! `cargo:rerun-if-changed` for every input and warnings as `cargo:warning`, and fails on errors
-//! with the rendered diagnostics.
+//! with the rendered diagnostics. A device's overlay (`NAME.toml` beside `NAME.eds`, see
+//! [`crate::overlay`]) is applied before generation.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::diag::{self, Severity};
-use crate::{emit, read, render, validate};
+use crate::{emit, overlay, read, render, validate};
 
 /// Generates typed bindings for one or more devices from build.rs.
 ///
@@ -147,6 +148,16 @@ impl Builder {
         for (path, module) in &self.devices {
             if cargo {
                 println!("cargo:rerun-if-changed={}", path.display());
+                // The overlay if there is one; else its folder, so that adding one is noticed.
+                let overlay = overlay::path_for(path);
+                let watched = if overlay.is_file() {
+                    overlay
+                } else {
+                    overlay.parent().map(Path::to_path_buf).unwrap_or_default()
+                };
+                if !watched.as_os_str().is_empty() {
+                    println!("cargo:rerun-if-changed={}", watched.display());
+                }
             }
             let module = emit::module_name(&module.clone().unwrap_or_else(|| stem(path)));
             if !seen.insert(module.clone()) {
@@ -155,7 +166,7 @@ impl Builder {
                 ));
                 continue;
             }
-            match generate_one(path, &module, &allowed) {
+            match generate_device(path, &module, &allowed) {
                 Ok((code, warnings)) => {
                     let file = out_dir.join(format!("{module}.rs"));
                     if let Err(err) = write_if_changed(&file, &code) {
@@ -204,13 +215,30 @@ fn write_if_changed(file: &Path, code: &str) -> std::io::Result<()> {
 
 /// Reads, validates and generates one device: the code and rendered warnings, or the rendered
 /// errors (and warnings).
-fn generate_one(
+/// Reads, validates and generates one device, with its overlay ([`overlay::path_for`]) if there
+/// is one: the module's code and the rendered warnings (less the `allowed` codes), or every
+/// error rendered. `edsgen generate` calls it too, so it writes exactly what build.rs gets.
+pub fn generate_device(
     path: &Path,
     module: &str,
     allowed: &[&str],
 ) -> Result<(String, Vec<String>), String> {
-    let read = read::read_file(path).map_err(|err| format!("error: edsgen: {err}\n"))?;
+    let mut read = read::read_file(path).map_err(|err| format!("error: edsgen: {err}\n"))?;
     let name = path.display().to_string();
+    let overlay_path = overlay::path_for(path);
+    let overlay_errors = if overlay_path.is_file() {
+        let text = std::fs::read_to_string(&overlay_path).map_err(|err| {
+            format!(
+                "error: edsgen: cannot read the overlay `{}`: {err}\n",
+                overlay_path.display()
+            )
+        })?;
+        let diags = overlay::apply(&text, &mut read.device);
+        (!diags.is_empty())
+            .then(|| render::human(&overlay_path.display().to_string(), &text, &diags, false))
+    } else {
+        None
+    };
     let mut diags = read.diagnostics;
     diags.extend(validate::validate(&read.device));
     let emitted = if diags.iter().any(|d| d.severity == Severity::Error) {
@@ -239,8 +267,10 @@ fn generate_one(
         .filter(|d| d.severity == Severity::Warning)
         .map(|d| render::human(&name, &read.text, std::slice::from_ref(d), false))
         .collect();
-    match emitted {
-        Some(code) => Ok((code, warnings)),
-        None => Err(render::human(&name, &read.text, &shown, false)),
+    match (emitted, overlay_errors) {
+        (Some(code), None) => Ok((code, warnings)),
+        (None, overlay) => Err(render::human(&name, &read.text, &shown, false)
+            + overlay.as_deref().unwrap_or_default()),
+        (Some(_), Some(overlay)) => Err(overlay),
     }
 }

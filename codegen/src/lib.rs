@@ -12,6 +12,7 @@ pub mod diag;
 pub mod dump;
 pub mod emit;
 pub mod model;
+pub mod overlay;
 pub mod read;
 pub mod render;
 pub mod rules;

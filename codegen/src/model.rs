@@ -496,6 +496,9 @@ pub struct SubObject {
     /// Where the DataType, AccessType and PDOMapping values are written, so that diagnostics
     /// about them point at the key rather than the section. Empty when not known.
     pub key_spans: KeySpans,
+    /// The capacity in bytes of a string, octet string or domain, set by the overlay beside the
+    /// description (see [`crate::overlay`]); `None` for the generator's rule.
+    pub capacity: Option<usize>,
 }
 
 /// Where some keys of an entry are written (the value text), when the reader knows it.

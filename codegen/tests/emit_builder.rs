@@ -123,3 +123,40 @@ fn allowed_warnings_are_silenced_but_errors_still_fail() {
     );
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn the_overlay_beside_a_device_sets_capacities_and_its_errors_fail_the_build() {
+    let out = temp_dir("overlay");
+    let eds = out.join("goodrive350.eds");
+    std::fs::copy(card("goodrive350.eds"), &eds).unwrap();
+    let build = || {
+        Builder::new()
+            .device(&eds)
+            .allow("EDS308")
+            .out_dir(&out)
+            .cargo_output(false)
+            .generate_to()
+    };
+    build().unwrap();
+    let plain = std::fs::read_to_string(out.join("goodrive350.rs")).unwrap();
+    assert!(plain.contains("pub manufacturer_device_name: ::edsgen_runtime::FixedBytes<12>,"));
+
+    std::fs::write(out.join("goodrive350.toml"), "[capacity]\n1008 = 48\n").unwrap();
+    build().unwrap();
+    let with_overlay = std::fs::read_to_string(out.join("goodrive350.rs")).unwrap();
+    assert!(
+        with_overlay.contains("pub manufacturer_device_name: ::edsgen_runtime::FixedBytes<48>,"),
+        "{with_overlay}"
+    );
+
+    std::fs::write(out.join("goodrive350.toml"), "[capacity]\n1000 = 48\n").unwrap();
+    let message = build().unwrap_err().message().to_owned();
+    assert!(
+        message.contains(
+            "error[EDS708]: 1000h sub 0 `Device type` is not a string, octet string or domain"
+        ),
+        "{message}"
+    );
+    assert!(message.contains("goodrive350.toml:2:1"), "{message}");
+    let _ = std::fs::remove_dir_all(&out);
+}

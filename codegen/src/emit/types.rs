@@ -174,9 +174,12 @@ pub fn initial_value(sub: &SubObject) -> Option<&Value> {
         .or_else(|| sub.default.as_ref().and_then(|v| v.value.as_ref()))
 }
 
-/// The capacity of a string, octet string or domain entry: the longest of its DefaultValue and
-/// ParameterValue, and at least [`MIN_WRITABLE_CAPACITY`] when it is writable.
+/// The capacity of a string, octet string or domain entry: the overlay's, else the longest of
+/// its DefaultValue and ParameterValue, and at least [`MIN_WRITABLE_CAPACITY`] when it is writable.
 pub fn capacity(basic: BasicType, sub: &SubObject) -> usize {
+    if let Some(capacity) = sub.capacity {
+        return capacity;
+    }
     let len_of = |v: Option<&crate::model::ValueSource>| {
         v.and_then(|v| v.value.as_ref())
             .and_then(|v| value_bytes(basic, v))

@@ -1174,6 +1174,7 @@ impl Reader {
                 upload_file: get(KEY_UPLOAD_FILE).map(|e| e.value_span),
                 download_file: get(KEY_DOWNLOAD_FILE).map(|e| e.value_span),
             },
+            capacity: None,
         }
     }
 
@@ -1635,6 +1636,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
             custom: Vec::new(),
             implicit: true,
             key_spans: KeySpans::default(),
+            capacity: None,
         },
     );
     for n in 1..=count.value.min(255) {
@@ -1661,6 +1663,7 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
                 custom: Vec::new(),
                 implicit: true,
                 key_spans: template.key_spans,
+                capacity: None,
             },
         );
     }
@@ -1739,6 +1742,7 @@ fn implicit_entry(
         custom: Vec::new(),
         implicit: true,
         key_spans: KeySpans::default(),
+        capacity: None,
     }
 }
 

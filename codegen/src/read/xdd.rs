@@ -1048,6 +1048,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             custom: parameter.custom,
             implicit: false,
             key_spans,
+            capacity: None,
         }
     }
 

@@ -48,6 +48,7 @@ pub fn sub(
         custom: Vec::new(),
         implicit: false,
         key_spans: Default::default(),
+        capacity: None,
     }
 }
 
