@@ -279,6 +279,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// (`Node::<Od, Hooks, 8, 8>::with_capacity(od, hooks, 3, now)`): the hooks load power-on
     /// values ([`ResetKind::Node`]), the node reads its communication parameters, queues the
     /// boot-up message and enters pre-operational. `node_id` must be 1..=127.
+    #[inline(never)]
     pub fn with_capacity(
         od: O,
         hooks: H,
