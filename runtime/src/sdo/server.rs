@@ -192,20 +192,10 @@ impl<const N: usize> SdoServer<N> {
             // Until an initiate request names an entry, aborts name none.
             self.mux = Multiplexer::new(0, 0);
         }
-        let outcome = match self.transfer {
-            _ if request.len() != FRAME_LEN => Err(SdoAbort::InvalidCommand),
-            #[cfg(feature = "sdo-block")]
-            Transfer::BlockDownload(block) if !block.complete => {
-                if request[0] == 0x80 {
-                    // 0x80 as a segment would have sequence number 0, which is invalid: it is
-                    // the client's abort.
-                    self.end_transfer();
-                    Ok(None)
-                } else {
-                    self.block_download_segment(block, request)
-                }
-            }
-            _ => self.handle_request(request, od),
+        let outcome = if request.len() != FRAME_LEN {
+            Err(SdoAbort::InvalidCommand)
+        } else {
+            self.handle_frame(request, od)
         };
         match outcome {
             Ok(event) => {
@@ -319,6 +309,38 @@ impl<const N: usize> SdoServer<N> {
 
     fn respond(&mut self, response: ServerResponse) {
         self.pending = Some(response.emit());
+    }
+
+    /// Handles an 8-byte request: a block-download sub-block segment, or a request.
+    #[cfg(feature = "sdo-block")]
+    fn handle_frame<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        request: &[u8],
+        od: &mut O,
+    ) -> Handled {
+        let Transfer::BlockDownload(block) = self.transfer else {
+            return self.handle_request(request, od);
+        };
+        if block.complete {
+            self.handle_request(request, od)
+        } else if request[0] == 0x80 {
+            // 0x80 as a segment would have sequence number 0, which is invalid: it is the
+            // client's abort.
+            self.end_transfer();
+            Ok(None)
+        } else {
+            self.block_download_segment(block, request)
+        }
+    }
+
+    /// Handles an 8-byte request.
+    #[cfg(not(feature = "sdo-block"))]
+    fn handle_frame<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        request: &[u8],
+        od: &mut O,
+    ) -> Handled {
+        self.handle_request(request, od)
     }
 
     fn handle_request<O: ObjectDictionary + ?Sized>(
