@@ -343,6 +343,9 @@ impl<const N: usize> SdoServer<N> {
         self.handle_request(request, od)
     }
 
+    /// Not inlined: inlined into the firmware's loop it costs 148 B of Cortex-M4 flash; out of
+    /// line, the host's SDO upload still measures fewer instructions per frame than before.
+    #[inline(never)]
     fn handle_request<O: ObjectDictionary + ?Sized>(
         &mut self,
         request: &[u8],
