@@ -1,5 +1,5 @@
 //! The firmware loop shared by the examples: feed received frames and the time to the node, run
-//! its timers, send what it offers, take its events.
+//! its timers, send what it offers, take its events. Also the device part of the vector table.
 //!
 //! There is no CAN peripheral driver here (that is the HAL's job): `receive` and `transmit`
 //! stand in for it, through `black_box`, so that the compiler keeps every path a real driver
