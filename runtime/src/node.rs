@@ -732,8 +732,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// A node-guarding RTR: queue the answer and (re)start life guarding.
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
-        let guarding = &mut self.error_control.guarding;
-        guarding.answer_due = true;
+        self.error_control.guarding.answer_due = true;
         if let Some(life) = self.error_control.life_time() {
             let guarding = &mut self.error_control.guarding;
             guarding.life_deadline = Some(now + life);

@@ -53,10 +53,9 @@ impl ErrorControl {
     /// Reads 100Ch and 100Dh.
     #[cfg(feature = "node-guarding")]
     pub fn configure_guarding<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
-        let guarding = &mut self.guarding;
-        guarding.guard_time =
-            Duration::from_millis(u64::from(read_uint(od, 0x100C, 0).unwrap_or(0)));
-        guarding.life_time_factor = read_uint(od, 0x100D, 0).unwrap_or(0) as u8;
+        let guard_ms = read_uint(od, 0x100C, 0).unwrap_or(0);
+        self.guarding.guard_time = Duration::from_millis(u64::from(guard_ms));
+        self.guarding.life_time_factor = read_uint(od, 0x100D, 0).unwrap_or(0) as u8;
         if self.life_time().is_none() {
             self.guarding.life_deadline = None;
         }
