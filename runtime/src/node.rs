@@ -466,12 +466,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.sync.counter = 0;
         for n in 0..RPDOS {
             self.rpdos[n] = Rpdo::load(&self.od, n as u16);
-        }
-        for n in 0..TPDOS {
-            self.tpdos[n] = Tpdo::load(&self.od, n as u16);
-        }
-        for (n, rpdo) in self.rpdos.iter().enumerate() {
-            if let Some(reason) = rpdo.rejected {
+            if let Some(reason) = self.rpdos[n].rejected {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: false,
                     pdo: n as u16,
@@ -479,8 +474,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 });
             }
         }
-        for (n, tpdo) in self.tpdos.iter().enumerate() {
-            if let Some(reason) = tpdo.rejected {
+        for n in 0..TPDOS {
+            self.tpdos[n] = Tpdo::load(&self.od, n as u16);
+            if let Some(reason) = self.tpdos[n].rejected {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: true,
                     pdo: n as u16,
