@@ -3,21 +3,26 @@
 # server, 4+4 PDOs, SYNC and EMCY over each example's OD) and prints their flash and RAM use:
 # text/data/bss from the image, and the node's RAM on main's stack (the size of the Node with its
 # OD, which the image records in EDSGEN_NODE_RAM_BYTES).
+#
+# Two configurations: the default one, comparable with CANopenNode v4's default configuration
+# (segmented SDO server without block transfer, no node guarding), and `full` (firmware feature
+# `full`: SDO block transfer with CRC and node/life guarding too), built into target/full.
 set -euo pipefail
 cd "$(dirname "$0")/../firmware"
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
 cargo build --release --quiet --locked
+cargo build --release --quiet --locked --features full --target-dir target/full
 size_tool=$(command -v llvm-size || true)
 if [ -z "$size_tool" ]; then
     rustup component add llvm-tools >/dev/null 2>&1 || true
     size_tool=$(find "$(rustc --print sysroot)" -name llvm-size -type f | head -1)
 fi
 [ -n "$size_tool" ] || { echo "llvm-size not found (apt-get install llvm, or rustup component add llvm-tools)"; exit 2; }
-for src in src/bin/*.rs; do
-elf=target/thumbv7em-none-eabihf/release/$(basename "$src" .rs)
-echo "== $(basename "$src" .rs)"
-"$size_tool" "$elf"
-python3 - "$elf" <<'PY'
+report() {
+    local name=$1 elf=$2
+    echo "== $name"
+    "$size_tool" "$elf"
+    python3 - "$elf" <<'PY'
 import struct, sys
 data = open(sys.argv[1], "rb").read()
 # ELF32 little-endian: section headers, then the symbol table.
@@ -35,4 +40,14 @@ for off in range(symtab[4], symtab[4] + symtab[5], 16):
         print(f"node RAM (state + OD values, on main's stack): {ram} bytes")
         break
 PY
+}
+for src in src/bin/*.rs; do
+    bin=$(basename "$src" .rs)
+    report "$bin (segmented SDO, no node guarding: CANopenNode's default services)" \
+        "target/thumbv7em-none-eabihf/release/$bin"
+done
+for src in src/bin/*.rs; do
+    bin=$(basename "$src" .rs)
+    report "$bin full (with SDO block transfer and node guarding)" \
+        "target/full/thumbv7em-none-eabihf/release/$bin"
 done

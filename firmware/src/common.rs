@@ -1,5 +1,5 @@
 //! The firmware loop shared by the examples: feed received frames and the time to the node, run
-//! its timers, send what it offers, take its events.
+//! its timers, send what it offers, take its events. Also the device part of the vector table.
 //!
 //! There is no CAN peripheral driver here (that is the HAL's job): `receive` and `transmit`
 //! stand in for it, through `black_box`, so that the compiler keeps every path a real driver
@@ -8,6 +8,24 @@
 use core::hint::black_box;
 use core::panic::PanicInfo;
 use edsgen_runtime::{CanFrame, Instant, Node, ObjectDictionary};
+
+/// The number of device interrupts of the target: an STM32F407 has 82 (IRQ 0 to 81).
+const DEVICE_INTERRUPTS: usize = 82;
+
+extern "C" {
+    /// cortex-m-rt's handler of every exception and interrupt the application does not handle.
+    fn DefaultHandler();
+}
+
+/// The device part of the vector table. Without its `device` feature cortex-m-rt reserves the
+/// architecture's maximum of 240 vectors (960 B of flash); a device crate (PAC) provides a table
+/// of the part's own size instead, and this is that table for an STM32F4-class part, every
+/// interrupt going to `DefaultHandler` as in cortex-m-rt's generic table. A real firmware takes
+/// it from its PAC.
+#[link_section = ".vector_table.interrupts"]
+#[no_mangle]
+static __INTERRUPTS: [unsafe extern "C" fn(); DEVICE_INTERRUPTS] =
+    [DefaultHandler; DEVICE_INTERRUPTS];
 
 /// The node-ID of the examples.
 pub const NODE_ID: u8 = 3;

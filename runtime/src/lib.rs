@@ -3,6 +3,19 @@
 //! `no_std` and allocation-free. Protocol cores take frames and timestamps and hand back frames,
 //! deadlines and events; they never block, read a clock or allocate. Transports that need an
 //! operating system live behind the `std` feature.
+//!
+//! Cargo features:
+//! - `sdo-block` (default): SDO block upload and download with CRC-16. Without it the SDO server
+//!   offers expedited and segmented transfers only and answers a block request (command
+//!   specifier 5 or 6) with abort 0504 0001 (command specifier not valid or unknown).
+//! - `node-guarding` (default): node guarding and life guarding (100Ch × 100Dh, the answer to an
+//!   RTR on 700h + node-ID, `Event::LifeGuardingLost` and EMCY 8130h). Without it that RTR is
+//!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
+//! - `std`: the virtual bus ([`vbus`]).
+//!
+//! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
+//! configuration does (segmented SDO server without block transfer, no node guarding), in less
+//! flash.
 #![cfg_attr(not(feature = "std"), no_std)]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]

@@ -4,7 +4,8 @@
 //! ([`Node::handle_frame`]) and offers frames to send ([`Node::poll_transmit`]), its next deadline
 //! ([`Node::poll_timeout`], then [`Node::handle_timeout`]) and application events
 //! ([`Node::poll_event`]). It implements the NMT slave, the SDO server (1200h and, if the OD has
-//! it, 1201h), heartbeat producer and consumer, node guarding, SYNC consumer and producer, the EMCY
+//! it, 1201h; block transfer with the `sdo-block` feature), heartbeat producer and consumer, node
+//! guarding (with the `node-guarding` feature), SYNC consumer and producer, the EMCY
 //! producer with 1001h/1003h, TPDOs and RPDOs of every transmission type with dynamic mapping,
 //! RPDO deadline monitoring (event timer, EMCY 8250h), and store/restore (1010h/1011h) through
 //! [`NodeHooks`]. No allocation, no clock reads.
@@ -278,6 +279,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// (`Node::<Od, Hooks, 8, 8>::with_capacity(od, hooks, 3, now)`): the hooks load power-on
     /// values ([`ResetKind::Node`]), the node reads its communication parameters, queues the
     /// boot-up message and enters pre-operational. `node_id` must be 1..=127.
+    #[inline(never)]
     pub fn with_capacity(
         od: O,
         hooks: H,
@@ -457,18 +459,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.configure_sdo();
         self.error_control = ErrorControl::default();
         self.error_control.configure_producer(&self.od, now);
+        #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);
         self.error_control.configure_consumers(&self.od);
         self.configure_sync();
         self.sync.counter = 0;
         for n in 0..RPDOS {
             self.rpdos[n] = Rpdo::load(&self.od, n as u16);
-        }
-        for n in 0..TPDOS {
-            self.tpdos[n] = Tpdo::load(&self.od, n as u16);
-        }
-        for (n, rpdo) in self.rpdos.iter().enumerate() {
-            if let Some(reason) = rpdo.rejected {
+            if let Some(reason) = self.rpdos[n].rejected {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: false,
                     pdo: n as u16,
@@ -476,8 +474,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 });
             }
         }
-        for (n, tpdo) in self.tpdos.iter().enumerate() {
-            if let Some(reason) = tpdo.rejected {
+        for n in 0..TPDOS {
+            self.tpdos[n] = Tpdo::load(&self.od, n as u16);
+            if let Some(reason) = self.tpdos[n].rejected {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: true,
                     pdo: n as u16,
@@ -560,11 +559,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.sync.counter = 0;
                 self.restart_sync_producer(now);
             }
+            #[cfg(feature = "node-guarding")]
             0x100C | 0x100D => self.error_control.configure_guarding(&self.od),
             0x1014 | 0x1015 => self.emcy.configure(&self.od, self.node_id),
             0x1016 => self.error_control.configure_consumers(&self.od),
             0x1017 => {
                 self.error_control.configure_producer(&self.od, now);
+                #[cfg(feature = "node-guarding")]
                 self.error_control.configure_guarding(&self.od);
             }
             0x1200..=0x1201 => self.configure_sdo(),
@@ -692,15 +693,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
+    #[cfg_attr(not(feature = "node-guarding"), allow(unused_variables))]
     fn handle_remote(&mut self, id: u16, now: Instant) {
         if id == ErrorControlRepr::cob_id(self.node_id) {
-            self.error_control.guard_answer_due = true;
-            if let Some(life) = self.error_control.life_time() {
-                self.error_control.life_deadline = Some(now + life);
-                if core::mem::take(&mut self.error_control.life_lost) {
-                    self.emcy.clear(&mut self.od, 0x8130);
-                }
-            }
+            // Without node guarding the request is ignored.
+            #[cfg(feature = "node-guarding")]
+            self.handle_guard_request(now);
             return;
         }
         if self.state != NmtState::Operational {
@@ -723,6 +721,19 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     }
                 }
                 return;
+            }
+        }
+    }
+
+    /// A node-guarding RTR: queue the answer and (re)start life guarding.
+    #[cfg(feature = "node-guarding")]
+    fn handle_guard_request(&mut self, now: Instant) {
+        self.error_control.guarding.answer_due = true;
+        if let Some(life) = self.error_control.life_time() {
+            let guarding = &mut self.error_control.guarding;
+            guarding.life_deadline = Some(now + life);
+            if core::mem::take(&mut guarding.life_lost) {
+                self.emcy.clear(&mut self.od, 0x8130);
             }
         }
     }
@@ -916,9 +927,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             state: self.state,
             toggle: false,
         };
-        if core::mem::take(&mut self.error_control.guard_answer_due) {
-            let toggle = self.error_control.toggle;
-            self.error_control.toggle = !toggle;
+        #[cfg(feature = "node-guarding")]
+        if core::mem::take(&mut self.error_control.guarding.answer_due) {
+            let toggle = self.error_control.guarding.toggle;
+            self.error_control.guarding.toggle = !toggle;
             let answer = ErrorControlRepr { toggle, ..state };
             return Some(CanFrame::from_parts(
                 error_control_id,
@@ -1035,9 +1047,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 });
             }
         }
-        if ec.life_deadline.is_some_and(|at| at <= now) {
-            ec.life_deadline = None;
-            ec.life_lost = true;
+        #[cfg(feature = "node-guarding")]
+        if ec.guarding.life_deadline.is_some_and(|at| at <= now) {
+            ec.guarding.life_deadline = None;
+            ec.guarding.life_lost = true;
             self.events.push(Event::LifeGuardingLost);
             self.emcy
                 .raise(&mut self.od, 0x8130, error_register::COMMUNICATION, [0; 5]);

@@ -87,6 +87,7 @@ fn heartbeat_continues_when_stopped() {
     );
 }
 
+#[cfg(feature = "node-guarding")]
 #[test]
 fn node_guarding_toggles_from_zero_after_boot() {
     let (mut node, mut bus) = booted();
@@ -112,6 +113,7 @@ fn node_guarding_toggles_from_zero_after_boot() {
     );
 }
 
+#[cfg(feature = "node-guarding")]
 #[test]
 fn reset_communication_restarts_the_toggle_bit() {
     let (mut node, mut bus) = booted();
@@ -125,6 +127,7 @@ fn reset_communication_restarts_the_toggle_bit() {
     );
 }
 
+#[cfg(feature = "node-guarding")]
 #[test]
 fn life_guarding_event_and_emcy_when_guarding_stops() {
     let (mut node, mut bus) = booted();

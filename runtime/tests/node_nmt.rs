@@ -130,6 +130,7 @@ fn reset_node_restores_application_area_too() {
     assert_eq!(show(&node.poll_transmit(ms(5)).unwrap()), "703: 00");
 }
 
+#[cfg(feature = "node-guarding")]
 #[test]
 fn stopped_node_serves_only_nmt_and_error_control() {
     let mut node = node();

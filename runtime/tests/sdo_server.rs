@@ -4,12 +4,17 @@
 
 mod support;
 
+#[cfg(feature = "sdo-block")]
 use edsgen_runtime::sdo::crc::crc16;
 use edsgen_runtime::sdo::{SdoEvent, SdoServer};
-use edsgen_runtime::wire::sdo::{BlockSegment, ClientRequest, SegmentData};
+#[cfg(feature = "sdo-block")]
+use edsgen_runtime::wire::sdo::BlockSegment;
+use edsgen_runtime::wire::sdo::{ClientRequest, SegmentData};
 use edsgen_runtime::{Duration, Instant};
 use proptest::prelude::*;
-use support::{domain_pattern, TestOd};
+#[cfg(feature = "sdo-block")]
+use support::domain_pattern;
+use support::TestOd;
 
 const TIMEOUT: Duration = Duration::from_millis(100);
 
@@ -53,6 +58,7 @@ impl<const N: usize> Rig<N> {
     }
 
     /// Hands one request over and takes every frame the server then has to send.
+    #[cfg(feature = "sdo-block")]
     fn send_and_drain(&mut self, request: [u8; 8]) -> Vec<[u8; 8]> {
         assert_eq!(self.server.handle(self.now, &request, &mut self.od), None);
         let mut frames = Vec::new();
@@ -83,6 +89,7 @@ fn download_segment(toggle: bool, data: &[u8], last: bool) -> [u8; 8] {
     .emit()
 }
 
+#[cfg(feature = "sdo-block")]
 fn block_segment(seqno: u8, last: bool, chunk: &[u8]) -> [u8; 8] {
     let mut data = [0u8; 7];
     data[..chunk.len()].copy_from_slice(chunk);
@@ -346,6 +353,7 @@ fn segmented_round_trip_of_a_300_byte_domain_without_size() {
 // ---------------------------------------------------------------------------------------------
 // Block download.
 
+#[cfg(feature = "sdo-block")]
 /// Block-downloads `value` to 0x2006 through a server of `N` bytes, in sub-blocks of the
 /// server's size, and returns the CRC the client sent.
 fn block_download<const N: usize>(rig: &mut Rig<N>, value: &[u8]) -> u16 {
@@ -370,6 +378,7 @@ fn block_download<const N: usize>(rig: &mut Rig<N>, value: &[u8]) -> u16 {
     crc16(value)
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_download_with_crc_in_two_sub_blocks() {
     let mut rig = Rig::<300>::new();
@@ -386,6 +395,7 @@ fn block_download_with_crc_in_two_sub_blocks() {
     assert_eq!(rig.server.poll_timeout(), None);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_download_of_a_short_string() {
     let mut rig = Server512::new();
@@ -406,6 +416,7 @@ fn block_download_of_a_short_string() {
     assert_eq!(rig.od.value(0x2005, 0), b"xyz");
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_download_without_client_crc_ignores_the_crc_field() {
     let mut rig = Server512::new();
@@ -425,6 +436,7 @@ fn block_download_without_client_crc_ignores_the_crc_field() {
     assert_eq!(rig.od.value(0x2005, 0), b"ab");
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_download_lost_segment_is_repeated_after_the_acknowledgement() {
     let mut rig = Server512::new();
@@ -464,6 +476,7 @@ fn block_download_lost_segment_is_repeated_after_the_acknowledgement() {
     assert_eq!(rig.od.value(0x2006, 0), &value[..]);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_download_client_abort_ends_the_transfer_silently() {
     let mut rig = Server512::new();
@@ -477,6 +490,7 @@ fn block_download_client_abort_ends_the_transfer_silently() {
 // ---------------------------------------------------------------------------------------------
 // Block upload.
 
+#[cfg(feature = "sdo-block")]
 /// Runs a block upload of (index, sub) whose initiate response announces `size`, acknowledging
 /// each sub-block fully with `blksize`; returns the data and the end request's (n, CRC).
 fn block_upload<const N: usize>(
@@ -519,6 +533,7 @@ fn block_upload<const N: usize>(
     }
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_of_the_domain_with_crc_in_sub_blocks_of_ten() {
     let mut rig = Server512::new();
@@ -528,6 +543,7 @@ fn block_upload_of_the_domain_with_crc_in_sub_blocks_of_ten() {
     assert_eq!(crc, crc16(&domain_pattern()));
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_without_client_crc_sends_zero() {
     let mut rig = Server512::new();
@@ -537,6 +553,7 @@ fn block_upload_without_client_crc_sends_zero() {
     assert_eq!(crc, 0);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_of_a_small_value_without_protocol_switch() {
     let mut rig = Server512::new();
@@ -557,6 +574,7 @@ fn block_upload_of_a_small_value_without_protocol_switch() {
     assert_eq!(rig.send(&[0xA1, 0, 0, 0, 0, 0, 0, 0]), (None, None));
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_of_an_empty_string_sends_one_empty_segment() {
     let mut rig = Server512::new();
@@ -578,6 +596,7 @@ fn block_upload_of_an_empty_string_sends_one_empty_segment() {
     assert_eq!(rig.server.poll_timeout(), None);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_switches_to_expedited_upload_below_the_threshold() {
     let mut rig = Server512::new();
@@ -588,6 +607,7 @@ fn block_upload_switches_to_expedited_upload_below_the_threshold() {
     assert_eq!(rig.server.poll_timeout(), None);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_switches_to_segmented_upload_below_the_threshold() {
     let mut rig = Server512::new();
@@ -601,6 +621,7 @@ fn block_upload_switches_to_segmented_upload_below_the_threshold() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_above_the_threshold_stays_block() {
     let mut rig = Server512::new();
@@ -610,6 +631,7 @@ fn block_upload_above_the_threshold_stays_block() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn block_upload_repeats_unacknowledged_segments() {
     let mut rig = Server512::new();
@@ -709,6 +731,7 @@ fn abort_0503_0000_on_toggle_bit_not_alternated() {
     assert_eq!(rig.od.value(0x2005, 0), b"hello");
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0504_0000_on_timeout() {
     let mut rig = Server512::new();
@@ -738,6 +761,7 @@ fn abort_0504_0000_on_timeout() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0504_0000_on_timeout_of_downloads() {
     let mut rig = Server512::new();
@@ -768,6 +792,7 @@ fn abort_0504_0000_on_timeout_of_downloads() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0504_0001_on_unknown_or_misplaced_command() {
     let mut rig = Server512::new();
@@ -802,6 +827,7 @@ fn abort_0504_0001_on_unknown_or_misplaced_command() {
     assert_eq!(rig.server.poll_timeout(), None);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0504_0002_on_invalid_block_size() {
     let mut rig = Server512::new();
@@ -823,6 +849,7 @@ fn abort_0504_0002_on_invalid_block_size() {
     assert_eq!(rig.server.poll_timeout(), None);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0504_0003_on_invalid_sequence_number() {
     let mut rig = Server512::new();
@@ -846,6 +873,7 @@ fn abort_0504_0003_on_invalid_sequence_number() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0504_0004_on_crc_error() {
     let mut rig = Rig::<300>::new();
@@ -859,6 +887,7 @@ fn abort_0504_0004_on_crc_error() {
     assert_eq!(rig.od.value(0x2006, 0), &domain_pattern()[..]);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0504_0005_when_the_buffer_is_too_small() {
     let mut rig = Rig::<64>::new();
@@ -885,6 +914,7 @@ fn abort_0504_0005_when_the_buffer_is_too_small() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0601_0001_on_read_of_write_only() {
     let mut rig = Server512::new();
@@ -898,6 +928,7 @@ fn abort_0601_0001_on_read_of_write_only() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0601_0002_on_write_to_read_only_or_const() {
     let mut rig = Server512::new();
@@ -921,6 +952,7 @@ fn abort_0601_0002_on_write_to_read_only_or_const() {
     assert_eq!(rig.od.value(0x1018, 0), &[1]);
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0602_0000_on_missing_object() {
     let mut rig = Server512::new();
@@ -934,6 +966,7 @@ fn abort_0602_0000_on_missing_object() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn abort_0607_0010_on_length_not_matching() {
     let mut rig = Server512::new();

@@ -13,6 +13,16 @@ fn docs(lines: &[String]) -> TokenStream {
     quote!(#(#attrs)*)
 }
 
+/// An entry's value in `Od::DEFAULTS`: its initial value, or 0 for a `$NODEID` value, which
+/// `Od::new` sets.
+fn default_tokens(e: &EntryPlan) -> TokenStream {
+    if e.node_relative {
+        quote!(0)
+    } else {
+        e.init.clone()
+    }
+}
+
 fn hex16(v: u16) -> TokenStream {
     super::types::hex(u128::from(v), 4)
 }
@@ -31,7 +41,7 @@ pub fn structs(plan: &Plan) -> TokenStream {
             ObjectPlan::Var { field, entry } => {
                 let ty = entry.ty.tokens();
                 let doc = docs(&entry.doc);
-                let init = &entry.init;
+                let init = default_tokens(entry);
                 fields.push(quote!(#doc pub #field: #ty,));
                 inits.push(quote!(#field: #init,));
             }
@@ -48,7 +58,7 @@ pub fn structs(plan: &Plan) -> TokenStream {
                     quote!(#d pub #name: #ty,)
                 });
                 let member_inits = members.iter().map(|(name, e)| {
-                    let init = &e.init;
+                    let init = default_tokens(e);
                     quote!(#name: #init,)
                 });
                 records.push(quote! {
@@ -72,15 +82,15 @@ pub fn structs(plan: &Plan) -> TokenStream {
                 let (sub0_name, sub0_entry) = sub0;
                 let sub0_ty = sub0_entry.ty.tokens();
                 let sub0_doc = docs(&sub0_entry.doc);
-                let sub0_init = &sub0_entry.init;
+                let sub0_init = default_tokens(sub0_entry);
                 let elem_ty = elem.tokens();
                 let n = Literal::usize_unsuffixed(items.len());
-                let item_inits: Vec<_> = items.iter().map(|e| &e.init).collect();
+                let item_inits: Vec<_> = items.iter().map(default_tokens).collect();
                 let first = item_inits.first().map(|t| t.to_string());
                 let repeat =
                     items.len() > 1 && item_inits.iter().all(|t| Some(t.to_string()) == first);
                 let items_init = if repeat {
-                    let init = item_inits[0];
+                    let init = &item_inits[0];
                     quote!([#init; #n])
                 } else {
                     quote!([#(#item_inits),*])
@@ -107,10 +117,27 @@ pub fn structs(plan: &Plan) -> TokenStream {
             }
         }
     }
-    let node_param = if plan.uses_node_id {
-        quote!(node_id)
+    let node_fields: Vec<_> = all_entries(plan)
+        .filter(|e| e.node_relative)
+        .map(|e| {
+            let path = &e.path;
+            let init = &e.init;
+            quote!(od.#path = #init;)
+        })
+        .collect();
+    let new_body = if node_fields.is_empty() {
+        quote!(Self::DEFAULTS)
     } else {
+        quote! {
+            let mut od = Self::DEFAULTS;
+            #(#node_fields)*
+            od
+        }
+    };
+    let node_param = if node_fields.is_empty() {
         quote!(_node_id)
+    } else {
+        quote!(node_id)
     };
     let records_mod = if records.is_empty() {
         quote!()
@@ -131,10 +158,14 @@ pub fn structs(plan: &Plan) -> TokenStream {
         }
 
         impl Od {
+            /// Every entry at its default, with 0 for the `$NODEID` ones. `new` copies it and
+            /// sets those: one copy from flash rather than code that stores each field.
+            const DEFAULTS: Self = Od { #(#inits)* };
+
             /// The dictionary with every entry at its default (a DCF's ParameterValue where
             /// given); `$NODEID` defaults are computed from `node_id`.
             pub const fn new(#node_param: u8) -> Self {
-                Od { #(#inits)* }
+                #new_body
             }
         }
 

@@ -31,6 +31,8 @@ pub struct EntryPlan {
     pub pdo_mappable: bool,
     /// The initial value's tokens (may use `node_id`).
     pub init: TokenStream,
+    /// Whether the initial value depends on the node-ID (`$NODEID`).
+    pub node_relative: bool,
     /// LowLimit and HighLimit tokens, when the entry has at least one usable limit.
     pub limits: Option<(TokenStream, TokenStream)>,
     /// Rustdoc lines.
@@ -105,8 +107,6 @@ impl ObjectPlan {
 pub struct Plan {
     /// Stored objects in index order.
     pub objects: Vec<ObjectPlan>,
-    /// Whether any initial value uses `node_id`.
-    pub uses_node_id: bool,
     /// Diagnostics found while planning.
     pub diagnostics: Vec<Diagnostic>,
 }
@@ -147,7 +147,6 @@ struct Planner<'a> {
     fields: Namespace,
     types: Namespace,
     consts: Namespace,
-    uses_node_id: bool,
 }
 
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
@@ -159,7 +158,6 @@ pub fn plan(device: &Device) -> Plan {
         fields: Namespace::default(),
         types: Namespace::default(),
         consts: Namespace::default(),
-        uses_node_id: false,
     };
     let mut objects = Vec::new();
     for object in device.objects.values() {
@@ -172,7 +170,6 @@ pub fn plan(device: &Device) -> Plan {
     }
     Plan {
         objects,
-        uses_node_id: p.uses_node_id,
         diagnostics: p.diagnostics,
     }
 }
@@ -432,7 +429,7 @@ impl Planner<'_> {
             return None;
         }
         let ty = RustType::of(basic, cap);
-        let init = self.initial(sub, basic, ty, &where_)?;
+        let (init, node_relative) = self.initial(sub, basic, ty, &where_)?;
         let limits = match ty {
             RustType::Scalar(prim, _) if prim != Prim::Bool => {
                 self.limits(sub, basic, prim, &where_)
@@ -511,6 +508,7 @@ impl Planner<'_> {
             access,
             pdo_mappable: sub.pdo_mapping,
             init,
+            node_relative,
             limits,
             doc,
             short_doc,
@@ -530,7 +528,7 @@ impl Planner<'_> {
         basic: BasicType,
         ty: RustType,
         where_: &str,
-    ) -> Option<TokenStream> {
+    ) -> Option<(TokenStream, bool)> {
         let value = initial_value(sub);
         let source_span = sub
             .parameter_value
@@ -564,13 +562,15 @@ impl Planner<'_> {
                     sub.name
                 ),
             ));
-            return Some(match ty {
+            let zero = match ty {
                 RustType::Scalar(Prim::Bool, _) => quote!(false),
                 RustType::Scalar(Prim::F32 | Prim::F64, _) => quote!(0.0),
                 RustType::Scalar(..) => quote!(0),
                 RustType::Bytes(_) => quote!(::edsgen_runtime::FixedBytes::empty()),
-            });
+            };
+            return Some((zero, false));
         };
+        let node_relative = matches!((ty, value), (RustType::Scalar(..), Value::NodeRelative(_)));
         let result = match (ty, value) {
             (RustType::Bytes(_), v) => match value_bytes(basic, v) {
                 Some(bytes) => {
@@ -580,16 +580,12 @@ impl Planner<'_> {
                 None => Err(ValueProblem::WrongKind),
             },
             (RustType::Scalar(prim, _), Value::NodeRelative(offset)) => {
-                let t = node_relative_tokens(*offset, basic, prim);
-                if t.is_ok() {
-                    self.uses_node_id = true;
-                }
-                t
+                node_relative_tokens(*offset, basic, prim)
             }
             (RustType::Scalar(prim, _), v) => scalar_tokens(v, basic, prim),
         };
         match result {
-            Ok(tokens) => Some(tokens),
+            Ok(tokens) => Some((tokens, node_relative)),
             Err(problem) => {
                 let why = match problem {
                     ValueProblem::OutOfRange => "is outside the range of",

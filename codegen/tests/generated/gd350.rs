@@ -117,90 +117,97 @@ pub mod gd350 {
         pub status_word_6041: u16,
     }
     impl Od {
+        /// Every entry at its default, with 0 for the `$NODEID` ones. `new` copies it and
+        /// sets those: one copy from flash rather than code that stores each field.
+        const DEFAULTS: Self = Od {
+            device_type: 0x10192,
+            pre_defined_error_field: records::PreDefinedErrorField {
+                number_of_errors: 0,
+                items: [0; 2],
+            },
+            manufacturer_device_name: ::edsgen_runtime::FixedBytes::from_slice(b"GD350"),
+            manufacturer_hardware_version: ::edsgen_runtime::FixedBytes::from_slice(
+                b"1.0",
+            ),
+            cob_id_emcy: 0,
+            identity_object: records::IdentityObject {
+                number_of_entries: 3,
+                vendor_id: 0x4D8,
+                product_code: 0x9252,
+                revision_number: 0x10001,
+            },
+            rpdo2_communication_parameter: records::Rpdo2CommunicationParameter {
+                highest_sub_index_supported: 2,
+                cob_id: 0,
+                transmission_type: 255,
+            },
+            rpdo2_mapping_parameter: records::Rpdo2MappingParameter {
+                number_of_mapped_objects: 4,
+                mapped_object_1: 0x21010010,
+                mapped_object_2: 0x21000110,
+                mapped_object_3: 0x21000210,
+                mapped_object_4: 0x21000310,
+            },
+            tpdo2_communication_parameter: records::Tpdo2CommunicationParameter {
+                highest_sub_index_supported: 2,
+                cob_id: 0,
+                transmission_type: 255,
+            },
+            tpdo2_mapping_parameter: records::Tpdo2MappingParameter {
+                number_of_mapped_objects: 4,
+                mapped_object_1: 0x20010010,
+                mapped_object_2: 0x20000110,
+                mapped_object_3: 0x20000210,
+                mapped_object_4: 0x20000310,
+            },
+            tpdo3_mapping_parameter: records::Tpdo3MappingParameter {
+                number_of_mapped_objects: 5,
+                mapped_object_1: 0x20020004,
+                mapped_object_2: 0x50004,
+                mapped_object_3: 0x20030118,
+                mapped_object_4: 0x20030208,
+                mapped_object_5: 0x20040001,
+            },
+            tpdo4_mapping_parameter: records::Tpdo4MappingParameter {
+                number_of_mapped_objects: 3,
+                mapped_object_1: 0x20040001,
+                mapped_object_2: 0x20060020,
+                mapped_object_3: 0x20030208,
+            },
+            returned_values: records::ReturnedValues {
+                number_of_entries: 4,
+                items: [0; 4],
+            },
+            status_word: 0,
+            nibble: 0,
+            sparse_record: records::SparseRecord {
+                highest_sub_index_supported: 5,
+                signed_24: -5,
+                type_: -1,
+                big: 0xFFFFFFFFFFFF,
+            },
+            flag: true,
+            gain: 1.5,
+            tag: ::edsgen_runtime::FixedBytes::from_slice(b"\x01\x02\x03\x04"),
+            settings: records::Settings {
+                number_of_entries: 4,
+                items: [0; 4],
+            },
+            control_word: 0,
+            setting_limited: 100,
+            controlword: 0,
+            status_word_6041: 0,
+        };
         /// The dictionary with every entry at its default (a DCF's ParameterValue where
         /// given); `$NODEID` defaults are computed from `node_id`.
         pub const fn new(node_id: u8) -> Self {
-            Od {
-                device_type: 0x10192,
-                pre_defined_error_field: records::PreDefinedErrorField {
-                    number_of_errors: 0,
-                    items: [0; 2],
-                },
-                manufacturer_device_name: ::edsgen_runtime::FixedBytes::from_slice(
-                    b"GD350",
-                ),
-                manufacturer_hardware_version: ::edsgen_runtime::FixedBytes::from_slice(
-                    b"1.0",
-                ),
-                cob_id_emcy: (node_id as u32).wrapping_add(128),
-                identity_object: records::IdentityObject {
-                    number_of_entries: 3,
-                    vendor_id: 0x4D8,
-                    product_code: 0x9252,
-                    revision_number: 0x10001,
-                },
-                rpdo2_communication_parameter: records::Rpdo2CommunicationParameter {
-                    highest_sub_index_supported: 2,
-                    cob_id: (node_id as u32).wrapping_add(0x300),
-                    transmission_type: 255,
-                },
-                rpdo2_mapping_parameter: records::Rpdo2MappingParameter {
-                    number_of_mapped_objects: 4,
-                    mapped_object_1: 0x21010010,
-                    mapped_object_2: 0x21000110,
-                    mapped_object_3: 0x21000210,
-                    mapped_object_4: 0x21000310,
-                },
-                tpdo2_communication_parameter: records::Tpdo2CommunicationParameter {
-                    highest_sub_index_supported: 2,
-                    cob_id: (node_id as u32).wrapping_add(0x280),
-                    transmission_type: 255,
-                },
-                tpdo2_mapping_parameter: records::Tpdo2MappingParameter {
-                    number_of_mapped_objects: 4,
-                    mapped_object_1: 0x20010010,
-                    mapped_object_2: 0x20000110,
-                    mapped_object_3: 0x20000210,
-                    mapped_object_4: 0x20000310,
-                },
-                tpdo3_mapping_parameter: records::Tpdo3MappingParameter {
-                    number_of_mapped_objects: 5,
-                    mapped_object_1: 0x20020004,
-                    mapped_object_2: 0x50004,
-                    mapped_object_3: 0x20030118,
-                    mapped_object_4: 0x20030208,
-                    mapped_object_5: 0x20040001,
-                },
-                tpdo4_mapping_parameter: records::Tpdo4MappingParameter {
-                    number_of_mapped_objects: 3,
-                    mapped_object_1: 0x20040001,
-                    mapped_object_2: 0x20060020,
-                    mapped_object_3: 0x20030208,
-                },
-                returned_values: records::ReturnedValues {
-                    number_of_entries: 4,
-                    items: [0; 4],
-                },
-                status_word: 0,
-                nibble: 0,
-                sparse_record: records::SparseRecord {
-                    highest_sub_index_supported: 5,
-                    signed_24: -5,
-                    type_: -1,
-                    big: 0xFFFFFFFFFFFF,
-                },
-                flag: true,
-                gain: 1.5,
-                tag: ::edsgen_runtime::FixedBytes::from_slice(b"\x01\x02\x03\x04"),
-                settings: records::Settings {
-                    number_of_entries: 4,
-                    items: [0; 4],
-                },
-                control_word: 0,
-                setting_limited: 100,
-                controlword: 0,
-                status_word_6041: 0,
-            }
+            let mut od = Self::DEFAULTS;
+            od.cob_id_emcy = (node_id as u32).wrapping_add(128);
+            od.rpdo2_communication_parameter.cob_id = (node_id as u32)
+                .wrapping_add(0x300);
+            od.tpdo2_communication_parameter.cob_id = (node_id as u32)
+                .wrapping_add(0x280);
+            od
         }
     }
     /// The nested structs of RECORD and ARRAY objects.

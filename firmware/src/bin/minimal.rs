@@ -1,6 +1,7 @@
 //! A minimal CANopen device on a Cortex-M4F: the edsgen runtime's `Node` (NMT, heartbeat, SDO
-//! server, 4 RPDOs + 4 TPDOs, SYNC, EMCY) serving a hand-written OD of the CiA 301 communication
-//! objects only. `scripts/firmware-size.sh` builds it and prints its flash and RAM use.
+//! server, 4 RPDOs + 4 TPDOs, SYNC, EMCY; SDO block transfer and node guarding with the `full`
+//! feature) serving a hand-written OD of the CiA 301 communication objects only.
+//! `scripts/firmware-size.sh` builds it and prints its flash and RAM use.
 #![no_std]
 #![no_main]
 

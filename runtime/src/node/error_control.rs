@@ -1,5 +1,6 @@
 //! Error-control state (CiA 301 §7.2.8.3.2): the heartbeat producer (1017h), the heartbeat
-//! consumers (1016h), and node guarding with its toggle bit and life time (100Ch × 100Dh).
+//! consumers (1016h), and node guarding with its toggle bit and life time (100Ch × 100Dh; with
+//! the `node-guarding` feature).
 
 use super::read_uint;
 use crate::od::ObjectDictionary;
@@ -16,18 +17,26 @@ pub(crate) struct Consumer {
     pub deadline: Option<Instant>,
 }
 
+/// Node guarding and life guarding.
+#[cfg(feature = "node-guarding")]
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Guarding {
+    pub guard_time: Duration,
+    pub life_time_factor: u8,
+    pub toggle: bool,
+    pub answer_due: bool,
+    /// Life guarding runs after the first guard request, while guarding is configured.
+    pub life_deadline: Option<Instant>,
+    pub life_lost: bool,
+}
+
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct ErrorControl {
     pub producer_period: Duration,
     pub next_heartbeat: Option<Instant>,
     pub heartbeat_due: bool,
-    pub guard_time: Duration,
-    pub life_time_factor: u8,
-    pub toggle: bool,
-    pub guard_answer_due: bool,
-    /// Life guarding runs after the first guard request, while guarding is configured.
-    pub life_deadline: Option<Instant>,
-    pub life_lost: bool,
+    #[cfg(feature = "node-guarding")]
+    pub guarding: Guarding,
     pub consumers: [Consumer; MAX_HEARTBEAT_CONSUMERS],
     pub consumer_count: usize,
 }
@@ -42,11 +51,13 @@ impl ErrorControl {
     }
 
     /// Reads 100Ch and 100Dh.
+    #[cfg(feature = "node-guarding")]
     pub fn configure_guarding<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
-        self.guard_time = Duration::from_millis(u64::from(read_uint(od, 0x100C, 0).unwrap_or(0)));
-        self.life_time_factor = read_uint(od, 0x100D, 0).unwrap_or(0) as u8;
+        let guard_ms = read_uint(od, 0x100C, 0).unwrap_or(0);
+        self.guarding.guard_time = Duration::from_millis(u64::from(guard_ms));
+        self.guarding.life_time_factor = read_uint(od, 0x100D, 0).unwrap_or(0) as u8;
         if self.life_time().is_none() {
-            self.life_deadline = None;
+            self.guarding.life_deadline = None;
         }
     }
 
@@ -84,8 +95,9 @@ impl ErrorControl {
 
     /// The life time (guard time × life time factor), if guarding is configured and the
     /// heartbeat producer is off (CiA 301: heartbeat takes precedence).
+    #[cfg(feature = "node-guarding")]
     pub fn life_time(&self) -> Option<Duration> {
-        let life = self.guard_time.as_micros() * u64::from(self.life_time_factor);
+        let life = self.guarding.guard_time.as_micros() * u64::from(self.guarding.life_time_factor);
         (life != 0 && self.producer_period == Duration::ZERO).then_some(Duration(life))
     }
 
@@ -99,7 +111,10 @@ impl ErrorControl {
     }
 
     pub fn next_deadline(&self) -> Option<Instant> {
-        let mut next = super::earliest(self.next_heartbeat, self.life_deadline);
+        #[cfg(feature = "node-guarding")]
+        let mut next = super::earliest(self.next_heartbeat, self.guarding.life_deadline);
+        #[cfg(not(feature = "node-guarding"))]
+        let mut next = self.next_heartbeat;
         for consumer in self.consumers.iter().take(self.consumer_count) {
             next = super::earliest(next, consumer.deadline);
         }

@@ -1,9 +1,9 @@
 //! SDO (service data object) protocol machines (CiA 301 §7.2.4).
 //!
 //! [`SdoServer`] serves an [`ObjectDictionary`](crate::ObjectDictionary) to one SDO client:
-//! expedited, segmented and block transfers in both directions. It is sans-IO: feed it request
-//! payloads and timestamps, take response payloads. Frame layouts live in [`crate::wire::sdo`];
-//! the block-transfer CRC in [`crc`].
+//! expedited, segmented and (with the `sdo-block` feature) block transfers in both directions. It
+//! is sans-IO: feed it request payloads and timestamps, take response payloads. Frame layouts live
+//! in [`crate::wire::sdo`]; the block-transfer CRC in `crc` (with `sdo-block`).
 //!
 //! ```
 //! use edsgen_runtime::sdo::{SdoEvent, SdoServer};
@@ -60,6 +60,7 @@
 //! assert_eq!(server.poll_timeout(), None);
 //! ```
 
+#[cfg(feature = "sdo-block")]
 pub mod crc;
 pub mod server;
 
