@@ -316,3 +316,40 @@ fn typed_address_of_a_narrow_entry_encodes_its_wire_width() {
     let back = read_all(&dict, entry.index, entry.sub);
     assert_eq!(entry.decode(&back), Some(-300));
 }
+
+#[test]
+fn access_by_position_agrees_with_access_by_address_for_every_entry() {
+    let mut by_position = Od::new(3);
+    let mut by_address = Od::new(3);
+    let entries = by_address.entries().to_vec();
+    for (position, entry) in entries.iter().enumerate() {
+        assert_eq!(by_address.locate(entry.index, entry.sub), Ok(position));
+        let (mut a, mut b) = ([0u8; 64], [0u8; 64]);
+        let read_a = by_position.read_at(position, 0, &mut a);
+        let read_b = by_address.read(entry.index, entry.sub, 0, &mut b);
+        assert_eq!(read_a, read_b, "{:04X}h sub {}", entry.index, entry.sub);
+        // Write the value's bytes back, each byte changed, through both paths.
+        let len = read_b.unwrap_or(0).max(usize::from(entry.size).min(4));
+        let data: Vec<u8> = b[..len].iter().map(|x| x.wrapping_add(1)).collect();
+        assert_eq!(
+            by_position.write_at(position, &data),
+            by_address.write(entry.index, entry.sub, &data),
+            "{:04X}h sub {}",
+            entry.index,
+            entry.sub
+        );
+        assert_eq!(
+            by_position, by_address,
+            "{:04X}h sub {}",
+            entry.index, entry.sub
+        );
+    }
+    let past = entries.len();
+    assert_eq!(
+        by_position.read_at(past, 0, &mut [0u8; 8]),
+        Err(SdoAbort::NoObject)
+    );
+    assert_eq!(by_position.write_at(past, &[0]), Err(SdoAbort::NoObject));
+    assert_eq!(by_address.locate(0x6000, 0), Err(SdoAbort::NoObject));
+    assert_eq!(by_address.locate(0x1018, 9), Err(SdoAbort::NoSubIndex));
+}

@@ -209,17 +209,26 @@ pub trait ObjectDictionary {
     /// Every entry, sorted by (index, sub).
     fn entries(&self) -> &[EntryDescriptor];
 
+    /// Where (index, sub) is in [`entries`](Self::entries): the position
+    /// [`read_at`](Self::read_at) and [`write_at`](Self::write_at) take. `NoObject` if the index
+    /// is absent, `NoSubIndex` if only the sub-index is.
+    fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        // The search generated `read`/`write` dispatch on too: one copy in flash.
+        crate::typed::position(self.entries(), index, sub)
+    }
+
     /// The descriptor of (index, sub): `NoObject` if the index is absent, `NoSubIndex` if only
     /// the sub-index is.
     fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
-        // The search generated `read`/`write` dispatch on too: one copy in flash.
         let entries = self.entries();
-        let pos = crate::typed::position(entries, index, sub)?;
-        entries.get(pos).ok_or(SdoAbort::NoObject)
+        entries
+            .get(self.locate(index, sub)?)
+            .ok_or(SdoAbort::NoObject)
     }
 
     /// The current length in bytes of the value at (index, sub) (shorter than the capacity for a
-    /// string or domain holding less).
+    /// string or domain holding less). For a fixed-size data type it must be that size: the SDO
+    /// server takes it from the descriptor without asking.
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort>;
 
     /// Copies the value's little-endian bytes, starting `offset` bytes into the value, into
@@ -229,4 +238,20 @@ pub trait ObjectDictionary {
     /// Replaces the value at (index, sub) with `data` (little-endian), after checking its length
     /// and limits. On error the value is unchanged.
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort>;
+
+    /// [`read`](Self::read) of the entry at `position` in [`entries`](Self::entries) (from
+    /// [`locate`](Self::locate)), so that a protocol that has looked an entry up reads it without
+    /// a second search: the SDO server's expedited upload, a TPDO's mapped objects. The default
+    /// reads by the entry's (index, sub); the generated dictionaries dispatch on the position.
+    fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
+        let entry = self.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        self.read(entry.index, entry.sub, offset, buf)
+    }
+
+    /// [`write`](Self::write) of the entry at `position` in [`entries`](Self::entries), as
+    /// [`read_at`](Self::read_at) reads: an RPDO's mapped objects, an SDO expedited download.
+    fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        let entry = *self.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        self.write(entry.index, entry.sub, data)
+    }
 }

@@ -184,17 +184,28 @@ pub fn check_limits<T: PartialOrd>(value: T, low: T, high: T) -> Result<T, SdoAb
 /// Where (index, sub) is in `entries` (sorted by index, then sub-index): a generated `read` or
 /// `write` dispatches on this position. `NoObject` if the index is absent, `NoSubIndex` if only
 /// the sub-index is.
+///
+/// Every SDO transfer and PDO access starts here, so the search compares one `u32` key
+/// (`index << 8 | sub`) per step, without early exits: a third of the instructions of a search
+/// by `(index, sub)` tuples.
 #[inline(never)]
 pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usize, SdoAbort> {
-    entries
-        .binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub)))
-        .map_err(|_| {
-            if entries.iter().any(|e| e.index == index) {
-                SdoAbort::NoSubIndex
-            } else {
-                SdoAbort::NoObject
-            }
-        })
+    let key = |e: &EntryDescriptor| (u32::from(e.index) << 8) | u32::from(e.sub);
+    let wanted = (u32::from(index) << 8) | u32::from(sub);
+    // `base` ends on the last entry whose key is at most `wanted` (or on 0).
+    let (mut base, mut len) = (0usize, entries.len());
+    while len > 1 {
+        let half = len / 2;
+        if entries.get(base + half).is_some_and(|e| key(e) <= wanted) {
+            base += half;
+        }
+        len -= half;
+    }
+    match entries.get(base) {
+        Some(e) if key(e) == wanted => Ok(base),
+        _ if entries.iter().any(|e| e.index == index) => Err(SdoAbort::NoSubIndex),
+        _ => Err(SdoAbort::NoObject),
+    }
 }
 
 /// The abort for an (index, sub) that is not in `entries`: `NoSubIndex` when the index exists,
@@ -390,6 +401,40 @@ mod tests {
         assert_eq!(position(&entries, 0x1001, 0), Err(SdoAbort::NoObject));
         assert_eq!(position(&entries, 0x7000, 0), Err(SdoAbort::NoObject));
         assert_eq!(position(&[], 0x1000, 0), Err(SdoAbort::NoObject));
+    }
+
+    #[test]
+    fn position_agrees_with_a_linear_search_for_every_table_length() {
+        use crate::od::{Access, DataType};
+        // Tables of 0..=40 entries: index 2000h + i / 3, sub (i % 3) * 2 (so odd subs are gaps).
+        let all: Vec<EntryDescriptor> = (0..40u16)
+            .map(|i| {
+                let (index, sub) = (0x2000 + i / 3, (i % 3) as u8 * 2);
+                EntryDescriptor::new(index, sub, DataType::Unsigned8, Access::Rw, false, 1)
+            })
+            .collect();
+        for len in 0..=all.len() {
+            let entries = &all[..len];
+            for index in 0x1FFF..=0x2010u16 {
+                for sub in 0..=6u8 {
+                    let linear = match entries
+                        .iter()
+                        .position(|e| (e.index, e.sub) == (index, sub))
+                    {
+                        Some(at) => Ok(at),
+                        None if entries.iter().any(|e| e.index == index) => {
+                            Err(SdoAbort::NoSubIndex)
+                        }
+                        None => Err(SdoAbort::NoObject),
+                    };
+                    assert_eq!(
+                        position(entries, index, sub),
+                        linear,
+                        "{len} {index:04X} {sub}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -274,19 +274,22 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
     let mut len_arms = Vec::new();
     let mut read_arms = Vec::new();
     let mut write_arms = Vec::new();
-    // `read` and `write` dispatch on the entry's position in `ENTRIES` (one binary search, then
-    // a dense jump table), which is much smaller in flash than a match on (index, sub).
+    // `read_at` and `write_at` dispatch on the entry's position in `ENTRIES` (a dense jump
+    // table), which is much smaller in flash than a match on (index, sub); `read` and `write`
+    // find the position with one binary search.
+    // The pattern of the next `count` positions, and the first of them.
     let mut next_position = 0usize;
     let mut position = |count: usize| {
         let first = next_position;
         next_position += count;
         let start = Literal::usize_unsuffixed(first);
-        if count == 1 {
+        let pattern = if count == 1 {
             quote!(#start)
         } else {
             let end = Literal::usize_unsuffixed(first + count - 1);
             quote!(#start..=#end)
-        }
+        };
+        (pattern, start)
     };
     for object in &plan.objects {
         if let ObjectPlan::Array {
@@ -310,15 +313,18 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             });
             if uniform && items.len() > 1 {
                 let (e0, e) = (&sub0.1, &items[0]);
-                let (r, w, l) = arms(e0, key(e0.index, e0.sub), position(1), &e0.path);
+                let (r, w, l) = arms(e0, key(e0.index, e0.sub), position(1).0, &e0.path);
                 read_arms.push(r);
                 write_arms.push(w);
                 len_arms.extend(l);
                 let index = hex16(e.index);
                 let last = hex8(items.len() as u8);
                 let ranged_key = quote!((#index, sub @ 0x01..=#last));
-                let path = quote!(#field.#items_field[usize::from(sub) - 1]);
-                let (r, w, l) = arms(e, ranged_key, position(items.len()), &path);
+                let len_path = quote!(#field.#items_field[usize::from(sub) - 1]);
+                let (pattern, first) = position(items.len());
+                let path = quote!(#field.#items_field[position - #first]);
+                let (r, w, _) = arms(e, ranged_key.clone(), pattern, &path);
+                let (_, _, l) = arms(e, ranged_key, quote!(_), &len_path);
                 read_arms.push(r);
                 write_arms.push(w);
                 len_arms.extend(l);
@@ -326,7 +332,7 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             }
         }
         for e in object.entries() {
-            let (r, w, l) = arms(e, key(e.index, e.sub), position(1), &e.path);
+            let (r, w, l) = arms(e, key(e.index, e.sub), position(1).0, &e.path);
             read_arms.push(r);
             write_arms.push(w);
             len_arms.extend(l);
@@ -351,23 +357,40 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
     } else {
         (
             quote! {
-                use ::edsgen_runtime::typed as t;
-                #scratch
-                let value: &[u8] = match t::position(&ENTRIES, index, sub)? {
-                    #(#read_arms)*
-                    _ => return Err(t::missing(&ENTRIES, index, sub)),
-                };
-                Ok(t::read_bytes(value, offset, buf))
+                self.read_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, offset, buf)
             },
             quote! {
-                use ::edsgen_runtime::typed as t;
-                match t::position(&ENTRIES, index, sub)? {
-                    #(#write_arms)*
-                    _ => return Err(t::missing(&ENTRIES, index, sub)),
-                }
-                Ok(())
+                self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
             },
         )
+    };
+    // By position in `ENTRIES` (from `locate`): the protocols look an entry up once, then
+    // access it here without a second search. Out of line, so `read`/`write` do not copy them.
+    let at_fns = if read_arms.is_empty() {
+        quote!()
+    } else {
+        quote! {
+            #[inline(never)]
+            fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+                use ::edsgen_runtime::typed as t;
+                #scratch
+                let value: &[u8] = match position {
+                    #(#read_arms)*
+                    _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
+                };
+                Ok(t::read_bytes(value, offset, buf))
+            }
+
+            #[inline(never)]
+            fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                use ::edsgen_runtime::typed as t;
+                match position {
+                    #(#write_arms)*
+                    _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
+                }
+                Ok(())
+            }
+        }
     };
     let len_match = if len_arms.is_empty() {
         quote!(Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub)))
@@ -399,6 +422,8 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
                 #write_body
             }
+
+            #at_fns
         }
     }
 }

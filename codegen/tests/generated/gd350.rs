@@ -532,9 +532,30 @@ pub mod gd350 {
             offset: usize,
             buf: &mut [u8],
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+            self.read_at(
+                ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?,
+                offset,
+                buf,
+            )
+        }
+        fn write(
+            &mut self,
+            index: u16,
+            sub: u8,
+            data: &[u8],
+        ) -> Result<(), ::edsgen_runtime::SdoAbort> {
+            self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
+        }
+        #[inline(never)]
+        fn read_at(
+            &self,
+            position: usize,
+            offset: usize,
+            buf: &mut [u8],
+        ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
             use ::edsgen_runtime::typed as t;
             let mut s = [0u8; 8];
-            let value: &[u8] = match t::position(&ENTRIES, index, sub)? {
+            let value: &[u8] = match position {
                 0 => t::le(&mut s, u64::from(self.device_type), 4),
                 1 => {
                     t::le(
@@ -546,9 +567,7 @@ pub mod gd350 {
                 2..=3 => {
                     t::le(
                         &mut s,
-                        u64::from(
-                            self.pre_defined_error_field.items[usize::from(sub) - 1],
-                        ),
+                        u64::from(self.pre_defined_error_field.items[position - 2]),
                         4,
                     )
                 }
@@ -753,7 +772,7 @@ pub mod gd350 {
                 38..=41 => {
                     t::le(
                         &mut s,
-                        u64::from(self.returned_values.items[usize::from(sub) - 1]),
+                        u64::from(self.returned_values.items[position - 38]),
                         2,
                     )
                 }
@@ -774,33 +793,29 @@ pub mod gd350 {
                 50 => self.tag.as_bytes(),
                 51 => t::le(&mut s, u64::from(self.settings.number_of_entries), 1),
                 52..=55 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.settings.items[usize::from(sub) - 1]),
-                        2,
-                    )
+                    t::le(&mut s, u64::from(self.settings.items[position - 52]), 2)
                 }
                 56 => t::le(&mut s, u64::from(self.control_word), 2),
                 57 => t::le(&mut s, u64::from(self.setting_limited), 2),
                 58 => t::le(&mut s, u64::from(self.controlword), 2),
                 59 => t::le(&mut s, u64::from(self.status_word_6041), 2),
-                _ => return Err(t::missing(&ENTRIES, index, sub)),
+                _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
             };
             Ok(t::read_bytes(value, offset, buf))
         }
-        fn write(
+        #[inline(never)]
+        fn write_at(
             &mut self,
-            index: u16,
-            sub: u8,
+            position: usize,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
             use ::edsgen_runtime::typed as t;
-            match t::position(&ENTRIES, index, sub)? {
+            match position {
                 0 => t::store(&mut self.device_type, data)?,
                 1 => t::store(&mut self.pre_defined_error_field.number_of_errors, data)?,
                 2..=3 => {
                     t::store(
-                        &mut self.pre_defined_error_field.items[usize::from(sub) - 1],
+                        &mut self.pre_defined_error_field.items[position - 2],
                         data,
                     )?
                 }
@@ -883,10 +898,7 @@ pub mod gd350 {
                 36 => t::store(&mut self.tpdo4_mapping_parameter.mapped_object_3, data)?,
                 37 => t::store(&mut self.returned_values.number_of_entries, data)?,
                 38..=41 => {
-                    t::store(
-                        &mut self.returned_values.items[usize::from(sub) - 1],
-                        data,
-                    )?
+                    t::store(&mut self.returned_values.items[position - 38], data)?
                 }
                 42 => t::store(&mut self.status_word, data)?,
                 43 => t::store(&mut self.nibble, data)?,
@@ -900,9 +912,7 @@ pub mod gd350 {
                 49 => t::store(&mut self.gain, data)?,
                 50 => self.tag.set(data)?,
                 51 => t::store(&mut self.settings.number_of_entries, data)?,
-                52..=55 => {
-                    t::store(&mut self.settings.items[usize::from(sub) - 1], data)?
-                }
+                52..=55 => t::store(&mut self.settings.items[position - 52], data)?,
                 56 => t::store(&mut self.control_word, data)?,
                 57 => {
                     self.setting_limited = t::check_limits(
@@ -913,7 +923,7 @@ pub mod gd350 {
                 }
                 58 => t::store(&mut self.controlword, data)?,
                 59 => t::store(&mut self.status_word_6041, data)?,
-                _ => return Err(t::missing(&ENTRIES, index, sub)),
+                _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
             }
             Ok(())
         }

@@ -177,6 +177,10 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
         self.od.entries()
     }
 
+    fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        self.od.locate(index, sub)
+    }
+
     fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
         self.od.find(index, sub)
     }
@@ -203,5 +207,18 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
             }
         }
         self.od.write(index, sub, data)
+    }
+
+    fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
+        self.od.read_at(position, offset, buf)
+    }
+
+    fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        let entry = *self.od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        if (0x1000..=0x1FFF).contains(&entry.index) {
+            // Communication objects go through the checks of `write`.
+            return self.write(entry.index, entry.sub, data);
+        }
+        self.od.write_at(position, data)
     }
 }

@@ -18,9 +18,37 @@ pub(crate) struct MappedObject {
     pub index: u16,
     pub sub: u8,
     pub len: u8,
+    /// Its position in the OD's table (found when the mapping was checked), so that packing and
+    /// unpacking do not search; [`BY_ADDRESS`] for a dummy or a table too long for 16 bits.
+    pub position: u16,
 }
 
+/// [`MappedObject::position`] of an object read and written by (index, sub).
+const BY_ADDRESS: u16 = u16::MAX;
+
 impl MappedObject {
+    /// Reads the object's value into `slot`.
+    #[inline]
+    fn read<O: ObjectDictionary + ?Sized>(
+        self,
+        od: &O,
+        slot: &mut [u8],
+    ) -> Result<usize, SdoAbort> {
+        match self.position {
+            BY_ADDRESS => od.read(self.index, self.sub, 0, slot),
+            position => od.read_at(usize::from(position), 0, slot),
+        }
+    }
+
+    /// Writes `bytes` into the object.
+    #[inline]
+    fn write<O: ObjectDictionary + ?Sized>(self, od: &mut O, bytes: &[u8]) -> Result<(), SdoAbort> {
+        match self.position {
+            BY_ADDRESS => od.write(self.index, self.sub, bytes),
+            position => od.write_at(usize::from(position), bytes),
+        }
+    }
+
     #[inline]
     fn is_dummy(self) -> bool {
         MappingEntry {
@@ -68,7 +96,7 @@ impl Mapping {
             if let Some(slot) = data.get_mut(offset..end) {
                 // A failed read leaves zeros: the mapping was checked, so this only happens
                 // when the OD refuses its own entry.
-                let _ = od.read(object.index, object.sub, 0, slot);
+                let _ = object.read(od, slot);
             }
             offset = end;
         }
@@ -85,7 +113,7 @@ impl Mapping {
             let end = offset + object.len as usize;
             if !object.is_dummy() {
                 if let Some(bytes) = data.get(offset..end) {
-                    if od.write(object.index, object.sub, bytes).is_err() {
+                    if object.write(od, bytes).is_err() {
                         refused += 1;
                     }
                 }
@@ -134,13 +162,15 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
                 index: entry.index,
                 sub: entry.sub,
                 len,
+                position: BY_ADDRESS,
             }),
             _ => Err(SdoAbort::NotMappable),
         };
     }
-    let descriptor = od
-        .find(entry.index, entry.sub)
+    let position = od
+        .locate(entry.index, entry.sub)
         .map_err(|_| SdoAbort::NotMappable)?;
+    let descriptor = od.entries().get(position).ok_or(SdoAbort::NotMappable)?;
     let allowed = match direction {
         Direction::Receive => descriptor.access.writable(),
         Direction::Transmit => descriptor.access.readable(),
@@ -157,6 +187,7 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
         index: entry.index,
         sub: entry.sub,
         len,
+        position: u16::try_from(position).unwrap_or(BY_ADDRESS),
     })
 }
 

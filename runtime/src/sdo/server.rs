@@ -425,26 +425,44 @@ impl<const N: usize> SdoServer<N> {
         self.mux = mux;
     }
 
+    /// The entry's position in the OD's table and its descriptor, if an SDO may write it.
     fn writable_entry<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
         od: &O,
-    ) -> Result<EntryDescriptor, SdoAbort> {
-        let entry = *od.find(mux.index, mux.sub)?;
+    ) -> Result<(usize, EntryDescriptor), SdoAbort> {
+        let position = od.locate(mux.index, mux.sub)?;
+        let entry = *od.entries().get(position).ok_or(SdoAbort::NoObject)?;
         if !entry.access.writable() {
             return Err(SdoAbort::ReadOnly);
         }
-        Ok(entry)
+        Ok((position, entry))
     }
 
+    /// The entry's position in the OD's table and its descriptor, if an SDO may read it.
     fn readable_entry<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
         od: &O,
-    ) -> Result<EntryDescriptor, SdoAbort> {
-        let entry = *od.find(mux.index, mux.sub)?;
+    ) -> Result<(usize, EntryDescriptor), SdoAbort> {
+        let position = od.locate(mux.index, mux.sub)?;
+        let entry = *od.entries().get(position).ok_or(SdoAbort::NoObject)?;
         if !entry.access.readable() {
             return Err(SdoAbort::WriteOnly);
         }
-        Ok(entry)
+        Ok((position, entry))
+    }
+
+    /// A readable entry's position and the length of its value: a fixed-size type's size from
+    /// its descriptor (no second search), else the OD's current length.
+    fn upload_len<O: ObjectDictionary + ?Sized>(
+        mux: Multiplexer,
+        od: &O,
+    ) -> Result<(usize, usize), SdoAbort> {
+        let (position, entry) = Self::readable_entry(mux, od)?;
+        let len = match entry.data_type.fixed_size() {
+            Some(size) => size,
+            None => od.value_len(mux.index, mux.sub)?,
+        };
+        Ok((position, len))
     }
 
     /// Checks a download's announced size against the entry and the buffer.
@@ -507,7 +525,7 @@ impl<const N: usize> SdoServer<N> {
         payload: InitiatePayload,
         od: &mut O,
     ) -> Handled {
-        let entry = Self::writable_entry(mux, od)?;
+        let (position, entry) = Self::writable_entry(mux, od)?;
         let written = SdoEvent::Written {
             index: mux.index,
             sub: mux.sub,
@@ -515,7 +533,7 @@ impl<const N: usize> SdoServer<N> {
         match payload {
             InitiatePayload::Expedited { data, len } => {
                 let len = usize::from(len).min(data.len());
-                od.write(mux.index, mux.sub, &data[..len])?;
+                od.write_at(position, &data[..len])?;
                 self.respond(ServerResponse::InitiateDownload { mux });
                 Ok(Some(written))
             }
@@ -524,7 +542,7 @@ impl<const N: usize> SdoServer<N> {
                 if !(1..=data.len()).contains(&len) {
                     return Err(SdoAbort::LengthMismatch);
                 }
-                od.write(mux.index, mux.sub, &data[..len])?;
+                od.write_at(position, &data[..len])?;
                 self.respond(ServerResponse::InitiateDownload { mux });
                 Ok(Some(written))
             }
@@ -587,9 +605,8 @@ impl<const N: usize> SdoServer<N> {
         mux: Multiplexer,
         od: &O,
     ) -> Handled {
-        Self::readable_entry(mux, od)?;
-        let total = od.value_len(mux.index, mux.sub)?;
-        self.start_upload(mux, total, od)
+        let (position, total) = Self::upload_len(mux, od)?;
+        self.start_upload(mux, position, total, od)
     }
 
     /// Answers an upload of `total` bytes: expedited when it fits, else the first step of a
@@ -597,12 +614,13 @@ impl<const N: usize> SdoServer<N> {
     fn start_upload<O: ObjectDictionary + ?Sized>(
         &mut self,
         mux: Multiplexer,
+        position: usize,
         total: usize,
         od: &O,
     ) -> Handled {
         let mut data = [0u8; 4];
         if (1..=data.len()).contains(&total) {
-            let read = od.read(mux.index, mux.sub, 0, &mut data[..total])?;
+            let read = od.read_at(position, 0, &mut data[..total])?;
             if read != total {
                 return Err(SdoAbort::General);
             }
@@ -673,7 +691,7 @@ impl<const N: usize> SdoServer<N> {
         size: Option<u32>,
         od: &O,
     ) -> Handled {
-        let entry = Self::writable_entry(mux, od)?;
+        let (_, entry) = Self::writable_entry(mux, od)?;
         Self::check_announced_size(&entry, size)?;
         self.transfer = Transfer::BlockDownload(BlockDownload {
             crc,
@@ -768,13 +786,12 @@ impl<const N: usize> SdoServer<N> {
         pst: u8,
         od: &O,
     ) -> Handled {
-        Self::readable_entry(mux, od)?;
-        let total = od.value_len(mux.index, mux.sub)?;
+        let (position, total) = Self::upload_len(mux, od)?;
         if blksize == 0 || blksize > MAX_BLOCK_SIZE {
             return Err(SdoAbort::InvalidBlockSize);
         }
         if pst != 0 && total <= usize::from(pst) {
-            return self.start_upload(mux, total, od);
+            return self.start_upload(mux, position, total, od);
         }
         let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
         self.transfer = Transfer::BlockUpload(BlockUpload {
