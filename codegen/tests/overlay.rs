@@ -174,3 +174,84 @@ fn the_overlay_lives_beside_the_description() {
         Path::new("eds/cp301.toml")
     );
 }
+
+mod no_panic {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Lines near the overlay's grammar: tables, entry keys, numbers, junk.
+    fn line() -> impl Strategy<Value = String> {
+        let keys = prop::sample::select(vec![
+            "2000",
+            "2001",
+            "2100sub1",
+            "2100SUB2",
+            "2100sub",
+            "sub1",
+            "1F50sub1FF",
+            "FFFFF",
+            "",
+            "\"2000\"",
+            "capacity",
+            "x.y",
+        ]);
+        let values = prop::sample::select(vec![
+            "0",
+            "1",
+            "5",
+            "65535",
+            "65536",
+            "-1",
+            "0x10",
+            "1_000",
+            "\"7\"",
+            "1.5",
+            "true",
+            "[1, 2]",
+            "{ a = 1 }",
+            "9223372036854775807",
+            "",
+        ]);
+        prop_oneof![
+            Just("[capacity]".to_owned()),
+            Just("[other]".to_owned()),
+            Just("[capacity.2000]".to_owned()),
+            (keys, values).prop_map(|(k, v)| format!("{k} = {v}")),
+            "[ -~]{0,24}",
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        #[test]
+        fn any_overlay_text_gives_diagnostics_not_panics(lines in prop::collection::vec(line(), 0..12)) {
+            let text = lines.join("\n");
+            let mut device = device();
+            for d in overlay::apply(&text, &mut device) {
+                prop_assert_eq!(d.code(), "EDS708");
+                let line = d.span.map_or(1, |s| s.line) as usize;
+                prop_assert!(line >= 1 && line <= text.lines().count().max(1) + 1);
+            }
+            // Whatever was applied fits the entry: 2000h holds "drive" (5 bytes), 2100h's
+            // strings have no default; 2001h is a number and 2100h sub 0 a count.
+            for (index, object) in &device.objects {
+                for (sub, entry) in &object.subs {
+                    let Some(capacity) = entry.capacity else { continue };
+                    let least = match (*index, *sub) {
+                        (0x2000, 0) => 5,
+                        (0x2100, 1 | 2) => 1,
+                        other => return Err(TestCaseError::fail(format!("capacity on {other:?}"))),
+                    };
+                    prop_assert!((least..=65_535).contains(&capacity), "{}", capacity);
+                }
+            }
+        }
+
+        #[test]
+        fn arbitrary_bytes_as_text_do_not_panic(text in "\\PC{0,200}") {
+            let mut device = device();
+            let _ = overlay::apply(&text, &mut device);
+        }
+    }
+}
