@@ -18,7 +18,8 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use crate::diag::Diagnostic;
-use crate::model::{BasicType, Device, Span, SubObject};
+use crate::model::{BasicType, Device, SubObject};
+use crate::read::text::LineIndex;
 use crate::rules;
 
 /// The largest capacity an entry can have: SDO sizes and the runtime's lengths are 16-bit.
@@ -32,7 +33,7 @@ pub fn path_for(description: &Path) -> PathBuf {
 /// Checks the overlay `text` against `device` and applies what is valid. Returns the overlay's
 /// diagnostics (spans in `text`); an entry named with an error keeps its computed capacity.
 pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
-    let lines = LineStarts::new(text);
+    let lines = LineIndex::new(text);
     let mut diags = Vec::new();
     let root = match DeTable::parse(text) {
         Ok(root) => root.into_inner(),
@@ -84,7 +85,7 @@ fn set_capacity(
     value: &Spanned<DeValue<'_>>,
     device: &mut Device,
     text: &str,
-    lines: &LineStarts,
+    lines: &LineIndex,
     diags: &mut Vec<Diagnostic>,
 ) {
     let key_span = lines.span(text, key.span());
@@ -201,27 +202,4 @@ fn longest_value(basic: BasicType, entry: &SubObject) -> usize {
         .map(|bytes| bytes.len())
         .max()
         .unwrap_or(0)
-}
-
-/// Byte offsets of line starts, to turn the TOML parser's byte ranges into spans.
-struct LineStarts(Vec<usize>);
-
-impl LineStarts {
-    fn new(text: &str) -> Self {
-        let mut starts = vec![0];
-        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        LineStarts(starts)
-    }
-
-    fn span(&self, text: &str, range: std::ops::Range<usize>) -> Span {
-        let start = range.start.min(text.len());
-        let line = self.0.partition_point(|&s| s <= start).max(1);
-        let line_start = self.0[line - 1];
-        let column = text.get(line_start..start).map_or(0, |s| s.chars().count()) + 1;
-        let len = text
-            .get(start..range.end.clamp(start, text.len()))
-            .map_or(0, |s| s.chars().take_while(|&c| c != '\n').count());
-        let to_u32 = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
-        Span::new(to_u32(line), to_u32(column), to_u32(len))
-    }
 }

@@ -1,7 +1,8 @@
 //! Bytes to text: UTF-8 (with or without BOM), else Windows-1252, and which one it was, plus the
-//! facts about the text that the EDS002 diagnostic needs.
+//! facts about the text that the EDS002 diagnostic needs, and [`LineIndex`], which turns the byte
+//! ranges of the XML and TOML parsers into spans.
 
-use crate::model::TextEncoding;
+use crate::model::{Span, TextEncoding};
 
 /// Decodes a file's bytes and says which encoding was used.
 pub fn decode(bytes: &[u8]) -> (String, TextEncoding) {
@@ -41,6 +42,34 @@ pub const fn encoding_name(encoding: TextEncoding) -> &'static str {
         TextEncoding::Utf8 => "UTF-8",
         TextEncoding::Utf8Bom => "UTF-8 (with a byte-order mark)",
         TextEncoding::Windows1252 => "Windows-1252",
+    }
+}
+
+/// The byte offsets where the lines of a text start: byte ranges from a parser (roxmltree, toml)
+/// to line/column spans.
+pub(crate) struct LineIndex {
+    starts: Vec<usize>,
+}
+
+impl LineIndex {
+    pub(crate) fn new(text: &str) -> Self {
+        let mut starts = vec![0];
+        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        LineIndex { starts }
+    }
+
+    /// The span of `text[range]`, clipped to the line it starts on.
+    pub(crate) fn span(&self, text: &str, range: std::ops::Range<usize>) -> Span {
+        let start = range.start.min(text.len());
+        let line = self.starts.partition_point(|&s| s <= start).max(1);
+        let line_start = self.starts[line - 1];
+        let column = text.get(line_start..start).map_or(0, |s| s.chars().count()) + 1;
+        let end = range.end.clamp(start, text.len());
+        let len = text
+            .get(start..end)
+            .map_or(0, |s| s.chars().take_while(|&c| c != '\n').count());
+        let to_u32 = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        Span::new(to_u32(line), to_u32(column), to_u32(len))
     }
 }
 

@@ -12,6 +12,7 @@ use std::path::Path;
 
 use roxmltree::{Attribute, Document, Node};
 
+use super::text::LineIndex;
 use super::value::{parse_integer, parse_value};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
@@ -98,41 +99,6 @@ const IEC_TYPES: &[(&str, BasicType)] = &[
     ("STRING", BasicType::VisibleString),
     ("WSTRING", BasicType::UnicodeString),
 ];
-
-/// Byte offsets to 1-based line and character column, in O(log n) per lookup.
-struct LineIndex {
-    starts: Vec<usize>,
-}
-
-impl LineIndex {
-    fn new(text: &str) -> Self {
-        let mut starts = vec![0];
-        starts.extend(
-            text.bytes()
-                .enumerate()
-                .filter(|&(_, b)| b == b'\n')
-                .map(|(i, _)| i + 1),
-        );
-        LineIndex { starts }
-    }
-
-    /// The span of `text[range]`, clipped to the line it starts on.
-    fn span(&self, text: &str, range: std::ops::Range<usize>) -> Span {
-        let start = range.start.min(text.len());
-        let line = self.starts.partition_point(|&s| s <= start).max(1);
-        let line_start = self.starts[line - 1];
-        let column = text.get(line_start..start).map_or(0, |s| s.chars().count()) + 1;
-        let end = range.end.clamp(start, text.len());
-        let len = text
-            .get(start..end)
-            .map_or(0, |s| s.chars().take_while(|&c| c != '\n').count());
-        Span::new(to_u32(line), to_u32(column), to_u32(len))
-    }
-}
-
-fn to_u32(n: usize) -> u32 {
-    u32::try_from(n).unwrap_or(u32::MAX)
-}
 
 /// The attributes CiA 311 gives both `CANopenObject` and `CANopenSubObject`, as written.
 #[derive(Default)]
