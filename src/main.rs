@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use edsgen_codegen::diag::{self, Severity};
-use edsgen_codegen::{read, render, rules, validate};
+use edsgen_codegen::{builder, read, render, rules, validate};
 
 #[derive(Parser)]
 #[command(
@@ -203,15 +203,9 @@ fn cmd_generate(
     if !path.is_file() {
         return fail(format!("cannot read `{}`: not a file", path.display()));
     }
-    let module = match module {
-        Some(m) => m.to_owned(),
-        None => path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "device".into()),
-    };
+    let module = module.map_or_else(|| builder::default_module(path), str::to_owned);
     // The same function build.rs runs, overlay included: the output is what build.rs would write.
-    let code = match edsgen_codegen::builder::generate_device(path, &module, &[]) {
+    let code = match builder::generate_device(path, &module, &[]) {
         Ok((code, warnings)) => {
             for warning in warnings {
                 eprint!("{warning}");

@@ -159,7 +159,7 @@ impl Builder {
                     println!("cargo:rerun-if-changed={}", watched.display());
                 }
             }
-            let module = emit::module_name(&module.clone().unwrap_or_else(|| stem(path)));
+            let module = emit::module_name(&module.clone().unwrap_or_else(|| default_module(path)));
             if !seen.insert(module.clone()) {
                 errors.push_str(&format!(
                     "error: edsgen: two devices would both be module `{module}`; use Builder::device_as\n"
@@ -200,7 +200,9 @@ impl Builder {
     }
 }
 
-fn stem(path: &Path) -> String {
+/// The module name a device gets unless one is given: its file name without the extension (the
+/// generator makes it a snake-case identifier).
+pub fn default_module(path: &Path) -> String {
     path.file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "device".into())
