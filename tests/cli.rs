@@ -263,20 +263,39 @@ fn generate_applies_the_overlay_beside_the_file() {
     let out = run(&["generate", p]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let code_text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(code_text.contains("pub label: ::edsgen_runtime::FixedBytes<32>,"));
+    assert!(code_text.contains("pub const LABEL: Entry<FixedBytes<32>>"));
 
     std::fs::write(path.with_extension("toml"), "[capacity]\n2000 = 200\n").unwrap();
     let out = run(&["generate", p]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let with_overlay = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(with_overlay.contains("pub label: ::edsgen_runtime::FixedBytes<200>,"));
+    assert!(with_overlay.contains("pub const LABEL: Entry<FixedBytes<200>>"));
+    let image_size = |code: &str| {
+        let line = code.lines().find(|l| l.contains("const IMAGE_SIZE: usize"));
+        line.unwrap_or_default().to_owned()
+    };
+    // The string's room in the value image grows by 200 - 32 bytes.
+    let (before, after) = (image_size(&code_text), image_size(&with_overlay));
+    let number = |line: &str| {
+        line.trim_end_matches(';')
+            .rsplit(' ')
+            .next()
+            .map(str::to_owned)
+    };
+    let parsed = |line: &str| number(line).and_then(|n| n.parse::<usize>().ok());
+    assert_eq!(parsed(&after), parsed(&before).map(|n| n + 168));
+    // Compared without whitespace: a longer type can move a line break.
+    let words = |code: &str| code.split_whitespace().collect::<String>();
     assert_eq!(
-        with_overlay
-            .replace("FixedBytes<200>", "FixedBytes<32>")
-            .replace("capacity 200 bytes", "capacity 32 bytes")
-            .replace("A::Rw, false, 200)", "A::Rw, false, 32)"),
-        code_text,
-        "the overlay changes the capacity (type, docs, descriptor) and nothing else"
+        words(
+            &with_overlay
+                .replace(&after, &before)
+                .replace("FixedBytes<200>", "FixedBytes<32>")
+                .replace("capacity 200 bytes", "capacity 32 bytes")
+                .replace("A::Rw, false, 200)", "A::Rw, false, 32)")
+        ),
+        words(&code_text),
+        "the overlay changes the capacity (type, docs, descriptor, image size) and nothing else"
     );
 }
 

@@ -10,7 +10,7 @@
 //!   bit 31), as the CiA 301 procedure asks; the write and the read back are the manual's frames.
 //!   The read back answers `4B` (2 bytes, UNSIGNED16), where the manual prints `43`.
 
-use edsgen::cards::goodrive350::Od;
+use edsgen::cards::goodrive350::{od, Od};
 use edsgen_runtime::node::{error_register, NmtState, Node};
 use edsgen_runtime::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, Instant};
@@ -82,8 +82,8 @@ fn node_guarding_answers_85_then_05() {
 fn heartbeat_every_100_ms_and_disabled_by_sdo() {
     let (mut node, mut bus) = booted();
     assert_eq!(
-        node.od().producer_heartbeat_time,
-        0,
+        node.od().get(od::PRODUCER_HEARTBEAT_TIME),
+        Some(0),
         "off by default (§3.4.5)"
     );
     bus.inject(

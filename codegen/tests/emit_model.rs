@@ -39,11 +39,6 @@ fn checked_in_module_is_current() {
             (
                 "EDS701",
                 Severity::Info,
-                "the field name `status_word` is already used; this one is `status_word_6041`".to_owned()
-            ),
-            (
-                "EDS701",
-                Severity::Info,
                 "the constant name `STATUS_WORD` is already used; this one is `STATUS_WORD_6041`".to_owned()
             ),
         ]
@@ -155,7 +150,10 @@ fn signed_hex_default_is_read_as_twos_complement() {
         false,
     )]);
     let code = emit::generate(&device, "x").unwrap();
-    assert!(code.contains("offset: -1"), "{code}");
+    assert!(
+        code.contains("put_le(&mut values, 0, 0xFFFF, 2);"),
+        "{code}"
+    );
 }
 
 #[test]
@@ -170,13 +168,18 @@ fn missing_default_is_eds705_and_zero() {
         .diagnostics
         .iter()
         .all(|d| d.code() == "EDS705" && d.severity == Severity::Info));
-    assert!(generated.code.contains("speed: 0,"));
+    // 4 bytes of INTEGER32 and an empty string's length, all zero.
+    assert!(generated.code.contains("const IMAGE_SIZE: usize = 6;"));
+    assert!(
+        generated
+            .code
+            .contains("const DEFAULTS: [u8; IMAGE_SIZE] = [0; IMAGE_SIZE];"),
+        "{}",
+        generated.code
+    );
     assert!(generated
         .code
-        .contains("name: ::edsgen_runtime::FixedBytes::empty(),"));
-    assert!(generated
-        .code
-        .contains("pub name: ::edsgen_runtime::FixedBytes<0>,"));
+        .contains("pub const NAME: Entry<FixedBytes<0>> = Entry::new(0x2001, 0x00)"));
 }
 
 #[test]
@@ -329,11 +332,11 @@ fn parameter_value_overrides_default() {
         s.parameter_value = Some(value(Value::Integer(1234), "1234"));
     }
     let code = emit::generate(&device(vec![o]), "x").unwrap();
-    assert!(code.contains("speed: 0x4D2"), "{code}");
+    assert!(code.contains("put_le(&mut values, 0, 0x4D2, 2);"), "{code}");
 }
 
 #[test]
-fn keyword_and_digit_names_are_escaped() {
+fn digit_and_symbol_names_are_escaped() {
     let device = device(vec![
         var(
             0x2000,
@@ -362,11 +365,8 @@ fn keyword_and_digit_names_are_escaped() {
     ]);
     let code = emit::generate(&device, "x").unwrap();
     for needle in [
-        "pub type_: u8,",
         "pub const TYPE: Entry<u8>",
-        "pub n_1st_gear: u8,",
         "pub const N_1ST_GEAR: Entry<u8>",
-        "pub object_2002: u8,",
         "pub const OBJECT_2002: Entry<u8>",
     ] {
         assert!(code.contains(needle), "missing {needle}");
@@ -385,13 +385,15 @@ fn time_of_day_days_and_milliseconds() {
         false,
     )]);
     let code = emit::generate(&device, "x").unwrap();
-    assert!(code.contains("stamp: 0x16D02932E00"), "{code}");
-    assert!(code.contains("pub stamp: u64,"));
-    assert!(code.contains("t::le(&mut s, self.stamp, 6)"));
+    assert!(
+        code.contains("put_le(&mut values, 0, 0x16D02932E00, 6);"),
+        "{code}"
+    );
+    assert!(code.contains("pub const STAMP: Entry<u64> = Entry::with_width(0x2000, 0x00, 6)"));
 }
 
 #[test]
-fn colliding_type_names_stay_upper_camel_case() {
+fn colliding_constant_names_take_the_index() {
     let rec = |index: u16| {
         object(
             index,
@@ -408,8 +410,14 @@ fn colliding_type_names_stay_upper_camel_case() {
         )
     };
     let code = emit::generate(&device(vec![rec(0x5E11), rec(0x5E12)]), "x").unwrap();
-    assert!(code.contains("pub struct RemoteMapping {"));
-    assert!(code.contains("pub struct RemoteMapping5E12 {"));
+    assert!(
+        code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8>"),
+        "{code}"
+    );
+    assert!(
+        code.contains("pub const REMOTE_MAPPING_COUNT_SUB0: Entry<u8>"),
+        "{code}"
+    );
 }
 
 #[test]
@@ -423,7 +431,10 @@ fn time_of_day_as_a_48_bit_integer() {
         false,
     )]);
     let code = emit::generate(&device, "x").unwrap();
-    assert!(code.contains("stamp: 0x16D02932E00"), "{code}");
+    assert!(
+        code.contains("put_le(&mut values, 0, 0x16D02932E00, 6);"),
+        "{code}"
+    );
     let too_big = device_with(0x0C, Value::Integer(1 << 48));
     assert_eq!(
         emit::generate_module(&too_big, "x").unwrap_err()[0].code(),
@@ -453,4 +464,31 @@ fn string_longer_than_an_entry_can_hold_is_eds707() {
         diags[0].message,
         "2000h sub 0 `Stamp`: needs 70000 bytes; an entry holds at most 65535"
     );
+}
+
+#[test]
+fn values_needing_more_than_65535_bytes_in_all_are_eds707() {
+    // Two domains of 40,000 bytes each: each fits an entry, together they do not fit the image.
+    let domain = |index: u16| {
+        let mut o = var(index, "Blob", 0x0F, AccessType::Rw, None, false);
+        if let Some(s) = o.subs.get_mut(&0) {
+            s.capacity = Some(40_000);
+        }
+        o
+    };
+    let diags =
+        emit::generate_module(&device(vec![domain(0x2000), domain(0x2001)]), "x").unwrap_err();
+    let errors: Vec<_> = diags
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .map(|d| (d.code(), d.message.as_str()))
+        .collect();
+    assert_eq!(
+        errors,
+        vec![(
+            "EDS707",
+            "2001h `Blob`: with this object the device's values need more than 65535 bytes in all"
+        )]
+    );
+    assert!(emit::generate_module(&device(vec![domain(0x2000)]), "x").is_ok());
 }

@@ -135,7 +135,7 @@ proptest! {
     fn od_write_then_read_round_trips(value in any::<u16>()) {
         let mut od = Od::new(1);
         od.write(0x6040, 0, &value.to_le_bytes()).unwrap();
-        prop_assert_eq!(od.controlword, value);
+        prop_assert_eq!(od.get(od::CONTROLWORD), Some(value));
         prop_assert_eq!(read_all(&od, 0x6040, 0), value.to_le_bytes().to_vec());
     }
 }
@@ -143,15 +143,19 @@ proptest! {
 #[test]
 fn new_resolves_nodeid_defaults() {
     let od = Od::new(3);
-    assert_eq!(od.cob_id_emcy, 0x83);
-    assert_eq!(od.rpdo2_communication_parameter.cob_id, 0x303);
-    assert_eq!(Od::new(0x7F).cob_id_emcy, 0xFF);
-    assert_eq!(od.identity_object.vendor_id, 0x4D8);
-    assert_eq!(od.manufacturer_device_name.as_str(), Some("GD350"));
-    assert_eq!(od.sparse_record.signed_24, -5);
-    assert_eq!(od.sparse_record.big, 0xFFFF_FFFF_FFFF);
-    assert!(od.flag);
-    assert_eq!(od.gain, 1.5);
+    assert_eq!(od.get(od::COB_ID_EMCY), Some(0x83));
+    assert_eq!(
+        od.get(od::RPDO2_COMMUNICATION_PARAMETER_COB_ID),
+        Some(0x303)
+    );
+    assert_eq!(Od::new(0x7F).get(od::COB_ID_EMCY), Some(0xFF));
+    assert_eq!(od.get(od::IDENTITY_OBJECT_VENDOR_ID), Some(0x4D8));
+    let name = od.get(od::MANUFACTURER_DEVICE_NAME).unwrap();
+    assert_eq!(name.as_str(), Some("GD350"));
+    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), Some(-5));
+    assert_eq!(od.get(od::SPARSE_RECORD_BIG), Some(0xFFFF_FFFF_FFFF));
+    assert_eq!(od.get(od::FLAG), Some(true));
+    assert_eq!(od.get(od::GAIN), Some(1.5));
 }
 
 #[test]
@@ -259,11 +263,11 @@ fn write_checks_length() {
         od.write(0x2003, 1, &[0, 0, 0, 0]),
         Err(SdoAbort::LengthTooHigh)
     );
-    assert_eq!(od.controlword, 0);
+    assert_eq!(od.get(od::CONTROLWORD), Some(0));
     assert_eq!(od.write(0x2003, 1, &[0x00, 0x00, 0x80]), Ok(()));
-    assert_eq!(od.sparse_record.signed_24, -(1 << 23));
+    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), Some(-(1 << 23)));
     assert_eq!(od.write(0x2003, 5, &[1, 2, 3, 4, 5, 6, 7, 8]), Ok(()));
-    assert_eq!(od.sparse_record.big, 0x0807_0605_0403_0201);
+    assert_eq!(od.get(od::SPARSE_RECORD_BIG), Some(0x0807_0605_0403_0201));
 }
 
 #[test]
@@ -277,16 +281,17 @@ fn write_checks_limits() {
         od.write(0x2102, 0, &5001u16.to_le_bytes()),
         Err(SdoAbort::ValueTooHigh)
     );
-    assert_eq!(od.setting_limited, 100);
+    assert_eq!(od.get(od::SETTING_LIMITED), Some(100));
     assert_eq!(od.write(0x2102, 0, &5000u16.to_le_bytes()), Ok(()));
-    assert_eq!(od.setting_limited, 5000);
+    assert_eq!(od.get(od::SETTING_LIMITED), Some(5000));
 }
 
 #[test]
 fn write_strings_booleans_and_reals() {
     let mut od = Od::new(3);
     assert_eq!(od.write(0x1009, 0, b"2.0-rc1"), Ok(()));
-    assert_eq!(od.manufacturer_hardware_version.as_str(), Some("2.0-rc1"));
+    let version = od.get(od::MANUFACTURER_HARDWARE_VERSION).unwrap();
+    assert_eq!(version.as_str(), Some("2.0-rc1"));
     assert_eq!(od.value_len(0x1009, 0), Ok(7));
     assert_eq!(
         od.write(0x1009, 0, &[b'x'; 33]),
@@ -295,11 +300,11 @@ fn write_strings_booleans_and_reals() {
     assert_eq!(od.write(0x1008, 0, b"LONGER"), Err(SdoAbort::LengthTooHigh));
     assert_eq!(od.write(0x2004, 0, &[2]), Err(SdoAbort::InvalidValue));
     assert_eq!(od.write(0x2004, 0, &[0]), Ok(()));
-    assert!(!od.flag);
+    assert_eq!(od.get(od::FLAG), Some(false));
     assert_eq!(od.write(0x2005, 0, &2.25f32.to_le_bytes()), Ok(()));
-    assert_eq!(od.gain, 2.25);
+    assert_eq!(od.get(od::GAIN), Some(2.25));
     assert_eq!(od.write(0x2100, 3, &5000u16.to_le_bytes()), Ok(()));
-    assert_eq!(od.settings.items[2], 5000);
+    assert_eq!(od.get(od::SETTINGS_SETTING_3), Some(5000));
     assert_eq!(od.write(0x2100, 5, &[0, 0]), Err(SdoAbort::NoSubIndex));
 }
 
@@ -311,7 +316,7 @@ fn typed_address_of_a_narrow_entry_encodes_its_wire_width() {
     let mut buf = [0u8; 8];
     let n = entry.encode(&-300, &mut buf).unwrap();
     assert_eq!(dict.write(entry.index, entry.sub, &buf[..n]), Ok(()));
-    assert_eq!(dict.sparse_record.signed_24, -300);
+    assert_eq!(dict.get(entry), Some(-300));
     assert_eq!(entry.encode(&(1 << 23), &mut buf), None);
     let back = read_all(&dict, entry.index, entry.sub);
     assert_eq!(entry.decode(&back), Some(-300));

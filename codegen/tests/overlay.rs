@@ -76,9 +76,13 @@ fn capacities_are_set_on_the_named_entries() {
     assert_eq!(device.objects[&0x2100].subs[&1].capacity, Some(1000));
     assert_eq!(device.objects[&0x2100].subs[&2].capacity, None);
     let code = emit::generate(&device, "t").unwrap();
-    assert!(code.contains("pub label: ::edsgen_runtime::FixedBytes<256>,"));
-    // The items of an array share one type: the largest capacity.
-    assert!(code.contains("pub items: [::edsgen_runtime::FixedBytes<1000>; 2],"));
+    assert!(
+        code.contains("pub const LABEL: Entry<FixedBytes<256>>"),
+        "{code}"
+    );
+    // Each array item is an entry of its own, with its own capacity.
+    assert!(code.contains("Entry<FixedBytes<1000>> = Entry::new(0x2100, 0x01)"));
+    assert!(code.contains("Entry<FixedBytes<32>> = Entry::new(0x2100, 0x02)"));
 }
 
 #[test]

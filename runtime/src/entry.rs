@@ -1,19 +1,41 @@
 //! Typed entry addresses: `Entry<u16>` names (index, sub) and the Rust type of its value.
 //!
 //! Generated code declares one constant per entry (`pub const CONTROLWORD: Entry<u16> = ...`), so a
-//! master's typed read returns the right type and a mistyped write does not compile.
+//! master's typed read returns the right type and a mistyped write does not compile. The same
+//! constants are the device application's keys into its own generated `Od` (`od.get(CONTROLWORD)`),
+//! which is why a generated constant also records where the entry sits in that dictionary.
 
 use core::marker::PhantomData;
 
 /// The address of an object-dictionary entry whose value has the Rust type `T`.
-#[derive(Debug, PartialEq, Eq, Hash)]
+///
+/// Two entries are equal when their index, sub-index and wire width are: the recorded position
+/// (see [`Entry::at_position`]) is only a hint.
+#[derive(Debug)]
 pub struct Entry<T> {
     /// OD index.
     pub index: u16,
     /// Sub-index.
     pub sub: u8,
     width: u8,
+    position: u16,
     _value: PhantomData<fn() -> T>,
+}
+
+/// The `position` of an entry that records none.
+const NO_POSITION: u16 = u16::MAX;
+
+impl<T> PartialEq for Entry<T> {
+    fn eq(&self, other: &Self) -> bool {
+        (self.index, self.sub, self.width) == (other.index, other.sub, other.width)
+    }
+}
+impl<T> Eq for Entry<T> {}
+
+impl<T> core::hash::Hash for Entry<T> {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        (self.index, self.sub, self.width).hash(state);
+    }
 }
 
 impl<T> Clone for Entry<T> {
@@ -30,6 +52,7 @@ impl<T> Entry<T> {
             index,
             sub,
             width: 0,
+            position: NO_POSITION,
             _value: PhantomData,
         }
     }
@@ -41,7 +64,24 @@ impl<T> Entry<T> {
             index,
             sub,
             width,
+            position: NO_POSITION,
             _value: PhantomData,
+        }
+    }
+
+    /// The same entry, recording that it is at `position` in its device's generated `Od`
+    /// (`ENTRIES[position]`), so that the `Od`'s typed `get`/`set` find it without a search. A
+    /// wrong position costs only that search.
+    pub const fn at_position(self, position: u16) -> Self {
+        Entry { position, ..self }
+    }
+
+    /// The position recorded by [`Entry::at_position`].
+    pub const fn position(&self) -> Option<usize> {
+        if self.position == NO_POSITION {
+            None
+        } else {
+            Some(self.position as usize)
         }
     }
 

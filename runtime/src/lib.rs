@@ -22,6 +22,7 @@
 
 pub mod entry;
 pub mod frame;
+pub mod image;
 pub mod node;
 pub mod od;
 pub mod sdo;

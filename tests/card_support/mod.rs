@@ -111,7 +111,7 @@ pub fn check_rows(device: &Device, rows: &[Row]) {
                 mismatches.push(format!("{at}: {what} {found:?}, expected {expected:?}"));
             }
         };
-        let name_ok = r.name.map_or(true, |name| entry.name == name);
+        let name_ok = r.name.is_none_or(|name| entry.name == name);
         check("name", name_ok, &entry.name, &r.name);
         let data_type_ok = entry.data_type == Some(r.data_type.index());
         check("data type", data_type_ok, &entry.data_type, &r.data_type);

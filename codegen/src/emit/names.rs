@@ -67,45 +67,22 @@ pub struct Namespace {
 }
 
 impl Namespace {
-    /// A namespace with `reserved` names already taken.
-    pub fn with_reserved(reserved: &[&str]) -> Self {
-        Namespace {
-            taken: reserved.iter().map(|s| (*s).to_owned()).collect(),
-        }
-    }
-
     /// Claims `wanted`, or the first free of `wanted` + each of `suffixes` (joined by `_`), then
     /// numbered variants. Returns the name and whether it had to change.
     pub fn claim(&mut self, wanted: &str, suffixes: &[String]) -> (String, bool) {
-        self.claim_joined(wanted, suffixes, "_", "_")
-    }
-
-    /// [`Namespace::claim`] for `UpperCamelCase` names: suffixes are appended directly and
-    /// numbered variants get `V2`, `V3`, ...
-    pub fn claim_camel(&mut self, wanted: &str, suffixes: &[String]) -> (String, bool) {
-        self.claim_joined(wanted, suffixes, "", "V")
-    }
-
-    fn claim_joined(
-        &mut self,
-        wanted: &str,
-        suffixes: &[String],
-        separator: &str,
-        number_prefix: &str,
-    ) -> (String, bool) {
         if self.taken.insert(wanted.to_owned()) {
             return (wanted.to_owned(), false);
         }
         let mut base = wanted.to_owned();
         for suffix in suffixes {
-            base = format!("{base}{separator}{suffix}");
+            base = format!("{base}_{suffix}");
             if self.taken.insert(base.clone()) {
                 return (base, true);
             }
         }
         let mut n = 2u32;
         loop {
-            let candidate = format!("{base}{number_prefix}{n}");
+            let candidate = format!("{base}_{n}");
             if self.taken.insert(candidate.clone()) {
                 return (candidate, true);
             }

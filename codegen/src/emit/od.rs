@@ -1,26 +1,17 @@
-//! Tokens for the object dictionary of one device: the `Od` struct and its nested record and
-//! array structs, `Od::new(node_id)`, the sorted `ENTRIES` descriptor table, the
-//! `ObjectDictionary` implementation, and the typed addresses in `od`.
+//! Tokens for the object dictionary of one device: the `Od` value image with `Od::new(node_id)`
+//! and the typed `get`/`set`, the sorted `ENTRIES` descriptor table with the image's layout
+//! (`OFFSETS`, `LIMITS`, `LAYOUT`), the `ObjectDictionary` implementation, and the typed addresses
+//! in `od`. Why a byte image rather than a struct field per entry: `docs/generated-code.md`.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::plan::{EntryPlan, ObjectPlan, Plan};
+use super::plan::{EntryPlan, Initial, Plan};
 use super::types::{access_tokens, data_type_tokens, Prim, RustType};
 
 fn docs(lines: &[String]) -> TokenStream {
     let attrs = lines.iter().map(|l| quote!(#[doc = #l]));
     quote!(#(#attrs)*)
-}
-
-/// An entry's value in `Od::DEFAULTS`: its initial value, or 0 for a `$NODEID` value, which
-/// `Od::new` sets.
-fn default_tokens(e: &EntryPlan) -> TokenStream {
-    if e.node_relative {
-        quote!(0)
-    } else {
-        e.init.clone()
-    }
 }
 
 fn hex16(v: u16) -> TokenStream {
@@ -31,155 +22,144 @@ fn hex8(v: u8) -> TokenStream {
     super::types::hex(u128::from(v), 2)
 }
 
-/// The `Od` struct, its nested types (in `records`) and `Od::new`.
-pub fn structs(plan: &Plan) -> TokenStream {
-    let mut fields = Vec::new();
-    let mut inits = Vec::new();
-    let mut records = Vec::new();
-    for object in &plan.objects {
-        match object {
-            ObjectPlan::Var { field, entry } => {
-                let ty = entry.ty.tokens();
-                let doc = docs(&entry.doc);
-                let init = default_tokens(entry);
-                fields.push(quote!(#doc pub #field: #ty,));
-                inits.push(quote!(#field: #init,));
-            }
-            ObjectPlan::Record {
-                field,
-                type_name,
-                doc,
-                members,
-            } => {
-                let doc_tokens = docs(doc);
-                let member_fields = members.iter().map(|(name, e)| {
-                    let ty = e.ty.tokens();
-                    let d = docs(&e.doc);
-                    quote!(#d pub #name: #ty,)
-                });
-                let member_inits = members.iter().map(|(name, e)| {
-                    let init = default_tokens(e);
-                    quote!(#name: #init,)
-                });
-                records.push(quote! {
-                    #doc_tokens
-                    #[derive(Debug, Clone, PartialEq)]
-                    pub struct #type_name { #(#member_fields)* }
-                });
-                fields.push(quote!(#doc_tokens pub #field: records::#type_name,));
-                inits.push(quote!(#field: records::#type_name { #(#member_inits)* },));
-            }
-            ObjectPlan::Array {
-                field,
-                type_name,
-                doc,
-                sub0,
-                items_field,
-                elem,
-                items,
-            } => {
-                let doc_tokens = docs(doc);
-                let (sub0_name, sub0_entry) = sub0;
-                let sub0_ty = sub0_entry.ty.tokens();
-                let sub0_doc = docs(&sub0_entry.doc);
-                let sub0_init = default_tokens(sub0_entry);
-                let elem_ty = elem.tokens();
-                let n = Literal::usize_unsuffixed(items.len());
-                let item_inits: Vec<_> = items.iter().map(default_tokens).collect();
-                let first = item_inits.first().map(|t| t.to_string());
-                let repeat =
-                    items.len() > 1 && item_inits.iter().all(|t| Some(t.to_string()) == first);
-                let items_init = if repeat {
-                    let init = &item_inits[0];
-                    quote!([#init; #n])
-                } else {
-                    quote!([#(#item_inits),*])
-                };
-                let items_doc = format!(
-                    " Sub-indices 1 to {}: element `i` is sub-index `i + 1`.",
-                    items.len()
-                );
-                records.push(quote! {
-                    #doc_tokens
-                    #[derive(Debug, Clone, PartialEq)]
-                    pub struct #type_name {
-                        #sub0_doc
-                        pub #sub0_name: #sub0_ty,
-                        #[doc = #items_doc]
-                        pub #items_field: [#elem_ty; #n],
-                    }
-                });
-                fields.push(quote!(#doc_tokens pub #field: records::#type_name,));
-                inits.push(quote!(#field: records::#type_name {
-                    #sub0_name: #sub0_init,
-                    #items_field: #items_init,
-                },));
-            }
+/// How one entry's constant initial value is stored into the default image, or `None` for a
+/// value of all zero bytes (where the image starts) or a `$NODEID` one (`Od::new` stores it).
+fn default_store(e: &EntryPlan, offset: usize) -> Option<TokenStream> {
+    let at = Literal::usize_unsuffixed(offset);
+    match (&e.init, e.ty) {
+        (Initial::Bytes(bytes), _) if !bytes.is_empty() => {
+            let lit = Literal::byte_string(bytes);
+            Some(quote!(put_bytes(&mut values, #at, #lit);))
         }
-    }
-    let node_fields: Vec<_> = all_entries(plan)
-        .filter(|e| e.node_relative)
-        .map(|e| {
-            let path = &e.path;
-            let init = &e.init;
-            quote!(od.#path = #init;)
-        })
-        .collect();
-    let new_body = if node_fields.is_empty() {
-        quote!(Self::DEFAULTS)
-    } else {
-        quote! {
-            let mut od = Self::DEFAULTS;
-            #(#node_fields)*
-            od
+        (Initial::Raw(raw), RustType::Scalar(_, wire)) if *raw != 0 => {
+            // The wire bytes only: a negative INTEGER16 is 0xFFFF, not 64 bits of ones.
+            let raw = raw & (u64::MAX >> (64 - 8 * wire));
+            let raw = super::types::hex(u128::from(raw), 1);
+            let w = Literal::usize_unsuffixed(wire);
+            Some(quote!(put_le(&mut values, #at, #raw, #w);))
         }
-    };
-    let node_param = if node_fields.is_empty() {
-        quote!(_node_id)
-    } else {
-        quote!(node_id)
-    };
-    let records_mod = if records.is_empty() {
-        quote!()
-    } else {
-        quote! {
-            /// The nested structs of RECORD and ARRAY objects.
-            pub mod records {
-                #(#records)*
-            }
-        }
-    };
-    quote! {
-        /// The object dictionary: one field per stored entry, records and arrays as nested
-        /// structs.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Od {
-            #(#fields)*
-        }
-
-        impl Od {
-            /// Every entry at its default, with 0 for the `$NODEID` ones. `new` copies it and
-            /// sets those: one copy from flash rather than code that stores each field.
-            const DEFAULTS: Self = Od { #(#inits)* };
-
-            /// The dictionary with every entry at its default (a DCF's ParameterValue where
-            /// given); `$NODEID` defaults are computed from `node_id`.
-            pub const fn new(#node_param: u8) -> Self {
-                #new_body
-            }
-        }
-
-        #records_mod
+        _ => None,
     }
 }
 
-fn all_entries(plan: &Plan) -> impl Iterator<Item = &EntryPlan> {
-    plan.objects.iter().flat_map(ObjectPlan::entries)
+/// Where each entry's value starts in the value image, and the image's size.
+fn offsets(plan: &Plan) -> (Vec<usize>, usize) {
+    let mut next = 0usize;
+    let offsets = plan
+        .entries
+        .iter()
+        .map(|e| {
+            let start = next;
+            next += e.ty.image_size();
+            start
+        })
+        .collect();
+    (offsets, next)
+}
+
+/// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`.
+pub fn structs(plan: &Plan) -> TokenStream {
+    let (offsets, size) = offsets(plan);
+    let size_lit = Literal::usize_unsuffixed(size);
+    let mut defaults = Vec::new();
+    let mut node_stores = Vec::new();
+    for (e, &offset) in plan.entries.iter().zip(&offsets) {
+        match (&e.init, e.ty) {
+            (Initial::NodeRelative(value), RustType::Scalar(_, wire)) => {
+                let at = Literal::usize_unsuffixed(offset);
+                let w = Literal::usize_unsuffixed(wire);
+                node_stores.push(quote!(put_le(&mut od.values, #at, (#value) as u64, #w);));
+            }
+            _ => defaults.extend(default_store(e, offset)),
+        }
+    }
+    let uses = |name: &str| defaults.iter().any(|t| t.to_string().starts_with(name));
+    let defaults_imports = match (uses("put_le"), uses("put_bytes")) {
+        (false, false) => quote!(),
+        (true, false) => quote!(
+            use ::edsgen_runtime::image::put_le;
+        ),
+        (false, true) => quote!(
+            use ::edsgen_runtime::image::put_bytes;
+        ),
+        (true, true) => quote!(
+            use ::edsgen_runtime::image::{put_bytes, put_le};
+        ),
+    };
+    let defaults_body = if defaults.is_empty() {
+        quote!([0; IMAGE_SIZE])
+    } else {
+        quote!({
+            #defaults_imports
+            let mut values = [0; IMAGE_SIZE];
+            #(#defaults)*
+            values
+        })
+    };
+    let (node_param, new_body) = if node_stores.is_empty() {
+        (quote!(_node_id), quote!(Od { values: DEFAULTS }))
+    } else {
+        (
+            quote!(node_id),
+            quote! {
+                let mut od = Od { values: DEFAULTS };
+                #(#node_stores)*
+                od
+            },
+        )
+    };
+    let new_imports = if node_stores.is_empty() {
+        quote!()
+    } else {
+        quote!(
+            use ::edsgen_runtime::image::put_le;
+        )
+    };
+    quote! {
+        /// The size of the value image in bytes.
+        const IMAGE_SIZE: usize = #size_lit;
+
+        /// The value image with every entry at its default, `$NODEID` ones at 0: built at compile
+        /// time, copied by `Od::new`.
+        const DEFAULTS: [u8; IMAGE_SIZE] = #defaults_body;
+
+        /// The object dictionary: every entry's value, little-endian, in one byte array laid out
+        /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
+        /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct Od {
+            values: [u8; IMAGE_SIZE],
+        }
+
+        impl Od {
+            /// The dictionary with every entry at its default (a DCF's ParameterValue where
+            /// given); `$NODEID` defaults are computed from `node_id`.
+            pub const fn new(#node_param: u8) -> Self {
+                #new_imports
+                #new_body
+            }
+
+            /// The value of `entry` (a typed address from `od`); `None` only for an address
+            /// that is not in this dictionary or whose type does not match it.
+            pub fn get<T: ::edsgen_runtime::OdValue>(&self, entry: ::edsgen_runtime::Entry<T>) -> Option<T> {
+                LAYOUT.get(&self.values, entry)
+            }
+
+            /// Sets `entry` (a typed address from `od`) to `value`, checked like an SDO write
+            /// (length, BOOLEAN, LowLimit/HighLimit) but not against access rights. On error
+            /// the value is unchanged.
+            pub fn set<T: ::edsgen_runtime::OdValue>(&mut self, entry: ::edsgen_runtime::Entry<T>, value: T) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                LAYOUT.set(&mut self.values, entry, &value)
+            }
+        }
+    }
 }
 
 /// The `ENTRIES` table.
 pub fn descriptors(plan: &Plan) -> TokenStream {
-    let rows: Vec<_> = all_entries(plan)
+    let rows: Vec<_> = plan
+        .entries
+        .iter()
         .map(|e| {
             let index = hex16(e.index);
             let sub = hex8(e.sub);
@@ -202,206 +182,57 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
             [#(#rows),*]
         })
     };
+    let (offsets, _) = offsets(plan);
+    let offsets = offsets.iter().map(|&o| Literal::u16_unsuffixed(o as u16));
+    let limits: Vec<_> = plan
+        .entries
+        .iter()
+        .enumerate()
+        .filter_map(|(position, e)| {
+            let (low, high) = e.limits?;
+            let RustType::Scalar(prim, _) = e.ty else {
+                return None;
+            };
+            let constructor = match prim {
+                Prim::Signed(_) => quote!(signed),
+                Prim::F32 => quote!(real32),
+                Prim::F64 => quote!(real64),
+                _ => quote!(unsigned),
+            };
+            let (low, high) = (low.tokens(prim), high.tokens(prim));
+            let position = Literal::u16_unsuffixed(position as u16);
+            Some(quote!((#position, L::#constructor(#low, #high))))
+        })
+        .collect();
+    let k = Literal::usize_unsuffixed(limits.len());
+    let limits_body = if limits.is_empty() {
+        quote!([])
+    } else {
+        quote!({
+            use ::edsgen_runtime::image::Limit as L;
+            [#(#limits),*]
+        })
+    };
     quote! {
         /// Every entry's descriptor, sorted by (index, sub-index).
         pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; #n] = #body;
+
+        /// Where each entry of `ENTRIES` starts in the value image.
+        static OFFSETS: [u16; #n] = [#(#offsets),*];
+
+        /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
+        static LIMITS: [(u16, ::edsgen_runtime::image::Limit); #k] = #limits_body;
+
+        /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
+        /// `get`/`set` work from.
+        static LAYOUT: ::edsgen_runtime::image::Layout =
+            ::edsgen_runtime::image::Layout::new(&ENTRIES, &OFFSETS, &LIMITS);
     }
 }
 
-fn key(index: u16, sub: u8) -> TokenStream {
-    let index = hex16(index);
-    let sub = hex8(sub);
-    quote!((#index, #sub))
-}
-
-/// The `read`, `write` and (for variable-length values) `value_len` arms of one entry, or of
-/// all elements of a uniform array when `key` is a sub-index range and `path` indexes by `sub`.
-fn arms(
-    e: &EntryPlan,
-    key: TokenStream,
-    position: TokenStream,
-    path: &TokenStream,
-) -> (TokenStream, TokenStream, Option<TokenStream>) {
-    let read_source = match e.ty {
-        RustType::Bytes(_) => quote!(self.#path.as_bytes()),
-        RustType::Scalar(prim, wire) => {
-            let raw = match prim {
-                Prim::Bool | Prim::Unsigned(8 | 16 | 32) => quote!(u64::from(self.#path)),
-                Prim::Unsigned(_) => quote!(self.#path),
-                Prim::Signed(_) => quote!(self.#path as u64),
-                Prim::F32 => quote!(u64::from(self.#path.to_bits())),
-                Prim::F64 => quote!(self.#path.to_bits()),
-            };
-            let w = Literal::usize_unsuffixed(wire);
-            quote!(t::le(&mut s, #raw, #w))
-        }
-    };
-    let write_stmt = match e.ty {
-        RustType::Bytes(_) => quote!(self.#path.set(data)?),
-        RustType::Scalar(prim, wire) => {
-            let ty = prim.tokens();
-            let decode = match prim {
-                Prim::Bool => quote!(t::boolean(data)?),
-                _ if (wire as u32) * 8 < prim.bits() => {
-                    let w = Literal::usize_unsuffixed(wire);
-                    if matches!(prim, Prim::Signed(_)) {
-                        quote!(t::int_le::<#w>(data)? as #ty)
-                    } else {
-                        quote!(t::uint_le::<#w>(data)? as #ty)
-                    }
-                }
-                _ => quote!(#ty::from_le_bytes(t::exact(data)?)),
-            };
-            let plain = !matches!(prim, Prim::Bool) && (wire as u32) * 8 >= prim.bits();
-            match &e.limits {
-                Some((low, high)) => quote!(self.#path = t::check_limits(#decode, #low, #high)?),
-                // One shared, non-inlined store per type keeps the arm small in flash.
-                None if plain => quote!(t::store(&mut self.#path, data)?),
-                None => quote!(self.#path = #decode),
-            }
-        }
-    };
-    let len = matches!(e.ty, RustType::Bytes(_)).then(|| quote!(#key => Ok(self.#path.len()),));
-    (
-        quote!(#position => #read_source,),
-        quote!(#position => #write_stmt,),
-        len,
-    )
-}
-
-/// `impl ObjectDictionary for Od`.
-pub fn od_impl(plan: &Plan) -> TokenStream {
-    let mut len_arms = Vec::new();
-    let mut read_arms = Vec::new();
-    let mut write_arms = Vec::new();
-    // `read_at` and `write_at` dispatch on the entry's position in `ENTRIES` (a dense jump
-    // table), which is much smaller in flash than a match on (index, sub); `read` and `write`
-    // find the position with one binary search.
-    // The pattern of the next `count` positions, and the first of them.
-    let mut next_position = 0usize;
-    let mut position = |count: usize| {
-        let first = next_position;
-        next_position += count;
-        let start = Literal::usize_unsuffixed(first);
-        let pattern = if count == 1 {
-            quote!(#start)
-        } else {
-            let end = Literal::usize_unsuffixed(first + count - 1);
-            quote!(#start..=#end)
-        };
-        (pattern, start)
-    };
-    for object in &plan.objects {
-        if let ObjectPlan::Array {
-            field,
-            sub0,
-            items_field,
-            items,
-            ..
-        } = object
-        {
-            let uniform = items.windows(2).all(|w| {
-                w[0].ty == w[1].ty
-                    && w[0]
-                        .limits
-                        .as_ref()
-                        .map(|(l, h)| (l.to_string(), h.to_string()))
-                        == w[1]
-                            .limits
-                            .as_ref()
-                            .map(|(l, h)| (l.to_string(), h.to_string()))
-            });
-            if uniform && items.len() > 1 {
-                let (e0, e) = (&sub0.1, &items[0]);
-                let (r, w, l) = arms(e0, key(e0.index, e0.sub), position(1).0, &e0.path);
-                read_arms.push(r);
-                write_arms.push(w);
-                len_arms.extend(l);
-                let index = hex16(e.index);
-                let last = hex8(items.len() as u8);
-                let ranged_key = quote!((#index, sub @ 0x01..=#last));
-                let len_path = quote!(#field.#items_field[usize::from(sub) - 1]);
-                let (pattern, first) = position(items.len());
-                let path = quote!(#field.#items_field[position - #first]);
-                let (r, w, _) = arms(e, ranged_key.clone(), pattern, &path);
-                let (_, _, l) = arms(e, ranged_key, quote!(_), &len_path);
-                read_arms.push(r);
-                write_arms.push(w);
-                len_arms.extend(l);
-                continue;
-            }
-        }
-        for e in object.entries() {
-            let (r, w, l) = arms(e, key(e.index, e.sub), position(1).0, &e.path);
-            read_arms.push(r);
-            write_arms.push(w);
-            len_arms.extend(l);
-        }
-    }
-    let scratch = if all_entries(plan).any(|e| matches!(e.ty, RustType::Scalar(..))) {
-        quote!(let mut s = [0u8; 8];)
-    } else {
-        quote!()
-    };
-    let (read_body, write_body) = if read_arms.is_empty() {
-        (
-            quote! {
-                let _ = (offset, buf);
-                Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub))
-            },
-            quote! {
-                let _ = data;
-                Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub))
-            },
-        )
-    } else {
-        (
-            quote! {
-                self.read_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, offset, buf)
-            },
-            quote! {
-                self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
-            },
-        )
-    };
-    // By position in `ENTRIES` (from `locate`): the protocols look an entry up once, then
-    // access it here without a second search. Out of line, so `read`/`write` do not copy them.
-    let at_fns = if read_arms.is_empty() {
-        quote!()
-    } else {
-        quote! {
-            #[inline(never)]
-            fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                use ::edsgen_runtime::typed as t;
-                #scratch
-                let value: &[u8] = match position {
-                    #(#read_arms)*
-                    _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
-                };
-                Ok(t::read_bytes(value, offset, buf))
-            }
-
-            #[inline(never)]
-            fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                use ::edsgen_runtime::typed as t;
-                match position {
-                    #(#write_arms)*
-                    _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
-                }
-                Ok(())
-            }
-        }
-    };
-    let len_match = if len_arms.is_empty() {
-        quote!(Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub)))
-    } else {
-        quote! {
-            match (index, sub) {
-                #(#len_arms)*
-                _ => Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub)),
-            }
-        }
-    };
+/// `impl ObjectDictionary for Od`: every access goes through `LAYOUT`, by position in
+/// `ENTRIES`; `read` and `write` find the position with one binary search.
+pub fn od_impl(_plan: &Plan) -> TokenStream {
     quote! {
         impl ::edsgen_runtime::ObjectDictionary for Od {
             fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
@@ -409,29 +240,35 @@ pub fn od_impl(plan: &Plan) -> TokenStream {
             }
 
             fn value_len(&self, index: u16, sub: u8) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                if let Some(size) = ::edsgen_runtime::ObjectDictionary::find(self, index, sub)?.data_type.fixed_size() {
-                    return Ok(size);
-                }
-                #len_match
+                LAYOUT.value_len(&self.values, ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?)
             }
 
             fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                #read_body
+                self.read_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, offset, buf)
             }
 
             fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                #write_body
+                self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
             }
 
-            #at_fns
+            fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+                LAYOUT.read(&self.values, position, offset, buf)
+            }
+
+            fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                LAYOUT.write(&mut self.values, position, data)
+            }
         }
     }
 }
 
 /// The typed addresses: `pub mod od { pub const CONTROLWORD: Entry<u16> = ...; }`.
 pub fn addresses(plan: &Plan) -> TokenStream {
-    let consts: Vec<_> = all_entries(plan)
-        .map(|e| {
+    let consts: Vec<_> = plan
+        .entries
+        .iter()
+        .enumerate()
+        .map(|(position, e)| {
             let name = &e.const_name;
             let ty = match e.ty {
                 RustType::Bytes(n) => {
@@ -452,13 +289,17 @@ pub fn addresses(plan: &Plan) -> TokenStream {
                 }
                 _ => quote!(Entry::new(#index, #sub)),
             };
+            let position = Literal::u16_unsuffixed(position as u16);
             quote! {
                 #doc
-                pub const #name: Entry<#ty> = #constructor;
+                pub const #name: Entry<#ty> = #constructor.at_position(#position);
             }
         })
         .collect();
-    let uses_bytes = all_entries(plan).any(|e| matches!(e.ty, RustType::Bytes(_)));
+    let uses_bytes = plan
+        .entries
+        .iter()
+        .any(|e| matches!(e.ty, RustType::Bytes(_)));
     let imports = match (consts.is_empty(), uses_bytes) {
         (true, _) => quote!(),
         (false, false) => quote!(

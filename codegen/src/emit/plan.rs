@@ -1,17 +1,16 @@
-//! The plan: which struct field, Rust type, initial value, limits, docs and typed-address name each
-//! stored entry gets. Built from the model in (index, sub) order so names and output are
+//! The plan: which Rust type, initial value, limits, docs and typed-address name each stored entry
+//! gets. Built from the model in (index, sub) order so names and output are
 //! deterministic; every problem becomes an `EDS7xx` diagnostic.
 
 use proc_macro2::{Ident, Span as TokenSpan, TokenStream};
-use quote::quote;
 
 use super::names::{ident, Case, Namespace};
 use super::types::{
-    self, capacity, initial_value, node_relative_tokens, scalar_tokens, value_bytes, Prim,
+    capacity, initial_value, node_relative_tokens, scalar_number, value_bytes, Number, Prim,
     RustType, ValueProblem,
 };
 use crate::diag::Diagnostic;
-use crate::model::{AccessType, BasicType, Device, Object, ObjectType, SubObject, Value};
+use crate::model::{AccessType, BasicType, Device, Object, SubObject, Value};
 use crate::rules;
 
 /// Everything the emitter needs to know about one stored entry.
@@ -29,84 +28,37 @@ pub struct EntryPlan {
     pub access: AccessType,
     /// PDOMapping.
     pub pdo_mappable: bool,
-    /// The initial value's tokens (may use `node_id`).
-    pub init: TokenStream,
-    /// Whether the initial value depends on the node-ID (`$NODEID`).
-    pub node_relative: bool,
-    /// LowLimit and HighLimit tokens, when the entry has at least one usable limit.
-    pub limits: Option<(TokenStream, TokenStream)>,
+    /// The initial value.
+    pub init: Initial,
+    /// LowLimit and HighLimit, when the entry has at least one usable limit (the type's range,
+    /// or an infinity for a REAL, stands in for the missing one).
+    pub limits: Option<(Number, Number)>,
     /// Rustdoc lines.
     pub doc: Vec<String>,
     /// One-paragraph rustdoc for the typed address.
     pub short_doc: Vec<String>,
     /// The typed-address constant's name.
     pub const_name: Ident,
-    /// The field path below `self` (`controlword`, `identity.vendor_id`, `errors.items[0]`).
-    pub path: TokenStream,
     /// The field name for PDO structs mapping this entry (snake case of its own name).
     pub pdo_name: String,
 }
 
-/// How one object is stored.
+/// An entry's initial value.
 #[derive(Debug, Clone)]
-pub enum ObjectPlan {
-    /// A VAR or DOMAIN: one field of the OD struct.
-    Var {
-        /// The OD struct field.
-        field: Ident,
-        /// The entry.
-        entry: EntryPlan,
-    },
-    /// A RECORD, or an ARRAY that is sparse or mixes types: a nested struct, one field per
-    /// present sub-index.
-    Record {
-        /// The OD struct field.
-        field: Ident,
-        /// The nested struct's name (in the `records` module).
-        type_name: Ident,
-        /// Rustdoc lines for the field and the type.
-        doc: Vec<String>,
-        /// (member field, entry) per present sub-index.
-        members: Vec<(Ident, EntryPlan)>,
-    },
-    /// An ARRAY with sub-indices 1..=N of one type: a nested struct with sub-index 0 and
-    /// `[T; N]`.
-    Array {
-        /// The OD struct field.
-        field: Ident,
-        /// The nested struct's name.
-        type_name: Ident,
-        /// Rustdoc lines.
-        doc: Vec<String>,
-        /// Sub-index 0's member field and entry.
-        sub0: (Ident, EntryPlan),
-        /// The array member's field name.
-        items_field: Ident,
-        /// The element type.
-        elem: RustType,
-        /// Sub-indices 1..=N.
-        items: Vec<EntryPlan>,
-    },
-}
-
-impl ObjectPlan {
-    /// Every entry, in sub-index order.
-    pub fn entries(&self) -> Vec<&EntryPlan> {
-        match self {
-            ObjectPlan::Var { entry, .. } => vec![entry],
-            ObjectPlan::Record { members, .. } => members.iter().map(|(_, e)| e).collect(),
-            ObjectPlan::Array { sub0, items, .. } => {
-                std::iter::once(&sub0.1).chain(items.iter()).collect()
-            }
-        }
-    }
+pub enum Initial {
+    /// A constant scalar: the bits the value image stores (see [`Number::raw`]).
+    Raw(u64),
+    /// A `$NODEID` value: tokens of the entry's Rust type, using `node_id`.
+    NodeRelative(TokenStream),
+    /// A string's, octet string's or domain's bytes.
+    Bytes(Vec<u8>),
 }
 
 /// The plan for a whole device.
 #[derive(Debug)]
 pub struct Plan {
-    /// Stored objects in index order.
-    pub objects: Vec<ObjectPlan>,
+    /// Stored entries in (index, sub-index) order: their order in `ENTRIES` and the image.
+    pub entries: Vec<EntryPlan>,
     /// Diagnostics found while planning.
     pub diagnostics: Vec<Diagnostic>,
 }
@@ -114,9 +66,8 @@ pub struct Plan {
 impl Plan {
     /// The entry at (index, sub), if stored.
     pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan> {
-        self.objects
+        self.entries
             .iter()
-            .flat_map(ObjectPlan::entries)
             .find(|e| e.index == index && e.sub == sub)
     }
 }
@@ -141,11 +92,12 @@ pub fn doc_text(text: &str) -> String {
     out
 }
 
+/// The most bytes all values of one device may take (see `Od`'s value image).
+pub const MAX_IMAGE_SIZE: usize = u16::MAX as usize;
+
 struct Planner<'a> {
     device: &'a Device,
     diagnostics: Vec<Diagnostic>,
-    fields: Namespace,
-    types: Namespace,
     consts: Namespace,
 }
 
@@ -155,21 +107,32 @@ pub fn plan(device: &Device) -> Plan {
     let mut p = Planner {
         device,
         diagnostics: Vec::new(),
-        fields: Namespace::default(),
-        types: Namespace::default(),
         consts: Namespace::default(),
     };
-    let mut objects = Vec::new();
+    let mut entries: Vec<EntryPlan> = Vec::new();
+    let mut image_size = 0usize;
     for object in device.objects.values() {
         if object.index < 0x1000 || object.subs.is_empty() {
             continue;
         }
-        if let Some(plan) = p.object(object) {
-            objects.push(plan);
+        let planned = p.object(object);
+        let before = image_size;
+        image_size += planned.iter().map(|e| e.ty.image_size()).sum::<usize>();
+        // The value image's offsets are 16-bit (2 bytes of flash per entry, not 4).
+        if before <= MAX_IMAGE_SIZE && image_size > MAX_IMAGE_SIZE {
+            p.diagnostics.push(Diagnostic::new(
+                &rules::CAPACITY_TOO_LARGE,
+                Some(object.span),
+                format!(
+                    "{:04X}h `{}`: with this object the device's values need more than {MAX_IMAGE_SIZE} bytes in all",
+                    object.index, object.name
+                ),
+            ).with_help("lower string and domain capacities (the overlay sets them)"));
         }
+        entries.extend(planned);
     }
     Plan {
-        objects,
+        entries,
         diagnostics: p.diagnostics,
     }
 }
@@ -186,166 +149,30 @@ impl Planner<'_> {
         );
     }
 
-    fn object(&mut self, object: &Object) -> Option<ObjectPlan> {
-        let hex = format!("{:04x}", object.index);
-        let (field, changed) = self.fields.claim(
-            &ident(&object.name, Case::Snake, &format!("object_{hex}")),
-            std::slice::from_ref(&hex),
-        );
-        if changed {
-            self.renamed(
-                object.span,
-                "field",
-                &ident(&object.name, Case::Snake, ""),
-                &field,
-            );
-        }
-        let field_id = id(&field);
+    /// The entries of one object: all of them, or none when one cannot be represented (its
+    /// diagnostic says why), so that an object is never half there.
+    fn object(&mut self, object: &Object) -> Vec<EntryPlan> {
         if !object.object_type.has_subs() {
-            let sub = object
-                .subs
-                .get(&0)
-                .or_else(|| object.subs.values().next())?;
+            let Some(sub) = object.subs.get(&0).or_else(|| object.subs.values().next()) else {
+                return Vec::new();
+            };
             let const_name = self.const_name(object, None);
-            let entry = self.entry(object, sub, const_name, quote!(#field_id))?;
-            return Some(ObjectPlan::Var {
-                field: field_id,
-                entry,
-            });
+            return self.entry(object, sub, const_name).into_iter().collect();
         }
-        let upper = format!("{:04X}", object.index);
-        let (type_name, changed) = self.types.claim_camel(
-            &ident(&object.name, Case::Camel, &format!("Object{upper}")),
-            std::slice::from_ref(&upper),
-        );
-        if changed {
-            self.renamed(
-                object.span,
-                "type",
-                &ident(&object.name, Case::Camel, ""),
-                &type_name,
-            );
-        }
-        let kind = match object.object_type {
-            ObjectType::Array => "ARRAY",
-            ObjectType::DefStruct => "DEFSTRUCT",
-            _ => "RECORD",
-        };
-        let doc = vec![
-            format!(" {}", doc_text(&object.name)),
-            String::new(),
-            format!(
-                " Object {:04X}h, {kind}, sub-indices {}.",
-                object.index,
-                object
-                    .subs
-                    .keys()
-                    .map(u8::to_string)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        ];
-        if let Some(plan) = self.array(object, &field_id, &type_name, &doc) {
-            return Some(plan);
-        }
-        let mut members_ns = Namespace::default();
-        let mut members = Vec::new();
+        let mut entries = Vec::new();
         let mut ok = true;
         for sub in object.subs.values() {
-            let (member, changed) = members_ns.claim(
-                &ident(&sub.name, Case::Snake, &format!("sub{}", sub.sub_index)),
-                &[format!("sub{}", sub.sub_index)],
-            );
-            if changed {
-                self.renamed(
-                    sub.span,
-                    "field",
-                    &ident(&sub.name, Case::Snake, ""),
-                    &member,
-                );
-            }
-            let member_id = id(&member);
             let const_name = self.const_name(object, Some(sub));
-            match self.entry(object, sub, const_name, quote!(#field_id.#member_id)) {
-                Some(entry) => members.push((member_id, entry)),
+            match self.entry(object, sub, const_name) {
+                Some(entry) => entries.push(entry),
                 None => ok = false,
             }
         }
-        ok.then_some(ObjectPlan::Record {
-            field: field_id,
-            type_name: id(&type_name),
-            doc,
-            members,
-        })
-    }
-
-    /// An ARRAY whose sub-indices are exactly 0..=N (N ≥ 1) with one element type.
-    fn array(
-        &mut self,
-        object: &Object,
-        field: &Ident,
-        type_name: &str,
-        doc: &[String],
-    ) -> Option<ObjectPlan> {
-        if object.object_type != ObjectType::Array {
-            return None;
+        if ok {
+            entries
+        } else {
+            Vec::new()
         }
-        let n = object.subs.len() - 1;
-        if n == 0 || !object.subs.keys().copied().eq(0..=(n as u8)) || n > 255 {
-            return None;
-        }
-        let element_types: Vec<_> = object
-            .subs
-            .values()
-            .skip(1)
-            .map(|s| s.data_type.and_then(|t| self.device.basic_type(t)))
-            .collect();
-        let first = *element_types.first()?;
-        let basic = first?;
-        if element_types.iter().any(|t| *t != first) {
-            return None;
-        }
-        let cap = object
-            .subs
-            .values()
-            .skip(1)
-            .map(|s| capacity(basic, s))
-            .max()
-            .unwrap_or(0);
-        let elem = RustType::of(basic, cap);
-        let sub0 = object.subs.get(&0)?;
-        let mut members_ns = Namespace::with_reserved(&["items"]);
-        let (sub0_member, _) = members_ns.claim(
-            &ident(&sub0.name, Case::Snake, "sub0"),
-            &["sub0".to_owned()],
-        );
-        let sub0_id = id(&sub0_member);
-        let const0 = self.const_name(object, Some(sub0));
-        let sub0_plan = self.entry(object, sub0, const0, quote!(#field.#sub0_id))?;
-        let items_id = id("items");
-        let mut items = Vec::new();
-        for (i, sub) in object.subs.values().skip(1).enumerate() {
-            let const_name = self.const_name(object, Some(sub));
-            let pos = proc_macro2::Literal::usize_unsuffixed(i);
-            let mut entry = self.entry_with_capacity(
-                object,
-                sub,
-                const_name,
-                quote!(#field.#items_id[#pos]),
-                Some(cap),
-            )?;
-            entry.ty = elem;
-            items.push(entry);
-        }
-        Some(ObjectPlan::Array {
-            field: field.clone(),
-            type_name: id(type_name),
-            doc: doc.to_vec(),
-            sub0: (sub0_id, sub0_plan),
-            items_field: items_id,
-            elem,
-            items,
-        })
     }
 
     fn const_name(&mut self, object: &Object, sub: Option<&SubObject>) -> Ident {
@@ -382,24 +209,7 @@ impl Planner<'_> {
         id(&name)
     }
 
-    fn entry(
-        &mut self,
-        object: &Object,
-        sub: &SubObject,
-        const_name: Ident,
-        path: TokenStream,
-    ) -> Option<EntryPlan> {
-        self.entry_with_capacity(object, sub, const_name, path, None)
-    }
-
-    fn entry_with_capacity(
-        &mut self,
-        object: &Object,
-        sub: &SubObject,
-        const_name: Ident,
-        path: TokenStream,
-        forced_capacity: Option<usize>,
-    ) -> Option<EntryPlan> {
+    fn entry(&mut self, object: &Object, sub: &SubObject, const_name: Ident) -> Option<EntryPlan> {
         let where_ = format!("{:04X}h sub {}", object.index, sub.sub_index);
         let Some(basic) = sub.data_type.and_then(|t| self.device.basic_type(t)) else {
             let what = match sub.data_type {
@@ -416,7 +226,7 @@ impl Planner<'_> {
             );
             return None;
         };
-        let cap = forced_capacity.unwrap_or_else(|| capacity(basic, sub));
+        let cap = capacity(basic, sub);
         if matches!(RustType::of(basic, 0), RustType::Bytes(_)) && cap > usize::from(u16::MAX) {
             self.diagnostics.push(Diagnostic::new(
                 &rules::CAPACITY_TOO_LARGE,
@@ -429,7 +239,7 @@ impl Planner<'_> {
             return None;
         }
         let ty = RustType::of(basic, cap);
-        let (init, node_relative) = self.initial(sub, basic, ty, &where_)?;
+        let init = self.initial(sub, basic, ty, &where_)?;
         let limits = match ty {
             RustType::Scalar(prim, _) if prim != Prim::Bool => {
                 self.limits(sub, basic, prim, &where_)
@@ -508,12 +318,10 @@ impl Planner<'_> {
             access,
             pdo_mappable: sub.pdo_mapping,
             init,
-            node_relative,
             limits,
             doc,
             short_doc,
             const_name,
-            path,
             pdo_name: ident(
                 &sub.name,
                 Case::Snake,
@@ -528,7 +336,7 @@ impl Planner<'_> {
         basic: BasicType,
         ty: RustType,
         where_: &str,
-    ) -> Option<(TokenStream, bool)> {
+    ) -> Option<Initial> {
         let value = initial_value(sub);
         let source_span = sub
             .parameter_value
@@ -562,30 +370,24 @@ impl Planner<'_> {
                     sub.name
                 ),
             ));
-            let zero = match ty {
-                RustType::Scalar(Prim::Bool, _) => quote!(false),
-                RustType::Scalar(Prim::F32 | Prim::F64, _) => quote!(0.0),
-                RustType::Scalar(..) => quote!(0),
-                RustType::Bytes(_) => quote!(::edsgen_runtime::FixedBytes::empty()),
-            };
-            return Some((zero, false));
+            return Some(match ty {
+                RustType::Scalar(..) => Initial::Raw(0),
+                RustType::Bytes(_) => Initial::Bytes(Vec::new()),
+            });
         };
-        let node_relative = matches!((ty, value), (RustType::Scalar(..), Value::NodeRelative(_)));
         let result = match (ty, value) {
-            (RustType::Bytes(_), v) => match value_bytes(basic, v) {
-                Some(bytes) => {
-                    let lit = proc_macro2::Literal::byte_string(&bytes);
-                    Ok(quote!(::edsgen_runtime::FixedBytes::from_slice(#lit)))
-                }
-                None => Err(ValueProblem::WrongKind),
-            },
+            (RustType::Bytes(_), v) => value_bytes(basic, v)
+                .map(Initial::Bytes)
+                .ok_or(ValueProblem::WrongKind),
             (RustType::Scalar(prim, _), Value::NodeRelative(offset)) => {
-                node_relative_tokens(*offset, basic, prim)
+                node_relative_tokens(*offset, basic, prim).map(Initial::NodeRelative)
             }
-            (RustType::Scalar(prim, _), v) => scalar_tokens(v, basic, prim),
+            (RustType::Scalar(prim, _), v) => {
+                scalar_number(v, basic, prim).map(|n| Initial::Raw(n.raw(prim)))
+            }
         };
         match result {
-            Ok(tokens) => Some((tokens, node_relative)),
+            Ok(init) => Some(init),
             Err(problem) => {
                 let why = match problem {
                     ValueProblem::OutOfRange => "is outside the range of",
@@ -613,20 +415,19 @@ impl Planner<'_> {
         basic: BasicType,
         prim: Prim,
         where_: &str,
-    ) -> Option<(TokenStream, TokenStream)> {
+    ) -> Option<(Number, Number)> {
         if sub.low_limit.is_none() && sub.high_limit.is_none() {
             return None;
         }
         let mut bound = |source: &Option<crate::model::ValueSource>,
                          is_low: bool|
-         -> Option<TokenStream> {
-            let ty = prim.tokens();
+         -> Option<Number> {
             let default = match (prim, is_low) {
-                (Prim::F32 | Prim::F64, true) => quote!(#ty::NEG_INFINITY),
-                (Prim::F32 | Prim::F64, false) => quote!(#ty::INFINITY),
+                (Prim::F32 | Prim::F64, true) => Number::Real(f64::NEG_INFINITY),
+                (Prim::F32 | Prim::F64, false) => Number::Real(f64::INFINITY),
                 _ => {
                     let (min, max) = basic.integer_range().unwrap_or((0, 0));
-                    types::int_literal(if is_low { min } else { max }, prim)
+                    Number::Integer(if is_low { min } else { max })
                 }
             };
             let Some(source) = source else {
@@ -634,7 +435,7 @@ impl Planner<'_> {
             };
             let parsed = match &source.value {
                 Some(Value::NodeRelative(_)) | None => Err(ValueProblem::WrongKind),
-                Some(v) => scalar_tokens(v, basic, prim),
+                Some(v) => scalar_number(v, basic, prim),
             };
             match parsed {
                 Ok(t) => Some(t),

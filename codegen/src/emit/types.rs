@@ -69,6 +69,15 @@ impl Prim {
 }
 
 impl RustType {
+    /// The bytes a value of this type takes in the value image: its wire size, or a string's
+    /// 2-byte length and its capacity.
+    pub fn image_size(self) -> usize {
+        match self {
+            RustType::Scalar(_, wire) => wire,
+            RustType::Bytes(capacity) => 2 + capacity,
+        }
+    }
+
     /// The Rust type of a basic type; `capacity` is used for strings and domains only.
     pub fn of(basic: BasicType, capacity: usize) -> RustType {
         use BasicType as B;
@@ -216,36 +225,6 @@ pub fn int_literal(value: i128, prim: Prim) -> TokenStream {
 
 use quote::ToTokens;
 
-/// The tokens of a REAL value, finite or not.
-pub fn float_literal(value: f64, prim: Prim) -> TokenStream {
-    let ty = prim.tokens();
-    if value.is_nan() {
-        return quote!(#ty::NAN);
-    }
-    if value.is_infinite() {
-        return if value > 0.0 {
-            quote!(#ty::INFINITY)
-        } else {
-            quote!(#ty::NEG_INFINITY)
-        };
-    }
-    let lit = if prim == Prim::F32 {
-        Literal::f32_unsuffixed(value as f32)
-    } else {
-        Literal::f64_unsuffixed(value)
-    };
-    if value.is_sign_negative() {
-        let positive = if prim == Prim::F32 {
-            Literal::f32_unsuffixed(-(value as f32))
-        } else {
-            Literal::f64_unsuffixed(-value)
-        };
-        quote!(-#positive)
-    } else {
-        lit.into_token_stream()
-    }
-}
-
 /// Why a value cannot initialise or bound an entry.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ValueProblem {
@@ -273,27 +252,88 @@ pub fn normalise_integer(value: i128, basic: BasicType) -> Result<i128, ValuePro
     Err(ValueProblem::OutOfRange)
 }
 
-/// The tokens of a constant value (not `$NODEID`) of a scalar type.
-pub fn scalar_tokens(
-    value: &Value,
-    basic: BasicType,
-    prim: Prim,
-) -> Result<TokenStream, ValueProblem> {
+/// A constant scalar value (not `$NODEID`) as a number: an integer (in the type's range, signed
+/// ones written as unsigned hex read back as two's complement) or a REAL (rounded to `f32` for
+/// REAL32, exactly representable as `f64`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Number {
+    /// An integer, BOOLEAN (0 or 1), TIME_OF_DAY or TIME_DIFFERENCE value.
+    Integer(i128),
+    /// A REAL32 or REAL64 value.
+    Real(f64),
+}
+
+impl Number {
+    /// The bits the value image stores (its low wire-width bytes are the value's wire form):
+    /// two's complement for integers, IEEE 754 for REAL32/REAL64.
+    pub fn raw(self, prim: Prim) -> u64 {
+        match self {
+            Number::Integer(v) => v as u64,
+            Number::Real(f) if prim == Prim::F32 => u64::from((f as f32).to_bits()),
+            Number::Real(f) => f.to_bits(),
+        }
+    }
+
+    /// The number as a literal of `prim`'s kind: an integer for a `u64`/`i64` parameter, a REAL
+    /// for an `f32`/`f64` one.
+    pub fn tokens(self, prim: Prim) -> TokenStream {
+        match self {
+            Number::Integer(v) if v < 0 => {
+                let magnitude = Literal::u128_unsuffixed(v.unsigned_abs());
+                quote!(-#magnitude)
+            }
+            Number::Integer(v) if v >= 256 => hex(v as u128, 1),
+            Number::Integer(v) => Literal::u128_unsuffixed(v as u128).into_token_stream(),
+            Number::Real(f) => {
+                let ty = prim.tokens();
+                if f.is_nan() {
+                    return quote!(#ty::NAN);
+                }
+                if f.is_infinite() {
+                    return if f > 0.0 {
+                        quote!(#ty::INFINITY)
+                    } else {
+                        quote!(#ty::NEG_INFINITY)
+                    };
+                }
+                let magnitude = if prim == Prim::F32 {
+                    Literal::f32_unsuffixed(f.abs() as f32)
+                } else {
+                    Literal::f64_unsuffixed(f.abs())
+                };
+                if f.is_sign_negative() {
+                    quote!(-#magnitude)
+                } else {
+                    magnitude.into_token_stream()
+                }
+            }
+        }
+    }
+}
+
+/// A constant value (not `$NODEID`) of a scalar type, as a number.
+pub fn scalar_number(value: &Value, basic: BasicType, prim: Prim) -> Result<Number, ValueProblem> {
+    let real = |f: f64| {
+        Number::Real(if prim == Prim::F32 {
+            f64::from(f as f32)
+        } else {
+            f
+        })
+    };
     match (prim, value) {
         (Prim::Bool, Value::Integer(v)) => match v {
-            0 => Ok(quote!(false)),
-            1 => Ok(quote!(true)),
+            0 | 1 => Ok(Number::Integer(*v)),
             _ => Err(ValueProblem::OutOfRange),
         },
-        (Prim::F32 | Prim::F64, Value::Real(f)) => Ok(float_literal(*f, prim)),
-        (Prim::F32 | Prim::F64, Value::Integer(i)) => Ok(float_literal(*i as f64, prim)),
+        (Prim::F32 | Prim::F64, Value::Real(f)) => Ok(real(*f)),
+        (Prim::F32 | Prim::F64, Value::Integer(i)) => Ok(real(*i as f64)),
         (Prim::Unsigned(_) | Prim::Signed(_), Value::Integer(v)) => {
-            Ok(int_literal(normalise_integer(*v, basic)?, prim))
+            Ok(Number::Integer(normalise_integer(*v, basic)?))
         }
         (Prim::Unsigned(_), Value::Text(text))
             if matches!(basic, BasicType::TimeOfDay | BasicType::TimeDifference) =>
         {
-            Ok(int_literal(time_of_day(text)?, prim))
+            Ok(Number::Integer(time_of_day(text)?))
         }
         _ => Err(ValueProblem::WrongKind),
     }

@@ -95,7 +95,7 @@ fn modules(device: &Device, out: &mut Vec<Diagnostic>) {
             let Some(module) = parse_int(&e.value) else {
                 continue;
             };
-            if supported_count.map_or(true, |max| module < 1 || module > max) {
+            if supported_count.is_none_or(|max| module < 1 || module > max) {
                 out.push(
                     Diagnostic::new(
                         &rules::MODULES,
@@ -131,7 +131,7 @@ fn modules(device: &Device, out: &mut Vec<Diagnostic>) {
                 }
             }
         }
-        if supported_count.map_or(true, |max| n < 1 || i128::from(n) > max) {
+        if supported_count.is_none_or(|max| n < 1 || i128::from(n) > max) {
             orphans.push(format!("[{}]", s.name.trim()));
             first.get_or_insert(s.span);
         }

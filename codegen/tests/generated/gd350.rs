@@ -15,422 +15,91 @@ pub mod gd350 {
     pub const NR_OF_RXPDO: u16 = 1;
     /// Number of TPDOs (counted communication parameter objects).
     pub const NR_OF_TXPDO: u16 = 1;
-    /// The object dictionary: one field per stored entry, records and arrays as nested
-    /// structs.
+    /// The size of the value image in bytes.
+    const IMAGE_SIZE: usize = 232;
+    /// The value image with every entry at its default, `$NODEID` ones at 0: built at compile
+    /// time, copied by `Od::new`.
+    const DEFAULTS: [u8; IMAGE_SIZE] = {
+        use ::edsgen_runtime::image::{put_bytes, put_le};
+        let mut values = [0; IMAGE_SIZE];
+        put_le(&mut values, 0, 0x10192, 4);
+        put_bytes(&mut values, 13, b"GD350");
+        put_bytes(&mut values, 20, b"1.0");
+        put_le(&mut values, 58, 0x3, 1);
+        put_le(&mut values, 59, 0x4D8, 4);
+        put_le(&mut values, 63, 0x9252, 4);
+        put_le(&mut values, 67, 0x10001, 4);
+        put_le(&mut values, 71, 0x2, 1);
+        put_le(&mut values, 76, 0xFF, 1);
+        put_le(&mut values, 77, 0x4, 1);
+        put_le(&mut values, 78, 0x21010010, 4);
+        put_le(&mut values, 82, 0x21000110, 4);
+        put_le(&mut values, 86, 0x21000210, 4);
+        put_le(&mut values, 90, 0x21000310, 4);
+        put_le(&mut values, 94, 0x2, 1);
+        put_le(&mut values, 99, 0xFF, 1);
+        put_le(&mut values, 100, 0x4, 1);
+        put_le(&mut values, 101, 0x20010010, 4);
+        put_le(&mut values, 105, 0x20000110, 4);
+        put_le(&mut values, 109, 0x20000210, 4);
+        put_le(&mut values, 113, 0x20000310, 4);
+        put_le(&mut values, 117, 0x5, 1);
+        put_le(&mut values, 118, 0x20020004, 4);
+        put_le(&mut values, 122, 0x50004, 4);
+        put_le(&mut values, 126, 0x20030118, 4);
+        put_le(&mut values, 130, 0x20030208, 4);
+        put_le(&mut values, 134, 0x20040001, 4);
+        put_le(&mut values, 138, 0x3, 1);
+        put_le(&mut values, 139, 0x20040001, 4);
+        put_le(&mut values, 143, 0x20060020, 4);
+        put_le(&mut values, 147, 0x20030208, 4);
+        put_le(&mut values, 151, 0x4, 1);
+        put_le(&mut values, 163, 0x5, 1);
+        put_le(&mut values, 164, 0xFFFFFB, 3);
+        put_le(&mut values, 167, 0xFF, 1);
+        put_le(&mut values, 168, 0xFFFFFFFFFFFF, 8);
+        put_le(&mut values, 176, 0x1, 1);
+        put_le(&mut values, 177, 0x3FC00000, 4);
+        put_bytes(&mut values, 181, b"\x01\x02\x03\x04");
+        put_le(&mut values, 215, 0x4, 1);
+        put_le(&mut values, 226, 0x64, 2);
+        values
+    };
+    /// The object dictionary: every entry's value, little-endian, in one byte array laid out
+    /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
+    /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
     #[derive(Debug, Clone, PartialEq)]
     pub struct Od {
-        /// Device type
-        ///
-        /// Object 1000h sub 0: UNSIGNED32, ro, not PDO-mappable; default `65938`.
-        pub device_type: u32,
-        /// Pre-defined error field
-        ///
-        /// Object 1003h, ARRAY, sub-indices 0, 1, 2.
-        pub pre_defined_error_field: records::PreDefinedErrorField,
-        /// Manufacturer device name
-        ///
-        /// Object 1008h sub 0: VISIBLE_STRING, const, not PDO-mappable, capacity 5 bytes; default `GD350`.
-        pub manufacturer_device_name: ::edsgen_runtime::FixedBytes<5>,
-        /// Manufacturer hardware version
-        ///
-        /// Object 1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable, capacity 32 bytes; default `1.0`.
-        pub manufacturer_hardware_version: ::edsgen_runtime::FixedBytes<32>,
-        /// COB-ID EMCY
-        ///
-        /// Object 1014h sub 0: UNSIGNED32, ro, not PDO-mappable; default `$NODEID+128`.
-        pub cob_id_emcy: u32,
-        /// Identity object
-        ///
-        /// Object 1018h, RECORD, sub-indices 0, 1, 2, 3.
-        pub identity_object: records::IdentityObject,
-        /// RPDO2 communication parameter
-        ///
-        /// Object 1401h, RECORD, sub-indices 0, 1, 2.
-        pub rpdo2_communication_parameter: records::Rpdo2CommunicationParameter,
-        /// RPDO2 mapping parameter
-        ///
-        /// Object 1601h, RECORD, sub-indices 0, 1, 2, 3, 4.
-        pub rpdo2_mapping_parameter: records::Rpdo2MappingParameter,
-        /// TPDO2 communication parameter
-        ///
-        /// Object 1801h, RECORD, sub-indices 0, 1, 2.
-        pub tpdo2_communication_parameter: records::Tpdo2CommunicationParameter,
-        /// TPDO2 mapping parameter
-        ///
-        /// Object 1A01h, RECORD, sub-indices 0, 1, 2, 3, 4.
-        pub tpdo2_mapping_parameter: records::Tpdo2MappingParameter,
-        /// TPDO3 mapping parameter
-        ///
-        /// Object 1A02h, RECORD, sub-indices 0, 1, 2, 3, 4, 5.
-        pub tpdo3_mapping_parameter: records::Tpdo3MappingParameter,
-        /// TPDO4 mapping parameter
-        ///
-        /// Object 1A03h, RECORD, sub-indices 0, 1, 2, 3.
-        pub tpdo4_mapping_parameter: records::Tpdo4MappingParameter,
-        /// Returned values
-        ///
-        /// Object 2000h, ARRAY, sub-indices 0, 1, 2, 3, 4.
-        pub returned_values: records::ReturnedValues,
-        /// Status word
-        ///
-        /// Object 2001h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`.
-        pub status_word: u16,
-        /// Nibble
-        ///
-        /// Object 2002h sub 0: UNSIGNED8, ro, PDO-mappable; default `0`.
-        pub nibble: u8,
-        /// Sparse record
-        ///
-        /// Object 2003h, RECORD, sub-indices 0, 1, 2, 5.
-        pub sparse_record: records::SparseRecord,
-        /// Flag
-        ///
-        /// Object 2004h sub 0: BOOLEAN, rw, PDO-mappable; default `1`.
-        pub flag: bool,
-        /// Gain
-        ///
-        /// Object 2005h sub 0: REAL32, rw, not PDO-mappable; default `1.5`.
-        pub gain: f32,
-        /// Tag
-        ///
-        /// Object 2006h sub 0: OCTET_STRING, rw, PDO-mappable, capacity 32 bytes; default `01020304`.
-        pub tag: ::edsgen_runtime::FixedBytes<32>,
-        /// Settings
-        ///
-        /// Object 2100h, ARRAY, sub-indices 0, 1, 2, 3, 4.
-        pub settings: records::Settings,
-        /// Control word
-        ///
-        /// Object 2101h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`.
-        pub control_word: u16,
-        /// Setting limited
-        ///
-        /// Object 2102h sub 0: UNSIGNED16, rw, PDO-mappable; default `100`; limits `10` to `5000`.
-        pub setting_limited: u16,
-        /// Controlword
-        ///
-        /// Object 6040h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`.
-        pub controlword: u16,
-        /// Status word
-        ///
-        /// Object 6041h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`.
-        pub status_word_6041: u16,
+        values: [u8; IMAGE_SIZE],
     }
     impl Od {
-        /// Every entry at its default, with 0 for the `$NODEID` ones. `new` copies it and
-        /// sets those: one copy from flash rather than code that stores each field.
-        const DEFAULTS: Self = Od {
-            device_type: 0x10192,
-            pre_defined_error_field: records::PreDefinedErrorField {
-                number_of_errors: 0,
-                items: [0; 2],
-            },
-            manufacturer_device_name: ::edsgen_runtime::FixedBytes::from_slice(b"GD350"),
-            manufacturer_hardware_version: ::edsgen_runtime::FixedBytes::from_slice(
-                b"1.0",
-            ),
-            cob_id_emcy: 0,
-            identity_object: records::IdentityObject {
-                number_of_entries: 3,
-                vendor_id: 0x4D8,
-                product_code: 0x9252,
-                revision_number: 0x10001,
-            },
-            rpdo2_communication_parameter: records::Rpdo2CommunicationParameter {
-                highest_sub_index_supported: 2,
-                cob_id: 0,
-                transmission_type: 255,
-            },
-            rpdo2_mapping_parameter: records::Rpdo2MappingParameter {
-                number_of_mapped_objects: 4,
-                mapped_object_1: 0x21010010,
-                mapped_object_2: 0x21000110,
-                mapped_object_3: 0x21000210,
-                mapped_object_4: 0x21000310,
-            },
-            tpdo2_communication_parameter: records::Tpdo2CommunicationParameter {
-                highest_sub_index_supported: 2,
-                cob_id: 0,
-                transmission_type: 255,
-            },
-            tpdo2_mapping_parameter: records::Tpdo2MappingParameter {
-                number_of_mapped_objects: 4,
-                mapped_object_1: 0x20010010,
-                mapped_object_2: 0x20000110,
-                mapped_object_3: 0x20000210,
-                mapped_object_4: 0x20000310,
-            },
-            tpdo3_mapping_parameter: records::Tpdo3MappingParameter {
-                number_of_mapped_objects: 5,
-                mapped_object_1: 0x20020004,
-                mapped_object_2: 0x50004,
-                mapped_object_3: 0x20030118,
-                mapped_object_4: 0x20030208,
-                mapped_object_5: 0x20040001,
-            },
-            tpdo4_mapping_parameter: records::Tpdo4MappingParameter {
-                number_of_mapped_objects: 3,
-                mapped_object_1: 0x20040001,
-                mapped_object_2: 0x20060020,
-                mapped_object_3: 0x20030208,
-            },
-            returned_values: records::ReturnedValues {
-                number_of_entries: 4,
-                items: [0; 4],
-            },
-            status_word: 0,
-            nibble: 0,
-            sparse_record: records::SparseRecord {
-                highest_sub_index_supported: 5,
-                signed_24: -5,
-                type_: -1,
-                big: 0xFFFFFFFFFFFF,
-            },
-            flag: true,
-            gain: 1.5,
-            tag: ::edsgen_runtime::FixedBytes::from_slice(b"\x01\x02\x03\x04"),
-            settings: records::Settings {
-                number_of_entries: 4,
-                items: [0; 4],
-            },
-            control_word: 0,
-            setting_limited: 100,
-            controlword: 0,
-            status_word_6041: 0,
-        };
         /// The dictionary with every entry at its default (a DCF's ParameterValue where
         /// given); `$NODEID` defaults are computed from `node_id`.
         pub const fn new(node_id: u8) -> Self {
-            let mut od = Self::DEFAULTS;
-            od.cob_id_emcy = (node_id as u32).wrapping_add(128);
-            od.rpdo2_communication_parameter.cob_id = (node_id as u32)
-                .wrapping_add(0x300);
-            od.tpdo2_communication_parameter.cob_id = (node_id as u32)
-                .wrapping_add(0x280);
+            use ::edsgen_runtime::image::put_le;
+            let mut od = Od { values: DEFAULTS };
+            put_le(&mut od.values, 54, ((node_id as u32).wrapping_add(128)) as u64, 4);
+            put_le(&mut od.values, 72, ((node_id as u32).wrapping_add(0x300)) as u64, 4);
+            put_le(&mut od.values, 95, ((node_id as u32).wrapping_add(0x280)) as u64, 4);
             od
         }
-    }
-    /// The nested structs of RECORD and ARRAY objects.
-    pub mod records {
-        /// Pre-defined error field
-        ///
-        /// Object 1003h, ARRAY, sub-indices 0, 1, 2.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct PreDefinedErrorField {
-            /// Pre-defined error field: Number of errors
-            ///
-            /// Object 1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`.
-            pub number_of_errors: u8,
-            /// Sub-indices 1 to 2: element `i` is sub-index `i + 1`.
-            pub items: [u32; 2],
+        /// The value of `entry` (a typed address from `od`); `None` only for an address
+        /// that is not in this dictionary or whose type does not match it.
+        pub fn get<T: ::edsgen_runtime::OdValue>(
+            &self,
+            entry: ::edsgen_runtime::Entry<T>,
+        ) -> Option<T> {
+            LAYOUT.get(&self.values, entry)
         }
-        /// Identity object
-        ///
-        /// Object 1018h, RECORD, sub-indices 0, 1, 2, 3.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct IdentityObject {
-            /// Identity object: Number of entries
-            ///
-            /// Object 1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`.
-            pub number_of_entries: u8,
-            /// Identity object: Vendor-ID
-            ///
-            /// Object 1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`.
-            pub vendor_id: u32,
-            /// Identity object: Product code
-            ///
-            /// Object 1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`.
-            pub product_code: u32,
-            /// Identity object: Revision number
-            ///
-            /// Object 1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`.
-            pub revision_number: u32,
-        }
-        /// RPDO2 communication parameter
-        ///
-        /// Object 1401h, RECORD, sub-indices 0, 1, 2.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Rpdo2CommunicationParameter {
-            /// RPDO2 communication parameter: Highest sub-index supported
-            ///
-            /// Object 1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`.
-            pub highest_sub_index_supported: u8,
-            /// RPDO2 communication parameter: COB-ID
-            ///
-            /// Object 1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`.
-            pub cob_id: u32,
-            /// RPDO2 communication parameter: Transmission type
-            ///
-            /// Object 1401h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`.
-            pub transmission_type: u8,
-        }
-        /// RPDO2 mapping parameter
-        ///
-        /// Object 1601h, RECORD, sub-indices 0, 1, 2, 3, 4.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Rpdo2MappingParameter {
-            /// RPDO2 mapping parameter: Number of mapped objects
-            ///
-            /// Object 1601h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`.
-            pub number_of_mapped_objects: u8,
-            /// RPDO2 mapping parameter: Mapped object 1
-            ///
-            /// Object 1601h sub 1: UNSIGNED32, rw, not PDO-mappable; default `553713680`.
-            pub mapped_object_1: u32,
-            /// RPDO2 mapping parameter: Mapped object 2
-            ///
-            /// Object 1601h sub 2: UNSIGNED32, rw, not PDO-mappable; default `553648400`.
-            pub mapped_object_2: u32,
-            /// RPDO2 mapping parameter: Mapped object 3
-            ///
-            /// Object 1601h sub 3: UNSIGNED32, rw, not PDO-mappable; default `553648656`.
-            pub mapped_object_3: u32,
-            /// RPDO2 mapping parameter: Mapped object 4
-            ///
-            /// Object 1601h sub 4: UNSIGNED32, rw, not PDO-mappable; default `553648912`.
-            pub mapped_object_4: u32,
-        }
-        /// TPDO2 communication parameter
-        ///
-        /// Object 1801h, RECORD, sub-indices 0, 1, 2.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Tpdo2CommunicationParameter {
-            /// TPDO2 communication parameter: Highest sub-index supported
-            ///
-            /// Object 1801h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`.
-            pub highest_sub_index_supported: u8,
-            /// TPDO2 communication parameter: COB-ID
-            ///
-            /// Object 1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`.
-            pub cob_id: u32,
-            /// TPDO2 communication parameter: Transmission type
-            ///
-            /// Object 1801h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`.
-            pub transmission_type: u8,
-        }
-        /// TPDO2 mapping parameter
-        ///
-        /// Object 1A01h, RECORD, sub-indices 0, 1, 2, 3, 4.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Tpdo2MappingParameter {
-            /// TPDO2 mapping parameter: Number of mapped objects
-            ///
-            /// Object 1A01h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`.
-            pub number_of_mapped_objects: u8,
-            /// TPDO2 mapping parameter: Mapped object 1
-            ///
-            /// Object 1A01h sub 1: UNSIGNED32, rw, not PDO-mappable; default `536936464`.
-            pub mapped_object_1: u32,
-            /// TPDO2 mapping parameter: Mapped object 2
-            ///
-            /// Object 1A01h sub 2: UNSIGNED32, rw, not PDO-mappable; default `536871184`.
-            pub mapped_object_2: u32,
-            /// TPDO2 mapping parameter: Mapped object 3
-            ///
-            /// Object 1A01h sub 3: UNSIGNED32, rw, not PDO-mappable; default `536871440`.
-            pub mapped_object_3: u32,
-            /// TPDO2 mapping parameter: Mapped object 4
-            ///
-            /// Object 1A01h sub 4: UNSIGNED32, rw, not PDO-mappable; default `536871696`.
-            pub mapped_object_4: u32,
-        }
-        /// TPDO3 mapping parameter
-        ///
-        /// Object 1A02h, RECORD, sub-indices 0, 1, 2, 3, 4, 5.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Tpdo3MappingParameter {
-            /// TPDO3 mapping parameter: Number of mapped objects
-            ///
-            /// Object 1A02h sub 0: UNSIGNED8, rw, not PDO-mappable; default `5`.
-            pub number_of_mapped_objects: u8,
-            /// TPDO3 mapping parameter: Mapped object 1
-            ///
-            /// Object 1A02h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537001988`.
-            pub mapped_object_1: u32,
-            /// TPDO3 mapping parameter: Mapped object 2
-            ///
-            /// Object 1A02h sub 2: UNSIGNED32, rw, not PDO-mappable; default `327684`.
-            pub mapped_object_2: u32,
-            /// TPDO3 mapping parameter: Mapped object 3
-            ///
-            /// Object 1A02h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537067800`.
-            pub mapped_object_3: u32,
-            /// TPDO3 mapping parameter: Mapped object 4
-            ///
-            /// Object 1A02h sub 4: UNSIGNED32, rw, not PDO-mappable; default `537068040`.
-            pub mapped_object_4: u32,
-            /// TPDO3 mapping parameter: Mapped object 5
-            ///
-            /// Object 1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`.
-            pub mapped_object_5: u32,
-        }
-        /// TPDO4 mapping parameter
-        ///
-        /// Object 1A03h, RECORD, sub-indices 0, 1, 2, 3.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Tpdo4MappingParameter {
-            /// TPDO4 mapping parameter: Number of mapped objects
-            ///
-            /// Object 1A03h sub 0: UNSIGNED8, rw, not PDO-mappable; default `3`.
-            pub number_of_mapped_objects: u8,
-            /// TPDO4 mapping parameter: Mapped object 1
-            ///
-            /// Object 1A03h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537133057`.
-            pub mapped_object_1: u32,
-            /// TPDO4 mapping parameter: Mapped object 2
-            ///
-            /// Object 1A03h sub 2: UNSIGNED32, rw, not PDO-mappable; default `537264160`.
-            pub mapped_object_2: u32,
-            /// TPDO4 mapping parameter: Mapped object 3
-            ///
-            /// Object 1A03h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537068040`.
-            pub mapped_object_3: u32,
-        }
-        /// Returned values
-        ///
-        /// Object 2000h, ARRAY, sub-indices 0, 1, 2, 3, 4.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct ReturnedValues {
-            /// Returned values: Number of entries
-            ///
-            /// Object 2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`.
-            pub number_of_entries: u8,
-            /// Sub-indices 1 to 4: element `i` is sub-index `i + 1`.
-            pub items: [u16; 4],
-        }
-        /// Sparse record
-        ///
-        /// Object 2003h, RECORD, sub-indices 0, 1, 2, 5.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct SparseRecord {
-            /// Sparse record: Highest sub-index supported
-            ///
-            /// Object 2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`.
-            pub highest_sub_index_supported: u8,
-            /// Sparse record: Signed 24
-            ///
-            /// Object 2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`.
-            pub signed_24: i32,
-            /// Sparse record: type
-            ///
-            /// Object 2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`.
-            pub type_: i8,
-            /// Sparse record: Big
-            ///
-            /// Object 2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`.
-            pub big: u64,
-        }
-        /// Settings
-        ///
-        /// Object 2100h, ARRAY, sub-indices 0, 1, 2, 3, 4.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Settings {
-            /// Settings: Number of entries
-            ///
-            /// Object 2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`.
-            pub number_of_entries: u8,
-            /// Sub-indices 1 to 4: element `i` is sub-index `i + 1`.
-            pub items: [u16; 4],
+        /// Sets `entry` (a typed address from `od`) to `value`, checked like an SDO write
+        /// (length, BOOLEAN, LowLimit/HighLimit) but not against access rights. On error
+        /// the value is unchanged.
+        pub fn set<T: ::edsgen_runtime::OdValue>(
+            &mut self,
+            entry: ::edsgen_runtime::Entry<T>,
+            value: T,
+        ) -> Result<(), ::edsgen_runtime::SdoAbort> {
+            LAYOUT.set(&mut self.values, entry, &value)
         }
     }
     /// Every entry's descriptor, sorted by (index, sub-index).
@@ -499,6 +168,25 @@ pub mod gd350 {
             E::new(0x6041, 0x00, D::Unsigned16, A::Ro, true, 2),
         ]
     };
+    /// Where each entry of `ENTRIES` starts in the value image.
+    static OFFSETS: [u16; 60] = [
+        0, 4, 5, 9, 13, 20, 54, 58, 59, 63, 67, 71, 72, 76, 77, 78, 82, 86, 90, 94, 95,
+        99, 100, 101, 105, 109, 113, 117, 118, 122, 126, 130, 134, 138, 139, 143, 147,
+        151, 152, 154, 156, 158, 160, 162, 163, 164, 167, 168, 176, 177, 181, 215, 216,
+        218, 220, 222, 224, 226, 228, 230,
+    ];
+    /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
+    static LIMITS: [(u16, ::edsgen_runtime::image::Limit); 1] = {
+        use ::edsgen_runtime::image::Limit as L;
+        [(57, L::unsigned(10, 0x1388))]
+    };
+    /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
+    /// `get`/`set` work from.
+    static LAYOUT: ::edsgen_runtime::image::Layout = ::edsgen_runtime::image::Layout::new(
+        &ENTRIES,
+        &OFFSETS,
+        &LIMITS,
+    );
     impl ::edsgen_runtime::ObjectDictionary for Od {
         fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
             &ENTRIES
@@ -508,22 +196,11 @@ pub mod gd350 {
             index: u16,
             sub: u8,
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-            if let Some(size) = ::edsgen_runtime::ObjectDictionary::find(
-                    self,
-                    index,
-                    sub,
-                )?
-                .data_type
-                .fixed_size()
-            {
-                return Ok(size);
-            }
-            match (index, sub) {
-                (0x1008, 0x00) => Ok(self.manufacturer_device_name.len()),
-                (0x1009, 0x00) => Ok(self.manufacturer_hardware_version.len()),
-                (0x2006, 0x00) => Ok(self.tag.len()),
-                _ => Err(::edsgen_runtime::typed::missing(&ENTRIES, index, sub)),
-            }
+            LAYOUT
+                .value_len(
+                    &self.values,
+                    ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?,
+                )
         }
         fn read(
             &self,
@@ -546,629 +223,295 @@ pub mod gd350 {
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
             self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
         }
-        #[inline(never)]
         fn read_at(
             &self,
             position: usize,
             offset: usize,
             buf: &mut [u8],
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-            use ::edsgen_runtime::typed as t;
-            let mut s = [0u8; 8];
-            let value: &[u8] = match position {
-                0 => t::le(&mut s, u64::from(self.device_type), 4),
-                1 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.pre_defined_error_field.number_of_errors),
-                        1,
-                    )
-                }
-                2..=3 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.pre_defined_error_field.items[position - 2]),
-                        4,
-                    )
-                }
-                4 => self.manufacturer_device_name.as_bytes(),
-                5 => self.manufacturer_hardware_version.as_bytes(),
-                6 => t::le(&mut s, u64::from(self.cob_id_emcy), 4),
-                7 => t::le(&mut s, u64::from(self.identity_object.number_of_entries), 1),
-                8 => t::le(&mut s, u64::from(self.identity_object.vendor_id), 4),
-                9 => t::le(&mut s, u64::from(self.identity_object.product_code), 4),
-                10 => t::le(&mut s, u64::from(self.identity_object.revision_number), 4),
-                11 => {
-                    t::le(
-                        &mut s,
-                        u64::from(
-                            self
-                                .rpdo2_communication_parameter
-                                .highest_sub_index_supported,
-                        ),
-                        1,
-                    )
-                }
-                12 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.rpdo2_communication_parameter.cob_id),
-                        4,
-                    )
-                }
-                13 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.rpdo2_communication_parameter.transmission_type),
-                        1,
-                    )
-                }
-                14 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.rpdo2_mapping_parameter.number_of_mapped_objects),
-                        1,
-                    )
-                }
-                15 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.rpdo2_mapping_parameter.mapped_object_1),
-                        4,
-                    )
-                }
-                16 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.rpdo2_mapping_parameter.mapped_object_2),
-                        4,
-                    )
-                }
-                17 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.rpdo2_mapping_parameter.mapped_object_3),
-                        4,
-                    )
-                }
-                18 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.rpdo2_mapping_parameter.mapped_object_4),
-                        4,
-                    )
-                }
-                19 => {
-                    t::le(
-                        &mut s,
-                        u64::from(
-                            self
-                                .tpdo2_communication_parameter
-                                .highest_sub_index_supported,
-                        ),
-                        1,
-                    )
-                }
-                20 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo2_communication_parameter.cob_id),
-                        4,
-                    )
-                }
-                21 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo2_communication_parameter.transmission_type),
-                        1,
-                    )
-                }
-                22 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo2_mapping_parameter.number_of_mapped_objects),
-                        1,
-                    )
-                }
-                23 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo2_mapping_parameter.mapped_object_1),
-                        4,
-                    )
-                }
-                24 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo2_mapping_parameter.mapped_object_2),
-                        4,
-                    )
-                }
-                25 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo2_mapping_parameter.mapped_object_3),
-                        4,
-                    )
-                }
-                26 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo2_mapping_parameter.mapped_object_4),
-                        4,
-                    )
-                }
-                27 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo3_mapping_parameter.number_of_mapped_objects),
-                        1,
-                    )
-                }
-                28 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo3_mapping_parameter.mapped_object_1),
-                        4,
-                    )
-                }
-                29 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo3_mapping_parameter.mapped_object_2),
-                        4,
-                    )
-                }
-                30 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo3_mapping_parameter.mapped_object_3),
-                        4,
-                    )
-                }
-                31 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo3_mapping_parameter.mapped_object_4),
-                        4,
-                    )
-                }
-                32 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo3_mapping_parameter.mapped_object_5),
-                        4,
-                    )
-                }
-                33 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo4_mapping_parameter.number_of_mapped_objects),
-                        1,
-                    )
-                }
-                34 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo4_mapping_parameter.mapped_object_1),
-                        4,
-                    )
-                }
-                35 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo4_mapping_parameter.mapped_object_2),
-                        4,
-                    )
-                }
-                36 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.tpdo4_mapping_parameter.mapped_object_3),
-                        4,
-                    )
-                }
-                37 => t::le(&mut s, u64::from(self.returned_values.number_of_entries), 1),
-                38..=41 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.returned_values.items[position - 38]),
-                        2,
-                    )
-                }
-                42 => t::le(&mut s, u64::from(self.status_word), 2),
-                43 => t::le(&mut s, u64::from(self.nibble), 1),
-                44 => {
-                    t::le(
-                        &mut s,
-                        u64::from(self.sparse_record.highest_sub_index_supported),
-                        1,
-                    )
-                }
-                45 => t::le(&mut s, self.sparse_record.signed_24 as u64, 3),
-                46 => t::le(&mut s, self.sparse_record.type_ as u64, 1),
-                47 => t::le(&mut s, self.sparse_record.big, 8),
-                48 => t::le(&mut s, u64::from(self.flag), 1),
-                49 => t::le(&mut s, u64::from(self.gain.to_bits()), 4),
-                50 => self.tag.as_bytes(),
-                51 => t::le(&mut s, u64::from(self.settings.number_of_entries), 1),
-                52..=55 => {
-                    t::le(&mut s, u64::from(self.settings.items[position - 52]), 2)
-                }
-                56 => t::le(&mut s, u64::from(self.control_word), 2),
-                57 => t::le(&mut s, u64::from(self.setting_limited), 2),
-                58 => t::le(&mut s, u64::from(self.controlword), 2),
-                59 => t::le(&mut s, u64::from(self.status_word_6041), 2),
-                _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
-            };
-            Ok(t::read_bytes(value, offset, buf))
+            LAYOUT.read(&self.values, position, offset, buf)
         }
-        #[inline(never)]
         fn write_at(
             &mut self,
             position: usize,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            use ::edsgen_runtime::typed as t;
-            match position {
-                0 => t::store(&mut self.device_type, data)?,
-                1 => t::store(&mut self.pre_defined_error_field.number_of_errors, data)?,
-                2..=3 => {
-                    t::store(
-                        &mut self.pre_defined_error_field.items[position - 2],
-                        data,
-                    )?
-                }
-                4 => self.manufacturer_device_name.set(data)?,
-                5 => self.manufacturer_hardware_version.set(data)?,
-                6 => t::store(&mut self.cob_id_emcy, data)?,
-                7 => t::store(&mut self.identity_object.number_of_entries, data)?,
-                8 => t::store(&mut self.identity_object.vendor_id, data)?,
-                9 => t::store(&mut self.identity_object.product_code, data)?,
-                10 => t::store(&mut self.identity_object.revision_number, data)?,
-                11 => {
-                    t::store(
-                        &mut self
-                            .rpdo2_communication_parameter
-                            .highest_sub_index_supported,
-                        data,
-                    )?
-                }
-                12 => t::store(&mut self.rpdo2_communication_parameter.cob_id, data)?,
-                13 => {
-                    t::store(
-                        &mut self.rpdo2_communication_parameter.transmission_type,
-                        data,
-                    )?
-                }
-                14 => {
-                    t::store(
-                        &mut self.rpdo2_mapping_parameter.number_of_mapped_objects,
-                        data,
-                    )?
-                }
-                15 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_1, data)?,
-                16 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_2, data)?,
-                17 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_3, data)?,
-                18 => t::store(&mut self.rpdo2_mapping_parameter.mapped_object_4, data)?,
-                19 => {
-                    t::store(
-                        &mut self
-                            .tpdo2_communication_parameter
-                            .highest_sub_index_supported,
-                        data,
-                    )?
-                }
-                20 => t::store(&mut self.tpdo2_communication_parameter.cob_id, data)?,
-                21 => {
-                    t::store(
-                        &mut self.tpdo2_communication_parameter.transmission_type,
-                        data,
-                    )?
-                }
-                22 => {
-                    t::store(
-                        &mut self.tpdo2_mapping_parameter.number_of_mapped_objects,
-                        data,
-                    )?
-                }
-                23 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_1, data)?,
-                24 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_2, data)?,
-                25 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_3, data)?,
-                26 => t::store(&mut self.tpdo2_mapping_parameter.mapped_object_4, data)?,
-                27 => {
-                    t::store(
-                        &mut self.tpdo3_mapping_parameter.number_of_mapped_objects,
-                        data,
-                    )?
-                }
-                28 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_1, data)?,
-                29 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_2, data)?,
-                30 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_3, data)?,
-                31 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_4, data)?,
-                32 => t::store(&mut self.tpdo3_mapping_parameter.mapped_object_5, data)?,
-                33 => {
-                    t::store(
-                        &mut self.tpdo4_mapping_parameter.number_of_mapped_objects,
-                        data,
-                    )?
-                }
-                34 => t::store(&mut self.tpdo4_mapping_parameter.mapped_object_1, data)?,
-                35 => t::store(&mut self.tpdo4_mapping_parameter.mapped_object_2, data)?,
-                36 => t::store(&mut self.tpdo4_mapping_parameter.mapped_object_3, data)?,
-                37 => t::store(&mut self.returned_values.number_of_entries, data)?,
-                38..=41 => {
-                    t::store(&mut self.returned_values.items[position - 38], data)?
-                }
-                42 => t::store(&mut self.status_word, data)?,
-                43 => t::store(&mut self.nibble, data)?,
-                44 => {
-                    t::store(&mut self.sparse_record.highest_sub_index_supported, data)?
-                }
-                45 => self.sparse_record.signed_24 = t::int_le::<3>(data)? as i32,
-                46 => t::store(&mut self.sparse_record.type_, data)?,
-                47 => t::store(&mut self.sparse_record.big, data)?,
-                48 => self.flag = t::boolean(data)?,
-                49 => t::store(&mut self.gain, data)?,
-                50 => self.tag.set(data)?,
-                51 => t::store(&mut self.settings.number_of_entries, data)?,
-                52..=55 => t::store(&mut self.settings.items[position - 52], data)?,
-                56 => t::store(&mut self.control_word, data)?,
-                57 => {
-                    self.setting_limited = t::check_limits(
-                        u16::from_le_bytes(t::exact(data)?),
-                        10,
-                        0x1388,
-                    )?;
-                }
-                58 => t::store(&mut self.controlword, data)?,
-                59 => t::store(&mut self.status_word_6041, data)?,
-                _ => return Err(::edsgen_runtime::SdoAbort::NoObject),
-            }
-            Ok(())
+            LAYOUT.write(&mut self.values, position, data)
         }
     }
     /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
     pub mod od {
         use ::edsgen_runtime::{Entry, FixedBytes};
         /// Device type (1000h sub 0: UNSIGNED32, ro, not PDO-mappable; default `65938`).
-        pub const DEVICE_TYPE: Entry<u32> = Entry::new(0x1000, 0x00);
+        pub const DEVICE_TYPE: Entry<u32> = Entry::new(0x1000, 0x00).at_position(0);
         /// Pre-defined error field: Number of errors (1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`).
         pub const PRE_DEFINED_ERROR_FIELD_NUMBER_OF_ERRORS: Entry<u8> = Entry::new(
-            0x1003,
-            0x00,
-        );
+                0x1003,
+                0x00,
+            )
+            .at_position(1);
         /// Pre-defined error field: Standard error field (1003h sub 1: UNSIGNED32, ro, not PDO-mappable; default `0`).
         pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: Entry<u32> = Entry::new(
-            0x1003,
-            0x01,
-        );
+                0x1003,
+                0x01,
+            )
+            .at_position(2);
         /// Pre-defined error field: Standard error field (1003h sub 2: UNSIGNED32, ro, not PDO-mappable; default `0`).
         pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2: Entry<u32> = Entry::new(
-            0x1003,
-            0x02,
-        );
+                0x1003,
+                0x02,
+            )
+            .at_position(3);
         /// Manufacturer device name (1008h sub 0: VISIBLE_STRING, const, not PDO-mappable, capacity 5 bytes; default `GD350`).
         pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<5>> = Entry::new(
-            0x1008,
-            0x00,
-        );
+                0x1008,
+                0x00,
+            )
+            .at_position(4);
         /// Manufacturer hardware version (1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable, capacity 32 bytes; default `1.0`).
         pub const MANUFACTURER_HARDWARE_VERSION: Entry<FixedBytes<32>> = Entry::new(
-            0x1009,
-            0x00,
-        );
+                0x1009,
+                0x00,
+            )
+            .at_position(5);
         /// COB-ID EMCY (1014h sub 0: UNSIGNED32, ro, not PDO-mappable; default `$NODEID+128`).
-        pub const COB_ID_EMCY: Entry<u32> = Entry::new(0x1014, 0x00);
+        pub const COB_ID_EMCY: Entry<u32> = Entry::new(0x1014, 0x00).at_position(6);
         /// Identity object: Number of entries (1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`).
-        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(
-            0x1018,
-            0x00,
-        );
+        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x1018, 0x00)
+            .at_position(7);
         /// Identity object: Vendor-ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
-        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32> = Entry::new(0x1018, 0x01);
+        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32> = Entry::new(0x1018, 0x01)
+            .at_position(8);
         /// Identity object: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
-        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32> = Entry::new(0x1018, 0x02);
+        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32> = Entry::new(0x1018, 0x02)
+            .at_position(9);
         /// Identity object: Revision number (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`).
-        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32> = Entry::new(0x1018, 0x03);
+        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32> = Entry::new(0x1018, 0x03)
+            .at_position(10);
         /// RPDO2 communication parameter: Highest sub-index supported (1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
         pub const RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
-            0x1401,
-            0x00,
-        );
+                0x1401,
+                0x00,
+            )
+            .at_position(11);
         /// RPDO2 communication parameter: COB-ID (1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`).
         pub const RPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32> = Entry::new(
-            0x1401,
-            0x01,
-        );
+                0x1401,
+                0x01,
+            )
+            .at_position(12);
         /// RPDO2 communication parameter: Transmission type (1401h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
         pub const RPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<u8> = Entry::new(
-            0x1401,
-            0x02,
-        );
+                0x1401,
+                0x02,
+            )
+            .at_position(13);
         /// RPDO2 mapping parameter: Number of mapped objects (1601h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
         pub const RPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-            0x1601,
-            0x00,
-        );
+                0x1601,
+                0x00,
+            )
+            .at_position(14);
         /// RPDO2 mapping parameter: Mapped object 1 (1601h sub 1: UNSIGNED32, rw, not PDO-mappable; default `553713680`).
         pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
-            0x1601,
-            0x01,
-        );
+                0x1601,
+                0x01,
+            )
+            .at_position(15);
         /// RPDO2 mapping parameter: Mapped object 2 (1601h sub 2: UNSIGNED32, rw, not PDO-mappable; default `553648400`).
         pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
-            0x1601,
-            0x02,
-        );
+                0x1601,
+                0x02,
+            )
+            .at_position(16);
         /// RPDO2 mapping parameter: Mapped object 3 (1601h sub 3: UNSIGNED32, rw, not PDO-mappable; default `553648656`).
         pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
-            0x1601,
-            0x03,
-        );
+                0x1601,
+                0x03,
+            )
+            .at_position(17);
         /// RPDO2 mapping parameter: Mapped object 4 (1601h sub 4: UNSIGNED32, rw, not PDO-mappable; default `553648912`).
         pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
-            0x1601,
-            0x04,
-        );
+                0x1601,
+                0x04,
+            )
+            .at_position(18);
         /// TPDO2 communication parameter: Highest sub-index supported (1801h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
         pub const TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
-            0x1801,
-            0x00,
-        );
+                0x1801,
+                0x00,
+            )
+            .at_position(19);
         /// TPDO2 communication parameter: COB-ID (1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`).
         pub const TPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32> = Entry::new(
-            0x1801,
-            0x01,
-        );
+                0x1801,
+                0x01,
+            )
+            .at_position(20);
         /// TPDO2 communication parameter: Transmission type (1801h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
         pub const TPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<u8> = Entry::new(
-            0x1801,
-            0x02,
-        );
+                0x1801,
+                0x02,
+            )
+            .at_position(21);
         /// TPDO2 mapping parameter: Number of mapped objects (1A01h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
         pub const TPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-            0x1A01,
-            0x00,
-        );
+                0x1A01,
+                0x00,
+            )
+            .at_position(22);
         /// TPDO2 mapping parameter: Mapped object 1 (1A01h sub 1: UNSIGNED32, rw, not PDO-mappable; default `536936464`).
         pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
-            0x1A01,
-            0x01,
-        );
+                0x1A01,
+                0x01,
+            )
+            .at_position(23);
         /// TPDO2 mapping parameter: Mapped object 2 (1A01h sub 2: UNSIGNED32, rw, not PDO-mappable; default `536871184`).
         pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
-            0x1A01,
-            0x02,
-        );
+                0x1A01,
+                0x02,
+            )
+            .at_position(24);
         /// TPDO2 mapping parameter: Mapped object 3 (1A01h sub 3: UNSIGNED32, rw, not PDO-mappable; default `536871440`).
         pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
-            0x1A01,
-            0x03,
-        );
+                0x1A01,
+                0x03,
+            )
+            .at_position(25);
         /// TPDO2 mapping parameter: Mapped object 4 (1A01h sub 4: UNSIGNED32, rw, not PDO-mappable; default `536871696`).
         pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
-            0x1A01,
-            0x04,
-        );
+                0x1A01,
+                0x04,
+            )
+            .at_position(26);
         /// TPDO3 mapping parameter: Number of mapped objects (1A02h sub 0: UNSIGNED8, rw, not PDO-mappable; default `5`).
         pub const TPDO3_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-            0x1A02,
-            0x00,
-        );
+                0x1A02,
+                0x00,
+            )
+            .at_position(27);
         /// TPDO3 mapping parameter: Mapped object 1 (1A02h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537001988`).
         pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
-            0x1A02,
-            0x01,
-        );
+                0x1A02,
+                0x01,
+            )
+            .at_position(28);
         /// TPDO3 mapping parameter: Mapped object 2 (1A02h sub 2: UNSIGNED32, rw, not PDO-mappable; default `327684`).
         pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
-            0x1A02,
-            0x02,
-        );
+                0x1A02,
+                0x02,
+            )
+            .at_position(29);
         /// TPDO3 mapping parameter: Mapped object 3 (1A02h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537067800`).
         pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
-            0x1A02,
-            0x03,
-        );
+                0x1A02,
+                0x03,
+            )
+            .at_position(30);
         /// TPDO3 mapping parameter: Mapped object 4 (1A02h sub 4: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
         pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
-            0x1A02,
-            0x04,
-        );
+                0x1A02,
+                0x04,
+            )
+            .at_position(31);
         /// TPDO3 mapping parameter: Mapped object 5 (1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
         pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_5: Entry<u32> = Entry::new(
-            0x1A02,
-            0x05,
-        );
+                0x1A02,
+                0x05,
+            )
+            .at_position(32);
         /// TPDO4 mapping parameter: Number of mapped objects (1A03h sub 0: UNSIGNED8, rw, not PDO-mappable; default `3`).
         pub const TPDO4_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-            0x1A03,
-            0x00,
-        );
+                0x1A03,
+                0x00,
+            )
+            .at_position(33);
         /// TPDO4 mapping parameter: Mapped object 1 (1A03h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
         pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
-            0x1A03,
-            0x01,
-        );
+                0x1A03,
+                0x01,
+            )
+            .at_position(34);
         /// TPDO4 mapping parameter: Mapped object 2 (1A03h sub 2: UNSIGNED32, rw, not PDO-mappable; default `537264160`).
         pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
-            0x1A03,
-            0x02,
-        );
+                0x1A03,
+                0x02,
+            )
+            .at_position(35);
         /// TPDO4 mapping parameter: Mapped object 3 (1A03h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
         pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
-            0x1A03,
-            0x03,
-        );
+                0x1A03,
+                0x03,
+            )
+            .at_position(36);
         /// Returned values: Number of entries (2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(
-            0x2000,
-            0x00,
-        );
+        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x2000, 0x00)
+            .at_position(37);
         /// Returned values: Returned value 1 (2000h sub 1: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16> = Entry::new(
-            0x2000,
-            0x01,
-        );
+        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16> = Entry::new(0x2000, 0x01)
+            .at_position(38);
         /// Returned values: Returned value 2 (2000h sub 2: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16> = Entry::new(
-            0x2000,
-            0x02,
-        );
+        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16> = Entry::new(0x2000, 0x02)
+            .at_position(39);
         /// Returned values: Returned value 3 (2000h sub 3: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16> = Entry::new(
-            0x2000,
-            0x03,
-        );
+        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16> = Entry::new(0x2000, 0x03)
+            .at_position(40);
         /// Returned values: Returned value 4 (2000h sub 4: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16> = Entry::new(
-            0x2000,
-            0x04,
-        );
+        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16> = Entry::new(0x2000, 0x04)
+            .at_position(41);
         /// Status word (2001h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const STATUS_WORD: Entry<u16> = Entry::new(0x2001, 0x00);
+        pub const STATUS_WORD: Entry<u16> = Entry::new(0x2001, 0x00).at_position(42);
         /// Nibble (2002h sub 0: UNSIGNED8, ro, PDO-mappable; default `0`).
-        pub const NIBBLE: Entry<u8> = Entry::new(0x2002, 0x00);
+        pub const NIBBLE: Entry<u8> = Entry::new(0x2002, 0x00).at_position(43);
         /// Sparse record: Highest sub-index supported (2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`).
         pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
-            0x2003,
-            0x00,
-        );
+                0x2003,
+                0x00,
+            )
+            .at_position(44);
         /// Sparse record: Signed 24 (2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`).
         pub const SPARSE_RECORD_SIGNED_24: Entry<i32> = Entry::with_width(
-            0x2003,
-            0x01,
-            3,
-        );
+                0x2003,
+                0x01,
+                3,
+            )
+            .at_position(45);
         /// Sparse record: type (2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`).
-        pub const SPARSE_RECORD_TYPE: Entry<i8> = Entry::new(0x2003, 0x02);
+        pub const SPARSE_RECORD_TYPE: Entry<i8> = Entry::new(0x2003, 0x02)
+            .at_position(46);
         /// Sparse record: Big (2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`).
-        pub const SPARSE_RECORD_BIG: Entry<u64> = Entry::new(0x2003, 0x05);
+        pub const SPARSE_RECORD_BIG: Entry<u64> = Entry::new(0x2003, 0x05)
+            .at_position(47);
         /// Flag (2004h sub 0: BOOLEAN, rw, PDO-mappable; default `1`).
-        pub const FLAG: Entry<bool> = Entry::new(0x2004, 0x00);
+        pub const FLAG: Entry<bool> = Entry::new(0x2004, 0x00).at_position(48);
         /// Gain (2005h sub 0: REAL32, rw, not PDO-mappable; default `1.5`).
-        pub const GAIN: Entry<f32> = Entry::new(0x2005, 0x00);
+        pub const GAIN: Entry<f32> = Entry::new(0x2005, 0x00).at_position(49);
         /// Tag (2006h sub 0: OCTET_STRING, rw, PDO-mappable, capacity 32 bytes; default `01020304`).
-        pub const TAG: Entry<FixedBytes<32>> = Entry::new(0x2006, 0x00);
+        pub const TAG: Entry<FixedBytes<32>> = Entry::new(0x2006, 0x00).at_position(50);
         /// Settings: Number of entries (2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x2100, 0x00);
+        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x2100, 0x00)
+            .at_position(51);
         /// Settings: Setting 1 (2100h sub 1: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_1: Entry<u16> = Entry::new(0x2100, 0x01);
+        pub const SETTINGS_SETTING_1: Entry<u16> = Entry::new(0x2100, 0x01)
+            .at_position(52);
         /// Settings: Setting 2 (2100h sub 2: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_2: Entry<u16> = Entry::new(0x2100, 0x02);
+        pub const SETTINGS_SETTING_2: Entry<u16> = Entry::new(0x2100, 0x02)
+            .at_position(53);
         /// Settings: Setting 3 (2100h sub 3: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_3: Entry<u16> = Entry::new(0x2100, 0x03);
+        pub const SETTINGS_SETTING_3: Entry<u16> = Entry::new(0x2100, 0x03)
+            .at_position(54);
         /// Settings: Setting 4 (2100h sub 4: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_4: Entry<u16> = Entry::new(0x2100, 0x04);
+        pub const SETTINGS_SETTING_4: Entry<u16> = Entry::new(0x2100, 0x04)
+            .at_position(55);
         /// Control word (2101h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const CONTROL_WORD: Entry<u16> = Entry::new(0x2101, 0x00);
+        pub const CONTROL_WORD: Entry<u16> = Entry::new(0x2101, 0x00).at_position(56);
         /// Setting limited (2102h sub 0: UNSIGNED16, rw, PDO-mappable; default `100`; limits `10` to `5000`).
-        pub const SETTING_LIMITED: Entry<u16> = Entry::new(0x2102, 0x00);
+        pub const SETTING_LIMITED: Entry<u16> = Entry::new(0x2102, 0x00).at_position(57);
         /// Controlword (6040h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const CONTROLWORD: Entry<u16> = Entry::new(0x6040, 0x00);
+        pub const CONTROLWORD: Entry<u16> = Entry::new(0x6040, 0x00).at_position(58);
         /// Status word (6041h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const STATUS_WORD_6041: Entry<u16> = Entry::new(0x6041, 0x00);
+        pub const STATUS_WORD_6041: Entry<u16> = Entry::new(0x6041, 0x00)
+            .at_position(59);
     }
     /// Typed PDOs: one struct per default mapping of the description.
     pub mod pdo {

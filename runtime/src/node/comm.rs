@@ -201,7 +201,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
                 .find(index, sub)?
                 .data_type
                 .fixed_size()
-                .map_or(true, |size| size == data.len());
+                .is_none_or(|size| size == data.len());
             if length_ok && !self.check(index, sub, data)? {
                 return Ok(());
             }

@@ -1,0 +1,505 @@
+//! The value image: how a generated object dictionary stores its values.
+//!
+//! A generated `Od` keeps every value in one byte array, little-endian, at an offset fixed at
+//! generation time: a fixed-size value in exactly its wire size; a string, octet string or domain
+//! as its current length (2 bytes) followed by room for its capacity. A [`Layout`] in flash (the
+//! descriptors, each entry's offset and the LowLimit/HighLimit table) then serves every entry with
+//! one table-driven read and one write: no code per entry. On a microcontroller that is the
+//! difference between a few hundred bytes of flash and two match arms per entry (about 16 bytes
+//! each); the SDO server and the PDOs move bytes without knowing types, and the application's
+//! typed [`Layout::get`]/[`Layout::set`] go through the same checks as an SDO write.
+
+use crate::entry::{Entry, OdValue};
+use crate::od::{DataType, EntryDescriptor, SdoAbort};
+use crate::typed::{position, read_bytes};
+
+/// An entry's LowLimit and HighLimit, as bits the way the value image stores values (two's
+/// complement, IEEE 754). Writes compare integer keys with the numeric order of the entry's data
+/// type, so no floating-point code is needed (a Cortex-M4F has no double-precision unit).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limit {
+    low: u64,
+    high: u64,
+}
+
+impl Limit {
+    /// The limits of an unsigned integer (or TIME_OF_DAY/TIME_DIFFERENCE) entry.
+    pub const fn unsigned(low: u64, high: u64) -> Self {
+        Limit { low, high }
+    }
+
+    /// The limits of a signed integer entry.
+    pub const fn signed(low: i64, high: i64) -> Self {
+        Limit {
+            low: low as u64,
+            high: high as u64,
+        }
+    }
+
+    /// The limits of a REAL32 entry. A NaN limit allows everything on its side.
+    pub const fn real32(low: f32, high: f32) -> Self {
+        Limit {
+            low: low.to_bits() as u64,
+            high: high.to_bits() as u64,
+        }
+    }
+
+    /// The limits of a REAL64 entry. A NaN limit allows everything on its side.
+    pub const fn real64(low: f64, high: f64) -> Self {
+        Limit {
+            low: low.to_bits(),
+            high: high.to_bits(),
+        }
+    }
+
+    /// Checks the little-endian `data` of a `data_type` value (exactly its size, at most 8
+    /// bytes): `ValueTooLow` below the low limit, `ValueTooHigh` above the high one. A NaN
+    /// value passes, as it compares neither below nor above.
+    fn check(self, data_type: DataType, data: &[u8]) -> Result<(), SdoAbort> {
+        let mut wide = [0u8; 8];
+        let n = data.len().min(8);
+        wide[..n].copy_from_slice(&data[..n]);
+        let bits = (n * 8) as u32;
+        let key = |raw: u64| order_key(data_type, raw, bits);
+        let Some(value) = key(u64::from_le_bytes(wide)) else {
+            return Ok(());
+        };
+        if key(self.low).is_some_and(|low| value < low) {
+            return Err(SdoAbort::ValueTooLow);
+        }
+        if key(self.high).is_some_and(|high| value > high) {
+            return Err(SdoAbort::ValueTooHigh);
+        }
+        Ok(())
+    }
+}
+
+/// A key whose unsigned order is the numeric order of `raw` read as a `bits`-bit value of
+/// `data_type`; `None` for a NaN.
+fn order_key(data_type: DataType, raw: u64, bits: u32) -> Option<u64> {
+    let sign = 1u64 << (bits - 1);
+    let mask = u64::MAX >> (64 - bits);
+    let raw = raw & mask;
+    match data_type {
+        DataType::Real32 | DataType::Real64 => {
+            let magnitude = raw & !sign;
+            let exponent_all_ones = if bits == 32 {
+                0x7F80_0000
+            } else {
+                0x7FF0_0000_0000_0000
+            };
+            if magnitude > exponent_all_ones {
+                None
+            } else if magnitude == 0 {
+                // -0 and +0 are equal.
+                Some(sign)
+            } else if raw & sign != 0 {
+                Some(!raw & mask)
+            } else {
+                Some(raw | sign)
+            }
+        }
+        DataType::Integer8
+        | DataType::Integer16
+        | DataType::Integer24
+        | DataType::Integer32
+        | DataType::Integer40
+        | DataType::Integer48
+        | DataType::Integer56
+        | DataType::Integer64 => Some(raw ^ sign),
+        _ => Some(raw),
+    }
+}
+
+/// Where each entry's value lives in a value image, and what a write must respect.
+#[derive(Debug)]
+pub struct Layout {
+    entries: &'static [EntryDescriptor],
+    offsets: &'static [u16],
+    limits: &'static [(u16, Limit)],
+}
+
+impl Layout {
+    /// The layout of `entries` (sorted by index and sub-index), whose values start at
+    /// `offsets[i]` in the image; `limits` holds (position, limits) for the entries that have
+    /// limits, sorted by position.
+    pub const fn new(
+        entries: &'static [EntryDescriptor],
+        offsets: &'static [u16],
+        limits: &'static [(u16, Limit)],
+    ) -> Self {
+        Layout {
+            entries,
+            offsets,
+            limits,
+        }
+    }
+
+    /// Every entry's descriptor, sorted by (index, sub-index).
+    pub const fn entries(&self) -> &'static [EntryDescriptor] {
+        self.entries
+    }
+
+    /// The descriptor of the entry at `position` and where its value starts in the image.
+    fn place(&self, position: usize) -> Result<(&'static EntryDescriptor, usize), SdoAbort> {
+        match (self.entries.get(position), self.offsets.get(position)) {
+            (Some(entry), Some(&start)) => Ok((entry, usize::from(start))),
+            _ => Err(SdoAbort::NoObject),
+        }
+    }
+
+    /// The bytes of the value at `position`: a fixed-size value's wire bytes, a string's or
+    /// domain's current bytes.
+    pub fn value<'v>(&self, values: &'v [u8], position: usize) -> Result<&'v [u8], SdoAbort> {
+        let (entry, start) = self.place(position)?;
+        let range = match entry.data_type.fixed_size() {
+            Some(size) => start..start + size,
+            None => {
+                let len = match values.get(start..start + 2) {
+                    Some(&[low, high]) => usize::from(u16::from_le_bytes([low, high])),
+                    _ => 0,
+                };
+                start + 2..start + 2 + len
+            }
+        };
+        values.get(range).ok_or(SdoAbort::NoObject)
+    }
+
+    /// `ObjectDictionary::read_at`: copies the value's bytes from `offset` on into `buf`.
+    pub fn read(
+        &self,
+        values: &[u8],
+        position: usize,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, SdoAbort> {
+        Ok(read_bytes(self.value(values, position)?, offset, buf))
+    }
+
+    /// `ObjectDictionary::write_at`: replaces the value at `position` with `data`. A fixed-size
+    /// value takes exactly its size (`LengthTooHigh`/`LengthTooLow`), a BOOLEAN only 0 or 1
+    /// (`InvalidValue`), a limited value only what its limits allow (`ValueTooLow`/
+    /// `ValueTooHigh`); a string, octet string or domain at most its capacity (`LengthTooHigh`).
+    /// On error the image is unchanged.
+    pub fn write(&self, values: &mut [u8], position: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        let (entry, start) = self.place(position)?;
+        let (target, data_start) = match entry.data_type.fixed_size() {
+            Some(size) => {
+                if data.len() != size {
+                    return Err(length_abort(data.len() > size));
+                }
+                if entry.data_type == DataType::Boolean && data[0] > 1 {
+                    return Err(SdoAbort::InvalidValue);
+                }
+                if let Some(limit) = self.limit(position) {
+                    limit.check(entry.data_type, data)?;
+                }
+                (values.get_mut(start..start + size), 0)
+            }
+            None => {
+                if data.len() > usize::from(entry.size) {
+                    return Err(SdoAbort::LengthTooHigh);
+                }
+                (values.get_mut(start..start + 2 + data.len()), 2)
+            }
+        };
+        let target = target.ok_or(SdoAbort::NoObject)?;
+        if data_start == 2 {
+            target[..2].copy_from_slice(&(data.len() as u16).to_le_bytes());
+        }
+        target[data_start..].copy_from_slice(data);
+        Ok(())
+    }
+
+    /// `ObjectDictionary::value_len`: the current length of the value at `position`.
+    pub fn value_len(&self, values: &[u8], position: usize) -> Result<usize, SdoAbort> {
+        Ok(self.value(values, position)?.len())
+    }
+
+    /// The limits of the entry at `position`, if it has any.
+    fn limit(&self, position: usize) -> Option<Limit> {
+        let found = self
+            .limits
+            .binary_search_by_key(&position, |&(p, _)| usize::from(p))
+            .ok()?;
+        self.limits.get(found).map(|&(_, limit)| limit)
+    }
+
+    /// The position of `entry`: the one generated code recorded in it when that is right (a
+    /// comparison the compiler folds away for a constant entry), else a search.
+    fn position_of<T>(&self, entry: &Entry<T>) -> Result<usize, SdoAbort> {
+        if let Some(hint) = entry.position() {
+            if self
+                .entries
+                .get(hint)
+                .is_some_and(|e| e.index == entry.index && e.sub == entry.sub)
+            {
+                return Ok(hint);
+            }
+        }
+        position(self.entries, entry.index, entry.sub)
+    }
+
+    /// The value of `entry`, typed; `None` if this dictionary has no such entry or its value
+    /// does not decode as `T`.
+    #[inline]
+    pub fn get<T: OdValue>(&self, values: &[u8], entry: Entry<T>) -> Option<T> {
+        let position = self.position_of(&entry).ok()?;
+        entry.decode(self.value(values, position).ok()?)
+    }
+
+    /// Sets `entry` to `value`, with the checks of an SDO write (lengths, BOOLEAN, limits; a
+    /// value that does not fit an odd-width entry is `InvalidValue`) but not access rights: the
+    /// application may set a read-only entry. On error the image is unchanged.
+    #[inline]
+    pub fn set<T: OdValue>(
+        &self,
+        values: &mut [u8],
+        entry: Entry<T>,
+        value: &T,
+    ) -> Result<(), SdoAbort> {
+        let position = self.position_of(&entry)?;
+        let (descriptor, start) = self.place(position)?;
+        if descriptor.data_type.fixed_size().is_some() {
+            let mut scratch = [0u8; 8];
+            let len = entry
+                .encode(value, &mut scratch)
+                .ok_or(SdoAbort::InvalidValue)?;
+            return self.write(values, position, &scratch[..len]);
+        }
+        // Encoded in place: `encode` writes nothing when the value does not fit.
+        let capacity = usize::from(descriptor.size);
+        let room = values
+            .get_mut(start + 2..start + 2 + capacity)
+            .ok_or(SdoAbort::NoObject)?;
+        let len = entry.encode(value, room).ok_or(SdoAbort::LengthTooHigh)?;
+        values[start..start + 2].copy_from_slice(&(len as u16).to_le_bytes());
+        Ok(())
+    }
+}
+
+/// `LengthTooHigh` for too many bytes, else `LengthTooLow`.
+fn length_abort(too_long: bool) -> SdoAbort {
+    if too_long {
+        SdoAbort::LengthTooHigh
+    } else {
+        SdoAbort::LengthTooLow
+    }
+}
+
+/// Stores the low `width` bytes of `raw`, little-endian, at `offset`: how a generated `Od`
+/// builds its default image at compile time.
+pub const fn put_le(values: &mut [u8], offset: usize, raw: u64, width: usize) {
+    let bytes = raw.to_le_bytes();
+    let mut i = 0;
+    while i < width {
+        values[offset + i] = bytes[i];
+        i += 1;
+    }
+}
+
+/// Stores a string's, octet string's or domain's length and `bytes` at `offset`.
+pub const fn put_bytes(values: &mut [u8], offset: usize, bytes: &[u8]) {
+    put_le(values, offset, bytes.len() as u64, 2);
+    let mut i = 0;
+    while i < bytes.len() {
+        values[offset + 2 + i] = bytes[i];
+        i += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::od::Access;
+    use crate::typed::FixedBytes;
+
+    use DataType as D;
+    const fn e(index: u16, sub: u8, data_type: DataType, size: u16) -> EntryDescriptor {
+        EntryDescriptor::new(index, sub, data_type, Access::Rw, true, size)
+    }
+
+    /// 2000h u16 (limited 10..=500), 2001h i24 (limited -100..=100), 2002h bool, 2003h REAL32
+    /// (limited -1.5..=2.5), 2004h REAL64 (limited to 0.0.. with a NaN high limit), 2005h a
+    /// 4-byte string, 2006h u8.
+    static ENTRIES: [EntryDescriptor; 7] = [
+        e(0x2000, 0, D::Unsigned16, 2),
+        e(0x2001, 0, D::Integer24, 3),
+        e(0x2002, 0, D::Boolean, 1),
+        e(0x2003, 0, D::Real32, 4),
+        e(0x2004, 0, D::Real64, 8),
+        e(0x2005, 0, D::VisibleString, 4),
+        e(0x2006, 0, D::Unsigned8, 1),
+    ];
+    static OFFSETS: [u16; 7] = [0, 2, 5, 6, 10, 18, 24];
+    static LIMITS: [(u16, Limit); 4] = [
+        (0, Limit::unsigned(10, 500)),
+        (1, Limit::signed(-100, 100)),
+        (3, Limit::real32(-1.5, 2.5)),
+        (4, Limit::real64(0.0, f64::NAN)),
+    ];
+    static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &LIMITS);
+
+    fn image() -> [u8; 25] {
+        let mut values = [0u8; 25];
+        put_le(&mut values, 0, 100, 2);
+        put_bytes(&mut values, 18, b"ab");
+        values
+    }
+
+    #[test]
+    fn reads_fixed_values_and_the_current_bytes_of_strings() {
+        let values = image();
+        assert_eq!(LAYOUT.value(&values, 0), Ok(&[100, 0][..]));
+        assert_eq!(LAYOUT.value(&values, 5), Ok(&b"ab"[..]));
+        assert_eq!(LAYOUT.value_len(&values, 5), Ok(2));
+        let mut buf = [0u8; 1];
+        assert_eq!(LAYOUT.read(&values, 5, 1, &mut buf), Ok(1));
+        assert_eq!(buf, [b'b']);
+        assert_eq!(
+            LAYOUT.read(&values, 7, 0, &mut buf),
+            Err(SdoAbort::NoObject)
+        );
+    }
+
+    #[test]
+    fn writes_check_length_boolean_and_capacity_and_leave_the_image_alone_on_error() {
+        let mut values = image();
+        let before = values;
+        assert_eq!(
+            LAYOUT.write(&mut values, 0, &[1, 2, 3]),
+            Err(SdoAbort::LengthTooHigh)
+        );
+        assert_eq!(
+            LAYOUT.write(&mut values, 0, &[1]),
+            Err(SdoAbort::LengthTooLow)
+        );
+        assert_eq!(
+            LAYOUT.write(&mut values, 2, &[2]),
+            Err(SdoAbort::InvalidValue)
+        );
+        assert_eq!(
+            LAYOUT.write(&mut values, 5, b"abcde"),
+            Err(SdoAbort::LengthTooHigh)
+        );
+        assert_eq!(values, before);
+        assert_eq!(LAYOUT.write(&mut values, 5, b"wxyz"), Ok(()));
+        assert_eq!(LAYOUT.value(&values, 5), Ok(&b"wxyz"[..]));
+        assert_eq!(LAYOUT.write(&mut values, 5, b""), Ok(()));
+        assert_eq!(LAYOUT.value(&values, 5), Ok(&b""[..]));
+        assert_eq!(LAYOUT.write(&mut values, 2, &[1]), Ok(()));
+        assert_eq!(values[5], 1);
+        assert_eq!(values[6..18], before[6..18]);
+    }
+
+    #[test]
+    fn limits_order_unsigned_signed_and_real_values_numerically() {
+        let mut values = image();
+        let write = |values: &mut [u8], position, data: &[u8]| LAYOUT.write(values, position, data);
+        assert_eq!(
+            write(&mut values, 0, &9u16.to_le_bytes()),
+            Err(SdoAbort::ValueTooLow)
+        );
+        assert_eq!(
+            write(&mut values, 0, &501u16.to_le_bytes()),
+            Err(SdoAbort::ValueTooHigh)
+        );
+        assert_eq!(write(&mut values, 0, &500u16.to_le_bytes()), Ok(()));
+        // INTEGER24: -101 is FF FF 9B, below -100; -100 and 100 are in.
+        assert_eq!(
+            write(&mut values, 1, &[0x9B, 0xFF, 0xFF]),
+            Err(SdoAbort::ValueTooLow)
+        );
+        assert_eq!(write(&mut values, 1, &[0x9C, 0xFF, 0xFF]), Ok(()));
+        assert_eq!(
+            write(&mut values, 1, &[101, 0, 0]),
+            Err(SdoAbort::ValueTooHigh)
+        );
+        assert_eq!(write(&mut values, 1, &[100, 0, 0]), Ok(()));
+        let real32 = |f: f32| f.to_le_bytes();
+        assert_eq!(
+            write(&mut values, 3, &real32(-1.75)),
+            Err(SdoAbort::ValueTooLow)
+        );
+        assert_eq!(write(&mut values, 3, &real32(-1.5)), Ok(()));
+        assert_eq!(write(&mut values, 3, &real32(-0.0)), Ok(()));
+        assert_eq!(write(&mut values, 3, &real32(2.5)), Ok(()));
+        assert_eq!(
+            write(&mut values, 3, &real32(2.75)),
+            Err(SdoAbort::ValueTooHigh)
+        );
+        assert_eq!(
+            write(&mut values, 3, &real32(f32::INFINITY)),
+            Err(SdoAbort::ValueTooHigh)
+        );
+        assert_eq!(
+            write(&mut values, 3, &real32(f32::NAN)),
+            Ok(()),
+            "NaN compares neither way"
+        );
+        // REAL64 from 0.0 (so -0.0 is in) with no high limit (NaN).
+        assert_eq!(write(&mut values, 4, &(-0.0f64).to_le_bytes()), Ok(()));
+        assert_eq!(
+            write(&mut values, 4, &(-1e-300f64).to_le_bytes()),
+            Err(SdoAbort::ValueTooLow)
+        );
+        assert_eq!(write(&mut values, 4, &f64::MAX.to_le_bytes()), Ok(()));
+        assert_eq!(write(&mut values, 6, &[255]), Ok(()), "no limits");
+    }
+
+    #[test]
+    fn typed_get_and_set_use_the_position_hint_or_search() {
+        let mut values = image();
+        let hinted: Entry<u16> = Entry::new(0x2000, 0).at_position(0);
+        let wrong_hint: Entry<u16> = Entry::new(0x2000, 0).at_position(3);
+        let plain: Entry<u16> = Entry::new(0x2000, 0);
+        assert_eq!(LAYOUT.get(&values, hinted), Some(100));
+        assert_eq!(LAYOUT.get(&values, wrong_hint), Some(100));
+        assert_eq!(LAYOUT.get(&values, plain), Some(100));
+        assert_eq!(
+            LAYOUT.set(&mut values, plain, &501),
+            Err(SdoAbort::ValueTooHigh)
+        );
+        assert_eq!(LAYOUT.set(&mut values, wrong_hint, &42), Ok(()));
+        assert_eq!(LAYOUT.get(&values, hinted), Some(42));
+        let absent: Entry<u16> = Entry::new(0x3000, 0);
+        assert_eq!(LAYOUT.get(&values, absent), None);
+        assert_eq!(LAYOUT.set(&mut values, absent, &1), Err(SdoAbort::NoObject));
+        let i24: Entry<i32> = Entry::with_width(0x2001, 0, 3);
+        assert_eq!(LAYOUT.set(&mut values, i24, &-100), Ok(()));
+        assert_eq!(LAYOUT.get(&values, i24), Some(-100));
+        assert_eq!(
+            LAYOUT.set(&mut values, i24, &(1 << 23)),
+            Err(SdoAbort::InvalidValue)
+        );
+        let text: Entry<FixedBytes<4>> = Entry::new(0x2005, 0);
+        assert_eq!(
+            LAYOUT.set(&mut values, text, &FixedBytes::from_slice(b"xyz")),
+            Ok(())
+        );
+        assert_eq!(LAYOUT.get(&values, text).map(|t| t.len()), Some(3));
+        let long: Entry<FixedBytes<8>> = Entry::new(0x2005, 0);
+        let before = values;
+        assert_eq!(
+            LAYOUT.set(&mut values, long, &FixedBytes::from_slice(b"toolong")),
+            Err(SdoAbort::LengthTooHigh)
+        );
+        assert_eq!(values, before);
+        // A wrongly typed entry at the right address: the length abort of an SDO write.
+        let wide: Entry<u32> = Entry::new(0x2006, 0);
+        assert_eq!(
+            LAYOUT.set(&mut values, wide, &1),
+            Err(SdoAbort::LengthTooHigh)
+        );
+        assert_eq!(LAYOUT.get(&values, wide), None);
+    }
+
+    #[test]
+    fn entries_compare_without_their_position_hint() {
+        let a: Entry<u16> = Entry::new(0x2000, 0).at_position(0);
+        let b: Entry<u16> = Entry::new(0x2000, 0);
+        assert_eq!(a, b);
+        assert_eq!(a.position(), Some(0));
+        assert_eq!(b.position(), None);
+    }
+}
