@@ -358,3 +358,53 @@ fn access_by_position_agrees_with_access_by_address_for_every_entry() {
     assert_eq!(by_address.locate(0x6000, 0), Err(SdoAbort::NoObject));
     assert_eq!(by_address.locate(0x1018, 9), Err(SdoAbort::NoSubIndex));
 }
+
+/// The application's typed access: `set` checks like an SDO write but allows read-only entries,
+/// and `get` agrees with what the protocols read.
+#[test]
+fn typed_get_and_set_check_like_an_sdo_write() {
+    let mut dict = Od::new(3);
+    assert_eq!(dict.set(od::SETTING_LIMITED, 9), Err(SdoAbort::ValueTooLow));
+    assert_eq!(
+        dict.set(od::SETTING_LIMITED, 5001),
+        Err(SdoAbort::ValueTooHigh)
+    );
+    assert_eq!(dict.get(od::SETTING_LIMITED), Some(100));
+    assert_eq!(dict.set(od::SETTING_LIMITED, 4321), Ok(()));
+    assert_eq!(read_all(&dict, 0x2102, 0), 4321u16.to_le_bytes().to_vec());
+    // 1018h sub 1 is read-only for an SDO client, not for the application.
+    assert_eq!(dict.set(od::IDENTITY_OBJECT_VENDOR_ID, 0x1234), Ok(()));
+    assert_eq!(read_all(&dict, 0x1018, 1), vec![0x34, 0x12, 0, 0]);
+    assert_eq!(
+        dict.set(od::SPARSE_RECORD_SIGNED_24, 1 << 23),
+        Err(SdoAbort::InvalidValue)
+    );
+    assert_eq!(dict.set(od::SPARSE_RECORD_SIGNED_24, -(1 << 23)), Ok(()));
+    assert_eq!(read_all(&dict, 0x2003, 1), vec![0x00, 0x00, 0x80]);
+    let version = edsgen_runtime::FixedBytes::from_slice(b"3.1");
+    assert_eq!(dict.set(od::MANUFACTURER_HARDWARE_VERSION, version), Ok(()));
+    assert_eq!(read_all(&dict, 0x1009, 0), b"3.1".to_vec());
+    assert_eq!(dict.set(od::GAIN, -0.5), Ok(()));
+    assert_eq!(read_all(&dict, 0x2005, 0), (-0.5f32).to_le_bytes().to_vec());
+    // An address of another device: found by (index, sub) despite its recorded position.
+    let foreign: edsgen_runtime::Entry<u16> = edsgen_runtime::Entry::new(0x6040, 0).at_position(0);
+    assert_eq!(dict.set(foreign, 0x0F), Ok(()));
+    assert_eq!(dict.get(od::CONTROLWORD), Some(0x0F));
+}
+
+/// The position each typed address records is its entry's position in `ENTRIES`.
+#[test]
+fn typed_addresses_record_their_positions() {
+    let dict = Od::new(3);
+    let positions = [
+        (od::CONTROLWORD.position(), 0x6040, 0),
+        (od::STATUS_WORD_6041.position(), 0x6041, 0),
+        (od::IDENTITY_OBJECT_VENDOR_ID.position(), 0x1018, 1),
+        (od::SPARSE_RECORD_SIGNED_24.position(), 0x2003, 1),
+        (od::SETTINGS_SETTING_3.position(), 0x2100, 3),
+        (od::MANUFACTURER_DEVICE_NAME.position(), 0x1008, 0),
+    ];
+    for (recorded, index, sub) in positions {
+        assert_eq!(recorded, dict.locate(index, sub).ok(), "{index:04X}h sub {sub}");
+    }
+}

@@ -152,15 +152,14 @@ impl Layout {
     /// domain's current bytes.
     pub fn value<'v>(&self, values: &'v [u8], position: usize) -> Result<&'v [u8], SdoAbort> {
         let (entry, start) = self.place(position)?;
-        let range = match entry.data_type.fixed_size() {
-            Some(size) => start..start + size,
-            None => {
-                let len = match values.get(start..start + 2) {
-                    Some(&[low, high]) => usize::from(u16::from_le_bytes([low, high])),
-                    _ => 0,
-                };
-                start + 2..start + 2 + len
-            }
+        let range = if holds_bytes(entry.data_type) {
+            let len = match values.get(start..start + 2) {
+                Some(&[low, high]) => usize::from(u16::from_le_bytes([low, high])),
+                _ => 0,
+            };
+            start + 2..start + 2 + len
+        } else {
+            start..start + usize::from(entry.size)
         };
         values.get(range).ok_or(SdoAbort::NoObject)
     }
@@ -183,31 +182,32 @@ impl Layout {
     /// On error the image is unchanged.
     pub fn write(&self, values: &mut [u8], position: usize, data: &[u8]) -> Result<(), SdoAbort> {
         let (entry, start) = self.place(position)?;
-        let (target, data_start) = match entry.data_type.fixed_size() {
-            Some(size) => {
-                if data.len() != size {
-                    return Err(length_abort(data.len() > size));
-                }
-                if entry.data_type == DataType::Boolean && data[0] > 1 {
-                    return Err(SdoAbort::InvalidValue);
-                }
-                if let Some(limit) = self.limit(position) {
-                    limit.check(entry.data_type, data)?;
-                }
-                (values.get_mut(start..start + size), 0)
+        let size = usize::from(entry.size);
+        if holds_bytes(entry.data_type) {
+            if data.len() > size {
+                return Err(SdoAbort::LengthTooHigh);
             }
-            None => {
-                if data.len() > usize::from(entry.size) {
-                    return Err(SdoAbort::LengthTooHigh);
-                }
-                (values.get_mut(start..start + 2 + data.len()), 2)
-            }
-        };
-        let target = target.ok_or(SdoAbort::NoObject)?;
-        if data_start == 2 {
-            target[..2].copy_from_slice(&(data.len() as u16).to_le_bytes());
+            let target = values
+                .get_mut(start..start + 2 + data.len())
+                .ok_or(SdoAbort::NoObject)?;
+            let (len, bytes) = target.split_at_mut(2);
+            len.copy_from_slice(&(data.len() as u16).to_le_bytes());
+            bytes.copy_from_slice(data);
+            return Ok(());
         }
-        target[data_start..].copy_from_slice(data);
+        if data.len() != size {
+            return Err(length_abort(data.len() > size));
+        }
+        if entry.data_type == DataType::Boolean && data[0] > 1 {
+            return Err(SdoAbort::InvalidValue);
+        }
+        if let Some(limit) = self.limit(position) {
+            limit.check(entry.data_type, data)?;
+        }
+        let target = values
+            .get_mut(start..start + size)
+            .ok_or(SdoAbort::NoObject)?;
+        target.copy_from_slice(data);
         Ok(())
     }
 
@@ -260,7 +260,7 @@ impl Layout {
     ) -> Result<(), SdoAbort> {
         let position = self.position_of(&entry)?;
         let (descriptor, start) = self.place(position)?;
-        if descriptor.data_type.fixed_size().is_some() {
+        if !holds_bytes(descriptor.data_type) {
             let mut scratch = [0u8; 8];
             let len = entry
                 .encode(value, &mut scratch)
@@ -276,6 +276,18 @@ impl Layout {
         values[start..start + 2].copy_from_slice(&(len as u16).to_le_bytes());
         Ok(())
     }
+}
+
+/// Whether a value of `data_type` is a string, octet string or domain (its descriptor's size is
+/// its capacity), rather than a fixed-size value (its size is the wire size).
+fn holds_bytes(data_type: DataType) -> bool {
+    matches!(
+        data_type,
+        DataType::VisibleString
+            | DataType::OctetString
+            | DataType::UnicodeString
+            | DataType::Domain
+    )
 }
 
 /// `LengthTooHigh` for too many bytes, else `LengthTooLow`.
