@@ -1,5 +1,6 @@
 //! Code generation and generated code, per call: generating the biggest corpus file, typed PDO
-//! encode/decode, and OD read/write through the generated `ObjectDictionary` implementation.
+//! encode/decode, OD read/write through the generated `ObjectDictionary` implementation, and the
+//! typed `get`/`set`.
 //!
 //! Each figure has a baseline measured in the same run (the `baseline:` functions): reading and
 //! validating the same file for generation, and the same work written by hand, without any
@@ -16,7 +17,7 @@ use edsgen_runtime::ObjectDictionary;
 mod generated {
     include!("../tests/generated/gd350.rs");
 }
-use generated::gd350::{pdo, Od};
+use generated::gd350::{od as address, pdo, Od};
 
 /// The corpus files, biggest first.
 fn corpus_by_size() -> Vec<PathBuf> {
@@ -129,8 +130,18 @@ fn od_access(c: &mut Criterion) {
     c.bench_function("OD write with limits 2102h", |b| {
         b.iter(|| od.write(black_box(0x2102), black_box(0), black_box(&[0x64, 0x00])))
     });
+    // The application's typed access by a constant address (no search: the position is known).
+    c.bench_function("typed get od::CONTROLWORD", |b| {
+        b.iter(|| black_box(&od).get(address::CONTROLWORD))
+    });
+    c.bench_function("typed set od::CONTROLWORD", |b| {
+        b.iter(|| black_box(&mut od).set(address::CONTROLWORD, black_box(0x0F)))
+    });
     // The same accesses as a hand-written match, with no access, length or limit checks.
     let mut fields = HandWritten::default();
+    c.bench_function("baseline: plain field load u16", |b| {
+        b.iter(|| black_box(&fields).controlword)
+    });
     c.bench_function("baseline: hand-written write u16", |b| {
         b.iter(|| fields.write(black_box(0x6040), black_box(0), black_box(&[0x0F, 0x00])))
     });

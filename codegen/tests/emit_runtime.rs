@@ -405,6 +405,10 @@ fn typed_addresses_record_their_positions() {
         (od::MANUFACTURER_DEVICE_NAME.position(), 0x1008, 0),
     ];
     for (recorded, index, sub) in positions {
-        assert_eq!(recorded, dict.locate(index, sub).ok(), "{index:04X}h sub {sub}");
+        assert_eq!(
+            recorded,
+            dict.locate(index, sub).ok(),
+            "{index:04X}h sub {sub}"
+        );
     }
 }

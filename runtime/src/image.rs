@@ -141,6 +141,7 @@ impl Layout {
     }
 
     /// The descriptor of the entry at `position` and where its value starts in the image.
+    #[inline]
     fn place(&self, position: usize) -> Result<(&'static EntryDescriptor, usize), SdoAbort> {
         match (self.entries.get(position), self.offsets.get(position)) {
             (Some(entry), Some(&start)) => Ok((entry, usize::from(start))),
@@ -150,6 +151,7 @@ impl Layout {
 
     /// The bytes of the value at `position`: a fixed-size value's wire bytes, a string's or
     /// domain's current bytes.
+    #[inline]
     pub fn value<'v>(&self, values: &'v [u8], position: usize) -> Result<&'v [u8], SdoAbort> {
         let (entry, start) = self.place(position)?;
         let range = if holds_bytes(entry.data_type) {
@@ -227,6 +229,7 @@ impl Layout {
 
     /// The position of `entry`: the one generated code recorded in it when that is right (a
     /// comparison the compiler folds away for a constant entry), else a search.
+    #[inline]
     fn position_of<T>(&self, entry: &Entry<T>) -> Result<usize, SdoAbort> {
         if let Some(hint) = entry.position() {
             if self
