@@ -1,6 +1,6 @@
-//! What generated device code builds on: fixed-capacity byte strings, the byte conversions behind
-//! a generated `ObjectDictionary::read`/`write` (lengths, odd-width integers, limits), and the bit
-//! packing of typed PDO payloads. Everything here is `no_std`, allocation-free and panic-free.
+//! What generated device code builds on besides the value image ([`crate::image`]): fixed-capacity
+//! byte strings, the entry search, odd-width integer helpers, and the bit packing of typed PDO
+//! payloads. Everything here is `no_std`, allocation-free and panic-free.
 
 use crate::od::{EntryDescriptor, SdoAbort};
 
@@ -95,92 +95,6 @@ pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
     n
 }
 
-/// The first `len` little-endian bytes of `raw`, in `scratch` (`len` is clamped to 8): the wire
-/// form of a fixed-size value for `ObjectDictionary::read`.
-#[inline]
-pub fn le(scratch: &mut [u8; 8], raw: u64, len: usize) -> &[u8] {
-    *scratch = raw.to_le_bytes();
-    &scratch[..len.min(8)]
-}
-
-/// Exactly `N` bytes of `data`: `LengthTooHigh` if longer, `LengthTooLow` if shorter.
-#[inline]
-pub fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], SdoAbort> {
-    if data.len() > N {
-        return Err(SdoAbort::LengthTooHigh);
-    }
-    data.try_into().map_err(|_| SdoAbort::LengthTooLow)
-}
-
-/// A fixed-size number that a generated `ObjectDictionary::write` decodes from exactly its own
-/// width of little-endian bytes.
-pub trait LeNumber: Sized {
-    /// The value of `data`: `LengthTooHigh` if longer than the type, `LengthTooLow` if shorter.
-    fn from_le(data: &[u8]) -> Result<Self, SdoAbort>;
-}
-
-macro_rules! le_numbers {
-    ($($ty:ty),*) => {$(
-        impl LeNumber for $ty {
-            #[inline]
-            fn from_le(data: &[u8]) -> Result<Self, SdoAbort> {
-                Ok(<$ty>::from_le_bytes(exact(data)?))
-            }
-        }
-    )*};
-}
-le_numbers!(u8, u16, u32, u64, i8, i16, i32, i64, f32, f64);
-
-/// Stores `data` into `field` (exactly the type's width, else the length abort and `field`
-/// unchanged): the write of a plain number in a generated `ObjectDictionary::write`.
-///
-/// Never inlined: there is one copy per number type, and each entry's match arm stays a call.
-#[inline(never)]
-pub fn store<T: LeNumber>(field: &mut T, data: &[u8]) -> Result<(), SdoAbort> {
-    *field = T::from_le(data)?;
-    Ok(())
-}
-
-/// An unsigned integer of exactly `N` little-endian bytes (`N` ≤ 8).
-#[inline]
-pub fn uint_le<const N: usize>(data: &[u8]) -> Result<u64, SdoAbort> {
-    let bytes = exact::<N>(data)?;
-    let mut wide = [0u8; 8];
-    let n = N.min(8);
-    wide[..n].copy_from_slice(&bytes[..n]);
-    Ok(u64::from_le_bytes(wide))
-}
-
-/// A signed (two's complement) integer of exactly `N` little-endian bytes (`N` ≤ 8).
-#[inline]
-pub fn int_le<const N: usize>(data: &[u8]) -> Result<i64, SdoAbort> {
-    let raw = uint_le::<N>(data)?;
-    Ok(sign_extend(raw, (N.min(8) * 8) as u32))
-}
-
-/// A BOOLEAN from exactly one byte: 0 is false, 1 is true, anything else `InvalidValue`.
-#[inline]
-pub fn boolean(data: &[u8]) -> Result<bool, SdoAbort> {
-    match exact::<1>(data)? {
-        [0] => Ok(false),
-        [1] => Ok(true),
-        _ => Err(SdoAbort::InvalidValue),
-    }
-}
-
-/// Checks `value` against LowLimit/HighLimit: `ValueTooLow` below `low`, `ValueTooHigh` above
-/// `high`.
-#[inline]
-pub fn check_limits<T: PartialOrd>(value: T, low: T, high: T) -> Result<T, SdoAbort> {
-    if value < low {
-        Err(SdoAbort::ValueTooLow)
-    } else if value > high {
-        Err(SdoAbort::ValueTooHigh)
-    } else {
-        Ok(value)
-    }
-}
-
 /// Where (index, sub) is in `entries` (sorted by index, then sub-index): a generated `read` or
 /// `write` dispatches on this position. `NoObject` if the index is absent, `NoSubIndex` if only
 /// the sub-index is.
@@ -205,21 +119,6 @@ pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usiz
         Some(e) if key(e) == wanted => Ok(base),
         _ if entries.iter().any(|e| e.index == index) => Err(SdoAbort::NoSubIndex),
         _ => Err(SdoAbort::NoObject),
-    }
-}
-
-/// The abort for an (index, sub) that is not in `entries`: `NoSubIndex` when the index exists,
-/// else `NoObject`.
-pub fn missing(entries: &[EntryDescriptor], index: u16, sub: u8) -> SdoAbort {
-    if entries.iter().any(|e| e.index == index) {
-        if entries.iter().any(|e| e.index == index && e.sub == sub) {
-            // Described but not served: cannot happen in generated code, report it generally.
-            SdoAbort::General
-        } else {
-            SdoAbort::NoSubIndex
-        }
-    } else {
-        SdoAbort::NoObject
     }
 }
 
@@ -378,13 +277,6 @@ mod tests {
     }
 
     #[test]
-    fn exact_length_aborts() {
-        assert_eq!(exact::<2>(&[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
-        assert_eq!(exact::<2>(&[1]), Err(SdoAbort::LengthTooLow));
-        assert_eq!(exact::<2>(&[1, 2]), Ok([1, 2]));
-    }
-
-    #[test]
     fn position_finds_entries_and_tells_missing_index_from_sub() {
         use crate::od::{Access, DataType};
         let entries = [
@@ -438,26 +330,9 @@ mod tests {
     }
 
     #[test]
-    fn store_takes_exactly_the_width() {
-        let mut field = 7u16;
-        assert_eq!(store(&mut field, &[1, 2, 3]), Err(SdoAbort::LengthTooHigh));
-        assert_eq!(store(&mut field, &[1]), Err(SdoAbort::LengthTooLow));
-        assert_eq!(field, 7);
-        assert_eq!(store(&mut field, &[0x34, 0x12]), Ok(()));
-        assert_eq!(field, 0x1234);
-        let mut real = 0f32;
-        assert_eq!(store(&mut real, &1.5f32.to_le_bytes()), Ok(()));
-        assert_eq!(real, 1.5);
-        let mut signed = 0i8;
-        assert_eq!(store(&mut signed, &[0xFF]), Ok(()));
-        assert_eq!(signed, -1);
-    }
-
-    #[test]
     fn odd_width_integers_sign_extend() {
-        assert_eq!(int_le::<3>(&[0xFF, 0xFF, 0xFF]), Ok(-1));
-        assert_eq!(int_le::<3>(&[0xFF, 0xFF, 0x7F]), Ok(0x7F_FFFF));
-        assert_eq!(uint_le::<5>(&[1, 0, 0, 0, 0x80]), Ok(0x80_0000_0001));
+        assert_eq!(sign_extend(0xFF_FFFF, 24), -1);
+        assert_eq!(sign_extend(0x7F_FFFF, 24), 0x7F_FFFF);
         assert!(fits_signed(-8_388_608, 24) && !fits_signed(8_388_608, 24));
         assert!(fits_unsigned(0xFF_FFFF, 24) && !fits_unsigned(0x100_0000, 24));
     }
@@ -470,12 +345,5 @@ mod tests {
         assert_eq!(s.as_bytes(), b"ab");
         assert_eq!(s.set(b"wxyz"), Ok(()));
         assert_eq!(s.len(), 4);
-    }
-
-    #[test]
-    fn limits_pick_the_right_abort() {
-        assert_eq!(check_limits(5, 10, 20), Err(SdoAbort::ValueTooLow));
-        assert_eq!(check_limits(25, 10, 20), Err(SdoAbort::ValueTooHigh));
-        assert_eq!(check_limits(15, 10, 20), Ok(15));
     }
 }
