@@ -1,5 +1,5 @@
 //! Bytes to text: UTF-8 (with or without BOM), else Windows-1252, and which one it was, plus the
-//! facts about the text that the EDS002 diagnostic needs, and [`LineIndex`], which turns the byte
+//! facts about the text that the EDS002 diagnostic needs, and `LineIndex`, which turns the byte
 //! ranges of the XML and TOML parsers into spans.
 
 use crate::model::{Span, TextEncoding};
