@@ -153,6 +153,19 @@ pub(crate) fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant
     }
 }
 
+/// The next time of a periodic timer that was due `at`: one `period` later, or one period from
+/// `now` if that is already past (the caller was late by a period or more). Not inlined: the
+/// heartbeat producer and the SYNC producer share one copy.
+#[inline(never)]
+fn next_period(at: Instant, period: Duration, now: Instant) -> Instant {
+    let next = at + period;
+    if next <= now {
+        now + period
+    } else {
+        next
+    }
+}
+
 /// Reads an unsigned value of up to 4 bytes, zero-extended.
 pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u8) -> Option<u32> {
     let mut bytes = [0u8; 4];
@@ -1030,12 +1043,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if let Some(at) = ec.next_heartbeat {
             if at <= now {
                 ec.heartbeat_due = true;
-                let next = at + ec.producer_period;
-                ec.next_heartbeat = Some(if next <= now {
-                    now + ec.producer_period
-                } else {
-                    next
-                });
+                ec.next_heartbeat = Some(next_period(at, ec.producer_period, now));
             }
         }
         for n in 0..ec.consumer_count {
@@ -1066,12 +1074,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if let Some(at) = self.sync.next {
             if at <= now {
-                let next = at + self.sync.period;
-                self.sync.next = Some(if next <= now {
-                    now + self.sync.period
-                } else {
-                    next
-                });
+                self.sync.next = Some(next_period(at, self.sync.period, now));
                 let counter = (self.sync.overflow != 0).then(|| {
                     self.sync.counter = if self.sync.counter >= self.sync.overflow {
                         1
