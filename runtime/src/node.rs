@@ -316,7 +316,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             state: NmtState::Initialising,
             boot_up_due: false,
             sdo: [SdoChannel::new(), SdoChannel::new()],
-            error_control: ErrorControl::default(),
+            error_control: ErrorControl::off(),
             sync: SyncState::default(),
             emcy: Emcy::default(),
             rpdos: [Rpdo::default(); RPDOS],
@@ -477,7 +477,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
         self.configure_sdo();
-        self.error_control = ErrorControl::default();
+        self.error_control = ErrorControl::off();
         self.error_control.configure_producer(&self.od, now);
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);

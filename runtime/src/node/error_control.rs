@@ -42,6 +42,14 @@ pub(crate) struct ErrorControl {
 }
 
 impl ErrorControl {
+    /// Nothing configured, nothing monitored: the state before reset communication reads
+    /// 1016h, 1017h, 100Ch and 100Dh. Not inlined: power-on and every reset communication share
+    /// one copy of the zeroing of the consumer table.
+    #[inline(never)]
+    pub fn off() -> Self {
+        ErrorControl::default()
+    }
+
     /// Reads 1017h; a change takes effect at once: the next heartbeat is one period from `now`.
     pub fn configure_producer<O: ObjectDictionary + ?Sized>(&mut self, od: &O, now: Instant) {
         let ms = read_uint(od, 0x1017, 0).unwrap_or(0);
