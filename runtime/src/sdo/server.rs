@@ -530,25 +530,21 @@ impl<const N: usize> SdoServer<N> {
             index: mux.index,
             sub: mux.sub,
         };
-        match payload {
-            InitiatePayload::Expedited { data, len } => {
-                let len = usize::from(len).min(data.len());
-                od.write_at(position, &data[..len])?;
-                self.respond(ServerResponse::InitiateDownload { mux });
-                Ok(Some(written))
-            }
+        let (data, len) = match payload {
+            InitiatePayload::Expedited { data, len } => (data, usize::from(len).min(data.len())),
             InitiatePayload::ExpeditedUnsized { data } => {
                 let len = usize::from(entry.size);
                 if !(1..=data.len()).contains(&len) {
                     return Err(SdoAbort::LengthMismatch);
                 }
-                od.write_at(position, &data[..len])?;
-                self.respond(ServerResponse::InitiateDownload { mux });
-                Ok(Some(written))
+                (data, len)
             }
-            InitiatePayload::Sized(size) => self.start_download(mux, &entry, Some(size)),
-            InitiatePayload::Unsized => self.start_download(mux, &entry, None),
-        }
+            InitiatePayload::Sized(size) => return self.start_download(mux, &entry, Some(size)),
+            InitiatePayload::Unsized => return self.start_download(mux, &entry, None),
+        };
+        od.write_at(position, &data[..len])?;
+        self.respond(ServerResponse::InitiateDownload { mux });
+        Ok(Some(written))
     }
 
     fn start_download(
