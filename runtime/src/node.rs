@@ -485,8 +485,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.configure_sync();
         self.sync.counter = 0;
         for n in 0..RPDOS {
-            self.rpdos[n] = Rpdo::load(&self.od, n as u16);
-            if let Some(reason) = self.rpdos[n].rejected {
+            if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: false,
                     pdo: n as u16,
@@ -495,8 +494,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         for n in 0..TPDOS {
-            self.tpdos[n] = Tpdo::load(&self.od, n as u16);
-            if let Some(reason) = self.tpdos[n].rejected {
+            if let Some(reason) = self.tpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: true,
                     pdo: n as u16,
@@ -592,8 +590,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
-                    let (deadline, timed_out) = (self.rpdos[n].deadline, self.rpdos[n].timed_out);
-                    let mut rpdo = Rpdo::load(&self.od, n as u16);
+                    let rpdo = &mut self.rpdos[n];
+                    let (deadline, timed_out) = (rpdo.deadline, rpdo.timed_out);
+                    rpdo.load(&self.od, n as u16);
                     // A valid PDO keeps its deadline monitoring across other changes (its
                     // transmission type). A new event timer stops it: CiA 301 activates the
                     // monitoring with the next reception after the event timer is configured.
@@ -601,7 +600,6 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                         rpdo.deadline = deadline;
                         rpdo.timed_out = timed_out;
                     }
-                    self.rpdos[n] = rpdo;
                     if timed_out && !rpdo.timed_out {
                         self.end_rpdo_timeout();
                     }
@@ -610,21 +608,23 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1800..=0x1BFF => {
                 let n = usize::from((index - 0x1800) & 0x1FF);
                 if n < TPDOS {
-                    let mut tpdo = Tpdo::load(&self.od, n as u16);
+                    let tpdo = &mut self.tpdos[n];
+                    let (last_sent, last_data, was_enabled) =
+                        (tpdo.last_sent, tpdo.last_data, tpdo.enabled);
+                    tpdo.load(&self.od, n as u16);
                     // A running PDO keeps its timing history across a change of its event
                     // timer or transmission type.
-                    tpdo.last_sent = self.tpdos[n].last_sent;
-                    tpdo.last_data = self.tpdos[n].last_data;
+                    tpdo.last_sent = last_sent;
+                    tpdo.last_data = last_data;
                     if self.state == NmtState::Operational && tpdo.enabled {
                         if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
                             tpdo.event_deadline = Some(now + tpdo.event_timer);
                         }
-                        if tpdo.event_driven() && !self.tpdos[n].enabled {
+                        if tpdo.event_driven() && !was_enabled {
                             tpdo.pending = true;
                             self.tpdo_attention = true;
                         }
                     }
-                    self.tpdos[n] = tpdo;
                 }
             }
             _ => {}
