@@ -499,18 +499,13 @@ impl<const N: usize> SdoServer<N> {
         Ok(())
     }
 
-    /// Writes the collected download to the dictionary.
+    /// Writes the collected download (`len` bytes, checked by the caller against the announced
+    /// size, the entry and the buffer) to the dictionary.
     fn commit<O: ObjectDictionary + ?Sized>(
         &mut self,
         len: usize,
-        size: Option<u32>,
-        entry_size: usize,
         od: &mut O,
     ) -> Result<SdoEvent, SdoAbort> {
-        Self::check_received(len, size, entry_size)?;
-        if size.is_some_and(|size| len != size as usize) {
-            return Err(SdoAbort::LengthMismatch);
-        }
         let data = self.buffer.get(..len).ok_or(SdoAbort::OutOfMemory)?;
         od.write(self.mux.index, self.mux.sub, data)?;
         Ok(SdoEvent::Written {
@@ -584,7 +579,10 @@ impl<const N: usize> SdoServer<N> {
             .copy_from_slice(bytes);
         download.len = end;
         let event = if last {
-            let event = self.commit(end, download.size, download.entry_size, od)?;
+            if download.size.is_some_and(|size| end != size as usize) {
+                return Err(SdoAbort::LengthMismatch);
+            }
+            let event = self.commit(end, od)?;
             self.transfer = Transfer::Idle;
             Some(event)
         } else {
@@ -767,7 +765,7 @@ impl<const N: usize> SdoServer<N> {
                 return Err(SdoAbort::CrcError);
             }
         }
-        let event = self.commit(len, block.size, block.entry_size, od)?;
+        let event = self.commit(len, od)?;
         self.transfer = Transfer::Idle;
         self.respond(ServerResponse::BlockDownloadEnd);
         Ok(Some(event))
