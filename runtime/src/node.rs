@@ -845,9 +845,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         for n in 0..RPDOS {
             if let Some(data) = self.rpdos[n].buffered.take() {
-                let mapping = self.rpdos[n].mapping;
-                mapping.unpack(&mut self.od, &data);
-                if self.rpdos[n].feeds_tpdo {
+                let rpdo = &self.rpdos[n];
+                rpdo.mapping.unpack(&mut self.od, &data);
+                if rpdo.feeds_tpdo {
+                    let mapping = rpdo.mapping;
                     for object in mapping.objects() {
                         self.mark_changed(object.index, object.sub);
                     }
