@@ -142,14 +142,15 @@ impl<O: ?Sized> NodeHooks<O> for () {}
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct InvalidNodeId(pub u8);
 
-/// The earlier of two optional instants (either one when the other is `None`). Not inlined:
-/// [`Node::poll_timeout`] calls it once per timer, and one copy keeps that small in flash.
+/// Lowers `next` to `at` if `at` is earlier (or `next` is `None`). Not inlined, and `at` by
+/// reference: [`Node::poll_timeout`] calls it once per timer, mostly with a field, and one copy
+/// keeps that small in flash.
 #[inline(never)]
-pub(crate) fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
-    match (a, b) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, None) => a,
-        (None, b) => b,
+pub(crate) fn keep_earliest(next: &mut Option<Instant>, at: &Option<Instant>) {
+    if let Some(at) = *at {
+        if next.map_or(true, |next| at < next) {
+            *next = Some(at);
+        }
     }
 }
 
@@ -1008,28 +1009,27 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
         let mut next = self.error_control.next_deadline();
-        let mut consider = |at: Option<Instant>| next = earliest(next, at);
-        consider(self.sync.next);
-        consider(self.sync.timeout);
+        keep_earliest(&mut next, &self.sync.next);
+        keep_earliest(&mut next, &self.sync.timeout);
         if self.state != NmtState::Stopped {
-            consider(self.emcy.ready_at());
+            keep_earliest(&mut next, &self.emcy.ready_at());
         }
         if self.state == NmtState::Operational {
             for rpdo in &self.rpdos {
-                consider(rpdo.deadline);
+                keep_earliest(&mut next, &rpdo.deadline);
             }
             for tpdo in &self.tpdos {
                 if !tpdo.enabled || !tpdo.event_driven() {
                     continue;
                 }
-                consider(tpdo.event_deadline);
+                keep_earliest(&mut next, &tpdo.event_deadline);
                 if tpdo.pending {
-                    consider(tpdo.last_sent.map(|sent| sent + tpdo.inhibit));
+                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit));
                 }
             }
         }
         for channel in &self.sdo {
-            consider(channel.server.poll_timeout());
+            keep_earliest(&mut next, &channel.server.poll_timeout());
         }
         next
     }

@@ -119,12 +119,11 @@ impl ErrorControl {
     }
 
     pub fn next_deadline(&self) -> Option<Instant> {
-        #[cfg(feature = "node-guarding")]
-        let mut next = super::earliest(self.next_heartbeat, self.guarding.life_deadline);
-        #[cfg(not(feature = "node-guarding"))]
         let mut next = self.next_heartbeat;
+        #[cfg(feature = "node-guarding")]
+        super::keep_earliest(&mut next, &self.guarding.life_deadline);
         for consumer in self.consumers.iter().take(self.consumer_count) {
-            next = super::earliest(next, consumer.deadline);
+            super::keep_earliest(&mut next, &consumer.deadline);
         }
         next
     }
