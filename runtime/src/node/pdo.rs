@@ -253,11 +253,18 @@ pub(crate) struct Rpdo {
 }
 
 impl Rpdo {
+    /// A PDO that does not exist (yet): nothing configured, nothing received. Not inlined: one
+    /// copy for power-on and [`Rpdo::load`].
+    #[inline(never)]
+    pub fn off() -> Rpdo {
+        Rpdo::default()
+    }
+
     /// Reads the configuration of RPDO `n` (1400h + n, 1600h + n) into this PDO, in place, and
     /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
-        *self = Rpdo::default();
+        *self = Rpdo::off();
         let comm = 0x1400 + n;
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
@@ -311,11 +318,18 @@ pub(crate) struct Tpdo {
 }
 
 impl Tpdo {
+    /// A PDO that does not exist (yet): nothing configured, nothing running. Not inlined: one
+    /// copy for power-on and [`Tpdo::load`].
+    #[inline(never)]
+    pub fn off() -> Tpdo {
+        Tpdo::default()
+    }
+
     /// Reads the configuration of TPDO `n` (1800h + n, 1A00h + n) into this PDO, in place, and
     /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
-        *self = Tpdo::default();
+        *self = Tpdo::off();
         let comm = 0x1800 + n;
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
