@@ -174,6 +174,18 @@ fn one_byte_frame(id: u16, byte: u8, len: u8) -> CanFrame {
     CanFrame::from_parts(id, u64::from(byte).to_le_bytes(), len)
 }
 
+/// Reads an unsigned value of up to 4 bytes, zero-extended, or `default` if the OD does not have
+/// it. Not inlined: the node reads some twenty configuration values this way.
+#[inline(never)]
+pub(crate) fn read_uint_or<O: ObjectDictionary + ?Sized>(
+    od: &O,
+    index: u16,
+    sub: u8,
+    default: u32,
+) -> u32 {
+    read_uint(od, index, sub).unwrap_or(default)
+}
+
 /// Reads an unsigned value of up to 4 bytes, zero-extended.
 pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u8) -> Option<u32> {
     let mut bytes = [0u8; 4];
@@ -536,8 +548,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             let present = self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok();
             let (rx, tx) = if present {
                 (
-                    read_uint(&self.od, index, 1).unwrap_or(defaults[n].0),
-                    read_uint(&self.od, index, 2).unwrap_or(defaults[n].1),
+                    read_uint_or(&self.od, index, 1, defaults[n].0),
+                    read_uint_or(&self.od, index, 2, defaults[n].1),
                 )
             } else {
                 defaults[n]
@@ -550,12 +562,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     fn configure_sync(&mut self) {
-        let cob = CobIdEntry(read_uint(&self.od, 0x1005, 0).unwrap_or(0x80));
+        let cob = CobIdEntry(read_uint_or(&self.od, 0x1005, 0, 0x80));
         self.sync.cob_id = cob.can_id();
         self.sync.producer = cob.bit30() && !cob.extended();
-        self.sync.period = Duration(u64::from(read_uint(&self.od, 0x1006, 0).unwrap_or(0)));
-        self.sync.window = Duration(u64::from(read_uint(&self.od, 0x1007, 0).unwrap_or(0)));
-        self.sync.overflow = read_uint(&self.od, 0x1019, 0).unwrap_or(0) as u8;
+        self.sync.period = Duration(u64::from(read_uint_or(&self.od, 0x1006, 0, 0)));
+        self.sync.window = Duration(u64::from(read_uint_or(&self.od, 0x1007, 0, 0)));
+        self.sync.overflow = read_uint_or(&self.od, 0x1019, 0, 0) as u8;
     }
 
     fn restart_sync_producer(&mut self, now: Instant) {

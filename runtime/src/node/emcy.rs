@@ -2,7 +2,7 @@
 //! the pre-defined error field (1003h), and the queue of emergencies waiting for the inhibit time
 //! (1015h).
 
-use super::read_uint;
+use super::{read_uint, read_uint_or};
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
 use crate::wire::emcy::EmcyRepr;
@@ -70,8 +70,7 @@ impl Emcy {
             read_uint(od, 0x1014, 0).map_or(CobIdEntry(0x80 + u32::from(node_id)), CobIdEntry);
         self.cob_id = cob.can_id();
         self.enabled = cob.valid() && !cob.extended();
-        self.inhibit =
-            Duration::from_micros(u64::from(read_uint(od, 0x1015, 0).unwrap_or(0)) * 100);
+        self.inhibit = Duration::from_micros(u64::from(read_uint_or(od, 0x1015, 0, 0)) * 100);
         self.history_len = od
             .entries()
             .iter()
@@ -202,7 +201,7 @@ impl Emcy {
         if self.history_len == 0 {
             return;
         }
-        let count = (read_uint(od, 0x1003, 0).unwrap_or(0) as u8).min(self.history_len);
+        let count = (read_uint_or(od, 0x1003, 0, 0) as u8).min(self.history_len);
         let kept = count.min(self.history_len - 1);
         for sub in (1..=kept).rev() {
             if let Some(older) = read_uint(od, 0x1003, sub) {

@@ -268,8 +268,8 @@ impl Rpdo {
         let comm = 0x1400 + n;
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
-        self.transmission = super::read_uint(od, comm, 2).unwrap_or(255) as u8;
-        self.event_timer_ms = super::read_uint(od, comm, 5).unwrap_or(0) as u16;
+        self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
+        self.event_timer_ms = super::read_uint_or(od, comm, 5, 0) as u16;
         match load_mapping(od, 0x1600 + n, Direction::Receive) {
             Ok(mapping) => {
                 self.mapping = mapping;
@@ -334,12 +334,10 @@ impl Tpdo {
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
         self.rtr_allowed = !cob.bit30();
-        self.transmission = super::read_uint(od, comm, 2).unwrap_or(255) as u8;
-        self.inhibit =
-            Duration::from_micros(u64::from(super::read_uint(od, comm, 3).unwrap_or(0)) * 100);
-        self.event_timer =
-            Duration::from_millis(u64::from(super::read_uint(od, comm, 5).unwrap_or(0)));
-        self.sync_start = super::read_uint(od, comm, 6).unwrap_or(0) as u8;
+        self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
+        self.inhibit = Duration::from_micros(u64::from(super::read_uint_or(od, comm, 3, 0)) * 100);
+        self.event_timer = Duration::from_millis(u64::from(super::read_uint_or(od, comm, 5, 0)));
+        self.sync_start = super::read_uint_or(od, comm, 6, 0) as u8;
         match load_mapping(od, 0x1A00 + n, Direction::Transmit) {
             Ok(mapping) => {
                 self.mapping = mapping;
