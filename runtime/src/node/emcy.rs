@@ -66,8 +66,7 @@ pub(crate) struct Emcy {
 impl Emcy {
     /// Reads 1014h, 1015h and the size of 1003h (reset communication or an SDO write).
     pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, node_id: u8) {
-        let cob =
-            read_uint(od, 0x1014, 0).map_or(CobIdEntry(0x80 + u32::from(node_id)), CobIdEntry);
+        let cob = CobIdEntry(read_uint_or(od, 0x1014, 0, 0x80 + u32::from(node_id)));
         self.cob_id = cob.can_id();
         self.enabled = cob.valid() && !cob.extended();
         self.inhibit = Duration::from_micros(u64::from(read_uint_or(od, 0x1015, 0, 0)) * 100);
