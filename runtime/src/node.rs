@@ -516,7 +516,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         self.link_pdos();
-        self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);
+        // 8210h and 8220h were forgotten with the other communication errors above.
+        self.length_error_raised = false;
         self.boot_up_due = true;
         self.set_state(NmtState::PreOperational, now);
     }
