@@ -745,13 +745,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 match tpdo.transmission {
                     252 => {
                         if let Some(sample) = tpdo.rtr_sample {
-                            tpdo.data = Some(sample);
+                            tpdo.data = sample;
+                            tpdo.sampled = true;
                             tpdo.pending = true;
                             self.tpdo_attention = true;
                         }
                     }
                     _ => {
-                        tpdo.data = None;
+                        tpdo.sampled = false;
                         tpdo.pending = true;
                         self.tpdo_attention = true;
                     }
@@ -916,7 +917,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 _ => false,
             };
             if send {
-                tpdo.data = Some(tpdo.mapping.pack(&self.od));
+                tpdo.data = tpdo.mapping.pack(&self.od);
+                tpdo.sampled = true;
                 tpdo.pending = true;
                 self.tpdo_attention = true;
                 tpdo.sync_deadline = window_end;
@@ -994,7 +996,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 if now > deadline {
                     // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
                     tpdo.pending = false;
-                    tpdo.data = None;
+                    tpdo.sampled = false;
                     tpdo.sync_deadline = None;
                     continue;
                 }
@@ -1002,10 +1004,11 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if tpdo.event_driven() && !tpdo.inhibit_passed(now) {
                 continue;
             }
-            let data = tpdo
-                .data
-                .take()
-                .unwrap_or_else(|| tpdo.mapping.pack(&self.od));
+            let data = if core::mem::take(&mut tpdo.sampled) {
+                tpdo.data
+            } else {
+                tpdo.mapping.pack(&self.od)
+            };
             tpdo.pending = false;
             tpdo.sync_deadline = None;
             tpdo.last_data = data;

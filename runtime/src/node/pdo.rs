@@ -297,9 +297,12 @@ pub(crate) struct Tpdo {
     pub event_timer: Duration,
     pub sync_start: u8,
     pub mapping: Mapping,
-    /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous).
+    /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous,
+    /// `sampled`). A flag beside a plain array rather than an `Option`, which keeps the array
+    /// word-aligned (it is copied into a frame as whole words).
     pub pending: bool,
-    pub data: Option<[u8; 8]>,
+    pub sampled: bool,
+    pub data: [u8; 8],
     /// For synchronous PDOs: the latest sample (252) and the window deadline.
     pub sync_deadline: Option<Instant>,
     /// Type 0: an event occurred since the last SYNC.
@@ -356,7 +359,7 @@ impl Tpdo {
     /// Forgets everything a running PDO accumulated (leaving operational, reconfiguring).
     pub fn stop(&mut self) {
         self.pending = false;
-        self.data = None;
+        self.sampled = false;
         self.rtr_sample = None;
         self.sync_deadline = None;
         self.acyclic_request = false;
