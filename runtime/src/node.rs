@@ -1062,8 +1062,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 ec.next_heartbeat = Some(next_period(at, ec.producer_period, now));
             }
         }
-        for n in 0..ec.consumer_count {
-            let consumer = &mut ec.consumers[n];
+        for consumer in ec.consumers.iter_mut().take(ec.consumer_count) {
             if consumer.deadline.is_some_and(|at| at <= now) {
                 consumer.deadline = None;
                 self.events.push(Event::HeartbeatLost {

@@ -111,7 +111,7 @@ impl ErrorControl {
 
     /// Restarts a watched node's timer when its heartbeat (or boot-up) arrives.
     pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) {
-        for consumer in &mut self.consumers[..self.consumer_count] {
+        for consumer in self.consumers.iter_mut().take(self.consumer_count) {
             if consumer.node_id == node_id {
                 consumer.deadline = Some(now + consumer.period);
             }
