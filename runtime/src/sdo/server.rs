@@ -351,6 +351,13 @@ impl<const N: usize> SdoServer<N> {
         request: &[u8],
         od: &mut O,
     ) -> Handled {
+        // Without block transfer, a command specifier above 4 (5 and 6: block transfers, 7: not
+        // defined) is an unknown command. Refused before parsing, so that the parser's
+        // block-transfer branches are not compiled in.
+        #[cfg(not(feature = "sdo-block"))]
+        if request.first().is_some_and(|command| command >> 5 > 4) {
+            return Err(SdoAbort::InvalidCommand);
+        }
         let request = ClientRequest::parse(request).map_err(|_| SdoAbort::InvalidCommand)?;
         match (request, self.transfer) {
             (ClientRequest::Abort { .. }, _) => {
