@@ -842,7 +842,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if now_bad {
                 self.emcy
                     .raise(&mut self.od, code, error_register::COMMUNICATION, info);
-            } else if self.emcy.is_active(code) {
+            } else {
+                // Nothing happens unless it is active.
                 self.emcy.clear(&mut self.od, code);
             }
         }
@@ -853,9 +854,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.events.push(Event::Sync { counter });
         if !self.sync.producer && self.sync.period != Duration::ZERO {
             self.sync.timeout = Some(now + Duration(self.sync.period.as_micros() * 3 / 2));
-            if self.emcy.is_active(SYNC_TIMEOUT_CODE) {
-                self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
-            }
+            // Ends a SYNC timeout error, if one is active.
+            self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
         }
         if self.state != NmtState::Operational {
             return;
