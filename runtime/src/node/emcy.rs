@@ -30,6 +30,13 @@ pub mod error_register {
 pub const MAX_ACTIVE_ERRORS: usize = 8;
 const QUEUE: usize = 4;
 
+/// Writes 1001h (an OD without it, or refusing the value, keeps the node's own register). Not
+/// inlined: raising, clearing and both resets share it.
+#[inline(never)]
+fn write_error_register<O: ObjectDictionary + ?Sized>(od: &mut O, register: u8) {
+    let _ = od.write(0x1001, 0, &[register]);
+}
+
 #[derive(Debug, Clone, Copy, Default)]
 struct ActiveError {
     code: u16,
@@ -124,7 +131,7 @@ impl Emcy {
         self.active[self.active_count] = ActiveError { code, register };
         self.active_count += 1;
         let register = self.register();
-        let _ = od.write(0x1001, 0, &[register]);
+        write_error_register(od, register);
         self.push_history(od, u32::from(code));
         self.enqueue(EmcyRepr {
             code,
@@ -166,7 +173,7 @@ impl Emcy {
             return false;
         }
         let register = self.register();
-        let _ = od.write(0x1001, 0, &[register]);
+        write_error_register(od, register);
         self.enqueue(EmcyRepr {
             code: 0,
             register,
@@ -180,7 +187,7 @@ impl Emcy {
         self.active_count = 0;
         self.queued = 0;
         self.last_sent = None;
-        let _ = od.write(0x1001, 0, &[0]);
+        write_error_register(od, 0);
     }
 
     /// Drops queued emergencies and the inhibit timer (reset communication); the active errors
@@ -188,7 +195,7 @@ impl Emcy {
     pub fn reset_queue<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
         self.queued = 0;
         self.last_sent = None;
-        let _ = od.write(0x1001, 0, &[self.register()]);
+        write_error_register(od, self.register());
     }
 
     /// Queues the "no error" emergency (code 0000h, register 0).
