@@ -13,12 +13,28 @@ pub enum CanId {
 }
 
 /// A classic CAN frame: identifier, 0..=8 data bytes, and the remote-request flag.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CanFrame {
-    id: CanId,
+    /// The identifier, with [`EXTENDED`] set for a 29-bit one: one word rather than a [`CanId`]
+    /// keeps the frame at 16 bytes, which a 32-bit target moves without a `memcpy` call.
+    id: u32,
     len: u8,
     data: [u8; 8],
     rtr: bool,
+}
+
+/// The flag of [`CanFrame`]'s identifier word that marks a 29-bit identifier.
+const EXTENDED: u32 = 1 << 31;
+
+impl core::fmt::Debug for CanFrame {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("CanFrame")
+            .field("id", &self.id())
+            .field("len", &self.len)
+            .field("data", &self.data)
+            .field("rtr", &self.rtr)
+            .finish()
+    }
 }
 
 impl CanFrame {
@@ -30,7 +46,7 @@ impl CanFrame {
         let mut bytes = [0u8; 8];
         bytes[..data.len()].copy_from_slice(data);
         Some(CanFrame {
-            id: CanId::Standard(id),
+            id: id as u32,
             len: data.len() as u8,
             data: bytes,
             rtr: false,
@@ -42,7 +58,7 @@ impl CanFrame {
     #[inline]
     pub const fn from_parts(id: u16, data: [u8; 8], len: u8) -> Self {
         CanFrame {
-            id: CanId::Standard(id & 0x7FF),
+            id: (id & 0x7FF) as u32,
             len: if len > 8 { 8 } else { len },
             data,
             rtr: false,
@@ -52,7 +68,7 @@ impl CanFrame {
     /// A remote-transmission request with an 11-bit identifier and a requested length.
     pub const fn remote(id: u16, len: u8) -> Self {
         CanFrame {
-            id: CanId::Standard(id & 0x7FF),
+            id: (id & 0x7FF) as u32,
             len: if len > 8 { 8 } else { len },
             data: [0; 8],
             rtr: true,
@@ -67,7 +83,7 @@ impl CanFrame {
         let mut bytes = [0u8; 8];
         bytes[..data.len()].copy_from_slice(data);
         Some(CanFrame {
-            id: CanId::Extended(id),
+            id: id | EXTENDED,
             len: data.len() as u8,
             data: bytes,
             rtr: false,
@@ -77,15 +93,20 @@ impl CanFrame {
     /// The identifier.
     #[inline]
     pub const fn id(&self) -> CanId {
-        self.id
+        if self.id & EXTENDED != 0 {
+            CanId::Extended(self.id & !EXTENDED)
+        } else {
+            CanId::Standard(self.id as u16)
+        }
     }
 
     /// The 11-bit identifier, or `None` for an extended frame.
     #[inline]
     pub const fn std_id(&self) -> Option<u16> {
-        match self.id {
-            CanId::Standard(id) => Some(id),
-            CanId::Extended(_) => None,
+        if self.id & EXTENDED != 0 {
+            None
+        } else {
+            Some(self.id as u16)
         }
     }
 
@@ -127,7 +148,7 @@ impl embedded_can::Frame for CanFrame {
         match id.into() {
             embedded_can::Id::Standard(id) => Some(CanFrame::remote(id.as_raw(), dlc as u8)),
             embedded_can::Id::Extended(id) => Some(CanFrame {
-                id: CanId::Extended(id.as_raw()),
+                id: id.as_raw() | EXTENDED,
                 len: dlc as u8,
                 data: [0; 8],
                 rtr: true,
@@ -136,7 +157,7 @@ impl embedded_can::Frame for CanFrame {
     }
 
     fn is_extended(&self) -> bool {
-        matches!(self.id, CanId::Extended(_))
+        self.id & EXTENDED != 0
     }
 
     fn is_remote_frame(&self) -> bool {
@@ -144,7 +165,7 @@ impl embedded_can::Frame for CanFrame {
     }
 
     fn id(&self) -> embedded_can::Id {
-        match self.id {
+        match self.id() {
             // Both constructors mask the identifier, so these conversions cannot fail; fall back
             // to the zero identifier rather than panic.
             CanId::Standard(id) => embedded_can::StandardId::new(id)

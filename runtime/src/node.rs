@@ -142,15 +142,48 @@ impl<O: ?Sized> NodeHooks<O> for () {}
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct InvalidNodeId(pub u8);
 
-/// The earlier of two optional instants (either one when the other is `None`). Not inlined:
-/// [`Node::poll_timeout`] calls it once per timer, and one copy keeps that small in flash.
+/// Lowers `next` to `at` if `at` is earlier (or `next` is `None`). Not inlined, and `at` by
+/// reference: [`Node::poll_timeout`] calls it once per timer, mostly with a field, and one copy
+/// keeps that small in flash.
 #[inline(never)]
-pub(crate) fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
-    match (a, b) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, None) => a,
-        (None, b) => b,
+pub(crate) fn keep_earliest(next: &mut Option<Instant>, at: &Option<Instant>) {
+    if let Some(at) = *at {
+        if next.map_or(true, |next| at < next) {
+            *next = Some(at);
+        }
     }
+}
+
+/// The next time of a periodic timer that was due `at`: one `period` later, or one period from
+/// `now` if that is already past (the caller was late by a period or more). Not inlined: the
+/// heartbeat producer and the SYNC producer share one copy.
+#[inline(never)]
+fn next_period(at: Instant, period: Duration, now: Instant) -> Instant {
+    let next = at + period;
+    if next <= now {
+        now + period
+    } else {
+        next
+    }
+}
+
+/// A frame of at most one data byte (boot-up, heartbeat, node guarding, SYNC). The payload is
+/// built as one integer rather than byte by byte, so that the frames `poll_transmit` returns
+/// from its different branches join as whole words (smaller code on a 32-bit target).
+fn one_byte_frame(id: u16, byte: u8, len: u8) -> CanFrame {
+    CanFrame::from_parts(id, u64::from(byte).to_le_bytes(), len)
+}
+
+/// Reads an unsigned value of up to 4 bytes, zero-extended, or `default` if the OD does not have
+/// it. Not inlined: the node reads some twenty configuration values this way.
+#[inline(never)]
+pub(crate) fn read_uint_or<O: ObjectDictionary + ?Sized>(
+    od: &O,
+    index: u16,
+    sub: u8,
+    default: u32,
+) -> u32 {
+    read_uint(od, index, sub).unwrap_or(default)
 }
 
 /// Reads an unsigned value of up to 4 bytes, zero-extended.
@@ -171,6 +204,8 @@ struct SdoChannel {
 }
 
 impl SdoChannel {
+    /// A channel not configured yet. Not inlined: the node builds two.
+    #[inline(never)]
     const fn new() -> Self {
         SdoChannel {
             server: SdoServer::new(SDO_TIMEOUT),
@@ -296,11 +331,11 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             state: NmtState::Initialising,
             boot_up_due: false,
             sdo: [SdoChannel::new(), SdoChannel::new()],
-            error_control: ErrorControl::default(),
+            error_control: ErrorControl::off(),
             sync: SyncState::default(),
             emcy: Emcy::default(),
-            rpdos: [Rpdo::default(); RPDOS],
-            tpdos: [Tpdo::default(); TPDOS],
+            rpdos: [Rpdo::off(); RPDOS],
+            tpdos: [Tpdo::off(); TPDOS],
             events: EventQueue::new(),
             announce_no_error: false,
             length_error_raised: false,
@@ -457,7 +492,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
         self.configure_sdo();
-        self.error_control = ErrorControl::default();
+        self.error_control = ErrorControl::off();
         self.error_control.configure_producer(&self.od, now);
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);
@@ -465,8 +500,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.configure_sync();
         self.sync.counter = 0;
         for n in 0..RPDOS {
-            self.rpdos[n] = Rpdo::load(&self.od, n as u16);
-            if let Some(reason) = self.rpdos[n].rejected {
+            if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: false,
                     pdo: n as u16,
@@ -475,8 +509,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         for n in 0..TPDOS {
-            self.tpdos[n] = Tpdo::load(&self.od, n as u16);
-            if let Some(reason) = self.tpdos[n].rejected {
+            if let Some(reason) = self.tpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
                     transmit: true,
                     pdo: n as u16,
@@ -485,7 +518,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         self.link_pdos();
-        self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);
+        // 8210h and 8220h were forgotten with the other communication errors above.
+        self.length_error_raised = false;
         self.boot_up_due = true;
         self.set_state(NmtState::PreOperational, now);
     }
@@ -517,8 +551,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             let present = self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok();
             let (rx, tx) = if present {
                 (
-                    read_uint(&self.od, index, 1).unwrap_or(defaults[n].0),
-                    read_uint(&self.od, index, 2).unwrap_or(defaults[n].1),
+                    read_uint_or(&self.od, index, 1, defaults[n].0),
+                    read_uint_or(&self.od, index, 2, defaults[n].1),
                 )
             } else {
                 defaults[n]
@@ -531,12 +565,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     fn configure_sync(&mut self) {
-        let cob = CobIdEntry(read_uint(&self.od, 0x1005, 0).unwrap_or(0x80));
+        let cob = CobIdEntry(read_uint_or(&self.od, 0x1005, 0, 0x80));
         self.sync.cob_id = cob.can_id();
         self.sync.producer = cob.bit30() && !cob.extended();
-        self.sync.period = Duration(u64::from(read_uint(&self.od, 0x1006, 0).unwrap_or(0)));
-        self.sync.window = Duration(u64::from(read_uint(&self.od, 0x1007, 0).unwrap_or(0)));
-        self.sync.overflow = read_uint(&self.od, 0x1019, 0).unwrap_or(0) as u8;
+        self.sync.period = Duration(u64::from(read_uint_or(&self.od, 0x1006, 0, 0)));
+        self.sync.window = Duration(u64::from(read_uint_or(&self.od, 0x1007, 0, 0)));
+        self.sync.overflow = read_uint_or(&self.od, 0x1019, 0, 0) as u8;
     }
 
     fn restart_sync_producer(&mut self, now: Instant) {
@@ -572,8 +606,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
-                    let (deadline, timed_out) = (self.rpdos[n].deadline, self.rpdos[n].timed_out);
-                    let mut rpdo = Rpdo::load(&self.od, n as u16);
+                    let rpdo = &mut self.rpdos[n];
+                    let (deadline, timed_out) = (rpdo.deadline, rpdo.timed_out);
+                    rpdo.load(&self.od, n as u16);
                     // A valid PDO keeps its deadline monitoring across other changes (its
                     // transmission type). A new event timer stops it: CiA 301 activates the
                     // monitoring with the next reception after the event timer is configured.
@@ -581,7 +616,6 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                         rpdo.deadline = deadline;
                         rpdo.timed_out = timed_out;
                     }
-                    self.rpdos[n] = rpdo;
                     if timed_out && !rpdo.timed_out {
                         self.end_rpdo_timeout();
                     }
@@ -590,21 +624,23 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1800..=0x1BFF => {
                 let n = usize::from((index - 0x1800) & 0x1FF);
                 if n < TPDOS {
-                    let mut tpdo = Tpdo::load(&self.od, n as u16);
+                    let tpdo = &mut self.tpdos[n];
+                    let (last_sent, last_data, was_enabled) =
+                        (tpdo.last_sent, tpdo.last_data, tpdo.enabled);
+                    tpdo.load(&self.od, n as u16);
                     // A running PDO keeps its timing history across a change of its event
                     // timer or transmission type.
-                    tpdo.last_sent = self.tpdos[n].last_sent;
-                    tpdo.last_data = self.tpdos[n].last_data;
+                    tpdo.last_sent = last_sent;
+                    tpdo.last_data = last_data;
                     if self.state == NmtState::Operational && tpdo.enabled {
                         if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
                             tpdo.event_deadline = Some(now + tpdo.event_timer);
                         }
-                        if tpdo.event_driven() && !self.tpdos[n].enabled {
+                        if tpdo.event_driven() && !was_enabled {
                             tpdo.pending = true;
                             self.tpdo_attention = true;
                         }
                     }
-                    self.tpdos[n] = tpdo;
                 }
             }
             _ => {}
@@ -709,13 +745,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 match tpdo.transmission {
                     252 => {
                         if let Some(sample) = tpdo.rtr_sample {
-                            tpdo.data = Some(sample);
+                            tpdo.data = sample;
+                            tpdo.sampled = true;
                             tpdo.pending = true;
                             self.tpdo_attention = true;
                         }
                     }
                     _ => {
-                        tpdo.data = None;
+                        tpdo.sampled = false;
                         tpdo.pending = true;
                         self.tpdo_attention = true;
                     }
@@ -805,7 +842,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if now_bad {
                 self.emcy
                     .raise(&mut self.od, code, error_register::COMMUNICATION, info);
-            } else if self.emcy.is_active(code) {
+            } else {
+                // Nothing happens unless it is active.
                 self.emcy.clear(&mut self.od, code);
             }
         }
@@ -816,18 +854,18 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.events.push(Event::Sync { counter });
         if !self.sync.producer && self.sync.period != Duration::ZERO {
             self.sync.timeout = Some(now + Duration(self.sync.period.as_micros() * 3 / 2));
-            if self.emcy.is_active(SYNC_TIMEOUT_CODE) {
-                self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
-            }
+            // Ends a SYNC timeout error, if one is active.
+            self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
         }
         if self.state != NmtState::Operational {
             return;
         }
         for n in 0..RPDOS {
             if let Some(data) = self.rpdos[n].buffered.take() {
-                let mapping = self.rpdos[n].mapping;
-                mapping.unpack(&mut self.od, &data);
-                if self.rpdos[n].feeds_tpdo {
+                let rpdo = &self.rpdos[n];
+                rpdo.mapping.unpack(&mut self.od, &data);
+                if rpdo.feeds_tpdo {
+                    let mapping = rpdo.mapping;
                     for object in mapping.objects() {
                         self.mark_changed(object.index, object.sub);
                     }
@@ -879,7 +917,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 _ => false,
             };
             if send {
-                tpdo.data = Some(tpdo.mapping.pack(&self.od));
+                tpdo.data = tpdo.mapping.pack(&self.od);
+                tpdo.sampled = true;
                 tpdo.pending = true;
                 self.tpdo_attention = true;
                 tpdo.sync_deadline = window_end;
@@ -892,17 +931,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     pub fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
         let error_control_id = ErrorControlRepr::cob_id(self.node_id);
         if core::mem::take(&mut self.boot_up_due) {
-            return Some(CanFrame::from_parts(
+            return Some(one_byte_frame(
                 error_control_id,
-                [ErrorControlRepr::BOOT_UP.emit(), 0, 0, 0, 0, 0, 0, 0],
+                ErrorControlRepr::BOOT_UP.emit(),
                 1,
             ));
         }
         if let Some(sync) = self.sync.due.take() {
-            let (data, len) = sync.emit();
-            let mut bytes = [0u8; 8];
-            bytes[..1].copy_from_slice(&data);
-            return Some(CanFrame::from_parts(self.sync.cob_id, bytes, len as u8));
+            let ([counter], len) = sync.emit();
+            return Some(one_byte_frame(self.sync.cob_id, counter, len as u8));
         }
         if self.state != NmtState::Stopped {
             if let Some(emcy) = self.emcy.poll(now) {
@@ -932,18 +969,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             let toggle = self.error_control.guarding.toggle;
             self.error_control.guarding.toggle = !toggle;
             let answer = ErrorControlRepr { toggle, ..state };
-            return Some(CanFrame::from_parts(
-                error_control_id,
-                [answer.emit(), 0, 0, 0, 0, 0, 0, 0],
-                1,
-            ));
+            return Some(one_byte_frame(error_control_id, answer.emit(), 1));
         }
         if core::mem::take(&mut self.error_control.heartbeat_due) {
-            return Some(CanFrame::from_parts(
-                error_control_id,
-                [state.emit(), 0, 0, 0, 0, 0, 0, 0],
-                1,
-            ));
+            return Some(one_byte_frame(error_control_id, state.emit(), 1));
         }
         None
     }
@@ -967,7 +996,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 if now > deadline {
                     // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
                     tpdo.pending = false;
-                    tpdo.data = None;
+                    tpdo.sampled = false;
                     tpdo.sync_deadline = None;
                     continue;
                 }
@@ -975,10 +1004,11 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if tpdo.event_driven() && !tpdo.inhibit_passed(now) {
                 continue;
             }
-            let data = tpdo
-                .data
-                .take()
-                .unwrap_or_else(|| tpdo.mapping.pack(&self.od));
+            let data = if core::mem::take(&mut tpdo.sampled) {
+                tpdo.data
+            } else {
+                tpdo.mapping.pack(&self.od)
+            };
             tpdo.pending = false;
             tpdo.sync_deadline = None;
             tpdo.last_data = data;
@@ -997,28 +1027,27 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
         let mut next = self.error_control.next_deadline();
-        let mut consider = |at: Option<Instant>| next = earliest(next, at);
-        consider(self.sync.next);
-        consider(self.sync.timeout);
+        keep_earliest(&mut next, &self.sync.next);
+        keep_earliest(&mut next, &self.sync.timeout);
         if self.state != NmtState::Stopped {
-            consider(self.emcy.ready_at());
+            keep_earliest(&mut next, &self.emcy.ready_at());
         }
         if self.state == NmtState::Operational {
             for rpdo in &self.rpdos {
-                consider(rpdo.deadline);
+                keep_earliest(&mut next, &rpdo.deadline);
             }
             for tpdo in &self.tpdos {
                 if !tpdo.enabled || !tpdo.event_driven() {
                     continue;
                 }
-                consider(tpdo.event_deadline);
+                keep_earliest(&mut next, &tpdo.event_deadline);
                 if tpdo.pending {
-                    consider(tpdo.last_sent.map(|sent| sent + tpdo.inhibit));
+                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit));
                 }
             }
         }
         for channel in &self.sdo {
-            consider(channel.server.poll_timeout());
+            keep_earliest(&mut next, &channel.server.poll_timeout());
         }
         next
     }
@@ -1030,16 +1059,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if let Some(at) = ec.next_heartbeat {
             if at <= now {
                 ec.heartbeat_due = true;
-                let next = at + ec.producer_period;
-                ec.next_heartbeat = Some(if next <= now {
-                    now + ec.producer_period
-                } else {
-                    next
-                });
+                ec.next_heartbeat = Some(next_period(at, ec.producer_period, now));
             }
         }
-        for n in 0..ec.consumer_count {
-            let consumer = &mut ec.consumers[n];
+        for consumer in ec.consumers.iter_mut().take(ec.consumer_count) {
             if consumer.deadline.is_some_and(|at| at <= now) {
                 consumer.deadline = None;
                 self.events.push(Event::HeartbeatLost {
@@ -1066,12 +1089,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if let Some(at) = self.sync.next {
             if at <= now {
-                let next = at + self.sync.period;
-                self.sync.next = Some(if next <= now {
-                    now + self.sync.period
-                } else {
-                    next
-                });
+                self.sync.next = Some(next_period(at, self.sync.period, now));
                 let counter = (self.sync.overflow != 0).then(|| {
                     self.sync.counter = if self.sync.counter >= self.sync.overflow {
                         1

@@ -6,7 +6,7 @@
 //! restore signatures). The node applies an accepted write to its running state afterwards.
 
 use super::pdo::{self, Direction};
-use super::{read_uint, NodeHooks};
+use super::{read_uint, read_uint_or, NodeHooks};
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::wire::pdo::{CobIdEntry, MappingEntry};
 
@@ -87,7 +87,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         }
         if sub == 0 {
             pdo::check_mapping(self.od, index, value, direction).map(|_| ())
-        } else if read_uint(self.od, index, 0).unwrap_or(0) != 0 {
+        } else if read_uint_or(self.od, index, 0, 0) != 0 {
             Err(SdoAbort::DeviceState)
         } else if value == 0 {
             Ok(())
@@ -103,7 +103,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         if node == 0 || time == 0 {
             return Ok(());
         }
-        let count = read_uint(self.od, 0x1016, 0).unwrap_or(0) as u8;
+        let count = read_uint_or(self.od, 0x1016, 0, 0) as u8;
         let duplicate = (1..=count).filter(|&s| s != sub).any(|s| {
             read_uint(self.od, 0x1016, s)
                 .is_some_and(|other| (other >> 16) as u8 == node && other as u16 != 0)
@@ -148,7 +148,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
             0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, false).map(|()| true),
             0x1016 if sub >= 1 => self.check_heartbeat_consumer(sub, value).map(|()| true),
             0x1019 => {
-                if read_uint(self.od, 0x1006, 0).unwrap_or(0) != 0 {
+                if read_uint_or(self.od, 0x1006, 0, 0) != 0 {
                     Err(SdoAbort::DeviceState)
                 } else if value == 1 || value > 240 {
                     Err(SdoAbort::InvalidValue)

@@ -2,7 +2,7 @@
 //! the pre-defined error field (1003h), and the queue of emergencies waiting for the inhibit time
 //! (1015h).
 
-use super::read_uint;
+use super::{read_uint, read_uint_or};
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
 use crate::wire::emcy::EmcyRepr;
@@ -29,6 +29,13 @@ pub mod error_register {
 /// The most errors active at once, and the most emergencies waiting for the inhibit time.
 pub const MAX_ACTIVE_ERRORS: usize = 8;
 const QUEUE: usize = 4;
+
+/// Writes 1001h (an OD without it, or refusing the value, keeps the node's own register). Not
+/// inlined: raising, clearing and both resets share it.
+#[inline(never)]
+fn write_error_register<O: ObjectDictionary + ?Sized>(od: &mut O, register: u8) {
+    let _ = od.write(0x1001, 0, &[register]);
+}
 
 #[derive(Debug, Clone, Copy, Default)]
 struct ActiveError {
@@ -66,12 +73,10 @@ pub(crate) struct Emcy {
 impl Emcy {
     /// Reads 1014h, 1015h and the size of 1003h (reset communication or an SDO write).
     pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, node_id: u8) {
-        let cob =
-            read_uint(od, 0x1014, 0).map_or(CobIdEntry(0x80 + u32::from(node_id)), CobIdEntry);
+        let cob = CobIdEntry(read_uint_or(od, 0x1014, 0, 0x80 + u32::from(node_id)));
         self.cob_id = cob.can_id();
         self.enabled = cob.valid() && !cob.extended();
-        self.inhibit =
-            Duration::from_micros(u64::from(read_uint(od, 0x1015, 0).unwrap_or(0)) * 100);
+        self.inhibit = Duration::from_micros(u64::from(read_uint_or(od, 0x1015, 0, 0)) * 100);
         self.history_len = od
             .entries()
             .iter()
@@ -126,7 +131,7 @@ impl Emcy {
         self.active[self.active_count] = ActiveError { code, register };
         self.active_count += 1;
         let register = self.register();
-        let _ = od.write(0x1001, 0, &[register]);
+        write_error_register(od, register);
         self.push_history(od, u32::from(code));
         self.enqueue(EmcyRepr {
             code,
@@ -168,7 +173,7 @@ impl Emcy {
             return false;
         }
         let register = self.register();
-        let _ = od.write(0x1001, 0, &[register]);
+        write_error_register(od, register);
         self.enqueue(EmcyRepr {
             code: 0,
             register,
@@ -182,7 +187,7 @@ impl Emcy {
         self.active_count = 0;
         self.queued = 0;
         self.last_sent = None;
-        let _ = od.write(0x1001, 0, &[0]);
+        write_error_register(od, 0);
     }
 
     /// Drops queued emergencies and the inhibit timer (reset communication); the active errors
@@ -190,7 +195,7 @@ impl Emcy {
     pub fn reset_queue<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
         self.queued = 0;
         self.last_sent = None;
-        let _ = od.write(0x1001, 0, &[self.register()]);
+        write_error_register(od, self.register());
     }
 
     /// Queues the "no error" emergency (code 0000h, register 0).
@@ -202,7 +207,7 @@ impl Emcy {
         if self.history_len == 0 {
             return;
         }
-        let count = (read_uint(od, 0x1003, 0).unwrap_or(0) as u8).min(self.history_len);
+        let count = (read_uint_or(od, 0x1003, 0, 0) as u8).min(self.history_len);
         let kept = count.min(self.history_len - 1);
         for sub in (1..=kept).rev() {
             if let Some(older) = read_uint(od, 0x1003, sub) {

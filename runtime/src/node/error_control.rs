@@ -2,7 +2,7 @@
 //! consumers (1016h), and node guarding with its toggle bit and life time (100Ch × 100Dh; with
 //! the `node-guarding` feature).
 
-use super::read_uint;
+use super::{read_uint, read_uint_or};
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
 
@@ -42,9 +42,17 @@ pub(crate) struct ErrorControl {
 }
 
 impl ErrorControl {
+    /// Nothing configured, nothing monitored: the state before reset communication reads
+    /// 1016h, 1017h, 100Ch and 100Dh. Not inlined: power-on and every reset communication share
+    /// one copy of the zeroing of the consumer table.
+    #[inline(never)]
+    pub fn off() -> Self {
+        ErrorControl::default()
+    }
+
     /// Reads 1017h; a change takes effect at once: the next heartbeat is one period from `now`.
     pub fn configure_producer<O: ObjectDictionary + ?Sized>(&mut self, od: &O, now: Instant) {
-        let ms = read_uint(od, 0x1017, 0).unwrap_or(0);
+        let ms = read_uint_or(od, 0x1017, 0, 0);
         self.producer_period = Duration::from_millis(u64::from(ms));
         self.next_heartbeat = (ms != 0).then(|| now + self.producer_period);
         self.heartbeat_due = false;
@@ -53,9 +61,9 @@ impl ErrorControl {
     /// Reads 100Ch and 100Dh.
     #[cfg(feature = "node-guarding")]
     pub fn configure_guarding<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
-        let guard_ms = read_uint(od, 0x100C, 0).unwrap_or(0);
+        let guard_ms = read_uint_or(od, 0x100C, 0, 0);
         self.guarding.guard_time = Duration::from_millis(u64::from(guard_ms));
-        self.guarding.life_time_factor = read_uint(od, 0x100D, 0).unwrap_or(0) as u8;
+        self.guarding.life_time_factor = read_uint_or(od, 0x100D, 0, 0) as u8;
         if self.life_time().is_none() {
             self.guarding.life_deadline = None;
         }
@@ -65,7 +73,7 @@ impl ErrorControl {
     pub fn configure_consumers<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
         let previous = self.consumers;
         let previous_count = self.consumer_count;
-        let count = read_uint(od, 0x1016, 0).unwrap_or(0).min(127) as u8;
+        let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
         self.consumer_count = 0;
         for sub in 1..=count {
             let Some(value) = read_uint(od, 0x1016, sub) else {
@@ -103,7 +111,7 @@ impl ErrorControl {
 
     /// Restarts a watched node's timer when its heartbeat (or boot-up) arrives.
     pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) {
-        for consumer in &mut self.consumers[..self.consumer_count] {
+        for consumer in self.consumers.iter_mut().take(self.consumer_count) {
             if consumer.node_id == node_id {
                 consumer.deadline = Some(now + consumer.period);
             }
@@ -111,12 +119,11 @@ impl ErrorControl {
     }
 
     pub fn next_deadline(&self) -> Option<Instant> {
-        #[cfg(feature = "node-guarding")]
-        let mut next = super::earliest(self.next_heartbeat, self.guarding.life_deadline);
-        #[cfg(not(feature = "node-guarding"))]
         let mut next = self.next_heartbeat;
+        #[cfg(feature = "node-guarding")]
+        super::keep_earliest(&mut next, &self.guarding.life_deadline);
         for consumer in self.consumers.iter().take(self.consumer_count) {
-            next = super::earliest(next, consumer.deadline);
+            super::keep_earliest(&mut next, &consumer.deadline);
         }
         next
     }

@@ -233,8 +233,6 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 pub(crate) struct Rpdo {
     /// Whether the PDO exists and is valid.
     pub enabled: bool,
-    /// The COB-ID says valid, but the mapping in the OD was refused for this reason.
-    pub rejected: Option<SdoAbort>,
     pub cob_id: u16,
     pub transmission: u8,
     pub mapping: Mapping,
@@ -255,25 +253,30 @@ pub(crate) struct Rpdo {
 }
 
 impl Rpdo {
-    pub fn load<O: ObjectDictionary + ?Sized>(od: &O, n: u16) -> Rpdo {
+    /// A PDO that does not exist (yet): nothing configured, nothing received. Not inlined: one
+    /// copy for power-on and [`Rpdo::load`].
+    #[inline(never)]
+    pub fn off() -> Rpdo {
+        Rpdo::default()
+    }
+
+    /// Reads the configuration of RPDO `n` (1400h + n, 1600h + n) into this PDO, in place, and
+    /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
+    /// (the PDO is then not served).
+    pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
+        *self = Rpdo::off();
         let comm = 0x1400 + n;
-        let Some(cob) = super::read_uint(od, comm, 1).map(CobIdEntry) else {
-            return Rpdo::default();
-        };
-        let mapping = load_mapping(od, 0x1600 + n, Direction::Receive);
-        Rpdo {
-            enabled: cob.valid() && !cob.extended() && mapping.is_ok(),
-            rejected: if cob.valid() { mapping.err() } else { None },
-            cob_id: cob.can_id(),
-            transmission: super::read_uint(od, comm, 2).unwrap_or(255) as u8,
-            mapping: mapping.unwrap_or_default(),
-            buffered: None,
-            feeds_tpdo: false,
-            too_short: false,
-            too_long: false,
-            event_timer_ms: super::read_uint(od, comm, 5).unwrap_or(0) as u16,
-            deadline: None,
-            timed_out: false,
+        let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
+        self.cob_id = cob.can_id();
+        self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
+        self.event_timer_ms = super::read_uint_or(od, comm, 5, 0) as u16;
+        match load_mapping(od, 0x1600 + n, Direction::Receive) {
+            Ok(mapping) => {
+                self.mapping = mapping;
+                self.enabled = cob.valid() && !cob.extended();
+                None
+            }
+            Err(reason) => cob.valid().then_some(reason),
         }
     }
 
@@ -287,8 +290,6 @@ impl Rpdo {
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Tpdo {
     pub enabled: bool,
-    /// The COB-ID says valid, but the mapping in the OD was refused for this reason.
-    pub rejected: Option<SdoAbort>,
     pub cob_id: u16,
     pub rtr_allowed: bool,
     pub transmission: u8,
@@ -296,9 +297,12 @@ pub(crate) struct Tpdo {
     pub event_timer: Duration,
     pub sync_start: u8,
     pub mapping: Mapping,
-    /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous).
+    /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous,
+    /// `sampled`). A flag beside a plain array rather than an `Option`, which keeps the array
+    /// word-aligned (it is copied into a frame as whole words).
     pub pending: bool,
-    pub data: Option<[u8; 8]>,
+    pub sampled: bool,
+    pub data: [u8; 8],
     /// For synchronous PDOs: the latest sample (252) and the window deadline.
     pub sync_deadline: Option<Instant>,
     /// Type 0: an event occurred since the last SYNC.
@@ -317,27 +321,33 @@ pub(crate) struct Tpdo {
 }
 
 impl Tpdo {
-    pub fn load<O: ObjectDictionary + ?Sized>(od: &O, n: u16) -> Tpdo {
+    /// A PDO that does not exist (yet): nothing configured, nothing running. Not inlined: one
+    /// copy for power-on and [`Tpdo::load`].
+    #[inline(never)]
+    pub fn off() -> Tpdo {
+        Tpdo::default()
+    }
+
+    /// Reads the configuration of TPDO `n` (1800h + n, 1A00h + n) into this PDO, in place, and
+    /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
+    /// (the PDO is then not served).
+    pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
+        *self = Tpdo::off();
         let comm = 0x1800 + n;
-        let Some(cob) = super::read_uint(od, comm, 1).map(CobIdEntry) else {
-            return Tpdo::default();
-        };
-        let mapping = load_mapping(od, 0x1A00 + n, Direction::Transmit);
-        Tpdo {
-            enabled: cob.valid() && !cob.extended() && mapping.is_ok(),
-            rejected: if cob.valid() { mapping.err() } else { None },
-            cob_id: cob.can_id(),
-            rtr_allowed: !cob.bit30(),
-            transmission: super::read_uint(od, comm, 2).unwrap_or(255) as u8,
-            inhibit: Duration::from_micros(
-                u64::from(super::read_uint(od, comm, 3).unwrap_or(0)) * 100,
-            ),
-            event_timer: Duration::from_millis(u64::from(
-                super::read_uint(od, comm, 5).unwrap_or(0),
-            )),
-            sync_start: super::read_uint(od, comm, 6).unwrap_or(0) as u8,
-            mapping: mapping.unwrap_or_default(),
-            ..Tpdo::default()
+        let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
+        self.cob_id = cob.can_id();
+        self.rtr_allowed = !cob.bit30();
+        self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
+        self.inhibit = Duration::from_micros(u64::from(super::read_uint_or(od, comm, 3, 0)) * 100);
+        self.event_timer = Duration::from_millis(u64::from(super::read_uint_or(od, comm, 5, 0)));
+        self.sync_start = super::read_uint_or(od, comm, 6, 0) as u8;
+        match load_mapping(od, 0x1A00 + n, Direction::Transmit) {
+            Ok(mapping) => {
+                self.mapping = mapping;
+                self.enabled = cob.valid() && !cob.extended();
+                None
+            }
+            Err(reason) => cob.valid().then_some(reason),
         }
     }
 
@@ -349,7 +359,7 @@ impl Tpdo {
     /// Forgets everything a running PDO accumulated (leaving operational, reconfiguring).
     pub fn stop(&mut self) {
         self.pending = false;
-        self.data = None;
+        self.sampled = false;
         self.rtr_sample = None;
         self.sync_deadline = None;
         self.acyclic_request = false;

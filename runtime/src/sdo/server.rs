@@ -351,6 +351,13 @@ impl<const N: usize> SdoServer<N> {
         request: &[u8],
         od: &mut O,
     ) -> Handled {
+        // Without block transfer, a command specifier above 4 (5 and 6: block transfers, 7: not
+        // defined) is an unknown command. Refused before parsing, so that the parser's
+        // block-transfer branches are not compiled in.
+        #[cfg(not(feature = "sdo-block"))]
+        if request.first().is_some_and(|command| command >> 5 > 4) {
+            return Err(SdoAbort::InvalidCommand);
+        }
         let request = ClientRequest::parse(request).map_err(|_| SdoAbort::InvalidCommand)?;
         match (request, self.transfer) {
             (ClientRequest::Abort { .. }, _) => {
@@ -499,18 +506,13 @@ impl<const N: usize> SdoServer<N> {
         Ok(())
     }
 
-    /// Writes the collected download to the dictionary.
+    /// Writes the collected download (`len` bytes, checked by the caller against the announced
+    /// size, the entry and the buffer) to the dictionary.
     fn commit<O: ObjectDictionary + ?Sized>(
         &mut self,
         len: usize,
-        size: Option<u32>,
-        entry_size: usize,
         od: &mut O,
     ) -> Result<SdoEvent, SdoAbort> {
-        Self::check_received(len, size, entry_size)?;
-        if size.is_some_and(|size| len != size as usize) {
-            return Err(SdoAbort::LengthMismatch);
-        }
         let data = self.buffer.get(..len).ok_or(SdoAbort::OutOfMemory)?;
         od.write(self.mux.index, self.mux.sub, data)?;
         Ok(SdoEvent::Written {
@@ -530,25 +532,21 @@ impl<const N: usize> SdoServer<N> {
             index: mux.index,
             sub: mux.sub,
         };
-        match payload {
-            InitiatePayload::Expedited { data, len } => {
-                let len = usize::from(len).min(data.len());
-                od.write_at(position, &data[..len])?;
-                self.respond(ServerResponse::InitiateDownload { mux });
-                Ok(Some(written))
-            }
+        let (data, len) = match payload {
+            InitiatePayload::Expedited { data, len } => (data, usize::from(len).min(data.len())),
             InitiatePayload::ExpeditedUnsized { data } => {
                 let len = usize::from(entry.size);
                 if !(1..=data.len()).contains(&len) {
                     return Err(SdoAbort::LengthMismatch);
                 }
-                od.write_at(position, &data[..len])?;
-                self.respond(ServerResponse::InitiateDownload { mux });
-                Ok(Some(written))
+                (data, len)
             }
-            InitiatePayload::Sized(size) => self.start_download(mux, &entry, Some(size)),
-            InitiatePayload::Unsized => self.start_download(mux, &entry, None),
-        }
+            InitiatePayload::Sized(size) => return self.start_download(mux, &entry, Some(size)),
+            InitiatePayload::Unsized => return self.start_download(mux, &entry, None),
+        };
+        od.write_at(position, &data[..len])?;
+        self.respond(ServerResponse::InitiateDownload { mux });
+        Ok(Some(written))
     }
 
     fn start_download(
@@ -588,7 +586,10 @@ impl<const N: usize> SdoServer<N> {
             .copy_from_slice(bytes);
         download.len = end;
         let event = if last {
-            let event = self.commit(end, download.size, download.entry_size, od)?;
+            if download.size.is_some_and(|size| end != size as usize) {
+                return Err(SdoAbort::LengthMismatch);
+            }
+            let event = self.commit(end, od)?;
             self.transfer = Transfer::Idle;
             Some(event)
         } else {
@@ -771,7 +772,7 @@ impl<const N: usize> SdoServer<N> {
                 return Err(SdoAbort::CrcError);
             }
         }
-        let event = self.commit(len, block.size, block.entry_size, od)?;
+        let event = self.commit(len, od)?;
         self.transfer = Transfer::Idle;
         self.respond(ServerResponse::BlockDownloadEnd);
         Ok(Some(event))

@@ -143,7 +143,9 @@ impl SegmentData {
         let unused = (command >> 1) & 0b111;
         let len = SEGMENT_DATA_LEN as u8 - unused;
         let mut bytes = [0u8; SEGMENT_DATA_LEN];
-        bytes[..len as usize].copy_from_slice(&frame[1..1 + len as usize]);
+        for (byte, data) in bytes.iter_mut().zip(&frame[1..]).take(usize::from(len)) {
+            *byte = *data;
+        }
         SegmentData { bytes, len }
     }
 }
