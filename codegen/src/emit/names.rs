@@ -4,24 +4,22 @@
 //! Rules (stable, documented in the generated code's contract):
 //! - every character that is not an ASCII letter or digit separates words;
 //! - an empty result takes the caller's fallback (built from the index and sub-index);
-//! - a result starting with a digit gets `n_` (fields), `N_` (constants) or `N` (types) in front;
-//! - a keyword gets `_` appended (`type` becomes `type_`, `Self` becomes `Self_`);
+//! - a result starting with a digit gets `n_` (fields, modules) or `N_` (constants) in front;
+//! - a keyword gets `_` appended (`type` becomes `type_`);
 //! - in one namespace, the first name in (index, sub) order keeps its name, a later equal one
 //!   gets the suffix the caller gives (the hex index, then the sub-index), then `_2`, `_3`, ...
 
 use std::collections::BTreeSet;
 
-use heck::{ToShoutySnakeCase, ToSnakeCase, ToUpperCamelCase};
+use heck::{ToShoutySnakeCase, ToSnakeCase};
 
 /// The case a name is rendered in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Case {
-    /// `snake_case`: fields and modules.
+    /// `snake_case`: PDO struct fields and modules.
     Snake,
     /// `SHOUTY_SNAKE_CASE`: constants.
     Shouty,
-    /// `UpperCamelCase`: types.
-    Camel,
 }
 
 const KEYWORDS: &[&str] = &[
@@ -42,7 +40,6 @@ pub fn ident(text: &str, case: Case, fallback: &str) -> String {
     let mut name = match case {
         Case::Snake => ascii.to_snake_case(),
         Case::Shouty => ascii.to_shouty_snake_case(),
-        Case::Camel => ascii.to_upper_camel_case(),
     };
     if name.is_empty() {
         name = fallback.to_owned();
@@ -51,7 +48,6 @@ pub fn ident(text: &str, case: Case, fallback: &str) -> String {
         name = match case {
             Case::Snake => format!("n_{name}"),
             Case::Shouty => format!("N_{name}"),
-            Case::Camel => format!("N{name}"),
         };
     }
     if KEYWORDS.contains(&name.as_str()) {
@@ -98,10 +94,8 @@ mod tests {
     #[test]
     fn names_are_valid_identifiers() {
         assert_eq!(ident("Controlword", Case::Shouty, "X"), "CONTROLWORD");
-        assert_eq!(ident("Identity object", Case::Camel, "X"), "IdentityObject");
         assert_eq!(ident("Vendor-ID", Case::Snake, "x"), "vendor_id");
         assert_eq!(ident("type", Case::Snake, "x"), "type_");
-        assert_eq!(ident("Self", Case::Camel, "X"), "Self_");
         assert_eq!(ident("1st axis", Case::Snake, "x"), "n_1st_axis");
         assert_eq!(ident("1st axis", Case::Shouty, "X"), "N_1ST_AXIS");
         assert_eq!(
