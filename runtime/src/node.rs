@@ -148,7 +148,7 @@ pub struct InvalidNodeId(pub u8);
 #[inline(never)]
 pub(crate) fn keep_earliest(next: &mut Option<Instant>, at: &Option<Instant>) {
     if let Some(at) = *at {
-        if next.map_or(true, |next| at < next) {
+        if next.is_none_or(|next| at < next) {
             *next = Some(at);
         }
     }
