@@ -412,3 +412,35 @@ fn typed_addresses_record_their_positions() {
         );
     }
 }
+
+proptest! {
+    /// Any write by position either takes effect exactly (the value reads back as written) or is
+    /// refused and changes nothing in the dictionary.
+    #[test]
+    fn writes_by_position_apply_exactly_or_not_at_all(
+        position in 0usize..80,
+        // Mostly the lengths of numbers (0 to 8 bytes), sometimes string lengths.
+        data in prop_oneof![
+            3 => proptest::collection::vec(any::<u8>(), 0..9),
+            1 => proptest::collection::vec(any::<u8>(), 0..40),
+        ],
+    ) {
+        let mut dict = Od::new(3);
+        let before = dict.clone();
+        match dict.write_at(position, &data) {
+            Ok(()) => {
+                let mut buf = [0u8; 64];
+                let n = dict.read_at(position, 0, &mut buf).unwrap();
+                prop_assert_eq!(&buf[..n], &data[..]);
+                // Every other entry is as it was.
+                for other in (0..dict.entries().len()).filter(|&p| p != position) {
+                    let (mut a, mut b) = ([0u8; 64], [0u8; 64]);
+                    let na = dict.read_at(other, 0, &mut a).unwrap();
+                    let nb = before.read_at(other, 0, &mut b).unwrap();
+                    prop_assert_eq!(&a[..na], &b[..nb], "position {}", other);
+                }
+            }
+            Err(_) => prop_assert_eq!(dict, before),
+        }
+    }
+}
