@@ -6,7 +6,7 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::plan::{EntryPlan, Initial, Plan};
+use super::plan::{Initial, Plan};
 use super::types::{access_tokens, data_type_tokens, Prim, RustType};
 
 fn docs(lines: &[String]) -> TokenStream {
@@ -22,59 +22,36 @@ fn hex8(v: u8) -> TokenStream {
     super::types::hex(u128::from(v), 2)
 }
 
-/// How one entry's constant initial value is stored into the default image, or `None` for a
-/// value of all zero bytes (where the image starts) or a `$NODEID` one (`Od::new` stores it).
-fn default_store(e: &EntryPlan, offset: usize) -> Option<TokenStream> {
-    let at = Literal::usize_unsuffixed(offset);
-    match (&e.init, e.ty) {
-        (Initial::Bytes(bytes), _) if !bytes.is_empty() => {
-            let lit = Literal::byte_string(bytes);
-            Some(quote!(put_bytes(&mut values, #at, #lit);))
-        }
-        (Initial::Raw(raw), RustType::Scalar(_, wire)) if *raw != 0 => {
-            // The wire bytes only: a negative INTEGER16 is 0xFFFF, not 64 bits of ones.
-            let raw = raw & (u64::MAX >> (64 - 8 * wire));
-            let raw = super::types::hex(u128::from(raw), 1);
-            let w = Literal::usize_unsuffixed(wire);
-            Some(quote!(put_le(&mut values, #at, #raw, #w);))
-        }
-        _ => None,
-    }
-}
-
-/// Where each entry's value starts in the value image, and the image's size.
-fn offsets(plan: &Plan) -> (Vec<usize>, usize) {
-    let mut next = 0usize;
-    let offsets = plan
-        .entries
-        .iter()
-        .map(|e| {
-            let start = next;
-            next += e.ty.image_size();
-            start
-        })
-        .collect();
-    (offsets, next)
-}
-
 /// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`.
 pub fn structs(plan: &Plan) -> TokenStream {
-    let (offsets, size) = offsets(plan);
-    let size_lit = Literal::usize_unsuffixed(size);
-    let mut defaults = Vec::new();
-    let mut node_stores = Vec::new();
-    for (e, &offset) in plan.entries.iter().zip(&offsets) {
+    let size = Literal::usize_unsuffixed(plan.image_size);
+    // Constant values go into `DEFAULTS` (all-zero ones need nothing: the image starts at zero),
+    // `$NODEID` ones are stored by `Od::new`.
+    let (mut defaults, mut node_stores) = (Vec::new(), Vec::new());
+    let (mut uses_le, mut uses_bytes) = (false, false);
+    for e in &plan.entries {
+        let at = Literal::usize_unsuffixed(e.offset);
         match (&e.init, e.ty) {
             (Initial::NodeRelative(value), RustType::Scalar(_, wire)) => {
-                let at = Literal::usize_unsuffixed(offset);
                 let w = Literal::usize_unsuffixed(wire);
                 node_stores.push(quote!(put_le(&mut od.values, #at, (#value) as u64, #w);));
             }
-            _ => defaults.extend(default_store(e, offset)),
+            (Initial::Raw(raw), RustType::Scalar(_, wire)) if *raw != 0 => {
+                // The wire bytes only: a negative INTEGER16 is 0xFFFF, not 64 bits of ones.
+                let raw = super::types::hex(u128::from(raw & (u64::MAX >> (64 - 8 * wire))), 1);
+                let w = Literal::usize_unsuffixed(wire);
+                defaults.push(quote!(put_le(&mut values, #at, #raw, #w);));
+                uses_le = true;
+            }
+            (Initial::Bytes(bytes), _) if !bytes.is_empty() => {
+                let lit = Literal::byte_string(bytes);
+                defaults.push(quote!(put_bytes(&mut values, #at, #lit);));
+                uses_bytes = true;
+            }
+            _ => {}
         }
     }
-    let uses = |name: &str| defaults.iter().any(|t| t.to_string().starts_with(name));
-    let defaults_imports = match (uses("put_le"), uses("put_bytes")) {
+    let defaults_imports = match (uses_le, uses_bytes) {
         (false, false) => quote!(),
         (true, false) => quote!(
             use ::edsgen_runtime::image::put_le;
@@ -117,7 +94,7 @@ pub fn structs(plan: &Plan) -> TokenStream {
     };
     quote! {
         /// The size of the value image in bytes.
-        const IMAGE_SIZE: usize = #size_lit;
+        const IMAGE_SIZE: usize = #size;
 
         /// The value image with every entry at its default, `$NODEID` ones at 0: built at compile
         /// time, copied by `Od::new`.
@@ -155,7 +132,19 @@ pub fn structs(plan: &Plan) -> TokenStream {
     }
 }
 
-/// The `ENTRIES` table.
+/// A static array's initialiser: `[]`, or the rows after the `use` of the short names they need.
+fn array_body(rows: &[TokenStream], imports: TokenStream) -> TokenStream {
+    if rows.is_empty() {
+        quote!([])
+    } else {
+        quote!({
+            #imports
+            [#(#rows),*]
+        })
+    }
+}
+
+/// The `ENTRIES` table and the value image's layout (`OFFSETS`, `LIMITS`, `LAYOUT`).
 pub fn descriptors(plan: &Plan) -> TokenStream {
     let rows: Vec<_> = plan
         .entries
@@ -174,16 +163,16 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
         })
         .collect();
     let n = Literal::usize_unsuffixed(rows.len());
-    let body = if rows.is_empty() {
-        quote!([])
-    } else {
-        quote!({
+    let body = array_body(
+        &rows,
+        quote!(
             use ::edsgen_runtime::{Access as A, DataType as D, EntryDescriptor as E};
-            [#(#rows),*]
-        })
-    };
-    let (offsets, _) = offsets(plan);
-    let offsets = offsets.iter().map(|&o| Literal::u16_unsuffixed(o as u16));
+        ),
+    );
+    let offsets = plan
+        .entries
+        .iter()
+        .map(|e| Literal::u16_unsuffixed(e.offset as u16));
     let limits: Vec<_> = plan
         .entries
         .iter()
@@ -205,14 +194,12 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
         })
         .collect();
     let k = Literal::usize_unsuffixed(limits.len());
-    let limits_body = if limits.is_empty() {
-        quote!([])
-    } else {
-        quote!({
+    let limits_body = array_body(
+        &limits,
+        quote!(
             use ::edsgen_runtime::image::Limit as L;
-            [#(#limits),*]
-        })
-    };
+        ),
+    );
     quote! {
         /// Every entry's descriptor, sorted by (index, sub-index).
         pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; #n] = #body;

@@ -39,6 +39,8 @@ pub struct EntryPlan {
     pub short_doc: Vec<String>,
     /// The typed-address constant's name.
     pub const_name: Ident,
+    /// Where the value starts in the value image (set once the whole device is planned).
+    pub offset: usize,
     /// The field name for PDO structs mapping this entry (snake case of its own name).
     pub pdo_name: String,
 }
@@ -59,6 +61,8 @@ pub enum Initial {
 pub struct Plan {
     /// Stored entries in (index, sub-index) order: their order in `ENTRIES` and the image.
     pub entries: Vec<EntryPlan>,
+    /// The value image's size in bytes: every entry's [`RustType::image_size`].
+    pub image_size: usize,
     /// Diagnostics found while planning.
     pub diagnostics: Vec<Diagnostic>,
 }
@@ -115,9 +119,12 @@ pub fn plan(device: &Device) -> Plan {
         if object.index < 0x1000 || object.subs.is_empty() {
             continue;
         }
-        let planned = p.object(object);
+        let mut planned = p.object(object);
         let before = image_size;
-        image_size += planned.iter().map(|e| e.ty.image_size()).sum::<usize>();
+        for entry in &mut planned {
+            entry.offset = image_size;
+            image_size += entry.ty.image_size();
+        }
         // The value image's offsets are 16-bit (2 bytes of flash per entry, not 4).
         if before <= MAX_IMAGE_SIZE && image_size > MAX_IMAGE_SIZE {
             p.diagnostics.push(Diagnostic::new(
@@ -133,6 +140,7 @@ pub fn plan(device: &Device) -> Plan {
     }
     Plan {
         entries,
+        image_size,
         diagnostics: p.diagnostics,
     }
 }
@@ -322,6 +330,7 @@ impl Planner<'_> {
             doc,
             short_doc,
             const_name,
+            offset: 0,
             pdo_name: ident(
                 &sub.name,
                 Case::Snake,
