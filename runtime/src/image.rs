@@ -58,6 +58,10 @@ impl Limit {
     fn check(self, data_type: DataType, data: &[u8]) -> Result<(), SdoAbort> {
         let mut wide = [0u8; 8];
         let n = data.len().min(8);
+        if n == 0 {
+            // Only a malformed hand-built layout has a zero-size number: nothing to compare.
+            return Ok(());
+        }
         wide[..n].copy_from_slice(&data[..n]);
         let bits = (n * 8) as u32;
         let key = |raw: u64| order_key(data_type, raw, bits);
@@ -200,7 +204,7 @@ impl Layout {
         if data.len() != size {
             return Err(length_abort(data.len() > size));
         }
-        if entry.data_type == DataType::Boolean && data[0] > 1 {
+        if entry.data_type == DataType::Boolean && data.first().is_some_and(|&byte| byte > 1) {
             return Err(SdoAbort::InvalidValue);
         }
         if let Some(limit) = self.limit(position) {
@@ -507,6 +511,30 @@ mod tests {
             Err(SdoAbort::LengthTooHigh)
         );
         assert_eq!(LAYOUT.get(&values, wide), None);
+    }
+
+    #[test]
+    fn a_malformed_hand_built_layout_refuses_instead_of_panicking() {
+        // A BOOLEAN and a limited UNSIGNED8 described with size 0, offsets past the image.
+        static BAD: [EntryDescriptor; 3] = [
+            e(0x2000, 0, D::Boolean, 0),
+            e(0x2001, 0, D::Unsigned8, 0),
+            e(0x2002, 0, D::Unsigned32, 4),
+        ];
+        static BAD_LIMITS: [(u16, Limit); 1] = [(1, Limit::unsigned(1, 2))];
+        static BAD_LAYOUT: Layout = Layout::new(&BAD, &[0, 0, 30], &BAD_LIMITS);
+        let mut values = [0u8; 4];
+        assert_eq!(BAD_LAYOUT.write(&mut values, 0, &[]), Ok(()));
+        assert_eq!(BAD_LAYOUT.write(&mut values, 1, &[]), Ok(()));
+        assert_eq!(
+            BAD_LAYOUT.write(&mut values, 2, &[1, 2, 3, 4]),
+            Err(SdoAbort::NoObject)
+        );
+        assert_eq!(BAD_LAYOUT.value(&values, 2), Err(SdoAbort::NoObject));
+        assert_eq!(
+            BAD_LAYOUT.write(&mut values, 3, &[1]),
+            Err(SdoAbort::NoObject)
+        );
     }
 
     #[test]
