@@ -172,14 +172,9 @@ fn plan_pdo(
             }
         };
         let (name, _) = names.claim(&entry.pdo_name, &[format!("{index:04x}_{sub_index}")]);
-        let first_line = entry
-            .doc
-            .first()
-            .map_or("", String::as_str)
-            .trim()
-            .to_owned();
+        let title = entry.title.trim();
         let doc = format!(
-            " {first_line} ({index:04X}h sub {sub_index}, {}): bits {offset} to {} of the payload.",
+            " {title} ({index:04X}h sub {sub_index}, {}): bits {offset} to {} of the payload.",
             entry.basic.name(),
             offset + bits - 1
         );

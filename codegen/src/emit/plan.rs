@@ -33,8 +33,8 @@ pub struct EntryPlan {
     /// LowLimit and HighLimit, when the entry has at least one usable limit (the type's range,
     /// or an infinity for a REAL, stands in for the missing one).
     pub limits: Option<(Number, Number)>,
-    /// Rustdoc lines.
-    pub doc: Vec<String>,
+    /// The entry's name for rustdoc (`Object: Sub` for a sub-entry), escaped.
+    pub title: String,
     /// One-paragraph rustdoc for the typed address.
     pub short_doc: Vec<String>,
     /// The typed-address constant's name.
@@ -310,12 +310,6 @@ impl Planner<'_> {
                 extra.push(format!(" {}: {}.", doc_text(key), doc_text(value)));
             }
         }
-        let mut doc = vec![
-            format!(" {title}"),
-            String::new(),
-            format!(" Object {facts}."),
-        ];
-        doc.extend(extra.iter().cloned());
         let mut short_doc = vec![format!(" {title} ({facts}).")];
         short_doc.extend(extra);
         Some(EntryPlan {
@@ -327,7 +321,7 @@ impl Planner<'_> {
             pdo_mappable: sub.pdo_mapping,
             init,
             limits,
-            doc,
+            title,
             short_doc,
             const_name,
             offset: 0,
