@@ -56,51 +56,50 @@ impl Limit {
     /// bytes): `ValueTooLow` below the low limit, `ValueTooHigh` above the high one. A NaN
     /// value passes, as it compares neither below nor above.
     fn check(self, data_type: DataType, data: &[u8]) -> Result<(), SdoAbort> {
-        let mut wide = [0u8; 8];
-        let n = data.len().min(8);
-        if n == 0 {
-            // Only a malformed hand-built layout has a zero-size number: nothing to compare.
-            return Ok(());
-        }
-        wide[..n].copy_from_slice(&data[..n]);
-        let bits = (n * 8) as u32;
-        let key = |raw: u64| order_key(data_type, raw, bits);
-        let Some(value) = key(u64::from_le_bytes(wide)) else {
+        let mut value = [0u8; 8];
+        let Some(slot) = value.get_mut(..data.len()) else {
             return Ok(());
         };
-        if key(self.low).is_some_and(|low| value < low) {
+        slot.copy_from_slice(data);
+        let key = |bytes: [u8; 8]| order_key(data_type, bytes, data.len());
+        let Some(value) = key(value) else {
+            return Ok(());
+        };
+        if key(self.low.to_le_bytes()).is_some_and(|low| value < low) {
             return Err(SdoAbort::ValueTooLow);
         }
-        if key(self.high).is_some_and(|high| value > high) {
+        if key(self.high.to_le_bytes()).is_some_and(|high| value > high) {
             return Err(SdoAbort::ValueTooHigh);
         }
         Ok(())
     }
 }
 
-/// A key whose unsigned order is the numeric order of `raw` read as a `bits`-bit value of
-/// `data_type`; `None` for a NaN.
-fn order_key(data_type: DataType, raw: u64, bits: u32) -> Option<u64> {
-    let sign = 1u64 << (bits - 1);
-    let mask = u64::MAX >> (64 - bits);
-    let raw = raw & mask;
+/// A key whose unsigned order is the numeric order of the low `len` bytes of `bytes` read as a
+/// `data_type` value; `None` for a NaN (or no bytes). Byte operations rather than shifts by
+/// `len`: a 64-bit shift by a variable amount is a library call on a Cortex-M.
+fn order_key(data_type: DataType, mut bytes: [u8; 8], len: usize) -> Option<u64> {
+    for byte in bytes.iter_mut().skip(len) {
+        *byte = 0;
+    }
+    let top = bytes.get_mut(len.checked_sub(1)?)?;
     match data_type {
         DataType::Real32 | DataType::Real64 => {
-            let magnitude = raw & !sign;
-            let exponent_all_ones = if bits == 32 {
-                0x7F80_0000
+            let negative = *top & 0x80 != 0;
+            *top &= 0x7F;
+            let magnitude = u64::from_le_bytes(bytes);
+            let (zero, infinity) = if len == 4 {
+                (1 << 31, 0x7F80_0000)
             } else {
-                0x7FF0_0000_0000_0000
+                (1 << 63, 0x7FF0_0000_0000_0000)
             };
-            if magnitude > exponent_all_ones {
+            // Negative values below `zero` (-0 and +0 both on it), positive ones above.
+            if magnitude > infinity {
                 None
-            } else if magnitude == 0 {
-                // -0 and +0 are equal.
-                Some(sign)
-            } else if raw & sign != 0 {
-                Some(!raw & mask)
+            } else if negative {
+                Some(zero - magnitude)
             } else {
-                Some(raw | sign)
+                Some(zero + magnitude)
             }
         }
         DataType::Integer8
@@ -110,8 +109,11 @@ fn order_key(data_type: DataType, raw: u64, bits: u32) -> Option<u64> {
         | DataType::Integer40
         | DataType::Integer48
         | DataType::Integer56
-        | DataType::Integer64 => Some(raw ^ sign),
-        _ => Some(raw),
+        | DataType::Integer64 => {
+            *top ^= 0x80;
+            Some(u64::from_le_bytes(bytes))
+        }
+        _ => Some(u64::from_le_bytes(bytes)),
     }
 }
 
