@@ -194,11 +194,12 @@ fn entries_are_sorted_and_found() {
         .all(|w| (w[0].index, w[0].sub) < (w[1].index, w[1].sub)));
     let d = od.find(0x2003, 5).unwrap();
     assert_eq!(d.data_type, edsgen_runtime::DataType::Unsigned64);
-    assert_eq!(d.size, 8);
+    assert_eq!(od.capacity(od.locate(0x2003, 5).unwrap()), Some(8));
     assert_eq!(od.find(0x2003, 3), Err(SdoAbort::NoSubIndex));
     assert_eq!(od.find(0x6000, 0), Err(SdoAbort::NoObject));
     let s = od.find(0x1009, 0).unwrap();
-    assert_eq!((s.size, s.access), (32, edsgen_runtime::Access::Rw));
+    let capacity = od.capacity(od.locate(0x1009, 0).unwrap());
+    assert_eq!((capacity, s.access), (Some(32), edsgen_runtime::Access::Rw));
 }
 
 /// `read` and `write` dispatch on the position in `ENTRIES`: every described entry is served at
@@ -209,7 +210,8 @@ fn every_entry_reads_and_writes_its_own_value() {
     let addresses: Vec<(u16, u8, usize)> = od
         .entries()
         .iter()
-        .map(|e| (e.index, e.sub, usize::from(e.size)))
+        .enumerate()
+        .map(|(position, e)| (e.index, e.sub, od.capacity(position).unwrap()))
         .collect();
     let mut written = Vec::new();
     for (i, &(index, sub, size)) in addresses.iter().enumerate() {
@@ -334,7 +336,9 @@ fn access_by_position_agrees_with_access_by_address_for_every_entry() {
         let read_b = by_address.read(entry.index, entry.sub, 0, &mut b);
         assert_eq!(read_a, read_b, "{:04X}h sub {}", entry.index, entry.sub);
         // Write the value's bytes back, each byte changed, through both paths.
-        let len = read_b.unwrap_or(0).max(usize::from(entry.size).min(4));
+        let len = read_b
+            .unwrap_or(0)
+            .max(by_address.capacity(position).unwrap().min(4));
         let data: Vec<u8> = b[..len].iter().map(|x| x.wrapping_add(1)).collect();
         assert_eq!(
             by_position.write_at(position, &data),

@@ -11,10 +11,6 @@ const fn e(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDes
         data_type,
         access,
         pdo_mappable: false,
-        size: match data_type.fixed_size() {
-            Some(size) => size as u16,
-            None => 0,
-        },
     }
 }
 
@@ -177,6 +173,11 @@ impl MinimalOd {
     }
 }
 
+/// The size of an entry's value: every entry here has a fixed-size type of at most 4 bytes.
+fn size(entry: &EntryDescriptor) -> usize {
+    entry.data_type.fixed_size().unwrap_or(0)
+}
+
 fn position(index: u16, sub: u8) -> Result<usize, SdoAbort> {
     ENTRIES
         .binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub)))
@@ -189,13 +190,13 @@ impl ObjectDictionary for MinimalOd {
     }
 
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
-        Ok(usize::from(self.find(index, sub)?.size))
+        Ok(size(self.find(index, sub)?))
     }
 
     fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         let pos = self.find(index, sub).and_then(|_| position(index, sub))?;
         let bytes = self.values[pos].to_le_bytes();
-        let value = &bytes[..usize::from(ENTRIES[pos].size)];
+        let value = &bytes[..size(&ENTRIES[pos])];
         let rest = value.get(offset..).unwrap_or(&[]);
         let n = rest.len().min(buf.len());
         buf[..n].copy_from_slice(&rest[..n]);
@@ -204,7 +205,7 @@ impl ObjectDictionary for MinimalOd {
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let pos = self.find(index, sub).and_then(|_| position(index, sub))?;
-        let size = usize::from(ENTRIES[pos].size);
+        let size = size(&ENTRIES[pos]);
         if data.len() != size {
             return Err(if data.len() > size {
                 SdoAbort::LengthTooHigh

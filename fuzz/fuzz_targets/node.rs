@@ -64,8 +64,8 @@ impl ObjectDictionary for Watched {
                 "mapping {index:04X}:{sub} written while enabled"
             );
             assert_eq!(
-                data.len(),
-                usize::from(descriptor.size),
+                Some(data.len()),
+                descriptor.data_type.fixed_size(),
                 "{index:04X}:{sub} size"
             );
         }

@@ -123,21 +123,36 @@ pub struct Layout {
     entries: &'static [EntryDescriptor],
     offsets: &'static [u16],
     limits: &'static [(u16, Limit)],
+    image_size: usize,
+}
+
+/// Where a value is: its data type, where it starts and its size (the capacity for a string,
+/// octet string or domain, whose bytes follow a 2-byte length).
+#[derive(Clone, Copy)]
+struct Place {
+    data_type: DataType,
+    start: usize,
+    size: usize,
 }
 
 impl Layout {
     /// The layout of `entries` (sorted by index and sub-index), whose values start at
-    /// `offsets[i]` in the image; `limits` holds (position, limits) for the entries that have
-    /// limits, sorted by position.
+    /// `offsets[i]` in an image of `image_size` bytes, in table order and without gaps: a
+    /// value's room is up to the next value (or the end of the image), which for a fixed-size
+    /// value must be its size and for a string, octet string or domain is its 2-byte current
+    /// length and its capacity. `limits` holds (position, limits) for the entries that have limits, sorted by
+    /// position.
     pub const fn new(
         entries: &'static [EntryDescriptor],
         offsets: &'static [u16],
         limits: &'static [(u16, Limit)],
+        image_size: usize,
     ) -> Self {
         Layout {
             entries,
             offsets,
             limits,
+            image_size,
         }
     }
 
@@ -146,28 +161,55 @@ impl Layout {
         self.entries
     }
 
-    /// The descriptor of the entry at `position` and where its value starts in the image.
+    /// `ObjectDictionary::capacity`: the size of the value at `position`, a string's, octet
+    /// string's or domain's capacity.
+    pub fn capacity(&self, position: usize) -> Option<usize> {
+        self.place(position).ok().map(|place| place.size)
+    }
+
+    /// Where the value of the entry at `position` is. `NoObject` for a position past the end,
+    /// or a string whose room the next offset contradicts (a malformed hand-built layout).
     #[inline]
-    fn place(&self, position: usize) -> Result<(&'static EntryDescriptor, usize), SdoAbort> {
-        match (self.entries.get(position), self.offsets.get(position)) {
-            (Some(entry), Some(&start)) => Ok((entry, usize::from(start))),
-            _ => Err(SdoAbort::NoObject),
-        }
+    fn place(&self, position: usize) -> Result<Place, SdoAbort> {
+        let (Some(entry), Some(&start)) = (self.entries.get(position), self.offsets.get(position))
+        else {
+            return Err(SdoAbort::NoObject);
+        };
+        let start = usize::from(start);
+        // Values lie in table order without gaps, so a value's room is up to the next one: a
+        // fixed-size value's size, or a string's 2-byte length and its capacity.
+        let end = match self.offsets.get(position + 1) {
+            Some(&next) => usize::from(next),
+            None => self.image_size,
+        };
+        let reserved = if holds_bytes(entry.data_type) { 2 } else { 0 };
+        let size = end
+            .checked_sub(start + reserved)
+            .ok_or(SdoAbort::NoObject)?;
+        Ok(Place {
+            data_type: entry.data_type,
+            start,
+            size,
+        })
     }
 
     /// The bytes of the value at `position`: a fixed-size value's wire bytes, a string's or
     /// domain's current bytes.
     #[inline]
     pub fn value<'v>(&self, values: &'v [u8], position: usize) -> Result<&'v [u8], SdoAbort> {
-        let (entry, start) = self.place(position)?;
-        let range = if holds_bytes(entry.data_type) {
+        let Place {
+            data_type,
+            start,
+            size,
+        } = self.place(position)?;
+        let range = if holds_bytes(data_type) {
             let len = match values.get(start..start + 2) {
                 Some(&[low, high]) => usize::from(u16::from_le_bytes([low, high])),
                 _ => 0,
             };
-            start + 2..start + 2 + len
+            start + 2..start + 2 + len.min(size)
         } else {
-            start..start + usize::from(entry.size)
+            start..start + size
         };
         values.get(range).ok_or(SdoAbort::NoObject)
     }
@@ -189,9 +231,12 @@ impl Layout {
     /// `ValueTooHigh`); a string, octet string or domain at most its capacity (`LengthTooHigh`).
     /// On error the image is unchanged.
     pub fn write(&self, values: &mut [u8], position: usize, data: &[u8]) -> Result<(), SdoAbort> {
-        let (entry, start) = self.place(position)?;
-        let size = usize::from(entry.size);
-        if holds_bytes(entry.data_type) {
+        let Place {
+            data_type,
+            start,
+            size,
+        } = self.place(position)?;
+        if holds_bytes(data_type) {
             if data.len() > size {
                 return Err(SdoAbort::LengthTooHigh);
             }
@@ -206,11 +251,11 @@ impl Layout {
         if data.len() != size {
             return Err(length_abort(data.len() > size));
         }
-        if entry.data_type == DataType::Boolean && data.first().is_some_and(|&byte| byte > 1) {
+        if data_type == DataType::Boolean && data.first().is_some_and(|&byte| byte > 1) {
             return Err(SdoAbort::InvalidValue);
         }
         if let Some(limit) = self.limit(position) {
-            limit.check(entry.data_type, data)?;
+            limit.check(data_type, data)?;
         }
         let target = values
             .get_mut(start..start + size)
@@ -268,8 +313,12 @@ impl Layout {
         value: &T,
     ) -> Result<(), SdoAbort> {
         let position = self.position_of(&entry)?;
-        let (descriptor, start) = self.place(position)?;
-        if !holds_bytes(descriptor.data_type) {
+        let Place {
+            data_type,
+            start,
+            size,
+        } = self.place(position)?;
+        if !holds_bytes(data_type) {
             let mut scratch = [0u8; 8];
             let len = entry
                 .encode(value, &mut scratch)
@@ -277,9 +326,8 @@ impl Layout {
             return self.write(values, position, &scratch[..len]);
         }
         // Encoded in place: `encode` writes nothing when the value does not fit.
-        let capacity = usize::from(descriptor.size);
         let room = values
-            .get_mut(start + 2..start + 2 + capacity)
+            .get_mut(start + 2..start + 2 + size)
             .ok_or(SdoAbort::NoObject)?;
         let len = entry.encode(value, room).ok_or(SdoAbort::LengthTooHigh)?;
         values[start..start + 2].copy_from_slice(&(len as u16).to_le_bytes());
@@ -336,21 +384,21 @@ mod tests {
     use crate::typed::FixedBytes;
 
     use DataType as D;
-    const fn e(index: u16, sub: u8, data_type: DataType, size: u16) -> EntryDescriptor {
-        EntryDescriptor::new(index, sub, data_type, Access::Rw, true, size)
+    const fn e(index: u16, sub: u8, data_type: DataType) -> EntryDescriptor {
+        EntryDescriptor::new(index, sub, data_type, Access::Rw, true)
     }
 
     /// 2000h u16 (limited 10..=500), 2001h i24 (limited -100..=100), 2002h bool, 2003h REAL32
     /// (limited -1.5..=2.5), 2004h REAL64 (limited to 0.0.. with a NaN high limit), 2005h a
     /// 4-byte string, 2006h u8.
     static ENTRIES: [EntryDescriptor; 7] = [
-        e(0x2000, 0, D::Unsigned16, 2),
-        e(0x2001, 0, D::Integer24, 3),
-        e(0x2002, 0, D::Boolean, 1),
-        e(0x2003, 0, D::Real32, 4),
-        e(0x2004, 0, D::Real64, 8),
-        e(0x2005, 0, D::VisibleString, 4),
-        e(0x2006, 0, D::Unsigned8, 1),
+        e(0x2000, 0, D::Unsigned16),
+        e(0x2001, 0, D::Integer24),
+        e(0x2002, 0, D::Boolean),
+        e(0x2003, 0, D::Real32),
+        e(0x2004, 0, D::Real64),
+        e(0x2005, 0, D::VisibleString),
+        e(0x2006, 0, D::Unsigned8),
     ];
     static OFFSETS: [u16; 7] = [0, 2, 5, 6, 10, 18, 24];
     static LIMITS: [(u16, Limit); 4] = [
@@ -359,7 +407,7 @@ mod tests {
         (3, Limit::real32(-1.5, 2.5)),
         (4, Limit::real64(0.0, f64::NAN)),
     ];
-    static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &LIMITS);
+    static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &LIMITS, 25);
 
     fn image() -> [u8; 25] {
         let mut values = [0u8; 25];
@@ -516,18 +564,34 @@ mod tests {
     }
 
     #[test]
+    fn capacities_are_the_room_up_to_the_next_value() {
+        assert_eq!(LAYOUT.capacity(5), Some(4));
+        assert_eq!(LAYOUT.capacity(0), Some(2));
+        assert_eq!(LAYOUT.capacity(7), None);
+        // The last entry's room ends with the image.
+        static TAIL: [EntryDescriptor; 1] = [e(0x2000, 0, D::Domain)];
+        assert_eq!(Layout::new(&TAIL, &[3], &[], 14).capacity(0), Some(9));
+    }
+
+    #[test]
     fn a_malformed_hand_built_layout_refuses_instead_of_panicking() {
-        // A BOOLEAN and a limited UNSIGNED8 described with size 0, offsets past the image.
+        // A string whose room the next offset contradicts, a value past the end of the image
+        // it is given, and a position with no entry.
         static BAD: [EntryDescriptor; 3] = [
-            e(0x2000, 0, D::Boolean, 0),
-            e(0x2001, 0, D::Unsigned8, 0),
-            e(0x2002, 0, D::Unsigned32, 4),
+            e(0x2000, 0, D::VisibleString),
+            e(0x2001, 0, D::Unsigned8),
+            e(0x2002, 0, D::Unsigned32),
         ];
-        static BAD_LIMITS: [(u16, Limit); 1] = [(1, Limit::unsigned(1, 2))];
-        static BAD_LAYOUT: Layout = Layout::new(&BAD, &[0, 0, 30], &BAD_LIMITS);
-        let mut values = [0u8; 4];
-        assert_eq!(BAD_LAYOUT.write(&mut values, 0, &[]), Ok(()));
-        assert_eq!(BAD_LAYOUT.write(&mut values, 1, &[]), Ok(()));
+        static BAD_LAYOUT: Layout = Layout::new(&BAD, &[4, 5, 6], &[], 10);
+        let mut values = [0u8; 8];
+        assert_eq!(BAD_LAYOUT.value(&values, 0), Err(SdoAbort::NoObject));
+        assert_eq!(
+            BAD_LAYOUT.write(&mut values, 0, b""),
+            Err(SdoAbort::NoObject)
+        );
+        assert_eq!(BAD_LAYOUT.capacity(0), None);
+        assert_eq!(BAD_LAYOUT.write(&mut values, 1, &[7]), Ok(()));
+        assert_eq!(values[5], 7);
         assert_eq!(
             BAD_LAYOUT.write(&mut values, 2, &[1, 2, 3, 4]),
             Err(SdoAbort::NoObject)
@@ -537,6 +601,11 @@ mod tests {
             BAD_LAYOUT.write(&mut values, 3, &[1]),
             Err(SdoAbort::NoObject)
         );
+        // A stored length beyond the capacity (an image not written through the layout) reads
+        // as the capacity.
+        let mut image = image();
+        put_le(&mut image, 18, 0xFFFF, 2);
+        assert_eq!(LAYOUT.value(&image, 5), Ok(&[b'a', b'b', 0, 0][..]));
     }
 
     #[test]

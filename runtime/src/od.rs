@@ -88,7 +88,9 @@ impl Access {
     }
 }
 
-/// What the protocols need to know about one entry, without touching its value.
+/// What the protocols need to know about one entry, without touching its value: 6 bytes in a
+/// generated table. The size is the data type's ([`DataType::fixed_size`]); a string's, octet
+/// string's or domain's capacity comes from [`ObjectDictionary::capacity`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct EntryDescriptor {
     /// OD index.
@@ -101,8 +103,6 @@ pub struct EntryDescriptor {
     pub access: Access,
     /// Whether the entry may be mapped into a PDO.
     pub pdo_mappable: bool,
-    /// Size in bytes: the fixed size, or the capacity of a string, octet string or domain.
-    pub size: u16,
 }
 
 impl EntryDescriptor {
@@ -113,7 +113,6 @@ impl EntryDescriptor {
         data_type: DataType,
         access: Access,
         pdo_mappable: bool,
-        size: u16,
     ) -> Self {
         EntryDescriptor {
             index,
@@ -121,7 +120,6 @@ impl EntryDescriptor {
             data_type,
             access,
             pdo_mappable,
-            size,
         }
     }
 }
@@ -224,6 +222,16 @@ pub trait ObjectDictionary {
         entries
             .get(self.locate(index, sub)?)
             .ok_or(SdoAbort::NoObject)
+    }
+
+    /// The most bytes the value of the entry at `position` can hold: its data type's fixed
+    /// size, or a string's, octet string's or domain's capacity. The SDO server refuses a longer
+    /// download as soon as it is announced or exceeded (0607 0012) rather than collecting it
+    /// first. The default knows fixed sizes only (`None` for the others, so that a too-long
+    /// download is refused by [`write`](Self::write) when it completes); a dictionary holding
+    /// strings or domains says their capacity.
+    fn capacity(&self, position: usize) -> Option<usize> {
+        self.entries().get(position)?.data_type.fixed_size()
     }
 
     /// The current length in bytes of the value at (index, sub) (shorter than the capacity for a

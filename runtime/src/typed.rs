@@ -280,10 +280,10 @@ mod tests {
     fn position_finds_entries_and_tells_missing_index_from_sub() {
         use crate::od::{Access, DataType};
         let entries = [
-            EntryDescriptor::new(0x1000, 0, DataType::Unsigned32, Access::Ro, false, 4),
-            EntryDescriptor::new(0x1018, 0, DataType::Unsigned8, Access::Ro, false, 1),
-            EntryDescriptor::new(0x1018, 2, DataType::Unsigned32, Access::Ro, false, 4),
-            EntryDescriptor::new(0x6040, 0, DataType::Unsigned16, Access::Rw, true, 2),
+            EntryDescriptor::new(0x1000, 0, DataType::Unsigned32, Access::Ro, false),
+            EntryDescriptor::new(0x1018, 0, DataType::Unsigned8, Access::Ro, false),
+            EntryDescriptor::new(0x1018, 2, DataType::Unsigned32, Access::Ro, false),
+            EntryDescriptor::new(0x6040, 0, DataType::Unsigned16, Access::Rw, true),
         ];
         assert_eq!(position(&entries, 0x1000, 0), Ok(0));
         assert_eq!(position(&entries, 0x1018, 2), Ok(2));
@@ -302,7 +302,7 @@ mod tests {
         let all: Vec<EntryDescriptor> = (0..40u16)
             .map(|i| {
                 let (index, sub) = (0x2000 + i / 3, (i % 3) as u8 * 2);
-                EntryDescriptor::new(index, sub, DataType::Unsigned8, Access::Rw, false, 1)
+                EntryDescriptor::new(index, sub, DataType::Unsigned8, Access::Rw, false)
             })
             .collect();
         for len in 0..=all.len() {

@@ -155,11 +155,7 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
             let data_type = data_type_tokens(e.basic);
             let access = access_tokens(e.access);
             let pdo = e.pdo_mappable;
-            let size = Literal::u16_unsuffixed(match e.ty {
-                RustType::Scalar(_, wire) => wire as u16,
-                RustType::Bytes(n) => n as u16,
-            });
-            quote!(E::new(#index, #sub, #data_type, #access, #pdo, #size))
+            quote!(E::new(#index, #sub, #data_type, #access, #pdo))
         })
         .collect();
     let n = Literal::usize_unsuffixed(rows.len());
@@ -204,7 +200,8 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
         /// Every entry's descriptor, sorted by (index, sub-index).
         pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; #n] = #body;
 
-        /// Where each entry of `ENTRIES` starts in the value image.
+        /// Where each entry of `ENTRIES` starts in the value image (a string's or domain's
+        /// capacity is the room up to the next one).
         static OFFSETS: [u16; #n] = [#(#offsets),*];
 
         /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
@@ -213,7 +210,7 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
         /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
         /// `get`/`set` work from.
         static LAYOUT: ::edsgen_runtime::image::Layout =
-            ::edsgen_runtime::image::Layout::new(&ENTRIES, &OFFSETS, &LIMITS);
+            ::edsgen_runtime::image::Layout::new(&ENTRIES, &OFFSETS, &LIMITS, IMAGE_SIZE);
     }
 }
 
@@ -224,6 +221,10 @@ pub fn od_impl(_plan: &Plan) -> TokenStream {
         impl ::edsgen_runtime::ObjectDictionary for Od {
             fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
                 &ENTRIES
+            }
+
+            fn capacity(&self, position: usize) -> Option<usize> {
+                LAYOUT.capacity(position)
             }
 
             fn value_len(&self, index: u16, sub: u8) -> Result<usize, ::edsgen_runtime::SdoAbort> {

@@ -4,34 +4,27 @@
 
 use edsgen_runtime::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 
-const fn entry(
-    index: u16,
-    sub: u8,
-    data_type: DataType,
-    access: Access,
-    size: u16,
-) -> EntryDescriptor {
+const fn entry(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
     EntryDescriptor {
         index,
         sub,
         data_type,
         access,
         pdo_mappable: false,
-        size,
     }
 }
 
 const ENTRIES: [EntryDescriptor; 10] = [
-    entry(0x1000, 0, DataType::Unsigned32, Access::Ro, 4),
-    entry(0x1001, 0, DataType::Unsigned8, Access::Ro, 1),
-    entry(0x1017, 0, DataType::Unsigned16, Access::Rw, 2),
-    entry(0x1018, 0, DataType::Unsigned8, Access::Const, 1),
-    entry(0x1018, 1, DataType::Unsigned32, Access::Ro, 4),
-    entry(0x1018, 2, DataType::Unsigned32, Access::Ro, 4),
-    entry(0x6040, 0, DataType::Unsigned16, Access::Rww, 2),
-    entry(0x6041, 0, DataType::Unsigned16, Access::Rwr, 2),
-    entry(0x6060, 0, DataType::Integer8, Access::Rw, 1),
-    entry(0x607A, 0, DataType::Integer32, Access::Rw, 4),
+    entry(0x1000, 0, DataType::Unsigned32, Access::Ro),
+    entry(0x1001, 0, DataType::Unsigned8, Access::Ro),
+    entry(0x1017, 0, DataType::Unsigned16, Access::Rw),
+    entry(0x1018, 0, DataType::Unsigned8, Access::Const),
+    entry(0x1018, 1, DataType::Unsigned32, Access::Ro),
+    entry(0x1018, 2, DataType::Unsigned32, Access::Ro),
+    entry(0x6040, 0, DataType::Unsigned16, Access::Rww),
+    entry(0x6041, 0, DataType::Unsigned16, Access::Rwr),
+    entry(0x6060, 0, DataType::Integer8, Access::Rw),
+    entry(0x607A, 0, DataType::Integer32, Access::Rw),
 ];
 
 /// The dictionary's values.

@@ -185,6 +185,10 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
         self.od.find(index, sub)
     }
 
+    fn capacity(&self, position: usize) -> Option<usize> {
+        self.od.capacity(position)
+    }
+
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         self.od.value_len(index, sub)
     }

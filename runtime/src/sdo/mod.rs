@@ -19,7 +19,6 @@
 //!     data_type: DataType::Unsigned16,
 //!     access: Access::Rw,
 //!     pdo_mappable: false,
-//!     size: 2,
 //! }];
 //!
 //! impl ObjectDictionary for Heartbeat {

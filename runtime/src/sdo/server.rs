@@ -58,6 +58,15 @@ pub enum SdoEvent {
     },
 }
 
+/// Where a download goes: the entry's position and the most bytes its value holds (exactly that
+/// many for a fixed-size type; `usize::MAX` when the dictionary does not say).
+#[derive(Debug, Clone, Copy)]
+struct WriteTarget {
+    position: usize,
+    capacity: usize,
+    fixed: bool,
+}
+
 /// A normal (segmented) download: data collected in the buffer.
 #[derive(Debug, Clone, Copy)]
 struct Download {
@@ -432,17 +441,24 @@ impl<const N: usize> SdoServer<N> {
         self.mux = mux;
     }
 
-    /// The entry's position in the OD's table and its descriptor, if an SDO may write it.
+    /// Where a download goes, if an SDO may write the entry.
     fn writable_entry<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
         od: &O,
-    ) -> Result<(usize, EntryDescriptor), SdoAbort> {
+    ) -> Result<WriteTarget, SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
-        let entry = *od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = od.entries().get(position).ok_or(SdoAbort::NoObject)?;
         if !entry.access.writable() {
             return Err(SdoAbort::ReadOnly);
         }
-        Ok((position, entry))
+        let fixed = entry.data_type.fixed_size();
+        Ok(WriteTarget {
+            position,
+            capacity: fixed
+                .or_else(|| od.capacity(position))
+                .unwrap_or(usize::MAX),
+            fixed: fixed.is_some(),
+        })
     }
 
     /// The entry's position in the OD's table and its descriptor, if an SDO may read it.
@@ -473,17 +489,13 @@ impl<const N: usize> SdoServer<N> {
     }
 
     /// Checks a download's announced size against the entry and the buffer.
-    fn check_announced_size(entry: &EntryDescriptor, size: Option<u32>) -> Result<(), SdoAbort> {
+    fn check_announced_size(target: &WriteTarget, size: Option<u32>) -> Result<(), SdoAbort> {
         let Some(size) = size else { return Ok(()) };
         let size = size as usize;
-        if size > usize::from(entry.size) {
+        if size > target.capacity {
             return Err(SdoAbort::LengthTooHigh);
         }
-        if entry
-            .data_type
-            .fixed_size()
-            .is_some_and(|fixed| size < fixed)
-        {
+        if target.fixed && size < target.capacity {
             return Err(SdoAbort::LengthTooLow);
         }
         if size > N {
@@ -527,7 +539,7 @@ impl<const N: usize> SdoServer<N> {
         payload: InitiatePayload,
         od: &mut O,
     ) -> Handled {
-        let (position, entry) = Self::writable_entry(mux, od)?;
+        let target = Self::writable_entry(mux, od)?;
         let written = SdoEvent::Written {
             index: mux.index,
             sub: mux.sub,
@@ -535,16 +547,16 @@ impl<const N: usize> SdoServer<N> {
         let (data, len) = match payload {
             InitiatePayload::Expedited { data, len } => (data, usize::from(len).min(data.len())),
             InitiatePayload::ExpeditedUnsized { data } => {
-                let len = usize::from(entry.size);
+                let len = target.capacity;
                 if !(1..=data.len()).contains(&len) {
                     return Err(SdoAbort::LengthMismatch);
                 }
                 (data, len)
             }
-            InitiatePayload::Sized(size) => return self.start_download(mux, &entry, Some(size)),
-            InitiatePayload::Unsized => return self.start_download(mux, &entry, None),
+            InitiatePayload::Sized(size) => return self.start_download(mux, &target, Some(size)),
+            InitiatePayload::Unsized => return self.start_download(mux, &target, None),
         };
-        od.write_at(position, &data[..len])?;
+        od.write_at(target.position, &data[..len])?;
         self.respond(ServerResponse::InitiateDownload { mux });
         Ok(Some(written))
     }
@@ -552,14 +564,14 @@ impl<const N: usize> SdoServer<N> {
     fn start_download(
         &mut self,
         mux: Multiplexer,
-        entry: &EntryDescriptor,
+        target: &WriteTarget,
         size: Option<u32>,
     ) -> Handled {
-        Self::check_announced_size(entry, size)?;
+        Self::check_announced_size(target, size)?;
         self.transfer = Transfer::Download(Download {
             toggle: false,
             size,
-            entry_size: usize::from(entry.size),
+            entry_size: target.capacity,
             len: 0,
         });
         self.respond(ServerResponse::InitiateDownload { mux });
@@ -692,12 +704,12 @@ impl<const N: usize> SdoServer<N> {
         size: Option<u32>,
         od: &O,
     ) -> Handled {
-        let (_, entry) = Self::writable_entry(mux, od)?;
-        Self::check_announced_size(&entry, size)?;
+        let target = Self::writable_entry(mux, od)?;
+        Self::check_announced_size(&target, size)?;
         self.transfer = Transfer::BlockDownload(BlockDownload {
             crc,
             size,
-            entry_size: usize::from(entry.size),
+            entry_size: target.capacity,
             received: 0,
             ackseq: 0,
             complete: false,

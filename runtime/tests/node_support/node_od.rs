@@ -29,7 +29,6 @@ fn entry(
         data_type,
         access,
         pdo_mappable,
-        size: data_type.fixed_size().unwrap_or(8) as u16,
     }
 }
 
@@ -229,12 +228,12 @@ impl ObjectDictionary for TestOd {
 
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         let pos = self.position(index, sub)?;
-        Ok(self.entries[pos].size as usize)
+        Ok(self.entries[pos].data_type.fixed_size().unwrap_or(8))
     }
 
     fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         let pos = self.position(index, sub)?;
-        let size = self.entries[pos].size as usize;
+        let size = self.entries[pos].data_type.fixed_size().unwrap_or(8);
         let value = &self.values[pos][..size];
         let rest = value.get(offset..).unwrap_or(&[]);
         let n = rest.len().min(buf.len());
@@ -244,7 +243,7 @@ impl ObjectDictionary for TestOd {
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let pos = self.position(index, sub)?;
-        let size = self.entries[pos].size as usize;
+        let size = self.entries[pos].data_type.fixed_size().unwrap_or(8);
         if data.len() > size {
             return Err(SdoAbort::LengthTooHigh);
         }

@@ -13,6 +13,8 @@ type Limits = Option<(u64, u64)>;
 
 struct Value {
     bytes: Vec<u8>,
+    /// The most bytes the value holds.
+    capacity: usize,
     /// Inclusive limits of an unsigned value, checked on write.
     limits: Limits,
 }
@@ -28,16 +30,16 @@ fn descriptor(
     sub: u8,
     data_type: DataType,
     access: Access,
-    size: u16,
-) -> EntryDescriptor {
-    EntryDescriptor {
+    capacity: usize,
+) -> (EntryDescriptor, usize) {
+    let descriptor = EntryDescriptor {
         index,
         sub,
         data_type,
         access,
         pdo_mappable: matches!(access, Access::Rwr | Access::Rww),
-        size,
-    }
+    };
+    (descriptor, capacity)
 }
 
 impl TestOd {
@@ -45,7 +47,7 @@ impl TestOd {
     pub fn new() -> Self {
         use Access::*;
         use DataType::*;
-        let table: Vec<(EntryDescriptor, Vec<u8>, Limits)> = vec![
+        let table: Vec<((EntryDescriptor, usize), Vec<u8>, Limits)> = vec![
             (
                 descriptor(0x1000, 0, Unsigned32, Ro, 4),
                 0x0002_0192u32.to_le_bytes().to_vec(),
@@ -112,9 +114,13 @@ impl TestOd {
             descriptors: Vec::new(),
             values: Vec::new(),
         };
-        for (descriptor, bytes, limits) in table {
+        for ((descriptor, capacity), bytes, limits) in table {
             od.descriptors.push(descriptor);
-            od.values.push(Value { bytes, limits });
+            od.values.push(Value {
+                bytes,
+                capacity,
+                limits,
+            });
         }
         assert!(od
             .descriptors
@@ -154,6 +160,10 @@ impl ObjectDictionary for TestOd {
         &self.descriptors
     }
 
+    fn capacity(&self, position: usize) -> Option<usize> {
+        self.values.get(position).map(|value| value.capacity)
+    }
+
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         Ok(self.values[self.position(index, sub)?].bytes.len())
     }
@@ -172,7 +182,7 @@ impl ObjectDictionary for TestOd {
         match descriptor.data_type.fixed_size() {
             Some(size) if data.len() > size => return Err(SdoAbort::LengthTooHigh),
             Some(size) if data.len() < size => return Err(SdoAbort::LengthTooLow),
-            None if data.len() > usize::from(descriptor.size) => {
+            None if data.len() > self.values[position].capacity => {
                 return Err(SdoAbort::LengthTooHigh)
             }
             _ => {}
