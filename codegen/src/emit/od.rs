@@ -25,65 +25,38 @@ fn hex8(v: u8) -> TokenStream {
 /// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`.
 pub fn structs(plan: &Plan) -> TokenStream {
     let size = Literal::usize_unsuffixed(plan.image_size);
-    // Constant values go into `DEFAULTS` (all-zero ones need nothing: the image starts at zero),
-    // `$NODEID` ones are stored by `Od::new`.
-    let (mut defaults, mut node_stores) = (Vec::new(), Vec::new());
-    let (mut uses_le, mut uses_bytes) = (false, false);
+    // Constant values go into the default image, kept as runs of its non-zero bytes
+    // (`DEFAULTS`); `$NODEID` ones are stored by `Od::new`.
+    let mut image = vec![0u8; plan.image_size];
+    let mut node_stores = Vec::new();
     for e in &plan.entries {
-        let at = Literal::usize_unsuffixed(e.offset);
+        let at = e.offset;
         match (&e.init, e.ty) {
             (Initial::NodeRelative(value), RustType::Scalar(_, wire)) => {
-                let w = Literal::usize_unsuffixed(wire);
+                let (at, w) = (
+                    Literal::usize_unsuffixed(at),
+                    Literal::usize_unsuffixed(wire),
+                );
                 node_stores.push(quote!(put_le(&mut od.values, #at, (#value) as u64, #w);));
             }
-            (Initial::Raw(raw), RustType::Scalar(_, wire)) if *raw != 0 => {
-                // The wire bytes only: a negative INTEGER16 is 0xFFFF, not 64 bits of ones.
-                let raw = super::types::hex(u128::from(raw & (u64::MAX >> (64 - 8 * wire))), 1);
-                let w = Literal::usize_unsuffixed(wire);
-                defaults.push(quote!(put_le(&mut values, #at, #raw, #w);));
-                uses_le = true;
+            // The wire bytes only: a negative INTEGER16 is FF FF, not 64 bits of ones.
+            (Initial::Raw(raw), RustType::Scalar(_, wire)) => {
+                image[at..at + wire].copy_from_slice(&raw.to_le_bytes()[..wire]);
             }
-            (Initial::Bytes(bytes), _) if !bytes.is_empty() => {
-                let lit = Literal::byte_string(bytes);
-                defaults.push(quote!(put_bytes(&mut values, #at, #lit);));
-                uses_bytes = true;
+            (Initial::Bytes(bytes), _) => {
+                image[at..at + 2].copy_from_slice(&(bytes.len() as u16).to_le_bytes());
+                image[at + 2..at + 2 + bytes.len()].copy_from_slice(bytes);
             }
             _ => {}
         }
     }
-    let defaults_imports = match (uses_le, uses_bytes) {
-        (false, false) => quote!(),
-        (true, false) => quote!(
-            use ::edsgen_runtime::image::put_le;
-        ),
-        (false, true) => quote!(
-            use ::edsgen_runtime::image::put_bytes;
-        ),
-        (true, true) => quote!(
-            use ::edsgen_runtime::image::{put_bytes, put_le};
-        ),
-    };
-    let defaults_body = if defaults.is_empty() {
-        quote!([0; IMAGE_SIZE])
+    let runs = default_runs(&image);
+    let runs_len = Literal::usize_unsuffixed(runs.len());
+    let runs = runs.iter().map(|&b| Literal::u8_unsuffixed(b));
+    let node_param = if node_stores.is_empty() {
+        quote!(_node_id)
     } else {
-        quote!({
-            #defaults_imports
-            let mut values = [0; IMAGE_SIZE];
-            #(#defaults)*
-            values
-        })
-    };
-    let (node_param, new_body) = if node_stores.is_empty() {
-        (quote!(_node_id), quote!(Od { values: DEFAULTS }))
-    } else {
-        (
-            quote!(node_id),
-            quote! {
-                let mut od = Od { values: DEFAULTS };
-                #(#node_stores)*
-                od
-            },
-        )
+        quote!(node_id)
     };
     let new_imports = if node_stores.is_empty() {
         quote!()
@@ -96,9 +69,10 @@ pub fn structs(plan: &Plan) -> TokenStream {
         /// The size of the value image in bytes.
         const IMAGE_SIZE: usize = #size;
 
-        /// The value image with every entry at its default, `$NODEID` ones at 0: built at compile
-        /// time, copied by `Od::new`.
-        const DEFAULTS: [u8; IMAGE_SIZE] = #defaults_body;
+        /// The value image with every entry at its default, `$NODEID` ones at 0, as runs of its
+        /// non-zero bytes: a gap, a length and that many bytes each (see
+        /// `edsgen_runtime::image::unpack_defaults`).
+        const DEFAULTS: [u8; #runs_len] = [#(#runs),*];
 
         /// The object dictionary: every entry's value, little-endian, in one byte array laid out
         /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
@@ -113,7 +87,10 @@ pub fn structs(plan: &Plan) -> TokenStream {
             /// given); `$NODEID` defaults are computed from `node_id`.
             pub const fn new(#node_param: u8) -> Self {
                 #new_imports
-                #new_body
+                let mut od = Od { values: [0; IMAGE_SIZE] };
+                ::edsgen_runtime::image::unpack_defaults(&mut od.values, &DEFAULTS);
+                #(#node_stores)*
+                od
             }
 
             /// The value of `entry` (a typed address from `od`); `None` only for an address
@@ -130,6 +107,42 @@ pub fn structs(plan: &Plan) -> TokenStream {
             }
         }
     }
+}
+
+/// The runs `edsgen_runtime::image::unpack_defaults` turns back into `image`: for each stretch of
+/// non-zero bytes, the gap since the previous run, the length and the bytes. Zero gaps of up to
+/// two bytes stay inside a run (they cost what a new run's gap and length would); a gap or a
+/// stretch longer than 255 bytes takes several runs.
+fn default_runs(image: &[u8]) -> Vec<u8> {
+    let mut runs = Vec::new();
+    let (mut end_of_previous, mut start) = (0usize, 0usize);
+    while start < image.len() {
+        if image[start] == 0 {
+            start += 1;
+            continue;
+        }
+        let mut end = start;
+        while end < image.len() && end - start < 255 {
+            if image[end] != 0 {
+                end += 1;
+                continue;
+            }
+            let zeros = image[end..].iter().take_while(|&&b| b == 0).count();
+            if zeros > 2 || end + zeros >= image.len() || end + zeros - start >= 255 {
+                break;
+            }
+            end += zeros;
+        }
+        let mut gap = start - end_of_previous;
+        while gap > 255 {
+            runs.extend([255, 0]);
+            gap -= 255;
+        }
+        runs.extend([gap as u8, (end - start) as u8]);
+        runs.extend_from_slice(&image[start..end]);
+        (end_of_previous, start) = (end, end);
+    }
+    runs
 }
 
 /// A static array's initialiser: `[]`, or the rows after the `use` of the short names they need.
@@ -302,6 +315,46 @@ pub fn addresses(plan: &Plan) -> TokenStream {
         pub mod od {
             #imports
             #(#consts)*
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::default_runs;
+    use edsgen_runtime::image::unpack_defaults;
+    use proptest::prelude::*;
+
+    fn unpacked(runs: &[u8], len: usize) -> Vec<u8> {
+        let mut values = vec![0; len];
+        unpack_defaults(&mut values, runs);
+        values
+    }
+
+    #[test]
+    fn runs_skip_zeros_and_keep_short_zero_gaps_inside() {
+        assert_eq!(default_runs(&[0; 9]), Vec::<u8>::new());
+        assert_eq!(default_runs(&[0, 0, 5]), vec![2, 1, 5]);
+        // Two zeros stay inside the run, three start a new one.
+        assert_eq!(default_runs(&[1, 0, 0, 2]), vec![0, 4, 1, 0, 0, 2]);
+        assert_eq!(default_runs(&[1, 0, 0, 0, 2, 0]), vec![0, 1, 1, 3, 1, 2]);
+        // A gap of 300 zeros takes an empty run of gap 255 first.
+        let mut image = vec![0; 301];
+        image[300] = 7;
+        assert_eq!(default_runs(&image), vec![255, 0, 45, 1, 7]);
+        // 300 non-zero bytes take two runs.
+        let runs = default_runs(&[9; 300]);
+        assert_eq!(runs.len(), 2 + 255 + 2 + 45);
+        assert_eq!((runs[0], runs[1], runs[257], runs[258]), (0, 255, 0, 45));
+    }
+
+    proptest! {
+        /// Whatever the image, its runs unpack to exactly it.
+        #[test]
+        fn runs_unpack_to_the_image(
+            image in proptest::collection::vec(prop_oneof![4 => Just(0u8), 1 => any::<u8>()], 0..700),
+        ) {
+            prop_assert_eq!(unpacked(&default_runs(&image), image.len()), image);
         }
     }
 }

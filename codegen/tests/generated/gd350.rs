@@ -17,54 +17,18 @@ pub mod gd350 {
     pub const NR_OF_TXPDO: u16 = 1;
     /// The size of the value image in bytes.
     const IMAGE_SIZE: usize = 232;
-    /// The value image with every entry at its default, `$NODEID` ones at 0: built at compile
-    /// time, copied by `Od::new`.
-    const DEFAULTS: [u8; IMAGE_SIZE] = {
-        use ::edsgen_runtime::image::{put_bytes, put_le};
-        let mut values = [0; IMAGE_SIZE];
-        put_le(&mut values, 0, 0x10192, 4);
-        put_bytes(&mut values, 13, b"GD350");
-        put_bytes(&mut values, 20, b"1.0");
-        put_le(&mut values, 58, 0x3, 1);
-        put_le(&mut values, 59, 0x4D8, 4);
-        put_le(&mut values, 63, 0x9252, 4);
-        put_le(&mut values, 67, 0x10001, 4);
-        put_le(&mut values, 71, 0x2, 1);
-        put_le(&mut values, 76, 0xFF, 1);
-        put_le(&mut values, 77, 0x4, 1);
-        put_le(&mut values, 78, 0x21010010, 4);
-        put_le(&mut values, 82, 0x21000110, 4);
-        put_le(&mut values, 86, 0x21000210, 4);
-        put_le(&mut values, 90, 0x21000310, 4);
-        put_le(&mut values, 94, 0x2, 1);
-        put_le(&mut values, 99, 0xFF, 1);
-        put_le(&mut values, 100, 0x4, 1);
-        put_le(&mut values, 101, 0x20010010, 4);
-        put_le(&mut values, 105, 0x20000110, 4);
-        put_le(&mut values, 109, 0x20000210, 4);
-        put_le(&mut values, 113, 0x20000310, 4);
-        put_le(&mut values, 117, 0x5, 1);
-        put_le(&mut values, 118, 0x20020004, 4);
-        put_le(&mut values, 122, 0x50004, 4);
-        put_le(&mut values, 126, 0x20030118, 4);
-        put_le(&mut values, 130, 0x20030208, 4);
-        put_le(&mut values, 134, 0x20040001, 4);
-        put_le(&mut values, 138, 0x3, 1);
-        put_le(&mut values, 139, 0x20040001, 4);
-        put_le(&mut values, 143, 0x20060020, 4);
-        put_le(&mut values, 147, 0x20030208, 4);
-        put_le(&mut values, 151, 0x4, 1);
-        put_le(&mut values, 163, 0x5, 1);
-        put_le(&mut values, 164, 0xFFFFFB, 3);
-        put_le(&mut values, 167, 0xFF, 1);
-        put_le(&mut values, 168, 0xFFFFFFFFFFFF, 8);
-        put_le(&mut values, 176, 0x1, 1);
-        put_le(&mut values, 177, 0x3FC00000, 4);
-        put_bytes(&mut values, 181, b"\x01\x02\x03\x04");
-        put_le(&mut values, 215, 0x4, 1);
-        put_le(&mut values, 226, 0x64, 2);
-        values
-    };
+    /// The value image with every entry at its default, `$NODEID` ones at 0, as runs of its
+    /// non-zero bytes: a gap, a length and that many bytes each (see
+    /// `edsgen_runtime::image::unpack_defaults`).
+    const DEFAULTS: [u8; 143] = [
+        0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 33, 14, 3,
+        216, 4, 0, 0, 82, 146, 0, 0, 1, 0, 1, 0, 2, 4, 19, 255, 4, 16, 0, 1, 33, 16, 1,
+        0, 33, 16, 2, 0, 33, 16, 3, 0, 33, 2, 4, 53, 255, 4, 16, 0, 1, 32, 16, 1, 0, 32,
+        16, 2, 0, 32, 16, 3, 0, 32, 5, 4, 0, 2, 32, 4, 0, 5, 0, 24, 1, 3, 32, 8, 2, 3,
+        32, 1, 0, 4, 32, 3, 1, 0, 4, 32, 32, 0, 6, 32, 8, 2, 3, 32, 4, 11, 24, 5, 251,
+        255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 1, 0, 0, 192, 63, 4, 0, 1, 2,
+        3, 4, 28, 1, 4, 10, 1, 100,
+    ];
     /// The object dictionary: every entry's value, little-endian, in one byte array laid out
     /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
     /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
@@ -77,7 +41,8 @@ pub mod gd350 {
         /// given); `$NODEID` defaults are computed from `node_id`.
         pub const fn new(node_id: u8) -> Self {
             use ::edsgen_runtime::image::put_le;
-            let mut od = Od { values: DEFAULTS };
+            let mut od = Od { values: [0; IMAGE_SIZE] };
+            ::edsgen_runtime::image::unpack_defaults(&mut od.values, &DEFAULTS);
             put_le(&mut od.values, 54, ((node_id as u32).wrapping_add(128)) as u64, 4);
             put_le(&mut od.values, 72, ((node_id as u32).wrapping_add(0x300)) as u64, 4);
             put_le(&mut od.values, 95, ((node_id as u32).wrapping_add(0x280)) as u64, 4);
