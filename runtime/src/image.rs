@@ -356,14 +356,23 @@ fn length_abort(too_long: bool) -> SdoAbort {
     }
 }
 
-/// Stores the low `width` bytes of `raw`, little-endian, at `offset`: how a generated `Od::new`
-/// stores its `$NODEID` defaults.
-pub const fn put_le(values: &mut [u8], offset: usize, raw: u64, width: usize) {
-    let bytes = raw.to_le_bytes();
-    let mut i = 0;
-    while i < width {
-        values[offset + i] = bytes[i];
-        i += 1;
+/// Adds `node_id` to each `$NODEID` default of a generated `Od::new`: the little-endian number
+/// of `width` bytes at `offset` in `values`, (offset, width) from `places`, which the default
+/// image holds the offset of (`$NODEID+0x600` is 0x600 there). A carry out of the width is
+/// dropped, as in the entry's own arithmetic; bytes outside `values` are skipped.
+pub const fn add_node_id(values: &mut [u8], places: &[(u16, u8)], node_id: u8) {
+    let mut p = 0;
+    while p < places.len() {
+        let (offset, width) = places[p];
+        let (mut at, end) = (offset as usize, offset as usize + width as usize);
+        let mut carry = node_id as u16;
+        while at < end && at < values.len() {
+            let sum = values[at] as u16 + carry;
+            values[at] = sum as u8;
+            carry = sum >> 8;
+            at += 1;
+        }
+        p += 1;
     }
 }
 
@@ -425,6 +434,24 @@ mod tests {
         // 2000h = 100, 2005h = "ab" (length 2).
         unpack_defaults(&mut values, &[0, 1, 100, 17, 4, 2, 0, b'a', b'b']);
         values
+    }
+
+    #[test]
+    fn the_node_id_is_added_with_carry_within_the_width() {
+        // 0x600 + 5 (2 bytes), 0x800000FF + 5 carrying into the next byte (4 bytes), -1 + 5 in one
+        // byte (the carry dropped), and a place past the end.
+        let mut values = [0x00, 0x06, 0xFF, 0x00, 0x00, 0x80, 0xFF, 0x00];
+        let places = [(0, 2), (2, 4), (6, 1), (7, 4)];
+        add_node_id(&mut values, &places[..3], 5);
+        assert_eq!(values, [0x05, 0x06, 0x04, 0x01, 0x00, 0x80, 0x04, 0x00]);
+        add_node_id(&mut values, &places[3..], 0xFF);
+        assert_eq!(values[7], 0xFF);
+        const BUILT: [u8; 2] = {
+            let mut values = [0x80, 0x05];
+            add_node_id(&mut values, &[(0, 2)], 0x7F);
+            values
+        };
+        assert_eq!(BUILT, [0xFF, 0x05]);
     }
 
     #[test]
@@ -639,7 +666,7 @@ mod tests {
         // A stored length beyond the capacity (an image not written through the layout) reads
         // as the capacity.
         let mut image = image();
-        put_le(&mut image, 18, 0xFFFF, 2);
+        image[18..20].copy_from_slice(&[0xFF, 0xFF]);
         assert_eq!(LAYOUT.value(&image, 5), Ok(&[b'a', b'b', 0, 0][..]));
     }
 

@@ -25,23 +25,24 @@ fn hex8(v: u8) -> TokenStream {
 /// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`.
 pub fn structs(plan: &Plan) -> TokenStream {
     let size = Literal::usize_unsuffixed(plan.image_size);
-    // Constant values go into the default image, kept as runs of its non-zero bytes
-    // (`DEFAULTS`); `$NODEID` ones are stored by `Od::new`.
+    // Default values go into the default image, kept as runs of its non-zero bytes
+    // (`DEFAULTS`); `$NODEID` ones hold their offset, to which `Od::new` adds the node-ID.
     let mut image = vec![0u8; plan.image_size];
-    let mut node_stores = Vec::new();
+    let mut node_relative = Vec::new();
     for e in &plan.entries {
         let at = e.offset;
         match (&e.init, e.ty) {
-            (Initial::NodeRelative(value), RustType::Scalar(_, wire)) => {
-                let (at, w) = (
-                    Literal::usize_unsuffixed(at),
-                    Literal::usize_unsuffixed(wire),
-                );
-                node_stores.push(quote!(put_le(&mut od.values, #at, (#value) as u64, #w);));
-            }
             // The wire bytes only: a negative INTEGER16 is FF FF, not 64 bits of ones.
-            (Initial::Raw(raw), RustType::Scalar(_, wire)) => {
+            (Initial::Raw(raw) | Initial::NodeRelative(raw), RustType::Scalar(_, wire)) => {
                 image[at..at + wire].copy_from_slice(&raw.to_le_bytes()[..wire]);
+                if matches!(e.init, Initial::NodeRelative(_)) {
+                    // The planner keeps offsets below 65536 (EDS707); widths are 1 to 8.
+                    let (at, wire) = (
+                        Literal::u16_unsuffixed(at as u16),
+                        Literal::u8_unsuffixed(wire as u8),
+                    );
+                    node_relative.push(quote!((#at, #wire)));
+                }
             }
             (Initial::Bytes(bytes), _) => {
                 image[at..at + 2].copy_from_slice(&(bytes.len() as u16).to_le_bytes());
@@ -53,26 +54,30 @@ pub fn structs(plan: &Plan) -> TokenStream {
     let runs = default_runs(&image);
     let runs_len = Literal::usize_unsuffixed(runs.len());
     let runs = runs.iter().map(|&b| Literal::u8_unsuffixed(b));
-    let node_param = if node_stores.is_empty() {
-        quote!(_node_id)
+    let node_count = Literal::usize_unsuffixed(node_relative.len());
+    let (node_param, node_table, add_node_id) = if node_relative.is_empty() {
+        (quote!(_node_id), quote!(), quote!())
     } else {
-        quote!(node_id)
-    };
-    let new_imports = if node_stores.is_empty() {
-        quote!()
-    } else {
-        quote!(
-            use ::edsgen_runtime::image::put_le;
+        (
+            quote!(node_id),
+            quote! {
+                /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
+                /// image, width).
+                const NODE_RELATIVE: [(u16, u8); #node_count] = [#(#node_relative),*];
+            },
+            quote!(::edsgen_runtime::image::add_node_id(&mut od.values, &NODE_RELATIVE, node_id);),
         )
     };
     quote! {
         /// The size of the value image in bytes.
         const IMAGE_SIZE: usize = #size;
 
-        /// The value image with every entry at its default, `$NODEID` ones at 0, as runs of its
-        /// non-zero bytes: a gap, a length and that many bytes each (see
-        /// `edsgen_runtime::image::unpack_defaults`).
+        /// The value image with every entry at its default (`$NODEID` ones at their offset from
+        /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
+        /// each (see `edsgen_runtime::image::unpack_defaults`).
         const DEFAULTS: [u8; #runs_len] = [#(#runs),*];
+
+        #node_table
 
         /// The object dictionary: every entry's value, little-endian, in one byte array laid out
         /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
@@ -86,10 +91,9 @@ pub fn structs(plan: &Plan) -> TokenStream {
             /// The dictionary with every entry at its default (a DCF's ParameterValue where
             /// given); `$NODEID` defaults are computed from `node_id`.
             pub const fn new(#node_param: u8) -> Self {
-                #new_imports
                 let mut od = Od { values: [0; IMAGE_SIZE] };
                 ::edsgen_runtime::image::unpack_defaults(&mut od.values, &DEFAULTS);
-                #(#node_stores)*
+                #add_node_id
                 od
             }
 

@@ -2,11 +2,11 @@
 //! gets. Built from the model in (index, sub) order so names and output are
 //! deterministic; every problem becomes an `EDS7xx` diagnostic.
 
-use proc_macro2::{Ident, Span as TokenSpan, TokenStream};
+use proc_macro2::{Ident, Span as TokenSpan};
 
 use super::names::{ident, Case, Namespace};
 use super::types::{
-    capacity, initial_value, node_relative_tokens, scalar_number, value_bytes, Number, Prim,
+    capacity, initial_value, node_relative_offset, scalar_number, value_bytes, Number, Prim,
     RustType, ValueProblem,
 };
 use crate::diag::Diagnostic;
@@ -50,8 +50,8 @@ pub struct EntryPlan {
 pub enum Initial {
     /// A constant scalar: the bits the value image stores (see [`Number::raw`]).
     Raw(u64),
-    /// A `$NODEID` value: tokens of the entry's Rust type, using `node_id`.
-    NodeRelative(TokenStream),
+    /// A `$NODEID + offset` value: the offset's bits, to which `Od::new` adds the node-ID.
+    NodeRelative(u64),
     /// A string's, octet string's or domain's bytes.
     Bytes(Vec<u8>),
 }
@@ -382,8 +382,8 @@ impl Planner<'_> {
             (RustType::Bytes(_), v) => value_bytes(basic, v)
                 .map(Initial::Bytes)
                 .ok_or(ValueProblem::WrongKind),
-            (RustType::Scalar(prim, _), Value::NodeRelative(offset)) => {
-                node_relative_tokens(*offset, basic, prim).map(Initial::NodeRelative)
+            (RustType::Scalar(..), Value::NodeRelative(offset)) => {
+                node_relative_offset(*offset, basic).map(Initial::NodeRelative)
             }
             (RustType::Scalar(prim, _), v) => {
                 scalar_number(v, basic, prim).map(|n| Initial::Raw(n.raw(prim)))

@@ -354,37 +354,15 @@ fn time_of_day(text: &str) -> Result<i128, ValueProblem> {
     Ok(i128::from(ms | (days << 32)))
 }
 
-/// The tokens of a `$NODEID + offset` value of an integer type, evaluated in `new(node_id)`.
-pub fn node_relative_tokens(
-    offset: i64,
-    basic: BasicType,
-    prim: Prim,
-) -> Result<TokenStream, ValueProblem> {
+/// The offset of a `$NODEID + offset` value of an integer type, as the bits the value image
+/// stores before `Od::new` adds the node-ID (see [`Number::raw`]).
+pub fn node_relative_offset(offset: i64, basic: BasicType) -> Result<u64, ValueProblem> {
     if !basic.is_integer() {
         return Err(ValueProblem::WrongKind);
     }
-    let bits = basic.bits().unwrap_or(64);
     let (min, max) = basic.integer_range().ok_or(ValueProblem::WrongKind)?;
-    let offset = i128::from(offset);
-    if offset < min || offset > max {
+    if i128::from(offset) < min || i128::from(offset) > max {
         return Err(ValueProblem::OutOfRange);
     }
-    let ty = prim.tokens();
-    let lit = int_literal(offset, prim);
-    let sum = if prim == Prim::Unsigned(8) {
-        quote!(node_id.wrapping_add(#lit))
-    } else {
-        quote!((node_id as #ty).wrapping_add(#lit))
-    };
-    if bits < prim.bits() {
-        let mask = int_literal((1i128 << bits) - 1, Prim::Unsigned(64));
-        if basic.is_signed_integer() {
-            let shift = Literal::u32_unsuffixed(prim.bits() - bits);
-            Ok(quote!((((#sum) << #shift) >> #shift)))
-        } else {
-            Ok(quote!(((#sum) & #mask)))
-        }
-    } else {
-        Ok(sum)
-    }
+    Ok(offset as u64)
 }

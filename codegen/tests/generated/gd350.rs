@@ -17,18 +17,21 @@ pub mod gd350 {
     pub const NR_OF_TXPDO: u16 = 1;
     /// The size of the value image in bytes.
     const IMAGE_SIZE: usize = 232;
-    /// The value image with every entry at its default, `$NODEID` ones at 0, as runs of its
-    /// non-zero bytes: a gap, a length and that many bytes each (see
-    /// `edsgen_runtime::image::unpack_defaults`).
-    const DEFAULTS: [u8; 143] = [
-        0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 33, 14, 3,
-        216, 4, 0, 0, 82, 146, 0, 0, 1, 0, 1, 0, 2, 4, 19, 255, 4, 16, 0, 1, 33, 16, 1,
-        0, 33, 16, 2, 0, 33, 16, 3, 0, 33, 2, 4, 53, 255, 4, 16, 0, 1, 32, 16, 1, 0, 32,
-        16, 2, 0, 32, 16, 3, 0, 32, 5, 4, 0, 2, 32, 4, 0, 5, 0, 24, 1, 3, 32, 8, 2, 3,
-        32, 1, 0, 4, 32, 3, 1, 0, 4, 32, 32, 0, 6, 32, 8, 2, 3, 32, 4, 11, 24, 5, 251,
-        255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 1, 0, 0, 192, 63, 4, 0, 1, 2,
-        3, 4, 28, 1, 4, 10, 1, 100,
+    /// The value image with every entry at its default (`$NODEID` ones at their offset from
+    /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
+    /// each (see `edsgen_runtime::image::unpack_defaults`).
+    const DEFAULTS: [u8; 150] = [
+        0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 29, 1, 128,
+        3, 94, 3, 216, 4, 0, 0, 82, 146, 0, 0, 1, 0, 1, 0, 2, 0, 3, 0, 0, 255, 4, 16, 0,
+        1, 33, 16, 1, 0, 33, 16, 2, 0, 33, 16, 3, 0, 33, 2, 128, 2, 0, 0, 255, 4, 16, 0,
+        1, 32, 16, 1, 0, 32, 16, 2, 0, 32, 16, 3, 0, 32, 5, 4, 0, 2, 32, 4, 0, 5, 0, 24,
+        1, 3, 32, 8, 2, 3, 32, 1, 0, 4, 32, 3, 1, 0, 4, 32, 32, 0, 6, 32, 8, 2, 3, 32, 4,
+        11, 24, 5, 251, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 1, 0, 0, 192,
+        63, 4, 0, 1, 2, 3, 4, 28, 1, 4, 10, 1, 100,
     ];
+    /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
+    /// image, width).
+    const NODE_RELATIVE: [(u16, u8); 3] = [(54, 4), (72, 4), (95, 4)];
     /// The object dictionary: every entry's value, little-endian, in one byte array laid out
     /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
     /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
@@ -40,12 +43,13 @@ pub mod gd350 {
         /// The dictionary with every entry at its default (a DCF's ParameterValue where
         /// given); `$NODEID` defaults are computed from `node_id`.
         pub const fn new(node_id: u8) -> Self {
-            use ::edsgen_runtime::image::put_le;
             let mut od = Od { values: [0; IMAGE_SIZE] };
             ::edsgen_runtime::image::unpack_defaults(&mut od.values, &DEFAULTS);
-            put_le(&mut od.values, 54, ((node_id as u32).wrapping_add(128)) as u64, 4);
-            put_le(&mut od.values, 72, ((node_id as u32).wrapping_add(0x300)) as u64, 4);
-            put_le(&mut od.values, 95, ((node_id as u32).wrapping_add(0x280)) as u64, 4);
+            ::edsgen_runtime::image::add_node_id(
+                &mut od.values,
+                &NODE_RELATIVE,
+                node_id,
+            );
             od
         }
         /// The value of `entry` (a typed address from `od`); `None` only for an address
