@@ -18,37 +18,41 @@ use crate::typed::{position, read_bytes};
 /// type, so no floating-point code is needed (a Cortex-M4F has no double-precision unit).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limit {
-    low: u64,
-    high: u64,
+    // Bytes rather than `u64`s: a table row is 18 bytes, not 24 (no 8-byte alignment).
+    low: [u8; 8],
+    high: [u8; 8],
 }
 
 impl Limit {
     /// The limits of an unsigned integer (or TIME_OF_DAY/TIME_DIFFERENCE) entry.
     pub const fn unsigned(low: u64, high: u64) -> Self {
-        Limit { low, high }
+        Limit {
+            low: low.to_le_bytes(),
+            high: high.to_le_bytes(),
+        }
     }
 
     /// The limits of a signed integer entry.
     pub const fn signed(low: i64, high: i64) -> Self {
         Limit {
-            low: low as u64,
-            high: high as u64,
+            low: low.to_le_bytes(),
+            high: high.to_le_bytes(),
         }
     }
 
     /// The limits of a REAL32 entry. A NaN limit allows everything on its side.
     pub const fn real32(low: f32, high: f32) -> Self {
         Limit {
-            low: low.to_bits() as u64,
-            high: high.to_bits() as u64,
+            low: (low.to_bits() as u64).to_le_bytes(),
+            high: (high.to_bits() as u64).to_le_bytes(),
         }
     }
 
     /// The limits of a REAL64 entry. A NaN limit allows everything on its side.
     pub const fn real64(low: f64, high: f64) -> Self {
         Limit {
-            low: low.to_bits(),
-            high: high.to_bits(),
+            low: low.to_bits().to_le_bytes(),
+            high: high.to_bits().to_le_bytes(),
         }
     }
 
@@ -65,10 +69,10 @@ impl Limit {
         let Some(value) = key(value) else {
             return Ok(());
         };
-        if key(self.low.to_le_bytes()).is_some_and(|low| value < low) {
+        if key(self.low).is_some_and(|low| value < low) {
             return Err(SdoAbort::ValueTooLow);
         }
-        if key(self.high.to_le_bytes()).is_some_and(|high| value > high) {
+        if key(self.high).is_some_and(|high| value > high) {
             return Err(SdoAbort::ValueTooHigh);
         }
         Ok(())
