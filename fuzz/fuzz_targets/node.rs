@@ -1,9 +1,12 @@
 //! Fuzz target: arbitrary frames, time steps and application calls fed to a device node.
 //!
-//! Properties: nothing panics, and the OD changes only through legal writes: every write the
-//! node makes hits an entry an SDO client or an RPDO may write (or 1001h/1003h, which the node
-//! owns), has the entry's size, and a PDO mapping entry changes only while its PDO is invalid and
-//! its sub-index 0 is zero (the CiA 301 procedure).
+//! The first input byte picks the node's OD: the hand-written test OD, or the value image
+//! generated from `eds/cp301.eds` (LowLimit/HighLimit entries, strings) or `eds/goodrive350.eds`
+//! (by fuzz/build.rs). Properties: nothing panics, and the OD changes only through legal writes:
+//! every write the node makes hits an entry an SDO client or an RPDO may write (or 1001h/1003h,
+//! which the node owns), has the entry's size (at most its capacity for a string or domain), and
+//! a PDO mapping entry changes only while its PDO is invalid and its sub-index 0 is zero (the
+//! CiA 301 procedure).
 #![no_main]
 
 use edsgen_runtime::node::{Node, NodeHooks, ResetKind};
@@ -14,12 +17,50 @@ use libfuzzer_sys::fuzz_target;
 #[path = "../../runtime/tests/node_support/node_od.rs"]
 mod node_od;
 
+edsgen_runtime::include_device!("cp301");
+edsgen_runtime::include_device!("goodrive350");
+
 use node_od::TestOd;
 
-/// The test OD with every write checked against the properties above.
-struct Watched(TestOd);
+/// An OD that can go back to its defaults, as the reset hook needs.
+trait Resettable: ObjectDictionary {
+    /// Sets every entry in `range` back to its default.
+    fn reset_range(&mut self, range: core::ops::RangeInclusive<u16>);
+}
 
-impl Watched {
+impl Resettable for TestOd {
+    fn reset_range(&mut self, range: core::ops::RangeInclusive<u16>) {
+        TestOd::reset_range(self, range);
+    }
+}
+
+/// A generated OD: the defaults come from a fresh `Od::new`, entry by entry.
+macro_rules! resettable_generated {
+    ($($od:ty),*) => {$(
+        impl Resettable for $od {
+            fn reset_range(&mut self, range: core::ops::RangeInclusive<u16>) {
+                let defaults = <$od>::new(NODE_ID);
+                let mut buf = [0u8; 256];
+                for position in 0..self.entries().len() {
+                    let entry = self.entries()[position];
+                    if range.contains(&entry.index) {
+                        let len = defaults.read_at(position, 0, &mut buf).expect("entry exists");
+                        self.write_at(position, &buf[..len]).expect("defaults are legal");
+                    }
+                }
+            }
+        }
+    )*};
+}
+resettable_generated!(cp301::Od, goodrive350::Od);
+
+/// The node-ID of every node here.
+const NODE_ID: u8 = 3;
+
+/// An OD with every write checked against the properties above.
+struct Watched<O>(O);
+
+impl<O: ObjectDictionary> Watched<O> {
     fn u32_at(&self, index: u16, sub: u8) -> u32 {
         let mut bytes = [0u8; 4];
         self.0
@@ -29,12 +70,15 @@ impl Watched {
     }
 }
 
-impl ObjectDictionary for Watched {
+impl<O: ObjectDictionary> ObjectDictionary for Watched<O> {
     fn entries(&self) -> &[EntryDescriptor] {
         self.0.entries()
     }
-    fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
-        self.0.find(index, sub)
+    fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        self.0.locate(index, sub)
+    }
+    fn capacity(&self, position: usize) -> Option<usize> {
+        self.0.capacity(position)
     }
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         self.0.value_len(index, sub)
@@ -43,7 +87,9 @@ impl ObjectDictionary for Watched {
         self.0.read(index, sub, offset, buf)
     }
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        let position = self.0.locate(index, sub)?;
         let descriptor = *self.0.find(index, sub)?;
+        let capacity = self.0.capacity(position);
         // The state the write meets, judged only if the write changes the OD.
         let mapping = (0x1600..=0x17FF).contains(&index) || (0x1A00..=0x1BFF).contains(&index);
         let pdo_valid = mapping && self.u32_at(index - 0x200, 1) & 0x8000_0000 == 0;
@@ -63,11 +109,13 @@ impl ObjectDictionary for Watched {
                 sub == 0 || !mapping_enabled,
                 "mapping {index:04X}:{sub} written while enabled"
             );
-            assert_eq!(
-                Some(data.len()),
-                descriptor.data_type.fixed_size(),
-                "{index:04X}:{sub} size"
-            );
+            match descriptor.data_type.fixed_size() {
+                Some(size) => assert_eq!(data.len(), size, "{index:04X}:{sub} size"),
+                None => assert!(
+                    capacity.is_some_and(|capacity| data.len() <= capacity),
+                    "{index:04X}:{sub} over capacity"
+                ),
+            }
         }
         result
     }
@@ -75,14 +123,14 @@ impl ObjectDictionary for Watched {
 
 struct Hooks;
 
-impl NodeHooks<Watched> for Hooks {
-    fn reset(&mut self, kind: ResetKind, od: &mut Watched) {
+impl<O: Resettable> NodeHooks<Watched<O>> for Hooks {
+    fn reset(&mut self, kind: ResetKind, od: &mut Watched<O>) {
         match kind {
             ResetKind::Node => od.0.reset_range(0x0000..=0xFFFF),
             ResetKind::Communication => od.0.reset_range(0x1000..=0x1FFF),
         }
     }
-    fn save(&mut self, _sub: u8, _od: &Watched) -> Result<(), SdoAbort> {
+    fn save(&mut self, _sub: u8, _od: &Watched<O>) -> Result<(), SdoAbort> {
         Ok(())
     }
     fn restore_defaults(&mut self, _sub: u8) -> Result<(), SdoAbort> {
@@ -91,8 +139,20 @@ impl NodeHooks<Watched> for Hooks {
 }
 
 fuzz_target!(|input: &[u8]| {
+    let Some((&choice, input)) = input.split_first() else {
+        return;
+    };
+    match choice % 3 {
+        0 => run(TestOd::new(NODE_ID), input),
+        1 => run(cp301::Od::new(NODE_ID), input),
+        _ => run(goodrive350::Od::new(NODE_ID), input),
+    }
+});
+
+/// Feeds the operations `input` encodes to a node serving `od`.
+fn run<O: Resettable>(od: O, input: &[u8]) {
     let mut now = Instant::from_millis(0);
-    let Ok(mut node) = Node::<Watched, Hooks>::with_hooks(Watched(TestOd::new(3)), Hooks, 3, now)
+    let Ok(mut node) = Node::<Watched<O>, Hooks>::with_hooks(Watched(od), Hooks, NODE_ID, now)
     else {
         return;
     };
@@ -153,4 +213,4 @@ fuzz_target!(|input: &[u8]| {
             }
         }
     }
-});
+}
