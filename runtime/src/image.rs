@@ -13,111 +13,124 @@ use crate::entry::{Entry, OdValue};
 use crate::od::{DataType, EntryDescriptor, SdoAbort};
 use crate::typed::{position, read_bytes};
 
-/// An entry's LowLimit and HighLimit, as bits the way the value image stores values (two's
-/// complement, IEEE 754). Writes compare integer keys with the numeric order of the entry's data
-/// type, so no floating-point code is needed (a Cortex-M4F has no double-precision unit).
+/// An entry's LowLimit and HighLimit, as keys whose signed order is the numeric order of the
+/// entry's data type (see [`order_key`]), computed when the generated table is built. A write
+/// then turns only its value into a key and compares integers, so no floating-point code is
+/// needed (a Cortex-M4F has no double-precision unit).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limit {
-    // Bytes rather than `u64`s: a table row is 18 bytes, not 24 (no 8-byte alignment).
+    // Bytes rather than `i64`s: a table row is 18 bytes, not 24 (no 8-byte alignment).
     low: [u8; 8],
     high: [u8; 8],
 }
 
 impl Limit {
-    /// The limits of an unsigned integer (or TIME_OF_DAY/TIME_DIFFERENCE) entry.
-    pub const fn unsigned(low: u64, high: u64) -> Self {
+    /// Limits from their keys; a missing key (a NaN limit) allows everything on its side.
+    const fn from_keys(low: Option<i64>, high: Option<i64>) -> Self {
+        let low = match low {
+            Some(key) => key,
+            None => i64::MIN,
+        };
+        let high = match high {
+            Some(key) => key,
+            None => i64::MAX,
+        };
         Limit {
             low: low.to_le_bytes(),
             high: high.to_le_bytes(),
         }
+    }
+
+    /// The limits of an unsigned integer (or TIME_OF_DAY/TIME_DIFFERENCE) entry.
+    pub const fn unsigned(low: u64, high: u64) -> Self {
+        Self::from_keys(
+            order_key(DataType::Unsigned64, low),
+            order_key(DataType::Unsigned64, high),
+        )
     }
 
     /// The limits of a signed integer entry.
     pub const fn signed(low: i64, high: i64) -> Self {
-        Limit {
-            low: low.to_le_bytes(),
-            high: high.to_le_bytes(),
-        }
+        Self::from_keys(Some(low), Some(high))
     }
 
     /// The limits of a REAL32 entry. A NaN limit allows everything on its side.
     pub const fn real32(low: f32, high: f32) -> Self {
-        Limit {
-            low: (low.to_bits() as u64).to_le_bytes(),
-            high: (high.to_bits() as u64).to_le_bytes(),
-        }
+        Self::from_keys(
+            order_key(DataType::Real32, low.to_bits() as u64),
+            order_key(DataType::Real32, high.to_bits() as u64),
+        )
     }
 
     /// The limits of a REAL64 entry. A NaN limit allows everything on its side.
     pub const fn real64(low: f64, high: f64) -> Self {
-        Limit {
-            low: low.to_bits().to_le_bytes(),
-            high: high.to_bits().to_le_bytes(),
-        }
+        Self::from_keys(
+            order_key(DataType::Real64, low.to_bits()),
+            order_key(DataType::Real64, high.to_bits()),
+        )
     }
 
     /// Checks the little-endian `data` of a `data_type` value (exactly its size, at most 8
     /// bytes): `ValueTooLow` below the low limit, `ValueTooHigh` above the high one. A NaN
     /// value passes, as it compares neither below nor above.
     fn check(self, data_type: DataType, data: &[u8]) -> Result<(), SdoAbort> {
+        // Widened to 64 bits, a signed value sign-extended byte by byte (a 64-bit shift by a
+        // variable amount is a library call on a Cortex-M).
         let mut value = [0u8; 8];
         let Some(slot) = value.get_mut(..data.len()) else {
             return Ok(());
         };
         slot.copy_from_slice(data);
-        let key = |bytes: [u8; 8]| order_key(data_type, bytes, data.len());
-        let Some(value) = key(value) else {
+        if is_signed_integer(data_type) && data.last().is_some_and(|&top| top & 0x80 != 0) {
+            for byte in value.iter_mut().skip(data.len()) {
+                *byte = 0xFF;
+            }
+        }
+        let Some(value) = order_key(data_type, u64::from_le_bytes(value)) else {
             return Ok(());
         };
-        if key(self.low).is_some_and(|low| value < low) {
+        if value < i64::from_le_bytes(self.low) {
             return Err(SdoAbort::ValueTooLow);
         }
-        if key(self.high).is_some_and(|high| value > high) {
+        if value > i64::from_le_bytes(self.high) {
             return Err(SdoAbort::ValueTooHigh);
         }
         Ok(())
     }
 }
 
-/// A key whose unsigned order is the numeric order of the low `len` bytes of `bytes` read as a
-/// `data_type` value; `None` for a NaN (or no bytes). Byte operations rather than shifts by
-/// `len`: a 64-bit shift by a variable amount is a library call on a Cortex-M.
-fn order_key(data_type: DataType, mut bytes: [u8; 8], len: usize) -> Option<u64> {
-    for byte in bytes.iter_mut().skip(len) {
-        *byte = 0;
-    }
-    let top = bytes.get_mut(len.checked_sub(1)?)?;
-    match data_type {
-        DataType::Real32 | DataType::Real64 => {
-            let negative = *top & 0x80 != 0;
-            *top &= 0x7F;
-            let magnitude = u64::from_le_bytes(bytes);
-            let (zero, infinity) = if len == 4 {
-                (1 << 31, 0x7F80_0000)
-            } else {
-                (1 << 63, 0x7FF0_0000_0000_0000)
-            };
-            // Negative values below `zero` (-0 and +0 both on it), positive ones above.
-            if magnitude > infinity {
-                None
-            } else if negative {
-                Some(zero - magnitude)
-            } else {
-                Some(zero + magnitude)
-            }
-        }
+/// Whether `data_type` is a signed integer.
+const fn is_signed_integer(data_type: DataType) -> bool {
+    matches!(
+        data_type,
         DataType::Integer8
-        | DataType::Integer16
-        | DataType::Integer24
-        | DataType::Integer32
-        | DataType::Integer40
-        | DataType::Integer48
-        | DataType::Integer56
-        | DataType::Integer64 => {
-            *top ^= 0x80;
-            Some(u64::from_le_bytes(bytes))
-        }
-        _ => Some(u64::from_le_bytes(bytes)),
+            | DataType::Integer16
+            | DataType::Integer24
+            | DataType::Integer32
+            | DataType::Integer40
+            | DataType::Integer48
+            | DataType::Integer56
+            | DataType::Integer64
+    )
+}
+
+/// A key whose signed order is the numeric order of `raw`, a `data_type` value widened to 64
+/// bits (a signed integer sign-extended, anything else zero-extended); `None` for a NaN.
+const fn order_key(data_type: DataType, raw: u64) -> Option<i64> {
+    let (sign, infinity) = match data_type {
+        DataType::Real32 => (1 << 31, 0x7F80_0000),
+        DataType::Real64 => (1 << 63, 0x7FF0_0000_0000_0000),
+        _ if is_signed_integer(data_type) => return Some(raw as i64),
+        _ => return Some((raw ^ 1 << 63) as i64),
+    };
+    // Sign and magnitude: -0 and +0 are equal.
+    let magnitude = raw & (sign - 1);
+    if magnitude > infinity {
+        None
+    } else if raw & sign != 0 {
+        Some(-(magnitude as i64))
+    } else {
+        Some(magnitude as i64)
     }
 }
 
