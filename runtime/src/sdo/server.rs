@@ -39,12 +39,11 @@
 use super::crc::{crc16, Crc16};
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
-use crate::wire::sdo::{
-    abort_frame, ClientRequest, InitiatePayload, Multiplexer, SegmentData, ServerResponse,
-    FRAME_LEN, SEGMENT_DATA_LEN,
-};
 #[cfg(feature = "sdo-block")]
 use crate::wire::sdo::{BlockSegment, MAX_BLOCK_SIZE};
+use crate::wire::sdo::{
+    ClientRequest, InitiatePayload, Multiplexer, SegmentData, FRAME_LEN, SEGMENT_DATA_LEN,
+};
 
 /// What the server tells the application after a request.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -303,12 +302,27 @@ impl<const N: usize> SdoServer<N> {
 
     /// Queues an abort of the current transfer (or of the last addressed entry) and ends it.
     fn abort(&mut self, abort: SdoAbort) {
-        self.pending = Some(abort_frame(self.mux, abort.code()));
+        self.respond_mux(0x80, abort.code());
         self.end_transfer();
     }
 
-    fn respond(&mut self, response: ServerResponse) {
-        self.pending = Some(response.emit());
+    /// Queues a response: its command byte and the 7 bytes that follow. The server writes its
+    /// few responses as bytes rather than through [`ServerResponse`]'s encoder of every message,
+    /// which costs some 500 B more flash on a device.
+    ///
+    /// [`ServerResponse`]: crate::wire::sdo::ServerResponse
+    fn respond(&mut self, command: u8, data: [u8; SEGMENT_DATA_LEN]) {
+        let mut frame = [command; FRAME_LEN];
+        frame[1..].copy_from_slice(&data);
+        self.pending = Some(frame);
+    }
+
+    /// Queues a response naming the addressed entry: the command byte, the multiplexer and
+    /// `value` in bytes 4 to 7.
+    fn respond_mux(&mut self, command: u8, value: u32) {
+        let [index_lo, index_hi] = self.mux.index.to_le_bytes();
+        let [v0, v1, v2, v3] = value.to_le_bytes();
+        self.respond(command, [index_lo, index_hi, self.mux.sub, v0, v1, v2, v3]);
     }
 
     /// Handles an 8-byte request: a block-download sub-block segment, or a request.
@@ -541,20 +555,16 @@ impl<const N: usize> SdoServer<N> {
                 }
                 (data, len)
             }
-            InitiatePayload::Sized(size) => return self.start_download(mux, &entry, Some(size)),
-            InitiatePayload::Unsized => return self.start_download(mux, &entry, None),
+            InitiatePayload::Sized(size) => return self.start_download(&entry, Some(size)),
+            InitiatePayload::Unsized => return self.start_download(&entry, None),
         };
         od.write_at(position, &data[..len])?;
-        self.respond(ServerResponse::InitiateDownload { mux });
+        // Initiate download response (scs = 3).
+        self.respond_mux(0x60, 0);
         Ok(Some(written))
     }
 
-    fn start_download(
-        &mut self,
-        mux: Multiplexer,
-        entry: &EntryDescriptor,
-        size: Option<u32>,
-    ) -> Handled {
+    fn start_download(&mut self, entry: &EntryDescriptor, size: Option<u32>) -> Handled {
         Self::check_announced_size(entry, size)?;
         self.transfer = Transfer::Download(Download {
             toggle: false,
@@ -562,7 +572,8 @@ impl<const N: usize> SdoServer<N> {
             entry_size: usize::from(entry.size),
             len: 0,
         });
-        self.respond(ServerResponse::InitiateDownload { mux });
+        // Initiate download response (scs = 3).
+        self.respond_mux(0x60, 0);
         Ok(None)
     }
 
@@ -597,7 +608,8 @@ impl<const N: usize> SdoServer<N> {
             self.transfer = Transfer::Download(download);
             None
         };
-        self.respond(ServerResponse::DownloadSegment { toggle });
+        // Download segment response (scs = 1) with the segment's toggle bit.
+        self.respond(0x20 | u8::from(toggle) << 4, [0; SEGMENT_DATA_LEN]);
         Ok(event)
     }
 
@@ -607,14 +619,13 @@ impl<const N: usize> SdoServer<N> {
         od: &O,
     ) -> Handled {
         let (position, total) = Self::upload_len(mux, od)?;
-        self.start_upload(mux, position, total, od)
+        self.start_upload(position, total, od)
     }
 
     /// Answers an upload of `total` bytes: expedited when it fits, else the first step of a
     /// segmented upload.
     fn start_upload<O: ObjectDictionary + ?Sized>(
         &mut self,
-        mux: Multiplexer,
         position: usize,
         total: usize,
         od: &O,
@@ -625,13 +636,9 @@ impl<const N: usize> SdoServer<N> {
             if read != total {
                 return Err(SdoAbort::General);
             }
-            self.respond(ServerResponse::InitiateUpload {
-                mux,
-                payload: InitiatePayload::Expedited {
-                    data,
-                    len: total as u8,
-                },
-            });
+            // Initiate upload response (scs = 2), expedited (e, s), n = 4 - total unused bytes
+            // (zero: `data` was).
+            self.respond_mux(0x43 | ((4 - total as u8) << 2), u32::from_le_bytes(data));
         } else {
             let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
             self.transfer = Transfer::Upload(Upload {
@@ -639,10 +646,8 @@ impl<const N: usize> SdoServer<N> {
                 offset: 0,
                 total,
             });
-            self.respond(ServerResponse::InitiateUpload {
-                mux,
-                payload: InitiatePayload::Sized(size),
-            });
+            // Initiate upload response (scs = 2), segmented with the size indicated (s).
+            self.respond_mux(0x41, size);
         }
         Ok(None)
     }
@@ -673,14 +678,16 @@ impl<const N: usize> SdoServer<N> {
         }
         upload.offset += chunk;
         let last = upload.offset >= upload.total;
-        let data = SegmentData::new(&bytes[..chunk]).ok_or(SdoAbort::General)?;
         if last {
             self.transfer = Transfer::Idle;
         } else {
             upload.toggle = !toggle;
             self.transfer = Transfer::Upload(upload);
         }
-        self.respond(ServerResponse::UploadSegment { toggle, data, last });
+        // Upload segment response (scs = 0): toggle, n = 7 - chunk unused bytes (zero, as
+        // `bytes` was), c.
+        let unused = (SEGMENT_DATA_LEN - chunk) as u8;
+        self.respond(u8::from(toggle) << 4 | unused << 1 | u8::from(last), bytes);
         Ok(None)
     }
 
@@ -702,11 +709,8 @@ impl<const N: usize> SdoServer<N> {
             ackseq: 0,
             complete: false,
         });
-        self.respond(ServerResponse::BlockDownloadInitiate {
-            mux,
-            crc: true,
-            blksize: Self::BLOCK_SIZE,
-        });
+        // Initiate block download response (scs = 5, ss = 0), CRC supported (sc).
+        self.respond_mux(0xA4, u32::from(Self::BLOCK_SIZE));
         Ok(None)
     }
 
@@ -737,10 +741,8 @@ impl<const N: usize> SdoServer<N> {
             block.complete = segment.last;
         }
         if segment.seqno == Self::BLOCK_SIZE || segment.last || block.complete {
-            self.respond(ServerResponse::BlockDownloadAck {
-                ackseq: block.ackseq,
-                blksize: Self::BLOCK_SIZE,
-            });
+            // Block download response (scs = 5, ss = 2).
+            self.respond(0xA2, [block.ackseq, Self::BLOCK_SIZE, 0, 0, 0, 0, 0]);
             block.ackseq = 0;
         }
         self.transfer = Transfer::BlockDownload(block);
@@ -774,7 +776,8 @@ impl<const N: usize> SdoServer<N> {
         }
         let event = self.commit(len, od)?;
         self.transfer = Transfer::Idle;
-        self.respond(ServerResponse::BlockDownloadEnd);
+        // End block download response (scs = 5, ss = 1).
+        self.respond(0xA1, [0; SEGMENT_DATA_LEN]);
         Ok(Some(event))
     }
 
@@ -792,7 +795,7 @@ impl<const N: usize> SdoServer<N> {
             return Err(SdoAbort::InvalidBlockSize);
         }
         if pst != 0 && total <= usize::from(pst) {
-            return self.start_upload(mux, position, total, od);
+            return self.start_upload(position, total, od);
         }
         let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
         self.transfer = Transfer::BlockUpload(BlockUpload {
@@ -803,11 +806,8 @@ impl<const N: usize> SdoServer<N> {
             sent: 0,
             phase: BlockUploadPhase::WaitStart,
         });
-        self.respond(ServerResponse::BlockUploadInitiate {
-            mux,
-            crc: true,
-            size: Some(size),
-        });
+        // Initiate block upload response (scs = 6, ss = 0), CRC supported (sc), size indicated (s).
+        self.respond_mux(0xC6, size);
         Ok(None)
     }
 
@@ -836,7 +836,9 @@ impl<const N: usize> SdoServer<N> {
             };
             let unused = (upload.segments() * SEGMENT_DATA_LEN - upload.total) as u8;
             upload.phase = BlockUploadPhase::WaitEnd;
-            self.respond(ServerResponse::BlockUploadEnd { unused, crc });
+            // End block upload request (scs = 6, ss = 1) with n unused bytes.
+            let [crc_lo, crc_hi] = crc.to_le_bytes();
+            self.respond(0xC1 | (unused << 2), [crc_lo, crc_hi, 0, 0, 0, 0, 0]);
         } else {
             upload.phase = BlockUploadPhase::Sending;
         }
