@@ -69,8 +69,9 @@ pub(crate) struct Mapping {
     pub len: u8,
 }
 
-/// By an array repeat rather than derived: the derive clears the array through `<[T; 8]>::default`,
-/// the only caller of the byte-wise `__aeabi_memclr` on the device (about 200 B of flash).
+/// By an array repeat at run time rather than derived or [`Mapping::EMPTY`]: both clear the
+/// array with the byte-wise `__aeabi_memclr` (the array is only 2-byte aligned), which nothing
+/// else on the device needs (about 200 B of flash).
 impl Default for Mapping {
     fn default() -> Mapping {
         Mapping {
@@ -82,6 +83,18 @@ impl Default for Mapping {
 }
 
 impl Mapping {
+    /// No objects, for [`Rpdo::OFF`] and [`Tpdo::OFF`].
+    pub const EMPTY: Mapping = Mapping {
+        objects: [MappedObject {
+            index: 0,
+            sub: 0,
+            len: 0,
+            position: 0,
+        }; MAX_MAPPED],
+        count: 0,
+        len: 0,
+    };
+
     #[inline]
     pub fn objects(&self) -> &[MappedObject] {
         &self.objects[..self.count as usize]
@@ -241,7 +254,7 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 }
 
 /// A receive PDO.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Rpdo {
     /// Whether the PDO exists and is valid.
     pub enabled: bool,
@@ -265,18 +278,28 @@ pub(crate) struct Rpdo {
 }
 
 impl Rpdo {
-    /// A PDO that does not exist (yet): nothing configured, nothing received. Not inlined: one
-    /// copy for power-on and [`Rpdo::load`].
-    #[inline(never)]
-    pub fn off() -> Rpdo {
-        Rpdo::default()
-    }
+    /// A PDO that does not exist (yet): nothing configured, nothing received. A constant of
+    /// zeros and `None`s rather than a (derived) `Default`, so that power-on and [`Rpdo::load`]
+    /// clear it with one word-aligned memset instead of building a copy to move.
+    pub const OFF: Rpdo = Rpdo {
+        enabled: false,
+        cob_id: 0,
+        transmission: 0,
+        mapping: Mapping::EMPTY,
+        buffered: None,
+        feeds_tpdo: false,
+        too_short: false,
+        too_long: false,
+        event_timer_ms: 0,
+        deadline: None,
+        timed_out: false,
+    };
 
     /// Reads the configuration of RPDO `n` (1400h + n, 1600h + n) into this PDO, in place, and
     /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
-        *self = Rpdo::off();
+        *self = Rpdo::OFF;
         let comm = 0x1400 + n;
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
@@ -299,7 +322,7 @@ impl Rpdo {
 }
 
 /// A transmit PDO.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Tpdo {
     pub enabled: bool,
     pub cob_id: u16,
@@ -333,18 +356,35 @@ pub(crate) struct Tpdo {
 }
 
 impl Tpdo {
-    /// A PDO that does not exist (yet): nothing configured, nothing running. Not inlined: one
-    /// copy for power-on and [`Tpdo::load`].
-    #[inline(never)]
-    pub fn off() -> Tpdo {
-        Tpdo::default()
-    }
+    /// A PDO that does not exist (yet): nothing configured, nothing running. A constant, like
+    /// [`Rpdo::OFF`].
+    pub const OFF: Tpdo = Tpdo {
+        enabled: false,
+        cob_id: 0,
+        rtr_allowed: false,
+        transmission: 0,
+        inhibit: Duration::ZERO,
+        event_timer: Duration::ZERO,
+        sync_start: 0,
+        mapping: Mapping::EMPTY,
+        pending: false,
+        sampled: false,
+        data: [0; 8],
+        sync_deadline: None,
+        acyclic_request: false,
+        sync_countdown: None,
+        rtr_sample: None,
+        last_data: [0; 8],
+        last_sent: None,
+        event_deadline: None,
+        check_change: false,
+    };
 
     /// Reads the configuration of TPDO `n` (1800h + n, 1A00h + n) into this PDO, in place, and
     /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
-        *self = Tpdo::off();
+        *self = Tpdo::OFF;
         let comm = 0x1800 + n;
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
