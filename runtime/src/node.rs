@@ -331,7 +331,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             state: NmtState::Initialising,
             boot_up_due: false,
             sdo: [SdoChannel::new(), SdoChannel::new()],
-            error_control: ErrorControl::off(),
+            error_control: ErrorControl::OFF,
             sync: SyncState::default(),
             emcy: Emcy::default(),
             rpdos: [Rpdo::OFF; RPDOS],
@@ -492,7 +492,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
         self.configure_sdo();
-        self.error_control = ErrorControl::off();
+        self.error_control = ErrorControl::OFF;
         self.error_control.configure_producer(&self.od, now);
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);

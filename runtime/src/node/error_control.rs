@@ -9,7 +9,7 @@ use crate::time::{Duration, Instant};
 /// The most remote nodes whose heartbeat one node watches; 1016h entries beyond are not served.
 pub const MAX_HEARTBEAT_CONSUMERS: usize = 8;
 
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Consumer {
     pub node_id: u8,
     pub period: Duration,
@@ -19,7 +19,7 @@ pub(crate) struct Consumer {
 
 /// Node guarding and life guarding.
 #[cfg(feature = "node-guarding")]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Guarding {
     pub guard_time: Duration,
     pub life_time_factor: u8,
@@ -30,7 +30,7 @@ pub(crate) struct Guarding {
     pub life_lost: bool,
 }
 
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct ErrorControl {
     pub producer_period: Duration,
     pub next_heartbeat: Option<Instant>,
@@ -43,12 +43,28 @@ pub(crate) struct ErrorControl {
 
 impl ErrorControl {
     /// Nothing configured, nothing monitored: the state before reset communication reads
-    /// 1016h, 1017h, 100Ch and 100Dh. Not inlined: power-on and every reset communication share
-    /// one copy of the zeroing of the consumer table.
-    #[inline(never)]
-    pub fn off() -> Self {
-        ErrorControl::default()
-    }
+    /// 1016h, 1017h, 100Ch and 100Dh. A constant of zeros and `None`s rather than a (derived)
+    /// `Default`, so that power-on and reset communication clear it in place with one memset.
+    pub const OFF: ErrorControl = ErrorControl {
+        producer_period: Duration::ZERO,
+        next_heartbeat: None,
+        heartbeat_due: false,
+        #[cfg(feature = "node-guarding")]
+        guarding: Guarding {
+            guard_time: Duration::ZERO,
+            life_time_factor: 0,
+            toggle: false,
+            answer_due: false,
+            life_deadline: None,
+            life_lost: false,
+        },
+        consumers: [Consumer {
+            node_id: 0,
+            period: Duration::ZERO,
+            deadline: None,
+        }; MAX_HEARTBEAT_CONSUMERS],
+        consumer_count: 0,
+    };
 
     /// Reads 1017h; a change takes effect at once: the next heartbeat is one period from `now`.
     pub fn configure_producer<O: ObjectDictionary + ?Sized>(&mut self, od: &O, now: Instant) {
