@@ -5,7 +5,7 @@
 //! before it reaches the OD (the PDO mapping procedure, COB-ID valid-bit rules, the store and
 //! restore signatures). The node applies an accepted write to its running state afterwards.
 
-use super::pdo::{self, Direction};
+use super::pdo::{self, Direction, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::wire::pdo::{CobIdEntry, MappingEntry};
@@ -86,7 +86,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
             return Err(SdoAbort::DeviceState);
         }
         if sub == 0 {
-            pdo::check_mapping(self.od, index, value, direction).map(|_| ())
+            pdo::check_mapping(self.od, index, value, direction, &mut Mapping::default())
         } else if read_uint_or(self.od, index, 0, 0) != 0 {
             Err(SdoAbort::DeviceState)
         } else if value == 0 {

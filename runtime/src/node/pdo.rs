@@ -216,41 +216,46 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     })
 }
 
-/// Reads and checks the mapping record at `index` (1600h+n or 1A00h+n).
+/// Reads and checks the mapping record at `index` (1600h+n or 1A00h+n) into `mapping`, which
+/// is empty (see [`check_mapping`]).
 pub(crate) fn load_mapping<O: ObjectDictionary + ?Sized>(
     od: &O,
     index: u16,
     direction: Direction,
-) -> Result<Mapping, SdoAbort> {
+    mapping: &mut Mapping,
+) -> Result<(), SdoAbort> {
     let count = super::read_uint(od, index, 0).ok_or(SdoAbort::NoObject)?;
-    check_mapping(od, index, count, direction)
+    check_mapping(od, index, count, direction, mapping)
 }
 
 /// Checks that the first `count` entries of the mapping record at `index` form a valid mapping:
 /// 0604 0042 if there are too many or they exceed 8 bytes, 0604 0041 if one cannot be mapped.
+///
+/// The mapping is written into `mapping`, which must be empty: its objects as they are checked,
+/// its count and length once all passed, so that a refused mapping leaves it empty. In place
+/// rather than returned, which would move the 50-byte mapping twice on its way into a PDO.
 pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
     od: &O,
     index: u16,
     count: u32,
     direction: Direction,
-) -> Result<Mapping, SdoAbort> {
+    mapping: &mut Mapping,
+) -> Result<(), SdoAbort> {
     if count as usize > MAX_MAPPED {
         return Err(SdoAbort::PdoTooLong);
     }
-    let mut mapping = Mapping::default();
     let mut total = 0usize;
-    for sub in 1..=count as u8 {
+    for (slot, sub) in mapping.objects.iter_mut().zip(1..=count as u8) {
         let raw = super::read_uint(od, index, sub).ok_or(SdoAbort::NotMappable)?;
-        let object = check_entry(od, MappingEntry::from_u32(raw), direction)?;
-        total += object.len as usize;
+        *slot = check_entry(od, MappingEntry::from_u32(raw), direction)?;
+        total += slot.len as usize;
         if total > 8 {
             return Err(SdoAbort::PdoTooLong);
         }
-        mapping.objects[mapping.count as usize] = object;
-        mapping.count += 1;
     }
+    mapping.count = count as u8;
     mapping.len = total as u8;
-    Ok(mapping)
+    Ok(())
 }
 
 /// A receive PDO.
@@ -305,9 +310,8 @@ impl Rpdo {
         self.cob_id = cob.can_id();
         self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
         self.event_timer_ms = super::read_uint_or(od, comm, 5, 0) as u16;
-        match load_mapping(od, 0x1600 + n, Direction::Receive) {
-            Ok(mapping) => {
-                self.mapping = mapping;
+        match load_mapping(od, 0x1600 + n, Direction::Receive, &mut self.mapping) {
+            Ok(()) => {
                 self.enabled = cob.valid() && !cob.extended();
                 None
             }
@@ -393,9 +397,8 @@ impl Tpdo {
         self.inhibit = Duration::from_micros(u64::from(super::read_uint_or(od, comm, 3, 0)) * 100);
         self.event_timer = Duration::from_millis(u64::from(super::read_uint_or(od, comm, 5, 0)));
         self.sync_start = super::read_uint_or(od, comm, 6, 0) as u8;
-        match load_mapping(od, 0x1A00 + n, Direction::Transmit) {
-            Ok(mapping) => {
-                self.mapping = mapping;
+        match load_mapping(od, 0x1A00 + n, Direction::Transmit, &mut self.mapping) {
+            Ok(()) => {
                 self.enabled = cob.valid() && !cob.extended();
                 None
             }
