@@ -12,7 +12,8 @@ pub const MAX_HEARTBEAT_CONSUMERS: usize = 8;
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Consumer {
     pub node_id: u8,
-    pub period: Duration,
+    /// The consumer heartbeat time (1016h, ms) as read: 16 bits, not a 64-bit `Duration`.
+    pub period_ms: u16,
     /// Set once the first heartbeat arrived; cleared on a timeout.
     pub deadline: Option<Instant>,
 }
@@ -60,7 +61,7 @@ impl ErrorControl {
         },
         consumers: [Consumer {
             node_id: 0,
-            period: Duration::ZERO,
+            period_ms: 0,
             deadline: None,
         }; MAX_HEARTBEAT_CONSUMERS],
         consumer_count: 0,
@@ -103,14 +104,13 @@ impl ErrorControl {
             if self.consumer_count == MAX_HEARTBEAT_CONSUMERS {
                 break;
             }
-            let period = Duration::from_millis(u64::from(ms));
             let deadline = previous[..previous_count]
                 .iter()
-                .find(|c| c.node_id == node_id && c.period == period)
+                .find(|c| c.node_id == node_id && c.period_ms == ms)
                 .and_then(|c| c.deadline);
             self.consumers[self.consumer_count] = Consumer {
                 node_id,
-                period,
+                period_ms: ms,
                 deadline,
             };
             self.consumer_count += 1;
@@ -129,7 +129,8 @@ impl ErrorControl {
     pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) {
         for consumer in self.consumers.iter_mut().take(self.consumer_count) {
             if consumer.node_id == node_id {
-                consumer.deadline = Some(now + consumer.period);
+                consumer.deadline =
+                    Some(now + Duration::from_millis(u64::from(consumer.period_ms)));
             }
         }
     }
