@@ -633,8 +633,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     tpdo.last_sent = last_sent;
                     tpdo.last_data = last_data;
                     if self.state == NmtState::Operational && tpdo.enabled {
-                        if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
-                            tpdo.event_deadline = Some(now + tpdo.event_timer);
+                        if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
+                            tpdo.event_deadline = Some(now + tpdo.event_timer());
                         }
                         if tpdo.event_driven() && !was_enabled {
                             tpdo.pending = true;
@@ -1014,8 +1014,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             tpdo.sync_deadline = None;
             tpdo.last_data = data;
             tpdo.last_sent = Some(now);
-            if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
-                tpdo.event_deadline = Some(now + tpdo.event_timer);
+            if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
+                tpdo.event_deadline = Some(now + tpdo.event_timer());
             }
             return Some(CanFrame::from_parts(tpdo.cob_id, data, tpdo.mapping.len));
         }
@@ -1043,7 +1043,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
                 keep_earliest(&mut next, &tpdo.event_deadline);
                 if tpdo.pending {
-                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit));
+                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit()));
                 }
             }
         }

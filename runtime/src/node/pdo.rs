@@ -332,8 +332,10 @@ pub(crate) struct Tpdo {
     pub cob_id: u16,
     pub rtr_allowed: bool,
     pub transmission: u8,
-    pub inhibit: Duration,
-    pub event_timer: Duration,
+    /// The inhibit time (1800h+n sub 03h, in 100 µs) and event timer (sub 05h, ms) as read:
+    /// 32 bits each rather than 64-bit `Duration`s.
+    pub inhibit_100us: u32,
+    pub event_timer_ms: u32,
     pub sync_start: u8,
     pub mapping: Mapping,
     /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous,
@@ -367,8 +369,8 @@ impl Tpdo {
         cob_id: 0,
         rtr_allowed: false,
         transmission: 0,
-        inhibit: Duration::ZERO,
-        event_timer: Duration::ZERO,
+        inhibit_100us: 0,
+        event_timer_ms: 0,
         sync_start: 0,
         mapping: Mapping::EMPTY,
         pending: false,
@@ -394,8 +396,8 @@ impl Tpdo {
         self.cob_id = cob.can_id();
         self.rtr_allowed = !cob.bit30();
         self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
-        self.inhibit = Duration::from_micros(u64::from(super::read_uint_or(od, comm, 3, 0)) * 100);
-        self.event_timer = Duration::from_millis(u64::from(super::read_uint_or(od, comm, 5, 0)));
+        self.inhibit_100us = super::read_uint_or(od, comm, 3, 0);
+        self.event_timer_ms = super::read_uint_or(od, comm, 5, 0);
         self.sync_start = super::read_uint_or(od, comm, 6, 0) as u8;
         match load_mapping(od, 0x1A00 + n, Direction::Transmit, &mut self.mapping) {
             Ok(()) => {
@@ -423,11 +425,21 @@ impl Tpdo {
         self.check_change = false;
     }
 
+    /// The inhibit time.
+    pub fn inhibit(&self) -> Duration {
+        Duration::from_micros(u64::from(self.inhibit_100us) * 100)
+    }
+
+    /// The event timer (zero: off).
+    pub fn event_timer(&self) -> Duration {
+        Duration::from_millis(u64::from(self.event_timer_ms))
+    }
+
     /// Whether the inhibit time since the last transmission has passed.
     #[inline]
     pub fn inhibit_passed(&self, now: Instant) -> bool {
         match self.last_sent {
-            Some(sent) => now >= sent + self.inhibit,
+            Some(sent) => now >= sent + self.inhibit(),
             None => true,
         }
     }
