@@ -40,7 +40,7 @@ use super::crc::{crc16, Crc16};
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 #[cfg(feature = "sdo-block")]
-use crate::wire::sdo::{BlockSegment, ClientRequest, MAX_BLOCK_SIZE};
+use crate::wire::sdo::{BlockSegment, MAX_BLOCK_SIZE};
 use crate::wire::sdo::{Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
 
 /// What the server tells the application after a request.
@@ -398,57 +398,59 @@ impl<const N: usize> SdoServer<N> {
             (3, Transfer::Upload(upload)) => self.upload_segment(upload, toggle, od),
             // Block upload (ccs = 5) and block download (ccs = 6).
             #[cfg(feature = "sdo-block")]
-            (5 | 6, transfer) => self.handle_block_request(request, transfer, od),
+            (5 | 6, _) => self.handle_block_request(request, mux, data, od),
             _ => Err(SdoAbort::InvalidCommand),
         }
     }
 
-    /// Handles a block upload (ccs = 5) or block download (ccs = 6) request.
+    /// Handles a block upload (ccs = 5) or block download (ccs = 6) request, decoded like the
+    /// others by [`handle_request`](Self::handle_request).
     #[cfg(feature = "sdo-block")]
     fn handle_block_request<O: ObjectDictionary + ?Sized>(
         &mut self,
         request: &[u8; FRAME_LEN],
-        transfer: Transfer,
+        mux: Multiplexer,
+        data: [u8; 4],
         od: &mut O,
     ) -> Handled {
-        let request = ClientRequest::parse(request).map_err(|_| SdoAbort::InvalidCommand)?;
-        match (request, transfer) {
-            (ClientRequest::BlockDownloadInitiate { mux, crc, size }, _) => {
+        let command = request[0];
+        // Client CRC support (cc), in both initiate requests.
+        let crc = command & 0x04 != 0;
+        // Bits 1 and 0: the sub-command (cs) of a block upload; bit 0 that of a block download.
+        match (command >> 5, command & 0b11, self.transfer) {
+            // Initiate block upload (cs = 0): blksize, pst.
+            (5, 0, _) => {
                 self.start(mux);
-                self.initiate_block_download(mux, crc, size, od)
+                self.initiate_block_upload(mux, crc, request[4], request[5], od)
             }
-            (
-                ClientRequest::BlockUploadInitiate {
-                    mux,
-                    crc,
-                    blksize,
-                    pst,
-                },
-                _,
-            ) => {
-                self.start(mux);
-                self.initiate_block_upload(mux, crc, blksize, pst, od)
+            // End block upload response (cs = 1).
+            (5, 1, Transfer::BlockUpload(upload)) if upload.phase == BlockUploadPhase::WaitEnd => {
+                self.end_transfer();
+                Ok(None)
             }
-            (ClientRequest::BlockDownloadEnd { unused, crc }, Transfer::BlockDownload(block)) => {
-                self.end_block_download(block, unused, crc, od)
+            // Block upload response (cs = 2): ackseq, blksize.
+            (5, 2, Transfer::BlockUpload(upload)) if upload.phase == BlockUploadPhase::WaitAck => {
+                self.block_upload_ack(upload, request[1], request[2], od)
             }
-            (ClientRequest::BlockUploadStart, Transfer::BlockUpload(mut upload))
+            // Start block upload (cs = 3).
+            (5, 3, Transfer::BlockUpload(mut upload))
                 if upload.phase == BlockUploadPhase::WaitStart =>
             {
                 upload.phase = BlockUploadPhase::Sending;
                 self.transfer = Transfer::BlockUpload(upload);
                 Ok(None)
             }
-            (ClientRequest::BlockUploadAck { ackseq, blksize }, Transfer::BlockUpload(upload))
-                if upload.phase == BlockUploadPhase::WaitAck =>
-            {
-                self.block_upload_ack(upload, ackseq, blksize, od)
+            // Initiate block download (cs = 0), with the size if indicated (s).
+            (6, 0 | 2, _) => {
+                self.start(mux);
+                let size = (command & 0x02 != 0).then(|| u32::from_le_bytes(data));
+                self.initiate_block_download(mux, crc, size, od)
             }
-            (ClientRequest::BlockUploadEnd, Transfer::BlockUpload(upload))
-                if upload.phase == BlockUploadPhase::WaitEnd =>
-            {
-                self.end_transfer();
-                Ok(None)
+            // End block download request (cs = 1): n unused bytes, CRC.
+            (6, 1 | 3, Transfer::BlockDownload(block)) => {
+                let unused = (command >> 2) & 0b111;
+                let crc = u16::from_le_bytes([request[1], request[2]]);
+                self.end_block_download(block, unused, crc, od)
             }
             _ => Err(SdoAbort::InvalidCommand),
         }
