@@ -147,8 +147,10 @@ pub struct SdoServer<const N: usize> {
     buffer: [u8; N],
 }
 
-/// What handling one request did, when it did not abort.
-type Handled = Result<Option<SdoEvent>, SdoAbort>;
+/// What handling one request did, when it did not abort: whether it wrote the addressed entry
+/// (`mux`), which [`SdoServer::handle`] reports as [`SdoEvent::Written`]. A flag rather than the
+/// event, which is smaller to return through every step.
+type Handled = Result<bool, SdoAbort>;
 
 impl<const N: usize> SdoServer<N> {
     /// The block size this server offers for block downloads: `N / 7`, clamped to 1..=127.
@@ -194,12 +196,15 @@ impl<const N: usize> SdoServer<N> {
             Err(_) => Err(SdoAbort::InvalidCommand),
         };
         match outcome {
-            Ok(event) => {
+            Ok(written) => {
                 self.deadline = match self.transfer {
                     Transfer::Idle => None,
                     _ => Some(now + self.timeout),
                 };
-                event
+                written.then_some(SdoEvent::Written {
+                    index: self.mux.index,
+                    sub: self.mux.sub,
+                })
             }
             Err(abort) => {
                 self.abort(abort);
@@ -338,7 +343,7 @@ impl<const N: usize> SdoServer<N> {
             // 0x80 as a segment would have sequence number 0, which is invalid: it is the
             // client's abort.
             self.end_transfer();
-            Ok(None)
+            Ok(false)
         } else {
             self.block_download_segment(block, request)
         }
@@ -376,7 +381,7 @@ impl<const N: usize> SdoServer<N> {
             // Abort SDO transfer (ccs = 4).
             (4, _) => {
                 self.end_transfer();
-                Ok(None)
+                Ok(false)
             }
             // Initiate SDO download (ccs = 1).
             (1, _) => {
@@ -426,7 +431,7 @@ impl<const N: usize> SdoServer<N> {
             // End block upload response (cs = 1).
             (5, 1, Transfer::BlockUpload(upload)) if upload.phase == BlockUploadPhase::WaitEnd => {
                 self.end_transfer();
-                Ok(None)
+                Ok(false)
             }
             // Block upload response (cs = 2): ackseq, blksize.
             (5, 2, Transfer::BlockUpload(upload)) if upload.phase == BlockUploadPhase::WaitAck => {
@@ -438,7 +443,7 @@ impl<const N: usize> SdoServer<N> {
             {
                 upload.phase = BlockUploadPhase::Sending;
                 self.transfer = Transfer::BlockUpload(upload);
-                Ok(None)
+                Ok(false)
             }
             // Initiate block download (cs = 0), with the size if indicated (s).
             (6, 0 | 2, _) => {
@@ -542,13 +547,9 @@ impl<const N: usize> SdoServer<N> {
         &mut self,
         len: usize,
         od: &mut O,
-    ) -> Result<SdoEvent, SdoAbort> {
+    ) -> Result<(), SdoAbort> {
         let data = self.buffer.get(..len).ok_or(SdoAbort::OutOfMemory)?;
-        od.write(self.mux.index, self.mux.sub, data)?;
-        Ok(SdoEvent::Written {
-            index: self.mux.index,
-            sub: self.mux.sub,
-        })
+        od.write(self.mux.index, self.mux.sub, data)
     }
 
     fn initiate_download<O: ObjectDictionary + ?Sized>(
@@ -559,10 +560,6 @@ impl<const N: usize> SdoServer<N> {
         od: &mut O,
     ) -> Handled {
         let (position, entry) = Self::writable_entry(mux, od)?;
-        let written = SdoEvent::Written {
-            index: mux.index,
-            sub: mux.sub,
-        };
         // Bits 1 and 0 of the command: expedited (e), size indicated (s).
         let len = match command & 0b11 {
             // Expedited, n = 4 - len bytes of `data` unused.
@@ -580,7 +577,7 @@ impl<const N: usize> SdoServer<N> {
         od.write_at(position, &data[..len])?;
         // Initiate download response (scs = 3).
         self.respond_mux(0x60, 0);
-        Ok(Some(written))
+        Ok(true)
     }
 
     fn start_download(&mut self, entry: &EntryDescriptor, size: Option<u32>) -> Handled {
@@ -593,7 +590,7 @@ impl<const N: usize> SdoServer<N> {
         });
         // Initiate download response (scs = 3).
         self.respond_mux(0x60, 0);
-        Ok(None)
+        Ok(false)
     }
 
     fn download_segment<O: ObjectDictionary + ?Sized>(
@@ -614,21 +611,19 @@ impl<const N: usize> SdoServer<N> {
             .ok_or(SdoAbort::OutOfMemory)?
             .copy_from_slice(bytes);
         download.len = end;
-        let event = if last {
+        if last {
             if download.size.is_some_and(|size| end != size as usize) {
                 return Err(SdoAbort::LengthMismatch);
             }
-            let event = self.commit(end, od)?;
+            self.commit(end, od)?;
             self.transfer = Transfer::Idle;
-            Some(event)
         } else {
             download.toggle = !toggle;
             self.transfer = Transfer::Download(download);
-            None
-        };
+        }
         // Download segment response (scs = 1) with the segment's toggle bit.
         self.respond(0x20 | u8::from(toggle) << 4, [0; SEGMENT_DATA_LEN]);
-        Ok(event)
+        Ok(last)
     }
 
     fn initiate_upload<O: ObjectDictionary + ?Sized>(
@@ -667,7 +662,7 @@ impl<const N: usize> SdoServer<N> {
             // Initiate upload response (scs = 2), segmented with the size indicated (s).
             self.respond_mux(0x41, size);
         }
-        Ok(None)
+        Ok(false)
     }
 
     fn upload_segment<O: ObjectDictionary + ?Sized>(
@@ -706,7 +701,7 @@ impl<const N: usize> SdoServer<N> {
         // `bytes` was), c.
         let unused = (SEGMENT_DATA_LEN - chunk) as u8;
         self.respond(u8::from(toggle) << 4 | unused << 1 | u8::from(last), bytes);
-        Ok(None)
+        Ok(false)
     }
 
     #[cfg(feature = "sdo-block")]
@@ -729,7 +724,7 @@ impl<const N: usize> SdoServer<N> {
         });
         // Initiate block download response (scs = 5, ss = 0), CRC supported (sc).
         self.respond_mux(0xA4, u32::from(Self::BLOCK_SIZE));
-        Ok(None)
+        Ok(false)
     }
 
     #[cfg(feature = "sdo-block")]
@@ -764,7 +759,7 @@ impl<const N: usize> SdoServer<N> {
             block.ackseq = 0;
         }
         self.transfer = Transfer::BlockDownload(block);
-        Ok(None)
+        Ok(false)
     }
 
     #[cfg(feature = "sdo-block")]
@@ -792,11 +787,11 @@ impl<const N: usize> SdoServer<N> {
                 return Err(SdoAbort::CrcError);
             }
         }
-        let event = self.commit(len, od)?;
+        self.commit(len, od)?;
         self.transfer = Transfer::Idle;
         // End block download response (scs = 5, ss = 1).
         self.respond(0xA1, [0; SEGMENT_DATA_LEN]);
-        Ok(Some(event))
+        Ok(true)
     }
 
     #[cfg(feature = "sdo-block")]
@@ -826,7 +821,7 @@ impl<const N: usize> SdoServer<N> {
         });
         // Initiate block upload response (scs = 6, ss = 0), CRC supported (sc), size indicated (s).
         self.respond_mux(0xC6, size);
-        Ok(None)
+        Ok(false)
     }
 
     #[cfg(feature = "sdo-block")]
@@ -861,7 +856,7 @@ impl<const N: usize> SdoServer<N> {
             upload.phase = BlockUploadPhase::Sending;
         }
         self.transfer = Transfer::BlockUpload(upload);
-        Ok(None)
+        Ok(false)
     }
 
     /// The CRC of the first `total` bytes of the addressed value, read from the dictionary.
