@@ -104,10 +104,13 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
             return Ok(());
         }
         let count = read_uint_or(self.od, 0x1016, 0, 0) as u8;
-        let duplicate = (1..=count).filter(|&s| s != sub).any(|s| {
-            read_uint(self.od, 0x1016, s)
-                .is_some_and(|other| (other >> 16) as u8 == node && other as u16 != 0)
-        });
+        let duplicate = (1..u16::from(count) + 1)
+            .map(|s| s as u8)
+            .filter(|&s| s != sub)
+            .any(|s| {
+                read_uint(self.od, 0x1016, s)
+                    .is_some_and(|other| (other >> 16) as u8 == node && other as u16 != 0)
+            });
         if duplicate {
             Err(SdoAbort::ParameterIncompatible)
         } else {

