@@ -321,7 +321,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         node_id: u8,
         now: Instant,
     ) -> Result<Self, InvalidNodeId> {
-        if !(1..=127).contains(&node_id) {
+        if !matches!(node_id, 1..=127) {
             return Err(InvalidNodeId(node_id));
         }
         let mut node = Node {
@@ -645,7 +645,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             _ => {}
         }
-        if (0x1400..=0x1BFF).contains(&index) {
+        if matches!(index, 0x1400..=0x1BFF) {
             self.link_pdos();
         }
         self.mark_changed(index, sub);
@@ -713,7 +713,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
             }
         }
-        if (0x701..=0x77F).contains(&id) && frame.dlc() == 1 {
+        if matches!(id, 0x701..=0x77F) && frame.dlc() == 1 {
             self.error_control
                 .heartbeat_received((id - 0x700) as u8, now);
         }
