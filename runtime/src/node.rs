@@ -542,21 +542,17 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn configure_sdo(&mut self) {
         let node = u32::from(self.node_id);
-        let defaults = [
-            (0x600 + node, 0x580 + node),
-            (CobIdEntry::INVALID, CobIdEntry::INVALID),
-        ];
         for (n, channel) in self.sdo.iter_mut().enumerate() {
             let index = 0x1200 + n as u16;
-            let present = self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok();
-            let (rx, tx) = if present {
-                (
-                    read_uint_or(&self.od, index, 1, defaults[n].0),
-                    read_uint_or(&self.od, index, 2, defaults[n].1),
-                )
-            } else {
-                defaults[n]
+            // The default SDO server's pre-defined COB-IDs; none for the second.
+            let (mut rx, mut tx) = match n {
+                0 => (0x600 + node, 0x580 + node),
+                _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
             };
+            if self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok() {
+                rx = read_uint_or(&self.od, index, 1, rx);
+                tx = read_uint_or(&self.od, index, 2, tx);
+            }
             let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
             channel.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
             channel.rx = rx.can_id();
