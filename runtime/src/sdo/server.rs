@@ -143,7 +143,10 @@ pub struct SdoServer<const N: usize> {
     transfer: Transfer,
     mux: Multiplexer,
     deadline: Option<Instant>,
-    pending: Option<[u8; FRAME_LEN]>,
+    /// A response is queued: `response`. A flag beside a plain array rather than an `Option`,
+    /// which the device stores and takes with less code.
+    pending: bool,
+    response: [u8; FRAME_LEN],
     buffer: [u8; N],
 }
 
@@ -174,7 +177,8 @@ impl<const N: usize> SdoServer<N> {
             transfer: Transfer::Idle,
             mux: Multiplexer::new(0, 0),
             deadline: None,
-            pending: None,
+            pending: false,
+            response: [0; FRAME_LEN],
             buffer: [0; N],
         }
     }
@@ -220,8 +224,8 @@ impl<const N: usize> SdoServer<N> {
         now: Instant,
         od: &O,
     ) -> Option<[u8; FRAME_LEN]> {
-        if let Some(frame) = self.pending.take() {
-            return Some(frame);
+        if core::mem::take(&mut self.pending) {
+            return Some(self.response);
         }
         #[cfg(feature = "sdo-block")]
         if let Transfer::BlockUpload(_) = self.transfer {
@@ -253,11 +257,11 @@ impl<const N: usize> SdoServer<N> {
             Ok(read) if read == chunk => {}
             Ok(_) => {
                 self.abort(SdoAbort::General);
-                return self.pending.take();
+                return core::mem::take(&mut self.pending).then_some(self.response);
             }
             Err(abort) => {
                 self.abort(abort);
-                return self.pending.take();
+                return core::mem::take(&mut self.pending).then_some(self.response);
             }
         }
         upload.sent += 1;
@@ -293,7 +297,7 @@ impl<const N: usize> SdoServer<N> {
     /// Drops any transfer in progress and any queued response (NMT reset communication).
     pub fn reset(&mut self) {
         self.end_transfer();
-        self.pending = None;
+        self.pending = false;
         self.mux = Multiplexer::new(0, 0);
     }
 
@@ -316,7 +320,8 @@ impl<const N: usize> SdoServer<N> {
     fn respond(&mut self, command: u8, data: [u8; SEGMENT_DATA_LEN]) {
         let mut frame = [command; FRAME_LEN];
         frame[1..].copy_from_slice(&data);
-        self.pending = Some(frame);
+        self.response = frame;
+        self.pending = true;
     }
 
     /// Queues a response naming the addressed entry: the command byte, the multiplexer and
