@@ -321,7 +321,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         node_id: u8,
         now: Instant,
     ) -> Result<Self, InvalidNodeId> {
-        if !(1..=127).contains(&node_id) {
+        if !matches!(node_id, 1..=127) {
             return Err(InvalidNodeId(node_id));
         }
         let mut node = Node {
@@ -331,11 +331,11 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             state: NmtState::Initialising,
             boot_up_due: false,
             sdo: [SdoChannel::new(), SdoChannel::new()],
-            error_control: ErrorControl::off(),
+            error_control: ErrorControl::OFF,
             sync: SyncState::default(),
             emcy: Emcy::default(),
-            rpdos: [Rpdo::off(); RPDOS],
-            tpdos: [Tpdo::off(); TPDOS],
+            rpdos: const { [Rpdo::OFF; RPDOS] },
+            tpdos: const { [Tpdo::OFF; TPDOS] },
             events: EventQueue::new(),
             announce_no_error: false,
             length_error_raised: false,
@@ -492,7 +492,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
         self.configure_sdo();
-        self.error_control = ErrorControl::off();
+        self.error_control = ErrorControl::OFF;
         self.error_control.configure_producer(&self.od, now);
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);
@@ -542,21 +542,17 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn configure_sdo(&mut self) {
         let node = u32::from(self.node_id);
-        let defaults = [
-            (0x600 + node, 0x580 + node),
-            (CobIdEntry::INVALID, CobIdEntry::INVALID),
-        ];
         for (n, channel) in self.sdo.iter_mut().enumerate() {
             let index = 0x1200 + n as u16;
-            let present = self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok();
-            let (rx, tx) = if present {
-                (
-                    read_uint_or(&self.od, index, 1, defaults[n].0),
-                    read_uint_or(&self.od, index, 2, defaults[n].1),
-                )
-            } else {
-                defaults[n]
+            // The default SDO server's pre-defined COB-IDs; none for the second.
+            let (mut rx, mut tx) = match n {
+                0 => (0x600 + node, 0x580 + node),
+                _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
             };
+            if self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok() {
+                rx = read_uint_or(&self.od, index, 1, rx);
+                tx = read_uint_or(&self.od, index, 2, tx);
+            }
             let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
             channel.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
             channel.rx = rx.can_id();
@@ -633,8 +629,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     tpdo.last_sent = last_sent;
                     tpdo.last_data = last_data;
                     if self.state == NmtState::Operational && tpdo.enabled {
-                        if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
-                            tpdo.event_deadline = Some(now + tpdo.event_timer);
+                        if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
+                            tpdo.event_deadline = Some(now + tpdo.event_timer());
                         }
                         if tpdo.event_driven() && !was_enabled {
                             tpdo.pending = true;
@@ -645,7 +641,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             _ => {}
         }
-        if (0x1400..=0x1BFF).contains(&index) {
+        if matches!(index, 0x1400..=0x1BFF) {
             self.link_pdos();
         }
         self.mark_changed(index, sub);
@@ -713,7 +709,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
             }
         }
-        if (0x701..=0x77F).contains(&id) && frame.dlc() == 1 {
+        if matches!(id, 0x701..=0x77F) && frame.dlc() == 1 {
             self.error_control
                 .heartbeat_received((id - 0x700) as u8, now);
         }
@@ -808,14 +804,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 buffer[..expected].copy_from_slice(&data[..expected]);
                 rpdo.buffered = Some(buffer);
             } else {
-                rpdo.mapping.unpack(&mut self.od, data);
-                if rpdo.feeds_tpdo {
-                    let mapping = rpdo.mapping;
-                    for object in mapping.objects() {
-                        self.mark_changed(object.index, object.sub);
-                    }
-                }
-                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+                self.deliver_rpdo(n, data);
             }
         }
         if data.len() != expected || self.length_error_raised {
@@ -824,6 +813,22 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if recovered {
             self.end_rpdo_timeout();
         }
+    }
+
+    /// Writes RPDO `n`'s payload into the objects it maps, marks them changed for the TPDOs that
+    /// map them too, and reports the reception. Not inlined: an asynchronous RPDO's reception
+    /// and a SYNC applying a synchronous one's share it.
+    #[inline(never)]
+    fn deliver_rpdo(&mut self, n: usize, data: &[u8]) {
+        let rpdo = &self.rpdos[n];
+        rpdo.mapping.unpack(&mut self.od, data);
+        if rpdo.feeds_tpdo {
+            let mapping = rpdo.mapping;
+            for object in mapping.objects() {
+                self.mark_changed(object.index, object.sub);
+            }
+        }
+        self.events.push(Event::RpdoReceived { pdo: n as u16 });
     }
 
     /// Clears 8250h (with its error-reset emergency) once no RPDO is timed out any more.
@@ -862,15 +867,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         for n in 0..RPDOS {
             if let Some(data) = self.rpdos[n].buffered.take() {
-                let rpdo = &self.rpdos[n];
-                rpdo.mapping.unpack(&mut self.od, &data);
-                if rpdo.feeds_tpdo {
-                    let mapping = rpdo.mapping;
-                    for object in mapping.objects() {
-                        self.mark_changed(object.index, object.sub);
-                    }
-                }
-                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+                self.deliver_rpdo(n, &data);
             }
         }
         let window_end = (self.sync.window != Duration::ZERO).then(|| now + self.sync.window);
@@ -1013,8 +1010,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             tpdo.sync_deadline = None;
             tpdo.last_data = data;
             tpdo.last_sent = Some(now);
-            if tpdo.event_driven() && tpdo.event_timer != Duration::ZERO {
-                tpdo.event_deadline = Some(now + tpdo.event_timer);
+            if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
+                tpdo.event_deadline = Some(now + tpdo.event_timer());
             }
             return Some(CanFrame::from_parts(tpdo.cob_id, data, tpdo.mapping.len));
         }
@@ -1042,7 +1039,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
                 keep_earliest(&mut next, &tpdo.event_deadline);
                 if tpdo.pending {
-                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit));
+                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit()));
                 }
             }
         }

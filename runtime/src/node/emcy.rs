@@ -37,12 +37,6 @@ fn write_error_register<O: ObjectDictionary + ?Sized>(od: &mut O, register: u8) 
     let _ = od.write(0x1001, 0, &[register]);
 }
 
-#[derive(Debug, Clone, Copy, Default)]
-struct ActiveError {
-    code: u16,
-    register: u8,
-}
-
 /// Why [`raise`](Emcy::raise) refused an error.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Raised {
@@ -64,7 +58,10 @@ pub(crate) struct Emcy {
     queued: usize,
     /// Emergencies dropped because the queue was full.
     pub dropped: u32,
-    active: [ActiveError; MAX_ACTIVE_ERRORS],
+    /// The active errors' codes and register bits: two arrays rather than one of (code,
+    /// register) pairs, whose padding byte made clearing them a store per field.
+    active_codes: [u16; MAX_ACTIVE_ERRORS],
+    active_registers: [u8; MAX_ACTIVE_ERRORS],
     active_count: usize,
     /// Sub-indices of 1003h beyond 0.
     history_len: u8,
@@ -88,16 +85,14 @@ impl Emcy {
     /// The error register: every active error's bits.
     #[inline]
     pub fn register(&self) -> u8 {
-        self.active[..self.active_count]
+        self.active_registers[..self.active_count]
             .iter()
-            .fold(0, |acc, e| acc | e.register)
+            .fold(0, |acc, register| acc | register)
     }
 
     #[inline]
     pub fn is_active(&self, code: u16) -> bool {
-        self.active[..self.active_count]
-            .iter()
-            .any(|e| e.code == code)
+        self.active_codes[..self.active_count].contains(&code)
     }
 
     #[inline]
@@ -128,7 +123,8 @@ impl Emcy {
         if self.active_count == MAX_ACTIVE_ERRORS {
             return Raised::Full;
         }
-        self.active[self.active_count] = ActiveError { code, register };
+        self.active_codes[self.active_count] = code;
+        self.active_registers[self.active_count] = register;
         self.active_count += 1;
         let register = self.register();
         write_error_register(od, register);
@@ -143,16 +139,17 @@ impl Emcy {
 
     /// Removes an error from the active list without an emergency (1001h is not rewritten).
     fn remove(&mut self, code: u16) -> bool {
-        let Some(pos) = self.active[..self.active_count]
+        let Some(pos) = self.active_codes[..self.active_count]
             .iter()
-            .position(|e| e.code == code)
+            .position(|&active| active == code)
         else {
             return false;
         };
         // Element by element rather than `copy_within`, which would pull `memmove` into the
         // image for a handful of bytes.
         for i in pos..self.active_count - 1 {
-            self.active[i] = self.active[i + 1];
+            self.active_codes[i] = self.active_codes[i + 1];
+            self.active_registers[i] = self.active_registers[i + 1];
         }
         self.active_count -= 1;
         true
@@ -209,7 +206,7 @@ impl Emcy {
         }
         let count = (read_uint_or(od, 0x1003, 0, 0) as u8).min(self.history_len);
         let kept = count.min(self.history_len - 1);
-        for sub in (1..=kept).rev() {
+        for sub in (1..kept + 1).rev() {
             if let Some(older) = read_uint(od, 0x1003, sub) {
                 let _ = od.write(0x1003, sub + 1, &older.to_le_bytes());
             }

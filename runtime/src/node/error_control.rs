@@ -9,17 +9,18 @@ use crate::time::{Duration, Instant};
 /// The most remote nodes whose heartbeat one node watches; 1016h entries beyond are not served.
 pub const MAX_HEARTBEAT_CONSUMERS: usize = 8;
 
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Consumer {
     pub node_id: u8,
-    pub period: Duration,
+    /// The consumer heartbeat time (1016h, ms) as read: 16 bits, not a 64-bit `Duration`.
+    pub period_ms: u16,
     /// Set once the first heartbeat arrived; cleared on a timeout.
     pub deadline: Option<Instant>,
 }
 
 /// Node guarding and life guarding.
 #[cfg(feature = "node-guarding")]
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Guarding {
     pub guard_time: Duration,
     pub life_time_factor: u8,
@@ -30,7 +31,7 @@ pub(crate) struct Guarding {
     pub life_lost: bool,
 }
 
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct ErrorControl {
     pub producer_period: Duration,
     pub next_heartbeat: Option<Instant>,
@@ -43,12 +44,28 @@ pub(crate) struct ErrorControl {
 
 impl ErrorControl {
     /// Nothing configured, nothing monitored: the state before reset communication reads
-    /// 1016h, 1017h, 100Ch and 100Dh. Not inlined: power-on and every reset communication share
-    /// one copy of the zeroing of the consumer table.
-    #[inline(never)]
-    pub fn off() -> Self {
-        ErrorControl::default()
-    }
+    /// 1016h, 1017h, 100Ch and 100Dh. A constant of zeros and `None`s rather than a (derived)
+    /// `Default`, so that power-on and reset communication clear it in place with one memset.
+    pub const OFF: ErrorControl = ErrorControl {
+        producer_period: Duration::ZERO,
+        next_heartbeat: None,
+        heartbeat_due: false,
+        #[cfg(feature = "node-guarding")]
+        guarding: Guarding {
+            guard_time: Duration::ZERO,
+            life_time_factor: 0,
+            toggle: false,
+            answer_due: false,
+            life_deadline: None,
+            life_lost: false,
+        },
+        consumers: [Consumer {
+            node_id: 0,
+            period_ms: 0,
+            deadline: None,
+        }; MAX_HEARTBEAT_CONSUMERS],
+        consumer_count: 0,
+    };
 
     /// Reads 1017h; a change takes effect at once: the next heartbeat is one period from `now`.
     pub fn configure_producer<O: ObjectDictionary + ?Sized>(&mut self, od: &O, now: Instant) {
@@ -75,7 +92,7 @@ impl ErrorControl {
         let previous_count = self.consumer_count;
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
         self.consumer_count = 0;
-        for sub in 1..=count {
+        for sub in 1..count + 1 {
             let Some(value) = read_uint(od, 0x1016, sub) else {
                 continue;
             };
@@ -87,14 +104,13 @@ impl ErrorControl {
             if self.consumer_count == MAX_HEARTBEAT_CONSUMERS {
                 break;
             }
-            let period = Duration::from_millis(u64::from(ms));
             let deadline = previous[..previous_count]
                 .iter()
-                .find(|c| c.node_id == node_id && c.period == period)
+                .find(|c| c.node_id == node_id && c.period_ms == ms)
                 .and_then(|c| c.deadline);
             self.consumers[self.consumer_count] = Consumer {
                 node_id,
-                period,
+                period_ms: ms,
                 deadline,
             };
             self.consumer_count += 1;
@@ -113,7 +129,8 @@ impl ErrorControl {
     pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) {
         for consumer in self.consumers.iter_mut().take(self.consumer_count) {
             if consumer.node_id == node_id {
-                consumer.deadline = Some(now + consumer.period);
+                consumer.deadline =
+                    Some(now + Duration::from_millis(u64::from(consumer.period_ms)));
             }
         }
     }

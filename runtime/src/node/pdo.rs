@@ -61,7 +61,7 @@ impl MappedObject {
 }
 
 /// The checked mapping of one PDO.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Mapping {
     pub objects: [MappedObject; MAX_MAPPED],
     pub count: u8,
@@ -69,7 +69,32 @@ pub(crate) struct Mapping {
     pub len: u8,
 }
 
+/// By an array repeat at run time rather than derived or [`Mapping::EMPTY`]: both clear the
+/// array with the byte-wise `__aeabi_memclr` (the array is only 2-byte aligned), which nothing
+/// else on the device needs (about 200 B of flash).
+impl Default for Mapping {
+    fn default() -> Mapping {
+        Mapping {
+            objects: [MappedObject::default(); MAX_MAPPED],
+            count: 0,
+            len: 0,
+        }
+    }
+}
+
 impl Mapping {
+    /// No objects, for [`Rpdo::OFF`] and [`Tpdo::OFF`].
+    pub const EMPTY: Mapping = Mapping {
+        objects: [MappedObject {
+            index: 0,
+            sub: 0,
+            len: 0,
+            position: 0,
+        }; MAX_MAPPED],
+        count: 0,
+        len: 0,
+    };
+
     #[inline]
     pub fn objects(&self) -> &[MappedObject] {
         &self.objects[..self.count as usize]
@@ -191,45 +216,53 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     })
 }
 
-/// Reads and checks the mapping record at `index` (1600h+n or 1A00h+n).
+/// Reads and checks the mapping record at `index` (1600h+n or 1A00h+n) into `mapping`, which
+/// is empty (see [`check_mapping`]).
 pub(crate) fn load_mapping<O: ObjectDictionary + ?Sized>(
     od: &O,
     index: u16,
     direction: Direction,
-) -> Result<Mapping, SdoAbort> {
+    mapping: &mut Mapping,
+) -> Result<(), SdoAbort> {
     let count = super::read_uint(od, index, 0).ok_or(SdoAbort::NoObject)?;
-    check_mapping(od, index, count, direction)
+    check_mapping(od, index, count, direction, mapping)
 }
 
 /// Checks that the first `count` entries of the mapping record at `index` form a valid mapping:
 /// 0604 0042 if there are too many or they exceed 8 bytes, 0604 0041 if one cannot be mapped.
+///
+/// The mapping is written into `mapping`, which must be empty: its objects as they are checked,
+/// its count and length once all passed, so that a refused mapping leaves it empty. In place
+/// rather than returned, which would move the 50-byte mapping twice on its way into a PDO.
 pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
     od: &O,
     index: u16,
     count: u32,
     direction: Direction,
-) -> Result<Mapping, SdoAbort> {
+    mapping: &mut Mapping,
+) -> Result<(), SdoAbort> {
     if count as usize > MAX_MAPPED {
         return Err(SdoAbort::PdoTooLong);
     }
-    let mut mapping = Mapping::default();
     let mut total = 0usize;
-    for sub in 1..=count as u8 {
+    // Half-open ranges here and in the node's other sub-index loops (1003h, 1016h): an
+    // inclusive one carries an exhausted flag and steps through `RangeInclusive::next`, some
+    // 240 B more flash over the four loops.
+    for (slot, sub) in mapping.objects.iter_mut().zip(1..count as u8 + 1) {
         let raw = super::read_uint(od, index, sub).ok_or(SdoAbort::NotMappable)?;
-        let object = check_entry(od, MappingEntry::from_u32(raw), direction)?;
-        total += object.len as usize;
+        *slot = check_entry(od, MappingEntry::from_u32(raw), direction)?;
+        total += slot.len as usize;
         if total > 8 {
             return Err(SdoAbort::PdoTooLong);
         }
-        mapping.objects[mapping.count as usize] = object;
-        mapping.count += 1;
     }
+    mapping.count = count as u8;
     mapping.len = total as u8;
-    Ok(mapping)
+    Ok(())
 }
 
 /// A receive PDO.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Rpdo {
     /// Whether the PDO exists and is valid.
     pub enabled: bool,
@@ -253,26 +286,35 @@ pub(crate) struct Rpdo {
 }
 
 impl Rpdo {
-    /// A PDO that does not exist (yet): nothing configured, nothing received. Not inlined: one
-    /// copy for power-on and [`Rpdo::load`].
-    #[inline(never)]
-    pub fn off() -> Rpdo {
-        Rpdo::default()
-    }
+    /// A PDO that does not exist (yet): nothing configured, nothing received. A constant of
+    /// zeros and `None`s rather than a (derived) `Default`, so that power-on and [`Rpdo::load`]
+    /// clear it with one word-aligned memset instead of building a copy to move.
+    pub const OFF: Rpdo = Rpdo {
+        enabled: false,
+        cob_id: 0,
+        transmission: 0,
+        mapping: Mapping::EMPTY,
+        buffered: None,
+        feeds_tpdo: false,
+        too_short: false,
+        too_long: false,
+        event_timer_ms: 0,
+        deadline: None,
+        timed_out: false,
+    };
 
     /// Reads the configuration of RPDO `n` (1400h + n, 1600h + n) into this PDO, in place, and
     /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
-        *self = Rpdo::off();
+        *self = Rpdo::OFF;
         let comm = 0x1400 + n;
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
         self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
         self.event_timer_ms = super::read_uint_or(od, comm, 5, 0) as u16;
-        match load_mapping(od, 0x1600 + n, Direction::Receive) {
-            Ok(mapping) => {
-                self.mapping = mapping;
+        match load_mapping(od, 0x1600 + n, Direction::Receive, &mut self.mapping) {
+            Ok(()) => {
                 self.enabled = cob.valid() && !cob.extended();
                 None
             }
@@ -287,14 +329,16 @@ impl Rpdo {
 }
 
 /// A transmit PDO.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Tpdo {
     pub enabled: bool,
     pub cob_id: u16,
     pub rtr_allowed: bool,
     pub transmission: u8,
-    pub inhibit: Duration,
-    pub event_timer: Duration,
+    /// The inhibit time (1800h+n sub 03h, in 100 µs) and event timer (sub 05h, ms) as read:
+    /// 32 bits each rather than 64-bit `Duration`s.
+    pub inhibit_100us: u32,
+    pub event_timer_ms: u32,
     pub sync_start: u8,
     pub mapping: Mapping,
     /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous,
@@ -321,29 +365,45 @@ pub(crate) struct Tpdo {
 }
 
 impl Tpdo {
-    /// A PDO that does not exist (yet): nothing configured, nothing running. Not inlined: one
-    /// copy for power-on and [`Tpdo::load`].
-    #[inline(never)]
-    pub fn off() -> Tpdo {
-        Tpdo::default()
-    }
+    /// A PDO that does not exist (yet): nothing configured, nothing running. A constant, like
+    /// [`Rpdo::OFF`].
+    pub const OFF: Tpdo = Tpdo {
+        enabled: false,
+        cob_id: 0,
+        rtr_allowed: false,
+        transmission: 0,
+        inhibit_100us: 0,
+        event_timer_ms: 0,
+        sync_start: 0,
+        mapping: Mapping::EMPTY,
+        pending: false,
+        sampled: false,
+        data: [0; 8],
+        sync_deadline: None,
+        acyclic_request: false,
+        sync_countdown: None,
+        rtr_sample: None,
+        last_data: [0; 8],
+        last_sent: None,
+        event_deadline: None,
+        check_change: false,
+    };
 
     /// Reads the configuration of TPDO `n` (1800h + n, 1A00h + n) into this PDO, in place, and
     /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
-        *self = Tpdo::off();
+        *self = Tpdo::OFF;
         let comm = 0x1800 + n;
         let cob = CobIdEntry(super::read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
         self.rtr_allowed = !cob.bit30();
         self.transmission = super::read_uint_or(od, comm, 2, 255) as u8;
-        self.inhibit = Duration::from_micros(u64::from(super::read_uint_or(od, comm, 3, 0)) * 100);
-        self.event_timer = Duration::from_millis(u64::from(super::read_uint_or(od, comm, 5, 0)));
+        self.inhibit_100us = super::read_uint_or(od, comm, 3, 0);
+        self.event_timer_ms = super::read_uint_or(od, comm, 5, 0);
         self.sync_start = super::read_uint_or(od, comm, 6, 0) as u8;
-        match load_mapping(od, 0x1A00 + n, Direction::Transmit) {
-            Ok(mapping) => {
-                self.mapping = mapping;
+        match load_mapping(od, 0x1A00 + n, Direction::Transmit, &mut self.mapping) {
+            Ok(()) => {
                 self.enabled = cob.valid() && !cob.extended();
                 None
             }
@@ -368,11 +428,21 @@ impl Tpdo {
         self.check_change = false;
     }
 
+    /// The inhibit time.
+    pub fn inhibit(&self) -> Duration {
+        Duration::from_micros(u64::from(self.inhibit_100us) * 100)
+    }
+
+    /// The event timer (zero: off).
+    pub fn event_timer(&self) -> Duration {
+        Duration::from_millis(u64::from(self.event_timer_ms))
+    }
+
     /// Whether the inhibit time since the last transmission has passed.
     #[inline]
     pub fn inhibit_passed(&self, now: Instant) -> bool {
         match self.last_sent {
-            Some(sent) => now >= sent + self.inhibit,
+            Some(sent) => now >= sent + self.inhibit(),
             None => true,
         }
     }
