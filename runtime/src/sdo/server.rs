@@ -39,9 +39,10 @@
 use super::crc::{crc16, Crc16};
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
+use crate::wire::sdo::command::{self, ccs, scs};
+use crate::wire::sdo::{frame, mux_frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
 #[cfg(feature = "sdo-block")]
 use crate::wire::sdo::{BlockSegment, MAX_BLOCK_SIZE};
-use crate::wire::sdo::{Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
 
 /// What the server tells the application after a request.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -317,28 +318,26 @@ impl<const N: usize> SdoServer<N> {
 
     /// Queues an abort of the current transfer (or of the last addressed entry) and ends it.
     fn abort(&mut self, abort: SdoAbort) {
-        self.respond_mux(0x80, abort.code());
+        self.respond_mux(command::of(scs::ABORT), abort.code());
         self.end_transfer();
     }
 
     /// Queues a response: its command byte and the 7 bytes that follow. The server writes its
-    /// few responses as bytes rather than through [`ServerResponse`]'s encoder of every message,
-    /// which costs some 500 B more flash on a device.
+    /// few responses from the command byte's fields ([`command`]) rather than through
+    /// [`ServerResponse`]'s encoder of every message, which costs some 500 B more flash on a
+    /// device.
     ///
     /// [`ServerResponse`]: crate::wire::sdo::ServerResponse
     fn respond(&mut self, command: u8, data: [u8; SEGMENT_DATA_LEN]) {
-        let mut frame = [command; FRAME_LEN];
-        frame[1..].copy_from_slice(&data);
-        self.response = frame;
+        self.response = frame(command, data);
         self.pending = true;
     }
 
     /// Queues a response naming the addressed entry: the command byte, the multiplexer and
     /// `value` in bytes 4 to 7.
     fn respond_mux(&mut self, command: u8, value: u32) {
-        let [index_lo, index_hi] = self.mux.index.to_le_bytes();
-        let [v0, v1, v2, v3] = value.to_le_bytes();
-        self.respond(command, [index_lo, index_hi, self.mux.sub, v0, v1, v2, v3]);
+        self.response = mux_frame(command, self.mux, value);
+        self.pending = true;
     }
 
     /// Handles an 8-byte request: a block-download sub-block segment, or a request.
@@ -353,7 +352,7 @@ impl<const N: usize> SdoServer<N> {
         };
         if block.complete {
             self.handle_request(request, od)
-        } else if request[0] == 0x80 {
+        } else if request[0] == command::of(ccs::ABORT) {
             // 0x80 as a segment would have sequence number 0, which is invalid: it is the
             // client's abort.
             self.end_transfer();
@@ -376,9 +375,9 @@ impl<const N: usize> SdoServer<N> {
     /// Not inlined: inlined into the firmware's loop it costs 148 B of Cortex-M4 flash; out of
     /// line, the host's SDO upload still measures fewer instructions per frame than before.
     ///
-    /// The request is decoded here from its command byte rather than parsed into a
-    /// [`ClientRequest`] first: the server needs few of its fields, and the general parser costs
-    /// some 300 B more flash on a device.
+    /// The request is decoded here from its command byte's fields ([`command`]) rather than
+    /// parsed into a [`ClientRequest`] first: the server needs few of them, and the general
+    /// parser costs some 300 B more flash on a device.
     ///
     /// [`ClientRequest`]: crate::wire::sdo::ClientRequest
     #[inline(never)]
@@ -388,36 +387,34 @@ impl<const N: usize> SdoServer<N> {
         od: &mut O,
     ) -> Handled {
         let command = request[0];
-        let mux = Multiplexer::new(u16::from_le_bytes([request[1], request[2]]), request[3]);
+        let mux = Multiplexer::read(request);
         let data = [request[4], request[5], request[6], request[7]];
-        let toggle = command & 0x10 != 0;
-        match (command >> 5, self.transfer) {
-            // Abort SDO transfer (ccs = 4).
-            (4, _) => {
+        let toggle = command::toggle(command);
+        match (command::specifier(command), self.transfer) {
+            (ccs::ABORT, _) => {
                 self.end_transfer();
                 Ok(false)
             }
-            // Initiate SDO download (ccs = 1).
-            (1, _) => {
+            (ccs::INITIATE_DOWNLOAD, _) => {
                 self.start(mux);
                 self.initiate_download(mux, command, data, od)
             }
-            // Initiate SDO upload (ccs = 2).
-            (2, _) => {
+            (ccs::INITIATE_UPLOAD, _) => {
                 self.start(mux);
                 self.initiate_upload(mux, od)
             }
-            // Download SDO segment (ccs = 0): toggle, n unused bytes, c.
-            (0, Transfer::Download(download)) => {
-                let unused = usize::from((command >> 1) & 0b111);
+            (ccs::DOWNLOAD_SEGMENT, Transfer::Download(download)) => {
+                let unused = usize::from(command::segment_unused(command));
                 let bytes = &request[1..FRAME_LEN - unused];
-                self.download_segment(download, toggle, bytes, command & 0x01 != 0, od)
+                self.download_segment(download, toggle, bytes, command::last(command), od)
             }
-            // Upload SDO segment (ccs = 3).
-            (3, Transfer::Upload(upload)) => self.upload_segment(upload, toggle, od),
-            // Block upload (ccs = 5) and block download (ccs = 6).
+            (ccs::UPLOAD_SEGMENT, Transfer::Upload(upload)) => {
+                self.upload_segment(upload, toggle, od)
+            }
             #[cfg(feature = "sdo-block")]
-            (5 | 6, _) => self.handle_block_request(request, mux, data, od),
+            (ccs::BLOCK_UPLOAD | ccs::BLOCK_DOWNLOAD, _) => {
+                self.handle_block_request(request, mux, data, od)
+            }
             _ => Err(SdoAbort::InvalidCommand),
         }
     }
@@ -434,25 +431,30 @@ impl<const N: usize> SdoServer<N> {
     ) -> Handled {
         let command = request[0];
         // Client CRC support (cc), in both initiate requests.
-        let crc = command & 0x04 != 0;
-        // Bits 1 and 0: the sub-command (cs) of a block upload; bit 0 that of a block download.
-        match (command >> 5, command & 0b11, self.transfer) {
+        let crc = command::crc(command);
+        // The sub-command (cs): bits 1 and 0 of a block upload, bit 0 of a block download.
+        let subcommand = command::block_subcommand(command);
+        match (command::specifier(command), subcommand, self.transfer) {
             // Initiate block upload (cs = 0): blksize, pst.
-            (5, 0, _) => {
+            (ccs::BLOCK_UPLOAD, 0, _) => {
                 self.start(mux);
                 self.initiate_block_upload(mux, crc, request[4], request[5], od)
             }
             // End block upload response (cs = 1).
-            (5, 1, Transfer::BlockUpload(upload)) if upload.phase == BlockUploadPhase::WaitEnd => {
+            (ccs::BLOCK_UPLOAD, 1, Transfer::BlockUpload(upload))
+                if upload.phase == BlockUploadPhase::WaitEnd =>
+            {
                 self.end_transfer();
                 Ok(false)
             }
             // Block upload response (cs = 2): ackseq, blksize.
-            (5, 2, Transfer::BlockUpload(upload)) if upload.phase == BlockUploadPhase::WaitAck => {
+            (ccs::BLOCK_UPLOAD, 2, Transfer::BlockUpload(upload))
+                if upload.phase == BlockUploadPhase::WaitAck =>
+            {
                 self.block_upload_ack(upload, request[1], request[2], od)
             }
             // Start block upload (cs = 3).
-            (5, 3, Transfer::BlockUpload(mut upload))
+            (ccs::BLOCK_UPLOAD, 3, Transfer::BlockUpload(mut upload))
                 if upload.phase == BlockUploadPhase::WaitStart =>
             {
                 upload.phase = BlockUploadPhase::Sending;
@@ -460,14 +462,14 @@ impl<const N: usize> SdoServer<N> {
                 Ok(false)
             }
             // Initiate block download (cs = 0), with the size if indicated (s).
-            (6, 0 | 2, _) => {
+            (ccs::BLOCK_DOWNLOAD, 0 | 2, _) => {
                 self.start(mux);
-                let size = (command & 0x02 != 0).then(|| u32::from_le_bytes(data));
+                let size = command::block_size_indicated(command).then(|| u32::from_le_bytes(data));
                 self.initiate_block_download(mux, crc, size, od)
             }
             // End block download request (cs = 1): n unused bytes, CRC.
-            (6, 1 | 3, Transfer::BlockDownload(block)) => {
-                let unused = (command >> 2) & 0b111;
+            (ccs::BLOCK_DOWNLOAD, 1 | 3, Transfer::BlockDownload(block)) => {
+                let unused = command::block_end_unused(command);
                 let crc = u16::from_le_bytes([request[1], request[2]]);
                 self.end_block_download(block, unused, crc, od)
             }
@@ -577,23 +579,23 @@ impl<const N: usize> SdoServer<N> {
         od: &mut O,
     ) -> Handled {
         let target = Self::writable_entry(mux, od)?;
-        // Bits 1 and 0 of the command: expedited (e), size indicated (s).
-        let len = match command & 0b11 {
-            // Expedited, n = 4 - len bytes of `data` unused.
-            0b11 => usize::from(4 - ((command >> 2) & 0b11)),
-            0b10 => {
+        let len = match (
+            command::expedited(command),
+            command::size_indicated(command),
+        ) {
+            (true, true) => usize::from(command::expedited_len(command)),
+            (true, false) => {
                 let len = target.capacity;
                 if !(1..=data.len()).contains(&len) {
                     return Err(SdoAbort::LengthMismatch);
                 }
                 len
             }
-            0b01 => return self.start_download(&target, Some(u32::from_le_bytes(data))),
-            _ => return self.start_download(&target, None),
+            (false, true) => return self.start_download(&target, Some(u32::from_le_bytes(data))),
+            (false, false) => return self.start_download(&target, None),
         };
         od.write_at(target.position, &data[..len])?;
-        // Initiate download response (scs = 3).
-        self.respond_mux(0x60, 0);
+        self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
         Ok(true)
     }
 
@@ -605,8 +607,7 @@ impl<const N: usize> SdoServer<N> {
             entry_size: target.capacity,
             len: 0,
         });
-        // Initiate download response (scs = 3).
-        self.respond_mux(0x60, 0);
+        self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
         Ok(false)
     }
 
@@ -638,8 +639,9 @@ impl<const N: usize> SdoServer<N> {
             download.toggle = !toggle;
             self.transfer = Transfer::Download(download);
         }
-        // Download segment response (scs = 1) with the segment's toggle bit.
-        self.respond(0x20 | u8::from(toggle) << 4, [0; SEGMENT_DATA_LEN]);
+        // The segment's toggle bit, acknowledged.
+        let response = command::of(scs::DOWNLOAD_SEGMENT) | command::toggle_bit(toggle);
+        self.respond(response, [0; SEGMENT_DATA_LEN]);
         Ok(last)
     }
 
@@ -666,9 +668,9 @@ impl<const N: usize> SdoServer<N> {
             if read != total {
                 return Err(SdoAbort::General);
             }
-            // Initiate upload response (scs = 2), expedited (e, s), n = 4 - total unused bytes
-            // (zero: `data` was).
-            self.respond_mux(0x43 | ((4 - total as u8) << 2), u32::from_le_bytes(data));
+            // Expedited, the size indicated; the unused bytes are zero, as `data` was.
+            let response = command::of(scs::INITIATE_UPLOAD) | command::expedited_bits(total as u8);
+            self.respond_mux(response, u32::from_le_bytes(data));
         } else {
             let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
             self.transfer = Transfer::Upload(Upload {
@@ -676,8 +678,11 @@ impl<const N: usize> SdoServer<N> {
                 offset: 0,
                 total,
             });
-            // Initiate upload response (scs = 2), segmented with the size indicated (s).
-            self.respond_mux(0x41, size);
+            // Segmented, the size indicated (s).
+            self.respond_mux(
+                command::of(scs::INITIATE_UPLOAD) | command::SIZE_INDICATED,
+                size,
+            );
         }
         Ok(false)
     }
@@ -714,10 +719,11 @@ impl<const N: usize> SdoServer<N> {
             upload.toggle = !toggle;
             self.transfer = Transfer::Upload(upload);
         }
-        // Upload segment response (scs = 0): toggle, n = 7 - chunk unused bytes (zero, as
-        // `bytes` was), c.
+        // 7 - chunk unused bytes, zero as `bytes` was.
         let unused = (SEGMENT_DATA_LEN - chunk) as u8;
-        self.respond(u8::from(toggle) << 4 | unused << 1 | u8::from(last), bytes);
+        let response =
+            command::of(scs::UPLOAD_SEGMENT) | command::segment_bits(toggle, unused, last);
+        self.respond(response, bytes);
         Ok(false)
     }
 
@@ -739,8 +745,9 @@ impl<const N: usize> SdoServer<N> {
             ackseq: 0,
             complete: false,
         });
-        // Initiate block download response (scs = 5, ss = 0), CRC supported (sc).
-        self.respond_mux(0xA4, u32::from(Self::BLOCK_SIZE));
+        // Initiate block download response (ss = 0), CRC supported (sc).
+        let response = command::of(scs::BLOCK_DOWNLOAD) | command::crc_bit(true);
+        self.respond_mux(response, u32::from(Self::BLOCK_SIZE));
         Ok(false)
     }
 
@@ -771,8 +778,9 @@ impl<const N: usize> SdoServer<N> {
             block.complete = segment.last;
         }
         if segment.seqno == Self::BLOCK_SIZE || segment.last || block.complete {
-            // Block download response (scs = 5, ss = 2).
-            self.respond(0xA2, [block.ackseq, Self::BLOCK_SIZE, 0, 0, 0, 0, 0]);
+            // Block download response (ss = 2).
+            let response = command::of(scs::BLOCK_DOWNLOAD) | 2;
+            self.respond(response, [block.ackseq, Self::BLOCK_SIZE, 0, 0, 0, 0, 0]);
             block.ackseq = 0;
         }
         self.transfer = Transfer::BlockDownload(block);
@@ -806,8 +814,8 @@ impl<const N: usize> SdoServer<N> {
         }
         self.commit(len, od)?;
         self.transfer = Transfer::Idle;
-        // End block download response (scs = 5, ss = 1).
-        self.respond(0xA1, [0; SEGMENT_DATA_LEN]);
+        // End block download response (ss = 1).
+        self.respond(command::of(scs::BLOCK_DOWNLOAD) | 1, [0; SEGMENT_DATA_LEN]);
         Ok(true)
     }
 
@@ -836,8 +844,10 @@ impl<const N: usize> SdoServer<N> {
             sent: 0,
             phase: BlockUploadPhase::WaitStart,
         });
-        // Initiate block upload response (scs = 6, ss = 0), CRC supported (sc), size indicated (s).
-        self.respond_mux(0xC6, size);
+        // Initiate block upload response (ss = 0), CRC supported (sc), the size indicated (s).
+        let response =
+            command::of(scs::BLOCK_UPLOAD) | command::crc_bit(true) | command::BLOCK_SIZE_INDICATED;
+        self.respond_mux(response, size);
         Ok(false)
     }
 
@@ -866,9 +876,10 @@ impl<const N: usize> SdoServer<N> {
             };
             let unused = (upload.segments() * SEGMENT_DATA_LEN - upload.total) as u8;
             upload.phase = BlockUploadPhase::WaitEnd;
-            // End block upload request (scs = 6, ss = 1) with n unused bytes.
+            // End block upload request (ss = 1) with n unused bytes.
             let [crc_lo, crc_hi] = crc.to_le_bytes();
-            self.respond(0xC1 | (unused << 2), [crc_lo, crc_hi, 0, 0, 0, 0, 0]);
+            let response = command::of(scs::BLOCK_UPLOAD) | command::block_end_bits(unused) | 1;
+            self.respond(response, [crc_lo, crc_hi, 0, 0, 0, 0, 0]);
         } else {
             upload.phase = BlockUploadPhase::Sending;
         }

@@ -1,10 +1,15 @@
 //! SDO frame layouts (CiA 301 §7.2.4.3): initiate, segment and block messages, and aborts.
 //!
 //! [`ClientRequest`] and [`ServerResponse`] are the typed forms of every SDO message, each with
-//! `parse` and `emit`. Block-transfer sub-block segments carry no command specifier (their first
+//! `parse` and `emit`, built on the command byte's fields in [`command`]. A device's SDO server
+//! reads the few fields it needs from there and writes its responses with [`frame`] and
+//! [`mux_frame`] instead: the typed messages' general parser and encoder cost some 800 bytes of
+//! Cortex-M flash. Block-transfer sub-block segments carry no command specifier (their first
 //! byte is a sequence number), so they have their own type, [`BlockSegment`], and the receiver
 //! decides by its state which parser applies. Every SDO frame is 8 bytes long; reserved bits are
 //! emitted as zero and ignored on parse.
+
+use command::{ccs, scs};
 
 /// The length of every SDO frame's data (CiA 301 requires DLC 8).
 pub const FRAME_LEN: usize = 8;
@@ -12,6 +17,164 @@ pub const FRAME_LEN: usize = 8;
 pub const SEGMENT_DATA_LEN: usize = 7;
 /// The largest number of segments in a block-transfer sub-block.
 pub const MAX_BLOCK_SIZE: u8 = 127;
+
+/// The command byte, field by field (CiA 301 §7.2.4.3): the specifier in bits 7..5, then the
+/// message's own bits.
+pub mod command {
+    /// Client command specifiers (ccs).
+    pub mod ccs {
+        /// Download SDO segment.
+        pub const DOWNLOAD_SEGMENT: u8 = 0;
+        /// Initiate SDO download.
+        pub const INITIATE_DOWNLOAD: u8 = 1;
+        /// Initiate SDO upload.
+        pub const INITIATE_UPLOAD: u8 = 2;
+        /// Upload SDO segment.
+        pub const UPLOAD_SEGMENT: u8 = 3;
+        /// Abort SDO transfer (the same in both directions).
+        pub const ABORT: u8 = 4;
+        /// SDO block upload (sub-command in bits 1..0).
+        pub const BLOCK_UPLOAD: u8 = 5;
+        /// SDO block download (sub-command in bit 0).
+        pub const BLOCK_DOWNLOAD: u8 = 6;
+    }
+
+    /// Server command specifiers (scs).
+    pub mod scs {
+        /// Upload SDO segment.
+        pub const UPLOAD_SEGMENT: u8 = 0;
+        /// Download SDO segment.
+        pub const DOWNLOAD_SEGMENT: u8 = 1;
+        /// Initiate SDO upload.
+        pub const INITIATE_UPLOAD: u8 = 2;
+        /// Initiate SDO download.
+        pub const INITIATE_DOWNLOAD: u8 = 3;
+        /// Abort SDO transfer (the same in both directions).
+        pub const ABORT: u8 = 4;
+        /// SDO block download (sub-command in bits 1..0).
+        pub const BLOCK_DOWNLOAD: u8 = 5;
+        /// SDO block upload (sub-command in bit 0).
+        pub const BLOCK_UPLOAD: u8 = 6;
+    }
+
+    /// The command specifier (bits 7..5).
+    pub const fn specifier(command: u8) -> u8 {
+        command >> 5
+    }
+
+    /// A command byte with `specifier` and the other bits zero.
+    pub const fn of(specifier: u8) -> u8 {
+        specifier << 5
+    }
+
+    /// The toggle bit of a segment message (t, bit 4).
+    pub const fn toggle(command: u8) -> bool {
+        command & 0x10 != 0
+    }
+
+    /// The toggle bit, in place.
+    pub const fn toggle_bit(toggle: bool) -> u8 {
+        if toggle {
+            0x10
+        } else {
+            0
+        }
+    }
+
+    /// How many of a segment's 7 bytes carry no data (n, bits 3..1).
+    pub const fn segment_unused(command: u8) -> u8 {
+        (command >> 1) & 0b111
+    }
+
+    /// Whether no segment follows (c, bit 0 of a segment message).
+    pub const fn last(command: u8) -> bool {
+        command & 0x01 != 0
+    }
+
+    /// The bits 4..0 of a segment message: toggle, unused bytes, last.
+    pub const fn segment_bits(toggle: bool, unused: u8, last: bool) -> u8 {
+        toggle_bit(toggle) | (unused & 0b111) << 1 | last as u8
+    }
+
+    /// Whether an initiate message is expedited (e, bit 1).
+    pub const fn expedited(command: u8) -> bool {
+        command & 0b10 != 0
+    }
+
+    /// Whether an initiate message indicates the size (s, bit 0).
+    pub const fn size_indicated(command: u8) -> bool {
+        command & SIZE_INDICATED != 0
+    }
+
+    /// The size-indicated bit (s) of a segmented initiate message, in place.
+    pub const SIZE_INDICATED: u8 = 0b01;
+
+    /// The size-indicated bit (s) of a block download request or block upload response, in
+    /// place.
+    pub const BLOCK_SIZE_INDICATED: u8 = 0b10;
+
+    /// How many of an expedited message's 4 data bytes are data, when the size is indicated
+    /// (4 - n, n in bits 3..2).
+    pub const fn expedited_len(command: u8) -> u8 {
+        4 - ((command >> 2) & 0b11)
+    }
+
+    /// The bits 3..0 of an expedited initiate message with `len` (1..=4) bytes indicated.
+    pub const fn expedited_bits(len: u8) -> u8 {
+        (4 - len) << 2 | 0b11
+    }
+
+    /// Whether a block initiate message announces CRC support (cc / sc, bit 2).
+    pub const fn crc(command: u8) -> bool {
+        command & 0x04 != 0
+    }
+
+    /// The CRC-support bit, in place.
+    pub const fn crc_bit(crc: bool) -> u8 {
+        if crc {
+            0x04
+        } else {
+            0
+        }
+    }
+
+    /// The sub-command of a block message (cs / ss, bits 1..0; only bit 0 in a block download
+    /// request and a block upload response, whose bit 1 is [`block_size_indicated`]).
+    pub const fn block_subcommand(command: u8) -> u8 {
+        command & 0b11
+    }
+
+    /// Whether a block download request or block upload response indicates the size (s,
+    /// bit 1).
+    pub const fn block_size_indicated(command: u8) -> bool {
+        command & BLOCK_SIZE_INDICATED != 0
+    }
+
+    /// How many bytes of a block transfer's last segment carry no data (n, bits 4..2 of the
+    /// end message).
+    pub const fn block_end_unused(command: u8) -> u8 {
+        (command >> 2) & 0b111
+    }
+
+    /// The bits 4..2 of a block transfer's end message: `unused` bytes of its last segment.
+    pub const fn block_end_bits(unused: u8) -> u8 {
+        (unused & 0b111) << 2
+    }
+}
+
+/// A frame of `command` and the 7 bytes after it.
+pub const fn frame(command: u8, rest: [u8; SEGMENT_DATA_LEN]) -> [u8; FRAME_LEN] {
+    let [a, b, c, d, e, f, g] = rest;
+    [command, a, b, c, d, e, f, g]
+}
+
+/// A frame of `command`, the multiplexer and a 32-bit value in bytes 4..8: the initiate
+/// messages and aborts.
+pub const fn mux_frame(command: u8, mux: Multiplexer, value: u32) -> [u8; FRAME_LEN] {
+    let [index_lo, index_hi] = mux.index.to_le_bytes();
+    let [v0, v1, v2, v3] = value.to_le_bytes();
+    [command, index_lo, index_hi, mux.sub, v0, v1, v2, v3]
+}
 
 /// Why bytes are not an SDO message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,18 +200,12 @@ impl Multiplexer {
         Multiplexer { index, sub }
     }
 
-    fn read(frame: &[u8; FRAME_LEN]) -> Self {
+    /// The multiplexer in bytes 1..4 of `frame`.
+    pub const fn read(frame: &[u8; FRAME_LEN]) -> Self {
         Multiplexer {
             index: u16::from_le_bytes([frame[1], frame[2]]),
             sub: frame[3],
         }
-    }
-
-    fn write(self, frame: &mut [u8; FRAME_LEN]) {
-        let [lo, hi] = self.index.to_le_bytes();
-        frame[1] = lo;
-        frame[2] = hi;
-        frame[3] = self.sub;
     }
 }
 
@@ -82,21 +239,22 @@ impl InitiatePayload {
                 // Bytes past `len` are sent as zero.
                 let mask = u32::MAX >> (8 * (4 - u32::from(len)));
                 let bytes = (u32::from_le_bytes(data) & mask).to_le_bytes();
-                (((4 - len) << 2) | 0b11, bytes)
+                (command::expedited_bits(len), bytes)
             }
             InitiatePayload::ExpeditedUnsized { data } => (0b10, data),
-            InitiatePayload::Sized(size) => (0b01, size.to_le_bytes()),
+            InitiatePayload::Sized(size) => (command::SIZE_INDICATED, size.to_le_bytes()),
             InitiatePayload::Unsized => (0b00, [0; 4]),
         }
     }
 
     fn decode(command: u8, frame: &[u8; FRAME_LEN]) -> Self {
         let data = [frame[4], frame[5], frame[6], frame[7]];
-        let expedited = command & 0b10 != 0;
-        let size_indicated = command & 0b01 != 0;
-        match (expedited, size_indicated) {
+        match (
+            command::expedited(command),
+            command::size_indicated(command),
+        ) {
             (true, true) => {
-                let len = 4 - ((command >> 2) & 0b11);
+                let len = command::expedited_len(command);
                 // Bytes past `len` carry no data: keep them as zero.
                 let mask = u32::MAX >> (8 * (4 - u32::from(len)));
                 InitiatePayload::Expedited {
@@ -134,14 +292,14 @@ impl SegmentData {
         &self.bytes[..self.len as usize]
     }
 
-    /// Bits 3..1 of the command byte (n: bytes not containing data) and bytes 1..8.
-    fn encode(&self) -> (u8, [u8; SEGMENT_DATA_LEN]) {
-        ((SEGMENT_DATA_LEN as u8 - self.len) << 1, self.bytes)
+    /// The segment message (either direction: its specifier is 0) with these bytes.
+    fn encode(&self, toggle: bool, last: bool) -> [u8; FRAME_LEN] {
+        let unused = SEGMENT_DATA_LEN as u8 - self.len;
+        frame(command::segment_bits(toggle, unused, last), self.bytes)
     }
 
     fn decode(command: u8, frame: &[u8; FRAME_LEN]) -> Self {
-        let unused = (command >> 1) & 0b111;
-        let len = SEGMENT_DATA_LEN as u8 - unused;
+        let len = SEGMENT_DATA_LEN as u8 - command::segment_unused(command);
         let mut bytes = [0u8; SEGMENT_DATA_LEN];
         for (byte, data) in bytes.iter_mut().zip(&frame[1..]).take(usize::from(len)) {
             *byte = *data;
@@ -234,28 +392,26 @@ impl ClientRequest {
         let frame: &[u8; FRAME_LEN] = bytes.try_into().map_err(|_| WireError::Length)?;
         let command = frame[0];
         let mux = Multiplexer::read(frame);
-        Ok(match command >> 5 {
-            0 => ClientRequest::DownloadSegment {
-                toggle: command & 0x10 != 0,
+        let value = u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]]);
+        Ok(match command::specifier(command) {
+            ccs::DOWNLOAD_SEGMENT => ClientRequest::DownloadSegment {
+                toggle: command::toggle(command),
                 data: SegmentData::decode(command, frame),
-                last: command & 0x01 != 0,
+                last: command::last(command),
             },
-            1 => ClientRequest::InitiateDownload {
+            ccs::INITIATE_DOWNLOAD => ClientRequest::InitiateDownload {
                 mux,
                 payload: InitiatePayload::decode(command, frame),
             },
-            2 => ClientRequest::InitiateUpload { mux },
-            3 => ClientRequest::UploadSegment {
-                toggle: command & 0x10 != 0,
+            ccs::INITIATE_UPLOAD => ClientRequest::InitiateUpload { mux },
+            ccs::UPLOAD_SEGMENT => ClientRequest::UploadSegment {
+                toggle: command::toggle(command),
             },
-            4 => ClientRequest::Abort {
-                mux,
-                code: u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]]),
-            },
-            5 => match command & 0b11 {
+            ccs::ABORT => ClientRequest::Abort { mux, code: value },
+            ccs::BLOCK_UPLOAD => match command::block_subcommand(command) {
                 0 => ClientRequest::BlockUploadInitiate {
                     mux,
-                    crc: command & 0x04 != 0,
+                    crc: command::crc(command),
                     blksize: frame[4],
                     pst: frame[5],
                 },
@@ -266,17 +422,16 @@ impl ClientRequest {
                 },
                 _ => ClientRequest::BlockUploadStart,
             },
-            6 => {
-                if command & 0x01 == 0 {
+            ccs::BLOCK_DOWNLOAD => {
+                if command::block_subcommand(command) & 0b01 == 0 {
                     ClientRequest::BlockDownloadInitiate {
                         mux,
-                        crc: command & 0x04 != 0,
-                        size: (command & 0x02 != 0)
-                            .then(|| u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]])),
+                        crc: command::crc(command),
+                        size: command::block_size_indicated(command).then_some(value),
                     }
                 } else {
                     ClientRequest::BlockDownloadEnd {
-                        unused: (command >> 2) & 0b111,
+                        unused: command::block_end_unused(command),
                         crc: u16::from_le_bytes([frame[1], frame[2]]),
                     }
                 }
@@ -287,54 +442,48 @@ impl ClientRequest {
 
     /// The 8 bytes of this request.
     pub fn emit(&self) -> [u8; FRAME_LEN] {
-        let mut frame = [0u8; FRAME_LEN];
+        use command::{block_end_bits, crc_bit, of, toggle_bit};
         match *self {
             ClientRequest::InitiateDownload { mux, payload } => {
                 let (bits, data) = payload.encode();
-                frame[0] = 0x20 | bits;
-                mux.write(&mut frame);
-                frame[4..].copy_from_slice(&data);
+                let value = u32::from_le_bytes(data);
+                mux_frame(of(ccs::INITIATE_DOWNLOAD) | bits, mux, value)
             }
-            ClientRequest::DownloadSegment { toggle, data, last } => {
-                let (bits, bytes) = data.encode();
-                frame[0] = toggle_bit(toggle) | bits | u8::from(last);
-                frame[1..].copy_from_slice(&bytes);
+            ClientRequest::DownloadSegment { toggle, data, last } => data.encode(toggle, last),
+            ClientRequest::InitiateUpload { mux } => mux_frame(of(ccs::INITIATE_UPLOAD), mux, 0),
+            ClientRequest::UploadSegment { toggle } => {
+                frame(of(ccs::UPLOAD_SEGMENT) | toggle_bit(toggle), [0; 7])
             }
-            ClientRequest::InitiateUpload { mux } => {
-                frame[0] = 0x40;
-                mux.write(&mut frame);
-            }
-            ClientRequest::UploadSegment { toggle } => frame[0] = 0x60 | toggle_bit(toggle),
-            ClientRequest::Abort { mux, code } => return abort_frame(mux, code),
+            ClientRequest::Abort { mux, code } => abort_frame(mux, code),
             ClientRequest::BlockUploadInitiate {
                 mux,
                 crc,
                 blksize,
                 pst,
             } => {
-                frame[0] = 0xA0 | crc_bit(crc);
-                mux.write(&mut frame);
-                frame[4] = blksize;
-                frame[5] = pst;
+                let value = u32::from_le_bytes([blksize, pst, 0, 0]);
+                mux_frame(of(ccs::BLOCK_UPLOAD) | crc_bit(crc), mux, value)
             }
-            ClientRequest::BlockUploadStart => frame[0] = 0xA3,
+            ClientRequest::BlockUploadStart => frame(of(ccs::BLOCK_UPLOAD) | 3, [0; 7]),
             ClientRequest::BlockUploadAck { ackseq, blksize } => {
-                frame[0] = 0xA2;
-                frame[1] = ackseq;
-                frame[2] = blksize;
+                frame(of(ccs::BLOCK_UPLOAD) | 2, [ackseq, blksize, 0, 0, 0, 0, 0])
             }
-            ClientRequest::BlockUploadEnd => frame[0] = 0xA1,
+            ClientRequest::BlockUploadEnd => frame(of(ccs::BLOCK_UPLOAD) | 1, [0; 7]),
             ClientRequest::BlockDownloadInitiate { mux, crc, size } => {
-                frame[0] = 0xC0 | crc_bit(crc) | if size.is_some() { 0x02 } else { 0 };
-                mux.write(&mut frame);
-                frame[4..].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
+                let size_bit = if size.is_some() {
+                    command::BLOCK_SIZE_INDICATED
+                } else {
+                    0
+                };
+                let command = of(ccs::BLOCK_DOWNLOAD) | crc_bit(crc) | size_bit;
+                mux_frame(command, mux, size.unwrap_or(0))
             }
             ClientRequest::BlockDownloadEnd { unused, crc } => {
-                frame[0] = 0xC1 | ((unused & 0b111) << 2);
-                frame[1..3].copy_from_slice(&crc.to_le_bytes());
+                let [lo, hi] = crc.to_le_bytes();
+                let command = of(ccs::BLOCK_DOWNLOAD) | block_end_bits(unused) | 1;
+                frame(command, [lo, hi, 0, 0, 0, 0, 0])
             }
         }
-        frame
     }
 }
 
@@ -417,28 +566,26 @@ impl ServerResponse {
         let frame: &[u8; FRAME_LEN] = bytes.try_into().map_err(|_| WireError::Length)?;
         let command = frame[0];
         let mux = Multiplexer::read(frame);
-        Ok(match command >> 5 {
-            0 => ServerResponse::UploadSegment {
-                toggle: command & 0x10 != 0,
+        let value = u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]]);
+        Ok(match command::specifier(command) {
+            scs::UPLOAD_SEGMENT => ServerResponse::UploadSegment {
+                toggle: command::toggle(command),
                 data: SegmentData::decode(command, frame),
-                last: command & 0x01 != 0,
+                last: command::last(command),
             },
-            1 => ServerResponse::DownloadSegment {
-                toggle: command & 0x10 != 0,
+            scs::DOWNLOAD_SEGMENT => ServerResponse::DownloadSegment {
+                toggle: command::toggle(command),
             },
-            2 => ServerResponse::InitiateUpload {
+            scs::INITIATE_UPLOAD => ServerResponse::InitiateUpload {
                 mux,
                 payload: InitiatePayload::decode(command, frame),
             },
-            3 => ServerResponse::InitiateDownload { mux },
-            4 => ServerResponse::Abort {
-                mux,
-                code: u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]]),
-            },
-            5 => match command & 0b11 {
+            scs::INITIATE_DOWNLOAD => ServerResponse::InitiateDownload { mux },
+            scs::ABORT => ServerResponse::Abort { mux, code: value },
+            scs::BLOCK_DOWNLOAD => match command::block_subcommand(command) {
                 0 => ServerResponse::BlockDownloadInitiate {
                     mux,
-                    crc: command & 0x04 != 0,
+                    crc: command::crc(command),
                     blksize: frame[4],
                 },
                 1 => ServerResponse::BlockDownloadEnd,
@@ -448,17 +595,16 @@ impl ServerResponse {
                 },
                 _ => return Err(WireError::Command),
             },
-            6 => {
-                if command & 0x01 == 0 {
+            scs::BLOCK_UPLOAD => {
+                if command::block_subcommand(command) & 0b01 == 0 {
                     ServerResponse::BlockUploadInitiate {
                         mux,
-                        crc: command & 0x04 != 0,
-                        size: (command & 0x02 != 0)
-                            .then(|| u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]])),
+                        crc: command::crc(command),
+                        size: command::block_size_indicated(command).then_some(value),
                     }
                 } else {
                     ServerResponse::BlockUploadEnd {
-                        unused: (command >> 2) & 0b111,
+                        unused: command::block_end_unused(command),
                         crc: u16::from_le_bytes([frame[1], frame[2]]),
                     }
                 }
@@ -469,47 +615,45 @@ impl ServerResponse {
 
     /// The 8 bytes of this response.
     pub fn emit(&self) -> [u8; FRAME_LEN] {
-        let mut frame = [0u8; FRAME_LEN];
+        use command::{block_end_bits, crc_bit, of, toggle_bit};
         match *self {
             ServerResponse::InitiateDownload { mux } => {
-                frame[0] = 0x60;
-                mux.write(&mut frame);
+                mux_frame(of(scs::INITIATE_DOWNLOAD), mux, 0)
             }
-            ServerResponse::DownloadSegment { toggle } => frame[0] = 0x20 | toggle_bit(toggle),
+            ServerResponse::DownloadSegment { toggle } => {
+                frame(of(scs::DOWNLOAD_SEGMENT) | toggle_bit(toggle), [0; 7])
+            }
             ServerResponse::InitiateUpload { mux, payload } => {
                 let (bits, data) = payload.encode();
-                frame[0] = 0x40 | bits;
-                mux.write(&mut frame);
-                frame[4..].copy_from_slice(&data);
+                let value = u32::from_le_bytes(data);
+                mux_frame(of(scs::INITIATE_UPLOAD) | bits, mux, value)
             }
-            ServerResponse::UploadSegment { toggle, data, last } => {
-                let (bits, bytes) = data.encode();
-                frame[0] = toggle_bit(toggle) | bits | u8::from(last);
-                frame[1..].copy_from_slice(&bytes);
-            }
-            ServerResponse::Abort { mux, code } => return abort_frame(mux, code),
+            ServerResponse::UploadSegment { toggle, data, last } => data.encode(toggle, last),
+            ServerResponse::Abort { mux, code } => abort_frame(mux, code),
             ServerResponse::BlockDownloadInitiate { mux, crc, blksize } => {
-                frame[0] = 0xA0 | crc_bit(crc);
-                mux.write(&mut frame);
-                frame[4] = blksize;
+                let command = of(scs::BLOCK_DOWNLOAD) | crc_bit(crc);
+                mux_frame(command, mux, u32::from(blksize))
             }
-            ServerResponse::BlockDownloadAck { ackseq, blksize } => {
-                frame[0] = 0xA2;
-                frame[1] = ackseq;
-                frame[2] = blksize;
-            }
-            ServerResponse::BlockDownloadEnd => frame[0] = 0xA1,
+            ServerResponse::BlockDownloadAck { ackseq, blksize } => frame(
+                of(scs::BLOCK_DOWNLOAD) | 2,
+                [ackseq, blksize, 0, 0, 0, 0, 0],
+            ),
+            ServerResponse::BlockDownloadEnd => frame(of(scs::BLOCK_DOWNLOAD) | 1, [0; 7]),
             ServerResponse::BlockUploadInitiate { mux, crc, size } => {
-                frame[0] = 0xC0 | crc_bit(crc) | if size.is_some() { 0x02 } else { 0 };
-                mux.write(&mut frame);
-                frame[4..].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
+                let size_bit = if size.is_some() {
+                    command::BLOCK_SIZE_INDICATED
+                } else {
+                    0
+                };
+                let command = of(scs::BLOCK_UPLOAD) | crc_bit(crc) | size_bit;
+                mux_frame(command, mux, size.unwrap_or(0))
             }
             ServerResponse::BlockUploadEnd { unused, crc } => {
-                frame[0] = 0xC1 | ((unused & 0b111) << 2);
-                frame[1..3].copy_from_slice(&crc.to_le_bytes());
+                let [lo, hi] = crc.to_le_bytes();
+                let command = of(scs::BLOCK_UPLOAD) | block_end_bits(unused) | 1;
+                frame(command, [lo, hi, 0, 0, 0, 0, 0])
             }
         }
-        frame
     }
 }
 
@@ -547,29 +691,9 @@ impl BlockSegment {
     }
 }
 
-const fn toggle_bit(toggle: bool) -> u8 {
-    if toggle {
-        0x10
-    } else {
-        0
-    }
-}
-
-const fn crc_bit(crc: bool) -> u8 {
-    if crc {
-        0x04
-    } else {
-        0
-    }
-}
-
 /// The abort frame for `mux` and `code` (the same layout in both directions).
-pub fn abort_frame(mux: Multiplexer, code: u32) -> [u8; FRAME_LEN] {
-    let mut frame = [0u8; FRAME_LEN];
-    frame[0] = 0x80;
-    mux.write(&mut frame);
-    frame[4..].copy_from_slice(&code.to_le_bytes());
-    frame
+pub const fn abort_frame(mux: Multiplexer, code: u32) -> [u8; FRAME_LEN] {
+    mux_frame(command::of(ccs::ABORT), mux, code)
 }
 
 #[cfg(test)]
