@@ -14,9 +14,9 @@ use crate::od::{DataType, EntryDescriptor, SdoAbort};
 use crate::typed::{position, read_bytes};
 
 /// An entry's LowLimit and HighLimit, as keys whose signed order is the numeric order of the
-/// entry's data type (see [`order_key`]), computed when the generated table is built. A write
-/// then turns only its value into a key and compares integers, so no floating-point code is
-/// needed (a Cortex-M4F has no double-precision unit).
+/// entry's data type (REAL32/REAL64 by sign and magnitude), computed when the generated table is
+/// built. A write then turns only its value into a key and compares integers, so no
+/// floating-point code is needed (a Cortex-M4F has no double-precision unit).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limit {
     // Bytes rather than `i64`s: a table row is 18 bytes, not 24 (no 8-byte alignment).
