@@ -804,7 +804,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 buffer[..expected].copy_from_slice(&data[..expected]);
                 rpdo.buffered = Some(buffer);
             } else {
-                self.deliver_rpdo(n, data);
+                rpdo.mapping.unpack(&mut self.od, data);
+                if rpdo.feeds_tpdo {
+                    let mapping = rpdo.mapping;
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
+                }
+                self.events.push(Event::RpdoReceived { pdo: n as u16 });
             }
         }
         if data.len() != expected || self.length_error_raised {
@@ -813,22 +820,6 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if recovered {
             self.end_rpdo_timeout();
         }
-    }
-
-    /// Writes RPDO `n`'s payload into the objects it maps, marks them changed for the TPDOs that
-    /// map them too, and reports the reception. Not inlined: an asynchronous RPDO's reception
-    /// and a SYNC applying a synchronous one's share it.
-    #[inline(never)]
-    fn deliver_rpdo(&mut self, n: usize, data: &[u8]) {
-        let rpdo = &self.rpdos[n];
-        rpdo.mapping.unpack(&mut self.od, data);
-        if rpdo.feeds_tpdo {
-            let mapping = rpdo.mapping;
-            for object in mapping.objects() {
-                self.mark_changed(object.index, object.sub);
-            }
-        }
-        self.events.push(Event::RpdoReceived { pdo: n as u16 });
     }
 
     /// Clears 8250h (with its error-reset emergency) once no RPDO is timed out any more.
@@ -867,7 +858,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         for n in 0..RPDOS {
             if let Some(data) = self.rpdos[n].buffered.take() {
-                self.deliver_rpdo(n, &data);
+                let rpdo = &self.rpdos[n];
+                rpdo.mapping.unpack(&mut self.od, &data);
+                if rpdo.feeds_tpdo {
+                    let mapping = rpdo.mapping;
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
+                }
+                self.events.push(Event::RpdoReceived { pdo: n as u16 });
             }
         }
         let window_end = (self.sync.window != Duration::ZERO).then(|| now + self.sync.window);
