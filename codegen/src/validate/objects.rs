@@ -542,9 +542,9 @@ fn gaps(o: &Object, out: &mut Vec<Diagnostic>) {
         })
         .with_label(format!("sub {first} missing"))
         .with_help(if array {
-            "ARRAY elements become `[T; N]`; describe the missing elements, or declare a RECORD"
+            "describe the missing elements (the generated `Od` has none: an SDO access to one is refused with 0609 0011), or declare a RECORD"
         } else {
-            "gaps are legal in a RECORD; the generated struct leaves them out"
+            "gaps are legal in a RECORD; the generated `Od` has no entries for them"
         }),
     );
 }
