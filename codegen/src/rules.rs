@@ -103,7 +103,7 @@ rules! {
     SUB0_VALUE = "EDS310" Warning "the default of sub-index 0 differs from the highest sub-index present";
     ARRAY_MIXED_TYPES = "EDS311" Error "the elements of an ARRAY have different data types";
     ARRAY_MIXED_ACCESS = "EDS312" Warning "the elements of an ARRAY have different AccessType or PDOMapping";
-    SUB_INDEX_GAPS = "EDS313" Info "gaps in the sub-indices of a RECORD (info) or of an ARRAY (warning: arrays become [T; N])";
+    SUB_INDEX_GAPS = "EDS313" Info "gaps in the sub-indices of a RECORD (info) or of an ARRAY (warning: a client indexing the array 1..N meets a refused sub-index)";
     UNKNOWN_DATA_TYPE = "EDS314" Error "a DataType that is neither a basic type nor a DEFTYPE/DEFSTRUCT of the file";
     DOMAIN_DATA_TYPE = "EDS315" Error "a DOMAIN object whose DataType is not 000Fh";
     LIMITS_INVERTED = "EDS316" Error "LowLimit is greater than HighLimit (warning when a hex limit on a signed type causes it: read as two's complement, or a narrower two's-complement pattern such as 0xEC78 on INTEGER32)";

@@ -6,7 +6,8 @@
 //! unknown data type, an ARRAY of mixed types, a sub-index 0 that is not UNSIGNED8, inverted limits,
 //! a `$NODEID` value that overflows for every node-ID, reserved ObjFlags bits. SubNumber not
 //! matching the sub-objects is a warning (edsgen uses the sections; common in vendor files).
-//! RECORD gaps are legal (info); ARRAY gaps are warnings, as arrays become `[T; N]`.
+//! RECORD gaps are legal (info); ARRAY gaps are warnings, as a client indexes an array's
+//! elements 1..N.
 //! Unparseable values and out-of-type-range values are the reader's (EDS012, EDS013).
 
 use super::{at, effective_int, entry_name, obj, value_span, EntryName, ObjName};
