@@ -436,8 +436,47 @@ fn colliding_constant_names_take_the_index() {
         code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8>"),
         "{code}"
     );
+    // Another object holds the name: the index tells them apart.
     assert!(
-        code.contains("pub const REMOTE_MAPPING_COUNT_SUB0: Entry<u8>"),
+        code.contains("pub const REMOTE_MAPPING_COUNT_5E12: Entry<u8>"),
+        "{code}"
+    );
+    // The same object: the sub-index does.
+    let twice = object(
+        0x5E20,
+        "Pair",
+        ObjectType::Record,
+        vec![
+            sub(
+                0,
+                "Count",
+                0x05,
+                AccessType::Ro,
+                Some(Value::Integer(2)),
+                false,
+            ),
+            sub(
+                1,
+                "Value",
+                0x05,
+                AccessType::Rw,
+                Some(Value::Integer(0)),
+                false,
+            ),
+            sub(
+                2,
+                "Value",
+                0x05,
+                AccessType::Rw,
+                Some(Value::Integer(0)),
+                false,
+            ),
+        ],
+    );
+    let code = emit::generate(&device(vec![twice]), "x").unwrap();
+    assert!(code.contains("pub const PAIR_VALUE: Entry<u8>"), "{code}");
+    assert!(
+        code.contains("pub const PAIR_VALUE_SUB2: Entry<u8>"),
         "{code}"
     );
 }

@@ -7,9 +7,10 @@
 //! - a result starting with a digit gets `n_` (fields, modules) or `N_` (constants) in front;
 //! - a keyword gets `_` appended (`type` becomes `type_`);
 //! - in one namespace, the first name in (index, sub) order keeps its name, a later equal one
-//!   gets the suffix the caller gives (the hex index, then the sub-index), then `_2`, `_3`, ...
+//!   gets the suffixes the caller gives (for a typed address: `SUBn` when the name is taken in
+//!   the same object, the hex index when another object holds it), then `_2`, `_3`, ...
 
-use std::collections::BTreeSet;
+use std::collections::BTreeMap;
 
 use heck::{ToShoutySnakeCase, ToSnakeCase};
 
@@ -59,27 +60,41 @@ pub fn ident(text: &str, case: Case, fallback: &str) -> String {
 /// One namespace of generated names (the fields of a struct, the constants of a module, ...).
 #[derive(Debug, Default)]
 pub struct Namespace {
-    taken: BTreeSet<String>,
+    /// Every name claimed, with the OD index of the object it was claimed for.
+    taken: BTreeMap<String, u16>,
 }
 
 impl Namespace {
-    /// Claims `wanted`, or the first free of `wanted` + each of `suffixes` (joined by `_`), then
-    /// numbered variants. Returns the name and whether it had to change.
-    pub fn claim(&mut self, wanted: &str, suffixes: &[String]) -> (String, bool) {
-        if self.taken.insert(wanted.to_owned()) {
+    /// The index of the object `name` was claimed for, if it was.
+    pub fn owner(&self, name: &str) -> Option<u16> {
+        self.taken.get(name).copied()
+    }
+
+    /// Claims `wanted` for the object at `index`, or the first free of `wanted` + each of
+    /// `suffixes` (joined by `_`), then numbered variants. Returns the name and whether it had
+    /// to change.
+    pub fn claim(&mut self, wanted: &str, index: u16, suffixes: &[String]) -> (String, bool) {
+        let mut free = |name: &str| match self.taken.entry(name.to_owned()) {
+            std::collections::btree_map::Entry::Vacant(slot) => {
+                slot.insert(index);
+                true
+            }
+            std::collections::btree_map::Entry::Occupied(_) => false,
+        };
+        if free(wanted) {
             return (wanted.to_owned(), false);
         }
         let mut base = wanted.to_owned();
         for suffix in suffixes {
             base = format!("{base}_{suffix}");
-            if self.taken.insert(base.clone()) {
+            if free(&base) {
                 return (base, true);
             }
         }
         let mut n = 2u32;
         loop {
             let candidate = format!("{base}_{n}");
-            if self.taken.insert(candidate.clone()) {
+            if free(&candidate) {
                 return (candidate, true);
             }
             n += 1;
@@ -108,14 +123,12 @@ mod tests {
     #[test]
     fn collisions_take_the_suffixes_in_order() {
         let mut ns = Namespace::default();
-        assert_eq!(ns.claim("speed", &["2000".into()]), ("speed".into(), false));
-        assert_eq!(
-            ns.claim("speed", &["2001".into()]),
-            ("speed_2001".into(), true)
-        );
-        assert_eq!(
-            ns.claim("speed", &["2001".into()]),
-            ("speed_2001_2".into(), true)
-        );
+        let claim = |ns: &mut Namespace, index| ns.claim("speed", index, &[format!("{index:04X}")]);
+        assert_eq!(claim(&mut ns, 0x2000), ("speed".into(), false));
+        assert_eq!(ns.owner("speed"), Some(0x2000));
+        assert_eq!(claim(&mut ns, 0x2001), ("speed_2001".into(), true));
+        assert_eq!(claim(&mut ns, 0x2001), ("speed_2001_2".into(), true));
+        assert_eq!(ns.owner("speed_2001_2"), Some(0x2001));
+        assert_eq!(ns.owner("torque"), None);
     }
 }

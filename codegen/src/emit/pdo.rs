@@ -171,7 +171,11 @@ fn plan_pdo(
                 FieldType::Bytes((bits / 8) as usize)
             }
         };
-        let (name, _) = names.claim(&entry.pdo_name, &[format!("{index:04x}_{sub_index}")]);
+        let (name, _) = names.claim(
+            &entry.pdo_name,
+            index,
+            &[format!("{index:04x}_{sub_index}")],
+        );
         let title = entry.title.trim();
         let doc = format!(
             " {title} ({index:04X}h sub {sub_index}, {}): bits {offset} to {} of the payload.",

@@ -200,16 +200,20 @@ impl Planner<'_> {
                 } else {
                     format!("{base}_{sub_part}")
                 };
-                (
-                    joined,
-                    vec![
-                        format!("SUB{}", sub.sub_index),
-                        format!("{:04X}", object.index),
-                    ],
-                )
+                let (sub_suffix, index_suffix) = (
+                    format!("SUB{}", sub.sub_index),
+                    format!("{:04X}", object.index),
+                );
+                // Taken in this object: the sub-index tells them apart; by another object, the
+                // index does.
+                let suffixes = match self.consts.owner(&joined) {
+                    Some(owner) if owner != object.index => vec![index_suffix, sub_suffix],
+                    _ => vec![sub_suffix, index_suffix],
+                };
+                (joined, suffixes)
             }
         };
-        let (name, changed) = self.consts.claim(&wanted, &suffixes);
+        let (name, changed) = self.consts.claim(&wanted, object.index, &suffixes);
         if changed {
             let span = sub.map_or(object.span, |s| s.span);
             self.renamed(span, "constant", &wanted, &name);
