@@ -45,6 +45,7 @@ macro_rules! resettable_generated {
                     let entry = self.entries()[position];
                     if range.contains(&entry.index) {
                         let len = defaults.read_at(position, 0, &mut buf).expect("entry exists");
+                        assert!(len < buf.len(), "a default longer than the buffer");
                         self.write_at(position, &buf[..len]).expect("defaults are legal");
                     }
                 }
