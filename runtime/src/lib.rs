@@ -11,7 +11,7 @@
 //! - `node-guarding` (default): node guarding and life guarding (100Ch × 100Dh, the answer to an
 //!   RTR on 700h + node-ID, `Event::LifeGuardingLost` and EMCY 8130h). Without it that RTR is
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
-//! - `std`: the virtual bus ([`vbus`]).
+//! - `std`: the virtual bus ([`vbus`]) and the operating-system transports ([`transport`]).
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less
@@ -27,6 +27,8 @@ pub mod node;
 pub mod od;
 pub mod sdo;
 pub mod time;
+#[cfg(feature = "std")]
+pub mod transport;
 pub mod typed;
 #[cfg(feature = "std")]
 pub mod vbus;

@@ -1,0 +1,45 @@
+//! Transports (feature `std`): how frames reach a real or simulated bus from an operating system.
+//!
+//! One trait, [`Transport`], that every transport implements: send a frame, receive one with a
+//! timeout. A device node and a master are both driven through it, so the same driver code runs
+//! over the in-memory bus in tests, a socketcand hub on loopback, and Linux SocketCAN.
+//!
+//! Blocking by design: a transport is owned by one driver thread, which also owns the sans-IO core
+//! it feeds; an async driver wraps a transport in its own task.
+
+use std::io;
+use std::time::Duration as StdDuration;
+
+use crate::frame::CanFrame;
+
+/// A CAN bus as an operating system reaches it.
+///
+/// A transport does not echo a frame back to its own sender (CAN controllers and socketcand do
+/// not either), so a driver sees only what other nodes sent.
+pub trait Transport {
+    /// Queues `frame` for sending. An error means the bus is gone (a closed socket), not that the
+    /// frame was lost on a busy bus.
+    fn send(&mut self, frame: &CanFrame) -> io::Result<()>;
+
+    /// The next received frame, waiting at most `timeout`; `Ok(None)` if none arrived in time.
+    /// A zero timeout polls.
+    fn recv_timeout(&mut self, timeout: StdDuration) -> io::Result<Option<CanFrame>>;
+}
+
+impl<T: Transport + ?Sized> Transport for &mut T {
+    fn send(&mut self, frame: &CanFrame) -> io::Result<()> {
+        (**self).send(frame)
+    }
+    fn recv_timeout(&mut self, timeout: StdDuration) -> io::Result<Option<CanFrame>> {
+        (**self).recv_timeout(timeout)
+    }
+}
+
+impl<T: Transport + ?Sized> Transport for Box<T> {
+    fn send(&mut self, frame: &CanFrame) -> io::Result<()> {
+        (**self).send(frame)
+    }
+    fn recv_timeout(&mut self, timeout: StdDuration) -> io::Result<Option<CanFrame>> {
+        (**self).recv_timeout(timeout)
+    }
+}
