@@ -20,6 +20,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod cia402;
 pub mod entry;
 pub mod frame;
 pub mod image;
