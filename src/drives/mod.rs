@@ -5,7 +5,9 @@
 //! Each card is a [`BusDevice`](edsgen_runtime::vbus::BusDevice): it runs on the in-memory bus in
 //! tests, and on any transport through the runtime's driver.
 
+pub mod cp301;
 pub mod goodrive350;
 pub mod vfd;
 
+pub use self::cp301::Cp301;
 pub use self::goodrive350::Goodrive350;
