@@ -12,6 +12,8 @@ use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
 
+pub mod trace;
+
 /// A CAN bus as an operating system reaches it.
 ///
 /// A transport does not echo a frame back to its own sender (CAN controllers and socketcand do
