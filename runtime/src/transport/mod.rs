@@ -12,6 +12,7 @@ use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
 
+pub mod socketcand;
 pub mod trace;
 
 /// A CAN bus as an operating system reaches it.
