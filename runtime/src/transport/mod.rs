@@ -12,6 +12,7 @@ use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
 
+pub mod hub;
 pub mod socketcand;
 pub mod trace;
 
