@@ -352,6 +352,7 @@ fn relay_from(
                 .emit(&mut text);
                 let message: Arc<[u8]> = Arc::from(&text[..]);
                 let mut bus = lock(&shared.bus);
+                shared.frames_relayed.fetch_add(1, Ordering::Relaxed);
                 let mut dropped = Vec::new();
                 for client in bus.clients.iter().filter(|c| c.id != id) {
                     match client.queue.try_send(Arc::clone(&message)) {
@@ -374,7 +375,6 @@ fn relay_from(
                         bus.log = None;
                     }
                 }
-                shared.frames_relayed.fetch_add(1, Ordering::Relaxed);
             }
         }
         match stream.read(&mut chunk) {

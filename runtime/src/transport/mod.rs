@@ -12,7 +12,9 @@ use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
 
+pub mod driver;
 pub mod hub;
+pub mod memory;
 pub mod socketcand;
 pub mod trace;
 
