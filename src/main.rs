@@ -11,6 +11,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use edsgen_codegen::diag::{self, Severity};
 use edsgen_codegen::{builder, read, render, rules, validate};
 
+mod cmd;
+
 #[derive(Parser)]
 #[command(
     name = "edsgen",
@@ -61,6 +63,8 @@ enum Command {
         #[arg(long, value_enum, default_value_t = OutputFormat::Human)]
         format: OutputFormat,
     },
+    /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
+    Bus(cmd::bus::BusArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -108,6 +112,7 @@ fn main() -> ExitCode {
             module,
         } => cmd_generate(&file, output.as_deref(), module.as_deref()),
         Command::Rules { format } => cmd_rules(format),
+        Command::Bus(args) => cmd::bus::run(&args),
     }
 }
 

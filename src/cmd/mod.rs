@@ -1,0 +1,3 @@
+//! The subcommands that run on a bus, one module each.
+
+pub mod bus;
