@@ -5,4 +5,5 @@
 #![forbid(unsafe_code)]
 
 pub mod cards;
+pub mod decode;
 pub mod sim;
