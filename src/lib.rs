@@ -5,4 +5,6 @@
 #![forbid(unsafe_code)]
 
 pub mod cards;
+pub mod decode;
 pub mod drives;
+pub mod sim;

@@ -1,0 +1,280 @@
+//! The bus decoder (`edsgen::decode::Decoder`): the exact line for every kind of frame, SDO
+//! transfers of every type reassembled into one line, aborts with their meaning, PDOs decoded by
+//! the mapping the SDO writes on the bus set, and raw lines for what it cannot attribute.
+
+mod sim_support;
+
+use std::time::Duration;
+
+use edsgen::decode::Decoder;
+use edsgen_runtime::sdo::crc::crc16;
+use edsgen_runtime::CanFrame;
+use sim_support::test_device;
+
+/// Feeds `frames` (COB-ID, data), one per millisecond from 1700000000 s, and returns the lines.
+fn decode(decoder: &mut Decoder, frames: &[(u16, &[u8])]) -> Vec<String> {
+    let start = Duration::from_secs(1_700_000_000);
+    frames
+        .iter()
+        .enumerate()
+        .flat_map(|(i, (id, data))| {
+            let frame = CanFrame::new(*id, data).unwrap();
+            decoder.decode(start + Duration::from_millis(i as u64), &frame)
+        })
+        .collect()
+}
+
+fn described() -> Decoder {
+    let mut decoder = Decoder::new();
+    decoder.describe(1, &test_device());
+    decoder
+}
+
+#[test]
+fn nmt_heartbeat_guarding_sync_and_emergency_lines() {
+    let mut d = described();
+    let mut lines = decode(
+        &mut d,
+        &[
+            (0x701, &[0x00]),
+            (0x000, &[0x01, 0x01]),
+            (0x000, &[0x82, 0x00]),
+            (0x701, &[0x7F]),
+            (0x080, &[]),
+            (0x080, &[3]),
+            (0x081, &[0x30, 0x81, 0x11, 0, 0, 0, 0, 0]),
+            (0x081, &[0x00, 0x00, 0x00, 1, 2, 3, 4, 5]),
+        ],
+    );
+    lines.extend(d.decode(
+        Duration::from_secs(1_700_000_001),
+        &CanFrame::remote(0x701, 1),
+    ));
+    lines.extend(d.decode(
+        Duration::from_secs(1_700_000_001),
+        &CanFrame::new(0x701, &[0x85]).unwrap(),
+    ));
+    assert_eq!(
+        lines,
+        [
+            "1700000000.000000  701  HEARTBEAT  node 1 boot-up",
+            "1700000000.001000  000  NMT        start node 1",
+            "1700000000.002000  000  NMT        reset communication, all nodes",
+            "1700000000.003000  701  HEARTBEAT  node 1 pre-operational",
+            "1700000000.004000  080  SYNC",
+            "1700000000.005000  080  SYNC       counter 3",
+            "1700000000.006000  081  EMCY       node 1 8130 life guard error or heartbeat error; register 11h (generic, communication); manufacturer 00 00 00 00 00",
+            "1700000000.007000  081  EMCY       node 1 0000 error reset or no error; register 00h (none); manufacturer 01 02 03 04 05",
+            "1700000001.000000  701  GUARD      node 1 request",
+            "1700000001.000000  701  GUARD      node 1 operational, toggle 1",
+        ]
+    );
+}
+
+#[test]
+fn expedited_transfers_name_the_entry_and_type_the_value() {
+    let mut d = described();
+    let lines = decode(
+        &mut d,
+        &[
+            (0x601, &[0x2B, 0x02, 0x20, 0x00, 0xE8, 0x03, 0, 0]),
+            (0x581, &[0x60, 0x02, 0x20, 0x00, 0, 0, 0, 0]),
+            (0x601, &[0x40, 0x03, 0x20, 0x00, 0, 0, 0, 0]),
+            (0x581, &[0x4B, 0x03, 0x20, 0x00, 0xFE, 0xFF, 0, 0]),
+            (0x601, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
+            (0x581, &[0x43, 0x18, 0x10, 0x01, 0x34, 0x12, 0, 0]),
+            (0x601, &[0x40, 0x04, 0x20, 0x00, 0, 0, 0, 0]),
+            (0x581, &[0x43, 0x04, 0x20, 0x00, 0x00, 0x00, 0x00, 0x3F]),
+            (0x601, &[0x2F, 0x05, 0x20, 0x00, 0x01, 0, 0, 0]),
+            (0x581, &[0x60, 0x05, 0x20, 0x00, 0, 0, 0, 0]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.001000  581  SDO        node 1 write 2002:00 Target speed = 1000 (0x03E8)",
+            "1700000000.003000  581  SDO        node 1 read 2003:00 Actual speed = -2",
+            "1700000000.005000  581  SDO        node 1 read 1018:01 Identity object: Vendor-ID = 4660 (0x00001234)",
+            "1700000000.007000  581  SDO        node 1 read 2004:00 Gain = 0.5",
+            "1700000000.009000  581  SDO        node 1 write 2005:00 Enabled = true",
+        ]
+    );
+}
+
+#[test]
+fn aborts_give_their_code_and_meaning() {
+    let mut d = described();
+    let lines = decode(
+        &mut d,
+        &[
+            (0x601, &[0x2B, 0x02, 0x20, 0x00, 0x05, 0x00, 0, 0]),
+            (0x581, &[0x80, 0x02, 0x20, 0x00, 0x32, 0x00, 0x09, 0x06]),
+            (0x601, &[0x40, 0x00, 0x60, 0x00, 0, 0, 0, 0]),
+            (0x581, &[0x80, 0x00, 0x60, 0x00, 0x00, 0x00, 0x02, 0x06]),
+            (0x601, &[0x80, 0x00, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.001000  581  SDO        node 1 write 2002:00 Target speed = 5: abort 0609 0032 value of parameter written too low",
+            "1700000000.003000  581  SDO        node 1 read 6000:00 (not in the description): abort 0602 0000 object does not exist in the object dictionary",
+            "1700000000.004000  601  SDO        node 1 read 2000:00 Device label: abort by the client 0504 0000 SDO protocol timed out",
+        ]
+    );
+}
+
+#[test]
+fn a_segmented_upload_and_download_are_one_line_with_the_whole_value() {
+    let mut d = described();
+    let lines = decode(
+        &mut d,
+        &[
+            (0x601, &[0x21, 0x00, 0x20, 0x00, 12, 0, 0, 0]),
+            (0x581, &[0x60, 0x00, 0x20, 0x00, 0, 0, 0, 0]),
+            (0x601, &[0x00, b'd', b'r', b'i', b'v', b'e', b' ', b'7']),
+            (0x581, &[0x20, 0, 0, 0, 0, 0, 0, 0]),
+            (0x601, &[0x15, b' ', b'l', b'e', b'f', b't', 0, 0]),
+            (0x581, &[0x30, 0, 0, 0, 0, 0, 0, 0]),
+            (0x601, &[0x40, 0x00, 0x20, 0x00, 0, 0, 0, 0]),
+            (0x581, &[0x41, 0x00, 0x20, 0x00, 0x0C, 0, 0, 0]),
+            (0x601, &[0x60, 0, 0, 0, 0, 0, 0, 0]),
+            (0x581, &[0x00, 0x64, 0x72, 0x69, 0x76, 0x65, 0x20, 0x37]),
+            (0x601, &[0x70, 0, 0, 0, 0, 0, 0, 0]),
+            (0x581, &[0x15, 0x20, 0x6C, 0x65, 0x66, 0x74, 0x00, 0x00]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.005000  581  SDO        node 1 write 2000:00 Device label = \"drive 7 left\" (segmented, 12 bytes)",
+            "1700000000.011000  581  SDO        node 1 read 2000:00 Device label = \"drive 7 left\" (segmented, 12 bytes)",
+        ]
+    );
+}
+
+#[test]
+fn block_transfers_are_reassembled_counting_a_repeated_segment_once() {
+    let mut d = described();
+    let program: Vec<u8> = (0u8..20).collect();
+    let [lo, hi] = crc16(&program).to_le_bytes();
+    let seg = |n: u8, last: bool, from: usize| {
+        let mut data = [0u8; 8];
+        data[0] = n | if last { 0x80 } else { 0 };
+        let chunk = &program[from..(from + 7).min(20)];
+        data[1..1 + chunk.len()].copy_from_slice(chunk);
+        data
+    };
+    let (s1, s2, s3) = (seg(1, false, 0), seg(2, false, 7), seg(3, true, 14));
+    // The download's first sub-block is acknowledged up to segment 1 only; 2 and 3 come again
+    // as 1 and 2.
+    let (r1, r2) = (seg(1, false, 7), seg(2, true, 14));
+    let lines = decode(
+        &mut d,
+        &[
+            (0x601, &[0xC6, 0x01, 0x20, 0x00, 20, 0, 0, 0]),
+            (0x581, &[0xA4, 0x01, 0x20, 0x00, 4, 0, 0, 0]),
+            (0x601, &s1),
+            (0x601, &s2),
+            (0x601, &s3),
+            (0x581, &[0xA2, 1, 4, 0, 0, 0, 0, 0]),
+            (0x601, &r1),
+            (0x601, &r2),
+            (0x581, &[0xA2, 2, 4, 0, 0, 0, 0, 0]),
+            (0x601, &[0xC5, lo, hi, 0, 0, 0, 0, 0]),
+            (0x581, &[0xA1, 0, 0, 0, 0, 0, 0, 0]),
+            (0x601, &[0xA4, 0x01, 0x20, 0x00, 127, 0, 0, 0]),
+            (0x581, &[0xC6, 0x01, 0x20, 0x00, 20, 0, 0, 0]),
+            (0x601, &[0xA3, 0, 0, 0, 0, 0, 0, 0]),
+            (0x581, &s1),
+            (0x581, &s2),
+            (0x581, &s3),
+            (0x601, &[0xA2, 3, 127, 0, 0, 0, 0, 0]),
+            (0x581, &[0xC5, lo, hi, 0, 0, 0, 0, 0]),
+            (0x601, &[0xA1, 0, 0, 0, 0, 0, 0, 0]),
+        ],
+    );
+    let value = "00 01 02 03 04 05 06 07 08 09 0A 0B 0C 0D 0E 0F 10 11 12 13";
+    assert_eq!(
+        lines,
+        [
+            format!("1700000000.010000  581  SDO        node 1 write 2001:00 Program = {value} (block, 20 bytes)"),
+            format!("1700000000.019000  601  SDO        node 1 read 2001:00 Program = {value} (block, 20 bytes)"),
+        ]
+    );
+}
+
+#[test]
+fn pdos_follow_the_mapping_and_cob_ids_written_on_the_bus() {
+    let mut d = described();
+    let lines = decode(
+        &mut d,
+        &[
+            // The description's mapping: TPDO1 = 2003h, RPDO1 = 2002h.
+            (0x181, &[0xFE, 0xFF]),
+            (0x201, &[0x23, 0x01]),
+            // TPDO1 remapped to 2005h (8 bits) and 2002h, and moved to 0x281.
+            (0x601, &[0x23, 0x00, 0x18, 0x01, 0x81, 0x01, 0x00, 0x80]),
+            (0x581, &[0x60, 0x00, 0x18, 0x01, 0, 0, 0, 0]),
+            (0x601, &[0x2F, 0x00, 0x1A, 0x00, 0x00, 0, 0, 0]),
+            (0x581, &[0x60, 0x00, 0x1A, 0x00, 0, 0, 0, 0]),
+            (0x601, &[0x23, 0x00, 0x1A, 0x01, 0x08, 0x00, 0x05, 0x20]),
+            (0x581, &[0x60, 0x00, 0x1A, 0x01, 0, 0, 0, 0]),
+            (0x601, &[0x23, 0x00, 0x1A, 0x02, 0x10, 0x00, 0x02, 0x20]),
+            (0x581, &[0x60, 0x00, 0x1A, 0x02, 0, 0, 0, 0]),
+            (0x601, &[0x2F, 0x00, 0x1A, 0x00, 0x02, 0, 0, 0]),
+            (0x581, &[0x60, 0x00, 0x1A, 0x00, 0, 0, 0, 0]),
+            (0x601, &[0x23, 0x00, 0x18, 0x01, 0x81, 0x02, 0x00, 0x00]),
+            (0x581, &[0x60, 0x00, 0x18, 0x01, 0, 0, 0, 0]),
+            (0x281, &[0x01, 0x2C, 0x01]),
+            (0x181, &[0x01, 0x2C, 0x01]),
+            (0x281, &[0x01]),
+        ],
+    );
+    let sdo = |t: &str| format!("1700000000.{t}  581  SDO        node 1 write ");
+    assert_eq!(
+        lines,
+        [
+            "1700000000.000000  181  TPDO1      node 1 Actual speed = -2".to_owned(),
+            "1700000000.001000  201  RPDO1      node 1 Target speed = 291 (0x0123)".to_owned(),
+            sdo("003000") + "1800:01 TPDO1 communication parameter: COB-ID used by TPDO = 2147484033 (0x80000181)",
+            sdo("005000") + "1A00:00 TPDO1 mapping parameter: Number of mapped objects = 0",
+            sdo("007000") + "1A00:01 TPDO1 mapping parameter: Mapped object 1 = 537198600 (0x20050008)",
+            sdo("009000") + "1A00:02 TPDO1 mapping parameter: Mapped object 2 = 537002000 (0x20020010)",
+            sdo("011000") + "1A00:00 TPDO1 mapping parameter: Number of mapped objects = 2",
+            sdo("013000") + "1800:01 TPDO1 communication parameter: COB-ID used by TPDO = 641 (0x00000281)",
+            "1700000000.014000  281  TPDO1      node 1 Enabled = true, Target speed = 300 (0x012C)".to_owned(),
+            "1700000000.015000  181  TPDO1      node 1 01 2C 01".to_owned(),
+            "1700000000.016000  281  TPDO1      node 1 01 (the mapping needs 24 bits, the PDO has 1 bytes)".to_owned(),
+        ]
+    );
+}
+
+#[test]
+fn frames_it_cannot_attribute_are_printed_raw() {
+    let mut d = Decoder::new();
+    let mut lines = decode(
+        &mut d,
+        &[
+            (0x7E5, &[0x12, 0x34]),
+            (0x585, &[0x00, 1, 2, 3, 4, 5, 6, 7]),
+            (0x605, &[0x40, 0x00, 0x10]),
+            (0x185, &[0xAA]),
+            (0x605, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+        ],
+    );
+    let ext = CanFrame::new_extended(0x1234567, &[1]).unwrap();
+    lines.extend(d.decode(Duration::from_secs(1_700_000_001), &ext));
+    lines.extend(d.finish(Duration::from_secs(1_700_000_002)));
+    assert_eq!(
+        lines,
+        [
+            "1700000000.000000  7E5  RAW        12 34",
+            "1700000000.001000  585  SDO        node 5 00 01 02 03 04 05 06 07: an SDO response that fits no transfer seen",
+            "1700000000.002000  605  SDO        node 5 40 00 10: not an SDO request",
+            "1700000000.003000  185  TPDO1      node 5 AA",
+            "1700000001.000000  01234567  RAW        01",
+            "1700000002.000000  ---  SDO        node 5 read 1000:00 (unfinished)",
+        ]
+    );
+}
