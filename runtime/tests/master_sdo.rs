@@ -11,7 +11,9 @@ use edsgen_runtime::node::Node;
 use edsgen_runtime::vbus::{BusDevice, ScriptedPeer, VirtualBus};
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::Entry;
-use master_support::{pattern, DomainServer};
+#[cfg(feature = "sdo-block")]
+use master_support::pattern;
+use master_support::DomainServer;
 use node_support::node_od::TestOd;
 use node_support::{frame, ms, show};
 
@@ -196,6 +198,7 @@ fn a_segmented_download_and_upload_of_a_domain_match_the_manuals_frames() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn a_block_download_and_upload_of_64_kib_stream_through_the_window_with_crc() {
     let mut server = DomainServer::new(6);
@@ -227,6 +230,7 @@ fn a_block_download_and_upload_of_64_kib_stream_through_the_window_with_crc() {
     assert_eq!(sent[sent.len() - 1], "606: A1 00 00 00 00 00 00 00");
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn a_block_upload_of_a_small_value_switches_to_expedited_under_the_threshold() {
     let mut server = DomainServer::new(6);
@@ -249,6 +253,7 @@ fn a_block_upload_of_a_small_value_switches_to_expedited_under_the_threshold() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn a_block_download_aborted_by_the_server_ends_with_its_code() {
     let mut server = DomainServer::new(6);
@@ -262,6 +267,7 @@ fn a_block_download_aborted_by_the_server_ends_with_its_code() {
     assert_eq!(result, Err(SdoError::Server(0x0607_0012)));
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn a_block_upload_with_a_wrong_crc_is_aborted_0504_0004() {
     let mut client: SdoClient = SdoClient::new(5);
@@ -290,6 +296,7 @@ fn a_block_upload_with_a_wrong_crc_is_aborted_0504_0004() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 #[test]
 fn a_lost_block_segment_is_acknowledged_short_and_sent_again() {
     let mut client = SdoClient::<32>::new(5);
@@ -373,6 +380,7 @@ fn clients_of_three_servers_run_their_transfers_at_once() {
     );
 }
 
+#[cfg(feature = "sdo-block")]
 /// CRC-16-CCITT (XMODEM), bit by bit: the reference the client's CRC is checked against.
 fn crc16(bytes: &[u8]) -> u16 {
     let mut crc = 0u16;
