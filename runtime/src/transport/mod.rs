@@ -12,6 +12,12 @@ use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
 
+pub mod driver;
+pub mod hub;
+pub mod memory;
+pub mod socketcand;
+pub mod trace;
+
 /// A CAN bus as an operating system reaches it.
 ///
 /// A transport does not echo a frame back to its own sender (CAN controllers and socketcand do
