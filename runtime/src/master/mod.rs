@@ -3,8 +3,11 @@
 //!
 //! [`SdoClient`] reads and writes remote dictionaries, typed through the generated
 //! [`Entry`](crate::Entry) addresses; [`nmt`] commands nodes and watches them (heartbeat
-//! consumer, guarding master); [`emcy`] decodes emergencies; [`sync`] produces SYNC.
+//! consumer, guarding master); [`emcy`] decodes emergencies; [`sync`] produces SYNC. With
+//! `std`, `blocking::Master` runs them all on a transport.
 
+#[cfg(feature = "std")]
+pub mod blocking;
 pub mod emcy;
 mod fifo;
 pub mod nmt;

@@ -216,6 +216,11 @@ impl<const BUF: usize> SdoClient<BUF> {
         self.pst = bytes;
     }
 
+    /// The entry of the transfer in progress or the last one.
+    pub const fn mux(&self) -> Multiplexer {
+        self.mux
+    }
+
     /// Whether a transfer is in progress.
     pub fn is_busy(&self) -> bool {
         self.state != State::Idle
