@@ -24,6 +24,7 @@ pub mod cia402;
 pub mod entry;
 pub mod frame;
 pub mod image;
+pub mod master;
 pub mod node;
 pub mod od;
 pub mod sdo;

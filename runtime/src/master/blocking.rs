@@ -1,0 +1,431 @@
+//! The blocking master (feature `std`): a [`Master`] owns a [`Transport`] and runs the sans-IO
+//! SDO clients, node monitor and EMCY consumer on it, one call at a time, with timeouts.
+//! Typed reads and writes go through the generated [`Entry`] addresses.
+
+use std::collections::{BTreeMap, VecDeque};
+use std::fmt;
+use std::io;
+use std::time::Duration as StdDuration;
+
+use crate::entry::{Entry, OdValue};
+use crate::frame::CanFrame;
+use crate::time::{Duration, Instant};
+use crate::transport::driver::MonotonicClock;
+use crate::transport::Transport;
+use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
+use crate::wire::nmt::NmtCommand;
+use crate::wire::sdo::Multiplexer;
+
+use super::emcy::Emergency;
+use super::nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch, WatchError};
+use super::sdo_client::{abort_meaning, Completed, Mode, SdoClient, SdoError, StartError};
+
+/// The longest the master sleeps in a transport before it looks at its timers again.
+const MAX_WAIT: StdDuration = StdDuration::from_millis(20);
+
+/// Something the master noticed while it waited for something else.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MasterEvent {
+    /// A watched node booted, changed state, was lost or recovered.
+    Monitor(MonitorEvent),
+    /// A node sent an emergency.
+    Emergency(Emergency),
+    /// A node sent its boot-up message (watched or not).
+    BootUp(u8),
+}
+
+/// Why a master call failed.
+#[derive(Debug)]
+pub enum MasterError {
+    /// The SDO transfer ended with an abort (or the client's timeout).
+    Sdo {
+        /// The node.
+        node_id: u8,
+        /// The entry.
+        mux: Multiplexer,
+        /// How it ended.
+        error: SdoError,
+    },
+    /// A read value's length does not match the entry's type.
+    Length {
+        /// The node.
+        node_id: u8,
+        /// The entry.
+        mux: Multiplexer,
+        /// The bytes received.
+        got: usize,
+    },
+    /// The value does not fit the entry (a 24-bit entry given a larger number).
+    Value,
+    /// Nothing happened within the time allowed (waiting for a boot-up).
+    Timeout,
+    /// The node's SDO channel is still busy (a transfer cut short by a transport error).
+    Busy(u8),
+    /// The node-ID is not 1..=127 (0 for a broadcast where one is allowed).
+    NodeId(u8),
+    /// The transport failed: the bus is gone.
+    Io(io::Error),
+}
+
+impl fmt::Display for MasterError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MasterError::Sdo {
+                node_id,
+                mux,
+                error,
+            } => {
+                let code = error.code();
+                let who = match error {
+                    SdoError::Server(_) => "node aborted",
+                    SdoError::Timeout => "no answer, aborted",
+                    SdoError::Client(_) => "master aborted",
+                };
+                write!(
+                    f,
+                    "SDO {:04X}h:{:02X}h on node {node_id}: {who} with {:04X} {:04X}h ({})",
+                    mux.index,
+                    mux.sub,
+                    code >> 16,
+                    code & 0xFFFF,
+                    abort_meaning(code).unwrap_or("unknown abort code")
+                )
+            }
+            MasterError::Length { node_id, mux, got } => write!(
+                f,
+                "{:04X}h:{:02X}h on node {node_id}: {got} bytes do not match the entry's type",
+                mux.index, mux.sub
+            ),
+            MasterError::Value => write!(f, "the value does not fit the entry"),
+            MasterError::Timeout => write!(f, "timed out"),
+            MasterError::Busy(id) => write!(f, "the SDO channel to node {id} is busy"),
+            MasterError::NodeId(id) => write!(f, "node-ID {id} is not 1..=127"),
+            MasterError::Io(e) => write!(f, "bus: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for MasterError {}
+
+impl From<io::Error> for MasterError {
+    fn from(e: io::Error) -> Self {
+        MasterError::Io(e)
+    }
+}
+
+/// A CANopen master on one bus, driven by the calling thread.
+pub struct Master<T> {
+    transport: T,
+    clock: MonotonicClock,
+    default_timeout: Duration,
+    clients: BTreeMap<u8, SdoClient>,
+    monitor: Box<NodeMonitor<127>>,
+    events: VecDeque<MasterEvent>,
+    /// The last error-control state each node reported (watched or not).
+    seen: BTreeMap<u8, NmtState>,
+}
+
+impl<T: Transport> Master<T> {
+    /// A master on `transport`, with the SDO client's default timeout.
+    pub fn new(transport: T) -> Self {
+        Master {
+            transport,
+            clock: MonotonicClock::new(),
+            default_timeout: super::sdo_client::DEFAULT_TIMEOUT,
+            clients: BTreeMap::new(),
+            monitor: Box::new(NodeMonitor::new()),
+            events: VecDeque::new(),
+            seen: BTreeMap::new(),
+        }
+    }
+
+    /// The transport, for frames the master does not speak (PDOs).
+    pub fn transport_mut(&mut self) -> &mut T {
+        &mut self.transport
+    }
+
+    /// The SDO timeout of nodes without one of their own.
+    pub fn set_default_timeout(&mut self, timeout: StdDuration) {
+        self.default_timeout = to_duration(timeout);
+        for client in self.clients.values_mut() {
+            client.set_timeout(self.default_timeout);
+        }
+    }
+
+    /// The SDO timeout for `node_id`.
+    pub fn set_timeout(&mut self, node_id: u8, timeout: StdDuration) -> Result<(), MasterError> {
+        self.client(node_id)?.set_timeout(to_duration(timeout));
+        Ok(())
+    }
+
+    /// Reads `entry` of `node_id`, typed.
+    pub fn read<V: OdValue>(&mut self, node_id: u8, entry: Entry<V>) -> Result<V, MasterError> {
+        let mux = Multiplexer::new(entry.index, entry.sub);
+        let bytes = self.upload(node_id, mux, Mode::Normal)?;
+        entry.decode(&bytes).ok_or(MasterError::Length {
+            node_id,
+            mux,
+            got: bytes.len(),
+        })
+    }
+
+    /// Writes `value` to `entry` of `node_id`.
+    pub fn write<V: OdValue>(
+        &mut self,
+        node_id: u8,
+        entry: Entry<V>,
+        value: V,
+    ) -> Result<(), MasterError> {
+        let now = self.clock.now();
+        let client = self.client(node_id)?;
+        match client.write(now, entry, &value) {
+            Ok(()) => {}
+            Err(StartError::Value) => return Err(MasterError::Value),
+            Err(StartError::Busy) => return Err(MasterError::Busy(node_id)),
+        }
+        self.finish(node_id, &mut [].as_slice(), &mut Vec::new())
+            .map(|_| ())
+    }
+
+    /// Reads the value of (index, sub) as bytes, by `mode`.
+    pub fn upload(
+        &mut self,
+        node_id: u8,
+        mux: Multiplexer,
+        mode: Mode,
+    ) -> Result<Vec<u8>, MasterError> {
+        let mut value = Vec::new();
+        self.upload_to(node_id, mux, mode, &mut value)?;
+        Ok(value)
+    }
+
+    /// Reads the value of (index, sub) into `sink` as it arrives (a domain of any length);
+    /// returns its length.
+    pub fn upload_to(
+        &mut self,
+        node_id: u8,
+        mux: Multiplexer,
+        mode: Mode,
+        sink: &mut impl io::Write,
+    ) -> Result<u32, MasterError> {
+        let now = self.clock.now();
+        if self.client(node_id)?.upload(now, mux, mode).is_err() {
+            return Err(MasterError::Busy(node_id));
+        }
+        self.finish(node_id, &mut [].as_slice(), sink)
+            .map(|done| done.size)
+    }
+
+    /// Writes `data` to (index, sub) by `mode`.
+    pub fn download(
+        &mut self,
+        node_id: u8,
+        mux: Multiplexer,
+        data: &[u8],
+        mode: Mode,
+    ) -> Result<(), MasterError> {
+        let now = self.clock.now();
+        let size = u32::try_from(data.len()).map_err(|_| MasterError::Value)?;
+        if self
+            .client(node_id)?
+            .download(now, mux, size, mode)
+            .is_err()
+        {
+            return Err(MasterError::Busy(node_id));
+        }
+        self.finish(node_id, &mut &data[..], &mut io::sink())
+            .map(|_| ())
+    }
+
+    /// Sends an NMT command to `node_id` (0: all nodes).
+    pub fn nmt(&mut self, command: NmtCommand, node_id: u8) -> Result<(), MasterError> {
+        if node_id > 127 {
+            return Err(MasterError::NodeId(node_id));
+        }
+        self.transport.send(&nmt_frame(command, node_id))?;
+        Ok(())
+    }
+
+    /// Watches `node_id` by heartbeat or guarding; its events come from
+    /// [`poll_event`](Self::poll_event).
+    pub fn watch(&mut self, node_id: u8, watch: Watch) -> Result<(), MasterError> {
+        let now = self.clock.now();
+        self.monitor
+            .watch(now, node_id, watch)
+            .map_err(|e| match e {
+                WatchError::Full | WatchError::Invalid => MasterError::NodeId(node_id),
+            })
+    }
+
+    /// Waits until `node_id` sends its boot-up message, at most `timeout`. A boot-up received
+    /// earlier and not yet taken as an event counts.
+    pub fn wait_for_boot(&mut self, node_id: u8, timeout: StdDuration) -> Result<(), MasterError> {
+        let is_boot = |e: &MasterEvent| *e == MasterEvent::BootUp(node_id);
+        let deadline = self.clock.now() + to_duration(timeout);
+        loop {
+            if let Some(i) = self.events.iter().position(is_boot) {
+                self.events.remove(i);
+                return Ok(());
+            }
+            let now = self.clock.now();
+            if now >= deadline {
+                return Err(MasterError::Timeout);
+            }
+            self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+    }
+
+    /// Listens for `duration`, collecting events.
+    pub fn listen(&mut self, duration: StdDuration) -> Result<(), MasterError> {
+        let deadline = self.clock.now() + to_duration(duration);
+        loop {
+            let now = self.clock.now();
+            if now >= deadline {
+                return Ok(());
+            }
+            self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+    }
+
+    /// The next event noticed, oldest first.
+    pub fn poll_event(&mut self) -> Option<MasterEvent> {
+        self.events.pop_front()
+    }
+
+    /// The last state `node_id` reported by heartbeat, boot-up or guarding answer.
+    pub fn last_state(&self, node_id: u8) -> Option<NmtState> {
+        self.seen.get(&node_id).copied()
+    }
+
+    fn client(&mut self, node_id: u8) -> Result<&mut SdoClient, MasterError> {
+        if !(1..=127).contains(&node_id) {
+            return Err(MasterError::NodeId(node_id));
+        }
+        let timeout = self.default_timeout;
+        Ok(self.clients.entry(node_id).or_insert_with(|| {
+            let mut client = SdoClient::new(node_id);
+            client.set_timeout(timeout);
+            client
+        }))
+    }
+
+    /// Runs the transfer on `node_id`'s channel to its end, feeding it from `source` and
+    /// draining it into `sink`.
+    fn finish(
+        &mut self,
+        node_id: u8,
+        source: &mut &[u8],
+        sink: &mut impl io::Write,
+    ) -> Result<Completed, MasterError> {
+        loop {
+            let now = self.clock.now();
+            if let Err(e) = self.step(now, None, source, sink) {
+                // The bus is gone: free the channel for a later call.
+                self.client(node_id)?
+                    .abort(crate::od::SdoAbort::General.code());
+                return Err(e);
+            }
+            let client = self.client(node_id)?;
+            if let Some(result) = client.poll_result() {
+                drain(client, sink)?;
+                return result.map_err(|error| MasterError::Sdo {
+                    node_id,
+                    mux: client.mux(),
+                    error,
+                });
+            }
+        }
+    }
+
+    /// One round: timers, data in and out of the busy channel, frames out, then one wait for
+    /// a frame (until the next deadline, `until`, or [`MAX_WAIT`]).
+    fn step(
+        &mut self,
+        now: Instant,
+        until: Option<Instant>,
+        source: &mut &[u8],
+        sink: &mut impl io::Write,
+    ) -> Result<(), MasterError> {
+        let mut deadline = until;
+        for client in self.clients.values_mut() {
+            if client.poll_timeout().is_some_and(|at| at <= now) {
+                client.handle_timeout(now);
+            }
+            if client.is_busy() {
+                let taken = client.write_data(source);
+                *source = &source[taken..];
+                drain(client, sink)?;
+            }
+            while let Some(frame) = client.poll_transmit(now) {
+                self.transport.send(&frame)?;
+            }
+            deadline = earliest(deadline, client.poll_timeout());
+        }
+        if self.monitor.poll_timeout().is_some_and(|at| at <= now) {
+            self.monitor.handle_timeout(now);
+        }
+        while let Some(frame) = self.monitor.poll_transmit(now) {
+            self.transport.send(&frame)?;
+        }
+        while let Some(event) = self.monitor.poll_event() {
+            self.events.push_back(MasterEvent::Monitor(event));
+        }
+        deadline = earliest(deadline, self.monitor.poll_timeout());
+        let wait = match deadline {
+            Some(at) => MAX_WAIT.min(StdDuration::from_micros((at - now).as_micros())),
+            None => MAX_WAIT,
+        };
+        if let Some(frame) = self.transport.recv_timeout(wait)? {
+            self.dispatch(&frame);
+        }
+        Ok(())
+    }
+
+    fn dispatch(&mut self, frame: &CanFrame) {
+        let now = self.clock.now();
+        if let Some(id) = frame.std_id().filter(|id| (0x581..=0x5FF).contains(id)) {
+            if let Some(client) = self.clients.get_mut(&((id - 0x580) as u8)) {
+                client.handle_frame(now, frame);
+            }
+        }
+        self.monitor.handle_frame(now, frame);
+        if let Some(emergency) = Emergency::from_frame(frame) {
+            self.events.push_back(MasterEvent::Emergency(emergency));
+        }
+        let error_control = frame
+            .std_id()
+            .filter(|id| (0x701..=0x77F).contains(id) && !frame.is_remote())
+            .zip(ErrorControlRepr::parse(frame.data()));
+        if let Some((id, message)) = error_control {
+            let node_id = (id - 0x700) as u8;
+            if message == ErrorControlRepr::BOOT_UP {
+                self.events.push_back(MasterEvent::BootUp(node_id));
+                self.seen.insert(node_id, NmtState::PreOperational);
+            } else {
+                self.seen.insert(node_id, message.state);
+            }
+        }
+    }
+}
+
+fn drain(client: &mut SdoClient, sink: &mut impl io::Write) -> io::Result<()> {
+    let mut chunk = [0u8; 256];
+    loop {
+        let n = client.read_data(&mut chunk);
+        if n == 0 {
+            return Ok(());
+        }
+        sink.write_all(&chunk[..n])?;
+    }
+}
+
+fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+fn to_duration(d: StdDuration) -> Duration {
+    Duration::from_micros(d.as_micros().min(u128::from(u64::MAX)) as u64)
+}
