@@ -172,7 +172,9 @@ fn sdo_read_of_a_missing_object_aborts_0602_0000() {
 fn emergency_for_fault_out1_and_after_its_reset() {
     let (mut node, mut bus) = booted();
     sent(&mut bus);
-    // §3.4.8: fault OUT1, emergency code 3000h, error register 04h, VFD error code 1.
+    // §3.4.8: fault OUT1, emergency code 3000h, error register 04h, VFD error code 1. CiA 301
+    // sets the generic bit (bit 0) of the error register whenever any error is active, so the
+    // node sends 05h where the manual prints 04h.
     node.raise_error(0x3000, error_register::VOLTAGE, [0x01, 0, 0, 0, 0]);
     bus.run_until(ms(1), &mut [&mut node]);
     node.clear_error(0x3000);
@@ -180,7 +182,7 @@ fn emergency_for_fault_out1_and_after_its_reset() {
     assert_eq!(
         sent(&mut bus),
         expect(&[
-            (0, "083: 00 30 04 01 00 00 00 00"),
+            (0, "083: 00 30 05 01 00 00 00 00"),
             (1, "083: 00 00 00 00 00 00 00 00")
         ])
     );

@@ -281,6 +281,49 @@ impl Layout {
         Ok(())
     }
 
+    /// `ObjectDictionary::restore_defaults`: sets the values of the entries whose index is in
+    /// `indices` to the defaults a generated `Od::new(node_id)` starts with (`runs` as for
+    /// [`unpack_defaults`], `node_relative` as for [`add_node_id`]). Values lie in table order,
+    /// so those entries' values are one stretch of the image: it is cleared, and only the runs'
+    /// and the `$NODEID` places' bytes inside it are written.
+    pub fn restore_defaults(
+        &self,
+        values: &mut [u8],
+        runs: &[u8],
+        node_relative: &[(u16, u8)],
+        node_id: u8,
+        indices: core::ops::RangeInclusive<u16>,
+    ) {
+        let first = self.entries.partition_point(|e| e.index < *indices.start());
+        let end = self.entries.partition_point(|e| e.index <= *indices.end());
+        let offset = |position: usize| match self.offsets.get(position) {
+            Some(&offset) => usize::from(offset),
+            None => self.image_size,
+        };
+        let stretch = offset(first)..offset(end).min(values.len());
+        if let Some(bytes) = values.get_mut(stretch.clone()) {
+            bytes.fill(0);
+        }
+        let (mut at, mut i) = (0usize, 0usize);
+        while i + 1 < runs.len() {
+            at += usize::from(runs[i]);
+            let len = usize::from(runs[i + 1]);
+            i += 2;
+            for &byte in runs.get(i..i + len).unwrap_or(&[]) {
+                if stretch.contains(&at) {
+                    values[at] = byte;
+                }
+                at += 1;
+            }
+            i += len;
+        }
+        for &(offset, width) in node_relative {
+            if stretch.contains(&usize::from(offset)) {
+                add_node_id(values, &[(offset, width)], node_id);
+            }
+        }
+    }
+
     /// `ObjectDictionary::value_len`: the current length of the value at `position`.
     pub fn value_len(&self, values: &[u8], position: usize) -> Result<usize, SdoAbort> {
         Ok(self.value(values, position)?.len())

@@ -20,7 +20,7 @@ mod error_control;
 mod pdo;
 
 pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
-pub use self::emcy::{error_register, MAX_ACTIVE_ERRORS};
+pub use self::emcy::{error_code, error_register, MAX_ACTIVE_ERRORS};
 pub use self::error_control::MAX_HEARTBEAT_CONSUMERS;
 pub use self::pdo::MAX_MAPPED;
 pub use crate::wire::heartbeat::NmtState;
@@ -45,11 +45,24 @@ pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
 /// Events kept until the application polls them; older ones are kept, newer ones counted as lost.
 pub const EVENT_QUEUE: usize = 16;
 
-/// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h (communication error).
-pub const SYNC_TIMEOUT_CODE: u16 = 0x8100;
-/// The emergency code of an RPDO that did not arrive within its event timer (communication
-/// error, CiA 301 "RPDO timeout").
-pub const RPDO_TIMEOUT_CODE: u16 = 0x8250;
+/// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h
+/// ([`error_code::COMMUNICATION`]).
+pub const SYNC_TIMEOUT_CODE: u16 = error_code::COMMUNICATION;
+/// The emergency code of an RPDO that did not arrive within its event timer
+/// ([`error_code::RPDO_TIMEOUT`]).
+pub const RPDO_TIMEOUT_CODE: u16 = error_code::RPDO_TIMEOUT;
+
+/// The errors the communication layer raises itself: a reset communication forgets them, as it
+/// starts its monitoring afresh.
+const COMMUNICATION_ERRORS: [u16; 7] = [
+    error_code::COMMUNICATION,
+    error_code::LIFE_GUARD,
+    error_code::PROTOCOL,
+    error_code::PDO_LENGTH,
+    error_code::PDO_LENGTH_EXCEEDED,
+    error_code::SYNC_LENGTH,
+    error_code::RPDO_TIMEOUT,
+];
 
 /// Which parameters an NMT reset re-initialises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -58,6 +71,17 @@ pub enum ResetKind {
     Node,
     /// Reset communication: communication parameters (1000h–1FFFh) only.
     Communication,
+}
+
+impl ResetKind {
+    /// The indices it re-initialises: every one for reset node, the communication area
+    /// (1000h–1FFFh) for reset communication.
+    pub const fn indices(self) -> core::ops::RangeInclusive<u16> {
+        match self {
+            ResetKind::Node => 0x0000..=0xFFFF,
+            ResetKind::Communication => 0x1000..=0x1FFF,
+        }
+    }
 }
 
 /// What the application learns from the node.
@@ -116,9 +140,22 @@ pub enum Event {
 /// refuses, so `()` is a valid hook for a node without persistence.
 pub trait NodeHooks<O: ?Sized> {
     /// Sets the parameters that `kind` re-initialises to their power-on values (stored ones, or
-    /// defaults after a restore). Called at power-on with [`ResetKind::Node`] and on NMT resets.
+    /// defaults after a restore). Called at power-on with [`ResetKind::Node`], and on NMT resets
+    /// after [`restore_power_on`](Self::restore_power_on) has set the dictionary's defaults.
     fn reset(&mut self, kind: ResetKind, od: &mut O) {
         let _ = (kind, od);
+    }
+
+    /// Sets what an NMT reset of `kind` re-initialises to the dictionary's defaults, before
+    /// [`reset`](Self::reset) runs: by default
+    /// [`ObjectDictionary::restore_defaults`] over [`ResetKind::indices`]. Not called at
+    /// power-on, where the node takes the dictionary as the application built it. Override it
+    /// to keep values across resets, or to load stored ones instead.
+    fn restore_power_on(&mut self, kind: ResetKind, node_id: u8, od: &mut O)
+    where
+        O: ObjectDictionary,
+    {
+        od.restore_defaults(kind.indices(), node_id);
     }
 
     /// Stores parameters after "save" was written to 1010h:`sub` (1 all, 2 communication,
@@ -487,8 +524,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         for channel in &mut self.sdo {
             channel.server.reset();
         }
-        self.emcy
-            .forget_communication_errors(&[0x8100, 0x8130, 0x8210, 0x8220, RPDO_TIMEOUT_CODE]);
+        self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
         self.configure_sdo();
@@ -531,6 +567,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             self.emcy.clear_all(&mut self.od);
         }
+        self.hooks
+            .restore_power_on(kind, self.node_id, &mut self.od);
         self.hooks.reset(kind, &mut self.od);
         self.events.push(Event::Reset(kind));
         self.reset_communication(now);
@@ -689,9 +727,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let serving = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
         if serving {
             if id == self.sync.cob_id {
-                if let Some(sync) = SyncRepr::parse(frame.data()) {
-                    self.handle_sync(sync.counter, now);
-                }
+                self.handle_sync_frame(frame.data(), now);
                 return;
             }
             for n in 0..self.sdo.len() {
@@ -766,7 +802,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             let guarding = &mut self.error_control.guarding;
             guarding.life_deadline = Some(now + life);
             if core::mem::take(&mut guarding.life_lost) {
-                self.emcy.clear(&mut self.od, 0x8130);
+                self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
             }
         }
     }
@@ -775,6 +811,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let mut guard = CommGuard {
             od: &mut self.od,
             hooks: &mut self.hooks,
+            node_id: self.node_id,
         };
         self.sdo[n].busy = true;
         if let Some(SdoEvent::Written { index, sub }) =
@@ -804,14 +841,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 buffer[..expected].copy_from_slice(&data[..expected]);
                 rpdo.buffered = Some(buffer);
             } else {
-                rpdo.mapping.unpack(&mut self.od, data);
-                if rpdo.feeds_tpdo {
-                    let mapping = rpdo.mapping;
-                    for object in mapping.objects() {
-                        self.mark_changed(object.index, object.sub);
-                    }
-                }
-                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+                self.apply_rpdo(n, data);
             }
         }
         if data.len() != expected || self.length_error_raised {
@@ -819,6 +849,40 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if recovered {
             self.end_rpdo_timeout();
+        }
+    }
+
+    /// Writes a received RPDO's values into the OD, all or none. When the OD refuses one, none
+    /// is written, no [`Event::RpdoReceived`] is reported, and EMCY 8200h
+    /// ([`error_code::PROTOCOL`]) says which PDO and why: manufacturer bytes `n` then the abort
+    /// code, little-endian. The next RPDO applied whole while no other is refused clears it.
+    fn apply_rpdo(&mut self, n: usize, data: &[u8]) {
+        let rpdo = &mut self.rpdos[n];
+        match rpdo.mapping.unpack(&mut self.od, data) {
+            Ok(()) => {
+                let recovered = core::mem::take(&mut rpdo.refused);
+                if rpdo.feeds_tpdo {
+                    let mapping = rpdo.mapping;
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
+                }
+                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+                if recovered && !self.rpdos.iter().any(|r| r.refused) {
+                    self.emcy.clear(&mut self.od, error_code::PROTOCOL);
+                }
+            }
+            Err(abort) => {
+                rpdo.refused = true;
+                let [a, b, c, d] = abort.code().to_le_bytes();
+                let info = [n as u8, a, b, c, d];
+                self.emcy.raise(
+                    &mut self.od,
+                    error_code::PROTOCOL,
+                    error_register::COMMUNICATION,
+                    info,
+                );
+            }
         }
     }
 
@@ -834,7 +898,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let short = self.rpdos.iter().any(|r| r.too_short);
         let long = self.rpdos.iter().any(|r| r.too_long);
         let info = [received as u8, 0, 0, 0, 0];
-        for (code, now_bad) in [(0x8210, short), (0x8220, long)] {
+        for (code, now_bad) in [
+            (error_code::PDO_LENGTH, short),
+            (error_code::PDO_LENGTH_EXCEEDED, long),
+        ] {
             if now_bad {
                 self.emcy
                     .raise(&mut self.od, code, error_register::COMMUNICATION, info);
@@ -843,7 +910,31 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.emcy.clear(&mut self.od, code);
             }
         }
-        self.length_error_raised = self.emcy.is_active(0x8210) || self.emcy.is_active(0x8220);
+        self.length_error_raised = self.emcy.is_active(error_code::PDO_LENGTH)
+            || self.emcy.is_active(error_code::PDO_LENGTH_EXCEEDED);
+    }
+
+    /// A received SYNC. Its length must match 1019h: a counter byte when the overflow value is
+    /// not 0, no data when it is. Any other SYNC is not processed and raises EMCY 8240h
+    /// ([`error_code::SYNC_LENGTH`], manufacturer byte 0 the length received); the next SYNC of
+    /// the right length clears it.
+    fn handle_sync_frame(&mut self, data: &[u8], now: Instant) {
+        match SyncRepr::parse(data) {
+            Some(sync) if sync.counter.is_some() == (self.sync.overflow != 0) => {
+                // Nothing happens unless it is active.
+                self.emcy.clear(&mut self.od, error_code::SYNC_LENGTH);
+                self.handle_sync(sync.counter, now);
+            }
+            _ => {
+                let info = [data.len() as u8, 0, 0, 0, 0];
+                self.emcy.raise(
+                    &mut self.od,
+                    error_code::SYNC_LENGTH,
+                    error_register::COMMUNICATION,
+                    info,
+                );
+            }
+        }
     }
 
     fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
@@ -858,15 +949,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         for n in 0..RPDOS {
             if let Some(data) = self.rpdos[n].buffered.take() {
-                let rpdo = &self.rpdos[n];
-                rpdo.mapping.unpack(&mut self.od, &data);
-                if rpdo.feeds_tpdo {
-                    let mapping = rpdo.mapping;
-                    for object in mapping.objects() {
-                        self.mark_changed(object.index, object.sub);
-                    }
-                }
-                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+                self.apply_rpdo(n, &data);
             }
         }
         let window_end = (self.sync.window != Duration::ZERO).then(|| now + self.sync.window);
@@ -1071,8 +1154,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             ec.guarding.life_deadline = None;
             ec.guarding.life_lost = true;
             self.events.push(Event::LifeGuardingLost);
-            self.emcy
-                .raise(&mut self.od, 0x8130, error_register::COMMUNICATION, [0; 5]);
+            self.emcy.raise(
+                &mut self.od,
+                error_code::LIFE_GUARD,
+                error_register::COMMUNICATION,
+                [0; 5],
+            );
         }
         if self.sync.timeout.is_some_and(|at| at <= now) {
             self.sync.timeout = None;

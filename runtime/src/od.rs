@@ -256,6 +256,17 @@ pub trait ObjectDictionary {
         self.read(entry.index, entry.sub, offset, buf)
     }
 
+    /// Sets every entry whose index is in `indices` to its power-on default, as a newly built
+    /// dictionary for `node_id` holds it (`$NODEID` defaults computed from it). The node calls
+    /// this on NMT resets (reset node: 0000h–FFFFh, reset communication: 1000h–1FFFh) through
+    /// [`NodeHooks::restore_power_on`](crate::NodeHooks::restore_power_on). Returns `false` if
+    /// the dictionary keeps no defaults (the default implementation: values stay as they are);
+    /// the generated dictionaries restore their default image.
+    fn restore_defaults(&mut self, indices: core::ops::RangeInclusive<u16>, node_id: u8) -> bool {
+        let _ = (indices, node_id);
+        false
+    }
+
     /// [`write`](Self::write) of the entry at `position` in [`entries`](Self::entries), as
     /// [`read_at`](Self::read_at) reads: an RPDO's mapped objects, an SDO expedited download.
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {

@@ -63,12 +63,12 @@ fn wrong_length_rpdos_raise_8210_and_8220() {
     assert_eq!(
         sent(&mut bus),
         at_ms(&[
-            (0, "083: 10 82 10 01 00 00 00 00"),
+            (0, "083: 10 82 11 01 00 00 00 00"),
             (0, "083: 00 00 00 00 00 00 00 00"),
-            (0, "083: 20 82 10 03 00 00 00 00"),
+            (0, "083: 20 82 11 03 00 00 00 00"),
         ])
     );
-    assert_eq!(node.od().get(0x1001, 0), 0x10);
+    assert_eq!(node.od().get(0x1001, 0), 0x11);
     assert_eq!(node.od().get(0x1003, 0), 2);
     assert_eq!(node.od().get(0x1003, 1), 0x8220);
     assert_eq!(node.od().get(0x1003, 2), 0x8210);
@@ -405,10 +405,10 @@ fn rpdo_event_timer_raises_8250_once_when_the_rpdo_stops() {
     bus.run_until(ms(100), &mut [&mut node]);
     assert_eq!(
         sent(&mut bus),
-        at_ms(&[(100, "083: 50 82 10 00 00 00 00 00")])
+        at_ms(&[(100, "083: 50 82 11 00 00 00 00 00")])
     );
     assert_eq!(events(&mut node), [Event::RpdoTimeout { pdo: 0 }]);
-    assert_eq!(node.od().get(0x1001, 0), 0x10);
+    assert_eq!(node.od().get(0x1001, 0), 0x11);
     assert_eq!(node.od().get(0x1003, 1), 0x8250);
     assert!(node.error_active(0x8250));
     assert_eq!(node.poll_timeout(), None);
@@ -427,7 +427,7 @@ fn rpdo_deadline_found_late_is_reported_at_the_first_timeout_after_it() {
     assert_eq!(node.poll_event(), None);
     node.handle_timeout(ms(250));
     let emcy = node.poll_transmit(ms(250)).unwrap();
-    assert_eq!(node_support::show(&emcy), "083: 50 82 10 00 00 00 00 00");
+    assert_eq!(node_support::show(&emcy), "083: 50 82 11 00 00 00 00 00");
     assert_eq!(node.poll_transmit(ms(250)), None);
     assert_eq!(events(&mut node), [Event::RpdoTimeout { pdo: 0 }]);
     node.handle_timeout(ms(400));
@@ -453,9 +453,9 @@ fn rpdo_reception_clears_the_timeout_and_rearms_the_deadline() {
     assert_eq!(
         node_frames,
         at_ms(&[
-            (160, "083: 50 82 10 00 00 00 00 00"),
+            (160, "083: 50 82 11 00 00 00 00 00"),
             (300, "083: 00 00 00 00 00 00 00 00"),
-            (430, "083: 50 82 10 00 00 00 00 00"),
+            (430, "083: 50 82 11 00 00 00 00 00"),
         ])
     );
     let timeouts: Vec<Event> = events(&mut node)
@@ -505,7 +505,7 @@ fn rpdo_deadline_is_monitored_only_in_operational() {
     bus.run_until(ms(2100), &mut [&mut node]);
     assert_eq!(
         sent(&mut bus),
-        at_ms(&[(2100, "083: 50 82 10 00 00 00 00 00")])
+        at_ms(&[(2100, "083: 50 82 11 00 00 00 00 00")])
     );
     let timeouts = events(&mut node)
         .into_iter()
@@ -530,7 +530,7 @@ fn writing_the_rpdo_event_timer_by_sdo_restarts_monitoring_with_the_new_period()
     bus.run_until(ms(700), &mut [&mut node]);
     assert_eq!(
         sent(&mut bus),
-        at_ms(&[(700, "083: 50 82 10 00 00 00 00 00")])
+        at_ms(&[(700, "083: 50 82 11 00 00 00 00 00")])
     );
     // Switching monitoring off ends the timeout it reported.
     bus.inject(sdo_write(0x1400, 5, 0, 2), &mut [&mut node]);
@@ -558,7 +558,7 @@ fn changing_the_rpdo_transmission_type_keeps_its_deadline() {
         sent(&mut bus),
         at_ms(&[
             (40, &sdo_ok(0x1400, 2)),
-            (100, "083: 50 82 10 00 00 00 00 00"),
+            (100, "083: 50 82 11 00 00 00 00 00"),
         ])
     );
 }
@@ -598,7 +598,7 @@ fn two_timed_out_rpdos_share_one_8250_until_both_are_back() {
     assert_eq!(
         sent(&mut bus),
         at_ms(&[
-            (100, "083: 50 82 10 00 00 00 00 00"),
+            (100, "083: 50 82 11 00 00 00 00 00"),
             (200, "083: 00 00 00 00 00 00 00 00"),
         ])
     );
@@ -618,7 +618,7 @@ fn reset_communication_forgets_an_rpdo_timeout() {
     assert_eq!(
         sent(&mut bus),
         at_ms(&[
-            (100, "083: 50 82 10 00 00 00 00 00"),
+            (100, "083: 50 82 11 00 00 00 00 00"),
             (100, "703: 00"),
             (100, "183: 00 00"),
         ])
@@ -635,8 +635,8 @@ fn a_too_short_rpdo_does_not_restart_the_deadline() {
     assert_eq!(
         sent(&mut bus),
         at_ms(&[
-            (50, "083: 10 82 10 01 00 00 00 00"),
-            (100, "083: 50 82 10 00 00 00 00 00"),
+            (50, "083: 10 82 11 01 00 00 00 00"),
+            (100, "083: 50 82 11 00 00 00 00 00"),
         ])
     );
 }

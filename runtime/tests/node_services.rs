@@ -108,7 +108,7 @@ fn sync_consumer_raises_8100_when_sync_stops_for_one_and_a_half_periods() {
     assert_eq!(
         node_frames,
         at_ms(&[
-            (25, "083: 00 81 10 00 00 00 00 00"),
+            (25, "083: 00 81 11 00 00 00 00 00"),
             (50, "083: 00 00 00 00 00 00 00 00")
         ])
     );
@@ -139,7 +139,7 @@ fn emcy_raise_and_clear_with_error_register_and_history() {
         "already active"
     );
     bus.run_until(ms(1), &mut [&mut node]);
-    assert_eq!(node.od().get(0x1001, 0), 0x04);
+    assert_eq!(node.od().get(0x1001, 0), 0x05);
     assert_eq!(node.od().get(0x1003, 0), 1);
     assert_eq!(node.od().get(0x1003, 1), 0x3000);
     assert!(node.clear_error(0x3000));
@@ -148,7 +148,7 @@ fn emcy_raise_and_clear_with_error_register_and_history() {
     assert_eq!(
         sent(&mut bus),
         at_ms(&[
-            (0, "083: 00 30 04 01 00 00 00 00"),
+            (0, "083: 00 30 05 01 00 00 00 00"),
             (1, "083: 00 00 00 00 00 00 00 00")
         ])
     );
@@ -168,9 +168,9 @@ fn emcy_inhibit_time_spaces_emergencies() {
     assert_eq!(
         sent(&mut bus),
         at_ms(&[
-            (0, "083: 10 42 08 00 00 00 00 00"),
-            (5, "083: 10 32 0C 00 00 00 00 00"),
-            (10, "083: 10 23 0E 00 00 00 00 00"),
+            (0, "083: 10 42 09 00 00 00 00 00"),
+            (5, "083: 10 32 0D 00 00 00 00 00"),
+            (10, "083: 10 23 0F 00 00 00 00 00"),
         ])
     );
     // 1003h: newest first, capped at its 4 sub-indices.
@@ -201,7 +201,7 @@ fn reset_node_after_errors_announces_no_error() {
     assert_eq!(
         sent(&mut bus),
         at_ms(&[
-            (0, "083: 00 30 04 01 00 00 00 00"),
+            (0, "083: 00 30 05 01 00 00 00 00"),
             (1, "703: 00"),
             (1, "083: 00 00 00 00 00 00 00 00"),
         ])

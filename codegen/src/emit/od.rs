@@ -56,7 +56,10 @@ pub fn structs(plan: &Plan) -> TokenStream {
     let runs = runs.iter().map(|&b| Literal::u8_unsuffixed(b));
     let node_count = Literal::usize_unsuffixed(node_relative.len());
     let (node_param, node_table, add_node_id) = if node_relative.is_empty() {
-        (quote!(_node_id), quote!(), quote!())
+        let none = quote!(
+            const NODE_RELATIVE: [(u16, u8); 0] = [];
+        );
+        (quote!(_node_id), none, quote!())
     } else {
         (
             quote!(node_id),
@@ -262,6 +265,11 @@ pub fn od_impl(_plan: &Plan) -> TokenStream {
 
             fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
                 LAYOUT.write(&mut self.values, position, data)
+            }
+
+            fn restore_defaults(&mut self, indices: ::core::ops::RangeInclusive<u16>, node_id: u8) -> bool {
+                LAYOUT.restore_defaults(&mut self.values, &DEFAULTS, &NODE_RELATIVE, node_id, indices);
+                true
             }
         }
     }

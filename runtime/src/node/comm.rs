@@ -19,6 +19,7 @@ pub const LOAD_SIGNATURE: [u8; 4] = *b"load";
 pub(crate) struct CommGuard<'a, O: ?Sized, H> {
     pub od: &'a mut O,
     pub hooks: &'a mut H,
+    pub node_id: u8,
 }
 
 fn value_u32(data: &[u8]) -> u32 {
@@ -29,24 +30,55 @@ fn value_u32(data: &[u8]) -> u32 {
     u32::from_le_bytes(bytes)
 }
 
-/// COB-IDs a configurable PDO must not use (CiA 301 table 53: NMT, SYNC/EMCY/TIME of node 0,
-/// the default SDO, LSS and error-control ranges).
+/// CAN-IDs CiA 301 §7.3.5 restricts (NMT, the node-0 SYNC/EMCY/TIME range, the default SDO,
+/// LSS and error-control ranges): no configurable COB-ID (1005h, 1012h, 1014h, SDO and PDO
+/// parameters) may use them. 080h (SYNC), 100h (TIME), 700h and the PDOs' default ranges are
+/// not among them.
 fn restricted(can_id: u16) -> bool {
-    matches!(can_id, 0x000..=0x07F | 0x101..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x7FF)
+    matches!(
+        can_id,
+        0x000..=0x07F | 0x101..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x6FF | 0x701..=0x7FF
+    )
 }
 
-/// A COB-ID entry may change its CAN-ID only while invalid; 29-bit identifiers are not served.
-fn check_cob_id(old: Option<u32>, new: u32, check_restricted: bool) -> Result<(), SdoAbort> {
+/// A COB-ID without a valid bit (1005h SYNC, 1012h TIME): its CAN-ID must not be restricted
+/// and 29-bit identifiers are not served.
+fn check_plain_cob_id(value: u32) -> Result<(), SdoAbort> {
+    let cob = CobIdEntry(value);
+    if cob.extended() || restricted(cob.can_id()) {
+        return Err(SdoAbort::InvalidValue);
+    }
+    Ok(())
+}
+
+/// A COB-ID entry may change its CAN-ID only while invalid; a valid one must not use a
+/// restricted CAN-ID (unless `allowed`, an SDO channel's own pre-defined one); 29-bit identifiers
+/// are not served.
+fn check_cob_id(old: Option<u32>, new: u32, allowed: impl Fn(u16) -> bool) -> Result<(), SdoAbort> {
     let new = CobIdEntry(new);
     if !new.valid() {
         return Ok(());
     }
-    if new.extended() || (check_restricted && restricted(new.can_id())) {
+    if new.extended() || (restricted(new.can_id()) && !allowed(new.can_id())) {
         return Err(SdoAbort::InvalidValue);
     }
     match old.map(CobIdEntry) {
         Some(old) if old.valid() && old.can_id() != new.can_id() => Err(SdoAbort::InvalidValue),
         _ => Ok(()),
+    }
+}
+
+/// Whether an SDO parameter (1200h+n server, 1280h+n client; `sub` 1 client to server, 2 server
+/// to client) may use a restricted `can_id`: the default server (1200h) its own pre-defined pair,
+/// a client any node's pre-defined pair (how it reaches another node's default server).
+fn sdo_id_allowed(index: u16, sub: u8, node_id: u8, can_id: u16) -> bool {
+    let node = u16::from(node_id);
+    match (index, sub) {
+        (0x1200, 1) => can_id == 0x600 + node,
+        (0x1200, 2) => can_id == 0x580 + node,
+        (0x1280..=0x12FF, 1) => matches!(can_id, 0x601..=0x67F),
+        (0x1280..=0x12FF, 2) => matches!(can_id, 0x581..=0x5FF),
+        _ => false,
     }
 }
 
@@ -63,7 +95,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         receive: bool,
     ) -> Result<(), SdoAbort> {
         match sub {
-            1 => check_cob_id(read_uint(self.od, index, 1), value, true),
+            1 => check_cob_id(read_uint(self.od, index, 1), value, |_| false),
             2 => match value {
                 0..=240 | 254 | 255 => Ok(()),
                 252 | 253 if !receive => Ok(()),
@@ -123,12 +155,23 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         let value = value_u32(data);
         match index {
             0x1003 if sub == 0 && value != 0 => Err(SdoAbort::InvalidValue),
+            0x1003 if sub == 0 => {
+                // Deleting the history: the codes go too, so the sub-indices read 0.
+                let recorded = self
+                    .od
+                    .entries()
+                    .iter()
+                    .filter(|e| e.index == 0x1003)
+                    .count();
+                for sub in 1..recorded.min(255) as u8 {
+                    let _ = self.od.write(0x1003, sub, &[0; 4]);
+                }
+                Ok(true)
+            }
             0x1005 => {
+                check_plain_cob_id(value)?;
                 let old = read_uint(self.od, 0x1005, 0).map(CobIdEntry);
                 let new = CobIdEntry(value);
-                if new.extended() {
-                    return Err(SdoAbort::InvalidValue);
-                }
                 match old {
                     Some(old) if old.bit30() && new.bit30() && old.can_id() != new.can_id() => {
                         Err(SdoAbort::InvalidValue)
@@ -148,7 +191,8 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 }
                 self.hooks.restore_defaults(sub).map(|()| false)
             }
-            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, false).map(|()| true),
+            0x1012 => check_plain_cob_id(value).map(|()| true),
+            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, |_| false).map(|()| true),
             0x1016 if sub >= 1 => self.check_heartbeat_consumer(sub, value).map(|()| true),
             0x1019 => {
                 if read_uint_or(self.od, 0x1006, 0, 0) != 0 {
@@ -159,8 +203,12 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                     Ok(true)
                 }
             }
-            0x1200..=0x127F if sub == 1 || sub == 2 => {
-                check_cob_id(read_uint(self.od, index, sub), value, false).map(|()| true)
+            0x1200..=0x12FF if sub == 1 || sub == 2 => {
+                let node_id = self.node_id;
+                check_cob_id(read_uint(self.od, index, sub), value, |id| {
+                    sdo_id_allowed(index, sub, node_id, id)
+                })
+                .map(|()| true)
             }
             0x1400..=0x15FF => self.check_pdo_comm(index, sub, value, true).map(|()| true),
             0x1600..=0x17FF => self

@@ -26,6 +26,28 @@ pub mod error_register {
     pub const MANUFACTURER: u8 = 0x80;
 }
 
+/// Emergency error codes the node raises itself (CiA 301 table 26), and the reset code.
+pub mod error_code {
+    /// Error reset or no error: the emergency that clears one.
+    pub const NO_ERROR: u16 = 0x0000;
+    /// Communication, generic: SYNC missing for 1.5 × 1006h (this runtime's choice of code for
+    /// the SYNC consumer's timeout, as CANopenNode's).
+    pub const COMMUNICATION: u16 = 0x8100;
+    /// Life guard error or heartbeat error: the NMT master stopped guarding (100Ch × 100Dh).
+    pub const LIFE_GUARD: u16 = 0x8130;
+    /// Protocol error, generic: an RPDO was not applied because the dictionary refused one of
+    /// its mapped values (this runtime's choice; the manufacturer bytes say which PDO and why).
+    pub const PROTOCOL: u16 = 0x8200;
+    /// PDO not processed due to a length error (shorter than its mapping).
+    pub const PDO_LENGTH: u16 = 0x8210;
+    /// PDO length exceeded (longer than its mapping; processed).
+    pub const PDO_LENGTH_EXCEEDED: u16 = 0x8220;
+    /// Unexpected SYNC data length (a counter where 1019h is 0, or none where it is not).
+    pub const SYNC_LENGTH: u16 = 0x8240;
+    /// RPDO timeout: a monitored RPDO missed its event timer (1400h+n sub 05h).
+    pub const RPDO_TIMEOUT: u16 = 0x8250;
+}
+
 /// The most errors active at once, and the most emergencies waiting for the inhibit time.
 pub const MAX_ACTIVE_ERRORS: usize = 8;
 const QUEUE: usize = 4;
@@ -82,12 +104,18 @@ impl Emcy {
             .min(254) as u8;
     }
 
-    /// The error register: every active error's bits.
+    /// The error register: every active error's bits, and the generic bit (bit 0) whenever
+    /// any error is active (CiA 301 §7.5.2.2: it is set for every error).
     #[inline]
     pub fn register(&self) -> u8 {
-        self.active_registers[..self.active_count]
+        let bits = self.active_registers[..self.active_count]
             .iter()
-            .fold(0, |acc, register| acc | register)
+            .fold(0, |acc, register| acc | register);
+        if self.active_count > 0 {
+            bits | error_register::GENERIC
+        } else {
+            bits
+        }
     }
 
     #[inline]

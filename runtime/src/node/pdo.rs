@@ -128,24 +128,48 @@ impl Mapping {
         data
     }
 
-    /// Writes a payload's bytes into the mapped objects; returns how many writes the OD refused
-    /// (a value outside its limits).
+    /// Writes a payload's bytes into the mapped objects, all or none: if the OD refuses a value
+    /// (a limit), the objects written before it get their previous values back and the refusal
+    /// is returned. A single object needs no copy: the OD leaves a refused value unchanged.
     #[inline]
-    pub fn unpack<O: ObjectDictionary + ?Sized>(&self, od: &mut O, data: &[u8]) -> usize {
+    pub fn unpack<O: ObjectDictionary + ?Sized>(
+        &self,
+        od: &mut O,
+        data: &[u8],
+    ) -> Result<(), SdoAbort> {
+        if self.count <= 1 {
+            return self
+                .write_objects(od, data, MAX_MAPPED)
+                .map_err(|(_, abort)| abort);
+        }
+        let previous = self.pack(od);
+        self.write_objects(od, data, MAX_MAPPED)
+            .map_err(|(written, abort)| {
+                // The previous values were accepted once; they are again.
+                let _ = self.write_objects(od, &previous, written);
+                abort
+            })
+    }
+
+    /// Writes the payload's bytes into the first `count` mapped objects (dummies skipped); on a
+    /// refusal, how many objects come before the refused one, and why.
+    fn write_objects<O: ObjectDictionary + ?Sized>(
+        &self,
+        od: &mut O,
+        data: &[u8],
+        count: usize,
+    ) -> Result<(), (usize, SdoAbort)> {
         let mut offset = 0usize;
-        let mut refused = 0;
-        for object in self.objects() {
+        for (n, object) in self.objects().iter().take(count).enumerate() {
             let end = offset + object.len as usize;
             if !object.is_dummy() {
                 if let Some(bytes) = data.get(offset..end) {
-                    if object.write(od, bytes).is_err() {
-                        refused += 1;
-                    }
+                    object.write(od, bytes).map_err(|abort| (n, abort))?;
                 }
             }
             offset = end;
         }
-        refused
+        Ok(())
     }
 }
 
@@ -276,6 +300,8 @@ pub(crate) struct Rpdo {
     /// The last frame was shorter / longer than the mapping.
     pub too_short: bool,
     pub too_long: bool,
+    /// The last frame was not applied: the OD refused one of its values (EMCY 8200h).
+    pub refused: bool,
     /// Deadline monitoring (1400h+n sub 05h, ms; 0 = off): the PDO must arrive again within
     /// this time of its last reception.
     pub event_timer_ms: u16,
@@ -298,6 +324,7 @@ impl Rpdo {
         feeds_tpdo: false,
         too_short: false,
         too_long: false,
+        refused: false,
         event_timer_ms: 0,
         deadline: None,
         timed_out: false,

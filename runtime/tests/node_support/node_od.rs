@@ -14,6 +14,9 @@ pub struct TestOd {
     keys: Vec<u32>,
     values: Vec<[u8; 8]>,
     defaults: Vec<[u8; 8]>,
+    /// (index, sub, highest value): writes above it are refused with 0609 0031, as a
+    /// generated dictionary refuses a value above its HighLimit.
+    limits: Vec<(u16, u8, i64)>,
 }
 
 fn entry(
@@ -69,6 +72,7 @@ impl TestOd {
             (entry(0x1010, 1, Unsigned32, Rw, false), 1),
             (entry(0x1011, 0, Unsigned8, Ro, false), 1),
             (entry(0x1011, 1, Unsigned32, Rw, false), 1),
+            (entry(0x1012, 0, Unsigned32, Rw, false), 0x100),
             (entry(0x1014, 0, Unsigned32, Rw, false), 0x80 + id),
             (entry(0x1015, 0, Unsigned16, Rw, false), 0),
             (entry(0x1016, 0, Unsigned8, Ro, false), 2),
@@ -164,7 +168,15 @@ impl TestOd {
             keys,
             defaults: values.clone(),
             values,
+            limits: Vec::new(),
         }
+    }
+
+    /// Refuses writes of values above `high` to (index, sub) with 0609 0031 (a signed value for
+    /// an INTEGERn entry).
+    pub fn with_high_limit(mut self, index: u16, sub: u8, high: i64) -> Self {
+        self.limits.push((index, sub, high));
+        self
     }
 
     fn position(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
@@ -241,6 +253,11 @@ impl ObjectDictionary for TestOd {
         Ok(n)
     }
 
+    fn restore_defaults(&mut self, indices: core::ops::RangeInclusive<u16>, _node_id: u8) -> bool {
+        self.reset_range(indices);
+        true
+    }
+
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let pos = self.position(index, sub)?;
         let size = self.entries[pos].data_type.fixed_size().unwrap_or(8);
@@ -252,6 +269,19 @@ impl ObjectDictionary for TestOd {
         }
         let mut value = [0u8; 8];
         value[..size].copy_from_slice(data);
+        let signed = matches!(self.entries[pos].data_type, Integer16);
+        let number = if signed {
+            i64::from(i16::from_le_bytes([value[0], value[1]]))
+        } else {
+            u64::from_le_bytes(value) as i64
+        };
+        if self
+            .limits
+            .iter()
+            .any(|&(i, s, high)| (i, s) == (index, sub) && number > high)
+        {
+            return Err(SdoAbort::ValueTooHigh);
+        }
         self.values[pos] = value;
         Ok(())
     }
