@@ -1749,3 +1749,52 @@ fn eds317_values_outside_their_limits_fold_into_one_finding_naming_the_lines() {
         )
     );
 }
+
+#[test]
+fn eds310_advice_names_the_key_that_holds_the_value_and_refuse_read_on_scan_is_respected() {
+    let body = |flags: &str| {
+        record(0x2000, "Rec", 9, 2)
+            + &sub(0x2000, 0, "Count", 5, "ro", "1", false).replace(
+                "DefaultValue=1",
+                &format!("DefaultValue=1\nParameterValue=0{flags}"),
+            )
+            + &sub(0x2000, 1, "A", 6, "rw", "0", false)
+    };
+    let t = edsgen_codegen::read::read_bytes(
+        Path::new("t.dcf"),
+        dcf(&body(""))
+            .replace(
+                "[ManufacturerObjects]\nSupportedObjects=0",
+                "[ManufacturerObjects]\nSupportedObjects=1\n1=0x2000",
+            )
+            .as_bytes(),
+    );
+    let found: Vec<_> = validate::validate(&t.device)
+        .into_iter()
+        .filter(|d| d.code() == "EDS310" || d.code() == "EDS508")
+        .map(|d| (d.code(), d.help.unwrap_or_default()))
+        .collect();
+    let read_only = "a configuration tool cannot write ro/const entries; drop these values or make the entries writable";
+    assert_eq!(
+        found,
+        [
+            ("EDS310", "set ParameterValue=1".to_owned()),
+            ("EDS508", read_only.to_owned())
+        ]
+    );
+    // ObjFlags bit 1: the tool did not read the entry back; the default (1) is the value.
+    let t = edsgen_codegen::read::read_bytes(
+        Path::new("t.dcf"),
+        dcf(&body("\nObjFlags=2"))
+            .replace(
+                "[ManufacturerObjects]\nSupportedObjects=0",
+                "[ManufacturerObjects]\nSupportedObjects=1\n1=0x2000",
+            )
+            .as_bytes(),
+    );
+    let found: Vec<_> = validate::validate(&t.device)
+        .into_iter()
+        .filter(|d| d.code() == "EDS310" || d.code() == "EDS508")
+        .collect();
+    assert_eq!(found, vec![]);
+}
