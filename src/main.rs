@@ -1,17 +1,18 @@
-//! The `edsgen` command line: validate, dump, generate, and list the rules.
+//! The `edsgen` command line: validate, dump, generate, list and explain the rules, and the bus
+//! commands. The commands themselves live in `cmd/`; this file parses the arguments.
 //!
 //! Exit codes (design.md): 0 clean, 1 the input has errors (or warnings under `--deny
 //! warnings`), 2 usage or I/O problems.
 
-use std::io::{IsTerminal, Write};
+mod cmd;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use edsgen_codegen::diag::{self, Severity};
-use edsgen_codegen::{builder, read, render, rules, validate};
+use edsgen_codegen::diag::Severity;
 
-mod cmd;
+use cmd::EXIT_USAGE;
 
 #[derive(Parser)]
 #[command(
@@ -31,9 +32,19 @@ enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value_t = OutputFormat::Human)]
         format: OutputFormat,
-        /// Treat warnings as errors (`--deny warnings`).
-        #[arg(long, value_enum)]
-        deny: Vec<Deny>,
+        /// Make warnings errors (`--deny warnings`), or the warnings and infos of one rule
+        /// (`--deny EDS013`); repeatable.
+        #[arg(long, value_name = "warnings|CODE")]
+        deny: Vec<String>,
+        /// Silence the warnings and infos of one rule (errors stay); repeatable.
+        #[arg(long, value_name = "CODE")]
+        allow: Vec<String>,
+        /// Show only diagnostics of this severity or above (all are still counted).
+        #[arg(long, value_enum, default_value_t = MinSeverity::Info)]
+        min_severity: MinSeverity,
+        /// Hide infos (`--min-severity warning`).
+        #[arg(short, long, conflicts_with = "min_severity")]
+        quiet: bool,
         /// Description files (.eds, .dcf, .xdd, .xdc).
         #[arg(required = true)]
         files: Vec<PathBuf>,
@@ -63,6 +74,11 @@ enum Command {
         #[arg(long, value_enum, default_value_t = OutputFormat::Human)]
         format: OutputFormat,
     },
+    /// Explain one rule: what it checks and what its severity does.
+    Explain {
+        /// The rule code, e.g. EDS317.
+        code: String,
+    },
     /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
     Bus(cmd::bus::BusArgs),
 }
@@ -78,13 +94,22 @@ enum DumpFormat {
     Json,
 }
 
-#[derive(Clone, Copy, PartialEq, ValueEnum)]
-enum Deny {
-    Warnings,
+#[derive(Clone, Copy, ValueEnum)]
+enum MinSeverity {
+    Info,
+    Warning,
+    Error,
 }
 
-/// Exit code for usage and I/O problems.
-const EXIT_USAGE: u8 = 2;
+impl From<MinSeverity> for Severity {
+    fn from(min: MinSeverity) -> Self {
+        match min {
+            MinSeverity::Info => Severity::Info,
+            MinSeverity::Warning => Severity::Warning,
+            MinSeverity::Error => Severity::Error,
+        }
+    }
+}
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -103,165 +128,31 @@ fn main() -> ExitCode {
         Command::Validate {
             format,
             deny,
+            allow,
+            min_severity,
+            quiet,
             files,
-        } => cmd_validate(format, deny.contains(&Deny::Warnings), &files),
-        Command::Dump { format: _, file } => cmd_dump(&file),
+        } => {
+            let min = if quiet {
+                Severity::Warning
+            } else {
+                min_severity.into()
+            };
+            match cmd::validate::policy_or_exit(&allow, &deny, min) {
+                Ok(policy) => {
+                    cmd::validate::run(matches!(format, OutputFormat::Json), &policy, &files)
+                }
+                Err(code) => code,
+            }
+        }
+        Command::Dump { format: _, file } => cmd::dump::run(&file),
         Command::Generate {
             file,
             output,
             module,
-        } => cmd_generate(&file, output.as_deref(), module.as_deref()),
-        Command::Rules { format } => cmd_rules(format),
+        } => cmd::generate::run(&file, output.as_deref(), module.as_deref()),
+        Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
+        Command::Explain { code } => cmd::rules::explain(&code),
         Command::Bus(args) => cmd::bus::run(&args),
     }
-}
-
-/// Writes to standard output, ignoring a closed pipe (`edsgen dump f.eds | head` must not panic).
-fn print_stdout(text: &str) {
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
-}
-
-fn fail(message: impl std::fmt::Display) -> ExitCode {
-    eprintln!("error: {message}");
-    ExitCode::from(EXIT_USAGE)
-}
-
-fn cmd_validate(format: OutputFormat, deny_warnings: bool, files: &[PathBuf]) -> ExitCode {
-    let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-    let mut failed = false;
-    let mut io_error = false;
-    let mut all_json = Vec::new();
-    let (mut errors, mut warnings) = (0usize, 0usize);
-    let mut out = std::io::stdout().lock();
-    for path in files {
-        let read = match read::read_file(path) {
-            Ok(read) => read,
-            Err(err) => {
-                eprintln!("error: {err}");
-                io_error = true;
-                continue;
-            }
-        };
-        let mut diags = read.diagnostics;
-        diags.extend(validate::validate(&read.device));
-        diag::sort(&mut diags);
-        for d in &diags {
-            match d.severity {
-                Severity::Error => errors += 1,
-                Severity::Warning => warnings += 1,
-                Severity::Info => {}
-            }
-        }
-        failed |= diags.iter().any(|d| {
-            d.severity == Severity::Error || (deny_warnings && d.severity == Severity::Warning)
-        });
-        let name = path.display().to_string();
-        match format {
-            OutputFormat::Human => {
-                let _ = out.write_all(render::human(&name, &read.text, &diags, color).as_bytes());
-            }
-            OutputFormat::Json => all_json.extend(render::json(&name, &diags)),
-        }
-    }
-    match format {
-        OutputFormat::Human => {
-            let _ = writeln!(
-                out,
-                "{} file(s) checked: {errors} error(s), {warnings} warning(s)",
-                files.len()
-            );
-        }
-        OutputFormat::Json => {
-            let text = serde_json::to_string_pretty(&all_json).unwrap_or_else(|_| "[]".into());
-            let _ = writeln!(out, "{text}");
-        }
-    }
-    if io_error {
-        ExitCode::from(EXIT_USAGE)
-    } else if failed {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    }
-}
-
-fn cmd_dump(path: &std::path::Path) -> ExitCode {
-    let read = match read::read_file(path) {
-        Ok(read) => read,
-        Err(err) => return fail(err),
-    };
-    let json = edsgen_codegen::dump::to_json(&read.device);
-    match serde_json::to_string_pretty(&json) {
-        Ok(text) => {
-            print_stdout(&format!("{text}\n"));
-            ExitCode::SUCCESS
-        }
-        Err(err) => fail(err),
-    }
-}
-
-fn cmd_generate(
-    path: &std::path::Path,
-    output: Option<&std::path::Path>,
-    module: Option<&str>,
-) -> ExitCode {
-    if !path.is_file() {
-        return fail(format!("cannot read `{}`: not a file", path.display()));
-    }
-    let module = module.map_or_else(|| builder::default_module(path), str::to_owned);
-    // The same function build.rs runs, overlay included: the output is what build.rs would write.
-    let code = match builder::generate_device(path, &module, &[]) {
-        Ok((code, warnings)) => {
-            for warning in warnings {
-                eprint!("{warning}");
-            }
-            code
-        }
-        Err(errors) => {
-            eprint!("{errors}");
-            return ExitCode::from(1);
-        }
-    };
-    match output {
-        Some(out) => match std::fs::write(out, code) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(err) => fail(format!("cannot write `{}`: {err}", out.display())),
-        },
-        None => {
-            print_stdout(&code);
-            ExitCode::SUCCESS
-        }
-    }
-}
-
-fn cmd_rules(format: OutputFormat) -> ExitCode {
-    match format {
-        OutputFormat::Human => {
-            let table: String = rules::ALL
-                .iter()
-                .map(|rule| {
-                    format!(
-                        "{}  {:<7}  {}\n",
-                        rule.code,
-                        rule.severity.as_str(),
-                        rule.summary
-                    )
-                })
-                .collect();
-            print_stdout(&table);
-        }
-        OutputFormat::Json => {
-            let list: Vec<_> = rules::ALL
-                .iter()
-                .map(|r| {
-                    serde_json::json!({"code": r.code, "severity": r.severity.as_str(), "summary": r.summary})
-                })
-                .collect();
-            print_stdout(&format!(
-                "{}\n",
-                serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into())
-            ));
-        }
-    }
-    ExitCode::SUCCESS
 }

@@ -333,3 +333,205 @@ fn generate_of_a_missing_file_exits_2() {
         "error: cannot read `/nonexistent/edsgen/none.eds`: not a file\n"
     );
 }
+
+#[test]
+fn deny_warnings_says_so_in_the_summary_and_the_json() {
+    let path = file("deny", "warn.eds", &with_warning());
+    let p = path.to_str().unwrap();
+    let out = run(&["validate", "--deny", "warnings", p]);
+    assert_eq!(code(&out), 1);
+    let text = String::from_utf8_lossy(&out.stdout).replace(p, "warn.eds");
+    assert_eq!(
+        text,
+        "error[EDS102]: EDSVersion `4` is not of the form x.y (denied by `--deny warnings`)\n \
+         --> warn.eds:5:12\n  |\n5 | EDSVersion=4\n  |            ^ expected e.g. 4.0\n  |\n  \
+         = help: write `EDSVersion=4.0`\n\n\
+         1 file(s) checked: 1 error(s) (1 of them denied by --deny warnings), 0 warning(s)\n"
+    );
+    let out = run(&["validate", "--format", "json", "--deny", "EDS102", p]);
+    assert_eq!(code(&out), 1);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json[0]["severity"], "error");
+    assert_eq!(json[0]["code"], "EDS102");
+    assert_eq!(json[0]["denied"], "--deny EDS102");
+    assert_eq!(json.as_array().unwrap().len(), 1);
+}
+
+#[test]
+fn allow_silences_a_warning_but_not_an_error_and_unknown_codes_are_usage_errors() {
+    let warn = file("allow", "warn.eds", &with_warning());
+    let out = run(&[
+        "validate",
+        "--deny",
+        "warnings",
+        "--allow",
+        "eds102",
+        warn.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&out), 0);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "1 file(s) checked: 0 error(s), 0 warning(s); 1 allowed by --allow EDS102\n"
+    );
+    let bad = file("allow", "bad.eds", &with_error());
+    assert_eq!(
+        code(&run(&[
+            "validate",
+            "--allow",
+            "EDS314",
+            bad.to_str().unwrap()
+        ])),
+        1
+    );
+    let out = run(&["validate", "--allow", "EDS999", bad.to_str().unwrap()]);
+    assert_eq!(code(&out), 2);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "error: --allow EDS999: no such rule (`edsgen rules` lists them)\n"
+    );
+    let out = run(&[
+        "validate",
+        "--allow",
+        "EDS102",
+        "--deny",
+        "EDS102",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&out), 2);
+}
+
+#[test]
+fn quiet_and_min_severity_hide_but_still_count() {
+    // An unknown key (EDS009, info) and EDSVersion `4` (EDS102, warning).
+    let text = with_warning().replace("CreatedBy=edsgen", "CreatedBy=edsgen\nColour=blue");
+    let path = file("quiet", "q.eds", &text);
+    let p = path.to_str().unwrap();
+    let all = String::from_utf8_lossy(&run(&["validate", p]).stdout).into_owned();
+    assert!(all.contains("info[EDS009]"), "{all}");
+    let out = run(&["validate", "--quiet", p]);
+    let quiet = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(!quiet.contains("info["), "{quiet}");
+    assert!(quiet.contains("warning[EDS102]"), "{quiet}");
+    assert!(
+        quiet.ends_with(
+            "1 file(s) checked: 0 error(s), 1 warning(s); 1 not shown (below warning)\n"
+        ),
+        "{quiet}"
+    );
+    let out = run(&["validate", "--min-severity", "error", p]);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "1 file(s) checked: 0 error(s), 1 warning(s); 2 not shown (below error)\n"
+    );
+}
+
+#[test]
+fn explain_prints_the_rule_and_what_its_severity_does() {
+    let out = run(&["explain", "eds102"]);
+    assert_eq!(code(&out), 0);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "EDS102 (warning): EDSVersion is missing (meaning 3.0) or is not of the form x.y\n\n\
+         Area: [FileInfo] and [DeviceInfo].\n\
+         A warning fails `edsgen validate` only under `--deny warnings` or `--deny EDS102`. \
+         `--allow EDS102` (in build.rs `Builder::allow(\"EDS102\")`) silences it where the \
+         description cannot avoid it without lying about the device.\n"
+    );
+    let out = run(&["explain", "EDS999"]);
+    assert_eq!(code(&out), 2);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "error: explain EDS999: no such rule (`edsgen rules` lists them)\n"
+    );
+}
+
+#[test]
+fn io_errors_are_in_the_json_and_not_counted_as_checked() {
+    let clean = file("io", "clean.eds", CLEAN);
+    let dir = clean.parent().unwrap().join("a-directory.eds");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (c, d) = (clean.to_str().unwrap(), dir.to_str().unwrap());
+    let out = run(&["validate", "--format", "json", c, d]);
+    assert_eq!(code(&out), 2);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        json,
+        serde_json::json!([{
+            "file": d, "line": 0, "column": 0, "severity": "error", "code": "EDS000",
+            "message": format!("cannot read `{d}`: Is a directory (os error 21)"), "help": null,
+        }])
+    );
+    let out = run(&["validate", c, d]);
+    assert_eq!(code(&out), 2);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "1 file(s) checked, 1 not readable: 0 error(s), 0 warning(s)\n"
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        format!("error[EDS000]: cannot read `{d}`: Is a directory (os error 21)\n --> {d}\n\n")
+    );
+}
+
+#[test]
+fn empty_and_binary_files_get_one_diagnostic_and_dump_refuses_them() {
+    let empty = file("binary", "empty.eds", "");
+    let binary = empty.with_file_name("binary.eds");
+    std::fs::write(
+        &binary,
+        b"\x7fELF\x02\x01\x01\x00\x1b[2J\x1b]0;owned\x07\n[x]\n",
+    )
+    .unwrap();
+    let (e, b) = (empty.to_str().unwrap(), binary.to_str().unwrap());
+    let out = run(&["validate", e, b]);
+    assert_eq!(code(&out), 1);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout)
+            .replace(e, "empty.eds")
+            .replace(b, "binary.eds"),
+        "error[EDS022]: the file is empty\n --> empty.eds\n\n\
+         error[EDS029]: not a text file: NUL byte at offset 7\n --> binary.eds\n \
+         = help: an EDS/DCF is ASCII text and an XDD/XDC is XML; is this the right file?\n\n\
+         2 file(s) checked: 2 error(s), 0 warning(s)\n"
+    );
+    for path in [e, b] {
+        let out = run(&["dump", path]);
+        assert_eq!(code(&out), 1, "{path}");
+        assert!(out.stdout.is_empty());
+        assert!(!out.stderr.contains(&0x1b));
+    }
+}
+
+#[test]
+fn utf16_is_labelled_utf16() {
+    let text: Vec<u8> = [0xFF, 0xFE]
+        .into_iter()
+        .chain(CLEAN.encode_utf16().flat_map(u16::to_le_bytes))
+        .collect();
+    let path = file("utf16", "wide.eds", "");
+    std::fs::write(&path, text).unwrap();
+    let out = run(&["validate", "--format", "json", path.to_str().unwrap()]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json[0]["code"], "EDS002");
+    assert_eq!(
+        json[0]["message"],
+        "the file is UTF-16 (little-endian); it was decoded as such"
+    );
+    assert_eq!(json.as_array().unwrap().len(), 1, "{json}");
+}
+
+#[test]
+fn xml_nested_too_deep_is_refused_without_a_crash() {
+    let deep = format!("{}{}", "<a>".repeat(20_000), "</a>".repeat(20_000));
+    let path = file("deep", "deep.xdd", &deep);
+    for command in ["validate", "dump", "generate"] {
+        let out = run(&[command, path.to_str().unwrap()]);
+        assert_eq!(code(&out), 1, "{command}");
+        let all = [out.stdout, out.stderr].concat();
+        assert!(
+            String::from_utf8_lossy(&all)
+                .contains("error[EDS601]: the XML nests elements more than 256 deep"),
+            "{command}"
+        );
+    }
+}

@@ -97,3 +97,50 @@ pub fn sort(diags: &mut [Diagnostic]) {
         key(a).cmp(&key(b))
     });
 }
+
+/// Folds repeated findings into the first one of their kind: diagnostics for which `kind` gives
+/// the same key. The first keeps its span and gets `; {wording} N more line(s): a, b, ...` (the
+/// first eight lines, then a count); the others are dropped. Diagnostics without a key stay.
+pub fn fold<K: std::hash::Hash + Eq>(
+    diags: &mut Vec<Diagnostic>,
+    kind: impl Fn(&Diagnostic) -> Option<K>,
+    wording: &str,
+) {
+    let mut first_of: std::collections::HashMap<K, usize> = std::collections::HashMap::new();
+    let mut more: Vec<Vec<u32>> = vec![Vec::new(); diags.len()];
+    let mut keep = vec![true; diags.len()];
+    for (i, d) in diags.iter().enumerate() {
+        let Some(key) = kind(d) else { continue };
+        match first_of.get(&key) {
+            Some(&first) => {
+                more[first].push(d.span.map_or(0, |s| s.line));
+                keep[i] = false;
+            }
+            None => {
+                first_of.insert(key, i);
+            }
+        }
+    }
+    for (d, lines) in diags.iter_mut().zip(&more) {
+        if lines.is_empty() {
+            continue;
+        }
+        let shown: Vec<String> = lines.iter().take(8).map(u32::to_string).collect();
+        let rest = if lines.len() > 8 {
+            format!(" and {} more", lines.len() - 8)
+        } else {
+            String::new()
+        };
+        d.message = format!(
+            "{}; {wording} {} more line(s): {}{rest}",
+            d.message,
+            lines.len(),
+            shown.join(", ")
+        );
+    }
+    let mut index = 0;
+    diags.retain(|_| {
+        index += 1;
+        keep[index - 1]
+    });
+}

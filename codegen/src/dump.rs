@@ -25,6 +25,8 @@ pub fn to_json(device: &Device) -> Json {
         TextEncoding::Utf8 => "utf-8",
         TextEncoding::Utf8Bom => "utf-8-bom",
         TextEncoding::Windows1252 => "windows-1252",
+        TextEncoding::Utf16Le => "utf-16le",
+        TextEncoding::Utf16Be => "utf-16be",
     };
     let dummy_usage: Map<String, Json> = device
         .dummy_usage

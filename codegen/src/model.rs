@@ -68,6 +68,10 @@ pub enum TextEncoding {
     Utf8Bom,
     /// Not valid UTF-8; decoded as Windows-1252.
     Windows1252,
+    /// UTF-16, little-endian (with a byte-order mark, or ASCII text with every second byte 0).
+    Utf16Le,
+    /// UTF-16, big-endian.
+    Utf16Be,
 }
 
 /// Where the device came from.

@@ -4,7 +4,8 @@
 //! and the label, then `= help: ...`. Colours only when asked. A diagnostic without a span (about
 //! the file as a whole) shows ` --> file` and no snippet. JSON: one object per diagnostic,
 //! `{"file","line","column","severity","code","message","help"}` (line and column 0, help null
-//! when there is none).
+//! when there is none). Control characters from the file (an escape sequence in a value) are
+//! shown as U+FFFD in text, so nothing a file holds can drive the terminal.
 
 use annotate_snippets::{Level, Renderer, Snippet};
 
@@ -46,10 +47,34 @@ fn byte_range(line: &str, span: Span) -> std::ops::Range<usize> {
     }
 }
 
+/// The text with every control character but the tab replaced by U+FFFD (one character for one,
+/// so columns stay right).
+fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.chars().any(|c| c.is_control() && c != '\t') {
+        text.chars()
+            .map(|c| {
+                if c.is_control() && c != '\t' {
+                    '\u{FFFD}'
+                } else {
+                    c
+                }
+            })
+            .collect::<String>()
+            .into()
+    } else {
+        text.into()
+    }
+}
+
 /// Renders one diagnostic.
 fn render_one(renderer: &Renderer, path: &str, lines: &[&str], d: &Diagnostic) -> String {
-    let title = level(d.severity).title(&d.message).id(d.code());
-    let help = d.help.as_deref().map(|h| Level::Help.title(h));
+    let path = printable(path);
+    let path = path.as_ref();
+    let message = printable(&d.message);
+    let title = level(d.severity).title(&message).id(d.code());
+    let help_text = d.help.as_deref().map(printable);
+    let help = help_text.as_deref().map(|h| Level::Help.title(h));
+    let label = d.label.as_deref().map(printable);
     let source_line = d
         .span
         .and_then(|s| s.line.checked_sub(1))
@@ -57,14 +82,16 @@ fn render_one(renderer: &Renderer, path: &str, lines: &[&str], d: &Diagnostic) -
     match (d.span, source_line) {
         // A blank line has nothing to underline (and annotate-snippets would misplace it).
         (Some(span), Some(line)) if !line.trim().is_empty() => {
-            let range = byte_range(line, span);
+            // Replacing a control character changes byte offsets: measure the printable line.
+            let line = printable(line);
+            let range = byte_range(&line, span);
             // annotate-snippets shows a tab as four spaces but neither moves the underline nor
             // counts the column with it: show each tab as one space, so the underline sits under
             // the span and the column stays the character column the readers report.
             let line = line.replace('\t', " ");
             let line = line.as_str();
             let mut annotation = level(d.severity).span(range);
-            if let Some(label) = d.label.as_deref() {
+            if let Some(label) = label.as_deref() {
                 annotation = annotation.label(label);
             }
             let snippet = Snippet::source(line)
@@ -272,6 +299,26 @@ mod tests {
         assert_eq!(
             human("dev.eds", "[2000]\n\t\n", &[blank], false),
             "error[EDS301]: blank\n --> dev.eds:2:1\n\n"
+        );
+    }
+
+    #[test]
+    fn control_characters_from_the_file_never_reach_the_terminal() {
+        let text = "[2000]\nParameterName=\u{1b}[2J\u{7}Speed\n";
+        let d = Diagnostic::new(
+            &rules::LONG_NAME,
+            Some(Span::new(2, 15, 10)),
+            "name `\u{1b}[2J\u{7}Speed` is odd",
+        )
+        .with_label("\u{1b}]0;title\u{7}")
+        .with_help("\u{9b}31m");
+        assert_eq!(
+            human("dev\u{1b}.eds", text, &[d], false),
+            "warning[EDS302]: name `\u{fffd}[2J\u{fffd}Speed` is odd\n \
+             --> dev\u{fffd}.eds:2:15\n  |\n\
+             2 | ParameterName=\u{fffd}[2J\u{fffd}Speed\n  \
+             |               ---------- \u{fffd}]0;title\u{fffd}\n  |\n  \
+             = help: \u{fffd}31m\n\n"
         );
     }
 

@@ -33,8 +33,9 @@ macro_rules! rules {
 
 rules! {
     // ---- EDS0xx: text and values (readers) ----
+    UNREADABLE = "EDS000" Error "the file cannot be read at all (missing, a directory, no permission); `edsgen validate` exits 2";
     UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a `[section]` or `key=value`";
-    NON_ASCII = "EDS002" Warning "bytes outside ASCII (the file was decoded as UTF-8 or Windows-1252)";
+    NON_ASCII = "EDS002" Warning "bytes outside ASCII (the file was decoded as UTF-8, UTF-16 or Windows-1252; a byte that reads as punctuation between two letters in Windows-1252 and as a letter in DOS code page 437/850 is reported as a guess)";
     LONG_LINE = "EDS003" Warning "a line longer than 255 characters (once per file, naming the other lines)";
     INLINE_COMMENT = "EDS004" Warning "a comment not in column 1, or an inline `;` comment after a value";
     DUPLICATE_SECTION = "EDS005" Error "a section appears twice (case-insensitive); the last one wins";
@@ -54,13 +55,14 @@ rules! {
     REAL_BIT_PATTERN = "EDS019" Warning "a REAL value written as a hex integer (read as an IEEE 754 bit pattern when it has the type's full 8 or 16 digits, else as a number)";
     FLOAT_ON_INTEGER = "EDS020" Warning "a float literal on an integer type";
     BAD_BOOLEAN = "EDS021" Warning "a boolean key that is not 0 or 1";
-    EMPTY_FILE = "EDS022" Error "the file holds no sections";
+    EMPTY_FILE = "EDS022" Error "the file is empty (or only whitespace), or holds no sections";
     COMMISSIONING_SPELLING = "EDS023" Info "the DCF section is spelled `[DeviceCommissioning]` (two m); read as the spec's `[DeviceComissioning]`";
     ORPHAN_SECTION = "EDS024" Warning "a sub-index, name, value, denotation or link section (or entry) for an object or sub-index the file does not describe (kept, not interpreted)";
     C_LITERAL_SUFFIX = "EDS025" Warning "an integer or REAL value with a C literal suffix (`LL`, `U`, `f`; written by CANopenNode/CANopenEditor), read without the suffix; once per type per file, naming the other lines";
     BYTES_DIALECT = "EDS026" Warning "an OCTET_STRING/DOMAIN value written as a `0x` literal (read as its hex digits in written order, Sevcon dialect) or a DOMAIN value `0` (read as empty, CANopenNode dialect); once per form per file, naming the other lines";
     COMMENT_CONTINUATION = "EDS027" Warning "a line without `;` or `=` right after a comment line: read as the comment's continuation (a comment with a line break in it)";
     EMPTY_NUMBER = "EDS028" Warning "an empty [DeviceInfo] number or boolean, or [Comments] Lines (`VendorNumber=`): read as absent, as CiA 306 says, but python canopen cannot import the file";
+    NOT_TEXT = "EDS029" Error "not a text file: a NUL byte in a file that is not UTF-16 (nothing is read, and none of its bytes are shown)";
 
 
     // ---- EDS1xx: [FileInfo] and [DeviceInfo] (validator) ----

@@ -160,3 +160,35 @@ fn the_overlay_beside_a_device_sets_capacities_and_its_errors_fail_the_build() {
     assert!(message.contains("goodrive350.toml:2:1"), "{message}");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The child half of `a_failed_build_prints_its_diagnostics_once`: a build.rs `main` that returns
+/// the builder's error, as the README shows, printing it as `main` would (`Error: {:?}`).
+#[test]
+fn failing_build_script_child() {
+    let Some(bad) = std::env::var_os("EDSGEN_FAILING_BUILD") else {
+        return;
+    };
+    let result = Builder::new()
+        .device(PathBuf::from(bad))
+        .out_dir(std::env::temp_dir())
+        .cargo_output(false)
+        .generate();
+    if let Err(err) = result {
+        eprintln!("Error: {err:?}");
+    }
+}
+
+#[test]
+fn a_failed_build_prints_its_diagnostics_once() {
+    let out = temp_dir("once");
+    let bad = out.join("bad.eds");
+    std::fs::write(&bad, "[FileInfo]\nFileName=bad.eds\n").unwrap();
+    let child = std::process::Command::new(std::env::current_exe().unwrap())
+        .args(["--exact", "failing_build_script_child", "--nocapture"])
+        .env("EDSGEN_FAILING_BUILD", &bad)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&child.stderr);
+    assert_eq!(stderr.matches("error[EDS105]").count(), 1, "{stderr}");
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -1697,3 +1697,104 @@ mod no_panic {
         }
     }
 }
+
+#[test]
+fn eds408_a_missing_object_is_one_error_per_mapping_that_names_it() {
+    let t = one_rpdo(&["0x20050010", "0x20050110", "0x20060008"]);
+    let found = diags(&t);
+    assert_eq!(
+        found,
+        vec![
+            d("EDS408", Error, line_of(&t, "DefaultValue=0x20050010")),
+            d("EDS408", Error, line_of(&t, "DefaultValue=0x20060008")),
+        ]
+    );
+    let read = edsgen_codegen::read::read_bytes(std::path::Path::new("t.eds"), t.as_bytes());
+    let messages: Vec<String> = edsgen_codegen::validate::validate(&read.device)
+        .into_iter()
+        .map(|d| d.message)
+        .collect();
+    assert_eq!(
+        messages,
+        [
+            "1600h sub 1, 2 map 2005h sub 0, 2005h sub 1, which do not exist",
+            "1600h sub 3 maps 2006h sub 0, which does not exist",
+        ]
+    );
+}
+
+#[test]
+fn eds317_values_outside_their_limits_fold_into_one_finding_naming_the_lines() {
+    let body = [0x2000u16, 0x2001, 0x2002]
+        .iter()
+        .map(|&i| {
+            var(i, "Speed", 6, "rw", "9", true).replace("PDOMapping=1", "PDOMapping=1\nHighLimit=5")
+        })
+        .collect::<String>();
+    let t = eds(&[], &[0x2000, 0x2001, 0x2002], &body);
+    let read = edsgen_codegen::read::read_bytes(std::path::Path::new("t.eds"), t.as_bytes());
+    let found = edsgen_codegen::validate::validate(&read.device);
+    assert_eq!(found.len(), 1, "{found:?}");
+    let lines: Vec<usize> = t
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| *l == "DefaultValue=9")
+        .map(|(i, _)| i + 1)
+        .collect();
+    assert_eq!(
+        found[0].message,
+        format!(
+            "DefaultValue 9 of 2000h is above HighLimit 5; likewise on 2 more line(s): {}, {}",
+            lines[1], lines[2]
+        )
+    );
+}
+
+#[test]
+fn eds310_advice_names_the_key_that_holds_the_value_and_refuse_read_on_scan_is_respected() {
+    let body = |flags: &str| {
+        record(0x2000, "Rec", 9, 2)
+            + &sub(0x2000, 0, "Count", 5, "ro", "1", false).replace(
+                "DefaultValue=1",
+                &format!("DefaultValue=1\nParameterValue=0{flags}"),
+            )
+            + &sub(0x2000, 1, "A", 6, "rw", "0", false)
+    };
+    let t = edsgen_codegen::read::read_bytes(
+        Path::new("t.dcf"),
+        dcf(&body(""))
+            .replace(
+                "[ManufacturerObjects]\nSupportedObjects=0",
+                "[ManufacturerObjects]\nSupportedObjects=1\n1=0x2000",
+            )
+            .as_bytes(),
+    );
+    let found: Vec<_> = validate::validate(&t.device)
+        .into_iter()
+        .filter(|d| d.code() == "EDS310" || d.code() == "EDS508")
+        .map(|d| (d.code(), d.help.unwrap_or_default()))
+        .collect();
+    let read_only = "a configuration tool cannot write ro/const entries; drop these values or make the entries writable";
+    assert_eq!(
+        found,
+        [
+            ("EDS310", "set ParameterValue=1".to_owned()),
+            ("EDS508", read_only.to_owned())
+        ]
+    );
+    // ObjFlags bit 1: the tool did not read the entry back; the default (1) is the value.
+    let t = edsgen_codegen::read::read_bytes(
+        Path::new("t.dcf"),
+        dcf(&body("\nObjFlags=2"))
+            .replace(
+                "[ManufacturerObjects]\nSupportedObjects=0",
+                "[ManufacturerObjects]\nSupportedObjects=1\n1=0x2000",
+            )
+            .as_bytes(),
+    );
+    let found: Vec<_> = validate::validate(&t.device)
+        .into_iter()
+        .filter(|d| d.code() == "EDS310" || d.code() == "EDS508")
+        .collect();
+    assert_eq!(found, vec![]);
+}

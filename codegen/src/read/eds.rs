@@ -427,7 +427,13 @@ impl Reader {
             return;
         }
         let name = super::text::encoding_name(encoding);
+        let utf16 = matches!(encoding, TextEncoding::Utf16Le | TextEncoding::Utf16Be);
         let diag = match super::text::first_non_ascii(text) {
+            _ if utf16 => Diagnostic::new(
+                &rules::NON_ASCII,
+                Some(Span::new(1, 1, 0)),
+                format!("the file is {name}; it was decoded as such"),
+            ),
             Some((line, column)) => Diagnostic::new(
                 &rules::NON_ASCII,
                 Some(Span::new(line, column, 1)),

@@ -6,7 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::diag::Diagnostic;
-use crate::model::{Device, Format};
+use crate::model::{Device, Format, Span, TextEncoding};
+use crate::rules;
 
 pub mod eds;
 pub mod ini;
@@ -33,6 +34,18 @@ pub enum ReadError {
     Io(PathBuf, std::io::Error),
 }
 
+impl Read {
+    /// Whether nothing could be read: the file is empty, not text, or not well-formed XML. The
+    /// model is then empty, and showing it (`edsgen dump`) would say nothing true.
+    pub fn nothing_read(&self) -> bool {
+        self.diagnostics.iter().any(|d| {
+            [&rules::EMPTY_FILE, &rules::NOT_TEXT, &rules::XML_MALFORMED]
+                .iter()
+                .any(|rule| std::ptr::eq(d.rule, *rule))
+        })
+    }
+}
+
 impl std::fmt::Display for ReadError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -51,12 +64,77 @@ pub fn read_file(path: &Path) -> Result<Read, ReadError> {
 
 /// Reads a description from bytes; `path` names it (and its extension picks the format).
 pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
+    if let Some(read) = not_a_description(path, bytes) {
+        return read;
+    }
     let mut read = match detect_format(path, bytes) {
         Format::Eds | Format::Dcf => eds::read(path, bytes),
         Format::Xdd | Format::Xdc => xdd::read(path, bytes),
     };
+    if read.device.source.encoding == TextEncoding::Windows1252 {
+        if let Some(guess) = dos_code_page_guess(bytes) {
+            // The guess says more than "not ASCII" at the same byte: it replaces that one.
+            read.diagnostics
+                .retain(|d| !(std::ptr::eq(d.rule, &rules::NON_ASCII) && d.span == guess.span));
+            read.diagnostics.push(guess);
+            crate::diag::sort(&mut read.diagnostics);
+        }
+    }
     value::aggregate_dialects(&mut read.diagnostics);
     read
+}
+
+/// One diagnostic instead of a reading, for a file that is empty (or only whitespace) or is not
+/// text at all: a binary file would otherwise give a diagnostic per "line" of noise, and its bytes
+/// would reach the terminal.
+fn not_a_description(path: &Path, bytes: &[u8]) -> Option<Read> {
+    let diag = if bytes.iter().all(u8::is_ascii_whitespace) {
+        let message = if bytes.is_empty() {
+            "the file is empty".to_owned()
+        } else {
+            format!("the file holds only whitespace ({} bytes)", bytes.len())
+        };
+        Diagnostic::new(&rules::EMPTY_FILE, None, message)
+    } else {
+        let offset = text::first_nul(bytes)?;
+        Diagnostic::new(
+            &rules::NOT_TEXT,
+            None,
+            format!("not a text file: NUL byte at offset {offset}"),
+        )
+        .with_help("an EDS/DCF is ASCII text and an XDD/XDC is XML; is this the right file?")
+    };
+    Some(Read {
+        device: eds::empty_device(path, detect_format(path, bytes), TextEncoding::Ascii),
+        diagnostics: vec![diag],
+        text: String::new(),
+    })
+}
+
+/// The EDS002 guess that a file read as Windows-1252 was written in a DOS code page.
+fn dos_code_page_guess(bytes: &[u8]) -> Option<Diagnostic> {
+    let (offset, byte, windows, dos) = text::dos_code_page_guess(bytes)?;
+    // Windows-1252 maps each byte to one character: the column counts bytes since the line start.
+    let before = &bytes[..offset];
+    let line_start = before
+        .iter()
+        .rposition(|&b| b == b'\n' || b == b'\r')
+        .map_or(0, |i| i + 1);
+    let crlf = before.windows(2).filter(|w| w == b"\r\n").count();
+    let ends = before.iter().filter(|&&b| b == b'\n' || b == b'\r').count() - crlf;
+    let to_u32 = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+    Some(
+        Diagnostic::new(
+            &rules::NON_ASCII,
+            Some(Span::new(to_u32(ends + 1), to_u32(offset - line_start + 1), 1)),
+            format!(
+                "byte {byte:#04X} between two letters reads `{windows}` in Windows-1252 but `{dos}` \
+                 in DOS code page 437/850: the file may be in a DOS code page (a guess)"
+            ),
+        )
+        .with_label(format!("shown as Windows-1252 `{windows}`"))
+        .with_help("save the file as ASCII or UTF-8"),
+    )
 }
 
 /// The format of a file: by extension (case-insensitive), else XML if the first non-blank byte

@@ -1,11 +1,24 @@
-//! Bytes to text: UTF-8 (with or without BOM), else Windows-1252, and which one it was, plus the
-//! facts about the text that the EDS002 diagnostic needs, and `LineIndex`, which turns the byte
-//! ranges of the XML and TOML parsers into spans.
+//! Bytes to text: UTF-16 (by its byte-order mark or its zero bytes), UTF-8 (with or without BOM),
+//! else Windows-1252, and which one it was, plus the facts about the bytes that the EDS002 and
+//! EDS022 diagnostics need (a NUL byte, a byte a DOS code page reads better), and `LineIndex`,
+//! which turns the byte ranges of the XML and TOML parsers into spans.
 
 use crate::model::{Span, TextEncoding};
 
 /// Decodes a file's bytes and says which encoding was used.
 pub fn decode(bytes: &[u8]) -> (String, TextEncoding) {
+    if let Some(encoding) = utf16(bytes) {
+        let codec = match encoding {
+            TextEncoding::Utf16Be => encoding_rs::UTF_16BE,
+            _ => encoding_rs::UTF_16LE,
+        };
+        let body = bytes
+            .strip_prefix(b"\xFF\xFE")
+            .or_else(|| bytes.strip_prefix(b"\xFE\xFF"))
+            .unwrap_or(bytes);
+        let (text, _) = codec.decode_without_bom_handling(body);
+        return (text.into_owned(), encoding);
+    }
     if let Some(rest) = bytes.strip_prefix(b"\xEF\xBB\xBF") {
         if let Ok(s) = std::str::from_utf8(rest) {
             return (s.to_owned(), TextEncoding::Utf8Bom);
@@ -19,6 +32,55 @@ pub fn decode(bytes: &[u8]) -> (String, TextEncoding) {
             (text.into_owned(), TextEncoding::Windows1252)
         }
     }
+}
+
+/// Whether the bytes are UTF-16: a byte-order mark, or (without one) text whose first two
+/// characters are ASCII with a zero byte each, as Windows "Unicode" editors write it.
+pub fn utf16(bytes: &[u8]) -> Option<TextEncoding> {
+    match bytes {
+        [0xFF, 0xFE, ..] => Some(TextEncoding::Utf16Le),
+        [0xFE, 0xFF, ..] => Some(TextEncoding::Utf16Be),
+        [a, 0, c, 0, ..] if a.is_ascii() && *a != 0 && c.is_ascii() && *c != 0 => {
+            Some(TextEncoding::Utf16Le)
+        }
+        [0, b, 0, d, ..] if b.is_ascii() && *b != 0 && d.is_ascii() && *d != 0 => {
+            Some(TextEncoding::Utf16Be)
+        }
+        _ => None,
+    }
+}
+
+/// The offset of the first NUL byte of a file that is not UTF-16: no text file has one.
+pub fn first_nul(bytes: &[u8]) -> Option<usize> {
+    if utf16(bytes).is_some() {
+        return None;
+    }
+    bytes.iter().position(|&b| b == 0)
+}
+
+/// DOS code page 437 (and 850, which agrees here) for the bytes 80h..9Ah, all letters.
+const DOS_LETTERS: [char; 27] = [
+    'Ç', 'ü', 'é', 'â', 'ä', 'à', 'å', 'ç', 'ê', 'ë', 'è', 'ï', 'î', 'ì', 'Ä', 'Å', 'É', 'æ', 'Æ',
+    'ô', 'ö', 'ò', 'û', 'ù', 'ÿ', 'Ö', 'Ü',
+];
+
+/// A byte that Windows-1252 reads as punctuation (a quote, a dash, a dagger) but that sits between
+/// two letters, where DOS code page 437/850 reads a letter: the file was more likely written in
+/// a DOS code page. The byte's offset, the byte, and the two readings.
+pub fn dos_code_page_guess(bytes: &[u8]) -> Option<(usize, u8, char, char)> {
+    (1..bytes.len().saturating_sub(1)).find_map(|i| {
+        let byte = bytes[i];
+        let dos = *DOS_LETTERS.get(usize::from(byte.checked_sub(0x80)?))?;
+        let windows = encoding_rs::WINDOWS_1252
+            .decode_without_bom_handling(&bytes[i..=i])
+            .0
+            .chars()
+            .next()?;
+        (bytes[i - 1].is_ascii_alphabetic()
+            && bytes[i + 1].is_ascii_alphabetic()
+            && !windows.is_alphabetic())
+        .then_some((i, byte, windows, dos))
+    })
 }
 
 /// The 1-based line and character column of the first non-ASCII character, if any.
@@ -42,6 +104,8 @@ pub const fn encoding_name(encoding: TextEncoding) -> &'static str {
         TextEncoding::Utf8 => "UTF-8",
         TextEncoding::Utf8Bom => "UTF-8 (with a byte-order mark)",
         TextEncoding::Windows1252 => "Windows-1252",
+        TextEncoding::Utf16Le => "UTF-16 (little-endian)",
+        TextEncoding::Utf16Be => "UTF-16 (big-endian)",
     }
 }
 
@@ -87,6 +151,31 @@ mod tests {
             decode(b"a\xB5b"),
             ("a\u{b5}b".to_owned(), TextEncoding::Windows1252)
         );
+    }
+
+    #[test]
+    fn utf16_is_decoded_and_labelled_with_or_without_a_byte_order_mark() {
+        let le: Vec<u8> = "[A]\n".encode_utf16().flat_map(u16::to_le_bytes).collect();
+        let be: Vec<u8> = "[A]\n".encode_utf16().flat_map(u16::to_be_bytes).collect();
+        assert_eq!(
+            decode(&[&[0xFF, 0xFE][..], &le].concat()),
+            ("[A]\n".to_owned(), TextEncoding::Utf16Le)
+        );
+        assert_eq!(decode(&le), ("[A]\n".to_owned(), TextEncoding::Utf16Le));
+        assert_eq!(decode(&be), ("[A]\n".to_owned(), TextEncoding::Utf16Be));
+        assert_eq!(first_nul(&le), None);
+        assert_eq!(first_nul(b"[A]\n\x7fELF\0\0"), Some(8));
+    }
+
+    #[test]
+    fn a_quote_between_letters_is_guessed_to_be_a_dos_letter() {
+        assert_eq!(
+            dos_code_page_guess(b"Line3=71101 Sch\x94naich\r\n"),
+            Some((15, 0x94, '\u{201d}', '\u{f6}'))
+        );
+        // A real quote after a letter, and a Windows-1252 letter between letters, are not guesses.
+        assert_eq!(dos_code_page_guess(b"say \x93hi\x94 now"), None);
+        assert_eq!(dos_code_page_guess(b"Stra\x9Ae"), None);
     }
 
     #[test]

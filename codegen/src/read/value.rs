@@ -174,44 +174,13 @@ pub fn aggregate_dialects(diags: &mut Vec<Diagnostic>) {
         }
         Some((d.code(), shape))
     };
-    let mut first_of: std::collections::HashMap<(&'static str, String), usize> =
-        std::collections::HashMap::new();
-    let mut more: Vec<Vec<u32>> = vec![Vec::new(); diags.len()];
-    let mut keep = vec![true; diags.len()];
-    for (i, d) in diags.iter().enumerate() {
-        let Some(key) = shape(d) else { continue };
-        match first_of.get(&key) {
-            Some(&first) => {
-                more[first].push(d.span.map_or(0, |s| s.line));
-                keep[i] = false;
-            }
-            None => {
-                first_of.insert(key, i);
-            }
-        }
-    }
-    for (d, lines) in diags.iter_mut().zip(&more) {
-        if lines.is_empty() {
-            continue;
-        }
-        let shown: Vec<String> = lines.iter().take(8).map(u32::to_string).collect();
-        let rest = if lines.len() > 8 {
-            format!(" and {} more", lines.len() - 8)
-        } else {
-            String::new()
-        };
-        d.message = format!(
-            "{}; the same on {} more line(s): {}{rest}",
-            d.message,
-            lines.len(),
-            shown.join(", ")
-        );
-    }
-    let mut index = 0;
-    diags.retain(|_| {
-        index += 1;
-        keep[index - 1]
-    });
+    crate::diag::fold(diags, shape, "the same on");
+    // REAL values written as bit patterns: one finding per file, whatever the values.
+    crate::diag::fold(
+        diags,
+        |d| (d.code() == "EDS019" && d.severity == Severity::Warning).then_some(d.code()),
+        "likewise on",
+    );
 }
 
 fn contains_nodeid(text: &str) -> bool {

@@ -38,6 +38,27 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
             .with_help("save the file as UTF-8, as its XML declaration most likely says"),
         );
     }
+    // The XML parser recurses per element: a file nested thousands deep would overflow the stack.
+    // CiA 311 files nest about ten deep; refuse anything past MAX_DEPTH before parsing.
+    if let Some(at) = nesting_beyond(&text, MAX_DEPTH) {
+        let span = LineIndex::new(&text).span(&text, at..at + 1);
+        diagnostics.push(
+            Diagnostic::new(
+                &rules::XML_MALFORMED,
+                Some(span),
+                format!("the XML nests elements more than {MAX_DEPTH} deep; it was not parsed"),
+            )
+            .with_label(format!("element {} levels deep", MAX_DEPTH + 1))
+            .with_help(
+                "a CiA 311 description nests about ten levels deep; is this the right file?",
+            ),
+        );
+        return Read {
+            device,
+            diagnostics,
+            text,
+        };
+    }
     // DTDs stay refused (roxmltree's default): no CiA 311 file has one, and entity expansion is
     // a way to make a small file huge.
     match Document::parse(&text) {
@@ -75,6 +96,63 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
         diagnostics,
         text,
     }
+}
+
+/// How deep elements may nest before the file is refused unparsed.
+const MAX_DEPTH: usize = 256;
+
+/// The byte offset of the first start tag deeper than `max`, by a scan that knows just enough
+/// XML for it: start, end and empty-element tags, quoted attribute values, comments, CDATA,
+/// processing instructions and declarations. Not a validator: malformed files go on to the parser.
+fn nesting_beyond(text: &str, max: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let skip_past = |from: usize, end: &str| {
+        text.get(from..)
+            .and_then(|rest| rest.find(end))
+            .map_or(bytes.len(), |i| from + i + end.len())
+    };
+    let mut depth = 0usize;
+    let mut i = 0;
+    while let Some(offset) = bytes
+        .get(i..)
+        .and_then(|b| b.iter().position(|&c| c == b'<'))
+    {
+        let at = i + offset;
+        let rest = &text[at..];
+        if rest.starts_with("<!--") {
+            i = skip_past(at, "-->");
+        } else if rest.starts_with("<![CDATA[") {
+            i = skip_past(at, "]]>");
+        } else if rest.starts_with("<?") {
+            i = skip_past(at, "?>");
+        } else if rest.starts_with("</") {
+            depth = depth.saturating_sub(1);
+            i = skip_past(at, ">");
+        } else if rest.starts_with("<!") {
+            i = skip_past(at, ">");
+        } else {
+            // A start tag: find its end outside quoted attribute values.
+            let mut quote = None;
+            let mut end = at + 1;
+            while end < bytes.len() {
+                match (quote, bytes[end]) {
+                    (None, b'"' | b'\'') => quote = Some(bytes[end]),
+                    (Some(q), c) if c == q => quote = None,
+                    (None, b'>') => break,
+                    _ => {}
+                }
+                end += 1;
+            }
+            if bytes.get(end.wrapping_sub(1)) != Some(&b'/') {
+                depth += 1;
+                if depth > max {
+                    return Some(at);
+                }
+            }
+            i = end + 1;
+        }
+    }
+    None
 }
 
 /// The IEC 61131 elementary type names CiA 311 uses, and the CANopen basic type of each.
@@ -1212,5 +1290,30 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             }
         }
         device.commissioning = Some(commissioning);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nesting_is_bounded_before_parsing() {
+        let deep = format!("{}{}", "<a>".repeat(20_000), "</a>".repeat(20_000));
+        assert_eq!(nesting_beyond(&deep, MAX_DEPTH), Some(3 * MAX_DEPTH));
+        let read = read(Path::new("deep.xdd"), deep.as_bytes());
+        assert_eq!(read.diagnostics.len(), 1);
+        assert_eq!(
+            read.diagnostics[0].message,
+            "the XML nests elements more than 256 deep; it was not parsed"
+        );
+        assert_eq!(read.diagnostics[0].span, Some(Span::new(1, 769, 1)));
+        // Empty elements, comments, CDATA and `>` inside attribute values do not nest.
+        let flat = format!(
+            "<?xml version=\"1.0\"?><r>{}</r>",
+            "<e a='>'/><!-- <x> --><![CDATA[<y>]]><f b=\"/>\"></f>".repeat(1000)
+        );
+        assert_eq!(nesting_beyond(&flat, 2), None);
+        assert_eq!(nesting_beyond("<a><b><c/></b></a>", 1), Some(3));
     }
 }

@@ -203,9 +203,14 @@ fn dcf_items(device: &Device, out: &mut Vec<Diagnostic>) {
             }
         }
         Format::Dcf | Format::Xdc => {
+            let is_xml = device.source.format == Format::Xdc;
             let (first, names) = collect(device, |s| {
                 let read_only = matches!(s.access, Some(AccessType::Ro | AccessType::Const));
-                let param = s.parameter_value.as_ref()?;
+                // An entry refused on scan was not read back: its value claims nothing.
+                let param = s
+                    .parameter_value
+                    .as_ref()
+                    .filter(|_| s.obj_flags & super::REFUSE_READ_ON_SCAN == 0)?;
                 let (Some(p), Some(d)) = (
                     param.value.as_ref(),
                     s.default.as_ref().and_then(|d| d.value.as_ref()),
@@ -220,10 +225,12 @@ fn dcf_items(device: &Device, out: &mut Vec<Diagnostic>) {
                         &rules::PARAMETER_VALUE_READ_ONLY,
                         first,
                         format!(
-                            "{} read-only entr{} ha{} a ParameterValue other than the DefaultValue, which a download cannot write: {}",
+                            "{} read-only entr{} ha{} {} other than the {}, which a download cannot write: {}",
                             names.len(),
                             if names.len() == 1 { "y" } else { "ies" },
                             if names.len() == 1 { "s" } else { "ve" },
+                            if is_xml { "an actualValue" } else { "a ParameterValue" },
+                            if is_xml { "defaultValue" } else { "DefaultValue" },
                             short_list(&names)
                         ),
                     )

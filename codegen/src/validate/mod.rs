@@ -13,6 +13,7 @@
 
 use crate::diag::{self, Diagnostic};
 use crate::model::{Device, Format, RawSection, Span, SubObject, Value, ValueSource};
+use crate::rules;
 
 mod dcf;
 mod device_info;
@@ -33,6 +34,12 @@ pub fn validate(device: &Device) -> Vec<Diagnostic> {
     dcf::check(device, &mut out);
     sections::check(device, &mut out);
     diag::sort(&mut out);
+    // Values outside their limits come in dozens in a vendor's DCF: one finding, naming the lines.
+    diag::fold(
+        &mut out,
+        |d| std::ptr::eq(d.rule, &rules::VALUE_OUTSIDE_LIMITS).then_some(d.severity),
+        "likewise on",
+    );
     out
 }
 
@@ -87,12 +94,32 @@ fn is_ini(device: &Device) -> bool {
     matches!(device.source.format, Format::Eds | Format::Dcf)
 }
 
-/// The value that counts for an entry: the DCF ParameterValue if there is one, else the default.
+/// ObjFlags bit 1, "refuse read on scan": a configuration tool does not read the entry back, so
+/// its ParameterValue (XDC `actualValue`) is not a value the device was seen to hold.
+const REFUSE_READ_ON_SCAN: u32 = 0b10;
+
+/// The value that counts for an entry: the DCF ParameterValue (XDC actualValue) if there is one
+/// and the entry is read on scan, else the default.
 fn effective(sub: &SubObject) -> Option<&ValueSource> {
     sub.parameter_value
         .as_ref()
-        .filter(|v| v.value.is_some())
+        .filter(|v| v.value.is_some() && sub.obj_flags & REFUSE_READ_ON_SCAN == 0)
         .or(sub.default.as_ref())
+}
+
+/// The fix that sets [`effective`]'s value, in the file's own spelling: `DefaultValue=5`,
+/// `ParameterValue=5`, or for XML `defaultValue="5"`, `actualValue="5"`.
+fn set_value(device: &Device, sub: &SubObject, value: impl std::fmt::Display) -> String {
+    let parameter = match (effective(sub), sub.parameter_value.as_ref()) {
+        (Some(used), Some(parameter)) => std::ptr::eq(used, parameter),
+        _ => false,
+    };
+    match (is_ini(device), parameter) {
+        (true, true) => format!("set ParameterValue={value}"),
+        (true, false) => format!("set DefaultValue={value}"),
+        (false, true) => format!("set actualValue=\"{value}\""),
+        (false, false) => format!("set defaultValue=\"{value}\""),
+    }
 }
 
 /// The parsed value of [`effective`].

@@ -10,7 +10,7 @@
 //! elements 1..N.
 //! Unparseable values and out-of-type-range values are the reader's (EDS012, EDS013).
 
-use super::{at, effective_int, entry_name, obj, value_span, EntryName, ObjName};
+use super::{at, effective_int, entry_name, obj, set_value, value_span, EntryName, ObjName};
 use crate::diag::{Diagnostic, Severity};
 use crate::model::{
     AccessType, BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource,
@@ -423,7 +423,7 @@ fn sub0_checks(
                     ),
                 )
                 .with_label(format!("expected {highest}"))
-                .with_help(format!("set DefaultValue={highest}")),
+                .with_help(set_value(device, sub0, highest)),
             );
         }
     }

@@ -242,6 +242,10 @@ fn cob_id_range(index: u16, sub: &crate::model::SubObject, out: &mut Vec<Diagnos
     }
 }
 
+/// A mapped object that does not exist, reported once per mapping that names it: its index, the
+/// mapping's sub-indices naming it, the entries they map, and the first one's span and raw value.
+type MissingTarget = (u16, Vec<String>, Vec<String>, (Option<Span>, u32));
+
 fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnostic>) {
     let Some(sub0) = o.subs.get(&0) else { return };
     let Some(count) = effective_int(sub0) else {
@@ -305,6 +309,7 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
     let mut total_bits: u32 = 0;
     let mut empty = Vec::new();
     let mut first_empty = None;
+    let mut missing: Vec<MissingTarget> = Vec::new();
     for s in 1..=count {
         let Some(entry) = o.subs.get(&s) else {
             continue;
@@ -340,12 +345,16 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
             continue;
         }
         let Some(mapped) = device.entry(index, sub) else {
-            out.push(
-                Diagnostic::new(&rules::MAPPING_TARGET_MISSING, span, format!("{here} maps {target}, which does not exist"))
-                    .with_severity(if modules { Severity::Warning } else { Severity::Error })
-                    .with_label(format!("{raw:#010X}: no such entry"))
-                    .with_help("describe the mapped entry, or fix the mapping value (index << 16 | sub << 8 | bits)"),
-            );
+            let at_index = missing.iter_mut().find(|(i, _, _, _)| *i == index);
+            match at_index {
+                Some((_, subs, targets, _)) => {
+                    subs.push(s.to_string());
+                    if !targets.contains(&target) {
+                        targets.push(target);
+                    }
+                }
+                None => missing.push((index, vec![s.to_string()], vec![target], (span, raw))),
+            }
             continue;
         };
         let target = entry_name(device, index, sub);
@@ -393,6 +402,31 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
         if let Some(ty) = mapped.data_type.and_then(|dt| device.basic_type(dt)) {
             length(&here, &target, ty, len, granularity, span, out);
         }
+    }
+    for (_, subs, targets, (span, raw)) in missing {
+        let (subs, targets) = (short_list(&subs), short_list(&targets));
+        let message = if targets.contains(", ") {
+            format!(
+                "{} sub {subs} map {targets}, which do not exist",
+                obj(o.index)
+            )
+        } else if subs.contains(", ") {
+            format!(
+                "{} sub {subs} map {targets}, which does not exist",
+                obj(o.index)
+            )
+        } else {
+            format!(
+                "{} sub {subs} maps {targets}, which does not exist",
+                obj(o.index)
+            )
+        };
+        out.push(
+            Diagnostic::new(&rules::MAPPING_TARGET_MISSING, span, message)
+                .with_severity(if modules { Severity::Warning } else { Severity::Error })
+                .with_label(format!("{raw:#010X}: no such entry"))
+                .with_help("describe the mapped entry, or fix the mapping value (index << 16 | sub << 8 | bits)"),
+        );
     }
     if !empty.is_empty() {
         out.push(

@@ -1,0 +1,39 @@
+//! `edsgen generate`: the module build.rs would write for one device, overlay included.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use edsgen_codegen::builder;
+
+use super::{fail, print_stdout};
+
+/// Runs `edsgen generate FILE [-o OUT] [--module NAME]`.
+pub fn run(path: &Path, output: Option<&Path>, module: Option<&str>) -> ExitCode {
+    if !path.is_file() {
+        return fail(format!("cannot read `{}`: not a file", path.display()));
+    }
+    let module = module.map_or_else(|| builder::default_module(path), str::to_owned);
+    // The same function build.rs runs, overlay included: the output is what build.rs would write.
+    let code = match builder::generate_device(path, &module, &[]) {
+        Ok((code, warnings)) => {
+            for warning in warnings {
+                eprint!("{warning}");
+            }
+            code
+        }
+        Err(errors) => {
+            eprint!("{errors}");
+            return ExitCode::from(1);
+        }
+    };
+    match output {
+        Some(out) => match std::fs::write(out, code) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(err) => fail(format!("cannot write `{}`: {err}", out.display())),
+        },
+        None => {
+            print_stdout(&code);
+            ExitCode::SUCCESS
+        }
+    }
+}

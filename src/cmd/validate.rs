@@ -1,0 +1,213 @@
+//! `edsgen validate`: reads and judges each file, applies the command line's policy (`--allow`,
+//! `--deny`, `--min-severity`/`--quiet`) and prints the diagnostics (rustc-style text or JSON) and
+//! a summary that says what the policy did, so the exit code matches what is printed.
+
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use edsgen_codegen::diag::{self, Diagnostic, Severity};
+use edsgen_codegen::{read, render, rules, validate};
+
+use super::{fail, rule_named, EXIT_USAGE};
+
+/// What the command line asks of the diagnostics.
+pub struct Policy {
+    /// Rules whose warnings and infos are dropped (errors stay).
+    pub allowed: Vec<&'static str>,
+    /// Rules whose warnings and infos become errors.
+    pub denied: Vec<&'static str>,
+    /// Every warning becomes an error (`--deny warnings`).
+    pub deny_warnings: bool,
+    /// Diagnostics below this severity are counted but not shown.
+    pub min_severity: Severity,
+}
+
+impl Policy {
+    /// The policy from the raw `--allow` and `--deny` arguments (`--deny warnings` or a code).
+    pub fn new(allow: &[String], deny: &[String], min_severity: Severity) -> Result<Self, String> {
+        let mut policy = Policy {
+            allowed: Vec::new(),
+            denied: Vec::new(),
+            deny_warnings: false,
+            min_severity,
+        };
+        for code in allow {
+            policy.allowed.push(rule_named("--allow", code)?.code);
+        }
+        for code in deny {
+            if code.eq_ignore_ascii_case("warnings") {
+                policy.deny_warnings = true;
+                continue;
+            }
+            let rule = rule_named("--deny", code)?;
+            if policy.allowed.contains(&rule.code) {
+                return Err(format!("{} is both allowed and denied", rule.code));
+            }
+            policy.denied.push(rule.code);
+        }
+        Ok(policy)
+    }
+
+    /// The `--deny` that turns this diagnostic into an error, if one does.
+    fn denial(&self, d: &Diagnostic) -> Option<&'static str> {
+        if d.severity == Severity::Error {
+            None
+        } else if self.denied.contains(&d.code()) {
+            Some(d.code())
+        } else if self.deny_warnings && d.severity == Severity::Warning {
+            Some("warnings")
+        } else {
+            None
+        }
+    }
+}
+
+/// What was found over all files, for the summary line and the exit code.
+#[derive(Default)]
+struct Tally {
+    checked: usize,
+    unreadable: usize,
+    errors: usize,
+    denied: usize,
+    warnings: usize,
+    hidden: usize,
+    allowed: usize,
+}
+
+/// Runs `edsgen validate`.
+pub fn run(json: bool, policy: &Policy, files: &[PathBuf]) -> ExitCode {
+    let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let mut tally = Tally::default();
+    let mut all_json = Vec::new();
+    let mut out = std::io::stdout().lock();
+    for path in files {
+        let name = path.display().to_string();
+        let read = match read::read_file(path) {
+            Ok(read) => read,
+            Err(err) => {
+                tally.unreadable += 1;
+                let cause = match &err {
+                    read::ReadError::Io(_, io) => io.to_string(),
+                };
+                let d = Diagnostic::new(
+                    &rules::UNREADABLE,
+                    None,
+                    format!("cannot read `{name}`: {cause}"),
+                );
+                if json {
+                    all_json.extend(render::json(&name, &[d]));
+                } else {
+                    eprint!("{}", render::human(&name, "", &[d], false));
+                }
+                continue;
+            }
+        };
+        tally.checked += 1;
+        let mut diags = read.diagnostics.clone();
+        if !read.nothing_read() {
+            diags.extend(validate::validate(&read.device));
+        }
+        diag::sort(&mut diags);
+        let mut shown = Vec::new();
+        let mut denials = Vec::new();
+        for mut d in diags {
+            if d.severity != Severity::Error && policy.allowed.contains(&d.code()) {
+                tally.allowed += 1;
+                continue;
+            }
+            let denial = policy.denial(&d);
+            if denial.is_some() {
+                d.severity = Severity::Error;
+                tally.denied += 1;
+            }
+            match d.severity {
+                Severity::Error => tally.errors += 1,
+                Severity::Warning => tally.warnings += 1,
+                Severity::Info => {}
+            }
+            if d.severity < policy.min_severity {
+                tally.hidden += 1;
+                continue;
+            }
+            shown.push(d);
+            denials.push(denial);
+        }
+        if json {
+            for (mut value, denial) in render::json(&name, &shown).into_iter().zip(&denials) {
+                if let (Some(object), Some(by)) = (value.as_object_mut(), denial) {
+                    object.insert("denied".into(), serde_json::json!(format!("--deny {by}")));
+                }
+                all_json.push(value);
+            }
+        } else {
+            for (d, denial) in shown.iter_mut().zip(&denials) {
+                if let Some(by) = denial {
+                    d.message = format!("{} (denied by `--deny {by}`)", d.message);
+                }
+            }
+            let _ = out.write_all(render::human(&name, &read.text, &shown, color).as_bytes());
+        }
+    }
+    if json {
+        let text = serde_json::to_string_pretty(&all_json).unwrap_or_else(|_| "[]".into());
+        let _ = writeln!(out, "{text}");
+    } else {
+        let _ = writeln!(out, "{}", summary(&tally, policy));
+    }
+    if tally.unreadable > 0 {
+        ExitCode::from(EXIT_USAGE)
+    } else if tally.errors > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// `2 file(s) checked: 1 error(s) (1 of them denied by --deny warnings), 0 warning(s)`, with
+/// what was not read, not shown or allowed.
+fn summary(tally: &Tally, policy: &Policy) -> String {
+    let mut line = format!("{} file(s) checked", tally.checked);
+    if tally.unreadable > 0 {
+        line.push_str(&format!(", {} not readable", tally.unreadable));
+    }
+    line.push_str(&format!(": {} error(s)", tally.errors));
+    if tally.denied > 0 {
+        let mut by: Vec<&str> = policy
+            .deny_warnings
+            .then_some("warnings")
+            .into_iter()
+            .collect();
+        by.extend(&policy.denied);
+        line.push_str(&format!(
+            " ({} of them denied by --deny {})",
+            tally.denied,
+            by.join(", ")
+        ));
+    }
+    line.push_str(&format!(", {} warning(s)", tally.warnings));
+    if tally.hidden > 0 {
+        line.push_str(&format!(
+            "; {} not shown (below {})",
+            tally.hidden,
+            policy.min_severity.as_str()
+        ));
+    }
+    if tally.allowed > 0 {
+        line.push_str(&format!(
+            "; {} allowed by --allow {}",
+            tally.allowed,
+            policy.allowed.join(", ")
+        ));
+    }
+    line
+}
+
+/// The policy from the command line, or the usage error.
+pub fn policy_or_exit(
+    allow: &[String],
+    deny: &[String],
+    min_severity: Severity,
+) -> Result<Policy, ExitCode> {
+    Policy::new(allow, deny, min_severity).map_err(fail)
+}
