@@ -6,5 +6,6 @@
 
 pub mod cards;
 pub mod decode;
+pub mod demo;
 pub mod drives;
 pub mod sim;

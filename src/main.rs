@@ -81,6 +81,9 @@ enum Command {
     },
     /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
     Bus(cmd::bus::BusArgs),
+    /// The bundled cards at work: validate them, then drive a simulated CP301 and Goodrive350
+    /// through their manuals' workflows, every frame decoded.
+    Demo,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -154,5 +157,6 @@ fn main() -> ExitCode {
         Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
         Command::Explain { code } => cmd::rules::explain(&code),
         Command::Bus(args) => cmd::bus::run(&args),
+        Command::Demo => cmd::demo::run(),
     }
 }

@@ -130,13 +130,14 @@ fn an_alarm_of_table_7_sends_its_emergency_and_resets() {
     start_velocity_mode(&mut bench);
     bench.bus.run_until(ms(5_000), &mut [&mut bench.drive]);
     bench.bus.take_log();
-    // OC2, overcurrent at constant speed: 2214h, error register bit 1 (current).
+    // OC2, overcurrent at constant speed: 2214h, error register bit 1 (current) and bit 0
+    // (generic, set with any error).
     bench
         .drive
         .raise_alarm(ms(5_000), "OC2")
         .expect("OC2 is in table 7");
     bench.bus.run_until(ms(5_000), &mut [&mut bench.drive]);
-    assert_eq!(bench.sent(), ["083: 14 22 02 00 00 00 00 00"]);
+    assert_eq!(bench.sent(), ["083: 14 22 03 00 00 00 00 00"]);
     assert_eq!(
         bench.sdo(5_000, [0x40, 0x3F, 0x60, 0, 0, 0, 0, 0]),
         [0x4B, 0x3F, 0x60, 0, 0x14, 0x22, 0, 0]
@@ -188,7 +189,7 @@ fn heartbeat_loss_disables_voltage_as_6007h_says() {
     // At 100 ms the heartbeat is lost: EMCY 8130h, and 6007h = 2 (the CP301's default):
     // disable voltage, switch on disabled, the output cut.
     bench.bus.run_until(ms(200), &mut [&mut bench.drive]);
-    assert_eq!(bench.sent(), ["083: 30 81 10 00 00 00 00 00"]);
+    assert_eq!(bench.sent(), ["083: 30 81 11 00 00 00 00 00"]);
     assert_eq!(bench.drive.drive().state(), State::SwitchOnDisabled);
     assert_eq!(
         bench.sdo(200, READ_ACTUAL),

@@ -185,14 +185,15 @@ fn a_fault_sends_its_emergency_and_resets_once_its_cause_is_gone() {
     let mut bench = Bench::started();
     configure(&mut bench);
     run_at_50_hz(&mut bench);
-    // §3.4.8: fault OUT1 (type 1): emergency code 3000h, error register 04h, VFD error code 1;
-    // the output is cut and the status word says faulty (04h).
+    // §3.4.8: fault OUT1 (type 1): emergency code 3000h, VFD error code 1; the output is cut
+    // and the status word says faulty (04h). The manual's error register is 04h (voltage); CiA
+    // 301 also sets bit 0 (generic) whenever an error is active, so the card sends 05h.
     bench.drive.inject_fault(ms(12_000), 1);
     bench.bus.run_until(ms(12_001), &mut [&mut bench.drive]);
     assert_eq!(
         bench.sent(),
         expect(&[
-            (12_000, "083: 00 30 04 01 00 00 00 00"),
+            (12_000, "083: 00 30 05 01 00 00 00 00"),
             (12_000, "283: 04 01 00 00 00 00 00 00"),
         ])
     );

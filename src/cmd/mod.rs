@@ -1,11 +1,12 @@
 //! The commands, one module each: those that read description files (validate, dump, generate,
-//! and the rule catalogue: rules, explain) and those that run on a bus (bus). `main.rs` parses the command line and calls one of these; each returns the
+//! and the rule catalogue: rules, explain) those that run on a bus (bus), and the demo. `main.rs` parses the command line and calls one of these; each returns the
 //! process exit code (0 clean, 1 a problem found, 2 usage or I/O).
 
 use std::io::Write;
 use std::process::ExitCode;
 
 pub mod bus;
+pub mod demo;
 pub mod dump;
 pub mod generate;
 pub mod rules;
