@@ -15,8 +15,9 @@
 use edsgen_runtime::cia402::{Drive, DriveConfig, State};
 use edsgen_runtime::node::{error_register, InvalidNodeId};
 use edsgen_runtime::vbus::BusDevice;
-use edsgen_runtime::{CanFrame, Event, Instant, Node, ObjectDictionary};
+use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
+use super::{earliest, write_u16};
 use crate::cards::cp301::Od;
 
 /// The inverter alarms of §7 with their CANopen error codes.
@@ -191,10 +192,8 @@ impl Cp301 {
         let speed = u32::from(self.drive.velocity_actual().unsigned_abs());
         let voltage = RATED_VOLTAGE * speed.min(u32::from(MAX_SPEED)) / u32::from(MAX_SPEED);
         let od = self.node.od_mut();
-        for (index, sub, value) in [(0x603F, 0, error_code), (0x2D02, 6, voltage as u16)] {
-            let written = od.write(index, sub, &value.to_le_bytes());
-            debug_assert_eq!(written, Ok(()), "{index:04X}h:{sub} is an UNSIGNED16");
-        }
+        write_u16(od, 0x603F, 0, error_code);
+        write_u16(od, 0x2D02, 6, voltage as u16);
     }
 
     fn process_events(&mut self, now: Instant) {
@@ -231,10 +230,7 @@ impl BusDevice for Cp301 {
     }
 
     fn poll_timeout(&self) -> Option<Instant> {
-        match (self.node.poll_timeout(), self.drive.next_update()) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        earliest(self.node.poll_timeout(), self.drive.next_update())
     }
 
     fn handle_timeout(&mut self, now: Instant) {

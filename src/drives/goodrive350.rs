@@ -23,9 +23,10 @@
 
 use edsgen_runtime::node::{error_register, InvalidNodeId};
 use edsgen_runtime::vbus::BusDevice;
-use edsgen_runtime::{CanFrame, Event, Instant, Node, ObjectDictionary};
+use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::vfd::{Modify, ParameterError, ParameterSpec, Parameters, Ratings, Run, Vfd};
+use super::{earliest, read_u16, replace_u16, write_u16};
 use crate::cards::goodrive350::Od;
 
 /// The card's control and monitoring objects (Appendix A, Tables 3-19/3-20).
@@ -397,11 +398,7 @@ impl BusDevice for Goodrive350 {
     }
 
     fn poll_timeout(&self) -> Option<Instant> {
-        let node = self.node.poll_timeout();
-        match (node, self.vfd.next_update()) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        earliest(self.node.poll_timeout(), self.vfd.next_update())
     }
 
     fn handle_timeout(&mut self, now: Instant) {
@@ -412,33 +409,4 @@ impl BusDevice for Goodrive350 {
             self.publish();
         }
     }
-}
-
-/// An UNSIGNED16 of the dictionary (0 if absent: the generated dictionary has every object this
-/// module names, which the card tests check).
-fn read_u16(od: &Od, index: u16, sub: u8) -> u16 {
-    let mut bytes = [0u8; 2];
-    match od.read(index, sub, 0, &mut bytes) {
-        Ok(2) => u16::from_le_bytes(bytes),
-        _ => 0,
-    }
-}
-
-fn write_u16(od: &mut Od, index: u16, sub: u8, value: u16) {
-    let written = od.write(index, sub, &value.to_le_bytes());
-    // Every object written here is an UNSIGNED16 without limits in the card's EDS.
-    debug_assert_eq!(
-        written,
-        Ok(()),
-        "{index:04X}h:{sub:02X}h takes any UNSIGNED16"
-    );
-}
-
-/// Writes a value; whether it changed.
-fn replace_u16(od: &mut Od, index: u16, sub: u8, value: u16) -> bool {
-    let changed = read_u16(od, index, sub) != value;
-    if changed {
-        write_u16(od, index, sub, value);
-    }
-    changed
 }

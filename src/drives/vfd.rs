@@ -139,7 +139,6 @@ pub struct Vfd {
     /// Reference frequency in 0.01 Hz.
     reference: u32,
     run: Run,
-    accelerating: bool,
     /// Acceleration and deceleration times in 0.1 s, from 0 to the maximum frequency and back.
     ramp_times: (u16, u16),
     fault: Option<u16>,
@@ -158,7 +157,6 @@ impl Vfd {
             output: 0,
             reference: 0,
             run: Run::Stop,
-            accelerating: false,
             ramp_times: (100, 100),
             fault: None,
             fault_cause_present: false,
@@ -189,7 +187,6 @@ impl Vfd {
 
     /// Cuts the output at once (coast to stop).
     pub fn coast(&mut self) {
-        self.accelerating = false;
         self.run = Run::Stop;
         self.output = 0;
     }
@@ -210,6 +207,19 @@ impl Vfd {
         self.run != Run::Stop || self.output != 0
     }
 
+    /// Whether the output is moving away from zero towards its set-point.
+    pub fn accelerating(&self) -> bool {
+        let setpoint = self.setpoint();
+        let same_side = self.output == 0 || setpoint.signum() == self.output.signum();
+        same_side && setpoint.abs() > self.output.abs()
+    }
+
+    /// Whether the output is moving towards zero (stopping, or on the way to a lower speed or
+    /// the other direction).
+    pub fn decelerating(&self) -> bool {
+        self.output != self.setpoint() && !self.accelerating()
+    }
+
     /// The output frequency in 0.01 Hz, negative in reverse.
     pub fn output_frequency(&self) -> i32 {
         self.output
@@ -228,7 +238,7 @@ impl Vfd {
             return 0;
         }
         let speed = self.output.unsigned_abs() * 60 / self.ratings.max_frequency.max(1);
-        20 + speed + if self.accelerating { 40 } else { 0 }
+        20 + speed + if self.accelerating() { 40 } else { 0 }
     }
 
     /// The DC-bus voltage in 0.1 V: sags by up to 3 V with the current.
@@ -289,9 +299,7 @@ impl Vfd {
         self.updated = now.max(self.updated);
         let setpoint = self.setpoint();
         let away_from_zero = setpoint.signum() == self.output.signum() || self.output == 0;
-        let grows = away_from_zero && setpoint.abs() > self.output.abs();
-        self.accelerating = grows;
-        let time = if grows { accel } else { decel };
+        let time = if self.accelerating() { accel } else { decel };
         let goal = if away_from_zero { setpoint } else { 0 };
         // 0.01 Hz per µs: max_frequency / (time × 100 000 µs).
         let step = if time == 0 {
@@ -305,9 +313,6 @@ impl Vfd {
         } else {
             let step = step as i32;
             self.output += if goal > self.output { step } else { -step };
-        }
-        if self.output == setpoint {
-            self.accelerating = false;
         }
     }
 }
