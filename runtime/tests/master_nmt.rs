@@ -238,7 +238,8 @@ fn a_node_whose_guarding_master_stops_emits_emcy_8130_the_consumer_decodes() {
             Emergency {
                 node_id: 3,
                 code: 0x8130,
-                register: 0x10,
+                // Communication, and generic: CiA 301 sets bit 0 with any error.
+                register: 0x11,
                 manufacturer: [0; 5]
             }
         )]
