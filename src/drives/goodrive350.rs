@@ -14,9 +14,7 @@
 //! - Setting functions other than 1 (set frequency) and returned-value functions other than
 //!   0–5, 8, 10 and 11 are accepted and stored, and act as 0 (no function).
 //! - Jogging (commands 3 and 4) runs at 5.00 Hz; command 8 stops it.
-//! - A PDO1 request code 4 (RAM and EEPROM, "reserved") is refused with error 01h, like any other
-//!   code but 1 and 2; code 0 (no task) gets no response. A write while a fault is active is
-//!   refused with 01h (§3.5.2.2: "the slave station is in the faulty state").
+//! - PDO1 requests are served as [`pdo1`] describes.
 //! - Fault types map to emergency codes as §3.4.8's example does for OUT1–OUT3 (3000h, voltage);
 //!   31 (E-CAN) and 58 (ESCAN) to 8100h (communication); every other type to FF00h (device
 //!   specific) with the generic bit.
@@ -25,8 +23,8 @@ use edsgen_runtime::node::{error_register, InvalidNodeId};
 use edsgen_runtime::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
-use super::vfd::{Modify, ParameterError, ParameterSpec, Parameters, Ratings, Run, Vfd};
-use super::{earliest, read_u16, replace_u16, write_u16};
+use super::vfd::{Modify, ParameterSpec, Parameters, Ratings, Run, Vfd};
+use super::{earliest, pdo1, read_u16, replace_u16};
 use crate::cards::goodrive350::Od;
 
 /// The card's control and monitoring objects (Appendix A, Tables 3-19/3-20).
@@ -122,26 +120,6 @@ static PARAMETERS: [ParameterSpec; 31] = {
     ]
 };
 
-/// PDO1 response codes (Table 3-15).
-mod response {
-    pub const SUCCESS: u16 = 1;
-    pub const ERROR: u16 = 3;
-}
-
-/// PDO1 error codes (Table 3-16).
-pub mod error_code {
-    /// 01h: the request code is not allowed (or the drive is faulted).
-    pub const INVALID_COMMAND: u16 = 0x01;
-    /// 02h: no parameter at the address.
-    pub const INVALID_ADDRESS: u16 = 0x02;
-    /// 04h: the value is outside the parameter's range.
-    pub const OPERATION_FAILED: u16 = 0x04;
-    /// 07h: the parameter is read-only.
-    pub const READ_ONLY: u16 = 0x07;
-    /// 08h: the parameter cannot be changed while the drive runs.
-    pub const WHILE_RUNNING: u16 = 0x08;
-}
-
 /// The simulated drive and its card: a device node serving the generated Goodrive350
 /// dictionary, and the drive behind it. Runs on any bus as a [`BusDevice`].
 pub struct Goodrive350 {
@@ -230,40 +208,15 @@ impl Goodrive350 {
         }
     }
 
-    /// §3.5.2: a PDO1 request (2100h:00–02) answered in 2000h:00–02 and sent on PDO1 Tx.
+    /// §3.5.2: a PDO1 request answered on PDO1 Tx.
     fn parameter_request(&mut self, now: Instant) {
-        let od = self.node.od();
-        let code = read_u16(od, objects::CONTROL, 0);
-        let address = read_u16(od, objects::CONTROL, 1);
-        let data = read_u16(od, objects::CONTROL, 2);
-        let answer = match code {
-            0 => return,
-            1 => self
-                .parameters
-                .get(address)
-                .ok_or(error_code::INVALID_ADDRESS),
-            2 if self.vfd.fault().is_some() => Err(error_code::INVALID_COMMAND),
-            2 => self
-                .parameters
-                .set(address, data, self.vfd.running())
-                .map(|()| data)
-                .map_err(|error| match error {
-                    ParameterError::NoSuchParameter => error_code::INVALID_ADDRESS,
-                    ParameterError::ReadOnly => error_code::READ_ONLY,
-                    ParameterError::OutOfRange => error_code::OPERATION_FAILED,
-                    ParameterError::WhileRunning => error_code::WHILE_RUNNING,
-                }),
-            _ => Err(error_code::INVALID_COMMAND),
+        let drive = pdo1::DriveState {
+            running: self.vfd.running(),
+            faulted: self.vfd.fault().is_some(),
         };
-        let (response, error, value) = match answer {
-            Ok(value) => (response::SUCCESS, 0, value),
-            Err(error) => (response::ERROR, error, 0),
-        };
-        let od = self.node.od_mut();
-        write_u16(od, objects::MONITORING, 0, response);
-        write_u16(od, objects::MONITORING, 1, error);
-        write_u16(od, objects::MONITORING, 2, value);
-        self.node.trigger_tpdo(0);
+        if pdo1::serve(self.node.od_mut(), &mut self.parameters, drive) {
+            self.node.trigger_tpdo(0);
+        }
         // A write may have changed the ramps or the PZD functions.
         self.apply_control(now);
     }

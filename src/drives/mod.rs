@@ -7,6 +7,8 @@
 
 pub mod cp301;
 pub mod goodrive350;
+pub mod hd1e;
+pub mod pdo1;
 pub mod rd11;
 pub mod vfd;
 
@@ -14,6 +16,7 @@ use edsgen_runtime::{Instant, ObjectDictionary};
 
 pub use self::cp301::Cp301;
 pub use self::goodrive350::Goodrive350;
+pub use self::hd1e::Hd1e;
 pub use self::rd11::Rd11;
 
 /// The earlier of two optional deadlines.

@@ -1,0 +1,74 @@
+//! The simulated HD1-E card against its manual fragment on the in-memory bus, node-ID 3: PDO1
+//! reads and writes parameters (§8.2) with the response codes of Table 20 and the error codes of
+//! Table 21, frame for frame.
+
+use edsgen::drives::Hd1e;
+use edsgen_runtime::vbus::VirtualBus;
+use edsgen_runtime::{CanFrame, Instant};
+
+fn ms(millis: u64) -> Instant {
+    Instant::from_millis(millis)
+}
+
+fn show(frame: &CanFrame) -> String {
+    let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
+    format!("{:03X}: {}", frame.std_id().unwrap_or(0), bytes.join(" "))
+}
+
+#[test]
+fn pdo1_parameter_access_answers_with_tables_20_and_21() {
+    let mut card = Hd1e::new(3, ms(0)).expect("node-ID 3");
+    let mut bus = VirtualBus::new(ms(0));
+    bus.run_until(ms(0), &mut [&mut card]);
+    bus.inject(
+        CanFrame::new(0x000, &[0x01, 0x03]).expect("NMT"),
+        &mut [&mut card],
+    );
+    // One request every 100 ms: PDO1 Tx has an inhibit time.
+    for (i, (request, response)) in [
+        // Write P10.01 = 1 (Table 19's example parameter): success, the data written.
+        (
+            [0x02, 0x00, 0x01, 0x0A, 0x01, 0x00],
+            "183: 01 00 00 00 01 00 00 00",
+        ),
+        // Read it back.
+        (
+            [0x01, 0x00, 0x01, 0x0A, 0x00, 0x00],
+            "183: 01 00 00 00 01 00 00 00",
+        ),
+        // P10.01 takes 0–1: operation failed (04h).
+        (
+            [0x02, 0x00, 0x01, 0x0A, 0x02, 0x00],
+            "183: 03 00 04 00 00 00 00 00",
+        ),
+        // No parameter P10.02: illegal data address (02h).
+        (
+            [0x01, 0x00, 0x02, 0x0A, 0x00, 0x00],
+            "183: 03 00 02 00 00 00 00 00",
+        ),
+        // Request code 3 does not exist: illegal command (01h).
+        (
+            [0x03, 0x00, 0x00, 0x0A, 0x00, 0x00],
+            "183: 03 00 01 00 00 00 00 00",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let at = ms(100 * (i as u64 + 1));
+        bus.run_until(at, &mut [&mut card]);
+        bus.take_log();
+        bus.inject(
+            CanFrame::new(0x203, &request).expect("PDO1 Rx"),
+            &mut [&mut card],
+        );
+        let sent: Vec<String> = bus
+            .take_log()
+            .iter()
+            .filter(|(_, sender, _)| *sender == 0)
+            .map(|(_, _, f)| show(f))
+            .collect();
+        assert_eq!(sent, [response], "{request:02X?}");
+    }
+    assert_eq!(card.parameter(0x0A01), Some(1));
+}
