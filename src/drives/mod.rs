@@ -8,6 +8,7 @@
 pub mod cp301;
 pub mod goodrive350;
 pub mod hd1e;
+pub mod ms300;
 pub mod pdo1;
 pub mod rd11;
 pub mod vfd;
@@ -17,6 +18,7 @@ use edsgen_runtime::{Instant, ObjectDictionary};
 pub use self::cp301::Cp301;
 pub use self::goodrive350::Goodrive350;
 pub use self::hd1e::Hd1e;
+pub use self::ms300::Ms300;
 pub use self::rd11::Rd11;
 
 /// The earlier of two optional deadlines.
