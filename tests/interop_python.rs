@@ -292,3 +292,35 @@ fn two_python_masters_two_nodes_and_a_dropping_client_share_one_hub() {
         driver.unwrap();
     }
 }
+
+#[test]
+fn ten_thousand_sdo_transactions_from_python_through_the_hub_without_a_failure() {
+    let Some(python) = python() else { return };
+    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
+    let port = hub.local_addr().port().to_string();
+    let node = run_node(&hub, cp301::Od::new(5), 5);
+    let mut child = Command::new(&python)
+        .arg(root().join("scripts/bench_socketcand.py"))
+        .args(["master", &port, &eds("cp301.eds"), "5", "10000"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("run scripts/bench_socketcand.py");
+    let (tx, lines) = mpsc::channel();
+    let stdout = BufReader::new(child.stdout.take().unwrap());
+    std::thread::spawn(move || {
+        for line in stdout.lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let line = lines.recv_timeout(SCRIPT_TIMEOUT);
+    let _ = child.kill();
+    let _ = child.wait();
+    let line = line.expect("bench_socketcand.py gave no result within 60 s");
+    let result: Value = serde_json::from_str(line.strip_prefix("RESULT ").unwrap()).unwrap();
+    assert_eq!(result["transactions"], 10_000);
+    assert_eq!(result["failures"], 0, "{result}");
+    assert!(hub.frames_relayed() >= 20_000, "{}", hub.frames_relayed());
+    node.stop().0.unwrap();
+}
