@@ -712,7 +712,7 @@ mod tests {
 
     impl Write for FullDisk {
         fn write(&mut self, _: &[u8]) -> io::Result<usize> {
-            Err(io::Error::new(io::ErrorKind::Other, "no space left"))
+            Err(io::Error::other("no space left"))
         }
         fn flush(&mut self) -> io::Result<()> {
             Ok(())
