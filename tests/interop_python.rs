@@ -324,3 +324,47 @@ fn ten_thousand_sdo_transactions_from_python_through_the_hub_without_a_failure()
     assert!(hub.frames_relayed() >= 20_000, "{}", hub.frames_relayed());
     node.stop().0.unwrap();
 }
+
+/// `edsgen bus` as a child process, killed when dropped.
+struct BusProcess(Child);
+
+impl Drop for BusProcess {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+#[test]
+fn python_canopen_reaches_a_node_through_the_edsgen_bus_command() {
+    let Some(python) = python() else { return };
+    let mut bus = BusProcess(
+        Command::new(env!("CARGO_BIN_EXE_edsgen"))
+            .args(["bus", "--listen", "127.0.0.1:0"])
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .spawn()
+            .expect("run edsgen bus"),
+    );
+    let mut first = String::new();
+    BufReader::new(bus.0.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    let addr = first
+        .split_whitespace()
+        .find_map(|word| {
+            word.trim_end_matches(',')
+                .parse::<std::net::SocketAddr>()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no address in {first:?}"));
+    let transport = SocketcandClient::connect(addr, "can0", CONNECT_TIMEOUT).unwrap();
+    let clock = MonotonicClock::new();
+    let node = Node::new(cp301::Od::new(5), 5, clock.now()).unwrap();
+    let node = Driver::with_clock(transport, node, clock).spawn().unwrap();
+    let port = addr.port().to_string();
+    let mut master = Script::start(&python, &["loop", &port, &eds("cp301.eds"), "5", "100"]);
+    let result = master.result(|what| panic!("unexpected WAIT {what}"));
+    assert_eq!(result, json!({"round trips": 100, "mismatches": 0}));
+    node.stop().0.unwrap();
+}
