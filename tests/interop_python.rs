@@ -1,5 +1,6 @@
 //! Interoperability with python `canopen` 2.4.1 over python-can 4.6.1's socketcand interface: the
-//! hub runs in-process on a free port of 127.0.0.1, nodes built from the generated cards
+//! hub runs in-process on a free port of 127.0.0.1 (once as the `edsgen bus` command), nodes
+//! built from the generated cards
 //! (`edsgen::cards`) run on the runtime's driver with the socketcand client, and
 //! `scripts/interop_master.py` (in the venv of `scripts/python-venv.sh`) is the master.
 //!
