@@ -1,8 +1,8 @@
 //! Interoperability with python `canopen` 2.4.1 over python-can 4.6.1's socketcand interface: the
 //! hub runs in-process on a free port of 127.0.0.1 (once as the `edsgen bus` command), nodes
-//! built from the generated cards
-//! (`edsgen::cards`) run on the runtime's driver with the socketcand client, and
-//! `scripts/interop_master.py` (in the venv of `scripts/python-venv.sh`) is the master.
+//! built from the generated cards (`edsgen::cards`) run on the runtime's driver with the
+//! socketcand client, and `scripts/interop_master.py` (in the venv of `scripts/python-venv.sh`)
+//! is the master.
 //!
 //! Every value python reports is asserted exactly. Without python the tests are skipped with a
 //! message, except under `CI=true`, where that is a failure. Every wait is bounded and the python
