@@ -21,7 +21,7 @@ pub struct BusArgs {
     log: Option<PathBuf>,
 }
 
-/// Runs the hub until Ctrl-C. Exit code 2 if it cannot listen or open the log.
+/// Runs the hub until Ctrl-C. Exit code 2 if it cannot listen, or cannot open or write the log.
 pub fn run(args: &BusArgs) -> ExitCode {
     match serve(args) {
         Ok(()) => ExitCode::SUCCESS,
@@ -67,7 +67,11 @@ fn serve(args: &BusArgs) -> Result<(), String> {
     let _ = io::stdout().flush();
     let _ = stopped.recv();
     let relayed = hub.frames_relayed();
+    let log_error = hub.log_error();
     hub.stop();
     println!("edsgen bus: stopped after relaying {relayed} frame(s)");
-    Ok(())
+    match log_error {
+        Some(e) => Err(format!("the log stopped early: {e}")),
+        None => Ok(()),
+    }
 }
