@@ -5,5 +5,6 @@
 #![forbid(unsafe_code)]
 
 pub mod cards;
+pub mod cmd;
 pub mod decode;
 pub mod sim;

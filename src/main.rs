@@ -55,6 +55,10 @@ enum Command {
         #[arg(long)]
         module: Option<String>,
     },
+    /// Simulate devices from description files on a CAN bus.
+    Simulate(edsgen::cmd::simulate::Args),
+    /// Decode a candump -L log (or standard input) into CANopen messages.
+    Decode(edsgen::cmd::decode::Args),
     /// List every validation rule: code, severity and meaning.
     Rules {
         /// Output format.
@@ -108,6 +112,8 @@ fn main() -> ExitCode {
             module,
         } => cmd_generate(&file, output.as_deref(), module.as_deref()),
         Command::Rules { format } => cmd_rules(format),
+        Command::Simulate(args) => edsgen::cmd::simulate::run(args),
+        Command::Decode(args) => edsgen::cmd::decode::run(args),
     }
 }
 
