@@ -44,6 +44,8 @@ fn nmt_heartbeat_guarding_sync_and_emergency_lines() {
             (0x080, &[3]),
             (0x081, &[0x30, 0x81, 0x11, 0, 0, 0, 0, 0]),
             (0x081, &[0x00, 0x00, 0x00, 1, 2, 3, 4, 5]),
+            (0x000, &[0x81, 0x01]),
+            (0x000, &[0x80, 0x00]),
         ],
     );
     lines.extend(d.decode(
@@ -65,6 +67,8 @@ fn nmt_heartbeat_guarding_sync_and_emergency_lines() {
             "1700000000.005000  080  SYNC       counter 3",
             "1700000000.006000  081  EMCY       node 1 8130 life guard error or heartbeat error; register 11h (generic, communication); manufacturer 00 00 00 00 00",
             "1700000000.007000  081  EMCY       node 1 0000 error reset or no error; register 00h (none); manufacturer 01 02 03 04 05",
+            "1700000000.008000  000  NMT        reset node 1",
+            "1700000000.009000  000  NMT        enter pre-operational, all nodes",
             "1700000001.000000  701  GUARD      node 1 request",
             "1700000001.000000  701  GUARD      node 1 operational, toggle 1",
         ]

@@ -439,3 +439,60 @@ fn python_masters_a_big_sevcon_file() {
         python_masters(&path, Some(13), None);
     }
 }
+
+#[test]
+fn a_session_trace_decoded_names_the_entries_and_shows_the_values_sent() {
+    let dir = std::env::temp_dir().join(format!("edsgen-trace-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let eds = dir.join("sim.eds");
+    std::fs::write(&eds, sim_support::DEVICE_EDS).unwrap();
+    let trace = dir.join("session.log");
+    if python().is_none() {
+        return;
+    }
+    python_masters(&eds, Some(9), Some(&trace));
+    let out = Command::new(EDSGEN)
+        .args(["decode", "--eds", eds.to_str().unwrap(), "--node-id", "9"])
+        .arg(&trace)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    // Without the timestamps.
+    let lines: Vec<String> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|line| line.split_once("  ").unwrap().1.to_owned())
+        .collect();
+    for expected in [
+        "000  NMT        reset node 9",
+        "709  HEARTBEAT  node 9 boot-up",
+        "589  SDO        node 9 write 1017:00 Producer heartbeat time = 50",
+        "709  HEARTBEAT  node 9 pre-operational",
+        "589  SDO        node 9 read 1000:00 Device type = 131474 (0x00020192)",
+        "589  SDO        node 9 write 2002:00 Target speed = 101",
+        "589  SDO        node 9 read 2002:00 Target speed = 101",
+        "589  SDO        node 9 write 2000:00 Device label = \"edsgen simulate 2026\" (segmented, 20 bytes)",
+        "589  SDO        node 9 read 2000:00 Device label = \"edsgen simulate 2026\" (segmented, 20 bytes)",
+        "589  SDO        node 9 write 2000:00 Device label = \"6202 etalumis negsde\" (block, 20 bytes)",
+        "609  SDO        node 9 read 2000:00 Device label = \"6202 etalumis negsde\" (block, 20 bytes)",
+        "589  SDO        node 9 read 5FFF:00 (not in the description): abort 0602 0000 object does not exist in the object dictionary",
+        "589  SDO        node 9 write 1A00:01 TPDO1 mapping parameter: Mapped object 1 = 537067536 (0x20030010)",
+        "000  NMT        start node 9",
+        "080  SYNC",
+        "189  TPDO1      node 9 Actual speed = -2",
+        "209  RPDO1      node 9 Target speed = 102",
+        "209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)",
+        "089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00",
+        "000  NMT        stop node 9",
+    ] {
+        assert!(lines.iter().any(|l| l == expected), "{expected}\nnot in\n{}", lines.join("\n"));
+    }
+    // Every frame attributed.
+    assert!(
+        !lines
+            .iter()
+            .any(|l| l.contains(" RAW ") || l.contains("fits no")),
+        "{lines:#?}"
+    );
+}

@@ -6,18 +6,25 @@
 //! what the message says. An SDO transfer is one line when it finishes, whatever its frames
 //! (expedited, segmented or block), with the whole value; PDOs are decoded with the mapping the
 //! device has at that moment (its description's, changed by the SDO writes seen on the bus);
-//! what cannot be attributed is printed raw. For node 5 described by `eds/cp301.eds`:
+//! what cannot be attributed is printed raw. A session of python `canopen` with a simulated node
+//! 9 (the device of `tests/sim_support`), decoded (some lines left out):
 //!
 //! ```text
-//! 1700000000.000000  705  HEARTBEAT  node 5 boot-up
-//! 1700000000.010000  000  NMT        start node 5
-//! 1700000000.020000  585  SDO        node 5 write 1017:00 Producer heartbeat time = 1000 (0x03E8)
-//! 1700000000.030000  585  SDO        node 5 read 1008:00 Manufacturer device name = "CP301" (segmented, 5 bytes)
-//! 1700000000.040000  585  SDO        node 5 read 6000:00: abort 0602 0000 object does not exist in the object dictionary
-//! 1700000000.050000  080  SYNC       counter 3
-//! 1700000000.050000  185  TPDO1      node 5 Statusword = 567 (0x0237), vl velocity actual value = 1500
-//! 1700000000.060000  085  EMCY       node 5 8130 life guard error or heartbeat error; register 11h (generic, communication); manufacturer 00 00 00 00 00
-//! 1700000000.070000  123  RAW        12 34
+//! 1764000000.000100  000  NMT        reset node 9
+//! 1764000000.000800  709  HEARTBEAT  node 9 boot-up
+//! 1764000000.002000  589  SDO        node 9 write 1017:00 Producer heartbeat time = 50
+//! 1764000000.003100  589  SDO        node 9 read 1000:00 Device type = 131474 (0x00020192)
+//! 1764000000.006300  589  SDO        node 9 write 2000:00 Device label = "edsgen simulate 2026" (segmented, 20 bytes)
+//! 1764000000.012900  609  SDO        node 9 read 2000:00 Device label = "6202 etalumis negsde" (block, 20 bytes)
+//! 1764000000.013600  589  SDO        node 9 read 5FFF:00 (not in the description): abort 0602 0000 object does not exist in the object dictionary
+//! 1764000000.021000  589  SDO        node 9 write 1A00:01 TPDO1 mapping parameter: Mapped object 1 = 537067536 (0x20030010)
+//! 1764000000.030000  000  NMT        start node 9
+//! 1764000000.080000  080  SYNC
+//! 1764000000.080400  189  TPDO1      node 9 Actual speed = -2
+//! 1764000000.081000  209  RPDO1      node 9 Target speed = 102
+//! 1764000000.090000  209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)
+//! 1764000000.090300  089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00
+//! 1764000000.100000  7E5  RAW        12 34
 //! ```
 
 pub mod sdo;
@@ -130,12 +137,13 @@ impl Decoder {
                 format!("not an NMT command: {}", text::hex_bytes(data)),
             );
         };
-        let what = match command {
-            NmtCommand::Start => "start",
-            NmtCommand::Stop => "stop",
-            NmtCommand::EnterPreOperational => "enter pre-operational",
-            NmtCommand::ResetNode => "reset node",
-            NmtCommand::ResetCommunication => "reset communication",
+        // `reset node 3`, but `reset node, all nodes`.
+        let (what, short) = match command {
+            NmtCommand::Start => ("start", "start"),
+            NmtCommand::Stop => ("stop", "stop"),
+            NmtCommand::EnterPreOperational => ("enter pre-operational", "enter pre-operational"),
+            NmtCommand::ResetNode => ("reset node", "reset"),
+            NmtCommand::ResetCommunication => ("reset communication", "reset communication"),
         };
         let reset = match command {
             NmtCommand::ResetNode => Some(ResetKind::Node),
@@ -150,7 +158,7 @@ impl Decoder {
         if node_id == 0 {
             ("NMT", format!("{what}, all nodes"))
         } else {
-            ("NMT", format!("{what} node {node_id}"))
+            ("NMT", format!("{short} node {node_id}"))
         }
     }
 
