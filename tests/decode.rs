@@ -282,3 +282,15 @@ fn frames_it_cannot_attribute_are_printed_raw() {
         ]
     );
 }
+
+#[test]
+fn a_pdo_cob_id_on_a_restricted_identifier_does_not_hide_nmt() {
+    // A TPDO COB-ID without a default reads as 0 (valid): NMT stays NMT.
+    let text = sim_support::DEVICE_EDS.replace("DefaultValue=$NODEID+0x180", "DefaultValue=0");
+    let mut d = Decoder::new();
+    d.describe(1, &sim_support::device("sim.eds", &text));
+    assert_eq!(
+        decode(&mut d, &[(0x000, &[0x01, 0x01])]),
+        ["1700000000.000000  000  NMT        start node 1"]
+    );
+}

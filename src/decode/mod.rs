@@ -217,8 +217,17 @@ impl Decoder {
         }
     }
 
-    /// A PDO of a described node, by the COB-IDs and mappings its dictionary has now.
+    /// A PDO of a described node, by the COB-IDs and mappings its dictionary has now. Not on
+    /// an identifier CiA 301 restricts (NMT, SYNC, TIME, SDO, error control, LSS): a PDO
+    /// COB-ID there is a description's mistake (a missing default reads as 0).
     fn pdo(&self, id: u16, data: &[u8]) -> Option<(&'static str, String)> {
+        let restricted = matches!(
+            id,
+            0x000..=0x080 | 0x100..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x6FF | 0x701..
+        );
+        if restricted {
+            return None;
+        }
         for (&node, described) in &self.described {
             let od = &described.mirror;
             for (position, entry) in od.entries().iter().enumerate() {
