@@ -11,6 +11,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use edsgen_codegen::diag::{self, Severity};
 use edsgen_codegen::{builder, read, render, rules, validate};
 
+use edsgen::cmd;
+
 #[derive(Parser)]
 #[command(
     name = "edsgen",
@@ -56,15 +58,17 @@ enum Command {
         module: Option<String>,
     },
     /// Simulate devices from description files on a CAN bus.
-    Simulate(edsgen::cmd::simulate::Args),
+    Simulate(cmd::simulate::Args),
     /// Decode a candump -L log (or standard input) into CANopen messages.
-    Decode(edsgen::cmd::decode::Args),
+    Decode(cmd::decode::Args),
     /// List every validation rule: code, severity and meaning.
     Rules {
         /// Output format.
         #[arg(long, value_enum, default_value_t = OutputFormat::Human)]
         format: OutputFormat,
     },
+    /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
+    Bus(cmd::bus::BusArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -112,8 +116,9 @@ fn main() -> ExitCode {
             module,
         } => cmd_generate(&file, output.as_deref(), module.as_deref()),
         Command::Rules { format } => cmd_rules(format),
-        Command::Simulate(args) => edsgen::cmd::simulate::run(args),
-        Command::Decode(args) => edsgen::cmd::decode::run(args),
+        Command::Bus(args) => cmd::bus::run(&args),
+        Command::Simulate(args) => cmd::simulate::run(args),
+        Command::Decode(args) => cmd::decode::run(args),
     }
 }
 

@@ -1,313 +1,144 @@
-//! `edsgen simulate` and `edsgen decode` on the command line: exit codes and messages for bad
-//! usage (unreadable files, bad node-IDs, an unreachable or vanishing hub, malformed log lines),
-//! several devices in one process on one hub, and `--trace`. Every wait is bounded; children are
-//! killed when their guard drops.
+//! `edsgen bus` as a user runs it: it prints where it listens, relays frames between socketcand
+//! clients, logs them in the `candump -L` format, stops cleanly on Ctrl-C (SIGINT), and a port in
+//! use or a bad address is a clear error with exit code 2.
 
-use std::io::{BufRead, BufReader, Write};
-use std::path::PathBuf;
-use std::process::{Child, Command, Output, Stdio};
-use std::sync::mpsc;
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
 use edsgen_runtime::CanFrame;
 
-const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
+const WAIT: Duration = Duration::from_secs(5);
 
-fn edsgen(args: &[&str]) -> Output {
-    Command::new(EDSGEN)
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap()
-}
+/// The `edsgen bus` child, killed if the test ends before it exits.
+struct Bus(Child);
 
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// A child process killed (and reaped) when dropped, with its output's lines on a channel.
-struct Running {
-    child: Child,
-    lines: mpsc::Receiver<String>,
-}
-
-impl Drop for Running {
+impl Drop for Bus {
     fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        let _ = self.0.kill();
+        let _ = self.0.wait();
     }
 }
 
-impl Running {
-    /// Runs `edsgen args`, its standard output and error both read line by line.
-    fn start(args: &[&str]) -> Running {
-        let mut child = Command::new(EDSGEN)
-            .args(args)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let (tx, lines) = mpsc::channel();
-        let out = child.stdout.take().unwrap();
-        let err = child.stderr.take().unwrap();
-        for reader in [
-            Box::new(out) as Box<dyn std::io::Read + Send>,
-            Box::new(err),
-        ] {
-            let tx = tx.clone();
-            std::thread::spawn(move || {
-                for line in BufReader::new(reader).lines().map_while(Result::ok) {
-                    if tx.send(line).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        Running { child, lines }
-    }
-
-    /// Waits (at most 10 s) for a line for which `wanted` holds; panics with what came.
-    fn expect(&self, wanted: impl Fn(&str) -> bool) -> String {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        let mut seen = Vec::new();
+impl Bus {
+    /// Waits at most [`WAIT`] for the exit code.
+    fn wait(&mut self) -> i32 {
+        let deadline = Instant::now() + WAIT;
         loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) if wanted(&line) => return line,
-                Ok(line) => seen.push(line),
-                Err(_) => panic!("no such line; saw {seen:#?}"),
+            if let Some(status) = self.0.try_wait().unwrap() {
+                return status.code().expect("killed by a signal");
             }
-        }
-    }
-
-    /// The exit code, waiting at most 10 s.
-    fn exit_code(&mut self) -> Option<i32> {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        loop {
-            if let Some(status) = self.child.try_wait().unwrap() {
-                return status.code();
-            }
-            assert!(Instant::now() < deadline, "edsgen did not exit");
-            std::thread::sleep(Duration::from_millis(20));
+            assert!(Instant::now() < deadline, "edsgen bus did not stop");
+            std::thread::sleep(Duration::from_millis(10));
         }
     }
 }
 
-fn hub() -> Hub {
-    Hub::start("127.0.0.1:0", HubOptions::default()).unwrap()
-}
-
-/// A client of `hub` receiving until `wanted` frames matched, at most 10 s.
-fn receive(
-    client: &mut SocketcandClient,
-    count: usize,
-    wanted: impl Fn(&CanFrame) -> bool,
-) -> Vec<CanFrame> {
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let mut got = Vec::new();
-    while got.len() < count {
-        assert!(Instant::now() < deadline, "only {got:?}");
-        if let Some(frame) = client.recv_timeout(Duration::from_millis(50)).unwrap() {
-            if wanted(&frame) {
-                got.push(frame);
-            }
-        }
-    }
-    got
-}
-
-#[test]
-fn simulate_refuses_an_unreadable_file() {
-    let out = edsgen(&["simulate", "nope.eds@3"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_eq!(stderr(&out), "error: cannot read `nope.eds`: not a file\n");
-}
-
-#[test]
-fn simulate_refuses_bad_and_missing_node_ids() {
-    let out = edsgen(&["simulate", "eds/cp301.eds@200"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_eq!(
-        stderr(&out),
-        "error: eds/cp301.eds@200: node-ID 200 is not in 1..=127\n"
-    );
-    let out = edsgen(&["simulate", "eds/cp301.eds", "--node-id", "0"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("invalid value '0' for '--node-id <N>': node-ID 0 is not in 1..=127"),
-        "{}",
-        stderr(&out)
-    );
-    let out = edsgen(&["simulate", "eds/cp301.eds"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_eq!(
-        stderr(&out),
-        "error: no node-ID for `eds/cp301.eds`: give --node-id N or write eds/cp301.eds@N\n"
-    );
-    let out = edsgen(&["simulate", "eds/cp301.eds@3", "eds/ms300.eds@0x03"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_eq!(
-        stderr(&out),
-        "error: node-ID 3 is given to both `eds/cp301.eds` and `eds/ms300.eds`\n"
-    );
-}
-
-#[test]
-fn simulate_says_when_the_hub_is_unreachable() {
-    // A port nobody listens on: bound, then released.
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
-    let addr = format!("127.0.0.1:{port}");
-    let out = edsgen(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).starts_with(&format!("error: cannot reach the bus at {addr}: ")),
-        "{}",
-        stderr(&out)
-    );
-}
-
-#[test]
-fn simulate_says_socketcan_is_not_built_in() {
-    let out = edsgen(&["simulate", "eds/cp301.eds@3", "--socketcan", "can0"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_eq!(
-        stderr(&out),
-        "error: cannot open SocketCAN interface `can0`: this edsgen has no SocketCAN transport; join a socketcand hub with --bus\n"
-    );
-}
-
-#[test]
-fn simulate_exits_2_when_the_hub_goes_away() {
-    let hub = hub();
-    let addr = hub.local_addr().to_string();
-    let mut sim = Running::start(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
-    sim.expect(|l| l == format!("simulating node 3 (eds/cp301.eds) on {addr}"));
-    hub.stop();
-    let line = sim.expect(|l| l.starts_with("error:"));
-    assert!(
-        line.starts_with(&format!("error: the bus at {addr} went away")),
-        "{line}"
-    );
-    assert_eq!(sim.exit_code(), Some(2));
-}
-
-#[test]
-fn several_devices_in_one_process_answer_and_trace() {
-    let hub = hub();
-    let addr = hub.local_addr().to_string();
-    let sim = Running::start(&[
-        "simulate",
-        "eds/cp301.eds@1",
-        "eds/goodrive350.eds",
-        "--node-id",
-        "9",
-        "--node-id",
-        "2",
-        "--bus",
-        &addr,
-        "--trace",
-    ]);
-    sim.expect(|l| l.starts_with("simulating node 1 "));
-    sim.expect(|l| l.starts_with("simulating node 2 "));
-    let mut master = SocketcandClient::connect(&addr, "can0", Duration::from_secs(3)).unwrap();
-    std::thread::sleep(Duration::from_millis(100)); // the hub's quiet period after rawmode
-                                                    // Reset both: two boot-ups.
-    master
-        .send(&CanFrame::new(0x000, &[0x81, 0x00]).unwrap())
-        .unwrap();
-    let mut boot = receive(&mut master, 2, |f| f.data() == [0x00]);
-    boot.sort_by_key(|f| f.std_id());
-    assert_eq!(boot[0].std_id(), Some(0x701));
-    assert_eq!(boot[1].std_id(), Some(0x702));
-    // Each answers its own SDO: 1018h:00 of the Goodrive350 at node 2.
-    master
-        .send(&CanFrame::new(0x602, &[0x40, 0x18, 0x10, 0x00, 0, 0, 0, 0]).unwrap())
-        .unwrap();
-    let answer = receive(&mut master, 1, |f| f.std_id() == Some(0x582));
-    assert_eq!(answer[0].data()[..4], [0x4F, 0x18, 0x10, 0x00]);
-    // The trace decodes what the master sent and what the nodes answered.
-    sim.expect(|l| l.ends_with("000  NMT        reset node, all nodes"));
-    sim.expect(|l| l.ends_with("702  HEARTBEAT  node 2 boot-up"));
-    sim.expect(|l| l.contains("582  SDO        node 2 read 1018:00 Identity object: "));
-}
-
-fn log_file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("edsgen-cli-bus-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
-
-#[test]
-fn decode_warns_about_a_malformed_line_with_its_number_and_goes_on() {
-    let log = log_file(
-        "bad.log",
-        "(1700000000.000000) can0 000#0103\nnot a frame\n(1700000000.100000) can0 703#05\n",
-    );
-    let out = edsgen(&["decode", log.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(0));
-    assert!(
-        stderr(&out).starts_with("warning: line 2: bad candump line"),
-        "{}",
-        stderr(&out)
-    );
-    assert_eq!(
-        String::from_utf8_lossy(&out.stdout),
-        "1700000000.000000  000  NMT        start node 3\n\
-         1700000000.100000  703  HEARTBEAT  node 3 operational\n"
-    );
-}
-
-#[test]
-fn decode_reads_standard_input_and_names_entries_from_the_eds() {
-    let mut child = Command::new(EDSGEN)
-        .args(["decode", "--eds", "eds/cp301.eds", "--node-id", "3"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdin(Stdio::piped())
+fn edsgen_bus(args: &[&str]) -> Bus {
+    let child = Command::new(env!("CARGO_BIN_EXE_edsgen"))
+        .arg("bus")
+        .args(args)
+        .stdin(Stdio::null())
         .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    child
-        .stdin
+    Bus(child)
+}
+
+#[test]
+fn bus_prints_its_address_relays_and_logs_frames_and_stops_on_ctrl_c() {
+    let log = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_bus_relay.log");
+    let mut bus = edsgen_bus(&["--listen", "127.0.0.1:0", "--log", log.to_str().unwrap()]);
+    let mut stdout = BufReader::new(bus.0.stdout.take().unwrap());
+    let mut first = String::new();
+    stdout.read_line(&mut first).unwrap();
+    let addr = first
+        .strip_prefix("edsgen bus: socketcand hub listening on ")
+        .and_then(|rest| rest.strip_suffix(", channel can0; Ctrl-C stops it\n"))
+        .unwrap_or_else(|| panic!("unexpected first line {first:?}"));
+    let addr: std::net::SocketAddr = addr.parse().unwrap();
+    let mut second = String::new();
+    stdout.read_line(&mut second).unwrap();
+    assert_eq!(
+        second,
+        format!(
+            "  python-can: can.Bus(interface=\"socketcand\", host=\"127.0.0.1\", port={}, channel=\"can0\")\n",
+            addr.port()
+        )
+    );
+    let mut a = SocketcandClient::connect(addr, "can0", WAIT).unwrap();
+    let mut b = SocketcandClient::connect(addr, "can0", WAIT).unwrap();
+    a.send(&CanFrame::new(0x603, &[0x2B, 0x17, 0x10, 0, 0xE8, 0x03, 0, 0]).unwrap())
+        .unwrap();
+    assert_eq!(
+        b.recv_timeout(WAIT).unwrap(),
+        CanFrame::new(0x603, &[0x2B, 0x17, 0x10, 0, 0xE8, 0x03, 0, 0])
+    );
+    let interrupted = Command::new("kill")
+        .args(["-INT", &bus.0.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupted.success());
+    assert_eq!(bus.wait(), 0);
+    let mut rest = String::new();
+    stdout.read_to_string(&mut rest).unwrap();
+    assert_eq!(rest, "edsgen bus: stopped after relaying 1 frame(s)\n");
+    let logged = std::fs::read_to_string(&log).unwrap();
+    let line = logged.strip_suffix('\n').unwrap();
+    assert_eq!(
+        line.split_once(") ").unwrap().1,
+        "can0 603#2B171000E8030000",
+        "{logged}"
+    );
+    assert!(
+        b.recv_timeout(WAIT).is_err(),
+        "the client sees the hub go away"
+    );
+}
+
+fn stderr_of_failed_start(args: &[&str]) -> String {
+    let mut bus = edsgen_bus(args);
+    assert_eq!(bus.wait(), 2);
+    let mut stderr = String::new();
+    bus.0
+        .stderr
         .take()
         .unwrap()
-        .write_all(
-            b"(1700000000.000000) can0 603#2B17100064000000\n(1700000000.001000) can0 583#6017100000000000\n",
-        )
+        .read_to_string(&mut stderr)
         .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(0));
+    stderr
+}
+
+#[test]
+fn bus_on_a_port_in_use_is_an_error_with_exit_code_2() {
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = taken.local_addr().unwrap().to_string();
     assert_eq!(
-        String::from_utf8_lossy(&out.stdout),
-        "1700000000.001000  583  SDO        node 3 write 1017:00 Producer heartbeat time = 100\n"
+        stderr_of_failed_start(&["--listen", &addr]),
+        format!("error: cannot listen on {addr}: the address is in use (another hub?)\n")
     );
 }
 
 #[test]
-fn decode_refuses_unpaired_descriptions_and_missing_files() {
-    let out = edsgen(&["decode", "--eds", "eds/cp301.eds"]);
-    assert_eq!(out.status.code(), Some(2));
+fn bus_with_a_bad_address_or_log_path_is_an_error_with_exit_code_2() {
     assert_eq!(
-        stderr(&out),
-        "error: 1 --eds but 0 --node-id: give each description its node-ID (`--eds FILE --node-id N`)\n"
+        stderr_of_failed_start(&["--listen", "nonsense"]),
+        "error: cannot listen on nonsense: invalid socket address\n"
     );
-    let out = edsgen(&["decode", "nope.log"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).starts_with("error: cannot read `nope.log`: "),
-        "{}",
-        stderr(&out)
+    let missing = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("no/such/dir/bus.log");
+    assert_eq!(
+        stderr_of_failed_start(&[
+            "--listen",
+            "127.0.0.1:0",
+            "--log",
+            missing.to_str().unwrap()
+        ]),
+        format!(
+            "error: cannot create the log {}: No such file or directory (os error 2)\n",
+            missing.display()
+        )
     );
-    let out = edsgen(&["decode", "--eds", "nope.eds", "--node-id", "3", "nope.log"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert_eq!(stderr(&out), "error: cannot read `nope.eds`: not a file\n");
 }

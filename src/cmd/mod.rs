@@ -1,7 +1,9 @@
-//! The `edsgen` subcommands that talk to a CAN bus: [`simulate`] serves devices built from
-//! description files, [`decode`] explains a candump log. Each takes its clap arguments and
-//! returns the process exit code (0 done, 2 usage or I/O problems).
+//! The `edsgen` subcommands that talk to a CAN bus, one module each: [`bus`] runs a socketcand
+//! hub, [`simulate`] serves devices built from description files, [`decode`] explains a candump
+//! log. Each takes its clap arguments and returns the process exit code (0 done, 2 usage or I/O
+//! problems).
 
+pub mod bus;
 pub mod decode;
 pub mod simulate;
 

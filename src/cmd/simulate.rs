@@ -44,7 +44,7 @@ pub struct Args {
     /// The socketcand server (`edsgen bus`) to join.
     #[arg(long, value_name = "HOST:PORT", conflicts_with = "socketcan")]
     bus: Option<String>,
-    /// A Linux SocketCAN interface to join instead (builds with the `socketcan` feature).
+    /// A Linux SocketCAN interface to join instead (edsgen built with the `socketcan` feature).
     #[arg(long, value_name = "IFACE")]
     socketcan: Option<String>,
     /// Print every frame on the bus, decoded.
@@ -65,20 +65,18 @@ pub fn run(args: Args) -> ExitCode {
         Ok(planned) => planned,
         Err(message) => return fail(message),
     };
-    if let Some(iface) = &args.socketcan {
-        return fail(format!(
-            "cannot open SocketCAN interface `{iface}`: this edsgen has no SocketCAN transport; join a socketcand hub with --bus"
-        ));
-    }
-    let bus = args.bus.as_deref().unwrap_or(DEFAULT_BUS);
+    let bus = match &args.socketcan {
+        Some(iface) => Bus::SocketCan(iface),
+        None => Bus::Hub(args.bus.as_deref().unwrap_or(DEFAULT_BUS)),
+    };
     let mut decoder = Decoder::new();
-    let mut drivers: Vec<DriverHandle<SocketcandClient, SimulatedNode>> = Vec::new();
+    let mut drivers: Vec<DriverHandle<Box<dyn Transport + Send>, SimulatedNode>> = Vec::new();
     // The tracing connection first, so that it sees the boot-up messages.
     let mut listener = None;
     if args.trace {
-        match SocketcandClient::connect(bus, "can0", CONNECT_TIMEOUT) {
-            Ok(client) => listener = Some(client),
-            Err(e) => return fail(format!("cannot reach the bus at {bus}: {e}")),
+        match bus.join() {
+            Ok(transport) => listener = Some(transport),
+            Err(message) => return fail(message),
         }
     }
     for p in &planned {
@@ -89,9 +87,9 @@ pub fn run(args: Args) -> ExitCode {
                 p.path.display()
             );
         }
-        let transport = match SocketcandClient::connect(bus, "can0", CONNECT_TIMEOUT) {
-            Ok(client) => client,
-            Err(e) => return fail(format!("cannot reach the bus at {bus}: {e}")),
+        let transport = match bus.join() {
+            Ok(transport) => transport,
+            Err(message) => return fail(message),
         };
         let clock = MonotonicClock::new();
         let node = match SimulatedNode::with_capacity(
@@ -109,16 +107,19 @@ pub fn run(args: Args) -> ExitCode {
             Err(e) => return fail(format!("cannot start the node's thread: {e}")),
         }
         eprintln!(
-            "simulating node {} ({}) on {bus}",
+            "simulating node {} ({}) on {}",
             p.node_id,
-            p.path.display()
+            p.path.display(),
+            match bus {
+                Bus::Hub(addr) | Bus::SocketCan(addr) => addr,
+            }
         );
     }
     loop {
         if let Some(finished) = drivers.iter().position(DriverHandle::is_finished) {
             let (result, _, _) = drivers.swap_remove(finished).stop();
             let why = result.err().map_or("closed".to_owned(), |e| e.to_string());
-            return fail(format!("the bus at {bus} went away: {why}"));
+            return fail(format!("{bus} went away: {why}"));
         }
         match listener.as_mut() {
             Some(client) => match client.recv_timeout(Duration::from_millis(100)) {
@@ -131,9 +132,50 @@ pub fn run(args: Args) -> ExitCode {
                     }
                 }
                 Ok(None) => {}
-                Err(e) => return fail(format!("the bus at {bus} went away: {e}")),
+                Err(e) => return fail(format!("{bus} went away: {e}")),
             },
             None => std::thread::sleep(Duration::from_millis(100)),
+        }
+    }
+}
+
+/// The bus the devices join, each through a connection of its own.
+#[derive(Debug, Clone, Copy)]
+enum Bus<'a> {
+    /// A socketcand server at this address.
+    Hub(&'a str),
+    /// A Linux SocketCAN interface.
+    SocketCan(&'a str),
+}
+
+impl Bus<'_> {
+    /// A new connection to the bus, or the message saying why not.
+    fn join(self) -> Result<Box<dyn Transport + Send>, String> {
+        match self {
+            Bus::Hub(addr) => match SocketcandClient::connect(addr, "can0", CONNECT_TIMEOUT) {
+                Ok(client) => Ok(Box::new(client)),
+                Err(e) => Err(format!("cannot reach the bus at {addr}: {e}")),
+            },
+            #[cfg(feature = "socketcan")]
+            Bus::SocketCan(iface) => {
+                match edsgen_runtime::transport::socketcan::SocketCan::open(iface) {
+                    Ok(socket) => Ok(Box::new(socket)),
+                    Err(e) => Err(e.to_string()),
+                }
+            }
+            #[cfg(not(feature = "socketcan"))]
+            Bus::SocketCan(iface) => Err(format!(
+                "cannot open SocketCAN interface `{iface}`: this edsgen is built without the `socketcan` feature; join a socketcand hub with --bus"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Bus<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Bus::Hub(addr) => write!(f, "the bus at {addr}"),
+            Bus::SocketCan(iface) => write!(f, "CAN interface {iface}"),
         }
     }
 }
