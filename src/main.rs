@@ -57,10 +57,6 @@ enum Command {
         #[arg(long)]
         module: Option<String>,
     },
-    /// Simulate devices from description files on a CAN bus.
-    Simulate(cmd::simulate::Args),
-    /// Decode a candump -L log (or standard input) into CANopen messages.
-    Decode(cmd::decode::Args),
     /// List every validation rule: code, severity and meaning.
     Rules {
         /// Output format.
@@ -69,6 +65,10 @@ enum Command {
     },
     /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
     Bus(cmd::bus::BusArgs),
+    /// Simulate devices from description files on a CAN bus.
+    Simulate(cmd::simulate::Args),
+    /// Decode a candump -L log (or standard input) into CANopen messages.
+    Decode(cmd::decode::Args),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
