@@ -294,3 +294,29 @@ fn a_pdo_cob_id_on_a_restricted_identifier_does_not_hide_nmt() {
         ["1700000000.000000  000  NMT        start node 1"]
     );
 }
+
+proptest::proptest! {
+    /// Any frames on any identifier, for a described node, give lines and never panic: every
+    /// frame that is not a step of an unfinished transfer gives exactly one line.
+    #[test]
+    fn any_frames_decode_without_panicking(
+        frames in proptest::collection::vec(
+            (
+                proptest::sample::select(vec![0x000u16, 0x080, 0x081, 0x181, 0x201, 0x581, 0x601, 0x701, 0x7E5]),
+                proptest::collection::vec(proptest::num::u8::ANY, 0..=8),
+            ),
+            0..64,
+        )
+    ) {
+        let mut d = described();
+        for (i, (id, data)) in frames.iter().enumerate() {
+            let frame = CanFrame::new(*id, data).unwrap();
+            let lines = d.decode(Duration::from_millis(i as u64), &frame);
+            proptest::prop_assert!(lines.len() <= 1);
+            if !matches!(id, 0x581 | 0x601) {
+                proptest::prop_assert_eq!(lines.len(), 1);
+            }
+        }
+        d.finish(Duration::ZERO);
+    }
+}
