@@ -320,3 +320,33 @@ proptest::proptest! {
         d.finish(Duration::ZERO);
     }
 }
+
+#[test]
+fn a_second_sdo_channel_of_the_description_is_followed_apart() {
+    let text = format!(
+        "{}\n{}",
+        sim_support::DEVICE_EDS,
+        "[1201]\nParameterName=SDO server parameter 2\nObjectType=0x9\nSubNumber=3\n\n\
+         [1201sub0]\nParameterName=Highest sub-index supported\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=2\n\n\
+         [1201sub1]\nParameterName=COB-ID client to server\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x640\n\n\
+         [1201sub2]\nParameterName=COB-ID server to client\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x5C0\n"
+    );
+    let mut d = Decoder::new();
+    d.describe(1, &sim_support::device("sim.eds", &text));
+    let lines = decode(
+        &mut d,
+        &[
+            (0x641, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
+            (0x601, &[0x40, 0x03, 0x20, 0x00, 0, 0, 0, 0]),
+            (0x5C1, &[0x43, 0x18, 0x10, 0x01, 0x34, 0x12, 0, 0]),
+            (0x581, &[0x4B, 0x03, 0x20, 0x00, 0xFE, 0xFF, 0, 0]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.002000  5C1  SDO        node 1 (SDO channel 2) read 1018:01 Identity object: Vendor-ID = 4660 (0x00001234)",
+            "1700000000.003000  581  SDO        node 1 read 2003:00 Actual speed = -2",
+        ]
+    );
+}

@@ -4,9 +4,10 @@
 //!
 //! Each line is the time (seconds, as candump prints it), the CAN identifier, the service and
 //! what the message says. An SDO transfer is one line when it finishes, whatever its frames
-//! (expedited, segmented or block), with the whole value; PDOs are decoded with the mapping the
-//! device has at that moment (its description's, changed by the SDO writes seen on the bus);
-//! what cannot be attributed is printed raw. A session of python `canopen` with a simulated node
+//! (expedited, segmented or block), with the whole value (an SDO channel of 1201h+ is followed
+//! too, marked `(SDO channel 2)`); PDOs are decoded with the mapping the device has at that
+//! moment (its description's, changed by the SDO writes seen on the bus); NMT resets bring the
+//! description's values back; what cannot be attributed is printed raw. A session of python `canopen` with a simulated node
 //! 9 (the device of `tests/sim_support`), decoded (some lines left out):
 //!
 //! ```text
@@ -53,7 +54,9 @@ struct Described {
 #[derive(Default)]
 pub struct Decoder {
     described: BTreeMap<u8, Described>,
-    sdo: BTreeMap<u8, Channel>,
+    /// SDO channels by node and number (0: the default one on 600h/580h + node-ID, 1 and up
+    /// those of 1201h+ of a described node).
+    sdo: BTreeMap<(u8, u8), Channel>,
     /// Nodes sent a node-guarding request whose answer has not come yet.
     guarded: BTreeMap<u8, bool>,
 }
@@ -90,6 +93,8 @@ impl Decoder {
         let node = (id & 0x7F) as u8;
         let text = if frame.is_remote() {
             self.remote(id, node, frame)
+        } else if let Some((node, channel, client)) = self.sdo_channel(id) {
+            self.sdo(node, channel, client, frame.data())
         } else if let Some(text) = self.pdo(id, frame.data()) {
             Some(text)
         } else {
@@ -98,8 +103,8 @@ impl Decoder {
                 (0x080, 0) => Some(sync(frame.data())),
                 (0x080, _) => Some(emergency(node, frame.data())),
                 (0x100, 0) => Some(("TIME", raw(frame))),
-                (0x580, 1..) => self.sdo(node, false, frame.data()),
-                (0x600, 1..) => self.sdo(node, true, frame.data()),
+                (0x580, 1..) => self.sdo(node, 0, false, frame.data()),
+                (0x600, 1..) => self.sdo(node, 0, true, frame.data()),
                 (0x700, 1..) => Some(self.error_control(node, frame.data())),
                 (base @ 0x180..=0x500, 1..) => Some(predefined_pdo(base, node, frame.data())),
                 _ => Some(("RAW", raw(frame))),
@@ -113,9 +118,10 @@ impl Decoder {
     /// Lines for the SDO transfers still unfinished (at the end of a log).
     pub fn finish(&mut self, at: Duration) -> Vec<String> {
         let mut lines = Vec::new();
-        for (&node, channel) in &mut self.sdo {
+        for (&(node, number), channel) in &mut self.sdo {
             if let Some(transfer) = channel.unfinished() {
-                let text = describe_transfer(self.described.get(&node), node, &transfer, false);
+                let described = self.described.get(&node);
+                let text = describe_transfer(described, node, number, &transfer, false);
                 lines.push(line(at, "---", "SDO", &format!("{text} (unfinished)")));
             }
         }
@@ -186,8 +192,33 @@ impl Decoder {
         }
     }
 
-    fn sdo(&mut self, node: u8, client: bool, data: &[u8]) -> Option<(&'static str, String)> {
-        let channel = self.sdo.entry(node).or_default();
+    /// The node, channel number and direction (client to server or not) of an SDO channel a
+    /// described node has beside the default one (1201h+: sub 1 client to server, sub 2 server
+    /// to client).
+    fn sdo_channel(&self, id: u16) -> Option<(u8, u8, bool)> {
+        for (&node, described) in &self.described {
+            let od = &described.mirror;
+            for (position, entry) in od.entries().iter().enumerate() {
+                if !(0x1201..=0x127F).contains(&entry.index) || !matches!(entry.sub, 1 | 2) {
+                    continue;
+                }
+                let cob = od.value_at(position).map_or(0, u32_of);
+                if cob & 0x8000_0000 == 0 && cob & 0x1FFF_FFFF == u32::from(id) {
+                    return Some((node, (entry.index - 0x1200) as u8, entry.sub == 1));
+                }
+            }
+        }
+        None
+    }
+
+    fn sdo(
+        &mut self,
+        node: u8,
+        number: u8,
+        client: bool,
+        data: &[u8],
+    ) -> Option<(&'static str, String)> {
+        let channel = self.sdo.entry((node, number)).or_default();
         let outcome = if client {
             channel.client(data)
         } else {
@@ -201,7 +232,7 @@ impl Decoder {
             )),
             Outcome::Done(transfer) => {
                 let described = self.described.get_mut(&node);
-                let text = describe_transfer(described.as_deref(), node, &transfer, true);
+                let text = describe_transfer(described.as_deref(), node, number, &transfer, true);
                 if let Some(described) = described {
                     if transfer.write && transfer.abort.is_none() {
                         // What the device accepted; the mirror checks only lengths and limits.
@@ -376,13 +407,18 @@ fn emergency(node: u8, data: &[u8]) -> (&'static str, String) {
 fn describe_transfer(
     described: Option<&Described>,
     node: u8,
+    number: u8,
     t: &Transfer,
     finished: bool,
 ) -> String {
     let (index, sub) = (t.mux.index, t.mux.sub);
     let name = described.map_or(String::new(), |d| format!(" {}", d.name(index, sub)));
     let what = if t.write { "write" } else { "read" };
-    let mut text = format!("node {node} {what} {index:04X}:{sub:02X}{name}");
+    let channel = match number {
+        0 => String::new(),
+        n => format!(" (SDO channel {})", n + 1),
+    };
+    let mut text = format!("node {node}{channel} {what} {index:04X}:{sub:02X}{name}");
     let complete = match t.abort {
         None => finished,
         Some(_) => t.write && t.kind == Kind::Expedited,
