@@ -81,6 +81,10 @@ enum Command {
     },
     /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
     Bus(cmd::bus::BusArgs),
+    /// Simulate devices from description files on a CAN bus.
+    Simulate(cmd::simulate::Args),
+    /// Decode a candump -L log (or standard input) into CANopen messages.
+    Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, then drive a simulated CP301 and Goodrive350
     /// through their manuals' workflows, every frame decoded.
     Demo,
@@ -157,6 +161,8 @@ fn main() -> ExitCode {
         Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
         Command::Explain { code } => cmd::rules::explain(&code),
         Command::Bus(args) => cmd::bus::run(&args),
+        Command::Simulate(args) => cmd::simulate::run(args),
+        Command::Decode(args) => cmd::decode::run(args),
         Command::Demo => cmd::demo::run(),
     }
 }

@@ -44,6 +44,8 @@ fn nmt_heartbeat_guarding_sync_and_emergency_lines() {
             (0x080, &[3]),
             (0x081, &[0x30, 0x81, 0x11, 0, 0, 0, 0, 0]),
             (0x081, &[0x00, 0x00, 0x00, 1, 2, 3, 4, 5]),
+            (0x000, &[0x81, 0x01]),
+            (0x000, &[0x80, 0x00]),
         ],
     );
     lines.extend(d.decode(
@@ -65,6 +67,8 @@ fn nmt_heartbeat_guarding_sync_and_emergency_lines() {
             "1700000000.005000  080  SYNC       counter 3",
             "1700000000.006000  081  EMCY       node 1 8130 life guard error or heartbeat error; register 11h (generic, communication); manufacturer 00 00 00 00 00",
             "1700000000.007000  081  EMCY       node 1 0000 error reset or no error; register 00h (none); manufacturer 01 02 03 04 05",
+            "1700000000.008000  000  NMT        reset node 1",
+            "1700000000.009000  000  NMT        enter pre-operational, all nodes",
             "1700000001.000000  701  GUARD      node 1 request",
             "1700000001.000000  701  GUARD      node 1 operational, toggle 1",
         ]
@@ -275,6 +279,74 @@ fn frames_it_cannot_attribute_are_printed_raw() {
             "1700000000.003000  185  TPDO1      node 5 AA",
             "1700000001.000000  01234567  RAW        01",
             "1700000002.000000  ---  SDO        node 5 read 1000:00 (unfinished)",
+        ]
+    );
+}
+
+#[test]
+fn a_pdo_cob_id_on_a_restricted_identifier_does_not_hide_nmt() {
+    // A TPDO COB-ID without a default reads as 0 (valid): NMT stays NMT.
+    let text = sim_support::DEVICE_EDS.replace("DefaultValue=$NODEID+0x180", "DefaultValue=0");
+    let mut d = Decoder::new();
+    d.describe(1, &sim_support::device("sim.eds", &text));
+    assert_eq!(
+        decode(&mut d, &[(0x000, &[0x01, 0x01])]),
+        ["1700000000.000000  000  NMT        start node 1"]
+    );
+}
+
+proptest::proptest! {
+    /// Any frames on any identifier, for a described node, give lines and never panic: every
+    /// frame that is not a step of an unfinished transfer gives exactly one line.
+    #[test]
+    fn any_frames_decode_without_panicking(
+        frames in proptest::collection::vec(
+            (
+                proptest::sample::select(vec![0x000u16, 0x080, 0x081, 0x181, 0x201, 0x581, 0x601, 0x701, 0x7E5]),
+                proptest::collection::vec(proptest::num::u8::ANY, 0..=8),
+            ),
+            0..64,
+        )
+    ) {
+        let mut d = described();
+        for (i, (id, data)) in frames.iter().enumerate() {
+            let frame = CanFrame::new(*id, data).unwrap();
+            let lines = d.decode(Duration::from_millis(i as u64), &frame);
+            proptest::prop_assert!(lines.len() <= 1);
+            if !matches!(id, 0x581 | 0x601) {
+                proptest::prop_assert_eq!(lines.len(), 1);
+            }
+        }
+        d.finish(Duration::ZERO);
+    }
+}
+
+#[test]
+fn a_second_sdo_channel_of_the_description_is_followed_apart() {
+    let text = format!(
+        "{}\n{}",
+        sim_support::DEVICE_EDS,
+        "[1201]\nParameterName=SDO server parameter 2\nObjectType=0x9\nSubNumber=3\n\n\
+         [1201sub0]\nParameterName=Highest sub-index supported\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=2\n\n\
+         [1201sub1]\nParameterName=COB-ID client to server\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x640\n\n\
+         [1201sub2]\nParameterName=COB-ID server to client\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x5C0\n"
+    );
+    let mut d = Decoder::new();
+    d.describe(1, &sim_support::device("sim.eds", &text));
+    let lines = decode(
+        &mut d,
+        &[
+            (0x641, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
+            (0x601, &[0x40, 0x03, 0x20, 0x00, 0, 0, 0, 0]),
+            (0x5C1, &[0x43, 0x18, 0x10, 0x01, 0x34, 0x12, 0, 0]),
+            (0x581, &[0x4B, 0x03, 0x20, 0x00, 0xFE, 0xFF, 0, 0]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.002000  5C1  SDO        node 1 (SDO channel 2) read 1018:01 Identity object: Vendor-ID = 4660 (0x00001234)",
+            "1700000000.003000  581  SDO        node 1 read 2003:00 Actual speed = -2",
         ]
     );
 }

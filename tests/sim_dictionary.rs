@@ -7,7 +7,6 @@ mod sim_support;
 
 use std::path::Path;
 
-use edsgen::cards::cp301::Od;
 use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use edsgen_runtime::sdo::crc::crc16;
 use edsgen_runtime::vbus::VirtualBus;
@@ -26,11 +25,6 @@ fn frame(id: u16, data: &[u8]) -> CanFrame {
 fn show(frame: &CanFrame) -> String {
     let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
     format!("{:03X}: {}", frame.std_id().unwrap(), bytes.join(" "))
-}
-
-fn cp301() -> edsgen_codegen::model::Device {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("eds/cp301.eds");
-    edsgen_codegen::read::read_file(&path).unwrap().device
 }
 
 fn read_value(od: &impl ObjectDictionary, index: u16, sub: u8) -> Vec<u8> {
@@ -98,21 +92,48 @@ fn transcript(od: impl ObjectDictionary, requests: &[CanFrame]) -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn answers_every_sdo_request_exactly_as_the_generated_cp301_od() {
-    let runtime = RuntimeDictionary::new(&cp301(), 5);
-    let generated = Od::new(5);
-    assert_eq!(runtime.entries(), generated.entries());
-    assert!(runtime.left_out().is_empty());
+/// Builds the run-time dictionary of `card` (in `eds/`) and checks it against the generated
+/// `generated` through every request of [`requests`].
+fn answers_as_generated(card: &str, generated: impl ObjectDictionary) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("eds").join(card);
+    let device = edsgen_codegen::read::read_file(&path).unwrap().device;
+    let runtime = RuntimeDictionary::new(&device, 5);
+    assert_eq!(runtime.entries(), generated.entries(), "{card}");
+    assert!(runtime.left_out().is_empty(), "{card}");
     for position in 0..generated.entries().len() {
-        assert_eq!(runtime.capacity(position), generated.capacity(position));
+        assert_eq!(
+            runtime.capacity(position),
+            generated.capacity(position),
+            "{card}"
+        );
     }
     let requests = requests(generated.entries());
     let expected = transcript(generated, &requests);
     let got = transcript(runtime, &requests);
     // Every request is answered (the boot-up message first).
-    assert_eq!(got.len(), requests.len() + 1);
-    assert_eq!(got, expected);
+    assert_eq!(got.len(), requests.len() + 1, "{card}");
+    assert_eq!(got, expected, "{card}");
+}
+
+#[test]
+fn answers_every_sdo_request_exactly_as_the_generated_od_of_each_card() {
+    use edsgen::cards;
+    answers_as_generated("cp301.eds", cards::cp301::Od::new(5));
+    answers_as_generated("goodrive350.eds", cards::goodrive350::Od::new(5));
+    answers_as_generated("hd1e.eds", cards::hd1e::Od::new(5));
+    answers_as_generated("ms300.eds", cards::ms300::Od::new(5));
+    answers_as_generated("rd11.eds", cards::rd11::Od::new(5));
+}
+
+#[test]
+fn an_object_without_a_basic_data_type_is_left_out_and_listed() {
+    let text = sim_support::DEVICE_EDS.replace(
+        "[2005]\nParameterName=Enabled\nObjectType=0x7\nDataType=0x0001",
+        "[2005]\nParameterName=Enabled\nObjectType=0x7\nDataType=0x0040",
+    );
+    let od = RuntimeDictionary::new(&sim_support::device("sim.eds", &text), 1);
+    assert_eq!(od.left_out(), [(0x2005, "Enabled".to_owned())]);
+    assert_eq!(od.locate(0x2005, 0), Err(SdoAbort::NoObject));
 }
 
 #[test]

@@ -1,16 +1,40 @@
-//! The commands, one module each: those that read description files (validate, dump, generate,
-//! and the rule catalogue: rules, explain) those that run on a bus (bus), and the demo. `main.rs` parses the command line and calls one of these; each returns the
-//! process exit code (0 clean, 1 a problem found, 2 usage or I/O).
-
-use std::io::Write;
-use std::process::ExitCode;
+//! The commands, one module each. `main.rs` parses the command line and calls one of them; each
+//! returns the process exit code (0 clean, 1 a problem found, 2 usage or I/O).
+//!
+//! - Description files: [`validate`], [`dump`], [`generate`], and the rule catalogue
+//!   ([`rules`]: rules, explain).
+//! - A bus: [`bus`] runs a socketcand hub, [`simulate`] serves devices built from description
+//!   files, [`decode`] explains a candump log; the master's [`sdo`], [`nmt`], [`scan`] and
+//!   [`check`] reach live devices.
+//! - [`demo`]: the bundled cards at work.
+//!
+//! This module holds what they share: exit codes and messages, node-IDs and addresses from the
+//! command line, and how the master's commands reach the bus.
 
 pub mod bus;
+pub mod check;
+pub mod decode;
 pub mod demo;
 pub mod dump;
 pub mod generate;
+pub mod nmt;
 pub mod rules;
+pub mod scan;
+pub mod sdo;
+pub mod simulate;
 pub mod validate;
+pub mod value;
+
+use std::io::Write;
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::Args;
+use edsgen_codegen::model::Device;
+use edsgen_runtime::master::blocking::Master;
+use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_runtime::wire::sdo::Multiplexer;
 
 /// Exit code for usage and I/O problems.
 pub const EXIT_USAGE: u8 = 2;
@@ -30,4 +54,96 @@ pub fn fail(message: impl std::fmt::Display) -> ExitCode {
 pub fn rule_named(flag: &str, code: &str) -> Result<&'static edsgen_codegen::rules::Rule, String> {
     edsgen_codegen::rules::by_code(code)
         .ok_or_else(|| format!("{flag} {code}: no such rule (`edsgen rules` lists them)"))
+}
+
+/// A node-ID from the command line: 1 to 127, decimal or `0x` hexadecimal.
+pub fn parse_node_id(text: &str) -> Result<u8, String> {
+    let value = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16),
+        None => text.parse::<u32>(),
+    };
+    match value {
+        Ok(id @ 1..=127) => Ok(id as u8),
+        Ok(id) => Err(format!("node-ID {id} is not in 1..=127")),
+        Err(_) => Err(format!("`{text}` is not a node-ID (1 to 127)")),
+    }
+}
+
+/// `INDEX:SUB`, both hexadecimal (`6041:0`, `0x1018:0x02`, `1018h:2`).
+pub fn parse_address(text: &str) -> Result<Multiplexer, String> {
+    let bad = || format!("`{text}` is not INDEX:SUB in hex (such as 6041:0)");
+    let (index, sub) = text.split_once(':').ok_or_else(bad)?;
+    let hex = |part: &str| {
+        let part = part.trim();
+        let part = part
+            .strip_prefix("0x")
+            .or_else(|| part.strip_prefix("0X"))
+            .unwrap_or(part);
+        let part = part.strip_suffix(['h', 'H']).unwrap_or(part);
+        u32::from_str_radix(part, 16).ok()
+    };
+    let index = hex(index)
+        .and_then(|i| u16::try_from(i).ok())
+        .ok_or_else(bad)?;
+    let sub = hex(sub)
+        .and_then(|s| u8::try_from(s).ok())
+        .ok_or_else(bad)?;
+    Ok(Multiplexer::new(index, sub))
+}
+
+/// Reads a description file into its model; the error is the message to print.
+pub fn read_device(path: &Path) -> Result<Device, String> {
+    if !path.is_file() {
+        return Err(format!("cannot read `{}`: not a file", path.display()));
+    }
+    edsgen_codegen::read::read_file(path)
+        .map(|read| read.device)
+        .map_err(|e| e.to_string())
+}
+
+/// How the master's commands reach the bus.
+#[derive(Args, Debug, Clone)]
+pub struct BusArgs {
+    /// A socketcand server (`edsgen bus`, socketcand on a Linux box) as HOST:PORT.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub bus: String,
+    /// The CAN channel to open on the socketcand server.
+    #[arg(long, default_value = "can0")]
+    pub channel: String,
+    /// How long to wait for each SDO answer, in milliseconds.
+    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    pub timeout: u64,
+}
+
+impl BusArgs {
+    /// A master on the bus, or the reason there is none.
+    pub fn connect(&self) -> Result<Master<SocketcandClient>, String> {
+        let client = SocketcandClient::connect(&self.bus, &self.channel, Duration::from_secs(5))
+            .map_err(|e| format!("cannot reach the bus at {}: {e}", self.bus))?;
+        let mut master = Master::new(client);
+        master.set_default_timeout(Duration::from_millis(self.timeout));
+        Ok(master)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn addresses_and_node_ids_parse_in_the_usual_spellings() {
+        assert_eq!(parse_address("6041:0"), Ok(Multiplexer::new(0x6041, 0)));
+        assert_eq!(
+            parse_address("0x1018:0x02"),
+            Ok(Multiplexer::new(0x1018, 2))
+        );
+        assert_eq!(parse_address("1018h:1"), Ok(Multiplexer::new(0x1018, 1)));
+        assert!(parse_address("6041").is_err());
+        assert!(parse_address("10000:0").is_err());
+        assert_eq!(parse_node_id("5"), Ok(5));
+        assert_eq!(parse_node_id("0x7F"), Ok(127));
+        assert_eq!(parse_node_id("0"), Err("node-ID 0 is not in 1..=127".into()));
+        assert_eq!(parse_node_id("128"), Err("node-ID 128 is not in 1..=127".into()));
+        assert_eq!(parse_node_id("x"), Err("`x` is not a node-ID (1 to 127)".into()));
+    }
 }

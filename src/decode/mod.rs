@@ -4,20 +4,28 @@
 //!
 //! Each line is the time (seconds, as candump prints it), the CAN identifier, the service and
 //! what the message says. An SDO transfer is one line when it finishes, whatever its frames
-//! (expedited, segmented or block), with the whole value; PDOs are decoded with the mapping the
-//! device has at that moment (its description's, changed by the SDO writes seen on the bus);
-//! what cannot be attributed is printed raw. For node 5 described by `eds/cp301.eds`:
+//! (expedited, segmented or block), with the whole value (an SDO channel of 1201h+ is followed
+//! too, marked `(SDO channel 2)`); PDOs are decoded with the mapping the device has at that
+//! moment (its description's, changed by the SDO writes seen on the bus); NMT resets bring the
+//! description's values back; what cannot be attributed is printed raw. A session of python `canopen` with a simulated node
+//! 9 (the device of `tests/sim_support`), decoded (some lines left out):
 //!
 //! ```text
-//! 1700000000.000000  705  HEARTBEAT  node 5 boot-up
-//! 1700000000.010000  000  NMT        start node 5
-//! 1700000000.020000  585  SDO        node 5 write 1017:00 Producer heartbeat time = 1000 (0x03E8)
-//! 1700000000.030000  585  SDO        node 5 read 1008:00 Manufacturer device name = "CP301" (segmented, 5 bytes)
-//! 1700000000.040000  585  SDO        node 5 read 6000:00: abort 0602 0000 object does not exist in the object dictionary
-//! 1700000000.050000  080  SYNC       counter 3
-//! 1700000000.050000  185  TPDO1      node 5 Statusword = 567 (0x0237), vl velocity actual value = 1500
-//! 1700000000.060000  085  EMCY       node 5 8130 life guard error or heartbeat error; register 11h (generic, communication); manufacturer 00 00 00 00 00
-//! 1700000000.070000  123  RAW        12 34
+//! 1764000000.000100  000  NMT        reset node 9
+//! 1764000000.000800  709  HEARTBEAT  node 9 boot-up
+//! 1764000000.002000  589  SDO        node 9 write 1017:00 Producer heartbeat time = 50
+//! 1764000000.003100  589  SDO        node 9 read 1000:00 Device type = 131474 (0x00020192)
+//! 1764000000.006300  589  SDO        node 9 write 2000:00 Device label = "edsgen simulate 2026" (segmented, 20 bytes)
+//! 1764000000.012900  609  SDO        node 9 read 2000:00 Device label = "6202 etalumis negsde" (block, 20 bytes)
+//! 1764000000.013600  589  SDO        node 9 read 5FFF:00 (not in the description): abort 0602 0000 object does not exist in the object dictionary
+//! 1764000000.021000  589  SDO        node 9 write 1A00:01 TPDO1 mapping parameter: Mapped object 1 = 537067536 (0x20030010)
+//! 1764000000.030000  000  NMT        start node 9
+//! 1764000000.080000  080  SYNC
+//! 1764000000.080400  189  TPDO1      node 9 Actual speed = -2
+//! 1764000000.081000  209  RPDO1      node 9 Target speed = 102
+//! 1764000000.090000  209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)
+//! 1764000000.090300  089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00
+//! 1764000000.100000  7E5  RAW        12 34
 //! ```
 
 pub mod sdo;
@@ -46,7 +54,9 @@ struct Described {
 #[derive(Default)]
 pub struct Decoder {
     described: BTreeMap<u8, Described>,
-    sdo: BTreeMap<u8, Channel>,
+    /// SDO channels by node and number (0: the default one on 600h/580h + node-ID, 1 and up
+    /// those of 1201h+ of a described node).
+    sdo: BTreeMap<(u8, u8), Channel>,
     /// Nodes sent a node-guarding request whose answer has not come yet.
     guarded: BTreeMap<u8, bool>,
 }
@@ -83,6 +93,8 @@ impl Decoder {
         let node = (id & 0x7F) as u8;
         let text = if frame.is_remote() {
             self.remote(id, node, frame)
+        } else if let Some((node, channel, client)) = self.sdo_channel(id) {
+            self.sdo(node, channel, client, frame.data())
         } else if let Some(text) = self.pdo(id, frame.data()) {
             Some(text)
         } else {
@@ -91,8 +103,8 @@ impl Decoder {
                 (0x080, 0) => Some(sync(frame.data())),
                 (0x080, _) => Some(emergency(node, frame.data())),
                 (0x100, 0) => Some(("TIME", raw(frame))),
-                (0x580, 1..) => self.sdo(node, false, frame.data()),
-                (0x600, 1..) => self.sdo(node, true, frame.data()),
+                (0x580, 1..) => self.sdo(node, 0, false, frame.data()),
+                (0x600, 1..) => self.sdo(node, 0, true, frame.data()),
                 (0x700, 1..) => Some(self.error_control(node, frame.data())),
                 (base @ 0x180..=0x500, 1..) => Some(predefined_pdo(base, node, frame.data())),
                 _ => Some(("RAW", raw(frame))),
@@ -106,9 +118,10 @@ impl Decoder {
     /// Lines for the SDO transfers still unfinished (at the end of a log).
     pub fn finish(&mut self, at: Duration) -> Vec<String> {
         let mut lines = Vec::new();
-        for (&node, channel) in &mut self.sdo {
+        for (&(node, number), channel) in &mut self.sdo {
             if let Some(transfer) = channel.unfinished() {
-                let text = describe_transfer(self.described.get(&node), node, &transfer, false);
+                let described = self.described.get(&node);
+                let text = describe_transfer(described, node, number, &transfer, false);
                 lines.push(line(at, "---", "SDO", &format!("{text} (unfinished)")));
             }
         }
@@ -130,12 +143,13 @@ impl Decoder {
                 format!("not an NMT command: {}", text::hex_bytes(data)),
             );
         };
-        let what = match command {
-            NmtCommand::Start => "start",
-            NmtCommand::Stop => "stop",
-            NmtCommand::EnterPreOperational => "enter pre-operational",
-            NmtCommand::ResetNode => "reset node",
-            NmtCommand::ResetCommunication => "reset communication",
+        // `reset node 3`, but `reset node, all nodes`.
+        let (what, short) = match command {
+            NmtCommand::Start => ("start", "start"),
+            NmtCommand::Stop => ("stop", "stop"),
+            NmtCommand::EnterPreOperational => ("enter pre-operational", "enter pre-operational"),
+            NmtCommand::ResetNode => ("reset node", "reset"),
+            NmtCommand::ResetCommunication => ("reset communication", "reset communication"),
         };
         let reset = match command {
             NmtCommand::ResetNode => Some(ResetKind::Node),
@@ -150,7 +164,7 @@ impl Decoder {
         if node_id == 0 {
             ("NMT", format!("{what}, all nodes"))
         } else {
-            ("NMT", format!("{what} node {node_id}"))
+            ("NMT", format!("{short} node {node_id}"))
         }
     }
 
@@ -178,8 +192,33 @@ impl Decoder {
         }
     }
 
-    fn sdo(&mut self, node: u8, client: bool, data: &[u8]) -> Option<(&'static str, String)> {
-        let channel = self.sdo.entry(node).or_default();
+    /// The node, channel number and direction (client to server or not) of an SDO channel a
+    /// described node has beside the default one (1201h+: sub 1 client to server, sub 2 server
+    /// to client).
+    fn sdo_channel(&self, id: u16) -> Option<(u8, u8, bool)> {
+        for (&node, described) in &self.described {
+            let od = &described.mirror;
+            for (position, entry) in od.entries().iter().enumerate() {
+                if !(0x1201..=0x127F).contains(&entry.index) || !matches!(entry.sub, 1 | 2) {
+                    continue;
+                }
+                let cob = od.value_at(position).map_or(0, u32_of);
+                if cob & 0x8000_0000 == 0 && cob & 0x1FFF_FFFF == u32::from(id) {
+                    return Some((node, (entry.index - 0x1200) as u8, entry.sub == 1));
+                }
+            }
+        }
+        None
+    }
+
+    fn sdo(
+        &mut self,
+        node: u8,
+        number: u8,
+        client: bool,
+        data: &[u8],
+    ) -> Option<(&'static str, String)> {
+        let channel = self.sdo.entry((node, number)).or_default();
         let outcome = if client {
             channel.client(data)
         } else {
@@ -193,7 +232,7 @@ impl Decoder {
             )),
             Outcome::Done(transfer) => {
                 let described = self.described.get_mut(&node);
-                let text = describe_transfer(described.as_deref(), node, &transfer, true);
+                let text = describe_transfer(described.as_deref(), node, number, &transfer, true);
                 if let Some(described) = described {
                     if transfer.write && transfer.abort.is_none() {
                         // What the device accepted; the mirror checks only lengths and limits.
@@ -209,8 +248,17 @@ impl Decoder {
         }
     }
 
-    /// A PDO of a described node, by the COB-IDs and mappings its dictionary has now.
+    /// A PDO of a described node, by the COB-IDs and mappings its dictionary has now. Not on
+    /// an identifier CiA 301 restricts (NMT, SYNC, TIME, SDO, error control, LSS): a PDO
+    /// COB-ID there is a description's mistake (a missing default reads as 0).
     fn pdo(&self, id: u16, data: &[u8]) -> Option<(&'static str, String)> {
+        let restricted = matches!(
+            id,
+            0x000..=0x080 | 0x100..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x6FF | 0x701..
+        );
+        if restricted {
+            return None;
+        }
         for (&node, described) in &self.described {
             let od = &described.mirror;
             for (position, entry) in od.entries().iter().enumerate() {
@@ -359,13 +407,18 @@ fn emergency(node: u8, data: &[u8]) -> (&'static str, String) {
 fn describe_transfer(
     described: Option<&Described>,
     node: u8,
+    number: u8,
     t: &Transfer,
     finished: bool,
 ) -> String {
     let (index, sub) = (t.mux.index, t.mux.sub);
     let name = described.map_or(String::new(), |d| format!(" {}", d.name(index, sub)));
     let what = if t.write { "write" } else { "read" };
-    let mut text = format!("node {node} {what} {index:04X}:{sub:02X}{name}");
+    let channel = match number {
+        0 => String::new(),
+        n => format!(" (SDO channel {})", n + 1),
+    };
+    let mut text = format!("node {node}{channel} {what} {index:04X}:{sub:02X}{name}");
     let complete = match t.abort {
         None => finished,
         Some(_) => t.write && t.kind == Kind::Expedited,

@@ -101,9 +101,15 @@ impl RuntimeDictionary {
     /// Sets the entries `kind` re-initialises back to their initial values: all of them for
     /// reset node, the communication area (1000h–1FFFh) for reset communication.
     pub fn reset(&mut self, kind: ResetKind) {
-        for (entry, slot) in self.entries.iter().zip(&mut self.slots) {
+        self.reset_to(kind, None);
+    }
+
+    /// [`reset`](Self::reset), to the `stored` values (one per entry) where given.
+    fn reset_to(&mut self, kind: ResetKind, stored: Option<&[Vec<u8>]>) {
+        for (position, (entry, slot)) in self.entries.iter().zip(&mut self.slots).enumerate() {
             if kind == ResetKind::Node || (0x1000..=0x1FFF).contains(&entry.index) {
-                slot.value.clone_from(&slot.initial);
+                let value = stored.and_then(|values| values.get(position));
+                slot.value.clone_from(value.unwrap_or(&slot.initial));
             }
         }
     }
@@ -177,33 +183,27 @@ impl ObjectDictionary for RuntimeDictionary {
 }
 
 /// Hooks for a `Node` serving a [`RuntimeDictionary`]: resets restore the initial values of the
-/// area they re-initialise; "save" (1010h) keeps the current values in memory and "load" (1011h)
-/// brings the initial values back at the next reset, as a device with non-volatile storage would
-/// (nothing survives the process).
+/// area they re-initialise; "save" (1010h, any sub-index) keeps every current value in memory
+/// for the next resets, and "load" (1011h) brings the initial values back at the next reset, as a
+/// device with non-volatile storage would (nothing survives the process).
 #[derive(Debug, Clone, Default)]
 pub struct DictionaryHooks {
-    saved: Option<RuntimeDictionary>,
+    /// Every entry's value when "save" was last written, until "load".
+    stored: Option<Vec<Vec<u8>>>,
 }
 
 impl NodeHooks<RuntimeDictionary> for DictionaryHooks {
     fn reset(&mut self, kind: ResetKind, od: &mut RuntimeDictionary) {
-        od.reset(kind);
-        if let Some(saved) = &self.saved {
-            for ((entry, slot), stored) in od.entries.iter().zip(&mut od.slots).zip(&saved.slots) {
-                if kind == ResetKind::Node || (0x1000..=0x1FFF).contains(&entry.index) {
-                    slot.value.clone_from(&stored.value);
-                }
-            }
-        }
+        od.reset_to(kind, self.stored.as_deref());
     }
 
     fn save(&mut self, _sub: u8, od: &RuntimeDictionary) -> Result<(), SdoAbort> {
-        self.saved = Some(od.clone());
+        self.stored = Some(od.slots.iter().map(|slot| slot.value.clone()).collect());
         Ok(())
     }
 
     fn restore_defaults(&mut self, _sub: u8) -> Result<(), SdoAbort> {
-        self.saved = None;
+        self.stored = None;
         Ok(())
     }
 }

@@ -1,0 +1,236 @@
+//! `edsgen simulate FILE[@ID]... [--node-id N]... [--bus HOST:PORT | --socketcan IFACE]
+//! [--trace]`: devices built at run time from description files, each a runtime `Node` serving a
+//! [`RuntimeDictionary`] on a driver thread with its own bus connection (so the devices hear one
+//! another), until the process is stopped or the bus goes away.
+//!
+//! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
+//! DCF's `[DeviceComissioning]` NodeID. `--trace` prints every frame on the bus decoded
+//! ([`edsgen::decode`]), as a further listening connection sees it.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_runtime::transport::Transport;
+use edsgen_runtime::Node;
+
+use super::{fail, parse_node_id, read_device};
+use edsgen::decode::Decoder;
+use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
+
+/// The hub `edsgen bus` listens on by default.
+pub const DEFAULT_BUS: &str = "127.0.0.1:29536";
+
+/// How many receive and transmit PDOs a simulated node serves (1400h–140Fh, 1800h–180Fh).
+pub const PDOS: usize = 16;
+
+/// A simulated node.
+pub type SimulatedNode = Node<RuntimeDictionary, DictionaryHooks, PDOS, PDOS>;
+
+/// How long connecting to the bus (each step of the socketcand handshake) may take.
+const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
+
+/// The arguments of `edsgen simulate`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Description files (EDS, DCF, XDD, XDC), each optionally followed by `@ID`, its node-ID.
+    #[arg(required = true, value_name = "FILE[@ID]")]
+    files: Vec<String>,
+    /// Node-IDs (1 to 127), one per FILE in the same order, for files without `@ID`.
+    #[arg(long = "node-id", value_name = "N", value_parser = parse_node_id)]
+    node_id: Vec<u8>,
+    /// The socketcand server (`edsgen bus`) to join.
+    #[arg(long, value_name = "HOST:PORT", conflicts_with = "socketcan")]
+    bus: Option<String>,
+    /// A Linux SocketCAN interface to join instead (edsgen built with the `socketcan` feature).
+    #[arg(long, value_name = "IFACE")]
+    socketcan: Option<String>,
+    /// Print every frame on the bus, decoded.
+    #[arg(long)]
+    trace: bool,
+}
+
+/// One device to simulate: where it comes from, its node-ID and its model.
+struct Planned {
+    path: PathBuf,
+    node_id: u8,
+    device: edsgen_codegen::model::Device,
+}
+
+/// Runs `edsgen simulate`.
+pub fn run(args: Args) -> ExitCode {
+    let planned = match plan(&args) {
+        Ok(planned) => planned,
+        Err(message) => return fail(message),
+    };
+    let bus = match &args.socketcan {
+        Some(iface) => Bus::SocketCan(iface),
+        None => Bus::Hub(args.bus.as_deref().unwrap_or(DEFAULT_BUS)),
+    };
+    let mut decoder = Decoder::new();
+    let mut drivers: Vec<DriverHandle<Box<dyn Transport + Send>, SimulatedNode>> = Vec::new();
+    // The tracing connection first, so that it sees the boot-up messages.
+    let mut listener = None;
+    if args.trace {
+        match bus.join() {
+            Ok(transport) => listener = Some(transport),
+            Err(message) => return fail(message),
+        }
+    }
+    for p in &planned {
+        let od = RuntimeDictionary::new(&p.device, p.node_id);
+        for (index, name) in od.left_out() {
+            eprintln!(
+                "warning: {}: {index:04X}h `{name}` is left out (`edsgen generate` says why)",
+                p.path.display()
+            );
+        }
+        let transport = match bus.join() {
+            Ok(transport) => transport,
+            Err(message) => return fail(message),
+        };
+        let clock = MonotonicClock::new();
+        let node = match SimulatedNode::with_capacity(
+            od,
+            DictionaryHooks::default(),
+            p.node_id,
+            clock.now(),
+        ) {
+            Ok(node) => node,
+            Err(e) => return fail(format!("bad node-ID {}", e.0)),
+        };
+        decoder.describe(p.node_id, &p.device);
+        match Driver::with_clock(transport, node, clock).spawn() {
+            Ok(handle) => drivers.push(handle),
+            Err(e) => return fail(format!("cannot start the node's thread: {e}")),
+        }
+        eprintln!(
+            "simulating node {} ({}) on {}",
+            p.node_id,
+            p.path.display(),
+            match bus {
+                Bus::Hub(addr) | Bus::SocketCan(addr) => addr,
+            }
+        );
+    }
+    loop {
+        if let Some(finished) = drivers.iter().position(DriverHandle::is_finished) {
+            let (result, _, _) = drivers.swap_remove(finished).stop();
+            let why = result.err().map_or("closed".to_owned(), |e| e.to_string());
+            return fail(format!("{bus} went away: {why}"));
+        }
+        match listener.as_mut() {
+            Some(client) => match client.recv_timeout(Duration::from_millis(100)) {
+                Ok(Some(frame)) => {
+                    let now = SystemTime::now()
+                        .duration_since(UNIX_EPOCH)
+                        .unwrap_or_default();
+                    for line in decoder.decode(now, &frame) {
+                        println!("{line}");
+                    }
+                }
+                Ok(None) => {}
+                Err(e) => return fail(format!("{bus} went away: {e}")),
+            },
+            None => std::thread::sleep(Duration::from_millis(100)),
+        }
+    }
+}
+
+/// The bus the devices join, each through a connection of its own.
+#[derive(Debug, Clone, Copy)]
+enum Bus<'a> {
+    /// A socketcand server at this address.
+    Hub(&'a str),
+    /// A Linux SocketCAN interface.
+    SocketCan(&'a str),
+}
+
+impl Bus<'_> {
+    /// A new connection to the bus, or the message saying why not.
+    fn join(self) -> Result<Box<dyn Transport + Send>, String> {
+        match self {
+            Bus::Hub(addr) => match SocketcandClient::connect(addr, "can0", CONNECT_TIMEOUT) {
+                Ok(client) => Ok(Box::new(client)),
+                Err(e) => Err(format!("cannot reach the bus at {addr}: {e}")),
+            },
+            #[cfg(feature = "socketcan")]
+            Bus::SocketCan(iface) => {
+                match edsgen_runtime::transport::socketcan::SocketCan::open(iface) {
+                    Ok(socket) => Ok(Box::new(socket)),
+                    Err(e) => Err(e.to_string()),
+                }
+            }
+            #[cfg(not(feature = "socketcan"))]
+            Bus::SocketCan(iface) => Err(format!(
+                "cannot open SocketCAN interface `{iface}`: this edsgen is built without the `socketcan` feature; join a socketcand hub with --bus"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Bus<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Bus::Hub(addr) => write!(f, "the bus at {addr}"),
+            Bus::SocketCan(iface) => write!(f, "CAN interface {iface}"),
+        }
+    }
+}
+
+/// The devices of the command line with their node-IDs, or what is wrong.
+fn plan(args: &Args) -> Result<Vec<Planned>, String> {
+    if args.node_id.len() > args.files.len() {
+        return Err(format!(
+            "{} --node-id for {} file(s)",
+            args.node_id.len(),
+            args.files.len()
+        ));
+    }
+    let mut planned: Vec<Planned> = Vec::new();
+    for (i, arg) in args.files.iter().enumerate() {
+        let (path, given) = match arg.rsplit_once('@') {
+            Some((path, id)) => (
+                path,
+                Some(parse_node_id(id).map_err(|e| format!("{arg}: {e}"))?),
+            ),
+            None => (arg.as_str(), args.node_id.get(i).copied()),
+        };
+        let path = PathBuf::from(path);
+        let device = read_device(&path)?;
+        let node_id = match (given, commissioned_node_id(&device)) {
+            (Some(id), _) => id,
+            (None, Some(id)) => u8::try_from(id)
+                .ok()
+                .filter(|id| (1..=127).contains(id))
+                .ok_or_else(|| {
+                    format!(
+                        "{}: the DCF's NodeID {id} is not in 1..=127; give --node-id",
+                        path.display()
+                    )
+                })?,
+            (None, None) => {
+                return Err(format!(
+                    "no node-ID for `{}`: give --node-id N or write {}@N",
+                    path.display(),
+                    path.display()
+                ))
+            }
+        };
+        if let Some(other) = planned.iter().find(|p| p.node_id == node_id) {
+            return Err(format!(
+                "node-ID {node_id} is given to both `{}` and `{}`",
+                other.path.display(),
+                path.display()
+            ));
+        }
+        planned.push(Planned {
+            path,
+            node_id,
+            device,
+        });
+    }
+    Ok(planned)
+}

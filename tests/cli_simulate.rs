@@ -1,0 +1,314 @@
+//! `edsgen simulate` and `edsgen decode` on the command line: exit codes and messages for bad
+//! usage (unreadable files, bad node-IDs, an unreachable or vanishing hub, malformed log lines),
+//! several devices in one process on one hub, and `--trace`. Every wait is bounded; children are
+//! killed when their guard drops.
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::PathBuf;
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_runtime::transport::Transport;
+use edsgen_runtime::CanFrame;
+
+const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
+
+fn edsgen(args: &[&str]) -> Output {
+    Command::new(EDSGEN)
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A child process killed (and reaped) when dropped, with its output's lines on a channel.
+struct Running {
+    child: Child,
+    lines: mpsc::Receiver<String>,
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Running {
+    /// Runs `edsgen args`, its standard output and error both read line by line.
+    fn start(args: &[&str]) -> Running {
+        let mut child = Command::new(EDSGEN)
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let (tx, lines) = mpsc::channel();
+        let out = child.stdout.take().unwrap();
+        let err = child.stderr.take().unwrap();
+        for reader in [
+            Box::new(out) as Box<dyn std::io::Read + Send>,
+            Box::new(err),
+        ] {
+            let tx = tx.clone();
+            std::thread::spawn(move || {
+                for line in BufReader::new(reader).lines().map_while(Result::ok) {
+                    if tx.send(line).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
+        Running { child, lines }
+    }
+
+    /// Waits (at most 10 s) for a line for which `wanted` holds; panics with what came.
+    fn expect(&self, wanted: impl Fn(&str) -> bool) -> String {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let mut seen = Vec::new();
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(line) if wanted(&line) => return line,
+                Ok(line) => seen.push(line),
+                Err(_) => panic!("no such line; saw {seen:#?}"),
+            }
+        }
+    }
+
+    /// The exit code, waiting at most 10 s.
+    fn exit_code(&mut self) -> Option<i32> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return status.code();
+            }
+            assert!(Instant::now() < deadline, "edsgen did not exit");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+}
+
+fn hub() -> Hub {
+    Hub::start("127.0.0.1:0", HubOptions::default()).unwrap()
+}
+
+/// A client of `hub` receiving until `wanted` frames matched, at most 10 s.
+fn receive(
+    client: &mut SocketcandClient,
+    count: usize,
+    wanted: impl Fn(&CanFrame) -> bool,
+) -> Vec<CanFrame> {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut got = Vec::new();
+    while got.len() < count {
+        assert!(Instant::now() < deadline, "only {got:?}");
+        if let Some(frame) = client.recv_timeout(Duration::from_millis(50)).unwrap() {
+            if wanted(&frame) {
+                got.push(frame);
+            }
+        }
+    }
+    got
+}
+
+#[test]
+fn simulate_refuses_an_unreadable_file() {
+    let out = edsgen(&["simulate", "nope.eds@3"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(stderr(&out), "error: cannot read `nope.eds`: not a file\n");
+}
+
+#[test]
+fn simulate_refuses_bad_and_missing_node_ids() {
+    let out = edsgen(&["simulate", "eds/cp301.eds@200"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "error: eds/cp301.eds@200: node-ID 200 is not in 1..=127\n"
+    );
+    let out = edsgen(&["simulate", "eds/cp301.eds", "--node-id", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("invalid value '0' for '--node-id <N>': node-ID 0 is not in 1..=127"),
+        "{}",
+        stderr(&out)
+    );
+    let out = edsgen(&["simulate", "eds/cp301.eds"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "error: no node-ID for `eds/cp301.eds`: give --node-id N or write eds/cp301.eds@N\n"
+    );
+    let out = edsgen(&["simulate", "eds/cp301.eds@3", "eds/ms300.eds@0x03"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "error: node-ID 3 is given to both `eds/cp301.eds` and `eds/ms300.eds`\n"
+    );
+}
+
+#[test]
+fn simulate_says_when_the_hub_is_unreachable() {
+    // A port nobody listens on: bound, then released.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let addr = format!("127.0.0.1:{port}");
+    let out = edsgen(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).starts_with(&format!("error: cannot reach the bus at {addr}: ")),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+#[cfg(not(feature = "socketcan"))]
+fn simulate_says_socketcan_is_not_built_in() {
+    let out = edsgen(&["simulate", "eds/cp301.eds@3", "--socketcan", "can0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "error: cannot open SocketCAN interface `can0`: this edsgen is built without the `socketcan` feature; join a socketcand hub with --bus\n"
+    );
+}
+
+#[test]
+fn simulate_exits_2_when_the_hub_goes_away() {
+    let hub = hub();
+    let addr = hub.local_addr().to_string();
+    let mut sim = Running::start(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
+    sim.expect(|l| l == format!("simulating node 3 (eds/cp301.eds) on {addr}"));
+    hub.stop();
+    let line = sim.expect(|l| l.starts_with("error:"));
+    assert!(
+        line.starts_with(&format!("error: the bus at {addr} went away")),
+        "{line}"
+    );
+    assert_eq!(sim.exit_code(), Some(2));
+}
+
+#[test]
+fn several_devices_in_one_process_answer_and_trace() {
+    let hub = hub();
+    let addr = hub.local_addr().to_string();
+    let sim = Running::start(&[
+        "simulate",
+        "eds/cp301.eds@1",
+        "eds/goodrive350.eds",
+        "--node-id",
+        "9",
+        "--node-id",
+        "2",
+        "--bus",
+        &addr,
+        "--trace",
+    ]);
+    sim.expect(|l| l.starts_with("simulating node 1 "));
+    sim.expect(|l| l.starts_with("simulating node 2 "));
+    let mut master = SocketcandClient::connect(&addr, "can0", Duration::from_secs(3)).unwrap();
+    std::thread::sleep(Duration::from_millis(100)); // the hub's quiet period after rawmode
+                                                    // Reset both: two boot-ups.
+    master
+        .send(&CanFrame::new(0x000, &[0x81, 0x00]).unwrap())
+        .unwrap();
+    let mut boot = receive(&mut master, 2, |f| f.data() == [0x00]);
+    boot.sort_by_key(|f| f.std_id());
+    assert_eq!(boot[0].std_id(), Some(0x701));
+    assert_eq!(boot[1].std_id(), Some(0x702));
+    // Each answers its own SDO: 1018h:00 of the Goodrive350 at node 2.
+    master
+        .send(&CanFrame::new(0x602, &[0x40, 0x18, 0x10, 0x00, 0, 0, 0, 0]).unwrap())
+        .unwrap();
+    let answer = receive(&mut master, 1, |f| f.std_id() == Some(0x582));
+    assert_eq!(answer[0].data()[..4], [0x4F, 0x18, 0x10, 0x00]);
+    // The trace decodes what the master sent and what the nodes answered.
+    sim.expect(|l| l.ends_with("000  NMT        reset node, all nodes"));
+    sim.expect(|l| l.ends_with("702  HEARTBEAT  node 2 boot-up"));
+    sim.expect(|l| l.contains("582  SDO        node 2 read 1018:00 Identity object: "));
+}
+
+fn log_file(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("edsgen-cli-bus-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn decode_warns_about_a_malformed_line_with_its_number_and_goes_on() {
+    let log = log_file(
+        "bad.log",
+        "(1700000000.000000) can0 000#0103\nnot a frame\n(1700000000.100000) can0 703#05\n",
+    );
+    let out = edsgen(&["decode", log.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        stderr(&out).starts_with("warning: line 2: bad candump line"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "1700000000.000000  000  NMT        start node 3\n\
+         1700000000.100000  703  HEARTBEAT  node 3 operational\n"
+    );
+}
+
+#[test]
+fn decode_reads_standard_input_and_names_entries_from_the_eds() {
+    let mut child = Command::new(EDSGEN)
+        .args(["decode", "--eds", "eds/cp301.eds", "--node-id", "3"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(
+            b"(1700000000.000000) can0 603#2B17100064000000\n(1700000000.001000) can0 583#6017100000000000\n",
+        )
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "1700000000.001000  583  SDO        node 3 write 1017:00 Producer heartbeat time = 100\n"
+    );
+}
+
+#[test]
+fn decode_refuses_unpaired_descriptions_and_missing_files() {
+    let out = edsgen(&["decode", "--eds", "eds/cp301.eds"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "error: 1 --eds but 0 --node-id: give each description its node-ID (`--eds FILE --node-id N`)\n"
+    );
+    let out = edsgen(&["decode", "nope.log"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).starts_with("error: cannot read `nope.log`: "),
+        "{}",
+        stderr(&out)
+    );
+    let out = edsgen(&["decode", "--eds", "nope.eds", "--node-id", "3", "nope.log"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(stderr(&out), "error: cannot read `nope.eds`: not a file\n");
+}

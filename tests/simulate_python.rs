@@ -1,0 +1,498 @@
+//! `edsgen simulate` against python `canopen` 2.4.1 as master, through a socketcand hub on
+//! 127.0.0.1 (the runtime's `transport::hub`, started in the test): for each bundled card and
+//! five corpus files (a DCF whose node-ID comes from its `[DeviceComissioning]`, an XDD, one
+//! with CompactSubObj, one with DOMAINs, a big Sevcon file), `scripts/canopen_master.py` runs
+//! NMT, heartbeat, SDO expedited, segmented and block both ways, an abort, PDO configuration
+//! through python's PDO API with TPDO exchange on SYNC and an RPDO, and an EMCY. The expected
+//! lines are computed from the device's run-time dictionary. And a session's hub trace, decoded
+//! by `edsgen decode`, names the entries and shows the values sent.
+//!
+//! Every wait is bounded; the simulator is killed when its guard drops.
+
+mod sim_support;
+
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{mpsc, OnceLock};
+use std::time::{Duration, Instant};
+
+use edsgen::sim::{commissioned_node_id, RuntimeDictionary};
+use edsgen_codegen::model::Device;
+use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_runtime::{Access, DataType, ObjectDictionary};
+
+const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn ci() -> bool {
+    std::env::var("CI").as_deref() == Ok("true")
+}
+
+/// Skips (returns `None`) with a message, or fails under CI.
+fn skip<T>(why: String) -> Option<T> {
+    assert!(!ci(), "{why}");
+    eprintln!("skipping: {why}");
+    None
+}
+
+/// The venv's python (`scripts/python-venv.sh` makes it on first use).
+fn python() -> Option<PathBuf> {
+    static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
+    let found = PYTHON.get_or_init(|| {
+        let out = Command::new(root().join("scripts/python-venv.sh"))
+            .output()
+            .map_err(|e| format!("cannot run scripts/python-venv.sh: {e}"))?;
+        if !out.status.success() {
+            return Err(format!(
+                "scripts/python-venv.sh failed:\n{}",
+                String::from_utf8_lossy(&out.stderr)
+            ));
+        }
+        Ok(root().join(".venv/bin/python"))
+    });
+    match found {
+        Ok(python) => Some(python.clone()),
+        Err(why) => skip(why.clone()),
+    }
+}
+
+fn corpus_file(relative: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("EDSGEN_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("../shared/eds-corpus"));
+    let path = dir.join(relative);
+    if path.is_file() {
+        Some(path)
+    } else {
+        skip(format!("{} not found (set EDSGEN_CORPUS)", path.display()))
+    }
+}
+
+/// A child process killed (and reaped) when dropped.
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// `edsgen simulate ARGS --bus ADDR`, once it says it simulates `devices` nodes.
+fn simulate(args: &[&str], addr: &str, devices: usize) -> Killed {
+    let mut child = Killed(
+        Command::new(EDSGEN)
+            .arg("simulate")
+            .args(args)
+            .args(["--bus", addr])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("edsgen runs"),
+    );
+    let stderr = child.0.stderr.take().expect("piped");
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let mut started = 0;
+    let mut said = Vec::new();
+    while started < devices {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match rx.recv_timeout(left) {
+            Ok(line) => {
+                started += usize::from(line.starts_with("simulating node"));
+                said.push(line);
+            }
+            Err(_) => panic!("edsgen simulate did not start: {said:?}"),
+        }
+    }
+    child
+}
+
+/// Runs `python script args`, at most 60 s; its standard output's lines.
+fn run_python(python: &Path, args: &[&str]) -> Vec<String> {
+    let mut child = Killed(
+        Command::new(python)
+            .arg(root().join("scripts/canopen_master.py"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("python runs"),
+    );
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let status = loop {
+        if let Some(status) = child.0.try_wait().expect("wait") {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "python master timed out");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let (mut out, mut err) = (String::new(), String::new());
+    child
+        .0
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    child
+        .0
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(status.success(), "python master failed:\n{out}\n{err}");
+    out.lines().map(str::to_owned).collect()
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn read_value(od: &impl ObjectDictionary, index: u16, sub: u8) -> Vec<u8> {
+    let mut buf = vec![0u8; od.value_len(index, sub).unwrap()];
+    let n = od.read(index, sub, 0, &mut buf).unwrap();
+    buf.truncate(n);
+    buf
+}
+
+fn is_integer(data_type: DataType) -> bool {
+    !matches!(
+        data_type,
+        DataType::Boolean
+            | DataType::Real32
+            | DataType::Real64
+            | DataType::VisibleString
+            | DataType::OctetString
+            | DataType::UnicodeString
+            | DataType::Domain
+            | DataType::TimeOfDay
+            | DataType::TimeDifference
+    )
+}
+
+/// A new value for the entry at `position` the dictionary accepts (its value plus 1, else
+/// minus 1), if there is one.
+fn new_value(od: &RuntimeDictionary, position: usize) -> Option<Vec<u8>> {
+    let e = od.entries()[position];
+    let now = read_value(od, e.index, e.sub);
+    let plus = now
+        .iter()
+        .copied()
+        .fold((Vec::new(), 1u16), |(mut v, carry), b| {
+            let sum = u16::from(b) + carry;
+            v.push(sum as u8);
+            (v, sum >> 8)
+        });
+    let minus = now
+        .iter()
+        .copied()
+        .fold((Vec::new(), 1i16), |(mut v, borrow), b| {
+            let diff = i16::from(b) - borrow;
+            v.push(diff as u8);
+            (v, i16::from(diff < 0))
+        });
+    [plus.0, minus.0]
+        .into_iter()
+        .find(|candidate| od.clone().write(e.index, e.sub, candidate).is_ok())
+}
+
+/// What python should do with `device` as node `node_id`, and the lines it should print.
+fn plan(device: &Device, node_id: u8) -> (serde_json::Value, Vec<String>) {
+    let mut od = RuntimeDictionary::new(device, node_id);
+    let entries = od.entries().to_vec();
+    let name = |e: &edsgen_runtime::EntryDescriptor| format!("{:04X}:{:02X}", e.index, e.sub);
+    // Python's object dictionary: every object the dictionary holds.
+    let mut objects: Vec<serde_json::Value> = Vec::new();
+    for object in device.objects.values() {
+        let subs: Vec<serde_json::Value> = entries
+            .iter()
+            .filter(|e| e.index == object.index)
+            .map(|e| {
+                let sub = &object.subs[&e.sub];
+                let basic = device.basic_type(sub.data_type.unwrap()).unwrap();
+                serde_json::json!([e.sub, basic.index(), access(e.access), sub.name])
+            })
+            .collect();
+        if !subs.is_empty() {
+            objects.push(serde_json::json!({
+                "index": object.index,
+                "name": object.name,
+                "record": object.object_type.has_subs(),
+                "subs": subs,
+            }));
+        }
+    }
+    let skip_comm = |index: u16| (0x1000..0x2000).contains(&index);
+    let fixed_integer = |e: &edsgen_runtime::EntryDescriptor| {
+        is_integer(e.data_type) && e.data_type.fixed_size().is_some_and(|s| s <= 4)
+    };
+    let rw = (0..entries.len())
+        .find(|&p| {
+            let e = entries[p];
+            !skip_comm(e.index) && e.access.writable() && fixed_integer(&e)
+        })
+        .expect("a writable integer");
+    let rw_value = new_value(&od, rw).expect("a new value");
+    od.write(entries[rw].index, entries[rw].sub, &rw_value)
+        .unwrap();
+    let bytes = (0..entries.len()).find(|&p| {
+        let e = entries[p];
+        e.access.writable()
+            && matches!(
+                e.data_type,
+                DataType::VisibleString | DataType::OctetString | DataType::Domain
+            )
+            && od.capacity(p).is_some_and(|c| c >= 20)
+    });
+    // PDO1 is configured only where its mapping can change (sub-index 0 writable).
+    let dynamic = |index: u16| od.find(index, 0).is_ok_and(|e| e.access.writable());
+    let tpdo = (0..entries.len()).find(|&p| {
+        let e = entries[p];
+        dynamic(0x1A00)
+            && e.pdo_mappable
+            && matches!(e.access, Access::Ro | Access::Rw | Access::Rwr)
+            && fixed_integer(&e)
+            && p != rw
+    });
+    let rpdo = (0..entries.len()).find(|&p| {
+        let e = entries[p];
+        dynamic(0x1600)
+            && e.pdo_mappable
+            && matches!(e.access, Access::Rw | Access::Rww | Access::Wo)
+            && fixed_integer(&e)
+            && new_value(&od, p).is_some()
+    });
+    // The node sends emergencies on 80h + node-ID without 1014h, else where 1014h holds a
+    // valid COB-ID (Sevcon's has no default: 0).
+    let emcy = od.find(0x1014, 0).is_err() || {
+        let cob = read_value(&od, 0x1014, 0);
+        cob.len() == 4
+            && cob[3] & 0x80 == 0
+            && u32::from_le_bytes([cob[0], cob[1], cob[2], cob[3]]) != 0
+    };
+    let absent = (0x5FFFu16..).find(|&i| od.locate(i, 0).is_err()).unwrap();
+
+    let mut expected = vec![
+        "boot-up".to_owned(),
+        "heartbeat pre-operational".to_owned(),
+        format!("read 1000:00 {}", hex(&read_value(&od, 0x1000, 0))),
+        format!("write {} {}", name(&entries[rw]), hex(&rw_value)),
+    ];
+    let mut plan = serde_json::json!({
+        "node_id": node_id,
+        "objects": objects,
+        "rw": {"entry": name(&entries[rw]), "value": hex(&rw_value)},
+        "absent": format!("{absent:04X}:00"),
+        "emcy": emcy,
+    });
+    if let Some(p) = bytes {
+        let value: Vec<u8> = b"edsgen simulate 2026".to_vec();
+        let reversed: Vec<u8> = value.iter().rev().copied().collect();
+        plan["bytes"] = serde_json::json!({"entry": name(&entries[p]), "value": hex(&value)});
+        expected.push(format!("segmented {} {}", name(&entries[p]), hex(&value)));
+        expected.push(format!("block {} {}", name(&entries[p]), hex(&reversed)));
+    }
+    expected.extend(["abort 06020000".to_owned(), "operational".to_owned()]);
+    if let Some(p) = tpdo {
+        let e = entries[p];
+        plan["tpdo"] = serde_json::json!(name(&e));
+        expected.push(format!(
+            "tpdo {} {}",
+            name(&e),
+            hex(&read_value(&od, e.index, e.sub))
+        ));
+    }
+    if let Some(p) = rpdo {
+        let value = new_value(&od, p).unwrap();
+        plan["rpdo"] = serde_json::json!({"entry": name(&entries[p]), "value": hex(&value)});
+        expected.push(format!("rpdo {} {}", name(&entries[p]), hex(&value)));
+        expected.push(format!("emcy {}", if emcy { "8210" } else { "none" }));
+    }
+    expected.push("stopped".to_owned());
+    (plan, expected)
+}
+
+fn access(access: Access) -> &'static str {
+    match access {
+        Access::Ro => "ro",
+        Access::Wo => "wo",
+        Access::Rw => "rw",
+        Access::Rwr => "rwr",
+        Access::Rww => "rww",
+        Access::Const => "const",
+    }
+}
+
+/// python as master of `path` simulated as `node_id` (`None`: the DCF's own), through a hub
+/// whose trace goes to `trace` if given. Returns the decoded trace's lines, if traced.
+fn python_masters(path: &Path, node_id: Option<u8>, trace: Option<&Path>) {
+    let Some(python) = python() else { return };
+    let device = edsgen_codegen::read::read_file(path).unwrap().device;
+    let id = node_id.unwrap_or_else(|| commissioned_node_id(&device).unwrap() as u8);
+    let (plan, expected) = plan(&device, id);
+    let dir = std::env::temp_dir().join(format!("edsgen-simulate-{}-{id}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let plan_path = dir.join(format!("plan-{id}.json"));
+    std::fs::write(&plan_path, plan.to_string()).unwrap();
+    let log: Option<Box<dyn std::io::Write + Send>> =
+        trace.map(|p| Box::new(std::fs::File::create(p).unwrap()) as _);
+    let hub = Hub::start(
+        "127.0.0.1:0",
+        HubOptions {
+            log,
+            ..HubOptions::default()
+        },
+    )
+    .expect("the hub starts");
+    let addr = hub.local_addr().to_string();
+    let file = path.to_str().unwrap().to_owned();
+    let arg = match node_id {
+        Some(id) => format!("{file}@{id}"),
+        None => file,
+    };
+    let _sim = simulate(&[&arg], &addr, 1);
+    let (host, port) = addr.rsplit_once(':').unwrap();
+    let got = run_python(&python, &[host, port, plan_path.to_str().unwrap()]);
+    assert_eq!(got, expected, "{}", path.display());
+    drop(_sim);
+    hub.stop();
+}
+
+#[test]
+fn python_masters_the_simulated_cp301() {
+    python_masters(&root().join("eds/cp301.eds"), Some(3), None);
+}
+
+#[test]
+fn python_masters_the_simulated_ms300() {
+    python_masters(&root().join("eds/ms300.eds"), Some(4), None);
+}
+
+#[test]
+fn python_masters_the_simulated_goodrive350() {
+    python_masters(&root().join("eds/goodrive350.eds"), Some(5), None);
+}
+
+#[test]
+fn python_masters_the_simulated_rd11() {
+    python_masters(&root().join("eds/rd11.eds"), Some(6), None);
+}
+
+#[test]
+fn python_masters_the_simulated_hd1e() {
+    python_masters(&root().join("eds/hd1e.eds"), Some(7), None);
+}
+
+#[test]
+fn python_masters_a_dcf_at_its_commissioned_node_id() {
+    // Its PDO mappings are static (CompactSubObj: sub-index 0 read-only): no PDO part.
+    if let Some(path) = corpus_file("ros-industrial__ros_canopen/canopen_402__resources__pilz.dcf")
+    {
+        python_masters(&path, None, None);
+    }
+}
+
+#[test]
+fn python_masters_a_dcf_with_dynamic_pdo_mapping() {
+    if let Some(path) = corpus_file("lely-industries__lely-core/test__gw_txt-slave.dcf") {
+        python_masters(&path, Some(20), None);
+    }
+}
+
+#[test]
+fn python_masters_an_xdd() {
+    if let Some(path) = corpus_file("CANopenNode__CANopenDemo/demo__demoDevice.xdd") {
+        python_masters(&path, Some(10), None);
+    }
+}
+
+#[test]
+fn python_masters_a_file_with_compact_sub_obj() {
+    if let Some(path) = corpus_file("christiansandberg__canopen/test__sensor.eds") {
+        python_masters(&path, Some(11), None);
+    }
+}
+
+#[test]
+fn python_masters_a_file_with_domains() {
+    if let Some(path) = corpus_file("CANopenNode__CANopenNode/example__IO.eds") {
+        python_masters(&path, Some(12), None);
+    }
+}
+
+#[test]
+fn python_masters_a_big_sevcon_file() {
+    if let Some(path) = corpus_file("brtiberio__Sevcon_gen4/Gen4.eds") {
+        python_masters(&path, Some(13), None);
+    }
+}
+
+#[test]
+fn a_session_trace_decoded_names_the_entries_and_shows_the_values_sent() {
+    let dir = std::env::temp_dir().join(format!("edsgen-trace-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let eds = dir.join("sim.eds");
+    std::fs::write(&eds, sim_support::DEVICE_EDS).unwrap();
+    let trace = dir.join("session.log");
+    if python().is_none() {
+        return;
+    }
+    python_masters(&eds, Some(9), Some(&trace));
+    let out = Command::new(EDSGEN)
+        .args(["decode", "--eds", eds.to_str().unwrap(), "--node-id", "9"])
+        .arg(&trace)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    // Without the timestamps.
+    let lines: Vec<String> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|line| line.split_once("  ").unwrap().1.to_owned())
+        .collect();
+    for expected in [
+        "000  NMT        reset node 9",
+        "709  HEARTBEAT  node 9 boot-up",
+        "589  SDO        node 9 write 1017:00 Producer heartbeat time = 50",
+        "709  HEARTBEAT  node 9 pre-operational",
+        "589  SDO        node 9 read 1000:00 Device type = 131474 (0x00020192)",
+        "589  SDO        node 9 write 2002:00 Target speed = 101",
+        "589  SDO        node 9 read 2002:00 Target speed = 101",
+        "589  SDO        node 9 write 2000:00 Device label = \"edsgen simulate 2026\" (segmented, 20 bytes)",
+        "589  SDO        node 9 read 2000:00 Device label = \"edsgen simulate 2026\" (segmented, 20 bytes)",
+        "589  SDO        node 9 write 2000:00 Device label = \"6202 etalumis negsde\" (block, 20 bytes)",
+        "609  SDO        node 9 read 2000:00 Device label = \"6202 etalumis negsde\" (block, 20 bytes)",
+        "589  SDO        node 9 read 5FFF:00 (not in the description): abort 0602 0000 object does not exist in the object dictionary",
+        "589  SDO        node 9 write 1A00:01 TPDO1 mapping parameter: Mapped object 1 = 537067536 (0x20030010)",
+        "000  NMT        start node 9",
+        "080  SYNC",
+        "189  TPDO1      node 9 Actual speed = -2",
+        "209  RPDO1      node 9 Target speed = 102",
+        "209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)",
+        "089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00",
+        "000  NMT        stop node 9",
+    ] {
+        assert!(lines.iter().any(|l| l == expected), "{expected}\nnot in\n{}", lines.join("\n"));
+    }
+    // Every frame attributed.
+    assert!(
+        !lines
+            .iter()
+            .any(|l| l.contains(" RAW ") || l.contains("fits no")),
+        "{lines:#?}"
+    );
+}
