@@ -8,6 +8,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+
+mod cmd;
 use edsgen_codegen::diag::{self, Severity};
 use edsgen_codegen::{builder, read, render, rules, validate};
 
@@ -61,6 +63,28 @@ enum Command {
         #[arg(long, value_enum, default_value_t = OutputFormat::Human)]
         format: OutputFormat,
     },
+    /// Read or write an entry of a node on a live bus (SDO).
+    Sdo {
+        #[command(subcommand)]
+        command: cmd::sdo::SdoCommand,
+    },
+    /// Send an NMT command to a node or to all nodes.
+    Nmt {
+        #[command(flatten)]
+        bus: cmd::BusArgs,
+        /// The command.
+        #[arg(value_enum)]
+        verb: cmd::nmt::NmtVerb,
+        /// The node-ID, or `all`.
+        node: String,
+    },
+    /// Find the nodes on a bus: node-ID, NMT state and identity.
+    Scan {
+        #[command(flatten)]
+        bus: cmd::BusArgs,
+    },
+    /// Compare a live device with its description (every readable entry, and its identity).
+    Check(cmd::check::CheckArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -108,6 +132,10 @@ fn main() -> ExitCode {
             module,
         } => cmd_generate(&file, output.as_deref(), module.as_deref()),
         Command::Rules { format } => cmd_rules(format),
+        Command::Sdo { command } => cmd::sdo::run(&command),
+        Command::Nmt { bus, verb, node } => cmd::nmt::run(&bus, verb, &node),
+        Command::Scan { bus } => cmd::scan::run(&bus),
+        Command::Check(args) => cmd::check::run(&args),
     }
 }
 

@@ -17,6 +17,7 @@ use crate::wire::nmt::NmtCommand;
 use crate::wire::sdo::Multiplexer;
 
 use super::emcy::Emergency;
+use super::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
 use super::nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch, WatchError};
 use super::sdo_client::{abort_meaning, Completed, Mode, SdoClient, SdoError, StartError};
 
@@ -32,6 +33,8 @@ pub enum MasterEvent {
     Emergency(Emergency),
     /// A node sent its boot-up message (watched or not).
     BootUp(u8),
+    /// A boot-up check found an identity entry other than expected.
+    IdentityMismatch(IdentityMismatch),
 }
 
 /// Why a master call failed.
@@ -270,6 +273,101 @@ impl<T: Transport> Master<T> {
             let now = self.clock.now();
             if now >= deadline {
                 return Err(MasterError::Timeout);
+            }
+            self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+    }
+
+    /// The boot-up check: reads 1000h and 1018h:1–4 where `expected` names a value and
+    /// returns each difference (also queued as a [`MasterEvent::IdentityMismatch`]). A read
+    /// that fails with an abort is a mismatch; a transport error is an error.
+    pub fn check_identity(
+        &mut self,
+        node_id: u8,
+        expected: &ExpectedIdentity,
+    ) -> Result<Vec<IdentityMismatch>, MasterError> {
+        let mut mismatches = Vec::new();
+        for (entry, expected) in IDENTITY_ENTRIES.into_iter().zip(expected.expected()) {
+            let Some(expected) = expected else {
+                continue;
+            };
+            let (actual, abort) = match self.read(node_id, entry) {
+                Ok(value) if value == expected => continue,
+                Ok(value) => (Some(value), None),
+                Err(MasterError::Sdo { error, .. }) => (None, Some(error.code())),
+                Err(MasterError::Length { .. }) => (None, None),
+                Err(e) => return Err(e),
+            };
+            let mismatch = IdentityMismatch {
+                node_id,
+                entry,
+                expected,
+                actual,
+                abort,
+            };
+            self.events
+                .push_back(MasterEvent::IdentityMismatch(mismatch));
+            mismatches.push(mismatch);
+        }
+        Ok(mismatches)
+    }
+
+    /// Finds the nodes on the bus: an SDO upload of 1000h to every node-ID 1..=127 at once (one
+    /// channel each), and the node-IDs that answered within `timeout` (with a value or an
+    /// abort), in order. Node-IDs that stay silent are not sent an abort.
+    pub fn scan(&mut self, timeout: StdDuration) -> Result<Vec<u8>, MasterError> {
+        let now = self.clock.now();
+        for node_id in 1..=127 {
+            let client = self.client(node_id)?;
+            if client
+                .upload(now, Multiplexer::new(0x1000, 0), Mode::Normal)
+                .is_err()
+            {
+                return Err(MasterError::Busy(node_id));
+            }
+        }
+        let deadline = now + to_duration(timeout);
+        let mut found = Vec::new();
+        loop {
+            let now = self.clock.now();
+            for (&node_id, client) in self.clients.iter_mut() {
+                match client.poll_result() {
+                    Some(Ok(_)) | Some(Err(SdoError::Server(_))) => found.push(node_id),
+                    _ => {}
+                }
+            }
+            if now >= deadline || self.clients.values().all(|c| !c.is_busy()) {
+                break;
+            }
+            self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+        for client in self.clients.values_mut() {
+            client.cancel();
+        }
+        found.sort_unstable();
+        Ok(found)
+    }
+
+    /// The NMT state `node_id` reports: the last heartbeat seen, else the answer to a guarding
+    /// RTR within `timeout` (`None` if the node does not answer one).
+    pub fn query_state(
+        &mut self,
+        node_id: u8,
+        timeout: StdDuration,
+    ) -> Result<Option<NmtState>, MasterError> {
+        if let Some(state) = self.last_state(node_id) {
+            return Ok(Some(state));
+        }
+        let id = ErrorControlRepr::cob_id(node_id);
+        self.transport.send(&CanFrame::remote(id, 1))?;
+        let deadline = self.clock.now() + to_duration(timeout);
+        loop {
+            let now = self.clock.now();
+            if let Some(state) = self.last_state(node_id) {
+                return Ok(Some(state));
+            }
+            if now >= deadline {
+                return Ok(None);
             }
             self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
         }

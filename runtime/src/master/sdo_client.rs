@@ -359,6 +359,16 @@ impl<const BUF: usize> SdoClient<BUF> {
         }
     }
 
+    /// Forgets the transfer in progress without telling the server, as for a node-ID that never
+    /// answered (a scan); no result is reported.
+    pub fn cancel(&mut self) {
+        self.state = State::Idle;
+        self.deadline = None;
+        self.tx = None;
+        self.result = None;
+        self.fifo.clear();
+    }
+
     /// The outcome of the last transfer, once.
     pub fn poll_result(&mut self) -> Option<Result<Completed, SdoError>> {
         self.result.take()
