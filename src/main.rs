@@ -8,10 +8,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-
-mod cmd;
 use edsgen_codegen::diag::{self, Severity};
 use edsgen_codegen::{builder, read, render, rules, validate};
+
+mod cmd;
 
 #[derive(Parser)]
 #[command(
@@ -85,6 +85,8 @@ enum Command {
     },
     /// Compare a live device with its description (every readable entry, and its identity).
     Check(cmd::check::CheckArgs),
+    /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
+    Bus(cmd::bus::BusArgs),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -136,6 +138,7 @@ fn main() -> ExitCode {
         Command::Nmt { bus, verb, node } => cmd::nmt::run(&bus, verb, &node),
         Command::Scan { bus } => cmd::scan::run(&bus),
         Command::Check(args) => cmd::check::run(&args),
+        Command::Bus(args) => cmd::bus::run(&args),
     }
 }
 

@@ -12,6 +12,7 @@
 //!   RTR on 700h + node-ID, `Event::LifeGuardingLost` and EMCY 8130h). Without it that RTR is
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
 //! - `std`: the virtual bus ([`vbus`]) and the operating-system transports ([`transport`]).
+//! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less

@@ -79,11 +79,11 @@ fn driver_serves_a_node_over_the_memory_bus_in_real_time() {
         frame(0x705, &[0x05]),
         "operational"
     );
-    let raised = driver.with_device(|node, _now| node.raise_error(0x2310, 0x02, [1, 2, 3, 4, 5]));
+    let raised = driver.with_device(|node, _now| node.raise_error(0x2310, 0x03, [1, 2, 3, 4, 5]));
     assert!(raised);
     assert_eq!(
         next_with_id(&mut master, 0x085),
-        frame(0x085, &[0x10, 0x23, 0x02, 1, 2, 3, 4, 5])
+        frame(0x085, &[0x10, 0x23, 0x03, 1, 2, 3, 4, 5])
     );
     let (result, _endpoint, node) = driver.stop();
     result.unwrap();

@@ -1,6 +1,8 @@
-//! The bench commands that talk to a live bus (`sdo`, `nmt`, `scan`, `check`): how they reach
-//! the bus, parse node-IDs and addresses, and read values as an EDS types them.
+//! The subcommands that run on a bus, one module each (`bus`, `sdo`, `nmt`, `scan`, `check`),
+//! and what the master's commands share: how they reach the bus, parse node-IDs and addresses,
+//! and read values as an EDS types them.
 
+pub mod bus;
 pub mod check;
 pub mod nmt;
 pub mod scan;

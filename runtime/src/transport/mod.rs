@@ -15,6 +15,8 @@ use crate::frame::CanFrame;
 pub mod driver;
 pub mod hub;
 pub mod memory;
+#[cfg(all(feature = "socketcan", target_os = "linux"))]
+pub mod socketcan;
 pub mod socketcand;
 pub mod trace;
 

@@ -1,0 +1,73 @@
+//! `edsgen bus`: a socketcand hub on TCP that python-can, `edsgen simulate` and the runtime's
+//! socketcand client join as one CAN bus, until Ctrl-C; optionally logging every frame in the
+//! `candump -L` format.
+
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::mpsc;
+
+use edsgen_runtime::transport::hub::{Hub, HubOptions};
+
+/// The arguments of `edsgen bus`.
+#[derive(clap::Args)]
+pub struct BusArgs {
+    /// The address to listen on (port 0 picks a free one).
+    #[arg(long, default_value = "127.0.0.1:29536")]
+    listen: String,
+    /// Write every relayed frame to this file as `candump -L` lines.
+    #[arg(long)]
+    log: Option<PathBuf>,
+}
+
+/// Runs the hub until Ctrl-C. Exit code 2 if it cannot listen or open the log.
+pub fn run(args: &BusArgs) -> ExitCode {
+    match serve(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn serve(args: &BusArgs) -> Result<(), String> {
+    let log = match &args.log {
+        Some(path) => {
+            let file = File::create(path)
+                .map_err(|e| format!("cannot create the log {}: {e}", path.display()))?;
+            Some(Box::new(BufWriter::new(file)) as Box<dyn Write + Send>)
+        }
+        None => None,
+    };
+    let (stop, stopped) = mpsc::channel();
+    ctrlc::set_handler(move || {
+        let _ = stop.send(());
+    })
+    .map_err(|e| format!("cannot catch Ctrl-C: {e}"))?;
+    let options = HubOptions {
+        log,
+        ..HubOptions::default()
+    };
+    let hub = Hub::start(args.listen.as_str(), options).map_err(|e| {
+        let reason = match e.kind() {
+            io::ErrorKind::AddrInUse => "the address is in use (another hub?)".to_owned(),
+            _ => e.to_string(),
+        };
+        format!("cannot listen on {}: {reason}", args.listen)
+    })?;
+    let addr = hub.local_addr();
+    println!("edsgen bus: socketcand hub listening on {addr}, channel can0; Ctrl-C stops it");
+    println!(
+        "  python-can: can.Bus(interface=\"socketcand\", host=\"{}\", port={}, channel=\"can0\")",
+        addr.ip(),
+        addr.port()
+    );
+    let _ = io::stdout().flush();
+    let _ = stopped.recv();
+    let relayed = hub.frames_relayed();
+    hub.stop();
+    println!("edsgen bus: stopped after relaying {relayed} frame(s)");
+    Ok(())
+}
