@@ -62,6 +62,22 @@ pub enum MasterError {
     Value,
     /// Nothing happened within the time allowed (waiting for a boot-up).
     Timeout,
+    /// A CiA 402 drive did not leave `state` in time (or stays in fault after a reset).
+    DriveStuck {
+        /// The node.
+        node_id: u8,
+        /// The state it shows.
+        state: crate::master::cia402::DriveState,
+    },
+    /// The drive does not show the mode of operation set.
+    ModeNotConfirmed {
+        /// The node.
+        node_id: u8,
+        /// The mode written to 6060h.
+        wanted: i8,
+        /// The mode 6061h shows.
+        shown: i8,
+    },
     /// The node's SDO channel is still busy (a transfer cut short by a transport error).
     Busy(u8),
     /// The node-ID is not 1..=127 (0 for a broadcast where one is allowed).
@@ -101,6 +117,17 @@ impl fmt::Display for MasterError {
             ),
             MasterError::Value => write!(f, "the value does not fit the entry"),
             MasterError::Timeout => write!(f, "timed out"),
+            MasterError::DriveStuck { node_id, state } => {
+                write!(f, "the drive of node {node_id} stays in {state:?}")
+            }
+            MasterError::ModeNotConfirmed {
+                node_id,
+                wanted,
+                shown,
+            } => write!(
+                f,
+                "node {node_id} shows mode of operation {shown}, not {wanted}"
+            ),
             MasterError::Busy(id) => write!(f, "the SDO channel to node {id} is busy"),
             MasterError::NodeId(id) => write!(f, "node-ID {id} is not 1..=127"),
             MasterError::Io(e) => write!(f, "bus: {e}"),

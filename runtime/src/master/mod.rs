@@ -8,6 +8,9 @@
 
 #[cfg(feature = "std")]
 pub mod blocking;
+pub mod cia402;
+#[cfg(feature = "std")]
+mod drive;
 pub mod emcy;
 mod fifo;
 pub mod identity;
