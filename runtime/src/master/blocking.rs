@@ -19,6 +19,7 @@ use crate::wire::sdo::Multiplexer;
 use super::emcy::Emergency;
 use super::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
 use super::nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch, WatchError};
+use super::pdo::PdoConfig;
 use super::sdo_client::{abort_meaning, Completed, Mode, SdoClient, SdoError, StartError};
 
 /// The longest the master sleeps in a transport before it looks at its timers again.
@@ -397,6 +398,52 @@ impl<T: Transport> Master<T> {
                 return Ok(None);
             }
             self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+    }
+
+    /// Configures a PDO of `node_id` by SDO in CiA 301's safe order (see
+    /// [`PdoConfig::writes`]); the first write the node refuses is the error.
+    pub fn configure_pdo(&mut self, node_id: u8, config: &PdoConfig) -> Result<(), MasterError> {
+        for (mux, value, len) in config.writes() {
+            let bytes = value.to_le_bytes();
+            self.download(node_id, mux, &bytes[..usize::from(len)], Mode::Normal)?;
+        }
+        Ok(())
+    }
+
+    /// Sends a PDO: `payload` (a generated struct's `encode()`) on `cob_id` (its `cob_id(node)`).
+    pub fn send_pdo(&mut self, cob_id: u32, payload: &[u8]) -> Result<(), MasterError> {
+        let frame = if cob_id & 0x2000_0000 != 0 {
+            CanFrame::new_extended(cob_id & 0x1FFF_FFFF, payload)
+        } else {
+            u16::try_from(cob_id & 0x7FF)
+                .ok()
+                .and_then(|id| CanFrame::new(id, payload))
+        };
+        self.transport.send(&frame.ok_or(MasterError::Value)?)?;
+        Ok(())
+    }
+
+    /// Waits at most `timeout` for a frame `accept` takes (a PDO decoded by a
+    /// [`pdo_dispatch!`](crate::pdo_dispatch) enum), handling everything else as usual.
+    pub fn receive<R>(
+        &mut self,
+        timeout: StdDuration,
+        mut accept: impl FnMut(&CanFrame) -> Option<R>,
+    ) -> Result<Option<R>, MasterError> {
+        let deadline = self.clock.now() + to_duration(timeout);
+        loop {
+            let now = self.clock.now();
+            if now >= deadline {
+                return Ok(None);
+            }
+            let wait = StdDuration::from_micros((deadline - now).as_micros()).min(MAX_WAIT);
+            if let Some(frame) = self.transport.recv_timeout(wait)? {
+                self.dispatch(&frame);
+                if let Some(taken) = accept(&frame) {
+                    return Ok(Some(taken));
+                }
+            }
         }
     }
 
