@@ -79,6 +79,28 @@ enum Command {
         /// The rule code, e.g. EDS317.
         code: String,
     },
+    /// Read or write an entry of a node on a live bus (SDO).
+    Sdo {
+        #[command(subcommand)]
+        command: cmd::sdo::SdoCommand,
+    },
+    /// Send an NMT command to a node or to all nodes.
+    Nmt {
+        #[command(flatten)]
+        bus: cmd::BusArgs,
+        /// The command.
+        #[arg(value_enum)]
+        verb: cmd::nmt::NmtVerb,
+        /// The node-ID, or `all`.
+        node: String,
+    },
+    /// Find the nodes on a bus: node-ID, NMT state and identity.
+    Scan {
+        #[command(flatten)]
+        bus: cmd::BusArgs,
+    },
+    /// Compare a live device with its description (every readable entry, and its identity).
+    Check(cmd::check::CheckArgs),
     /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
     Bus(cmd::bus::BusArgs),
     /// Simulate devices from description files on a CAN bus.
@@ -160,6 +182,10 @@ fn main() -> ExitCode {
         } => cmd::generate::run(&file, output.as_deref(), module.as_deref()),
         Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
         Command::Explain { code } => cmd::rules::explain(&code),
+        Command::Sdo { command } => cmd::sdo::run(&command),
+        Command::Nmt { bus, verb, node } => cmd::nmt::run(&bus, verb, &node),
+        Command::Scan { bus } => cmd::scan::run(&bus),
+        Command::Check(args) => cmd::check::run(&args),
         Command::Bus(args) => cmd::bus::run(&args),
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Decode(args) => cmd::decode::run(args),

@@ -142,8 +142,17 @@ mod tests {
         assert!(parse_address("10000:0").is_err());
         assert_eq!(parse_node_id("5"), Ok(5));
         assert_eq!(parse_node_id("0x7F"), Ok(127));
-        assert_eq!(parse_node_id("0"), Err("node-ID 0 is not in 1..=127".into()));
-        assert_eq!(parse_node_id("128"), Err("node-ID 128 is not in 1..=127".into()));
-        assert_eq!(parse_node_id("x"), Err("`x` is not a node-ID (1 to 127)".into()));
+        assert_eq!(
+            parse_node_id("0"),
+            Err("node-ID 0 is not in 1..=127".into())
+        );
+        assert_eq!(
+            parse_node_id("128"),
+            Err("node-ID 128 is not in 1..=127".into())
+        );
+        assert_eq!(
+            parse_node_id("x"),
+            Err("`x` is not a node-ID (1 to 127)".into())
+        );
     }
 }

@@ -17,7 +17,9 @@ use crate::wire::nmt::NmtCommand;
 use crate::wire::sdo::Multiplexer;
 
 use super::emcy::Emergency;
+use super::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
 use super::nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch, WatchError};
+use super::pdo::PdoConfig;
 use super::sdo_client::{abort_meaning, Completed, Mode, SdoClient, SdoError, StartError};
 
 /// The longest the master sleeps in a transport before it looks at its timers again.
@@ -32,6 +34,8 @@ pub enum MasterEvent {
     Emergency(Emergency),
     /// A node sent its boot-up message (watched or not).
     BootUp(u8),
+    /// A boot-up check found an identity entry other than expected.
+    IdentityMismatch(IdentityMismatch),
 }
 
 /// Why a master call failed.
@@ -59,6 +63,22 @@ pub enum MasterError {
     Value,
     /// Nothing happened within the time allowed (waiting for a boot-up).
     Timeout,
+    /// A CiA 402 drive did not leave `state` in time (or stays in fault after a reset).
+    DriveStuck {
+        /// The node.
+        node_id: u8,
+        /// The state it shows.
+        state: crate::master::cia402::DriveState,
+    },
+    /// The drive does not show the mode of operation set.
+    ModeNotConfirmed {
+        /// The node.
+        node_id: u8,
+        /// The mode written to 6060h.
+        wanted: i8,
+        /// The mode 6061h shows.
+        shown: i8,
+    },
     /// The node's SDO channel is still busy (a transfer cut short by a transport error).
     Busy(u8),
     /// The node-ID is not 1..=127 (0 for a broadcast where one is allowed).
@@ -98,6 +118,17 @@ impl fmt::Display for MasterError {
             ),
             MasterError::Value => write!(f, "the value does not fit the entry"),
             MasterError::Timeout => write!(f, "timed out"),
+            MasterError::DriveStuck { node_id, state } => {
+                write!(f, "the drive of node {node_id} stays in {state:?}")
+            }
+            MasterError::ModeNotConfirmed {
+                node_id,
+                wanted,
+                shown,
+            } => write!(
+                f,
+                "node {node_id} shows mode of operation {shown}, not {wanted}"
+            ),
             MasterError::Busy(id) => write!(f, "the SDO channel to node {id} is busy"),
             MasterError::NodeId(id) => write!(f, "node-ID {id} is not 1..=127"),
             MasterError::Io(e) => write!(f, "bus: {e}"),
@@ -272,6 +303,147 @@ impl<T: Transport> Master<T> {
                 return Err(MasterError::Timeout);
             }
             self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+    }
+
+    /// The boot-up check: reads 1000h and 1018h:1–4 where `expected` names a value and
+    /// returns each difference (also queued as a [`MasterEvent::IdentityMismatch`]). A read
+    /// that fails with an abort is a mismatch; a transport error is an error.
+    pub fn check_identity(
+        &mut self,
+        node_id: u8,
+        expected: &ExpectedIdentity,
+    ) -> Result<Vec<IdentityMismatch>, MasterError> {
+        let mut mismatches = Vec::new();
+        for (entry, expected) in IDENTITY_ENTRIES.into_iter().zip(expected.expected()) {
+            let Some(expected) = expected else {
+                continue;
+            };
+            let (actual, abort) = match self.read(node_id, entry) {
+                Ok(value) if value == expected => continue,
+                Ok(value) => (Some(value), None),
+                Err(MasterError::Sdo { error, .. }) => (None, Some(error.code())),
+                Err(MasterError::Length { .. }) => (None, None),
+                Err(e) => return Err(e),
+            };
+            let mismatch = IdentityMismatch {
+                node_id,
+                entry,
+                expected,
+                actual,
+                abort,
+            };
+            self.events
+                .push_back(MasterEvent::IdentityMismatch(mismatch));
+            mismatches.push(mismatch);
+        }
+        Ok(mismatches)
+    }
+
+    /// Finds the nodes on the bus: an SDO upload of 1000h to every node-ID 1..=127 at once (one
+    /// channel each), and the node-IDs that answered within `timeout` (with a value or an
+    /// abort), in order. Node-IDs that stay silent are not sent an abort.
+    pub fn scan(&mut self, timeout: StdDuration) -> Result<Vec<u8>, MasterError> {
+        let now = self.clock.now();
+        for node_id in 1..=127 {
+            let client = self.client(node_id)?;
+            if client
+                .upload(now, Multiplexer::new(0x1000, 0), Mode::Normal)
+                .is_err()
+            {
+                return Err(MasterError::Busy(node_id));
+            }
+        }
+        let deadline = now + to_duration(timeout);
+        let mut found = Vec::new();
+        loop {
+            let now = self.clock.now();
+            for (&node_id, client) in self.clients.iter_mut() {
+                match client.poll_result() {
+                    Some(Ok(_)) | Some(Err(SdoError::Server(_))) => found.push(node_id),
+                    _ => {}
+                }
+            }
+            if now >= deadline || self.clients.values().all(|c| !c.is_busy()) {
+                break;
+            }
+            self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+        for client in self.clients.values_mut() {
+            client.cancel();
+        }
+        found.sort_unstable();
+        Ok(found)
+    }
+
+    /// The NMT state `node_id` reports: the last heartbeat seen, else the answer to a guarding
+    /// RTR within `timeout` (`None` if the node does not answer one).
+    pub fn query_state(
+        &mut self,
+        node_id: u8,
+        timeout: StdDuration,
+    ) -> Result<Option<NmtState>, MasterError> {
+        if let Some(state) = self.last_state(node_id) {
+            return Ok(Some(state));
+        }
+        let id = ErrorControlRepr::cob_id(node_id);
+        self.transport.send(&CanFrame::remote(id, 1))?;
+        let deadline = self.clock.now() + to_duration(timeout);
+        loop {
+            let now = self.clock.now();
+            if let Some(state) = self.last_state(node_id) {
+                return Ok(Some(state));
+            }
+            if now >= deadline {
+                return Ok(None);
+            }
+            self.step(now, Some(deadline), &mut [].as_slice(), &mut io::sink())?;
+        }
+    }
+
+    /// Configures a PDO of `node_id` by SDO in CiA 301's safe order (see
+    /// [`PdoConfig::writes`]); the first write the node refuses is the error.
+    pub fn configure_pdo(&mut self, node_id: u8, config: &PdoConfig) -> Result<(), MasterError> {
+        for (mux, value, len) in config.writes() {
+            let bytes = value.to_le_bytes();
+            self.download(node_id, mux, &bytes[..usize::from(len)], Mode::Normal)?;
+        }
+        Ok(())
+    }
+
+    /// Sends a PDO: `payload` (a generated struct's `encode()`) on `cob_id` (its `cob_id(node)`).
+    pub fn send_pdo(&mut self, cob_id: u32, payload: &[u8]) -> Result<(), MasterError> {
+        let frame = if cob_id & 0x2000_0000 != 0 {
+            CanFrame::new_extended(cob_id & 0x1FFF_FFFF, payload)
+        } else {
+            u16::try_from(cob_id & 0x7FF)
+                .ok()
+                .and_then(|id| CanFrame::new(id, payload))
+        };
+        self.transport.send(&frame.ok_or(MasterError::Value)?)?;
+        Ok(())
+    }
+
+    /// Waits at most `timeout` for a frame `accept` takes (a PDO decoded by a
+    /// [`pdo_dispatch!`](crate::pdo_dispatch) enum), handling everything else as usual.
+    pub fn receive<R>(
+        &mut self,
+        timeout: StdDuration,
+        mut accept: impl FnMut(&CanFrame) -> Option<R>,
+    ) -> Result<Option<R>, MasterError> {
+        let deadline = self.clock.now() + to_duration(timeout);
+        loop {
+            let now = self.clock.now();
+            if now >= deadline {
+                return Ok(None);
+            }
+            let wait = StdDuration::from_micros((deadline - now).as_micros()).min(MAX_WAIT);
+            if let Some(frame) = self.transport.recv_timeout(wait)? {
+                self.dispatch(&frame);
+                if let Some(taken) = accept(&frame) {
+                    return Ok(Some(taken));
+                }
+            }
         }
     }
 

@@ -8,14 +8,21 @@
 
 #[cfg(feature = "std")]
 pub mod blocking;
+pub mod cia402;
+#[cfg(feature = "std")]
+mod drive;
 pub mod emcy;
 mod fifo;
+pub mod identity;
 pub mod nmt;
+pub mod pdo;
 pub mod sdo_client;
 pub mod sync;
 
 pub use emcy::Emergency;
+pub use identity::{ExpectedIdentity, IdentityMismatch};
 pub use nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch};
+pub use pdo::{PdoConfig, PdoKind};
 pub use sdo_client::{Completed, Mode, SdoClient, SdoError, StartError};
 pub use sync::SyncProducer;
 

@@ -4,6 +4,30 @@
 //! streams: the caller feeds a download with [`SdoClient::write_data`] and drains an upload with
 //! [`SdoClient::read_data`] while the transfer runs, so a domain of any length passes through it.
 //! Frame layouts come from [`crate::wire::sdo`]; no byte is indexed here.
+//!
+//! ```
+//! use edsgen_runtime::master::SdoClient;
+//! use edsgen_runtime::{CanFrame, Entry, Instant};
+//!
+//! const CONTROLWORD: Entry<u16> = Entry::new(0x6040, 0);
+//! let now = Instant::from_millis(0);
+//! let mut client: SdoClient = SdoClient::new(3);
+//! client.write(now, CONTROLWORD, &0x000F).unwrap();
+//! let request = client.poll_transmit(now).unwrap();
+//! assert_eq!(request, CanFrame::new(0x603, &[0x2B, 0x40, 0x60, 0, 0x0F, 0, 0, 0]).unwrap());
+//! client.handle_frame(now, &CanFrame::new(0x583, &[0x60, 0x40, 0x60, 0, 0, 0, 0, 0]).unwrap());
+//! assert!(client.poll_result().unwrap().is_ok());
+//! ```
+//!
+//! A value of the wrong type for the entry does not compile:
+//!
+//! ```compile_fail
+//! # use edsgen_runtime::master::SdoClient;
+//! # use edsgen_runtime::{Entry, Instant};
+//! const CONTROLWORD: Entry<u16> = Entry::new(0x6040, 0);
+//! let mut client: SdoClient = SdoClient::new(3);
+//! client.write(Instant::from_millis(0), CONTROLWORD, &-1i16).unwrap();
+//! ```
 
 use crate::entry::{Entry, OdValue};
 use crate::frame::CanFrame;
@@ -357,6 +381,16 @@ impl<const BUF: usize> SdoClient<BUF> {
         if self.is_busy() {
             self.finish_abort(SdoError::Client(code));
         }
+    }
+
+    /// Forgets the transfer in progress without telling the server, as for a node-ID that never
+    /// answered (a scan); no result is reported.
+    pub fn cancel(&mut self) {
+        self.state = State::Idle;
+        self.deadline = None;
+        self.tx = None;
+        self.result = None;
+        self.fifo.clear();
     }
 
     /// The outcome of the last transfer, once.

@@ -1,0 +1,311 @@
+//! `edsgen check --eds FILE --node N`: reads every readable entry of a live device and reports,
+//! as diagnostics in the validator's format, where the device differs from its description,
+//! with the boot-up check of its identity (1000h, 1018h:1–4) first.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use edsgen_codegen::diag::{self, Diagnostic, Severity};
+use edsgen_codegen::model::{AccessType, BasicType, Device, ObjectType, SubObject, Value};
+use edsgen_codegen::rules::Rule;
+use edsgen_codegen::{read, render};
+use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_runtime::master::sdo_client::abort_meaning;
+use edsgen_runtime::master::{ExpectedIdentity, Mode, SdoError};
+use edsgen_runtime::transport::Transport;
+use edsgen_runtime::wire::sdo::Multiplexer;
+
+use super::sdo::show_mux;
+use super::value::hex;
+use super::{fail, parse_node_id, BusArgs};
+
+/// An entry the description has is missing on the device.
+pub static CHK001: Rule = Rule {
+    code: "CHK001",
+    severity: Severity::Error,
+    summary: "An object or sub-index of the description is missing on the device",
+};
+/// A value's length does not match its data type.
+pub static CHK002: Rule = Rule {
+    code: "CHK002",
+    severity: Severity::Error,
+    summary: "The device's value has a length other than its data type's",
+};
+/// The device refuses to read an entry the description says is readable.
+pub static CHK003: Rule = Rule {
+    code: "CHK003",
+    severity: Severity::Error,
+    summary: "The device refuses to read an entry the description says is readable",
+};
+/// Identity (1000h, 1018h) differs: the boot-up check.
+pub static CHK004: Rule = Rule {
+    code: "CHK004",
+    severity: Severity::Error,
+    summary: "The device's identity (1000h, 1018h) differs from the description",
+};
+/// A value differs from the description's default (or DCF parameter value).
+pub static CHK005: Rule = Rule {
+    code: "CHK005",
+    severity: Severity::Warning,
+    summary: "A value differs from the description's default (an error for a constant)",
+};
+
+/// `edsgen check` options.
+#[derive(clap::Args, Debug)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    bus: BusArgs,
+    /// The device's description (EDS or DCF).
+    #[arg(long, value_name = "FILE")]
+    eds: PathBuf,
+    /// The device's node-ID.
+    #[arg(long, value_name = "N")]
+    node: String,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    format: Format,
+    /// Treat warnings (values differing from defaults) as differences too (exit 1).
+    #[arg(long)]
+    deny_warnings: bool,
+}
+
+/// Output formats, as `edsgen validate` has them.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Format {
+    /// Annotated source lines.
+    Human,
+    /// One JSON object per diagnostic.
+    Json,
+}
+
+/// Runs `edsgen check`.
+pub fn run(args: &CheckArgs) -> ExitCode {
+    let node_id = match parse_node_id(&args.node) {
+        Ok(id) => id,
+        Err(message) => return fail(message),
+    };
+    let read = match read::read_file(&args.eds) {
+        Ok(read) => read,
+        Err(e) => return fail(e),
+    };
+    let mut master = match args.bus.connect() {
+        Ok(master) => master,
+        Err(message) => return fail(message),
+    };
+    let mut diags = match check(&mut master, &read.device, node_id) {
+        Ok(diags) => diags,
+        Err(e) => return fail(e),
+    };
+    diag::sort(&mut diags);
+    let name = args.eds.display().to_string();
+    let errors = diags
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .count();
+    let warnings = diags
+        .iter()
+        .filter(|d| d.severity == Severity::Warning)
+        .count();
+    match args.format {
+        Format::Human => {
+            let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+            print!("{}", render::human(&name, &read.text, &diags, color));
+            println!(
+                "node {node_id} checked against {name}: {errors} error(s), {warnings} warning(s)"
+            );
+        }
+        Format::Json => {
+            let list = render::json(&name, &diags);
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into())
+            );
+        }
+    }
+    if errors > 0 || (args.deny_warnings && warnings > 0) {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Compares node `node_id` with `device`; an error only when the bus fails or the node does
+/// not answer at all.
+pub fn check<T: Transport>(
+    master: &mut Master<T>,
+    device: &Device,
+    node_id: u8,
+) -> Result<Vec<Diagnostic>, String> {
+    let mut diags = identity_check(master, device, node_id)?;
+    for object in device.objects.values() {
+        if object.index < 0x1000
+            || matches!(
+                object.object_type,
+                ObjectType::DefType | ObjectType::DefStruct
+            )
+        {
+            continue;
+        }
+        for sub in object.subs.values() {
+            let readable = !matches!(sub.access, Some(AccessType::Wo) | None);
+            if !readable {
+                continue;
+            }
+            let mux = Multiplexer::new(object.index, sub.sub_index);
+            match master.upload(node_id, mux, Mode::Normal) {
+                Ok(bytes) => diags.extend(compare(device, node_id, mux, sub, &bytes)),
+                Err(MasterError::Sdo {
+                    error: SdoError::Server(0x0602_0000),
+                    ..
+                }) => {
+                    let message = format!("object {:04X}h is missing on node {node_id}", mux.index);
+                    diags.push(Diagnostic::new(&CHK001, Some(object.span), message));
+                    break;
+                }
+                Err(MasterError::Sdo {
+                    error: SdoError::Server(code),
+                    ..
+                }) => {
+                    let (rule, message) = if code == 0x0609_0011 {
+                        (
+                            &CHK001,
+                            format!("{} is missing on node {node_id}", show_mux(mux)),
+                        )
+                    } else {
+                        let meaning = abort_meaning(code).unwrap_or("unknown abort code");
+                        let message = format!(
+                            "node {node_id} refuses to read {}: {code:08X}h ({meaning})",
+                            show_mux(mux)
+                        );
+                        (&CHK003, message)
+                    };
+                    diags.push(Diagnostic::new(rule, Some(sub.span), message));
+                }
+                Err(e @ MasterError::Sdo { .. }) => return Err(e.to_string()),
+                Err(e) => return Err(e.to_string()),
+            }
+        }
+    }
+    Ok(diags)
+}
+
+/// The boot-up check: 1000h and 1018h:1–3 against the description (a vendor-ID, product code or
+/// revision of 0 is not checked, as in CiA 302's 1F85h–1F87h).
+fn identity_check<T: Transport>(
+    master: &mut Master<T>,
+    device: &Device,
+    node_id: u8,
+) -> Result<Vec<Diagnostic>, String> {
+    let nonzero = |v: Option<u32>| v.filter(|v| *v != 0);
+    let info = &device.device_info;
+    let device_type = device.entry(0x1000, 0).and_then(|sub| match &sub.default {
+        Some(source) => match source.value {
+            Some(Value::Integer(v)) => u32::try_from(v).ok(),
+            _ => None,
+        },
+        None => None,
+    });
+    let expected = ExpectedIdentity {
+        device_type,
+        vendor_id: nonzero(info.vendor_number.as_ref().map(|v| v.value)),
+        product_code: nonzero(info.product_number.as_ref().map(|v| v.value)),
+        revision_number: nonzero(info.revision_number.as_ref().map(|v| v.value)),
+        serial_number: None,
+    };
+    let mismatches = master
+        .check_identity(node_id, &expected)
+        .map_err(|e| e.to_string())?;
+    Ok(mismatches
+        .into_iter()
+        .map(|m| {
+            let mux = Multiplexer::new(m.entry.index, m.entry.sub);
+            let actual = match (m.actual, m.abort) {
+                (Some(v), _) => format!("0x{v:08X}"),
+                (None, Some(code)) => format!("unreadable ({code:08X}h)"),
+                (None, None) => "unreadable".into(),
+            };
+            let span = device.entry(mux.index, mux.sub).map(|s| s.span);
+            Diagnostic::new(
+                &CHK004,
+                span,
+                format!(
+                    "{} of node {node_id} is {actual}, the description says 0x{:08X}",
+                    show_mux(mux),
+                    m.expected
+                ),
+            )
+        })
+        .collect())
+}
+
+/// The differences of one value read from the device.
+fn compare(
+    device: &Device,
+    node_id: u8,
+    mux: Multiplexer,
+    sub: &SubObject,
+    bytes: &[u8],
+) -> Option<Diagnostic> {
+    let basic = sub.data_type.and_then(|t| device.basic_type(t));
+    if let Some(bits) = basic.and_then(BasicType::bits) {
+        let len = bits.div_ceil(8) as usize;
+        if bytes.len() != len {
+            let message = format!(
+                "{} of node {node_id} is {} byte(s) long, its data type {} has {len}",
+                show_mux(mux),
+                bytes.len(),
+                basic.map_or("?", BasicType::name)
+            );
+            return Some(Diagnostic::new(&CHK002, Some(sub.span), message));
+        }
+    }
+    let expected = sub.parameter_value.as_ref().or(sub.default.as_ref())?;
+    let matches = match expected.value.as_ref()? {
+        Value::Integer(v) => integer_matches(*v, bytes),
+        Value::NodeRelative(offset) => {
+            integer_matches(i128::from(*offset) + i128::from(node_id), bytes)
+        }
+        Value::Real(v) => match bytes.len() {
+            4 => f64::from(f32::from_le_bytes(bytes.try_into().ok()?)) == *v as f32 as f64,
+            8 => f64::from_le_bytes(bytes.try_into().ok()?) == *v,
+            _ => false,
+        },
+        Value::Text(text) => {
+            let text = text.trim_matches('"');
+            bytes == text.as_bytes()
+        }
+        Value::Bytes(expected) => bytes == expected.as_slice(),
+    };
+    if matches {
+        return None;
+    }
+    let severity = if sub.access == Some(AccessType::Const) {
+        Severity::Error
+    } else {
+        Severity::Warning
+    };
+    let message = format!(
+        "{} of node {node_id} holds {}, the description's default is {}",
+        show_mux(mux),
+        hex(bytes),
+        expected.raw
+    );
+    Some(Diagnostic::new(&CHK005, Some(expected.span), message).with_severity(severity))
+}
+
+/// Whether little-endian `bytes` hold `value` (two's complement for negative values).
+fn integer_matches(value: i128, bytes: &[u8]) -> bool {
+    if bytes.is_empty() || bytes.len() > 8 {
+        return false;
+    }
+    let mut wide = [0u8; 8];
+    wide[..bytes.len()].copy_from_slice(bytes);
+    let raw = u64::from_le_bytes(wide);
+    let mask = if bytes.len() == 8 {
+        u64::MAX
+    } else {
+        (1u64 << (8 * bytes.len())) - 1
+    };
+    (value as u64) & mask == raw
+}

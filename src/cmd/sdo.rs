@@ -1,0 +1,190 @@
+//! `edsgen sdo read|write`: one SDO transfer with a node, the value typed and named by an EDS
+//! (or `--type`), an abort reported with its code and meaning (exit 1).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Subcommand;
+use edsgen_codegen::model::Device;
+use edsgen_codegen::read;
+use edsgen_runtime::master::blocking::MasterError;
+use edsgen_runtime::master::Mode;
+use edsgen_runtime::wire::sdo::Multiplexer;
+
+use super::value::{hex, Kind};
+use super::{fail, parse_address, parse_node_id, BusArgs};
+
+/// `edsgen sdo` subcommands.
+#[derive(Subcommand, Debug)]
+pub enum SdoCommand {
+    /// Read an entry (SDO upload) and print its value.
+    Read {
+        #[command(flatten)]
+        target: Target,
+    },
+    /// Write a value to an entry (SDO download).
+    Write {
+        #[command(flatten)]
+        target: Target,
+        /// The value: a number (decimal or 0x hex), true/false, text for a string, hex bytes
+        /// for an octet string or domain.
+        value: String,
+    },
+}
+
+/// What every SDO command addresses.
+#[derive(clap::Args, Debug)]
+pub struct Target {
+    #[command(flatten)]
+    bus: BusArgs,
+    /// The node's description: types and names the value.
+    #[arg(long, value_name = "FILE")]
+    eds: Option<PathBuf>,
+    /// The value's type where no EDS gives it: u8..u64, i8..i64, r32, r64, b, vs (text), os
+    /// (bytes).
+    #[arg(long = "type", value_name = "TYPE")]
+    kind: Option<String>,
+    /// Use SDO block transfer.
+    #[arg(long)]
+    block: bool,
+    /// The node-ID (1..=127).
+    node: String,
+    /// The entry as INDEX:SUB in hex (6041:0).
+    address: String,
+}
+
+/// The entry as the command understood it: where, what kind of value, its name.
+struct Resolved {
+    node_id: u8,
+    mux: Multiplexer,
+    kind: Option<Kind>,
+    name: Option<String>,
+    mode: Mode,
+}
+
+impl Target {
+    fn resolve(&self) -> Result<Resolved, String> {
+        let node_id = parse_node_id(&self.node)?;
+        let mux = parse_address(&self.address)?;
+        let mut kind = match &self.kind {
+            Some(name) => Some(Kind::parse(name).ok_or_else(|| format!("unknown type `{name}`"))?),
+            None => None,
+        };
+        let mut name = None;
+        if let Some(path) = &self.eds {
+            let device = load(path)?;
+            let (entry_name, basic) = describe(&device, mux)
+                .ok_or_else(|| format!("{} has no entry {}", path.display(), show_mux(mux)))?;
+            name = Some(entry_name);
+            kind = kind.or(basic.map(Kind::of));
+        }
+        let mode = if self.block {
+            Mode::Block
+        } else {
+            Mode::Normal
+        };
+        Ok(Resolved {
+            node_id,
+            mux,
+            kind,
+            name,
+            mode,
+        })
+    }
+}
+
+/// Reads a description, failing on an unreadable file.
+pub fn load(path: &Path) -> Result<Device, String> {
+    read::read_file(path)
+        .map(|read| read.device)
+        .map_err(|e| e.to_string())
+}
+
+/// The name of (index, sub) in `device` ("Object / Sub" for records and arrays) and its basic
+/// type, if the description has the entry.
+pub fn describe(
+    device: &Device,
+    mux: Multiplexer,
+) -> Option<(String, Option<edsgen_codegen::model::BasicType>)> {
+    let object = device.objects.get(&mux.index)?;
+    let sub = object.subs.get(&mux.sub)?;
+    let name = if object.subs.len() == 1 && mux.sub == 0 {
+        object.name.clone()
+    } else {
+        format!("{} / {}", object.name, sub.name)
+    };
+    Some((name, sub.data_type.and_then(|t| device.basic_type(t))))
+}
+
+/// `6041h:00h`.
+pub fn show_mux(mux: Multiplexer) -> String {
+    format!("{:04X}h:{:02X}h", mux.index, mux.sub)
+}
+
+/// Runs `edsgen sdo ...`.
+pub fn run(command: &SdoCommand) -> ExitCode {
+    let (target, value) = match command {
+        SdoCommand::Read { target } => (target, None),
+        SdoCommand::Write { target, value } => (target, Some(value)),
+    };
+    let resolved = match target.resolve() {
+        Ok(resolved) => resolved,
+        Err(message) => return fail(message),
+    };
+    let data = match (value, resolved.kind) {
+        (Some(text), Some(kind)) => match kind.encode(text) {
+            Ok(data) => Some(data),
+            Err(message) => return fail(message),
+        },
+        (Some(_), None) => {
+            return fail("the value's type is unknown: give --eds FILE or --type TYPE")
+        }
+        (None, _) => None,
+    };
+    let mut master = match target.bus.connect() {
+        Ok(master) => master,
+        Err(message) => return fail(message),
+    };
+    let Resolved {
+        node_id,
+        mux,
+        kind,
+        name,
+        mode,
+    } = resolved;
+    let label = match &name {
+        Some(name) => format!("{} {name}", show_mux(mux)),
+        None => show_mux(mux),
+    };
+    let result = match &data {
+        Some(data) => master.download(node_id, mux, data, mode).map(|()| None),
+        None => master.upload(node_id, mux, mode).map(Some),
+    };
+    match result {
+        Ok(None) => {
+            println!("{label} written");
+            ExitCode::SUCCESS
+        }
+        Ok(Some(bytes)) => {
+            let shown = match kind {
+                Some(kind) => kind.show(&bytes),
+                None => Ok(hex(&bytes)),
+            };
+            match shown {
+                Ok(text) => {
+                    println!("{label} = {text}");
+                    ExitCode::SUCCESS
+                }
+                Err(message) => {
+                    eprintln!("error: {label}: {message} ({})", hex(&bytes));
+                    ExitCode::from(1)
+                }
+            }
+        }
+        Err(MasterError::Io(e)) => fail(format!("bus: {e}")),
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(1)
+        }
+    }
+}

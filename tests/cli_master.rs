@@ -1,0 +1,288 @@
+//! The bench commands end to end: `edsgen sdo|nmt|scan|check` as processes, through an
+//! in-process socketcand hub on 127.0.0.1, against device nodes serving the generated cp301
+//! (node 3) and goodrive350 (node 5) cards, run by the transport driver.
+
+use std::path::Path;
+use std::process::{Command, Output};
+use std::time::Duration;
+
+use edsgen::cards::{cp301, goodrive350};
+use edsgen_runtime::node::Node;
+use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_runtime::vbus::BusDevice;
+
+const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
+
+/// A hub with the two card nodes on it; everything stops when dropped.
+struct Bench {
+    hub: Option<Hub>,
+    nodes: Vec<Box<dyn FnOnce()>>,
+    addr: String,
+}
+
+impl Drop for Bench {
+    fn drop(&mut self) {
+        for stop in self.nodes.drain(..) {
+            stop();
+        }
+        if let Some(hub) = self.hub.take() {
+            hub.stop();
+        }
+    }
+}
+
+fn spawn_node<D: BusDevice + Send + 'static>(
+    addr: &str,
+    node: impl FnOnce(MonotonicClock) -> D,
+) -> DriverHandle<SocketcandClient, D> {
+    let client = SocketcandClient::connect(addr, "can0", Duration::from_secs(5)).unwrap();
+    let clock = MonotonicClock::new();
+    Driver::with_clock(client, node(clock), clock)
+        .spawn()
+        .unwrap()
+}
+
+fn bench() -> Bench {
+    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
+    let addr = hub.local_addr().to_string();
+    let cp = spawn_node(&addr, |clock| {
+        Node::new(cp301::Od::new(3), 3, clock.now()).unwrap()
+    });
+    let gd = spawn_node(&addr, |clock| {
+        Node::new(goodrive350::Od::new(5), 5, clock.now()).unwrap()
+    });
+    Bench {
+        hub: Some(hub),
+        nodes: vec![
+            Box::new(move || drop(cp.stop())),
+            Box::new(move || drop(gd.stop())),
+        ],
+        addr,
+    }
+}
+
+fn edsgen(bench: &Bench, args: &[&str]) -> Output {
+    let mut command = Command::new(EDSGEN);
+    command
+        .args(args)
+        .args(["--bus", &bench.addr, "--timeout", "500"]);
+    command.output().unwrap()
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn eds(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("eds")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+#[test]
+fn sdo_read_and_write_are_typed_and_named_by_the_eds() {
+    let bench = bench();
+    let cp = eds("cp301.eds");
+    let write = edsgen(
+        &bench,
+        &["sdo", "write", "--eds", &cp, "3", "6040:0", "0x000F"],
+    );
+    assert_eq!(
+        stdout(&write),
+        "6040h:00h Controlword written\n",
+        "{}",
+        stderr(&write)
+    );
+    assert_eq!(write.status.code(), Some(0));
+    let read = edsgen(&bench, &["sdo", "read", "--eds", &cp, "3", "6040:0"]);
+    assert_eq!(stdout(&read), "6040h:00h Controlword = 15 (0x000F)\n");
+    let name = edsgen(
+        &bench,
+        &[
+            "sdo",
+            "read",
+            "--eds",
+            &eds("goodrive350.eds"),
+            "5",
+            "1008:0",
+        ],
+    );
+    assert_eq!(
+        stdout(&name),
+        "1008h:00h Manufacturer device name = INVT CANopen\n"
+    );
+    let raw = edsgen(&bench, &["sdo", "read", "5", "1008:0"]);
+    assert_eq!(
+        stdout(&raw),
+        "1008h:00h = 49 4E 56 54 20 43 41 4E 6F 70 65 6E\n"
+    );
+    let typed = edsgen(&bench, &["sdo", "read", "--type", "u32", "3", "1400:1"]);
+    assert_eq!(stdout(&typed), "1400h:01h = 515 (0x00000203)\n");
+}
+
+#[test]
+fn an_sdo_abort_is_an_error_with_its_code_and_meaning_and_exit_1() {
+    let bench = bench();
+    let output = edsgen(
+        &bench,
+        &["sdo", "write", "--type", "u16", "3", "6041:0", "1"],
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        stderr(&output),
+        "error: SDO 6041h:00h on node 3: node aborted with 0601 0002h (attempt to write a read-only object)\n"
+    );
+    let missing = edsgen(&bench, &["sdo", "read", "3", "5FFF:0"]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(
+        stderr(&missing).contains("0602 0000h (object does not exist in the object dictionary)")
+    );
+    let silent = edsgen(&bench, &["sdo", "read", "9", "1000:0"]);
+    assert_eq!(silent.status.code(), Some(1));
+    assert!(stderr(&silent).contains("no answer, aborted with 0504 0000h"));
+}
+
+#[test]
+fn bad_usage_exits_2() {
+    let bench = bench();
+    for args in [
+        &["sdo", "read", "0", "1000:0"][..],
+        &["sdo", "read", "3", "1000"],
+        &["sdo", "write", "3", "6040:0", "1"],
+        &["sdo", "write", "--type", "u8", "3", "6040:0", "300"],
+        &["nmt", "start", "200"],
+    ] {
+        let output = edsgen(&bench, args);
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            stderr(&output)
+        );
+    }
+    let nobus = Command::new(EDSGEN)
+        .args(["nmt", "start", "all", "--bus", "127.0.0.1:1"])
+        .output()
+        .unwrap();
+    assert_eq!(nobus.status.code(), Some(2));
+}
+
+#[test]
+fn nmt_and_scan_show_the_nodes_states_and_identities() {
+    let bench = bench();
+    // socketcand carries no RTR (python-can's dialect), so states come from heartbeats.
+    for node in ["3", "5"] {
+        let heartbeat = edsgen(
+            &bench,
+            &["sdo", "write", "--type", "u16", node, "1017:0", "100"],
+        );
+        assert_eq!(heartbeat.status.code(), Some(0), "{}", stderr(&heartbeat));
+    }
+    let start = edsgen(&bench, &["nmt", "start", "3"]);
+    assert_eq!(start.status.code(), Some(0), "{}", stderr(&start));
+    let scan = edsgen(&bench, &["scan"]);
+    assert_eq!(scan.status.code(), Some(0), "{}", stderr(&scan));
+    let text = stdout(&scan);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 4, "{text}");
+    assert_eq!(
+        lines[1],
+        "3     operational      0x00000000  0x00000000  0x00000000  0x00000000  -"
+    );
+    assert_eq!(
+        lines[2],
+        "5     pre-operational  0x00000000  0x00000000  0x00000000  0x00000000  0x00000000"
+    );
+    assert_eq!(lines[3], "2 node(s) found");
+    let reset = edsgen(&bench, &["nmt", "reset", "all"]);
+    assert_eq!(reset.status.code(), Some(0));
+}
+
+#[test]
+fn check_of_the_device_its_description_describes_finds_no_difference() {
+    let bench = bench();
+    let output = edsgen(
+        &bench,
+        &["check", "--eds", &eds("cp301.eds"), "--node", "3"],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(stdout(&output).ends_with(": 0 error(s), 0 warning(s)\n"));
+}
+
+#[test]
+fn check_finds_a_product_code_that_differs_and_a_changed_value() {
+    let bench = bench();
+    let dir = std::env::temp_dir().join(format!("edsgen-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("cp301-other-product.eds");
+    let text = std::fs::read_to_string(eds("cp301.eds")).unwrap();
+    let other = text.replace("ProductNumber=0x00000000", "ProductNumber=0x00001234");
+    assert_ne!(text, other);
+    std::fs::write(&path, other).unwrap();
+    let path = path.display().to_string();
+    let write = edsgen(
+        &bench,
+        &["sdo", "write", "--type", "u16", "3", "6040:0", "6"],
+    );
+    assert_eq!(write.status.code(), Some(0));
+    let output = edsgen(
+        &bench,
+        &["check", "--eds", &path, "--node", "3", "--format", "json"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let found: Vec<(String, String, String)> = json
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| {
+            (
+                d["code"].as_str().unwrap().to_string(),
+                d["severity"].as_str().unwrap().to_string(),
+                d["message"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (
+                "CHK004".to_string(),
+                "error".to_string(),
+                "1018h:02h of node 3 is 0x00000000, the description says 0x00001234".to_string()
+            ),
+            (
+                "CHK005".to_string(),
+                "warning".to_string(),
+                "6040h:00h of node 3 holds 06 00, the description's default is 0".to_string()
+            ),
+        ]
+    );
+}
+
+#[test]
+fn check_of_another_devices_description_finds_missing_objects() {
+    let bench = bench();
+    let output = edsgen(
+        &bench,
+        &["check", "--eds", &eds("goodrive350.eds"), "--node", "3"],
+    );
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    let text = stdout(&output);
+    let first = format!(
+        "error[CHK001]: object 1003h is missing on node 3\n   --> {}:135:1\n    |\n135 | [1003]\n    | ^^^^^^\n",
+        eds("goodrive350.eds")
+    );
+    assert!(text.starts_with(&first), "{text}");
+    // A constant holding another value is an error, not a warning.
+    assert!(text.contains("error[CHK005]: 1008h:00h of node 3 holds 00 00 00 00, the description's default is INVT CANopen"));
+}
