@@ -38,8 +38,6 @@ use crate::wire::nmt::{NmtCommand, NmtRepr, NMT_COB_ID};
 use crate::wire::pdo::CobIdEntry;
 use crate::wire::sync::SyncRepr;
 
-/// Buffer size of each SDO server channel (the longest segmented value it moves).
-pub const SDO_BUFFER: usize = 32;
 /// The SDO server's segment timeout.
 pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
 /// Events kept until the application polls them; older ones are kept, newer ones counted as lost.
@@ -231,7 +229,7 @@ pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u
 }
 
 struct SdoChannel {
-    server: SdoServer<SDO_BUFFER>,
+    server: SdoServer,
     /// The server may have frames to send (it was fed a request or a timeout since it last
     /// said it had none).
     busy: bool,

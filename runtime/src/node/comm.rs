@@ -270,6 +270,15 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
         self.od.read_at(position, offset, buf)
     }
 
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        // Strings and domains: no communication-object rule applies to them.
+        self.od.write_part(position, offset, data)
+    }
+
+    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        self.od.finish_write(position, len)
+    }
+
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
         let entry = *self.od.entries().get(position).ok_or(SdoAbort::NoObject)?;
         if matches!(entry.index, 0x1000..=0x1FFF) {
