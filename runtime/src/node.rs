@@ -18,6 +18,7 @@ mod comm;
 mod emcy;
 mod error_control;
 mod pdo;
+mod sync;
 
 pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
 pub use self::emcy::{error_code, error_register, MAX_ACTIVE_ERRORS};
@@ -29,6 +30,7 @@ use self::comm::CommGuard;
 use self::emcy::{Emcy, Raised};
 use self::error_control::ErrorControl;
 use self::pdo::{Rpdo, Tpdo};
+use self::sync::Sync;
 use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::sdo::{SdoEvent, SdoServer};
@@ -252,20 +254,6 @@ impl SdoChannel {
     }
 }
 
-#[derive(Debug, Clone, Copy, Default)]
-struct SyncState {
-    cob_id: u16,
-    producer: bool,
-    period: Duration,
-    window: Duration,
-    overflow: u8,
-    counter: u8,
-    next: Option<Instant>,
-    due: Option<SyncRepr>,
-    /// Consumer: when a missing SYNC becomes an error (1.5 × 1006h after the last one).
-    timeout: Option<Instant>,
-}
-
 #[derive(Debug, Clone, Copy)]
 struct EventQueue {
     events: [Event; EVENT_QUEUE],
@@ -314,7 +302,7 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     boot_up_due: bool,
     sdo: [SdoChannel; 2],
     error_control: ErrorControl,
-    sync: SyncState,
+    sync: Sync,
     emcy: Emcy,
     rpdos: [Rpdo; RPDOS],
     tpdos: [Tpdo; TPDOS],
@@ -367,7 +355,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             boot_up_due: false,
             sdo: [SdoChannel::new(), SdoChannel::new()],
             error_control: ErrorControl::OFF,
-            sync: SyncState::default(),
+            sync: Sync::default(),
             emcy: Emcy::default(),
             rpdos: const { [Rpdo::OFF; RPDOS] },
             tpdos: const { [Tpdo::OFF; TPDOS] },
@@ -505,9 +493,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 for channel in &mut self.sdo {
                     channel.server.reset();
                 }
-                self.sync.next = None;
-                self.sync.due = None;
-                self.sync.timeout = None;
+                self.sync.stop();
             }
             _ => {}
         }
@@ -531,8 +517,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);
         self.error_control.configure_consumers(&self.od);
-        self.configure_sync();
-        self.sync.counter = 0;
+        self.sync.configure(&self.od);
         for n in 0..RPDOS {
             if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
@@ -596,33 +581,16 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
-    fn configure_sync(&mut self) {
-        let cob = CobIdEntry(read_uint_or(&self.od, 0x1005, 0, 0x80));
-        self.sync.cob_id = cob.can_id();
-        self.sync.producer = cob.bit30() && !cob.extended();
-        self.sync.period = Duration(u64::from(read_uint_or(&self.od, 0x1006, 0, 0)));
-        self.sync.window = Duration(u64::from(read_uint_or(&self.od, 0x1007, 0, 0)));
-        self.sync.overflow = read_uint_or(&self.od, 0x1019, 0, 0) as u8;
-    }
-
     fn restart_sync_producer(&mut self, now: Instant) {
-        // Consumer monitoring restarts at the next SYNC.
-        self.sync.timeout = None;
-        let active = self.sync.producer
-            && self.sync.period != Duration::ZERO
-            && matches!(self.state, NmtState::PreOperational | NmtState::Operational);
-        self.sync.next = active.then(|| now + self.sync.period);
-        if !active {
-            self.sync.due = None;
-        }
+        let serves = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
+        self.sync.restart(now, serves);
     }
 
     /// Applies an accepted SDO write to the node's running state.
     fn apply_write(&mut self, index: u16, sub: u8, now: Instant) {
         match index {
             0x1005 | 0x1006 | 0x1007 | 0x1019 => {
-                self.configure_sync();
-                self.sync.counter = 0;
+                self.sync.configure(&self.od);
                 self.restart_sync_producer(now);
             }
             #[cfg(feature = "node-guarding")]
@@ -724,7 +692,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         let serving = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
         if serving {
-            if id == self.sync.cob_id {
+            if id == self.sync.cob_id() {
                 self.handle_sync_frame(frame.data(), now);
                 return;
             }
@@ -918,7 +886,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// the right length clears it.
     fn handle_sync_frame(&mut self, data: &[u8], now: Instant) {
         match SyncRepr::parse(data) {
-            Some(sync) if sync.counter.is_some() == (self.sync.overflow != 0) => {
+            Some(sync) if self.sync.length_matches(sync.counter) => {
                 // Nothing happens unless it is active.
                 self.emcy.clear(&mut self.od, error_code::SYNC_LENGTH);
                 self.handle_sync(sync.counter, now);
@@ -937,8 +905,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
         self.events.push(Event::Sync { counter });
-        if !self.sync.producer && self.sync.period != Duration::ZERO {
-            self.sync.timeout = Some(now + Duration(self.sync.period.as_micros() * 3 / 2));
+        if self.sync.consumed(now) {
             // Ends a SYNC timeout error, if one is active.
             self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
         }
@@ -950,8 +917,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.apply_rpdo(n, &data);
             }
         }
-        let window_end = (self.sync.window != Duration::ZERO).then(|| now + self.sync.window);
-        let use_start = self.sync.overflow != 0;
+        let window_end = self.sync.window_end(now);
+        let use_start = self.sync.counting();
         for tpdo in &mut self.tpdos {
             if !tpdo.enabled {
                 continue;
@@ -1014,9 +981,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 1,
             ));
         }
-        if let Some(sync) = self.sync.due.take() {
-            let ([counter], len) = sync.emit();
-            return Some(one_byte_frame(self.sync.cob_id, counter, len as u8));
+        if let Some((id, counter, len)) = self.sync.poll_transmit() {
+            return Some(one_byte_frame(id, counter, len));
         }
         if self.state != NmtState::Stopped {
             if let Some(emcy) = self.emcy.poll(now) {
@@ -1104,8 +1070,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
         let mut next = self.error_control.next_deadline();
-        keep_earliest(&mut next, &self.sync.next);
-        keep_earliest(&mut next, &self.sync.timeout);
+        for deadline in &self.sync.deadlines() {
+            keep_earliest(&mut next, deadline);
+        }
         if self.state != NmtState::Stopped {
             keep_earliest(&mut next, &self.emcy.ready_at());
         }
@@ -1159,8 +1126,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 [0; 5],
             );
         }
-        if self.sync.timeout.is_some_and(|at| at <= now) {
-            self.sync.timeout = None;
+        let sync = self.sync.handle_timeout(now);
+        if sync.missed {
             self.emcy.raise(
                 &mut self.od,
                 SYNC_TIMEOUT_CODE,
@@ -1168,20 +1135,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 [0; 5],
             );
         }
-        if let Some(at) = self.sync.next {
-            if at <= now {
-                self.sync.next = Some(next_period(at, self.sync.period, now));
-                let counter = (self.sync.overflow != 0).then(|| {
-                    self.sync.counter = if self.sync.counter >= self.sync.overflow {
-                        1
-                    } else {
-                        self.sync.counter + 1
-                    };
-                    self.sync.counter
-                });
-                self.sync.due = Some(SyncRepr { counter });
-                self.handle_sync(counter, now);
-            }
+        if let Some(counter) = sync.produced {
+            self.handle_sync(counter, now);
         }
         if self.state == NmtState::Operational {
             for (n, rpdo) in self.rpdos.iter_mut().enumerate() {
