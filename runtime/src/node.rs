@@ -17,6 +17,7 @@
 mod comm;
 mod emcy;
 mod error_control;
+mod events;
 mod pdo;
 mod sync;
 
@@ -29,6 +30,7 @@ pub use crate::wire::heartbeat::NmtState;
 use self::comm::CommGuard;
 use self::emcy::{Emcy, Raised};
 use self::error_control::ErrorControl;
+use self::events::EventQueue;
 use self::pdo::{Rpdo, Tpdo};
 use self::sync::Sync;
 use crate::frame::CanFrame;
@@ -42,8 +44,7 @@ use crate::wire::sync::SyncRepr;
 
 /// The SDO server's segment timeout.
 pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
-/// Events kept until the application polls them; older ones are kept, newer ones counted as lost.
-pub const EVENT_QUEUE: usize = 16;
+pub use self::events::EVENT_QUEUE;
 
 /// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h
 /// ([`error_code::COMMUNICATION`]).
@@ -254,44 +255,6 @@ impl SdoChannel {
     }
 }
 
-#[derive(Debug, Clone, Copy)]
-struct EventQueue {
-    events: [Event; EVENT_QUEUE],
-    head: usize,
-    len: usize,
-    lost: u32,
-}
-
-impl EventQueue {
-    const fn new() -> Self {
-        EventQueue {
-            events: [Event::LifeGuardingLost; EVENT_QUEUE],
-            head: 0,
-            len: 0,
-            lost: 0,
-        }
-    }
-
-    fn push(&mut self, event: Event) {
-        if self.len == EVENT_QUEUE {
-            self.lost = self.lost.saturating_add(1);
-            return;
-        }
-        self.events[(self.head + self.len) % EVENT_QUEUE] = event;
-        self.len += 1;
-    }
-
-    fn pop(&mut self) -> Option<Event> {
-        if self.len == 0 {
-            return None;
-        }
-        let event = self.events[self.head];
-        self.head = (self.head + 1) % EVENT_QUEUE;
-        self.len -= 1;
-        Some(event)
-    }
-}
-
 /// A CANopen device serving the object dictionary `O`, with `RPDOS` receive and `TPDOS`
 /// transmit PDOs (1400h.. and 1800h.., as far as the OD has them).
 pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
@@ -408,7 +371,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Events dropped because the application did not poll them in time.
     pub fn events_lost(&self) -> u32 {
-        self.events.lost
+        self.events.lost()
     }
 
     /// Emergencies dropped because more were raised than the inhibit time let out.
