@@ -1033,9 +1033,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
         let mut next = self.error_control.next_deadline();
-        for deadline in &self.sync.deadlines() {
-            keep_earliest(&mut next, deadline);
-        }
+        keep_earliest(&mut next, &self.sync.next_deadline());
         if self.state != NmtState::Stopped {
             keep_earliest(&mut next, &self.emcy.ready_at());
         }

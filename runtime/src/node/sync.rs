@@ -106,10 +106,11 @@ impl Sync {
         Some((self.cob_id, counter, len as u8))
     }
 
-    /// The producer's and the consumer's deadlines.
+    /// The earlier of the producer's and the consumer's deadlines (only one runs at a time:
+    /// a producer does not monitor its own SYNC).
     #[inline]
-    pub fn deadlines(&self) -> [Option<Instant>; 2] {
-        [self.next, self.timeout]
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.next.or(self.timeout)
     }
 
     /// Runs the producer's and the consumer's timers due at `now`.
