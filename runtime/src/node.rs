@@ -726,13 +726,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// A node-guarding RTR: queue the answer and (re)start life guarding.
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
-        self.error_control.guarding.answer_due = true;
-        if let Some(life) = self.error_control.life_time() {
-            let guarding = &mut self.error_control.guarding;
-            guarding.life_deadline = Some(now + life);
-            if core::mem::take(&mut guarding.life_lost) {
-                self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
-            }
+        if self.error_control.guard_request(now) {
+            self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
         }
     }
 
@@ -966,21 +961,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
             }
         }
-        let state = ErrorControlRepr {
-            state: self.state,
-            toggle: false,
-        };
-        #[cfg(feature = "node-guarding")]
-        if core::mem::take(&mut self.error_control.guarding.answer_due) {
-            let toggle = self.error_control.guarding.toggle;
-            self.error_control.guarding.toggle = !toggle;
-            let answer = ErrorControlRepr { toggle, ..state };
-            return Some(one_byte_frame(error_control_id, answer.emit(), 1));
-        }
-        if core::mem::take(&mut self.error_control.heartbeat_due) {
-            return Some(one_byte_frame(error_control_id, state.emit(), 1));
-        }
-        None
+        let byte = self.error_control.poll_transmit(self.state)?;
+        Some(one_byte_frame(error_control_id, byte, 1))
     }
 
     fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {
@@ -1060,26 +1042,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
     /// SYNC production, TPDO event timers, RPDO deadlines and SDO timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        let ec = &mut self.error_control;
-        if let Some(at) = ec.next_heartbeat {
-            if at <= now {
-                ec.heartbeat_due = true;
-                ec.next_heartbeat = Some(next_period(at, ec.producer_period, now));
-            }
-        }
-        for consumer in ec.consumers.iter_mut().take(ec.consumer_count) {
-            if consumer.deadline.is_some_and(|at| at <= now) {
-                consumer.deadline = None;
-                self.events.push(Event::HeartbeatLost {
-                    node_id: consumer.node_id,
-                });
-            }
-        }
-        #[cfg(feature = "node-guarding")]
-        if ec.guarding.life_deadline.is_some_and(|at| at <= now) {
-            ec.guarding.life_deadline = None;
-            ec.guarding.life_lost = true;
-            self.events.push(Event::LifeGuardingLost);
+        if self.error_control.handle_timeout(now, &mut self.events) {
             self.emcy.raise(
                 &mut self.od,
                 error_code::LIFE_GUARD,
