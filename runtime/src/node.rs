@@ -376,7 +376,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Emergencies dropped because more were raised than the inhibit time let out.
     pub fn emergencies_dropped(&self) -> u32 {
-        self.emcy.dropped
+        self.emcy.dropped()
     }
 
     /// The error register (1001h) as the node computes it from the active errors.
@@ -943,8 +943,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             return Some(one_byte_frame(id, counter, len));
         }
         if self.state != NmtState::Stopped {
-            if let Some(emcy) = self.emcy.poll(now) {
-                return Some(CanFrame::from_parts(self.emcy.cob_id, emcy.emit(), 8));
+            if let Some(frame) = self.emcy.poll_transmit(now) {
+                return Some(frame);
             }
         }
         if self.state == NmtState::Operational && self.tpdo_attention {
