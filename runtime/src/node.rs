@@ -19,6 +19,7 @@ mod emcy;
 mod error_control;
 mod events;
 mod pdo;
+mod sdo_channel;
 mod sync;
 
 pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
@@ -32,19 +33,18 @@ use self::emcy::{Emcy, Raised};
 use self::error_control::ErrorControl;
 use self::events::EventQueue;
 use self::pdo::{Rpdo, Tpdo};
+use self::sdo_channel::SdoChannel;
 use self::sync::Sync;
 use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
-use crate::sdo::{SdoEvent, SdoServer};
+use crate::sdo::SdoEvent;
 use crate::time::{Duration, Instant};
 use crate::wire::heartbeat::ErrorControlRepr;
 use crate::wire::nmt::{NmtCommand, NmtRepr, NMT_COB_ID};
-use crate::wire::pdo::CobIdEntry;
 use crate::wire::sync::SyncRepr;
 
-/// The SDO server's segment timeout.
-pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
 pub use self::events::EVENT_QUEUE;
+pub use self::sdo_channel::SDO_TIMEOUT;
 
 /// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h
 /// ([`error_code::COMMUNICATION`]).
@@ -229,30 +229,6 @@ pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u
     let mut bytes = [0u8; 4];
     od.read(index, sub, 0, &mut bytes).ok()?;
     Some(u32::from_le_bytes(bytes))
-}
-
-struct SdoChannel {
-    server: SdoServer,
-    /// The server may have frames to send (it was fed a request or a timeout since it last
-    /// said it had none).
-    busy: bool,
-    enabled: bool,
-    rx: u16,
-    tx: u16,
-}
-
-impl SdoChannel {
-    /// A channel not configured yet. Not inlined: the node builds two.
-    #[inline(never)]
-    const fn new() -> Self {
-        SdoChannel {
-            server: SdoServer::new(SDO_TIMEOUT),
-            busy: false,
-            enabled: false,
-            rx: 0,
-            tx: 0,
-        }
-    }
 }
 
 /// A CANopen device serving the object dictionary `O`, with `RPDOS` receive and `TPDOS`
@@ -454,7 +430,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             NmtState::Stopped => {
                 for channel in &mut self.sdo {
-                    channel.server.reset();
+                    channel.reset();
                 }
                 self.sync.stop();
             }
@@ -469,7 +445,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     fn reset_communication(&mut self, now: Instant) {
         self.state = NmtState::Initialising;
         for channel in &mut self.sdo {
-            channel.server.reset();
+            channel.reset();
         }
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
@@ -525,22 +501,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     fn configure_sdo(&mut self) {
-        let node = u32::from(self.node_id);
         for (n, channel) in self.sdo.iter_mut().enumerate() {
-            let index = 0x1200 + n as u16;
-            // The default SDO server's pre-defined COB-IDs; none for the second.
-            let (mut rx, mut tx) = match n {
-                0 => (0x600 + node, 0x580 + node),
-                _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
-            };
-            if self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok() {
-                rx = read_uint_or(&self.od, index, 1, rx);
-                tx = read_uint_or(&self.od, index, 2, tx);
-            }
-            let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
-            channel.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
-            channel.rx = rx.can_id();
-            channel.tx = tx.can_id();
+            channel.configure(&self.od, n as u16, self.node_id);
         }
     }
 
@@ -660,7 +622,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 return;
             }
             for n in 0..self.sdo.len() {
-                if self.sdo[n].enabled && id == self.sdo[n].rx {
+                if self.sdo[n].accepts(id) {
                     self.handle_sdo(n, frame.data(), now);
                     return;
                 }
@@ -737,9 +699,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             hooks: &mut self.hooks,
             node_id: self.node_id,
         };
-        self.sdo[n].busy = true;
-        if let Some(SdoEvent::Written { index, sub }) =
-            self.sdo[n].server.handle(now, request, &mut guard)
+        if let Some(SdoEvent::Written { index, sub }) = self.sdo[n].handle(now, request, &mut guard)
         {
             self.apply_write(index, sub, now);
             self.events.push(Event::Written { index, sub });
@@ -952,13 +912,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 return Some(frame);
             }
         }
-        // A channel disabled by the write it is answering still sends that answer.
         for channel in &mut self.sdo {
-            if channel.busy {
-                match channel.server.poll_transmit(now, &self.od) {
-                    Some(response) => return Some(CanFrame::from_parts(channel.tx, response, 8)),
-                    None => channel.busy = false,
-                }
+            if let Some(frame) = channel.poll_transmit(now, &self.od) {
+                return Some(frame);
             }
         }
         let byte = self.error_control.poll_transmit(self.state)?;
@@ -1034,7 +990,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         for channel in &self.sdo {
-            keep_earliest(&mut next, &channel.server.poll_timeout());
+            keep_earliest(&mut next, &channel.next_deadline());
         }
         next
     }
@@ -1089,10 +1045,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         for channel in &mut self.sdo {
-            if channel.server.poll_timeout().is_some_and(|at| at <= now) {
-                channel.server.handle_timeout(now);
-                channel.busy = true;
-            }
+            channel.handle_timeout(now);
         }
     }
 }
