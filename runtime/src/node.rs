@@ -329,7 +329,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// next reset communication.
     pub fn od_mut(&mut self) -> &mut O {
         for tpdo in &mut self.tpdos {
-            tpdo.check_change = true;
+            tpdo.mark_changed();
             self.tpdo_attention = true;
         }
         &mut self.od
@@ -385,17 +385,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let Some(tpdo) = self.tpdos.get_mut(n) else {
             return false;
         };
-        if !tpdo.enabled {
+        if !tpdo.trigger() {
             return false;
         }
-        match tpdo.transmission {
-            0 => tpdo.acyclic_request = true,
-            254 | 255 => {
-                tpdo.pending = true;
-                self.tpdo_attention = true;
-            }
-            _ => return false,
-        }
+        self.tpdo_attention |= tpdo.pending();
         true
     }
 
@@ -422,8 +415,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         match state {
             NmtState::Operational => {
                 for tpdo in &mut self.tpdos {
-                    if tpdo.enabled && tpdo.event_driven() {
-                        tpdo.pending = true;
+                    if tpdo.start() {
                         self.tpdo_attention = true;
                     }
                 }
@@ -549,22 +541,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1800..=0x1BFF => {
                 let n = usize::from((index - 0x1800) & 0x1FF);
                 if n < TPDOS {
-                    let tpdo = &mut self.tpdos[n];
-                    let (last_sent, last_data, was_enabled) =
-                        (tpdo.last_sent, tpdo.last_data, tpdo.enabled);
-                    tpdo.load(&self.od, n as u16);
-                    // A running PDO keeps its timing history across a change of its event
-                    // timer or transmission type.
-                    tpdo.last_sent = last_sent;
-                    tpdo.last_data = last_data;
-                    if self.state == NmtState::Operational && tpdo.enabled {
-                        if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
-                            tpdo.event_deadline = Some(now + tpdo.event_timer());
-                        }
-                        if tpdo.event_driven() && !was_enabled {
-                            tpdo.pending = true;
-                            self.tpdo_attention = true;
-                        }
+                    let operational = self.state == NmtState::Operational;
+                    if self.tpdos[n].reload(&self.od, n as u16, now, operational) {
+                        self.tpdo_attention = true;
                     }
                 }
             }
@@ -583,7 +562,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             rpdo.feeds_tpdo = rpdo.mapping.objects().iter().any(|object| {
                 self.tpdos
                     .iter()
-                    .any(|tpdo| tpdo.mapping.contains(object.index, object.sub))
+                    .any(|tpdo| tpdo.maps(object.index, object.sub))
             });
         }
     }
@@ -591,8 +570,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// An OD entry changed: TPDOs that map it compare before their next transmission.
     fn mark_changed(&mut self, index: u16, sub: u8) {
         for tpdo in &mut self.tpdos {
-            if tpdo.mapping.contains(index, sub) {
-                tpdo.check_change = true;
+            if tpdo.maps(index, sub) {
+                tpdo.mark_changed();
                 self.tpdo_attention = true;
             }
         }
@@ -664,22 +643,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             return;
         }
         for tpdo in &mut self.tpdos {
-            if tpdo.enabled && tpdo.rtr_allowed && tpdo.cob_id == id {
-                match tpdo.transmission {
-                    252 => {
-                        if let Some(sample) = tpdo.rtr_sample {
-                            tpdo.data = sample;
-                            tpdo.sampled = true;
-                            tpdo.pending = true;
-                            self.tpdo_attention = true;
-                        }
-                    }
-                    _ => {
-                        tpdo.sampled = false;
-                        tpdo.pending = true;
-                        self.tpdo_attention = true;
-                    }
-                }
+            if tpdo.remote_request(id) {
+                self.tpdo_attention |= tpdo.pending();
                 return;
             }
         }
@@ -838,52 +803,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let window_end = self.sync.window_end(now);
         let use_start = self.sync.counting();
         for tpdo in &mut self.tpdos {
-            if !tpdo.enabled {
-                continue;
-            }
-            let send = match tpdo.transmission {
-                0 => {
-                    if tpdo.check_change {
-                        let data = tpdo.mapping.pack(&self.od);
-                        tpdo.check_change = false;
-                        if data != tpdo.last_data {
-                            tpdo.acyclic_request = true;
-                        }
-                    }
-                    core::mem::take(&mut tpdo.acyclic_request)
-                }
-                every @ 1..=240 => {
-                    let start = if use_start { tpdo.sync_start } else { 0 };
-                    // SYNCs left until the next transmission, counting this one.
-                    let left = match tpdo.sync_countdown {
-                        Some(left) => Some(left),
-                        None if start != 0 => (counter == Some(start)).then_some(1),
-                        None => Some(every),
-                    };
-                    match left {
-                        Some(left) if left <= 1 => {
-                            tpdo.sync_countdown = Some(every);
-                            true
-                        }
-                        Some(left) => {
-                            tpdo.sync_countdown = Some(left - 1);
-                            false
-                        }
-                        None => false,
-                    }
-                }
-                252 => {
-                    tpdo.rtr_sample = Some(tpdo.mapping.pack(&self.od));
-                    false
-                }
-                _ => false,
-            };
-            if send {
-                tpdo.data = tpdo.mapping.pack(&self.od);
-                tpdo.sampled = true;
-                tpdo.pending = true;
+            if tpdo.on_sync(&self.od, counter, use_start, window_end) {
                 self.tpdo_attention = true;
-                tpdo.sync_deadline = window_end;
             }
         }
     }
@@ -923,47 +844,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {
         for tpdo in &mut self.tpdos {
-            if !tpdo.enabled {
-                continue;
+            if let Some(frame) = tpdo.poll_transmit(&self.od, now) {
+                return Some(frame);
             }
-            if tpdo.event_driven() && core::mem::take(&mut tpdo.check_change) {
-                let data = tpdo.mapping.pack(&self.od);
-                if data != tpdo.last_data {
-                    tpdo.pending = true;
-                    self.tpdo_attention = true;
-                }
-            }
-            if !tpdo.pending {
-                continue;
-            }
-            if let Some(deadline) = tpdo.sync_deadline {
-                if now > deadline {
-                    // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
-                    tpdo.pending = false;
-                    tpdo.sampled = false;
-                    tpdo.sync_deadline = None;
-                    continue;
-                }
-            }
-            if tpdo.event_driven() && !tpdo.inhibit_passed(now) {
-                continue;
-            }
-            let data = if core::mem::take(&mut tpdo.sampled) {
-                tpdo.data
-            } else {
-                tpdo.mapping.pack(&self.od)
-            };
-            tpdo.pending = false;
-            tpdo.sync_deadline = None;
-            tpdo.last_data = data;
-            tpdo.last_sent = Some(now);
-            if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
-                tpdo.event_deadline = Some(now + tpdo.event_timer());
-            }
-            return Some(CanFrame::from_parts(tpdo.cob_id, data, tpdo.mapping.len));
         }
         // Whatever is still pending waits for an inhibit time; poll_timeout reports when.
-        self.tpdo_attention = self.tpdos.iter().any(|t| t.pending);
+        self.tpdo_attention = self.tpdos.iter().any(|t| t.pending());
         None
     }
 
@@ -980,13 +866,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 keep_earliest(&mut next, &rpdo.deadline);
             }
             for tpdo in &self.tpdos {
-                if !tpdo.enabled || !tpdo.event_driven() {
-                    continue;
-                }
-                keep_earliest(&mut next, &tpdo.event_deadline);
-                if tpdo.pending {
-                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit()));
-                }
+                keep_earliest(&mut next, &tpdo.next_deadline());
             }
         }
         for channel in &self.sdo {
@@ -1034,12 +914,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
             }
             for tpdo in &mut self.tpdos {
-                if tpdo.enabled
-                    && tpdo.event_driven()
-                    && tpdo.event_deadline.is_some_and(|at| at <= now)
-                {
-                    tpdo.event_deadline = None;
-                    tpdo.pending = true;
+                if tpdo.handle_timeout(now) {
                     self.tpdo_attention = true;
                 }
             }
