@@ -408,8 +408,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 tpdo.stop();
             }
             for rpdo in &mut self.rpdos {
-                rpdo.buffered = None;
-                rpdo.deadline = None;
+                rpdo.stop();
             }
         }
         match state {
@@ -523,17 +522,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
-                    let rpdo = &mut self.rpdos[n];
-                    let (deadline, timed_out) = (rpdo.deadline, rpdo.timed_out);
-                    rpdo.load(&self.od, n as u16);
-                    // A valid PDO keeps its deadline monitoring across other changes (its
-                    // transmission type). A new event timer stops it: CiA 301 activates the
-                    // monitoring with the next reception after the event timer is configured.
-                    if rpdo.enabled && !(index == 0x1400 + n as u16 && sub == 5) {
-                        rpdo.deadline = deadline;
-                        rpdo.timed_out = timed_out;
-                    }
-                    if timed_out && !rpdo.timed_out {
+                    let event_timer_written = index == 0x1400 + n as u16 && sub == 5;
+                    if self.rpdos[n].reload(&self.od, n as u16, event_timer_written) {
                         self.end_rpdo_timeout();
                     }
                 }
@@ -559,11 +549,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// changes of state only when it can cause one.
     fn link_pdos(&mut self) {
         for rpdo in &mut self.rpdos {
-            rpdo.feeds_tpdo = rpdo.mapping.objects().iter().any(|object| {
+            let feeds = rpdo.mapping().objects().iter().any(|object| {
                 self.tpdos
                     .iter()
                     .any(|tpdo| tpdo.maps(object.index, object.sub))
             });
+            rpdo.set_feeds_tpdo(feeds);
         }
     }
 
@@ -609,7 +600,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if self.state == NmtState::Operational {
             for n in 0..RPDOS {
-                if self.rpdos[n].enabled && id == self.rpdos[n].cob_id {
+                if self.rpdos[n].accepts(id) {
                     self.handle_rpdo(n, frame.data(), now);
                     return;
                 }
@@ -673,25 +664,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn handle_rpdo(&mut self, n: usize, data: &[u8], now: Instant) {
         let rpdo = &mut self.rpdos[n];
-        let expected = usize::from(rpdo.mapping.len);
-        rpdo.too_short = data.len() < expected;
-        rpdo.too_long = data.len() > expected;
-        let mut recovered = false;
-        if !rpdo.too_short {
-            // CiA 301, 1400h+n sub 05h: a non-zero event timer of an RPDO is its deadline; the
-            // monitoring is activated with the next reception of the RPDO (after entering
-            // operational or configuring the event timer) and restarts with each one. A frame
-            // too short to be processed is no reception.
-            let timer = Duration::from_millis(u64::from(rpdo.event_timer_ms));
-            rpdo.deadline = (rpdo.event_timer_ms != 0).then(|| now + timer);
-            recovered = core::mem::take(&mut rpdo.timed_out);
-            if rpdo.synchronous() {
-                let mut buffer = [0u8; 8];
-                buffer[..expected].copy_from_slice(&data[..expected]);
-                rpdo.buffered = Some(buffer);
-            } else {
-                self.apply_rpdo(n, data);
-            }
+        let expected = usize::from(rpdo.mapping().len);
+        let (apply, recovered) = rpdo.receive(now, data);
+        if let Some(data) = apply {
+            self.apply_rpdo(n, data);
         }
         if data.len() != expected || self.length_error_raised {
             self.update_length_errors(data.len());
@@ -707,22 +683,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// code, little-endian. The next RPDO applied whole while no other is refused clears it.
     fn apply_rpdo(&mut self, n: usize, data: &[u8]) {
         let rpdo = &mut self.rpdos[n];
-        match rpdo.mapping.unpack(&mut self.od, data) {
-            Ok(()) => {
-                let recovered = core::mem::take(&mut rpdo.refused);
-                if rpdo.feeds_tpdo {
-                    let mapping = rpdo.mapping;
+        match rpdo.apply(&mut self.od, data) {
+            Ok(recovered) => {
+                if rpdo.feeds_tpdo() {
+                    let mapping = *rpdo.mapping();
                     for object in mapping.objects() {
                         self.mark_changed(object.index, object.sub);
                     }
                 }
                 self.events.push(Event::RpdoReceived { pdo: n as u16 });
-                if recovered && !self.rpdos.iter().any(|r| r.refused) {
+                if recovered && !self.rpdos.iter().any(|r| r.refused()) {
                     self.emcy.clear(&mut self.od, error_code::PROTOCOL);
                 }
             }
             Err(abort) => {
-                rpdo.refused = true;
                 let [a, b, c, d] = abort.code().to_le_bytes();
                 let info = [n as u8, a, b, c, d];
                 self.emcy.raise(
@@ -737,15 +711,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Clears 8250h (with its error-reset emergency) once no RPDO is timed out any more.
     fn end_rpdo_timeout(&mut self) {
-        if !self.rpdos.iter().any(|r| r.timed_out) {
+        if !self.rpdos.iter().any(|r| r.timed_out()) {
             self.emcy.clear(&mut self.od, RPDO_TIMEOUT_CODE);
         }
     }
 
     /// Raises or clears 8210h (too short, not processed) and 8220h (too long, processed).
     fn update_length_errors(&mut self, received: usize) {
-        let short = self.rpdos.iter().any(|r| r.too_short);
-        let long = self.rpdos.iter().any(|r| r.too_long);
+        let short = self.rpdos.iter().any(|r| r.length_errors().0);
+        let long = self.rpdos.iter().any(|r| r.length_errors().1);
         let info = [received as u8, 0, 0, 0, 0];
         for (code, now_bad) in [
             (error_code::PDO_LENGTH, short),
@@ -796,7 +770,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             return;
         }
         for n in 0..RPDOS {
-            if let Some(data) = self.rpdos[n].buffered.take() {
+            if let Some(data) = self.rpdos[n].take_buffered() {
                 self.apply_rpdo(n, &data);
             }
         }
@@ -863,7 +837,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if self.state == NmtState::Operational {
             for rpdo in &self.rpdos {
-                keep_earliest(&mut next, &rpdo.deadline);
+                keep_earliest(&mut next, &rpdo.next_deadline());
             }
             for tpdo in &self.tpdos {
                 keep_earliest(&mut next, &tpdo.next_deadline());
@@ -900,9 +874,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if self.state == NmtState::Operational {
             for (n, rpdo) in self.rpdos.iter_mut().enumerate() {
-                if rpdo.deadline.is_some_and(|at| at <= now) {
-                    rpdo.deadline = None;
-                    rpdo.timed_out = true;
+                if rpdo.handle_timeout(now) {
                     self.events.push(Event::RpdoTimeout { pdo: n as u16 });
                     // Already active when another RPDO timed out first: one emergency for both.
                     self.emcy.raise(

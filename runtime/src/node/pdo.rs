@@ -290,26 +290,26 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Rpdo {
     /// Whether the PDO exists and is valid.
-    pub enabled: bool,
-    pub cob_id: u16,
-    pub transmission: u8,
-    pub mapping: Mapping,
+    enabled: bool,
+    cob_id: u16,
+    transmission: u8,
+    mapping: Mapping,
     /// Data received for a synchronous RPDO, applied at the next SYNC.
-    pub buffered: Option<[u8; 8]>,
+    buffered: Option<[u8; 8]>,
     /// Some TPDO maps an object this PDO writes (change-of-state detection must look).
-    pub feeds_tpdo: bool,
+    feeds_tpdo: bool,
     /// The last frame was shorter / longer than the mapping.
-    pub too_short: bool,
-    pub too_long: bool,
+    too_short: bool,
+    too_long: bool,
     /// The last frame was not applied: the OD refused one of its values (EMCY 8200h).
-    pub refused: bool,
+    refused: bool,
     /// Deadline monitoring (1400h+n sub 05h, ms; 0 = off): the PDO must arrive again within
     /// this time of its last reception.
-    pub event_timer_ms: u16,
+    event_timer_ms: u16,
     /// When the next reception is due; armed by a reception in operational.
-    pub deadline: Option<Instant>,
+    deadline: Option<Instant>,
     /// The deadline passed and the PDO has not arrived since (EMCY 8250h is active for it).
-    pub timed_out: bool,
+    timed_out: bool,
 }
 
 impl Rpdo {
@@ -351,8 +351,142 @@ impl Rpdo {
     }
 
     #[inline]
-    pub fn synchronous(&self) -> bool {
+    fn synchronous(&self) -> bool {
         self.transmission <= 240
+    }
+
+    /// Whether a frame on `id` is this PDO.
+    #[inline]
+    pub fn accepts(&self, id: u16) -> bool {
+        self.enabled && id == self.cob_id
+    }
+
+    /// The checked mapping.
+    #[inline]
+    pub fn mapping(&self) -> &Mapping {
+        &self.mapping
+    }
+
+    /// Whether a TPDO maps an object this PDO writes (so that a reception looks for changes
+    /// of state).
+    #[inline]
+    pub fn feeds_tpdo(&self) -> bool {
+        self.feeds_tpdo
+    }
+
+    /// Notes whether a TPDO maps an object this PDO writes.
+    #[inline]
+    pub fn set_feeds_tpdo(&mut self, feeds: bool) {
+        self.feeds_tpdo = feeds;
+    }
+
+    /// The last frame was shorter / longer than the mapping (EMCY 8210h / 8220h).
+    #[inline]
+    pub fn length_errors(&self) -> (bool, bool) {
+        (self.too_short, self.too_long)
+    }
+
+    /// The deadline passed and the PDO has not arrived since (EMCY 8250h).
+    #[inline]
+    pub fn timed_out(&self) -> bool {
+        self.timed_out
+    }
+
+    /// The last frame was not applied: the OD refused one of its values (EMCY 8200h).
+    #[inline]
+    pub fn refused(&self) -> bool {
+        self.refused
+    }
+
+    /// A frame received at `now`. A frame shorter than the mapping is not processed (and is no
+    /// reception for the deadline monitoring); a synchronous PDO's data waits for the next
+    /// SYNC; an event-driven one is handed back to be applied. Also returns whether a timeout
+    /// of the PDO ended.
+    #[inline]
+    pub fn receive<'d>(&mut self, now: Instant, data: &'d [u8]) -> (Option<&'d [u8]>, bool) {
+        let expected = usize::from(self.mapping.len);
+        self.too_short = data.len() < expected;
+        self.too_long = data.len() > expected;
+        if self.too_short {
+            return (None, false);
+        }
+        // CiA 301, 1400h+n sub 05h: a non-zero event timer of an RPDO is its deadline; the
+        // monitoring is activated with the next reception of the RPDO (after entering
+        // operational or configuring the event timer) and restarts with each one.
+        let timer = Duration::from_millis(u64::from(self.event_timer_ms));
+        self.deadline = (self.event_timer_ms != 0).then(|| now + timer);
+        let recovered = core::mem::take(&mut self.timed_out);
+        if self.synchronous() {
+            let mut buffer = [0u8; 8];
+            buffer[..expected].copy_from_slice(&data[..expected]);
+            self.buffered = Some(buffer);
+            (None, recovered)
+        } else {
+            (Some(data), recovered)
+        }
+    }
+
+    /// The data of a synchronous PDO received before this SYNC, to apply now.
+    #[inline]
+    pub fn take_buffered(&mut self) -> Option<[u8; 8]> {
+        self.buffered.take()
+    }
+
+    /// Writes received data into the OD, all or none ([`Mapping::unpack`]), and notes whether
+    /// it was refused. `Ok(true)` when it was applied after a refusal.
+    pub fn apply<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &mut O,
+        data: &[u8],
+    ) -> Result<bool, SdoAbort> {
+        match self.mapping.unpack(od, data) {
+            Ok(()) => Ok(core::mem::take(&mut self.refused)),
+            Err(abort) => {
+                self.refused = true;
+                Err(abort)
+            }
+        }
+    }
+
+    /// Leaving operational: buffered data and the deadline are dropped.
+    pub fn stop(&mut self) {
+        self.buffered = None;
+        self.deadline = None;
+    }
+
+    /// Re-reads RPDO `n` after an SDO write to its parameters. A valid PDO keeps its deadline
+    /// monitoring across other changes (its transmission type); a new event timer
+    /// (`event_timer_written`) stops it: CiA 301 activates the monitoring with the next
+    /// reception after the event timer is configured. Returns whether a timeout ended.
+    pub fn reload<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        n: u16,
+        event_timer_written: bool,
+    ) -> bool {
+        let (deadline, timed_out) = (self.deadline, self.timed_out);
+        self.load(od, n);
+        if self.enabled && !event_timer_written {
+            self.deadline = deadline;
+            self.timed_out = timed_out;
+        }
+        timed_out && !self.timed_out
+    }
+
+    /// When the PDO is due again (deadline monitoring), if it is monitored.
+    #[inline]
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.deadline
+    }
+
+    /// Runs the deadline at `now`. Returns whether the PDO timed out now.
+    pub fn handle_timeout(&mut self, now: Instant) -> bool {
+        if self.deadline.is_some_and(|at| at <= now) {
+            self.deadline = None;
+            self.timed_out = true;
+            return true;
+        }
+        false
     }
 }
 
