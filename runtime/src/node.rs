@@ -13,6 +13,17 @@
 //! Services by NMT state (CiA 301 table 80): pre-operational serves SDO, SYNC, EMCY and error
 //! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node
 //! guarding, heartbeat consumer).
+//!
+//! The node routes frames and timeouts to one module per service, each owning its state:
+//! `error_control` (heartbeat producer and consumers, node guarding), `sync`, `emcy`, `pdo`
+//! (RPDOs and TPDOs), `sdo_channel` (the SDO server channels), `comm` (the CiA 301 checks on
+//! writes to communication objects) and `events` (the application's event queue).
+//!
+//! Choices CiA 301 leaves open, documented where they are made: an NMT reset restores the
+//! dictionary's defaults of its area ([`NodeHooks::restore_power_on`]); a SYNC whose length
+//! does not match 1019h is not processed (EMCY 8240h); an RPDO the dictionary refuses a value
+//! of is not applied at all (EMCY 8200h with the PDO number and the abort code); writing 0 to
+//! 1003h:00 clears the recorded codes too (their sub-indices read 0).
 
 mod comm;
 mod emcy;
@@ -137,8 +148,9 @@ pub enum Event {
 }
 
 /// What the application provides to the node: re-initialisation on reset, and the persistence
-/// behind store (1010h) and restore (1011h). Every method has a default that does nothing or
-/// refuses, so `()` is a valid hook for a node without persistence.
+/// behind store (1010h) and restore (1011h). Every method has a default (NMT resets restore the
+/// dictionary's defaults, the rest does nothing or refuses), so `()` is a valid hook for a node
+/// without persistence.
 pub trait NodeHooks<O: ?Sized> {
     /// Sets the parameters that `kind` re-initialises to their power-on values (stored ones, or
     /// defaults after a restore). Called at power-on with [`ResetKind::Node`], and on NMT resets
