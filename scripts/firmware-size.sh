@@ -7,7 +7,10 @@
 # Two configurations: the default one, comparable with CANopenNode v4's default configuration
 # (segmented SDO server without block transfer, no node guarding), and `full` (firmware feature
 # `full`: SDO block transfer with CRC and node/life guarding too), built into target/full.
+#
+# Fails (exit 1) when an image's flash or RAM exceeds its budget in budgets.toml.
 set -euo pipefail
+budgets=$(cd "$(dirname "$0")/.." && pwd)/budgets.toml
 cd "$(dirname "$0")/../firmware"
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
 cargo build --release --quiet --locked
@@ -18,11 +21,29 @@ if [ -z "$size_tool" ]; then
     size_tool=$(find "$(rustc --print sysroot)" -name llvm-size -type f | head -1)
 fi
 [ -n "$size_tool" ] || { echo "llvm-size not found (apt-get install llvm, or rustup component add llvm-tools)"; exit 2; }
+# The budget `key` in budgets.toml.
+budget() {
+    awk -v key="$1" '$1 == key && $2 == "=" { print $3 }' "$budgets"
+}
+failed=0
+# Checks `value` (bytes) against the budget `key`.
+check() {
+    local key=$1 value=$2 limit
+    limit=$(budget "$key")
+    [ -n "$limit" ] || { echo "no budget $key in $budgets"; exit 2; }
+    if [ "$value" -gt "$limit" ]; then
+        echo "OVER BUDGET: $key is $value bytes, the budget is $limit (budgets.toml)"
+        failed=1
+    else
+        echo "$key: $value bytes (budget $limit)"
+    fi
+}
 report() {
-    local name=$1 elf=$2
+    local name=$1 elf=$2 key=$3
     echo "== $name"
     "$size_tool" "$elf"
-    python3 - "$elf" <<'PY'
+    local ram
+    ram=$(python3 - "$elf" <<'PY'
 import struct, sys
 data = open(sys.argv[1], "rb").read()
 # ELF32 little-endian: section headers, then the symbol table.
@@ -37,17 +58,22 @@ for off in range(symtab[4], symtab[4] + symtab[5], 16):
     if data[strtab[4] + name:end] == b"EDSGEN_NODE_RAM_BYTES":
         sec = sections[shndx]
         ram, = struct.unpack_from("<I", data, sec[4] + value - sec[3])
-        print(f"node RAM (state + OD values, on main's stack): {ram} bytes")
+        print(ram)
         break
 PY
+)
+    echo "node RAM (state + OD values, on main's stack): $ram bytes"
+    check "$key.flash" "$("$size_tool" "$elf" | awk 'NR == 2 { print $1 + $2 }')"
+    check "$key.ram" "$ram"
 }
 for src in src/bin/*.rs; do
     bin=$(basename "$src" .rs)
     report "$bin (segmented SDO, no node guarding: CANopenNode's default services)" \
-        "target/thumbv7em-none-eabihf/release/$bin"
+        "target/thumbv7em-none-eabihf/release/$bin" "$bin"
 done
 for src in src/bin/*.rs; do
     bin=$(basename "$src" .rs)
     report "$bin full (with SDO block transfer and node guarding)" \
-        "target/full/thumbv7em-none-eabihf/release/$bin"
+        "target/full/thumbv7em-none-eabihf/release/$bin" "${bin}_full"
 done
+exit "$failed"

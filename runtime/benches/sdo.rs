@@ -13,7 +13,7 @@ use edsgen_runtime::{Duration, Instant};
 
 fn expedited_upload_pair(c: &mut Criterion) {
     let request = [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0];
-    let mut server = SdoServer::<64>::new(Duration::from_millis(1_000));
+    let mut server = SdoServer::new(Duration::from_millis(1_000));
     let mut od = DriveOd::new();
     let now = Instant::from_millis(1);
     assert_eq!(

@@ -18,7 +18,7 @@ const RESPONSE: [u8; 8] = [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00];
 
 /// Runs `pairs` request/response pairs; returns how many responses matched.
 #[inline(never)]
-fn run_pairs(server: &mut SdoServer<64>, od: &mut DriveOd, pairs: u64) -> u64 {
+fn run_pairs(server: &mut SdoServer, od: &mut DriveOd, pairs: u64) -> u64 {
     let mut matched = 0;
     for i in 0..pairs {
         let now = Instant::from_micros(i * 100);
@@ -41,7 +41,7 @@ fn main() {
             }
         },
     };
-    let mut server = SdoServer::<64>::new(Duration::from_millis(1_000));
+    let mut server = SdoServer::new(Duration::from_millis(1_000));
     let mut od = DriveOd::new();
     let matched = run_pairs(&mut server, &mut od, pairs);
     println!("{matched} of {pairs} SDO upload pairs answered {RESPONSE:02X?}");

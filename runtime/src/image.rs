@@ -281,6 +281,59 @@ impl Layout {
         Ok(())
     }
 
+    /// `ObjectDictionary::write_part`: writes `data` into the string, octet string or domain at
+    /// `position`, `offset` bytes in, and makes its length `offset + data.len()` (a download
+    /// streamed in order). `LengthTooHigh` past its capacity; a fixed-size value is written
+    /// whole by [`write`](Self::write) instead (`LengthMismatch`).
+    pub fn write_part(
+        &self,
+        values: &mut [u8],
+        position: usize,
+        offset: usize,
+        data: &[u8],
+    ) -> Result<(), SdoAbort> {
+        let place = self.place(position)?;
+        let end = offset + data.len();
+        let (length, bytes) = self.byte_value(values, place, end)?;
+        length.copy_from_slice(&(end as u16).to_le_bytes());
+        bytes[offset..].copy_from_slice(data);
+        Ok(())
+    }
+
+    /// `ObjectDictionary::finish_write`: the string, octet string or domain at `position` is
+    /// now `len` bytes long.
+    pub fn finish_write(
+        &self,
+        values: &mut [u8],
+        position: usize,
+        len: usize,
+    ) -> Result<(), SdoAbort> {
+        let place = self.place(position)?;
+        let (length, _) = self.byte_value(values, place, len)?;
+        length.copy_from_slice(&(len as u16).to_le_bytes());
+        Ok(())
+    }
+
+    /// The 2-byte length and the first `len` bytes of a string's, octet string's or domain's
+    /// room, if it holds that many.
+    fn byte_value<'v>(
+        &self,
+        values: &'v mut [u8],
+        place: Place,
+        len: usize,
+    ) -> Result<(&'v mut [u8], &'v mut [u8]), SdoAbort> {
+        if !holds_bytes(place.data_type) {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        if len > place.size {
+            return Err(SdoAbort::LengthTooHigh);
+        }
+        let room = values
+            .get_mut(place.start..place.start + 2 + len)
+            .ok_or(SdoAbort::NoObject)?;
+        Ok(room.split_at_mut(2))
+    }
+
     /// `ObjectDictionary::restore_defaults`: sets the values of the entries whose index is in
     /// `indices` to the defaults a generated `Od::new(node_id)` starts with (`runs` as for
     /// [`unpack_defaults`], `node_relative` as for [`add_node_id`]). Values lie in table order,
@@ -300,28 +353,9 @@ impl Layout {
             Some(&offset) => usize::from(offset),
             None => self.image_size,
         };
-        let stretch = offset(first)..offset(end).min(values.len());
-        if let Some(bytes) = values.get_mut(stretch.clone()) {
-            bytes.fill(0);
-        }
-        let (mut at, mut i) = (0usize, 0usize);
-        while i + 1 < runs.len() {
-            at += usize::from(runs[i]);
-            let len = usize::from(runs[i + 1]);
-            i += 2;
-            for &byte in runs.get(i..i + len).unwrap_or(&[]) {
-                if stretch.contains(&at) {
-                    values[at] = byte;
-                }
-                at += 1;
-            }
-            i += len;
-        }
-        for &(offset, width) in node_relative {
-            if stretch.contains(&usize::from(offset)) {
-                add_node_id(values, &[(offset, width)], node_id);
-            }
-        }
+        let window = (offset(first), offset(end));
+        unpack_defaults_within(values, runs, window);
+        add_node_id_within(values, node_relative, node_id, window);
     }
 
     /// `ObjectDictionary::value_len`: the current length of the value at `position`.
@@ -421,11 +455,25 @@ fn length_abort(too_long: bool) -> SdoAbort {
 /// image holds the offset of (`$NODEID+0x600` is 0x600 there). A carry out of the width is
 /// dropped, as in the entry's own arithmetic; bytes outside `values` are skipped.
 pub const fn add_node_id(values: &mut [u8], places: &[(u16, u8)], node_id: u8) {
+    add_node_id_within(values, places, node_id, (0, usize::MAX));
+}
+
+/// [`add_node_id`] for the places that start in the bytes `window.0..window.1` only.
+const fn add_node_id_within(
+    values: &mut [u8],
+    places: &[(u16, u8)],
+    node_id: u8,
+    window: (usize, usize),
+) {
     let mut p = 0;
     while p < places.len() {
         let (offset, width) = places[p];
         let (mut at, end) = (offset as usize, offset as usize + width as usize);
-        let mut carry = node_id as u16;
+        let mut carry = if at >= window.0 && at < window.1 {
+            node_id as u16
+        } else {
+            0
+        };
         while at < end && at < values.len() {
             let sum = values[at] as u16 + carry;
             values[at] = sum as u8;
@@ -442,18 +490,46 @@ pub const fn add_node_id(values: &mut [u8], places: &[(u16, u8)], node_id: u8) {
 /// bytes are zero, so the runs take well under half the image's flash (CP301: 383 bytes of image,
 /// 158 bytes of runs). Bytes that would fall outside `values` or `runs` are skipped.
 pub const fn unpack_defaults(values: &mut [u8], runs: &[u8]) {
+    unpack_defaults_within(values, runs, (0, usize::MAX));
+}
+
+/// [`unpack_defaults`] into the bytes `window.0..window.1` only, which it sets whole: the runs'
+/// bytes there, zero in the gaps (a reset restores part of an image that is not all zero).
+const fn unpack_defaults_within(values: &mut [u8], runs: &[u8], window: (usize, usize)) {
     let (mut at, mut i) = (0usize, 0usize);
-    while i + 1 < runs.len() {
-        at += runs[i] as usize;
-        let len = runs[i + 1] as usize;
-        i += 2;
-        let mut k = 0;
-        while k < len {
-            if i < runs.len() && at < values.len() {
-                values[at] = runs[i];
+    // A gap, then a run of `len` bytes from `runs[i]` on; after the last run, a gap to the end.
+    let (mut gap, mut len) = (0usize, 0usize);
+    let end = if window.1 < values.len() {
+        window.1
+    } else {
+        values.len()
+    };
+    while at < end {
+        if gap == 0 && len == 0 {
+            if i + 1 < runs.len() {
+                (gap, len) = (runs[i] as usize, runs[i + 1] as usize);
+                i += 2;
+            } else {
+                gap = usize::MAX;
             }
-            (at, i, k) = (at + 1, i + 1, k + 1);
+            continue;
         }
+        let byte = if gap > 0 {
+            gap -= 1;
+            0
+        } else {
+            len -= 1;
+            i += 1;
+            if i - 1 < runs.len() {
+                runs[i - 1]
+            } else {
+                0
+            }
+        };
+        if at >= window.0 {
+            values[at] = byte;
+        }
+        at += 1;
     }
 }
 
@@ -527,8 +603,9 @@ mod tests {
         let mut values = [0u8; 4];
         unpack_defaults(&mut values, &[1, 3, 9]);
         assert_eq!(values, [0, 9, 0, 0]);
+        // A gap without its length: nothing but zeros (the image is set whole).
         unpack_defaults(&mut values, &[255]);
-        assert_eq!(values, [0, 9, 0, 0]);
+        assert_eq!(values, [0, 0, 0, 0]);
         // The same at compile time.
         const BUILT: [u8; 3] = {
             let mut values = [0u8; 3];
@@ -536,6 +613,24 @@ mod tests {
             values
         };
         assert_eq!(BUILT, [0, 7, 8]);
+    }
+
+    #[test]
+    fn restoring_defaults_sets_only_the_values_of_the_indices_given() {
+        const RUNS: [u8; 9] = [0, 1, 100, 17, 4, 2, 0, b'a', b'b'];
+        // 2000h's low byte holds a $NODEID default (100 + node-ID).
+        const NODE_RELATIVE: [(u16, u8); 1] = [(0, 2)];
+        let mut values = [0xEEu8; 25];
+        // 2001h..=2004h: their bytes 2..18 only, zeros from the gaps.
+        LAYOUT.restore_defaults(&mut values, &RUNS, &NODE_RELATIVE, 3, 0x2001..=0x2004);
+        assert!(values[..2].iter().chain(&values[18..]).all(|&b| b == 0xEE));
+        assert!(values[2..18].iter().all(|&b| b == 0));
+        // 2000h (with the node-ID added) and 2005h ("ab").
+        LAYOUT.restore_defaults(&mut values, &RUNS, &NODE_RELATIVE, 3, 0x2000..=0x2005);
+        let mut expected = image();
+        expected[0] = 103;
+        expected[24] = 0xEE;
+        assert_eq!(values, expected);
     }
 
     #[test]

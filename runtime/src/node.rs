@@ -13,11 +13,25 @@
 //! Services by NMT state (CiA 301 table 80): pre-operational serves SDO, SYNC, EMCY and error
 //! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node
 //! guarding, heartbeat consumer).
+//!
+//! The node routes frames and timeouts to one module per service, each owning its state:
+//! `error_control` (heartbeat producer and consumers, node guarding), `sync`, `emcy`, `pdo`
+//! (RPDOs and TPDOs), `sdo_channel` (the SDO server channels), `comm` (the CiA 301 checks on
+//! writes to communication objects) and `events` (the application's event queue).
+//!
+//! Choices CiA 301 leaves open, documented where they are made: an NMT reset restores the
+//! dictionary's defaults of its area ([`NodeHooks::restore_power_on`]); a SYNC whose length
+//! does not match 1019h is not processed (EMCY 8240h); an RPDO the dictionary refuses a value
+//! of is not applied at all (EMCY 8200h with the PDO number and the abort code); writing 0 to
+//! 1003h:00 clears the recorded codes too (their sub-indices read 0).
 
 mod comm;
 mod emcy;
 mod error_control;
+mod events;
 mod pdo;
+mod sdo_channel;
+mod sync;
 
 pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
 pub use self::emcy::{error_code, error_register, MAX_ACTIVE_ERRORS};
@@ -28,22 +42,20 @@ pub use crate::wire::heartbeat::NmtState;
 use self::comm::CommGuard;
 use self::emcy::{Emcy, Raised};
 use self::error_control::ErrorControl;
+use self::events::EventQueue;
 use self::pdo::{Rpdo, Tpdo};
+use self::sdo_channel::SdoChannel;
+use self::sync::Sync;
 use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
-use crate::sdo::{SdoEvent, SdoServer};
+use crate::sdo::SdoEvent;
 use crate::time::{Duration, Instant};
 use crate::wire::heartbeat::ErrorControlRepr;
 use crate::wire::nmt::{NmtCommand, NmtRepr, NMT_COB_ID};
-use crate::wire::pdo::CobIdEntry;
 use crate::wire::sync::SyncRepr;
 
-/// Buffer size of each SDO server channel (the longest segmented value it moves).
-pub const SDO_BUFFER: usize = 32;
-/// The SDO server's segment timeout.
-pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
-/// Events kept until the application polls them; older ones are kept, newer ones counted as lost.
-pub const EVENT_QUEUE: usize = 16;
+pub use self::events::EVENT_QUEUE;
+pub use self::sdo_channel::SDO_TIMEOUT;
 
 /// The emergency code of a SYNC consumer that misses SYNC for 1.5 × 1006h
 /// ([`error_code::COMMUNICATION`]).
@@ -136,8 +148,9 @@ pub enum Event {
 }
 
 /// What the application provides to the node: re-initialisation on reset, and the persistence
-/// behind store (1010h) and restore (1011h). Every method has a default that does nothing or
-/// refuses, so `()` is a valid hook for a node without persistence.
+/// behind store (1010h) and restore (1011h). Every method has a default (NMT resets restore the
+/// dictionary's defaults, the rest does nothing or refuses), so `()` is a valid hook for a node
+/// without persistence.
 pub trait NodeHooks<O: ?Sized> {
     /// Sets the parameters that `kind` re-initialises to their power-on values (stored ones, or
     /// defaults after a restore). Called at power-on with [`ResetKind::Node`], and on NMT resets
@@ -230,82 +243,6 @@ pub(crate) fn read_uint<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u
     Some(u32::from_le_bytes(bytes))
 }
 
-struct SdoChannel {
-    server: SdoServer<SDO_BUFFER>,
-    /// The server may have frames to send (it was fed a request or a timeout since it last
-    /// said it had none).
-    busy: bool,
-    enabled: bool,
-    rx: u16,
-    tx: u16,
-}
-
-impl SdoChannel {
-    /// A channel not configured yet. Not inlined: the node builds two.
-    #[inline(never)]
-    const fn new() -> Self {
-        SdoChannel {
-            server: SdoServer::new(SDO_TIMEOUT),
-            busy: false,
-            enabled: false,
-            rx: 0,
-            tx: 0,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, Default)]
-struct SyncState {
-    cob_id: u16,
-    producer: bool,
-    period: Duration,
-    window: Duration,
-    overflow: u8,
-    counter: u8,
-    next: Option<Instant>,
-    due: Option<SyncRepr>,
-    /// Consumer: when a missing SYNC becomes an error (1.5 × 1006h after the last one).
-    timeout: Option<Instant>,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct EventQueue {
-    events: [Event; EVENT_QUEUE],
-    head: usize,
-    len: usize,
-    lost: u32,
-}
-
-impl EventQueue {
-    const fn new() -> Self {
-        EventQueue {
-            events: [Event::LifeGuardingLost; EVENT_QUEUE],
-            head: 0,
-            len: 0,
-            lost: 0,
-        }
-    }
-
-    fn push(&mut self, event: Event) {
-        if self.len == EVENT_QUEUE {
-            self.lost = self.lost.saturating_add(1);
-            return;
-        }
-        self.events[(self.head + self.len) % EVENT_QUEUE] = event;
-        self.len += 1;
-    }
-
-    fn pop(&mut self) -> Option<Event> {
-        if self.len == 0 {
-            return None;
-        }
-        let event = self.events[self.head];
-        self.head = (self.head + 1) % EVENT_QUEUE;
-        self.len -= 1;
-        Some(event)
-    }
-}
-
 /// A CANopen device serving the object dictionary `O`, with `RPDOS` receive and `TPDOS`
 /// transmit PDOs (1400h.. and 1800h.., as far as the OD has them).
 pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
@@ -316,7 +253,7 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     boot_up_due: bool,
     sdo: [SdoChannel; 2],
     error_control: ErrorControl,
-    sync: SyncState,
+    sync: Sync,
     emcy: Emcy,
     rpdos: [Rpdo; RPDOS],
     tpdos: [Tpdo; TPDOS],
@@ -369,7 +306,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             boot_up_due: false,
             sdo: [SdoChannel::new(), SdoChannel::new()],
             error_control: ErrorControl::OFF,
-            sync: SyncState::default(),
+            sync: Sync::default(),
             emcy: Emcy::default(),
             rpdos: const { [Rpdo::OFF; RPDOS] },
             tpdos: const { [Tpdo::OFF; TPDOS] },
@@ -404,7 +341,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// next reset communication.
     pub fn od_mut(&mut self) -> &mut O {
         for tpdo in &mut self.tpdos {
-            tpdo.check_change = true;
+            tpdo.mark_changed();
             self.tpdo_attention = true;
         }
         &mut self.od
@@ -422,12 +359,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Events dropped because the application did not poll them in time.
     pub fn events_lost(&self) -> u32 {
-        self.events.lost
+        self.events.lost()
     }
 
     /// Emergencies dropped because more were raised than the inhibit time let out.
     pub fn emergencies_dropped(&self) -> u32 {
-        self.emcy.dropped
+        self.emcy.dropped()
     }
 
     /// The error register (1001h) as the node computes it from the active errors.
@@ -460,17 +397,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let Some(tpdo) = self.tpdos.get_mut(n) else {
             return false;
         };
-        if !tpdo.enabled {
+        if !tpdo.trigger() {
             return false;
         }
-        match tpdo.transmission {
-            0 => tpdo.acyclic_request = true,
-            254 | 255 => {
-                tpdo.pending = true;
-                self.tpdo_attention = true;
-            }
-            _ => return false,
-        }
+        self.tpdo_attention |= tpdo.pending();
         true
     }
 
@@ -490,26 +420,22 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 tpdo.stop();
             }
             for rpdo in &mut self.rpdos {
-                rpdo.buffered = None;
-                rpdo.deadline = None;
+                rpdo.stop();
             }
         }
         match state {
             NmtState::Operational => {
                 for tpdo in &mut self.tpdos {
-                    if tpdo.enabled && tpdo.event_driven() {
-                        tpdo.pending = true;
+                    if tpdo.start() {
                         self.tpdo_attention = true;
                     }
                 }
             }
             NmtState::Stopped => {
                 for channel in &mut self.sdo {
-                    channel.server.reset();
+                    channel.reset();
                 }
-                self.sync.next = None;
-                self.sync.due = None;
-                self.sync.timeout = None;
+                self.sync.stop();
             }
             _ => {}
         }
@@ -522,7 +448,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     fn reset_communication(&mut self, now: Instant) {
         self.state = NmtState::Initialising;
         for channel in &mut self.sdo {
-            channel.server.reset();
+            channel.reset();
         }
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
@@ -533,8 +459,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);
         self.error_control.configure_consumers(&self.od);
-        self.configure_sync();
-        self.sync.counter = 0;
+        self.sync.configure(&self.od);
         for n in 0..RPDOS {
             if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
@@ -579,52 +504,21 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     fn configure_sdo(&mut self) {
-        let node = u32::from(self.node_id);
         for (n, channel) in self.sdo.iter_mut().enumerate() {
-            let index = 0x1200 + n as u16;
-            // The default SDO server's pre-defined COB-IDs; none for the second.
-            let (mut rx, mut tx) = match n {
-                0 => (0x600 + node, 0x580 + node),
-                _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
-            };
-            if self.od.find(index, 0).is_ok() || self.od.find(index, 1).is_ok() {
-                rx = read_uint_or(&self.od, index, 1, rx);
-                tx = read_uint_or(&self.od, index, 2, tx);
-            }
-            let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
-            channel.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
-            channel.rx = rx.can_id();
-            channel.tx = tx.can_id();
+            channel.configure(&self.od, n as u16, self.node_id);
         }
-    }
-
-    fn configure_sync(&mut self) {
-        let cob = CobIdEntry(read_uint_or(&self.od, 0x1005, 0, 0x80));
-        self.sync.cob_id = cob.can_id();
-        self.sync.producer = cob.bit30() && !cob.extended();
-        self.sync.period = Duration(u64::from(read_uint_or(&self.od, 0x1006, 0, 0)));
-        self.sync.window = Duration(u64::from(read_uint_or(&self.od, 0x1007, 0, 0)));
-        self.sync.overflow = read_uint_or(&self.od, 0x1019, 0, 0) as u8;
     }
 
     fn restart_sync_producer(&mut self, now: Instant) {
-        // Consumer monitoring restarts at the next SYNC.
-        self.sync.timeout = None;
-        let active = self.sync.producer
-            && self.sync.period != Duration::ZERO
-            && matches!(self.state, NmtState::PreOperational | NmtState::Operational);
-        self.sync.next = active.then(|| now + self.sync.period);
-        if !active {
-            self.sync.due = None;
-        }
+        let serves = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
+        self.sync.restart(now, serves);
     }
 
     /// Applies an accepted SDO write to the node's running state.
     fn apply_write(&mut self, index: u16, sub: u8, now: Instant) {
         match index {
             0x1005 | 0x1006 | 0x1007 | 0x1019 => {
-                self.configure_sync();
-                self.sync.counter = 0;
+                self.sync.configure(&self.od);
                 self.restart_sync_producer(now);
             }
             #[cfg(feature = "node-guarding")]
@@ -640,17 +534,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
-                    let rpdo = &mut self.rpdos[n];
-                    let (deadline, timed_out) = (rpdo.deadline, rpdo.timed_out);
-                    rpdo.load(&self.od, n as u16);
-                    // A valid PDO keeps its deadline monitoring across other changes (its
-                    // transmission type). A new event timer stops it: CiA 301 activates the
-                    // monitoring with the next reception after the event timer is configured.
-                    if rpdo.enabled && !(index == 0x1400 + n as u16 && sub == 5) {
-                        rpdo.deadline = deadline;
-                        rpdo.timed_out = timed_out;
-                    }
-                    if timed_out && !rpdo.timed_out {
+                    let event_timer_written = index == 0x1400 + n as u16 && sub == 5;
+                    if self.rpdos[n].reload(&self.od, n as u16, event_timer_written) {
                         self.end_rpdo_timeout();
                     }
                 }
@@ -658,22 +543,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1800..=0x1BFF => {
                 let n = usize::from((index - 0x1800) & 0x1FF);
                 if n < TPDOS {
-                    let tpdo = &mut self.tpdos[n];
-                    let (last_sent, last_data, was_enabled) =
-                        (tpdo.last_sent, tpdo.last_data, tpdo.enabled);
-                    tpdo.load(&self.od, n as u16);
-                    // A running PDO keeps its timing history across a change of its event
-                    // timer or transmission type.
-                    tpdo.last_sent = last_sent;
-                    tpdo.last_data = last_data;
-                    if self.state == NmtState::Operational && tpdo.enabled {
-                        if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
-                            tpdo.event_deadline = Some(now + tpdo.event_timer());
-                        }
-                        if tpdo.event_driven() && !was_enabled {
-                            tpdo.pending = true;
-                            self.tpdo_attention = true;
-                        }
+                    let operational = self.state == NmtState::Operational;
+                    if self.tpdos[n].reload(&self.od, n as u16, now, operational) {
+                        self.tpdo_attention = true;
                     }
                 }
             }
@@ -689,19 +561,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// changes of state only when it can cause one.
     fn link_pdos(&mut self) {
         for rpdo in &mut self.rpdos {
-            rpdo.feeds_tpdo = rpdo.mapping.objects().iter().any(|object| {
+            let feeds = rpdo.mapping().objects().iter().any(|object| {
                 self.tpdos
                     .iter()
-                    .any(|tpdo| tpdo.mapping.contains(object.index, object.sub))
+                    .any(|tpdo| tpdo.maps(object.index, object.sub))
             });
+            rpdo.set_feeds_tpdo(feeds);
         }
     }
 
     /// An OD entry changed: TPDOs that map it compare before their next transmission.
     fn mark_changed(&mut self, index: u16, sub: u8) {
         for tpdo in &mut self.tpdos {
-            if tpdo.mapping.contains(index, sub) {
-                tpdo.check_change = true;
+            if tpdo.maps(index, sub) {
+                tpdo.mark_changed();
                 self.tpdo_attention = true;
             }
         }
@@ -726,12 +599,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         let serving = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
         if serving {
-            if id == self.sync.cob_id {
+            if id == self.sync.cob_id() {
                 self.handle_sync_frame(frame.data(), now);
                 return;
             }
             for n in 0..self.sdo.len() {
-                if self.sdo[n].enabled && id == self.sdo[n].rx {
+                if self.sdo[n].accepts(id) {
                     self.handle_sdo(n, frame.data(), now);
                     return;
                 }
@@ -739,7 +612,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         if self.state == NmtState::Operational {
             for n in 0..RPDOS {
-                if self.rpdos[n].enabled && id == self.rpdos[n].cob_id {
+                if self.rpdos[n].accepts(id) {
                     self.handle_rpdo(n, frame.data(), now);
                     return;
                 }
@@ -773,22 +646,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             return;
         }
         for tpdo in &mut self.tpdos {
-            if tpdo.enabled && tpdo.rtr_allowed && tpdo.cob_id == id {
-                match tpdo.transmission {
-                    252 => {
-                        if let Some(sample) = tpdo.rtr_sample {
-                            tpdo.data = sample;
-                            tpdo.sampled = true;
-                            tpdo.pending = true;
-                            self.tpdo_attention = true;
-                        }
-                    }
-                    _ => {
-                        tpdo.sampled = false;
-                        tpdo.pending = true;
-                        self.tpdo_attention = true;
-                    }
-                }
+            if tpdo.remote_request(id) {
+                self.tpdo_attention |= tpdo.pending();
                 return;
             }
         }
@@ -797,13 +656,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// A node-guarding RTR: queue the answer and (re)start life guarding.
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
-        self.error_control.guarding.answer_due = true;
-        if let Some(life) = self.error_control.life_time() {
-            let guarding = &mut self.error_control.guarding;
-            guarding.life_deadline = Some(now + life);
-            if core::mem::take(&mut guarding.life_lost) {
-                self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
-            }
+        if self.error_control.guard_request(now) {
+            self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
         }
     }
 
@@ -813,9 +667,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             hooks: &mut self.hooks,
             node_id: self.node_id,
         };
-        self.sdo[n].busy = true;
-        if let Some(SdoEvent::Written { index, sub }) =
-            self.sdo[n].server.handle(now, request, &mut guard)
+        if let Some(SdoEvent::Written { index, sub }) = self.sdo[n].handle(now, request, &mut guard)
         {
             self.apply_write(index, sub, now);
             self.events.push(Event::Written { index, sub });
@@ -824,25 +676,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn handle_rpdo(&mut self, n: usize, data: &[u8], now: Instant) {
         let rpdo = &mut self.rpdos[n];
-        let expected = usize::from(rpdo.mapping.len);
-        rpdo.too_short = data.len() < expected;
-        rpdo.too_long = data.len() > expected;
-        let mut recovered = false;
-        if !rpdo.too_short {
-            // CiA 301, 1400h+n sub 05h: a non-zero event timer of an RPDO is its deadline; the
-            // monitoring is activated with the next reception of the RPDO (after entering
-            // operational or configuring the event timer) and restarts with each one. A frame
-            // too short to be processed is no reception.
-            let timer = Duration::from_millis(u64::from(rpdo.event_timer_ms));
-            rpdo.deadline = (rpdo.event_timer_ms != 0).then(|| now + timer);
-            recovered = core::mem::take(&mut rpdo.timed_out);
-            if rpdo.synchronous() {
-                let mut buffer = [0u8; 8];
-                buffer[..expected].copy_from_slice(&data[..expected]);
-                rpdo.buffered = Some(buffer);
-            } else {
-                self.apply_rpdo(n, data);
-            }
+        let expected = usize::from(rpdo.mapping().len);
+        let (apply, recovered) = rpdo.receive(now, data);
+        if let Some(data) = apply {
+            self.apply_rpdo(n, data);
         }
         if data.len() != expected || self.length_error_raised {
             self.update_length_errors(data.len());
@@ -858,22 +695,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// code, little-endian. The next RPDO applied whole while no other is refused clears it.
     fn apply_rpdo(&mut self, n: usize, data: &[u8]) {
         let rpdo = &mut self.rpdos[n];
-        match rpdo.mapping.unpack(&mut self.od, data) {
-            Ok(()) => {
-                let recovered = core::mem::take(&mut rpdo.refused);
-                if rpdo.feeds_tpdo {
-                    let mapping = rpdo.mapping;
+        match rpdo.apply(&mut self.od, data) {
+            Ok(recovered) => {
+                if rpdo.feeds_tpdo() {
+                    let mapping = *rpdo.mapping();
                     for object in mapping.objects() {
                         self.mark_changed(object.index, object.sub);
                     }
                 }
                 self.events.push(Event::RpdoReceived { pdo: n as u16 });
-                if recovered && !self.rpdos.iter().any(|r| r.refused) {
+                if recovered && !self.rpdos.iter().any(|r| r.refused()) {
                     self.emcy.clear(&mut self.od, error_code::PROTOCOL);
                 }
             }
             Err(abort) => {
-                rpdo.refused = true;
                 let [a, b, c, d] = abort.code().to_le_bytes();
                 let info = [n as u8, a, b, c, d];
                 self.emcy.raise(
@@ -888,15 +723,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Clears 8250h (with its error-reset emergency) once no RPDO is timed out any more.
     fn end_rpdo_timeout(&mut self) {
-        if !self.rpdos.iter().any(|r| r.timed_out) {
+        if !self.rpdos.iter().any(|r| r.timed_out()) {
             self.emcy.clear(&mut self.od, RPDO_TIMEOUT_CODE);
         }
     }
 
     /// Raises or clears 8210h (too short, not processed) and 8220h (too long, processed).
     fn update_length_errors(&mut self, received: usize) {
-        let short = self.rpdos.iter().any(|r| r.too_short);
-        let long = self.rpdos.iter().any(|r| r.too_long);
+        let short = self.rpdos.iter().any(|r| r.length_errors().0);
+        let long = self.rpdos.iter().any(|r| r.length_errors().1);
         let info = [received as u8, 0, 0, 0, 0];
         for (code, now_bad) in [
             (error_code::PDO_LENGTH, short),
@@ -920,7 +755,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// the right length clears it.
     fn handle_sync_frame(&mut self, data: &[u8], now: Instant) {
         match SyncRepr::parse(data) {
-            Some(sync) if sync.counter.is_some() == (self.sync.overflow != 0) => {
+            Some(sync) if self.sync.length_matches(sync.counter) => {
                 // Nothing happens unless it is active.
                 self.emcy.clear(&mut self.od, error_code::SYNC_LENGTH);
                 self.handle_sync(sync.counter, now);
@@ -939,8 +774,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
         self.events.push(Event::Sync { counter });
-        if !self.sync.producer && self.sync.period != Duration::ZERO {
-            self.sync.timeout = Some(now + Duration(self.sync.period.as_micros() * 3 / 2));
+        if self.sync.consumed(now) {
             // Ends a SYNC timeout error, if one is active.
             self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
         }
@@ -948,59 +782,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             return;
         }
         for n in 0..RPDOS {
-            if let Some(data) = self.rpdos[n].buffered.take() {
+            if let Some(data) = self.rpdos[n].take_buffered() {
                 self.apply_rpdo(n, &data);
             }
         }
-        let window_end = (self.sync.window != Duration::ZERO).then(|| now + self.sync.window);
-        let use_start = self.sync.overflow != 0;
+        let window_end = self.sync.window_end(now);
+        let use_start = self.sync.counting();
         for tpdo in &mut self.tpdos {
-            if !tpdo.enabled {
-                continue;
-            }
-            let send = match tpdo.transmission {
-                0 => {
-                    if tpdo.check_change {
-                        let data = tpdo.mapping.pack(&self.od);
-                        tpdo.check_change = false;
-                        if data != tpdo.last_data {
-                            tpdo.acyclic_request = true;
-                        }
-                    }
-                    core::mem::take(&mut tpdo.acyclic_request)
-                }
-                every @ 1..=240 => {
-                    let start = if use_start { tpdo.sync_start } else { 0 };
-                    // SYNCs left until the next transmission, counting this one.
-                    let left = match tpdo.sync_countdown {
-                        Some(left) => Some(left),
-                        None if start != 0 => (counter == Some(start)).then_some(1),
-                        None => Some(every),
-                    };
-                    match left {
-                        Some(left) if left <= 1 => {
-                            tpdo.sync_countdown = Some(every);
-                            true
-                        }
-                        Some(left) => {
-                            tpdo.sync_countdown = Some(left - 1);
-                            false
-                        }
-                        None => false,
-                    }
-                }
-                252 => {
-                    tpdo.rtr_sample = Some(tpdo.mapping.pack(&self.od));
-                    false
-                }
-                _ => false,
-            };
-            if send {
-                tpdo.data = tpdo.mapping.pack(&self.od);
-                tpdo.sampled = true;
-                tpdo.pending = true;
+            if tpdo.on_sync(&self.od, counter, use_start, window_end) {
                 self.tpdo_attention = true;
-                tpdo.sync_deadline = window_end;
             }
         }
     }
@@ -1016,13 +806,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 1,
             ));
         }
-        if let Some(sync) = self.sync.due.take() {
-            let ([counter], len) = sync.emit();
-            return Some(one_byte_frame(self.sync.cob_id, counter, len as u8));
+        if let Some((id, counter, len)) = self.sync.poll_transmit() {
+            return Some(one_byte_frame(id, counter, len));
         }
         if self.state != NmtState::Stopped {
-            if let Some(emcy) = self.emcy.poll(now) {
-                return Some(CanFrame::from_parts(self.emcy.cob_id, emcy.emit(), 8));
+            if let Some(frame) = self.emcy.poll_transmit(now) {
+                return Some(frame);
             }
         }
         if self.state == NmtState::Operational && self.tpdo_attention {
@@ -1030,75 +819,23 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 return Some(frame);
             }
         }
-        // A channel disabled by the write it is answering still sends that answer.
         for channel in &mut self.sdo {
-            if channel.busy {
-                match channel.server.poll_transmit(now, &self.od) {
-                    Some(response) => return Some(CanFrame::from_parts(channel.tx, response, 8)),
-                    None => channel.busy = false,
-                }
+            if let Some(frame) = channel.poll_transmit(now, &self.od) {
+                return Some(frame);
             }
         }
-        let state = ErrorControlRepr {
-            state: self.state,
-            toggle: false,
-        };
-        #[cfg(feature = "node-guarding")]
-        if core::mem::take(&mut self.error_control.guarding.answer_due) {
-            let toggle = self.error_control.guarding.toggle;
-            self.error_control.guarding.toggle = !toggle;
-            let answer = ErrorControlRepr { toggle, ..state };
-            return Some(one_byte_frame(error_control_id, answer.emit(), 1));
-        }
-        if core::mem::take(&mut self.error_control.heartbeat_due) {
-            return Some(one_byte_frame(error_control_id, state.emit(), 1));
-        }
-        None
+        let byte = self.error_control.poll_transmit(self.state)?;
+        Some(one_byte_frame(error_control_id, byte, 1))
     }
 
     fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {
         for tpdo in &mut self.tpdos {
-            if !tpdo.enabled {
-                continue;
+            if let Some(frame) = tpdo.poll_transmit(&self.od, now) {
+                return Some(frame);
             }
-            if tpdo.event_driven() && core::mem::take(&mut tpdo.check_change) {
-                let data = tpdo.mapping.pack(&self.od);
-                if data != tpdo.last_data {
-                    tpdo.pending = true;
-                    self.tpdo_attention = true;
-                }
-            }
-            if !tpdo.pending {
-                continue;
-            }
-            if let Some(deadline) = tpdo.sync_deadline {
-                if now > deadline {
-                    // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
-                    tpdo.pending = false;
-                    tpdo.sampled = false;
-                    tpdo.sync_deadline = None;
-                    continue;
-                }
-            }
-            if tpdo.event_driven() && !tpdo.inhibit_passed(now) {
-                continue;
-            }
-            let data = if core::mem::take(&mut tpdo.sampled) {
-                tpdo.data
-            } else {
-                tpdo.mapping.pack(&self.od)
-            };
-            tpdo.pending = false;
-            tpdo.sync_deadline = None;
-            tpdo.last_data = data;
-            tpdo.last_sent = Some(now);
-            if tpdo.event_driven() && tpdo.event_timer_ms != 0 {
-                tpdo.event_deadline = Some(now + tpdo.event_timer());
-            }
-            return Some(CanFrame::from_parts(tpdo.cob_id, data, tpdo.mapping.len));
         }
         // Whatever is still pending waits for an inhibit time; poll_timeout reports when.
-        self.tpdo_attention = self.tpdos.iter().any(|t| t.pending);
+        self.tpdo_attention = self.tpdos.iter().any(|t| t.pending());
         None
     }
 
@@ -1106,27 +843,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
         let mut next = self.error_control.next_deadline();
-        keep_earliest(&mut next, &self.sync.next);
-        keep_earliest(&mut next, &self.sync.timeout);
+        keep_earliest(&mut next, &self.sync.next_deadline());
         if self.state != NmtState::Stopped {
             keep_earliest(&mut next, &self.emcy.ready_at());
         }
         if self.state == NmtState::Operational {
             for rpdo in &self.rpdos {
-                keep_earliest(&mut next, &rpdo.deadline);
+                keep_earliest(&mut next, &rpdo.next_deadline());
             }
             for tpdo in &self.tpdos {
-                if !tpdo.enabled || !tpdo.event_driven() {
-                    continue;
-                }
-                keep_earliest(&mut next, &tpdo.event_deadline);
-                if tpdo.pending {
-                    keep_earliest(&mut next, &tpdo.last_sent.map(|sent| sent + tpdo.inhibit()));
-                }
+                keep_earliest(&mut next, &tpdo.next_deadline());
             }
         }
         for channel in &self.sdo {
-            keep_earliest(&mut next, &channel.server.poll_timeout());
+            keep_earliest(&mut next, &channel.next_deadline());
         }
         next
     }
@@ -1134,26 +864,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
     /// SYNC production, TPDO event timers, RPDO deadlines and SDO timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        let ec = &mut self.error_control;
-        if let Some(at) = ec.next_heartbeat {
-            if at <= now {
-                ec.heartbeat_due = true;
-                ec.next_heartbeat = Some(next_period(at, ec.producer_period, now));
-            }
-        }
-        for consumer in ec.consumers.iter_mut().take(ec.consumer_count) {
-            if consumer.deadline.is_some_and(|at| at <= now) {
-                consumer.deadline = None;
-                self.events.push(Event::HeartbeatLost {
-                    node_id: consumer.node_id,
-                });
-            }
-        }
-        #[cfg(feature = "node-guarding")]
-        if ec.guarding.life_deadline.is_some_and(|at| at <= now) {
-            ec.guarding.life_deadline = None;
-            ec.guarding.life_lost = true;
-            self.events.push(Event::LifeGuardingLost);
+        if self.error_control.handle_timeout(now, &mut self.events) {
             self.emcy.raise(
                 &mut self.od,
                 error_code::LIFE_GUARD,
@@ -1161,8 +872,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 [0; 5],
             );
         }
-        if self.sync.timeout.is_some_and(|at| at <= now) {
-            self.sync.timeout = None;
+        let sync = self.sync.handle_timeout(now);
+        if sync.missed {
             self.emcy.raise(
                 &mut self.od,
                 SYNC_TIMEOUT_CODE,
@@ -1170,26 +881,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 [0; 5],
             );
         }
-        if let Some(at) = self.sync.next {
-            if at <= now {
-                self.sync.next = Some(next_period(at, self.sync.period, now));
-                let counter = (self.sync.overflow != 0).then(|| {
-                    self.sync.counter = if self.sync.counter >= self.sync.overflow {
-                        1
-                    } else {
-                        self.sync.counter + 1
-                    };
-                    self.sync.counter
-                });
-                self.sync.due = Some(SyncRepr { counter });
-                self.handle_sync(counter, now);
-            }
+        if let Some(counter) = sync.produced {
+            self.handle_sync(counter, now);
         }
         if self.state == NmtState::Operational {
             for (n, rpdo) in self.rpdos.iter_mut().enumerate() {
-                if rpdo.deadline.is_some_and(|at| at <= now) {
-                    rpdo.deadline = None;
-                    rpdo.timed_out = true;
+                if rpdo.handle_timeout(now) {
                     self.events.push(Event::RpdoTimeout { pdo: n as u16 });
                     // Already active when another RPDO timed out first: one emergency for both.
                     self.emcy.raise(
@@ -1201,21 +898,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
             }
             for tpdo in &mut self.tpdos {
-                if tpdo.enabled
-                    && tpdo.event_driven()
-                    && tpdo.event_deadline.is_some_and(|at| at <= now)
-                {
-                    tpdo.event_deadline = None;
-                    tpdo.pending = true;
+                if tpdo.handle_timeout(now) {
                     self.tpdo_attention = true;
                 }
             }
         }
         for channel in &mut self.sdo {
-            if channel.server.poll_timeout().is_some_and(|at| at <= now) {
-                channel.server.handle_timeout(now);
-                channel.busy = true;
-            }
+            channel.handle_timeout(now);
         }
     }
 }

@@ -256,6 +256,45 @@ pub trait ObjectDictionary {
         self.read(entry.index, entry.sub, offset, buf)
     }
 
+    /// Writes `data` into the value of the entry at `position` (a string, octet string or
+    /// domain), `offset` bytes in: one piece of an SDO download (segmented or block) streamed
+    /// into the dictionary, so that no buffer holds the whole value. Pieces come in order from
+    /// offset 0, each within the entry's [`capacity`](Self::capacity); after the first the
+    /// value holds at least `offset + data.len()` bytes. [`finish_write`](Self::finish_write)
+    /// ends the download.
+    ///
+    /// This is also where a domain whose bytes live outside the dictionary (a program download
+    /// to 1F50h, a file) is written: the application's dictionary (or one wrapping a generated
+    /// `Od`) streams the pieces to flash or the file here and reads them back through
+    /// [`read_at`](Self::read_at), with [`value_len`](Self::value_len) and `capacity` saying
+    /// how long it is and may be.
+    ///
+    /// The default rewrites the value through [`write_at`](Self::write_at) with the bytes so
+    /// far, read back into a 32-byte buffer: enough for short values in a dictionary that
+    /// implements nothing more; a longer one is refused with 0504 0005 (out of memory).
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        let mut value = [0u8; 32];
+        let end = offset + data.len();
+        if end > value.len() {
+            return Err(SdoAbort::OutOfMemory);
+        }
+        if self.read_at(position, 0, &mut value[..offset])? != offset {
+            return Err(SdoAbort::General);
+        }
+        value[offset..end].copy_from_slice(data);
+        self.write_at(position, &value[..end])
+    }
+
+    /// Ends a download streamed by [`write_part`](Self::write_part): the value is now the `len`
+    /// bytes written (0 when no piece came). The default writes an empty value for `len` 0 and
+    /// otherwise has nothing left to do.
+    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        if len == 0 {
+            return self.write_at(position, &[]);
+        }
+        Ok(())
+    }
+
     /// Sets every entry whose index is in `indices` to its power-on default, as a newly built
     /// dictionary for `node_id` holds it (`$NODEID` defaults computed from it). The node calls
     /// this on NMT resets (reset node: 0000h–FFFFh, reset communication: 1000h–1FFFh) through

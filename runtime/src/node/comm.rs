@@ -52,33 +52,36 @@ fn check_plain_cob_id(value: u32) -> Result<(), SdoAbort> {
 }
 
 /// A COB-ID entry may change its CAN-ID only while invalid; a valid one must not use a
-/// restricted CAN-ID (unless `allowed`, an SDO channel's own pre-defined one); 29-bit identifiers
-/// are not served.
-fn check_cob_id(old: Option<u32>, new: u32, allowed: impl Fn(u16) -> bool) -> Result<(), SdoAbort> {
+/// restricted CAN-ID unless it is in `exempt` (an SDO channel's pre-defined ones); 29-bit
+/// identifiers are not served.
+fn check_cob_id(old: Option<u32>, new: u32, exempt: (u16, u16)) -> Result<(), SdoAbort> {
     let new = CobIdEntry(new);
     if !new.valid() {
         return Ok(());
     }
-    if new.extended() || (restricted(new.can_id()) && !allowed(new.can_id())) {
+    let id = new.can_id();
+    if new.extended() || (restricted(id) && !(exempt.0 <= id && id <= exempt.1)) {
         return Err(SdoAbort::InvalidValue);
     }
     match old.map(CobIdEntry) {
-        Some(old) if old.valid() && old.can_id() != new.can_id() => Err(SdoAbort::InvalidValue),
+        Some(old) if old.valid() && old.can_id() != id => Err(SdoAbort::InvalidValue),
         _ => Ok(()),
     }
 }
 
-/// Whether an SDO parameter (1200h+n server, 1280h+n client; `sub` 1 client to server, 2 server
-/// to client) may use a restricted `can_id`: the default server (1200h) its own pre-defined pair,
-/// a client any node's pre-defined pair (how it reaches another node's default server).
-fn sdo_id_allowed(index: u16, sub: u8, node_id: u8, can_id: u16) -> bool {
+/// No exemption from the restricted CAN-IDs.
+const NOT_EXEMPT: (u16, u16) = (1, 0);
+
+/// The restricted CAN-IDs an SDO parameter (1200h+n server, 1280h+n client; `sub` 1 client to
+/// server, 2 server to client) may use: the default server (1200h) its own pre-defined pair, a
+/// client any node's pre-defined pair (how it reaches another node's default server).
+fn sdo_exempt(index: u16, sub: u8, node_id: u8) -> (u16, u16) {
     let node = u16::from(node_id);
-    match (index, sub) {
-        (0x1200, 1) => can_id == 0x600 + node,
-        (0x1200, 2) => can_id == 0x580 + node,
-        (0x1280..=0x12FF, 1) => matches!(can_id, 0x601..=0x67F),
-        (0x1280..=0x12FF, 2) => matches!(can_id, 0x581..=0x5FF),
-        _ => false,
+    let base = if sub == 1 { 0x600 } else { 0x580 };
+    match index {
+        0x1200 => (base + node, base + node),
+        0x1280..=0x12FF => (base + 1, base + 0x7F),
+        _ => NOT_EXEMPT,
     }
 }
 
@@ -95,7 +98,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         receive: bool,
     ) -> Result<(), SdoAbort> {
         match sub {
-            1 => check_cob_id(read_uint(self.od, index, 1), value, |_| false),
+            1 => check_cob_id(read_uint(self.od, index, 1), value, NOT_EXEMPT),
             2 => match value {
                 0..=240 | 254 | 255 => Ok(()),
                 252 | 253 if !receive => Ok(()),
@@ -192,7 +195,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 self.hooks.restore_defaults(sub).map(|()| false)
             }
             0x1012 => check_plain_cob_id(value).map(|()| true),
-            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, |_| false).map(|()| true),
+            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, NOT_EXEMPT).map(|()| true),
             0x1016 if sub >= 1 => self.check_heartbeat_consumer(sub, value).map(|()| true),
             0x1019 => {
                 if read_uint_or(self.od, 0x1006, 0, 0) != 0 {
@@ -204,11 +207,8 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 }
             }
             0x1200..=0x12FF if sub == 1 || sub == 2 => {
-                let node_id = self.node_id;
-                check_cob_id(read_uint(self.od, index, sub), value, |id| {
-                    sdo_id_allowed(index, sub, node_id, id)
-                })
-                .map(|()| true)
+                let exempt = sdo_exempt(index, sub, self.node_id);
+                check_cob_id(read_uint(self.od, index, sub), value, exempt).map(|()| true)
             }
             0x1400..=0x15FF => self.check_pdo_comm(index, sub, value, true).map(|()| true),
             0x1600..=0x17FF => self
@@ -268,6 +268,15 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
 
     fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         self.od.read_at(position, offset, buf)
+    }
+
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        // Strings and domains: no communication-object rule applies to them.
+        self.od.write_part(position, offset, data)
+    }
+
+    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        self.od.finish_write(position, len)
     }
 
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {

@@ -3,6 +3,7 @@
 //! (1015h).
 
 use super::{read_uint, read_uint_or};
+use crate::frame::CanFrame;
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
 use crate::wire::emcy::EmcyRepr;
@@ -72,14 +73,14 @@ pub(crate) enum Raised {
 
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Emcy {
-    pub cob_id: u16,
-    pub enabled: bool,
-    pub inhibit: Duration,
+    cob_id: u16,
+    enabled: bool,
+    inhibit: Duration,
     last_sent: Option<Instant>,
     queue: [EmcyRepr; QUEUE],
     queued: usize,
     /// Emergencies dropped because the queue was full.
-    pub dropped: u32,
+    dropped: u32,
     /// The active errors' codes and register bits: two arrays rather than one of (code,
     /// register) pairs, whose padding byte made clearing them a store per field.
     active_codes: [u16; MAX_ACTIVE_ERRORS],
@@ -255,9 +256,22 @@ impl Emcy {
         })
     }
 
+    /// Emergencies dropped because more were raised than the inhibit time let out.
+    #[inline]
+    pub fn dropped(&self) -> u32 {
+        self.dropped
+    }
+
+    /// The next emergency frame, if one is waiting and the inhibit time has passed.
+    #[inline]
+    pub fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        let repr = self.poll(now)?;
+        Some(CanFrame::from_parts(self.cob_id, repr.emit(), 8))
+    }
+
     /// The next emergency, if one is waiting and the inhibit time has passed.
     #[inline]
-    pub fn poll(&mut self, now: Instant) -> Option<EmcyRepr> {
+    fn poll(&mut self, now: Instant) -> Option<EmcyRepr> {
         if self.ready_at()? > now {
             return None;
         }

@@ -2,44 +2,46 @@
 //! consumers (1016h), and node guarding with its toggle bit and life time (100Ch × 100Dh; with
 //! the `node-guarding` feature).
 
-use super::{read_uint, read_uint_or};
+use super::events::EventQueue;
+use super::{next_period, read_uint, read_uint_or, Event};
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
+use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
 
 /// The most remote nodes whose heartbeat one node watches; 1016h entries beyond are not served.
 pub const MAX_HEARTBEAT_CONSUMERS: usize = 8;
 
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Consumer {
-    pub node_id: u8,
+struct Consumer {
+    node_id: u8,
     /// The consumer heartbeat time (1016h, ms) as read: 16 bits, not a 64-bit `Duration`.
-    pub period_ms: u16,
+    period_ms: u16,
     /// Set once the first heartbeat arrived; cleared on a timeout.
-    pub deadline: Option<Instant>,
+    deadline: Option<Instant>,
 }
 
 /// Node guarding and life guarding.
 #[cfg(feature = "node-guarding")]
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Guarding {
-    pub guard_time: Duration,
-    pub life_time_factor: u8,
-    pub toggle: bool,
-    pub answer_due: bool,
+struct Guarding {
+    guard_time: Duration,
+    life_time_factor: u8,
+    toggle: bool,
+    answer_due: bool,
     /// Life guarding runs after the first guard request, while guarding is configured.
-    pub life_deadline: Option<Instant>,
-    pub life_lost: bool,
+    life_deadline: Option<Instant>,
+    life_lost: bool,
 }
 
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ErrorControl {
-    pub producer_period: Duration,
-    pub next_heartbeat: Option<Instant>,
-    pub heartbeat_due: bool,
+    producer_period: Duration,
+    next_heartbeat: Option<Instant>,
+    heartbeat_due: bool,
     #[cfg(feature = "node-guarding")]
-    pub guarding: Guarding,
-    pub consumers: [Consumer; MAX_HEARTBEAT_CONSUMERS],
-    pub consumer_count: usize,
+    guarding: Guarding,
+    consumers: [Consumer; MAX_HEARTBEAT_CONSUMERS],
+    consumer_count: usize,
 }
 
 impl ErrorControl {
@@ -120,7 +122,7 @@ impl ErrorControl {
     /// The life time (guard time × life time factor), if guarding is configured and the
     /// heartbeat producer is off (CiA 301: heartbeat takes precedence).
     #[cfg(feature = "node-guarding")]
-    pub fn life_time(&self) -> Option<Duration> {
+    fn life_time(&self) -> Option<Duration> {
         let life = self.guarding.guard_time.as_micros() * u64::from(self.guarding.life_time_factor);
         (life != 0 && self.producer_period == Duration::ZERO).then_some(Duration(life))
     }
@@ -135,6 +137,64 @@ impl ErrorControl {
         }
     }
 
+    /// A node-guarding request at `now`: the answer is queued and life guarding (re)starts.
+    /// Returns whether life guarding had been lost (its error ends).
+    #[cfg(feature = "node-guarding")]
+    pub fn guard_request(&mut self, now: Instant) -> bool {
+        self.guarding.answer_due = true;
+        let Some(life) = self.life_time() else {
+            return false;
+        };
+        self.guarding.life_deadline = Some(now + life);
+        core::mem::take(&mut self.guarding.life_lost)
+    }
+
+    /// The error-control byte to send for a node in `state`, if one is due: the answer to a
+    /// guard request (with the toggle bit, which then alternates), else a heartbeat.
+    #[inline]
+    pub fn poll_transmit(&mut self, state: NmtState) -> Option<u8> {
+        let repr = ErrorControlRepr {
+            state,
+            toggle: false,
+        };
+        #[cfg(feature = "node-guarding")]
+        if core::mem::take(&mut self.guarding.answer_due) {
+            let toggle = self.guarding.toggle;
+            self.guarding.toggle = !toggle;
+            return Some(ErrorControlRepr { toggle, ..repr }.emit());
+        }
+        core::mem::take(&mut self.heartbeat_due).then(|| repr.emit())
+    }
+
+    /// Runs the timers due at `now`: the next heartbeat, the watched nodes' heartbeats
+    /// ([`Event::HeartbeatLost`]) and life guarding ([`Event::LifeGuardingLost`]). Returns
+    /// whether life guarding was lost now (the node raises its emergency).
+    pub fn handle_timeout(&mut self, now: Instant, events: &mut EventQueue) -> bool {
+        if let Some(at) = self.next_heartbeat {
+            if at <= now {
+                self.heartbeat_due = true;
+                self.next_heartbeat = Some(next_period(at, self.producer_period, now));
+            }
+        }
+        for consumer in self.consumers.iter_mut().take(self.consumer_count) {
+            if consumer.deadline.is_some_and(|at| at <= now) {
+                consumer.deadline = None;
+                events.push(Event::HeartbeatLost {
+                    node_id: consumer.node_id,
+                });
+            }
+        }
+        #[cfg(feature = "node-guarding")]
+        if self.guarding.life_deadline.is_some_and(|at| at <= now) {
+            self.guarding.life_deadline = None;
+            self.guarding.life_lost = true;
+            events.push(Event::LifeGuardingLost);
+            return true;
+        }
+        false
+    }
+
+    /// The next instant a timer runs out.
     pub fn next_deadline(&self) -> Option<Instant> {
         let mut next = self.next_heartbeat;
         #[cfg(feature = "node-guarding")]

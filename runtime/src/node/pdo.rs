@@ -5,6 +5,7 @@
 //! length that is not a multiple of 8 is refused with 0604 0041). At most [`MAX_MAPPED`] objects
 //! per PDO.
 
+use crate::frame::CanFrame;
 use crate::od::{DataType, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 use crate::wire::pdo::{CobIdEntry, MappingEntry};
@@ -289,26 +290,26 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Rpdo {
     /// Whether the PDO exists and is valid.
-    pub enabled: bool,
-    pub cob_id: u16,
-    pub transmission: u8,
-    pub mapping: Mapping,
+    enabled: bool,
+    cob_id: u16,
+    transmission: u8,
+    mapping: Mapping,
     /// Data received for a synchronous RPDO, applied at the next SYNC.
-    pub buffered: Option<[u8; 8]>,
+    buffered: Option<[u8; 8]>,
     /// Some TPDO maps an object this PDO writes (change-of-state detection must look).
-    pub feeds_tpdo: bool,
+    feeds_tpdo: bool,
     /// The last frame was shorter / longer than the mapping.
-    pub too_short: bool,
-    pub too_long: bool,
+    too_short: bool,
+    too_long: bool,
     /// The last frame was not applied: the OD refused one of its values (EMCY 8200h).
-    pub refused: bool,
+    refused: bool,
     /// Deadline monitoring (1400h+n sub 05h, ms; 0 = off): the PDO must arrive again within
     /// this time of its last reception.
-    pub event_timer_ms: u16,
+    event_timer_ms: u16,
     /// When the next reception is due; armed by a reception in operational.
-    pub deadline: Option<Instant>,
+    deadline: Option<Instant>,
     /// The deadline passed and the PDO has not arrived since (EMCY 8250h is active for it).
-    pub timed_out: bool,
+    timed_out: bool,
 }
 
 impl Rpdo {
@@ -350,45 +351,179 @@ impl Rpdo {
     }
 
     #[inline]
-    pub fn synchronous(&self) -> bool {
+    fn synchronous(&self) -> bool {
         self.transmission <= 240
+    }
+
+    /// Whether a frame on `id` is this PDO.
+    #[inline]
+    pub fn accepts(&self, id: u16) -> bool {
+        self.enabled && id == self.cob_id
+    }
+
+    /// The checked mapping.
+    #[inline]
+    pub fn mapping(&self) -> &Mapping {
+        &self.mapping
+    }
+
+    /// Whether a TPDO maps an object this PDO writes (so that a reception looks for changes
+    /// of state).
+    #[inline]
+    pub fn feeds_tpdo(&self) -> bool {
+        self.feeds_tpdo
+    }
+
+    /// Notes whether a TPDO maps an object this PDO writes.
+    #[inline]
+    pub fn set_feeds_tpdo(&mut self, feeds: bool) {
+        self.feeds_tpdo = feeds;
+    }
+
+    /// The last frame was shorter / longer than the mapping (EMCY 8210h / 8220h).
+    #[inline]
+    pub fn length_errors(&self) -> (bool, bool) {
+        (self.too_short, self.too_long)
+    }
+
+    /// The deadline passed and the PDO has not arrived since (EMCY 8250h).
+    #[inline]
+    pub fn timed_out(&self) -> bool {
+        self.timed_out
+    }
+
+    /// The last frame was not applied: the OD refused one of its values (EMCY 8200h).
+    #[inline]
+    pub fn refused(&self) -> bool {
+        self.refused
+    }
+
+    /// A frame received at `now`. A frame shorter than the mapping is not processed (and is no
+    /// reception for the deadline monitoring); a synchronous PDO's data waits for the next
+    /// SYNC; an event-driven one is handed back to be applied. Also returns whether a timeout
+    /// of the PDO ended.
+    #[inline]
+    pub fn receive<'d>(&mut self, now: Instant, data: &'d [u8]) -> (Option<&'d [u8]>, bool) {
+        let expected = usize::from(self.mapping.len);
+        self.too_short = data.len() < expected;
+        self.too_long = data.len() > expected;
+        if self.too_short {
+            return (None, false);
+        }
+        // CiA 301, 1400h+n sub 05h: a non-zero event timer of an RPDO is its deadline; the
+        // monitoring is activated with the next reception of the RPDO (after entering
+        // operational or configuring the event timer) and restarts with each one.
+        let timer = Duration::from_millis(u64::from(self.event_timer_ms));
+        self.deadline = (self.event_timer_ms != 0).then(|| now + timer);
+        let recovered = core::mem::take(&mut self.timed_out);
+        if self.synchronous() {
+            let mut buffer = [0u8; 8];
+            buffer[..expected].copy_from_slice(&data[..expected]);
+            self.buffered = Some(buffer);
+            (None, recovered)
+        } else {
+            (Some(data), recovered)
+        }
+    }
+
+    /// The data of a synchronous PDO received before this SYNC, to apply now.
+    #[inline]
+    pub fn take_buffered(&mut self) -> Option<[u8; 8]> {
+        self.buffered.take()
+    }
+
+    /// Writes received data into the OD, all or none ([`Mapping::unpack`]), and notes whether
+    /// it was refused. `Ok(true)` when it was applied after a refusal.
+    pub fn apply<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &mut O,
+        data: &[u8],
+    ) -> Result<bool, SdoAbort> {
+        match self.mapping.unpack(od, data) {
+            Ok(()) => Ok(core::mem::take(&mut self.refused)),
+            Err(abort) => {
+                self.refused = true;
+                Err(abort)
+            }
+        }
+    }
+
+    /// Leaving operational: buffered data and the deadline are dropped.
+    pub fn stop(&mut self) {
+        self.buffered = None;
+        self.deadline = None;
+    }
+
+    /// Re-reads RPDO `n` after an SDO write to its parameters. A valid PDO keeps its deadline
+    /// monitoring across other changes (its transmission type); a new event timer
+    /// (`event_timer_written`) stops it: CiA 301 activates the monitoring with the next
+    /// reception after the event timer is configured. Returns whether a timeout ended.
+    pub fn reload<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        n: u16,
+        event_timer_written: bool,
+    ) -> bool {
+        let (deadline, timed_out) = (self.deadline, self.timed_out);
+        self.load(od, n);
+        if self.enabled && !event_timer_written {
+            self.deadline = deadline;
+            self.timed_out = timed_out;
+        }
+        timed_out && !self.timed_out
+    }
+
+    /// When the PDO is due again (deadline monitoring), if it is monitored.
+    #[inline]
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.deadline
+    }
+
+    /// Runs the deadline at `now`. Returns whether the PDO timed out now.
+    pub fn handle_timeout(&mut self, now: Instant) -> bool {
+        if self.deadline.is_some_and(|at| at <= now) {
+            self.deadline = None;
+            self.timed_out = true;
+            return true;
+        }
+        false
     }
 }
 
 /// A transmit PDO.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Tpdo {
-    pub enabled: bool,
-    pub cob_id: u16,
-    pub rtr_allowed: bool,
-    pub transmission: u8,
+    enabled: bool,
+    cob_id: u16,
+    rtr_allowed: bool,
+    transmission: u8,
     /// The inhibit time (1800h+n sub 03h, in 100 µs) and event timer (sub 05h, ms) as read:
     /// 32 bits each rather than 64-bit `Duration`s.
-    pub inhibit_100us: u32,
-    pub event_timer_ms: u32,
-    pub sync_start: u8,
-    pub mapping: Mapping,
+    inhibit_100us: u32,
+    event_timer_ms: u32,
+    sync_start: u8,
+    mapping: Mapping,
     /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous,
     /// `sampled`). A flag beside a plain array rather than an `Option`, which keeps the array
     /// word-aligned (it is copied into a frame as whole words).
-    pub pending: bool,
-    pub sampled: bool,
-    pub data: [u8; 8],
+    pending: bool,
+    sampled: bool,
+    data: [u8; 8],
     /// For synchronous PDOs: the latest sample (252) and the window deadline.
-    pub sync_deadline: Option<Instant>,
+    sync_deadline: Option<Instant>,
     /// Type 0: an event occurred since the last SYNC.
-    pub acyclic_request: bool,
+    acyclic_request: bool,
     /// SYNCs left until the next cyclic transmission; `None` before the first SYNC, `Some(0)`
     /// while waiting for the SYNC start value.
-    pub sync_countdown: Option<u8>,
+    sync_countdown: Option<u8>,
     /// Type 252: the data sampled at the last SYNC, sent on a remote request.
-    pub rtr_sample: Option<[u8; 8]>,
+    rtr_sample: Option<[u8; 8]>,
     /// The payload last sent (change-of-state detection).
-    pub last_data: [u8; 8],
-    pub last_sent: Option<Instant>,
-    pub event_deadline: Option<Instant>,
+    last_data: [u8; 8],
+    last_sent: Option<Instant>,
+    event_deadline: Option<Instant>,
     /// A mapped object may have changed: compare before the next transmission decision.
-    pub check_change: bool,
+    check_change: bool,
 }
 
 impl Tpdo {
@@ -463,6 +598,223 @@ impl Tpdo {
     /// The event timer (zero: off).
     pub fn event_timer(&self) -> Duration {
         Duration::from_millis(u64::from(self.event_timer_ms))
+    }
+
+    /// Whether its mapping holds (index, sub).
+    #[inline]
+    pub fn maps(&self, index: u16, sub: u8) -> bool {
+        self.mapping.contains(index, sub)
+    }
+
+    /// A mapped object may have changed: compare before the next transmission decision.
+    #[inline]
+    pub fn mark_changed(&mut self) {
+        self.check_change = true;
+    }
+
+    /// Re-reads TPDO `n` after an SDO write to its parameters, keeping the timing history
+    /// (last transmission, last data) of a running PDO across a change of its event timer or
+    /// transmission type. In operational, an event-driven PDO restarts its event timer and, if
+    /// it has just become valid, is sent. Returns whether it is now waiting to be sent.
+    pub fn reload<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        n: u16,
+        now: Instant,
+        operational: bool,
+    ) -> bool {
+        let (last_sent, last_data, was_enabled) = (self.last_sent, self.last_data, self.enabled);
+        self.load(od, n);
+        self.last_sent = last_sent;
+        self.last_data = last_data;
+        if operational && self.enabled && self.event_driven() {
+            if self.event_timer_ms != 0 {
+                self.event_deadline = Some(now + self.event_timer());
+            }
+            if !was_enabled {
+                self.pending = true;
+            }
+        }
+        self.pending
+    }
+
+    /// Entering operational: an event-driven PDO is sent once. Returns whether it is waiting.
+    pub fn start(&mut self) -> bool {
+        if self.enabled && self.event_driven() {
+            self.pending = true;
+        }
+        self.pending
+    }
+
+    /// An application event (`Node::trigger_tpdo`): an event-driven PDO is sent as soon as its
+    /// inhibit time allows, an acyclic synchronous one at the next SYNC. `false` if the PDO is
+    /// not valid or has another transmission type.
+    pub fn trigger(&mut self) -> bool {
+        if !self.enabled {
+            return false;
+        }
+        match self.transmission {
+            0 => self.acyclic_request = true,
+            254 | 255 => self.pending = true,
+            _ => return false,
+        }
+        true
+    }
+
+    /// A remote request on `id`: a PDO of type 252 sends its sample of the last SYNC, one of
+    /// 253 (or event-driven) a fresh one. Returns whether it was for this PDO.
+    pub fn remote_request(&mut self, id: u16) -> bool {
+        if !(self.enabled && self.rtr_allowed && self.cob_id == id) {
+            return false;
+        }
+        match self.transmission {
+            252 => {
+                if let Some(sample) = self.rtr_sample {
+                    self.data = sample;
+                    self.sampled = true;
+                    self.pending = true;
+                }
+            }
+            _ => {
+                self.sampled = false;
+                self.pending = true;
+            }
+        }
+        true
+    }
+
+    /// A SYNC with `counter` (`use_start`: 1019h is set, so the SYNC start value applies),
+    /// whose synchronous window ends at `window_end`. Returns whether the PDO is now waiting
+    /// to be sent.
+    pub fn on_sync<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        counter: Option<u8>,
+        use_start: bool,
+        window_end: Option<Instant>,
+    ) -> bool {
+        if !self.enabled {
+            return false;
+        }
+        let send = match self.transmission {
+            0 => {
+                if self.check_change {
+                    let data = self.mapping.pack(od);
+                    self.check_change = false;
+                    if data != self.last_data {
+                        self.acyclic_request = true;
+                    }
+                }
+                core::mem::take(&mut self.acyclic_request)
+            }
+            every @ 1..=240 => {
+                let start = if use_start { self.sync_start } else { 0 };
+                // SYNCs left until the next transmission, counting this one.
+                let left = match self.sync_countdown {
+                    Some(left) => Some(left),
+                    None if start != 0 => (counter == Some(start)).then_some(1),
+                    None => Some(every),
+                };
+                match left {
+                    Some(left) if left <= 1 => {
+                        self.sync_countdown = Some(every);
+                        true
+                    }
+                    Some(left) => {
+                        self.sync_countdown = Some(left - 1);
+                        false
+                    }
+                    None => false,
+                }
+            }
+            252 => {
+                self.rtr_sample = Some(self.mapping.pack(od));
+                false
+            }
+            _ => false,
+        };
+        if send {
+            self.data = self.mapping.pack(od);
+            self.sampled = true;
+            self.pending = true;
+            self.sync_deadline = window_end;
+        }
+        send
+    }
+
+    /// The frame to send at `now`, if the PDO is waiting and may go: an event-driven PDO
+    /// whose mapped values changed is sent (change of state), within its inhibit time; a
+    /// synchronous one only within its SYNC's window (else that SYNC's PDO is dropped).
+    pub fn poll_transmit<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        now: Instant,
+    ) -> Option<CanFrame> {
+        if !self.enabled {
+            return None;
+        }
+        if self.event_driven() && core::mem::take(&mut self.check_change) {
+            let data = self.mapping.pack(od);
+            if data != self.last_data {
+                self.pending = true;
+            }
+        }
+        if !self.pending {
+            return None;
+        }
+        if let Some(deadline) = self.sync_deadline {
+            if now > deadline {
+                // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
+                self.pending = false;
+                self.sampled = false;
+                self.sync_deadline = None;
+                return None;
+            }
+        }
+        if self.event_driven() && !self.inhibit_passed(now) {
+            return None;
+        }
+        let data = if core::mem::take(&mut self.sampled) {
+            self.data
+        } else {
+            self.mapping.pack(od)
+        };
+        self.pending = false;
+        self.sync_deadline = None;
+        self.last_data = data;
+        self.last_sent = Some(now);
+        if self.event_driven() && self.event_timer_ms != 0 {
+            self.event_deadline = Some(now + self.event_timer());
+        }
+        Some(CanFrame::from_parts(self.cob_id, data, self.mapping.len))
+    }
+
+    /// Whether a frame is waiting (perhaps for its inhibit time).
+    #[inline]
+    pub fn pending(&self) -> bool {
+        self.pending
+    }
+
+    /// When the event timer runs out or the inhibit time of a waiting frame ends.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        if !self.enabled || !self.event_driven() {
+            return None;
+        }
+        let mut next = self.event_deadline;
+        if self.pending {
+            super::keep_earliest(&mut next, &self.last_sent.map(|sent| sent + self.inhibit()));
+        }
+        next
+    }
+
+    /// Runs the event timer at `now`. Returns whether the PDO is now waiting to be sent.
+    pub fn handle_timeout(&mut self, now: Instant) -> bool {
+        if self.enabled && self.event_driven() && self.event_deadline.is_some_and(|at| at <= now) {
+            self.event_deadline = None;
+            self.pending = true;
+            return true;
+        }
+        false
     }
 
     /// Whether the inhibit time since the last transmission has passed.

@@ -45,7 +45,7 @@
 //! }
 //!
 //! let mut od = Heartbeat(0);
-//! let mut server = SdoServer::<32>::new(Duration::from_millis(500));
+//! let mut server = SdoServer::new(Duration::from_millis(500));
 //! let now = Instant::from_millis(0);
 //!
 //! // Write 1017h:00 = 1000 (expedited, 2 bytes).

@@ -17,11 +17,16 @@
 //! - An expedited download without the size indicated is accepted when the entry's size is 1 to
 //!   4 bytes: that many bytes are written. For a longer entry it is aborted with 0607 0010, as the
 //!   server cannot know how many of the four bytes the client meant.
-//! - Segmented and block downloads collect the value in an `N`-byte buffer and write it to the
-//!   dictionary once, when complete. An announced size above the entry's size is aborted with
-//!   0607 0012, below a fixed-size entry's size with 0607 0013, above `N` with 0504 0005; data
-//!   beyond the announced size, or a final length that differs from it, with 0607 0010.
-//! - Block download: the server's block size is `N / 7` clamped to 1..=127. A segment whose
+//! - Segmented and block downloads of any length up to the entry's capacity. A fixed-size value
+//!   (at most 8 bytes) is collected and written once, when complete, so that its limits are
+//!   checked on the whole value; a string, octet string or domain streams into the dictionary
+//!   as it arrives ([`ObjectDictionary::write_part`], then
+//!   [`ObjectDictionary::finish_write`]), so no buffer holds the value: a download aborted
+//!   half-way leaves the bytes received so far. An announced size above the entry's capacity
+//!   is aborted with 0607 0012, below a fixed-size entry's size with 0607 0013; data beyond the
+//!   announced size, or a final length that differs from it, with 0607 0010.
+//! - Block download: the server's block size is 127 (the most CiA 301 allows: segments are
+//!   streamed, not buffered) unless [`SdoServer::with_block_size`] says less. A segment whose
 //!   sequence number is 0 or above the block size is aborted with 0504 0003; an out-of-order one
 //!   within range is ignored and the sub-block acknowledged up to the last segment received in
 //!   order, so the client repeats the rest (CiA 301's retransmission). CRC is supported and
@@ -36,11 +41,11 @@
 //! - Each request queues at most one response; one not yet taken by `poll_transmit` is replaced.
 
 #[cfg(feature = "sdo-block")]
-use super::crc::{crc16, Crc16};
+use super::crc::Crc16;
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 use crate::wire::sdo::command::{self, ccs, scs};
-use crate::wire::sdo::{frame, mux_frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
+use crate::wire::sdo::{frame, mux_frame, Frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
 #[cfg(feature = "sdo-block")]
 use crate::wire::sdo::{BlockSegment, MAX_BLOCK_SIZE};
 
@@ -65,12 +70,13 @@ struct WriteTarget {
     fixed: bool,
 }
 
-/// A normal (segmented) download: data collected in the buffer.
+/// A normal (segmented) download, streamed into the entry.
 #[derive(Debug, Clone, Copy)]
 struct Download {
     toggle: bool,
     size: Option<u32>,
-    entry_size: usize,
+    target: WriteTarget,
+    /// Bytes received so far.
     len: usize,
 }
 
@@ -78,18 +84,26 @@ struct Download {
 #[derive(Debug, Clone, Copy)]
 struct Upload {
     toggle: bool,
+    position: usize,
     offset: usize,
     total: usize,
 }
 
-/// A block download: data collected in the buffer.
+/// A block download, streamed into the entry. The last segment received in order is held back
+/// until the next one shows it was not the last, or the end request says how many of its bytes
+/// are padding: only then is it written and added to the CRC.
 #[cfg(feature = "sdo-block")]
 #[derive(Debug, Clone, Copy)]
 struct BlockDownload {
-    crc: bool,
+    /// Whether the client computes the CRC (else the end request's is not checked).
+    check_crc: bool,
+    crc: Crc16,
+    /// The segment held back.
+    held: [u8; SEGMENT_DATA_LEN],
     size: Option<u32>,
-    entry_size: usize,
-    /// Segment bytes received in order, padding of the last segment included.
+    target: WriteTarget,
+    /// Segment bytes received in order, padding of the last segment included (the held
+    /// segment's 7 bytes are the last 7 of them).
     received: usize,
     /// The sequence number of the last segment received in order in this sub-block.
     ackseq: u8,
@@ -115,6 +129,7 @@ enum BlockUploadPhase {
 #[derive(Debug, Clone, Copy)]
 struct BlockUpload {
     crc: bool,
+    position: usize,
     total: usize,
     blksize: u8,
     /// Segments of the whole value acknowledged by the client.
@@ -143,12 +158,10 @@ enum Transfer {
     BlockUpload(BlockUpload),
 }
 
-/// An SDO server for one client.
-///
-/// `N` is the buffer capacity in bytes for segmented and block downloads (the value is written to
-/// the object dictionary only when complete); uploads need no buffer.
+/// An SDO server for one client. It holds no copy of a value: uploads stream from the
+/// dictionary, downloads into it (a fixed-size value of up to 8 bytes is collected first).
 #[derive(Debug, Clone)]
-pub struct SdoServer<const N: usize> {
+pub struct SdoServer {
     timeout: Duration,
     transfer: Transfer,
     mux: Multiplexer,
@@ -157,7 +170,11 @@ pub struct SdoServer<const N: usize> {
     /// which the device stores and takes with less code.
     pending: bool,
     response: [u8; FRAME_LEN],
-    buffer: [u8; N],
+    /// A fixed-size value being downloaded.
+    held: [u8; 8],
+    /// The block size offered for block downloads.
+    #[cfg(feature = "sdo-block")]
+    block_size: u8,
 }
 
 /// What handling one request did, when it did not abort: whether it wrote the addressed entry
@@ -165,22 +182,9 @@ pub struct SdoServer<const N: usize> {
 /// event, which is smaller to return through every step.
 type Handled = Result<bool, SdoAbort>;
 
-impl<const N: usize> SdoServer<N> {
-    /// The block size this server offers for block downloads: `N / 7`, clamped to 1..=127.
-    #[cfg(feature = "sdo-block")]
-    pub const BLOCK_SIZE: u8 = {
-        let segments = N / SEGMENT_DATA_LEN;
-        if segments == 0 {
-            1
-        } else if segments > MAX_BLOCK_SIZE as usize {
-            MAX_BLOCK_SIZE
-        } else {
-            segments as u8
-        }
-    };
-
+impl SdoServer {
     /// A server with no transfer in progress, aborting a transfer after `timeout` without a
-    /// request from the client.
+    /// request from the client, offering block downloads sub-blocks of 127 segments.
     pub const fn new(timeout: Duration) -> Self {
         SdoServer {
             timeout,
@@ -189,8 +193,30 @@ impl<const N: usize> SdoServer<N> {
             deadline: None,
             pending: false,
             response: [0; FRAME_LEN],
-            buffer: [0; N],
+            held: [0; 8],
+            #[cfg(feature = "sdo-block")]
+            block_size: MAX_BLOCK_SIZE,
         }
+    }
+
+    /// The same server offering block downloads sub-blocks of `segments` (clamped to 1..=127):
+    /// fewer when the frames come through a receive queue that could overflow.
+    #[cfg(feature = "sdo-block")]
+    pub const fn with_block_size(mut self, segments: u8) -> Self {
+        self.block_size = if segments == 0 {
+            1
+        } else if segments > MAX_BLOCK_SIZE {
+            MAX_BLOCK_SIZE
+        } else {
+            segments
+        };
+        self
+    }
+
+    /// The block size offered for block downloads.
+    #[cfg(feature = "sdo-block")]
+    pub const fn block_size(&self) -> u8 {
+        self.block_size
     }
 
     /// Handles one request payload (the data of a frame sent to this server's rx COB-ID). Any
@@ -205,7 +231,7 @@ impl<const N: usize> SdoServer<N> {
             // Until an initiate request names an entry, aborts name none.
             self.mux = Multiplexer::new(0, 0);
         }
-        let outcome = match request.try_into() {
+        let outcome = match Frame::new_checked(request) {
             Ok(request) => self.handle_frame(request, od),
             Err(_) => Err(SdoAbort::InvalidCommand),
         };
@@ -263,7 +289,7 @@ impl<const N: usize> SdoServer<N> {
         let offset = segment_index * SEGMENT_DATA_LEN;
         let chunk = upload.total.saturating_sub(offset).min(SEGMENT_DATA_LEN);
         let mut data = [0u8; SEGMENT_DATA_LEN];
-        match od.read(self.mux.index, self.mux.sub, offset, &mut data[..chunk]) {
+        match od.read_at(upload.position, offset, &mut data[..chunk]) {
             Ok(read) if read == chunk => {}
             Ok(_) => {
                 self.abort(SdoAbort::General);
@@ -344,7 +370,7 @@ impl<const N: usize> SdoServer<N> {
     #[cfg(feature = "sdo-block")]
     fn handle_frame<O: ObjectDictionary + ?Sized>(
         &mut self,
-        request: &[u8; FRAME_LEN],
+        request: Frame<'_>,
         od: &mut O,
     ) -> Handled {
         let Transfer::BlockDownload(block) = self.transfer else {
@@ -352,13 +378,13 @@ impl<const N: usize> SdoServer<N> {
         };
         if block.complete {
             self.handle_request(request, od)
-        } else if request[0] == command::of(ccs::ABORT) {
+        } else if request.command() == command::of(ccs::ABORT) {
             // 0x80 as a segment would have sequence number 0, which is invalid: it is the
             // client's abort.
             self.end_transfer();
             Ok(false)
         } else {
-            self.block_download_segment(block, request)
+            self.block_download_segment(block, request.as_bytes(), od)
         }
     }
 
@@ -366,7 +392,7 @@ impl<const N: usize> SdoServer<N> {
     #[cfg(not(feature = "sdo-block"))]
     fn handle_frame<O: ObjectDictionary + ?Sized>(
         &mut self,
-        request: &[u8; FRAME_LEN],
+        request: Frame<'_>,
         od: &mut O,
     ) -> Handled {
         self.handle_request(request, od)
@@ -375,45 +401,42 @@ impl<const N: usize> SdoServer<N> {
     /// Not inlined: inlined into the firmware's loop it costs 148 B of Cortex-M4 flash; out of
     /// line, the host's SDO upload still measures fewer instructions per frame than before.
     ///
-    /// The request is decoded here from its command byte's fields ([`command`]) rather than
-    /// parsed into a [`ClientRequest`] first: the server needs few of them, and the general
-    /// parser costs some 300 B more flash on a device.
+    /// The request is read here through the frame view's accessors ([`Frame`]) rather than
+    /// parsed into a [`ClientRequest`] first: the server needs few of the fields, and the
+    /// general parser costs some 300 B more flash on a device.
     ///
     /// [`ClientRequest`]: crate::wire::sdo::ClientRequest
     #[inline(never)]
     fn handle_request<O: ObjectDictionary + ?Sized>(
         &mut self,
-        request: &[u8; FRAME_LEN],
+        request: Frame<'_>,
         od: &mut O,
     ) -> Handled {
-        let command = request[0];
-        let mux = Multiplexer::read(request);
-        let data = [request[4], request[5], request[6], request[7]];
-        let toggle = command::toggle(command);
-        match (command::specifier(command), self.transfer) {
+        let mux = request.mux();
+        let toggle = request.toggle();
+        match (request.specifier(), self.transfer) {
             (ccs::ABORT, _) => {
                 self.end_transfer();
                 Ok(false)
             }
             (ccs::INITIATE_DOWNLOAD, _) => {
                 self.start(mux);
-                self.initiate_download(mux, command, data, od)
+                self.initiate_download(mux, request, od)
             }
             (ccs::INITIATE_UPLOAD, _) => {
                 self.start(mux);
                 self.initiate_upload(mux, od)
             }
             (ccs::DOWNLOAD_SEGMENT, Transfer::Download(download)) => {
-                let unused = usize::from(command::segment_unused(command));
-                let bytes = &request[1..FRAME_LEN - unused];
-                self.download_segment(download, toggle, bytes, command::last(command), od)
+                let bytes = request.segment_data();
+                self.download_segment(download, toggle, bytes, request.last(), od)
             }
             (ccs::UPLOAD_SEGMENT, Transfer::Upload(upload)) => {
                 self.upload_segment(upload, toggle, od)
             }
             #[cfg(feature = "sdo-block")]
             (ccs::BLOCK_UPLOAD | ccs::BLOCK_DOWNLOAD, _) => {
-                self.handle_block_request(request, mux, data, od)
+                self.handle_block_request(request, mux, od)
             }
             _ => Err(SdoAbort::InvalidCommand),
         }
@@ -424,21 +447,23 @@ impl<const N: usize> SdoServer<N> {
     #[cfg(feature = "sdo-block")]
     fn handle_block_request<O: ObjectDictionary + ?Sized>(
         &mut self,
-        request: &[u8; FRAME_LEN],
+        request: Frame<'_>,
         mux: Multiplexer,
-        data: [u8; 4],
         od: &mut O,
     ) -> Handled {
-        let command = request[0];
         // Client CRC support (cc), in both initiate requests.
-        let crc = command::crc(command);
+        let crc = request.crc_supported();
         // The sub-command (cs): bits 1 and 0 of a block upload, bit 0 of a block download.
-        let subcommand = command::block_subcommand(command);
-        match (command::specifier(command), subcommand, self.transfer) {
+        let subcommand = request.block_subcommand();
+        match (request.specifier(), subcommand, self.transfer) {
             // Initiate block upload (cs = 0): blksize, pst.
             (ccs::BLOCK_UPLOAD, 0, _) => {
                 self.start(mux);
-                self.initiate_block_upload(mux, crc, request[4], request[5], od)
+                let (blksize, pst) = (
+                    request.initiate_block_size(),
+                    request.protocol_switch_threshold(),
+                );
+                self.initiate_block_upload(mux, crc, blksize, pst, od)
             }
             // End block upload response (cs = 1).
             (ccs::BLOCK_UPLOAD, 1, Transfer::BlockUpload(upload))
@@ -451,7 +476,7 @@ impl<const N: usize> SdoServer<N> {
             (ccs::BLOCK_UPLOAD, 2, Transfer::BlockUpload(upload))
                 if upload.phase == BlockUploadPhase::WaitAck =>
             {
-                self.block_upload_ack(upload, request[1], request[2], od)
+                self.block_upload_ack(upload, request.ackseq(), request.ack_block_size(), od)
             }
             // Start block upload (cs = 3).
             (ccs::BLOCK_UPLOAD, 3, Transfer::BlockUpload(mut upload))
@@ -464,13 +489,12 @@ impl<const N: usize> SdoServer<N> {
             // Initiate block download (cs = 0), with the size if indicated (s).
             (ccs::BLOCK_DOWNLOAD, 0 | 2, _) => {
                 self.start(mux);
-                let size = command::block_size_indicated(command).then(|| u32::from_le_bytes(data));
+                let size = request.block_size_indicated().then(|| request.value());
                 self.initiate_block_download(mux, crc, size, od)
             }
             // End block download request (cs = 1): n unused bytes, CRC.
             (ccs::BLOCK_DOWNLOAD, 1 | 3, Transfer::BlockDownload(block)) => {
-                let unused = command::block_end_unused(command);
-                let crc = u16::from_le_bytes([request[1], request[2]]);
+                let (unused, crc) = (request.block_end_unused(), request.block_crc());
                 self.end_block_download(block, unused, crc, od)
             }
             _ => Err(SdoAbort::InvalidCommand),
@@ -530,7 +554,7 @@ impl<const N: usize> SdoServer<N> {
         Ok((position, len))
     }
 
-    /// Checks a download's announced size against the entry and the buffer.
+    /// Checks a download's announced size against the entry.
     fn check_announced_size(target: &WriteTarget, size: Option<u32>) -> Result<(), SdoAbort> {
         let Some(size) = size else { return Ok(()) };
         let size = size as usize;
@@ -540,50 +564,69 @@ impl<const N: usize> SdoServer<N> {
         if target.fixed && size < target.capacity {
             return Err(SdoAbort::LengthTooLow);
         }
-        if size > N {
-            return Err(SdoAbort::OutOfMemory);
-        }
         Ok(())
     }
 
-    /// Checks that `len` bytes of download data fit the announced size, the entry and the buffer.
-    fn check_received(len: usize, size: Option<u32>, entry_size: usize) -> Result<(), SdoAbort> {
+    /// Checks that `len` bytes of download data fit the announced size and the entry.
+    fn check_received(len: usize, size: Option<u32>, capacity: usize) -> Result<(), SdoAbort> {
         if size.is_some_and(|size| len > size as usize) {
             return Err(SdoAbort::LengthMismatch);
         }
-        if len > entry_size {
+        if len > capacity {
             return Err(SdoAbort::LengthTooHigh);
-        }
-        if len > N {
-            return Err(SdoAbort::OutOfMemory);
         }
         Ok(())
     }
 
-    /// Writes the collected download (`len` bytes, checked by the caller against the announced
-    /// size, the entry and the buffer) to the dictionary.
+    /// Takes `data`, the download's bytes from `offset` on (checked by the caller against the
+    /// entry's capacity): a fixed-size value's into `held`, a string's or domain's into the
+    /// dictionary.
+    fn store<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        target: &WriteTarget,
+        offset: usize,
+        data: &[u8],
+        od: &mut O,
+    ) -> Result<(), SdoAbort> {
+        if target.fixed {
+            self.held
+                .get_mut(offset..offset + data.len())
+                .ok_or(SdoAbort::LengthTooHigh)?
+                .copy_from_slice(data);
+            Ok(())
+        } else if data.is_empty() {
+            Ok(())
+        } else {
+            od.write_part(target.position, offset, data)
+        }
+    }
+
+    /// Completes a download of `len` bytes: a fixed-size value is written whole (its limits
+    /// checked), a string's or domain's length set.
     fn commit<O: ObjectDictionary + ?Sized>(
         &mut self,
+        target: &WriteTarget,
         len: usize,
         od: &mut O,
     ) -> Result<(), SdoAbort> {
-        let data = self.buffer.get(..len).ok_or(SdoAbort::OutOfMemory)?;
-        od.write(self.mux.index, self.mux.sub, data)
+        if target.fixed {
+            let data = self.held.get(..len).ok_or(SdoAbort::LengthTooHigh)?;
+            od.write_at(target.position, data)
+        } else {
+            od.finish_write(target.position, len)
+        }
     }
 
     fn initiate_download<O: ObjectDictionary + ?Sized>(
         &mut self,
         mux: Multiplexer,
-        command: u8,
-        data: [u8; 4],
+        request: Frame<'_>,
         od: &mut O,
     ) -> Handled {
         let target = Self::writable_entry(mux, od)?;
-        let len = match (
-            command::expedited(command),
-            command::size_indicated(command),
-        ) {
-            (true, true) => usize::from(command::expedited_len(command)),
+        let data = request.data();
+        let len = match (request.expedited(), request.size_indicated()) {
+            (true, true) => usize::from(request.expedited_len()),
             (true, false) => {
                 let len = target.capacity;
                 if !(1..=data.len()).contains(&len) {
@@ -591,20 +634,20 @@ impl<const N: usize> SdoServer<N> {
                 }
                 len
             }
-            (false, true) => return self.start_download(&target, Some(u32::from_le_bytes(data))),
-            (false, false) => return self.start_download(&target, None),
+            (false, true) => return self.start_download(target, Some(request.value())),
+            (false, false) => return self.start_download(target, None),
         };
         od.write_at(target.position, &data[..len])?;
         self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
         Ok(true)
     }
 
-    fn start_download(&mut self, target: &WriteTarget, size: Option<u32>) -> Handled {
-        Self::check_announced_size(target, size)?;
+    fn start_download(&mut self, target: WriteTarget, size: Option<u32>) -> Handled {
+        Self::check_announced_size(&target, size)?;
         self.transfer = Transfer::Download(Download {
             toggle: false,
             size,
-            entry_size: target.capacity,
+            target,
             len: 0,
         });
         self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
@@ -623,17 +666,14 @@ impl<const N: usize> SdoServer<N> {
             return Err(SdoAbort::ToggleBit);
         }
         let end = download.len + bytes.len();
-        Self::check_received(end, download.size, download.entry_size)?;
-        self.buffer
-            .get_mut(download.len..end)
-            .ok_or(SdoAbort::OutOfMemory)?
-            .copy_from_slice(bytes);
+        Self::check_received(end, download.size, download.target.capacity)?;
+        self.store(&download.target, download.len, bytes, od)?;
         download.len = end;
         if last {
             if download.size.is_some_and(|size| end != size as usize) {
                 return Err(SdoAbort::LengthMismatch);
             }
-            self.commit(end, od)?;
+            self.commit(&download.target, end, od)?;
             self.transfer = Transfer::Idle;
         } else {
             download.toggle = !toggle;
@@ -675,6 +715,7 @@ impl<const N: usize> SdoServer<N> {
             let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
             self.transfer = Transfer::Upload(Upload {
                 toggle: false,
+                position,
                 offset: 0,
                 total,
             });
@@ -701,12 +742,7 @@ impl<const N: usize> SdoServer<N> {
             .saturating_sub(upload.offset)
             .min(SEGMENT_DATA_LEN);
         let mut bytes = [0u8; SEGMENT_DATA_LEN];
-        let read = od.read(
-            self.mux.index,
-            self.mux.sub,
-            upload.offset,
-            &mut bytes[..chunk],
-        )?;
+        let read = od.read_at(upload.position, upload.offset, &mut bytes[..chunk])?;
         if read != chunk {
             // The value shrank during the upload: what was announced cannot be delivered.
             return Err(SdoAbort::General);
@@ -738,49 +774,73 @@ impl<const N: usize> SdoServer<N> {
         let target = Self::writable_entry(mux, od)?;
         Self::check_announced_size(&target, size)?;
         self.transfer = Transfer::BlockDownload(BlockDownload {
-            crc,
+            check_crc: crc,
+            crc: Crc16::new(),
+            held: [0; SEGMENT_DATA_LEN],
             size,
-            entry_size: target.capacity,
+            target,
             received: 0,
             ackseq: 0,
             complete: false,
         });
         // Initiate block download response (ss = 0), CRC supported (sc).
         let response = command::of(scs::BLOCK_DOWNLOAD) | command::crc_bit(true);
-        self.respond_mux(response, u32::from(Self::BLOCK_SIZE));
+        self.respond_mux(response, u32::from(self.block_size));
         Ok(false)
     }
 
+    /// Writes the held segment's first `len` bytes (the whole segment unless it is the last)
+    /// into the entry and adds them to the CRC.
     #[cfg(feature = "sdo-block")]
-    fn block_download_segment(&mut self, mut block: BlockDownload, request: &[u8]) -> Handled {
+    fn flush_held<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        block: &mut BlockDownload,
+        len: usize,
+        od: &mut O,
+    ) -> Result<(), SdoAbort> {
+        let offset = block.received - SEGMENT_DATA_LEN;
+        let data = &block.held[..len];
+        Self::check_received(offset + len, block.size, block.target.capacity)?;
+        self.store(&block.target, offset, data, od)?;
+        block.crc.update(data);
+        Ok(())
+    }
+
+    #[cfg(feature = "sdo-block")]
+    fn block_download_segment<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        mut block: BlockDownload,
+        request: &[u8],
+        od: &mut O,
+    ) -> Handled {
         let segment = BlockSegment::parse(request).map_err(|_| SdoAbort::InvalidCommand)?;
-        if segment.seqno == 0 || segment.seqno > Self::BLOCK_SIZE {
+        let block_size = self.block_size;
+        if segment.seqno == 0 || segment.seqno > block_size {
             return Err(SdoAbort::InvalidSequence);
         }
-        let in_order = segment.seqno == block.ackseq + 1;
+        let in_order = segment.seqno == block.ackseq + 1 && !block.complete;
         if in_order {
+            if block.received > 0 {
+                // The held segment was not the last: all of it is data.
+                self.flush_held(&mut block, SEGMENT_DATA_LEN, od)?;
+            }
             if !segment.last {
                 // Only the last segment may carry padding, so the others must fit whole.
                 Self::check_received(
                     block.received + SEGMENT_DATA_LEN,
                     block.size,
-                    block.entry_size,
+                    block.target.capacity,
                 )?;
             }
-            // Store what fits; the last segment's padding may lie beyond the buffer.
-            let start = block.received.min(N);
-            let end = (block.received + SEGMENT_DATA_LEN).min(N);
-            if let Some(target) = self.buffer.get_mut(start..end) {
-                target.copy_from_slice(&segment.data[..end - start]);
-            }
+            block.held = segment.data;
             block.received += SEGMENT_DATA_LEN;
             block.ackseq = segment.seqno;
             block.complete = segment.last;
         }
-        if segment.seqno == Self::BLOCK_SIZE || segment.last || block.complete {
+        if segment.seqno == block_size || segment.last || block.complete {
             // Block download response (ss = 2).
             let response = command::of(scs::BLOCK_DOWNLOAD) | 2;
-            self.respond(response, [block.ackseq, Self::BLOCK_SIZE, 0, 0, 0, 0, 0]);
+            self.respond(response, [block.ackseq, block_size, 0, 0, 0, 0, 0]);
             block.ackseq = 0;
         }
         self.transfer = Transfer::BlockDownload(block);
@@ -790,29 +850,27 @@ impl<const N: usize> SdoServer<N> {
     #[cfg(feature = "sdo-block")]
     fn end_block_download<O: ObjectDictionary + ?Sized>(
         &mut self,
-        block: BlockDownload,
+        mut block: BlockDownload,
         unused: u8,
         crc: u16,
         od: &mut O,
     ) -> Handled {
-        if !block.complete {
+        if !block.complete || block.received == 0 {
             return Err(SdoAbort::InvalidCommand);
         }
-        let len = block
-            .received
+        let last = SEGMENT_DATA_LEN
             .checked_sub(usize::from(unused))
             .ok_or(SdoAbort::LengthMismatch)?;
-        Self::check_received(len, block.size, block.entry_size)?;
+        let len = block.received - SEGMENT_DATA_LEN + last;
+        Self::check_received(len, block.size, block.target.capacity)?;
         if block.size.is_some_and(|size| len != size as usize) {
             return Err(SdoAbort::LengthMismatch);
         }
-        if block.crc {
-            let data = self.buffer.get(..len).ok_or(SdoAbort::OutOfMemory)?;
-            if crc16(data) != crc {
-                return Err(SdoAbort::CrcError);
-            }
+        self.flush_held(&mut block, last, od)?;
+        if block.check_crc && block.crc.value() != crc {
+            return Err(SdoAbort::CrcError);
         }
-        self.commit(len, od)?;
+        self.commit(&block.target, len, od)?;
         self.transfer = Transfer::Idle;
         // End block download response (ss = 1).
         self.respond(command::of(scs::BLOCK_DOWNLOAD) | 1, [0; SEGMENT_DATA_LEN]);
@@ -838,6 +896,7 @@ impl<const N: usize> SdoServer<N> {
         let size = u32::try_from(total).map_err(|_| SdoAbort::LengthTooHigh)?;
         self.transfer = Transfer::BlockUpload(BlockUpload {
             crc,
+            position,
             total,
             blksize,
             acked_segments: 0,
@@ -870,7 +929,7 @@ impl<const N: usize> SdoServer<N> {
         upload.blksize = blksize;
         if upload.acked_segments >= upload.segments() {
             let crc = if upload.crc {
-                self.value_crc(upload.total, od)?
+                Self::value_crc(upload.position, upload.total, od)?
             } else {
                 0
             };
@@ -890,7 +949,7 @@ impl<const N: usize> SdoServer<N> {
     /// The CRC of the first `total` bytes of the addressed value, read from the dictionary.
     #[cfg(feature = "sdo-block")]
     fn value_crc<O: ObjectDictionary + ?Sized>(
-        &self,
+        position: usize,
         total: usize,
         od: &O,
     ) -> Result<u16, SdoAbort> {
@@ -899,7 +958,7 @@ impl<const N: usize> SdoServer<N> {
         let mut offset = 0;
         while offset < total {
             let want = (total - offset).min(chunk.len());
-            let read = od.read(self.mux.index, self.mux.sub, offset, &mut chunk[..want])?;
+            let read = od.read_at(position, offset, &mut chunk[..want])?;
             if read != want {
                 return Err(SdoAbort::General);
             }

@@ -209,6 +209,132 @@ impl Multiplexer {
     }
 }
 
+/// A view over the 8 bytes of an SDO frame, one accessor per field (the smoltcp manner): what a
+/// field means depends on the message, which the command specifier and the receiver's state
+/// say. [`ClientRequest::parse`], [`ServerResponse::parse`] and the SDO server read frames
+/// through it; [`frame`], [`mux_frame`] and the `Repr`s' `emit` write them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Frame<'a>(&'a [u8; FRAME_LEN]);
+
+impl<'a> Frame<'a> {
+    /// A view over `bytes`.
+    pub const fn new(bytes: &'a [u8; FRAME_LEN]) -> Self {
+        Frame(bytes)
+    }
+
+    /// A view over `bytes`, if they are exactly 8 (CiA 301 requires DLC 8).
+    pub fn new_checked(bytes: &'a [u8]) -> Result<Self, WireError> {
+        bytes.try_into().map(Frame).map_err(|_| WireError::Length)
+    }
+
+    /// The command byte (byte 0).
+    pub const fn command(&self) -> u8 {
+        self.0[0]
+    }
+
+    /// The command specifier (bits 7..5 of byte 0).
+    pub const fn specifier(&self) -> u8 {
+        command::specifier(self.command())
+    }
+
+    /// The toggle bit of a segment message.
+    pub const fn toggle(&self) -> bool {
+        command::toggle(self.command())
+    }
+
+    /// Whether a segment message is the last (c).
+    pub const fn last(&self) -> bool {
+        command::last(self.command())
+    }
+
+    /// The data bytes of a normal-transfer segment (bytes 1..8 less the n unused).
+    pub fn segment_data(&self) -> &'a [u8] {
+        let unused = usize::from(command::segment_unused(self.command()));
+        &self.0[1..FRAME_LEN - unused]
+    }
+
+    /// Whether an initiate message is expedited (e).
+    pub const fn expedited(&self) -> bool {
+        command::expedited(self.command())
+    }
+
+    /// Whether an initiate message indicates the size (s).
+    pub const fn size_indicated(&self) -> bool {
+        command::size_indicated(self.command())
+    }
+
+    /// How many of an expedited message's 4 data bytes are data, when the size is indicated.
+    pub const fn expedited_len(&self) -> u8 {
+        command::expedited_len(self.command())
+    }
+
+    /// The (index, sub-index) of an initiate message or an abort (bytes 1..4).
+    pub const fn mux(&self) -> Multiplexer {
+        Multiplexer::read(self.0)
+    }
+
+    /// Bytes 4..8 of an initiate message or an abort: expedited data, a size, an abort code.
+    pub const fn data(&self) -> [u8; 4] {
+        [self.0[4], self.0[5], self.0[6], self.0[7]]
+    }
+
+    /// Bytes 4..8 as a little-endian number.
+    pub const fn value(&self) -> u32 {
+        u32::from_le_bytes(self.data())
+    }
+
+    /// Whether a block initiate message announces CRC support (cc / sc).
+    pub const fn crc_supported(&self) -> bool {
+        command::crc(self.command())
+    }
+
+    /// The sub-command of a block message (cs / ss).
+    pub const fn block_subcommand(&self) -> u8 {
+        command::block_subcommand(self.command())
+    }
+
+    /// Whether a block download request or block upload response indicates the size.
+    pub const fn block_size_indicated(&self) -> bool {
+        command::block_size_indicated(self.command())
+    }
+
+    /// How many bytes of a block transfer's last segment carry no data (n of an end message).
+    pub const fn block_end_unused(&self) -> u8 {
+        command::block_end_unused(self.command())
+    }
+
+    /// The CRC of a block end message (bytes 1..3).
+    pub const fn block_crc(&self) -> u16 {
+        u16::from_le_bytes([self.0[1], self.0[2]])
+    }
+
+    /// The block size of an initiate block upload request or initiate block download
+    /// response (byte 4).
+    pub const fn initiate_block_size(&self) -> u8 {
+        self.0[4]
+    }
+
+    /// The protocol switch threshold of an initiate block upload request (byte 5).
+    pub const fn protocol_switch_threshold(&self) -> u8 {
+        self.0[5]
+    }
+
+    /// The sequence number acknowledged by a sub-block response (byte 1).
+    pub const fn ackseq(&self) -> u8 {
+        self.0[1]
+    }
+
+    /// The block size for the next sub-block in a sub-block response (byte 2).
+    pub const fn ack_block_size(&self) -> u8 {
+        self.0[2]
+    }
+
+    /// The bytes of the frame.
+    pub const fn as_bytes(&self) -> &'a [u8; FRAME_LEN] {
+        self.0
+    }
+}
+
 /// What an initiate download request or an initiate upload response announces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InitiatePayload {
@@ -247,14 +373,11 @@ impl InitiatePayload {
         }
     }
 
-    fn decode(command: u8, frame: &[u8; FRAME_LEN]) -> Self {
-        let data = [frame[4], frame[5], frame[6], frame[7]];
-        match (
-            command::expedited(command),
-            command::size_indicated(command),
-        ) {
+    fn decode(frame: Frame<'_>) -> Self {
+        let data = frame.data();
+        match (frame.expedited(), frame.size_indicated()) {
             (true, true) => {
-                let len = command::expedited_len(command);
+                let len = frame.expedited_len();
                 // Bytes past `len` carry no data: keep them as zero.
                 let mask = u32::MAX >> (8 * (4 - u32::from(len)));
                 InitiatePayload::Expedited {
@@ -298,13 +421,14 @@ impl SegmentData {
         frame(command::segment_bits(toggle, unused, last), self.bytes)
     }
 
-    fn decode(command: u8, frame: &[u8; FRAME_LEN]) -> Self {
-        let len = SEGMENT_DATA_LEN as u8 - command::segment_unused(command);
+    fn decode(frame: Frame<'_>) -> Self {
+        let data = frame.segment_data();
         let mut bytes = [0u8; SEGMENT_DATA_LEN];
-        for (byte, data) in bytes.iter_mut().zip(&frame[1..]).take(usize::from(len)) {
-            *byte = *data;
+        bytes[..data.len()].copy_from_slice(data);
+        SegmentData {
+            bytes,
+            len: data.len() as u8,
         }
-        SegmentData { bytes, len }
     }
 }
 
@@ -389,50 +513,51 @@ impl ClientRequest {
     /// Parses a request frame. Block-download sub-block segments are not requests: parse them
     /// with [`BlockSegment::parse`].
     pub fn parse(bytes: &[u8]) -> Result<Self, WireError> {
-        let frame: &[u8; FRAME_LEN] = bytes.try_into().map_err(|_| WireError::Length)?;
-        let command = frame[0];
-        let mux = Multiplexer::read(frame);
-        let value = u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]]);
-        Ok(match command::specifier(command) {
+        let frame = Frame::new_checked(bytes)?;
+        let mux = frame.mux();
+        Ok(match frame.specifier() {
             ccs::DOWNLOAD_SEGMENT => ClientRequest::DownloadSegment {
-                toggle: command::toggle(command),
-                data: SegmentData::decode(command, frame),
-                last: command::last(command),
+                toggle: frame.toggle(),
+                data: SegmentData::decode(frame),
+                last: frame.last(),
             },
             ccs::INITIATE_DOWNLOAD => ClientRequest::InitiateDownload {
                 mux,
-                payload: InitiatePayload::decode(command, frame),
+                payload: InitiatePayload::decode(frame),
             },
             ccs::INITIATE_UPLOAD => ClientRequest::InitiateUpload { mux },
             ccs::UPLOAD_SEGMENT => ClientRequest::UploadSegment {
-                toggle: command::toggle(command),
+                toggle: frame.toggle(),
             },
-            ccs::ABORT => ClientRequest::Abort { mux, code: value },
-            ccs::BLOCK_UPLOAD => match command::block_subcommand(command) {
+            ccs::ABORT => ClientRequest::Abort {
+                mux,
+                code: frame.value(),
+            },
+            ccs::BLOCK_UPLOAD => match frame.block_subcommand() {
                 0 => ClientRequest::BlockUploadInitiate {
                     mux,
-                    crc: command::crc(command),
-                    blksize: frame[4],
-                    pst: frame[5],
+                    crc: frame.crc_supported(),
+                    blksize: frame.initiate_block_size(),
+                    pst: frame.protocol_switch_threshold(),
                 },
                 1 => ClientRequest::BlockUploadEnd,
                 2 => ClientRequest::BlockUploadAck {
-                    ackseq: frame[1],
-                    blksize: frame[2],
+                    ackseq: frame.ackseq(),
+                    blksize: frame.ack_block_size(),
                 },
                 _ => ClientRequest::BlockUploadStart,
             },
             ccs::BLOCK_DOWNLOAD => {
-                if command::block_subcommand(command) & 0b01 == 0 {
+                if frame.block_subcommand() & 0b01 == 0 {
                     ClientRequest::BlockDownloadInitiate {
                         mux,
-                        crc: command::crc(command),
-                        size: command::block_size_indicated(command).then_some(value),
+                        crc: frame.crc_supported(),
+                        size: frame.block_size_indicated().then_some(frame.value()),
                     }
                 } else {
                     ClientRequest::BlockDownloadEnd {
-                        unused: command::block_end_unused(command),
-                        crc: u16::from_le_bytes([frame[1], frame[2]]),
+                        unused: frame.block_end_unused(),
+                        crc: frame.block_crc(),
                     }
                 }
             }
@@ -563,49 +688,50 @@ impl ServerResponse {
     /// Parses a response frame. Block-upload sub-block segments are not responses: parse them
     /// with [`BlockSegment::parse`].
     pub fn parse(bytes: &[u8]) -> Result<Self, WireError> {
-        let frame: &[u8; FRAME_LEN] = bytes.try_into().map_err(|_| WireError::Length)?;
-        let command = frame[0];
-        let mux = Multiplexer::read(frame);
-        let value = u32::from_le_bytes([frame[4], frame[5], frame[6], frame[7]]);
-        Ok(match command::specifier(command) {
+        let frame = Frame::new_checked(bytes)?;
+        let mux = frame.mux();
+        Ok(match frame.specifier() {
             scs::UPLOAD_SEGMENT => ServerResponse::UploadSegment {
-                toggle: command::toggle(command),
-                data: SegmentData::decode(command, frame),
-                last: command::last(command),
+                toggle: frame.toggle(),
+                data: SegmentData::decode(frame),
+                last: frame.last(),
             },
             scs::DOWNLOAD_SEGMENT => ServerResponse::DownloadSegment {
-                toggle: command::toggle(command),
+                toggle: frame.toggle(),
             },
             scs::INITIATE_UPLOAD => ServerResponse::InitiateUpload {
                 mux,
-                payload: InitiatePayload::decode(command, frame),
+                payload: InitiatePayload::decode(frame),
             },
             scs::INITIATE_DOWNLOAD => ServerResponse::InitiateDownload { mux },
-            scs::ABORT => ServerResponse::Abort { mux, code: value },
-            scs::BLOCK_DOWNLOAD => match command::block_subcommand(command) {
+            scs::ABORT => ServerResponse::Abort {
+                mux,
+                code: frame.value(),
+            },
+            scs::BLOCK_DOWNLOAD => match frame.block_subcommand() {
                 0 => ServerResponse::BlockDownloadInitiate {
                     mux,
-                    crc: command::crc(command),
-                    blksize: frame[4],
+                    crc: frame.crc_supported(),
+                    blksize: frame.initiate_block_size(),
                 },
                 1 => ServerResponse::BlockDownloadEnd,
                 2 => ServerResponse::BlockDownloadAck {
-                    ackseq: frame[1],
-                    blksize: frame[2],
+                    ackseq: frame.ackseq(),
+                    blksize: frame.ack_block_size(),
                 },
                 _ => return Err(WireError::Command),
             },
             scs::BLOCK_UPLOAD => {
-                if command::block_subcommand(command) & 0b01 == 0 {
+                if frame.block_subcommand() & 0b01 == 0 {
                     ServerResponse::BlockUploadInitiate {
                         mux,
-                        crc: command::crc(command),
-                        size: command::block_size_indicated(command).then_some(value),
+                        crc: frame.crc_supported(),
+                        size: frame.block_size_indicated().then_some(frame.value()),
                     }
                 } else {
                     ServerResponse::BlockUploadEnd {
-                        unused: command::block_end_unused(command),
-                        crc: u16::from_le_bytes([frame[1], frame[2]]),
+                        unused: frame.block_end_unused(),
+                        crc: frame.block_crc(),
                     }
                 }
             }
@@ -699,6 +825,43 @@ pub const fn abort_frame(mux: Multiplexer, code: u32) -> [u8; FRAME_LEN] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_frame_view_reads_each_field_where_cia_301_puts_it() {
+        // Initiate download, expedited, 2 bytes indicated, 1017h:00 = 1000.
+        let bytes = [0x2B, 0x17, 0x10, 0x00, 0xE8, 0x03, 0x00, 0x00];
+        let frame = Frame::new(&bytes);
+        assert_eq!(frame.specifier(), ccs::INITIATE_DOWNLOAD);
+        assert!(frame.expedited() && frame.size_indicated());
+        assert_eq!(frame.expedited_len(), 2);
+        assert_eq!(frame.mux(), Multiplexer::new(0x1017, 0));
+        assert_eq!(frame.value(), 1000);
+        // A download segment with toggle 1, 5 bytes unused, last.
+        let bytes = [0x1B, b'a', b'b', 0, 0, 0, 0, 0];
+        let frame = Frame::new(&bytes);
+        assert!(frame.toggle() && frame.last());
+        assert_eq!(frame.segment_data(), b"ab");
+        // Initiate block upload: CRC, blksize 127, pst 20; an end block download: n = 5, CRC.
+        let bytes = [0xA4, 0x50, 0x1F, 0x01, 0x7F, 0x14, 0, 0];
+        let frame = Frame::new(&bytes);
+        assert!(frame.crc_supported());
+        assert_eq!(frame.block_subcommand(), 0);
+        assert_eq!(
+            (
+                frame.initiate_block_size(),
+                frame.protocol_switch_threshold()
+            ),
+            (127, 20)
+        );
+        let bytes = [0xD5, 0x1F, 0xE7, 0, 0, 0, 0, 0];
+        let frame = Frame::new(&bytes);
+        assert_eq!((frame.block_end_unused(), frame.block_crc()), (5, 0xE71F));
+        // A sub-block acknowledgement: ackseq 92, next block size 127.
+        let bytes = [0xA2, 0x5C, 0x7F, 0, 0, 0, 0, 0];
+        let frame = Frame::new(&bytes);
+        assert_eq!((frame.ackseq(), frame.ack_block_size()), (92, 127));
+        assert_eq!(Frame::new_checked(&bytes[..7]), Err(WireError::Length));
+    }
 
     const MUX_1801_03: Multiplexer = Multiplexer::new(0x1801, 0x03);
 

@@ -176,6 +176,22 @@ impl ObjectDictionary for TestOd {
         Ok(len)
     }
 
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        let value = self.values.get_mut(position).ok_or(SdoAbort::NoObject)?;
+        if offset + data.len() > value.capacity {
+            return Err(SdoAbort::LengthTooHigh);
+        }
+        value.bytes.truncate(offset);
+        value.bytes.extend_from_slice(data);
+        Ok(())
+    }
+
+    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        let value = self.values.get_mut(position).ok_or(SdoAbort::NoObject)?;
+        value.bytes.truncate(len);
+        Ok(())
+    }
+
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let position = self.position(index, sub)?;
         let descriptor = self.descriptors[position];

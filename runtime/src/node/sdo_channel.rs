@@ -1,0 +1,109 @@
+//! One SDO server channel of the node (1200h, 1201h): its COB-IDs, read from the OD, and the
+//! SDO server that runs on them. The node hands it the frames on its request COB-ID and takes
+//! its responses.
+
+use super::read_uint_or;
+use crate::frame::CanFrame;
+use crate::od::ObjectDictionary;
+use crate::sdo::{SdoEvent, SdoServer};
+use crate::time::{Duration, Instant};
+use crate::wire::pdo::CobIdEntry;
+
+/// The SDO server's segment timeout.
+pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
+
+pub(crate) struct SdoChannel {
+    server: SdoServer,
+    /// The server may have frames to send (it was fed a request or a timeout since it last
+    /// said it had none).
+    busy: bool,
+    enabled: bool,
+    rx: u16,
+    tx: u16,
+}
+
+impl SdoChannel {
+    /// A channel not configured yet. Not inlined: the node builds two.
+    #[inline(never)]
+    pub const fn new() -> Self {
+        SdoChannel {
+            server: SdoServer::new(SDO_TIMEOUT),
+            busy: false,
+            enabled: false,
+            rx: 0,
+            tx: 0,
+        }
+    }
+
+    /// Reads the COB-IDs of SDO server `n` (1200h + n) of node `node_id`: the default
+    /// server's pre-defined ones (600h/580h + node-ID) unless the OD says otherwise; none for
+    /// another server the OD does not have.
+    pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16, node_id: u8) {
+        let index = 0x1200 + n;
+        let node = u32::from(node_id);
+        let (mut rx, mut tx) = match n {
+            0 => (0x600 + node, 0x580 + node),
+            _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
+        };
+        if od.find(index, 0).is_ok() || od.find(index, 1).is_ok() {
+            rx = read_uint_or(od, index, 1, rx);
+            tx = read_uint_or(od, index, 2, tx);
+        }
+        let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
+        self.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
+        self.rx = rx.can_id();
+        self.tx = tx.can_id();
+    }
+
+    /// Whether a frame on `id` is a request to this channel.
+    #[inline]
+    pub fn accepts(&self, id: u16) -> bool {
+        self.enabled && id == self.rx
+    }
+
+    /// Hands a request to the server.
+    pub fn handle<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        now: Instant,
+        request: &[u8],
+        od: &mut O,
+    ) -> Option<SdoEvent> {
+        self.busy = true;
+        self.server.handle(now, request, od)
+    }
+
+    /// The server's next response frame. A channel disabled by the write it is answering still
+    /// sends that answer.
+    #[inline]
+    pub fn poll_transmit<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        now: Instant,
+        od: &O,
+    ) -> Option<CanFrame> {
+        if !self.busy {
+            return None;
+        }
+        let response = self.server.poll_transmit(now, od);
+        self.busy = response.is_some();
+        Some(CanFrame::from_parts(self.tx, response?, 8))
+    }
+
+    /// When the transfer in progress times out, if one is.
+    #[inline]
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.server.poll_timeout()
+    }
+
+    /// Aborts a transfer whose timeout has passed at `now`.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        if self.server.poll_timeout().is_some_and(|at| at <= now) {
+            self.server.handle_timeout(now);
+            self.busy = true;
+        }
+    }
+
+    /// Drops any transfer in progress (NMT stopped, reset communication).
+    pub fn reset(&mut self) {
+        self.server.reset();
+    }
+}

@@ -1,0 +1,140 @@
+//! SYNC consumer and producer state (CiA 301 §7.2.5): the configuration from 1005h, 1006h,
+//! 1007h and 1019h, the producer's timer and counter, and the consumer's timeout (1.5 × 1006h).
+//! The node routes SYNC frames and timeouts here and acts on what it is told (the SYNC's
+//! effects on PDOs, the emergencies).
+
+use super::{next_period, read_uint_or};
+use crate::od::ObjectDictionary;
+use crate::time::{Duration, Instant};
+use crate::wire::pdo::CobIdEntry;
+use crate::wire::sync::SyncRepr;
+
+/// What [`Sync::handle_timeout`] found due.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct SyncTimeouts {
+    /// The producer sent a SYNC with this counter: the node consumes it too.
+    pub produced: Option<Option<u8>>,
+    /// The consumer saw no SYNC for 1.5 × 1006h.
+    pub missed: bool,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Sync {
+    cob_id: u16,
+    producer: bool,
+    period: Duration,
+    window: Duration,
+    overflow: u8,
+    counter: u8,
+    /// Producer: when the next SYNC is due.
+    next: Option<Instant>,
+    /// Producer: a SYNC to send.
+    due: Option<SyncRepr>,
+    /// Consumer: when a missing SYNC becomes an error (1.5 × 1006h after the last one).
+    timeout: Option<Instant>,
+}
+
+impl Sync {
+    /// Reads 1005h, 1006h, 1007h and 1019h, and restarts the counter.
+    pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
+        let cob = CobIdEntry(read_uint_or(od, 0x1005, 0, 0x80));
+        self.cob_id = cob.can_id();
+        self.producer = cob.bit30() && !cob.extended();
+        self.period = Duration(u64::from(read_uint_or(od, 0x1006, 0, 0)));
+        self.window = Duration(u64::from(read_uint_or(od, 0x1007, 0, 0)));
+        self.overflow = read_uint_or(od, 0x1019, 0, 0) as u8;
+        self.counter = 0;
+    }
+
+    /// The CAN-ID SYNC is received (and produced) on.
+    #[inline]
+    pub fn cob_id(&self) -> u16 {
+        self.cob_id
+    }
+
+    /// Whether a SYNC's counter matches 1019h: one when the overflow value is not 0, none when
+    /// it is.
+    #[inline]
+    pub fn length_matches(&self, counter: Option<u8>) -> bool {
+        counter.is_some() == (self.overflow != 0)
+    }
+
+    /// Whether TPDOs use their SYNC start value (1019h is not 0).
+    #[inline]
+    pub fn counting(&self) -> bool {
+        self.overflow != 0
+    }
+
+    /// The end of the synchronous window (1007h) of a SYNC at `now`, if one is configured.
+    #[inline]
+    pub fn window_end(&self, now: Instant) -> Option<Instant> {
+        (self.window != Duration::ZERO).then(|| now + self.window)
+    }
+
+    /// Starts (or stops) the producer for a node that `serves` SYNC (pre-operational or
+    /// operational); the consumer's monitoring restarts at the next SYNC.
+    pub fn restart(&mut self, now: Instant, serves: bool) {
+        self.timeout = None;
+        let active = self.producer && self.period != Duration::ZERO && serves;
+        self.next = active.then(|| now + self.period);
+        if !active {
+            self.due = None;
+        }
+    }
+
+    /// Stops the producer and the consumer's monitoring (NMT stopped).
+    pub fn stop(&mut self) {
+        self.next = None;
+        self.due = None;
+        self.timeout = None;
+    }
+
+    /// A SYNC was consumed at `now`: the consumer expects the next within 1.5 × 1006h. Returns
+    /// whether the consumer monitors SYNC (a missed-SYNC error then ends).
+    pub fn consumed(&mut self, now: Instant) -> bool {
+        let monitoring = !self.producer && self.period != Duration::ZERO;
+        if monitoring {
+            self.timeout = Some(now + Duration(self.period.as_micros() * 3 / 2));
+        }
+        monitoring
+    }
+
+    /// The SYNC the producer has to send, as (CAN-ID, counter byte, length).
+    #[inline]
+    pub fn poll_transmit(&mut self) -> Option<(u16, u8, u8)> {
+        let ([counter], len) = self.due.take()?.emit();
+        Some((self.cob_id, counter, len as u8))
+    }
+
+    /// The earlier of the producer's and the consumer's deadlines (only one runs at a time:
+    /// a producer does not monitor its own SYNC).
+    #[inline]
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.next.or(self.timeout)
+    }
+
+    /// Runs the producer's and the consumer's timers due at `now`.
+    pub fn handle_timeout(&mut self, now: Instant) -> SyncTimeouts {
+        let mut found = SyncTimeouts::default();
+        if self.timeout.is_some_and(|at| at <= now) {
+            self.timeout = None;
+            found.missed = true;
+        }
+        if let Some(at) = self.next {
+            if at <= now {
+                self.next = Some(next_period(at, self.period, now));
+                let counter = (self.overflow != 0).then(|| {
+                    self.counter = if self.counter >= self.overflow {
+                        1
+                    } else {
+                        self.counter + 1
+                    };
+                    self.counter
+                });
+                self.due = Some(SyncRepr { counter });
+                found.produced = Some(counter);
+            }
+        }
+        found
+    }
+}
