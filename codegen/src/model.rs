@@ -724,20 +724,31 @@ impl Device {
         self.objects.get(&index)?.subs.get(&sub)
     }
 
-    /// The basic type of an entry's data type, following a DEFTYPE object (an index above
-    /// 0x001B whose sub-object 1, or sub-index 0, names a basic type) as CANfestival files do.
+    /// The basic type of an entry's data type, following DEFTYPE objects (an index above 0x001B):
+    /// the basic type that sub-object 1, or sub-index 0, names as its value (as CANfestival files
+    /// do), else the DEFTYPE's own DataType (as CiA 306 writes `[0060]` with `DataType=0x0007`).
+    /// `None` for a chain that ends nowhere (a DEFTYPE naming itself) or at anything else.
     pub fn basic_type(&self, data_type: u16) -> Option<BasicType> {
-        if let Some(t) = BasicType::from_index(data_type) {
-            return Some(t);
+        let mut data_type = data_type;
+        // A chain longer than this loops: CiA 306 files have none longer than one.
+        for _ in 0..8 {
+            if let Some(t) = BasicType::from_index(data_type) {
+                return Some(t);
+            }
+            let def = self.objects.get(&data_type)?;
+            if def.object_type != ObjectType::DefType {
+                return None;
+            }
+            let sub = def.subs.get(&1).or_else(|| def.subs.get(&0))?;
+            let named = match sub.default.as_ref().and_then(|d| d.value.as_ref()) {
+                Some(Value::Integer(v)) => u16::try_from(*v).ok().and_then(BasicType::from_index),
+                _ => None,
+            };
+            if named.is_some() {
+                return named;
+            }
+            data_type = sub.data_type?;
         }
-        let def = self.objects.get(&data_type)?;
-        if def.object_type != ObjectType::DefType {
-            return None;
-        }
-        let sub = def.subs.get(&1).or_else(|| def.subs.get(&0))?;
-        match &sub.default.as_ref()?.value {
-            Some(Value::Integer(v)) => BasicType::from_index(u16::try_from(*v).ok()?),
-            _ => None,
-        }
+        None
     }
 }
