@@ -89,6 +89,16 @@ pub fn generate_from(read: read::Read, module: &str) -> Result<String, Diagnosti
 /// Builds `tests/compile-check` including `generated` with `RUSTFLAGS=-D warnings`, for `target`
 /// (the host when `None`), in `target/<target_dir>`.
 pub fn build_compile_check(generated: &Path, target: Option<&str>, target_dir: &str) {
+    build_compile_check_with(generated, target, target_dir, &[]);
+}
+
+/// [`build_compile_check`] with features of the compile-check crate (`private`).
+pub fn build_compile_check_with(
+    generated: &Path,
+    target: Option<&str>,
+    target_dir: &str,
+    features: &[&str],
+) {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.arg("build")
@@ -102,6 +112,9 @@ pub fn build_compile_check(generated: &Path, target: Option<&str>, target_dir: &
         .env_remove("CARGO_ENCODED_RUSTFLAGS");
     if let Some(t) = target {
         cmd.arg("--target").arg(t);
+    }
+    if !features.is_empty() {
+        cmd.arg("--features").arg(features.join(","));
     }
     let out = cmd.output().unwrap();
     assert!(
