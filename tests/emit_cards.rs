@@ -134,7 +134,7 @@ fn goodrive350_pdo2_rx_encodes_the_manual_frame() {
     };
     assert_eq!(
         rpdo.encode(),
-        Ok([0x01, 0x00, 0x00, 0x00, 0x88, 0x13, 0x00, 0x00])
+        [0x01, 0x00, 0x00, 0x00, 0x88, 0x13, 0x00, 0x00]
     );
     assert_eq!(Rpdo2::cob_id(3), 0x303);
 }
@@ -161,8 +161,8 @@ proptest! {
     #[test]
     fn goodrive350_pdos_round_trip(payload in any::<[u8; 8]>()) {
         use cards::goodrive350::pdo::{Rpdo2, Tpdo2};
-        prop_assert_eq!(Rpdo2::decode(&payload).unwrap().encode(), Ok(payload));
-        prop_assert_eq!(Tpdo2::decode(&payload).unwrap().encode(), Ok(payload));
+        prop_assert_eq!(Rpdo2::decode(&payload).unwrap().encode(), payload);
+        prop_assert_eq!(Tpdo2::decode(&payload).unwrap().encode(), payload);
     }
 }
 

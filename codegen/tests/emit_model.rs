@@ -550,3 +550,60 @@ fn values_needing_more_than_65535_bytes_in_all_are_eds707() {
     );
     assert!(emit::generate_module(&device(vec![domain(0x2000)]), "x").is_ok());
 }
+
+#[test]
+fn cob_id_is_the_can_identifier_and_encode_is_fallible_only_for_narrow_fields() {
+    let speed = var(
+        0x2000,
+        "Speed",
+        0x06,
+        AccessType::Rw,
+        Some(Value::Integer(0)),
+        true,
+    );
+    let wide = var(
+        0x2001,
+        "Wide",
+        0x10,
+        AccessType::Rw,
+        Some(Value::Integer(0)),
+        true,
+    );
+    let dev = device(vec![
+        comm(0x1400, "RPDO1 communication", Value::Integer(0x8000_0201)),
+        comm(
+            0x1401,
+            "RPDO2 communication",
+            Value::NodeRelative(0x2000_0300),
+        ),
+        comm(0x1402, "RPDO3 communication", Value::NodeRelative(0x400)),
+        mapping(0x1600, "RPDO1 mapping", &[0x2000_0010]),
+        mapping(0x1601, "RPDO2 mapping", &[0x2000_0010]),
+        mapping(0x1602, "RPDO3 mapping", &[0x2001_0018]),
+        speed,
+        wide,
+    ]);
+    let code = emit::generate(&dev, "x").unwrap();
+    let squeezed: String = code.split_whitespace().collect::<Vec<_>>().join(" ");
+    // A fixed COB-ID: the CAN identifier without bit 31 (and the doc says it is disabled).
+    assert!(
+        squeezed.contains("Bit 31 is set: the PDO is disabled until a configuration tool enables it. pub const fn cob_id(_node_id: u8) -> u16 { 0x201 }"),
+        "{code}"
+    );
+    // Bit 29: a 29-bit identifier, as u32.
+    assert!(
+        squeezed.contains(
+            "pub const fn cob_id(node_id: u8) -> u32 { (node_id as u32).wrapping_add(0x300) }"
+        ),
+        "{code}"
+    );
+    // 16 bits in 16: nothing can overflow; an INTEGER24 in an i32 can.
+    assert!(
+        squeezed.contains("pub fn encode(&self) -> [u8; 2] {"),
+        "{code}"
+    );
+    assert!(
+        squeezed.contains("pub fn encode(&self) -> Result<[u8; 3], ::edsgen_runtime::PdoError> {"),
+        "{code}"
+    );
+}

@@ -511,15 +511,14 @@ pub mod gd350 {
         impl Rpdo2 {
             /// The payload length in bytes.
             pub const LEN: usize = 8;
-            /// The COB-ID for a node-ID.
+            /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// The COB-ID of 1401h sub 1: `$NODEID + 0x300`.
-            pub const fn cob_id(node_id: u8) -> u32 {
-                (node_id as u32).wrapping_add(0x300)
+            pub const fn cob_id(node_id: u8) -> u16 {
+                (node_id as u16).wrapping_add(0x300)
             }
-            /// The payload, bit-exact (little-endian, least significant bit first); an error if a
-            /// field does not fit its mapped length.
-            pub fn encode(&self) -> Result<[u8; 8], ::edsgen_runtime::PdoError> {
+            /// The payload, bit-exact (little-endian, least significant bit first).
+            pub fn encode(&self) -> [u8; 8] {
                 let mut payload = [0u8; 8];
                 ::edsgen_runtime::typed::put_bits(
                     &mut payload,
@@ -545,7 +544,7 @@ pub mod gd350 {
                     16,
                     u64::from(self.setting_3),
                 );
-                Ok(payload)
+                payload
             }
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
@@ -583,15 +582,14 @@ pub mod gd350 {
         impl Tpdo2 {
             /// The payload length in bytes.
             pub const LEN: usize = 8;
-            /// The COB-ID for a node-ID.
+            /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// The COB-ID of 1801h sub 1: `$NODEID + 0x280`.
-            pub const fn cob_id(node_id: u8) -> u32 {
-                (node_id as u32).wrapping_add(0x280)
+            pub const fn cob_id(node_id: u8) -> u16 {
+                (node_id as u16).wrapping_add(0x280)
             }
-            /// The payload, bit-exact (little-endian, least significant bit first); an error if a
-            /// field does not fit its mapped length.
-            pub fn encode(&self) -> Result<[u8; 8], ::edsgen_runtime::PdoError> {
+            /// The payload, bit-exact (little-endian, least significant bit first).
+            pub fn encode(&self) -> [u8; 8] {
                 let mut payload = [0u8; 8];
                 ::edsgen_runtime::typed::put_bits(
                     &mut payload,
@@ -617,7 +615,7 @@ pub mod gd350 {
                     16,
                     u64::from(self.returned_value_3),
                 );
-                Ok(payload)
+                payload
             }
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
@@ -655,11 +653,11 @@ pub mod gd350 {
         impl Tpdo3 {
             /// The payload length in bytes.
             pub const LEN: usize = 6;
-            /// The COB-ID for a node-ID.
+            /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// 1802h sub 1 gives no COB-ID; this is the predefined connection set's `0x380 + node-ID`.
-            pub const fn cob_id(node_id: u8) -> u32 {
-                (node_id as u32).wrapping_add(0x380)
+            pub const fn cob_id(node_id: u8) -> u16 {
+                (node_id as u16).wrapping_add(0x380)
             }
             /// The payload, bit-exact (little-endian, least significant bit first); an error if a
             /// field does not fit its mapped length.
@@ -735,15 +733,14 @@ pub mod gd350 {
         impl Tpdo4 {
             /// The payload length in bytes.
             pub const LEN: usize = 6;
-            /// The COB-ID for a node-ID.
+            /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// 1803h sub 1 gives no COB-ID; this is the predefined connection set's `0x480 + node-ID`.
-            pub const fn cob_id(node_id: u8) -> u32 {
-                (node_id as u32).wrapping_add(0x480)
+            pub const fn cob_id(node_id: u8) -> u16 {
+                (node_id as u16).wrapping_add(0x480)
             }
-            /// The payload, bit-exact (little-endian, least significant bit first); an error if a
-            /// field does not fit its mapped length.
-            pub fn encode(&self) -> Result<[u8; 6], ::edsgen_runtime::PdoError> {
+            /// The payload, bit-exact (little-endian, least significant bit first).
+            pub fn encode(&self) -> [u8; 6] {
                 let mut payload = [0u8; 6];
                 ::edsgen_runtime::typed::put_bits(
                     &mut payload,
@@ -765,7 +762,7 @@ pub mod gd350 {
                     8,
                     i64::from(self.type_) as u64,
                 );
-                Ok(payload)
+                payload
             }
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
