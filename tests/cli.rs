@@ -263,13 +263,13 @@ fn generate_applies_the_overlay_beside_the_file() {
     let out = run(&["generate", p]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let code_text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(code_text.contains("pub const LABEL: Entry<FixedBytes<32>>"));
+    assert!(code_text.contains("pub const LABEL: Entry<FixedBytes<32>, super::Od>"));
 
     std::fs::write(path.with_extension("toml"), "[capacity]\n2000 = 200\n").unwrap();
     let out = run(&["generate", p]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let with_overlay = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(with_overlay.contains("pub const LABEL: Entry<FixedBytes<200>>"));
+    assert!(with_overlay.contains("pub const LABEL: Entry<FixedBytes<200>, super::Od>"));
     let image_size = |code: &str| {
         let line = code.lines().find(|l| l.contains("const IMAGE_SIZE: usize"));
         line.unwrap_or_default().to_owned()

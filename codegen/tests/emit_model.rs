@@ -204,7 +204,7 @@ fn missing_default_is_eds705_and_zero() {
     assert_eq!(default_image(&generated.code), [0; 6]);
     assert!(generated
         .code
-        .contains("pub const NAME: Entry<FixedBytes<0>> = Entry::new(0x2001, 0x00)"));
+        .contains("pub const NAME: Entry<FixedBytes<0>, super::Od> = Entry::new(0x2001, 0x00)"));
 }
 
 #[test]
@@ -390,9 +390,9 @@ fn digit_and_symbol_names_are_escaped() {
     ]);
     let code = emit::generate(&device, "x").unwrap();
     for needle in [
-        "pub const TYPE: Entry<u8>",
-        "pub const N_1ST_GEAR: Entry<u8>",
-        "pub const OBJECT_2002: Entry<u8>",
+        "pub const TYPE: Entry<u8, super::Od>",
+        "pub const N_1ST_GEAR: Entry<u8, super::Od>",
+        "pub const OBJECT_2002: Entry<u8, super::Od>",
     ] {
         assert!(code.contains(needle), "missing {needle}");
     }
@@ -411,7 +411,8 @@ fn time_of_day_days_and_milliseconds() {
     )]);
     let code = emit::generate(&device, "x").unwrap();
     assert_eq!(default_image(&code), 0x16D_0293_2E00u64.to_le_bytes()[..6]);
-    assert!(code.contains("pub const STAMP: Entry<u64> = Entry::with_width(0x2000, 0x00, 6)"));
+    assert!(code
+        .contains("pub const STAMP: Entry<u64, super::Od> = Entry::with_width(0x2000, 0x00, 6)"));
 }
 
 #[test]
@@ -433,12 +434,12 @@ fn colliding_constant_names_take_the_index() {
     };
     let code = emit::generate(&device(vec![rec(0x5E11), rec(0x5E12)]), "x").unwrap();
     assert!(
-        code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8>"),
+        code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8, super::Od>"),
         "{code}"
     );
     // Another object holds the name: the index tells them apart.
     assert!(
-        code.contains("pub const REMOTE_MAPPING_COUNT_5E12: Entry<u8>"),
+        code.contains("pub const REMOTE_MAPPING_COUNT_5E12: Entry<u8, super::Od>"),
         "{code}"
     );
     // The same object: the sub-index does.
@@ -474,9 +475,12 @@ fn colliding_constant_names_take_the_index() {
         ],
     );
     let code = emit::generate(&device(vec![twice]), "x").unwrap();
-    assert!(code.contains("pub const PAIR_VALUE: Entry<u8>"), "{code}");
     assert!(
-        code.contains("pub const PAIR_VALUE_SUB2: Entry<u8>"),
+        code.contains("pub const PAIR_VALUE: Entry<u8, super::Od>"),
+        "{code}"
+    );
+    assert!(
+        code.contains("pub const PAIR_VALUE_SUB2: Entry<u8, super::Od>"),
         "{code}"
     );
 }

@@ -52,23 +52,32 @@ pub mod gd350 {
             );
             od
         }
-        /// The value of `entry` (a typed address from `od`); `None` only for an address
-        /// that is not in this dictionary or whose type does not match it.
-        pub fn get<T: ::edsgen_runtime::OdValue>(
+        /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
+        /// branded `Entry<T, Od>`): it is here, at its recorded position, with its type, so
+        /// the read cannot fail.
+        pub fn get<T: ::edsgen_runtime::OdValue + Default>(
             &self,
-            entry: ::edsgen_runtime::Entry<T>,
-        ) -> Option<T> {
-            LAYOUT.get(&self.values, entry)
+            entry: ::edsgen_runtime::Entry<T, Od>,
+        ) -> T {
+            LAYOUT.get(&self.values, entry.unbranded()).unwrap_or_default()
         }
-        /// Sets `entry` (a typed address from `od`) to `value`, checked like an SDO write
-        /// (length, BOOLEAN, LowLimit/HighLimit) but not against access rights. On error
-        /// the value is unchanged.
-        pub fn set<T: ::edsgen_runtime::OdValue>(
+        /// The value of an address from elsewhere (`Entry::new`, another device's module);
+        /// `None` if this dictionary does not hold it with that type.
+        pub fn get_checked<T: ::edsgen_runtime::OdValue, D>(
+            &self,
+            entry: ::edsgen_runtime::Entry<T, D>,
+        ) -> Option<T> {
+            LAYOUT.get(&self.values, entry.unbranded())
+        }
+        /// Sets `entry` (a typed address from `od`, or from elsewhere) to `value`, checked
+        /// like an SDO write (length, BOOLEAN, LowLimit/HighLimit) but not against access
+        /// rights. On error the value is unchanged.
+        pub fn set<T: ::edsgen_runtime::OdValue, D>(
             &mut self,
-            entry: ::edsgen_runtime::Entry<T>,
+            entry: ::edsgen_runtime::Entry<T, D>,
             value: T,
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            LAYOUT.set(&mut self.values, entry, &value)
+            LAYOUT.set(&mut self.values, entry.unbranded(), &value)
         }
     }
     /// Every entry's descriptor, sorted by (index, sub-index).
@@ -217,275 +226,357 @@ pub mod gd350 {
     pub mod od {
         use ::edsgen_runtime::{Entry, FixedBytes};
         /// Device type (1000h sub 0: UNSIGNED32, ro, not PDO-mappable; default `65938`).
-        pub const DEVICE_TYPE: Entry<u32> = Entry::new(0x1000, 0x00).at_position(0);
+        pub const DEVICE_TYPE: Entry<u32, super::Od> = Entry::new(0x1000, 0x00)
+            .at_position(0)
+            .in_dictionary();
         /// Pre-defined error field: Number of errors (1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`).
-        pub const PRE_DEFINED_ERROR_FIELD_NUMBER_OF_ERRORS: Entry<u8> = Entry::new(
+        pub const PRE_DEFINED_ERROR_FIELD_NUMBER_OF_ERRORS: Entry<u8, super::Od> = Entry::new(
                 0x1003,
                 0x00,
             )
-            .at_position(1);
+            .at_position(1)
+            .in_dictionary();
         /// Pre-defined error field: Standard error field (1003h sub 1: UNSIGNED32, ro, not PDO-mappable; default `0`).
-        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: Entry<u32> = Entry::new(
+        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: Entry<u32, super::Od> = Entry::new(
                 0x1003,
                 0x01,
             )
-            .at_position(2);
+            .at_position(2)
+            .in_dictionary();
         /// Pre-defined error field: Standard error field (1003h sub 2: UNSIGNED32, ro, not PDO-mappable; default `0`).
-        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2: Entry<u32> = Entry::new(
-                0x1003,
-                0x02,
-            )
-            .at_position(3);
+        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2: Entry<
+            u32,
+            super::Od,
+        > = Entry::new(0x1003, 0x02).at_position(3).in_dictionary();
         /// Manufacturer device name (1008h sub 0: VISIBLE_STRING, const, not PDO-mappable, capacity 5 bytes; default `GD350`).
-        pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<5>> = Entry::new(
+        pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<5>, super::Od> = Entry::new(
                 0x1008,
                 0x00,
             )
-            .at_position(4);
+            .at_position(4)
+            .in_dictionary();
         /// Manufacturer hardware version (1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable, capacity 32 bytes; default `1.0`).
-        pub const MANUFACTURER_HARDWARE_VERSION: Entry<FixedBytes<32>> = Entry::new(
+        pub const MANUFACTURER_HARDWARE_VERSION: Entry<FixedBytes<32>, super::Od> = Entry::new(
                 0x1009,
                 0x00,
             )
-            .at_position(5);
+            .at_position(5)
+            .in_dictionary();
         /// COB-ID EMCY (1014h sub 0: UNSIGNED32, ro, not PDO-mappable; default `$NODEID+128`).
-        pub const COB_ID_EMCY: Entry<u32> = Entry::new(0x1014, 0x00).at_position(6);
+        pub const COB_ID_EMCY: Entry<u32, super::Od> = Entry::new(0x1014, 0x00)
+            .at_position(6)
+            .in_dictionary();
         /// Identity object: Number of entries (1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`).
-        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x1018, 0x00)
-            .at_position(7);
+        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8, super::Od> = Entry::new(
+                0x1018,
+                0x00,
+            )
+            .at_position(7)
+            .in_dictionary();
         /// Identity object: Vendor-ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
-        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32> = Entry::new(0x1018, 0x01)
-            .at_position(8);
+        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32, super::Od> = Entry::new(
+                0x1018,
+                0x01,
+            )
+            .at_position(8)
+            .in_dictionary();
         /// Identity object: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
-        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32> = Entry::new(0x1018, 0x02)
-            .at_position(9);
+        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32, super::Od> = Entry::new(
+                0x1018,
+                0x02,
+            )
+            .at_position(9)
+            .in_dictionary();
         /// Identity object: Revision number (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`).
-        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32> = Entry::new(0x1018, 0x03)
-            .at_position(10);
+        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32, super::Od> = Entry::new(
+                0x1018,
+                0x03,
+            )
+            .at_position(10)
+            .in_dictionary();
         /// RPDO2 communication parameter: Highest sub-index supported (1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
-        pub const RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
-                0x1401,
-                0x00,
-            )
-            .at_position(11);
+        pub const RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1401, 0x00).at_position(11).in_dictionary();
         /// RPDO2 communication parameter: COB-ID (1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`).
-        pub const RPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32> = Entry::new(
+        pub const RPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32, super::Od> = Entry::new(
                 0x1401,
                 0x01,
             )
-            .at_position(12);
+            .at_position(12)
+            .in_dictionary();
         /// RPDO2 communication parameter: Transmission type (1401h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
-        pub const RPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<u8> = Entry::new(
-                0x1401,
-                0x02,
-            )
-            .at_position(13);
+        pub const RPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1401, 0x02).at_position(13).in_dictionary();
         /// RPDO2 mapping parameter: Number of mapped objects (1601h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
-        pub const RPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-                0x1601,
-                0x00,
-            )
-            .at_position(14);
+        pub const RPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1601, 0x00).at_position(14).in_dictionary();
         /// RPDO2 mapping parameter: Mapped object 1 (1601h sub 1: UNSIGNED32, rw, not PDO-mappable; default `553713680`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
                 0x1601,
                 0x01,
             )
-            .at_position(15);
+            .at_position(15)
+            .in_dictionary();
         /// RPDO2 mapping parameter: Mapped object 2 (1601h sub 2: UNSIGNED32, rw, not PDO-mappable; default `553648400`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
                 0x1601,
                 0x02,
             )
-            .at_position(16);
+            .at_position(16)
+            .in_dictionary();
         /// RPDO2 mapping parameter: Mapped object 3 (1601h sub 3: UNSIGNED32, rw, not PDO-mappable; default `553648656`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
                 0x1601,
                 0x03,
             )
-            .at_position(17);
+            .at_position(17)
+            .in_dictionary();
         /// RPDO2 mapping parameter: Mapped object 4 (1601h sub 4: UNSIGNED32, rw, not PDO-mappable; default `553648912`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
+        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32, super::Od> = Entry::new(
                 0x1601,
                 0x04,
             )
-            .at_position(18);
+            .at_position(18)
+            .in_dictionary();
         /// TPDO2 communication parameter: Highest sub-index supported (1801h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
-        pub const TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
-                0x1801,
-                0x00,
-            )
-            .at_position(19);
+        pub const TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1801, 0x00).at_position(19).in_dictionary();
         /// TPDO2 communication parameter: COB-ID (1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`).
-        pub const TPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32> = Entry::new(
+        pub const TPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32, super::Od> = Entry::new(
                 0x1801,
                 0x01,
             )
-            .at_position(20);
+            .at_position(20)
+            .in_dictionary();
         /// TPDO2 communication parameter: Transmission type (1801h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
-        pub const TPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<u8> = Entry::new(
-                0x1801,
-                0x02,
-            )
-            .at_position(21);
+        pub const TPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1801, 0x02).at_position(21).in_dictionary();
         /// TPDO2 mapping parameter: Number of mapped objects (1A01h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
-        pub const TPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-                0x1A01,
-                0x00,
-            )
-            .at_position(22);
+        pub const TPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1A01, 0x00).at_position(22).in_dictionary();
         /// TPDO2 mapping parameter: Mapped object 1 (1A01h sub 1: UNSIGNED32, rw, not PDO-mappable; default `536936464`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
                 0x1A01,
                 0x01,
             )
-            .at_position(23);
+            .at_position(23)
+            .in_dictionary();
         /// TPDO2 mapping parameter: Mapped object 2 (1A01h sub 2: UNSIGNED32, rw, not PDO-mappable; default `536871184`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
                 0x1A01,
                 0x02,
             )
-            .at_position(24);
+            .at_position(24)
+            .in_dictionary();
         /// TPDO2 mapping parameter: Mapped object 3 (1A01h sub 3: UNSIGNED32, rw, not PDO-mappable; default `536871440`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
                 0x1A01,
                 0x03,
             )
-            .at_position(25);
+            .at_position(25)
+            .in_dictionary();
         /// TPDO2 mapping parameter: Mapped object 4 (1A01h sub 4: UNSIGNED32, rw, not PDO-mappable; default `536871696`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
+        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32, super::Od> = Entry::new(
                 0x1A01,
                 0x04,
             )
-            .at_position(26);
+            .at_position(26)
+            .in_dictionary();
         /// TPDO3 mapping parameter: Number of mapped objects (1A02h sub 0: UNSIGNED8, rw, not PDO-mappable; default `5`).
-        pub const TPDO3_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-                0x1A02,
-                0x00,
-            )
-            .at_position(27);
+        pub const TPDO3_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1A02, 0x00).at_position(27).in_dictionary();
         /// TPDO3 mapping parameter: Mapped object 1 (1A02h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537001988`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
                 0x1A02,
                 0x01,
             )
-            .at_position(28);
+            .at_position(28)
+            .in_dictionary();
         /// TPDO3 mapping parameter: Mapped object 2 (1A02h sub 2: UNSIGNED32, rw, not PDO-mappable; default `327684`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
                 0x1A02,
                 0x02,
             )
-            .at_position(29);
+            .at_position(29)
+            .in_dictionary();
         /// TPDO3 mapping parameter: Mapped object 3 (1A02h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537067800`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
                 0x1A02,
                 0x03,
             )
-            .at_position(30);
+            .at_position(30)
+            .in_dictionary();
         /// TPDO3 mapping parameter: Mapped object 4 (1A02h sub 4: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32> = Entry::new(
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32, super::Od> = Entry::new(
                 0x1A02,
                 0x04,
             )
-            .at_position(31);
+            .at_position(31)
+            .in_dictionary();
         /// TPDO3 mapping parameter: Mapped object 5 (1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_5: Entry<u32> = Entry::new(
+        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_5: Entry<u32, super::Od> = Entry::new(
                 0x1A02,
                 0x05,
             )
-            .at_position(32);
+            .at_position(32)
+            .in_dictionary();
         /// TPDO4 mapping parameter: Number of mapped objects (1A03h sub 0: UNSIGNED8, rw, not PDO-mappable; default `3`).
-        pub const TPDO4_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<u8> = Entry::new(
-                0x1A03,
-                0x00,
-            )
-            .at_position(33);
+        pub const TPDO4_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
+            u8,
+            super::Od,
+        > = Entry::new(0x1A03, 0x00).at_position(33).in_dictionary();
         /// TPDO4 mapping parameter: Mapped object 1 (1A03h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
-        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32> = Entry::new(
+        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
                 0x1A03,
                 0x01,
             )
-            .at_position(34);
+            .at_position(34)
+            .in_dictionary();
         /// TPDO4 mapping parameter: Mapped object 2 (1A03h sub 2: UNSIGNED32, rw, not PDO-mappable; default `537264160`).
-        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32> = Entry::new(
+        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
                 0x1A03,
                 0x02,
             )
-            .at_position(35);
+            .at_position(35)
+            .in_dictionary();
         /// TPDO4 mapping parameter: Mapped object 3 (1A03h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
-        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32> = Entry::new(
+        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
                 0x1A03,
                 0x03,
             )
-            .at_position(36);
+            .at_position(36)
+            .in_dictionary();
         /// Returned values: Number of entries (2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x2000, 0x00)
-            .at_position(37);
+        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8, super::Od> = Entry::new(
+                0x2000,
+                0x00,
+            )
+            .at_position(37)
+            .in_dictionary();
         /// Returned values: Returned value 1 (2000h sub 1: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16> = Entry::new(0x2000, 0x01)
-            .at_position(38);
+        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16, super::Od> = Entry::new(
+                0x2000,
+                0x01,
+            )
+            .at_position(38)
+            .in_dictionary();
         /// Returned values: Returned value 2 (2000h sub 2: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16> = Entry::new(0x2000, 0x02)
-            .at_position(39);
+        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16, super::Od> = Entry::new(
+                0x2000,
+                0x02,
+            )
+            .at_position(39)
+            .in_dictionary();
         /// Returned values: Returned value 3 (2000h sub 3: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16> = Entry::new(0x2000, 0x03)
-            .at_position(40);
+        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16, super::Od> = Entry::new(
+                0x2000,
+                0x03,
+            )
+            .at_position(40)
+            .in_dictionary();
         /// Returned values: Returned value 4 (2000h sub 4: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16> = Entry::new(0x2000, 0x04)
-            .at_position(41);
+        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16, super::Od> = Entry::new(
+                0x2000,
+                0x04,
+            )
+            .at_position(41)
+            .in_dictionary();
         /// Status word (2001h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const STATUS_WORD: Entry<u16> = Entry::new(0x2001, 0x00).at_position(42);
+        pub const STATUS_WORD: Entry<u16, super::Od> = Entry::new(0x2001, 0x00)
+            .at_position(42)
+            .in_dictionary();
         /// Nibble (2002h sub 0: UNSIGNED8, ro, PDO-mappable; default `0`).
-        pub const NIBBLE: Entry<u8> = Entry::new(0x2002, 0x00).at_position(43);
+        pub const NIBBLE: Entry<u8, super::Od> = Entry::new(0x2002, 0x00)
+            .at_position(43)
+            .in_dictionary();
         /// Sparse record: Highest sub-index supported (2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`).
-        pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8> = Entry::new(
+        pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8, super::Od> = Entry::new(
                 0x2003,
                 0x00,
             )
-            .at_position(44);
+            .at_position(44)
+            .in_dictionary();
         /// Sparse record: Signed 24 (2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`).
-        pub const SPARSE_RECORD_SIGNED_24: Entry<i32> = Entry::with_width(
+        pub const SPARSE_RECORD_SIGNED_24: Entry<i32, super::Od> = Entry::with_width(
                 0x2003,
                 0x01,
                 3,
             )
-            .at_position(45);
+            .at_position(45)
+            .in_dictionary();
         /// Sparse record: type (2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`).
-        pub const SPARSE_RECORD_TYPE: Entry<i8> = Entry::new(0x2003, 0x02)
-            .at_position(46);
+        pub const SPARSE_RECORD_TYPE: Entry<i8, super::Od> = Entry::new(0x2003, 0x02)
+            .at_position(46)
+            .in_dictionary();
         /// Sparse record: Big (2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`).
-        pub const SPARSE_RECORD_BIG: Entry<u64> = Entry::new(0x2003, 0x05)
-            .at_position(47);
+        pub const SPARSE_RECORD_BIG: Entry<u64, super::Od> = Entry::new(0x2003, 0x05)
+            .at_position(47)
+            .in_dictionary();
         /// Flag (2004h sub 0: BOOLEAN, rw, PDO-mappable; default `1`).
-        pub const FLAG: Entry<bool> = Entry::new(0x2004, 0x00).at_position(48);
+        pub const FLAG: Entry<bool, super::Od> = Entry::new(0x2004, 0x00)
+            .at_position(48)
+            .in_dictionary();
         /// Gain (2005h sub 0: REAL32, rw, not PDO-mappable; default `1.5`).
-        pub const GAIN: Entry<f32> = Entry::new(0x2005, 0x00).at_position(49);
+        pub const GAIN: Entry<f32, super::Od> = Entry::new(0x2005, 0x00)
+            .at_position(49)
+            .in_dictionary();
         /// Tag (2006h sub 0: OCTET_STRING, rw, PDO-mappable, capacity 32 bytes; default `01020304`).
-        pub const TAG: Entry<FixedBytes<32>> = Entry::new(0x2006, 0x00).at_position(50);
+        pub const TAG: Entry<FixedBytes<32>, super::Od> = Entry::new(0x2006, 0x00)
+            .at_position(50)
+            .in_dictionary();
         /// Settings: Number of entries (2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8> = Entry::new(0x2100, 0x00)
-            .at_position(51);
+        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8, super::Od> = Entry::new(
+                0x2100,
+                0x00,
+            )
+            .at_position(51)
+            .in_dictionary();
         /// Settings: Setting 1 (2100h sub 1: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_1: Entry<u16> = Entry::new(0x2100, 0x01)
-            .at_position(52);
+        pub const SETTINGS_SETTING_1: Entry<u16, super::Od> = Entry::new(0x2100, 0x01)
+            .at_position(52)
+            .in_dictionary();
         /// Settings: Setting 2 (2100h sub 2: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_2: Entry<u16> = Entry::new(0x2100, 0x02)
-            .at_position(53);
+        pub const SETTINGS_SETTING_2: Entry<u16, super::Od> = Entry::new(0x2100, 0x02)
+            .at_position(53)
+            .in_dictionary();
         /// Settings: Setting 3 (2100h sub 3: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_3: Entry<u16> = Entry::new(0x2100, 0x03)
-            .at_position(54);
+        pub const SETTINGS_SETTING_3: Entry<u16, super::Od> = Entry::new(0x2100, 0x03)
+            .at_position(54)
+            .in_dictionary();
         /// Settings: Setting 4 (2100h sub 4: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_4: Entry<u16> = Entry::new(0x2100, 0x04)
-            .at_position(55);
+        pub const SETTINGS_SETTING_4: Entry<u16, super::Od> = Entry::new(0x2100, 0x04)
+            .at_position(55)
+            .in_dictionary();
         /// Control word (2101h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const CONTROL_WORD: Entry<u16> = Entry::new(0x2101, 0x00).at_position(56);
+        pub const CONTROL_WORD: Entry<u16, super::Od> = Entry::new(0x2101, 0x00)
+            .at_position(56)
+            .in_dictionary();
         /// Setting limited (2102h sub 0: UNSIGNED16, rw, PDO-mappable; default `100`; limits `10` to `5000`).
-        pub const SETTING_LIMITED: Entry<u16> = Entry::new(0x2102, 0x00).at_position(57);
+        pub const SETTING_LIMITED: Entry<u16, super::Od> = Entry::new(0x2102, 0x00)
+            .at_position(57)
+            .in_dictionary();
         /// Controlword (6040h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const CONTROLWORD: Entry<u16> = Entry::new(0x6040, 0x00).at_position(58);
+        pub const CONTROLWORD: Entry<u16, super::Od> = Entry::new(0x6040, 0x00)
+            .at_position(58)
+            .in_dictionary();
         /// Status word (6041h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const STATUS_WORD_6041: Entry<u16> = Entry::new(0x6041, 0x00)
-            .at_position(59);
+        pub const STATUS_WORD_6041: Entry<u16, super::Od> = Entry::new(0x6041, 0x00)
+            .at_position(59)
+            .in_dictionary();
     }
     /// Typed PDOs: one struct per default mapping of the description.
     pub mod pdo {
