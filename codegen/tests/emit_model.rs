@@ -611,3 +611,67 @@ fn cob_id_is_the_can_identifier_and_encode_is_fallible_only_for_narrow_fields() 
         "{code}"
     );
 }
+
+#[test]
+fn a_sub_object_does_not_repeat_its_object_name_and_acronyms_survive() {
+    let sub_named = |s: u8, name: &str| {
+        sub(
+            s,
+            name,
+            0x07,
+            AccessType::Rw,
+            Some(Value::Integer(0)),
+            false,
+        )
+    };
+    let heartbeat = object(
+        0x1016,
+        "Consumer heartbeat time",
+        ObjectType::Array,
+        vec![
+            sub(
+                0,
+                "Number of entries",
+                0x05,
+                AccessType::Ro,
+                Some(Value::Integer(2)),
+                false,
+            ),
+            sub_named(1, "Consumer heartbeat time 1"),
+            sub_named(2, "Consumer heartbeat time"),
+        ],
+    );
+    let speed = object(
+        0x2000,
+        "CANopen speed",
+        ObjectType::Record,
+        vec![
+            sub(
+                0,
+                "Highest sub-index",
+                0x05,
+                AccessType::Ro,
+                Some(Value::Integer(1)),
+                false,
+            ),
+            sub_named(1, "CANopen speedometer"),
+        ],
+    );
+    let code = emit::generate(&device(vec![heartbeat, speed]), "x").unwrap();
+    let names: Vec<&str> = code
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub const "))
+        .filter_map(|l| l.split(':').next())
+        .filter(|n| n.starts_with("CONSUMER") || n.starts_with("CANOPEN"))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "CONSUMER_HEARTBEAT_TIME_NUMBER_OF_ENTRIES",
+            "CONSUMER_HEARTBEAT_TIME_1",
+            "CONSUMER_HEARTBEAT_TIME_SUB2",
+            "CANOPEN_SPEED_HIGHEST_SUB_INDEX",
+            "CANOPEN_SPEED_CANOPEN_SPEEDOMETER",
+        ]
+    );
+}

@@ -241,12 +241,24 @@ impl Planner<'_> {
             None => (base, vec![format!("{:04X}", object.index)]),
             Some(sub) => {
                 let sub_part = ident(&sub.name, Case::Shouty, &format!("SUB{}", sub.sub_index));
-                let joined = if sub_part.starts_with("N_")
-                    && sub_part[2..].starts_with(|c: char| c.is_ascii_digit())
-                {
-                    format!("{base}_{}", &sub_part[2..])
-                } else {
-                    format!("{base}_{sub_part}")
+                // Only whole words: `SPEEDOMETER` does not repeat `SPEED`.
+                let repeated = sub_part.strip_prefix(&base).filter(|rest| {
+                    rest.is_empty() || rest.starts_with(|c: char| c == '_' || c.is_ascii_digit())
+                });
+                let joined = match repeated {
+                    // The sub-object repeats its object's name (`Consumer heartbeat time 1` in
+                    // `Consumer heartbeat time`, `F28 group parameter86` in `F28 group
+                    // parameter`): the object's name once, then what the sub adds.
+                    Some(rest) if !rest.trim_start_matches('_').is_empty() => {
+                        format!("{base}_{}", rest.trim_start_matches('_'))
+                    }
+                    Some(_) => format!("{base}_SUB{}", sub.sub_index),
+                    None if sub_part.starts_with("N_")
+                        && sub_part[2..].starts_with(|c: char| c.is_ascii_digit()) =>
+                    {
+                        format!("{base}_{}", &sub_part[2..])
+                    }
+                    None => format!("{base}_{sub_part}"),
                 };
                 let (sub_suffix, index_suffix) = (
                     format!("SUB{}", sub.sub_index),
