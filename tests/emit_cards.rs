@@ -79,7 +79,7 @@ fn assert_deterministic(path: &Path, module: &str) -> String {
         let text = std::fs::read_to_string(path).unwrap();
         let reordered = reverse_sections(&text);
         assert_ne!(reordered, text);
-        let read = read::read_bytes(path, reordered.as_bytes());
+        let read = with_overlay(path, read::read_bytes(path, reordered.as_bytes()));
         let third = generate_from(read, module)
             .unwrap_or_else(|d| panic!("{}: reordered: {d:?}", path.display()));
         assert!(

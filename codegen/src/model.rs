@@ -692,6 +692,22 @@ pub struct Device {
     /// Sections the model does not interpret further: modules (`[SupportedModules]`, `[Mx...]`,
     /// `[ConnectedModules]`), `[DynamicChannels]`, `[Tools]`, and unknown sections, in file order.
     pub other_sections: Vec<RawSection>,
+    /// Generated names the overlay sets (see [`crate::overlay`]); empty without one.
+    pub naming: Naming,
+}
+
+/// What an overlay says about generated names: the description cannot say how the device numbers
+/// an array's elements, and its names may not suit Rust.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Naming {
+    /// An object's name in generated code, in place of its ParameterName (its sub-objects'
+    /// constants start with it).
+    pub objects: BTreeMap<u16, String>,
+    /// An entry's whole constant name, in place of the one made from its names.
+    pub entries: BTreeMap<(u16, u8), String>,
+    /// For an array, the number the device gives sub-index 1 (0 when sub-index = number + 1):
+    /// its elements' constants end in that numbering, not in the sub-index.
+    pub first_number: BTreeMap<u16, u32>,
 }
 
 /// Which object list.

@@ -65,8 +65,19 @@ pub fn card_files() -> Vec<PathBuf> {
 /// Reads, validates and generates one file: the code, or the first error diagnostic (read,
 /// validation or generation) that stops it.
 pub fn generate(path: &Path, module: &str) -> Result<String, Diagnostic> {
-    let read = read::read_file(path).unwrap();
+    let read = with_overlay(path, read::read_file(path).unwrap());
     generate_from(read, module)
+}
+
+/// `read` with the overlay beside `path` applied, as the builder applies it (the cards'
+/// `eds/rd11.toml`); an overlay error fails the test.
+pub fn with_overlay(path: &Path, mut read: read::Read) -> read::Read {
+    let overlay = edsgen_codegen::overlay::path_for(path);
+    if let Ok(text) = std::fs::read_to_string(&overlay) {
+        let diags = edsgen_codegen::overlay::apply(&text, &mut read.device);
+        assert_eq!(diags, vec![], "{}", overlay.display());
+    }
+    read
 }
 
 pub fn generate_from(read: read::Read, module: &str) -> Result<String, Diagnostic> {

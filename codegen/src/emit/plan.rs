@@ -232,14 +232,38 @@ impl Planner<'_> {
     }
 
     fn const_name(&mut self, object: &Object, sub: Option<&SubObject>) -> Ident {
+        let naming = &self.device.naming;
         let base = ident(
-            &object.name,
+            naming.objects.get(&object.index).unwrap_or(&object.name),
             Case::Shouty,
             &format!("OBJECT_{:04X}", object.index),
         );
-        let (wanted, suffixes) = match sub {
-            None => (base, vec![format!("{:04X}", object.index)]),
-            Some(sub) => {
+        let renamed = |sub_index: u8| {
+            let name = naming.entries.get(&(object.index, sub_index))?;
+            Some(ident(name, Case::Shouty, &format!("SUB{sub_index}")))
+        };
+        // The device's own numbering of an array's elements (the overlay's [numbering]).
+        let numbered = |sub_index: u8| {
+            let first = *naming.first_number.get(&object.index)?;
+            let number = u32::from(sub_index.checked_sub(1)?) + first;
+            let highest = object.subs.keys().next_back().map_or(0, |s| u32::from(*s));
+            let width = (highest.saturating_sub(1) + first).to_string().len();
+            Some(format!("{base}_{number:0width$}"))
+        };
+        let chosen = sub.and_then(|s| renamed(s.sub_index).or_else(|| numbered(s.sub_index)));
+        let (wanted, suffixes) = match (sub, chosen) {
+            (None, _) => (
+                renamed(0).unwrap_or(base),
+                vec![format!("{:04X}", object.index)],
+            ),
+            (Some(sub), Some(name)) => (
+                name,
+                vec![
+                    format!("SUB{}", sub.sub_index),
+                    format!("{:04X}", object.index),
+                ],
+            ),
+            (Some(sub), None) => {
                 let sub_part = ident(&sub.name, Case::Shouty, &format!("SUB{}", sub.sub_index));
                 // Only whole words: `SPEEDOMETER` does not repeat `SPEED`.
                 let repeated = sub_part.strip_prefix(&base).filter(|rest| {

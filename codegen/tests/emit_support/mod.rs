@@ -105,6 +105,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         object_lists: Vec::new(),
         commissioning: None,
         other_sections: Vec::new(),
+        naming: Default::default(),
     }
 }
 
