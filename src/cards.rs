@@ -9,13 +9,17 @@
 //! use edsgen::cards::cp301::{od, pdo, Od};
 //!
 //! let mut dict = Od::new(3); // $NODEID defaults resolve here, at run time
-//! assert_eq!(dict.get(od::RPDO1_COMMUNICATION_PARAMETER_COB_ID_USED_BY_RPDO), Some(0x203));
+//! assert_eq!(dict.get(od::RPDO1_COMMUNICATION_PARAMETER_COB_ID_USED_BY_RPDO), 0x203);
 //! assert_eq!(dict.set(od::CONTROLWORD, 0x000F), Ok(())); // typed, checked like an SDO write
-//! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.encode()?;
+//! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.encode();
 //! assert_eq!(frame, [0x0F, 0x00, 0xDC, 0x05]);
 //! assert_eq!(pdo::Rpdo1::cob_id(3), 0x203);
-//! let _: edsgen_runtime::Entry<i16> = od::VL_TARGET_VELOCITY; // a master's read returns i16
-//! # Ok::<(), edsgen_runtime::PdoError>(())
+//! // No field of Rpdo1 can overflow its mapped bits: encode cannot fail, and cob_id is the
+//! // CAN identifier a frame takes.
+//! let can = edsgen_runtime::CanFrame::new(pdo::Rpdo1::cob_id(3), &frame);
+//! assert!(can.is_some_and(|f| f.data() == frame));
+//! let _: edsgen_runtime::Entry<i16, Od> = od::VL_TARGET_VELOCITY; // a master's read returns i16
+//! let controlword: u16 = dict.get(od::CONTROLWORD); // an address of this Od: no Option
 //! ```
 
 edsgen_runtime::include_device!("cp301");

@@ -276,3 +276,15 @@ fn dump_snapshot() {
     assert_eq!(trimmed, 64);
     insta::assert_json_snapshot!("rd11_dump", dump);
 }
+
+#[test]
+fn generated_names_follow_the_manuals_parameter_numbers() {
+    // The overlay eds/rd11.toml: sub-index = parameter number + 1 (3.1.3), so F28.85 is
+    // 201Ch sub 86, and the manual's example F01.05 is 2001h:06.
+    use edsgen::cards::rd11::od;
+    assert_eq!((od::F28_85.index, od::F28_85.sub), (0x201C, 86));
+    assert_eq!((od::F01_05.index, od::F01_05.sub), (0x2001, 6));
+    assert_eq!((od::F02_02.index, od::F02_02.sub), (0x2002, 3));
+    assert_eq!((od::F00_SAVE_00.index, od::F00_SAVE_00.sub), (0x20F0, 1));
+    assert_eq!((od::F31_SAVE_99.index, od::F31_SAVE_99.sub), (0x20AF, 100));
+}

@@ -263,13 +263,13 @@ fn generate_applies_the_overlay_beside_the_file() {
     let out = run(&["generate", p]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let code_text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(code_text.contains("pub const LABEL: Entry<FixedBytes<32>>"));
+    assert!(code_text.contains("pub const LABEL: Entry<FixedBytes<32>, super::Od>"));
 
     std::fs::write(path.with_extension("toml"), "[capacity]\n2000 = 200\n").unwrap();
     let out = run(&["generate", p]);
     assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
     let with_overlay = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(with_overlay.contains("pub const LABEL: Entry<FixedBytes<200>>"));
+    assert!(with_overlay.contains("pub const LABEL: Entry<FixedBytes<200>, super::Od>"));
     let image_size = |code: &str| {
         let line = code.lines().find(|l| l.contains("const IMAGE_SIZE: usize"));
         line.unwrap_or_default().to_owned()
@@ -533,5 +533,74 @@ fn xml_nested_too_deep_is_refused_without_a_crash() {
                 .contains("error[EDS601]: the XML nests elements more than 256 deep"),
             "{command}"
         );
+    }
+}
+
+/// CLEAN with a DEFTYPE 0060h (`DataType` `deftype_type`) and 2000h typed 0060h.
+fn with_deftype(deftype_type: &str) -> String {
+    CLEAN
+        .replace(
+            "ParameterName=Speed\nObjectType=0x7\nDataType=0x0006",
+            "ParameterName=Speed\nObjectType=0x7\nDataType=0x0060",
+        )
+        .replace(
+            "[1000]",
+            &format!("[0060]\nParameterName=Profile type\nObjectType=0x5\nDataType={deftype_type}\nAccessType=ro\n\n[1000]"),
+        )
+}
+
+#[test]
+fn a_clean_validate_means_generate_succeeds() {
+    let long = format!("{}\n", "x".repeat(70_000));
+    let big_string = with_string().replace("DefaultValue=drive\n", &format!("DefaultValue={long}"));
+    let two_labels = with_string()
+        .replace(
+            "SupportedObjects=1\n1=0x2000",
+            "SupportedObjects=2\n1=0x2000\n2=0x2001",
+        )
+        .replace(
+            "DefaultValue=drive\n",
+            &format!("DefaultValue={}\n", "y".repeat(40_000)),
+        );
+    let big_image = format!(
+        "{two_labels}\n[2001]\nParameterName=Other\nObjectType=0x7\nDataType=0x0009\nAccessType=ro\nDefaultValue={}\nPDOMapping=0\n",
+        "z".repeat(40_000)
+    );
+    let cases = [
+        ("deftype.eds", with_deftype("0x0007"), None),
+        ("selfref.eds", with_deftype("0x0060"), Some("EDS314")),
+        ("string.eds", big_string, Some("EDS707")),
+        ("image.eds", big_image, Some("EDS707")),
+    ];
+    for (name, text, error) in cases {
+        let path = file("clean-means-generate", name, &text);
+        let p = path.to_str().unwrap();
+        let validated = run(&["validate", "--format", "json", p]);
+        let json: serde_json::Value = serde_json::from_slice(&validated.stdout).unwrap();
+        let mut errors: Vec<&str> = json
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|d| d["severity"] == "error")
+            .map(|d| d["code"].as_str().unwrap())
+            .collect();
+        errors.dedup();
+        let generated = run(&["generate", p]);
+        match error {
+            None => {
+                assert_eq!(errors, Vec::<&str>::new(), "{name}");
+                assert_eq!(
+                    code(&generated),
+                    0,
+                    "{name}: {}",
+                    String::from_utf8_lossy(&generated.stderr)
+                );
+            }
+            Some(rule) => {
+                assert_eq!(errors, vec![rule], "{name}");
+                assert_eq!(code(&validated), 1, "{name}");
+                assert_eq!(code(&generated), 1, "{name}");
+            }
+        }
     }
 }

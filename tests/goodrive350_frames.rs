@@ -83,7 +83,7 @@ fn heartbeat_every_100_ms_and_disabled_by_sdo() {
     let (mut node, mut bus) = booted();
     assert_eq!(
         node.od().get(od::PRODUCER_HEARTBEAT_TIME),
-        Some(0),
+        0,
         "off by default (§3.4.5)"
     );
     bus.inject(

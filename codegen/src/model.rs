@@ -692,6 +692,22 @@ pub struct Device {
     /// Sections the model does not interpret further: modules (`[SupportedModules]`, `[Mx...]`,
     /// `[ConnectedModules]`), `[DynamicChannels]`, `[Tools]`, and unknown sections, in file order.
     pub other_sections: Vec<RawSection>,
+    /// Generated names the overlay sets (see [`crate::overlay`]); empty without one.
+    pub naming: Naming,
+}
+
+/// What an overlay says about generated names: the description cannot say how the device numbers
+/// an array's elements, and its names may not suit Rust.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Naming {
+    /// An object's name in generated code, in place of its ParameterName (its sub-objects'
+    /// constants start with it).
+    pub objects: BTreeMap<u16, String>,
+    /// An entry's whole constant name, in place of the one made from its names.
+    pub entries: BTreeMap<(u16, u8), String>,
+    /// For an array, the number the device gives sub-index 1 (0 when sub-index = number + 1):
+    /// its elements' constants end in that numbering, not in the sub-index.
+    pub first_number: BTreeMap<u16, u32>,
 }
 
 /// Which object list.
@@ -724,20 +740,31 @@ impl Device {
         self.objects.get(&index)?.subs.get(&sub)
     }
 
-    /// The basic type of an entry's data type, following a DEFTYPE object (an index above
-    /// 0x001B whose sub-object 1, or sub-index 0, names a basic type) as CANfestival files do.
+    /// The basic type of an entry's data type, following DEFTYPE objects (an index above 0x001B):
+    /// the basic type that sub-object 1, or sub-index 0, names as its value (as CANfestival files
+    /// do), else the DEFTYPE's own DataType (as CiA 306 writes `[0060]` with `DataType=0x0007`).
+    /// `None` for a chain that ends nowhere (a DEFTYPE naming itself) or at anything else.
     pub fn basic_type(&self, data_type: u16) -> Option<BasicType> {
-        if let Some(t) = BasicType::from_index(data_type) {
-            return Some(t);
+        let mut data_type = data_type;
+        // A chain longer than this loops: CiA 306 files have none longer than one.
+        for _ in 0..8 {
+            if let Some(t) = BasicType::from_index(data_type) {
+                return Some(t);
+            }
+            let def = self.objects.get(&data_type)?;
+            if def.object_type != ObjectType::DefType {
+                return None;
+            }
+            let sub = def.subs.get(&1).or_else(|| def.subs.get(&0))?;
+            let named = match sub.default.as_ref().and_then(|d| d.value.as_ref()) {
+                Some(Value::Integer(v)) => u16::try_from(*v).ok().and_then(BasicType::from_index),
+                _ => None,
+            };
+            if named.is_some() {
+                return named;
+            }
+            data_type = sub.data_type?;
         }
-        let def = self.objects.get(&data_type)?;
-        if def.object_type != ObjectType::DefType {
-            return None;
-        }
-        let sub = def.subs.get(&1).or_else(|| def.subs.get(&0))?;
-        match &sub.default.as_ref()?.value {
-            Some(Value::Integer(v)) => BasicType::from_index(u16::try_from(*v).ok()?),
-            _ => None,
-        }
+        None
     }
 }

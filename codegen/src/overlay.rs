@@ -1,14 +1,23 @@
 //! Overlays: what a device description cannot say, in a TOML file beside it (`eds/NAME.toml` for
-//! `eds/NAME.eds`). Today that is the capacity of strings, octet strings and domains, for which
-//! CiA 306 has no key; without one the generator uses the rule in `docs/generated-code.md`.
+//! `eds/NAME.eds`): the capacity of strings, octet strings and domains, for which CiA 306 has no
+//! key (without one the generator uses the rule in `docs/generated-code.md`), and generated names:
+//! an object's or an entry's name, and how the device numbers an array's elements.
 //!
 //! ```toml
 //! [capacity]
 //! 1008 = 64        # 1008h sub 0, in bytes
 //! 1F50sub1 = 4096  # 1F50h sub 1: keys are written as the EDS names sections
+//!
+//! [names]
+//! 201C = "F28"                 # 201Ch's sub-objects are F28_...
+//! 2030sub1 = "FREQUENCY_COMMAND"
+//!
+//! [numbering]
+//! 2000-201F = 0    # sub-index 1 is element 0: 201Ch sub 86 is F28_85
 //! ```
 //!
-//! [`apply`] checks the overlay against the model and sets [`SubObject::capacity`]; its
+//! [`apply`] checks the overlay against the model and sets [`SubObject::capacity`] and
+//! [`Device::naming`]; its
 //! diagnostics (EDS708) point into the TOML text and are rendered with it, not with the
 //! description's. The builder and `edsgen generate` both find the overlay with [`path_for`].
 
@@ -18,7 +27,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use crate::diag::Diagnostic;
-use crate::model::{BasicType, Device, SubObject};
+use crate::model::{BasicType, Device, ObjectType, SubObject};
 use crate::read::text::LineIndex;
 use crate::rules;
 
@@ -58,10 +67,20 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                     set_capacity(entry, capacity, device, text, &lines, &mut diags);
                 }
             }
-            ("capacity", _) => diags.push(Diagnostic::new(
+            ("names", DeValue::Table(table)) => {
+                for (entry, name) in table {
+                    set_name(entry, name, device, text, &lines, &mut diags);
+                }
+            }
+            ("numbering", DeValue::Table(table)) => {
+                for (range, first) in table {
+                    set_numbering(range, first, device, text, &lines, &mut diags);
+                }
+            }
+            (table @ ("capacity" | "names" | "numbering"), _) => diags.push(Diagnostic::new(
                 &rules::OVERLAY,
                 Some(key_span),
-                "`capacity` must be a table: `[capacity]`",
+                format!("`{table}` must be a table: `[{table}]`"),
             )),
             (other, _) => diags.push(
                 Diagnostic::new(
@@ -70,7 +89,7 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                     format!("unknown overlay table `{other}`"),
                 )
                 .with_label("ignored")
-                .with_help("an overlay has one table: [capacity]"),
+                .with_help("an overlay has the tables [capacity], [names] and [numbering]"),
             ),
         }
     }
@@ -167,6 +186,109 @@ fn set_capacity(
         return;
     }
     entry.capacity = Some(capacity);
+}
+
+/// One `XXXX = "NAME"` or `XXXXsubY = "NAME"` line of `[names]`: the object's name (its entries'
+/// constants start with it), or one entry's whole constant name.
+fn set_name(
+    key: &Spanned<std::borrow::Cow<'_, str>>,
+    value: &Spanned<DeValue<'_>>,
+    device: &mut Device,
+    text: &str,
+    lines: &LineIndex,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let key_span = lines.span(text, key.span());
+    let raw = key.get_ref().as_ref();
+    let name = match value.get_ref() {
+        DeValue::String(name) if name.chars().any(|c| c.is_ascii_alphanumeric()) => name,
+        _ => {
+            diags.push(Diagnostic::new(
+                &rules::OVERLAY,
+                Some(lines.span(text, value.span())),
+                format!("the name of `{raw}` must be a string with a letter or digit in it"),
+            ));
+            return;
+        }
+    };
+    let whole_object = !raw.to_ascii_lowercase().contains("sub");
+    match entry_address(raw) {
+        Some((index, _)) if whole_object && device.objects.contains_key(&index) => {
+            device.naming.objects.insert(index, name.to_string());
+        }
+        Some((index, sub)) if device.entry(index, sub).is_some() => {
+            device.naming.entries.insert((index, sub), name.to_string());
+        }
+        _ => diags.push(
+            Diagnostic::new(
+                &rules::OVERLAY,
+                Some(key_span),
+                format!("`{raw}` names no object or entry of the description"),
+            )
+            .with_help("write the index in hex, with `subN` for a sub-index: `2030`, `2030sub1`"),
+        ),
+    }
+}
+
+/// One `XXXX = N` or `XXXX-YYYY = N` line of `[numbering]`: each ARRAY in the range numbers its
+/// elements from N at sub-index 1.
+fn set_numbering(
+    key: &Spanned<std::borrow::Cow<'_, str>>,
+    value: &Spanned<DeValue<'_>>,
+    device: &mut Device,
+    text: &str,
+    lines: &LineIndex,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let key_span = lines.span(text, key.span());
+    let raw = key.get_ref().as_ref();
+    let range = match raw.split_once('-') {
+        Some((first, last)) => u16::from_str_radix(first.trim(), 16)
+            .ok()
+            .zip(u16::from_str_radix(last.trim(), 16).ok()),
+        None => u16::from_str_radix(raw.trim(), 16).ok().map(|i| (i, i)),
+    };
+    let Some((first, last)) = range.filter(|(first, last)| first <= last) else {
+        diags.push(
+            Diagnostic::new(
+                &rules::OVERLAY,
+                Some(key_span),
+                format!("`{raw}` is not an index or a range of indices"),
+            )
+            .with_help("write `2000` or `2000-201F` (hex)"),
+        );
+        return;
+    };
+    let number = match value.get_ref() {
+        DeValue::Integer(n) => i64::from_str_radix(&n.as_str().replace('_', ""), n.radix())
+            .ok()
+            .and_then(|n| u32::try_from(n).ok()),
+        _ => None,
+    };
+    let Some(number) = number else {
+        diags.push(Diagnostic::new(
+            &rules::OVERLAY,
+            Some(lines.span(text, value.span())),
+            format!("the numbering of `{raw}` must be the number of sub-index 1 (0 or more)"),
+        ));
+        return;
+    };
+    let arrays: Vec<u16> = device
+        .objects
+        .range(first..=last)
+        .filter(|(_, o)| o.object_type == ObjectType::Array)
+        .map(|(index, _)| *index)
+        .collect();
+    if arrays.is_empty() {
+        diags.push(Diagnostic::new(
+            &rules::OVERLAY,
+            Some(key_span),
+            format!("`{raw}` holds no ARRAY of the description"),
+        ));
+    }
+    for index in arrays {
+        device.naming.first_number.insert(index, number);
+    }
 }
 
 /// `1008` → (0x1008, 0); `1F50sub1` → (0x1F50, 1), as EDS section names are written.

@@ -169,7 +169,7 @@ rules! {
     NO_DEFAULT = "EDS705" Info "an entry without a default value; its generated field starts at zero or empty";
     UNUSABLE_LIMIT = "EDS706" Warning "a LowLimit or HighLimit the generated write cannot check (not a constant of the entry's type)";
     CAPACITY_TOO_LARGE = "EDS707" Error "a string, octet string or domain longer than 65535 bytes, or a device whose values need more than 65535 bytes in all";
-    OVERLAY = "EDS708" Error "an overlay (NAME.toml beside the description) that cannot be applied: not TOML, an unknown table, a key that names no entry, a capacity on an entry that is not a string or domain, or below its value";
+    OVERLAY = "EDS708" Error "an overlay (NAME.toml beside the description) that cannot be applied: not TOML, an unknown table, a key that names no entry (or, in [numbering], no ARRAY), a capacity on an entry that is not a string or domain, or below its value, a name without a letter or digit";
 }
 
 /// Looks a rule up by its code.

@@ -204,7 +204,7 @@ fn missing_default_is_eds705_and_zero() {
     assert_eq!(default_image(&generated.code), [0; 6]);
     assert!(generated
         .code
-        .contains("pub const NAME: Entry<FixedBytes<0>> = Entry::new(0x2001, 0x00)"));
+        .contains("pub const NAME: Entry<FixedBytes<0>, super::Od> = Entry::new(0x2001, 0x00)"));
 }
 
 #[test]
@@ -390,9 +390,9 @@ fn digit_and_symbol_names_are_escaped() {
     ]);
     let code = emit::generate(&device, "x").unwrap();
     for needle in [
-        "pub const TYPE: Entry<u8>",
-        "pub const N_1ST_GEAR: Entry<u8>",
-        "pub const OBJECT_2002: Entry<u8>",
+        "pub const TYPE: Entry<u8, super::Od>",
+        "pub const N_1ST_GEAR: Entry<u8, super::Od>",
+        "pub const OBJECT_2002: Entry<u8, super::Od>",
     ] {
         assert!(code.contains(needle), "missing {needle}");
     }
@@ -411,7 +411,8 @@ fn time_of_day_days_and_milliseconds() {
     )]);
     let code = emit::generate(&device, "x").unwrap();
     assert_eq!(default_image(&code), 0x16D_0293_2E00u64.to_le_bytes()[..6]);
-    assert!(code.contains("pub const STAMP: Entry<u64> = Entry::with_width(0x2000, 0x00, 6)"));
+    assert!(code
+        .contains("pub const STAMP: Entry<u64, super::Od> = Entry::with_width(0x2000, 0x00, 6)"));
 }
 
 #[test]
@@ -433,12 +434,12 @@ fn colliding_constant_names_take_the_index() {
     };
     let code = emit::generate(&device(vec![rec(0x5E11), rec(0x5E12)]), "x").unwrap();
     assert!(
-        code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8>"),
+        code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8, super::Od>"),
         "{code}"
     );
     // Another object holds the name: the index tells them apart.
     assert!(
-        code.contains("pub const REMOTE_MAPPING_COUNT_5E12: Entry<u8>"),
+        code.contains("pub const REMOTE_MAPPING_COUNT_5E12: Entry<u8, super::Od>"),
         "{code}"
     );
     // The same object: the sub-index does.
@@ -474,9 +475,12 @@ fn colliding_constant_names_take_the_index() {
         ],
     );
     let code = emit::generate(&device(vec![twice]), "x").unwrap();
-    assert!(code.contains("pub const PAIR_VALUE: Entry<u8>"), "{code}");
     assert!(
-        code.contains("pub const PAIR_VALUE_SUB2: Entry<u8>"),
+        code.contains("pub const PAIR_VALUE: Entry<u8, super::Od>"),
+        "{code}"
+    );
+    assert!(
+        code.contains("pub const PAIR_VALUE_SUB2: Entry<u8, super::Od>"),
         "{code}"
     );
 }
@@ -549,4 +553,125 @@ fn values_needing_more_than_65535_bytes_in_all_are_eds707() {
         )]
     );
     assert!(emit::generate_module(&device(vec![domain(0x2000)]), "x").is_ok());
+}
+
+#[test]
+fn cob_id_is_the_can_identifier_and_encode_is_fallible_only_for_narrow_fields() {
+    let speed = var(
+        0x2000,
+        "Speed",
+        0x06,
+        AccessType::Rw,
+        Some(Value::Integer(0)),
+        true,
+    );
+    let wide = var(
+        0x2001,
+        "Wide",
+        0x10,
+        AccessType::Rw,
+        Some(Value::Integer(0)),
+        true,
+    );
+    let dev = device(vec![
+        comm(0x1400, "RPDO1 communication", Value::Integer(0x8000_0201)),
+        comm(
+            0x1401,
+            "RPDO2 communication",
+            Value::NodeRelative(0x2000_0300),
+        ),
+        comm(0x1402, "RPDO3 communication", Value::NodeRelative(0x400)),
+        mapping(0x1600, "RPDO1 mapping", &[0x2000_0010]),
+        mapping(0x1601, "RPDO2 mapping", &[0x2000_0010]),
+        mapping(0x1602, "RPDO3 mapping", &[0x2001_0018]),
+        speed,
+        wide,
+    ]);
+    let code = emit::generate(&dev, "x").unwrap();
+    let squeezed: String = code.split_whitespace().collect::<Vec<_>>().join(" ");
+    // A fixed COB-ID: the CAN identifier without bit 31 (and the doc says it is disabled).
+    assert!(
+        squeezed.contains("Bit 31 is set: the PDO is disabled until a configuration tool enables it. pub const fn cob_id(_node_id: u8) -> u16 { 0x201 }"),
+        "{code}"
+    );
+    // Bit 29: a 29-bit identifier, as u32.
+    assert!(
+        squeezed.contains(
+            "pub const fn cob_id(node_id: u8) -> u32 { (node_id as u32).wrapping_add(0x300) }"
+        ),
+        "{code}"
+    );
+    // 16 bits in 16: nothing can overflow; an INTEGER24 in an i32 can.
+    assert!(
+        squeezed.contains("pub fn encode(&self) -> [u8; 2] {"),
+        "{code}"
+    );
+    assert!(
+        squeezed.contains("pub fn encode(&self) -> Result<[u8; 3], ::edsgen_runtime::PdoError> {"),
+        "{code}"
+    );
+}
+
+#[test]
+fn a_sub_object_does_not_repeat_its_object_name_and_acronyms_survive() {
+    let sub_named = |s: u8, name: &str| {
+        sub(
+            s,
+            name,
+            0x07,
+            AccessType::Rw,
+            Some(Value::Integer(0)),
+            false,
+        )
+    };
+    let heartbeat = object(
+        0x1016,
+        "Consumer heartbeat time",
+        ObjectType::Array,
+        vec![
+            sub(
+                0,
+                "Number of entries",
+                0x05,
+                AccessType::Ro,
+                Some(Value::Integer(2)),
+                false,
+            ),
+            sub_named(1, "Consumer heartbeat time 1"),
+            sub_named(2, "Consumer heartbeat time"),
+        ],
+    );
+    let speed = object(
+        0x2000,
+        "CANopen speed",
+        ObjectType::Record,
+        vec![
+            sub(
+                0,
+                "Highest sub-index",
+                0x05,
+                AccessType::Ro,
+                Some(Value::Integer(1)),
+                false,
+            ),
+            sub_named(1, "CANopen speedometer"),
+        ],
+    );
+    let code = emit::generate(&device(vec![heartbeat, speed]), "x").unwrap();
+    let names: Vec<&str> = code
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub const "))
+        .filter_map(|l| l.split(':').next())
+        .filter(|n| n.starts_with("CONSUMER") || n.starts_with("CANOPEN"))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "CONSUMER_HEARTBEAT_TIME_NUMBER_OF_ENTRIES",
+            "CONSUMER_HEARTBEAT_TIME_1",
+            "CONSUMER_HEARTBEAT_TIME_SUB2",
+            "CANOPEN_SPEED_HIGHEST_SUB_INDEX",
+            "CANOPEN_SPEED_CANOPEN_SPEEDOMETER",
+        ]
+    );
 }

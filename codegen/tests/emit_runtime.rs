@@ -28,7 +28,7 @@ fn goodrive_pdo2_rx_encodes_the_manual_frame() {
     };
     assert_eq!(
         rpdo.encode(),
-        Ok([0x01, 0x00, 0x00, 0x00, 0x88, 0x13, 0x00, 0x00])
+        [0x01, 0x00, 0x00, 0x00, 0x88, 0x13, 0x00, 0x00]
     );
     assert_eq!(pdo::Rpdo2::cob_id(3), 0x303);
     assert_eq!(pdo::Rpdo2::LEN, 8);
@@ -104,7 +104,7 @@ fn byte_string_field_at_an_odd_bit_offset() {
         tag: [0x80, 0x01, 0xFF, 0x00],
         type_: -1,
     };
-    assert_eq!(t.encode(), Ok([0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]));
+    assert_eq!(t.encode(), [0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]);
     assert_eq!(
         pdo::Tpdo4::decode(&[0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]),
         Ok(t)
@@ -115,7 +115,7 @@ proptest! {
     #[test]
     fn tpdo4_round_trips(flag in any::<bool>(), tag in any::<[u8; 4]>(), type_ in any::<i8>()) {
         let t = pdo::Tpdo4 { flag, tag, type_ };
-        prop_assert_eq!(pdo::Tpdo4::decode(&t.encode().unwrap()), Ok(t));
+        prop_assert_eq!(pdo::Tpdo4::decode(&t.encode()), Ok(t));
     }
 
     #[test]
@@ -128,14 +128,14 @@ proptest! {
     #[test]
     fn rpdo2_round_trips(payload in any::<[u8; 8]>()) {
         let r = pdo::Rpdo2::decode(&payload).unwrap();
-        prop_assert_eq!(r.encode(), Ok(payload));
+        prop_assert_eq!(r.encode(), payload);
     }
 
     #[test]
     fn od_write_then_read_round_trips(value in any::<u16>()) {
         let mut od = Od::new(1);
         od.write(0x6040, 0, &value.to_le_bytes()).unwrap();
-        prop_assert_eq!(od.get(od::CONTROLWORD), Some(value));
+        prop_assert_eq!(od.get(od::CONTROLWORD), value);
         prop_assert_eq!(read_all(&od, 0x6040, 0), value.to_le_bytes().to_vec());
     }
 }
@@ -143,19 +143,16 @@ proptest! {
 #[test]
 fn new_resolves_nodeid_defaults() {
     let od = Od::new(3);
-    assert_eq!(od.get(od::COB_ID_EMCY), Some(0x83));
-    assert_eq!(
-        od.get(od::RPDO2_COMMUNICATION_PARAMETER_COB_ID),
-        Some(0x303)
-    );
-    assert_eq!(Od::new(0x7F).get(od::COB_ID_EMCY), Some(0xFF));
-    assert_eq!(od.get(od::IDENTITY_OBJECT_VENDOR_ID), Some(0x4D8));
-    let name = od.get(od::MANUFACTURER_DEVICE_NAME).unwrap();
+    assert_eq!(od.get(od::COB_ID_EMCY), 0x83);
+    assert_eq!(od.get(od::RPDO2_COMMUNICATION_PARAMETER_COB_ID), 0x303);
+    assert_eq!(Od::new(0x7F).get(od::COB_ID_EMCY), 0xFF);
+    assert_eq!(od.get(od::IDENTITY_OBJECT_VENDOR_ID), 0x4D8);
+    let name = od.get(od::MANUFACTURER_DEVICE_NAME);
     assert_eq!(name.as_str(), Some("GD350"));
-    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), Some(-5));
-    assert_eq!(od.get(od::SPARSE_RECORD_BIG), Some(0xFFFF_FFFF_FFFF));
-    assert_eq!(od.get(od::FLAG), Some(true));
-    assert_eq!(od.get(od::GAIN), Some(1.5));
+    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), -5);
+    assert_eq!(od.get(od::SPARSE_RECORD_BIG), 0xFFFF_FFFF_FFFF);
+    assert!(od.get(od::FLAG));
+    assert_eq!(od.get(od::GAIN), 1.5);
 }
 
 #[test]
@@ -168,9 +165,10 @@ fn identity_and_pdo_count_constants() {
 
 #[test]
 fn typed_addresses_name_index_and_sub() {
-    let cw: edsgen_runtime::Entry<u16> = od::CONTROLWORD;
+    let cw: edsgen_runtime::Entry<u16, Od> = od::CONTROLWORD;
     assert_eq!((cw.index, cw.sub), (0x6040, 0));
-    let s24: edsgen_runtime::Entry<i32> = od::SPARSE_RECORD_SIGNED_24;
+    // Unbranded, as a master's typed SDO access takes it.
+    let s24: edsgen_runtime::Entry<i32> = od::SPARSE_RECORD_SIGNED_24.unbranded();
     assert_eq!((s24.index, s24.sub), (0x2003, 1));
     assert_eq!(
         (od::STATUS_WORD_6041.index, od::STATUS_WORD_6041.sub),
@@ -265,11 +263,11 @@ fn write_checks_length() {
         od.write(0x2003, 1, &[0, 0, 0, 0]),
         Err(SdoAbort::LengthTooHigh)
     );
-    assert_eq!(od.get(od::CONTROLWORD), Some(0));
+    assert_eq!(od.get(od::CONTROLWORD), 0);
     assert_eq!(od.write(0x2003, 1, &[0x00, 0x00, 0x80]), Ok(()));
-    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), Some(-(1 << 23)));
+    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), -(1 << 23));
     assert_eq!(od.write(0x2003, 5, &[1, 2, 3, 4, 5, 6, 7, 8]), Ok(()));
-    assert_eq!(od.get(od::SPARSE_RECORD_BIG), Some(0x0807_0605_0403_0201));
+    assert_eq!(od.get(od::SPARSE_RECORD_BIG), 0x0807_0605_0403_0201);
 }
 
 #[test]
@@ -283,16 +281,16 @@ fn write_checks_limits() {
         od.write(0x2102, 0, &5001u16.to_le_bytes()),
         Err(SdoAbort::ValueTooHigh)
     );
-    assert_eq!(od.get(od::SETTING_LIMITED), Some(100));
+    assert_eq!(od.get(od::SETTING_LIMITED), 100);
     assert_eq!(od.write(0x2102, 0, &5000u16.to_le_bytes()), Ok(()));
-    assert_eq!(od.get(od::SETTING_LIMITED), Some(5000));
+    assert_eq!(od.get(od::SETTING_LIMITED), 5000);
 }
 
 #[test]
 fn write_strings_booleans_and_reals() {
     let mut od = Od::new(3);
     assert_eq!(od.write(0x1009, 0, b"2.0-rc1"), Ok(()));
-    let version = od.get(od::MANUFACTURER_HARDWARE_VERSION).unwrap();
+    let version = od.get(od::MANUFACTURER_HARDWARE_VERSION);
     assert_eq!(version.as_str(), Some("2.0-rc1"));
     assert_eq!(od.value_len(0x1009, 0), Ok(7));
     assert_eq!(
@@ -302,11 +300,11 @@ fn write_strings_booleans_and_reals() {
     assert_eq!(od.write(0x1008, 0, b"LONGER"), Err(SdoAbort::LengthTooHigh));
     assert_eq!(od.write(0x2004, 0, &[2]), Err(SdoAbort::InvalidValue));
     assert_eq!(od.write(0x2004, 0, &[0]), Ok(()));
-    assert_eq!(od.get(od::FLAG), Some(false));
+    assert!(!od.get(od::FLAG));
     assert_eq!(od.write(0x2005, 0, &2.25f32.to_le_bytes()), Ok(()));
-    assert_eq!(od.get(od::GAIN), Some(2.25));
+    assert_eq!(od.get(od::GAIN), 2.25);
     assert_eq!(od.write(0x2100, 3, &5000u16.to_le_bytes()), Ok(()));
-    assert_eq!(od.get(od::SETTINGS_SETTING_3), Some(5000));
+    assert_eq!(od.get(od::SETTINGS_SETTING_3), 5000);
     assert_eq!(od.write(0x2100, 5, &[0, 0]), Err(SdoAbort::NoSubIndex));
 }
 
@@ -318,7 +316,7 @@ fn typed_address_of_a_narrow_entry_encodes_its_wire_width() {
     let mut buf = [0u8; 8];
     let n = entry.encode(&-300, &mut buf).unwrap();
     assert_eq!(dict.write(entry.index, entry.sub, &buf[..n]), Ok(()));
-    assert_eq!(dict.get(entry), Some(-300));
+    assert_eq!(dict.get(entry), -300);
     assert_eq!(entry.encode(&(1 << 23), &mut buf), None);
     let back = read_all(&dict, entry.index, entry.sub);
     assert_eq!(entry.decode(&back), Some(-300));
@@ -373,7 +371,7 @@ fn typed_get_and_set_check_like_an_sdo_write() {
         dict.set(od::SETTING_LIMITED, 5001),
         Err(SdoAbort::ValueTooHigh)
     );
-    assert_eq!(dict.get(od::SETTING_LIMITED), Some(100));
+    assert_eq!(dict.get(od::SETTING_LIMITED), 100);
     assert_eq!(dict.set(od::SETTING_LIMITED, 4321), Ok(()));
     assert_eq!(read_all(&dict, 0x2102, 0), 4321u16.to_le_bytes().to_vec());
     // 1018h sub 1 is read-only for an SDO client, not for the application.
@@ -393,7 +391,7 @@ fn typed_get_and_set_check_like_an_sdo_write() {
     // An address of another device: found by (index, sub) despite its recorded position.
     let foreign: edsgen_runtime::Entry<u16> = edsgen_runtime::Entry::new(0x6040, 0).at_position(0);
     assert_eq!(dict.set(foreign, 0x0F), Ok(()));
-    assert_eq!(dict.get(od::CONTROLWORD), Some(0x0F));
+    assert_eq!(dict.get(od::CONTROLWORD), 0x0F);
 }
 
 /// The position each typed address records is its entry's position in `ENTRIES`.
@@ -447,4 +445,34 @@ proptest! {
             Err(_) => prop_assert_eq!(dict, before),
         }
     }
+}
+
+#[test]
+fn a_branded_address_reads_without_option_and_a_foreign_one_is_checked() {
+    let dict = Od::new(3);
+    let controlword: u16 = dict.get(od::CONTROLWORD);
+    assert_eq!(controlword, 0);
+    // The same address built by hand, and one this dictionary does not hold.
+    let by_hand: edsgen_runtime::Entry<u16> = edsgen_runtime::Entry::new(0x6040, 0);
+    assert_eq!(dict.get_checked(by_hand), Some(0));
+    let absent: edsgen_runtime::Entry<u16> = edsgen_runtime::Entry::new(0x5FFF, 0);
+    assert_eq!(dict.get_checked(absent), None);
+    // set takes either.
+    let mut dict = dict;
+    assert_eq!(dict.set(by_hand, 0x0F), Ok(()));
+    assert_eq!(dict.get(od::CONTROLWORD), 0x0F);
+}
+
+#[test]
+fn written_events_match_a_typed_address() {
+    let event = edsgen_runtime::Event::Written {
+        index: 0x6040,
+        sub: 0,
+    };
+    let which = match event {
+        e if od::CONTROLWORD.written_by(&e) => "controlword",
+        edsgen_runtime::Event::Written { .. } => "another entry",
+        _ => "not a write",
+    };
+    assert_eq!(which, "controlword");
 }

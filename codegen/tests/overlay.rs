@@ -77,12 +77,17 @@ fn capacities_are_set_on_the_named_entries() {
     assert_eq!(device.objects[&0x2100].subs[&2].capacity, None);
     let code = emit::generate(&device, "t").unwrap();
     assert!(
-        code.contains("pub const LABEL: Entry<FixedBytes<256>>"),
+        code.contains("pub const LABEL: Entry<FixedBytes<256>, super::Od>"),
         "{code}"
     );
     // Each array item is an entry of its own, with its own capacity.
-    assert!(code.contains("Entry<FixedBytes<1000>> = Entry::new(0x2100, 0x01)"));
-    assert!(code.contains("Entry<FixedBytes<32>> = Entry::new(0x2100, 0x02)"));
+    // Compared without whitespace and trailing commas: a longer type moves line breaks.
+    let squeezed = code
+        .split_whitespace()
+        .collect::<String>()
+        .replace(",)", ")");
+    assert!(squeezed.contains("Entry<FixedBytes<1000>,super::Od>=Entry::new(0x2100,0x01)"));
+    assert!(squeezed.contains("Entry<FixedBytes<32>,super::Od>=Entry::new(0x2100,0x02)"));
 }
 
 #[test]
@@ -258,4 +263,46 @@ mod no_panic {
             let _ = overlay::apply(&text, &mut device);
         }
     }
+}
+
+#[test]
+fn names_and_numbering_rename_entries_and_errors_point_at_their_line() {
+    let mut device = device();
+    let diags = overlay::apply(
+        "[names]\n2100 = \"Tags\"\n2000 = \"Device label\"\n[numbering]\n2100 = 0\n",
+        &mut device,
+    );
+    assert_eq!(diags, vec![]);
+    let code = emit::generate(&device, "t").unwrap();
+    let names: Vec<&str> = code
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub const "))
+        .filter_map(|l| l.split(':').next())
+        .filter(|n| n.starts_with("TAGS") || n.starts_with("DEVICE_LABEL"))
+        .collect();
+    assert_eq!(names, ["DEVICE_LABEL", "TAGS_COUNT", "TAGS_0", "TAGS_1"]);
+
+    let text = "[names]\n2999 = \"X\"\n2000 = 5\n[numbering]\n2000 = 0\n\"20-10\" = 1\n";
+    let lines: Vec<(u32, String)> = overlay::apply(text, &mut device)
+        .into_iter()
+        .map(|d| (d.span.map_or(0, |s| s.line), d.message))
+        .collect();
+    assert_eq!(
+        lines,
+        [
+            (
+                2,
+                "`2999` names no object or entry of the description".to_owned()
+            ),
+            (
+                3,
+                "the name of `2000` must be a string with a letter or digit in it".to_owned()
+            ),
+            (5, "`2000` holds no ARRAY of the description".to_owned()),
+            (
+                6,
+                "`20-10` is not an index or a range of indices".to_owned()
+            ),
+        ]
+    );
 }

@@ -1717,7 +1717,7 @@ fn eds408_a_missing_object_is_one_error_per_mapping_that_names_it() {
     assert_eq!(
         messages,
         [
-            "1600h sub 1, 2 map 2005h sub 0, 2005h sub 1, which do not exist",
+            "1600h sub 1, 2 map 2005h sub 0, 1, which do not exist",
             "1600h sub 3 maps 2006h sub 0, which does not exist",
         ]
     );

@@ -3,47 +3,56 @@
 //! Generated code declares one constant per entry (`pub const CONTROLWORD: Entry<u16> = ...`), so a
 //! master's typed read returns the right type and a mistyped write does not compile. The same
 //! constants are the device application's keys into its own generated `Od` (`od.get(CONTROLWORD)`),
-//! which is why a generated constant also records where the entry sits in that dictionary.
+//! which is why a generated constant also records where the entry sits in that dictionary, and
+//! carries that dictionary's type as its brand (`Entry<u16, Od>`): the `Od` reads a branded
+//! address without a check that could fail. An address built by hand (`Entry::new`) names no
+//! dictionary ([`AnyDictionary`]), and reading it takes the checked path.
 
 use core::marker::PhantomData;
 
-/// The address of an object-dictionary entry whose value has the Rust type `T`.
+/// The brand of an address that names no particular dictionary: one built with
+/// [`Entry::new`], or a generated one after [`Entry::unbranded`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AnyDictionary {}
+
+/// The address of an object-dictionary entry whose value has the Rust type `T`, in the
+/// dictionary `D` (see the module documentation).
 ///
 /// Two entries are equal when their index, sub-index and wire width are: the recorded position
 /// (see [`Entry::at_position`]) is only a hint.
 #[derive(Debug)]
-pub struct Entry<T> {
+pub struct Entry<T, D = AnyDictionary> {
     /// OD index.
     pub index: u16,
     /// Sub-index.
     pub sub: u8,
     width: u8,
     position: u16,
-    _value: PhantomData<fn() -> T>,
+    _value: PhantomData<fn() -> (T, D)>,
 }
 
 /// The `position` of an entry that records none.
 const NO_POSITION: u16 = u16::MAX;
 
-impl<T> PartialEq for Entry<T> {
+impl<T, D> PartialEq for Entry<T, D> {
     fn eq(&self, other: &Self) -> bool {
         (self.index, self.sub, self.width) == (other.index, other.sub, other.width)
     }
 }
-impl<T> Eq for Entry<T> {}
+impl<T, D> Eq for Entry<T, D> {}
 
-impl<T> core::hash::Hash for Entry<T> {
+impl<T, D> core::hash::Hash for Entry<T, D> {
     fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
         (self.index, self.sub, self.width).hash(state);
     }
 }
 
-impl<T> Clone for Entry<T> {
+impl<T, D> Clone for Entry<T, D> {
     fn clone(&self) -> Self {
         *self
     }
 }
-impl<T> Copy for Entry<T> {}
+impl<T, D> Copy for Entry<T, D> {}
 
 impl<T> Entry<T> {
     /// The entry at (index, sub).
@@ -76,6 +85,40 @@ impl<T> Entry<T> {
         Entry { position, ..self }
     }
 
+    /// The same entry, branded as one of the dictionary `D`. For generated code, which brands
+    /// each address of its module with the module's `Od` after [`Entry::at_position`]: that `Od`
+    /// then reads it without a check. A false brand is not unsafe: such a read gives `T`'s
+    /// default.
+    pub const fn in_dictionary<D>(self) -> Entry<T, D> {
+        Entry {
+            index: self.index,
+            sub: self.sub,
+            width: self.width,
+            position: self.position,
+            _value: PhantomData,
+        }
+    }
+}
+
+impl<T, D> Entry<T, D> {
+    /// The same entry without its dictionary's brand: for a master's typed SDO access, or for
+    /// another dictionary (whose checked `get` then returns `None` if it does not hold it).
+    pub const fn unbranded(self) -> Entry<T> {
+        Entry {
+            index: self.index,
+            sub: self.sub,
+            width: self.width,
+            position: self.position,
+            _value: PhantomData,
+        }
+    }
+
+    /// Whether `event` says an SDO client wrote this entry (`Event::Written` of its index and
+    /// sub-index): `Event::Written { .. } if od::CONTROLWORD.written_by(&event) => ...`.
+    pub fn written_by(&self, event: &crate::Event) -> bool {
+        matches!(event, crate::Event::Written { index, sub } if (*index, *sub) == (self.index, self.sub))
+    }
+
     /// The position recorded by [`Entry::at_position`].
     pub const fn position(&self) -> Option<usize> {
         if self.position == NO_POSITION {
@@ -95,7 +138,7 @@ impl<T> Entry<T> {
     }
 }
 
-impl<T: OdValue> Entry<T> {
+impl<T: OdValue, D> Entry<T, D> {
     /// Writes `value` as this entry's wire bytes; `None` if `buf` is too short or the value does
     /// not fit the entry's width (a 24-bit entry refuses `1 << 23` in an `i32`).
     pub fn encode(&self, value: &T, buf: &mut [u8]) -> Option<usize> {
@@ -249,6 +292,30 @@ mod tests {
         assert_eq!(plain.wire_width(), None);
         assert_eq!(plain.encode(&0x0102_0304, &mut buf), Some(4));
         assert_eq!(plain.decode(&[4, 3, 2, 1]), Some(0x0102_0304));
+    }
+
+    #[test]
+    fn brands_keep_the_address_and_written_events_match_it() {
+        struct Dict;
+        let plain: Entry<u16> = Entry::new(0x6040, 0).at_position(7);
+        let branded: Entry<u16, Dict> = plain.in_dictionary();
+        assert_eq!(
+            (branded.index, branded.sub, branded.position()),
+            (0x6040, 0, Some(7))
+        );
+        assert_eq!(branded.unbranded(), plain);
+        let written = crate::Event::Written {
+            index: 0x6040,
+            sub: 0,
+        };
+        assert!(branded.written_by(&written));
+        assert!(plain.written_by(&written));
+        let other = crate::Event::Written {
+            index: 0x6040,
+            sub: 1,
+        };
+        assert!(!branded.written_by(&other));
+        assert!(!branded.written_by(&crate::Event::RpdoReceived { pdo: 0 }));
     }
 
     #[test]

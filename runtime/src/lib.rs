@@ -39,6 +39,7 @@ pub mod wire;
 
 mod macros;
 
+pub use entry::AnyDictionary;
 pub use entry::{Entry, OdValue};
 pub use frame::{CanFrame, CanId};
 pub use node::{Event, NmtState, Node, NodeHooks, ResetKind};

@@ -65,8 +65,19 @@ pub fn card_files() -> Vec<PathBuf> {
 /// Reads, validates and generates one file: the code, or the first error diagnostic (read,
 /// validation or generation) that stops it.
 pub fn generate(path: &Path, module: &str) -> Result<String, Diagnostic> {
-    let read = read::read_file(path).unwrap();
+    let read = with_overlay(path, read::read_file(path).unwrap());
     generate_from(read, module)
+}
+
+/// `read` with the overlay beside `path` applied, as the builder applies it (the cards'
+/// `eds/rd11.toml`); an overlay error fails the test.
+pub fn with_overlay(path: &Path, mut read: read::Read) -> read::Read {
+    let overlay = edsgen_codegen::overlay::path_for(path);
+    if let Ok(text) = std::fs::read_to_string(&overlay) {
+        let diags = edsgen_codegen::overlay::apply(&text, &mut read.device);
+        assert_eq!(diags, vec![], "{}", overlay.display());
+    }
+    read
 }
 
 pub fn generate_from(read: read::Read, module: &str) -> Result<String, Diagnostic> {
@@ -89,6 +100,16 @@ pub fn generate_from(read: read::Read, module: &str) -> Result<String, Diagnosti
 /// Builds `tests/compile-check` including `generated` with `RUSTFLAGS=-D warnings`, for `target`
 /// (the host when `None`), in `target/<target_dir>`.
 pub fn build_compile_check(generated: &Path, target: Option<&str>, target_dir: &str) {
+    build_compile_check_with(generated, target, target_dir, &[]);
+}
+
+/// [`build_compile_check`] with features of the compile-check crate (`private`).
+pub fn build_compile_check_with(
+    generated: &Path,
+    target: Option<&str>,
+    target_dir: &str,
+    features: &[&str],
+) {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.arg("build")
@@ -102,6 +123,9 @@ pub fn build_compile_check(generated: &Path, target: Option<&str>, target_dir: &
         .env_remove("CARGO_ENCODED_RUSTFLAGS");
     if let Some(t) = target {
         cmd.arg("--target").arg(t);
+    }
+    if !features.is_empty() {
+        cmd.arg("--features").arg(features.join(","));
     }
     let out = cmd.output().unwrap();
     assert!(

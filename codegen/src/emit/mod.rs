@@ -55,8 +55,10 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
     let module_doc = module_doc(device);
     let tokens = quote! {
         #(#[doc = #module_doc])*
-        // Defaults and limits are the file's numbers, even when they resemble a constant.
-        #[allow(clippy::approx_constant)]
+        // Defaults and limits are the file's numbers, even when they resemble a constant. A
+        // firmware uses a few of the addresses and PDOs: the rest is not dead code to warn about,
+        // also where the module is included in a private module.
+        #[allow(dead_code, clippy::approx_constant)]
         pub mod #module_ident {
             #header
             #structs

@@ -3,6 +3,7 @@
 //!
 //! Rules (stable, documented in the generated code's contract):
 //! - every character that is not an ASCII letter or digit separates words;
+//! - words the field writes in mixed case keep together (`CANopen` is one word, not `CA_NOPEN`);
 //! - an empty result takes the caller's fallback (built from the index and sub-index);
 //! - a result starting with a digit gets `n_` (fields, modules) or `N_` (constants) in front;
 //! - a keyword gets `_` appended (`type` becomes `type_`);
@@ -31,9 +32,24 @@ const KEYWORDS: &[&str] = &[
     "typeof", "unsafe", "unsized", "use", "virtual", "where", "while", "yield",
 ];
 
+/// Words written in mixed case that case conversion would split at their inner capitals
+/// (`CANopen` into `CA` and `Nopen`), and the spelling that keeps each one word.
+const COMPOUND_WORDS: &[(&str, &str)] = &[
+    ("CANopen", "Canopen"),
+    ("DeviceNet", "Devicenet"),
+    ("EtherCAT", "Ethercat"),
+    ("PROFINET", "Profinet"),
+];
+
 /// Renders `text` as an identifier in `case`; `fallback` (already a valid identifier in that case)
 /// when nothing of `text` survives.
 pub fn ident(text: &str, case: Case, fallback: &str) -> String {
+    let mut text = std::borrow::Cow::Borrowed(text);
+    for (word, one_word) in COMPOUND_WORDS {
+        if text.contains(word) {
+            text = text.replace(word, one_word).into();
+        }
+    }
     let ascii: String = text
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { ' ' })
@@ -118,6 +134,14 @@ mod tests {
             "bertemperatur_c"
         );
         assert_eq!(ident("°", Case::Snake, "entry_2000"), "entry_2000");
+        assert_eq!(
+            ident("CANopen node-ID", Case::Shouty, "X"),
+            "CANOPEN_NODE_ID"
+        );
+        assert_eq!(
+            ident("EtherCAT/CANopen gateway", Case::Snake, "x"),
+            "ethercat_canopen_gateway"
+        );
     }
 
     #[test]

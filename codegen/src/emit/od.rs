@@ -100,17 +100,25 @@ pub fn structs(plan: &Plan) -> TokenStream {
                 od
             }
 
-            /// The value of `entry` (a typed address from `od`); `None` only for an address
-            /// that is not in this dictionary or whose type does not match it.
-            pub fn get<T: ::edsgen_runtime::OdValue>(&self, entry: ::edsgen_runtime::Entry<T>) -> Option<T> {
-                LAYOUT.get(&self.values, entry)
+            /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
+            /// branded `Entry<T, Od>`): it is here, at its recorded position, with its type, so
+            /// the read cannot fail.
+            pub fn get<T: ::edsgen_runtime::OdValue + Default>(&self, entry: ::edsgen_runtime::Entry<T, Od>) -> T {
+                // Only a forged brand (`Entry::in_dictionary` by hand) reaches the default.
+                LAYOUT.get(&self.values, entry.unbranded()).unwrap_or_default()
             }
 
-            /// Sets `entry` (a typed address from `od`) to `value`, checked like an SDO write
-            /// (length, BOOLEAN, LowLimit/HighLimit) but not against access rights. On error
-            /// the value is unchanged.
-            pub fn set<T: ::edsgen_runtime::OdValue>(&mut self, entry: ::edsgen_runtime::Entry<T>, value: T) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                LAYOUT.set(&mut self.values, entry, &value)
+            /// The value of an address from elsewhere (`Entry::new`, another device's module);
+            /// `None` if this dictionary does not hold it with that type.
+            pub fn get_checked<T: ::edsgen_runtime::OdValue, D>(&self, entry: ::edsgen_runtime::Entry<T, D>) -> Option<T> {
+                LAYOUT.get(&self.values, entry.unbranded())
+            }
+
+            /// Sets `entry` (a typed address from `od`, or from elsewhere) to `value`, checked
+            /// like an SDO write (length, BOOLEAN, LowLimit/HighLimit) but not against access
+            /// rights. On error the value is unchanged.
+            pub fn set<T: ::edsgen_runtime::OdValue, D>(&mut self, entry: ::edsgen_runtime::Entry<T, D>, value: T) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                LAYOUT.set(&mut self.values, entry.unbranded(), &value)
             }
         }
     }
@@ -283,7 +291,8 @@ pub fn od_impl(_plan: &Plan) -> TokenStream {
     }
 }
 
-/// The typed addresses: `pub mod od { pub const CONTROLWORD: Entry<u16> = ...; }`.
+/// The typed addresses, branded with the module's `Od`:
+/// `pub mod od { pub const CONTROLWORD: Entry<u16, super::Od> = ...; }`.
 pub fn addresses(plan: &Plan) -> TokenStream {
     let consts: Vec<_> = plan
         .entries
@@ -313,7 +322,7 @@ pub fn addresses(plan: &Plan) -> TokenStream {
             let position = Literal::u16_unsuffixed(position as u16);
             quote! {
                 #doc
-                pub const #name: Entry<#ty> = #constructor.at_position(#position);
+                pub const #name: Entry<#ty, super::Od> = #constructor.at_position(#position).in_dictionary();
             }
         })
         .collect();

@@ -46,7 +46,8 @@ struct PdoPlan {
     number: u16,
     mapping_index: u16,
     slots: Vec<Slot>,
-    cob_id: TokenStream,
+    /// The body and return type of `cob_id`, or `None` when the PDO has no COB-ID to give.
+    cob_id: Option<(TokenStream, TokenStream)>,
     cob_doc: String,
     uses_node_id: bool,
     transmission: Option<i128>,
@@ -202,35 +203,7 @@ fn plan_pdo(
     } else {
         None
     };
-    let (cob_id, cob_doc, uses_node_id) = match comm_cob {
-        Some(Value::Integer(v)) => {
-            let lit = hex(u128::from(v as u32), 1);
-            (lit, format!(" The COB-ID of {comm_index:04X}h sub 1: `0x{:X}`, whatever the node-ID.", v as u32), false)
-        }
-        Some(Value::NodeRelative(off)) => {
-            let lit = hex(u128::from(off as u32), 1);
-            (
-                quote!((node_id as u32).wrapping_add(#lit)),
-                format!(" The COB-ID of {comm_index:04X}h sub 1: `$NODEID + 0x{:X}`.", off as u32),
-                true,
-            )
-        }
-        _ => match predefined {
-            Some(base) => {
-                let lit = hex(u128::from(base), 1);
-                (
-                    quote!((node_id as u32).wrapping_add(#lit)),
-                    format!(" {comm_index:04X}h sub 1 gives no COB-ID; this is the predefined connection set's `0x{base:X} + node-ID`."),
-                    true,
-                )
-            }
-            None => (
-                quote!(0x8000_0000),
-                format!(" {comm_index:04X}h sub 1 gives no COB-ID and there is no predefined one: `0x8000_0000` (not valid)."),
-                false,
-            ),
-        },
-    };
+    let (cob_id, cob_doc, uses_node_id) = cob_id_fn(comm_index, comm_cob, predefined);
     let transmission = device
         .entry(comm_index, 2)
         .and_then(|s| integer(initial_value(s)));
@@ -244,6 +217,58 @@ fn plan_pdo(
         uses_node_id,
         transmission,
     }))
+}
+
+/// COB-ID bit 29: the PDO uses a 29-bit CAN identifier.
+const COB_EXTENDED: u32 = 1 << 29;
+/// COB-ID bit 31: the PDO is not valid (disabled).
+const COB_INVALID: u32 = 1 << 31;
+
+/// `cob_id`'s body and return type and its doc line, and whether it uses the node-ID. The
+/// function gives the CAN identifier as `CanFrame::new` takes it (`u16`, 11 bits), the COB-ID's
+/// flag bits stripped; a 29-bit one as `u32` (for `CanFrame::new_extended`); none at all when the
+/// description gives no COB-ID and there is no predefined one.
+fn cob_id_fn(
+    comm_index: u16,
+    comm_cob: Option<Value>,
+    predefined: Option<u32>,
+) -> (Option<(TokenStream, TokenStream)>, String, bool) {
+    let (cob, relative, doc) = match comm_cob {
+        Some(Value::Integer(v)) => (
+            v as u32,
+            false,
+            format!(" The COB-ID of {comm_index:04X}h sub 1: `0x{:X}`, whatever the node-ID.", v as u32),
+        ),
+        Some(Value::NodeRelative(off)) => (
+            off as u32,
+            true,
+            format!(" The COB-ID of {comm_index:04X}h sub 1: `$NODEID + 0x{:X}`.", off as u32),
+        ),
+        _ => match predefined {
+            Some(base) => (
+                base,
+                true,
+                format!(" {comm_index:04X}h sub 1 gives no COB-ID; this is the predefined connection set's `0x{base:X} + node-ID`."),
+            ),
+            None => return (None, String::new(), false),
+        },
+    };
+    let mut doc = doc;
+    if cob & COB_INVALID != 0 {
+        doc.push_str(" Bit 31 is set: the PDO is disabled until a configuration tool enables it.");
+    }
+    let (ty, id) = if cob & COB_EXTENDED != 0 {
+        doc.push_str(" A 29-bit identifier: use `CanFrame::new_extended`.");
+        (quote!(u32), hex(u128::from(cob & 0x1FFF_FFFF), 1))
+    } else {
+        (quote!(u16), hex(u128::from(cob & 0x7FF), 1))
+    };
+    let body = if relative {
+        quote!((node_id as #ty).wrapping_add(#id))
+    } else {
+        quote!(#id)
+    };
+    (Some((body, ty)), doc, relative)
 }
 
 fn emit_pdo(p: &PdoPlan) -> TokenStream {
@@ -266,6 +291,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
     let mut decodes = Vec::new();
     let mut eq = true;
     let mut default = true;
+    let mut fallible = false;
     let mut layout = Vec::new();
     let mut offset = 0u32;
     for slot in &p.slots {
@@ -342,6 +368,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                             }
                         };
                         if let Some(check) = check {
+                            fallible = true;
                             encodes.push(quote! {
                                 if !#check {
                                     return Err(::edsgen_runtime::PdoError::OutOfRange { field: #name });
@@ -410,8 +437,18 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
     } else {
         quote!(_node_id)
     };
-    let cob_id = &p.cob_id;
     let cob_doc = &p.cob_doc;
+    let cob_id_fn = match &p.cob_id {
+        Some((body, ty)) => quote! {
+            /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
+            #[doc = ""]
+            #[doc = #cob_doc]
+            pub const fn cob_id(#node_param: u8) -> #ty {
+                #body
+            }
+        },
+        None => TokenStream::new(),
+    };
     let payload_binding = if decodes.is_empty() {
         quote!(_payload)
     } else {
@@ -421,6 +458,28 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
         quote!(let payload = [0u8; #len_lit];)
     } else {
         quote!(let mut payload = [0u8; #len_lit];)
+    };
+    // Only a field narrower than its Rust type can overflow its bits: without one, encoding
+    // cannot fail.
+    let encode_fn = if fallible {
+        quote! {
+            /// The payload, bit-exact (little-endian, least significant bit first); an error if a
+            /// field does not fit its mapped length.
+            pub fn encode(&self) -> Result<[u8; #len_lit], ::edsgen_runtime::PdoError> {
+                #encode_binding
+                #(#encodes)*
+                Ok(payload)
+            }
+        }
+    } else {
+        quote! {
+            /// The payload, bit-exact (little-endian, least significant bit first).
+            pub fn encode(&self) -> [u8; #len_lit] {
+                #encode_binding
+                #(#encodes)*
+                payload
+            }
+        }
     };
     quote! {
         #(#doc_attrs)*
@@ -433,20 +492,9 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
             /// The payload length in bytes.
             pub const LEN: usize = #len_lit;
 
-            /// The COB-ID for a node-ID.
-            #[doc = ""]
-            #[doc = #cob_doc]
-            pub const fn cob_id(#node_param: u8) -> u32 {
-                #cob_id
-            }
+            #cob_id_fn
 
-            /// The payload, bit-exact (little-endian, least significant bit first); an error if a
-            /// field does not fit its mapped length.
-            pub fn encode(&self) -> Result<[u8; #len_lit], ::edsgen_runtime::PdoError> {
-                #encode_binding
-                #(#encodes)*
-                Ok(payload)
-            }
+            #encode_fn
 
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {

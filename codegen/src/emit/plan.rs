@@ -99,6 +99,66 @@ pub fn doc_text(text: &str) -> String {
 /// The most bytes all values of one device may take (see `Od`'s value image).
 pub const MAX_IMAGE_SIZE: usize = u16::MAX as usize;
 
+/// The stored entries of an object, as the generator stores them: a VAR's one entry, or every
+/// sub-object of an ARRAY or RECORD.
+fn stored_entries(object: &Object) -> Vec<&SubObject> {
+    if object.index < 0x1000 {
+        return Vec::new();
+    }
+    if object.object_type.has_subs() {
+        object.subs.values().collect()
+    } else {
+        object
+            .subs
+            .get(&0)
+            .or_else(|| object.subs.values().next())
+            .into_iter()
+            .collect()
+    }
+}
+
+/// The sizes the generated code cannot hold (EDS707): an entry longer than 65535 bytes, or a
+/// device whose values need more than [`MAX_IMAGE_SIZE`] bytes in all (the value image's
+/// offsets are 16-bit, 2 bytes of flash per entry rather than 4). The validator reports them
+/// too, so a file `edsgen validate` passes is a file the generator takes.
+pub fn size_errors(device: &Device) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    let mut image_size = 0usize;
+    for object in device.objects.values() {
+        let before = image_size;
+        for sub in stored_entries(object) {
+            let Some(basic) = sub.data_type.and_then(|t| device.basic_type(t)) else {
+                continue;
+            };
+            let cap = capacity(basic, sub);
+            let ty = RustType::of(basic, cap);
+            if matches!(ty, RustType::Bytes(_)) && cap > usize::from(u16::MAX) {
+                out.push(Diagnostic::new(
+                    &rules::CAPACITY_TOO_LARGE,
+                    Some(sub.span),
+                    format!(
+                        "{:04X}h sub {} `{}`: needs {cap} bytes; an entry holds at most 65535",
+                        object.index, sub.sub_index, sub.name
+                    ),
+                ));
+                continue;
+            }
+            image_size += ty.image_size();
+        }
+        if before <= MAX_IMAGE_SIZE && image_size > MAX_IMAGE_SIZE {
+            out.push(Diagnostic::new(
+                &rules::CAPACITY_TOO_LARGE,
+                Some(object.span),
+                format!(
+                    "{:04X}h `{}`: with this object the device's values need more than {MAX_IMAGE_SIZE} bytes in all",
+                    object.index, object.name
+                ),
+            ).with_help("lower string and domain capacities (the overlay sets them)"));
+        }
+    }
+    out
+}
+
 struct Planner<'a> {
     device: &'a Device,
     diagnostics: Vec<Diagnostic>,
@@ -110,7 +170,7 @@ struct Planner<'a> {
 pub fn plan(device: &Device) -> Plan {
     let mut p = Planner {
         device,
-        diagnostics: Vec::new(),
+        diagnostics: size_errors(device),
         consts: Namespace::default(),
     };
     let mut entries: Vec<EntryPlan> = Vec::new();
@@ -120,21 +180,9 @@ pub fn plan(device: &Device) -> Plan {
             continue;
         }
         let mut planned = p.object(object);
-        let before = image_size;
         for entry in &mut planned {
             entry.offset = image_size;
             image_size += entry.ty.image_size();
-        }
-        // The value image's offsets are 16-bit (2 bytes of flash per entry, not 4).
-        if before <= MAX_IMAGE_SIZE && image_size > MAX_IMAGE_SIZE {
-            p.diagnostics.push(Diagnostic::new(
-                &rules::CAPACITY_TOO_LARGE,
-                Some(object.span),
-                format!(
-                    "{:04X}h `{}`: with this object the device's values need more than {MAX_IMAGE_SIZE} bytes in all",
-                    object.index, object.name
-                ),
-            ).with_help("lower string and domain capacities (the overlay sets them)"));
         }
         entries.extend(planned);
     }
@@ -184,21 +232,57 @@ impl Planner<'_> {
     }
 
     fn const_name(&mut self, object: &Object, sub: Option<&SubObject>) -> Ident {
+        let naming = &self.device.naming;
         let base = ident(
-            &object.name,
+            naming.objects.get(&object.index).unwrap_or(&object.name),
             Case::Shouty,
             &format!("OBJECT_{:04X}", object.index),
         );
-        let (wanted, suffixes) = match sub {
-            None => (base, vec![format!("{:04X}", object.index)]),
-            Some(sub) => {
+        let renamed = |sub_index: u8| {
+            let name = naming.entries.get(&(object.index, sub_index))?;
+            Some(ident(name, Case::Shouty, &format!("SUB{sub_index}")))
+        };
+        // The device's own numbering of an array's elements (the overlay's [numbering]).
+        let numbered = |sub_index: u8| {
+            let first = *naming.first_number.get(&object.index)?;
+            let number = u32::from(sub_index.checked_sub(1)?) + first;
+            let highest = object.subs.keys().next_back().map_or(0, |s| u32::from(*s));
+            let width = (highest.saturating_sub(1) + first).to_string().len();
+            Some(format!("{base}_{number:0width$}"))
+        };
+        let chosen = sub.and_then(|s| renamed(s.sub_index).or_else(|| numbered(s.sub_index)));
+        let (wanted, suffixes) = match (sub, chosen) {
+            (None, _) => (
+                renamed(0).unwrap_or(base),
+                vec![format!("{:04X}", object.index)],
+            ),
+            (Some(sub), Some(name)) => (
+                name,
+                vec![
+                    format!("SUB{}", sub.sub_index),
+                    format!("{:04X}", object.index),
+                ],
+            ),
+            (Some(sub), None) => {
                 let sub_part = ident(&sub.name, Case::Shouty, &format!("SUB{}", sub.sub_index));
-                let joined = if sub_part.starts_with("N_")
-                    && sub_part[2..].starts_with(|c: char| c.is_ascii_digit())
-                {
-                    format!("{base}_{}", &sub_part[2..])
-                } else {
-                    format!("{base}_{sub_part}")
+                // Only whole words: `SPEEDOMETER` does not repeat `SPEED`.
+                let repeated = sub_part.strip_prefix(&base).filter(|rest| {
+                    rest.is_empty() || rest.starts_with(|c: char| c == '_' || c.is_ascii_digit())
+                });
+                let joined = match repeated {
+                    // The sub-object repeats its object's name (`Consumer heartbeat time 1` in
+                    // `Consumer heartbeat time`, `F28 group parameter86` in `F28 group
+                    // parameter`): the object's name once, then what the sub adds.
+                    Some(rest) if !rest.trim_start_matches('_').is_empty() => {
+                        format!("{base}_{}", rest.trim_start_matches('_'))
+                    }
+                    Some(_) => format!("{base}_SUB{}", sub.sub_index),
+                    None if sub_part.starts_with("N_")
+                        && sub_part[2..].starts_with(|c: char| c.is_ascii_digit()) =>
+                    {
+                        format!("{base}_{}", &sub_part[2..])
+                    }
+                    None => format!("{base}_{sub_part}"),
                 };
                 let (sub_suffix, index_suffix) = (
                     format!("SUB{}", sub.sub_index),
@@ -240,15 +324,7 @@ impl Planner<'_> {
         };
         let cap = capacity(basic, sub);
         if matches!(RustType::of(basic, 0), RustType::Bytes(_)) && cap > usize::from(u16::MAX) {
-            self.diagnostics.push(Diagnostic::new(
-                &rules::CAPACITY_TOO_LARGE,
-                Some(sub.span),
-                format!(
-                    "{where_} `{}`: needs {cap} bytes; an entry holds at most 65535",
-                    sub.name
-                ),
-            ));
-            return None;
+            return None; // reported by `size_errors`
         }
         let ty = RustType::of(basic, cap);
         let init = self.initial(sub, basic, ty, &where_)?;

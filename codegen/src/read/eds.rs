@@ -96,6 +96,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         object_lists: Vec::new(),
         commissioning: None,
         other_sections: Vec::new(),
+        naming: Default::default(),
     }
 }
 

@@ -1,4 +1,5 @@
-//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx) judged over the resolved model.
+//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, and the generator's size limits
+//! EDS707) judged over the resolved model.
 //!
 //! It never looks at the text: everything it knows comes from [`Device`], so the same rules serve
 //! EDS, DCF, XDD and XDC. One submodule per area; each says which rules it owns and why a rule has
@@ -33,6 +34,8 @@ pub fn validate(device: &Device) -> Vec<Diagnostic> {
     pdo::check(device, &mut out);
     dcf::check(device, &mut out);
     sections::check(device, &mut out);
+    // What the generator cannot hold, so that a clean validate means generate succeeds.
+    out.extend(crate::emit::plan::size_errors(device));
     diag::sort(&mut out);
     // Values outside their limits come in dozens in a vendor's DCF: one finding, naming the lines.
     diag::fold(

@@ -680,6 +680,8 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
                 Some(sub.key_spans.data_type.unwrap_or(sub.span)),
                 if reserved {
                     format!("{name} has DataType {dt:04X}h, a reserved code")
+                } else if is_deftype(device, dt) {
+                    format!("{name} has DataType {dt:04X}h, a DEFTYPE that resolves to no basic type (it names itself, or a chain of DEFTYPEs that does not end at one)")
                 } else if let Some(record) = standard_record_type(dt) {
                     format!("{name} has DataType {dt:04X}h, the CiA 301 record type {record}, which this file does not describe as a DEFSTRUCT")
                 } else {
@@ -703,12 +705,21 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
     nodeid_ranges(&name, ty, sub, out);
 }
 
+/// Whether a DataType is a basic type, a DEFTYPE that resolves to one, or a DEFSTRUCT.
 fn data_type_known(device: &Device, dt: u16) -> bool {
     device.basic_type(dt).is_some()
         || device
             .objects
             .get(&dt)
-            .is_some_and(|d| matches!(d.object_type, ObjectType::DefType | ObjectType::DefStruct))
+            .is_some_and(|d| d.object_type == ObjectType::DefStruct)
+}
+
+/// Whether a DataType names a DEFTYPE object (which may still resolve to no basic type).
+fn is_deftype(device: &Device, dt: u16) -> bool {
+    device
+        .objects
+        .get(&dt)
+        .is_some_and(|d| d.object_type == ObjectType::DefType)
 }
 
 /// A value as a function of the node-ID: (constant, slope), i.e. `v = constant + slope * node`.

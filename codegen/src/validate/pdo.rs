@@ -243,7 +243,8 @@ fn cob_id_range(index: u16, sub: &crate::model::SubObject, out: &mut Vec<Diagnos
 }
 
 /// A mapped object that does not exist, reported once per mapping that names it: its index, the
-/// mapping's sub-indices naming it, the entries they map, and the first one's span and raw value.
+/// mapping's sub-indices naming it, the sub-indices they map, and the first one's span and raw
+/// value.
 type MissingTarget = (u16, Vec<String>, Vec<String>, (Option<Span>, u32));
 
 fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnostic>) {
@@ -339,21 +340,20 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
             first_empty.get_or_insert(value_span(entry));
             continue;
         }
-        let target = format!("{index:04X}h sub {sub}");
         if (0x0001..=0x001F).contains(&index) && sub == 0 {
             dummy(device, &here, index, len, span, out);
             continue;
         }
         let Some(mapped) = device.entry(index, sub) else {
-            let at_index = missing.iter_mut().find(|(i, _, _, _)| *i == index);
-            match at_index {
-                Some((_, subs, targets, _)) => {
+            let target_sub = sub.to_string();
+            match missing.iter_mut().find(|(i, _, _, _)| *i == index) {
+                Some((_, subs, target_subs, _)) => {
                     subs.push(s.to_string());
-                    if !targets.contains(&target) {
-                        targets.push(target);
+                    if !target_subs.contains(&target_sub) {
+                        target_subs.push(target_sub);
                     }
                 }
-                None => missing.push((index, vec![s.to_string()], vec![target], (span, raw))),
+                None => missing.push((index, vec![s.to_string()], vec![target_sub], (span, raw))),
             }
             continue;
         };
@@ -403,9 +403,10 @@ fn mapping_entries(device: &Device, o: &Object, dir: Dir, out: &mut Vec<Diagnost
             length(&here, &target, ty, len, granularity, span, out);
         }
     }
-    for (_, subs, targets, (span, raw)) in missing {
-        let (subs, targets) = (short_list(&subs), short_list(&targets));
-        let message = if targets.contains(", ") {
+    for (index, subs, target_subs, (span, raw)) in missing {
+        let targets = format!("{index:04X}h sub {}", short_list(&target_subs));
+        let subs = short_list(&subs);
+        let message = if target_subs.len() > 1 {
             format!(
                 "{} sub {subs} map {targets}, which do not exist",
                 obj(o.index)

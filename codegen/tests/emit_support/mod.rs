@@ -105,13 +105,14 @@ pub fn device(objects: Vec<Object>) -> Device {
         object_lists: Vec::new(),
         commissioning: None,
         other_sections: Vec::new(),
+        naming: Default::default(),
     }
 }
 
 use AccessType::*;
 use Value::*;
 
-fn mapping(index: u16, name: &str, entries: &[u32]) -> Object {
+pub fn mapping(index: u16, name: &str, entries: &[u32]) -> Object {
     let mut subs = vec![sub(
         0,
         "Number of mapped objects",
@@ -133,7 +134,7 @@ fn mapping(index: u16, name: &str, entries: &[u32]) -> Object {
     object(index, name, ObjectType::Record, subs)
 }
 
-fn comm(index: u16, name: &str, cob: Value) -> Object {
+pub fn comm(index: u16, name: &str, cob: Value) -> Object {
     object(
         index,
         name,
