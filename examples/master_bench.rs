@@ -29,7 +29,7 @@ const DOMAIN_LEN: usize = 64 * 1024;
 /// One DOMAIN at 2100h:00 served by a bare SDO server: the block-transfer source.
 struct DomainDevice {
     value: Vec<u8>,
-    server: SdoServer<64>,
+    server: SdoServer,
 }
 
 const DOMAIN: [EntryDescriptor; 1] = [EntryDescriptor {

@@ -244,7 +244,7 @@ impl Bench {
         }
     }
 
-    fn read<T: OdValue>(&mut self, node: u8, entry: Entry<T>) -> Result<T, String> {
+    fn read<T: OdValue, D>(&mut self, node: u8, entry: Entry<T, D>) -> Result<T, String> {
         let now = self.bus.now();
         self.master
             .client(node)
@@ -257,7 +257,12 @@ impl Bench {
             .ok_or_else(|| "a value of the wrong length".to_string())
     }
 
-    fn write<T: OdValue>(&mut self, node: u8, entry: Entry<T>, value: T) -> Result<(), String> {
+    fn write<T: OdValue, D>(
+        &mut self,
+        node: u8,
+        entry: Entry<T, D>,
+        value: T,
+    ) -> Result<(), String> {
         let now = self.bus.now();
         self.master
             .client(node)
@@ -396,7 +401,7 @@ fn goodrive350_parameter(
         parameter_address: address,
         requested_data: value,
     };
-    let payload = request.encode().map_err(|e| format!("{e:?}"))?;
+    let payload = request.encode();
     let frame = CanFrame::new(pdo::Rpdo1::cob_id(node) as u16, &payload).ok_or("a PDO1 frame")?;
     bench.take_seen(0);
     bench.send(frame);
@@ -445,7 +450,7 @@ fn goodrive350_run(bench: &mut Bench) -> Result<(), String> {
         setting_2: 5000,
         setting_3: 0,
     };
-    let payload = run.encode().map_err(|e| format!("{e:?}"))?;
+    let payload = run.encode();
     bench.take_seen(0);
     bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node) as u16, &payload).ok_or("a PDO2 frame")?);
     bench.wait(Duration::from_millis(11_000));
@@ -485,7 +490,7 @@ fn goodrive350_run(bench: &mut Bench) -> Result<(), String> {
         control_word: 7,
         ..run
     };
-    let payload = reset.encode().map_err(|e| format!("{e:?}"))?;
+    let payload = reset.encode();
     bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node) as u16, &payload).ok_or("a PDO2 frame")?);
     bench.wait(Duration::from_millis(100));
     let emcy = bench.take_seen(0x080 + u16::from(node));

@@ -13,11 +13,11 @@ fn ms(millis: u64) -> Instant {
 }
 
 /// Reads `entry` of node 3 through `client`, typed.
-fn read<T: OdValue>(
+fn read<T: OdValue, D>(
     bus: &mut VirtualBus,
     client: &mut SdoClient,
     node: &mut Node<cp301::Od>,
-    entry: Entry<T>,
+    entry: Entry<T, D>,
 ) -> T {
     client.read(bus.now(), entry).unwrap();
     let until = bus.now() + edsgen_runtime::Duration::from_millis(1);
@@ -37,7 +37,7 @@ fn reads_and_writes_are_typed_by_the_generated_addresses() {
     let velocity: i16 = read(&mut bus, &mut client, &mut node, od::VL_TARGET_VELOCITY);
     assert_eq!(velocity, -1500);
     let status: u16 = read(&mut bus, &mut client, &mut node, od::STATUSWORD);
-    assert_eq!(status, node.od().get(od::STATUSWORD).unwrap());
+    assert_eq!(status, node.od().get(od::STATUSWORD));
     let vendor: u32 = read(
         &mut bus,
         &mut client,
@@ -45,5 +45,5 @@ fn reads_and_writes_are_typed_by_the_generated_addresses() {
         od::IDENTITY_OBJECT_VENDOR_ID,
     );
     assert_eq!(vendor, cp301::VENDOR_ID);
-    assert_eq!(node.od().get(od::VL_TARGET_VELOCITY), Some(-1500));
+    assert_eq!(node.od().get(od::VL_TARGET_VELOCITY), -1500);
 }

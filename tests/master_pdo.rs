@@ -37,7 +37,7 @@ fn pdos_are_configured_sent_and_decoded_into_the_generated_structs() {
     let tpdo1 = PdoConfig {
         kind: PdoKind::Transmit,
         number: 1,
-        cob_id: pdo::Tpdo1::cob_id(3),
+        cob_id: pdo::Tpdo1::cob_id(3).into(),
         transmission_type: 254,
         event_timer: Some(20),
         mapping: &[0x6041_0010, 0x6043_0010],
@@ -47,7 +47,7 @@ fn pdos_are_configured_sent_and_decoded_into_the_generated_structs() {
     let rpdo1 = PdoConfig {
         kind: PdoKind::Receive,
         number: 1,
-        cob_id: pdo::Rpdo1::cob_id(3),
+        cob_id: pdo::Rpdo1::cob_id(3).into(),
         transmission_type: 255,
         event_timer: None,
         mapping: &[0x6040_0010, 0x6042_0010],
@@ -71,7 +71,7 @@ fn pdos_are_configured_sent_and_decoded_into_the_generated_structs() {
         vl_target_velocity: -1500,
     };
     master
-        .send_pdo(pdo::Rpdo1::cob_id(3), &command.encode().unwrap())
+        .send_pdo(pdo::Rpdo1::cob_id(3), &command.encode())
         .unwrap();
     master.listen(Duration::from_millis(20)).unwrap();
     assert_eq!(master.read(3, od::CONTROLWORD).unwrap(), 0x000F);

@@ -26,6 +26,9 @@ pub struct RuntimeDictionary {
     entries: Vec<EntryDescriptor>,
     slots: Vec<Slot>,
     left_out: Vec<(u16, String)>,
+    /// The pieces of an SDO download streamed so far ([`ObjectDictionary::write_part`]), applied
+    /// with every check by [`ObjectDictionary::finish_write`].
+    download: Vec<u8>,
 }
 
 /// One entry's value and what a write must respect.
@@ -89,6 +92,7 @@ impl RuntimeDictionary {
             entries,
             slots,
             left_out,
+            download: Vec::new(),
         }
     }
 
@@ -145,6 +149,25 @@ impl ObjectDictionary for RuntimeDictionary {
     fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         let slot = self.slots.get(position).ok_or(SdoAbort::NoObject)?;
         Ok(read_bytes(&slot.value, offset, buf))
+    }
+
+    /// Collects one piece of a segmented or block download; the value changes only when
+    /// [`finish_write`](ObjectDictionary::finish_write) applies the whole of it.
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        let capacity = self.capacity(position).ok_or(SdoAbort::NoObject)?;
+        if offset + data.len() > capacity {
+            return Err(SdoAbort::LengthTooHigh);
+        }
+        self.download.truncate(offset);
+        self.download.extend_from_slice(data);
+        Ok(())
+    }
+
+    /// Applies the streamed download with [`write_at`](ObjectDictionary::write_at)'s checks.
+    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        let mut value = std::mem::take(&mut self.download);
+        value.truncate(len);
+        self.write_at(position, &value)
     }
 
     /// The checks of the generated `Od` (`edsgen_runtime::image::Layout::write`): a fixed-size

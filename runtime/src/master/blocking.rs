@@ -189,8 +189,12 @@ impl<T: Transport> Master<T> {
         Ok(())
     }
 
-    /// Reads `entry` of `node_id`, typed.
-    pub fn read<V: OdValue>(&mut self, node_id: u8, entry: Entry<V>) -> Result<V, MasterError> {
+    /// Reads `entry` of `node_id`, typed (an address of any device's generated module).
+    pub fn read<V: OdValue, D>(
+        &mut self,
+        node_id: u8,
+        entry: Entry<V, D>,
+    ) -> Result<V, MasterError> {
         let mux = Multiplexer::new(entry.index, entry.sub);
         let bytes = self.upload(node_id, mux, Mode::Normal)?;
         entry.decode(&bytes).ok_or(MasterError::Length {
@@ -201,10 +205,10 @@ impl<T: Transport> Master<T> {
     }
 
     /// Writes `value` to `entry` of `node_id`.
-    pub fn write<V: OdValue>(
+    pub fn write<V: OdValue, D>(
         &mut self,
         node_id: u8,
-        entry: Entry<V>,
+        entry: Entry<V, D>,
         value: V,
     ) -> Result<(), MasterError> {
         let now = self.clock.now();
@@ -411,14 +415,13 @@ impl<T: Transport> Master<T> {
         Ok(())
     }
 
-    /// Sends a PDO: `payload` (a generated struct's `encode()`) on `cob_id` (its `cob_id(node)`).
-    pub fn send_pdo(&mut self, cob_id: u32, payload: &[u8]) -> Result<(), MasterError> {
-        let frame = if cob_id & 0x2000_0000 != 0 {
-            CanFrame::new_extended(cob_id & 0x1FFF_FFFF, payload)
-        } else {
-            u16::try_from(cob_id & 0x7FF)
-                .ok()
-                .and_then(|id| CanFrame::new(id, payload))
+    /// Sends a PDO: `payload` (a generated struct's `encode()`) on `cob_id` (its `cob_id(node)`:
+    /// an 11-bit identifier as `u16`, or a 29-bit one as `u32` above 7FFh).
+    pub fn send_pdo(&mut self, cob_id: impl Into<u32>, payload: &[u8]) -> Result<(), MasterError> {
+        let cob_id = cob_id.into();
+        let frame = match u16::try_from(cob_id) {
+            Ok(id) if id <= 0x7FF => CanFrame::new(id, payload),
+            _ => CanFrame::new_extended(cob_id, payload),
         };
         self.transport.send(&frame.ok_or(MasterError::Value)?)?;
         Ok(())

@@ -88,7 +88,8 @@ impl PdoConfig<'_> {
 }
 
 /// Declares an enum of generated PDO structs and a decoder that picks the variant by the
-/// received frame's COB-ID (each struct's `cob_id(node_id)`), for one node.
+/// received frame's CAN identifier (each struct's `cob_id(node_id)`: a `u16` for an 11-bit
+/// identifier, a `u32` for a 29-bit one), for one node.
 ///
 /// ```
 /// use edsgen_runtime::CanFrame;
@@ -97,7 +98,7 @@ impl PdoConfig<'_> {
 /// #[derive(Debug, PartialEq)]
 /// pub struct Tpdo1 { pub statusword: u16 }
 /// impl Tpdo1 {
-///     pub const fn cob_id(node_id: u8) -> u32 { 0x180 + node_id as u32 }
+///     pub const fn cob_id(node_id: u8) -> u16 { 0x180 + node_id as u16 }
 ///     pub fn decode(p: &[u8]) -> Result<Self, edsgen_runtime::PdoError> {
 ///         let p = edsgen_runtime::typed::payload::<2>(p)?;
 ///         Ok(Tpdo1 { statusword: u16::from_le_bytes(p) })
@@ -135,13 +136,13 @@ macro_rules! pdo_dispatch {
             ) -> ::core::option::Option<::core::result::Result<Self, $crate::PdoError>> {
                 let id = match frame.id() {
                     $crate::CanId::Standard(id) => u32::from(id),
-                    $crate::CanId::Extended(id) => id | 0x2000_0000,
+                    $crate::CanId::Extended(id) => id,
                 };
                 if frame.is_remote() {
                     return None;
                 }
                 $(
-                    if <$ty>::cob_id(node_id) & 0x3FFF_FFFF == id {
+                    if u32::from(<$ty>::cob_id(node_id)) == id {
                         return Some(<$ty>::decode(frame.data()).map($name::$variant));
                     }
                 )+

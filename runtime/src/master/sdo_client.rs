@@ -315,17 +315,22 @@ impl<const BUF: usize> SdoClient<BUF> {
         Ok(())
     }
 
-    /// Starts a typed read of `entry`; take the value with [`take_value`](Self::take_value)
-    /// once [`poll_result`](Self::poll_result) reports it complete.
-    pub fn read<T: OdValue>(&mut self, now: Instant, entry: Entry<T>) -> Result<(), StartError> {
+    /// Starts a typed read of `entry` (an address of any device's generated module); take the
+    /// value with [`take_value`](Self::take_value) once [`poll_result`](Self::poll_result)
+    /// reports it complete.
+    pub fn read<T: OdValue, D>(
+        &mut self,
+        now: Instant,
+        entry: Entry<T, D>,
+    ) -> Result<(), StartError> {
         self.upload(now, Multiplexer::new(entry.index, entry.sub), Mode::Normal)
     }
 
     /// Starts a typed write of `value` to `entry` (expedited when it fits in 4 bytes).
-    pub fn write<T: OdValue>(
+    pub fn write<T: OdValue, D>(
         &mut self,
         now: Instant,
-        entry: Entry<T>,
+        entry: Entry<T, D>,
         value: &T,
     ) -> Result<(), StartError> {
         if self.is_busy() {
@@ -345,7 +350,7 @@ impl<const BUF: usize> SdoClient<BUF> {
 
     /// The value of a completed read of `entry`, from the window (emptied by this call); `None`
     /// if its bytes do not decode as `T` (a length not matching the type).
-    pub fn take_value<T: OdValue>(&mut self, entry: &Entry<T>) -> Option<T> {
+    pub fn take_value<T: OdValue, D>(&mut self, entry: &Entry<T, D>) -> Option<T> {
         let value = entry.decode(self.fifo.contiguous());
         self.fifo.clear();
         value

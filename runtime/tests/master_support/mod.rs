@@ -68,13 +68,28 @@ impl ObjectDictionary for DomainOd {
         }
         Ok(())
     }
+    /// The domain (position 0) takes a download piece by piece.
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        if position != 0 || offset + data.len() > DOMAIN_CAPACITY {
+            return Err(SdoAbort::LengthTooHigh);
+        }
+        self.domain.truncate(offset);
+        self.domain.extend_from_slice(data);
+        Ok(())
+    }
+    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        if position == 0 {
+            self.domain.truncate(len);
+        }
+        Ok(())
+    }
 }
 
 /// An SDO server of `node_id` serving a [`DomainOd`], with a 64 KiB download buffer.
 pub struct DomainServer {
     pub node_id: u8,
     pub od: DomainOd,
-    server: Box<SdoServer<DOMAIN_CAPACITY>>,
+    server: Box<SdoServer>,
 }
 
 impl DomainServer {
