@@ -20,19 +20,7 @@ use edsgen_runtime::{CanFrame, Duration, Entry, Instant, OdValue};
 
 use crate::cards::{cp301, goodrive350};
 use crate::decode::Decoder;
-use crate::drives::{Cp301, Goodrive350};
-
-/// The bundled description files, as compiled in.
-const CARDS: [(&str, &[u8]); 5] = [
-    ("eds/cp301.eds", include_bytes!("../eds/cp301.eds")),
-    ("eds/ms300.eds", include_bytes!("../eds/ms300.eds")),
-    (
-        "eds/goodrive350.eds",
-        include_bytes!("../eds/goodrive350.eds"),
-    ),
-    ("eds/rd11.eds", include_bytes!("../eds/rd11.eds")),
-    ("eds/hd1e.eds", include_bytes!("../eds/hd1e.eds")),
-];
+use crate::drives::{Card, Cp301, Goodrive350, CARDS};
 
 /// The CP301's node-ID on the demo bus.
 pub const CP301_NODE: u8 = 2;
@@ -137,16 +125,10 @@ impl Bench {
         let cp301 = Cp301::new(CP301_NODE, now).map_err(|e| format!("{e:?}"))?;
         let goodrive350 = Goodrive350::new(GOODRIVE350_NODE, now).map_err(|e| format!("{e:?}"))?;
         let mut decoder = Decoder::new();
-        for (node, path) in [
-            (CP301_NODE, "eds/cp301.eds"),
-            (GOODRIVE350_NODE, "eds/goodrive350.eds"),
-        ] {
-            let bytes = CARDS
-                .iter()
-                .find(|(p, _)| *p == path)
-                .map(|(_, bytes)| *bytes)
-                .unwrap_or_default();
-            decoder.describe(node, &read::read_bytes(Path::new(path), bytes).device);
+        for (node, name) in [(CP301_NODE, "cp301"), (GOODRIVE350_NODE, "goodrive350")] {
+            if let Some(card) = Card::named(name) {
+                decoder.describe(node, &card.model());
+            }
         }
         let mut bench = Bench {
             bus: VirtualBus::new(now),
@@ -315,8 +297,9 @@ fn validate_cards(report: &mut Report) {
     report
         .lines
         .push("== validate the bundled EDS files".into());
-    for (path, bytes) in CARDS {
-        let read = read::read_bytes(Path::new(path), bytes);
+    for card in &CARDS {
+        let path = card.eds_path;
+        let read = read::read_bytes(Path::new(path), card.eds);
         let mut diagnostics = read.diagnostics;
         diagnostics.extend(validate::validate(&read.device));
         let count = |s| diagnostics.iter().filter(|d| d.severity == s).count();

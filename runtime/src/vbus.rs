@@ -39,6 +39,21 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const R: usize, const T: usize> BusDe
     }
 }
 
+impl<D: BusDevice + ?Sized> BusDevice for Box<D> {
+    fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
+        (**self).handle_frame(now, frame)
+    }
+    fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        (**self).poll_transmit(now)
+    }
+    fn poll_timeout(&self) -> Option<Instant> {
+        (**self).poll_timeout()
+    }
+    fn handle_timeout(&mut self, now: Instant) {
+        (**self).handle_timeout(now)
+    }
+}
+
 /// A peer that sends frames at scripted instants and records what it receives.
 #[derive(Debug, Default, Clone)]
 pub struct ScriptedPeer {

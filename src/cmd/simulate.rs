@@ -1,10 +1,12 @@
-//! `edsgen simulate FILE[@ID]... [--node-id N]... [--bus HOST:PORT | --socketcan IFACE]
-//! [--trace]`: devices built at run time from description files, each a runtime `Node` serving a
-//! [`RuntimeDictionary`] on a driver thread with its own bus connection (so the devices hear one
-//! another), until the process is stopped or the bus goes away.
+//! `edsgen simulate [FILE[@ID]...] [--node-id N]... [--card NAME[@ID]]... [--bus HOST:PORT |
+//! --socketcan IFACE] [--trace]`: devices built at run time from description files, each a
+//! runtime `Node` serving a [`RuntimeDictionary`], and the bundled cards with their drives'
+//! behaviour ([`edsgen::drives`]); each on a driver thread with its own bus connection (so the
+//! devices hear one another), until the process is stopped or the bus goes away.
 //!
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
-//! DCF's `[DeviceComissioning]` NodeID. `--trace` prints every frame on the bus decoded
+//! DCF's `[DeviceComissioning]` NodeID. A card's is its `@ID`, else its default (cp301 1, ms300 2,
+//! goodrive350 3, rd11 4, hd1e 5). `--trace` prints every frame on the bus decoded
 //! ([`edsgen::decode`]), as a further listening connection sees it.
 
 use std::path::PathBuf;
@@ -14,10 +16,12 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
+use edsgen_runtime::vbus::BusDevice;
 use edsgen_runtime::Node;
 
 use super::{fail, parse_node_id, read_device};
 use edsgen::decode::Decoder;
+use edsgen::drives::{Card, CARDS};
 use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 
 /// The hub `edsgen bus` listens on by default.
@@ -36,8 +40,12 @@ const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Description files (EDS, DCF, XDD, XDC), each optionally followed by `@ID`, its node-ID.
-    #[arg(required = true, value_name = "FILE[@ID]")]
+    #[arg(value_name = "FILE[@ID]", required_unless_present = "cards")]
     files: Vec<String>,
+    /// A bundled card with its drive's behaviour (cp301, ms300, goodrive350, rd11, hd1e),
+    /// optionally followed by `@ID`; repeatable.
+    #[arg(long = "card", value_name = "NAME[@ID]")]
+    cards: Vec<String>,
     /// Node-IDs (1 to 127), one per FILE in the same order, for files without `@ID`.
     #[arg(long = "node-id", value_name = "N", value_parser = parse_node_id)]
     node_id: Vec<u8>,
@@ -57,6 +65,8 @@ struct Planned {
     path: PathBuf,
     node_id: u8,
     device: edsgen_codegen::model::Device,
+    /// A bundled card's simulated drive, instead of a node serving the model.
+    card: Option<&'static Card>,
 }
 
 /// Runs `edsgen simulate`.
@@ -70,7 +80,8 @@ pub fn run(args: Args) -> ExitCode {
         None => Bus::Hub(args.bus.as_deref().unwrap_or(DEFAULT_BUS)),
     };
     let mut decoder = Decoder::new();
-    let mut drivers: Vec<DriverHandle<Box<dyn Transport + Send>, SimulatedNode>> = Vec::new();
+    let mut drivers: Vec<DriverHandle<Box<dyn Transport + Send>, Box<dyn BusDevice + Send>>> =
+        Vec::new();
     // The tracing connection first, so that it sees the boot-up messages.
     let mut listener = None;
     if args.trace {
@@ -80,25 +91,27 @@ pub fn run(args: Args) -> ExitCode {
         }
     }
     for p in &planned {
-        let od = RuntimeDictionary::new(&p.device, p.node_id);
-        for (index, name) in od.left_out() {
-            eprintln!(
-                "warning: {}: {index:04X}h `{name}` is left out (`edsgen generate` says why)",
-                p.path.display()
-            );
-        }
         let transport = match bus.join() {
             Ok(transport) => transport,
             Err(message) => return fail(message),
         };
         let clock = MonotonicClock::new();
-        let node = match SimulatedNode::with_capacity(
-            od,
-            DictionaryHooks::default(),
-            p.node_id,
-            clock.now(),
-        ) {
-            Ok(node) => node,
+        let device = match p.card {
+            Some(card) => (card.power_up)(p.node_id, clock.now()),
+            None => {
+                let od = RuntimeDictionary::new(&p.device, p.node_id);
+                for (index, name) in od.left_out() {
+                    eprintln!(
+                        "warning: {}: {index:04X}h `{name}` is left out (`edsgen generate` says why)",
+                        p.path.display()
+                    );
+                }
+                SimulatedNode::with_capacity(od, DictionaryHooks::default(), p.node_id, clock.now())
+                    .map(|node| Box::new(node) as Box<dyn BusDevice + Send>)
+            }
+        };
+        let node = match device {
+            Ok(device) => device,
             Err(e) => return fail(format!("bad node-ID {}", e.0)),
         };
         decoder.describe(p.node_id, &p.device);
@@ -106,10 +119,13 @@ pub fn run(args: Args) -> ExitCode {
             Ok(handle) => drivers.push(handle),
             Err(e) => return fail(format!("cannot start the node's thread: {e}")),
         }
+        let what = match p.card {
+            Some(card) => format!("card {}", card.name),
+            None => p.path.display().to_string(),
+        };
         eprintln!(
-            "simulating node {} ({}) on {}",
+            "simulating node {} ({what}) on {}",
             p.node_id,
-            p.path.display(),
             match bus {
                 Bus::Hub(addr) | Bus::SocketCan(addr) => addr,
             }
@@ -230,6 +246,38 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
             path,
             node_id,
             device,
+            card: None,
+        });
+    }
+    for arg in &args.cards {
+        let (name, id) = match arg.rsplit_once('@') {
+            Some((name, id)) => (
+                name,
+                Some(parse_node_id(id).map_err(|e| format!("{arg}: {e}"))?),
+            ),
+            None => (arg.as_str(), None),
+        };
+        let card = Card::named(name).ok_or_else(|| {
+            let names: Vec<&str> = CARDS.iter().map(|card| card.name).collect();
+            format!(
+                "no card `{name}`: the bundled cards are {}",
+                names.join(", ")
+            )
+        })?;
+        let node_id = id.unwrap_or(card.default_node_id);
+        let path = PathBuf::from(card.eds_path);
+        if let Some(other) = planned.iter().find(|p| p.node_id == node_id) {
+            return Err(format!(
+                "node-ID {node_id} is given to both `{}` and `{}`",
+                other.path.display(),
+                path.display()
+            ));
+        }
+        planned.push(Planned {
+            path,
+            node_id,
+            device: card.model(),
+            card: Some(card),
         });
     }
     Ok(planned)

@@ -13,6 +13,11 @@ pub mod pdo1;
 pub mod rd11;
 pub mod vfd;
 
+use std::path::Path;
+
+use edsgen_codegen::model::Device;
+use edsgen_runtime::node::InvalidNodeId;
+use edsgen_runtime::vbus::BusDevice;
 use edsgen_runtime::{Instant, ObjectDictionary};
 
 pub use self::cp301::Cp301;
@@ -20,6 +25,78 @@ pub use self::goodrive350::Goodrive350;
 pub use self::hd1e::Hd1e;
 pub use self::ms300::Ms300;
 pub use self::rd11::Rd11;
+
+/// A bundled card: its name, its EDS (compiled in), the node-ID it takes unless told otherwise,
+/// and its simulated drive.
+pub struct Card {
+    /// The name `edsgen simulate --card` takes.
+    pub name: &'static str,
+    /// Where its EDS is in the repository.
+    pub eds_path: &'static str,
+    /// The EDS file's bytes.
+    pub eds: &'static [u8],
+    /// The default node-ID: distinct for the five cards, so that all can share one bus.
+    pub default_node_id: u8,
+    /// Powers up the simulated drive at a node-ID.
+    pub power_up: fn(u8, Instant) -> Result<Box<dyn BusDevice + Send>, InvalidNodeId>,
+}
+
+impl Card {
+    /// The card's model, read from its EDS (for decoding its frames by name).
+    pub fn model(&self) -> Device {
+        edsgen_codegen::read::read_bytes(Path::new(self.eds_path), self.eds).device
+    }
+
+    /// The card by name.
+    pub fn named(name: &str) -> Option<&'static Card> {
+        CARDS.iter().find(|card| card.name == name)
+    }
+}
+
+fn boxed<D: BusDevice + Send + 'static>(
+    device: Result<D, InvalidNodeId>,
+) -> Result<Box<dyn BusDevice + Send>, InvalidNodeId> {
+    device.map(|d| Box::new(d) as Box<dyn BusDevice + Send>)
+}
+
+/// The five bundled cards.
+pub static CARDS: [Card; 5] = [
+    Card {
+        name: "cp301",
+        eds_path: "eds/cp301.eds",
+        eds: include_bytes!("../../eds/cp301.eds"),
+        default_node_id: 1,
+        power_up: |id, now| boxed(Cp301::new(id, now)),
+    },
+    Card {
+        name: "ms300",
+        eds_path: "eds/ms300.eds",
+        eds: include_bytes!("../../eds/ms300.eds"),
+        default_node_id: 2,
+        power_up: |id, now| boxed(Ms300::new(id, now)),
+    },
+    Card {
+        name: "goodrive350",
+        eds_path: "eds/goodrive350.eds",
+        eds: include_bytes!("../../eds/goodrive350.eds"),
+        default_node_id: 3,
+        power_up: |id, now| boxed(Goodrive350::new(id, now)),
+    },
+    Card {
+        name: "rd11",
+        eds_path: "eds/rd11.eds",
+        eds: include_bytes!("../../eds/rd11.eds"),
+        default_node_id: 4,
+        power_up: |id, now| boxed(Rd11::new(id, now)),
+    },
+    Card {
+        name: "hd1e",
+        eds_path: "eds/hd1e.eds",
+        eds: include_bytes!("../../eds/hd1e.eds"),
+        default_node_id: 5,
+        power_up: |id, now| boxed(Hd1e::new(id, now)),
+    },
+];
 
 /// The earlier of two optional deadlines.
 fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
