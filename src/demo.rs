@@ -385,12 +385,12 @@ fn goodrive350_parameter(
         requested_data: value,
     };
     let payload = request.encode();
-    let frame = CanFrame::new(pdo::Rpdo1::cob_id(node) as u16, &payload).ok_or("a PDO1 frame")?;
+    let frame = CanFrame::new(pdo::Rpdo1::cob_id(node), &payload).ok_or("a PDO1 frame")?;
     bench.take_seen(0);
     bench.send(frame);
     // PDO1 Tx has an inhibit time: give the answer 100 ms.
     bench.wait(Duration::from_millis(100));
-    let answers = bench.take_seen(pdo::Tpdo1::cob_id(node) as u16);
+    let answers = bench.take_seen(pdo::Tpdo1::cob_id(node));
     let answer = answers.last().ok_or("no PDO1 Tx answer")?;
     let response = pdo::Tpdo1::decode(answer.data()).map_err(|e| format!("{e:?}"))?;
     Ok((
@@ -435,9 +435,9 @@ fn goodrive350_run(bench: &mut Bench) -> Result<(), String> {
     };
     let payload = run.encode();
     bench.take_seen(0);
-    bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node) as u16, &payload).ok_or("a PDO2 frame")?);
+    bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node), &payload).ok_or("a PDO2 frame")?);
     bench.wait(Duration::from_millis(11_000));
-    let reports = bench.take_seen(pdo::Tpdo2::cob_id(node) as u16);
+    let reports = bench.take_seen(pdo::Tpdo2::cob_id(node));
     let last = reports.last().ok_or("no PDO2 Tx")?;
     let status = pdo::Tpdo2::decode(last.data()).map_err(|e| format!("{e:?}"))?;
     bench.step(
@@ -474,7 +474,7 @@ fn goodrive350_run(bench: &mut Bench) -> Result<(), String> {
         ..run
     };
     let payload = reset.encode();
-    bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node) as u16, &payload).ok_or("a PDO2 frame")?);
+    bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node), &payload).ok_or("a PDO2 frame")?);
     bench.wait(Duration::from_millis(100));
     let emcy = bench.take_seen(0x080 + u16::from(node));
     bench.step(
