@@ -164,8 +164,15 @@ def run(network, node, plan):
         print("rpdo", plan["rpdo"]["entry"], node.sdo.upload(index, sub).hex())
 
         # An RPDO shorter than its mapping: EMCY 8210h (if the device has an EMCY COB-ID).
+        # The log is searched from before the send: `emcy.wait` sees only emergencies that
+        # arrive while it waits, and this one may come first.
+        mark = len(node.emcy.log)
         network.send_message(rpdo.cob_id, b"")
-        emcy = node.emcy.wait(0x8210, TIMEOUT if plan["emcy"] else 0.3)
+        deadline = time.time() + (TIMEOUT if plan["emcy"] else 0.3)
+        emcy = None
+        while emcy is None and time.time() < deadline:
+            emcy = next((e for e in node.emcy.log[mark:] if e.code == 0x8210), None)
+            time.sleep(0.01)
         print("emcy", f"{emcy.code:04X}" if emcy else "none")
 
     mark = len(states.seen)

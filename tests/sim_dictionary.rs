@@ -311,11 +311,11 @@ fn node_serves_a_segmented_download_and_upload_of_a_string() {
 fn node_serves_a_block_download_and_upload_of_a_domain() {
     let mut b = Bench::new();
     let program: Vec<u8> = (0u8..20).collect();
-    // Block download, CRC, size 20 (the server takes blocks of 4 segments): three segments of
-    // 7, 7 and 6 bytes.
+    // Block download, CRC, size 20 (the server streams into the dictionary, so it takes blocks
+    // of the most segments, 127): three segments of 7, 7 and 6 bytes.
     assert_eq!(
         b.sdo([0xC6, 0x01, 0x20, 0x00, 20, 0, 0, 0]),
-        "581: A4 01 20 00 04 00 00 00"
+        "581: A4 01 20 00 7F 00 00 00"
     );
     let segments: Vec<CanFrame> = program
         .chunks(7)
@@ -327,7 +327,7 @@ fn node_serves_a_block_download_and_upload_of_a_domain() {
             frame(0x601, &data)
         })
         .collect();
-    assert_eq!(b.exchange(&segments), ["581: A2 03 04 00 00 00 00 00"]);
+    assert_eq!(b.exchange(&segments), ["581: A2 03 7F 00 00 00 00 00"]);
     let [lo, hi] = crc16(&program).to_le_bytes();
     assert_eq!(
         b.sdo([0xC5, lo, hi, 0, 0, 0, 0, 0]),
