@@ -7,12 +7,14 @@
 //! DCF's `[DeviceComissioning]` NodeID. `--trace` prints every frame on the bus decoded
 //! ([`crate::decode`]), as a further listening connection sees it.
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime};
 
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_runtime::transport::trace::epoch_micros;
 use edsgen_runtime::transport::Transport;
 use edsgen_runtime::Node;
 
@@ -121,20 +123,23 @@ pub fn run(args: Args) -> ExitCode {
             let why = result.err().map_or("closed".to_owned(), |e| e.to_string());
             return fail(format!("{bus} went away: {why}"));
         }
-        match listener.as_mut() {
-            Some(client) => match client.recv_timeout(Duration::from_millis(100)) {
-                Ok(Some(frame)) => {
-                    let now = SystemTime::now()
-                        .duration_since(UNIX_EPOCH)
-                        .unwrap_or_default();
-                    for line in decoder.decode(now, &frame) {
-                        println!("{line}");
-                    }
-                }
-                Ok(None) => {}
-                Err(e) => return fail(format!("{bus} went away: {e}")),
-            },
-            None => std::thread::sleep(Duration::from_millis(100)),
+        let Some(client) = listener.as_mut() else {
+            std::thread::sleep(Duration::from_millis(100));
+            continue;
+        };
+        let frame = match client.recv_timeout(Duration::from_millis(100)) {
+            Ok(Some(frame)) => frame,
+            Ok(None) => continue,
+            Err(e) => return fail(format!("{bus} went away: {e}")),
+        };
+        let now = Duration::from_micros(epoch_micros(SystemTime::now()));
+        let mut out = std::io::stdout().lock();
+        for line in decoder.decode(now, &frame) {
+            if writeln!(out, "{line}").is_err() {
+                // Nobody reads the trace any more (`| head`): the devices carry on without it.
+                listener = None;
+                break;
+            }
         }
     }
 }
