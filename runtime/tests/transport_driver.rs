@@ -70,7 +70,7 @@ fn driver_serves_a_node_over_the_memory_bus_in_real_time() {
     let period = start.elapsed() / 5;
     assert_eq!(first, frame(0x705, &[0x7F]));
     assert!(
-        (StdDuration::from_millis(15)..StdDuration::from_millis(40)).contains(&period),
+        (StdDuration::from_millis(15)..StdDuration::from_millis(60)).contains(&period),
         "heartbeat period {period:?}"
     );
     master.send(&frame(0x000, &[0x01, 0x05])).unwrap();
