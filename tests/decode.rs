@@ -264,6 +264,7 @@ fn frames_it_cannot_attribute_are_printed_raw() {
             (0x585, &[0x00, 1, 2, 3, 4, 5, 6, 7]),
             (0x605, &[0x40, 0x00, 0x10]),
             (0x185, &[0xAA]),
+            (0x605, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
             (0x605, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
         ],
     );
@@ -277,6 +278,7 @@ fn frames_it_cannot_attribute_are_printed_raw() {
             "1700000000.001000  585  SDO        node 5 00 01 02 03 04 05 06 07: an SDO response that fits no transfer seen",
             "1700000000.002000  605  SDO        node 5 40 00 10: not an SDO request",
             "1700000000.003000  185  TPDO1      node 5 AA",
+            "1700000000.005000  605  SDO        node 5 read 1018:01 (abandoned for a new request)",
             "1700000001.000000  01234567  RAW        01",
             "1700000002.000000  ---  SDO        node 5 read 1000:00 (unfinished)",
         ]

@@ -226,6 +226,11 @@ impl Decoder {
         };
         match outcome {
             Outcome::Pending => None,
+            Outcome::Abandoned(old) => {
+                let described = self.described.get(&node);
+                let text = describe_transfer(described, node, number, &old, false);
+                Some(("SDO", format!("{text} (abandoned for a new request)")))
+            }
             Outcome::Unattributed(why) => Some((
                 "SDO",
                 format!("node {node} {}: {why}", text::hex_bytes(data)),
