@@ -352,3 +352,31 @@ fn a_second_sdo_channel_of_the_description_is_followed_apart() {
         ]
     );
 }
+
+#[test]
+fn a_time_message_gives_the_date_and_time() {
+    // 2026-11-24 15:04:05.123: 15,668 days after 1984-01-01, 54,245,123 ms after midnight.
+    let ms = 54_245_123u32.to_le_bytes();
+    let days = 15_668u16.to_le_bytes();
+    let mut d = Decoder::new();
+    let lines = decode(
+        &mut d,
+        &[
+            (0x100, &[ms[0], ms[1], ms[2], ms[3], days[0], days[1]]),
+            (0x100, &[0, 0, 0, 0, 0, 0]),
+            (0x100, &[0, 0, 0, 0, 0x0F, 0x17]),
+            (0x100, &[0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
+            (0x100, &[1, 2]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.000000  100  TIME       2026-11-24 15:04:05.123",
+            "1700000000.001000  100  TIME       1984-01-01 00:00:00.000",
+            "1700000000.002000  100  TIME       2000-02-29 00:00:00.000",
+            "1700000000.003000  100  TIME       2163-06-06 74:33:55.455",
+            "1700000000.004000  100  TIME       01 02",
+        ]
+    );
+}

@@ -102,7 +102,10 @@ impl Decoder {
                 (0x000, 0) => Some(self.nmt(frame.data())),
                 (0x080, 0) => Some(sync(frame.data())),
                 (0x080, _) => Some(emergency(node, frame.data())),
-                (0x100, 0) => Some(("TIME", raw(frame))),
+                (0x100, 0) => Some((
+                    "TIME",
+                    text::time_of_day(frame.data()).unwrap_or_else(|| raw(frame)),
+                )),
                 (0x580, 1..) => self.sdo(node, 0, false, frame.data()),
                 (0x600, 1..) => self.sdo(node, 0, true, frame.data()),
                 (0x700, 1..) => Some(self.error_control(node, frame.data())),
