@@ -249,7 +249,7 @@ fn pdos_follow_the_mapping_and_cob_ids_written_on_the_bus() {
             sdo("013000") + "1800:01 TPDO1 communication parameter: COB-ID used by TPDO = 641 (0x00000281)",
             "1700000000.014000  281  TPDO1      node 1 Enabled = true, Target speed = 300 (0x012C)".to_owned(),
             "1700000000.015000  181  TPDO1      node 1 01 2C 01".to_owned(),
-            "1700000000.016000  281  TPDO1      node 1 01 (the mapping needs 24 bits, the PDO has 1 bytes)".to_owned(),
+            "1700000000.016000  281  TPDO1      node 1 01 (the mapping needs 24 bits, the PDO has 8)".to_owned(),
         ]
     );
 }

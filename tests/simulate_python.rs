@@ -518,7 +518,7 @@ fn a_session_trace_decoded_names_the_entries_and_shows_the_values_sent() {
         "080  SYNC",
         "189  TPDO1      node 9 Actual speed = -2",
         "209  RPDO1      node 9 Target speed = 102",
-        "209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)",
+        "209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0)",
         "089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00",
         "000  NMT        stop node 9",
     ] {

@@ -23,7 +23,7 @@
 //! 1764000000.080000  080  SYNC
 //! 1764000000.080400  189  TPDO1      node 9 Actual speed = -2
 //! 1764000000.081000  209  RPDO1      node 9 Target speed = 102
-//! 1764000000.090000  209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)
+//! 1764000000.090000  209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0)
 //! 1764000000.090300  089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00
 //! 1764000000.100000  7E5  RAW        12 34
 //! ```
@@ -31,7 +31,7 @@
 pub mod sdo;
 pub mod text;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
 use edsgen_codegen::model::Device;
@@ -58,7 +58,7 @@ pub struct Decoder {
     /// those of 1201h+ of a described node).
     sdo: BTreeMap<(u8, u8), Channel>,
     /// Nodes sent a node-guarding request whose answer has not come yet.
-    guarded: BTreeMap<u8, bool>,
+    guarded: BTreeSet<u8>,
 }
 
 impl Decoder {
@@ -133,7 +133,7 @@ impl Decoder {
 
     fn remote(&mut self, id: u16, node: u8, frame: &CanFrame) -> Option<(&'static str, String)> {
         if id & !0x7F == 0x700 && node != 0 {
-            self.guarded.insert(node, true);
+            self.guarded.insert(node);
             return Some(("GUARD", format!("node {node} request")));
         }
         Some(("RAW", format!("remote request, DLC {}", frame.dlc())))
@@ -172,7 +172,7 @@ impl Decoder {
     }
 
     fn error_control(&mut self, node: u8, data: &[u8]) -> (&'static str, String) {
-        let guarded = self.guarded.remove(&node).unwrap_or(false);
+        let guarded = self.guarded.remove(&node);
         let Some(ErrorControlRepr { state, toggle }) = ErrorControlRepr::parse(data) else {
             return (
                 "HEARTBEAT",
@@ -312,10 +312,10 @@ impl Described {
             let bits = usize::from(bits);
             if offset + bits > 8 * data.len() {
                 return format!(
-                    "{} (the mapping needs {} bits, the PDO has {} bytes)",
+                    "{} (the mapping needs {} bits, the PDO has {})",
                     text::hex_bytes(data),
                     offset + bits,
-                    data.len()
+                    8 * data.len()
                 );
             }
             if index >= 0x1000 && bits % 8 == 0 && offset % 8 == 0 {
