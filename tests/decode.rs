@@ -233,6 +233,10 @@ fn pdos_follow_the_mapping_and_cob_ids_written_on_the_bus() {
             (0x281, &[0x01, 0x2C, 0x01]),
             (0x181, &[0x01, 0x2C, 0x01]),
             (0x281, &[0x01]),
+            // Nothing mapped.
+            (0x601, &[0x2F, 0x00, 0x16, 0x00, 0x00, 0, 0, 0]),
+            (0x581, &[0x60, 0x00, 0x16, 0x00, 0, 0, 0, 0]),
+            (0x201, &[]),
         ],
     );
     let sdo = |t: &str| format!("1700000000.{t}  581  SDO        node 1 write ");
@@ -250,6 +254,8 @@ fn pdos_follow_the_mapping_and_cob_ids_written_on_the_bus() {
             "1700000000.014000  281  TPDO1      node 1 Enabled = true, Target speed = 300 (0x012C)".to_owned(),
             "1700000000.015000  181  TPDO1      node 1 01 2C 01".to_owned(),
             "1700000000.016000  281  TPDO1      node 1 01 (the mapping needs 24 bits, the PDO has 8)".to_owned(),
+            sdo("018000") + "1600:00 RPDO1 mapping parameter: Number of mapped objects = 0",
+            "1700000000.019000  201  RPDO1      node 1 (nothing mapped)".to_owned(),
         ]
     );
 }

@@ -5,7 +5,22 @@
 //!
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
 //! DCF's `[DeviceComissioning]` NodeID. `--trace` prints every frame on the bus decoded
-//! ([`crate::decode`]), as a further listening connection sees it.
+//! ([`crate::decode`]), as a further listening connection sees it. With python `canopen` as the
+//! master (some lines left out):
+//!
+//! ```text
+//! $ edsgen bus &
+//! $ edsgen simulate eds/cp301.eds@3 eds/ms300.eds@4 --trace
+//! simulating node 3 (eds/cp301.eds) on 127.0.0.1:29536
+//! simulating node 4 (eds/ms300.eds) on 127.0.0.1:29536
+//! 1795532924.966401  703  HEARTBEAT  node 3 boot-up
+//! 1795532924.966816  704  HEARTBEAT  node 4 boot-up
+//! 1795532925.494510  000  NMT        start, all nodes
+//! 1795532925.494695  184  TPDO1      node 4 (nothing mapped)
+//! 1795532925.495354  583  SDO        node 3 write 6040:00 Controlword = 15
+//! 1795532925.521437  583  SDO        node 3 read 6041:00 Statusword = 0
+//! 1795532925.521883  080  SYNC
+//! ```
 
 use std::io::Write;
 use std::path::PathBuf;

@@ -332,8 +332,11 @@ impl Described {
             }
             offset += bits;
         }
-        if fields.is_empty() {
-            return text::hex_bytes(data);
+        match (fields.is_empty(), count, data.is_empty()) {
+            (true, 0, true) => return "(nothing mapped)".into(),
+            (true, 0, false) => return format!("(nothing mapped) {}", text::hex_bytes(data)),
+            (true, _, _) => return text::hex_bytes(data),
+            _ => {}
         }
         fields.join(", ")
     }
