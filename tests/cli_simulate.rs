@@ -3,6 +3,8 @@
 //! several devices in one process on one hub, and `--trace`. Every wait is bounded; children are
 //! killed when their guard drops.
 
+mod sim_support;
+
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
@@ -154,6 +156,31 @@ fn simulate_refuses_bad_and_missing_node_ids() {
         stderr(&out),
         "error: node-ID 3 is given to both `eds/cp301.eds` and `eds/ms300.eds`\n"
     );
+}
+
+#[test]
+fn simulate_takes_a_dcf_node_id_only_in_range_and_one_node_id_per_file() {
+    let dcf = sim_support::DEVICE_EDS.to_owned() + "\n[DeviceComissioning]\nNodeID=0xFF\n";
+    let path = log_file("unconfigured.dcf", &dcf);
+    let out = edsgen(&["simulate", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "error: {}: the DCF's NodeID 255 is not in 1..=127; give --node-id\n",
+            path.display()
+        )
+    );
+    let out = edsgen(&[
+        "simulate",
+        "eds/cp301.eds",
+        "--node-id",
+        "3",
+        "--node-id",
+        "4",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(stderr(&out), "error: 2 --node-id for 1 file(s)\n");
 }
 
 #[test]

@@ -233,6 +233,10 @@ fn pdos_follow_the_mapping_and_cob_ids_written_on_the_bus() {
             (0x281, &[0x01, 0x2C, 0x01]),
             (0x181, &[0x01, 0x2C, 0x01]),
             (0x281, &[0x01]),
+            // Nothing mapped.
+            (0x601, &[0x2F, 0x00, 0x16, 0x00, 0x00, 0, 0, 0]),
+            (0x581, &[0x60, 0x00, 0x16, 0x00, 0, 0, 0, 0]),
+            (0x201, &[]),
         ],
     );
     let sdo = |t: &str| format!("1700000000.{t}  581  SDO        node 1 write ");
@@ -249,7 +253,9 @@ fn pdos_follow_the_mapping_and_cob_ids_written_on_the_bus() {
             sdo("013000") + "1800:01 TPDO1 communication parameter: COB-ID used by TPDO = 641 (0x00000281)",
             "1700000000.014000  281  TPDO1      node 1 Enabled = true, Target speed = 300 (0x012C)".to_owned(),
             "1700000000.015000  181  TPDO1      node 1 01 2C 01".to_owned(),
-            "1700000000.016000  281  TPDO1      node 1 01 (the mapping needs 24 bits, the PDO has 1 bytes)".to_owned(),
+            "1700000000.016000  281  TPDO1      node 1 01 (the mapping needs 24 bits, the PDO has 8)".to_owned(),
+            sdo("018000") + "1600:00 RPDO1 mapping parameter: Number of mapped objects = 0",
+            "1700000000.019000  201  RPDO1      node 1 (nothing mapped)".to_owned(),
         ]
     );
 }
@@ -264,6 +270,7 @@ fn frames_it_cannot_attribute_are_printed_raw() {
             (0x585, &[0x00, 1, 2, 3, 4, 5, 6, 7]),
             (0x605, &[0x40, 0x00, 0x10]),
             (0x185, &[0xAA]),
+            (0x605, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
             (0x605, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
         ],
     );
@@ -277,6 +284,7 @@ fn frames_it_cannot_attribute_are_printed_raw() {
             "1700000000.001000  585  SDO        node 5 00 01 02 03 04 05 06 07: an SDO response that fits no transfer seen",
             "1700000000.002000  605  SDO        node 5 40 00 10: not an SDO request",
             "1700000000.003000  185  TPDO1      node 5 AA",
+            "1700000000.005000  605  SDO        node 5 read 1018:01 (abandoned for a new request)",
             "1700000001.000000  01234567  RAW        01",
             "1700000002.000000  ---  SDO        node 5 read 1000:00 (unfinished)",
         ]
@@ -347,6 +355,34 @@ fn a_second_sdo_channel_of_the_description_is_followed_apart() {
         [
             "1700000000.002000  5C1  SDO        node 1 (SDO channel 2) read 1018:01 Identity object: Vendor-ID = 4660 (0x00001234)",
             "1700000000.003000  581  SDO        node 1 read 2003:00 Actual speed = -2",
+        ]
+    );
+}
+
+#[test]
+fn a_time_message_gives_the_date_and_time() {
+    // 2026-11-24 15:04:05.123: 15,668 days after 1984-01-01, 54,245,123 ms after midnight.
+    let ms = 54_245_123u32.to_le_bytes();
+    let days = 15_668u16.to_le_bytes();
+    let mut d = Decoder::new();
+    let lines = decode(
+        &mut d,
+        &[
+            (0x100, &[ms[0], ms[1], ms[2], ms[3], days[0], days[1]]),
+            (0x100, &[0, 0, 0, 0, 0, 0]),
+            (0x100, &[0, 0, 0, 0, 0x0F, 0x17]),
+            (0x100, &[0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
+            (0x100, &[1, 2]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.000000  100  TIME       2026-11-24 15:04:05.123",
+            "1700000000.001000  100  TIME       1984-01-01 00:00:00.000",
+            "1700000000.002000  100  TIME       2000-02-29 00:00:00.000",
+            "1700000000.003000  100  TIME       2163-06-06 74:33:55.455",
+            "1700000000.004000  100  TIME       01 02",
         ]
     );
 }

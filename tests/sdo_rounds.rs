@@ -1,8 +1,8 @@
 //! 10,000 SDO transactions, python `canopen` 2.4.1 master → `edsgen simulate` (CP301 at node 3)
 //! through the socketcand hub, without a failure; the same against python canopen's own
-//! LocalNode in the same run, for the median round trip beside it; and the hub's relay rate (one
-//! client sending, one receiving). The figures are printed (`cargo test --release --test
-//! sdo_rounds -- --nocapture`), the test asserts no failure and that every frame was relayed.
+//! LocalNode in the same run, for the median round trip beside it. The figures are printed
+//! (`cargo test --release --test sdo_rounds -- --nocapture`); the test asserts no failure.
+//! (`examples/socketcand_bench` measures the generated CP301 node and the hub's relay rate.)
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
@@ -11,9 +11,6 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
-use edsgen_runtime::CanFrame;
 
 const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
 const ROUNDS: &str = "10000";
@@ -155,41 +152,5 @@ fn ten_thousand_sdo_transactions_through_the_hub_without_a_failure() {
     eprintln!(
         "{ROUNDS} SDO uploads: edsgen simulate median {simulated_us} µs ({relayed} frames relayed in {:.1} s), python LocalNode median {local_us} µs ({local_failures} failures)",
         elapsed.as_secs_f64()
-    );
-}
-
-#[test]
-fn the_hub_relays_every_frame_of_a_burst() {
-    const FRAMES: u32 = 100_000;
-    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
-    let addr = hub.local_addr();
-    let mut sender = SocketcandClient::connect(addr, "can0", Duration::from_secs(3)).unwrap();
-    let mut receiver = SocketcandClient::connect(addr, "can0", Duration::from_secs(3)).unwrap();
-    // Past the hub's quiet period after rawmode, the receiver gets everything.
-    std::thread::sleep(Duration::from_millis(100));
-    let started = Instant::now();
-    let sending = std::thread::spawn(move || {
-        for i in 0..FRAMES {
-            sender
-                .send(&CanFrame::new(0x181, &i.to_le_bytes()).unwrap())
-                .unwrap();
-        }
-        sender
-    });
-    let mut next = 0u32;
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while next < FRAMES {
-        assert!(Instant::now() < deadline, "only {next} frames arrived");
-        if let Some(frame) = receiver.recv_timeout(Duration::from_millis(100)).unwrap() {
-            assert_eq!(frame.data(), next.to_le_bytes(), "in order, none lost");
-            next += 1;
-        }
-    }
-    let elapsed = started.elapsed();
-    let _sender = sending.join().unwrap();
-    eprintln!(
-        "hub relay: {FRAMES} frames in {:.2} s, {:.0} frames/s",
-        elapsed.as_secs_f64(),
-        f64::from(FRAMES) / elapsed.as_secs_f64()
     );
 }

@@ -1,7 +1,8 @@
 //! The run-time object dictionary (`edsgen::sim::RuntimeDictionary`): built from a model, it
 //! answers every SDO request exactly as the `Od` generated from the same file, resolves
 //! `$NODEID`, honours a DCF, checks lengths and limits, and serves a `Node` on the virtual bus
-//! for every SDO transfer type and PDO mapping changes.
+//! for every SDO transfer type and PDO mapping changes; a node serving each corpus device
+//! answers an upload of every entry.
 
 mod sim_support;
 
@@ -409,4 +410,93 @@ fn node_follows_a_pdo_mapping_change_and_exchanges_pdos_on_sync() {
     );
     assert_eq!(read_value(b.node.od(), 0x2002, 0), [0x23, 0x01]);
     assert_eq!(b.exchange(&[frame(0x080, &[])]), ["181: FE FF 23 01"]);
+}
+
+/// The corpus directory (`EDSGEN_CORPUS`, else `../shared/eds-corpus`); `None` (a skip) where
+/// it is absent, except under `CI=true`.
+fn corpus_dir() -> Option<std::path::PathBuf> {
+    let dir = std::env::var_os("EDSGEN_CORPUS")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/eds-corpus"));
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var("CI").as_deref() != Ok("true"),
+        "corpus not found: set EDSGEN_CORPUS"
+    );
+    eprintln!("corpus not found (set EDSGEN_CORPUS); skipping");
+    None
+}
+
+#[test]
+fn every_corpus_device_is_served_and_answers_an_upload_of_every_entry() {
+    let Some(dir) = corpus_dir() else { return };
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.path().is_dir())
+        .flat_map(|e| std::fs::read_dir(e.path()).unwrap().flatten())
+        .map(|e| e.path())
+        .filter(|p| {
+            let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+            matches!(
+                ext.to_ascii_lowercase().as_str(),
+                "eds" | "dcf" | "xdd" | "xdc"
+            )
+        })
+        .collect();
+    files.sort();
+    assert!(files.len() >= 100, "{} files", files.len());
+    let mut disabled = Vec::new();
+    for path in &files {
+        let device = edsgen_codegen::read::read_file(path).unwrap().device;
+        let od = RuntimeDictionary::new(&device, 1);
+        // The SDO server's COB-IDs: 1200h's (a DCF may configure others), else 601h/581h.
+        let cob = |sub: u8, default: u32| match od.find(0x1200, sub) {
+            Ok(_) => {
+                let value = read_value(&od, 0x1200, sub);
+                u32::from_le_bytes([value[0], value[1], value[2], value[3]])
+            }
+            Err(_) => default,
+        };
+        let (rx, tx) = (cob(1, 0x601), cob(2, 0x581));
+        if (rx | tx) & 0x8000_0000 != 0 {
+            // The description disables its SDO server (CANopenNode's XDDs hold 8000 0000h
+            // there and set the COB-IDs at run time; the runtime honours the value).
+            disabled.push(path.file_name().unwrap().to_string_lossy().into_owned());
+            continue;
+        }
+        let (rx, tx) = (rx as u16 & 0x7FF, tx as u16 & 0x7FF);
+        let uploads: Vec<CanFrame> = od
+            .entries()
+            .iter()
+            .map(|e| {
+                let [lo, hi] = e.index.to_le_bytes();
+                frame(rx, &[0x40, lo, hi, e.sub, 0, 0, 0, 0])
+            })
+            .collect();
+        let mut node = Node::with_hooks(od, DictionaryHooks::default(), 1, ms(0)).unwrap();
+        let mut bus = VirtualBus::new(ms(0));
+        bus.run_until(ms(0), &mut [&mut node]);
+        bus.take_log();
+        let mut answered = 0;
+        for upload in &uploads {
+            bus.inject(*upload, &mut [&mut node]);
+            // Each upload is answered (expedited, a segmented initiate, or an abort for a
+            // write-only entry); a segmented one is abandoned by the next request.
+            answered += bus
+                .take_log()
+                .iter()
+                .filter(|(_, sender, f)| *sender == 0 && f.std_id() == Some(tx))
+                .count();
+        }
+        assert_eq!(answered, uploads.len(), "{}", path.display());
+    }
+    // One: oresat's battery card, whose 1200h holds 8000 0000h in both COB-IDs.
+    assert_eq!(
+        disabled,
+        ["src__f0__app_battery__source__ObjDict__app.xdd"],
+        "files whose SDO server is disabled"
+    );
 }

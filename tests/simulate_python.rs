@@ -4,8 +4,9 @@
 //! with CompactSubObj, one with DOMAINs, a big Sevcon file), `scripts/canopen_master.py` runs
 //! NMT, heartbeat, SDO expedited, segmented and block both ways, an abort, PDO configuration
 //! through python's PDO API with TPDO exchange on SYNC and an RPDO, and an EMCY. The expected
-//! lines are computed from the device's run-time dictionary. And a session's hub trace, decoded
-//! by `edsgen decode`, names the entries and shows the values sent.
+//! lines are computed from the device's run-time dictionary. Three python masters run at once
+//! against three devices of one `edsgen simulate` on one hub. And a session's hub trace,
+//! decoded by `edsgen decode`, names the entries and shows the values sent.
 //!
 //! Every wait is bounded; the simulator is killed when its guard drops.
 
@@ -337,16 +338,32 @@ fn access(access: Access) -> &'static str {
 }
 
 /// python as master of `path` simulated as `node_id` (`None`: the DCF's own), through a hub
-/// whose trace goes to `trace` if given. Returns the decoded trace's lines, if traced.
+/// whose trace goes to `trace` if given.
 fn python_masters(path: &Path, node_id: Option<u8>, trace: Option<&Path>) {
+    python_masters_all(&[(path, node_id)], trace);
+}
+
+/// One `edsgen simulate` serving every device, and one python master per device, all at once,
+/// on one hub.
+fn python_masters_all(devices: &[(&Path, Option<u8>)], trace: Option<&Path>) {
     let Some(python) = python() else { return };
-    let device = edsgen_codegen::read::read_file(path).unwrap().device;
-    let id = node_id.unwrap_or_else(|| commissioned_node_id(&device).unwrap() as u8);
-    let (plan, expected) = plan(&device, id);
-    let dir = std::env::temp_dir().join(format!("edsgen-simulate-{}-{id}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("edsgen-simulate-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let plan_path = dir.join(format!("plan-{id}.json"));
-    std::fs::write(&plan_path, plan.to_string()).unwrap();
+    let mut args = Vec::new();
+    let mut masters = Vec::new();
+    for &(path, node_id) in devices {
+        let device = edsgen_codegen::read::read_file(path).unwrap().device;
+        let id = node_id.unwrap_or_else(|| commissioned_node_id(&device).unwrap() as u8);
+        let (plan, expected) = plan(&device, id);
+        let plan_path = dir.join(format!("plan-{id}.json"));
+        std::fs::write(&plan_path, plan.to_string()).unwrap();
+        let file = path.to_str().unwrap().to_owned();
+        args.push(match node_id {
+            Some(id) => format!("{file}@{id}"),
+            None => file,
+        });
+        masters.push((path.to_owned(), plan_path, expected));
+    }
     let log: Option<Box<dyn std::io::Write + Send>> =
         trace.map(|p| Box::new(std::fs::File::create(p).unwrap()) as _);
     let hub = Hub::start(
@@ -358,17 +375,36 @@ fn python_masters(path: &Path, node_id: Option<u8>, trace: Option<&Path>) {
     )
     .expect("the hub starts");
     let addr = hub.local_addr().to_string();
-    let file = path.to_str().unwrap().to_owned();
-    let arg = match node_id {
-        Some(id) => format!("{file}@{id}"),
-        None => file,
-    };
-    let _sim = simulate(&[&arg], &addr, 1);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let sim = simulate(&args, &addr, devices.len());
     let (host, port) = addr.rsplit_once(':').unwrap();
-    let got = run_python(&python, &[host, port, plan_path.to_str().unwrap()]);
-    assert_eq!(got, expected, "{}", path.display());
-    drop(_sim);
+    let running: Vec<_> = masters
+        .into_iter()
+        .map(|(path, plan_path, expected)| {
+            let (python, host, port) = (python.clone(), host.to_owned(), port.to_owned());
+            std::thread::spawn(move || {
+                let got = run_python(&python, &[&host, &port, plan_path.to_str().unwrap()]);
+                assert_eq!(got, expected, "{}", path.display());
+            })
+        })
+        .collect();
+    for master in running {
+        master.join().expect("a python master passed");
+    }
+    drop(sim);
     hub.stop();
+}
+
+#[test]
+fn several_python_masters_and_simulated_nodes_on_one_hub() {
+    python_masters_all(
+        &[
+            (&root().join("eds/cp301.eds"), Some(21)),
+            (&root().join("eds/goodrive350.eds"), Some(22)),
+            (&root().join("eds/ms300.eds"), Some(23)),
+        ],
+        None,
+    );
 }
 
 #[test]
@@ -482,7 +518,7 @@ fn a_session_trace_decoded_names_the_entries_and_shows_the_values_sent() {
         "080  SYNC",
         "189  TPDO1      node 9 Actual speed = -2",
         "209  RPDO1      node 9 Target speed = 102",
-        "209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)",
+        "209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0)",
         "089  EMCY       node 9 8210 PDO not processed due to length error; register 11h (generic, communication); manufacturer 00 00 00 00 00",
         "000  NMT        stop node 9",
     ] {

@@ -7,14 +7,31 @@
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
 //! DCF's `[DeviceComissioning]` NodeID. A card's is its `@ID`, else its default (cp301 1, ms300 2,
 //! goodrive350 3, rd11 4, hd1e 5). `--trace` prints every frame on the bus decoded
-//! ([`edsgen::decode`]), as a further listening connection sees it.
+//! ([`edsgen::decode`]), as a further listening connection sees it. With python `canopen` as the
+//! master (some lines left out):
+//!
+//! ```text
+//! $ edsgen bus &
+//! $ edsgen simulate eds/cp301.eds@3 eds/ms300.eds@4 --trace
+//! simulating node 3 (eds/cp301.eds) on 127.0.0.1:29536
+//! simulating node 4 (eds/ms300.eds) on 127.0.0.1:29536
+//! 1795532924.966401  703  HEARTBEAT  node 3 boot-up
+//! 1795532924.966816  704  HEARTBEAT  node 4 boot-up
+//! 1795532925.494510  000  NMT        start, all nodes
+//! 1795532925.494695  184  TPDO1      node 4 (nothing mapped)
+//! 1795532925.495354  583  SDO        node 3 write 6040:00 Controlword = 15
+//! 1795532925.521437  583  SDO        node 3 read 6041:00 Statusword = 0
+//! 1795532925.521883  080  SYNC
+//! ```
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime};
 
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_runtime::transport::trace::epoch_micros;
 use edsgen_runtime::transport::Transport;
 use edsgen_runtime::vbus::BusDevice;
 use edsgen_runtime::Node;
@@ -137,20 +154,23 @@ pub fn run(args: Args) -> ExitCode {
             let why = result.err().map_or("closed".to_owned(), |e| e.to_string());
             return fail(format!("{bus} went away: {why}"));
         }
-        match listener.as_mut() {
-            Some(client) => match client.recv_timeout(Duration::from_millis(100)) {
-                Ok(Some(frame)) => {
-                    let now = SystemTime::now()
-                        .duration_since(UNIX_EPOCH)
-                        .unwrap_or_default();
-                    for line in decoder.decode(now, &frame) {
-                        println!("{line}");
-                    }
-                }
-                Ok(None) => {}
-                Err(e) => return fail(format!("{bus} went away: {e}")),
-            },
-            None => std::thread::sleep(Duration::from_millis(100)),
+        let Some(client) = listener.as_mut() else {
+            std::thread::sleep(Duration::from_millis(100));
+            continue;
+        };
+        let frame = match client.recv_timeout(Duration::from_millis(100)) {
+            Ok(Some(frame)) => frame,
+            Ok(None) => continue,
+            Err(e) => return fail(format!("{bus} went away: {e}")),
+        };
+        let now = Duration::from_micros(epoch_micros(SystemTime::now()));
+        let mut out = std::io::stdout().lock();
+        for line in decoder.decode(now, &frame) {
+            if writeln!(out, "{line}").is_err() {
+                // Nobody reads the trace any more (`| head`): the devices carry on without it.
+                listener = None;
+                break;
+            }
         }
     }
 }

@@ -23,7 +23,7 @@
 //! 1764000000.080000  080  SYNC
 //! 1764000000.080400  189  TPDO1      node 9 Actual speed = -2
 //! 1764000000.081000  209  RPDO1      node 9 Target speed = 102
-//! 1764000000.090000  209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0 bytes)
+//! 1764000000.090000  209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0)
 //! 1764000000.090300  089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00
 //! 1764000000.100000  7E5  RAW        12 34
 //! ```
@@ -31,7 +31,7 @@
 pub mod sdo;
 pub mod text;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
 use edsgen_codegen::model::Device;
@@ -58,7 +58,7 @@ pub struct Decoder {
     /// those of 1201h+ of a described node).
     sdo: BTreeMap<(u8, u8), Channel>,
     /// Nodes sent a node-guarding request whose answer has not come yet.
-    guarded: BTreeMap<u8, bool>,
+    guarded: BTreeSet<u8>,
 }
 
 impl Decoder {
@@ -102,7 +102,10 @@ impl Decoder {
                 (0x000, 0) => Some(self.nmt(frame.data())),
                 (0x080, 0) => Some(sync(frame.data())),
                 (0x080, _) => Some(emergency(node, frame.data())),
-                (0x100, 0) => Some(("TIME", raw(frame))),
+                (0x100, 0) => Some((
+                    "TIME",
+                    text::time_of_day(frame.data()).unwrap_or_else(|| raw(frame)),
+                )),
                 (0x580, 1..) => self.sdo(node, 0, false, frame.data()),
                 (0x600, 1..) => self.sdo(node, 0, true, frame.data()),
                 (0x700, 1..) => Some(self.error_control(node, frame.data())),
@@ -130,7 +133,7 @@ impl Decoder {
 
     fn remote(&mut self, id: u16, node: u8, frame: &CanFrame) -> Option<(&'static str, String)> {
         if id & !0x7F == 0x700 && node != 0 {
-            self.guarded.insert(node, true);
+            self.guarded.insert(node);
             return Some(("GUARD", format!("node {node} request")));
         }
         Some(("RAW", format!("remote request, DLC {}", frame.dlc())))
@@ -169,7 +172,7 @@ impl Decoder {
     }
 
     fn error_control(&mut self, node: u8, data: &[u8]) -> (&'static str, String) {
-        let guarded = self.guarded.remove(&node).unwrap_or(false);
+        let guarded = self.guarded.remove(&node);
         let Some(ErrorControlRepr { state, toggle }) = ErrorControlRepr::parse(data) else {
             return (
                 "HEARTBEAT",
@@ -226,6 +229,11 @@ impl Decoder {
         };
         match outcome {
             Outcome::Pending => None,
+            Outcome::Abandoned(old) => {
+                let described = self.described.get(&node);
+                let text = describe_transfer(described, node, number, &old, false);
+                Some(("SDO", format!("{text} (abandoned for a new request)")))
+            }
             Outcome::Unattributed(why) => Some((
                 "SDO",
                 format!("node {node} {}: {why}", text::hex_bytes(data)),
@@ -304,10 +312,10 @@ impl Described {
             let bits = usize::from(bits);
             if offset + bits > 8 * data.len() {
                 return format!(
-                    "{} (the mapping needs {} bits, the PDO has {} bytes)",
+                    "{} (the mapping needs {} bits, the PDO has {})",
                     text::hex_bytes(data),
                     offset + bits,
-                    data.len()
+                    8 * data.len()
                 );
             }
             if index >= 0x1000 && bits % 8 == 0 && offset % 8 == 0 {
@@ -324,8 +332,11 @@ impl Described {
             }
             offset += bits;
         }
-        if fields.is_empty() {
-            return text::hex_bytes(data);
+        match (fields.is_empty(), count, data.is_empty()) {
+            (true, 0, true) => return "(nothing mapped)".into(),
+            (true, 0, false) => return format!("(nothing mapped) {}", text::hex_bytes(data)),
+            (true, _, _) => return text::hex_bytes(data),
+            _ => {}
         }
         fields.join(", ")
     }

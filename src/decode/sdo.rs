@@ -40,6 +40,9 @@ pub enum Outcome {
     Pending,
     /// The frame finished a transfer.
     Done(Transfer),
+    /// The frame (a new request) started a transfer while this one was unfinished: the server
+    /// drops the old one.
+    Abandoned(Transfer),
     /// The frame fits no transfer seen (the log started in the middle of one, or a protocol
     /// error); `why` says so.
     Unattributed(&'static str),
@@ -267,9 +270,11 @@ impl Channel {
     }
 
     fn start(&mut self, write: bool, mux: Multiplexer, data: Vec<u8>, kind: Kind) -> Outcome {
-        // A new request ends whatever was going on (the server aborts or forgets it).
-        self.active = Some(Active::new(write, mux, data, kind));
-        Outcome::Pending
+        // A new request ends whatever was going on (the server forgets it).
+        match self.active.replace(Active::new(write, mux, data, kind)) {
+            Some(old) => Outcome::Abandoned(old.finish(None)),
+            None => Outcome::Pending,
+        }
     }
 
     fn abort(&mut self, mux: Multiplexer, code: u32, by_server: bool) -> Outcome {

@@ -171,3 +171,27 @@ pub fn error_register(register: u8) -> String {
         set.join(", ")
     }
 }
+
+/// A TIME_OF_DAY message's 6 bytes (milliseconds after midnight in bits 0–27, days since
+/// 1984-01-01 in bytes 4–5) as `2026-11-24 15:04:05.123`; `None` for another length.
+pub fn time_of_day(data: &[u8]) -> Option<String> {
+    let &[a, b, c, d, e, f] = data else {
+        return None;
+    };
+    let ms = u32::from_le_bytes([a, b, c, d]) & 0x0FFF_FFFF;
+    let days = i64::from(u16::from_le_bytes([e, f]));
+    // Days since 1984-01-01 to a civil date (the proleptic Gregorian calendar, counted in
+    // 400-year eras from 0000-03-01).
+    let z = days + 724_581; // days from 0000-03-01 to 1984-01-01
+    let (era, doe) = (z / 146_097, z % 146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    let (h, m, sec, milli) = (ms / 3_600_000, ms / 60_000 % 60, ms / 1000 % 60, ms % 1000);
+    Some(format!(
+        "{year:04}-{month:02}-{day:02} {h:02}:{m:02}:{sec:02}.{milli:03}"
+    ))
+}
