@@ -212,6 +212,36 @@ pub mod gd350 {
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
             LAYOUT.write(&mut self.values, position, data)
         }
+        fn write_part(
+            &mut self,
+            position: usize,
+            offset: usize,
+            data: &[u8],
+        ) -> Result<(), ::edsgen_runtime::SdoAbort> {
+            LAYOUT.write_part(&mut self.values, position, offset, data)
+        }
+        fn finish_write(
+            &mut self,
+            position: usize,
+            len: usize,
+        ) -> Result<(), ::edsgen_runtime::SdoAbort> {
+            LAYOUT.finish_write(&mut self.values, position, len)
+        }
+        fn restore_defaults(
+            &mut self,
+            indices: ::core::ops::RangeInclusive<u16>,
+            node_id: u8,
+        ) -> bool {
+            LAYOUT
+                .restore_defaults(
+                    &mut self.values,
+                    &DEFAULTS,
+                    &NODE_RELATIVE,
+                    node_id,
+                    indices,
+                );
+            true
+        }
     }
     /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
     pub mod od {
