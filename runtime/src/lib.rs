@@ -26,6 +26,8 @@ pub mod image;
 pub mod node;
 pub mod od;
 pub mod sdo;
+#[doc(hidden)]
+pub mod support;
 pub mod time;
 #[cfg(feature = "std")]
 pub mod transport;
