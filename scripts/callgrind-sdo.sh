@@ -3,7 +3,8 @@
 #
 # Runs runtime/examples/sdo_loop (release) with 0 and with 10000 pairs under
 # `valgrind --tool=callgrind` and prints (Ir(10000) - Ir(0)) / 10000, so process start-up and
-# printing cancel out. Needs valgrind.
+# printing cancel out. Needs valgrind. Fails (exit 1) above the budget `cost.sdo_server.pair` in
+# budgets.toml.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 pairs=10000
@@ -21,4 +22,10 @@ instructions() {
 base=$(instructions 0)
 loaded=$(instructions "$pairs")
 echo "instructions: $base (0 pairs), $loaded ($pairs pairs)"
-echo "per pair: $(( (loaded - base) / pairs ))"
+per_pair=$(( (loaded - base) / pairs ))
+limit=$(awk '$1 == "cost.sdo_server.pair" && $2 == "=" { print $3 }' budgets.toml)
+echo "per pair: $per_pair (budget $limit)"
+if [ "$per_pair" -gt "$limit" ]; then
+    echo "OVER BUDGET: cost.sdo_server.pair is $per_pair instructions, the budget is $limit (budgets.toml)"
+    exit 1
+fi

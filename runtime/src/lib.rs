@@ -29,6 +29,8 @@ pub mod master;
 pub mod node;
 pub mod od;
 pub mod sdo;
+#[doc(hidden)]
+pub mod support;
 pub mod time;
 #[cfg(feature = "std")]
 pub mod transport;

@@ -618,9 +618,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
             }
         }
-        if matches!(id, 0x701..=0x77F) && frame.dlc() == 1 {
-            self.error_control
-                .heartbeat_received((id - 0x700) as u8, now);
+        if let Some(node_id) = ErrorControlRepr::node_of(id) {
+            if frame.dlc() == 1 {
+                self.error_control.heartbeat_received(node_id, now);
+            }
         }
     }
 

@@ -226,9 +226,9 @@ pub trait ObjectDictionary {
 
     /// The most bytes the value of the entry at `position` can hold: its data type's fixed
     /// size, or a string's, octet string's or domain's capacity. The SDO server refuses a longer
-    /// download as soon as it is announced or exceeded (0607 0012) rather than collecting it
-    /// first. The default knows fixed sizes only (`None` for the others, so that a too-long
-    /// download is refused by [`write`](Self::write) when it completes); a dictionary holding
+    /// download as soon as it is announced or exceeded (0607 0012). The default knows fixed
+    /// sizes only (`None` for the others, so that a too-long download is refused by
+    /// [`write_part`](Self::write_part) when a piece passes the end); a dictionary holding
     /// strings or domains says their capacity.
     fn capacity(&self, position: usize) -> Option<usize> {
         self.entries().get(position)?.data_type.fixed_size()

@@ -9,6 +9,7 @@ use super::pdo::{self, Direction, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::wire::pdo::{CobIdEntry, MappingEntry};
+use crate::wire::sdo::{SDO_REQUEST_BASE, SDO_RESPONSE_BASE};
 
 /// The "save" signature for 1010h (CiA 301 §7.5.2.13), as the little-endian bytes of 65766173h.
 pub const SAVE_SIGNATURE: [u8; 4] = *b"save";
@@ -77,7 +78,11 @@ const NOT_EXEMPT: (u16, u16) = (1, 0);
 /// client any node's pre-defined pair (how it reaches another node's default server).
 fn sdo_exempt(index: u16, sub: u8, node_id: u8) -> (u16, u16) {
     let node = u16::from(node_id);
-    let base = if sub == 1 { 0x600 } else { 0x580 };
+    let base = if sub == 1 {
+        SDO_REQUEST_BASE
+    } else {
+        SDO_RESPONSE_BASE
+    };
     match index {
         0x1200 => (base + node, base + node),
         0x1280..=0x12FF => (base + 1, base + 0x7F),

@@ -6,7 +6,7 @@ use super::{read_uint, read_uint_or};
 use crate::frame::CanFrame;
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
-use crate::wire::emcy::EmcyRepr;
+use crate::wire::emcy::{EmcyRepr, EMCY_BASE};
 use crate::wire::pdo::CobIdEntry;
 
 /// Bits of the error register (1001h, CiA 301 §7.5.2.2).
@@ -93,7 +93,8 @@ pub(crate) struct Emcy {
 impl Emcy {
     /// Reads 1014h, 1015h and the size of 1003h (reset communication or an SDO write).
     pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, node_id: u8) {
-        let cob = CobIdEntry(read_uint_or(od, 0x1014, 0, 0x80 + u32::from(node_id)));
+        let default = u32::from(EMCY_BASE) + u32::from(node_id);
+        let cob = CobIdEntry(read_uint_or(od, 0x1014, 0, default));
         self.cob_id = cob.can_id();
         self.enabled = cob.valid() && !cob.extended();
         self.inhibit = Duration::from_micros(u64::from(read_uint_or(od, 0x1015, 0, 0)) * 100);

@@ -8,6 +8,7 @@ use crate::od::ObjectDictionary;
 use crate::sdo::{SdoEvent, SdoServer};
 use crate::time::{Duration, Instant};
 use crate::wire::pdo::CobIdEntry;
+use crate::wire::sdo::{SDO_REQUEST_BASE, SDO_RESPONSE_BASE};
 
 /// The SDO server's segment timeout.
 pub const SDO_TIMEOUT: Duration = Duration::from_millis(1000);
@@ -42,7 +43,10 @@ impl SdoChannel {
         let index = 0x1200 + n;
         let node = u32::from(node_id);
         let (mut rx, mut tx) = match n {
-            0 => (0x600 + node, 0x580 + node),
+            0 => (
+                u32::from(SDO_REQUEST_BASE) + node,
+                u32::from(SDO_RESPONSE_BASE) + node,
+            ),
             _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
         };
         if od.find(index, 0).is_ok() || od.find(index, 1).is_ok() {

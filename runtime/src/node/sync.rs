@@ -7,7 +7,7 @@ use super::{next_period, read_uint_or};
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
 use crate::wire::pdo::CobIdEntry;
-use crate::wire::sync::SyncRepr;
+use crate::wire::sync::{SyncRepr, SYNC_COB_ID};
 
 /// What [`Sync::handle_timeout`] found due.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -37,7 +37,7 @@ pub(crate) struct Sync {
 impl Sync {
     /// Reads 1005h, 1006h, 1007h and 1019h, and restarts the counter.
     pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
-        let cob = CobIdEntry(read_uint_or(od, 0x1005, 0, 0x80));
+        let cob = CobIdEntry(read_uint_or(od, 0x1005, 0, u32::from(SYNC_COB_ID)));
         self.cob_id = cob.can_id();
         self.producer = cob.bit30() && !cob.extended();
         self.period = Duration(u64::from(read_uint_or(od, 0x1006, 0, 0)));

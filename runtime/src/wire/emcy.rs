@@ -1,6 +1,9 @@
 //! Emergency frame layout (CiA 301 §7.2.7.3.1): eight bytes, the 16-bit emergency error code
 //! (little-endian), the error register (1001h), then five manufacturer-specific bytes.
 
+/// The function code of the pre-defined EMCY COB-ID: 80h + node-ID (1014h's default).
+pub const EMCY_BASE: u16 = 0x080;
+
 /// An emergency message.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 pub struct EmcyRepr {

@@ -80,11 +80,29 @@ impl ErrorControlRepr {
     pub const fn cob_id(node_id: u8) -> u16 {
         ERROR_CONTROL_BASE + node_id as u16
     }
+
+    /// The node-ID (1..=127) whose error-control COB-ID `id` is, if it is one.
+    #[inline]
+    pub const fn node_of(id: u16) -> Option<u8> {
+        match id.wrapping_sub(ERROR_CONTROL_BASE) {
+            node @ 1..=127 => Some(node as u8),
+            _ => None,
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_node_of_an_error_control_cob_id_is_1_to_127() {
+        assert_eq!(ErrorControlRepr::node_of(0x703), Some(3));
+        assert_eq!(ErrorControlRepr::node_of(0x77F), Some(127));
+        assert_eq!(ErrorControlRepr::node_of(0x700), None);
+        assert_eq!(ErrorControlRepr::node_of(0x780), None);
+        assert_eq!(ErrorControlRepr::node_of(0x083), None);
+    }
 
     #[test]
     fn goodrive350_guarding_answers() {

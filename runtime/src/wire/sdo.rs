@@ -11,6 +11,11 @@
 
 use command::{ccs, scs};
 
+/// The function code of the default SDO server's requests: 600h + node-ID (1200h sub 01h).
+pub const SDO_REQUEST_BASE: u16 = 0x600;
+/// The function code of the default SDO server's responses: 580h + node-ID (1200h sub 02h).
+pub const SDO_RESPONSE_BASE: u16 = 0x580;
+
 /// The length of every SDO frame's data (CiA 301 requires DLC 8).
 pub const FRAME_LEN: usize = 8;
 /// Data bytes carried by one segment (normal or block transfer).

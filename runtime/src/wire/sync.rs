@@ -1,6 +1,9 @@
 //! SYNC frame layout (CiA 301 §7.2.5.3): no data, or one byte with the counter (1..=240) when the
 //! synchronous counter overflow value (1019h) is not zero.
 
+/// The pre-defined SYNC COB-ID (1005h's default).
+pub const SYNC_COB_ID: u16 = 0x080;
+
 /// A SYNC message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct SyncRepr {

@@ -269,18 +269,18 @@ impl ObjectDictionary for TestOd {
         }
         let mut value = [0u8; 8];
         value[..size].copy_from_slice(data);
-        let signed = matches!(self.entries[pos].data_type, Integer16);
-        let number = if signed {
-            i64::from(i16::from_le_bytes([value[0], value[1]]))
-        } else {
-            u64::from_le_bytes(value) as i64
-        };
-        if self
+        if let Some(&(_, _, high)) = self
             .limits
             .iter()
-            .any(|&(i, s, high)| (i, s) == (index, sub) && number > high)
+            .find(|&&(i, s, _)| (i, s) == (index, sub))
         {
-            return Err(SdoAbort::ValueTooHigh);
+            let number = match self.entries[pos].data_type {
+                Integer16 => i64::from(i16::from_le_bytes([value[0], value[1]])),
+                _ => u64::from_le_bytes(value) as i64,
+            };
+            if number > high {
+                return Err(SdoAbort::ValueTooHigh);
+            }
         }
         self.values[pos] = value;
         Ok(())

@@ -1,0 +1,9 @@
+//! What only generated code calls: the value image's layout and default unpacking, bit packing
+//! of PDO payloads, and the table search. Not part of the documented API a firmware or master
+//! author uses; generated code names these paths (`::edsgen_runtime::support::…`), so they
+//! move with the runtime without breaking it.
+
+pub use crate::image::{add_node_id, unpack_defaults, Layout, Limit};
+pub use crate::typed::{
+    fits_signed, fits_unsigned, get_bits, payload, position, put_bits, read_bytes, sign_extend,
+};
