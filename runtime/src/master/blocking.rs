@@ -411,6 +411,20 @@ impl<T: Transport> Master<T> {
         Ok(())
     }
 
+    /// Downloads a configuration (a DCF's ParameterValues) in the safe order of
+    /// [`download_order`](super::dcf::download_order); the first write the node refuses is the
+    /// error (naming the entry).
+    pub fn download_configuration<V: AsRef<[u8]>>(
+        &mut self,
+        node_id: u8,
+        entries: &[(Multiplexer, V)],
+    ) -> Result<(), MasterError> {
+        for (mux, value) in super::dcf::download_order(entries) {
+            value.with_bytes(|bytes| self.download(node_id, mux, bytes, Mode::Normal))?;
+        }
+        Ok(())
+    }
+
     /// Sends a PDO: `payload` (a generated struct's `encode()`) on `cob_id` (its `cob_id(node)`).
     pub fn send_pdo(&mut self, cob_id: u32, payload: &[u8]) -> Result<(), MasterError> {
         let frame = if cob_id & 0x2000_0000 != 0 {

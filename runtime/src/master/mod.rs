@@ -9,6 +9,7 @@
 #[cfg(feature = "std")]
 pub mod blocking;
 pub mod cia402;
+pub mod dcf;
 #[cfg(feature = "std")]
 mod drive;
 pub mod emcy;
