@@ -9,6 +9,8 @@
 #[cfg(feature = "std")]
 pub mod blocking;
 pub mod cia402;
+#[cfg(feature = "std")]
+pub mod concurrent;
 pub mod dcf;
 #[cfg(feature = "std")]
 mod drive;
