@@ -173,6 +173,12 @@ fn bad_usage_exits_2() {
         .output()
         .unwrap();
     assert_eq!(nobus.status.code(), Some(2));
+    let unnamed = Command::new(EDSGEN)
+        .args(["sdo", "read", "3", "1000:0"])
+        .output()
+        .unwrap();
+    assert_eq!(unnamed.status.code(), Some(2));
+    assert!(stderr(&unnamed).starts_with("error: give the bus: --bus HOST:PORT"));
 }
 
 #[test]
