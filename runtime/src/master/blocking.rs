@@ -149,6 +149,7 @@ pub struct Master<T> {
     transport: T,
     clock: MonotonicClock,
     default_timeout: Duration,
+    read_retries: u8,
     clients: BTreeMap<u8, SdoClient>,
     monitor: Box<NodeMonitor<127>>,
     events: VecDeque<MasterEvent>,
@@ -163,6 +164,7 @@ impl<T: Transport> Master<T> {
             transport,
             clock: MonotonicClock::new(),
             default_timeout: super::sdo_client::DEFAULT_TIMEOUT,
+            read_retries: 1,
             clients: BTreeMap::new(),
             monitor: Box::new(NodeMonitor::new()),
             events: VecDeque::new(),
@@ -181,6 +183,12 @@ impl<T: Transport> Master<T> {
         for client in self.clients.values_mut() {
             client.set_timeout(self.default_timeout);
         }
+    }
+
+    /// How many times a read that timed out before any byte arrived is tried again (1 by
+    /// default). Writes are never repeated: the node may have applied one it did not confirm.
+    pub fn set_read_retries(&mut self, retries: u8) {
+        self.read_retries = retries;
     }
 
     /// The SDO timeout for `node_id`.
@@ -239,12 +247,24 @@ impl<T: Transport> Master<T> {
         mode: Mode,
         sink: &mut impl io::Write,
     ) -> Result<u32, MasterError> {
-        let now = self.clock.now();
-        if self.client(node_id)?.upload(now, mux, mode).is_err() {
-            return Err(MasterError::Busy(node_id));
+        let mut sink = CountingSink {
+            inner: sink,
+            count: 0,
+        };
+        let mut retries = self.read_retries;
+        loop {
+            let now = self.clock.now();
+            if self.client(node_id)?.upload(now, mux, mode).is_err() {
+                return Err(MasterError::Busy(node_id));
+            }
+            match self.finish(node_id, &mut [].as_slice(), &mut sink) {
+                Err(MasterError::Sdo {
+                    error: SdoError::Timeout,
+                    ..
+                }) if retries > 0 && sink.count == 0 => retries -= 1,
+                result => return result.map(|done| done.size),
+            }
         }
-        self.finish(node_id, &mut [].as_slice(), sink)
-            .map(|done| done.size)
     }
 
     /// Writes `data` to (index, sub) by `mode`.
@@ -591,6 +611,24 @@ impl<T: Transport> Master<T> {
                 self.seen.insert(node_id, message.state);
             }
         }
+    }
+}
+
+/// A sink that counts what it was given, so that a read is repeated only if nothing of it
+/// reached the caller.
+struct CountingSink<'a, W> {
+    inner: &'a mut W,
+    count: usize,
+}
+
+impl<W: io::Write> io::Write for CountingSink<'_, W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.count += n;
+        Ok(n)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
     }
 }
 
