@@ -7,7 +7,9 @@ mod node_support;
 use std::time::{Duration as StdDuration, Instant as StdInstant};
 
 use edsgen_runtime::master::blocking::{Master, MasterError, MasterEvent};
-use edsgen_runtime::master::{Mode, MonitorEvent, SdoError, Watch};
+use edsgen_runtime::master::{
+    ExpectedIdentity, IdentityMismatch, Mode, MonitorEvent, SdoError, Watch,
+};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
@@ -183,5 +185,54 @@ fn ten_thousand_transfers_without_a_failure() {
     let took = start.elapsed();
     assert!(took < StdDuration::from_secs(60), "{took:?}");
     eprintln!("10,000 SDO transfers over the memory bus: {took:?}");
+    let _ = node.stop();
+}
+
+#[test]
+fn boot_node_checks_the_identity_then_configures_and_starts_or_stops_at_a_mismatch() {
+    let (mut master, node) = bus_with_node(5);
+    let heartbeat = [(Multiplexer::new(0x1017, 0), vec![50u8, 0])];
+    let right = ExpectedIdentity {
+        device_type: Some(0x0000_0191),
+        vendor_id: Some(0x0000_04D8),
+        ..ExpectedIdentity::default()
+    };
+    let mismatches = master
+        .boot_node(5, &right, &heartbeat, StdDuration::from_secs(5))
+        .unwrap();
+    assert_eq!(mismatches, []);
+    master.listen(StdDuration::from_millis(20)).unwrap();
+    assert_eq!(
+        node.with_device(|n, _| n.nmt_state()),
+        NmtState::Operational
+    );
+    assert_eq!(node.with_device(|n, _| n.od().get(0x1017, 0)), 50);
+
+    // The node resets; this time the master expects another product (1018h:2, which the test
+    // dictionary does not even have).
+    master.nmt(NmtCommand::ResetNode, 5).unwrap();
+    let wrong = ExpectedIdentity {
+        product_code: Some(0x1234),
+        ..right
+    };
+    let mismatches = master
+        .boot_node(5, &wrong, &heartbeat, StdDuration::from_secs(5))
+        .unwrap();
+    assert_eq!(
+        mismatches,
+        [IdentityMismatch {
+            node_id: 5,
+            entry: Entry::new(0x1018, 2),
+            expected: 0x1234,
+            actual: None,
+            abort: Some(0x0609_0011),
+        }]
+    );
+    let events: Vec<MasterEvent> = std::iter::from_fn(|| master.poll_event()).collect();
+    assert!(events.contains(&MasterEvent::IdentityMismatch(mismatches[0])));
+    assert_eq!(
+        node.with_device(|n, _| n.nmt_state()),
+        NmtState::PreOperational
+    );
     let _ = node.stop();
 }

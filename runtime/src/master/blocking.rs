@@ -360,6 +360,27 @@ impl<T: Transport> Master<T> {
         Ok(mismatches)
     }
 
+    /// Boots a node as a CiA 302 master would, in spirit: waits for its boot-up (at most
+    /// `timeout`), checks its identity, downloads `configuration` (a DCF's values, see
+    /// [`download_configuration`](Self::download_configuration)) and starts it. A node whose
+    /// identity differs is neither configured nor started: the mismatches are returned (and
+    /// queued as events); an empty list means the node runs.
+    pub fn boot_node<V: AsRef<[u8]>>(
+        &mut self,
+        node_id: u8,
+        expected: &ExpectedIdentity,
+        configuration: &[(Multiplexer, V)],
+        timeout: StdDuration,
+    ) -> Result<Vec<IdentityMismatch>, MasterError> {
+        self.wait_for_boot(node_id, timeout)?;
+        let mismatches = self.check_identity(node_id, expected)?;
+        if mismatches.is_empty() {
+            self.download_configuration(node_id, configuration)?;
+            self.nmt(NmtCommand::Start, node_id)?;
+        }
+        Ok(mismatches)
+    }
+
     /// Finds the nodes on the bus: an SDO upload of 1000h to every node-ID 1..=127 at once (one
     /// channel each), and the node-IDs that answered within `timeout` (with a value or an
     /// abort), in order. Node-IDs that stay silent are not sent an abort.
