@@ -236,3 +236,30 @@ fn boot_node_checks_the_identity_then_configures_and_starts_or_stops_at_a_mismat
     );
     let _ = node.stop();
 }
+
+#[cfg(feature = "node-guarding")]
+#[test]
+fn the_master_guards_a_node_and_reports_its_loss() {
+    let (mut master, node) = bus_with_node(5);
+    master.wait_for_boot(5, StdDuration::from_secs(5)).unwrap();
+    let guarding = Watch::Guarding {
+        guard_time: Duration::from_millis(30),
+        life_factor: 2,
+    };
+    master.watch(5, guarding).unwrap();
+    master.listen(StdDuration::from_millis(100)).unwrap();
+    let _ = node.stop();
+    master.listen(StdDuration::from_millis(200)).unwrap();
+    let events: Vec<MasterEvent> = std::iter::from_fn(|| master.poll_event()).collect();
+    assert_eq!(
+        events,
+        [
+            MasterEvent::Monitor(MonitorEvent::StateChanged {
+                node_id: 5,
+                from: None,
+                to: NmtState::PreOperational
+            }),
+            MasterEvent::Monitor(MonitorEvent::Lost { node_id: 5 }),
+        ]
+    );
+}
