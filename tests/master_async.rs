@@ -1,6 +1,7 @@
 //! The async master on tokio against three device nodes serving the generated cp301 card (the
 //! driver on the in-memory bus): typed reads and writes as futures, transfers to different
-//! nodes running side by side, and a silent node's timeout not holding up the others.
+//! nodes running side by side, waiting for boot-ups, and a silent node's timeout not holding up
+//! the others.
 
 use std::time::{Duration, Instant};
 
@@ -44,9 +45,22 @@ async fn transfers_to_three_nodes_run_side_by_side() {
                 .await
         }
     };
+    for id in [3, 4, 5] {
+        master
+            .wait_for_boot(id, Duration::from_secs(5))
+            .await
+            .unwrap();
+    }
     let (a, b, c) = tokio::join!(work(3), work(4), work(5));
     assert_eq!((a.unwrap(), b.unwrap(), c.unwrap()), (0x203, 0x204, 0x205));
     master.nmt(NmtCommand::Start, 0).await.unwrap();
+    master.nmt(NmtCommand::ResetNode, 4).await.unwrap();
+    master
+        .wait_for_boot(4, Duration::from_secs(5))
+        .await
+        .unwrap();
+    let silent = master.wait_for_boot(9, Duration::from_millis(50)).await;
+    assert!(matches!(silent, Err(MasterError::Timeout)), "{silent:?}");
     drop(master);
     for handle in handles {
         let (_, _, node) = handle.stop();

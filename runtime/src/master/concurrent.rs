@@ -18,6 +18,7 @@ use crate::frame::CanFrame;
 use crate::time::{Duration, Instant};
 use crate::transport::driver::MonotonicClock;
 use crate::transport::Transport;
+use crate::wire::heartbeat::ErrorControlRepr;
 use crate::wire::nmt::NmtCommand;
 use crate::wire::sdo::Multiplexer;
 
@@ -107,7 +108,11 @@ enum Request {
     Sdo(u8, Job),
     Frame(CanFrame, Reply),
     Timeout(u8, Duration),
+    WaitBoot(u8, Duration, Reply),
 }
+
+/// A wait for a node's boot-up: the node, until when, and the future to complete.
+type BootWait = (u8, Instant, Reply);
 
 /// One node's SDO channel and the transfers waiting for it.
 struct Channel {
@@ -201,6 +206,25 @@ impl AsyncMaster {
         Pending(slot).await.map(|_| ())
     }
 
+    /// Waits until `node_id` sends its boot-up message, at most `timeout`. A boot-up received
+    /// since the last wait for that node counts.
+    pub async fn wait_for_boot(
+        &self,
+        node_id: u8,
+        timeout: StdDuration,
+    ) -> Result<(), MasterError> {
+        check_node(node_id)?;
+        let micros = timeout.as_micros().min(u128::from(u64::MAX)) as u64;
+        let slot = Arc::new(Mutex::new(Slot::default()));
+        let reply = Reply(Arc::clone(&slot));
+        self.request(Request::WaitBoot(
+            node_id,
+            Duration::from_micros(micros),
+            reply,
+        ))?;
+        Pending(slot).await.map(|_| ())
+    }
+
     async fn transfer(&self, node_id: u8, transfer: Transfer) -> Outcome {
         check_node(node_id)?;
         let slot = Arc::new(Mutex::new(Slot::default()));
@@ -244,6 +268,8 @@ fn check_node(node_id: u8) -> Result<(), MasterError> {
 fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
     let clock = MonotonicClock::new();
     let mut channels: BTreeMap<u8, Channel> = BTreeMap::new();
+    let mut boot_waits: Vec<BootWait> = Vec::new();
+    let mut booted: Vec<u8> = Vec::new();
     let mut open = true;
     loop {
         while open {
@@ -253,6 +279,14 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
                 }
                 Ok(Request::Timeout(node_id, timeout)) => {
                     channel(&mut channels, node_id).client.set_timeout(timeout)
+                }
+                Ok(Request::WaitBoot(node_id, timeout, reply)) => {
+                    if let Some(i) = booted.iter().position(|&id| id == node_id) {
+                        booted.remove(i);
+                        reply.send(Ok(Vec::new()));
+                    } else {
+                        boot_waits.push((node_id, clock.now() + timeout, reply));
+                    }
                 }
                 Ok(Request::Frame(frame, reply)) => match transport.send(&frame) {
                     Ok(()) => reply.send(Ok(Vec::new())),
@@ -276,6 +310,15 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
                 (a, b) => a.or(b),
             };
         }
+        let (overdue, waiting): (Vec<BootWait>, Vec<BootWait>) =
+            boot_waits.drain(..).partition(|(_, at, _)| *at <= now);
+        boot_waits = waiting;
+        for (_, _, reply) in overdue {
+            reply.send(Err(MasterError::Timeout));
+        }
+        for (_, at, _) in &boot_waits {
+            deadline = Some(deadline.map_or(*at, |d| d.min(*at)));
+        }
         if !open && !busy {
             return;
         }
@@ -292,11 +335,25 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
                 if let Some(channel) = server.and_then(|id| channels.get_mut(&id)) {
                     channel.client.handle_frame(clock.now(), &frame);
                 }
+                if let Some(node_id) = boot_up(&frame) {
+                    match boot_waits.iter().position(|(id, _, _)| *id == node_id) {
+                        Some(i) => boot_waits.remove(i).2.send(Ok(Vec::new())),
+                        None if !booted.contains(&node_id) => booted.push(node_id),
+                        None => {}
+                    }
+                }
             }
             Ok(None) => {}
             Err(_) => return,
         }
     }
+}
+
+/// The node whose boot-up message `frame` is.
+fn boot_up(frame: &CanFrame) -> Option<u8> {
+    let id = frame.std_id().filter(|id| (0x701..=0x77F).contains(id))?;
+    let message = ErrorControlRepr::parse(frame.data()).filter(|_| !frame.is_remote())?;
+    (message == ErrorControlRepr::BOOT_UP).then_some((id - 0x700) as u8)
 }
 
 fn channel(channels: &mut BTreeMap<u8, Channel>, node_id: u8) -> &mut Channel {
