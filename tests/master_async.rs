@@ -29,8 +29,9 @@ fn nodes(bus: &MemoryBus, ids: &[u8]) -> Vec<DriverHandle<MemoryEndpoint, Node<c
 #[tokio::test]
 async fn transfers_to_three_nodes_run_side_by_side() {
     let bus = MemoryBus::new();
-    let handles = nodes(&bus, &[3, 4, 5]);
+    // The master's endpoint first, so that it hears the boot-ups.
     let master = AsyncMaster::spawn(bus.endpoint()).unwrap();
+    let handles = nodes(&bus, &[3, 4, 5]);
     let work = |id: u8| {
         let master = &master;
         async move {
