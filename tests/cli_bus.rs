@@ -142,3 +142,32 @@ fn bus_with_a_bad_address_or_log_path_is_an_error_with_exit_code_2() {
         )
     );
 }
+
+#[test]
+fn bus_goes_on_and_stops_cleanly_when_its_output_is_closed() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let listen = format!("127.0.0.1:{port}");
+    let mut bus = edsgen_bus(&["--listen", &listen]);
+    drop(bus.0.stdout.take());
+    let deadline = Instant::now() + WAIT;
+    let mut a = loop {
+        match SocketcandClient::connect(listen.as_str(), "can0", WAIT) {
+            Ok(client) => break client,
+            Err(e) => assert!(Instant::now() < deadline, "the hub never listened: {e}"),
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let mut b = SocketcandClient::connect(listen.as_str(), "can0", WAIT).unwrap();
+    a.send(&CanFrame::new(0x080, &[]).unwrap()).unwrap();
+    assert_eq!(b.recv_timeout(WAIT).unwrap(), CanFrame::new(0x080, &[]));
+    let interrupted = Command::new("kill")
+        .args(["-INT", &bus.0.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupted.success());
+    assert_eq!(bus.wait(), 0);
+}

@@ -64,13 +64,13 @@ fn driver_serves_a_node_over_the_memory_bus_in_real_time() {
     );
     let first = next(&mut master);
     let start = StdInstant::now();
-    for _ in 0..5 {
+    for _ in 0..10 {
         assert_eq!(next(&mut master), frame(0x705, &[0x7F]));
     }
-    let period = start.elapsed() / 5;
+    let period = start.elapsed() / 10;
     assert_eq!(first, frame(0x705, &[0x7F]));
     assert!(
-        (StdDuration::from_millis(15)..StdDuration::from_millis(40)).contains(&period),
+        (StdDuration::from_millis(15)..StdDuration::from_millis(60)).contains(&period),
         "heartbeat period {period:?}"
     );
     master.send(&frame(0x000, &[0x01, 0x05])).unwrap();

@@ -21,7 +21,7 @@ pub struct BusArgs {
     log: Option<PathBuf>,
 }
 
-/// Runs the hub until Ctrl-C. Exit code 2 if it cannot listen or open the log.
+/// Runs the hub until Ctrl-C. Exit code 2 if it cannot listen, or cannot open or write the log.
 pub fn run(args: &BusArgs) -> ExitCode {
     match serve(args) {
         Ok(()) => ExitCode::SUCCESS,
@@ -58,16 +58,26 @@ fn serve(args: &BusArgs) -> Result<(), String> {
         format!("cannot listen on {}: {reason}", args.listen)
     })?;
     let addr = hub.local_addr();
-    println!("edsgen bus: socketcand hub listening on {addr}, channel can0; Ctrl-C stops it");
-    println!(
+    // A closed standard output (`edsgen bus | head -1`) must not stop the hub: errors ignored.
+    let mut out = io::stdout();
+    let _ = writeln!(
+        out,
+        "edsgen bus: socketcand hub listening on {addr}, channel can0; Ctrl-C stops it"
+    );
+    let _ = writeln!(
+        out,
         "  python-can: can.Bus(interface=\"socketcand\", host=\"{}\", port={}, channel=\"can0\")",
         addr.ip(),
         addr.port()
     );
-    let _ = io::stdout().flush();
+    let _ = out.flush();
     let _ = stopped.recv();
     let relayed = hub.frames_relayed();
+    let log_error = hub.log_error();
     hub.stop();
-    println!("edsgen bus: stopped after relaying {relayed} frame(s)");
-    Ok(())
+    let _ = writeln!(out, "edsgen bus: stopped after relaying {relayed} frame(s)");
+    match log_error {
+        Some(e) => Err(format!("the log stopped early: {e}")),
+        None => Ok(()),
+    }
 }

@@ -220,10 +220,7 @@ impl<T, D> DriverHandle<T, D> {
 
     /// Stops the driver and gives back how it ended (an error if the transport failed), the
     /// transport and the device.
-    pub fn stop(self) -> (io::Result<()>, T, D)
-    where
-        D: Send,
-    {
+    pub fn stop(self) -> (io::Result<()>, T, D) {
         self.stop.store(true, Ordering::Relaxed);
         let (result, transport) = match self.thread.join() {
             Ok(ended) => ended,

@@ -99,6 +99,8 @@ impl std::fmt::Debug for Shared {
 struct Bus {
     clients: Vec<Listener>,
     log: Option<TraceWriter<Box<dyn Write + Send>>>,
+    /// Why the log stopped, if it failed.
+    log_error: Option<String>,
 }
 
 /// A client in rawmode: its queue, and its connection to shut down if it cannot keep up.
@@ -127,6 +129,7 @@ impl Hub {
             bus: Mutex::new(Bus {
                 clients: Vec::new(),
                 log,
+                log_error: None,
             }),
             connections: Mutex::new(HashMap::new()),
             threads: Mutex::new(Vec::new()),
@@ -169,6 +172,11 @@ impl Hub {
     /// How many clients the hub dropped because they did not keep up with the bus.
     pub fn clients_dropped(&self) -> u64 {
         self.shared.clients_dropped.load(Ordering::Relaxed)
+    }
+
+    /// Why the log stopped, if writing it failed (the hub goes on relaying without it).
+    pub fn log_error(&self) -> Option<String> {
+        lock(&self.shared.bus).log_error.clone()
     }
 
     /// Closes every connection, stops listening and waits for all the hub's threads.
@@ -371,8 +379,9 @@ fn relay_from(
                         .fetch_add(dropped.len() as u64, Ordering::Relaxed);
                 }
                 if let Some(log) = &mut bus.log {
-                    if log.write_frame_on(timestamp_us, channel, &frame).is_err() {
+                    if let Err(e) = log.write_frame_on(timestamp_us, channel, &frame) {
                         bus.log = None;
+                        bus.log_error = Some(e.to_string());
                     }
                 }
             }
@@ -539,17 +548,19 @@ mod tests {
         assert_eq!(b.recv_once(), "< hi >");
         b.write("< open can0 >");
         assert_eq!(b.recv_once(), "< ok >");
+        // The hub starts b's quiet period after it reads the rawmode, so after this instant
+        // (a bound that holds however late this thread then runs).
+        let before_rawmode = StdInstant::now();
         b.write("< rawmode >");
         assert_eq!(
             b.recv_once(),
             "< ok >",
             "a frame must not share the read with the ok"
         );
-        let ok_at = StdInstant::now();
         a.write("< send 123 1 aa >");
         assert_eq!(b.next(), "< frame 123 T AA >");
-        let waited = ok_at.elapsed();
-        assert!(waited >= StdDuration::from_millis(45), "{waited:?}");
+        let waited = before_rawmode.elapsed();
+        assert!(waited >= StdDuration::from_millis(50), "{waited:?}");
     }
 
     #[test]
@@ -696,6 +707,34 @@ mod tests {
             .map(|l| l.split_once(") ").unwrap().1)
             .collect();
         assert_eq!(lines, ["vcan7 603#2B171000E8030000", "can0 583#"]);
+    }
+
+    /// A log whose disk is full.
+    struct FullDisk;
+
+    impl Write for FullDisk {
+        fn write(&mut self, _: &[u8]) -> io::Result<usize> {
+            Err(io::Error::other("no space left"))
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_failing_log_is_reported_and_relaying_goes_on() {
+        let options = HubOptions {
+            log: Some(Box::new(FullDisk)),
+            ..HubOptions::default()
+        };
+        let hub = Hub::start("127.0.0.1:0", options).unwrap();
+        let mut a = Raw::rawmode(&hub, "can0");
+        let mut b = Raw::rawmode(&hub, "can0");
+        assert_eq!(hub.log_error(), None);
+        a.write("< send 181 1 1 >< send 181 1 2 >");
+        assert_eq!(b.next(), "< frame 181 T 01 >");
+        assert_eq!(b.next(), "< frame 181 T 02 >");
+        assert_eq!(hub.log_error().as_deref(), Some("no space left"));
     }
 
     #[test]

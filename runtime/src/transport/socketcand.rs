@@ -2,6 +2,10 @@
 //! TCP. [`MessageScanner`] cuts `< ... >` messages out of a byte stream however the reads split or
 //! join them; [`Message`] parses and emits them (sans-IO); [`SocketcandClient`] does the handshake
 //! and carries frames in rawmode.
+//!
+//! The dialect cannot carry a remote request: python-can sends one as `< send ID LEN  >` (a
+//! length, no bytes), which [`Message::parse`] reads back as a remote request, but a `frame`
+//! message has no place for the flag, so a receiver sees a data frame without data.
 
 use std::fmt;
 use std::io::{self, Read, Write};

@@ -128,6 +128,11 @@ fn parse_frame(field: &str) -> Result<CanFrame, String> {
     let (id, data) = field
         .split_once('#')
         .ok_or_else(|| format!("bad frame `{field}`: expected `ID#DATA`"))?;
+    if data.starts_with('#') {
+        return Err(format!(
+            "`{field}` is a CAN FD frame (`ID##FLAGSDATA`): not supported"
+        ));
+    }
     if id.is_empty() || !id.bytes().all(|b| b.is_ascii_hexdigit()) {
         return Err(format!("bad identifier `{id}`: expected hex digits"));
     }
@@ -141,6 +146,11 @@ fn parse_frame(field: &str) -> Result<CanFrame, String> {
         }
     };
     let raw = u32::from_str_radix(id, 16).map_err(|_| format!("bad identifier `{id}`"))?;
+    if extended && raw & CAN_ERR_FLAG != 0 {
+        return Err(format!(
+            "`{field}` is an error frame (CAN_ERR_FLAG set): not supported"
+        ));
+    }
     if let Some(len) = data.strip_prefix('R').or_else(|| data.strip_prefix('r')) {
         let len = match len {
             "" => 0,
@@ -166,6 +176,9 @@ fn parse_frame(field: &str) -> Result<CanFrame, String> {
     }
     .ok_or_else(|| format!("identifier {id} out of range"))
 }
+
+/// The flag Linux sets in the identifier of an error frame, which candump logs as it is.
+const CAN_ERR_FLAG: u32 = 0x2000_0000;
 
 fn remote_frame(raw: u32, extended: bool, len: u8) -> Option<CanFrame> {
     use embedded_can::{ExtendedId, Frame as _, Id, StandardId};
@@ -456,8 +469,16 @@ mod tests {
             ),
             ("(1.000000) can0 803#00", "identifier 803 out of range"),
             (
-                "(1.000000) can0 20000000#00",
-                "identifier 20000000 out of range",
+                "(1.000000) can0 40000000#00",
+                "identifier 40000000 out of range",
+            ),
+            (
+                "(1.000000) can0 20000004#0004000000000000",
+                "`20000004#0004000000000000` is an error frame (CAN_ERR_FLAG set): not supported",
+            ),
+            (
+                "(1.000000) can0 123##1DEADBEEF",
+                "`123##1DEADBEEF` is a CAN FD frame (`ID##FLAGSDATA`): not supported",
             ),
             (
                 "(1.000000) can0 603#0",
