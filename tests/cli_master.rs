@@ -173,6 +173,12 @@ fn bad_usage_exits_2() {
         .output()
         .unwrap();
     assert_eq!(nobus.status.code(), Some(2));
+    let unnamed = Command::new(EDSGEN)
+        .args(["sdo", "read", "3", "1000:0"])
+        .output()
+        .unwrap();
+    assert_eq!(unnamed.status.code(), Some(2));
+    assert!(stderr(&unnamed).starts_with("error: give the bus: --bus HOST:PORT"));
 }
 
 #[test]
@@ -285,4 +291,61 @@ fn check_of_another_devices_description_finds_missing_objects() {
     assert!(text.starts_with(&first), "{text}");
     // A constant holding another value is an error, not a warning.
     assert!(text.contains("error[CHK005]: 1008h:00h of node 3 holds 00 00 00 00, the description's default is INVT CANopen"));
+}
+
+/// cp301.eds made a DCF: heartbeat 100 ms, TPDO1 on COB-ID 193h, event-driven, mapping `object`.
+fn cp301_dcf(object: &str) -> (std::path::PathBuf, String) {
+    let dir = std::env::temp_dir().join(format!("edsgen-dcf-{}-{object}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("cp301.dcf");
+    let mut text = std::fs::read_to_string(eds("cp301.eds")).unwrap();
+    for (section, value) in [
+        ("[1017]\n", "100"),
+        ("[1800sub1]\n", "0x193"),
+        ("[1800sub2]\n", "254"),
+        ("[1A00sub0]\n", "1"),
+        ("[1A00sub1]\n", object),
+    ] {
+        assert!(text.contains(section));
+        text = text.replace(section, &format!("{section}ParameterValue={value}\n"));
+    }
+    std::fs::write(&path, text).unwrap();
+    let shown = path.display().to_string();
+    (dir, shown)
+}
+
+#[test]
+fn sdo_dcf_downloads_the_parameter_values_with_the_pdo_disabled_meanwhile() {
+    let bench = bench();
+    let (dir, dcf) = cp301_dcf("0x60440010");
+    let output = edsgen(&bench, &["sdo", "dcf", "3", &dcf]);
+    assert_eq!(
+        stdout(&output),
+        "5 value(s) written to node 3\n",
+        "{}",
+        stderr(&output)
+    );
+    for (address, value) in [
+        ("1017:0", "100 (0x0064)"),
+        ("1800:1", "403 (0x00000193)"),
+        ("1800:2", "254 (0xFE)"),
+        ("1A00:0", "1 (0x01)"),
+        ("1A00:1", "1615069200 (0x60440010)"),
+    ] {
+        let read = edsgen(&bench, &["sdo", "read", "--eds", &dcf, "3", address]);
+        assert!(
+            stdout(&read).ends_with(&format!(" = {value}\n")),
+            "{address}: {}",
+            stdout(&read)
+        );
+    }
+    let (bad_dir, bad) = cp301_dcf("0x10000020");
+    let refused = edsgen(&bench, &["sdo", "dcf", "3", &bad]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert_eq!(
+        stderr(&refused),
+        "error: SDO 1A00h:01h on node 3: node aborted with 0604 0041h (object cannot be mapped to the PDO)\n"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+    std::fs::remove_dir_all(bad_dir).unwrap();
 }

@@ -7,7 +7,9 @@ mod node_support;
 use std::time::{Duration as StdDuration, Instant as StdInstant};
 
 use edsgen_runtime::master::blocking::{Master, MasterError, MasterEvent};
-use edsgen_runtime::master::{Mode, MonitorEvent, SdoError, Watch};
+use edsgen_runtime::master::{
+    ExpectedIdentity, IdentityMismatch, Mode, MonitorEvent, SdoError, Watch,
+};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
@@ -92,12 +94,16 @@ fn an_absent_node_times_out_after_its_own_timeout() {
         }
     ));
     assert!(
-        (StdDuration::from_millis(90)..StdDuration::from_millis(900)).contains(&took),
+        (StdDuration::from_millis(190)..StdDuration::from_millis(900)).contains(&took),
         "{took:?}"
     );
     assert!(error
         .to_string()
         .contains("0504 0000h (SDO protocol timed out)"));
+    // A write is not repeated.
+    let start = StdInstant::now();
+    assert!(master.write(9, WORD, 1).is_err());
+    assert!(start.elapsed() < StdDuration::from_millis(190));
     // Node 5 still answers on its own channel.
     assert_eq!(master.read(5, WORD).unwrap(), 0);
     let _ = node.stop();
@@ -180,4 +186,80 @@ fn ten_thousand_transfers_without_a_failure() {
     assert!(took < StdDuration::from_secs(60), "{took:?}");
     eprintln!("10,000 SDO transfers over the memory bus: {took:?}");
     let _ = node.stop();
+}
+
+#[test]
+fn boot_node_checks_the_identity_then_configures_and_starts_or_stops_at_a_mismatch() {
+    let (mut master, node) = bus_with_node(5);
+    let heartbeat = [(Multiplexer::new(0x1017, 0), vec![50u8, 0])];
+    let right = ExpectedIdentity {
+        device_type: Some(0x0000_0191),
+        vendor_id: Some(0x0000_04D8),
+        ..ExpectedIdentity::default()
+    };
+    let mismatches = master
+        .boot_node(5, &right, &heartbeat, StdDuration::from_secs(5))
+        .unwrap();
+    assert_eq!(mismatches, []);
+    master.listen(StdDuration::from_millis(20)).unwrap();
+    assert_eq!(
+        node.with_device(|n, _| n.nmt_state()),
+        NmtState::Operational
+    );
+    assert_eq!(node.with_device(|n, _| n.od().get(0x1017, 0)), 50);
+
+    // The node resets; this time the master expects another product (1018h:2, which the test
+    // dictionary does not even have).
+    master.nmt(NmtCommand::ResetNode, 5).unwrap();
+    let wrong = ExpectedIdentity {
+        product_code: Some(0x1234),
+        ..right
+    };
+    let mismatches = master
+        .boot_node(5, &wrong, &heartbeat, StdDuration::from_secs(5))
+        .unwrap();
+    assert_eq!(
+        mismatches,
+        [IdentityMismatch {
+            node_id: 5,
+            entry: Entry::new(0x1018, 2),
+            expected: 0x1234,
+            actual: None,
+            abort: Some(0x0609_0011),
+        }]
+    );
+    let events: Vec<MasterEvent> = std::iter::from_fn(|| master.poll_event()).collect();
+    assert!(events.contains(&MasterEvent::IdentityMismatch(mismatches[0])));
+    assert_eq!(
+        node.with_device(|n, _| n.nmt_state()),
+        NmtState::PreOperational
+    );
+    let _ = node.stop();
+}
+
+#[cfg(feature = "node-guarding")]
+#[test]
+fn the_master_guards_a_node_and_reports_its_loss() {
+    let (mut master, node) = bus_with_node(5);
+    master.wait_for_boot(5, StdDuration::from_secs(5)).unwrap();
+    let guarding = Watch::Guarding {
+        guard_time: Duration::from_millis(30),
+        life_factor: 2,
+    };
+    master.watch(5, guarding).unwrap();
+    master.listen(StdDuration::from_millis(100)).unwrap();
+    let _ = node.stop();
+    master.listen(StdDuration::from_millis(200)).unwrap();
+    let events: Vec<MasterEvent> = std::iter::from_fn(|| master.poll_event()).collect();
+    assert_eq!(
+        events,
+        [
+            MasterEvent::Monitor(MonitorEvent::StateChanged {
+                node_id: 5,
+                from: None,
+                to: NmtState::PreOperational
+            }),
+            MasterEvent::Monitor(MonitorEvent::Lost { node_id: 5 }),
+        ]
+    );
 }

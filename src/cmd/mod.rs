@@ -34,6 +34,7 @@ use clap::Args;
 use edsgen_codegen::model::Device;
 use edsgen_runtime::master::blocking::Master;
 use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
 /// Exit code for usage and I/O problems.
@@ -101,12 +102,16 @@ pub fn read_device(path: &Path) -> Result<Device, String> {
         .map_err(|e| e.to_string())
 }
 
-/// How the master's commands reach the bus.
+/// How to reach the bus.
 #[derive(Args, Debug, Clone)]
 pub struct BusArgs {
     /// A socketcand server (`edsgen bus`, socketcand on a Linux box) as HOST:PORT.
     #[arg(long, value_name = "HOST:PORT")]
-    pub bus: String,
+    pub bus: Option<String>,
+    /// A Linux SocketCAN interface (can0, vcan0).
+    #[cfg(feature = "socketcan")]
+    #[arg(long, value_name = "IFACE", conflicts_with = "bus")]
+    pub socketcan: Option<String>,
     /// The CAN channel to open on the socketcand server.
     #[arg(long, default_value = "can0")]
     pub channel: String,
@@ -117,12 +122,44 @@ pub struct BusArgs {
 
 impl BusArgs {
     /// A master on the bus, or the reason there is none.
-    pub fn connect(&self) -> Result<Master<SocketcandClient>, String> {
-        let client = SocketcandClient::connect(&self.bus, &self.channel, Duration::from_secs(5))
-            .map_err(|e| format!("cannot reach the bus at {}: {e}", self.bus))?;
-        let mut master = Master::new(client);
+    pub fn connect(&self) -> Result<Master<Box<dyn Transport + Send>>, String> {
+        let transport: Box<dyn Transport + Send> = match self.target()? {
+            Target::Socketcand(addr) => Box::new(
+                SocketcandClient::connect(addr, &self.channel, Duration::from_secs(5))
+                    .map_err(|e| format!("cannot reach the bus at {addr}: {e}"))?,
+            ),
+            #[cfg(feature = "socketcan")]
+            Target::SocketCan(iface) => Box::new(
+                edsgen_runtime::transport::socketcan::SocketCan::open(iface)
+                    .map_err(|e| format!("cannot open {iface}: {e}"))?,
+            ),
+        };
+        let mut master = Master::new(transport);
         master.set_default_timeout(Duration::from_millis(self.timeout));
         Ok(master)
+    }
+}
+
+/// Where the bus is.
+enum Target<'a> {
+    Socketcand(&'a str),
+    #[cfg(feature = "socketcan")]
+    SocketCan(&'a str),
+}
+
+impl BusArgs {
+    fn target(&self) -> Result<Target<'_>, String> {
+        #[cfg(feature = "socketcan")]
+        if let Some(iface) = &self.socketcan {
+            return Ok(Target::SocketCan(iface));
+        }
+        match &self.bus {
+            Some(addr) => Ok(Target::Socketcand(addr)),
+            None if cfg!(feature = "socketcan") => {
+                Err("give the bus: --bus HOST:PORT or --socketcan IFACE".into())
+            }
+            None => Err("give the bus: --bus HOST:PORT".into()),
+        }
     }
 }
 

@@ -5,13 +5,13 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Subcommand;
-use edsgen_codegen::model::Device;
+use edsgen_codegen::model::{AccessType, Device};
 use edsgen_codegen::read;
 use edsgen_runtime::master::blocking::MasterError;
 use edsgen_runtime::master::Mode;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
-use super::value::{hex, Kind};
+use super::value::{hex, value_bytes, Kind};
 use super::{fail, parse_address, parse_node_id, BusArgs};
 
 /// `edsgen sdo` subcommands.
@@ -29,6 +29,15 @@ pub enum SdoCommand {
         /// The value: a number (decimal or 0x hex), true/false, text for a string, hex bytes
         /// for an octet string or domain.
         value: String,
+    },
+    /// Download a DCF's ParameterValues to a node, PDOs disabled while they are configured.
+    Dcf {
+        #[command(flatten)]
+        bus: BusArgs,
+        /// The node-ID (1..=127).
+        node: String,
+        /// The DCF.
+        file: PathBuf,
     },
 }
 
@@ -126,6 +135,7 @@ pub fn run(command: &SdoCommand) -> ExitCode {
     let (target, value) = match command {
         SdoCommand::Read { target } => (target, None),
         SdoCommand::Write { target, value } => (target, Some(value)),
+        SdoCommand::Dcf { bus, node, file } => return run_dcf(bus, node, file),
     };
     let resolved = match target.resolve() {
         Ok(resolved) => resolved,
@@ -180,6 +190,68 @@ pub fn run(command: &SdoCommand) -> ExitCode {
                     ExitCode::from(1)
                 }
             }
+        }
+        Err(MasterError::Io(e)) => fail(format!("bus: {e}")),
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// The writable entries `device` gives a ParameterValue, as (entry, bytes) for `node_id`.
+pub fn parameter_values(
+    device: &Device,
+    node_id: u8,
+) -> Result<Vec<(Multiplexer, Vec<u8>)>, String> {
+    let mut entries = Vec::new();
+    for object in device.objects.values().filter(|o| o.index >= 0x1000) {
+        for sub in object.subs.values() {
+            let (Some(source), Some(access)) = (&sub.parameter_value, sub.access) else {
+                continue;
+            };
+            if matches!(access, AccessType::Ro | AccessType::Const) {
+                continue;
+            }
+            let mux = Multiplexer::new(object.index, sub.sub_index);
+            let kind = sub
+                .data_type
+                .and_then(|t| device.basic_type(t))
+                .map_or(Kind::Bytes, Kind::of);
+            let bytes = source
+                .value
+                .as_ref()
+                .and_then(|value| value_bytes(kind, value, node_id))
+                .ok_or_else(|| {
+                    format!(
+                        "{}: ParameterValue={} is not a value of its type",
+                        show_mux(mux),
+                        source.raw
+                    )
+                })?;
+            entries.push((mux, bytes));
+        }
+    }
+    Ok(entries)
+}
+
+fn run_dcf(bus: &BusArgs, node: &str, file: &Path) -> ExitCode {
+    let node_id = match parse_node_id(node) {
+        Ok(id) => id,
+        Err(message) => return fail(message),
+    };
+    let entries = match load(file).and_then(|device| parameter_values(&device, node_id)) {
+        Ok(entries) => entries,
+        Err(message) => return fail(message),
+    };
+    let mut master = match bus.connect() {
+        Ok(master) => master,
+        Err(message) => return fail(message),
+    };
+    match master.download_configuration(node_id, &entries) {
+        Ok(()) => {
+            println!("{} value(s) written to node {node_id}", entries.len());
+            ExitCode::SUCCESS
         }
         Err(MasterError::Io(e)) => fail(format!("bus: {e}")),
         Err(error) => {

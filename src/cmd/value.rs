@@ -1,7 +1,7 @@
 //! Values as the bench commands show and take them: the kind of an entry (from its EDS data type
 //! or a `--type` name as CiA 309-3 spells them), its bytes shown as text, and text made bytes.
 
-use edsgen_codegen::model::BasicType;
+use edsgen_codegen::model::{BasicType, Value};
 
 /// How a value's bytes read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -152,6 +152,25 @@ impl Kind {
             Kind::Text => "vs".into(),
             Kind::Bytes => "os".into(),
         }
+    }
+}
+
+/// The wire bytes of a description's value for an entry of `kind` on node `node_id`
+/// (`$NODEID` values resolved); `None` for a value that does not fit the kind.
+pub fn value_bytes(kind: Kind, value: &Value, node_id: u8) -> Option<Vec<u8>> {
+    let integer = |v: i128| {
+        let len = kind.len()?;
+        let bytes = (v as u64).to_le_bytes();
+        Some(bytes.get(..len)?.to_vec())
+    };
+    match (kind, value) {
+        (Kind::Real32, Value::Real(v)) => Some((*v as f32).to_le_bytes().to_vec()),
+        (Kind::Real64, Value::Real(v)) => Some(v.to_le_bytes().to_vec()),
+        (_, Value::Integer(v)) => integer(*v),
+        (_, Value::NodeRelative(offset)) => integer(i128::from(*offset) + i128::from(node_id)),
+        (_, Value::Text(text)) => Some(text.trim_matches('"').as_bytes().to_vec()),
+        (_, Value::Bytes(bytes)) => Some(bytes.clone()),
+        _ => None,
     }
 }
 

@@ -149,6 +149,7 @@ pub struct Master<T> {
     transport: T,
     clock: MonotonicClock,
     default_timeout: Duration,
+    read_retries: u8,
     clients: BTreeMap<u8, SdoClient>,
     monitor: Box<NodeMonitor<127>>,
     events: VecDeque<MasterEvent>,
@@ -163,6 +164,7 @@ impl<T: Transport> Master<T> {
             transport,
             clock: MonotonicClock::new(),
             default_timeout: super::sdo_client::DEFAULT_TIMEOUT,
+            read_retries: 1,
             clients: BTreeMap::new(),
             monitor: Box::new(NodeMonitor::new()),
             events: VecDeque::new(),
@@ -181,6 +183,12 @@ impl<T: Transport> Master<T> {
         for client in self.clients.values_mut() {
             client.set_timeout(self.default_timeout);
         }
+    }
+
+    /// How many times a read that timed out before any byte arrived is tried again (1 by
+    /// default). Writes are never repeated: the node may have applied one it did not confirm.
+    pub fn set_read_retries(&mut self, retries: u8) {
+        self.read_retries = retries;
     }
 
     /// The SDO timeout for `node_id`.
@@ -243,12 +251,24 @@ impl<T: Transport> Master<T> {
         mode: Mode,
         sink: &mut impl io::Write,
     ) -> Result<u32, MasterError> {
-        let now = self.clock.now();
-        if self.client(node_id)?.upload(now, mux, mode).is_err() {
-            return Err(MasterError::Busy(node_id));
+        let mut sink = CountingSink {
+            inner: sink,
+            count: 0,
+        };
+        let mut retries = self.read_retries;
+        loop {
+            let now = self.clock.now();
+            if self.client(node_id)?.upload(now, mux, mode).is_err() {
+                return Err(MasterError::Busy(node_id));
+            }
+            match self.finish(node_id, &mut [].as_slice(), &mut sink) {
+                Err(MasterError::Sdo {
+                    error: SdoError::Timeout,
+                    ..
+                }) if retries > 0 && sink.count == 0 => retries -= 1,
+                result => return result.map(|done| done.size),
+            }
         }
-        self.finish(node_id, &mut [].as_slice(), sink)
-            .map(|done| done.size)
     }
 
     /// Writes `data` to (index, sub) by `mode`.
@@ -344,6 +364,27 @@ impl<T: Transport> Master<T> {
         Ok(mismatches)
     }
 
+    /// Boots a node as a CiA 302 master would, in spirit: waits for its boot-up (at most
+    /// `timeout`), checks its identity, downloads `configuration` (a DCF's values, see
+    /// [`download_configuration`](Self::download_configuration)) and starts it. A node whose
+    /// identity differs is neither configured nor started: the mismatches are returned (and
+    /// queued as events); an empty list means the node runs.
+    pub fn boot_node<V: AsRef<[u8]>>(
+        &mut self,
+        node_id: u8,
+        expected: &ExpectedIdentity,
+        configuration: &[(Multiplexer, V)],
+        timeout: StdDuration,
+    ) -> Result<Vec<IdentityMismatch>, MasterError> {
+        self.wait_for_boot(node_id, timeout)?;
+        let mismatches = self.check_identity(node_id, expected)?;
+        if mismatches.is_empty() {
+            self.download_configuration(node_id, configuration)?;
+            self.nmt(NmtCommand::Start, node_id)?;
+        }
+        Ok(mismatches)
+    }
+
     /// Finds the nodes on the bus: an SDO upload of 1000h to every node-ID 1..=127 at once (one
     /// channel each), and the node-IDs that answered within `timeout` (with a value or an
     /// abort), in order. Node-IDs that stay silent are not sent an abort.
@@ -411,6 +452,20 @@ impl<T: Transport> Master<T> {
         for (mux, value, len) in config.writes() {
             let bytes = value.to_le_bytes();
             self.download(node_id, mux, &bytes[..usize::from(len)], Mode::Normal)?;
+        }
+        Ok(())
+    }
+
+    /// Downloads a configuration (a DCF's ParameterValues) in the safe order of
+    /// [`download_order`](super::dcf::download_order); the first write the node refuses is the
+    /// error (naming the entry).
+    pub fn download_configuration<V: AsRef<[u8]>>(
+        &mut self,
+        node_id: u8,
+        entries: &[(Multiplexer, V)],
+    ) -> Result<(), MasterError> {
+        for (mux, value) in super::dcf::download_order(entries) {
+            value.with_bytes(|bytes| self.download(node_id, mux, bytes, Mode::Normal))?;
         }
         Ok(())
     }
@@ -580,6 +635,24 @@ impl<T: Transport> Master<T> {
                 self.seen.insert(node_id, message.state);
             }
         }
+    }
+}
+
+/// A sink that counts what it was given, so that a read is repeated only if nothing of it
+/// reached the caller.
+struct CountingSink<'a, W> {
+    inner: &'a mut W,
+    count: usize,
+}
+
+impl<W: io::Write> io::Write for CountingSink<'_, W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.count += n;
+        Ok(n)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
     }
 }
 

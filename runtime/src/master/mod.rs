@@ -10,6 +10,9 @@
 pub mod blocking;
 pub mod cia402;
 #[cfg(feature = "std")]
+pub mod concurrent;
+pub mod dcf;
+#[cfg(feature = "std")]
 mod drive;
 pub mod emcy;
 mod fifo;

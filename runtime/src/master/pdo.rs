@@ -1,6 +1,7 @@
 //! PDOs from the master's side: the SDO writes that configure a remote node's PDO in the
-//! CiA 301 order (disable, clear the mapping, map, count, enable), and [`pdo_dispatch!`], an
-//! enum of generated PDO structs decoded from a received frame by its COB-ID.
+//! CiA 301 order (disable, clear the mapping, map, count, enable), and
+//! [`pdo_dispatch!`](crate::pdo_dispatch), an enum of generated PDO structs decoded from a
+//! received frame by its COB-ID.
 
 use crate::wire::sdo::Multiplexer;
 

@@ -569,12 +569,12 @@ impl<const BUF: usize> SdoClient<BUF> {
                 toggle,
                 waiting: false,
             } => {
-                let (data, last) = self.segment_at(0)?;
+                let (bytes, len, last) = self.segment_at(0)?;
+                let data = SegmentData::new(&bytes[..len])?;
                 self.state = State::DownloadSegment {
                     toggle,
                     waiting: true,
                 };
-                let data = SegmentData::new(&data[..])?;
                 Some(ClientRequest::DownloadSegment { toggle, data, last }.emit())
             }
             State::BlockDownloadSub {
@@ -583,9 +583,7 @@ impl<const BUF: usize> SdoClient<BUF> {
                 last: false,
                 waiting: false,
             } => {
-                let (data, last) = self.segment_at(usize::from(sent) * SEGMENT_DATA_LEN)?;
-                let mut bytes = [0u8; SEGMENT_DATA_LEN];
-                bytes[..data.len()].copy_from_slice(&data);
+                let (bytes, _, last) = self.segment_at(usize::from(sent) * SEGMENT_DATA_LEN)?;
                 let sent = sent + 1;
                 self.state = State::BlockDownloadSub {
                     blksize,
@@ -607,16 +605,17 @@ impl<const BUF: usize> SdoClient<BUF> {
     }
 
     /// The download segment `offset` bytes past the acknowledged ones, if the caller has
-    /// supplied its bytes: its data and whether it is the value's last.
-    fn segment_at(&self, offset: usize) -> Option<(SegmentBytes, bool)> {
+    /// supplied its bytes: its 7 bytes (zero past the data), how many are data, and whether it
+    /// is the value's last.
+    fn segment_at(&self, offset: usize) -> Option<([u8; SEGMENT_DATA_LEN], usize, bool)> {
         let remaining = self.remaining().checked_sub(offset)?;
         let len = remaining.min(SEGMENT_DATA_LEN);
         if self.fifo.len() < offset + len {
             return None;
         }
-        let mut bytes = SegmentBytes::default();
-        bytes.len = self.fifo.peek(offset, &mut bytes.data[..len]);
-        Some((bytes, remaining <= SEGMENT_DATA_LEN))
+        let mut bytes = [0u8; SEGMENT_DATA_LEN];
+        self.fifo.peek(offset, &mut bytes[..len]);
+        Some((bytes, len, remaining <= SEGMENT_DATA_LEN))
     }
 
     fn handle_response(&mut self, response: ServerResponse) {
@@ -903,20 +902,6 @@ impl<const BUF: usize> SdoClient<BUF> {
 
     fn protocol_error(&mut self, abort: SdoAbort) {
         self.finish_abort(SdoError::Client(abort.code()));
-    }
-}
-
-/// Up to 7 bytes of a download segment.
-#[derive(Debug, Default, Clone, Copy)]
-struct SegmentBytes {
-    data: [u8; SEGMENT_DATA_LEN],
-    len: usize,
-}
-
-impl core::ops::Deref for SegmentBytes {
-    type Target = [u8];
-    fn deref(&self) -> &[u8] {
-        &self.data[..self.len]
     }
 }
 
