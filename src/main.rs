@@ -107,9 +107,9 @@ enum Command {
     Simulate(cmd::simulate::Args),
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
-    /// The bundled cards at work: validate them, then drive a simulated CP301 and Goodrive350
-    /// through their manuals' workflows, every frame decoded.
-    Demo,
+    /// The bundled cards at work: validate them, then drive a CP301 and a Goodrive350 (simulated,
+    /// or on a bus) through their manuals' workflows, every frame decoded.
+    Demo(cmd::demo::Args),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -189,6 +189,6 @@ fn main() -> ExitCode {
         Command::Bus(args) => cmd::bus::run(&args),
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Decode(args) => cmd::decode::run(args),
-        Command::Demo => cmd::demo::run(),
+        Command::Demo(args) => cmd::demo::run(&args),
     }
 }

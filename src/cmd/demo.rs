@@ -1,13 +1,27 @@
-//! `edsgen demo`: the bundled cards at work on the in-memory bus (see the library's `demo`
-//! module); exit 0 only if every step behaved as the manuals say.
+//! `edsgen demo [--bus HOST:PORT]`: the bundled cards at work (see the library's `demo` module),
+//! on the in-memory bus or against the drives on a socketcand bus; exit 0 only if every step
+//! behaved as the manuals say.
 
 use std::process::ExitCode;
 
 use super::print_stdout;
 
+/// The arguments of `edsgen demo`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Drive the devices on this socketcand bus (`edsgen bus`) instead of simulating them: a
+    /// CP301 at node 2 and a Goodrive350 at node 3, such as `edsgen simulate --card cp301@2
+    /// --card goodrive350`, in real time.
+    #[arg(long, value_name = "HOST:PORT")]
+    bus: Option<String>,
+}
+
 /// Runs the demo, prints its trace and summary.
-pub fn run() -> ExitCode {
-    let report = edsgen::demo::run();
+pub fn run(args: &Args) -> ExitCode {
+    let report = match &args.bus {
+        Some(addr) => edsgen::demo::run_on_bus(addr),
+        None => edsgen::demo::run(),
+    };
     let mut text = report.lines.join("\n");
     let failed = report.steps.iter().filter(|s| s.outcome.is_err()).count();
     text.push_str(&format!(
