@@ -11,9 +11,9 @@ use edsgen_codegen::model::{AccessType, BasicType, Device, ObjectType, SubObject
 use edsgen_codegen::rules::Rule;
 use edsgen_codegen::{read, render};
 use edsgen_runtime::master::blocking::{Master, MasterError};
-use edsgen_runtime::master::sdo_client::abort_meaning;
 use edsgen_runtime::master::{ExpectedIdentity, Mode, SdoError};
 use edsgen_runtime::transport::Transport;
+use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::sdo::show_mux;

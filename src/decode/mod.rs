@@ -406,7 +406,7 @@ fn emergency(node: u8, data: &[u8]) -> (&'static str, String) {
     };
     let text = format!(
         "node {node} {code:04X} {}; register {register:02X}h ({}); manufacturer {}",
-        text::emergency(code),
+        edsgen_runtime::wire::emcy::meaning(code),
         text::error_register(register),
         text::hex_bytes(&manufacturer)
     );

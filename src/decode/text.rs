@@ -1,7 +1,9 @@
 //! What the decoder's lines say about values and codes: a value typed by its data type, the
-//! CiA 301 meanings of SDO abort codes, emergency error codes and error-register bits.
+//! CiA 301 meanings of SDO abort codes and error-register bits as the decoder prints them (the
+//! tables themselves are the runtime's: `wire::sdo::abort_meaning`, `wire::emcy::meaning`).
 
 use edsgen_runtime::typed::get_bits;
+use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::DataType;
 
 /// A value's little-endian bytes as text, typed by `data_type`: integers in decimal (unsigned
@@ -66,85 +68,8 @@ pub fn hex_bytes(bytes: &[u8]) -> String {
 
 /// An SDO abort code as `0609 0031 value of parameter written too high` (CiA 301 table 22).
 pub fn abort(code: u32) -> String {
-    let meaning = match code {
-        0x0503_0000 => "toggle bit not alternated",
-        0x0504_0000 => "SDO protocol timed out",
-        0x0504_0001 => "client/server command specifier not valid or unknown",
-        0x0504_0002 => "invalid block size",
-        0x0504_0003 => "invalid sequence number",
-        0x0504_0004 => "CRC error",
-        0x0504_0005 => "out of memory",
-        0x0601_0000 => "unsupported access to an object",
-        0x0601_0001 => "attempt to read a write only object",
-        0x0601_0002 => "attempt to write a read only object",
-        0x0602_0000 => "object does not exist in the object dictionary",
-        0x0604_0041 => "object cannot be mapped to the PDO",
-        0x0604_0042 => "the number and length of the objects to be mapped would exceed PDO length",
-        0x0604_0043 => "general parameter incompatibility",
-        0x0604_0047 => "general internal incompatibility in the device",
-        0x0606_0000 => "access failed due to a hardware error",
-        0x0607_0010 => "data type does not match, length of service parameter does not match",
-        0x0607_0012 => "data type does not match, length of service parameter too high",
-        0x0607_0013 => "data type does not match, length of service parameter too low",
-        0x0609_0011 => "sub-index does not exist",
-        0x0609_0030 => "invalid value for parameter",
-        0x0609_0031 => "value of parameter written too high",
-        0x0609_0032 => "value of parameter written too low",
-        0x0609_0036 => "maximum value is less than minimum value",
-        0x060A_0023 => "resource not available: SDO connection",
-        0x0800_0000 => "general error",
-        0x0800_0020 => "data cannot be transferred or stored to the application",
-        0x0800_0021 => "data cannot be transferred or stored because of local control",
-        0x0800_0022 => "data cannot be transferred or stored because of the present device state",
-        0x0800_0023 => "object dictionary dynamic generation fails or no object dictionary",
-        0x0800_0024 => "no data available",
-        _ => "unknown abort code",
-    };
+    let meaning = abort_meaning(code).unwrap_or("unknown abort code");
     format!("{:04X} {:04X} {meaning}", code >> 16, code & 0xFFFF)
-}
-
-/// The CiA 301 meaning of an emergency error code (the most specific one the code has).
-pub fn emergency(code: u16) -> &'static str {
-    match code {
-        0x0000 => "error reset or no error",
-        0x8110 => "CAN overrun (objects lost)",
-        0x8120 => "CAN in error passive mode",
-        0x8130 => "life guard error or heartbeat error",
-        0x8140 => "recovered from bus off",
-        0x8150 => "CAN-ID collision",
-        0x8210 => "PDO not processed due to length error",
-        0x8220 => "PDO length exceeded",
-        0x8230 => "DAM MPDO not processed, destination object not available",
-        0x8240 => "unexpected SYNC data length",
-        0x8250 => "RPDO timeout",
-        _ => match code >> 8 {
-            0x10 => "generic error",
-            0x20 => "current",
-            0x21 => "current, device input side",
-            0x22 => "current inside the device",
-            0x23 => "current, device output side",
-            0x30 => "voltage",
-            0x31 => "mains voltage",
-            0x32 => "voltage inside the device",
-            0x33 => "output voltage",
-            0x40 => "temperature",
-            0x41 => "ambient temperature",
-            0x42 => "device temperature",
-            0x50 => "device hardware",
-            0x60 => "device software",
-            0x61 => "internal software",
-            0x62 => "user software",
-            0x63 => "data set",
-            0x70 => "additional modules",
-            0x80 => "monitoring",
-            0x81 => "communication",
-            0x82 => "protocol error",
-            0x90 => "external error",
-            0xF0 => "additional functions",
-            0xFF => "device specific",
-            _ => "unknown error code",
-        },
-    }
 }
 
 /// The bits set in an error register (1001h), by name: `generic, communication`, or `none`.

@@ -20,7 +20,8 @@ use super::emcy::Emergency;
 use super::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
 use super::nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch, WatchError};
 use super::pdo::PdoConfig;
-use super::sdo_client::{abort_meaning, Completed, Mode, SdoClient, SdoError, StartError};
+use super::sdo_client::{Completed, Mode, SdoClient, SdoError, StartError};
+use crate::wire::sdo::abort_meaning;
 
 /// The longest the master sleeps in a transport before it looks at its timers again.
 const MAX_WAIT: StdDuration = StdDuration::from_millis(20);
