@@ -56,7 +56,6 @@ struct PdoPlan {
 /// The `pdo` module, and how many RPDO and TPDO structs it holds.
 pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> TokenStream {
     let mut structs = Vec::new();
-    let mut empty = Vec::new();
     for object in device.objects.values() {
         let (direction, base) = match object.index {
             0x1600..=0x17FF => (Direction::Rx, 0x1600),
@@ -66,7 +65,7 @@ pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> 
         let number = object.index - base + 1;
         match plan_pdo(device, plan, object.index, direction, number) {
             Ok(Some(p)) => structs.push(emit_pdo(&p)),
-            Ok(None) => empty.push(object),
+            Ok(None) => {}
             Err(why) => diagnostics.push(
                 Diagnostic::new(
                     &rules::UNTYPED_PDO,
@@ -82,24 +81,6 @@ pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> 
         }
     }
     if structs.is_empty() {
-        // Say why there is no `pdo` module, where the mapping objects exist but map nothing.
-        if let Some(first) = empty.first() {
-            let indices: Vec<String> = empty.iter().map(|o| format!("{:04X}h", o.index)).collect();
-            diagnostics.push(
-                Diagnostic::new(
-                    &rules::NO_DEFAULT_PDOS,
-                    Some(first.span),
-                    format!(
-                        "no PDO struct is generated: the mapping objects ({}) map no objects by default",
-                        indices.join(", ")
-                    ),
-                )
-                .with_help(format!(
-                    "declare the mappings to generate in the overlay: [pdo_mapping] {:04X} = [\"6040\", ...]",
-                    first.index
-                )),
-            );
-        }
         return quote!();
     }
     quote! {
