@@ -53,7 +53,9 @@ pub fn structs(plan: &Plan) -> TokenStream {
     }
     let runs = default_runs(&image);
     let runs_len = Literal::usize_unsuffixed(runs.len());
-    let default_table = default_table(plan).into_iter().map(|line| quote!(#[doc = #line]));
+    let default_table = default_table(plan)
+        .into_iter()
+        .map(|line| quote!(#[doc = #line]));
     let runs = runs.iter().map(|&b| Literal::u8_unsuffixed(b));
     let node_count = Literal::usize_unsuffixed(node_relative.len());
     let (node_param, node_table, add_node_id) = if node_relative.is_empty() {
@@ -130,14 +132,20 @@ fn default_table(plan: &Plan) -> Vec<String> {
     for e in &plan.entries {
         let value = match (&e.init, e.ty) {
             (Initial::Raw(0), _) => continue,
-            (Initial::Raw(raw), RustType::Scalar(_, wire)) => format!("0x{raw:0width$X}", width = wire * 2),
+            (Initial::Raw(raw), RustType::Scalar(_, wire)) => {
+                format!("0x{raw:0width$X}", width = wire * 2)
+            }
             (Initial::NodeRelative(raw), _) => format!("$NODEID + 0x{raw:X}"),
             (Initial::Bytes(bytes), _) if bytes.is_empty() => continue,
             (Initial::Bytes(bytes), _) => match std::str::from_utf8(bytes) {
                 Ok(text) if text.chars().all(|c| c.is_ascii_graphic() || c == ' ') => {
                     format!("{text:?}")
                 }
-                _ => bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" "),
+                _ => bytes
+                    .iter()
+                    .map(|b| format!("{b:02X}"))
+                    .collect::<Vec<_>>()
+                    .join(" "),
             },
             _ => continue,
         };
