@@ -14,6 +14,9 @@
 //!
 //! [numbering]
 //! 2000-201F = 0    # sub-index 1 is element 0: 201Ch sub 86 is F28_85
+//!
+//! [pdo_mapping]    # default mappings the description leaves empty (typed PDOs for them)
+//! 1600 = ["6040", "6042"]
 //! ```
 //!
 //! [`apply`] checks the overlay against the model and sets [`SubObject::capacity`] and
@@ -27,7 +30,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use crate::diag::Diagnostic;
-use crate::model::{BasicType, Device, ObjectType, SubObject};
+use crate::model::{BasicType, Device, ObjectType, SubObject, Value, ValueSource};
 use crate::read::text::LineIndex;
 use crate::rules;
 
@@ -77,11 +80,18 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                     set_numbering(range, first, device, text, &lines, &mut diags);
                 }
             }
-            (table @ ("capacity" | "names" | "numbering"), _) => diags.push(Diagnostic::new(
-                &rules::OVERLAY,
-                Some(key_span),
-                format!("`{table}` must be a table: `[{table}]`"),
-            )),
+            ("pdo_mapping", DeValue::Table(table)) => {
+                for (mapping, entries) in table {
+                    set_mapping(mapping, entries, device, text, &lines, &mut diags);
+                }
+            }
+            (table @ ("capacity" | "names" | "numbering" | "pdo_mapping"), _) => {
+                diags.push(Diagnostic::new(
+                    &rules::OVERLAY,
+                    Some(key_span),
+                    format!("`{table}` must be a table: `[{table}]`"),
+                ))
+            }
             (other, _) => diags.push(
                 Diagnostic::new(
                     &rules::OVERLAY,
@@ -89,7 +99,9 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                     format!("unknown overlay table `{other}`"),
                 )
                 .with_label("ignored")
-                .with_help("an overlay has the tables [capacity], [names] and [numbering]"),
+                .with_help(
+                    "an overlay has the tables [capacity], [names], [numbering] and [pdo_mapping]",
+                ),
             ),
         }
     }
@@ -288,6 +300,93 @@ fn set_numbering(
     }
     for index in arrays {
         device.naming.first_number.insert(index, number);
+    }
+}
+
+/// One `1600 = ["6040", "6042sub0"]` line of `[pdo_mapping]`: the default mapping of a PDO
+/// whose description maps nothing, written into the mapping object's defaults (sub 0 the count,
+/// subs 1..n index << 16 | sub << 8 | bits), as a device configured that way would hold them.
+fn set_mapping(
+    key: &Spanned<std::borrow::Cow<'_, str>>,
+    value: &Spanned<DeValue<'_>>,
+    device: &mut Device,
+    text: &str,
+    lines: &LineIndex,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let key_span = lines.span(text, key.span());
+    let value_span = lines.span(text, value.span());
+    let raw = key.get_ref().as_ref();
+    let mut refuse = |span, message: String| {
+        diags.push(Diagnostic::new(&rules::OVERLAY, Some(span), message));
+    };
+    let mapping = u16::from_str_radix(raw, 16)
+        .ok()
+        .filter(|i| matches!(i, 0x1600..=0x17FF | 0x1A00..=0x1BFF))
+        .filter(|i| device.objects.contains_key(i));
+    let Some(mapping) = mapping else {
+        return refuse(
+            key_span,
+            format!(
+                "`{raw}` is not a PDO mapping object of the description (1600h-17FFh, 1A00h-1BFFh)"
+            ),
+        );
+    };
+    let DeValue::Array(items) = value.get_ref() else {
+        return refuse(
+            value_span,
+            format!("the mapping of `{raw}` must be a list of entries: [\"6040\", \"2000sub1\"]"),
+        );
+    };
+    let mut words = Vec::new();
+    for item in items.iter() {
+        let span = lines.span(text, item.span());
+        let DeValue::String(name) = item.get_ref() else {
+            return refuse(
+                span,
+                "a mapped entry is written as a string: \"6040\", \"2000sub1\"".into(),
+            );
+        };
+        let bits = entry_address(name).and_then(|(index, sub)| {
+            let entry = device.entry(index, sub)?;
+            let bits = device.basic_type(entry.data_type?)?.bits()?;
+            Some(u32::from(index) << 16 | u32::from(sub) << 8 | bits)
+        });
+        let Some(word) = bits else {
+            return refuse(
+                span,
+                format!("`{name}` is not an entry of the description with a fixed-size type"),
+            );
+        };
+        words.push(word);
+    }
+    let object = device.objects.get_mut(&mapping).expect("checked above");
+    if words.len() > object.subs.len().saturating_sub(1) {
+        return refuse(
+            value_span,
+            format!(
+                "{mapping:04X}h has {} mapping entries, fewer than the {} listed",
+                object.subs.len().saturating_sub(1),
+                words.len()
+            ),
+        );
+    }
+    let set = |sub: &mut SubObject, value: u32| {
+        sub.default = Some(ValueSource {
+            value: Some(Value::Integer(i128::from(value))),
+            raw: format!("{value:#X}"),
+            span: value_span,
+        });
+    };
+    // Sub-indices 1..n in order, as CiA 301 numbers a mapping's entries.
+    for (n, word) in (1u8..).zip(&words) {
+        let Some(sub) = object.subs.get_mut(&n) else {
+            return refuse(value_span, format!("{mapping:04X}h has no sub-index {n}"));
+        };
+        set(sub, *word);
+    }
+    if let Some(count) = object.subs.get_mut(&0) {
+        set(count, words.len() as u32);
     }
 }
 

@@ -170,6 +170,7 @@ rules! {
     UNUSABLE_LIMIT = "EDS706" Warning "a LowLimit or HighLimit the generated write cannot check (not a constant of the entry's type)";
     CAPACITY_TOO_LARGE = "EDS707" Error "a string, octet string or domain longer than 65535 bytes, or a device whose values need more than 65535 bytes in all";
     OVERLAY = "EDS708" Error "an overlay (NAME.toml beside the description) that cannot be applied: not TOML, an unknown table, a key that names no entry (or, in [numbering], no ARRAY), a capacity on an entry that is not a string or domain, or below its value, a name without a letter or digit";
+    NO_DEFAULT_PDOS = "EDS709" Info "the description maps no default PDO, so no PDO struct is generated (the overlay's [pdo_mapping] can declare mappings)";
 }
 
 /// Looks a rule up by its code.

@@ -306,3 +306,77 @@ fn names_and_numbering_rename_entries_and_errors_point_at_their_line() {
         ]
     );
 }
+
+#[test]
+fn a_device_without_default_pdos_says_so_and_the_overlay_declares_mappings() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/ms300.eds");
+    let mut device = read::read_file(&path).unwrap().device;
+    let plain = emit::generate_module(&device, "ms300").unwrap();
+    assert!(!plain.code.contains("pub mod pdo"));
+    let said: Vec<_> = edsgen_codegen::validate::validate(&device)
+        .iter()
+        .filter(|d| d.code() == "EDS709")
+        .map(|d| (d.severity, d.message.clone()))
+        .collect();
+    assert_eq!(
+        said,
+        [(
+            Severity::Info,
+            "no PDO struct is generated: the mapping objects (1600h, 1601h, 1602h, 1603h, and 4 more) map no objects by default".to_owned()
+        )]
+    );
+
+    let diags = overlay::apply(
+        "[pdo_mapping]\n1600 = [\"6040\", \"6042\"]\n1A00 = [\"6041\", \"6043\"]\n",
+        &mut device,
+    );
+    assert_eq!(diags, vec![]);
+    let mapped = emit::generate_module(&device, "ms300").unwrap();
+    let squeezed: String = mapped.code.split_whitespace().collect();
+    assert!(squeezed.contains("pubstructRpdo1{"), "{}", mapped.code);
+    assert!(squeezed.contains("pubstructTpdo1{"));
+    assert!(!squeezed.contains("pubstructRpdo2{"));
+    let validated = edsgen_codegen::validate::validate(&device);
+    assert!(validated.iter().all(|d| d.code() != "EDS709"));
+    // The mapping objects hold the declared mapping as their defaults.
+    let default = |sub: u8| {
+        device
+            .entry(0x1600, sub)
+            .unwrap()
+            .default
+            .as_ref()
+            .unwrap()
+            .value
+            .clone()
+    };
+    assert_eq!(default(0), Some(edsgen_codegen::model::Value::Integer(2)));
+    assert_eq!(
+        default(1),
+        Some(edsgen_codegen::model::Value::Integer(0x6040_0010))
+    );
+
+    let text = "[pdo_mapping]\n2000 = [\"6040\"]\n1601 = [\"2999\"]\n1602 = \"6040\"\n";
+    let lines: Vec<(u32, String)> = overlay::apply(text, &mut device)
+        .into_iter()
+        .map(|d| (d.span.map_or(0, |s| s.line), d.message))
+        .collect();
+    assert_eq!(
+        lines,
+        [
+            (
+                2,
+                "`2000` is not a PDO mapping object of the description (1600h-17FFh, 1A00h-1BFFh)"
+                    .to_owned()
+            ),
+            (
+                3,
+                "`2999` is not an entry of the description with a fixed-size type".to_owned()
+            ),
+            (
+                4,
+                "the mapping of `1602` must be a list of entries: [\"6040\", \"2000sub1\"]"
+                    .to_owned()
+            ),
+        ]
+    );
+}

@@ -53,6 +53,9 @@ pub fn structs(plan: &Plan) -> TokenStream {
     }
     let runs = default_runs(&image);
     let runs_len = Literal::usize_unsuffixed(runs.len());
+    let default_table = default_table(plan)
+        .into_iter()
+        .map(|line| quote!(#[doc = #line]));
     let runs = runs.iter().map(|&b| Literal::u8_unsuffixed(b));
     let node_count = Literal::usize_unsuffixed(node_relative.len());
     let (node_param, node_table, add_node_id) = if node_relative.is_empty() {
@@ -78,6 +81,7 @@ pub fn structs(plan: &Plan) -> TokenStream {
         /// The value image with every entry at its default (`$NODEID` ones at their offset from
         /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
         /// each (see `edsgen_runtime::image::unpack_defaults`).
+        #(#default_table)*
         const DEFAULTS: [u8; #runs_len] = [#(#runs),*];
 
         #node_table
@@ -122,6 +126,48 @@ pub fn structs(plan: &Plan) -> TokenStream {
             }
         }
     }
+}
+
+/// The defaults `DEFAULTS` packs, readable: one doc line per entry whose default is not zero or
+/// empty, `offset: NAME (index sub) = value`, in image order. Docs cost no flash.
+fn default_table(plan: &Plan) -> Vec<String> {
+    let mut lines = Vec::new();
+    for e in &plan.entries {
+        let value = match (&e.init, e.ty) {
+            (Initial::Raw(0), _) => continue,
+            (Initial::Raw(raw), RustType::Scalar(_, wire)) => {
+                format!("0x{raw:0width$X}", width = wire * 2)
+            }
+            (Initial::NodeRelative(raw), _) => format!("$NODEID + 0x{raw:X}"),
+            (Initial::Bytes(bytes), _) if bytes.is_empty() => continue,
+            (Initial::Bytes(bytes), _) => match std::str::from_utf8(bytes) {
+                Ok(text) if text.chars().all(|c| c.is_ascii_graphic() || c == ' ') => {
+                    format!("{text:?}")
+                }
+                _ => bytes
+                    .iter()
+                    .map(|b| format!("{b:02X}"))
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            },
+            _ => continue,
+        };
+        let value = if value.chars().count() > 60 {
+            format!("{}...", value.chars().take(60).collect::<String>())
+        } else {
+            value
+        };
+        if lines.is_empty() {
+            lines.push(String::new());
+            lines.push(" The non-zero defaults, at their offset in the image:".to_owned());
+            lines.push(String::new());
+        }
+        lines.push(format!(
+            " - {:#06X}: `{}` ({:04X}h sub {}) = `{value}`",
+            e.offset, e.const_name, e.index, e.sub
+        ));
+    }
+    lines
 }
 
 /// The runs `edsgen_runtime::image::unpack_defaults` turns back into `image`: for each stretch of

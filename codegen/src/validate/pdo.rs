@@ -51,6 +51,7 @@ fn mapping(index: u16) -> Option<(Dir, u16)> {
 }
 
 pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
+    no_default_pdos(device, out);
     let mut sub4 = Vec::new();
     let mut rx_only = Vec::new();
     let mut first_sub4: Option<Span> = None;
@@ -240,6 +241,38 @@ fn cob_id_range(index: u16, sub: &crate::model::SubObject, out: &mut Vec<Diagnos
             return;
         }
     }
+}
+
+/// EDS709: mapping objects that all map nothing by default, so that the generator makes no
+/// typed PDO; said here, where `edsgen validate` shows infos.
+fn no_default_pdos(device: &Device, out: &mut Vec<Diagnostic>) {
+    let mappings: Vec<&Object> = device
+        .objects
+        .range(0x1600..=0x1BFF)
+        .map(|(_, o)| o)
+        .filter(|o| matches!(o.index, 0x1600..=0x17FF | 0x1A00..=0x1BFF))
+        .collect();
+    let all_empty = mappings
+        .iter()
+        .all(|o| o.subs.get(&0).and_then(effective_int) == Some(0));
+    let Some(first) = mappings.first().filter(|_| all_empty) else {
+        return;
+    };
+    let indices: Vec<String> = mappings.iter().map(|o| obj(o.index)).collect();
+    out.push(
+        Diagnostic::new(
+            &rules::NO_DEFAULT_PDOS,
+            Some(first.span),
+            format!(
+                "no PDO struct is generated: the mapping objects ({}) map no objects by default",
+                short_list(&indices)
+            ),
+        )
+        .with_help(format!(
+            "declare the mappings to generate in the overlay: [pdo_mapping] {:04X} = [\"6040\", ...]",
+            first.index
+        )),
+    );
 }
 
 /// A mapped object that does not exist, reported once per mapping that names it: its index, the
