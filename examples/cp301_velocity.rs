@@ -1,8 +1,8 @@
 //! A master driving a simulated CP301 card through CiA 402 velocity mode with the typed API:
-//! the drive (the generated `cp301::Od` served by a device node, with the CiA 402 state machine
-//! of `SimulatedDrive`) runs on its own thread on an in-memory bus; the master boots it, checks
-//! its identity against the card's constants, starts it, enables operation, sets a target
-//! velocity, reads the demand back, and switches the drive off again.
+//! the drive (`edsgen::drives::Cp301`: the generated `cp301::Od` served by a device node, with the
+//! runtime's CiA 402 drive behind it) runs on its own thread on an in-memory bus; the master
+//! boots it, checks its identity against the card's constants, starts it, enables operation, sets
+//! a target velocity and the ramp, reads the speed back, and switches the drive off again.
 //!
 //! `cargo run --example cp301_velocity`. Over a real bus, build the `Master` on a
 //! `SocketcandClient` (or SocketCAN) instead of the memory endpoint; the rest is the same.
@@ -10,10 +10,10 @@
 use std::time::Duration;
 
 use edsgen::cards::cp301::{self, od};
+use edsgen::drives::Cp301;
+use edsgen_runtime::cia402::State;
 use edsgen_runtime::master::blocking::{Master, MasterError};
-use edsgen_runtime::master::cia402::{DriveState, SimulatedDrive};
 use edsgen_runtime::master::ExpectedIdentity;
-use edsgen_runtime::node::Node;
 use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
 use edsgen_runtime::transport::memory::MemoryBus;
 use edsgen_runtime::wire::nmt::NmtCommand;
@@ -27,8 +27,8 @@ fn main() -> Result<(), MasterError> {
 
     // The simulated drive, on its own thread.
     let clock = MonotonicClock::new();
-    let node = Node::new(cp301::Od::new(NODE_ID), NODE_ID, clock.now()).expect("node-ID 3");
-    let drive = Driver::with_clock(bus.endpoint(), SimulatedDrive::new(node), clock)
+    let cp301 = Cp301::new(NODE_ID, clock.now()).expect("node-ID 3");
+    let drive = Driver::with_clock(bus.endpoint(), cp301, clock)
         .spawn()
         .map_err(MasterError::Io)?;
 
@@ -50,13 +50,18 @@ fn main() -> Result<(), MasterError> {
     let status: u16 = master.read(NODE_ID, od::STATUSWORD)?;
     println!(
         "statusword 0x{status:04X}: {:?}",
-        DriveState::from_statusword(status)
+        State::from_statusword(status)
     );
 
     // Typed: VL_TARGET_VELOCITY is an `Entry<i16>`; writing a u16 or an i32 would not compile.
+    // A 300 ms ramp to 1500 rpm, then the vl bits 4-6 (7Fh) start it.
+    master.write(NODE_ID, od::VL_RAMP_FUNCTION_TIME, 300)?;
     master.write(NODE_ID, od::VL_TARGET_VELOCITY, 1500)?;
-    let demand: i16 = master.read(NODE_ID, od::VL_VELOCITY_DEMAND)?;
-    println!("vl target velocity 1500, demand {demand}");
+    master.write(NODE_ID, od::CONTROLWORD, 0x7F)?;
+    master.listen(Duration::from_millis(400))?;
+    let actual: i16 = master.read(NODE_ID, od::VL_VELOCITY_ACTUAL_VALUE)?;
+    println!("vl target velocity 1500, actual {actual} after the ramp");
+    assert_eq!(actual, 1500);
 
     master.disable_drive(NODE_ID, STEP)?;
     let state = master.drive_state(NODE_ID)?;
@@ -64,7 +69,7 @@ fn main() -> Result<(), MasterError> {
     println!("drive {state:?}, demand {demand}");
     assert_eq!(
         (state, demand, mismatches.len()),
-        (DriveState::SwitchOnDisabled, 0, 0)
+        (State::SwitchOnDisabled, 0, 0)
     );
     let _ = drive.stop();
     Ok(())

@@ -69,7 +69,7 @@ pub enum MasterError {
         /// The node.
         node_id: u8,
         /// The state it shows.
-        state: crate::master::cia402::DriveState,
+        state: crate::cia402::State,
     },
     /// The drive does not show the mode of operation set.
     ModeNotConfirmed {

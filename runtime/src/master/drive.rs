@@ -8,16 +8,17 @@ use crate::transport::Transport;
 
 use super::blocking::{Master, MasterError};
 use super::cia402::{
-    Command, DriveState, CONTROLWORD, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY, STATUSWORD,
+    next_command, state_of, CONTROLWORD, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY, STATUSWORD,
 };
+use crate::cia402::{Command, State};
 
 /// How often a helper reads the statusword while it waits for a transition.
 const POLL: StdDuration = StdDuration::from_millis(5);
 
 impl<T: Transport> Master<T> {
     /// The drive state node `node_id` shows in its statusword.
-    pub fn drive_state(&mut self, node_id: u8) -> Result<DriveState, MasterError> {
-        Ok(DriveState::from_statusword(self.read(node_id, STATUSWORD)?))
+    pub fn drive_state(&mut self, node_id: u8) -> Result<State, MasterError> {
+        Ok(state_of(self.read(node_id, STATUSWORD)?))
     }
 
     /// Sends a controlword command.
@@ -32,7 +33,7 @@ impl<T: Transport> Master<T> {
         node_id: u8,
         step_timeout: StdDuration,
     ) -> Result<(), MasterError> {
-        self.walk_to(node_id, DriveState::OperationEnabled, step_timeout)
+        self.walk_to(node_id, State::OperationEnabled, step_timeout)
     }
 
     /// Walks the drive back to switch on disabled (power stage off).
@@ -41,18 +42,18 @@ impl<T: Transport> Master<T> {
         node_id: u8,
         step_timeout: StdDuration,
     ) -> Result<(), MasterError> {
-        self.walk_to(node_id, DriveState::SwitchOnDisabled, step_timeout)
+        self.walk_to(node_id, State::SwitchOnDisabled, step_timeout)
     }
 
     /// Resets a fault: bit 7 low, then its rising edge; the fault must be gone within
     /// `timeout`, or the error says the drive stays in fault.
     pub fn fault_reset(&mut self, node_id: u8, timeout: StdDuration) -> Result<(), MasterError> {
-        if self.drive_state(node_id)? != DriveState::Fault {
+        if self.drive_state(node_id)? != State::Fault {
             return Ok(());
         }
         self.drive_command(node_id, Command::DisableVoltage)?;
         self.drive_command(node_id, Command::FaultReset)?;
-        self.wait_state(node_id, timeout, |s| s != DriveState::Fault)
+        self.wait_state(node_id, timeout, |s| s != State::Fault)
             .map(|_| ())
     }
 
@@ -84,13 +85,13 @@ impl<T: Transport> Master<T> {
     fn walk_to(
         &mut self,
         node_id: u8,
-        target: DriveState,
+        target: State,
         step_timeout: StdDuration,
     ) -> Result<(), MasterError> {
         let mut state = self.drive_state(node_id)?;
         // Each command moves one transition; no walk needs more than a handful.
         for _ in 0..8 {
-            let Some(command) = state.next_command(target) else {
+            let Some(command) = next_command(state, target) else {
                 if state == target {
                     return Ok(());
                 }
@@ -115,8 +116,8 @@ impl<T: Transport> Master<T> {
         &mut self,
         node_id: u8,
         timeout: StdDuration,
-        done: impl Fn(DriveState) -> bool,
-    ) -> Result<DriveState, MasterError> {
+        done: impl Fn(State) -> bool,
+    ) -> Result<State, MasterError> {
         let start = StdInstant::now();
         loop {
             let state = self.drive_state(node_id)?;
