@@ -221,3 +221,51 @@ fn a_fault_sends_its_emergency_and_resets_once_its_cause_is_gone() {
         expect(&[(12_600, "183: 01 00 00 00 01 00 00 00")])
     );
 }
+
+#[test]
+fn sdo_control_and_monitoring_as_the_manual_shows() {
+    let mut bench = Bench::started();
+    // Communication control (P00.01 = 2, P00.02 = 1, P00.06 = 9), setting 1 as the frequency
+    // (P15.02 = 1), returned value 1 the running frequency (P15.13 = 1), by PDO1.
+    for (i, (request, response)) in [
+        ("203: 02 00 01 00 02 00", "183: 01 00 00 00 02 00 00 00"),
+        ("203: 02 00 02 00 01 00", "183: 01 00 00 00 01 00 00 00"),
+        ("203: 02 00 06 00 09 00", "183: 01 00 00 00 09 00 00 00"),
+        ("203: 02 00 02 0F 01 00", "183: 01 00 00 00 01 00 00 00"),
+        ("203: 02 00 0D 0F 01 00", "183: 01 00 00 00 01 00 00 00"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let at = 100 * (i as u64 + 1);
+        assert_eq!(
+            bench.exchange(at, request, at + 1),
+            expect(&[(at, response)])
+        );
+    }
+    // §3.6's SDO frames: 2100h:03 (setting 1) = 5000, then 2101h:00 (CW) = 1, run forward.
+    let sdo = |sent: Vec<(u64, String)>| -> Vec<String> {
+        sent.into_iter()
+            .map(|(_, f)| f)
+            .filter(|f| f.starts_with("583"))
+            .collect()
+    };
+    assert_eq!(
+        sdo(bench.exchange(1_000, "603: 2B 00 21 03 88 13 00 00", 1_000)),
+        ["583: 60 00 21 03 00 00 00 00"]
+    );
+    assert_eq!(
+        sdo(bench.exchange(1_000, "603: 2B 01 21 00 01 00 00 00", 1_000)),
+        ["583: 60 01 21 00 00 00 00 00"]
+    );
+    // After P00.11's 10 s ramp: SW 2001h:00 reads 0101h (running forward, bus voltage
+    // established) and returned value 1 (2000h:03) 5000, 50.00 Hz: the manual's answers.
+    assert_eq!(
+        sdo(bench.exchange(11_000, "603: 40 01 20 00 00 00 00 00", 11_000)),
+        ["583: 4B 01 20 00 01 01 00 00"]
+    );
+    assert_eq!(
+        sdo(bench.exchange(11_000, "603: 40 00 20 03 00 00 00 00", 11_000)),
+        ["583: 4B 00 20 03 88 13 00 00"]
+    );
+}
