@@ -57,7 +57,7 @@ impl Report {
     }
 }
 
-/// The report being written: frames decoded by the cards' descriptions, long runs of one COB-ID
+/// The report being written: frames decoded by the cards' descriptions, long runs of one PDO
 /// folded, headings and steps.
 pub struct Trace {
     decoder: Decoder,
@@ -65,8 +65,8 @@ pub struct Trace {
     report: Report,
 }
 
-/// Trace lines of one COB-ID in a row: the first two are printed, the rest counted, the last
-/// kept, so that a ramp's hundred PDOs read as four lines.
+/// Trace lines of one PDO's COB-ID in a row: the first two are printed, the rest counted, the
+/// last kept, so that a ramp's hundred PDOs read as four lines.
 #[derive(Default)]
 struct Run {
     id: Option<u16>,
@@ -97,9 +97,11 @@ impl Trace {
         }
     }
 
-    /// Adds a decoded line, folding long runs of one COB-ID.
+    /// Adds a decoded line, folding long runs of one PDO's COB-ID (each SDO line says
+    /// something new, so those are never folded).
     fn line(&mut self, id: Option<u16>, line: String) {
-        if id.is_some() && id == self.run.id {
+        let pdo = id.is_some_and(|id| (0x181..=0x57F).contains(&id));
+        if pdo && id == self.run.id {
             self.run.count += 1;
             if self.run.count <= 2 {
                 self.report.lines.push(format!("  {line}"));
