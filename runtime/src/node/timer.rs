@@ -49,7 +49,8 @@ struct Running {
 
 impl Timer {
     /// Calls `f` with every timer that runs, in the order [`Node::handle_timeout`] runs them.
-    /// One copy for both walks (a `dyn` closure): it is called once per timer.
+    /// `f` is a `dyn` closure so that one copy of the walk serves both
+    /// [`Node::poll_timeout`] and [`Node::handle_timeout`] (some 170 B less flash than two).
     fn each(running: Running, f: &mut dyn FnMut(Timer)) {
         f(Timer::Heartbeat);
         for k in 0..running.consumers {
