@@ -22,29 +22,28 @@
 #![warn(missing_docs)]
 
 pub mod cia402;
-pub mod entry;
 pub mod frame;
-pub mod image;
 pub mod master;
 pub mod node;
 pub mod od;
 pub mod sdo;
-#[doc(hidden)]
-pub mod support;
 pub mod time;
 #[cfg(feature = "std")]
 pub mod transport;
-pub mod typed;
 #[cfg(feature = "std")]
 pub mod vbus;
 pub mod wire;
 
 mod macros;
 
-pub use entry::AnyDictionary;
-pub use entry::{Entry, OdValue};
+// The dictionary's helpers by the paths generated code names (`::edsgen_runtime::image::…`,
+// `::edsgen_runtime::typed::…`, `::edsgen_runtime::support::…`); documented under `od`.
+#[doc(hidden)]
+pub use od::{image, support, typed};
+
 pub use frame::{CanFrame, CanId};
 pub use node::{Event, NmtState, Node, NodeHooks, ResetKind};
+pub use od::entry::{AnyDictionary, Entry, OdValue};
+pub use od::typed::{FixedBytes, PdoError};
 pub use od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 pub use time::{Duration, Instant};
-pub use typed::{FixedBytes, PdoError};

@@ -14,10 +14,11 @@
 //! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node
 //! guarding, heartbeat consumer).
 //!
-//! The node routes frames and timeouts to one module per service, each owning its state:
-//! `error_control` (heartbeat producer and consumers, node guarding), `sync`, `emcy`, `pdo`
-//! (RPDOs and TPDOs), `sdo_channel` (the SDO server channels), `comm` (the CiA 301 checks on
-//! writes to communication objects) and `events` (the application's event queue).
+//! The node routes frames to one module per service, each owning its state: `error_control`
+//! (heartbeat producer and consumers, node guarding), `sync`, `emcy`, `pdo` (RPDOs and TPDOs),
+//! `sdo_channel` (the SDO server channels), `comm` (the CiA 301 checks on writes to
+//! communication objects) and `events` (the application's event queue). The services' timers
+//! have names (`timer`), with one place that finds the earliest and one that runs those due.
 //!
 //! Choices CiA 301 leaves open, documented where they are made: an NMT reset restores the
 //! dictionary's defaults of its area ([`NodeHooks::restore_power_on`]); a SYNC whose length
@@ -32,6 +33,7 @@ mod events;
 mod pdo;
 mod sdo_channel;
 mod sync;
+mod timer;
 
 pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
 pub use self::emcy::{error_code, error_register, MAX_ACTIVE_ERRORS};
@@ -193,8 +195,8 @@ impl<O: ?Sized> NodeHooks<O> for () {}
 pub struct InvalidNodeId(pub u8);
 
 /// Lowers `next` to `at` if `at` is earlier (or `next` is `None`). Not inlined, and `at` by
-/// reference: [`Node::poll_timeout`] calls it once per timer, mostly with a field, and one copy
-/// keeps that small in flash.
+/// reference: [`Node::poll_timeout`] calls it once per timer, and one copy keeps that small in
+/// flash.
 #[inline(never)]
 pub(crate) fn keep_earliest(next: &mut Option<Instant>, at: &Option<Instant>) {
     if let Some(at) = *at {
@@ -712,14 +714,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             Err(abort) => {
                 let [a, b, c, d] = abort.code().to_le_bytes();
                 let info = [n as u8, a, b, c, d];
-                self.emcy.raise(
-                    &mut self.od,
-                    error_code::PROTOCOL,
-                    error_register::COMMUNICATION,
-                    info,
-                );
+                self.raise_communication_error(error_code::PROTOCOL, info);
             }
         }
+    }
+
+    /// Raises an error of the node's own communication (register bit 4) with the
+    /// `manufacturer` bytes of its emergency.
+    fn raise_communication_error(&mut self, code: u16, manufacturer: [u8; 5]) {
+        self.emcy.raise(
+            &mut self.od,
+            code,
+            error_register::COMMUNICATION,
+            manufacturer,
+        );
     }
 
     /// Clears 8250h (with its error-reset emergency) once no RPDO is timed out any more.
@@ -739,8 +747,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             (error_code::PDO_LENGTH_EXCEEDED, long),
         ] {
             if now_bad {
-                self.emcy
-                    .raise(&mut self.od, code, error_register::COMMUNICATION, info);
+                self.raise_communication_error(code, info);
             } else {
                 // Nothing happens unless it is active.
                 self.emcy.clear(&mut self.od, code);
@@ -763,12 +770,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             _ => {
                 let info = [data.len() as u8, 0, 0, 0, 0];
-                self.emcy.raise(
-                    &mut self.od,
-                    error_code::SYNC_LENGTH,
-                    error_register::COMMUNICATION,
-                    info,
-                );
+                self.raise_communication_error(error_code::SYNC_LENGTH, info);
             }
         }
     }
@@ -838,74 +840,5 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         // Whatever is still pending waits for an inhibit time; poll_timeout reports when.
         self.tpdo_attention = self.tpdos.iter().any(|t| t.pending());
         None
-    }
-
-    /// The next instant at which [`handle_timeout`](Self::handle_timeout) has work, or at which a
-    /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
-    pub fn poll_timeout(&self) -> Option<Instant> {
-        let mut next = self.error_control.next_deadline();
-        keep_earliest(&mut next, &self.sync.next_deadline());
-        if self.state != NmtState::Stopped {
-            keep_earliest(&mut next, &self.emcy.ready_at());
-        }
-        if self.state == NmtState::Operational {
-            for rpdo in &self.rpdos {
-                keep_earliest(&mut next, &rpdo.next_deadline());
-            }
-            for tpdo in &self.tpdos {
-                keep_earliest(&mut next, &tpdo.next_deadline());
-            }
-        }
-        for channel in &self.sdo {
-            keep_earliest(&mut next, &channel.next_deadline());
-        }
-        next
-    }
-
-    /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
-    /// SYNC production, TPDO event timers, RPDO deadlines and SDO timeouts.
-    pub fn handle_timeout(&mut self, now: Instant) {
-        if self.error_control.handle_timeout(now, &mut self.events) {
-            self.emcy.raise(
-                &mut self.od,
-                error_code::LIFE_GUARD,
-                error_register::COMMUNICATION,
-                [0; 5],
-            );
-        }
-        let sync = self.sync.handle_timeout(now);
-        if sync.missed {
-            self.emcy.raise(
-                &mut self.od,
-                SYNC_TIMEOUT_CODE,
-                error_register::COMMUNICATION,
-                [0; 5],
-            );
-        }
-        if let Some(counter) = sync.produced {
-            self.handle_sync(counter, now);
-        }
-        if self.state == NmtState::Operational {
-            for (n, rpdo) in self.rpdos.iter_mut().enumerate() {
-                if rpdo.handle_timeout(now) {
-                    self.events.push(Event::RpdoTimeout { pdo: n as u16 });
-                    // Already active when another RPDO timed out first: one emergency for both.
-                    self.emcy.raise(
-                        &mut self.od,
-                        RPDO_TIMEOUT_CODE,
-                        error_register::COMMUNICATION,
-                        [0; 5],
-                    );
-                }
-            }
-            for tpdo in &mut self.tpdos {
-                if tpdo.handle_timeout(now) {
-                    self.tpdo_attention = true;
-                }
-            }
-        }
-        for channel in &mut self.sdo {
-            channel.handle_timeout(now);
-        }
     }
 }

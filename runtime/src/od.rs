@@ -5,6 +5,17 @@
 //! what only it can know (lengths, LowLimit/HighLimit, value ranges of odd-width integers); the
 //! protocols check access rights against the descriptor (an SDO write to a `ro` entry, a PDO
 //! mapping of a non-mappable one), so the same OD serves SDO, PDO and the node's own updates.
+//!
+//! What builds on the contract lives beside it: [`entry`] (typed addresses of entries and the
+//! values they hold), [`image`] (the packed value image a generated OD keeps its values in),
+//! [`typed`] (the values' byte and bit encodings, for PDO payloads) and `support` (what only
+//! generated code calls, hidden from the documentation).
+
+pub mod entry;
+pub mod image;
+#[doc(hidden)]
+pub mod support;
+pub mod typed;
 
 /// A CiA 301 data type, as the runtime needs it (the wire size and how a value is checked).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -212,7 +223,7 @@ pub trait ObjectDictionary {
     /// is absent, `NoSubIndex` if only the sub-index is.
     fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         // The search generated `read`/`write` dispatch on too: one copy in flash.
-        crate::typed::position(self.entries(), index, sub)
+        crate::od::typed::position(self.entries(), index, sub)
     }
 
     /// The descriptor of (index, sub): `NoObject` if the index is absent, `NoSubIndex` if only

@@ -7,8 +7,8 @@ use std::fmt;
 use std::io;
 use std::time::Duration as StdDuration;
 
-use crate::entry::{Entry, OdValue};
 use crate::frame::CanFrame;
+use crate::od::entry::{Entry, OdValue};
 use crate::time::{Duration, Instant};
 use crate::transport::driver::MonotonicClock;
 use crate::transport::Transport;

@@ -3,7 +3,7 @@
 //! the ones the device side uses ([`crate::cia402`]).
 
 use crate::cia402::{Command, State};
-use crate::entry::Entry;
+use crate::od::entry::Entry;
 
 pub use crate::cia402::mode;
 

@@ -13,8 +13,8 @@ use std::task::{Context, Poll, Waker};
 use std::thread::{self, JoinHandle};
 use std::time::Duration as StdDuration;
 
-use crate::entry::{Entry, OdValue};
 use crate::frame::CanFrame;
+use crate::od::entry::{Entry, OdValue};
 use crate::time::{Duration, Instant};
 use crate::transport::driver::MonotonicClock;
 use crate::transport::Transport;

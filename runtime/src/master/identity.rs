@@ -1,7 +1,7 @@
 //! The boot-up check (CiA 302-2 in spirit): the identity a master expects of a node (1000h and
 //! 1018h:1–4, as the generated bindings' constants give them) compared with what the node reads.
 
-use crate::entry::Entry;
+use crate::od::entry::Entry;
 
 /// Device type (1000h).
 pub const DEVICE_TYPE: Entry<u32> = Entry::new(0x1000, 0);

@@ -29,8 +29,8 @@
 //! client.write(Instant::from_millis(0), CONTROLWORD, &-1i16).unwrap();
 //! ```
 
-use crate::entry::{Entry, OdValue};
 use crate::frame::CanFrame;
+use crate::od::entry::{Entry, OdValue};
 use crate::od::SdoAbort;
 use crate::time::{Duration, Instant};
 use crate::wire::sdo::{

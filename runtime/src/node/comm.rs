@@ -1,9 +1,18 @@
-//! The CiA 301 rules for SDO writes to communication objects (1003h–1029h, 1200h–1BFFh).
+//! The CiA 301 rules for SDO writes to communication objects (1003h–1029h, 1200h–1BFFh): the
+//! PDO mapping procedure, the COB-ID rules (valid bit, restricted CAN-IDs), SYNC, heartbeat
+//! consumer and store/restore signatures.
 //!
-//! [`CommGuard`] wraps the device's object dictionary while the SDO server runs: it implements
-//! [`ObjectDictionary`], delegates everything, and checks each write to a communication object
-//! before it reaches the OD (the PDO mapping procedure, COB-ID valid-bit rules, the store and
-//! restore signatures). The node applies an accepted write to its running state afterwards.
+//! [`CommGuard`] is the dictionary the SDO server runs on: it implements [`ObjectDictionary`],
+//! delegates everything, and runs [`CommGuard::check`] on each write to a communication object
+//! before it reaches the OD. The node applies an accepted write to its running state afterwards.
+//!
+//! Why a wrapper rather than a check the node calls before handing the request on: the server
+//! decides when a write happens (an expedited download at once, a segmented or block one at its
+//! last segment, by index or by table position) and answers it in the same step, so a check
+//! outside would need the server to stop before every write and wait for a verdict, a second
+//! contract for every user of the server. Standing in the server's place as its dictionary, the
+//! rules see every write on every path, in one function, and the server stays the same whoever
+//! serves it. Strings and domains, which stream (`write_part`), have no rule to pass.
 
 use super::pdo::{self, Direction, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
@@ -21,6 +30,15 @@ pub(crate) struct CommGuard<'a, O: ?Sized, H> {
     pub od: &'a mut O,
     pub hooks: &'a mut H,
     pub node_id: u8,
+}
+
+/// What a write that passed the rules still needs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Checked {
+    /// The value goes into the OD.
+    Write,
+    /// The rule did what the write asks (store, restore): nothing to write.
+    Done,
 }
 
 fn value_u32(data: &[u8]) -> u32 {
@@ -158,8 +176,8 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         }
     }
 
-    /// Checks a write; `Ok(true)` means delegate it to the OD, `Ok(false)` that it was handled.
-    fn check(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<bool, SdoAbort> {
+    /// Checks a write to a communication object against the rules.
+    fn check(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<Checked, SdoAbort> {
         let value = value_u32(data);
         match index {
             0x1003 if sub == 0 && value != 0 => Err(SdoAbort::InvalidValue),
@@ -174,7 +192,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 for sub in 1..recorded.min(255) as u8 {
                     let _ = self.od.write(0x1003, sub, &[0; 4]);
                 }
-                Ok(true)
+                Ok(Checked::Write)
             }
             0x1005 => {
                 check_plain_cob_id(value)?;
@@ -184,46 +202,53 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                     Some(old) if old.bit30() && new.bit30() && old.can_id() != new.can_id() => {
                         Err(SdoAbort::InvalidValue)
                     }
-                    _ => Ok(true),
+                    _ => Ok(Checked::Write),
                 }
             }
             0x1010 if sub >= 1 => {
                 if data != SAVE_SIGNATURE.as_slice() {
                     return Err(SdoAbort::CannotStore);
                 }
-                self.hooks.save(sub, self.od).map(|()| false)
+                self.hooks.save(sub, self.od).map(|()| Checked::Done)
             }
             0x1011 if sub >= 1 => {
                 if data != LOAD_SIGNATURE.as_slice() {
                     return Err(SdoAbort::CannotStore);
                 }
-                self.hooks.restore_defaults(sub).map(|()| false)
+                self.hooks.restore_defaults(sub).map(|()| Checked::Done)
             }
-            0x1012 => check_plain_cob_id(value).map(|()| true),
-            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, NOT_EXEMPT).map(|()| true),
-            0x1016 if sub >= 1 => self.check_heartbeat_consumer(sub, value).map(|()| true),
+            0x1012 => check_plain_cob_id(value).map(|()| Checked::Write),
+            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, NOT_EXEMPT)
+                .map(|()| Checked::Write),
+            0x1016 if sub >= 1 => self
+                .check_heartbeat_consumer(sub, value)
+                .map(|()| Checked::Write),
             0x1019 => {
                 if read_uint_or(self.od, 0x1006, 0, 0) != 0 {
                     Err(SdoAbort::DeviceState)
                 } else if value == 1 || value > 240 {
                     Err(SdoAbort::InvalidValue)
                 } else {
-                    Ok(true)
+                    Ok(Checked::Write)
                 }
             }
             0x1200..=0x12FF if sub == 1 || sub == 2 => {
                 let exempt = sdo_exempt(index, sub, self.node_id);
-                check_cob_id(read_uint(self.od, index, sub), value, exempt).map(|()| true)
+                check_cob_id(read_uint(self.od, index, sub), value, exempt).map(|()| Checked::Write)
             }
-            0x1400..=0x15FF => self.check_pdo_comm(index, sub, value, true).map(|()| true),
+            0x1400..=0x15FF => self
+                .check_pdo_comm(index, sub, value, true)
+                .map(|()| Checked::Write),
             0x1600..=0x17FF => self
                 .check_pdo_mapping(index, sub, value, Direction::Receive)
-                .map(|()| true),
-            0x1800..=0x19FF => self.check_pdo_comm(index, sub, value, false).map(|()| true),
+                .map(|()| Checked::Write),
+            0x1800..=0x19FF => self
+                .check_pdo_comm(index, sub, value, false)
+                .map(|()| Checked::Write),
             0x1A00..=0x1BFF => self
                 .check_pdo_mapping(index, sub, value, Direction::Transmit)
-                .map(|()| true),
-            _ => Ok(true),
+                .map(|()| Checked::Write),
+            _ => Ok(Checked::Write),
         }
     }
 }
@@ -264,7 +289,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
                 .data_type
                 .fixed_size()
                 .is_none_or(|size| size == data.len());
-            if length_ok && !self.check(index, sub, data)? {
+            if length_ok && self.check(index, sub, data)? == Checked::Done {
                 return Ok(());
             }
         }

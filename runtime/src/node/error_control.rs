@@ -166,42 +166,55 @@ impl ErrorControl {
         core::mem::take(&mut self.heartbeat_due).then(|| repr.emit())
     }
 
-    /// Runs the timers due at `now`: the next heartbeat, the watched nodes' heartbeats
-    /// ([`Event::HeartbeatLost`]) and life guarding ([`Event::LifeGuardingLost`]). Returns
-    /// whether life guarding was lost now (the node raises its emergency).
-    pub fn handle_timeout(&mut self, now: Instant, events: &mut EventQueue) -> bool {
-        if let Some(at) = self.next_heartbeat {
-            if at <= now {
-                self.heartbeat_due = true;
-                self.next_heartbeat = Some(next_period(at, self.producer_period, now));
-            }
-        }
-        for consumer in self.consumers.iter_mut().take(self.consumer_count) {
-            if consumer.deadline.is_some_and(|at| at <= now) {
-                consumer.deadline = None;
-                events.push(Event::HeartbeatLost {
-                    node_id: consumer.node_id,
-                });
-            }
-        }
-        #[cfg(feature = "node-guarding")]
-        if self.guarding.life_deadline.is_some_and(|at| at <= now) {
-            self.guarding.life_deadline = None;
-            self.guarding.life_lost = true;
-            events.push(Event::LifeGuardingLost);
-            return true;
-        }
-        false
+    /// When the next heartbeat is due (1017h), if the producer runs.
+    #[inline]
+    pub fn heartbeat_deadline(&self) -> Option<Instant> {
+        self.next_heartbeat
     }
 
-    /// The next instant a timer runs out.
-    pub fn next_deadline(&self) -> Option<Instant> {
-        let mut next = self.next_heartbeat;
-        #[cfg(feature = "node-guarding")]
-        super::keep_earliest(&mut next, &self.guarding.life_deadline);
-        for consumer in self.consumers.iter().take(self.consumer_count) {
-            super::keep_earliest(&mut next, &consumer.deadline);
+    /// The heartbeat is due at `now`: it is queued and the next one scheduled.
+    pub fn expire_heartbeat(&mut self, now: Instant) {
+        if let Some(at) = self.next_heartbeat {
+            self.heartbeat_due = true;
+            self.next_heartbeat = Some(next_period(at, self.producer_period, now));
         }
-        next
+    }
+
+    /// How many nodes are watched (1016h).
+    #[inline]
+    pub fn consumer_count(&self) -> usize {
+        self.consumer_count
+    }
+
+    /// When watched node `k` (in 1016h order) is silent too long, if its heartbeat is awaited.
+    #[inline]
+    pub fn consumer_deadline(&self, k: usize) -> Option<Instant> {
+        self.consumers[k].deadline
+    }
+
+    /// Watched node `k` missed its heartbeat ([`Event::HeartbeatLost`]); its monitoring waits
+    /// for the next heartbeat.
+    pub fn expire_consumer(&mut self, k: usize, events: &mut EventQueue) {
+        let consumer = &mut self.consumers[k];
+        consumer.deadline = None;
+        events.push(Event::HeartbeatLost {
+            node_id: consumer.node_id,
+        });
+    }
+
+    /// When life guarding runs out, if it runs.
+    #[cfg(feature = "node-guarding")]
+    #[inline]
+    pub fn life_deadline(&self) -> Option<Instant> {
+        self.guarding.life_deadline
+    }
+
+    /// The master stopped guarding ([`Event::LifeGuardingLost`]); the node raises its
+    /// emergency.
+    #[cfg(feature = "node-guarding")]
+    pub fn expire_life_guard(&mut self, events: &mut EventQueue) {
+        self.guarding.life_deadline = None;
+        self.guarding.life_lost = true;
+        events.push(Event::LifeGuardingLost);
     }
 }

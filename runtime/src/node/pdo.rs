@@ -479,14 +479,10 @@ impl Rpdo {
         self.deadline
     }
 
-    /// Runs the deadline at `now`. Returns whether the PDO timed out now.
-    pub fn handle_timeout(&mut self, now: Instant) -> bool {
-        if self.deadline.is_some_and(|at| at <= now) {
-            self.deadline = None;
-            self.timed_out = true;
-            return true;
-        }
-        false
+    /// The deadline passed: the PDO is timed out until it arrives again.
+    pub fn expire(&mut self) {
+        self.deadline = None;
+        self.timed_out = true;
     }
 }
 
@@ -521,6 +517,8 @@ pub(crate) struct Tpdo {
     /// The payload last sent (change-of-state detection).
     last_data: [u8; 8],
     last_sent: Option<Instant>,
+    /// When the event timer runs out: set only for a valid event-driven PDO (a new
+    /// configuration clears it).
     event_deadline: Option<Instant>,
     /// A mapped object may have changed: compare before the next transmission decision.
     check_change: bool,
@@ -795,26 +793,26 @@ impl Tpdo {
         self.pending
     }
 
-    /// When the event timer runs out or the inhibit time of a waiting frame ends.
-    pub fn next_deadline(&self) -> Option<Instant> {
-        if !self.enabled || !self.event_driven() {
-            return None;
-        }
-        let mut next = self.event_deadline;
-        if self.pending {
-            super::keep_earliest(&mut next, &self.last_sent.map(|sent| sent + self.inhibit()));
-        }
-        next
+    /// When the event timer of an event-driven PDO runs out, if it runs.
+    #[inline]
+    pub fn event_deadline(&self) -> Option<Instant> {
+        self.event_deadline
     }
 
-    /// Runs the event timer at `now`. Returns whether the PDO is now waiting to be sent.
-    pub fn handle_timeout(&mut self, now: Instant) -> bool {
-        if self.enabled && self.event_driven() && self.event_deadline.is_some_and(|at| at <= now) {
-            self.event_deadline = None;
-            self.pending = true;
-            return true;
+    /// When the inhibit time of an event-driven PDO's waiting frame ends (it may go out
+    /// through [`Tpdo::poll_transmit`] then), if one is waiting.
+    #[inline]
+    pub fn inhibit_end(&self) -> Option<Instant> {
+        if !(self.event_driven() && self.pending) {
+            return None;
         }
-        false
+        self.last_sent.map(|sent| sent + self.inhibit())
+    }
+
+    /// The event timer ran out: the PDO is waiting to be sent.
+    pub fn expire_event(&mut self) {
+        self.event_deadline = None;
+        self.pending = true;
     }
 
     /// Whether the inhibit time since the last transmission has passed.

@@ -98,12 +98,10 @@ impl SdoChannel {
         self.server.poll_timeout()
     }
 
-    /// Aborts a transfer whose timeout has passed at `now`.
-    pub fn handle_timeout(&mut self, now: Instant) {
-        if self.server.poll_timeout().is_some_and(|at| at <= now) {
-            self.server.handle_timeout(now);
-            self.busy = true;
-        }
+    /// Aborts the transfer whose timeout ([`SdoChannel::next_deadline`]) passed at `now`.
+    pub fn expire(&mut self, now: Instant) {
+        self.server.handle_timeout(now);
+        self.busy = true;
     }
 
     /// Drops any transfer in progress (NMT stopped, reset communication).

@@ -9,15 +9,6 @@ use crate::time::{Duration, Instant};
 use crate::wire::pdo::CobIdEntry;
 use crate::wire::sync::{SyncRepr, SYNC_COB_ID};
 
-/// What [`Sync::handle_timeout`] found due.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub(crate) struct SyncTimeouts {
-    /// The producer sent a SYNC with this counter: the node consumes it too.
-    pub produced: Option<Option<u8>>,
-    /// The consumer saw no SYNC for 1.5 × 1006h.
-    pub missed: bool,
-}
-
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Sync {
     cob_id: u16,
@@ -106,35 +97,40 @@ impl Sync {
         Some((self.cob_id, counter, len as u8))
     }
 
-    /// The earlier of the producer's and the consumer's deadlines (only one runs at a time:
-    /// a producer does not monitor its own SYNC).
+    /// When the producer's next SYNC is due, if it runs.
     #[inline]
-    pub fn next_deadline(&self) -> Option<Instant> {
-        self.next.or(self.timeout)
+    pub fn producer_deadline(&self) -> Option<Instant> {
+        self.next
     }
 
-    /// Runs the producer's and the consumer's timers due at `now`.
-    pub fn handle_timeout(&mut self, now: Instant) -> SyncTimeouts {
-        let mut found = SyncTimeouts::default();
-        if self.timeout.is_some_and(|at| at <= now) {
-            self.timeout = None;
-            found.missed = true;
-        }
-        if let Some(at) = self.next {
-            if at <= now {
-                self.next = Some(next_period(at, self.period, now));
-                let counter = (self.overflow != 0).then(|| {
-                    self.counter = if self.counter >= self.overflow {
-                        1
-                    } else {
-                        self.counter + 1
-                    };
-                    self.counter
-                });
-                self.due = Some(SyncRepr { counter });
-                found.produced = Some(counter);
-            }
-        }
-        found
+    /// When a missing SYNC becomes an error (1.5 × 1006h after the last), if the consumer
+    /// monitors SYNC.
+    #[inline]
+    pub fn consumer_deadline(&self) -> Option<Instant> {
+        self.timeout
+    }
+
+    /// The consumer saw no SYNC in time: monitoring waits for the next SYNC (the node raises
+    /// the emergency).
+    pub fn expire_consumer(&mut self) {
+        self.timeout = None;
+    }
+
+    /// The producer's SYNC is due at `now` ([`Sync::producer_deadline`] has passed): it is
+    /// queued and the next one scheduled. Returns its counter (the node consumes its own SYNC
+    /// too).
+    pub fn expire_producer(&mut self, now: Instant) -> Option<u8> {
+        let at = self.next?;
+        self.next = Some(next_period(at, self.period, now));
+        let counter = (self.overflow != 0).then(|| {
+            self.counter = if self.counter >= self.overflow {
+                1
+            } else {
+                self.counter + 1
+            };
+            self.counter
+        });
+        self.due = Some(SyncRepr { counter });
+        counter
     }
 }

@@ -9,9 +9,9 @@
 //! each); the SDO server and the PDOs move bytes without knowing types, and the application's
 //! typed [`Layout::get`]/[`Layout::set`] go through the same checks as an SDO write.
 
-use crate::entry::{Entry, OdValue};
+use crate::od::entry::{Entry, OdValue};
+use crate::od::typed::{position, read_bytes};
 use crate::od::{DataType, EntryDescriptor, SdoAbort};
-use crate::typed::{position, read_bytes};
 
 /// An entry's LowLimit and HighLimit, as keys whose signed order is the numeric order of the
 /// entry's data type (REAL32/REAL64 by sign and magnitude), computed when the generated table is
@@ -536,8 +536,8 @@ const fn unpack_defaults_within(values: &mut [u8], runs: &[u8], window: (usize, 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::od::typed::FixedBytes;
     use crate::od::Access;
-    use crate::typed::FixedBytes;
 
     use DataType as D;
     const fn e(index: u16, sub: u8, data_type: DataType) -> EntryDescriptor {

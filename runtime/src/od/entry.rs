@@ -199,9 +199,9 @@ macro_rules! od_value_narrow {
                 }
                 let bits = (width * 8) as u32;
                 let fits = if $signed {
-                    crate::typed::fits_signed(*self as i64, bits)
+                    crate::od::typed::fits_signed(*self as i64, bits)
                 } else {
-                    crate::typed::fits_unsigned(*self as u64, bits)
+                    crate::od::typed::fits_unsigned(*self as u64, bits)
                 };
                 if !fits {
                     return None;
@@ -218,7 +218,7 @@ macro_rules! od_value_narrow {
                 wide.get_mut(..width)?.copy_from_slice(bytes);
                 let raw = u64::from_le_bytes(wide);
                 Some(if $signed {
-                    crate::typed::sign_extend(raw, (width * 8) as u32) as $t
+                    crate::od::typed::sign_extend(raw, (width * 8) as u32) as $t
                 } else {
                     raw as $t
                 })
@@ -258,7 +258,7 @@ impl OdValue for bool {
     }
 }
 
-impl<const N: usize> OdValue for crate::typed::FixedBytes<N> {
+impl<const N: usize> OdValue for crate::od::typed::FixedBytes<N> {
     fn encode(&self, buf: &mut [u8]) -> Option<usize> {
         let bytes = self.as_bytes();
         buf.get_mut(..bytes.len())?.copy_from_slice(bytes);
@@ -272,7 +272,7 @@ impl<const N: usize> OdValue for crate::typed::FixedBytes<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::typed::FixedBytes;
+    use crate::od::typed::FixedBytes;
 
     #[test]
     fn narrow_entries_check_range_and_sign_extend() {

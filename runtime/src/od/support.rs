@@ -3,7 +3,7 @@
 //! author uses; generated code names these paths (`::edsgen_runtime::support::…`), so they
 //! move with the runtime without breaking it.
 
-pub use crate::image::{add_node_id, unpack_defaults, Layout, Limit};
-pub use crate::typed::{
+pub use crate::od::image::{add_node_id, unpack_defaults, Layout, Limit};
+pub use crate::od::typed::{
     fits_signed, fits_unsigned, get_bits, payload, position, put_bits, read_bytes, sign_extend,
 };

@@ -1,6 +1,6 @@
-//! What generated device code builds on besides the value image ([`crate::image`]): fixed-capacity
-//! byte strings, the entry search, odd-width integer helpers, and the bit packing of typed PDO
-//! payloads. Everything here is `no_std`, allocation-free and panic-free.
+//! What generated device code builds on besides the value image ([`super::image`]):
+//! fixed-capacity byte strings, the entry search, odd-width integer helpers, and the bit packing
+//! of typed PDO payloads. Everything here is `no_std`, allocation-free and panic-free.
 
 use crate::od::{EntryDescriptor, SdoAbort};
 
