@@ -1,6 +1,6 @@
 //! Times code generation per file the way a build script runs it (build with the default `dev`
 //! profile for build.rs figures): reading with the overlay beside the file, then
-//! `emit::generate_module`, best of `--runs N` (default 5). `--out DIR` also writes each module
+//! `emit::generate_module`, best of `--runs N` (default 5), and the planning step alone. `--out DIR` also writes each module
 //! to `DIR/NAME.rs` (the file's path with `/` as `__`), to compare outputs of two versions.
 //!
 //! `cargo run -p edsgen-codegen --example emit_timing -- [--runs N] [--out DIR] FILE...`
@@ -29,6 +29,12 @@ fn main() {
             overlay::apply(&text, &mut read.device);
         }
         let module = builder::default_module(&path);
+        let mut best_plan = Duration::MAX;
+        for _ in 0..runs.max(1) {
+            let start = Instant::now();
+            std::hint::black_box(emit::plan::plan(&read.device));
+            best_plan = best_plan.min(start.elapsed());
+        }
         let mut best = Duration::MAX;
         let mut code = None;
         for _ in 0..runs.max(1) {
@@ -41,7 +47,12 @@ fn main() {
             println!("{}: not generated", path.display());
             continue;
         };
-        println!("{:>8.1} ms  {}", best.as_secs_f64() * 1e3, path.display());
+        println!(
+            "{:>8.1} ms (plan {:>6.1} ms)  {}",
+            best.as_secs_f64() * 1e3,
+            best_plan.as_secs_f64() * 1e3,
+            path.display()
+        );
         if let Some(dir) = &out {
             let name = path
                 .to_string_lossy()

@@ -56,7 +56,13 @@ impl Splices {
 
 /// Appends `indent` spaces.
 pub fn indent(out: &mut String, indent: usize) {
-    out.extend(std::iter::repeat(' ').take(indent));
+    const SPACES: &str = "                                ";
+    let mut left = indent;
+    while left > 0 {
+        let n = left.min(SPACES.len());
+        out.push_str(&SPACES[..n]);
+        left -= n;
+    }
 }
 
 /// Appends rustdoc lines as `prettyplease` prints `#[doc = LINE]`: `///LINE`, trailing spaces
