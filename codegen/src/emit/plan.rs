@@ -95,11 +95,14 @@ pub(crate) fn id(name: &str) -> Ident {
 /// Escapes text from the file for rustdoc: no links, no HTML, no control characters.
 pub fn doc_text(text: &str) -> String {
     // Most text needs no escape: copied whole, not char by char (slow in a debug build script).
-    const ESCAPED: &[u8] = b"[]<>`*_\\#";
-    if text
-        .bytes()
-        .all(|b| b.is_ascii() && !b.is_ascii_control() && !ESCAPED.contains(&b))
-    {
+    let plain = |b: u8| {
+        matches!(b, b' '..=b'~')
+            && !matches!(
+                b,
+                b'[' | b']' | b'<' | b'>' | b'`' | b'*' | b'_' | b'\\' | b'#'
+            )
+    };
+    if text.bytes().all(plain) {
         return text.to_owned();
     }
     let mut out = String::with_capacity(text.len());
