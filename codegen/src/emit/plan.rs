@@ -299,7 +299,7 @@ impl Planner<'_> {
             (Some(sub), None) => {
                 let sub_part = ident(&sub.name, Case::Shouty, &format!("SUB{}", sub.sub_index));
                 // Only whole words: `SPEEDOMETER` does not repeat `SPEED`.
-                let repeated = sub_part.strip_prefix(&base).filter(|rest| {
+                let repeated = sub_part.strip_prefix(base).filter(|rest| {
                     rest.is_empty() || rest.starts_with(|c: char| c == '_' || c.is_ascii_digit())
                 });
                 let joined = match repeated {

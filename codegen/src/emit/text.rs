@@ -84,9 +84,9 @@ pub fn docs<S: AsRef<str>>(out: &mut String, at: usize, lines: &[S]) {
 pub fn literal_array(out: &mut String, at: usize, head: &str, elems: &[String]) {
     indent(out, at);
     out.push_str(head);
-    let one_line = elems.iter().map(|e| e.len() + 2).sum::<usize>();
-    if elems.is_empty() || at + head.len() + one_line + 1 <= MARGIN {
-        // `[` `a, b, c` `];`: the elements' separators and the brackets take 2 + 2 * (n - 1).
+    // `[a, b, c];`: each element and its separator, or `[` and `];` for the first.
+    let one_line = elems.iter().map(|e| e.len() + 2).sum::<usize>() + 1;
+    if elems.is_empty() || at + head.len() + one_line <= MARGIN {
         out.push('[');
         for (i, elem) in elems.iter().enumerate() {
             if i > 0 {
