@@ -1,6 +1,6 @@
-//! Code generation and generated code, per call: generating the biggest corpus file, typed PDO
-//! encode/decode, OD read/write through the generated `ObjectDictionary` implementation, and the
-//! typed `get`/`set`.
+//! Code generation and generated code, per call: generating each bundled card and the biggest
+//! corpus file, typed PDO encode/decode, OD read/write through the generated `ObjectDictionary`
+//! implementation, and the typed `get`/`set`.
 //!
 //! Each figure has a baseline measured in the same run (the `baseline:` functions): reading and
 //! validating the same file for generation, and the same work written by hand, without any
@@ -19,56 +19,49 @@ mod generated {
 }
 use generated::gd350::{od as address, pdo, Od};
 
-/// The corpus files, biggest first.
-fn corpus_by_size() -> Vec<PathBuf> {
-    let dir = std::env::var_os("EDSGEN_CORPUS")
+/// The corpus directory: `EDSGEN_CORPUS`, else `../shared/eds-corpus` beside the workspace.
+fn corpus_dir() -> PathBuf {
+    std::env::var_os("EDSGEN_CORPUS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"));
-    let mut files: Vec<(u64, PathBuf)> = Vec::new();
-    for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
-        for file in std::fs::read_dir(entry.path())
-            .into_iter()
-            .flatten()
-            .flatten()
-        {
-            let len = file.metadata().map(|m| m.len()).unwrap_or(0);
-            files.push((len, file.path()));
-        }
-    }
-    files.sort_by(|a, b| b.cmp(a));
-    files.into_iter().map(|(_, p)| p).collect()
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"))
 }
 
+/// The device in `path` as build.rs reads it (with the overlay beside it), if it reads.
+fn device(path: &Path) -> Option<edsgen_codegen::model::Device> {
+    let mut read = read::read_file(path).ok()?;
+    if let Ok(text) = std::fs::read_to_string(edsgen_codegen::overlay::path_for(path)) {
+        edsgen_codegen::overlay::apply(&text, &mut read.device);
+    }
+    Some(read.device)
+}
+
+/// Generating each bundled card's module and the biggest corpus file's (Sevcon `V6.dcf`), as
+/// build.rs does; the baseline is reading and validating the same file.
 fn generation(c: &mut Criterion) {
-    // The biggest corpus file the emitter generates code for (bigger ones fail validation).
-    let found = corpus_by_size().into_iter().find_map(|path| {
-        let device = read::read_file(&path).ok()?.device;
-        emit::generate(&device, "device").ok()?;
-        Some((path, device))
-    });
-    let Some((path, device)) = found else {
-        eprintln!("no corpus (set EDSGEN_CORPUS); skipping the generation benchmark");
-        return;
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let entries: usize = device.objects.values().map(|o| o.subs.len()).sum();
-    c.bench_function(&format!("generate {name} ({entries} entries)"), |b| {
-        b.iter(|| emit::generate(black_box(&device), "device"))
-    });
-    c.bench_function(&format!("baseline: read and validate {name}"), |b| {
-        b.iter(|| {
-            read::read_file(black_box(&path))
-                .map(|read| edsgen_codegen::validate::validate(&read.device).len())
-        })
-    });
-    let rd11 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/rd11.eds");
-    if let Ok(read) = read::read_file(&rd11) {
-        let entries: usize = read.device.objects.values().map(|o| o.subs.len()).sum();
-        c.bench_function(&format!("generate rd11.eds ({entries} entries)"), |b| {
-            b.iter(|| emit::generate(black_box(&read.device), "rd11"))
+    let cards = ["cp301", "goodrive350", "hd1e", "ms300", "rd11"]
+        .map(|card| Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../eds/{card}.eds")));
+    let v6 = corpus_dir().join("amperaufsc__Sevcon/V6.dcf");
+    if !v6.is_file() {
+        eprintln!("no corpus (set EDSGEN_CORPUS); skipping V6.dcf");
+    }
+    for path in cards.iter().chain([&v6]).filter(|p| p.is_file()) {
+        let Some(device) = device(path) else {
+            continue;
+        };
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let module = edsgen_codegen::builder::default_module(path);
+        let entries: usize = device.objects.values().map(|o| o.subs.len()).sum();
+        c.bench_function(&format!("generate {name} ({entries} entries)"), |b| {
+            b.iter(|| emit::generate(black_box(&device), &module))
+        });
+        c.bench_function(&format!("baseline: read and validate {name}"), |b| {
+            b.iter(|| {
+                read::read_file(black_box(path))
+                    .map(|read| edsgen_codegen::validate::validate(&read.device).len())
+            })
         });
     }
 }

@@ -3,27 +3,17 @@
 //! (`OFFSETS`, `LIMITS`, `LAYOUT`), the `ObjectDictionary` implementation, and the typed addresses
 //! in `od`. Why a byte image rather than a struct field per entry: `docs/generated-code.md`.
 
+use std::fmt::Write as _;
+
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::plan::{Initial, Plan};
-use super::types::{access_tokens, data_type_tokens, Prim, RustType};
+use super::text::{self, Splices, ITEM_INDENT};
+use super::types::{access_variant, data_type_variant, Prim, RustType};
 
-fn docs(lines: &[String]) -> TokenStream {
-    let attrs = lines.iter().map(|l| quote!(#[doc = #l]));
-    quote!(#(#attrs)*)
-}
-
-fn hex16(v: u16) -> TokenStream {
-    super::types::hex(u128::from(v), 4)
-}
-
-fn hex8(v: u8) -> TokenStream {
-    super::types::hex(u128::from(v), 2)
-}
-
-/// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`.
-pub fn structs(plan: &Plan) -> TokenStream {
+/// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`; `DEFAULTS` as text.
+pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
     let size = Literal::usize_unsuffixed(plan.image_size);
     // Default values go into the default image, kept as runs of its non-zero bytes
     // (`DEFAULTS`); `$NODEID` ones hold their offset, to which `Od::new` adds the node-ID.
@@ -51,12 +41,7 @@ pub fn structs(plan: &Plan) -> TokenStream {
             _ => {}
         }
     }
-    let runs = default_runs(&image);
-    let runs_len = Literal::usize_unsuffixed(runs.len());
-    let default_table = default_table(plan)
-        .into_iter()
-        .map(|line| quote!(#[doc = #line]));
-    let runs = runs.iter().map(|&b| Literal::u8_unsuffixed(b));
+    let defaults = splices.item(defaults(plan, &image));
     let node_count = Literal::usize_unsuffixed(node_relative.len());
     let (node_param, node_table, add_node_id) = if node_relative.is_empty() {
         let none = quote!(
@@ -78,11 +63,7 @@ pub fn structs(plan: &Plan) -> TokenStream {
         /// The size of the value image in bytes.
         const IMAGE_SIZE: usize = #size;
 
-        /// The value image with every entry at its default (`$NODEID` ones at their offset from
-        /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
-        /// each (see `edsgen_runtime::image::unpack_defaults`).
-        #(#default_table)*
-        const DEFAULTS: [u8; #runs_len] = [#(#runs),*];
+        #defaults
 
         #node_table
 
@@ -126,6 +107,23 @@ pub fn structs(plan: &Plan) -> TokenStream {
             }
         }
     }
+}
+
+/// `DEFAULTS`, the default image as runs (see [`default_runs`]), with its doc and the table of
+/// the defaults it packs.
+fn defaults(plan: &Plan, image: &[u8]) -> String {
+    let mut out = String::new();
+    let doc = [
+        " The value image with every entry at its default (`$NODEID` ones at their offset from",
+        " the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes",
+        " each (see `edsgen_runtime::image::unpack_defaults`).",
+    ];
+    text::docs(&mut out, ITEM_INDENT, &doc);
+    text::docs(&mut out, ITEM_INDENT, &default_table(plan));
+    let runs: Vec<String> = default_runs(image).iter().map(u8::to_string).collect();
+    let head = format!("const DEFAULTS: [u8; {}] = ", runs.len());
+    text::literal_array(&mut out, ITEM_INDENT, &head, &runs);
+    out
 }
 
 /// The defaults `DEFAULTS` packs, readable: one doc line per entry whose default is not zero or
@@ -218,31 +216,9 @@ fn array_body(rows: &[TokenStream], imports: TokenStream) -> TokenStream {
     }
 }
 
-/// The `ENTRIES` table and the value image's layout (`OFFSETS`, `LIMITS`, `LAYOUT`).
-pub fn descriptors(plan: &Plan) -> TokenStream {
-    let rows: Vec<_> = plan
-        .entries
-        .iter()
-        .map(|e| {
-            let index = hex16(e.index);
-            let sub = hex8(e.sub);
-            let data_type = data_type_tokens(e.basic);
-            let access = access_tokens(e.access);
-            let pdo = e.pdo_mappable;
-            quote!(E::new(#index, #sub, #data_type, #access, #pdo))
-        })
-        .collect();
-    let n = Literal::usize_unsuffixed(rows.len());
-    let body = array_body(
-        &rows,
-        quote!(
-            use ::edsgen_runtime::{Access as A, DataType as D, EntryDescriptor as E};
-        ),
-    );
-    let offsets = plan
-        .entries
-        .iter()
-        .map(|e| Literal::u16_unsuffixed(e.offset as u16));
+/// The `ENTRIES` table and the value image's layout (`OFFSETS` as text, `LIMITS`, `LAYOUT`).
+pub fn descriptors(plan: &Plan, splices: &mut Splices) -> TokenStream {
+    let tables = splices.item(entries_and_offsets(plan));
     let limits: Vec<_> = plan
         .entries
         .iter()
@@ -271,12 +247,7 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
         ),
     );
     quote! {
-        /// Every entry's descriptor, sorted by (index, sub-index).
-        pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; #n] = #body;
-
-        /// Where each entry of `ENTRIES` starts in the value image (a string's or domain's
-        /// capacity is the room up to the next one).
-        static OFFSETS: [u16; #n] = [#(#offsets),*];
+        #tables
 
         /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
         static LIMITS: [(u16, ::edsgen_runtime::image::Limit); #k] = #limits_body;
@@ -286,6 +257,74 @@ pub fn descriptors(plan: &Plan) -> TokenStream {
         static LAYOUT: ::edsgen_runtime::image::Layout =
             ::edsgen_runtime::image::Layout::new(&ENTRIES, &OFFSETS, &LIMITS, IMAGE_SIZE);
     }
+}
+
+/// `ENTRIES` (a row per entry) and `OFFSETS`, as text.
+fn entries_and_offsets(plan: &Plan) -> String {
+    let mut out = String::new();
+    let n = plan.entries.len();
+    text::docs(
+        &mut out,
+        ITEM_INDENT,
+        &[" Every entry's descriptor, sorted by (index, sub-index)."],
+    );
+    text::indent(&mut out, ITEM_INDENT);
+    let _ = write!(
+        out,
+        "pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; {n}] = "
+    );
+    if n == 0 {
+        out.push_str("[];\n");
+    } else {
+        let rows: Vec<String> = plan
+            .entries
+            .iter()
+            .map(|e| {
+                format!(
+                    "E::new({}, {}, D::{}, A::{}, {})",
+                    text::hex(e.index.into(), 4),
+                    text::hex(e.sub.into(), 2),
+                    data_type_variant(e.basic),
+                    access_variant(e.access),
+                    e.pdo_mappable
+                )
+            })
+            .collect();
+        let inner = ITEM_INDENT + 4;
+        out.push_str("{\n");
+        text::indent(&mut out, inner);
+        out.push_str("use ::edsgen_runtime::{Access as A, DataType as D, EntryDescriptor as E};\n");
+        text::indent(&mut out, inner);
+        // One line if it fits, else a row per line (the rows are not literals: no filling).
+        if inner + rows.iter().map(|r| r.len() + 2).sum::<usize>() <= text::MARGIN {
+            out.push('[');
+            out.push_str(&rows.join(", "));
+            out.push_str("]\n");
+        } else {
+            out.push_str("[\n");
+            for row in &rows {
+                text::indent(&mut out, inner + 4);
+                out.push_str(row);
+                out.push_str(",\n");
+            }
+            text::indent(&mut out, inner);
+            out.push_str("]\n");
+        }
+        text::indent(&mut out, ITEM_INDENT);
+        out.push_str("};\n");
+    }
+    text::docs(
+        &mut out,
+        ITEM_INDENT,
+        &[
+            " Where each entry of `ENTRIES` starts in the value image (a string's or domain's",
+            " capacity is the room up to the next one).",
+        ],
+    );
+    let offsets: Vec<String> = plan.entries.iter().map(|e| e.offset.to_string()).collect();
+    let head = format!("static OFFSETS: [u16; {n}] = ");
+    text::literal_array(&mut out, ITEM_INDENT, &head, &offsets);
+    out
 }
 
 /// `impl ObjectDictionary for Od`: every access goes through `LAYOUT`, by position in
@@ -337,60 +376,110 @@ pub fn od_impl(_plan: &Plan) -> TokenStream {
     }
 }
 
-/// The typed addresses, branded with the module's `Od`:
+/// The typed addresses, branded with the module's `Od`, as text:
 /// `pub mod od { pub const CONTROLWORD: Entry<u16, super::Od> = ...; }`.
-pub fn addresses(plan: &Plan) -> TokenStream {
-    let consts: Vec<_> = plan
+pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
+    let doc =
+        " Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.";
+    if plan.entries.is_empty() {
+        return quote! {
+            #[doc = #doc]
+            pub mod od {}
+        };
+    }
+    let mut out = String::new();
+    text::docs(&mut out, ITEM_INDENT, &[doc]);
+    text::indent(&mut out, ITEM_INDENT);
+    out.push_str("pub mod od {\n");
+    let at = ITEM_INDENT + 4;
+    text::indent(&mut out, at);
+    if plan
         .entries
         .iter()
-        .enumerate()
-        .map(|(position, e)| {
-            let name = &e.const_name;
-            let ty = match e.ty {
-                RustType::Bytes(n) => {
-                    let n = Literal::usize_unsuffixed(n);
-                    quote!(FixedBytes<#n>)
-                }
-                RustType::Scalar(..) => e.ty.tokens(),
-            };
-            let index = hex16(e.index);
-            let sub = hex8(e.sub);
-            let doc = docs(&e.short_doc);
-            let constructor = match e.ty {
-                RustType::Scalar(prim, wire)
-                    if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool =>
-                {
-                    let w = Literal::u8_unsuffixed(wire as u8);
-                    quote!(Entry::with_width(#index, #sub, #w))
-                }
-                _ => quote!(Entry::new(#index, #sub)),
-            };
-            let position = Literal::u16_unsuffixed(position as u16);
-            quote! {
-                #doc
-                pub const #name: Entry<#ty, super::Od> = #constructor.at_position(#position).in_dictionary();
+        .any(|e| matches!(e.ty, RustType::Bytes(_)))
+    {
+        out.push_str("use ::edsgen_runtime::{Entry, FixedBytes};\n");
+    } else {
+        out.push_str("use ::edsgen_runtime::Entry;\n");
+    }
+    for (position, e) in plan.entries.iter().enumerate() {
+        let ty = match e.ty {
+            RustType::Bytes(n) => format!("FixedBytes<{n}>"),
+            RustType::Scalar(prim, _) => prim.name().to_owned(),
+        };
+        let (index, sub) = (text::hex(e.index.into(), 4), text::hex(e.sub.into(), 2));
+        let (constructor, args) = match e.ty {
+            RustType::Scalar(prim, wire)
+                if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool =>
+            {
+                ("Entry::with_width", vec![index, sub, wire.to_string()])
             }
-        })
-        .collect();
-    let uses_bytes = plan
-        .entries
-        .iter()
-        .any(|e| matches!(e.ty, RustType::Bytes(_)));
-    let imports = match (consts.is_empty(), uses_bytes) {
-        (true, _) => quote!(),
-        (false, false) => quote!(
-            use ::edsgen_runtime::Entry;
-        ),
-        (false, true) => quote!(
-            use ::edsgen_runtime::{Entry, FixedBytes};
-        ),
-    };
-    quote! {
-        /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
-        pub mod od {
-            #imports
-            #(#consts)*
+            _ => ("Entry::new", vec![index, sub]),
+        };
+        text::docs(&mut out, at, &e.short_doc);
+        address(
+            &mut out,
+            at,
+            &e.const_name.to_string(),
+            &ty,
+            constructor,
+            &args,
+            position,
+        );
+    }
+    text::indent(&mut out, ITEM_INDENT);
+    out.push_str("}\n");
+    splices.item(out)
+}
+
+/// One typed address, `pub const NAME: Entry<TY, super::Od> =
+/// CONSTRUCTOR(ARGS).at_position(POSITION).in_dictionary();`, broken as `prettyplease` breaks
+/// it: the method calls on lines of their own, and the constructor's arguments too when the
+/// line up to them does not fit; or, when even the line up to ` = ` does not fit, the type's
+/// parameters on lines of their own and the rest on one line.
+fn address(
+    out: &mut String,
+    at: usize,
+    name: &str,
+    ty: &str,
+    constructor: &str,
+    args: &[String],
+    position: usize,
+) {
+    let head = format!("pub const {name}: Entry<{ty}, super::Od> = ");
+    let call = format!("{constructor}({})", args.join(", "));
+    let chain = [
+        format!(".at_position({position})"),
+        ".in_dictionary();".to_owned(),
+    ];
+    text::indent(out, at);
+    if at + head.len() > text::MARGIN {
+        let _ = writeln!(out, "pub const {name}: Entry<");
+        for param in [ty, "super::Od"] {
+            text::indent(out, at + 4);
+            let _ = writeln!(out, "{param},");
         }
+        text::indent(out, at);
+        let _ = writeln!(out, "> = {call}{}{}", chain[0], chain[1]);
+        return;
+    }
+    out.push_str(&head);
+    if at + head.len() + call.len() <= text::MARGIN {
+        out.push_str(&call);
+    } else {
+        let _ = writeln!(out, "{constructor}(");
+        for arg in args {
+            text::indent(out, at + 8);
+            let _ = writeln!(out, "{arg},");
+        }
+        text::indent(out, at + 4);
+        out.push(')');
+    }
+    out.push('\n');
+    for link in &chain {
+        text::indent(out, at + 4);
+        out.push_str(link);
+        out.push('\n');
     }
 }
 

@@ -173,7 +173,7 @@ fn plan_pdo(
             }
         };
         let (name, _) = names.claim(
-            &entry.pdo_name,
+            &entry.pdo_name(),
             index,
             &[format!("{index:04x}_{sub_index}")],
         );

@@ -41,8 +41,20 @@ pub struct EntryPlan {
     pub const_name: Ident,
     /// Where the value starts in the value image (set once the whole device is planned).
     pub offset: usize,
-    /// The field name for PDO structs mapping this entry (snake case of its own name).
-    pub pdo_name: String,
+    /// The entry's own name in the file (a sub-object's, not its object's).
+    pub own_name: String,
+}
+
+impl EntryPlan {
+    /// The field name for PDO structs mapping this entry: snake case of its own name. Made
+    /// when a PDO needs it (case conversion of every entry's name was a fifth of the planning).
+    pub fn pdo_name(&self) -> String {
+        ident(
+            &self.own_name,
+            Case::Snake,
+            &format!("object_{:04x}_{}", self.index, self.sub),
+        )
+    }
 }
 
 /// An entry's initial value.
@@ -82,6 +94,17 @@ pub(crate) fn id(name: &str) -> Ident {
 
 /// Escapes text from the file for rustdoc: no links, no HTML, no control characters.
 pub fn doc_text(text: &str) -> String {
+    // Most text needs no escape: copied whole, not char by char (slow in a debug build script).
+    let plain = |b: u8| {
+        matches!(b, b' '..=b'~')
+            && !matches!(
+                b,
+                b'[' | b']' | b'<' | b'>' | b'`' | b'*' | b'_' | b'\\' | b'#'
+            )
+    };
+    if text.bytes().all(plain) {
+        return text.to_owned();
+    }
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -212,13 +235,15 @@ impl Planner<'_> {
             let Some(sub) = object.subs.get(&0).or_else(|| object.subs.values().next()) else {
                 return Vec::new();
             };
-            let const_name = self.const_name(object, None);
+            let base = self.base_name(object);
+            let const_name = self.const_name(object, &base, None);
             return self.entry(object, sub, const_name).into_iter().collect();
         }
         let mut entries = Vec::new();
         let mut ok = true;
+        let base = self.base_name(object);
         for sub in object.subs.values() {
-            let const_name = self.const_name(object, Some(sub));
+            let const_name = self.const_name(object, &base, Some(sub));
             match self.entry(object, sub, const_name) {
                 Some(entry) => entries.push(entry),
                 None => ok = false,
@@ -231,13 +256,21 @@ impl Planner<'_> {
         }
     }
 
-    fn const_name(&mut self, object: &Object, sub: Option<&SubObject>) -> Ident {
-        let naming = &self.device.naming;
-        let base = ident(
-            naming.objects.get(&object.index).unwrap_or(&object.name),
+    /// The object's part of its constants' names (made once per object, not per entry).
+    fn base_name(&self, object: &Object) -> String {
+        ident(
+            self.device
+                .naming
+                .objects
+                .get(&object.index)
+                .unwrap_or(&object.name),
             Case::Shouty,
             &format!("OBJECT_{:04X}", object.index),
-        );
+        )
+    }
+
+    fn const_name(&mut self, object: &Object, base: &str, sub: Option<&SubObject>) -> Ident {
+        let naming = &self.device.naming;
         let renamed = |sub_index: u8| {
             let name = naming.entries.get(&(object.index, sub_index))?;
             Some(ident(name, Case::Shouty, &format!("SUB{sub_index}")))
@@ -253,7 +286,7 @@ impl Planner<'_> {
         let chosen = sub.and_then(|s| renamed(s.sub_index).or_else(|| numbered(s.sub_index)));
         let (wanted, suffixes) = match (sub, chosen) {
             (None, _) => (
-                renamed(0).unwrap_or(base),
+                renamed(0).unwrap_or_else(|| base.to_owned()),
                 vec![format!("{:04X}", object.index)],
             ),
             (Some(sub), Some(name)) => (
@@ -266,7 +299,7 @@ impl Planner<'_> {
             (Some(sub), None) => {
                 let sub_part = ident(&sub.name, Case::Shouty, &format!("SUB{}", sub.sub_index));
                 // Only whole words: `SPEEDOMETER` does not repeat `SPEED`.
-                let repeated = sub_part.strip_prefix(&base).filter(|rest| {
+                let repeated = sub_part.strip_prefix(base).filter(|rest| {
                     rest.is_empty() || rest.starts_with(|c: char| c == '_' || c.is_ascii_digit())
                 });
                 let joined = match repeated {
@@ -405,11 +438,7 @@ impl Planner<'_> {
             short_doc,
             const_name,
             offset: 0,
-            pdo_name: ident(
-                &sub.name,
-                Case::Snake,
-                &format!("object_{:04x}_{}", object.index, sub.sub_index),
-            ),
+            own_name: sub.name.clone(),
         })
     }
 

@@ -50,21 +50,27 @@ impl Prim {
         }
     }
 
+    /// The type's name (`u16`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Prim::Bool => "bool",
+            Prim::Unsigned(8) => "u8",
+            Prim::Unsigned(16) => "u16",
+            Prim::Unsigned(32) => "u32",
+            Prim::Unsigned(_) => "u64",
+            Prim::Signed(8) => "i8",
+            Prim::Signed(16) => "i16",
+            Prim::Signed(32) => "i32",
+            Prim::Signed(_) => "i64",
+            Prim::F32 => "f32",
+            Prim::F64 => "f64",
+        }
+    }
+
     /// The type's tokens (`u16`).
     pub fn tokens(self) -> TokenStream {
-        match self {
-            Prim::Bool => quote!(bool),
-            Prim::Unsigned(8) => quote!(u8),
-            Prim::Unsigned(16) => quote!(u16),
-            Prim::Unsigned(32) => quote!(u32),
-            Prim::Unsigned(_) => quote!(u64),
-            Prim::Signed(8) => quote!(i8),
-            Prim::Signed(16) => quote!(i16),
-            Prim::Signed(32) => quote!(i32),
-            Prim::Signed(_) => quote!(i64),
-            Prim::F32 => quote!(f32),
-            Prim::F64 => quote!(f64),
-        }
+        let name = proc_macro2::Ident::new(self.name(), proc_macro2::Span::call_site());
+        quote!(#name)
     }
 }
 
@@ -118,48 +124,47 @@ impl RustType {
     }
 }
 
-/// The runtime `DataType` variant of a basic type (as `D::Variant`, inside the table's `use`).
-pub fn data_type_tokens(basic: BasicType) -> TokenStream {
+/// The runtime `DataType` variant of a basic type (written `D::Variant` in the table).
+pub fn data_type_variant(basic: BasicType) -> &'static str {
     use BasicType as B;
-    let v = match basic {
-        B::Boolean => quote!(Boolean),
-        B::Integer8 => quote!(Integer8),
-        B::Integer16 => quote!(Integer16),
-        B::Integer24 => quote!(Integer24),
-        B::Integer32 => quote!(Integer32),
-        B::Integer40 => quote!(Integer40),
-        B::Integer48 => quote!(Integer48),
-        B::Integer56 => quote!(Integer56),
-        B::Integer64 => quote!(Integer64),
-        B::Unsigned8 => quote!(Unsigned8),
-        B::Unsigned16 => quote!(Unsigned16),
-        B::Unsigned24 => quote!(Unsigned24),
-        B::Unsigned32 => quote!(Unsigned32),
-        B::Unsigned40 => quote!(Unsigned40),
-        B::Unsigned48 => quote!(Unsigned48),
-        B::Unsigned56 => quote!(Unsigned56),
-        B::Unsigned64 => quote!(Unsigned64),
-        B::Real32 => quote!(Real32),
-        B::Real64 => quote!(Real64),
-        B::VisibleString => quote!(VisibleString),
-        B::OctetString => quote!(OctetString),
-        B::UnicodeString => quote!(UnicodeString),
-        B::TimeOfDay => quote!(TimeOfDay),
-        B::TimeDifference => quote!(TimeDifference),
-        B::Domain => quote!(Domain),
-    };
-    quote!(D::#v)
+    match basic {
+        B::Boolean => "Boolean",
+        B::Integer8 => "Integer8",
+        B::Integer16 => "Integer16",
+        B::Integer24 => "Integer24",
+        B::Integer32 => "Integer32",
+        B::Integer40 => "Integer40",
+        B::Integer48 => "Integer48",
+        B::Integer56 => "Integer56",
+        B::Integer64 => "Integer64",
+        B::Unsigned8 => "Unsigned8",
+        B::Unsigned16 => "Unsigned16",
+        B::Unsigned24 => "Unsigned24",
+        B::Unsigned32 => "Unsigned32",
+        B::Unsigned40 => "Unsigned40",
+        B::Unsigned48 => "Unsigned48",
+        B::Unsigned56 => "Unsigned56",
+        B::Unsigned64 => "Unsigned64",
+        B::Real32 => "Real32",
+        B::Real64 => "Real64",
+        B::VisibleString => "VisibleString",
+        B::OctetString => "OctetString",
+        B::UnicodeString => "UnicodeString",
+        B::TimeOfDay => "TimeOfDay",
+        B::TimeDifference => "TimeDifference",
+        B::Domain => "Domain",
+    }
 }
 
-/// The runtime `Access` variant (as `A::Variant`, inside the table's `use`).
-pub fn access_tokens(access: AccessType) -> TokenStream {
+/// The runtime `Access` variant (written `A::Variant` in the table).
+pub fn access_variant(access: AccessType) -> &'static str {
     match access {
-        AccessType::Ro => quote!(A::Ro),
-        AccessType::Wo => quote!(A::Wo),
-        AccessType::Rw => quote!(A::Rw),
-        AccessType::Rwr => quote!(A::Rwr),
-        AccessType::Rww => quote!(A::Rww),
-        AccessType::Const => quote!(A::Const),
+        AccessType::Ro => "Ro",
+        AccessType::Wo => "Wo",
+        AccessType::Rw => "Rw",
+        AccessType::Rwr => "Rwr",
+        AccessType::Rww => "Rww",
+        AccessType::Const => "Const",
     }
 }
 

@@ -1,0 +1,133 @@
+//! The module's big, regular items (the entry tables, the default image, the typed addresses)
+//! written directly as text, formatted exactly as `prettyplease` formats them: re-parsing and
+//! re-formatting thousands of table rows was most of a build script's time. Each such item
+//! stands in the token stream as a placeholder item, replaced after formatting ([`Splices`]).
+
+use std::fmt::Write as _;
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+/// `prettyplease`'s line width, counting the indentation.
+pub const MARGIN: usize = 89;
+
+/// The indentation of the generated module's items (`pub mod NAME { ... }`).
+pub const ITEM_INDENT: usize = 4;
+
+/// Items written as text, each standing in the token stream as a placeholder item until
+/// [`Splices::apply`] puts it in place of its placeholder in the formatted module.
+#[derive(Debug, Default)]
+pub struct Splices {
+    texts: Vec<String>,
+}
+
+impl Splices {
+    /// The placeholder item for `text`: one or more items, formatted at [`ITEM_INDENT`], each
+    /// line ending in `\n`.
+    pub fn item(&mut self, text: String) -> TokenStream {
+        let placeholder = format_ident!("__EDSGEN_TEXT_{}", self.texts.len());
+        self.texts.push(text);
+        quote!(const #placeholder: () = ();)
+    }
+
+    /// `formatted` with every placeholder line replaced by its text.
+    pub fn apply(&self, formatted: &str) -> String {
+        let mut out = String::with_capacity(
+            formatted.len() + self.texts.iter().map(String::len).sum::<usize>(),
+        );
+        for line in formatted.split_inclusive('\n') {
+            match self.placeholder_text(line) {
+                Some(text) => out.push_str(text),
+                None => out.push_str(line),
+            }
+        }
+        out
+    }
+
+    fn placeholder_text(&self, line: &str) -> Option<&str> {
+        let number = line
+            .strip_prefix("    const __EDSGEN_TEXT_")?
+            .strip_suffix(": () = ();\n")?;
+        self.texts
+            .get(number.parse::<usize>().ok()?)
+            .map(String::as_str)
+    }
+}
+
+/// Appends `indent` spaces.
+pub fn indent(out: &mut String, indent: usize) {
+    const SPACES: &str = "                                ";
+    let mut left = indent;
+    while left > 0 {
+        let n = left.min(SPACES.len());
+        out.push_str(&SPACES[..n]);
+        left -= n;
+    }
+}
+
+/// Appends rustdoc lines as `prettyplease` prints `#[doc = LINE]`: `///LINE`, trailing spaces
+/// trimmed. Every line the emitter writes starts with a space or is empty, and holds no line
+/// break (see `plan::doc_text`).
+pub fn docs<S: AsRef<str>>(out: &mut String, at: usize, lines: &[S]) {
+    for line in lines {
+        debug_assert!(!line.as_ref().starts_with('/') && !line.as_ref().contains('\n'));
+        indent(out, at);
+        out.push_str("///");
+        out.push_str(line.as_ref().trim_end_matches(' '));
+        out.push('\n');
+    }
+}
+
+/// Appends `HEAD[e0, e1, ...];` for an array of literals, the way `prettyplease` fills one:
+/// on one line if it fits, else broken after `[`, as many elements per line as fit, a trailing
+/// comma and `];` on a line of its own. `head` is the item up to the `[`.
+pub fn literal_array(out: &mut String, at: usize, head: &str, elems: &[String]) {
+    indent(out, at);
+    out.push_str(head);
+    // `[a, b, c];`: each element and its separator, or `[` and `];` for the first.
+    let one_line = elems.iter().map(|e| e.len() + 2).sum::<usize>() + 1;
+    if elems.is_empty() || at + head.len() + one_line <= MARGIN {
+        out.push('[');
+        for (i, elem) in elems.iter().enumerate() {
+            if i > 0 {
+                out.push_str(", ");
+            }
+            out.push_str(elem);
+        }
+        out.push_str("];\n");
+        return;
+    }
+    out.push_str("[\n");
+    let inner = at + 4;
+    let mut column = 0;
+    for (i, elem) in elems.iter().enumerate() {
+        // A break is taken unless the next element (with its comma, but for the last one)
+        // still fits after a space.
+        let last = i + 1 == elems.len();
+        let width = elem.len() + usize::from(!last);
+        if column == 0 {
+            indent(out, inner);
+            column = inner;
+        } else if column + 1 + width <= MARGIN {
+            out.push(' ');
+            column += 1;
+        } else {
+            out.push('\n');
+            indent(out, inner);
+            column = inner;
+        }
+        out.push_str(elem);
+        out.push(',');
+        column += elem.len() + 1;
+    }
+    out.push('\n');
+    indent(out, at);
+    out.push_str("];\n");
+}
+
+/// `0x` and `digits` upper-case hexadecimal digits, as `types::hex` writes them.
+pub fn hex(value: u32, digits: usize) -> String {
+    let mut text = String::with_capacity(2 + digits);
+    let _ = write!(text, "0x{value:0digits$X}");
+    text
+}

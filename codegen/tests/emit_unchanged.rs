@@ -1,0 +1,101 @@
+//! The generated code of the five cards (with their overlays) and of every corpus file the
+//! emitter generates, pinned byte for byte: the length and a 64-bit FNV-1a digest of each
+//! module in one snapshot, taken from the emitter that formatted the whole module with
+//! `prettyplease`. And every module reads back unchanged through `syn` and `prettyplease`: the
+//! parts written directly as text are formatted exactly as `prettyplease` formats them.
+//!
+//! The corpus is found through `EDSGEN_CORPUS`, else `../shared/eds-corpus` beside the
+//! workspace; without it only the cards are checked (under `CI=true` a missing corpus fails).
+
+use std::path::{Path, PathBuf};
+
+use edsgen_codegen::{builder, emit, overlay, read};
+
+fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The cards in `eds/`, then the corpus files in MANIFEST order: (name shown, path).
+fn inputs() -> Vec<(String, PathBuf)> {
+    let cards = ["cp301", "goodrive350", "hd1e", "ms300", "rd11"];
+    let mut inputs: Vec<_> = cards
+        .iter()
+        .map(|c| {
+            (
+                format!("eds/{c}.eds"),
+                repo_root().join(format!("eds/{c}.eds")),
+            )
+        })
+        .collect();
+    let corpus = std::env::var_os("EDSGEN_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo_root().join("../shared/eds-corpus"));
+    match std::fs::read_to_string(corpus.join("MANIFEST.tsv")) {
+        Ok(manifest) => inputs.extend(
+            manifest
+                .lines()
+                .skip(1)
+                .filter_map(|line| line.split('\t').next())
+                .filter(|f| !f.is_empty())
+                .map(|f| (f.to_owned(), corpus.join(f))),
+        ),
+        Err(_) => {
+            assert_ne!(
+                std::env::var("CI").as_deref(),
+                Ok("true"),
+                "corpus not found at {} (set EDSGEN_CORPUS)",
+                corpus.display()
+            );
+            eprintln!("corpus not found at {}; cards only", corpus.display());
+        }
+    }
+    inputs
+}
+
+/// The module for `path` as build.rs generates it (overlay applied, module named after the
+/// file), or `None` when the emitter refuses the file.
+fn generated(path: &Path) -> Option<String> {
+    let mut read = read::read_file(path).ok()?;
+    if let Ok(text) = std::fs::read_to_string(overlay::path_for(path)) {
+        assert_eq!(overlay::apply(&text, &mut read.device), vec![]);
+    }
+    let module = builder::default_module(path);
+    emit::generate_module(&read.device, &module)
+        .ok()
+        .map(|g| g.code)
+}
+
+fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |hash, &b| {
+        (hash ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+#[test]
+fn generated_code_of_every_card_and_corpus_file_is_unchanged() {
+    let mut digests = String::new();
+    let mut not_formatted = Vec::new();
+    for (name, path) in inputs() {
+        let Some(code) = generated(&path) else {
+            digests.push_str(&format!("{name}: not generated\n"));
+            continue;
+        };
+        digests.push_str(&format!(
+            "{name}: {} bytes, {:016x}\n",
+            code.len(),
+            fnv1a64(code.as_bytes())
+        ));
+        // The first line is the `// @generated` comment, which `syn` does not keep.
+        let (header, body) = code.split_once('\n').unwrap_or_default();
+        let reformatted = syn::parse_file(body).map(|file| prettyplease::unparse(&file));
+        if !header.starts_with("// @generated") || reformatted.ok().as_deref() != Some(body) {
+            not_formatted.push(name);
+        }
+    }
+    assert_eq!(
+        not_formatted,
+        Vec::<String>::new(),
+        "not as prettyplease formats them"
+    );
+    insta::assert_snapshot!(digests);
+}
