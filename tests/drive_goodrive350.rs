@@ -2,74 +2,22 @@
 //! in-memory bus, node-ID 3: the PDO1 parameter protocol (§3.5.2), running at 50.00 Hz by PDO2
 //! (§3.5.3/§3.5.4), the error codes of Table 3-16, and a fault with its emergency (§3.4.8).
 
+mod drive_support;
+
+use drive_support::{ms, timed, Bench};
 use edsgen::drives::goodrive350::{parameter, Goodrive350};
-use edsgen_runtime::vbus::VirtualBus;
-use edsgen_runtime::{CanFrame, Instant};
 
-fn ms(millis: u64) -> Instant {
-    Instant::from_millis(millis)
-}
-
-/// A frame as the manual prints it: `183: 01 00 00 00 01 00 00 00`.
-fn show(frame: &CanFrame) -> String {
-    let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
-    format!("{:03X}: {}", frame.std_id().unwrap_or(0), bytes.join(" "))
-}
-
-/// A frame from the manual's notation.
-fn frame(text: &str) -> CanFrame {
-    let (id, bytes) = text.split_once(": ").expect("ID: bytes");
-    let id = u16::from_str_radix(id, 16).expect("hex ID");
-    let data: Vec<u8> = bytes
-        .split(' ')
-        .map(|b| u8::from_str_radix(b, 16).expect("hex byte"))
-        .collect();
-    CanFrame::new(id, &data).expect("a valid frame")
-}
-
-struct Bench {
-    drive: Goodrive350,
-    bus: VirtualBus,
-}
-
-impl Bench {
-    /// The drive powered up and started (NMT start all, §3.4.3).
-    fn started() -> Self {
-        let mut drive = Goodrive350::new(3, ms(0)).expect("node-ID 3");
-        let mut bus = VirtualBus::new(ms(0));
-        bus.run_until(ms(0), &mut [&mut drive]);
-        bus.inject(frame("000: 01 00"), &mut [&mut drive]);
-        bus.take_log();
-        Bench { drive, bus }
-    }
-
-    /// Sends `request` at `at` and runs the bus to `until`; what the drive sent, as (ms, frame).
-    fn exchange(&mut self, at: u64, request: &str, until: u64) -> Vec<(u64, String)> {
-        self.bus.run_until(ms(at), &mut [&mut self.drive]);
-        self.bus.take_log();
-        self.bus.inject(frame(request), &mut [&mut self.drive]);
-        self.bus.run_until(ms(until), &mut [&mut self.drive]);
-        self.sent()
-    }
-
-    fn sent(&mut self) -> Vec<(u64, String)> {
-        self.bus
-            .take_log()
-            .into_iter()
-            .filter(|(_, sender, _)| *sender == 0)
-            .map(|(at, _, f)| (at.as_micros() / 1000, show(&f)))
-            .collect()
-    }
-}
-
-fn expect(list: &[(u64, &str)]) -> Vec<(u64, String)> {
-    list.iter().map(|(t, s)| (*t, s.to_string())).collect()
+/// The drive powered up and started (NMT start all, §3.4.3).
+fn started() -> Bench<Goodrive350> {
+    let mut bench = Bench::booted(Goodrive350::new(3, ms(0)).expect("node-ID 3"));
+    bench.send(0, 0x000, &[0x01, 0x00]);
+    bench
 }
 
 /// PDO1 writes setting up communication control (§3.5.3's example: P00.01 = 2, P00.02 = 1,
 /// P00.06 = 9, P15.03 = 1) and the returned values of §3.5.4's (P15.13 = 1, P15.14 = 4), one
 /// every 100 ms (PDO1 Tx has an inhibit time).
-fn configure(bench: &mut Bench) {
+fn configure(bench: &mut Bench<Goodrive350>) {
     for (i, (request, response)) in [
         ("203: 02 00 01 00 02 00", "183: 01 00 00 00 02 00 00 00"),
         ("203: 02 00 02 00 01 00", "183: 01 00 00 00 01 00 00 00"),
@@ -85,20 +33,20 @@ fn configure(bench: &mut Bench) {
         let at = 100 * (i as u64 + 1);
         assert_eq!(
             bench.exchange(at, request, at + 1),
-            expect(&[(at, response)]),
+            timed(&[(at, response)]),
             "{request}"
         );
     }
 }
 
 /// Runs the drive forward at 50.00 Hz by PDO2 at 1 s (§3.5.3's frame) and lets it ramp up.
-fn run_at_50_hz(bench: &mut Bench) -> Vec<(u64, String)> {
+fn run_at_50_hz(bench: &mut Bench<Goodrive350>) -> Vec<(u64, String)> {
     bench.exchange(1_000, "303: 01 00 00 00 88 13 00 00", 12_000)
 }
 
 #[test]
 fn pdo1_writes_parameters_as_the_manual_shows() {
-    let mut bench = Bench::started();
+    let mut bench = started();
     configure(&mut bench);
     assert_eq!(bench.drive.parameter(parameter::TRANSMITTED_PZD2), Some(1));
     assert_eq!(
@@ -109,7 +57,7 @@ fn pdo1_writes_parameters_as_the_manual_shows() {
 
 #[test]
 fn pdo2_runs_the_drive_to_50_hz_and_reports_it_as_the_manual_shows() {
-    let mut bench = Bench::started();
+    let mut bench = started();
     configure(&mut bench);
     let sent = run_at_50_hz(&mut bench);
     // Status word 0101h (forward running, bus voltage established) at once; then the running
@@ -132,7 +80,7 @@ fn pdo2_runs_the_drive_to_50_hz_and_reports_it_as_the_manual_shows() {
 
 #[test]
 fn pdo1_refusals_carry_the_error_codes_of_table_3_16() {
-    let mut bench = Bench::started();
+    let mut bench = started();
     configure(&mut bench);
     for (at, request, response) in [
         // Read P00.11, acceleration time 1: 10.0 s.
@@ -168,7 +116,7 @@ fn pdo1_refusals_carry_the_error_codes_of_table_3_16() {
     ] {
         assert_eq!(
             bench.exchange(at, request, at + 1),
-            expect(&[(at, response)]),
+            timed(&[(at, response)]),
             "{request}"
         );
     }
@@ -176,23 +124,22 @@ fn pdo1_refusals_carry_the_error_codes_of_table_3_16() {
     // P00.01 cannot change while the drive runs.
     assert_eq!(
         bench.exchange(12_000, "203: 02 00 01 00 00 00", 12_001),
-        expect(&[(12_000, "183: 03 00 08 00 00 00 00 00")])
+        timed(&[(12_000, "183: 03 00 08 00 00 00 00 00")])
     );
 }
 
 #[test]
 fn a_fault_sends_its_emergency_and_resets_once_its_cause_is_gone() {
-    let mut bench = Bench::started();
+    let mut bench = started();
     configure(&mut bench);
     run_at_50_hz(&mut bench);
     // §3.4.8: fault OUT1 (type 1): emergency code 3000h, VFD error code 1; the output is cut
     // and the status word says faulty (04h). The manual's error register is 04h (voltage); CiA
     // 301 also sets bit 0 (generic) whenever an error is active, so the card sends 05h.
     bench.drive.inject_fault(ms(12_000), 1);
-    bench.bus.run_until(ms(12_001), &mut [&mut bench.drive]);
     assert_eq!(
-        bench.sent(),
-        expect(&[
+        bench.run(12_001),
+        timed(&[
             (12_000, "083: 00 30 05 01 00 00 00 00"),
             (12_000, "283: 04 01 00 00 00 00 00 00"),
         ])
@@ -200,7 +147,7 @@ fn a_fault_sends_its_emergency_and_resets_once_its_cause_is_gone() {
     // While faulted, parameter writes are refused (01h) and a reset does nothing.
     assert_eq!(
         bench.exchange(12_100, "203: 02 00 0B 00 32 00", 12_101),
-        expect(&[(12_100, "183: 03 00 01 00 00 00 00 00")])
+        timed(&[(12_100, "183: 03 00 01 00 00 00 00 00")])
     );
     assert_eq!(
         bench.exchange(12_200, "303: 07 00 00 00 88 13 00 00", 12_300),
@@ -210,7 +157,7 @@ fn a_fault_sends_its_emergency_and_resets_once_its_cause_is_gone() {
     bench.drive.remove_fault_cause();
     assert_eq!(
         bench.exchange(12_400, "303: 07 00 00 00 88 13 00 00", 12_500),
-        expect(&[
+        timed(&[
             (12_400, "083: 00 00 00 00 00 00 00 00"),
             (12_400, "283: 03 01 00 00 00 00 00 00"),
         ])
@@ -218,13 +165,13 @@ fn a_fault_sends_its_emergency_and_resets_once_its_cause_is_gone() {
     // P07.28, type of last fault, remembers OUT1.
     assert_eq!(
         bench.exchange(12_600, "203: 01 00 1C 07 00 00", 12_601),
-        expect(&[(12_600, "183: 01 00 00 00 01 00 00 00")])
+        timed(&[(12_600, "183: 01 00 00 00 01 00 00 00")])
     );
 }
 
 #[test]
 fn sdo_control_and_monitoring_as_the_manual_shows() {
-    let mut bench = Bench::started();
+    let mut bench = started();
     // Communication control (P00.01 = 2, P00.02 = 1, P00.06 = 9), setting 1 as the frequency
     // (P15.02 = 1), returned value 1 the running frequency (P15.13 = 1), by PDO1.
     for (i, (request, response)) in [
@@ -240,7 +187,7 @@ fn sdo_control_and_monitoring_as_the_manual_shows() {
         let at = 100 * (i as u64 + 1);
         assert_eq!(
             bench.exchange(at, request, at + 1),
-            expect(&[(at, response)])
+            timed(&[(at, response)])
         );
     }
     // §3.6's SDO frames: 2100h:03 (setting 1) = 5000, then 2101h:00 (CW) = 1, run forward.

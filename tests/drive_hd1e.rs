@@ -2,28 +2,15 @@
 //! reads and writes parameters (§8.2) with the response codes of Table 20 and the error codes of
 //! Table 21, frame for frame.
 
+mod drive_support;
+
+use drive_support::{ms, Bench};
 use edsgen::drives::Hd1e;
-use edsgen_runtime::vbus::VirtualBus;
-use edsgen_runtime::{CanFrame, Instant};
-
-fn ms(millis: u64) -> Instant {
-    Instant::from_millis(millis)
-}
-
-fn show(frame: &CanFrame) -> String {
-    let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
-    format!("{:03X}: {}", frame.std_id().unwrap_or(0), bytes.join(" "))
-}
 
 #[test]
 fn pdo1_parameter_access_answers_with_tables_20_and_21() {
-    let mut card = Hd1e::new(3, ms(0)).expect("node-ID 3");
-    let mut bus = VirtualBus::new(ms(0));
-    bus.run_until(ms(0), &mut [&mut card]);
-    bus.inject(
-        CanFrame::new(0x000, &[0x01, 0x03]).expect("NMT"),
-        &mut [&mut card],
-    );
+    let mut bench = Bench::booted(Hd1e::new(3, ms(0)).expect("node-ID 3"));
+    bench.send(0, 0x000, &[0x01, 0x03]);
     // One request every 100 ms: PDO1 Tx has an inhibit time.
     for (i, (request, response)) in [
         // Write P10.01 = 1 (Table 19's example parameter): success, the data written.
@@ -55,20 +42,12 @@ fn pdo1_parameter_access_answers_with_tables_20_and_21() {
     .into_iter()
     .enumerate()
     {
-        let at = ms(100 * (i as u64 + 1));
-        bus.run_until(at, &mut [&mut card]);
-        bus.take_log();
-        bus.inject(
-            CanFrame::new(0x203, &request).expect("PDO1 Rx"),
-            &mut [&mut card],
+        let at = 100 * (i as u64 + 1);
+        assert_eq!(
+            bench.send(at, 0x203, &request),
+            [response],
+            "{request:02X?}"
         );
-        let sent: Vec<String> = bus
-            .take_log()
-            .iter()
-            .filter(|(_, sender, _)| *sender == 0)
-            .map(|(_, _, f)| show(f))
-            .collect();
-        assert_eq!(sent, [response], "{request:02X?}");
     }
-    assert_eq!(card.parameter(0x0A01), Some(1));
+    assert_eq!(bench.drive.parameter(0x0A01), Some(1));
 }

@@ -2,76 +2,50 @@
 //! three control modes of §15-3-1 (DS402, Delta's old and new definitions) by SDO, and a fault of
 //! §15-5 with its emergency and reset.
 
+mod drive_support;
+
+use drive_support::{ms, Bench};
 use edsgen::drives::ms300::ControlMode;
 use edsgen::drives::Ms300;
-use edsgen_runtime::vbus::VirtualBus;
-use edsgen_runtime::{CanFrame, Instant};
 
-fn ms(millis: u64) -> Instant {
-    Instant::from_millis(millis)
+/// Powered up, with Pr. 00-21 = 3 and Pr. 00-20 = 6 (CANopen commands and frequency).
+fn booted() -> Bench<Ms300> {
+    let mut bench = Bench::booted(Ms300::new(3, ms(0)).expect("node-ID 3"));
+    bench.write(0, 0x2000, 22, 3);
+    bench.write(0, 0x2000, 21, 6);
+    bench
 }
 
-fn show(frame: &CanFrame) -> String {
-    let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
-    format!("{:03X}: {}", frame.std_id().unwrap_or(0), bytes.join(" "))
-}
-
-struct Bench {
-    drive: Ms300,
-    bus: VirtualBus,
-}
-
-impl Bench {
-    /// Powered up, with Pr. 00-21 = 3 and Pr. 00-20 = 6 (CANopen commands and frequency).
-    fn booted() -> Self {
-        let mut drive = Ms300::new(3, ms(0)).expect("node-ID 3");
-        let mut bus = VirtualBus::new(ms(0));
-        bus.run_until(ms(0), &mut [&mut drive]);
-        let mut bench = Bench { drive, bus };
-        bench.write(0, 0x2000, 22, 3);
-        bench.write(0, 0x2000, 21, 6);
-        bench
-    }
-
-    /// Frames the drive sent for a request at `at`.
+impl Bench<Ms300> {
+    /// Frames the drive sent for an SDO request at `at`.
     fn request(&mut self, at: u64, data: [u8; 8]) -> Vec<String> {
-        self.bus.run_until(ms(at), &mut [&mut self.drive]);
-        self.bus.take_log();
-        let frame = CanFrame::new(0x603, &data).expect("SDO request");
-        self.bus.inject(frame, &mut [&mut self.drive]);
-        self.bus
-            .take_log()
-            .iter()
-            .filter(|(_, sender, _)| *sender == 0)
-            .map(|(_, _, f)| show(f))
-            .collect()
+        self.send(at, 0x603, &data)
     }
 
     /// An expedited 2-byte write, which must succeed.
     fn write(&mut self, at: u64, index: u16, sub: u8, value: u16) {
         let [i0, i1] = index.to_le_bytes();
         let [v0, v1] = value.to_le_bytes();
-        let sent = self.request(at, [0x2B, i0, i1, sub, v0, v1, 0, 0]);
-        let ok = format!("583: 60 {i0:02X} {i1:02X} {sub:02X} 00 00 00 00");
-        assert!(sent.contains(&ok), "{index:04X}h:{sub}: {sent:?}");
+        let answer = self.sdo(at, 3, [0x2B, i0, i1, sub, v0, v1, 0, 0]);
+        assert_eq!(
+            answer,
+            [0x60, i0, i1, sub, 0, 0, 0, 0],
+            "{index:04X}h:{sub}"
+        );
     }
 
     /// An upload of a 2-byte value.
     fn read(&mut self, at: u64, index: u16, sub: u8) -> u16 {
         let [i0, i1] = index.to_le_bytes();
-        let sent = self.request(at, [0x40, i0, i1, sub, 0, 0, 0, 0]);
-        let answer = sent
-            .iter()
-            .find(|f| f.starts_with("583: 4B"))
-            .expect("a 2-byte upload");
-        let byte = |n: usize| u16::from_str_radix(&answer[5 + 3 * n..7 + 3 * n], 16).expect("hex");
-        byte(4) | byte(5) << 8
+        let answer = self.sdo(at, 3, [0x40, i0, i1, sub, 0, 0, 0, 0]);
+        assert_eq!(answer[..4], [0x4B, i0, i1, sub], "a 2-byte upload");
+        u16::from_le_bytes([answer[4], answer[5]])
     }
 }
 
 #[test]
 fn ds402_is_the_factory_mode_and_runs_the_speed_mode_of_15_3_2_3() {
-    let mut bench = Bench::booted();
+    let mut bench = booted();
     assert_eq!(bench.drive.control_mode(), ControlMode::Ds402);
     // 6060h = 2 (speed mode), 6042h = 900 rpm, 6040h = 0Eh then 0Fh, then the speed-mode bits
     // 4–6 (7Fh): the ramp (604Fh: 10 s to 1800 rpm) reaches 900 rpm after 5 s.
@@ -88,7 +62,7 @@ fn ds402_is_the_factory_mode_and_runs_the_speed_mode_of_15_3_2_3() {
 
 #[test]
 fn delta_old_definition_runs_by_2020h_and_reports_in_2021h() {
-    let mut bench = Bench::booted();
+    let mut bench = booted();
     bench.write(0, 0x2009, 41, 0); // Pr. 09-40 = 0: Delta standard
     bench.write(0, 0x2009, 31, 0); // Pr. 09-30 = 0: old definition
     assert_eq!(bench.drive.control_mode(), ControlMode::DeltaOld);
@@ -108,7 +82,7 @@ fn delta_old_definition_runs_by_2020h_and_reports_in_2021h() {
 
 #[test]
 fn delta_new_definition_runs_by_2060h_and_a_fault_of_15_5_resets() {
-    let mut bench = Bench::booted();
+    let mut bench = booted();
     bench.write(0, 0x2009, 41, 0);
     bench.write(0, 0x2009, 31, 1); // Pr. 09-30 = 1: new definition
     assert_eq!(bench.drive.control_mode(), ControlMode::DeltaNew);
@@ -125,13 +99,7 @@ fn delta_new_definition_runs_by_2060h_and_a_fault_of_15_5_resets() {
         .drive
         .raise_fault(ms(9_100), "ocA")
         .expect("ocA is in 15-5");
-    bench.bus.run_until(ms(9_100), &mut [&mut bench.drive]);
-    let sent: Vec<String> = bench
-        .bus
-        .take_log()
-        .iter()
-        .map(|(_, _, f)| show(f))
-        .collect();
+    let sent = bench.frames_until(9_100);
     assert!(
         sent.contains(&"083: 13 22 03 01 00 00 00 00".to_string()),
         "{sent:?}"

@@ -2,66 +2,18 @@
 //! of §3.1.4 frame for frame, running by the default RPDO1 with TPDO1 reporting (Table 3.9), and
 //! a fault of Table 3.12 with its emergency (§3.1.7).
 
+mod drive_support;
+
+use drive_support::{ms, Bench};
 use edsgen::drives::Rd11;
-use edsgen_runtime::vbus::VirtualBus;
-use edsgen_runtime::{CanFrame, Instant};
 
-fn ms(millis: u64) -> Instant {
-    Instant::from_millis(millis)
-}
-
-fn show(frame: &CanFrame) -> String {
-    let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
-    format!("{:03X}: {}", frame.std_id().unwrap_or(0), bytes.join(" "))
-}
-
-struct Bench {
-    drive: Rd11,
-    bus: VirtualBus,
-}
-
-impl Bench {
-    fn booted() -> Self {
-        let mut drive = Rd11::new(2, ms(0)).expect("node-ID 2");
-        let mut bus = VirtualBus::new(ms(0));
-        bus.run_until(ms(0), &mut [&mut drive]);
-        bus.take_log();
-        Bench { drive, bus }
-    }
-
-    /// Sends `data` on `id` at `at`; what the drive sent at that instant.
-    fn send(&mut self, at: u64, id: u16, data: &[u8]) -> Vec<String> {
-        self.bus.run_until(ms(at), &mut [&mut self.drive]);
-        self.bus.take_log();
-        let frame = CanFrame::new(id, data).expect("valid frame");
-        self.bus.inject(frame, &mut [&mut self.drive]);
-        self.sent()
-    }
-
-    /// Runs to `until`; what the drive sent, as (ms, frame).
-    fn run(&mut self, until: u64) -> Vec<(u64, String)> {
-        self.bus.run_until(ms(until), &mut [&mut self.drive]);
-        self.bus
-            .take_log()
-            .into_iter()
-            .filter(|(_, sender, _)| *sender == 0)
-            .map(|(at, _, f)| (at.as_micros() / 1000, show(&f)))
-            .collect()
-    }
-
-    fn sent(&mut self) -> Vec<String> {
-        self.bus
-            .take_log()
-            .into_iter()
-            .filter(|(_, sender, _)| *sender == 0)
-            .map(|(_, _, f)| show(&f))
-            .collect()
-    }
+fn booted() -> Bench<Rd11> {
+    Bench::booted(Rd11::new(2, ms(0)).expect("node-ID 2"))
 }
 
 #[test]
 fn sdo_examples_of_section_3_1_4() {
-    let mut bench = Bench::booted();
+    let mut bench = booted();
     for (request, response) in [
         // 2), 3): F02.02 is 2002h:03. The manual prints 4B for the write's answer; CiA 301
         // answers a download with 60, which this card follows (as the 0x3006 example does).
@@ -97,7 +49,7 @@ fn sdo_examples_of_section_3_1_4() {
 }
 
 /// F01.01 = 3 and F01.02 = 10 by SDO (Table 3.14), then NMT start.
-fn take_control(bench: &mut Bench) {
+fn take_control(bench: &mut Bench<Rd11>) {
     for request in [
         [0x2B, 0x01, 0x20, 0x02, 0x03, 0, 0, 0],
         [0x2B, 0x01, 0x20, 0x03, 0x0A, 0, 0, 0],
@@ -113,7 +65,7 @@ fn take_control(bench: &mut Bench) {
 
 #[test]
 fn rpdo1_runs_the_inverter_and_tpdo1_reports_every_100_ms() {
-    let mut bench = Bench::booted();
+    let mut bench = booted();
     take_control(&mut bench);
     // RPDO1 (Table 3.9): control command 1 (forward), frequency 50.00 Hz, torque 0. The status
     // changes at once (running, accelerating, ready: 0083h), so TPDO1 goes out.
@@ -154,7 +106,7 @@ fn rpdo1_runs_the_inverter_and_tpdo1_reports_every_100_ms() {
 
 #[test]
 fn a_fault_of_table_3_12_sends_its_code_and_resets() {
-    let mut bench = Bench::booted();
+    let mut bench = booted();
     take_control(&mut bench);
     bench.send(0, 0x202, &[0x01, 0x00, 0x88, 0x13, 0x00, 0x00]);
     bench.run(1_000);
