@@ -133,13 +133,9 @@ fn set_capacity(
         );
         return;
     };
-    let capacity = match value.get_ref() {
-        DeValue::Integer(n) => i64::from_str_radix(&n.as_str().replace('_', ""), n.radix())
-            .ok()
-            .and_then(|n| u64::try_from(n).ok())
-            .filter(|n| (1..=MAX_CAPACITY).contains(n)),
-        _ => None,
-    };
+    let capacity = integer(value.get_ref())
+        .and_then(|n| u64::try_from(n).ok())
+        .filter(|n| (1..=MAX_CAPACITY).contains(n));
     let Some(capacity) = capacity else {
         diags.push(Diagnostic::new(
             &rules::OVERLAY,
@@ -271,12 +267,7 @@ fn set_numbering(
         );
         return;
     };
-    let number = match value.get_ref() {
-        DeValue::Integer(n) => i64::from_str_radix(&n.as_str().replace('_', ""), n.radix())
-            .ok()
-            .and_then(|n| u32::try_from(n).ok()),
-        _ => None,
-    };
+    let number = integer(value.get_ref()).and_then(|n| u32::try_from(n).ok());
     let Some(number) = number else {
         diags.push(Diagnostic::new(
             &rules::OVERLAY,
@@ -387,6 +378,15 @@ fn set_mapping(
     }
     if let Some(count) = object.subs.get_mut(&0) {
         set(count, words.len() as u32);
+    }
+}
+
+/// A TOML integer (decimal, hex, octal or binary, with `_` separators), or `None` for another
+/// kind of value or one that does not fit 64 bits.
+fn integer(value: &DeValue) -> Option<i64> {
+    match value {
+        DeValue::Integer(n) => i64::from_str_radix(&n.as_str().replace('_', ""), n.radix()).ok(),
+        _ => None,
     }
 }
 
