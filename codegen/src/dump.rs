@@ -19,6 +19,7 @@ pub fn to_json(device: &Device) -> Json {
         Format::Dcf => "dcf",
         Format::Xdd => "xdd",
         Format::Xdc => "xdc",
+        Format::Esi => "esi",
     };
     let encoding = match device.source.encoding {
         TextEncoding::Ascii => "ascii",

@@ -136,6 +136,7 @@ fn module_doc(device: &Device) -> Vec<String> {
         Format::Dcf => "DCF",
         Format::Xdd => "XDD",
         Format::Xdc => "XDC",
+        Format::Esi => "ESI",
     };
     let file_name = device
         .source

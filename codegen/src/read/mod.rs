@@ -69,7 +69,7 @@ pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
     }
     let mut read = match detect_format(path, bytes) {
         Format::Eds | Format::Dcf => eds::read(path, bytes),
-        Format::Xdd | Format::Xdc => xdd::read(path, bytes),
+        Format::Xdd | Format::Xdc | Format::Esi => xdd::read(path, bytes),
     };
     if read.device.source.encoding == TextEncoding::Windows1252 {
         if let Some(guess) = dos_code_page_guess(bytes) {

@@ -106,6 +106,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         commissioning: None,
         other_sections: Vec::new(),
         naming: Default::default(),
+        ethercat: None,
     }
 }
 
