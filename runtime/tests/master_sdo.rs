@@ -27,7 +27,7 @@ fn frames(bus: &mut VirtualBus) -> Vec<String> {
 }
 
 /// Runs the bus in 1 ms steps until the client has a result, feeding `source` into a download
-/// and draining an upload into the returned bytes.
+/// (and ending it there) and draining an upload into the returned bytes.
 fn run_transfer<const B: usize>(
     bus: &mut VirtualBus,
     client: &mut SdoClient<B>,
@@ -38,6 +38,10 @@ fn run_transfer<const B: usize>(
     for _ in 0..100_000 {
         let taken = client.write_data(source);
         source = &source[taken..];
+        if source.is_empty() {
+            // The end of a value of unannounced size (no effect on a sized one).
+            client.end_data();
+        }
         let mut chunk = [0u8; 100];
         loop {
             let n = client.read_data(&mut chunk);
@@ -228,6 +232,117 @@ fn a_block_download_and_upload_of_64_kib_stream_through_the_window_with_crc() {
     let sent = frames(&mut bus);
     assert_eq!(sent[0], "606: A4 00 21 00 7F 00 00 00");
     assert_eq!(sent[sent.len() - 1], "606: A1 00 00 00 00 00 00 00");
+}
+
+#[test]
+fn a_segmented_download_of_unannounced_size_leaves_the_size_bit_clear() {
+    let mut server = DomainServer::new(4);
+    let mut client = SdoClient::<32>::new(4);
+    let mut bus = VirtualBus::new(ms(0));
+    // 14 bytes: two full segments, the second one the last (n = 0, c = 1).
+    let value = b"edsgen streams";
+    client
+        .download_unsized(ms(0), DOMAIN, Mode::Normal)
+        .unwrap();
+    let (result, _) = run_transfer(&mut bus, &mut client, &mut server, value);
+    assert_eq!(result.unwrap().size, 14);
+    assert_eq!(server.od.domain, value);
+    assert_eq!(
+        frames(&mut bus),
+        [
+            "604: 20 00 21 00 00 00 00 00",
+            "584: 60 00 21 00 00 00 00 00",
+            "604: 00 65 64 73 67 65 6E 20",
+            "584: 20 00 00 00 00 00 00 00",
+            "604: 11 73 74 72 65 61 6D 73",
+            "584: 30 00 00 00 00 00 00 00",
+        ]
+    );
+}
+
+#[test]
+fn a_segment_of_unannounced_size_waits_until_it_is_known_whether_it_is_the_last() {
+    let mut client = SdoClient::<32>::new(4);
+    let response = |data: [u8; 8]| frame(0x584, &data);
+    client
+        .download_unsized(ms(0), DOMAIN, Mode::Normal)
+        .unwrap();
+    let initiate = client.poll_transmit(ms(0)).unwrap();
+    assert_eq!(show(&initiate), "604: 20 00 21 00 00 00 00 00");
+    client.handle_frame(ms(1), &response([0x60, 0x00, 0x21, 0x00, 0, 0, 0, 0]));
+    assert_eq!(client.write_data(b"1234567"), 7);
+    assert_eq!(
+        client.poll_transmit(ms(1)),
+        None,
+        "7 bytes: the last or not?"
+    );
+    assert_eq!(client.write_data(b"8"), 1);
+    let first = client.poll_transmit(ms(1)).unwrap();
+    assert_eq!(show(&first), "604: 00 31 32 33 34 35 36 37");
+    client.handle_frame(ms(2), &response([0x20, 0, 0, 0, 0, 0, 0, 0]));
+    assert_eq!(
+        client.poll_transmit(ms(2)),
+        None,
+        "1 byte: the last or not?"
+    );
+    client.end_data();
+    assert_eq!(client.write_data(b"9"), 0, "the value has ended");
+    let last = client.poll_transmit(ms(2)).unwrap();
+    assert_eq!(show(&last), "604: 1D 38 00 00 00 00 00 00");
+    client.handle_frame(ms(3), &response([0x30, 0, 0, 0, 0, 0, 0, 0]));
+    let done = client.poll_result().unwrap().unwrap();
+    assert_eq!((done.size, done.upload), (8, false));
+}
+
+#[cfg(feature = "sdo-block")]
+#[test]
+fn a_block_download_of_unannounced_size_tells_the_size_in_the_end_frame() {
+    let mut server = DomainServer::new(6);
+    let mut client = SdoClient::<32>::new(6);
+    let mut bus = VirtualBus::new(ms(0));
+    let value: Vec<u8> = (1..=20).collect();
+    client.download_unsized(ms(0), DOMAIN, Mode::Block).unwrap();
+    let (result, _) = run_transfer(&mut bus, &mut client, &mut server, &value);
+    assert_eq!(result.unwrap().size, 20);
+    assert_eq!(server.od.domain, value);
+    // No size in the initiate request (C4: s clear); three segments, the last with 6 bytes, so
+    // the end request says 1 byte unused (C5: n = 1).
+    let [lo, hi] = crc16(&value).to_le_bytes();
+    assert_eq!(
+        frames(&mut bus),
+        [
+            "606: C4 00 21 00 00 00 00 00".to_string(),
+            "586: A4 00 21 00 7F 00 00 00".into(),
+            "606: 01 01 02 03 04 05 06 07".into(),
+            "606: 02 08 09 0A 0B 0C 0D 0E".into(),
+            "606: 83 0F 10 11 12 13 14 00".into(),
+            "586: A2 03 7F 00 00 00 00 00".into(),
+            format!("606: C5 {lo:02X} {hi:02X} 00 00 00 00 00"),
+            "586: A1 00 00 00 00 00 00 00".into(),
+        ]
+    );
+}
+
+#[cfg(feature = "sdo-block")]
+#[test]
+fn a_block_download_of_64_kib_of_unannounced_size_streams_through_the_window() {
+    let mut server = DomainServer::new(6);
+    let mut client: SdoClient = SdoClient::new(6);
+    let mut bus = VirtualBus::new(ms(0));
+    let value = pattern(64 * 1024);
+    client.download_unsized(ms(0), DOMAIN, Mode::Block).unwrap();
+    let (result, _) = run_transfer(&mut bus, &mut client, &mut server, &value);
+    assert_eq!(result.unwrap().size, 65536);
+    assert!(server.od.domain == value, "the server holds the value sent");
+    let sent = frames(&mut bus);
+    assert_eq!(sent[0], "606: C4 00 21 00 00 00 00 00");
+    // 9363 segments, the last with two bytes (5 unused).
+    let crc = crc16(&value);
+    assert_eq!(
+        sent[sent.len() - 2],
+        format!("606: D5 {:02X} {:02X} 00 00 00 00 00", crc as u8, crc >> 8)
+    );
+    assert_eq!(sent[sent.len() - 1], "586: A1 00 00 00 00 00 00 00");
 }
 
 #[cfg(feature = "sdo-block")]

@@ -176,6 +176,8 @@ pub struct SdoClient<const BUF: usize = DEFAULT_BUFFER> {
     mux: Multiplexer,
     /// The value's size: announced by the caller (download) or the server (upload).
     size: Option<u32>,
+    /// A download of unannounced size: the caller has said that no more bytes follow.
+    ended: bool,
     /// Bytes of the value moved so far: received (upload) or acknowledged (download).
     count: u32,
     #[cfg(feature = "sdo-block")]
@@ -205,6 +207,7 @@ impl<const BUF: usize> SdoClient<BUF> {
             state: State::Idle,
             mux: Multiplexer::new(0, 0),
             size: None,
+            ended: false,
             count: 0,
             #[cfg(feature = "sdo-block")]
             crc: Crc16::new(),
@@ -315,6 +318,53 @@ impl<const BUF: usize> SdoClient<BUF> {
         Ok(())
     }
 
+    /// Starts writing a value whose length is not known yet (a stream) to (index, sub): feed
+    /// its bytes with [`write_data`](Self::write_data) and say where it ends with
+    /// [`end_data`](Self::end_data). The size is not indicated: a segmented download's initiate
+    /// request has `s` clear (never expedited), a block download's too, and the block end
+    /// request's `n` tells the server how much of the last segment is data (CiA 301
+    /// §7.2.4.3.3, §7.2.4.3.9). A segment goes once the bytes after it (or the end) are known,
+    /// so that the last one is marked as such.
+    pub fn download_unsized(
+        &mut self,
+        now: Instant,
+        mux: Multiplexer,
+        mode: Mode,
+    ) -> Result<(), StartError> {
+        self.begin(now, mux, None)?;
+        let request = match mode {
+            #[cfg(feature = "sdo-block")]
+            Mode::Block => {
+                self.state = State::BlockDownloadInitiate;
+                ClientRequest::BlockDownloadInitiate {
+                    mux,
+                    crc: true,
+                    size: None,
+                }
+            }
+            _ => {
+                self.state = State::DownloadInitiate {
+                    sent: true,
+                    expedited: false,
+                };
+                ClientRequest::InitiateDownload {
+                    mux,
+                    payload: InitiatePayload::Unsized,
+                }
+            }
+        };
+        self.tx = Some(request.emit());
+        Ok(())
+    }
+
+    /// Ends the value of a [`download_unsized`](Self::download_unsized): the bytes written so
+    /// far are all of it. Without effect on other transfers.
+    pub fn end_data(&mut self) {
+        if self.is_download() && self.size.is_none() {
+            self.ended = true;
+        }
+    }
+
     /// Starts a typed read of `entry` (an address of any device's generated module); take the
     /// value with [`take_value`](Self::take_value) once [`poll_result`](Self::poll_result)
     /// reports it complete.
@@ -358,9 +408,11 @@ impl<const BUF: usize> SdoClient<BUF> {
 
     /// Adds bytes of the value being downloaded; returns how many the window took.
     pub fn write_data(&mut self, data: &[u8]) -> usize {
-        let (Some(size), true) = (self.size, self.is_download()) else {
+        if !self.is_download() || self.ended {
             return 0;
-        };
+        }
+        // A value of unannounced size may take up to the most a transfer counts.
+        let size = self.size.unwrap_or(u32::MAX);
         let wanted = ((size - self.count) as usize).saturating_sub(self.fifo.len());
         self.fifo.push(&data[..data.len().min(wanted)])
     }
@@ -470,6 +522,7 @@ impl<const BUF: usize> SdoClient<BUF> {
         }
         self.mux = mux;
         self.size = size;
+        self.ended = false;
         self.count = 0;
         #[cfg(feature = "sdo-block")]
         {
@@ -498,9 +551,14 @@ impl<const BUF: usize> SdoClient<BUF> {
         segments.min(usize::from(MAX_BLOCK_SIZE)) as u8
     }
 
-    /// Bytes of the value still to go after those acknowledged.
-    fn remaining(&self) -> usize {
-        (self.size.unwrap_or(0) - self.count) as usize
+    /// Bytes of the value still to go after those acknowledged; `None` while a value of
+    /// unannounced size has not ended.
+    fn remaining(&self) -> Option<usize> {
+        match self.size {
+            Some(size) => Some((size - self.count) as usize),
+            // The window holds every byte not yet acknowledged.
+            None => self.ended.then_some(self.fifo.len()),
+        }
     }
 
     /// A frame the state owes the server once the caller's data or room allows it.
@@ -549,7 +607,7 @@ impl<const BUF: usize> SdoClient<BUF> {
             State::DownloadInitiate {
                 sent: false,
                 expedited: true,
-            } if self.fifo.len() == self.remaining() => {
+            } if Some(self.fifo.len()) == self.remaining() => {
                 let mut data = [0u8; 4];
                 let len = self.fifo.peek(0, &mut data) as u8;
                 self.state = State::DownloadInitiate {
@@ -607,15 +665,26 @@ impl<const BUF: usize> SdoClient<BUF> {
     /// The download segment `offset` bytes past the acknowledged ones, if the caller has
     /// supplied its bytes: its 7 bytes (zero past the data), how many are data, and whether it
     /// is the value's last.
+    /// A value of unannounced size that has not ended gives a segment once a byte after it is
+    /// here: only then is it known not to be the last.
     fn segment_at(&self, offset: usize) -> Option<([u8; SEGMENT_DATA_LEN], usize, bool)> {
-        let remaining = self.remaining().checked_sub(offset)?;
-        let len = remaining.min(SEGMENT_DATA_LEN);
+        let (len, last) = match self.remaining() {
+            Some(remaining) => {
+                let remaining = remaining.checked_sub(offset)?;
+                (
+                    remaining.min(SEGMENT_DATA_LEN),
+                    remaining <= SEGMENT_DATA_LEN,
+                )
+            }
+            None if self.fifo.len() > offset + SEGMENT_DATA_LEN => (SEGMENT_DATA_LEN, false),
+            None => return None,
+        };
         if self.fifo.len() < offset + len {
             return None;
         }
         let mut bytes = [0u8; SEGMENT_DATA_LEN];
         self.fifo.peek(offset, &mut bytes[..len]);
-        Some((bytes, len, remaining <= SEGMENT_DATA_LEN))
+        Some((bytes, len, last))
     }
 
     fn handle_response(&mut self, response: ServerResponse) {
@@ -708,7 +777,7 @@ impl<const BUF: usize> SdoClient<BUF> {
                     return self.protocol_error(SdoAbort::General);
                 }
                 if expedited {
-                    let size = self.remaining() as u32;
+                    let size = self.remaining().unwrap_or(0) as u32;
                     self.fifo.clear();
                     self.count = size;
                     self.complete(size);
@@ -729,10 +798,13 @@ impl<const BUF: usize> SdoClient<BUF> {
                 if echoed != toggle {
                     return self.protocol_error(SdoAbort::ToggleBit);
                 }
-                let len = self.remaining().min(SEGMENT_DATA_LEN);
+                // Every segment but the last is full.
+                let len = self
+                    .remaining()
+                    .map_or(SEGMENT_DATA_LEN, |r| r.min(SEGMENT_DATA_LEN));
                 self.fifo.discard(len);
                 self.count += len as u32;
-                if self.remaining() == 0 {
+                if self.remaining() == Some(0) {
                     self.complete(self.count);
                 } else {
                     self.state = State::DownloadSegment {
@@ -765,7 +837,9 @@ impl<const BUF: usize> SdoClient<BUF> {
                 if ackseq > sent {
                     return self.protocol_error(SdoAbort::InvalidSequence);
                 }
-                let acked = (usize::from(ackseq) * SEGMENT_DATA_LEN).min(self.remaining());
+                // Only the value's last segment may be short, and only once the value ended.
+                let sent_bytes = usize::from(ackseq) * SEGMENT_DATA_LEN;
+                let acked = self.remaining().map_or(sent_bytes, |r| sent_bytes.min(r));
                 let mut chunk = [0u8; SEGMENT_DATA_LEN];
                 let mut done = 0;
                 while done < acked {
@@ -778,7 +852,8 @@ impl<const BUF: usize> SdoClient<BUF> {
                 }
                 self.count += acked as u32;
                 if last && ackseq == sent {
-                    let size = self.size.unwrap_or(0) as usize;
+                    // The whole value is acknowledged: its size, announced or not, is the count.
+                    let size = self.count as usize;
                     let tail = size % SEGMENT_DATA_LEN;
                     let unused = if size == 0 {
                         SEGMENT_DATA_LEN
@@ -820,8 +895,10 @@ impl<const BUF: usize> SdoClient<BUF> {
         if blksize == 0 || blksize > MAX_BLOCK_SIZE {
             return self.protocol_error(SdoAbort::InvalidBlockSize);
         }
-        // A sub-block is kept in the window until acknowledged: no more than it holds.
-        let fits = (BUF / SEGMENT_DATA_LEN).min(usize::from(MAX_BLOCK_SIZE)) as u8;
+        // A sub-block is kept in the window until acknowledged: no more than it holds (and, for
+        // a value of unannounced size, the byte that shows its last segment is not the last).
+        let room = if self.size.is_none() { BUF - 1 } else { BUF };
+        let fits = (room / SEGMENT_DATA_LEN).min(usize::from(MAX_BLOCK_SIZE)) as u8;
         self.state = State::BlockDownloadSub {
             blksize: blksize.min(fits),
             sent: 0,
