@@ -293,6 +293,30 @@ impl<T: Transport> Master<T> {
             .map(|_| ())
     }
 
+    /// Writes to (index, sub) by `mode` a value read from `source` until its end, of a length
+    /// not known up front (a file, a generated image): the size is not indicated (see
+    /// [`SdoClient::download_unsized`]). Returns the value's length. An error of `source`
+    /// aborts the transfer (0800 0000) and is returned as [`MasterError::Io`].
+    pub fn download_from(
+        &mut self,
+        node_id: u8,
+        mux: Multiplexer,
+        mode: Mode,
+        source: &mut impl io::Read,
+    ) -> Result<u32, MasterError> {
+        let now = self.clock.now();
+        if self
+            .client(node_id)?
+            .download_unsized(now, mux, mode)
+            .is_err()
+        {
+            return Err(MasterError::Busy(node_id));
+        }
+        let mut source = ReadFeed::new(source);
+        self.finish(node_id, &mut source, &mut io::sink())
+            .map(|done| done.size)
+    }
+
     /// Sends an NMT command to `node_id` (0: all nodes).
     pub fn nmt(&mut self, command: NmtCommand, node_id: u8) -> Result<(), MasterError> {
         if node_id > 127 {
@@ -545,15 +569,19 @@ impl<T: Transport> Master<T> {
     fn finish(
         &mut self,
         node_id: u8,
-        source: &mut &[u8],
+        source: &mut impl Feed,
         sink: &mut impl io::Write,
     ) -> Result<Completed, MasterError> {
         loop {
             let now = self.clock.now();
             if let Err(e) = self.step(now, None, source, sink) {
-                // The bus is gone: free the channel for a later call.
-                self.client(node_id)?
-                    .abort(crate::od::SdoAbort::General.code());
+                // The bus or the source is gone: free the channel for a later call, and tell
+                // the node if the bus is still there.
+                let client = self.client(node_id)?;
+                client.abort(crate::od::SdoAbort::General.code());
+                if let Some(frame) = client.poll_transmit(now) {
+                    let _ = self.transport.send(&frame);
+                }
                 return Err(e);
             }
             let client = self.client(node_id)?;
@@ -574,7 +602,7 @@ impl<T: Transport> Master<T> {
         &mut self,
         now: Instant,
         until: Option<Instant>,
-        source: &mut &[u8],
+        source: &mut impl Feed,
         sink: &mut impl io::Write,
     ) -> Result<(), MasterError> {
         let mut deadline = until;
@@ -583,8 +611,7 @@ impl<T: Transport> Master<T> {
                 client.handle_timeout(now);
             }
             if client.is_busy() {
-                let taken = client.write_data(source);
-                *source = &source[taken..];
+                source.feed(client)?;
                 drain(client, sink)?;
             }
             while let Some(frame) = client.poll_transmit(now) {
@@ -634,6 +661,70 @@ impl<T: Transport> Master<T> {
                 self.seen.insert(node_id, NmtState::PreOperational);
             } else {
                 self.seen.insert(node_id, message.state);
+            }
+        }
+    }
+}
+
+/// Where a download's bytes come from.
+pub(super) trait Feed {
+    /// Gives `client` as many bytes as its window takes now (and ends a value of unannounced
+    /// size at the source's end).
+    fn feed(&mut self, client: &mut SdoClient) -> io::Result<()>;
+}
+
+/// A value in memory, of known size.
+impl Feed for &[u8] {
+    fn feed(&mut self, client: &mut SdoClient) -> io::Result<()> {
+        let taken = client.write_data(self);
+        *self = &self[taken..];
+        Ok(())
+    }
+}
+
+/// A value read from a reader until its end, of unannounced size.
+pub(super) struct ReadFeed<R> {
+    reader: R,
+    chunk: [u8; 256],
+    /// The chunk's bytes not yet taken by the client.
+    start: usize,
+    end: usize,
+    done: bool,
+}
+
+impl<R: io::Read> ReadFeed<R> {
+    pub(super) fn new(reader: R) -> Self {
+        ReadFeed {
+            reader,
+            chunk: [0; 256],
+            start: 0,
+            end: 0,
+            done: false,
+        }
+    }
+}
+
+impl<R: io::Read> Feed for ReadFeed<R> {
+    fn feed(&mut self, client: &mut SdoClient) -> io::Result<()> {
+        loop {
+            if self.start == self.end && !self.done {
+                let n = loop {
+                    match self.reader.read(&mut self.chunk) {
+                        Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                        result => break result?,
+                    }
+                };
+                (self.start, self.end) = (0, n);
+                self.done = n == 0;
+            }
+            if self.done {
+                client.end_data();
+                return Ok(());
+            }
+            let taken = client.write_data(&self.chunk[self.start..self.end]);
+            self.start += taken;
+            if taken == 0 {
+                return Ok(()); // the window is full
             }
         }
     }

@@ -1,10 +1,12 @@
 //! The async master (feature `std`): [`AsyncMaster`] hands SDO transfers and NMT commands to a
 //! driver thread that owns the transport and runs one SDO client per node, all at once, so that
-//! transfers to different nodes overlap. Its futures need no particular executor (tokio, or any
+//! transfers to different nodes overlap. The same thread runs the node monitor (heartbeat
+//! consumer, guarding master) on its clock and the EMCY consumer, whose events
+//! [`AsyncMaster::next_event`] yields. Its futures need no particular executor (tokio, or any
 //! other): the driver thread completes them and wakes their task.
 
 use std::collections::{BTreeMap, VecDeque};
-use std::future::Future;
+use std::future::{poll_fn, Future};
 use std::io;
 use std::pin::Pin;
 use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
@@ -22,15 +24,25 @@ use crate::wire::heartbeat::ErrorControlRepr;
 use crate::wire::nmt::NmtCommand;
 use crate::wire::sdo::Multiplexer;
 
-use super::blocking::MasterError;
-use super::nmt::nmt_frame;
+use super::blocking::{Feed, MasterError, MasterEvent, ReadFeed};
+use super::emcy::Emergency;
+use super::nmt::{nmt_frame, NodeMonitor, Watch};
 use super::sdo_client::{Mode, SdoClient, StartError, DEFAULT_TIMEOUT};
 
 /// How long the driver thread waits for a frame before it looks for new requests again.
 const POLL: StdDuration = StdDuration::from_millis(1);
 
-/// What a transfer gives back: the value read, or nothing for a write.
-type Outcome = Result<Vec<u8>, MasterError>;
+/// Events kept until taken; the oldest are dropped past this.
+const EVENT_QUEUE: usize = 1024;
+
+/// What a request gives back: the value read and its size (or the size written).
+type Outcome = Result<Done, MasterError>;
+
+#[derive(Default)]
+struct Done {
+    bytes: Vec<u8>,
+    size: u32,
+}
 
 /// Where the driver thread leaves a transfer's outcome for its future.
 #[derive(Default)]
@@ -41,7 +53,7 @@ struct Slot {
     abandoned: bool,
 }
 
-fn lock(slot: &Mutex<Slot>) -> MutexGuard<'_, Slot> {
+fn lock<S>(slot: &Mutex<S>) -> MutexGuard<'_, S> {
     slot.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
@@ -91,9 +103,13 @@ impl Future for Pending {
     }
 }
 
+/// A reader a download of unannounced size takes its bytes from, on the driver thread.
+type Source = ReadFeed<Box<dyn io::Read + Send>>;
+
 enum Transfer {
     Upload(Multiplexer, Mode),
     Download(Multiplexer, Vec<u8>, Mode),
+    DownloadFrom(Multiplexer, Source, Mode),
 }
 
 struct Job {
@@ -102,6 +118,8 @@ struct Job {
     /// Download: bytes handed to the client so far. Upload: bytes received.
     sent: usize,
     received: Vec<u8>,
+    /// The source's error that ended the transfer.
+    failed: Option<io::Error>,
 }
 
 enum Request {
@@ -109,6 +127,42 @@ enum Request {
     Frame(CanFrame, Reply),
     Timeout(u8, Duration),
     WaitBoot(u8, Duration, Reply),
+    Watch(u8, Watch, Reply),
+}
+
+/// The events the driver thread noticed, for [`AsyncMaster::next_event`].
+#[derive(Default)]
+struct Events {
+    queue: VecDeque<MasterEvent>,
+    waker: Option<Waker>,
+    /// The driver thread has stopped: no event follows the queued ones.
+    stopped: bool,
+}
+
+/// The driver thread's end of the events.
+struct EventSender(Arc<Mutex<Events>>);
+
+impl EventSender {
+    fn send(&self, event: MasterEvent) {
+        let mut events = lock(&self.0);
+        if events.queue.len() == EVENT_QUEUE {
+            events.queue.pop_front();
+        }
+        events.queue.push_back(event);
+        if let Some(waker) = events.waker.take() {
+            waker.wake();
+        }
+    }
+}
+
+impl Drop for EventSender {
+    fn drop(&mut self) {
+        let mut events = lock(&self.0);
+        events.stopped = true;
+        if let Some(waker) = events.waker.take() {
+            waker.wake();
+        }
+    }
 }
 
 /// A wait for a node's boot-up: the node, until when, and the future to complete.
@@ -124,6 +178,7 @@ struct Channel {
 /// A CANopen master whose operations are futures; see the module documentation.
 pub struct AsyncMaster {
     requests: Option<Sender<Request>>,
+    events: Arc<Mutex<Events>>,
     thread: Option<JoinHandle<()>>,
 }
 
@@ -131,11 +186,14 @@ impl AsyncMaster {
     /// Starts the driver thread on `transport`.
     pub fn spawn<T: Transport + Send + 'static>(transport: T) -> io::Result<AsyncMaster> {
         let (requests, incoming) = mpsc::channel();
+        let events = Arc::new(Mutex::new(Events::default()));
+        let sender = EventSender(Arc::clone(&events));
         let thread = thread::Builder::new()
             .name("edsgen-master".into())
-            .spawn(move || drive(transport, incoming))?;
+            .spawn(move || drive(transport, incoming, sender))?;
         Ok(AsyncMaster {
             requests: Some(requests),
+            events,
             thread: Some(thread),
         })
     }
@@ -183,7 +241,8 @@ impl AsyncMaster {
         mux: Multiplexer,
         mode: Mode,
     ) -> Result<Vec<u8>, MasterError> {
-        self.transfer(node_id, Transfer::Upload(mux, mode)).await
+        let done = self.transfer(node_id, Transfer::Upload(mux, mode)).await?;
+        Ok(done.bytes)
     }
 
     /// Writes `data` to (index, sub) of `node_id`.
@@ -199,6 +258,23 @@ impl AsyncMaster {
             .map(|_| ())
     }
 
+    /// Writes to (index, sub) a value read from `source` until its end, of a length not known
+    /// up front: the size is not indicated (see [`SdoClient::download_unsized`]). Returns the
+    /// value's length. `source` is read on the driver thread, a window at a time, so it should
+    /// not block for long (a file or a buffer; not a socket that may stay silent). Its error
+    /// aborts the transfer (0800 0000) and is returned as [`MasterError::Io`].
+    pub async fn download_from(
+        &self,
+        node_id: u8,
+        mux: Multiplexer,
+        mode: Mode,
+        source: impl io::Read + Send + 'static,
+    ) -> Result<u32, MasterError> {
+        let source: Box<dyn io::Read + Send> = Box::new(source);
+        let transfer = Transfer::DownloadFrom(mux, ReadFeed::new(source), mode);
+        Ok(self.transfer(node_id, transfer).await?.size)
+    }
+
     /// Sends an NMT command to `node_id` (0: all nodes); done once the frame is on the bus.
     pub async fn nmt(&self, command: NmtCommand, node_id: u8) -> Result<(), MasterError> {
         if node_id > 127 {
@@ -208,6 +284,39 @@ impl AsyncMaster {
         let reply = Reply(Arc::clone(&slot));
         self.request(Request::Frame(nmt_frame(command, node_id), reply))?;
         Pending(slot).await.map(|_| ())
+    }
+
+    /// Watches `node_id` by heartbeat or guarding, from now on the driver thread's clock; its
+    /// boot-up, state changes, loss and recovery come from [`next_event`](Self::next_event).
+    pub async fn watch(&self, node_id: u8, watch: Watch) -> Result<(), MasterError> {
+        let slot = Arc::new(Mutex::new(Slot::default()));
+        let reply = Reply(Arc::clone(&slot));
+        self.request(Request::Watch(node_id, watch, reply))?;
+        Pending(slot).await.map(|_| ())
+    }
+
+    /// Waits for the next event noticed, oldest first: a watched node's boot-up, state change,
+    /// loss or recovery, any node's emergency or boot-up message. `None` once the driver thread
+    /// has stopped and every event is taken. The last 1024 events are kept until
+    /// taken. One task at a time should wait for events (the last to poll is the one woken).
+    pub async fn next_event(&self) -> Option<MasterEvent> {
+        poll_fn(|cx| {
+            let mut events = lock(&self.events);
+            if let Some(event) = events.queue.pop_front() {
+                return Poll::Ready(Some(event));
+            }
+            if events.stopped {
+                return Poll::Ready(None);
+            }
+            events.waker = Some(cx.waker().clone());
+            Poll::Pending
+        })
+        .await
+    }
+
+    /// The next event noticed, if there is one, without waiting.
+    pub fn poll_event(&self) -> Option<MasterEvent> {
+        lock(&self.events).queue.pop_front()
     }
 
     /// Waits until `node_id` sends its boot-up message, at most `timeout`. A boot-up received
@@ -237,6 +346,7 @@ impl AsyncMaster {
             reply: Reply(Arc::clone(&slot)),
             sent: 0,
             received: Vec::new(),
+            failed: None,
         };
         self.request(Request::Sdo(node_id, job))?;
         Pending(slot).await
@@ -269,8 +379,9 @@ fn check_node(node_id: u8) -> Result<(), MasterError> {
 
 /// The driver thread: requests in, transfers run side by side, outcomes out, until the
 /// [`AsyncMaster`] is dropped and nothing is pending, or the transport fails.
-fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
+fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>, events: EventSender) {
     let clock = MonotonicClock::new();
+    let mut monitor: Box<NodeMonitor<127>> = Box::default();
     let mut channels: BTreeMap<u8, Channel> = BTreeMap::new();
     let mut boot_waits: Vec<BootWait> = Vec::new();
     let mut booted: Vec<u8> = Vec::new();
@@ -287,15 +398,22 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
                 Ok(Request::WaitBoot(node_id, timeout, reply)) => {
                     if let Some(i) = booted.iter().position(|&id| id == node_id) {
                         booted.remove(i);
-                        reply.send(Ok(Vec::new()));
+                        reply.send(Ok(Done::default()));
                     } else {
                         boot_waits.push((node_id, clock.now() + timeout, reply));
                     }
                 }
                 Ok(Request::Frame(frame, reply)) => match transport.send(&frame) {
-                    Ok(()) => reply.send(Ok(Vec::new())),
+                    Ok(()) => reply.send(Ok(Done::default())),
                     Err(e) => return reply.send(Err(MasterError::Io(e))),
                 },
+                Ok(Request::Watch(node_id, watch, reply)) => {
+                    let watched = monitor.watch(clock.now(), node_id, watch);
+                    reply.send(match watched {
+                        Ok(()) => Ok(Done::default()),
+                        Err(_) => Err(MasterError::NodeId(node_id)),
+                    });
+                }
                 Err(TryRecvError::Empty) => break,
                 Err(TryRecvError::Disconnected) => open = false,
             }
@@ -323,6 +441,20 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
         for (_, at, _) in &boot_waits {
             deadline = Some(deadline.map_or(*at, |d| d.min(*at)));
         }
+        if monitor.poll_timeout().is_some_and(|at| at <= now) {
+            monitor.handle_timeout(now);
+        }
+        while let Some(frame) = monitor.poll_transmit(now) {
+            if transport.send(&frame).is_err() {
+                return;
+            }
+        }
+        while let Some(event) = monitor.poll_event() {
+            events.send(MasterEvent::Monitor(event));
+        }
+        if let Some(at) = monitor.poll_timeout() {
+            deadline = Some(deadline.map_or(at, |d| d.min(at)));
+        }
         if !open && !busy {
             return;
         }
@@ -332,6 +464,13 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
         };
         match transport.recv_timeout(wait) {
             Ok(Some(frame)) => {
+                monitor.handle_frame(clock.now(), &frame);
+                while let Some(event) = monitor.poll_event() {
+                    events.send(MasterEvent::Monitor(event));
+                }
+                if let Some(emergency) = Emergency::from_frame(&frame) {
+                    events.send(MasterEvent::Emergency(emergency));
+                }
                 let server = frame
                     .std_id()
                     .filter(|id| (0x581..=0x5FF).contains(id))
@@ -340,8 +479,9 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>) {
                     channel.client.handle_frame(clock.now(), &frame);
                 }
                 if let Some(node_id) = boot_up(&frame) {
+                    events.send(MasterEvent::BootUp(node_id));
                     match boot_waits.iter().position(|(id, _, _)| *id == node_id) {
-                        Some(i) => boot_waits.remove(i).2.send(Ok(Vec::new())),
+                        Some(i) => boot_waits.remove(i).2.send(Ok(Done::default())),
                         None if !booted.contains(&node_id) => booted.push(node_id),
                         None => {}
                     }
@@ -388,6 +528,7 @@ fn run_channel<T: Transport>(
                 Transfer::Download(mux, data, mode) => u32::try_from(data.len())
                     .map_err(|_| StartError::Value)
                     .and_then(|size| client.download(now, *mux, size, *mode)),
+                Transfer::DownloadFrom(mux, _, mode) => client.download_unsized(now, *mux, *mode),
             };
             match started {
                 Ok(()) => channel.current = Some(job),
@@ -401,8 +542,15 @@ fn run_channel<T: Transport>(
         client.handle_timeout(now);
     }
     if let Some(job) = channel.current.as_mut() {
-        if let Transfer::Download(_, data, _) = &job.transfer {
-            job.sent += client.write_data(&data[job.sent..]);
+        match &mut job.transfer {
+            Transfer::Download(_, data, _) => job.sent += client.write_data(&data[job.sent..]),
+            Transfer::DownloadFrom(_, source, _) => {
+                if let Err(e) = source.feed(client) {
+                    job.failed = Some(e);
+                    client.abort(crate::od::SdoAbort::General.code());
+                }
+            }
+            Transfer::Upload(..) => {}
         }
         drain(client, &mut job.received);
     }
@@ -422,13 +570,18 @@ fn complete(channel: &mut Channel) {
     if let Some(mut job) = channel.current.take() {
         drain(client, &mut job.received);
         let (node_id, mux) = (client.node_id(), client.mux());
-        let outcome = result
-            .map(|_| core::mem::take(&mut job.received))
-            .map_err(|error| MasterError::Sdo {
+        let outcome = match (result, job.failed.take()) {
+            (_, Some(e)) => Err(MasterError::Io(e)),
+            (Ok(done), None) => Ok(Done {
+                bytes: core::mem::take(&mut job.received),
+                size: done.size,
+            }),
+            (Err(error), None) => Err(MasterError::Sdo {
                 node_id,
                 mux,
                 error,
-            });
+            }),
+        };
         job.reply.send(outcome);
     }
 }
