@@ -1,18 +1,25 @@
-//! The async master on tokio against three device nodes serving the generated cp301 card (the
-//! driver on the in-memory bus): typed reads and writes as futures, transfers to different
-//! nodes running side by side, waiting for boot-ups, and a silent node's timeout not holding up
-//! the others.
+//! The async master on tokio against device nodes serving the generated cp301 card (the driver
+//! on the in-memory bus): typed reads and writes as futures, transfers to different nodes
+//! running side by side, waiting for boot-ups, a silent node's timeout not holding up the
+//! others, and a watched node's events (boot-up, state change, heartbeat loss and recovery,
+//! emergency) while transfers to another node (the simulated device's domain) run.
 
+mod sim_support;
+
+use std::cell::Cell;
 use std::time::{Duration, Instant};
 
 use edsgen::cards::cp301::{self, od};
-use edsgen_runtime::master::blocking::MasterError;
+use edsgen::sim::RuntimeDictionary;
+use edsgen_runtime::master::blocking::{MasterError, MasterEvent};
 use edsgen_runtime::master::concurrent::AsyncMaster;
-use edsgen_runtime::master::SdoError;
+use edsgen_runtime::master::{Emergency, Mode, MonitorEvent, SdoError, Watch};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
+use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;
+use edsgen_runtime::wire::sdo::Multiplexer;
 
 fn nodes(bus: &MemoryBus, ids: &[u8]) -> Vec<DriverHandle<MemoryEndpoint, Node<cp301::Od>>> {
     ids.iter()
@@ -106,4 +113,129 @@ async fn a_silent_node_times_out_without_holding_up_the_others() {
     for handle in handles {
         let _ = handle.stop();
     }
+}
+
+/// The next event about `node_id`, within 5 s (other nodes' events are skipped).
+async fn next_of(master: &AsyncMaster, node_id: u8) -> MasterEvent {
+    let about = |event: &MasterEvent| match *event {
+        MasterEvent::Monitor(
+            MonitorEvent::BootUp { node_id: id }
+            | MonitorEvent::StateChanged { node_id: id, .. }
+            | MonitorEvent::Lost { node_id: id }
+            | MonitorEvent::Recovered { node_id: id, .. },
+        ) => id,
+        MasterEvent::Emergency(Emergency { node_id: id, .. }) => id,
+        MasterEvent::BootUp(id) => id,
+        MasterEvent::IdentityMismatch(m) => m.node_id,
+    };
+    let wait = async {
+        loop {
+            let event = master.next_event().await.expect("the driver runs");
+            if about(&event) == node_id {
+                return event;
+            }
+        }
+    };
+    tokio::time::timeout(Duration::from_secs(5), wait)
+        .await
+        .expect("an event within 5 s")
+}
+
+#[tokio::test]
+async fn a_watched_nodes_events_arrive_while_transfers_to_another_node_run() {
+    let bus = MemoryBus::new();
+    let master = AsyncMaster::spawn(bus.endpoint()).unwrap();
+    // Lost after 400 ms without a heartbeat (the node will produce one every 50 ms).
+    let consumer = edsgen_runtime::Duration::from_millis(400);
+    master.watch(3, Watch::Heartbeat(consumer)).await.unwrap();
+    let refused = master.watch(0, Watch::Heartbeat(consumer)).await;
+    assert!(
+        matches!(refused, Err(MasterError::NodeId(0))),
+        "{refused:?}"
+    );
+    let clock = MonotonicClock::new();
+    let node = Node::new(cp301::Od::new(3), 3, clock.now()).unwrap();
+    let watched = Driver::with_clock(bus.endpoint(), node, clock)
+        .spawn()
+        .unwrap();
+    let sim = {
+        let clock = MonotonicClock::new();
+        let od = RuntimeDictionary::new(&sim_support::test_device(), 4);
+        let node = Node::new(od, 4, clock.now()).unwrap();
+        Driver::with_clock(bus.endpoint(), node, clock)
+            .spawn()
+            .unwrap()
+    };
+    let events_done = Cell::new(false);
+    let script = async {
+        let mut seen = vec![next_of(&master, 3).await, next_of(&master, 3).await];
+        master
+            .write(3, od::PRODUCER_HEARTBEAT_TIME, 50)
+            .await
+            .unwrap();
+        master.nmt(NmtCommand::Start, 3).await.unwrap();
+        seen.push(next_of(&master, 3).await);
+        let raised = watched.with_device(|node, _| node.raise_error(0x2310, 0x03, *b"edsgn"));
+        assert!(raised);
+        seen.push(next_of(&master, 3).await);
+        // The node stops (its driver does), then resumes where it was.
+        let (_, endpoint, node) = watched.stop();
+        seen.push(next_of(&master, 3).await);
+        let resumed = Driver::with_clock(endpoint, node, clock).spawn().unwrap();
+        seen.push(next_of(&master, 3).await);
+        events_done.set(true);
+        (seen, resumed)
+    };
+    // Meanwhile values of unknown length go to node 4's domain and come back, again and again.
+    let transfers = async {
+        let program = Multiplexer::new(0x2001, 0);
+        let mut rounds = 0;
+        while !events_done.get() || rounds < 2 {
+            let len = [64 * 1024, 1000][rounds % 2];
+            let value: Vec<u8> = (0..len).map(|i| (i * 7 + i / 251) as u8).collect();
+            let mode = [Mode::Block, Mode::Normal][rounds % 2];
+            let written = master
+                .download_from(4, program, mode, std::io::Cursor::new(value.clone()))
+                .await
+                .unwrap();
+            assert_eq!(written as usize, len);
+            let back = master.upload(4, program, Mode::Block).await.unwrap();
+            assert!(back == value, "round {rounds}: {len} bytes read back");
+            rounds += 1;
+        }
+        rounds
+    };
+    let ((seen, resumed), rounds) = tokio::join!(script, transfers);
+    let (boot, state) = (Some(NmtState::PreOperational), NmtState::Operational);
+    assert_eq!(
+        seen,
+        [
+            MasterEvent::Monitor(MonitorEvent::BootUp { node_id: 3 }),
+            MasterEvent::BootUp(3),
+            MasterEvent::Monitor(MonitorEvent::StateChanged {
+                node_id: 3,
+                from: boot,
+                to: state
+            }),
+            MasterEvent::Emergency(Emergency {
+                node_id: 3,
+                code: 0x2310,
+                register: 0x03,
+                manufacturer: *b"edsgn",
+            }),
+            MasterEvent::Monitor(MonitorEvent::Lost { node_id: 3 }),
+            MasterEvent::Monitor(MonitorEvent::Recovered { node_id: 3, state }),
+        ]
+    );
+    let MasterEvent::Emergency(emergency) = seen[3] else {
+        unreachable!()
+    };
+    assert_eq!(
+        emergency.meaning(),
+        "continuous over-current (device output side)"
+    );
+    assert!(rounds >= 2, "{rounds} rounds of transfers");
+    drop(master);
+    let _ = resumed.stop();
+    let _ = sim.stop();
 }
