@@ -17,6 +17,7 @@ use edsgen_runtime::master::{Emergency, Mode, MonitorEvent, SdoError, Watch};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
+use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::wire::sdo::Multiplexer;
@@ -238,4 +239,69 @@ async fn a_watched_nodes_events_arrive_while_transfers_to_another_node_run() {
     drop(master);
     let _ = resumed.stop();
     let _ = sim.stop();
+}
+
+/// The frames `listener` heard, in the manuals' notation.
+fn heard(listener: &mut MemoryEndpoint) -> Vec<String> {
+    let mut frames = Vec::new();
+    while let Some(frame) = listener.recv_timeout(Duration::ZERO).unwrap() {
+        let bytes: Vec<String> = frame.data().iter().map(|b| format!("{b:02X}")).collect();
+        frames.push(format!(
+            "{:03X}: {}",
+            frame.std_id().unwrap(),
+            bytes.join(" ")
+        ));
+    }
+    frames
+}
+
+#[tokio::test]
+async fn timeouts_per_node_and_by_default_and_read_retries_as_the_blocking_master() {
+    let bus = MemoryBus::new();
+    let mut listener = bus.endpoint();
+    let master = AsyncMaster::spawn(bus.endpoint()).unwrap();
+    // Node 9's own timeout outlives a default set afterwards; node 10 takes the default.
+    master.set_timeout(9, Duration::from_millis(300)).unwrap();
+    master
+        .set_default_timeout(Duration::from_millis(40))
+        .unwrap();
+    let (nine, ten) = tokio::join!(
+        master.read(9, od::STATUSWORD),
+        master.read(10, od::STATUSWORD)
+    );
+    for (result, node) in [(nine, 9), (ten, 10)] {
+        assert!(
+            matches!(result, Err(MasterError::Sdo { node_id, error: SdoError::Timeout, .. }) if node_id == node),
+            "{result:?}"
+        );
+    }
+    // Each read is tried twice (one retry by default); node 10's two tries end before node 9's
+    // first.
+    let (upload, abort) = ("40 41 60 00 00 00 00 00", "80 41 60 00 00 00 04 05");
+    assert_eq!(
+        heard(&mut listener),
+        [
+            format!("609: {upload}"),
+            format!("60A: {upload}"),
+            format!("60A: {abort}"),
+            format!("60A: {upload}"),
+            format!("60A: {abort}"),
+            format!("609: {abort}"),
+            format!("609: {upload}"),
+            format!("609: {abort}"),
+        ]
+    );
+    // Without retries a read is tried once; a write is never repeated.
+    master.set_read_retries(0).unwrap();
+    assert!(master.read(10, od::STATUSWORD).await.is_err());
+    assert!(master.write(10, od::CONTROLWORD, 0x000F).await.is_err());
+    assert_eq!(
+        heard(&mut listener),
+        [
+            format!("60A: {upload}"),
+            format!("60A: {abort}"),
+            "60A: 2B 40 60 00 0F 00 00 00".to_string(),
+            "60A: 80 40 60 00 00 00 04 05".to_string(),
+        ]
+    );
 }

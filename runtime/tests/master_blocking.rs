@@ -110,6 +110,21 @@ fn an_absent_node_times_out_after_its_own_timeout() {
 }
 
 #[test]
+fn a_default_timeout_leaves_a_nodes_own_timeout_alone() {
+    let (mut master, node) = bus_with_node(5);
+    master
+        .set_timeout(9, StdDuration::from_millis(150))
+        .unwrap();
+    master.set_default_timeout(StdDuration::from_millis(20));
+    let start = StdInstant::now();
+    assert!(master.read(9, WORD).is_err());
+    // Two tries (one retry) of 150 ms each, not of 20 ms.
+    let took = start.elapsed();
+    assert!(took >= StdDuration::from_millis(300), "{took:?}");
+    let _ = node.stop();
+}
+
+#[test]
 fn nmt_reset_and_wait_for_boot() {
     let (mut master, node) = bus_with_node(5);
     master.wait_for_boot(5, StdDuration::from_secs(5)).unwrap();

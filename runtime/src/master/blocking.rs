@@ -2,7 +2,7 @@
 //! SDO clients, node monitor and EMCY consumer on it, one call at a time, with timeouts.
 //! Typed reads and writes go through the generated [`Entry`] addresses.
 
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt;
 use std::io;
 use std::time::Duration as StdDuration;
@@ -152,6 +152,8 @@ pub struct Master<T> {
     default_timeout: Duration,
     read_retries: u8,
     clients: BTreeMap<u8, SdoClient>,
+    /// The nodes whose SDO timeout was set for them, which the default leaves alone.
+    own_timeouts: BTreeSet<u8>,
     monitor: Box<NodeMonitor<127>>,
     events: VecDeque<MasterEvent>,
     /// The last error-control state each node reported (watched or not).
@@ -167,6 +169,7 @@ impl<T: Transport> Master<T> {
             default_timeout: super::sdo_client::DEFAULT_TIMEOUT,
             read_retries: 1,
             clients: BTreeMap::new(),
+            own_timeouts: BTreeSet::new(),
             monitor: Box::new(NodeMonitor::new()),
             events: VecDeque::new(),
             seen: BTreeMap::new(),
@@ -181,8 +184,10 @@ impl<T: Transport> Master<T> {
     /// The SDO timeout of nodes without one of their own.
     pub fn set_default_timeout(&mut self, timeout: StdDuration) {
         self.default_timeout = to_duration(timeout);
-        for client in self.clients.values_mut() {
-            client.set_timeout(self.default_timeout);
+        for (node_id, client) in self.clients.iter_mut() {
+            if !self.own_timeouts.contains(node_id) {
+                client.set_timeout(self.default_timeout);
+            }
         }
     }
 
@@ -192,9 +197,11 @@ impl<T: Transport> Master<T> {
         self.read_retries = retries;
     }
 
-    /// The SDO timeout for `node_id`.
+    /// The SDO timeout for `node_id`, which [`set_default_timeout`](Self::set_default_timeout)
+    /// then leaves alone.
     pub fn set_timeout(&mut self, node_id: u8, timeout: StdDuration) -> Result<(), MasterError> {
         self.client(node_id)?.set_timeout(to_duration(timeout));
+        self.own_timeouts.insert(node_id);
         Ok(())
     }
 

@@ -27,7 +27,7 @@ use crate::wire::sdo::Multiplexer;
 use super::blocking::{Feed, MasterError, MasterEvent, ReadFeed};
 use super::emcy::Emergency;
 use super::nmt::{nmt_frame, NodeMonitor, Watch};
-use super::sdo_client::{Mode, SdoClient, StartError, DEFAULT_TIMEOUT};
+use super::sdo_client::{Mode, SdoClient, SdoError, StartError, DEFAULT_TIMEOUT};
 
 /// How long the driver thread waits for a frame before it looks for new requests again.
 const POLL: StdDuration = StdDuration::from_millis(1);
@@ -120,12 +120,16 @@ struct Job {
     received: Vec<u8>,
     /// The source's error that ended the transfer.
     failed: Option<io::Error>,
+    /// Upload: how many more times it is tried after a timeout before any byte arrived.
+    retries: u8,
 }
 
 enum Request {
     Sdo(u8, Job),
     Frame(CanFrame, Reply),
     Timeout(u8, Duration),
+    DefaultTimeout(Duration),
+    ReadRetries(u8),
     WaitBoot(u8, Duration, Reply),
     Watch(u8, Watch, Reply),
 }
@@ -171,6 +175,8 @@ type BootWait = (u8, Instant, Reply);
 /// One node's SDO channel and the transfers waiting for it.
 struct Channel {
     client: SdoClient,
+    /// The timeout was set for this node ([`AsyncMaster::set_timeout`]), not by default.
+    own_timeout: bool,
     current: Option<Job>,
     queue: VecDeque<Job>,
 }
@@ -198,11 +204,24 @@ impl AsyncMaster {
         })
     }
 
-    /// Sets the SDO timeout of `node_id` (from its next transfer on).
+    /// Sets the SDO timeout of `node_id` (from its next transfer on), which
+    /// [`set_default_timeout`](Self::set_default_timeout) then leaves alone.
     pub fn set_timeout(&self, node_id: u8, timeout: StdDuration) -> Result<(), MasterError> {
         check_node(node_id)?;
-        let micros = timeout.as_micros().min(u128::from(u64::MAX)) as u64;
-        self.request(Request::Timeout(node_id, Duration::from_micros(micros)))
+        self.request(Request::Timeout(node_id, to_duration(timeout)))
+    }
+
+    /// Sets the SDO timeout of the nodes without one of their own (the SDO client's
+    /// [`DEFAULT_TIMEOUT`] until then).
+    pub fn set_default_timeout(&self, timeout: StdDuration) -> Result<(), MasterError> {
+        self.request(Request::DefaultTimeout(to_duration(timeout)))
+    }
+
+    /// How many times a read that timed out before any byte arrived is tried again (1 by
+    /// default), as by the blocking master. Writes are never repeated: the node may have
+    /// applied one it did not confirm.
+    pub fn set_read_retries(&self, retries: u8) -> Result<(), MasterError> {
+        self.request(Request::ReadRetries(retries))
     }
 
     /// Reads `entry` of `node_id`, typed (an address of any device's generated module).
@@ -327,14 +346,9 @@ impl AsyncMaster {
         timeout: StdDuration,
     ) -> Result<(), MasterError> {
         check_node(node_id)?;
-        let micros = timeout.as_micros().min(u128::from(u64::MAX)) as u64;
         let slot = Arc::new(Mutex::new(Slot::default()));
         let reply = Reply(Arc::clone(&slot));
-        self.request(Request::WaitBoot(
-            node_id,
-            Duration::from_micros(micros),
-            reply,
-        ))?;
+        self.request(Request::WaitBoot(node_id, to_duration(timeout), reply))?;
         Pending(slot).await.map(|_| ())
     }
 
@@ -347,6 +361,7 @@ impl AsyncMaster {
             sent: 0,
             received: Vec::new(),
             failed: None,
+            retries: 0,
         };
         self.request(Request::Sdo(node_id, job))?;
         Pending(slot).await
@@ -369,6 +384,10 @@ impl Drop for AsyncMaster {
     }
 }
 
+fn to_duration(d: StdDuration) -> Duration {
+    Duration::from_micros(d.as_micros().min(u128::from(u64::MAX)) as u64)
+}
+
 fn check_node(node_id: u8) -> Result<(), MasterError> {
     if (1..=127).contains(&node_id) {
         Ok(())
@@ -382,6 +401,8 @@ fn check_node(node_id: u8) -> Result<(), MasterError> {
 fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>, events: EventSender) {
     let clock = MonotonicClock::new();
     let mut monitor: Box<NodeMonitor<127>> = Box::default();
+    let mut default_timeout = DEFAULT_TIMEOUT;
+    let mut read_retries = 1;
     let mut channels: BTreeMap<u8, Channel> = BTreeMap::new();
     let mut boot_waits: Vec<BootWait> = Vec::new();
     let mut booted: Vec<u8> = Vec::new();
@@ -389,12 +410,25 @@ fn drive<T: Transport>(mut transport: T, requests: Receiver<Request>, events: Ev
     loop {
         while open {
             match requests.try_recv() {
-                Ok(Request::Sdo(node_id, job)) => {
-                    channel(&mut channels, node_id).queue.push_back(job)
+                Ok(Request::Sdo(node_id, mut job)) => {
+                    if let Transfer::Upload(..) = job.transfer {
+                        job.retries = read_retries;
+                    }
+                    let channel = channel(&mut channels, node_id, default_timeout);
+                    channel.queue.push_back(job)
                 }
                 Ok(Request::Timeout(node_id, timeout)) => {
-                    channel(&mut channels, node_id).client.set_timeout(timeout)
+                    let channel = channel(&mut channels, node_id, default_timeout);
+                    channel.client.set_timeout(timeout);
+                    channel.own_timeout = true;
                 }
+                Ok(Request::DefaultTimeout(timeout)) => {
+                    default_timeout = timeout;
+                    for channel in channels.values_mut().filter(|c| !c.own_timeout) {
+                        channel.client.set_timeout(timeout);
+                    }
+                }
+                Ok(Request::ReadRetries(retries)) => read_retries = retries,
                 Ok(Request::WaitBoot(node_id, timeout, reply)) => {
                     if let Some(i) = booted.iter().position(|&id| id == node_id) {
                         booted.remove(i);
@@ -500,12 +534,13 @@ fn boot_up(frame: &CanFrame) -> Option<u8> {
     (message == ErrorControlRepr::BOOT_UP).then_some((id - 0x700) as u8)
 }
 
-fn channel(channels: &mut BTreeMap<u8, Channel>, node_id: u8) -> &mut Channel {
+fn channel(channels: &mut BTreeMap<u8, Channel>, node_id: u8, timeout: Duration) -> &mut Channel {
     channels.entry(node_id).or_insert_with(|| {
         let mut client = SdoClient::new(node_id);
-        client.set_timeout(DEFAULT_TIMEOUT);
+        client.set_timeout(timeout);
         Channel {
             client,
+            own_timeout: false,
             current: None,
             queue: VecDeque::new(),
         }
@@ -561,7 +596,8 @@ fn run_channel<T: Transport>(
     Ok(())
 }
 
-/// Completes the channel's transfer if it has ended.
+/// Completes the channel's transfer if it has ended (or queues a read that timed out before any
+/// byte arrived again, if it has retries left).
 fn complete(channel: &mut Channel) {
     let client = &mut channel.client;
     let Some(result) = client.poll_result() else {
@@ -569,6 +605,11 @@ fn complete(channel: &mut Channel) {
     };
     if let Some(mut job) = channel.current.take() {
         drain(client, &mut job.received);
+        if result == Err(SdoError::Timeout) && job.retries > 0 && job.received.is_empty() {
+            job.retries -= 1;
+            channel.queue.push_front(job);
+            return;
+        }
         let (node_id, mux) = (client.node_id(), client.mux());
         let outcome = match (result, job.failed.take()) {
             (_, Some(e)) => Err(MasterError::Io(e)),
