@@ -109,7 +109,7 @@ type Source = ReadFeed<Box<dyn io::Read + Send>>;
 enum Transfer {
     Upload(Multiplexer, Mode),
     Download(Multiplexer, Vec<u8>, Mode),
-    DownloadFrom(Multiplexer, Source, Mode),
+    DownloadFrom(Multiplexer, Box<Source>, Mode),
 }
 
 struct Job {
@@ -290,7 +290,7 @@ impl AsyncMaster {
         source: impl io::Read + Send + 'static,
     ) -> Result<u32, MasterError> {
         let source: Box<dyn io::Read + Send> = Box::new(source);
-        let transfer = Transfer::DownloadFrom(mux, ReadFeed::new(source), mode);
+        let transfer = Transfer::DownloadFrom(mux, Box::new(ReadFeed::new(source)), mode);
         Ok(self.transfer(node_id, transfer).await?.size)
     }
 
