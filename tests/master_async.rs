@@ -1,8 +1,9 @@
 //! The async master on tokio against device nodes serving the generated cp301 card (the driver
 //! on the in-memory bus): typed reads and writes as futures, transfers to different nodes
 //! running side by side, waiting for boot-ups, a silent node's timeout not holding up the
-//! others, and a watched node's events (boot-up, state change, heartbeat loss and recovery,
-//! emergency) while transfers to another node (the simulated device's domain) run.
+//! others, a watched node's events (boot-up, state change, heartbeat loss and recovery,
+//! emergency) while transfers to another node (the simulated device's domain) run, node
+//! guarding, and the timeouts and read retries the blocking master has.
 
 mod sim_support;
 
@@ -304,4 +305,46 @@ async fn timeouts_per_node_and_by_default_and_read_retries_as_the_blocking_maste
             "60A: 80 40 60 00 00 00 04 05".to_string(),
         ]
     );
+}
+
+#[tokio::test]
+async fn a_guarded_node_is_lost_when_it_stops_answering_and_recovers_when_it_resumes() {
+    let bus = MemoryBus::new();
+    let master = AsyncMaster::spawn(bus.endpoint()).unwrap();
+    let clock = MonotonicClock::new();
+    let node = Node::new(cp301::Od::new(5), 5, clock.now()).unwrap();
+    let guarded = Driver::with_clock(bus.endpoint(), node, clock)
+        .spawn()
+        .unwrap();
+    master
+        .wait_for_boot(5, Duration::from_secs(5))
+        .await
+        .unwrap();
+    let guarding = Watch::Guarding {
+        guard_time: edsgen_runtime::Duration::from_millis(30),
+        life_factor: 2,
+    };
+    master.watch(5, guarding).await.unwrap();
+    // The boot-up (an event of any node, watched or not), then the first answer to an RTR.
+    let mut seen = vec![next_of(&master, 5).await, next_of(&master, 5).await];
+    let (_, endpoint, node) = guarded.stop();
+    seen.push(next_of(&master, 5).await);
+    let resumed = Driver::with_clock(endpoint, node, clock).spawn().unwrap();
+    seen.push(next_of(&master, 5).await);
+    let state = NmtState::PreOperational;
+    assert_eq!(
+        seen,
+        [
+            MasterEvent::BootUp(5),
+            MasterEvent::Monitor(MonitorEvent::StateChanged {
+                node_id: 5,
+                from: None,
+                to: state
+            }),
+            MasterEvent::Monitor(MonitorEvent::Lost { node_id: 5 }),
+            MasterEvent::Monitor(MonitorEvent::Recovered { node_id: 5, state }),
+        ]
+    );
+    drop(master);
+    let _ = resumed.stop();
 }

@@ -38,6 +38,7 @@ const EVENT_QUEUE: usize = 1024;
 /// What a request gives back: the value read and its size (or the size written).
 type Outcome = Result<Done, MasterError>;
 
+/// A request's success: the bytes read (an upload) and the value's size (a transfer).
 #[derive(Default)]
 struct Done {
     bytes: Vec<u8>,
@@ -316,8 +317,8 @@ impl AsyncMaster {
 
     /// Waits for the next event noticed, oldest first: a watched node's boot-up, state change,
     /// loss or recovery, any node's emergency or boot-up message. `None` once the driver thread
-    /// has stopped and every event is taken. The last 1024 events are kept until
-    /// taken. One task at a time should wait for events (the last to poll is the one woken).
+    /// has stopped and every event is taken. The last 1024 events are kept until taken. One
+    /// task at a time should wait for events (the last to poll is the one woken).
     pub async fn next_event(&self) -> Option<MasterEvent> {
         poll_fn(|cx| {
             let mut events = lock(&self.events);
