@@ -8,13 +8,13 @@
 //! message, except under `CI=true`, where that is a failure. Every wait is bounded and the python
 //! processes are killed if a test ends early.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, Stdio};
+mod process_support;
+
+use std::io::{Read, Write};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{self, Receiver};
-use std::sync::{Arc, OnceLock};
-use std::time::{Duration, Instant};
+use std::sync::Arc;
+use std::time::Duration;
 
 use edsgen::cards::{cp301, goodrive350};
 use edsgen_runtime::node::Node;
@@ -22,125 +22,31 @@ use edsgen_runtime::od::ObjectDictionary;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
+use process_support::{edsgen_bus, python, root, Process};
 use serde_json::{json, Value};
 
 /// How long one python script may take.
 const SCRIPT_TIMEOUT: Duration = Duration::from_secs(60);
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+/// `scripts/interop_master.py ARGS`.
+fn interop_master(python: &Path, args: &[&str]) -> Process {
+    Process::python(python, "scripts/interop_master.py", args)
 }
 
-fn ci() -> bool {
-    std::env::var("CI").as_deref() == Ok("true")
-}
-
-/// The venv's python: `scripts/python-venv.sh` creates the venv if it is missing and installs the
-/// pinned versions if they are not there (once per test process). `None` (a skip) without
-/// python, except under CI.
-fn python() -> Option<PathBuf> {
-    static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    let found = PYTHON.get_or_init(|| {
-        let venv_python = root().join(".venv/bin/python");
-        if !venv_python.is_file() && Command::new("python3").arg("--version").output().is_err() {
-            return Err("python3 is not installed".to_owned());
-        }
-        let out = Command::new(root().join("scripts/python-venv.sh"))
-            .output()
-            .map_err(|e| format!("cannot run scripts/python-venv.sh: {e}"))?;
-        if !out.status.success() {
-            return Err(format!(
-                "scripts/python-venv.sh failed:\n{}",
-                String::from_utf8_lossy(&out.stderr)
-            ));
-        }
-        Ok(venv_python)
-    });
-    match found {
-        Ok(python) => Some(python.clone()),
-        Err(why) => {
-            assert!(!ci(), "{why}");
-            eprintln!("skipping: {why}");
-            None
-        }
-    }
-}
-
-/// One run of `scripts/interop_master.py`, killed when dropped.
-struct Script {
-    child: Child,
-    stdin: ChildStdin,
-    lines: Receiver<String>,
-    stderr: Receiver<String>,
-}
-
-impl Drop for Script {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-impl Script {
-    fn start(python: &Path, args: &[&str]) -> Script {
-        let mut child = Command::new(python)
-            .arg(root().join("scripts/interop_master.py"))
-            .args(args)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("run scripts/interop_master.py");
-        let stdin = child.stdin.take().unwrap();
-        let (line_tx, lines) = mpsc::channel();
-        let stdout = BufReader::new(child.stdout.take().unwrap());
-        std::thread::spawn(move || {
-            for line in stdout.lines().map_while(Result::ok) {
-                if line_tx.send(line).is_err() {
-                    return;
-                }
-            }
-        });
-        let (err_tx, stderr) = mpsc::channel();
-        let mut err_pipe = child.stderr.take().unwrap();
-        std::thread::spawn(move || {
-            let mut text = String::new();
-            let _ = err_pipe.read_to_string(&mut text);
-            let _ = err_tx.send(text);
-        });
-        Script {
-            child,
-            stdin,
-            lines,
-            stderr,
-        }
-    }
-
-    /// Runs the script to its `RESULT`, calling `on_wait` for each `WAIT <what>` and answering
-    /// `GO` after it.
-    fn result(&mut self, mut on_wait: impl FnMut(&str)) -> Value {
-        let deadline = Instant::now() + SCRIPT_TIMEOUT;
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            let line = match self.lines.recv_timeout(left) {
-                Ok(line) => line,
-                Err(_) => {
-                    let _ = self.child.kill();
-                    let stderr = self
-                        .stderr
-                        .recv_timeout(CONNECT_TIMEOUT)
-                        .unwrap_or_default();
-                    panic!("interop_master.py ended without a result:\n{stderr}");
-                }
-            };
-            if let Some(what) = line.strip_prefix("WAIT ") {
-                on_wait(what);
-                writeln!(self.stdin, "GO").unwrap();
-                self.stdin.flush().unwrap();
-            } else if let Some(json) = line.strip_prefix("RESULT ") {
-                return serde_json::from_str(json).unwrap();
-            }
+/// Runs a script to its `RESULT`, calling `on_wait` for each `WAIT <what>` and answering `GO`
+/// after it.
+fn result(script: &mut Process, mut on_wait: impl FnMut(&str)) -> Value {
+    loop {
+        let line = script.stdout_line(
+            |l| l.starts_with("WAIT ") || l.starts_with("RESULT "),
+            SCRIPT_TIMEOUT,
+        );
+        if let Some(what) = line.strip_prefix("WAIT ") {
+            on_wait(what);
+            script.send_line("GO");
+        } else if let Some(json) = line.strip_prefix("RESULT ") {
+            return serde_json::from_str(json).unwrap();
         }
     }
 }
@@ -167,9 +73,9 @@ fn python_canopen_masters_the_generated_cp301_node_through_the_hub() {
     let Some(python) = python() else { return };
     let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
     let port = hub.local_addr().port().to_string();
-    let mut script = Script::start(&python, &["full", &port, &eds("cp301.eds"), "5"]);
+    let mut script = interop_master(&python, &["full", &port, &eds("cp301.eds"), "5"]);
     let mut node: Option<NodeDriver<cp301::Od>> = None;
-    let mut result = script.result(|what| match what {
+    let mut result = result(&mut script, |what| match what {
         "bootup" => node = Some(run_node(&hub, cp301::Od::new(5), 5)),
         "emcy" => {
             let raised = node.as_ref().unwrap().with_device(|node, _| {
@@ -268,12 +174,12 @@ fn two_python_masters_two_nodes_and_a_dropping_client_share_one_hub() {
         let addr = hub.local_addr();
         std::thread::spawn(move || drop_mid_message_until(addr, &stop))
     };
-    let mut loop_master = Script::start(&python, &["loop", &port, &eds("cp301.eds"), "5", "300"]);
+    let mut loop_master = interop_master(&python, &["loop", &port, &eds("cp301.eds"), "5", "300"]);
     let mut string_master =
-        Script::start(&python, &["strings", &port, &eds("goodrive350.eds"), "7"]);
+        interop_master(&python, &["strings", &port, &eds("goodrive350.eds"), "7"]);
     let no_wait = |what: &str| panic!("unexpected WAIT {what}");
-    let strings = string_master.result(no_wait);
-    let round_trips = loop_master.result(no_wait);
+    let strings = result(&mut string_master, no_wait);
+    let round_trips = result(&mut loop_master, no_wait);
     stop.store(true, Ordering::Relaxed);
     let drops = dropper.join().unwrap();
     assert!(drops >= 1, "the dropping client never ran");
@@ -300,25 +206,12 @@ fn ten_thousand_sdo_transactions_from_python_through_the_hub_without_a_failure()
     let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
     let port = hub.local_addr().port().to_string();
     let node = run_node(&hub, cp301::Od::new(5), 5);
-    let mut child = Command::new(&python)
-        .arg(root().join("scripts/bench_socketcand.py"))
-        .args(["master", &port, &eds("cp301.eds"), "5", "10000"])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("run scripts/bench_socketcand.py");
-    let (tx, lines) = mpsc::channel();
-    let stdout = BufReader::new(child.stdout.take().unwrap());
-    std::thread::spawn(move || {
-        for line in stdout.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let line = lines.recv_timeout(SCRIPT_TIMEOUT);
-    let _ = child.kill();
-    let _ = child.wait();
-    let line = line.expect("bench_socketcand.py gave no result within 60 s");
+    let bench = Process::python(
+        &python,
+        "scripts/bench_socketcand.py",
+        &["master", &port, &eds("cp301.eds"), "5", "10000"],
+    );
+    let line = bench.stdout_line(|l| l.starts_with("RESULT "), SCRIPT_TIMEOUT);
     let result: Value = serde_json::from_str(line.strip_prefix("RESULT ").unwrap()).unwrap();
     assert_eq!(result["transactions"], 10_000);
     assert_eq!(result["failures"], 0, "{result}");
@@ -326,46 +219,17 @@ fn ten_thousand_sdo_transactions_from_python_through_the_hub_without_a_failure()
     node.stop().0.unwrap();
 }
 
-/// `edsgen bus` as a child process, killed when dropped.
-struct BusProcess(Child);
-
-impl Drop for BusProcess {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 #[test]
 fn python_canopen_reaches_a_node_through_the_edsgen_bus_command() {
     let Some(python) = python() else { return };
-    let mut bus = BusProcess(
-        Command::new(env!("CARGO_BIN_EXE_edsgen"))
-            .args(["bus", "--listen", "127.0.0.1:0"])
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .spawn()
-            .expect("run edsgen bus"),
-    );
-    let mut first = String::new();
-    BufReader::new(bus.0.stdout.take().unwrap())
-        .read_line(&mut first)
-        .unwrap();
-    let addr = first
-        .split_whitespace()
-        .find_map(|word| {
-            word.trim_end_matches(',')
-                .parse::<std::net::SocketAddr>()
-                .ok()
-        })
-        .unwrap_or_else(|| panic!("no address in {first:?}"));
+    let (_bus, addr) = edsgen_bus(&[]);
     let transport = SocketcandClient::connect(addr, "can0", CONNECT_TIMEOUT).unwrap();
     let clock = MonotonicClock::new();
     let node = Node::new(cp301::Od::new(5), 5, clock.now()).unwrap();
     let node = Driver::with_clock(transport, node, clock).spawn().unwrap();
     let port = addr.port().to_string();
-    let mut master = Script::start(&python, &["loop", &port, &eds("cp301.eds"), "5", "100"]);
-    let result = master.result(|what| panic!("unexpected WAIT {what}"));
+    let mut master = interop_master(&python, &["loop", &port, &eds("cp301.eds"), "5", "100"]);
+    let result = result(&mut master, |what| panic!("unexpected WAIT {what}"));
     assert_eq!(result, json!({"round trips": 100, "mismatches": 0}));
     node.stop().0.unwrap();
 }

@@ -6,10 +6,9 @@
 //! Without python the test is skipped with a message, except under `CI=true`. Every wait is
 //! bounded and the python process is killed when the test ends.
 
-use std::io::{BufRead, BufReader, Write};
-use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, Stdio};
-use std::sync::mpsc::{self, Receiver};
+mod process_support;
+
+use std::path::Path;
 use std::time::Duration;
 
 use edsgen_runtime::master::blocking::{Master, MasterError, MasterEvent};
@@ -20,78 +19,29 @@ use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::Entry;
+use process_support::{python, root, Process};
 
 const WAIT: Duration = Duration::from_secs(10);
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The venv's python (created by `scripts/python-venv.sh`), or `None` to skip outside CI.
-fn python() -> Option<PathBuf> {
-    let made = Command::new(root().join("scripts/python-venv.sh")).output();
-    match made {
-        Ok(out) if out.status.success() => Some(root().join(".venv/bin/python")),
-        other => {
-            let why = format!("no python venv: {other:?}");
-            assert!(std::env::var("CI").as_deref() != Ok("true"), "{why}");
-            eprintln!("skipping: {why}");
-            None
-        }
-    }
-}
-
-/// `scripts/interop_device.py`, killed when dropped.
-struct Device {
-    child: Child,
-    stdin: ChildStdin,
-    lines: Receiver<String>,
-}
-
-impl Drop for Device {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
+/// `scripts/interop_device.py`: a python LocalNode, once it says `READY`.
+struct Device(Process);
 
 impl Device {
     fn start(python: &Path, port: u16, eds: &str, node_id: u8) -> Device {
-        let mut child = Command::new(python)
-            .arg(root().join("scripts/interop_device.py"))
-            .args([port.to_string(), eds.to_string(), node_id.to_string()])
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .spawn()
-            .expect("run scripts/interop_device.py");
-        let stdin = child.stdin.take().unwrap();
-        let stdout = BufReader::new(child.stdout.take().unwrap());
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in stdout.lines().map_while(Result::ok) {
-                if tx.send(line).is_err() {
-                    return;
-                }
-            }
-        });
-        let device = Device {
-            child,
-            stdin,
-            lines,
-        };
-        device.expect("READY");
-        device
+        let args = [port.to_string(), eds.to_owned(), node_id.to_string()];
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let device = Process::python(python, "scripts/interop_device.py", &args);
+        device.stdout_line(|l| l == "READY", WAIT);
+        Device(device)
     }
 
-    fn expect(&self, line: &str) {
-        assert_eq!(self.lines.recv_timeout(WAIT).as_deref(), Ok(line));
-    }
-
-    fn command(&mut self, command: &str) {
-        writeln!(self.stdin, "{command}").unwrap();
-        self.stdin.flush().unwrap();
+    /// Sends `command` and waits for its `DONE <verb>` line; what follows the verb.
+    fn command(&mut self, command: &str) -> String {
+        self.0.send_line(command);
         let verb = command.split_whitespace().next().unwrap();
-        self.expect(&format!("DONE {verb}"));
+        let done = format!("DONE {verb}");
+        let line = self.0.stdout_line(|l| l.starts_with(&done), WAIT);
+        line[done.len()..].trim_start().to_owned()
     }
 }
 
