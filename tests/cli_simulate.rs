@@ -3,12 +3,11 @@
 //! several devices in one process on one hub, and `--trace`. Every wait is bounded; children are
 //! killed when their guard drops.
 
+mod process_support;
 mod sim_support;
 
-use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
-use std::process::{Child, Command, Output, Stdio};
-use std::sync::mpsc;
+use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
@@ -16,7 +15,10 @@ use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
 use edsgen_runtime::CanFrame;
 
-const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
+use process_support::{Process, EDSGEN};
+
+/// How long a line or an exit may take.
+const WAIT: Duration = Duration::from_secs(10);
 
 fn edsgen(args: &[&str]) -> Output {
     Command::new(EDSGEN)
@@ -28,75 +30,6 @@ fn edsgen(args: &[&str]) -> Output {
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// A child process killed (and reaped) when dropped, with its output's lines on a channel.
-struct Running {
-    child: Child,
-    lines: mpsc::Receiver<String>,
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-impl Running {
-    /// Runs `edsgen args`, its standard output and error both read line by line.
-    fn start(args: &[&str]) -> Running {
-        let mut child = Command::new(EDSGEN)
-            .args(args)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let (tx, lines) = mpsc::channel();
-        let out = child.stdout.take().unwrap();
-        let err = child.stderr.take().unwrap();
-        for reader in [
-            Box::new(out) as Box<dyn std::io::Read + Send>,
-            Box::new(err),
-        ] {
-            let tx = tx.clone();
-            std::thread::spawn(move || {
-                for line in BufReader::new(reader).lines().map_while(Result::ok) {
-                    if tx.send(line).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        Running { child, lines }
-    }
-
-    /// Waits (at most 10 s) for a line for which `wanted` holds; panics with what came.
-    fn expect(&self, wanted: impl Fn(&str) -> bool) -> String {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        let mut seen = Vec::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) if wanted(&line) => return line,
-                Ok(line) => seen.push(line),
-                Err(_) => panic!("no such line; saw {seen:#?}"),
-            }
-        }
-    }
-
-    /// The exit code, waiting at most 10 s.
-    fn exit_code(&mut self) -> Option<i32> {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        loop {
-            if let Some(status) = self.child.try_wait().unwrap() {
-                return status.code();
-            }
-            assert!(Instant::now() < deadline, "edsgen did not exit");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
 }
 
 fn hub() -> Hub {
@@ -216,22 +149,23 @@ fn simulate_says_socketcan_is_not_built_in() {
 fn simulate_exits_2_when_the_hub_goes_away() {
     let hub = hub();
     let addr = hub.local_addr().to_string();
-    let mut sim = Running::start(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
-    sim.expect(|l| l == format!("simulating node 3 (eds/cp301.eds) on {addr}"));
+    let sim = Process::edsgen(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
+    let announced = format!("simulating node 3 (eds/cp301.eds) on {addr}");
+    sim.stderr_line(|l| l == announced, WAIT);
     hub.stop();
-    let line = sim.expect(|l| l.starts_with("error:"));
+    let line = sim.stderr_line(|l| l.starts_with("error:"), WAIT);
     assert!(
         line.starts_with(&format!("error: the bus at {addr} went away")),
         "{line}"
     );
-    assert_eq!(sim.exit_code(), Some(2));
+    assert_eq!(sim.finish(WAIT).code, Some(2));
 }
 
 #[test]
 fn several_devices_in_one_process_answer_and_trace() {
     let hub = hub();
     let addr = hub.local_addr().to_string();
-    let sim = Running::start(&[
+    let sim = Process::edsgen(&[
         "simulate",
         "eds/cp301.eds@1",
         "eds/goodrive350.eds",
@@ -243,8 +177,8 @@ fn several_devices_in_one_process_answer_and_trace() {
         &addr,
         "--trace",
     ]);
-    sim.expect(|l| l.starts_with("simulating node 1 "));
-    sim.expect(|l| l.starts_with("simulating node 2 "));
+    sim.stderr_line(|l| l.starts_with("simulating node 1 "), WAIT);
+    sim.stderr_line(|l| l.starts_with("simulating node 2 "), WAIT);
     let mut master = SocketcandClient::connect(&addr, "can0", Duration::from_secs(3)).unwrap();
     std::thread::sleep(Duration::from_millis(100)); // the hub's quiet period after rawmode
                                                     // Reset both: two boot-ups.
@@ -262,9 +196,15 @@ fn several_devices_in_one_process_answer_and_trace() {
     let answer = receive(&mut master, 1, |f| f.std_id() == Some(0x582));
     assert_eq!(answer[0].data()[..4], [0x4F, 0x18, 0x10, 0x00]);
     // The trace decodes what the master sent and what the nodes answered.
-    sim.expect(|l| l.ends_with("000  NMT        reset node, all nodes"));
-    sim.expect(|l| l.ends_with("702  HEARTBEAT  node 2 boot-up"));
-    sim.expect(|l| l.contains("582  SDO        node 2 read 1018:00 Identity object: "));
+    sim.stdout_line(
+        |l| l.ends_with("000  NMT        reset node, all nodes"),
+        WAIT,
+    );
+    sim.stdout_line(|l| l.ends_with("702  HEARTBEAT  node 2 boot-up"), WAIT);
+    sim.stdout_line(
+        |l| l.contains("582  SDO        node 2 read 1018:00 Identity object: "),
+        WAIT,
+    );
 }
 
 fn log_file(name: &str, text: &str) -> PathBuf {
@@ -297,25 +237,13 @@ fn decode_warns_about_a_malformed_line_with_its_number_and_goes_on() {
 
 #[test]
 fn decode_reads_standard_input_and_names_entries_from_the_eds() {
-    let mut child = Command::new(EDSGEN)
-        .args(["decode", "--eds", "eds/cp301.eds", "--node-id", "3"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(
-            b"(1700000000.000000) can0 603#2B17100064000000\n(1700000000.001000) can0 583#6017100000000000\n",
-        )
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(0));
+    let mut decode = Process::edsgen(&["decode", "--eds", "eds/cp301.eds", "--node-id", "3"]);
+    decode.send_line("(1700000000.000000) can0 603#2B17100064000000");
+    decode.send_line("(1700000000.001000) can0 583#6017100000000000");
+    let out = decode.finish(WAIT);
+    assert_eq!(out.code, Some(0));
     assert_eq!(
-        String::from_utf8_lossy(&out.stdout),
+        out.stdout,
         "1700000000.001000  583  SDO        node 3 write 1017:00 Producer heartbeat time = 100\n"
     );
 }

@@ -122,6 +122,16 @@ impl Drop for Process {
 impl Process {
     /// Starts `command` with its standard input, output and error piped.
     pub fn start(command: &mut Command) -> Process {
+        Process::spawn(command, true)
+    }
+
+    /// [`start`](Self::start), with the child's standard output closed at once: its writes there
+    /// fail, as when whoever read its output went away.
+    pub fn start_without_stdout(command: &mut Command) -> Process {
+        Process::spawn(command, false)
+    }
+
+    fn spawn(command: &mut Command, read_stdout: bool) -> Process {
         let what = format!("{command:?}");
         let mut child = command
             .stdin(Stdio::piped())
@@ -129,9 +139,14 @@ impl Process {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap_or_else(|e| panic!("cannot start {what}: {e}"));
+        let stdout = child.stdout.take().unwrap();
         Process {
             stdin: child.stdin.take(),
-            stdout: lines_of(child.stdout.take().unwrap()),
+            stdout: if read_stdout {
+                lines_of(stdout)
+            } else {
+                mpsc::channel().1
+            },
             stderr: lines_of(child.stderr.take().unwrap()),
             child,
             what,
