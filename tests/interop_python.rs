@@ -376,8 +376,9 @@ fn hex(bytes: &[u8]) -> String {
 }
 
 /// Python `canopen` 2.4.1's block download fails when the value is written to its stream piece
-/// by piece, as its documentation's example and its issue #379 do (#618 reports the same
-/// "Block transfer was not finished"); written at once, as in the test above, it works. The
+/// by piece, as in its issue #379 (127-byte pieces to a stream buffered by 127 bytes, here too;
+/// #618 reports the same "Block transfer was not finished"); written at once, as in the test
+/// above, it works, 64 KiB included, so python's block download is not broken as such. The
 /// cause is python's, on the client side: `BlockDownloadStream.write` returns `None` for a
 /// piece of fewer than 7 bytes that is not the last, which `io.BufferedWriter` takes for "the
 /// raw stream would block". When the buffer cannot take the next piece after such a flush,
