@@ -10,9 +10,12 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
+use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_runtime::master::{Mode, SdoError};
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
+use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::CanFrame;
 
 use process_support::{Process, EDSGEN};
@@ -204,6 +207,73 @@ fn several_devices_in_one_process_answer_and_trace() {
     sim.stdout_line(
         |l| l.contains("582  SDO        node 2 read 1018:00 Identity object: "),
         WAIT,
+    );
+}
+
+/// The simulator's test device written as `NAME.eds` in a folder of its own, with `overlay` as
+/// `NAME.toml` beside it if given.
+fn device_files(name: &str, overlay: Option<&str>) -> PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-simulate-overlay");
+    std::fs::create_dir_all(&dir).unwrap();
+    let eds = dir.join(format!("{name}.eds"));
+    std::fs::write(&eds, sim_support::DEVICE_EDS).unwrap();
+    let toml = eds.with_extension("toml");
+    match overlay {
+        Some(text) => std::fs::write(&toml, text).unwrap(),
+        None => assert!(!toml.exists()),
+    }
+    eds
+}
+
+#[test]
+fn simulate_applies_the_overlay_beside_the_file() {
+    // 2000h, a writable VISIBLE_STRING with "sim" as default: 32 bytes without an overlay, 100
+    // with one.
+    let with = device_files("with-overlay", Some("[capacity]\n2000 = 100\n"));
+    let without = device_files("without-overlay", None);
+    let hub = hub();
+    let addr = hub.local_addr().to_string();
+    let with_arg = format!("{}@9", with.display());
+    let without_arg = format!("{}@10", without.display());
+    let sim = Process::edsgen(&["simulate", &with_arg, &without_arg, "--bus", &addr]);
+    sim.stderr_line(|l| l.starts_with("simulating node 9 "), WAIT);
+    sim.stderr_line(|l| l.starts_with("simulating node 10 "), WAIT);
+    let client = SocketcandClient::connect(&addr, "can0", WAIT).unwrap();
+    let mut master = Master::new(client);
+    let label = Multiplexer::new(0x2000, 0);
+    let text: Vec<u8> = (0..100u8).map(|i| b'a' + i % 26).collect();
+    master.download(9, label, &text, Mode::Normal).unwrap();
+    assert_eq!(master.upload(9, label, Mode::Normal).unwrap(), text);
+    master
+        .download(10, label, &text[..32], Mode::Normal)
+        .unwrap();
+    // One byte more than each holds: 0607 0012 (data type length too high).
+    let mut refused =
+        |node_id, value: &[u8]| match master.download(node_id, label, value, Mode::Normal) {
+            Err(MasterError::Sdo {
+                error: SdoError::Server(code),
+                ..
+            }) => code,
+            other => panic!("{other:?}"),
+        };
+    assert_eq!(refused(10, &text[..33]), 0x0607_0012);
+    assert_eq!(refused(9, &[text.as_slice(), b"!"].concat()), 0x0607_0012);
+}
+
+#[test]
+fn simulate_refuses_an_overlay_with_errors_and_shows_them_at_their_line() {
+    let eds = device_files("bad-overlay", Some("[capacity]\n2002 = 100\n"));
+    let out = edsgen(&["simulate", &format!("{}@9", eds.display())]);
+    assert_eq!(out.status.code(), Some(2));
+    let toml = eds.with_extension("toml");
+    let toml = toml.display();
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "error: the overlay `{toml}` cannot be applied:\n\
+             error[EDS708]: 2002h sub 0 `Target speed` is not a string, octet string or domain\n \
+             --> {toml}:2:1\n  |\n2 | 2002 = 100\n  | ^^^^ only those have a capacity\n  |\n"
+        )
     );
 }
 
