@@ -1,7 +1,7 @@
 //! `edsgen simulate` and `edsgen decode` on the command line: exit codes and messages for bad
-//! usage (unreadable files, bad node-IDs, an unreachable or vanishing hub, malformed log lines),
-//! several devices in one process on one hub, and `--trace`. Every wait is bounded; children are
-//! killed when their guard drops.
+//! usage (unreadable files, bad node-IDs, an unreachable or vanishing hub, malformed log lines,
+//! an overlay with errors), several devices in one process on one hub, `--trace`, and the
+//! overlay beside a file. Every wait is bounded; children are killed when their guard drops.
 
 mod process_support;
 mod sim_support;
