@@ -6,6 +6,12 @@ script reports. Usage:
     interop_master.py full PORT EDS NODE_ID      every service, on a CP301 card
     interop_master.py loop PORT EDS NODE_ID N    N expedited write/read pairs of 6042h
     interop_master.py strings PORT EDS NODE_ID   1008h-100Ah uploaded segmented and in blocks
+    interop_master.py large PORT EDS NODE_ID DIR  a domain (2001h) by block transfer both ways and
+                                                  a string (2000h) segmented both ways; the values
+                                                  are files in DIR (see `large`)
+    interop_master.py chunked PORT EDS NODE_ID DIR  DIR/domain-down.bin to 2001h by block download
+                                                  written in 127-byte pieces to a stream buffered
+                                                  by 127 bytes (python canopen's issue #379)
 
 It prints `WAIT <what>` when the test must act on the device (boot it, raise an error) and reads
 one line from stdin when it has; at the end it prints `RESULT <json>`. Any failure is a python
@@ -13,6 +19,7 @@ exception: a traceback on stderr and exit code 1.
 """
 
 import json
+import os
 import statistics
 import struct
 import sys
@@ -20,7 +27,7 @@ import threading
 import time
 
 import canopen
-from canopen.sdo.exceptions import SdoAbortedError
+from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
 TIMEOUT = 5.0
 
@@ -201,6 +208,57 @@ def strings(node, results):
             results[f"block upload {index:04X}"] = stream.read().decode("ascii")
 
 
+def large(node, directory, results):
+    """Downloads DIR/domain-down.bin to 2001h by block transfer and DIR/string-down.bin to 2000h
+    segmented, and reads each back the same way (DIR/domain-read-back.bin,
+    DIR/string-read-back.bin); then, once the test has put other values in the device, uploads
+    them again (DIR/domain-up.bin, DIR/string-up.bin)."""
+    def load(name):
+        with open(os.path.join(directory, name), "rb") as f:
+            return f.read()
+
+    def store(name, data):
+        with open(os.path.join(directory, name), "wb") as f:
+            f.write(data)
+
+    def block_upload():
+        with node.sdo.open(0x2001, 0, "rb", block_transfer=True) as stream:
+            return stream.read()
+
+    domain = load("domain-down.bin")
+    with node.sdo.open(0x2001, 0, "wb", size=len(domain), block_transfer=True) as stream:
+        stream.write(domain)
+    store("domain-read-back.bin", block_upload())
+    text = load("string-down.bin")
+    node.sdo.download(0x2000, 0, text)
+    store("string-read-back.bin", node.sdo.upload(0x2000, 0))
+    ask_test("downloaded")
+    store("domain-up.bin", block_upload())
+    store("string-up.bin", node.sdo.upload(0x2000, 0))
+    results["done"] = True
+
+
+def chunked(node, directory, results):
+    """A block download written piece by piece, as canopen's documentation and issue #379 do:
+    reports what `write` and `close` raise."""
+    with open(os.path.join(directory, "domain-down.bin"), "rb") as f:
+        data = f.read()
+    stream = node.sdo.open(0x2001, 0, "wb", size=len(data), block_transfer=True, buffering=127)
+    written = 0
+    try:
+        for start in range(0, len(data), 127):
+            stream.write(data[start:start + 127])
+            written += len(data[start:start + 127])
+        results["write"] = "no error"
+    except BlockingIOError as error:
+        results["write"] = f"{type(error).__name__} after {written} bytes: {error.strerror}"
+    try:
+        stream.close()
+        results["close"] = "no error"
+    except SdoCommunicationError as error:
+        results["close"] = f"{type(error).__name__}: {error}"
+
+
 def main():
     mode, port, eds, node_id = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
     network = canopen.Network()
@@ -217,6 +275,10 @@ def main():
             loop(node, int(sys.argv[5]), results)
         elif mode == "strings":
             strings(node, results)
+        elif mode == "large":
+            large(node, sys.argv[5], results)
+        elif mode == "chunked":
+            chunked(node, sys.argv[5], results)
         else:
             raise SystemExit(f"unknown mode {mode}")
     finally:

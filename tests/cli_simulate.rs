@@ -1,22 +1,27 @@
 //! `edsgen simulate` and `edsgen decode` on the command line: exit codes and messages for bad
-//! usage (unreadable files, bad node-IDs, an unreachable or vanishing hub, malformed log lines),
-//! several devices in one process on one hub, and `--trace`. Every wait is bounded; children are
-//! killed when their guard drops.
+//! usage (unreadable files, bad node-IDs, an unreachable or vanishing hub, malformed log lines,
+//! an overlay with errors), several devices in one process on one hub, `--trace`, and the
+//! overlay beside a file. Every wait is bounded; children are killed when their guard drops.
 
+mod process_support;
 mod sim_support;
 
-use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
-use std::process::{Child, Command, Output, Stdio};
-use std::sync::mpsc;
+use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
+use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_runtime::master::{Mode, SdoError};
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
+use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::CanFrame;
 
-const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
+use process_support::{Process, EDSGEN};
+
+/// How long a line or an exit may take.
+const WAIT: Duration = Duration::from_secs(10);
 
 fn edsgen(args: &[&str]) -> Output {
     Command::new(EDSGEN)
@@ -28,75 +33,6 @@ fn edsgen(args: &[&str]) -> Output {
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// A child process killed (and reaped) when dropped, with its output's lines on a channel.
-struct Running {
-    child: Child,
-    lines: mpsc::Receiver<String>,
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-impl Running {
-    /// Runs `edsgen args`, its standard output and error both read line by line.
-    fn start(args: &[&str]) -> Running {
-        let mut child = Command::new(EDSGEN)
-            .args(args)
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let (tx, lines) = mpsc::channel();
-        let out = child.stdout.take().unwrap();
-        let err = child.stderr.take().unwrap();
-        for reader in [
-            Box::new(out) as Box<dyn std::io::Read + Send>,
-            Box::new(err),
-        ] {
-            let tx = tx.clone();
-            std::thread::spawn(move || {
-                for line in BufReader::new(reader).lines().map_while(Result::ok) {
-                    if tx.send(line).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        Running { child, lines }
-    }
-
-    /// Waits (at most 10 s) for a line for which `wanted` holds; panics with what came.
-    fn expect(&self, wanted: impl Fn(&str) -> bool) -> String {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        let mut seen = Vec::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) if wanted(&line) => return line,
-                Ok(line) => seen.push(line),
-                Err(_) => panic!("no such line; saw {seen:#?}"),
-            }
-        }
-    }
-
-    /// The exit code, waiting at most 10 s.
-    fn exit_code(&mut self) -> Option<i32> {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        loop {
-            if let Some(status) = self.child.try_wait().unwrap() {
-                return status.code();
-            }
-            assert!(Instant::now() < deadline, "edsgen did not exit");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
 }
 
 fn hub() -> Hub {
@@ -216,22 +152,23 @@ fn simulate_says_socketcan_is_not_built_in() {
 fn simulate_exits_2_when_the_hub_goes_away() {
     let hub = hub();
     let addr = hub.local_addr().to_string();
-    let mut sim = Running::start(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
-    sim.expect(|l| l == format!("simulating node 3 (eds/cp301.eds) on {addr}"));
+    let sim = Process::edsgen(&["simulate", "eds/cp301.eds@3", "--bus", &addr]);
+    let announced = format!("simulating node 3 (eds/cp301.eds) on {addr}");
+    sim.stderr_line(|l| l == announced, WAIT);
     hub.stop();
-    let line = sim.expect(|l| l.starts_with("error:"));
+    let line = sim.stderr_line(|l| l.starts_with("error:"), WAIT);
     assert!(
         line.starts_with(&format!("error: the bus at {addr} went away")),
         "{line}"
     );
-    assert_eq!(sim.exit_code(), Some(2));
+    assert_eq!(sim.finish(WAIT).code, Some(2));
 }
 
 #[test]
 fn several_devices_in_one_process_answer_and_trace() {
     let hub = hub();
     let addr = hub.local_addr().to_string();
-    let sim = Running::start(&[
+    let sim = Process::edsgen(&[
         "simulate",
         "eds/cp301.eds@1",
         "eds/goodrive350.eds",
@@ -243,8 +180,8 @@ fn several_devices_in_one_process_answer_and_trace() {
         &addr,
         "--trace",
     ]);
-    sim.expect(|l| l.starts_with("simulating node 1 "));
-    sim.expect(|l| l.starts_with("simulating node 2 "));
+    sim.stderr_line(|l| l.starts_with("simulating node 1 "), WAIT);
+    sim.stderr_line(|l| l.starts_with("simulating node 2 "), WAIT);
     let mut master = SocketcandClient::connect(&addr, "can0", Duration::from_secs(3)).unwrap();
     std::thread::sleep(Duration::from_millis(100)); // the hub's quiet period after rawmode
                                                     // Reset both: two boot-ups.
@@ -262,9 +199,82 @@ fn several_devices_in_one_process_answer_and_trace() {
     let answer = receive(&mut master, 1, |f| f.std_id() == Some(0x582));
     assert_eq!(answer[0].data()[..4], [0x4F, 0x18, 0x10, 0x00]);
     // The trace decodes what the master sent and what the nodes answered.
-    sim.expect(|l| l.ends_with("000  NMT        reset node, all nodes"));
-    sim.expect(|l| l.ends_with("702  HEARTBEAT  node 2 boot-up"));
-    sim.expect(|l| l.contains("582  SDO        node 2 read 1018:00 Identity object: "));
+    sim.stdout_line(
+        |l| l.ends_with("000  NMT        reset node, all nodes"),
+        WAIT,
+    );
+    sim.stdout_line(|l| l.ends_with("702  HEARTBEAT  node 2 boot-up"), WAIT);
+    sim.stdout_line(
+        |l| l.contains("582  SDO        node 2 read 1018:00 Identity object: "),
+        WAIT,
+    );
+}
+
+/// The simulator's test device written as `NAME.eds` in a folder of its own, with `overlay` as
+/// `NAME.toml` beside it if given.
+fn device_files(name: &str, overlay: Option<&str>) -> PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-simulate-overlay");
+    std::fs::create_dir_all(&dir).unwrap();
+    let eds = dir.join(format!("{name}.eds"));
+    std::fs::write(&eds, sim_support::DEVICE_EDS).unwrap();
+    let toml = eds.with_extension("toml");
+    match overlay {
+        Some(text) => std::fs::write(&toml, text).unwrap(),
+        None => assert!(!toml.exists()),
+    }
+    eds
+}
+
+#[test]
+fn simulate_applies_the_overlay_beside_the_file() {
+    // 2000h, a writable VISIBLE_STRING with "sim" as default: 32 bytes without an overlay, 100
+    // with one.
+    let with = device_files("with-overlay", Some("[capacity]\n2000 = 100\n"));
+    let without = device_files("without-overlay", None);
+    let hub = hub();
+    let addr = hub.local_addr().to_string();
+    let with_arg = format!("{}@9", with.display());
+    let without_arg = format!("{}@10", without.display());
+    let sim = Process::edsgen(&["simulate", &with_arg, &without_arg, "--bus", &addr]);
+    sim.stderr_line(|l| l.starts_with("simulating node 9 "), WAIT);
+    sim.stderr_line(|l| l.starts_with("simulating node 10 "), WAIT);
+    let client = SocketcandClient::connect(&addr, "can0", WAIT).unwrap();
+    let mut master = Master::new(client);
+    let label = Multiplexer::new(0x2000, 0);
+    let text: Vec<u8> = (0..100u8).map(|i| b'a' + i % 26).collect();
+    master.download(9, label, &text, Mode::Normal).unwrap();
+    assert_eq!(master.upload(9, label, Mode::Normal).unwrap(), text);
+    master
+        .download(10, label, &text[..32], Mode::Normal)
+        .unwrap();
+    // One byte more than each holds: 0607 0012 (data type length too high).
+    let mut refused =
+        |node_id, value: &[u8]| match master.download(node_id, label, value, Mode::Normal) {
+            Err(MasterError::Sdo {
+                error: SdoError::Server(code),
+                ..
+            }) => code,
+            other => panic!("{other:?}"),
+        };
+    assert_eq!(refused(10, &text[..33]), 0x0607_0012);
+    assert_eq!(refused(9, &[text.as_slice(), b"!"].concat()), 0x0607_0012);
+}
+
+#[test]
+fn simulate_refuses_an_overlay_with_errors_and_shows_them_at_their_line() {
+    let eds = device_files("bad-overlay", Some("[capacity]\n2002 = 100\n"));
+    let out = edsgen(&["simulate", &format!("{}@9", eds.display())]);
+    assert_eq!(out.status.code(), Some(2));
+    let toml = eds.with_extension("toml");
+    let toml = toml.display();
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "error: the overlay `{toml}` cannot be applied:\n\
+             error[EDS708]: 2002h sub 0 `Target speed` is not a string, octet string or domain\n \
+             --> {toml}:2:1\n  |\n2 | 2002 = 100\n  | ^^^^ only those have a capacity\n  |\n"
+        )
+    );
 }
 
 fn log_file(name: &str, text: &str) -> PathBuf {
@@ -297,25 +307,13 @@ fn decode_warns_about_a_malformed_line_with_its_number_and_goes_on() {
 
 #[test]
 fn decode_reads_standard_input_and_names_entries_from_the_eds() {
-    let mut child = Command::new(EDSGEN)
-        .args(["decode", "--eds", "eds/cp301.eds", "--node-id", "3"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(
-            b"(1700000000.000000) can0 603#2B17100064000000\n(1700000000.001000) can0 583#6017100000000000\n",
-        )
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(0));
+    let mut decode = Process::edsgen(&["decode", "--eds", "eds/cp301.eds", "--node-id", "3"]);
+    decode.send_line("(1700000000.000000) can0 603#2B17100064000000");
+    decode.send_line("(1700000000.001000) can0 583#6017100000000000");
+    let out = decode.finish(WAIT);
+    assert_eq!(out.code, Some(0));
     assert_eq!(
-        String::from_utf8_lossy(&out.stdout),
+        out.stdout,
         "1700000000.001000  583  SDO        node 3 write 1017:00 Producer heartbeat time = 100\n"
     );
 }

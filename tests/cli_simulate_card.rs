@@ -2,9 +2,9 @@
 //! edsgen's own blocking master through the socketcand protocol, as an integrator would at the
 //! bench: typed SDO to a CP301 and the Goodrive350's PDO1 parameter protocol.
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+mod process_support;
+
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use edsgen::cards::cp301::od;
@@ -14,44 +14,11 @@ use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::CanFrame;
+use process_support::{edsgen_simulate, Process, EDSGEN};
 
-/// The simulate process, killed when the test ends.
-struct Simulating(Child);
-
-impl Drop for Simulating {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// Starts `edsgen simulate` and waits (at most 10 s) until it has announced `nodes` nodes.
-fn simulate(args: &[&str], nodes: usize) -> Simulating {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_edsgen"))
-        .arg("simulate")
-        .args(args)
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("edsgen runs");
-    let stderr = child.stderr.take().expect("stderr is piped");
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let running = Simulating(child);
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let mut announced = Vec::new();
-    while announced.len() < nodes {
-        let left = deadline.saturating_duration_since(Instant::now());
-        let line = rx
-            .recv_timeout(left)
-            .expect("edsgen simulate announces its nodes");
-        if line.starts_with("simulating node") {
-            announced.push(line);
-        }
-    }
+/// Starts `edsgen simulate` and waits until it has announced `nodes` nodes.
+fn simulate(args: &[&str], nodes: usize) -> Process {
+    let (running, announced) = edsgen_simulate(args, nodes);
     assert_eq!(
         announced,
         [
@@ -102,7 +69,7 @@ fn bundled_cards_behave_on_a_hub_for_edsgen_s_master() {
 
 #[test]
 fn an_unknown_card_is_a_usage_error() {
-    let out = Command::new(env!("CARGO_BIN_EXE_edsgen"))
+    let out = Command::new(EDSGEN)
         .args(["simulate", "--card", "cp302"])
         .output()
         .expect("edsgen runs");

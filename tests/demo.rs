@@ -2,11 +2,12 @@
 //! decoded by name, and the command's exit code and summary say so; with `--bus`, the same
 //! workflows against `edsgen simulate --card` through a hub, in real time.
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+mod process_support;
+
+use std::process::Command;
 
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use process_support::edsgen_simulate;
 
 #[test]
 fn every_step_of_the_demo_behaves_as_the_manuals_say() {
@@ -41,39 +42,14 @@ fn the_demo_command_exits_0_with_its_summary() {
     );
 }
 
-/// A child process killed when the test ends.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 #[test]
 fn the_demo_drives_simulated_cards_on_a_bus() {
     let hub = Hub::start("127.0.0.1:0", HubOptions::default()).expect("a hub on loopback");
     let addr = hub.local_addr().to_string();
-    let mut simulate = Command::new(env!("CARGO_BIN_EXE_edsgen"))
-        .args(["simulate", "--card", "cp301@2", "--card", "goodrive350"])
-        .args(["--bus", &addr])
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("edsgen simulate runs");
-    let stderr = simulate.stderr.take().expect("piped");
-    let _simulate = Killed(simulate);
-    let mut lines = BufReader::new(stderr).lines();
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let mut announced = 0;
-    while announced < 2 && Instant::now() < deadline {
-        match lines.next() {
-            Some(Ok(line)) if line.starts_with("simulating node") => announced += 1,
-            Some(Ok(_)) => {}
-            _ => break,
-        }
-    }
-    assert_eq!(announced, 2, "edsgen simulate announces both cards");
+    let _simulate = edsgen_simulate(
+        &["--card", "cp301@2", "--card", "goodrive350", "--bus", &addr],
+        2,
+    );
     let output = Command::new(env!("CARGO_BIN_EXE_edsgen"))
         .args(["demo", "--bus", &addr])
         .output()

@@ -12,10 +12,13 @@
 //!
 //! Run with `EDSGEN_PYTHON_DIFF_JSON=FILE` to get every difference as JSON lines for review.
 
+mod process_support;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::OnceLock;
+
+use process_support::{python, root, skip};
 
 use edsgen_codegen::diag::Severity;
 use edsgen_codegen::{dump, read, validate};
@@ -230,21 +233,6 @@ const KNOWN_DIFFERENCES: &[Known] = &[
 
 // ---------------------------------------------------------------------------------------------
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn ci() -> bool {
-    std::env::var("CI").as_deref() == Ok("true")
-}
-
-/// Skips (returns `None`) with a message, or fails under CI.
-fn skip(why: String) -> Option<PathBuf> {
-    assert!(!ci(), "{why}");
-    eprintln!("skipping: {why}");
-    None
-}
-
 fn corpus() -> Option<PathBuf> {
     let dir = match std::env::var_os("EDSGEN_CORPUS") {
         Some(dir) => PathBuf::from(dir),
@@ -257,32 +245,6 @@ fn corpus() -> Option<PathBuf> {
             "corpus not found at {} (set EDSGEN_CORPUS)",
             dir.display()
         ))
-    }
-}
-
-/// The venv's python: `scripts/python-venv.sh` creates the venv if it is missing and installs the
-/// pinned versions if they are not there (once per test process).
-fn python() -> Option<PathBuf> {
-    static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    let found = PYTHON.get_or_init(|| {
-        let venv_python = root().join(".venv/bin/python");
-        if !venv_python.is_file() && Command::new("python3").arg("--version").output().is_err() {
-            return Err("python3 is not installed".to_owned());
-        }
-        let out = Command::new(root().join("scripts/python-venv.sh"))
-            .output()
-            .map_err(|e| format!("cannot run scripts/python-venv.sh: {e}"))?;
-        if !out.status.success() {
-            return Err(format!(
-                "scripts/python-venv.sh failed:\n{}",
-                String::from_utf8_lossy(&out.stderr)
-            ));
-        }
-        Ok(venv_python)
-    });
-    match found {
-        Ok(python) => Some(python.clone()),
-        Err(why) => skip(why.clone()),
     }
 }
 

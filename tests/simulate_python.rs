@@ -10,152 +10,31 @@
 //!
 //! Every wait is bounded; the simulator is killed when its guard drops.
 
+mod process_support;
 mod sim_support;
 
-use std::io::{BufRead, BufReader, Read};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
-use std::sync::{mpsc, OnceLock};
-use std::time::{Duration, Instant};
+use std::path::Path;
+use std::process::Command;
+use std::time::Duration;
 
 use edsgen::sim::{commissioned_node_id, RuntimeDictionary};
 use edsgen_codegen::model::Device;
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::{Access, DataType, ObjectDictionary};
+use process_support::{corpus_file, edsgen_simulate, python, root, Process, EDSGEN};
 
-const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn ci() -> bool {
-    std::env::var("CI").as_deref() == Ok("true")
-}
-
-/// Skips (returns `None`) with a message, or fails under CI.
-fn skip<T>(why: String) -> Option<T> {
-    assert!(!ci(), "{why}");
-    eprintln!("skipping: {why}");
-    None
-}
-
-/// The venv's python (`scripts/python-venv.sh` makes it on first use).
-fn python() -> Option<PathBuf> {
-    static PYTHON: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    let found = PYTHON.get_or_init(|| {
-        let out = Command::new(root().join("scripts/python-venv.sh"))
-            .output()
-            .map_err(|e| format!("cannot run scripts/python-venv.sh: {e}"))?;
-        if !out.status.success() {
-            return Err(format!(
-                "scripts/python-venv.sh failed:\n{}",
-                String::from_utf8_lossy(&out.stderr)
-            ));
-        }
-        Ok(root().join(".venv/bin/python"))
-    });
-    match found {
-        Ok(python) => Some(python.clone()),
-        Err(why) => skip(why.clone()),
-    }
-}
-
-fn corpus_file(relative: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("EDSGEN_CORPUS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("../shared/eds-corpus"));
-    let path = dir.join(relative);
-    if path.is_file() {
-        Some(path)
-    } else {
-        skip(format!("{} not found (set EDSGEN_CORPUS)", path.display()))
-    }
-}
-
-/// A child process killed (and reaped) when dropped.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// `edsgen simulate ARGS --bus ADDR`, once it says it simulates `devices` nodes.
-fn simulate(args: &[&str], addr: &str, devices: usize) -> Killed {
-    let mut child = Killed(
-        Command::new(EDSGEN)
-            .arg("simulate")
-            .args(args)
-            .args(["--bus", addr])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("edsgen runs"),
-    );
-    let stderr = child.0.stderr.take().expect("piped");
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    let deadline = Instant::now() + Duration::from_secs(20);
-    let mut started = 0;
-    let mut said = Vec::new();
-    while started < devices {
-        let left = deadline.saturating_duration_since(Instant::now());
-        match rx.recv_timeout(left) {
-            Ok(line) => {
-                started += usize::from(line.starts_with("simulating node"));
-                said.push(line);
-            }
-            Err(_) => panic!("edsgen simulate did not start: {said:?}"),
-        }
-    }
-    child
-}
-
-/// Runs `python script args`, at most 60 s; its standard output's lines.
+/// `scripts/canopen_master.py ARGS` to its end (at most 60 s): its standard output's lines.
 fn run_python(python: &Path, args: &[&str]) -> Vec<String> {
-    let mut child = Killed(
-        Command::new(python)
-            .arg(root().join("scripts/canopen_master.py"))
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("python runs"),
+    let master = Process::python(python, "scripts/canopen_master.py", args);
+    let exited = master.finish(Duration::from_secs(60));
+    assert_eq!(
+        exited.code,
+        Some(0),
+        "python master failed:\n{}\n{}",
+        exited.stdout,
+        exited.stderr
     );
-    let deadline = Instant::now() + Duration::from_secs(60);
-    let status = loop {
-        if let Some(status) = child.0.try_wait().expect("wait") {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "python master timed out");
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let (mut out, mut err) = (String::new(), String::new());
-    child
-        .0
-        .stdout
-        .take()
-        .unwrap()
-        .read_to_string(&mut out)
-        .unwrap();
-    child
-        .0
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
-    assert!(status.success(), "python master failed:\n{out}\n{err}");
-    out.lines().map(str::to_owned).collect()
+    exited.stdout.lines().map(str::to_owned).collect()
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -376,7 +255,8 @@ fn python_masters_all(devices: &[(&Path, Option<u8>)], trace: Option<&Path>) {
     .expect("the hub starts");
     let addr = hub.local_addr().to_string();
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let sim = simulate(&args, &addr, devices.len());
+    let bus = ["--bus", &addr];
+    let (sim, _) = edsgen_simulate(&[args.as_slice(), &bus].concat(), devices.len());
     let (host, port) = addr.rsplit_once(':').unwrap();
     let running: Vec<_> = masters
         .into_iter()

@@ -5,8 +5,10 @@
 //! devices hear one another), until the process is stopped or the bus goes away.
 //!
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
-//! DCF's `[DeviceComissioning]` NodeID. A card's is its `@ID`, else its default (cp301 1, ms300 2,
-//! goodrive350 3, rd11 4, hd1e 5). `--trace` prints every frame on the bus decoded
+//! DCF's `[DeviceComissioning]` NodeID. A FILE's overlay (`NAME.toml` beside it) applies, as in
+//! `edsgen generate`: its strings and domains hold what the generated `Od` would. A card's
+//! node-ID is its `@ID`, else its default (cp301 1, ms300 2, goodrive350 3, rd11 4, hd1e 5).
+//! `--trace` prints every frame on the bus decoded
 //! ([`edsgen::decode`]), as a further listening connection sees it. With python `canopen` as the
 //! master (some lines left out):
 //!
@@ -25,7 +27,7 @@
 //! ```
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
@@ -40,6 +42,7 @@ use super::{fail, parse_node_id, read_device};
 use edsgen::decode::Decoder;
 use edsgen::drives::{Card, CARDS};
 use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
+use edsgen_codegen::model::Device;
 
 /// The hub `edsgen bus` listens on by default.
 pub const DEFAULT_BUS: &str = "127.0.0.1:29536";
@@ -81,7 +84,7 @@ pub struct Args {
 struct Planned {
     path: PathBuf,
     node_id: u8,
-    device: edsgen_codegen::model::Device,
+    device: Device,
     /// A bundled card's simulated drive, instead of a node serving the model.
     card: Option<&'static Card>,
 }
@@ -216,6 +219,29 @@ impl std::fmt::Display for Bus<'_> {
     }
 }
 
+/// `device` with the overlay beside `path` applied, if there is one, so that its strings and
+/// domains hold what the generated `Od` would ([`edsgen_codegen::overlay`]); or the overlay's
+/// errors, rendered.
+fn with_overlay(path: &Path, mut device: Device) -> Result<Device, String> {
+    let overlay = edsgen_codegen::overlay::path_for(path);
+    if !overlay.is_file() {
+        return Ok(device);
+    }
+    let shown = overlay.display().to_string();
+    let text = std::fs::read_to_string(&overlay)
+        .map_err(|e| format!("cannot read the overlay `{shown}`: {e}"))?;
+    let diags = edsgen_codegen::overlay::apply(&text, &mut device);
+    if diags.is_empty() {
+        Ok(device)
+    } else {
+        let rendered = edsgen_codegen::render::human(&shown, &text, &diags, false);
+        Err(format!(
+            "the overlay `{shown}` cannot be applied:\n{}",
+            rendered.trim_end()
+        ))
+    }
+}
+
 /// The devices of the command line with their node-IDs, or what is wrong.
 fn plan(args: &Args) -> Result<Vec<Planned>, String> {
     if args.node_id.len() > args.files.len() {
@@ -235,7 +261,7 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
             None => (arg.as_str(), args.node_id.get(i).copied()),
         };
         let path = PathBuf::from(path);
-        let device = read_device(&path)?;
+        let device = with_overlay(&path, read_device(&path)?)?;
         let node_id = match (given, commissioned_node_id(&device)) {
             (Some(id), _) => id,
             (None, Some(id)) => u8::try_from(id)
