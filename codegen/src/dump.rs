@@ -26,6 +26,7 @@ pub fn to_json(device: &Device) -> Json {
         TextEncoding::Utf8 => "utf-8",
         TextEncoding::Utf8Bom => "utf-8-bom",
         TextEncoding::Windows1252 => "windows-1252",
+        TextEncoding::Latin1 => "iso-8859-1",
         TextEncoding::Utf16Le => "utf-16le",
         TextEncoding::Utf16Be => "utf-16be",
     };

@@ -169,7 +169,7 @@ fn raw_section<'a>(device: &'a Device, name: &str) -> Option<&'a RawSection> {
 }
 
 /// A short list of items for a message: the first few, then "and N more".
-fn short_list(items: &[String]) -> String {
+pub(crate) fn short_list(items: &[String]) -> String {
     const SHOWN: usize = 4;
     if items.len() <= SHOWN {
         items.join(", ")
