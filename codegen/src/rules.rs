@@ -179,7 +179,7 @@ rules! {
     ESI_PROFILE = "EDS804" Warning "a device with a CoE dictionary but no Profile/ProfileNo";
     ESI_UNKNOWN_TYPE = "EDS805" Error "a Type that is neither an IEC 61131 type, STRING(n), ARRAY [..] OF .., nor a DataType of the Dictionary (the entry has no data type)";
     ESI_DUPLICATE_OBJECT = "EDS806" Error "an object index, or a DataType name, described twice in the Dictionary; the last one wins";
-    ESI_PDO_ENTRY_MISSING = "EDS807" Error "a PDO Entry names an object or sub-index the Dictionary does not have";
+    ESI_PDO_ENTRY_MISSING = "EDS807" Error "a PDO Entry names an object or sub-index the Dictionary does not have (warning for a device with Slots, whose modules may add the object)";
     ESI_PDO_ENTRY_LENGTH = "EDS808" Error "a PDO Entry's BitLen differs from the bit size of the object it maps";
     ESI_PDO_ALIGNMENT = "EDS809" Warning "a PDO Entry of 8 bits or more that does not start on a byte boundary of its PDO (ethercrab's wire types need byte alignment)";
     ESI_SM_OVERFLOW = "EDS810" Error "the PDOs assigned to a SyncManager by default hold more bytes than its DefaultSize";

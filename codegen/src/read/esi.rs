@@ -323,6 +323,21 @@ fn data_value(bytes: &[u8], basic: BasicType) -> Option<Value> {
     }
 }
 
+/// A `#xFFFD` written for a signed type: the two's-complement value (-3 for an INT), as the
+/// type's bit pattern means; other values unchanged.
+fn twos_complement(value: i128, basic: BasicType) -> i128 {
+    match (basic.integer_range(), basic.bits()) {
+        (Some((_, high)), Some(bits)) if basic.is_signed_integer() && value > high => {
+            if value < 1i128 << bits {
+                value - (1i128 << bits)
+            } else {
+                value
+            }
+        }
+        _ => value,
+    }
+}
+
 /// What one entry's elements say (an object's, or one SubItem's with the object's as fallback).
 struct EntryFacts<'a, 'input> {
     name: String,
@@ -600,6 +615,18 @@ impl<'a, 'input> EsiReader<'a, 'input> {
         if let Some(slots) = child(node, "Slots") {
             let count = children(slots, "Slot").count();
             let span = self.span(slots);
+            let entries = children(slots, "Slot")
+                .map(|slot| RawEntry {
+                    key: "Slot".to_owned(),
+                    value: language_name(slot, "Name").unwrap_or_default(),
+                    span: self.span(slot),
+                })
+                .collect();
+            device.other_sections.push(RawSection {
+                name: "Slots".to_owned(),
+                entries,
+                span,
+            });
             self.push(Diagnostic::new(
                 &rules::ESI_MODULES,
                 Some(span),
@@ -1152,7 +1179,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                         Some(Value::Text(raw.clone()))
                     }
                     Some(b) if b.is_integer() || b == BasicType::Boolean => {
-                        parse_number(&raw).map(Value::Integer)
+                        parse_number(&raw).map(|v| Value::Integer(twos_complement(v, b)))
                     }
                     Some(b) if b.is_real() => raw.trim().parse().ok().map(Value::Real),
                     _ => None,
@@ -1254,6 +1281,8 @@ mod tests {
             Some(Value::Integer(-1))
         );
         assert_eq!(data_value(&[1, 2, 3], BasicType::Unsigned16), None);
+        assert_eq!(twos_complement(0xFFFD, BasicType::Integer16), -3);
+        assert_eq!(twos_complement(0xFFFD, BasicType::Unsigned16), 0xFFFD);
         assert_eq!(
             data_value(b"EL1004\0", BasicType::VisibleString),
             Some(Value::Text("EL1004".to_owned()))
