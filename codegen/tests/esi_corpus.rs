@@ -92,7 +92,11 @@ fn every_corpus_esi_file_reads_as_its_manifest_says() {
             .iter()
             .any(|d| std::ptr::eq(d.rule, &rules::XML_MALFORMED))
         {
-            assert!(row.quirks.contains("MALFORMED"), "{}: not well-formed", row.file);
+            assert!(
+                row.quirks.contains("MALFORMED"),
+                "{}: not well-formed",
+                row.file
+            );
             continue;
         }
         let all = esi::read_all(&path, &bytes);
