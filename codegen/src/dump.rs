@@ -68,7 +68,7 @@ fn ethercat(ec: &EtherCat) -> Json {
             "fixed": p.fixed,
             "mandatory": p.mandatory,
             "exclude": p.exclude.iter().map(|e| e.value).collect::<Vec<_>>(),
-            "bits": p.entries.iter().map(|e| u32::from(e.bit_len)).sum::<u32>(),
+            "bits": p.entries.iter().map(|e| u64::from(e.bit_len)).sum::<u64>(),
             "entries": p.entries.iter().map(|e| json!({
                 "index": e.index,
                 "sub": e.sub,

@@ -253,8 +253,9 @@ fn elementary(name: &str) -> Option<(BasicType, Option<usize>)> {
         return Some((BasicType::VisibleString, Some(n.trim().parse().ok()?)));
     }
     let (low, high, base) = array_bounds(&upper)?;
+    let length = high.checked_sub(low)?.checked_add(1)?;
     matches!(base.as_str(), "BYTE" | "USINT")
-        .then(|| (BasicType::OctetString, usize::try_from(high - low + 1).ok()))
+        .then(|| (BasicType::OctetString, usize::try_from(length).ok()))
 }
 
 /// `ARRAY [a..b] OF T` as (a, b, T).
@@ -1046,8 +1047,19 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 object.object_type = ObjectType::Array;
                 let element_bits = bit_size.filter(|_| count > 0).map(|b| b / count.max(1));
                 let first = sub_idx.unwrap_or(lbound);
-                for k in 0..count {
-                    let sub = first + k;
+                // Sub-indices end at 255: an array that would go past it is cut there.
+                let last = first.saturating_add(count).min(256);
+                if first.saturating_add(count) > 256 {
+                    self.push(Diagnostic::new(
+                        &rules::XML_BAD_ATTRIBUTE,
+                        Some(item_span),
+                        format!(
+                            "{:04X}h: {count} elements from sub-index {first} go past sub-index 255; the rest is skipped",
+                            object.index
+                        ),
+                    ));
+                }
+                for sub in first..last {
                     planned.push((
                         sub,
                         format!("SubIndex {sub:03}"),
@@ -1057,7 +1069,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                         item_span,
                     ));
                 }
-                next = first + count;
+                next = last;
             } else {
                 let sub = sub_idx.unwrap_or(next);
                 planned.push((
@@ -1068,7 +1080,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                     item_flags,
                     item_span,
                 ));
-                next = sub + 1;
+                next = sub.saturating_add(1);
             }
         }
         let count = planned.len();

@@ -93,10 +93,10 @@ fn entries(device: &Device, kind: &str, pdo: &EcPdo, out: &mut Vec<Diagnostic>) 
     let name = pdo_name(kind, pdo);
     // A module plugged into a slot may add the object: only a warning then.
     let modular = device.other_sections.iter().any(|s| s.name == "Slots");
-    let mut offset: u32 = 0;
+    let mut offset: u64 = 0;
     for entry in &pdo.entries {
         let at = offset;
-        offset += u32::from(entry.bit_len);
+        offset += u64::from(entry.bit_len);
         if entry.bit_len >= 8 && at % 8 != 0 {
             out.push(
                 Diagnostic::new(
@@ -255,13 +255,13 @@ fn assignment(ec: &EtherCat, pdos: &[(&str, &EcPdo)], out: &mut Vec<Diagnostic>)
             .map(|(_, p)| *p)
             .filter(|p| p.sm.map(usize::from) == Some(number))
             .collect();
-        let bits: u32 = assigned
+        let bits: u64 = assigned
             .iter()
             .flat_map(|p| &p.entries)
-            .map(|e| u32::from(e.bit_len))
+            .map(|e| u64::from(e.bit_len))
             .sum();
         let bytes = bits.div_ceil(8);
-        if bytes > u32::from(size) {
+        if bytes > u64::from(size) {
             let names: Vec<String> = assigned
                 .iter()
                 .map(|p| format!("{:04X}h", p.index))
