@@ -626,3 +626,48 @@ fn eds802_slots_are_reported() {
         )]
     );
 }
+
+#[test]
+fn cut_and_corrupted_files_read_without_a_panic() {
+    let text = drive();
+    let mut inputs: Vec<String> = (0..text.len())
+        .step_by(97)
+        .filter_map(|cut| text.get(..cut).map(str::to_owned))
+        .collect();
+    for (from, to) in [
+        ("<Elements>2</Elements>", "<Elements>4294967295</Elements>"),
+        ("<LBound>1</LBound>", "<LBound>4294967295</LBound>"),
+        ("<SubIdx>2</SubIdx>", "<SubIdx>4294967295</SubIdx>"),
+        ("<BitLen>32</BitLen>", "<BitLen>65535</BitLen>"),
+        ("<Index>#x1600</Index>", "<Index>#x-1</Index>"),
+        ("STRING(8)", "STRING(99999999999999999999)"),
+        (
+            "<Type>UINT</Type>",
+            "<Type>ARRAY [-9223372036854775808..9223372036854775807] OF BYTE</Type>",
+        ),
+        (
+            "<DefaultData>92010200</DefaultData>",
+            "<DefaultData>9201020</DefaultData>",
+        ),
+        ("<BaseType>SINT</BaseType>", "<BaseType>DT6060EN</BaseType>"),
+    ] {
+        inputs.push(edit(from, to));
+    }
+    for input in &inputs {
+        let read = read(input);
+        let _ = validate::validate(&read.device);
+        let _ = edsgen_codegen::dump::to_json(&read.device);
+    }
+    // The cyclic BaseType is an unknown type, not a loop.
+    let cyclic = edit("<BaseType>SINT</BaseType>", "<BaseType>DT6060EN</BaseType>");
+    assert_eq!(
+        findings(&cyclic),
+        vec![(
+            "EDS805",
+            Error,
+            201,
+            "type `DT6060EN` is neither an IEC 61131 type nor a DataType of the Dictionary"
+                .to_owned()
+        )]
+    );
+}
