@@ -671,3 +671,14 @@ fn cut_and_corrupted_files_read_without_a_panic() {
         )]
     );
 }
+
+#[test]
+fn profile_numbers_are_collected_from_channels_without_repeats() {
+    let text = edit(
+        "<ProfileNo>402</ProfileNo>",
+        "<ChannelInfo><ProfileNo>402</ProfileNo></ChannelInfo>\
+         <ChannelInfo><ProfileNo>402</ProfileNo><ProfileNo>5001</ProfileNo></ChannelInfo>",
+    );
+    let ec = read(&text).device.ethercat.expect("EtherCAT part");
+    assert_eq!(ec.profiles, vec![402, 5001]);
+}

@@ -397,7 +397,11 @@ impl<'a, 'input> EsiReader<'a, 'input> {
 
     /// A child element's text as a number, with an `EDS604` error when it is not one.
     fn child_number(&mut self, node: Node, name: &str) -> Option<i128> {
-        let item = child(node, name)?;
+        self.element_number(child(node, name)?)
+    }
+
+    /// An element's text as a number, with an `EDS604` error when it is not one.
+    fn element_number(&mut self, item: Node) -> Option<i128> {
         let text = element_text(item).unwrap_or_default();
         let number = parse_number(&text);
         if number.is_none() {
@@ -405,7 +409,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             self.push(Diagnostic::new(
                 &rules::XML_BAD_ATTRIBUTE,
                 Some(span),
-                format!("`{name}` is `{text}`, not a number"),
+                format!("`{}` is `{text}`, not a number", local(item)),
             ));
         }
         number
@@ -572,11 +576,10 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 .descendants()
                 .filter(|n| is_element(*n, "ProfileNo"))
             {
-                if let Some(n) = self.child_number(number.parent().unwrap_or(number), "ProfileNo") {
-                    if let Ok(n) = u32::try_from(n) {
-                        if !ec.profiles.contains(&n) {
-                            ec.profiles.push(n);
-                        }
+                let value = self.element_number(number);
+                if let Some(n) = value.and_then(|n| u32::try_from(n).ok()) {
+                    if !ec.profiles.contains(&n) {
+                        ec.profiles.push(n);
                     }
                 }
             }
