@@ -77,30 +77,23 @@ pub fn read_file_device(path: &Path, device: Option<&str>) -> Result<Read, ReadE
     Ok(read_bytes_device(path, &bytes, device))
 }
 
-/// [`read_bytes`] with a device choice, as [`read_file_device`].
-pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Read {
-    match device {
-        Some(choice)
-            if detect_format(path, bytes) == Format::Esi
-                && not_a_description(path, bytes).is_none() =>
-        {
-            let mut read = esi::read_device(path, bytes, Some(&esi::DeviceChoice::parse(choice)));
-            value::aggregate_dialects(&mut read.diagnostics);
-            read
-        }
-        _ => read_bytes(path, bytes),
-    }
-}
-
 /// Reads a description from bytes; `path` names it (and its extension picks the format).
 pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
+    read_bytes_device(path, bytes, None)
+}
+
+/// [`read_bytes`] with a device choice, as [`read_file_device`].
+pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Read {
     if let Some(read) = not_a_description(path, bytes) {
         return read;
     }
     let mut read = match detect_format(path, bytes) {
         Format::Eds | Format::Dcf => eds::read(path, bytes),
         Format::Xdd | Format::Xdc => xdd::read(path, bytes),
-        Format::Esi => esi::read(path, bytes),
+        Format::Esi => {
+            let choice = device.map(esi::DeviceChoice::parse);
+            esi::read_device(path, bytes, choice.as_ref())
+        }
     };
     if read.device.source.encoding == TextEncoding::Windows1252 {
         if let Some(guess) = dos_code_page_guess(bytes) {
