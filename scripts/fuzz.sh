@@ -12,8 +12,9 @@
 # Seeds are copied at run time into fuzz/corpus/<target>/ (git-ignored): for eds the bundled cards
 # (eds/*.eds) and the corpus's *.eds/*.dcf files up to the length limit; for xml the corpus's
 # *.xdd/*.xdc files, each shrunk to fit the limit by fuzz/shrink_xml.py (a cut XML file is not
-# well-formed, so it would only exercise the parser). The corpus is EDSGEN_CORPUS, else
-# ../shared/eds-corpus. Findings land in fuzz/artifacts/<target>/ (git-ignored too).
+# well-formed, so it would only exercise the parser), plus codegen/tests/esi/*.xml and the ESI
+# corpus's files under the limit. The corpus is EDSGEN_CORPUS, else ../shared/eds-corpus (the ESI
+# corpus EDSGEN_ESI_CORPUS, else ../shared/esi-corpus). Findings land in fuzz/artifacts/<target>/ (git-ignored too).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -23,6 +24,7 @@ seconds=${2:-900}
 sanitizer=${FUZZ_SANITIZER:-none}
 max_len=65536
 corpus_src=${EDSGEN_CORPUS:-$root/../shared/eds-corpus}
+esi_corpus_src=${EDSGEN_ESI_CORPUS:-$root/../shared/esi-corpus}
 
 case "$target" in
 eds | xml | node) targets=("$target") ;;
@@ -56,6 +58,15 @@ seed() {
             find "$corpus_src" -type f \( -iname '*.xdd' -o -iname '*.xdc' \) -print0 |
                 while IFS= read -r -d '' f; do
                     python3 fuzz/shrink_xml.py "$f" "$dir/$(basename "$(dirname "$f")")__$(basename "$f")" "$max_len"
+                done
+        fi
+        # ESI files (read by the same target through `fuzz.xml`): the project's own, and the
+        # ESI corpus's that fit the limit.
+        cp codegen/tests/esi/*.xml "$dir"/
+        if [ -d "$esi_corpus_src" ]; then
+            find "$esi_corpus_src" -type f \( -iname '*.xml' -o -iname '*.esi' \) -size -"$max_len"c -print0 |
+                while IFS= read -r -d '' f; do
+                    cp "$f" "$dir/esi__$(basename "$f")"
                 done
         fi
         ;;
