@@ -172,6 +172,14 @@ macro_rules! ethercrab_wire {
                 [0; <$ty as $crate::ethercat::ProcessData>::LEN]
             }
         }
+        impl $crate::ethercat::ethercrab::wire::EtherCrabWireWriteSized for $ty {
+            fn pack(&self) -> Self::Buffer {
+                let mut buf = [0; <$ty as $crate::ethercat::ProcessData>::LEN];
+                // As pack_to_slice_unchecked: all zeros if a value is out of its mapped range.
+                let _ = $crate::ethercat::ProcessData::write_to(self, &mut buf, 0);
+                buf
+            }
+        }
     };
 }
 

@@ -63,7 +63,10 @@ fn identity(device: &Device, ec: &EtherCat, out: &mut Vec<Diagnostic>) {
                 Diagnostic::new(
                     &rules::ESI_IDENTITY,
                     Some(ec.span),
-                    format!("device `{}` has {what} (or it is not a number)", ec.type_name),
+                    format!(
+                        "device `{}` has {what} (or it is not a number)",
+                        ec.type_name
+                    ),
                 )
                 .with_label("a master identifies the device by it")
                 .with_help(help),
