@@ -45,7 +45,11 @@ enum Command {
         /// Hide infos (`--min-severity warning`).
         #[arg(short, long, conflicts_with = "min_severity")]
         quiet: bool,
-        /// Description files (.eds, .dcf, .xdd, .xdc).
+        /// For an ESI file with several devices: the one to read, by type name or product code
+        /// (`#x00009252`); the first by default.
+        #[arg(long, value_name = "NAME|#xCODE")]
+        device: Option<String>,
+        /// Description files (.eds, .dcf, .xdd, .xdc, .xml/.esi for ESI).
         #[arg(required = true)]
         files: Vec<PathBuf>,
     },
@@ -54,6 +58,10 @@ enum Command {
         /// Output format (only JSON).
         #[arg(long, value_enum, default_value_t = DumpFormat::Json)]
         format: DumpFormat,
+        /// For an ESI file with several devices: the one to read, by type name or product code
+        /// (`#x00009252`); the first by default.
+        #[arg(long, value_name = "NAME|#xCODE")]
+        device: Option<String>,
         /// The description file.
         file: PathBuf,
     },
@@ -67,6 +75,10 @@ enum Command {
         /// The module name (default: from the file name).
         #[arg(long)]
         module: Option<String>,
+        /// For an ESI file with several devices: the one to read, by type name or product code
+        /// (`#x00009252`); the first by default.
+        #[arg(long, value_name = "NAME|#xCODE")]
+        device: Option<String>,
     },
     /// List every validation rule: code, severity and meaning.
     Rules {
@@ -160,6 +172,7 @@ fn main() -> ExitCode {
             allow,
             min_severity,
             quiet,
+            device,
             files,
         } => {
             let min = if quiet {
@@ -168,18 +181,31 @@ fn main() -> ExitCode {
                 min_severity.into()
             };
             match cmd::validate::policy_or_exit(&allow, &deny, min) {
-                Ok(policy) => {
-                    cmd::validate::run(matches!(format, OutputFormat::Json), &policy, &files)
-                }
+                Ok(policy) => cmd::validate::run(
+                    matches!(format, OutputFormat::Json),
+                    &policy,
+                    &files,
+                    device.as_deref(),
+                ),
                 Err(code) => code,
             }
         }
-        Command::Dump { format: _, file } => cmd::dump::run(&file),
+        Command::Dump {
+            format: _,
+            device,
+            file,
+        } => cmd::dump::run(&file, device.as_deref()),
         Command::Generate {
             file,
             output,
             module,
-        } => cmd::generate::run(&file, output.as_deref(), module.as_deref()),
+            device,
+        } => cmd::generate::run(
+            &file,
+            output.as_deref(),
+            module.as_deref(),
+            device.as_deref(),
+        ),
         Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
         Command::Explain { code } => cmd::rules::explain(&code),
         Command::Sdo { command } => cmd::sdo::run(&command),

@@ -604,3 +604,35 @@ fn a_clean_validate_means_generate_succeeds() {
         }
     }
 }
+
+#[test]
+fn device_picks_one_device_of_an_esi_file() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/codegen/tests/esi/drive.xml");
+    for choice in ["TD-2", "#x00009253"] {
+        let out = run(&["dump", "--device", choice, path]);
+        assert_eq!(code(&out), 0, "{choice}");
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["format"], "esi");
+        assert_eq!(json["ethercat"]["type_name"], "TD-2");
+        assert_eq!(json["ethercat"]["other_devices"][0]["type_name"], "TD-1");
+        assert_eq!(json["device_info"]["product_number"], 0x9253);
+    }
+    // The first device by default.
+    let out = run(&["dump", path]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["ethercat"]["type_name"], "TD-1");
+    assert_eq!(json["ethercat"]["rx_pdos"][0]["bits"], 56);
+    // A choice no device matches: an error, listing the devices, for each command.
+    for command in ["validate", "dump", "generate"] {
+        let out = run(&[command, "--device", "TD-9", path]);
+        assert_eq!(code(&out), 1, "{command}");
+        let all = String::from_utf8_lossy(&[out.stdout, out.stderr].concat()).into_owned();
+        assert!(
+            all.contains(
+                "error[EDS801]: no device of the file is named `TD-9`; it has TD-1 (#x00009252), \
+                 TD-2 (#x00009253)"
+            ),
+            "{command}: {all}"
+        );
+    }
+}

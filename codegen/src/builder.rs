@@ -223,7 +223,19 @@ pub fn generate_device(
     module: &str,
     allowed: &[&str],
 ) -> Result<(String, Vec<String>), String> {
-    let mut read = read::read_file(path).map_err(|err| format!("error: edsgen: {err}\n"))?;
+    generate_chosen_device(path, None, module, allowed)
+}
+
+/// [`generate_device`] for one device of an ESI file that describes several, chosen by type name
+/// or `#x` product code (see [`read::read_file_device`]); `None` is the first.
+pub fn generate_chosen_device(
+    path: &Path,
+    device: Option<&str>,
+    module: &str,
+    allowed: &[&str],
+) -> Result<(String, Vec<String>), String> {
+    let mut read =
+        read::read_file_device(path, device).map_err(|err| format!("error: edsgen: {err}\n"))?;
     let name = path.display().to_string();
     let overlay_path = overlay::path_for(path);
     let overlay_errors = if overlay_path.is_file() {

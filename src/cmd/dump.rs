@@ -8,9 +8,9 @@ use edsgen_codegen::{dump, read, render};
 
 use super::{fail, print_stdout};
 
-/// Runs `edsgen dump FILE`.
-pub fn run(path: &Path) -> ExitCode {
-    let read = match read::read_file(path) {
+/// Runs `edsgen dump FILE [--device NAME|#xCODE]`.
+pub fn run(path: &Path, device: Option<&str>) -> ExitCode {
+    let read = match read::read_file_device(path, device) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };

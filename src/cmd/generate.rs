@@ -7,14 +7,19 @@ use edsgen_codegen::builder;
 
 use super::{fail, print_stdout};
 
-/// Runs `edsgen generate FILE [-o OUT] [--module NAME]`.
-pub fn run(path: &Path, output: Option<&Path>, module: Option<&str>) -> ExitCode {
+/// Runs `edsgen generate FILE [-o OUT] [--module NAME] [--device NAME|#xCODE]`.
+pub fn run(
+    path: &Path,
+    output: Option<&Path>,
+    module: Option<&str>,
+    device: Option<&str>,
+) -> ExitCode {
     if !path.is_file() {
         return fail(format!("cannot read `{}`: not a file", path.display()));
     }
     let module = module.map_or_else(|| builder::default_module(path), str::to_owned);
     // The same function build.rs runs, overlay included: the output is what build.rs would write.
-    let code = match builder::generate_device(path, &module, &[]) {
+    let code = match builder::generate_chosen_device(path, device, &module, &[]) {
         Ok((code, warnings)) => {
             for warning in warnings {
                 eprint!("{warning}");

@@ -76,14 +76,14 @@ struct Tally {
 }
 
 /// Runs `edsgen validate`.
-pub fn run(json: bool, policy: &Policy, files: &[PathBuf]) -> ExitCode {
+pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>) -> ExitCode {
     let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
     let mut tally = Tally::default();
     let mut all_json = Vec::new();
     let mut out = std::io::stdout().lock();
     for path in files {
         let name = path.display().to_string();
-        let read = match read::read_file(path) {
+        let read = match read::read_file_device(path, device) {
             Ok(read) => read,
             Err(err) => {
                 tally.unreadable += 1;

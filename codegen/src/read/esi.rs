@@ -508,11 +508,13 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                     &rules::ESI_NO_DEVICE,
                     Some(root_span),
                     format!(
-                        "no device of the file is {}; it has {}",
+                        "no device of the file {}; it has {}",
                         match choice {
-                            Some(DeviceChoice::ProductCode(c)) => format!("product code #x{c:08X}"),
-                            Some(DeviceChoice::TypeName(n)) => format!("named `{n}`"),
-                            _ => "at that position".to_owned(),
+                            Some(DeviceChoice::ProductCode(c)) => {
+                                format!("has product code #x{c:08X}")
+                            }
+                            Some(DeviceChoice::TypeName(n)) => format!("is named `{n}`"),
+                            _ => "is at that position".to_owned(),
                         },
                         crate::validate::short_list(&names)
                     ),

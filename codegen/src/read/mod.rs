@@ -36,13 +36,19 @@ pub enum ReadError {
 }
 
 impl Read {
-    /// Whether nothing could be read: the file is empty, not text, or not well-formed XML. The
-    /// model is then empty, and showing it (`edsgen dump`) would say nothing true.
+    /// Whether nothing could be read: the file is empty, not text, or not well-formed XML, or an
+    /// ESI file has no device (or none the choice names). The model is then empty, and showing
+    /// it (`edsgen dump`) would say nothing true.
     pub fn nothing_read(&self) -> bool {
         self.diagnostics.iter().any(|d| {
-            [&rules::EMPTY_FILE, &rules::NOT_TEXT, &rules::XML_MALFORMED]
-                .iter()
-                .any(|rule| std::ptr::eq(d.rule, *rule))
+            [
+                &rules::EMPTY_FILE,
+                &rules::NOT_TEXT,
+                &rules::XML_MALFORMED,
+                &rules::ESI_NO_DEVICE,
+            ]
+            .iter()
+            .any(|rule| std::ptr::eq(d.rule, *rule))
         })
     }
 }

@@ -232,9 +232,9 @@ fn excludes(pdos: &[(&str, &EcPdo)], out: &mut Vec<Diagnostic>) {
                         ),
                     )
                     .with_label("excluded, yet assigned")
-                    .with_help(format!(
-                        "remove `Sm` from one of the two so that the default assignment is valid"
-                    )),
+                    .with_help(
+                        "remove `Sm` from one of the two so that the default assignment is valid",
+                    ),
                 );
             }
         }

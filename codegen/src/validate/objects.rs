@@ -630,7 +630,8 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
             .with_label("name too long"),
         );
     }
-    if needs_var_keys(o, sub) {
+    // An ESI reader reports a type or access it cannot read itself (EDS805, EDS604).
+    if needs_var_keys(o, sub) && device.source.format != Format::Esi {
         let missing: Vec<&str> = [
             (sub.data_type.is_none(), "DataType"),
             (sub.access.is_none(), "AccessType"),
