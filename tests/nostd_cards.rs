@@ -21,7 +21,11 @@ fn cards_build_for_thumbv7em() {
         return;
     }
     let cards = card_files();
-    assert_eq!(cards.len(), 6, "the five EDS cards and the ESI card in eds/");
+    assert_eq!(
+        cards.len(),
+        6,
+        "the five EDS cards and the ESI card in eds/"
+    );
     let modules: Vec<_> = cards
         .iter()
         .map(|path| {

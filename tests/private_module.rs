@@ -17,7 +17,11 @@ fn generated_modules_in_a_private_module_compile_without_warnings() {
             (module, code)
         })
         .collect();
-    assert_eq!(modules.len(), 6, "the five EDS cards and the ESI card in eds/");
+    assert_eq!(
+        modules.len(),
+        6,
+        "the five EDS cards and the ESI card in eds/"
+    );
     let index = write_modules("private-module", &modules);
     build_compile_check_with(&index, None, "private-module", &["private"]);
 }
