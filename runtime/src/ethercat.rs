@@ -5,7 +5,7 @@
 //!
 //! With the `ethercrab` feature, generated process-image structs are also ethercrab-wire types
 //! (`subdevice.inputs_raw()` bytes decode into them, they pack into `outputs_raw_mut()`), and
-//! [`ethercrab::SdoExt`] reads and writes typed addresses (`od::CONTROL_WORD`) over CoE.
+//! `ethercrab::SdoExt` reads and writes typed addresses (`od::CONTROL_WORD`) over CoE.
 
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;
