@@ -53,3 +53,22 @@ fn an_esi_device_gets_no_canopen_pdo_items() {
         assert!(code.contains(item), "{item} missing");
     }
 }
+
+#[test]
+fn two_output_sync_managers_get_an_image_each_named_by_number() {
+    let mut device = ethercat_like();
+    let ec = device.ethercat.as_mut().unwrap();
+    ec.rx_pdos[1].sm = Some(4);
+    let code = emit::generate(&device, "ec_hand").expect("generates");
+    for item in [
+        "pub struct Sm2Outputs",
+        "pub struct Sm4Outputs",
+        "pub struct Inputs",
+    ] {
+        assert!(code.contains(item), "{item} missing");
+    }
+    assert!(!code.contains("pub struct Outputs"));
+    // 1602h excludes 1601h, which is on SM4 now: both are in images.
+    assert!(!code.contains("excluded by a PDO above"));
+    assert!(code.contains("pub rx_pdo_1602: RxPdo1602"));
+}
