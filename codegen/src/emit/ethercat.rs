@@ -344,7 +344,7 @@ fn at_plus(offset: u32) -> TokenStream {
 
 /// The private `put`, `get` and (for narrow fields) `check` of one PDO struct.
 fn pdo_methods(p: &PdoPlan) -> TokenStream {
-    let typed = quote!(::edsgen_runtime::typed);
+    let typed = quote!(::edsgen_runtime::support);
     let mut puts = Vec::new();
     let mut gets = Vec::new();
     let mut checks = Vec::new();
@@ -551,7 +551,7 @@ fn emit_item(
 
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<#len>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<#len>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
 

@@ -370,78 +370,79 @@ pub mod ec_hand {
             }
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<18>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<18>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at,
                     16,
                     u64::from(self.control_word),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at + 19,
                     1,
                     u64::from(self.enable),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at + 20,
                     12,
                     i64::from(self.offset) as u64,
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at + 32,
                     32,
                     i64::from(self.target_position) as u64,
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at + 64,
                     8,
                     i64::from(self.mode_of_operation) as u64,
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at + 72,
                     2,
                     u64::from(self.select),
                 );
-                ::edsgen_runtime::typed::put_bits(buf, at + 74, 64, self.counter);
+                ::edsgen_runtime::support::put_bits(buf, at + 74, 64, self.counter);
             }
             /// Reads the fields from bit `at` (bits beyond `buf` read as zero).
             fn get(buf: &[u8], at: usize) -> Self {
                 Self {
-                    control_word: ::edsgen_runtime::typed::get_bits(buf, at, 16) as u16,
-                    enable: ::edsgen_runtime::typed::get_bits(buf, at + 19, 1) != 0,
-                    offset: ::edsgen_runtime::typed::sign_extend(
-                        ::edsgen_runtime::typed::get_bits(buf, at + 20, 12),
+                    control_word: ::edsgen_runtime::support::get_bits(buf, at, 16)
+                        as u16,
+                    enable: ::edsgen_runtime::support::get_bits(buf, at + 19, 1) != 0,
+                    offset: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(buf, at + 20, 12),
                         12,
                     ) as i32,
-                    target_position: ::edsgen_runtime::typed::sign_extend(
-                        ::edsgen_runtime::typed::get_bits(buf, at + 32, 32),
+                    target_position: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(buf, at + 32, 32),
                         32,
                     ) as i32,
-                    mode_of_operation: ::edsgen_runtime::typed::sign_extend(
-                        ::edsgen_runtime::typed::get_bits(buf, at + 64, 8),
+                    mode_of_operation: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(buf, at + 64, 8),
                         8,
                     ) as i8,
-                    select: ::edsgen_runtime::typed::get_bits(buf, at + 72, 2) as u8,
-                    counter: ::edsgen_runtime::typed::get_bits(buf, at + 74, 64),
+                    select: ::edsgen_runtime::support::get_bits(buf, at + 72, 2) as u8,
+                    counter: ::edsgen_runtime::support::get_bits(buf, at + 74, 64),
                 }
             }
             /// `OutOfRange` if a field does not fit its mapped bits.
             fn check(&self) -> Result<(), ::edsgen_runtime::PdoError> {
-                if !::edsgen_runtime::typed::fits_signed(i64::from(self.offset), 12) {
+                if !::edsgen_runtime::support::fits_signed(i64::from(self.offset), 12) {
                     return Err(::edsgen_runtime::PdoError::OutOfRange {
                         field: "offset",
                     });
                 }
-                if !::edsgen_runtime::typed::fits_unsigned(u64::from(self.select), 2) {
+                if !::edsgen_runtime::support::fits_unsigned(u64::from(self.select), 2) {
                     return Err(::edsgen_runtime::PdoError::OutOfRange {
                         field: "select",
                     });
@@ -495,21 +496,21 @@ pub mod ec_hand {
             }
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<14>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<14>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
                 for (i, byte) in self.blob.iter().enumerate() {
                     let bits = (100 - 8 * i).min(8) as u32;
-                    ::edsgen_runtime::typed::put_bits(
+                    ::edsgen_runtime::support::put_bits(
                         buf,
                         at + 8 * i,
                         bits,
                         u64::from(*byte),
                     );
                 }
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at + 100,
                     5,
@@ -523,7 +524,7 @@ pub mod ec_hand {
                         let mut bytes = [0u8; 13];
                         for (i, byte) in bytes.iter_mut().enumerate() {
                             let bits = (100 - 8 * i).min(8) as u32;
-                            *byte = ::edsgen_runtime::typed::get_bits(
+                            *byte = ::edsgen_runtime::support::get_bits(
                                 buf,
                                 at + 8 * i,
                                 bits,
@@ -531,15 +532,15 @@ pub mod ec_hand {
                         }
                         bytes
                     },
-                    small: ::edsgen_runtime::typed::sign_extend(
-                        ::edsgen_runtime::typed::get_bits(buf, at + 100, 5),
+                    small: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(buf, at + 100, 5),
                         5,
                     ) as i8,
                 }
             }
             /// `OutOfRange` if a field does not fit its mapped bits.
             fn check(&self) -> Result<(), ::edsgen_runtime::PdoError> {
-                if !::edsgen_runtime::typed::fits_signed(i64::from(self.small), 5) {
+                if !::edsgen_runtime::support::fits_signed(i64::from(self.small), 5) {
                     return Err(::edsgen_runtime::PdoError::OutOfRange {
                         field: "small",
                     });
@@ -588,12 +589,12 @@ pub mod ec_hand {
             }
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<2>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<2>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at,
                     16,
@@ -603,7 +604,7 @@ pub mod ec_hand {
             /// Reads the fields from bit `at` (bits beyond `buf` read as zero).
             fn get(buf: &[u8], at: usize) -> Self {
                 Self {
-                    control_word: ::edsgen_runtime::typed::get_bits(buf, at, 16) as u16,
+                    control_word: ::edsgen_runtime::support::get_bits(buf, at, 16) as u16,
                 }
             }
         }
@@ -653,18 +654,18 @@ pub mod ec_hand {
             }
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<14>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<14>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at,
                     16,
                     u64::from(self.status_word),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     buf,
                     at + 16,
                     32,
@@ -672,7 +673,7 @@ pub mod ec_hand {
                 );
                 for (i, byte) in self.tag.iter().enumerate() {
                     let bits = (64 - 8 * i).min(8) as u32;
-                    ::edsgen_runtime::typed::put_bits(
+                    ::edsgen_runtime::support::put_bits(
                         buf,
                         at + 48 + 8 * i,
                         bits,
@@ -683,15 +684,15 @@ pub mod ec_hand {
             /// Reads the fields from bit `at` (bits beyond `buf` read as zero).
             fn get(buf: &[u8], at: usize) -> Self {
                 Self {
-                    status_word: ::edsgen_runtime::typed::get_bits(buf, at, 16) as u16,
+                    status_word: ::edsgen_runtime::support::get_bits(buf, at, 16) as u16,
                     gain: f32::from_bits(
-                        ::edsgen_runtime::typed::get_bits(buf, at + 16, 32) as u32,
+                        ::edsgen_runtime::support::get_bits(buf, at + 16, 32) as u32,
                     ),
                     tag: {
                         let mut bytes = [0u8; 8];
                         for (i, byte) in bytes.iter_mut().enumerate() {
                             let bits = (64 - 8 * i).min(8) as u32;
-                            *byte = ::edsgen_runtime::typed::get_bits(
+                            *byte = ::edsgen_runtime::support::get_bits(
                                 buf,
                                 at + 48 + 8 * i,
                                 bits,
@@ -738,7 +739,7 @@ pub mod ec_hand {
             }
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<0>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<0>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
@@ -795,7 +796,7 @@ pub mod ec_hand {
             }
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<31>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<31>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
             /// Writes every PDO from bit `at`.
@@ -858,7 +859,7 @@ pub mod ec_hand {
             }
             /// The fields of exactly [`Self::LEN`] bytes.
             pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::typed::payload::<14>(bytes)?;
+                let bytes = ::edsgen_runtime::support::payload::<14>(bytes)?;
                 Ok(Self::get(&bytes, 0))
             }
             /// Writes every PDO from bit `at`.
