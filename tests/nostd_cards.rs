@@ -1,4 +1,4 @@
-//! The generated code of the cards in `eds/`, with the runtime's object-dictionary trait, builds
+//! The generated code of the cards in `eds/` (EDS and ESI), with the runtime's object-dictionary trait, builds
 //! for `thumbv7em-none-eabihf` (no `std`, no `alloc`).
 
 mod emit_common;
@@ -21,7 +21,11 @@ fn cards_build_for_thumbv7em() {
         return;
     }
     let cards = card_files();
-    assert_eq!(cards.len(), 5, "the five cards in eds/");
+    assert_eq!(
+        cards.len(),
+        6,
+        "the five EDS cards and the ESI card in eds/"
+    );
     let modules: Vec<_> = cards
         .iter()
         .map(|path| {
@@ -37,6 +41,11 @@ fn cards_build_for_thumbv7em() {
     modules.push((
         "gd350".to_owned(),
         std::fs::read_to_string(root().join("codegen/tests/generated/gd350.rs")).unwrap(),
+    ));
+    // The hand-built EtherCAT module: odd widths and offsets, padding, fields over 64 bits.
+    modules.push((
+        "ec_hand".to_owned(),
+        std::fs::read_to_string(root().join("codegen/tests/generated/ec_hand.rs")).unwrap(),
     ));
     let index = write_modules("nostd-cards", &modules);
     build_compile_check(&index, Some("thumbv7em-none-eabihf"), "nostd-cards");

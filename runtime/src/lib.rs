@@ -13,6 +13,8 @@
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
 //! - `std`: the virtual bus ([`vbus`]) and the operating-system transports ([`transport`]).
 //! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
+//! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
+//!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less
@@ -22,6 +24,7 @@
 #![warn(missing_docs)]
 
 pub mod cia402;
+pub mod ethercat;
 pub mod frame;
 pub mod master;
 pub mod node;

@@ -33,7 +33,28 @@ pub fn corpus_dir() -> Option<PathBuf> {
     None
 }
 
-/// Every corpus file (relative name, path), in MANIFEST order.
+/// The ESI corpus directory (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`), or `None` (and
+/// a message) when it is absent; absent under `CI=true` fails.
+pub fn esi_corpus_dir() -> Option<PathBuf> {
+    let dir = std::env::var_os("EDSGEN_ESI_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("../shared/esi-corpus"));
+    if dir.join("MANIFEST.tsv").is_file() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var("CI").as_deref() != Ok("true"),
+        "the ESI corpus is missing at {} (set EDSGEN_ESI_CORPUS)",
+        dir.display()
+    );
+    eprintln!(
+        "skipping: no ESI corpus at {} (set EDSGEN_ESI_CORPUS)",
+        dir.display()
+    );
+    None
+}
+
+/// Every corpus file (relative name, path), in MANIFEST order (the EDS and the ESI corpus).
 pub fn corpus_files(dir: &Path) -> Vec<(String, PathBuf)> {
     let manifest = std::fs::read_to_string(dir.join("MANIFEST.tsv")).unwrap();
     manifest
@@ -45,14 +66,16 @@ pub fn corpus_files(dir: &Path) -> Vec<(String, PathBuf)> {
         .collect()
 }
 
-/// The card description files in `eds/`, sorted.
+/// The card description files in `eds/` (EDS, DCF and ESI), sorted.
 pub fn card_files() -> Vec<PathBuf> {
     let mut files: Vec<_> = std::fs::read_dir(root().join("eds"))
         .map(|dir| {
             dir.filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| {
                     p.extension().is_some_and(|e| {
-                        e.eq_ignore_ascii_case("eds") || e.eq_ignore_ascii_case("dcf")
+                        ["eds", "dcf", "xml"]
+                            .iter()
+                            .any(|x| e.eq_ignore_ascii_case(x))
                     })
                 })
                 .collect()

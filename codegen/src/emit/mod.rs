@@ -7,6 +7,7 @@
 //! from [`types`]; [`plan`] decides both, in (index, sub-index) order. Generated code uses absolute
 //! paths only, needs neither `std` nor `alloc`, and holds no `unsafe`, `static mut` or `unwrap`.
 
+pub mod ethercat;
 pub mod names;
 pub mod od;
 pub mod pdo;
@@ -42,7 +43,11 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
     let module = module_name(module);
     let plan = plan::plan(device);
     let mut diagnostics = plan.diagnostics.clone();
-    let pdo_tokens = pdo::pdos(device, &plan, &mut diagnostics);
+    // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
+    let pdo_tokens = match &device.ethercat {
+        Some(ec) => ethercat::module(ec, &plan),
+        None => pdo::pdos(device, &plan, &mut diagnostics),
+    };
     crate::diag::sort(&mut diagnostics);
     if diagnostics.iter().any(|d| d.severity == Severity::Error) {
         return Err(diagnostics);
@@ -178,6 +183,9 @@ fn header(device: &Device) -> TokenStream {
             });
         match (from_od, info) {
             (Some(v), _) => (v, format!("1018h sub {sub}")),
+            (None, Some(v)) if device.ethercat.is_some() => {
+                (v, "the ESI's `Vendor` and `Type`".to_owned())
+            }
             (None, Some(v)) => (v, "`[DeviceInfo]`".to_owned()),
             (None, None) => (0, "not given by the file; 0".to_owned()),
         }
@@ -208,13 +216,20 @@ fn header(device: &Device) -> TokenStream {
     let revision_doc = format!(" Revision number ({revision_src}).");
     let rx_doc = format!(" Number of RPDOs ({rx_src}).");
     let tx_doc = format!(" Number of TPDOs ({tx_src}).");
-    quote! {
+    let identity = quote! {
         #[doc = #vendor_doc]
         pub const VENDOR_ID: u32 = #vendor;
         #[doc = #product_doc]
         pub const PRODUCT_CODE: u32 = #product;
         #[doc = #revision_doc]
         pub const REVISION_NUMBER: u32 = #revision;
+    };
+    if device.ethercat.is_some() {
+        // CANopen's PDO counts mean nothing on EtherCAT (the ethercat module lists the PDOs).
+        return identity;
+    }
+    quote! {
+        #identity
         #[doc = #rx_doc]
         pub const NR_OF_RXPDO: u16 = #rx;
         #[doc = #tx_doc]

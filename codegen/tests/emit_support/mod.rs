@@ -317,3 +317,163 @@ fn limited_renamed(mut o: Object) -> Object {
     o.index = 0x2102;
     o
 }
+
+fn ec_entry(index: u16, sub: u8, bit_len: u16, name: &str, data_type: &str) -> EcPdoEntry {
+    EcPdoEntry {
+        index,
+        sub,
+        bit_len,
+        name: name.to_owned(),
+        data_type: (!data_type.is_empty()).then(|| data_type.to_owned()),
+        span: Span::new(1, 1, 0),
+    }
+}
+
+fn ec_pdo(index: u16, name: &str, sm: Option<u8>, entries: Vec<EcPdoEntry>) -> EcPdo {
+    EcPdo {
+        index,
+        name: name.to_owned(),
+        sm,
+        fixed: false,
+        mandatory: false,
+        exclude: Vec::new(),
+        entries,
+        span: Span::new(1, 1, 0),
+    }
+}
+
+fn sm(
+    kind: SmKind,
+    start_address: u16,
+    default_size: Option<u16>,
+    control_byte: u8,
+) -> SyncManager {
+    SyncManager {
+        kind,
+        start_address,
+        default_size,
+        control_byte,
+        enable: true,
+        span: Span::new(1, 1, 0),
+    }
+}
+
+/// An EtherCAT device as an ESI reader would give it: a CoE dictionary and PDOs with odd widths
+/// and offsets, padding, entries the dictionary lacks (typed by DataType), one wider than 64
+/// bits, two RxPDOs on SM2 and a third that excludes one of them, an empty TxPDO.
+pub fn ethercat_like() -> Device {
+    let mut dev = device(vec![
+        var(0x1000, "Device type", 0x07, Ro, Some(Integer(0x192)), false),
+        object(
+            0x1018,
+            "Identity",
+            ObjectType::Record,
+            vec![
+                sub(0, "Number of entries", 0x05, Ro, Some(Integer(3)), false),
+                sub(1, "Vendor ID", 0x07, Ro, Some(Integer(0x4D8)), false),
+                sub(2, "Product code", 0x07, Ro, Some(Integer(0x9252)), false),
+                sub(3, "Revision", 0x07, Ro, Some(Integer(1)), false),
+            ],
+        ),
+        var(0x2001, "Offset", 0x10, Rw, Some(Integer(0)), true),
+        var(0x2002, "Gain", 0x08, Ro, Some(Real(0.0)), true),
+        var(0x2003, "Enable", 0x01, Rw, Some(Integer(0)), true),
+        var(0x2004, "Tag", 0x09, Ro, Some(Text("ABCDEFGH".into())), true),
+        var(0x2005, "Counter", 0x1B, Rw, Some(Integer(0)), true),
+        var(0x6040, "Control word", 0x06, Rw, Some(Integer(0)), true),
+        var(0x6041, "Status word", 0x06, Ro, Some(Integer(0)), true),
+        var(
+            0x6060,
+            "Mode of operation",
+            0x02,
+            Rw,
+            Some(Integer(0)),
+            true,
+        ),
+        var(0x607A, "Target position", 0x04, Rw, Some(Integer(0)), true),
+    ]);
+    dev.source.path = PathBuf::from("hand.xml");
+    dev.source.format = Format::Esi;
+    let mut excluding = ec_pdo(
+        0x1602,
+        "Alternative",
+        Some(2),
+        vec![ec_entry(0x6040, 0, 16, "Control word", "UINT")],
+    );
+    excluding.exclude = vec![Spanned::new(0x1601, Span::new(1, 1, 0))];
+    dev.ethercat = Some(EtherCat {
+        type_name: "HAND-1".into(),
+        profiles: vec![402],
+        sync_managers: vec![
+            sm(SmKind::MailboxOut, 0x1000, Some(128), 0x26),
+            sm(SmKind::MailboxIn, 0x1080, Some(128), 0x22),
+            sm(SmKind::Outputs, 0x1100, None, 0x64),
+            sm(SmKind::Inputs, 0x1180, None, 0x20),
+        ],
+        rx_pdos: vec![
+            ec_pdo(
+                0x1600,
+                "Outputs A",
+                Some(2),
+                vec![
+                    ec_entry(0x6040, 0, 16, "Control word", "UINT"),
+                    ec_entry(0, 0, 3, "", ""),
+                    ec_entry(0x2003, 0, 1, "Enable", "BOOL"),
+                    ec_entry(0x2001, 0, 12, "Offset", "INT24"),
+                    ec_entry(0x607A, 0, 32, "Target position", "DINT"),
+                    ec_entry(0x6060, 0, 8, "Mode of operation", "SINT"),
+                    ec_entry(0x7000, 1, 2, "Select", "BIT2"),
+                    ec_entry(0x2005, 0, 64, "Counter", "ULINT"),
+                ],
+            ),
+            ec_pdo(
+                0x1601,
+                "Outputs B",
+                Some(2),
+                vec![
+                    ec_entry(0x7010, 1, 100, "Blob", "ARRAY [0..12] OF BYTE"),
+                    ec_entry(0x7011, 0, 5, "Small", "SINT"),
+                ],
+            ),
+            excluding,
+        ],
+        tx_pdos: vec![
+            ec_pdo(
+                0x1A00,
+                "Inputs A",
+                Some(3),
+                vec![
+                    ec_entry(0x6041, 0, 16, "Status word", "UINT"),
+                    ec_entry(0x2002, 0, 32, "Gain", "REAL"),
+                    ec_entry(0x2004, 0, 64, "Tag", "STRING(8)"),
+                ],
+            ),
+            ec_pdo(0x1A01, "Nothing", None, Vec::new()),
+        ],
+        coe: Some(CoeMailbox {
+            sdo_info: true,
+            pdo_assign: true,
+            pdo_config: false,
+            complete_access: false,
+            segmented_sdo: true,
+            init_cmds: Vec::new(),
+        }),
+        op_modes: vec![
+            DcOpMode {
+                name: "FreeRun".into(),
+                description: "Free run".into(),
+                assign_activate: 0,
+                cycle_time_sync0: 0,
+            },
+            DcOpMode {
+                name: "DC".into(),
+                description: "DC SYNC0".into(),
+                assign_activate: 0x300,
+                cycle_time_sync0: 1_000_000,
+            },
+        ],
+        other_devices: Vec::new(),
+        span: Span::new(1, 1, 0),
+    });
+    dev
+}
