@@ -56,7 +56,7 @@ pub fn python() -> Option<PathBuf> {
                 String::from_utf8_lossy(&out.stderr)
             ));
         }
-        Ok(root().join(".venv/bin/python"))
+        Ok(PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()))
     });
     match found {
         Ok(python) => Some(python.clone()),
