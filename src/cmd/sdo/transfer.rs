@@ -310,6 +310,21 @@ mod tests {
     }
 
     #[test]
+    fn a_source_tells_its_own_failure_from_the_bus() {
+        struct Gone;
+        impl Read for Gone {
+            fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+                Err(io::Error::other("disk gone"))
+            }
+        }
+        let mut source = Source::new(Gone);
+        assert!(!source.failed);
+        let error = source.read(&mut [0; 8]).unwrap_err();
+        assert_eq!(error.to_string(), "disk gone");
+        assert!(source.failed);
+    }
+
+    #[test]
     fn a_source_read_past_what_it_keeps_cannot_rewind() {
         let data = vec![7u8; KEPT + 1];
         let mut source = Source::new(data.as_slice());
