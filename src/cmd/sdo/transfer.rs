@@ -111,7 +111,12 @@ fn download(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Ex
     }
     match result {
         Ok(size) => {
-            summary(resolved, size, "written", mode, plan.first, started);
+            let summary = Summary {
+                upload: false,
+                mode,
+                refused_block: mode != plan.first,
+            };
+            summary.print(resolved, size, started);
             ExitCode::SUCCESS
         }
         Err(MasterError::Io(e)) if source.failed => fail(format!(
@@ -165,7 +170,12 @@ fn upload(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Exit
     });
     match result {
         Ok(size) => {
-            summary(resolved, size, "read", mode, plan.first, started);
+            let summary = Summary {
+                upload: true,
+                mode,
+                refused_block: mode != plan.first,
+            };
+            summary.print(resolved, size, started);
             ExitCode::SUCCESS
         }
         Err(MasterError::Io(e)) if sink.failed => discard(fail(format!(
@@ -199,22 +209,34 @@ fn open(path: &Path) -> Result<File, String> {
     File::open(path).map_err(|e| cannot(e.to_string()))
 }
 
-/// `2001h:00h Program: 65536 bytes written by block transfer in 0.412 s`.
-fn summary(resolved: &Resolved, size: u32, done: &str, mode: Mode, first: Mode, started: Instant) {
-    let how = match mode {
-        Mode::Block => "block transfer",
-        // The server chooses for an upload; a value of up to 4 bytes is sent expedited.
-        Mode::Normal if done == "read" && size <= 4 => "expedited transfer",
-        Mode::Normal if first == Mode::Block => {
-            "segmented transfer (the node refused block transfer)"
-        }
-        Mode::Normal => "segmented transfer",
-    };
-    eprintln!(
-        "{}: {size} bytes {done} by {how} in {:.3} s",
-        resolved.label(),
-        started.elapsed().as_secs_f64()
-    );
+/// How a file transfer went: `2001h:00h Program: 65536 bytes written by block transfer in
+/// 0.412 s`.
+struct Summary {
+    upload: bool,
+    /// The transfer that carried the value.
+    mode: Mode,
+    /// Whether the node refused a block transfer first.
+    refused_block: bool,
+}
+
+impl Summary {
+    fn print(&self, resolved: &Resolved, size: u32, started: Instant) {
+        let how = match self.mode {
+            Mode::Block => "block transfer",
+            // The server chooses for an upload; a value of up to 4 bytes is sent expedited.
+            Mode::Normal if self.upload && size <= 4 => "expedited transfer",
+            Mode::Normal if self.refused_block => {
+                "segmented transfer (the node refused block transfer)"
+            }
+            Mode::Normal => "segmented transfer",
+        };
+        let done = if self.upload { "read" } else { "written" };
+        eprintln!(
+            "{}: {size} bytes {done} by {how} in {:.3} s",
+            resolved.label(),
+            started.elapsed().as_secs_f64()
+        );
+    }
 }
 
 /// A download's bytes: the file or standard input, its first [`KEPT`] bytes kept so that a
