@@ -4,6 +4,10 @@
 //! after a warm-up) by `scripts/bench_canopen.py` in the project's venv, and the ratio is printed.
 //! The comparison uses the files python can import; edsgen is also measured on all 119.
 
+// The venv lookup the python-timing examples use.
+#[path = "../examples/venv/mod.rs"]
+mod venv;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -51,10 +55,9 @@ fn read_and_validate(files: &[PathBuf]) -> usize {
 }
 
 fn python_seconds(files: &[PathBuf]) -> Option<f64> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let python = root.join(".venv/bin/python");
+    let python = venv::python().inspect_err(|why| eprintln!("{why}")).ok()?;
     let out = Command::new(python)
-        .arg(root.join("scripts/bench_canopen.py"))
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/bench_canopen.py"))
         .args(files)
         .output()
         .ok()?;

@@ -1,9 +1,12 @@
 //! Measures the master through a socketcand hub on 127.0.0.1 (`cargo run --release --example
 //! master_bench`): the SDO round trip edsgen master ↔ edsgen device (the cp301 card on the
 //! driver) over 10,000 expedited uploads, counting failures; the same for python `canopen`
-//! master ↔ python LocalNode (`scripts/bench_master_python.py`, if the venv exists); and a
-//! 64 KiB block upload in frames per second, against the about 9,000 frames a second of a
-//! 1 Mbit/s bus (8-byte frames of 111 bits before stuffing).
+//! master ↔ python LocalNode (`scripts/bench_master_python.py`, in the venv of
+//! `scripts/python-venv.sh` where it can be made); and a 64 KiB block upload in frames per
+//! second, against the about 9,000 frames a second of a 1 Mbit/s bus (8-byte frames of 111
+//! bits before stuffing).
+
+mod venv;
 
 use std::path::Path;
 use std::process::Command;
@@ -140,29 +143,26 @@ fn main() {
     );
 
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let python = root.join(".venv/bin/python");
-    if python.is_file() {
-        let out = Command::new(python)
-            .arg(root.join("scripts/bench_master_python.py"))
-            .arg(hub.local_addr().port().to_string())
-            .arg(root.join("eds/cp301.eds"))
-            .arg("2000")
-            .output()
-            .expect("python");
-        let text = String::from_utf8_lossy(&out.stdout);
-        let mut parts = text.split_whitespace();
-        match (parts.next(), parts.next()) {
-            (Some(median), Some(mean)) => println!(
-                "python master <-> python LocalNode, hub: 2000 SDO uploads, \
-                 round trip median {median} us, mean {mean} us"
-            ),
-            _ => eprintln!("python: {}", String::from_utf8_lossy(&out.stderr)),
+    match venv::python() {
+        Ok(python) => {
+            let out = Command::new(python)
+                .arg(root.join("scripts/bench_master_python.py"))
+                .arg(hub.local_addr().port().to_string())
+                .arg(root.join("eds/cp301.eds"))
+                .arg("2000")
+                .output()
+                .expect("python");
+            let text = String::from_utf8_lossy(&out.stdout);
+            let mut parts = text.split_whitespace();
+            match (parts.next(), parts.next()) {
+                (Some(median), Some(mean)) => println!(
+                    "python master <-> python LocalNode, hub: 2000 SDO uploads, \
+                     round trip median {median} us, mean {mean} us"
+                ),
+                _ => eprintln!("python: {}", String::from_utf8_lossy(&out.stderr)),
+            }
         }
-    } else {
-        println!(
-            "python: no venv at {} (scripts/python-venv.sh)",
-            python.display()
-        );
+        Err(why) => println!("python: {why}"),
     }
     let _ = cp.stop();
     let _ = dom.stop();

@@ -9,8 +9,10 @@
 //!
 //! The python side is `scripts/bench_socketcand.py`, in the venv of `scripts/python-venv.sh`.
 
+mod venv;
+
 use std::io::{BufRead, BufReader, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -26,14 +28,6 @@ const TIMEOUT: Duration = Duration::from_secs(5);
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn python() -> PathBuf {
-    let out = Command::new(root().join("scripts/python-venv.sh"))
-        .output()
-        .expect("run scripts/python-venv.sh");
-    assert!(out.status.success(), "scripts/python-venv.sh failed");
-    PathBuf::from(String::from_utf8(out.stdout).unwrap().trim())
 }
 
 /// A python process, killed when dropped.
@@ -132,7 +126,7 @@ fn main() {
     let transactions = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "10000".to_owned());
-    let python = python();
+    let python = venv::python().unwrap_or_else(|why| panic!("{why}"));
     let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
     let port = hub.local_addr().port().to_string();
 

@@ -1,13 +1,21 @@
 //! The bench commands end to end: `edsgen sdo|nmt|scan|check` as processes, through an
 //! in-process socketcand hub on 127.0.0.1, against device nodes serving the generated cp301
-//! (node 3) and goodrive350 (node 5) cards, run by the transport driver.
+//! (node 3) and goodrive350 (node 5) cards, run by the transport driver; and file transfers
+//! (`--file`, `--out`) with the simulator test device's DOMAIN.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod sim_support;
+
+use std::collections::VecDeque;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
 use edsgen::cards::{cp301, goodrive350};
+use edsgen::sim::RuntimeDictionary;
+use edsgen_runtime::frame::CanFrame;
 use edsgen_runtime::node::Node;
+use edsgen_runtime::time::Instant;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
@@ -348,4 +356,330 @@ fn sdo_dcf_downloads_the_parameter_values_with_the_pdo_disabled_meanwhile() {
     );
     std::fs::remove_dir_all(dir).unwrap();
     std::fs::remove_dir_all(bad_dir).unwrap();
+}
+
+/// A hub with the simulator test device (`sim_support`, its DOMAIN 2001h "Program" up to
+/// 64 KiB) as node 4, and the same device refusing block transfers as node 6.
+fn sim_bench() -> Bench {
+    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
+    let addr = hub.local_addr().to_string();
+    let sim = |node_id: u8, clock: MonotonicClock| {
+        let od = RuntimeDictionary::new(&sim_support::test_device(), node_id);
+        Node::new(od, node_id, clock.now()).unwrap()
+    };
+    let node = spawn_node(&addr, |clock| sim(4, clock));
+    let no_block = spawn_node(&addr, |clock| NoBlock(sim(6, clock), VecDeque::new()));
+    Bench {
+        hub: Some(hub),
+        nodes: vec![
+            Box::new(move || drop(node.stop())),
+            Box::new(move || drop(no_block.stop())),
+        ],
+        addr,
+    }
+}
+
+/// A device without SDO block transfer: its node's answers, except that the start of a block
+/// download or upload is aborted with 0504 0001 (command specifier unknown), as by a server
+/// that does not implement it.
+struct NoBlock<D>(D, VecDeque<CanFrame>);
+
+impl<D: BusDevice> BusDevice for NoBlock<D> {
+    fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
+        let data = frame.data();
+        let to_node = frame.std_id() == Some(0x606) && data.len() == 8;
+        let block_initiate = (data[0] & 0xE1) == 0xC0 || (data[0] & 0xE3) == 0xA0;
+        if to_node && block_initiate {
+            let mut abort = [0x80, data[1], data[2], data[3], 0, 0, 0, 0];
+            abort[4..].copy_from_slice(&0x0504_0001u32.to_le_bytes());
+            self.1.push_back(CanFrame::new(0x586, &abort).unwrap());
+        } else {
+            self.0.handle_frame(now, frame);
+        }
+    }
+    fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        self.1.pop_front().or_else(|| self.0.poll_transmit(now))
+    }
+    fn poll_timeout(&self) -> Option<Instant> {
+        self.0.poll_timeout()
+    }
+    fn handle_timeout(&mut self, now: Instant) {
+        self.0.handle_timeout(now)
+    }
+}
+
+/// `edsgen ARGS --bus ...` with `input` on its standard input.
+fn edsgen_with_input(bench: &Bench, args: &[&str], input: Vec<u8>) -> Output {
+    let mut child = Command::new(EDSGEN)
+        .args(args)
+        .args(["--bus", &bench.addr, "--timeout", "500"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let writer = std::thread::spawn(move || stdin.write_all(&input));
+    let output = child.wait_with_output().unwrap();
+    writer.join().unwrap().unwrap();
+    output
+}
+
+/// `len` bytes that show misplaced ones: byte i is (i * 7 + i / 251) mod 256.
+fn pattern(len: usize) -> Vec<u8> {
+    (0..len).map(|i| (i * 7 + i / 251) as u8).collect()
+}
+
+/// A directory of this test's own, removed when dropped, with the simulator device's EDS in it.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(test: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("edsgen-{test}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("sim.eds"), sim_support::DEVICE_EDS).unwrap();
+        Scratch(dir)
+    }
+
+    fn path(&self, name: &str) -> String {
+        self.0.join(name).display().to_string()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The summary line without its time: `LABEL: N bytes DONE by TRANSFER`.
+fn summary(output: &Output) -> String {
+    let text = stderr(output);
+    let (line, seconds) = text
+        .trim_end()
+        .rsplit_once(" in ")
+        .unwrap_or_else(|| panic!("no summary: {text}"));
+    let seconds = seconds
+        .strip_suffix(" s")
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(seconds.parse::<f64>().is_ok(), "{text}");
+    assert_eq!(text.lines().count(), 1, "{text}");
+    line.to_string()
+}
+
+#[test]
+fn sdo_write_file_and_read_out_move_64_kib_through_a_domain_byte_for_byte() {
+    let bench = sim_bench();
+    let scratch = Scratch::new("sdo-file");
+    let (image, back, sim) = (
+        scratch.path("image.bin"),
+        scratch.path("back.bin"),
+        scratch.path("sim.eds"),
+    );
+    let value = pattern(64 * 1024);
+    std::fs::write(&image, &value).unwrap();
+    let write = edsgen(
+        &bench,
+        &[
+            "sdo", "write", "--eds", &sim, "4", "2001:0", "--file", &image,
+        ],
+    );
+    assert_eq!(write.status.code(), Some(0), "{}", stderr(&write));
+    assert_eq!(stdout(&write), "");
+    assert_eq!(
+        summary(&write),
+        "2001h:00h Program: 65536 bytes written by block transfer"
+    );
+    let read = edsgen(
+        &bench,
+        &["sdo", "read", "--eds", &sim, "4", "2001:0", "--out", &back],
+    );
+    assert_eq!(read.status.code(), Some(0), "{}", stderr(&read));
+    assert_eq!(
+        summary(&read),
+        "2001h:00h Program: 65536 bytes read by block transfer"
+    );
+    assert!(std::fs::read(&back).unwrap() == value, "read back");
+    // Segmented both ways, without an EDS: the same bytes.
+    let shorter = pattern(3000);
+    std::fs::write(&image, &shorter).unwrap();
+    let write = edsgen(
+        &bench,
+        &[
+            "sdo",
+            "write",
+            "4",
+            "2001:0",
+            "--file",
+            &image,
+            "--segmented",
+        ],
+    );
+    assert_eq!(
+        summary(&write),
+        "2001h:00h: 3000 bytes written by segmented transfer"
+    );
+    let read = edsgen(
+        &bench,
+        &["sdo", "read", "4", "2001:0", "--out", &back, "--segmented"],
+    );
+    assert_eq!(
+        summary(&read),
+        "2001h:00h: 3000 bytes read by segmented transfer"
+    );
+    assert!(std::fs::read(&back).unwrap() == shorter, "read back");
+}
+
+#[test]
+fn sdo_file_transfers_stream_standard_input_and_output_as_raw_bytes() {
+    let bench = sim_bench();
+    let value = pattern(5000);
+    let write = edsgen_with_input(
+        &bench,
+        &["sdo", "write", "4", "2001:0", "--file", "-"],
+        value.clone(),
+    );
+    assert_eq!(
+        summary(&write),
+        "2001h:00h: 5000 bytes written by block transfer"
+    );
+    let read = edsgen(&bench, &["sdo", "read", "4", "2001:0", "--out", "-"]);
+    assert_eq!(
+        summary(&read),
+        "2001h:00h: 5000 bytes read by block transfer"
+    );
+    assert!(read.stdout == value, "standard output holds the raw bytes");
+    // A string read to standard output: its bytes, no line end added; the node sends so short
+    // a value expedited.
+    let name = edsgen(
+        &bench,
+        &["sdo", "read", "4", "2000:0", "--out", "-", "--segmented"],
+    );
+    assert_eq!(stdout(&name), "sim");
+    assert_eq!(
+        summary(&name),
+        "2000h:00h: 3 bytes read by expedited transfer"
+    );
+}
+
+#[test]
+fn a_node_without_block_transfer_gets_and_gives_the_file_segmented() {
+    let bench = sim_bench();
+    // From standard input, which cannot be read twice: the bytes read before the node refused
+    // the block transfer go again.
+    let value = pattern(2000);
+    let write = edsgen_with_input(
+        &bench,
+        &["sdo", "write", "6", "2001:0", "--file", "-"],
+        value.clone(),
+    );
+    assert_eq!(
+        summary(&write),
+        "2001h:00h: 2000 bytes written by segmented transfer (the node refused block transfer)"
+    );
+    let read = edsgen(&bench, &["sdo", "read", "6", "2001:0", "--out", "-"]);
+    assert_eq!(
+        summary(&read),
+        "2001h:00h: 2000 bytes read by segmented transfer (the node refused block transfer)"
+    );
+    assert!(read.stdout == value, "read back");
+    // --block insists: the refusal is the error.
+    let insisted = edsgen(
+        &bench,
+        &["sdo", "read", "6", "2001:0", "--out", "-", "--block"],
+    );
+    assert_eq!(insisted.status.code(), Some(1));
+    assert_eq!(
+        stderr(&insisted),
+        "error: SDO 2001h:00h on node 6: node aborted with 0504 0001h (client/server command specifier not valid or unknown)\n"
+    );
+}
+
+#[test]
+fn a_file_too_long_for_the_domain_is_an_abort_with_its_code_and_exit_1() {
+    let bench = sim_bench();
+    let scratch = Scratch::new("sdo-file-abort");
+    let (image, out) = (scratch.path("image.bin"), scratch.path("out.bin"));
+    std::fs::write(&image, pattern(64 * 1024 + 1)).unwrap();
+    for extra in [&[][..], &["--segmented"]] {
+        let write = edsgen(
+            &bench,
+            &[
+                &["sdo", "write", "4", "2001:0", "--file", &image][..],
+                extra,
+            ]
+            .concat(),
+        );
+        assert_eq!(write.status.code(), Some(1), "{extra:?}");
+        assert_eq!(
+            stderr(&write),
+            "error: SDO 2001h:00h on node 4: node aborted with 0607 0012h (data type does not match, length of service parameter too high)\n",
+            "{extra:?}"
+        );
+    }
+    // A read the node refuses leaves no file behind.
+    let read = edsgen(&bench, &["sdo", "read", "4", "5FFF:0", "--out", &out]);
+    assert_eq!(read.status.code(), Some(1));
+    assert_eq!(
+        stderr(&read),
+        "error: SDO 5FFFh:00h on node 4: node aborted with 0602 0000h (object does not exist in the object dictionary)\n"
+    );
+    assert!(!Path::new(&out).exists());
+}
+
+#[test]
+fn file_transfer_usage_errors_exit_2_with_their_messages() {
+    let bench = sim_bench();
+    let scratch = Scratch::new("sdo-file-usage");
+    let (image, sim) = (scratch.path("image.bin"), scratch.path("sim.eds"));
+    std::fs::write(&image, [1, 2, 3]).unwrap();
+    let (missing, dir, nowhere) = (
+        scratch.path("missing.bin"),
+        scratch.path(""),
+        scratch.path("no/such.bin"),
+    );
+    let cases: [(Vec<&str>, String); 8] = [
+        (
+            vec!["sdo", "write", "4", "2001:0", "01 02", "--file", &image],
+            "error: the argument '[VALUE]' cannot be used with '--file <PATH>'".into(),
+        ),
+        (
+            vec!["sdo", "write", "4", "2001:0"],
+            "error: the following required arguments were not provided:".into(),
+        ),
+        (
+            vec!["sdo", "write", "4", "2001:0", "--file", &missing],
+            format!("error: cannot read `{missing}`: No such file or directory (os error 2)"),
+        ),
+        (
+            vec!["sdo", "write", "4", "2001:0", "--file", &dir],
+            format!("error: cannot read `{dir}`: it is a directory"),
+        ),
+        (
+            vec!["sdo", "read", "4", "2001:0", "--out", &nowhere],
+            format!("error: cannot write `{nowhere}`: No such file or directory (os error 2)"),
+        ),
+        (
+            vec!["sdo", "write", "--eds", &sim, "4", "2002:0", "--file", &image],
+            "error: 2002h:00h Target speed is UNSIGNED16: a file goes only to or from a DOMAIN, a string or an octet string".into(),
+        ),
+        (
+            vec!["sdo", "read", "4", "2001:0", "--segmented"],
+            "error: the following required arguments were not provided:".into(),
+        ),
+        (
+            vec!["sdo", "write", "4", "2001:0", "--file", &image, "--segmented", "--block"],
+            "error: the argument '--segmented' cannot be used with '--block'".into(),
+        ),
+    ];
+    for (args, message) in cases {
+        let output = edsgen(&bench, &args);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert_eq!(
+            stderr(&output).lines().next(),
+            Some(message.as_str()),
+            "{args:?}: {}",
+            stderr(&output)
+        );
+    }
 }

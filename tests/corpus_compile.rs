@@ -3,8 +3,10 @@
 //! diagnostic that excludes them.
 
 mod emit_common;
+mod process_support;
 
 use emit_common::*;
+use process_support::corpus_dir;
 
 #[test]
 fn every_valid_corpus_file_generates_code_that_compiles() {

@@ -3,6 +3,7 @@
 //! code at work through `edsgen::cards` (the Goodrive350 manual's PDO2 frames, OD access).
 
 mod emit_common;
+mod process_support;
 
 use std::path::Path;
 
@@ -10,6 +11,7 @@ use edsgen::cards;
 use edsgen_codegen::read;
 use edsgen_runtime::{ObjectDictionary, PdoError, SdoAbort};
 use emit_common::*;
+use process_support::{corpus_dir, root};
 use proptest::prelude::*;
 
 const CARDS: [&str; 5] = ["cp301", "goodrive350", "hd1e", "ms300", "rd11"];

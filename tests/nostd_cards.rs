@@ -2,8 +2,10 @@
 //! for `thumbv7em-none-eabihf` (no `std`, no `alloc`).
 
 mod emit_common;
+mod process_support;
 
 use emit_common::*;
+use process_support::{root, skip};
 
 #[test]
 fn cards_build_for_thumbv7em() {
@@ -13,11 +15,9 @@ fn cards_build_for_thumbv7em() {
         .map(|o| String::from_utf8_lossy(&o.stdout).contains("thumbv7em-none-eabihf"))
         .unwrap_or(false);
     if !installed {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "thumbv7em-none-eabihf is not installed (rustup target add thumbv7em-none-eabihf)"
+        skip::<()>(
+            "thumbv7em-none-eabihf is not installed (rustup target add thumbv7em-none-eabihf)",
         );
-        eprintln!("skipping: thumbv7em-none-eabihf is not installed");
         return;
     }
     let cards = card_files();

@@ -2,6 +2,7 @@
 //! it: the six cards' modules compile there under `-D warnings` (no dead-code warnings).
 
 mod emit_common;
+mod process_support;
 
 use emit_common::*;
 

@@ -18,7 +18,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use process_support::{python, root, skip};
+use process_support::{corpus_dir, python, root};
 
 use edsgen_codegen::diag::Severity;
 use edsgen_codegen::{dump, read, validate};
@@ -232,21 +232,6 @@ const KNOWN_DIFFERENCES: &[Known] = &[
 ];
 
 // ---------------------------------------------------------------------------------------------
-
-fn corpus() -> Option<PathBuf> {
-    let dir = match std::env::var_os("EDSGEN_CORPUS") {
-        Some(dir) => PathBuf::from(dir),
-        None => root().join("../shared/eds-corpus"),
-    };
-    if dir.join("python_canopen_baseline.tsv").is_file() {
-        Some(dir)
-    } else {
-        skip(format!(
-            "corpus not found at {} (set EDSGEN_CORPUS)",
-            dir.display()
-        ))
-    }
-}
 
 /// Python's dump of each file, in order.
 fn python_dump(python: &Path, files: &[PathBuf]) -> Vec<Json> {
@@ -511,7 +496,7 @@ fn as_known_entry(d: &Difference) -> String {
 
 #[test]
 fn corpus_agrees_with_python_canopen_except_known_differences() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let Some(python) = python() else { return };
     let (ok, _) = baseline(&dir);
     assert_eq!(ok.len(), 93, "python imports 93 corpus files");
@@ -600,7 +585,7 @@ const PYTHON_FAILURES: &[(&str, &str, u32)] = &[
 
 #[test]
 fn corpus_files_python_cannot_import_read_with_a_warning_at_the_cause() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let (_, failing) = baseline(&dir);
     let mut eds_or_dcf: Vec<&str> = failing
         .iter()

@@ -4,6 +4,7 @@
 //! for every SDO transfer type and PDO mapping changes; a node serving each corpus device
 //! answers an upload of every entry.
 
+mod process_support;
 mod sim_support;
 
 use std::path::Path;
@@ -12,6 +13,7 @@ use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use edsgen_runtime::sdo::crc::crc16;
 use edsgen_runtime::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, DataType, Instant, Node, ObjectDictionary, ResetKind, SdoAbort};
+use process_support::corpus_dir;
 use sim_support::{test_dcf, test_device};
 
 fn ms(millis: u64) -> Instant {
@@ -410,23 +412,6 @@ fn node_follows_a_pdo_mapping_change_and_exchanges_pdos_on_sync() {
     );
     assert_eq!(read_value(b.node.od(), 0x2002, 0), [0x23, 0x01]);
     assert_eq!(b.exchange(&[frame(0x080, &[])]), ["181: FE FF 23 01"]);
-}
-
-/// The corpus directory (`EDSGEN_CORPUS`, else `../shared/eds-corpus`); `None` (a skip) where
-/// it is absent, except under `CI=true`.
-fn corpus_dir() -> Option<std::path::PathBuf> {
-    let dir = std::env::var_os("EDSGEN_CORPUS")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/eds-corpus"));
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "corpus not found: set EDSGEN_CORPUS"
-    );
-    eprintln!("corpus not found (set EDSGEN_CORPUS); skipping");
-    None
 }
 
 #[test]

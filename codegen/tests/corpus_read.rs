@@ -1,32 +1,16 @@
 //! Every EDS and DCF of the vendor corpus reads without panicking, and every file yields objects;
 //! prints a per-file and per-rule summary.
-//!
-//! The corpus is found via env `EDSGEN_CORPUS`, else `../shared/eds-corpus` beside the workspace.
-//! When it is absent the test is skipped, except under `CI=true`, where that is a failure.
+//! Without the corpus the test is skipped (`corpus_support`).
+
+mod corpus_support;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use corpus_support::corpus_dir;
 use edsgen_codegen::diag::Severity;
 use edsgen_codegen::model::Format;
 use edsgen_codegen::read;
-
-fn corpus_dir() -> Option<PathBuf> {
-    let dir = match std::env::var_os("EDSGEN_CORPUS") {
-        Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"),
-    };
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "corpus not found at {} (set EDSGEN_CORPUS)",
-        dir.display()
-    );
-    eprintln!("corpus not found at {}; skipping", dir.display());
-    None
-}
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
     let Ok(entries) = std::fs::read_dir(dir) else {

@@ -1,35 +1,17 @@
 //! The XDD/XDC reader: the ten XML files of the corpus, and small inline documents for uniqueIDRef
 //! resolution, namespaces, PDOmapping and malformed input.
 
+mod corpus_support;
+
 use std::path::{Path, PathBuf};
 
+use corpus_support::corpus_dir;
 use edsgen_codegen::diag::Severity;
 use edsgen_codegen::model::*;
 use edsgen_codegen::read::{read_bytes, read_file, Read};
 
 // ---------------------------------------------------------------------------------------------
 // Corpus
-
-/// The corpus directory, or `None` (skip) when it is absent outside CI.
-fn corpus() -> Option<PathBuf> {
-    let dir = match std::env::var_os("EDSGEN_CORPUS") {
-        Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/eds-corpus"),
-    };
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "corpus not found at {} (set EDSGEN_CORPUS)",
-        dir.display()
-    );
-    eprintln!(
-        "skipping: corpus not found at {} (set EDSGEN_CORPUS)",
-        dir.display()
-    );
-    None
-}
 
 fn read_corpus(dir: &Path, name: &str) -> Read {
     read_file(&dir.join(name)).expect("corpus file readable")
@@ -135,7 +117,7 @@ const CORPUS_XML: &[CorpusCase] = &[
 
 #[test]
 fn every_corpus_xml_file_reads_with_exact_counts() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     for &(name, format, objects, entries, diagnostics) in CORPUS_XML {
         let read = read_corpus(&dir, name);
         assert_eq!(read.device.source.format, format, "{name}");
@@ -168,7 +150,7 @@ fn every_corpus_xml_file_reads_with_exact_counts() {
 
 #[test]
 fn corpus_xml_files_are_every_xml_file_of_the_corpus() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let mut found = Vec::new();
     for project in std::fs::read_dir(&dir).unwrap() {
         let project = project.unwrap().path();
@@ -196,7 +178,7 @@ fn corpus_xml_files_are_every_xml_file_of_the_corpus() {
 
 #[test]
 fn minimal_project_resolves_parameters() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let read = read_corpus(
         &dir,
         "CANopenNode__CANopenEditor/Tests__minimal_project.xdd",
@@ -264,7 +246,7 @@ fn minimal_project_resolves_parameters() {
 
 #[test]
 fn minimal_xdc_without_namespace_reads_commissioning() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let read = read_corpus(
         &dir,
         "dborgards__eds-dcf-net/tests__EdsDcfNet.Tests__Fixtures__minimal.xdc",
@@ -333,7 +315,7 @@ fn minimal_xdc_without_namespace_reads_commissioning() {
 
 #[test]
 fn faulhaber_xdc_namespace_1_0_resolves_limits_and_access() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let read = read_corpus(&dir, "jrholand__EagleEyePhotography/Node1.config.xdc");
     let device = &read.device;
     assert_eq!(
@@ -415,7 +397,7 @@ fn faulhaber_xdc_namespace_1_0_resolves_limits_and_access() {
 
 #[test]
 fn emec_xdd_reads_attributes_without_parameters() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let read = read_corpus(
         &dir,
         "davidsenoner__emec-drv-canopen-tester/doc__Slave_06__emecdrv5.xdd",
@@ -442,7 +424,7 @@ fn emec_xdd_reads_attributes_without_parameters() {
 
 #[test]
 fn demo_device_bitstring_becomes_octet_string_or_domain() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let read = read_corpus(&dir, "CANopenNode__CANopenDemo/demo__demoDevice.xdd");
     let device = &read.device;
     // <BITSTRING /> with <defaultValue value="00 00 00 00 00 00 00 00 00 00" />.
@@ -766,7 +748,7 @@ fn dumped_objects(read: &Read, except: &[u64]) -> Vec<serde_json::Value> {
 
 #[test]
 fn canopen_editor_exports_read_the_same_as_eds_and_xdd() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     // CANopenEditor wrote both files of each pair from one project: every object, sub-object,
     // type, access, mapping, value and limit must agree.
     let eds = read_corpus(
@@ -792,7 +774,7 @@ fn canopen_editor_exports_read_the_same_as_eds_and_xdd() {
 
 #[test]
 fn truncated_xml_never_panics_and_reports_malformed_xml() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let bytes = std::fs::read(dir.join("CANopenNode__CANopenEditor/Tests__minimal_project.xdd"))
         .expect("corpus file");
     for cut in (1..bytes.len()).step_by(97) {
@@ -882,7 +864,7 @@ fn a_dtd_is_refused_as_malformed() {
 
 #[test]
 fn dump_of_the_minimal_xdc() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let mut read = read_corpus(
         &dir,
         "dborgards__eds-dcf-net/tests__EdsDcfNet.Tests__Fixtures__minimal.xdc",
@@ -897,7 +879,7 @@ fn dump_of_the_minimal_xdc() {
 fn object_counts_match_python_canopen_xdd_branch() {
     // The corpus baseline records what python canopen's XDD branch (PR 614) imports; python adds
     // one object per `DummyNNNN=1`, which edsgen keeps as dummy usage instead.
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_dir() else { return };
     let table = std::fs::read_to_string(dir.join("python_canopen_baseline.tsv")).unwrap();
     let mut compared = 0;
     for line in table.lines().skip(1) {

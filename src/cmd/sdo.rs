@@ -1,11 +1,12 @@
-//! `edsgen sdo read|write`: one SDO transfer with a node, the value typed and named by an EDS
-//! (or `--type`), an abort reported with its code and meaning (exit 1).
+//! `edsgen sdo read|write|dcf`: SDO transfers with a node, the value typed and named by an EDS
+//! (or `--type`), an abort reported with its code and meaning (exit 1). `--file`/`--out` stream
+//! a value of any length between a file and the entry ([`transfer`]).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Subcommand;
-use edsgen_codegen::model::{AccessType, Device};
+use edsgen_codegen::model::{AccessType, BasicType, Device};
 use edsgen_codegen::read;
 use edsgen_runtime::master::blocking::MasterError;
 use edsgen_runtime::master::Mode;
@@ -13,22 +14,44 @@ use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::value::{hex, value_bytes, Kind};
 use super::{fail, parse_address, parse_node_id, BusArgs};
+use transfer::Stream;
+
+mod transfer;
 
 /// `edsgen sdo` subcommands.
 #[derive(Subcommand, Debug)]
 pub enum SdoCommand {
-    /// Read an entry (SDO upload) and print its value.
+    /// Read an entry (SDO upload) and print its value, or stream it into a file (--out).
     Read {
         #[command(flatten)]
         target: Target,
+        /// Stream the value into this file instead of printing it (`-`: standard output, raw
+        /// bytes), for a domain of any length such as a log. Block transfer unless
+        /// --segmented; a node that refuses block transfers is read segmented (unless --block).
+        /// A summary goes to standard error.
+        #[arg(long, value_name = "PATH", conflicts_with = "kind")]
+        out: Option<PathBuf>,
+        /// With --out: read by segmented transfer, not block.
+        #[arg(long, requires = "out", conflicts_with = "block")]
+        segmented: bool,
     },
-    /// Write a value to an entry (SDO download).
+    /// Write a value to an entry (SDO download), or stream a file into it (--file).
     Write {
         #[command(flatten)]
         target: Target,
         /// The value: a number (decimal or 0x hex), true/false, text for a string, hex bytes
         /// for an octet string or domain.
-        value: String,
+        #[arg(required_unless_present = "file")]
+        value: Option<String>,
+        /// Stream this file into the entry (`-`: standard input), its size not announced: a
+        /// program image to 1F50h, any DOMAIN, string or octet string. Block transfer unless
+        /// --segmented; a node that refuses block transfers is written segmented (unless
+        /// --block). A summary goes to standard error.
+        #[arg(long, value_name = "PATH", conflicts_with_all = ["value", "kind"])]
+        file: Option<PathBuf>,
+        /// With --file: write by segmented transfer, not block.
+        #[arg(long, requires = "file", conflicts_with = "block")]
+        segmented: bool,
     },
     /// Download a DCF's ParameterValues to a node, PDOs disabled while they are configured.
     Dcf {
@@ -53,7 +76,7 @@ pub struct Target {
     /// (bytes).
     #[arg(long = "type", value_name = "TYPE")]
     kind: Option<String>,
-    /// Use SDO block transfer.
+    /// Use SDO block transfer (with --file or --out: only block, no fallback to segmented).
     #[arg(long)]
     block: bool,
     /// The node-ID (1..=127).
@@ -68,6 +91,8 @@ struct Resolved {
     mux: Multiplexer,
     kind: Option<Kind>,
     name: Option<String>,
+    /// The entry's data type, if an EDS gives it.
+    data_type: Option<BasicType>,
     mode: Mode,
 }
 
@@ -80,11 +105,13 @@ impl Target {
             None => None,
         };
         let mut name = None;
+        let mut data_type = None;
         if let Some(path) = &self.eds {
             let device = load(path)?;
             let (entry_name, basic) = describe(&device, mux)
                 .ok_or_else(|| format!("{} has no entry {}", path.display(), show_mux(mux)))?;
             name = Some(entry_name);
+            data_type = basic;
             kind = kind.or(basic.map(Kind::of));
         }
         let mode = if self.block {
@@ -97,8 +124,19 @@ impl Target {
             mux,
             kind,
             name,
+            data_type,
             mode,
         })
+    }
+}
+
+impl Resolved {
+    /// `6041h:00h`, with the entry's name where the EDS gives it.
+    fn label(&self) -> String {
+        match &self.name {
+            Some(name) => format!("{} {name}", show_mux(self.mux)),
+            None => show_mux(self.mux),
+        }
     }
 }
 
@@ -133,8 +171,19 @@ pub fn show_mux(mux: Multiplexer) -> String {
 /// Runs `edsgen sdo ...`.
 pub fn run(command: &SdoCommand) -> ExitCode {
     let (target, value) = match command {
-        SdoCommand::Read { target } => (target, None),
-        SdoCommand::Write { target, value } => (target, Some(value)),
+        SdoCommand::Read {
+            target,
+            out: Some(path),
+            segmented,
+        } => return transfer::run(target, Stream::Upload(path), *segmented),
+        SdoCommand::Write {
+            target,
+            file: Some(path),
+            segmented,
+            ..
+        } => return transfer::run(target, Stream::Download(path), *segmented),
+        SdoCommand::Read { target, .. } => (target, None),
+        SdoCommand::Write { target, value, .. } => (target, value.as_ref()),
         SdoCommand::Dcf { bus, node, file } => return run_dcf(bus, node, file),
     };
     let resolved = match target.resolve() {
@@ -155,17 +204,14 @@ pub fn run(command: &SdoCommand) -> ExitCode {
         Ok(master) => master,
         Err(message) => return fail(message),
     };
+    let label = resolved.label();
     let Resolved {
         node_id,
         mux,
         kind,
-        name,
         mode,
+        ..
     } = resolved;
-    let label = match &name {
-        Some(name) => format!("{} {name}", show_mux(mux)),
-        None => show_mux(mux),
-    };
     let result = match &data {
         Some(data) => master.download(node_id, mux, data, mode).map(|()| None),
         None => master.upload(node_id, mux, mode).map(Some),
@@ -191,8 +237,16 @@ pub fn run(command: &SdoCommand) -> ExitCode {
                 }
             }
         }
-        Err(MasterError::Io(e)) => fail(format!("bus: {e}")),
-        Err(error) => {
+        Err(error) => master_failed(error),
+    }
+}
+
+/// The exit of a master call that failed: the bus gone is an I/O problem (exit 2), an abort an
+/// error of the node's (exit 1).
+fn master_failed(error: MasterError) -> ExitCode {
+    match error {
+        MasterError::Io(e) => fail(format!("bus: {e}")),
+        error => {
             eprintln!("error: {error}");
             ExitCode::from(1)
         }
@@ -253,10 +307,6 @@ fn run_dcf(bus: &BusArgs, node: &str, file: &Path) -> ExitCode {
             println!("{} value(s) written to node {node_id}", entries.len());
             ExitCode::SUCCESS
         }
-        Err(MasterError::Io(e)) => fail(format!("bus: {e}")),
-        Err(error) => {
-            eprintln!("error: {error}");
-            ExitCode::from(1)
-        }
+        Err(error) => master_failed(error),
     }
 }

@@ -1,5 +1,6 @@
-//! Shared by the code-generation integration tests: where the corpus and the cards are, reading
-//! and generating a file, and building `tests/compile-check` against generated modules.
+//! Shared by the code-generation integration tests: the corpus's and the cards' files, reading
+//! and generating a file, and building `tests/compile-check` against generated modules. The
+//! corpus itself (or a skip) comes from `process_support`, which each test crate declares too.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -8,30 +9,7 @@ use std::process::Command;
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
 use edsgen_codegen::{emit, read, validate};
 
-pub fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The corpus directory, or `None` (and a message) when it is absent; absent under `CI=true`
-/// fails.
-pub fn corpus_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("EDSGEN_CORPUS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("../shared/eds-corpus"));
-    if dir.join("MANIFEST.tsv").is_file() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "the corpus is missing at {} (set EDSGEN_CORPUS)",
-        dir.display()
-    );
-    eprintln!(
-        "skipping: no corpus at {} (set EDSGEN_CORPUS)",
-        dir.display()
-    );
-    None
-}
+use crate::process_support::root;
 
 /// The ESI corpus directory (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`), or `None` (and
 /// a message) when it is absent; absent under `CI=true` fails.

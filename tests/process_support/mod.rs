@@ -1,9 +1,10 @@
-//! Shared by the tests that start processes: the venv's python (or a skip), and child processes
-//! (`edsgen bus`, `edsgen simulate`, python scripts) read line by line with bounded waits and
-//! killed when their guard drops.
+//! Shared by the tests that start processes or need what the workspace does not hold: the
+//! venv's python and the corpus (or a skip), and child processes (`edsgen bus`, `edsgen
+//! simulate`, python scripts) read line by line with bounded waits and killed when their guard
+//! drops.
 //!
-//! One rule for what a test needs and cannot find (python, its venv, the corpus): a skip with a
-//! message, except under `CI=true`, where it is a failure.
+//! One rule for what a test needs and cannot find (python, its venv, the corpus, a target):
+//! [`skip`], a skip with a message, except under `CI=true`, where it is a failure.
 // Each test crate uses only some of these helpers.
 #![allow(dead_code)]
 
@@ -55,7 +56,7 @@ pub fn python() -> Option<PathBuf> {
                 String::from_utf8_lossy(&out.stderr)
             ));
         }
-        Ok(root().join(".venv/bin/python"))
+        Ok(PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()))
     });
     match found {
         Ok(python) => Some(python.clone()),
@@ -63,13 +64,25 @@ pub fn python() -> Option<PathBuf> {
     }
 }
 
-/// A file of the third-party corpus (`../shared/eds-corpus`, or `EDSGEN_CORPUS`), or a
-/// [`skip`].
-pub fn corpus_file(relative: &str) -> Option<PathBuf> {
+/// The third-party corpus (`EDSGEN_CORPUS`, else `../shared/eds-corpus` beside the workspace,
+/// present where its `MANIFEST.tsv` is), or a [`skip`].
+pub fn corpus_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("EDSGEN_CORPUS")
         .map(PathBuf::from)
         .unwrap_or_else(|| root().join("../shared/eds-corpus"));
-    let path = dir.join(relative);
+    if dir.join("MANIFEST.tsv").is_file() {
+        Some(dir)
+    } else {
+        skip(format!(
+            "no corpus at {} (set EDSGEN_CORPUS)",
+            dir.display()
+        ))
+    }
+}
+
+/// A file of the third-party corpus, or a [`skip`].
+pub fn corpus_file(relative: &str) -> Option<PathBuf> {
+    let path = corpus_dir()?.join(relative);
     if path.exists() {
         Some(path)
     } else {
