@@ -8,6 +8,7 @@ use std::io;
 use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
+use crate::od::access::{Readable, Writable};
 use crate::od::entry::{Entry, OdValue};
 use crate::time::{Duration, Instant};
 use crate::transport::driver::MonotonicClock;
@@ -199,10 +200,10 @@ impl<T: Transport> Master<T> {
     }
 
     /// Reads `entry` of `node_id`, typed (an address of any device's generated module).
-    pub fn read<V: OdValue, D>(
+    pub fn read<V: OdValue, D, A: Readable>(
         &mut self,
         node_id: u8,
-        entry: Entry<V, D>,
+        entry: Entry<V, D, A>,
     ) -> Result<V, MasterError> {
         let mux = Multiplexer::new(entry.index, entry.sub);
         let bytes = self.upload(node_id, mux, Mode::Normal)?;
@@ -214,10 +215,10 @@ impl<T: Transport> Master<T> {
     }
 
     /// Writes `value` to `entry` of `node_id`.
-    pub fn write<V: OdValue, D>(
+    pub fn write<V: OdValue, D, A: Writable>(
         &mut self,
         node_id: u8,
-        entry: Entry<V, D>,
+        entry: Entry<V, D, A>,
         value: V,
     ) -> Result<(), MasterError> {
         let now = self.clock.now();
