@@ -30,8 +30,8 @@ pub enum Const {}
 
 /// The access markers an SDO client may read: all but [`WriteOnly`].
 #[diagnostic::on_unimplemented(
-    message = "a master cannot read a `{Self}` entry",
-    label = "the address of a `{Self}` entry",
+    message = "a master cannot read a write-only entry",
+    label = "the address of a write-only entry",
     note = "the node would answer SDO abort 0601 0001h (attempt to read a write-only object)"
 )]
 pub trait Readable {}
@@ -41,8 +41,8 @@ impl Readable for Const {}
 
 /// The access markers an SDO client may write: [`ReadWrite`] and [`WriteOnly`].
 #[diagnostic::on_unimplemented(
-    message = "a master cannot write a `{Self}` entry",
-    label = "the address of a `{Self}` entry",
+    message = "a master cannot write a read-only or constant entry",
+    label = "the address of a read-only or constant entry",
     note = "the node would answer SDO abort 0601 0002h (attempt to write a read-only object)"
 )]
 pub trait Writable {}
