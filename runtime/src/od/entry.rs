@@ -36,8 +36,12 @@ pub struct Entry<T, D = AnyDictionary, A = ReadWrite> {
     pub sub: u8,
     width: u8,
     position: u16,
-    _value: PhantomData<fn() -> (T, D, A)>,
+    _value: PhantomData<Markers<T, D, A>>,
 }
+
+/// What an `Entry` holds of its type parameters: nothing (a function pointer type keeps the
+/// address `Copy`, `Send` and `Sync` whatever they are).
+type Markers<T, D, A> = fn() -> (T, D, A);
 
 /// The `position` of an entry that records none.
 const NO_POSITION: u16 = u16::MAX;
@@ -341,6 +345,33 @@ mod tests {
         };
         assert!(!branded.written_by(&other));
         assert!(!branded.written_by(&crate::Event::RpdoReceived { pdo: 0 }));
+    }
+
+    #[test]
+    fn access_markers_keep_the_address() {
+        use crate::od::access::{Const, ReadOnly, WriteOnly};
+        struct Dict;
+        let status: Entry<u16, Dict, ReadOnly> = Entry::new(0x6041, 0)
+            .read_only()
+            .at_position(3)
+            .in_dictionary();
+        let limit: Entry<i32, AnyDictionary, Const> = Entry::with_width(0x2002, 1, 3).constant();
+        let command: Entry<u8, AnyDictionary, WriteOnly> = Entry::new(0x2003, 0).write_only();
+        assert_eq!(
+            (status.index, status.sub, status.position()),
+            (0x6041, 0, Some(3))
+        );
+        assert_eq!(status.unbranded(), Entry::new(0x6041, 0).read_only());
+        assert_eq!(
+            (limit.index, limit.sub, limit.wire_width()),
+            (0x2002, 1, Some(3))
+        );
+        assert_eq!(limit.decode(&[0xFE, 0xFF, 0xFF]), Some(-2));
+        assert_eq!((command.index, command.position()), (0x2003, None));
+        assert_eq!(
+            core::mem::size_of_val(&status),
+            core::mem::size_of::<Entry<u16>>()
+        );
     }
 
     #[test]
