@@ -9,7 +9,14 @@
 //! client: its `Od::get` and `Od::set` take any marker (it keeps its own read-only statusword
 //! current). An address built by hand ([`Entry::new`](crate::Entry::new)) is of unknown access
 //! and so [`ReadWrite`]: the node's abort answers an access it refuses; `read_only()`,
-//! `write_only()` and `constant()` narrow it.
+//! `write_only()` and `constant()` narrow it. To try a refused access on purpose (a test of the
+//! node's abort), build the address by hand from the generated one's `index` and `sub`.
+//!
+//! Why markers and not a field checked at run time: the error is the compiler's, at the line of
+//! the mistake, and the address keeps its size (the markers are uninhabited types, present only
+//! in the type). Why a third parameter with a default: code that names `Entry<u16>` or
+//! `Entry<u16, Od>` means a read-write address and keeps compiling. `Readable` and `Writable` are
+//! implemented exactly for the markers a CiA 301 SDO client may read or write.
 
 /// The marker of an entry that may be read and written (`rw`, `rwr`, `rww`), and of an address
 /// whose access is not known.

@@ -1,15 +1,16 @@
 //! Typed entry addresses: `Entry<u16>` names (index, sub) and the Rust type of its value.
 //!
 //! Generated code declares one constant per entry (`pub const CONTROLWORD: Entry<u16> = ...`), so a
-//! master's typed read returns the right type and a mistyped write does not compile. The
-//! address also carries the entry's access rights as a zero-sized marker (see [`access`]): a
-//! master's typed write to a read-only or constant entry, or typed read of a write-only one,
-//! does not compile either. The same
+//! master's typed read returns the right type and a mistyped write does not compile. The same
 //! constants are the device application's keys into its own generated `Od` (`od.get(CONTROLWORD)`),
 //! which is why a generated constant also records where the entry sits in that dictionary, and
 //! carries that dictionary's type as its brand (`Entry<u16, Od>`): the `Od` reads a branded
 //! address without a check that could fail. An address built by hand (`Entry::new`) names no
 //! dictionary ([`AnyDictionary`]), and reading it takes the checked path.
+//!
+//! A third type parameter carries the entry's access rights as a zero-sized marker
+//! (`Entry<u16, Od, ReadOnly>`, see [`access`]): a master's typed write of a read-only or
+//! constant entry, or typed read of a write-only one, does not compile either.
 //!
 //! [`access`]: crate::od::access
 
