@@ -449,7 +449,8 @@ impl<T: Transport> Master<T> {
     }
 
     /// Configures a PDO of `node_id` by SDO in CiA 301's safe order (see
-    /// [`PdoConfig::writes`]); the first write the node refuses is the error.
+    /// [`PdoConfig::writes`]); the first write the node refuses is the error. For the PDO a
+    /// generated struct describes: `PdoConfig::of::<cp301::pdo::Tpdo1>(cob_id, 254, Some(20))`.
     pub fn configure_pdo(&mut self, node_id: u8, config: &PdoConfig) -> Result<(), MasterError> {
         for (mux, value, len) in config.writes() {
             let bytes = value.to_le_bytes();
