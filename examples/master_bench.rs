@@ -20,7 +20,7 @@ use edsgen_runtime::sdo::SdoServer;
 use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::{
     Access, CanFrame, DataType, Duration as OdDuration, EntryDescriptor, ObjectDictionary, SdoAbort,

@@ -20,6 +20,9 @@
 //! let can = edsgen_runtime::CanFrame::new(pdo::Rpdo1::cob_id(3), &frame);
 //! assert!(can.is_some_and(|f| f.data() == frame));
 //! let _: edsgen_runtime::Entry<i16, Od> = od::VL_TARGET_VELOCITY; // a master's read returns i16
+//! // 6041h is `ro`: a master may read it, its write does not compile; the application sets it.
+//! let _: edsgen_runtime::Entry<u16, Od, edsgen_runtime::od::access::ReadOnly> = od::STATUSWORD;
+//! assert_eq!(dict.set(od::STATUSWORD, 0x0237), Ok(()));
 //! let controlword: u16 = dict.get(od::CONTROLWORD); // an address of this Od: no Option
 //! ```
 

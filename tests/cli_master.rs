@@ -19,7 +19,7 @@ use edsgen_runtime::time::Instant;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 
 const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
 

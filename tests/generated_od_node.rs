@@ -3,7 +3,7 @@
 
 use edsgen::cards::goodrive350::{od, Od};
 use edsgen_runtime::node::Node;
-use edsgen_runtime::vbus::VirtualBus;
+use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, Instant};
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {

@@ -5,7 +5,8 @@
 use edsgen::cards::cp301::{self, od};
 use edsgen_runtime::master::SdoClient;
 use edsgen_runtime::node::Node;
-use edsgen_runtime::vbus::VirtualBus;
+use edsgen_runtime::od::access::Readable;
+use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{Entry, Instant, OdValue};
 
 fn ms(millis: u64) -> Instant {
@@ -13,11 +14,11 @@ fn ms(millis: u64) -> Instant {
 }
 
 /// Reads `entry` of node 3 through `client`, typed.
-fn read<T: OdValue, D>(
+fn read<T: OdValue, D, A: Readable>(
     bus: &mut VirtualBus,
     client: &mut SdoClient,
     node: &mut Node<cp301::Od>,
-    entry: Entry<T, D>,
+    entry: Entry<T, D, A>,
 ) -> T {
     client.read(bus.now(), entry).unwrap();
     let until = bus.now() + edsgen_runtime::Duration::from_millis(1);

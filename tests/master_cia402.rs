@@ -12,7 +12,7 @@ use edsgen_runtime::master::blocking::{Master, MasterError};
 use edsgen_runtime::master::cia402::{mode, CONTROLWORD};
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::Entry;
 
 const STEP: Duration = Duration::from_secs(2);

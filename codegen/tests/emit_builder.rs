@@ -139,14 +139,16 @@ fn the_overlay_beside_a_device_sets_capacities_and_its_errors_fail_the_build() {
     };
     build().unwrap();
     let plain = std::fs::read_to_string(out.join("goodrive350.rs")).unwrap();
-    assert!(plain.contains("pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<12>, super::Od>"));
+    assert!(plain
+        .contains("pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<12>, super::Od, Const>"));
 
     std::fs::write(out.join("goodrive350.toml"), "[capacity]\n1008 = 48\n").unwrap();
     build().unwrap();
     let with_overlay = std::fs::read_to_string(out.join("goodrive350.rs")).unwrap();
     assert!(
-        with_overlay
-            .contains("pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<48>, super::Od>"),
+        with_overlay.contains(
+            "pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<48>, super::Od, Const>"
+        ),
         "{with_overlay}"
     );
 

@@ -164,7 +164,7 @@ fn default_image(code: &str) -> Vec<u8> {
         .map(|n| n.parse().unwrap())
         .collect();
     let mut image = vec![0; size];
-    edsgen_runtime::image::unpack_defaults(&mut image, &runs);
+    edsgen_runtime::od::image::unpack_defaults(&mut image, &runs);
     image
 }
 
@@ -204,7 +204,7 @@ fn missing_default_is_eds705_and_zero() {
     assert_eq!(default_image(&generated.code), [0; 6]);
     assert!(generated
         .code
-        .contains("pub const NAME: Entry<FixedBytes<0>, super::Od> = Entry::new(0x2001, 0x00)"));
+        .contains("pub const NAME: Entry<FixedBytes<0>, super::Od, ReadOnly> = Entry::new("));
 }
 
 #[test]
@@ -434,12 +434,12 @@ fn colliding_constant_names_take_the_index() {
     };
     let code = emit::generate(&device(vec![rec(0x5E11), rec(0x5E12)]), "x").unwrap();
     assert!(
-        code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8, super::Od>"),
+        code.contains("pub const REMOTE_MAPPING_COUNT: Entry<u8, super::Od, ReadOnly>"),
         "{code}"
     );
     // Another object holds the name: the index tells them apart.
     assert!(
-        code.contains("pub const REMOTE_MAPPING_COUNT_5E12: Entry<u8, super::Od>"),
+        code.contains("pub const REMOTE_MAPPING_COUNT_5E12: Entry<u8, super::Od, ReadOnly>"),
         "{code}"
     );
     // The same object: the sub-index does.
@@ -673,5 +673,50 @@ fn a_sub_object_does_not_repeat_its_object_name_and_acronyms_survive() {
             "CANOPEN_SPEED_HIGHEST_SUB_INDEX",
             "CANOPEN_SPEED_CANOPEN_SPEEDOMETER",
         ]
+    );
+}
+
+#[test]
+fn addresses_carry_the_access_rights_of_their_entries() {
+    let device = device(vec![
+        var(0x2000, "Speed", 0x04, AccessType::Rw, None, false),
+        var(0x2001, "Status", 0x06, AccessType::Ro, None, false),
+        var(0x2002, "Limit", 0x06, AccessType::Const, None, false),
+        var(0x2003, "Command", 0x05, AccessType::Wo, None, false),
+        var(0x2004, "Setpoint", 0x06, AccessType::Rww, None, false),
+    ]);
+    let code = emit::generate(&device, "x").unwrap();
+    let start = code.find("    pub mod od {").unwrap();
+    let end = start + code[start..].find("\n    }\n").unwrap();
+    let od = &code[start..end];
+    assert_eq!(
+        od,
+        "    pub mod od {
+        use ::edsgen_runtime::Entry;
+        use ::edsgen_runtime::od::access::{Const, ReadOnly, WriteOnly};
+        /// Speed (2000h sub 0: INTEGER32, rw, not PDO-mappable).
+        pub const SPEED: Entry<i32, super::Od> = Entry::new(0x2000, 0x00)
+            .at_position(0)
+            .in_dictionary();
+        /// Status (2001h sub 0: UNSIGNED16, ro, not PDO-mappable).
+        pub const STATUS: Entry<u16, super::Od, ReadOnly> = Entry::new(0x2001, 0x00)
+            .read_only()
+            .at_position(1)
+            .in_dictionary();
+        /// Limit (2002h sub 0: UNSIGNED16, const, not PDO-mappable).
+        pub const LIMIT: Entry<u16, super::Od, Const> = Entry::new(0x2002, 0x00)
+            .constant()
+            .at_position(2)
+            .in_dictionary();
+        /// Command (2003h sub 0: UNSIGNED8, wo, not PDO-mappable).
+        pub const COMMAND: Entry<u8, super::Od, WriteOnly> = Entry::new(0x2003, 0x00)
+            .write_only()
+            .at_position(3)
+            .in_dictionary();
+        /// Setpoint (2004h sub 0: UNSIGNED16, rww, not PDO-mappable).
+        pub const SETPOINT: Entry<u16, super::Od> = Entry::new(0x2004, 0x00)
+            .at_position(4)
+            .in_dictionary();",
+        "{code}"
     );
 }

@@ -11,7 +11,7 @@
 //! - `node-guarding` (default): node guarding and life guarding (100Ch × 100Dh, the answer to an
 //!   RTR on 700h + node-ID, `Event::LifeGuardingLost` and EMCY 8130h). Without it that RTR is
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
-//! - `std`: the virtual bus ([`vbus`]) and the operating-system transports ([`transport`]).
+//! - `std`: the operating-system transports and the in-memory buses ([`transport`]).
 //! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
@@ -33,16 +33,11 @@ pub mod sdo;
 pub mod time;
 #[cfg(feature = "std")]
 pub mod transport;
-#[cfg(feature = "std")]
-pub mod vbus;
 pub mod wire;
 
 mod macros;
-
-// The dictionary's helpers by the paths generated code names (`::edsgen_runtime::image::…`,
-// `::edsgen_runtime::typed::…`, `::edsgen_runtime::support::…`); documented under `od`.
 #[doc(hidden)]
-pub use od::{image, support, typed};
+pub mod support;
 
 pub use frame::{CanFrame, CanId};
 pub use node::{Event, NmtState, Node, NodeHooks, ResetKind};

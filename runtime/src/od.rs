@@ -7,14 +7,14 @@
 //! mapping of a non-mappable one), so the same OD serves SDO, PDO and the node's own updates.
 //!
 //! What builds on the contract lives beside it: [`entry`] (typed addresses of entries and the
-//! values they hold), [`image`] (the packed value image a generated OD keeps its values in),
-//! [`typed`] (the values' byte and bit encodings, for PDO payloads) and `support` (what only
-//! generated code calls, hidden from the documentation).
+//! values they hold), [`access`] (the access rights in an address's type), [`image`] (the
+//! packed value image a generated OD keeps its values in) and [`typed`] (the values' byte and
+//! bit encodings, for PDO payloads). What only generated code calls is gathered in the crate's
+//! hidden `support` module.
 
+pub mod access;
 pub mod entry;
 pub mod image;
-#[doc(hidden)]
-pub mod support;
 pub mod typed;
 
 /// A CiA 301 data type, as the runtime needs it (the wire size and how a value is checked).

@@ -5,7 +5,7 @@
 mod node_support;
 
 use edsgen_runtime::node::{Event, Node};
-use edsgen_runtime::vbus::{ScriptedPeer, VirtualBus};
+use edsgen_runtime::transport::vbus::{ScriptedPeer, VirtualBus};
 use node_support::node_od::{RecordingHooks, TestOd};
 use node_support::{frame, ms, show};
 

@@ -7,7 +7,7 @@
 mod node_support;
 
 use edsgen_runtime::node::{Event, Node};
-use edsgen_runtime::vbus::VirtualBus;
+use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::CanFrame;
 use node_support::node_od::TestOd;
 use node_support::{at_ms, frame, ms, sdo_ok, sdo_read, sdo_write, sent};

@@ -34,8 +34,8 @@ use std::time::{Duration, SystemTime};
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::trace::epoch_micros;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::transport::Transport;
-use edsgen_runtime::vbus::BusDevice;
 use edsgen_runtime::Node;
 
 use super::{fail, parse_node_id, read_device};

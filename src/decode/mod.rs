@@ -327,7 +327,7 @@ impl Described {
                     text::value(data_type, bytes)
                 ));
             } else if index >= 0x1000 {
-                let value = edsgen_runtime::typed::get_bits(data, offset, bits as u32);
+                let value = edsgen_runtime::od::typed::get_bits(data, offset, bits as u32);
                 fields.push(format!("{} = {value}", self.name(index, mapped_sub)));
             }
             offset += bits;

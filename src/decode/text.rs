@@ -2,7 +2,7 @@
 //! CiA 301 meanings of SDO abort codes and error-register bits as the decoder prints them (the
 //! tables themselves are the runtime's: `wire::sdo::abort_meaning`, `wire::emcy::meaning`).
 
-use edsgen_runtime::typed::get_bits;
+use edsgen_runtime::od::typed::get_bits;
 use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::DataType;
 

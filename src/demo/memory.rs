@@ -6,7 +6,8 @@ use std::collections::VecDeque;
 use std::time::Duration as StdDuration;
 
 use edsgen_runtime::master::SdoClient;
-use edsgen_runtime::vbus::{BusDevice, VirtualBus};
+use edsgen_runtime::od::access::{Readable, Writable};
+use edsgen_runtime::transport::vbus::{BusDevice, VirtualBus};
 use edsgen_runtime::{CanFrame, Duration, Entry, Instant, OdValue};
 
 use super::{Link, Trace, CP301_NODE, GOODRIVE350_NODE};
@@ -126,7 +127,11 @@ impl Link for InMemory {
         self.trace
     }
 
-    fn read<T: OdValue, D>(&mut self, node: u8, entry: Entry<T, D>) -> Result<T, String> {
+    fn read<T: OdValue, D, A: Readable>(
+        &mut self,
+        node: u8,
+        entry: Entry<T, D, A>,
+    ) -> Result<T, String> {
         let now = self.bus.now();
         self.master
             .client(node)
@@ -139,10 +144,10 @@ impl Link for InMemory {
             .ok_or_else(|| "a value of the wrong length".to_string())
     }
 
-    fn write<T: OdValue, D>(
+    fn write<T: OdValue, D, A: Writable>(
         &mut self,
         node: u8,
-        entry: Entry<T, D>,
+        entry: Entry<T, D, A>,
         value: T,
     ) -> Result<(), String> {
         let now = self.bus.now();

@@ -20,6 +20,7 @@ use edsgen_codegen::diag::Severity;
 use edsgen_codegen::{read, validate};
 use edsgen_runtime::cia402::State;
 use edsgen_runtime::master::nmt_frame;
+use edsgen_runtime::od::access::{Readable, Writable};
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::{CanFrame, Entry, OdValue};
 
@@ -166,12 +167,16 @@ trait Link {
     /// The report, at the end.
     fn into_trace(self) -> Trace;
     /// Reads an entry of a node, typed.
-    fn read<T: OdValue, D>(&mut self, node: u8, entry: Entry<T, D>) -> Result<T, String>;
-    /// Writes an entry of a node.
-    fn write<T: OdValue, D>(
+    fn read<T: OdValue, D, A: Readable>(
         &mut self,
         node: u8,
-        entry: Entry<T, D>,
+        entry: Entry<T, D, A>,
+    ) -> Result<T, String>;
+    /// Writes an entry of a node.
+    fn write<T: OdValue, D, A: Writable>(
+        &mut self,
+        node: u8,
+        entry: Entry<T, D, A>,
         value: T,
     ) -> Result<(), String>;
     /// Sends a frame (NMT, a PDO).

@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration as StdDuration, SystemTime, UNIX_EPOCH};
 
 use edsgen_runtime::master::blocking::Master;
+use edsgen_runtime::od::access::{Readable, Writable};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
 use edsgen_runtime::{CanFrame, Entry, OdValue};
@@ -104,16 +105,20 @@ impl Link for Remote {
         self.trace
     }
 
-    fn read<T: OdValue, D>(&mut self, node: u8, entry: Entry<T, D>) -> Result<T, String> {
+    fn read<T: OdValue, D, A: Readable>(
+        &mut self,
+        node: u8,
+        entry: Entry<T, D, A>,
+    ) -> Result<T, String> {
         let value = self.master.read(node, entry).map_err(|e| e.to_string());
         self.drain();
         value
     }
 
-    fn write<T: OdValue, D>(
+    fn write<T: OdValue, D, A: Writable>(
         &mut self,
         node: u8,
-        entry: Entry<T, D>,
+        entry: Entry<T, D, A>,
         value: T,
     ) -> Result<(), String> {
         let written = self

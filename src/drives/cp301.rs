@@ -14,7 +14,7 @@
 
 use edsgen_runtime::cia402::{Drive, DriveConfig, State};
 use edsgen_runtime::node::{error_register, InvalidNodeId};
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::{earliest, write_u16};

@@ -20,7 +20,7 @@
 //!   specific) with the generic bit.
 
 use edsgen_runtime::node::{error_register, InvalidNodeId};
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::vfd::{Modify, ParameterSpec, Parameters, Ratings, Run, Vfd};

@@ -4,7 +4,7 @@
 //! inverter stands still; its parameter table is Table 19's (P10.00, P10.01).
 
 use edsgen_runtime::node::InvalidNodeId;
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::pdo1;

@@ -2,7 +2,7 @@
 //! on the card's generated bindings and the device runtime, so that a master can be written and
 //! tested before a drive is wired.
 //!
-//! Each card is a [`BusDevice`](edsgen_runtime::vbus::BusDevice): it runs on the in-memory bus in
+//! Each card is a [`BusDevice`](edsgen_runtime::transport::vbus::BusDevice): it runs on the in-memory bus in
 //! tests, and on any transport through the runtime's driver.
 
 pub mod cp301;
@@ -17,7 +17,7 @@ use std::path::Path;
 
 use edsgen_codegen::model::Device;
 use edsgen_runtime::node::InvalidNodeId;
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{Instant, ObjectDictionary};
 
 pub use self::cp301::Cp301;

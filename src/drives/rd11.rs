@@ -22,7 +22,7 @@
 //!   until 9 (run allow).
 
 use edsgen_runtime::node::{error_register, InvalidNodeId};
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Duration, Event, Instant, Node};
 
 use super::vfd::{Ratings, Run, Vfd};

@@ -12,7 +12,7 @@
 use edsgen_codegen::emit::plan::{plan, Initial};
 use edsgen_codegen::emit::types::{Number, RustType};
 use edsgen_codegen::model::{AccessType, BasicType, Device};
-use edsgen_runtime::typed::read_bytes;
+use edsgen_runtime::od::typed::read_bytes;
 use edsgen_runtime::{
     Access, DataType, EntryDescriptor, NodeHooks, ObjectDictionary, ResetKind, SdoAbort,
 };
@@ -170,7 +170,7 @@ impl ObjectDictionary for RuntimeDictionary {
         self.write_at(position, &value)
     }
 
-    /// The checks of the generated `Od` (`edsgen_runtime::image::Layout::write`): a fixed-size
+    /// The checks of the generated `Od` (`edsgen_runtime::od::image::Layout::write`): a fixed-size
     /// value takes exactly its size, a BOOLEAN only 0 or 1, a limited value only what its limits
     /// allow; a string, octet string or domain at most its capacity. On error nothing changes.
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {

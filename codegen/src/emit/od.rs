@@ -11,6 +11,7 @@ use quote::quote;
 use super::plan::{Initial, Plan};
 use super::text::{self, Splices, ITEM_INDENT};
 use super::types::{access_variant, data_type_variant, Prim, RustType};
+use crate::model::AccessType;
 
 /// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`; `DEFAULTS` as text.
 pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
@@ -56,7 +57,7 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
                 /// image, width).
                 const NODE_RELATIVE: [(u16, u8); #node_count] = [#(#node_relative),*];
             },
-            quote!(::edsgen_runtime::image::add_node_id(&mut od.values, &NODE_RELATIVE, node_id);),
+            quote!(::edsgen_runtime::support::add_node_id(&mut od.values, &NODE_RELATIVE, node_id);),
         )
     };
     quote! {
@@ -80,30 +81,31 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
             /// given); `$NODEID` defaults are computed from `node_id`.
             pub const fn new(#node_param: u8) -> Self {
                 let mut od = Od { values: [0; IMAGE_SIZE] };
-                ::edsgen_runtime::image::unpack_defaults(&mut od.values, &DEFAULTS);
+                ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
                 #add_node_id
                 od
             }
 
             /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
-            /// branded `Entry<T, Od>`): it is here, at its recorded position, with its type, so
-            /// the read cannot fail.
-            pub fn get<T: ::edsgen_runtime::OdValue + Default>(&self, entry: ::edsgen_runtime::Entry<T, Od>) -> T {
+            /// branded `Entry<T, Od>`) of any access: it is here, at its recorded position, with
+            /// its type, so the read cannot fail.
+            pub fn get<T: ::edsgen_runtime::OdValue + Default, A>(&self, entry: ::edsgen_runtime::Entry<T, Od, A>) -> T {
                 // Only a forged brand (`Entry::in_dictionary` by hand) reaches the default.
-                LAYOUT.get(&self.values, entry.unbranded()).unwrap_or_default()
+                LAYOUT.get(&self.values, entry).unwrap_or_default()
             }
 
             /// The value of an address from elsewhere (`Entry::new`, another device's module);
             /// `None` if this dictionary does not hold it with that type.
-            pub fn get_checked<T: ::edsgen_runtime::OdValue, D>(&self, entry: ::edsgen_runtime::Entry<T, D>) -> Option<T> {
-                LAYOUT.get(&self.values, entry.unbranded())
+            pub fn get_checked<T: ::edsgen_runtime::OdValue, D, A>(&self, entry: ::edsgen_runtime::Entry<T, D, A>) -> Option<T> {
+                LAYOUT.get(&self.values, entry)
             }
 
             /// Sets `entry` (a typed address from `od`, or from elsewhere) to `value`, checked
             /// like an SDO write (length, BOOLEAN, LowLimit/HighLimit) but not against access
-            /// rights. On error the value is unchanged.
-            pub fn set<T: ::edsgen_runtime::OdValue, D>(&mut self, entry: ::edsgen_runtime::Entry<T, D>, value: T) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                LAYOUT.set(&mut self.values, entry.unbranded(), &value)
+            /// rights: the application keeps its read-only entries current. On error the value
+            /// is unchanged.
+            pub fn set<T: ::edsgen_runtime::OdValue, D, A>(&mut self, entry: ::edsgen_runtime::Entry<T, D, A>, value: T) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                LAYOUT.set(&mut self.values, entry, &value)
             }
         }
     }
@@ -116,7 +118,7 @@ fn defaults(plan: &Plan, image: &[u8]) -> String {
     let doc = [
         " The value image with every entry at its default (`$NODEID` ones at their offset from",
         " the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes",
-        " each (see `edsgen_runtime::image::unpack_defaults`).",
+        " each (see `edsgen_runtime::od::image::unpack_defaults`).",
     ];
     text::docs(&mut out, ITEM_INDENT, &doc);
     text::docs(&mut out, ITEM_INDENT, &default_table(plan));
@@ -168,7 +170,7 @@ fn default_table(plan: &Plan) -> Vec<String> {
     lines
 }
 
-/// The runs `edsgen_runtime::image::unpack_defaults` turns back into `image`: for each stretch of
+/// The runs `edsgen_runtime::od::image::unpack_defaults` turns back into `image`: for each stretch of
 /// non-zero bytes, the gap since the previous run, the length and the bytes. Zero gaps of up to
 /// two bytes stay inside a run (they cost what a new run's gap and length would); a gap or a
 /// stretch longer than 255 bytes takes several runs.
@@ -243,19 +245,19 @@ pub fn descriptors(plan: &Plan, splices: &mut Splices) -> TokenStream {
     let limits_body = array_body(
         &limits,
         quote!(
-            use ::edsgen_runtime::image::Limit as L;
+            use ::edsgen_runtime::support::Limit as L;
         ),
     );
     quote! {
         #tables
 
         /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
-        static LIMITS: [(u16, ::edsgen_runtime::image::Limit); #k] = #limits_body;
+        static LIMITS: [(u16, ::edsgen_runtime::support::Limit); #k] = #limits_body;
 
         /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
         /// `get`/`set` work from.
-        static LAYOUT: ::edsgen_runtime::image::Layout =
-            ::edsgen_runtime::image::Layout::new(&ENTRIES, &OFFSETS, &LIMITS, IMAGE_SIZE);
+        static LAYOUT: ::edsgen_runtime::support::Layout =
+            ::edsgen_runtime::support::Layout::new(&ENTRIES, &OFFSETS, &LIMITS, IMAGE_SIZE);
     }
 }
 
@@ -341,15 +343,15 @@ pub fn od_impl(_plan: &Plan) -> TokenStream {
             }
 
             fn value_len(&self, index: u16, sub: u8) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                LAYOUT.value_len(&self.values, ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?)
+                LAYOUT.value_len(&self.values, ::edsgen_runtime::support::position(&ENTRIES, index, sub)?)
             }
 
             fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                self.read_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, offset, buf)
+                self.read_at(::edsgen_runtime::support::position(&ENTRIES, index, sub)?, offset, buf)
             }
 
             fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
+                self.write_at(::edsgen_runtime::support::position(&ENTRIES, index, sub)?, data)
             }
 
             fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
@@ -402,6 +404,29 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
     } else {
         out.push_str("use ::edsgen_runtime::Entry;\n");
     }
+    let markers: Vec<&str> = ["Const", "ReadOnly", "WriteOnly"]
+        .into_iter()
+        .filter(|m| {
+            plan.entries
+                .iter()
+                .any(|e| access_marker(e.access) == Some(m))
+        })
+        .collect();
+    match markers[..] {
+        [] => {}
+        [one] => {
+            text::indent(&mut out, at);
+            let _ = writeln!(out, "use ::edsgen_runtime::od::access::{one};");
+        }
+        _ => {
+            text::indent(&mut out, at);
+            let _ = writeln!(
+                out,
+                "use ::edsgen_runtime::od::access::{{{}}};",
+                markers.join(", ")
+            );
+        }
+    }
     for (position, e) in plan.entries.iter().enumerate() {
         let ty = match e.ty {
             RustType::Bytes(n) => format!("FixedBytes<{n}>"),
@@ -422,8 +447,8 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
             at,
             &e.const_name.to_string(),
             &ty,
-            constructor,
-            &args,
+            access_marker(e.access),
+            (constructor, &args),
             position,
         );
     }
@@ -432,35 +457,58 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
     splices.item(out)
 }
 
-/// One typed address, `pub const NAME: Entry<TY, super::Od> =
-/// CONSTRUCTOR(ARGS).at_position(POSITION).in_dictionary();`, broken as `prettyplease` breaks
-/// it: the method calls on lines of their own, and the constructor's arguments too when the
-/// line up to them does not fit; or, when even the line up to ` = ` does not fit, the type's
-/// parameters on lines of their own and the rest on one line.
+/// The access marker of an address (`od::access`), or `None` for the default `ReadWrite`.
+fn access_marker(access: AccessType) -> Option<&'static str> {
+    match access {
+        AccessType::Rw | AccessType::Rwr | AccessType::Rww => None,
+        AccessType::Ro => Some("ReadOnly"),
+        AccessType::Const => Some("Const"),
+        AccessType::Wo => Some("WriteOnly"),
+    }
+}
+
+/// The constructor that narrows an address built by `Entry::new` to `marker`.
+fn access_constructor(marker: &str) -> &'static str {
+    match marker {
+        "ReadOnly" => ".read_only()",
+        "Const" => ".constant()",
+        _ => ".write_only()",
+    }
+}
+
+/// One typed address, `pub const NAME: Entry<TY, super::Od[, MARKER]> =
+/// CONSTRUCTOR(ARGS)[.read_only()].at_position(POSITION).in_dictionary();`, broken as
+/// `prettyplease` breaks it: the method calls on lines of their own, and the constructor's
+/// arguments too when the line up to them does not fit; or, when even the line up to ` = ` does
+/// not fit, the type's parameters on lines of their own and the rest on one line.
 fn address(
     out: &mut String,
     at: usize,
     name: &str,
     ty: &str,
-    constructor: &str,
-    args: &[String],
+    marker: Option<&str>,
+    (constructor, args): (&str, &[String]),
     position: usize,
 ) {
-    let head = format!("pub const {name}: Entry<{ty}, super::Od> = ");
+    let mut params = vec![ty, "super::Od"];
+    params.extend(marker);
+    let head = format!("pub const {name}: Entry<{}> = ", params.join(", "));
     let call = format!("{constructor}({})", args.join(", "));
-    let chain = [
-        format!(".at_position({position})"),
-        ".in_dictionary();".to_owned(),
-    ];
+    let mut chain: Vec<String> = marker
+        .map(|m| access_constructor(m).to_owned())
+        .into_iter()
+        .collect();
+    chain.push(format!(".at_position({position})"));
+    chain.push(".in_dictionary();".to_owned());
     text::indent(out, at);
     if at + head.len() > text::MARGIN {
         let _ = writeln!(out, "pub const {name}: Entry<");
-        for param in [ty, "super::Od"] {
+        for param in &params {
             text::indent(out, at + 4);
             let _ = writeln!(out, "{param},");
         }
         text::indent(out, at);
-        let _ = writeln!(out, "> = {call}{}{}", chain[0], chain[1]);
+        let _ = writeln!(out, "> = {call}{}", chain.concat());
         return;
     }
     out.push_str(&head);
@@ -486,7 +534,7 @@ fn address(
 #[cfg(test)]
 mod tests {
     use super::default_runs;
-    use edsgen_runtime::image::unpack_defaults;
+    use edsgen_runtime::od::image::unpack_defaults;
     use proptest::prelude::*;
 
     fn unpacked(runs: &[u8], len: usize) -> Vec<u8> {

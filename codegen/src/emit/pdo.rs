@@ -3,7 +3,8 @@
 //! as a function of the node-ID.
 //!
 //! Fields follow the mapping order; dummy entries (indices 0001h-0007h) take their bits but no
-//! field and encode as zeros. A field mapped with fewer bits than its type is range-checked on
+//! field and encode as zeros. Each struct implements the runtime's `MappedPdo` (its kind, number
+//! and mapping entries), from which a master configures a node's PDO to match it. A field mapped with fewer bits than its type is range-checked on
 //! `encode`, and sign-extended on `decode` when signed.
 
 use proc_macro2::{Literal, TokenStream};
@@ -45,6 +46,8 @@ struct PdoPlan {
     direction: Direction,
     number: u16,
     mapping_index: u16,
+    /// The mapping entries (index << 16 | sub << 8 | bits), in payload order.
+    mapping: Vec<u32>,
     slots: Vec<Slot>,
     /// The body and return type of `cob_id`, or `None` when the PDO has no COB-ID to give.
     cob_id: Option<(TokenStream, TokenStream)>,
@@ -86,6 +89,8 @@ pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> 
     quote! {
         /// Typed PDOs: one struct per default mapping of the description.
         pub mod pdo {
+            use ::edsgen_runtime::master::pdo::{MappedPdo, PdoKind};
+
             #(#structs)*
         }
     }
@@ -122,6 +127,7 @@ fn plan_pdo(
     }
     let mut names = Namespace::default();
     let mut slots = Vec::new();
+    let mut mapping = Vec::new();
     let mut offset = 0u32;
     for k in 1..=count as u8 {
         let Some(sub) = object.subs.get(&k) else {
@@ -135,6 +141,7 @@ fn plan_pdo(
         if bits == 0 {
             return Err(format!("mapping sub-index {k} ({raw:08X}h) has length 0"));
         }
+        mapping.push(raw);
         if (0x0001..=0x0007).contains(&index) {
             slots.push(Slot::Dummy { bits });
             offset += bits;
@@ -211,6 +218,7 @@ fn plan_pdo(
         direction,
         number,
         mapping_index,
+        mapping,
         slots,
         cob_id,
         cob_doc,
@@ -272,9 +280,9 @@ fn cob_id_fn(
 }
 
 fn emit_pdo(p: &PdoPlan) -> TokenStream {
-    let (prefix, word) = match p.direction {
-        Direction::Rx => ("Rpdo", "RPDO"),
-        Direction::Tx => ("Tpdo", "TPDO"),
+    let (prefix, word, kind) = match p.direction {
+        Direction::Rx => ("Rpdo", "RPDO", quote!(Receive)),
+        Direction::Tx => ("Tpdo", "TPDO", quote!(Transmit)),
     };
     let name = id(&format!("{prefix}{}", p.number));
     let total_bits: u32 = p
@@ -286,6 +294,8 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
         .sum();
     let len = total_bits.div_ceil(8) as usize;
     let len_lit = Literal::usize_unsuffixed(len);
+    let number = Literal::u16_unsuffixed(p.number);
+    let mapping = p.mapping.iter().map(|&raw| hex(u128::from(raw), 8));
     let mut fields = Vec::new();
     let mut encodes = Vec::new();
     let mut decodes = Vec::new();
@@ -322,14 +332,14 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                             Prim::Bool => (
                                 quote!(u64::from(self.#field)),
                                 None,
-                                quote!(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits) != 0),
+                                quote!(::edsgen_runtime::support::get_bits(&payload, #off, #nbits) != 0),
                             ),
                             Prim::F32 => {
                                 eq = false;
                                 (
                                     quote!(u64::from(self.#field.to_bits())),
                                     None,
-                                    quote!(f32::from_bits(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits) as u32)),
+                                    quote!(f32::from_bits(::edsgen_runtime::support::get_bits(&payload, #off, #nbits) as u32)),
                                 )
                             }
                             Prim::F64 => {
@@ -337,7 +347,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                                 (
                                     quote!(self.#field.to_bits()),
                                     None,
-                                    quote!(f64::from_bits(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits))),
+                                    quote!(f64::from_bits(::edsgen_runtime::support::get_bits(&payload, #off, #nbits))),
                                 )
                             }
                             Prim::Unsigned(w) => {
@@ -347,9 +357,9 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                                     quote!(u64::from(self.#field))
                                 };
                                 let check = narrow.then(
-                                    || quote!(::edsgen_runtime::typed::fits_unsigned(#raw, #nbits)),
+                                    || quote!(::edsgen_runtime::support::fits_unsigned(#raw, #nbits)),
                                 );
-                                let get = quote!(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits));
+                                let get = quote!(::edsgen_runtime::support::get_bits(&payload, #off, #nbits));
                                 let decode = if *w == 64 { get } else { quote!(#get as #t) };
                                 (raw, check, decode)
                             }
@@ -360,9 +370,9 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                                     quote!(i64::from(self.#field))
                                 };
                                 let check = narrow.then(
-                                    || quote!(::edsgen_runtime::typed::fits_signed(#wide, #nbits)),
+                                    || quote!(::edsgen_runtime::support::fits_signed(#wide, #nbits)),
                                 );
-                                let get = quote!(::edsgen_runtime::typed::sign_extend(::edsgen_runtime::typed::get_bits(&payload, #off, #nbits), #nbits));
+                                let get = quote!(::edsgen_runtime::support::sign_extend(::edsgen_runtime::support::get_bits(&payload, #off, #nbits), #nbits));
                                 let decode = if *w == 64 { get } else { quote!(#get as #t) };
                                 (quote!(#wide as u64), check, decode)
                             }
@@ -375,7 +385,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                                 }
                             });
                         }
-                        encodes.push(quote!(::edsgen_runtime::typed::put_bits(&mut payload, #off, #nbits, #raw);));
+                        encodes.push(quote!(::edsgen_runtime::support::put_bits(&mut payload, #off, #nbits, #raw);));
                         decodes.push(quote!(#field: #decode,));
                     }
                     FieldType::Bytes(n) => {
@@ -391,13 +401,13 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                         fields.push(quote!(#[doc = #doc] pub #field: [u8; #n_lit],));
                         encodes.push(quote! {
                             for (i, byte) in self.#field.iter().enumerate() {
-                                ::edsgen_runtime::typed::put_bits(&mut payload, #at, 8, u64::from(*byte));
+                                ::edsgen_runtime::support::put_bits(&mut payload, #at, 8, u64::from(*byte));
                             }
                         });
                         decodes.push(quote!(#field: {
                             let mut bytes = [0u8; #n_lit];
                             for (i, byte) in bytes.iter_mut().enumerate() {
-                                *byte = ::edsgen_runtime::typed::get_bits(&payload, #at, 8) as u8;
+                                *byte = ::edsgen_runtime::support::get_bits(&payload, #at, 8) as u8;
                             }
                             bytes
                         },));
@@ -498,9 +508,15 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
 
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let #payload_binding = ::edsgen_runtime::typed::payload::<#len_lit>(payload)?;
+                let #payload_binding = ::edsgen_runtime::support::payload::<#len_lit>(payload)?;
                 Ok(Self { #(#decodes)* })
             }
+        }
+
+        impl MappedPdo for #name {
+            const KIND: PdoKind = PdoKind::#kind;
+            const NUMBER: u16 = #number;
+            const MAPPING: &'static [u32] = &[#(#mapping),*];
         }
     }
 }

@@ -19,7 +19,7 @@ pub mod gd350 {
     const IMAGE_SIZE: usize = 232;
     /// The value image with every entry at its default (`$NODEID` ones at their offset from
     /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
-    /// each (see `edsgen_runtime::image::unpack_defaults`).
+    /// each (see `edsgen_runtime::od::image::unpack_defaults`).
     ///
     /// The non-zero defaults, at their offset in the image:
     ///
@@ -91,8 +91,8 @@ pub mod gd350 {
         /// given); `$NODEID` defaults are computed from `node_id`.
         pub const fn new(node_id: u8) -> Self {
             let mut od = Od { values: [0; IMAGE_SIZE] };
-            ::edsgen_runtime::image::unpack_defaults(&mut od.values, &DEFAULTS);
-            ::edsgen_runtime::image::add_node_id(
+            ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
+            ::edsgen_runtime::support::add_node_id(
                 &mut od.values,
                 &NODE_RELATIVE,
                 node_id,
@@ -100,31 +100,32 @@ pub mod gd350 {
             od
         }
         /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
-        /// branded `Entry<T, Od>`): it is here, at its recorded position, with its type, so
-        /// the read cannot fail.
-        pub fn get<T: ::edsgen_runtime::OdValue + Default>(
+        /// branded `Entry<T, Od>`) of any access: it is here, at its recorded position, with
+        /// its type, so the read cannot fail.
+        pub fn get<T: ::edsgen_runtime::OdValue + Default, A>(
             &self,
-            entry: ::edsgen_runtime::Entry<T, Od>,
+            entry: ::edsgen_runtime::Entry<T, Od, A>,
         ) -> T {
-            LAYOUT.get(&self.values, entry.unbranded()).unwrap_or_default()
+            LAYOUT.get(&self.values, entry).unwrap_or_default()
         }
         /// The value of an address from elsewhere (`Entry::new`, another device's module);
         /// `None` if this dictionary does not hold it with that type.
-        pub fn get_checked<T: ::edsgen_runtime::OdValue, D>(
+        pub fn get_checked<T: ::edsgen_runtime::OdValue, D, A>(
             &self,
-            entry: ::edsgen_runtime::Entry<T, D>,
+            entry: ::edsgen_runtime::Entry<T, D, A>,
         ) -> Option<T> {
-            LAYOUT.get(&self.values, entry.unbranded())
+            LAYOUT.get(&self.values, entry)
         }
         /// Sets `entry` (a typed address from `od`, or from elsewhere) to `value`, checked
         /// like an SDO write (length, BOOLEAN, LowLimit/HighLimit) but not against access
-        /// rights. On error the value is unchanged.
-        pub fn set<T: ::edsgen_runtime::OdValue, D>(
+        /// rights: the application keeps its read-only entries current. On error the value
+        /// is unchanged.
+        pub fn set<T: ::edsgen_runtime::OdValue, D, A>(
             &mut self,
-            entry: ::edsgen_runtime::Entry<T, D>,
+            entry: ::edsgen_runtime::Entry<T, D, A>,
             value: T,
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            LAYOUT.set(&mut self.values, entry.unbranded(), &value)
+            LAYOUT.set(&mut self.values, entry, &value)
         }
     }
     /// Every entry's descriptor, sorted by (index, sub-index).
@@ -202,13 +203,13 @@ pub mod gd350 {
         218, 220, 222, 224, 226, 228, 230,
     ];
     /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
-    static LIMITS: [(u16, ::edsgen_runtime::image::Limit); 1] = {
-        use ::edsgen_runtime::image::Limit as L;
+    static LIMITS: [(u16, ::edsgen_runtime::support::Limit); 1] = {
+        use ::edsgen_runtime::support::Limit as L;
         [(57, L::unsigned(10, 0x1388))]
     };
     /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
     /// `get`/`set` work from.
-    static LAYOUT: ::edsgen_runtime::image::Layout = ::edsgen_runtime::image::Layout::new(
+    static LAYOUT: ::edsgen_runtime::support::Layout = ::edsgen_runtime::support::Layout::new(
         &ENTRIES,
         &OFFSETS,
         &LIMITS,
@@ -229,7 +230,7 @@ pub mod gd350 {
             LAYOUT
                 .value_len(
                     &self.values,
-                    ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?,
+                    ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
                 )
         }
         fn read(
@@ -240,7 +241,7 @@ pub mod gd350 {
             buf: &mut [u8],
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
             self.read_at(
-                ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?,
+                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
                 offset,
                 buf,
             )
@@ -251,7 +252,10 @@ pub mod gd350 {
             sub: u8,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
+            self.write_at(
+                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
+                data,
+            )
         }
         fn read_at(
             &self,
@@ -302,8 +306,10 @@ pub mod gd350 {
     /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
     pub mod od {
         use ::edsgen_runtime::{Entry, FixedBytes};
+        use ::edsgen_runtime::od::access::{Const, ReadOnly};
         /// Device type (1000h sub 0: UNSIGNED32, ro, not PDO-mappable; default `65938`).
-        pub const DEVICE_TYPE: Entry<u32, super::Od> = Entry::new(0x1000, 0x00)
+        pub const DEVICE_TYPE: Entry<u32, super::Od, ReadOnly> = Entry::new(0x1000, 0x00)
+            .read_only()
             .at_position(0)
             .in_dictionary();
         /// Pre-defined error field: Number of errors (1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`).
@@ -314,22 +320,23 @@ pub mod gd350 {
             .at_position(1)
             .in_dictionary();
         /// Pre-defined error field: Standard error field (1003h sub 1: UNSIGNED32, ro, not PDO-mappable; default `0`).
-        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: Entry<u32, super::Od> = Entry::new(
-                0x1003,
-                0x01,
-            )
-            .at_position(2)
-            .in_dictionary();
+        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: Entry<
+            u32,
+            super::Od,
+            ReadOnly,
+        > = Entry::new(0x1003, 0x01).read_only().at_position(2).in_dictionary();
         /// Pre-defined error field: Standard error field (1003h sub 2: UNSIGNED32, ro, not PDO-mappable; default `0`).
         pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2: Entry<
             u32,
             super::Od,
-        > = Entry::new(0x1003, 0x02).at_position(3).in_dictionary();
+            ReadOnly,
+        > = Entry::new(0x1003, 0x02).read_only().at_position(3).in_dictionary();
         /// Manufacturer device name (1008h sub 0: VISIBLE_STRING, const, not PDO-mappable, capacity 5 bytes; default `GD350`).
-        pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<5>, super::Od> = Entry::new(
+        pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<5>, super::Od, Const> = Entry::new(
                 0x1008,
                 0x00,
             )
+            .constant()
             .at_position(4)
             .in_dictionary();
         /// Manufacturer hardware version (1009h sub 0: VISIBLE_STRING, rw, not PDO-mappable, capacity 32 bytes; default `1.0`).
@@ -340,42 +347,48 @@ pub mod gd350 {
             .at_position(5)
             .in_dictionary();
         /// COB-ID EMCY (1014h sub 0: UNSIGNED32, ro, not PDO-mappable; default `$NODEID+128`).
-        pub const COB_ID_EMCY: Entry<u32, super::Od> = Entry::new(0x1014, 0x00)
+        pub const COB_ID_EMCY: Entry<u32, super::Od, ReadOnly> = Entry::new(0x1014, 0x00)
+            .read_only()
             .at_position(6)
             .in_dictionary();
         /// Identity object: Number of entries (1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`).
-        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8, super::Od> = Entry::new(
+        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8, super::Od, Const> = Entry::new(
                 0x1018,
                 0x00,
             )
+            .constant()
             .at_position(7)
             .in_dictionary();
         /// Identity object: Vendor-ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
-        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32, super::Od> = Entry::new(
+        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32, super::Od, ReadOnly> = Entry::new(
                 0x1018,
                 0x01,
             )
+            .read_only()
             .at_position(8)
             .in_dictionary();
         /// Identity object: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
-        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32, super::Od> = Entry::new(
+        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32, super::Od, ReadOnly> = Entry::new(
                 0x1018,
                 0x02,
             )
+            .read_only()
             .at_position(9)
             .in_dictionary();
         /// Identity object: Revision number (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`).
-        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32, super::Od> = Entry::new(
+        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32, super::Od, ReadOnly> = Entry::new(
                 0x1018,
                 0x03,
             )
+            .read_only()
             .at_position(10)
             .in_dictionary();
         /// RPDO2 communication parameter: Highest sub-index supported (1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
         pub const RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
             u8,
             super::Od,
-        > = Entry::new(0x1401, 0x00).at_position(11).in_dictionary();
+            Const,
+        > = Entry::new(0x1401, 0x00).constant().at_position(11).in_dictionary();
         /// RPDO2 communication parameter: COB-ID (1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`).
         pub const RPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32, super::Od> = Entry::new(
                 0x1401,
@@ -425,7 +438,8 @@ pub mod gd350 {
         pub const TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
             u8,
             super::Od,
-        > = Entry::new(0x1801, 0x00).at_position(19).in_dictionary();
+            Const,
+        > = Entry::new(0x1801, 0x00).constant().at_position(19).in_dictionary();
         /// TPDO2 communication parameter: COB-ID (1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`).
         pub const TPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32, super::Od> = Entry::new(
                 0x1801,
@@ -538,55 +552,61 @@ pub mod gd350 {
             .at_position(36)
             .in_dictionary();
         /// Returned values: Number of entries (2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8, super::Od> = Entry::new(
+        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8, super::Od, Const> = Entry::new(
                 0x2000,
                 0x00,
             )
+            .constant()
             .at_position(37)
             .in_dictionary();
         /// Returned values: Returned value 1 (2000h sub 1: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16, super::Od> = Entry::new(
+        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16, super::Od, ReadOnly> = Entry::new(
                 0x2000,
                 0x01,
             )
+            .read_only()
             .at_position(38)
             .in_dictionary();
         /// Returned values: Returned value 2 (2000h sub 2: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16, super::Od> = Entry::new(
+        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16, super::Od, ReadOnly> = Entry::new(
                 0x2000,
                 0x02,
             )
+            .read_only()
             .at_position(39)
             .in_dictionary();
         /// Returned values: Returned value 3 (2000h sub 3: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16, super::Od> = Entry::new(
+        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16, super::Od, ReadOnly> = Entry::new(
                 0x2000,
                 0x03,
             )
+            .read_only()
             .at_position(40)
             .in_dictionary();
         /// Returned values: Returned value 4 (2000h sub 4: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16, super::Od> = Entry::new(
+        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16, super::Od, ReadOnly> = Entry::new(
                 0x2000,
                 0x04,
             )
+            .read_only()
             .at_position(41)
             .in_dictionary();
         /// Status word (2001h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const STATUS_WORD: Entry<u16, super::Od> = Entry::new(0x2001, 0x00)
+        pub const STATUS_WORD: Entry<u16, super::Od, ReadOnly> = Entry::new(0x2001, 0x00)
+            .read_only()
             .at_position(42)
             .in_dictionary();
         /// Nibble (2002h sub 0: UNSIGNED8, ro, PDO-mappable; default `0`).
-        pub const NIBBLE: Entry<u8, super::Od> = Entry::new(0x2002, 0x00)
+        pub const NIBBLE: Entry<u8, super::Od, ReadOnly> = Entry::new(0x2002, 0x00)
+            .read_only()
             .at_position(43)
             .in_dictionary();
         /// Sparse record: Highest sub-index supported (2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`).
-        pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8, super::Od> = Entry::new(
-                0x2003,
-                0x00,
-            )
-            .at_position(44)
-            .in_dictionary();
+        pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
+            u8,
+            super::Od,
+            Const,
+        > = Entry::new(0x2003, 0x00).constant().at_position(44).in_dictionary();
         /// Sparse record: Signed 24 (2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`).
         pub const SPARSE_RECORD_SIGNED_24: Entry<i32, super::Od> = Entry::with_width(
                 0x2003,
@@ -616,10 +636,11 @@ pub mod gd350 {
             .at_position(50)
             .in_dictionary();
         /// Settings: Number of entries (2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8, super::Od> = Entry::new(
+        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8, super::Od, Const> = Entry::new(
                 0x2100,
                 0x00,
             )
+            .constant()
             .at_position(51)
             .in_dictionary();
         /// Settings: Setting 1 (2100h sub 1: UNSIGNED16, rw, PDO-mappable; default `0`).
@@ -651,12 +672,17 @@ pub mod gd350 {
             .at_position(58)
             .in_dictionary();
         /// Status word (6041h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const STATUS_WORD_6041: Entry<u16, super::Od> = Entry::new(0x6041, 0x00)
+        pub const STATUS_WORD_6041: Entry<u16, super::Od, ReadOnly> = Entry::new(
+                0x6041,
+                0x00,
+            )
+            .read_only()
             .at_position(59)
             .in_dictionary();
     }
     /// Typed PDOs: one struct per default mapping of the description.
     pub mod pdo {
+        use ::edsgen_runtime::master::pdo::{MappedPdo, PdoKind};
         /// RPDO 2 with its default mapping (1601h), 8 bytes:
         ///
         /// - bits 0 to 15: `control_word`
@@ -688,25 +714,25 @@ pub mod gd350 {
             /// The payload, bit-exact (little-endian, least significant bit first).
             pub fn encode(&self) -> [u8; 8] {
                 let mut payload = [0u8; 8];
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     0,
                     16,
                     u64::from(self.control_word),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     16,
                     16,
                     u64::from(self.setting_1),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     32,
                     16,
                     u64::from(self.setting_2),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     48,
                     16,
@@ -716,17 +742,25 @@ pub mod gd350 {
             }
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::typed::payload::<8>(payload)?;
+                let payload = ::edsgen_runtime::support::payload::<8>(payload)?;
                 Ok(Self {
-                    control_word: ::edsgen_runtime::typed::get_bits(&payload, 0, 16)
+                    control_word: ::edsgen_runtime::support::get_bits(&payload, 0, 16)
                         as u16,
-                    setting_1: ::edsgen_runtime::typed::get_bits(&payload, 16, 16)
+                    setting_1: ::edsgen_runtime::support::get_bits(&payload, 16, 16)
                         as u16,
-                    setting_2: ::edsgen_runtime::typed::get_bits(&payload, 32, 16)
+                    setting_2: ::edsgen_runtime::support::get_bits(&payload, 32, 16)
                         as u16,
-                    setting_3: ::edsgen_runtime::typed::get_bits(&payload, 48, 16) as u16,
+                    setting_3: ::edsgen_runtime::support::get_bits(&payload, 48, 16)
+                        as u16,
                 })
             }
+        }
+        impl MappedPdo for Rpdo2 {
+            const KIND: PdoKind = PdoKind::Receive;
+            const NUMBER: u16 = 2;
+            const MAPPING: &'static [u32] = &[
+                0x21010010, 0x21000110, 0x21000210, 0x21000310,
+            ];
         }
         /// TPDO 2 with its default mapping (1A01h), 8 bytes:
         ///
@@ -759,25 +793,25 @@ pub mod gd350 {
             /// The payload, bit-exact (little-endian, least significant bit first).
             pub fn encode(&self) -> [u8; 8] {
                 let mut payload = [0u8; 8];
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     0,
                     16,
                     u64::from(self.status_word),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     16,
                     16,
                     u64::from(self.returned_value_1),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     32,
                     16,
                     u64::from(self.returned_value_2),
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     48,
                     16,
@@ -787,18 +821,34 @@ pub mod gd350 {
             }
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::typed::payload::<8>(payload)?;
+                let payload = ::edsgen_runtime::support::payload::<8>(payload)?;
                 Ok(Self {
-                    status_word: ::edsgen_runtime::typed::get_bits(&payload, 0, 16)
+                    status_word: ::edsgen_runtime::support::get_bits(&payload, 0, 16)
                         as u16,
-                    returned_value_1: ::edsgen_runtime::typed::get_bits(&payload, 16, 16)
-                        as u16,
-                    returned_value_2: ::edsgen_runtime::typed::get_bits(&payload, 32, 16)
-                        as u16,
-                    returned_value_3: ::edsgen_runtime::typed::get_bits(&payload, 48, 16)
-                        as u16,
+                    returned_value_1: ::edsgen_runtime::support::get_bits(
+                        &payload,
+                        16,
+                        16,
+                    ) as u16,
+                    returned_value_2: ::edsgen_runtime::support::get_bits(
+                        &payload,
+                        32,
+                        16,
+                    ) as u16,
+                    returned_value_3: ::edsgen_runtime::support::get_bits(
+                        &payload,
+                        48,
+                        16,
+                    ) as u16,
                 })
             }
+        }
+        impl MappedPdo for Tpdo2 {
+            const KIND: PdoKind = PdoKind::Transmit;
+            const NUMBER: u16 = 2;
+            const MAPPING: &'static [u32] = &[
+                0x20010010, 0x20000110, 0x20000210, 0x20000310,
+            ];
         }
         /// TPDO 3 with its default mapping (1A02h), 6 bytes:
         ///
@@ -831,35 +881,38 @@ pub mod gd350 {
             /// field does not fit its mapped length.
             pub fn encode(&self) -> Result<[u8; 6], ::edsgen_runtime::PdoError> {
                 let mut payload = [0u8; 6];
-                if !::edsgen_runtime::typed::fits_unsigned(u64::from(self.nibble), 4) {
+                if !::edsgen_runtime::support::fits_unsigned(u64::from(self.nibble), 4) {
                     return Err(::edsgen_runtime::PdoError::OutOfRange {
                         field: "nibble",
                     });
                 }
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     0,
                     4,
                     u64::from(self.nibble),
                 );
-                if !::edsgen_runtime::typed::fits_signed(i64::from(self.signed_24), 24) {
+                if !::edsgen_runtime::support::fits_signed(
+                    i64::from(self.signed_24),
+                    24,
+                ) {
                     return Err(::edsgen_runtime::PdoError::OutOfRange {
                         field: "signed_24",
                     });
                 }
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     8,
                     24,
                     i64::from(self.signed_24) as u64,
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     32,
                     8,
                     i64::from(self.type_) as u64,
                 );
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     40,
                     1,
@@ -869,20 +922,27 @@ pub mod gd350 {
             }
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::typed::payload::<6>(payload)?;
+                let payload = ::edsgen_runtime::support::payload::<6>(payload)?;
                 Ok(Self {
-                    nibble: ::edsgen_runtime::typed::get_bits(&payload, 0, 4) as u8,
-                    signed_24: ::edsgen_runtime::typed::sign_extend(
-                        ::edsgen_runtime::typed::get_bits(&payload, 8, 24),
+                    nibble: ::edsgen_runtime::support::get_bits(&payload, 0, 4) as u8,
+                    signed_24: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(&payload, 8, 24),
                         24,
                     ) as i32,
-                    type_: ::edsgen_runtime::typed::sign_extend(
-                        ::edsgen_runtime::typed::get_bits(&payload, 32, 8),
+                    type_: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(&payload, 32, 8),
                         8,
                     ) as i8,
-                    flag: ::edsgen_runtime::typed::get_bits(&payload, 40, 1) != 0,
+                    flag: ::edsgen_runtime::support::get_bits(&payload, 40, 1) != 0,
                 })
             }
+        }
+        impl MappedPdo for Tpdo3 {
+            const KIND: PdoKind = PdoKind::Transmit;
+            const NUMBER: u16 = 3;
+            const MAPPING: &'static [u32] = &[
+                0x20020004, 0x00050004, 0x20030118, 0x20030208, 0x20040001,
+            ];
         }
         /// TPDO 4 with its default mapping (1A03h), 6 bytes:
         ///
@@ -910,21 +970,21 @@ pub mod gd350 {
             /// The payload, bit-exact (little-endian, least significant bit first).
             pub fn encode(&self) -> [u8; 6] {
                 let mut payload = [0u8; 6];
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     0,
                     1,
                     u64::from(self.flag),
                 );
                 for (i, byte) in self.tag.iter().enumerate() {
-                    ::edsgen_runtime::typed::put_bits(
+                    ::edsgen_runtime::support::put_bits(
                         &mut payload,
                         1 + 8 * i,
                         8,
                         u64::from(*byte),
                     );
                 }
-                ::edsgen_runtime::typed::put_bits(
+                ::edsgen_runtime::support::put_bits(
                     &mut payload,
                     33,
                     8,
@@ -934,13 +994,13 @@ pub mod gd350 {
             }
             /// The fields of a payload; an error if its length is not [`Self::LEN`].
             pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::typed::payload::<6>(payload)?;
+                let payload = ::edsgen_runtime::support::payload::<6>(payload)?;
                 Ok(Self {
-                    flag: ::edsgen_runtime::typed::get_bits(&payload, 0, 1) != 0,
+                    flag: ::edsgen_runtime::support::get_bits(&payload, 0, 1) != 0,
                     tag: {
                         let mut bytes = [0u8; 4];
                         for (i, byte) in bytes.iter_mut().enumerate() {
-                            *byte = ::edsgen_runtime::typed::get_bits(
+                            *byte = ::edsgen_runtime::support::get_bits(
                                 &payload,
                                 1 + 8 * i,
                                 8,
@@ -948,12 +1008,17 @@ pub mod gd350 {
                         }
                         bytes
                     },
-                    type_: ::edsgen_runtime::typed::sign_extend(
-                        ::edsgen_runtime::typed::get_bits(&payload, 33, 8),
+                    type_: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(&payload, 33, 8),
                         8,
                     ) as i8,
                 })
             }
+        }
+        impl MappedPdo for Tpdo4 {
+            const KIND: PdoKind = PdoKind::Transmit;
+            const NUMBER: u16 = 4;
+            const MAPPING: &'static [u32] = &[0x20040001, 0x20060020, 0x20030208];
         }
     }
 }

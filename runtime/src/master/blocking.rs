@@ -8,6 +8,7 @@ use std::io;
 use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
+use crate::od::access::{Readable, Writable};
 use crate::od::entry::{Entry, OdValue};
 use crate::time::{Duration, Instant};
 use crate::transport::driver::MonotonicClock;
@@ -206,10 +207,10 @@ impl<T: Transport> Master<T> {
     }
 
     /// Reads `entry` of `node_id`, typed (an address of any device's generated module).
-    pub fn read<V: OdValue, D>(
+    pub fn read<V: OdValue, D, A: Readable>(
         &mut self,
         node_id: u8,
-        entry: Entry<V, D>,
+        entry: Entry<V, D, A>,
     ) -> Result<V, MasterError> {
         let mux = Multiplexer::new(entry.index, entry.sub);
         let bytes = self.upload(node_id, mux, Mode::Normal)?;
@@ -221,10 +222,10 @@ impl<T: Transport> Master<T> {
     }
 
     /// Writes `value` to `entry` of `node_id`.
-    pub fn write<V: OdValue, D>(
+    pub fn write<V: OdValue, D, A: Writable>(
         &mut self,
         node_id: u8,
-        entry: Entry<V, D>,
+        entry: Entry<V, D, A>,
         value: V,
     ) -> Result<(), MasterError> {
         let now = self.clock.now();
@@ -479,7 +480,8 @@ impl<T: Transport> Master<T> {
     }
 
     /// Configures a PDO of `node_id` by SDO in CiA 301's safe order (see
-    /// [`PdoConfig::writes`]); the first write the node refuses is the error.
+    /// [`PdoConfig::writes`]); the first write the node refuses is the error. For the PDO a
+    /// generated struct describes: `PdoConfig::of::<cp301::pdo::Tpdo1>(cob_id, 254, Some(20))`.
     pub fn configure_pdo(&mut self, node_id: u8, config: &PdoConfig) -> Result<(), MasterError> {
         for (mux, value, len) in config.writes() {
             let bytes = value.to_le_bytes();

@@ -16,6 +16,7 @@ use std::thread::{self, JoinHandle};
 use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
+use crate::od::access::{Readable, Writable};
 use crate::od::entry::{Entry, OdValue};
 use crate::time::{Duration, Instant};
 use crate::transport::driver::MonotonicClock;
@@ -226,10 +227,10 @@ impl AsyncMaster {
     }
 
     /// Reads `entry` of `node_id`, typed (an address of any device's generated module).
-    pub async fn read<V: OdValue, D>(
+    pub async fn read<V: OdValue, D, A: Readable>(
         &self,
         node_id: u8,
-        entry: Entry<V, D>,
+        entry: Entry<V, D, A>,
     ) -> Result<V, MasterError> {
         let mux = Multiplexer::new(entry.index, entry.sub);
         let bytes = self.upload(node_id, mux, Mode::Normal).await?;
@@ -241,10 +242,10 @@ impl AsyncMaster {
     }
 
     /// Writes `value` to `entry` of `node_id`.
-    pub async fn write<V: OdValue, D>(
+    pub async fn write<V: OdValue, D, A: Writable>(
         &self,
         node_id: u8,
-        entry: Entry<V, D>,
+        entry: Entry<V, D, A>,
         value: V,
     ) -> Result<(), MasterError> {
         let mut buf = [0u8; 256];

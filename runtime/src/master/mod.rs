@@ -25,12 +25,12 @@ pub mod sync;
 pub use emcy::Emergency;
 pub use identity::{ExpectedIdentity, IdentityMismatch};
 pub use nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch};
-pub use pdo::{PdoConfig, PdoKind};
+pub use pdo::{MappedPdo, PdoConfig, PdoKind};
 pub use sdo_client::{Completed, Mode, SdoClient, SdoError, StartError};
 pub use sync::SyncProducer;
 
 #[cfg(feature = "std")]
-impl<const BUF: usize> crate::vbus::BusDevice for SdoClient<BUF> {
+impl<const BUF: usize> crate::transport::vbus::BusDevice for SdoClient<BUF> {
     fn handle_frame(&mut self, now: crate::Instant, frame: &crate::CanFrame) {
         SdoClient::handle_frame(self, now, frame)
     }
@@ -46,7 +46,7 @@ impl<const BUF: usize> crate::vbus::BusDevice for SdoClient<BUF> {
 }
 
 #[cfg(feature = "std")]
-impl<const N: usize> crate::vbus::BusDevice for NodeMonitor<N> {
+impl<const N: usize> crate::transport::vbus::BusDevice for NodeMonitor<N> {
     fn handle_frame(&mut self, now: crate::Instant, frame: &crate::CanFrame) {
         NodeMonitor::handle_frame(self, now, frame)
     }
@@ -62,7 +62,7 @@ impl<const N: usize> crate::vbus::BusDevice for NodeMonitor<N> {
 }
 
 #[cfg(feature = "std")]
-impl crate::vbus::BusDevice for SyncProducer {
+impl crate::transport::vbus::BusDevice for SyncProducer {
     fn handle_frame(&mut self, _now: crate::Instant, _frame: &crate::CanFrame) {}
     fn poll_transmit(&mut self, now: crate::Instant) -> Option<crate::CanFrame> {
         SyncProducer::poll_transmit(self, now)

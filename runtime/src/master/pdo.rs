@@ -1,5 +1,6 @@
 //! PDOs from the master's side: the SDO writes that configure a remote node's PDO in the
-//! CiA 301 order (disable, clear the mapping, map, count, enable), and
+//! CiA 301 order (disable, clear the mapping, map, count, enable), from a generated PDO struct's
+//! mapping ([`MappedPdo`], [`PdoConfig::of`]) or any other, and
 //! [`pdo_dispatch!`](crate::pdo_dispatch), an enum of generated PDO structs decoded from a
 //! received frame by its COB-ID.
 
@@ -31,11 +32,59 @@ pub struct PdoConfig<'a> {
     pub mapping: &'a [u32],
 }
 
+/// A generated PDO struct (`cp301::pdo::Tpdo1`): which PDO of its device it is and the mapping
+/// its payload follows, so that a master configures a node to send or receive exactly that
+/// payload ([`PdoConfig::of`]).
+pub trait MappedPdo {
+    /// RPDO or TPDO of the device.
+    const KIND: PdoKind;
+    /// The PDO number, 1..=512 (RPDO1 is 1, at 1400h/1600h).
+    const NUMBER: u16;
+    /// The mapped objects, index << 16 | sub << 8 | length in bits, in payload order (the
+    /// description's default mapping; dummy entries included).
+    const MAPPING: &'static [u32];
+}
+
 /// One SDO write of a configuration: the entry, the value and its width in bytes.
 pub type ConfigWrite = (Multiplexer, u32, u8);
 
 /// The bit that marks a PDO COB-ID invalid (the PDO disabled).
 pub const COB_ID_INVALID: u32 = 0x8000_0000;
+
+impl PdoConfig<'static> {
+    /// The configuration of the PDO that the generated struct `P` is (its kind, number and
+    /// mapping), on `cob_id`, with `transmission_type` and, for a TPDO, `event_timer` (in ms).
+    ///
+    /// ```
+    /// use edsgen_runtime::master::pdo::{MappedPdo, PdoConfig, PdoKind};
+    ///
+    /// // A stand-in for a generated PDO struct (`cp301::pdo::Tpdo1`).
+    /// pub struct Tpdo1;
+    /// impl MappedPdo for Tpdo1 {
+    ///     const KIND: PdoKind = PdoKind::Transmit;
+    ///     const NUMBER: u16 = 1;
+    ///     const MAPPING: &'static [u32] = &[0x6041_0010, 0x6044_0010];
+    /// }
+    ///
+    /// let config = PdoConfig::of::<Tpdo1>(0x183, 254, Some(100));
+    /// assert_eq!((config.communication_index(), config.mapping_index()), (0x1800, 0x1A00));
+    /// assert_eq!(config.mapping, [0x6041_0010, 0x6044_0010]);
+    /// ```
+    pub const fn of<P: MappedPdo>(
+        cob_id: u32,
+        transmission_type: u8,
+        event_timer: Option<u16>,
+    ) -> Self {
+        PdoConfig {
+            kind: P::KIND,
+            number: P::NUMBER,
+            cob_id,
+            transmission_type,
+            event_timer,
+            mapping: P::MAPPING,
+        }
+    }
+}
 
 impl PdoConfig<'_> {
     /// The communication parameter index (1400h/1800h + number - 1).
@@ -101,7 +150,7 @@ impl PdoConfig<'_> {
 /// impl Tpdo1 {
 ///     pub const fn cob_id(node_id: u8) -> u16 { 0x180 + node_id as u16 }
 ///     pub fn decode(p: &[u8]) -> Result<Self, edsgen_runtime::PdoError> {
-///         let p = edsgen_runtime::typed::payload::<2>(p)?;
+///         let p = edsgen_runtime::od::typed::payload::<2>(p)?;
 ///         Ok(Tpdo1 { statusword: u16::from_le_bytes(p) })
 ///     }
 /// }

@@ -30,6 +30,7 @@
 //! ```
 
 use crate::frame::CanFrame;
+use crate::od::access::{Readable, Writable};
 use crate::od::entry::{Entry, OdValue};
 use crate::od::SdoAbort;
 use crate::time::{Duration, Instant};
@@ -368,19 +369,19 @@ impl<const BUF: usize> SdoClient<BUF> {
     /// Starts a typed read of `entry` (an address of any device's generated module); take the
     /// value with [`take_value`](Self::take_value) once [`poll_result`](Self::poll_result)
     /// reports it complete.
-    pub fn read<T: OdValue, D>(
+    pub fn read<T: OdValue, D, A: Readable>(
         &mut self,
         now: Instant,
-        entry: Entry<T, D>,
+        entry: Entry<T, D, A>,
     ) -> Result<(), StartError> {
         self.upload(now, Multiplexer::new(entry.index, entry.sub), Mode::Normal)
     }
 
     /// Starts a typed write of `value` to `entry` (expedited when it fits in 4 bytes).
-    pub fn write<T: OdValue, D>(
+    pub fn write<T: OdValue, D, A: Writable>(
         &mut self,
         now: Instant,
-        entry: Entry<T, D>,
+        entry: Entry<T, D, A>,
         value: &T,
     ) -> Result<(), StartError> {
         if self.is_busy() {
@@ -400,7 +401,7 @@ impl<const BUF: usize> SdoClient<BUF> {
 
     /// The value of a completed read of `entry`, from the window (emptied by this call); `None`
     /// if its bytes do not decode as `T` (a length not matching the type).
-    pub fn take_value<T: OdValue, D>(&mut self, entry: &Entry<T, D>) -> Option<T> {
+    pub fn take_value<T: OdValue, D, A>(&mut self, entry: &Entry<T, D, A>) -> Option<T> {
         let value = entry.decode(self.fifo.contiguous());
         self.fifo.clear();
         value

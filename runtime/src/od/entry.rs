@@ -7,8 +7,16 @@
 //! carries that dictionary's type as its brand (`Entry<u16, Od>`): the `Od` reads a branded
 //! address without a check that could fail. An address built by hand (`Entry::new`) names no
 //! dictionary ([`AnyDictionary`]), and reading it takes the checked path.
+//!
+//! A third type parameter carries the entry's access rights as a zero-sized marker
+//! (`Entry<u16, Od, ReadOnly>`, see [`access`]): a master's typed write of a read-only or
+//! constant entry, or typed read of a write-only one, does not compile either.
+//!
+//! [`access`]: crate::od::access
 
 use core::marker::PhantomData;
+
+use crate::od::access::{Const, ReadOnly, ReadWrite, WriteOnly};
 
 /// The brand of an address that names no particular dictionary: one built with
 /// [`Entry::new`], or a generated one after [`Entry::unbranded`].
@@ -16,46 +24,52 @@ use core::marker::PhantomData;
 pub enum AnyDictionary {}
 
 /// The address of an object-dictionary entry whose value has the Rust type `T`, in the
-/// dictionary `D` (see the module documentation).
+/// dictionary `D`, with the access rights `A` (see the module documentation and
+/// [`access`](crate::od::access)).
 ///
 /// Two entries are equal when their index, sub-index and wire width are: the recorded position
 /// (see [`Entry::at_position`]) is only a hint.
 #[derive(Debug)]
-pub struct Entry<T, D = AnyDictionary> {
+pub struct Entry<T, D = AnyDictionary, A = ReadWrite> {
     /// OD index.
     pub index: u16,
     /// Sub-index.
     pub sub: u8,
     width: u8,
     position: u16,
-    _value: PhantomData<fn() -> (T, D)>,
+    _value: PhantomData<Markers<T, D, A>>,
 }
+
+/// What an `Entry` holds of its type parameters: nothing (a function pointer type keeps the
+/// address `Copy`, `Send` and `Sync` whatever they are).
+type Markers<T, D, A> = fn() -> (T, D, A);
 
 /// The `position` of an entry that records none.
 const NO_POSITION: u16 = u16::MAX;
 
-impl<T, D> PartialEq for Entry<T, D> {
+impl<T, D, A> PartialEq for Entry<T, D, A> {
     fn eq(&self, other: &Self) -> bool {
         (self.index, self.sub, self.width) == (other.index, other.sub, other.width)
     }
 }
-impl<T, D> Eq for Entry<T, D> {}
+impl<T, D, A> Eq for Entry<T, D, A> {}
 
-impl<T, D> core::hash::Hash for Entry<T, D> {
+impl<T, D, A> core::hash::Hash for Entry<T, D, A> {
     fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
         (self.index, self.sub, self.width).hash(state);
     }
 }
 
-impl<T, D> Clone for Entry<T, D> {
+impl<T, D, A> Clone for Entry<T, D, A> {
     fn clone(&self) -> Self {
         *self
     }
 }
-impl<T, D> Copy for Entry<T, D> {}
+impl<T, D, A> Copy for Entry<T, D, A> {}
 
 impl<T> Entry<T> {
-    /// The entry at (index, sub).
+    /// The entry at (index, sub), of unknown access: a master may read and write it (the node
+    /// answers an access it refuses with its SDO abort).
     pub const fn new(index: u16, sub: u8) -> Self {
         Entry {
             index,
@@ -78,6 +92,23 @@ impl<T> Entry<T> {
         }
     }
 
+    /// The same entry, read-only (`ro`): a master's typed `write` of it does not compile.
+    pub const fn read_only(self) -> Entry<T, AnyDictionary, ReadOnly> {
+        self.recast()
+    }
+
+    /// The same entry, write-only (`wo`): a master's typed `read` of it does not compile.
+    pub const fn write_only(self) -> Entry<T, AnyDictionary, WriteOnly> {
+        self.recast()
+    }
+
+    /// The same entry, constant (`const`): a master's typed `write` of it does not compile.
+    pub const fn constant(self) -> Entry<T, AnyDictionary, Const> {
+        self.recast()
+    }
+}
+
+impl<T, A> Entry<T, AnyDictionary, A> {
     /// The same entry, recording that it is at `position` in its device's generated `Od`
     /// (`ENTRIES[position]`), so that the `Od`'s typed `get`/`set` find it without a search. A
     /// wrong position costs only that search.
@@ -89,21 +120,20 @@ impl<T> Entry<T> {
     /// each address of its module with the module's `Od` after [`Entry::at_position`]: that `Od`
     /// then reads it without a check. A false brand is not unsafe: such a read gives `T`'s
     /// default.
-    pub const fn in_dictionary<D>(self) -> Entry<T, D> {
-        Entry {
-            index: self.index,
-            sub: self.sub,
-            width: self.width,
-            position: self.position,
-            _value: PhantomData,
-        }
+    pub const fn in_dictionary<D>(self) -> Entry<T, D, A> {
+        self.recast()
     }
 }
 
-impl<T, D> Entry<T, D> {
-    /// The same entry without its dictionary's brand: for a master's typed SDO access, or for
-    /// another dictionary (whose checked `get` then returns `None` if it does not hold it).
-    pub const fn unbranded(self) -> Entry<T> {
+impl<T, D, A> Entry<T, D, A> {
+    /// The same entry without its dictionary's brand (its access kept): for another dictionary
+    /// (whose checked `get` then returns `None` if it does not hold it).
+    pub const fn unbranded(self) -> Entry<T, AnyDictionary, A> {
+        self.recast()
+    }
+
+    /// The same address under other type parameters (one of the markers changed).
+    const fn recast<E, B>(self) -> Entry<T, E, B> {
         Entry {
             index: self.index,
             sub: self.sub,
@@ -138,7 +168,7 @@ impl<T, D> Entry<T, D> {
     }
 }
 
-impl<T: OdValue, D> Entry<T, D> {
+impl<T: OdValue, D, A> Entry<T, D, A> {
     /// Writes `value` as this entry's wire bytes; `None` if `buf` is too short or the value does
     /// not fit the entry's width (a 24-bit entry refuses `1 << 23` in an `i32`).
     pub fn encode(&self, value: &T, buf: &mut [u8]) -> Option<usize> {
@@ -316,6 +346,33 @@ mod tests {
         };
         assert!(!branded.written_by(&other));
         assert!(!branded.written_by(&crate::Event::RpdoReceived { pdo: 0 }));
+    }
+
+    #[test]
+    fn access_markers_keep_the_address() {
+        use crate::od::access::{Const, ReadOnly, WriteOnly};
+        struct Dict;
+        let status: Entry<u16, Dict, ReadOnly> = Entry::new(0x6041, 0)
+            .read_only()
+            .at_position(3)
+            .in_dictionary();
+        let limit: Entry<i32, AnyDictionary, Const> = Entry::with_width(0x2002, 1, 3).constant();
+        let command: Entry<u8, AnyDictionary, WriteOnly> = Entry::new(0x2003, 0).write_only();
+        assert_eq!(
+            (status.index, status.sub, status.position()),
+            (0x6041, 0, Some(3))
+        );
+        assert_eq!(status.unbranded(), Entry::new(0x6041, 0).read_only());
+        assert_eq!(
+            (limit.index, limit.sub, limit.wire_width()),
+            (0x2002, 1, Some(3))
+        );
+        assert_eq!(limit.decode(&[0xFE, 0xFF, 0xFF]), Some(-2));
+        assert_eq!((command.index, command.position()), (0x2003, None));
+        assert_eq!(
+            core::mem::size_of_val(&status),
+            core::mem::size_of::<Entry<u16>>()
+        );
     }
 
     #[test]

@@ -375,7 +375,7 @@ impl Layout {
     /// The position of `entry`: the one generated code recorded in it when that is right (a
     /// comparison the compiler folds away for a constant entry), else a search.
     #[inline]
-    fn position_of<T>(&self, entry: &Entry<T>) -> Result<usize, SdoAbort> {
+    fn position_of<T, D, A>(&self, entry: &Entry<T, D, A>) -> Result<usize, SdoAbort> {
         if let Some(hint) = entry.position() {
             if self
                 .entries
@@ -391,7 +391,7 @@ impl Layout {
     /// The value of `entry`, typed; `None` if this dictionary has no such entry or its value
     /// does not decode as `T`.
     #[inline]
-    pub fn get<T: OdValue>(&self, values: &[u8], entry: Entry<T>) -> Option<T> {
+    pub fn get<T: OdValue, D, A>(&self, values: &[u8], entry: Entry<T, D, A>) -> Option<T> {
         let position = self.position_of(&entry).ok()?;
         entry.decode(self.value(values, position).ok()?)
     }
@@ -400,10 +400,10 @@ impl Layout {
     /// value that does not fit an odd-width entry is `InvalidValue`) but not access rights: the
     /// application may set a read-only entry. On error the image is unchanged.
     #[inline]
-    pub fn set<T: OdValue>(
+    pub fn set<T: OdValue, D, A>(
         &self,
         values: &mut [u8],
-        entry: Entry<T>,
+        entry: Entry<T, D, A>,
         value: &T,
     ) -> Result<(), SdoAbort> {
         let position = self.position_of(&entry)?;

@@ -12,7 +12,7 @@ use std::time::{Duration as StdDuration, Instant as StdInstant};
 use super::Transport;
 use crate::frame::CanFrame;
 use crate::time::Instant;
-use crate::vbus::BusDevice;
+use crate::transport::vbus::BusDevice;
 
 /// The runtime's [`Instant`] from the operating system's monotonic clock: microseconds since
 /// the clock was made.

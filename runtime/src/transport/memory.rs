@@ -1,6 +1,6 @@
 //! An in-memory CAN bus across threads: every [`MemoryEndpoint`] is a [`Transport`], and a frame
 //! one endpoint sends reaches every other endpoint in the order sent. For testing drivers and
-//! masters without sockets; unlike [`crate::vbus`] it runs in real time.
+//! masters without sockets; unlike [`crate::transport::vbus`] it runs in real time.
 
 use std::io;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};

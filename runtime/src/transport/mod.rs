@@ -3,6 +3,8 @@
 //! One trait, [`Transport`], that every transport implements: send a frame, receive one with a
 //! timeout. A device node and a master are both driven through it, so the same driver code runs
 //! over the in-memory bus in tests, a socketcand hub on loopback, and Linux SocketCAN.
+//! Beside them, [`vbus`]: the deterministic in-memory bus that steps sans-IO devices by a
+//! simulated clock, with no transport and no threads.
 //!
 //! Blocking by design: a transport is owned by one driver thread, which also owns the sans-IO core
 //! it feeds; an async driver wraps a transport in its own task.
@@ -19,6 +21,7 @@ pub mod memory;
 pub mod socketcan;
 pub mod socketcand;
 pub mod trace;
+pub mod vbus;
 
 /// A CAN bus as an operating system reaches it.
 ///

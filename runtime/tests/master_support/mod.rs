@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use edsgen_runtime::sdo::SdoServer;
-use edsgen_runtime::vbus::BusDevice;
+use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{
     Access, CanFrame, DataType, Duration, EntryDescriptor, Instant, ObjectDictionary, SdoAbort,
 };

@@ -1,4 +1,4 @@
-//! An in-memory CAN bus (feature `std`) that connects sans-IO devices in one process, for tests.
+//! A simulated CAN bus (feature `std`) that connects sans-IO devices in one process, for tests.
 //!
 //! The bus owns the clock: [`VirtualBus::run_until`] advances it from one device deadline to the
 //! next, delivers every frame a device offers to all other devices at once (zero transmission

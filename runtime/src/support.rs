@@ -1,7 +1,7 @@
 //! What only generated code calls: the value image's layout and default unpacking, bit packing
 //! of PDO payloads, and the table search. Not part of the documented API a firmware or master
-//! author uses; generated code names these paths (`::edsgen_runtime::support::…`), so they
-//! move with the runtime without breaking it.
+//! author uses; generated code names its plumbing by these paths only
+//! (`::edsgen_runtime::support::…`), so the modules behind them move without breaking it.
 
 pub use crate::od::image::{add_node_id, unpack_defaults, Layout, Limit};
 pub use crate::od::typed::{
