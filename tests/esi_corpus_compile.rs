@@ -3,8 +3,10 @@
 //! under `-D warnings`; the files left out are pinned with the diagnostic that excludes them.
 
 mod emit_common;
+mod process_support;
 
 use emit_common::*;
+use process_support::esi_corpus_dir;
 
 #[test]
 fn every_valid_esi_corpus_file_generates_code_that_compiles() {

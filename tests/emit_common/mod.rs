@@ -11,27 +11,6 @@ use edsgen_codegen::{emit, read, validate};
 
 use crate::process_support::root;
 
-/// The ESI corpus directory (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`), or `None` (and
-/// a message) when it is absent; absent under `CI=true` fails.
-pub fn esi_corpus_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("EDSGEN_ESI_CORPUS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("../shared/esi-corpus"));
-    if dir.join("MANIFEST.tsv").is_file() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "the ESI corpus is missing at {} (set EDSGEN_ESI_CORPUS)",
-        dir.display()
-    );
-    eprintln!(
-        "skipping: no ESI corpus at {} (set EDSGEN_ESI_CORPUS)",
-        dir.display()
-    );
-    None
-}
-
 /// Every corpus file (relative name, path), in MANIFEST order (the EDS and the ESI corpus).
 pub fn corpus_files(dir: &Path) -> Vec<(String, PathBuf)> {
     let manifest = std::fs::read_to_string(dir.join("MANIFEST.tsv")).unwrap();

@@ -67,16 +67,25 @@ pub fn python() -> Option<PathBuf> {
 /// The third-party corpus (`EDSGEN_CORPUS`, else `../shared/eds-corpus` beside the workspace,
 /// present where its `MANIFEST.tsv` is), or a [`skip`].
 pub fn corpus_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("EDSGEN_CORPUS")
+    third_party_dir("EDSGEN_CORPUS", "eds-corpus")
+}
+
+/// The third-party ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`), or a
+/// [`skip`].
+pub fn esi_corpus_dir() -> Option<PathBuf> {
+    third_party_dir("EDSGEN_ESI_CORPUS", "esi-corpus")
+}
+
+/// A corpus folder named by `variable`, else `../shared/NAME` beside the workspace; present when
+/// it holds its `MANIFEST.tsv`.
+fn third_party_dir(variable: &str, name: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os(variable)
         .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("../shared/eds-corpus"));
+        .unwrap_or_else(|| root().join("../shared").join(name));
     if dir.join("MANIFEST.tsv").is_file() {
         Some(dir)
     } else {
-        skip(format!(
-            "no corpus at {} (set EDSGEN_CORPUS)",
-            dir.display()
-        ))
+        skip(format!("no corpus at {} (set {variable})", dir.display()))
     }
 }
 

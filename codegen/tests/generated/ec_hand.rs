@@ -15,7 +15,7 @@ pub mod ec_hand {
     const IMAGE_SIZE: usize = 52;
     /// The value image with every entry at its default (`$NODEID` ones at their offset from
     /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
-    /// each (see `edsgen_runtime::image::unpack_defaults`).
+    /// each (see `edsgen_runtime::od::image::unpack_defaults`).
     ///
     /// The non-zero defaults, at their offset in the image:
     ///
@@ -42,35 +42,36 @@ pub mod ec_hand {
         /// given); `$NODEID` defaults are computed from `node_id`.
         pub const fn new(_node_id: u8) -> Self {
             let mut od = Od { values: [0; IMAGE_SIZE] };
-            ::edsgen_runtime::image::unpack_defaults(&mut od.values, &DEFAULTS);
+            ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
             od
         }
         /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
-        /// branded `Entry<T, Od>`): it is here, at its recorded position, with its type, so
-        /// the read cannot fail.
-        pub fn get<T: ::edsgen_runtime::OdValue + Default>(
+        /// branded `Entry<T, Od>`) of any access: it is here, at its recorded position, with
+        /// its type, so the read cannot fail.
+        pub fn get<T: ::edsgen_runtime::OdValue + Default, A>(
             &self,
-            entry: ::edsgen_runtime::Entry<T, Od>,
+            entry: ::edsgen_runtime::Entry<T, Od, A>,
         ) -> T {
-            LAYOUT.get(&self.values, entry.unbranded()).unwrap_or_default()
+            LAYOUT.get(&self.values, entry).unwrap_or_default()
         }
         /// The value of an address from elsewhere (`Entry::new`, another device's module);
         /// `None` if this dictionary does not hold it with that type.
-        pub fn get_checked<T: ::edsgen_runtime::OdValue, D>(
+        pub fn get_checked<T: ::edsgen_runtime::OdValue, D, A>(
             &self,
-            entry: ::edsgen_runtime::Entry<T, D>,
+            entry: ::edsgen_runtime::Entry<T, D, A>,
         ) -> Option<T> {
-            LAYOUT.get(&self.values, entry.unbranded())
+            LAYOUT.get(&self.values, entry)
         }
         /// Sets `entry` (a typed address from `od`, or from elsewhere) to `value`, checked
         /// like an SDO write (length, BOOLEAN, LowLimit/HighLimit) but not against access
-        /// rights. On error the value is unchanged.
-        pub fn set<T: ::edsgen_runtime::OdValue, D>(
+        /// rights: the application keeps its read-only entries current. On error the value
+        /// is unchanged.
+        pub fn set<T: ::edsgen_runtime::OdValue, D, A>(
             &mut self,
-            entry: ::edsgen_runtime::Entry<T, D>,
+            entry: ::edsgen_runtime::Entry<T, D, A>,
             value: T,
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            LAYOUT.set(&mut self.values, entry.unbranded(), &value)
+            LAYOUT.set(&mut self.values, entry, &value)
         }
     }
     /// Every entry's descriptor, sorted by (index, sub-index).
@@ -97,10 +98,10 @@ pub mod ec_hand {
     /// capacity is the room up to the next one).
     static OFFSETS: [u16; 14] = [0, 4, 5, 9, 13, 17, 20, 24, 25, 35, 43, 45, 47, 48];
     /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
-    static LIMITS: [(u16, ::edsgen_runtime::image::Limit); 0] = [];
+    static LIMITS: [(u16, ::edsgen_runtime::support::Limit); 0] = [];
     /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
     /// `get`/`set` work from.
-    static LAYOUT: ::edsgen_runtime::image::Layout = ::edsgen_runtime::image::Layout::new(
+    static LAYOUT: ::edsgen_runtime::support::Layout = ::edsgen_runtime::support::Layout::new(
         &ENTRIES,
         &OFFSETS,
         &LIMITS,
@@ -121,7 +122,7 @@ pub mod ec_hand {
             LAYOUT
                 .value_len(
                     &self.values,
-                    ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?,
+                    ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
                 )
         }
         fn read(
@@ -132,7 +133,7 @@ pub mod ec_hand {
             buf: &mut [u8],
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
             self.read_at(
-                ::edsgen_runtime::typed::position(&ENTRIES, index, sub)?,
+                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
                 offset,
                 buf,
             )
@@ -143,7 +144,10 @@ pub mod ec_hand {
             sub: u8,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            self.write_at(::edsgen_runtime::typed::position(&ENTRIES, index, sub)?, data)
+            self.write_at(
+                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
+                data,
+            )
         }
         fn read_at(
             &self,
@@ -194,27 +198,42 @@ pub mod ec_hand {
     /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
     pub mod od {
         use ::edsgen_runtime::{Entry, FixedBytes};
+        use ::edsgen_runtime::od::access::ReadOnly;
         /// Device type (1000h sub 0: UNSIGNED32, ro, not PDO-mappable; default `402`).
-        pub const DEVICE_TYPE: Entry<u32, super::Od> = Entry::new(0x1000, 0x00)
+        pub const DEVICE_TYPE: Entry<u32, super::Od, ReadOnly> = Entry::new(0x1000, 0x00)
+            .read_only()
             .at_position(0)
             .in_dictionary();
         /// Identity: Number of entries (1018h sub 0: UNSIGNED8, ro, not PDO-mappable; default `3`).
-        pub const IDENTITY_NUMBER_OF_ENTRIES: Entry<u8, super::Od> = Entry::new(
+        pub const IDENTITY_NUMBER_OF_ENTRIES: Entry<u8, super::Od, ReadOnly> = Entry::new(
                 0x1018,
                 0x00,
             )
+            .read_only()
             .at_position(1)
             .in_dictionary();
         /// Identity: Vendor ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
-        pub const IDENTITY_VENDOR_ID: Entry<u32, super::Od> = Entry::new(0x1018, 0x01)
+        pub const IDENTITY_VENDOR_ID: Entry<u32, super::Od, ReadOnly> = Entry::new(
+                0x1018,
+                0x01,
+            )
+            .read_only()
             .at_position(2)
             .in_dictionary();
         /// Identity: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
-        pub const IDENTITY_PRODUCT_CODE: Entry<u32, super::Od> = Entry::new(0x1018, 0x02)
+        pub const IDENTITY_PRODUCT_CODE: Entry<u32, super::Od, ReadOnly> = Entry::new(
+                0x1018,
+                0x02,
+            )
+            .read_only()
             .at_position(3)
             .in_dictionary();
         /// Identity: Revision (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `1`).
-        pub const IDENTITY_REVISION: Entry<u32, super::Od> = Entry::new(0x1018, 0x03)
+        pub const IDENTITY_REVISION: Entry<u32, super::Od, ReadOnly> = Entry::new(
+                0x1018,
+                0x03,
+            )
+            .read_only()
             .at_position(4)
             .in_dictionary();
         /// Offset (2001h sub 0: INTEGER24, rw, PDO-mappable; default `0`).
@@ -222,7 +241,8 @@ pub mod ec_hand {
             .at_position(5)
             .in_dictionary();
         /// Gain (2002h sub 0: REAL32, ro, PDO-mappable; default `0`).
-        pub const GAIN: Entry<f32, super::Od> = Entry::new(0x2002, 0x00)
+        pub const GAIN: Entry<f32, super::Od, ReadOnly> = Entry::new(0x2002, 0x00)
+            .read_only()
             .at_position(6)
             .in_dictionary();
         /// Enable (2003h sub 0: BOOLEAN, rw, PDO-mappable; default `0`).
@@ -230,7 +250,11 @@ pub mod ec_hand {
             .at_position(7)
             .in_dictionary();
         /// Tag (2004h sub 0: VISIBLE_STRING, ro, PDO-mappable, capacity 8 bytes; default `ABCDEFGH`).
-        pub const TAG: Entry<FixedBytes<8>, super::Od> = Entry::new(0x2004, 0x00)
+        pub const TAG: Entry<FixedBytes<8>, super::Od, ReadOnly> = Entry::new(
+                0x2004,
+                0x00,
+            )
+            .read_only()
             .at_position(8)
             .in_dictionary();
         /// Counter (2005h sub 0: UNSIGNED64, rw, PDO-mappable; default `0`).
@@ -242,7 +266,8 @@ pub mod ec_hand {
             .at_position(10)
             .in_dictionary();
         /// Status word (6041h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const STATUS_WORD: Entry<u16, super::Od> = Entry::new(0x6041, 0x00)
+        pub const STATUS_WORD: Entry<u16, super::Od, ReadOnly> = Entry::new(0x6041, 0x00)
+            .read_only()
             .at_position(11)
             .in_dictionary();
         /// Mode of operation (6060h sub 0: INTEGER8, rw, PDO-mappable; default `0`).

@@ -16,6 +16,7 @@ use ::ethercrab::error::Error;
 use ::ethercrab::{EtherCrabWireReadSized, EtherCrabWireWrite, SubDevice, SubDeviceRef};
 
 use super::Identity;
+use crate::od::access::{Readable, Writable};
 use crate::od::entry::Entry;
 use crate::od::typed::PdoError;
 
@@ -51,42 +52,47 @@ impl Identity {
 }
 
 /// Typed CoE SDO access by generated addresses: `read_entry(od::STATUS_WORD)` returns a `u16`,
-/// `write_entry(od::TARGET_POSITION, value)` takes an `i32`. Implemented for every ethercrab
+/// `write_entry(od::TARGET_POSITION, value)` takes an `i32`; writing a read-only entry or
+/// reading a write-only one does not compile, as with the CANopen masters. Implemented for every ethercrab
 /// `SubDeviceRef`.
 pub trait SdoExt {
     /// Reads the entry by an SDO upload.
-    fn read_entry<T, D>(&self, entry: Entry<T, D>) -> impl Future<Output = Result<T, Error>>
+    fn read_entry<T, D, A>(&self, entry: Entry<T, D, A>) -> impl Future<Output = Result<T, Error>>
     where
-        T: EtherCrabWireReadSized;
+        T: EtherCrabWireReadSized,
+        A: Readable;
 
     /// Writes the entry by an SDO download.
-    fn write_entry<T, D>(
+    fn write_entry<T, D, A>(
         &self,
-        entry: Entry<T, D>,
+        entry: Entry<T, D, A>,
         value: T,
     ) -> impl Future<Output = Result<(), Error>>
     where
-        T: EtherCrabWireWrite;
+        T: EtherCrabWireWrite,
+        A: Writable;
 }
 
 impl<S> SdoExt for SubDeviceRef<'_, S>
 where
     S: Deref<Target = SubDevice>,
 {
-    fn read_entry<T, D>(&self, entry: Entry<T, D>) -> impl Future<Output = Result<T, Error>>
+    fn read_entry<T, D, A>(&self, entry: Entry<T, D, A>) -> impl Future<Output = Result<T, Error>>
     where
         T: EtherCrabWireReadSized,
+        A: Readable,
     {
         self.sdo_read::<T>(entry.index, entry.sub)
     }
 
-    fn write_entry<T, D>(
+    fn write_entry<T, D, A>(
         &self,
-        entry: Entry<T, D>,
+        entry: Entry<T, D, A>,
         value: T,
     ) -> impl Future<Output = Result<(), Error>>
     where
         T: EtherCrabWireWrite,
+        A: Writable,
     {
         self.sdo_write(entry.index, entry.sub, value)
     }
