@@ -526,13 +526,20 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             #[cfg(feature = "node-guarding")]
             0x100C | 0x100D => self.error_control.configure_guarding(&self.od),
             0x1014 | 0x1015 => self.emcy.configure(&self.od, self.node_id),
-            0x1016 => self.error_control.configure_consumers(&self.od),
+            0x1016 => {
+                let was_lost = self.error_control.any_lost();
+                self.error_control.configure_consumers(&self.od);
+                if was_lost {
+                    // A lost node may no longer be watched.
+                    self.end_error_control_loss();
+                }
+            }
             0x1017 => {
                 self.error_control.configure_producer(&self.od, now);
                 #[cfg(feature = "node-guarding")]
                 self.error_control.configure_guarding(&self.od);
             }
-            0x1200..=0x1201 => self.configure_sdo(),
+            0x1201 => self.configure_sdo(),
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
@@ -621,8 +628,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         if let Some(node_id) = ErrorControlRepr::node_of(id) {
-            if frame.dlc() == 1 {
-                self.error_control.heartbeat_received(node_id, now);
+            if frame.dlc() == 1 && self.error_control.heartbeat_received(node_id, now) {
+                self.end_error_control_loss();
             }
         }
     }
@@ -660,6 +667,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
         if self.error_control.guard_request(now) {
+            self.end_error_control_loss();
+        }
+    }
+
+    /// Clears 8130h (with its error-reset emergency) once neither life guarding nor a watched
+    /// heartbeat is lost.
+    fn end_error_control_loss(&mut self) {
+        if !self.error_control.any_lost() {
             self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
         }
     }

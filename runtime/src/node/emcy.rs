@@ -34,7 +34,9 @@ pub mod error_code {
     /// Communication, generic: SYNC missing for 1.5 × 1006h (this runtime's choice of code for
     /// the SYNC consumer's timeout, as CANopenNode's).
     pub const COMMUNICATION: u16 = 0x8100;
-    /// Life guard error or heartbeat error: the NMT master stopped guarding (100Ch × 100Dh).
+    /// Life guard error or heartbeat error: the NMT master stopped guarding (100Ch × 100Dh;
+    /// manufacturer bytes 0), or a node watched by the heartbeat consumer (1016h) missed its
+    /// heartbeat (manufacturer byte 0 its node-ID). Cleared when neither is lost any more.
     pub const LIFE_GUARD: u16 = 0x8130;
     /// Protocol error, generic: an RPDO was not applied because the dictionary refused one of
     /// its mapped values (this runtime's choice; the manufacturer bytes say which PDO and why).

@@ -18,6 +18,8 @@ struct Consumer {
     period_ms: u16,
     /// Set once the first heartbeat arrived; cleared on a timeout.
     deadline: Option<Instant>,
+    /// The heartbeat timed out and has not arrived since (EMCY 8130h is active for it).
+    lost: bool,
 }
 
 /// Node guarding and life guarding.
@@ -65,6 +67,7 @@ impl ErrorControl {
             node_id: 0,
             period_ms: 0,
             deadline: None,
+            lost: false,
         }; MAX_HEARTBEAT_CONSUMERS],
         consumer_count: 0,
     };
@@ -88,7 +91,8 @@ impl ErrorControl {
         }
     }
 
-    /// Reads 1016h. Monitoring of a consumer whose entry did not change continues.
+    /// Reads 1016h. Monitoring of a consumer whose entry did not change continues (and so does
+    /// its loss); a removed consumer's loss ends.
     pub fn configure_consumers<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
         let previous = self.consumers;
         let previous_count = self.consumer_count;
@@ -106,14 +110,14 @@ impl ErrorControl {
             if self.consumer_count == MAX_HEARTBEAT_CONSUMERS {
                 break;
             }
-            let deadline = previous[..previous_count]
+            let kept = previous[..previous_count]
                 .iter()
-                .find(|c| c.node_id == node_id && c.period_ms == ms)
-                .and_then(|c| c.deadline);
+                .find(|c| c.node_id == node_id && c.period_ms == ms);
             self.consumers[self.consumer_count] = Consumer {
                 node_id,
                 period_ms: ms,
-                deadline,
+                deadline: kept.and_then(|c| c.deadline),
+                lost: kept.is_some_and(|c| c.lost),
             };
             self.consumer_count += 1;
         }
@@ -127,14 +131,28 @@ impl ErrorControl {
         (life != 0 && self.producer_period == Duration::ZERO).then_some(Duration(life))
     }
 
-    /// Restarts a watched node's timer when its heartbeat (or boot-up) arrives.
-    pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) {
+    /// Restarts a watched node's timer when its heartbeat (or boot-up) arrives. Returns whether
+    /// its loss ended.
+    pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) -> bool {
+        let mut recovered = false;
         for consumer in self.consumers.iter_mut().take(self.consumer_count) {
             if consumer.node_id == node_id {
                 consumer.deadline =
                     Some(now + Duration::from_millis(u64::from(consumer.period_ms)));
+                recovered |= core::mem::take(&mut consumer.lost);
             }
         }
+        recovered
+    }
+
+    /// Whether a watched heartbeat or life guarding is lost: EMCY 8130h, which CiA 301 uses
+    /// for both, stays active until none is.
+    pub fn any_lost(&self) -> bool {
+        #[cfg(feature = "node-guarding")]
+        if self.guarding.life_lost {
+            return true;
+        }
+        self.consumers[..self.consumer_count].iter().any(|c| c.lost)
     }
 
     /// A node-guarding request at `now`: the answer is queued and life guarding (re)starts.
@@ -193,13 +211,15 @@ impl ErrorControl {
     }
 
     /// Watched node `k` missed its heartbeat ([`Event::HeartbeatLost`]); its monitoring waits
-    /// for the next heartbeat.
-    pub fn expire_consumer(&mut self, k: usize, events: &mut EventQueue) {
+    /// for the next heartbeat. Returns the node's ID (the node raises its emergency).
+    pub fn expire_consumer(&mut self, k: usize, events: &mut EventQueue) -> u8 {
         let consumer = &mut self.consumers[k];
         consumer.deadline = None;
+        consumer.lost = true;
         events.push(Event::HeartbeatLost {
             node_id: consumer.node_id,
         });
+        consumer.node_id
     }
 
     /// When life guarding runs out, if it runs.

@@ -36,23 +36,24 @@ impl SdoChannel {
         }
     }
 
-    /// Reads the COB-IDs of SDO server `n` (1200h + n) of node `node_id`: the default
-    /// server's pre-defined ones (600h/580h + node-ID) unless the OD says otherwise; none for
-    /// another server the OD does not have.
+    /// Sets the COB-IDs of SDO server `n` (1200h + n) of node `node_id`. The default server's
+    /// are fixed by CiA 301 (1200h is read-only): 600h/580h + node-ID, whatever the OD stores
+    /// there (some descriptions hold 8000 0000h, to be set at run time). Another server's are
+    /// read from the OD; none if the OD does not have it.
     pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16, node_id: u8) {
-        let index = 0x1200 + n;
-        let node = u32::from(node_id);
-        let (mut rx, mut tx) = match n {
-            0 => (
+        let (rx, tx) = if n == 0 {
+            let node = u32::from(node_id);
+            (
                 u32::from(SDO_REQUEST_BASE) + node,
                 u32::from(SDO_RESPONSE_BASE) + node,
-            ),
-            _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
+            )
+        } else {
+            let index = 0x1200 + n;
+            (
+                read_uint_or(od, index, 1, CobIdEntry::INVALID),
+                read_uint_or(od, index, 2, CobIdEntry::INVALID),
+            )
         };
-        if od.find(index, 0).is_ok() || od.find(index, 1).is_ok() {
-            rx = read_uint_or(od, index, 1, rx);
-            tx = read_uint_or(od, index, 2, tx);
-        }
         let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
         self.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
         self.rx = rx.can_id();

@@ -136,7 +136,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     fn expire(&mut self, timer: Timer, now: Instant) {
         match timer {
             Timer::Heartbeat => self.error_control.expire_heartbeat(now),
-            Timer::HeartbeatConsumer(k) => self.error_control.expire_consumer(k, &mut self.events),
+            Timer::HeartbeatConsumer(k) => {
+                let node_id = self.error_control.expire_consumer(k, &mut self.events);
+                // Already active when another node or life guarding was lost first: one
+                // emergency for all.
+                self.raise_communication_error(
+                    super::error_code::LIFE_GUARD,
+                    [node_id, 0, 0, 0, 0],
+                );
+            }
             #[cfg(feature = "node-guarding")]
             Timer::LifeGuard => {
                 self.error_control.expire_life_guard(&mut self.events);
