@@ -1,7 +1,16 @@
-//! The node's timers by name ([`Timer`]), each kept by the service it belongs to: the one place
-//! that finds the earliest ([`Node::poll_timeout`]) and the one dispatch that runs those due
-//! ([`Node::handle_timeout`]), in the order of [`Timer::each`].
+//! The node's timers by name ([`Timer`]) and the table that holds their instants
+//! ([`TimerTable`]: one slot per timer, fixed-size, `None` while disarmed). The services say
+//! when to arm a timer and what its expiry does; the node stores the instants here, finds the
+//! earliest ([`Node::poll_timeout`]) and runs those due ([`Node::handle_timeout`]), in the order
+//! of [`Timer::each`].
+//!
+//! Three waits are not timers of the table: the EMCY inhibit time (1015h) and a TPDO's inhibit
+//! time (1800h+n sub 03h) only hold a frame back (nothing runs when they end; the services
+//! compute them from their last transmission), and the SDO segment timeout belongs to the
+//! [`SdoServer`](crate::sdo::SdoServer), which also serves without a node. `poll_timeout`
+//! reports them too.
 
+use super::error_control::MAX_HEARTBEAT_CONSUMERS;
 use super::{keep_earliest, Event, Node, NodeHooks};
 use super::{RPDO_TIMEOUT_CODE, SYNC_TIMEOUT_CODE};
 use crate::od::ObjectDictionary;
@@ -22,120 +31,152 @@ pub(crate) enum Timer {
     SyncConsumer,
     /// The SYNC producer's next SYNC (1006h).
     SyncProducer,
-    /// The EMCY inhibit time (1015h) lets the next queued emergency out.
-    EmcyInhibit,
     /// RPDO `n` did not arrive within its event timer (1400h+n sub 05h, deadline monitoring).
     RpdoDeadline(usize),
     /// The event timer of TPDO `n` (1800h+n sub 05h).
     TpdoEvent(usize),
-    /// The inhibit time of TPDO `n`'s waiting frame (1800h+n sub 03h).
-    TpdoInhibit(usize),
-    /// The segment timeout of SDO server channel `n` ([`super::SDO_TIMEOUT`]).
-    SdoTimeout(usize),
-}
-
-/// How many timers of each kind run: the node's [`Node::running_timers`].
-#[derive(Debug, Clone, Copy)]
-struct Running {
-    /// Heartbeat consumers configured (1016h).
-    consumers: usize,
-    /// Whether emergencies may be sent (every NMT state but stopped).
-    emcy: bool,
-    /// RPDOs and TPDOs with timers (all of them in operational, none otherwise).
-    rpdos: usize,
-    tpdos: usize,
-    sdo_channels: usize,
 }
 
 impl Timer {
-    /// Calls `f` with every timer that runs, in the order [`Node::handle_timeout`] runs them.
-    /// `f` is a `dyn` closure so that one copy of the walk serves both
-    /// [`Node::poll_timeout`] and [`Node::handle_timeout`] (some 170 B less flash than two).
-    fn each(running: Running, f: &mut dyn FnMut(Timer)) {
+    /// Calls `f` with every timer, in the order [`Node::handle_timeout`] runs them.
+    fn each<const RPDOS: usize, const TPDOS: usize>(f: &mut dyn FnMut(Timer)) {
         f(Timer::Heartbeat);
-        for k in 0..running.consumers {
+        for k in 0..MAX_HEARTBEAT_CONSUMERS {
             f(Timer::HeartbeatConsumer(k));
         }
         #[cfg(feature = "node-guarding")]
         f(Timer::LifeGuard);
         f(Timer::SyncConsumer);
         f(Timer::SyncProducer);
-        if running.emcy {
-            f(Timer::EmcyInhibit);
-        }
-        for n in 0..running.rpdos {
+        for n in 0..RPDOS {
             f(Timer::RpdoDeadline(n));
         }
-        for n in 0..running.tpdos {
+        for n in 0..TPDOS {
             f(Timer::TpdoEvent(n));
-            f(Timer::TpdoInhibit(n));
         }
-        for n in 0..running.sdo_channels {
-            f(Timer::SdoTimeout(n));
+    }
+}
+
+/// When each [`Timer`] runs out: `None` while it is disarmed. The PDO timers run in
+/// operational only (the node disarms them when it leaves).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TimerTable<const RPDOS: usize, const TPDOS: usize> {
+    heartbeat: Option<Instant>,
+    /// The heartbeat consumers', in 1016h order (see `ErrorControl::configure_consumers`).
+    pub consumers: [Option<Instant>; MAX_HEARTBEAT_CONSUMERS],
+    #[cfg(feature = "node-guarding")]
+    life_guard: Option<Instant>,
+    sync_consumer: Option<Instant>,
+    sync_producer: Option<Instant>,
+    rpdo_deadlines: [Option<Instant>; RPDOS],
+    tpdo_events: [Option<Instant>; TPDOS],
+}
+
+impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
+    /// Every timer disarmed.
+    pub const OFF: Self = TimerTable {
+        heartbeat: None,
+        consumers: [None; MAX_HEARTBEAT_CONSUMERS],
+        #[cfg(feature = "node-guarding")]
+        life_guard: None,
+        sync_consumer: None,
+        sync_producer: None,
+        rpdo_deadlines: [None; RPDOS],
+        tpdo_events: [None; TPDOS],
+    };
+
+    /// The slot of `timer`.
+    pub fn slot(&mut self, timer: Timer) -> &mut Option<Instant> {
+        match timer {
+            Timer::Heartbeat => &mut self.heartbeat,
+            Timer::HeartbeatConsumer(k) => &mut self.consumers[k],
+            #[cfg(feature = "node-guarding")]
+            Timer::LifeGuard => &mut self.life_guard,
+            Timer::SyncConsumer => &mut self.sync_consumer,
+            Timer::SyncProducer => &mut self.sync_producer,
+            Timer::RpdoDeadline(n) => &mut self.rpdo_deadlines[n],
+            Timer::TpdoEvent(n) => &mut self.tpdo_events[n],
         }
+    }
+
+    /// Arms `timer` to run out `at`, or disarms it (`None`).
+    pub fn set(&mut self, timer: Timer, at: Option<Instant>) {
+        *self.slot(timer) = at;
+    }
+
+    /// Disarms the PDO timers (leaving operational).
+    pub fn stop_pdos(&mut self) {
+        self.rpdo_deadlines = [None; RPDOS];
+        self.tpdo_events = [None; TPDOS];
+    }
+
+    /// The earliest armed instant.
+    fn earliest(&self) -> Option<Instant> {
+        let mut next = None;
+        let fixed = [
+            self.heartbeat,
+            #[cfg(feature = "node-guarding")]
+            self.life_guard,
+            self.sync_consumer,
+            self.sync_producer,
+        ];
+        for at in fixed
+            .iter()
+            .chain(&self.consumers)
+            .chain(&self.rpdo_deadlines)
+            .chain(&self.tpdo_events)
+        {
+            keep_earliest(&mut next, at);
+        }
+        next
     }
 }
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>
 {
-    /// The timers that run in the node's NMT state and configuration: PDO timers in
-    /// operational only, the EMCY inhibit time in every state but stopped.
-    fn running_timers(&self) -> Running {
-        let pdos = match self.state {
-            NmtState::Operational => (RPDOS, TPDOS),
-            _ => (0, 0),
-        };
-        Running {
-            consumers: self.error_control.consumer_count(),
-            emcy: self.state != NmtState::Stopped,
-            rpdos: pdos.0,
-            tpdos: pdos.1,
-            sdo_channels: self.sdo.len(),
-        }
-    }
-
     /// The next instant at which [`handle_timeout`](Self::handle_timeout) has work, or at which a
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
-        let mut next = None;
-        Timer::each(self.running_timers(), &mut |timer| {
-            keep_earliest(&mut next, &self.deadline(timer));
-        });
+        let mut next = self.timers.earliest();
+        if self.state != NmtState::Stopped {
+            keep_earliest(&mut next, &self.emcy.ready_at());
+        }
+        if self.state == NmtState::Operational {
+            for tpdo in &self.tpdos {
+                keep_earliest(&mut next, &tpdo.inhibit_end());
+            }
+        }
+        for channel in &self.sdo {
+            keep_earliest(&mut next, &channel.next_deadline());
+        }
         next
     }
 
     /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
-    /// SYNC production and monitoring, TPDO event timers, RPDO deadlines and SDO timeouts.
+    /// SYNC production and monitoring, RPDO deadlines, TPDO event timers, then SDO timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        Timer::each(self.running_timers(), &mut |timer| {
-            if self.deadline(timer).is_some_and(|at| at <= now) {
-                self.expire(timer, now);
+        Timer::each::<RPDOS, TPDOS>(&mut |timer| {
+            let slot = self.timers.slot(timer);
+            if let Some(at) = slot.filter(|&at| at <= now) {
+                *slot = None;
+                self.expire(timer, at, now);
             }
         });
-    }
-
-    /// When `timer` runs out, as the service that owns it says; `None` if it does not run.
-    fn deadline(&self, timer: Timer) -> Option<Instant> {
-        match timer {
-            Timer::Heartbeat => self.error_control.heartbeat_deadline(),
-            Timer::HeartbeatConsumer(k) => self.error_control.consumer_deadline(k),
-            #[cfg(feature = "node-guarding")]
-            Timer::LifeGuard => self.error_control.life_deadline(),
-            Timer::SyncConsumer => self.sync.consumer_deadline(),
-            Timer::SyncProducer => self.sync.producer_deadline(),
-            Timer::EmcyInhibit => self.emcy.ready_at(),
-            Timer::RpdoDeadline(n) => self.rpdos.get(n)?.next_deadline(),
-            Timer::TpdoEvent(n) => self.tpdos.get(n)?.event_deadline(),
-            Timer::TpdoInhibit(n) => self.tpdos.get(n)?.inhibit_end(),
-            Timer::SdoTimeout(n) => self.sdo.get(n)?.next_deadline(),
+        for channel in &mut self.sdo {
+            if channel.next_deadline().is_some_and(|at| at <= now) {
+                channel.expire(now);
+            }
         }
     }
 
-    /// Runs `timer`, which is due at `now`.
-    fn expire(&mut self, timer: Timer, now: Instant) {
+    /// Runs `timer`, which was due `at` and is disarmed now (`now`); re-arms it if it repeats.
+    fn expire(&mut self, timer: Timer, at: Instant, now: Instant) {
         match timer {
-            Timer::Heartbeat => self.error_control.expire_heartbeat(now),
+            Timer::Heartbeat => {
+                let next = self.error_control.expire_heartbeat(at, now);
+                self.timers.set(timer, Some(next));
+            }
             Timer::HeartbeatConsumer(k) => {
                 let node_id = self.error_control.expire_consumer(k, &mut self.events);
                 // Already active when another node or life guarding was lost first: one
@@ -151,15 +192,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.raise_communication_error(super::error_code::LIFE_GUARD, [0; 5]);
             }
             Timer::SyncConsumer => {
-                self.sync.expire_consumer();
+                // Monitoring waits for the next SYNC.
                 self.raise_communication_error(SYNC_TIMEOUT_CODE, [0; 5]);
             }
             Timer::SyncProducer => {
-                let counter = self.sync.expire_producer(now);
+                let (counter, next) = self.sync.expire_producer(at, now);
+                self.timers.set(timer, Some(next));
                 self.handle_sync(counter, now);
             }
-            // The frames they held back go out through poll_transmit.
-            Timer::EmcyInhibit | Timer::TpdoInhibit(_) => {}
             Timer::RpdoDeadline(n) => {
                 self.rpdos[n].expire();
                 self.events.push(Event::RpdoTimeout { pdo: n as u16 });
@@ -170,7 +210,6 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.tpdos[n].expire_event();
                 self.tpdo_attention = true;
             }
-            Timer::SdoTimeout(n) => self.sdo[n].expire(now),
         }
     }
 }
