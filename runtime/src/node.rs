@@ -310,7 +310,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             node_id,
             state: NmtState::Initialising,
             boot_up_due: false,
-            sdo: [SdoChannel::new(), SdoChannel::new()],
+            sdo: [SdoChannel::new(node_id), SdoChannel::new(node_id)],
             error_control: ErrorControl::OFF,
             sync: Sync::default(),
             emcy: Emcy::default(),
@@ -464,7 +464,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
-        self.configure_sdo();
+        self.configure_second_sdo();
         self.error_control = ErrorControl::OFF;
         let heartbeat = self.error_control.configure_producer(&self.od, now);
         self.timers.set(Timer::Heartbeat, heartbeat);
@@ -516,10 +516,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
-    fn configure_sdo(&mut self) {
-        for (n, channel) in self.sdo.iter_mut().enumerate() {
-            channel.configure(&self.od, n as u16, self.node_id);
-        }
+    /// Reads the second SDO server's COB-IDs (1201h); the default server's are fixed.
+    fn configure_second_sdo(&mut self) {
+        self.sdo[1].configure(&self.od, 0x1201);
     }
 
     fn restart_sync_producer(&mut self, now: Instant) {
@@ -563,7 +562,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 #[cfg(feature = "node-guarding")]
                 self.configure_guarding();
             }
-            0x1201 => self.configure_sdo(),
+            0x1201 => self.configure_second_sdo(),
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {

@@ -177,13 +177,10 @@ impl Emcy {
         else {
             return false;
         };
-        // Element by element rather than `copy_within`, which would pull `memmove` into the
-        // image for a handful of bytes.
-        for i in pos..self.active_count - 1 {
-            self.active_codes[i] = self.active_codes[i + 1];
-            self.active_registers[i] = self.active_registers[i + 1];
-        }
+        // The last active error takes its place: the order of active errors does not matter.
         self.active_count -= 1;
+        self.active_codes[pos] = self.active_codes[self.active_count];
+        self.active_registers[pos] = self.active_registers[self.active_count];
         true
     }
 
