@@ -132,12 +132,16 @@ pub enum Event {
         /// The SYNC counter, if the message carries one.
         counter: Option<u8>,
     },
-    /// A node watched by the heartbeat consumer (1016h) missed its heartbeat.
+    /// A node watched by the heartbeat consumer (1016h) missed its heartbeat; EMCY 8130h is
+    /// raised with it (manufacturer byte 0 the node-ID), and cleared once every lost node beats
+    /// again (or is no longer watched) and life guarding is not lost.
     HeartbeatLost {
         /// The silent node.
         node_id: u8,
     },
-    /// The NMT master stopped guarding this node within the life time (100Ch × 100Dh).
+    /// The NMT master stopped guarding this node within the life time (100Ch × 100Dh); EMCY
+    /// 8130h is raised with it, and cleared by the next guard request unless a watched
+    /// heartbeat is lost too.
     LifeGuardingLost,
     /// A PDO whose COB-ID is valid in the OD is not served, because its mapping (1600h+n or
     /// 1A00h+n) was refused: reported when the node reads its configuration (power-on, reset
