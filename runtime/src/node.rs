@@ -475,7 +475,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);
         self.error_control
-            .configure_consumers(&self.od, &mut self.timers.consumers);
+            .configure_consumers(&self.od, self.timers.consumers());
         self.sync.configure(&self.od);
         for n in 0..RPDOS {
             if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
@@ -554,7 +554,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             0x1016 => {
                 let was_lost = self.error_control.any_lost();
                 self.error_control
-                    .configure_consumers(&self.od, &mut self.timers.consumers);
+                    .configure_consumers(&self.od, self.timers.consumers());
                 if was_lost {
                     // A lost node may no longer be watched.
                     self.end_error_control_loss();
@@ -660,7 +660,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             if frame.dlc() == 1
                 && self
                     .error_control
-                    .heartbeat_received(node_id, now, &mut self.timers.consumers)
+                    .heartbeat_received(node_id, now, self.timers.consumers())
             {
                 self.end_error_control_loss();
             }

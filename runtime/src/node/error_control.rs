@@ -95,11 +95,13 @@ impl ErrorControl {
     pub fn configure_consumers<O: ObjectDictionary + ?Sized>(
         &mut self,
         od: &O,
-        timers: &mut [Option<Instant>; MAX_HEARTBEAT_CONSUMERS],
+        timers: &mut [Option<Instant>],
     ) {
         let previous = self.consumers;
-        let previous_timers = *timers;
-        *timers = [None; MAX_HEARTBEAT_CONSUMERS];
+        let mut previous_timers = [None; MAX_HEARTBEAT_CONSUMERS];
+        for (previous, timer) in previous_timers.iter_mut().zip(timers.iter_mut()) {
+            *previous = timer.take();
+        }
         let previous_count = self.consumer_count;
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
         self.consumer_count = 0;
@@ -143,7 +145,7 @@ impl ErrorControl {
         &mut self,
         node_id: u8,
         now: Instant,
-        timers: &mut [Option<Instant>; MAX_HEARTBEAT_CONSUMERS],
+        timers: &mut [Option<Instant>],
     ) -> bool {
         let mut recovered = false;
         for (consumer, timer) in self.consumers[..self.consumer_count].iter_mut().zip(timers) {

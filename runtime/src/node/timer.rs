@@ -57,17 +57,23 @@ impl Timer {
     }
 }
 
+/// The first slot of the heartbeat consumers' timers in [`TimerTable`]'s service timers.
+const CONSUMERS: usize = 1;
+/// How many timers the services have besides the PDOs'.
+const SERVICE_TIMERS: usize = CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2 + LIFE_GUARD_TIMERS;
+const LIFE_GUARD_TIMERS: usize = if cfg!(feature = "node-guarding") {
+    1
+} else {
+    0
+};
+
 /// When each [`Timer`] runs out: `None` while it is disarmed. The PDO timers run in
 /// operational only (the node disarms them when it leaves).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct TimerTable<const RPDOS: usize, const TPDOS: usize> {
-    heartbeat: Option<Instant>,
-    /// The heartbeat consumers', in 1016h order (see `ErrorControl::configure_consumers`).
-    pub consumers: [Option<Instant>; MAX_HEARTBEAT_CONSUMERS],
-    #[cfg(feature = "node-guarding")]
-    life_guard: Option<Instant>,
-    sync_consumer: Option<Instant>,
-    sync_producer: Option<Instant>,
+    /// The heartbeat producer's, the consumers' (in 1016h order), the SYNC consumer's and
+    /// producer's, and life guarding's: one array, so that finding the earliest is one loop.
+    services: [Option<Instant>; SERVICE_TIMERS],
     rpdo_deadlines: [Option<Instant>; RPDOS],
     tpdo_events: [Option<Instant>; TPDOS],
 }
@@ -75,28 +81,29 @@ pub(crate) struct TimerTable<const RPDOS: usize, const TPDOS: usize> {
 impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
     /// Every timer disarmed.
     pub const OFF: Self = TimerTable {
-        heartbeat: None,
-        consumers: [None; MAX_HEARTBEAT_CONSUMERS],
-        #[cfg(feature = "node-guarding")]
-        life_guard: None,
-        sync_consumer: None,
-        sync_producer: None,
+        services: [None; SERVICE_TIMERS],
         rpdo_deadlines: [None; RPDOS],
         tpdo_events: [None; TPDOS],
     };
 
     /// The slot of `timer`.
     pub fn slot(&mut self, timer: Timer) -> &mut Option<Instant> {
-        match timer {
-            Timer::Heartbeat => &mut self.heartbeat,
-            Timer::HeartbeatConsumer(k) => &mut self.consumers[k],
+        let service = match timer {
+            Timer::RpdoDeadline(n) => return &mut self.rpdo_deadlines[n],
+            Timer::TpdoEvent(n) => return &mut self.tpdo_events[n],
+            Timer::Heartbeat => 0,
+            Timer::HeartbeatConsumer(k) => CONSUMERS + k,
+            Timer::SyncConsumer => CONSUMERS + MAX_HEARTBEAT_CONSUMERS,
+            Timer::SyncProducer => CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 1,
             #[cfg(feature = "node-guarding")]
-            Timer::LifeGuard => &mut self.life_guard,
-            Timer::SyncConsumer => &mut self.sync_consumer,
-            Timer::SyncProducer => &mut self.sync_producer,
-            Timer::RpdoDeadline(n) => &mut self.rpdo_deadlines[n],
-            Timer::TpdoEvent(n) => &mut self.tpdo_events[n],
-        }
+            Timer::LifeGuard => CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2,
+        };
+        &mut self.services[service]
+    }
+
+    /// The heartbeat consumers' slots, in 1016h order (see `ErrorControl::configure_consumers`).
+    pub fn consumers(&mut self) -> &mut [Option<Instant>] {
+        &mut self.services[CONSUMERS..CONSUMERS + MAX_HEARTBEAT_CONSUMERS]
     }
 
     /// Arms `timer` to run out `at`, or disarms it (`None`).
@@ -113,19 +120,13 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
     /// The earliest armed instant.
     fn earliest(&self) -> Option<Instant> {
         let mut next = None;
-        let fixed = [
-            self.heartbeat,
-            #[cfg(feature = "node-guarding")]
-            self.life_guard,
-            self.sync_consumer,
-            self.sync_producer,
-        ];
-        for at in fixed
-            .iter()
-            .chain(&self.consumers)
-            .chain(&self.rpdo_deadlines)
-            .chain(&self.tpdo_events)
-        {
+        for at in &self.services {
+            keep_earliest(&mut next, at);
+        }
+        for at in &self.rpdo_deadlines {
+            keep_earliest(&mut next, at);
+        }
+        for at in &self.tpdo_events {
             keep_earliest(&mut next, at);
         }
         next
