@@ -270,7 +270,8 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     timers: TimerTable<RPDOS, TPDOS>,
     /// After a reset node that cleared errors, announce "no error" once.
     announce_no_error: bool,
-    /// An RPDO length error (8210h/8220h) is active.
+    /// Some RPDO's last frame had the wrong length (8210h/8220h raised): the next frame of
+    /// the right length looks whether they clear.
     length_error_raised: bool,
     /// Some TPDO may have something to send or a change to look for (a fast path for
     /// [`Node::poll_transmit`]).
@@ -791,8 +792,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Raises or clears 8210h (too short, not processed) and 8220h (too long, processed).
     fn update_length_errors(&mut self, received: usize) {
-        let short = self.rpdos.iter().any(|r| r.length_errors().0);
-        let long = self.rpdos.iter().any(|r| r.length_errors().1);
+        let (mut short, mut long) = (false, false);
+        for rpdo in &self.rpdos {
+            let (too_short, too_long) = rpdo.length_errors();
+            short |= too_short;
+            long |= too_long;
+        }
         let info = [received as u8, 0, 0, 0, 0];
         for (code, now_bad) in [
             (error_code::PDO_LENGTH, short),
@@ -805,8 +810,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.emcy.clear(&mut self.od, code);
             }
         }
-        self.length_error_raised = self.emcy.is_active(error_code::PDO_LENGTH)
-            || self.emcy.is_active(error_code::PDO_LENGTH_EXCEEDED);
+        self.length_error_raised = short || long;
     }
 
     /// A received SYNC. Its length must match 1019h: a counter byte when the overflow value is
