@@ -287,8 +287,9 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 }
 
 /// A receive PDO.
-/// Word-aligned (it holds no wider field) so that [`Rpdo::load`]'s clear is a word-wise memclr:
-/// a byte-wise one would bring 208 B of `__aeabi_memclr` into a firmware image.
+/// Word-aligned (its widest field has 2 bytes) so that [`Rpdo::load`]'s clear is a word-wise
+/// memclr: a byte-wise one would bring 208 B of `__aeabi_memclr` into a firmware image (see
+/// [`Mapping`]'s `Default`).
 #[derive(Debug, Clone, Copy)]
 #[repr(align(4))]
 pub(crate) struct Rpdo {
@@ -779,7 +780,7 @@ impl Tpdo {
         self.sync_deadline = None;
         self.last_data = data;
         self.last_sent = Some(now);
-        if self.event_driven() && self.event_timer_ms != 0 {
+        if self.event_driven() {
             *event_timer = self.event_timer_from(now);
         }
         Some(CanFrame::from_parts(self.cob_id, data, self.mapping.len))

@@ -59,13 +59,10 @@ impl Timer {
 
 /// The first slot of the heartbeat consumers' timers in [`TimerTable`]'s service timers.
 const CONSUMERS: usize = 1;
-/// How many timers the services have besides the PDOs'.
-const SERVICE_TIMERS: usize = CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2 + LIFE_GUARD_TIMERS;
-const LIFE_GUARD_TIMERS: usize = if cfg!(feature = "node-guarding") {
-    1
-} else {
-    0
-};
+/// How many timers the services have besides the PDOs': the heartbeat producer's, the
+/// consumers', the SYNC consumer's and producer's, and life guarding's.
+const SERVICE_TIMERS: usize =
+    CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2 + cfg!(feature = "node-guarding") as usize;
 
 /// When each [`Timer`] runs out: `None` while it is disarmed. The PDO timers run in
 /// operational only (the node disarms them when it leaves).
