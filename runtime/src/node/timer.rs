@@ -39,7 +39,7 @@ pub(crate) enum Timer {
 
 impl Timer {
     /// Calls `f` with every timer, in the order [`Node::handle_timeout`] runs them.
-    fn each<const RPDOS: usize, const TPDOS: usize>(f: &mut dyn FnMut(Timer)) {
+    fn each<const RPDOS: usize, const TPDOS: usize>(mut f: impl FnMut(Timer)) {
         f(Timer::Heartbeat);
         for k in 0..MAX_HEARTBEAT_CONSUMERS {
             f(Timer::HeartbeatConsumer(k));
@@ -154,7 +154,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
     /// SYNC production and monitoring, RPDO deadlines, TPDO event timers, then SDO timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        Timer::each::<RPDOS, TPDOS>(&mut |timer| {
+        Timer::each::<RPDOS, TPDOS>(|timer| {
             let slot = self.timers.slot(timer);
             if let Some(at) = slot.filter(|&at| at <= now) {
                 *slot = None;
