@@ -315,6 +315,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             node_id,
             state: NmtState::Initialising,
             boot_up_due: false,
+            // The second channel is read from 1201h by reset communication below.
             sdo: [SdoChannel::new(node_id), SdoChannel::new(node_id)],
             error_control: ErrorControl::OFF,
             sync: Sync::default(),
