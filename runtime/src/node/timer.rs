@@ -211,3 +211,31 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(ms: u64) -> Option<Instant> {
+        Some(Instant::from_millis(ms))
+    }
+
+    #[test]
+    fn the_table_keeps_one_instant_per_timer_and_finds_the_earliest() {
+        let mut table = TimerTable::<2, 3>::OFF;
+        assert_eq!(table.earliest(), None);
+        table.set(Timer::Heartbeat, at(500));
+        table.set(Timer::HeartbeatConsumer(7), at(400));
+        table.set(Timer::SyncProducer, at(300));
+        table.set(Timer::TpdoEvent(2), at(200));
+        assert_eq!(table.earliest(), at(200));
+        assert_eq!(table.consumers()[7], at(400));
+        assert_eq!(*table.slot(Timer::SyncConsumer), None);
+        table.set(Timer::RpdoDeadline(1), at(100));
+        assert_eq!(table.earliest(), at(100));
+        table.stop_pdos();
+        assert_eq!(table.earliest(), at(300));
+        table.set(Timer::SyncProducer, None);
+        assert_eq!(table.earliest(), at(400));
+    }
+}
