@@ -136,9 +136,9 @@ fn heartbeat_loss_disables_voltage_as_6007h_says() {
     );
     start_velocity_mode(&mut bench);
     bench.send(0, 0x701, &[0x05]);
-    // At 100 ms the heartbeat is lost: EMCY 8130h, and 6007h = 2 (the CP301's default):
-    // disable voltage, switch on disabled, the output cut.
-    assert_eq!(bench.frames_until(200), ["083: 30 81 11 00 00 00 00 00"]);
+    // At 100 ms the heartbeat is lost: EMCY 8130h (manufacturer byte 0: node 1), and 6007h = 2
+    // (the CP301's default): disable voltage, switch on disabled, the output cut.
+    assert_eq!(bench.frames_until(200), ["083: 30 81 11 01 00 00 00 00"]);
     assert_eq!(bench.drive.drive().state(), State::SwitchOnDisabled);
     assert_eq!(
         bench.sdo(200, NODE, READ_ACTUAL),

@@ -433,26 +433,12 @@ fn every_corpus_device_is_served_and_answers_an_upload_of_every_entry() {
         .collect();
     files.sort();
     assert!(files.len() >= 100, "{} files", files.len());
-    let mut disabled = Vec::new();
     for path in &files {
         let device = edsgen_codegen::read::read_file(path).unwrap().device;
         let od = RuntimeDictionary::new(&device, 1);
-        // The SDO server's COB-IDs: 1200h's (a DCF may configure others), else 601h/581h.
-        let cob = |sub: u8, default: u32| match od.find(0x1200, sub) {
-            Ok(_) => {
-                let value = read_value(&od, 0x1200, sub);
-                u32::from_le_bytes([value[0], value[1], value[2], value[3]])
-            }
-            Err(_) => default,
-        };
-        let (rx, tx) = (cob(1, 0x601), cob(2, 0x581));
-        if (rx | tx) & 0x8000_0000 != 0 {
-            // The description disables its SDO server (CANopenNode's XDDs hold 8000 0000h
-            // there and set the COB-IDs at run time; the runtime honours the value).
-            disabled.push(path.file_name().unwrap().to_string_lossy().into_owned());
-            continue;
-        }
-        let (rx, tx) = (rx as u16 & 0x7FF, tx as u16 & 0x7FF);
+        // The default SDO server's COB-IDs are 601h/581h whatever 1200h stores (oresat's
+        // battery card holds 8000 0000h there, to be set at run time).
+        let (rx, tx) = (0x601, 0x581);
         let uploads: Vec<CanFrame> = od
             .entries()
             .iter()
@@ -478,10 +464,4 @@ fn every_corpus_device_is_served_and_answers_an_upload_of_every_entry() {
         }
         assert_eq!(answered, uploads.len(), "{}", path.display());
     }
-    // One: oresat's battery card, whose 1200h holds 8000 0000h in both COB-IDs.
-    assert_eq!(
-        disabled,
-        ["src__f0__app_battery__source__ObjDict__app.xdd"],
-        "files whose SDO server is disabled"
-    );
 }

@@ -17,8 +17,10 @@
 //! The node routes frames to one module per service, each owning its state: `error_control`
 //! (heartbeat producer and consumers, node guarding), `sync`, `emcy`, `pdo` (RPDOs and TPDOs),
 //! `sdo_channel` (the SDO server channels), `comm` (the CiA 301 checks on writes to
-//! communication objects) and `events` (the application's event queue). The services' timers
-//! have names (`timer`), with one place that finds the earliest and one that runs those due.
+//! communication objects) and `events` (the application's event queue). The node holds the
+//! instants of the services' timers in one table of named timers (`timer`), with one place that
+//! finds the earliest and one that runs those due; the services say when to arm them and what
+//! their expiry does.
 //!
 //! Choices CiA 301 leaves open, documented where they are made: an NMT reset restores the
 //! dictionary's defaults of its area ([`NodeHooks::restore_power_on`]); a SYNC whose length
@@ -48,6 +50,7 @@ use self::events::EventQueue;
 use self::pdo::{Rpdo, Tpdo};
 use self::sdo_channel::SdoChannel;
 use self::sync::Sync;
+use self::timer::{Timer, TimerTable};
 use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::sdo::SdoEvent;
@@ -129,12 +132,16 @@ pub enum Event {
         /// The SYNC counter, if the message carries one.
         counter: Option<u8>,
     },
-    /// A node watched by the heartbeat consumer (1016h) missed its heartbeat.
+    /// A node watched by the heartbeat consumer (1016h) missed its heartbeat; EMCY 8130h is
+    /// raised with it (manufacturer byte 0 the node-ID), and cleared once every lost node beats
+    /// again (or is no longer watched) and life guarding is not lost.
     HeartbeatLost {
         /// The silent node.
         node_id: u8,
     },
-    /// The NMT master stopped guarding this node within the life time (100Ch × 100Dh).
+    /// The NMT master stopped guarding this node within the life time (100Ch × 100Dh); EMCY
+    /// 8130h is raised with it, and cleared by the next guard request unless a watched
+    /// heartbeat is lost too.
     LifeGuardingLost,
     /// A PDO whose COB-ID is valid in the OD is not served, because its mapping (1600h+n or
     /// 1A00h+n) was refused: reported when the node reads its configuration (power-on, reset
@@ -260,9 +267,11 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     rpdos: [Rpdo; RPDOS],
     tpdos: [Tpdo; TPDOS],
     events: EventQueue,
+    timers: TimerTable<RPDOS, TPDOS>,
     /// After a reset node that cleared errors, announce "no error" once.
     announce_no_error: bool,
-    /// An RPDO length error (8210h/8220h) is active.
+    /// Some RPDO's last frame had the wrong length (8210h/8220h raised): the next frame of
+    /// the right length looks whether they clear.
     length_error_raised: bool,
     /// Some TPDO may have something to send or a change to look for (a fast path for
     /// [`Node::poll_transmit`]).
@@ -306,13 +315,15 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             node_id,
             state: NmtState::Initialising,
             boot_up_due: false,
-            sdo: [SdoChannel::new(), SdoChannel::new()],
+            // The second channel is read from 1201h by reset communication below.
+            sdo: [SdoChannel::new(node_id), SdoChannel::new(node_id)],
             error_control: ErrorControl::OFF,
             sync: Sync::default(),
             emcy: Emcy::default(),
             rpdos: const { [Rpdo::OFF; RPDOS] },
             tpdos: const { [Tpdo::OFF; TPDOS] },
             events: EventQueue::new(),
+            timers: TimerTable::OFF,
             announce_no_error: false,
             length_error_raised: false,
             tpdo_attention: false,
@@ -418,6 +429,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let was = self.state;
         self.state = state;
         if was == NmtState::Operational {
+            self.timers.stop_pdos();
             for tpdo in &mut self.tpdos {
                 tpdo.stop();
             }
@@ -438,6 +450,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     channel.reset();
                 }
                 self.sync.stop();
+                self.timers.set(Timer::SyncProducer, None);
+                self.timers.set(Timer::SyncConsumer, None);
             }
             _ => {}
         }
@@ -449,18 +463,21 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn reset_communication(&mut self, now: Instant) {
         self.state = NmtState::Initialising;
+        self.timers = TimerTable::OFF;
         for channel in &mut self.sdo {
             channel.reset();
         }
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);
-        self.configure_sdo();
+        self.configure_second_sdo();
         self.error_control = ErrorControl::OFF;
-        self.error_control.configure_producer(&self.od, now);
+        let heartbeat = self.error_control.configure_producer(&self.od, now);
+        self.timers.set(Timer::Heartbeat, heartbeat);
         #[cfg(feature = "node-guarding")]
         self.error_control.configure_guarding(&self.od);
-        self.error_control.configure_consumers(&self.od);
+        self.error_control
+            .configure_consumers(&self.od, self.timers.consumers());
         self.sync.configure(&self.od);
         for n in 0..RPDOS {
             if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
@@ -505,15 +522,25 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
-    fn configure_sdo(&mut self) {
-        for (n, channel) in self.sdo.iter_mut().enumerate() {
-            channel.configure(&self.od, n as u16, self.node_id);
-        }
+    /// Reads the second SDO server's COB-IDs (1201h); the default server's are fixed.
+    fn configure_second_sdo(&mut self) {
+        self.sdo[1].configure(&self.od, 0x1201);
     }
 
     fn restart_sync_producer(&mut self, now: Instant) {
         let serves = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
-        self.sync.restart(now, serves);
+        let first = self.sync.restart(now, serves);
+        self.timers.set(Timer::SyncProducer, first);
+        self.timers.set(Timer::SyncConsumer, None);
+    }
+
+    /// Reads 100Ch and 100Dh; life guarding stops if they (or the heartbeat producer) turn it
+    /// off.
+    #[cfg(feature = "node-guarding")]
+    fn configure_guarding(&mut self) {
+        if !self.error_control.configure_guarding(&self.od) {
+            self.timers.set(Timer::LifeGuard, None);
+        }
     }
 
     /// Applies an accepted SDO write to the node's running state.
@@ -524,20 +551,30 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.restart_sync_producer(now);
             }
             #[cfg(feature = "node-guarding")]
-            0x100C | 0x100D => self.error_control.configure_guarding(&self.od),
+            0x100C | 0x100D => self.configure_guarding(),
             0x1014 | 0x1015 => self.emcy.configure(&self.od, self.node_id),
-            0x1016 => self.error_control.configure_consumers(&self.od),
-            0x1017 => {
-                self.error_control.configure_producer(&self.od, now);
-                #[cfg(feature = "node-guarding")]
-                self.error_control.configure_guarding(&self.od);
+            0x1016 => {
+                let was_lost = self.error_control.any_lost();
+                self.error_control
+                    .configure_consumers(&self.od, self.timers.consumers());
+                if was_lost {
+                    // A lost node may no longer be watched.
+                    self.end_error_control_loss();
+                }
             }
-            0x1200..=0x1201 => self.configure_sdo(),
+            0x1017 => {
+                let heartbeat = self.error_control.configure_producer(&self.od, now);
+                self.timers.set(Timer::Heartbeat, heartbeat);
+                #[cfg(feature = "node-guarding")]
+                self.configure_guarding();
+            }
+            0x1201 => self.configure_second_sdo(),
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
                     let event_timer_written = index == 0x1400 + n as u16 && sub == 5;
-                    if self.rpdos[n].reload(&self.od, n as u16, event_timer_written) {
+                    let deadline = self.timers.slot(Timer::RpdoDeadline(n));
+                    if self.rpdos[n].reload(&self.od, n as u16, event_timer_written, deadline) {
                         self.end_rpdo_timeout();
                     }
                 }
@@ -546,7 +583,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 let n = usize::from((index - 0x1800) & 0x1FF);
                 if n < TPDOS {
                     let operational = self.state == NmtState::Operational;
-                    if self.tpdos[n].reload(&self.od, n as u16, now, operational) {
+                    let event_timer = self.timers.slot(Timer::TpdoEvent(n));
+                    if self.tpdos[n].reload(&self.od, n as u16, now, operational, event_timer) {
                         self.tpdo_attention = true;
                     }
                 }
@@ -621,8 +659,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
         }
         if let Some(node_id) = ErrorControlRepr::node_of(id) {
-            if frame.dlc() == 1 {
-                self.error_control.heartbeat_received(node_id, now);
+            if frame.dlc() == 1
+                && self
+                    .error_control
+                    .heartbeat_received(node_id, now, self.timers.consumers())
+            {
+                self.end_error_control_loss();
             }
         }
     }
@@ -659,7 +701,18 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// A node-guarding RTR: queue the answer and (re)start life guarding.
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
-        if self.error_control.guard_request(now) {
+        if let Some((life_end, recovered)) = self.error_control.guard_request(now) {
+            self.timers.set(Timer::LifeGuard, Some(life_end));
+            if recovered {
+                self.end_error_control_loss();
+            }
+        }
+    }
+
+    /// Clears 8130h (with its error-reset emergency) once neither life guarding nor a watched
+    /// heartbeat is lost.
+    fn end_error_control_loss(&mut self) {
+        if !self.error_control.any_lost() {
             self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
         }
     }
@@ -680,7 +733,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     fn handle_rpdo(&mut self, n: usize, data: &[u8], now: Instant) {
         let rpdo = &mut self.rpdos[n];
         let expected = usize::from(rpdo.mapping().len);
-        let (apply, recovered) = rpdo.receive(now, data);
+        let deadline = self.timers.slot(Timer::RpdoDeadline(n));
+        let (apply, recovered) = rpdo.receive(now, data, deadline);
         if let Some(data) = apply {
             self.apply_rpdo(n, data);
         }
@@ -739,8 +793,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Raises or clears 8210h (too short, not processed) and 8220h (too long, processed).
     fn update_length_errors(&mut self, received: usize) {
-        let short = self.rpdos.iter().any(|r| r.length_errors().0);
-        let long = self.rpdos.iter().any(|r| r.length_errors().1);
+        let (mut short, mut long) = (false, false);
+        for rpdo in &self.rpdos {
+            let (too_short, too_long) = rpdo.length_errors();
+            short |= too_short;
+            long |= too_long;
+        }
         let info = [received as u8, 0, 0, 0, 0];
         for (code, now_bad) in [
             (error_code::PDO_LENGTH, short),
@@ -753,8 +811,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.emcy.clear(&mut self.od, code);
             }
         }
-        self.length_error_raised = self.emcy.is_active(error_code::PDO_LENGTH)
-            || self.emcy.is_active(error_code::PDO_LENGTH_EXCEEDED);
+        self.length_error_raised = short || long;
     }
 
     /// A received SYNC. Its length must match 1019h: a counter byte when the overflow value is
@@ -777,7 +834,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
         self.events.push(Event::Sync { counter });
-        if self.sync.consumed(now) {
+        if let Some(timeout) = self.sync.consumed(now) {
+            self.timers.set(Timer::SyncConsumer, Some(timeout));
             // Ends a SYNC timeout error, if one is active.
             self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
         }
@@ -832,8 +890,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {
-        for tpdo in &mut self.tpdos {
-            if let Some(frame) = tpdo.poll_transmit(&self.od, now) {
+        for (n, tpdo) in self.tpdos.iter_mut().enumerate() {
+            let event_timer = self.timers.slot(Timer::TpdoEvent(n));
+            if let Some(frame) = tpdo.poll_transmit(&self.od, now, event_timer) {
                 return Some(frame);
             }
         }

@@ -190,6 +190,81 @@ fn heartbeat_consumer_reports_a_lost_node_after_its_first_heartbeat() {
 }
 
 #[test]
+fn heartbeat_consumer_timeout_raises_8130_until_every_watched_node_is_back() {
+    let (mut node, mut bus) = booted();
+    // Watch node 5 with 150 ms and node 6 with 200 ms.
+    bus.inject(
+        frame(0x603, &[0x23, 0x16, 0x10, 0x01, 0x96, 0x00, 0x05, 0x00]),
+        &mut [&mut node],
+    );
+    bus.inject(
+        frame(0x603, &[0x23, 0x16, 0x10, 0x02, 0xC8, 0x00, 0x06, 0x00]),
+        &mut [&mut node],
+    );
+    sent(&mut bus);
+    while node.poll_event().is_some() {}
+    let mut peer = ScriptedPeer::new();
+    peer.send_at(ms(100), frame(0x705, &[0x05]));
+    peer.send_at(ms(100), frame(0x706, &[0x05]));
+    peer.send_at(ms(400), frame(0x706, &[0x05])); // node 6 late: lost at 300 ms, back at 400
+    peer.send_at(ms(500), frame(0x705, &[0x05])); // node 5 lost at 250 ms, back at 500
+    bus.run_until(ms(520), &mut [&mut node, &mut peer]);
+    let node_frames: Vec<_> = bus
+        .take_log()
+        .into_iter()
+        .filter(|(_, sender, _)| *sender == 0)
+        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
+        .collect();
+    // One emergency for both losses (manufacturer byte 0: the first lost node), cleared when
+    // the last lost node is heard again.
+    assert_eq!(
+        node_frames,
+        at_ms(&[
+            (250, "083: 30 81 11 05 00 00 00 00"),
+            (500, "083: 00 00 00 00 00 00 00 00"),
+        ])
+    );
+    assert_eq!(
+        std::iter::from_fn(|| node.poll_event()).collect::<Vec<_>>(),
+        [
+            Event::HeartbeatLost { node_id: 5 },
+            Event::HeartbeatLost { node_id: 6 },
+        ]
+    );
+    assert_eq!(node.od().get(0x1001, 0), 0);
+    assert_eq!(node.od().get(0x1003, 0), 1);
+    assert_eq!(node.od().get(0x1003, 1), 0x8130);
+}
+
+#[test]
+fn heartbeat_consumer_loss_ends_when_the_lost_node_is_no_longer_watched() {
+    let (mut node, mut bus) = booted();
+    bus.inject(
+        frame(0x603, &[0x23, 0x16, 0x10, 0x01, 0x96, 0x00, 0x05, 0x00]),
+        &mut [&mut node],
+    );
+    let mut peer = ScriptedPeer::new();
+    peer.send_at(ms(100), frame(0x705, &[0x05]));
+    bus.run_until(ms(300), &mut [&mut node, &mut peer]);
+    assert_eq!(node.od().get(0x1001, 0), 0x11);
+    bus.inject(
+        frame(0x603, &[0x23, 0x16, 0x10, 0x01, 0x00, 0x00, 0x00, 0x00]),
+        &mut [&mut node],
+    );
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[
+            (0, "583: 60 16 10 01 00 00 00 00"),
+            (100, "705: 05"),
+            (250, "083: 30 81 11 05 00 00 00 00"),
+            (300, "083: 00 00 00 00 00 00 00 00"),
+            (300, "583: 60 16 10 01 00 00 00 00"),
+        ])
+    );
+    assert_eq!(node.od().get(0x1001, 0), 0);
+}
+
+#[test]
 fn heartbeat_consumer_refuses_a_second_entry_for_the_same_node() {
     let (mut node, mut bus) = booted();
     bus.inject(

@@ -285,6 +285,31 @@ fn second_sdo_server_channel_from_1201h() {
 }
 
 #[test]
+fn default_sdo_server_uses_600h_580h_whatever_1200h_stores() {
+    // A description may hold 8000 0000h in 1200h (CANopenNode's XDDs, set at run time); CiA 301
+    // fixes the default server's COB-IDs to 600h/580h + node-ID, and 1200h is read-only.
+    let mut od = TestOd::new(3);
+    od.set(0x1200, 1, 0x8000_0000);
+    od.set(0x1200, 2, 0x8000_0000);
+    let mut node = Node::new(od, 3, ms(0)).unwrap();
+    let mut bus = VirtualBus::new(ms(0));
+    bus.run_until(ms(0), &mut [&mut node]);
+    sent(&mut bus);
+    bus.inject(sdo_read(0x1018, 1), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[(0, "583: 43 18 10 01 D8 04 00 00")])
+    );
+    // A reset communication reads the configuration again: still served.
+    bus.inject(frame(0x000, &[0x82, 0x03]), &mut [&mut node]);
+    bus.inject(sdo_read(0x1018, 1), &mut [&mut node]);
+    assert_eq!(
+        sent(&mut bus),
+        at_ms(&[(0, "703: 00"), (0, "583: 43 18 10 01 D8 04 00 00")])
+    );
+}
+
+#[test]
 fn application_events_in_order() {
     let (mut node, mut bus) = booted();
     bus.inject(sdo_write(0x2002, 0, 9, 1), &mut [&mut node]);

@@ -9,8 +9,8 @@
 //! - The error register of an alarm follows its code's class (CiA 301): 2xxxh current,
 //!   3xxxh voltage, 4xxxh temperature, 81xxh communication, FFxxh manufacturer-specific; the
 //!   others set the generic bit only.
-//! - On heartbeat loss (a consumer configured in 1016h) the card sends EMCY 8130h and the drive
-//!   acts as 6007h says.
+//! - On heartbeat loss (a consumer configured in 1016h) the card sends EMCY 8130h (the runtime's
+//!   node does, until the heartbeat returns) and the drive acts as 6007h says.
 
 use edsgen_runtime::cia402::{Drive, DriveConfig, State};
 use edsgen_runtime::node::{error_register, InvalidNodeId};
@@ -96,8 +96,6 @@ pub struct Cp301 {
     drive: Drive,
     /// The active alarm's emergency code.
     alarm: Option<u16>,
-    /// The node whose lost heartbeat raised EMCY 8130h, until it beats again.
-    heartbeat_lost: Option<u8>,
 }
 
 /// Why an alarm was not raised.
@@ -112,7 +110,6 @@ impl Cp301 {
             node,
             drive: Drive::new(DriveConfig::new(MAX_SPEED), now),
             alarm: None,
-            heartbeat_lost: None,
         };
         cp301.run_drive(now);
         Ok(cp301)
@@ -155,13 +152,10 @@ impl Cp301 {
         self.run_drive(now);
     }
 
-    /// The master's heartbeat was lost: EMCY 8130h (heartbeat error, cleared when the heartbeat
-    /// returns), and the drive acts as 6007h says. A fault (6007h = 1) has no cause
-    /// left to remove, so a fault reset clears it.
-    fn connection_lost(&mut self, now: Instant, node_id: u8) {
-        self.node
-            .raise_error(0x8130, error_register::COMMUNICATION, [0; 5]);
-        self.heartbeat_lost = Some(node_id);
+    /// The master's heartbeat was lost (the node raised EMCY 8130h, cleared when the heartbeat
+    /// returns): the drive acts as 6007h says. A fault (6007h = 1) has no cause left to
+    /// remove, so a fault reset clears it.
+    fn connection_lost(&mut self, now: Instant) {
         self.drive.connection_lost(now);
         self.drive.clear_fault();
         self.run_drive(now);
@@ -205,7 +199,7 @@ impl Cp301 {
                 }
                 | Event::RpdoReceived { .. }
                 | Event::Reset(_) => self.run_drive(now),
-                Event::HeartbeatLost { node_id } => self.connection_lost(now, node_id),
+                Event::HeartbeatLost { .. } => self.connection_lost(now),
                 _ => {}
             }
         }
@@ -215,13 +209,6 @@ impl Cp301 {
 impl BusDevice for Cp301 {
     fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
         self.node.handle_frame(now, frame);
-        let beating = self
-            .heartbeat_lost
-            .is_some_and(|id| frame.std_id() == Some(0x700 + u16::from(id)) && frame.dlc() == 1);
-        if beating {
-            self.heartbeat_lost = None;
-            self.node.clear_error(0x8130);
-        }
         self.process_events(now);
     }
 

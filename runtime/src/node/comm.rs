@@ -279,21 +279,8 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
     }
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        // Range checks in the node are `matches!` patterns: `RangeInclusive::contains` is a
-        // function call on the device, some 120 B more flash over its five uses.
-        if matches!(index, 0x1000..=0x1FFF) {
-            // A value of the wrong length gets the OD's length abort, not a rule's.
-            let length_ok = self
-                .od
-                .find(index, sub)?
-                .data_type
-                .fixed_size()
-                .is_none_or(|size| size == data.len());
-            if length_ok && self.check(index, sub, data)? == Checked::Done {
-                return Ok(());
-            }
-        }
-        self.od.write(index, sub, data)
+        let position = self.od.locate(index, sub)?;
+        self.write_at(position, data)
     }
 
     fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
@@ -311,9 +298,17 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
 
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
         let entry = *self.od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        // Range checks in the node are `matches!` patterns: `RangeInclusive::contains` is a
+        // function call on the device, some 120 B more flash over its five uses.
         if matches!(entry.index, 0x1000..=0x1FFF) {
-            // Communication objects go through the checks of `write`.
-            return self.write(entry.index, entry.sub, data);
+            // A value of the wrong length gets the OD's length abort, not a rule's.
+            let length_ok = entry
+                .data_type
+                .fixed_size()
+                .is_none_or(|size| size == data.len());
+            if length_ok && self.check(entry.index, entry.sub, data)? == Checked::Done {
+                return Ok(());
+            }
         }
         self.od.write_at(position, data)
     }

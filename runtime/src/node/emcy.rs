@@ -34,7 +34,9 @@ pub mod error_code {
     /// Communication, generic: SYNC missing for 1.5 × 1006h (this runtime's choice of code for
     /// the SYNC consumer's timeout, as CANopenNode's).
     pub const COMMUNICATION: u16 = 0x8100;
-    /// Life guard error or heartbeat error: the NMT master stopped guarding (100Ch × 100Dh).
+    /// Life guard error or heartbeat error: the NMT master stopped guarding (100Ch × 100Dh;
+    /// manufacturer bytes 0), or a node watched by the heartbeat consumer (1016h) missed its
+    /// heartbeat (manufacturer byte 0 its node-ID). Cleared when neither is lost any more.
     pub const LIFE_GUARD: u16 = 0x8130;
     /// Protocol error, generic: an RPDO was not applied because the dictionary refused one of
     /// its mapped values (this runtime's choice; the manufacturer bytes say which PDO and why).
@@ -175,13 +177,10 @@ impl Emcy {
         else {
             return false;
         };
-        // Element by element rather than `copy_within`, which would pull `memmove` into the
-        // image for a handful of bytes.
-        for i in pos..self.active_count - 1 {
-            self.active_codes[i] = self.active_codes[i + 1];
-            self.active_registers[i] = self.active_registers[i + 1];
-        }
+        // The last active error takes its place: the order of active errors does not matter.
         self.active_count -= 1;
+        self.active_codes[pos] = self.active_codes[self.active_count];
+        self.active_registers[pos] = self.active_registers[self.active_count];
         true
     }
 

@@ -1,6 +1,7 @@
 //! Error-control state (CiA 301 §7.2.8.3.2): the heartbeat producer (1017h), the heartbeat
 //! consumers (1016h), and node guarding with its toggle bit and life time (100Ch × 100Dh; with
-//! the `node-guarding` feature).
+//! the `node-guarding` feature). Their instants are in the node's timer table: this module says
+//! when to arm them and what their expiry does.
 
 use super::events::EventQueue;
 use super::{next_period, read_uint, read_uint_or, Event};
@@ -16,8 +17,8 @@ struct Consumer {
     node_id: u8,
     /// The consumer heartbeat time (1016h, ms) as read: 16 bits, not a 64-bit `Duration`.
     period_ms: u16,
-    /// Set once the first heartbeat arrived; cleared on a timeout.
-    deadline: Option<Instant>,
+    /// The heartbeat timed out and has not arrived since (EMCY 8130h is active for it).
+    lost: bool,
 }
 
 /// Node guarding and life guarding.
@@ -28,15 +29,13 @@ struct Guarding {
     life_time_factor: u8,
     toggle: bool,
     answer_due: bool,
-    /// Life guarding runs after the first guard request, while guarding is configured.
-    life_deadline: Option<Instant>,
+    /// Life guarding ran out and no guard request came since (EMCY 8130h).
     life_lost: bool,
 }
 
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ErrorControl {
     producer_period: Duration,
-    next_heartbeat: Option<Instant>,
     heartbeat_due: bool,
     #[cfg(feature = "node-guarding")]
     guarding: Guarding,
@@ -50,7 +49,6 @@ impl ErrorControl {
     /// `Default`, so that power-on and reset communication clear it in place with one memset.
     pub const OFF: ErrorControl = ErrorControl {
         producer_period: Duration::ZERO,
-        next_heartbeat: None,
         heartbeat_due: false,
         #[cfg(feature = "node-guarding")]
         guarding: Guarding {
@@ -58,39 +56,52 @@ impl ErrorControl {
             life_time_factor: 0,
             toggle: false,
             answer_due: false,
-            life_deadline: None,
             life_lost: false,
         },
         consumers: [Consumer {
             node_id: 0,
             period_ms: 0,
-            deadline: None,
+            lost: false,
         }; MAX_HEARTBEAT_CONSUMERS],
         consumer_count: 0,
     };
 
-    /// Reads 1017h; a change takes effect at once: the next heartbeat is one period from `now`.
-    pub fn configure_producer<O: ObjectDictionary + ?Sized>(&mut self, od: &O, now: Instant) {
+    /// Reads 1017h; a change takes effect at once. Returns when the first heartbeat is due
+    /// (one period from `now`), if the producer runs.
+    pub fn configure_producer<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        now: Instant,
+    ) -> Option<Instant> {
         let ms = read_uint_or(od, 0x1017, 0, 0);
         self.producer_period = Duration::from_millis(u64::from(ms));
-        self.next_heartbeat = (ms != 0).then(|| now + self.producer_period);
         self.heartbeat_due = false;
+        (ms != 0).then(|| now + self.producer_period)
     }
 
-    /// Reads 100Ch and 100Dh.
+    /// Reads 100Ch and 100Dh. Returns whether life guarding is configured (else its timer
+    /// stops).
     #[cfg(feature = "node-guarding")]
-    pub fn configure_guarding<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
+    pub fn configure_guarding<O: ObjectDictionary + ?Sized>(&mut self, od: &O) -> bool {
         let guard_ms = read_uint_or(od, 0x100C, 0, 0);
         self.guarding.guard_time = Duration::from_millis(u64::from(guard_ms));
         self.guarding.life_time_factor = read_uint_or(od, 0x100D, 0, 0) as u8;
-        if self.life_time().is_none() {
-            self.guarding.life_deadline = None;
-        }
+        self.life_time().is_some()
     }
 
-    /// Reads 1016h. Monitoring of a consumer whose entry did not change continues.
-    pub fn configure_consumers<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
+    /// Reads 1016h. Monitoring of a consumer whose entry did not change continues (its timer
+    /// moves to its new place in `timers`, and its loss stays); a removed consumer's loss ends.
+    /// `timers` are the consumers' slots of the node's timer table, in 1016h order.
+    pub fn configure_consumers<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        timers: &mut [Option<Instant>],
+    ) {
         let previous = self.consumers;
+        let mut previous_timers = [None; MAX_HEARTBEAT_CONSUMERS];
+        for (previous, timer) in previous_timers.iter_mut().zip(timers.iter_mut()) {
+            *previous = timer.take();
+        }
         let previous_count = self.consumer_count;
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
         self.consumer_count = 0;
@@ -106,15 +117,15 @@ impl ErrorControl {
             if self.consumer_count == MAX_HEARTBEAT_CONSUMERS {
                 break;
             }
-            let deadline = previous[..previous_count]
+            let kept = previous[..previous_count]
                 .iter()
-                .find(|c| c.node_id == node_id && c.period_ms == ms)
-                .and_then(|c| c.deadline);
+                .position(|c| c.node_id == node_id && c.period_ms == ms);
             self.consumers[self.consumer_count] = Consumer {
                 node_id,
                 period_ms: ms,
-                deadline,
+                lost: kept.is_some_and(|k| previous[k].lost),
             };
+            timers[self.consumer_count] = kept.and_then(|k| previous_timers[k]);
             self.consumer_count += 1;
         }
     }
@@ -127,26 +138,42 @@ impl ErrorControl {
         (life != 0 && self.producer_period == Duration::ZERO).then_some(Duration(life))
     }
 
-    /// Restarts a watched node's timer when its heartbeat (or boot-up) arrives.
-    pub fn heartbeat_received(&mut self, node_id: u8, now: Instant) {
-        for consumer in self.consumers.iter_mut().take(self.consumer_count) {
+    /// Restarts a watched node's timer (its slot in `timers`, as for
+    /// [`configure_consumers`](Self::configure_consumers)) when its heartbeat (or boot-up)
+    /// arrives. Returns whether its loss ended.
+    pub fn heartbeat_received(
+        &mut self,
+        node_id: u8,
+        now: Instant,
+        timers: &mut [Option<Instant>],
+    ) -> bool {
+        let mut recovered = false;
+        for (consumer, timer) in self.consumers[..self.consumer_count].iter_mut().zip(timers) {
             if consumer.node_id == node_id {
-                consumer.deadline =
-                    Some(now + Duration::from_millis(u64::from(consumer.period_ms)));
+                *timer = Some(now + Duration::from_millis(u64::from(consumer.period_ms)));
+                recovered |= core::mem::take(&mut consumer.lost);
             }
         }
+        recovered
     }
 
-    /// A node-guarding request at `now`: the answer is queued and life guarding (re)starts.
-    /// Returns whether life guarding had been lost (its error ends).
+    /// Whether a watched heartbeat or life guarding is lost: EMCY 8130h, which CiA 301 uses
+    /// for both, stays active until none is.
+    pub fn any_lost(&self) -> bool {
+        #[cfg(feature = "node-guarding")]
+        if self.guarding.life_lost {
+            return true;
+        }
+        self.consumers[..self.consumer_count].iter().any(|c| c.lost)
+    }
+
+    /// A node-guarding request at `now`: the answer is queued. If life guarding is configured
+    /// it (re)starts: returns when it runs out, and whether it had been lost (its error ends).
     #[cfg(feature = "node-guarding")]
-    pub fn guard_request(&mut self, now: Instant) -> bool {
+    pub fn guard_request(&mut self, now: Instant) -> Option<(Instant, bool)> {
         self.guarding.answer_due = true;
-        let Some(life) = self.life_time() else {
-            return false;
-        };
-        self.guarding.life_deadline = Some(now + life);
-        core::mem::take(&mut self.guarding.life_lost)
+        let life = self.life_time()?;
+        Some((now + life, core::mem::take(&mut self.guarding.life_lost)))
     }
 
     /// The error-control byte to send for a node in `state`, if one is due: the answer to a
@@ -166,54 +193,28 @@ impl ErrorControl {
         core::mem::take(&mut self.heartbeat_due).then(|| repr.emit())
     }
 
-    /// When the next heartbeat is due (1017h), if the producer runs.
-    #[inline]
-    pub fn heartbeat_deadline(&self) -> Option<Instant> {
-        self.next_heartbeat
-    }
-
-    /// The heartbeat is due at `now`: it is queued and the next one scheduled.
-    pub fn expire_heartbeat(&mut self, now: Instant) {
-        if let Some(at) = self.next_heartbeat {
-            self.heartbeat_due = true;
-            self.next_heartbeat = Some(next_period(at, self.producer_period, now));
-        }
-    }
-
-    /// How many nodes are watched (1016h).
-    #[inline]
-    pub fn consumer_count(&self) -> usize {
-        self.consumer_count
-    }
-
-    /// When watched node `k` (in 1016h order) is silent too long, if its heartbeat is awaited.
-    #[inline]
-    pub fn consumer_deadline(&self, k: usize) -> Option<Instant> {
-        self.consumers[k].deadline
+    /// The heartbeat due `at` has come (at `now`): it is queued. Returns when the next one is
+    /// due.
+    pub fn expire_heartbeat(&mut self, at: Instant, now: Instant) -> Instant {
+        self.heartbeat_due = true;
+        next_period(at, self.producer_period, now)
     }
 
     /// Watched node `k` missed its heartbeat ([`Event::HeartbeatLost`]); its monitoring waits
-    /// for the next heartbeat.
-    pub fn expire_consumer(&mut self, k: usize, events: &mut EventQueue) {
+    /// for the next heartbeat. Returns the node's ID (the node raises its emergency).
+    pub fn expire_consumer(&mut self, k: usize, events: &mut EventQueue) -> u8 {
         let consumer = &mut self.consumers[k];
-        consumer.deadline = None;
+        consumer.lost = true;
         events.push(Event::HeartbeatLost {
             node_id: consumer.node_id,
         });
-    }
-
-    /// When life guarding runs out, if it runs.
-    #[cfg(feature = "node-guarding")]
-    #[inline]
-    pub fn life_deadline(&self) -> Option<Instant> {
-        self.guarding.life_deadline
+        consumer.node_id
     }
 
     /// The master stopped guarding ([`Event::LifeGuardingLost`]); the node raises its
     /// emergency.
     #[cfg(feature = "node-guarding")]
     pub fn expire_life_guard(&mut self, events: &mut EventQueue) {
-        self.guarding.life_deadline = None;
         self.guarding.life_lost = true;
         events.push(Event::LifeGuardingLost);
     }

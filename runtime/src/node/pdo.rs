@@ -287,7 +287,11 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 }
 
 /// A receive PDO.
+/// Word-aligned (its widest field has 2 bytes) so that [`Rpdo::load`]'s clear is a word-wise
+/// memclr: a byte-wise one would bring 208 B of `__aeabi_memclr` into a firmware image (see
+/// [`Mapping`]'s `Default`).
 #[derive(Debug, Clone, Copy)]
+#[repr(align(4))]
 pub(crate) struct Rpdo {
     /// Whether the PDO exists and is valid.
     enabled: bool,
@@ -306,8 +310,6 @@ pub(crate) struct Rpdo {
     /// Deadline monitoring (1400h+n sub 05h, ms; 0 = off): the PDO must arrive again within
     /// this time of its last reception.
     event_timer_ms: u16,
-    /// When the next reception is due; armed by a reception in operational.
-    deadline: Option<Instant>,
     /// The deadline passed and the PDO has not arrived since (EMCY 8250h is active for it).
     timed_out: bool,
 }
@@ -327,7 +329,6 @@ impl Rpdo {
         too_long: false,
         refused: false,
         event_timer_ms: 0,
-        deadline: None,
         timed_out: false,
     };
 
@@ -401,9 +402,14 @@ impl Rpdo {
     /// A frame received at `now`. A frame shorter than the mapping is not processed (and is no
     /// reception for the deadline monitoring); a synchronous PDO's data waits for the next
     /// SYNC; an event-driven one is handed back to be applied. Also returns whether a timeout
-    /// of the PDO ended.
+    /// of the PDO ended. `deadline` is the PDO's slot in the node's timer table.
     #[inline]
-    pub fn receive<'d>(&mut self, now: Instant, data: &'d [u8]) -> (Option<&'d [u8]>, bool) {
+    pub fn receive<'d>(
+        &mut self,
+        now: Instant,
+        data: &'d [u8],
+        deadline: &mut Option<Instant>,
+    ) -> (Option<&'d [u8]>, bool) {
         let expected = usize::from(self.mapping.len);
         self.too_short = data.len() < expected;
         self.too_long = data.len() > expected;
@@ -414,7 +420,7 @@ impl Rpdo {
         // monitoring is activated with the next reception of the RPDO (after entering
         // operational or configuring the event timer) and restarts with each one.
         let timer = Duration::from_millis(u64::from(self.event_timer_ms));
-        self.deadline = (self.event_timer_ms != 0).then(|| now + timer);
+        *deadline = (self.event_timer_ms != 0).then(|| now + timer);
         let recovered = core::mem::take(&mut self.timed_out);
         if self.synchronous() {
             let mut buffer = [0u8; 8];
@@ -448,40 +454,35 @@ impl Rpdo {
         }
     }
 
-    /// Leaving operational: buffered data and the deadline are dropped.
+    /// Leaving operational: buffered data is dropped (the node stops the deadline).
     pub fn stop(&mut self) {
         self.buffered = None;
-        self.deadline = None;
     }
 
     /// Re-reads RPDO `n` after an SDO write to its parameters. A valid PDO keeps its deadline
     /// monitoring across other changes (its transmission type); a new event timer
-    /// (`event_timer_written`) stops it: CiA 301 activates the monitoring with the next
-    /// reception after the event timer is configured. Returns whether a timeout ended.
+    /// (`event_timer_written`) stops it, as does disabling the PDO: CiA 301 activates the
+    /// monitoring with the next reception after the event timer is configured. `deadline` is
+    /// the PDO's slot in the node's timer table. Returns whether a timeout ended.
     pub fn reload<O: ObjectDictionary + ?Sized>(
         &mut self,
         od: &O,
         n: u16,
         event_timer_written: bool,
+        deadline: &mut Option<Instant>,
     ) -> bool {
-        let (deadline, timed_out) = (self.deadline, self.timed_out);
+        let timed_out = self.timed_out;
         self.load(od, n);
         if self.enabled && !event_timer_written {
-            self.deadline = deadline;
             self.timed_out = timed_out;
+        } else {
+            *deadline = None;
         }
         timed_out && !self.timed_out
     }
 
-    /// When the PDO is due again (deadline monitoring), if it is monitored.
-    #[inline]
-    pub fn next_deadline(&self) -> Option<Instant> {
-        self.deadline
-    }
-
     /// The deadline passed: the PDO is timed out until it arrives again.
     pub fn expire(&mut self) {
-        self.deadline = None;
         self.timed_out = true;
     }
 }
@@ -517,9 +518,6 @@ pub(crate) struct Tpdo {
     /// The payload last sent (change-of-state detection).
     last_data: [u8; 8],
     last_sent: Option<Instant>,
-    /// When the event timer runs out: set only for a valid event-driven PDO (a new
-    /// configuration clears it).
-    event_deadline: Option<Instant>,
     /// A mapped object may have changed: compare before the next transmission decision.
     check_change: bool,
 }
@@ -545,7 +543,6 @@ impl Tpdo {
         rtr_sample: None,
         last_data: [0; 8],
         last_sent: None,
-        event_deadline: None,
         check_change: false,
     };
 
@@ -584,7 +581,6 @@ impl Tpdo {
         self.sync_deadline = None;
         self.acyclic_request = false;
         self.sync_countdown = None;
-        self.event_deadline = None;
         self.check_change = false;
     }
 
@@ -612,23 +608,24 @@ impl Tpdo {
 
     /// Re-reads TPDO `n` after an SDO write to its parameters, keeping the timing history
     /// (last transmission, last data) of a running PDO across a change of its event timer or
-    /// transmission type. In operational, an event-driven PDO restarts its event timer and, if
-    /// it has just become valid, is sent. Returns whether it is now waiting to be sent.
+    /// transmission type. In operational, an event-driven PDO restarts its event timer (its
+    /// slot `event_timer` in the node's timer table; a new configuration stops it otherwise)
+    /// and, if it has just become valid, is sent. Returns whether it is now waiting to be sent.
     pub fn reload<O: ObjectDictionary + ?Sized>(
         &mut self,
         od: &O,
         n: u16,
         now: Instant,
         operational: bool,
+        event_timer: &mut Option<Instant>,
     ) -> bool {
         let (last_sent, last_data, was_enabled) = (self.last_sent, self.last_data, self.enabled);
         self.load(od, n);
         self.last_sent = last_sent;
         self.last_data = last_data;
+        *event_timer = None;
         if operational && self.enabled && self.event_driven() {
-            if self.event_timer_ms != 0 {
-                self.event_deadline = Some(now + self.event_timer());
-            }
+            *event_timer = self.event_timer_from(now);
             if !was_enabled {
                 self.pending = true;
             }
@@ -742,11 +739,13 @@ impl Tpdo {
 
     /// The frame to send at `now`, if the PDO is waiting and may go: an event-driven PDO
     /// whose mapped values changed is sent (change of state), within its inhibit time; a
-    /// synchronous one only within its SYNC's window (else that SYNC's PDO is dropped).
+    /// synchronous one only within its SYNC's window (else that SYNC's PDO is dropped). A PDO
+    /// sent restarts its event timer (its slot `event_timer` in the node's timer table).
     pub fn poll_transmit<O: ObjectDictionary + ?Sized>(
         &mut self,
         od: &O,
         now: Instant,
+        event_timer: &mut Option<Instant>,
     ) -> Option<CanFrame> {
         if !self.enabled {
             return None;
@@ -781,8 +780,8 @@ impl Tpdo {
         self.sync_deadline = None;
         self.last_data = data;
         self.last_sent = Some(now);
-        if self.event_driven() && self.event_timer_ms != 0 {
-            self.event_deadline = Some(now + self.event_timer());
+        if self.event_driven() {
+            *event_timer = self.event_timer_from(now);
         }
         Some(CanFrame::from_parts(self.cob_id, data, self.mapping.len))
     }
@@ -793,10 +792,9 @@ impl Tpdo {
         self.pending
     }
 
-    /// When the event timer of an event-driven PDO runs out, if it runs.
-    #[inline]
-    pub fn event_deadline(&self) -> Option<Instant> {
-        self.event_deadline
+    /// When an event timer started at `now` runs out (1800h+n sub 05h), if it is not 0.
+    fn event_timer_from(&self, now: Instant) -> Option<Instant> {
+        (self.event_timer_ms != 0).then(|| now + self.event_timer())
     }
 
     /// When the inhibit time of an event-driven PDO's waiting frame ends (it may go out
@@ -811,7 +809,6 @@ impl Tpdo {
 
     /// The event timer ran out: the PDO is waiting to be sent.
     pub fn expire_event(&mut self) {
-        self.event_deadline = None;
         self.pending = true;
     }
 

@@ -24,36 +24,25 @@ pub(crate) struct SdoChannel {
 }
 
 impl SdoChannel {
-    /// A channel not configured yet. Not inlined: the node builds two.
+    /// The default SDO server (1200h) of node `node_id`. CiA 301 fixes its COB-IDs (1200h is
+    /// read-only): 600h/580h + node-ID, whatever the OD stores there (some descriptions hold
+    /// 8000 0000h, to be set at run time). Not inlined: the node builds two.
     #[inline(never)]
-    pub const fn new() -> Self {
+    pub const fn new(node_id: u8) -> Self {
         SdoChannel {
             server: SdoServer::new(SDO_TIMEOUT),
             busy: false,
-            enabled: false,
-            rx: 0,
-            tx: 0,
+            enabled: true,
+            rx: SDO_REQUEST_BASE + node_id as u16,
+            tx: SDO_RESPONSE_BASE + node_id as u16,
         }
     }
 
-    /// Reads the COB-IDs of SDO server `n` (1200h + n) of node `node_id`: the default
-    /// server's pre-defined ones (600h/580h + node-ID) unless the OD says otherwise; none for
-    /// another server the OD does not have.
-    pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16, node_id: u8) {
-        let index = 0x1200 + n;
-        let node = u32::from(node_id);
-        let (mut rx, mut tx) = match n {
-            0 => (
-                u32::from(SDO_REQUEST_BASE) + node,
-                u32::from(SDO_RESPONSE_BASE) + node,
-            ),
-            _ => (CobIdEntry::INVALID, CobIdEntry::INVALID),
-        };
-        if od.find(index, 0).is_ok() || od.find(index, 1).is_ok() {
-            rx = read_uint_or(od, index, 1, rx);
-            tx = read_uint_or(od, index, 2, tx);
-        }
-        let (rx, tx) = (CobIdEntry(rx), CobIdEntry(tx));
+    /// Reads the COB-IDs of an additional SDO server (1201h..) from the OD; none if the OD
+    /// does not have it.
+    pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O, index: u16) {
+        let rx = CobIdEntry(read_uint_or(od, index, 1, CobIdEntry::INVALID));
+        let tx = CobIdEntry(read_uint_or(od, index, 2, CobIdEntry::INVALID));
         self.enabled = rx.valid() && tx.valid() && !rx.extended() && !tx.extended();
         self.rx = rx.can_id();
         self.tx = tx.can_id();

@@ -1,7 +1,8 @@
 //! SYNC consumer and producer state (CiA 301 §7.2.5): the configuration from 1005h, 1006h,
-//! 1007h and 1019h, the producer's timer and counter, and the consumer's timeout (1.5 × 1006h).
-//! The node routes SYNC frames and timeouts here and acts on what it is told (the SYNC's
-//! effects on PDOs, the emergencies).
+//! 1007h and 1019h, the producer's counter, and when the producer's and the consumer's timers
+//! (1006h, 1.5 × 1006h; their instants are in the node's timer table) are due. The node routes
+//! SYNC frames and timeouts here and acts on what it is told (the SYNC's effects on PDOs, the
+//! emergencies).
 
 use super::{next_period, read_uint_or};
 use crate::od::ObjectDictionary;
@@ -17,12 +18,8 @@ pub(crate) struct Sync {
     window: Duration,
     overflow: u8,
     counter: u8,
-    /// Producer: when the next SYNC is due.
-    next: Option<Instant>,
     /// Producer: a SYNC to send.
     due: Option<SyncRepr>,
-    /// Consumer: when a missing SYNC becomes an error (1.5 × 1006h after the last one).
-    timeout: Option<Instant>,
 }
 
 impl Sync {
@@ -63,31 +60,26 @@ impl Sync {
     }
 
     /// Starts (or stops) the producer for a node that `serves` SYNC (pre-operational or
-    /// operational); the consumer's monitoring restarts at the next SYNC.
-    pub fn restart(&mut self, now: Instant, serves: bool) {
-        self.timeout = None;
+    /// operational): returns when its first SYNC is due, if it runs. (The consumer's monitoring
+    /// restarts at the next SYNC.)
+    pub fn restart(&mut self, now: Instant, serves: bool) -> Option<Instant> {
         let active = self.producer && self.period != Duration::ZERO && serves;
-        self.next = active.then(|| now + self.period);
         if !active {
             self.due = None;
         }
+        active.then(|| now + self.period)
     }
 
-    /// Stops the producer and the consumer's monitoring (NMT stopped).
+    /// Stops the producer (NMT stopped); the node stops the timers.
     pub fn stop(&mut self) {
-        self.next = None;
         self.due = None;
-        self.timeout = None;
     }
 
-    /// A SYNC was consumed at `now`: the consumer expects the next within 1.5 × 1006h. Returns
-    /// whether the consumer monitors SYNC (a missed-SYNC error then ends).
-    pub fn consumed(&mut self, now: Instant) -> bool {
+    /// A SYNC was consumed at `now`. Returns when a missing SYNC becomes an error (1.5 × 1006h
+    /// later), if the consumer monitors SYNC (a missed-SYNC error then ends).
+    pub fn consumed(&self, now: Instant) -> Option<Instant> {
         let monitoring = !self.producer && self.period != Duration::ZERO;
-        if monitoring {
-            self.timeout = Some(now + Duration(self.period.as_micros() * 3 / 2));
-        }
-        monitoring
+        monitoring.then(|| now + Duration(self.period.as_micros() * 3 / 2))
     }
 
     /// The SYNC the producer has to send, as (CAN-ID, counter byte, length).
@@ -97,31 +89,9 @@ impl Sync {
         Some((self.cob_id, counter, len as u8))
     }
 
-    /// When the producer's next SYNC is due, if it runs.
-    #[inline]
-    pub fn producer_deadline(&self) -> Option<Instant> {
-        self.next
-    }
-
-    /// When a missing SYNC becomes an error (1.5 × 1006h after the last), if the consumer
-    /// monitors SYNC.
-    #[inline]
-    pub fn consumer_deadline(&self) -> Option<Instant> {
-        self.timeout
-    }
-
-    /// The consumer saw no SYNC in time: monitoring waits for the next SYNC (the node raises
-    /// the emergency).
-    pub fn expire_consumer(&mut self) {
-        self.timeout = None;
-    }
-
-    /// The producer's SYNC is due at `now` ([`Sync::producer_deadline`] has passed): it is
-    /// queued and the next one scheduled. Returns its counter (the node consumes its own SYNC
-    /// too).
-    pub fn expire_producer(&mut self, now: Instant) -> Option<u8> {
-        let at = self.next?;
-        self.next = Some(next_period(at, self.period, now));
+    /// The producer's SYNC due `at` has come (at `now`): it is queued. Returns its counter (the
+    /// node consumes its own SYNC too) and when the next one is due.
+    pub fn expire_producer(&mut self, at: Instant, now: Instant) -> (Option<u8>, Instant) {
         let counter = (self.overflow != 0).then(|| {
             self.counter = if self.counter >= self.overflow {
                 1
@@ -131,6 +101,6 @@ impl Sync {
             self.counter
         });
         self.due = Some(SyncRepr { counter });
-        counter
+        (counter, next_period(at, self.period, now))
     }
 }

@@ -1,7 +1,16 @@
-//! The node's timers by name ([`Timer`]), each kept by the service it belongs to: the one place
-//! that finds the earliest ([`Node::poll_timeout`]) and the one dispatch that runs those due
-//! ([`Node::handle_timeout`]), in the order of [`Timer::each`].
+//! The node's timers by name ([`Timer`]) and the table that holds their instants
+//! ([`TimerTable`]: one slot per timer, fixed-size, `None` while disarmed). The services say
+//! when to arm a timer and what its expiry does; the node stores the instants here, finds the
+//! earliest ([`Node::poll_timeout`]) and runs those due ([`Node::handle_timeout`]), in the order
+//! of [`Timer::each`].
+//!
+//! Three waits are not timers of the table: the EMCY inhibit time (1015h) and a TPDO's inhibit
+//! time (1800h+n sub 03h) only hold a frame back (nothing runs when they end; the services
+//! compute them from their last transmission), and the SDO segment timeout belongs to the
+//! [`SdoServer`](crate::sdo::SdoServer), which also serves without a node. `poll_timeout`
+//! reports them too.
 
+use super::error_control::MAX_HEARTBEAT_CONSUMERS;
 use super::{keep_earliest, Event, Node, NodeHooks};
 use super::{RPDO_TIMEOUT_CODE, SYNC_TIMEOUT_CODE};
 use crate::od::ObjectDictionary;
@@ -22,136 +31,173 @@ pub(crate) enum Timer {
     SyncConsumer,
     /// The SYNC producer's next SYNC (1006h).
     SyncProducer,
-    /// The EMCY inhibit time (1015h) lets the next queued emergency out.
-    EmcyInhibit,
     /// RPDO `n` did not arrive within its event timer (1400h+n sub 05h, deadline monitoring).
     RpdoDeadline(usize),
     /// The event timer of TPDO `n` (1800h+n sub 05h).
     TpdoEvent(usize),
-    /// The inhibit time of TPDO `n`'s waiting frame (1800h+n sub 03h).
-    TpdoInhibit(usize),
-    /// The segment timeout of SDO server channel `n` ([`super::SDO_TIMEOUT`]).
-    SdoTimeout(usize),
-}
-
-/// How many timers of each kind run: the node's [`Node::running_timers`].
-#[derive(Debug, Clone, Copy)]
-struct Running {
-    /// Heartbeat consumers configured (1016h).
-    consumers: usize,
-    /// Whether emergencies may be sent (every NMT state but stopped).
-    emcy: bool,
-    /// RPDOs and TPDOs with timers (all of them in operational, none otherwise).
-    rpdos: usize,
-    tpdos: usize,
-    sdo_channels: usize,
 }
 
 impl Timer {
-    /// Calls `f` with every timer that runs, in the order [`Node::handle_timeout`] runs them.
-    /// `f` is a `dyn` closure so that one copy of the walk serves both
-    /// [`Node::poll_timeout`] and [`Node::handle_timeout`] (some 170 B less flash than two).
-    fn each(running: Running, f: &mut dyn FnMut(Timer)) {
+    /// Calls `f` with every timer, in the order [`Node::handle_timeout`] runs them.
+    fn each<const RPDOS: usize, const TPDOS: usize>(mut f: impl FnMut(Timer)) {
         f(Timer::Heartbeat);
-        for k in 0..running.consumers {
+        for k in 0..MAX_HEARTBEAT_CONSUMERS {
             f(Timer::HeartbeatConsumer(k));
         }
         #[cfg(feature = "node-guarding")]
         f(Timer::LifeGuard);
         f(Timer::SyncConsumer);
         f(Timer::SyncProducer);
-        if running.emcy {
-            f(Timer::EmcyInhibit);
-        }
-        for n in 0..running.rpdos {
+        for n in 0..RPDOS {
             f(Timer::RpdoDeadline(n));
         }
-        for n in 0..running.tpdos {
+        for n in 0..TPDOS {
             f(Timer::TpdoEvent(n));
-            f(Timer::TpdoInhibit(n));
         }
-        for n in 0..running.sdo_channels {
-            f(Timer::SdoTimeout(n));
+    }
+}
+
+/// The first slot of the heartbeat consumers' timers in [`TimerTable`]'s service timers.
+const CONSUMERS: usize = 1;
+/// How many timers the services have besides the PDOs': the heartbeat producer's, the
+/// consumers', the SYNC consumer's and producer's, and life guarding's.
+const SERVICE_TIMERS: usize =
+    CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2 + cfg!(feature = "node-guarding") as usize;
+
+/// When each [`Timer`] runs out: `None` while it is disarmed. The PDO timers run in
+/// operational only (the node disarms them when it leaves).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TimerTable<const RPDOS: usize, const TPDOS: usize> {
+    /// The heartbeat producer's, the consumers' (in 1016h order), the SYNC consumer's and
+    /// producer's, and life guarding's: one array, so that finding the earliest is one loop.
+    services: [Option<Instant>; SERVICE_TIMERS],
+    rpdo_deadlines: [Option<Instant>; RPDOS],
+    tpdo_events: [Option<Instant>; TPDOS],
+}
+
+impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
+    /// Every timer disarmed.
+    pub const OFF: Self = TimerTable {
+        services: [None; SERVICE_TIMERS],
+        rpdo_deadlines: [None; RPDOS],
+        tpdo_events: [None; TPDOS],
+    };
+
+    /// The slot of `timer`.
+    pub fn slot(&mut self, timer: Timer) -> &mut Option<Instant> {
+        let service = match timer {
+            Timer::RpdoDeadline(n) => return &mut self.rpdo_deadlines[n],
+            Timer::TpdoEvent(n) => return &mut self.tpdo_events[n],
+            Timer::Heartbeat => 0,
+            Timer::HeartbeatConsumer(k) => CONSUMERS + k,
+            Timer::SyncConsumer => CONSUMERS + MAX_HEARTBEAT_CONSUMERS,
+            Timer::SyncProducer => CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 1,
+            #[cfg(feature = "node-guarding")]
+            Timer::LifeGuard => CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2,
+        };
+        &mut self.services[service]
+    }
+
+    /// The heartbeat consumers' slots, in 1016h order (see `ErrorControl::configure_consumers`).
+    pub fn consumers(&mut self) -> &mut [Option<Instant>] {
+        &mut self.services[CONSUMERS..CONSUMERS + MAX_HEARTBEAT_CONSUMERS]
+    }
+
+    /// Arms `timer` to run out `at`, or disarms it (`None`).
+    pub fn set(&mut self, timer: Timer, at: Option<Instant>) {
+        *self.slot(timer) = at;
+    }
+
+    /// Disarms the PDO timers (leaving operational).
+    pub fn stop_pdos(&mut self) {
+        self.rpdo_deadlines = [None; RPDOS];
+        self.tpdo_events = [None; TPDOS];
+    }
+
+    /// The earliest armed instant.
+    fn earliest(&self) -> Option<Instant> {
+        let mut next = None;
+        for at in &self.services {
+            keep_earliest(&mut next, at);
         }
+        for at in &self.rpdo_deadlines {
+            keep_earliest(&mut next, at);
+        }
+        for at in &self.tpdo_events {
+            keep_earliest(&mut next, at);
+        }
+        next
     }
 }
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>
 {
-    /// The timers that run in the node's NMT state and configuration: PDO timers in
-    /// operational only, the EMCY inhibit time in every state but stopped.
-    fn running_timers(&self) -> Running {
-        let pdos = match self.state {
-            NmtState::Operational => (RPDOS, TPDOS),
-            _ => (0, 0),
-        };
-        Running {
-            consumers: self.error_control.consumer_count(),
-            emcy: self.state != NmtState::Stopped,
-            rpdos: pdos.0,
-            tpdos: pdos.1,
-            sdo_channels: self.sdo.len(),
-        }
-    }
-
     /// The next instant at which [`handle_timeout`](Self::handle_timeout) has work, or at which a
     /// frame held back by an inhibit time may go out through [`poll_transmit`](Self::poll_transmit).
     pub fn poll_timeout(&self) -> Option<Instant> {
-        let mut next = None;
-        Timer::each(self.running_timers(), &mut |timer| {
-            keep_earliest(&mut next, &self.deadline(timer));
-        });
+        let mut next = self.timers.earliest();
+        if self.state != NmtState::Stopped {
+            keep_earliest(&mut next, &self.emcy.ready_at());
+        }
+        if self.state == NmtState::Operational {
+            for tpdo in &self.tpdos {
+                keep_earliest(&mut next, &tpdo.inhibit_end());
+            }
+        }
+        for channel in &self.sdo {
+            keep_earliest(&mut next, &channel.next_deadline());
+        }
         next
     }
 
     /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
-    /// SYNC production and monitoring, TPDO event timers, RPDO deadlines and SDO timeouts.
+    /// SYNC production and monitoring, RPDO deadlines, TPDO event timers, then SDO timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        Timer::each(self.running_timers(), &mut |timer| {
-            if self.deadline(timer).is_some_and(|at| at <= now) {
-                self.expire(timer, now);
+        Timer::each::<RPDOS, TPDOS>(|timer| {
+            let slot = self.timers.slot(timer);
+            if let Some(at) = slot.filter(|&at| at <= now) {
+                *slot = None;
+                self.expire(timer, at, now);
             }
         });
-    }
-
-    /// When `timer` runs out, as the service that owns it says; `None` if it does not run.
-    fn deadline(&self, timer: Timer) -> Option<Instant> {
-        match timer {
-            Timer::Heartbeat => self.error_control.heartbeat_deadline(),
-            Timer::HeartbeatConsumer(k) => self.error_control.consumer_deadline(k),
-            #[cfg(feature = "node-guarding")]
-            Timer::LifeGuard => self.error_control.life_deadline(),
-            Timer::SyncConsumer => self.sync.consumer_deadline(),
-            Timer::SyncProducer => self.sync.producer_deadline(),
-            Timer::EmcyInhibit => self.emcy.ready_at(),
-            Timer::RpdoDeadline(n) => self.rpdos.get(n)?.next_deadline(),
-            Timer::TpdoEvent(n) => self.tpdos.get(n)?.event_deadline(),
-            Timer::TpdoInhibit(n) => self.tpdos.get(n)?.inhibit_end(),
-            Timer::SdoTimeout(n) => self.sdo.get(n)?.next_deadline(),
+        for channel in &mut self.sdo {
+            if channel.next_deadline().is_some_and(|at| at <= now) {
+                channel.expire(now);
+            }
         }
     }
 
-    /// Runs `timer`, which is due at `now`.
-    fn expire(&mut self, timer: Timer, now: Instant) {
+    /// Runs `timer`, which was due `at` and is disarmed now (`now`); re-arms it if it repeats.
+    fn expire(&mut self, timer: Timer, at: Instant, now: Instant) {
         match timer {
-            Timer::Heartbeat => self.error_control.expire_heartbeat(now),
-            Timer::HeartbeatConsumer(k) => self.error_control.expire_consumer(k, &mut self.events),
+            Timer::Heartbeat => {
+                let next = self.error_control.expire_heartbeat(at, now);
+                self.timers.set(timer, Some(next));
+            }
+            Timer::HeartbeatConsumer(k) => {
+                let node_id = self.error_control.expire_consumer(k, &mut self.events);
+                // Already active when another node or life guarding was lost first: one
+                // emergency for all.
+                self.raise_communication_error(
+                    super::error_code::LIFE_GUARD,
+                    [node_id, 0, 0, 0, 0],
+                );
+            }
             #[cfg(feature = "node-guarding")]
             Timer::LifeGuard => {
                 self.error_control.expire_life_guard(&mut self.events);
                 self.raise_communication_error(super::error_code::LIFE_GUARD, [0; 5]);
             }
             Timer::SyncConsumer => {
-                self.sync.expire_consumer();
+                // Monitoring waits for the next SYNC.
                 self.raise_communication_error(SYNC_TIMEOUT_CODE, [0; 5]);
             }
             Timer::SyncProducer => {
-                let counter = self.sync.expire_producer(now);
+                let (counter, next) = self.sync.expire_producer(at, now);
+                self.timers.set(timer, Some(next));
                 self.handle_sync(counter, now);
             }
-            // The frames they held back go out through poll_transmit.
-            Timer::EmcyInhibit | Timer::TpdoInhibit(_) => {}
             Timer::RpdoDeadline(n) => {
                 self.rpdos[n].expire();
                 self.events.push(Event::RpdoTimeout { pdo: n as u16 });
@@ -162,7 +208,34 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.tpdos[n].expire_event();
                 self.tpdo_attention = true;
             }
-            Timer::SdoTimeout(n) => self.sdo[n].expire(now),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(ms: u64) -> Option<Instant> {
+        Some(Instant::from_millis(ms))
+    }
+
+    #[test]
+    fn the_table_keeps_one_instant_per_timer_and_finds_the_earliest() {
+        let mut table = TimerTable::<2, 3>::OFF;
+        assert_eq!(table.earliest(), None);
+        table.set(Timer::Heartbeat, at(500));
+        table.set(Timer::HeartbeatConsumer(7), at(400));
+        table.set(Timer::SyncProducer, at(300));
+        table.set(Timer::TpdoEvent(2), at(200));
+        assert_eq!(table.earliest(), at(200));
+        assert_eq!(table.consumers()[7], at(400));
+        assert_eq!(*table.slot(Timer::SyncConsumer), None);
+        table.set(Timer::RpdoDeadline(1), at(100));
+        assert_eq!(table.earliest(), at(100));
+        table.stop_pdos();
+        assert_eq!(table.earliest(), at(300));
+        table.set(Timer::SyncProducer, None);
+        assert_eq!(table.earliest(), at(400));
     }
 }
