@@ -4,9 +4,11 @@
 //! The card is found by its identity; cyclic synchronous velocity mode (manual 6.5.2.4: 6060h =
 //! 9) is set by a typed SDO write; then every cycle the typed outputs image (1600h: control
 //! word, target velocity, ...) is packed into the SubDevice's outputs and its inputs unpacked
-//! into the typed inputs image (1A00h: status word, actual speed, ...). The control word walks
-//! the CiA 402 state machine to operation enabled, the target speed ramps to 300 rpm (60FFh, in
-//! rpm by 6.5.2.4) and back to 0, and the drive is shut down.
+//! into the typed inputs image (1A00h: status word, actual speed, ...). The runtime's cyclic
+//! CiA 402 controller (`master::cia402::Controller`) gives the control word that walks the drive
+//! to operation enabled (a fault reset by a proper bit 7 edge on the way) and holds 6060h until
+//! 6061h shows it; the target speed ramps to 300 rpm (60FFh, in rpm by 6.5.2.4) and back to 0,
+//! and the controller walks the drive back to switch on disabled.
 //!
 //! ```sh
 //! cargo build --example ec_tx508_ethercrab --features ethercrab
@@ -18,8 +20,9 @@
 use std::time::Duration;
 
 use edsgen::cards::ec_tx508::{ethercat, od};
-use edsgen_runtime::cia402::{Command, State};
+use edsgen_runtime::cia402::State;
 use edsgen_runtime::ethercat::ethercrab::SdoExt;
+use edsgen_runtime::master::cia402::{state_of, Controller, Outcome};
 use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::{EtherCrabWireRead, EtherCrabWireWrite};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
@@ -33,20 +36,10 @@ const PDI_LEN: usize = 256;
 const CYCLE: Duration = Duration::from_millis(1);
 /// Cyclic synchronous velocity mode (manual 6.5.2.4).
 const CSV: i8 = 9;
+/// The cycles a CiA 402 transition or the mode confirmation may take: 1 s.
+const STEP_LIMIT: u32 = 1_000;
 
 static PDU_STORAGE: PduStorage<MAX_FRAMES, MAX_PDU_DATA> = PduStorage::new();
-
-/// The control word that moves the drive one step towards operation enabled.
-fn towards_operation(state: Option<State>) -> u16 {
-    let command = match state {
-        Some(State::Fault) => Command::FaultReset,
-        Some(State::SwitchOnDisabled) => Command::Shutdown,
-        Some(State::ReadyToSwitchOn) => Command::SwitchOn,
-        Some(State::SwitchedOn | State::OperationEnabled) => Command::EnableOperation,
-        _ => Command::DisableVoltage,
-    };
-    command.controlword()
-}
 
 #[tokio::main(flavor = "current_thread")]
 async fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -86,14 +79,27 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
 
     let mut outputs = ethercat::Outputs::default();
-    outputs.rx_pdo_1600.operation_mode = CSV;
+    let mut drive = Controller::new(State::OperationEnabled)
+        .with_mode(CSV)
+        .with_limit(STEP_LIMIT);
     let mut interval = tokio::time::interval(CYCLE);
     for cycle in 0u32..12_000 {
         group.tx_rx(&maindevice).await?;
         let inputs = ethercat::Inputs::unpack_from_slice(&card.inputs_raw())?;
         let status = inputs.tx_pdo_1a00;
-        let state = State::from_statusword(status.status_word);
-        // 0 to 300 rpm over 3 s once enabled, held, then back to 0 and shut down.
+        if cycle == 11_500 {
+            drive.set_target(State::SwitchOnDisabled);
+        }
+        let step = drive.cycle(status.status_word, status.operation_mode_display);
+        match step.outcome {
+            Outcome::Stuck { state } => return Err(format!("the drive stays in {state:?}").into()),
+            Outcome::ModeNotConfirmed { wanted, shown } => {
+                return Err(format!("mode {wanted} requested, the drive shows {shown}").into())
+            }
+            Outcome::Busy | Outcome::Reached => {}
+        }
+        let enabled = step.outcome == Outcome::Reached && drive.target() == State::OperationEnabled;
+        // 0 to 300 rpm over 3 s once enabled, held, back to 0, then disabled (from cycle 11 500).
         let target = match cycle {
             0..=1_999 => 0,
             2_000..=4_999 => (cycle - 2_000) as i32 / 10,
@@ -102,20 +108,14 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
             _ => 0,
         };
         let rx = &mut outputs.rx_pdo_1600;
-        rx.control_word = if cycle < 11_500 {
-            towards_operation(state)
-        } else {
-            Command::Shutdown.controlword()
-        };
-        rx.target_speed = if state == Some(State::OperationEnabled) {
-            target
-        } else {
-            0
-        };
+        rx.control_word = step.controlword;
+        rx.operation_mode = step.mode.unwrap_or(CSV);
+        rx.target_speed = if enabled { target } else { 0 };
         outputs.pack_to_slice(&mut card.outputs_raw_mut())?;
         if cycle % 500 == 0 {
             println!(
-                "{cycle:>6} ms: {state:?}, mode {}, target {} rpm, actual speed {}, torque {}",
+                "{cycle:>6} ms: {:?}, mode {}, target {} rpm, actual speed {}, torque {}",
+                state_of(status.status_word),
                 status.operation_mode_display,
                 outputs.rx_pdo_1600.target_speed,
                 status.actual_speed,

@@ -1,12 +1,14 @@
 //! The device-side drive: the CiA 402 state machine, its option codes, and the velocity mode (vl)
-//! ramp function generator.
+//! ramp function generator; optionally cyclic synchronous velocity (csv) too, where the target is
+//! the set-point without the vl bits and the same ramp times bound the acceleration (the drive's
+//! own limit; a master that generates the trajectory stays within it).
 //!
 //! The velocity is modelled as the ramp's output (6043h demand); the actual velocity (6044h)
 //! follows the demand exactly, because a drive model with slip or load belongs to the
 //! application that simulates a particular drive. The ramp is computed from elapsed time, so the
 //! result does not depend on how often [`Drive::update`] is called.
 
-use super::{controlword, statusword, Command, State};
+use super::{controlword, mode, statusword, Command, State};
 use crate::time::{Duration, Instant};
 
 /// The ramp a drive uses to come to a stop.
@@ -50,11 +52,14 @@ pub struct DriveConfig {
     /// 6007h abort connection option code, applied by [`Drive::connection_lost`]: 0 nothing,
     /// 1 fault, 2 disable voltage, 3 quick stop.
     pub abort_connection_option: i16,
+    /// Whether the drive runs cyclic synchronous velocity (6060h = 9) besides velocity mode.
+    pub cyclic_velocity: bool,
 }
 
 impl DriveConfig {
     /// The CP301's defaults (604Fh 10 s, 6050h 10 s, 6051h 1 s, 605Ah 2, 605Bh 0, 605Ch 1) for
-    /// a drive whose ramp times refer to `max_speed`; 605Eh 2 and 6007h 1 as CiA 402 proposes.
+    /// a drive whose ramp times refer to `max_speed`; 605Eh 2 and 6007h 1 as CiA 402 proposes;
+    /// velocity mode only.
     pub const fn new(max_speed: u16) -> Self {
         DriveConfig {
             max_speed,
@@ -66,6 +71,7 @@ impl DriveConfig {
             disable_operation_option: 1,
             fault_reaction_option: 2,
             abort_connection_option: 1,
+            cyclic_velocity: false,
         }
     }
 
@@ -104,12 +110,14 @@ struct Stop {
     then: AfterStop,
 }
 
-/// A CiA 402 drive in velocity mode: feed it controlwords ([`Drive::set_controlword`]), targets
+/// A CiA 402 drive in velocity mode (or cyclic synchronous velocity): feed it controlwords ([`Drive::set_controlword`]), targets
 /// and time ([`Drive::update`]); read its statusword and velocities.
 #[derive(Debug, Clone)]
 pub struct Drive {
     config: DriveConfig,
     state: State,
+    /// The mode of operation in effect (6061h).
+    mode: i8,
     controlword: u16,
     target: i16,
     /// The ramp output in thousandths of the velocity unit, so that slow ramps still move.
@@ -130,6 +138,7 @@ impl Drive {
         Drive {
             config,
             state: State::SwitchOnDisabled,
+            mode: mode::VELOCITY,
             controlword: 0,
             target: 0,
             demand_milli: 0,
@@ -153,6 +162,30 @@ impl Drive {
     /// The state.
     pub fn state(&self) -> State {
         self.state
+    }
+
+    /// The mode of operation in effect (6061h modes of operation display): velocity mode
+    /// until [`set_mode`](Self::set_mode) changes it.
+    pub fn mode(&self) -> i8 {
+        self.mode
+    }
+
+    /// Takes a mode of operation (a write to 6060h): velocity mode, or cyclic synchronous
+    /// velocity if the configuration has it. Returns whether the drive now runs it; another
+    /// mode leaves the one in effect.
+    pub fn set_mode(&mut self, now: Instant, requested: i8) -> bool {
+        let runs = requested == mode::VELOCITY
+            || (requested == mode::CYCLIC_VELOCITY && self.config.cyclic_velocity);
+        if runs && requested != self.mode {
+            self.update(now);
+            self.mode = requested;
+        }
+        runs
+    }
+
+    /// Whether the vl bits (4–6) of the controlword drive the ramp: in velocity mode only.
+    fn vl(&self) -> bool {
+        self.mode == mode::VELOCITY
     }
 
     /// The last controlword received.
@@ -266,7 +299,8 @@ impl Drive {
     /// clear, no halt): the demand holds where it is.
     fn ramp_locked(&self) -> bool {
         let word = self.controlword;
-        self.state == State::OperationEnabled
+        self.vl()
+            && self.state == State::OperationEnabled
             && word & controlword::HALT == 0
             && word & controlword::VL_RAMP_ENABLE != 0
             && word & controlword::VL_RAMP_UNLOCK == 0
@@ -290,7 +324,8 @@ impl Drive {
             return;
         }
         let halting = self.controlword & controlword::HALT != 0;
-        if self.state == State::OperationEnabled
+        if self.vl()
+            && self.state == State::OperationEnabled
             && !halting
             && self.controlword & controlword::VL_RAMP_ENABLE == 0
         {
@@ -316,10 +351,10 @@ impl Drive {
 
     /// Where the ramp is heading now, in thousandths.
     fn setpoint_milli(&self) -> i32 {
+        let vl_bits = controlword::VL_RAMP_ENABLE | controlword::VL_REFERENCE;
         let follows = self.state == State::OperationEnabled
             && self.controlword & controlword::HALT == 0
-            && self.controlword & controlword::VL_RAMP_ENABLE != 0
-            && self.controlword & controlword::VL_REFERENCE != 0;
+            && (!self.vl() || self.controlword & vl_bits == vl_bits);
         if !follows {
             return 0;
         }
@@ -672,6 +707,31 @@ mod tests {
             drive.connection_lost(at(2_500));
             assert_eq!(drive.state(), state, "6007h = {option}");
         }
+    }
+
+    #[test]
+    fn cyclic_velocity_follows_the_target_without_the_vl_bits_when_configured() {
+        let mut drive = drive();
+        assert!(!drive.set_mode(at(0), mode::CYCLIC_VELOCITY));
+        assert_eq!(drive.mode(), mode::VELOCITY);
+        drive.config_mut().cyclic_velocity = true;
+        assert!(drive.set_mode(at(0), mode::CYCLIC_VELOCITY));
+        assert!(!drive.set_mode(at(0), mode::CYCLIC_POSITION));
+        assert_eq!(drive.mode(), mode::CYCLIC_VELOCITY);
+        drive.set_target(at(0), 1500);
+        for word in [0x06, 0x07, 0x0F] {
+            drive.set_controlword(at(0), word);
+        }
+        drive.update(at(1_000));
+        assert_eq!(drive.velocity_demand(), 600);
+        // Halt (bit 8) stops on the slow-down ramp as in vl.
+        drive.set_controlword(at(1_000), 0x10F);
+        drive.update(at(2_000));
+        assert_eq!(drive.velocity_demand(), 300);
+        // Back to vl: bits 4–6 clear zero the demand.
+        assert!(drive.set_mode(at(2_000), mode::VELOCITY));
+        drive.set_controlword(at(2_000), 0x0F);
+        assert_eq!(drive.velocity_demand(), 0);
     }
 
     #[test]

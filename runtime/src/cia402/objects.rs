@@ -1,7 +1,7 @@
 //! A [`Drive`] run against the CiA 402 objects of an object dictionary: the inputs a master
 //! writes are read from it, the outputs a master reads are written to it.
 
-use super::{mode, Drive};
+use super::Drive;
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::Instant;
 
@@ -48,13 +48,11 @@ impl Drive {
         write_if_present(od, 0x6041, &self.statusword().to_le_bytes())?;
         write_if_present(od, 0x6043, &self.velocity_demand().to_le_bytes())?;
         write_if_present(od, 0x6044, &self.velocity_actual().to_le_bytes())?;
-        // Velocity mode is the one mode this drive runs; a request for another leaves the
-        // display where it was.
-        let mut requested = mode::VELOCITY;
+        // A request for a mode the drive does not run leaves the display where it was.
+        let mut requested = self.mode();
         read_into(od, 0x6060, &mut requested)?;
-        if requested == mode::VELOCITY {
-            write_if_present(od, 0x6061, &[mode::VELOCITY as u8])?;
-        }
+        self.set_mode(now, requested);
+        write_if_present(od, 0x6061, &[self.mode() as u8])?;
         Ok(())
     }
 }

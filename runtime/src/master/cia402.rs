@@ -1,10 +1,14 @@
-//! CiA 402 for masters: the addresses of the drive objects every CiA 402 device has, and the next
-//! controlword command on the way to a target state. The controlword and statusword codings are
-//! the ones the device side uses ([`crate::cia402`]).
+//! CiA 402 for masters: the addresses of the drive objects every CiA 402 device has, the next
+//! controlword command on the way to a target state, and [`Controller`], which walks a drive by
+//! cyclic process data with it. The controlword and statusword codings are the ones the device
+//! side uses ([`crate::cia402`]).
+
+mod cyclic;
 
 use crate::cia402::{Command, State};
 use crate::od::entry::Entry;
 
+pub use self::cyclic::{Controller, Cycle, Outcome};
 pub use crate::cia402::mode;
 
 /// Controlword (6040h).

@@ -1,6 +1,7 @@
 //! CiA 402 helpers of the blocking master (feature `std`): read a drive's state, walk it to
 //! operation enabled or back with a timeout per transition, reset a fault and check it cleared,
-//! set a mode of operation and wait for the drive to confirm it.
+//! set a mode of operation and wait for the drive to confirm it. The walks run the cyclic
+//! [`Controller`] over SDO, one statusword read per cycle.
 
 use std::time::{Duration as StdDuration, Instant as StdInstant};
 
@@ -8,7 +9,8 @@ use crate::transport::Transport;
 
 use super::blocking::{Master, MasterError};
 use super::cia402::{
-    next_command, state_of, CONTROLWORD, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY, STATUSWORD,
+    state_of, Controller, Outcome, CONTROLWORD, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY,
+    STATUSWORD,
 };
 use crate::cia402::{Command, State};
 
@@ -45,16 +47,13 @@ impl<T: Transport> Master<T> {
         self.walk_to(node_id, State::SwitchOnDisabled, step_timeout)
     }
 
-    /// Resets a fault: bit 7 low, then its rising edge; the fault must be gone within
-    /// `timeout`, or the error says the drive stays in fault.
+    /// Resets a fault: bit 7 low, then its rising edge (again while the drive stays in fault);
+    /// the fault must be gone within `timeout`, or the error says the drive stays in fault.
     pub fn fault_reset(&mut self, node_id: u8, timeout: StdDuration) -> Result<(), MasterError> {
         if self.drive_state(node_id)? != State::Fault {
             return Ok(());
         }
-        self.drive_command(node_id, Command::DisableVoltage)?;
-        self.drive_command(node_id, Command::FaultReset)?;
-        self.wait_state(node_id, timeout, |s| s != State::Fault)
-            .map(|_| ())
+        self.walk_to(node_id, State::SwitchOnDisabled, timeout)
     }
 
     /// Sets the mode of operation (6060h) and waits until the display (6061h) shows it.
@@ -82,52 +81,46 @@ impl<T: Transport> Master<T> {
         }
     }
 
+    /// Walks the drive with the cyclic [`Controller`], a statusword read per cycle and a
+    /// controlword written when it changes; a state the drive stays in for `step_timeout` is
+    /// an error.
     fn walk_to(
         &mut self,
         node_id: u8,
         target: State,
         step_timeout: StdDuration,
     ) -> Result<(), MasterError> {
-        let mut state = self.drive_state(node_id)?;
-        // Each command moves one transition; no walk needs more than a handful.
-        for _ in 0..8 {
-            let Some(command) = next_command(state, target) else {
-                if state == target {
-                    return Ok(());
-                }
-                // Not ready or reacting to a fault: the drive moves by itself.
-                state = self.wait_state(node_id, step_timeout, |s| s != state)?;
-                continue;
-            };
-            if command == Command::FaultReset {
-                self.fault_reset(node_id, step_timeout)?;
-                state = self.drive_state(node_id)?;
-                continue;
-            }
-            self.drive_command(node_id, command)?;
-            let before = state;
-            state = self.wait_state(node_id, step_timeout, |s| s != before)?;
-        }
-        Err(MasterError::DriveStuck { node_id, state })
-    }
-
-    /// Reads the statusword until `done` holds for the state, at most `timeout`.
-    fn wait_state(
-        &mut self,
-        node_id: u8,
-        timeout: StdDuration,
-        done: impl Fn(State) -> bool,
-    ) -> Result<State, MasterError> {
-        let start = StdInstant::now();
+        let mut controller = Controller::new(target);
+        let mut written = None;
+        let mut seen: Option<(State, StdInstant)> = None;
         loop {
-            let state = self.drive_state(node_id)?;
-            if done(state) {
-                return Ok(state);
+            let statusword = self.read(node_id, STATUSWORD)?;
+            let state = state_of(statusword);
+            let cycle = controller.cycle(statusword, 0);
+            if cycle.outcome == Outcome::Reached {
+                return Ok(());
             }
-            if start.elapsed() >= timeout {
-                return Err(MasterError::DriveStuck { node_id, state });
+            let unchanged = match seen {
+                Some((seen, since)) if seen == state => {
+                    if since.elapsed() >= step_timeout {
+                        return Err(MasterError::DriveStuck { node_id, state });
+                    }
+                    true
+                }
+                _ => {
+                    seen = Some((state, StdInstant::now()));
+                    false
+                }
+            };
+            if written != Some(cycle.controlword) {
+                self.write(node_id, CONTROLWORD, cycle.controlword)?;
+                written = Some(cycle.controlword);
             }
-            self.listen(POLL)?;
+            // A confirmed write has usually moved the drive already: read again at once, and
+            // wait only while it stays.
+            if unchanged {
+                self.listen(POLL)?;
+            }
         }
     }
 }

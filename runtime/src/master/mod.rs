@@ -3,8 +3,10 @@
 //!
 //! [`SdoClient`] reads and writes remote dictionaries, typed through the generated
 //! [`Entry`](crate::Entry) addresses; [`nmt`] commands nodes and watches them (heartbeat
-//! consumer, guarding master); [`emcy`] decodes emergencies; [`sync`] produces SYNC. With
-//! `std`, `blocking::Master` runs them all on a transport.
+//! consumer, guarding master); [`emcy`] decodes emergencies; [`sync`] produces SYNC;
+//! [`cia402`] walks drives through their state machine, by cyclic process data
+//! ([`cia402::Controller`]) or over SDO. With `std`, `blocking::Master` runs them all on a
+//! transport.
 
 #[cfg(feature = "std")]
 pub mod blocking;
