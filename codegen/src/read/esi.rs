@@ -13,7 +13,7 @@ use std::path::Path;
 use roxmltree::{Attribute, Node};
 
 use super::text::LineIndex;
-use super::xdd::{attribute, child, children, element_span, element_text, is_element, local};
+use super::xml::{attribute, child, children, element_span, element_text, is_element, local};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
@@ -51,7 +51,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
 pub fn read_device(path: &Path, bytes: &[u8], choice: Option<&DeviceChoice>) -> Read {
     let (text, encoding, mut diagnostics) = decode(bytes);
     let mut device = super::eds::empty_device(path, Format::Esi, encoding);
-    if let Some(doc) = super::xdd::parse(&text, &mut diagnostics) {
+    if let Some(doc) = super::xml::parse(&text, &mut diagnostics) {
         let mut reader = EsiReader::new(&text, &mut diagnostics);
         reader.read_file(doc.root_element(), &mut device, choice);
     }
@@ -67,7 +67,7 @@ pub fn read_device(path: &Path, bytes: &[u8], choice: Option<&DeviceChoice>) -> 
 pub fn read_all(path: &Path, bytes: &[u8]) -> Vec<(Device, Vec<Diagnostic>)> {
     let (text, encoding, diagnostics) = decode(bytes);
     let mut scratch = diagnostics.clone();
-    let Some(doc) = super::xdd::parse(&text, &mut scratch) else {
+    let Some(doc) = super::xml::parse(&text, &mut scratch) else {
         return Vec::new();
     };
     let count = devices(doc.root_element()).count();
@@ -166,7 +166,7 @@ fn parse_hex_bytes(text: &str) -> Option<Vec<u8>> {
 
 /// `1`/`true` and `0`/`false`.
 fn parse_bool(text: &str) -> Option<bool> {
-    super::xdd::parse_xml_bool(&text.trim().to_ascii_lowercase())
+    super::xml::parse_xml_bool(&text.trim().to_ascii_lowercase())
 }
 
 /// The `Descriptions/Devices/Device` elements.
@@ -239,7 +239,7 @@ const ESI_TYPES: &[(&str, BasicType)] = &[
 /// An elementary IEC 61131 name, `STRING(n)`, or `ARRAY [a..b] OF BYTE|USINT` (a byte string).
 fn elementary(name: &str) -> Option<(BasicType, Option<usize>)> {
     let upper = name.trim().to_ascii_uppercase();
-    if let Some((_, t)) = super::xdd::IEC_TYPES
+    if let Some((_, t)) = super::xml::IEC_TYPES
         .iter()
         .chain(ESI_TYPES)
         .find(|(n, _)| *n == upper)
