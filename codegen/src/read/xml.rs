@@ -142,14 +142,49 @@ pub(super) const IEC_TYPES: &[(&str, BasicType)] = &[
     ("WSTRING", BasicType::UnicodeString),
 ];
 
-/// The span of an element's start tag name (`<CANopenObject`).
-pub(super) fn element_span(text: &str, lines: &LineIndex, node: Node) -> Span {
-    let start = node.range().start;
-    let tag_len = text.get(start..).map_or(0, |rest| {
-        rest.find(|c: char| c.is_whitespace() || c == '>' || c == '/')
-            .unwrap_or(rest.len())
-    });
-    lines.span(text, start..start + tag_len)
+/// A document's text and its line index: the spans of its elements, attributes and texts.
+pub(super) struct Spans<'input> {
+    text: &'input str,
+    lines: LineIndex,
+}
+
+impl<'input> Spans<'input> {
+    pub(super) fn new(text: &'input str) -> Self {
+        Spans {
+            text,
+            lines: LineIndex::new(text),
+        }
+    }
+
+    /// The span of an element's start tag name (`<CANopenObject`).
+    pub(super) fn element(&self, node: Node) -> Span {
+        let start = node.range().start;
+        let tag_len = self.text.get(start..).map_or(0, |rest| {
+            rest.find(|c: char| c.is_whitespace() || c == '>' || c == '/')
+                .unwrap_or(rest.len())
+        });
+        self.lines.span(self.text, start..start + tag_len)
+    }
+
+    /// The span of an attribute's value (inside the quotes).
+    pub(super) fn attribute(&self, attr: &Attribute) -> Span {
+        self.lines.span(self.text, attr.range_value())
+    }
+
+    /// The span of an element's text (trimmed), else of the element.
+    pub(super) fn text(&self, node: Node) -> Span {
+        let Some(range) = node.children().find(|c| c.is_text()).map(|t| t.range()) else {
+            return self.element(node);
+        };
+        let raw = self.text.get(range.clone()).unwrap_or("");
+        let start = range.start + (raw.len() - raw.trim_start().len());
+        let text_span = self.lines.span(self.text, start..start + raw.trim().len());
+        if raw.trim().is_empty() {
+            self.element(node)
+        } else {
+            text_span
+        }
+    }
 }
 
 /// The local name of an element (namespace and prefix dropped).
@@ -190,17 +225,16 @@ pub(super) fn element_text(node: Node) -> Option<String> {
     (!text.is_empty()).then(|| text.to_owned())
 }
 
-/// The text of a multi-language element group (`label`, `description`): English first, else the
-/// first one.
-pub(super) fn language_text(node: Node, name: &str) -> Option<String> {
+/// The text of a multi-language element group: the one `is_english` picks, else the first one.
+pub(super) fn english_text(
+    node: Node,
+    name: &str,
+    is_english: impl Fn(Node) -> bool,
+) -> Option<String> {
     let mut first = None;
     for item in children(node, name) {
         let text = element_text(item);
-        let lang = item
-            .attributes()
-            .find(|a| a.name() == "lang")
-            .map(|a| a.value());
-        if lang.is_some_and(|l| l.eq_ignore_ascii_case("en")) && text.is_some() {
+        if is_english(item) && text.is_some() {
             return text;
         }
         if first.is_none() {

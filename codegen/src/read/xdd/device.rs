@@ -44,16 +44,16 @@ impl XmlReader<'_, '_> {
         fill(&mut info.modification_date, get("fileModificationDate"));
         fill(&mut info.modification_time, get("fileModificationTime"));
         if info.span.is_none() {
-            info.span = Some(self.element_span(body));
+            info.span = Some(self.spans.element(body));
         }
     }
 
     pub(super) fn read_identity(&mut self, identity: Node, device: &mut Device) {
-        let span = self.element_span(identity);
+        let span = self.spans.element(identity);
         device.device_info.span.get_or_insert(span);
         let mut extra = Vec::new();
         for item in identity.children().filter(|n| n.is_element()) {
-            let item_span = self.element_span(item);
+            let item_span = self.spans.element(item);
             let text = element_text(item);
             match local(item) {
                 "vendorName" => device.device_info.vendor_name = text,
@@ -102,12 +102,12 @@ impl XmlReader<'_, '_> {
     }
 
     pub(super) fn read_dummy_usage(&mut self, node: Node, device: &mut Device) {
-        device.dummy_usage_span = Some(self.element_span(node));
+        device.dummy_usage_span = Some(self.spans.element(node));
         for dummy in children(node, "dummy") {
             let Some(entry) = attribute(dummy, "entry") else {
                 continue;
             };
-            let span = self.attribute_span(&entry);
+            let span = self.spans.attribute(&entry);
             let parsed = entry.value().split_once('=').and_then(|(key, value)| {
                 let key = key.trim();
                 let index = key
@@ -140,14 +140,14 @@ impl XmlReader<'_, '_> {
             extra.push(RawEntry {
                 key: "defaultValue".to_owned(),
                 value: default.value().to_owned(),
-                span: self.attribute_span(&default),
+                span: self.spans.attribute(&default),
             });
         }
         for rate in children(node, "supportedBaudRate") {
             let Some(value) = attribute(rate, "value") else {
                 continue;
             };
-            let span = self.attribute_span(&value);
+            let span = self.spans.attribute(&value);
             match parse_baud_rate(value.value()) {
                 Some(kbit) => device.device_info.baud_rates.push((kbit, true)),
                 None if value.value().trim() == "auto-baudRate" => extra.push(RawEntry {
@@ -169,7 +169,7 @@ impl XmlReader<'_, '_> {
             device.other_sections.push(RawSection {
                 name: "baudRate".to_owned(),
                 entries: extra,
-                span: self.element_span(node),
+                span: self.spans.element(node),
             });
         }
     }
@@ -182,14 +182,14 @@ impl XmlReader<'_, '_> {
             .map(|a| RawEntry {
                 key: a.name().to_owned(),
                 value: a.value().to_owned(),
-                span: self.attribute_span(&a),
+                span: self.spans.attribute(&a),
             })
             .collect();
         if !entries.is_empty() {
             device.other_sections.push(RawSection {
                 name: local(node).to_owned(),
                 entries,
-                span: self.element_span(node),
+                span: self.spans.element(node),
             });
         }
     }
@@ -203,20 +203,20 @@ impl XmlReader<'_, '_> {
                 entries.push(RawEntry {
                     key: format!("dynamicChannel{}.{}", number + 1, attr.name()),
                     value: attr.value().to_owned(),
-                    span: self.attribute_span(&attr),
+                    span: self.spans.attribute(&attr),
                 });
             }
         }
         device.other_sections.push(RawSection {
             name: "dynamicChannels".to_owned(),
             entries,
-            span: self.element_span(node),
+            span: self.spans.element(node),
         });
     }
 
     pub(super) fn read_general_features(&mut self, node: Node, device: &mut Device) {
         let info = &mut device.device_info;
-        info.span.get_or_insert(self.element_span(node));
+        info.span.get_or_insert(self.spans.element(node));
         info.granularity = self.optional_number(node, "granularity");
         info.nr_of_rx_pdo = self.optional_number(node, "nrOfRxPDO");
         info.nr_of_tx_pdo = self.optional_number(node, "nrOfTxPDO");
@@ -262,11 +262,11 @@ impl XmlReader<'_, '_> {
             network_name: text("networkName"),
             net_number: self.optional_number(node, "networkNumber").map(|n| n.value),
             canopen_manager: self.optional_bool(node, "CANopenManager").unwrap_or(false),
-            span: self.element_span(node),
+            span: self.spans.element(node),
             ..Default::default()
         };
         if let Some(rate) = attribute(node, "actualBaudRate") {
-            let span = self.attribute_span(&rate);
+            let span = self.spans.attribute(&rate);
             match parse_baud_rate(rate.value()) {
                 Some(kbit) => commissioning.baudrate = Some(Spanned::new(kbit, span)),
                 None if !rate.value().trim().is_empty()

@@ -10,11 +10,10 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use roxmltree::{Attribute, Document, Node};
+use roxmltree::{Document, Node};
 
-use super::text::LineIndex;
 use super::value::parse_integer;
-use super::xml::{attribute, element_span, is_element, local, parse, parse_xml_bool};
+use super::xml::{attribute, is_element, local, parse, parse_xml_bool, Spans};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
@@ -58,8 +57,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
 /// every `parameter` and `dataTypeList` entry by `uniqueID`.
 struct XmlReader<'a, 'input> {
     doc: &'a Document<'input>,
-    text: &'input str,
-    lines: LineIndex,
+    spans: Spans<'input>,
     diags: &'a mut Vec<Diagnostic>,
     parameters: HashMap<&'a str, Node<'a, 'input>>,
     data_types: HashMap<&'a str, Node<'a, 'input>>,
@@ -82,22 +80,11 @@ impl<'a, 'input> XmlReader<'a, 'input> {
     fn new(doc: &'a Document<'input>, text: &'input str, diags: &'a mut Vec<Diagnostic>) -> Self {
         XmlReader {
             doc,
-            text,
-            lines: LineIndex::new(text),
+            spans: Spans::new(text),
             diags,
             parameters: HashMap::new(),
             data_types: HashMap::new(),
         }
-    }
-
-    /// The span of an element's start tag name (`<CANopenObject`).
-    fn element_span(&self, node: Node) -> Span {
-        element_span(self.text, &self.lines, node)
-    }
-
-    /// The span of an attribute's value (inside the quotes).
-    fn attribute_span(&self, attr: &Attribute) -> Span {
-        self.lines.span(self.text, attr.range_value())
     }
 
     fn push(&mut self, diag: Diagnostic) {
@@ -109,7 +96,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let root = doc.root_element();
         if local(root) != "ISO15745ProfileContainer" {
             // Lenient: read whatever CANopen elements are present, but say the root is unusual.
-            let span = self.element_span(root);
+            let span = self.spans.element(root);
             self.push(
                 Diagnostic::new(
                     &rules::XML_NO_OBJECT_LIST,
@@ -142,7 +129,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             self.read_object_list(list, device);
         }
         if !found_list {
-            let span = self.element_span(root);
+            let span = self.spans.element(root);
             self.push(Diagnostic::new(
                 &rules::XML_NO_OBJECT_LIST,
                 Some(span),
@@ -174,7 +161,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             let Some(id) = attribute(node, "uniqueID") else {
                 continue;
             };
-            let span = self.attribute_span(&id);
+            let span = self.spans.attribute(&id);
             let id = id.value();
             let map = if map_is_parameters {
                 &mut self.parameters
@@ -193,7 +180,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
 
     fn optional_number(&mut self, node: Node, name: &str) -> Option<Spanned<u32>> {
         let attr = attribute(node, name)?;
-        let span = self.attribute_span(&attr);
+        let span = self.spans.attribute(&attr);
         match parse_integer(attr.value()).and_then(|n| u32::try_from(n).ok()) {
             Some(n) => Some(Spanned::new(n, span)),
             None => {
@@ -212,7 +199,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         match parse_xml_bool(attr.value()) {
             Some(b) => Some(b),
             None => {
-                let span = self.attribute_span(&attr);
+                let span = self.spans.attribute(&attr);
                 self.push(Diagnostic::new(
                     &rules::XML_BAD_ATTRIBUTE,
                     Some(span),

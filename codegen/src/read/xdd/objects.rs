@@ -44,7 +44,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         // Anything else directly in the list would be silently lost: say so.
         for node in list.children().filter(|n| n.is_element()) {
             if local(node) != "CANopenObject" {
-                let span = self.element_span(node);
+                let span = self.spans.element(node);
                 self.push(
                     Diagnostic::new(
                         &rules::XML_BAD_ATTRIBUTE,
@@ -62,7 +62,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
 
     /// A required hexBinary attribute, with diagnostics when missing or unreadable.
     fn required_hex(&mut self, node: Node, name: &str, max: u32) -> Option<u32> {
-        let span = self.element_span(node);
+        let span = self.spans.element(node);
         let Some(attr) = attribute(node, name) else {
             self.push(Diagnostic::new(
                 &rules::XML_MISSING_ATTRIBUTE,
@@ -71,7 +71,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             ));
             return None;
         };
-        let value_span = self.attribute_span(&attr);
+        let value_span = self.spans.attribute(&attr);
         match parse_hex_binary(attr.value()).filter(|v| *v <= max) {
             Some(v) => Some(v),
             None => {
@@ -106,7 +106,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         if let Some(name) = attribute(node, "name") {
             return name.value().to_owned();
         }
-        let span = self.element_span(node);
+        let span = self.spans.element(node);
         let fallback = parameter.label.clone();
         self.push(Diagnostic::new(
             &rules::XML_MISSING_ATTRIBUTE,
@@ -124,7 +124,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
 
     fn read_object(&mut self, node: Node<'a, 'input>) -> Option<Object> {
         let index = u16::try_from(self.required_hex(node, "index", 0xFFFF)?).ok()?;
-        let span = self.element_span(node);
+        let span = self.spans.element(node);
         let attrs = Self::entry_attributes(node);
         let parameter = self.parameter_facts(node);
         let name = self.name_of(node, &parameter);
@@ -149,7 +149,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let single_entry = !object_type.has_subs() && object_type != ObjectType::Null;
         if single_entry {
             if let Some(first) = sub_elements.first() {
-                let sub_span = self.element_span(*first);
+                let sub_span = self.spans.element(*first);
                 self.push(Diagnostic::new(
                     &rules::XML_SUBS_ON_VAR,
                     Some(sub_span),
@@ -168,7 +168,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                     continue;
                 };
                 let sub_index = u8::try_from(sub_index).unwrap_or(u8::MAX);
-                let sub_span = self.element_span(sub_node);
+                let sub_span = self.spans.element(sub_node);
                 let sub_attrs = Self::entry_attributes(sub_node);
                 let sub_parameter = self.parameter_facts(sub_node);
                 let sub_name = self.name_of(sub_node, &sub_parameter);
@@ -199,7 +199,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         } else {
             ObjectType::Var
         };
-        let span = self.element_span(node);
+        let span = self.spans.element(node);
         let Some(attr) = attribute(node, "objectType") else {
             self.push(Diagnostic::new(
                 &rules::XML_MISSING_ATTRIBUTE,
@@ -208,7 +208,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             ));
             return guess;
         };
-        let value_span = self.attribute_span(&attr);
+        let value_span = self.spans.attribute(&attr);
         let code = parse_integer(attr.value()).and_then(|c| u32::try_from(c).ok());
         match code.and_then(ObjectType::from_code) {
             Some(t) => t,
@@ -233,7 +233,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         match parse_hex_binary(attr.value()) {
             Some(v) => v,
             None => {
-                let span = self.attribute_span(attr);
+                let span = self.spans.attribute(attr);
                 self.push(Diagnostic::new(
                     &rules::XML_BAD_ATTRIBUTE,
                     Some(span),

@@ -8,7 +8,7 @@ use super::{parse_hex_binary, XmlReader};
 use crate::diag::Diagnostic;
 use crate::model::*;
 use crate::read::value::parse_value;
-use crate::read::xml::{attribute, child, children, language_text, local, IEC_TYPES};
+use crate::read::xml::{attribute, child, children, english_text, local, IEC_TYPES};
 use crate::rules;
 
 /// A value text and where it is: an attribute's value.
@@ -56,11 +56,19 @@ fn parse_parameter_access(text: &str) -> Option<AccessType> {
     })
 }
 
+/// The text of a CiA 311 multi-language group (`label`, `description`): `lang="en"`, else the
+/// first one.
+fn language_text(node: Node, name: &str) -> Option<String> {
+    english_text(node, name, |item| {
+        attribute(item, "lang").is_some_and(|a| a.value().eq_ignore_ascii_case("en"))
+    })
+}
+
 impl<'a, 'input> XmlReader<'a, 'input> {
     fn raw_value(&self, attr: &Attribute) -> RawValue {
         RawValue {
             text: attr.value().trim().to_owned(),
-            span: self.attribute_span(attr),
+            span: self.spans.attribute(attr),
         }
     }
 
@@ -70,7 +78,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             return ParameterFacts::default();
         };
         let Some(parameter) = self.parameters.get(reference.value()).copied() else {
-            let span = self.attribute_span(&reference);
+            let span = self.spans.attribute(&reference);
             self.push(Diagnostic::new(
                 &rules::XML_UNRESOLVED_REF,
                 Some(span),
@@ -88,9 +96,9 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         };
         if let Some(access) = attribute(parameter, "access") {
             facts.access = parse_parameter_access(access.value());
-            facts.access_span = Some(self.attribute_span(&access));
+            facts.access_span = Some(self.spans.attribute(&access));
             if facts.access.is_none() {
-                let span = self.attribute_span(&access);
+                let span = self.spans.attribute(&access);
                 self.push(Diagnostic::new(
                     &rules::XML_BAD_ATTRIBUTE,
                     Some(span),
@@ -108,18 +116,18 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             let name = local(item);
             if name == "BITSTRING" {
                 facts.bitstring = true;
-                facts.data_type_span = Some(self.element_span(item));
+                facts.data_type_span = Some(self.spans.element(item));
             } else if let Some((_, basic)) = IEC_TYPES.iter().find(|(n, _)| *n == name) {
                 facts.data_type = Some(basic.index());
-                facts.data_type_span = Some(self.element_span(item));
+                facts.data_type_span = Some(self.spans.element(item));
             }
             match name {
                 "dataTypeIDRef" => {
                     facts.data_type = self.referenced_type(item);
-                    facts.data_type_span = Some(self.element_span(item));
+                    facts.data_type_span = Some(self.spans.element(item));
                 }
                 "variableRef" => {
-                    let span = self.element_span(item);
+                    let span = self.spans.element(item);
                     self.push(Diagnostic::new(
                         &rules::XML_UNKNOWN_TYPE,
                         Some(span),
@@ -153,7 +161,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
     fn referenced_type(&mut self, item: Node) -> Option<u16> {
         let reference = attribute(item, "uniqueIDRef")?;
         let Some(definition) = self.data_types.get(reference.value()).copied() else {
-            let span = self.attribute_span(&reference);
+            let span = self.spans.attribute(&reference);
             self.push(Diagnostic::new(
                 &rules::XML_UNRESOLVED_REF,
                 Some(span),
@@ -205,7 +213,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let attribute_type = attrs.data_type.as_ref().and_then(|a| {
             let parsed = parse_hex_binary(a.value()).and_then(|v| u16::try_from(v).ok());
             if parsed.is_none() {
-                let span = self.attribute_span(a);
+                let span = self.spans.attribute(a);
                 self.push(Diagnostic::new(
                     &rules::XML_BAD_ATTRIBUTE,
                     Some(span),
@@ -220,7 +228,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let default = parameter
             .default
             .or_else(|| attrs.default_value.as_ref().map(|a| self.raw_value(a)));
-        let attribute_type_span = attrs.data_type.as_ref().map(|a| self.attribute_span(a));
+        let attribute_type_span = attrs.data_type.as_ref().map(|a| self.spans.attribute(a));
         let mut key_spans = KeySpans {
             data_type: match parameter.data_type {
                 Some(_) => parameter.data_type_span,
@@ -228,7 +236,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             },
             access: parameter
                 .access_span
-                .or_else(|| attrs.access_type.as_ref().map(|a| self.attribute_span(a))),
+                .or_else(|| attrs.access_type.as_ref().map(|a| self.spans.attribute(a))),
             ..KeySpans::default()
         };
         let data_type = match (parameter.data_type, attribute_type) {
@@ -258,7 +266,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             (None, None) => None,
         };
 
-        key_spans.pdo_mapping = attrs.pdo_mapping.as_ref().map(|a| self.attribute_span(a));
+        key_spans.pdo_mapping = attrs.pdo_mapping.as_ref().map(|a| self.spans.attribute(a));
         let pdo_mapping_kind = attrs.pdo_mapping.as_ref().map(|a| (a.value(), *a));
         let mut pdo_mapping = false;
         let mut direction = None;
@@ -275,7 +283,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                     direction = Some(AccessType::Rww);
                 }
                 other => {
-                    let span = self.attribute_span(&attr);
+                    let span = self.spans.attribute(&attr);
                     self.push(Diagnostic::new(
                         &rules::XML_BAD_ATTRIBUTE,
                         Some(span),
@@ -288,7 +296,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let attribute_access = attrs.access_type.as_ref().and_then(|a| {
             let parsed = AccessType::parse(a.value());
             if parsed.is_none() {
-                let span = self.attribute_span(a);
+                let span = self.spans.attribute(a);
                 self.push(Diagnostic::new(
                     &rules::XML_BAD_ATTRIBUTE,
                     Some(span),
