@@ -123,3 +123,23 @@ pub struct Object {
     /// Set when the object was not written out but implied (CompactPDO).
     pub implicit: bool,
 }
+
+impl Object {
+    /// An object as a reader starts it: no entries yet, no SubNumber, CompactSubObj, ObjFlags,
+    /// custom keys or links, and written out (not implicit).
+    pub(crate) fn new(index: u16, name: String, object_type: ObjectType, span: Span) -> Self {
+        Object {
+            index,
+            name,
+            object_type,
+            subs: BTreeMap::new(),
+            sub_number: None,
+            compact_sub_obj: None,
+            obj_flags: 0,
+            span,
+            custom: Vec::new(),
+            object_links: Vec::new(),
+            implicit: false,
+        }
+    }
+}

@@ -33,15 +33,17 @@ impl AccessType {
 
     /// Parses the CiA 306 spelling, case-insensitively.
     pub fn parse(text: &str) -> Option<Self> {
-        Some(match text.trim().to_ascii_lowercase().as_str() {
-            "ro" => AccessType::Ro,
-            "wo" => AccessType::Wo,
-            "rw" => AccessType::Rw,
-            "rwr" => AccessType::Rwr,
-            "rww" => AccessType::Rww,
-            "const" => AccessType::Const,
-            _ => return None,
-        })
+        let text = text.trim();
+        [
+            AccessType::Ro,
+            AccessType::Wo,
+            AccessType::Rw,
+            AccessType::Rwr,
+            AccessType::Rww,
+            AccessType::Const,
+        ]
+        .into_iter()
+        .find(|access| access.as_str().eq_ignore_ascii_case(text))
     }
 
     /// Whether an SDO client may read this entry.

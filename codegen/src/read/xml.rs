@@ -187,6 +187,15 @@ impl<'input> Spans<'input> {
     }
 }
 
+/// `EDS604` for an attribute or element `name` whose value `text` (at `span`) is no number.
+pub(super) fn not_a_number(name: &str, text: &str, span: Span) -> Diagnostic {
+    Diagnostic::new(
+        &rules::XML_BAD_ATTRIBUTE,
+        Some(span),
+        format!("`{name}` is `{text}`, not a number"),
+    )
+}
+
 /// The local name of an element (namespace and prefix dropped).
 pub(super) fn local<'a>(node: Node<'a, '_>) -> &'a str {
     node.tag_name().name()

@@ -13,28 +13,20 @@ pub fn expand_compact_sub_obj(object: &mut Object, template: &SubObject, count: 
     object.subs.insert(
         0,
         SubObject {
-            sub_index: 0,
-            name: "NrOfObjects".to_owned(),
-            data_type: Some(BasicType::Unsigned8.index()),
-            access: Some(AccessType::Ro),
-            pdo_mapping: false,
+            // Written in decimal, as the count was.
             default: Some(ValueSource {
                 value: Some(Value::Integer(i128::from(count.value))),
                 raw: count.value.to_string(),
                 span,
             }),
-            parameter_value: None,
-            low_limit: None,
-            high_limit: None,
-            obj_flags: 0,
-            denotation: None,
-            upload_file: None,
-            download_file: None,
-            span,
-            custom: Vec::new(),
-            implicit: true,
-            key_spans: KeySpans::default(),
-            capacity: None,
+            ..implicit_entry(
+                0,
+                "NrOfObjects".to_owned(),
+                BasicType::Unsigned8,
+                AccessType::Ro,
+                None,
+                span,
+            )
         },
     );
     for n in 1..=count.value.min(255) {
@@ -204,17 +196,13 @@ pub fn expand_compact_pdo(device: &mut Device) {
             missing -= 1;
             let number = n + 1;
             let mut comm = Object {
-                index: comm_base + n,
-                name: format!("{kind}PDO{number} communication parameter"),
-                object_type: ObjectType::Record,
-                subs: BTreeMap::new(),
-                sub_number: None,
-                compact_sub_obj: None,
-                obj_flags: 0,
-                span,
-                custom: Vec::new(),
-                object_links: Vec::new(),
                 implicit: true,
+                ..Object::new(
+                    comm_base + n,
+                    format!("{kind}PDO{number} communication parameter"),
+                    ObjectType::Record,
+                    span,
+                )
             };
             comm.subs.insert(
                 0,

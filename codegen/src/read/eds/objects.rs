@@ -47,20 +47,6 @@ const KEY_PARAMETER_VALUE: usize = key_index(OBJECT_KEYS, "ParameterValue");
 const KEY_SUB_NUMBER: usize = key_index(OBJECT_KEYS, "SubNumber");
 const KEY_UPLOAD_FILE: usize = key_index(OBJECT_KEYS, "UploadFile");
 
-/// An access type written exactly as CiA 306 spells it: what [`AccessType::parse`] gives for it,
-/// without that function's lowercase copy.
-fn canonical_access(text: &str) -> Option<AccessType> {
-    Some(match text {
-        "ro" => AccessType::Ro,
-        "wo" => AccessType::Wo,
-        "rw" => AccessType::Rw,
-        "rwr" => AccessType::Rwr,
-        "rww" => AccessType::Rww,
-        "const" => AccessType::Const,
-        _ => return None,
-    })
-}
-
 /// What `Reader::read_entry` does with the object-level keys (`ObjectType`, `SubNumber`,
 /// `CompactSubObj`) of the section it reads.
 #[derive(Clone, Copy)]
@@ -109,9 +95,9 @@ impl Reader {
             .number(get(KEY_DATA_TYPE), u32::from(u16::MAX))
             .and_then(|n| u16::try_from(n.value).ok());
         let access = match get(KEY_ACCESS_TYPE) {
-            Some(entry) => match self.plain_value(entry) {
-                Some((text, span)) => {
-                    match canonical_access(text).or_else(|| AccessType::parse(text)) {
+            Some(entry) => {
+                match self.plain_value(entry) {
+                    Some((text, span)) => match AccessType::parse(text) {
                         Some(access) => {
                             if access.as_str() != text {
                                 self.once(
@@ -139,10 +125,10 @@ impl Reader {
                         );
                             None
                         }
-                    }
+                    },
+                    None => None,
                 }
-                None => None,
-            },
+            }
             None => None,
         };
         let mut custom = Vec::new();
@@ -283,19 +269,7 @@ impl Reader {
         let name = Self::string(main.get("ParameterName")).unwrap_or_default();
         let uses_subs = object_type.has_subs()
             || (object_type == ObjectType::DefType && !sections.subs.is_empty());
-        let mut object = Object {
-            index,
-            name,
-            object_type,
-            subs: BTreeMap::new(),
-            sub_number: None,
-            compact_sub_obj: None,
-            obj_flags: 0,
-            span: main.span,
-            custom: Vec::new(),
-            object_links: Vec::new(),
-            implicit: false,
-        };
+        let mut object = Object::new(index, name, object_type, main.span);
         if uses_subs {
             let (keys, rest) = self.split_keys(main, OBJECT_KEYS);
             object.sub_number = self.number(keys.get("SubNumber").copied(), u32::from(u8::MAX));

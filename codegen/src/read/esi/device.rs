@@ -146,19 +146,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
 
     fn read_pdo(&mut self, node: Node) -> Option<EcPdo> {
         let span = self.spans.element(node);
-        let Some(index) = self
-            .child_number(node, "Index")
-            .and_then(|n| u16::try_from(n).ok())
-        else {
-            if child(node, "Index").is_none() {
-                self.push(Diagnostic::new(
-                    &rules::XML_MISSING_ATTRIBUTE,
-                    Some(span),
-                    format!("`{}` without `Index`: it is skipped", local(node)),
-                ));
-            }
-            return None;
-        };
+        let index = self.required_index(node, span)?;
         let sm = self
             .attr_number(node, "Sm")
             .and_then(|n| u8::try_from(n).ok());

@@ -221,19 +221,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
 
     fn read_object(&mut self, node: Node<'a, 'input>) -> Option<Object> {
         let span = self.spans.element(node);
-        let Some(index) = self
-            .child_number(node, "Index")
-            .and_then(|n| u16::try_from(n).ok())
-        else {
-            if child(node, "Index").is_none() {
-                self.push(Diagnostic::new(
-                    &rules::XML_MISSING_ATTRIBUTE,
-                    Some(span),
-                    "`Object` without `Index`: it is skipped",
-                ));
-            }
-            return None;
-        };
+        let index = self.required_index(node, span)?;
         let name = language_name(node, "Name").unwrap_or_default();
         let type_node = child(node, "Type");
         let type_name = type_node
@@ -245,19 +233,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             .and_then(element_text)
             .and_then(|t| parse_number(&t))
             .and_then(|n| u32::try_from(n).ok());
-        let mut object = Object {
-            index,
-            name: name.clone(),
-            object_type: ObjectType::Var,
-            subs: Default::default(),
-            sub_number: None,
-            compact_sub_obj: None,
-            obj_flags: 0,
-            span,
-            custom: Vec::new(),
-            object_links: Vec::new(),
-            implicit: false,
-        };
+        let mut object = Object::new(index, name.clone(), ObjectType::Var, span);
         let resolved = type_name.as_ref().map(|(t, _)| self.resolve(t));
         if let Some(Resolved::Complex(def)) = resolved {
             self.read_complex(&mut object, def, flags, info);

@@ -12,7 +12,9 @@ use std::path::Path;
 
 use roxmltree::Node;
 
-use super::xml::{attribute, child, element_text, english_text, is_element, local, Spans};
+use super::xml::{
+    attribute, child, element_text, english_text, is_element, local, not_a_number, Spans,
+};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
@@ -174,17 +176,29 @@ impl<'a, 'input> EsiReader<'a, 'input> {
         self.element_number(child(node, name)?)
     }
 
+    /// The `Index` child of a PDO or an `Object` (at `span`): an `EDS604` error when it is no
+    /// 16-bit number, an `EDS603` error when it is missing (the element is then skipped).
+    fn required_index(&mut self, node: Node, span: Span) -> Option<u16> {
+        let index = self
+            .child_number(node, "Index")
+            .and_then(|n| u16::try_from(n).ok());
+        if index.is_none() && child(node, "Index").is_none() {
+            self.push(Diagnostic::new(
+                &rules::XML_MISSING_ATTRIBUTE,
+                Some(span),
+                format!("`{}` without `Index`: it is skipped", local(node)),
+            ));
+        }
+        index
+    }
+
     /// An element's text as a number, with an `EDS604` error when it is not one.
     fn element_number(&mut self, item: Node) -> Option<i128> {
         let text = element_text(item).unwrap_or_default();
         let number = parse_number(&text);
         if number.is_none() {
             let span = self.spans.text(item);
-            self.push(Diagnostic::new(
-                &rules::XML_BAD_ATTRIBUTE,
-                Some(span),
-                format!("`{}` is `{text}`, not a number", local(item)),
-            ));
+            self.push(not_a_number(local(item), &text, span));
         }
         number
     }
@@ -195,11 +209,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
         let number = parse_number(attr.value());
         if number.is_none() {
             let span = self.spans.attribute(&attr);
-            self.push(Diagnostic::new(
-                &rules::XML_BAD_ATTRIBUTE,
-                Some(span),
-                format!("`{name}` is `{}`, not a number", attr.value()),
-            ));
+            self.push(not_a_number(name, attr.value(), span));
         }
         number
     }

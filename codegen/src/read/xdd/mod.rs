@@ -13,7 +13,7 @@ use std::path::Path;
 use roxmltree::{Document, Node};
 
 use super::value::parse_integer;
-use super::xml::{attribute, is_element, local, parse, parse_xml_bool, Spans};
+use super::xml::{attribute, is_element, local, not_a_number, parse, parse_xml_bool, Spans};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
@@ -184,11 +184,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         match parse_integer(attr.value()).and_then(|n| u32::try_from(n).ok()) {
             Some(n) => Some(Spanned::new(n, span)),
             None => {
-                self.push(Diagnostic::new(
-                    &rules::XML_BAD_ATTRIBUTE,
-                    Some(span),
-                    format!("`{name}` is `{}`, not a number", attr.value()),
-                ));
+                self.push(not_a_number(name, attr.value(), span));
                 None
             }
         }

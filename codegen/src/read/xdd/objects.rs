@@ -134,17 +134,9 @@ impl<'a, 'input> XmlReader<'a, 'input> {
         let sub_number = self.optional_number(node, "subNumber");
 
         let mut object = Object {
-            index,
-            name: name.clone(),
-            object_type,
-            subs: Default::default(),
             sub_number,
-            compact_sub_obj: None,
             obj_flags,
-            span,
-            custom: Vec::new(),
-            object_links: Vec::new(),
-            implicit: false,
+            ..Object::new(index, name.clone(), object_type, span)
         };
         let single_entry = !object_type.has_subs() && object_type != ObjectType::Null;
         if single_entry {

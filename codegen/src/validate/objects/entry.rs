@@ -2,7 +2,7 @@
 //! record types.
 
 use super::limits::{limits, nodeid_ranges};
-use super::MAX_NAME;
+use super::{missing_var_keys, MAX_NAME};
 use crate::diag::Diagnostic;
 use crate::model::{BasicType, Device, Format, Object, ObjectType, SubObject};
 use crate::rules;
@@ -35,13 +35,7 @@ pub(super) fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<
     }
     // An ESI reader reports a type or access it cannot read itself (EDS805, EDS604).
     if needs_var_keys(o, sub) && device.source.format != Format::Esi {
-        let missing: Vec<&str> = [
-            (sub.data_type.is_none(), "DataType"),
-            (sub.access.is_none(), "AccessType"),
-        ]
-        .into_iter()
-        .filter_map(|(m, k)| m.then_some(k))
-        .collect();
+        let missing = missing_var_keys(sub);
         if !missing.is_empty() {
             out.push(
                 Diagnostic::new(

@@ -15,7 +15,7 @@
 
 use super::{at, obj, ObjName};
 use crate::diag::{Diagnostic, Severity};
-use crate::model::{Device, Format, Object, ObjectType};
+use crate::model::{Device, Format, Object, ObjectType, SubObject};
 use crate::rules;
 use cob_ids::default_cob_ids;
 use entry::entry;
@@ -140,13 +140,7 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
     // ARRAY, RECORD, DEFSTRUCT from here on.
     unnamed_subs(o, out);
     if let (Some(c), Some(element)) = (compact, o.subs.get(&1).filter(|s| s.implicit)) {
-        let missing: Vec<&str> = [
-            (element.data_type.is_none(), "DataType"),
-            (element.access.is_none(), "AccessType"),
-        ]
-        .into_iter()
-        .filter_map(|(m, k)| m.then_some(k))
-        .collect();
+        let missing = missing_var_keys(element);
         if !missing.is_empty() {
             out.push(
                 Diagnostic::new(
@@ -247,6 +241,17 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
         array_homogeneity(device, o, out);
     }
     gaps(o, out);
+}
+
+/// The keys of a VAR entry it has no (valid) value for: `DataType`, `AccessType`.
+fn missing_var_keys(entry: &SubObject) -> Vec<&'static str> {
+    [
+        (entry.data_type.is_none(), "DataType"),
+        (entry.access.is_none(), "AccessType"),
+    ]
+    .into_iter()
+    .filter_map(|(m, k)| m.then_some(k))
+    .collect()
 }
 
 /// The value of a key the reader kept uninterpreted in the object's `custom`, if non-empty.
