@@ -3,8 +3,8 @@
 use super::{Span, Spanned};
 
 /// The EtherCAT side of a device read from an ESI file: what a CANopen description has no place
-/// for. Identity goes in [`DeviceInfo`] (`vendor_number`, `product_number`, `revision_number`)
-/// and the CoE dictionary in [`Device::objects`], as for CANopen.
+/// for. Identity goes in [`DeviceInfo`](super::DeviceInfo) (`vendor_number`, `product_number`, `revision_number`)
+/// and the CoE dictionary in [`Device::objects`](super::Device::objects), as for CANopen.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct EtherCat {
     /// The device's type name (`Device/Type` text), which picks it in a file with several.

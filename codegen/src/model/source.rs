@@ -50,7 +50,7 @@ pub enum Format {
     /// XML device configuration (CiA 311).
     Xdc,
     /// EtherCAT Slave Information (ETG.2000): a CoE dictionary and the EtherCAT layout
-    /// ([`Device::ethercat`]).
+    /// ([`Device::ethercat`](super::Device::ethercat)).
     Esi,
 }
 

@@ -181,7 +181,7 @@ impl Reader {
     }
 
     /// EDS028 for an empty number or boolean that python canopen reads with `int()` and no
-    /// fallback (the [DeviceInfo] numbers and booleans, [Comments] `Lines`): CiA 306 reads it
+    /// fallback (the `[DeviceInfo]` numbers and booleans, `[Comments]` `Lines`): CiA 306 reads it
     /// as absent, which edsgen does, but python cannot import the file.
     pub(super) fn empty_number(&mut self, entry: &IniEntry) {
         if !entry.value.as_str().trim().is_empty() {
