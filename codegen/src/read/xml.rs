@@ -8,6 +8,17 @@ use crate::diag::Diagnostic;
 use crate::model::{BasicType, Span};
 use crate::rules;
 
+/// `EDS002` for an XML file that is not UTF-8 and was decoded as Windows-1252; `help` says how
+/// to fix it.
+pub(super) fn decoded_as_windows1252(help: &str) -> Diagnostic {
+    Diagnostic::new(
+        &rules::NON_ASCII,
+        None,
+        "the XML file is not valid UTF-8; it was decoded as Windows-1252",
+    )
+    .with_help(help)
+}
+
 /// Parses XML text, refusing a file nested deeper than [`MAX_DEPTH`] and DTDs; a file that cannot
 /// be parsed gives one `EDS601` error and `None`. Shared by the XDD/XDC and ESI readers.
 pub(super) fn parse<'input>(

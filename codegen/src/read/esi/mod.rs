@@ -13,7 +13,8 @@ use std::path::Path;
 use roxmltree::Node;
 
 use super::xml::{
-    attribute, child, element_text, english_text, is_element, local, not_a_number, Spans,
+    attribute, child, decoded_as_windows1252, element_text, english_text, is_element, local,
+    not_a_number, Spans,
 };
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
@@ -102,14 +103,9 @@ fn decode(bytes: &[u8]) -> (String, TextEncoding, Vec<Diagnostic>) {
     }
     let (text, encoding) = super::text::decode(bytes);
     if encoding == TextEncoding::Windows1252 {
-        diagnostics.push(
-            Diagnostic::new(
-                &rules::NON_ASCII,
-                None,
-                "the XML file is not valid UTF-8; it was decoded as Windows-1252",
-            )
-            .with_help("save the file as UTF-8, or declare encoding=\"ISO-8859-1\""),
-        );
+        diagnostics.push(decoded_as_windows1252(
+            "save the file as UTF-8, or declare encoding=\"ISO-8859-1\"",
+        ));
     }
     (text, encoding, diagnostics)
 }

@@ -13,7 +13,10 @@ use std::path::Path;
 use roxmltree::{Document, Node};
 
 use super::value::parse_integer;
-use super::xml::{attribute, is_element, local, not_a_number, parse, parse_xml_bool, Spans};
+use super::xml::{
+    attribute, decoded_as_windows1252, is_element, local, not_a_number, parse, parse_xml_bool,
+    Spans,
+};
 use super::Read;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
@@ -33,14 +36,9 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
     let mut device = super::eds::empty_device(path, format, encoding);
     let mut diagnostics = Vec::new();
     if encoding == TextEncoding::Windows1252 {
-        diagnostics.push(
-            Diagnostic::new(
-                &rules::NON_ASCII,
-                None,
-                "the XML file is not valid UTF-8; it was decoded as Windows-1252",
-            )
-            .with_help("save the file as UTF-8, as its XML declaration most likely says"),
-        );
+        diagnostics.push(decoded_as_windows1252(
+            "save the file as UTF-8, as its XML declaration most likely says",
+        ));
     }
     if let Some(doc) = parse(&text, &mut diagnostics) {
         let mut reader = XmlReader::new(&doc, &text, &mut diagnostics);
