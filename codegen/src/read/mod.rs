@@ -15,6 +15,7 @@ pub mod ini;
 pub mod text;
 pub mod value;
 pub mod xdd;
+mod xml;
 
 /// What a reader produced: the model, the diagnostics about the text, and the decoded text (for
 /// rendering diagnostics against it).

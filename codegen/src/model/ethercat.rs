@@ -1,0 +1,146 @@
+//! The EtherCAT side of an ESI device: SyncManagers, PDOs, the CoE mailbox and DC op-modes.
+
+use super::{Span, Spanned};
+
+/// The EtherCAT side of a device read from an ESI file: what a CANopen description has no place
+/// for. Identity goes in [`DeviceInfo`](super::DeviceInfo) (`vendor_number`, `product_number`, `revision_number`)
+/// and the CoE dictionary in [`Device::objects`](super::Device::objects), as for CANopen.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct EtherCat {
+    /// The device's type name (`Device/Type` text), which picks it in a file with several.
+    pub type_name: String,
+    /// `Profile/ProfileNo` values (402 for a drive, 5001 for a modular device).
+    pub profiles: Vec<u32>,
+    /// The SyncManagers, in order (SM0, SM1, ...).
+    pub sync_managers: Vec<SyncManager>,
+    /// `RxPdo` elements: outputs, written by the master.
+    pub rx_pdos: Vec<EcPdo>,
+    /// `TxPdo` elements: inputs, read by the master.
+    pub tx_pdos: Vec<EcPdo>,
+    /// The CoE mailbox, if the device has one.
+    pub coe: Option<CoeMailbox>,
+    /// Distributed-clock operation modes (`Dc/OpMode`).
+    pub op_modes: Vec<DcOpMode>,
+    /// Other devices in the same file, by type name, product code and revision: the reader picks
+    /// one (the first, unless told otherwise) and lists the rest here.
+    pub other_devices: Vec<(String, u32, u32)>,
+    /// Where the `Device` element is.
+    pub span: Span,
+}
+
+/// What a SyncManager carries.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SmKind {
+    /// Mailbox, master to device (`MBoxOut`).
+    MailboxOut,
+    /// Mailbox, device to master (`MBoxIn`).
+    MailboxIn,
+    /// Process data outputs (`Outputs`): the assigned RxPDOs.
+    Outputs,
+    /// Process data inputs (`Inputs`): the assigned TxPDOs.
+    Inputs,
+    /// Anything else, as written (an empty or vendor-specific text).
+    Other(String),
+}
+
+/// One `Sm` element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SyncManager {
+    /// What it carries.
+    pub kind: SmKind,
+    /// `StartAddress` in the device's memory.
+    pub start_address: u16,
+    /// `DefaultSize` in bytes, if given.
+    pub default_size: Option<u16>,
+    /// `ControlByte`.
+    pub control_byte: u8,
+    /// `Enable`.
+    pub enable: bool,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// One `RxPdo` or `TxPdo` element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EcPdo {
+    /// The mapping object's index (1600h... for RxPDOs, 1A00h... for TxPDOs).
+    pub index: u16,
+    /// `Name`.
+    pub name: String,
+    /// The SyncManager it is assigned to by default (`Sm`); `None` when not assigned.
+    pub sm: Option<u8>,
+    /// `Fixed`: the mapping cannot be changed.
+    pub fixed: bool,
+    /// `Mandatory`: it must be assigned.
+    pub mandatory: bool,
+    /// `Exclude`: PDOs that cannot be assigned together with this one.
+    pub exclude: Vec<Spanned<u16>>,
+    /// The mapped entries, in process-image order.
+    pub entries: Vec<EcPdoEntry>,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// One `Entry` of a PDO: a mapped object, or padding (index 0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EcPdoEntry {
+    /// The mapped object's index; 0 for padding.
+    pub index: u16,
+    /// Its sub-index.
+    pub sub: u8,
+    /// `BitLen`.
+    pub bit_len: u16,
+    /// `Name`, if any.
+    pub name: String,
+    /// `DataType` as written (`UINT`, `DINT`, ...), if any.
+    pub data_type: Option<String>,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// The `Mailbox/CoE` element.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CoeMailbox {
+    /// `SdoInfo`: the SDO information service.
+    pub sdo_info: bool,
+    /// `PdoAssign`: PDO assignment (1C12h/1C13h) may be changed.
+    pub pdo_assign: bool,
+    /// `PdoConfig`: PDO mapping may be changed.
+    pub pdo_config: bool,
+    /// `CompleteAccess`: SDO complete access.
+    pub complete_access: bool,
+    /// `SegmentedSdo`.
+    pub segmented_sdo: bool,
+    /// `InitCmds`: SDO writes the master makes on a state transition.
+    pub init_cmds: Vec<CoeInitCmd>,
+}
+
+/// One `InitCmd`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoeInitCmd {
+    /// Transitions (`PS`, `IP`, ...).
+    pub transitions: Vec<String>,
+    /// Index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The data, as bytes.
+    pub data: Vec<u8>,
+    /// Whether it writes the whole object (`CompleteAccess`).
+    pub complete_access: bool,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// One `Dc/OpMode`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DcOpMode {
+    /// `Name` (`DC`, `FreeRun`, `SYNC0`, ...).
+    pub name: String,
+    /// `Desc`, if any.
+    pub description: String,
+    /// `AssignActivate`.
+    pub assign_activate: u16,
+    /// SYNC0 cycle time in ns (`CycleTimeSync0`; 0 when it follows the bus cycle).
+    pub cycle_time_sync0: u32,
+}

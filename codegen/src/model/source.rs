@@ -1,0 +1,85 @@
+//! Where the model came from: spans (line, column, length) into the source file, and the file's
+//! format and text encoding.
+
+use std::path::PathBuf;
+
+/// A place in the source file: 1-based line and column (in characters), and a length in
+/// characters (0 when only a position is known).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Span {
+    /// 1-based line number.
+    pub line: u32,
+    /// 1-based column, counted in characters.
+    pub column: u32,
+    /// Length in characters of the spanned text on that line (0: a position only).
+    pub len: u32,
+}
+
+impl Span {
+    /// A span of `len` characters at `line`:`column`.
+    pub const fn new(line: u32, column: u32, len: u32) -> Self {
+        Span { line, column, len }
+    }
+}
+
+/// A value together with where it was read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spanned<T> {
+    /// The value.
+    pub value: T,
+    /// Where it was read.
+    pub span: Span,
+}
+
+impl<T> Spanned<T> {
+    /// Pairs a value with its span.
+    pub const fn new(value: T, span: Span) -> Self {
+        Spanned { value, span }
+    }
+}
+
+/// The kind of description file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Electronic data sheet (CiA 306).
+    Eds,
+    /// Device configuration file (CiA 306), an EDS with configured values.
+    Dcf,
+    /// XML device description (CiA 311).
+    Xdd,
+    /// XML device configuration (CiA 311).
+    Xdc,
+    /// EtherCAT Slave Information (ETG.2000): a CoE dictionary and the EtherCAT layout
+    /// ([`Device::ethercat`](super::Device::ethercat)).
+    Esi,
+}
+
+/// How the file's bytes were decoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextEncoding {
+    /// Only ASCII bytes.
+    Ascii,
+    /// Valid UTF-8 with non-ASCII characters.
+    Utf8,
+    /// UTF-8 with a byte-order mark.
+    Utf8Bom,
+    /// Not valid UTF-8; decoded as Windows-1252.
+    Windows1252,
+    /// ISO-8859-1, as the XML declaration says (an ESI file): each byte is one character.
+    Latin1,
+    /// UTF-16, little-endian (with a byte-order mark, or ASCII text with every second byte 0).
+    Utf16Le,
+    /// UTF-16, big-endian.
+    Utf16Be,
+}
+
+/// Where the device came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Source {
+    /// The path as given by the user.
+    pub path: PathBuf,
+    /// The file format.
+    pub format: Format,
+    /// The text encoding that was detected.
+    pub encoding: TextEncoding,
+}

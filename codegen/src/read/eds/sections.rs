@@ -1,0 +1,125 @@
+//! Section names: what a section's name says it is ([`SectionKind`]), with the hex numbers
+//! written in it.
+
+use crate::model::ObjectListKind;
+
+/// What a section name says the section is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum SectionKind {
+    FileInfo,
+    DeviceInfo,
+    DummyUsage,
+    Comments,
+    ObjectList(ObjectListKind),
+    Commissioning,
+    /// Kept in `other_sections` without a diagnostic (modules, dynamic channels, tools).
+    Kept,
+    Object(u16),
+    Sub(u16, u8),
+    SubNames(u16),
+    SubValues(u16),
+    SubDenotations(u16),
+    ObjectLinks(u16),
+    Unknown,
+}
+
+/// Sections with a fixed name: canonical spelling and kind.
+pub(super) const NAMED_SECTIONS: &[(&str, SectionKind)] = &[
+    ("FileInfo", SectionKind::FileInfo),
+    ("DeviceInfo", SectionKind::DeviceInfo),
+    ("DummyUsage", SectionKind::DummyUsage),
+    ("Comments", SectionKind::Comments),
+    (
+        "MandatoryObjects",
+        SectionKind::ObjectList(ObjectListKind::Mandatory),
+    ),
+    (
+        "OptionalObjects",
+        SectionKind::ObjectList(ObjectListKind::Optional),
+    ),
+    (
+        "ManufacturerObjects",
+        SectionKind::ObjectList(ObjectListKind::Manufacturer),
+    ),
+    ("DeviceComissioning", SectionKind::Commissioning),
+    ("DeviceCommissioning", SectionKind::Commissioning),
+    ("SupportedModules", SectionKind::Kept),
+    ("ConnectedModules", SectionKind::Kept),
+    ("DynamicChannels", SectionKind::Kept),
+    ("Tools", SectionKind::Kept),
+];
+
+/// Parses a hex number written without `0x` (as in section names and `DummyXXXX` keys), at most
+/// eight digits and at most `max_value`.
+pub(super) fn parse_hex_name(text: &str, max_value: u32) -> Option<u32> {
+    if text.is_empty() || text.len() > 8 || !text.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    u32::from_str_radix(text, 16)
+        .ok()
+        .filter(|value| *value <= max_value)
+}
+
+/// Classifies a section name. Returns the kind, and whether an index/sub-index in it has extra
+/// leading zeros (more than four index digits, or a sub-index with a leading 0), and whether `sub`
+/// is spelled other than lowercase.
+pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
+    for (canonical, kind) in NAMED_SECTIONS {
+        if name.eq_ignore_ascii_case(canonical) {
+            return (*kind, false, false);
+        }
+    }
+    let lower = name.to_ascii_lowercase();
+    // Module sections: [M<n>...] and tool sections: [Tool<n>].
+    let bytes = lower.as_bytes();
+    if bytes.first() == Some(&b'm')
+        && bytes.get(1).is_some_and(u8::is_ascii_digit)
+        && lower[1..]
+            .trim_start_matches(|c: char| c.is_ascii_digit())
+            .starts_with(|c: char| c.is_ascii_alphabetic())
+    {
+        return (SectionKind::Kept, false, false);
+    }
+    if let Some(n) = lower.strip_prefix("tool") {
+        if !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()) {
+            return (SectionKind::Kept, false, false);
+        }
+    }
+    let index_of = |text: &str| -> Option<(u16, bool)> {
+        let value = parse_hex_name(text, 0xFFFF)?;
+        Some((u16::try_from(value).ok()?, text.len() > 4))
+    };
+    for (suffix, make) in [
+        (
+            "objectlinks",
+            SectionKind::ObjectLinks as fn(u16) -> SectionKind,
+        ),
+        ("denotation", SectionKind::SubDenotations),
+        ("value", SectionKind::SubValues),
+        ("name", SectionKind::SubNames),
+    ] {
+        if let Some(prefix) = lower.strip_suffix(suffix) {
+            if let Some((index, zeros)) = index_of(prefix) {
+                return (make(index), zeros, false);
+            }
+        }
+    }
+    if let Some(at) = lower.rfind("sub") {
+        let (index_text, sub_text) = (&lower[..at], &lower[at + 3..]);
+        if let (Some((index, index_zeros)), Some(sub)) =
+            (index_of(index_text), parse_hex_name(sub_text, 0xFF))
+        {
+            let sub_zeros = sub_text.len() > 1 && sub_text.starts_with('0');
+            let odd_spelling = &name[at..at + 3] != "sub";
+            return (
+                SectionKind::Sub(index, u8::try_from(sub).unwrap_or(0)),
+                index_zeros || sub_zeros,
+                odd_spelling,
+            );
+        }
+    }
+    if let Some((index, zeros)) = index_of(&lower) {
+        return (SectionKind::Object(index), zeros, false);
+    }
+    (SectionKind::Unknown, false, false)
+}
