@@ -318,7 +318,7 @@ impl Described {
                     8 * data.len()
                 );
             }
-            if index >= 0x1000 && bits % 8 == 0 && offset % 8 == 0 {
+            if index >= 0x1000 && bits % 8 == 0 && offset.is_multiple_of(8) {
                 let bytes = &data[offset / 8..(offset + bits) / 8];
                 let data_type = od.find(index, mapped_sub).ok().map(|e| e.data_type);
                 fields.push(format!(

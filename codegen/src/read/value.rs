@@ -587,7 +587,9 @@ fn parse_bytes(
     let prefixed = text.strip_prefix("0x").or_else(|| text.strip_prefix("0X"));
     if let Some(body) = prefixed {
         let digits: Vec<char> = body.chars().filter(|c| !c.is_whitespace()).collect();
-        if !digits.is_empty() && digits.len() % 2 == 0 && digits.iter().all(char::is_ascii_hexdigit)
+        if !digits.is_empty()
+            && digits.len().is_multiple_of(2)
+            && digits.iter().all(char::is_ascii_hexdigit)
         {
             let shown = if body.chars().count() > 16 {
                 format!("{}...", body.chars().take(16).collect::<String>())
@@ -610,7 +612,7 @@ fn parse_bytes(
     }
     let digits: Vec<char> = text.chars().filter(|c| !c.is_whitespace()).collect();
     let all_hex = digits.iter().all(char::is_ascii_hexdigit);
-    if !all_hex || digits.len() % 2 != 0 {
+    if !all_hex || !digits.len().is_multiple_of(2) {
         let why = if all_hex {
             "an odd number of hex digits"
         } else {

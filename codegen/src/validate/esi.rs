@@ -97,7 +97,7 @@ fn entries(device: &Device, kind: &str, pdo: &EcPdo, out: &mut Vec<Diagnostic>) 
     for entry in &pdo.entries {
         let at = offset;
         offset += u64::from(entry.bit_len);
-        if entry.bit_len >= 8 && at % 8 != 0 {
+        if entry.bit_len >= 8 && !at.is_multiple_of(8) {
             out.push(
                 Diagnostic::new(
                     &rules::ESI_PDO_ALIGNMENT,

@@ -515,7 +515,7 @@ fn length(
     };
     match ty.bits() {
         None => {
-            if len == 0 || len % 8 != 0 {
+            if len == 0 || !len.is_multiple_of(8) {
                 out.push(wrong(
                     format!(
                         "{here} maps {len} bits of {target} ({}), not a whole number of bytes",
@@ -533,7 +533,7 @@ fn length(
             }
             let partial = len > 0
                 && len < width
-                && granularity.is_some_and(|g| g != 0 && g < 8 && len % g == 0);
+                && granularity.is_some_and(|g| g != 0 && g < 8 && len.is_multiple_of(g));
             out.push(wrong(
                 format!(
                     "{here} maps {len} bits of {target}, which is {} ({width} bits)",

@@ -29,7 +29,7 @@ pub(super) fn parse_number(text: &str) -> Option<i128> {
 /// Hex bytes as `DefaultData` and `InitCmd/Data` write them (`6C020000`), in written order.
 pub(super) fn parse_hex_bytes(text: &str) -> Option<Vec<u8>> {
     let t: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-    if t.len() % 2 != 0 || !t.bytes().all(|b| b.is_ascii_hexdigit()) {
+    if !t.len().is_multiple_of(2) || !t.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;
     }
     (0..t.len())
