@@ -8,8 +8,8 @@
 use serde_json::{json, Map, Value as Json};
 
 use crate::model::{
-    Commissioning, Device, DeviceInfo, FileInfo, Format, Object, SubObject, TextEncoding, Value,
-    ValueSource,
+    Commissioning, Device, DeviceInfo, EcPdo, EtherCat, FileInfo, Format, Object, SmKind,
+    SubObject, TextEncoding, Value, ValueSource,
 };
 
 /// The model as a JSON value, with the field names and encodings of the design's contract.
@@ -26,6 +26,7 @@ pub fn to_json(device: &Device) -> Json {
         TextEncoding::Utf8 => "utf-8",
         TextEncoding::Utf8Bom => "utf-8-bom",
         TextEncoding::Windows1252 => "windows-1252",
+        TextEncoding::Latin1 => "iso-8859-1",
         TextEncoding::Utf16Le => "utf-16le",
         TextEncoding::Utf16Be => "utf-16be",
     };
@@ -45,6 +46,75 @@ pub fn to_json(device: &Device) -> Json {
         "commissioning": device.commissioning.as_ref().map(commissioning),
         "objects": device.objects.values().map(object).collect::<Vec<_>>(),
         "other_sections": device.other_sections.iter().map(|s| s.name.clone()).collect::<Vec<_>>(),
+        "ethercat": device.ethercat.as_ref().map(ethercat),
+    })
+}
+
+/// The EtherCAT side of an ESI device: SyncManagers, PDOs, CoE mailbox, DC op-modes, other
+/// devices of the file. `null` for CANopen descriptions.
+fn ethercat(ec: &EtherCat) -> Json {
+    let sm_kind = |kind: &SmKind| match kind {
+        SmKind::MailboxOut => "MBoxOut".to_owned(),
+        SmKind::MailboxIn => "MBoxIn".to_owned(),
+        SmKind::Outputs => "Outputs".to_owned(),
+        SmKind::Inputs => "Inputs".to_owned(),
+        SmKind::Other(text) => text.clone(),
+    };
+    let pdo = |p: &EcPdo| {
+        json!({
+            "index": p.index,
+            "name": p.name,
+            "sm": p.sm,
+            "fixed": p.fixed,
+            "mandatory": p.mandatory,
+            "exclude": p.exclude.iter().map(|e| e.value).collect::<Vec<_>>(),
+            "bits": p.entries.iter().map(|e| u32::from(e.bit_len)).sum::<u32>(),
+            "entries": p.entries.iter().map(|e| json!({
+                "index": e.index,
+                "sub": e.sub,
+                "bit_len": e.bit_len,
+                "name": e.name,
+                "data_type": e.data_type,
+            })).collect::<Vec<_>>(),
+        })
+    };
+    json!({
+        "type_name": ec.type_name,
+        "profiles": ec.profiles,
+        "sync_managers": ec.sync_managers.iter().map(|sm| json!({
+            "kind": sm_kind(&sm.kind),
+            "start_address": sm.start_address,
+            "default_size": sm.default_size,
+            "control_byte": sm.control_byte,
+            "enable": sm.enable,
+        })).collect::<Vec<_>>(),
+        "rx_pdos": ec.rx_pdos.iter().map(pdo).collect::<Vec<_>>(),
+        "tx_pdos": ec.tx_pdos.iter().map(pdo).collect::<Vec<_>>(),
+        "coe": ec.coe.as_ref().map(|coe| json!({
+            "sdo_info": coe.sdo_info,
+            "pdo_assign": coe.pdo_assign,
+            "pdo_config": coe.pdo_config,
+            "complete_access": coe.complete_access,
+            "segmented_sdo": coe.segmented_sdo,
+            "init_cmds": coe.init_cmds.iter().map(|c| json!({
+                "transitions": c.transitions,
+                "index": c.index,
+                "sub": c.sub,
+                "data": c.data.iter().map(|b| format!("{b:02x}")).collect::<String>(),
+                "complete_access": c.complete_access,
+            })).collect::<Vec<_>>(),
+        })),
+        "op_modes": ec.op_modes.iter().map(|m| json!({
+            "name": m.name,
+            "description": m.description,
+            "assign_activate": m.assign_activate,
+            "cycle_time_sync0": m.cycle_time_sync0,
+        })).collect::<Vec<_>>(),
+        "other_devices": ec.other_devices.iter().map(|(name, code, revision)| json!({
+            "type_name": name,
+            "product_code": code,
+            "revision": revision,
+        })).collect::<Vec<_>>(),
     })
 }
 

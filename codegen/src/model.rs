@@ -71,6 +71,8 @@ pub enum TextEncoding {
     Utf8Bom,
     /// Not valid UTF-8; decoded as Windows-1252.
     Windows1252,
+    /// ISO-8859-1, as the XML declaration says (an ESI file): each byte is one character.
+    Latin1,
     /// UTF-16, little-endian (with a byte-order mark, or ASCII text with every second byte 0).
     Utf16Le,
     /// UTF-16, big-endian.

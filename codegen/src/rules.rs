@@ -3,7 +3,7 @@
 //! Codes never change meaning once published. Numbering by area: `EDS0xx` text and values (the
 //! readers), `EDS1xx` `[FileInfo]`/`[DeviceInfo]`, `EDS2xx` object lists, `EDS3xx` objects and
 //! sub-objects, `EDS4xx` PDOs, `EDS5xx` DCF, commissioning, modules and the rest, `EDS6xx` XML
-//! (XDD/XDC), `EDS7xx` code generation. `edsgen rules` prints this table.
+//! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI). `edsgen rules` prints this table.
 
 use crate::diag::Severity;
 
@@ -171,6 +171,22 @@ rules! {
     CAPACITY_TOO_LARGE = "EDS707" Error "a string, octet string or domain longer than 65535 bytes, or a device whose values need more than 65535 bytes in all";
     OVERLAY = "EDS708" Error "an overlay (NAME.toml beside the description) that cannot be applied: not TOML, an unknown table, a key that names no entry (or, in [numbering], no ARRAY), a capacity on an entry that is not a string or domain, or below its value, a name without a letter or digit";
     NO_DEFAULT_PDOS = "EDS709" Info "the description maps no default PDO, so no PDO struct is generated (the overlay's [pdo_mapping] can declare mappings)";
+
+    // ---- EDS8xx: EtherCAT (ESI files) ----
+    ESI_NO_DEVICE = "EDS801" Error "an ESI file with no Device to read (a module description, or no device matches the `--device` choice)";
+    ESI_MODULES = "EDS802" Info "a modular device: its Modules and Slots are listed, not read into the model";
+    ESI_IDENTITY = "EDS803" Error "a Vendor Id, ProductCode or RevisionNo that is missing or not a number";
+    ESI_PROFILE = "EDS804" Warning "a device with a CoE dictionary but no Profile/ProfileNo";
+    ESI_UNKNOWN_TYPE = "EDS805" Error "a Type that is neither an IEC 61131 type, STRING(n), ARRAY [..] OF .., nor a DataType of the Dictionary (the entry has no data type)";
+    ESI_DUPLICATE_OBJECT = "EDS806" Error "an object index, or a DataType name, described twice in the Dictionary; the last one wins";
+    ESI_PDO_ENTRY_MISSING = "EDS807" Error "a PDO Entry names an object or sub-index the Dictionary does not have (warning for a device with Slots, whose modules may add the object)";
+    ESI_PDO_ENTRY_LENGTH = "EDS808" Error "a PDO Entry's BitLen differs from the bit size of the object it maps";
+    ESI_PDO_ALIGNMENT = "EDS809" Warning "a PDO Entry of 8 bits or more that does not start on a byte boundary of its PDO (ethercrab's wire types need byte alignment)";
+    ESI_SM_OVERFLOW = "EDS810" Error "the PDOs assigned to a SyncManager by default hold more bytes than its DefaultSize";
+    ESI_EXCLUDE_MISSING = "EDS811" Warning "a PDO's Exclude names a PDO the device does not have";
+    ESI_EXCLUDE_CONFLICT = "EDS812" Error "two PDOs that exclude each other are both assigned by default (both have Sm)";
+    ESI_DUPLICATE_PDO = "EDS813" Error "two RxPdo/TxPdo elements with the same Index";
+    ESI_PDO_WITHOUT_SM = "EDS814" Info "PDOs without `Sm`: not assigned by default (once per device, naming them)";
 }
 
 /// Looks a rule up by its code.

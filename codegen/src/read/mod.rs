@@ -10,6 +10,7 @@ use crate::model::{Device, Format, Span, TextEncoding};
 use crate::rules;
 
 pub mod eds;
+pub mod esi;
 pub mod ini;
 pub mod text;
 pub mod value;
@@ -62,6 +63,29 @@ pub fn read_file(path: &Path) -> Result<Read, ReadError> {
     Ok(read_bytes(path, &bytes))
 }
 
+/// Reads a description file, picking one device of an ESI file that describes several (by type
+/// name or `#x` product code, see [`esi::DeviceChoice::parse`]); `None` reads the first. Other
+/// formats describe one device and ignore the choice.
+pub fn read_file_device(path: &Path, device: Option<&str>) -> Result<Read, ReadError> {
+    let bytes = std::fs::read(path).map_err(|e| ReadError::Io(path.to_path_buf(), e))?;
+    Ok(read_bytes_device(path, &bytes, device))
+}
+
+/// [`read_bytes`] with a device choice, as [`read_file_device`].
+pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Read {
+    match device {
+        Some(choice)
+            if detect_format(path, bytes) == Format::Esi
+                && not_a_description(path, bytes).is_none() =>
+        {
+            let mut read = esi::read_device(path, bytes, Some(&esi::DeviceChoice::parse(choice)));
+            value::aggregate_dialects(&mut read.diagnostics);
+            read
+        }
+        _ => read_bytes(path, bytes),
+    }
+}
+
 /// Reads a description from bytes; `path` names it (and its extension picks the format).
 pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
     if let Some(read) = not_a_description(path, bytes) {
@@ -69,7 +93,8 @@ pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
     }
     let mut read = match detect_format(path, bytes) {
         Format::Eds | Format::Dcf => eds::read(path, bytes),
-        Format::Xdd | Format::Xdc | Format::Esi => xdd::read(path, bytes),
+        Format::Xdd | Format::Xdc => xdd::read(path, bytes),
+        Format::Esi => esi::read(path, bytes),
     };
     if read.device.source.encoding == TextEncoding::Windows1252 {
         if let Some(guess) = dos_code_page_guess(bytes) {
@@ -137,8 +162,9 @@ fn dos_code_page_guess(bytes: &[u8]) -> Option<Diagnostic> {
     )
 }
 
-/// The format of a file: by extension (case-insensitive), else XML if the first non-blank byte
-/// (after a BOM) is `<`, else EDS.
+/// The format of a file: by extension (case-insensitive; `.esi` is ESI), else XML if the first
+/// non-blank byte (after a BOM) is `<` (ESI when the root element is `EtherCATInfo` or
+/// `EtherCATModule`, else XDD), else EDS.
 pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
     let ext = path
         .extension()
@@ -149,12 +175,47 @@ pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
         Some("dcf") => Format::Dcf,
         Some("xdd") => Format::Xdd,
         Some("xdc") => Format::Xdc,
+        Some("esi") => Format::Esi,
         _ => {
             let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
             match body.iter().find(|b| !b.is_ascii_whitespace()) {
+                Some(b'<') if matches!(root_name(body), "EtherCATInfo" | "EtherCATModule") => {
+                    Format::Esi
+                }
                 Some(b'<') => Format::Xdd,
                 _ => Format::Eds,
             }
+        }
+    }
+}
+
+/// The local name of an XML file's root element, found by skipping the declaration, processing
+/// instructions, comments and a DOCTYPE; empty when there is none.
+fn root_name(bytes: &[u8]) -> &str {
+    let mut rest = bytes;
+    loop {
+        let Some(at) = rest.iter().position(|&b| b == b'<') else {
+            return "";
+        };
+        rest = &rest[at..];
+        let skip_to: &[u8] = if rest.starts_with(b"<?") {
+            b"?>"
+        } else if rest.starts_with(b"<!--") {
+            b"-->"
+        } else if rest.starts_with(b"<!") {
+            b">"
+        } else {
+            let name = &rest[1..];
+            let end = name
+                .iter()
+                .position(|b| b.is_ascii_whitespace() || matches!(b, b'>' | b'/'))
+                .unwrap_or(name.len());
+            let name = std::str::from_utf8(&name[..end]).unwrap_or("");
+            return name.rsplit(':').next().unwrap_or(name);
+        };
+        match rest.windows(skip_to.len()).position(|w| w == skip_to) {
+            Some(end) => rest = &rest[end + skip_to.len()..],
+            None => return "",
         }
     }
 }

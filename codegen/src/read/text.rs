@@ -104,6 +104,7 @@ pub const fn encoding_name(encoding: TextEncoding) -> &'static str {
         TextEncoding::Utf8 => "UTF-8",
         TextEncoding::Utf8Bom => "UTF-8 (with a byte-order mark)",
         TextEncoding::Windows1252 => "Windows-1252",
+        TextEncoding::Latin1 => "ISO-8859-1",
         TextEncoding::Utf16Le => "UTF-16 (little-endian)",
         TextEncoding::Utf16Be => "UTF-16 (big-endian)",
     }

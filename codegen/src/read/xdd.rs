@@ -38,10 +38,27 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
             .with_help("save the file as UTF-8, as its XML declaration most likely says"),
         );
     }
+    if let Some(doc) = parse(&text, &mut diagnostics) {
+        let mut reader = XmlReader::new(&doc, &text, &mut diagnostics);
+        reader.read_device(&mut device);
+    }
+    Read {
+        device,
+        diagnostics,
+        text,
+    }
+}
+
+/// Parses XML text, refusing a file nested deeper than [`MAX_DEPTH`] and DTDs; a file that cannot
+/// be parsed gives one `EDS601` error and `None`. Shared by the XDD/XDC and ESI readers.
+pub(super) fn parse<'input>(
+    text: &'input str,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Option<Document<'input>> {
     // The XML parser recurses per element: a file nested thousands deep would overflow the stack.
-    // CiA 311 files nest about ten deep; refuse anything past MAX_DEPTH before parsing.
-    if let Some(at) = nesting_beyond(&text, MAX_DEPTH) {
-        let span = LineIndex::new(&text).span(&text, at..at + 1);
+    // Device descriptions nest about ten deep; refuse anything past MAX_DEPTH before parsing.
+    if let Some(at) = nesting_beyond(text, MAX_DEPTH) {
+        let span = LineIndex::new(text).span(text, at..at + 1);
         diagnostics.push(
             Diagnostic::new(
                 &rules::XML_MALFORMED,
@@ -49,35 +66,27 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
                 format!("the XML nests elements more than {MAX_DEPTH} deep; it was not parsed"),
             )
             .with_label(format!("element {} levels deep", MAX_DEPTH + 1))
-            .with_help(
-                "a CiA 311 description nests about ten levels deep; is this the right file?",
-            ),
+            .with_help("a device description nests about ten levels deep; is this the right file?"),
         );
-        return Read {
-            device,
-            diagnostics,
-            text,
-        };
+        return None;
     }
-    // DTDs stay refused (roxmltree's default): no CiA 311 file has one, and entity expansion is
-    // a way to make a small file huge.
-    match Document::parse(&text) {
-        Ok(doc) => {
-            let mut reader = XmlReader::new(&doc, &text, &mut diagnostics);
-            reader.read_device(&mut device);
-        }
+    // DTDs stay refused (roxmltree's default): no device description has one, and entity
+    // expansion is a way to make a small file huge.
+    match Document::parse(text) {
+        Ok(doc) => Some(doc),
         Err(roxmltree::Error::DtdDetected) => {
             // roxmltree reports no useful position for this one: point at the declaration.
             let at = text.find("<!DOCTYPE").unwrap_or(0);
-            let span = LineIndex::new(&text).span(&text, at..at + "<!DOCTYPE".len());
+            let span = LineIndex::new(text).span(text, at..at + "<!DOCTYPE".len());
             diagnostics.push(
                 Diagnostic::new(
                     &rules::XML_MALFORMED,
                     Some(span),
-                    "the file has a DTD (`<!DOCTYPE`), which a CiA 311 description never needs",
+                    "the file has a DTD (`<!DOCTYPE`), which a device description never needs",
                 )
                 .with_help("remove the DOCTYPE declaration"),
             );
+            None
         }
         Err(err) => {
             let pos = err.pos();
@@ -89,12 +98,8 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
                 )
                 .with_label("the XML parser stopped here"),
             );
+            None
         }
-    }
-    Read {
-        device,
-        diagnostics,
-        text,
     }
 }
 
@@ -157,7 +162,7 @@ fn nesting_beyond(text: &str, max: usize) -> Option<usize> {
 
 /// The IEC 61131 elementary type names CiA 311 uses, and the CANopen basic type of each.
 /// `BITSTRING` is absent: it stands for OCTET_STRING or DOMAIN and is resolved separately.
-const IEC_TYPES: &[(&str, BasicType)] = &[
+pub(super) const IEC_TYPES: &[(&str, BasicType)] = &[
     ("BOOL", BasicType::Boolean),
     ("BYTE", BasicType::Unsigned8),
     ("CHAR", BasicType::Unsigned8),
@@ -231,32 +236,45 @@ struct XmlReader<'a, 'input> {
     data_types: HashMap<&'a str, Node<'a, 'input>>,
 }
 
+/// The span of an element's start tag name (`<CANopenObject`).
+pub(super) fn element_span(text: &str, lines: &LineIndex, node: Node) -> Span {
+    let start = node.range().start;
+    let tag_len = text.get(start..).map_or(0, |rest| {
+        rest.find(|c: char| c.is_whitespace() || c == '>' || c == '/')
+            .unwrap_or(rest.len())
+    });
+    lines.span(text, start..start + tag_len)
+}
+
 /// The local name of an element (namespace and prefix dropped).
-fn local<'a>(node: Node<'a, '_>) -> &'a str {
+pub(super) fn local<'a>(node: Node<'a, '_>) -> &'a str {
     node.tag_name().name()
 }
 
-fn is_element(node: Node, name: &str) -> bool {
+pub(super) fn is_element(node: Node, name: &str) -> bool {
     node.is_element() && local(node) == name
 }
 
-fn child<'a, 'input>(node: Node<'a, 'input>, name: &str) -> Option<Node<'a, 'input>> {
+pub(super) fn child<'a, 'input>(node: Node<'a, 'input>, name: &str) -> Option<Node<'a, 'input>> {
     node.children().find(|c| is_element(*c, name))
 }
 
-fn children<'a, 'input: 'a>(
+pub(super) fn children<'a, 'input: 'a>(
     node: Node<'a, 'input>,
     name: &'a str,
 ) -> impl Iterator<Item = Node<'a, 'input>> + 'a {
     node.children().filter(move |c| is_element(*c, name))
 }
 
-fn attribute<'a, 'input>(node: Node<'a, 'input>, name: &str) -> Option<Attribute<'a, 'input>> {
+pub(super) fn attribute<'a, 'input>(
+    node: Node<'a, 'input>,
+    name: &str,
+) -> Option<Attribute<'a, 'input>> {
     node.attributes().find(|a| a.name() == name)
 }
 
 /// The text of an element, trimmed; `None` when empty.
-fn element_text(node: Node) -> Option<String> {
+pub(super) fn element_text(node: Node) -> Option<String> {
     let text: String = node
         .descendants()
         .filter(|n| n.is_text())
@@ -286,7 +304,7 @@ fn language_text(node: Node, name: &str) -> Option<String> {
     first
 }
 
-fn parse_xml_bool(text: &str) -> Option<bool> {
+pub(super) fn parse_xml_bool(text: &str) -> Option<bool> {
     match text.trim() {
         "true" | "1" => Some(true),
         "false" | "0" => Some(false),
@@ -348,12 +366,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
 
     /// The span of an element's start tag name (`<CANopenObject`).
     fn element_span(&self, node: Node) -> Span {
-        let start = node.range().start;
-        let tag_len = self.text.get(start..).map_or(0, |rest| {
-            rest.find(|c: char| c.is_whitespace() || c == '>' || c == '/')
-                .unwrap_or(rest.len())
-        });
-        self.lines.span(self.text, start..start + tag_len)
+        element_span(self.text, &self.lines, node)
     }
 
     /// The span of an attribute's value (inside the quotes).

@@ -1,5 +1,5 @@
-//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, and the generator's size limits
-//! EDS707) judged over the resolved model.
+//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, EDS8xx for EtherCAT, and the
+//! generator's size limits EDS707) judged over the resolved model.
 //!
 //! It never looks at the text: everything it knows comes from [`Device`], so the same rules serve
 //! EDS, DCF, XDD and XDC. One submodule per area; each says which rules it owns and why a rule has
@@ -18,6 +18,7 @@ use crate::rules;
 
 mod dcf;
 mod device_info;
+mod esi;
 mod file_info;
 mod object_lists;
 mod objects;
@@ -31,7 +32,13 @@ pub fn validate(device: &Device) -> Vec<Diagnostic> {
     device_info::check(device, &mut out);
     object_lists::check(device, &mut out);
     objects::check(device, &mut out);
-    pdo::check(device, &mut out);
+    if device.source.format == Format::Esi {
+        // EtherCAT has no PDO communication parameters (1400h/1800h), COB-IDs or CAN frame
+        // limits: its PDOs are the RxPdo/TxPdo elements, judged against the SyncManagers.
+        esi::check(device, &mut out);
+    } else {
+        pdo::check(device, &mut out);
+    }
     dcf::check(device, &mut out);
     sections::check(device, &mut out);
     // What the generator cannot hold, so that a clean validate means generate succeeds.
@@ -169,7 +176,7 @@ fn raw_section<'a>(device: &'a Device, name: &str) -> Option<&'a RawSection> {
 }
 
 /// A short list of items for a message: the first few, then "and N more".
-fn short_list(items: &[String]) -> String {
+pub(crate) fn short_list(items: &[String]) -> String {
     const SHOWN: usize = 4;
     if items.len() <= SHOWN {
         items.join(", ")

@@ -19,7 +19,11 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
     if is_ini(device) {
         lists(device, out);
     }
-    required(device, out);
+    // CoE has neither NMT error control nor a mandatory 1001h, and an ESI file may carry no
+    // dictionary at all.
+    if device.source.format != crate::model::Format::Esi {
+        required(device, out);
+    }
 }
 
 fn list_name(kind: ObjectListKind) -> &'static str {

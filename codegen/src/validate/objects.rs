@@ -13,7 +13,7 @@
 use super::{at, effective_int, entry_name, obj, set_value, value_span, EntryName, ObjName};
 use crate::diag::{Diagnostic, Severity};
 use crate::model::{
-    AccessType, BasicType, Device, Object, ObjectType, SubObject, Value, ValueSource,
+    AccessType, BasicType, Device, Format, Object, ObjectType, SubObject, Value, ValueSource,
 };
 use crate::rules;
 
@@ -27,15 +27,20 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
             entry(device, o, sub, out);
         }
     }
-    default_cob_ids(device, out);
+    // EtherCAT has no COB-IDs.
+    if device.source.format != Format::Esi {
+        default_cob_ids(device, out);
+    }
     entry_keys_on_records(device, out);
     obj_flags(device, out);
 }
 
 /// Whether an entry's sub-index 0 is a count that legitimately differs from the highest
 /// sub-index (1003h error history, PDO mapping objects).
-fn sub0_is_special(index: u16) -> bool {
+fn sub0_is_special(device: &Device, index: u16) -> bool {
     matches!(index, 0x1003 | 0x1600..=0x17FF | 0x1A00..=0x1BFF)
+        // CoE PDO assignment (1C12h, 1C13h, ...): sub 0 counts the assigned PDOs.
+        || (device.source.format == Format::Esi && matches!(index, 0x1C10..=0x1C2F))
 }
 
 fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
@@ -392,7 +397,7 @@ fn sub0_checks(
             return;
         }
     }
-    if sub0_is_special(o.index) || compact {
+    if sub0_is_special(device, o.index) || compact {
         return;
     }
     if let Some(access) = sub0.access.filter(|a| a.writable()) {
@@ -625,7 +630,8 @@ fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>
             .with_label("name too long"),
         );
     }
-    if needs_var_keys(o, sub) {
+    // An ESI reader reports a type or access it cannot read itself (EDS805, EDS604).
+    if needs_var_keys(o, sub) && device.source.format != Format::Esi {
         let missing: Vec<&str> = [
             (sub.data_type.is_none(), "DataType"),
             (sub.access.is_none(), "AccessType"),
