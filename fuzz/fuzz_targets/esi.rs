@@ -15,16 +15,16 @@ use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    if data.len() % 2 == 0 {
-        let read = read_bytes(Path::new("fuzz.esi"), data);
-        let _ = edsgen_codegen::validate::validate(&read.device);
-        let _ = edsgen_codegen::dump::to_json(&read.device);
-    } else {
+    if data.len() % 2 == 1 {
         let read = read_bytes(Path::new("fuzz.xml"), data);
         let _ = edsgen_codegen::validate::validate(&read.device);
         for (device, _) in esi::read_all(Path::new("fuzz.xml"), data) {
             let _ = edsgen_codegen::validate::validate(&device);
             let _ = edsgen_codegen::dump::to_json(&device);
         }
+    } else {
+        let read = read_bytes(Path::new("fuzz.esi"), data);
+        let _ = edsgen_codegen::validate::validate(&read.device);
+        let _ = edsgen_codegen::dump::to_json(&read.device);
     }
 });
