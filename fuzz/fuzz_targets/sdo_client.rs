@@ -1,7 +1,11 @@
 //! Fuzz the master's SDO client (`master::SdoClient`): transfers of every type (expedited,
 //! segmented and block; upload and download; sized and unsized downloads) started from the
-//! input, answered by arbitrary server frames, with the caller feeding and draining the window
-//! and time passing in between.
+//! input, with the caller feeding and draining the window and time passing in between. The
+//! answers come from the runtime's SDO server (serving the master tests' `DomainOd`: a domain at
+//! 2100h, a word at 2101h) through a channel that delivers, drops, repeats or corrupts each of
+//! them as the input says, mixed with arbitrary frames; so the fuzzer reaches the late steps of
+//! long transfers (a sub-block's acknowledgement, the block end, the last segment) and breaks
+//! them there.
 //!
 //! Properties: nothing panics; a busy client always has a deadline, and it reports a result
 //! exactly when it stops being busy; a completed transfer reports its own entry and direction,
@@ -13,9 +17,16 @@
 
 use edsgen_runtime::master::sdo_client::DEFAULT_BUFFER;
 use edsgen_runtime::master::{Completed, Mode, SdoClient, SdoError, StartError};
+use edsgen_runtime::vbus::BusDevice;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::{CanFrame, Duration, Instant};
 use libfuzzer_sys::fuzz_target;
+use std::collections::VecDeque;
+
+#[path = "../../runtime/tests/master_support/mod.rs"]
+mod master_support;
+
+use master_support::{pattern, DomainServer};
 
 /// The server's node-ID.
 const NODE_ID: u8 = 5;
@@ -37,6 +48,9 @@ struct Transfer {
 
 struct Harness<'a, const BUF: usize> {
     client: SdoClient<BUF>,
+    server: DomainServer,
+    /// The server's answers not delivered yet.
+    answers: VecDeque<CanFrame>,
     now: Instant,
     transfer: Transfer,
     bytes: std::slice::Iter<'a, u8>,
@@ -50,8 +64,12 @@ impl<const BUF: usize> Harness<'_, BUF> {
     /// Starts the transfer the next bytes describe.
     fn start(&mut self) {
         let kind = self.byte();
-        let sub = self.byte() % 4;
-        let mux = Multiplexer::new(0x2000 + u16::from(kind >> 4), sub);
+        // The domain (most often), the word, or an entry the server does not have.
+        let mux = match kind >> 4 {
+            0..=9 => Multiplexer::new(0x2100, 0),
+            10..=13 => Multiplexer::new(0x2101, 0),
+            n => Multiplexer::new(0x2100 + u16::from(n), self.byte() % 4),
+        };
         // Mostly small sizes, so that a download completes within an input; sometimes any.
         let size = match self.byte() {
             b @ 0..=0xEF => u32::from(b % 64),
@@ -63,6 +81,10 @@ impl<const BUF: usize> Harness<'_, BUF> {
         } else {
             Mode::Block
         };
+        if !busy && kind % 4 == 0 {
+            // An upload reads a domain of the size.
+            self.server.od.domain = pattern(size.min(4096) as usize);
+        }
         let pst = self.byte();
         self.client.set_protocol_switch_threshold(pst);
         let (started, upload, announced) = match kind % 4 {
@@ -131,7 +153,7 @@ impl<const BUF: usize> Harness<'_, BUF> {
         }
     }
 
-    /// Sends what the client has to send.
+    /// Sends what the client has to send to the server, and queues the server's answers.
     fn drain(&mut self) {
         let mut sent = 0;
         while let Some(frame) = self.client.poll_transmit(self.now) {
@@ -139,6 +161,36 @@ impl<const BUF: usize> Harness<'_, BUF> {
             assert_eq!(frame.dlc(), 8, "{frame:?}");
             sent += 1;
             assert!(sent <= 200, "poll_transmit never runs dry");
+            self.server.handle_frame(self.now, &frame);
+            while let Some(answer) = self.server.poll_transmit(self.now) {
+                self.answers.push_back(answer);
+            }
+        }
+    }
+
+    /// Delivers the server's next answer as the next byte says: most often as it is; below
+    /// 20h with one byte changed (byte `b % 8` XORed with the next input byte, made odd so that
+    /// it changes); 20h to 27h not at all (lost); 28h to 2Fh twice.
+    fn deliver(&mut self) {
+        let Some(answer) = self.answers.pop_front() else {
+            return;
+        };
+        let how = self.byte();
+        match how {
+            0x00..=0x1F => {
+                let mut data = [0u8; 8];
+                data[..answer.data().len()].copy_from_slice(answer.data());
+                data[usize::from(how % 8)] ^= self.byte() | 1;
+                let id = answer.std_id().unwrap_or(0);
+                let changed = CanFrame::from_parts(id, data, answer.dlc());
+                self.client.handle_frame(self.now, &changed);
+            }
+            0x20..=0x27 => {}
+            0x28..=0x2F => {
+                self.client.handle_frame(self.now, &answer);
+                self.client.handle_frame(self.now, &answer);
+            }
+            _ => self.client.handle_frame(self.now, &answer),
         }
     }
 
@@ -229,6 +281,8 @@ fn run<const BUF: usize>(input: &[u8]) {
     client.set_timeout(Duration::from_millis(100));
     let mut h = Harness {
         client,
+        server: DomainServer::new(NODE_ID),
+        answers: VecDeque::new(),
         now: Instant::from_millis(0),
         transfer: Transfer::default(),
         bytes: input.iter(),
@@ -237,22 +291,26 @@ fn run<const BUF: usize>(input: &[u8]) {
     h.drain();
     while let Some(&op) = h.bytes.next() {
         let was_busy = h.client.is_busy();
-        match op % 10 {
-            0..=3 => h.frame(),
-            4 => h.drain(),
-            5 => {
+        match op % 12 {
+            0..=3 => h.deliver(),
+            4 => h.frame(),
+            5 | 11 => h.drain(),
+            6 => {
                 let step = u64::from(h.byte()) * 1000;
                 h.now = h.now + Duration::from_micros(step);
                 if h.client.poll_timeout().is_some_and(|at| at <= h.now) {
                     h.client.handle_timeout(h.now);
                 }
+                if h.server.poll_timeout().is_some_and(|at| at <= h.now) {
+                    h.server.handle_timeout(h.now);
+                }
             }
-            6 => {
+            7 => {
                 let n = usize::from(h.byte() % 32);
                 h.caller(n);
             }
-            7 => h.client.end_data(),
-            8 => h.start(),
+            8 => h.client.end_data(),
+            9 => h.start(),
             _ => {
                 if h.byte() == 0xAB {
                     h.client.abort(0x0800_0000);
