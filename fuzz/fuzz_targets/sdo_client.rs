@@ -81,10 +81,6 @@ impl<const BUF: usize> Harness<'_, BUF> {
         } else {
             Mode::Block
         };
-        if !busy && kind % 4 == 0 {
-            // An upload reads a domain of the size.
-            self.server.od.domain = pattern(size.min(4096) as usize);
-        }
         let pst = self.byte();
         self.client.set_protocol_switch_threshold(pst);
         let (started, upload, announced) = match kind % 4 {
@@ -104,6 +100,11 @@ impl<const BUF: usize> Harness<'_, BUF> {
             Ok(()) => {
                 assert!(!busy, "a transfer started on a busy client");
                 assert!(self.client.is_busy(), "a started transfer is not busy");
+                if upload {
+                    // The server answers with a domain of the size (the request reaches it
+                    // only at the next drain).
+                    self.server.od.domain = pattern(size.min(4096) as usize);
+                }
                 self.transfer = Transfer {
                     mux,
                     upload,
