@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs the cargo-fuzz targets (fuzz/fuzz_targets/) for a while; not part of CI (too long).
 #
-#   scripts/fuzz.sh [eds|xml|node|all] [SECONDS]      (defaults: all, 900 seconds per target)
+#   scripts/fuzz.sh [TARGET|all] [SECONDS]      (defaults: all, 900 seconds per target)
+#
+# TARGET: eds, xml, esi, node, socketcand, decode, sdo_client.
 #
 # Works on the stable toolchain: cargo-fuzz's nightly flags are allowed with RUSTC_BOOTSTRAP=1.
 # Debug assertions are on (-a), so arithmetic overflow panics. FUZZ_SANITIZER picks the sanitizer:
@@ -12,9 +14,11 @@
 # Seeds are copied at run time into fuzz/corpus/<target>/ (git-ignored): for eds the bundled cards
 # (eds/*.eds) and the corpus's *.eds/*.dcf files up to the length limit; for xml the corpus's
 # *.xdd/*.xdc files, each shrunk to fit the limit by fuzz/shrink_xml.py (a cut XML file is not
-# well-formed, so it would only exercise the parser), plus codegen/tests/esi/*.xml and the ESI
-# corpus's files under the limit. The corpus is EDSGEN_CORPUS, else ../shared/eds-corpus (the ESI
-# corpus EDSGEN_ESI_CORPUS, else ../shared/esi-corpus). Findings land in fuzz/artifacts/<target>/ (git-ignored too).
+# well-formed, so it would only exercise the parser); for esi the ESI corpus's files, shrunk by
+# fuzz/shrink_esi.py; for decode a short candump -L session written here; node, socketcand and
+# sdo_client start empty. The corpus is EDSGEN_CORPUS, else ../shared/eds-corpus; the ESI corpus
+# EDSGEN_ESI_CORPUS, else ../shared/esi-corpus. Findings land in fuzz/artifacts/<target>/
+# (git-ignored too).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -24,13 +28,14 @@ seconds=${2:-900}
 sanitizer=${FUZZ_SANITIZER:-none}
 max_len=65536
 corpus_src=${EDSGEN_CORPUS:-$root/../shared/eds-corpus}
-esi_corpus_src=${EDSGEN_ESI_CORPUS:-$root/../shared/esi-corpus}
+esi_src=${EDSGEN_ESI_CORPUS:-$root/../shared/esi-corpus}
+all=(eds xml esi node socketcand decode sdo_client)
 
 case "$target" in
-eds | xml | node) targets=("$target") ;;
-all) targets=(eds xml node) ;;
+eds | xml | esi | node | socketcand | decode | sdo_client) targets=("$target") ;;
+all) targets=("${all[@]}") ;;
 *)
-    echo "usage: scripts/fuzz.sh [eds|xml|node|all] [SECONDS]" >&2
+    echo "usage: scripts/fuzz.sh [eds|xml|esi|node|socketcand|decode|sdo_client|all] [SECONDS]" >&2
     exit 2
     ;;
 esac
@@ -60,19 +65,59 @@ seed() {
                     python3 fuzz/shrink_xml.py "$f" "$dir/$(basename "$(dirname "$f")")__$(basename "$f")" "$max_len"
                 done
         fi
-        # ESI files (read by the same target through `fuzz.xml`): the project's own, and the
-        # ESI corpus's that fit the limit.
-        cp codegen/tests/esi/*.xml "$dir"/
-        if [ -d "$esi_corpus_src" ]; then
-            find "$esi_corpus_src" -type f \( -iname '*.xml' -o -iname '*.esi' \) -size -"$max_len"c -print0 |
+        ;;
+    esi)
+        if [ -d "$esi_src" ]; then
+            find "$esi_src" -type f \( -iname '*.xml' -o -iname '*.esi' \) -print0 |
                 while IFS= read -r -d '' f; do
-                    cp "$f" "$dir/esi__$(basename "$f")"
+                    python3 fuzz/shrink_esi.py "$f" "$dir/$(basename "$(dirname "$f")")__$(basename "$f")" "$max_len"
                 done
+        else
+            echo "note: no ESI corpus at $esi_src (set EDSGEN_ESI_CORPUS); no seeds" >&2
         fi
         ;;
-    node) ;; # arbitrary bytes: no seeds needed
+    decode)
+        # Node 5 (described by eds/cp301.eds in odd-length inputs): NMT, boot-up, expedited,
+        # segmented and block SDO, an abort, a mapping write, SYNC, PDOs, EMCY, TIME, guarding.
+        cat >"$dir/session.log" <<'EOF'
+(1764000000.000100) can0 000#8105
+(1764000000.000800) can0 705#00
+(1764000000.001000) can0 605#4000100000000000
+(1764000000.001100) can0 585#4300100091010200
+(1764000000.002000) can0 605#2B17100032000000
+(1764000000.002100) can0 585#6017100000000000
+(1764000000.003000) can0 605#4008100000000000
+(1764000000.003100) can0 585#4108100009000000
+(1764000000.003200) can0 605#6000000000000000
+(1764000000.003300) can0 585#0043503330312D31
+(1764000000.003400) can0 605#7000000000000000
+(1764000000.003500) can0 585#1B6F6E0000000000
+(1764000000.004000) can0 605#C600180204000000
+(1764000000.004100) can0 585#A400180204000000
+(1764000000.004200) can0 605#8191010000000000
+(1764000000.004300) can0 585#A2017F0000000000
+(1764000000.004400) can0 605#D500000000000000
+(1764000000.004500) can0 585#A100000000000000
+(1764000000.005000) can0 605#4000500000000000
+(1764000000.005100) can0 585#8000500000000206
+(1764000000.006000) can0 605#2F001A0000000000
+(1764000000.006100) can0 585#60001A0000000000
+(1764000000.007000) can0 000#0105
+(1764000000.008000) can0 080#
+(1764000000.008100) can0 185#0102
+(1764000000.008200) can0 205#0304
+(1764000000.009000) can0 085#1081110000000000
+(1764000000.010000) can0 100#00E4C6014A38
+(1764000000.011000) can0 705#R
+(1764000000.011100) can0 705#85
+(1764000000.012000) can0 12345678#DEADBEEF
+(1764000000.013000) can0 7E5#1234
+(1764000000.014000) can0 605#4000600000000000
+EOF
+        ;;
+    node | socketcand | sdo_client) ;; # arbitrary bytes: no seeds needed
     esac
-    if [ "$name" != node ] && [ ! -d "$corpus_src" ]; then
+    if [[ "$name" == eds || "$name" == xml ]] && [ ! -d "$corpus_src" ]; then
         echo "note: no corpus at $corpus_src (set EDSGEN_CORPUS); seeding from what there is" >&2
     fi
 }
@@ -81,8 +126,9 @@ for name in "${targets[@]}"; do
     seed "$name"
     args=(-max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1)
     case "$name" in
-    eds | xml) args+=(-max_len="$max_len" -dict="fuzz/dict/$name.dict") ;;
-    node) args+=(-max_len=4096) ;;
+    eds | xml | esi) args+=(-max_len="$max_len" -dict="fuzz/dict/$name.dict") ;;
+    decode | socketcand) args+=(-max_len=4096 -dict="fuzz/dict/$name.dict") ;;
+    node | sdo_client) args+=(-max_len=4096) ;;
     esac
     log=fuzz/artifacts/$name.log
     mkdir -p fuzz/artifacts

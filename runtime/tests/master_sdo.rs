@@ -323,6 +323,28 @@ fn a_block_download_of_unannounced_size_tells_the_size_in_the_end_frame() {
     );
 }
 
+/// Found by the sdo_client fuzz target: the block download's end state was not counted as a
+/// download, so its result said `upload: true`.
+#[cfg(feature = "sdo-block")]
+#[test]
+fn a_completed_block_download_is_reported_as_a_download() {
+    let mut server = DomainServer::new(6);
+    let mut client = SdoClient::<32>::new(6);
+    let mut bus = VirtualBus::new(ms(0));
+    let value: Vec<u8> = (1..=20).collect();
+    client.download(ms(0), DOMAIN, 20, Mode::Block).unwrap();
+    let (result, _) = run_transfer(&mut bus, &mut client, &mut server, &value);
+    assert_eq!(
+        result,
+        Ok(Completed {
+            mux: DOMAIN,
+            size: 20,
+            upload: false
+        })
+    );
+    assert_eq!(server.od.domain, value);
+}
+
 #[cfg(feature = "sdo-block")]
 #[test]
 fn a_block_download_of_64_kib_of_unannounced_size_streams_through_the_window() {

@@ -543,6 +543,7 @@ impl<const BUF: usize> SdoClient<BUF> {
                 | State::DownloadSegment { .. }
                 | State::BlockDownloadInitiate
                 | State::BlockDownloadSub { .. }
+                | State::BlockDownloadEnd
         )
     }
 

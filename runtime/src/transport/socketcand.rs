@@ -149,16 +149,16 @@ impl Message {
             ["open", channel] => Message::Open((*channel).to_owned()),
             ["rawmode"] => Message::Rawmode,
             ["send", id, len, bytes @ ..] => {
-                let len = u8::from_str_radix(len, 16)
-                    .ok()
+                let len = parse_id(len)
                     .filter(|&l| l <= 8)
-                    .ok_or_else(|| bad("length is not 0 to 8"))?;
+                    .ok_or_else(|| bad("length is not 0 to 8"))? as u8;
                 let data = bytes
                     .iter()
                     .map(|b| {
                         (b.len() <= 2)
-                            .then(|| u8::from_str_radix(b, 16).ok())
+                            .then(|| parse_id(b))
                             .flatten()
+                            .map(|b| b as u8)
                     })
                     .collect::<Option<Vec<u8>>>()
                     .ok_or_else(|| bad("a data byte is not hex"))?;
@@ -267,6 +267,7 @@ fn push_id(text: &mut String, frame: &CanFrame) {
     .unwrap_or(())
 }
 
+/// Up to 8 hex digits (nothing else: no sign) as a number.
 fn parse_id(text: &str) -> Option<u32> {
     (!text.is_empty() && text.len() <= 8 && text.bytes().all(|b| b.is_ascii_hexdigit()))
         .then(|| u32::from_str_radix(text, 16).ok())
@@ -657,6 +658,18 @@ mod tests {
             (
                 " send 602 1 1zz ",
                 "bad `send 602 1 1zz` message: a data byte is not hex",
+            ),
+            (
+                " send 602 +1 1 ",
+                "bad `send 602 +1 1` message: length is not 0 to 8",
+            ),
+            (
+                " send 602 1 +f ",
+                "bad `send 602 1 +f` message: a data byte is not hex",
+            ),
+            (
+                " frame 123 1.0 +F ",
+                "bad `frame 123 1.0 +F` message: bad data",
             ),
             (
                 " send 802 1 1 ",

@@ -190,9 +190,10 @@ fn remote_frame(raw: u32, extended: bool, len: u8) -> Option<CanFrame> {
     CanFrame::new_remote(id, len as usize)
 }
 
-/// `text` as bytes written as pairs of hex digits (at most 8 of them).
+/// `text` as bytes written as pairs of hex digits (at most 8 of them). Only digits: a sign, which
+/// `from_str_radix` would take (`+F`), is not one.
 pub(crate) fn parse_hex(text: &str) -> Option<Vec<u8>> {
-    if text.len() % 2 != 0 || text.len() > 16 || !text.is_ascii() {
+    if text.len() % 2 != 0 || text.len() > 16 || !text.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;
     }
     (0..text.len())
@@ -491,6 +492,10 @@ mod tests {
             (
                 "(1.000000) can0 603#é1",
                 "bad data `é1`: expected 0 to 8 bytes as pairs of hex digits",
+            ),
+            (
+                "(1.000000) can0 603#+F",
+                "bad data `+F`: expected 0 to 8 bytes as pairs of hex digits",
             ),
             (
                 "(1.000000) can0 603#R9",
