@@ -1,6 +1,8 @@
 //! The CoE dictionary: `Profile/Dictionary` objects and `DataType`s into CiA 301 objects, with
 //! the IEC 61131 type names mapped to CiA 301 data types.
 
+use std::collections::BTreeMap;
+
 use roxmltree::Node;
 
 use super::values::{data_value, parse_hex_bytes, parse_number, twos_complement};
@@ -114,7 +116,12 @@ struct EntryFacts<'a, 'input> {
 }
 
 impl<'a, 'input> EsiReader<'a, 'input> {
-    pub(super) fn read_dictionary(&mut self, dictionary: Node<'a, 'input>, device: &mut Device) {
+    /// Reads a `Dictionary` into `objects` (a device's, or a module's).
+    pub(super) fn read_dictionary(
+        &mut self,
+        dictionary: Node<'a, 'input>,
+        objects: &mut BTreeMap<u16, Object>,
+    ) {
         if let Some(types) = child(dictionary, "DataTypes") {
             for ty in children(types, "DataType") {
                 let Some(name) = child(ty, "Name").and_then(element_text) else {
@@ -133,15 +140,15 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 }
             }
         }
-        let Some(objects) = child(dictionary, "Objects") else {
+        let Some(list) = child(dictionary, "Objects") else {
             return;
         };
-        for node in children(objects, "Object") {
+        for node in children(list, "Object") {
             let Some(object) = self.read_object(node) else {
                 continue;
             };
             let (index, span) = (object.index, object.span);
-            if device.objects.insert(index, object).is_some() {
+            if objects.insert(index, object).is_some() {
                 self.push(Diagnostic::new(
                     &rules::ESI_DUPLICATE_OBJECT,
                     Some(span),
