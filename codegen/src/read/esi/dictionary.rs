@@ -103,6 +103,21 @@ fn access_of(access: &str, mapping: Option<&str>) -> Option<AccessType> {
         },
     )
 }
+/// An enum `DataType` without `BaseType` (only `BitSize` and `EnumInfo`, as some vendors write
+/// them): BOOLEAN for one bit, else the smallest unsigned type of its `BitSize`.
+fn enum_without_base<'a, 'input>(def: Node<'a, 'input>) -> Resolved<'a, 'input> {
+    let bits = child(def, "BitSize")
+        .and_then(element_text)
+        .and_then(|t| parse_number(&t));
+    match (child(def, "EnumInfo"), bits) {
+        (Some(_), Some(1)) => Resolved::Basic(BasicType::Boolean, None),
+        (Some(_), Some(2..=8)) => Resolved::Basic(BasicType::Unsigned8, None),
+        (Some(_), Some(9..=16)) => Resolved::Basic(BasicType::Unsigned16, None),
+        (Some(_), Some(17..=32)) => Resolved::Basic(BasicType::Unsigned32, None),
+        _ => Resolved::Unknown,
+    }
+}
+
 /// What one entry's elements say (an object's, or one SubItem's with the object's as fallback).
 struct EntryFacts<'a, 'input> {
     name: String,
@@ -190,7 +205,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             }
             match base {
                 Some(base) => name = base,
-                None => return Resolved::Unknown,
+                None => return enum_without_base(def),
             }
         }
         Resolved::Unknown
