@@ -907,3 +907,49 @@ fn eds817_an_alternative_with_two_excluding_pdos() {
         )]
     );
 }
+
+#[test]
+fn dump_shows_alternatives_slots_and_modules() {
+    let json = edsgen_codegen::dump::to_json(&read(&modular()).device);
+    let ec = &json["ethercat"];
+    assert_eq!(
+        ec["alternative_mappings"][1],
+        serde_json::json!({
+            "name": "Short",
+            "default": false,
+            "sms": [{"sm": 2, "pdos": [0x1601]}, {"sm": 3, "pdos": [0x1A00, 0x1A01]}],
+        })
+    );
+    assert_eq!(
+        ec["slots"][0],
+        serde_json::json!({
+            "name": "Inputs",
+            "min_instances": 1,
+            "max_instances": 2,
+            "module_idents": [0x100, 0x101],
+            "module_classes": [],
+            "default_module": 0x100,
+            "index_increment": 0x10,
+            "pdo_increment": 1,
+        })
+    );
+    let module = &ec["modules"][0];
+    assert_eq!(
+        (
+            &module["ident"],
+            &module["type_name"],
+            &module["class"],
+            &module["name"]
+        ),
+        (
+            &serde_json::json!(0x100),
+            &serde_json::json!("TM-DI16"),
+            &serde_json::json!("DI"),
+            &serde_json::json!("16 digital inputs")
+        )
+    );
+    assert_eq!(module["tx_pdos"][0]["index"], 0x1A00);
+    assert_eq!(module["tx_pdos"][0]["bits"], 16);
+    assert_eq!(module["objects"][0]["index"], 0x6000);
+    assert_eq!(ec["modules"][1]["class"], serde_json::Value::Null);
+}
