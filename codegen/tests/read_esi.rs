@@ -953,3 +953,31 @@ fn dump_shows_alternatives_slots_and_modules() {
     assert_eq!(module["objects"][0]["index"], 0x6000);
     assert_eq!(ec["modules"][1]["class"], serde_json::Value::Null);
 }
+
+#[test]
+fn an_enum_without_base_type_is_unsigned_by_its_bit_size() {
+    let enum_info = "<EnumInfo><Text>Keep</Text><Enum>0</Enum></EnumInfo>";
+    for (bits, data_type) in [("8", 0x0005), ("1", 0x0001)] {
+        let text = edit(
+            "<BaseType>SINT</BaseType>\n                <BitSize>8</BitSize>",
+            &format!("<BitSize>{bits}</BitSize>{enum_info}"),
+        );
+        let device = read(&text).device;
+        assert_eq!(
+            device.entry(0x6060, 0).expect("6060h").data_type,
+            Some(data_type)
+        );
+    }
+    // Without EnumInfo, a DataType without BaseType or SubItems stays unknown.
+    let text = edit("<BaseType>SINT</BaseType>\n", "");
+    assert_eq!(
+        findings(&text),
+        vec![(
+            "EDS805",
+            Error,
+            200,
+            "type `DT6060EN` is neither an IEC 61131 type nor a DataType of the Dictionary"
+                .to_owned()
+        )]
+    );
+}
