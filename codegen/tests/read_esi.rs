@@ -693,7 +693,8 @@ fn modular_findings(text: &str) -> Vec<(&'static str, Severity, u32, String)> {
 fn alternative_mappings_slots_and_modules_are_read() {
     let read = read(&modular());
     let ec = read.device.ethercat.as_ref().expect("an ESI device");
-    let alternatives: Vec<(&str, bool, Vec<(u8, Vec<u16>)>)> = ec
+    type Sms = Vec<(u8, Vec<u16>)>;
+    let alternatives: Vec<(&str, bool, Sms)> = ec
         .alternative_mappings
         .iter()
         .map(|a| {
