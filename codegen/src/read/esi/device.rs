@@ -108,27 +108,13 @@ impl<'a, 'input> EsiReader<'a, 'input> {
 
     /// The `Slots/Slot` elements, each with the increments it inherits from `Slots`.
     fn read_slots(&mut self, slots: Node, ec: &mut EtherCat) {
-        let increments = |this: &mut Self, node: Node, inherited: (u16, u16)| {
-            let mut number = |name: &str, fallback: u16| {
-                this.attr_number(node, name)
-                    .and_then(|n| u16::try_from(n).ok())
-                    .unwrap_or(fallback)
-            };
-            (
-                number("SlotIndexIncrement", inherited.0),
-                number("SlotPdoIncrement", inherited.1),
-            )
-        };
-        let inherited = increments(self, slots, (0, 0));
+        let index_increment = self.attr_or(slots, "SlotIndexIncrement", 0u16);
+        let pdo_increment = self.attr_or(slots, "SlotPdoIncrement", 0u16);
         for slot in children(slots, "Slot") {
-            let (index_increment, pdo_increment) = increments(self, slot, inherited);
-            let mut instances = |name: &str| {
-                self.attr_number(slot, name)
-                    .and_then(|n| u32::try_from(n).ok())
-                    .unwrap_or(1)
-            };
-            let (min_instances, max_instances) =
-                (instances("MinInstances"), instances("MaxInstances"));
+            let index_increment = self.attr_or(slot, "SlotIndexIncrement", index_increment);
+            let pdo_increment = self.attr_or(slot, "SlotPdoIncrement", pdo_increment);
+            let min_instances = self.attr_or(slot, "MinInstances", 1u32);
+            let max_instances = self.attr_or(slot, "MaxInstances", 1u32);
             let mut module_idents = Vec::new();
             let mut default_module = None;
             for ident in children(slot, "ModuleIdent") {
@@ -157,6 +143,14 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 span: self.spans.element(slot),
             });
         }
+    }
+
+    /// A numeric attribute that fits `T`; `fallback` when absent or out of range (an `EDS604`
+    /// error when it is no number).
+    fn attr_or<T: TryFrom<i128>>(&mut self, node: Node, name: &str, fallback: T) -> T {
+        self.attr_number(node, name)
+            .and_then(|n| T::try_from(n).ok())
+            .unwrap_or(fallback)
     }
 
     /// One `Modules/Module`: identity, PDOs, and its own dictionary, read with the device's
