@@ -65,6 +65,12 @@ enum Command {
         /// The description file.
         file: PathBuf,
     },
+    /// List the devices of an ESI file, one line each: type name, product code, revision,
+    /// profiles, bits mapped by default to outputs and inputs, name.
+    Devices {
+        /// The ESI file.
+        file: PathBuf,
+    },
     /// Generate the Rust module build.rs would produce for one device.
     Generate {
         /// The description file.
@@ -195,6 +201,7 @@ fn main() -> ExitCode {
             device,
             file,
         } => cmd::dump::run(&file, device.as_deref()),
+        Command::Devices { file } => cmd::devices::run(&file),
         Command::Generate {
             file,
             output,

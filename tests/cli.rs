@@ -636,3 +636,38 @@ fn device_picks_one_device_of_an_esi_file() {
         );
     }
 }
+
+#[test]
+fn devices_lists_the_devices_of_an_esi_file() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/codegen/tests/esi/drive.xml");
+    let out = run(&["devices", path]);
+    assert_eq!(code(&out), 0);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "TD-1\t#x00009252\t#x00000001\tprofile 402\tout 56 bits\tin 16 bits\tTest drive\n\
+         TD-2\t#x00009253\t#x00000002\tprofile -\tout 0 bits\tin 0 bits\tSecond test drive\n"
+    );
+    assert!(out.stderr.is_empty());
+    // A CANopen description is no ESI file: a usage error.
+    let eds = file("devices", "clean.eds", CLEAN);
+    let out = run(&["devices", eds.to_str().unwrap()]);
+    assert_eq!(code(&out), 2);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        format!(
+            "error: {}: not an ESI file; a CANopen description has one device\n",
+            eds.display()
+        )
+    );
+    // A file of modules without a device: its diagnostics, exit 1.
+    let xml = file(
+        "devices",
+        "modules.xml",
+        "<EtherCATModule><Modules><Module/></Modules></EtherCATModule>\n",
+    );
+    let out = run(&["devices", xml.to_str().unwrap()]);
+    assert_eq!(code(&out), 1);
+    assert!(out.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("error[EDS801]: the file describes no Device"));
+}

@@ -50,8 +50,8 @@ pub fn to_json(device: &Device) -> Json {
     })
 }
 
-/// The EtherCAT side of an ESI device: SyncManagers, PDOs, CoE mailbox, DC op-modes, other
-/// devices of the file. `null` for CANopen descriptions.
+/// The EtherCAT side of an ESI device: SyncManagers, PDOs, CoE mailbox, DC op-modes,
+/// alternative PDO assignments, slots, the file's modules, other devices of the file. `null` for CANopen descriptions.
 fn ethercat(ec: &EtherCat) -> Json {
     let sm_kind = |kind: &SmKind| match kind {
         SmKind::MailboxOut => "MBoxOut".to_owned(),
@@ -109,6 +109,33 @@ fn ethercat(ec: &EtherCat) -> Json {
             "description": m.description,
             "assign_activate": m.assign_activate,
             "cycle_time_sync0": m.cycle_time_sync0,
+        })).collect::<Vec<_>>(),
+        "alternative_mappings": ec.alternative_mappings.iter().map(|a| json!({
+            "name": a.name,
+            "default": a.default,
+            "sms": a.sms.iter().map(|(sm, pdos)| json!({
+                "sm": sm,
+                "pdos": pdos.iter().map(|p| p.value).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "slots": ec.slots.iter().map(|s| json!({
+            "name": s.name,
+            "min_instances": s.min_instances,
+            "max_instances": s.max_instances,
+            "module_idents": s.module_idents,
+            "module_classes": s.module_classes,
+            "default_module": s.default_module,
+            "index_increment": s.index_increment,
+            "pdo_increment": s.pdo_increment,
+        })).collect::<Vec<_>>(),
+        "modules": ec.modules.iter().map(|m| json!({
+            "ident": m.ident,
+            "type_name": m.type_name,
+            "class": m.class,
+            "name": m.name,
+            "rx_pdos": m.rx_pdos.iter().map(pdo).collect::<Vec<_>>(),
+            "tx_pdos": m.tx_pdos.iter().map(pdo).collect::<Vec<_>>(),
+            "objects": m.objects.values().map(object).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
         "other_devices": ec.other_devices.iter().map(|(name, code, revision)| json!({
             "type_name": name,

@@ -174,12 +174,12 @@ rules! {
 
     // ---- EDS8xx: EtherCAT (ESI files) ----
     ESI_NO_DEVICE = "EDS801" Error "an ESI file with no Device to read (a module description, or no device matches the `--device` choice)";
-    ESI_MODULES = "EDS802" Info "a modular device: its Modules and Slots are listed, not read into the model";
+    ESI_MODULES = "EDS802" Info "a modular device: its Slots and the file's Modules are read, but no process image is generated for a module (a file of modules without a device is not read)";
     ESI_IDENTITY = "EDS803" Error "a Vendor Id, ProductCode or RevisionNo that is missing or not a number";
     ESI_PROFILE = "EDS804" Warning "a device with a CoE dictionary but no Profile/ProfileNo";
     ESI_UNKNOWN_TYPE = "EDS805" Error "a Type that is neither an IEC 61131 type, STRING(n), ARRAY [..] OF .., nor a DataType of the Dictionary (the entry has no data type)";
     ESI_DUPLICATE_OBJECT = "EDS806" Error "an object index, or a DataType name, described twice in the Dictionary; the last one wins";
-    ESI_PDO_ENTRY_MISSING = "EDS807" Error "a PDO Entry names an object or sub-index the Dictionary does not have (warning for a device with Slots, whose modules may add the object)";
+    ESI_PDO_ENTRY_MISSING = "EDS807" Error "a PDO Entry names an object or sub-index the Dictionary does not have, and no module of the file defines (at its index, or moved by a slot's SlotIndexIncrement)";
     ESI_PDO_ENTRY_LENGTH = "EDS808" Error "a PDO Entry's BitLen differs from the bit size of the object it maps";
     ESI_PDO_ALIGNMENT = "EDS809" Warning "a PDO Entry of 8 bits or more that does not start on a byte boundary of its PDO (ethercrab's wire types need byte alignment)";
     ESI_SM_OVERFLOW = "EDS810" Error "the PDOs assigned to a SyncManager by default hold more bytes than its DefaultSize";
@@ -187,6 +187,9 @@ rules! {
     ESI_EXCLUDE_CONFLICT = "EDS812" Error "two PDOs that exclude each other are both assigned by default (both have Sm)";
     ESI_DUPLICATE_PDO = "EDS813" Error "two RxPdo/TxPdo elements with the same Index";
     ESI_PDO_WITHOUT_SM = "EDS814" Info "PDOs without `Sm`: not assigned by default (once per device, naming them)";
+    ESI_ALT_PDO_MISSING = "EDS815" Error "an AlternativeSmMapping assigns a PDO the device does not have";
+    ESI_ALT_SM_OVERFLOW = "EDS816" Error "the PDOs an AlternativeSmMapping assigns to a SyncManager hold more bytes than its DefaultSize";
+    ESI_ALT_EXCLUDE_CONFLICT = "EDS817" Error "an AlternativeSmMapping assigns two PDOs that exclude each other";
 }
 
 /// Looks a rule up by its code.

@@ -341,7 +341,7 @@ fn a_file_of_modules_has_no_device() {
                 "EDS802",
                 Info,
                 2,
-                "the file describes 1 module(s) of a modular device; modules are not read"
+                "the file describes 1 module(s) and no device to plug them into; they are not read"
                     .to_owned()
             ),
         ]
@@ -611,23 +611,6 @@ fn eds805_an_unknown_type_name() {
 }
 
 #[test]
-fn eds802_slots_are_reported() {
-    let text = edit(
-        "        <Dc>",
-        "        <Slots><Slot><Name>Axis</Name></Slot></Slots>\n        <Dc>",
-    );
-    assert_eq!(
-        findings(&text),
-        vec![(
-            "EDS802",
-            Info,
-            293,
-            "the device has 1 slot(s) for modules; what a module adds is not read".to_owned()
-        )]
-    );
-}
-
-#[test]
 fn cut_and_corrupted_files_read_without_a_panic() {
     let text = drive();
     let mut inputs: Vec<String> = (0..text.len())
@@ -681,4 +664,321 @@ fn profile_numbers_are_collected_from_channels_without_repeats() {
     );
     let ec = read(&text).device.ethercat.expect("EtherCAT part");
     assert_eq!(ec.profiles, vec![402, 5001]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// A modular device: `tests/esi/modular.xml` (UTF-8), with slots, modules and alternative
+// PDO assignments.
+
+fn modular() -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/esi/modular.xml"))
+        .expect("tests/esi/modular.xml")
+}
+
+fn edit_modular(from: &str, to: &str) -> String {
+    let text = modular();
+    assert!(text.contains(from), "`{from}` not in modular.xml");
+    text.replacen(from, to, 1)
+}
+
+/// [`diagnostics`] without the two infos the modular file has on purpose (EDS802, EDS814).
+fn modular_findings(text: &str) -> Vec<(&'static str, Severity, u32, String)> {
+    diagnostics(text)
+        .into_iter()
+        .filter(|d| d.0 != "EDS802" && d.0 != "EDS814")
+        .collect()
+}
+
+#[test]
+fn alternative_mappings_slots_and_modules_are_read() {
+    let read = read(&modular());
+    let ec = read.device.ethercat.as_ref().expect("an ESI device");
+    type Sms = Vec<(u8, Vec<u16>)>;
+    let alternatives: Vec<(&str, bool, Sms)> = ec
+        .alternative_mappings
+        .iter()
+        .map(|a| {
+            let sms = a
+                .sms
+                .iter()
+                .map(|(sm, pdos)| (*sm, pdos.iter().map(|p| p.value).collect()))
+                .collect();
+            (a.name.as_str(), a.default, sms)
+        })
+        .collect();
+    assert_eq!(
+        alternatives,
+        vec![
+            ("Standard", true, vec![(2, vec![0x1600]), (3, vec![0x1A00])]),
+            (
+                "Short",
+                false,
+                vec![(2, vec![0x1601]), (3, vec![0x1A00, 0x1A01])]
+            ),
+        ]
+    );
+    assert_eq!(ec.alternative_mappings[1].sms[1].1[1].span.line, 31);
+    assert_eq!(ec.slots.len(), 2);
+    let first = &ec.slots[0];
+    assert_eq!(
+        (
+            first.name.as_str(),
+            first.min_instances,
+            first.max_instances,
+            first.module_idents.clone(),
+            first.module_classes.clone(),
+            first.default_module,
+            first.index_increment,
+            first.pdo_increment,
+            first.span.line,
+        ),
+        (
+            "Inputs",
+            1,
+            2,
+            vec![0x100, 0x101],
+            vec![],
+            Some(0x100),
+            0x10,
+            1,
+            126
+        )
+    );
+    // The second slot has its own SlotIndexIncrement, inherits SlotPdoIncrement, and names a
+    // module class instead of idents.
+    let second = &ec.slots[1];
+    assert_eq!(
+        (
+            second.name.as_str(),
+            second.min_instances,
+            second.max_instances,
+            second.module_idents.clone(),
+            second.module_classes.clone(),
+            second.default_module,
+            second.index_increment,
+            second.pdo_increment,
+        ),
+        (
+            "Extension",
+            0,
+            1,
+            vec![],
+            vec!["DI".to_owned()],
+            None,
+            0x20,
+            1
+        )
+    );
+    assert_eq!(ec.modules.len(), 2);
+    let di = &ec.modules[0];
+    assert_eq!(
+        (
+            di.ident,
+            di.type_name.as_str(),
+            di.class.as_deref(),
+            di.name.as_str(),
+            di.span.line
+        ),
+        (0x100, "TM-DI16", Some("DI"), "16 digital inputs", 142)
+    );
+    assert!(di.rx_pdos.is_empty());
+    assert_eq!(di.tx_pdos.len(), 1);
+    let pdo = &di.tx_pdos[0];
+    assert_eq!((pdo.index, pdo.sm, pdo.fixed), (0x1A00, Some(3), true));
+    assert_eq!(
+        pdo.entries
+            .iter()
+            .map(|e| (e.index, e.sub, e.bit_len))
+            .collect::<Vec<_>>(),
+        vec![(0x6000, 1, 16)]
+    );
+    // The module's dictionary, with its own DataType, is the module's, not the device's.
+    assert_eq!(di.objects.keys().copied().collect::<Vec<_>>(), vec![0x6000]);
+    let inputs = &di.objects[&0x6000];
+    assert_eq!(inputs.object_type, ObjectType::Record);
+    assert_eq!(inputs.subs[&1].data_type, Some(0x0006));
+    assert_eq!(
+        read.device.objects.keys().copied().collect::<Vec<_>>(),
+        vec![0x1000, 0x7000]
+    );
+    let empty = &ec.modules[1];
+    assert_eq!(
+        (
+            empty.ident,
+            empty.type_name.as_str(),
+            empty.class.as_deref()
+        ),
+        (0x101, "TM-EMPTY", None)
+    );
+    assert!(empty.objects.is_empty() && empty.tx_pdos.is_empty());
+}
+
+#[test]
+fn the_modular_device_is_clean_but_for_two_infos() {
+    assert_eq!(
+        diagnostics(&modular()),
+        vec![
+            (
+                "EDS814",
+                Info,
+                88,
+                "2 PDO(s) without `Sm`, not assigned by default: RxPdo 1601h, TxPdo 1A01h"
+                    .to_owned()
+            ),
+            (
+                "EDS802",
+                Info,
+                126,
+                "the device has 2 slot(s) and the file 2 module(s): they are read, but no \
+                 process image is generated for a module"
+                    .to_owned()
+            ),
+        ]
+    );
+}
+
+#[test]
+fn eds807_an_entry_that_no_module_defines_either() {
+    // 6020h is the module's 6000h in the third slot position (SlotIndexIncrement #x10).
+    let text = edit_modular("<Index>#x6010</Index>", "<Index>#x6020</Index>");
+    assert_eq!(modular_findings(&text), vec![]);
+    // 6030h would be a fourth position; the slots have three.
+    for index in ["6005", "6030"] {
+        let text = edit_modular(
+            "<Index>#x6010</Index>",
+            &format!("<Index>#x{index}</Index>"),
+        );
+        assert_eq!(
+            modular_findings(&text),
+            vec![(
+                "EDS807",
+                Error,
+                114,
+                format!(
+                    "TxPdo 1A01h maps {index}h sub 1, but the dictionary has no object {index}h"
+                )
+            )]
+        );
+    }
+}
+
+#[test]
+fn eds815_an_alternative_naming_no_pdo() {
+    let text = edit_modular("<Pdo>#x1a01</Pdo>", "<Pdo>#x1a05</Pdo>");
+    assert_eq!(
+        modular_findings(&text),
+        vec![(
+            "EDS815",
+            Error,
+            31,
+            "alternative `Short` assigns 1A05h to SM3, which is not a PDO of the device".to_owned()
+        )]
+    );
+}
+
+#[test]
+fn eds816_an_alternative_larger_than_its_sync_manager() {
+    let text = edit_modular("DefaultSize=\"4\"", "DefaultSize=\"3\"");
+    assert_eq!(
+        modular_findings(&text),
+        vec![(
+            "EDS816",
+            Error,
+            24,
+            "alternative `Short` assigns 1A00h, 1A01h to SM3: 4 bytes, but its DefaultSize is 3"
+                .to_owned()
+        )]
+    );
+}
+
+#[test]
+fn eds817_an_alternative_with_two_excluding_pdos() {
+    let text = edit_modular("<Pdo>#x1601</Pdo>", "<Pdo>#x1601</Pdo><Pdo>#x1600</Pdo>").replacen(
+        "DefaultSize=\"2\"",
+        "DefaultSize=\"4\"",
+        1,
+    );
+    assert_eq!(
+        modular_findings(&text),
+        vec![(
+            "EDS817",
+            Error,
+            24,
+            "alternative `Short` assigns 1600h and 1601h, but 1601h excludes 1600h".to_owned()
+        )]
+    );
+}
+
+#[test]
+fn dump_shows_alternatives_slots_and_modules() {
+    let json = edsgen_codegen::dump::to_json(&read(&modular()).device);
+    let ec = &json["ethercat"];
+    assert_eq!(
+        ec["alternative_mappings"][1],
+        serde_json::json!({
+            "name": "Short",
+            "default": false,
+            "sms": [{"sm": 2, "pdos": [0x1601]}, {"sm": 3, "pdos": [0x1A00, 0x1A01]}],
+        })
+    );
+    assert_eq!(
+        ec["slots"][0],
+        serde_json::json!({
+            "name": "Inputs",
+            "min_instances": 1,
+            "max_instances": 2,
+            "module_idents": [0x100, 0x101],
+            "module_classes": [],
+            "default_module": 0x100,
+            "index_increment": 0x10,
+            "pdo_increment": 1,
+        })
+    );
+    let module = &ec["modules"][0];
+    assert_eq!(
+        (
+            &module["ident"],
+            &module["type_name"],
+            &module["class"],
+            &module["name"]
+        ),
+        (
+            &serde_json::json!(0x100),
+            &serde_json::json!("TM-DI16"),
+            &serde_json::json!("DI"),
+            &serde_json::json!("16 digital inputs")
+        )
+    );
+    assert_eq!(module["tx_pdos"][0]["index"], 0x1A00);
+    assert_eq!(module["tx_pdos"][0]["bits"], 16);
+    assert_eq!(module["objects"][0]["index"], 0x6000);
+    assert_eq!(ec["modules"][1]["class"], serde_json::Value::Null);
+}
+
+#[test]
+fn an_enum_without_base_type_is_unsigned_by_its_bit_size() {
+    let enum_info = "<EnumInfo><Text>Keep</Text><Enum>0</Enum></EnumInfo>";
+    for (bits, data_type) in [("8", 0x0005), ("1", 0x0001)] {
+        let text = edit(
+            "<BaseType>SINT</BaseType>\n                <BitSize>8</BitSize>",
+            &format!("<BitSize>{bits}</BitSize>{enum_info}"),
+        );
+        let device = read(&text).device;
+        assert_eq!(
+            device.entry(0x6060, 0).expect("6060h").data_type,
+            Some(data_type)
+        );
+    }
+    // Without EnumInfo, a DataType without BaseType or SubItems stays unknown.
+    let text = edit("<BaseType>SINT</BaseType>\n", "");
+    assert_eq!(
+        findings(&text),
+        vec![(
+            "EDS805",
+            Error,
+            200,
+            "type `DT6060EN` is neither an IEC 61131 type nor a DataType of the Dictionary"
+                .to_owned()
+        )]
+    );
 }

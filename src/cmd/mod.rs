@@ -1,8 +1,8 @@
 //! The commands, one module each. `main.rs` parses the command line and calls one of them; each
 //! returns the process exit code (0 clean, 1 a problem found, 2 usage or I/O).
 //!
-//! - Description files: [`validate`], [`dump`], [`generate`], and the rule catalogue
-//!   ([`rules`]: rules, explain).
+//! - Description files: [`validate`], [`dump`], [`generate`], [`devices`] (of an ESI file), and
+//!   the rule catalogue ([`rules`]: rules, explain).
 //! - A bus: [`bus`] runs a socketcand hub, [`simulate`] serves devices built from description
 //!   files, [`decode`] explains a candump log; the master's [`sdo`], [`nmt`], [`scan`] and
 //!   [`check`] reach live devices.
@@ -15,6 +15,7 @@ pub mod bus;
 pub mod check;
 pub mod decode;
 pub mod demo;
+pub mod devices;
 pub mod dump;
 pub mod generate;
 pub mod nmt;

@@ -1,6 +1,9 @@
-//! The EtherCAT side of an ESI device: SyncManagers, PDOs, the CoE mailbox and DC op-modes.
+//! The EtherCAT side of an ESI device: SyncManagers, PDOs and their alternative assignments,
+//! the CoE mailbox, DC op-modes, and the modules and slots of a modular device.
 
-use super::{Span, Spanned};
+use std::collections::BTreeMap;
+
+use super::{Object, Span, Spanned};
 
 /// The EtherCAT side of a device read from an ESI file: what a CANopen description has no place
 /// for. Identity goes in [`DeviceInfo`](super::DeviceInfo) (`vendor_number`, `product_number`, `revision_number`)
@@ -21,6 +24,13 @@ pub struct EtherCat {
     pub coe: Option<CoeMailbox>,
     /// Distributed-clock operation modes (`Dc/OpMode`).
     pub op_modes: Vec<DcOpMode>,
+    /// `AlternativeSmMapping` elements (anywhere in the `Device`, usually
+    /// `Info/VendorSpecific/TwinCAT`): other PDO assignments a master may pick.
+    pub alternative_mappings: Vec<AlternativeSmMapping>,
+    /// The file's `Modules/Module` elements: what can be plugged into the device's slots.
+    pub modules: Vec<EcModule>,
+    /// The device's `Slots/Slot` elements, in order.
+    pub slots: Vec<EcSlot>,
     /// Other devices in the same file, by type name, product code and revision: the reader picks
     /// one (the first, unless told otherwise) and lists the rest here.
     pub other_devices: Vec<(String, u32, u32)>,
@@ -143,4 +153,63 @@ pub struct DcOpMode {
     pub assign_activate: u16,
     /// SYNC0 cycle time in ns (`CycleTimeSync0`; 0 when it follows the bus cycle).
     pub cycle_time_sync0: u32,
+}
+
+/// One `AlternativeSmMapping`: a named PDO assignment other than the `Sm` attributes' default.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AlternativeSmMapping {
+    /// `Name`.
+    pub name: String,
+    /// `Default="1"`: the assignment a configuration tool starts with.
+    pub default: bool,
+    /// Per `Sm No="n"`: the SyncManager number and the PDO indices assigned to it, in order.
+    pub sms: Vec<(u8, Vec<Spanned<u16>>)>,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// One `Modules/Module`: a module a modular device takes in a slot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EcModule {
+    /// `Type@ModuleIdent`, which slots name (0 when missing or not a number).
+    pub ident: u32,
+    /// The `Type` text.
+    pub type_name: String,
+    /// `Type@ModuleClass`, which slots may name instead of idents.
+    pub class: Option<String>,
+    /// `Name` (English, else the first).
+    pub name: String,
+    /// The module's `RxPdo` elements, with indices as written (before `SlotPdoIncrement`).
+    pub rx_pdos: Vec<EcPdo>,
+    /// The module's `TxPdo` elements, likewise.
+    pub tx_pdos: Vec<EcPdo>,
+    /// The module's `Profile/Dictionary` objects, with indices as written (before
+    /// `SlotIndexIncrement`).
+    pub objects: BTreeMap<u16, Object>,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// One `Slots/Slot` of a device.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EcSlot {
+    /// `Name`.
+    pub name: String,
+    /// `MinInstances` (1 when absent).
+    pub min_instances: u32,
+    /// `MaxInstances` (1 when absent).
+    pub max_instances: u32,
+    /// `ModuleIdent` values: the modules allowed here.
+    pub module_idents: Vec<u32>,
+    /// `ModuleClass/Class` values: the module classes allowed here.
+    pub module_classes: Vec<String>,
+    /// The `ModuleIdent` marked `Default="1"`, if any.
+    pub default_module: Option<u32>,
+    /// `SlotIndexIncrement` (the slot's own, else the `Slots` element's; 0 when neither): how far
+    /// a module's `DependOnSlot` object indices move per slot.
+    pub index_increment: u16,
+    /// `SlotPdoIncrement` (likewise): how far its PDO indices move per slot.
+    pub pdo_increment: u16,
+    /// Where the element is.
+    pub span: Span,
 }

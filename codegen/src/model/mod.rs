@@ -18,7 +18,8 @@ mod source;
 mod types;
 
 pub use ethercat::{
-    CoeInitCmd, CoeMailbox, DcOpMode, EcPdo, EcPdoEntry, EtherCat, SmKind, SyncManager,
+    AlternativeSmMapping, CoeInitCmd, CoeMailbox, DcOpMode, EcModule, EcPdo, EcPdoEntry, EcSlot,
+    EtherCat, SmKind, SyncManager,
 };
 pub use object::{KeySpans, Object, SubObject, Value, ValueSource};
 pub use source::{Format, Source, Span, Spanned, TextEncoding};

@@ -1,6 +1,6 @@
-//! EtherCAT rules (EDS803, EDS804, EDS807..EDS814): the identity, the PDOs against the CoE
-//! dictionary, and the default PDO assignment against the SyncManagers of a device read from an
-//! ESI file.
+//! EtherCAT rules (EDS803, EDS804, EDS807..EDS817): the identity, the PDOs against the CoE
+//! dictionary (and the modules' dictionaries), and the default and alternative PDO assignments
+//! against the SyncManagers of a device read from an ESI file.
 //!
 //! Severities: an error where a master following the file would configure the device wrongly (an
 //! entry that maps nothing, a length that disagrees, an assignment that does not fit its
@@ -11,7 +11,7 @@
 use std::collections::BTreeSet;
 
 use super::{short_list, EntryName};
-use crate::diag::{Diagnostic, Severity};
+use crate::diag::Diagnostic;
 use crate::model::{Device, EcPdo, EtherCat, SmKind};
 use crate::rules;
 
@@ -32,6 +32,7 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
     duplicates(&pdos, out);
     excludes(&pdos, out);
     assignment(ec, &pdos, out);
+    alternatives(ec, &pdos, out);
 }
 
 /// `RxPdo 1600h`.
@@ -91,8 +92,6 @@ fn identity(device: &Device, ec: &EtherCat, out: &mut Vec<Diagnostic>) {
 /// EDS807 (missing target), EDS808 (length) and EDS809 (alignment) for one PDO's entries.
 fn entries(device: &Device, kind: &str, pdo: &EcPdo, out: &mut Vec<Diagnostic>) {
     let name = pdo_name(kind, pdo);
-    // A module plugged into a slot may add the object: only a warning then.
-    let modular = device.other_sections.iter().any(|s| s.name == "Slots");
     let mut offset: u64 = 0;
     for entry in &pdo.entries {
         let at = offset;
@@ -116,6 +115,9 @@ fn entries(device: &Device, kind: &str, pdo: &EcPdo, out: &mut Vec<Diagnostic>) 
             continue;
         }
         let target = EntryName::new(device, entry.index, entry.sub);
+        if module_defines(device, entry.index) {
+            continue;
+        }
         let Some(object) = device.objects.get(&entry.index) else {
             out.push(
                 Diagnostic::new(
@@ -127,12 +129,7 @@ fn entries(device: &Device, kind: &str, pdo: &EcPdo, out: &mut Vec<Diagnostic>) 
                     ),
                 )
                 .with_label("no such object")
-                .with_help("describe the object in Dictionary/Objects, or remove the entry")
-                .with_severity(if modular {
-                    Severity::Warning
-                } else {
-                    Severity::Error
-                }),
+                .with_help("describe the object in Dictionary/Objects, or remove the entry"),
             );
             continue;
         };
@@ -176,6 +173,26 @@ fn entries(device: &Device, kind: &str, pdo: &EcPdo, out: &mut Vec<Diagnostic>) 
             );
         }
     }
+}
+
+/// Whether a module of the file defines object `index`: at its own index, or moved by a whole
+/// number of a slot's `SlotIndexIncrement`, up to the slots' instances.
+fn module_defines(device: &Device, index: u16) -> bool {
+    let Some(ec) = &device.ethercat else {
+        return false;
+    };
+    let positions: u32 = ec.slots.iter().map(|s| s.max_instances).sum();
+    ec.modules
+        .iter()
+        .flat_map(|m| m.objects.keys())
+        .any(|&own| {
+            own == index
+                || ec.slots.iter().any(|slot| {
+                    let step = u32::from(slot.index_increment);
+                    let offset = u32::from(index).wrapping_sub(u32::from(own));
+                    step > 0 && index > own && offset % step == 0 && offset / step < positions
+                })
+        })
 }
 
 /// EDS813: the same Index on two PDO elements.
@@ -241,38 +258,45 @@ fn excludes(pdos: &[(&str, &EcPdo)], out: &mut Vec<Diagnostic>) {
     }
 }
 
+/// The bytes `assigned` hold and the DefaultSize of SM `number`, when they do not fit a process
+/// data SyncManager with a DefaultSize.
+fn overflow(ec: &EtherCat, number: usize, assigned: &[&EcPdo]) -> Option<(u64, u16)> {
+    let sm = ec.sync_managers.get(number)?;
+    let size = sm.default_size.filter(|s| *s > 0)?;
+    if !matches!(sm.kind, SmKind::Outputs | SmKind::Inputs) {
+        return None;
+    }
+    let bits: u64 = assigned
+        .iter()
+        .flat_map(|p| &p.entries)
+        .map(|e| u64::from(e.bit_len))
+        .sum();
+    let bytes = bits.div_ceil(8);
+    (bytes > u64::from(size)).then_some((bytes, size))
+}
+
+/// `1600h`, `1601h` as a short list.
+fn index_list(pdos: &[&EcPdo]) -> String {
+    let names: Vec<String> = pdos.iter().map(|p| format!("{:04X}h", p.index)).collect();
+    short_list(&names)
+}
+
 /// EDS810 (the default assignment larger than a SyncManager) and EDS814 (PDOs without Sm).
 fn assignment(ec: &EtherCat, pdos: &[(&str, &EcPdo)], out: &mut Vec<Diagnostic>) {
     for (number, sm) in ec.sync_managers.iter().enumerate() {
-        let Some(size) = sm.default_size.filter(|s| *s > 0) else {
-            continue;
-        };
-        if !matches!(sm.kind, SmKind::Outputs | SmKind::Inputs) {
-            continue;
-        }
         let assigned: Vec<&EcPdo> = pdos
             .iter()
             .map(|(_, p)| *p)
             .filter(|p| p.sm.map(usize::from) == Some(number))
             .collect();
-        let bits: u64 = assigned
-            .iter()
-            .flat_map(|p| &p.entries)
-            .map(|e| u64::from(e.bit_len))
-            .sum();
-        let bytes = bits.div_ceil(8);
-        if bytes > u64::from(size) {
-            let names: Vec<String> = assigned
-                .iter()
-                .map(|p| format!("{:04X}h", p.index))
-                .collect();
+        if let Some((bytes, size)) = overflow(ec, number, &assigned) {
             out.push(
                 Diagnostic::new(
                     &rules::ESI_SM_OVERFLOW,
                     Some(sm.span),
                     format!(
                         "the PDOs assigned to SM{number} ({}) hold {bytes} bytes, but its DefaultSize is {size}",
-                        short_list(&names)
+                        index_list(&assigned)
                     ),
                 )
                 .with_label(format!("DefaultSize {size}"))
@@ -298,5 +322,74 @@ fn assignment(ec: &EtherCat, pdos: &[(&str, &EcPdo)], out: &mut Vec<Diagnostic>)
             )
             .with_label("no Sm"),
         );
+    }
+}
+
+/// EDS815 (a PDO that does not exist), EDS816 (more than a SyncManager's DefaultSize) and
+/// EDS817 (two PDOs that exclude each other) for each `AlternativeSmMapping`.
+fn alternatives(ec: &EtherCat, pdos: &[(&str, &EcPdo)], out: &mut Vec<Diagnostic>) {
+    for alternative in &ec.alternative_mappings {
+        let title = format!("alternative `{}`", alternative.name);
+        let mut chosen: Vec<&EcPdo> = Vec::new();
+        for (number, indices) in &alternative.sms {
+            let mut assigned = Vec::new();
+            for index in indices {
+                match pdos.iter().find(|(_, p)| p.index == index.value) {
+                    Some((_, pdo)) => assigned.push(*pdo),
+                    None => out.push(
+                        Diagnostic::new(
+                            &rules::ESI_ALT_PDO_MISSING,
+                            Some(index.span),
+                            format!(
+                                "{title} assigns {:04X}h to SM{number}, which is not a PDO of the device",
+                                index.value
+                            ),
+                        )
+                        .with_label("no such PDO")
+                        .with_help("name an RxPdo/TxPdo Index of the device, or remove the Pdo"),
+                    ),
+                }
+            }
+            if let Some((bytes, size)) = overflow(ec, usize::from(*number), &assigned) {
+                out.push(
+                    Diagnostic::new(
+                        &rules::ESI_ALT_SM_OVERFLOW,
+                        Some(alternative.span),
+                        format!(
+                            "{title} assigns {} to SM{number}: {bytes} bytes, but its DefaultSize is {size}",
+                            index_list(&assigned)
+                        ),
+                    )
+                    .with_label(format!("{bytes} bytes on SM{number}"))
+                    .with_help(format!(
+                        "raise SM{number}'s DefaultSize to {bytes}, or assign fewer PDOs here"
+                    )),
+                );
+            }
+            chosen.extend(assigned);
+        }
+        let mut reported = BTreeSet::new();
+        for pdo in &chosen {
+            for excluded in &pdo.exclude {
+                let Some(other) = chosen.iter().find(|p| p.index == excluded.value) else {
+                    continue;
+                };
+                let pair = (pdo.index.min(other.index), pdo.index.max(other.index));
+                if reported.insert(pair) {
+                    out.push(
+                        Diagnostic::new(
+                            &rules::ESI_ALT_EXCLUDE_CONFLICT,
+                            Some(alternative.span),
+                            format!(
+                                "{title} assigns {:04X}h and {:04X}h, but {:04X}h excludes {:04X}h",
+                                pair.0, pair.1, pdo.index, other.index
+                            ),
+                        )
+                        .with_label("excluding PDOs together")
+                        .with_help("assign only one of the two in this alternative"),
+                    );
+                }
+            }
+        }
     }
 }

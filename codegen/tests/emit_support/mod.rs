@@ -472,6 +472,9 @@ pub fn ethercat_like() -> Device {
                 cycle_time_sync0: 1_000_000,
             },
         ],
+        alternative_mappings: Vec::new(),
+        modules: Vec::new(),
+        slots: Vec::new(),
         other_devices: Vec::new(),
         span: Span::new(1, 1, 0),
     });

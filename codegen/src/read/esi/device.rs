@@ -1,5 +1,6 @@
-//! The device around its dictionary: vendor, identity, SyncManagers, PDOs, the CoE mailbox
-//! with its init commands, and the DC op-modes, into [`DeviceInfo`] and [`EtherCat`].
+//! The device around its dictionary: vendor, identity, SyncManagers, PDOs and their alternative
+//! assignments, the CoE mailbox with its init commands, the DC op-modes, slots and modules, into
+//! [`DeviceInfo`] and [`EtherCat`].
 
 use roxmltree::Node;
 
@@ -70,7 +71,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 );
             }
             if let Some(dictionary) = child(profile, "Dictionary") {
-                self.read_dictionary(dictionary, device);
+                self.read_dictionary(dictionary, &mut device.objects);
             }
         }
         for sm in children(node, "Sm") {
@@ -94,27 +95,127 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             }
         }
         if let Some(slots) = child(node, "Slots") {
-            let count = children(slots, "Slot").count();
-            let span = self.spans.element(slots);
-            let entries = children(slots, "Slot")
-                .map(|slot| RawEntry {
-                    key: "Slot".to_owned(),
-                    value: language_name(slot, "Name").unwrap_or_default(),
-                    span: self.spans.element(slot),
-                })
-                .collect();
-            device.other_sections.push(RawSection {
-                name: "Slots".to_owned(),
-                entries,
-                span,
+            self.read_slots(slots, ec);
+        }
+        for mapping in node
+            .descendants()
+            .filter(|n| is_element(*n, "AlternativeSmMapping"))
+        {
+            let alternative = self.read_alternative(mapping);
+            ec.alternative_mappings.push(alternative);
+        }
+    }
+
+    /// The `Slots/Slot` elements, each with the increments it inherits from `Slots`.
+    fn read_slots(&mut self, slots: Node, ec: &mut EtherCat) {
+        let index_increment = self.attr_or(slots, "SlotIndexIncrement", 0u16);
+        let pdo_increment = self.attr_or(slots, "SlotPdoIncrement", 0u16);
+        for slot in children(slots, "Slot") {
+            let index_increment = self.attr_or(slot, "SlotIndexIncrement", index_increment);
+            let pdo_increment = self.attr_or(slot, "SlotPdoIncrement", pdo_increment);
+            let min_instances = self.attr_or(slot, "MinInstances", 1u32);
+            let max_instances = self.attr_or(slot, "MaxInstances", 1u32);
+            let mut module_idents = Vec::new();
+            let mut default_module = None;
+            for ident in children(slot, "ModuleIdent") {
+                let Some(value) = self
+                    .element_number(ident)
+                    .and_then(|n| u32::try_from(n).ok())
+                else {
+                    continue;
+                };
+                module_idents.push(value);
+                if self.attr_bool(ident, "Default") {
+                    default_module.get_or_insert(value);
+                }
+            }
+            ec.slots.push(EcSlot {
+                name: language_name(slot, "Name").unwrap_or_default(),
+                min_instances,
+                max_instances,
+                module_idents,
+                module_classes: children(slot, "ModuleClass")
+                    .filter_map(|c| child(c, "Class").and_then(element_text))
+                    .collect(),
+                default_module,
+                index_increment,
+                pdo_increment,
+                span: self.spans.element(slot),
             });
-            self.push(Diagnostic::new(
-                &rules::ESI_MODULES,
-                Some(span),
-                format!(
-                    "the device has {count} slot(s) for modules; what a module adds is not read"
-                ),
-            ));
+        }
+    }
+
+    /// A numeric attribute that fits `T`; `fallback` when absent or out of range (an `EDS604`
+    /// error when it is no number).
+    fn attr_or<T: TryFrom<i128>>(&mut self, node: Node, name: &str, fallback: T) -> T {
+        self.attr_number(node, name)
+            .and_then(|n| T::try_from(n).ok())
+            .unwrap_or(fallback)
+    }
+
+    /// One `Modules/Module`: identity, PDOs, and its own dictionary, read with the device's
+    /// `DataType`s except those the module redefines.
+    pub(super) fn read_module(&mut self, node: Node<'a, 'input>) -> EcModule {
+        let ty = child(node, "Type");
+        let mut module = EcModule {
+            ident: ty
+                .and_then(|t| self.attr_number(t, "ModuleIdent"))
+                .and_then(|n| u32::try_from(n).ok())
+                .unwrap_or(0),
+            type_name: ty.and_then(element_text).unwrap_or_default(),
+            class: ty
+                .and_then(|t| attribute(t, "ModuleClass"))
+                .map(|a| a.value().trim().to_owned()),
+            name: language_name(node, "Name").unwrap_or_default(),
+            rx_pdos: Vec::new(),
+            tx_pdos: Vec::new(),
+            objects: Default::default(),
+            span: self.spans.element(node),
+        };
+        for pdo in node.children().filter(|n| n.is_element()) {
+            match local(pdo) {
+                "RxPdo" => module.rx_pdos.extend(self.read_pdo(pdo)),
+                "TxPdo" => module.tx_pdos.extend(self.read_pdo(pdo)),
+                _ => {}
+            }
+        }
+        for dictionary in children(node, "Profile").filter_map(|p| child(p, "Dictionary")) {
+            let device_types = self.data_types.clone();
+            let own = child(dictionary, "DataTypes")
+                .into_iter()
+                .flat_map(|t| children(t, "DataType"))
+                .filter_map(|t| child(t, "Name").and_then(element_text));
+            for name in own {
+                self.data_types.remove(&name);
+            }
+            self.read_dictionary(dictionary, &mut module.objects);
+            self.data_types = device_types;
+        }
+        module
+    }
+
+    /// One `AlternativeSmMapping`: its name, default flag and per-SM PDO indices.
+    fn read_alternative(&mut self, node: Node) -> AlternativeSmMapping {
+        let mut sms = Vec::new();
+        for sm in children(node, "Sm") {
+            let number = self
+                .attr_number(sm, "No")
+                .and_then(|n| u8::try_from(n).ok())
+                .unwrap_or(0);
+            let mut pdos = Vec::new();
+            for pdo in children(sm, "Pdo") {
+                let span = self.spans.text(pdo);
+                if let Some(index) = self.element_number(pdo).and_then(|n| u16::try_from(n).ok()) {
+                    pdos.push(Spanned::new(index, span));
+                }
+            }
+            sms.push((number, pdos));
+        }
+        AlternativeSmMapping {
+            name: language_name(node, "Name").unwrap_or_default(),
+            default: self.attr_bool(node, "Default"),
+            sms,
+            span: self.spans.element(node),
         }
     }
 

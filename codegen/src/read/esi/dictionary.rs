@@ -1,6 +1,8 @@
 //! The CoE dictionary: `Profile/Dictionary` objects and `DataType`s into CiA 301 objects, with
 //! the IEC 61131 type names mapped to CiA 301 data types.
 
+use std::collections::BTreeMap;
+
 use roxmltree::Node;
 
 use super::values::{data_value, parse_hex_bytes, parse_number, twos_complement};
@@ -101,6 +103,21 @@ fn access_of(access: &str, mapping: Option<&str>) -> Option<AccessType> {
         },
     )
 }
+/// An enum `DataType` without `BaseType` (only `BitSize` and `EnumInfo`, as some vendors write
+/// them): BOOLEAN for one bit, else the smallest unsigned type of its `BitSize`.
+fn enum_without_base<'a, 'input>(def: Node<'a, 'input>) -> Resolved<'a, 'input> {
+    let bits = child(def, "BitSize")
+        .and_then(element_text)
+        .and_then(|t| parse_number(&t));
+    match (child(def, "EnumInfo"), bits) {
+        (Some(_), Some(1)) => Resolved::Basic(BasicType::Boolean, None),
+        (Some(_), Some(2..=8)) => Resolved::Basic(BasicType::Unsigned8, None),
+        (Some(_), Some(9..=16)) => Resolved::Basic(BasicType::Unsigned16, None),
+        (Some(_), Some(17..=32)) => Resolved::Basic(BasicType::Unsigned32, None),
+        _ => Resolved::Unknown,
+    }
+}
+
 /// What one entry's elements say (an object's, or one SubItem's with the object's as fallback).
 struct EntryFacts<'a, 'input> {
     name: String,
@@ -114,7 +131,12 @@ struct EntryFacts<'a, 'input> {
 }
 
 impl<'a, 'input> EsiReader<'a, 'input> {
-    pub(super) fn read_dictionary(&mut self, dictionary: Node<'a, 'input>, device: &mut Device) {
+    /// Reads a `Dictionary` into `objects` (a device's, or a module's).
+    pub(super) fn read_dictionary(
+        &mut self,
+        dictionary: Node<'a, 'input>,
+        objects: &mut BTreeMap<u16, Object>,
+    ) {
         if let Some(types) = child(dictionary, "DataTypes") {
             for ty in children(types, "DataType") {
                 let Some(name) = child(ty, "Name").and_then(element_text) else {
@@ -133,15 +155,15 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 }
             }
         }
-        let Some(objects) = child(dictionary, "Objects") else {
+        let Some(list) = child(dictionary, "Objects") else {
             return;
         };
-        for node in children(objects, "Object") {
+        for node in children(list, "Object") {
             let Some(object) = self.read_object(node) else {
                 continue;
             };
             let (index, span) = (object.index, object.span);
-            if device.objects.insert(index, object).is_some() {
+            if objects.insert(index, object).is_some() {
                 self.push(Diagnostic::new(
                     &rules::ESI_DUPLICATE_OBJECT,
                     Some(span),
@@ -183,7 +205,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             }
             match base {
                 Some(base) => name = base,
-                None => return Resolved::Unknown,
+                None => return enum_without_base(def),
             }
         }
         Resolved::Unknown

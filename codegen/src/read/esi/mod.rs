@@ -3,8 +3,8 @@
 //! The CoE dictionary (`Profile/Dictionary`) becomes [`Device::objects`], exactly as a CANopen
 //! object dictionary: IEC 61131 type names map to CiA 301 data types, a `DTxxxx` type with
 //! `SubItem`s makes an ARRAY or RECORD, `DefaultData` (little-endian hex) becomes a typed value.
-//! Identity goes to [`DeviceInfo`]; SyncManagers, PDOs, the CoE mailbox and the DC op-modes to
-//! [`EtherCat`]. A file may describe several devices: one is read (the first, or the one a
+//! Identity goes to [`DeviceInfo`]; SyncManagers, PDOs, alternative PDO assignments, the CoE
+//! mailbox, the DC op-modes, the device's slots and the file's modules to [`EtherCat`]. A file may describe several devices: one is read (the first, or the one a
 //! [`DeviceChoice`] names) and the others are listed in [`EtherCat::other_devices`].
 
 use std::collections::HashMap;
@@ -252,18 +252,11 @@ impl<'a, 'input> EsiReader<'a, 'input> {
         if let Some(vendor) = child(root, "Vendor") {
             self.read_vendor(vendor, device);
         }
-        let modules = root
+        let modules: Vec<Node> = root
             .descendants()
             .filter(|n| is_element(*n, "Module"))
             .filter(|n| n.parent_element().is_some_and(|p| is_element(p, "Modules")))
-            .count();
-        if modules > 0 {
-            self.push(Diagnostic::new(
-                &rules::ESI_MODULES,
-                Some(root_span),
-                format!("the file describes {modules} module(s) of a modular device; modules are not read"),
-            ));
-        }
+            .collect();
         let all: Vec<Node> = devices(root).collect();
         let idents: Vec<(String, u32, u32)> = all.iter().map(|d| identity(*d)).collect();
         if all.is_empty() {
@@ -272,6 +265,16 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 Some(root_span),
                 "the file describes no Device (`Descriptions/Devices/Device`)",
             ));
+            if !modules.is_empty() {
+                self.push(Diagnostic::new(
+                    &rules::ESI_MODULES,
+                    Some(root_span),
+                    format!(
+                        "the file describes {} module(s) and no device to plug them into; they are not read",
+                        modules.len()
+                    ),
+                ));
+            }
             return;
         }
         let picked = match choice {
@@ -318,6 +321,22 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             ..EtherCat::default()
         };
         self.read_device(all[picked], device, &mut ethercat);
+        for module in modules {
+            let module = self.read_module(module);
+            ethercat.modules.push(module);
+        }
+        if !ethercat.modules.is_empty() || !ethercat.slots.is_empty() {
+            let span = ethercat.slots.first().map_or(root_span, |s| s.span);
+            self.push(Diagnostic::new(
+                &rules::ESI_MODULES,
+                Some(span),
+                format!(
+                    "the device has {} slot(s) and the file {} module(s): they are read, but no process image is generated for a module",
+                    ethercat.slots.len(),
+                    ethercat.modules.len()
+                ),
+            ));
+        }
         device.ethercat = Some(ethercat);
     }
 }

@@ -1,0 +1,71 @@
+//! `edsgen devices`: the devices of an ESI file, one line each, to pick one with `--device`.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use edsgen_codegen::model::{Device, EcPdo, Format};
+use edsgen_codegen::read::{self, esi};
+use edsgen_codegen::render;
+
+use super::{fail, print_stdout};
+
+/// Runs `edsgen devices FILE`: one tab-separated line per device (type name, product code,
+/// revision, profiles, bits the default assignment maps to outputs and inputs, name). Exit 1 for
+/// a file without devices (or not readable as XML), 2 for a file that is not ESI.
+pub fn run(path: &Path) -> ExitCode {
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(err) => return fail(format!("{}: {err}", path.display())),
+    };
+    if read::detect_format(path, &bytes) != Format::Esi {
+        return fail(format!(
+            "{}: not an ESI file; a CANopen description has one device",
+            path.display()
+        ));
+    }
+    let all = esi::read_all(path, &bytes);
+    if all.is_empty() {
+        let read = read::read_bytes(path, &bytes);
+        let name = path.display().to_string();
+        eprint!(
+            "{}",
+            render::human(&name, &read.text, &read.diagnostics, false)
+        );
+        return ExitCode::from(1);
+    }
+    let lines: String = all.iter().map(|(device, _)| line(device) + "\n").collect();
+    print_stdout(&lines);
+    ExitCode::SUCCESS
+}
+
+/// `TD-1 #x00009252 #x00000001 profile 402 out 56 bits in 16 bits Test drive`, tab-separated.
+fn line(device: &Device) -> String {
+    let info = &device.device_info;
+    let hex = |n: Option<u32>| n.map_or("-".to_owned(), |n| format!("#x{n:08X}"));
+    let Some(ec) = &device.ethercat else {
+        return String::new();
+    };
+    let assigned = |pdos: &[EcPdo]| -> u64 {
+        pdos.iter()
+            .filter(|p| p.sm.is_some())
+            .flat_map(|p| &p.entries)
+            .map(|e| u64::from(e.bit_len))
+            .sum()
+    };
+    let profiles = if ec.profiles.is_empty() {
+        "-".to_owned()
+    } else {
+        let numbers: Vec<String> = ec.profiles.iter().map(u32::to_string).collect();
+        numbers.join(",")
+    };
+    [
+        ec.type_name.clone(),
+        hex(info.product_number.as_ref().map(|n| n.value)),
+        hex(info.revision_number.as_ref().map(|n| n.value)),
+        format!("profile {profiles}"),
+        format!("out {} bits", assigned(&ec.rx_pdos)),
+        format!("in {} bits", assigned(&ec.tx_pdos)),
+        info.product_name.clone().unwrap_or_else(|| "-".to_owned()),
+    ]
+    .join("\t")
+}
