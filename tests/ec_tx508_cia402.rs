@@ -216,3 +216,31 @@ fn a_mode_the_drive_does_not_run_is_reported_and_operation_is_never_enabled() {
     assert_eq!(link.device.drive().state(), State::SwitchedOn);
     assert_eq!(link.device.drive().mode(), mode::VELOCITY);
 }
+
+#[test]
+fn an_outputs_image_of_the_wrong_length_is_refused_and_the_drive_left_as_it_was() {
+    let mut device = EcTx508::new(Instant::from_millis(0));
+    let before = device.inputs();
+    let enable = Outputs {
+        rx_pdo_1600: RxPdo1600 {
+            control_word: 0x06,
+            ..RxPdo1600::default()
+        },
+    }
+    .encode();
+    assert_eq!(
+        device.cycle(Instant::from_millis(1), &enable[..20]),
+        Err(edsgen_runtime::PdoError::WrongLength {
+            expected: 21,
+            actual: 20
+        })
+    );
+    assert_eq!(device.inputs(), before);
+    assert_eq!(device.drive().state(), State::SwitchOnDisabled);
+    // The whole image is taken: shutdown, ready to switch on.
+    let inputs = device.cycle(Instant::from_millis(2), &enable).unwrap();
+    assert_eq!(
+        State::from_statusword(Inputs::decode(&inputs).unwrap().tx_pdo_1a00.status_word),
+        Some(State::ReadyToSwitchOn)
+    );
+}

@@ -1,14 +1,19 @@
-//! `edsgen demo`: the bundled cards at work. The five EDS files are validated; then a master built
-//! from the generated bindings brings a CP301 (node 2) and a Goodrive350 (node 3) through their
-//! manuals' workflows, every frame decoded by name. Each step checks what the manual says should
-//! happen; the demo passes only if every step does.
+//! `edsgen demo`: the bundled cards at work. The six description files (five EDS, the EC-TX508's
+//! ESI) are validated; then a master built from the generated bindings brings a CP301 (node 2)
+//! and a Goodrive350 (node 3) through their manuals' workflows, every frame decoded by name; then
+//! an EtherCAT master walks a simulated EC-TX508 through CiA 402 cyclic synchronous velocity,
+//! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
+//! by name at the cycles the steps look at. Each step checks what the manual (or CiA 402) says
+//! should happen; the demo passes only if every step does.
 //!
-//! Two links, one set of workflows ([`Link`]): by default the drives are simulated in this
-//! process on the in-memory bus ([`memory`]), in the bus's own time, so the manuals' ramps of
-//! several seconds run in no time and every run gives the same frames; with `--bus HOST:PORT`
-//! edsgen's blocking master drives whatever answers at those node-IDs on a socketcand bus
-//! ([`remote`]), in real time (`edsgen simulate --card cp301@2 --card goodrive350`, or real
-//! drives); a fault cannot be injected there, and that step says so.
+//! Two links for the CANopen drives, one set of workflows ([`Link`]): by default the drives are
+//! simulated in this process on the in-memory bus ([`memory`]), in the bus's own time, so the
+//! manuals' ramps of several seconds run in no time and every run gives the same frames; with
+//! `--bus HOST:PORT` edsgen's blocking master drives whatever answers at those node-IDs on a
+//! socketcand bus ([`remote`]), in real time (`edsgen simulate --card cp301@2 --card
+//! goodrive350`, or real drives); a fault cannot be injected there, and that step says so. The
+//! EC-TX508 runs in the first mode only, in its own 1 ms cycles; a socketcand bus has no
+//! EtherCAT network, and with `--bus` its one step says it was not run.
 
 mod ethercat;
 mod memory;
