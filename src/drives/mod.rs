@@ -62,7 +62,7 @@ fn boxed<D: BusDevice + Send + 'static>(
     device.map(|d| Box::new(d) as Box<dyn BusDevice + Send>)
 }
 
-/// The five bundled cards.
+/// The five bundled CANopen cards (the EtherCAT card, [`EcTx508`], has no bus of its own here).
 pub static CARDS: [Card; 5] = [
     Card {
         name: "cp301",
