@@ -37,7 +37,8 @@ impl ImageDecoder {
     }
 
     /// `data` split into the entries of the PDOs assigned to the first SyncManager of `kind`:
-    /// `Name = value` for each, hex bytes where the image is shorter than the PDOs need.
+    /// `Name = value` for each, hex bytes where the image is shorter than the PDOs need (bytes
+    /// beyond them are not shown).
     fn image(&self, kind: SmKind, data: &[u8]) -> String {
         let Some(ethercat) = &self.device.ethercat else {
             return text::hex_bytes(data);

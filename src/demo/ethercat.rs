@@ -127,7 +127,7 @@ impl Bench {
             trace.line(None, format!("… {hidden} cycle(s) not shown"));
         }
         self.hidden = 0;
-        let ms = self.ms - 1;
+        let ms = self.ms.saturating_sub(1);
         let at = format!("{}.{:06}", ms / 1000, (ms % 1000) * 1000);
         let outputs = self.images.outputs(&self.outputs);
         let inputs = self.images.inputs(&self.inputs);
