@@ -125,8 +125,9 @@ enum Command {
     Simulate(cmd::simulate::Args),
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
-    /// The bundled cards at work: validate them, then drive a CP301 and a Goodrive350 (simulated,
-    /// or on a bus) through their manuals' workflows, every frame decoded.
+    /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
+    /// on a bus) through their manuals' workflows, every frame decoded, then a simulated EC-TX508
+    /// over EtherCAT in cyclic synchronous velocity, its process images decoded.
     Demo(cmd::demo::Args),
 }
 

@@ -1,6 +1,8 @@
 //! The bus decoder (`edsgen::decode::Decoder`): the exact line for every kind of frame, SDO
 //! transfers of every type reassembled into one line, aborts with their meaning, PDOs decoded by
-//! the mapping the SDO writes on the bus set, and raw lines for what it cannot attribute.
+//! the mapping the SDO writes on the bus set, and raw lines for what it cannot attribute; and
+//! EtherCAT process images decoded by an ESI file's default PDO assignment
+//! (`edsgen::decode::image::ImageDecoder`).
 
 mod sim_support;
 
@@ -385,4 +387,70 @@ fn a_time_message_gives_the_date_and_time() {
             "1700000000.004000  100  TIME       01 02",
         ]
     );
+}
+
+/// The EC-TX508's ESI model, for its process images.
+fn ec_tx508_images() -> edsgen::decode::image::ImageDecoder {
+    let path = std::path::Path::new(edsgen::drives::ec_tx508::ESI_PATH);
+    let model = edsgen_codegen::read::read_bytes(path, edsgen::drives::ec_tx508::ESI).device;
+    edsgen::decode::image::ImageDecoder::new(&model)
+}
+
+#[test]
+fn ethercat_images_are_split_by_the_default_assignment_and_named_by_the_esi_file() {
+    use edsgen::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
+    let images = ec_tx508_images();
+    let outputs = Outputs {
+        rx_pdo_1600: RxPdo1600 {
+            control_word: 0x008F,
+            target_speed: -300,
+            operation_mode: -1,
+            max_torque: 1000,
+            ..RxPdo1600::default()
+        },
+    }
+    .encode();
+    assert_eq!(
+        images.outputs(&outputs),
+        "Control word = 143, Target position = 0, Target speed = -300, Target torque = 0, \
+         Max. torque = 1000 (0x03E8), Operation mode = -1, Speed in industrial regulations = 0, \
+         Probe control = 0"
+    );
+    let inputs = Inputs {
+        tx_pdo_1a00: TxPdo1A00 {
+            status_word: 0x0637,
+            position_actual_value: -2,
+            operation_mode_display: 9,
+            probe_position_rising_edge: 0x1234_5678,
+            ..TxPdo1A00::default()
+        },
+    }
+    .encode();
+    assert_eq!(
+        images.inputs(&inputs),
+        "Status word = 1591 (0x0637), Position actual value = -2, Actual speed = 0, \
+         Actual torque = 0, Position deviation = 0, Operation mode display = 9, \
+         Probe status = 0, Probe position rising edge = 305419896"
+    );
+}
+
+#[test]
+fn an_image_shorter_than_its_pdos_or_without_an_esi_mapping_is_printed_as_bytes() {
+    let images = ec_tx508_images();
+    assert_eq!(
+        images.inputs(&[0x37, 0x06, 0x00]),
+        "37 06 00 (the PDOs need 184 bits, the image has 24)"
+    );
+    assert_eq!(
+        images.outputs(&[]),
+        "(empty) (the PDOs need 168 bits, the image has 0)"
+    );
+    // A CANopen device has no SyncManagers.
+    let eds = edsgen_codegen::read::read_bytes(
+        std::path::Path::new("eds/cp301.eds"),
+        edsgen::drives::CARDS[0].eds,
+    )
+    .device;
+    let images = edsgen::decode::image::ImageDecoder::new(&eds);
+    assert_eq!(images.outputs(&[0x0F, 0x00]), "0F 00");
 }

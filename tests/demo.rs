@@ -1,6 +1,7 @@
 //! `edsgen demo`, the README's main job: every step passes, the trace shows the manuals' frames
-//! decoded by name, and the command's exit code and summary say so; with `--bus`, the same
-//! workflows against `edsgen simulate --card` through a hub, in real time.
+//! and the EC-TX508's process images decoded by name, and the command's exit code and summary
+//! say so; with `--bus`, the same CANopen workflows against `edsgen simulate --card` through a
+//! hub, in real time, and the EtherCAT section reported as not run.
 
 mod process_support;
 
@@ -14,7 +15,7 @@ fn every_step_of_the_demo_behaves_as_the_manuals_say() {
     let report = edsgen::demo::run();
     let failed: Vec<_> = report.steps.iter().filter(|s| s.outcome.is_err()).collect();
     assert_eq!(failed, Vec::<&edsgen::demo::Step>::new());
-    assert_eq!(report.steps.len(), 26);
+    assert_eq!(report.steps.len(), 35);
     // The Goodrive350 manual's PDO2 Tx (§3.5.4), 283: 01 01 88 13 7C 01 00 00, decoded.
     let pdo2 = "7.100000  283  TPDO2      node 3 Status word = 257 (0x0101), Monitoring data: \
                 Returned value 1 = 5000 (0x1388), Monitoring data: Returned value 2 = 380 \
@@ -29,6 +30,88 @@ fn every_step_of_the_demo_behaves_as_the_manuals_say() {
 }
 
 #[test]
+fn the_demo_validates_six_description_files() {
+    let report = edsgen::demo::run();
+    let validated: Vec<(&str, &Result<String, String>)> = report
+        .steps
+        .iter()
+        .filter(|s| s.name.ends_with(" is valid"))
+        .map(|s| (s.name.as_str(), &s.outcome))
+        .collect();
+    let clean = Ok("0 error(s), 0 warning(s)".to_string());
+    let two = Ok("0 error(s), 2 warning(s)".to_string());
+    assert_eq!(
+        validated,
+        [
+            ("eds/cp301.eds is valid", &clean),
+            ("eds/ms300.eds is valid", &clean),
+            ("eds/goodrive350.eds is valid", &two),
+            ("eds/rd11.eds is valid", &clean),
+            ("eds/hd1e.eds is valid", &two),
+            ("eds/ec-tx508.xml is valid", &clean),
+        ]
+    );
+}
+
+#[test]
+fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
+    let report = edsgen::demo::run();
+    let start = report
+        .lines
+        .iter()
+        .position(|l| l.starts_with("== EC-TX508"))
+        .expect("the EtherCAT section");
+    let steps: Vec<(&str, &Result<String, String>)> = report.steps[27..]
+        .iter()
+        .map(|s| (s.name.as_str(), &s.outcome))
+        .collect();
+    let ok = |seen: &str| Ok(seen.to_string());
+    assert_eq!(
+        steps,
+        [
+            ("6060h = 9: mode 9 (csv) confirmed by 6061h", &ok("9")),
+            ("operation enabled by 06h, 07h, 0Fh", &ok("06h, 07h, 0Fh")),
+            (
+                "60FFh = 300: 606Ch 50 ms later, on the ramp of 3 rpm per ms",
+                &ok("150")
+            ),
+            (
+                "606Ch follows the target on its ramp to 300 rpm, 6041h bit 10 target reached",
+                &ok("(300, true)")
+            ),
+            (
+                "a drive fault: the quick-stop ramp to 0 rpm in 10 ms, then fault (6041h bit 3)",
+                &ok("(10, 0, true)")
+            ),
+            (
+                "a fault reset by a rising edge of bit 7, every other cycle until the cause is gone",
+                &ok("80h, 00h, 80h, 00h, 80h, 00h, 80h, 00h, 80h, 00h, 80h")
+            ),
+            ("operation enabled again by 06h, 07h, 0Fh", &ok("06h, 07h, 0Fh")),
+            (
+                "shut down by 00h (disable voltage): switch on disabled, 606Ch 0",
+                &ok("00h, 606Ch 0")
+            ),
+        ]
+    );
+    // The images of the cycle at 53 ms, on the ramp, decoded by the ESI file's names: the
+    // 21-byte outputs (1600h) and the 23-byte inputs (1A00h).
+    let section: Vec<&str> = report.lines[start..].iter().map(|l| l.trim()).collect();
+    let outputs = "0.053000  SM2  OUTPUTS    Control word = 15, Target position = 0, \
+                   Target speed = 300, Target torque = 0, Max. torque = 0, Operation mode = 9, \
+                   Speed in industrial regulations = 0, Probe control = 0";
+    let inputs = "0.053000  SM3  INPUTS     Status word = 567 (0x0237), \
+                  Position actual value = 0, Actual speed = 150, Actual torque = 0, \
+                  Position deviation = 0, Operation mode display = 9, Probe status = 0, \
+                  Probe position rising edge = 0";
+    let at = section.iter().position(|l| *l == outputs).expect(outputs);
+    assert_eq!(section[at + 1], inputs);
+    // A few cycles are shown, the others counted: 9 pairs of images in 201 cycles.
+    assert_eq!(section.iter().filter(|l| l.contains("  SM2  ")).count(), 9);
+    assert_eq!(section[at - 1], "… 50 cycle(s) not shown");
+}
+
+#[test]
 fn the_demo_command_exits_0_with_its_summary() {
     let output = Command::new(env!("CARGO_BIN_EXE_edsgen"))
         .arg("demo")
@@ -37,7 +120,7 @@ fn the_demo_command_exits_0_with_its_summary() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.ends_with("\n26 step(s): 26 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n35 step(s): 35 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }
@@ -63,8 +146,16 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
         ),
         "{stdout}"
     );
+    // No EtherCAT network on a CANopen bus: the EC-TX508 is not run, and says so.
     assert!(
-        stdout.ends_with("\n25 step(s): 25 as the manuals say, 0 not\n"),
+        stdout.contains(
+            "ok    EC-TX508 over EtherCAT: not run: --bus is a CANopen bus, with no EtherCAT \
+             network"
+        ),
+        "{stdout}"
+    );
+    assert!(
+        stdout.ends_with("\n27 step(s): 27 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }

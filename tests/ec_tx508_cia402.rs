@@ -1,12 +1,14 @@
 //! CiA 402 over EtherCAT without hardware: the master's cyclic `Controller` against the
-//! runtime's device-side `cia402::Drive` in cyclic synchronous velocity, through the EC-TX508's
-//! generated process images as bytes. Each 1 ms cycle the controller fills `ethercat::Outputs`
-//! (controlword, 6060h, 60FFh), which is encoded into the 21-byte image; the "device" decodes
-//! it by the 1600h mapping, runs the drive one cycle, and encodes its statusword, 6061h and
-//! actual speed into the 23-byte inputs image (1A00h), which the master decodes next cycle.
+//! simulated EC-TX508 (`edsgen::drives::EcTx508`: the runtime's `cia402::Drive` in cyclic
+//! synchronous velocity), through the card's generated process images as bytes. Each 1 ms cycle
+//! the controller fills `ethercat::Outputs` (controlword, 6060h, 60FFh), which is encoded into
+//! the 21-byte image; the device decodes it by the 1600h mapping, runs the drive one cycle, and
+//! encodes its statusword, 6061h and actual speed into the 23-byte inputs image (1A00h), which
+//! the master decodes next cycle.
 
 use edsgen::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
-use edsgen_runtime::cia402::{mode, Drive, DriveConfig, State};
+use edsgen::drives::EcTx508;
+use edsgen_runtime::cia402::{mode, State};
 use edsgen_runtime::master::cia402::{Controller, Outcome};
 use edsgen_runtime::Instant;
 
@@ -18,10 +20,10 @@ struct Seen {
     inputs: TxPdo1A00,
 }
 
-/// A master with a controller and a device with a drive, joined by the two images as bytes.
+/// A master with a controller and the device, joined by the two images as bytes.
 struct Link {
     controller: Controller,
-    drive: Drive,
+    device: EcTx508,
     /// The inputs image the device sent last cycle.
     inputs: [u8; Inputs::LEN],
     /// The outputs image the master sent last cycle.
@@ -32,35 +34,17 @@ struct Link {
 }
 
 impl Link {
-    /// A drive of 3000 rpm that ramps 3 rpm per ms (604Fh and 6050h 1 s) and stops on a fault
-    /// at 30 rpm per ms (6051h 100 ms, 605Eh 2); csv offered, vl in effect at power-up.
+    /// The EC-TX508 powered up: 3000 rpm, ramps of 3 rpm per ms, a fault stops it at 30 rpm
+    /// per ms; csv offered, vl in effect at power-up.
     fn new(controller: Controller) -> Self {
-        let mut config = DriveConfig::new(3000);
-        config.ramp_time_ms = 1_000;
-        config.slow_down_time_ms = 1_000;
-        config.quick_stop_time_ms = 100;
-        config.cyclic_velocity = true;
-        let drive = Drive::new(config, Instant::from_millis(0));
-        let mut link = Link {
+        let device = EcTx508::new(Instant::from_millis(0));
+        Link {
             controller,
-            drive,
-            inputs: [0; Inputs::LEN],
+            inputs: device.inputs(),
+            device,
             outputs: [0; Outputs::LEN],
             speed: 0,
             ms: 0,
-        };
-        link.inputs = link.device_inputs().encode();
-        link
-    }
-
-    fn device_inputs(&self) -> Inputs {
-        Inputs {
-            tx_pdo_1a00: TxPdo1A00 {
-                status_word: self.drive.statusword(),
-                actual_speed: i32::from(self.drive.velocity_actual()),
-                operation_mode_display: self.drive.mode(),
-                ..TxPdo1A00::default()
-            },
         }
     }
 
@@ -87,15 +71,7 @@ impl Link {
 
         // Device: the outputs image by the 1600h mapping, one drive cycle, the inputs image.
         let now = Instant::from_millis(self.ms);
-        let rx = Outputs::decode(&self.outputs).unwrap().rx_pdo_1600;
-        self.drive.set_mode(now, rx.operation_mode);
-        let target = rx.target_speed.clamp(i16::MIN.into(), i16::MAX.into()) as i16;
-        if target != self.drive.target() {
-            self.drive.set_target(now, target);
-        }
-        self.drive.set_controlword(now, rx.control_word);
-        self.drive.update(now);
-        self.inputs = self.device_inputs().encode();
+        self.inputs = self.device.cycle(now, &self.outputs).unwrap();
         self.ms += 1;
         Seen {
             controlword: cycle.controlword,
@@ -177,9 +153,11 @@ fn a_fault_is_reset_by_a_rising_edge_after_bit_7_low_then_the_drive_is_enabled_a
     assert_eq!(seen[199].inputs.actual_speed, 300);
     // The fault from ms 200: quick-stop ramp (30 rpm per ms) for 10 ms, then fault. Its cause
     // stays until ms 214, so the first reset is refused.
-    link.drive.raise_fault(Instant::from_millis(200));
+    link.device
+        .drive_mut()
+        .raise_fault(Instant::from_millis(200));
     seen.extend(link.run(14));
-    link.drive.clear_fault();
+    link.device.drive_mut().clear_fault();
     seen.extend(link.run(16));
     assert_eq!(
         controlwords(&seen[199..220]),
@@ -235,6 +213,34 @@ fn a_mode_the_drive_does_not_run_is_reported_and_operation_is_never_enabled() {
     let outcomes: Vec<Outcome> = seen.iter().map(|s| s.outcome).collect();
     assert_eq!(outcomes[..5], [Outcome::Busy; 5]);
     assert_eq!(outcomes[5..], [refused; 3]);
-    assert_eq!(link.drive.state(), State::SwitchedOn);
-    assert_eq!(link.drive.mode(), mode::VELOCITY);
+    assert_eq!(link.device.drive().state(), State::SwitchedOn);
+    assert_eq!(link.device.drive().mode(), mode::VELOCITY);
+}
+
+#[test]
+fn an_outputs_image_of_the_wrong_length_is_refused_and_the_drive_left_as_it_was() {
+    let mut device = EcTx508::new(Instant::from_millis(0));
+    let before = device.inputs();
+    let enable = Outputs {
+        rx_pdo_1600: RxPdo1600 {
+            control_word: 0x06,
+            ..RxPdo1600::default()
+        },
+    }
+    .encode();
+    assert_eq!(
+        device.cycle(Instant::from_millis(1), &enable[..20]),
+        Err(edsgen_runtime::PdoError::WrongLength {
+            expected: 21,
+            actual: 20
+        })
+    );
+    assert_eq!(device.inputs(), before);
+    assert_eq!(device.drive().state(), State::SwitchOnDisabled);
+    // The whole image is taken: shutdown, ready to switch on.
+    let inputs = device.cycle(Instant::from_millis(2), &enable).unwrap();
+    assert_eq!(
+        State::from_statusword(Inputs::decode(&inputs).unwrap().tx_pdo_1a00.status_word),
+        Some(State::ReadyToSwitchOn)
+    );
 }

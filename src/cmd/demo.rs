@@ -11,7 +11,7 @@ use super::print_stdout;
 pub struct Args {
     /// Drive the devices on this socketcand bus (`edsgen bus`) instead of simulating them: a
     /// CP301 at node 2 and a Goodrive350 at node 3, such as `edsgen simulate --card cp301@2
-    /// --card goodrive350`, in real time.
+    /// --card goodrive350`, in real time. The EC-TX508 is not run: there is no EtherCAT network.
     #[arg(long, value_name = "HOST:PORT")]
     bus: Option<String>,
 }

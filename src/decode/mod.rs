@@ -28,6 +28,7 @@
 //! 1764000000.100000  7E5  RAW        12 34
 //! ```
 
+pub mod image;
 pub mod sdo;
 pub mod text;
 

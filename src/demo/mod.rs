@@ -1,15 +1,21 @@
-//! `edsgen demo`: the bundled cards at work. The five EDS files are validated; then a master built
-//! from the generated bindings brings a CP301 (node 2) and a Goodrive350 (node 3) through their
-//! manuals' workflows, every frame decoded by name. Each step checks what the manual says should
-//! happen; the demo passes only if every step does.
+//! `edsgen demo`: the bundled cards at work. The six description files (five EDS, the EC-TX508's
+//! ESI) are validated; then a master built from the generated bindings brings a CP301 (node 2)
+//! and a Goodrive350 (node 3) through their manuals' workflows, every frame decoded by name; then
+//! an EtherCAT master walks a simulated EC-TX508 through CiA 402 cyclic synchronous velocity,
+//! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
+//! by name at the cycles the steps look at. Each step checks what the manual (or CiA 402) says
+//! should happen; the demo passes only if every step does.
 //!
-//! Two links, one set of workflows ([`Link`]): by default the drives are simulated in this
-//! process on the in-memory bus ([`memory`]), in the bus's own time, so the manuals' ramps of
-//! several seconds run in no time and every run gives the same frames; with `--bus HOST:PORT`
-//! edsgen's blocking master drives whatever answers at those node-IDs on a socketcand bus
-//! ([`remote`]), in real time (`edsgen simulate --card cp301@2 --card goodrive350`, or real
-//! drives); a fault cannot be injected there, and that step says so.
+//! Two links for the CANopen drives, one set of workflows ([`Link`]): by default the drives are
+//! simulated in this process on the in-memory bus ([`memory`]), in the bus's own time, so the
+//! manuals' ramps of several seconds run in no time and every run gives the same frames; with
+//! `--bus HOST:PORT` edsgen's blocking master drives whatever answers at those node-IDs on a
+//! socketcand bus ([`remote`]), in real time (`edsgen simulate --card cp301@2 --card
+//! goodrive350`, or real drives); a fault cannot be injected there, and that step says so. The
+//! EC-TX508 runs in the first mode only, in its own 1 ms cycles; a socketcand bus has no
+//! EtherCAT network, and with `--bus` its one step says it was not run.
 
+mod ethercat;
 mod memory;
 mod remote;
 
@@ -26,7 +32,7 @@ use edsgen_runtime::{CanFrame, Entry, OdValue};
 
 use crate::cards::{cp301, goodrive350};
 use crate::decode::Decoder;
-use crate::drives::{Card, CARDS};
+use crate::drives::{ec_tx508, Card, CARDS};
 
 /// The CP301's node-ID on the demo bus.
 pub const CP301_NODE: u8 = 2;
@@ -214,21 +220,26 @@ fn expect<T: PartialEq + std::fmt::Debug>(actual: T, expected: T) -> Result<Stri
     }
 }
 
-/// Validates the bundled description files: no errors.
+/// Validates the bundled description files, the five EDS files and the EC-TX508's ESI file:
+/// no errors.
 fn validate_cards() -> Report {
     let mut report = Report::default();
     report
         .lines
-        .push("== validate the bundled EDS files".into());
-    for card in &CARDS {
-        let read = read::read_bytes(Path::new(card.eds_path), card.eds);
+        .push("== validate the bundled description files".into());
+    let files = CARDS
+        .iter()
+        .map(|card| (card.eds_path, card.eds))
+        .chain([(ec_tx508::ESI_PATH, ec_tx508::ESI)]);
+    for (path, bytes) in files {
+        let read = read::read_bytes(Path::new(path), bytes);
         let mut diagnostics = read.diagnostics;
         diagnostics.extend(validate::validate(&read.device));
         let count = |s| diagnostics.iter().filter(|d| d.severity == s).count();
         let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
         let line = format!("{errors} error(s), {warnings} warning(s)");
         let outcome = if errors == 0 { Ok(line) } else { Err(line) };
-        let name = format!("{} is valid", card.eds_path);
+        let name = format!("{path} is valid");
         report.lines.push(match &outcome {
             Ok(seen) => format!("  ok    {name}: {seen}"),
             Err(problem) => format!("  FAIL  {name}: {problem}"),
@@ -238,8 +249,8 @@ fn validate_cards() -> Report {
     report
 }
 
-/// Both workflows on a link, after starting the nodes.
-fn workflows(mut link: impl Link) -> Report {
+/// Both CANopen workflows on a link, after starting the nodes.
+fn workflows(mut link: impl Link) -> Trace {
     link.trace().heading("NMT: start all nodes");
     if let Err(problem) = link.send(nmt_frame(NmtCommand::Start, 0)) {
         link.trace().step("NMT start", Err(problem));
@@ -250,26 +261,31 @@ fn workflows(mut link: impl Link) -> Report {
     if let Err(problem) = goodrive350_run(&mut link) {
         link.trace().step("Goodrive350 workflow", Err(problem));
     }
-    link.into_trace().finish()
+    link.into_trace()
 }
 
-/// Runs the whole demo on the in-memory bus.
+/// Runs the whole demo in this process: the CANopen drives on the in-memory bus, then the
+/// EC-TX508's cyclic exchange.
 pub fn run() -> Report {
     let trace = Trace::new(validate_cards());
-    match memory::InMemory::new(trace) {
+    let mut trace = match memory::InMemory::new(trace) {
         Ok(link) => workflows(link),
-        Err(problem) => failed_to_start("power up the simulated drives", problem),
-    }
+        Err(problem) => return failed_to_start("power up the simulated drives", problem),
+    };
+    ethercat::run(&mut trace);
+    trace.finish()
 }
 
-/// Runs the workflows against the drives on the socketcand bus at `addr` (CP301 at node 2,
-/// Goodrive350 at node 3), in real time.
+/// Runs the CANopen workflows against the drives on the socketcand bus at `addr` (CP301 at
+/// node 2, Goodrive350 at node 3), in real time; the EC-TX508 is not run (no EtherCAT network).
 pub fn run_on_bus(addr: &str) -> Report {
     let trace = Trace::new(validate_cards());
-    match remote::Remote::connect(addr, trace) {
+    let mut trace = match remote::Remote::connect(addr, trace) {
         Ok(link) => workflows(link),
-        Err(problem) => failed_to_start("join the bus", problem),
-    }
+        Err(problem) => return failed_to_start("join the bus", problem),
+    };
+    ethercat::not_run(&mut trace);
+    trace.finish()
 }
 
 fn failed_to_start(name: &str, problem: String) -> Report {

@@ -2,10 +2,12 @@
 //! on the card's generated bindings and the device runtime, so that a master can be written and
 //! tested before a drive is wired.
 //!
-//! Each card is a [`BusDevice`](edsgen_runtime::transport::vbus::BusDevice): it runs on the in-memory bus in
-//! tests, and on any transport through the runtime's driver.
+//! Each CANopen card is a [`BusDevice`](edsgen_runtime::transport::vbus::BusDevice): it runs on
+//! the in-memory bus in tests, and on any transport through the runtime's driver. The EtherCAT
+//! card [`ec_tx508`] exchanges its process images with a master's cycle instead.
 
 pub mod cp301;
+pub mod ec_tx508;
 pub mod goodrive350;
 pub mod hd1e;
 pub mod ms300;
@@ -21,6 +23,7 @@ use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{Instant, ObjectDictionary};
 
 pub use self::cp301::Cp301;
+pub use self::ec_tx508::EcTx508;
 pub use self::goodrive350::Goodrive350;
 pub use self::hd1e::Hd1e;
 pub use self::ms300::Ms300;
@@ -59,7 +62,7 @@ fn boxed<D: BusDevice + Send + 'static>(
     device.map(|d| Box::new(d) as Box<dyn BusDevice + Send>)
 }
 
-/// The five bundled cards.
+/// The five bundled CANopen cards (the EtherCAT card, [`EcTx508`], has no bus of its own here).
 pub static CARDS: [Card; 5] = [
     Card {
         name: "cp301",
