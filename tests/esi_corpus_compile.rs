@@ -11,21 +11,7 @@ use process_support::esi_corpus_dir;
 #[test]
 fn every_valid_esi_corpus_file_generates_code_that_compiles() {
     let Some(dir) = esi_corpus_dir() else { return };
-    let mut modules = Vec::new();
-    let mut excluded = String::new();
-    for (name, path) in corpus_files(&dir) {
-        let module = corpus_module(&name);
-        match generate(&path, &module) {
-            Ok(code) => modules.push((module, code)),
-            Err(d) => excluded.push_str(&format!(
-                "{name}: {}[{}] line {}: {}\n",
-                d.severity.as_str(),
-                d.code(),
-                d.span.map_or(0, |s| s.line),
-                d.message
-            )),
-        }
-    }
+    let (modules, excluded) = generate_corpus(&dir);
     let generated = modules.len();
     insta::assert_snapshot!("esi_corpus_excluded", excluded);
     assert!(generated > 0, "no ESI corpus file generated code");

@@ -134,6 +134,28 @@ pub fn write_modules(dir: &str, modules: &[(String, String)]) -> PathBuf {
     index_file
 }
 
+/// Generates every file of the corpus at `dir` whose description the validator and generator
+/// accept: the modules (name, code), and one line per file left out with the diagnostic that
+/// stops it.
+pub fn generate_corpus(dir: &Path) -> (Vec<(String, String)>, String) {
+    let mut modules = Vec::new();
+    let mut excluded = String::new();
+    for (name, path) in corpus_files(dir) {
+        let module = corpus_module(&name);
+        match generate(&path, &module) {
+            Ok(code) => modules.push((module, code)),
+            Err(d) => excluded.push_str(&format!(
+                "{name}: {}[{}] line {}: {}\n",
+                d.severity.as_str(),
+                d.code(),
+                d.span.map_or(0, |s| s.line),
+                d.message
+            )),
+        }
+    }
+    (modules, excluded)
+}
+
 /// A unique module name for a corpus file.
 pub fn corpus_module(name: &str) -> String {
     emit::module_name(name)
