@@ -48,21 +48,16 @@ pub use self::error_control::MAX_HEARTBEAT_CONSUMERS;
 pub use self::pdo::MAX_MAPPED;
 pub use crate::wire::heartbeat::NmtState;
 
-use self::comm::CommGuard;
 use self::emcy::{Emcy, Raised};
 use self::error_control::ErrorControl;
 use self::events::EventQueue;
 use self::pdo::{Rpdo, Tpdo};
 use self::sdo_channel::SdoChannel;
 use self::sync::Sync;
-use self::timer::{Timer, TimerTable};
+use self::timer::TimerTable;
 use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
-use crate::sdo::SdoEvent;
 use crate::time::{Duration, Instant};
-use crate::wire::heartbeat::ErrorControlRepr;
-use crate::wire::nmt::{NmtCommand, NmtRepr, NMT_COB_ID};
-use crate::wire::sync::SyncRepr;
 
 pub use self::events::EVENT_QUEUE;
 pub use self::sdo_channel::SDO_TIMEOUT;

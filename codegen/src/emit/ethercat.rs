@@ -12,13 +12,13 @@
 //! `constants` emits the constants, `pdo` the PDO structs and `image` the process images; the
 //! planned PDOs and fields both kinds of struct are built from live here.
 
-use proc_macro2::{Literal, TokenStream};
+use proc_macro2::TokenStream;
 use quote::quote;
 
-use super::names::{ident, Case, Namespace};
-use super::plan::{doc_text, id, Plan};
-use super::types::{hex, Prim, RustType};
-use crate::model::{EcPdo, EtherCat, SmKind};
+use super::plan::Plan;
+use super::types::Prim;
+use crate::model::EtherCat;
+
 mod constants;
 mod image;
 mod pdo;

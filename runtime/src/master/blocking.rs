@@ -8,20 +8,16 @@ use std::io;
 use std::time::Duration as StdDuration;
 
 use crate::frame::CanFrame;
-use crate::od::access::{Readable, Writable};
-use crate::od::entry::{Entry, OdValue};
 use crate::time::{Duration, Instant};
 use crate::transport::driver::MonotonicClock;
 use crate::transport::Transport;
 use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
-use crate::wire::nmt::NmtCommand;
 use crate::wire::sdo::Multiplexer;
 
 use super::emcy::Emergency;
-use super::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
-use super::nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch, WatchError};
-use super::pdo::PdoConfig;
-use super::sdo_client::{Completed, Mode, SdoClient, SdoError, StartError};
+use super::identity::IdentityMismatch;
+use super::nmt::{MonitorEvent, NodeMonitor};
+use super::sdo_client::{Completed, SdoClient, SdoError};
 use crate::wire::sdo::abort_meaning;
 
 mod nmt;

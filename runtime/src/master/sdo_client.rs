@@ -35,8 +35,8 @@ use crate::od::entry::{Entry, OdValue};
 use crate::od::SdoAbort;
 use crate::time::{Duration, Instant};
 use crate::wire::sdo::{
-    BlockSegment, ClientRequest, InitiatePayload, Multiplexer, SegmentData, ServerResponse,
-    FRAME_LEN, MAX_BLOCK_SIZE, SEGMENT_DATA_LEN,
+    BlockSegment, ClientRequest, InitiatePayload, Multiplexer, ServerResponse, FRAME_LEN,
+    MAX_BLOCK_SIZE, SEGMENT_DATA_LEN,
 };
 
 #[cfg(feature = "sdo-block")]

@@ -1,7 +1,12 @@
 //! Configuration from the dictionary: what an accepted write to a communication object changes
 //! in the running services (SDO, SYNC, guarding, PDOs) and which TPDOs a changed entry marks.
 
-use super::*;
+use crate::od::ObjectDictionary;
+use crate::time::Instant;
+use crate::wire::heartbeat::NmtState;
+
+use super::timer::Timer;
+use super::{Node, NodeHooks};
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>

@@ -2,7 +2,14 @@
 //! services it serves; reset node and reset communication restore the dictionary and start the
 //! communication afresh.
 
-use super::*;
+use crate::od::ObjectDictionary;
+use crate::time::Instant;
+use crate::wire::heartbeat::NmtState;
+use crate::wire::nmt::NmtCommand;
+
+use super::error_control::ErrorControl;
+use super::timer::{Timer, TimerTable};
+use super::{Event, Node, NodeHooks, ResetKind, COMMUNICATION_ERRORS};
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>

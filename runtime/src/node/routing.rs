@@ -1,7 +1,18 @@
 //! Routing: each received frame to the service that owns its COB-ID, and each service's frames
 //! out in CAN priority order.
 
-use super::*;
+use crate::frame::CanFrame;
+use crate::od::ObjectDictionary;
+use crate::sdo::SdoEvent;
+use crate::time::Instant;
+use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
+use crate::wire::nmt::{NmtRepr, NMT_COB_ID};
+use crate::wire::sync::SyncRepr;
+
+use super::comm::CommGuard;
+use super::emcy::{error_code, error_register};
+use super::timer::Timer;
+use super::{one_byte_frame, Event, Node, NodeHooks, RPDO_TIMEOUT_CODE, SYNC_TIMEOUT_CODE};
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>

@@ -1,7 +1,12 @@
 //! The `ethercat` module's constants: identity, SyncManagers, distributed-clock modes, the
 //! CoE mailbox and the op modes.
 
-use super::*;
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use crate::emit::plan::{doc_text, id};
+use crate::emit::types::hex;
+use crate::model::{EtherCat, SmKind};
 
 pub(super) fn constants(ec: &EtherCat) -> TokenStream {
     let rt = quote!(::edsgen_runtime::ethercat);

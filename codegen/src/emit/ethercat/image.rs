@@ -1,8 +1,14 @@
 //! One struct per SyncManager's default process image: the PDOs assigned to it, concatenated
 //! as the master sees them.
 
+use proc_macro2::TokenStream;
+use quote::quote;
+
+use crate::emit::plan::id;
+use crate::model::{EcPdo, EtherCat, SmKind};
+
 use super::pdo::{at_plus, emit_item};
-use super::*;
+use super::PdoPlan;
 
 /// One struct per SyncManager with PDOs assigned by default: `Outputs` / `Inputs` (or
 /// `Sm2Outputs`, ... when several SyncManagers of one direction have PDOs). A PDO that excludes,

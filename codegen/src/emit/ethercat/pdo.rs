@@ -1,7 +1,15 @@
 //! One struct per `RxPdo`/`TxPdo`: each field's type and bit offset, and the struct with its
 //! `ProcessData` encoding and decoding.
 
-use super::*;
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use crate::emit::names::{ident, Case, Namespace};
+use crate::emit::plan::{doc_text, id, Plan};
+use crate::emit::types::{Prim, RustType};
+use crate::model::EcPdo;
+
+use super::{Field, FieldType, PdoPlan};
 
 /// The struct name of a PDO: `RxPdo1600`, `TxPdo1A00`.
 fn pdo_struct_name(pdo: &EcPdo, rx: bool) -> String {

@@ -1,7 +1,19 @@
 //! The blocking master's NMT and monitoring: commands, watching nodes, waiting for boot-up,
 //! identity checks, booting a node, scanning the bus and listening for events.
 
-use super::*;
+use std::io;
+use std::time::Duration as StdDuration;
+
+use crate::frame::CanFrame;
+use crate::master::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
+use crate::master::nmt::{nmt_frame, Watch, WatchError};
+use crate::master::sdo_client::{Mode, SdoError};
+use crate::transport::Transport;
+use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
+use crate::wire::nmt::NmtCommand;
+use crate::wire::sdo::Multiplexer;
+
+use super::{to_duration, Master, MasterError, MasterEvent};
 
 impl<T: Transport> Master<T> {
     /// Sends an NMT command to `node_id` (0: all nodes).

@@ -1,6 +1,13 @@
 //! The blocking master's PDOs: configuring them by SDO, sending them and receiving them.
 
-use super::*;
+use std::time::Duration as StdDuration;
+
+use crate::frame::CanFrame;
+use crate::master::pdo::PdoConfig;
+use crate::master::sdo_client::Mode;
+use crate::transport::Transport;
+
+use super::{to_duration, Master, MasterError, MAX_WAIT};
 
 impl<T: Transport> Master<T> {
     /// Configures a PDO of `node_id` by SDO in CiA 301's safe order (see

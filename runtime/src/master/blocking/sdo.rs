@@ -1,7 +1,15 @@
 //! The blocking master's SDO transfers: typed and raw reads and writes, streamed uploads and
 //! downloads (the [`Feed`]s a download's bytes come from) and configuration downloads.
 
-use super::*;
+use std::io;
+
+use crate::master::sdo_client::{Mode, SdoClient, SdoError, StartError};
+use crate::od::access::{Readable, Writable};
+use crate::od::entry::{Entry, OdValue};
+use crate::transport::Transport;
+use crate::wire::sdo::Multiplexer;
+
+use super::{Master, MasterError};
 
 impl<T: Transport> Master<T> {
     /// Reads `entry` of `node_id`, typed (an address of any device's generated module).

@@ -2,7 +2,16 @@
 //! directions): the frame each state owes the server once the window allows, and what each
 //! server response does.
 
-use super::*;
+use crate::od::SdoAbort;
+#[cfg(feature = "sdo-block")]
+use crate::sdo::crc::Crc16;
+use crate::time::Instant;
+use crate::wire::sdo::{
+    BlockSegment, ClientRequest, InitiatePayload, Multiplexer, SegmentData, ServerResponse,
+    FRAME_LEN, MAX_BLOCK_SIZE, SEGMENT_DATA_LEN,
+};
+
+use super::{Completed, SdoClient, SdoError, StartError};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(not(feature = "sdo-block"), allow(dead_code))]

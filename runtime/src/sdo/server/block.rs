@@ -1,9 +1,15 @@
 //! Block transfers (`sdo-block`) in both directions: their state, the requests that start and
 //! end them, the sub-block segments and the CRC.
 
-use super::*;
+use crate::od::{ObjectDictionary, SdoAbort};
 use crate::sdo::crc::Crc16;
-use crate::wire::sdo::BlockSegment;
+use crate::time::Instant;
+use crate::wire::sdo::command::{ccs, scs};
+use crate::wire::sdo::{
+    command, BlockSegment, Frame, Multiplexer, FRAME_LEN, MAX_BLOCK_SIZE, SEGMENT_DATA_LEN,
+};
+
+use super::{Handled, SdoServer, Transfer, WriteTarget};
 
 /// A block download, streamed into the entry. The last segment received in order is held back
 /// until the next one shows it was not the last, or the end request says how many of its bytes

@@ -1,7 +1,11 @@
 //! Expedited and segmented (normal) transfers in both directions: the initiate requests and the
 //! segments that follow them.
 
-use super::*;
+use crate::od::{ObjectDictionary, SdoAbort};
+use crate::wire::sdo::command::scs;
+use crate::wire::sdo::{command, Frame, Multiplexer, SEGMENT_DATA_LEN};
+
+use super::{Download, Handled, SdoServer, Transfer, Upload, WriteTarget};
 
 impl SdoServer {
     pub(super) fn initiate_download<O: ObjectDictionary + ?Sized>(
