@@ -1,6 +1,9 @@
 //! The blocking master (feature `std`): a [`Master`] owns a [`Transport`] and runs the sans-IO
 //! SDO clients, node monitor and EMCY consumer on it, one call at a time, with timeouts.
-//! Typed reads and writes go through the generated [`Entry`] addresses.
+//! Typed reads and writes go through the generated [`Entry`](crate::Entry) addresses.
+//!
+//! This module holds the master, its errors and its event loop; `sdo`, `nmt` and `pdo` hold its
+//! SDO transfers, its NMT and monitoring calls and its PDO calls.
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt;

@@ -3,7 +3,8 @@
 //! It owns the transfer's protocol state and a byte window of `BUF` bytes through which the value
 //! streams: the caller feeds a download with [`SdoClient::write_data`] and drains an upload with
 //! [`SdoClient::read_data`] while the transfer runs, so a domain of any length passes through it.
-//! Frame layouts come from [`crate::wire::sdo`]; no byte is indexed here.
+//! Frame layouts come from [`crate::wire::sdo`]; no byte is indexed here. This module holds the
+//! public API; `state` the protocol state and its transitions.
 //!
 //! ```
 //! use edsgen_runtime::master::SdoClient;

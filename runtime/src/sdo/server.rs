@@ -39,6 +39,9 @@
 //!   ends the transfer without a response. A frame that is not 8 bytes long, has an unknown
 //!   command specifier, or does not fit the transfer in progress is aborted with 0504 0001.
 //! - Each request queues at most one response; one not yet taken by `poll_transmit` is replaced.
+//!
+//! This module holds the channel's state and dispatches each request; `segmented` serves the
+//! expedited and segmented transfers and `block` the block transfers.
 
 use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};

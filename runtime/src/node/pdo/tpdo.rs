@@ -45,7 +45,7 @@ pub(crate) struct Tpdo {
 
 impl Tpdo {
     /// A PDO that does not exist (yet): nothing configured, nothing running. A constant, like
-    /// [`Rpdo::OFF`].
+    /// [`Rpdo::OFF`](super::Rpdo::OFF).
     pub const OFF: Tpdo = Tpdo {
         enabled: false,
         cob_id: 0,

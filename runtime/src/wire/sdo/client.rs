@@ -85,7 +85,7 @@ pub enum ClientRequest {
 
 impl ClientRequest {
     /// Parses a request frame. Block-download sub-block segments are not requests: parse them
-    /// with [`BlockSegment::parse`].
+    /// with [`BlockSegment::parse`](super::BlockSegment::parse).
     pub fn parse(bytes: &[u8]) -> Result<Self, WireError> {
         let frame = Frame::new_checked(bytes)?;
         let mux = frame.mux();

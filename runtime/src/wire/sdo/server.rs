@@ -80,7 +80,7 @@ pub enum ServerResponse {
 
 impl ServerResponse {
     /// Parses a response frame. Block-upload sub-block segments are not responses: parse them
-    /// with [`BlockSegment::parse`].
+    /// with [`BlockSegment::parse`](super::BlockSegment::parse).
     pub fn parse(bytes: &[u8]) -> Result<Self, WireError> {
         let frame = Frame::new_checked(bytes)?;
         let mux = frame.mux();
