@@ -1,0 +1,126 @@
+//! NMT state changes and resets (CiA 301 §7.3.2): entering a state starts and stops the
+//! services it serves; reset node and reset communication restore the dictionary and start the
+//! communication afresh.
+
+use crate::od::ObjectDictionary;
+use crate::time::Instant;
+use crate::wire::heartbeat::NmtState;
+use crate::wire::nmt::NmtCommand;
+
+use super::error_control::ErrorControl;
+use super::timer::{Timer, TimerTable};
+use super::{Event, Node, NodeHooks, ResetKind, COMMUNICATION_ERRORS};
+
+impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
+    Node<O, H, RPDOS, TPDOS>
+{
+    fn set_state(&mut self, state: NmtState, now: Instant) {
+        if self.state == state {
+            return;
+        }
+        let was = self.state;
+        self.state = state;
+        if was == NmtState::Operational {
+            self.timers.stop_pdos();
+            for tpdo in &mut self.tpdos {
+                tpdo.stop();
+            }
+            for rpdo in &mut self.rpdos {
+                rpdo.stop();
+            }
+        }
+        match state {
+            NmtState::Operational => {
+                for tpdo in &mut self.tpdos {
+                    if tpdo.start() {
+                        self.tpdo_attention = true;
+                    }
+                }
+            }
+            NmtState::Stopped => {
+                for channel in &mut self.sdo {
+                    channel.reset();
+                }
+                self.sync.stop();
+                self.timers.set(Timer::SyncProducer, None);
+                self.timers.set(Timer::SyncConsumer, None);
+            }
+            _ => {}
+        }
+        if was == NmtState::Stopped || was == NmtState::Initialising {
+            self.restart_sync_producer(now);
+        }
+        self.events.push(Event::NmtStateChanged(state));
+    }
+
+    pub(super) fn reset_communication(&mut self, now: Instant) {
+        self.state = NmtState::Initialising;
+        self.timers = TimerTable::OFF;
+        for channel in &mut self.sdo {
+            channel.reset();
+        }
+        self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
+        self.emcy.reset_queue(&mut self.od);
+        self.emcy.configure(&self.od, self.node_id);
+        self.configure_second_sdo();
+        self.error_control = ErrorControl::OFF;
+        let heartbeat = self.error_control.configure_producer(&self.od, now);
+        self.timers.set(Timer::Heartbeat, heartbeat);
+        #[cfg(feature = "node-guarding")]
+        self.error_control.configure_guarding(&self.od);
+        self.error_control
+            .configure_consumers(&self.od, self.timers.consumers());
+        self.sync.configure(&self.od);
+        for n in 0..RPDOS {
+            if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
+                self.events.push(Event::PdoMappingRejected {
+                    transmit: false,
+                    pdo: n as u16,
+                    reason,
+                });
+            }
+        }
+        for n in 0..TPDOS {
+            if let Some(reason) = self.tpdos[n].load(&self.od, n as u16) {
+                self.events.push(Event::PdoMappingRejected {
+                    transmit: true,
+                    pdo: n as u16,
+                    reason,
+                });
+            }
+        }
+        self.link_pdos();
+        // 8210h and 8220h were forgotten with the other communication errors above.
+        self.length_error_raised = false;
+        self.boot_up_due = true;
+        self.set_state(NmtState::PreOperational, now);
+    }
+
+    fn reset(&mut self, kind: ResetKind, now: Instant) {
+        if kind == ResetKind::Node {
+            if self.emcy.any_active() {
+                self.announce_no_error = true;
+            }
+            self.emcy.clear_all(&mut self.od);
+        }
+        self.hooks
+            .restore_power_on(kind, self.node_id, &mut self.od);
+        self.hooks.reset(kind, &mut self.od);
+        self.events.push(Event::Reset(kind));
+        self.reset_communication(now);
+        if core::mem::take(&mut self.announce_no_error) {
+            // The master saw errors before the reset: tell it they are gone.
+            self.emcy.announce_no_error();
+        }
+    }
+
+    pub(super) fn handle_nmt(&mut self, command: NmtCommand, now: Instant) {
+        match command {
+            NmtCommand::Start => self.set_state(NmtState::Operational, now),
+            NmtCommand::Stop => self.set_state(NmtState::Stopped, now),
+            NmtCommand::EnterPreOperational => self.set_state(NmtState::PreOperational, now),
+            NmtCommand::ResetNode => self.reset(ResetKind::Node, now),
+            NmtCommand::ResetCommunication => self.reset(ResetKind::Communication, now),
+        }
+    }
+}

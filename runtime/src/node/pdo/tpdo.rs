@@ -1,0 +1,344 @@
+//! A transmit PDO: its configuration from 1800h–19FFh and when it sends (SYNC, event, RTR,
+//! inhibit time and event timer).
+
+use crate::frame::CanFrame;
+use crate::od::{ObjectDictionary, SdoAbort};
+use crate::time::{Duration, Instant};
+use crate::wire::pdo::CobIdEntry;
+
+use super::mapping::{load_mapping, Direction, Mapping};
+
+/// A transmit PDO.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Tpdo {
+    enabled: bool,
+    cob_id: u16,
+    rtr_allowed: bool,
+    transmission: u8,
+    /// The inhibit time (1800h+n sub 03h, in 100 µs) and event timer (sub 05h, ms) as read:
+    /// 32 bits each rather than 64-bit `Duration`s.
+    inhibit_100us: u32,
+    event_timer_ms: u32,
+    sync_start: u8,
+    mapping: Mapping,
+    /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous,
+    /// `sampled`). A flag beside a plain array rather than an `Option`, which keeps the array
+    /// word-aligned (it is copied into a frame as whole words).
+    pending: bool,
+    sampled: bool,
+    data: [u8; 8],
+    /// For synchronous PDOs: the latest sample (252) and the window deadline.
+    sync_deadline: Option<Instant>,
+    /// Type 0: an event occurred since the last SYNC.
+    acyclic_request: bool,
+    /// SYNCs left until the next cyclic transmission; `None` before the first SYNC, `Some(0)`
+    /// while waiting for the SYNC start value.
+    sync_countdown: Option<u8>,
+    /// Type 252: the data sampled at the last SYNC, sent on a remote request.
+    rtr_sample: Option<[u8; 8]>,
+    /// The payload last sent (change-of-state detection).
+    last_data: [u8; 8],
+    last_sent: Option<Instant>,
+    /// A mapped object may have changed: compare before the next transmission decision.
+    check_change: bool,
+}
+
+impl Tpdo {
+    /// A PDO that does not exist (yet): nothing configured, nothing running. A constant, like
+    /// [`Rpdo::OFF`](super::Rpdo::OFF).
+    pub const OFF: Tpdo = Tpdo {
+        enabled: false,
+        cob_id: 0,
+        rtr_allowed: false,
+        transmission: 0,
+        inhibit_100us: 0,
+        event_timer_ms: 0,
+        sync_start: 0,
+        mapping: Mapping::EMPTY,
+        pending: false,
+        sampled: false,
+        data: [0; 8],
+        sync_deadline: None,
+        acyclic_request: false,
+        sync_countdown: None,
+        rtr_sample: None,
+        last_data: [0; 8],
+        last_sent: None,
+        check_change: false,
+    };
+
+    /// Reads the configuration of TPDO `n` (1800h + n, 1A00h + n) into this PDO, in place, and
+    /// forgets its running state. Returns why the mapping was refused if the COB-ID is valid
+    /// (the PDO is then not served).
+    pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
+        *self = Tpdo::OFF;
+        let comm = 0x1800 + n;
+        let cob = CobIdEntry(crate::node::read_uint(od, comm, 1)?);
+        self.cob_id = cob.can_id();
+        self.rtr_allowed = !cob.bit30();
+        self.transmission = crate::node::read_uint_or(od, comm, 2, 255) as u8;
+        self.inhibit_100us = crate::node::read_uint_or(od, comm, 3, 0);
+        self.event_timer_ms = crate::node::read_uint_or(od, comm, 5, 0);
+        self.sync_start = crate::node::read_uint_or(od, comm, 6, 0) as u8;
+        match load_mapping(od, 0x1A00 + n, Direction::Transmit, &mut self.mapping) {
+            Ok(()) => {
+                self.enabled = cob.valid() && !cob.extended();
+                None
+            }
+            Err(reason) => cob.valid().then_some(reason),
+        }
+    }
+
+    #[inline]
+    pub fn event_driven(&self) -> bool {
+        self.transmission >= 254
+    }
+
+    /// Forgets everything a running PDO accumulated (leaving operational, reconfiguring).
+    pub fn stop(&mut self) {
+        self.pending = false;
+        self.sampled = false;
+        self.rtr_sample = None;
+        self.sync_deadline = None;
+        self.acyclic_request = false;
+        self.sync_countdown = None;
+        self.check_change = false;
+    }
+
+    /// The inhibit time.
+    pub fn inhibit(&self) -> Duration {
+        Duration::from_micros(u64::from(self.inhibit_100us) * 100)
+    }
+
+    /// The event timer (zero: off).
+    pub fn event_timer(&self) -> Duration {
+        Duration::from_millis(u64::from(self.event_timer_ms))
+    }
+
+    /// Whether its mapping holds (index, sub).
+    #[inline]
+    pub fn maps(&self, index: u16, sub: u8) -> bool {
+        self.mapping.contains(index, sub)
+    }
+
+    /// A mapped object may have changed: compare before the next transmission decision.
+    #[inline]
+    pub fn mark_changed(&mut self) {
+        self.check_change = true;
+    }
+
+    /// Re-reads TPDO `n` after an SDO write to its parameters, keeping the timing history
+    /// (last transmission, last data) of a running PDO across a change of its event timer or
+    /// transmission type. In operational, an event-driven PDO restarts its event timer (its
+    /// slot `event_timer` in the node's timer table; a new configuration stops it otherwise)
+    /// and, if it has just become valid, is sent. Returns whether it is now waiting to be sent.
+    pub fn reload<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        n: u16,
+        now: Instant,
+        operational: bool,
+        event_timer: &mut Option<Instant>,
+    ) -> bool {
+        let (last_sent, last_data, was_enabled) = (self.last_sent, self.last_data, self.enabled);
+        self.load(od, n);
+        self.last_sent = last_sent;
+        self.last_data = last_data;
+        *event_timer = None;
+        if operational && self.enabled && self.event_driven() {
+            *event_timer = self.event_timer_from(now);
+            if !was_enabled {
+                self.pending = true;
+            }
+        }
+        self.pending
+    }
+
+    /// Entering operational: an event-driven PDO is sent once. Returns whether it is waiting.
+    pub fn start(&mut self) -> bool {
+        if self.enabled && self.event_driven() {
+            self.pending = true;
+        }
+        self.pending
+    }
+
+    /// An application event (`Node::trigger_tpdo`): an event-driven PDO is sent as soon as its
+    /// inhibit time allows, an acyclic synchronous one at the next SYNC. `false` if the PDO is
+    /// not valid or has another transmission type.
+    pub fn trigger(&mut self) -> bool {
+        if !self.enabled {
+            return false;
+        }
+        match self.transmission {
+            0 => self.acyclic_request = true,
+            254 | 255 => self.pending = true,
+            _ => return false,
+        }
+        true
+    }
+
+    /// A remote request on `id`: a PDO of type 252 sends its sample of the last SYNC, one of
+    /// 253 (or event-driven) a fresh one. Returns whether it was for this PDO.
+    pub fn remote_request(&mut self, id: u16) -> bool {
+        if !(self.enabled && self.rtr_allowed && self.cob_id == id) {
+            return false;
+        }
+        match self.transmission {
+            252 => {
+                if let Some(sample) = self.rtr_sample {
+                    self.data = sample;
+                    self.sampled = true;
+                    self.pending = true;
+                }
+            }
+            _ => {
+                self.sampled = false;
+                self.pending = true;
+            }
+        }
+        true
+    }
+
+    /// A SYNC with `counter` (`use_start`: 1019h is set, so the SYNC start value applies),
+    /// whose synchronous window ends at `window_end`. Returns whether the PDO is now waiting
+    /// to be sent.
+    pub fn on_sync<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        counter: Option<u8>,
+        use_start: bool,
+        window_end: Option<Instant>,
+    ) -> bool {
+        if !self.enabled {
+            return false;
+        }
+        let send = match self.transmission {
+            0 => {
+                if self.check_change {
+                    let data = self.mapping.pack(od);
+                    self.check_change = false;
+                    if data != self.last_data {
+                        self.acyclic_request = true;
+                    }
+                }
+                core::mem::take(&mut self.acyclic_request)
+            }
+            every @ 1..=240 => {
+                let start = if use_start { self.sync_start } else { 0 };
+                // SYNCs left until the next transmission, counting this one.
+                let left = match self.sync_countdown {
+                    Some(left) => Some(left),
+                    None if start != 0 => (counter == Some(start)).then_some(1),
+                    None => Some(every),
+                };
+                match left {
+                    Some(left) if left <= 1 => {
+                        self.sync_countdown = Some(every);
+                        true
+                    }
+                    Some(left) => {
+                        self.sync_countdown = Some(left - 1);
+                        false
+                    }
+                    None => false,
+                }
+            }
+            252 => {
+                self.rtr_sample = Some(self.mapping.pack(od));
+                false
+            }
+            _ => false,
+        };
+        if send {
+            self.data = self.mapping.pack(od);
+            self.sampled = true;
+            self.pending = true;
+            self.sync_deadline = window_end;
+        }
+        send
+    }
+
+    /// The frame to send at `now`, if the PDO is waiting and may go: an event-driven PDO
+    /// whose mapped values changed is sent (change of state), within its inhibit time; a
+    /// synchronous one only within its SYNC's window (else that SYNC's PDO is dropped). A PDO
+    /// sent restarts its event timer (its slot `event_timer` in the node's timer table).
+    pub fn poll_transmit<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &O,
+        now: Instant,
+        event_timer: &mut Option<Instant>,
+    ) -> Option<CanFrame> {
+        if !self.enabled {
+            return None;
+        }
+        if self.event_driven() && core::mem::take(&mut self.check_change) {
+            let data = self.mapping.pack(od);
+            if data != self.last_data {
+                self.pending = true;
+            }
+        }
+        if !self.pending {
+            return None;
+        }
+        if let Some(deadline) = self.sync_deadline {
+            if now > deadline {
+                // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
+                self.pending = false;
+                self.sampled = false;
+                self.sync_deadline = None;
+                return None;
+            }
+        }
+        if self.event_driven() && !self.inhibit_passed(now) {
+            return None;
+        }
+        let data = if core::mem::take(&mut self.sampled) {
+            self.data
+        } else {
+            self.mapping.pack(od)
+        };
+        self.pending = false;
+        self.sync_deadline = None;
+        self.last_data = data;
+        self.last_sent = Some(now);
+        if self.event_driven() {
+            *event_timer = self.event_timer_from(now);
+        }
+        Some(CanFrame::from_parts(self.cob_id, data, self.mapping.len))
+    }
+
+    /// Whether a frame is waiting (perhaps for its inhibit time).
+    #[inline]
+    pub fn pending(&self) -> bool {
+        self.pending
+    }
+
+    /// When an event timer started at `now` runs out (1800h+n sub 05h), if it is not 0.
+    fn event_timer_from(&self, now: Instant) -> Option<Instant> {
+        (self.event_timer_ms != 0).then(|| now + self.event_timer())
+    }
+
+    /// When the inhibit time of an event-driven PDO's waiting frame ends (it may go out
+    /// through [`Tpdo::poll_transmit`] then), if one is waiting.
+    #[inline]
+    pub fn inhibit_end(&self) -> Option<Instant> {
+        if !(self.event_driven() && self.pending) {
+            return None;
+        }
+        self.last_sent.map(|sent| sent + self.inhibit())
+    }
+
+    /// The event timer ran out: the PDO is waiting to be sent.
+    pub fn expire_event(&mut self) {
+        self.pending = true;
+    }
+
+    /// Whether the inhibit time since the last transmission has passed.
+    #[inline]
+    pub fn inhibit_passed(&self, now: Instant) -> bool {
+        match self.last_sent {
+            Some(sent) => now >= sent + self.inhibit(),
+            None => true,
+        }
+    }
+}

@@ -1,0 +1,290 @@
+//! Routing: each received frame to the service that owns its COB-ID, and each service's frames
+//! out in CAN priority order.
+
+use crate::frame::CanFrame;
+use crate::od::ObjectDictionary;
+use crate::sdo::SdoEvent;
+use crate::time::Instant;
+use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
+use crate::wire::nmt::{NmtRepr, NMT_COB_ID};
+use crate::wire::sync::SyncRepr;
+
+use super::comm::CommGuard;
+use super::emcy::{error_code, error_register};
+use super::timer::Timer;
+use super::{one_byte_frame, Event, Node, NodeHooks, RPDO_TIMEOUT_CODE, SYNC_TIMEOUT_CODE};
+
+impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
+    Node<O, H, RPDOS, TPDOS>
+{
+    /// Takes a received frame.
+    pub fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
+        let Some(id) = frame.std_id() else {
+            return;
+        };
+        if id == NMT_COB_ID {
+            if let Some(nmt) = NmtRepr::parse(frame.data()) {
+                if !frame.is_remote() && nmt.addresses(self.node_id) {
+                    self.handle_nmt(nmt.command, now);
+                }
+            }
+            return;
+        }
+        if frame.is_remote() {
+            self.handle_remote(id, now);
+            return;
+        }
+        let serving = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
+        if serving {
+            if id == self.sync.cob_id() {
+                self.handle_sync_frame(frame.data(), now);
+                return;
+            }
+            for n in 0..self.sdo.len() {
+                if self.sdo[n].accepts(id) {
+                    self.handle_sdo(n, frame.data(), now);
+                    return;
+                }
+            }
+        }
+        if self.state == NmtState::Operational {
+            for n in 0..RPDOS {
+                if self.rpdos[n].accepts(id) {
+                    self.handle_rpdo(n, frame.data(), now);
+                    return;
+                }
+            }
+        }
+        if let Some(node_id) = ErrorControlRepr::node_of(id) {
+            if frame.dlc() == 1
+                && self
+                    .error_control
+                    .heartbeat_received(node_id, now, self.timers.consumers())
+            {
+                self.end_error_control_loss();
+            }
+        }
+    }
+
+    #[cfg_attr(not(feature = "node-guarding"), allow(unused_variables))]
+    fn handle_remote(&mut self, id: u16, now: Instant) {
+        if id == ErrorControlRepr::cob_id(self.node_id) {
+            // Without node guarding the request is ignored.
+            #[cfg(feature = "node-guarding")]
+            self.handle_guard_request(now);
+            return;
+        }
+        if self.state != NmtState::Operational {
+            return;
+        }
+        for tpdo in &mut self.tpdos {
+            if tpdo.remote_request(id) {
+                self.tpdo_attention |= tpdo.pending();
+                return;
+            }
+        }
+    }
+
+    /// A node-guarding RTR: queue the answer and (re)start life guarding.
+    #[cfg(feature = "node-guarding")]
+    fn handle_guard_request(&mut self, now: Instant) {
+        if let Some((life_end, recovered)) = self.error_control.guard_request(now) {
+            self.timers.set(Timer::LifeGuard, Some(life_end));
+            if recovered {
+                self.end_error_control_loss();
+            }
+        }
+    }
+
+    /// Clears 8130h (with its error-reset emergency) once neither life guarding nor a watched
+    /// heartbeat is lost.
+    pub(super) fn end_error_control_loss(&mut self) {
+        if !self.error_control.any_lost() {
+            self.emcy.clear(&mut self.od, error_code::LIFE_GUARD);
+        }
+    }
+
+    fn handle_sdo(&mut self, n: usize, request: &[u8], now: Instant) {
+        let mut guard = CommGuard {
+            od: &mut self.od,
+            hooks: &mut self.hooks,
+            node_id: self.node_id,
+        };
+        if let Some(SdoEvent::Written { index, sub }) = self.sdo[n].handle(now, request, &mut guard)
+        {
+            self.apply_write(index, sub, now);
+            self.events.push(Event::Written { index, sub });
+        }
+    }
+
+    fn handle_rpdo(&mut self, n: usize, data: &[u8], now: Instant) {
+        let rpdo = &mut self.rpdos[n];
+        let expected = usize::from(rpdo.mapping().len);
+        let deadline = self.timers.slot(Timer::RpdoDeadline(n));
+        let (apply, recovered) = rpdo.receive(now, data, deadline);
+        if let Some(data) = apply {
+            self.apply_rpdo(n, data);
+        }
+        if data.len() != expected || self.length_error_raised {
+            self.update_length_errors(data.len());
+        }
+        if recovered {
+            self.end_rpdo_timeout();
+        }
+    }
+
+    /// Writes a received RPDO's values into the OD, all or none. When the OD refuses one, none
+    /// is written, no [`Event::RpdoReceived`] is reported, and EMCY 8200h
+    /// ([`error_code::PROTOCOL`]) says which PDO and why: manufacturer bytes `n` then the abort
+    /// code, little-endian. The next RPDO applied whole while no other is refused clears it.
+    fn apply_rpdo(&mut self, n: usize, data: &[u8]) {
+        let rpdo = &mut self.rpdos[n];
+        match rpdo.apply(&mut self.od, data) {
+            Ok(recovered) => {
+                if rpdo.feeds_tpdo() {
+                    let mapping = *rpdo.mapping();
+                    for object in mapping.objects() {
+                        self.mark_changed(object.index, object.sub);
+                    }
+                }
+                self.events.push(Event::RpdoReceived { pdo: n as u16 });
+                if recovered && !self.rpdos.iter().any(|r| r.refused()) {
+                    self.emcy.clear(&mut self.od, error_code::PROTOCOL);
+                }
+            }
+            Err(abort) => {
+                let [a, b, c, d] = abort.code().to_le_bytes();
+                let info = [n as u8, a, b, c, d];
+                self.raise_communication_error(error_code::PROTOCOL, info);
+            }
+        }
+    }
+
+    /// Raises an error of the node's own communication (register bit 4) with the
+    /// `manufacturer` bytes of its emergency.
+    pub(super) fn raise_communication_error(&mut self, code: u16, manufacturer: [u8; 5]) {
+        self.emcy.raise(
+            &mut self.od,
+            code,
+            error_register::COMMUNICATION,
+            manufacturer,
+        );
+    }
+
+    /// Clears 8250h (with its error-reset emergency) once no RPDO is timed out any more.
+    pub(super) fn end_rpdo_timeout(&mut self) {
+        if !self.rpdos.iter().any(|r| r.timed_out()) {
+            self.emcy.clear(&mut self.od, RPDO_TIMEOUT_CODE);
+        }
+    }
+
+    /// Raises or clears 8210h (too short, not processed) and 8220h (too long, processed).
+    fn update_length_errors(&mut self, received: usize) {
+        let (mut short, mut long) = (false, false);
+        for rpdo in &self.rpdos {
+            let (too_short, too_long) = rpdo.length_errors();
+            short |= too_short;
+            long |= too_long;
+        }
+        let info = [received as u8, 0, 0, 0, 0];
+        for (code, now_bad) in [
+            (error_code::PDO_LENGTH, short),
+            (error_code::PDO_LENGTH_EXCEEDED, long),
+        ] {
+            if now_bad {
+                self.raise_communication_error(code, info);
+            } else {
+                // Nothing happens unless it is active.
+                self.emcy.clear(&mut self.od, code);
+            }
+        }
+        self.length_error_raised = short || long;
+    }
+
+    /// A received SYNC. Its length must match 1019h: a counter byte when the overflow value is
+    /// not 0, no data when it is. Any other SYNC is not processed and raises EMCY 8240h
+    /// ([`error_code::SYNC_LENGTH`], manufacturer byte 0 the length received); the next SYNC of
+    /// the right length clears it.
+    fn handle_sync_frame(&mut self, data: &[u8], now: Instant) {
+        match SyncRepr::parse(data) {
+            Some(sync) if self.sync.length_matches(sync.counter) => {
+                // Nothing happens unless it is active.
+                self.emcy.clear(&mut self.od, error_code::SYNC_LENGTH);
+                self.handle_sync(sync.counter, now);
+            }
+            _ => {
+                let info = [data.len() as u8, 0, 0, 0, 0];
+                self.raise_communication_error(error_code::SYNC_LENGTH, info);
+            }
+        }
+    }
+
+    pub(super) fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
+        self.events.push(Event::Sync { counter });
+        if let Some(timeout) = self.sync.consumed(now) {
+            self.timers.set(Timer::SyncConsumer, Some(timeout));
+            // Ends a SYNC timeout error, if one is active.
+            self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
+        }
+        if self.state != NmtState::Operational {
+            return;
+        }
+        for n in 0..RPDOS {
+            if let Some(data) = self.rpdos[n].take_buffered() {
+                self.apply_rpdo(n, &data);
+            }
+        }
+        let window_end = self.sync.window_end(now);
+        let use_start = self.sync.counting();
+        for tpdo in &mut self.tpdos {
+            if tpdo.on_sync(&self.od, counter, use_start, window_end) {
+                self.tpdo_attention = true;
+            }
+        }
+    }
+
+    /// The next frame to send, if any. Frames go out in CAN priority order of their function:
+    /// boot-up first, then SYNC, EMCY, TPDOs, SDO responses, node guarding and heartbeat.
+    pub fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        let error_control_id = ErrorControlRepr::cob_id(self.node_id);
+        if core::mem::take(&mut self.boot_up_due) {
+            return Some(one_byte_frame(
+                error_control_id,
+                ErrorControlRepr::BOOT_UP.emit(),
+                1,
+            ));
+        }
+        if let Some((id, counter, len)) = self.sync.poll_transmit() {
+            return Some(one_byte_frame(id, counter, len));
+        }
+        if self.state != NmtState::Stopped {
+            if let Some(frame) = self.emcy.poll_transmit(now) {
+                return Some(frame);
+            }
+        }
+        if self.state == NmtState::Operational && self.tpdo_attention {
+            if let Some(frame) = self.poll_tpdo(now) {
+                return Some(frame);
+            }
+        }
+        for channel in &mut self.sdo {
+            if let Some(frame) = channel.poll_transmit(now, &self.od) {
+                return Some(frame);
+            }
+        }
+        let byte = self.error_control.poll_transmit(self.state)?;
+        Some(one_byte_frame(error_control_id, byte, 1))
+    }
+
+    fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {
+        for (n, tpdo) in self.tpdos.iter_mut().enumerate() {
+            let event_timer = self.timers.slot(Timer::TpdoEvent(n));
+            if let Some(frame) = tpdo.poll_transmit(&self.od, now, event_timer) {
+                return Some(frame);
+            }
+        }
+        // Whatever is still pending waits for an inhibit time; poll_timeout reports when.
+        self.tpdo_attention = self.tpdos.iter().any(|t| t.pending());
+        None
+    }
+}
