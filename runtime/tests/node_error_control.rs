@@ -145,12 +145,7 @@ fn life_guarding_event_and_emcy_when_guarding_stops() {
     master.send_at(ms(900), CanFrame::remote(0x703, 1));
     while node.poll_event().is_some() {}
     bus.run_until(ms(1000), &mut [&mut node, &mut master]);
-    let node_frames: Vec<_> = bus
-        .take_log()
-        .into_iter()
-        .filter(|(_, sender, _)| *sender == 0)
-        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
-        .collect();
+    let node_frames = node_support::sent_by(&mut bus, 0);
     assert_eq!(
         node_frames,
         at_ms(&[
@@ -209,12 +204,7 @@ fn heartbeat_consumer_timeout_raises_8130_until_every_watched_node_is_back() {
     peer.send_at(ms(400), frame(0x706, &[0x05])); // node 6 late: lost at 300 ms, back at 400
     peer.send_at(ms(500), frame(0x705, &[0x05])); // node 5 lost at 250 ms, back at 500
     bus.run_until(ms(520), &mut [&mut node, &mut peer]);
-    let node_frames: Vec<_> = bus
-        .take_log()
-        .into_iter()
-        .filter(|(_, sender, _)| *sender == 0)
-        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
-        .collect();
+    let node_frames = node_support::sent_by(&mut bus, 0);
     // One emergency for both losses (manufacturer byte 0: the first lost node), cleared when
     // the last lost node is heard again.
     assert_eq!(

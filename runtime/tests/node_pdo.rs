@@ -444,12 +444,7 @@ fn rpdo_reception_clears_the_timeout_and_rearms_the_deadline() {
         master.send_at(ms(t), frame(0x203, &[0x34, 0x12]));
     }
     bus.run_until(ms(600), &mut [&mut node, &mut master]);
-    let node_frames: Vec<_> = bus
-        .take_log()
-        .into_iter()
-        .filter(|(_, sender, _)| *sender == 0)
-        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
-        .collect();
+    let node_frames = node_support::sent_by(&mut bus, 0);
     assert_eq!(
         node_frames,
         at_ms(&[

@@ -99,12 +99,7 @@ fn sync_consumer_raises_8100_when_sync_stops_for_one_and_a_half_periods() {
         master.send_at(ms(t), frame(0x080, &[]));
     }
     bus.run_until(ms(60), &mut [&mut node, &mut master]);
-    let node_frames: Vec<_> = bus
-        .take_log()
-        .into_iter()
-        .filter(|(_, sender, _)| *sender == 0)
-        .map(|(t, _, f)| (t.as_micros(), node_support::show(&f)))
-        .collect();
+    let node_frames = node_support::sent_by(&mut bus, 0);
     assert_eq!(
         node_frames,
         at_ms(&[

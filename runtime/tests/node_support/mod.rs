@@ -39,6 +39,16 @@ pub fn sent(bus: &mut VirtualBus) -> Vec<(u64, String)> {
         .collect()
 }
 
+/// What the device at `sender` (its place in `run_until`'s list) sent since the last call, as
+/// (microseconds, frame text).
+pub fn sent_by(bus: &mut VirtualBus, sender: usize) -> Vec<(u64, String)> {
+    bus.take_log()
+        .into_iter()
+        .filter(|(_, from, _)| *from == sender)
+        .map(|(at, _, f)| (at.as_micros(), show(&f)))
+        .collect()
+}
+
 /// `(ms, text)` pairs, for writing expectations.
 pub fn at_ms(list: &[(u64, &str)]) -> Vec<(u64, String)> {
     list.iter()
