@@ -12,7 +12,7 @@ use quote::quote;
 
 use super::names::Namespace;
 use super::plan::{id, Plan};
-use super::types::{hex, initial_value, Prim, RustType};
+use super::types::{hex, initial_value, pdo_derives, Prim, RustType};
 use crate::diag::Diagnostic;
 use crate::model::{Device, Value};
 use crate::rules;
@@ -430,18 +430,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
         doc.push(format!(" Default transmission type {t}."));
     }
     let doc_attrs = doc.iter().map(|l| quote!(#[doc = #l]));
-    let mut derives = vec![
-        quote!(Debug),
-        quote!(Clone),
-        quote!(Copy),
-        quote!(PartialEq),
-    ];
-    if eq {
-        derives.push(quote!(Eq));
-    }
-    if default {
-        derives.push(quote!(Default));
-    }
+    let derives = pdo_derives(eq, default);
     let node_param = if p.uses_node_id {
         quote!(node_id)
     } else {

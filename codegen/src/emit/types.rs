@@ -207,6 +207,24 @@ pub fn capacity(basic: BasicType, sub: &SubObject) -> usize {
     }
 }
 
+/// The derives of a generated PDO or process-image struct: `Eq` only when no field is a float,
+/// `Default` only when every field has one.
+pub fn pdo_derives(eq: bool, default: bool) -> Vec<TokenStream> {
+    let mut derives = vec![
+        quote!(Debug),
+        quote!(Clone),
+        quote!(Copy),
+        quote!(PartialEq),
+    ];
+    if eq {
+        derives.push(quote!(Eq));
+    }
+    if default {
+        derives.push(quote!(Default));
+    }
+    derives
+}
+
 /// A hexadecimal literal of at least `digits` digits (`0x0180`).
 pub fn hex(value: u128, digits: usize) -> TokenStream {
     syn::LitInt::new(

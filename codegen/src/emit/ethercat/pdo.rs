@@ -6,7 +6,7 @@ use quote::quote;
 
 use crate::emit::names::{ident, Case, Namespace};
 use crate::emit::plan::{doc_text, id, Plan};
-use crate::emit::types::{Prim, RustType};
+use crate::emit::types::{pdo_derives, Prim, RustType};
 use crate::model::EcPdo;
 
 use super::{Field, FieldType, PdoPlan};
@@ -320,18 +320,7 @@ pub(super) fn emit_item(
     let len = Literal::usize_unsuffixed(bits.div_ceil(8) as usize);
     let bits = Literal::usize_unsuffixed(bits as usize);
     let doc_attrs = doc.iter().map(|l| quote!(#[doc = #l]));
-    let mut derives = vec![
-        quote!(Debug),
-        quote!(Clone),
-        quote!(Copy),
-        quote!(PartialEq),
-    ];
-    if eq {
-        derives.push(quote!(Eq));
-    }
-    if default {
-        derives.push(quote!(Default));
-    }
+    let derives = pdo_derives(eq, default);
     let (encode, check) = if fallible {
         (
             quote! {
