@@ -1,11 +1,12 @@
-//! edsgen: typed Rust from CANopen device descriptions.
+//! edsgen: typed Rust from fieldbus device descriptions.
 //!
-//! This crate is the `edsgen` command-line tool; the generator is `edsgen-codegen` and the
-//! runtime `edsgen-runtime`.
+//! This crate is the `edsgen` command-line tool (and the decoding and demo code behind it); the
+//! generator is `edsgen-codegen`, the runtime `edsgen-runtime`, and the simulated devices with the
+//! bundled cards' bindings and drives `edsgen-sim`, re-exported here under their earlier paths.
 #![forbid(unsafe_code)]
 
-pub mod cards;
 pub mod decode;
 pub mod demo;
-pub mod drives;
-pub mod sim;
+
+pub use edsgen_sim::canopen as sim;
+pub use edsgen_sim::{cards, drives};

@@ -1,16 +1,16 @@
-//! Generates the typed bindings of the bundled cards from `eds/` (five EDS files and one ESI), exactly as a user's build.rs
+//! Generates the typed bindings of the bundled cards from `../eds/` (five EDS files and one ESI), exactly as a user's build.rs
 //! would: one `.device()` line per card. An error in a card's EDS fails the build with the
 //! rendered diagnostics; warnings show as cargo warnings.
 
 fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
     edsgen_codegen::Builder::new()
-        .device("eds/cp301.eds")
-        .device("eds/goodrive350.eds")
-        .device("eds/hd1e.eds")
-        .device("eds/ms300.eds")
-        .device("eds/rd11.eds")
+        .device("../eds/cp301.eds")
+        .device("../eds/goodrive350.eds")
+        .device("../eds/hd1e.eds")
+        .device("../eds/ms300.eds")
+        .device("../eds/rd11.eds")
         // The EC-TX508 EtherCAT card (an ESI file): its CoE dictionary and process images.
-        .device("eds/ec-tx508.xml")
+        .device("../eds/ec-tx508.xml")
         // Goodrive350 and HD1-E keep a 16-bit value in sub-index 0 of 2000h/2100h (their manuals
         // say so); the EDS files document it and the card tests pin the warning.
         .allow("EDS308")

@@ -7,7 +7,7 @@
 //! `ethercat` instead of `pdo`: its SyncManagers, PDOs and process images.
 //!
 //! ```
-//! use edsgen::cards::cp301::{od, pdo, Od};
+//! use edsgen_sim::cards::cp301::{od, pdo, Od};
 //!
 //! let mut dict = Od::new(3); // $NODEID defaults resolve here, at run time
 //! assert_eq!(dict.get(od::RPDO1_COMMUNICATION_PARAMETER_COB_ID_USED_BY_RPDO), 0x203);

@@ -19,7 +19,7 @@ use crate::cards::ec_tx508::ethercat::{Inputs, Outputs, TxPdo1A00};
 /// Where the card's ESI file is in the repository.
 pub const ESI_PATH: &str = "eds/ec-tx508.xml";
 /// The ESI file's bytes.
-pub const ESI: &[u8] = include_bytes!("../../eds/ec-tx508.xml");
+pub const ESI: &[u8] = include_bytes!("../../../eds/ec-tx508.xml");
 
 /// The simulated EC-TX508 (see the module comment).
 #[derive(Debug, Clone)]
