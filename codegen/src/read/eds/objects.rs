@@ -9,7 +9,7 @@ use super::Reader;
 use crate::diag::Diagnostic;
 use crate::model::*;
 use crate::read::ini::{IniEntry, IniSection};
-use crate::read::value::{parse_integer, split_inline_comment};
+use crate::read::value::{octal_objection, parse_integer, split_inline_comment};
 use crate::rules;
 
 /// The keys of an object or sub-object section.
@@ -221,21 +221,22 @@ impl Reader {
                 } else {
                     ObjectType::Var
                 };
-                self.diags.push(
-                    Diagnostic::new(
-                        &rules::BAD_NUMBER,
-                        Some(span),
+                let read_as = if has_sub_sections {
+                    "RECORD (0x9)"
+                } else {
+                    "VAR (0x7)"
+                };
+                let (message, help) = match octal_objection(text) {
+                    Some((why, help)) => (format!("ObjectType {why}; read as {read_as}"), help),
+                    None => (
                         format!(
-                            "ObjectType `{text}` is not a CiA 301 object code; read as {}",
-                            if has_sub_sections {
-                                "RECORD (0x9)"
-                            } else {
-                                "VAR (0x7)"
-                            }
+                            "ObjectType `{text}` is not a CiA 301 object code; read as {read_as}"
                         ),
-                    )
-                    .with_help("object codes are 0x0, 0x2, 0x5, 0x6, 0x7, 0x8 and 0x9"),
-                );
+                        "object codes are 0x0, 0x2, 0x5, 0x6, 0x7, 0x8 and 0x9".to_owned(),
+                    ),
+                };
+                self.diags
+                    .push(Diagnostic::new(&rules::BAD_NUMBER, Some(span), message).with_help(help));
                 fallback
             }
         }
