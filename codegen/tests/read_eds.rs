@@ -1256,3 +1256,15 @@ fn a_leading_zero_with_digit_9_is_explained_as_octal() {
     );
     assert_eq!(read.diagnostics[0].help.as_deref(), Some("write `18`"));
 }
+
+#[test]
+fn eds030_a_name_key_above_255_is_an_error_at_its_key() {
+    let text = SMALL.replace("2=Middle value\n", "2=Middle value\n300=Far value\n");
+    let read = read_eds(&text);
+    let line = text.lines().position(|l| l == "300=Far value").unwrap() as u32 + 1;
+    assert_eq!(diags(&read), vec![("EDS030", Severity::Error, line)]);
+    assert_eq!(
+        read.diagnostics[0].message,
+        "[2000Name] names sub-index 300 of 2000h, beyond 255; the key is not read"
+    );
+}

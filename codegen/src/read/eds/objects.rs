@@ -385,11 +385,23 @@ impl Reader {
                 if entry.key.eq_ignore_ascii_case("NrOfEntries") {
                     continue;
                 }
-                let sub = self
-                    .numbered_key(entry, "")
-                    .and_then(|n| u8::try_from(n).ok());
-                let Some(sub) = sub else {
-                    self.unknown_key(entry, section);
+                let number = self.numbered_key(entry, "");
+                let Some(sub) = number.and_then(|n| u8::try_from(n).ok()) else {
+                    match number {
+                        // A sub-index that cannot exist: an error, not an unknown key.
+                        Some(n) => self.diags.push(
+                            Diagnostic::new(
+                                &rules::BAD_SUB_INDEX,
+                                Some(entry.key_span),
+                                format!(
+                                    "[{}] names sub-index {n} of {:04X}h, beyond 255; the key is not read",
+                                    section.name, object.index
+                                ),
+                            )
+                            .with_label("no such sub-index"),
+                        ),
+                        None => self.unknown_key(entry, section),
+                    }
                     continue;
                 };
                 let Some(target) = object.subs.get_mut(&sub) else {
