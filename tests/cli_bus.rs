@@ -133,3 +133,24 @@ fn bus_goes_on_and_stops_cleanly_when_its_output_is_closed() {
     interrupt(&bus);
     assert_eq!(bus.finish(WAIT).code, Some(0));
 }
+
+#[test]
+fn bus_serves_only_its_channel_and_refuses_another_as_socketcand_does() {
+    let bus = edsgen_bus(&["--listen", "127.0.0.1:0", "--channel", "vcan1"]);
+    let first = bus.stdout_line(|_| true, WAIT);
+    let addr = first
+        .strip_prefix("edsgen bus: socketcand hub listening on ")
+        .and_then(|rest| rest.strip_suffix(", channel vcan1; Ctrl-C stops it"))
+        .unwrap_or_else(|| panic!("unexpected first line {first:?}"));
+    let error = SocketcandClient::connect(addr, "can0", WAIT).err().unwrap();
+    assert_eq!(
+        error.to_string(),
+        format!("socketcand server {addr}: expected Ok after `< open can0 >`, got `< error could not open bus >`")
+    );
+    let mut a = SocketcandClient::connect(addr, "vcan1", WAIT).unwrap();
+    let mut b = SocketcandClient::connect(addr, "vcan1", WAIT).unwrap();
+    a.send(&CanFrame::new(0x701, &[0x05]).unwrap()).unwrap();
+    assert_eq!(b.recv_timeout(WAIT).unwrap(), CanFrame::new(0x701, &[0x05]));
+    interrupt(&bus);
+    assert_eq!(bus.finish(WAIT).code, Some(0));
+}
