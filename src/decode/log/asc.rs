@@ -155,7 +155,20 @@ fn date_micros(words: &[&str]) -> Result<u64, String> {
     };
     let mut hour: u32 = hour.parse().map_err(|_| bad())?;
     let minute: u32 = minute.parse().map_err(|_| bad())?;
-    let second = seconds_to_micros(second).ok_or_else(bad)?;
+    // Vector writes three decimals (milliseconds); python-can 4.6.1 writes the milliseconds
+    // unpadded (`16:00:00.5` for 5 ms): up to three decimals are a count of milliseconds.
+    let second = match second.split_once('.') {
+        Some((whole, ms)) if (1..=3).contains(&ms.len()) => {
+            let whole = seconds_to_micros(whole).ok_or_else(bad)?;
+            let ms: u64 = ms
+                .parse()
+                .ok()
+                .filter(|_| ms.bytes().all(|b| b.is_ascii_digit()))
+                .ok_or_else(bad)?;
+            whole + ms * 1000
+        }
+        _ => seconds_to_micros(second).ok_or_else(bad)?,
+    };
     match half {
         None => {}
         Some("am") if hour == 12 => hour = 0,
@@ -246,6 +259,22 @@ mod tests {
                 at(T0 + 500_000 + 1_700_000, CanFrame::remote(0x2C1, 0)),
             ]
         );
+    }
+
+    #[test]
+    fn dates_with_unpadded_milliseconds_as_python_can_writes_them() {
+        let lines = read_all(&[
+            "Begin Triggerblock Tue Nov 14 22:13:20.5 2023",
+            " 0.000100 1  701  Rx   d 1 05",
+            "Begin Triggerblock Tue Nov 14 22:13:20.050 2023",
+            " 0.000100 1  701  Rx   d 1 05",
+            "Begin Triggerblock Tue Nov 14 22:13:20.000250 2023",
+            " 0.000100 1  701  Rx   d 1 05",
+        ]);
+        let frame = CanFrame::new(0x701, &[5]).unwrap();
+        assert_eq!(lines[1], at(T0 + 5_100, frame));
+        assert_eq!(lines[3], at(T0 + 50_100, frame));
+        assert_eq!(lines[5], at(T0 + 350, frame));
     }
 
     #[test]

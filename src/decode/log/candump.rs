@@ -2,7 +2,7 @@
 //! `(1700000000.123456) can0 701#05`, any number of decimals, `ID#R` or `ID#R8` for a remote
 //! request, an optional direction (`R`, `T`) after the frame as python-can writes it, CAN FD as
 //! `ID##FLAGSDATA`. The default output: `  can0  701   [1]  05`, with `-t a|d|z` a
-//! `(SECONDS)` first, with `-x` `TX - -` or `RX B E` before the identifier, `remote request`
+//! `(SECONDS)` first (`-t A`: `(YYYY-MM-DD HH:MM:SS.UUUUUU)`, read as UTC), with `-x` `TX - -` or `RX B E` before the identifier, `remote request`
 //! for an RTR, a two-digit length (`[08]`) for CAN FD, and `-a`'s `'...'` or `ERRORFRAME` after
 //! the data.
 
@@ -65,11 +65,20 @@ pub fn parse_line(text: &str) -> Result<Line, String> {
         )
     };
     let mut time_us = 0;
-    if let [first, rest @ ..] = words {
-        if first.starts_with('(') {
+    match words {
+        // -t A: `(2025-11-24 16:00:00.123456)`, local time, read as UTC.
+        [date, time, rest @ ..] if date.starts_with('(') && !date.ends_with(')') => {
+            let inner = format!("{} {}", &date[1..], time.strip_suffix(')').unwrap_or(time));
+            time_us = super::date_time_micros(&inner).map_err(|_| {
+                format!("bad timestamp `{date} {time}`: expected `(YYYY-MM-DD HH:MM:SS.UUUUUU)`")
+            })?;
+            words = rest;
+        }
+        [first, rest @ ..] if first.starts_with('(') => {
             time_us = parenthesised_time(first)?;
             words = rest;
         }
+        _ => {}
     }
     // The channel, then -x's direction and flags.
     let [_channel, rest @ ..] = words else {

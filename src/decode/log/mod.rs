@@ -5,8 +5,9 @@
 //! read (a warning); bytes that are not UTF-8 are read as U+FFFD and counted, never fatal.
 //!
 //! Times are microseconds: since the Unix epoch where the log says when it started (candump
-//! `-L` and `-t a`, ASC's `Begin Triggerblock` or `date` line read as UTC, TRC's start time),
-//! else as the log prints them (`-t d` and `-t z` offsets).
+//! `-L`, `-t a` and `-t A`, ASC's `Begin Triggerblock` or `date` line, TRC's start time; dates
+//! without a time zone are read as UTC), else as the log prints them (`-t d` and `-t z`
+//! offsets, candump without `-t`: 0).
 
 pub mod asc;
 pub mod candump;
@@ -350,6 +351,55 @@ pub(crate) fn epoch_micros(
     let days = u64::try_from(days_from_civil(year, month, day)).ok()?;
     let seconds = days * 86_400 + u64::from(hour) * 3600 + u64::from(minute) * 60;
     Some(seconds * 1_000_000 + second_micros)
+}
+
+/// `24.11.2026 16:00:00.000.0` (PCAN: milliseconds, then tenths of them) or
+/// `2026-11-24 16:00:00.000100+00:00` (python-can, candump `-t A` without the zone) as
+/// microseconds since the epoch.
+pub(crate) fn date_time_micros(text: &str) -> Result<u64, String> {
+    let bad = || format!("bad date `{text}`");
+    let (date, time) = text.split_once(' ').ok_or_else(bad)?;
+    let numbers = |part: &str, separator: char| -> Option<Vec<i64>> {
+        part.split(separator).map(|n| n.parse().ok()).collect()
+    };
+    let (year, month, day) = match (numbers(date, '.'), numbers(date, '-')) {
+        (Some(d), _) if d.len() == 3 => (d[2], d[1], d[0]),
+        (_, Some(d)) if d.len() == 3 => (d[0], d[1], d[2]),
+        _ => return Err(bad()),
+    };
+    // A python-can time zone (`+00:00`) is subtracted; PCAN's local time is read as UTC.
+    let (time, zone_us) = match time.find(['+', '-']) {
+        Some(at) => {
+            let zone = &time[at + 1..];
+            let (h, m) = zone.split_once(':').ok_or_else(bad)?;
+            let minutes = i64::from(h.parse::<u8>().map_err(|_| bad())?) * 60
+                + i64::from(m.parse::<u8>().map_err(|_| bad())?);
+            let sign = if time.as_bytes()[at] == b'+' { 1 } else { -1 };
+            (&time[..at], sign * minutes * 60_000_000)
+        }
+        None => (time, 0),
+    };
+    let mut parts = time.splitn(3, ':');
+    let (Some(hour), Some(minute), Some(second)) = (parts.next(), parts.next(), parts.next())
+    else {
+        return Err(bad());
+    };
+    let hour: u32 = hour.parse().map_err(|_| bad())?;
+    let minute: u32 = minute.parse().map_err(|_| bad())?;
+    let second_us = match second.split('.').collect::<Vec<_>>().as_slice() {
+        // PCAN: seconds, milliseconds, tenths of a millisecond.
+        [s, ms, tenth] => {
+            let s: u64 = s.parse().map_err(|_| bad())?;
+            let ms: u64 = ms.parse().map_err(|_| bad())?;
+            let tenth: u64 = tenth.parse().map_err(|_| bad())?;
+            s * 1_000_000 + ms * 1000 + tenth * 100
+        }
+        _ => seconds_to_micros(second).ok_or_else(bad)?,
+    };
+    let month = u32::try_from(month).map_err(|_| bad())?;
+    let day = u32::try_from(day).map_err(|_| bad())?;
+    let micros = epoch_micros((year, month, day), (hour, minute), second_us).ok_or_else(bad)?;
+    u64::try_from(micros as i64 - zone_us).map_err(|_| bad())
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@
 //! Offsets are milliseconds from the start; identifiers are hex, extended when longer than 4
 //! digits.
 
-use super::{decimal_to_micros, epoch_micros, hex_words, make_frame, Line};
+use super::{date_time_micros, decimal_to_micros, hex_words, make_frame, Line};
 
 /// The state of a TRC log between lines.
 #[derive(Debug, Clone, Default)]
@@ -65,7 +65,8 @@ impl Trc {
             );
         } else if let Some(time) = comment.strip_prefix("Start time:") {
             if self.start_us == 0 {
-                self.start_us = start_time_micros(time.trim())?;
+                self.start_us = date_time_micros(time.trim())
+                    .map_err(|_| format!("bad start time `{}`", time.trim()))?;
             }
         }
         Ok(())
@@ -174,54 +175,6 @@ fn ole_date_micros(days: &str) -> Option<u64> {
     let days: f64 = days.trim().parse().ok()?;
     let micros = ((days - 25_569.0) * 86_400_000_000.0).round();
     (0.0..1e19).contains(&micros).then_some(micros as u64)
-}
-
-/// `24.11.2026 16:00:00.000.0` (PCAN: milliseconds, then tenths of them) or
-/// `2026-11-24 16:00:00.000100+00:00` (python-can) as microseconds since the epoch.
-fn start_time_micros(text: &str) -> Result<u64, String> {
-    let bad = || format!("bad start time `{text}`");
-    let (date, time) = text.split_once(' ').ok_or_else(bad)?;
-    let numbers = |part: &str, separator: char| -> Option<Vec<i64>> {
-        part.split(separator).map(|n| n.parse().ok()).collect()
-    };
-    let (year, month, day) = match (numbers(date, '.'), numbers(date, '-')) {
-        (Some(d), _) if d.len() == 3 => (d[2], d[1], d[0]),
-        (_, Some(d)) if d.len() == 3 => (d[0], d[1], d[2]),
-        _ => return Err(bad()),
-    };
-    // A python-can time zone (`+00:00`) is subtracted; PCAN's local time is read as UTC.
-    let (time, zone_us) = match time.find(['+', '-']) {
-        Some(at) => {
-            let zone = &time[at + 1..];
-            let (h, m) = zone.split_once(':').ok_or_else(bad)?;
-            let minutes = i64::from(h.parse::<u8>().map_err(|_| bad())?) * 60
-                + i64::from(m.parse::<u8>().map_err(|_| bad())?);
-            let sign = if time.as_bytes()[at] == b'+' { 1 } else { -1 };
-            (&time[..at], sign * minutes * 60_000_000)
-        }
-        None => (time, 0),
-    };
-    let mut parts = time.splitn(3, ':');
-    let (Some(hour), Some(minute), Some(second)) = (parts.next(), parts.next(), parts.next())
-    else {
-        return Err(bad());
-    };
-    let hour: u32 = hour.parse().map_err(|_| bad())?;
-    let minute: u32 = minute.parse().map_err(|_| bad())?;
-    let second_us = match second.split('.').collect::<Vec<_>>().as_slice() {
-        // PCAN: seconds, milliseconds, tenths of a millisecond.
-        [s, ms, tenth] => {
-            let s: u64 = s.parse().map_err(|_| bad())?;
-            let ms: u64 = ms.parse().map_err(|_| bad())?;
-            let tenth: u64 = tenth.parse().map_err(|_| bad())?;
-            s * 1_000_000 + ms * 1000 + tenth * 100
-        }
-        _ => super::seconds_to_micros(second).ok_or_else(bad)?,
-    };
-    let month = u32::try_from(month).map_err(|_| bad())?;
-    let day = u32::try_from(day).map_err(|_| bad())?;
-    let micros = epoch_micros((year, month, day), (hour, minute), second_us).ok_or_else(bad)?;
-    u64::try_from(micros as i64 - zone_us).map_err(|_| bad())
 }
 
 #[cfg(test)]
