@@ -312,7 +312,7 @@ proptest::proptest! {
     fn any_frames_decode_without_panicking(
         frames in proptest::collection::vec(
             (
-                proptest::sample::select(vec![0x000u16, 0x080, 0x081, 0x181, 0x201, 0x581, 0x601, 0x701, 0x7E5]),
+                proptest::sample::select(vec![0x000u16, 0x080, 0x081, 0x181, 0x201, 0x581, 0x601, 0x701, 0x7E4, 0x7E5]),
                 proptest::collection::vec(proptest::num::u8::ANY, 0..=8),
             ),
             0..64,

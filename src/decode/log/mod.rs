@@ -405,6 +405,7 @@ pub(crate) fn date_time_micros(text: &str) -> Result<u64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn entries(log: &[u8]) -> (Vec<Entry>, Tally, Option<Format>) {
         let mut reader = LogReader::new(log);
@@ -515,5 +516,66 @@ mod tests {
         );
         assert_eq!((tally.frames, tally.unreadable), (1, 1));
         assert_eq!(format, Some(Format::Candump));
+    }
+
+    /// Words of every format, for lines that get past the first checks.
+    const WORDS: [&str; 32] = [
+        "(1700000000.1)",
+        "(2023-11-14",
+        "22:13:20.5)",
+        "can0",
+        "701#05",
+        "123##1AA",
+        "705#R8",
+        "20000004#",
+        "[1]",
+        "[08]",
+        "05",
+        "7F",
+        "remote",
+        "request",
+        "TX",
+        "-",
+        "Rx",
+        "d",
+        "r",
+        "1)",
+        "0.000100",
+        "1841.5",
+        "DT",
+        "FD",
+        ";$FILEVERSION=2.1",
+        ";$COLUMNS=N,O,T,I,d,l,D",
+        ";$STARTTIME=45244.9",
+        "date",
+        "Tue Nov 14 22:13:20.000 2023",
+        "base dec  timestamps relative",
+        "Begin Triggerblock",
+        "\u{FFFD}",
+    ];
+
+    proptest! {
+        #[test]
+        fn any_bytes_are_read_to_the_end_without_panicking(
+            lines in prop::collection::vec(
+                prop::collection::vec(
+                    prop_oneof![
+                        (0..WORDS.len()).prop_map(|i| WORDS[i].as_bytes().to_vec()),
+                        prop::collection::vec(any::<u8>(), 0..6),
+                    ],
+                    0..8,
+                ),
+                0..12,
+            )
+        ) {
+            let log: Vec<u8> = lines
+                .iter()
+                .flat_map(|words| words.join(&b' ').into_iter().chain([b'\n']))
+                .collect();
+            let (entries, tally, _) = entries(&log);
+            let frames = entries.iter().filter(|e| matches!(e, Entry::Frame { .. })).count();
+            prop_assert_eq!(tally.frames, frames as u64);
+            prop_assert_eq!(tally.unreadable, (entries.len() - frames) as u64);
+        }
     }
 }
