@@ -20,6 +20,12 @@ pub struct BusArgs {
     /// The channel the hub serves (`< open CHANNEL >`); clients asking for another are refused.
     #[arg(long, default_value = "can0")]
     channel: String,
+    /// How many frames may wait for one client; when a client reads too slowly, its oldest
+    /// waiting frames are dropped (counted, reported on standard error and signalled to it as an error
+    /// frame), it is never disconnected.
+    #[arg(long, value_name = "FRAMES", default_value_t = 65_536,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    queue_limit: u32,
     /// Write every relayed frame to this file as `candump -L` lines.
     #[arg(long)]
     log: Option<PathBuf>,
@@ -53,6 +59,7 @@ fn serve(args: &BusArgs) -> Result<(), String> {
     let options = HubOptions {
         log,
         channel: args.channel.clone(),
+        queue_limit: args.queue_limit as usize,
         // A closed standard error must not stop the hub either.
         notices: Some(Box::new(|text| {
             let _ = writeln!(io::stderr(), "edsgen bus: {text}");
