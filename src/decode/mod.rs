@@ -16,7 +16,7 @@
 //! 1764000000.002000  589  SDO        node 9 write 1017:00 Producer heartbeat time = 50
 //! 1764000000.003100  589  SDO        node 9 read 1000:00 Device type = 131474 (0x00020192)
 //! 1764000000.006300  589  SDO        node 9 write 2000:00 Device label = "edsgen simulate 2026" (segmented, 20 bytes)
-//! 1764000000.012900  609  SDO        node 9 read 2000:00 Device label = "6202 etalumis negsde" (block, 20 bytes)
+//! 1764000000.012900  609  SDO        node 9 read 2000:00 Device label = "6202 etalumis negsde" (block, 20 bytes, CRC 6CDEh)
 //! 1764000000.013600  589  SDO        node 9 read 5FFF:00 (not in the description): abort 0602 0000 object does not exist in the object dictionary
 //! 1764000000.021000  589  SDO        node 9 write 1A00:01 TPDO1 mapping parameter: Mapped object 1 = 537067536 (0x20030010)
 //! 1764000000.030000  000  NMT        start node 9
