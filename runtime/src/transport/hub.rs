@@ -401,7 +401,7 @@ fn serve_client(id: u64, mut stream: TcpStream, shared: &Arc<Shared>) {
         .peer_addr()
         .map_or_else(|_| "?".to_owned(), |a| a.to_string());
     let mut scanner = MessageScanner::new();
-    if !handshake(&mut stream, &mut scanner, &shared.limits) {
+    if handshake(&mut stream, &mut scanner, &shared.limits).is_none() {
         let _ = stream.shutdown(Shutdown::Both);
         return;
     }
@@ -444,16 +444,8 @@ fn serve_client(id: u64, mut stream: TcpStream, shared: &Arc<Shared>) {
 /// The handshake python-can 4.6.1 does, answered exactly: `< hi >`; `< open CHANNEL >` gets
 /// `< ok >` (`< error could not open bus >` for a channel the hub does not serve, as socketcand
 /// answers); then `< rawmode >`, whose `< ok >` the caller sends once the client is on the bus.
-/// False if the client did something else (it gets an `< error ... >` and is closed).
-fn handshake(stream: &mut TcpStream, scanner: &mut MessageScanner, limits: &Limits) -> bool {
-    handshake_steps(stream, scanner, limits).is_some()
-}
-
-fn handshake_steps(
-    stream: &mut TcpStream,
-    scanner: &mut MessageScanner,
-    limits: &Limits,
-) -> Option<()> {
+/// `None` if the client did something else (it gets an `< error ... >` and is closed).
+fn handshake(stream: &mut TcpStream, scanner: &mut MessageScanner, limits: &Limits) -> Option<()> {
     stream
         .set_read_timeout(Some(limits.handshake_timeout))
         .ok()?;
