@@ -6,7 +6,7 @@
 //! connection keeps each client's failures (garbage, a close mid-message, a reader too slow to
 //! keep up) to that client's own threads, and the runtime does not depend on an async runtime.
 //! Each client has a reader thread (the handshake, then its messages) and a writer thread that
-//! drains the client's [`Outbox`]. A client is never disconnected for being slow: its outbox is
+//! drains the client's outbox. A client is never disconnected for being slow: its outbox is
 //! bounded, and when it is full the oldest frames waiting for that client are dropped, counted,
 //! reported to the hub's notices, and signalled to the client as a socketcand error frame
 //! (`< error 004 ... >`, class 4: controller problems, the class SocketCAN uses for a receive
