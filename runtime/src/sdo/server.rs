@@ -385,8 +385,11 @@ impl SdoServer {
 
     /// Forgets any transfer in progress (a download leaves its entry as it was) and addresses
     /// `mux`.
+    #[inline]
     fn start<O: ObjectDictionary + ?Sized>(&mut self, mux: Multiplexer, od: &mut O) {
-        self.release(od);
+        if !matches!(self.transfer, Transfer::Idle) {
+            self.release(od);
+        }
         self.transfer = Transfer::Idle;
         self.mux = mux;
     }
