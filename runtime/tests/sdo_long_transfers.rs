@@ -282,6 +282,43 @@ fn a_64_kib_domain_moves_by_block_download_and_block_upload() {
     assert_eq!(received, value);
 }
 
+#[cfg(feature = "sdo-block")]
+#[test]
+fn a_program_download_that_fails_leaves_the_program_before_it_and_erases_the_spare_area() {
+    let (mut node, mut bus) = booted();
+    node.od_mut().program = b"firmware 1.0".to_vec();
+    // A block download of 14 bytes whose CRC does not match: aborted, the program unchanged,
+    // the spare area erased.
+    assert_eq!(
+        request(&mut bus, &mut node, [0xC6, 0x50, 0x1F, 0x01, 14, 0, 0, 0]),
+        ["583: A4 50 1F 01 7F 00 00 00"]
+    );
+    assert!(request(&mut bus, &mut node, block_segment(1, false, b"firmwar")).is_empty());
+    assert_eq!(
+        request(&mut bus, &mut node, block_segment(2, true, b"e 2.0!!")),
+        ["583: A2 02 7F 00 00 00 00 00"]
+    );
+    assert!(node.od().incoming.is_some());
+    assert_eq!(
+        request(&mut bus, &mut node, [0xC1, 0x12, 0x34, 0, 0, 0, 0, 0]),
+        ["583: 80 50 1F 01 04 00 04 05"]
+    );
+    assert_eq!(node.od().program, b"firmware 1.0");
+    assert!(node.od().incoming.is_none());
+    // A segmented download the client aborts after its first segment: the same.
+    assert_eq!(
+        request(&mut bus, &mut node, [0x21, 0x50, 0x1F, 0x01, 14, 0, 0, 0]),
+        ["583: 60 50 1F 01 00 00 00 00"]
+    );
+    assert_eq!(
+        request(&mut bus, &mut node, *b"\x00firmwar"),
+        ["583: 20 00 00 00 00 00 00 00"]
+    );
+    assert!(request(&mut bus, &mut node, [0x80, 0x50, 0x1F, 0x01, 0, 0, 0, 0x08]).is_empty());
+    assert_eq!(node.od().program, b"firmware 1.0");
+    assert!(node.od().incoming.is_none());
+}
+
 #[test]
 fn a_100_byte_string_moves_by_segmented_download_and_upload() {
     let (mut node, mut bus) = booted();
