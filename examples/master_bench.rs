@@ -79,7 +79,7 @@ impl BusDevice for DomainDevice {
         self.server.poll_timeout()
     }
     fn handle_timeout(&mut self, now: edsgen_runtime::Instant) {
-        self.server.handle_timeout(now)
+        self.server.handle_timeout(now, &mut DomainOd(&self.value))
     }
 }
 

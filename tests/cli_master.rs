@@ -627,6 +627,68 @@ fn a_file_too_long_for_the_domain_is_an_abort_with_its_code_and_exit_1() {
     assert!(!Path::new(&out).exists());
 }
 
+/// A device whose SDO server stops answering properly after `left` responses: the next one is
+/// an abort 0800 0000h (general error), as from a node that fails in the middle of an upload.
+struct AbortsMidway<D>(D, usize);
+
+impl<D: BusDevice> BusDevice for AbortsMidway<D> {
+    fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
+        self.0.handle_frame(now, frame);
+    }
+    fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        let frame = self.0.poll_transmit(now)?;
+        if frame.std_id() != Some(0x584) {
+            return Some(frame);
+        }
+        if self.1 == 0 {
+            let abort = [0x80, 0x01, 0x20, 0x00, 0x00, 0x00, 0x00, 0x08];
+            return Some(CanFrame::new(0x584, &abort).unwrap());
+        }
+        self.1 -= 1;
+        Some(frame)
+    }
+    fn poll_timeout(&self) -> Option<Instant> {
+        self.0.poll_timeout()
+    }
+    fn handle_timeout(&mut self, now: Instant) {
+        self.0.handle_timeout(now)
+    }
+}
+
+#[test]
+fn an_upload_that_fails_midway_leaves_the_out_file_as_it_was_and_no_partial_file() {
+    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
+    let addr = hub.local_addr().to_string();
+    let node = spawn_node(&addr, |clock| {
+        let mut od = RuntimeDictionary::new(&sim_support::test_device(), 4);
+        edsgen_runtime::ObjectDictionary::write(&mut od, 0x2001, 0, &pattern(3000)).unwrap();
+        // The initiate response and 4 segments (28 bytes), then the abort.
+        AbortsMidway(Node::new(od, 4, clock.now()).unwrap(), 5)
+    });
+    let bench = Bench {
+        hub: Some(hub),
+        nodes: vec![Box::new(move || drop(node.stop()))],
+        addr,
+    };
+    let scratch = Scratch::new("sdo-out-midway");
+    let (out, fresh) = (scratch.path("out.bin"), scratch.path("fresh.bin"));
+    std::fs::write(&out, b"the value read before").unwrap();
+    for path in [&out, &fresh] {
+        let read = edsgen(
+            &bench,
+            &["sdo", "read", "4", "2001:0", "--out", path, "--segmented"],
+        );
+        assert_eq!(read.status.code(), Some(1));
+        assert_eq!(
+            stderr(&read),
+            "error: SDO 2001h:00h on node 4: node aborted with 0800 0000h (general error)\n"
+        );
+        assert!(!Path::new(&format!("{path}.partial")).exists());
+    }
+    assert_eq!(std::fs::read(&out).unwrap(), b"the value read before");
+    assert!(!Path::new(&fresh).exists());
+}
+
 #[test]
 fn file_transfer_usage_errors_exit_2_with_their_messages() {
     let bench = sim_bench();

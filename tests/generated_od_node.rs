@@ -36,22 +36,3 @@ fn resets_restore_the_generated_defaults_of_their_area() {
     assert_eq!(node.od().get(od::control_data::SETTING_1), 0);
     assert_eq!(node.od(), &Od::new(3));
 }
-
-#[test]
-fn the_generated_od_takes_a_string_streamed_in_pieces_up_to_its_capacity() {
-    use edsgen_runtime::{ObjectDictionary, SdoAbort};
-    let mut od = Od::new(3);
-    let position = od.locate(0x1008, 0).unwrap();
-    let capacity = od.capacity(position).unwrap();
-    assert!(capacity >= 3);
-    od.write_part(position, 0, b"AB").unwrap();
-    od.write_part(position, 2, b"C").unwrap();
-    od.finish_write(position, 3).unwrap();
-    let mut buf = [0u8; 8];
-    assert_eq!(od.read_at(position, 0, &mut buf), Ok(3));
-    assert_eq!(&buf[..3], b"ABC");
-    assert_eq!(
-        od.write_part(position, capacity, b"D"),
-        Err(SdoAbort::LengthTooHigh)
-    );
-}

@@ -476,3 +476,44 @@ fn written_events_match_a_typed_address() {
     };
     assert_eq!(which, "controlword");
 }
+
+#[test]
+fn the_generated_od_stages_a_string_download_and_applies_it_only_on_commit() {
+    let mut od = Od::new(3);
+    // 1009h (32 bytes) is the largest writable string: the stage is sized to it.
+    let position = od.locate(0x1009, 0).unwrap();
+    assert_eq!(od.capacity(position), Some(32));
+    assert_eq!(gd350::STAGE_SIZE, 32);
+    let before = od.clone();
+    od.begin_write(position).unwrap();
+    od.write_part(position, 0, b"AB").unwrap();
+    od.write_part(position, 2, b"C").unwrap();
+    // Staged: the value is the old one until the commit.
+    assert_eq!(read_all(&od, 0x1009, 0), read_all(&before, 0x1009, 0));
+    od.commit_write(position, 3).unwrap();
+    assert_eq!(read_all(&od, 0x1009, 0), b"ABC");
+    // An aborted download leaves the value, and the stage takes the next one.
+    let committed = od.clone();
+    od.begin_write(position).unwrap();
+    od.write_part(position, 0, b"XYZW").unwrap();
+    od.abort_write(position);
+    assert_eq!(od, committed);
+    assert_eq!(read_all(&od, 0x1009, 0), b"ABC");
+    // One download at a time: a second one (the other SDO channel's) is refused, and cannot
+    // end the first.
+    od.begin_write(position).unwrap();
+    let tag = od.locate(0x2006, 0).unwrap();
+    assert_eq!(od.begin_write(tag), Err(SdoAbort::NoResource));
+    od.abort_write(tag);
+    assert_eq!(
+        od.write_part(position, 32, b"D"),
+        Err(SdoAbort::OutOfMemory)
+    );
+    od.write_part(position, 0, b"xyz!").unwrap();
+    // A commit that fails its checks ends the download and changes nothing.
+    assert_eq!(od.commit_write(position, 33), Err(SdoAbort::OutOfMemory));
+    assert_eq!(od, committed);
+    od.begin_write(tag).unwrap();
+    od.commit_write(tag, 0).unwrap();
+    assert_eq!(read_all(&od, 0x2006, 0), b"");
+}

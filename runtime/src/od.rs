@@ -8,13 +8,15 @@
 //!
 //! What builds on the contract lives beside it: [`entry`] (typed addresses of entries and the
 //! values they hold), [`access`] (the access rights in an address's type), [`image`] (the
-//! packed value image a generated OD keeps its values in) and [`typed`] (the values' byte and
+//! packed value image a generated OD keeps its values in), [`stage`] (where a download collects
+//! until it completes) and [`typed`] (the values' byte and
 //! bit encodings, for PDO payloads). What only generated code calls is gathered in the crate's
 //! hidden `support` module.
 
 pub mod access;
 pub mod entry;
 pub mod image;
+pub mod stage;
 pub mod typed;
 
 /// A CiA 301 data type, as the runtime needs it (the wire size and how a value is checked).
@@ -267,22 +269,43 @@ pub trait ObjectDictionary {
         self.read(entry.index, entry.sub, offset, buf)
     }
 
-    /// Writes `data` into the value of the entry at `position` (a string, octet string or
-    /// domain), `offset` bytes in: one piece of an SDO download (segmented or block) streamed
-    /// into the dictionary, so that no buffer holds the whole value. Pieces come in order from
-    /// offset 0, each within the entry's [`capacity`](Self::capacity); after the first the
-    /// value holds at least `offset + data.len()` bytes. [`finish_write`](Self::finish_write)
-    /// ends the download.
+    /// Starts a download into the entry at `position` (a string, octet string or domain)
+    /// streamed by [`write_part`](Self::write_part): one of the four steps of the streaming
+    /// interface (begin, write, commit, abort) through which an SDO server writes a segmented or
+    /// block download of a value whose length the data type does not fix. The server calls it
+    /// once the entry is known to be writable, then `write_part` for each piece, and ends the
+    /// download with exactly one of [`commit_write`](Self::commit_write) (the transfer
+    /// completed, CRC checked) or [`abort_write`](Self::abort_write) (it ended any other way: an
+    /// abort either side, a timeout, a new initiate, an NMT reset). A fixed-size value never
+    /// streams: the server collects it and writes it whole.
     ///
-    /// This is also where a domain whose bytes live outside the dictionary (a program download
-    /// to 1F50h, a file) is written: the application's dictionary (or one wrapping a generated
-    /// `Od`) streams the pieces to flash or the file here and reads them back through
-    /// [`read_at`](Self::read_at), with [`value_len`](Self::value_len) and `capacity` saying
-    /// how long it is and may be.
+    /// The contract is all or nothing: until `commit_write` the value reads as it was, and an
+    /// aborted download leaves it so. The generated dictionaries and the run-time dictionary
+    /// stage the pieces (in a buffer sized at generation time to their largest value) and
+    /// write the value at `commit_write`. An application that keeps a domain outside the
+    /// dictionary (a firmware image to flash, a file) writes the pieces where they go and, on
+    /// `abort_write`, discards them (erases the half-written image), so that what was there
+    /// before stays the value.
     ///
-    /// The default rewrites the value through [`write_at`](Self::write_at) with the bytes so
-    /// far, read back into a 32-byte buffer: enough for short values in a dictionary that
-    /// implements nothing more; a longer one is refused with 0504 0005 (out of memory).
+    /// A dictionary stages one download at a time: while one is open, `begin_write` for
+    /// another (the second SDO channel's) answers `NoResource` (060A 0023), which the server
+    /// sends as its abort. The default accepts every download and keeps no state, for a
+    /// dictionary whose `write_part` and `commit_write` are its defaults.
+    fn begin_write(&mut self, position: usize) -> Result<(), SdoAbort> {
+        let _ = position;
+        Ok(())
+    }
+
+    /// Takes `data`, the download's bytes from `offset` on, for the entry at `position` (see
+    /// [`begin_write`](Self::begin_write)). Pieces come in order from offset 0, each within the
+    /// entry's [`capacity`](Self::capacity). On error the server ends the download with
+    /// [`abort_write`](Self::abort_write).
+    ///
+    /// The default writes the value through [`write_at`](Self::write_at) with the bytes so far,
+    /// read back into a 32-byte buffer (a longer value is refused with 0504 0005, out of
+    /// memory): enough for short values in a dictionary that implements nothing more, but not
+    /// all or nothing, as each piece changes the value. A dictionary holding strings or domains
+    /// implements the four steps.
     fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
         let mut value = [0u8; 32];
         let end = offset + data.len();
@@ -296,14 +319,25 @@ pub trait ObjectDictionary {
         self.write_at(position, &value[..end])
     }
 
-    /// Ends a download streamed by [`write_part`](Self::write_part): the value is now the `len`
-    /// bytes written (0 when no piece came). The default writes an empty value for `len` 0 and
-    /// otherwise has nothing left to do.
-    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+    /// Ends a download streamed by [`write_part`](Self::write_part) that completed: the value
+    /// becomes the `len` bytes written (0 when no piece came), with every check of
+    /// [`write_at`](Self::write_at). The download is over whatever the result; on error the
+    /// value is unchanged. The default writes an empty value for `len` 0 and otherwise has
+    /// nothing left to do.
+    fn commit_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
         if len == 0 {
             return self.write_at(position, &[]);
         }
         Ok(())
+    }
+
+    /// Ends a download streamed by [`write_part`](Self::write_part) that did not complete: the
+    /// pieces are discarded and the value stays what it was before
+    /// [`begin_write`](Self::begin_write). Called at most once per download, and never for a
+    /// download that `begin_write` refused; a dictionary may still ignore a call with no
+    /// download open. The default does nothing.
+    fn abort_write(&mut self, position: usize) {
+        let _ = position;
     }
 
     /// Sets every entry whose index is in `indices` to its power-on default, as a newly built

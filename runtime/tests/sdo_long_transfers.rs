@@ -4,13 +4,17 @@
 //! `image::Layout` (as generated dictionaries hold theirs), by segmented download and upload.
 //!
 //! The dictionary is the contract's example of an application hook: it wraps a value image and
-//! serves the domain's position itself (`read_at`, `value_len`, `capacity`, `write_part`,
-//! `finish_write`), as a firmware would wrap its generated `Od` to stream 1F50h to flash.
+//! serves the domain's position itself (`read_at`, `value_len`, `capacity` and the streaming
+//! steps `begin_write`, `write_part`, `commit_write`, `abort_write`), as a firmware would wrap
+//! its generated `Od` to stream 1F50h to flash: the pieces go to a spare flash area, which
+//! becomes the program on commit and is erased on abort. The string stages in a `Stage`, as a
+//! generated `Od`'s do.
 
 mod node_support;
 
 use edsgen_runtime::node::Node;
 use edsgen_runtime::od::image::Layout;
+use edsgen_runtime::od::stage::Stage;
 use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 use node_support::{frame, ms, show};
@@ -34,8 +38,12 @@ const PROGRAM_CAPACITY: usize = 65_536;
 
 struct DeviceOd {
     values: [u8; IMAGE_SIZE],
-    /// The program download's bytes ("flash").
+    /// The program's bytes ("flash").
     program: Vec<u8>,
+    /// A program download in progress (the spare flash area), until it completes.
+    incoming: Option<Vec<u8>>,
+    /// A string download in progress.
+    stage: Stage<120>,
 }
 
 impl DeviceOd {
@@ -45,6 +53,8 @@ impl DeviceOd {
         DeviceOd {
             values,
             program: Vec::new(),
+            incoming: None,
+            stage: Stage::new(),
         }
     }
 
@@ -106,25 +116,49 @@ impl ObjectDictionary for DeviceOd {
         }
     }
 
-    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+    fn begin_write(&mut self, position: usize) -> Result<(), SdoAbort> {
         match position {
-            PROGRAM if offset + data.len() > PROGRAM_CAPACITY => Err(SdoAbort::LengthTooHigh),
             PROGRAM => {
-                self.program.truncate(offset);
-                self.program.extend_from_slice(data);
+                self.incoming = Some(Vec::new());
                 Ok(())
             }
-            _ => LAYOUT.write_part(&mut self.values, position, offset, data),
+            _ => self.stage.begin(position),
         }
     }
 
-    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
-        match position {
-            PROGRAM => {
-                self.program.truncate(len);
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        match (position, self.incoming.as_mut()) {
+            (PROGRAM, _) if offset + data.len() > PROGRAM_CAPACITY => Err(SdoAbort::LengthTooHigh),
+            (PROGRAM, Some(incoming)) => {
+                incoming.truncate(offset);
+                incoming.extend_from_slice(data);
                 Ok(())
             }
-            _ => LAYOUT.finish_write(&mut self.values, position, len),
+            (PROGRAM, None) => Err(SdoAbort::General),
+            _ => self.stage.write(position, offset, data),
+        }
+    }
+
+    fn commit_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        match position {
+            PROGRAM => {
+                let mut program = self.incoming.take().ok_or(SdoAbort::General)?;
+                program.truncate(len);
+                self.program = program;
+                Ok(())
+            }
+            _ => {
+                let value = self.stage.commit(position, len)?;
+                LAYOUT.write(&mut self.values, position, value)
+            }
+        }
+    }
+
+    fn abort_write(&mut self, position: usize) {
+        match position {
+            // The spare area erased: the program stays the one before.
+            PROGRAM => self.incoming = None,
+            _ => self.stage.abort(position),
         }
     }
 }
@@ -246,6 +280,43 @@ fn a_64_kib_domain_moves_by_block_download_and_block_upload() {
     assert!(request(&mut bus, &mut node, [0xA1, 0, 0, 0, 0, 0, 0, 0]).is_empty());
     received.truncate(PROGRAM_CAPACITY);
     assert_eq!(received, value);
+}
+
+#[cfg(feature = "sdo-block")]
+#[test]
+fn a_program_download_that_fails_leaves_the_program_before_it_and_erases_the_spare_area() {
+    let (mut node, mut bus) = booted();
+    node.od_mut().program = b"firmware 1.0".to_vec();
+    // A block download of 14 bytes whose CRC does not match: aborted, the program unchanged,
+    // the spare area erased.
+    assert_eq!(
+        request(&mut bus, &mut node, [0xC6, 0x50, 0x1F, 0x01, 14, 0, 0, 0]),
+        ["583: A4 50 1F 01 7F 00 00 00"]
+    );
+    assert!(request(&mut bus, &mut node, block_segment(1, false, b"firmwar")).is_empty());
+    assert_eq!(
+        request(&mut bus, &mut node, block_segment(2, true, b"e 2.0!!")),
+        ["583: A2 02 7F 00 00 00 00 00"]
+    );
+    assert!(node.od().incoming.is_some());
+    assert_eq!(
+        request(&mut bus, &mut node, [0xC1, 0x12, 0x34, 0, 0, 0, 0, 0]),
+        ["583: 80 50 1F 01 04 00 04 05"]
+    );
+    assert_eq!(node.od().program, b"firmware 1.0");
+    assert!(node.od().incoming.is_none());
+    // A segmented download the client aborts after its first segment: the same.
+    assert_eq!(
+        request(&mut bus, &mut node, [0x21, 0x50, 0x1F, 0x01, 14, 0, 0, 0]),
+        ["583: 60 50 1F 01 00 00 00 00"]
+    );
+    assert_eq!(
+        request(&mut bus, &mut node, *b"\x00firmwar"),
+        ["583: 20 00 00 00 00 00 00 00"]
+    );
+    assert!(request(&mut bus, &mut node, [0x80, 0x50, 0x1F, 0x01, 0, 0, 0, 0x08]).is_empty());
+    assert_eq!(node.od().program, b"firmware 1.0");
+    assert!(node.od().incoming.is_none());
 }
 
 #[test]

@@ -281,8 +281,8 @@ fn segmented_download_of_a_string() {
         rig.send(&[0x00, b'e', b'd', b's', b'g', b'e', b'n', b' ']),
         (Some([0x20, 0, 0, 0, 0, 0, 0, 0]), None)
     );
-    // Streamed: the first segment is in the dictionary before the last arrives.
-    assert_eq!(rig.od.value(0x2005, 0), b"edsgen ");
+    // Staged: the entry keeps its value until the last segment arrives.
+    assert_eq!(rig.od.value(0x2005, 0), b"hello");
     assert_eq!(
         rig.send(&[0x11, b'r', b'u', b'n', b't', b'i', b'm', b'e']),
         (Some([0x30, 0, 0, 0, 0, 0, 0, 0]), written(0x2005, 0))
@@ -486,12 +486,24 @@ fn block_download_lost_segment_is_repeated_after_the_acknowledgement() {
 
 #[cfg(feature = "sdo-block")]
 #[test]
-fn block_download_client_abort_ends_the_transfer_silently() {
+fn block_download_80_in_a_sub_block_is_sequence_number_0_aborted_with_0504_0003() {
     let mut rig = Server512::new();
     rig.ask([0xC6, 0x06, 0x20, 0x00, 0x2C, 0x01, 0, 0]);
     rig.tell(block_segment(1, false, b"1234567"));
-    rig.tell([0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x00, 0x08]);
+    // Within a sub-block every frame is a segment: `80` is sequence number 0 with the
+    // last-segment bit (a client's abort there ends the transfer as well).
+    assert_eq!(
+        rig.send(&[0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x00, 0x08]),
+        (Some([0x80, 0x06, 0x20, 0x00, 0x03, 0x00, 0x04, 0x05]), None)
+    );
     assert_eq!(rig.server.poll_timeout(), None);
+    assert_eq!(rig.od.value(0x2006, 0), &domain_pattern()[..]);
+    // As `00` is.
+    rig.ask([0xC6, 0x06, 0x20, 0x00, 0x2C, 0x01, 0, 0]);
+    assert_eq!(
+        rig.send(&[0x00, 1, 2, 3, 4, 5, 6, 7]),
+        (Some([0x80, 0x06, 0x20, 0x00, 0x03, 0x00, 0x04, 0x05]), None)
+    );
     assert_eq!(rig.od.value(0x2006, 0), &domain_pattern()[..]);
 }
 
@@ -696,7 +708,7 @@ fn reset_drops_the_transfer_and_the_queued_response() {
             .handle(rig.now, &[0x60, 0, 0, 0, 0, 0, 0, 0], &mut rig.od),
         None
     );
-    rig.server.reset();
+    rig.server.reset(&mut rig.od);
     assert_eq!(rig.server.poll_transmit(rig.now, &rig.od), None);
     assert_eq!(rig.server.poll_timeout(), None);
     assert_eq!(
@@ -713,7 +725,8 @@ fn each_request_restarts_the_timeout() {
     rig.advance(90);
     rig.ask([0x60, 0, 0, 0, 0, 0, 0, 0]);
     assert_eq!(rig.server.poll_timeout(), Some(Instant::from_millis(1_190)));
-    rig.server.handle_timeout(Instant::from_millis(1_150));
+    rig.server
+        .handle_timeout(Instant::from_millis(1_150), &mut rig.od);
     assert_eq!(rig.server.poll_transmit(rig.now, &rig.od), None);
     assert_eq!(rig.ask([0x70, 0, 0, 0, 0, 0, 0, 0])[0], 0x10);
 }
@@ -747,9 +760,9 @@ fn abort_0504_0000_on_timeout() {
     let deadline = rig.server.poll_timeout().unwrap();
     assert_eq!(deadline, Instant::from_millis(1_100));
     rig.server
-        .handle_timeout(Instant::from_micros(deadline.as_micros() - 1));
+        .handle_timeout(Instant::from_micros(deadline.as_micros() - 1), &mut rig.od);
     assert_eq!(rig.server.poll_transmit(rig.now, &rig.od), None);
-    rig.server.handle_timeout(deadline);
+    rig.server.handle_timeout(deadline, &mut rig.od);
     assert_eq!(
         rig.server.poll_transmit(deadline, &rig.od),
         Some([0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
@@ -762,7 +775,7 @@ fn abort_0504_0000_on_timeout() {
     let deadline = rig.server.poll_timeout().unwrap();
     assert_eq!(deadline, rig.now + TIMEOUT);
     rig.server
-        .handle_timeout(deadline + Duration::from_millis(5));
+        .handle_timeout(deadline + Duration::from_millis(5), &mut rig.od);
     assert_eq!(
         rig.server.poll_transmit(deadline, &rig.od),
         Some([0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
@@ -776,7 +789,7 @@ fn abort_0504_0000_on_timeout_of_downloads() {
     rig.ask([0x21, 0x05, 0x20, 0x00, 0x0E, 0x00, 0x00, 0x00]);
     rig.ask(download_segment(false, b"1234567", false));
     rig.advance(100);
-    rig.server.handle_timeout(rig.now);
+    rig.server.handle_timeout(rig.now, &mut rig.od);
     assert_eq!(
         rig.server.poll_transmit(rig.now, &rig.od),
         Some([0x80, 0x05, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
@@ -785,15 +798,14 @@ fn abort_0504_0000_on_timeout_of_downloads() {
     rig.ask([0xC6, 0x06, 0x20, 0x00, 0x2C, 0x01, 0, 0]);
     rig.tell(block_segment(1, false, b"1234567"));
     rig.advance(100);
-    rig.server.handle_timeout(rig.now);
+    rig.server.handle_timeout(rig.now, &mut rig.od);
     assert_eq!(
         rig.server.poll_transmit(rig.now, &rig.od),
         Some([0x80, 0x06, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
     );
     assert_eq!(rig.server.poll_timeout(), None);
-    // A download streams into the entry: the segment received stays; the block download's
-    // only segment was held back (it might have been the last, padding included).
-    assert_eq!(rig.od.value(0x2005, 0), b"1234567");
+    // Neither download changed its entry: a download applies all or nothing.
+    assert_eq!(rig.od.value(0x2005, 0), b"hello");
     assert_eq!(rig.od.value(0x2006, 0), &domain_pattern()[..]);
     // The next transfer starts afresh.
     assert_eq!(
@@ -894,9 +906,8 @@ fn abort_0504_0004_on_crc_error() {
         rig.send(&[0xC5, c0, c1, 0, 0, 0, 0, 0]),
         (Some([0x80, 0x06, 0x20, 0x00, 0x04, 0x00, 0x04, 0x05]), None)
     );
-    // The bytes streamed into the entry as they came; the abort (and no `Written` event) is
-    // what tells the client and the application they are not to be trusted.
-    assert_eq!(rig.od.value(0x2006, 0), &value[..]);
+    // The value whose CRC does not match was not applied.
+    assert_eq!(rig.od.value(0x2006, 0), &domain_pattern()[..]);
 }
 
 #[cfg(feature = "sdo-block")]
@@ -980,8 +991,8 @@ fn abort_0607_0010_on_length_not_matching() {
         rig.ask([0xD5, 0, 0, 0, 0, 0, 0, 0]),
         [0x80, 0x05, 0x20, 0x00, 0x10, 0x00, 0x07, 0x06]
     );
-    // What the first transfer streamed before its last segment was refused.
-    assert_eq!(rig.od.value(0x2005, 0), b"12345678");
+    // None of the refused transfers changed the entry.
+    assert_eq!(rig.od.value(0x2005, 0), b"hello");
 }
 
 #[test]
@@ -1006,8 +1017,8 @@ fn abort_0607_0012_on_length_too_high() {
         [0x80, 0x05, 0x20, 0x00, 0x12, 0x00, 0x07, 0x06]
     );
     assert_eq!(rig.od.value(0x2000, 0), &100u16.to_le_bytes());
-    // The two segments that fitted were streamed in.
-    assert_eq!(rig.od.value(0x2005, 0), b"12345671234567");
+    // The two segments that fitted were not applied.
+    assert_eq!(rig.od.value(0x2005, 0), b"hello");
 }
 
 #[test]
@@ -1122,7 +1133,7 @@ proptest! {
         let mut rig = Server512::new();
         for (request, millis) in requests {
             rig.advance(millis);
-            rig.server.handle_timeout(rig.now);
+            rig.server.handle_timeout(rig.now, &mut rig.od);
             rig.server.handle(rig.now, &request, &mut rig.od);
             let mut sent = 0;
             while let Some(frame) = rig.server.poll_transmit(rig.now, &rig.od) {
@@ -1131,7 +1142,7 @@ proptest! {
                 prop_assert!(sent <= 128);
             }
         }
-        rig.server.reset();
+        rig.server.reset(&mut rig.od);
         prop_assert_eq!(rig.server.poll_timeout(), None);
         prop_assert_eq!(
             rig.ask([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),

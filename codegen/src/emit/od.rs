@@ -16,6 +16,7 @@ use crate::model::AccessType;
 /// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`; `DEFAULTS` as text.
 pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
     let size = Literal::usize_unsuffixed(plan.image_size);
+    let stage_size = Literal::usize_unsuffixed(stage_size(plan));
     // Default values go into the default image, kept as runs of its non-zero bytes
     // (`DEFAULTS`); `$NODEID` ones hold their offset, to which `Od::new` adds the node-ID.
     let mut image = vec![0u8; plan.image_size];
@@ -64,6 +65,11 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
         /// The size of the value image in bytes.
         const IMAGE_SIZE: usize = #size;
 
+        /// The longest value an SDO download stages before it is written (the largest
+        /// writable string, octet string or domain): a download changes its entry only once
+        /// complete.
+        pub const STAGE_SIZE: usize = #stage_size;
+
         #defaults
 
         #node_table
@@ -74,13 +80,15 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
         #[derive(Debug, Clone, PartialEq)]
         pub struct Od {
             values: [u8; IMAGE_SIZE],
+            /// An SDO download of a string, octet string or domain until it completes.
+            stage: ::edsgen_runtime::support::Stage<STAGE_SIZE>,
         }
 
         impl Od {
             /// The dictionary with every entry at its default (a DCF's ParameterValue where
             /// given); `$NODEID` defaults are computed from `node_id`.
             pub const fn new(#node_param: u8) -> Self {
-                let mut od = Od { values: [0; IMAGE_SIZE] };
+                let mut od = Od { values: [0; IMAGE_SIZE], stage: ::edsgen_runtime::support::Stage::new() };
                 ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
                 #add_node_id
                 od
@@ -113,6 +121,21 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
 
 /// `DEFAULTS`, the default image as runs (see [`default_runs`]), with its doc and the table of
 /// the defaults it packs.
+/// The staging room's size: the largest capacity of a writable string, octet string or domain
+/// (0 when there is none). Read-only ones are never downloaded, fixed-size values are collected
+/// by the SDO server itself.
+fn stage_size(plan: &Plan) -> usize {
+    plan.entries
+        .iter()
+        .filter(|e| e.access.writable())
+        .filter_map(|e| match e.ty {
+            RustType::Bytes(capacity) => Some(capacity),
+            RustType::Scalar(..) => None,
+        })
+        .max()
+        .unwrap_or(0)
+}
+
 fn defaults(plan: &Plan, image: &[u8]) -> String {
     let mut out = String::new();
     let doc = [
@@ -365,12 +388,21 @@ pub fn od_impl(_plan: &Plan) -> TokenStream {
                 LAYOUT.write(&mut self.values, position, data)
             }
 
-            fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                LAYOUT.write_part(&mut self.values, position, offset, data)
+            fn begin_write(&mut self, position: usize) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                self.stage.begin(position)
             }
 
-            fn finish_write(&mut self, position: usize, len: usize) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                LAYOUT.finish_write(&mut self.values, position, len)
+            fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                self.stage.write(position, offset, data)
+            }
+
+            fn commit_write(&mut self, position: usize, len: usize) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                let value = self.stage.commit(position, len)?;
+                LAYOUT.write(&mut self.values, position, value)
+            }
+
+            fn abort_write(&mut self, position: usize) {
+                self.stage.abort(position)
             }
 
             fn restore_defaults(&mut self, indices: ::core::ops::RangeInclusive<u16>, node_id: u8) -> bool {

@@ -17,6 +17,10 @@ pub mod gd350 {
     pub const NR_OF_TXPDO: u16 = 1;
     /// The size of the value image in bytes.
     const IMAGE_SIZE: usize = 232;
+    /// The longest value an SDO download stages before it is written (the largest
+    /// writable string, octet string or domain): a download changes its entry only once
+    /// complete.
+    pub const STAGE_SIZE: usize = 32;
     /// The value image with every entry at its default (`$NODEID` ones at their offset from
     /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
     /// each (see `edsgen_runtime::od::image::unpack_defaults`).
@@ -85,12 +89,17 @@ pub mod gd350 {
     #[derive(Debug, Clone, PartialEq)]
     pub struct Od {
         values: [u8; IMAGE_SIZE],
+        /// An SDO download of a string, octet string or domain until it completes.
+        stage: ::edsgen_runtime::support::Stage<STAGE_SIZE>,
     }
     impl Od {
         /// The dictionary with every entry at its default (a DCF's ParameterValue where
         /// given); `$NODEID` defaults are computed from `node_id`.
         pub const fn new(node_id: u8) -> Self {
-            let mut od = Od { values: [0; IMAGE_SIZE] };
+            let mut od = Od {
+                values: [0; IMAGE_SIZE],
+                stage: ::edsgen_runtime::support::Stage::new(),
+            };
             ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
             ::edsgen_runtime::support::add_node_id(
                 &mut od.values,
@@ -272,20 +281,30 @@ pub mod gd350 {
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
             LAYOUT.write(&mut self.values, position, data)
         }
+        fn begin_write(
+            &mut self,
+            position: usize,
+        ) -> Result<(), ::edsgen_runtime::SdoAbort> {
+            self.stage.begin(position)
+        }
         fn write_part(
             &mut self,
             position: usize,
             offset: usize,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            LAYOUT.write_part(&mut self.values, position, offset, data)
+            self.stage.write(position, offset, data)
         }
-        fn finish_write(
+        fn commit_write(
             &mut self,
             position: usize,
             len: usize,
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            LAYOUT.finish_write(&mut self.values, position, len)
+            let value = self.stage.commit(position, len)?;
+            LAYOUT.write(&mut self.values, position, value)
+        }
+        fn abort_write(&mut self, position: usize) {
+            self.stage.abort(position)
         }
         fn restore_defaults(
             &mut self,

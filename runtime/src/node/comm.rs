@@ -287,13 +287,21 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
         self.od.read_at(position, offset, buf)
     }
 
+    // Strings and domains: no communication-object rule applies to them.
+    fn begin_write(&mut self, position: usize) -> Result<(), SdoAbort> {
+        self.od.begin_write(position)
+    }
+
     fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
-        // Strings and domains: no communication-object rule applies to them.
         self.od.write_part(position, offset, data)
     }
 
-    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
-        self.od.finish_write(position, len)
+    fn commit_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        self.od.commit_write(position, len)
+    }
+
+    fn abort_write(&mut self, position: usize) {
+        self.od.abort_write(position)
     }
 
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {

@@ -7,6 +7,7 @@ use crate::time::Instant;
 use crate::wire::heartbeat::NmtState;
 use crate::wire::nmt::NmtCommand;
 
+use super::comm::CommGuard;
 use super::error_control::ErrorControl;
 use super::timer::{Timer, TimerTable};
 use super::{Event, Node, NodeHooks, ResetKind, COMMUNICATION_ERRORS};
@@ -38,9 +39,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 }
             }
             NmtState::Stopped => {
-                for channel in &mut self.sdo {
-                    channel.reset();
-                }
+                self.reset_sdo();
                 self.sync.stop();
                 self.timers.set(Timer::SyncProducer, None);
                 self.timers.set(Timer::SyncConsumer, None);
@@ -53,12 +52,24 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.events.push(Event::NmtStateChanged(state));
     }
 
+    /// Drops the SDO transfers in progress; their downloads leave the entries as they were.
+    /// Through the dictionary the channels' requests see (the one the server's code is built
+    /// for, rather than a second copy of it for the bare OD).
+    fn reset_sdo(&mut self) {
+        let mut guard = CommGuard {
+            od: &mut self.od,
+            hooks: &mut self.hooks,
+            node_id: self.node_id,
+        };
+        for channel in &mut self.sdo {
+            channel.reset(&mut guard);
+        }
+    }
+
     pub(super) fn reset_communication(&mut self, now: Instant) {
         self.state = NmtState::Initialising;
         self.timers = TimerTable::OFF;
-        for channel in &mut self.sdo {
-            channel.reset();
-        }
+        self.reset_sdo();
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
         self.emcy.configure(&self.od, self.node_id);

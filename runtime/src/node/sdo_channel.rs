@@ -88,13 +88,14 @@ impl SdoChannel {
     }
 
     /// Aborts the transfer whose timeout ([`SdoChannel::next_deadline`]) passed at `now`.
-    pub fn expire(&mut self, now: Instant) {
-        self.server.handle_timeout(now);
+    pub fn expire<O: ObjectDictionary + ?Sized>(&mut self, now: Instant, od: &mut O) {
+        self.server.handle_timeout(now, od);
         self.busy = true;
     }
 
-    /// Drops any transfer in progress (NMT stopped, reset communication).
-    pub fn reset(&mut self) {
-        self.server.reset();
+    /// Drops any transfer in progress (NMT stopped, reset communication); a download leaves
+    /// its entry as it was.
+    pub fn reset<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
+        self.server.reset(od);
     }
 }

@@ -10,6 +10,7 @@
 //! [`SdoServer`](crate::sdo::SdoServer), which also serves without a node. `poll_timeout`
 //! reports them too.
 
+use super::comm::CommGuard;
 use super::error_control::MAX_HEARTBEAT_CONSUMERS;
 use super::{keep_earliest, Event, Node, NodeHooks};
 use super::{RPDO_TIMEOUT_CODE, SYNC_TIMEOUT_CODE};
@@ -161,9 +162,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.expire(timer, at, now);
             }
         });
+        let mut guard = CommGuard {
+            od: &mut self.od,
+            hooks: &mut self.hooks,
+            node_id: self.node_id,
+        };
         for channel in &mut self.sdo {
             if channel.next_deadline().is_some_and(|at| at <= now) {
-                channel.expire(now);
+                channel.expire(now, &mut guard);
             }
         }
     }

@@ -281,59 +281,6 @@ impl Layout {
         Ok(())
     }
 
-    /// `ObjectDictionary::write_part`: writes `data` into the string, octet string or domain at
-    /// `position`, `offset` bytes in, and makes its length `offset + data.len()` (a download
-    /// streamed in order). `LengthTooHigh` past its capacity; a fixed-size value is written
-    /// whole by [`write`](Self::write) instead (`LengthMismatch`).
-    pub fn write_part(
-        &self,
-        values: &mut [u8],
-        position: usize,
-        offset: usize,
-        data: &[u8],
-    ) -> Result<(), SdoAbort> {
-        let place = self.place(position)?;
-        let end = offset + data.len();
-        let (length, bytes) = self.byte_value(values, place, end)?;
-        length.copy_from_slice(&(end as u16).to_le_bytes());
-        bytes[offset..].copy_from_slice(data);
-        Ok(())
-    }
-
-    /// `ObjectDictionary::finish_write`: the string, octet string or domain at `position` is
-    /// now `len` bytes long.
-    pub fn finish_write(
-        &self,
-        values: &mut [u8],
-        position: usize,
-        len: usize,
-    ) -> Result<(), SdoAbort> {
-        let place = self.place(position)?;
-        let (length, _) = self.byte_value(values, place, len)?;
-        length.copy_from_slice(&(len as u16).to_le_bytes());
-        Ok(())
-    }
-
-    /// The 2-byte length and the first `len` bytes of a string's, octet string's or domain's
-    /// room, if it holds that many.
-    fn byte_value<'v>(
-        &self,
-        values: &'v mut [u8],
-        place: Place,
-        len: usize,
-    ) -> Result<(&'v mut [u8], &'v mut [u8]), SdoAbort> {
-        if !holds_bytes(place.data_type) {
-            return Err(SdoAbort::LengthMismatch);
-        }
-        if len > place.size {
-            return Err(SdoAbort::LengthTooHigh);
-        }
-        let room = values
-            .get_mut(place.start..place.start + 2 + len)
-            .ok_or(SdoAbort::NoObject)?;
-        Ok(room.split_at_mut(2))
-    }
-
     /// `ObjectDictionary::restore_defaults`: sets the values of the entries whose index is in
     /// `indices` to the defaults a generated `Od::new(node_id)` starts with (`runs` as for
     /// [`unpack_defaults`], `node_relative` as for [`add_node_id`]). Values lie in table order,

@@ -17,26 +17,34 @@
 //! - An expedited download without the size indicated is accepted when the entry's size is 1 to
 //!   4 bytes: that many bytes are written. For a longer entry it is aborted with 0607 0010, as the
 //!   server cannot know how many of the four bytes the client meant.
-//! - Segmented and block downloads of any length up to the entry's capacity. A fixed-size value
-//!   (at most 8 bytes) is collected and written once, when complete, so that its limits are
-//!   checked on the whole value; a string, octet string or domain streams into the dictionary
-//!   as it arrives ([`ObjectDictionary::write_part`], then
-//!   [`ObjectDictionary::finish_write`]), so no buffer holds the value: a download aborted
-//!   half-way leaves the bytes received so far. An announced size above the entry's capacity
-//!   is aborted with 0607 0012, below a fixed-size entry's size with 0607 0013; data beyond the
+//! - Downloads apply all or nothing: the entry changes only when the transfer completes (the
+//!   CRC checked for a block download), and a transfer that ends any other way (an abort from
+//!   either side, a timeout, a new initiate, [`SdoServer::reset`]) leaves it as it was and
+//!   reports no [`SdoEvent::Written`]. A fixed-size value (at most 8 bytes) is collected here
+//!   and written once, when complete, so that its limits are checked on the whole value; a
+//!   string, octet string or domain goes through the dictionary's streaming steps
+//!   ([`ObjectDictionary::begin_write`], [`write_part`](ObjectDictionary::write_part) for each
+//!   piece as it arrives, then [`commit_write`](ObjectDictionary::commit_write) or
+//!   [`abort_write`](ObjectDictionary::abort_write)), which stage it (the generated
+//!   dictionaries, in a buffer sized to their largest writable value) or send it where it goes
+//!   (an application's domain in flash, discarded on abort). Segmented and block downloads of
+//!   any length up to the entry's capacity. An announced size above the entry's capacity is
+//!   aborted with 0607 0012, below a fixed-size entry's size with 0607 0013; data beyond the
 //!   announced size, or a final length that differs from it, with 0607 0010.
 //! - Block download: the server's block size is 127 (the most CiA 301 allows: segments are
 //!   streamed, not buffered) unless [`SdoServer::with_block_size`] says less. A segment whose
-//!   sequence number is 0 or above the block size is aborted with 0504 0003; an out-of-order one
+//!   sequence number is 0 (`00`, and `80` with the last-segment bit, which during a sub-block is
+//!   a segment too, not the client's abort) or above the block size is aborted with 0504 0003;
+//!   an out-of-order one
 //!   within range is ignored and the sub-block acknowledged up to the last segment received in
 //!   order, so the client repeats the rest (CiA 301's retransmission). CRC is supported and
 //!   checked when the client supports it too (mismatch: 0504 0004).
 //! - Block upload: a client block size of 0 or above 127 is aborted with 0504 0002, an
 //!   acknowledged sequence number above the segments sent with 0504 0003. When the client's
 //!   protocol switch threshold is non-zero and at least the value's size, a normal upload answers.
-//! - A new initiate request replaces any transfer in progress (the client has given up on it),
-//!   except during a block download sub-block, where every frame is a segment. A client abort
-//!   ends the transfer without a response. A frame that is not 8 bytes long, has an unknown
+//! - A new initiate request replaces any transfer in progress (the client has given up on it;
+//!   the replaced download changes nothing), except during a block download sub-block, where
+//!   every frame is a segment. A client abort ends the transfer without a response. A frame that is not 8 bytes long, has an unknown
 //!   command specifier, or does not fit the transfer in progress is aborted with 0504 0001.
 //! - Each request queues at most one response; one not yet taken by `poll_transmit` is replaced.
 //!
@@ -78,7 +86,8 @@ struct WriteTarget {
     fixed: bool,
 }
 
-/// A normal (segmented) download, streamed into the entry.
+/// A normal (segmented) download: a fixed-size value collected in `held`, another streamed
+/// into the dictionary's staging.
 #[derive(Debug, Clone, Copy)]
 struct Download {
     toggle: bool,
@@ -108,8 +117,8 @@ enum Transfer {
     BlockUpload(BlockUpload),
 }
 
-/// An SDO server for one client. It holds no copy of a value: uploads stream from the
-/// dictionary, downloads into it (a fixed-size value of up to 8 bytes is collected first).
+/// An SDO server for one client. It holds no copy of a value but a fixed-size one of up to 8
+/// bytes being downloaded: uploads stream from the dictionary, downloads into its staging.
 #[derive(Debug, Clone)]
 pub struct SdoServer {
     timeout: Duration,
@@ -197,6 +206,7 @@ impl SdoServer {
                 })
             }
             Err(abort) => {
+                self.release(od);
                 self.abort(abort);
                 None
             }
@@ -228,20 +238,46 @@ impl SdoServer {
         self.deadline
     }
 
-    /// Aborts a transfer whose timeout has passed (queues abort 0504 0000).
-    pub fn handle_timeout(&mut self, now: Instant) {
+    /// Aborts a transfer whose timeout has passed (queues abort 0504 0000); a download leaves
+    /// the entry as it was.
+    pub fn handle_timeout<O: ObjectDictionary + ?Sized>(&mut self, now: Instant, od: &mut O) {
         if let Some(deadline) = self.deadline {
             if now >= deadline {
+                self.release(od);
                 self.abort(SdoAbort::Timeout);
             }
         }
     }
 
-    /// Drops any transfer in progress and any queued response (NMT reset communication).
-    pub fn reset(&mut self) {
+    /// Drops any transfer in progress (a download leaves the entry as it was) and any queued
+    /// response (NMT reset communication).
+    pub fn reset<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
+        self.release(od);
         self.end_transfer();
         self.pending = false;
         self.mux = Multiplexer::new(0, 0);
+    }
+
+    /// Whether a download of a string, octet string or domain is open in the dictionary (begun
+    /// and neither committed nor aborted), and into which entry.
+    fn streaming(&self) -> Option<usize> {
+        let target = match &self.transfer {
+            Transfer::Download(download) => &download.target,
+            #[cfg(feature = "sdo-block")]
+            Transfer::BlockDownload(block) => &block.target,
+            _ => return None,
+        };
+        (!target.fixed).then_some(target.position)
+    }
+
+    /// Ends the download streaming into the dictionary, if one is, without applying it: the
+    /// entry keeps its value. The caller then ends the transfer.
+    #[inline(never)]
+    fn release<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
+        if let Some(position) = self.streaming() {
+            self.transfer = Transfer::Idle;
+            od.abort_write(position);
+        }
     }
 
     fn end_transfer(&mut self) {
@@ -285,12 +321,9 @@ impl SdoServer {
         };
         if block.complete {
             self.handle_request(request, od)
-        } else if request.command() == command::of(ccs::ABORT) {
-            // 0x80 as a segment would have sequence number 0, which is invalid: it is the
-            // client's abort.
-            self.end_transfer();
-            Ok(false)
         } else {
+            // Every frame of a sub-block is a segment: `80` too (sequence number 0 with the
+            // last-segment bit), aborted with 0504 0003 as `00` is.
             self.block_download_segment(block, request.as_bytes(), od)
         }
     }
@@ -323,15 +356,16 @@ impl SdoServer {
         let toggle = request.toggle();
         match (request.specifier(), self.transfer) {
             (ccs::ABORT, _) => {
+                self.release(od);
                 self.end_transfer();
                 Ok(false)
             }
             (ccs::INITIATE_DOWNLOAD, _) => {
-                self.start(mux);
+                self.start(mux, od);
                 self.initiate_download(mux, request, od)
             }
             (ccs::INITIATE_UPLOAD, _) => {
-                self.start(mux);
+                self.start(mux, od);
                 self.initiate_upload(mux, od)
             }
             (ccs::DOWNLOAD_SEGMENT, Transfer::Download(download)) => {
@@ -349,10 +383,29 @@ impl SdoServer {
         }
     }
 
-    /// Forgets any transfer in progress and addresses `mux`.
-    fn start(&mut self, mux: Multiplexer) {
+    /// Forgets any transfer in progress (a download leaves its entry as it was) and addresses
+    /// `mux`.
+    #[inline]
+    fn start<O: ObjectDictionary + ?Sized>(&mut self, mux: Multiplexer, od: &mut O) {
+        if !matches!(self.transfer, Transfer::Idle) {
+            self.release(od);
+        }
         self.transfer = Transfer::Idle;
         self.mux = mux;
+    }
+
+    /// Opens a download into `target` in the dictionary if it streams (a string, octet string
+    /// or domain): [`ObjectDictionary::begin_write`]. The caller records the transfer only
+    /// once this succeeded, so that a refused download is never aborted in the dictionary.
+    fn open<O: ObjectDictionary + ?Sized>(
+        target: &WriteTarget,
+        od: &mut O,
+    ) -> Result<(), SdoAbort> {
+        if target.fixed {
+            Ok(())
+        } else {
+            od.begin_write(target.position)
+        }
     }
 
     /// Where a download goes, if an SDO may write the entry.
@@ -428,7 +481,7 @@ impl SdoServer {
 
     /// Takes `data`, the download's bytes from `offset` on (checked by the caller against the
     /// entry's capacity): a fixed-size value's into `held`, a string's or domain's into the
-    /// dictionary.
+    /// dictionary's open download.
     fn store<O: ObjectDictionary + ?Sized>(
         &mut self,
         target: &WriteTarget,
@@ -450,7 +503,8 @@ impl SdoServer {
     }
 
     /// Completes a download of `len` bytes: a fixed-size value is written whole (its limits
-    /// checked), a string's or domain's length set.
+    /// checked), a string's or domain's download committed. The caller has ended the transfer
+    /// first: a commit that fails leaves nothing open to abort.
     fn commit<O: ObjectDictionary + ?Sized>(
         &mut self,
         target: &WriteTarget,
@@ -461,7 +515,7 @@ impl SdoServer {
             let data = self.held.get(..len).ok_or(SdoAbort::LengthTooHigh)?;
             od.write_at(target.position, data)
         } else {
-            od.finish_write(target.position, len)
+            od.commit_write(target.position, len)
         }
     }
 }

@@ -12,6 +12,8 @@ use edsgen_runtime::{
 pub struct DomainOd {
     pub domain: Vec<u8>,
     pub word: u16,
+    /// A download into the domain until it completes.
+    pub incoming: Option<Vec<u8>>,
 }
 
 const ENTRIES: [EntryDescriptor; 2] = [
@@ -68,20 +70,31 @@ impl ObjectDictionary for DomainOd {
         }
         Ok(())
     }
-    /// The domain (position 0) takes a download piece by piece.
+    /// The domain (position 0) takes a download piece by piece, into `incoming` until it
+    /// completes.
+    fn begin_write(&mut self, _position: usize) -> Result<(), SdoAbort> {
+        self.incoming = Some(Vec::new());
+        Ok(())
+    }
     fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
         if position != 0 || offset + data.len() > DOMAIN_CAPACITY {
             return Err(SdoAbort::LengthTooHigh);
         }
-        self.domain.truncate(offset);
-        self.domain.extend_from_slice(data);
+        let incoming = self.incoming.as_mut().ok_or(SdoAbort::General)?;
+        incoming.truncate(offset);
+        incoming.extend_from_slice(data);
         Ok(())
     }
-    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+    fn commit_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        let mut incoming = self.incoming.take().ok_or(SdoAbort::General)?;
         if position == 0 {
-            self.domain.truncate(len);
+            incoming.truncate(len);
+            self.domain = incoming;
         }
         Ok(())
+    }
+    fn abort_write(&mut self, _position: usize) {
+        self.incoming = None;
     }
 }
 
@@ -116,7 +129,7 @@ impl BusDevice for DomainServer {
         self.server.poll_timeout()
     }
     fn handle_timeout(&mut self, now: Instant) {
-        self.server.handle_timeout(now)
+        self.server.handle_timeout(now, &mut self.od)
     }
 }
 

@@ -23,6 +23,9 @@ struct Value {
 pub struct TestOd {
     descriptors: Vec<EntryDescriptor>,
     values: Vec<Value>,
+    /// The download open in the dictionary (position and the pieces so far), staged until
+    /// committed, as a generated dictionary stages it.
+    download: Option<(usize, Vec<u8>)>,
 }
 
 fn descriptor(
@@ -113,6 +116,7 @@ impl TestOd {
         let mut od = TestOd {
             descriptors: Vec::new(),
             values: Vec::new(),
+            download: None,
         };
         for ((descriptor, capacity), bytes, limits) in table {
             od.descriptors.push(descriptor);
@@ -176,20 +180,53 @@ impl ObjectDictionary for TestOd {
         Ok(len)
     }
 
-    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
-        let value = self.values.get_mut(position).ok_or(SdoAbort::NoObject)?;
-        if offset + data.len() > value.capacity {
-            return Err(SdoAbort::LengthTooHigh);
+    fn begin_write(&mut self, position: usize) -> Result<(), SdoAbort> {
+        if self.download.is_some() {
+            return Err(SdoAbort::NoResource);
         }
-        value.bytes.truncate(offset);
-        value.bytes.extend_from_slice(data);
+        self.download = Some((position, Vec::new()));
         Ok(())
     }
 
-    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
-        let value = self.values.get_mut(position).ok_or(SdoAbort::NoObject)?;
-        value.bytes.truncate(len);
-        Ok(())
+    fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
+        let capacity = self
+            .values
+            .get(position)
+            .ok_or(SdoAbort::NoObject)?
+            .capacity;
+        if offset + data.len() > capacity {
+            return Err(SdoAbort::LengthTooHigh);
+        }
+        match &mut self.download {
+            Some((open, bytes)) if *open == position => {
+                bytes.truncate(offset);
+                bytes.extend_from_slice(data);
+                Ok(())
+            }
+            _ => Err(SdoAbort::General),
+        }
+    }
+
+    fn commit_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        match self.download.take() {
+            Some((open, mut bytes)) if open == position => {
+                bytes.truncate(len);
+                let value = self.values.get_mut(position).ok_or(SdoAbort::NoObject)?;
+                value.bytes = bytes;
+                Ok(())
+            }
+            _ => Err(SdoAbort::General),
+        }
+    }
+
+    fn abort_write(&mut self, position: usize) {
+        if self
+            .download
+            .as_ref()
+            .is_some_and(|(open, _)| *open == position)
+        {
+            self.download = None;
+        }
     }
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {

@@ -26,9 +26,10 @@ pub struct RuntimeDictionary {
     entries: Vec<EntryDescriptor>,
     slots: Vec<Slot>,
     left_out: Vec<(u16, String)>,
-    /// The pieces of an SDO download streamed so far ([`ObjectDictionary::write_part`]), applied
-    /// with every check by [`ObjectDictionary::finish_write`].
-    download: Vec<u8>,
+    /// The SDO download open in the dictionary, if one is: the entry's position and the pieces
+    /// streamed so far ([`ObjectDictionary::write_part`]), applied with every check by
+    /// [`ObjectDictionary::commit_write`] and dropped by [`ObjectDictionary::abort_write`].
+    download: Option<(usize, Vec<u8>)>,
 }
 
 /// One entry's value and what a write must respect.
@@ -92,7 +93,7 @@ impl RuntimeDictionary {
             entries,
             slots,
             left_out,
-            download: Vec::new(),
+            download: None,
         }
     }
 
@@ -151,23 +152,57 @@ impl ObjectDictionary for RuntimeDictionary {
         Ok(read_bytes(&slot.value, offset, buf))
     }
 
+    /// Opens a download: one at a time, as a generated `Od`'s stage (`NoResource` while
+    /// another SDO channel's is open).
+    fn begin_write(&mut self, position: usize) -> Result<(), SdoAbort> {
+        if self.download.is_some() {
+            return Err(SdoAbort::NoResource);
+        }
+        self.capacity(position).ok_or(SdoAbort::NoObject)?;
+        self.download = Some((position, Vec::new()));
+        Ok(())
+    }
+
     /// Collects one piece of a segmented or block download; the value changes only when
-    /// [`finish_write`](ObjectDictionary::finish_write) applies the whole of it.
+    /// [`commit_write`](ObjectDictionary::commit_write) applies the whole of it.
     fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), SdoAbort> {
         let capacity = self.capacity(position).ok_or(SdoAbort::NoObject)?;
         if offset + data.len() > capacity {
             return Err(SdoAbort::LengthTooHigh);
         }
-        self.download.truncate(offset);
-        self.download.extend_from_slice(data);
-        Ok(())
+        match &mut self.download {
+            Some((open, bytes)) if *open == position => {
+                bytes.truncate(offset);
+                bytes.extend_from_slice(data);
+                Ok(())
+            }
+            _ => Err(SdoAbort::General),
+        }
     }
 
     /// Applies the streamed download with [`write_at`](ObjectDictionary::write_at)'s checks.
-    fn finish_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
-        let mut value = std::mem::take(&mut self.download);
-        value.truncate(len);
-        self.write_at(position, &value)
+    fn commit_write(&mut self, position: usize, len: usize) -> Result<(), SdoAbort> {
+        match self.download.take() {
+            Some((open, mut value)) if open == position => {
+                value.truncate(len);
+                self.write_at(position, &value)
+            }
+            other => {
+                self.download = other;
+                Err(SdoAbort::General)
+            }
+        }
+    }
+
+    /// Drops the streamed download: the value stays as it was.
+    fn abort_write(&mut self, position: usize) {
+        if self
+            .download
+            .as_ref()
+            .is_some_and(|(open, _)| *open == position)
+        {
+            self.download = None;
+        }
     }
 
     /// The checks of the generated `Od` (`edsgen_runtime::od::image::Layout::write`): a fixed-size

@@ -1,10 +1,15 @@
 //! `edsgen sdo write --file` and `edsgen sdo read --out`: a value of any length streamed between
 //! a file (or standard input or output) and an entry, by block transfer unless the node refuses
 //! it, and a one-line summary (bytes, transfer, time) on standard error.
+//!
+//! `--out FILE` never leaves a partial value under FILE's name: the bytes go to `FILE.partial`
+//! beside it, renamed to FILE once the upload has completed, removed when it fails (a FILE that
+//! was there stays as it was). Only a process killed during the transfer leaves the
+//! `.partial` file, named for what it is.
 
 use std::fs::{self, File};
 use std::io::{self, BufWriter, Read, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -128,10 +133,16 @@ fn download(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Ex
 }
 
 fn upload(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> ExitCode {
+    let partial = partial_path(path);
     let file = if is_std(path) {
         None
+    } else if path.is_dir() {
+        return fail(format!(
+            "cannot write `{}`: it is a directory",
+            path.display()
+        ));
     } else {
-        match File::create(path) {
+        match File::create(&partial) {
             Ok(file) => Some(file),
             Err(e) => return fail(format!("cannot write `{}`: {e}", path.display())),
         }
@@ -139,7 +150,7 @@ fn upload(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Exit
     // A transfer that fails leaves no partial file behind.
     let discard = |code: ExitCode| {
         if !is_std(path) {
-            let _ = fs::remove_file(path);
+            let _ = fs::remove_file(&partial);
         }
         code
     };
@@ -168,6 +179,16 @@ fn upload(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Exit
         Ok(()) => Ok(size),
         Err(e) => Err(MasterError::Io(e)),
     });
+    // Only a complete value takes the file's name.
+    let result = result.and_then(|size| {
+        if is_std(path) {
+            return Ok(size);
+        }
+        fs::rename(&partial, path).map(|()| size).map_err(|e| {
+            sink.failed = true;
+            MasterError::Io(e)
+        })
+    });
     match result {
         Ok(size) => {
             let summary = Summary {
@@ -184,6 +205,14 @@ fn upload(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Exit
         ))),
         Err(error) => discard(master_failed(error)),
     }
+}
+
+/// Where `--out PATH` collects an upload until it completes: `PATH.partial`, in the same
+/// directory so that the rename cannot cross file systems.
+fn partial_path(path: &Path) -> PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(".partial");
+    PathBuf::from(name)
 }
 
 /// `-` names standard input or output.
@@ -317,6 +346,15 @@ impl<W: Write> Write for Sink<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_upload_collects_beside_its_file_under_a_partial_name() {
+        assert_eq!(
+            partial_path(Path::new("dir/program.bin")),
+            Path::new("dir/program.bin.partial")
+        );
+        assert_eq!(partial_path(Path::new("out")), Path::new("out.partial"));
+    }
 
     #[test]
     fn a_rewound_source_gives_its_bytes_again_then_the_rest() {

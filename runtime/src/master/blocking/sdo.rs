@@ -58,7 +58,9 @@ impl<T: Transport> Master<T> {
     }
 
     /// Reads the value of (index, sub) into `sink` as it arrives (a domain of any length);
-    /// returns its length.
+    /// returns its length. On an error what `sink` took is part of a value at most, never the
+    /// value: discard it (`edsgen sdo read --out FILE` writes to `FILE.partial` and renames it
+    /// only on success). [`upload`](Self::upload) hands back a value only when complete.
     pub fn upload_to(
         &mut self,
         node_id: u8,

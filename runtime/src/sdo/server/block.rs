@@ -11,7 +11,8 @@ use crate::wire::sdo::{
 
 use super::{Handled, SdoServer, Transfer, WriteTarget};
 
-/// A block download, streamed into the entry. The last segment received in order is held back
+/// A block download: a fixed-size value collected in the server's `held`, another streamed
+/// into the dictionary's staging. The last segment received in order is held back
 /// until the next one shows it was not the last, or the end request says how many of its bytes
 /// are padding: only then is it written and added to the CRC.
 #[derive(Debug, Clone, Copy)]
@@ -22,7 +23,7 @@ pub(super) struct BlockDownload {
     /// The segment held back.
     held: [u8; SEGMENT_DATA_LEN],
     size: Option<u32>,
-    target: WriteTarget,
+    pub(super) target: WriteTarget,
     /// Segment bytes received in order, padding of the last segment included (the held
     /// segment's 7 bytes are the last 7 of them).
     received: usize,
@@ -123,7 +124,7 @@ impl SdoServer {
         match (request.specifier(), subcommand, self.transfer) {
             // Initiate block upload (cs = 0): blksize, pst.
             (ccs::BLOCK_UPLOAD, 0, _) => {
-                self.start(mux);
+                self.start(mux, od);
                 let (blksize, pst) = (
                     request.initiate_block_size(),
                     request.protocol_switch_threshold(),
@@ -153,7 +154,7 @@ impl SdoServer {
             }
             // Initiate block download (cs = 0), with the size if indicated (s).
             (ccs::BLOCK_DOWNLOAD, 0 | 2, _) => {
-                self.start(mux);
+                self.start(mux, od);
                 let size = request.block_size_indicated().then(|| request.value());
                 self.initiate_block_download(mux, crc, size, od)
             }
@@ -171,10 +172,11 @@ impl SdoServer {
         mux: Multiplexer,
         crc: bool,
         size: Option<u32>,
-        od: &O,
+        od: &mut O,
     ) -> Handled {
         let target = Self::writable_entry(mux, od)?;
         Self::check_announced_size(&target, size)?;
+        Self::open(&target, od)?;
         self.transfer = Transfer::BlockDownload(BlockDownload {
             check_crc: crc,
             crc: Crc16::new(),
@@ -269,8 +271,8 @@ impl SdoServer {
         if block.check_crc && block.crc.value() != crc {
             return Err(SdoAbort::CrcError);
         }
-        self.commit(&block.target, len, od)?;
         self.transfer = Transfer::Idle;
+        self.commit(&block.target, len, od)?;
         // End block download response (ss = 1).
         self.respond(command::of(scs::BLOCK_DOWNLOAD) | 1, [0; SEGMENT_DATA_LEN]);
         Ok(true)

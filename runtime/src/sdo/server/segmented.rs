@@ -25,16 +25,22 @@ impl SdoServer {
                 }
                 len
             }
-            (false, true) => return self.start_download(target, Some(request.value())),
-            (false, false) => return self.start_download(target, None),
+            (false, true) => return self.start_download(target, Some(request.value()), od),
+            (false, false) => return self.start_download(target, None, od),
         };
         od.write_at(target.position, &data[..len])?;
         self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
         Ok(true)
     }
 
-    fn start_download(&mut self, target: WriteTarget, size: Option<u32>) -> Handled {
+    fn start_download<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        target: WriteTarget,
+        size: Option<u32>,
+        od: &mut O,
+    ) -> Handled {
         Self::check_announced_size(&target, size)?;
+        Self::open(&target, od)?;
         self.transfer = Transfer::Download(Download {
             toggle: false,
             size,
@@ -64,8 +70,8 @@ impl SdoServer {
             if download.size.is_some_and(|size| end != size as usize) {
                 return Err(SdoAbort::LengthMismatch);
             }
-            self.commit(&download.target, end, od)?;
             self.transfer = Transfer::Idle;
+            self.commit(&download.target, end, od)?;
         } else {
             download.toggle = !toggle;
             self.transfer = Transfer::Download(download);
