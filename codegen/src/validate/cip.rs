@@ -306,7 +306,7 @@ fn assembly_members(cip: &Cip, assembly: &CipAssembly, out: &mut Vec<Diagnostic>
                 ),
             )
             .with_label("size of the assembly")
-            .with_help(if bits % 8 == 0 {
+            .with_help(if bits.is_multiple_of(8) {
                 format!("set the size to {}, or correct the members", bits / 8)
             } else {
                 "correct the members' bit counts".to_owned()

@@ -17,6 +17,7 @@ use crate::model::{Device, Format, RawSection, Span, SubObject, Value, ValueSour
 use crate::rules;
 
 mod cip;
+pub use cip::assembly_size as cip_assembly_size;
 mod dcf;
 mod device_info;
 mod esi;
