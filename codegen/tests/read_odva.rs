@@ -578,3 +578,67 @@ fn spans_point_at_fields_of_entries_over_many_lines() {
     let diags = validate::validate(&read.device);
     assert_eq!(diags[0].span, Some(Span::new(67, 24, 1)));
 }
+
+#[test]
+fn overlay_pkw_pzd_names_32_byte_assemblies() {
+    use edsgen_codegen::overlay::apply;
+    let mut device = read(&io()).device;
+    let diags = apply(
+        "[pkw_pzd]\noutput = 150\ninput = 100\nbyte_order = \"little\"\n",
+        &mut device,
+    );
+    assert_eq!(
+        diags.iter().map(|d| d.message.as_str()).collect::<Vec<_>>(),
+        vec![
+            "Assem150 is 2 bytes; a PKW/PZD image is 32 (16 words)",
+            "Assem100 is 3 bytes; a PKW/PZD image is 32 (16 words)",
+        ]
+    );
+    assert_eq!(device.cip.as_ref().and_then(|c| c.pkw_pzd), None);
+    let text = io()
+        .replace(
+            "                3,\n                0x0000,",
+            "                32,\n                0x0000,",
+        )
+        .replace(
+            "                8,Param2;",
+            "                8,Param2,\n                232,;",
+        )
+        .replace(
+            "                2,\n                0x0001,",
+            "                32,\n                0x0001,",
+        )
+        .replace(
+            "                16,Param1;",
+            "                16,Param1,\n                240,;",
+        )
+        .replace("Param3,2,Assem150,", "Param3,32,Assem150,")
+        .replace("Param3,3,Assem100,", "Param3,32,Assem100,");
+    assert_eq!(diagnostics(&text), vec![]);
+    let mut device = read(&text).device;
+    let diags = apply(
+        "[pkw_pzd]\noutput = 150\ninput = 100\nbyte_order = \"big\"\n",
+        &mut device,
+    );
+    assert_eq!(diags, vec![]);
+    assert_eq!(
+        device.cip.as_ref().and_then(|c| c.pkw_pzd),
+        Some(PkwPzdImages {
+            output: 150,
+            input: 100,
+            little_endian: false
+        })
+    );
+    let mut device = read(&text).device;
+    let diags = apply("[pkw_pzd]\noutput = 150\nwhat = 1\n", &mut device);
+    assert_eq!(
+        diags.iter().map(|d| d.message.as_str()).collect::<Vec<_>>(),
+        vec!["`what` is not a key of [pkw_pzd] (output = N, input = N, byte_order = \"little\")"]
+    );
+    let mut cia = read_bytes(Path::new("a.eds"), b"[FileInfo]\nFileName=a.eds\n").device;
+    let diags = apply("[pkw_pzd]\noutput = 150\n", &mut cia);
+    assert_eq!(
+        diags.iter().map(|d| d.message.as_str()).collect::<Vec<_>>(),
+        vec!["[pkw_pzd] is for an ODVA EDS (EtherNet/IP); this description is not one"]
+    );
+}

@@ -436,6 +436,7 @@ fn assemblies(cip: &Cip) -> TokenStream {
         } else {
             quote!(if buf.len() < #size_lit { return None; })
         };
+        items.push(pkw_pzd(cip, assembly.number, &ty));
         items.push(quote! {
             #[doc = #doc]
             #[derive(Debug, Clone, Copy, PartialEq)]
@@ -501,6 +502,59 @@ fn assemblies(cip: &Cip) -> TokenStream {
         }
 
         #(#items)*
+    }
+}
+
+/// Conversions between an assembly's image and the PKW/PZD protocol's typed image, when the
+/// overlay says the assembly carries one (`[pkw_pzd]`).
+fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
+    let Some(images) = cip.pkw_pzd else {
+        return TokenStream::new();
+    };
+    let (order, order_doc) = if images.little_endian {
+        (quote!(LittleEndian), "little-endian")
+    } else {
+        (quote!(BigEndian), "big-endian")
+    };
+    let p = quote!(::edsgen_runtime::pkw_pzd);
+    if number == images.output {
+        let doc = format!(
+            " The image as the PKW/PZD protocol's: PKW request, control word, PZD2-PZD12 (words \
+             {order_doc}, as the overlay says)."
+        );
+        quote! {
+            impl #ty {
+                #[doc = #doc]
+                pub fn pkw_pzd(&self) -> #p::OutputImage {
+                    #p::OutputImage::parse(&self.encode(), #p::ByteOrder::#order)
+                }
+
+                /// The image carrying a PKW/PZD output image.
+                pub fn from_pkw_pzd(image: &#p::OutputImage) -> Self {
+                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
+                }
+            }
+        }
+    } else if number == images.input {
+        let doc = format!(
+            " The image as the PKW/PZD protocol's: PKW response, status word, PZD2-PZD12 (words \
+             {order_doc}, as the overlay says); an error for an undefined response code."
+        );
+        quote! {
+            impl #ty {
+                #[doc = #doc]
+                pub fn pkw_pzd(&self) -> Result<#p::InputImage, #p::ResponseError> {
+                    #p::InputImage::parse(&self.encode(), #p::ByteOrder::#order)
+                }
+
+                /// The image carrying a PKW/PZD input image.
+                pub fn from_pkw_pzd(image: &#p::InputImage) -> Self {
+                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
+                }
+            }
+        }
+    } else {
+        TokenStream::new()
     }
 }
 

@@ -30,9 +30,23 @@ pub struct Cip {
     pub ports: BTreeMap<u32, CipPort>,
     /// `[Capacity]` entries as written (`MaxIOConnections`, `TSpecN`, ...), in file order.
     pub capacity: Vec<CipEntry>,
+    /// What an overlay says: the assemblies that carry the Goodrive350's PKW/PZD images.
+    pub pkw_pzd: Option<PkwPzdImages>,
     /// The class sections (`[Identity Class]`, `[TCP/IP Interface Class]`, `[ClassN_VendorM]`, ...)
     /// and any other section, with their entries as written, in file order.
     pub other_sections: Vec<CipSection>,
+}
+
+/// The assemblies that carry the 16-word PKW/PZD images of `edsgen_runtime::pkw_pzd` (an
+/// overlay's `[pkw_pzd]`: an EDS cannot say that words are a protocol of their own).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PkwPzdImages {
+    /// `AssemN` of the scanner's image (PKW request, CW, PZD2-PZD12).
+    pub output: u32,
+    /// `AssemN` of the drive's image (PKW response, SW, PZD2-PZD12).
+    pub input: u32,
+    /// Whether words are little-endian (CIP's order), else big-endian.
+    pub little_endian: bool,
 }
 
 /// One field of an entry, as written: the text without quotes (adjacent quoted strings joined).

@@ -23,7 +23,7 @@ pub use cip::{
     data_type_info, data_type_range, decode_path, real_time_format_name, AssemblyMember, Cip,
     CipAssembly, CipConnection, CipEntry, CipEnum, CipFile, CipIdentity, CipNumber, CipParam,
     CipPort, CipSection, ConnectionData, ConnectionParams, Field, FieldRef, PathSegment,
-    TriggerTransport,
+    PkwPzdImages, TriggerTransport,
 };
 pub use ethercat::{
     AlternativeSmMapping, CoeInitCmd, CoeMailbox, DcOpMode, EcModule, EcPdo, EcPdoEntry, EcSlot,
