@@ -3,7 +3,7 @@
 #
 #   scripts/fuzz.sh [TARGET|all] [SECONDS]      (defaults: all, 900 seconds per target)
 #
-# TARGET: eds, xml, esi, odva, node, socketcand, decode, sdo_client.
+# TARGET: eds, xml, esi, odva, enip, node, socketcand, decode, sdo_client.
 #
 # Works on the stable toolchain: cargo-fuzz's nightly flags are allowed with RUSTC_BOOTSTRAP=1.
 # Debug assertions are on (-a), so arithmetic overflow panics. FUZZ_SANITIZER picks the sanitizer:
@@ -30,13 +30,13 @@ max_len=65536
 corpus_src=${EDSGEN_CORPUS:-$root/../shared/eds-corpus}
 esi_src=${EDSGEN_ESI_CORPUS:-$root/../shared/esi-corpus}
 odva_src=${EDSGEN_ODVA_CORPUS:-$root/../shared/odva-eds-corpus}
-all=(eds xml esi odva node socketcand decode sdo_client)
+all=(eds xml esi odva enip node socketcand decode sdo_client)
 
 case "$target" in
-eds | xml | esi | odva | node | socketcand | decode | sdo_client) targets=("$target") ;;
+eds | xml | esi | odva | enip | node | socketcand | decode | sdo_client) targets=("$target") ;;
 all) targets=("${all[@]}") ;;
 *)
-    echo "usage: scripts/fuzz.sh [eds|xml|esi|odva|node|socketcand|decode|sdo_client|all] [SECONDS]" >&2
+    echo "usage: scripts/fuzz.sh [eds|xml|esi|odva|enip|node|socketcand|decode|sdo_client|all] [SECONDS]" >&2
     exit 2
     ;;
 esac
