@@ -8,10 +8,13 @@
 //! [`wire`]. Every refusal carries the status CIP or the encapsulation defines; bad bytes never
 //! panic.
 //!
-//! Not yet: the socket driver (TCP/UDP 44818, UDP 2222), class-3 connected messaging
-//! (SendUnitData is refused with "incorrect data"), and the link to the drive.
+//! [`driver`] serves it on sockets (TCP and UDP 44818, UDP 2222), [`device`] builds it from any
+//! ODVA EDS or as the Goodrive350 card with its drive. Not yet: class-3 connected messaging
+//! (SendUnitData is refused with "incorrect data").
 
 pub mod adapter;
+pub mod device;
+pub mod driver;
 pub mod objects;
 pub mod wire;
 
