@@ -131,45 +131,7 @@ pub fn serve(
         }
         let t = now();
         let mut produce = adapter.poll(t);
-        for event in adapter.take_events() {
-            match event {
-                Event::Opened(id) => log(format!("connection {id:#010x} opened")),
-                Event::Closed(id) => log(format!("connection {id:#010x} closed")),
-                Event::TimedOut(id) => {
-                    log(format!("connection {id:#010x} timed out"));
-                    if let Some(card) = card.as_mut() {
-                        card.drive.communication_lost(t);
-                        log(format!("drive fault {}", card.drive.bus().fault_name()));
-                    }
-                }
-                Event::Consumed(point) => {
-                    let Some(card) = card.as_mut() else { continue };
-                    if point != card.output {
-                        continue;
-                    }
-                    let output: Option<[u8; 32]> = adapter
-                        .assemblies
-                        .get(&card.output)
-                        .and_then(|a| a.data.as_slice().try_into().ok());
-                    if let Some(output) = output {
-                        let input = card
-                            .drive
-                            .exchange_bytes(t, &output, ByteOrder::LittleEndian);
-                        if let Some(a) = adapter.assemblies.get_mut(&card.input) {
-                            a.data = input.to_vec();
-                        }
-                    }
-                }
-            }
-        }
-        if let Some(card) = card.as_mut() {
-            if adapter.connections().is_empty() {
-                // No scanner: the drive's image still answers explicit reads.
-                if let Some(a) = adapter.assemblies.get_mut(&card.input) {
-                    a.data = card.drive.inputs().emit(ByteOrder::LittleEndian).to_vec();
-                }
-            }
-        }
+        link(&mut adapter, card.as_mut(), t, &mut log);
         if let Some(io) = &io {
             for (peer, datagram) in produce.drain(..) {
                 let ip = clients.get(&peer).map(|c| c.peer);
@@ -181,4 +143,56 @@ pub fn serve(
         std::thread::sleep(std::time::Duration::from_millis(1));
     }
     Ok(())
+}
+
+/// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
+/// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
+/// trips the drive (E-EIP); without a connection the T→O assembly shows the drive as it stands.
+/// `log` gets one line per connection event.
+pub fn link(
+    adapter: &mut Adapter,
+    mut card: Option<&mut Card>,
+    now: Instant,
+    log: &mut impl FnMut(String),
+) {
+    for event in adapter.take_events() {
+        match event {
+            Event::Opened(id) => log(format!("connection {id:#010x} opened")),
+            Event::Closed(id) => log(format!("connection {id:#010x} closed")),
+            Event::TimedOut(id) => {
+                log(format!("connection {id:#010x} timed out"));
+                if let Some(card) = card.as_deref_mut() {
+                    card.drive.communication_lost(now);
+                    log(format!("drive fault {}", card.drive.bus().fault_name()));
+                }
+            }
+            Event::Consumed(point) => {
+                let Some(card) = card.as_deref_mut() else {
+                    continue;
+                };
+                if point != card.output {
+                    continue;
+                }
+                let output: Option<[u8; 32]> = adapter
+                    .assemblies
+                    .get(&card.output)
+                    .and_then(|a| a.data.as_slice().try_into().ok());
+                if let Some(output) = output {
+                    let input = card
+                        .drive
+                        .exchange_bytes(now, &output, ByteOrder::LittleEndian);
+                    if let Some(a) = adapter.assemblies.get_mut(&card.input) {
+                        a.data = input.to_vec();
+                    }
+                }
+            }
+        }
+    }
+    if let Some(card) = card {
+        if adapter.connections().is_empty() {
+            if let Some(a) = adapter.assemblies.get_mut(&card.input) {
+                a.data = card.drive.inputs().emit(ByteOrder::LittleEndian).to_vec();
+            }
+        }
+    }
 }
