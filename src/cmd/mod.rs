@@ -17,6 +17,7 @@ pub mod decode;
 pub mod demo;
 pub mod devices;
 pub mod dump;
+pub mod enip;
 pub mod generate;
 pub mod nmt;
 pub mod rules;
