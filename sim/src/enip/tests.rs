@@ -311,3 +311,31 @@ fn garbage_never_panics() {
         vec![0x8E, 0, 0, 0, 0, 0]
     );
 }
+
+#[test]
+fn large_forward_open_takes_32_bit_parameters() {
+    let mut a = adapter();
+    let s = session(&mut a);
+    let mut r = vec![0x5B, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E];
+    r.extend_from_slice(&0u32.to_le_bytes());
+    r.extend_from_slice(&0x3000_0003u32.to_le_bytes());
+    r.extend_from_slice(&9u16.to_le_bytes());
+    r.extend_from_slice(&1u16.to_le_bytes());
+    r.extend_from_slice(&7u32.to_le_bytes());
+    r.extend_from_slice(&[1, 0, 0, 0]); // multiplier 1 (x8)
+    r.extend_from_slice(&100_000u32.to_le_bytes());
+    r.extend_from_slice(&(0x4600_0000u32 | 38).to_le_bytes());
+    r.extend_from_slice(&100_000u32.to_le_bytes());
+    r.extend_from_slice(&(0x4600_0000u32 | 34).to_le_bytes());
+    r.push(0x01);
+    r.push(4);
+    r.extend_from_slice(&[0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64]);
+    let ok = explicit(&mut a, s, &r);
+    assert_eq!(&ok[..4], &[0xDB, 0, 0, 0]);
+    assert_eq!(&ok[8..12], &0x3000_0003u32.to_le_bytes());
+    let c = &a.connections()[0];
+    assert_eq!(c.timeout, Duration::from_micros(800_000));
+    // One byte more than the path: too much data.
+    r.push(0);
+    assert_eq!(explicit(&mut a, s, &r), vec![0xDB, 0, 0x15, 0]);
+}
