@@ -3,7 +3,7 @@
 #
 #   scripts/fuzz.sh [TARGET|all] [SECONDS]      (defaults: all, 900 seconds per target)
 #
-# TARGET: eds, xml, esi, node, socketcand, decode, decode_log, sdo_client.
+# TARGET: eds, xml, esi, odva, enip, node, socketcand, decode, decode_log, sdo_client.
 #
 # Works on the stable toolchain: cargo-fuzz's nightly flags are allowed with RUSTC_BOOTSTRAP=1.
 # Debug assertions are on (-a), so arithmetic overflow panics. FUZZ_SANITIZER picks the sanitizer:
@@ -29,13 +29,14 @@ sanitizer=${FUZZ_SANITIZER:-none}
 max_len=65536
 corpus_src=${EDSGEN_CORPUS:-$root/../shared/eds-corpus}
 esi_src=${EDSGEN_ESI_CORPUS:-$root/../shared/esi-corpus}
-all=(eds xml esi node socketcand decode decode_log sdo_client)
+odva_src=${EDSGEN_ODVA_CORPUS:-$root/../shared/odva-eds-corpus}
+all=(eds xml esi odva enip node socketcand decode decode_log sdo_client)
 
 case "$target" in
-eds | xml | esi | node | socketcand | decode | decode_log | sdo_client) targets=("$target") ;;
+eds | xml | esi | odva | enip | node | socketcand | decode | decode_log | sdo_client) targets=("$target") ;;
 all) targets=("${all[@]}") ;;
 *)
-    echo "usage: scripts/fuzz.sh [eds|xml|esi|node|socketcand|decode|decode_log|sdo_client|all] [SECONDS]" >&2
+    echo "usage: scripts/fuzz.sh [eds|xml|esi|odva|enip|node|socketcand|decode|decode_log|sdo_client|all] [SECONDS]" >&2
     exit 2
     ;;
 esac
@@ -74,6 +75,18 @@ seed() {
                 done
         else
             echo "note: no ESI corpus at $esi_src (set EDSGEN_ESI_CORPUS); no seeds" >&2
+        fi
+        ;;
+    odva)
+        # The hand-written test file; the ODVA EDS corpus's files (all small) as they are.
+        cp codegen/tests/odva/io.eds "$dir"/
+        if [ -d "$odva_src" ]; then
+            find "$odva_src" -type f -iname '*.eds' -size -"$max_len"c -print0 |
+                while IFS= read -r -d '' f; do
+                    cp "$f" "$dir/$(basename "$(dirname "$f")")__$(basename "$f")"
+                done
+        else
+            echo "note: no ODVA EDS corpus at $odva_src (set EDSGEN_ODVA_CORPUS); one seed" >&2
         fi
         ;;
     decode)

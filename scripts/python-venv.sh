@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Creates (or checks) the project's Python venv at the workspace root, with the pinned versions of
-# python `canopen` and `python-can` that the differential and interoperability tests compare
-# against. Idempotent: installs only what is missing or at another version. Prints the python path.
+# python `canopen` and `python-can` (and the EtherNet/IP peers `cpppo` and `ethernetip`) that the
+# differential and interoperability tests compare against. Idempotent: installs only what is missing or at another version. Prints the python path.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 venv="$root/.venv"
@@ -11,7 +11,7 @@ if [ ! -x "$python" ]; then
     python3 -m venv "$venv" >&2
 fi
 
-wanted=("canopen==2.4.1" "python-can==4.6.1")
+wanted=("canopen==2.4.1" "python-can==4.6.1" "cpppo==5.2.5" "ethernetip==1.2.0")
 missing=()
 for requirement in "${wanted[@]}"; do
     name="${requirement%%==*}"

@@ -15,7 +15,7 @@ fn every_step_of_the_demo_behaves_as_the_manuals_say() {
     let report = edsgen::demo::run();
     let failed: Vec<_> = report.steps.iter().filter(|s| s.outcome.is_err()).collect();
     assert_eq!(failed, Vec::<&edsgen::demo::Step>::new());
-    assert_eq!(report.steps.len(), 35);
+    assert_eq!(report.steps.len(), 43);
     // The Goodrive350 manual's PDO2 Tx (§3.5.4), 283: 01 01 88 13 7C 01 00 00, decoded.
     let pdo2 = "7.100000  283  TPDO2      node 3 Status word = 257 (0x0101), Monitoring data: \
                 Returned value 1 = 5000 (0x1388), Monitoring data: Returned value 2 = 380 \
@@ -61,7 +61,7 @@ fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
         .iter()
         .position(|l| l.starts_with("== EC-TX508"))
         .expect("the EtherCAT section");
-    let steps: Vec<(&str, &Result<String, String>)> = report.steps[27..]
+    let steps: Vec<(&str, &Result<String, String>)> = report.steps[27..35]
         .iter()
         .map(|s| (s.name.as_str(), &s.outcome))
         .collect();
@@ -120,7 +120,7 @@ fn the_demo_command_exits_0_with_its_summary() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.ends_with("\n35 step(s): 35 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n43 step(s): 43 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }
@@ -154,8 +154,66 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
         ),
         "{stdout}"
     );
+    // No EtherNet/IP network either: the card's workflow is not run, and says so.
     assert!(
-        stdout.ends_with("\n27 step(s): 27 as the manuals say, 0 not\n"),
+        stdout.contains(
+            "ok    EtherNet/IP card workflow: not run: a socketcand bus has no EtherNet/IP \
+             network (run edsgen demo without --bus)"
+        ),
         "{stdout}"
+    );
+    assert!(
+        stdout.ends_with("\n28 step(s): 28 as the manuals say, 0 not\n"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn the_goodrive350_enip_card_runs_through_pkw_and_pzd() {
+    let report = edsgen::demo::run();
+    let steps: Vec<(&str, &Result<String, String>)> = report.steps[35..]
+        .iter()
+        .map(|s| (s.name.as_str(), &s.outcome))
+        .collect();
+    let ok = |seen: &str| Ok(seen.to_string());
+    assert_eq!(
+        steps,
+        [
+            (
+                "RegisterSession, Identity product code (@1/1/3)",
+                &ok("session 1, product code 350")
+            ),
+            (
+                "Forward_Open 150 -> 100 at 50 ms (EXCLUSIVE_OWNER)",
+                &ok("reply [D4, 00, 00, 00, 01, 00, 00, 10]")
+            ),
+            (
+                "PKW write P16.32 = 1 (received PZD2: set frequency)",
+                &ok("Word { address: 4128, value: 1 }")
+            ),
+            (
+                "PKW write P16.43 = 1 (transmitted PZD2: running frequency)",
+                &ok("Word { address: 4139, value: 1 }")
+            ),
+            (
+                "PKW read P00.10 (keypad frequency)",
+                &ok("Word { address: 10, value: 5000 }: 50.00 Hz")
+            ),
+            (
+                "PKW write P07.27 refused (read only, error 7)",
+                &ok("Refused { address: 1819, error: ReadOnly }")
+            ),
+            (
+                "run forward at 25.00 Hz (CW 0x0001, PZD2 2500)",
+                &ok("SW 0x4101, transmitted PZD2 0 -> 1000 (0.01 Hz)")
+            ),
+            (
+                "scanner stops producing: timeout after 4 x RPI, fault E-EIP",
+                &ok(
+                    "connection 0x10000001 opened, connection 0x10000001 timed out, drive fault \
+                     E-EIP; SW state Some(Fault)"
+                )
+            ),
+        ]
     );
 }

@@ -1,4 +1,4 @@
-//! The generated code of the cards in `eds/` (EDS and ESI), with the runtime's object-dictionary trait, builds
+//! The generated code of the cards in `eds/` (EDS, ESI and ODVA EDS), with the runtime's object-dictionary trait, builds
 //! for `thumbv7em-none-eabihf` (no `std`, no `alloc`).
 
 mod emit_common;
@@ -23,8 +23,8 @@ fn cards_build_for_thumbv7em() {
     let cards = card_files();
     assert_eq!(
         cards.len(),
-        6,
-        "the five EDS cards and the ESI card in eds/"
+        7,
+        "the five EDS cards, the ESI card and the ODVA EDS card in eds/"
     );
     let modules: Vec<_> = cards
         .iter()
@@ -46,6 +46,11 @@ fn cards_build_for_thumbv7em() {
     modules.push((
         "ec_hand".to_owned(),
         std::fs::read_to_string(root().join("codegen/tests/generated/ec_hand.rs")).unwrap(),
+    ));
+    // The hand-built ODVA EDS module: identity, two assembly images and a connection.
+    modules.push((
+        "odva_io".to_owned(),
+        std::fs::read_to_string(root().join("codegen/tests/generated/odva_io.rs")).unwrap(),
     ));
     let index = write_modules("nostd-cards", &modules);
     build_compile_check(&index, Some("thumbv7em-none-eabihf"), "nostd-cards");

@@ -17,6 +17,11 @@
 //!
 //! [pdo_mapping]    # default mappings the description leaves empty (typed PDOs for them)
 //! 1600 = ["6040", "6042"]
+//!
+//! [pkw_pzd]        # ODVA EDS: assemblies carrying the Goodrive350's PKW/PZD images
+//! output = 150     # the scanner's image: PKW request, CW, PZD2-PZD12
+//! input = 100      # the drive's image: PKW response, SW, PZD2-PZD12
+//! byte_order = "little"
 //! ```
 //!
 //! [`apply`] checks the overlay against the model and sets [`SubObject::capacity`] and
@@ -33,6 +38,8 @@ use crate::diag::Diagnostic;
 use crate::model::{BasicType, Device, ObjectType, SubObject, Value, ValueSource};
 use crate::read::text::LineIndex;
 use crate::rules;
+
+mod pkw_pzd;
 
 /// The largest capacity an entry can have: SDO sizes and the runtime's lengths are 16-bit.
 const MAX_CAPACITY: u64 = 65_535;
@@ -85,7 +92,10 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                     set_mapping(mapping, entries, device, text, &lines, &mut diags);
                 }
             }
-            (table @ ("capacity" | "names" | "numbering" | "pdo_mapping"), _) => {
+            ("pkw_pzd", DeValue::Table(table)) => {
+                pkw_pzd::apply(table, key_span, device, text, &lines, &mut diags);
+            }
+            (table @ ("capacity" | "names" | "numbering" | "pdo_mapping" | "pkw_pzd"), _) => {
                 diags.push(Diagnostic::new(
                     &rules::OVERLAY,
                     Some(key_span),
@@ -100,7 +110,7 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                 )
                 .with_label("ignored")
                 .with_help(
-                    "an overlay has the tables [capacity], [names], [numbering] and [pdo_mapping]",
+                    "an overlay has the tables [capacity], [names], [numbering], [pdo_mapping] and [pkw_pzd]",
                 ),
             ),
         }

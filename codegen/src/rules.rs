@@ -3,7 +3,8 @@
 //! Codes never change meaning once published. Numbering by area: `EDS0xx` text and values (the
 //! readers), `EDS1xx` `[FileInfo]`/`[DeviceInfo]`, `EDS2xx` object lists, `EDS3xx` objects and
 //! sub-objects, `EDS4xx` PDOs, `EDS5xx` DCF, commissioning, modules and the rest, `EDS6xx` XML
-//! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI). `edsgen rules` prints this table.
+//! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI); `CIP0xx` ODVA EDS (EtherNet/IP,
+//! listed first: the table sorts by code). `edsgen rules` prints this table.
 
 use crate::diag::Severity;
 
@@ -32,6 +33,20 @@ macro_rules! rules {
 }
 
 rules! {
+    // ---- CIP0xx: ODVA EDS (EtherNet/IP, DeviceNet; CIP). Before EDS0xx: codes sort by text ----
+    CIP_SYNTAX = "CIP001" Error "ODVA EDS text: a line that is neither a `[section]`, an entry `Key = ...;` nor a `$` comment, an entry without its `;`, or a string without its closing quote";
+    CIP_UNKNOWN = "CIP002" Info "ODVA EDS: a section or key this reader does not interpret (kept as written); the specification's class sections (`[... Class]`, `[ClassN_VendorM]`) are kept without a report";
+    CIP_DUPLICATE = "CIP003" Error "ODVA EDS: a section or a key written twice; the last entry wins";
+    CIP_BAD_FIELD = "CIP004" Error "ODVA EDS: a field that should be a number (or reference) is not one, or an entry with fewer fields than its kind has";
+    CIP_IDENTITY = "CIP005" Error "ODVA EDS: `[File]` or `[Device]` missing, or `[Device]` without a key a scanner matches (VendCode, ProdType, ProdCode, MajRev, MinRev, ProdName)";
+    CIP_DATA_TYPE = "CIP010" Error "a parameter whose data type is not a CIP elementary type, or whose data size disagrees with its type";
+    CIP_LIMITS = "CIP011" Error "a parameter whose default is outside its limits, whose minimum exceeds its maximum, or a limit outside its data type";
+    CIP_ENUM_ORPHAN = "CIP012" Error "an `EnumN` for a parameter `ParamN` the file does not have";
+    CIP_ASSEMBLY_SIZE = "CIP020" Error "an assembly whose members' bits, rounded up to whole bytes, do not add up to its size in bytes";
+    CIP_MISSING_REF = "CIP021" Error "an assembly member or a connection field that names a `ParamN` or `AssemN` the file does not have";
+    CIP_CONNECTION_SIZE = "CIP030" Error "a connection size that disagrees with the size of the assembly it names as its format (or that its path names)";
+    CIP_PATH = "CIP031" Error "a path that does not decode as an EPATH, or names an assembly instance (connection point) the file does not have";
+    CIP_CONNECTION_WORD = "CIP032" Warning "a connection whose trigger and transport word names no transport class, trigger or application type, or whose parameters word allows neither fixed nor variable size in a direction";
     // ---- EDS0xx: text and values (readers) ----
     UNREADABLE = "EDS000" Error "the file cannot be read at all (missing, a directory, no permission); `edsgen validate` exits 2";
     UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a `[section]` or `key=value`";

@@ -4,7 +4,10 @@
 //! Each module holds the card's `Od` (object dictionary struct, `Od::new(node_id)`, and its
 //! `ObjectDictionary` implementation), the typed addresses in `od`, the typed default PDOs in
 //! `pdo`, and the identity constants. The EtherCAT card `ec_tx508` (from its ESI file) has
-//! `ethercat` instead of `pdo`: its SyncManagers, PDOs and process images.
+//! `ethercat` instead of `pdo`: its SyncManagers, PDOs and process images. The Goodrive350's
+//! EtherNet/IP card `goodrive350_enip` (from its ODVA EDS) has no dictionary: its identity
+//! constants, the images of its assemblies (`Output` 150, `Input` 100, typed through
+//! `edsgen_runtime::pkw_pzd`) and its connection `EXCLUSIVE_OWNER`.
 //!
 //! ```
 //! use edsgen_sim::cards::cp301::{od, pdo, Od};
@@ -29,6 +32,7 @@
 edsgen_runtime::include_device!("cp301");
 edsgen_runtime::include_device!("ec_tx508");
 edsgen_runtime::include_device!("goodrive350");
+edsgen_runtime::include_device!("goodrive350_enip");
 edsgen_runtime::include_device!("hd1e");
 edsgen_runtime::include_device!("ms300");
 edsgen_runtime::include_device!("rd11");

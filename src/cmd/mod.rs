@@ -17,12 +17,14 @@ pub mod decode;
 pub mod demo;
 pub mod devices;
 pub mod dump;
+pub mod enip;
 pub mod generate;
 pub mod nmt;
 pub mod rules;
 pub mod scan;
 pub mod sdo;
 pub mod simulate;
+pub mod simulate_enip;
 pub mod validate;
 pub mod value;
 

@@ -78,6 +78,10 @@ pub struct Args {
     /// Print every frame on the bus, decoded.
     #[arg(long)]
     trace: bool,
+    /// Serve an ODVA EDS (or `--card goodrive350-enip`) as an EtherNet/IP adapter on this
+    /// address (`IP` or `IP:PORT`) instead of joining a CAN bus.
+    #[arg(long, value_name = "ADDR", conflicts_with_all = ["bus", "socketcan", "trace"])]
+    enip: Option<String>,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -91,6 +95,9 @@ struct Planned {
 
 /// Runs `edsgen simulate`.
 pub fn run(args: Args) -> ExitCode {
+    if let Some(addr) = &args.enip {
+        return super::simulate_enip::run(addr, &args.files, &args.cards);
+    }
     let planned = match plan(&args) {
         Ok(planned) => planned,
         Err(message) => return fail(message),

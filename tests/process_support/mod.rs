@@ -76,6 +76,11 @@ pub fn esi_corpus_dir() -> Option<PathBuf> {
     third_party_dir("EDSGEN_ESI_CORPUS", "esi-corpus")
 }
 
+/// The ODVA EDS corpus (`EDSGEN_ODVA_CORPUS`, else `../shared/odva-eds-corpus`), or a [`skip`].
+pub fn odva_corpus_dir() -> Option<PathBuf> {
+    third_party_dir("EDSGEN_ODVA_CORPUS", "odva-eds-corpus")
+}
+
 /// A corpus folder named by `variable`, else `../shared/NAME` beside the workspace; present when
 /// it holds its `MANIFEST.tsv`.
 fn third_party_dir(variable: &str, name: &str) -> Option<PathBuf> {

@@ -7,6 +7,7 @@
 //! from [`types`]; [`plan`] decides both, in (index, sub-index) order. Generated code uses absolute
 //! paths only, needs neither `std` nor `alloc`, and holds no `unsafe`, `static mut` or `unwrap`.
 
+pub mod cip;
 pub mod ethercat;
 pub mod names;
 pub mod od;
@@ -41,6 +42,10 @@ pub fn module_name(requested: &str) -> String {
 /// emitter found (errors included) and no code.
 pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
+    if let Some(cip) = &device.cip {
+        // An ODVA EDS has no object dictionary: identity, assembly images and connections.
+        return cip::generate(device, cip, &module);
+    }
     let plan = plan::plan(device);
     let mut diagnostics = plan.diagnostics.clone();
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
@@ -142,6 +147,7 @@ fn module_doc(device: &Device) -> Vec<String> {
         Format::Xdd => "XDD",
         Format::Xdc => "XDC",
         Format::Esi => "ESI",
+        Format::OdvaEds => "ODVA EDS",
     };
     let file_name = device
         .source

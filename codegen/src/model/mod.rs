@@ -1,4 +1,5 @@
-//! The resolved device model: one intermediate representation for EDS, DCF, XDD and XDC.
+//! The resolved device model: one intermediate representation for EDS, DCF, XDD and XDC (and the
+//! bus parts of ESI and ODVA EDS files).
 //!
 //! Readers (`read::eds`, `read::xdd`) build it, the validator judges it, the emitter turns it into
 //! Rust. Every object, sub-object and value keeps the [`Span`] it was read from, so a diagnostic can
@@ -8,15 +9,22 @@
 //!
 //! This module holds the device and its file-level parts (file and device info, object lists,
 //! commissioning, kept sections); spans and sources, the CiA 301 kinds, objects with their
-//! entries and values, and the EtherCAT side have a submodule each, all re-exported here.
+//! entries and values, the EtherCAT side and the CIP side have a submodule each, all re-exported here.
 
 use std::collections::BTreeMap;
 
+mod cip;
 mod ethercat;
 mod object;
 mod source;
 mod types;
 
+pub use cip::{
+    data_type_info, data_type_range, decode_path, real_time_format_name, AssemblyMember, Cip,
+    CipAssembly, CipConnection, CipEntry, CipEnum, CipFile, CipIdentity, CipNumber, CipParam,
+    CipPort, CipSection, ConnectionData, ConnectionParams, Field, FieldRef, PathSegment,
+    PkwPzdImages, TriggerTransport,
+};
 pub use ethercat::{
     AlternativeSmMapping, CoeInitCmd, CoeMailbox, DcOpMode, EcModule, EcPdo, EcPdoEntry, EcSlot,
     EtherCat, SmKind, SyncManager,
@@ -173,6 +181,8 @@ pub struct Device {
     pub naming: Naming,
     /// What an ESI file says beyond the CoE dictionary; `None` for CANopen descriptions.
     pub ethercat: Option<EtherCat>,
+    /// What an ODVA EDS says about a CIP device; `None` for every other format.
+    pub cip: Option<Cip>,
 }
 
 /// What an overlay says about generated names: the description cannot say how the device numbers

@@ -52,6 +52,9 @@ pub enum Format {
     /// EtherCAT Slave Information (ETG.2000): a CoE dictionary and the EtherCAT layout
     /// ([`Device::ethercat`](super::Device::ethercat)).
     Esi,
+    /// ODVA EDS (EtherNet/IP, DeviceNet): a CIP device ([`Device::cip`](super::Device::cip)),
+    /// told from a CiA 306 EDS by its `[File]`/`[Device]` sections.
+    OdvaEds,
 }
 
 /// How the file's bytes were decoded.

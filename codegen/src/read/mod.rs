@@ -12,6 +12,7 @@ use crate::rules;
 pub mod eds;
 pub mod esi;
 pub mod ini;
+pub mod odva;
 pub mod text;
 pub mod value;
 pub mod xdd;
@@ -95,6 +96,7 @@ pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Rea
             let choice = device.map(esi::DeviceChoice::parse);
             esi::read_device(path, bytes, choice.as_ref())
         }
+        Format::OdvaEds => odva::read(path, bytes),
     };
     if read.device.source.encoding == TextEncoding::Windows1252 {
         if let Some(guess) = dos_code_page_guess(bytes) {
@@ -164,13 +166,15 @@ fn dos_code_page_guess(bytes: &[u8]) -> Option<Diagnostic> {
 
 /// The format of a file: by extension (case-insensitive; `.esi` is ESI), else XML if the first
 /// non-blank byte (after a BOM) is `<` (ESI when the root element is `EtherCATInfo` or
-/// `EtherCATModule`, else XDD), else EDS.
+/// `EtherCATModule`, else XDD), else EDS. An EDS (by extension or content) with a `[File]` or
+/// `[Device]` section is ODVA's (CIP), not CiA 306's (`[FileInfo]`, `[DeviceInfo]`).
 pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
     match ext.as_deref() {
+        Some("eds") if odva::is_odva(bytes) => Format::OdvaEds,
         Some("eds") => Format::Eds,
         Some("dcf") => Format::Dcf,
         Some("xdd") => Format::Xdd,
@@ -183,6 +187,7 @@ pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
                     Format::Esi
                 }
                 Some(b'<') => Format::Xdd,
+                _ if odva::is_odva(bytes) => Format::OdvaEds,
                 _ => Format::Eds,
             }
         }

@@ -1,5 +1,5 @@
-//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, EDS8xx for EtherCAT, and the
-//! generator's size limits EDS707) judged over the resolved model.
+//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, EDS8xx for EtherCAT, CIP0xx for
+//! ODVA EDS, and the generator's size limits EDS707) judged over the resolved model.
 //!
 //! It never looks at the text: everything it knows comes from [`Device`], so the same rules serve
 //! EDS, DCF, XDD and XDC. One submodule per area; each says which rules it owns and why a rule has
@@ -16,6 +16,8 @@ use crate::diag::{self, Diagnostic};
 use crate::model::{Device, Format, RawSection, Span, SubObject, Value, ValueSource};
 use crate::rules;
 
+mod cip;
+pub use cip::assembly_size as cip_assembly_size;
 mod dcf;
 mod device_info;
 mod esi;
@@ -28,6 +30,12 @@ mod sections;
 /// Judges a device model; the diagnostics come sorted by position.
 pub fn validate(device: &Device) -> Vec<Diagnostic> {
     let mut out = Vec::new();
+    if device.source.format == Format::OdvaEds {
+        // An ODVA EDS has no object dictionary: its rules are CIP's, over `Device::cip`.
+        cip::check(device, &mut out);
+        diag::sort(&mut out);
+        return out;
+    }
     file_info::check(device, &mut out);
     device_info::check(device, &mut out);
     object_lists::check(device, &mut out);

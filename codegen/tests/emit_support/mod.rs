@@ -108,6 +108,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         other_sections: Vec::new(),
         naming: Default::default(),
         ethercat: None,
+        cip: None,
     }
 }
 

@@ -1,0 +1,690 @@
+//! The module of an ODVA EDS (CIP): identity constants (the Identity object's attributes a
+//! scanner's electronic key compares), one typed image per assembly with `decode`/`encode` of its
+//! bytes, and the connections of `[Connection Manager]` as constants.
+//!
+//! CIP carries data little-endian and packs an assembly's members from bit 0 of byte 0, each
+//! member's bits least significant first: the images follow that. Runs of equal members
+//! (`8,Param1` written 32 times) become one array field. A member's default is its parameter's
+//! default when the type holds it, else zero. The module needs neither `std` nor `alloc`, nor
+//! the runtime: its bit helpers are its own.
+
+use heck::ToUpperCamelCase;
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use super::names::{ident, Case};
+use super::plan::{doc_text, id};
+use super::{types, Generated};
+use crate::diag::Diagnostic;
+use crate::model::{data_type_info, Cip, CipAssembly, CipNumber, CipParam, Device, FieldRef};
+use crate::validate::cip_assembly_size;
+
+/// Generates the module of a device read from an ODVA EDS.
+pub fn generate(device: &Device, cip: &Cip, module: &str) -> Result<Generated, Vec<Diagnostic>> {
+    let identity = identity(cip);
+    let assemblies = assemblies(cip);
+    let connections = connections(cip);
+    let module_ident = id(module);
+    let module_doc = super::module_doc(device);
+    let tokens = quote! {
+        #(#[doc = #module_doc])*
+        // A firmware uses a few of the images and connections: the rest is not dead code to warn
+        // about, also where the module is included in a private module.
+        #[allow(dead_code)]
+        pub mod #module_ident {
+            #identity
+            #assemblies
+            #connections
+        }
+    };
+    let code = super::format_tokens(tokens, device, &super::text::Splices::default())?;
+    Ok(Generated {
+        module: module.to_owned(),
+        code,
+        diagnostics: Vec::new(),
+    })
+}
+
+fn identity(cip: &Cip) -> TokenStream {
+    let id_ = &cip.identity;
+    let v16 = |v: Option<u16>| types::hex(u128::from(v.unwrap_or(0)), 4);
+    let vendor = v16(id_.vendor_code.as_ref().map(|v| v.value));
+    let device_type = Literal::u16_unsuffixed(id_.product_type.as_ref().map_or(0, |v| v.value));
+    let product = Literal::u16_unsuffixed(id_.product_code.as_ref().map_or(0, |v| v.value));
+    let major = Literal::u8_unsuffixed(id_.major_revision.as_ref().map_or(0, |v| v.value));
+    let minor = Literal::u8_unsuffixed(id_.minor_revision.as_ref().map_or(0, |v| v.value));
+    let name = id_.product_name.clone().unwrap_or_default();
+    let said = |given: bool, key: &str| {
+        if given {
+            format!("`[Device]` {key}")
+        } else {
+            format!("`[Device]` has no {key}; 0")
+        }
+    };
+    let docs = [
+        format!(
+            " Vendor ID, Identity attribute 1 ({}).",
+            said(id_.vendor_code.is_some(), "VendCode")
+        ),
+        format!(
+            " Device type, Identity attribute 2 ({}).",
+            said(id_.product_type.is_some(), "ProdType")
+        ),
+        format!(
+            " Product code, Identity attribute 3 ({}).",
+            said(id_.product_code.is_some(), "ProdCode")
+        ),
+        format!(
+            " Major revision, Identity attribute 4 ({}).",
+            said(id_.major_revision.is_some(), "MajRev")
+        ),
+        format!(
+            " Minor revision, Identity attribute 4 ({}).",
+            said(id_.minor_revision.is_some(), "MinRev")
+        ),
+    ];
+    let [d0, d1, d2, d3, d4] = docs;
+    quote! {
+        #[doc = #d0]
+        pub const VENDOR_ID: u16 = #vendor;
+        #[doc = #d1]
+        pub const DEVICE_TYPE: u16 = #device_type;
+        #[doc = #d2]
+        pub const PRODUCT_CODE: u16 = #product;
+        #[doc = #d3]
+        pub const MAJOR_REVISION: u8 = #major;
+        #[doc = #d4]
+        pub const MINOR_REVISION: u8 = #minor;
+        /// Product name, Identity attribute 7 (`[Device]` ProdName).
+        pub const PRODUCT_NAME: &str = #name;
+    }
+}
+
+/// The Rust type of a member.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Ty {
+    Bool,
+    Unsigned(u8),
+    Signed(u8),
+    F32,
+    F64,
+    Bytes(usize),
+}
+
+impl Ty {
+    fn tokens(self) -> TokenStream {
+        match self {
+            Ty::Bool => quote!(bool),
+            Ty::Unsigned(w) => {
+                let t = id(&format!("u{w}"));
+                quote!(#t)
+            }
+            Ty::Signed(w) => {
+                let t = id(&format!("i{w}"));
+                quote!(#t)
+            }
+            Ty::F32 => quote!(f32),
+            Ty::F64 => quote!(f64),
+            Ty::Bytes(n) => quote!([u8; #n]),
+        }
+    }
+
+    /// The raw bits as this type (`raw` is a `u64` expression).
+    fn read_raw(self, raw: TokenStream) -> TokenStream {
+        match self {
+            Ty::Bool => quote!(#raw != 0),
+            Ty::Unsigned(w) => {
+                let t = id(&format!("u{w}"));
+                quote!(#raw as #t)
+            }
+            Ty::Signed(w) => {
+                let (u, i) = (id(&format!("u{w}")), id(&format!("i{w}")));
+                quote!(#raw as #u as #i)
+            }
+            Ty::F32 => quote!(f32::from_bits(#raw as u32)),
+            Ty::F64 => quote!(f64::from_bits(#raw)),
+            Ty::Bytes(_) => quote!(#raw as u8),
+        }
+    }
+
+    /// A value of this type as raw `u64` bits.
+    fn to_raw(self, value: TokenStream) -> TokenStream {
+        match self {
+            Ty::Bool | Ty::Unsigned(_) => quote!(u64::from(#value)),
+            Ty::Signed(w) => {
+                let u = id(&format!("u{w}"));
+                quote!(u64::from(#value as #u))
+            }
+            Ty::F32 => quote!(u64::from(#value.to_bits())),
+            Ty::F64 => quote!(#value.to_bits()),
+            Ty::Bytes(_) => quote!(u64::from(#value)),
+        }
+    }
+
+    fn zero(self) -> TokenStream {
+        match self {
+            Ty::Bool => quote!(false),
+            Ty::F32 | Ty::F64 => quote!(0.0),
+            Ty::Bytes(n) => quote!([0; #n]),
+            _ => quote!(0),
+        }
+    }
+
+    /// A parameter's default as a literal of this type, if it holds it.
+    fn literal(self, value: CipNumber) -> Option<TokenStream> {
+        match (self, value) {
+            (Ty::Bool, CipNumber::Int(v)) => {
+                Some(if v != 0 { quote!(true) } else { quote!(false) })
+            }
+            (Ty::Unsigned(w), CipNumber::Int(v)) if v >= 0 && v < (1i128 << w) => {
+                let v = Literal::u64_unsuffixed(u64::try_from(v).ok()?);
+                Some(quote!(#v))
+            }
+            (Ty::Signed(w), CipNumber::Int(v))
+                if v >= -(1i128 << (w - 1)) && v < (1i128 << (w - 1)) =>
+            {
+                let magnitude = Literal::u64_unsuffixed(u64::try_from(v.unsigned_abs()).ok()?);
+                Some(if v < 0 {
+                    quote!(-#magnitude)
+                } else {
+                    quote!(#magnitude)
+                })
+            }
+            (Ty::F32 | Ty::F64, n) => {
+                let v = Literal::f64_unsuffixed(n.as_f64());
+                n.as_f64().is_finite().then(|| quote!(#v))
+            }
+            _ => None,
+        }
+    }
+}
+
+fn unsigned_for(bits: u32) -> Ty {
+    match bits {
+        0..=8 => Ty::Unsigned(8),
+        9..=16 => Ty::Unsigned(16),
+        17..=32 => Ty::Unsigned(32),
+        _ => Ty::Unsigned(64),
+    }
+}
+
+/// The type of a member of `bits` bits naming `param`.
+fn member_type(bits: u32, param: Option<&CipParam>) -> Ty {
+    if bits == 1 {
+        return Ty::Bool;
+    }
+    let whole = param.and_then(|p| {
+        let t = p.data_type.as_ref()?.value;
+        let (_, size) = data_type_info(t)?;
+        (size? * 8 == bits).then_some(t)
+    });
+    match whole {
+        Some(0xC1) => Ty::Bool,
+        Some(0xC2) => Ty::Signed(8),
+        Some(0xC3) => Ty::Signed(16),
+        Some(0xC4) => Ty::Signed(32),
+        Some(0xC5) => Ty::Signed(64),
+        Some(0xCA) => Ty::F32,
+        Some(0xCB) => Ty::F64,
+        _ if bits <= 64 => unsigned_for(bits),
+        _ => Ty::Bytes(bits.div_ceil(8) as usize),
+    }
+}
+
+/// One field of an image: a member, or a run of equal members as an array.
+struct Slot {
+    name: String,
+    ty: Ty,
+    bit: u64,
+    bits: u32,
+    count: usize,
+    doc: String,
+    default: Option<CipNumber>,
+}
+
+fn member_bits(cip: &Cip, bits: Option<u32>, member: &FieldRef) -> u32 {
+    bits.or_else(|| match member {
+        FieldRef::Param(n) => cip.params.get(n)?.data_size.as_ref().map(|s| s.value * 8),
+        FieldRef::Assem(n) => cip
+            .assemblies
+            .get(n)
+            .and_then(|a| cip_assembly_size(cip, a))
+            .and_then(|s| u32::try_from(s * 8).ok()),
+        _ => None,
+    })
+    .unwrap_or(0)
+}
+
+fn slots(cip: &Cip, assembly: &CipAssembly) -> (Vec<Slot>, u64) {
+    let mut slots: Vec<Slot> = Vec::new();
+    let mut bit = 0u64;
+    let mut names: Vec<String> = Vec::new();
+    let mut previous: Option<(FieldRef, u32)> = None;
+    for m in &assembly.members {
+        let bits = member_bits(cip, m.bits, &m.member);
+        let param = match &m.member {
+            FieldRef::Param(n) => cip.params.get(n),
+            _ => None,
+        };
+        let same = previous.as_ref() == Some(&(m.member.clone(), bits));
+        previous = Some((m.member.clone(), bits));
+        if m.member == FieldRef::Empty || bits == 0 {
+            bit += u64::from(bits);
+            continue;
+        }
+        let ty = member_type(bits, param);
+        if let Some(last) = slots.last_mut() {
+            let arrayable = bits.is_multiple_of(8) && !matches!(ty, Ty::Bytes(_));
+            if same && arrayable && last.bit + u64::from(bits) * last.count as u64 == bit {
+                last.count += 1;
+                bit += u64::from(bits);
+                continue;
+            }
+        }
+        let (wanted, doc, default) = match (&m.member, param) {
+            (FieldRef::Param(n), Some(p)) => {
+                let mut doc = format!(" Param{n} `{}`", doc_text(&p.name));
+                if !p.units.is_empty() {
+                    doc.push_str(&format!(", in {}", doc_text(&p.units)));
+                }
+                if p.scaling.iter().any(Option::is_some) {
+                    let [mult, div, base, offset] = p.scaling;
+                    doc.push_str(&format!(
+                        " (scaling: multiplier {}, divisor {}, base {}, offset {})",
+                        mult.unwrap_or(1),
+                        div.unwrap_or(1),
+                        base.unwrap_or(1),
+                        offset.unwrap_or(0)
+                    ));
+                }
+                (
+                    ident(&p.name, Case::Snake, &format!("param_{n}")),
+                    doc,
+                    p.default.as_ref().map(|d| d.value),
+                )
+            }
+            (FieldRef::Param(n), None) => (format!("param_{n}"), format!(" Param{n}"), None),
+            (FieldRef::Assem(n), _) => (format!("assem_{n}"), format!(" Assem{n}"), None),
+            (other, _) => {
+                let text = match other {
+                    FieldRef::Number(v) => v.to_string(),
+                    FieldRef::Other(t) => t.clone(),
+                    _ => String::new(),
+                };
+                ("member".to_owned(), format!(" `{}`", doc_text(&text)), None)
+            }
+        };
+        let mut name = wanted.clone();
+        let mut k = 2;
+        while names.contains(&name) {
+            name = format!("{wanted}_{k}");
+            k += 1;
+        }
+        names.push(name.clone());
+        slots.push(Slot {
+            name,
+            ty,
+            bit,
+            bits,
+            count: 1,
+            doc,
+            default,
+        });
+        bit += u64::from(bits);
+    }
+    (slots, bit)
+}
+
+fn assemblies(cip: &Cip) -> TokenStream {
+    if cip.assemblies.is_empty() {
+        return TokenStream::new();
+    }
+    let mut items = Vec::new();
+    let mut type_names: Vec<String> = Vec::new();
+    for assembly in cip.assemblies.values() {
+        let (slots, member_bits) = slots(cip, assembly);
+        let declared = assembly.size.as_ref().map_or(0, |s| u64::from(s.value));
+        let size = declared.max(member_bits.div_ceil(8));
+        let size_lit = Literal::usize_unsuffixed(usize::try_from(size).unwrap_or(0));
+        let wanted = ident(&assembly.name, Case::Snake, "assembly").to_upper_camel_case();
+        let mut name = wanted.clone();
+        if type_names.contains(&name) || name.is_empty() {
+            name = format!("{wanted}{}", assembly.number);
+        }
+        type_names.push(name.clone());
+        let ty = id(&name);
+        let instance = Literal::u32_unsuffixed(assembly.instance());
+        let doc = format!(
+            " Assem{} `{}`: assembly instance {}, {size} bytes.",
+            assembly.number,
+            doc_text(&assembly.name),
+            assembly.instance()
+        );
+        let mut fields = Vec::new();
+        let mut gets = Vec::new();
+        let mut puts = Vec::new();
+        let mut defaults = Vec::new();
+        for s in &slots {
+            let field = id(&s.name);
+            let t = s.ty.tokens();
+            let bit = Literal::u64_unsuffixed(s.bit);
+            let bits = Literal::u32_unsuffixed(s.bits);
+            let fdoc = format!(
+                "{}: bit {} of the image, {} bit{}{}.",
+                s.doc,
+                s.bit,
+                s.bits,
+                if s.bits == 1 { "" } else { "s" },
+                if s.count > 1 {
+                    format!(" each, {} times", s.count)
+                } else {
+                    String::new()
+                }
+            );
+            let value = s
+                .default
+                .and_then(|d| s.ty.literal(d))
+                .unwrap_or_else(|| s.ty.zero());
+            if s.count > 1 {
+                let count = Literal::usize_unsuffixed(s.count);
+                fields.push(quote!(#[doc = #fdoc] pub #field: [#t; #count],));
+                let read = s.ty.read_raw(quote!(get(buf, #bit + i * #bits, #bits)));
+                gets.push(quote!(#field: core::array::from_fn(|i| #read),));
+                let write = s.ty.to_raw(quote!(*v));
+                puts.push(quote! {
+                    for (i, v) in self.#field.iter().enumerate() {
+                        put(&mut buf, #bit + i * #bits, #bits, #write);
+                    }
+                });
+                defaults.push(quote!(#field: [#value; #count],));
+            } else if let Ty::Bytes(_) = s.ty {
+                fields.push(quote!(#[doc = #fdoc] pub #field: #t,));
+                gets.push(
+                    quote!(#field: core::array::from_fn(|i| get(buf, #bit + i * 8, 8) as u8),),
+                );
+                puts.push(quote! {
+                    for (i, v) in self.#field.iter().enumerate() {
+                        put(&mut buf, #bit + i * 8, 8, u64::from(*v));
+                    }
+                });
+                defaults.push(quote!(#field: #value,));
+            } else {
+                fields.push(quote!(#[doc = #fdoc] pub #field: #t,));
+                let read = s.ty.read_raw(quote!(get(buf, #bit, #bits)));
+                gets.push(quote!(#field: #read,));
+                let write = s.ty.to_raw(quote!(self.#field));
+                puts.push(quote!(put(&mut buf, #bit, #bits, #write);));
+                defaults.push(quote!(#field: #value,));
+            }
+        }
+        let (buf_in, encode_body) = if slots.is_empty() {
+            (quote!(_buf), quote!([0u8; #size_lit]))
+        } else {
+            (
+                quote!(buf),
+                quote! {
+                    let mut buf = [0u8; #size_lit];
+                    #(#puts)*
+                    buf
+                },
+            )
+        };
+        let check = if size == 0 {
+            TokenStream::new()
+        } else if slots.is_empty() {
+            quote!(if _buf.len() < #size_lit { return None; })
+        } else {
+            quote!(if buf.len() < #size_lit { return None; })
+        };
+        items.push(pkw_pzd(cip, assembly.number, &ty));
+        items.push(quote! {
+            #[doc = #doc]
+            #[derive(Debug, Clone, Copy, PartialEq)]
+            pub struct #ty {
+                #(#fields)*
+            }
+
+            impl #ty {
+                /// The Assembly object instance (connection point).
+                pub const INSTANCE: u32 = #instance;
+                /// The size in bytes.
+                pub const SIZE: usize = #size_lit;
+
+                /// Reads the image from the assembly's bytes; `None` when fewer than
+                /// [`Self::SIZE`] are given.
+                pub fn decode(#buf_in: &[u8]) -> Option<Self> {
+                    #check
+                    Some(Self { #(#gets)* })
+                }
+
+                /// The assembly's bytes (members not named here are zero).
+                pub fn encode(&self) -> [u8; #size_lit] {
+                    #encode_body
+                }
+            }
+
+            impl Default for #ty {
+                /// The parameters' defaults, where the file gives them.
+                fn default() -> Self {
+                    Self { #(#defaults)* }
+                }
+            }
+        });
+    }
+    quote! {
+        /// Bits `at..at + len` of `buf`, least significant first (CIP's order); bits past the
+        /// end read as zero.
+        fn get(buf: &[u8], at: usize, len: u32) -> u64 {
+            let mut value = 0u64;
+            for i in 0..len as usize {
+                let bit = at + i;
+                if let Some(byte) = buf.get(bit / 8) {
+                    if (byte >> (bit % 8)) & 1 != 0 {
+                        value |= 1u64 << i;
+                    }
+                }
+            }
+            value
+        }
+
+        /// Writes the low `len` bits of `value` at bit `at` of `buf`, least significant first.
+        fn put(buf: &mut [u8], at: usize, len: u32, value: u64) {
+            for i in 0..len as usize {
+                let bit = at + i;
+                if let Some(byte) = buf.get_mut(bit / 8) {
+                    if (value >> i) & 1 != 0 {
+                        *byte |= 1 << (bit % 8);
+                    } else {
+                        *byte &= !(1 << (bit % 8));
+                    }
+                }
+            }
+        }
+
+        #(#items)*
+    }
+}
+
+/// Conversions between an assembly's image and the PKW/PZD protocol's typed image, when the
+/// overlay says the assembly carries one (`[pkw_pzd]`).
+fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
+    let Some(images) = cip.pkw_pzd else {
+        return TokenStream::new();
+    };
+    let (order, order_doc) = if images.little_endian {
+        (quote!(LittleEndian), "little-endian")
+    } else {
+        (quote!(BigEndian), "big-endian")
+    };
+    let p = quote!(::edsgen_runtime::pkw_pzd);
+    if number == images.output {
+        let doc = format!(
+            " The image as the PKW/PZD protocol's: PKW request, control word, PZD2-PZD12 (words \
+             {order_doc}, as the overlay says)."
+        );
+        quote! {
+            impl #ty {
+                #[doc = #doc]
+                pub fn pkw_pzd(&self) -> #p::OutputImage {
+                    #p::OutputImage::parse(&self.encode(), #p::ByteOrder::#order)
+                }
+
+                /// The image carrying a PKW/PZD output image.
+                pub fn from_pkw_pzd(image: &#p::OutputImage) -> Self {
+                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
+                }
+            }
+        }
+    } else if number == images.input {
+        let doc = format!(
+            " The image as the PKW/PZD protocol's: PKW response, status word, PZD2-PZD12 (words \
+             {order_doc}, as the overlay says); an error for an undefined response code."
+        );
+        quote! {
+            impl #ty {
+                #[doc = #doc]
+                pub fn pkw_pzd(&self) -> Result<#p::InputImage, #p::ResponseError> {
+                    #p::InputImage::parse(&self.encode(), #p::ByteOrder::#order)
+                }
+
+                /// The image carrying a PKW/PZD input image.
+                pub fn from_pkw_pzd(image: &#p::InputImage) -> Self {
+                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
+                }
+            }
+        }
+    } else {
+        TokenStream::new()
+    }
+}
+
+fn connections(cip: &Cip) -> TokenStream {
+    if cip.connections.is_empty() {
+        return TokenStream::new();
+    }
+    let mut items = Vec::new();
+    let mut names: Vec<String> = Vec::new();
+    let instance = |r: &FieldRef| match r {
+        FieldRef::Assem(n) => cip.assemblies.get(n).map(CipAssembly::instance),
+        _ => None,
+    };
+    let option = |v: Option<u32>| match v {
+        Some(v) => {
+            let v = Literal::u32_unsuffixed(v);
+            quote!(Some(#v))
+        }
+        None => quote!(None),
+    };
+    for c in cip.connections.values() {
+        let size = |d: &crate::model::ConnectionData| -> u64 {
+            match &d.size.value {
+                FieldRef::Number(n) => *n,
+                FieldRef::Param(n) => cip
+                    .params
+                    .get(n)
+                    .and_then(|p| match p.default.as_ref()?.value {
+                        CipNumber::Int(v) => u64::try_from(v).ok(),
+                        CipNumber::Real(_) => None,
+                    })
+                    .unwrap_or(0),
+                _ => match &d.format.value {
+                    FieldRef::Assem(n) => cip
+                        .assemblies
+                        .get(n)
+                        .and_then(|a| cip_assembly_size(cip, a))
+                        .unwrap_or(0),
+                    _ => 0,
+                },
+            }
+        };
+        let rpi = match &c.o_t.rpi.value {
+            FieldRef::Number(n) => u32::try_from(*n).unwrap_or(0),
+            FieldRef::Param(n) => cip
+                .params
+                .get(n)
+                .and_then(|p| match p.default.as_ref()?.value {
+                    CipNumber::Int(v) => u32::try_from(v).ok(),
+                    CipNumber::Real(_) => None,
+                })
+                .unwrap_or(0),
+            _ => 0,
+        };
+        let path: Vec<u8> = c
+            .path
+            .as_ref()
+            .and_then(|p| {
+                p.value
+                    .split_whitespace()
+                    .map(|t| u8::from_str_radix(t, 16).ok())
+                    .collect()
+            })
+            .unwrap_or_default();
+        let config = instance(&c.config2.format.value).or(instance(&c.config1.format.value));
+        let wanted = ident(&c.name, Case::Shouty, &format!("CONNECTION_{}", c.number));
+        let mut name = wanted.clone();
+        if names.contains(&name) {
+            name = format!("{wanted}_{}", c.number);
+        }
+        names.push(name.clone());
+        let const_name = id(&name);
+        let doc = format!(" Connection{} `{}`.", c.number, doc_text(&c.name));
+        let cname = c.name.clone();
+        let tt = types::hex(
+            u128::from(c.trigger_transport.as_ref().map_or(0, |t| t.value.0)),
+            8,
+        );
+        let params = types::hex(u128::from(c.params.as_ref().map_or(0, |p| p.value.0)), 8);
+        let o_t = option(instance(&c.o_t.format.value));
+        let t_o = option(instance(&c.t_o.format.value));
+        let config = option(config);
+        let o_t_size = Literal::u64_unsuffixed(size(&c.o_t));
+        let t_o_size = Literal::u64_unsuffixed(size(&c.t_o));
+        let rpi = Literal::u32_unsuffixed(rpi);
+        let path = path.iter().map(|b| types::hex(u128::from(*b), 2));
+        items.push(quote! {
+            #[doc = #doc]
+            pub const #const_name: Connection = Connection {
+                name: #cname,
+                trigger_transport: #tt,
+                connection_params: #params,
+                o_t_assembly: #o_t,
+                t_o_assembly: #t_o,
+                config_assembly: #config,
+                o_t_size: #o_t_size,
+                t_o_size: #t_o_size,
+                rpi_us: #rpi,
+                path: &[#(#path),*],
+            };
+        });
+    }
+    quote! {
+        /// A connection `[Connection Manager]` describes.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub struct Connection {
+            /// Its name.
+            pub name: &'static str,
+            /// The trigger and transport word (bits 0-15 classes, 16-18 triggers, 24-27
+            /// application type, 31 server).
+            pub trigger_transport: u32,
+            /// The connection parameters word (sizes, real-time formats, types, priorities).
+            pub connection_params: u32,
+            /// The O->T assembly instance (its format), if it names one.
+            pub o_t_assembly: Option<u32>,
+            /// The T->O assembly instance, if it names one.
+            pub t_o_assembly: Option<u32>,
+            /// The configuration assembly instance, if it names one.
+            pub config_assembly: Option<u32>,
+            /// The O->T data size in bytes (without the run/idle header).
+            pub o_t_size: u64,
+            /// The T->O data size in bytes.
+            pub t_o_size: u64,
+            /// The O->T RPI in microseconds (the parameter's default when a parameter holds it;
+            /// 0 when the file gives none).
+            pub rpi_us: u32,
+            /// The connection path (empty when the file's path is not plain hex bytes).
+            pub path: &'static [u8],
+        }
+
+        #(#items)*
+    }
+}

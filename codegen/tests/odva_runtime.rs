@@ -1,0 +1,70 @@
+//! The module generated from `tests/odva/io.eds` (checked in as `tests/generated/odva_io.rs`,
+//! kept current by `emit_odva.rs`) at work: identity constants, images decoded from and encoded
+//! to the exact bytes CIP carries (little-endian, members packed from bit 0), defaults from the
+//! parameters, and the connection's words, sizes, RPI and path.
+
+include!("generated/odva_io.rs");
+
+use odva_io::*;
+
+#[test]
+fn identity() {
+    assert_eq!(
+        (
+            VENDOR_ID,
+            DEVICE_TYPE,
+            PRODUCT_CODE,
+            MAJOR_REVISION,
+            MINOR_REVISION,
+            PRODUCT_NAME
+        ),
+        (0x1234, 12, 7, 1, 2, "IO test")
+    );
+}
+
+#[test]
+fn images_decode_and_encode_little_endian() {
+    let inputs = Inputs::decode(&[0x88, 0x13, 0x02]).expect("3 bytes");
+    assert_eq!(
+        inputs,
+        Inputs {
+            speed: 5000,
+            mode: 2
+        }
+    );
+    assert_eq!(inputs.encode(), [0x88, 0x13, 0x02]);
+    assert_eq!(Inputs::decode(&[0x88, 0x13]), None);
+    assert_eq!((Inputs::INSTANCE, Inputs::SIZE), (100, 3));
+    assert_eq!(Outputs { speed: 0x0102 }.encode(), [0x02, 0x01]);
+}
+
+#[test]
+fn defaults_are_the_parameters() {
+    assert_eq!(
+        Inputs::default(),
+        Inputs {
+            speed: 1500,
+            mode: 0
+        }
+    );
+    assert_eq!(Outputs::default().encode(), [0xDC, 0x05]);
+}
+
+#[test]
+fn the_connection() {
+    assert_eq!(
+        EXCLUSIVE_OWNER,
+        Connection {
+            name: "Exclusive Owner",
+            trigger_transport: 0x8401_0002,
+            connection_params: 0x4464_0405,
+            o_t_assembly: Some(150),
+            t_o_assembly: Some(100),
+            config_assembly: None,
+            o_t_size: 2,
+            t_o_size: 3,
+            rpi_us: 50_000,
+            path: &[0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64],
+        }
+    );
+}

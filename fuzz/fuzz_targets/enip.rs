@@ -1,0 +1,61 @@
+//! Fuzz the simulated EtherNet/IP adapter's parsers and state machine (`edsgen_sim::enip`): the
+//! input is cut into messages by its first byte's bits and fed as encapsulation messages on one
+//! TCP client (after a RegisterSession, so SendRRData reaches the objects), as bare Message
+//! Router requests, and as class-1 datagrams. Must not panic; afterwards the adapter must still
+//! answer a Get_Attribute_Single of the Identity object.
+#![no_main]
+
+use std::collections::BTreeMap;
+
+use edsgen_runtime::{Duration, Instant};
+use edsgen_sim::enip::wire::{emit_items, item, Encapsulation};
+use edsgen_sim::enip::{Adapter, Assembly, Identity};
+use libfuzzer_sys::fuzz_target;
+
+fn encap(command: u16, session: u32, data: Vec<u8>) -> Vec<u8> {
+    Encapsulation { command, session, status: 0, context: [0; 8], options: 0, data }.emit()
+}
+
+fuzz_target!(|data: &[u8]| {
+    let mut assemblies = BTreeMap::new();
+    assemblies.insert(100, Assembly { data: vec![0; 32], consumed: false });
+    assemblies.insert(150, Assembly { data: vec![0; 32], consumed: true });
+    let identity = Identity {
+        vendor: 0,
+        device_type: 12,
+        product_code: 350,
+        revision: (1, 10),
+        serial: 1,
+        name: "fuzz".to_owned(),
+    };
+    let mut a = Adapter::new(identity, assemblies, [127, 0, 0, 1]);
+    a.config_instances.push(1);
+    let _ = a.handle(1, &encap(0x65, 0, vec![1, 0, 0, 0]), Instant::from_micros(0));
+    let mut now = Instant::from_micros(0);
+    let mut rest = data;
+    while let Some((&head, tail)) = rest.split_first() {
+        let len = usize::from(head & 0x3F).min(tail.len());
+        let (chunk, next) = tail.split_at(len);
+        rest = next;
+        now = now + Duration::from_micros(u64::from(head) * 1000);
+        match head >> 6 {
+            0 => {
+                let _ = a.handle(1, chunk, now);
+            }
+            1 => {
+                let mut rr = vec![0; 6];
+                rr.extend(emit_items(&[(item::NULL_ADDRESS, &[]), (item::UNCONNECTED_DATA, chunk)]));
+                let _ = a.handle(1, &encap(0x6F, 1, rr), now);
+            }
+            2 => a.receive_io(1, chunk, now),
+            _ => {
+                let _ = a.poll(now);
+            }
+        }
+    }
+    let get = vec![0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x01];
+    let mut rr = vec![0; 6];
+    rr.extend(emit_items(&[(item::NULL_ADDRESS, &[]), (item::UNCONNECTED_DATA, &get)]));
+    let (reply, _) = a.handle(1, &encap(0x6F, 1, rr), now).expect("a whole message");
+    assert!(reply.is_some());
+});

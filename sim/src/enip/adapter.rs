@@ -1,0 +1,332 @@
+//! The adapter's protocol core, sans-IO: encapsulation messages in (per TCP client, or one UDP
+//! datagram), replies out; class-1 datagrams in, T→O datagrams out when [`Adapter::poll`] says
+//! they are due; connections closed after their timeout. Layered as OpENer is: the
+//! encapsulation ([`Adapter::handle`]) knows no objects and hands Message Router requests to
+//! [`Adapter::route`], which dispatches to the objects (`objects`).
+
+use std::collections::BTreeMap;
+
+use edsgen_runtime::{Duration, Instant};
+
+use super::wire::{
+    command, emit_items, encap_status, item, parse_items, u16_at, u32_at, EncapError, Encapsulation,
+};
+
+/// What the Identity object (class 1) reports.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Identity {
+    /// Vendor ID (attribute 1).
+    pub vendor: u16,
+    /// Device type (attribute 2).
+    pub device_type: u16,
+    /// Product code (attribute 3).
+    pub product_code: u16,
+    /// Major and minor revision (attribute 4).
+    pub revision: (u8, u8),
+    /// Serial number (attribute 6).
+    pub serial: u32,
+    /// Product name (attribute 7).
+    pub name: String,
+}
+
+/// An assembly the adapter serves.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Assembly {
+    /// Its bytes.
+    pub data: Vec<u8>,
+    /// Whether an originator writes it (O→T): a class-1 connection or Set_Attribute_Single.
+    pub consumed: bool,
+}
+
+/// A class-1 connection.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct IoConnection {
+    /// The ID the originator sends O→T data with (chosen by the adapter).
+    pub o_t_id: u32,
+    /// The ID the adapter produces T→O data with (the originator's choice).
+    pub t_o_id: u32,
+    /// Connection serial, originator vendor and serial: the triad Forward_Close names.
+    pub triad: (u16, u16, u32),
+    /// The O→T assembly instance.
+    pub o_t_point: u32,
+    /// The T→O assembly instance.
+    pub t_o_point: u32,
+    /// O→T and T→O RPI.
+    pub o_t_rpi: Duration,
+    /// T→O RPI.
+    pub t_o_rpi: Duration,
+    /// The timeout: the multiplier times the O→T RPI.
+    pub timeout: Duration,
+    /// When O→T data last came (or the connection opened).
+    pub last_heard: Instant,
+    /// When T→O data is next due.
+    pub next_produce: Instant,
+    /// The T→O sequence count and encapsulation sequence number.
+    pub t_o_sequence: u32,
+    /// The last O→T sequence count seen.
+    pub o_t_sequence: Option<u16>,
+    /// The originator's run/idle flag (bit 0 of the 32-bit header).
+    pub run: bool,
+    /// The originator's address key (the driver's: where T→O data goes).
+    pub peer: u64,
+}
+
+/// What happened to the connections that the application should know.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Event {
+    /// A connection opened (its O→T ID).
+    Opened(u32),
+    /// Forward_Close closed a connection.
+    Closed(u32),
+    /// A connection timed out: no O→T data for its timeout.
+    TimedOut(u32),
+    /// O→T data written into an assembly (its instance).
+    Consumed(u32),
+}
+
+/// The adapter: identity, assemblies, sessions and connections.
+#[derive(Debug, Clone)]
+pub struct Adapter {
+    /// The Identity object.
+    pub identity: Identity,
+    /// The assemblies by instance.
+    pub assemblies: BTreeMap<u32, Assembly>,
+    /// The adapter's IPv4 address (ListIdentity, TCP/IP Interface).
+    pub address: [u8; 4],
+    /// The MAC address (Ethernet Link).
+    pub mac: [u8; 6],
+    pub(super) sessions: BTreeMap<u32, u64>,
+    next_session: u32,
+    pub(super) connections: Vec<IoConnection>,
+    pub(super) next_connection_id: u32,
+    pub(super) events: Vec<Event>,
+    /// The configuration assembly instances a connection path may name (size 0).
+    pub config_instances: Vec<u32>,
+}
+
+impl Adapter {
+    /// An adapter with `identity` serving `assemblies`.
+    pub fn new(identity: Identity, assemblies: BTreeMap<u32, Assembly>, address: [u8; 4]) -> Self {
+        Adapter {
+            identity,
+            assemblies,
+            address,
+            mac: [0x02, 0x00, address[0], address[1], address[2], address[3]],
+            sessions: BTreeMap::new(),
+            next_session: 1,
+            connections: Vec::new(),
+            next_connection_id: 0x1000_0001,
+            events: Vec::new(),
+            config_instances: Vec::new(),
+        }
+    }
+
+    /// The open class-1 connections.
+    pub fn connections(&self) -> &[IoConnection] {
+        &self.connections
+    }
+
+    /// The events since the last call.
+    pub fn take_events(&mut self) -> Vec<Event> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// One encapsulation message from client `client` (a key the driver chooses per TCP
+    /// connection; `u64::MAX` for UDP). Returns the reply's bytes (none for UnRegisterSession,
+    /// NOP, or an incomplete message, see [`EncapError`]) and the bytes consumed.
+    pub fn handle(
+        &mut self,
+        client: u64,
+        bytes: &[u8],
+        now: Instant,
+    ) -> Result<(Option<Vec<u8>>, usize), EncapError> {
+        let (message, used) = Encapsulation::parse(bytes)?;
+        let reply = self.command(client, &message, now);
+        Ok((reply.map(|r| r.emit()), used))
+    }
+
+    /// A TCP client went away: its sessions end.
+    pub fn client_gone(&mut self, client: u64) {
+        self.sessions.retain(|_, c| *c != client);
+    }
+
+    fn command(&mut self, client: u64, m: &Encapsulation, now: Instant) -> Option<Encapsulation> {
+        let session_ok = self.sessions.get(&m.session) == Some(&client);
+        Some(match m.command {
+            command::NOP => return None,
+            command::LIST_IDENTITY => m.reply(encap_status::SUCCESS, self.list_identity()),
+            command::LIST_SERVICES => {
+                let mut body = Vec::new();
+                body.extend_from_slice(&1u16.to_le_bytes());
+                // Capability: bit 5 CIP over TCP, bit 8 class 0/1 over UDP.
+                body.extend_from_slice(&0x0120u16.to_le_bytes());
+                body.extend_from_slice(b"Communications\0\0");
+                m.reply(
+                    encap_status::SUCCESS,
+                    emit_items(&[(item::SERVICES, &body)]),
+                )
+            }
+            command::LIST_INTERFACES => m.reply(encap_status::SUCCESS, 0u16.to_le_bytes().to_vec()),
+            command::REGISTER_SESSION => {
+                if m.data.len() != 4 {
+                    return Some(m.reply(encap_status::INVALID_LENGTH, m.data.clone()));
+                }
+                if u16_at(&m.data, 0) != Some(1) {
+                    return Some(m.reply(
+                        encap_status::UNSUPPORTED_PROTOCOL,
+                        1u32.to_le_bytes().to_vec(),
+                    ));
+                }
+                let handle = self.next_session;
+                self.next_session = self.next_session.wrapping_add(1).max(1);
+                self.sessions.insert(handle, client);
+                let mut reply = m.reply(encap_status::SUCCESS, m.data.clone());
+                reply.session = handle;
+                reply
+            }
+            command::UNREGISTER_SESSION => {
+                if session_ok {
+                    self.sessions.remove(&m.session);
+                }
+                return None;
+            }
+            command::SEND_RR_DATA | command::SEND_UNIT_DATA if !session_ok => {
+                m.reply(encap_status::INVALID_SESSION, Vec::new())
+            }
+            command::SEND_RR_DATA => self.send_rr_data(client, m, now),
+            command::SEND_UNIT_DATA => m.reply(encap_status::INCORRECT_DATA, Vec::new()),
+            _ => m.reply(encap_status::INVALID_COMMAND, Vec::new()),
+        })
+    }
+
+    fn send_rr_data(&mut self, client: u64, m: &Encapsulation, now: Instant) -> Encapsulation {
+        // Interface handle (4), timeout (2), then the items.
+        let request = m.data.get(6..).and_then(parse_items).and_then(|items| {
+            items
+                .iter()
+                .find(|(kind, _)| *kind == item::UNCONNECTED_DATA)
+                .map(|(_, d)| d.to_vec())
+        });
+        let Some(request) = request else {
+            return m.reply(encap_status::INCORRECT_DATA, Vec::new());
+        };
+        let response = self.route(client, &request, now);
+        let mut data = vec![0; 6];
+        data.extend(emit_items(&[
+            (item::NULL_ADDRESS, &[]),
+            (item::UNCONNECTED_DATA, &response),
+        ]));
+        m.reply(encap_status::SUCCESS, data)
+    }
+
+    /// The ListIdentity reply's data (one identity item).
+    pub fn list_identity(&self) -> Vec<u8> {
+        let id = &self.identity;
+        let mut body = Vec::new();
+        body.extend_from_slice(&1u16.to_le_bytes());
+        body.extend_from_slice(&2u16.to_be_bytes());
+        body.extend_from_slice(&44818u16.to_be_bytes());
+        body.extend_from_slice(&self.address);
+        body.extend_from_slice(&[0; 8]);
+        body.extend_from_slice(&id.vendor.to_le_bytes());
+        body.extend_from_slice(&id.device_type.to_le_bytes());
+        body.extend_from_slice(&id.product_code.to_le_bytes());
+        body.extend_from_slice(&[id.revision.0, id.revision.1]);
+        body.extend_from_slice(&self.identity_status().to_le_bytes());
+        body.extend_from_slice(&id.serial.to_le_bytes());
+        let name = id.name.as_bytes();
+        let name = &name[..name.len().min(32)];
+        body.push(name.len() as u8);
+        body.extend_from_slice(name);
+        body.push(3); // state: operational
+        emit_items(&[(item::IDENTITY, &body)])
+    }
+
+    /// Identity attribute 5: bit 0 owned (a connection is open).
+    pub(super) fn identity_status(&self) -> u16 {
+        u16::from(!self.connections.is_empty())
+    }
+
+    /// One class-1 datagram (O→T) from `peer` at `now`: its data goes into the connection's
+    /// assembly. Datagrams for no connection, too short, or out of sequence are dropped, as
+    /// CIP drops them.
+    pub fn receive_io(&mut self, peer: u64, bytes: &[u8], now: Instant) {
+        let Some(items) = parse_items(bytes) else {
+            return;
+        };
+        let address = items.iter().find(|(k, _)| *k == item::SEQUENCED_ADDRESS);
+        let data = items.iter().find(|(k, _)| *k == item::CONNECTED_DATA);
+        let (Some((_, address)), Some((_, data))) = (address, data) else {
+            return;
+        };
+        let Some(id) = u32_at(address, 0) else { return };
+        let Some(conn) = self.connections.iter_mut().find(|c| c.o_t_id == id) else {
+            return;
+        };
+        let _ = peer;
+        let (Some(sequence), Some(header)) = (u16_at(data, 0), u32_at(data, 2)) else {
+            return;
+        };
+        conn.last_heard = now;
+        if conn.o_t_sequence == Some(sequence) {
+            return; // the same data again
+        }
+        conn.o_t_sequence = Some(sequence);
+        conn.run = header & 1 != 0;
+        let point = conn.o_t_point;
+        if let Some(assembly) = self.assemblies.get_mut(&point) {
+            let payload = &data[6..];
+            if payload.len() == assembly.data.len() {
+                assembly.data.copy_from_slice(payload);
+                self.events.push(Event::Consumed(point));
+            }
+        }
+    }
+
+    /// When [`poll`](Self::poll) has something to do next: a T→O production or a timeout.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.connections
+            .iter()
+            .flat_map(|c| [c.next_produce, c.last_heard + c.timeout])
+            .min()
+    }
+
+    /// At `now`: closes connections whose O→T data stopped for their timeout, and returns the
+    /// T→O datagrams due, with the peer key of each.
+    pub fn poll(&mut self, now: Instant) -> Vec<(u64, Vec<u8>)> {
+        let mut timed_out = Vec::new();
+        self.connections.retain(|c| {
+            let alive = now < c.last_heard + c.timeout;
+            if !alive {
+                timed_out.push(c.o_t_id);
+            }
+            alive
+        });
+        self.events
+            .extend(timed_out.into_iter().map(Event::TimedOut));
+        let mut out = Vec::new();
+        for c in &mut self.connections {
+            if now < c.next_produce {
+                continue;
+            }
+            c.t_o_sequence = c.t_o_sequence.wrapping_add(1);
+            c.next_produce = now + c.t_o_rpi;
+            let data = self
+                .assemblies
+                .get(&c.t_o_point)
+                .map_or(&[][..], |a| &a.data[..]);
+            let mut address = c.t_o_id.to_le_bytes().to_vec();
+            address.extend_from_slice(&c.t_o_sequence.to_le_bytes());
+            let mut payload = (c.t_o_sequence as u16).to_le_bytes().to_vec();
+            payload.extend_from_slice(data);
+            out.push((
+                c.peer,
+                emit_items(&[
+                    (item::SEQUENCED_ADDRESS, &address),
+                    (item::CONNECTED_DATA, &payload),
+                ]),
+            ));
+        }
+        out
+    }
+}

@@ -1,0 +1,132 @@
+//! What the adapter serves: any ODVA EDS's identity and assemblies (each filled with its
+//! members' parameter defaults, little-endian, packed from bit 0 as CIP packs them), or the
+//! Goodrive350 EtherNet/IP card with its drive.
+
+use std::collections::BTreeMap;
+
+use edsgen_codegen::model::{Cip, CipNumber, FieldRef};
+use edsgen_runtime::Instant;
+
+use super::adapter::{Adapter, Assembly, Identity};
+use super::driver::Card;
+use crate::cards::goodrive350_enip as card;
+use crate::drives::pkw_pzd::{parameter, Bus, PkwPzdDrive};
+
+/// An adapter for the device an ODVA EDS describes: its identity, its assemblies with their
+/// defaults (consumed when a connection names them O→T), the configuration instances its
+/// connections name.
+pub fn from_cip(cip: &Cip, address: [u8; 4]) -> Adapter {
+    let id = &cip.identity;
+    let identity = Identity {
+        vendor: id.vendor_code.as_ref().map_or(0, |v| v.value),
+        device_type: id.product_type.as_ref().map_or(0, |v| v.value),
+        product_code: id.product_code.as_ref().map_or(0, |v| v.value),
+        revision: (
+            id.major_revision.as_ref().map_or(0, |v| v.value),
+            id.minor_revision.as_ref().map_or(0, |v| v.value),
+        ),
+        serial: 1,
+        name: id.product_name.clone().unwrap_or_default(),
+    };
+    let consumed: Vec<u32> = cip
+        .connections
+        .values()
+        .filter_map(|c| match c.o_t.format.value {
+            FieldRef::Assem(n) => Some(n),
+            _ => None,
+        })
+        .collect();
+    let mut assemblies = BTreeMap::new();
+    let mut config_instances = Vec::new();
+    for a in cip.assemblies.values() {
+        let size = edsgen_codegen::validate::cip_assembly_size(cip, a).unwrap_or(0) as usize;
+        if size == 0 {
+            config_instances.push(a.instance());
+            continue;
+        }
+        let mut data = vec![0u8; size];
+        let mut bit = 0usize;
+        for m in &a.members {
+            let bits = m.bits.unwrap_or(0) as usize;
+            if let FieldRef::Param(n) = m.member {
+                let default = cip.params.get(&n).and_then(|p| p.default.as_ref());
+                if let Some(CipNumber::Int(v)) = default.map(|d| d.value) {
+                    for i in 0..bits.min(64) {
+                        let on = (v >> i) & 1 != 0;
+                        if let Some(byte) = data.get_mut((bit + i) / 8) {
+                            if on {
+                                *byte |= 1 << ((bit + i) % 8);
+                            }
+                        }
+                    }
+                }
+            }
+            bit += bits;
+        }
+        assemblies.insert(
+            a.instance(),
+            Assembly {
+                data,
+                consumed: consumed.contains(&a.number),
+            },
+        );
+    }
+    let mut adapter = Adapter::new(identity, assemblies, address);
+    adapter.config_instances = config_instances;
+    adapter
+}
+
+/// The Goodrive350 EtherNet/IP card: its generated identity and images, the drive behind it
+/// with P00.01 = 2 and P00.02 = 3 (5.4.1: run commands from EtherNet/IP) and P00.06 = 13 (the
+/// frequency from it); the PZD functions (P16.32-P16.53) at their defaults, 0, for the scanner to
+/// set through PKW.
+pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
+    let identity = Identity {
+        vendor: card::VENDOR_ID,
+        device_type: card::DEVICE_TYPE,
+        product_code: card::PRODUCT_CODE,
+        revision: (card::MAJOR_REVISION, card::MINOR_REVISION),
+        serial: 0x0035_0001,
+        name: card::PRODUCT_NAME.to_owned(),
+    };
+    let mut drive = PkwPzdDrive::new(Bus::EthernetIp, now);
+    for (address, value) in [
+        (parameter::RUN_COMMAND_CHANNEL, 2),
+        (
+            parameter::COMMUNICATION_CHANNEL,
+            Bus::EthernetIp.command_channel(),
+        ),
+        (
+            parameter::FREQUENCY_A_SOURCE,
+            Bus::EthernetIp.frequency_source(),
+        ),
+    ] {
+        // At rest and in range.
+        let _ = drive.set_parameter(address, value);
+    }
+    let mut assemblies = BTreeMap::new();
+    assemblies.insert(
+        card::Input::INSTANCE,
+        Assembly {
+            data: card::Input::default().encode().to_vec(),
+            consumed: false,
+        },
+    );
+    assemblies.insert(
+        card::Output::INSTANCE,
+        Assembly {
+            data: card::Output::default().encode().to_vec(),
+            consumed: true,
+        },
+    );
+    let mut adapter = Adapter::new(identity, assemblies, address);
+    adapter.config_instances.push(card::Configuration::INSTANCE);
+    (
+        adapter,
+        Card {
+            drive,
+            output: card::Output::INSTANCE,
+            input: card::Input::INSTANCE,
+        },
+    )
+}

@@ -1,0 +1,198 @@
+//! The adapter on real sockets, a thin driver around the sans-IO core: encapsulation on TCP
+//! (the address given, 44818 by default) and ListIdentity on UDP at the same port, class-1 I/O
+//! on UDP 2222 (T→O to the originator's address, port 2222). One thread, non-blocking sockets,
+//! a millisecond tick. A bad client never stops the others: its bytes get the protocol's
+//! refusal, and a client that sends what is no encapsulation header is dropped.
+//!
+//! [`Card`] links the adapter to the Goodrive350's drive ([`PkwPzdDrive`], bus EtherNet/IP):
+//! every O→T image the scanner writes is exchanged with the drive, whose answer becomes the T→O
+//! image; a connection that times out trips the drive with E-EIP.
+
+use std::collections::BTreeMap;
+use std::io::{ErrorKind, Read, Write};
+use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use edsgen_runtime::pkw_pzd::ByteOrder;
+use edsgen_runtime::Instant;
+
+use super::adapter::{Adapter, Event};
+use crate::drives::pkw_pzd::PkwPzdDrive;
+
+/// The class-1 I/O port.
+pub const IO_PORT: u16 = 2222;
+
+/// The drive behind the adapter and the assemblies it reads and writes.
+pub struct Card {
+    /// The drive.
+    pub drive: PkwPzdDrive,
+    /// The O→T assembly (the scanner's image).
+    pub output: u32,
+    /// The T→O assembly (the drive's image).
+    pub input: u32,
+}
+
+struct Client {
+    stream: TcpStream,
+    peer: IpAddr,
+    buffer: Vec<u8>,
+}
+
+/// Serves `adapter` on `address` until `stop` is set. `log` gets one line per connection event.
+pub fn serve(
+    address: SocketAddr,
+    mut adapter: Adapter,
+    mut card: Option<Card>,
+    stop: &AtomicBool,
+    mut log: impl FnMut(String),
+) -> std::io::Result<()> {
+    let listener = TcpListener::bind(address)?;
+    listener.set_nonblocking(true)?;
+    let udp = UdpSocket::bind(address)?;
+    udp.set_nonblocking(true)?;
+    let io = match UdpSocket::bind(SocketAddr::new(address.ip(), IO_PORT)) {
+        Ok(socket) => {
+            socket.set_nonblocking(true)?;
+            Some(socket)
+        }
+        Err(err) => {
+            log(format!(
+                "class-1 I/O off: UDP {IO_PORT} on {}: {err}",
+                address.ip()
+            ));
+            None
+        }
+    };
+    let start = std::time::Instant::now();
+    let now = || Instant::from_micros(start.elapsed().as_micros() as u64);
+    let mut clients: BTreeMap<u64, Client> = BTreeMap::new();
+    let mut next_client = 1u64;
+    let mut buf = vec![0u8; 65_536];
+    while !stop.load(Ordering::Relaxed) {
+        loop {
+            match listener.accept() {
+                Ok((stream, peer)) => {
+                    let _ = stream.set_nonblocking(true);
+                    let _ = stream.set_nodelay(true);
+                    clients.insert(
+                        next_client,
+                        Client {
+                            stream,
+                            peer: peer.ip(),
+                            buffer: Vec::new(),
+                        },
+                    );
+                    next_client += 1;
+                }
+                Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+                Err(_) => break,
+            }
+        }
+        let mut gone = Vec::new();
+        for (&key, client) in clients.iter_mut() {
+            match client.stream.read(&mut buf) {
+                Ok(0) => gone.push(key),
+                Ok(n) => client.buffer.extend_from_slice(&buf[..n]),
+                Err(e) if e.kind() == ErrorKind::WouldBlock => {}
+                Err(_) => gone.push(key),
+            }
+            while !client.buffer.is_empty() {
+                match adapter.handle(key, &client.buffer, now()) {
+                    Ok((reply, used)) => {
+                        client.buffer.drain(..used);
+                        if let Some(reply) = reply {
+                            if client.stream.write_all(&reply).is_err() {
+                                gone.push(key);
+                                break;
+                            }
+                        }
+                    }
+                    Err(_) => break,
+                }
+            }
+        }
+        for key in gone {
+            clients.remove(&key);
+            adapter.client_gone(key);
+        }
+        while let Ok((n, from)) = udp.recv_from(&mut buf) {
+            if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
+                let _ = udp.send_to(&reply, from);
+            }
+        }
+        if let Some(io) = &io {
+            while let Ok((n, from)) = io.recv_from(&mut buf) {
+                let key = clients
+                    .iter()
+                    .find(|(_, c)| c.peer == from.ip())
+                    .map_or(u64::MAX, |(k, _)| *k);
+                adapter.receive_io(key, &buf[..n], now());
+            }
+        }
+        let t = now();
+        let mut produce = adapter.poll(t);
+        link(&mut adapter, card.as_mut(), t, &mut log);
+        if let Some(io) = &io {
+            for (peer, datagram) in produce.drain(..) {
+                let ip = clients.get(&peer).map(|c| c.peer);
+                if let Some(ip) = ip {
+                    let _ = io.send_to(&datagram, SocketAddr::new(ip, IO_PORT));
+                }
+            }
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    Ok(())
+}
+
+/// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
+/// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
+/// trips the drive (E-EIP); without a connection the T→O assembly shows the drive as it stands.
+/// `log` gets one line per connection event.
+pub fn link(
+    adapter: &mut Adapter,
+    mut card: Option<&mut Card>,
+    now: Instant,
+    log: &mut impl FnMut(String),
+) {
+    for event in adapter.take_events() {
+        match event {
+            Event::Opened(id) => log(format!("connection {id:#010x} opened")),
+            Event::Closed(id) => log(format!("connection {id:#010x} closed")),
+            Event::TimedOut(id) => {
+                log(format!("connection {id:#010x} timed out"));
+                if let Some(card) = card.as_deref_mut() {
+                    card.drive.communication_lost(now);
+                    log(format!("drive fault {}", card.drive.bus().fault_name()));
+                }
+            }
+            Event::Consumed(point) => {
+                let Some(card) = card.as_deref_mut() else {
+                    continue;
+                };
+                if point != card.output {
+                    continue;
+                }
+                let output: Option<[u8; 32]> = adapter
+                    .assemblies
+                    .get(&card.output)
+                    .and_then(|a| a.data.as_slice().try_into().ok());
+                if let Some(output) = output {
+                    let input = card
+                        .drive
+                        .exchange_bytes(now, &output, ByteOrder::LittleEndian);
+                    if let Some(a) = adapter.assemblies.get_mut(&card.input) {
+                        a.data = input.to_vec();
+                    }
+                }
+            }
+        }
+    }
+    if let Some(card) = card {
+        if adapter.connections().is_empty() {
+            if let Some(a) = adapter.assemblies.get_mut(&card.input) {
+                a.data = card.drive.inputs().emit(ByteOrder::LittleEndian).to_vec();
+            }
+        }
+    }
+}

@@ -1,0 +1,368 @@
+//! The Message Router (class 2) and the objects behind it: Identity (1), Assembly (4),
+//! Connection Manager (6: Forward_Open, Large_Forward_Open, Forward_Close), TCP/IP Interface
+//! (0xF5) and Ethernet Link (0xF6). Each refusal carries CIP's general status (and the
+//! Connection Manager's extended status).
+
+use edsgen_runtime::{Duration, Instant};
+
+use super::adapter::{Adapter, Event, IoConnection};
+use super::wire::{general, parse_path, response, u16_at, u32_at, Path, Request};
+
+/// Services.
+mod service {
+    pub const GET_ATTRIBUTES_ALL: u8 = 0x01;
+    pub const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
+    pub const SET_ATTRIBUTE_SINGLE: u8 = 0x10;
+    pub const FORWARD_CLOSE: u8 = 0x4E;
+    pub const FORWARD_OPEN: u8 = 0x54;
+    pub const LARGE_FORWARD_OPEN: u8 = 0x5B;
+}
+
+/// Connection Manager extended status codes.
+pub mod extended {
+    /// Connection in use or duplicate Forward_Open.
+    pub const CONNECTION_IN_USE: u16 = 0x0100;
+    /// Transport class and trigger combination not supported.
+    pub const TRANSPORT_NOT_SUPPORTED: u16 = 0x0103;
+    /// Connection not found (Forward_Close).
+    pub const CONNECTION_NOT_FOUND: u16 = 0x0107;
+    /// Invalid connection size.
+    pub const INVALID_SIZE: u16 = 0x0109;
+    /// Invalid O→T connection size.
+    pub const INVALID_O_T_SIZE: u16 = 0x0127;
+    /// Invalid T→O connection size.
+    pub const INVALID_T_O_SIZE: u16 = 0x0128;
+    /// Invalid configuration application path.
+    pub const INVALID_CONFIG_PATH: u16 = 0x0129;
+    /// Invalid consuming application path.
+    pub const INVALID_CONSUMING_PATH: u16 = 0x012A;
+    /// Invalid producing application path.
+    pub const INVALID_PRODUCING_PATH: u16 = 0x012B;
+    /// Invalid segment in the connection path.
+    pub const INVALID_SEGMENT: u16 = 0x0315;
+}
+
+fn status(service: u8, code: u8) -> Vec<u8> {
+    response(service, code, &[], &[])
+}
+
+impl Adapter {
+    /// One Message Router request; the response's bytes.
+    pub fn route(&mut self, client: u64, bytes: &[u8], now: Instant) -> Vec<u8> {
+        let Some(request) = Request::parse(bytes) else {
+            let service = bytes.first().copied().unwrap_or(0);
+            return status(service, general::NOT_ENOUGH_DATA);
+        };
+        let Some(path) = parse_path(request.path) else {
+            return status(request.service, general::PATH_SEGMENT_ERROR);
+        };
+        match path.class {
+            Some(1) => self.identity_service(&request, &path),
+            Some(2) => self.simple_get(&request, &path, |_, _| None),
+            Some(4) => self.assembly_service(&request, &path),
+            Some(6) => self.connection_manager(client, &request, now),
+            Some(0xF5) => self.simple_get(&request, &path, |a, attr| match attr {
+                1 => Some(2u32.to_le_bytes().to_vec()),
+                2 => Some(0x0000_0014u32.to_le_bytes().to_vec()),
+                3 => Some(2u32.to_le_bytes().to_vec()),
+                5 => {
+                    let mut v: Vec<u8> = a.address.iter().rev().copied().collect();
+                    v.extend_from_slice(&[0, 255, 255, 255]);
+                    v.extend_from_slice(&[0; 14]);
+                    Some(v)
+                }
+                _ => None,
+            }),
+            Some(0xF6) => self.simple_get(&request, &path, |a, attr| match attr {
+                1 => Some(100u32.to_le_bytes().to_vec()),
+                2 => Some(0x0000_000Fu32.to_le_bytes().to_vec()),
+                3 => Some(a.mac.to_vec()),
+                _ => None,
+            }),
+            _ => status(request.service, general::PATH_DESTINATION_UNKNOWN),
+        }
+    }
+
+    fn identity_attribute(&self, attribute: u32) -> Option<Vec<u8>> {
+        let id = &self.identity;
+        Some(match attribute {
+            1 => id.vendor.to_le_bytes().to_vec(),
+            2 => id.device_type.to_le_bytes().to_vec(),
+            3 => id.product_code.to_le_bytes().to_vec(),
+            4 => vec![id.revision.0, id.revision.1],
+            5 => self.identity_status().to_le_bytes().to_vec(),
+            6 => id.serial.to_le_bytes().to_vec(),
+            7 => {
+                let name = id.name.as_bytes();
+                let name = &name[..name.len().min(32)];
+                let mut v = vec![name.len() as u8];
+                v.extend_from_slice(name);
+                v
+            }
+            _ => return None,
+        })
+    }
+
+    fn identity_service(&self, request: &Request<'_>, path: &Path) -> Vec<u8> {
+        if path.instance.unwrap_or(1) != 1 {
+            return status(request.service, general::OBJECT_DOES_NOT_EXIST);
+        }
+        match request.service {
+            service::GET_ATTRIBUTES_ALL => {
+                let data: Vec<u8> = (1..=7)
+                    .filter_map(|a| self.identity_attribute(a))
+                    .flatten()
+                    .collect();
+                response(request.service, general::SUCCESS, &[], &data)
+            }
+            service::GET_ATTRIBUTE_SINGLE => {
+                match path.attribute.and_then(|a| self.identity_attribute(a)) {
+                    Some(data) => response(request.service, general::SUCCESS, &[], &data),
+                    None => status(request.service, general::ATTRIBUTE_NOT_SUPPORTED),
+                }
+            }
+            service::SET_ATTRIBUTE_SINGLE => {
+                status(request.service, general::ATTRIBUTE_NOT_SETTABLE)
+            }
+            _ => status(request.service, general::SERVICE_NOT_SUPPORTED),
+        }
+    }
+
+    /// Get_Attribute_Single on instance 1 of an object whose attributes `get` gives.
+    fn simple_get(
+        &self,
+        request: &Request<'_>,
+        path: &Path,
+        get: impl Fn(&Adapter, u32) -> Option<Vec<u8>>,
+    ) -> Vec<u8> {
+        if path.instance.unwrap_or(1) != 1 {
+            return status(request.service, general::OBJECT_DOES_NOT_EXIST);
+        }
+        match request.service {
+            service::GET_ATTRIBUTE_SINGLE => match path.attribute.and_then(|a| get(self, a)) {
+                Some(data) => response(request.service, general::SUCCESS, &[], &data),
+                None => status(request.service, general::ATTRIBUTE_NOT_SUPPORTED),
+            },
+            service::SET_ATTRIBUTE_SINGLE => {
+                status(request.service, general::ATTRIBUTE_NOT_SETTABLE)
+            }
+            _ => status(request.service, general::SERVICE_NOT_SUPPORTED),
+        }
+    }
+
+    fn assembly_service(&mut self, request: &Request<'_>, path: &Path) -> Vec<u8> {
+        let Some(instance) = path.instance.or(path.points.first().copied()) else {
+            return status(request.service, general::PATH_DESTINATION_UNKNOWN);
+        };
+        let owned = self.connections.iter().any(|c| c.o_t_point == instance);
+        let Some(assembly) = self.assemblies.get_mut(&instance) else {
+            return status(request.service, general::OBJECT_DOES_NOT_EXIST);
+        };
+        if path.attribute.unwrap_or(3) != 3 {
+            return status(request.service, general::ATTRIBUTE_NOT_SUPPORTED);
+        }
+        match request.service {
+            service::GET_ATTRIBUTE_SINGLE | service::GET_ATTRIBUTES_ALL => {
+                response(request.service, general::SUCCESS, &[], &assembly.data)
+            }
+            service::SET_ATTRIBUTE_SINGLE if !assembly.consumed => {
+                status(request.service, general::ATTRIBUTE_NOT_SETTABLE)
+            }
+            service::SET_ATTRIBUTE_SINGLE if owned => {
+                status(request.service, general::DEVICE_STATE_CONFLICT)
+            }
+            service::SET_ATTRIBUTE_SINGLE => {
+                let code = match request.data.len().cmp(&assembly.data.len()) {
+                    std::cmp::Ordering::Less => general::NOT_ENOUGH_DATA,
+                    std::cmp::Ordering::Greater => general::TOO_MUCH_DATA,
+                    std::cmp::Ordering::Equal => {
+                        assembly.data.copy_from_slice(request.data);
+                        self.events.push(Event::Consumed(instance));
+                        general::SUCCESS
+                    }
+                };
+                status(request.service, code)
+            }
+            _ => status(request.service, general::SERVICE_NOT_SUPPORTED),
+        }
+    }
+
+    fn connection_manager(&mut self, client: u64, request: &Request<'_>, now: Instant) -> Vec<u8> {
+        match request.service {
+            service::FORWARD_OPEN => self.forward_open(client, request, now, false),
+            service::LARGE_FORWARD_OPEN => self.forward_open(client, request, now, true),
+            service::FORWARD_CLOSE => self.forward_close(request),
+            _ => status(request.service, general::SERVICE_NOT_SUPPORTED),
+        }
+    }
+
+    fn forward_open(
+        &mut self,
+        client: u64,
+        request: &Request<'_>,
+        now: Instant,
+        large: bool,
+    ) -> Vec<u8> {
+        let d = request.data;
+        let word = if large { 4 } else { 2 };
+        let fixed = 32 + 2 * word;
+        let (Some(o_t_id), Some(t_o_id), Some(serial), Some(vendor), Some(orig_serial)) = (
+            u32_at(d, 2),
+            u32_at(d, 6),
+            u16_at(d, 10),
+            u16_at(d, 12),
+            u32_at(d, 14),
+        ) else {
+            return status(request.service, general::NOT_ENOUGH_DATA);
+        };
+        let _ = o_t_id;
+        let triad = (serial, vendor, orig_serial);
+        let fail = |code: u16| {
+            let mut data = Vec::new();
+            data.extend_from_slice(&serial.to_le_bytes());
+            data.extend_from_slice(&vendor.to_le_bytes());
+            data.extend_from_slice(&orig_serial.to_le_bytes());
+            data.extend_from_slice(&[0, 0]);
+            response(request.service, general::CONNECTION_FAILURE, &[code], &data)
+        };
+        let params = |at: usize| -> Option<u32> {
+            if large {
+                u32_at(d, at)
+            } else {
+                u16_at(d, at).map(u32::from)
+            }
+        };
+        let (
+            Some(multiplier),
+            Some(o_t_rpi),
+            Some(o_t_params),
+            Some(t_o_rpi),
+            Some(t_o_params),
+            Some(transport),
+            Some(path_words),
+        ) = (
+            d.get(18).copied(),
+            u32_at(d, 22),
+            params(26),
+            u32_at(d, 26 + word),
+            params(30 + word),
+            d.get(30 + 2 * word).copied(),
+            d.get(31 + 2 * word).copied(),
+        )
+        else {
+            return status(request.service, general::NOT_ENOUGH_DATA);
+        };
+        let Some(path_bytes) = d.get(fixed..fixed + 2 * usize::from(path_words)) else {
+            return status(request.service, general::NOT_ENOUGH_DATA);
+        };
+        if d.len() > fixed + 2 * usize::from(path_words) {
+            return status(request.service, general::TOO_MUCH_DATA);
+        }
+        if self.connections.iter().any(|c| c.triad == triad) {
+            return fail(extended::CONNECTION_IN_USE);
+        }
+        if transport & 0x0F != 1 {
+            return fail(extended::TRANSPORT_NOT_SUPPORTED);
+        }
+        let Some(path) = parse_path(path_bytes) else {
+            return fail(extended::INVALID_SEGMENT);
+        };
+        let (o_t_point, t_o_point) = match (path.class, path.points.as_slice()) {
+            (Some(4), [o_t, t_o]) => (*o_t, *t_o),
+            _ => return fail(extended::INVALID_SEGMENT),
+        };
+        if let Some(config) = path.instance {
+            if !self.config_instances.contains(&config) && !self.assemblies.contains_key(&config) {
+                return fail(extended::INVALID_CONFIG_PATH);
+            }
+        }
+        let size_mask = if large { 0xFFFF } else { 0x01FF };
+        let Some(consumed) = self.assemblies.get(&o_t_point).filter(|a| a.consumed) else {
+            return fail(extended::INVALID_CONSUMING_PATH);
+        };
+        let Some(produced) = self.assemblies.get(&t_o_point) else {
+            return fail(extended::INVALID_PRODUCING_PATH);
+        };
+        // Class 1: a 2-byte sequence count both ways, the 4-byte run/idle header O→T.
+        let (want_o_t, want_t_o) = (consumed.data.len() + 6, produced.data.len() + 2);
+        if (o_t_params & size_mask) as usize != want_o_t {
+            return response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[extended::INVALID_O_T_SIZE, want_o_t as u16],
+                &[],
+            );
+        }
+        if (t_o_params & size_mask) as usize != want_t_o {
+            return response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[extended::INVALID_T_O_SIZE, want_t_o as u16],
+                &[],
+            );
+        }
+        if self.connections.iter().any(|c| c.o_t_point == o_t_point) {
+            return fail(extended::CONNECTION_IN_USE);
+        }
+        let id = self.next_connection_id;
+        self.next_connection_id = self.next_connection_id.wrapping_add(1);
+        let o_t = Duration::from_micros(u64::from(o_t_rpi.max(1000)));
+        let timeout_factor = 4u64 << multiplier.min(7);
+        self.connections.push(IoConnection {
+            o_t_id: id,
+            t_o_id,
+            triad,
+            o_t_point,
+            t_o_point,
+            o_t_rpi: o_t,
+            t_o_rpi: Duration::from_micros(u64::from(t_o_rpi.max(1000))),
+            timeout: Duration::from_micros(u64::from(o_t_rpi.max(1000)) * timeout_factor),
+            last_heard: now,
+            next_produce: now,
+            t_o_sequence: 0,
+            o_t_sequence: None,
+            run: false,
+            peer: client,
+        });
+        self.events.push(Event::Opened(id));
+        let mut data = Vec::new();
+        data.extend_from_slice(&id.to_le_bytes());
+        data.extend_from_slice(&t_o_id.to_le_bytes());
+        data.extend_from_slice(&serial.to_le_bytes());
+        data.extend_from_slice(&vendor.to_le_bytes());
+        data.extend_from_slice(&orig_serial.to_le_bytes());
+        data.extend_from_slice(&o_t_rpi.to_le_bytes());
+        data.extend_from_slice(&t_o_rpi.to_le_bytes());
+        data.extend_from_slice(&[0, 0]);
+        response(request.service, general::SUCCESS, &[], &data)
+    }
+
+    fn forward_close(&mut self, request: &Request<'_>) -> Vec<u8> {
+        let d = request.data;
+        let (Some(serial), Some(vendor), Some(orig_serial)) =
+            (u16_at(d, 2), u16_at(d, 4), u32_at(d, 6))
+        else {
+            return status(request.service, general::NOT_ENOUGH_DATA);
+        };
+        let mut data = Vec::new();
+        data.extend_from_slice(&serial.to_le_bytes());
+        data.extend_from_slice(&vendor.to_le_bytes());
+        data.extend_from_slice(&orig_serial.to_le_bytes());
+        data.extend_from_slice(&[0, 0]);
+        let Some(at) = self
+            .connections
+            .iter()
+            .position(|c| c.triad == (serial, vendor, orig_serial))
+        else {
+            return response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[extended::CONNECTION_NOT_FOUND],
+                &data,
+            );
+        };
+        let closed = self.connections.remove(at);
+        self.events.push(Event::Closed(closed.o_t_id));
+        response(request.service, general::SUCCESS, &[], &data)
+    }
+}

@@ -1,0 +1,80 @@
+//! `edsgen simulate --enip ADDR --card goodrive350-enip` and `edsgen simulate --enip ADDR
+//! FILE.eds`: an EtherNet/IP adapter on `ADDR` (an IPv4 address, optionally `:PORT`, 44818 by
+//! default; class-1 I/O on UDP 2222 of that address), serving the Goodrive350 card with its drive
+//! or any ODVA EDS's identity and assemblies (filled with their parameters' defaults). Runs until
+//! interrupted. Exit 2 for bad usage, a file that is not an ODVA EDS, or an address it cannot
+//! bind.
+
+use std::net::{IpAddr, SocketAddr};
+use std::path::Path;
+use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+
+use edsgen_codegen::model::Format;
+use edsgen_runtime::Instant;
+use edsgen_sim::enip::{device, driver};
+
+/// The card name `--card` takes with `--enip`.
+pub const CARD: &str = "goodrive350-enip";
+
+fn fail(message: String) -> ExitCode {
+    eprintln!("error: {message}");
+    ExitCode::from(2)
+}
+
+/// `ADDR` as a socket address: `IP` or `IP:PORT`.
+fn address(text: &str) -> Option<SocketAddr> {
+    text.parse::<SocketAddr>().ok().or_else(|| {
+        text.parse::<IpAddr>()
+            .ok()
+            .map(|ip| SocketAddr::new(ip, 44818))
+    })
+}
+
+/// Runs the adapter.
+pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
+    let Some(address) = address(addr) else {
+        return fail(format!("`{addr}` is not an address: write IP or IP:PORT"));
+    };
+    let ip = match address.ip() {
+        IpAddr::V4(v4) => v4.octets(),
+        IpAddr::V6(_) => return fail("EtherNet/IP needs an IPv4 address".to_owned()),
+    };
+    let (adapter, card, what) = match (files, cards) {
+        ([], [card]) if card == CARD => {
+            let (adapter, card) = device::goodrive350(ip, Instant::from_micros(0));
+            (adapter, Some(card), format!("card {CARD}"))
+        }
+        ([], [other]) => {
+            return fail(format!("--enip serves the card `{CARD}`, not `{other}`"));
+        }
+        ([file], []) => {
+            let path = Path::new(file);
+            let read = match edsgen_codegen::read::read_file(path) {
+                Ok(read) => read,
+                Err(err) => return fail(err.to_string()),
+            };
+            let Some(cip) = read
+                .device
+                .cip
+                .as_ref()
+                .filter(|_| read.device.source.format == Format::OdvaEds)
+            else {
+                return fail(format!(
+                    "`{file}` is not an ODVA EDS (no [File]/[Device] section)"
+                ));
+            };
+            (device::from_cip(cip, ip), None, format!("`{file}`"))
+        }
+        _ => return fail("--enip serves one ODVA EDS file or --card goodrive350-enip".to_owned()),
+    };
+    eprintln!(
+        "serving {what} on {address} (EtherNet/IP; class-1 I/O on UDP {})",
+        driver::IO_PORT
+    );
+    let stop = AtomicBool::new(false);
+    match driver::serve(address, adapter, card, &stop, |line| eprintln!("{line}")) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => fail(format!("cannot serve on {address}: {err}")),
+    }
+}
