@@ -11,6 +11,9 @@ fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
         .device("../eds/rd11.eds")
         // The EC-TX508 EtherCAT card (an ESI file): its CoE dictionary and process images.
         .device("../eds/ec-tx508.xml")
+        // The Goodrive350's PROFINET card (a GSDML file): identity, its module's typed images
+        // and its PZD parameter records.
+        .device("../eds/goodrive350-pn.xml")
         // Goodrive350 and HD1-E keep a 16-bit value in sub-index 0 of 2000h/2100h (their manuals
         // say so); the EDS files document it and the card tests pin the warning.
         .allow("EDS308")

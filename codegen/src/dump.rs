@@ -7,6 +7,8 @@
 
 use serde_json::{json, Map, Value as Json};
 
+mod profinet;
+
 use crate::model::{
     Commissioning, Device, DeviceInfo, EcPdo, EtherCat, FileInfo, Format, Object, SmKind,
     SubObject, TextEncoding, Value, ValueSource,
@@ -20,6 +22,7 @@ pub fn to_json(device: &Device) -> Json {
         Format::Xdd => "xdd",
         Format::Xdc => "xdc",
         Format::Esi => "esi",
+        Format::Gsdml => "gsdml",
     };
     let encoding = match device.source.encoding {
         TextEncoding::Ascii => "ascii",
@@ -47,6 +50,7 @@ pub fn to_json(device: &Device) -> Json {
         "objects": device.objects.values().map(object).collect::<Vec<_>>(),
         "other_sections": device.other_sections.iter().map(|s| s.name.clone()).collect::<Vec<_>>(),
         "ethercat": device.ethercat.as_ref().map(ethercat),
+        "profinet": device.profinet.as_ref().map(profinet::profinet),
     })
 }
 

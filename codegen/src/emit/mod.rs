@@ -12,6 +12,7 @@ pub mod names;
 pub mod od;
 pub mod pdo;
 pub mod plan;
+mod profinet;
 pub mod text;
 pub mod types;
 
@@ -41,6 +42,16 @@ pub fn module_name(requested: &str) -> String {
 /// emitter found (errors included) and no code.
 pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
+    if let Some(pn) = &device.profinet {
+        // A GSDML device has no object dictionary: its own module, from the PROFINET side.
+        let tokens = profinet::module(pn, &module_doc(device), &plan::id(&module))?;
+        let code = format_tokens(tokens, device, &text::Splices::default())?;
+        return Ok(Generated {
+            module,
+            code,
+            diagnostics: Vec::new(),
+        });
+    }
     let plan = plan::plan(device);
     let mut diagnostics = plan.diagnostics.clone();
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
@@ -142,6 +153,7 @@ fn module_doc(device: &Device) -> Vec<String> {
         Format::Xdd => "XDD",
         Format::Xdc => "XDC",
         Format::Esi => "ESI",
+        Format::Gsdml => "GSDML",
     };
     let file_name = device
         .source

@@ -14,6 +14,7 @@ use std::collections::BTreeMap;
 
 mod ethercat;
 mod object;
+mod profinet;
 mod source;
 mod types;
 
@@ -22,6 +23,10 @@ pub use ethercat::{
     EtherCat, SmKind, SyncManager,
 };
 pub use object::{KeySpans, Object, SubObject, Value, ValueSource};
+pub use profinet::{
+    AccessPoint, BitDataItem, ChannelDiag, DataItem, ModuleRef, ParameterRecord, PnDataType,
+    PnModule, Profinet, RecordField, Submodule, SystemSubmodule, ValueList,
+};
 pub use source::{Format, Source, Span, Spanned, TextEncoding};
 pub use types::{AccessType, BasicType, ObjectType};
 
@@ -173,6 +178,9 @@ pub struct Device {
     pub naming: Naming,
     /// What an ESI file says beyond the CoE dictionary; `None` for CANopen descriptions.
     pub ethercat: Option<EtherCat>,
+    /// What a GSDML file says (access points, modules, submodules, records); `None` for the
+    /// other formats.
+    pub profinet: Option<Profinet>,
 }
 
 /// What an overlay says about generated names: the description cannot say how the device numbers

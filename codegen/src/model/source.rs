@@ -52,6 +52,9 @@ pub enum Format {
     /// EtherCAT Slave Information (ETG.2000): a CoE dictionary and the EtherCAT layout
     /// ([`Device::ethercat`](super::Device::ethercat)).
     Esi,
+    /// PROFINET GSDML (`ISO15745Profile`): identity, access points, modules and records
+    /// ([`Device::profinet`](super::Device::profinet)).
+    Gsdml,
 }
 
 /// How the file's bytes were decoded.

@@ -1,5 +1,5 @@
-//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, EDS8xx for EtherCAT, and the
-//! generator's size limits EDS707) judged over the resolved model.
+//! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, EDS8xx for EtherCAT, PN0xx for
+//! PROFINET, and the generator's size limits EDS707) judged over the resolved model.
 //!
 //! It never looks at the text: everything it knows comes from [`Device`], so the same rules serve
 //! EDS, DCF, XDD and XDC. One submodule per area; each says which rules it owns and why a rule has
@@ -20,6 +20,7 @@ mod dcf;
 mod device_info;
 mod esi;
 mod file_info;
+mod gsdml;
 mod object_lists;
 mod objects;
 mod pdo;
@@ -28,6 +29,15 @@ mod sections;
 /// Judges a device model; the diagnostics come sorted by position.
 pub fn validate(device: &Device) -> Vec<Diagnostic> {
     let mut out = Vec::new();
+    if device.source.format == Format::Gsdml {
+        // A GSDML file has no object dictionary, FileInfo or PDOs: only the PN0xx rules apply
+        // (and none when the XML could not be read).
+        if let Some(profinet) = &device.profinet {
+            gsdml::check(profinet, &mut out);
+        }
+        diag::sort(&mut out);
+        return out;
+    }
     file_info::check(device, &mut out);
     device_info::check(device, &mut out);
     object_lists::check(device, &mut out);
