@@ -29,6 +29,7 @@ pub mod frame;
 pub mod master;
 pub mod node;
 pub mod od;
+pub mod pkw_pzd;
 pub mod sdo;
 pub mod time;
 #[cfg(feature = "std")]

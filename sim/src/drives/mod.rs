@@ -12,6 +12,7 @@ pub mod goodrive350;
 pub mod hd1e;
 pub mod ms300;
 pub mod pdo1;
+pub mod pkw_pzd;
 pub mod rd11;
 pub mod vfd;
 
@@ -27,6 +28,7 @@ pub use self::ec_tx508::EcTx508;
 pub use self::goodrive350::Goodrive350;
 pub use self::hd1e::Hd1e;
 pub use self::ms300::Ms300;
+pub use self::pkw_pzd::PkwPzdDrive;
 pub use self::rd11::Rd11;
 
 /// A bundled card: its name, its EDS (compiled in), the node-ID it takes unless told otherwise,
