@@ -78,6 +78,10 @@ pub struct Args {
     /// Print every frame on the bus, decoded.
     #[arg(long)]
     trace: bool,
+    /// Simulate a PROFINET IO device on this network interface (a GSDML FILE, or
+    /// `--card goodrive350-pn`); see `simulate_profinet`.
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
+    profinet: Option<String>,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -91,6 +95,9 @@ struct Planned {
 
 /// Runs `edsgen simulate`.
 pub fn run(args: Args) -> ExitCode {
+    if let Some(iface) = &args.profinet {
+        return super::simulate_profinet::run(iface, &args.files, &args.cards);
+    }
     let planned = match plan(&args) {
         Ok(planned) => planned,
         Err(message) => return fail(message),
