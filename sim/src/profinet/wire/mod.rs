@@ -1,8 +1,10 @@
 //! PROFINET wire formats, apart from the protocol machines: the Ethernet header (with or without
-//! a VLAN tag) that carries every PROFINET frame on EtherType 0x8892, and the DCP PDU ([`dcp`]).
+//! a VLAN tag) that carries every PROFINET frame on EtherType 0x8892, the DCP PDU ([`dcp`]) and
+//! the cyclic RT frame ([`rt`]).
 //! Parsing never panics: a frame too short or of another EtherType is `None`.
 
 pub mod dcp;
+pub mod rt;
 
 /// PROFINET's EtherType.
 pub const ETHERTYPE_PROFINET: u16 = 0x8892;
