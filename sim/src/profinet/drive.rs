@@ -1,5 +1,5 @@
 //! The Goodrive350 behind the simulated PROFINET card: each output frame's 16 words go to the
-//! PKW/PZD drive ([`PkwPzdDrive`] on [`Bus::Profinet`], big-endian as PROFINET carries them) and
+//! PKW/PZD drive ([`PkwPzdDrive`] on `Bus::Profinet`, big-endian as PROFINET carries them) and
 //! its 16 words come back in the input frames; the cyclic watchdog trips the drive's E-PN fault.
 //! Sans-IO, as [`Cyclic`] is.
 
@@ -8,7 +8,7 @@ use edsgen_runtime::{Duration, Instant};
 
 use super::cyclic::{CrLayout, Cyclic, DataObject};
 use super::wire::Mac;
-use crate::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// The cyclic layout of the card's one module (slot 1, subslot 1) alone: in each CR its 32 bytes
 /// of data and its IOPS, then the IOCS of the other direction. `interval` and `factor` as the

@@ -2,7 +2,7 @@
 //! needs `CAP_NET_RAW`), and [`serve_dcp`], the loop that feeds received frames to the DCP
 //! machine and sends its answers. The protocol machines never see the socket.
 //!
-//! The one `unsafe` block is in [`bind`]: binding a packet socket to an interface takes a
+//! The one `unsafe` block is in `bind`: binding a packet socket to an interface takes a
 //! `sockaddr_ll`, which `socket2` cannot build (its link-layer address has no public
 //! constructor). Creating the socket, reading, writing and the timeout use `socket2`'s safe API.
 #![allow(unsafe_code)]

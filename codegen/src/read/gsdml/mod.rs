@@ -2,7 +2,7 @@
 //!
 //! Identity goes to [`DeviceInfo`] (VendorID as the vendor number, DeviceID as the product
 //! number) and to [`Profinet`]; the access points, modules, submodules with their typed IO data
-//! and parameter records, value lists and channel diagnostics to [`Profinet`] ([`items`]). Texts
+//! and parameter records, value lists and channel diagnostics to [`Profinet`] (`items`). Texts
 //! are resolved from the `ExternalTextList` (the primary language, else the first language);
 //! a `TextId` without a text is kept in [`Profinet::missing_texts`] for the validator. XML is
 //! handled as the ESI reader does it: ISO-8859-1 where declared, no DTD, bounded nesting.

@@ -3,6 +3,7 @@
 //! the bytes; frames of other FrameIDs ignored; the watchdog's E-PN.
 
 use super::*;
+use crate::drives::pkw_pzd::Bus;
 
 const DEVICE: Mac = [0x02, 0x00, 0x00, 0x00, 0x03, 0x50];
 const CONTROLLER: Mac = [0x02, 0x00, 0x00, 0x00, 0x00, 0x01];
