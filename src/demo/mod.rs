@@ -3,8 +3,10 @@
 //! and a Goodrive350 (node 3) through their manuals' workflows, every frame decoded by name; then
 //! an EtherCAT master walks a simulated EC-TX508 through CiA 402 cyclic synchronous velocity,
 //! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
-//! by name at the cycles the steps look at. Each step checks what the manual (or CiA 402) says
-//! should happen; the demo passes only if every step does.
+//! by name at the cycles the steps look at; then a PROFINET controller finds, names and drives
+//! the Goodrive350's PROFINET card by DCP and RT frames, in this process ([`profinet`]). Each
+//! step checks what the manual (or CiA 402) says should happen; the demo passes only if every
+//! step does.
 //!
 //! Two links for the CANopen drives, one set of workflows ([`Link`]): by default the drives are
 //! simulated in this process on the in-memory bus ([`memory`]), in the bus's own time, so the
@@ -17,6 +19,7 @@
 
 mod ethercat;
 mod memory;
+mod profinet;
 mod remote;
 
 use std::path::Path;
@@ -273,6 +276,7 @@ pub fn run() -> Report {
         Err(problem) => return failed_to_start("power up the simulated drives", problem),
     };
     ethercat::run(&mut trace);
+    profinet::run(&mut trace);
     trace.finish()
 }
 
@@ -285,6 +289,7 @@ pub fn run_on_bus(addr: &str) -> Report {
         Err(problem) => return failed_to_start("join the bus", problem),
     };
     ethercat::not_run(&mut trace);
+    profinet::run(&mut trace);
     trace.finish()
 }
 

@@ -206,6 +206,46 @@ pub fn emit_set_response(out: &mut Vec<u8>, option: (u8, u8), error: u8) {
     out.extend_from_slice(&[option.0, option.1, error, 0]);
 }
 
+/// A controller's request frame: `service` on `frame_id` from `src` to `dst`, with `blocks`
+/// already encoded (filter or Set blocks with [`emit_plain_block`], Get option pairs).
+pub fn request(
+    dst: [u8; 6],
+    src: [u8; 6],
+    frame_id: u16,
+    service: u8,
+    xid: u32,
+    blocks: &[u8],
+) -> Vec<u8> {
+    let mut out = Vec::new();
+    super::Ethernet::emit(dst, src, &mut out);
+    let start = out.len();
+    DcpHeader {
+        frame_id,
+        service_id: service,
+        service_type: TYPE_REQUEST,
+        xid,
+        // Identify's ResponseDelayFactor 1: answer at once.
+        response_delay: u16::from(frame_id == FRAME_IDENTIFY_REQUEST),
+        length: 0,
+    }
+    .emit(&mut out);
+    out.extend_from_slice(blocks);
+    finish(&mut out, start);
+    out
+}
+
+/// The blocks of a response (each with its BlockInfo, or the Control/Response block with its
+/// option and BlockError): (option, BlockInfo, data); a block that runs past the data ends them.
+pub fn response_blocks(data: &[u8]) -> impl Iterator<Item = ((u8, u8), u16, &[u8])> {
+    blocks(data).map_while(Result::ok).map(|b| {
+        let info = b
+            .data
+            .get(..2)
+            .map_or(0, |i| u16::from_be_bytes([i[0], i[1]]));
+        (b.option, info, b.data.get(2..).unwrap_or(&[]))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
