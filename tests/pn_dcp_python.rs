@@ -2,7 +2,8 @@
 //! scripts/python-venv.sh), over a veth pair joining two private network namespaces: the
 //! controller finds the card by its GSDML's name of station, VendorID and DeviceID, sets a new
 //! name and reads it back, sets an IP and reads it back, and flashes the LED; the device prints
-//! each change. Needs root (namespaces, raw sockets): without it the test says so and passes,
+//! each change; then `edsgen pn list` and `edsgen pn set-name` do the same from the controller's
+//! side. Needs root (namespaces, raw sockets): without it the test says so and passes,
 //! except under `CI=true`.
 
 mod process_support;
@@ -139,6 +140,36 @@ fn pnio_dcp_finds_names_and_addresses_the_simulated_card() {
             expected
         );
     }
+    // edsgen's own bench verbs, from the controller's namespace: the name pnio-dcp set, the
+    // IP, the GSDML matched by its IDs; then a new name, seen again.
+    let mac = started.rsplit(' ').next().expect("the MAC").to_owned();
+    let gsdml = process_support::root().join("eds/goodrive350-pn.xml");
+    let gsdml = gsdml.to_str().expect("a UTF-8 path");
+    let ctl = format!("pnc{pid}");
+    let pn = |args: &[&str]| {
+        let mut all = vec!["netns", "exec", &link.controller_ns, EDSGEN, "pn"];
+        all.extend_from_slice(args);
+        Process::start(Command::new("ip").args(&all)).finish(Duration::from_secs(20))
+    };
+    let listed = pn(&["list", &ctl, "--gsdml", gsdml]);
+    assert_eq!(listed.code, Some(0), "{}", listed.stderr);
+    assert_eq!(
+        listed.stdout,
+        format!("{mac}\tdrive-7\t0350:0350\t10.77.0.2\tINVT Goodrive350\t{gsdml}\n")
+    );
+    let set = pn(&["set-name", &ctl, &mac, "line-2.gd350"]);
+    assert_eq!(set.code, Some(0), "{}", set.stderr);
+    assert_eq!(
+        set.stdout,
+        format!("{mac}: name of station set to `line-2.gd350`\n")
+    );
+    let listed = pn(&["list", &ctl]);
+    assert_eq!(
+        listed.stdout,
+        format!("{mac}\tline-2.gd350\t0350:0350\t10.77.0.2\tINVT Goodrive350\n")
+    );
+    let refused = pn(&["set-name", &ctl, &mac, "Not_A_Name"]);
+    assert_eq!(refused.code, Some(2));
     drop(device);
     drop(link);
 }

@@ -19,6 +19,7 @@ pub mod devices;
 pub mod dump;
 pub mod generate;
 pub mod nmt;
+pub mod pn;
 pub mod rules;
 pub mod scan;
 pub mod sdo;
