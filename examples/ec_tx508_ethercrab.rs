@@ -64,7 +64,7 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
         let card = group.subdevice(&maindevice, position)?;
         card.write_entry(od::OPERATION_MODE, CSV).await?;
         let assigned: u16 = card
-            .read_entry(od::RX_PDO_ASSIGNMENT_RX_PDO_ASSIGNED_OBJECT_INDEX)
+            .read_entry(od::rx_pdo_assignment::RX_PDO_ASSIGNED_OBJECT_INDEX)
             .await?;
         println!("{}: RxPDO {assigned:04X}h assigned", card.name());
     }

@@ -3,7 +3,7 @@
 #
 #   scripts/fuzz.sh [TARGET|all] [SECONDS]      (defaults: all, 900 seconds per target)
 #
-# TARGET: eds, xml, esi, node, socketcand, decode, sdo_client.
+# TARGET: eds, xml, esi, node, socketcand, decode, decode_log, sdo_client.
 #
 # Works on the stable toolchain: cargo-fuzz's nightly flags are allowed with RUSTC_BOOTSTRAP=1.
 # Debug assertions are on (-a), so arithmetic overflow panics. FUZZ_SANITIZER picks the sanitizer:
@@ -29,13 +29,13 @@ sanitizer=${FUZZ_SANITIZER:-none}
 max_len=65536
 corpus_src=${EDSGEN_CORPUS:-$root/../shared/eds-corpus}
 esi_src=${EDSGEN_ESI_CORPUS:-$root/../shared/esi-corpus}
-all=(eds xml esi node socketcand decode sdo_client)
+all=(eds xml esi node socketcand decode decode_log sdo_client)
 
 case "$target" in
-eds | xml | esi | node | socketcand | decode | sdo_client) targets=("$target") ;;
+eds | xml | esi | node | socketcand | decode | decode_log | sdo_client) targets=("$target") ;;
 all) targets=("${all[@]}") ;;
 *)
-    echo "usage: scripts/fuzz.sh [eds|xml|esi|node|socketcand|decode|sdo_client|all] [SECONDS]" >&2
+    echo "usage: scripts/fuzz.sh [eds|xml|esi|node|socketcand|decode|decode_log|sdo_client|all] [SECONDS]" >&2
     exit 2
     ;;
 esac
@@ -115,6 +115,20 @@ seed() {
 (1764000000.014000) can0 605#4000600000000000
 EOF
         ;;
+    decode_log)
+        # One short session in each format the log reader recognises.
+        printf '%s\n' '(1764000000.000100) can0 000#0105' '(1764000000.1) can0 705#7F R' \
+            '(1764000000.2) can0 123##1AABB' >"$dir/candump-L.log"
+        printf '%s\n' '  can0  701   [1]  05' '(000.000100)  can0  TX - -  605   [4]  40 18 10 01' \
+            '  can0  705   [1]  remote request' >"$dir/candump.log"
+        printf '%s\n' 'date Mon Nov 24 16:00:00.000 2025' 'base hex  timestamps absolute' \
+            'Begin Triggerblock Mon Nov 24 16:00:00.000 2025' ' 0.001000 1  7E5  Rx   d 8 04 01 00 00 00 00 00 00' \
+            ' 0.002000 1  18FF0005x  Tx   d 1 AA' ' 0.003000 1  ErrorFrame' 'End TriggerBlock' >"$dir/session.asc"
+        printf '%s\n' ';$FILEVERSION=2.1' ';$STARTTIME=45985.666666666664' ';$COLUMNS=N,O,T,B,I,d,R,L,D' \
+            '      1         1.000 DT  1     0585 Rx -  4    19 6C 6F 67' >"$dir/session-2.1.trc"
+        printf '%s\n' ';   Start time: 24.11.2025 16:00:00.000.0' '     1)      1841.0  Rx         0701  1  05' \
+            >"$dir/session-1.1.trc"
+        ;;
     node | socketcand | sdo_client) ;; # arbitrary bytes: no seeds needed
     esac
     if [[ "$name" == eds || "$name" == xml ]] && [ ! -d "$corpus_src" ]; then
@@ -128,6 +142,7 @@ for name in "${targets[@]}"; do
     case "$name" in
     eds | xml | esi) args+=(-max_len="$max_len" -dict="fuzz/dict/$name.dict") ;;
     decode | socketcand) args+=(-max_len=4096 -dict="fuzz/dict/$name.dict") ;;
+    decode_log) args+=(-max_len=4096 -dict=fuzz/dict/decode.dict) ;;
     node | sdo_client) args+=(-max_len=4096) ;;
     esac
     log=fuzz/artifacts/$name.log

@@ -500,6 +500,21 @@ fn empty_and_binary_files_get_one_diagnostic_and_dump_refuses_them() {
         assert!(out.stdout.is_empty());
         assert!(!out.stderr.contains(&0x1b));
     }
+    // `devices` gives the same answer for the same files, not "not an ESI file" (a usage error).
+    let out = run(&["devices", b]);
+    assert_eq!(code(&out), 1);
+    assert!(out.stdout.is_empty());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr).replace(b, "binary.eds"),
+        "error[EDS029]: not a text file: NUL byte at offset 7\n --> binary.eds\n \
+         = help: an EDS/DCF is ASCII text and an XDD/XDC is XML; is this the right file?\n\n"
+    );
+    let out = run(&["devices", e]);
+    assert_eq!(code(&out), 1);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr).replace(e, "empty.eds"),
+        "error[EDS022]: the file is empty\n --> empty.eds\n\n"
+    );
 }
 
 #[test]

@@ -133,3 +133,88 @@ fn bus_goes_on_and_stops_cleanly_when_its_output_is_closed() {
     interrupt(&bus);
     assert_eq!(bus.finish(WAIT).code, Some(0));
 }
+
+#[test]
+fn bus_serves_only_its_channel_and_refuses_another_as_socketcand_does() {
+    let bus = edsgen_bus(&["--listen", "127.0.0.1:0", "--channel", "vcan1"]);
+    let first = bus.stdout_line(|_| true, WAIT);
+    let addr = first
+        .strip_prefix("edsgen bus: socketcand hub listening on ")
+        .and_then(|rest| rest.strip_suffix(", channel vcan1; Ctrl-C stops it"))
+        .unwrap_or_else(|| panic!("unexpected first line {first:?}"));
+    let error = SocketcandClient::connect(addr, "can0", WAIT).err().unwrap();
+    assert_eq!(
+        error.to_string(),
+        format!("socketcand server {addr}: expected Ok after `< open can0 >`, got `< error could not open bus >`")
+    );
+    let mut a = SocketcandClient::connect(addr, "vcan1", WAIT).unwrap();
+    let mut b = SocketcandClient::connect(addr, "vcan1", WAIT).unwrap();
+    a.send(&CanFrame::new(0x701, &[0x05]).unwrap()).unwrap();
+    assert_eq!(b.recv_timeout(WAIT).unwrap(), CanFrame::new(0x701, &[0x05]));
+    interrupt(&bus);
+    assert_eq!(bus.finish(WAIT).code, Some(0));
+}
+
+#[test]
+fn bus_keeps_a_client_that_does_not_read_and_reports_the_frames_dropped_for_it() {
+    let bus = edsgen_bus(&["--listen", "127.0.0.1:0", "--queue-limit", "100"]);
+    let first = bus.stdout_line(|_| true, WAIT);
+    let addr = first
+        .strip_prefix("edsgen bus: socketcand hub listening on ")
+        .and_then(|rest| rest.strip_suffix(", channel can0; Ctrl-C stops it"))
+        .unwrap_or_else(|| panic!("unexpected first line {first:?}"))
+        .to_owned();
+    bus.stdout_line(|l| l.starts_with("  python-can: "), WAIT);
+    // A client that never reads, and a sender that floods the bus until the hub says so.
+    let _deaf = SocketcandClient::connect(addr.as_str(), "can0", WAIT).unwrap();
+    let mut sender = SocketcandClient::connect(addr.as_str(), "can0", WAIT).unwrap();
+    let noticed = std::sync::atomic::AtomicBool::new(false);
+    let (line, sent) = std::thread::scope(|scope| {
+        let flood = scope.spawn(|| {
+            let frame = CanFrame::new(0x181, &[1, 2, 3, 4]).unwrap();
+            let deadline = Instant::now() + Duration::from_secs(60);
+            let mut sent = 0u64;
+            while !noticed.load(std::sync::atomic::Ordering::SeqCst) {
+                assert!(Instant::now() < deadline, "no notice after {sent} frames");
+                for _ in 0..1000 {
+                    sender.send(&frame).unwrap();
+                }
+                sent += 1000;
+            }
+            sent
+        });
+        let line = bus.stderr_line(
+            |l| l.contains(" reads too slowly: "),
+            Duration::from_secs(60),
+        );
+        noticed.store(true, std::sync::atomic::Ordering::SeqCst);
+        (line, flood.join().unwrap())
+    });
+    assert!(
+        line.starts_with("edsgen bus: client 1 (127.0.0.1:")
+            && line.contains(") reads too slowly: dropped its 1 oldest frame(s) (1 in all)"),
+        "{line}"
+    );
+    // Once a new client gets the sender's next frame, the hub has relayed all before it.
+    let mut last = SocketcandClient::connect(addr.as_str(), "can0", WAIT).unwrap();
+    sender.send(&CanFrame::new(0x7FF, &[]).unwrap()).unwrap();
+    // (It may get the end of the flood first.)
+    let deadline = Instant::now() + WAIT;
+    while last.recv_timeout(WAIT).unwrap() != CanFrame::new(0x7FF, &[]) {
+        assert!(Instant::now() < deadline, "the last frame never came");
+    }
+    interrupt(&bus);
+    let exited = bus.finish(WAIT);
+    assert_eq!(exited.code, Some(0));
+    assert_eq!(
+        exited.stdout,
+        format!("edsgen bus: stopped after relaying {} frame(s)\n", sent + 1)
+    );
+    assert!(
+        exited
+            .stderr
+            .contains(" frame(s) were dropped for clients that read too slowly\n"),
+        "{}",
+        exited.stderr
+    );
+}

@@ -204,8 +204,8 @@ fn block_transfers_are_reassembled_counting_a_repeated_segment_once() {
     assert_eq!(
         lines,
         [
-            format!("1700000000.010000  581  SDO        node 1 write 2001:00 Program = {value} (block, 20 bytes)"),
-            format!("1700000000.019000  601  SDO        node 1 read 2001:00 Program = {value} (block, 20 bytes)"),
+            format!("1700000000.010000  581  SDO        node 1 write 2001:00 Program = {value} (block, 20 bytes, CRC ACCCh)"),
+            format!("1700000000.019000  601  SDO        node 1 read 2001:00 Program = {value} (block, 20 bytes, CRC ACCCh)"),
         ]
     );
 }
@@ -268,9 +268,9 @@ fn frames_it_cannot_attribute_are_printed_raw() {
     let mut lines = decode(
         &mut d,
         &[
-            (0x7E5, &[0x12, 0x34]),
+            (0x7F0, &[0x12, 0x34]),
             (0x585, &[0x00, 1, 2, 3, 4, 5, 6, 7]),
-            (0x605, &[0x40, 0x00, 0x10]),
+            (0x605, &[0xE0, 0x00, 0x10, 0x00]),
             (0x185, &[0xAA]),
             (0x605, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
             (0x605, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
@@ -282,9 +282,9 @@ fn frames_it_cannot_attribute_are_printed_raw() {
     assert_eq!(
         lines,
         [
-            "1700000000.000000  7E5  RAW        12 34",
+            "1700000000.000000  7F0  RAW        12 34",
             "1700000000.001000  585  SDO        node 5 00 01 02 03 04 05 06 07: an SDO response that fits no transfer seen",
-            "1700000000.002000  605  SDO        node 5 40 00 10: not an SDO request",
+            "1700000000.002000  605  SDO        node 5 E0 00 10 00: not an SDO request",
             "1700000000.003000  185  TPDO1      node 5 AA",
             "1700000000.005000  605  SDO        node 5 read 1018:01 (abandoned for a new request)",
             "1700000001.000000  01234567  RAW        01",
@@ -312,7 +312,7 @@ proptest::proptest! {
     fn any_frames_decode_without_panicking(
         frames in proptest::collection::vec(
             (
-                proptest::sample::select(vec![0x000u16, 0x080, 0x081, 0x181, 0x201, 0x581, 0x601, 0x701, 0x7E5]),
+                proptest::sample::select(vec![0x000u16, 0x080, 0x081, 0x181, 0x201, 0x581, 0x601, 0x701, 0x7E4, 0x7E5]),
                 proptest::collection::vec(proptest::num::u8::ANY, 0..=8),
             ),
             0..64,
@@ -453,4 +453,163 @@ fn an_image_shorter_than_its_pdos_or_without_an_esi_mapping_is_printed_as_bytes(
     .device;
     let images = edsgen::decode::image::ImageDecoder::new(&eds);
     assert_eq!(images.outputs(&[0x0F, 0x00]), "0F 00");
+}
+
+#[test]
+fn sdo_frames_shorter_than_8_bytes_are_read_with_the_bytes_sent() {
+    let mut d = described();
+    let lines = decode(
+        &mut d,
+        &[
+            // Expedited download of 2 bytes in a 6-byte frame, answered in 4 bytes.
+            (0x601, &[0x2B, 0x02, 0x20, 0x00, 0xE8, 0x03]),
+            (0x581, &[0x60, 0x02, 0x20, 0x00]),
+            // Expedited upload answered in 6 bytes without the size (e=1, s=0).
+            (0x601, &[0x40, 0x03, 0x20, 0x00]),
+            (0x581, &[0x42, 0x03, 0x20, 0x00, 0xFE, 0xFF]),
+            // Segmented upload whose segments carry fewer bytes than the frame could.
+            (0x601, &[0x40, 0x00, 0x20, 0x00]),
+            (0x581, &[0x41, 0x00, 0x20, 0x00, 0x05, 0x00, 0x00, 0x00]),
+            (0x601, &[0x60]),
+            (0x581, &[0x01, b'd', b'r', b'i', b'v', b'e']),
+            // Too short for its header.
+            (0x601, &[0x40, 0x00]),
+            (0x581, &[]),
+        ],
+    );
+    assert_eq!(
+        lines,
+        [
+            "1700000000.001000  581  SDO        node 1 write 2002:00 Target speed = 1000 (0x03E8)",
+            "1700000000.003000  581  SDO        node 1 read 2003:00 Actual speed = -2",
+            "1700000000.007000  581  SDO        node 1 read 2000:00 Device label = \"drive\" (segmented, 5 bytes)",
+            "1700000000.008000  601  SDO        node 1 40 00: an SDO initiate or abort shorter than its 4-byte header",
+            "1700000000.009000  581  SDO        node 1 (empty): an empty SDO frame",
+        ]
+    );
+}
+
+#[test]
+fn lss_requests_and_responses_are_decoded_by_name() {
+    let mut d = Decoder::new();
+    let lines = decode(
+        &mut d,
+        &[
+            (0x7E5, &[0x04, 0x01, 0, 0, 0, 0, 0, 0]),
+            (0x7E5, &[0x5A, 0, 0, 0, 0, 0, 0, 0]),
+            (0x7E4, &[0x5A, 0x23, 0x01, 0, 0, 0, 0, 0]),
+            (0x7E5, &[0x11, 0x05, 0, 0, 0, 0, 0, 0]),
+            (0x7E4, &[0x11, 0x00, 0, 0, 0, 0, 0, 0]),
+            (0x7E5, &[0x13, 0x00, 0x02, 0, 0, 0, 0, 0]),
+            (0x7E4, &[0x13, 0x01, 0, 0, 0, 0, 0, 0]),
+            (0x7E5, &[0x17, 0, 0, 0, 0, 0, 0, 0]),
+            (0x7E4, &[0x17, 0x02, 0, 0, 0, 0, 0, 0]),
+            (0x7E5, &[0x51, 0, 0, 0, 0, 0x80, 0, 0]),
+            (0x7E4, &[0x4F, 0, 0, 0, 0, 0, 0, 0]),
+        ],
+    );
+    let lss = |t: &str, id: &str, text: &str| format!("1700000000.{t}  {id}  LSS        {text}");
+    assert_eq!(
+        lines,
+        [
+            lss("000000", "7E5", "switch state global: configuration"),
+            lss("001000", "7E5", "inquire vendor-ID"),
+            lss("002000", "7E4", "vendor-ID = 0x00000123"),
+            lss("003000", "7E5", "configure node-ID 5"),
+            lss("004000", "7E4", "configure node-ID: success"),
+            lss(
+                "005000",
+                "7E5",
+                "configure bit timing: 500 kbit/s (table 0, index 2)"
+            ),
+            lss(
+                "006000",
+                "7E4",
+                "configure bit timing: error 1, bit timing not supported"
+            ),
+            lss("007000", "7E5", "store configuration"),
+            lss(
+                "008000",
+                "7E4",
+                "store configuration: error 2, storage media access error"
+            ),
+            lss(
+                "009000",
+                "7E5",
+                "fastscan: reset (are there non-configured slaves?)"
+            ),
+            lss("010000", "7E4", "identify slave: a slave matches"),
+        ]
+    );
+}
+
+/// A block download of `program` to 2001h (a DOMAIN) of node 1, in sub-blocks of 127
+/// segments, all acknowledged; its end message carries `crc`.
+fn block_download(program: &[u8], crc: u16) -> Vec<(u16, Vec<u8>)> {
+    let mut frames = vec![
+        (0x601, vec![0xC6, 0x01, 0x20, 0x00, 0, 0, 0, 0]),
+        (0x581, vec![0xA4, 0x01, 0x20, 0x00, 127, 0, 0, 0]),
+    ];
+    let chunks: Vec<&[u8]> = program.chunks(7).collect();
+    for (block, segments) in chunks.chunks(127).enumerate() {
+        for (i, chunk) in segments.iter().enumerate() {
+            let last = block * 127 + i + 1 == chunks.len();
+            let mut data = vec![(i as u8 + 1) | if last { 0x80 } else { 0 }];
+            data.extend_from_slice(chunk);
+            data.resize(8, 0);
+            frames.push((0x601, data));
+        }
+        frames.push((0x581, vec![0xA2, segments.len() as u8, 127, 0, 0, 0, 0, 0]));
+    }
+    let unused = (7 - program.len() % 7) % 7;
+    let [lo, hi] = crc.to_le_bytes();
+    frames.push((
+        0x601,
+        vec![0xC1 | (unused as u8) << 2, lo, hi, 0, 0, 0, 0, 0],
+    ));
+    frames.push((0x581, vec![0xA1, 0, 0, 0, 0, 0, 0, 0]));
+    frames
+}
+
+#[test]
+fn a_long_transfer_is_one_short_line_unless_the_full_value_is_asked_for() {
+    let program: Vec<u8> = (0..65_536u32).map(|i| (i % 251) as u8).collect();
+    let frames = block_download(&program, crc16(&program));
+    let frames: Vec<(u16, &[u8])> = frames.iter().map(|(id, d)| (*id, d.as_slice())).collect();
+    let lines = decode(&mut described(), &frames);
+    assert_eq!(lines.len(), 1);
+    let line = lines[0].split_once("  581  SDO        ").unwrap().1;
+    assert_eq!(
+        line,
+        format!(
+            "node 1 write 2001:00 Program = 00 01 02 03 04 05 06 07 08 09 0A 0B 0C 0D 0E 0F ... \
+             (block, 65536 bytes, CRC {:04X}h; --full shows all)",
+            crc16(&program)
+        )
+    );
+    let mut full = described();
+    full.show_full_values();
+    let lines = decode(&mut full, &frames);
+    let hex: Vec<String> = program.iter().map(|b| format!("{b:02X}")).collect();
+    assert!(
+        lines[0].ends_with(&format!(
+            "Program = {} (block, 65536 bytes, CRC {:04X}h)",
+            hex.join(" "),
+            crc16(&program)
+        )),
+        "{}",
+        &lines[0][..200]
+    );
+    // A CRC that does not match the data is said so.
+    let frames = block_download(&program[..100], 0x1234);
+    let frames: Vec<(u16, &[u8])> = frames.iter().map(|(id, d)| (*id, d.as_slice())).collect();
+    let lines = decode(&mut described(), &frames);
+    assert!(
+        lines[0].ends_with(&format!(
+            "(block, 100 bytes, CRC 1234h but the data's is {:04X}h; --full shows all)",
+            crc16(&program[..100])
+        )),
+        "{}",
+        lines[0]
+    );
 }

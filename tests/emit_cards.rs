@@ -181,7 +181,7 @@ fn goodrive350_od_serves_the_manual_sdo_values() {
     assert_eq!(dict.read(0x6000, 0, 0, &mut buf), Err(SdoAbort::NoObject));
     assert_eq!(SdoAbort::NoObject.code(), 0x0602_0000);
     // The typed address names the same entry.
-    let tpdo2_inhibit = od::TPDO2_COMMUNICATION_PARAMETER_INHIBIT_TIME;
+    let tpdo2_inhibit = od::tpdo2_communication_parameter::INHIBIT_TIME;
     assert_eq!((tpdo2_inhibit.index, tpdo2_inhibit.sub), (0x1801, 3));
 }
 

@@ -24,16 +24,16 @@ fn resets_restore_the_generated_defaults_of_their_area() {
         frame(0x603, &[0x2B, 0x17, 0x10, 0x00, 0x64, 0x00, 0x00, 0x00]),
         &mut [&mut node],
     );
-    node.od_mut().set(od::CONTROL_DATA_SETTING_1, 5).unwrap();
+    node.od_mut().set(od::control_data::SETTING_1, 5).unwrap();
     node.od_mut().set(od::COB_ID_EMCY, 0x8000_0083).unwrap();
     // Reset communication: 1000h-1FFFh back to their defaults, 2100h:03 kept.
     bus.inject(frame(0x000, &[0x82, 0x03]), &mut [&mut node]);
     assert_eq!(node.od().get(od::PRODUCER_HEARTBEAT_TIME), 0);
     assert_eq!(node.od().get(od::COB_ID_EMCY), 0x83);
-    assert_eq!(node.od().get(od::CONTROL_DATA_SETTING_1), 5);
+    assert_eq!(node.od().get(od::control_data::SETTING_1), 5);
     // Reset node: everything.
     bus.inject(frame(0x000, &[0x81, 0x03]), &mut [&mut node]);
-    assert_eq!(node.od().get(od::CONTROL_DATA_SETTING_1), 0);
+    assert_eq!(node.od().get(od::control_data::SETTING_1), 0);
     assert_eq!(node.od(), &Od::new(3));
 }
 

@@ -51,7 +51,7 @@ async fn transfers_to_three_nodes_run_side_by_side() {
                 assert_eq!(back, velocity);
             }
             master
-                .read(id, od::RPDO1_COMMUNICATION_PARAMETER_COB_ID_USED_BY_RPDO)
+                .read(id, od::rpdo1_communication_parameter::COB_ID_USED_BY_RPDO)
                 .await
         }
     };

@@ -43,7 +43,7 @@ fn reads_and_writes_are_typed_by_the_generated_addresses() {
         &mut bus,
         &mut client,
         &mut node,
-        od::IDENTITY_OBJECT_VENDOR_ID,
+        od::identity_object::VENDOR_ID,
     );
     assert_eq!(vendor, cp301::VENDOR_ID);
     assert_eq!(node.od().get(od::VL_TARGET_VELOCITY), -1500);

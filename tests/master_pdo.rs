@@ -117,7 +117,7 @@ fn a_tpdo_configured_from_the_generated_struct_decodes_into_it() {
     let mut od = cp301::Od::new(3);
     od.set(od::STATUSWORD, 0x0237).unwrap();
     od.set(od::VL_VELOCITY_DEMAND, -250).unwrap();
-    od.set(od::TPDO1_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS, 1)
+    od.set(od::tpdo1_mapping_parameter::NUMBER_OF_MAPPED_OBJECTS, 1)
         .unwrap();
     let node = Node::new(od, 3, clock.now()).unwrap();
     let handle = Driver::with_clock(bus.endpoint(), node, clock)

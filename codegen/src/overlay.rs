@@ -9,11 +9,11 @@
 //! 1F50sub1 = 4096  # 1F50h sub 1: keys are written as the EDS names sections
 //!
 //! [names]
-//! 201C = "F28"                 # 201Ch's sub-objects are F28_...
+//! 201C = "F28"                 # 201Ch's module is od::f28 (a VAR's constant F28)
 //! 2030sub1 = "FREQUENCY_COMMAND"
 //!
 //! [numbering]
-//! 2000-201F = 0    # sub-index 1 is element 0: 201Ch sub 86 is F28_85
+//! 2000-201F = 0    # sub-index 1 is element 0: 201Ch sub 86 is od::f28::F28_85
 //!
 //! [pdo_mapping]    # default mappings the description leaves empty (typed PDOs for them)
 //! 1600 = ["6040", "6042"]
@@ -196,8 +196,8 @@ fn set_capacity(
     entry.capacity = Some(capacity);
 }
 
-/// One `XXXX = "NAME"` or `XXXXsubY = "NAME"` line of `[names]`: the object's name (its entries'
-/// constants start with it), or one entry's whole constant name.
+/// One `XXXX = "NAME"` or `XXXXsubY = "NAME"` line of `[names]`: the object's name (a VAR's
+/// constant, an ARRAY's or RECORD's module), or one entry's constant name.
 fn set_name(
     key: &Spanned<std::borrow::Cow<'_, str>>,
     value: &Spanned<DeValue<'_>>,

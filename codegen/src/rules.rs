@@ -63,6 +63,7 @@ rules! {
     COMMENT_CONTINUATION = "EDS027" Warning "a line without `;` or `=` right after a comment line: read as the comment's continuation (a comment with a line break in it)";
     EMPTY_NUMBER = "EDS028" Warning "an empty [DeviceInfo] number or boolean, or [Comments] Lines (`VendorNumber=`): read as absent, as CiA 306 says, but python canopen cannot import the file";
     NOT_TEXT = "EDS029" Error "not a text file: a NUL byte in a file that is not UTF-16 (nothing is read, and none of its bytes are shown)";
+    BAD_SUB_INDEX = "EDS030" Error "a sub-index section whose sub-index cannot exist: above FFh (sub-index sections are hex: `[D000sub100]` is 0x100, often a sub-index counted in decimal) or not a hex number (the section is kept, not read); or a `[xxxxName]`/`[xxxxValue]`/`[xxxxDenotation]` key above 255 (not read)";
 
 
     // ---- EDS1xx: [FileInfo] and [DeviceInfo] (validator) ----

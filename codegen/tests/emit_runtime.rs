@@ -144,13 +144,13 @@ proptest! {
 fn new_resolves_nodeid_defaults() {
     let od = Od::new(3);
     assert_eq!(od.get(od::COB_ID_EMCY), 0x83);
-    assert_eq!(od.get(od::RPDO2_COMMUNICATION_PARAMETER_COB_ID), 0x303);
+    assert_eq!(od.get(od::rpdo2_communication_parameter::COB_ID), 0x303);
     assert_eq!(Od::new(0x7F).get(od::COB_ID_EMCY), 0xFF);
-    assert_eq!(od.get(od::IDENTITY_OBJECT_VENDOR_ID), 0x4D8);
+    assert_eq!(od.get(od::identity_object::VENDOR_ID), 0x4D8);
     let name = od.get(od::MANUFACTURER_DEVICE_NAME);
     assert_eq!(name.as_str(), Some("GD350"));
-    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), -5);
-    assert_eq!(od.get(od::SPARSE_RECORD_BIG), 0xFFFF_FFFF_FFFF);
+    assert_eq!(od.get(od::sparse_record::SIGNED_24), -5);
+    assert_eq!(od.get(od::sparse_record::BIG), 0xFFFF_FFFF_FFFF);
     assert!(od.get(od::FLAG));
     assert_eq!(od.get(od::GAIN), 1.5);
 }
@@ -168,7 +168,7 @@ fn typed_addresses_name_index_and_sub() {
     let cw: edsgen_runtime::Entry<u16, Od> = od::CONTROLWORD;
     assert_eq!((cw.index, cw.sub), (0x6040, 0));
     // Unbranded, as a master's typed SDO access takes it.
-    let s24: edsgen_runtime::Entry<i32> = od::SPARSE_RECORD_SIGNED_24.unbranded();
+    let s24: edsgen_runtime::Entry<i32> = od::sparse_record::SIGNED_24.unbranded();
     assert_eq!((s24.index, s24.sub), (0x2003, 1));
     assert_eq!(
         (od::STATUS_WORD_6041.index, od::STATUS_WORD_6041.sub),
@@ -176,8 +176,8 @@ fn typed_addresses_name_index_and_sub() {
     );
     assert_eq!(
         (
-            od::PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2.index,
-            od::PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2.sub
+            od::pre_defined_error_field::STANDARD_ERROR_FIELD_SUB2.index,
+            od::pre_defined_error_field::STANDARD_ERROR_FIELD_SUB2.sub
         ),
         (0x1003, 2)
     );
@@ -265,9 +265,9 @@ fn write_checks_length() {
     );
     assert_eq!(od.get(od::CONTROLWORD), 0);
     assert_eq!(od.write(0x2003, 1, &[0x00, 0x00, 0x80]), Ok(()));
-    assert_eq!(od.get(od::SPARSE_RECORD_SIGNED_24), -(1 << 23));
+    assert_eq!(od.get(od::sparse_record::SIGNED_24), -(1 << 23));
     assert_eq!(od.write(0x2003, 5, &[1, 2, 3, 4, 5, 6, 7, 8]), Ok(()));
-    assert_eq!(od.get(od::SPARSE_RECORD_BIG), 0x0807_0605_0403_0201);
+    assert_eq!(od.get(od::sparse_record::BIG), 0x0807_0605_0403_0201);
 }
 
 #[test]
@@ -304,14 +304,14 @@ fn write_strings_booleans_and_reals() {
     assert_eq!(od.write(0x2005, 0, &2.25f32.to_le_bytes()), Ok(()));
     assert_eq!(od.get(od::GAIN), 2.25);
     assert_eq!(od.write(0x2100, 3, &5000u16.to_le_bytes()), Ok(()));
-    assert_eq!(od.get(od::SETTINGS_SETTING_3), 5000);
+    assert_eq!(od.get(od::settings::SETTING_3), 5000);
     assert_eq!(od.write(0x2100, 5, &[0, 0]), Err(SdoAbort::NoSubIndex));
 }
 
 #[test]
 fn typed_address_of_a_narrow_entry_encodes_its_wire_width() {
     let mut dict = Od::new(3);
-    let entry = od::SPARSE_RECORD_SIGNED_24;
+    let entry = od::sparse_record::SIGNED_24;
     assert_eq!(entry.wire_width(), Some(3));
     let mut buf = [0u8; 8];
     let n = entry.encode(&-300, &mut buf).unwrap();
@@ -375,13 +375,13 @@ fn typed_get_and_set_check_like_an_sdo_write() {
     assert_eq!(dict.set(od::SETTING_LIMITED, 4321), Ok(()));
     assert_eq!(read_all(&dict, 0x2102, 0), 4321u16.to_le_bytes().to_vec());
     // 1018h sub 1 is read-only for an SDO client, not for the application.
-    assert_eq!(dict.set(od::IDENTITY_OBJECT_VENDOR_ID, 0x1234), Ok(()));
+    assert_eq!(dict.set(od::identity_object::VENDOR_ID, 0x1234), Ok(()));
     assert_eq!(read_all(&dict, 0x1018, 1), vec![0x34, 0x12, 0, 0]);
     assert_eq!(
-        dict.set(od::SPARSE_RECORD_SIGNED_24, 1 << 23),
+        dict.set(od::sparse_record::SIGNED_24, 1 << 23),
         Err(SdoAbort::InvalidValue)
     );
-    assert_eq!(dict.set(od::SPARSE_RECORD_SIGNED_24, -(1 << 23)), Ok(()));
+    assert_eq!(dict.set(od::sparse_record::SIGNED_24, -(1 << 23)), Ok(()));
     assert_eq!(read_all(&dict, 0x2003, 1), vec![0x00, 0x00, 0x80]);
     let version = edsgen_runtime::FixedBytes::from_slice(b"3.1");
     assert_eq!(dict.set(od::MANUFACTURER_HARDWARE_VERSION, version), Ok(()));
@@ -401,9 +401,9 @@ fn typed_addresses_record_their_positions() {
     let positions = [
         (od::CONTROLWORD.position(), 0x6040, 0),
         (od::STATUS_WORD_6041.position(), 0x6041, 0),
-        (od::IDENTITY_OBJECT_VENDOR_ID.position(), 0x1018, 1),
-        (od::SPARSE_RECORD_SIGNED_24.position(), 0x2003, 1),
-        (od::SETTINGS_SETTING_3.position(), 0x2100, 3),
+        (od::identity_object::VENDOR_ID.position(), 0x1018, 1),
+        (od::sparse_record::SIGNED_24.position(), 0x2003, 1),
+        (od::settings::SETTING_3.position(), 0x2100, 3),
         (od::MANUFACTURER_DEVICE_NAME.position(), 0x1008, 0),
     ];
     for (recorded, index, sub) in positions {

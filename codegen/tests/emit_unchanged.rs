@@ -90,3 +90,54 @@ fn generated_code_of_every_card_and_corpus_file_is_unchanged() {
     );
     insta::assert_snapshot!(digests);
 }
+
+/// Every identifier of `tokens`, nested groups included.
+fn identifiers(tokens: proc_macro2::TokenStream, out: &mut Vec<String>) {
+    for token in tokens {
+        match token {
+            proc_macro2::TokenTree::Ident(ident) => out.push(ident.to_string()),
+            proc_macro2::TokenTree::Group(group) => identifiers(group.stream(), out),
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn no_identifier_of_the_cards_is_longer_than_64_characters() {
+    // The five CANopen cards and the EtherCAT card: an ARRAY's or RECORD's members live in a
+    // module of their own, so no name repeats its object's.
+    let cards = [
+        "eds/cp301.eds",
+        "eds/goodrive350.eds",
+        "eds/hd1e.eds",
+        "eds/ms300.eds",
+        "eds/rd11.eds",
+        "eds/ec-tx508.xml",
+    ];
+    let mut longest = (String::new(), "");
+    for card in cards {
+        let code = generated(&repo_root().join(card)).expect("the card generates");
+        let tokens: proc_macro2::TokenStream = code.parse().expect("the code tokenizes");
+        let mut names = Vec::new();
+        identifiers(tokens, &mut names);
+        for name in names {
+            if name.len() > longest.0.len() {
+                longest = (name, card);
+            }
+        }
+    }
+    println!(
+        "longest identifier: {} ({} characters, {})",
+        longest.0,
+        longest.0.len(),
+        longest.1
+    );
+    assert!(longest.0.len() <= 64, "{longest:?}");
+    assert_eq!(
+        longest,
+        (
+            "ACCELERATION_AND_DECELERATION_REFERENCE_FREQUENCY_01_09_P_20".to_owned(),
+            "eds/cp301.eds"
+        )
+    );
+}

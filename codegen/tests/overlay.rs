@@ -1,10 +1,13 @@
 //! The overlay beside a description (`NAME.toml`): capacities applied to the model, and every
 //! refusal (EDS708) with its exact line and message in the TOML text.
 
+mod emit_support;
+
 use std::path::Path;
 
 use edsgen_codegen::diag::Severity;
 use edsgen_codegen::{emit, overlay, read};
+use emit_support::addresses;
 
 /// 2000h a writable VISIBLE_STRING, 2001h an UNSIGNED16, 2100h an ARRAY of two OCTET_STRINGs.
 const EDS: &str = "\
@@ -86,8 +89,8 @@ fn capacities_are_set_on_the_named_entries() {
         .split_whitespace()
         .collect::<String>()
         .replace(",)", ")");
-    assert!(squeezed.contains("Entry<FixedBytes<1000>,super::Od>=Entry::new(0x2100,0x01)"));
-    assert!(squeezed.contains("Entry<FixedBytes<32>,super::Od>=Entry::new(0x2100,0x02)"));
+    assert!(squeezed.contains("Entry<FixedBytes<1000>,super::super::Od>=Entry::new(0x2100,0x01)"));
+    assert!(squeezed.contains("Entry<FixedBytes<32>,super::super::Od>=Entry::new(0x2100,0x02)"));
 }
 
 #[test]
@@ -274,13 +277,20 @@ fn names_and_numbering_rename_entries_and_errors_point_at_their_line() {
     );
     assert_eq!(diags, vec![]);
     let code = emit::generate(&device, "t").unwrap();
-    let names: Vec<&str> = code
-        .lines()
-        .filter_map(|l| l.trim().strip_prefix("pub const "))
-        .filter_map(|l| l.split(':').next())
-        .filter(|n| n.starts_with("TAGS") || n.starts_with("DEVICE_LABEL"))
+    let names: Vec<String> = addresses(&code)
+        .into_iter()
+        .filter(|n| n.starts_with("tags") || n.starts_with("DEVICE_LABEL"))
         .collect();
-    assert_eq!(names, ["DEVICE_LABEL", "TAGS_COUNT", "TAGS_0", "TAGS_1"]);
+    // The object's name names its module, and its numbered elements.
+    assert_eq!(
+        names,
+        [
+            "DEVICE_LABEL",
+            "tags::COUNT",
+            "tags::TAGS_0",
+            "tags::TAGS_1"
+        ]
+    );
 
     let text = "[names]\n2999 = \"X\"\n2000 = 5\n[numbering]\n2000 = 0\n\"20-10\" = 1\n";
     let lines: Vec<(u32, String)> = overlay::apply(text, &mut device)

@@ -1169,3 +1169,102 @@ ParameterValue=0
         Some(Value::Bytes(vec![]))
     );
 }
+
+/// A record 2000h with sub-index sections `subs` (each with a ParameterName and a value).
+fn record_with_subs(subs: &[&str]) -> String {
+    let mut text = String::from(
+        "[2000]\nParameterName=Cells\nObjectType=0x9\nSubNumber=3\n\n[2000sub0]\nParameterName=Count\n\
+         ObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=2\n",
+    );
+    for sub in subs {
+        text.push_str(&format!(
+            "\n[2000sub{sub}]\nParameterName=Cell {sub}\nObjectType=0x7\nDataType=0x0006\n\
+             AccessType=ro\nDefaultValue=0\n"
+        ));
+    }
+    text
+}
+
+#[test]
+fn eds030_a_sub_index_above_ff_is_an_error_at_its_header() {
+    // A vendor counting sub-indices in decimal: sub99 is read as 0x99, sub100 cannot exist.
+    let read = read_eds(&record_with_subs(&["99", "100", "1G"]));
+    assert_eq!(
+        diags(&read),
+        vec![
+            ("EDS030", Severity::Error, 20),
+            ("EDS030", Severity::Error, 27)
+        ]
+    );
+    let first = &read.diagnostics[0];
+    assert_eq!(
+        first.message,
+        "section [2000sub100] names sub-index 0x100 of 2000h: beyond 0xFF; the section is kept \
+         but not read"
+    );
+    assert_eq!(
+        first.help.as_deref(),
+        Some(
+            "sub-index sections are hex: `sub100` is 0x100 = 256, beyond 0xFF; if the file counts \
+             in decimal, write `sub64` (and its other sub-index sections in hex too: `sub10` is \
+             0x10 = 16)"
+        )
+    );
+    assert_eq!(
+        read.diagnostics[1].message,
+        "section [2000sub1G] names sub-index `1G` of 2000h: not a hex number; the section is kept \
+         but not read"
+    );
+    // Nothing dropped quietly: both sections are kept, the record has sub 0 and 0x99.
+    let kept: Vec<_> = read
+        .device
+        .other_sections
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(kept, vec!["2000sub100", "2000sub1G"]);
+    let subs: Vec<u8> = read.device.objects[&0x2000].subs.keys().copied().collect();
+    assert_eq!(subs, vec![0, 0x99]);
+    // A hex sub-index above FF that is no decimal number either: the help says only hex.
+    let read = read_eds(&record_with_subs(&["1A0"]));
+    assert_eq!(
+        read.diagnostics[0].help.as_deref(),
+        Some("sub-index sections are hex, 0..FF: `sub1A0` is 0x1A0 = 416")
+    );
+}
+
+#[test]
+fn a_leading_zero_with_digit_9_is_explained_as_octal() {
+    // [2000] ObjectType=09: CiA 306 reads a leading 0 as octal.
+    let text = record_with_subs(&["1"]).replace("ObjectType=0x9", "ObjectType=09");
+    let read = read_eds(&text);
+    assert_eq!(diags(&read), vec![("EDS011", Severity::Error, 3)]);
+    assert_eq!(
+        read.diagnostics[0].message,
+        "ObjectType `09` has a leading 0, which CiA 306 reads as octal, and 9 is not an octal \
+         digit; read as RECORD (0x9)"
+    );
+    assert_eq!(read.diagnostics[0].help.as_deref(), Some("write `9`"));
+    // A value of an integer entry: read as decimal, with a warning that says why.
+    let text = record_with_subs(&["1"]).replace("DefaultValue=2", "DefaultValue=018");
+    let read = read_eds(&text);
+    assert_eq!(diags(&read), vec![("EDS017", Severity::Warning, 11)]);
+    assert_eq!(
+        read.diagnostics[0].message,
+        "`018` has a leading 0, which CiA 306 reads as octal, and 8 is not an octal digit; read \
+         as decimal 18"
+    );
+    assert_eq!(read.diagnostics[0].help.as_deref(), Some("write `18`"));
+}
+
+#[test]
+fn eds030_a_name_key_above_255_is_an_error_at_its_key() {
+    let text = SMALL.replace("2=Middle value\n", "2=Middle value\n300=Far value\n");
+    let read = read_eds(&text);
+    let line = text.lines().position(|l| l == "300=Far value").unwrap() as u32 + 1;
+    assert_eq!(diags(&read), vec![("EDS030", Severity::Error, line)]);
+    assert_eq!(
+        read.diagnostics[0].message,
+        "[2000Name] names sub-index 300 of 2000h, beyond 255; the key is not read"
+    );
+}

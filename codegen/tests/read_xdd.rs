@@ -983,3 +983,44 @@ fn variable_ref_parameter_is_eds609_and_keeps_the_object_type() {
         Some(0x0006)
     );
 }
+
+#[test]
+fn no_access_leaves_the_access_unknown_and_no_diagnostic_quotes_one() {
+    // 6009h sub 1 is `noAccess`, and 1600h sub 1 maps it into an RPDO: the access the file does
+    // not state is not read as `ro`, so no later diagnostic says "(ro)".
+    let parameters = r#"<parameter uniqueID="P1" access="noAccess"><INT/></parameter>"#;
+    let objects = r#"<CANopenObject index="1600" name="RPDO1 mapping" objectType="9" subNumber="2">
+<CANopenSubObject subIndex="00" name="Count" objectType="7" dataType="0005" accessType="rw" defaultValue="1"/>
+<CANopenSubObject subIndex="01" name="Entry 1" objectType="7" dataType="0007" accessType="rw" defaultValue="0x60090110"/>
+</CANopenObject>
+<CANopenObject index="6009" name="Inputs" objectType="8" subNumber="2">
+<CANopenSubObject subIndex="00" name="Count" objectType="7" dataType="0005" accessType="ro" defaultValue="1"/>
+<CANopenSubObject subIndex="01" name="Input 1" objectType="7" dataType="0003" accessType="ro" PDOmapping="optional" uniqueIDRef="P1"/>
+</CANopenObject>"#;
+    let read = read_xml("t.xdd", &container("", parameters, objects));
+    let found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .map(|d| (d.rule.code, d.span.map(|s| s.line), d.message.as_str()))
+        .collect();
+    assert_eq!(
+        found,
+        vec![(
+            "EDS604",
+            Some(7),
+            "parameter access `noAccess` has no CANopen access type; the entry's access is unknown"
+        )]
+    );
+    assert_eq!(read.device.objects[&0x6009].subs[&1].access, None);
+    let validated = edsgen_codegen::validate::validate(&read.device);
+    for d in &validated {
+        assert!(
+            !d.message.contains("(ro)") && !d.message.contains("into an RPDO"),
+            "{d:?}"
+        );
+    }
+    assert!(
+        validated.iter().any(|d| d.rule.code == "EDS303"),
+        "{validated:#?}"
+    );
+}

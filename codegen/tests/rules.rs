@@ -374,6 +374,22 @@ fn eds104_file_version_not_u8() {
 }
 
 #[test]
+fn eds104_file_revision_with_a_leading_zero_is_explained_as_octal() {
+    let t = edit(&eds(&[], &[], ""), "FileRevision=0", "FileRevision=09");
+    assert_eq!(
+        diags(&t),
+        vec![d("EDS104", Warning, line_of(&t, "FileRevision=09"))]
+    );
+    let read = read::read_bytes(Path::new("t.eds"), t.as_bytes());
+    let found = validate::validate(&read.device);
+    assert_eq!(
+        found[0].message,
+        "FileRevision `09` has a leading 0, which CiA 306 reads as octal, and 9 is not an octal digit"
+    );
+    assert_eq!(found[0].help.as_deref(), Some("write `9`"));
+}
+
+#[test]
 fn eds105_device_info_missing() {
     let t = eds(&[], &[], "");
     let start = t.find("[DeviceInfo]").unwrap();

@@ -1,5 +1,6 @@
-//! Fuzz the `candump -L` trace reader and the bus decoder as `edsgen decode` runs them: any text,
-//! read line by line by `TraceReader`, every record decoded, then the unfinished transfers.
+//! Fuzz the runtime's `candump -L` trace reader and the bus decoder: any text, read line by line
+//! by `TraceReader`, every record decoded, then the unfinished transfers (`decode_log` fuzzes
+//! the reader of every log format that `edsgen decode` uses).
 //!
 //! The input's length picks the decoder, so that no byte of the text is spent on it: odd lengths
 //! decode with node 5 described by `eds/cp301.eds` (names, types, PDO mappings followed through
@@ -8,7 +9,7 @@
 //! Properties: nothing panics; every line that reads re-formats (`format_line`) to a line that
 //! reads back to the same record (a round trip), and `parse_line` agrees with the reader; every
 //! decoded line starts with the record's time as candump prints it. Reading stops at the first
-//! line that is not UTF-8, as `edsgen decode` does.
+//! line that is not UTF-8.
 #![no_main]
 
 use std::sync::OnceLock;

@@ -12,7 +12,7 @@
 //! use edsgen_sim::cards::cp301::{od, pdo, Od};
 //!
 //! let mut dict = Od::new(3); // $NODEID defaults resolve here, at run time
-//! assert_eq!(dict.get(od::RPDO1_COMMUNICATION_PARAMETER_COB_ID_USED_BY_RPDO), 0x203);
+//! assert_eq!(dict.get(od::rpdo1_communication_parameter::COB_ID_USED_BY_RPDO), 0x203);
 //! assert_eq!(dict.set(od::CONTROLWORD, 0x000F), Ok(())); // typed, checked like an SDO write
 //! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.encode();
 //! assert_eq!(frame, [0x0F, 0x00, 0xDC, 0x05]);

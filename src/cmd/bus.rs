@@ -1,6 +1,7 @@
 //! `edsgen bus`: a socketcand hub on TCP that python-can, `edsgen simulate` and the runtime's
 //! socketcand client join as one CAN bus, until Ctrl-C; optionally logging every frame in the
-//! `candump -L` format.
+//! `candump -L` format. Frames dropped for a client that reads too slowly are reported on
+//! standard error.
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -16,6 +17,15 @@ pub struct BusArgs {
     /// The address to listen on (port 0 picks a free one).
     #[arg(long, default_value = "127.0.0.1:29536")]
     listen: String,
+    /// The channel the hub serves (`< open CHANNEL >`); clients asking for another are refused.
+    #[arg(long, default_value = "can0")]
+    channel: String,
+    /// How many frames may wait for one client; when a client reads too slowly, its oldest
+    /// waiting frames are dropped (counted, reported on standard error and signalled to it as an error
+    /// frame), it is never disconnected.
+    #[arg(long, value_name = "FRAMES", default_value_t = 65_536,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    queue_limit: u32,
     /// Write every relayed frame to this file as `candump -L` lines.
     #[arg(long)]
     log: Option<PathBuf>,
@@ -48,6 +58,12 @@ fn serve(args: &BusArgs) -> Result<(), String> {
     .map_err(|e| format!("cannot catch Ctrl-C: {e}"))?;
     let options = HubOptions {
         log,
+        channel: args.channel.clone(),
+        queue_limit: args.queue_limit as usize,
+        // A closed standard error must not stop the hub either.
+        notices: Some(Box::new(|text| {
+            let _ = writeln!(io::stderr(), "edsgen bus: {text}");
+        })),
         ..HubOptions::default()
     };
     let hub = Hub::start(args.listen.as_str(), options).map_err(|e| {
@@ -62,20 +78,29 @@ fn serve(args: &BusArgs) -> Result<(), String> {
     let mut out = io::stdout();
     let _ = writeln!(
         out,
-        "edsgen bus: socketcand hub listening on {addr}, channel can0; Ctrl-C stops it"
+        "edsgen bus: socketcand hub listening on {addr}, channel {}; Ctrl-C stops it",
+        args.channel
     );
     let _ = writeln!(
         out,
-        "  python-can: can.Bus(interface=\"socketcand\", host=\"{}\", port={}, channel=\"can0\")",
+        "  python-can: can.Bus(interface=\"socketcand\", host=\"{}\", port={}, channel=\"{}\")",
         addr.ip(),
-        addr.port()
+        addr.port(),
+        args.channel
     );
     let _ = out.flush();
     let _ = stopped.recv();
     let relayed = hub.frames_relayed();
+    let dropped = hub.frames_dropped();
     let log_error = hub.log_error();
     hub.stop();
     let _ = writeln!(out, "edsgen bus: stopped after relaying {relayed} frame(s)");
+    if dropped > 0 {
+        let _ = writeln!(
+            io::stderr(),
+            "edsgen bus: {dropped} frame(s) were dropped for clients that read too slowly"
+        );
+    }
     match log_error {
         Some(e) => Err(format!("the log stopped early: {e}")),
         None => Ok(()),

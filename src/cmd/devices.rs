@@ -11,13 +11,20 @@ use super::{fail, print_stdout};
 
 /// Runs `edsgen devices FILE`: one tab-separated line per device (type name, product code,
 /// revision, profiles, bits the default assignment maps to outputs and inputs, name). Exit 1 for
-/// a file without devices (or not readable as XML), 2 for a file that is not ESI.
+/// a file without devices (or not readable as XML) and, as `edsgen validate` says, for a file that
+/// is empty or not text (EDS022, EDS029); 2 for another file that is not ESI.
 pub fn run(path: &Path) -> ExitCode {
     let bytes = match std::fs::read(path) {
         Ok(bytes) => bytes,
         Err(err) => return fail(format!("{}: {err}", path.display())),
     };
     if read::detect_format(path, &bytes) != Format::Esi {
+        // One answer for one file: what `validate` and `dump` report for it, when nothing of it
+        // can be read at all.
+        let read = read::read_bytes(path, &bytes);
+        if read.nothing_read() {
+            return rendered(path, &read);
+        }
         return fail(format!(
             "{}: not an ESI file; a CANopen description has one device",
             path.display()
@@ -25,17 +32,21 @@ pub fn run(path: &Path) -> ExitCode {
     }
     let all = esi::read_all(path, &bytes);
     if all.is_empty() {
-        let read = read::read_bytes(path, &bytes);
-        let name = path.display().to_string();
-        eprint!(
-            "{}",
-            render::human(&name, &read.text, &read.diagnostics, false)
-        );
-        return ExitCode::from(1);
+        return rendered(path, &read::read_bytes(path, &bytes));
     }
     let lines: String = all.iter().map(|(device, _)| line(device) + "\n").collect();
     print_stdout(&lines);
     ExitCode::SUCCESS
+}
+
+/// Prints why nothing of `path` could be read, as `edsgen validate` does; exit 1.
+fn rendered(path: &Path, read: &read::Read) -> ExitCode {
+    let name = path.display().to_string();
+    eprint!(
+        "{}",
+        render::human(&name, &read.text, &read.diagnostics, false)
+    );
+    ExitCode::from(1)
 }
 
 /// `TD-1 #x00009252 #x00000001 profile 402 out 56 bits in 16 bits Test drive`, tab-separated.

@@ -16,7 +16,7 @@
 //! 1764000000.002000  589  SDO        node 9 write 1017:00 Producer heartbeat time = 50
 //! 1764000000.003100  589  SDO        node 9 read 1000:00 Device type = 131474 (0x00020192)
 //! 1764000000.006300  589  SDO        node 9 write 2000:00 Device label = "edsgen simulate 2026" (segmented, 20 bytes)
-//! 1764000000.012900  609  SDO        node 9 read 2000:00 Device label = "6202 etalumis negsde" (block, 20 bytes)
+//! 1764000000.012900  609  SDO        node 9 read 2000:00 Device label = "6202 etalumis negsde" (block, 20 bytes, CRC 6CDEh)
 //! 1764000000.013600  589  SDO        node 9 read 5FFF:00 (not in the description): abort 0602 0000 object does not exist in the object dictionary
 //! 1764000000.021000  589  SDO        node 9 write 1A00:01 TPDO1 mapping parameter: Mapped object 1 = 537067536 (0x20030010)
 //! 1764000000.030000  000  NMT        start node 9
@@ -25,10 +25,18 @@
 //! 1764000000.081000  209  RPDO1      node 9 Target speed = 102
 //! 1764000000.090000  209  RPDO1      node 9 (empty) (the mapping needs 16 bits, the PDO has 0)
 //! 1764000000.090300  089  EMCY       node 9 8210 PDO not processed due to length error; register 10h (communication); manufacturer 00 00 00 00 00
-//! 1764000000.100000  7E5  RAW        12 34
+//! 1764000000.100000  7E5  LSS        switch state global: configuration
+//! 1764000000.100400  7E5  LSS        inquire vendor-ID
+//! 1764000000.100900  7E4  LSS        vendor-ID = 0x00000123
 //! ```
+//!
+//! A value of more than 64 bytes is summarised: its first 16 bytes (or 64 characters), its
+//! size and, for a block transfer, the CRC its end message gave (checked against the data);
+//! [`Decoder::show_full_values`] (`edsgen decode --full`) prints it whole.
 
 pub mod image;
+pub mod log;
+pub mod lss;
 pub mod sdo;
 pub mod text;
 
@@ -60,12 +68,24 @@ pub struct Decoder {
     sdo: BTreeMap<(u8, u8), Channel>,
     /// Nodes sent a node-guarding request whose answer has not come yet.
     guarded: BTreeSet<u8>,
+    /// Print long SDO values whole rather than summarised.
+    full: bool,
 }
+
+/// SDO values longer than this many bytes are summarised (unless [`Decoder::show_full_values`]).
+pub const SUMMARY_AFTER: usize = 64;
 
 impl Decoder {
     /// A decoder that knows no device: every message is decoded, without names or types.
     pub fn new() -> Self {
         Decoder::default()
+    }
+
+    /// Prints long SDO values whole: by default a value of more than [`SUMMARY_AFTER`] bytes
+    /// shows its first bytes (or characters) only, beside its size and the CRC of a block
+    /// transfer.
+    pub fn show_full_values(&mut self) {
+        self.full = true;
     }
 
     /// Describes node `node_id` by `device` (its values as the device starts: a DCF's
@@ -98,6 +118,8 @@ impl Decoder {
             self.sdo(node, channel, client, frame.data())
         } else if let Some(text) = self.pdo(id, frame.data()) {
             Some(text)
+        } else if matches!(id, 0x7E4 | 0x7E5) {
+            Some(("LSS", lss::describe(id == 0x7E5, frame.data())))
         } else {
             match (id & !0x7F, node) {
                 (0x000, 0) => Some(self.nmt(frame.data())),
@@ -125,7 +147,7 @@ impl Decoder {
         for (&(node, number), channel) in &mut self.sdo {
             if let Some(transfer) = channel.unfinished() {
                 let described = self.described.get(&node);
-                let text = describe_transfer(described, node, number, &transfer, false);
+                let text = describe_transfer(described, node, number, &transfer, false, self.full);
                 lines.push(line(at, "---", "SDO", &format!("{text} (unfinished)")));
             }
         }
@@ -232,7 +254,7 @@ impl Decoder {
             Outcome::Pending => None,
             Outcome::Abandoned(old) => {
                 let described = self.described.get(&node);
-                let text = describe_transfer(described, node, number, &old, false);
+                let text = describe_transfer(described, node, number, &old, false, self.full);
                 Some(("SDO", format!("{text} (abandoned for a new request)")))
             }
             Outcome::Unattributed(why) => Some((
@@ -241,7 +263,14 @@ impl Decoder {
             )),
             Outcome::Done(transfer) => {
                 let described = self.described.get_mut(&node);
-                let text = describe_transfer(described.as_deref(), node, number, &transfer, true);
+                let text = describe_transfer(
+                    described.as_deref(),
+                    node,
+                    number,
+                    &transfer,
+                    true,
+                    self.full,
+                );
                 if let Some(described) = described {
                     if transfer.write && transfer.abort.is_none() {
                         // What the device accepted; the mirror checks only lengths and limits.
@@ -415,13 +444,15 @@ fn emergency(node: u8, data: &[u8]) -> (&'static str, String) {
 }
 
 /// The text of an SDO transfer; the value is shown when it is complete (a transfer that
-/// `finished` without an abort, or an aborted expedited write, whose value was all sent).
+/// `finished` without an abort, or an aborted expedited write, whose value was all sent),
+/// summarised when long unless `full`.
 fn describe_transfer(
     described: Option<&Described>,
     node: u8,
     number: u8,
     t: &Transfer,
     finished: bool,
+    full: bool,
 ) -> String {
     let (index, sub) = (t.mux.index, t.mux.sub);
     let name = described.map_or(String::new(), |d| format!(" {}", d.name(index, sub)));
@@ -439,11 +470,31 @@ fn describe_transfer(
         let data_type = described
             .and_then(|d| d.mirror.find(index, sub).ok())
             .map(|e| e.data_type);
-        text.push_str(&format!(" = {}", text::value(data_type, &t.data)));
+        let summarised = !full && t.data.len() > SUMMARY_AFTER;
+        let value = if summarised {
+            text::summary(data_type, &t.data)
+        } else {
+            text::value(data_type, &t.data)
+        };
+        text.push_str(&format!(" = {value}"));
+        let crc = match t.crc {
+            Some(crc) if crc != 0 => {
+                let actual = edsgen_runtime::sdo::crc::crc16(&t.data);
+                if actual == crc {
+                    format!(", CRC {crc:04X}h")
+                } else {
+                    format!(", CRC {crc:04X}h but the data's is {actual:04X}h")
+                }
+            }
+            _ => String::new(),
+        };
+        let more = if summarised { "; --full shows all" } else { "" };
         match t.kind {
             Kind::Expedited => {}
-            Kind::Segmented => text.push_str(&format!(" (segmented, {} bytes)", t.data.len())),
-            Kind::Block => text.push_str(&format!(" (block, {} bytes)", t.data.len())),
+            Kind::Segmented => {
+                text.push_str(&format!(" (segmented, {} bytes{more})", t.data.len()))
+            }
+            Kind::Block => text.push_str(&format!(" (block, {} bytes{crc}{more})", t.data.len())),
         }
     }
     if let Some((code, by_server)) = t.abort {

@@ -1,7 +1,9 @@
 //! SDO transfers followed frame by frame from both sides, so that an expedited, segmented or
 //! block transfer becomes one [`Transfer`] with its whole value (block segments committed as
 //! the receiver acknowledges them, a sub-block repeated after a partial acknowledgement counted
-//! once). The frame layouts are the runtime's `wire::sdo`.
+//! once). The frame layouts are the runtime's `wire::sdo`. Frames shorter than 8 bytes, which
+//! devices send although CiA 301 asks for 8, are read padded with zeros, their values cut to the
+//! bytes sent.
 
 use edsgen_runtime::wire::sdo::{
     BlockSegment, ClientRequest, InitiatePayload, Multiplexer, ServerResponse, SEGMENT_DATA_LEN,
@@ -31,6 +33,9 @@ pub struct Transfer {
     pub kind: Kind,
     /// The abort code and whether the server (rather than the client) sent it.
     pub abort: Option<(u32, bool)>,
+    /// The CRC a block transfer's end message gave (None when not a block transfer, or 0 there:
+    /// CRC not in use).
+    pub crc: Option<u16>,
 }
 
 /// What one SDO frame meant.
@@ -69,6 +74,7 @@ struct Active {
     /// A segmented download's last segment was sent; the server's answer ends it.
     last_sent: bool,
     blocks: Blocks,
+    crc: Option<u16>,
 }
 
 /// One SDO channel (a client and a server COB-ID pair) between frames.
@@ -79,7 +85,12 @@ pub struct Channel {
 
 impl Channel {
     /// A frame the client sent (COB-ID 600h + node-ID).
-    pub fn client(&mut self, data: &[u8]) -> Outcome {
+    pub fn client(&mut self, sent: &[u8]) -> Outcome {
+        let data = match padded(sent, true) {
+            Ok(data) => data,
+            Err(why) => return Outcome::Unattributed(why),
+        };
+        let data = &data[..];
         if let Some(active) = self.active.as_mut() {
             if active.write && active.kind == Kind::Block && active.blocks.flowing {
                 return segment(&mut active.blocks, data);
@@ -90,14 +101,9 @@ impl Channel {
         };
         match request {
             ClientRequest::InitiateDownload { mux, payload } => {
-                let (data, kind) = match payload {
-                    InitiatePayload::Expedited { data, len } => {
-                        (data[..usize::from(len)].to_vec(), Kind::Expedited)
-                    }
-                    InitiatePayload::ExpeditedUnsized { data } => (data.to_vec(), Kind::Expedited),
-                    InitiatePayload::Sized(_) | InitiatePayload::Unsized => {
-                        (Vec::new(), Kind::Segmented)
-                    }
+                let (data, kind) = match expedited(payload, sent.len()) {
+                    Some(data) => (data, Kind::Expedited),
+                    None => (Vec::new(), Kind::Segmented),
                 };
                 self.start(true, mux, data, kind)
             }
@@ -113,7 +119,8 @@ impl Channel {
             ClientRequest::Abort { mux, code } => self.abort(mux, code, false),
             ClientRequest::DownloadSegment { data, last, .. } => match self.active.as_mut() {
                 Some(a) if a.write && a.kind == Kind::Segmented => {
-                    a.data.extend_from_slice(data.as_slice());
+                    a.data
+                        .extend_from_slice(segment_data(data.as_slice(), sent.len()));
                     a.last_sent = last;
                     Outcome::Pending
                 }
@@ -146,10 +153,11 @@ impl Channel {
                     Outcome::Unattributed("a block upload end outside a block upload")
                 }
             },
-            ClientRequest::BlockDownloadEnd { unused, .. } => match self.active.as_mut() {
+            ClientRequest::BlockDownloadEnd { unused, crc } => match self.active.as_mut() {
                 Some(a) if a.write && a.kind == Kind::Block && a.blocks.ended => {
                     let len = a.data.len().saturating_sub(usize::from(unused));
                     a.data.truncate(len);
+                    a.crc = Some(crc);
                     Outcome::Pending
                 }
                 _ => Outcome::Unattributed("a block download end outside a block download"),
@@ -158,7 +166,12 @@ impl Channel {
     }
 
     /// A frame the server sent (COB-ID 580h + node-ID).
-    pub fn server(&mut self, data: &[u8]) -> Outcome {
+    pub fn server(&mut self, sent: &[u8]) -> Outcome {
+        let data = match padded(sent, false) {
+            Ok(data) => data,
+            Err(why) => return Outcome::Unattributed(why),
+        };
+        let data = &data[..];
         if let Some(active) = self.active.as_mut() {
             if !active.write && active.kind == Kind::Block && active.blocks.flowing {
                 return segment(&mut active.blocks, data);
@@ -201,16 +214,12 @@ impl Channel {
                     .is_none_or(|a| !a.write && a.kind != Kind::Segmented) =>
             {
                 let mut a = Active::new(false, mux, Vec::new(), Kind::Expedited);
-                match payload {
-                    InitiatePayload::Expedited { data, len } => {
-                        a.data = data[..usize::from(len)].to_vec();
+                match expedited(payload, sent.len()) {
+                    Some(data) => {
+                        a.data = data;
                         (Outcome::Done(a.finish(None)), None)
                     }
-                    InitiatePayload::ExpeditedUnsized { data } => {
-                        a.data = data.to_vec();
-                        (Outcome::Done(a.finish(None)), None)
-                    }
-                    InitiatePayload::Sized(_) | InitiatePayload::Unsized => {
+                    None => {
                         a.kind = Kind::Segmented;
                         (Outcome::Pending, Some(a))
                     }
@@ -219,7 +228,8 @@ impl Channel {
             (ServerResponse::UploadSegment { data, last, .. }, Some(mut a))
                 if !a.write && a.kind == Kind::Segmented =>
             {
-                a.data.extend_from_slice(data.as_slice());
+                a.data
+                    .extend_from_slice(segment_data(data.as_slice(), sent.len()));
                 if last {
                     (Outcome::Done(a.finish(None)), None)
                 } else {
@@ -248,11 +258,12 @@ impl Channel {
             {
                 (Outcome::Pending, Some(a))
             }
-            (ServerResponse::BlockUploadEnd { unused, .. }, Some(mut a))
+            (ServerResponse::BlockUploadEnd { unused, crc }, Some(mut a))
                 if !a.write && a.kind == Kind::Block && a.blocks.ended =>
             {
                 let len = a.data.len().saturating_sub(usize::from(unused));
                 a.data.truncate(len);
+                a.crc = Some(crc);
                 (Outcome::Pending, Some(a))
             }
             (_, active) => (
@@ -298,6 +309,7 @@ impl Active {
             kind,
             last_sent: false,
             blocks: Blocks::default(),
+            crc: None,
         }
     }
 
@@ -308,8 +320,53 @@ impl Active {
             data: self.data,
             kind: self.kind,
             abort,
+            crc: self.crc,
         }
     }
+}
+
+/// The 8 bytes of an SDO frame from the `sent` ones, padded with zeros when fewer; an error when
+/// nothing or more than 8 were sent, or an initiate or abort lacks its 4-byte header (the
+/// command and the entry). `client`: a frame of the client (request), else of the server.
+fn padded(sent: &[u8], client: bool) -> Result<[u8; 8], &'static str> {
+    let Some(&command) = sent.first() else {
+        return Err("an empty SDO frame");
+    };
+    if sent.len() > 8 {
+        return Err("an SDO frame of more than 8 bytes");
+    }
+    // The specifiers whose messages name the entry (CiA 301 7.2.4.3): initiates and aborts,
+    // the block transfers' initiates (their low bits 0).
+    let names_entry = match (client, command >> 5) {
+        (true, 1 | 2 | 4) | (false, 2..=4) => true,
+        (true, 5) | (false, 5 | 6) => command & 0x03 == 0,
+        (true, 6) => command & 0x01 == 0,
+        _ => false,
+    };
+    if names_entry && sent.len() < 4 {
+        return Err("an SDO initiate or abort shorter than its 4-byte header");
+    }
+    let mut frame = [0u8; 8];
+    frame[..sent.len()].copy_from_slice(sent);
+    Ok(frame)
+}
+
+/// The value of an expedited initiate of `sent` bytes (at most what was sent after the 4-byte
+/// header); `None` for a segmented or block one.
+fn expedited(payload: InitiatePayload, sent: usize) -> Option<Vec<u8>> {
+    let sent = sent.saturating_sub(4);
+    match payload {
+        InitiatePayload::Expedited { data, len } => {
+            Some(data[..usize::from(len).min(sent)].to_vec())
+        }
+        InitiatePayload::ExpeditedUnsized { data } => Some(data[..sent.min(data.len())].to_vec()),
+        InitiatePayload::Sized(_) | InitiatePayload::Unsized => None,
+    }
+}
+
+/// A segment's data, at most what a frame of `sent` bytes carried after its command byte.
+fn segment_data(data: &[u8], sent: usize) -> &[u8] {
+    &data[..data.len().min(sent.saturating_sub(1))]
 }
 
 /// A block-transfer segment, kept until the receiver acknowledges it.

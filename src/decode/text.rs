@@ -57,6 +57,18 @@ pub fn value(data_type: Option<DataType>, bytes: &[u8]) -> String {
     }
 }
 
+/// The start of a long value: a string's first 64 characters, else the first 16 bytes in hex,
+/// followed by `...`.
+pub fn summary(data_type: Option<DataType>, bytes: &[u8]) -> String {
+    match data_type {
+        Some(DataType::VisibleString) => {
+            let text: String = String::from_utf8_lossy(bytes).chars().take(64).collect();
+            format!("{text:?}...")
+        }
+        _ => format!("{} ...", hex_bytes(&bytes[..bytes.len().min(16)])),
+    }
+}
+
 /// Bytes as upper-case hex pairs separated by spaces (`01 A2`), or `(empty)`.
 pub fn hex_bytes(bytes: &[u8]) -> String {
     if bytes.is_empty() {

@@ -15,7 +15,7 @@ fn blocking(master: &mut Master<MemoryEndpoint>) -> Result<(), MasterError> {
     master.write(3, cp301::od::VL_TARGET_VELOCITY, 1500)?;
     let _: u16 = master.read(3, cp301::od::STATUSWORD)?;
     let _: FixedBytes<12> = master.read(4, goodrive350::od::MANUFACTURER_DEVICE_NAME)?;
-    master.write(5, rd11::od::F16_SAVE_00, 1)?;
+    master.write(5, rd11::od::f16_save::F16_SAVE_00, 1)?;
     master.write(3, HAND_BUILT, 0)?;
     let _: u16 = master.read(3, HAND_BUILT)?;
     Ok(())
@@ -24,14 +24,14 @@ fn blocking(master: &mut Master<MemoryEndpoint>) -> Result<(), MasterError> {
 async fn concurrent(master: &AsyncMaster) -> Result<(), MasterError> {
     master.write(3, cp301::od::VL_TARGET_VELOCITY, 1500).await?;
     let _: u16 = master.read(3, cp301::od::STATUSWORD).await?;
-    master.write(5, rd11::od::F16_SAVE_00, 1).await?;
+    master.write(5, rd11::od::f16_save::F16_SAVE_00, 1).await?;
     master.write(3, HAND_BUILT, 0).await?;
     Ok(())
 }
 
 fn sans_io(client: &mut SdoClient, now: Instant) -> Result<(), StartError> {
     client.read(now, goodrive350::od::MANUFACTURER_DEVICE_NAME)?;
-    client.write(now, rd11::od::F16_SAVE_00, &1)?;
+    client.write(now, rd11::od::f16_save::F16_SAVE_00, &1)?;
     client.write(now, HAND_BUILT, &0)?;
     client.read(now, HAND_BUILT)
 }
@@ -43,6 +43,6 @@ fn main() {
     assert_eq!(od.get(cp301::od::STATUSWORD), 0x0237);
     assert_eq!(od.get_checked(HAND_BUILT), Some(0x0237));
     let mut drive = rd11::Od::new(5);
-    drive.set(rd11::od::F16_SAVE_00, 7).unwrap();
-    assert_eq!(drive.get(rd11::od::F16_SAVE_00), 7);
+    drive.set(rd11::od::f16_save::F16_SAVE_00, 7).unwrap();
+    assert_eq!(drive.get(rd11::od::f16_save::F16_SAVE_00), 7);
 }

@@ -11,7 +11,7 @@ async fn refused(master: &AsyncMaster) -> Result<(), MasterError> {
     master
         .write(4, goodrive350::od::MANUFACTURER_DEVICE_NAME, FixedBytes::from_slice(b"GD"))
         .await?;
-    let _: u16 = master.read(5, rd11::od::F16_SAVE_00).await?;
+    let _: u16 = master.read(5, rd11::od::f16_save::F16_SAVE_00).await?;
     Ok(())
 }
 

@@ -10,7 +10,7 @@ use edsgen_runtime::FixedBytes;
 fn refused(master: &mut Master<MemoryEndpoint>) -> Result<(), MasterError> {
     master.write(3, cp301::od::STATUSWORD, 0x0237)?;
     master.write(4, goodrive350::od::MANUFACTURER_DEVICE_NAME, FixedBytes::from_slice(b"GD"))?;
-    let _: u16 = master.read(5, rd11::od::F16_SAVE_00)?;
+    let _: u16 = master.read(5, rd11::od::f16_save::F16_SAVE_00)?;
     Ok(())
 }
 

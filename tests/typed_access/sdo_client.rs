@@ -8,7 +8,7 @@ use edsgen_runtime::{FixedBytes, Instant};
 fn refused(client: &mut SdoClient, now: Instant) -> Result<(), StartError> {
     client.write(now, cp301::od::STATUSWORD, &0x0237)?;
     client.write(now, goodrive350::od::MANUFACTURER_DEVICE_NAME, &FixedBytes::from_slice(b"GD"))?;
-    client.read(now, rd11::od::F16_SAVE_00)?;
+    client.read(now, rd11::od::f16_save::F16_SAVE_00)?;
     Ok(())
 }
 

@@ -1,5 +1,6 @@
 //! Rust names from ParameterNames: heck case conversion on an ASCII-only rendering of the name,
-//! Rust keywords escaped, a leading digit prefixed, and collisions made unique deterministically.
+//! Rust keywords escaped, a leading digit prefixed, collisions made unique deterministically, and
+//! the members of an ARRAY or RECORD named by what they add to their object's name.
 //!
 //! Rules (stable, documented in the generated code's contract):
 //! - every character that is not an ASCII letter or digit separates words;
@@ -118,6 +119,53 @@ impl Namespace {
     }
 }
 
+/// The constant of a member of an ARRAY or RECORD in its object's module, from the object's
+/// name `base` and the member's own name `own` (both SHOUTY): what the member's name adds to the
+/// object's, since the module already says the object.
+///
+/// - a name that does not start with the object's whole words is kept (`VENDOR_ID` in
+///   `identity_object`);
+/// - a name that repeats the object's adds the rest (`Consumer heartbeat time 1` in
+///   `Consumer heartbeat time`: `TIME_1`, the object's last word with the number, since a
+///   number alone is no name); exactly the object's name is `SUBn`;
+/// - a name that is only a number (`N_5`) gets the object's last word too (`TIME_5`).
+pub fn member_name(base: &str, own: &str, sub_index: u8) -> String {
+    // Only whole words: `SPEEDOMETER` does not repeat `SPEED`.
+    let rest = own
+        .strip_prefix(base)
+        .filter(|rest| {
+            rest.is_empty() || rest.starts_with(|c: char| c == '_' || c.is_ascii_digit())
+        })
+        .map(|rest| rest.trim_start_matches('_'));
+    let rest = match rest {
+        Some("") => return format!("SUB{sub_index}"),
+        Some(rest) => rest,
+        None => match own.strip_prefix("N_") {
+            Some(number) if number.starts_with(|c: char| c.is_ascii_digit()) => number,
+            _ => return own.to_owned(),
+        },
+    };
+    if rest.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("{}_{rest}", last_word(base))
+    } else {
+        rest.to_owned()
+    }
+}
+
+/// The last words of a SHOUTY name down to one that starts with a letter (`GROUP_01` of
+/// `PARAMETER_GROUP_01`, `TIME` of `CONSUMER_HEARTBEAT_TIME`): what a number follows.
+fn last_word(name: &str) -> &str {
+    let starts: Vec<usize> = std::iter::once(0)
+        .chain(name.match_indices('_').map(|(at, _)| at + 1))
+        .collect();
+    starts
+        .iter()
+        .rev()
+        .map(|&start| &name[start..])
+        .find(|tail| tail.starts_with(|c: char| c.is_ascii_alphabetic()))
+        .unwrap_or(name)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -142,6 +190,25 @@ mod tests {
             ident("EtherCAT/CANopen gateway", Case::Snake, "x"),
             "ethercat_canopen_gateway"
         );
+    }
+
+    #[test]
+    fn members_are_named_by_what_they_add_to_their_object() {
+        let member = |base, own| member_name(base, own, 3);
+        assert_eq!(member("IDENTITY_OBJECT", "VENDOR_ID"), "VENDOR_ID");
+        assert_eq!(
+            member("CONSUMER_HEARTBEAT_TIME", "CONSUMER_HEARTBEAT_TIME_1"),
+            "TIME_1"
+        );
+        assert_eq!(member("RPDO1_MAPPING", "RPDO1_MAPPING_ENTRY_2"), "ENTRY_2");
+        assert_eq!(
+            member("PARAMETER_GROUP_01", "PARAMETER_GROUP_01_5"),
+            "GROUP_01_5"
+        );
+        assert_eq!(member("SPEED", "SPEEDOMETER"), "SPEEDOMETER");
+        assert_eq!(member("SPEED", "SPEED"), "SUB3");
+        assert_eq!(member("GAINS", "N_5"), "GAINS_5");
+        assert_eq!(member("N_1ST", "N_2"), "N_1ST_2");
     }
 
     #[test]

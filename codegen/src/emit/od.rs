@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::plan::{Initial, Plan};
+use super::plan::{EntryPlan, Initial, Plan};
 use super::text::{self, Splices, ITEM_INDENT};
 use super::types::{access_variant, data_type_variant, Prim, RustType};
 use crate::model::AccessType;
@@ -164,7 +164,10 @@ fn default_table(plan: &Plan) -> Vec<String> {
         }
         lines.push(format!(
             " - {:#06X}: `{}` ({:04X}h sub {}) = `{value}`",
-            e.offset, e.const_name, e.index, e.sub
+            e.offset,
+            e.path(),
+            e.index,
+            e.sub
         ));
     }
     lines
@@ -378,8 +381,9 @@ pub fn od_impl(_plan: &Plan) -> TokenStream {
     }
 }
 
-/// The typed addresses, branded with the module's `Od`, as text:
-/// `pub mod od { pub const CONTROLWORD: Entry<u16, super::Od> = ...; }`.
+/// The typed addresses, branded with the module's `Od`, as text: a VAR's in `od`
+/// (`pub mod od { pub const CONTROLWORD: Entry<u16, super::Od> = ...; }`), an ARRAY's or
+/// RECORD's in a module of its own (`od::identity_object::VENDOR_ID`).
 pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
     let doc =
         " Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.";
@@ -390,15 +394,64 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
         };
     }
     let mut out = String::new();
-    text::docs(&mut out, ITEM_INDENT, &[doc]);
+    let modules =
+        " A VAR's address is here (`od::CONTROLWORD`), an ARRAY's or RECORD's entries are in a";
+    let modules_2 = " module of their own (`od::identity_object::VENDOR_ID`).";
+    text::docs(&mut out, ITEM_INDENT, &[doc, "", modules, modules_2]);
     text::indent(&mut out, ITEM_INDENT);
     out.push_str("pub mod od {\n");
     let at = ITEM_INDENT + 4;
-    text::indent(&mut out, at);
-    if plan
-        .entries
+    let positioned: Vec<(usize, &EntryPlan)> = plan.entries.iter().enumerate().collect();
+    let flat: Vec<(usize, &EntryPlan)> = positioned
         .iter()
-        .any(|e| matches!(e.ty, RustType::Bytes(_)))
+        .copied()
+        .filter(|(_, e)| e.module.is_none())
+        .collect();
+    uses(&mut out, at, &flat);
+    let mut rest = &positioned[..];
+    while let Some(&(position, e)) = rest.first() {
+        let Some(module) = &e.module else {
+            constant(&mut out, at, position, e, "super::Od");
+            rest = &rest[1..];
+            continue;
+        };
+        let len = rest
+            .iter()
+            .take_while(|(_, m)| m.module.as_ref() == Some(module))
+            .count();
+        let (members, after) = rest.split_at(len);
+        let module_doc = format!(
+            " {} ({:04X}h): the typed addresses of its {} entries.",
+            e.object_title,
+            e.index,
+            members.len()
+        );
+        text::docs(&mut out, at, &[module_doc]);
+        text::indent(&mut out, at);
+        let _ = writeln!(out, "pub mod {module} {{");
+        uses(&mut out, at + 4, members);
+        for &(position, member) in members {
+            constant(&mut out, at + 4, position, member, "super::super::Od");
+        }
+        text::indent(&mut out, at);
+        out.push_str("}\n");
+        rest = after;
+    }
+    text::indent(&mut out, ITEM_INDENT);
+    out.push_str("}\n");
+    splices.item(out)
+}
+
+/// The `use` lines the typed addresses `entries` need: `Entry`, `FixedBytes` for a string's,
+/// and the access markers other than the default `ReadWrite`.
+fn uses(out: &mut String, at: usize, entries: &[(usize, &EntryPlan)]) {
+    if entries.is_empty() {
+        return;
+    }
+    text::indent(out, at);
+    if entries
+        .iter()
+        .any(|(_, e)| matches!(e.ty, RustType::Bytes(_)))
     {
         out.push_str("use ::edsgen_runtime::{Entry, FixedBytes};\n");
     } else {
@@ -407,19 +460,19 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
     let markers: Vec<&str> = ["Const", "ReadOnly", "WriteOnly"]
         .into_iter()
         .filter(|m| {
-            plan.entries
+            entries
                 .iter()
-                .any(|e| access_marker(e.access) == Some(m))
+                .any(|(_, e)| access_marker(e.access) == Some(m))
         })
         .collect();
     match markers[..] {
         [] => {}
         [one] => {
-            text::indent(&mut out, at);
+            text::indent(out, at);
             let _ = writeln!(out, "use ::edsgen_runtime::od::access::{one};");
         }
         _ => {
-            text::indent(&mut out, at);
+            text::indent(out, at);
             let _ = writeln!(
                 out,
                 "use ::edsgen_runtime::od::access::{{{}}};",
@@ -427,34 +480,31 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
             );
         }
     }
-    for (position, e) in plan.entries.iter().enumerate() {
-        let ty = match e.ty {
-            RustType::Bytes(n) => format!("FixedBytes<{n}>"),
-            RustType::Scalar(prim, _) => prim.name().to_owned(),
-        };
-        let (index, sub) = (text::hex(e.index.into(), 4), text::hex(e.sub.into(), 2));
-        let (constructor, args) = match e.ty {
-            RustType::Scalar(prim, wire)
-                if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool =>
-            {
-                ("Entry::with_width", vec![index, sub, wire.to_string()])
-            }
-            _ => ("Entry::new", vec![index, sub]),
-        };
-        text::docs(&mut out, at, &e.short_doc);
-        address(
-            &mut out,
-            at,
-            &e.const_name.to_string(),
-            &ty,
-            access_marker(e.access),
-            (constructor, &args),
-            position,
-        );
-    }
-    text::indent(&mut out, ITEM_INDENT);
-    out.push_str("}\n");
-    splices.item(out)
+}
+
+/// One entry's typed address with its rustdoc, branded with the dictionary at `dict`.
+fn constant(out: &mut String, at: usize, position: usize, e: &EntryPlan, dict: &str) {
+    let ty = match e.ty {
+        RustType::Bytes(n) => format!("FixedBytes<{n}>"),
+        RustType::Scalar(prim, _) => prim.name().to_owned(),
+    };
+    let (index, sub) = (text::hex(e.index.into(), 4), text::hex(e.sub.into(), 2));
+    let (constructor, args) = match e.ty {
+        RustType::Scalar(prim, wire) if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool => {
+            ("Entry::with_width", vec![index, sub, wire.to_string()])
+        }
+        _ => ("Entry::new", vec![index, sub]),
+    };
+    text::docs(out, at, &e.short_doc);
+    address(
+        out,
+        at,
+        (&e.const_name.to_string(), dict),
+        &ty,
+        access_marker(e.access),
+        (constructor, &args),
+        position,
+    );
 }
 
 /// The access marker of an address (`od::access`), or `None` for the default `ReadWrite`.
@@ -484,13 +534,13 @@ fn access_constructor(marker: &str) -> &'static str {
 fn address(
     out: &mut String,
     at: usize,
-    name: &str,
+    (name, dict): (&str, &str),
     ty: &str,
     marker: Option<&str>,
     (constructor, args): (&str, &[String]),
     position: usize,
 ) {
-    let mut params = vec![ty, "super::Od"];
+    let mut params = vec![ty, dict];
     params.extend(marker);
     let head = format!("pub const {name}: Entry<{}> = ", params.join(", "));
     let call = format!("{constructor}({})", args.join(", "));

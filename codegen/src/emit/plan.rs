@@ -4,7 +4,7 @@
 
 use proc_macro2::{Ident, Span as TokenSpan};
 
-use super::names::{ident, Case, Namespace};
+use super::names::{ident, member_name, Case, Namespace};
 use super::types::{
     capacity, initial_value, node_relative_offset, scalar_number, value_bytes, Number, Prim,
     RustType, ValueProblem,
@@ -37,8 +37,12 @@ pub struct EntryPlan {
     pub title: String,
     /// One-paragraph rustdoc for the typed address.
     pub short_doc: Vec<String>,
-    /// The typed-address constant's name.
+    /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise.
     pub const_name: Ident,
+    /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR).
+    pub module: Option<Ident>,
+    /// The name of the entry's object, escaped for rustdoc.
+    pub object_title: String,
     /// Where the value starts in the value image (set once the whole device is planned).
     pub offset: usize,
     /// The entry's own name in the file (a sub-object's, not its object's).
@@ -46,6 +50,14 @@ pub struct EntryPlan {
 }
 
 impl EntryPlan {
+    /// The typed address's path from `od`: `CONTROLWORD`, `identity_object::VENDOR_ID`.
+    pub fn path(&self) -> String {
+        match &self.module {
+            Some(module) => format!("{module}::{}", self.const_name),
+            None => self.const_name.to_string(),
+        }
+    }
+
     /// The field name for PDO structs mapping this entry: snake case of its own name. Made
     /// when a PDO needs it (case conversion of every entry's name was a fifth of the planning).
     pub fn pdo_name(&self) -> String {
@@ -185,7 +197,10 @@ pub fn size_errors(device: &Device) -> Vec<Diagnostic> {
 struct Planner<'a> {
     device: &'a Device,
     diagnostics: Vec<Diagnostic>,
+    /// The constants of `od` (VAR objects).
     consts: Namespace,
+    /// The modules of `od` (ARRAY and RECORD objects).
+    modules: Namespace,
 }
 
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
@@ -195,6 +210,7 @@ pub fn plan(device: &Device) -> Plan {
         device,
         diagnostics: size_errors(device),
         consts: Namespace::default(),
+        modules: Namespace::default(),
     };
     let mut entries: Vec<EntryPlan> = Vec::new();
     let mut image_size = 0usize;
@@ -236,16 +252,21 @@ impl Planner<'_> {
                 return Vec::new();
             };
             let base = self.base_name(object);
-            let const_name = self.const_name(object, &base, None);
+            let const_name = self.var_name(object, &base);
             return self.entry(object, sub, const_name).into_iter().collect();
         }
         let mut entries = Vec::new();
         let mut ok = true;
         let base = self.base_name(object);
+        let module = self.module_name(object);
+        let mut members = Namespace::default();
         for sub in object.subs.values() {
-            let const_name = self.const_name(object, &base, Some(sub));
+            let const_name = self.member_name(object, &base, sub, &mut members);
             match self.entry(object, sub, const_name) {
-                Some(entry) => entries.push(entry),
+                Some(mut entry) => {
+                    entry.module = Some(module.clone());
+                    entries.push(entry);
+                }
                 None => ok = false,
             }
         }
@@ -269,71 +290,67 @@ impl Planner<'_> {
         )
     }
 
-    fn const_name(&mut self, object: &Object, base: &str, sub: Option<&SubObject>) -> Ident {
-        let naming = &self.device.naming;
-        let renamed = |sub_index: u8| {
-            let name = naming.entries.get(&(object.index, sub_index))?;
-            Some(ident(name, Case::Shouty, &format!("SUB{sub_index}")))
+    /// A VAR's constant in `od`: the overlay's name of its entry or object, else the object's.
+    fn var_name(&mut self, object: &Object, base: &str) -> Ident {
+        let wanted = match self.device.naming.entries.get(&(object.index, 0)) {
+            Some(name) => ident(name, Case::Shouty, "SUB0"),
+            None => base.to_owned(),
         };
-        // The device's own numbering of an array's elements (the overlay's [numbering]).
-        let numbered = |sub_index: u8| {
+        let suffixes = [format!("{:04X}", object.index)];
+        let (name, changed) = self.consts.claim(&wanted, object.index, &suffixes);
+        if changed {
+            self.renamed(object.span, "constant", &wanted, &name);
+        }
+        id(&name)
+    }
+
+    /// An ARRAY's or RECORD's module in `od`: the snake case of its (overlay's) name.
+    fn module_name(&mut self, object: &Object) -> Ident {
+        let name = self
+            .device
+            .naming
+            .objects
+            .get(&object.index)
+            .unwrap_or(&object.name);
+        let wanted = ident(name, Case::Snake, &format!("object_{:04x}", object.index));
+        let suffixes = [format!("{:04x}", object.index)];
+        let (name, changed) = self.modules.claim(&wanted, object.index, &suffixes);
+        if changed {
+            self.renamed(object.span, "module", &wanted, &name);
+        }
+        id(&name)
+    }
+
+    /// A member's constant in its object's module: the overlay's name, the device's numbering of
+    /// an array's elements (the overlay's [numbering]), else what its name adds to the object's
+    /// (see [`member_name`]).
+    fn member_name(
+        &mut self,
+        object: &Object,
+        base: &str,
+        sub: &SubObject,
+        members: &mut Namespace,
+    ) -> Ident {
+        let naming = &self.device.naming;
+        let sub_index = sub.sub_index;
+        let renamed = naming
+            .entries
+            .get(&(object.index, sub_index))
+            .map(|name| ident(name, Case::Shouty, &format!("SUB{sub_index}")));
+        let numbered = || {
             let first = *naming.first_number.get(&object.index)?;
             let number = u32::from(sub_index.checked_sub(1)?) + first;
             let highest = object.subs.keys().next_back().map_or(0, |s| u32::from(*s));
             let width = (highest.saturating_sub(1) + first).to_string().len();
             Some(format!("{base}_{number:0width$}"))
         };
-        let chosen = sub.and_then(|s| renamed(s.sub_index).or_else(|| numbered(s.sub_index)));
-        let (wanted, suffixes) = match (sub, chosen) {
-            (None, _) => (
-                renamed(0).unwrap_or_else(|| base.to_owned()),
-                vec![format!("{:04X}", object.index)],
-            ),
-            (Some(sub), Some(name)) => (
-                name,
-                vec![
-                    format!("SUB{}", sub.sub_index),
-                    format!("{:04X}", object.index),
-                ],
-            ),
-            (Some(sub), None) => {
-                let sub_part = ident(&sub.name, Case::Shouty, &format!("SUB{}", sub.sub_index));
-                // Only whole words: `SPEEDOMETER` does not repeat `SPEED`.
-                let repeated = sub_part.strip_prefix(base).filter(|rest| {
-                    rest.is_empty() || rest.starts_with(|c: char| c == '_' || c.is_ascii_digit())
-                });
-                let joined = match repeated {
-                    // The sub-object repeats its object's name (`Consumer heartbeat time 1` in
-                    // `Consumer heartbeat time`, `F28 group parameter86` in `F28 group
-                    // parameter`): the object's name once, then what the sub adds.
-                    Some(rest) if !rest.trim_start_matches('_').is_empty() => {
-                        format!("{base}_{}", rest.trim_start_matches('_'))
-                    }
-                    Some(_) => format!("{base}_SUB{}", sub.sub_index),
-                    None if sub_part.starts_with("N_")
-                        && sub_part[2..].starts_with(|c: char| c.is_ascii_digit()) =>
-                    {
-                        format!("{base}_{}", &sub_part[2..])
-                    }
-                    None => format!("{base}_{sub_part}"),
-                };
-                let (sub_suffix, index_suffix) = (
-                    format!("SUB{}", sub.sub_index),
-                    format!("{:04X}", object.index),
-                );
-                // Taken in this object: the sub-index tells them apart; by another object, the
-                // index does.
-                let suffixes = match self.consts.owner(&joined) {
-                    Some(owner) if owner != object.index => vec![index_suffix, sub_suffix],
-                    _ => vec![sub_suffix, index_suffix],
-                };
-                (joined, suffixes)
-            }
-        };
-        let (name, changed) = self.consts.claim(&wanted, object.index, &suffixes);
+        let wanted = renamed.or_else(numbered).unwrap_or_else(|| {
+            let own = ident(&sub.name, Case::Shouty, &format!("SUB{sub_index}"));
+            member_name(base, &own, sub_index)
+        });
+        let (name, changed) = members.claim(&wanted, object.index, &[format!("SUB{sub_index}")]);
         if changed {
-            let span = sub.map_or(object.span, |s| s.span);
-            self.renamed(span, "constant", &wanted, &name);
+            self.renamed(sub.span, "constant", &wanted, &name);
         }
         id(&name)
     }
@@ -437,6 +454,8 @@ impl Planner<'_> {
             title,
             short_doc,
             const_name,
+            module: None,
+            object_title: doc_text(&object.name),
             offset: 0,
             own_name: sub.name.clone(),
         })

@@ -187,10 +187,11 @@ pub struct Device {
 /// an array's elements, and its names may not suit Rust.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Naming {
-    /// An object's name in generated code, in place of its ParameterName (its sub-objects'
-    /// constants start with it).
+    /// An object's name in generated code, in place of its ParameterName: a VAR's constant, an
+    /// ARRAY's or RECORD's module in `od` (and the start of its numbered elements' constants).
     pub objects: BTreeMap<u16, String>,
-    /// An entry's whole constant name, in place of the one made from its names.
+    /// An entry's constant name (in its object's module for an ARRAY or RECORD), in place of the
+    /// one made from its names.
     pub entries: BTreeMap<(u16, u8), String>,
     /// For an array, the number the device gives sub-index 1 (0 when sub-index = number + 1):
     /// its elements' constants end in that numbering, not in the sub-index.

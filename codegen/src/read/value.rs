@@ -17,6 +17,30 @@ pub fn parse_integer(raw: &str) -> Option<i128> {
     parse_integer_with_radix(raw).map(|(value, _)| value)
 }
 
+/// Why `raw` is no CiA 306 integer when the reason is its leading 0: decimal digits after a
+/// leading `0` with an `8` or `9` among them, which CiA 306 reads as octal. The message (about
+/// the literal) and the help (the decimal literal meant, without the leading zeros); `None` for
+/// any other text.
+pub fn octal_objection(raw: &str) -> Option<(String, String)> {
+    let text = raw.trim();
+    let (sign, digits) = match text.as_bytes().first() {
+        Some(b'-' | b'+') => text.split_at(1),
+        _ => ("", text),
+    };
+    if digits.len() < 2 || !digits.starts_with('0') || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let bad = digits.chars().find(|c| matches!(c, '8' | '9'))?;
+    let meant = digits.trim_start_matches('0');
+    let sign = if sign == "-" { "-" } else { "" };
+    Some((
+        format!(
+            "`{text}` has a leading 0, which CiA 306 reads as octal, and {bad} is not an octal digit"
+        ),
+        format!("write `{sign}{meant}`"),
+    ))
+}
+
 /// How an integer literal was written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Radix {
@@ -352,14 +376,16 @@ fn parse_int_fallback(
         && unsigned.starts_with('0')
         && unsigned.bytes().all(|b| b.is_ascii_digit())
     {
-        if let Ok(decimal) = text.parse::<i128>() {
+        if let (Ok(decimal), Some((message, help))) = (text.parse::<i128>(), octal_objection(text))
+        {
             diags.push(
                 Diagnostic::new(
                     &rules::OCTAL_LITERAL,
                     Some(span),
-                    format!("`{text}` has a leading 0 but is not octal; read as decimal {decimal}"),
+                    format!("{message}; read as decimal {decimal}"),
                 )
-                .with_severity(Severity::Warning),
+                .with_severity(Severity::Warning)
+                .with_help(help),
             );
             return range_checked(text, decimal, ty, (min, max), span, diags);
         }

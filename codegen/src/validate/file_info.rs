@@ -8,6 +8,7 @@
 use super::{is_ini, parse_int};
 use crate::diag::Diagnostic;
 use crate::model::Device;
+use crate::read::value::octal_objection;
 use crate::rules;
 
 pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
@@ -94,7 +95,17 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
         ("FileRevision", &info.file_revision),
     ] {
         if let Some(v) = value.as_deref().filter(|v| !v.trim().is_empty()) {
-            if !parse_int(v).is_some_and(|n| (0..=255).contains(&n)) {
+            if let Some((message, help)) = octal_objection(v) {
+                out.push(
+                    Diagnostic::new(
+                        &rules::FILE_INFO_LIMITS,
+                        info.key_spans.get(key).copied().or(Some(section)),
+                        format!("{key} {message}"),
+                    )
+                    .with_label("in this section")
+                    .with_help(help),
+                );
+            } else if !parse_int(v).is_some_and(|n| (0..=255).contains(&n)) {
                 out.push(
                     Diagnostic::new(
                         &rules::FILE_INFO_LIMITS,

@@ -8,6 +8,7 @@
 use super::{obj, parse_int, raw_section, short_list};
 use crate::diag::Diagnostic;
 use crate::model::{AccessType, BasicType, Device, RawEntry, RawSection};
+use crate::read::value::octal_objection;
 use crate::rules;
 
 /// Longest `[Comments]` line CiA 306 allows.
@@ -124,7 +125,10 @@ fn modules(device: &Device, out: &mut Vec<Diagnostic>) {
             if let Some(count) = key(s, "Count") {
                 if !count_is_valid(&count.value) {
                     out.push(
-                        Diagnostic::new(&rules::MODULES, Some(count.span), format!("[{}] Count `{}` is not U8 or 0;U8", s.name.trim(), count.value))
+                        Diagnostic::new(&rules::MODULES, Some(count.span), match count.value.split(';').find_map(octal_objection) {
+                            Some((octal, _)) => format!("[{}] Count `{}` is not U8 or 0;U8: {octal}", s.name.trim(), count.value),
+                            None => format!("[{}] Count `{}` is not U8 or 0;U8", s.name.trim(), count.value),
+                        })
                             .with_label("malformed Count")
                             .with_help("write Count=n (sub-objects per module) or Count=0;n (n bits per module)"),
                     );
@@ -294,6 +298,10 @@ fn dynamic_channels(device: &Device, out: &mut Vec<Diagnostic>) {
             None
         };
         if let Some(why) = why {
+            let why = match octal_objection(&e.value) {
+                Some((octal, _)) => format!("{why}: {octal}"),
+                None => why.to_owned(),
+            };
             out.push(
                 Diagnostic::new(
                     &rules::DYNAMIC_CHANNELS_SECTION,

@@ -1,4 +1,5 @@
-//! Hand-built device models for the emitter tests (independent of the readers).
+//! Hand-built device models for the emitter tests (independent of the readers), and the typed
+//! addresses of generated code.
 #![allow(dead_code)]
 
 use std::collections::BTreeMap;
@@ -480,4 +481,29 @@ pub fn ethercat_like() -> Device {
         span: Span::new(1, 1, 0),
     });
     dev
+}
+
+/// The typed addresses of generated code by their path from `od` (`pair::VALUE`, `SPEED`), in
+/// order.
+pub fn addresses(code: &str) -> Vec<String> {
+    let od = code.find("    pub mod od {").unwrap_or(0);
+    let mut module = None;
+    let mut out = Vec::new();
+    for line in code[od..].lines().skip(1).take_while(|l| *l != "    }") {
+        if let Some(name) = line.strip_prefix("        pub mod ") {
+            module = name.strip_suffix(" {").map(str::to_owned);
+        } else if line == "        }" {
+            module = None;
+        } else if let Some(rest) = line.trim().strip_prefix("pub const ") {
+            let name = rest.split(':').next().unwrap_or_default();
+            if line.starts_with("            pub const ") || line.starts_with("        pub const ")
+            {
+                out.push(match &module {
+                    Some(m) => format!("{m}::{name}"),
+                    None => name.to_owned(),
+                });
+            }
+        }
+    }
+    out
 }

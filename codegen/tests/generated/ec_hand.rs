@@ -20,10 +20,10 @@ pub mod ec_hand {
     /// The non-zero defaults, at their offset in the image:
     ///
     /// - 0x0000: `DEVICE_TYPE` (1000h sub 0) = `0x00000192`
-    /// - 0x0004: `IDENTITY_NUMBER_OF_ENTRIES` (1018h sub 0) = `0x03`
-    /// - 0x0005: `IDENTITY_VENDOR_ID` (1018h sub 1) = `0x000004D8`
-    /// - 0x0009: `IDENTITY_PRODUCT_CODE` (1018h sub 2) = `0x00009252`
-    /// - 0x000D: `IDENTITY_REVISION` (1018h sub 3) = `0x00000001`
+    /// - 0x0004: `identity::NUMBER_OF_ENTRIES` (1018h sub 0) = `0x03`
+    /// - 0x0005: `identity::VENDOR_ID` (1018h sub 1) = `0x000004D8`
+    /// - 0x0009: `identity::PRODUCT_CODE` (1018h sub 2) = `0x00009252`
+    /// - 0x000D: `identity::REVISION` (1018h sub 3) = `0x00000001`
     /// - 0x0019: `TAG` (2004h sub 0) = `"ABCDEFGH"`
     const DEFAULTS: [u8; 28] = [
         0, 14, 146, 1, 0, 0, 3, 216, 4, 0, 0, 82, 146, 0, 0, 1, 11, 10, 8, 0, 65, 66, 67,
@@ -196,6 +196,9 @@ pub mod ec_hand {
         }
     }
     /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
+    ///
+    /// A VAR's address is here (`od::CONTROLWORD`), an ARRAY's or RECORD's entries are in a
+    /// module of their own (`od::identity_object::VENDOR_ID`).
     pub mod od {
         use ::edsgen_runtime::{Entry, FixedBytes};
         use ::edsgen_runtime::od::access::ReadOnly;
@@ -204,38 +207,43 @@ pub mod ec_hand {
             .read_only()
             .at_position(0)
             .in_dictionary();
-        /// Identity: Number of entries (1018h sub 0: UNSIGNED8, ro, not PDO-mappable; default `3`).
-        pub const IDENTITY_NUMBER_OF_ENTRIES: Entry<u8, super::Od, ReadOnly> = Entry::new(
-                0x1018,
-                0x00,
-            )
-            .read_only()
-            .at_position(1)
-            .in_dictionary();
-        /// Identity: Vendor ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
-        pub const IDENTITY_VENDOR_ID: Entry<u32, super::Od, ReadOnly> = Entry::new(
-                0x1018,
-                0x01,
-            )
-            .read_only()
-            .at_position(2)
-            .in_dictionary();
-        /// Identity: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
-        pub const IDENTITY_PRODUCT_CODE: Entry<u32, super::Od, ReadOnly> = Entry::new(
-                0x1018,
-                0x02,
-            )
-            .read_only()
-            .at_position(3)
-            .in_dictionary();
-        /// Identity: Revision (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `1`).
-        pub const IDENTITY_REVISION: Entry<u32, super::Od, ReadOnly> = Entry::new(
-                0x1018,
-                0x03,
-            )
-            .read_only()
-            .at_position(4)
-            .in_dictionary();
+        /// Identity (1018h): the typed addresses of its 4 entries.
+        pub mod identity {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::ReadOnly;
+            /// Identity: Number of entries (1018h sub 0: UNSIGNED8, ro, not PDO-mappable; default `3`).
+            pub const NUMBER_OF_ENTRIES: Entry<u8, super::super::Od, ReadOnly> = Entry::new(
+                    0x1018,
+                    0x00,
+                )
+                .read_only()
+                .at_position(1)
+                .in_dictionary();
+            /// Identity: Vendor ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
+            pub const VENDOR_ID: Entry<u32, super::super::Od, ReadOnly> = Entry::new(
+                    0x1018,
+                    0x01,
+                )
+                .read_only()
+                .at_position(2)
+                .in_dictionary();
+            /// Identity: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
+            pub const PRODUCT_CODE: Entry<u32, super::super::Od, ReadOnly> = Entry::new(
+                    0x1018,
+                    0x02,
+                )
+                .read_only()
+                .at_position(3)
+                .in_dictionary();
+            /// Identity: Revision (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `1`).
+            pub const REVISION: Entry<u32, super::super::Od, ReadOnly> = Entry::new(
+                    0x1018,
+                    0x03,
+                )
+                .read_only()
+                .at_position(4)
+                .in_dictionary();
+        }
         /// Offset (2001h sub 0: INTEGER24, rw, PDO-mappable; default `0`).
         pub const OFFSET: Entry<i32, super::Od> = Entry::with_width(0x2001, 0x00, 3)
             .at_position(5)

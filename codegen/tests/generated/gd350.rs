@@ -27,45 +27,45 @@ pub mod gd350 {
     /// - 0x000D: `MANUFACTURER_DEVICE_NAME` (1008h sub 0) = `"GD350"`
     /// - 0x0014: `MANUFACTURER_HARDWARE_VERSION` (1009h sub 0) = `"1.0"`
     /// - 0x0036: `COB_ID_EMCY` (1014h sub 0) = `$NODEID + 0x80`
-    /// - 0x003A: `IDENTITY_OBJECT_NUMBER_OF_ENTRIES` (1018h sub 0) = `0x03`
-    /// - 0x003B: `IDENTITY_OBJECT_VENDOR_ID` (1018h sub 1) = `0x000004D8`
-    /// - 0x003F: `IDENTITY_OBJECT_PRODUCT_CODE` (1018h sub 2) = `0x00009252`
-    /// - 0x0043: `IDENTITY_OBJECT_REVISION_NUMBER` (1018h sub 3) = `0x00010001`
-    /// - 0x0047: `RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED` (1401h sub 0) = `0x02`
-    /// - 0x0048: `RPDO2_COMMUNICATION_PARAMETER_COB_ID` (1401h sub 1) = `$NODEID + 0x300`
-    /// - 0x004C: `RPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE` (1401h sub 2) = `0xFF`
-    /// - 0x004D: `RPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS` (1601h sub 0) = `0x04`
-    /// - 0x004E: `RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1` (1601h sub 1) = `0x21010010`
-    /// - 0x0052: `RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2` (1601h sub 2) = `0x21000110`
-    /// - 0x0056: `RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3` (1601h sub 3) = `0x21000210`
-    /// - 0x005A: `RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4` (1601h sub 4) = `0x21000310`
-    /// - 0x005E: `TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED` (1801h sub 0) = `0x02`
-    /// - 0x005F: `TPDO2_COMMUNICATION_PARAMETER_COB_ID` (1801h sub 1) = `$NODEID + 0x280`
-    /// - 0x0063: `TPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE` (1801h sub 2) = `0xFF`
-    /// - 0x0064: `TPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS` (1A01h sub 0) = `0x04`
-    /// - 0x0065: `TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1` (1A01h sub 1) = `0x20010010`
-    /// - 0x0069: `TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2` (1A01h sub 2) = `0x20000110`
-    /// - 0x006D: `TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3` (1A01h sub 3) = `0x20000210`
-    /// - 0x0071: `TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4` (1A01h sub 4) = `0x20000310`
-    /// - 0x0075: `TPDO3_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS` (1A02h sub 0) = `0x05`
-    /// - 0x0076: `TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_1` (1A02h sub 1) = `0x20020004`
-    /// - 0x007A: `TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_2` (1A02h sub 2) = `0x00050004`
-    /// - 0x007E: `TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_3` (1A02h sub 3) = `0x20030118`
-    /// - 0x0082: `TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_4` (1A02h sub 4) = `0x20030208`
-    /// - 0x0086: `TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_5` (1A02h sub 5) = `0x20040001`
-    /// - 0x008A: `TPDO4_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS` (1A03h sub 0) = `0x03`
-    /// - 0x008B: `TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_1` (1A03h sub 1) = `0x20040001`
-    /// - 0x008F: `TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_2` (1A03h sub 2) = `0x20060020`
-    /// - 0x0093: `TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_3` (1A03h sub 3) = `0x20030208`
-    /// - 0x0097: `RETURNED_VALUES_NUMBER_OF_ENTRIES` (2000h sub 0) = `0x04`
-    /// - 0x00A3: `SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED` (2003h sub 0) = `0x05`
-    /// - 0x00A4: `SPARSE_RECORD_SIGNED_24` (2003h sub 1) = `0xFFFFFFFFFFFFFFFB`
-    /// - 0x00A7: `SPARSE_RECORD_TYPE` (2003h sub 2) = `0xFFFFFFFFFFFFFFFF`
-    /// - 0x00A8: `SPARSE_RECORD_BIG` (2003h sub 5) = `0x0000FFFFFFFFFFFF`
+    /// - 0x003A: `identity_object::NUMBER_OF_ENTRIES` (1018h sub 0) = `0x03`
+    /// - 0x003B: `identity_object::VENDOR_ID` (1018h sub 1) = `0x000004D8`
+    /// - 0x003F: `identity_object::PRODUCT_CODE` (1018h sub 2) = `0x00009252`
+    /// - 0x0043: `identity_object::REVISION_NUMBER` (1018h sub 3) = `0x00010001`
+    /// - 0x0047: `rpdo2_communication_parameter::HIGHEST_SUB_INDEX_SUPPORTED` (1401h sub 0) = `0x02`
+    /// - 0x0048: `rpdo2_communication_parameter::COB_ID` (1401h sub 1) = `$NODEID + 0x300`
+    /// - 0x004C: `rpdo2_communication_parameter::TRANSMISSION_TYPE` (1401h sub 2) = `0xFF`
+    /// - 0x004D: `rpdo2_mapping_parameter::NUMBER_OF_MAPPED_OBJECTS` (1601h sub 0) = `0x04`
+    /// - 0x004E: `rpdo2_mapping_parameter::MAPPED_OBJECT_1` (1601h sub 1) = `0x21010010`
+    /// - 0x0052: `rpdo2_mapping_parameter::MAPPED_OBJECT_2` (1601h sub 2) = `0x21000110`
+    /// - 0x0056: `rpdo2_mapping_parameter::MAPPED_OBJECT_3` (1601h sub 3) = `0x21000210`
+    /// - 0x005A: `rpdo2_mapping_parameter::MAPPED_OBJECT_4` (1601h sub 4) = `0x21000310`
+    /// - 0x005E: `tpdo2_communication_parameter::HIGHEST_SUB_INDEX_SUPPORTED` (1801h sub 0) = `0x02`
+    /// - 0x005F: `tpdo2_communication_parameter::COB_ID` (1801h sub 1) = `$NODEID + 0x280`
+    /// - 0x0063: `tpdo2_communication_parameter::TRANSMISSION_TYPE` (1801h sub 2) = `0xFF`
+    /// - 0x0064: `tpdo2_mapping_parameter::NUMBER_OF_MAPPED_OBJECTS` (1A01h sub 0) = `0x04`
+    /// - 0x0065: `tpdo2_mapping_parameter::MAPPED_OBJECT_1` (1A01h sub 1) = `0x20010010`
+    /// - 0x0069: `tpdo2_mapping_parameter::MAPPED_OBJECT_2` (1A01h sub 2) = `0x20000110`
+    /// - 0x006D: `tpdo2_mapping_parameter::MAPPED_OBJECT_3` (1A01h sub 3) = `0x20000210`
+    /// - 0x0071: `tpdo2_mapping_parameter::MAPPED_OBJECT_4` (1A01h sub 4) = `0x20000310`
+    /// - 0x0075: `tpdo3_mapping_parameter::NUMBER_OF_MAPPED_OBJECTS` (1A02h sub 0) = `0x05`
+    /// - 0x0076: `tpdo3_mapping_parameter::MAPPED_OBJECT_1` (1A02h sub 1) = `0x20020004`
+    /// - 0x007A: `tpdo3_mapping_parameter::MAPPED_OBJECT_2` (1A02h sub 2) = `0x00050004`
+    /// - 0x007E: `tpdo3_mapping_parameter::MAPPED_OBJECT_3` (1A02h sub 3) = `0x20030118`
+    /// - 0x0082: `tpdo3_mapping_parameter::MAPPED_OBJECT_4` (1A02h sub 4) = `0x20030208`
+    /// - 0x0086: `tpdo3_mapping_parameter::MAPPED_OBJECT_5` (1A02h sub 5) = `0x20040001`
+    /// - 0x008A: `tpdo4_mapping_parameter::NUMBER_OF_MAPPED_OBJECTS` (1A03h sub 0) = `0x03`
+    /// - 0x008B: `tpdo4_mapping_parameter::MAPPED_OBJECT_1` (1A03h sub 1) = `0x20040001`
+    /// - 0x008F: `tpdo4_mapping_parameter::MAPPED_OBJECT_2` (1A03h sub 2) = `0x20060020`
+    /// - 0x0093: `tpdo4_mapping_parameter::MAPPED_OBJECT_3` (1A03h sub 3) = `0x20030208`
+    /// - 0x0097: `returned_values::NUMBER_OF_ENTRIES` (2000h sub 0) = `0x04`
+    /// - 0x00A3: `sparse_record::HIGHEST_SUB_INDEX_SUPPORTED` (2003h sub 0) = `0x05`
+    /// - 0x00A4: `sparse_record::SIGNED_24` (2003h sub 1) = `0xFFFFFFFFFFFFFFFB`
+    /// - 0x00A7: `sparse_record::TYPE` (2003h sub 2) = `0xFFFFFFFFFFFFFFFF`
+    /// - 0x00A8: `sparse_record::BIG` (2003h sub 5) = `0x0000FFFFFFFFFFFF`
     /// - 0x00B0: `FLAG` (2004h sub 0) = `0x01`
     /// - 0x00B1: `GAIN` (2005h sub 0) = `0x3FC00000`
     /// - 0x00B5: `TAG` (2006h sub 0) = `01 02 03 04`
-    /// - 0x00D7: `SETTINGS_NUMBER_OF_ENTRIES` (2100h sub 0) = `0x04`
+    /// - 0x00D7: `settings::NUMBER_OF_ENTRIES` (2100h sub 0) = `0x04`
     /// - 0x00E2: `SETTING_LIMITED` (2102h sub 0) = `0x0064`
     const DEFAULTS: [u8; 150] = [
         0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 29, 1, 128,
@@ -304,6 +304,9 @@ pub mod gd350 {
         }
     }
     /// Typed addresses of every entry: the (index, sub-index) and the Rust type of its value.
+    ///
+    /// A VAR's address is here (`od::CONTROLWORD`), an ARRAY's or RECORD's entries are in a
+    /// module of their own (`od::identity_object::VENDOR_ID`).
     pub mod od {
         use ::edsgen_runtime::{Entry, FixedBytes};
         use ::edsgen_runtime::od::access::{Const, ReadOnly};
@@ -312,25 +315,32 @@ pub mod gd350 {
             .read_only()
             .at_position(0)
             .in_dictionary();
-        /// Pre-defined error field: Number of errors (1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`).
-        pub const PRE_DEFINED_ERROR_FIELD_NUMBER_OF_ERRORS: Entry<u8, super::Od> = Entry::new(
-                0x1003,
-                0x00,
-            )
-            .at_position(1)
-            .in_dictionary();
-        /// Pre-defined error field: Standard error field (1003h sub 1: UNSIGNED32, ro, not PDO-mappable; default `0`).
-        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD: Entry<
-            u32,
-            super::Od,
-            ReadOnly,
-        > = Entry::new(0x1003, 0x01).read_only().at_position(2).in_dictionary();
-        /// Pre-defined error field: Standard error field (1003h sub 2: UNSIGNED32, ro, not PDO-mappable; default `0`).
-        pub const PRE_DEFINED_ERROR_FIELD_STANDARD_ERROR_FIELD_SUB2: Entry<
-            u32,
-            super::Od,
-            ReadOnly,
-        > = Entry::new(0x1003, 0x02).read_only().at_position(3).in_dictionary();
+        /// Pre-defined error field (1003h): the typed addresses of its 3 entries.
+        pub mod pre_defined_error_field {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::ReadOnly;
+            /// Pre-defined error field: Number of errors (1003h sub 0: UNSIGNED8, rw, not PDO-mappable; default `0`).
+            pub const NUMBER_OF_ERRORS: Entry<u8, super::super::Od> = Entry::new(
+                    0x1003,
+                    0x00,
+                )
+                .at_position(1)
+                .in_dictionary();
+            /// Pre-defined error field: Standard error field (1003h sub 1: UNSIGNED32, ro, not PDO-mappable; default `0`).
+            pub const STANDARD_ERROR_FIELD: Entry<u32, super::super::Od, ReadOnly> = Entry::new(
+                    0x1003,
+                    0x01,
+                )
+                .read_only()
+                .at_position(2)
+                .in_dictionary();
+            /// Pre-defined error field: Standard error field (1003h sub 2: UNSIGNED32, ro, not PDO-mappable; default `0`).
+            pub const STANDARD_ERROR_FIELD_SUB2: Entry<
+                u32,
+                super::super::Od,
+                ReadOnly,
+            > = Entry::new(0x1003, 0x02).read_only().at_position(3).in_dictionary();
+        }
         /// Manufacturer device name (1008h sub 0: VISIBLE_STRING, const, not PDO-mappable, capacity 5 bytes; default `GD350`).
         pub const MANUFACTURER_DEVICE_NAME: Entry<FixedBytes<5>, super::Od, Const> = Entry::new(
                 0x1008,
@@ -351,246 +361,292 @@ pub mod gd350 {
             .read_only()
             .at_position(6)
             .in_dictionary();
-        /// Identity object: Number of entries (1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`).
-        pub const IDENTITY_OBJECT_NUMBER_OF_ENTRIES: Entry<u8, super::Od, Const> = Entry::new(
-                0x1018,
-                0x00,
-            )
-            .constant()
-            .at_position(7)
-            .in_dictionary();
-        /// Identity object: Vendor-ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
-        pub const IDENTITY_OBJECT_VENDOR_ID: Entry<u32, super::Od, ReadOnly> = Entry::new(
-                0x1018,
-                0x01,
-            )
-            .read_only()
-            .at_position(8)
-            .in_dictionary();
-        /// Identity object: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
-        pub const IDENTITY_OBJECT_PRODUCT_CODE: Entry<u32, super::Od, ReadOnly> = Entry::new(
-                0x1018,
-                0x02,
-            )
-            .read_only()
-            .at_position(9)
-            .in_dictionary();
-        /// Identity object: Revision number (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`).
-        pub const IDENTITY_OBJECT_REVISION_NUMBER: Entry<u32, super::Od, ReadOnly> = Entry::new(
-                0x1018,
-                0x03,
-            )
-            .read_only()
-            .at_position(10)
-            .in_dictionary();
-        /// RPDO2 communication parameter: Highest sub-index supported (1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
-        pub const RPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
-            u8,
-            super::Od,
-            Const,
-        > = Entry::new(0x1401, 0x00).constant().at_position(11).in_dictionary();
-        /// RPDO2 communication parameter: COB-ID (1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`).
-        pub const RPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32, super::Od> = Entry::new(
-                0x1401,
-                0x01,
-            )
-            .at_position(12)
-            .in_dictionary();
-        /// RPDO2 communication parameter: Transmission type (1401h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
-        pub const RPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<
-            u8,
-            super::Od,
-        > = Entry::new(0x1401, 0x02).at_position(13).in_dictionary();
-        /// RPDO2 mapping parameter: Number of mapped objects (1601h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
-        pub const RPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
-            u8,
-            super::Od,
-        > = Entry::new(0x1601, 0x00).at_position(14).in_dictionary();
-        /// RPDO2 mapping parameter: Mapped object 1 (1601h sub 1: UNSIGNED32, rw, not PDO-mappable; default `553713680`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
-                0x1601,
-                0x01,
-            )
-            .at_position(15)
-            .in_dictionary();
-        /// RPDO2 mapping parameter: Mapped object 2 (1601h sub 2: UNSIGNED32, rw, not PDO-mappable; default `553648400`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
-                0x1601,
-                0x02,
-            )
-            .at_position(16)
-            .in_dictionary();
-        /// RPDO2 mapping parameter: Mapped object 3 (1601h sub 3: UNSIGNED32, rw, not PDO-mappable; default `553648656`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
-                0x1601,
-                0x03,
-            )
-            .at_position(17)
-            .in_dictionary();
-        /// RPDO2 mapping parameter: Mapped object 4 (1601h sub 4: UNSIGNED32, rw, not PDO-mappable; default `553648912`).
-        pub const RPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32, super::Od> = Entry::new(
-                0x1601,
-                0x04,
-            )
-            .at_position(18)
-            .in_dictionary();
-        /// TPDO2 communication parameter: Highest sub-index supported (1801h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
-        pub const TPDO2_COMMUNICATION_PARAMETER_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
-            u8,
-            super::Od,
-            Const,
-        > = Entry::new(0x1801, 0x00).constant().at_position(19).in_dictionary();
-        /// TPDO2 communication parameter: COB-ID (1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`).
-        pub const TPDO2_COMMUNICATION_PARAMETER_COB_ID: Entry<u32, super::Od> = Entry::new(
-                0x1801,
-                0x01,
-            )
-            .at_position(20)
-            .in_dictionary();
-        /// TPDO2 communication parameter: Transmission type (1801h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
-        pub const TPDO2_COMMUNICATION_PARAMETER_TRANSMISSION_TYPE: Entry<
-            u8,
-            super::Od,
-        > = Entry::new(0x1801, 0x02).at_position(21).in_dictionary();
-        /// TPDO2 mapping parameter: Number of mapped objects (1A01h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
-        pub const TPDO2_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
-            u8,
-            super::Od,
-        > = Entry::new(0x1A01, 0x00).at_position(22).in_dictionary();
-        /// TPDO2 mapping parameter: Mapped object 1 (1A01h sub 1: UNSIGNED32, rw, not PDO-mappable; default `536936464`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
-                0x1A01,
-                0x01,
-            )
-            .at_position(23)
-            .in_dictionary();
-        /// TPDO2 mapping parameter: Mapped object 2 (1A01h sub 2: UNSIGNED32, rw, not PDO-mappable; default `536871184`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
-                0x1A01,
-                0x02,
-            )
-            .at_position(24)
-            .in_dictionary();
-        /// TPDO2 mapping parameter: Mapped object 3 (1A01h sub 3: UNSIGNED32, rw, not PDO-mappable; default `536871440`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
-                0x1A01,
-                0x03,
-            )
-            .at_position(25)
-            .in_dictionary();
-        /// TPDO2 mapping parameter: Mapped object 4 (1A01h sub 4: UNSIGNED32, rw, not PDO-mappable; default `536871696`).
-        pub const TPDO2_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32, super::Od> = Entry::new(
-                0x1A01,
-                0x04,
-            )
-            .at_position(26)
-            .in_dictionary();
-        /// TPDO3 mapping parameter: Number of mapped objects (1A02h sub 0: UNSIGNED8, rw, not PDO-mappable; default `5`).
-        pub const TPDO3_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
-            u8,
-            super::Od,
-        > = Entry::new(0x1A02, 0x00).at_position(27).in_dictionary();
-        /// TPDO3 mapping parameter: Mapped object 1 (1A02h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537001988`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
-                0x1A02,
-                0x01,
-            )
-            .at_position(28)
-            .in_dictionary();
-        /// TPDO3 mapping parameter: Mapped object 2 (1A02h sub 2: UNSIGNED32, rw, not PDO-mappable; default `327684`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
-                0x1A02,
-                0x02,
-            )
-            .at_position(29)
-            .in_dictionary();
-        /// TPDO3 mapping parameter: Mapped object 3 (1A02h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537067800`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
-                0x1A02,
-                0x03,
-            )
-            .at_position(30)
-            .in_dictionary();
-        /// TPDO3 mapping parameter: Mapped object 4 (1A02h sub 4: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_4: Entry<u32, super::Od> = Entry::new(
-                0x1A02,
-                0x04,
-            )
-            .at_position(31)
-            .in_dictionary();
-        /// TPDO3 mapping parameter: Mapped object 5 (1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
-        pub const TPDO3_MAPPING_PARAMETER_MAPPED_OBJECT_5: Entry<u32, super::Od> = Entry::new(
-                0x1A02,
-                0x05,
-            )
-            .at_position(32)
-            .in_dictionary();
-        /// TPDO4 mapping parameter: Number of mapped objects (1A03h sub 0: UNSIGNED8, rw, not PDO-mappable; default `3`).
-        pub const TPDO4_MAPPING_PARAMETER_NUMBER_OF_MAPPED_OBJECTS: Entry<
-            u8,
-            super::Od,
-        > = Entry::new(0x1A03, 0x00).at_position(33).in_dictionary();
-        /// TPDO4 mapping parameter: Mapped object 1 (1A03h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
-        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_1: Entry<u32, super::Od> = Entry::new(
-                0x1A03,
-                0x01,
-            )
-            .at_position(34)
-            .in_dictionary();
-        /// TPDO4 mapping parameter: Mapped object 2 (1A03h sub 2: UNSIGNED32, rw, not PDO-mappable; default `537264160`).
-        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_2: Entry<u32, super::Od> = Entry::new(
-                0x1A03,
-                0x02,
-            )
-            .at_position(35)
-            .in_dictionary();
-        /// TPDO4 mapping parameter: Mapped object 3 (1A03h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
-        pub const TPDO4_MAPPING_PARAMETER_MAPPED_OBJECT_3: Entry<u32, super::Od> = Entry::new(
-                0x1A03,
-                0x03,
-            )
-            .at_position(36)
-            .in_dictionary();
-        /// Returned values: Number of entries (2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const RETURNED_VALUES_NUMBER_OF_ENTRIES: Entry<u8, super::Od, Const> = Entry::new(
-                0x2000,
-                0x00,
-            )
-            .constant()
-            .at_position(37)
-            .in_dictionary();
-        /// Returned values: Returned value 1 (2000h sub 1: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_1: Entry<u16, super::Od, ReadOnly> = Entry::new(
-                0x2000,
-                0x01,
-            )
-            .read_only()
-            .at_position(38)
-            .in_dictionary();
-        /// Returned values: Returned value 2 (2000h sub 2: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_2: Entry<u16, super::Od, ReadOnly> = Entry::new(
-                0x2000,
-                0x02,
-            )
-            .read_only()
-            .at_position(39)
-            .in_dictionary();
-        /// Returned values: Returned value 3 (2000h sub 3: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_3: Entry<u16, super::Od, ReadOnly> = Entry::new(
-                0x2000,
-                0x03,
-            )
-            .read_only()
-            .at_position(40)
-            .in_dictionary();
-        /// Returned values: Returned value 4 (2000h sub 4: UNSIGNED16, ro, PDO-mappable; default `0`).
-        pub const RETURNED_VALUES_RETURNED_VALUE_4: Entry<u16, super::Od, ReadOnly> = Entry::new(
-                0x2000,
-                0x04,
-            )
-            .read_only()
-            .at_position(41)
-            .in_dictionary();
+        /// Identity object (1018h): the typed addresses of its 4 entries.
+        pub mod identity_object {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::{Const, ReadOnly};
+            /// Identity object: Number of entries (1018h sub 0: UNSIGNED8, const, not PDO-mappable; default `3`).
+            pub const NUMBER_OF_ENTRIES: Entry<u8, super::super::Od, Const> = Entry::new(
+                    0x1018,
+                    0x00,
+                )
+                .constant()
+                .at_position(7)
+                .in_dictionary();
+            /// Identity object: Vendor-ID (1018h sub 1: UNSIGNED32, ro, not PDO-mappable; default `1240`).
+            pub const VENDOR_ID: Entry<u32, super::super::Od, ReadOnly> = Entry::new(
+                    0x1018,
+                    0x01,
+                )
+                .read_only()
+                .at_position(8)
+                .in_dictionary();
+            /// Identity object: Product code (1018h sub 2: UNSIGNED32, ro, not PDO-mappable; default `37458`).
+            pub const PRODUCT_CODE: Entry<u32, super::super::Od, ReadOnly> = Entry::new(
+                    0x1018,
+                    0x02,
+                )
+                .read_only()
+                .at_position(9)
+                .in_dictionary();
+            /// Identity object: Revision number (1018h sub 3: UNSIGNED32, ro, not PDO-mappable; default `65537`).
+            pub const REVISION_NUMBER: Entry<u32, super::super::Od, ReadOnly> = Entry::new(
+                    0x1018,
+                    0x03,
+                )
+                .read_only()
+                .at_position(10)
+                .in_dictionary();
+        }
+        /// RPDO2 communication parameter (1401h): the typed addresses of its 3 entries.
+        pub mod rpdo2_communication_parameter {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::Const;
+            /// RPDO2 communication parameter: Highest sub-index supported (1401h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
+            pub const HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8, super::super::Od, Const> = Entry::new(
+                    0x1401,
+                    0x00,
+                )
+                .constant()
+                .at_position(11)
+                .in_dictionary();
+            /// RPDO2 communication parameter: COB-ID (1401h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+768`).
+            pub const COB_ID: Entry<u32, super::super::Od> = Entry::new(0x1401, 0x01)
+                .at_position(12)
+                .in_dictionary();
+            /// RPDO2 communication parameter: Transmission type (1401h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
+            pub const TRANSMISSION_TYPE: Entry<u8, super::super::Od> = Entry::new(
+                    0x1401,
+                    0x02,
+                )
+                .at_position(13)
+                .in_dictionary();
+        }
+        /// RPDO2 mapping parameter (1601h): the typed addresses of its 5 entries.
+        pub mod rpdo2_mapping_parameter {
+            use ::edsgen_runtime::Entry;
+            /// RPDO2 mapping parameter: Number of mapped objects (1601h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
+            pub const NUMBER_OF_MAPPED_OBJECTS: Entry<u8, super::super::Od> = Entry::new(
+                    0x1601,
+                    0x00,
+                )
+                .at_position(14)
+                .in_dictionary();
+            /// RPDO2 mapping parameter: Mapped object 1 (1601h sub 1: UNSIGNED32, rw, not PDO-mappable; default `553713680`).
+            pub const MAPPED_OBJECT_1: Entry<u32, super::super::Od> = Entry::new(
+                    0x1601,
+                    0x01,
+                )
+                .at_position(15)
+                .in_dictionary();
+            /// RPDO2 mapping parameter: Mapped object 2 (1601h sub 2: UNSIGNED32, rw, not PDO-mappable; default `553648400`).
+            pub const MAPPED_OBJECT_2: Entry<u32, super::super::Od> = Entry::new(
+                    0x1601,
+                    0x02,
+                )
+                .at_position(16)
+                .in_dictionary();
+            /// RPDO2 mapping parameter: Mapped object 3 (1601h sub 3: UNSIGNED32, rw, not PDO-mappable; default `553648656`).
+            pub const MAPPED_OBJECT_3: Entry<u32, super::super::Od> = Entry::new(
+                    0x1601,
+                    0x03,
+                )
+                .at_position(17)
+                .in_dictionary();
+            /// RPDO2 mapping parameter: Mapped object 4 (1601h sub 4: UNSIGNED32, rw, not PDO-mappable; default `553648912`).
+            pub const MAPPED_OBJECT_4: Entry<u32, super::super::Od> = Entry::new(
+                    0x1601,
+                    0x04,
+                )
+                .at_position(18)
+                .in_dictionary();
+        }
+        /// TPDO2 communication parameter (1801h): the typed addresses of its 3 entries.
+        pub mod tpdo2_communication_parameter {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::Const;
+            /// TPDO2 communication parameter: Highest sub-index supported (1801h sub 0: UNSIGNED8, const, not PDO-mappable; default `2`).
+            pub const HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8, super::super::Od, Const> = Entry::new(
+                    0x1801,
+                    0x00,
+                )
+                .constant()
+                .at_position(19)
+                .in_dictionary();
+            /// TPDO2 communication parameter: COB-ID (1801h sub 1: UNSIGNED32, rw, not PDO-mappable; default `$NODEID+640`).
+            pub const COB_ID: Entry<u32, super::super::Od> = Entry::new(0x1801, 0x01)
+                .at_position(20)
+                .in_dictionary();
+            /// TPDO2 communication parameter: Transmission type (1801h sub 2: UNSIGNED8, rw, not PDO-mappable; default `255`).
+            pub const TRANSMISSION_TYPE: Entry<u8, super::super::Od> = Entry::new(
+                    0x1801,
+                    0x02,
+                )
+                .at_position(21)
+                .in_dictionary();
+        }
+        /// TPDO2 mapping parameter (1A01h): the typed addresses of its 5 entries.
+        pub mod tpdo2_mapping_parameter {
+            use ::edsgen_runtime::Entry;
+            /// TPDO2 mapping parameter: Number of mapped objects (1A01h sub 0: UNSIGNED8, rw, not PDO-mappable; default `4`).
+            pub const NUMBER_OF_MAPPED_OBJECTS: Entry<u8, super::super::Od> = Entry::new(
+                    0x1A01,
+                    0x00,
+                )
+                .at_position(22)
+                .in_dictionary();
+            /// TPDO2 mapping parameter: Mapped object 1 (1A01h sub 1: UNSIGNED32, rw, not PDO-mappable; default `536936464`).
+            pub const MAPPED_OBJECT_1: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A01,
+                    0x01,
+                )
+                .at_position(23)
+                .in_dictionary();
+            /// TPDO2 mapping parameter: Mapped object 2 (1A01h sub 2: UNSIGNED32, rw, not PDO-mappable; default `536871184`).
+            pub const MAPPED_OBJECT_2: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A01,
+                    0x02,
+                )
+                .at_position(24)
+                .in_dictionary();
+            /// TPDO2 mapping parameter: Mapped object 3 (1A01h sub 3: UNSIGNED32, rw, not PDO-mappable; default `536871440`).
+            pub const MAPPED_OBJECT_3: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A01,
+                    0x03,
+                )
+                .at_position(25)
+                .in_dictionary();
+            /// TPDO2 mapping parameter: Mapped object 4 (1A01h sub 4: UNSIGNED32, rw, not PDO-mappable; default `536871696`).
+            pub const MAPPED_OBJECT_4: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A01,
+                    0x04,
+                )
+                .at_position(26)
+                .in_dictionary();
+        }
+        /// TPDO3 mapping parameter (1A02h): the typed addresses of its 6 entries.
+        pub mod tpdo3_mapping_parameter {
+            use ::edsgen_runtime::Entry;
+            /// TPDO3 mapping parameter: Number of mapped objects (1A02h sub 0: UNSIGNED8, rw, not PDO-mappable; default `5`).
+            pub const NUMBER_OF_MAPPED_OBJECTS: Entry<u8, super::super::Od> = Entry::new(
+                    0x1A02,
+                    0x00,
+                )
+                .at_position(27)
+                .in_dictionary();
+            /// TPDO3 mapping parameter: Mapped object 1 (1A02h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537001988`).
+            pub const MAPPED_OBJECT_1: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A02,
+                    0x01,
+                )
+                .at_position(28)
+                .in_dictionary();
+            /// TPDO3 mapping parameter: Mapped object 2 (1A02h sub 2: UNSIGNED32, rw, not PDO-mappable; default `327684`).
+            pub const MAPPED_OBJECT_2: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A02,
+                    0x02,
+                )
+                .at_position(29)
+                .in_dictionary();
+            /// TPDO3 mapping parameter: Mapped object 3 (1A02h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537067800`).
+            pub const MAPPED_OBJECT_3: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A02,
+                    0x03,
+                )
+                .at_position(30)
+                .in_dictionary();
+            /// TPDO3 mapping parameter: Mapped object 4 (1A02h sub 4: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
+            pub const MAPPED_OBJECT_4: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A02,
+                    0x04,
+                )
+                .at_position(31)
+                .in_dictionary();
+            /// TPDO3 mapping parameter: Mapped object 5 (1A02h sub 5: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
+            pub const MAPPED_OBJECT_5: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A02,
+                    0x05,
+                )
+                .at_position(32)
+                .in_dictionary();
+        }
+        /// TPDO4 mapping parameter (1A03h): the typed addresses of its 4 entries.
+        pub mod tpdo4_mapping_parameter {
+            use ::edsgen_runtime::Entry;
+            /// TPDO4 mapping parameter: Number of mapped objects (1A03h sub 0: UNSIGNED8, rw, not PDO-mappable; default `3`).
+            pub const NUMBER_OF_MAPPED_OBJECTS: Entry<u8, super::super::Od> = Entry::new(
+                    0x1A03,
+                    0x00,
+                )
+                .at_position(33)
+                .in_dictionary();
+            /// TPDO4 mapping parameter: Mapped object 1 (1A03h sub 1: UNSIGNED32, rw, not PDO-mappable; default `537133057`).
+            pub const MAPPED_OBJECT_1: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A03,
+                    0x01,
+                )
+                .at_position(34)
+                .in_dictionary();
+            /// TPDO4 mapping parameter: Mapped object 2 (1A03h sub 2: UNSIGNED32, rw, not PDO-mappable; default `537264160`).
+            pub const MAPPED_OBJECT_2: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A03,
+                    0x02,
+                )
+                .at_position(35)
+                .in_dictionary();
+            /// TPDO4 mapping parameter: Mapped object 3 (1A03h sub 3: UNSIGNED32, rw, not PDO-mappable; default `537068040`).
+            pub const MAPPED_OBJECT_3: Entry<u32, super::super::Od> = Entry::new(
+                    0x1A03,
+                    0x03,
+                )
+                .at_position(36)
+                .in_dictionary();
+        }
+        /// Returned values (2000h): the typed addresses of its 5 entries.
+        pub mod returned_values {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::{Const, ReadOnly};
+            /// Returned values: Number of entries (2000h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
+            pub const NUMBER_OF_ENTRIES: Entry<u8, super::super::Od, Const> = Entry::new(
+                    0x2000,
+                    0x00,
+                )
+                .constant()
+                .at_position(37)
+                .in_dictionary();
+            /// Returned values: Returned value 1 (2000h sub 1: UNSIGNED16, ro, PDO-mappable; default `0`).
+            pub const RETURNED_VALUE_1: Entry<u16, super::super::Od, ReadOnly> = Entry::new(
+                    0x2000,
+                    0x01,
+                )
+                .read_only()
+                .at_position(38)
+                .in_dictionary();
+            /// Returned values: Returned value 2 (2000h sub 2: UNSIGNED16, ro, PDO-mappable; default `0`).
+            pub const RETURNED_VALUE_2: Entry<u16, super::super::Od, ReadOnly> = Entry::new(
+                    0x2000,
+                    0x02,
+                )
+                .read_only()
+                .at_position(39)
+                .in_dictionary();
+            /// Returned values: Returned value 3 (2000h sub 3: UNSIGNED16, ro, PDO-mappable; default `0`).
+            pub const RETURNED_VALUE_3: Entry<u16, super::super::Od, ReadOnly> = Entry::new(
+                    0x2000,
+                    0x03,
+                )
+                .read_only()
+                .at_position(40)
+                .in_dictionary();
+            /// Returned values: Returned value 4 (2000h sub 4: UNSIGNED16, ro, PDO-mappable; default `0`).
+            pub const RETURNED_VALUE_4: Entry<u16, super::super::Od, ReadOnly> = Entry::new(
+                    0x2000,
+                    0x04,
+                )
+                .read_only()
+                .at_position(41)
+                .in_dictionary();
+        }
         /// Status word (2001h sub 0: UNSIGNED16, ro, PDO-mappable; default `0`).
         pub const STATUS_WORD: Entry<u16, super::Od, ReadOnly> = Entry::new(0x2001, 0x00)
             .read_only()
@@ -601,28 +657,35 @@ pub mod gd350 {
             .read_only()
             .at_position(43)
             .in_dictionary();
-        /// Sparse record: Highest sub-index supported (2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`).
-        pub const SPARSE_RECORD_HIGHEST_SUB_INDEX_SUPPORTED: Entry<
-            u8,
-            super::Od,
-            Const,
-        > = Entry::new(0x2003, 0x00).constant().at_position(44).in_dictionary();
-        /// Sparse record: Signed 24 (2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`).
-        pub const SPARSE_RECORD_SIGNED_24: Entry<i32, super::Od> = Entry::with_width(
-                0x2003,
-                0x01,
-                3,
-            )
-            .at_position(45)
-            .in_dictionary();
-        /// Sparse record: type (2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`).
-        pub const SPARSE_RECORD_TYPE: Entry<i8, super::Od> = Entry::new(0x2003, 0x02)
-            .at_position(46)
-            .in_dictionary();
-        /// Sparse record: Big (2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`).
-        pub const SPARSE_RECORD_BIG: Entry<u64, super::Od> = Entry::new(0x2003, 0x05)
-            .at_position(47)
-            .in_dictionary();
+        /// Sparse record (2003h): the typed addresses of its 4 entries.
+        pub mod sparse_record {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::Const;
+            /// Sparse record: Highest sub-index supported (2003h sub 0: UNSIGNED8, const, not PDO-mappable; default `5`).
+            pub const HIGHEST_SUB_INDEX_SUPPORTED: Entry<u8, super::super::Od, Const> = Entry::new(
+                    0x2003,
+                    0x00,
+                )
+                .constant()
+                .at_position(44)
+                .in_dictionary();
+            /// Sparse record: Signed 24 (2003h sub 1: INTEGER24, rw, PDO-mappable; default `-5`).
+            pub const SIGNED_24: Entry<i32, super::super::Od> = Entry::with_width(
+                    0x2003,
+                    0x01,
+                    3,
+                )
+                .at_position(45)
+                .in_dictionary();
+            /// Sparse record: type (2003h sub 2: INTEGER8, rw, PDO-mappable; default `-1`).
+            pub const TYPE: Entry<i8, super::super::Od> = Entry::new(0x2003, 0x02)
+                .at_position(46)
+                .in_dictionary();
+            /// Sparse record: Big (2003h sub 5: UNSIGNED64, rw, not PDO-mappable; default `281474976710655`).
+            pub const BIG: Entry<u64, super::super::Od> = Entry::new(0x2003, 0x05)
+                .at_position(47)
+                .in_dictionary();
+        }
         /// Flag (2004h sub 0: BOOLEAN, rw, PDO-mappable; default `1`).
         pub const FLAG: Entry<bool, super::Od> = Entry::new(0x2004, 0x00)
             .at_position(48)
@@ -635,30 +698,35 @@ pub mod gd350 {
         pub const TAG: Entry<FixedBytes<32>, super::Od> = Entry::new(0x2006, 0x00)
             .at_position(50)
             .in_dictionary();
-        /// Settings: Number of entries (2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
-        pub const SETTINGS_NUMBER_OF_ENTRIES: Entry<u8, super::Od, Const> = Entry::new(
-                0x2100,
-                0x00,
-            )
-            .constant()
-            .at_position(51)
-            .in_dictionary();
-        /// Settings: Setting 1 (2100h sub 1: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_1: Entry<u16, super::Od> = Entry::new(0x2100, 0x01)
-            .at_position(52)
-            .in_dictionary();
-        /// Settings: Setting 2 (2100h sub 2: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_2: Entry<u16, super::Od> = Entry::new(0x2100, 0x02)
-            .at_position(53)
-            .in_dictionary();
-        /// Settings: Setting 3 (2100h sub 3: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_3: Entry<u16, super::Od> = Entry::new(0x2100, 0x03)
-            .at_position(54)
-            .in_dictionary();
-        /// Settings: Setting 4 (2100h sub 4: UNSIGNED16, rw, PDO-mappable; default `0`).
-        pub const SETTINGS_SETTING_4: Entry<u16, super::Od> = Entry::new(0x2100, 0x04)
-            .at_position(55)
-            .in_dictionary();
+        /// Settings (2100h): the typed addresses of its 5 entries.
+        pub mod settings {
+            use ::edsgen_runtime::Entry;
+            use ::edsgen_runtime::od::access::Const;
+            /// Settings: Number of entries (2100h sub 0: UNSIGNED8, const, not PDO-mappable; default `4`).
+            pub const NUMBER_OF_ENTRIES: Entry<u8, super::super::Od, Const> = Entry::new(
+                    0x2100,
+                    0x00,
+                )
+                .constant()
+                .at_position(51)
+                .in_dictionary();
+            /// Settings: Setting 1 (2100h sub 1: UNSIGNED16, rw, PDO-mappable; default `0`).
+            pub const SETTING_1: Entry<u16, super::super::Od> = Entry::new(0x2100, 0x01)
+                .at_position(52)
+                .in_dictionary();
+            /// Settings: Setting 2 (2100h sub 2: UNSIGNED16, rw, PDO-mappable; default `0`).
+            pub const SETTING_2: Entry<u16, super::super::Od> = Entry::new(0x2100, 0x02)
+                .at_position(53)
+                .in_dictionary();
+            /// Settings: Setting 3 (2100h sub 3: UNSIGNED16, rw, PDO-mappable; default `0`).
+            pub const SETTING_3: Entry<u16, super::super::Od> = Entry::new(0x2100, 0x03)
+                .at_position(54)
+                .in_dictionary();
+            /// Settings: Setting 4 (2100h sub 4: UNSIGNED16, rw, PDO-mappable; default `0`).
+            pub const SETTING_4: Entry<u16, super::super::Od> = Entry::new(0x2100, 0x04)
+                .at_position(55)
+                .in_dictionary();
+        }
         /// Control word (2101h sub 0: UNSIGNED16, rw, PDO-mappable; default `0`).
         pub const CONTROL_WORD: Entry<u16, super::Od> = Entry::new(0x2101, 0x00)
             .at_position(56)

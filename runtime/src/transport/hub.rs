@@ -5,43 +5,59 @@
 //! Blocking std threads, chosen over tokio: a hub has a handful of clients, a thread per
 //! connection keeps each client's failures (garbage, a close mid-message, a reader too slow to
 //! keep up) to that client's own threads, and the runtime does not depend on an async runtime.
-//! Each client has a reader thread (the handshake, then its `send` messages) and a writer thread
-//! that drains a bounded queue of frames for it; a client whose queue overflows is dropped rather
-//! than slowing the bus down for the others.
+//! Each client has a reader thread (the handshake, then its messages) and a writer thread that
+//! drains the client's outbox. A client is never disconnected for being slow: its outbox is
+//! bounded, and when it is full the oldest frames waiting for that client are dropped, counted,
+//! reported to the hub's notices, and signalled to the client as a socketcand error frame
+//! (`< error 004 ... >`, class 4: controller problems, the class SocketCAN uses for a receive
+//! overflow), which python-can reads as an error frame and python `canopen` ignores.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpListener, TcpStream, ToSocketAddrs};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::{self, JoinHandle};
 use std::time::{Duration as StdDuration, Instant as StdInstant, SystemTime};
 
 use super::socketcand::{rearm_quickack, tune, Message, MessageScanner};
 use super::trace::{epoch_micros, TraceWriter};
 
+/// The socketcand error class the hub sends a client for whom it dropped frames: `CAN_ERR_CRTL`
+/// (controller problems), which SocketCAN raises for a receive buffer overflow.
+pub const OVERFLOW_ERROR_CLASS: u32 = 0x004;
+
+/// Something a hub wants its operator to know (`edsgen bus` prints these on standard error).
+pub type Notices = Box<dyn Fn(String) + Send + Sync>;
+
 /// How a hub treats its clients.
 pub struct HubOptions {
-    /// Where to write every relayed frame as a `candump -L` line (on the channel its sender
-    /// opened), or nowhere.
+    /// Where to write every relayed frame as a `candump -L` line, or nowhere.
     pub log: Option<Box<dyn Write + Send>>,
+    /// The one channel the hub serves (`< open CHANNEL >`); any other gets
+    /// `< error could not open bus >`, as socketcand answers. `can0` by default.
+    pub channel: String,
     /// How long after its rawmode `< ok >` a client gets nothing: python-can 4.6.1 fails the
     /// connect when a frame lands in the same read as that `< ok >`. 50 ms by default.
     pub quiet_period: StdDuration,
-    /// How many frames may wait for one client before the hub drops it as too slow.
+    /// How many frames may wait for one client; beyond that the oldest are dropped for it.
     pub queue_limit: usize,
     /// How long a client may take for the handshake (each message of it).
     pub handshake_timeout: StdDuration,
+    /// Where the hub reports frames dropped for a slow client (at most once a second per
+    /// client, and a total when it leaves), or nowhere.
+    pub notices: Option<Notices>,
 }
 
 impl Default for HubOptions {
     fn default() -> Self {
         HubOptions {
             log: None,
+            channel: "can0".to_owned(),
             quiet_period: StdDuration::from_millis(50),
             queue_limit: 65_536,
             handshake_timeout: StdDuration::from_secs(5),
+            notices: None,
         }
     }
 }
@@ -50,9 +66,11 @@ impl std::fmt::Debug for HubOptions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("HubOptions")
             .field("log", &self.log.is_some())
+            .field("channel", &self.channel)
             .field("quiet_period", &self.quiet_period)
             .field("queue_limit", &self.queue_limit)
             .field("handshake_timeout", &self.handshake_timeout)
+            .field("notices", &self.notices.is_some())
             .finish()
     }
 }
@@ -74,13 +92,15 @@ struct Shared {
     connections: Mutex<HashMap<u64, TcpStream>>,
     threads: Mutex<Vec<JoinHandle<()>>>,
     frames_relayed: AtomicU64,
-    clients_dropped: AtomicU64,
+    frames_dropped: AtomicU64,
     limits: Limits,
+    notices: Option<Notices>,
 }
 
-/// [`HubOptions`] but the log, which the bus owns.
-#[derive(Debug, Clone, Copy)]
+/// [`HubOptions`] but the log, which the bus owns, and the notices.
+#[derive(Debug, Clone)]
 struct Limits {
+    channel: String,
     quiet_period: StdDuration,
     queue_limit: usize,
     handshake_timeout: StdDuration,
@@ -90,7 +110,16 @@ impl std::fmt::Debug for Shared {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Shared")
             .field("frames_relayed", &self.frames_relayed)
+            .field("frames_dropped", &self.frames_dropped)
             .finish_non_exhaustive()
+    }
+}
+
+impl Shared {
+    fn notice(&self, text: String) {
+        if let Some(notices) = &self.notices {
+            notices(text);
+        }
     }
 }
 
@@ -103,11 +132,113 @@ struct Bus {
     log_error: Option<String>,
 }
 
-/// A client in rawmode: its queue, and its connection to shut down if it cannot keep up.
+/// A client in rawmode and its outbox.
 struct Listener {
     id: u64,
-    queue: SyncSender<Arc<[u8]>>,
-    stream: TcpStream,
+    /// Its address, for notices.
+    peer: String,
+    outbox: Arc<Outbox>,
+}
+
+/// The messages waiting for one client: at most `limit` frames, the oldest dropped (and
+/// counted) to make room, so a slow client costs bounded memory and never slows the bus.
+struct Outbox {
+    state: Mutex<OutboxState>,
+    ready: Condvar,
+    limit: usize,
+}
+
+#[derive(Default)]
+struct OutboxState {
+    messages: VecDeque<Arc<[u8]>>,
+    /// The client left: the writer stops.
+    closed: bool,
+    /// Frames dropped since the client was last told (by an error frame).
+    untold: u64,
+    /// Frames dropped for this client in all.
+    dropped: u64,
+    /// Frames dropped since the last notice, and when that was.
+    unnoticed: u64,
+    noticed_at: Option<StdInstant>,
+}
+
+/// How often at most a hub reports the frames it drops for one client.
+const NOTICE_INTERVAL: StdDuration = StdDuration::from_secs(1);
+
+impl Outbox {
+    fn new(limit: usize) -> Self {
+        Outbox {
+            state: Mutex::new(OutboxState::default()),
+            ready: Condvar::new(),
+            limit: limit.max(1),
+        }
+    }
+
+    /// Queues `message`, dropping the oldest one if the outbox is full. Whether one was
+    /// dropped, and when a notice is due (the first drop, then at most once a second), the
+    /// frames dropped since the last notice and in all.
+    fn push(&self, message: Arc<[u8]>) -> (bool, Option<(u64, u64)>) {
+        let mut state = lock(&self.state);
+        let dropped = state.messages.len() >= self.limit;
+        let mut notice = None;
+        if dropped {
+            state.messages.pop_front();
+            state.untold += 1;
+            state.dropped += 1;
+            state.unnoticed += 1;
+            if state
+                .noticed_at
+                .is_none_or(|at| at.elapsed() >= NOTICE_INTERVAL)
+            {
+                notice = Some((std::mem::take(&mut state.unnoticed), state.dropped));
+                state.noticed_at = Some(StdInstant::now());
+            }
+        }
+        state.messages.push_back(message);
+        drop(state);
+        self.ready.notify_one();
+        (dropped, notice)
+    }
+
+    fn close(&self) {
+        lock(&self.state).closed = true;
+        self.ready.notify_one();
+    }
+
+    /// Waits for messages and appends up to about `max` bytes of them to `batch`, preceded by an
+    /// error frame if frames were dropped since the last batch (how many comes back); `None`
+    /// once closed.
+    fn take(&self, batch: &mut Vec<u8>, max: usize) -> Option<u64> {
+        let mut state = lock(&self.state);
+        while state.messages.is_empty() && !state.closed {
+            state = self
+                .ready
+                .wait(state)
+                .unwrap_or_else(|poisoned| poisoned.into_inner());
+        }
+        if state.closed {
+            return None;
+        }
+        let untold = std::mem::take(&mut state.untold);
+        if untold > 0 {
+            Message::Error {
+                class: OVERFLOW_ERROR_CLASS,
+                timestamp_us: epoch_micros(SystemTime::now()),
+            }
+            .emit(batch);
+        }
+        while let Some(message) = state.messages.pop_front() {
+            batch.extend_from_slice(&message);
+            if batch.len() >= max {
+                break;
+            }
+        }
+        Some(untold)
+    }
+
+    fn dropped(&self) -> u64 {
+        lock(&self.state).dropped
+    }
 }
 
 fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -123,7 +254,9 @@ impl Hub {
     pub fn start(addr: impl ToSocketAddrs, options: HubOptions) -> io::Result<Hub> {
         let listener = TcpListener::bind(addr)?;
         let addr = listener.local_addr()?;
-        let log = options.log.map(|output| TraceWriter::new(output, "can0"));
+        let log = options
+            .log
+            .map(|output| TraceWriter::new(output, &options.channel));
         let shared = Arc::new(Shared {
             stopping: AtomicBool::new(false),
             bus: Mutex::new(Bus {
@@ -134,12 +267,14 @@ impl Hub {
             connections: Mutex::new(HashMap::new()),
             threads: Mutex::new(Vec::new()),
             frames_relayed: AtomicU64::new(0),
-            clients_dropped: AtomicU64::new(0),
+            frames_dropped: AtomicU64::new(0),
             limits: Limits {
+                channel: options.channel,
                 quiet_period: options.quiet_period,
                 queue_limit: options.queue_limit,
                 handshake_timeout: options.handshake_timeout,
             },
+            notices: options.notices,
         });
         let acceptor = {
             let shared = Arc::clone(&shared);
@@ -169,9 +304,10 @@ impl Hub {
         lock(&self.shared.bus).clients.len()
     }
 
-    /// How many clients the hub dropped because they did not keep up with the bus.
-    pub fn clients_dropped(&self) -> u64 {
-        self.shared.clients_dropped.load(Ordering::Relaxed)
+    /// How many frames the hub dropped, over all clients, because a client did not read them
+    /// in time (each counted once per client that missed it).
+    pub fn frames_dropped(&self) -> u64 {
+        self.shared.frames_dropped.load(Ordering::Relaxed)
     }
 
     /// Why the log stopped, if writing it failed (the hub goes on relaying without it).
@@ -261,22 +397,25 @@ fn serve_client(id: u64, mut stream: TcpStream, shared: &Arc<Shared>) {
     if tune(&stream).is_err() {
         return;
     }
+    let peer = stream
+        .peer_addr()
+        .map_or_else(|_| "?".to_owned(), |a| a.to_string());
     let mut scanner = MessageScanner::new();
-    let Some(channel) = handshake(&mut stream, &mut scanner, &shared.limits) else {
+    if handshake(&mut stream, &mut scanner, &shared.limits).is_none() {
         let _ = stream.shutdown(Shutdown::Both);
         return;
-    };
+    }
     let Ok(writer_stream) = stream.try_clone() else {
         return;
     };
-    let Ok(bus_stream) = stream.try_clone() else {
-        return;
-    };
     let ready_at = StdInstant::now() + shared.limits.quiet_period;
-    let (queue, frames) = mpsc::sync_channel(shared.limits.queue_limit);
-    let writer = thread::Builder::new()
-        .name(format!("hub-writer-{id}"))
-        .spawn(move || write_frames(writer_stream, &frames, ready_at));
+    let outbox = Arc::new(Outbox::new(shared.limits.queue_limit));
+    let writer = {
+        let outbox = Arc::clone(&outbox);
+        thread::Builder::new()
+            .name(format!("hub-writer-{id}"))
+            .spawn(move || write_frames(writer_stream, &outbox, ready_at))
+    };
     let Ok(writer) = writer else {
         return;
     };
@@ -284,44 +423,51 @@ fn serve_client(id: u64, mut stream: TcpStream, shared: &Arc<Shared>) {
     // reaches it; the quiet period keeps it from sharing a read with the `< ok >`.
     lock(&shared.bus).clients.push(Listener {
         id,
-        queue,
-        stream: bus_stream,
+        peer: peer.clone(),
+        outbox: Arc::clone(&outbox),
     });
     if stream.write_all(b"< ok >").is_ok() {
-        relay_from(id, &channel, &mut stream, &mut scanner, shared);
+        relay_from(id, &mut stream, &mut scanner, &outbox, shared);
     }
     lock(&shared.bus).clients.retain(|c| c.id != id);
+    outbox.close();
     let _ = stream.shutdown(Shutdown::Both);
     let _ = writer.join();
+    let dropped = outbox.dropped();
+    if dropped > 0 {
+        shared.notice(format!(
+            "client {id} ({peer}) left; {dropped} frame(s) were dropped for it in all"
+        ));
+    }
 }
 
 /// The handshake python-can 4.6.1 does, answered exactly: `< hi >`; `< open CHANNEL >` gets
-/// `< ok >`; then `< rawmode >`, whose `< ok >` the caller sends once the client is on the bus.
-/// The channel opened, or `None` if the client did something else (it gets an `< error ... >`
-/// and is closed: it is not in rawmode yet).
-fn handshake(
-    stream: &mut TcpStream,
-    scanner: &mut MessageScanner,
-    limits: &Limits,
-) -> Option<String> {
+/// `< ok >` (`< error could not open bus >` for a channel the hub does not serve, as socketcand
+/// answers); then `< rawmode >`, whose `< ok >` the caller sends once the client is on the bus.
+/// `None` if the client did something else (it gets an `< error ... >` and is closed).
+fn handshake(stream: &mut TcpStream, scanner: &mut MessageScanner, limits: &Limits) -> Option<()> {
     stream
         .set_read_timeout(Some(limits.handshake_timeout))
         .ok()?;
     stream.write_all(b"< hi >").ok()?;
-    let channel = match next_message(stream, scanner)? {
-        Message::Open(channel) => channel,
+    match next_message(stream, scanner)? {
+        Message::Open(channel) if channel == limits.channel => {}
+        Message::Open(_) => {
+            let _ = stream.write_all(b"< error could not open bus >");
+            return None;
+        }
         _ => {
             let _ = stream.write_all(b"< error expected open >");
             return None;
         }
-    };
+    }
     stream.write_all(b"< ok >").ok()?;
     if next_message(stream, scanner)? != Message::Rawmode {
         let _ = stream.write_all(b"< error expected rawmode >");
         return None;
     }
     stream.set_read_timeout(None).ok()?;
-    Some(channel)
+    Some(())
 }
 
 /// The next message of the handshake (one that does not parse counts as a wrong one).
@@ -337,53 +483,71 @@ fn next_message(stream: &mut TcpStream, scanner: &mut MessageScanner) -> Option<
     }
 }
 
-/// Reads the client's `send` messages and relays each frame to every other client until the
-/// client closes. Messages other than `send`, and garbage, are skipped.
+/// What the hub answers a rawmode client's message that is not a frame to relay, as socketcand
+/// does: `< echo >` comes back, an unknown command or a malformed `send` gets an error.
+fn answer(body: &[u8]) -> Option<&'static [u8]> {
+    match Message::parse(body) {
+        Ok(Message::Send(_)) => None,
+        Ok(Message::Other(words)) if words == "echo" => Some(b"< echo >"),
+        Err(_) if body.trim_ascii().starts_with(b"send") => {
+            Some(b"< error syntax error in send command >")
+        }
+        _ => Some(b"< error unknown command >"),
+    }
+}
+
+/// Reads the client's messages and relays each frame to every other client until the client
+/// closes; other messages get their [`answer`].
 fn relay_from(
     id: u64,
-    channel: &str,
     stream: &mut TcpStream,
     scanner: &mut MessageScanner,
+    outbox: &Outbox,
     shared: &Shared,
 ) {
     let mut chunk = [0u8; 4096];
     let mut text = Vec::with_capacity(64);
+    let mut notices = Vec::new();
     loop {
         while let Some(body) = scanner.next_message() {
-            if let Ok(Message::Send(frame)) = Message::parse(&body) {
-                let timestamp_us = epoch_micros(SystemTime::now());
-                text.clear();
-                Message::Frame {
-                    frame,
-                    timestamp_us,
+            let Ok(Message::Send(frame)) = Message::parse(&body) else {
+                if let Some(reply) = answer(&body) {
+                    outbox.push(Arc::from(reply));
                 }
-                .emit(&mut text);
-                let message: Arc<[u8]> = Arc::from(&text[..]);
-                let mut bus = lock(&shared.bus);
-                shared.frames_relayed.fetch_add(1, Ordering::Relaxed);
-                let mut dropped = Vec::new();
-                for client in bus.clients.iter().filter(|c| c.id != id) {
-                    match client.queue.try_send(Arc::clone(&message)) {
-                        Ok(()) => {}
-                        Err(TrySendError::Full(_)) => {
-                            let _ = client.stream.shutdown(Shutdown::Both);
-                            dropped.push(client.id);
-                        }
-                        Err(TrySendError::Disconnected(_)) => dropped.push(client.id),
-                    }
+                continue;
+            };
+            let timestamp_us = epoch_micros(SystemTime::now());
+            text.clear();
+            Message::Frame {
+                frame,
+                timestamp_us,
+            }
+            .emit(&mut text);
+            let message: Arc<[u8]> = Arc::from(&text[..]);
+            let mut bus = lock(&shared.bus);
+            shared.frames_relayed.fetch_add(1, Ordering::Relaxed);
+            for client in bus.clients.iter().filter(|c| c.id != id) {
+                let (dropped, notice) = client.outbox.push(Arc::clone(&message));
+                if dropped {
+                    shared.frames_dropped.fetch_add(1, Ordering::Relaxed);
                 }
-                if !dropped.is_empty() {
-                    bus.clients.retain(|c| !dropped.contains(&c.id));
-                    shared
-                        .clients_dropped
-                        .fetch_add(dropped.len() as u64, Ordering::Relaxed);
+                if let Some((since, total)) = notice {
+                    notices.push(format!(
+                        "client {} ({}) reads too slowly: dropped its {since} oldest frame(s) \
+                         ({total} in all)",
+                        client.id, client.peer
+                    ));
                 }
-                if let Some(log) = &mut bus.log {
-                    if let Err(e) = log.write_frame_on(timestamp_us, channel, &frame) {
-                        bus.log = None;
-                        bus.log_error = Some(e.to_string());
-                    }
+            }
+            if let Some(log) = &mut bus.log {
+                if let Err(e) = log.write_frame(timestamp_us, &frame) {
+                    bus.log = None;
+                    bus.log_error = Some(e.to_string());
                 }
+            }
+            drop(bus);
+            for notice in notices.drain(..) {
+                shared.notice(notice);
             }
         }
         match stream.read(&mut chunk) {
@@ -398,23 +562,19 @@ fn relay_from(
     }
 }
 
-/// Writes the frames queued for one client, batching what has piled up into one write, after
-/// the quiet period. Ends when the client is gone from the bus or a write fails.
-fn write_frames(mut stream: TcpStream, frames: &Receiver<Arc<[u8]>>, ready_at: StdInstant) {
+/// Writes the messages queued for one client, batching what has piled up into one write, after
+/// the quiet period. Ends when the client leaves or a write fails.
+fn write_frames(mut stream: TcpStream, outbox: &Outbox, ready_at: StdInstant) {
     let quiet = ready_at.saturating_duration_since(StdInstant::now());
     if !quiet.is_zero() {
         // The protocol's quiet period, not synchronisation: frames queue up meanwhile.
         thread::sleep(quiet);
     }
-    let mut batch = Vec::with_capacity(4096);
-    while let Ok(first) = frames.recv() {
+    let mut batch = Vec::with_capacity(65_536);
+    loop {
         batch.clear();
-        batch.extend_from_slice(&first);
-        while batch.len() < 60_000 {
-            match frames.try_recv() {
-                Ok(next) => batch.extend_from_slice(&next),
-                Err(_) => break,
-            }
+        if outbox.take(&mut batch, 60_000).is_none() {
+            return;
         }
         if stream.write_all(&batch).is_err() {
             let _ = stream.shutdown(Shutdown::Both);
@@ -637,36 +797,50 @@ mod tests {
     }
 
     #[test]
-    fn a_client_that_does_not_read_is_dropped_and_the_others_lose_nothing() {
-        let options = HubOptions {
-            queue_limit: 1000,
-            ..HubOptions::default()
-        };
-        let hub = Hub::start("127.0.0.1:0", options).unwrap();
-        let mut sender = Raw::rawmode(&hub, "can0");
-        let mut reader = SocketcandClient::connect(hub.local_addr(), "can0", WAIT).unwrap();
-        let mut stuck = Raw::rawmode(&hub, "can0");
-        // Batches of 200 frames, each read before the next is sent: the reader keeps up, the
-        // stuck client's socket buffers and then its queue fill.
-        let mut n = 0u32;
-        while hub.clients_dropped() == 0 {
-            assert!(n < 400_000, "the stuck client was never dropped");
-            let mut batch = String::new();
-            for k in n..n + 200 {
-                let [b0, b1, b2, b3] = k.to_le_bytes();
-                batch.push_str(&format!("< send 181 4 {b0:x} {b1:x} {b2:x} {b3:x} >"));
-            }
-            sender.write(&batch);
-            for k in n..n + 200 {
-                let frame = reader.recv_timeout(WAIT).unwrap();
-                assert_eq!(frame, CanFrame::new(0x181, &k.to_le_bytes()), "frame {k}");
-            }
-            n += 200;
-        }
-        assert_eq!(hub.clients_dropped(), 1);
-        assert!(stuck.closed_by_hub());
-        assert_eq!(hub.clients(), 2);
-        assert_eq!(hub.frames_relayed(), u64::from(n));
+    fn a_channel_the_hub_does_not_serve_gets_the_socketcand_error_and_is_closed() {
+        let hub = hub();
+        let mut raw = Raw::connect(&hub);
+        assert_eq!(raw.recv_once(), "< hi >");
+        raw.write("< open can1 >");
+        assert_eq!(raw.recv_once(), "< error could not open bus >");
+        assert!(raw.closed_by_hub());
+    }
+
+    #[test]
+    fn unknown_commands_and_malformed_sends_get_errors_and_echo_comes_back() {
+        let hub = hub();
+        let mut a = Raw::rawmode(&hub, "can0");
+        let mut b = Raw::rawmode(&hub, "can0");
+        a.write("< bogus 1 2 >< send zz 1 0 >< send 123 2 1 >< echo >< send 123 1 1 >");
+        assert_eq!(a.next(), "< error unknown command >");
+        assert_eq!(a.next(), "< error syntax error in send command >");
+        assert_eq!(a.next(), "< error syntax error in send command >");
+        assert_eq!(a.next(), "< echo >");
+        assert_eq!(b.next(), "< frame 123 T 01 >");
+        assert_eq!(hub.frames_relayed(), 1);
+    }
+
+    #[test]
+    fn a_full_outbox_drops_its_oldest_frames_and_the_next_batch_says_so() {
+        let outbox = Outbox::new(2);
+        assert_eq!(outbox.push(Arc::from(&b"< a >"[..])), (false, None));
+        assert_eq!(outbox.push(Arc::from(&b"< b >"[..])), (false, None));
+        // The first drop is noticed at once, the next within a second is not.
+        assert_eq!(outbox.push(Arc::from(&b"< c >"[..])), (true, Some((1, 1))));
+        assert_eq!(outbox.push(Arc::from(&b"< d >"[..])), (true, None));
+        let mut batch = Vec::new();
+        assert_eq!(outbox.take(&mut batch, 1000), Some(2));
+        let text = String::from_utf8(batch).unwrap();
+        let (error, rest) = text.split_at(text.find(">").unwrap() + 1);
+        assert!(error.starts_with("< error 004 "), "{text}");
+        assert_eq!(rest, "< c >< d >");
+        assert_eq!(outbox.dropped(), 2);
+        outbox.push(Arc::from(&b"< e >"[..]));
+        let mut batch = Vec::new();
+        assert_eq!(outbox.take(&mut batch, 1000), Some(0));
+        assert_eq!(batch, b"< e >");
+        outbox.close();
+        assert_eq!(outbox.take(&mut batch, 1000), None);
     }
 
     /// A log that the test can read while the hub owns its writer.
@@ -684,16 +858,17 @@ mod tests {
     }
 
     #[test]
-    fn every_relayed_frame_is_logged_once_on_its_senders_channel() {
+    fn every_relayed_frame_is_logged_once_on_the_hubs_channel() {
         let log = SharedLog::default();
         let options = HubOptions {
             log: Some(Box::new(log.clone())),
+            channel: "vcan7".into(),
             ..HubOptions::default()
         };
         let hub = Hub::start("127.0.0.1:0", options).unwrap();
         let mut a = SocketcandClient::connect(hub.local_addr(), "vcan7", WAIT).unwrap();
-        let mut b = Raw::rawmode(&hub, "can0");
-        let mut c = Raw::rawmode(&hub, "can0");
+        let mut b = Raw::rawmode(&hub, "vcan7");
+        let mut c = Raw::rawmode(&hub, "vcan7");
         a.send(&CanFrame::new(0x603, &[0x2B, 0x17, 0x10, 0, 0xE8, 3, 0, 0]).unwrap())
             .unwrap();
         assert_eq!(b.next(), "< frame 603 T 2B171000E8030000 >");
@@ -706,7 +881,7 @@ mod tests {
             .lines()
             .map(|l| l.split_once(") ").unwrap().1)
             .collect();
-        assert_eq!(lines, ["vcan7 603#2B171000E8030000", "can0 583#"]);
+        assert_eq!(lines, ["vcan7 603#2B171000E8030000", "vcan7 583#"]);
     }
 
     /// A log whose disk is full.

@@ -6,7 +6,7 @@ use super::Reader;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
 use crate::read::ini::{IniEntry, IniSection};
-use crate::read::value::parse_integer;
+use crate::read::value::{octal_objection, parse_integer};
 use crate::rules;
 
 /// The help for a key python canopen looks up by its exact spelling (it raises without it).
@@ -281,14 +281,25 @@ impl Reader {
             };
             match parse_integer(text).and_then(|v| u16::try_from(v).ok()) {
                 Some(index) => out.push((n, Spanned::new(index, span))),
-                None => self.diags.push(Diagnostic::new(
-                    &rules::BAD_NUMBER,
-                    Some(span),
-                    format!(
-                        "entry {n} of [{}] is not an object index: `{text}`",
-                        section.name
-                    ),
-                )),
+                None => {
+                    let diag = match octal_objection(text) {
+                        Some((why, help)) => Diagnostic::new(
+                            &rules::BAD_NUMBER,
+                            Some(span),
+                            format!("entry {n} of [{}]: {why}", section.name),
+                        )
+                        .with_help(help),
+                        None => Diagnostic::new(
+                            &rules::BAD_NUMBER,
+                            Some(span),
+                            format!(
+                                "entry {n} of [{}] is not an object index: `{text}`",
+                                section.name
+                            ),
+                        ),
+                    };
+                    self.diags.push(diag);
+                }
             }
         }
         out.sort_by_key(|(n, _)| *n);

@@ -7,7 +7,7 @@ use super::Reader;
 use crate::diag::Diagnostic;
 use crate::model::*;
 use crate::read::ini::{IniEntry, IniSection};
-use crate::read::value::{parse_integer, split_inline_comment};
+use crate::read::value::{octal_objection, parse_integer, split_inline_comment};
 use crate::rules;
 
 /// The position of `key` in `keys`, computed at compile time (a missing key fails the build).
@@ -164,17 +164,23 @@ impl Reader {
         match parse_integer(text).and_then(|v| u32::try_from(v).ok()) {
             Some(v) if v <= max => Some(Spanned::new(v, span)),
             _ => {
-                self.diags.push(
-                    Diagnostic::new(
+                let diag = match octal_objection(text) {
+                    Some((message, help)) => Diagnostic::new(
+                        &rules::BAD_NUMBER,
+                        Some(span),
+                        format!("`{}` value {message}", entry.key),
+                    )
+                    .with_help(help),
+                    None => Diagnostic::new(
                         &rules::BAD_NUMBER,
                         Some(span),
                         format!(
                             "`{}` value `{text}` is not a number in 0..={max}",
                             entry.key
                         ),
-                    )
-                    .with_label("ignored"),
-                );
+                    ),
+                };
+                self.diags.push(diag.with_label("ignored"));
                 None
             }
         }

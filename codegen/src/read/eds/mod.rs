@@ -29,6 +29,9 @@
 //!   `[xxxx]`, a sub-index section of a VAR) are kept in `other_sections` with an EDS024 warning;
 //!   a `[xxxxName]`/`[xxxxValue]`/`[xxxxDenotation]` entry for a missing sub-index gets EDS024 and
 //!   is not applied. Nothing is invented: listed indices without a section are not objects.
+//! - A sub-index section whose sub-index cannot exist (`[D000sub100]`: sub-index sections are
+//!   hex, so 0x100) is an EDS030 error at its header, kept in `other_sections`; the help says
+//!   what a file that counts in decimal meant.
 //! - The same object section written two ways (`[1000]` and `[01000]`): the later wins, EDS005.
 //! - CompactSubObj and CompactPDO are expanded into implicit sub-objects and objects (see
 //!   [`expand_compact_sub_obj`] and [`expand_compact_pdo`]).
@@ -230,6 +233,7 @@ impl Reader {
                     let replaced = slot.replace(section);
                     self.same_section_twice(replaced, section);
                 }
+                SectionKind::BadSub(index) => self.bad_sub_section(section, index),
                 SectionKind::Sub(index, sub) => {
                     let replaced = objects.entry(index).or_default().subs.insert(sub, section);
                     self.same_section_twice(replaced, section);
@@ -261,6 +265,27 @@ impl Reader {
         }
         self.expand_compact_pdo();
         self.resolve_values();
+    }
+
+    /// A sub-index section whose sub-index cannot exist (`[D000sub100]`): an EDS030 error at its
+    /// header, the section kept in `other_sections`. Its keys are not read into the model.
+    fn bad_sub_section(&mut self, section: &IniSection, index: u16) {
+        let at = section.name.to_ascii_lowercase().rfind("sub").unwrap_or(0);
+        let sub_text = section.name.get(at + 3..).unwrap_or("");
+        let (what, why, help) = sections::bad_sub_index(sub_text);
+        self.diags.push(
+            Diagnostic::new(
+                &rules::BAD_SUB_INDEX,
+                Some(section.span),
+                format!(
+                    "section [{}] names {what} of {index:04X}h: {why}; the section is kept but not read",
+                    section.name
+                ),
+            )
+            .with_label("no such sub-index")
+            .with_help(help),
+        );
+        self.keep(section);
     }
 
     /// Two differently written names for the same object section (`[1000]` and `[01000]`): the

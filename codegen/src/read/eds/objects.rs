@@ -9,7 +9,7 @@ use super::Reader;
 use crate::diag::Diagnostic;
 use crate::model::*;
 use crate::read::ini::{IniEntry, IniSection};
-use crate::read::value::{parse_integer, split_inline_comment};
+use crate::read::value::{octal_objection, parse_integer, split_inline_comment};
 use crate::rules;
 
 /// The keys of an object or sub-object section.
@@ -221,21 +221,22 @@ impl Reader {
                 } else {
                     ObjectType::Var
                 };
-                self.diags.push(
-                    Diagnostic::new(
-                        &rules::BAD_NUMBER,
-                        Some(span),
+                let read_as = if has_sub_sections {
+                    "RECORD (0x9)"
+                } else {
+                    "VAR (0x7)"
+                };
+                let (message, help) = match octal_objection(text) {
+                    Some((why, help)) => (format!("ObjectType {why}; read as {read_as}"), help),
+                    None => (
                         format!(
-                            "ObjectType `{text}` is not a CiA 301 object code; read as {}",
-                            if has_sub_sections {
-                                "RECORD (0x9)"
-                            } else {
-                                "VAR (0x7)"
-                            }
+                            "ObjectType `{text}` is not a CiA 301 object code; read as {read_as}"
                         ),
-                    )
-                    .with_help("object codes are 0x0, 0x2, 0x5, 0x6, 0x7, 0x8 and 0x9"),
-                );
+                        "object codes are 0x0, 0x2, 0x5, 0x6, 0x7, 0x8 and 0x9".to_owned(),
+                    ),
+                };
+                self.diags
+                    .push(Diagnostic::new(&rules::BAD_NUMBER, Some(span), message).with_help(help));
                 fallback
             }
         }
@@ -384,11 +385,23 @@ impl Reader {
                 if entry.key.eq_ignore_ascii_case("NrOfEntries") {
                     continue;
                 }
-                let sub = self
-                    .numbered_key(entry, "")
-                    .and_then(|n| u8::try_from(n).ok());
-                let Some(sub) = sub else {
-                    self.unknown_key(entry, section);
+                let number = self.numbered_key(entry, "");
+                let Some(sub) = number.and_then(|n| u8::try_from(n).ok()) else {
+                    match number {
+                        // A sub-index that cannot exist: an error, not an unknown key.
+                        Some(n) => self.diags.push(
+                            Diagnostic::new(
+                                &rules::BAD_SUB_INDEX,
+                                Some(entry.key_span),
+                                format!(
+                                    "[{}] names sub-index {n} of {:04X}h, beyond 255; the key is not read",
+                                    section.name, object.index
+                                ),
+                            )
+                            .with_label("no such sub-index"),
+                        ),
+                        None => self.unknown_key(entry, section),
+                    }
                     continue;
                 };
                 let Some(target) = object.subs.get_mut(&sub) else {

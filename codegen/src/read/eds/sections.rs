@@ -16,6 +16,8 @@ pub(super) enum SectionKind {
     Kept,
     Object(u16),
     Sub(u16, u8),
+    /// `[xxxxsubN]` whose sub-index cannot exist: above FFh, or not hex (kept, an error).
+    BadSub(u16),
     SubNames(u16),
     SubValues(u16),
     SubDenotations(u16),
@@ -117,9 +119,43 @@ pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
                 odd_spelling,
             );
         }
+        if let Some((index, _)) = index_of(index_text) {
+            return (SectionKind::BadSub(index), false, false);
+        }
     }
     if let Some((index, zeros)) = index_of(&lower) {
         return (SectionKind::Object(index), zeros, false);
     }
     (SectionKind::Unknown, false, false)
+}
+
+/// Why the sub-index written after `sub` in a section name (`100` in `[D000sub100]`) cannot exist,
+/// and what to write instead: the sub-index as written, why it cannot exist, and the help.
+pub(super) fn bad_sub_index(sub_text: &str) -> (String, &'static str, String) {
+    let hex = parse_hex_name(sub_text, u32::MAX);
+    match hex {
+        Some(value) => {
+            let decimal = sub_text
+                .parse::<u32>()
+                .ok()
+                .filter(|d| *d <= 0xFF && sub_text.bytes().all(|b| b.is_ascii_digit()));
+            let help = match decimal {
+                Some(d) => format!(
+                    "sub-index sections are hex: `sub{sub_text}` is 0x{value:X} = {value}, beyond 0xFF; \
+                     if the file counts in decimal, write `sub{d:X}` (and its other sub-index \
+                     sections in hex too: `sub10` is 0x10 = 16)"
+                ),
+                None => format!(
+                    "sub-index sections are hex, 0..FF: `sub{sub_text}` is 0x{value:X} = {value}"
+                ),
+            };
+            (format!("sub-index 0x{value:X}"), "beyond 0xFF", help)
+        }
+        None => (
+            format!("sub-index `{sub_text}`"),
+            "not a hex number",
+            "CiA 306 writes sub-index sections as [<index>sub<sub-index>], the sub-index in hex, 0..FF"
+                .to_owned(),
+        ),
+    }
 }

@@ -103,7 +103,7 @@ impl<'a, 'input> XmlReader<'a, 'input> {
                     &rules::XML_BAD_ATTRIBUTE,
                     Some(span),
                     format!(
-                        "parameter access `{}` has no CANopen access type",
+                        "parameter access `{}` has no CANopen access type; the entry's access is unknown",
                         access.value()
                     ),
                 ));
@@ -306,11 +306,19 @@ impl<'a, 'input> XmlReader<'a, 'input> {
             parsed
         });
         // The parameter's access wins; CiA 311 defaults it to `read`, which applies only when the
-        // element does not say either.
-        let mut access = parameter
-            .access
-            .or(attribute_access)
-            .or(parameter.resolved.then_some(AccessType::Ro));
+        // element does not say either. A parameter access with no CANopen access type
+        // (`noAccess`, reported above) leaves the access unknown: no later diagnostic may quote
+        // an access the file does not state.
+        let unreadable_parameter_access =
+            parameter.access.is_none() && parameter.access_span.is_some();
+        let mut access = if unreadable_parameter_access {
+            None
+        } else {
+            parameter
+                .access
+                .or(attribute_access)
+                .or(parameter.resolved.then_some(AccessType::Ro))
+        };
         // PDOmapping TPDO/RPDO gives a read-write entry its direction (CANopenEditor's reading).
         if let (Some(current), Some(direction)) = (access, direction) {
             if matches!(current, AccessType::Rwr | AccessType::Rww) && current != direction {
