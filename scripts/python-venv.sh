@@ -11,7 +11,8 @@ if [ ! -x "$python" ]; then
     python3 -m venv "$venv" >&2
 fi
 
-wanted=("canopen==2.4.1" "python-can==4.6.1" "cpppo==5.2.5" "ethernetip==1.2.0")
+wanted=("canopen==2.4.1" "python-can==4.6.1" "cpppo==5.2.5" "ethernetip==1.2.0" "pnio-dcp==1.2.0"
+        "profinet-py==0.6.6")
 missing=()
 for requirement in "${wanted[@]}"; do
     name="${requirement%%==*}"

@@ -14,6 +14,9 @@ fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
         // The Goodrive350's EtherNet/IP card (an ODVA EDS, with goodrive350-enip.toml): identity,
         // the assemblies' images typed through edsgen_runtime::pkw_pzd, its connection.
         .device("../eds/goodrive350-enip.eds")
+        // The Goodrive350's PROFINET card (a GSDML file): identity, its module's typed images
+        // and its PZD parameter records.
+        .device("../eds/goodrive350-pn.xml")
         // Goodrive350 and HD1-E keep a 16-bit value in sub-index 0 of 2000h/2100h (their manuals
         // say so); the EDS files document it and the card tests pin the warning.
         .allow("EDS308")

@@ -126,6 +126,11 @@ enum Command {
     /// An EtherNet/IP scanner at the bench: list identities, get and set attributes.
     #[command(subcommand)]
     Enip(cmd::enip::Args),
+    /// PROFINET at the bench (DCP): list the devices on an interface, set a name of station.
+    Pn {
+        #[command(subcommand)]
+        command: cmd::pn::PnCommand,
+    },
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
@@ -226,6 +231,7 @@ fn main() -> ExitCode {
         Command::Bus(args) => cmd::bus::run(&args),
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Enip(args) => cmd::enip::run(args),
+        Command::Pn { command } => cmd::pn::run(&command),
         Command::Decode(args) => cmd::decode::run(args),
         Command::Demo(args) => cmd::demo::run(&args),
     }

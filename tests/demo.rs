@@ -1,7 +1,8 @@
 //! `edsgen demo`, the README's main job: every step passes, the trace shows the manuals' frames
 //! and the EC-TX508's process images decoded by name, and the command's exit code and summary
 //! say so; with `--bus`, the same CANopen workflows against `edsgen simulate --card` through a
-//! hub, in real time, and the EtherCAT section reported as not run.
+//! hub, in real time, and the EtherCAT section reported as not run; the PROFINET card's section
+//! (DCP and cyclic frames, in process) in both.
 
 mod process_support;
 
@@ -15,7 +16,7 @@ fn every_step_of_the_demo_behaves_as_the_manuals_say() {
     let report = edsgen::demo::run();
     let failed: Vec<_> = report.steps.iter().filter(|s| s.outcome.is_err()).collect();
     assert_eq!(failed, Vec::<&edsgen::demo::Step>::new());
-    assert_eq!(report.steps.len(), 43);
+    assert_eq!(report.steps.len(), 50);
     // The Goodrive350 manual's PDO2 Tx (§3.5.4), 283: 01 01 88 13 7C 01 00 00, decoded.
     let pdo2 = "7.100000  283  TPDO2      node 3 Status word = 257 (0x0101), Monitoring data: \
                 Returned value 1 = 5000 (0x1388), Monitoring data: Returned value 2 = 380 \
@@ -112,6 +113,50 @@ fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
 }
 
 #[test]
+fn the_goodrive350_profinet_card_is_found_named_and_driven_in_process() {
+    let report = edsgen::demo::run();
+    let steps: Vec<(&str, &Result<String, String>)> = report.steps[35..]
+        .iter()
+        .map(|s| (s.name.as_str(), &s.outcome))
+        .collect();
+    let ok = |seen: &str| Ok(seen.to_string());
+    assert_eq!(
+        steps,
+        [
+            (
+                "DCP Identify all: the card answers with its GSDML's name and IDs",
+                &ok("(\"goodrive350-pn\", (848, 848))")
+            ),
+            (
+                "DCP Set name of station `gd350-line-1`, then Identify by that name",
+                &ok("(Some(0), true)")
+            ),
+            // P00.11's default acceleration time is 10.0 s: 2500 cycles of 4 ms to 50.00 Hz.
+            (
+                "CW 1 (run forward) and PZD2 5000: the drive ramps to 50.00 Hz",
+                &ok("(1, 5000) after 2501 cycles (10004 ms)")
+            ),
+            (
+                "PKW read of P00.11 (acceleration time)",
+                &ok("Word { address: 11, value: 100 }")
+            ),
+            (
+                "PKW write without CW bit 8 (enable writing): refused",
+                &ok("Refused { address: 11, error: InvalidCommand }")
+            ),
+            (
+                "CW 5 (stop): the drive decelerates and stops",
+                &ok("0 after 2501 cycles")
+            ),
+            (
+                "the controller stops sending: watchdog, E-PN (fault 57)",
+                &ok("(4, Some(57), true)")
+            ),
+        ]
+    );
+}
+
+#[test]
 fn the_demo_command_exits_0_with_its_summary() {
     let output = Command::new(env!("CARGO_BIN_EXE_edsgen"))
         .arg("demo")
@@ -120,7 +165,7 @@ fn the_demo_command_exits_0_with_its_summary() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.ends_with("\n43 step(s): 43 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n50 step(s): 50 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }
@@ -163,7 +208,7 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
         "{stdout}"
     );
     assert!(
-        stdout.ends_with("\n28 step(s): 28 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n35 step(s): 35 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }

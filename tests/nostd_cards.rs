@@ -1,4 +1,4 @@
-//! The generated code of the cards in `eds/` (EDS, ESI and ODVA EDS), with the runtime's object-dictionary trait, builds
+//! The generated code of the cards in `eds/` (EDS, ESI, ODVA EDS and GSDML), with the runtime's object-dictionary trait, builds
 //! for `thumbv7em-none-eabihf` (no `std`, no `alloc`).
 
 mod emit_common;
@@ -24,7 +24,7 @@ fn cards_build_for_thumbv7em() {
     assert_eq!(
         cards.len(),
         7,
-        "the five EDS cards, the ESI card and the ODVA EDS card in eds/"
+        "the five EDS cards, the ESI card, the ODVA EDS card and the GSDML card in eds/"
     );
     let modules: Vec<_> = cards
         .iter()

@@ -8,6 +8,7 @@
 use serde_json::{json, Map, Value as Json};
 
 mod cip;
+mod profinet;
 
 use crate::model::{
     Commissioning, Device, DeviceInfo, EcPdo, EtherCat, FileInfo, Format, Object, SmKind,
@@ -23,6 +24,7 @@ pub fn to_json(device: &Device) -> Json {
         Format::Xdc => "xdc",
         Format::Esi => "esi",
         Format::OdvaEds => "odva-eds",
+        Format::Gsdml => "gsdml",
     };
     let encoding = match device.source.encoding {
         TextEncoding::Ascii => "ascii",
@@ -51,6 +53,7 @@ pub fn to_json(device: &Device) -> Json {
         "other_sections": device.other_sections.iter().map(|s| s.name.clone()).collect::<Vec<_>>(),
         "ethercat": device.ethercat.as_ref().map(ethercat),
         "cip": device.cip.as_ref().map(cip::cip),
+        "profinet": device.profinet.as_ref().map(profinet::profinet),
     })
 }
 

@@ -4,7 +4,8 @@
 //! readers), `EDS1xx` `[FileInfo]`/`[DeviceInfo]`, `EDS2xx` object lists, `EDS3xx` objects and
 //! sub-objects, `EDS4xx` PDOs, `EDS5xx` DCF, commissioning, modules and the rest, `EDS6xx` XML
 //! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI); `CIP0xx` ODVA EDS (EtherNet/IP,
-//! listed first: the table sorts by code). `edsgen rules` prints this table.
+//! listed first: the table sorts by code), `PN0xx` PROFINET (GSDML). `edsgen rules` prints this
+//! table.
 
 use crate::diag::Severity;
 
@@ -206,6 +207,22 @@ rules! {
     ESI_ALT_PDO_MISSING = "EDS815" Error "an AlternativeSmMapping assigns a PDO the device does not have";
     ESI_ALT_SM_OVERFLOW = "EDS816" Error "the PDOs an AlternativeSmMapping assigns to a SyncManager hold more bytes than its DefaultSize";
     ESI_ALT_EXCLUDE_CONFLICT = "EDS817" Error "an AlternativeSmMapping assigns two PDOs that exclude each other";
+
+    // ---- PN0xx: PROFINET (GSDML files) ----
+    PN_IDENTITY = "PN001" Error "a GSDML file without DeviceIdentity, or whose VendorID or DeviceID is missing or not a 16-bit number";
+    PN_NO_ACCESS_POINT = "PN002" Error "a GSDML file without a DeviceAccessPointItem (nothing to connect to)";
+    PN_UNKNOWN_TYPE = "PN003" Error "a DataType GSDML does not define, or a string type without Length (the item's size is unknown)";
+    PN_IO_LIMIT = "PN004" Error "IO data beyond the access point's IOConfigData: a submodule's (or the fixed modules') inputs or outputs longer than MaxInputLength/MaxOutputLength";
+    PN_NO_SLOT = "PN005" Warning "a module allowed in no slot: a ModuleItemRef whose slots are none of the access point's PhysicalSlots, or a ModuleItem no access point can use";
+    PN_MISSING_MODULE = "PN006" Error "a ModuleItemRef whose ModuleItemTarget names no ModuleItem";
+    PN_MISSING_TEXT = "PN007" Warning "a TextId that no ExternalTextList text has (once per file, naming the other lines)";
+    PN_MISSING_VALUE_LIST = "PN008" Error "a record field whose ValueItemTarget names no ValueItem";
+    PN_RECORD_OVERLAP = "PN009" Error "two fields (Ref or Const) of one parameter record that share bytes or bits";
+    PN_RECORD_OVERRUN = "PN010" Error "a parameter record field (Ref or Const) that ends beyond the record's Length";
+    PN_DUPLICATE_IDENT = "PN011" Error "two submodules of one module in one subslot, or two items with one ID (warning for two modules with one ModuleIdentNumber, which vendors give variants of a module; access points, being alternatives, may share one)";
+    PN_DEFAULT_NOT_ALLOWED = "PN012" Error "a record field whose DefaultValue is not a number, or is outside its AllowedValues or its data type";
+    PN_BIT_OUTSIDE = "PN013" Error "a BitDataItem whose BitOffset lies beyond its DataItem, or a Bit/BitArea field wider than a byte's bits allow";
+    PN_DUPLICATE_RECORD = "PN014" Error "two parameter records of one submodule with one Index";
 }
 
 /// Looks a rule up by its code.

@@ -20,11 +20,13 @@ pub mod dump;
 pub mod enip;
 pub mod generate;
 pub mod nmt;
+pub mod pn;
 pub mod rules;
 pub mod scan;
 pub mod sdo;
 pub mod simulate;
 pub mod simulate_enip;
+pub mod simulate_profinet;
 pub mod validate;
 pub mod value;
 

@@ -82,6 +82,10 @@ pub struct Args {
     /// address (`IP` or `IP:PORT`) instead of joining a CAN bus.
     #[arg(long, value_name = "ADDR", conflicts_with_all = ["bus", "socketcan", "trace"])]
     enip: Option<String>,
+    /// Simulate a PROFINET IO device on this network interface (a GSDML FILE, or
+    /// `--card goodrive350-pn`); see `simulate_profinet`.
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
+    profinet: Option<String>,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -97,6 +101,9 @@ struct Planned {
 pub fn run(args: Args) -> ExitCode {
     if let Some(addr) = &args.enip {
         return super::simulate_enip::run(addr, &args.files, &args.cards);
+    }
+    if let Some(iface) = &args.profinet {
+        return super::simulate_profinet::run(iface, &args.files, &args.cards);
     }
     let planned = match plan(&args) {
         Ok(planned) => planned,

@@ -4,8 +4,10 @@
 //! an EtherCAT master walks a simulated EC-TX508 through CiA 402 cyclic synchronous velocity,
 //! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
 //! by name at the cycles the steps look at; then a class-1 EtherNet/IP scanner drives the
-//! Goodrive350's EtherNet/IP card through PKW and PZD ([`enip`]). Each step checks what the
-//! manual (or CiA 402) says should happen; the demo passes only if every step does.
+//! Goodrive350's EtherNet/IP card through PKW and PZD ([`enip`]), and a PROFINET controller finds,
+//! names and drives the Goodrive350's PROFINET card by DCP and RT frames, in this process
+//! ([`profinet`]). Each step checks what the manual (or CiA 402) says should happen; the demo
+//! passes only if every step does.
 //!
 //! Two links for the CANopen drives, one set of workflows ([`Link`]): by default the drives are
 //! simulated in this process on the in-memory bus ([`memory`]), in the bus's own time, so the
@@ -19,6 +21,7 @@
 mod enip;
 mod ethercat;
 mod memory;
+mod profinet;
 mod remote;
 
 use std::path::Path;
@@ -276,6 +279,7 @@ pub fn run() -> Report {
     };
     ethercat::run(&mut trace);
     enip::run(&mut trace);
+    profinet::run(&mut trace);
     trace.finish()
 }
 
@@ -289,6 +293,7 @@ pub fn run_on_bus(addr: &str) -> Report {
     };
     ethercat::not_run(&mut trace);
     enip::not_run(&mut trace);
+    profinet::run(&mut trace);
     trace.finish()
 }
 

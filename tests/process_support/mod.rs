@@ -81,6 +81,12 @@ pub fn odva_corpus_dir() -> Option<PathBuf> {
     third_party_dir("EDSGEN_ODVA_CORPUS", "odva-eds-corpus")
 }
 
+/// The third-party GSDML corpus (`EDSGEN_GSDML_CORPUS`, else `../shared/gsdml-corpus`), or a
+/// [`skip`].
+pub fn gsdml_corpus_dir() -> Option<PathBuf> {
+    third_party_dir("EDSGEN_GSDML_CORPUS", "gsdml-corpus")
+}
+
 /// A corpus folder named by `variable`, else `../shared/NAME` beside the workspace; present when
 /// it holds its `MANIFEST.tsv`.
 fn third_party_dir(variable: &str, name: &str) -> Option<PathBuf> {

@@ -13,6 +13,7 @@ pub mod names;
 pub mod od;
 pub mod pdo;
 pub mod plan;
+mod profinet;
 pub mod text;
 pub mod types;
 
@@ -45,6 +46,16 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
     if let Some(cip) = &device.cip {
         // An ODVA EDS has no object dictionary: identity, assembly images and connections.
         return cip::generate(device, cip, &module);
+    }
+    if let Some(pn) = &device.profinet {
+        // A GSDML device has no object dictionary: its own module, from the PROFINET side.
+        let tokens = profinet::module(pn, &module_doc(device), &plan::id(&module))?;
+        let code = format_tokens(tokens, device, &text::Splices::default())?;
+        return Ok(Generated {
+            module,
+            code,
+            diagnostics: Vec::new(),
+        });
     }
     let plan = plan::plan(device);
     let mut diagnostics = plan.diagnostics.clone();
@@ -148,6 +159,7 @@ fn module_doc(device: &Device) -> Vec<String> {
         Format::Xdc => "XDC",
         Format::Esi => "ESI",
         Format::OdvaEds => "ODVA EDS",
+        Format::Gsdml => "GSDML",
     };
     let file_name = device
         .source

@@ -16,6 +16,7 @@ use std::collections::BTreeMap;
 mod cip;
 mod ethercat;
 mod object;
+mod profinet;
 mod source;
 mod types;
 
@@ -30,6 +31,10 @@ pub use ethercat::{
     EtherCat, SmKind, SyncManager,
 };
 pub use object::{KeySpans, Object, SubObject, Value, ValueSource};
+pub use profinet::{
+    AccessPoint, BitDataItem, ChannelDiag, DataItem, ModuleRef, ParameterRecord, PnDataType,
+    PnModule, Profinet, RecordField, Submodule, SystemSubmodule, ValueList,
+};
 pub use source::{Format, Source, Span, Spanned, TextEncoding};
 pub use types::{AccessType, BasicType, ObjectType};
 
@@ -183,6 +188,9 @@ pub struct Device {
     pub ethercat: Option<EtherCat>,
     /// What an ODVA EDS says about a CIP device; `None` for every other format.
     pub cip: Option<Cip>,
+    /// What a GSDML file says (access points, modules, submodules, records); `None` for the
+    /// other formats.
+    pub profinet: Option<Profinet>,
 }
 
 /// What an overlay says about generated names: the description cannot say how the device numbers

@@ -55,6 +55,9 @@ pub enum Format {
     /// ODVA EDS (EtherNet/IP, DeviceNet): a CIP device ([`Device::cip`](super::Device::cip)),
     /// told from a CiA 306 EDS by its `[File]`/`[Device]` sections.
     OdvaEds,
+    /// PROFINET GSDML (`ISO15745Profile`): identity, access points, modules and records
+    /// ([`Device::profinet`](super::Device::profinet)).
+    Gsdml,
 }
 
 /// How the file's bytes were decoded.

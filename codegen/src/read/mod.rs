@@ -11,6 +11,7 @@ use crate::rules;
 
 pub mod eds;
 pub mod esi;
+pub mod gsdml;
 pub mod ini;
 pub mod odva;
 pub mod text;
@@ -97,6 +98,7 @@ pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Rea
             esi::read_device(path, bytes, choice.as_ref())
         }
         Format::OdvaEds => odva::read(path, bytes),
+        Format::Gsdml => gsdml::read(path, bytes),
     };
     if read.device.source.encoding == TextEncoding::Windows1252 {
         if let Some(guess) = dos_code_page_guess(bytes) {
@@ -166,8 +168,9 @@ fn dos_code_page_guess(bytes: &[u8]) -> Option<Diagnostic> {
 
 /// The format of a file: by extension (case-insensitive; `.esi` is ESI), else XML if the first
 /// non-blank byte (after a BOM) is `<` (ESI when the root element is `EtherCATInfo` or
-/// `EtherCATModule`, else XDD), else EDS. An EDS (by extension or content) with a `[File]` or
-/// `[Device]` section is ODVA's (CIP), not CiA 306's (`[FileInfo]`, `[DeviceInfo]`).
+/// `EtherCATModule`; GSDML when it is `ISO15745Profile` with a `DeviceIdentity`; else XDD),
+/// else EDS. An EDS (by extension or content) with a `[File]` or `[Device]` section is ODVA's
+/// (CIP), not CiA 306's (`[FileInfo]`, `[DeviceInfo]`).
 pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
     let ext = path
         .extension()
@@ -186,6 +189,7 @@ pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
                 Some(b'<') if matches!(root_name(body), "EtherCATInfo" | "EtherCATModule") => {
                     Format::Esi
                 }
+                Some(b'<') if gsdml::looks_like_gsdml(root_name(body), body) => Format::Gsdml,
                 Some(b'<') => Format::Xdd,
                 _ if odva::is_odva(bytes) => Format::OdvaEds,
                 _ => Format::Eds,

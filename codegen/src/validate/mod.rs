@@ -1,5 +1,6 @@
 //! The validator: the rules of `crate::rules` (EDS1xx..EDS5xx, EDS8xx for EtherCAT, CIP0xx for
-//! ODVA EDS, and the generator's size limits EDS707) judged over the resolved model.
+//! ODVA EDS, PN0xx for PROFINET, and the generator's size limits EDS707) judged over the resolved
+//! model.
 //!
 //! It never looks at the text: everything it knows comes from [`Device`], so the same rules serve
 //! EDS, DCF, XDD and XDC. One submodule per area; each says which rules it owns and why a rule has
@@ -22,6 +23,7 @@ mod dcf;
 mod device_info;
 mod esi;
 mod file_info;
+mod gsdml;
 mod object_lists;
 mod objects;
 mod pdo;
@@ -33,6 +35,15 @@ pub fn validate(device: &Device) -> Vec<Diagnostic> {
     if device.source.format == Format::OdvaEds {
         // An ODVA EDS has no object dictionary: its rules are CIP's, over `Device::cip`.
         cip::check(device, &mut out);
+        diag::sort(&mut out);
+        return out;
+    }
+    if device.source.format == Format::Gsdml {
+        // A GSDML file has no object dictionary, FileInfo or PDOs: only the PN0xx rules apply
+        // (and none when the XML could not be read).
+        if let Some(profinet) = &device.profinet {
+            gsdml::check(profinet, &mut out);
+        }
         diag::sort(&mut out);
         return out;
     }

@@ -109,6 +109,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         naming: Default::default(),
         ethercat: None,
         cip: None,
+        profinet: None,
     }
 }
 

@@ -112,6 +112,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         naming: Default::default(),
         ethercat: None,
         cip: None,
+        profinet: None,
     }
 }
 

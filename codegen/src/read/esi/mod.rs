@@ -24,7 +24,7 @@ use values::{hex_digits, parse_bool, parse_number};
 
 mod device;
 mod dictionary;
-mod values;
+pub(crate) mod values;
 
 /// Which device of an ESI file to read.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -95,7 +95,7 @@ pub fn read_all(path: &Path, bytes: &[u8]) -> Vec<(Device, Vec<Diagnostic>)> {
 /// Decodes the bytes: as ISO-8859-1 when the XML declaration says so (and the bytes are not
 /// ASCII), else as [`super::text::decode`] does (UTF-8, a BOM, UTF-16, else Windows-1252 with
 /// an `EDS002` warning).
-fn decode(bytes: &[u8]) -> (String, TextEncoding, Vec<Diagnostic>) {
+pub(super) fn decode(bytes: &[u8]) -> (String, TextEncoding, Vec<Diagnostic>) {
     let mut diagnostics = Vec::new();
     if declares_latin1(bytes) && !bytes.is_ascii() && super::text::utf16(bytes).is_none() {
         let text = bytes.iter().map(|&b| char::from(b)).collect();

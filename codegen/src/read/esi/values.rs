@@ -4,14 +4,14 @@
 use crate::model::{BasicType, Value};
 
 /// The hex digits of `#x1A00` or `0x1A00`.
-pub(super) fn hex_digits(text: &str) -> Option<&str> {
+pub(crate) fn hex_digits(text: &str) -> Option<&str> {
     ["#x", "#X", "0x", "0X"]
         .iter()
         .find_map(|p| text.strip_prefix(p))
 }
 
 /// An ESI number: `#x` (or `0x`) hex, else decimal, optionally negative.
-pub(super) fn parse_number(text: &str) -> Option<i128> {
+pub(crate) fn parse_number(text: &str) -> Option<i128> {
     let t = text.trim();
     let (negative, t) = match t.strip_prefix('-') {
         Some(rest) => (true, rest),

@@ -1,0 +1,121 @@
+//! Every file of the third-party GSDML corpus (`EDSGEN_GSDML_CORPUS`, else
+//! `../shared/gsdml-corpus` beside the workspace): read without a panic as GSDML, with the text
+//! encoding and modularity its `MANIFEST.tsv` records, and a snapshot of each file's identity,
+//! counts and diagnostic codes (reader and validator).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use edsgen_codegen::model::{Format, TextEncoding};
+use edsgen_codegen::read::read_file;
+use edsgen_codegen::validate;
+
+/// The corpus directory, or `None` (skip) when it is absent outside CI.
+fn corpus() -> Option<PathBuf> {
+    let dir = match std::env::var_os("EDSGEN_GSDML_CORPUS") {
+        Some(dir) => PathBuf::from(dir),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/gsdml-corpus"),
+    };
+    if dir.join("MANIFEST.tsv").is_file() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var("CI").as_deref() != Ok("true"),
+        "GSDML corpus not found at {} (set EDSGEN_GSDML_CORPUS)",
+        dir.display()
+    );
+    eprintln!(
+        "skipping: GSDML corpus not found at {} (set EDSGEN_GSDML_CORPUS)",
+        dir.display()
+    );
+    None
+}
+
+/// (file, encoding, notes) per MANIFEST.tsv row.
+fn manifest(dir: &Path) -> Vec<(String, String, String)> {
+    let text = std::fs::read_to_string(dir.join("MANIFEST.tsv")).expect("MANIFEST.tsv");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("header").split('\t').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("MANIFEST.tsv has no column {name}"))
+    };
+    let (file, encoding, notes) = (column("file"), column("encoding"), column("notes"));
+    lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let cols: Vec<&str> = l.split('\t').collect();
+            (
+                cols[file].to_owned(),
+                cols[encoding].to_owned(),
+                cols[notes].to_owned(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn every_gsdml_corpus_file_reads_as_its_manifest_says() {
+    let Some(dir) = corpus() else { return };
+    let rows = manifest(&dir);
+    assert_eq!(rows.len(), 17, "the manifest lists 17 files");
+    let mut summary = String::new();
+    for (file, encoding, notes) in &rows {
+        let read = read_file(&dir.join(file)).expect("readable");
+        let device = &read.device;
+        assert_eq!(device.source.format, Format::Gsdml, "{file}");
+        let expected = match encoding.as_str() {
+            "latin-1" => TextEncoding::Latin1,
+            "utf-8-bom" => TextEncoding::Utf8Bom,
+            "utf-8" if read.text.is_ascii() => TextEncoding::Ascii,
+            "utf-8" => TextEncoding::Utf8,
+            _ => TextEncoding::Ascii,
+        };
+        assert_eq!(device.source.encoding, expected, "{file}");
+        let pn = device.profinet.as_ref().expect("a PROFINET side");
+        if notes.contains("no ModuleItem") {
+            assert!(pn.modules.is_empty(), "{file}: no ModuleItem");
+        }
+        if let Some(n) = count_in(notes, "modules") {
+            assert_eq!(pn.modules.len(), n, "{file}: modules");
+        }
+        if let Some(n) = count_in(notes, "DAPs") {
+            assert_eq!(pn.access_points.len(), n, "{file}: access points");
+        }
+        let mut codes: BTreeMap<&str, usize> = BTreeMap::new();
+        let mut all = read.diagnostics.clone();
+        all.extend(validate::validate(device));
+        for d in &all {
+            *codes.entry(d.code()).or_default() += 1;
+        }
+        let submodules: usize = pn.modules.iter().map(|m| m.submodules.len()).sum();
+        let records: usize = pn
+            .modules
+            .iter()
+            .flat_map(|m| &m.submodules)
+            .map(|s| s.records.len())
+            .sum();
+        summary.push_str(&format!(
+            "{file}: vendor {:#06x} device {:#06x}, {} DAP(s), {} module(s), {submodules} submodule(s), {records} record(s); {:?}\n",
+            pn.vendor_id.as_ref().map_or(0, |v| v.value),
+            pn.device_id.as_ref().map_or(0, |v| v.value),
+            pn.access_points.len(),
+            pn.modules.len(),
+            codes
+        ));
+    }
+    insta::assert_snapshot!("gsdml_corpus_summary", summary);
+}
+
+/// The number before `word` in the manifest's notes (`12 modules`), if the notes give one.
+fn count_in(notes: &str, word: &str) -> Option<usize> {
+    let words: Vec<&str> = notes
+        .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
+        .collect();
+    words
+        .windows(2)
+        .find(|w| w[1] == word)
+        .and_then(|w| w[0].parse().ok())
+}

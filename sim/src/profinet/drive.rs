@@ -1,0 +1,116 @@
+//! The Goodrive350 behind the simulated PROFINET card: each output frame's 16 words go to the
+//! PKW/PZD drive ([`PkwPzdDrive`] on `Bus::Profinet`, big-endian as PROFINET carries them) and
+//! its 16 words come back in the input frames; the cyclic watchdog trips the drive's E-PN fault.
+//! Sans-IO, as [`Cyclic`] is.
+
+use edsgen_runtime::pkw_pzd::{ByteOrder, IMAGE_BYTES};
+use edsgen_runtime::{Duration, Instant};
+
+use super::cyclic::{CrLayout, Cyclic, DataObject};
+use super::wire::Mac;
+use crate::drives::pkw_pzd::PkwPzdDrive;
+
+/// The cyclic layout of the card's one module (slot 1, subslot 1) alone: in each CR its 32 bytes
+/// of data and its IOPS, then the IOCS of the other direction. `interval` and `factor` as the
+/// Connect's IOCR blocks give them.
+pub fn card_layout(controller: Mac, device: Mac, interval: Duration, factor: u16) -> CrLayout {
+    CrLayout {
+        controller,
+        device,
+        output_frame_id: 0xC000,
+        output_len: IMAGE_BYTES + 2,
+        outputs: vec![DataObject {
+            offset: 0,
+            len: IMAGE_BYTES,
+        }],
+        input_frame_id: 0xC001,
+        input_len: IMAGE_BYTES + 2,
+        inputs: vec![DataObject {
+            offset: 0,
+            len: IMAGE_BYTES,
+        }],
+        input_iocs: vec![IMAGE_BYTES + 1],
+        interval,
+        watchdog_factor: factor,
+    }
+}
+
+/// The card's cyclic exchange and the drive behind it.
+#[derive(Debug, Clone)]
+pub struct CardCycle {
+    cyclic: Cyclic,
+    drive: PkwPzdDrive,
+    inputs: [u8; IMAGE_BYTES],
+    next_send: Instant,
+}
+
+impl CardCycle {
+    /// The exchange of `layout` with `drive` from `now`.
+    pub fn new(layout: CrLayout, drive: PkwPzdDrive, now: Instant) -> Self {
+        let inputs = drive.inputs().emit(ByteOrder::BigEndian);
+        CardCycle {
+            cyclic: Cyclic::new(layout),
+            drive,
+            inputs,
+            next_send: now,
+        }
+    }
+
+    /// The drive.
+    pub fn drive(&self) -> &PkwPzdDrive {
+        &self.drive
+    }
+
+    /// A received frame at `now`: an output frame of the CR is one exchange with the drive.
+    pub fn handle(&mut self, now: Instant, frame: &[u8]) {
+        if !self.cyclic.handle(now, frame) {
+            return;
+        }
+        let Some((data, iops)) = self.cyclic.output(0) else {
+            return;
+        };
+        // Outputs with a bad IOPS carry nothing to act on.
+        let Ok(words) = <[u8; IMAGE_BYTES]>::try_from(data) else {
+            return;
+        };
+        if iops & 0x80 != 0 {
+            self.inputs = self.drive.exchange_bytes(now, &words, ByteOrder::BigEndian);
+        }
+    }
+
+    /// The input frame when one is due at `now` (one per send interval).
+    pub fn poll_transmit(&mut self, now: Instant) -> Option<Vec<u8>> {
+        if now < self.next_send {
+            return None;
+        }
+        self.next_send = now + self.cyclic.layout().interval;
+        let inputs = self.inputs;
+        Some(self.cyclic.produce(now, &[&inputs]))
+    }
+
+    /// The next time something is due: a send, the watchdog, or the drive's ramps.
+    pub fn poll_timeout(&self) -> Instant {
+        [
+            Some(self.next_send),
+            self.cyclic.poll_timeout(),
+            self.drive.poll_timeout(),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+        .unwrap_or(self.next_send)
+    }
+
+    /// Time passed to `now`: the watchdog trips the drive's bus fault (E-PN).
+    pub fn handle_timeout(&mut self, now: Instant) {
+        if self.cyclic.handle_timeout(now) {
+            self.drive.communication_lost(now);
+        } else {
+            self.drive.handle_timeout(now);
+        }
+        self.inputs = self.drive.inputs().emit(ByteOrder::BigEndian);
+    }
+}
+
+#[cfg(test)]
+mod tests;
