@@ -142,6 +142,7 @@ fn module_doc(device: &Device) -> Vec<String> {
         Format::Xdd => "XDD",
         Format::Xdc => "XDC",
         Format::Esi => "ESI",
+        Format::Gsd => "GSD",
     };
     let file_name = device
         .source

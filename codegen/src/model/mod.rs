@@ -12,11 +12,16 @@
 
 use std::collections::BTreeMap;
 
+mod dp;
 mod ethercat;
 mod object;
 mod source;
 mod types;
 
+pub use dp::{
+    decode_cfg, CfgError, CfgIdentifier, Dp, DpBaud, DpBaudRate, DpModule, DpSlot, ExtUserPrmData,
+    GsdKeyword, PrmConst, PrmRef, PrmText, PrmType, PrmValues, UnitDiag,
+};
 pub use ethercat::{
     AlternativeSmMapping, CoeInitCmd, CoeMailbox, DcOpMode, EcModule, EcPdo, EcPdoEntry, EcSlot,
     EtherCat, SmKind, SyncManager,
@@ -173,6 +178,8 @@ pub struct Device {
     pub naming: Naming,
     /// What an ESI file says beyond the CoE dictionary; `None` for CANopen descriptions.
     pub ethercat: Option<EtherCat>,
+    /// What a GSD file says (PROFIBUS-DP); `None` for other descriptions.
+    pub dp: Option<Dp>,
 }
 
 /// What an overlay says about generated names: the description cannot say how the device numbers

@@ -52,6 +52,9 @@ pub enum Format {
     /// EtherCAT Slave Information (ETG.2000): a CoE dictionary and the EtherCAT layout
     /// ([`Device::ethercat`](super::Device::ethercat)).
     Esi,
+    /// PROFIBUS-DP device description (GSD, the PNO's specification): the DP part
+    /// ([`Device::dp`](super::Device::dp)).
+    Gsd,
 }
 
 /// How the file's bytes were decoded.

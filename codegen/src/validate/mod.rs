@@ -20,6 +20,7 @@ mod dcf;
 mod device_info;
 mod esi;
 mod file_info;
+mod gsd;
 mod object_lists;
 mod objects;
 mod pdo;
@@ -28,6 +29,12 @@ mod sections;
 /// Judges a device model; the diagnostics come sorted by position.
 pub fn validate(device: &Device) -> Vec<Diagnostic> {
     let mut out = Vec::new();
+    if device.source.format == Format::Gsd {
+        // A GSD file has no CANopen dictionary: only the DP rules apply.
+        gsd::check(device, &mut out);
+        diag::sort(&mut out);
+        return out;
+    }
     file_info::check(device, &mut out);
     device_info::check(device, &mut out);
     object_lists::check(device, &mut out);

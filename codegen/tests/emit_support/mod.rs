@@ -107,6 +107,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         other_sections: Vec::new(),
         naming: Default::default(),
         ethercat: None,
+        dp: None,
     }
 }
 

@@ -108,6 +108,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         other_sections: Vec::new(),
         naming: Default::default(),
         ethercat: None,
+        dp: None,
     }
 }
 
