@@ -13,4 +13,5 @@
 
 pub mod canopen;
 pub mod cards;
+pub mod dp;
 pub mod drives;
