@@ -23,6 +23,7 @@ pub mod rules;
 pub mod scan;
 pub mod sdo;
 pub mod simulate;
+pub mod simulate_dp;
 pub mod validate;
 pub mod value;
 

@@ -78,6 +78,10 @@ pub struct Args {
     /// Print every frame on the bus, decoded.
     #[arg(long)]
     trace: bool,
+    /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
+    /// or one FILE.gsd[@ADDR]; see `simulate_dp`).
+    #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
+    profibus: Option<String>,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -91,6 +95,9 @@ struct Planned {
 
 /// Runs `edsgen simulate`.
 pub fn run(args: Args) -> ExitCode {
+    if let Some(tty) = &args.profibus {
+        return super::simulate_dp::run(tty, &args.files, &args.cards);
+    }
     let planned = match plan(&args) {
         Ok(planned) => planned,
         Err(message) => return fail(message),

@@ -3,6 +3,7 @@
 
 pub mod card;
 pub mod fdl;
+pub mod serial;
 pub mod slave;
 
 pub use slave::{DpApplication, DpSlave, DpState, SlaveConfig};
