@@ -61,11 +61,7 @@ fn pyprofibus_exchanges_data_with_a_slave_from_a_gsd_file() {
     };
     assert_eq!(
         lines,
-        [
-            "DATA_EXCHANGE",
-            "PKW_READ 0001000a00000000",
-            "RUN 000103e8",
-        ]
+        ["DATA_EXCHANGE", "PKW_READ 0001000a00000000", "RUN 000103e8",]
     );
 }
 

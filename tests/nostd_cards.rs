@@ -1,4 +1,4 @@
-//! The generated code of the cards in `eds/` (EDS and ESI), with the runtime's object-dictionary trait, builds
+//! The generated code of the cards in `eds/` (EDS, ESI and GSD), with the runtime's object-dictionary trait, builds
 //! for `thumbv7em-none-eabihf` (no `std`, no `alloc`).
 
 mod emit_common;
@@ -23,8 +23,8 @@ fn cards_build_for_thumbv7em() {
     let cards = card_files();
     assert_eq!(
         cards.len(),
-        6,
-        "the five EDS cards and the ESI card in eds/"
+        7,
+        "the five EDS cards, the ESI card and the GSD card in eds/"
     );
     let modules: Vec<_> = cards
         .iter()

@@ -1,5 +1,5 @@
 //! `include_device!` where firmware usually puts it, inside a private module that uses none of
-//! it: the six cards' modules compile there under `-D warnings` (no dead-code warnings).
+//! it: the seven cards' modules compile there under `-D warnings` (no dead-code warnings).
 
 mod emit_common;
 mod process_support;
@@ -20,8 +20,8 @@ fn generated_modules_in_a_private_module_compile_without_warnings() {
         .collect();
     assert_eq!(
         modules.len(),
-        6,
-        "the five EDS cards and the ESI card in eds/"
+        7,
+        "the five EDS cards, the ESI card and the GSD card in eds/"
     );
     let index = write_modules("private-module", &modules);
     build_compile_check_with(&index, None, "private-module", &["private"]);

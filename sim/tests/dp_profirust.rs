@@ -8,6 +8,7 @@
 use std::path::Path;
 
 use edsgen_runtime::Instant;
+use edsgen_sim::cards::goodrive350_dp::modules::n_4_pkw_12_pzd::{Inputs, Outputs};
 use edsgen_sim::dp::card::{goodrive350, read_gsd, Goodrive350Dp, GSD, GSD_PATH};
 use edsgen_sim::dp::fdl::{self, FdlError};
 use edsgen_sim::dp::{DpSlave, DpState};
@@ -77,18 +78,19 @@ fn bus() -> Bus {
     }
 }
 
-/// The card's identity and configuration, from its GSD.
+/// The card's identity, configuration and MaxTsdr at 19.2 kbit/s: the code generated from its
+/// GSD (`edsgen_sim::cards::goodrive350_dp`), checked against the GSD's model.
 fn gsd() -> (u16, Vec<u8>, u16) {
+    use edsgen_sim::cards::goodrive350_dp::{modules::n_4_pkw_12_pzd, BAUD_RATES, IDENT_NUMBER};
     let dp = read_gsd(Path::new(GSD_PATH), GSD).unwrap();
-    let ident = dp.ident_number.unwrap().value;
-    let config = dp.modules[0].config.clone();
-    let tsdr = dp
-        .baud_rates
+    assert_eq!(dp.ident_number.unwrap().value, IDENT_NUMBER);
+    assert_eq!(dp.modules[0].config, n_4_pkw_12_pzd::CONFIG);
+    let tsdr = BAUD_RATES
         .iter()
-        .find(|b| b.rate.bits_per_second() == 19_200)
-        .and_then(|b| b.max_tsdr)
-        .unwrap();
-    (ident, config, u16::try_from(tsdr).unwrap())
+        .find(|(rate, _)| *rate == 19_200)
+        .unwrap()
+        .1;
+    (IDENT_NUMBER, n_4_pkw_12_pzd::CONFIG.to_vec(), tsdr)
 }
 
 /// Runs the bus until `done` or 20 s of bus time; the time it took.
@@ -144,7 +146,7 @@ fn profirust_brings_the_card_to_data_exchange() {
         dp::PeripheralOptions {
             ident_number: ident,
             max_tsdr,
-            user_parameters: Some(&[]),
+            user_parameters: Some(&edsgen_sim::cards::goodrive350_dp::USER_PRM_DATA),
             config: Some(&config),
             ..Default::default()
         },
@@ -183,12 +185,30 @@ fn profirust_brings_the_card_to_data_exchange() {
         ),
     ];
     for (out, expected) in steps {
-        master.get_mut(handle).pi_q_mut().copy_from_slice(&out);
+        // Through the generated image: PKW in identifier 0, CW/PZD in identifier 1.
+        let image = Outputs::from_bytes(&out);
+        master
+            .get_mut(handle)
+            .pi_q_mut()
+            .copy_from_slice(&image.to_bytes());
         let reached = run(&mut bus, &mut fdl, &mut master, |m, _| {
             m.get_mut(handle).pi_i()[..12] == expected
         });
         let got = master.get_mut(handle).pi_i()[..12].to_vec();
         assert!(reached, "expected {expected:02X?}, inputs {got:02X?}");
+        let mut bytes = [0u8; 32];
+        bytes.copy_from_slice(master.get_mut(handle).pi_i());
+        let inputs = Inputs::from_bytes(&bytes);
+        assert_eq!(
+            inputs.id1[0],
+            u16::from_be_bytes([expected[8], expected[9]]),
+            "SW"
+        );
+        assert_eq!(
+            inputs.id0[0],
+            u16::from_be_bytes([expected[0], expected[1]]),
+            "PKW1"
+        );
     }
 
     // The master stops: the slave's watchdog (200 ms) trips E-DP (29).

@@ -7,6 +7,7 @@
 //! from [`types`]; [`plan`] decides both, in (index, sub-index) order. Generated code uses absolute
 //! paths only, needs neither `std` nor `alloc`, and holds no `unsafe`, `static mut` or `unwrap`.
 
+pub mod dp;
 pub mod ethercat;
 pub mod names;
 pub mod od;
@@ -41,6 +42,16 @@ pub fn module_name(requested: &str) -> String {
 /// emitter found (errors included) and no code.
 pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
+    if let Some(dp) = &device.dp {
+        // A GSD file has no dictionary: its module is the DP one alone.
+        let tokens = dp::module(device, dp, &module);
+        let code = format_tokens(tokens, device, &text::Splices::default())?;
+        return Ok(Generated {
+            module,
+            code,
+            diagnostics: Vec::new(),
+        });
+    }
     let plan = plan::plan(device);
     let mut diagnostics = plan.diagnostics.clone();
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.

@@ -111,10 +111,22 @@ impl DpApplication for Goodrive350Dp {
 }
 
 /// The card powered up at `now` at `address`, its drive set up for bus control
-/// ([`PkwPzdDrive::bus_controlled`]).
+/// ([`PkwPzdDrive::bus_controlled`]); its identity and configuration are the code generated
+/// from its GSD ([`crate::cards::goodrive350_dp`]).
 pub fn goodrive350(address: u8, now: Instant) -> Result<DpSlave<Goodrive350Dp>, CardError> {
-    let dp = read_gsd(Path::new(GSD_PATH), GSD)?;
-    let (config, _) = slave_config(&dp, address)?;
+    use crate::cards::goodrive350_dp::{self as generated, modules::n_4_pkw_12_pzd as module};
+    if address > 125 {
+        return Err(CardError::BadAddress(address));
+    }
+    let config = SlaveConfig {
+        address,
+        ident_number: generated::IDENT_NUMBER,
+        config: module::CONFIG.to_vec(),
+        user_prm_len: generated::USER_PRM_DATA.len(),
+        output_len: module::Outputs::LEN,
+        freeze: generated::FREEZE,
+        sync: generated::SYNC,
+    };
     let app = Goodrive350Dp {
         drive: PkwPzdDrive::bus_controlled(Bus::ProfibusDp, now),
     };
