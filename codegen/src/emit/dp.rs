@@ -122,7 +122,7 @@ fn fields(
                 return None;
             }
             let name = format_ident!("id{n}");
-            let words = id.words && len % 2 == 0;
+            let words = id.words && len.is_multiple_of(2);
             let ty = if words {
                 let count = Literal::usize_unsuffixed(len / 2);
                 quote!([u16; #count])
