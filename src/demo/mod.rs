@@ -3,7 +3,9 @@
 //! and a Goodrive350 (node 3) through their manuals' workflows, every frame decoded by name; then
 //! an EtherCAT master walks a simulated EC-TX508 through CiA 402 cyclic synchronous velocity,
 //! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
-//! by name at the cycles the steps look at. Each step checks what the manual (or CiA 402) says
+//! by name at the cycles the steps look at; then profirust's DP master brings the Goodrive350's
+//! PROFIBUS-DP card to data exchange on its simulated bus and walks the manual's PKW examples and
+//! CW/SW commands ([`dp`]). Each step checks what the manual (or CiA 402) says
 //! should happen; the demo passes only if every step does.
 //!
 //! Two links for the CANopen drives, one set of workflows ([`Link`]): by default the drives are
@@ -15,6 +17,7 @@
 //! EC-TX508 runs in the first mode only, in its own 1 ms cycles; a socketcand bus has no
 //! EtherCAT network, and with `--bus` its one step says it was not run.
 
+mod dp;
 mod ethercat;
 mod memory;
 mod remote;
@@ -273,6 +276,7 @@ pub fn run() -> Report {
         Err(problem) => return failed_to_start("power up the simulated drives", problem),
     };
     ethercat::run(&mut trace);
+    dp::run(&mut trace);
     trace.finish()
 }
 
@@ -285,6 +289,8 @@ pub fn run_on_bus(addr: &str) -> Report {
         Err(problem) => return failed_to_start("join the bus", problem),
     };
     ethercat::not_run(&mut trace);
+    // The DP card needs no CANopen bus: it runs in this process on profirust's simulated bus.
+    dp::run(&mut trace);
     trace.finish()
 }
 
