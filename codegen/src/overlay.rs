@@ -85,13 +85,15 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                     set_mapping(mapping, entries, device, text, &lines, &mut diags);
                 }
             }
-            (table @ ("capacity" | "names" | "numbering" | "pdo_mapping"), _) => {
-                diags.push(Diagnostic::new(
+            ("pkw_pzd", DeValue::Table(table)) => {
+                set_pkw_pzd(table, key_span, device, text, &lines, &mut diags);
+            }
+            (table @ ("capacity" | "names" | "numbering" | "pdo_mapping" | "pkw_pzd"), _) => diags
+                .push(Diagnostic::new(
                     &rules::OVERLAY,
                     Some(key_span),
                     format!("`{table}` must be a table: `[{table}]`"),
-                ))
-            }
+                )),
             (other, _) => diags.push(
                 Diagnostic::new(
                     &rules::OVERLAY,
@@ -100,7 +102,8 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                 )
                 .with_label("ignored")
                 .with_help(
-                    "an overlay has the tables [capacity], [names], [numbering] and [pdo_mapping]",
+                    "an overlay has the tables [capacity], [names], [numbering], [pdo_mapping] \
+                     and (GSD) [pkw_pzd]",
                 ),
             ),
         }
@@ -108,6 +111,59 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
     // The TOML tables iterate by key; report in the order of the file.
     crate::diag::sort(&mut diags);
     diags
+}
+
+/// `[pkw_pzd] module = "NAME"` (GSD): the module whose images are INVT's PKW/PZD layout, 16
+/// words each way with the 4 PKW words as the first identifier.
+fn set_pkw_pzd(
+    table: &DeTable<'_>,
+    table_span: crate::model::Span,
+    device: &mut Device,
+    text: &str,
+    lines: &LineIndex,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let Some(dp) = device.dp.as_mut() else {
+        diags.push(Diagnostic::new(
+            &rules::OVERLAY,
+            Some(table_span),
+            "[pkw_pzd] is for a GSD file's module".to_owned(),
+        ));
+        return;
+    };
+    for (key, value) in table {
+        let span = lines.span(text, key.span());
+        let name = match (key.get_ref().as_ref(), value.get_ref()) {
+            ("module", DeValue::String(name)) => name.to_string(),
+            _ => {
+                diags.push(Diagnostic::new(
+                    &rules::OVERLAY,
+                    Some(span),
+                    "[pkw_pzd] takes `module = \"NAME\"`".to_owned(),
+                ));
+                continue;
+            }
+        };
+        let fits = dp.modules.iter().find(|m| m.name == name).is_some_and(|m| {
+            let ids = m.identifiers();
+            m.io_lengths() == (32, 32)
+                && ids
+                    .first()
+                    .is_some_and(|i| (i.input_bytes, i.output_bytes, i.words) == (8, 8, true))
+        });
+        if fits {
+            dp.pkw_pzd_module = Some(name);
+        } else {
+            diags.push(Diagnostic::new(
+                &rules::OVERLAY,
+                Some(span),
+                format!(
+                    "no module \"{name}\" of 32 bytes each way whose first identifier is 4 words \
+                     (PKW1-PKW4)"
+                ),
+            ));
+        }
+    }
 }
 
 /// One `XXXXsubY = N` line of `[capacity]`.

@@ -7,6 +7,7 @@
 
 use std::path::Path;
 
+use edsgen_runtime::pkw_pzd::PkwResponse;
 use edsgen_runtime::Instant;
 use edsgen_sim::cards::goodrive350_dp::modules::n_4_pkw_12_pzd::{Inputs, Outputs};
 use edsgen_sim::dp::card::{goodrive350, read_gsd, Goodrive350Dp, GSD, GSD_PATH};
@@ -209,6 +210,17 @@ fn profirust_brings_the_card_to_data_exchange() {
             u16::from_be_bytes([expected[0], expected[1]]),
             "PKW1"
         );
+        // The overlay's [pkw_pzd]: the generated image as the runtime's typed PKW/PZD image.
+        let typed = inputs.pkw_pzd().unwrap();
+        assert_eq!(typed.status.0, inputs.id1[0]);
+        if expected[1] == 1 {
+            let value = PkwResponse::Word {
+                address: 10,
+                value: 5000,
+            };
+            assert_eq!(typed.pkw, value);
+        }
+        assert_eq!(Outputs::from_pkw_pzd(&image.pkw_pzd()), image);
     }
 
     // The master stops: the slave's watchdog (200 ms) trips E-DP (29).

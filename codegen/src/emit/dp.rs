@@ -69,7 +69,8 @@ pub(super) fn module(device: &Device, dp: &Dp, module: &str) -> TokenStream {
                 name.push('_');
             }
             names.push(name.clone());
-            Some(dp_module(m, &ids, &name))
+            let pkw_pzd = dp.pkw_pzd_module.as_deref() == Some(m.name.as_str());
+            Some(dp_module(m, &ids, &name, pkw_pzd))
         })
         .collect();
     quote! {
@@ -202,13 +203,18 @@ fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStre
     }
 }
 
-fn dp_module(m: &DpModule, ids: &[CfgIdentifier], name: &str) -> TokenStream {
+fn dp_module(m: &DpModule, ids: &[CfgIdentifier], name: &str, pkw_pzd: bool) -> TokenStream {
     let name = id(name);
     let doc = format!(" Module \"{}\".", doc_text(&m.name));
     let config: Vec<_> = m.config.iter().map(|b| hex(u128::from(*b), 2)).collect();
     let n_config = Literal::usize_unsuffixed(config.len());
     let inputs = image("Inputs", "The inputs (slave to master).", ids, true);
     let outputs = image("Outputs", "The outputs (master to slave).", ids, false);
+    let conversions = if pkw_pzd {
+        pkw_pzd_conversions()
+    } else {
+        TokenStream::new()
+    };
     quote! {
         #[doc = #doc]
         pub mod #name {
@@ -216,6 +222,35 @@ fn dp_module(m: &DpModule, ids: &[CfgIdentifier], name: &str) -> TokenStream {
             pub const CONFIG: [u8; #n_config] = [#(#config),*];
             #inputs
             #outputs
+            #conversions
+        }
+    }
+}
+
+/// The conversions of a PKW/PZD module's images (the overlay's `[pkw_pzd]`).
+fn pkw_pzd_conversions() -> TokenStream {
+    let rt = quote!(::edsgen_runtime::pkw_pzd);
+    quote! {
+        impl Inputs {
+            /// The image as the drive's PKW/PZD input image (PKW response, SW, PZD2–PZD12);
+            /// an error for an undefined response code in PKW1.
+            pub fn pkw_pzd(&self) -> Result<#rt::InputImage, #rt::ResponseError> {
+                #rt::InputImage::parse(&self.to_bytes(), #rt::ByteOrder::BigEndian)
+            }
+            /// The image of a PKW/PZD input image.
+            pub fn from_pkw_pzd(image: &#rt::InputImage) -> Self {
+                Self::from_bytes(&image.emit(#rt::ByteOrder::BigEndian))
+            }
+        }
+        impl Outputs {
+            /// The image as the drive's PKW/PZD output image (PKW request, CW, PZD2–PZD12).
+            pub fn pkw_pzd(&self) -> #rt::OutputImage {
+                #rt::OutputImage::parse(&self.to_bytes(), #rt::ByteOrder::BigEndian)
+            }
+            /// The image of a PKW/PZD output image.
+            pub fn from_pkw_pzd(image: &#rt::OutputImage) -> Self {
+                Self::from_bytes(&image.emit(#rt::ByteOrder::BigEndian))
+            }
         }
     }
 }

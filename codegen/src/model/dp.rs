@@ -444,6 +444,10 @@ pub struct Dp {
     pub unit_diag: Vec<UnitDiag>,
     /// Keywords the reader does not interpret, as written.
     pub other: Vec<GsdKeyword>,
+    /// The module whose 32-byte images are INVT's PKW/PZD layout (4 PKW + 12 PZD words), as
+    /// the overlay's `[pkw_pzd] module` says: its generated images convert to and from
+    /// `edsgen_runtime::pkw_pzd`'s. A GSD cannot say it.
+    pub pkw_pzd_module: Option<String>,
 }
 
 impl Dp {
