@@ -123,6 +123,9 @@ enum Command {
     Bus(cmd::bus::BusArgs),
     /// Simulate devices from description files on a CAN bus.
     Simulate(cmd::simulate::Args),
+    /// A PROFIBUS-DP master at the bench (profirust): scan a serial line.
+    #[command(subcommand)]
+    Dp(cmd::dp::Command),
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
@@ -222,6 +225,7 @@ fn main() -> ExitCode {
         Command::Check(args) => cmd::check::run(&args),
         Command::Bus(args) => cmd::bus::run(&args),
         Command::Simulate(args) => cmd::simulate::run(args),
+        Command::Dp(command) => cmd::dp::run(command),
         Command::Decode(args) => cmd::decode::run(args),
         Command::Demo(args) => cmd::demo::run(&args),
     }

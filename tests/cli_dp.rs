@@ -98,3 +98,22 @@ fn bad_usage_exits_2() {
         "{exited:?}"
     );
 }
+
+/// `edsgen dp scan` (profirust's scanner on a line of its own PHY) finds the simulated card on
+/// the other end of a pseudo-terminal pair; with nobody there it exits 1.
+#[test]
+fn dp_scan_finds_the_simulated_card() {
+    let Some(python) = python() else { return };
+    let pair = Process::python(&python, "scripts/pty_pair.py", &[]);
+    let line = pair.stdout_line(|l| l.starts_with("PTY "), WAIT);
+    let ends: Vec<&str> = line.split(' ').skip(1).collect();
+    let (a, b) = (ends[0].to_owned(), ends[1].to_owned());
+    let empty = Process::edsgen(&["dp", "scan", &a, "--seconds", "1"]).finish(WAIT);
+    assert_eq!(empty.code, Some(1), "{empty:?}");
+    assert!(empty.stderr.contains("no DP slave answered"), "{empty:?}");
+    let slave = Process::edsgen(&["simulate", "--profibus", &b, "--card", "goodrive350-dp"]);
+    slave.stderr_line(|l| l.starts_with("simulating DP slave 2"), WAIT);
+    let scan = Process::edsgen(&["dp", "scan", &a, "--seconds", "3"]).finish(WAIT);
+    assert_eq!(scan.code, Some(0), "{scan:?}");
+    assert_eq!(scan.stdout, "station 2: Ident_Number 0350h, no master\n");
+}

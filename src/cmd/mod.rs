@@ -16,6 +16,7 @@ pub mod check;
 pub mod decode;
 pub mod demo;
 pub mod devices;
+pub mod dp;
 pub mod dump;
 pub mod generate;
 pub mod nmt;
