@@ -117,3 +117,60 @@ fn dp_scan_finds_the_simulated_card() {
     assert_eq!(scan.code, Some(0), "{scan:?}");
     assert_eq!(scan.stdout, "station 2: Ident_Number 0350h, no master\n");
 }
+
+/// `edsgen dp io` brings the simulated card to data exchange from its GSD and overlay, sends a
+/// PKW read of P00.10 by name and prints the inputs by name, the PKW response decoded.
+#[test]
+fn dp_io_reads_a_parameter_by_name() {
+    let Some(python) = python() else { return };
+    let pair = Process::python(&python, "scripts/pty_pair.py", &[]);
+    let line = pair.stdout_line(|l| l.starts_with("PTY "), WAIT);
+    let ends: Vec<&str> = line.split(' ').skip(1).collect();
+    let (a, b) = (ends[0].to_owned(), ends[1].to_owned());
+    let slave = Process::edsgen(&["simulate", "--profibus", &b, "--card", "goodrive350-dp"]);
+    slave.stderr_line(|l| l.starts_with("simulating DP slave 2"), WAIT);
+    let io = Process::edsgen(&[
+        "dp",
+        "io",
+        &a,
+        "--gsd",
+        "eds/goodrive350-dp.gsd",
+        "--address",
+        "2",
+        "pkw1=1",
+        "pkw2=10",
+    ])
+    .finish(WAIT);
+    assert_eq!(io.code, Some(0), "{io:?}");
+    let lines: Vec<&str> = io.stdout.lines().collect();
+    assert_eq!(
+        lines[..5],
+        [
+            "pkw1 = 1 (0x0001)",
+            "pkw2 = 10 (0x000A)",
+            "pkw3 = 0 (0x0000)",
+            "pkw4 = 5000 (0x1388)",
+            "sw = 16643 (0x4103)"
+        ]
+    );
+    assert_eq!(
+        lines[16..],
+        [
+            "pkw: Word { address: 10, value: 5000 }",
+            "sw: Some(Stopped), ready true, Communication"
+        ]
+    );
+    let bad = Process::edsgen(&[
+        "dp",
+        "io",
+        &a,
+        "--gsd",
+        "eds/goodrive350-dp.gsd",
+        "--address",
+        "2",
+        "nope=1",
+    ])
+    .finish(WAIT);
+    assert_eq!(bad.code, Some(2));
+    assert!(bad.stderr.contains("no output word `nope`"), "{bad:?}");
+}

@@ -5,6 +5,13 @@
 //!   `DpScanner`: FDL status, then Slave_Diag), one line each: address, Ident_Number, the master
 //!   it is locked to. Exit 0 when at least one answered, 1 when none did, 2 for bad usage or a
 //!   line that cannot be opened.
+//! - `edsgen dp io TTY --gsd FILE --address N [NAME=VALUE...]`: parameterise and configure the
+//!   slave from its GSD (Ident_Number, default User_Prm_Data, its first module's Chk_Cfg bytes),
+//!   exchange data for `--seconds` with the outputs set by name, then print the inputs by name.
+//!   Names are the 16-bit words `w0`, `w1`, ... of the images; a module the overlay marks as
+//!   PKW/PZD (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its PKW response and
+//!   status word are decoded. Exit 0 after the exchange, 1 if data exchange was not reached, 2 for
+//!   bad usage.
 
 use std::fs::OpenOptions;
 use std::process::ExitCode;
@@ -15,6 +22,7 @@ use profirust::{fdl, Baudrate};
 
 use super::fail;
 
+mod io;
 pub mod phy;
 
 /// The arguments of `edsgen dp`.
@@ -31,6 +39,8 @@ pub enum Command {
         #[arg(long, default_value_t = 3)]
         seconds: u64,
     },
+    /// Bring a slave to data exchange from its GSD, set outputs by name, print its inputs.
+    Io(io::Args),
 }
 
 /// Runs `edsgen dp`.
@@ -41,6 +51,7 @@ pub fn run(command: Command) -> ExitCode {
             master,
             seconds,
         } => scan(&tty, master, Duration::from_secs(seconds)),
+        Command::Io(args) => io::run(&args),
     }
 }
 
