@@ -1,5 +1,5 @@
 //! The GSD reader (PROFIBUS-DP device description, the PNO's GSD specification): a file into a
-//! [`Device`] whose [`Dp`] part holds what the file says, never failing on content.
+//! [`Device`](crate::model::Device) whose [`Dp`] part holds what the file says, never failing on content.
 //!
 //! Lexing is in [`lines`] (Latin-1, `;` comments, `\` continuations); keywords are matched
 //! case-insensitively. Blocks (`Module` … `EndModule`, `PrmText`, `ExtUserPrmData`,
