@@ -12,7 +12,7 @@ if [ ! -x "$python" ]; then
 fi
 
 wanted=("canopen==2.4.1" "python-can==4.6.1" "cpppo==5.2.5" "ethernetip==1.2.0" "pnio-dcp==1.2.0"
-        "profinet-py==0.6.6")
+        "profinet-py==0.6.6" "pyprofibus==1.13" "pyserial==3.5")
 missing=()
 for requirement in "${wanted[@]}"; do
     name="${requirement%%==*}"

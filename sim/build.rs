@@ -1,4 +1,4 @@
-//! Generates the typed bindings of the bundled cards from `../eds/` (five EDS files and one ESI), exactly as a user's build.rs
+//! Generates the typed bindings of the bundled cards from `../eds/` (five EDS files, one ESI and one GSD), exactly as a user's build.rs
 //! would: one `.device()` line per card. An error in a card's EDS fails the build with the
 //! rendered diagnostics; warnings show as cargo warnings.
 
@@ -17,6 +17,8 @@ fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
         // The Goodrive350's PROFINET card (a GSDML file): identity, its module's typed images
         // and its PZD parameter records.
         .device("../eds/goodrive350-pn.xml")
+        // The Goodrive350's PROFIBUS-DP card (a GSD file): identity, Chk_Cfg bytes, images.
+        .device("../eds/goodrive350-dp.gsd")
         // Goodrive350 and HD1-E keep a 16-bit value in sub-index 0 of 2000h/2100h (their manuals
         // say so); the EDS files document it and the card tests pin the warning.
         .allow("EDS308")

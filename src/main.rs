@@ -131,6 +131,9 @@ enum Command {
         #[command(subcommand)]
         command: cmd::pn::PnCommand,
     },
+    /// A PROFIBUS-DP master at the bench (profirust): scan a serial line.
+    #[command(subcommand)]
+    Dp(cmd::dp::Command),
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
@@ -232,6 +235,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Enip(args) => cmd::enip::run(args),
         Command::Pn { command } => cmd::pn::run(&command),
+        Command::Dp(command) => cmd::dp::run(command),
         Command::Decode(args) => cmd::decode::run(args),
         Command::Demo(args) => cmd::demo::run(&args),
     }

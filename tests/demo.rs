@@ -16,7 +16,7 @@ fn every_step_of_the_demo_behaves_as_the_manuals_say() {
     let report = edsgen::demo::run();
     let failed: Vec<_> = report.steps.iter().filter(|s| s.outcome.is_err()).collect();
     assert_eq!(failed, Vec::<&edsgen::demo::Step>::new());
-    assert_eq!(report.steps.len(), 50);
+    assert_eq!(report.steps.len(), 57);
     // The Goodrive350 manual's PDO2 Tx (§3.5.4), 283: 01 01 88 13 7C 01 00 00, decoded.
     let pdo2 = "7.100000  283  TPDO2      node 3 Status word = 257 (0x0101), Monitoring data: \
                 Returned value 1 = 5000 (0x1388), Monitoring data: Returned value 2 = 380 \
@@ -62,6 +62,7 @@ fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
         .iter()
         .position(|l| l.starts_with("== EC-TX508"))
         .expect("the EtherCAT section");
+    // The EC-TX508's steps, before the other cards' sections.
     let steps: Vec<(&str, &Result<String, String>)> = report.steps[27..35]
         .iter()
         .map(|s| (s.name.as_str(), &s.outcome))
@@ -165,7 +166,7 @@ fn the_demo_command_exits_0_with_its_summary() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.ends_with("\n50 step(s): 50 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }
@@ -208,7 +209,7 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
         "{stdout}"
     );
     assert!(
-        stdout.ends_with("\n35 step(s): 35 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n42 step(s): 42 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }
@@ -261,4 +262,30 @@ fn the_goodrive350_enip_card_runs_through_pkw_and_pzd() {
             ),
         ]
     );
+}
+
+/// The PROFIBUS-DP section: profirust's master brings the Goodrive350 DP card to data exchange
+/// and every step of chapter 2's workflow behaves.
+#[test]
+fn the_demo_runs_the_dp_card_with_profirust() {
+    let report = edsgen::demo::run();
+    let dp: Vec<&str> = report
+        .steps
+        .iter()
+        .skip_while(|s| s.name != "the card's GSD reads and validates")
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(
+        dp,
+        [
+            "the card's GSD reads and validates",
+            "Set_Prm, Chk_Cfg, data exchange",
+            "§2.6 example 1: read P00.10 (task 1, address 10)",
+            "§2.6 example 2: write 50.00 Hz to P00.10 (task 4, CW bit 8)",
+            "CW 1 (run forward) at 10.00 Hz on PZD2",
+            "CW 6 (coast to stop)",
+            "the master stops: the DP watchdog (200 ms) trips E-DP",
+        ]
+    );
+    assert!(report.passed());
 }

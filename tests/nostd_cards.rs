@@ -1,4 +1,4 @@
-//! The generated code of the cards in `eds/` (EDS, ESI, ODVA EDS and GSDML), with the runtime's object-dictionary trait, builds
+//! The generated code of the cards in `eds/` (EDS, ESI, ODVA EDS, GSDML and GSD), with the runtime's object-dictionary trait, builds
 //! for `thumbv7em-none-eabihf` (no `std`, no `alloc`).
 
 mod emit_common;
@@ -23,8 +23,8 @@ fn cards_build_for_thumbv7em() {
     let cards = card_files();
     assert_eq!(
         cards.len(),
-        7,
-        "the five EDS cards, the ESI card, the ODVA EDS card and the GSDML card in eds/"
+        9,
+        "the five EDS cards, the ESI card and the ODVA EDS, GSDML and GSD cards in eds/"
     );
     let modules: Vec<_> = cards
         .iter()

@@ -20,8 +20,8 @@ fn generated_modules_in_a_private_module_compile_without_warnings() {
         .collect();
     assert_eq!(
         modules.len(),
-        7,
-        "the five EDS cards, the ESI card, the ODVA EDS card and the GSDML card in eds/"
+        9,
+        "the five EDS cards, the ESI card and the ODVA EDS, GSDML and GSD cards in eds/"
     );
     let index = write_modules("private-module", &modules);
     build_compile_check_with(&index, None, "private-module", &["private"]);

@@ -11,8 +11,8 @@ mod cip;
 mod profinet;
 
 use crate::model::{
-    Commissioning, Device, DeviceInfo, EcPdo, EtherCat, FileInfo, Format, Object, SmKind,
-    SubObject, TextEncoding, Value, ValueSource,
+    Commissioning, Device, DeviceInfo, Dp, DpModule, EcPdo, EtherCat, FileInfo, Format, Object,
+    SmKind, Spanned, SubObject, TextEncoding, Value, ValueSource,
 };
 
 /// The model as a JSON value, with the field names and encodings of the design's contract.
@@ -25,6 +25,7 @@ pub fn to_json(device: &Device) -> Json {
         Format::Esi => "esi",
         Format::OdvaEds => "odva-eds",
         Format::Gsdml => "gsdml",
+        Format::Gsd => "gsd",
     };
     let encoding = match device.source.encoding {
         TextEncoding::Ascii => "ascii",
@@ -54,7 +55,88 @@ pub fn to_json(device: &Device) -> Json {
         "ethercat": device.ethercat.as_ref().map(ethercat),
         "cip": device.cip.as_ref().map(cip::cip),
         "profinet": device.profinet.as_ref().map(profinet::profinet),
+        "dp": device.dp.as_ref().map(dp),
     })
+}
+
+/// The PROFIBUS-DP side of a GSD device: identity, baud rates, the master's flags, modules with
+/// their configuration bytes decoded, the parameterisation. `null` for other descriptions.
+fn dp(dp: &Dp) -> Json {
+    let module = |m: &DpModule| {
+        let (input, output) = m.io_lengths();
+        json!({
+            "name": m.name,
+            "config": hex(&m.config),
+            "reference": m.reference,
+            "input_bytes": input,
+            "output_bytes": output,
+            "identifiers": m.identifiers().iter().map(|id| json!({
+                "bytes": hex(&id.bytes),
+                "input_bytes": id.input_bytes,
+                "output_bytes": id.output_bytes,
+                "words": id.words,
+                "consistent": id.consistent,
+                "special": id.special,
+            })).collect::<Vec<_>>(),
+        })
+    };
+    let value = |v: &Option<Spanned<u32>>| v.as_ref().map(|v| v.value);
+    json!({
+        "gsd_revision": dp.gsd_revision,
+        "vendor_name": dp.vendor_name,
+        "model_name": dp.model_name,
+        "revision": dp.revision,
+        "order_number": dp.order_number,
+        "ident_number": dp.ident_number.as_ref().map(|i| i.value),
+        "baud_rates": dp.baud_rates.iter().map(|b| json!({
+            "rate": b.rate.keyword(),
+            "max_tsdr": b.max_tsdr,
+        })).collect::<Vec<_>>(),
+        "auto_baud": dp.auto_baud,
+        "freeze": dp.freeze,
+        "sync": dp.sync,
+        "fail_safe": dp.fail_safe,
+        "set_slave_add": dp.set_slave_add,
+        "dpv1": dp.dpv1,
+        "min_slave_interval": dp.min_slave_interval,
+        "max_diag_data_len": dp.max_diag_data_len,
+        "modular_station": dp.modular_station,
+        "max_module": dp.max_module,
+        "max_input_len": value(&dp.max_input_len),
+        "max_output_len": value(&dp.max_output_len),
+        "max_data_len": value(&dp.max_data_len),
+        "user_prm_data_len": value(&dp.user_prm_data_len),
+        "default_user_prm_data": hex(&dp.default_user_prm_data()),
+        "prm_definitions": dp.prm_definitions.iter().map(|d| json!({
+            "reference": d.reference,
+            "name": d.name,
+            "default": d.default,
+            "text_ref": d.text_ref,
+        })).collect::<Vec<_>>(),
+        "prm_texts": dp.prm_texts.iter().map(|t| json!({
+            "reference": t.reference,
+            "texts": t.texts.iter().map(|(v, s)| json!([v, s])).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "modules": dp.modules.iter().map(module).collect::<Vec<_>>(),
+        "slots": dp.slots.iter().map(|s| json!({
+            "number": s.number,
+            "name": s.name,
+            "default_module": s.default_module,
+            "allowed": s.allowed,
+        })).collect::<Vec<_>>(),
+        "unit_diag": dp.unit_diag.iter().map(|u| json!({
+            "bits": [u.bits.0, u.bits.1],
+            "value": u.value,
+            "not": u.not,
+            "text": u.text,
+        })).collect::<Vec<_>>(),
+        "other": dp.other.iter().map(|k| json!([k.key, k.value])).collect::<Vec<_>>(),
+    })
+}
+
+/// Bytes as lowercase hex.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// The EtherCAT side of an ESI device: SyncManagers, PDOs, CoE mailbox, DC op-modes,

@@ -208,6 +208,22 @@ rules! {
     ESI_ALT_SM_OVERFLOW = "EDS816" Error "the PDOs an AlternativeSmMapping assigns to a SyncManager hold more bytes than its DefaultSize";
     ESI_ALT_EXCLUDE_CONFLICT = "EDS817" Error "an AlternativeSmMapping assigns two PDOs that exclude each other";
 
+    // ---- GSD0xx: PROFIBUS-DP GSD files (reader and validator) ----
+    GSD_NOT_GSD = "GSD001" Error "no `#Profibus_DP` line: not a GSD file (read as one all the same)";
+    GSD_UNPARSEABLE = "GSD002" Error "a line that is neither `Keyword = value`, a block's line nor a comment";
+    GSD_UTF8 = "GSD003" Warning "the file is UTF-8 where the GSD specification says ISO 8859-1 (read as UTF-8; a Latin-1 tool shows its non-ASCII characters as two each)";
+    GSD_DUPLICATE = "GSD004" Error "a keyword appears twice (case-insensitive); the last one wins";
+    GSD_UNKNOWN = "GSD005" Info "an unknown keyword (kept, not interpreted)";
+    GSD_BAD_VALUE = "GSD006" Error "a value that cannot be read for its keyword (a number, a quoted string, a byte list, a type, a range)";
+    GSD_BLOCK = "GSD007" Error "a block (Module, PrmText, ExtUserPrmData, SlotDefinition, Unit_Diag_Area) without its end, or an end without its block";
+    GSD_CFG_BYTES = "GSD010" Error "a module's configuration bytes cannot be decoded: an identifier says more bytes follow than there are";
+    GSD_IO_LENGTH = "GSD011" Error "a module's input, output or total bytes beyond Max_Input_Len, Max_Output_Len or Max_Data_Len (a compact station's one module, or any one module of a modular station)";
+    GSD_PRM_REF = "GSD012" Error "an Ext_User_Prm_Data_Ref to an ExtUserPrmData, or a Prm_Text_Ref to a PrmText, the file does not define";
+    GSD_PRM_LENGTH = "GSD013" Error "an Ext_User_Prm_Data_Ref or _Const beyond User_Prm_Data_Len (or Max_User_Prm_Data_Len), or User_Prm_Data longer than User_Prm_Data_Len";
+    GSD_PRM_DEFAULT = "GSD014" Error "an ExtUserPrmData default outside its allowed values, or allowed values outside its type";
+    GSD_IDENT = "GSD015" Error "Ident_Number is missing: a master cannot parameterise the slave";
+    GSD_TSDR = "GSD016" Warning "a supported baud rate without MaxTsdr, or a MaxTsdr for a rate not supported";
+    GSD_NO_MODULE = "GSD017" Warning "no module: a master has no configuration to send in Chk_Cfg";
     // ---- PN0xx: PROFINET (GSDML files) ----
     PN_IDENTITY = "PN001" Error "a GSDML file without DeviceIdentity, or whose VendorID or DeviceID is missing or not a 16-bit number";
     PN_NO_ACCESS_POINT = "PN002" Error "a GSDML file without a DeviceAccessPointItem (nothing to connect to)";

@@ -11,6 +11,9 @@
 //! The PROFINET card
 //! `goodrive350_pn` (from its GSDML file) has no dictionary: its identity constants and, per
 //! module and subslot, the typed big-endian `Input`/`Output` images and parameter records.
+//! The PROFIBUS-DP card
+//! `goodrive350_dp` (from its GSD file) has no dictionary: its identity, baud rates, default
+//! parameters and `modules` with their Chk_Cfg bytes and big-endian images.
 //!
 //! ```
 //! use edsgen_sim::cards::cp301::{od, pdo, Od};
@@ -37,6 +40,7 @@ edsgen_runtime::include_device!("ec_tx508");
 edsgen_runtime::include_device!("goodrive350");
 edsgen_runtime::include_device!("goodrive350_enip");
 edsgen_runtime::include_device!("goodrive350_pn");
+edsgen_runtime::include_device!("goodrive350_dp");
 edsgen_runtime::include_device!("hd1e");
 edsgen_runtime::include_device!("ms300");
 edsgen_runtime::include_device!("rd11");

@@ -16,6 +16,7 @@
 
 pub mod canopen;
 pub mod cards;
+pub mod dp;
 pub mod drives;
 pub mod enip;
 pub mod profinet;

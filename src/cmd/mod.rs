@@ -16,6 +16,7 @@ pub mod check;
 pub mod decode;
 pub mod demo;
 pub mod devices;
+pub mod dp;
 pub mod dump;
 pub mod enip;
 pub mod generate;
@@ -27,6 +28,7 @@ pub mod sdo;
 pub mod simulate;
 pub mod simulate_enip;
 pub mod simulate_profinet;
+pub mod simulate_dp;
 pub mod validate;
 pub mod value;
 

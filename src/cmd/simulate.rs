@@ -86,6 +86,10 @@ pub struct Args {
     /// `--card goodrive350-pn`); see `simulate_profinet`.
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
     profinet: Option<String>,
+    /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
+    /// or one FILE.gsd[@ADDR]; see `simulate_dp`).
+    #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
+    profibus: Option<String>,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -104,6 +108,9 @@ pub fn run(args: Args) -> ExitCode {
     }
     if let Some(iface) = &args.profinet {
         return super::simulate_profinet::run(iface, &args.files, &args.cards);
+    }
+    if let Some(tty) = &args.profibus {
+        return super::simulate_dp::run(tty, &args.files, &args.cards);
     }
     let planned = match plan(&args) {
         Ok(planned) => planned,

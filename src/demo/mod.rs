@@ -4,10 +4,12 @@
 //! an EtherCAT master walks a simulated EC-TX508 through CiA 402 cyclic synchronous velocity,
 //! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
 //! by name at the cycles the steps look at; then a class-1 EtherNet/IP scanner drives the
-//! Goodrive350's EtherNet/IP card through PKW and PZD ([`enip`]), and a PROFINET controller finds,
+//! Goodrive350's EtherNet/IP card through PKW and PZD ([`enip`]), a PROFINET controller finds,
 //! names and drives the Goodrive350's PROFINET card by DCP and RT frames, in this process
-//! ([`profinet`]). Each step checks what the manual (or CiA 402) says should happen; the demo
-//! passes only if every step does.
+//! ([`profinet`]), and profirust's DP master brings the Goodrive350's PROFIBUS-DP card to data
+//! exchange on its simulated bus and walks the manual's PKW examples and CW/SW commands ([`dp`]).
+//! Each step checks what the manual (or CiA 402) says should happen; the demo passes only if
+//! every step does.
 //!
 //! Two links for the CANopen drives, one set of workflows ([`Link`]): by default the drives are
 //! simulated in this process on the in-memory bus ([`memory`]), in the bus's own time, so the
@@ -19,6 +21,7 @@
 //! EtherCAT network, and with `--bus` its one step says it was not run.
 
 mod enip;
+mod dp;
 mod ethercat;
 mod memory;
 mod profinet;
@@ -280,6 +283,7 @@ pub fn run() -> Report {
     ethercat::run(&mut trace);
     enip::run(&mut trace);
     profinet::run(&mut trace);
+    dp::run(&mut trace);
     trace.finish()
 }
 
@@ -294,6 +298,8 @@ pub fn run_on_bus(addr: &str) -> Report {
     ethercat::not_run(&mut trace);
     enip::not_run(&mut trace);
     profinet::run(&mut trace);
+    // The DP card needs no CANopen bus: it runs in this process on profirust's simulated bus.
+    dp::run(&mut trace);
     trace.finish()
 }
 

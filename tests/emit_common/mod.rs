@@ -23,14 +23,14 @@ pub fn corpus_files(dir: &Path) -> Vec<(String, PathBuf)> {
         .collect()
 }
 
-/// The card description files in `eds/` (EDS, DCF and ESI), sorted.
+/// The card description files in `eds/` (EDS, DCF, ESI and GSD), sorted.
 pub fn card_files() -> Vec<PathBuf> {
     let mut files: Vec<_> = std::fs::read_dir(root().join("eds"))
         .map(|dir| {
             dir.filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| {
                     p.extension().is_some_and(|e| {
-                        ["eds", "dcf", "xml"]
+                        ["eds", "dcf", "xml", "gsd"]
                             .iter()
                             .any(|x| e.eq_ignore_ascii_case(x))
                     })

@@ -8,6 +8,7 @@
 //! paths only, needs neither `std` nor `alloc`, and holds no `unsafe`, `static mut` or `unwrap`.
 
 pub mod cip;
+pub mod dp;
 pub mod ethercat;
 pub mod names;
 pub mod od;
@@ -50,6 +51,16 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
     if let Some(pn) = &device.profinet {
         // A GSDML device has no object dictionary: its own module, from the PROFINET side.
         let tokens = profinet::module(pn, &module_doc(device), &plan::id(&module))?;
+        let code = format_tokens(tokens, device, &text::Splices::default())?;
+        return Ok(Generated {
+            module,
+            code,
+            diagnostics: Vec::new(),
+        });
+    }
+    if let Some(dp) = &device.dp {
+        // A GSD file has no dictionary: its module is the DP one alone.
+        let tokens = dp::module(device, dp, &module);
         let code = format_tokens(tokens, device, &text::Splices::default())?;
         return Ok(Generated {
             module,
@@ -160,6 +171,7 @@ fn module_doc(device: &Device) -> Vec<String> {
         Format::Esi => "ESI",
         Format::OdvaEds => "ODVA EDS",
         Format::Gsdml => "GSDML",
+        Format::Gsd => "GSD",
     };
     let file_name = device
         .source

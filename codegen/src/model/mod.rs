@@ -14,6 +14,7 @@
 use std::collections::BTreeMap;
 
 mod cip;
+mod dp;
 mod ethercat;
 mod object;
 mod profinet;
@@ -25,6 +26,10 @@ pub use cip::{
     CipAssembly, CipConnection, CipEntry, CipEnum, CipFile, CipIdentity, CipNumber, CipParam,
     CipPort, CipSection, ConnectionData, ConnectionParams, Field, FieldRef, PathSegment,
     PkwPzdImages, TriggerTransport,
+};
+pub use dp::{
+    decode_cfg, CfgError, CfgIdentifier, Dp, DpBaud, DpBaudRate, DpModule, DpSlot, ExtUserPrmData,
+    GsdKeyword, PrmConst, PrmRef, PrmText, PrmType, PrmValues, UnitDiag,
 };
 pub use ethercat::{
     AlternativeSmMapping, CoeInitCmd, CoeMailbox, DcOpMode, EcModule, EcPdo, EcPdoEntry, EcSlot,
@@ -191,6 +196,8 @@ pub struct Device {
     /// What a GSDML file says (access points, modules, submodules, records); `None` for the
     /// other formats.
     pub profinet: Option<Profinet>,
+    /// What a GSD file says (PROFIBUS-DP); `None` for other descriptions.
+    pub dp: Option<Dp>,
 }
 
 /// What an overlay says about generated names: the description cannot say how the device numbers

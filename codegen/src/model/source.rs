@@ -58,6 +58,9 @@ pub enum Format {
     /// PROFINET GSDML (`ISO15745Profile`): identity, access points, modules and records
     /// ([`Device::profinet`](super::Device::profinet)).
     Gsdml,
+    /// PROFIBUS-DP device description (GSD, the PNO's specification): the DP part
+    /// ([`Device::dp`](super::Device::dp)).
+    Gsd,
 }
 
 /// How the file's bytes were decoded.

@@ -12,6 +12,7 @@ use crate::rules;
 pub mod eds;
 pub mod esi;
 pub mod gsdml;
+pub mod gsd;
 pub mod ini;
 pub mod odva;
 pub mod text;
@@ -99,6 +100,7 @@ pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Rea
         }
         Format::OdvaEds => odva::read(path, bytes),
         Format::Gsdml => gsdml::read(path, bytes),
+        Format::Gsd => return gsd::read(path, bytes),
     };
     if read.device.source.encoding == TextEncoding::Windows1252 {
         if let Some(guess) = dos_code_page_guess(bytes) {
@@ -166,7 +168,9 @@ fn dos_code_page_guess(bytes: &[u8]) -> Option<Diagnostic> {
     )
 }
 
-/// The format of a file: by extension (case-insensitive; `.esi` is ESI), else XML if the first
+/// The format of a file: by extension (case-insensitive; `.esi` is ESI; `.gsd` and the GSD
+/// language variants `.gse .gsg .gsf .gsi .gss` are GSD), else GSD if the first line that is
+/// not blank or a comment is `#Profibus_DP`, else XML if the first
 /// non-blank byte (after a BOM) is `<` (ESI when the root element is `EtherCATInfo` or
 /// `EtherCATModule`; GSDML when it is `ISO15745Profile` with a `DeviceIdentity`; else XDD),
 /// else EDS. An EDS (by extension or content) with a `[File]` or `[Device]` section is ODVA's
@@ -183,8 +187,12 @@ pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
         Some("xdd") => Format::Xdd,
         Some("xdc") => Format::Xdc,
         Some("esi") => Format::Esi,
+        Some("gsd" | "gse" | "gsg" | "gsf" | "gsi" | "gss") => Format::Gsd,
         _ => {
             let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+            if is_gsd_text(body) {
+                return Format::Gsd;
+            }
             match body.iter().find(|b| !b.is_ascii_whitespace()) {
                 Some(b'<') if matches!(root_name(body), "EtherCATInfo" | "EtherCATModule") => {
                     Format::Esi
@@ -196,6 +204,16 @@ pub fn detect_format(path: &Path, bytes: &[u8]) -> Format {
             }
         }
     }
+}
+
+/// Whether the first line that is not blank or a `;` comment is `#Profibus_DP`
+/// (case-insensitive): a GSD file under another name.
+fn is_gsd_text(bytes: &[u8]) -> bool {
+    bytes
+        .split(|&b| b == b'\n')
+        .map(|line| line.trim_ascii())
+        .find(|line| !line.is_empty() && !line.starts_with(b";"))
+        .is_some_and(|line| line.eq_ignore_ascii_case(b"#Profibus_DP"))
 }
 
 /// The local name of an XML file's root element, found by skipping the declaration, processing

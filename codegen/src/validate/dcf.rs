@@ -239,7 +239,7 @@ fn dcf_items(device: &Device, out: &mut Vec<Diagnostic>) {
                 );
             }
         }
-        Format::Xdd | Format::Esi | Format::OdvaEds | Format::Gsdml => {}
+        Format::Xdd | Format::Esi | Format::OdvaEds | Format::Gsdml | Format::Gsd => {}
     }
 }
 

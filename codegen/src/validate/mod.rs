@@ -24,6 +24,7 @@ mod device_info;
 mod esi;
 mod file_info;
 mod gsdml;
+mod gsd;
 mod object_lists;
 mod objects;
 mod pdo;
@@ -44,6 +45,12 @@ pub fn validate(device: &Device) -> Vec<Diagnostic> {
         if let Some(profinet) = &device.profinet {
             gsdml::check(profinet, &mut out);
         }
+        diag::sort(&mut out);
+        return out;
+    }
+    if device.source.format == Format::Gsd {
+        // A GSD file has no CANopen dictionary: only the DP rules apply.
+        gsd::check(device, &mut out);
         diag::sort(&mut out);
         return out;
     }

@@ -110,6 +110,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         ethercat: None,
         cip: None,
         profinet: None,
+        dp: None,
     }
 }
 

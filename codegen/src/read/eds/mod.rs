@@ -113,6 +113,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         ethercat: None,
         cip: None,
         profinet: None,
+        dp: None,
     }
 }
 

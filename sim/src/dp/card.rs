@@ -1,0 +1,168 @@
+//! DP slaves from GSD files: a [`SlaveConfig`] from any GSD's model (its first module, as a
+//! compact station has one), the bundled Goodrive350 card (`eds/goodrive350-dp.gsd`) with its
+//! PKW/PZD drive behind it, and [`Loopback`], the application of a slave simulated from any
+//! other GSD (its inputs echo its outputs).
+
+use std::path::Path;
+
+use edsgen_codegen::model::Dp;
+use edsgen_runtime::pkw_pzd::ByteOrder;
+use edsgen_runtime::Instant;
+
+use super::slave::{DpApplication, DpSlave, SlaveConfig};
+use crate::drives::pkw_pzd::{Bus, PkwPzdDrive};
+
+/// Where the card's GSD is in the repository.
+pub const GSD_PATH: &str = "eds/goodrive350-dp.gsd";
+/// The card's GSD bytes.
+pub const GSD: &[u8] = include_bytes!("../../../eds/goodrive350-dp.gsd");
+/// The card's default station address (Table 2-4: P15.01 defaults to 2).
+pub const DEFAULT_ADDRESS: u8 = 2;
+
+/// Why a GSD's model cannot be simulated.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum CardError {
+    /// The file was not read as GSD.
+    NotGsd,
+    /// No Ident_Number.
+    NoIdentNumber,
+    /// No module whose configuration bytes decode.
+    NoModule,
+    /// An address above 125.
+    BadAddress(u8),
+}
+
+impl std::fmt::Display for CardError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CardError::NotGsd => write!(f, "not a GSD file"),
+            CardError::NoIdentNumber => write!(f, "the GSD file has no Ident_Number"),
+            CardError::NoModule => write!(f, "the GSD file has no module that decodes"),
+            CardError::BadAddress(a) => write!(f, "station address {a} is not 0 to 125"),
+        }
+    }
+}
+
+impl std::error::Error for CardError {}
+
+/// The slave a GSD describes at `address`: its Ident_Number, its first module's configuration
+/// bytes and lengths, its User_Prm_Data length.
+pub fn slave_config(dp: &Dp, address: u8) -> Result<(SlaveConfig, usize), CardError> {
+    if address > 125 {
+        return Err(CardError::BadAddress(address));
+    }
+    let ident_number = dp
+        .ident_number
+        .as_ref()
+        .ok_or(CardError::NoIdentNumber)?
+        .value;
+    let module = dp
+        .modules
+        .iter()
+        .find(|m| edsgen_codegen::model::decode_cfg(&m.config).is_ok())
+        .ok_or(CardError::NoModule)?;
+    let (input_len, output_len) = module.io_lengths();
+    let user_prm_len = dp
+        .user_prm_data_len
+        .as_ref()
+        .map_or(dp.default_user_prm_data().len(), |l| l.value as usize);
+    Ok((
+        SlaveConfig {
+            address,
+            ident_number,
+            config: module.config.clone(),
+            user_prm_len,
+            output_len: output_len as usize,
+            freeze: dp.freeze,
+            sync: dp.sync,
+        },
+        input_len as usize,
+    ))
+}
+
+/// The model of a GSD file's bytes.
+pub fn read_gsd(path: &Path, bytes: &[u8]) -> Result<Dp, CardError> {
+    edsgen_codegen::read::read_bytes(path, bytes)
+        .device
+        .dp
+        .ok_or(CardError::NotGsd)
+}
+
+/// The Goodrive350's DP card: its drive on the 32-byte big-endian images.
+#[derive(Debug, Clone)]
+pub struct Goodrive350Dp {
+    /// The drive.
+    pub drive: PkwPzdDrive,
+}
+
+impl DpApplication for Goodrive350Dp {
+    fn exchange(&mut self, now: Instant, outputs: &[u8]) -> Vec<u8> {
+        let mut image = [0u8; 32];
+        let n = outputs.len().min(32);
+        image[..n].copy_from_slice(&outputs[..n]);
+        self.drive
+            .exchange_bytes(now, &image, ByteOrder::BigEndian)
+            .to_vec()
+    }
+
+    fn watchdog_expired(&mut self, now: Instant) {
+        self.drive.communication_lost(now);
+    }
+}
+
+/// The card powered up at `now` at `address`, its drive set up for bus control
+/// ([`PkwPzdDrive::bus_controlled`]); its identity and configuration are the code generated
+/// from its GSD ([`crate::cards::goodrive350_dp`]).
+pub fn goodrive350(address: u8, now: Instant) -> Result<DpSlave<Goodrive350Dp>, CardError> {
+    use crate::cards::goodrive350_dp::{self as generated, modules::n_4_pkw_12_pzd as module};
+    if address > 125 {
+        return Err(CardError::BadAddress(address));
+    }
+    let config = SlaveConfig {
+        address,
+        ident_number: generated::IDENT_NUMBER,
+        config: module::CONFIG.to_vec(),
+        user_prm_len: generated::USER_PRM_DATA.len(),
+        output_len: module::Outputs::LEN,
+        freeze: generated::FREEZE,
+        sync: generated::SYNC,
+    };
+    let app = Goodrive350Dp {
+        drive: PkwPzdDrive::bus_controlled(Bus::ProfibusDp, now),
+    };
+    Ok(DpSlave::new(config, app, now))
+}
+
+/// A slave's application that echoes its outputs as its inputs (cut or zero-padded to the
+/// input length): a GSD file says nothing of what the device does.
+#[derive(Debug, Clone)]
+pub struct Loopback {
+    /// Input bytes.
+    pub input_len: usize,
+    /// Whether the watchdog expired since the last exchange.
+    pub watchdog_expired: bool,
+}
+
+impl DpApplication for Loopback {
+    fn exchange(&mut self, _now: Instant, outputs: &[u8]) -> Vec<u8> {
+        self.watchdog_expired = false;
+        let mut inputs = vec![0; self.input_len];
+        let n = outputs.len().min(self.input_len);
+        inputs[..n].copy_from_slice(&outputs[..n]);
+        inputs
+    }
+
+    fn watchdog_expired(&mut self, _now: Instant) {
+        self.watchdog_expired = true;
+    }
+}
+
+/// A slave simulated from any GSD's model at `address`, echoing its outputs.
+pub fn loopback(dp: &Dp, address: u8, now: Instant) -> Result<DpSlave<Loopback>, CardError> {
+    let (config, input_len) = slave_config(dp, address)?;
+    let app = Loopback {
+        input_len,
+        watchdog_expired: false,
+    };
+    Ok(DpSlave::new(config, app, now))
+}

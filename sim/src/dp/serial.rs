@@ -1,0 +1,80 @@
+//! The DP slave on a serial line (an RS-485 adapter, or a pseudo-terminal for tests): a thin
+//! driver around the sans-IO [`DpSlave`]. A reader thread hands the line's bytes over; the loop
+//! cuts them into telegrams (a byte is dropped where none parses, as a receiver resynchronising
+//! does), answers each at once, and runs the watchdog on the machine's monotonic clock.
+//!
+//! The line is used as it is set: for a real bus, set its rate and parity (8E1) first, e.g.
+//! `stty -F /dev/ttyUSB0 19200 raw parenb -parodd cs8`; a test's pseudo-terminal is set raw by
+//! whoever made it.
+
+use std::fs::File;
+use std::io::{Read, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use edsgen_runtime::Instant;
+
+use super::fdl::{self, FdlError};
+use super::slave::{DpApplication, DpSlave};
+
+/// Serves `slave` on the line `port` until `stop` is set or the line closes (an error then);
+/// `observe` sees the slave after each telegram and each watchdog check.
+pub fn serve<A: DpApplication>(
+    port: File,
+    slave: &mut DpSlave<A>,
+    stop: &AtomicBool,
+    mut observe: impl FnMut(&DpSlave<A>),
+) -> std::io::Result<()> {
+    let mut writer = port.try_clone()?;
+    let mut reader = port;
+    let (tx, rx) = mpsc::channel::<std::io::Result<Vec<u8>>>();
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 512];
+        loop {
+            let result = reader.read(&mut buf).map(|n| buf[..n].to_vec());
+            let end = !matches!(&result, Ok(bytes) if !bytes.is_empty());
+            if tx.send(result).is_err() || end {
+                return;
+            }
+        }
+    });
+    let start = std::time::Instant::now();
+    let now = || Instant::from_micros(u64::try_from(start.elapsed().as_micros()).unwrap_or(0));
+    let mut pending: Vec<u8> = Vec::new();
+    while !stop.load(Ordering::Relaxed) {
+        match rx.recv_timeout(Duration::from_millis(5)) {
+            Ok(Ok(bytes)) if !bytes.is_empty() => pending.extend(bytes),
+            Ok(Ok(_)) => {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::UnexpectedEof,
+                    "the line closed",
+                ))
+            }
+            Ok(Err(e)) => return Err(e),
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(std::io::Error::other("the reader stopped"))
+            }
+        }
+        slave.handle_timeout(now());
+        observe(slave);
+        loop {
+            match fdl::parse(&pending) {
+                Ok((_, used)) => {
+                    let telegram: Vec<u8> = pending.drain(..used).collect();
+                    if let Some(answer) = slave.handle(now(), &telegram) {
+                        writer.write_all(&answer)?;
+                        writer.flush()?;
+                    }
+                    observe(slave);
+                }
+                Err(FdlError::Incomplete) => break,
+                Err(_) => {
+                    pending.remove(0);
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,83 @@
+//! A profirust PHY over a serial line opened as a file (a pseudo-terminal, or an RS-485 adapter
+//! set up beforehand with `stty`): profirust's own serial PHYs query the line with ioctls a
+//! pseudo-terminal refuses. A reader thread hands the received bytes over; writes go out at
+//! once, and the transmission counts as going on for the telegram's time on the wire (11 bits a
+//! byte at the bus's rate), so that profirust's timing holds.
+
+use std::fs::File;
+use std::io::{Read, Write};
+use std::sync::mpsc::{self, Receiver};
+
+use profirust::phy::ProfibusPhy;
+use profirust::time::Instant;
+use profirust::Baudrate;
+
+/// The PHY.
+pub struct TtyPhy {
+    writer: File,
+    rx: Receiver<Vec<u8>>,
+    received: Vec<u8>,
+    baud: Baudrate,
+    sending_until: Option<Instant>,
+}
+
+impl TtyPhy {
+    /// The PHY on an open line at `baud`.
+    pub fn new(port: File, baud: Baudrate) -> std::io::Result<Self> {
+        let mut reader = port.try_clone()?;
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            let mut buf = [0u8; 512];
+            while let Ok(n) = reader.read(&mut buf) {
+                if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
+                    return;
+                }
+            }
+        });
+        Ok(TtyPhy {
+            writer: port,
+            rx,
+            received: Vec::new(),
+            baud,
+            sending_until: None,
+        })
+    }
+}
+
+impl ProfibusPhy for TtyPhy {
+    fn poll_transmission(&mut self, now: Instant) -> bool {
+        match self.sending_until {
+            Some(until) if now < until => true,
+            _ => {
+                self.sending_until = None;
+                false
+            }
+        }
+    }
+
+    fn transmit_data<F, R>(&mut self, now: Instant, f: F) -> R
+    where
+        F: FnOnce(&mut [u8]) -> (usize, R),
+    {
+        let mut buffer = [0u8; 256];
+        let (length, result) = f(&mut buffer);
+        if length > 0 && self.writer.write_all(&buffer[..length]).is_ok() {
+            let _ = self.writer.flush();
+            let bits = u32::try_from(length * 11).unwrap_or(u32::MAX);
+            self.sending_until = Some(now + self.baud.bits_to_time(bits));
+        }
+        result
+    }
+
+    fn receive_data<F, R>(&mut self, _now: Instant, f: F) -> R
+    where
+        F: FnOnce(&[u8]) -> (usize, R),
+    {
+        while let Ok(bytes) = self.rx.try_recv() {
+            self.received.extend(bytes);
+        }
+        let (drop, result) = f(&self.received);
+        self.received.drain(..drop.min(self.received.len()));
+        result
+    }
+}

@@ -1,0 +1,176 @@
+//! `edsgen simulate --profibus TTY` against a third-party DP master: pyprofibus 1.13 (its DPM1
+//! with the serial PHY, pinned in scripts/python-venv.sh) on the other end of a pseudo-terminal
+//! pair (`scripts/dp_master.py`), configured from the card's GSD (and from the same file given
+//! as FILE.gsd): data exchange reached, a PKW read (§2.6 example 1) and a run command through
+//! it. Without the venv the test is skipped (`process_support`); under `CI=true` it fails.
+
+mod process_support;
+
+use std::time::Duration;
+
+use process_support::{python, Process};
+
+const WAIT: Duration = Duration::from_secs(20);
+
+/// Runs the master against `edsgen simulate --profibus PTY` with `slave_args`; the simulator's
+/// stderr lines up to data exchange and the master's step lines.
+fn exchange(slave_args: &[&str], master_args: &[&str]) -> Option<Vec<String>> {
+    let python = python()?;
+    let master = Process::python(&python, "scripts/dp_master.py", master_args);
+    let pty = master.stdout_line(|l| l.starts_with("PTY "), WAIT);
+    let pty = pty.trim_start_matches("PTY ").to_owned();
+    let mut args = vec!["simulate", "--profibus", pty.as_str()];
+    args.extend_from_slice(slave_args);
+    let slave = Process::edsgen(&args);
+    slave.stderr_line(|l| l.starts_with("simulating DP slave"), WAIT);
+    slave.stderr_line(|l| l == "data exchange", WAIT);
+    let lines = vec![
+        master.stdout_line(|l| l.starts_with("DATA_EXCHANGE"), WAIT),
+        master.stdout_line(|l| l.starts_with("PKW_READ"), WAIT),
+        master.stdout_line(|l| l.starts_with("RUN"), WAIT),
+    ];
+    let exited = master.finish(WAIT);
+    assert_eq!(exited.code, Some(0), "{exited:?}");
+    Some(lines)
+}
+
+#[test]
+fn pyprofibus_exchanges_data_with_the_card() {
+    let gsd = "eds/goodrive350-dp.gsd";
+    let Some(lines) = exchange(&["--card", "goodrive350-dp"], &[gsd, "2"]) else {
+        return;
+    };
+    assert_eq!(
+        lines,
+        [
+            "DATA_EXCHANGE",
+            // Response 1, address 10 (P00.10), value 5000 (the manual's "50 00"): 13 88h.
+            "PKW_READ 0001000a00001388",
+            // SW 4101h (forward, ready, communication control), PZD2 1000 (10.00 Hz).
+            "RUN 410103e8",
+        ]
+    );
+}
+
+/// Any GSD file: the slave echoes its outputs (here the card's file read as FILE.gsd@5).
+#[test]
+fn pyprofibus_exchanges_data_with_a_slave_from_a_gsd_file() {
+    let gsd = "eds/goodrive350-dp.gsd";
+    let Some(lines) = exchange(&["eds/goodrive350-dp.gsd@5"], &[gsd, "5", "echo"]) else {
+        return;
+    };
+    assert_eq!(
+        lines,
+        ["DATA_EXCHANGE", "PKW_READ 0001000a00000000", "RUN 000103e8",]
+    );
+}
+
+#[test]
+fn bad_usage_exits_2() {
+    let exited = Process::edsgen(&[
+        "simulate",
+        "--profibus",
+        "/nonexistent/tty",
+        "--card",
+        "goodrive350-dp",
+    ])
+    .finish(WAIT);
+    assert_eq!(exited.code, Some(2));
+    assert!(
+        exited.stderr.contains("cannot open /nonexistent/tty"),
+        "{exited:?}"
+    );
+    let exited =
+        Process::edsgen(&["simulate", "--profibus", "/dev/null", "--card", "cp301"]).finish(WAIT);
+    assert_eq!(exited.code, Some(2));
+    assert!(exited.stderr.contains("no DP card `cp301`"), "{exited:?}");
+    let exited = Process::edsgen(&[
+        "simulate",
+        "--profibus",
+        "/dev/null",
+        "--card",
+        "goodrive350-dp@126",
+    ])
+    .finish(WAIT);
+    assert_eq!(exited.code, Some(2));
+    assert!(
+        exited.stderr.contains("bad station address `126`"),
+        "{exited:?}"
+    );
+}
+
+/// `edsgen dp scan` (profirust's scanner on a line of its own PHY) finds the simulated card on
+/// the other end of a pseudo-terminal pair; with nobody there it exits 1.
+#[test]
+fn dp_scan_finds_the_simulated_card() {
+    let Some(python) = python() else { return };
+    let pair = Process::python(&python, "scripts/pty_pair.py", &[]);
+    let line = pair.stdout_line(|l| l.starts_with("PTY "), WAIT);
+    let ends: Vec<&str> = line.split(' ').skip(1).collect();
+    let (a, b) = (ends[0].to_owned(), ends[1].to_owned());
+    let empty = Process::edsgen(&["dp", "scan", &a, "--seconds", "1"]).finish(WAIT);
+    assert_eq!(empty.code, Some(1), "{empty:?}");
+    assert!(empty.stderr.contains("no DP slave answered"), "{empty:?}");
+    let slave = Process::edsgen(&["simulate", "--profibus", &b, "--card", "goodrive350-dp"]);
+    slave.stderr_line(|l| l.starts_with("simulating DP slave 2"), WAIT);
+    let scan = Process::edsgen(&["dp", "scan", &a, "--seconds", "3"]).finish(WAIT);
+    assert_eq!(scan.code, Some(0), "{scan:?}");
+    assert_eq!(scan.stdout, "station 2: Ident_Number 0350h, no master\n");
+}
+
+/// `edsgen dp io` brings the simulated card to data exchange from its GSD and overlay, sends a
+/// PKW read of P00.10 by name and prints the inputs by name, the PKW response decoded.
+#[test]
+fn dp_io_reads_a_parameter_by_name() {
+    let Some(python) = python() else { return };
+    let pair = Process::python(&python, "scripts/pty_pair.py", &[]);
+    let line = pair.stdout_line(|l| l.starts_with("PTY "), WAIT);
+    let ends: Vec<&str> = line.split(' ').skip(1).collect();
+    let (a, b) = (ends[0].to_owned(), ends[1].to_owned());
+    let slave = Process::edsgen(&["simulate", "--profibus", &b, "--card", "goodrive350-dp"]);
+    slave.stderr_line(|l| l.starts_with("simulating DP slave 2"), WAIT);
+    let io = Process::edsgen(&[
+        "dp",
+        "io",
+        &a,
+        "--gsd",
+        "eds/goodrive350-dp.gsd",
+        "--address",
+        "2",
+        "pkw1=1",
+        "pkw2=10",
+    ])
+    .finish(WAIT);
+    assert_eq!(io.code, Some(0), "{io:?}");
+    let lines: Vec<&str> = io.stdout.lines().collect();
+    assert_eq!(
+        lines[..5],
+        [
+            "pkw1 = 1 (0x0001)",
+            "pkw2 = 10 (0x000A)",
+            "pkw3 = 0 (0x0000)",
+            "pkw4 = 5000 (0x1388)",
+            "sw = 16643 (0x4103)"
+        ]
+    );
+    assert_eq!(
+        lines[16..],
+        [
+            "pkw: Word { address: 10, value: 5000 }",
+            "sw: Some(Stopped), ready true, Communication"
+        ]
+    );
+    let bad = Process::edsgen(&[
+        "dp",
+        "io",
+        &a,
+        "--gsd",
+        "eds/goodrive350-dp.gsd",
+        "--address",
+        "2",
+        "nope=1",
+    ])
+    .finish(WAIT);
+    assert_eq!(bad.code, Some(2));
+    assert!(bad.stderr.contains("no output word `nope`"), "{bad:?}");
+}
