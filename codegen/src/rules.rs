@@ -3,7 +3,8 @@
 //! Codes never change meaning once published. Numbering by area: `EDS0xx` text and values (the
 //! readers), `EDS1xx` `[FileInfo]`/`[DeviceInfo]`, `EDS2xx` object lists, `EDS3xx` objects and
 //! sub-objects, `EDS4xx` PDOs, `EDS5xx` DCF, commissioning, modules and the rest, `EDS6xx` XML
-//! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI). `edsgen rules` prints this table.
+//! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI); and `CHKxxx`, a live device
+//! against its description (`edsgen check`). `edsgen rules` prints this table.
 
 use crate::diag::Severity;
 
@@ -32,6 +33,12 @@ macro_rules! rules {
 }
 
 rules! {
+    // ---- CHK0xx: a live device against its description (`edsgen check`) ----
+    CHK_MISSING = "CHK001" Error "(`edsgen check`) an object or sub-index of the description is missing on the device";
+    CHK_LENGTH = "CHK002" Error "(`edsgen check`) the device's value has a length other than its data type's";
+    CHK_UNREADABLE = "CHK003" Error "(`edsgen check`) the device refuses to read an entry the description says is readable";
+    CHK_IDENTITY = "CHK004" Error "(`edsgen check`) the device's identity (1000h, 1018h:1-3) differs from the description";
+    CHK_DEFAULT = "CHK005" Warning "(`edsgen check`) a value differs from the description's default or DCF ParameterValue (an error for a constant)";
     // ---- EDS0xx: text and values (readers) ----
     UNREADABLE = "EDS000" Error "the file cannot be read at all (missing, a directory, no permission); `edsgen validate` exits 2";
     UNPARSEABLE_LINE = "EDS001" Error "a line that is not blank, a comment, a `[section]` or `key=value`";
@@ -208,7 +215,8 @@ pub fn markdown() -> String {
          Do not edit by hand.\n\n\
          Severities: **error** fails `edsgen validate` and the build; **warning** fails only with \
          `--deny warnings`; **info** never fails. Some rules report a secondary severity for some \
-         instances; their summary says so.\n\n\
+         instances; their summary says so. The `CHK` codes judge a live device against its \
+         description (`edsgen check`), not the file.\n\n\
          | Code | Severity | What it checks |\n|---|---|---|\n",
     );
     for rule in ALL {

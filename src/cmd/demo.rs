@@ -10,8 +10,9 @@ use super::print_stdout;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Drive the devices on this socketcand bus (`edsgen bus`) instead of simulating them: a
-    /// CP301 at node 2 and a Goodrive350 at node 3, such as `edsgen simulate --card cp301@2
-    /// --card goodrive350`, in real time. The EC-TX508 is not run: there is no EtherCAT network.
+    /// CP301 at node 2 and a Goodrive350 at node 3 (their default node-IDs: `edsgen simulate
+    /// --card cp301 --card goodrive350`), in real time. Without HOST:PORT, `edsgen bus`'s
+    /// default address. The EC-TX508 is not run: there is no EtherCAT network.
     #[arg(long, value_name = "HOST:PORT")]
     bus: Option<String>,
 }
