@@ -19,8 +19,8 @@ use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
-use super::sdo::show_mux;
-use super::value::hex;
+use super::sdo::{describe, show_mux};
+use super::value::{hex, Kind};
 use super::{fail, parse_node_id, BusArgs};
 
 /// `edsgen check` options.
@@ -257,10 +257,20 @@ fn compare(
     } else {
         Severity::Warning
     };
+    // Typed as `sdo read --eds` shows it; raw bytes only where the type is unknown.
+    let shown = basic
+        .map(Kind::of)
+        .and_then(|kind| match kind {
+            Kind::Text => Some(format!("{:?}", String::from_utf8_lossy(bytes))),
+            kind => kind.show(bytes).ok(),
+        })
+        .unwrap_or_else(|| hex(bytes));
+    let label = match describe(device, mux) {
+        Some((name, _)) => format!("{} {name}", show_mux(mux)),
+        None => show_mux(mux),
+    };
     let message = format!(
-        "{} of node {node_id} holds {}, the description's default is {}",
-        show_mux(mux),
-        hex(bytes),
+        "{label} of node {node_id} holds {shown}, the description's default is {}",
         expected.raw
     );
     Some(Diagnostic::new(&CHK005, Some(expected.span), message).with_severity(severity))

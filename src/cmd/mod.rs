@@ -119,7 +119,14 @@ pub struct BusArgs {
 impl BusArgs {
     /// A master on the bus, or the reason there is none.
     pub fn connect(&self) -> Result<Master<Box<dyn Transport + Send>>, String> {
-        let transport: Box<dyn Transport + Send> = match self.target()? {
+        let mut master = Master::new(self.open()?);
+        self.for_reads(&mut master);
+        Ok(master)
+    }
+
+    /// A connection of its own to the bus, or the reason there is none.
+    pub fn open(&self) -> Result<Box<dyn Transport + Send>, String> {
+        Ok(match self.target()? {
             Target::Socketcand(addr) => Box::new(
                 SocketcandClient::connect(addr, &self.channel, Duration::from_secs(5))
                     .map_err(|e| format!("cannot reach the bus at {addr}: {e}"))?,
@@ -129,10 +136,7 @@ impl BusArgs {
                 edsgen_runtime::transport::socketcan::SocketCan::open(iface)
                     .map_err(|e| format!("cannot open {iface}: {e}"))?,
             ),
-        };
-        let mut master = Master::new(transport);
-        self.for_reads(&mut master);
-        Ok(master)
+        })
     }
 
     /// Sets `master`'s timeout for reads: half of `--timeout`, one retry.
