@@ -155,4 +155,24 @@ mod tests {
         assert_eq!(parse_index("6041:"), None);
         assert_eq!(parse_index(""), None);
     }
+
+    proptest::proptest! {
+        #[test]
+        fn any_text_parses_or_is_refused_without_a_panic(text in "\\PC{0,16}") {
+            let _ = parse_index(&text);
+            let _ = resolve(&text, None);
+        }
+
+        #[test]
+        fn every_index_reads_back_in_each_spelling(index: u16, sub: u8) {
+            let want = Some(Multiplexer::new(index, sub));
+            for text in [
+                format!("{index:04X}:{sub:X}"),
+                format!("0x{index:x}sub{sub:x}"),
+                format!("{index:X}h:{sub:X}h"),
+            ] {
+                proptest::prop_assert_eq!(parse_index(&text), want, "{}", text);
+            }
+        }
+    }
 }

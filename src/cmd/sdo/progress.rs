@@ -86,3 +86,22 @@ impl<T> Drop for Counted<T> {
         self.bar.finish_and_clear();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counted_bytes_pass_unchanged_and_are_counted() {
+        let data: Vec<u8> = (0..=255).collect();
+        let mut reader = Counted::new(data.as_slice(), Some(256));
+        let mut read = Vec::new();
+        reader.read_to_end(&mut read).unwrap();
+        assert_eq!((read.as_slice(), reader.bar.position()), (&data[..], 256));
+        let mut writer = Counted::new(Vec::new(), None);
+        writer.write_all(&data[..100]).unwrap();
+        assert_eq!((writer.inner.len(), writer.bar.position()), (100, 100));
+        // Tests run without a terminal on standard error: the bar never shows.
+        assert!(!writer.visible);
+    }
+}
