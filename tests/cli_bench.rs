@@ -206,6 +206,65 @@ fn scan_explains_its_marks_and_reports_two_nodes_sharing_a_node_id() {
     );
 }
 
+/// A socketcand server that greets each client, records what it opens and carries nothing.
+fn recording_server() -> (String, std::sync::mpsc::Receiver<String>) {
+    use std::io::{Read, Write};
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for stream in listener.incoming() {
+            let Ok(mut stream) = stream else { return };
+            let tx = tx.clone();
+            std::thread::spawn(move || {
+                let _ = stream.write_all(b"< hi >");
+                let mut buf = [0u8; 256];
+                let mut seen = String::new();
+                while let Ok(n @ 1..) = stream.read(&mut buf) {
+                    seen.push_str(&String::from_utf8_lossy(&buf[..n]));
+                    while let Some(end) = seen.find('>') {
+                        let message: String = seen.drain(..=end).collect();
+                        let message = message.trim().to_string();
+                        if message.starts_with("< open") || message.starts_with("< rawmode") {
+                            let _ = stream.write_all(b"< ok >");
+                        }
+                        if message.starts_with("< open") {
+                            let _ = tx.send(message);
+                        }
+                    }
+                }
+            });
+        }
+    });
+    (addr, rx)
+}
+
+#[test]
+fn scan_opens_the_channel_it_is_given() {
+    let (addr, opened) = recording_server();
+    let output = Command::new(EDSGEN)
+        .args([
+            "scan",
+            "--bus",
+            &addr,
+            "--channel",
+            "can1",
+            "--timeout",
+            "100",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(
+        stdout(&output).ends_with("0 node(s) found on can1\n"),
+        "{}",
+        stdout(&output)
+    );
+    // Both of scan's connections (the master's and the listener's) open can1.
+    let channels: Vec<String> = opened.try_iter().collect();
+    assert_eq!(channels, ["< open can1 >", "< open can1 >"]);
+}
+
 #[test]
 fn block_read_answered_segmented_fails_under_block_and_says_so_otherwise() {
     let bench = segmented_bench();
