@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 pairs=10000
 cargo build --release --quiet -p edsgen-runtime --example sdo_loop
-binary=target/release/examples/sdo_loop
+binary="$(scripts/target-dir.sh)/release/examples/sdo_loop"
 workdir=$(mktemp -d)
 trap 'rm -rf "$workdir"' EXIT
 

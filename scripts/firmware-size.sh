@@ -6,15 +6,19 @@
 #
 # Two configurations: the default one, comparable with CANopenNode v4's default configuration
 # (segmented SDO server without block transfer, no node guarding), and `full` (firmware feature
-# `full`: SDO block transfer with CRC and node/life guarding too), built into target/full.
+# `full`: SDO block transfer with CRC and node/life guarding too), built into the workspace's
+# target directory (scripts/target-dir.sh: CARGO_TARGET_DIR or target/), in firmware/ and
+# firmware-full/.
 #
 # Fails (exit 1) when an image's flash or RAM exceeds its budget in budgets.toml.
 set -euo pipefail
-budgets=$(cd "$(dirname "$0")/.." && pwd)/budgets.toml
-cd "$(dirname "$0")/../firmware"
+cd "$(dirname "$0")/.."
+budgets=$(pwd)/budgets.toml
+target=$(scripts/target-dir.sh)
+cd firmware
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
-cargo build --release --quiet --locked
-cargo build --release --quiet --locked --features full --target-dir target/full
+cargo build --release --quiet --locked --target-dir "$target/firmware"
+cargo build --release --quiet --locked --features full --target-dir "$target/firmware-full"
 size_tool=$(command -v llvm-size || true)
 if [ -z "$size_tool" ]; then
     rustup component add llvm-tools >/dev/null 2>&1 || true
@@ -69,11 +73,11 @@ PY
 for src in src/bin/*.rs; do
     bin=$(basename "$src" .rs)
     report "$bin (segmented SDO, no node guarding: CANopenNode's default services)" \
-        "target/thumbv7em-none-eabihf/release/$bin" "$bin"
+        "$target/firmware/thumbv7em-none-eabihf/release/$bin" "$bin"
 done
 for src in src/bin/*.rs; do
     bin=$(basename "$src" .rs)
     report "$bin full (with SDO block transfer and node guarding)" \
-        "target/full/thumbv7em-none-eabihf/release/$bin" "${bin}_full"
+        "$target/firmware-full/thumbv7em-none-eabihf/release/$bin" "${bin}_full"
 done
 exit "$failed"

@@ -6,6 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v valgrind >/dev/null || { echo "valgrind is required (apt-get install valgrind)"; exit 2; }
+target=$(scripts/target-dir.sh)
 cargo build --release -q -p edsgen-runtime --example frame_cost
 cargo build --release -q -p edsgen --example node_frame_cost
 out=$(mktemp -d)
@@ -18,8 +19,8 @@ budget() {
     awk -v key="$1" '$1 == key && $2 == "=" { print $3 }' budgets.toml
 }
 failed=0
-for od in "table:test OD (runtime/tests/node_support):target/release/examples/frame_cost" \
-          "generated:generated Goodrive350 OD (eds/goodrive350.eds):target/release/examples/node_frame_cost"; do
+for od in "table:test OD (runtime/tests/node_support):$target/release/examples/frame_cost" \
+          "generated:generated Goodrive350 OD (eds/goodrive350.eds):$target/release/examples/node_frame_cost"; do
     key=${od%%:*}
     rest=${od#*:}
     bin=${rest##*:}

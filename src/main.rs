@@ -102,7 +102,9 @@ enum Command {
         #[command(subcommand)]
         command: cmd::sdo::SdoCommand,
     },
-    /// Send an NMT command to a node or to all nodes.
+    /// Send an NMT command to a node or to all nodes, and report the state each then reports
+    /// (its next heartbeat or boot-up within --timeout, else a guarding answer); exit 1 when
+    /// none answers or one reports another state.
     Nmt {
         #[command(flatten)]
         bus: cmd::BusArgs,

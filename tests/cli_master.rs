@@ -1,99 +1,21 @@
 //! The bench commands end to end: `edsgen sdo|nmt|scan|check` as processes, through an
-//! in-process socketcand hub on 127.0.0.1, against device nodes serving the generated cp301
-//! (node 3) and goodrive350 (node 5) cards, run by the transport driver; and file transfers
-//! (`--file`, `--out`) with the simulator test device's DOMAIN.
+//! in-process socketcand hub on 127.0.0.1 (`bench_support`), against device nodes serving the
+//! generated cp301 (node 3) and goodrive350 (node 5) cards, run by the transport driver; and
+//! file transfers (`--file`, `--out`) with the simulator test device's DOMAIN.
 
+mod bench_support;
 mod sim_support;
 
-use std::collections::VecDeque;
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::Duration;
+use std::path::Path;
+use std::process::Command;
 
-use edsgen::cards::{cp301, goodrive350};
+use bench_support::*;
 use edsgen::sim::RuntimeDictionary;
 use edsgen_runtime::frame::CanFrame;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::time::Instant;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::vbus::BusDevice;
-
-const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
-
-/// A hub with the two card nodes on it; everything stops when dropped.
-struct Bench {
-    hub: Option<Hub>,
-    nodes: Vec<Box<dyn FnOnce()>>,
-    addr: String,
-}
-
-impl Drop for Bench {
-    fn drop(&mut self) {
-        for stop in self.nodes.drain(..) {
-            stop();
-        }
-        if let Some(hub) = self.hub.take() {
-            hub.stop();
-        }
-    }
-}
-
-fn spawn_node<D: BusDevice + Send + 'static>(
-    addr: &str,
-    node: impl FnOnce(MonotonicClock) -> D,
-) -> DriverHandle<SocketcandClient, D> {
-    let client = SocketcandClient::connect(addr, "can0", Duration::from_secs(5)).unwrap();
-    let clock = MonotonicClock::new();
-    Driver::with_clock(client, node(clock), clock)
-        .spawn()
-        .unwrap()
-}
-
-fn bench() -> Bench {
-    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
-    let addr = hub.local_addr().to_string();
-    let cp = spawn_node(&addr, |clock| {
-        Node::new(cp301::Od::new(3), 3, clock.now()).unwrap()
-    });
-    let gd = spawn_node(&addr, |clock| {
-        Node::new(goodrive350::Od::new(5), 5, clock.now()).unwrap()
-    });
-    Bench {
-        hub: Some(hub),
-        nodes: vec![
-            Box::new(move || drop(cp.stop())),
-            Box::new(move || drop(gd.stop())),
-        ],
-        addr,
-    }
-}
-
-fn edsgen(bench: &Bench, args: &[&str]) -> Output {
-    let mut command = Command::new(EDSGEN);
-    command
-        .args(args)
-        .args(["--bus", &bench.addr, "--timeout", "500"]);
-    command.output().unwrap()
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn eds(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("eds")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 #[test]
 fn sdo_read_and_write_are_typed_and_named_by_the_eds() {
@@ -163,8 +85,9 @@ fn bad_usage_exits_2() {
     let bench = bench();
     for args in [
         &["sdo", "read", "0", "1000:0"][..],
-        &["sdo", "read", "3", "1000"],
+        &["sdo", "read", "3", "Statusword"],
         &["sdo", "write", "3", "6040:0", "1"],
+        &["sdo", "read", "--timeout", "0", "3", "1000:0"],
         &["sdo", "write", "--type", "u8", "3", "6040:0", "300"],
         &["nmt", "start", "200"],
     ] {
@@ -181,12 +104,6 @@ fn bad_usage_exits_2() {
         .output()
         .unwrap();
     assert_eq!(nobus.status.code(), Some(2));
-    let unnamed = Command::new(EDSGEN)
-        .args(["sdo", "read", "3", "1000:0"])
-        .output()
-        .unwrap();
-    assert_eq!(unnamed.status.code(), Some(2));
-    assert!(stderr(&unnamed).starts_with("error: give the bus: --bus HOST:PORT"));
 }
 
 #[test]
@@ -206,7 +123,7 @@ fn nmt_and_scan_show_the_nodes_states_and_identities() {
     assert_eq!(scan.status.code(), Some(0), "{}", stderr(&scan));
     let text = stdout(&scan);
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), 4, "{text}");
+    assert_eq!(lines.len(), 5, "{text}");
     assert_eq!(
         lines[1],
         "3     operational      0x00000000  0x00000000  0x00000000  0x00000000  -"
@@ -215,7 +132,11 @@ fn nmt_and_scan_show_the_nodes_states_and_identities() {
         lines[2],
         "5     pre-operational  0x00000000  0x00000000  0x00000000  0x00000000  0x00000000"
     );
-    assert_eq!(lines[3], "2 node(s) found");
+    assert_eq!(lines[3], "2 node(s) found on can0");
+    assert_eq!(
+        lines[4],
+        "-: the node does not have the entry, or refused to read it"
+    );
     let reset = edsgen(&bench, &["nmt", "reset", "all"]);
     assert_eq!(reset.status.code(), Some(0));
 }
@@ -277,7 +198,8 @@ fn check_finds_a_product_code_that_differs_and_a_changed_value() {
             (
                 "CHK005".to_string(),
                 "warning".to_string(),
-                "6040h:00h of node 3 holds 06 00, the description's default is 0".to_string()
+                "6040h:00h Controlword of node 3 holds 6 (0x0006), the description's default is 0"
+                    .to_string()
             ),
         ]
     );
@@ -298,7 +220,7 @@ fn check_of_another_devices_description_finds_missing_objects() {
     );
     assert!(text.starts_with(&first), "{text}");
     // A constant holding another value is an error, not a warning.
-    assert!(text.contains("error[CHK005]: 1008h:00h of node 3 holds 00 00 00 00, the description's default is INVT CANopen"));
+    assert!(text.contains("error[CHK005]: 1008h:00h Manufacturer device name of node 3 holds \"\\0\\0\\0\\0\", the description's default is INVT CANopen"));
 }
 
 /// cp301.eds made a DCF: heartbeat 100 ms, TPDO1 on COB-ID 193h, event-driven, mapping `object`.
@@ -356,115 +278,6 @@ fn sdo_dcf_downloads_the_parameter_values_with_the_pdo_disabled_meanwhile() {
     );
     std::fs::remove_dir_all(dir).unwrap();
     std::fs::remove_dir_all(bad_dir).unwrap();
-}
-
-/// A hub with the simulator test device (`sim_support`, its DOMAIN 2001h "Program" up to
-/// 64 KiB) as node 4, and the same device refusing block transfers as node 6.
-fn sim_bench() -> Bench {
-    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).unwrap();
-    let addr = hub.local_addr().to_string();
-    let sim = |node_id: u8, clock: MonotonicClock| {
-        let od = RuntimeDictionary::new(&sim_support::test_device(), node_id);
-        Node::new(od, node_id, clock.now()).unwrap()
-    };
-    let node = spawn_node(&addr, |clock| sim(4, clock));
-    let no_block = spawn_node(&addr, |clock| NoBlock(sim(6, clock), VecDeque::new()));
-    Bench {
-        hub: Some(hub),
-        nodes: vec![
-            Box::new(move || drop(node.stop())),
-            Box::new(move || drop(no_block.stop())),
-        ],
-        addr,
-    }
-}
-
-/// A device without SDO block transfer: its node's answers, except that the start of a block
-/// download or upload is aborted with 0504 0001 (command specifier unknown), as by a server
-/// that does not implement it.
-struct NoBlock<D>(D, VecDeque<CanFrame>);
-
-impl<D: BusDevice> BusDevice for NoBlock<D> {
-    fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
-        let data = frame.data();
-        let to_node = frame.std_id() == Some(0x606) && data.len() == 8;
-        let block_initiate = (data[0] & 0xE1) == 0xC0 || (data[0] & 0xE3) == 0xA0;
-        if to_node && block_initiate {
-            let mut abort = [0x80, data[1], data[2], data[3], 0, 0, 0, 0];
-            abort[4..].copy_from_slice(&0x0504_0001u32.to_le_bytes());
-            self.1.push_back(CanFrame::new(0x586, &abort).unwrap());
-        } else {
-            self.0.handle_frame(now, frame);
-        }
-    }
-    fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
-        self.1.pop_front().or_else(|| self.0.poll_transmit(now))
-    }
-    fn poll_timeout(&self) -> Option<Instant> {
-        self.0.poll_timeout()
-    }
-    fn handle_timeout(&mut self, now: Instant) {
-        self.0.handle_timeout(now)
-    }
-}
-
-/// `edsgen ARGS --bus ...` with `input` on its standard input.
-fn edsgen_with_input(bench: &Bench, args: &[&str], input: Vec<u8>) -> Output {
-    let mut child = Command::new(EDSGEN)
-        .args(args)
-        .args(["--bus", &bench.addr, "--timeout", "500"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdin = child.stdin.take().unwrap();
-    let writer = std::thread::spawn(move || stdin.write_all(&input));
-    let output = child.wait_with_output().unwrap();
-    writer.join().unwrap().unwrap();
-    output
-}
-
-/// `len` bytes that show misplaced ones: byte i is (i * 7 + i / 251) mod 256.
-fn pattern(len: usize) -> Vec<u8> {
-    (0..len).map(|i| (i * 7 + i / 251) as u8).collect()
-}
-
-/// A directory of this test's own, removed when dropped, with the simulator device's EDS in it.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(test: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("edsgen-{test}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("sim.eds"), sim_support::DEVICE_EDS).unwrap();
-        Scratch(dir)
-    }
-
-    fn path(&self, name: &str) -> String {
-        self.0.join(name).display().to_string()
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// The summary line without its time: `LABEL: N bytes DONE by TRANSFER`.
-fn summary(output: &Output) -> String {
-    let text = stderr(output);
-    let (line, seconds) = text
-        .trim_end()
-        .rsplit_once(" in ")
-        .unwrap_or_else(|| panic!("no summary: {text}"));
-    let seconds = seconds
-        .strip_suffix(" s")
-        .unwrap_or_else(|| panic!("{text}"));
-    assert!(seconds.parse::<f64>().is_ok(), "{text}");
-    assert_eq!(text.lines().count(), 1, "{text}");
-    line.to_string()
 }
 
 #[test]

@@ -176,7 +176,7 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
     let hub = Hub::start("127.0.0.1:0", HubOptions::default()).expect("a hub on loopback");
     let addr = hub.local_addr().to_string();
     let _simulate = edsgen_simulate(
-        &["--card", "cp301@2", "--card", "goodrive350", "--bus", &addr],
+        &["--card", "cp301", "--card", "goodrive350", "--bus", &addr],
         2,
     );
     let output = Command::new(env!("CARGO_BIN_EXE_edsgen"))
@@ -288,4 +288,22 @@ fn the_demo_runs_the_dp_card_with_profirust() {
         ]
     );
     assert!(report.passed());
+}
+
+#[test]
+fn the_demo_on_a_bus_nobody_listens_on_exits_2_saying_so() {
+    let output = Command::new(env!("CARGO_BIN_EXE_edsgen"))
+        .args(["demo", "--bus", "127.0.0.1:1"])
+        .output()
+        .expect("edsgen demo runs");
+    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(output.stdout, b"");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.starts_with("error: cannot reach the bus at 127.0.0.1:1: ")
+            && stderr.ends_with(
+                " (start `edsgen bus`, then `edsgen simulate --card cp301 --card goodrive350`)\n"
+            ),
+        "{stderr}"
+    );
 }

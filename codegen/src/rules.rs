@@ -4,8 +4,9 @@
 //! readers), `EDS1xx` `[FileInfo]`/`[DeviceInfo]`, `EDS2xx` object lists, `EDS3xx` objects and
 //! sub-objects, `EDS4xx` PDOs, `EDS5xx` DCF, commissioning, modules and the rest, `EDS6xx` XML
 //! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI); `CIP0xx` ODVA EDS (EtherNet/IP,
-//! listed first: the table sorts by code), `PN0xx` PROFINET (GSDML). `edsgen rules` prints this
-//! table.
+//! listed first: the table sorts by code), `GSD0xx` PROFIBUS-DP (GSD), `PN0xx` PROFINET (GSDML);
+//! and `CHKxxx`, a live device against its description (`edsgen check`). `edsgen rules` prints
+//! this table.
 
 use crate::diag::Severity;
 
@@ -34,6 +35,13 @@ macro_rules! rules {
 }
 
 rules! {
+    // ---- CHK0xx: a live device against its description (`edsgen check`) ----
+    CHK_MISSING = "CHK001" Error "(`edsgen check`) an object or sub-index of the description is missing on the device";
+    CHK_LENGTH = "CHK002" Error "(`edsgen check`) the device's value has a length other than its data type's";
+    CHK_UNREADABLE = "CHK003" Error "(`edsgen check`) the device refuses to read an entry the description says is readable";
+    CHK_IDENTITY = "CHK004" Error "(`edsgen check`) the device's identity (1000h, 1018h:1-3) differs from the description";
+    CHK_DEFAULT = "CHK005" Warning "(`edsgen check`) a value differs from the description's default or DCF ParameterValue (an error for a constant)";
+
     // ---- CIP0xx: ODVA EDS (EtherNet/IP, DeviceNet; CIP). Before EDS0xx: codes sort by text ----
     CIP_SYNTAX = "CIP001" Error "ODVA EDS text: a line that is neither a `[section]`, an entry `Key = ...;` nor a `$` comment, an entry without its `;`, or a string without its closing quote";
     CIP_UNKNOWN = "CIP002" Info "ODVA EDS: a section or key this reader does not interpret (kept as written); the specification's class sections (`[... Class]`, `[ClassN_VendorM]`) are kept without a report";
@@ -257,7 +265,8 @@ pub fn markdown() -> String {
          Do not edit by hand.\n\n\
          Severities: **error** fails `edsgen validate` and the build; **warning** fails only with \
          `--deny warnings`; **info** never fails. Some rules report a secondary severity for some \
-         instances; their summary says so.\n\n\
+         instances; their summary says so. The `CHK` codes judge a live device against its \
+         description (`edsgen check`), not the file.\n\n\
          | Code | Severity | What it checks |\n|---|---|---|\n",
     );
     for rule in ALL {

@@ -3,32 +3,13 @@
 //! largest PDO that its `MANIFEST.tsv` records, and a snapshot of the diagnostic codes (reader
 //! and validator) of each file's first device.
 
+mod corpus_support;
+
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use edsgen_codegen::read::{esi, read_file};
 use edsgen_codegen::{rules, validate};
-
-/// The corpus directory, or `None` (skip) when it is absent outside CI.
-fn corpus() -> Option<PathBuf> {
-    let dir = match std::env::var_os("EDSGEN_ESI_CORPUS") {
-        Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/esi-corpus"),
-    };
-    if dir.join("MANIFEST.tsv").is_file() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "ESI corpus not found at {} (set EDSGEN_ESI_CORPUS)",
-        dir.display()
-    );
-    eprintln!(
-        "skipping: ESI corpus not found at {} (set EDSGEN_ESI_CORPUS)",
-        dir.display()
-    );
-    None
-}
 
 /// One MANIFEST.tsv row: the columns this test compares.
 struct Row {
@@ -73,7 +54,9 @@ fn manifest(dir: &Path) -> Vec<Row> {
 
 #[test]
 fn every_corpus_esi_file_reads_as_its_manifest_says() {
-    let Some(dir) = corpus() else { return };
+    let Some(dir) = corpus_support::esi_corpus() else {
+        return;
+    };
     let rows = manifest(&dir);
     assert_eq!(rows.len(), 30, "MANIFEST.tsv rows");
     let mut codes: BTreeMap<String, BTreeMap<&'static str, usize>> = BTreeMap::new();

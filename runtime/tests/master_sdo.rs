@@ -5,7 +5,7 @@
 mod master_support;
 mod node_support;
 
-use edsgen_runtime::master::{Completed, Mode, SdoClient, SdoError};
+use edsgen_runtime::master::{Completed, Mode, SdoClient, SdoError, Transfer};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::transport::vbus::{BusDevice, ScriptedPeer, VirtualBus};
 use edsgen_runtime::wire::sdo::abort_meaning;
@@ -339,7 +339,8 @@ fn a_completed_block_download_is_reported_as_a_download() {
         Ok(Completed {
             mux: DOMAIN,
             size: 20,
-            upload: false
+            upload: false,
+            transfer: Transfer::Block,
         })
     );
     assert_eq!(server.od.domain, value);
@@ -402,6 +403,60 @@ fn a_block_download_aborted_by_the_server_ends_with_its_code() {
         .unwrap();
     let (result, _) = run_transfer(&mut bus, &mut client, &mut server, &[1; 9]);
     assert_eq!(result, Err(SdoError::Server(0x0607_0012)));
+}
+
+/// CiA 301 lets a server answer a block upload request with a normal (here segmented) upload:
+/// the result says which transfer the value took.
+#[cfg(feature = "sdo-block")]
+#[test]
+fn a_block_upload_answered_segmented_or_by_block_says_which() {
+    let mut client: SdoClient = SdoClient::new(5);
+    let mut server = ScriptedPeer::new();
+    server.send_at(ms(1), frame(0x585, &[0x41, 0x00, 0x21, 0x00, 10, 0, 0, 0]));
+    server.send_at(ms(2), frame(0x585, &[0x00, 1, 2, 3, 4, 5, 6, 7]));
+    server.send_at(ms(3), frame(0x585, &[0x19, 8, 9, 10, 0, 0, 0, 0]));
+    let mut bus = VirtualBus::new(ms(0));
+    client.upload(ms(0), DOMAIN, Mode::Block).unwrap();
+    bus.run_until(ms(4), &mut [&mut client, &mut server]);
+    assert_eq!(
+        client.poll_result(),
+        Some(Ok(Completed {
+            mux: DOMAIN,
+            size: 10,
+            upload: true,
+            transfer: Transfer::Segmented,
+        }))
+    );
+    assert_eq!(
+        frames(&mut bus),
+        [
+            "605: A4 00 21 00 7F 00 00 00",
+            "585: 41 00 21 00 0A 00 00 00",
+            "605: 60 00 00 00 00 00 00 00",
+            "585: 00 01 02 03 04 05 06 07",
+            "605: 70 00 00 00 00 00 00 00",
+            "585: 19 08 09 0A 00 00 00 00",
+        ]
+    );
+
+    let mut client: SdoClient = SdoClient::new(5);
+    let mut server = ScriptedPeer::new();
+    server.send_at(ms(1), frame(0x585, &[0xC2, 0x00, 0x21, 0x00, 3, 0, 0, 0]));
+    server.send_at(ms(2), frame(0x585, &[0x81, 1, 2, 3, 0, 0, 0, 0]));
+    server.send_at(ms(3), frame(0x585, &[0xD1, 0, 0, 0, 0, 0, 0, 0]));
+    let mut bus = VirtualBus::new(ms(0));
+    client.upload(ms(0), DOMAIN, Mode::Block).unwrap();
+    bus.run_until(ms(4), &mut [&mut client, &mut server]);
+    assert_eq!(
+        client
+            .poll_result()
+            .map(|r| r.map(|done| (done.size, done.transfer))),
+        Some(Ok((3, Transfer::Block)))
+    );
+    assert_eq!(
+        frames(&mut bus)[6..],
+        ["605: A1 00 00 00 00 00 00 00".to_string()]
+    );
 }
 
 #[cfg(feature = "sdo-block")]

@@ -8,7 +8,10 @@ use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
 use edsgen_codegen::model::{AccessType, BasicType, Device, ObjectType, SubObject, Value};
-use edsgen_codegen::rules::Rule;
+use edsgen_codegen::rules::{
+    CHK_DEFAULT as CHK005, CHK_IDENTITY as CHK004, CHK_LENGTH as CHK002, CHK_MISSING as CHK001,
+    CHK_UNREADABLE as CHK003,
+};
 use edsgen_codegen::{read, render};
 use edsgen_runtime::master::blocking::{Master, MasterError};
 use edsgen_runtime::master::{ExpectedIdentity, Mode, SdoError};
@@ -16,40 +19,9 @@ use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
-use super::sdo::show_mux;
-use super::value::hex;
+use super::sdo::{describe, show_mux};
+use super::value::{hex, Kind};
 use super::{fail, parse_node_id, BusArgs};
-
-/// An entry the description has is missing on the device.
-pub static CHK001: Rule = Rule {
-    code: "CHK001",
-    severity: Severity::Error,
-    summary: "An object or sub-index of the description is missing on the device",
-};
-/// A value's length does not match its data type.
-pub static CHK002: Rule = Rule {
-    code: "CHK002",
-    severity: Severity::Error,
-    summary: "The device's value has a length other than its data type's",
-};
-/// The device refuses to read an entry the description says is readable.
-pub static CHK003: Rule = Rule {
-    code: "CHK003",
-    severity: Severity::Error,
-    summary: "The device refuses to read an entry the description says is readable",
-};
-/// Identity (1000h, 1018h) differs: the boot-up check.
-pub static CHK004: Rule = Rule {
-    code: "CHK004",
-    severity: Severity::Error,
-    summary: "The device's identity (1000h, 1018h) differs from the description",
-};
-/// A value differs from the description's default (or DCF parameter value).
-pub static CHK005: Rule = Rule {
-    code: "CHK005",
-    severity: Severity::Warning,
-    summary: "A value differs from the description's default (an error for a constant)",
-};
 
 /// `edsgen check` options.
 #[derive(clap::Args, Debug)]
@@ -285,10 +257,20 @@ fn compare(
     } else {
         Severity::Warning
     };
+    // Typed as `sdo read --eds` shows it; raw bytes only where the type is unknown.
+    let shown = basic
+        .map(Kind::of)
+        .and_then(|kind| match kind {
+            Kind::Text => Some(format!("{:?}", String::from_utf8_lossy(bytes))),
+            kind => kind.show(bytes).ok(),
+        })
+        .unwrap_or_else(|| hex(bytes));
+    let label = match describe(device, mux) {
+        Some((name, _)) => format!("{} {name}", show_mux(mux)),
+        None => show_mux(mux),
+    };
     let message = format!(
-        "{} of node {node_id} holds {}, the description's default is {}",
-        show_mux(mux),
-        hex(bytes),
+        "{label} of node {node_id} holds {shown}, the description's default is {}",
         expected.raw
     );
     Some(Diagnostic::new(&CHK005, Some(expected.span), message).with_severity(severity))

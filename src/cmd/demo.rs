@@ -3,21 +3,34 @@
 //! behaved as the manuals say.
 
 use std::process::ExitCode;
+use std::time::Duration;
 
-use super::print_stdout;
+use edsgen_runtime::transport::socketcand::SocketcandClient;
+
+use super::{fail, print_stdout, DEFAULT_BUS};
 
 /// The arguments of `edsgen demo`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Drive the devices on this socketcand bus (`edsgen bus`) instead of simulating them: a
-    /// CP301 at node 2 and a Goodrive350 at node 3, such as `edsgen simulate --card cp301@2
-    /// --card goodrive350`, in real time. The EC-TX508 is not run: there is no EtherCAT network.
-    #[arg(long, value_name = "HOST:PORT")]
+    /// CP301 at node 2 and a Goodrive350 at node 3 (their default node-IDs: `edsgen simulate
+    /// --card cp301 --card goodrive350`), in real time. Without HOST:PORT, `edsgen bus`'s
+    /// default address. The EC-TX508 is not run: there is no EtherCAT network.
+    #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = DEFAULT_BUS)]
     bus: Option<String>,
 }
 
 /// Runs the demo, prints its trace and summary.
 pub fn run(args: &Args) -> ExitCode {
+    // A bus that is not there is a usage problem (exit 2), not a failed demo.
+    if let Some(addr) = &args.bus {
+        if let Err(e) = SocketcandClient::connect(addr, "can0", Duration::from_secs(5)) {
+            return fail(format!(
+                "cannot reach the bus at {addr}: {e} (start `edsgen bus`, then `edsgen simulate \
+                 --card cp301 --card goodrive350`)"
+            ));
+        }
+    }
     let report = match &args.bus {
         Some(addr) => edsgen::demo::run_on_bus(addr),
         None => edsgen::demo::run(),

@@ -19,12 +19,14 @@ pub mod devices;
 pub mod dp;
 pub mod dump;
 pub mod enip;
+pub mod entry;
 pub mod generate;
 pub mod nmt;
 pub mod pn;
 pub mod rules;
 pub mod scan;
 pub mod sdo;
+pub mod signals;
 pub mod simulate;
 pub mod simulate_enip;
 pub mod simulate_profinet;
@@ -42,7 +44,6 @@ use edsgen_codegen::model::Device;
 use edsgen_runtime::master::blocking::Master;
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::Transport;
-use edsgen_runtime::wire::sdo::Multiplexer;
 
 /// Exit code for usage and I/O problems.
 pub const EXIT_USAGE: u8 = 2;
@@ -60,8 +61,15 @@ pub fn fail(message: impl std::fmt::Display) -> ExitCode {
 
 /// The rule a `--allow`/`--deny`/`explain` argument names, or the usage error to print.
 pub fn rule_named(flag: &str, code: &str) -> Result<&'static edsgen_codegen::rules::Rule, String> {
-    edsgen_codegen::rules::by_code(code)
-        .ok_or_else(|| format!("{flag} {code}: no such rule (`edsgen rules` lists them)"))
+    let rule = edsgen_codegen::rules::by_code(code)
+        .ok_or_else(|| format!("{flag} {code}: no such rule (`edsgen rules` lists them)"))?;
+    if flag.starts_with("--") && rule.code.starts_with("CHK") {
+        return Err(format!(
+            "{flag} {code}: `edsgen check` reports {}, not `edsgen validate`",
+            rule.code
+        ));
+    }
+    Ok(rule)
 }
 
 /// A node-ID from the command line: 1 to 127, decimal or `0x` hexadecimal.
@@ -77,28 +85,6 @@ pub fn parse_node_id(text: &str) -> Result<u8, String> {
     }
 }
 
-/// `INDEX:SUB`, both hexadecimal (`6041:0`, `0x1018:0x02`, `1018h:2`).
-pub fn parse_address(text: &str) -> Result<Multiplexer, String> {
-    let bad = || format!("`{text}` is not INDEX:SUB in hex (such as 6041:0)");
-    let (index, sub) = text.split_once(':').ok_or_else(bad)?;
-    let hex = |part: &str| {
-        let part = part.trim();
-        let part = part
-            .strip_prefix("0x")
-            .or_else(|| part.strip_prefix("0X"))
-            .unwrap_or(part);
-        let part = part.strip_suffix(['h', 'H']).unwrap_or(part);
-        u32::from_str_radix(part, 16).ok()
-    };
-    let index = hex(index)
-        .and_then(|i| u16::try_from(i).ok())
-        .ok_or_else(bad)?;
-    let sub = hex(sub)
-        .and_then(|s| u8::try_from(s).ok())
-        .ok_or_else(bad)?;
-    Ok(Multiplexer::new(index, sub))
-}
-
 /// Reads a description file into its model; the error is the message to print.
 pub fn read_device(path: &Path) -> Result<Device, String> {
     if !path.is_file() {
@@ -109,10 +95,14 @@ pub fn read_device(path: &Path) -> Result<Device, String> {
         .map_err(|e| e.to_string())
 }
 
+/// The address `edsgen bus` listens on by default, and every client command joins by default.
+pub const DEFAULT_BUS: &str = "127.0.0.1:29536";
+
 /// How to reach the bus.
 #[derive(Args, Debug, Clone)]
 pub struct BusArgs {
-    /// A socketcand server (`edsgen bus`, socketcand on a Linux box) as HOST:PORT.
+    /// A socketcand server (`edsgen bus`, socketcand on a Linux box) as HOST:PORT [default:
+    /// 127.0.0.1:29536, where `edsgen bus` listens].
     #[arg(long, value_name = "HOST:PORT")]
     pub bus: Option<String>,
     /// A Linux SocketCAN interface (can0, vcan0).
@@ -122,15 +112,27 @@ pub struct BusArgs {
     /// The CAN channel to open on the socketcand server.
     #[arg(long, default_value = "can0")]
     pub channel: String,
-    /// How long to wait for each SDO answer, in milliseconds.
-    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    /// The whole wait for a node's answer, in milliseconds (scan: for every node to answer).
+    /// Retries happen inside it: a read not answered within half of it is asked once more (a
+    /// lost frame), so an absent node costs exactly MS; a write is never repeated (the node
+    /// may have applied it) and waits all of MS. In a segmented or block transfer, MS is the
+    /// wait for each answer.
+    #[arg(long, value_name = "MS", default_value_t = 1000,
+          value_parser = clap::value_parser!(u64).range(1..))]
     pub timeout: u64,
 }
 
 impl BusArgs {
     /// A master on the bus, or the reason there is none.
     pub fn connect(&self) -> Result<Master<Box<dyn Transport + Send>>, String> {
-        let transport: Box<dyn Transport + Send> = match self.target()? {
+        let mut master = Master::new(self.open()?);
+        self.for_reads(&mut master);
+        Ok(master)
+    }
+
+    /// A connection of its own to the bus, or the reason there is none.
+    pub fn open(&self) -> Result<Box<dyn Transport + Send>, String> {
+        Ok(match self.target()? {
             Target::Socketcand(addr) => Box::new(
                 SocketcandClient::connect(addr, &self.channel, Duration::from_secs(5))
                     .map_err(|e| format!("cannot reach the bus at {addr}: {e}"))?,
@@ -140,10 +142,18 @@ impl BusArgs {
                 edsgen_runtime::transport::socketcan::SocketCan::open(iface)
                     .map_err(|e| format!("cannot open {iface}: {e}"))?,
             ),
-        };
-        let mut master = Master::new(transport);
+        })
+    }
+
+    /// Sets `master`'s timeout for reads: half of `--timeout`, one retry.
+    pub fn for_reads<T: Transport>(&self, master: &mut Master<T>) {
+        master.set_read_retries(1);
+        master.set_default_timeout(Duration::from_millis(self.timeout.div_ceil(2)));
+    }
+
+    /// Sets `master`'s timeout for writes: all of `--timeout` (a write is never repeated).
+    pub fn for_writes<T: Transport>(&self, master: &mut Master<T>) {
         master.set_default_timeout(Duration::from_millis(self.timeout));
-        Ok(master)
     }
 }
 
@@ -160,13 +170,9 @@ impl BusArgs {
         if let Some(iface) = &self.socketcan {
             return Ok(Target::SocketCan(iface));
         }
-        match &self.bus {
-            Some(addr) => Ok(Target::Socketcand(addr)),
-            None if cfg!(feature = "socketcan") => {
-                Err("give the bus: --bus HOST:PORT or --socketcan IFACE".into())
-            }
-            None => Err("give the bus: --bus HOST:PORT".into()),
-        }
+        Ok(Target::Socketcand(
+            self.bus.as_deref().unwrap_or(DEFAULT_BUS),
+        ))
     }
 }
 
@@ -175,15 +181,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn addresses_and_node_ids_parse_in_the_usual_spellings() {
-        assert_eq!(parse_address("6041:0"), Ok(Multiplexer::new(0x6041, 0)));
-        assert_eq!(
-            parse_address("0x1018:0x02"),
-            Ok(Multiplexer::new(0x1018, 2))
-        );
-        assert_eq!(parse_address("1018h:1"), Ok(Multiplexer::new(0x1018, 1)));
-        assert!(parse_address("6041").is_err());
-        assert!(parse_address("10000:0").is_err());
+    fn node_ids_parse_in_the_usual_spellings() {
         assert_eq!(parse_node_id("5"), Ok(5));
         assert_eq!(parse_node_id("0x7F"), Ok(127));
         assert_eq!(
@@ -198,5 +196,16 @@ mod tests {
             parse_node_id("x"),
             Err("`x` is not a node-ID (1 to 127)".into())
         );
+    }
+
+    #[test]
+    fn edsgen_bus_listens_where_the_clients_go_by_default() {
+        use clap::{Args, Command};
+        let bus = bus::BusArgs::augment_args(Command::new("bus"));
+        let listen = bus
+            .get_arguments()
+            .find(|arg| arg.get_id() == "listen")
+            .map(|arg| arg.get_default_values().to_vec());
+        assert_eq!(listen, Some(vec![DEFAULT_BUS.into()]));
     }
 }

@@ -52,6 +52,7 @@ pub fn explain(code: &str) -> ExitCode {
 fn explanation(rule: &Rule) -> String {
     let code = rule.code;
     let area = match code.as_bytes().get(3) {
+        _ if code.starts_with("CHK") => "a live device against its description (`edsgen check`)",
         Some(b'0') => "the text and its values (reported while reading)",
         Some(b'1') => "[FileInfo] and [DeviceInfo]",
         Some(b'2') => "the object lists",
@@ -62,6 +63,11 @@ fn explanation(rule: &Rule) -> String {
         _ => "code generation (reported by `edsgen generate` and build.rs)",
     };
     let effect = match rule.severity {
+        _ if code.starts_with("CHK") => "`edsgen check` reports it where the device differs \
+             from its description: an error fails the check (exit 1); a warning only under \
+             `--deny-warnings`. It says nothing about the description file itself (`edsgen \
+             validate` does)."
+            .to_string(),
         Severity::Error => format!(
             "An error fails `edsgen validate` (exit 1) and the build: the file breaks the standard \
              or code generated from it would be wrong. `--allow {code}` and \

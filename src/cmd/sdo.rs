@@ -13,9 +13,10 @@ use edsgen_runtime::master::Mode;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::value::{hex, value_bytes, Kind};
-use super::{fail, parse_address, parse_node_id, BusArgs};
+use super::{entry, fail, parse_node_id, BusArgs};
 use transfer::Stream;
 
+mod progress;
 mod transfer;
 
 /// `edsgen sdo` subcommands.
@@ -39,9 +40,9 @@ pub enum SdoCommand {
     Write {
         #[command(flatten)]
         target: Target,
-        /// The value: a number (decimal or 0x hex), true/false, text for a string, hex bytes
-        /// for an octet string or domain.
-        #[arg(required_unless_present = "file")]
+        /// The value: a number (decimal or 0x hex, negative without `--`), true/false, text for
+        /// a string, hex bytes for an octet string or domain.
+        #[arg(required_unless_present = "file", allow_negative_numbers = true)]
         value: Option<String>,
         /// Stream this file into the entry (`-`: standard input), its size not announced: a
         /// program image to 1F50h, any DOMAIN, string or octet string. Block transfer unless
@@ -76,13 +77,17 @@ pub struct Target {
     /// (bytes).
     #[arg(long = "type", value_name = "TYPE")]
     kind: Option<String>,
-    /// Use SDO block transfer (with --file or --out: only block, no fallback to segmented).
+    /// Use SDO block transfer. With --file or --out: only block, no fallback to segmented; a
+    /// node that refuses it, or answers a read with a segmented or expedited upload, fails
+    /// the command (exit 1).
     #[arg(long)]
     block: bool,
     /// The node-ID (1..=127).
     node: String,
-    /// The entry as INDEX:SUB in hex (6041:0).
-    address: String,
+    /// The entry: INDEX[:SUB] in hex (6041, 6041:0, 0x6041sub0; sub-index 0 when none is
+    /// given), or its name in the --eds file (Statusword; a unique prefix will do, case and
+    /// spaces do not matter; "Identity object / Vendor-ID" for a sub-index).
+    entry: String,
 }
 
 /// The entry as the command understood it: where, what kind of value, its name.
@@ -99,16 +104,19 @@ struct Resolved {
 impl Target {
     fn resolve(&self) -> Result<Resolved, String> {
         let node_id = parse_node_id(&self.node)?;
-        let mux = parse_address(&self.address)?;
+        let device = match &self.eds {
+            Some(path) => Some(load(path)?),
+            None => None,
+        };
+        let mux = entry::resolve(&self.entry, device.as_ref())?;
         let mut kind = match &self.kind {
             Some(name) => Some(Kind::parse(name).ok_or_else(|| format!("unknown type `{name}`"))?),
             None => None,
         };
         let mut name = None;
         let mut data_type = None;
-        if let Some(path) = &self.eds {
-            let device = load(path)?;
-            let (entry_name, basic) = describe(&device, mux)
+        if let (Some(path), Some(device)) = (&self.eds, &device) {
+            let (entry_name, basic) = describe(device, mux)
                 .ok_or_else(|| format!("{} has no entry {}", path.display(), show_mux(mux)))?;
             name = Some(entry_name);
             data_type = basic;
@@ -204,6 +212,9 @@ pub fn run(command: &SdoCommand) -> ExitCode {
         Ok(master) => master,
         Err(message) => return fail(message),
     };
+    if data.is_some() {
+        target.bus.for_writes(&mut master);
+    }
     let label = resolved.label();
     let Resolved {
         node_id,
@@ -302,6 +313,7 @@ fn run_dcf(bus: &BusArgs, node: &str, file: &Path) -> ExitCode {
         Ok(master) => master,
         Err(message) => return fail(message),
     };
+    bus.for_writes(&mut master);
     match master.download_configuration(node_id, &entries) {
         Ok(()) => {
             println!("{} value(s) written to node {node_id}", entries.len());

@@ -7,7 +7,8 @@
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
 //! DCF's `[DeviceComissioning]` NodeID. A FILE's overlay (`NAME.toml` beside it) applies, as in
 //! `edsgen generate`: its strings and domains hold what the generated `Od` would. A card's
-//! node-ID is its `@ID`, else its default (cp301 1, ms300 2, goodrive350 3, rd11 4, hd1e 5).
+//! node-ID is its `@ID`, else its default (ms300 1, cp301 2, goodrive350 3, rd11 4, hd1e 5: the
+//! demo's CP301 and Goodrive350 are `--card cp301 --card goodrive350`).
 //! `--trace` prints every frame on the bus decoded
 //! ([`edsgen::decode`]), as a further listening connection sees it. With python `canopen` as the
 //! master (some lines left out):
@@ -36,16 +37,13 @@ use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::trace::epoch_micros;
 use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::transport::Transport;
-use edsgen_runtime::Node;
+use edsgen_runtime::{CanFrame, Node};
 
-use super::{fail, parse_node_id, read_device};
+use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
 use edsgen::decode::Decoder;
 use edsgen::drives::{Card, CARDS};
 use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use edsgen_codegen::model::Device;
-
-/// The hub `edsgen bus` listens on by default.
-pub const DEFAULT_BUS: &str = "127.0.0.1:29536";
 
 /// How many receive and transmit PDOs a simulated node serves (1400h–140Fh, 1800h–180Fh).
 pub const PDOS: usize = 16;
@@ -120,6 +118,12 @@ pub fn run(args: Args) -> ExitCode {
         Some(iface) => Bus::SocketCan(iface),
         None => Bus::Hub(args.bus.as_deref().unwrap_or(DEFAULT_BUS)),
     };
+    if let Err(message) = signals::install() {
+        return fail(message);
+    }
+    if let Err(message) = no_one_answers_as(&bus, &planned) {
+        return fail(message);
+    }
     let mut decoder = Decoder::new();
     let mut drivers: Vec<DriverHandle<Box<dyn Transport + Send>, Box<dyn BusDevice + Send>>> =
         Vec::new();
@@ -173,13 +177,21 @@ pub fn run(args: Args) -> ExitCode {
         );
     }
     loop {
+        if signals::requested() {
+            let count = drivers.len();
+            for driver in drivers {
+                let _ = driver.stop();
+            }
+            eprintln!("edsgen simulate: stopped {count} node(s)");
+            return ExitCode::SUCCESS;
+        }
         if let Some(finished) = drivers.iter().position(DriverHandle::is_finished) {
             let (result, _, _) = drivers.swap_remove(finished).stop();
             let why = result.err().map_or("closed".to_owned(), |e| e.to_string());
             return fail(format!("{bus} went away: {why}"));
         }
         let Some(client) = listener.as_mut() else {
-            std::thread::sleep(Duration::from_millis(100));
+            signals::wait(Duration::from_millis(100));
             continue;
         };
         let frame = match client.recv_timeout(Duration::from_millis(100)) {
@@ -197,6 +209,47 @@ pub fn run(args: Args) -> ExitCode {
             }
         }
     }
+}
+
+/// How long a node-ID already on the bus has to answer before the simulated one joins.
+const DUPLICATE_WAIT: Duration = Duration::from_millis(300);
+
+/// Refuses to join nodes whose node-ID already answers on `bus`: an SDO upload of 1000h to
+/// each planned node-ID (as `edsgen scan` asks), any answer on its 580h + node-ID within
+/// [`DUPLICATE_WAIT`] a clash. Two nodes with one node-ID garble each other's answers.
+fn no_one_answers_as(bus: &Bus<'_>, planned: &[Planned]) -> Result<(), String> {
+    let mut probe = bus.join()?;
+    let gone = |e: std::io::Error| format!("{bus} went away: {e}");
+    for p in planned {
+        let request = [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0];
+        if let Some(frame) = CanFrame::new(0x600 + u16::from(p.node_id), &request) {
+            probe.send(&frame).map_err(gone)?;
+        }
+    }
+    let end = std::time::Instant::now() + DUPLICATE_WAIT;
+    let mut taken = Vec::new();
+    while let Some(left) = end.checked_duration_since(std::time::Instant::now()) {
+        let Some(frame) = probe.recv_timeout(left).map_err(gone)? else {
+            break;
+        };
+        let answer = frame.std_id().and_then(|id| id.checked_sub(0x580));
+        if let Some(p) = planned
+            .iter()
+            .find(|p| answer == Some(u16::from(p.node_id)) && !taken.contains(&p.node_id))
+        {
+            taken.push(p.node_id);
+        }
+    }
+    if taken.is_empty() {
+        return Ok(());
+    }
+    taken.sort_unstable();
+    let taken: Vec<String> = taken.iter().map(u8::to_string).collect();
+    Err(format!(
+        "duplicate node-ID: node {} already answers on {bus}; give the simulated device \
+         another one (FILE@ID, --card NAME@ID)",
+        taken.join(", ")
+    ))
 }
 
 /// The bus the devices join, each through a connection of its own.

@@ -9,7 +9,7 @@ use std::process::Command;
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
 use edsgen_codegen::{emit, read, validate};
 
-use crate::process_support::root;
+use crate::process_support::{root, target_dir};
 
 /// Every corpus file (relative name, path), in MANIFEST order (the EDS and the ESI corpus).
 pub fn corpus_files(dir: &Path) -> Vec<(String, PathBuf)> {
@@ -78,16 +78,16 @@ pub fn generate_from(read: read::Read, module: &str) -> Result<String, Diagnosti
 }
 
 /// Builds `tests/compile-check` including `generated` with `RUSTFLAGS=-D warnings`, for `target`
-/// (the host when `None`), in `target/<target_dir>`.
-pub fn build_compile_check(generated: &Path, target: Option<&str>, target_dir: &str) {
-    build_compile_check_with(generated, target, target_dir, &[]);
+/// (the host when `None`), in `<target directory>/<dir>`.
+pub fn build_compile_check(generated: &Path, target: Option<&str>, dir: &str) {
+    build_compile_check_with(generated, target, dir, &[]);
 }
 
 /// [`build_compile_check`] with features of the compile-check crate (`private`).
 pub fn build_compile_check_with(
     generated: &Path,
     target: Option<&str>,
-    target_dir: &str,
+    dir: &str,
     features: &[&str],
 ) {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
@@ -96,7 +96,7 @@ pub fn build_compile_check_with(
         .arg("--manifest-path")
         .arg(root().join("tests/compile-check/Cargo.toml"))
         .arg("--target-dir")
-        .arg(root().join("target").join(target_dir))
+        .arg(target_dir().join(dir))
         .env("RUSTFLAGS", "-D warnings")
         .env("EDSGEN_GENERATED", generated)
         .env_remove("CARGO_TARGET_DIR")
@@ -115,9 +115,10 @@ pub fn build_compile_check_with(
     );
 }
 
-/// Writes generated modules and an index including them into `target/<dir>/`; returns the index.
+/// Writes generated modules and an index including them into `<target directory>/<dir>/`;
+/// returns the index.
 pub fn write_modules(dir: &str, modules: &[(String, String)]) -> PathBuf {
-    let out = root().join("target").join(dir).join("generated");
+    let out = target_dir().join(dir).join("generated");
     std::fs::create_dir_all(&out).unwrap();
     let mut index = String::new();
     for (name, code) in modules {

@@ -4,11 +4,11 @@
 //! drops.
 //!
 //! One rule for what a test needs and cannot find (python, its venv, the corpus, a target):
-//! [`skip`], a skip with a message, except under `CI=true`, where it is a failure.
+//! [`skip`] (`tests/skip_support`, shared with the codegen and runtime tests), a skip with a
+//! message and a line in the skip log, except under `CI=true`, where it is a failure.
 // Each test crate uses only some of these helpers.
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
 
-use std::fmt::Display;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
@@ -16,6 +16,10 @@ use std::process::{ChildStdin, Command, Stdio};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
+
+#[path = "../skip_support/mod.rs"]
+mod skip_support;
+pub use skip_support::{ci, corpus, skip, target_dir};
 
 /// The `edsgen` binary of this build.
 pub const EDSGEN: &str = env!("CARGO_BIN_EXE_edsgen");
@@ -26,18 +30,6 @@ pub const START_TIMEOUT: Duration = Duration::from_secs(20);
 /// The workspace root.
 pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Whether the tests run under CI (`CI=true`), where nothing may be skipped.
-pub fn ci() -> bool {
-    std::env::var("CI").as_deref() == Ok("true")
-}
-
-/// `None` with a message saying why the test is skipped; under `CI=true` a failure instead.
-pub fn skip<T>(why: impl Display) -> Option<T> {
-    assert!(!ci(), "{why}");
-    eprintln!("skipping: {why}");
-    None
 }
 
 /// The venv's python, with the pinned `canopen` and `python-can`: `scripts/python-venv.sh`
@@ -67,37 +59,24 @@ pub fn python() -> Option<PathBuf> {
 /// The third-party corpus (`EDSGEN_CORPUS`, else `../shared/eds-corpus` beside the workspace,
 /// present where its `MANIFEST.tsv` is), or a [`skip`].
 pub fn corpus_dir() -> Option<PathBuf> {
-    third_party_dir("EDSGEN_CORPUS", "eds-corpus")
+    skip_support::eds_corpus()
 }
 
 /// The third-party ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`), or a
 /// [`skip`].
 pub fn esi_corpus_dir() -> Option<PathBuf> {
-    third_party_dir("EDSGEN_ESI_CORPUS", "esi-corpus")
+    skip_support::esi_corpus()
 }
 
 /// The ODVA EDS corpus (`EDSGEN_ODVA_CORPUS`, else `../shared/odva-eds-corpus`), or a [`skip`].
 pub fn odva_corpus_dir() -> Option<PathBuf> {
-    third_party_dir("EDSGEN_ODVA_CORPUS", "odva-eds-corpus")
+    skip_support::corpus("EDSGEN_ODVA_CORPUS", "odva-eds-corpus")
 }
 
 /// The third-party GSDML corpus (`EDSGEN_GSDML_CORPUS`, else `../shared/gsdml-corpus`), or a
 /// [`skip`].
 pub fn gsdml_corpus_dir() -> Option<PathBuf> {
-    third_party_dir("EDSGEN_GSDML_CORPUS", "gsdml-corpus")
-}
-
-/// A corpus folder named by `variable`, else `../shared/NAME` beside the workspace; present when
-/// it holds its `MANIFEST.tsv`.
-fn third_party_dir(variable: &str, name: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os(variable)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("../shared").join(name));
-    if dir.join("MANIFEST.tsv").is_file() {
-        Some(dir)
-    } else {
-        skip(format!("no corpus at {} (set {variable})", dir.display()))
-    }
+    skip_support::corpus("EDSGEN_GSDML_CORPUS", "gsdml-corpus")
 }
 
 /// A file of the third-party corpus, or a [`skip`].

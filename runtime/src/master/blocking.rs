@@ -20,7 +20,7 @@ use crate::wire::sdo::Multiplexer;
 use super::emcy::Emergency;
 use super::identity::IdentityMismatch;
 use super::nmt::{MonitorEvent, NodeMonitor};
-use super::sdo_client::{Completed, SdoClient, SdoError};
+use super::sdo_client::{Completed, SdoClient, SdoError, Transfer};
 use crate::wire::sdo::abort_meaning;
 
 mod nmt;
@@ -165,6 +165,8 @@ pub struct Master<T> {
     events: VecDeque<MasterEvent>,
     /// The last error-control state each node reported (watched or not).
     seen: BTreeMap<u8, NmtState>,
+    /// How the last transfer that completed went on the wire.
+    last_transfer: Option<Transfer>,
 }
 
 impl<T: Transport> Master<T> {
@@ -180,6 +182,7 @@ impl<T: Transport> Master<T> {
             monitor: Box::new(NodeMonitor::new()),
             events: VecDeque::new(),
             seen: BTreeMap::new(),
+            last_transfer: None,
         }
     }
 
@@ -215,6 +218,12 @@ impl<T: Transport> Master<T> {
     /// The next event noticed, oldest first.
     pub fn poll_event(&mut self) -> Option<MasterEvent> {
         self.events.pop_front()
+    }
+
+    /// How the last SDO transfer that completed went on the wire (a block upload the server
+    /// answered segmented says [`Transfer::Segmented`]).
+    pub fn last_transfer(&self) -> Option<Transfer> {
+        self.last_transfer
     }
 
     /// The last state `node_id` reported by heartbeat, boot-up or guarding answer.
@@ -257,6 +266,10 @@ impl<T: Transport> Master<T> {
             let client = self.client(node_id)?;
             if let Some(result) = client.poll_result() {
                 drain(client, sink)?;
+                if let Ok(completed) = &result {
+                    self.last_transfer = Some(completed.transfer);
+                }
+                let client = self.client(node_id)?;
                 return result.map_err(|error| MasterError::Sdo {
                     node_id,
                     mux: client.mux(),

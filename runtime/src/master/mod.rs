@@ -28,7 +28,7 @@ pub use emcy::Emergency;
 pub use identity::{ExpectedIdentity, IdentityMismatch};
 pub use nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch};
 pub use pdo::{MappedPdo, PdoConfig, PdoKind};
-pub use sdo_client::{Completed, Mode, SdoClient, SdoError, StartError};
+pub use sdo_client::{Completed, Mode, SdoClient, SdoError, StartError, Transfer};
 pub use sync::SyncProducer;
 
 #[cfg(feature = "std")]

@@ -110,6 +110,20 @@ pub struct Completed {
     pub size: u32,
     /// Whether it was an upload (a read).
     pub upload: bool,
+    /// How the value travelled: a block upload the server answered normally (a value at most
+    /// the protocol switch threshold long) says so here.
+    pub transfer: Transfer,
+}
+
+/// How a completed transfer went on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Transfer {
+    /// In the initiate request or response.
+    Expedited,
+    /// In segments.
+    Segmented,
+    /// In blocks.
+    Block,
 }
 
 /// Why a transfer could not start.

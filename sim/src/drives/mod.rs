@@ -70,14 +70,14 @@ pub static CARDS: [Card; 5] = [
         name: "cp301",
         eds_path: "eds/cp301.eds",
         eds: include_bytes!("../../../eds/cp301.eds"),
-        default_node_id: 1,
+        default_node_id: 2,
         power_up: |id, now| boxed(Cp301::new(id, now)),
     },
     Card {
         name: "ms300",
         eds_path: "eds/ms300.eds",
         eds: include_bytes!("../../../eds/ms300.eds"),
-        default_node_id: 2,
+        default_node_id: 1,
         power_up: |id, now| boxed(Ms300::new(id, now)),
     },
     Card {

@@ -1,6 +1,7 @@
 //! `edsgen sdo write --file` and `edsgen sdo read --out`: a value of any length streamed between
 //! a file (or standard input or output) and an entry, by block transfer unless the node refuses
-//! it, and a one-line summary (bytes, transfer, time) on standard error.
+//! it, and a one-line summary (bytes, the transfer the wire carried, time) on standard error;
+//! a progress bar there meanwhile when it is a terminal ([`progress`]).
 //!
 //! `--out FILE` never leaves a partial value under FILE's name: the bytes go to `FILE.partial`
 //! beside it, renamed to FILE once the upload has completed, removed when it fails (a FILE that
@@ -15,9 +16,9 @@ use std::time::Instant;
 
 use edsgen_codegen::model::BasicType;
 use edsgen_runtime::master::blocking::MasterError;
-use edsgen_runtime::master::{Mode, SdoError};
+use edsgen_runtime::master::{Mode, SdoError, Transfer};
 
-use super::{fail, master_failed, Resolved, Target};
+use super::{fail, master_failed, progress, Resolved, Target};
 
 /// Which way a file transfer goes, and its file (`-`: standard input or output).
 pub enum Stream<'a> {
@@ -101,11 +102,17 @@ fn download(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Ex
             Err(message) => return fail(message),
         }
     };
-    let mut source = Source::new(reader);
+    let length = if is_std(path) {
+        None
+    } else {
+        fs::metadata(path).ok().map(|m| m.len())
+    };
+    let mut source = Source::new(progress::Counted::new(reader, length));
     let mut master = match target.bus.connect() {
         Ok(master) => master,
         Err(message) => return fail(message),
     };
+    target.bus.for_writes(&mut master);
     let (node_id, mux) = (resolved.node_id, resolved.mux);
     let started = Instant::now();
     let mut mode = plan.first;
@@ -116,9 +123,10 @@ fn download(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Ex
     }
     match result {
         Ok(size) => {
+            source.reader.finish();
             let summary = Summary {
                 upload: false,
-                mode,
+                transfer: master.last_transfer().unwrap_or(Transfer::Segmented),
                 refused_block: mode != plan.first,
             };
             summary.print(resolved, size, started);
@@ -159,7 +167,7 @@ fn upload(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Exit
         None => Box::new(io::stdout().lock()),
     };
     let mut sink = Sink {
-        inner: BufWriter::new(inner),
+        inner: BufWriter::new(progress::Counted::new(inner, None)),
         written: 0,
         failed: false,
     };
@@ -179,24 +187,30 @@ fn upload(target: &Target, resolved: &Resolved, path: &Path, plan: Plan) -> Exit
         Ok(()) => Ok(size),
         Err(e) => Err(MasterError::Io(e)),
     });
-    // Only a complete value takes the file's name.
-    let result = result.and_then(|size| {
-        if is_std(path) {
-            return Ok(size);
-        }
-        fs::rename(&partial, path).map(|()| size).map_err(|e| {
-            sink.failed = true;
-            MasterError::Io(e)
-        })
-    });
+    sink.inner.get_mut().finish();
     match result {
         Ok(size) => {
             let summary = Summary {
                 upload: true,
-                mode,
+                transfer: master.last_transfer().unwrap_or(Transfer::Segmented),
                 refused_block: mode != plan.first,
             };
             summary.print(resolved, size, started);
+            if target.block && summary.transfer != Transfer::Block {
+                eprintln!(
+                    "error: {}: the node answered the block upload with {}; --block takes only \
+                     a block transfer (leave it out to accept the node's choice)",
+                    resolved.label(),
+                    summary.how()
+                );
+                return discard(ExitCode::from(1));
+            }
+            // Only a complete value takes the file's name.
+            if !is_std(path) {
+                if let Err(e) = fs::rename(&partial, path) {
+                    return discard(fail(format!("cannot write `{}`: {e}", path.display())));
+                }
+            }
             ExitCode::SUCCESS
         }
         Err(MasterError::Io(e)) if sink.failed => discard(fail(format!(
@@ -242,23 +256,28 @@ fn open(path: &Path) -> Result<File, String> {
 /// 0.412 s`.
 struct Summary {
     upload: bool,
-    /// The transfer that carried the value.
-    mode: Mode,
+    /// The transfer that carried the value on the wire (the server may answer a block upload
+    /// request with a normal upload).
+    transfer: Transfer,
     /// Whether the node refused a block transfer first.
     refused_block: bool,
 }
 
 impl Summary {
-    fn print(&self, resolved: &Resolved, size: u32, started: Instant) {
-        let how = match self.mode {
-            Mode::Block => "block transfer",
-            // The server chooses for an upload; a value of up to 4 bytes is sent expedited.
-            Mode::Normal if self.upload && size <= 4 => "expedited transfer",
-            Mode::Normal if self.refused_block => {
+    /// The transfer, as the summary names it.
+    fn how(&self) -> &'static str {
+        match self.transfer {
+            Transfer::Block => "block transfer",
+            Transfer::Expedited => "expedited transfer",
+            Transfer::Segmented if self.refused_block => {
                 "segmented transfer (the node refused block transfer)"
             }
-            Mode::Normal => "segmented transfer",
-        };
+            Transfer::Segmented => "segmented transfer",
+        }
+    }
+
+    fn print(&self, resolved: &Resolved, size: u32, started: Instant) {
+        let how = self.how();
         let done = if self.upload { "read" } else { "written" };
         eprintln!(
             "{}: {size} bytes {done} by {how} in {:.3} s",

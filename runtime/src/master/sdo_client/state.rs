@@ -11,7 +11,7 @@ use crate::wire::sdo::{
     FRAME_LEN, MAX_BLOCK_SIZE, SEGMENT_DATA_LEN,
 };
 
-use super::{Completed, SdoClient, SdoError, StartError};
+use super::{Completed, SdoClient, SdoError, StartError, Transfer};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(not(feature = "sdo-block"), allow(dead_code))]
@@ -499,10 +499,22 @@ impl<const BUF: usize> SdoClient<BUF> {
 
     fn complete(&mut self, size: u32) {
         let upload = !self.is_download();
+        // The state the transfer ends in says how it went.
+        let transfer = match self.state {
+            State::UploadInitiate
+            | State::DownloadInitiate {
+                expedited: true, ..
+            } => Transfer::Expedited,
+            State::UploadSegment { .. }
+            | State::DownloadInitiate { .. }
+            | State::DownloadSegment { .. } => Transfer::Segmented,
+            _ => Transfer::Block,
+        };
         self.finish(Ok(Completed {
             mux: self.mux,
             size,
             upload,
+            transfer,
         }));
     }
 
