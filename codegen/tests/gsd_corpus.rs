@@ -3,28 +3,18 @@
 //! GSD_Revision and Modular_Station its notes record, an Ident_Number and at least one module
 //! whose configuration bytes decode; the reader and validator codes are printed per file.
 
+mod corpus_support;
+
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use edsgen_codegen::model::{decode_cfg, Format, TextEncoding};
 use edsgen_codegen::read::read_file;
 use edsgen_codegen::validate;
 
+/// The corpus directory, or `None` after a visible skip (a failure under `CI=true`).
 fn corpus() -> Option<PathBuf> {
-    let dir = match std::env::var_os("EDSGEN_GSD_CORPUS") {
-        Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/gsd-corpus"),
-    };
-    if dir.join("MANIFEST.tsv").is_file() {
-        return Some(dir);
-    }
-    let why = format!(
-        "GSD corpus not found at {} (set EDSGEN_GSD_CORPUS)",
-        dir.display()
-    );
-    assert!(std::env::var("CI").as_deref() != Ok("true"), "{why}");
-    eprintln!("skipping: {why}");
-    None
+    corpus_support::corpus("EDSGEN_GSD_CORPUS", "gsd-corpus")
 }
 
 /// A note of the form `key value` (one word) among the `;`-separated notes.

@@ -3,6 +3,8 @@
 //! encoding and modularity its `MANIFEST.tsv` records, and a snapshot of each file's identity,
 //! counts and diagnostic codes (reader and validator).
 
+mod corpus_support;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -10,25 +12,9 @@ use edsgen_codegen::model::{Format, TextEncoding};
 use edsgen_codegen::read::read_file;
 use edsgen_codegen::validate;
 
-/// The corpus directory, or `None` (skip) when it is absent outside CI.
+/// The corpus directory, or `None` after a visible skip (a failure under `CI=true`).
 fn corpus() -> Option<PathBuf> {
-    let dir = match std::env::var_os("EDSGEN_GSDML_CORPUS") {
-        Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/gsdml-corpus"),
-    };
-    if dir.join("MANIFEST.tsv").is_file() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "GSDML corpus not found at {} (set EDSGEN_GSDML_CORPUS)",
-        dir.display()
-    );
-    eprintln!(
-        "skipping: GSDML corpus not found at {} (set EDSGEN_GSDML_CORPUS)",
-        dir.display()
-    );
-    None
+    corpus_support::corpus("EDSGEN_GSDML_CORPUS", "gsdml-corpus")
 }
 
 /// (file, encoding, notes) per MANIFEST.tsv row.

@@ -3,32 +3,18 @@
 //! an identity and connections, no text (CIP001) problem, and a snapshot of the
 //! parts read and the diagnostic codes (reader and validator) of each file.
 
+mod corpus_support;
+
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use edsgen_codegen::model::Format;
 use edsgen_codegen::read::read_file;
 use edsgen_codegen::validate;
 
-/// The corpus directory, or `None` (skip) when it is absent outside CI.
+/// The corpus directory, or `None` after a visible skip (a failure under `CI=true`).
 fn corpus() -> Option<PathBuf> {
-    let dir = match std::env::var_os("EDSGEN_ODVA_CORPUS") {
-        Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/odva-eds-corpus"),
-    };
-    if dir.join("MANIFEST.tsv").is_file() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var("CI").as_deref() != Ok("true"),
-        "ODVA EDS corpus not found at {} (set EDSGEN_ODVA_CORPUS)",
-        dir.display()
-    );
-    eprintln!(
-        "skipping: ODVA EDS corpus not found at {} (set EDSGEN_ODVA_CORPUS)",
-        dir.display()
-    );
-    None
+    corpus_support::corpus("EDSGEN_ODVA_CORPUS", "odva-eds-corpus")
 }
 
 #[test]

@@ -639,6 +639,8 @@ fn overlay_pkw_pzd_names_32_byte_assemblies() {
     let diags = apply("[pkw_pzd]\noutput = 150\n", &mut cia);
     assert_eq!(
         diags.iter().map(|d| d.message.as_str()).collect::<Vec<_>>(),
-        vec!["[pkw_pzd] is for an ODVA EDS (EtherNet/IP) or a GSD file; this description is neither"]
+        vec![
+            "[pkw_pzd] is for an ODVA EDS (EtherNet/IP) or a GSD file; this description is neither"
+        ]
     );
 }

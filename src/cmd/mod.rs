@@ -28,9 +28,9 @@ pub mod scan;
 pub mod sdo;
 pub mod signals;
 pub mod simulate;
+pub mod simulate_dp;
 pub mod simulate_enip;
 pub mod simulate_profinet;
-pub mod simulate_dp;
 pub mod validate;
 pub mod value;
 

@@ -20,8 +20,8 @@
 //! EC-TX508 runs in the first mode only, in its own 1 ms cycles; a socketcand bus has no
 //! EtherCAT network, and with `--bus` its one step says it was not run.
 
-mod enip;
 mod dp;
+mod enip;
 mod ethercat;
 mod memory;
 mod profinet;

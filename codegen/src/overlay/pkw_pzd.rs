@@ -42,7 +42,8 @@ fn apply_cip(
     let Some(cip) = device.cip.as_mut() else {
         diags.push(error(
             key_span,
-            "[pkw_pzd] is for an ODVA EDS (EtherNet/IP) or a GSD file; this description is neither".to_owned(),
+            "[pkw_pzd] is for an ODVA EDS (EtherNet/IP) or a GSD file; this description is neither"
+                .to_owned(),
         ));
         return;
     };

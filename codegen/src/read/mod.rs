@@ -11,8 +11,8 @@ use crate::rules;
 
 pub mod eds;
 pub mod esi;
-pub mod gsdml;
 pub mod gsd;
+pub mod gsdml;
 pub mod ini;
 pub mod odva;
 pub mod text;
