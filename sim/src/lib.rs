@@ -14,3 +14,4 @@
 pub mod canopen;
 pub mod cards;
 pub mod drives;
+pub mod ethercat;

@@ -1,0 +1,15 @@
+//! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000): the frame and
+//! datagram wire formats ([`frame`]), the ESC's registers and memory and what each datagram does
+//! to them ([`esc`]), the AL state machine's rules ([`al`]), and the SubDevice that answers
+//! frames with its application behind the ESC ([`subdevice`]).
+
+pub mod al;
+pub mod esc;
+pub mod frame;
+pub mod subdevice;
+
+#[cfg(test)]
+mod tests;
+
+pub use al::AlState;
+pub use subdevice::{Application, Layout, SubDevice};
