@@ -71,6 +71,17 @@ enum Command {
         /// The ESI file.
         file: PathBuf,
     },
+    /// Write the SII (EEPROM) image of an ESI device (ETG.2010), as `simulate --ethercat` serves it.
+    Sii {
+        /// The ESI file.
+        file: PathBuf,
+        /// The device of a file with several: its type name or `#x` product code.
+        #[arg(long, value_name = "NAME|#xCODE")]
+        device: Option<String>,
+        /// Where to write the image.
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+    },
     /// Generate the Rust module build.rs would produce for one device.
     Generate {
         /// The description file.
@@ -214,6 +225,11 @@ fn main() -> ExitCode {
             module.as_deref(),
             device.as_deref(),
         ),
+        Command::Sii {
+            file,
+            device,
+            output,
+        } => cmd::sii::run(&file, device.as_deref(), &output),
         Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
         Command::Explain { code } => cmd::rules::explain(&code),
         Command::Sdo { command } => cmd::sdo::run(&command),

@@ -22,6 +22,7 @@ pub mod nmt;
 pub mod rules;
 pub mod scan;
 pub mod sdo;
+pub mod sii;
 pub mod simulate;
 pub mod validate;
 pub mod value;
