@@ -24,6 +24,7 @@ pub mod scan;
 pub mod sdo;
 pub mod sii;
 pub mod simulate;
+pub mod simulate_ethercat;
 pub mod validate;
 pub mod value;
 

