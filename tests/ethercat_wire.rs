@@ -10,7 +10,8 @@
 //!   ramping in the inputs as the outputs ask; then the simulator stopped by SIGTERM (exit 0) and
 //!   the MainDevice's next cycle failing: the SubDevice is gone.
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
-//! - `corpus`: each ESI of the ESI corpus with a CoE dictionary and PDOs reaches Op.
+//! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
+//!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op.
 
 #[path = "process_support/mod.rs"]
 mod process_support;
@@ -18,7 +19,11 @@ mod process_support;
 use std::process::Command;
 use std::time::Duration;
 
-use process_support::{skip, Process, EDSGEN, START_TIMEOUT};
+use std::path::{Path, PathBuf};
+
+use edsgen_runtime::ObjectDictionary;
+use edsgen_sim::ethercat::{Application, EsiDevice};
+use process_support::{esi_corpus_dir, skip, Process, EDSGEN, START_TIMEOUT};
 
 const ROLE: &str = "EDSGEN_ECAT_ROLE";
 const IFACE: &str = "EDSGEN_ECAT_IFACE";
@@ -40,7 +45,8 @@ fn main() {
     let ns = Namespace::new();
     drive(&ns);
     reassign(&ns);
-    println!("ethercat_wire: ok (drive, reassign)");
+    let corpus = corpus(&ns);
+    println!("ethercat_wire: ok (drive, reassign, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -130,6 +136,101 @@ fn reassign(ns: &Namespace) {
     assert!(done.stdout.contains("images 6/23"), "{done:?}");
 }
 
+/// Every ESI of the corpus (its first device) whose dictionary and PDOs are complete enough
+/// ([`complete_enough`]) reaches Op with the image sizes its assignment gives.
+fn corpus(ns: &Namespace) -> String {
+    let Some(dir) = esi_corpus_dir() else {
+        return "corpus skipped".to_owned();
+    };
+    let mut files = Vec::new();
+    collect(&dir, &mut files);
+    files.sort();
+    let (mut served, mut passed_over) = (0, Vec::new());
+    for file in &files {
+        let model = edsgen_codegen::read::read_file(file)
+            .expect("readable")
+            .device;
+        let Some((outputs, inputs)) = complete_enough(&model) else {
+            passed_over.push(
+                file.strip_prefix(&dir)
+                    .unwrap_or(file)
+                    .display()
+                    .to_string(),
+            );
+            continue;
+        };
+        let _sim = ns.simulator(&[file.to_str().expect("a path")]);
+        let master = ns.master("corpus");
+        let done = master.finish(Duration::from_secs(60));
+        assert_eq!(done.code, Some(0), "{}: {done:?}", file.display());
+        assert!(
+            done.stdout.contains(&format!("op {outputs}/{inputs}")),
+            "{}: {done:?}",
+            file.display()
+        );
+        served += 1;
+    }
+    assert!(served > 0, "no ESI of the corpus reached Op");
+    println!(
+        "corpus: {served} ESI files reached Op; {} passed over (modular, no CoE mailbox or a disabled one, no process data, or PDOs naming objects the dictionary lacks): {passed_over:?}",
+        passed_over.len()
+    );
+    format!("{served} corpus files")
+}
+
+fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("the corpus").flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            collect(&path, files);
+        } else if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("xml") || e.eq_ignore_ascii_case("esi"))
+        {
+            files.push(path);
+        }
+    }
+}
+
+/// The image sizes of a device the simulator can serve to Op: an ESI device (not modular) with a
+/// CoE mailbox
+/// (both mailbox SyncManagers), 1C12h/1C13h for its process-data SyncManagers, process data in
+/// at least one direction, and every mapped object in the dictionary with the mapped size.
+fn complete_enough(model: &edsgen_codegen::model::Device) -> Option<(usize, usize)> {
+    use edsgen_codegen::model::SmKind;
+    let ec = model.ethercat.as_ref()?;
+    ec.coe.as_ref()?;
+    // A modular device's process data depends on the modules plugged in.
+    if !ec.slots.is_empty() {
+        return None;
+    }
+    let has = |kind: SmKind| ec.sync_managers.iter().position(|sm| sm.kind == kind);
+    // Mailbox SyncManagers the ESI leaves disabled (`Enable="0"`) cannot carry CoE.
+    for kind in [SmKind::MailboxOut, SmKind::MailboxIn] {
+        if !ec.sync_managers[has(kind)?].enable {
+            return None;
+        }
+    }
+    let device = EsiDevice::new(model, None).ok()?;
+    let od = device.dictionary();
+    for (kind, outputs) in [(SmKind::Outputs, true), (SmKind::Inputs, false)] {
+        if let Some(n) = has(kind) {
+            od.find(0x1C10 + n as u16, 0).ok()?;
+            for (index, sub, bits) in device.image(outputs) {
+                if index == 0 {
+                    continue;
+                }
+                let len = od.value_len(index, sub).ok()?;
+                if !(len * 8 == usize::from(bits) || (bits < 8 && len == 1)) {
+                    return None;
+                }
+            }
+        }
+    }
+    let sizes = device.image_sizes();
+    (sizes != (0, 0)).then_some(sizes)
+}
+
 /// The MainDevice side, run in the namespace.
 mod master {
     use std::io::BufRead;
@@ -167,6 +268,19 @@ mod master {
                 .init_single_group::<4, 256>(ethercat_now)
                 .await
                 .expect("discovery");
+            if role == "corpus" {
+                let group = group.into_op(&maindevice).await.expect("Op");
+                for _ in 0..10 {
+                    group.tx_rx(&maindevice).await.expect("a cycle");
+                }
+                let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+                println!(
+                    "op {}/{}",
+                    card.outputs_raw().len(),
+                    card.inputs_raw().len()
+                );
+                return;
+            }
             let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
             assert!(ethercat::IDENTITY.matches_subdevice(&card));
             // ethercrab names a SubDevice by the SII's order string: the ESI's Type.

@@ -99,6 +99,13 @@ impl EsiDevice {
             fixed: esi_pdos().filter(|p| p.fixed).map(|p| p.index).collect(),
             mappable,
         };
+        let mut od = od;
+        seed_defaults(
+            &mut od,
+            ec,
+            position(SmKind::Outputs),
+            position(SmKind::Inputs),
+        );
         Ok(EsiDevice {
             od,
             sdo: SdoServer::default(),
@@ -243,6 +250,78 @@ impl Rules {
                 Ok(())
             }
             _ => Ok(()),
+        }
+    }
+}
+
+/// Fills assignment (1C1xh) and mapping objects the dictionary has but leaves empty (sub-index
+/// 0 is 0, or every entry 0) from the ESI's default assignment (`Sm`) and `Entry` lists, as the
+/// device's firmware would at power-up; where sub-index 0 counts entries that are 0 (a "max
+/// sub-index" default with a zero-terminated list), it is cut to the entries before the first
+/// 0. Values the dictionary refuses are left as they are.
+fn seed_defaults(
+    od: &mut RuntimeDictionary,
+    ec: &edsgen_codegen::model::EtherCat,
+    outputs_sm: Option<u8>,
+    inputs_sm: Option<u8>,
+) {
+    let empty = |od: &RuntimeDictionary, index: u16, width: usize| {
+        let Some(n) = u8_value(od, index, 0) else {
+            return false;
+        };
+        (1..=n).all(|s| {
+            let mut b = vec![0u8; width];
+            od.read(index, s, 0, &mut b).is_err() || b.iter().all(|&x| x == 0)
+        })
+    };
+    let fill = |od: &mut RuntimeDictionary, index: u16, values: &[Vec<u8>]| {
+        let _ = od.write(index, 0, &[0]);
+        for (s, value) in values.iter().enumerate() {
+            let _ = od.write(index, s as u8 + 1, value);
+        }
+        let _ = od.write(index, 0, &[values.len() as u8]);
+    };
+    let compact = |od: &mut RuntimeDictionary, index: u16, width: usize| {
+        let Some(n) = u8_value(od, index, 0) else {
+            return;
+        };
+        let used = (1..=n)
+            .take_while(|&s| {
+                let mut b = vec![0u8; width];
+                od.read(index, s, 0, &mut b).is_ok() && b.iter().any(|&x| x != 0)
+            })
+            .count();
+        if used > 0 && used < usize::from(n) {
+            let _ = od.write(index, 0, &[used as u8]);
+        }
+    };
+    for (sm, pdos) in [(outputs_sm, &ec.rx_pdos), (inputs_sm, &ec.tx_pdos)] {
+        let Some(sm) = sm else { continue };
+        compact(od, 0x1C10 + u16::from(sm), 2);
+        let index = 0x1C10 + u16::from(sm);
+        let assigned: Vec<Vec<u8>> = pdos
+            .iter()
+            .filter(|p| p.sm == Some(sm))
+            .map(|p| p.index.to_le_bytes().to_vec())
+            .collect();
+        if !assigned.is_empty() && empty(od, index, 2) {
+            fill(od, index, &assigned);
+        }
+    }
+    for pdo in ec.rx_pdos.iter().chain(&ec.tx_pdos) {
+        compact(od, pdo.index, 4);
+        if !pdo.entries.is_empty() && empty(od, pdo.index, 4) {
+            let entries: Vec<Vec<u8>> = pdo
+                .entries
+                .iter()
+                .map(|e| {
+                    let v = u32::from(e.index) << 16
+                        | u32::from(e.sub) << 8
+                        | u32::from(e.bit_len & 0xFF);
+                    v.to_le_bytes().to_vec()
+                })
+                .collect();
+            fill(od, pdo.index, &entries);
         }
     }
 }
