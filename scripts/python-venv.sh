@@ -11,7 +11,7 @@ if [ ! -x "$python" ]; then
     python3 -m venv "$venv" >&2
 fi
 
-wanted=("canopen==2.4.1" "python-can==4.6.1")
+wanted=("canopen==2.4.1" "python-can==4.6.1" "pysoem==1.1.13")
 missing=()
 for requirement in "${wanted[@]}"; do
     name="${requirement%%==*}"

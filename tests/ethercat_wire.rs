@@ -10,6 +10,8 @@
 //!   ramping in the inputs as the outputs ask; then the simulator stopped by SIGTERM (exit 0) and
 //!   the MainDevice's next cycle failing: the SubDevice is gone.
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
+//! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
+//!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
 //!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op.
 
@@ -23,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 use edsgen_runtime::ObjectDictionary;
 use edsgen_sim::ethercat::{Application, EsiDevice};
-use process_support::{esi_corpus_dir, skip, Process, EDSGEN, START_TIMEOUT};
+use process_support::{esi_corpus_dir, python, root, skip, Process, EDSGEN, START_TIMEOUT};
 
 const ROLE: &str = "EDSGEN_ECAT_ROLE";
 const IFACE: &str = "EDSGEN_ECAT_IFACE";
@@ -45,8 +47,9 @@ fn main() {
     let ns = Namespace::new();
     drive(&ns);
     reassign(&ns);
+    let soem = soem(&ns);
     let corpus = corpus(&ns);
-    println!("ethercat_wire: ok (drive, reassign, {corpus})");
+    println!("ethercat_wire: ok (drive, reassign, {soem}, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -134,6 +137,29 @@ fn reassign(ns: &Namespace) {
     let done = master.finish(Duration::from_secs(60));
     assert_eq!(done.code, Some(0), "{done:?}");
     assert!(done.stdout.contains("images 6/23"), "{done:?}");
+}
+
+/// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte
+/// images from CoE and brings it to Op with the working counter it expects.
+fn soem(ns: &Namespace) -> String {
+    let Some(python) = python() else {
+        return "SOEM skipped".to_owned();
+    };
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let script = root().join("scripts/soem_master.py");
+    let master = Process::start(&mut ns.exec(
+        python.to_str().expect("a path"),
+        &[script.to_str().expect("a path"), "ecm"],
+    ));
+    let done = master.finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert_eq!(
+        done.stdout,
+        "found 1\nidentity 0x000004d8 0x00009252 0x00000001\nname EC-TX508\niomap 44\nstate 4\n\
+         images 21/23\nop True\nwkc 3 expected 3\n",
+        "{done:?}"
+    );
+    "SOEM".to_owned()
 }
 
 /// Every ESI of the corpus (its first device) whose dictionary and PDOs are complete enough
