@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Creates (or checks) the project's Python venv at the workspace root, with the pinned versions of
-# python `canopen` and `python-can` that the differential and interoperability tests compare
-# against. Idempotent: installs only what is missing or at another version. Prints the python path.
+# python `canopen`, `python-can` and `pysoem` (SOEM) that the differential and interoperability tests
+# compare against. Idempotent: installs only what is missing or at another version. Prints the python path.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 venv="$root/.venv"
