@@ -134,6 +134,9 @@ enum Command {
     Bus(cmd::bus::BusArgs),
     /// Simulate devices from description files on a CAN bus.
     Simulate(cmd::simulate::Args),
+    /// EtherCAT bench side over ethercrab: `ecat scan --iface IFACE [--esi FILE...]`.
+    #[cfg(feature = "ethercrab")]
+    Ecat(cmd::ecat::Args),
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
@@ -237,6 +240,8 @@ fn main() -> ExitCode {
         Command::Scan { bus } => cmd::scan::run(&bus),
         Command::Check(args) => cmd::check::run(&args),
         Command::Bus(args) => cmd::bus::run(&args),
+        #[cfg(feature = "ethercrab")]
+        Command::Ecat(args) => cmd::ecat::run(args),
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Decode(args) => cmd::decode::run(args),
         Command::Demo(args) => cmd::demo::run(&args),

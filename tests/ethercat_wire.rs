@@ -10,6 +10,7 @@
 //!   ramping in the inputs as the outputs ask; then the simulator stopped by SIGTERM (exit 0) and
 //!   the MainDevice's next cycle failing: the SubDevice is gone.
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
+//! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
@@ -47,9 +48,10 @@ fn main() {
     let ns = Namespace::new();
     drive(&ns);
     reassign(&ns);
+    scan(&ns);
     let soem = soem(&ns);
     let corpus = corpus(&ns);
-    println!("ethercat_wire: ok (drive, reassign, {soem}, {corpus})");
+    println!("ethercat_wire: ok (drive, reassign, scan, {soem}, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -137,6 +139,32 @@ fn reassign(ns: &Namespace) {
     let done = master.finish(Duration::from_secs(60));
     assert_eq!(done.code, Some(0), "{done:?}");
     assert!(done.stdout.contains("images 6/23"), "{done:?}");
+}
+
+/// `edsgen ecat scan` finds the simulated EC-TX508 and names the ESI device it matches.
+fn scan(ns: &Namespace) {
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let mut command = ns.exec(
+        EDSGEN,
+        &[
+            "ecat",
+            "scan",
+            "--iface",
+            "ecm",
+            "--esi",
+            "eds/ec-tx508.xml",
+            "--esi",
+            "codegen/tests/esi/drive.xml",
+        ],
+    );
+    command.current_dir(root());
+    let done = Process::start(&mut command).finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert_eq!(
+        done.stdout,
+        "0: 0x1000 vendor 0x000004d8 product 0x00009252 revision 0x00000001 \"EC-TX508\" \
+         = EC-TX508 (eds/ec-tx508.xml)\n"
+    );
 }
 
 /// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte

@@ -17,6 +17,8 @@ pub mod decode;
 pub mod demo;
 pub mod devices;
 pub mod dump;
+#[cfg(feature = "ethercrab")]
+pub mod ecat;
 pub mod generate;
 pub mod nmt;
 pub mod rules;
