@@ -10,7 +10,8 @@
 //!   ramping in the inputs as the outputs ask; then the simulator stopped by SIGTERM (exit 0) and
 //!   the MainDevice's next cycle failing: the SubDevice is gone.
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
-//! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches.
+//! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
+//!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
@@ -141,7 +142,8 @@ fn reassign(ns: &Namespace) {
     assert!(done.stdout.contains("images 6/23"), "{done:?}");
 }
 
-/// `edsgen ecat scan` finds the simulated EC-TX508 and names the ESI device it matches.
+/// `edsgen ecat scan` finds the simulated EC-TX508 and names the ESI device it matches;
+/// `edsgen ecat sdo` reads, writes and is refused.
 fn scan(ns: &Namespace) {
     let _sim = ns.simulator(&["--card", "ec-tx508"]);
     let mut command = ns.exec(
@@ -165,6 +167,28 @@ fn scan(ns: &Namespace) {
         "0: 0x1000 vendor 0x000004d8 product 0x00009252 revision 0x00000001 \"EC-TX508\" \
          = EC-TX508 (eds/ec-tx508.xml)\n"
     );
+    let ecat = |args: &[&str]| {
+        let mut command = ns.exec(EDSGEN, &[&["ecat", "sdo"][..], args].concat());
+        Process::start(&mut command).finish(Duration::from_secs(60))
+    };
+    let read = ecat(&["read", "--iface", "ecm", "1018:1"]);
+    assert_eq!(
+        (read.code, read.stdout.as_str()),
+        (Some(0), "1018h:01 = 0x000004d8 (1240)\n")
+    );
+    let write = ecat(&["write", "--iface", "ecm", "6060:0", "9", "--size", "1"]);
+    assert_eq!(
+        (write.code, write.stdout.as_str()),
+        (Some(0), "6060h:00 := 0x09\n")
+    );
+    let back = ecat(&["read", "--iface", "ecm", "6060:0", "--size", "1"]);
+    assert_eq!(
+        (back.code, back.stdout.as_str()),
+        (Some(0), "6060h:00 = 0x09 (9)\n")
+    );
+    let missing = ecat(&["read", "--iface", "ecm", "1234:0"]);
+    assert_eq!(missing.code, Some(1));
+    assert!(missing.stderr.contains("0x06020000"), "{missing:?}");
 }
 
 /// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte

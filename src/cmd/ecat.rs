@@ -1,7 +1,9 @@
 //! `edsgen ecat` (feature `ethercrab`): the bench side of EtherCAT, an ethercrab MainDevice on a
 //! network interface (root or CAP_NET_RAW). `ecat scan --iface IFACE [--esi FILE...]` lists the
 //! SubDevices: position, configured address, identity, the name from their SII, and the ESI
-//! device whose identity matches among the files given.
+//! device whose identity matches among the files given. `ecat sdo read|write --iface IFACE
+//! [--position N] INDEX:SUB [VALUE] --size 1|2|4|8`: one CoE SDO transfer of a little-endian
+//! number with the SubDevice in Pre-Op (exit 1 with the abort when the SubDevice refuses).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -32,6 +34,32 @@ enum EcatCommand {
         #[arg(long, value_name = "FILE")]
         esi: Vec<PathBuf>,
     },
+    /// Read or write one object by SDO (CoE).
+    Sdo {
+        /// `read` or `write`.
+        #[arg(value_enum)]
+        verb: SdoVerb,
+        /// The network interface of the EtherCAT segment.
+        #[arg(long, value_name = "IFACE")]
+        iface: String,
+        /// The SubDevice's position on the segment (0 first).
+        #[arg(long, default_value_t = 0)]
+        position: usize,
+        /// The entry, `INDEX:SUB` in hex (such as 1018:1).
+        address: String,
+        /// The value to write (decimal or 0x hex).
+        value: Option<String>,
+        /// The value's size in bytes.
+        #[arg(long, value_parser = ["1", "2", "4", "8"], default_value = "4")]
+        size: String,
+    },
+}
+
+/// What `ecat sdo` does.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum SdoVerb {
+    Read,
+    Write,
 }
 
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
@@ -39,7 +67,17 @@ static PDU_STORAGE: PduStorage<16, MAX_PDU_DATA> = PduStorage::new();
 
 /// Runs `edsgen ecat`.
 pub fn run(args: Args) -> ExitCode {
-    let EcatCommand::Scan { iface, esi } = args.command;
+    let (iface, esi) = match args.command {
+        EcatCommand::Scan { iface, esi } => (iface, esi),
+        EcatCommand::Sdo {
+            verb,
+            iface,
+            position,
+            address,
+            value,
+            size,
+        } => return sdo(verb, &iface, position, &address, value.as_deref(), &size),
+    };
     let mut described = Vec::new();
     for path in &esi {
         let bytes = match std::fs::read(path) {
@@ -65,6 +103,120 @@ pub fn run(args: Args) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(message) => fail(format!("{iface}: {message}")),
+    }
+}
+
+/// Runs `edsgen ecat sdo`.
+fn sdo(
+    verb: SdoVerb,
+    iface: &str,
+    position: usize,
+    address: &str,
+    value: Option<&str>,
+    size: &str,
+) -> ExitCode {
+    let entry = match super::parse_address(address) {
+        Ok(entry) => entry,
+        Err(message) => return fail(message),
+    };
+    let size: usize = size.parse().unwrap_or(4);
+    let value = match (verb, value) {
+        (SdoVerb::Read, None) => None,
+        (SdoVerb::Write, Some(text)) => {
+            let parsed = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+                Some(hex) => u64::from_str_radix(hex, 16),
+                None => text.parse::<u64>(),
+            };
+            match parsed {
+                Ok(v) if size == 8 || v < 1u64 << (8 * size) => Some(v),
+                _ => return fail(format!("`{text}` is not a number of {size} bytes")),
+            }
+        }
+        (SdoVerb::Read, Some(_)) => return fail("ecat sdo read takes no value"),
+        (SdoVerb::Write, None) => return fail("ecat sdo write needs a value"),
+    };
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+    };
+    let (index, sub) = (entry.index, entry.sub);
+    let result: Result<String, String> = runtime.block_on(async {
+        let (tx, rx, pdu_loop) = PDU_STORAGE
+            .try_split()
+            .map_err(|_| "the PDU storage is split once".to_owned())?;
+        let timeouts = Timeouts {
+            pdu: Duration::from_millis(500),
+            ..Timeouts::default()
+        };
+        let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
+        let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
+        tokio::spawn(task);
+        let group = maindevice
+            .init_single_group::<64, 4096>(ethercat_now)
+            .await
+            .map_err(|e| format!("discovery: {e}"))?;
+        let sub_device = group
+            .subdevice(&maindevice, position)
+            .map_err(|_| format!("no SubDevice at position {position}"))?;
+        let refused = |e: ethercrab::error::Error| format!("{index:04X}h:{sub:02X}: {e}");
+        match value {
+            None => {
+                let v = match size {
+                    1 => u64::from(
+                        sub_device
+                            .sdo_read::<u8>(index, sub)
+                            .await
+                            .map_err(refused)?,
+                    ),
+                    2 => u64::from(
+                        sub_device
+                            .sdo_read::<u16>(index, sub)
+                            .await
+                            .map_err(refused)?,
+                    ),
+                    8 => sub_device
+                        .sdo_read::<u64>(index, sub)
+                        .await
+                        .map_err(refused)?,
+                    _ => u64::from(
+                        sub_device
+                            .sdo_read::<u32>(index, sub)
+                            .await
+                            .map_err(refused)?,
+                    ),
+                };
+                Ok(format!(
+                    "{index:04X}h:{sub:02X} = {v:#0w$x} ({v})\n",
+                    w = 2 + 2 * size
+                ))
+            }
+            Some(v) => {
+                match size {
+                    1 => sub_device.sdo_write(index, sub, v as u8).await,
+                    2 => sub_device.sdo_write(index, sub, v as u16).await,
+                    8 => sub_device.sdo_write(index, sub, v).await,
+                    _ => sub_device.sdo_write(index, sub, v as u32).await,
+                }
+                .map_err(refused)?;
+                Ok(format!(
+                    "{index:04X}h:{sub:02X} := {v:#0w$x}\n",
+                    w = 2 + 2 * size
+                ))
+            }
+        }
+    });
+    match result {
+        Ok(text) => {
+            print_stdout(&text);
+            ExitCode::SUCCESS
+        }
+        Err(message) => {
+            eprintln!("error: {iface}: {message}");
+            ExitCode::from(1)
+        }
     }
 }
 
