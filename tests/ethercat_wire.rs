@@ -11,7 +11,8 @@
 //!   the MainDevice's next cycle failing: the SubDevice is gone.
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
 //! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
-//!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h.
+//!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h;
+//!   `edsgen ecat pdo` prints the inputs by name.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
@@ -189,6 +190,36 @@ fn scan(ns: &Namespace) {
     let missing = ecat(&["read", "--iface", "ecm", "1234:0"]);
     assert_eq!(missing.code, Some(1));
     assert!(missing.stderr.contains("0x06020000"), "{missing:?}");
+    let mut command = ns.exec(
+        EDSGEN,
+        &[
+            "ecat",
+            "pdo",
+            "--iface",
+            "ecm",
+            "--esi",
+            "eds/ec-tx508.xml",
+            "--cycles",
+            "2",
+        ],
+    );
+    command.current_dir(root());
+    let pdo = Process::start(&mut command).finish(Duration::from_secs(60));
+    assert_eq!(pdo.code, Some(0), "{pdo:?}");
+    let lines: Vec<&str> = pdo.stdout.lines().collect();
+    assert_eq!(lines.len(), 2, "{pdo:?}");
+    for (n, line) in lines.iter().enumerate() {
+        assert!(
+            line.starts_with(&format!(
+                "{n}: Status word=1616, Position actual value=0, Actual speed=0, "
+            )),
+            "{line}"
+        );
+        assert!(
+            line.ends_with(", Probe status=0, Probe position rising edge=0"),
+            "{line}"
+        );
+    }
 }
 
 /// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte

@@ -4,6 +4,8 @@
 //! device whose identity matches among the files given. `ecat sdo read|write --iface IFACE
 //! [--position N] INDEX:SUB [VALUE] --size 1|2|4|8`: one CoE SDO transfer of a little-endian
 //! number with the SubDevice in Pre-Op (exit 1 with the abort when the SubDevice refuses).
+//! `ecat pdo --iface IFACE --esi FILE [--cycles N]`: the SubDevice brought to Op, its inputs
+//! printed by name (the ESI's default TxPDO entries) every 1 ms cycle until Ctrl-C or N cycles.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -53,6 +55,25 @@ enum EcatCommand {
         #[arg(long, value_parser = ["1", "2", "4", "8"], default_value = "4")]
         size: String,
     },
+    /// Bring the SubDevice to Op and print its inputs by name (the ESI's default TxPDOs), one
+    /// line per cycle, until Ctrl-C or `--cycles`.
+    Pdo {
+        /// The network interface of the EtherCAT segment.
+        #[arg(long, value_name = "IFACE")]
+        iface: String,
+        /// The ESI file of the SubDevice.
+        #[arg(long, value_name = "FILE")]
+        esi: PathBuf,
+        /// The device of an ESI file with several (type name or `#x` product code).
+        #[arg(long, value_name = "NAME|#xCODE")]
+        device: Option<String>,
+        /// The SubDevice's position on the segment (0 first).
+        #[arg(long, default_value_t = 0)]
+        position: usize,
+        /// Stop after this many cycles (1 ms each).
+        #[arg(long)]
+        cycles: Option<u64>,
+    },
 }
 
 /// What `ecat sdo` does.
@@ -77,6 +98,13 @@ pub fn run(args: Args) -> ExitCode {
             value,
             size,
         } => return sdo(verb, &iface, position, &address, value.as_deref(), &size),
+        EcatCommand::Pdo {
+            iface,
+            esi,
+            device,
+            position,
+            cycles,
+        } => return pdo(&iface, &esi, device.as_deref(), position, cycles),
     };
     let mut described = Vec::new();
     for path in &esi {
@@ -218,6 +246,123 @@ fn sdo(
             ExitCode::from(1)
         }
     }
+}
+
+/// Runs `edsgen ecat pdo`.
+fn pdo(
+    iface: &str,
+    esi: &std::path::Path,
+    device: Option<&str>,
+    position: usize,
+    cycles: Option<u64>,
+) -> ExitCode {
+    let read = match edsgen_codegen::read::read_file_device(esi, device) {
+        Ok(read) => read,
+        Err(err) => return fail(err),
+    };
+    let Some(ec) = read
+        .device
+        .ethercat
+        .as_ref()
+        .filter(|_| !read.nothing_read())
+    else {
+        return fail(format!("{}: not an ESI device", esi.display()));
+    };
+    // (name, bit length, signed) of each entry of the default TxPDOs, in image order.
+    let entries: Vec<(String, u16, bool)> = ec
+        .tx_pdos
+        .iter()
+        .filter(|p| p.sm.is_some())
+        .flat_map(|p| &p.entries)
+        .map(|e| {
+            let signed = matches!(
+                e.data_type.as_deref(),
+                Some("SINT" | "INT" | "DINT" | "LINT")
+            );
+            (e.name.clone(), e.bit_len, signed)
+        })
+        .collect();
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = std::sync::Arc::clone(&stop);
+    let _ = ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::Relaxed));
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+    };
+    let result: Result<(), String> = runtime.block_on(async {
+        let (tx, rx, pdu_loop) = PDU_STORAGE
+            .try_split()
+            .map_err(|_| "the PDU storage is split once".to_owned())?;
+        let timeouts = Timeouts {
+            pdu: Duration::from_millis(500),
+            ..Timeouts::default()
+        };
+        let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
+        let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
+        tokio::spawn(task);
+        let group = maindevice
+            .init_single_group::<64, 4096>(ethercat_now)
+            .await
+            .map_err(|e| format!("discovery: {e}"))?
+            .into_op(&maindevice)
+            .await
+            .map_err(|e| format!("to Op: {e}"))?;
+        let sub_device = group
+            .subdevice(&maindevice, position)
+            .map_err(|_| format!("no SubDevice at position {position}"))?;
+        let mut cycle = 0u64;
+        while !stop.load(std::sync::atomic::Ordering::Relaxed) && cycles.is_none_or(|n| cycle < n) {
+            group
+                .tx_rx(&maindevice)
+                .await
+                .map_err(|e| format!("cycle {cycle}: {e}"))?;
+            let line = inputs_line(&sub_device.inputs_raw(), &entries);
+            print_stdout(&format!("{cycle}: {line}\n"));
+            cycle += 1;
+            tokio::time::sleep(Duration::from_millis(1)).await;
+        }
+        Ok(())
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {iface}: {message}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// The inputs image as `name=value` pairs, little-endian, bit by bit.
+fn inputs_line(image: &[u8], entries: &[(String, u16, bool)]) -> String {
+    let mut at = 0usize;
+    let mut parts = Vec::new();
+    for (name, bits, signed) in entries {
+        let bits = usize::from(*bits).min(64);
+        let mut value = 0u64;
+        for bit in 0..bits {
+            let source = at + bit;
+            if image
+                .get(source / 8)
+                .is_some_and(|b| b >> (source % 8) & 1 != 0)
+            {
+                value |= 1 << bit;
+            }
+        }
+        at += bits;
+        if name.is_empty() {
+            continue;
+        }
+        let shown = if *signed && bits > 0 && bits < 64 && value >> (bits - 1) & 1 != 0 {
+            format!("{}", value as i64 - (1i64 << bits))
+        } else {
+            format!("{value}")
+        };
+        parts.push(format!("{name}={shown}"));
+    }
+    parts.join(", ")
 }
 
 async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, String> {
