@@ -1,7 +1,7 @@
 //! The EC-TX508 card as a SubDevice [`Behaviour`]: each cycle its default process images
 //! (RxPDO 1600h in, TxPDO 1A00h out, as the ESI assigns them) are taken from and put back into
 //! the dictionary's mapped objects around one cycle of the card's CiA 402 drive
-//! ([`EcTx508`](crate::drives::ec_tx508::EcTx508)). A master that reassigns PDOs still reaches
+//! ([`crate::drives::ec_tx508::EcTx508`]). A master that reassigns PDOs still reaches
 //! the same objects; the drive sees them as the default images lay them out.
 
 use edsgen_codegen::model::Device;

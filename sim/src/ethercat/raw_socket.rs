@@ -1,7 +1,7 @@
 //! A raw Linux `AF_PACKET` socket on one network interface, for EtherCAT frames (EtherType
 //! 0x88A4): the thin I/O under the sans-IO [`SubDevice`](super::SubDevice).
 //!
-//! The one piece of `unsafe` in this crate is here, in [`bind`]: binding a packet socket to an
+//! The one piece of `unsafe` in this crate is here, in `bind`: binding a packet socket to an
 //! interface takes a `sockaddr_ll`, which neither `socket2` nor `nix` can build without `unsafe`
 //! (their link-layer address types have no public constructor). Everything else (creating the
 //! socket, reading, writing, the read timeout) goes through `socket2`'s safe API, and the
