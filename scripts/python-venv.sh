@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Creates (or checks) the project's Python venv at the workspace root, with the pinned versions of
-# python `canopen` and `python-can` (and the EtherNet/IP peers `cpppo` and `ethernetip`) that the
-# differential and interoperability tests compare against. Idempotent: installs only what is missing or at another version. Prints the python path.
+# python `canopen` and `python-can`, and of the other buses' peers (EtherNet/IP `cpppo` and
+# `ethernetip`, PROFINET `pnio-dcp` and `profinet-py`, PROFIBUS `pyprofibus`, EtherCAT `pysoem`),
+# that the differential and interoperability tests compare against. Idempotent: installs only
+# what is missing or at another version. Prints the python path.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 venv="$root/.venv"
@@ -12,7 +14,7 @@ if [ ! -x "$python" ]; then
 fi
 
 wanted=("canopen==2.4.1" "python-can==4.6.1" "cpppo==5.2.5" "ethernetip==1.2.0" "pnio-dcp==1.2.0"
-        "profinet-py==0.6.6" "pyprofibus==1.13" "pyserial==3.5")
+        "profinet-py==0.6.6" "pyprofibus==1.13" "pyserial==3.5" "pysoem==1.1.13")
 missing=()
 for requirement in "${wanted[@]}"; do
     name="${requirement%%==*}"

@@ -71,6 +71,17 @@ enum Command {
         /// The ESI file.
         file: PathBuf,
     },
+    /// Write the SII (EEPROM) image of an ESI device (ETG.2010), as `simulate --ethercat` serves it.
+    Sii {
+        /// The ESI file.
+        file: PathBuf,
+        /// The device of a file with several: its type name or `#x` product code.
+        #[arg(long, value_name = "NAME|#xCODE")]
+        device: Option<String>,
+        /// Where to write the image.
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+    },
     /// Generate the Rust module build.rs would produce for one device.
     Generate {
         /// The description file.
@@ -136,6 +147,9 @@ enum Command {
     /// A PROFIBUS-DP master at the bench (profirust): scan a serial line.
     #[command(subcommand)]
     Dp(cmd::dp::Command),
+    /// EtherCAT bench side over ethercrab: `ecat scan --iface IFACE [--esi FILE...]`.
+    #[cfg(feature = "ethercrab")]
+    Ecat(cmd::ecat::Args),
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
@@ -227,6 +241,11 @@ fn main() -> ExitCode {
             module.as_deref(),
             device.as_deref(),
         ),
+        Command::Sii {
+            file,
+            device,
+            output,
+        } => cmd::sii::run(&file, device.as_deref(), &output),
         Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
         Command::Explain { code } => cmd::rules::explain(&code),
         Command::Sdo { command } => cmd::sdo::run(&command),
@@ -234,6 +253,8 @@ fn main() -> ExitCode {
         Command::Scan { bus } => cmd::scan::run(&bus),
         Command::Check(args) => cmd::check::run(&args),
         Command::Bus(args) => cmd::bus::run(&args),
+        #[cfg(feature = "ethercrab")]
+        Command::Ecat(args) => cmd::ecat::run(args),
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Enip(args) => cmd::enip::run(args),
         Command::Pn { command } => cmd::pn::run(&command),

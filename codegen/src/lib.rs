@@ -16,6 +16,7 @@ pub mod overlay;
 pub mod read;
 pub mod render;
 pub mod rules;
+pub mod sii;
 pub mod validate;
 
 pub mod builder;

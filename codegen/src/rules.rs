@@ -215,6 +215,7 @@ rules! {
     ESI_ALT_PDO_MISSING = "EDS815" Error "an AlternativeSmMapping assigns a PDO the device does not have";
     ESI_ALT_SM_OVERFLOW = "EDS816" Error "the PDOs an AlternativeSmMapping assigns to a SyncManager hold more bytes than its DefaultSize";
     ESI_ALT_EXCLUDE_CONFLICT = "EDS817" Error "an AlternativeSmMapping assigns two PDOs that exclude each other";
+    SII_IMAGE = "EDS818" Error "an SII (EEPROM) image `.bin`/`.sii` that is shorter than its header, whose configuration-area CRC does not match, or whose categories run past its end or have no end marker";
 
     // ---- GSD0xx: PROFIBUS-DP GSD files (reader and validator) ----
     GSD_NOT_GSD = "GSD001" Error "no `#Profibus_DP` line: not a GSD file (read as one all the same)";

@@ -88,6 +88,13 @@ pub struct Args {
     /// or one FILE.gsd[@ADDR]; see `simulate_dp`).
     #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
     profibus: Option<String>,
+    /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network
+    /// interface instead (root or CAP_NET_RAW).
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan", "trace", "node_id"])]
+    ethercat: Option<String>,
+    /// With --ethercat: the device of an ESI file with several (type name or `#x` product code).
+    #[arg(long, value_name = "NAME|#xCODE", requires = "ethercat")]
+    device: Option<String>,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -109,6 +116,14 @@ pub fn run(args: Args) -> ExitCode {
     }
     if let Some(tty) = &args.profibus {
         return super::simulate_dp::run(tty, &args.files, &args.cards);
+    }
+    if let Some(iface) = &args.ethercat {
+        return super::simulate_ethercat::run(
+            iface,
+            &args.files,
+            &args.cards,
+            args.device.as_deref(),
+        );
     }
     let planned = match plan(&args) {
         Ok(planned) => planned,

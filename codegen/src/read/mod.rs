@@ -15,6 +15,7 @@ pub mod gsd;
 pub mod gsdml;
 pub mod ini;
 pub mod odva;
+pub mod sii;
 pub mod text;
 pub mod value;
 pub mod xdd;
@@ -53,6 +54,8 @@ impl Read {
             ]
             .iter()
             .any(|rule| std::ptr::eq(d.rule, *rule))
+                // An SII image too short to hold its header.
+                || (std::ptr::eq(d.rule, &rules::SII_IMAGE) && self.device.ethercat.is_none())
         })
     }
 }
@@ -88,6 +91,9 @@ pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
 
 /// [`read_bytes`] with a device choice, as [`read_file_device`].
 pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Read {
+    if sii::is_sii_path(path) {
+        return sii::read(path, bytes);
+    }
     if let Some(read) = not_a_description(path, bytes) {
         return read;
     }

@@ -1,0 +1,466 @@
+//! A SubDevice's application built from an ESI device: its CoE dictionary as a
+//! [`RuntimeDictionary`] (the one `edsgen simulate` serves for EDS files) answering SDO in the
+//! mailbox, its SII image ([`edsgen_codegen::sii`]), its SyncManager layout, and its process
+//! images laid out by the PDO assignment in force: 1C12h/1C13h (1C10h + SyncManager) and the
+//! mapping objects when the dictionary has them, else the ESI's default `Sm` assignment and
+//! `Entry` lists. Outputs from the master are written into the mapped objects in Op; inputs are
+//! read from the mapped objects. A [`Behaviour`] (a card's drive) runs each cycle on the
+//! dictionary.
+//!
+//! Write rules: 1C10h–1C2Fh only in Pre-Op and only when the ESI's `PdoAssign` allows, and
+//! only with PDO indices the device has (1600h–17FFh for outputs, 1A00h–1BFFh for inputs); the
+//! mapping objects only in Pre-Op, only when `PdoConfig` allows and the PDO is not `Fixed`, and
+//! only with objects the dictionary has and may map (0 for padding). Otherwise 0800 0022
+//! (device state), 0601 0002 (read only), 0609 0030 (invalid value) or 0604 0041 (not mappable).
+
+use std::collections::HashSet;
+
+use edsgen_codegen::model::{Device, EcPdo, SmKind};
+use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
+
+use super::coe::SdoServer;
+use super::mailbox::{self, SERVICE_SDO_REQUEST, SERVICE_SDO_RESPONSE, TYPE_COE};
+use super::{AlState, Application, Layout, SubDevice};
+use crate::canopen::RuntimeDictionary;
+
+/// What runs on the dictionary each cycle, as a device's firmware does behind its objects.
+pub trait Behaviour: std::fmt::Debug + Send {
+    /// One cycle at `now` (the outputs of the last cycle are in the mapped objects).
+    fn cycle(&mut self, now: Instant, od: &mut RuntimeDictionary);
+}
+
+/// One mapped entry: index (0 for padding), sub-index, bit length.
+pub type Mapped = (u16, u8, u16);
+
+/// The application of an ESI device (see the module comment).
+#[derive(Debug)]
+pub struct EsiDevice {
+    od: RuntimeDictionary,
+    sdo: SdoServer,
+    rx_pdos: Vec<EcPdo>,
+    tx_pdos: Vec<EcPdo>,
+    outputs_sm: Option<u8>,
+    inputs_sm: Option<u8>,
+    mailbox_in: usize,
+    rules: Rules,
+    behaviour: Option<Box<dyn Behaviour>>,
+}
+
+/// What the write rules need (see the module comment).
+#[derive(Debug)]
+struct Rules {
+    state: AlState,
+    pdo_assign: bool,
+    pdo_config: bool,
+    outputs_sm: Option<u8>,
+    /// PDOs the device has: the ESI's and the dictionary's mapping objects.
+    pdos: HashSet<u16>,
+    fixed: HashSet<u16>,
+    mappable: HashSet<(u16, u8)>,
+}
+
+impl EsiDevice {
+    /// The application of `device` (an ESI model), with an optional behaviour.
+    pub fn new(device: &Device, behaviour: Option<Box<dyn Behaviour>>) -> Result<Self, String> {
+        let ec = device
+            .ethercat
+            .as_ref()
+            .ok_or("not an EtherCAT device: the simulator serves ESI files")?;
+        let od = RuntimeDictionary::new(device, 0);
+        let position = |kind: SmKind| {
+            ec.sync_managers
+                .iter()
+                .position(|sm| sm.kind == kind)
+                .and_then(|n| u8::try_from(n).ok())
+        };
+        let mappable = od
+            .entries()
+            .iter()
+            .filter(|e| e.pdo_mappable)
+            .map(|e| (e.index, e.sub))
+            .collect();
+        let layout = layout(device);
+        let esi_pdos = || ec.rx_pdos.iter().chain(&ec.tx_pdos);
+        let pdos = esi_pdos()
+            .map(|p| p.index)
+            .chain(
+                od.entries()
+                    .iter()
+                    .map(|e| e.index)
+                    .filter(|i| matches!(i, 0x1600..=0x17FF | 0x1A00..=0x1BFF)),
+            )
+            .collect();
+        let rules = Rules {
+            state: AlState::Init,
+            pdo_assign: ec.coe.as_ref().is_some_and(|c| c.pdo_assign),
+            pdo_config: ec.coe.as_ref().is_some_and(|c| c.pdo_config),
+            outputs_sm: position(SmKind::Outputs),
+            pdos,
+            fixed: esi_pdos().filter(|p| p.fixed).map(|p| p.index).collect(),
+            mappable,
+        };
+        let mut od = od;
+        seed_defaults(
+            &mut od,
+            ec,
+            position(SmKind::Outputs),
+            position(SmKind::Inputs),
+        );
+        Ok(EsiDevice {
+            od,
+            sdo: SdoServer::default(),
+            rx_pdos: ec.rx_pdos.clone(),
+            tx_pdos: ec.tx_pdos.clone(),
+            outputs_sm: position(SmKind::Outputs),
+            inputs_sm: position(SmKind::Inputs),
+            mailbox_in: layout.mailbox_in.map_or(0, |m| usize::from(m.2)),
+            rules,
+            behaviour,
+        })
+    }
+
+    /// The SubDevice serving `device`: its SII image, layout and this application.
+    pub fn subdevice(
+        device: &Device,
+        behaviour: Option<Box<dyn Behaviour>>,
+    ) -> Result<SubDevice<EsiDevice>, String> {
+        let sii = edsgen_codegen::sii::build(device)?;
+        let app = EsiDevice::new(device, behaviour)?;
+        Ok(SubDevice::new(sii, layout(device), app))
+    }
+
+    /// The dictionary.
+    pub fn dictionary(&self) -> &RuntimeDictionary {
+        &self.od
+    }
+
+    /// The dictionary, to change values as the device's firmware would.
+    pub fn dictionary_mut(&mut self) -> &mut RuntimeDictionary {
+        &mut self.od
+    }
+
+    /// The PDOs assigned to SyncManager `sm` now.
+    pub fn assigned(&self, sm: u8, outputs: bool) -> Vec<u16> {
+        let assign = 0x1C10 + u16::from(sm);
+        if let Some(n) = u8_value(&self.od, assign, 0) {
+            return (1..=n)
+                .filter_map(|s| {
+                    let mut b = [0u8; 2];
+                    self.od.read(assign, s, 0, &mut b).ok()?;
+                    Some(u16::from_le_bytes(b))
+                })
+                .collect();
+        }
+        let pdos = if outputs {
+            &self.rx_pdos
+        } else {
+            &self.tx_pdos
+        };
+        pdos.iter()
+            .filter(|p| p.sm == Some(sm))
+            .map(|p| p.index)
+            .collect()
+    }
+
+    /// The entries a PDO maps now: its mapping object's, else the ESI's.
+    pub fn mapping(&self, pdo: u16) -> Vec<Mapped> {
+        if let Some(n) = u8_value(&self.od, pdo, 0) {
+            return (1..=n)
+                .filter_map(|s| {
+                    let mut b = [0u8; 4];
+                    self.od.read(pdo, s, 0, &mut b).ok()?;
+                    let v = u32::from_le_bytes(b);
+                    Some(((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as u16))
+                })
+                .collect();
+        }
+        self.rx_pdos
+            .iter()
+            .chain(&self.tx_pdos)
+            .find(|p| p.index == pdo)
+            .map(|p| {
+                p.entries
+                    .iter()
+                    .map(|e| (e.index, e.sub, e.bit_len))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    /// The outputs (`true`) or inputs image's entries, in order.
+    pub fn image(&self, outputs: bool) -> Vec<Mapped> {
+        let sm = if outputs {
+            self.outputs_sm
+        } else {
+            self.inputs_sm
+        };
+        sm.map(|sm| {
+            self.assigned(sm, outputs)
+                .into_iter()
+                .flat_map(|pdo| self.mapping(pdo))
+                .collect()
+        })
+        .unwrap_or_default()
+    }
+}
+
+impl Rules {
+    /// Whether a write of `data` to `index`:`sub` is allowed now.
+    fn check(&self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        let value = |n: usize| {
+            let mut b = [0u8; 4];
+            b[..n.min(data.len())].copy_from_slice(&data[..n.min(data.len())]);
+            u32::from_le_bytes(b)
+        };
+        match index {
+            0x1C10..=0x1C2F => {
+                if self.state != AlState::PreOp {
+                    return Err(SdoAbort::DeviceState);
+                }
+                if !self.pdo_assign {
+                    return Err(SdoAbort::ReadOnly);
+                }
+                if sub > 0 {
+                    let pdo = value(2) as u16;
+                    let range = if Some((index - 0x1C10) as u8) == self.outputs_sm {
+                        0x1600..=0x17FF
+                    } else {
+                        0x1A00..=0x1BFF
+                    };
+                    if !range.contains(&pdo) || !self.pdos.contains(&pdo) {
+                        return Err(SdoAbort::InvalidValue);
+                    }
+                }
+                Ok(())
+            }
+            0x1600..=0x17FF | 0x1A00..=0x1BFF => {
+                if self.state != AlState::PreOp {
+                    return Err(SdoAbort::DeviceState);
+                }
+                if !self.pdo_config || self.fixed.contains(&index) {
+                    return Err(SdoAbort::ReadOnly);
+                }
+                if sub > 0 {
+                    let v = value(4);
+                    let (i, s) = ((v >> 16) as u16, (v >> 8) as u8);
+                    if i != 0 && !self.mappable.contains(&(i, s)) {
+                        return Err(SdoAbort::NotMappable);
+                    }
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Fills assignment (1C1xh) and mapping objects the dictionary has but leaves empty (sub-index
+/// 0 is 0, or every entry 0) from the ESI's default assignment (`Sm`) and `Entry` lists, as the
+/// device's firmware would at power-up; where sub-index 0 counts entries that are 0 (a "max
+/// sub-index" default with a zero-terminated list), it is cut to the entries before the first
+/// 0. Values the dictionary refuses are left as they are.
+fn seed_defaults(
+    od: &mut RuntimeDictionary,
+    ec: &edsgen_codegen::model::EtherCat,
+    outputs_sm: Option<u8>,
+    inputs_sm: Option<u8>,
+) {
+    let empty = |od: &RuntimeDictionary, index: u16, width: usize| {
+        let Some(n) = u8_value(od, index, 0) else {
+            return false;
+        };
+        (1..=n).all(|s| {
+            let mut b = vec![0u8; width];
+            od.read(index, s, 0, &mut b).is_err() || b.iter().all(|&x| x == 0)
+        })
+    };
+    let fill = |od: &mut RuntimeDictionary, index: u16, values: &[Vec<u8>]| {
+        let _ = od.write(index, 0, &[0]);
+        for (s, value) in values.iter().enumerate() {
+            let _ = od.write(index, s as u8 + 1, value);
+        }
+        let _ = od.write(index, 0, &[values.len() as u8]);
+    };
+    let compact = |od: &mut RuntimeDictionary, index: u16, width: usize| {
+        let Some(n) = u8_value(od, index, 0) else {
+            return;
+        };
+        let used = (1..=n)
+            .take_while(|&s| {
+                let mut b = vec![0u8; width];
+                od.read(index, s, 0, &mut b).is_ok() && b.iter().any(|&x| x != 0)
+            })
+            .count();
+        if used > 0 && used < usize::from(n) {
+            let _ = od.write(index, 0, &[used as u8]);
+        }
+    };
+    for (sm, pdos) in [(outputs_sm, &ec.rx_pdos), (inputs_sm, &ec.tx_pdos)] {
+        let Some(sm) = sm else { continue };
+        compact(od, 0x1C10 + u16::from(sm), 2);
+        let index = 0x1C10 + u16::from(sm);
+        let assigned: Vec<Vec<u8>> = pdos
+            .iter()
+            .filter(|p| p.sm == Some(sm))
+            .map(|p| p.index.to_le_bytes().to_vec())
+            .collect();
+        if !assigned.is_empty() && empty(od, index, 2) {
+            fill(od, index, &assigned);
+        }
+    }
+    for pdo in ec.rx_pdos.iter().chain(&ec.tx_pdos) {
+        compact(od, pdo.index, 4);
+        if !pdo.entries.is_empty() && empty(od, pdo.index, 4) {
+            let entries: Vec<Vec<u8>> = pdo
+                .entries
+                .iter()
+                .map(|e| {
+                    let v = u32::from(e.index) << 16
+                        | u32::from(e.sub) << 8
+                        | u32::from(e.bit_len & 0xFF);
+                    v.to_le_bytes().to_vec()
+                })
+                .collect();
+            fill(od, pdo.index, &entries);
+        }
+    }
+}
+
+/// The SyncManager layout an ESI device expects.
+pub fn layout(device: &Device) -> Layout {
+    let Some(ec) = &device.ethercat else {
+        return Layout {
+            mailbox_out: None,
+            mailbox_in: None,
+            outputs: None,
+            inputs: None,
+        };
+    };
+    let find = |kind: SmKind| ec.sync_managers.iter().position(|sm| sm.kind == kind);
+    let mailbox = |kind: SmKind| {
+        let n = find(kind)?;
+        let sm = &ec.sync_managers[n];
+        Some((
+            n,
+            sm.start_address,
+            sm.default_size
+                .unwrap_or(edsgen_codegen::sii::DEFAULT_MAILBOX_SIZE),
+        ))
+    };
+    let (out, inp) = (mailbox(SmKind::MailboxOut), mailbox(SmKind::MailboxIn));
+    let both = out.is_some() && inp.is_some();
+    Layout {
+        mailbox_out: out.filter(|_| both),
+        mailbox_in: inp.filter(|_| both),
+        outputs: find(SmKind::Outputs),
+        inputs: find(SmKind::Inputs),
+    }
+}
+
+/// A one-byte entry's value (sub-index 0 of an array or record), if the entry exists.
+fn u8_value(od: &RuntimeDictionary, index: u16, sub: u8) -> Option<u8> {
+    let mut b = [0u8; 1];
+    (od.value_len(index, sub).ok()? == 1).then_some(())?;
+    od.read(index, sub, 0, &mut b).ok()?;
+    Some(b[0])
+}
+
+/// The image of `entries` from the dictionary, bit by bit (LSB first).
+pub fn pack(od: &RuntimeDictionary, entries: &[Mapped]) -> Vec<u8> {
+    let bits: usize = entries.iter().map(|e| usize::from(e.2)).sum();
+    let mut image = vec![0u8; bits.div_ceil(8)];
+    let mut at = 0;
+    for &(index, sub, len) in entries {
+        let mut value = vec![0u8; usize::from(len).div_ceil(8)];
+        if index != 0 {
+            let _ = od.read(index, sub, 0, &mut value);
+        }
+        for bit in 0..usize::from(len) {
+            if value[bit / 8] >> (bit % 8) & 1 != 0 {
+                image[(at + bit) / 8] |= 1 << ((at + bit) % 8);
+            }
+        }
+        at += usize::from(len);
+    }
+    image
+}
+
+/// Writes `image` into the dictionary's entries as `entries` lay it out (a value the
+/// dictionary refuses is left as it was).
+pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
+    let mut at = 0;
+    for &(index, sub, len) in entries {
+        let mut value = vec![0u8; usize::from(len).div_ceil(8)];
+        for bit in 0..usize::from(len) {
+            let source = at + bit;
+            if image
+                .get(source / 8)
+                .is_some_and(|b| b >> (source % 8) & 1 != 0)
+            {
+                value[bit / 8] |= 1 << (bit % 8);
+            }
+        }
+        if index != 0 {
+            let _ = od.write(index, sub, &value);
+        }
+        at += usize::from(len);
+    }
+}
+
+impl Application for EsiDevice {
+    fn mailbox(&mut self, _state: AlState, request: &[u8]) -> Vec<Vec<u8>> {
+        let Some(message) = mailbox::parse(request) else {
+            return Vec::new();
+        };
+        if message.kind != TYPE_COE {
+            return vec![mailbox::error_reply(
+                message.counter,
+                mailbox::ERROR_UNSUPPORTED_PROTOCOL,
+            )];
+        }
+        let Some((SERVICE_SDO_REQUEST, body)) = mailbox::coe(message.data) else {
+            return Vec::new();
+        };
+        let rules = &self.rules;
+        let guard = |index: u16, sub: u8, data: &[u8]| rules.check(index, sub, data);
+        let answer = self
+            .sdo
+            .request(&mut self.od, &guard, self.mailbox_in, body);
+        answer
+            .map(|body| {
+                mailbox::emit(
+                    TYPE_COE,
+                    message.counter,
+                    &mailbox::coe_message(SERVICE_SDO_RESPONSE, &body),
+                )
+            })
+            .into_iter()
+            .collect()
+    }
+
+    fn image_sizes(&self) -> (usize, usize) {
+        let bytes = |e: Vec<Mapped>| {
+            e.iter()
+                .map(|e| usize::from(e.2))
+                .sum::<usize>()
+                .div_ceil(8)
+        };
+        (bytes(self.image(true)), bytes(self.image(false)))
+    }
+
+    fn outputs(&mut self, _now: Instant, outputs: &[u8]) {
+        let entries = self.image(true);
+        unpack(&mut self.od, &entries, outputs);
+    }
+
+    fn inputs(&mut self, now: Instant) -> Vec<u8> {
+        if let Some(behaviour) = self.behaviour.as_mut() {
+            behaviour.cycle(now, &mut self.od);
+        }
+        pack(&self.od, &self.image(false))
+    }
+
+    fn state_changed(&mut self, _now: Instant, _from: AlState, to: AlState) {
+        self.rules.state = to;
+    }
+}

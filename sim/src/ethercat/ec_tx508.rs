@@ -1,0 +1,57 @@
+//! The EC-TX508 card as a SubDevice [`Behaviour`]: each cycle its default process images
+//! (RxPDO 1600h in, TxPDO 1A00h out, as the ESI assigns them) are taken from and put back into
+//! the dictionary's mapped objects around one cycle of the card's CiA 402 drive
+//! ([`crate::drives::ec_tx508::EcTx508`]). A master that reassigns PDOs still reaches
+//! the same objects; the drive sees them as the default images lay them out.
+
+use edsgen_codegen::model::Device;
+use edsgen_runtime::Instant;
+
+use super::device::{pack, unpack, Behaviour, Mapped};
+use crate::canopen::RuntimeDictionary;
+use crate::drives::ec_tx508::EcTx508;
+
+/// The card's drive behind its dictionary.
+#[derive(Debug)]
+pub struct EcTx508Behaviour {
+    card: EcTx508,
+    outputs: Vec<Mapped>,
+    inputs: Vec<Mapped>,
+}
+
+impl EcTx508Behaviour {
+    /// The card powered up at `now`, its images laid out by `device`'s (the EC-TX508's ESI)
+    /// default PDO assignment.
+    pub fn new(device: &Device, now: Instant) -> Self {
+        let default = |pdos: &[edsgen_codegen::model::EcPdo]| -> Vec<Mapped> {
+            pdos.iter()
+                .filter(|p| p.sm.is_some())
+                .flat_map(|p| p.entries.iter().map(|e| (e.index, e.sub, e.bit_len)))
+                .collect()
+        };
+        let (outputs, inputs) = device
+            .ethercat
+            .as_ref()
+            .map(|ec| (default(&ec.rx_pdos), default(&ec.tx_pdos)))
+            .unwrap_or_default();
+        EcTx508Behaviour {
+            card: EcTx508::new(now),
+            outputs,
+            inputs,
+        }
+    }
+
+    /// The card, to look at its drive.
+    pub fn card(&self) -> &EcTx508 {
+        &self.card
+    }
+}
+
+impl Behaviour for EcTx508Behaviour {
+    fn cycle(&mut self, now: Instant, od: &mut RuntimeDictionary) {
+        let outputs = pack(od, &self.outputs);
+        if let Ok(inputs) = self.card.cycle(now, &outputs) {
+            unpack(od, &self.inputs, &inputs);
+        }
+    }
+}

@@ -1,0 +1,559 @@
+//! The EtherCAT SubDevice Controller (ESC) as a master sees it: the 64 KiB register and process
+//! memory, and what one datagram does to it (ETG.1000.4 §5.4, ETG.1000.3): physical reads and
+//! writes by position, station address (or alias) and broadcast, logical ones through the FMMUs,
+//! the working-counter rules, read-only registers, the SII (EEPROM) interface at 0x0500, and the
+//! SyncManagers' mailbox full/empty states and repeat toggle.
+//!
+//! What the device's application does (the AL state machine, the mailbox protocols, the process
+//! data) is not here: the ESC reports [`Event`]s, and the SubDevice answers them between
+//! datagrams, as an ESC's PDI would.
+//!
+//! Choices: 8 FMMUs, 8 SyncManagers, process memory 0x1000–0xFFFF, two MII ports (port 0 the
+//! link, port 1 closed), SII reads of 8 bytes; the ESC type, revision and build read 0 (not a
+//! real chip's); distributed clocks are declared unsupported (0x0008 bit 2 clear), and the DC
+//! registers are plain memory. Reading a mailbox SyncManager that is empty, or writing one that
+//! is full, is refused as the ESC refuses it (no working counter).
+
+use super::frame::{Command, Header};
+
+/// Number of FMMUs.
+pub const FMMUS: usize = 8;
+/// Number of SyncManagers.
+pub const SYNC_MANAGERS: usize = 8;
+
+/// Register addresses.
+pub mod reg {
+    /// ESC type (u8).
+    pub const TYPE: u16 = 0x0000;
+    /// FMMUs supported (u8).
+    pub const FMMU_COUNT: u16 = 0x0004;
+    /// SyncManagers supported (u8).
+    pub const SM_COUNT: u16 = 0x0005;
+    /// RAM size in KiB (u8).
+    pub const RAM_SIZE: u16 = 0x0006;
+    /// Port descriptor (u8).
+    pub const PORT_DESCRIPTOR: u16 = 0x0007;
+    /// ESC features supported (u16).
+    pub const FEATURES: u16 = 0x0008;
+    /// Configured station address (u16).
+    pub const STATION_ADDRESS: u16 = 0x0010;
+    /// Configured station alias (u16).
+    pub const STATION_ALIAS: u16 = 0x0012;
+    /// DL control (u32); bit 24 enables the alias.
+    pub const DL_CONTROL: u16 = 0x0100;
+    /// DL status (u16).
+    pub const DL_STATUS: u16 = 0x0110;
+    /// AL control (u16).
+    pub const AL_CONTROL: u16 = 0x0120;
+    /// AL status (u16).
+    pub const AL_STATUS: u16 = 0x0130;
+    /// AL status code (u16).
+    pub const AL_STATUS_CODE: u16 = 0x0134;
+    /// PDI control (u8).
+    pub const PDI_CONTROL: u16 = 0x0140;
+    /// Watchdog divider (u16).
+    pub const WATCHDOG_DIVIDER: u16 = 0x0400;
+    /// Process-data watchdog time (u16).
+    pub const WATCHDOG_TIME_PD: u16 = 0x0420;
+    /// Process-data watchdog status (u16).
+    pub const WATCHDOG_STATUS_PD: u16 = 0x0440;
+    /// SII configuration (u8): bit 0 offers the SII to the PDI.
+    pub const SII_CONFIG: u16 = 0x0500;
+    /// SII PDI access state (u8).
+    pub const SII_PDI_ACCESS: u16 = 0x0501;
+    /// SII control/status (u16).
+    pub const SII_CONTROL: u16 = 0x0502;
+    /// SII word address (u32).
+    pub const SII_ADDRESS: u16 = 0x0504;
+    /// SII data (8 bytes).
+    pub const SII_DATA: u16 = 0x0508;
+    /// FMMU 0 (16 bytes each).
+    pub const FMMU0: u16 = 0x0600;
+    /// SyncManager 0 (8 bytes each).
+    pub const SM0: u16 = 0x0800;
+}
+
+/// What the ESC tells the device's application, in the order it happened.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// AL control was written.
+    AlControl,
+    /// The master filled the mailbox SyncManager `n` (master to device).
+    MailboxWritten(usize),
+    /// The master emptied the mailbox SyncManager `n` (device to master).
+    MailboxRead(usize),
+    /// The master toggled the repeat request of SyncManager `n`.
+    RepeatRequest(usize),
+    /// The master wrote the last byte of the buffered SyncManager `n` (outputs).
+    BufferWritten(usize),
+}
+
+/// One SyncManager's registers, decoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SmRegisters {
+    /// Physical start address.
+    pub start: u16,
+    /// Length in bytes.
+    pub len: u16,
+    /// Control byte (mode in bits 0–1, direction in bits 2–3, watchdog in bit 6).
+    pub control: u8,
+    /// Status byte (bit 3: mailbox full).
+    pub status: u8,
+    /// Activate byte (bit 0 enable, bit 1 repeat request).
+    pub activate: u8,
+    /// PDI control byte (bit 0 deactivated by the device, bit 1 repeat acknowledge).
+    pub pdi_control: u8,
+}
+
+impl SmRegisters {
+    /// Enabled by the master and not deactivated by the device.
+    pub fn enabled(&self) -> bool {
+        self.activate & 1 != 0 && self.pdi_control & 1 == 0 && self.len > 0
+    }
+    /// Mailbox mode (control bits 0–1 = 10b).
+    pub fn is_mailbox(&self) -> bool {
+        self.control & 0x03 == 0x02
+    }
+    /// Written by the master (control bits 2–3 = 01b).
+    pub fn master_writes(&self) -> bool {
+        self.control & 0x0C == 0x04
+    }
+    /// The bytes it covers.
+    pub fn range(&self) -> std::ops::Range<u32> {
+        u32::from(self.start)..u32::from(self.start) + u32::from(self.len)
+    }
+}
+
+/// The ESC's memory and SII.
+#[derive(Debug, Clone)]
+pub struct Esc {
+    mem: Vec<u8>,
+    sii: Vec<u8>,
+    events: Vec<Event>,
+}
+
+/// Registers the master cannot change (a write still counts, but leaves them as they are).
+fn read_only(address: u16) -> bool {
+    matches!(address,
+        0x0000..=0x000F | 0x0012..=0x0013 | 0x0110..=0x0111 | 0x0130..=0x0135
+        | 0x0140..=0x0141 | 0x0440..=0x0441 | 0x0501 | 0x0900..=0x09FF)
+        || ((0x0800..0x0800 + 8 * SYNC_MANAGERS as u16).contains(&address)
+            && matches!(address % 8, 5 | 7))
+}
+
+impl Esc {
+    /// An ESC after power-up, loaded from the SII image `sii` (its configured station alias,
+    /// word 4).
+    pub fn new(sii: Vec<u8>) -> Self {
+        let mut esc = Esc {
+            mem: vec![0; 0x1_0000],
+            sii,
+            events: Vec::new(),
+        };
+        esc.mem[usize::from(reg::FMMU_COUNT)] = FMMUS as u8;
+        esc.mem[usize::from(reg::SM_COUNT)] = SYNC_MANAGERS as u8;
+        esc.mem[usize::from(reg::RAM_SIZE)] = 60;
+        // Ports 0 and 1 MII, 2 and 3 not implemented.
+        esc.mem[usize::from(reg::PORT_DESCRIPTOR)] = 0x0F;
+        // PDI operational; port 0 link, loop open, communication; ports 1-3 loop closed.
+        esc.set_u16(reg::DL_STATUS, 0x5611);
+        esc.set_u16(reg::AL_STATUS, 1);
+        esc.mem[usize::from(reg::PDI_CONTROL)] = 0x05; // SPI
+        esc.set_u16(reg::WATCHDOG_DIVIDER, 0x09C2); // 100 µs
+        esc.set_u16(reg::WATCHDOG_TIME_PD, 0x03E8); // 1000 × 100 µs
+        esc.set_u16(reg::SII_CONTROL, 0x0040); // 8-byte reads
+        let alias = esc.sii_word(4);
+        esc.set_u16(reg::STATION_ALIAS, alias);
+        esc
+    }
+
+    /// The SII image.
+    pub fn sii(&self) -> &[u8] {
+        &self.sii
+    }
+
+    /// The SII word at `address` (0xFFFF beyond the image).
+    pub fn sii_word(&self, address: u32) -> u16 {
+        let at = address as usize * 2;
+        match self.sii.get(at..at + 2) {
+            Some(b) => u16::from_le_bytes([b[0], b[1]]),
+            None => 0xFFFF,
+        }
+    }
+
+    /// The events since the last call.
+    pub fn take_events(&mut self) -> Vec<Event> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// A register (or memory) byte.
+    pub fn u8(&self, address: u16) -> u8 {
+        self.mem[usize::from(address)]
+    }
+
+    /// A little-endian u16 of registers.
+    pub fn u16(&self, address: u16) -> u16 {
+        let a = usize::from(address);
+        u16::from_le_bytes([self.mem[a], self.mem[(a + 1) & 0xFFFF]])
+    }
+
+    /// Sets a register byte as the device (PDI) does.
+    pub fn set_u8(&mut self, address: u16, value: u8) {
+        self.mem[usize::from(address)] = value;
+    }
+
+    /// Sets a little-endian u16 of registers as the device (PDI) does.
+    pub fn set_u16(&mut self, address: u16, value: u16) {
+        let a = usize::from(address);
+        let [lo, hi] = value.to_le_bytes();
+        self.mem[a] = lo;
+        self.mem[(a + 1) & 0xFFFF] = hi;
+    }
+
+    /// Memory as the device (PDI) sees it.
+    pub fn memory(&self, start: u16, len: usize) -> &[u8] {
+        let start = usize::from(start);
+        &self.mem[start..(start + len).min(self.mem.len())]
+    }
+
+    /// Writes memory as the device (PDI) does (no events).
+    pub fn write_memory(&mut self, start: u16, data: &[u8]) {
+        let start = usize::from(start);
+        let end = (start + data.len()).min(self.mem.len());
+        self.mem[start..end].copy_from_slice(&data[..end - start]);
+    }
+
+    /// SyncManager `n`'s registers.
+    pub fn sm(&self, n: usize) -> SmRegisters {
+        let base = reg::SM0 + 8 * n as u16;
+        SmRegisters {
+            start: self.u16(base),
+            len: self.u16(base + 2),
+            control: self.u8(base + 4),
+            status: self.u8(base + 5),
+            activate: self.u8(base + 6),
+            pdi_control: self.u8(base + 7),
+        }
+    }
+
+    /// Sets or clears SyncManager `n`'s mailbox-full flag (status bit 3), as the device does
+    /// when it has written an answer or read a request.
+    pub fn set_mailbox_full(&mut self, n: usize, full: bool) {
+        let at = reg::SM0 + 8 * n as u16 + 5;
+        let status = self.u8(at);
+        self.set_u8(at, if full { status | 0x08 } else { status & !0x08 });
+    }
+
+    /// Deactivates (or reactivates) SyncManager `n` from the device side (PDI control bit 0).
+    pub fn set_sm_deactivated(&mut self, n: usize, deactivated: bool) {
+        let at = reg::SM0 + 8 * n as u16 + 7;
+        let pdi = self.u8(at);
+        self.set_u8(at, if deactivated { pdi | 1 } else { pdi & !1 });
+    }
+
+    /// The station address the datagram's ADP must name for a configured-address command.
+    fn fixed_match(&self, adp: u16) -> bool {
+        adp == self.u16(reg::STATION_ADDRESS)
+            || (self.u8(reg::DL_CONTROL + 3) & 1 != 0 && adp == self.u16(reg::STATION_ALIAS))
+    }
+
+    /// Processes one datagram: `data` is its data in the frame, changed as the command says.
+    /// Returns what the working counter gains and the ADP to write back (auto-increment
+    /// commands count it up). A command code that is not EtherCAT's gains nothing.
+    pub fn datagram(&mut self, header: &Header, data: &mut [u8]) -> (u16, u16) {
+        let Some(command) = Command::from_code(header.command) else {
+            return (0, header.adp);
+        };
+        use Command::*;
+        let address = header.ado;
+        let positional = header.adp == 0;
+        let next_adp = header.adp.wrapping_add(1);
+        match command {
+            Nop => (0, header.adp),
+            Aprd | Apwr | Aprw if !positional => (0, next_adp),
+            Aprd => (self.physical(address, data, true, false), next_adp),
+            Apwr => (self.physical(address, data, false, true), next_adp),
+            Aprw => (self.physical(address, data, true, true), next_adp),
+            Fprd | Fpwr | Fprw if !self.fixed_match(header.adp) => (0, header.adp),
+            Fprd => (self.physical(address, data, true, false), header.adp),
+            Fpwr => (self.physical(address, data, false, true), header.adp),
+            Fprw => (self.physical(address, data, true, true), header.adp),
+            Brd => (self.broadcast_read(address, data), next_adp),
+            Bwr => (self.physical(address, data, false, true), next_adp),
+            Brw => {
+                let incoming = data.to_vec();
+                let read = self.broadcast_read(address, data);
+                let wrote = self.physical(address, &mut incoming.clone(), false, true);
+                (read + 2 * wrote, next_adp)
+            }
+            Lrd => (
+                self.logical(header.logical_address(), data, true, false),
+                header.adp,
+            ),
+            Lwr => (
+                self.logical(header.logical_address(), data, false, true),
+                header.adp,
+            ),
+            Lrw => (
+                self.logical(header.logical_address(), data, true, true),
+                header.adp,
+            ),
+            Armw if positional => (self.physical(address, data, true, false), next_adp),
+            Armw => (self.physical(address, data, false, true), next_adp),
+            Frmw if self.fixed_match(header.adp) => {
+                (self.physical(address, data, true, false), header.adp)
+            }
+            Frmw => (self.physical(address, data, false, true), header.adp),
+        }
+    }
+
+    /// A BRD: the memory ORed into the data, +1 (nothing if refused).
+    fn broadcast_read(&mut self, address: u16, data: &mut [u8]) -> u16 {
+        let mut read = vec![0; data.len()];
+        if self.physical(address, &mut read, true, false) == 0 {
+            return 0;
+        }
+        for (d, r) in data.iter_mut().zip(read) {
+            *d |= r;
+        }
+        1
+    }
+
+    /// A physical access at `address`: a read puts memory into `data` (+1), a write puts
+    /// `data` (as it came, before any read) into memory (+1; +2 when both). Nothing happens and
+    /// nothing counts when the range runs past the memory or touches a mailbox in the wrong
+    /// state.
+    fn physical(&mut self, address: u16, data: &mut [u8], read: bool, write: bool) -> u16 {
+        let start = u32::from(address);
+        let end = start + data.len() as u32;
+        if end > 0x1_0000 {
+            return 0;
+        }
+        if !self.mailbox_allows(start..end, read, write) {
+            return 0;
+        }
+        let incoming = if read && write {
+            Some(data.to_vec())
+        } else {
+            None
+        };
+        let mut wkc = 0;
+        if read {
+            data.copy_from_slice(&self.mem[start as usize..end as usize]);
+            self.after_read(start..end);
+            wkc += 1;
+        }
+        if write {
+            let source = incoming.as_deref().unwrap_or(data);
+            let source = source.to_vec();
+            self.write_bytes(start, &source);
+            self.after_write(start..end);
+            wkc += if read { 2 } else { 1 };
+        }
+        wkc
+    }
+
+    /// Writes bytes from the master, skipping read-only registers.
+    fn write_bytes(&mut self, start: u32, data: &[u8]) {
+        for (offset, &byte) in data.iter().enumerate() {
+            let address = start + offset as u32;
+            if address >= 0x1000 || !read_only(address as u16) {
+                self.mem[address as usize] = byte;
+            }
+        }
+    }
+
+    /// Whether an access to `range` respects the mailboxes it touches: a master-written
+    /// mailbox takes writes only while empty and is never read, the other is read only while
+    /// full and never written.
+    fn mailbox_allows(&self, range: std::ops::Range<u32>, read: bool, write: bool) -> bool {
+        (0..SYNC_MANAGERS).all(|n| {
+            let sm = self.sm(n);
+            if !sm.enabled() || !sm.is_mailbox() || !overlaps(&sm.range(), &range) {
+                return true;
+            }
+            let full = sm.status & 0x08 != 0;
+            if sm.master_writes() {
+                // Never read; written only while empty.
+                !read && (!write || !full)
+            } else {
+                // Never written; read only while full.
+                !write && (!read || full)
+            }
+        })
+    }
+
+    /// What a read of `range` does: a device-to-master mailbox whose last byte is read is empty.
+    fn after_read(&mut self, range: std::ops::Range<u32>) {
+        for n in 0..SYNC_MANAGERS {
+            let sm = self.sm(n);
+            if sm.enabled() && sm.is_mailbox() && !sm.master_writes() {
+                let last = sm.range().end - 1;
+                if range.contains(&last) {
+                    self.set_mailbox_full(n, false);
+                    self.events.push(Event::MailboxRead(n));
+                }
+            }
+        }
+    }
+
+    /// What a write of `range` does: AL control, the SII command, the SyncManagers' activation
+    /// (disabling one empties its mailbox; a repeat toggle is reported) and the last byte of a
+    /// master-written SyncManager.
+    fn after_write(&mut self, range: std::ops::Range<u32>) {
+        if overlaps(&range, &(0x0120..0x0122)) {
+            self.events.push(Event::AlControl);
+        }
+        if overlaps(&range, &(0x0502..0x0504)) {
+            self.sii_command();
+        }
+        if overlaps(&range, &(0x0500..0x0501)) {
+            // The PDI takes the SII as soon as it is offered, and gives it back likewise.
+            let offered = self.u8(reg::SII_CONFIG) & 1;
+            self.set_u8(reg::SII_PDI_ACCESS, offered);
+        }
+        for n in 0..SYNC_MANAGERS {
+            let base = u32::from(reg::SM0) + 8 * n as u32;
+            let sm = self.sm(n);
+            if overlaps(&range, &(base..base + 7)) {
+                if sm.activate & 1 == 0 {
+                    self.set_mailbox_full(n, false);
+                }
+                if sm.is_mailbox() && (sm.activate ^ sm.pdi_control) & 0x02 != 0 {
+                    self.events.push(Event::RepeatRequest(n));
+                }
+            }
+            if sm.enabled() && sm.master_writes() && range.contains(&(sm.range().end - 1)) {
+                if sm.is_mailbox() {
+                    self.set_mailbox_full(n, true);
+                    self.events.push(Event::MailboxWritten(n));
+                } else {
+                    self.events.push(Event::BufferWritten(n));
+                }
+            }
+        }
+    }
+
+    /// Acknowledges a repeat request of SyncManager `n` (PDI control bit 1 follows activate
+    /// bit 1).
+    pub fn acknowledge_repeat(&mut self, n: usize) {
+        let sm = self.sm(n);
+        let at = reg::SM0 + 8 * n as u16 + 7;
+        self.set_u8(at, (sm.pdi_control & !0x02) | (sm.activate & 0x02));
+    }
+
+    /// Runs the SII command the master wrote to 0x0502 (bits 8–10: 1 read, 2 write, 4 reload),
+    /// unless the PDI holds the SII.
+    fn sii_command(&mut self) {
+        let control = self.u16(reg::SII_CONTROL);
+        let write_enable = control & 1;
+        let mut status = 0x0040 | write_enable;
+        if self.u8(reg::SII_PDI_ACCESS) & 1 == 0 {
+            let address = u32::from(self.u16(reg::SII_ADDRESS))
+                | (u32::from(self.u16(reg::SII_ADDRESS + 2)) << 16);
+            match (control >> 8) & 0x07 {
+                0 | 4 => {}
+                1 => {
+                    for word in 0..4u32 {
+                        let value = self.sii_word(address.wrapping_add(word));
+                        self.set_u16(reg::SII_DATA + 2 * word as u16, value);
+                    }
+                }
+                2 if write_enable == 0 => status |= 0x4000,
+                2 => {
+                    let value = self.u16(reg::SII_DATA);
+                    let at = address as usize * 2;
+                    if let Some(bytes) = self.sii.get_mut(at..at + 2) {
+                        bytes.copy_from_slice(&value.to_le_bytes());
+                    } else {
+                        status |= 0x2000;
+                    }
+                }
+                _ => status |= 0x2000,
+            }
+        }
+        self.set_u16(reg::SII_CONTROL, status);
+    }
+
+    /// A logical access through the FMMUs: each active FMMU overlapping the datagram maps its
+    /// bits to physical memory; +1 if a read FMMU took part, +2 (or +1 for LWR) if a write one
+    /// did. Memory of a SyncManager the device has deactivated is not reached.
+    fn logical(&mut self, address: u32, data: &mut [u8], read: bool, write: bool) -> u16 {
+        let incoming = data.to_vec();
+        let d0 = u64::from(address) * 8;
+        let d1 = d0 + data.len() as u64 * 8; // exclusive
+        let (mut did_read, mut did_write) = (false, false);
+        let mut written = Vec::new();
+        for n in 0..FMMUS {
+            let base = usize::from(reg::FMMU0) + 16 * n;
+            let f = &self.mem[base..base + 16];
+            let logical = u32::from_le_bytes([f[0], f[1], f[2], f[3]]);
+            let len = u16::from_le_bytes([f[4], f[5]]);
+            let (start_bit, stop_bit) = (f[6] & 7, f[7] & 7);
+            let physical = u16::from_le_bytes([f[8], f[9]]);
+            let physical_bit = f[10] & 7;
+            let (kind, active) = (f[11], f[12] & 1 != 0);
+            if !active || len == 0 {
+                continue;
+            }
+            let l0 = u64::from(logical) * 8 + u64::from(start_bit);
+            let l1 = (u64::from(logical) + u64::from(len) - 1) * 8 + u64::from(stop_bit) + 1;
+            let (from, to) = (l0.max(d0), l1.min(d1));
+            if from >= to {
+                continue;
+            }
+            let p0 = u64::from(physical) * 8 + u64::from(physical_bit);
+            let (pfrom, pto) = (p0 + (from - l0), p0 + (to - l0));
+            if pto > 0x1_0000 * 8 || !self.process_memory_reachable(pfrom / 8, (pto - 1) / 8) {
+                continue;
+            }
+            if read && kind & 1 != 0 {
+                for bit in from..to {
+                    let p = p0 + (bit - l0);
+                    let value = self.mem[(p / 8) as usize] >> (p % 8) & 1;
+                    let d = bit - d0;
+                    let byte = &mut data[(d / 8) as usize];
+                    *byte = (*byte & !(1 << (d % 8))) | (value << (d % 8));
+                }
+                did_read = true;
+            }
+            if write && kind & 2 != 0 {
+                for bit in from..to {
+                    let p = p0 + (bit - l0);
+                    let d = bit - d0;
+                    let value = incoming[(d / 8) as usize] >> (d % 8) & 1;
+                    let byte = &mut self.mem[(p / 8) as usize];
+                    *byte = (*byte & !(1 << (p % 8))) | (value << (p % 8));
+                }
+                written.push((pfrom / 8) as u32..((pto - 1) / 8 + 1) as u32);
+                did_write = true;
+            }
+        }
+        for range in written {
+            self.after_write(range);
+        }
+        let mut wkc = 0;
+        if did_read {
+            wkc += 1;
+        }
+        if did_write {
+            wkc += if read { 2 } else { 1 };
+        }
+        wkc
+    }
+
+    /// Whether process memory `first..=last` (bytes) is outside every SyncManager, or inside an
+    /// enabled buffered one.
+    fn process_memory_reachable(&self, first: u64, last: u64) -> bool {
+        let range = first as u32..last as u32 + 1;
+        (0..SYNC_MANAGERS).all(|n| {
+            let sm = self.sm(n);
+            sm.len == 0 || !overlaps(&sm.range(), &range) || (sm.enabled() && !sm.is_mailbox())
+        })
+    }
+}
+
+/// Whether two ranges share a value.
+fn overlaps(a: &std::ops::Range<u32>, b: &std::ops::Range<u32>) -> bool {
+    a.start < b.end && b.start < a.end
+}

@@ -1,0 +1,51 @@
+//! The SubDevice on a wire: frames read from a [`RawSocket`], processed, and sent back, until
+//! a stop flag is raised. Frames whose source address has the locally-administered bit set
+//! (0x02 in its first byte) are not taken: they are frames a SubDevice already processed (our
+//! own answers, which a packet socket also sees going out), as in a real ring.
+
+use std::io;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use edsgen_runtime::Instant;
+
+use super::raw_socket::RawSocket;
+use super::{Application, SubDevice};
+
+/// What a run served.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Served {
+    /// Frames answered.
+    pub frames: u64,
+    /// Frames ignored (not EtherCAT, or already processed).
+    pub ignored: u64,
+}
+
+/// Serves `device` on `socket` until `stop` is set (checked at least every read timeout).
+pub fn serve<A: Application>(
+    socket: &mut RawSocket,
+    device: &mut SubDevice<A>,
+    stop: &AtomicBool,
+) -> io::Result<Served> {
+    let start = std::time::Instant::now();
+    let now = || Instant(start.elapsed().as_micros() as u64);
+    let mut buf = vec![0u8; 2048];
+    let mut served = Served::default();
+    while !stop.load(Ordering::Relaxed) {
+        let Some(len) = socket.recv(&mut buf)? else {
+            device.poll(now());
+            continue;
+        };
+        let frame = &mut buf[..len];
+        if frame.len() < 14 || frame[6] & 0x02 != 0 {
+            served.ignored += 1;
+            continue;
+        }
+        if device.process_frame(now(), frame) {
+            socket.send(frame)?;
+            served.frames += 1;
+        } else {
+            served.ignored += 1;
+        }
+    }
+    Ok(served)
+}

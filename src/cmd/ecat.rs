@@ -1,0 +1,409 @@
+//! `edsgen ecat` (feature `ethercrab`): the bench side of EtherCAT, an ethercrab MainDevice on a
+//! network interface (root or CAP_NET_RAW). `ecat scan --iface IFACE [--esi FILE...]` lists the
+//! SubDevices: position, configured address, identity, the name from their SII, and the ESI
+//! device whose identity matches among the files given. `ecat sdo read|write --iface IFACE
+//! [--position N] INDEX:SUB [VALUE] --size 1|2|4|8`: one CoE SDO transfer of a little-endian
+//! number with the SubDevice in Pre-Op (exit 1 with the abort when the SubDevice refuses).
+//! `ecat pdo --iface IFACE --esi FILE [--cycles N]`: the SubDevice brought to Op, its inputs
+//! printed by name (the ESI's default TxPDO entries) every 1 ms cycle until Ctrl-C or N cycles.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::{Args as ClapArgs, Subcommand};
+use edsgen_codegen::model::Device;
+use ethercrab::std::{ethercat_now, tx_rx_task};
+use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
+
+use super::{fail, print_stdout};
+
+/// `edsgen ecat ...`.
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    #[command(subcommand)]
+    command: EcatCommand,
+}
+
+#[derive(Subcommand, Debug)]
+enum EcatCommand {
+    /// List the SubDevices on a network interface, with the ESI device each matches.
+    Scan {
+        /// The network interface of the EtherCAT segment.
+        #[arg(long, value_name = "IFACE")]
+        iface: String,
+        /// ESI files to match the SubDevices against (every device of each file).
+        #[arg(long, value_name = "FILE")]
+        esi: Vec<PathBuf>,
+    },
+    /// Read or write one object by SDO (CoE).
+    Sdo {
+        /// `read` or `write`.
+        #[arg(value_enum)]
+        verb: SdoVerb,
+        /// The network interface of the EtherCAT segment.
+        #[arg(long, value_name = "IFACE")]
+        iface: String,
+        /// The SubDevice's position on the segment (0 first).
+        #[arg(long, default_value_t = 0)]
+        position: usize,
+        /// The entry, `INDEX:SUB` in hex (such as 1018:1).
+        address: String,
+        /// The value to write (decimal or 0x hex).
+        value: Option<String>,
+        /// The value's size in bytes.
+        #[arg(long, value_parser = ["1", "2", "4", "8"], default_value = "4")]
+        size: String,
+    },
+    /// Bring the SubDevice to Op and print its inputs by name (the ESI's default TxPDOs), one
+    /// line per cycle, until Ctrl-C or `--cycles`.
+    Pdo {
+        /// The network interface of the EtherCAT segment.
+        #[arg(long, value_name = "IFACE")]
+        iface: String,
+        /// The ESI file of the SubDevice.
+        #[arg(long, value_name = "FILE")]
+        esi: PathBuf,
+        /// The device of an ESI file with several (type name or `#x` product code).
+        #[arg(long, value_name = "NAME|#xCODE")]
+        device: Option<String>,
+        /// The SubDevice's position on the segment (0 first).
+        #[arg(long, default_value_t = 0)]
+        position: usize,
+        /// Stop after this many cycles (1 ms each).
+        #[arg(long)]
+        cycles: Option<u64>,
+    },
+}
+
+/// What `ecat sdo` does.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum SdoVerb {
+    Read,
+    Write,
+}
+
+const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
+static PDU_STORAGE: PduStorage<16, MAX_PDU_DATA> = PduStorage::new();
+
+/// Runs `edsgen ecat`.
+pub fn run(args: Args) -> ExitCode {
+    let (iface, esi) = match args.command {
+        EcatCommand::Scan { iface, esi } => (iface, esi),
+        EcatCommand::Sdo {
+            verb,
+            iface,
+            position,
+            address,
+            value,
+            size,
+        } => return sdo(verb, &iface, position, &address, value.as_deref(), &size),
+        EcatCommand::Pdo {
+            iface,
+            esi,
+            device,
+            position,
+            cycles,
+        } => return pdo(&iface, &esi, device.as_deref(), position, cycles),
+    };
+    let mut described = Vec::new();
+    for path in &esi {
+        let bytes = match std::fs::read(path) {
+            Ok(bytes) => bytes,
+            Err(err) => return fail(format!("cannot read `{}`: {err}", path.display())),
+        };
+        for (device, _) in edsgen_codegen::read::esi::read_all(path, &bytes) {
+            if device.ethercat.is_some() {
+                described.push((path.clone(), device));
+            }
+        }
+    }
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+    };
+    match runtime.block_on(scan(&iface, &described)) {
+        Ok(text) => {
+            print_stdout(&text);
+            ExitCode::SUCCESS
+        }
+        Err(message) => fail(format!("{iface}: {message}")),
+    }
+}
+
+/// Runs `edsgen ecat sdo`.
+fn sdo(
+    verb: SdoVerb,
+    iface: &str,
+    position: usize,
+    address: &str,
+    value: Option<&str>,
+    size: &str,
+) -> ExitCode {
+    let entry = match super::entry::resolve(address, None) {
+        Ok(entry) => entry,
+        Err(message) => return fail(message),
+    };
+    let size: usize = size.parse().unwrap_or(4);
+    let value = match (verb, value) {
+        (SdoVerb::Read, None) => None,
+        (SdoVerb::Write, Some(text)) => {
+            let parsed = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+                Some(hex) => u64::from_str_radix(hex, 16),
+                None => text.parse::<u64>(),
+            };
+            match parsed {
+                Ok(v) if size == 8 || v < 1u64 << (8 * size) => Some(v),
+                _ => return fail(format!("`{text}` is not a number of {size} bytes")),
+            }
+        }
+        (SdoVerb::Read, Some(_)) => return fail("ecat sdo read takes no value"),
+        (SdoVerb::Write, None) => return fail("ecat sdo write needs a value"),
+    };
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+    };
+    let (index, sub) = (entry.index, entry.sub);
+    let result: Result<String, String> = runtime.block_on(async {
+        let (tx, rx, pdu_loop) = PDU_STORAGE
+            .try_split()
+            .map_err(|_| "the PDU storage is split once".to_owned())?;
+        let timeouts = Timeouts {
+            pdu: Duration::from_millis(500),
+            ..Timeouts::default()
+        };
+        let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
+        let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
+        tokio::spawn(task);
+        let group = maindevice
+            .init_single_group::<64, 4096>(ethercat_now)
+            .await
+            .map_err(|e| format!("discovery: {e}"))?;
+        let sub_device = group
+            .subdevice(&maindevice, position)
+            .map_err(|_| format!("no SubDevice at position {position}"))?;
+        let refused = |e: ethercrab::error::Error| format!("{index:04X}h:{sub:02X}: {e}");
+        match value {
+            None => {
+                let v = match size {
+                    1 => u64::from(
+                        sub_device
+                            .sdo_read::<u8>(index, sub)
+                            .await
+                            .map_err(refused)?,
+                    ),
+                    2 => u64::from(
+                        sub_device
+                            .sdo_read::<u16>(index, sub)
+                            .await
+                            .map_err(refused)?,
+                    ),
+                    8 => sub_device
+                        .sdo_read::<u64>(index, sub)
+                        .await
+                        .map_err(refused)?,
+                    _ => u64::from(
+                        sub_device
+                            .sdo_read::<u32>(index, sub)
+                            .await
+                            .map_err(refused)?,
+                    ),
+                };
+                Ok(format!(
+                    "{index:04X}h:{sub:02X} = {v:#0w$x} ({v})\n",
+                    w = 2 + 2 * size
+                ))
+            }
+            Some(v) => {
+                match size {
+                    1 => sub_device.sdo_write(index, sub, v as u8).await,
+                    2 => sub_device.sdo_write(index, sub, v as u16).await,
+                    8 => sub_device.sdo_write(index, sub, v).await,
+                    _ => sub_device.sdo_write(index, sub, v as u32).await,
+                }
+                .map_err(refused)?;
+                Ok(format!(
+                    "{index:04X}h:{sub:02X} := {v:#0w$x}\n",
+                    w = 2 + 2 * size
+                ))
+            }
+        }
+    });
+    match result {
+        Ok(text) => {
+            print_stdout(&text);
+            ExitCode::SUCCESS
+        }
+        Err(message) => {
+            eprintln!("error: {iface}: {message}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Runs `edsgen ecat pdo`.
+fn pdo(
+    iface: &str,
+    esi: &std::path::Path,
+    device: Option<&str>,
+    position: usize,
+    cycles: Option<u64>,
+) -> ExitCode {
+    let read = match edsgen_codegen::read::read_file_device(esi, device) {
+        Ok(read) => read,
+        Err(err) => return fail(err),
+    };
+    let Some(ec) = read
+        .device
+        .ethercat
+        .as_ref()
+        .filter(|_| !read.nothing_read())
+    else {
+        return fail(format!("{}: not an ESI device", esi.display()));
+    };
+    // (name, bit length, signed) of each entry of the default TxPDOs, in image order.
+    let entries: Vec<(String, u16, bool)> = ec
+        .tx_pdos
+        .iter()
+        .filter(|p| p.sm.is_some())
+        .flat_map(|p| &p.entries)
+        .map(|e| {
+            let signed = matches!(
+                e.data_type.as_deref(),
+                Some("SINT" | "INT" | "DINT" | "LINT")
+            );
+            (e.name.clone(), e.bit_len, signed)
+        })
+        .collect();
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = std::sync::Arc::clone(&stop);
+    let _ = ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::Relaxed));
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+    };
+    let result: Result<(), String> = runtime.block_on(async {
+        let (tx, rx, pdu_loop) = PDU_STORAGE
+            .try_split()
+            .map_err(|_| "the PDU storage is split once".to_owned())?;
+        let timeouts = Timeouts {
+            pdu: Duration::from_millis(500),
+            ..Timeouts::default()
+        };
+        let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
+        let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
+        tokio::spawn(task);
+        let group = maindevice
+            .init_single_group::<64, 4096>(ethercat_now)
+            .await
+            .map_err(|e| format!("discovery: {e}"))?
+            .into_op(&maindevice)
+            .await
+            .map_err(|e| format!("to Op: {e}"))?;
+        let sub_device = group
+            .subdevice(&maindevice, position)
+            .map_err(|_| format!("no SubDevice at position {position}"))?;
+        let mut cycle = 0u64;
+        while !stop.load(std::sync::atomic::Ordering::Relaxed) && cycles.is_none_or(|n| cycle < n) {
+            group
+                .tx_rx(&maindevice)
+                .await
+                .map_err(|e| format!("cycle {cycle}: {e}"))?;
+            let line = inputs_line(&sub_device.inputs_raw(), &entries);
+            print_stdout(&format!("{cycle}: {line}\n"));
+            cycle += 1;
+            tokio::time::sleep(Duration::from_millis(1)).await;
+        }
+        Ok(())
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {iface}: {message}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// The inputs image as `name=value` pairs, little-endian, bit by bit.
+fn inputs_line(image: &[u8], entries: &[(String, u16, bool)]) -> String {
+    let mut at = 0usize;
+    let mut parts = Vec::new();
+    for (name, bits, signed) in entries {
+        let bits = usize::from(*bits).min(64);
+        let mut value = 0u64;
+        for bit in 0..bits {
+            let source = at + bit;
+            if image
+                .get(source / 8)
+                .is_some_and(|b| b >> (source % 8) & 1 != 0)
+            {
+                value |= 1 << bit;
+            }
+        }
+        at += bits;
+        if name.is_empty() {
+            continue;
+        }
+        let shown = if *signed && bits > 0 && bits < 64 && value >> (bits - 1) & 1 != 0 {
+            format!("{}", value as i64 - (1i64 << bits))
+        } else {
+            format!("{value}")
+        };
+        parts.push(format!("{name}={shown}"));
+    }
+    parts.join(", ")
+}
+
+async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, String> {
+    let (tx, rx, pdu_loop) = PDU_STORAGE
+        .try_split()
+        .map_err(|_| "the PDU storage is split once")?;
+    let timeouts = Timeouts {
+        pdu: Duration::from_millis(500),
+        ..Timeouts::default()
+    };
+    let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
+    let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
+    tokio::spawn(task);
+    let group = maindevice
+        .init_single_group::<64, 4096>(ethercat_now)
+        .await
+        .map_err(|e| format!("discovery: {e}"))?;
+    let mut text = String::new();
+    for (position, sub) in group.iter(&maindevice).enumerate() {
+        let id = sub.identity();
+        let matched = described.iter().find(|(_, d)| {
+            let n = |v: &Option<edsgen_codegen::model::Spanned<u32>>| v.as_ref().map(|v| v.value);
+            n(&d.device_info.vendor_number) == Some(id.vendor_id)
+                && n(&d.device_info.product_number) == Some(id.product_id)
+                && n(&d.device_info.revision_number) == Some(id.revision)
+        });
+        let esi = matched.map_or(String::new(), |(path, d)| {
+            let name = d.ethercat.as_ref().map_or("", |ec| ec.type_name.as_str());
+            format!(" = {name} ({})", path.display())
+        });
+        text.push_str(&format!(
+            "{position}: {:#06x} vendor {:#010x} product {:#010x} revision {:#010x} \"{}\"{esi}\n",
+            sub.configured_address(),
+            id.vendor_id,
+            id.product_id,
+            id.revision,
+            sub.name(),
+        ));
+    }
+    if text.is_empty() {
+        text.push_str("no SubDevices\n");
+    }
+    Ok(text)
+}

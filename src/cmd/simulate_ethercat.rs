@@ -1,0 +1,80 @@
+//! `edsgen simulate --ethercat IFACE FILE.xml [--device NAME|#xCODE]` and `edsgen simulate
+//! --ethercat IFACE --card ec-tx508`: one EtherCAT SubDevice served from an ESI file (or the
+//! bundled EC-TX508 with its CiA 402 drive) on a network interface, through a raw socket (root
+//! or CAP_NET_RAW), until SIGINT or SIGTERM.
+
+use std::path::Path;
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use edsgen_codegen::model::Device;
+use edsgen_codegen::read;
+use edsgen_runtime::Instant;
+use edsgen_sim::drives::ec_tx508;
+use edsgen_sim::ethercat::ec_tx508::EcTx508Behaviour;
+use edsgen_sim::ethercat::raw_socket::RawSocket;
+use edsgen_sim::ethercat::serve::serve;
+use edsgen_sim::ethercat::{Behaviour, EsiDevice};
+
+use super::fail;
+
+/// Runs the EtherCAT simulator: exactly one of one ESI `files` entry or `--card ec-tx508`.
+pub fn run(iface: &str, files: &[String], cards: &[String], device: Option<&str>) -> ExitCode {
+    let (model, behaviour): (Device, Option<Box<dyn Behaviour>>) = match (files, cards) {
+        ([file], []) => {
+            let path = Path::new(file);
+            let read = match read::read_file_device(path, device) {
+                Ok(read) => read,
+                Err(err) => return fail(err),
+            };
+            if read.nothing_read() || read.device.ethercat.is_none() {
+                return fail(format!(
+                    "{file}: not an ESI device (`edsgen validate {file}` says why)"
+                ));
+            }
+            (read.device, None)
+        }
+        ([], [card]) if card == "ec-tx508" => {
+            let model = read::read_bytes(Path::new(ec_tx508::ESI_PATH), ec_tx508::ESI).device;
+            let behaviour = EcTx508Behaviour::new(&model, Instant(0));
+            (model, Some(Box::new(behaviour)))
+        }
+        ([], [card]) => return fail(format!("--ethercat serves the card ec-tx508, not `{card}`")),
+        _ => return fail("--ethercat serves one device: one ESI file, or --card ec-tx508"),
+    };
+    let mut subdevice = match EsiDevice::subdevice(&model, behaviour) {
+        Ok(subdevice) => subdevice,
+        Err(message) => return fail(message),
+    };
+    let mut socket = match RawSocket::open(iface, Duration::from_millis(100)) {
+        Ok(socket) => socket,
+        Err(err) => return fail(format!("cannot open {iface}: {err}")),
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    if let Err(err) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
+        return fail(format!("cannot handle signals: {err}"));
+    }
+    let info = &model.device_info;
+    let number =
+        |n: &Option<edsgen_codegen::model::Spanned<u32>>| n.as_ref().map_or(0, |n| n.value);
+    eprintln!(
+        "serving {} (vendor {:#010X}, product {:#010X}, revision {:#010X}) as an EtherCAT SubDevice on {iface}; Ctrl-C stops",
+        info.product_name.as_deref().unwrap_or("?"),
+        number(&info.vendor_number),
+        number(&info.product_number),
+        number(&info.revision_number),
+    );
+    match serve(&mut socket, &mut subdevice, &stop) {
+        Ok(served) => {
+            eprintln!(
+                "stopped: {} frames answered, {} ignored",
+                served.frames, served.ignored
+            );
+            ExitCode::SUCCESS
+        }
+        Err(err) => fail(format!("{iface}: {err}")),
+    }
+}

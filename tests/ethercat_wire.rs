@@ -1,0 +1,490 @@
+//! `edsgen simulate --ethercat` against a real MainDevice (ethercrab) over a veth pair in a
+//! private network namespace (root only: a visible skip otherwise, a failure under `CI=true`).
+//!
+//! Run as a test (no libtest harness): this binary creates the namespace and its veth pair
+//! (removed by a guard, also on failure), starts the simulator on one end, and runs itself in
+//! the namespace as the MainDevice on the other end, once per part:
+//! - `drive`: the EC-TX508 found by its identity and SII name (the order string, `EC-TX508`); the typed SDO read of 1C12h:01
+//!   and write of 6060h; a skipped transition (Pre-Op to Op) refused with AL status code 0x0011,
+//!   then acknowledged; Pre-Op → Safe-Op → Op with the typed 21/23-byte images; CSV velocity
+//!   ramping in the inputs as the outputs ask; then the simulator stopped by SIGTERM (exit 0) and
+//!   the MainDevice's next cycle failing: the SubDevice is gone.
+//! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
+//! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
+//!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h;
+//!   `edsgen ecat pdo` prints the inputs by name.
+//! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
+//!   expected working counter (scripts/soem_master.py).
+//! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
+//!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op.
+
+#[path = "process_support/mod.rs"]
+mod process_support;
+
+use std::process::Command;
+use std::time::Duration;
+
+use std::path::{Path, PathBuf};
+
+use edsgen_runtime::ObjectDictionary;
+use edsgen_sim::ethercat::{Application, EsiDevice};
+use process_support::{esi_corpus_dir, python, root, skip, Process, EDSGEN, START_TIMEOUT};
+
+const ROLE: &str = "EDSGEN_ECAT_ROLE";
+const IFACE: &str = "EDSGEN_ECAT_IFACE";
+
+fn main() {
+    if let Ok(role) = std::env::var(ROLE) {
+        let iface = std::env::var(IFACE).expect("the interface");
+        master::run(&role, &iface);
+        return;
+    }
+    let root = Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| o.stdout.trim_ascii() == b"0");
+    if !root {
+        let _: Option<()> = skip("ethercat_wire: needs root for a network namespace and veth pair");
+        return;
+    }
+    let ns = Namespace::new();
+    drive(&ns);
+    reassign(&ns);
+    scan(&ns);
+    let soem = soem(&ns);
+    let corpus = corpus(&ns);
+    println!("ethercat_wire: ok (drive, reassign, scan, {soem}, {corpus})");
+}
+
+/// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
+/// when dropped.
+struct Namespace {
+    name: String,
+}
+
+impl Namespace {
+    fn new() -> Self {
+        let name = format!("edsgen-ethercat-{}", std::process::id());
+        let ns = Namespace { name };
+        ns.ip(&["netns", "add", &ns.name]);
+        for args in [
+            &["link", "add", "ecm", "type", "veth", "peer", "name", "ecs"][..],
+            &["link", "set", "ecm", "up"],
+            &["link", "set", "ecs", "up"],
+        ] {
+            ns.ip(&[&["-n", &ns.name][..], args].concat());
+        }
+        ns
+    }
+
+    fn ip(&self, args: &[&str]) {
+        let status = Command::new("ip").args(args).status().expect("ip");
+        assert!(status.success(), "ip {args:?} failed");
+    }
+
+    /// `ip netns exec NS PROGRAM ARGS`.
+    fn exec(&self, program: &str, args: &[&str]) -> Command {
+        let mut command = Command::new("ip");
+        command
+            .args(["netns", "exec", &self.name, program])
+            .args(args);
+        command
+    }
+
+    fn simulator(&self, args: &[&str]) -> Process {
+        let mut command = self.exec(
+            EDSGEN,
+            &[&["simulate", "--ethercat", "ecs"][..], args].concat(),
+        );
+        let sim = Process::start(&mut command);
+        sim.stderr_line(|l| l.starts_with("serving "), START_TIMEOUT);
+        sim
+    }
+
+    fn master(&self, role: &str) -> Process {
+        let me = std::env::current_exe().expect("this test");
+        let mut command = self.exec(me.to_str().expect("a path"), &[]);
+        command.env(ROLE, role).env(IFACE, "ecm");
+        Process::start(&mut command)
+    }
+}
+
+impl Drop for Namespace {
+    fn drop(&mut self) {
+        let _ = Command::new("ip")
+            .args(["netns", "del", &self.name])
+            .status();
+    }
+}
+
+fn drive(ns: &Namespace) {
+    let sim = ns.simulator(&["--card", "ec-tx508"]);
+    let mut master = ns.master("drive");
+    master.stdout_line(|l| l == "unplug", Duration::from_secs(60));
+    let status = Command::new("kill")
+        .args(["-TERM", &sim.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(status.success());
+    let exited = sim.finish(Duration::from_secs(10));
+    assert_eq!(exited.code, Some(0), "{exited:?}");
+    assert!(exited.stderr.starts_with("stopped: "), "{exited:?}");
+    master.send_line("unplugged");
+    let done = master.finish(Duration::from_secs(30));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert!(done.stdout.contains("gone: "), "{done:?}");
+}
+
+fn reassign(ns: &Namespace) {
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let master = ns.master("reassign");
+    let done = master.finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert!(done.stdout.contains("images 6/23"), "{done:?}");
+}
+
+/// `edsgen ecat scan` finds the simulated EC-TX508 and names the ESI device it matches;
+/// `edsgen ecat sdo` reads, writes and is refused.
+fn scan(ns: &Namespace) {
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let mut command = ns.exec(
+        EDSGEN,
+        &[
+            "ecat",
+            "scan",
+            "--iface",
+            "ecm",
+            "--esi",
+            "eds/ec-tx508.xml",
+            "--esi",
+            "codegen/tests/esi/drive.xml",
+        ],
+    );
+    command.current_dir(root());
+    let done = Process::start(&mut command).finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert_eq!(
+        done.stdout,
+        "0: 0x1000 vendor 0x000004d8 product 0x00009252 revision 0x00000001 \"EC-TX508\" \
+         = EC-TX508 (eds/ec-tx508.xml)\n"
+    );
+    let ecat = |args: &[&str]| {
+        let mut command = ns.exec(EDSGEN, &[&["ecat", "sdo"][..], args].concat());
+        Process::start(&mut command).finish(Duration::from_secs(60))
+    };
+    let read = ecat(&["read", "--iface", "ecm", "1018:1"]);
+    assert_eq!(
+        (read.code, read.stdout.as_str()),
+        (Some(0), "1018h:01 = 0x000004d8 (1240)\n")
+    );
+    let write = ecat(&["write", "--iface", "ecm", "6060:0", "9", "--size", "1"]);
+    assert_eq!(
+        (write.code, write.stdout.as_str()),
+        (Some(0), "6060h:00 := 0x09\n")
+    );
+    let back = ecat(&["read", "--iface", "ecm", "6060:0", "--size", "1"]);
+    assert_eq!(
+        (back.code, back.stdout.as_str()),
+        (Some(0), "6060h:00 = 0x09 (9)\n")
+    );
+    let missing = ecat(&["read", "--iface", "ecm", "1234:0"]);
+    assert_eq!(missing.code, Some(1));
+    assert!(missing.stderr.contains("0x06020000"), "{missing:?}");
+    let mut command = ns.exec(
+        EDSGEN,
+        &[
+            "ecat",
+            "pdo",
+            "--iface",
+            "ecm",
+            "--esi",
+            "eds/ec-tx508.xml",
+            "--cycles",
+            "2",
+        ],
+    );
+    command.current_dir(root());
+    let pdo = Process::start(&mut command).finish(Duration::from_secs(60));
+    assert_eq!(pdo.code, Some(0), "{pdo:?}");
+    let lines: Vec<&str> = pdo.stdout.lines().collect();
+    assert_eq!(lines.len(), 2, "{pdo:?}");
+    for (n, line) in lines.iter().enumerate() {
+        assert!(
+            line.starts_with(&format!(
+                "{n}: Status word=1616, Position actual value=0, Actual speed=0, "
+            )),
+            "{line}"
+        );
+        assert!(
+            line.ends_with(", Probe status=0, Probe position rising edge=0"),
+            "{line}"
+        );
+    }
+}
+
+/// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte
+/// images from CoE and brings it to Op with the working counter it expects.
+fn soem(ns: &Namespace) -> String {
+    let Some(python) = python() else {
+        return "SOEM skipped".to_owned();
+    };
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let script = root().join("scripts/soem_master.py");
+    let master = Process::start(&mut ns.exec(
+        python.to_str().expect("a path"),
+        &[script.to_str().expect("a path"), "ecm"],
+    ));
+    let done = master.finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert_eq!(
+        done.stdout,
+        "found 1\nidentity 0x000004d8 0x00009252 0x00000001\nname EC-TX508\niomap 44\nstate 4\n\
+         images 21/23\nop True\nwkc 3 expected 3\n",
+        "{done:?}"
+    );
+    "SOEM".to_owned()
+}
+
+/// Every ESI of the corpus (its first device) whose dictionary and PDOs are complete enough
+/// ([`complete_enough`]) reaches Op with the image sizes its assignment gives.
+fn corpus(ns: &Namespace) -> String {
+    let Some(dir) = esi_corpus_dir() else {
+        return "corpus skipped".to_owned();
+    };
+    let mut files = Vec::new();
+    collect(&dir, &mut files);
+    files.sort();
+    let (mut served, mut passed_over) = (0, Vec::new());
+    for file in &files {
+        let model = edsgen_codegen::read::read_file(file)
+            .expect("readable")
+            .device;
+        let Some((outputs, inputs)) = complete_enough(&model) else {
+            passed_over.push(
+                file.strip_prefix(&dir)
+                    .unwrap_or(file)
+                    .display()
+                    .to_string(),
+            );
+            continue;
+        };
+        let _sim = ns.simulator(&[file.to_str().expect("a path")]);
+        let master = ns.master("corpus");
+        let done = master.finish(Duration::from_secs(60));
+        assert_eq!(done.code, Some(0), "{}: {done:?}", file.display());
+        assert!(
+            done.stdout.contains(&format!("op {outputs}/{inputs}")),
+            "{}: {done:?}",
+            file.display()
+        );
+        served += 1;
+    }
+    assert!(served > 0, "no ESI of the corpus reached Op");
+    println!(
+        "corpus: {served} ESI files reached Op; {} passed over (modular, no CoE mailbox or a disabled one, no process data, or PDOs naming objects the dictionary lacks): {passed_over:?}",
+        passed_over.len()
+    );
+    format!("{served} corpus files")
+}
+
+fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("the corpus").flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            collect(&path, files);
+        } else if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("xml") || e.eq_ignore_ascii_case("esi"))
+        {
+            files.push(path);
+        }
+    }
+}
+
+/// The image sizes of a device the simulator can serve to Op: an ESI device (not modular) with a
+/// CoE mailbox
+/// (both mailbox SyncManagers), 1C12h/1C13h for its process-data SyncManagers, process data in
+/// at least one direction, and every mapped object in the dictionary with the mapped size.
+fn complete_enough(model: &edsgen_codegen::model::Device) -> Option<(usize, usize)> {
+    use edsgen_codegen::model::SmKind;
+    let ec = model.ethercat.as_ref()?;
+    ec.coe.as_ref()?;
+    // A modular device's process data depends on the modules plugged in.
+    if !ec.slots.is_empty() {
+        return None;
+    }
+    let has = |kind: SmKind| ec.sync_managers.iter().position(|sm| sm.kind == kind);
+    // Mailbox SyncManagers the ESI leaves disabled (`Enable="0"`) cannot carry CoE.
+    for kind in [SmKind::MailboxOut, SmKind::MailboxIn] {
+        if !ec.sync_managers[has(kind)?].enable {
+            return None;
+        }
+    }
+    let device = EsiDevice::new(model, None).ok()?;
+    let od = device.dictionary();
+    for (kind, outputs) in [(SmKind::Outputs, true), (SmKind::Inputs, false)] {
+        if let Some(n) = has(kind) {
+            od.find(0x1C10 + n as u16, 0).ok()?;
+            for (index, sub, bits) in device.image(outputs) {
+                if index == 0 {
+                    continue;
+                }
+                let len = od.value_len(index, sub).ok()?;
+                if !(len * 8 == usize::from(bits) || (bits < 8 && len == 1)) {
+                    return None;
+                }
+            }
+        }
+    }
+    let sizes = device.image_sizes();
+    (sizes != (0, 0)).then_some(sizes)
+}
+
+/// The MainDevice side, run in the namespace.
+mod master {
+    use std::io::BufRead;
+    use std::time::Duration;
+
+    use edsgen::cards::ec_tx508::{ethercat, od};
+    use edsgen_runtime::cia402::State;
+    use edsgen_runtime::ethercat::ethercrab::SdoExt;
+    use edsgen_runtime::master::cia402::{Controller, Outcome};
+    use ethercrab::std::{ethercat_now, tx_rx_task};
+    use ethercrab::{EtherCrabWireRead, EtherCrabWireWrite};
+    use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
+
+    const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
+    static PDU_STORAGE: PduStorage<16, MAX_PDU_DATA> = PduStorage::new();
+
+    pub fn run(role: &str, iface: &str) {
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("a runtime");
+        runtime.block_on(async {
+            let (tx, rx, pdu_loop) = PDU_STORAGE.try_split().expect("split once");
+            // Generous timeouts: the machine running the tests may be loaded.
+            let timeouts = Timeouts {
+                pdu: Duration::from_millis(500),
+                state_transition: Duration::from_secs(10),
+                mailbox_response: Duration::from_secs(2),
+                eeprom: Duration::from_secs(2),
+                ..Timeouts::default()
+            };
+            let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
+            tokio::spawn(tx_rx_task(iface, tx, rx).expect("the raw socket"));
+            let group = maindevice
+                .init_single_group::<4, 256>(ethercat_now)
+                .await
+                .expect("discovery");
+            if role == "corpus" {
+                let group = group.into_op(&maindevice).await.expect("Op");
+                for _ in 0..10 {
+                    group.tx_rx(&maindevice).await.expect("a cycle");
+                }
+                let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+                println!(
+                    "op {}/{}",
+                    card.outputs_raw().len(),
+                    card.inputs_raw().len()
+                );
+                return;
+            }
+            let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+            assert!(ethercat::IDENTITY.matches_subdevice(&card));
+            // ethercrab names a SubDevice by the SII's order string: the ESI's Type.
+            assert_eq!(card.name(), "EC-TX508");
+            let identity = card.identity();
+            assert_eq!(
+                (identity.vendor_id, identity.product_id, identity.revision),
+                (0x04D8, 0x9252, 1)
+            );
+            if role == "reassign" {
+                card.sdo_write(0x1C12, 0, 0u8).await.expect("1C12h:00 := 0");
+                card.sdo_write(0x1C12, 1, 0x1601u16)
+                    .await
+                    .expect("1C12h:01 := 1601h");
+                card.sdo_write(0x1C12, 0, 1u8).await.expect("1C12h:00 := 1");
+                let group = group.into_op(&maindevice).await.expect("Op");
+                group.tx_rx(&maindevice).await.expect("a cycle");
+                let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+                println!(
+                    "images {}/{}",
+                    card.outputs_raw().len(),
+                    card.inputs_raw().len()
+                );
+                return;
+            }
+            let assigned: u16 = card
+                .read_entry(od::rx_pdo_assignment::RX_PDO_ASSIGNED_OBJECT_INDEX)
+                .await
+                .expect("typed SDO read");
+            assert_eq!(assigned, 0x1600);
+            card.write_entry(od::OPERATION_MODE, 9)
+                .await
+                .expect("typed SDO write");
+            // Pre-Op to Op skips Safe-Op: refused with 0x0011, then acknowledged.
+            card.register_write(0x0120u16, 8u16)
+                .await
+                .expect("AL control");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+            let status: u16 = card.register_read(0x0130u16).await.expect("AL status");
+            let code: u16 = card.register_read(0x0134u16).await.expect("AL status code");
+            assert_eq!((status, code), (0x12, 0x0011));
+            card.register_write(0x0120u16, 0x12u16)
+                .await
+                .expect("acknowledge");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+            let status: u16 = card.register_read(0x0130u16).await.expect("AL status");
+            assert_eq!(status, 0x02);
+
+            let group = group.into_op(&maindevice).await.expect("Op");
+            let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+            assert_eq!(card.outputs_raw().len(), ethercat::Outputs::LEN);
+            assert_eq!(card.inputs_raw().len(), ethercat::Inputs::LEN);
+            assert_eq!((ethercat::Outputs::LEN, ethercat::Inputs::LEN), (21, 23));
+            let mut outputs = ethercat::Outputs::default();
+            let mut drive = Controller::new(State::OperationEnabled)
+                .with_mode(9)
+                .with_limit(2_000);
+            let mut speeds = Vec::new();
+            for _ in 0u32..2_500 {
+                group.tx_rx(&maindevice).await.expect("a cycle");
+                let inputs =
+                    ethercat::Inputs::unpack_from_slice(&card.inputs_raw()).expect("inputs");
+                let status = inputs.tx_pdo_1a00;
+                let step = drive.cycle(status.status_word, status.operation_mode_display);
+                assert!(
+                    matches!(step.outcome, Outcome::Busy | Outcome::Reached),
+                    "{:?}",
+                    step.outcome
+                );
+                let enabled = step.outcome == Outcome::Reached;
+                let rx = &mut outputs.rx_pdo_1600;
+                rx.control_word = step.controlword;
+                rx.operation_mode = step.mode.unwrap_or(9);
+                rx.target_speed = if enabled { 300 } else { 0 };
+                outputs
+                    .pack_to_slice(&mut card.outputs_raw_mut())
+                    .expect("outputs");
+                speeds.push(status.actual_speed);
+                tokio::time::sleep(Duration::from_millis(1)).await;
+            }
+            // The 3 rpm/ms ramp: rising, then held at 300.
+            assert!(speeds.windows(2).all(|w| w[0] <= w[1]), "{speeds:?}");
+            assert_eq!(speeds.last(), Some(&300), "{speeds:?}");
+            assert!(speeds.iter().any(|&s| s > 0 && s < 300), "{speeds:?}");
+            let first = speeds.iter().position(|&s| s > 0).unwrap_or(0);
+            let full = speeds.iter().position(|&s| s == 300).unwrap_or(0);
+            println!("ramp: first motion at cycle {first}, 300 rpm at cycle {full}");
+            println!("unplug");
+            let mut line = String::new();
+            let _ = std::io::stdin().lock().read_line(&mut line);
+            let err = group
+                .tx_rx(&maindevice)
+                .await
+                .expect_err("the SubDevice is gone");
+            println!("gone: {err:?}");
+        });
+    }
+}
