@@ -293,9 +293,11 @@ fn generate_applies_the_overlay_beside_the_file() {
                 .replace("FixedBytes<200>", "FixedBytes<32>")
                 .replace("capacity 200 bytes", "capacity 32 bytes")
                 .replace("A::Rw, false, 200)", "A::Rw, false, 32)")
+                .replace("STAGE_SIZE: usize = 200;", "STAGE_SIZE: usize = 32;")
         ),
         words(&code_text),
-        "the overlay changes the capacity (type, docs, descriptor, image size) and nothing else"
+        "the overlay changes the capacity (type, docs, descriptor, image size, the staging \
+         bound of a download) and nothing else"
     );
 }
 

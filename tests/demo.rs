@@ -116,7 +116,7 @@ fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
 #[test]
 fn the_goodrive350_profinet_card_is_found_named_and_driven_in_process() {
     let report = edsgen::demo::run();
-    let steps: Vec<(&str, &Result<String, String>)> = report.steps[35..]
+    let steps: Vec<(&str, &Result<String, String>)> = report.steps[43..50]
         .iter()
         .map(|s| (s.name.as_str(), &s.outcome))
         .collect();
@@ -217,7 +217,7 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
 #[test]
 fn the_goodrive350_enip_card_runs_through_pkw_and_pzd() {
     let report = edsgen::demo::run();
-    let steps: Vec<(&str, &Result<String, String>)> = report.steps[35..]
+    let steps: Vec<(&str, &Result<String, String>)> = report.steps[35..43]
         .iter()
         .map(|s| (s.name.as_str(), &s.outcome))
         .collect();

@@ -621,6 +621,13 @@ fn bundled_cards_match_python_exactly() {
         Ok(entries) => entries
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("eds")))
+            // The EtherNet/IP card's ODVA EDS is not a CiA 306 file: python canopen has no part in it.
+            .filter(|p| {
+                std::fs::read(p).is_ok_and(|bytes| {
+                    edsgen_codegen::read::detect_format(p, &bytes)
+                        == edsgen_codegen::model::Format::Eds
+                })
+            })
             .collect(),
         Err(_) => Vec::new(),
     };

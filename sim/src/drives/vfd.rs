@@ -296,7 +296,6 @@ impl Vfd {
     pub fn update(&mut self, now: Instant) {
         let (accel, decel) = self.ramp_times;
         let elapsed = now.saturating_since(self.updated).as_micros();
-        self.updated = now.max(self.updated);
         let setpoint = self.setpoint();
         let away_from_zero = setpoint.signum() == self.output.signum() || self.output == 0;
         let time = if self.accelerating() { accel } else { decel };
@@ -310,9 +309,55 @@ impl Vfd {
         let distance = goal.abs_diff(self.output);
         if step >= u64::from(distance) {
             self.output = goal;
+            self.updated = now.max(self.updated);
         } else {
-            let step = step as i32;
-            self.output += if goal > self.output { step } else { -step };
+            self.output += if goal > self.output {
+                step as i32
+            } else {
+                -(step as i32)
+            };
+            // Only the time the whole 0.01 Hz steps took is spent: the rest carries over, so a
+            // drive updated every few microseconds ramps as fast as one updated every second.
+            let spent = match self.ratings.max_frequency {
+                0 => elapsed,
+                max => step * u64::from(time) * 100_000 / u64::from(max),
+            };
+            self.updated = self.updated + Duration::from_micros(spent);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn drive() -> Vfd {
+        let ratings = Ratings {
+            max_frequency: 5000,
+            rated_voltage: 380,
+            rated_frequency: 5000,
+            bus_voltage: 5400,
+            pole_pairs: 2,
+        };
+        let mut vfd = Vfd::new(ratings, Instant::from_micros(0));
+        vfd.set_ramp_times(Instant::from_micros(0), 100, 100);
+        vfd.set_reference(Instant::from_micros(0), 5000);
+        vfd.command(Instant::from_micros(0), Run::Forward);
+        vfd
+    }
+
+    /// 50.00 Hz in 10.0 s: after 1 s the output is 5.00 Hz, whether the drive was updated once or
+    /// every 150 µs (a step of 0.0075 Hz each, which rounds to nothing on its own).
+    #[test]
+    fn frequent_updates_ramp_as_fast_as_rare_ones() {
+        let mut rare = drive();
+        rare.update(Instant::from_micros(1_000_000));
+        let mut frequent = drive();
+        for n in 1..=6_666u64 {
+            frequent.update(Instant::from_micros(n * 150));
+        }
+        frequent.update(Instant::from_micros(1_000_000));
+        assert_eq!(rare.output_frequency(), 500);
+        assert_eq!(frequent.output_frequency(), 500);
     }
 }
