@@ -5,7 +5,9 @@
 mod master_support;
 mod node_support;
 
-use edsgen_runtime::master::{Completed, Mode, SdoClient, SdoError, Transfer};
+#[cfg(feature = "sdo-block")]
+use edsgen_runtime::master::Transfer;
+use edsgen_runtime::master::{Completed, Mode, SdoClient, SdoError};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::transport::vbus::{BusDevice, ScriptedPeer, VirtualBus};
 use edsgen_runtime::wire::sdo::abort_meaning;

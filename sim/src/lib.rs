@@ -12,11 +12,11 @@
 //! - [`profinet`]: a PROFINET IO device from a GSDML (DCP so far) and its raw-socket driver.
 //! - [`ethercat`]: an EtherCAT SubDevice from any ESI (ESC registers, AL state machine, SII,
 //!   mailbox and CoE SDO, FMMU process data), sans-IO, with a raw-socket driver.
+//! - [`packet_socket`]: the raw `AF_PACKET` socket the EtherCAT and PROFINET drivers share.
 //!
 //! One folder per bus as the simulators grow (design.md); each protocol core is sans-IO (bytes
 //! and time in, bytes out), with the socket a thin driver.
-// Two audited exceptions: profinet/driver.rs and ethercat/raw_socket.rs bind their packet
-// sockets (see there).
+// One audited exception: packet_socket.rs binds its packet socket (see there).
 #![deny(unsafe_code)]
 
 pub mod canopen;
@@ -25,4 +25,5 @@ pub mod dp;
 pub mod drives;
 pub mod enip;
 pub mod ethercat;
+pub mod packet_socket;
 pub mod profinet;

@@ -1,102 +1,33 @@
-//! A raw Linux `AF_PACKET` socket on one network interface, for EtherCAT frames (EtherType
-//! 0x88A4): the thin I/O under the sans-IO [`SubDevice`](super::SubDevice).
-//!
-//! The one piece of `unsafe` in this crate is here, in `bind`: binding a packet socket to an
-//! interface takes a `sockaddr_ll`, which neither `socket2` nor `nix` can build without `unsafe`
-//! (their link-layer address types have no public constructor). Everything else (creating the
-//! socket, reading, writing, the read timeout) goes through `socket2`'s safe API, and the
-//! interface index comes from `/sys/class/net/IFACE/ifindex`.
-#![allow(unsafe_code)]
+//! The SubDevice's socket: a [`PacketSocket`](crate::packet_socket::PacketSocket) for EtherCAT
+//! frames (EtherType 0x88A4), the thin I/O under the sans-IO [`SubDevice`](super::SubDevice).
 
-use std::io::{self, Read, Write};
-use std::os::fd::AsRawFd;
+use std::io;
 use std::time::Duration;
 
-use socket2::{Domain, Protocol, Socket, Type};
+use crate::packet_socket::PacketSocket;
 
 use super::frame::ETHERTYPE;
 
 /// A packet socket bound to one interface, receiving EtherCAT frames only.
 #[derive(Debug)]
 pub struct RawSocket {
-    socket: Socket,
+    socket: PacketSocket,
 }
 
 impl RawSocket {
     /// Opens `iface` (root, or CAP_NET_RAW, is needed); reads wait at most `timeout`.
     pub fn open(iface: &str, timeout: Duration) -> io::Result<Self> {
-        let index = interface_index(iface)?;
-        let protocol = Protocol::from(i32::from(ETHERTYPE.to_be()));
-        let socket = Socket::new(Domain::PACKET, Type::RAW, Some(protocol))?;
-        bind(&socket, index)?;
-        socket.set_read_timeout(Some(timeout))?;
+        let socket = PacketSocket::open(iface, ETHERTYPE, timeout)?;
         Ok(RawSocket { socket })
     }
 
     /// Reads one frame into `buf`; `Ok(None)` when the timeout passed first.
     pub fn recv(&mut self, buf: &mut [u8]) -> io::Result<Option<usize>> {
-        match (&self.socket).read(buf) {
-            Ok(n) => Ok(Some(n)),
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
-                ) =>
-            {
-                Ok(None)
-            }
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => Ok(None),
-            Err(e) => Err(e),
-        }
+        self.socket.recv(buf)
     }
 
     /// Sends one frame.
     pub fn send(&mut self, frame: &[u8]) -> io::Result<()> {
-        (&self.socket).write_all(frame)
-    }
-}
-
-/// The index of interface `iface`, from sysfs.
-fn interface_index(iface: &str) -> io::Result<i32> {
-    if iface.is_empty() || iface.contains('/') || iface.starts_with('.') {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("`{iface}` is not an interface name"),
-        ));
-    }
-    let text = std::fs::read_to_string(format!("/sys/class/net/{iface}/ifindex"))
-        .map_err(|e| io::Error::new(e.kind(), format!("no interface `{iface}`: {e}")))?;
-    text.trim().parse().map_err(|_| {
-        io::Error::new(
-            io::ErrorKind::InvalidData,
-            format!("interface `{iface}`: ifindex `{}`", text.trim()),
-        )
-    })
-}
-
-/// Binds `socket` to interface `index` for EtherCAT frames.
-fn bind(socket: &Socket, index: i32) -> io::Result<()> {
-    let address = libc::sockaddr_ll {
-        sll_family: libc::AF_PACKET as u16,
-        sll_protocol: ETHERTYPE.to_be(),
-        sll_ifindex: index,
-        sll_hatype: 0,
-        sll_pkttype: 0,
-        sll_halen: 0,
-        sll_addr: [0; 8],
-    };
-    // SAFETY: `address` is a fully initialised `sockaddr_ll` that lives across the call, the
-    // length passed is its size, and the descriptor is the open socket `socket` owns.
-    let result = unsafe {
-        libc::bind(
-            socket.as_raw_fd(),
-            (&raw const address).cast::<libc::sockaddr>(),
-            std::mem::size_of::<libc::sockaddr_ll>() as libc::socklen_t,
-        )
-    };
-    if result == 0 {
-        Ok(())
-    } else {
-        Err(io::Error::last_os_error())
+        self.socket.send(frame)
     }
 }

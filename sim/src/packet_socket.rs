@@ -1,0 +1,125 @@
+//! A raw Linux `AF_PACKET` socket on one network interface for one EtherType: the thin I/O
+//! under the EtherCAT and PROFINET simulators (their protocol cores never see it).
+//!
+//! The one piece of `unsafe` in this crate is here, in `bind`: binding a packet socket to an
+//! interface takes a `sockaddr_ll`, which neither `socket2` nor `nix` can build without `unsafe`
+//! (their link-layer address types have no public constructor). Everything else (creating the
+//! socket, reading, writing, the read timeout) goes through `socket2`'s safe API, and the
+//! interface's index and MAC address come from `/sys/class/net/IFACE`.
+#![allow(unsafe_code)]
+
+use std::io::{self, Read, Write};
+use std::os::fd::AsRawFd;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use socket2::{Domain, Protocol, Socket, Type};
+
+/// A packet socket bound to one interface, receiving the frames of one EtherType.
+#[derive(Debug)]
+pub struct PacketSocket {
+    socket: Socket,
+}
+
+impl PacketSocket {
+    /// Opens `iface` for `ethertype` (root, or CAP_NET_RAW, is needed); reads wait at most
+    /// `timeout`.
+    pub fn open(iface: &str, ethertype: u16, timeout: Duration) -> io::Result<Self> {
+        let index = interface_index(iface)?;
+        let protocol = Protocol::from(i32::from(ethertype.to_be()));
+        let socket = Socket::new(Domain::PACKET, Type::RAW, Some(protocol))?;
+        bind(&socket, ethertype, index)?;
+        socket.set_read_timeout(Some(timeout))?;
+        Ok(PacketSocket { socket })
+    }
+
+    /// Reads one frame into `buf`; `Ok(None)` when the timeout passed first (or a signal came).
+    pub fn recv(&mut self, buf: &mut [u8]) -> io::Result<Option<usize>> {
+        match (&self.socket).read(buf) {
+            Ok(n) => Ok(Some(n)),
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock
+                        | io::ErrorKind::TimedOut
+                        | io::ErrorKind::Interrupted
+                ) =>
+            {
+                Ok(None)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Sends one frame as it is.
+    pub fn send(&mut self, frame: &[u8]) -> io::Result<()> {
+        (&self.socket).write_all(frame)
+    }
+}
+
+/// The folder of interface `iface` in sysfs, refusing names that would lead elsewhere.
+fn sysfs(iface: &str) -> io::Result<PathBuf> {
+    if iface.is_empty() || iface.contains('/') || iface.starts_with('.') {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("`{iface}` is not an interface name"),
+        ));
+    }
+    Ok(PathBuf::from("/sys/class/net").join(iface))
+}
+
+/// The index of interface `iface`.
+pub fn interface_index(iface: &str) -> io::Result<i32> {
+    let text = std::fs::read_to_string(sysfs(iface)?.join("ifindex"))
+        .map_err(|e| io::Error::new(e.kind(), format!("no interface `{iface}`: {e}")))?;
+    text.trim().parse().map_err(|_| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("interface `{iface}`: ifindex `{}`", text.trim()),
+        )
+    })
+}
+
+/// The MAC address of interface `iface`.
+pub fn interface_mac(iface: &str) -> io::Result<[u8; 6]> {
+    let text = std::fs::read_to_string(sysfs(iface)?.join("address"))
+        .map_err(|e| io::Error::new(e.kind(), format!("no interface `{iface}`: {e}")))?;
+    let bytes: Vec<u8> = text
+        .trim()
+        .split(':')
+        .filter_map(|p| u8::from_str_radix(p, 16).ok())
+        .collect();
+    bytes.try_into().map_err(|_| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("`{iface}` has no MAC address"),
+        )
+    })
+}
+
+/// Binds `socket` to interface `index` for `ethertype`.
+fn bind(socket: &Socket, ethertype: u16, index: i32) -> io::Result<()> {
+    let address = libc::sockaddr_ll {
+        sll_family: libc::AF_PACKET as u16,
+        sll_protocol: ethertype.to_be(),
+        sll_ifindex: index,
+        sll_hatype: 0,
+        sll_pkttype: 0,
+        sll_halen: 0,
+        sll_addr: [0; 8],
+    };
+    // SAFETY: `address` is a fully initialised `sockaddr_ll` that lives across the call, the
+    // length passed is its size, and the descriptor is the open socket `socket` owns.
+    let result = unsafe {
+        libc::bind(
+            socket.as_raw_fd(),
+            (&raw const address).cast::<libc::sockaddr>(),
+            std::mem::size_of::<libc::sockaddr_ll>() as libc::socklen_t,
+        )
+    };
+    if result == 0 {
+        Ok(())
+    } else {
+        Err(io::Error::last_os_error())
+    }
+}
