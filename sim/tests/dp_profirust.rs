@@ -11,55 +11,17 @@ use edsgen_runtime::pkw_pzd::PkwResponse;
 use edsgen_runtime::Instant;
 use edsgen_sim::cards::goodrive350_dp::modules::n_4_pkw_12_pzd::{Inputs, Outputs};
 use edsgen_sim::dp::card::{goodrive350, read_gsd, Goodrive350Dp, GSD, GSD_PATH};
-use edsgen_sim::dp::fdl::{self, FdlError};
-use edsgen_sim::dp::{DpSlave, DpState};
+use edsgen_sim::dp::DpState;
 use profirust::dp::{self, DiagnosticFlags};
-use profirust::phy::{ProfibusPhy, SimulatorPhy};
+use profirust::phy::SimulatorPhy;
 use profirust::{fdl as pfdl, Baudrate};
 
 const MASTER: u8 = 1;
 const SLAVE: u8 = 2;
 const BAUD: Baudrate = Baudrate::B19200;
 
-/// The slave's side of the simulated bus: it reads the bytes on the bus, and answers a
-/// complete telegram 11 bit times (the minimum Tsdr) after it ended.
-struct SlaveStation {
-    phy: SimulatorPhy,
-    slave: DpSlave<Goodrive350Dp>,
-    answer: Option<(profirust::time::Instant, Vec<u8>)>,
-}
-
-impl SlaveStation {
-    fn poll(&mut self, now: profirust::time::Instant) {
-        let at = Instant::from_micros(u64::try_from(now.total_micros()).unwrap_or(0));
-        self.slave.handle_timeout(at);
-        if self.phy.poll_transmission(now) {
-            return;
-        }
-        if let Some((due, bytes)) = self.answer.take() {
-            if now >= due {
-                self.phy.transmit_data(now, |buf| {
-                    buf[..bytes.len()].copy_from_slice(&bytes);
-                    (bytes.len(), ())
-                });
-            } else {
-                self.answer = Some((due, bytes));
-            }
-            return;
-        }
-        let slave = &mut self.slave;
-        let answer = self
-            .phy
-            .receive_data(now, |pending| match fdl::parse(pending) {
-                Ok((_, used)) => (used, slave.handle(at, &pending[..used])),
-                Err(FdlError::Incomplete) => (0, None),
-                Err(_) => (1, None),
-            });
-        if let Some(bytes) = answer {
-            self.answer = Some((now + BAUD.bits_to_time(11), bytes));
-        }
-    }
-}
+/// The card on the simulated bus.
+type SlaveStation = edsgen_sim::dp::simulator_phy::SlaveStation<Goodrive350Dp>;
 
 struct Bus {
     phy: SimulatorPhy,
@@ -71,11 +33,11 @@ fn bus() -> Bus {
     let slave_phy = phy.duplicate("goodrive350");
     Bus {
         phy,
-        station: SlaveStation {
-            phy: slave_phy,
-            slave: goodrive350(SLAVE, Instant::from_micros(0)).unwrap(),
-            answer: None,
-        },
+        station: SlaveStation::new(
+            slave_phy,
+            BAUD,
+            goodrive350(SLAVE, Instant::from_micros(0)).unwrap(),
+        ),
     }
 }
 

@@ -10,9 +10,9 @@ use std::path::Path;
 use edsgen_runtime::Instant;
 use edsgen_sim::cards::goodrive350_dp::{self as card, modules::n_4_pkw_12_pzd as module};
 use edsgen_sim::dp::card::{goodrive350, Goodrive350Dp, GSD, GSD_PATH};
-use edsgen_sim::dp::fdl::{self, FdlError};
-use edsgen_sim::dp::{DpSlave, DpState};
-use profirust::phy::{ProfibusPhy, SimulatorPhy};
+use edsgen_sim::dp::simulator_phy::SlaveStation;
+use edsgen_sim::dp::DpState;
+use profirust::phy::SimulatorPhy;
 use profirust::time::Duration;
 use profirust::{dp, fdl as pfdl, Baudrate};
 
@@ -25,43 +25,7 @@ const BAUD: Baudrate = Baudrate::B19200;
 const STEP_TIME: Duration = Duration::from_secs(20);
 
 /// The card on the simulated bus.
-struct Station {
-    phy: SimulatorPhy,
-    slave: DpSlave<Goodrive350Dp>,
-    answer: Option<(profirust::time::Instant, Vec<u8>)>,
-}
-
-impl Station {
-    fn poll(&mut self, now: profirust::time::Instant) {
-        let at = Instant::from_micros(u64::try_from(now.total_micros()).unwrap_or(0));
-        self.slave.handle_timeout(at);
-        if self.phy.poll_transmission(now) {
-            return;
-        }
-        if let Some((due, bytes)) = self.answer.take() {
-            if now >= due {
-                self.phy.transmit_data(now, |buf| {
-                    buf[..bytes.len()].copy_from_slice(&bytes);
-                    (bytes.len(), ())
-                });
-            } else {
-                self.answer = Some((due, bytes));
-            }
-            return;
-        }
-        let slave = &mut self.slave;
-        let answer = self
-            .phy
-            .receive_data(now, |pending| match fdl::parse(pending) {
-                Ok((_, used)) => (used, slave.handle(at, &pending[..used])),
-                Err(FdlError::Incomplete) => (0, None),
-                Err(_) => (1, None),
-            });
-        if let Some(bytes) = answer {
-            self.answer = Some((now + BAUD.bits_to_time(11), bytes));
-        }
-    }
-}
+type Station = SlaveStation<Goodrive350Dp>;
 
 /// The 32 output bytes of PKW1–PKW4, the CW and PZD2, through the generated image.
 fn outputs(pkw: [u16; 4], cw: u16, pzd2: u16) -> [u8; 32] {
@@ -100,11 +64,7 @@ pub(super) fn run(trace: &mut Trace) {
         Ok(slave) => slave,
         Err(e) => return trace.step("power up the card", Err(e.to_string())),
     };
-    let mut station = Station {
-        phy: phy.duplicate("goodrive350-dp"),
-        slave,
-        answer: None,
-    };
+    let mut station = SlaveStation::new(phy.duplicate("goodrive350-dp"), BAUD, slave);
     let mut phy = phy;
     let tsdr = card::BAUD_RATES
         .iter()

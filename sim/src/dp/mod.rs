@@ -4,6 +4,7 @@
 pub mod card;
 pub mod fdl;
 pub mod serial;
+pub mod simulator_phy;
 pub mod slave;
 
 pub use slave::{DpApplication, DpSlave, DpState, SlaveConfig};
