@@ -118,12 +118,9 @@ pub fn run(args: Args) -> ExitCode {
             }
         }
     }
-    let runtime = match tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-    {
+    let runtime = match runtime() {
         Ok(runtime) => runtime,
-        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+        Err(message) => return fail(message),
     };
     match runtime.block_on(scan(&iface, &described)) {
         Ok(text) => {
@@ -147,7 +144,10 @@ fn sdo(
         Ok(entry) => entry,
         Err(message) => return fail(message),
     };
-    let size: usize = size.parse().unwrap_or(4);
+    let size: usize = match size.parse() {
+        Ok(size @ (1 | 2 | 4 | 8)) => size,
+        _ => return fail(format!("--size `{size}` is not 1, 2, 4 or 8 bytes")),
+    };
     let value = match (verb, value) {
         (SdoVerb::Read, None) => None,
         (SdoVerb::Write, Some(text)) => {
@@ -163,29 +163,13 @@ fn sdo(
         (SdoVerb::Read, Some(_)) => return fail("ecat sdo read takes no value"),
         (SdoVerb::Write, None) => return fail("ecat sdo write needs a value"),
     };
-    let runtime = match tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-    {
+    let runtime = match runtime() {
         Ok(runtime) => runtime,
-        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+        Err(message) => return fail(message),
     };
     let (index, sub) = (entry.index, entry.sub);
     let result: Result<String, String> = runtime.block_on(async {
-        let (tx, rx, pdu_loop) = PDU_STORAGE
-            .try_split()
-            .map_err(|_| "the PDU storage is split once".to_owned())?;
-        let timeouts = Timeouts {
-            pdu: Duration::from_millis(500),
-            ..Timeouts::default()
-        };
-        let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
-        let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
-        tokio::spawn(task);
-        let group = maindevice
-            .init_single_group::<64, 4096>(ethercat_now)
-            .await
-            .map_err(|e| format!("discovery: {e}"))?;
+        let (maindevice, group) = discover(iface).await?;
         let sub_device = group
             .subdevice(&maindevice, position)
             .map_err(|_| format!("no SubDevice at position {position}"))?;
@@ -285,28 +269,13 @@ fn pdo(
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let flag = std::sync::Arc::clone(&stop);
     let _ = ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::Relaxed));
-    let runtime = match tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-    {
+    let runtime = match runtime() {
         Ok(runtime) => runtime,
-        Err(err) => return fail(format!("cannot start the async runtime: {err}")),
+        Err(message) => return fail(message),
     };
     let result: Result<(), String> = runtime.block_on(async {
-        let (tx, rx, pdu_loop) = PDU_STORAGE
-            .try_split()
-            .map_err(|_| "the PDU storage is split once".to_owned())?;
-        let timeouts = Timeouts {
-            pdu: Duration::from_millis(500),
-            ..Timeouts::default()
-        };
-        let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
-        let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
-        tokio::spawn(task);
-        let group = maindevice
-            .init_single_group::<64, 4096>(ethercat_now)
-            .await
-            .map_err(|e| format!("discovery: {e}"))?
+        let (maindevice, group) = discover(iface).await?;
+        let group = group
             .into_op(&maindevice)
             .await
             .map_err(|e| format!("to Op: {e}"))?;
@@ -365,10 +334,22 @@ fn inputs_line(image: &[u8], entries: &[(String, u16, bool)]) -> String {
     parts.join(", ")
 }
 
-async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, String> {
+/// A current-thread async runtime for one command, or the message to print.
+fn runtime() -> Result<tokio::runtime::Runtime, String> {
+    tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .map_err(|err| format!("cannot start the async runtime: {err}"))
+}
+
+/// ethercrab's MainDevice on `iface` (its frames carried by a task on the current runtime) and
+/// every SubDevice it found there, in Pre-Op.
+async fn discover(
+    iface: &str,
+) -> Result<(MainDevice<'static>, ethercrab::SubDeviceGroup<64, 4096>), String> {
     let (tx, rx, pdu_loop) = PDU_STORAGE
         .try_split()
-        .map_err(|_| "the PDU storage is split once")?;
+        .map_err(|_| "the PDU storage is split once".to_owned())?;
     let timeouts = Timeouts {
         pdu: Duration::from_millis(500),
         ..Timeouts::default()
@@ -380,6 +361,11 @@ async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, St
         .init_single_group::<64, 4096>(ethercat_now)
         .await
         .map_err(|e| format!("discovery: {e}"))?;
+    Ok((maindevice, group))
+}
+
+async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, String> {
+    let (maindevice, group) = discover(iface).await?;
     let mut text = String::new();
     for (position, sub) in group.iter(&maindevice).enumerate() {
         let id = sub.identity();
