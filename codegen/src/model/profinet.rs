@@ -117,6 +117,10 @@ pub struct Submodule {
     pub outputs: Vec<DataItem>,
     /// `RecordDataList/ParameterRecordDataItem`s.
     pub records: Vec<ParameterRecord>,
+    /// Whether its images are the Goodrive350's 16-word PKW/PZD images, as the overlay's
+    /// `[pkw_pzd]` says (a GSDML file cannot): its generated images then convert to and from
+    /// `edsgen_runtime::pkw_pzd`'s.
+    pub pkw_pzd: bool,
     /// Where the element is.
     pub span: Span,
 }
