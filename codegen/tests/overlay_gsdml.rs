@@ -146,6 +146,24 @@ fn a_name_two_items_share_needs_the_id() {
 }
 
 #[test]
+fn a_module_without_submodules() {
+    let text = card();
+    let (start, end) = (
+        text.find(
+            "          <VirtualSubmoduleList>\n            <VirtualSubmoduleItem ID=\"SUB_DAP\"",
+        )
+        .expect("the access point's submodules"),
+        text.find("          <SystemDefinedSubmoduleList>")
+            .expect("its system submodules"),
+    );
+    let bare = format!("{}{}", &text[..start], &text[end..]);
+    assert_eq!(
+        refusals_on(&bare, "[pkw_pzd]\nmodule = \"DAP_GD350_PN\"\nsubslot = 1\n"),
+        [(2, 10, "\"DAP_GD350_PN\" has no submodule".to_owned())]
+    );
+}
+
+#[test]
 fn images_that_are_not_16_words_each_way() {
     // The access point's own submodule has no IO data.
     assert_eq!(

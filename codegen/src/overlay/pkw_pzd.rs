@@ -228,6 +228,9 @@ fn apply_pn(
         Ok(submodules) => submodules,
         Err(message) => return diags.push(error(module_span, message)),
     };
+    if submodules.is_empty() {
+        return diags.push(error(module_span, format!("\"{name}\" has no submodule")));
+    }
     let subslots = submodules
         .iter()
         .map(|s| s.subslot.to_string())
