@@ -1,5 +1,6 @@
 //! The `profinet` object of `edsgen dump`: what a GSDML file says (identity, access points,
-//! modules, submodules with their IO data and records, value lists, channel diagnostics).
+//! modules, submodules with their IO data and records, value lists, channel diagnostics with
+//! their extended ones).
 
 use serde_json::{json, Value as Json};
 
@@ -23,6 +24,12 @@ pub(super) fn profinet(pn: &Profinet) -> Json {
         })).collect::<Vec<_>>(),
         "channel_diagnostics": pn.channel_diagnostics.iter().map(|d| json!({
             "error_type": d.error_type, "name": d.name, "help": d.help,
+            "ext": d.ext.iter().map(|x| json!({
+                "error_type": x.error_type.value, "name": x.name, "help": x.help,
+                "add_values": x.add_values.iter().map(|v| json!({
+                    "id": v.id, "data_type": v.data_type.value, "length": v.length,
+                })).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
     })
 }

@@ -158,6 +158,7 @@ impl GsdmlReader<'_, '_> {
             inputs,
             outputs,
             records,
+            pkw_pzd: false,
             span: self.spans.element(node),
         }
     }
