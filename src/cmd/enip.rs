@@ -41,6 +41,8 @@ pub enum Args {
         /// The value's bytes, in hex.
         value: String,
     },
+    /// A class-1 connection from the EDS: set outputs by name, print the inputs each RPI.
+    Io(super::enip_io::Args),
 }
 
 fn usage(message: String) -> ExitCode {
@@ -48,7 +50,7 @@ fn usage(message: String) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn address(text: &str) -> Result<SocketAddr, String> {
+pub(super) fn address(text: &str) -> Result<SocketAddr, String> {
     let with_port = if text.contains(':') {
         text.to_owned()
     } else {
@@ -103,6 +105,7 @@ fn hex(bytes: &[u8]) -> String {
 pub fn run(args: Args) -> ExitCode {
     match args {
         Args::List { addr, eds } => list(addr.as_deref(), eds),
+        Args::Io(args) => super::enip_io::run(args),
         Args::Get { addr, path } => explicit(&addr, &path, 0x0E, Vec::new()),
         Args::Set { addr, path, value } => {
             let digits: String = value.chars().filter(|c| !c.is_whitespace()).collect();

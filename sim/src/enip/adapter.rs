@@ -69,6 +69,9 @@ pub struct IoConnection {
     pub run: bool,
     /// The originator's address key (the driver's: where T→O data goes).
     pub peer: u64,
+    /// The UDP port the originator asked T→O data on with a T→O sockaddr info item in its
+    /// Forward_Open (as OpENer honours it); `None`: the class-1 port, 2222.
+    pub t_o_port: Option<u16>,
 }
 
 /// What happened to the connections that the application should know.
@@ -201,16 +204,17 @@ impl Adapter {
 
     fn send_rr_data(&mut self, client: u64, m: &Encapsulation, now: Instant) -> Encapsulation {
         // Interface handle (4), timeout (2), then the items.
-        let request = m.data.get(6..).and_then(parse_items).and_then(|items| {
-            items
-                .iter()
-                .find(|(kind, _)| *kind == item::UNCONNECTED_DATA)
-                .map(|(_, d)| d.to_vec())
-        });
-        let Some(request) = request else {
+        let items = m.data.get(6..).and_then(parse_items).unwrap_or_default();
+        let find = |wanted: u16| items.iter().find(|(kind, _)| *kind == wanted);
+        let Some((_, request)) = find(item::UNCONNECTED_DATA) else {
             return m.reply(encap_status::INCORRECT_DATA, Vec::new());
         };
-        let response = self.route(client, &request, now);
+        let t_o_port = find(item::SOCKADDR_T_O).and_then(|(_, d)| super::wire::parse_sockaddr(d));
+        let opened = self.connections.len();
+        let response = self.route(client, request, now);
+        if let (Some((port, _)), Some(c)) = (t_o_port, self.connections.get_mut(opened)) {
+            c.t_o_port = Some(port);
+        }
         let mut data = vec![0; 6];
         data.extend(emit_items(&[
             (item::NULL_ADDRESS, &[]),

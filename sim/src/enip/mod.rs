@@ -22,3 +22,5 @@ pub use adapter::{Adapter, Assembly, Event, Identity, IoConnection};
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_scanner;

@@ -323,6 +323,7 @@ impl Adapter {
             o_t_sequence: None,
             run: false,
             peer: client,
+            t_o_port: None,
         });
         self.events.push(Event::Opened(id));
         let mut data = Vec::new();
