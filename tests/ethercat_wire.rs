@@ -13,6 +13,9 @@
 //! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
 //!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h;
 //!   `edsgen ecat pdo` prints the inputs by name.
+//! - `edsgen ecat check`: clean against eds/ec-tx508.xml; against tests/esi/ec-tx508-altered.xml,
+//!   one finding per check (SII identity, SyncManager, PDO assignment and mapping, a missing
+//!   object, a length, a default), exit 1.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
@@ -51,9 +54,10 @@ fn main() {
     drive(&ns);
     reassign(&ns);
     scan(&ns);
+    check(&ns);
     let soem = soem(&ns);
     let corpus = corpus(&ns);
-    println!("ethercat_wire: ok (drive, reassign, scan, {soem}, {corpus})");
+    println!("ethercat_wire: ok (drive, reassign, scan, check, {soem}, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -221,6 +225,83 @@ fn scan(ns: &Namespace) {
         );
     }
 }
+
+/// `edsgen ecat check` judges the simulated EC-TX508 against its own ESI (clean, exit 0) and
+/// against an ESI that differs from it once per check (exit 1, each difference shown).
+fn check(ns: &Namespace) {
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let check = |esi: &str| {
+        let mut command = ns.exec(EDSGEN, &["ecat", "check", "--iface", "ecm", "--esi", esi]);
+        command.current_dir(root());
+        Process::start(&mut command).finish(Duration::from_secs(60))
+    };
+    let clean = check("eds/ec-tx508.xml");
+    assert_eq!(
+        (clean.code, clean.stdout.as_str()),
+        (
+            Some(0),
+            "SubDevice 0 checked against eds/ec-tx508.xml: 0 error(s), 0 warning(s)\n"
+        ),
+        "{clean:?}"
+    );
+    let altered = check("tests/esi/ec-tx508-altered.xml");
+    assert_eq!(altered.code, Some(1), "{altered:?}");
+    assert_eq!(altered.stdout, ALTERED, "{altered:?}");
+}
+
+/// What `edsgen ecat check` says of the EC-TX508 against tests/esi/ec-tx508-altered.xml.
+const ALTERED: &str = "\
+error[CHK006]: the revision in the SII of SubDevice 0 is 0x00000001, the ESI says 0x00000002
+  --> tests/esi/ec-tx508-altered.xml:25:52
+   |
+25 |         <Type ProductCode=\"#x00009252\" RevisionNo=\"#x00000002\">EC-TX508</Type>
+   |                                                    ^^^^^^^^^^
+   |
+
+warning[CHK005]: 1018h:03h Identity object / Revision number of SubDevice 0 holds 1 (0x00000001), the description's default is 2
+   --> tests/esi/ec-tx508-altered.xml:133:37
+    |
+133 |                       <DefaultValue>2</DefaultValue>
+    |                                     -
+    |
+
+error[CHK001]: object 2100h is missing on SubDevice 0
+   --> tests/esi/ec-tx508-altered.xml:138:15
+    |
+138 |               <Object>
+    |               ^^^^^^^
+    |
+
+error[CHK002]: 6060h:00h of SubDevice 0 is 1 byte(s) long, its data type INTEGER16 has 2
+   --> tests/esi/ec-tx508-altered.xml:147:15
+    |
+147 |               <Object>
+    |               ^^^^^^^
+    |
+
+error[CHK007]: SM2 in the SII of SubDevice 0 starts at 0x1800 (the ESI: 0x1100)
+   --> tests/esi/ec-tx508-altered.xml:165:9
+    |
+165 |         <Sm DefaultSize=\"128\" StartAddress=\"#x1100\" ControlByte=\"#x64\" Enable=\"1\">Outputs</Sm>
+    |         ^^^
+    |
+
+error[CHK008]: 1C13h of SubDevice 0 assigns 1A00h to SM3, the ESI assigns 1A01h by default
+   --> tests/esi/ec-tx508-altered.xml:166:9
+    |
+166 |         <Sm DefaultSize=\"128\" StartAddress=\"#x1C00\" ControlByte=\"#x20\" Enable=\"1\">Inputs</Sm>
+    |         ^^^
+    |
+
+error[CHK008]: 1600h of SubDevice 0 maps 6040h:00h/16, 607Ah:00h/32, 60FFh:00h/32, 6071h:00h/16, 6072h:00h/16, 6060h:00h/8, 6081h:00h/32, 60B8h:00h/16, the ESI's 1600h (RX PDO1 mapping parameter) maps 6040h:00h/16, 6060h:00h/16
+   --> tests/esi/ec-tx508-altered.xml:167:9
+    |
+167 |         <RxPdo Fixed=\"0\" Mandatory=\"0\" Sm=\"2\">
+    |         ^^^^^^
+    |
+
+SubDevice 0 checked against tests/esi/ec-tx508-altered.xml: 6 error(s), 1 warning(s)
+";
 
 /// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte
 /// images from CoE and brings it to Op with the working counter it expects.

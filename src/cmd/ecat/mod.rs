@@ -6,6 +6,7 @@
 //! number with the SubDevice in Pre-Op (exit 1 with the abort when the SubDevice refuses).
 //! `ecat pdo --iface IFACE --esi FILE [--cycles N]`: the SubDevice brought to Op, its inputs
 //! printed by name (the ESI's default TxPDO entries) every 1 ms cycle until Ctrl-C or N cycles.
+//! `ecat check --iface IFACE --esi FILE`: the SubDevice judged against its ESI ([`check`]).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -17,6 +18,8 @@ use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
 
 use super::{fail, print_stdout};
+
+mod check;
 
 /// `edsgen ecat ...`.
 #[derive(ClapArgs, Debug)]
@@ -74,6 +77,9 @@ enum EcatCommand {
         #[arg(long)]
         cycles: Option<u64>,
     },
+    /// Judge a SubDevice against its ESI (identity, SyncManagers, PDO assignment, every
+    /// readable object), in the validator's format.
+    Check(check::CheckArgs),
 }
 
 /// What `ecat sdo` does.
@@ -105,6 +111,7 @@ pub fn run(args: Args) -> ExitCode {
             position,
             cycles,
         } => return pdo(&iface, &esi, device.as_deref(), position, cycles),
+        EcatCommand::Check(args) => return check::run(&args),
     };
     let mut described = Vec::new();
     for path in &esi {
