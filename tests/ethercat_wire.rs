@@ -12,6 +12,7 @@
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
 //! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
 //!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h;
+//!   by name through `--esi`, typed values, an ambiguous name's suggestions and a refused write;
 //!   `edsgen ecat pdo` prints the inputs by name.
 //! - `edsgen ecat check`: clean against eds/ec-tx508.xml; against tests/esi/ec-tx508-altered.xml,
 //!   one finding per check (SII identity, SyncManager, PDO assignment and mapping, a missing
@@ -194,6 +195,57 @@ fn scan(ns: &Namespace) {
     let missing = ecat(&["read", "--iface", "ecm", "1234:0"]);
     assert_eq!(missing.code, Some(1));
     assert!(missing.stderr.contains("0x06020000"), "{missing:?}");
+    // By name through the ESI, typed by its data types (a segmented read for 1008h's 13 bytes).
+    let esi = root().join("eds/ec-tx508.xml");
+    let esi = esi.to_str().expect("a path");
+    let named = |args: &[&str]| ecat(&[&["--iface", "ecm", "--esi", esi][..], args].concat());
+    for (args, line) in [
+        (
+            &["read", "ID object / Supplier"][..],
+            "1018h:01h ID object / Supplier ID = 1240 (0x000004D8)\n",
+        ),
+        (
+            &["read", "factory device"],
+            "1008h:00h Factory device name = INVT-EtherCAT\n",
+        ),
+        (
+            &["write", "operationmode", "-3"],
+            "6060h:00h Operation mode written\n",
+        ),
+        (
+            &["read", "Operation mode"],
+            "6060h:00h Operation mode = -3 (0xFD)\n",
+        ),
+    ] {
+        let done = named(args);
+        assert_eq!(
+            (done.code, done.stdout.as_str()),
+            (Some(0), line),
+            "{done:?}"
+        );
+    }
+    let ambiguous = named(&["read", "operation"]);
+    assert_eq!(
+        (ambiguous.code, ambiguous.stderr.as_str()),
+        (
+            Some(2),
+            "error: `operation` names 2 entries; did you mean:\n  6060:0  Operation mode\n  \
+             6061:0  Operation mode display\n"
+        )
+    );
+    let too_big = named(&["write", "Operation mode", "300"]);
+    assert_eq!(
+        (too_big.code, too_big.stderr.as_str()),
+        (Some(2), "error: 300 does not fit i8\n")
+    );
+    let refused = named(&["write", "ID object / Supplier", "5"]);
+    assert_eq!(
+        (refused.code, refused.stderr.as_str()),
+        (
+            Some(1),
+            "error: ecm: 1018h:01h: 0x06010002: Attempt to write to a read only object\n"
+        )
+    );
     let mut command = ns.exec(
         EDSGEN,
         &[

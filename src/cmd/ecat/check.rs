@@ -20,12 +20,12 @@ use edsgen_codegen::rules::{
 };
 use edsgen_codegen::{read, render};
 use edsgen_runtime::wire::sdo::{abort_meaning, Multiplexer};
-use ethercrab::error::{Error, MailboxError};
-use ethercrab::{EtherCrabWireRead, EtherCrabWireSized, MainDevice, SubDevice, SubDeviceRef};
+use ethercrab::{MainDevice, SubDevice, SubDeviceRef};
 
 use super::super::check::{default_differs, length_differs, Format};
 use super::super::fail;
 use super::super::sdo::show_mux;
+use super::sdo::upload;
 use super::{discover, runtime};
 
 /// `edsgen ecat check` options.
@@ -120,35 +120,6 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
-    }
-}
-
-/// An SDO value of any length up to a mailbox's worth, as ethercrab reads it.
-struct Raw(Vec<u8>);
-
-impl EtherCrabWireRead for Raw {
-    fn unpack_from_slice(buf: &[u8]) -> Result<Self, ethercrab_wire::WireError> {
-        Ok(Raw(buf.to_vec()))
-    }
-}
-
-impl EtherCrabWireSized for Raw {
-    const PACKED_LEN: usize = 4096;
-    type Buffer = [u8; 4096];
-    fn buffer() -> Self::Buffer {
-        [0; 4096]
-    }
-}
-
-/// One SDO read: the bytes, the SubDevice's abort code, or (the outer error) a failed bus.
-async fn upload(
-    sub_device: &SubDeviceRef<'_, &SubDevice>,
-    mux: Multiplexer,
-) -> Result<Result<Vec<u8>, u32>, String> {
-    match sub_device.sdo_read::<Raw>(mux.index, mux.sub).await {
-        Ok(Raw(bytes)) => Ok(Ok(bytes)),
-        Err(Error::Mailbox(MailboxError::Aborted { code, .. })) => Ok(Err(u32::from(code))),
-        Err(err) => Err(format!("{}: {err}", show_mux(mux))),
     }
 }
 
