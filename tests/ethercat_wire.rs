@@ -17,6 +17,10 @@
 //! - `edsgen ecat check`: clean against eds/ec-tx508.xml; against tests/esi/ec-tx508-altered.xml,
 //!   one finding per check (SII identity, SyncManager, PDO assignment and mapping, a missing
 //!   object, a length, a default), exit 1.
+//! - `eeprom`: ethercrab's own EEPROM reader reads back the SII the simulator serves, byte for
+//!   byte what `edsgen sii` writes (EC-TX508 and tests/esi/io-no-mailbox.xml), and takes the
+//!   identity, names and mailbox SyncManagers from it; the I/O device without CoE reaches Op
+//!   with the image sizes of the SII's PDO categories.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
@@ -56,9 +60,10 @@ fn main() {
     reassign(&ns);
     scan(&ns);
     check(&ns);
+    sii_read_back(&ns);
     let soem = soem(&ns);
     let corpus = corpus(&ns);
-    println!("ethercat_wire: ok (drive, reassign, scan, check, {soem}, {corpus})");
+    println!("ethercat_wire: ok (drive, reassign, scan, check, SII, {soem}, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -355,6 +360,64 @@ error[CHK008]: 1600h of SubDevice 0 maps 6040h:00h/16, 607Ah:00h/32, 60FFh:00h/3
 SubDevice 0 checked against tests/esi/ec-tx508-altered.xml: 6 error(s), 1 warning(s)
 ";
 
+/// ethercrab reads back the SII image the simulator serves: byte for byte what `edsgen sii`
+/// writes (0xFF past its end marker, up to the size word 0x3E gives), and it takes from it the
+/// identity, the order string (its name), the device name (its description) and the mailbox
+/// SyncManagers. A device without CoE is configured from the SII's PDO categories alone.
+fn sii_read_back(ns: &Namespace) {
+    let io = root().join("tests/esi/io-no-mailbox.xml");
+    let io = io.to_str().expect("a path");
+    for (served, esi, expected) in [
+        (
+            &["--card", "ec-tx508"][..],
+            "eds/ec-tx508.xml",
+            "identity 0x000004d8 0x00009252 0x00000001\nname EC-TX508\n\
+             description EC-TX508 EtherCAT communication card (Goodrive350)\n\
+             sm0 0x1000 512 0x26\nsm1 0x1400 512 0x22\n",
+        ),
+        (
+            &[io][..],
+            "tests/esi/io-no-mailbox.xml",
+            "identity 0x00001234 0x00000101 0x00000003\nname TIO-8\n\
+             description Test I/O, 8 outputs, 8 inputs and a counter\n\
+             sm0 0x0000 0 0x00\nsm1 0x0000 0 0x00\n",
+        ),
+    ] {
+        let image = std::env::temp_dir().join(format!("edsgen-sii-{}.bin", std::process::id()));
+        let written = Command::new(EDSGEN)
+            .current_dir(root())
+            .args(["sii", esi, "-o", image.to_str().expect("a path")])
+            .output()
+            .expect("edsgen sii");
+        assert!(written.status.success(), "{written:?}");
+        let image_bytes = std::fs::read(&image).expect("the image");
+        let _ = std::fs::remove_file(&image);
+        let _sim = ns.simulator(served);
+        let done = ns.master("eeprom").finish(Duration::from_secs(60));
+        assert_eq!(done.code, Some(0), "{esi}: {done:?}");
+        let (parsed, sii) = done.stdout.split_once("sii ").expect("the SII line");
+        assert_eq!(parsed, expected, "{esi}");
+        let sii = sii.trim_end();
+        let read: Vec<u8> = (0..sii.len() / 2)
+            .map(|i| u8::from_str_radix(&sii[2 * i..2 * i + 2], 16).expect("hex"))
+            .collect();
+        assert!(
+            read.len() >= image_bytes.len(),
+            "{esi}: {} bytes read",
+            read.len()
+        );
+        assert_eq!(read[..image_bytes.len()], image_bytes[..], "{esi}");
+        assert!(
+            read[image_bytes.len()..].iter().all(|&b| b == 0xFF),
+            "{esi}"
+        );
+    }
+    let _sim = ns.simulator(&[io]);
+    let done = ns.master("corpus").finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert!(done.stdout.contains("op 1/3"), "{done:?}");
+}
+
 /// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte
 /// images from CoE and brings it to Op with the working counter it expects.
 fn soem(ns: &Namespace) -> String {
@@ -510,6 +573,36 @@ mod master {
                 .init_single_group::<4, 256>(ethercat_now)
                 .await
                 .expect("discovery");
+            if role == "eeprom" {
+                let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+                let size = card.eeprom_size(&maindevice).await.expect("the SII's size");
+                let mut image = vec![0u8; size];
+                card.eeprom_read_raw(&maindevice, 0, &mut image)
+                    .await
+                    .expect("the SII");
+                let id = card.identity();
+                println!(
+                    "identity {:#010x} {:#010x} {:#010x}",
+                    id.vendor_id, id.product_id, id.revision
+                );
+                println!("name {}", card.name());
+                let description = card.description().await.expect("the SII's name");
+                println!("description {}", description.unwrap_or_default());
+                // The mailbox SyncManagers ethercrab set up in Pre-Op from the SII's SyncM
+                // category: start, length, control.
+                for n in 0..2u16 {
+                    let sm: [u8; 8] = card
+                        .register_read(0x0800 + 8 * n)
+                        .await
+                        .expect("a SyncManager");
+                    let start = u16::from_le_bytes([sm[0], sm[1]]);
+                    let len = u16::from_le_bytes([sm[2], sm[3]]);
+                    println!("sm{n} {start:#06x} {len} {:#04x}", sm[4]);
+                }
+                let hex: Vec<String> = image.iter().map(|b| format!("{b:02x}")).collect();
+                println!("sii {}", hex.concat());
+                return;
+            }
             if role == "corpus" {
                 let group = group.into_op(&maindevice).await.expect("Op");
                 for _ in 0..10 {
