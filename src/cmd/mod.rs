@@ -21,6 +21,7 @@ pub mod dump;
 #[cfg(feature = "ethercrab")]
 pub mod ecat;
 pub mod enip;
+pub mod enip_param;
 pub mod entry;
 pub mod generate;
 pub mod nmt;
