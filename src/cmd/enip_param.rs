@@ -457,7 +457,83 @@ mod tests {
         assert_eq!(patch(&data, 20, 8, &[0]), None);
     }
 
+    fn io() -> Cip {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("codegen/tests/odva/io.eds");
+        let read = edsgen_codegen::read::read_file(&path).expect("io.eds reads");
+        read.device.cip.expect("an ODVA EDS")
+    }
+
+    #[test]
+    fn where_parameters_are_and_how_their_values_read() {
+        let cip = io();
+        let speed = resolve(&cip, "SPEED").expect("Speed");
+        assert_eq!(
+            speed.access,
+            Access::Member {
+                instance: 100,
+                offset: 0,
+                bits: 16
+            }
+        );
+        assert_eq!(speed.kind, Kind::Unsigned(2));
+        assert_eq!(
+            speed.show(&[0xDC, 0x05]).as_deref(),
+            Ok("150.0 rpm (raw 1500)")
+        );
+        // Engineering values round to the nearest raw value.
+        assert_eq!(speed.encode("12.34"), Ok(vec![123, 0]));
+        assert_eq!(
+            speed.encode("0x10"),
+            Err("Param1 Speed: `0x10` is not a number".into())
+        );
+        let mode = resolve(&cip, "param2").expect("Mode");
+        assert_eq!(
+            mode.access,
+            Access::Member {
+                instance: 100,
+                offset: 16,
+                bits: 8
+            }
+        );
+        assert_eq!(mode.show(&[2]).as_deref(), Ok("2 (0x02) \"Fast\""));
+        assert_eq!(mode.show(&[7]).as_deref(), Ok("7 (0x07)"));
+        assert_eq!(mode.encode("SLOW"), Ok(vec![1]));
+        assert_eq!(mode.encode("0x2"), Ok(vec![2]));
+        // RPI: no member, no link path: its Parameter object instance.
+        let rpi = resolve(&cip, "rpi").expect("RPI");
+        assert_eq!(
+            rpi.access,
+            Access::Attribute(vec![0x20, 0x0F, 0x24, 0x03, 0x30, 0x01])
+        );
+        assert_eq!(
+            rpi.show(&[0x50, 0xC3, 0, 0]).as_deref(),
+            Ok("50000 (0x0000C350) us")
+        );
+        assert_eq!(
+            rpi.encode("9999"),
+            Err("Param3 RPI: 9999 is outside 10000 ..= 1000000 us".into())
+        );
+        assert_eq!(
+            rpi.show(&[1, 2]),
+            Err("2 bytes received where the data type has 4".into())
+        );
+    }
+
     proptest::proptest! {
+        #[test]
+        fn any_name_or_value_is_taken_or_refused_without_a_panic(text in "\\PC{0,12}") {
+            let cip = io();
+            if let Ok(param) = resolve(&cip, &text) {
+                let _ = param.encode(&text);
+            }
+            for name in ["Speed", "Mode", "RPI"] {
+                let param = resolve(&cip, name).expect("a parameter");
+                let _ = param.encode(&text);
+                let _ = param.show(text.as_bytes());
+            }
+        }
+
         #[test]
         fn a_member_reads_back_what_was_written(
             data in proptest::collection::vec(proptest::prelude::any::<u8>(), 1..8),

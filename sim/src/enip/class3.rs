@@ -42,8 +42,9 @@ pub(super) struct ExplicitOpen {
     pub timeout: Duration,
 }
 
-/// Why SendUnitData gets the encapsulation's "incorrect data" (0x0003): CIP defines no reply on
-/// a connection that does not exist, so the encapsulation refuses the message.
+/// SendUnitData refused with the encapsulation's "incorrect data" (0x0003): malformed, or for a
+/// connection that is not open (OpENer drops such a message unanswered; an answer tells the
+/// originator at once).
 fn incorrect(m: &Encapsulation) -> Encapsulation {
     m.reply(encap_status::INCORRECT_DATA, Vec::new())
 }

@@ -285,6 +285,8 @@ fn forward_open_io_timeout_and_forward_close() {
 fn garbage_never_panics() {
     let mut a = adapter();
     let s = session(&mut a);
+    let ok = explicit(&mut a, s, &class3_open(0x54, 1, 2_000_000, 0xA3, &ROUTER));
+    let id = u32::from_le_bytes([ok[4], ok[5], ok[6], ok[7]]);
     let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
     for n in 0..2000usize {
         let len = n % 90;
@@ -305,7 +307,15 @@ fn garbage_never_panics() {
             (item::UNCONNECTED_DATA, &bytes),
         ]));
         let _ = a.handle(7, &encap(0x6F, s, &wrapped), T0);
+        let mut unit = vec![0; 6];
+        unit.extend(emit_items(&[
+            (item::CONNECTED_ADDRESS, &id.to_le_bytes()),
+            (item::CONNECTED_DATA, &bytes),
+        ]));
+        let _ = a.handle(7, &encap(0x70, s, &unit), T0);
     }
+    // The class-3 connection lived through it.
+    assert!(a.explicit_connections().iter().any(|c| c.o_t_id == id));
     // Still serving.
     assert_eq!(
         explicit(&mut a, s, &[0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x01]),
