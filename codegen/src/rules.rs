@@ -254,6 +254,7 @@ rules! {
     PN_DUPLICATE_RECORD = "PN014" Error "two parameter records of one submodule with one Index";
     PN_DUPLICATE_EXT_DIAG = "PN015" Error "two ExtChannelDiagItems of one ChannelDiagItem with one ErrorType (an alarm's ExtChannelErrorType would have two meanings)";
     PN_EXT_ADD_VALUE_SIZE = "PN016" Error "ExtChannelAddValue DataItems longer than the 4 bytes of an alarm's ExtChannelAddValue (Unsigned32)";
+    PN_DUPLICATE_SUBSLOT_LABEL = "PN017" Warning "two SubslotItems of one module or access point with one SubslotNumber (the subslot gets two labels)";
 }
 
 /// Looks a rule up by its code.

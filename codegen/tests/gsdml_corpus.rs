@@ -108,7 +108,8 @@ fn count_in(notes: &str, word: &str) -> Option<usize> {
 
 /// A drive's extended channel diagnoses as the corpus's SEW file gives them: 800
 /// `ExtChannelDiagItem`s under 53 of its 70 `ChannelDiagItem`s (57 under error type 4162), each
-/// with one 32-bit additional value; no PN015/PN016 (the summary above pins no codes for it).
+/// with one 32-bit additional value; no PN015/PN016/PN017 (the summary above pins no codes for
+/// it); and the subslot labels of its first access point.
 #[test]
 fn the_sew_drive_s_extended_channel_diagnoses_are_read() {
     let Some(dir) = corpus() else { return };
@@ -133,6 +134,20 @@ fn the_sew_drive_s_extended_channel_diagnoses_are_read() {
             "E-1.1 Short circuit in motor output terminals 'Overcurrent in output stage or faulty \
              output stage control detected, and output stage inhibited by hardware'"
         )
+    );
+    // Its access points label their interface and ports (`SubslotList`).
+    let labels: Vec<(u16, Option<&str>)> = pn.access_points[0]
+        .subslot_labels
+        .iter()
+        .map(|l| (l.subslot.value, l.text.as_deref()))
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            (32768, Some("X1")),
+            (32769, Some("X1 P1")),
+            (32770, Some("X1 P2"))
+        ]
     );
     assert!(diags
         .iter()

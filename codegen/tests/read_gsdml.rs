@@ -638,3 +638,85 @@ fn pn016_ext_add_values_beyond_32_bits_and_pn003_unknown_types() {
     );
     assert_eq!(pn(&read(&text)).channel_diagnostics[0].ext.len(), 1);
 }
+
+/// The card with a `SubslotList` on its access point labelling subslot `first` and `second`
+/// (the interface's and the first port's labels by default).
+fn with_subslot_list(first: u32, second: u32) -> String {
+    edit(
+        "          <IOConfigData MaxInputLength",
+        &format!(
+            "          <SubslotList>\n            <SubslotItem SubslotNumber=\"{first}\" \
+             TextId=\"T_IF\"/>\n            <SubslotItem SubslotNumber=\"{second}\" \
+             TextId=\"T_P1\"/>\n          </SubslotList>\n          <IOConfigData MaxInputLength"
+        ),
+    )
+}
+
+#[test]
+fn subslot_labels_are_read_and_dumped() {
+    let text = with_subslot_list(32768, 32769);
+    assert_eq!(diagnostics(&text), vec![]);
+    let read = read(&text);
+    let labels: Vec<(u16, Option<&str>)> = pn(&read).access_points[0]
+        .subslot_labels
+        .iter()
+        .map(|l| (l.subslot.value, l.text.as_deref()))
+        .collect();
+    let texts = |id: &str| {
+        let at = text
+            .find(&format!("TextId=\"{id}\" Value=\""))
+            .expect("a text")
+            + id.len()
+            + 17;
+        text[at..at + text[at..].find('"').expect("closed")].to_owned()
+    };
+    assert_eq!(
+        labels,
+        vec![
+            (32768, Some(texts("T_IF").as_str())),
+            (32769, Some(texts("T_P1").as_str()))
+        ]
+    );
+    let dump = edsgen_codegen::dump::to_json(&read.device);
+    assert_eq!(
+        dump["profinet"]["access_points"][0]["subslot_labels"],
+        serde_json::json!([
+            {"subslot": 32768, "text": texts("T_IF")},
+            {"subslot": 32769, "text": texts("T_P1")}
+        ])
+    );
+    assert_eq!(
+        dump["profinet"]["modules"][0]["subslot_labels"],
+        serde_json::json!([])
+    );
+}
+
+#[test]
+fn pn017_a_subslot_labelled_twice() {
+    let text = with_subslot_list(32768, 32768);
+    let line = line_of("          <IOConfigData MaxInputLength");
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "PN017",
+            Warning,
+            line + 2,
+            &format!(
+                "`DAP_GD350_PN` labels subslot 32768 twice (the first on line {})",
+                line + 1
+            )
+        )]
+    );
+    // A subslot number that is not 16 bits: the attribute's error, the item left out.
+    let text = with_subslot_list(32768, 65536);
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "EDS604",
+            Error,
+            line + 2,
+            "`SubslotNumber` is 65536, outside its range"
+        )]
+    );
+    assert_eq!(pn(&read(&text)).access_points[0].subslot_labels.len(), 1);
+}

@@ -6,7 +6,7 @@ use serde_json::{json, Value as Json};
 
 use crate::model::{
     AccessPoint, DataItem, ParameterRecord, PnModule, Profinet, RecordField, Submodule,
-    SystemSubmodule,
+    SubslotLabel, SystemSubmodule,
 };
 
 pub(super) fn profinet(pn: &Profinet) -> Json {
@@ -58,6 +58,7 @@ fn access_point(dap: &AccessPoint) -> Json {
             "used_in_slots": r.used_in_slots,
         })).collect::<Vec<_>>(),
         "submodules": dap.submodules.iter().map(submodule).collect::<Vec<_>>(),
+        "subslot_labels": subslot_labels(&dap.subslot_labels),
         "interface": dap.interface.as_ref().map(system_submodule),
         "ports": dap.ports.iter().map(system_submodule).collect::<Vec<_>>(),
     })
@@ -82,7 +83,15 @@ fn module(m: &PnModule) -> Json {
         "name": m.name,
         "info_text": m.info_text,
         "submodules": m.submodules.iter().map(submodule).collect::<Vec<_>>(),
+        "subslot_labels": subslot_labels(&m.subslot_labels),
     })
+}
+
+fn subslot_labels(labels: &[SubslotLabel]) -> Json {
+    labels
+        .iter()
+        .map(|l| json!({"subslot": l.subslot.value, "text": l.text}))
+        .collect()
 }
 
 fn submodule(s: &Submodule) -> Json {

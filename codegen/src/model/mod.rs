@@ -38,8 +38,8 @@ pub use ethercat::{
 pub use object::{KeySpans, Object, SubObject, Value, ValueSource};
 pub use profinet::{
     AccessPoint, BitDataItem, ChannelDiag, DataItem, ExtAddValue, ExtChannelDiag, ModuleRef,
-    ParameterRecord, PnDataType, PnModule, Profinet, RecordField, Submodule, SystemSubmodule,
-    ValueList,
+    ParameterRecord, PnDataType, PnModule, Profinet, RecordField, Submodule, SubslotLabel,
+    SystemSubmodule, ValueList,
 };
 pub use source::{Format, Source, Span, Spanned, TextEncoding};
 pub use types::{AccessType, BasicType, ObjectType};

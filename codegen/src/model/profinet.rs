@@ -60,6 +60,8 @@ pub struct AccessPoint {
     pub useable_modules: Vec<ModuleRef>,
     /// The access point's own `VirtualSubmoduleList` items (subslot 1 and on).
     pub submodules: Vec<Submodule>,
+    /// `SubslotList/SubslotItem`s: labels of its subslots.
+    pub subslot_labels: Vec<SubslotLabel>,
     /// The `InterfaceSubmoduleItem`, if any.
     pub interface: Option<SystemSubmodule>,
     /// The `PortSubmoduleItem`s.
@@ -96,8 +98,20 @@ pub struct PnModule {
     pub info_text: Option<String>,
     /// Its `VirtualSubmoduleItem`s.
     pub submodules: Vec<Submodule>,
+    /// `SubslotList/SubslotItem`s: labels of its subslots.
+    pub subslot_labels: Vec<SubslotLabel>,
     /// Where the element is.
     pub span: Span,
+}
+
+/// One `SubslotItem`: the label an engineering tool shows for a subslot of a module or access
+/// point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubslotLabel {
+    /// `SubslotNumber`.
+    pub subslot: Spanned<u16>,
+    /// The text `TextId` names.
+    pub text: Option<String>,
 }
 
 /// One `VirtualSubmoduleItem`: IO data and parameter records.

@@ -1,5 +1,6 @@
-//! PROFINET rules (PN002..PN016; PN001 is the reader's) over the GSDML part of the model: access
-//! points, modules, submodules, IO data, parameter records, references, channel diagnostics.
+//! PROFINET rules (PN002..PN017; PN001 is the reader's) over the GSDML part of the model: access
+//! points, modules, submodules, IO data, parameter records, references, channel diagnostics,
+//! subslot labels.
 //!
 //! Severities: an error where a controller following the file would build a connection the device
 //! refuses or misreads (a type without size, IO data over the limits, a record field past its
@@ -472,6 +473,26 @@ fn duplicates(pn: &Profinet, out: &mut Vec<Diagnostic>) {
                     format!(
                         "`{owner}` has two submodules in subslot {} (`{other}` and `{}`)",
                         sub.subslot, sub.id
+                    ),
+                ));
+            }
+        }
+    }
+    let labels = pn
+        .access_points
+        .iter()
+        .map(|d| (&d.id, &d.subslot_labels))
+        .chain(pn.modules.iter().map(|m| (&m.id, &m.subslot_labels)));
+    for (owner, labels) in labels {
+        let mut seen: HashMap<u16, Span> = HashMap::new();
+        for label in labels {
+            if let Some(first) = seen.insert(label.subslot.value, label.subslot.span) {
+                out.push(Diagnostic::new(
+                    &rules::PN_DUPLICATE_SUBSLOT_LABEL,
+                    Some(label.subslot.span),
+                    format!(
+                        "`{owner}` labels subslot {} twice (the first on line {})",
+                        label.subslot.value, first.line
                     ),
                 ));
             }
