@@ -9,7 +9,7 @@ use edsgen_codegen::model::{
     data_type_range, decode_path, Cip, CipEnum, CipNumber, CipParam, FieldRef,
 };
 
-use super::value::Kind;
+use super::value::{parse_int, Kind};
 
 /// Where a parameter's value is on the device.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -421,21 +421,6 @@ impl Param<'_> {
             None => String::new(),
         }
     }
-}
-
-fn parse_int(text: &str) -> Option<i128> {
-    let (negative, digits) = match text.strip_prefix('-') {
-        Some(rest) => (true, rest),
-        None => (false, text),
-    };
-    let magnitude = match digits
-        .strip_prefix("0x")
-        .or_else(|| digits.strip_prefix("0X"))
-    {
-        Some(hex) => i128::from_str_radix(hex, 16).ok()?,
-        None => digits.parse::<i128>().ok()?,
-    };
-    Some(if negative { -magnitude } else { magnitude })
 }
 
 #[cfg(test)]
