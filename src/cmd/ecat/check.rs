@@ -494,3 +494,89 @@ fn dictionary(
     }
     diags
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn drive() -> Device {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("codegen/tests/esi/drive.xml");
+        read::read_file(&path).expect("drive.xml").device
+    }
+
+    /// What `judge` says, as (code, message) in its order.
+    fn said(diags: &[Diagnostic]) -> Vec<(&'static str, &str)> {
+        diags
+            .iter()
+            .map(|d| (d.code(), d.message.as_str()))
+            .collect()
+    }
+
+    #[test]
+    fn a_matching_subdevice_gives_nothing() {
+        let esi = drive();
+        let observed = Observed {
+            sii: esi.clone(),
+            sm_channels: 8,
+            assignments: vec![(2, Ok(vec![0x1600])), (3, Ok(vec![0x1A00]))],
+            mappings: vec![
+                (0x1600, Ok(vec![0x6040_0010, 0x6060_0008, 0x607A_0020])),
+                (0x1A00, Ok(vec![0x6041_0010])),
+            ],
+            entries: vec![
+                (
+                    Multiplexer::new(0x1000, 0),
+                    Ok(vec![0x92, 0x01, 0x02, 0x00]),
+                ),
+                (Multiplexer::new(0x6041, 0), Ok(vec![0x37, 0x02])),
+            ],
+        };
+        assert_eq!(said(&judge(&esi, 0, &observed)), []);
+    }
+
+    #[test]
+    fn each_difference_is_one_diagnostic() {
+        let esi = drive();
+        let mut sii = esi.clone();
+        if let Some(revision) = sii.device_info.revision_number.as_mut() {
+            revision.value = 7;
+        }
+        let ec = sii.ethercat.as_mut().expect("ESI");
+        ec.sync_managers[1].control_byte = 0x20;
+        ec.sync_managers[1].enable = false;
+        let extra = ec.sync_managers[3].clone();
+        ec.sync_managers.push(extra);
+        let observed = Observed {
+            sii,
+            sm_channels: 2,
+            assignments: vec![(2, Err(0x0602_0000)), (3, Ok(Vec::new()))],
+            mappings: vec![(0x1600, Ok(vec![0x6040_0010])), (0x1A00, Err(0x0800_0022))],
+            entries: vec![
+                (
+                    Multiplexer::new(0x1000, 0),
+                    Ok(vec![0x92, 0x01, 0x00, 0x00]),
+                ),
+                (Multiplexer::new(0x1008, 0), Err(0x0601_0001)),
+                (Multiplexer::new(0x1018, 2), Err(0x0609_0011)),
+                (Multiplexer::new(0x6041, 0), Ok(vec![0x37, 0x02, 0x00])),
+            ],
+        };
+        assert_eq!(
+            said(&judge(&esi, 1, &observed)),
+            [
+                ("CHK006", "the revision in the SII of SubDevice 1 is 0x00000007, the ESI says 0x00000001"),
+                ("CHK007", "the ESC of SubDevice 1 has 2 SyncManager channel(s) (register 0x0005), the ESI describes 4"),
+                ("CHK007", "SM1 in the SII of SubDevice 1 has control byte 0x20 (the ESI: 0x22), is disabled (the ESI: enabled)"),
+                ("CHK007", "the SII of SubDevice 1 has SM4 (Inputs), the ESI describes 4 SyncManager(s)"),
+                ("CHK008", "SubDevice 1 refuses to read 1C12h: 06020000h (object does not exist in the object dictionary)"),
+                ("CHK008", "1C13h of SubDevice 1 assigns nothing to SM3, the ESI assigns 1A00h by default"),
+                ("CHK008", "1600h of SubDevice 1 maps 6040h:00h/16, the ESI's 1600h (Outputs) maps 6040h:00h/16, 6060h:00h/8, 607Ah:00h/32"),
+                ("CHK008", "SubDevice 1 refuses to read 1A00h: 08000022h (data cannot be transferred or stored to the application because of the present device state)"),
+                ("CHK005", "1000h:00h Device type of SubDevice 1 holds 402 (0x00000192), the description's default is 92010200"),
+                ("CHK003", "SubDevice 1 refuses to read 1008h:00h: 06010001h (attempt to read a write-only object)"),
+                ("CHK001", "1018h:02h is missing on SubDevice 1"),
+                ("CHK002", "6041h:00h of SubDevice 1 is 3 byte(s) long, its data type UNSIGNED16 has 2"),
+            ]
+        );
+    }
+}
