@@ -286,7 +286,7 @@ fn scan(ns: &Namespace) {
 /// `edsgen ecat check` judges the simulated EC-TX508 against its own ESI (clean, exit 0) and
 /// against an ESI that differs from it once per check (exit 1, each difference shown).
 fn check(ns: &Namespace) {
-    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let card = ns.simulator(&["--card", "ec-tx508"]);
     let check = |esi: &str| {
         let mut command = ns.exec(EDSGEN, &["ecat", "check", "--iface", "ecm", "--esi", esi]);
         command.current_dir(root());
@@ -304,6 +304,19 @@ fn check(ns: &Namespace) {
     let altered = check("tests/esi/ec-tx508-altered.xml");
     assert_eq!(altered.code, Some(1), "{altered:?}");
     assert_eq!(altered.stdout, ALTERED, "{altered:?}");
+    drop(card);
+    // A SubDevice without CoE is judged by its SII alone.
+    let io = root().join("tests/esi/io-no-mailbox.xml");
+    let _sim = ns.simulator(&[io.to_str().expect("a path")]);
+    let clean = check("tests/esi/io-no-mailbox.xml");
+    assert_eq!(
+        (clean.code, clean.stdout.as_str()),
+        (
+            Some(0),
+            "SubDevice 0 checked against tests/esi/io-no-mailbox.xml: 0 error(s), 0 warning(s)\n"
+        ),
+        "{clean:?}"
+    );
 }
 
 /// What `edsgen ecat check` says of the EC-TX508 against tests/esi/ec-tx508-altered.xml.

@@ -150,23 +150,22 @@ pub async fn observe(
         mappings: Vec::new(),
         entries: Vec::new(),
     };
-    let Some(ec) = esi.ethercat.as_ref() else {
+    // Without CoE there is no SDO: the SII is all a SubDevice says of itself.
+    let Some(ec) = esi.ethercat.as_ref().filter(|ec| ec.coe.is_some()) else {
         return Ok(observed);
     };
-    if ec.coe.is_some() {
-        for (n, sm) in ec.sync_managers.iter().enumerate() {
-            if !matches!(sm.kind, SmKind::Outputs | SmKind::Inputs) {
-                continue;
-            }
-            let index = 0x1C10 + n as u16;
-            let list = read_list(sub_device, index, 2).await?;
-            let list = list.map(|l| l.into_iter().map(|v| v as u16).collect());
-            observed.assignments.push((n as u8, list));
+    for (n, sm) in ec.sync_managers.iter().enumerate() {
+        if !matches!(sm.kind, SmKind::Outputs | SmKind::Inputs) {
+            continue;
         }
-        for pdo in default_pdos(esi) {
-            let list = read_list(sub_device, pdo.index, 4).await?;
-            observed.mappings.push((pdo.index, list));
-        }
+        let index = 0x1C10 + n as u16;
+        let list = read_list(sub_device, index, 2).await?;
+        let list = list.map(|l| l.into_iter().map(|v| v as u16).collect());
+        observed.assignments.push((n as u8, list));
+    }
+    for pdo in default_pdos(esi) {
+        let list = read_list(sub_device, pdo.index, 4).await?;
+        observed.mappings.push((pdo.index, list));
     }
     for object in esi.objects.values() {
         if !checked(object.index, &object.object_type) {
