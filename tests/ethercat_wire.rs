@@ -24,7 +24,8 @@
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
-//!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op.
+//!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op, and
+//!   `edsgen ecat check` finds it clean against its own ESI.
 
 #[path = "process_support/mod.rs"]
 mod process_support;
@@ -484,6 +485,16 @@ fn corpus(ns: &Namespace) -> String {
         assert!(
             done.stdout.contains(&format!("op {outputs}/{inputs}")),
             "{}: {done:?}",
+            file.display()
+        );
+        // Served from its own ESI, the SubDevice is clean by `edsgen ecat check`.
+        let path = file.to_str().expect("a path");
+        let mut command = ns.exec(EDSGEN, &["ecat", "check", "--iface", "ecm", "--esi", path]);
+        let checked = Process::start(&mut command).finish(Duration::from_secs(60));
+        assert_eq!(checked.code, Some(0), "{}: {checked:?}", file.display());
+        assert!(
+            checked.stdout.ends_with(": 0 error(s), 0 warning(s)\n"),
+            "{}: {checked:?}",
             file.display()
         );
         served += 1;

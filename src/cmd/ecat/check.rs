@@ -2,7 +2,9 @@
 //! EtherCAT SubDevice judged against its ESI, in the validator's diagnostic format (as `edsgen
 //! check` judges a CANopen node): its SII read back through the EEPROM interface (identity and
 //! order string, CHK006; SyncManagers, CHK007, with the ESC's SyncManager count), the PDO
-//! assignment and the default PDOs' mappings read by SDO (CHK008), and every readable entry of
+//! assignment and the default PDOs' mappings read by SDO against what the ESI says the device
+//! powers up with (CHK008: the dictionary's 1C1xh and mapping defaults, else the `Sm`
+//! attributes and `Entry` lists), and every readable entry of
 //! the ESI's dictionary read by SDO: missing (CHK001), refused (CHK003), of another length than
 //! its type (CHK002), or, for a constant or a read-only entry no PDO can carry, other than the
 //! ESI's default (CHK005). Reading the SubDevice ([`observe`], ethercrab in Pre-Op) is apart
@@ -13,7 +15,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
-use edsgen_codegen::model::{AccessType, Device, EcPdo, ObjectType, SmKind, SubObject};
+use edsgen_codegen::model::{
+    AccessType, Device, EcPdo, ObjectType, SmKind, Span, SubObject, Value,
+};
 use edsgen_codegen::rules::{
     CHK_MISSING as CHK001, CHK_PDO_ASSIGNMENT as CHK008, CHK_SII_IDENTITY as CHK006,
     CHK_SYNC_MANAGER as CHK007, CHK_UNREADABLE as CHK003,
@@ -383,11 +387,16 @@ fn assignment(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
         } else {
             &ec.tx_pdos
         };
-        let wanted: Vec<u16> = pdos
-            .iter()
-            .filter(|p| p.sm == Some(*n))
-            .map(|p| p.index)
-            .collect();
+        let (wanted, span) = match dictionary_list(esi, index) {
+            Some((list, span)) => (list.into_iter().map(|v| v as u16).collect(), span),
+            None => (
+                pdos.iter()
+                    .filter(|p| p.sm == Some(*n))
+                    .map(|p| p.index)
+                    .collect::<Vec<u16>>(),
+                sm.span,
+            ),
+        };
         let message = match list {
             Err(code) => format!("{who} refuses to read {index:04X}h: {}", refused(*code)),
             Ok(list) if *list == wanted => continue,
@@ -397,30 +406,55 @@ fn assignment(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
                 indices(&wanted)
             ),
         };
-        diags.push(Diagnostic::new(&CHK008, Some(sm.span), message));
+        diags.push(Diagnostic::new(&CHK008, Some(span), message));
     }
     for (index, list) in &observed.mappings {
         let Some(pdo) = default_pdos(esi).into_iter().find(|p| p.index == *index) else {
             continue;
         };
-        let wanted: Vec<u32> = pdo
-            .entries
-            .iter()
-            .map(|e| u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bit_len))
-            .collect();
+        let (wanted, span) = dictionary_list(esi, *index).unwrap_or_else(|| {
+            let entries = pdo.entries.iter().map(|e| {
+                u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bit_len & 0xFF)
+            });
+            (entries.collect(), pdo.span)
+        });
+        // An entry of 0 (no object, 0 bits) maps nothing: a mapping object whose sub-index 0
+        // counts empty slots maps what its other entries say.
+        let list = list
+            .as_ref()
+            .map(|l| l.iter().copied().filter(|e| *e != 0).collect::<Vec<u32>>());
         let message = match list {
             Err(code) => format!("{who} refuses to read {index:04X}h: {}", refused(*code)),
-            Ok(list) if *list == wanted => continue,
+            Ok(list) if list == wanted => continue,
             Ok(list) => format!(
                 "{index:04X}h of {who} maps {}, the ESI's {index:04X}h ({}) maps {}",
-                entries(list),
+                entries(&list),
                 pdo.name,
                 entries(&wanted)
             ),
         };
-        diags.push(Diagnostic::new(&CHK008, Some(pdo.span), message));
+        diags.push(Diagnostic::new(&CHK008, Some(span), message));
     }
     diags
+}
+
+/// The list an assignment or mapping object of the ESI's dictionary holds at power-up (its
+/// sub-index 0 and entries' defaults, up to the first 0) and where the object is; `None` when
+/// the dictionary leaves it empty, and the device fills it from the `Sm` attributes and `Entry`
+/// lists (as ETG.2000 devices and the simulator do). The ESI's two answers may differ (the
+/// Nanotec C5-E's 1C12h holds 1600h where its `Sm` attributes assign 1600h and 1601h): the
+/// SubDevice holds the dictionary's.
+fn dictionary_list(esi: &Device, index: u16) -> Option<(Vec<u32>, Span)> {
+    let object = esi.objects.get(&index)?;
+    let default = |sub: u8| match object.subs.get(&sub)?.default.as_ref()?.value {
+        Some(Value::Integer(v)) => u32::try_from(v).ok(),
+        _ => None,
+    };
+    let count = default(0)?;
+    let list: Vec<u32> = (1..=count.min(255) as u8)
+        .map_while(|sub| default(sub).filter(|v| *v != 0))
+        .collect();
+    (!list.is_empty()).then_some((list, object.span))
 }
 
 /// `1600h, 1601h`, or `nothing`.
@@ -445,7 +479,10 @@ fn entries(list: &[u32]) -> String {
 }
 
 /// CHK001/2/3/5: each entry read against the ESI's dictionary. Defaults are compared for
-/// constants, and for read-only entries no PDO can carry (a PDO-mappable one is live data).
+/// constants, and for read-only entries no PDO can carry (a PDO-mappable one is live data),
+/// except in the PDO mapping and assignment objects, which [`assignment`] judges by content (a
+/// device may count a zero-terminated list's entries in sub-index 0 where the ESI gives the
+/// maximum).
 fn dictionary(
     esi: &Device,
     who: &str,
@@ -461,11 +498,15 @@ fn dictionary(
         };
         match value {
             Ok(bytes) => {
-                let fixed = match sub.access {
-                    Some(AccessType::Const) => true,
-                    Some(AccessType::Ro) => !sub.pdo_mapping,
-                    _ => false,
-                };
+                // PDO mapping and assignment objects are CHK008's, judged by what they map.
+                let pdo_object =
+                    matches!(mux.index, 0x1600..=0x17FF | 0x1A00..=0x1BFF | 0x1C10..=0x1C2F);
+                let fixed = !pdo_object
+                    && match sub.access {
+                        Some(AccessType::Const) => true,
+                        Some(AccessType::Ro) => !sub.pdo_mapping,
+                        _ => false,
+                    };
                 let found = length_differs(esi, who, *mux, sub, bytes).or_else(|| {
                     fixed
                         .then(|| default_differs(esi, who, 0, *mux, sub, bytes))
