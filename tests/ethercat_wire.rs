@@ -24,7 +24,8 @@
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
-//!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op.
+//!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op, and
+//!   `edsgen ecat check` finds it clean against its own ESI.
 
 #[path = "process_support/mod.rs"]
 mod process_support;
@@ -286,7 +287,7 @@ fn scan(ns: &Namespace) {
 /// `edsgen ecat check` judges the simulated EC-TX508 against its own ESI (clean, exit 0) and
 /// against an ESI that differs from it once per check (exit 1, each difference shown).
 fn check(ns: &Namespace) {
-    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let card = ns.simulator(&["--card", "ec-tx508"]);
     let check = |esi: &str| {
         let mut command = ns.exec(EDSGEN, &["ecat", "check", "--iface", "ecm", "--esi", esi]);
         command.current_dir(root());
@@ -304,6 +305,19 @@ fn check(ns: &Namespace) {
     let altered = check("tests/esi/ec-tx508-altered.xml");
     assert_eq!(altered.code, Some(1), "{altered:?}");
     assert_eq!(altered.stdout, ALTERED, "{altered:?}");
+    drop(card);
+    // A SubDevice without CoE is judged by its SII alone.
+    let io = root().join("tests/esi/io-no-mailbox.xml");
+    let _sim = ns.simulator(&[io.to_str().expect("a path")]);
+    let clean = check("tests/esi/io-no-mailbox.xml");
+    assert_eq!(
+        (clean.code, clean.stdout.as_str()),
+        (
+            Some(0),
+            "SubDevice 0 checked against tests/esi/io-no-mailbox.xml: 0 error(s), 0 warning(s)\n"
+        ),
+        "{clean:?}"
+    );
 }
 
 /// What `edsgen ecat check` says of the EC-TX508 against tests/esi/ec-tx508-altered.xml.
@@ -471,6 +485,16 @@ fn corpus(ns: &Namespace) -> String {
         assert!(
             done.stdout.contains(&format!("op {outputs}/{inputs}")),
             "{}: {done:?}",
+            file.display()
+        );
+        // Served from its own ESI, the SubDevice is clean by `edsgen ecat check`.
+        let path = file.to_str().expect("a path");
+        let mut command = ns.exec(EDSGEN, &["ecat", "check", "--iface", "ecm", "--esi", path]);
+        let checked = Process::start(&mut command).finish(Duration::from_secs(60));
+        assert_eq!(checked.code, Some(0), "{}: {checked:?}", file.display());
+        assert!(
+            checked.stdout.ends_with(": 0 error(s), 0 warning(s)\n"),
+            "{}: {checked:?}",
             file.display()
         );
         served += 1;

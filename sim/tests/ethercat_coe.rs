@@ -1,7 +1,8 @@
 //! The EC-TX508 served from its ESI (`EsiDevice`) driven frame by frame as a MainDevice drives
 //! it: mailbox SyncManagers, Pre-Op, CoE SDO (expedited, normal, complete access, segmented
 //! download, aborts with CiA 301 codes, the Pre-Op-only PDO assignment), Safe-Op refused and then
-//! accepted with the SyncManager lengths following the assignment, and process data in Op.
+//! accepted with the SyncManager lengths following the assignment, and process data in Op; the
+//! ESI's `WriteRestrictions` enforced with 0800 0022.
 
 use std::path::Path;
 
@@ -19,9 +20,11 @@ struct Master {
 
 impl Master {
     fn new() -> Self {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/ec-tx508.xml");
-        let model = edsgen_codegen::read::read_file(&path).unwrap().device;
-        let device = EsiDevice::subdevice(&model, None).unwrap();
+        Master::with(&ec_tx508())
+    }
+
+    fn with(model: &edsgen_codegen::model::Device) -> Self {
+        let device = EsiDevice::subdevice(model, None).unwrap();
         let mut master = Master {
             device,
             counter: 0,
@@ -83,6 +86,11 @@ impl Master {
         assert_eq!(answer[6..8], [0x00, 0x30], "SDO response");
         answer[8..6 + len].to_vec()
     }
+}
+
+fn ec_tx508() -> edsgen_codegen::model::Device {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/ec-tx508.xml");
+    edsgen_codegen::read::read_file(&path).unwrap().device
 }
 
 fn sm(start: u16, len: u16, control: u8) -> Vec<u8> {
@@ -223,4 +231,54 @@ fn a_pdo_reassignment_in_preop_sets_the_image_sizes_and_is_refused_in_safeop() {
     );
     let (inputs, wkc) = m.one(Command::Lrd, (6, 0), &[0; 23]);
     assert_eq!((inputs.len(), wkc), (23, 1));
+}
+
+#[test]
+fn write_restrictions_refuse_writes_in_other_states_with_0800_0022() {
+    let mut model = ec_tx508();
+    let mut restrict = |index: u16, states: &str| {
+        let sub = model
+            .objects
+            .get_mut(&index)
+            .and_then(|o| o.subs.get_mut(&0))
+            .unwrap();
+        sub.custom
+            .push(("WriteRestrictions".to_owned(), states.to_owned()));
+    };
+    // 6060h (operation mode) only in Pre-Op; 607Ah (target position) only in Safe-Op and Op;
+    // 6072h (max. torque) with a text naming no state: not restricted.
+    restrict(0x6060, "PreOP");
+    restrict(0x607A, "SafeOP_OP");
+    restrict(0x6072, "Init");
+    let mut m = Master::with(&model);
+    let written = |index: u16| {
+        let [a, b] = index.to_le_bytes();
+        vec![0x60, a, b, 0, 0, 0, 0, 0]
+    };
+    let refused = |index: u16| {
+        let [a, b] = index.to_le_bytes();
+        let mut r = vec![0x80, a, b, 0];
+        r.extend_from_slice(&0x0800_0022u32.to_le_bytes());
+        r
+    };
+    let mode = [0x2F, 0x60, 0x60, 0, 9, 0, 0, 0];
+    let position = [0x23, 0x7A, 0x60, 0, 1, 0, 0, 0];
+    let torque = [0x2B, 0x72, 0x60, 0, 0xE8, 0x03, 0, 0];
+    assert_eq!(m.sdo(&mode), written(0x6060));
+    assert_eq!(m.sdo(&position), refused(0x607A));
+    assert_eq!(m.sdo(&torque), written(0x6072));
+    m.fpwr(0x0810, &sm(0x1800, 21, 0x64));
+    m.fpwr(0x0818, &sm(0x1C00, 23, 0x20));
+    m.fpwr(0x0600, &fmmu(0, 21, 0x1800, 2));
+    m.fpwr(0x0610, &fmmu(21, 23, 0x1C00, 1));
+    m.fpwr(0x0120, &[4, 0]);
+    assert_eq!(m.al(), (4, 0));
+    assert_eq!(m.sdo(&mode), refused(0x6060));
+    assert_eq!(m.sdo(&position), written(0x607A));
+    assert_eq!(m.sdo(&torque), written(0x6072));
+    // The refused write left 6060h as Pre-Op wrote it.
+    assert_eq!(
+        m.sdo(&[0x40, 0x60, 0x60, 0, 0, 0, 0, 0]),
+        [0x4F, 0x60, 0x60, 0, 9, 0, 0, 0]
+    );
 }

@@ -264,9 +264,16 @@ pub fn default_differs(
         Value::NodeRelative(offset) => {
             integer_matches(i128::from(*offset) + i128::from(node_id), bytes)
         }
+        // A NaN default (as DefaultData bytes may give) is matched by any NaN.
         Value::Real(v) => match bytes.len() {
-            4 => f64::from(f32::from_le_bytes(bytes.try_into().ok()?)) == *v as f32 as f64,
-            8 => f64::from_le_bytes(bytes.try_into().ok()?) == *v,
+            4 => {
+                let read = f32::from_le_bytes(bytes.try_into().ok()?);
+                read == *v as f32 || (read.is_nan() && v.is_nan())
+            }
+            8 => {
+                let read = f64::from_le_bytes(bytes.try_into().ok()?);
+                read == *v || (read.is_nan() && v.is_nan())
+            }
             _ => false,
         },
         Value::Text(text) => {

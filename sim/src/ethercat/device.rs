@@ -12,8 +12,10 @@
 //! mapping objects only in Pre-Op, only when `PdoConfig` allows and the PDO is not `Fixed`, and
 //! only with objects the dictionary has and may map (0 for padding). Otherwise 0800 0022
 //! (device state), 0601 0002 (read only), 0609 0030 (invalid value) or 0604 0041 (not mappable).
+//! An entry whose `Access` has `WriteRestrictions` (`PreOP`, `SafeOP`, `OP`, joined by `_`:
+//! the states a write is allowed in) is written only in those states, else 0800 0022.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use edsgen_codegen::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
@@ -57,6 +59,8 @@ struct Rules {
     pdos: HashSet<u16>,
     fixed: HashSet<u16>,
     mappable: HashSet<(u16, u8)>,
+    /// The states each entry with `WriteRestrictions` may be written in.
+    write_states: HashMap<(u16, u8), Vec<AlState>>,
 }
 
 impl EsiDevice {
@@ -98,6 +102,7 @@ impl EsiDevice {
             pdos,
             fixed: esi_pdos().filter(|p| p.fixed).map(|p| p.index).collect(),
             mappable,
+            write_states: write_states(device),
         };
         let mut od = od;
         seed_defaults(
@@ -212,6 +217,11 @@ impl Rules {
             b[..n.min(data.len())].copy_from_slice(&data[..n.min(data.len())]);
             u32::from_le_bytes(b)
         };
+        if let Some(states) = self.write_states.get(&(index, sub)) {
+            if !states.contains(&self.state) {
+                return Err(SdoAbort::DeviceState);
+            }
+        }
         match index {
             0x1C10..=0x1C2F => {
                 if self.state != AlState::PreOp {
@@ -252,6 +262,32 @@ impl Rules {
             _ => Ok(()),
         }
     }
+}
+
+/// The states each entry of `device` with `WriteRestrictions` may be written in: its parts
+/// (`PreOP_SafeOP`) as AL states; a text with a part that names no state restricts nothing.
+fn write_states(device: &Device) -> HashMap<(u16, u8), Vec<AlState>> {
+    let mut restricted = HashMap::new();
+    for object in device.objects.values() {
+        for sub in object.subs.values() {
+            let Some((_, text)) = sub.custom.iter().find(|(k, _)| k == "WriteRestrictions") else {
+                continue;
+            };
+            let states: Option<Vec<AlState>> = text
+                .split('_')
+                .map(|part| match part.trim().to_ascii_lowercase().as_str() {
+                    "preop" => Some(AlState::PreOp),
+                    "safeop" => Some(AlState::SafeOp),
+                    "op" => Some(AlState::Op),
+                    _ => None,
+                })
+                .collect();
+            if let Some(states) = states {
+                restricted.insert((object.index, sub.sub_index), states);
+            }
+        }
+    }
+    restricted
 }
 
 /// Fills assignment (1C1xh) and mapping objects the dictionary has but leaves empty (sub-index

@@ -2,7 +2,9 @@
 //! EtherCAT SubDevice judged against its ESI, in the validator's diagnostic format (as `edsgen
 //! check` judges a CANopen node): its SII read back through the EEPROM interface (identity and
 //! order string, CHK006; SyncManagers, CHK007, with the ESC's SyncManager count), the PDO
-//! assignment and the default PDOs' mappings read by SDO (CHK008), and every readable entry of
+//! assignment and the default PDOs' mappings read by SDO against what the ESI says the device
+//! powers up with (CHK008: the dictionary's 1C1xh and mapping defaults, else the `Sm`
+//! attributes and `Entry` lists), and every readable entry of
 //! the ESI's dictionary read by SDO: missing (CHK001), refused (CHK003), of another length than
 //! its type (CHK002), or, for a constant or a read-only entry no PDO can carry, other than the
 //! ESI's default (CHK005). Reading the SubDevice ([`observe`], ethercrab in Pre-Op) is apart
@@ -13,7 +15,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
-use edsgen_codegen::model::{AccessType, Device, EcPdo, ObjectType, SmKind, SubObject};
+use edsgen_codegen::model::{
+    AccessType, Device, EcPdo, ObjectType, SmKind, Span, SubObject, Value,
+};
 use edsgen_codegen::rules::{
     CHK_MISSING as CHK001, CHK_PDO_ASSIGNMENT as CHK008, CHK_SII_IDENTITY as CHK006,
     CHK_SYNC_MANAGER as CHK007, CHK_UNREADABLE as CHK003,
@@ -150,23 +154,22 @@ pub async fn observe(
         mappings: Vec::new(),
         entries: Vec::new(),
     };
-    let Some(ec) = esi.ethercat.as_ref() else {
+    // Without CoE there is no SDO: the SII is all a SubDevice says of itself.
+    let Some(ec) = esi.ethercat.as_ref().filter(|ec| ec.coe.is_some()) else {
         return Ok(observed);
     };
-    if ec.coe.is_some() {
-        for (n, sm) in ec.sync_managers.iter().enumerate() {
-            if !matches!(sm.kind, SmKind::Outputs | SmKind::Inputs) {
-                continue;
-            }
-            let index = 0x1C10 + n as u16;
-            let list = read_list(sub_device, index, 2).await?;
-            let list = list.map(|l| l.into_iter().map(|v| v as u16).collect());
-            observed.assignments.push((n as u8, list));
+    for (n, sm) in ec.sync_managers.iter().enumerate() {
+        if !matches!(sm.kind, SmKind::Outputs | SmKind::Inputs) {
+            continue;
         }
-        for pdo in default_pdos(esi) {
-            let list = read_list(sub_device, pdo.index, 4).await?;
-            observed.mappings.push((pdo.index, list));
-        }
+        let index = 0x1C10 + n as u16;
+        let list = read_list(sub_device, index, 2).await?;
+        let list = list.map(|l| l.into_iter().map(|v| v as u16).collect());
+        observed.assignments.push((n as u8, list));
+    }
+    for pdo in default_pdos(esi) {
+        let list = read_list(sub_device, pdo.index, 4).await?;
+        observed.mappings.push((pdo.index, list));
     }
     for object in esi.objects.values() {
         if !checked(object.index, &object.object_type) {
@@ -384,11 +387,16 @@ fn assignment(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
         } else {
             &ec.tx_pdos
         };
-        let wanted: Vec<u16> = pdos
-            .iter()
-            .filter(|p| p.sm == Some(*n))
-            .map(|p| p.index)
-            .collect();
+        let (wanted, span) = match dictionary_list(esi, index) {
+            Some((list, span)) => (list.into_iter().map(|v| v as u16).collect(), span),
+            None => (
+                pdos.iter()
+                    .filter(|p| p.sm == Some(*n))
+                    .map(|p| p.index)
+                    .collect::<Vec<u16>>(),
+                sm.span,
+            ),
+        };
         let message = match list {
             Err(code) => format!("{who} refuses to read {index:04X}h: {}", refused(*code)),
             Ok(list) if *list == wanted => continue,
@@ -398,30 +406,55 @@ fn assignment(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
                 indices(&wanted)
             ),
         };
-        diags.push(Diagnostic::new(&CHK008, Some(sm.span), message));
+        diags.push(Diagnostic::new(&CHK008, Some(span), message));
     }
     for (index, list) in &observed.mappings {
         let Some(pdo) = default_pdos(esi).into_iter().find(|p| p.index == *index) else {
             continue;
         };
-        let wanted: Vec<u32> = pdo
-            .entries
-            .iter()
-            .map(|e| u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bit_len))
-            .collect();
+        let (wanted, span) = dictionary_list(esi, *index).unwrap_or_else(|| {
+            let entries = pdo.entries.iter().map(|e| {
+                u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bit_len & 0xFF)
+            });
+            (entries.collect(), pdo.span)
+        });
+        // An entry of 0 (no object, 0 bits) maps nothing: a mapping object whose sub-index 0
+        // counts empty slots maps what its other entries say.
+        let list = list
+            .as_ref()
+            .map(|l| l.iter().copied().filter(|e| *e != 0).collect::<Vec<u32>>());
         let message = match list {
             Err(code) => format!("{who} refuses to read {index:04X}h: {}", refused(*code)),
-            Ok(list) if *list == wanted => continue,
+            Ok(list) if list == wanted => continue,
             Ok(list) => format!(
                 "{index:04X}h of {who} maps {}, the ESI's {index:04X}h ({}) maps {}",
-                entries(list),
+                entries(&list),
                 pdo.name,
                 entries(&wanted)
             ),
         };
-        diags.push(Diagnostic::new(&CHK008, Some(pdo.span), message));
+        diags.push(Diagnostic::new(&CHK008, Some(span), message));
     }
     diags
+}
+
+/// The list an assignment or mapping object of the ESI's dictionary holds at power-up (its
+/// sub-index 0 and entries' defaults, up to the first 0) and where the object is; `None` when
+/// the dictionary leaves it empty, and the device fills it from the `Sm` attributes and `Entry`
+/// lists (as ETG.2000 devices and the simulator do). The ESI's two answers may differ (the
+/// Nanotec C5-E's 1C12h holds 1600h where its `Sm` attributes assign 1600h and 1601h): the
+/// SubDevice holds the dictionary's.
+fn dictionary_list(esi: &Device, index: u16) -> Option<(Vec<u32>, Span)> {
+    let object = esi.objects.get(&index)?;
+    let default = |sub: u8| match object.subs.get(&sub)?.default.as_ref()?.value {
+        Some(Value::Integer(v)) => u32::try_from(v).ok(),
+        _ => None,
+    };
+    let count = default(0)?;
+    let list: Vec<u32> = (1..=count.min(255) as u8)
+        .map_while(|sub| default(sub).filter(|v| *v != 0))
+        .collect();
+    (!list.is_empty()).then_some((list, object.span))
 }
 
 /// `1600h, 1601h`, or `nothing`.
@@ -446,7 +479,10 @@ fn entries(list: &[u32]) -> String {
 }
 
 /// CHK001/2/3/5: each entry read against the ESI's dictionary. Defaults are compared for
-/// constants, and for read-only entries no PDO can carry (a PDO-mappable one is live data).
+/// constants, and for read-only entries no PDO can carry (a PDO-mappable one is live data),
+/// except in the PDO mapping and assignment objects, which [`assignment`] judges by content (a
+/// device may count a zero-terminated list's entries in sub-index 0 where the ESI gives the
+/// maximum).
 fn dictionary(
     esi: &Device,
     who: &str,
@@ -462,11 +498,15 @@ fn dictionary(
         };
         match value {
             Ok(bytes) => {
-                let fixed = match sub.access {
-                    Some(AccessType::Const) => true,
-                    Some(AccessType::Ro) => !sub.pdo_mapping,
-                    _ => false,
-                };
+                // PDO mapping and assignment objects are CHK008's, judged by what they map.
+                let pdo_object =
+                    matches!(mux.index, 0x1600..=0x17FF | 0x1A00..=0x1BFF | 0x1C10..=0x1C2F);
+                let fixed = !pdo_object
+                    && match sub.access {
+                        Some(AccessType::Const) => true,
+                        Some(AccessType::Ro) => !sub.pdo_mapping,
+                        _ => false,
+                    };
                 let found = length_differs(esi, who, *mux, sub, bytes).or_else(|| {
                     fixed
                         .then(|| default_differs(esi, who, 0, *mux, sub, bytes))
@@ -493,4 +533,90 @@ fn dictionary(
         }
     }
     diags
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn drive() -> Device {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("codegen/tests/esi/drive.xml");
+        read::read_file(&path).expect("drive.xml").device
+    }
+
+    /// What `judge` says, as (code, message) in its order.
+    fn said(diags: &[Diagnostic]) -> Vec<(&'static str, &str)> {
+        diags
+            .iter()
+            .map(|d| (d.code(), d.message.as_str()))
+            .collect()
+    }
+
+    #[test]
+    fn a_matching_subdevice_gives_nothing() {
+        let esi = drive();
+        let observed = Observed {
+            sii: esi.clone(),
+            sm_channels: 8,
+            assignments: vec![(2, Ok(vec![0x1600])), (3, Ok(vec![0x1A00]))],
+            mappings: vec![
+                (0x1600, Ok(vec![0x6040_0010, 0x6060_0008, 0x607A_0020])),
+                (0x1A00, Ok(vec![0x6041_0010])),
+            ],
+            entries: vec![
+                (
+                    Multiplexer::new(0x1000, 0),
+                    Ok(vec![0x92, 0x01, 0x02, 0x00]),
+                ),
+                (Multiplexer::new(0x6041, 0), Ok(vec![0x37, 0x02])),
+            ],
+        };
+        assert_eq!(said(&judge(&esi, 0, &observed)), []);
+    }
+
+    #[test]
+    fn each_difference_is_one_diagnostic() {
+        let esi = drive();
+        let mut sii = esi.clone();
+        if let Some(revision) = sii.device_info.revision_number.as_mut() {
+            revision.value = 7;
+        }
+        let ec = sii.ethercat.as_mut().expect("ESI");
+        ec.sync_managers[1].control_byte = 0x20;
+        ec.sync_managers[1].enable = false;
+        let extra = ec.sync_managers[3].clone();
+        ec.sync_managers.push(extra);
+        let observed = Observed {
+            sii,
+            sm_channels: 2,
+            assignments: vec![(2, Err(0x0602_0000)), (3, Ok(Vec::new()))],
+            mappings: vec![(0x1600, Ok(vec![0x6040_0010])), (0x1A00, Err(0x0800_0022))],
+            entries: vec![
+                (
+                    Multiplexer::new(0x1000, 0),
+                    Ok(vec![0x92, 0x01, 0x00, 0x00]),
+                ),
+                (Multiplexer::new(0x1008, 0), Err(0x0601_0001)),
+                (Multiplexer::new(0x1018, 2), Err(0x0609_0011)),
+                (Multiplexer::new(0x6041, 0), Ok(vec![0x37, 0x02, 0x00])),
+            ],
+        };
+        assert_eq!(
+            said(&judge(&esi, 1, &observed)),
+            [
+                ("CHK006", "the revision in the SII of SubDevice 1 is 0x00000007, the ESI says 0x00000001"),
+                ("CHK007", "the ESC of SubDevice 1 has 2 SyncManager channel(s) (register 0x0005), the ESI describes 4"),
+                ("CHK007", "SM1 in the SII of SubDevice 1 has control byte 0x20 (the ESI: 0x22), is disabled (the ESI: enabled)"),
+                ("CHK007", "the SII of SubDevice 1 has SM4 (Inputs), the ESI describes 4 SyncManager(s)"),
+                ("CHK008", "SubDevice 1 refuses to read 1C12h: 06020000h (object does not exist in the object dictionary)"),
+                ("CHK008", "1C13h of SubDevice 1 assigns nothing to SM3, the ESI assigns 1A00h by default"),
+                ("CHK008", "1600h of SubDevice 1 maps 6040h:00h/16, the ESI's 1600h (Outputs) maps 6040h:00h/16, 6060h:00h/8, 607Ah:00h/32"),
+                ("CHK008", "SubDevice 1 refuses to read 1A00h: 08000022h (data cannot be transferred or stored to the application because of the present device state)"),
+                ("CHK005", "1000h:00h Device type of SubDevice 1 holds 402 (0x00000192), the description's default is 92010200"),
+                ("CHK003", "SubDevice 1 refuses to read 1008h:00h: 06010001h (attempt to read a write-only object)"),
+                ("CHK001", "1018h:02h is missing on SubDevice 1"),
+                ("CHK002", "6041h:00h of SubDevice 1 is 3 byte(s) long, its data type UNSIGNED16 has 2"),
+            ]
+        );
+    }
 }
