@@ -28,7 +28,7 @@ fn effective_uid(status: &str) -> Option<u32> {
 
 /// What to say when `what` cannot run over a wire because this process is not root.
 pub fn not_root(what: &str) -> String {
-    format!("{what} needs root (network namespaces and a veth pair): run as root, or without the flag for the run in this process")
+    format!("{what} needs root (for network namespaces and a veth pair)")
 }
 
 /// One end of a veth pair: in the host's namespace (where this process runs), or in one of the

@@ -112,3 +112,164 @@ fn a_network_is_removed_when_its_user_panics() {
     assert!(!namespaces().contains(&name));
     assert!(!host_link(&host));
 }
+
+/// `edsgen demo ARGS` as run by this test: its exit code, standard output and error, and the
+/// namespaces and links it left behind (those named with its process ID).
+struct Demo {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+    left: Vec<String>,
+}
+
+fn demo(args: &[&str]) -> Demo {
+    let child = Command::new(process_support::EDSGEN)
+        .arg("demo")
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("edsgen demo runs");
+    let pid = child.id();
+    let output = child.wait_with_output().expect("edsgen demo ends");
+    let mut left: Vec<String> = namespaces()
+        .lines()
+        .filter(|l| l.contains(&format!("-{pid}-")))
+        .map(str::to_owned)
+        .collect();
+    left.extend(
+        ip(&["-o", "link", "show"])
+            .lines()
+            .filter(|l| l.contains(&pid.to_string()))
+            .map(str::to_owned),
+    );
+    Demo {
+        code: output.status.code(),
+        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
+        left,
+    }
+}
+
+/// The step lines (`ok` or `FAIL`) of the section whose heading starts with `heading`.
+#[cfg(feature = "ethercrab")]
+fn section_steps<'a>(stdout: &'a str, heading: &str) -> Vec<&'a str> {
+    stdout
+        .lines()
+        .skip_while(|l| !l.starts_with(heading))
+        .skip(1)
+        .take_while(|l| !l.starts_with("== "))
+        .filter(|l| l.starts_with("  ok ") || l.starts_with("  FAIL "))
+        .collect()
+}
+
+/// Root and ethercrab: the EC-TX508 over a veth pair, driven by ethercrab, every step as the
+/// in-process run's plus discovery, SDO and Op; nothing left behind.
+#[cfg(feature = "ethercrab")]
+#[test]
+fn demo_ethercat_drives_the_ec_tx508_over_a_veth_pair() {
+    if !is_root() {
+        skip::<()>("not root: no network namespace for edsgen demo --ethercat");
+        return;
+    }
+    let run = demo(&["--ethercat"]);
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .ends_with("\n60 step(s): 60 as the manuals say, 0 not\n"),
+        "{}",
+        run.stdout
+    );
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    let steps = section_steps(&run.stdout, "== EC-TX508 (EtherCAT over a veth pair");
+    let names: Vec<&str> = steps
+        .iter()
+        .map(|l| l[8..].split(": ").next().unwrap_or_default())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "discovery",
+            "6060h = 9 by CoE SDO in Pre-Op, read back (typed od::OPERATION_MODE)",
+            "Pre-Op → Safe-Op → Op",
+            "6060h = 9",
+            "operation enabled by 06h, 07h, 0Fh",
+            "60FFh = 300",
+            "606Ch follows the target on its ramp to 300 rpm, 6041h bit 10 target reached",
+            "a drive fault",
+            "a fault reset by a rising edge of bit 7, every other cycle until the cause is gone",
+            "operation enabled again by 06h, 07h, 0Fh",
+            "shut down by 00h (disable voltage)",
+        ]
+    );
+    for line in [
+        "  ok    discovery: the EC-TX508 by its identity and its SII name: 1 SubDevice, vendor \
+         0x4d8, product 0x9252, revision 1, \"EC-TX508\"",
+        "  ok    6060h = 9 by CoE SDO in Pre-Op, read back (typed od::OPERATION_MODE): 9",
+        "  ok    Pre-Op → Safe-Op → Op: the 21-byte outputs (1600h), the 23-byte inputs \
+         (1A00h): (21, 23)",
+        "  ok    606Ch follows the target on its ramp to 300 rpm, 6041h bit 10 target reached: \
+         (300, true)",
+    ] {
+        assert!(run.stdout.contains(line), "{line}\n{}", run.stdout);
+    }
+    // Each controlword sent until its effect shows (a cycle later on the wire).
+    assert!(
+        run.stdout
+            .contains("  ok    operation enabled by 06h, 07h, 0Fh: 06h, 06h, 07h, 07h, 0Fh, 0Fh\n"),
+        "{}",
+        run.stdout
+    );
+    // The fault went in and out through the simulator's standard input; it stopped on SIGTERM.
+    for said in [
+        "  simulator: drive fault raised at ",
+        "  simulator: drive fault cause removed at ",
+        "  simulator: stopped: ",
+    ] {
+        assert!(run.stdout.contains(said), "{said}\n{}", run.stdout);
+    }
+    // The other sections as in the plain run.
+    assert!(run.stdout.contains("\n== Goodrive350 EtherNet/IP card"));
+}
+
+/// Without the `ethercrab` feature: `--ethercat` says so and the EC-TX508 runs in this process.
+#[cfg(not(feature = "ethercrab"))]
+#[test]
+fn demo_ethercat_without_ethercrab_says_so_and_runs_in_process() {
+    let run = demo(&["--ethercat"]);
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stderr,
+        "demo --ethercat needs edsgen built with the `ethercrab` feature (cargo build \
+         --features ethercrab); the EC-TX508 runs in this process instead\n"
+    );
+    assert!(run
+        .stdout
+        .contains("\n== EC-TX508 (EtherCAT, simulated in this process)"));
+    assert!(run
+        .stdout
+        .ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"));
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+}
+
+/// `--faults-on-stdin` switches the EC-TX508's drive faults; with an ESI file it is a usage
+/// error (exit 2), before any interface is opened.
+#[test]
+fn simulate_faults_on_stdin_is_for_the_ec_tx508_card() {
+    let output = Command::new(process_support::EDSGEN)
+        .args([
+            "simulate",
+            "--ethercat",
+            "nonexistent0",
+            "--faults-on-stdin",
+        ])
+        .arg(process_support::root().join("eds/ec-tx508.xml"))
+        .output()
+        .expect("edsgen simulate runs");
+    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&output.stderr),
+        "error: --faults-on-stdin switches the faults of --card ec-tx508's drive\n"
+    );
+}

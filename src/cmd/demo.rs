@@ -18,6 +18,12 @@ pub struct Args {
     /// default address. The EC-TX508 is not run: there is no EtherCAT network.
     #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = DEFAULT_BUS)]
     bus: Option<String>,
+    /// Run the EC-TX508 over a real wire: a veth pair to a private network namespace, `edsgen
+    /// simulate --ethercat` at its far end, ethercrab driving it from this end (root, and edsgen
+    /// built with the `ethercrab` feature; otherwise said on stderr, and run in this process).
+    /// Namespace and pair are removed on exit, also on Ctrl-C.
+    #[arg(long, conflicts_with = "bus")]
+    ethercat: bool,
 }
 
 /// Runs the demo, prints its trace and summary.
@@ -31,9 +37,18 @@ pub fn run(args: &Args) -> ExitCode {
             ));
         }
     }
+    let wires = edsgen::demo::Wires {
+        ethercat: args.ethercat,
+    };
+    if wires != edsgen::demo::Wires::default() {
+        // Ctrl-C must not leave a namespace behind.
+        if let Err(message) = edsgen::netns::clean_up_on_signal() {
+            return fail(message);
+        }
+    }
     let report = match &args.bus {
         Some(addr) => edsgen::demo::run_on_bus(addr),
-        None => edsgen::demo::run(),
+        None => edsgen::demo::run_with(wires),
     };
     let mut text = report.lines.join("\n");
     let failed = report.steps.iter().filter(|s| s.outcome.is_err()).count();

@@ -23,6 +23,7 @@
 mod dp;
 mod enip;
 mod ethercat;
+mod ethercat_wire;
 mod memory;
 mod profinet;
 mod remote;
@@ -272,15 +273,34 @@ fn workflows(mut link: impl Link) -> Trace {
     link.into_trace()
 }
 
+/// Which sections run over a real wire (root only) instead of in this process.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Wires {
+    /// The EC-TX508 over a veth pair, `edsgen simulate --ethercat` at the far end, ethercrab
+    /// here (feature `ethercrab`).
+    pub ethercat: bool,
+}
+
 /// Runs the whole demo in this process: the CANopen drives on the in-memory bus, then the
 /// EC-TX508's cyclic exchange.
 pub fn run() -> Report {
+    run_with(Wires::default())
+}
+
+/// Runs the whole demo, the sections `wires` names over a real wire where this process can
+/// (root, and the features they need; where it cannot, standard error says why and the section
+/// runs in this process).
+pub fn run_with(wires: Wires) -> Report {
     let trace = Trace::new(validate_cards());
     let mut trace = match memory::InMemory::new(trace) {
         Ok(link) => workflows(link),
         Err(problem) => return failed_to_start("power up the simulated drives", problem),
     };
-    ethercat::run(&mut trace);
+    if wires.ethercat {
+        ethercat_wire::run(&mut trace);
+    } else {
+        ethercat::run(&mut trace);
+    }
     enip::run(&mut trace);
     profinet::run(&mut trace);
     dp::run(&mut trace);
