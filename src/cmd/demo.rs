@@ -1,6 +1,9 @@
-//! `edsgen demo [--bus HOST:PORT]`: the bundled cards at work (see the library's `demo` module),
-//! on the in-memory bus or against the drives on a socketcand bus; exit 0 only if every step
-//! behaved as the manuals say.
+//! `edsgen demo [--bus HOST:PORT] [--ethercat] [--enip]`: the bundled cards at work (see the
+//! library's `demo` module), on the in-memory bus or against the drives on a socketcand bus, the
+//! EC-TX508 and the EtherNet/IP card in this process or over a real wire (root: network
+//! namespaces, removed also on Ctrl-C, exit 130); exit 0 only if every step behaved as the
+//! manuals say. `--enip-scanner ADDR` (hidden) is the scanner that `--enip` runs in its
+//! namespace: its report as JSON on stdout.
 
 use std::process::ExitCode;
 use std::time::Duration;
@@ -24,6 +27,16 @@ pub struct Args {
     /// Namespace and pair are removed on exit, also on Ctrl-C.
     #[arg(long, conflicts_with = "bus")]
     ethercat: bool,
+    /// Run the Goodrive350's EtherNet/IP card over a real wire: two private network namespaces
+    /// joined by a veth pair, `edsgen simulate --enip` in one, the demo's scanner in the other,
+    /// over TCP 44818 and UDP 2222 (root; otherwise said on stderr, and run in this process).
+    /// Namespaces and pair are removed on exit, also on Ctrl-C.
+    #[arg(long, conflicts_with = "bus")]
+    enip: bool,
+    /// The demo's EtherNet/IP scanner alone, against the adapter at this address, its report
+    /// as JSON: what `--enip` runs inside the scanner's namespace.
+    #[arg(long, value_name = "IPV4", hide = true, conflicts_with_all = ["bus", "ethercat", "enip"])]
+    enip_scanner: Option<std::net::Ipv4Addr>,
 }
 
 /// Runs the demo, prints its trace and summary.
@@ -37,8 +50,13 @@ pub fn run(args: &Args) -> ExitCode {
             ));
         }
     }
+    if let Some(addr) = args.enip_scanner {
+        print_stdout(&edsgen::demo::enip_scanner(addr).to_json());
+        return ExitCode::SUCCESS;
+    }
     let wires = edsgen::demo::Wires {
         ethercat: args.ethercat,
+        enip: args.enip,
     };
     if wires != edsgen::demo::Wires::default() {
         // Ctrl-C must not leave a namespace behind.
@@ -50,6 +68,10 @@ pub fn run(args: &Args) -> ExitCode {
         Some(addr) => edsgen::demo::run_on_bus(addr),
         None => edsgen::demo::run_with(wires),
     };
+    while edsgen::netns::interrupted() {
+        // Ctrl-C: the handler removes the namespaces, then ends the process with 130.
+        std::thread::sleep(Duration::from_millis(100));
+    }
     let mut text = report.lines.join("\n");
     let failed = report.steps.iter().filter(|s| s.outcome.is_err()).count();
     text.push_str(&format!(
