@@ -358,13 +358,21 @@ fn demo_interrupted_on_the_wire_leaves_nothing_behind() {
     let mut command = Command::new(process_support::EDSGEN);
     command.args(["demo", "--enip"]);
     let run = run(&mut command, |pid| {
-        // Once the scanner runs in its namespace (the adapter is up by then), SIGINT.
+        // Once a program runs in each of its two namespaces (adapter, then scanner), SIGINT.
         let started = std::time::Instant::now();
-        while started.elapsed() < Duration::from_secs(30)
-            && !ip(&["netns", "pids", &format!("edsgen-enip-{pid}-2")])
+        let both_running = || {
+            let listed = namespaces();
+            let mine: Vec<&str> = listed
                 .lines()
-                .any(|l| !l.trim().is_empty())
-        {
+                .filter_map(|l| l.split_whitespace().next())
+                .filter(|n| n.starts_with(&format!("edsgen-enip-{pid}-")))
+                .collect();
+            mine.len() == 2
+                && mine
+                    .iter()
+                    .all(|n| !ip(&["netns", "pids", n]).trim().is_empty())
+        };
+        while started.elapsed() < Duration::from_secs(30) && !both_running() {
             std::thread::sleep(Duration::from_millis(20));
         }
         let sent = Command::new("kill")

@@ -166,7 +166,7 @@ fn on_wire(trace: &mut Trace, net: &mut Network) -> Result<Vec<String>, (String,
     }
 }
 
-/// `edsgen demo --enip-scanner ADDR`, run inside the scanner's namespace by [`run`]: the card's
+/// `edsgen demo --enip-scanner ADDR`, run inside the scanner's namespace by `--enip`: the card's
 /// steps against the adapter at `addr` (TCP 44818, UDP 2222), the report to print as JSON.
 pub fn scan(addr: Ipv4Addr) -> Report {
     let mut trace = Trace::new(Report::default());

@@ -21,8 +21,8 @@
 //! EtherCAT network, and with `--bus` its one step says it was not run.
 //!
 //! Over a real wire ([`Wires`], root): the EC-TX508 on a veth pair to `edsgen simulate
-//! --ethercat` in a network namespace, driven by ethercrab ([`ethercat_wire`]), and the
-//! EtherNet/IP card between two namespaces, TCP 44818 and UDP 2222 ([`enip_wire`]); the same
+//! --ethercat` in a network namespace, driven by ethercrab (`ethercat_wire`), and the
+//! EtherNet/IP card between two namespaces, TCP 44818 and UDP 2222 (`enip_wire`); the same
 //! steps, checked within the slack real time needs ([`crate::netns`] makes and removes the
 //! namespaces).
 
