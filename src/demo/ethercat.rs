@@ -436,19 +436,55 @@ fn within(actual: i32, expected: i32, slack: i32) -> Result<String, String> {
 
 /// On a wire: the fault resets as the master sent them, `refused` of them before the cause was
 /// gone. Expects 80h and 00h in turn from 80h (a rising edge every other cycle), an edge
-/// refused (the drive took the first before the cause was gone: two cycles passed), and the
-/// edge taken at most one cycle before the cause was gone (the drive takes a frame's outputs in
-/// the next frame), seen within the two cycles a frame's outputs take to show.
+/// refused (the first, taken by the drive before the cause was gone: two cycles passed), and
+/// the reset by one of the first two edges from the last cycle before the cause was gone (the
+/// drive takes a frame's outputs in the next frame), seen within the two cycles that takes.
 fn resets(words: &[u16], refused: usize) -> Result<String, String> {
     let alternating = words
         .iter()
         .enumerate()
         .all(|(n, w)| *w == if n % 2 == 0 { 0x80 } else { 0x00 });
-    let last_edge = words.iter().rposition(|w| *w == 0x80).unwrap_or(0);
+    let edges: Vec<usize> = (refused.saturating_sub(1)..words.len())
+        .filter(|&n| words[n] == 0x80)
+        .take(2)
+        .collect();
+    let in_time = edges.last().is_some_and(|&edge| words.len() <= edge + 3);
     let seen = format!("{} ({refused} before the cause was gone)", hex_words(words));
-    if alternating && refused >= 2 && last_edge + 1 >= refused && words.len() - last_edge <= 3 {
+    if alternating && refused >= 2 && in_time {
         Ok(seen)
     } else {
         Err(seen)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wire_resets_alternate_from_80h_and_reset_soon_after_the_cause_goes() {
+        let ok = |words: &[u16], refused| resets(words, refused).is_ok();
+        // Two refused before the cause went; the edge after it taken, seen a cycle later.
+        assert_eq!(
+            resets(&[0x80, 0x00, 0x80, 0x00], 2),
+            Ok("80h, 00h, 80h, 00h (2 before the cause was gone)".into())
+        );
+        // The edge sent in the last cycle before the cause went, taken in the next frame.
+        assert!(ok(&[0x80, 0x00, 0x80, 0x00, 0x80, 0x00], 5));
+        // No edge surely refused, or not alternating, or the reset seen too late.
+        assert!(!ok(&[0x80, 0x00], 1));
+        assert!(!ok(&[0x80, 0x80, 0x00], 2));
+        assert!(!ok(&[0x00, 0x80, 0x00], 2));
+        assert!(!ok(&[0x80, 0x00, 0x80, 0x00, 0x80, 0x00, 0x80, 0x00], 3));
+        assert!(!ok(&[0x80, 0x00, 0x80, 0x00, 0x80, 0x00], 6));
+    }
+
+    #[test]
+    fn a_speed_within_slack_of_the_ramp_says_both() {
+        assert_eq!(within(141, 150, 30), Ok("141 (the ramp's 150 ± 30)".into()));
+        assert_eq!(
+            within(119, 150, 30),
+            Err("got 119, expected 150 ± 30".into())
+        );
     }
 }
