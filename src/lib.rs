@@ -7,6 +7,8 @@
 
 pub mod decode;
 pub mod demo;
+#[cfg(feature = "ethercrab")]
+pub mod ecat;
 pub mod netns;
 
 pub use edsgen_sim::canopen as sim;

@@ -153,8 +153,9 @@ enum Command {
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
-    /// on a bus) through their manuals' workflows, every frame decoded, then a simulated EC-TX508
-    /// over EtherCAT in cyclic synchronous velocity, its process images decoded.
+    /// on a bus) through their manuals' workflows, every frame decoded, then the EC-TX508 over
+    /// EtherCAT in cyclic synchronous velocity and the Goodrive350's EtherNet/IP, PROFINET and
+    /// PROFIBUS-DP cards, in this process, or with --ethercat and --enip over a real wire.
     Demo(cmd::demo::Args),
 }
 

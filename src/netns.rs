@@ -9,7 +9,7 @@
 
 use std::ffi::OsStr;
 use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
@@ -28,7 +28,7 @@ fn effective_uid(status: &str) -> Option<u32> {
 
 /// What to say when `what` cannot run over a wire because this process is not root.
 pub fn not_root(what: &str) -> String {
-    format!("{what} needs root (network namespaces and a veth pair): run as root, or without the flag for the run in this process")
+    format!("{what} needs root (for network namespaces and a veth pair)")
 }
 
 /// One end of a veth pair: in the host's namespace (where this process runs), or in one of the
@@ -71,6 +71,8 @@ static LIVE: Mutex<Vec<Live>> = Mutex::new(Vec::new());
 /// Numbers namespaces and links across the process, so that two networks never share a name.
 static NEXT: AtomicUsize = AtomicUsize::new(0);
 static HANDLER: OnceLock<Result<(), String>> = OnceLock::new();
+/// Set by the signal handler before it removes the networks and ends the process.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 /// The longest interface name Linux takes (IFNAMSIZ less its terminating zero).
 const IFNAME_MAX: usize = 15;
@@ -337,6 +339,7 @@ pub fn clean_up_on_signal() -> Result<(), String> {
     HANDLER
         .get_or_init(|| {
             ctrlc::set_handler(|| {
+                INTERRUPTED.store(true, Ordering::SeqCst);
                 clean_up_all();
                 eprintln!("interrupted: network namespaces removed");
                 std::process::exit(130);
@@ -344,6 +347,13 @@ pub fn clean_up_on_signal() -> Result<(), String> {
             .map_err(|e| format!("cannot catch SIGINT/SIGTERM: {e}"))
         })
         .clone()
+}
+
+/// Whether a signal came and its handler ([`clean_up_on_signal`]) is removing the networks,
+/// after which it ends the process: what the programs in them said since is not to be reported
+/// as a failure.
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::SeqCst)
 }
 
 #[cfg(test)]

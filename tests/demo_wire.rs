@@ -112,3 +112,333 @@ fn a_network_is_removed_when_its_user_panics() {
     assert!(!namespaces().contains(&name));
     assert!(!host_link(&host));
 }
+
+/// `edsgen demo ARGS` as run by this test: its exit code, standard output and error, and the
+/// namespaces and links it left behind (those named with its process ID).
+#[derive(Debug)]
+struct Demo {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+    left: Vec<String>,
+}
+
+fn demo(args: &[&str]) -> Demo {
+    let mut command = Command::new(process_support::EDSGEN);
+    command.arg("demo").args(args);
+    run(&mut command, |_| {})
+}
+
+/// Runs `command` (an `edsgen demo`), `meanwhile` given its process ID; see [`Demo`].
+fn run(command: &mut Command, meanwhile: impl FnOnce(u32)) -> Demo {
+    let child = command
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("edsgen demo runs");
+    let pid = child.id();
+    meanwhile(pid);
+    let output = child.wait_with_output().expect("edsgen demo ends");
+    let mut left: Vec<String> = namespaces()
+        .lines()
+        .filter(|l| l.contains(&format!("-{pid}-")))
+        .map(str::to_owned)
+        .collect();
+    left.extend(
+        ip(&["-o", "link", "show"])
+            .lines()
+            .filter(|l| l.contains(&pid.to_string()))
+            .map(str::to_owned),
+    );
+    Demo {
+        code: output.status.code(),
+        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
+        left,
+    }
+}
+
+/// The step lines (`ok` or `FAIL`) of the section whose heading starts with `heading`.
+fn section_steps<'a>(stdout: &'a str, heading: &str) -> Vec<&'a str> {
+    stdout
+        .lines()
+        .skip_while(|l| !l.starts_with(heading))
+        .skip(1)
+        .take_while(|l| !l.starts_with("== "))
+        .filter(|l| l.starts_with("  ok ") || l.starts_with("  FAIL "))
+        .collect()
+}
+
+/// Root and ethercrab: the EC-TX508 over a veth pair, driven by ethercrab, every step as the
+/// in-process run's plus discovery, SDO and Op; nothing left behind.
+#[cfg(feature = "ethercrab")]
+#[test]
+fn demo_ethercat_drives_the_ec_tx508_over_a_veth_pair() {
+    if !is_root() {
+        skip::<()>("not root: no network namespace for edsgen demo --ethercat");
+        return;
+    }
+    let run = demo(&["--ethercat"]);
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .ends_with("\n60 step(s): 60 as the manuals say, 0 not\n"),
+        "{}",
+        run.stdout
+    );
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    let steps = section_steps(&run.stdout, "== EC-TX508 (EtherCAT over a veth pair");
+    let names: Vec<&str> = steps
+        .iter()
+        .map(|l| l[8..].split(": ").next().unwrap_or_default())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "discovery",
+            "6060h = 9 by CoE SDO in Pre-Op, read back (typed od::OPERATION_MODE)",
+            "Pre-Op → Safe-Op → Op",
+            "6060h = 9",
+            "operation enabled by 06h, 07h, 0Fh",
+            "60FFh = 300",
+            "606Ch follows the target on its ramp to 300 rpm, 6041h bit 10 target reached",
+            "a drive fault",
+            "a fault reset by a rising edge of bit 7, every other cycle until the cause is gone",
+            "operation enabled again by 06h, 07h, 0Fh",
+            "shut down by 00h (disable voltage)",
+        ]
+    );
+    for line in [
+        "  ok    discovery: the EC-TX508 by its identity and its SII name: 1 SubDevice, vendor \
+         0x4d8, product 0x9252, revision 1, \"EC-TX508\"",
+        "  ok    6060h = 9 by CoE SDO in Pre-Op, read back (typed od::OPERATION_MODE): 9",
+        "  ok    Pre-Op → Safe-Op → Op: the 21-byte outputs (1600h), the 23-byte inputs \
+         (1A00h): (21, 23)",
+        "  ok    606Ch follows the target on its ramp to 300 rpm, 6041h bit 10 target reached: \
+         (300, true)",
+    ] {
+        assert!(run.stdout.contains(line), "{line}\n{}", run.stdout);
+    }
+    // Each controlword sent until its effect shows (a cycle later on the wire).
+    assert!(
+        run.stdout
+            .contains("  ok    operation enabled by 06h, 07h, 0Fh: 06h, 06h, 07h, 07h, 0Fh, 0Fh\n"),
+        "{}",
+        run.stdout
+    );
+    // The fault went in and out through the simulator's standard input; it stopped on SIGTERM.
+    for said in [
+        "  simulator: drive fault raised at ",
+        "  simulator: drive fault cause removed at ",
+        "  simulator: stopped: ",
+    ] {
+        assert!(run.stdout.contains(said), "{said}\n{}", run.stdout);
+    }
+    // The other sections as in the plain run.
+    assert!(run.stdout.contains("\n== Goodrive350 EtherNet/IP card"));
+}
+
+/// Without the `ethercrab` feature: `--ethercat` says so and the EC-TX508 runs in this process.
+#[cfg(not(feature = "ethercrab"))]
+#[test]
+fn demo_ethercat_without_ethercrab_says_so_and_runs_in_process() {
+    let run = demo(&["--ethercat"]);
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stderr,
+        "demo --ethercat needs edsgen built with the `ethercrab` feature (cargo build \
+         --features ethercrab); the EC-TX508 runs in this process instead\n"
+    );
+    assert!(run
+        .stdout
+        .contains("\n== EC-TX508 (EtherCAT, simulated in this process)"));
+    assert!(run
+        .stdout
+        .ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"));
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+}
+
+/// `--faults-on-stdin` switches the EC-TX508's drive faults; with an ESI file it is a usage
+/// error (exit 2), before any interface is opened.
+#[test]
+fn simulate_faults_on_stdin_is_for_the_ec_tx508_card() {
+    let output = Command::new(process_support::EDSGEN)
+        .args([
+            "simulate",
+            "--ethercat",
+            "nonexistent0",
+            "--faults-on-stdin",
+        ])
+        .arg(process_support::root().join("eds/ec-tx508.xml"))
+        .output()
+        .expect("edsgen simulate runs");
+    assert_eq!(output.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&output.stderr),
+        "error: --faults-on-stdin switches the faults of --card ec-tx508's drive\n"
+    );
+}
+
+/// Root: the EtherNet/IP card between two namespaces, the adapter in one, the demo's scanner in
+/// the other, every step as in the in-process run; nothing left behind.
+#[test]
+fn demo_enip_drives_the_card_between_two_namespaces() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces for edsgen demo --enip");
+        return;
+    }
+    let run = demo(&["--enip"]);
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"),
+        "{}",
+        run.stdout
+    );
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    let steps = section_steps(
+        &run.stdout,
+        "== Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images, over TCP \
+         44818 and UDP 2222 between two network namespaces",
+    );
+    assert_eq!(steps.len(), 8, "{}", run.stdout);
+    assert_eq!(
+        steps[..6],
+        [
+            "  ok    RegisterSession, Identity product code (@1/1/3): session 1, product code 350",
+            "  ok    Forward_Open 150 -> 100 at 50 ms (EXCLUSIVE_OWNER): reply [D4, 00, 00, 00, \
+             01, 00, 00, 10]",
+            "  ok    PKW write P16.32 = 1 (received PZD2: set frequency): Word { address: 4128, \
+             value: 1 }",
+            "  ok    PKW write P16.43 = 1 (transmitted PZD2: running frequency): Word { address: \
+             4139, value: 1 }",
+            "  ok    PKW read P00.10 (keypad frequency): Word { address: 10, value: 5000 }: 50.00 \
+             Hz",
+            "  ok    PKW write P07.27 refused (read only, error 7): Refused { address: 1819, \
+             error: ReadOnly }",
+        ]
+    );
+    // In real time: the ramp where it is after 41 RPIs of about 50 ms.
+    assert!(
+        steps[6].starts_with(
+            "  ok    run forward at 25.00 Hz (CW 0x0001, PZD2 2500): SW 0x4101, transmitted PZD2 "
+        ),
+        "{}",
+        steps[6]
+    );
+    // The connection closed by the adapter (its T→O datagrams stop), the fault read back by
+    // explicit messaging; the adapter's own log says the same.
+    assert!(
+        steps[7].starts_with(
+            "  ok    scanner stops producing: timeout after 4 x RPI, fault E-EIP: the adapter's \
+             T→O datagrams stopped "
+        ) && steps[7].ends_with(" ms after the scanner's last O→T; SW state Some(Fault)"),
+        "{}",
+        steps[7]
+    );
+    assert!(
+        run.stdout.contains(
+            "\n  adapter: connection 0x10000001 opened\n  adapter: connection 0x10000001 timed \
+             out\n  adapter: drive fault E-EIP\n"
+        ),
+        "{}",
+        run.stdout
+    );
+}
+
+/// Root: Ctrl-C while the demo runs over a wire removes its namespaces and pair, stops the
+/// programs in them, and exits 130.
+#[test]
+fn demo_interrupted_on_the_wire_leaves_nothing_behind() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces for edsgen demo --enip");
+        return;
+    }
+    let mut command = Command::new(process_support::EDSGEN);
+    command.args(["demo", "--enip"]);
+    let run = run(&mut command, |pid| {
+        // Once a program runs in each of its two namespaces (adapter, then scanner), SIGINT.
+        let started = std::time::Instant::now();
+        let both_running = || {
+            let listed = namespaces();
+            let mine: Vec<&str> = listed
+                .lines()
+                .filter_map(|l| l.split_whitespace().next())
+                .filter(|n| n.starts_with(&format!("edsgen-enip-{pid}-")))
+                .collect();
+            mine.len() == 2
+                && mine
+                    .iter()
+                    .all(|n| !ip(&["netns", "pids", n]).trim().is_empty())
+        };
+        while started.elapsed() < Duration::from_secs(30) && !both_running() {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let sent = Command::new("kill")
+            .args(["-INT", &pid.to_string()])
+            .status()
+            .expect("kill");
+        assert!(sent.success());
+    });
+    assert_eq!(run.code, Some(130), "{run:?}");
+    assert_eq!(run.stderr, "interrupted: network namespaces removed\n");
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+}
+
+/// Not root (here as `nobody` through setpriv when the test runs as root): `--ethercat` and
+/// `--enip` say so on stderr, and every section runs in this process as without them.
+#[test]
+fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
+    let mut command;
+    if is_root() {
+        let nobody_can_run = Command::new("setpriv")
+            .args([
+                "--reuid=65534",
+                "--regid=65534",
+                "--clear-groups",
+                "test",
+                "-x",
+            ])
+            .arg(process_support::EDSGEN)
+            .status()
+            .is_ok_and(|s| s.success());
+        if !nobody_can_run {
+            // Root runs the wire tests above; this one needs an unprivileged user.
+            println!("demo_on_the_wire_without_root: setpriv cannot run edsgen as nobody here");
+            return;
+        }
+        command = Command::new("setpriv");
+        command
+            .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+            .arg(process_support::EDSGEN);
+    } else {
+        command = Command::new(process_support::EDSGEN);
+    }
+    command.args(["demo", "--ethercat", "--enip"]);
+    let run = run(&mut command, |_| {});
+    assert_eq!(run.code, Some(0), "{run:?}");
+    let ethercat = if cfg!(feature = "ethercrab") {
+        "demo --ethercat needs root (for network namespaces and a veth pair)"
+    } else {
+        "demo --ethercat needs edsgen built with the `ethercrab` feature (cargo build \
+         --features ethercrab)"
+    };
+    assert_eq!(
+        run.stderr,
+        format!(
+            "{ethercat}; the EC-TX508 runs in this process instead\n\
+             demo --enip needs root (for network namespaces and a veth pair); the EtherNet/IP \
+             card runs in this process instead\n"
+        )
+    );
+    assert!(run
+        .stdout
+        .contains("\n== EC-TX508 (EtherCAT, simulated in this process)"));
+    assert!(run.stdout.contains(
+        "\n== Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images\n"
+    ));
+    assert!(run
+        .stdout
+        .ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"));
+}

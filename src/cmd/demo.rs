@@ -1,6 +1,9 @@
-//! `edsgen demo [--bus HOST:PORT]`: the bundled cards at work (see the library's `demo` module),
-//! on the in-memory bus or against the drives on a socketcand bus; exit 0 only if every step
-//! behaved as the manuals say.
+//! `edsgen demo [--bus HOST:PORT] [--ethercat] [--enip]`: the bundled cards at work (see the
+//! library's `demo` module), on the in-memory bus or against the drives on a socketcand bus, the
+//! EC-TX508 and the EtherNet/IP card in this process or over a real wire (root: network
+//! namespaces, removed also on Ctrl-C, exit 130); exit 0 only if every step behaved as the
+//! manuals say. `--enip-scanner ADDR` (hidden) is the scanner that `--enip` runs in its
+//! namespace: its report as JSON on stdout.
 
 use std::process::ExitCode;
 use std::time::Duration;
@@ -18,6 +21,22 @@ pub struct Args {
     /// default address. The EC-TX508 is not run: there is no EtherCAT network.
     #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = DEFAULT_BUS)]
     bus: Option<String>,
+    /// Run the EC-TX508 over a real wire: a veth pair to a private network namespace, `edsgen
+    /// simulate --ethercat` at its far end, ethercrab driving it from this end (root, and edsgen
+    /// built with the `ethercrab` feature; otherwise said on stderr, and run in this process).
+    /// Namespace and pair are removed on exit, also on Ctrl-C.
+    #[arg(long, conflicts_with = "bus")]
+    ethercat: bool,
+    /// Run the Goodrive350's EtherNet/IP card over a real wire: two private network namespaces
+    /// joined by a veth pair, `edsgen simulate --enip` in one, the demo's scanner in the other,
+    /// over TCP 44818 and UDP 2222 (root; otherwise said on stderr, and run in this process).
+    /// Namespaces and pair are removed on exit, also on Ctrl-C.
+    #[arg(long, conflicts_with = "bus")]
+    enip: bool,
+    /// The demo's EtherNet/IP scanner alone, against the adapter at this address, its report
+    /// as JSON: what `--enip` runs inside the scanner's namespace.
+    #[arg(long, value_name = "IPV4", hide = true, conflicts_with_all = ["bus", "ethercat", "enip"])]
+    enip_scanner: Option<std::net::Ipv4Addr>,
 }
 
 /// Runs the demo, prints its trace and summary.
@@ -31,10 +50,28 @@ pub fn run(args: &Args) -> ExitCode {
             ));
         }
     }
+    if let Some(addr) = args.enip_scanner {
+        print_stdout(&edsgen::demo::enip_scanner(addr).to_json());
+        return ExitCode::SUCCESS;
+    }
+    let wires = edsgen::demo::Wires {
+        ethercat: args.ethercat,
+        enip: args.enip,
+    };
+    if wires != edsgen::demo::Wires::default() {
+        // Ctrl-C must not leave a namespace behind.
+        if let Err(message) = edsgen::netns::clean_up_on_signal() {
+            return fail(message);
+        }
+    }
     let report = match &args.bus {
         Some(addr) => edsgen::demo::run_on_bus(addr),
-        None => edsgen::demo::run(),
+        None => edsgen::demo::run_with(wires),
     };
+    while edsgen::netns::interrupted() {
+        // Ctrl-C: the handler removes the namespaces, then ends the process with 130.
+        std::thread::sleep(Duration::from_millis(100));
+    }
     let mut text = report.lines.join("\n");
     let failed = report.steps.iter().filter(|s| s.outcome.is_err()).count();
     text.push_str(&format!(

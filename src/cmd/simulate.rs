@@ -99,6 +99,11 @@ pub struct Args {
     /// With --ethercat: the device of an ESI file with several (type name or `#x` product code).
     #[arg(long, value_name = "NAME|#xCODE", requires = "ethercat")]
     device: Option<String>,
+    /// With --ethercat --card ec-tx508: read `fault` and `clear` lines on standard input, which
+    /// raise a drive fault and remove its cause (to try a MainDevice's fault handling; `edsgen
+    /// demo --ethercat` does).
+    #[arg(long, requires = "ethercat")]
+    faults_on_stdin: bool,
 }
 
 /// One device to simulate: where it comes from, its node-ID and its model.
@@ -127,6 +132,7 @@ pub fn run(args: Args) -> ExitCode {
             &args.files,
             &args.cards,
             args.device.as_deref(),
+            args.faults_on_stdin,
         );
     }
     let planned = match plan(&args) {

@@ -1,9 +1,12 @@
 //! The Goodrive350's EtherNet/IP card in the demo: a scanner built from the card's generated
 //! images (`cards::goodrive350_enip`, typed through `edsgen_runtime::pkw_pzd`) drives the
-//! simulated adapter's protocol core (`edsgen_sim::enip`) in this process, in simulated time:
-//! RegisterSession and ListIdentity, Forward_Open 150 → 100 at 50 ms, class-1 datagrams every
-//! RPI, the manual's steps through PKW and PZD (5.4.3), then a scanner that stops producing and
-//! the timeout fault E-EIP. Every datagram is what a scanner would put on UDP 2222.
+//! simulated adapter: RegisterSession and ListIdentity, Forward_Open 150 → 100 at 50 ms,
+//! class-1 datagrams every RPI, the manual's steps through PKW and PZD (5.4.3), then a scanner
+//! that stops producing and the timeout fault E-EIP. Every datagram is what a scanner would put
+//! on UDP 2222. Two links carry them ([`Scanner`]): by default the adapter's protocol core
+//! (`edsgen_sim::enip`) in this process, in simulated time ([`InProcess`]); with `--enip`,
+//! TCP 44818 and UDP 2222 to `edsgen simulate --enip` in another network namespace, in real
+//! time ([`super::enip_wire`]).
 
 use edsgen_runtime::pkw_pzd::{
     Command, ControlWord, ErrorNumber, InputImage, OutputImage, PkwRequest, PkwResponse, RunState,
@@ -16,20 +19,105 @@ use edsgen_sim::enip::{device, driver, Adapter};
 use super::Trace;
 use crate::cards::goodrive350_enip as card;
 
-const RPI_US: u64 = 50_000;
+/// The connection's RPI (µs): the EDS's 50 ms.
+pub(super) const RPI_US: u64 = 50_000;
 
-/// The scanner and the card.
-struct Bench {
+/// What carries the scanner's messages to the card's adapter.
+pub(super) trait Scanner {
+    /// One encapsulation message to the adapter (TCP 44818 on a wire); its reply.
+    fn request(&mut self, message: &[u8]) -> Result<Vec<u8>, String>;
+    /// One RPI: the O→T datagram at its start, then the T→O assembly's image (the card's 32
+    /// bytes) as the scanner has it at its end.
+    fn rpi(&mut self, datagram: &[u8]) -> Result<Vec<u8>, String>;
+    /// `rpis` RPIs in which the scanner produces nothing.
+    fn stop_producing(&mut self, rpis: u32) -> Result<Stopped, String>;
+}
+
+/// What the scanner sees after it stopped producing.
+pub(super) struct Stopped {
+    /// Whether the adapter closed the connection (in this process: it has none left; on a
+    /// wire: no T→O datagram came in the last two RPIs).
+    pub(super) closed: bool,
+    /// The T→O assembly's image, where this process has it (on a wire the workflow reads it by
+    /// Get_Attribute_Single @4/100/3).
+    pub(super) image: Option<Vec<u8>>,
+    /// The adapter's connection events, where this process sees them.
+    pub(super) log: Option<Vec<String>>,
+    /// How the connection was seen closed.
+    pub(super) seen: String,
+}
+
+/// The adapter's protocol core and the card in this process, in simulated time.
+struct InProcess {
     adapter: Adapter,
     card: driver::Card,
-    session: u32,
-    o_t_id: u32,
-    sequence: u16,
     now: Instant,
     log: Vec<String>,
 }
 
-impl Bench {
+impl InProcess {
+    fn step_time(&mut self, by: Duration) {
+        self.now = self.now + by;
+        // The T→O datagrams are not needed: the card's image is read from assembly 100.
+        self.adapter.poll(self.now);
+        let mut log = Vec::new();
+        driver::link(
+            &mut self.adapter,
+            Some(&mut self.card),
+            self.now,
+            &mut |l| log.push(l),
+        );
+        self.log.extend(log);
+    }
+
+    fn input(&self) -> Result<Vec<u8>, String> {
+        Ok(self
+            .adapter
+            .assemblies
+            .get(&card::Input::INSTANCE)
+            .ok_or("no assembly 100")?
+            .data
+            .clone())
+    }
+}
+
+impl Scanner for InProcess {
+    fn request(&mut self, message: &[u8]) -> Result<Vec<u8>, String> {
+        let (reply, _) = self
+            .adapter
+            .handle(1, message, self.now)
+            .map_err(|e| format!("{e:?}"))?;
+        reply.ok_or_else(|| "no reply".to_owned())
+    }
+
+    fn rpi(&mut self, datagram: &[u8]) -> Result<Vec<u8>, String> {
+        self.adapter.receive_io(1, datagram, self.now);
+        self.step_time(Duration::from_micros(RPI_US));
+        self.input()
+    }
+
+    fn stop_producing(&mut self, rpis: u32) -> Result<Stopped, String> {
+        for _ in 0..rpis {
+            self.step_time(Duration::from_micros(RPI_US));
+        }
+        Ok(Stopped {
+            closed: self.adapter.connections().is_empty(),
+            image: Some(self.input()?),
+            log: Some(self.log.clone()),
+            seen: String::new(),
+        })
+    }
+}
+
+/// The scanner's side of the session and the connection.
+struct Bench<'a> {
+    link: &'a mut dyn Scanner,
+    session: u32,
+    o_t_id: u32,
+    sequence: u16,
+}
+
+impl Bench<'_> {
     fn encapsulated(&mut self, command: u16, data: Vec<u8>) -> Result<Encapsulation, String> {
         let message = Encapsulation {
             command,
@@ -39,11 +127,7 @@ impl Bench {
             options: 0,
             data,
         };
-        let (reply, _) = self
-            .adapter
-            .handle(1, &message.emit(), self.now)
-            .map_err(|e| format!("{e:?}"))?;
-        let reply = reply.ok_or("no reply")?;
+        let reply = self.link.request(&message.emit())?;
         Ok(Encapsulation::parse(&reply)
             .map_err(|e| format!("{e:?}"))?
             .0)
@@ -78,29 +162,9 @@ impl Bench {
             (item::SEQUENCED_ADDRESS, &address),
             (item::CONNECTED_DATA, &payload),
         ]);
-        self.adapter.receive_io(1, &datagram, self.now);
-        self.step_time(Duration::from_micros(RPI_US));
-        let input = self
-            .adapter
-            .assemblies
-            .get(&card::Input::INSTANCE)
-            .ok_or("no assembly 100")?;
-        let input = card::Input::decode(&input.data).ok_or("assembly 100 is short")?;
+        let input = self.link.rpi(&datagram)?;
+        let input = card::Input::decode(&input).ok_or("assembly 100 is short")?;
         input.pkw_pzd().map_err(|e| format!("{e:?}"))
-    }
-
-    fn step_time(&mut self, by: Duration) {
-        self.now = self.now + by;
-        // The T→O datagrams are not needed: the card's image is read from assembly 100.
-        self.adapter.poll(self.now);
-        let mut log = Vec::new();
-        driver::link(
-            &mut self.adapter,
-            Some(&mut self.card),
-            self.now,
-            &mut |l| log.push(l),
-        );
-        self.log.extend(log);
     }
 
     /// A PKW request held until the card answers it (at most ten RPIs).
@@ -121,9 +185,17 @@ impl Bench {
     }
 }
 
+/// The card's section of the demo, in this process.
 pub(super) fn run(trace: &mut Trace) {
     trace.heading("Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images");
-    if let Err(problem) = workflow(trace) {
+    let (adapter, card) = device::goodrive350([10, 0, 0, 1], Instant::from_micros(0));
+    let mut link = InProcess {
+        adapter,
+        card,
+        now: Instant::from_micros(0),
+        log: Vec::new(),
+    };
+    if let Err(problem) = workflow(trace, &mut link) {
         trace.step("Goodrive350 EtherNet/IP workflow", Err(problem));
     }
 }
@@ -147,16 +219,13 @@ fn check(ok: bool, seen: String) -> Result<String, String> {
     }
 }
 
-fn workflow(trace: &mut Trace) -> Result<(), String> {
-    let (adapter, card) = device::goodrive350([10, 0, 0, 1], Instant::from_micros(0));
+/// The steps, on either link.
+pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Scanner) -> Result<(), String> {
     let mut bench = Bench {
-        adapter,
-        card,
+        link,
         session: 0,
         o_t_id: 0,
         sequence: 0,
-        now: Instant::from_micros(0),
-        log: Vec::new(),
     };
     let registered = bench.encapsulated(0x65, vec![1, 0, 0, 0])?;
     bench.session = registered.session;
@@ -277,23 +346,34 @@ fn workflow(trace: &mut Trace) -> Result<(), String> {
         ),
     );
     // The scanner stops producing: after 4 x RPI the connection times out and the drive trips.
-    for _ in 0..6 {
-        bench.step_time(Duration::from_micros(RPI_US));
-    }
-    let fault = bench
-        .adapter
-        .assemblies
-        .get(&card::Input::INSTANCE)
-        .and_then(|a| card::Input::decode(&a.data));
-    let state = fault
+    let stopped = bench.link.stop_producing(6)?;
+    let image = match stopped.image {
+        Some(image) => image,
+        None => {
+            // Get_Attribute_Single of assembly 100's data: the reply's data after 4 bytes.
+            let path = [0x20, 0x04, 0x24, card::Input::INSTANCE as u8, 0x30, 0x03];
+            let mut request = vec![0x0E, (path.len() / 2) as u8];
+            request.extend_from_slice(&path);
+            let reply = bench.explicit(&request)?;
+            match reply.get(2) {
+                Some(0) => reply.get(4..).unwrap_or_default().to_vec(),
+                _ => return Err(format!("@4/100/3: reply {reply:02X?}")),
+            }
+        }
+    };
+    let state = card::Input::decode(&image)
         .and_then(|f| f.pkw_pzd().ok())
         .and_then(|i| i.status.state(WordLayout::ByByte));
-    let tripped = bench.log.iter().any(|l| l == "drive fault E-EIP");
+    let (tripped, seen) = match &stopped.log {
+        Some(log) => (log.iter().any(|l| l == "drive fault E-EIP"), log.join(", ")),
+        // On a wire the adapter's log is not here: the state the card reports is the evidence.
+        None => (true, stopped.seen),
+    };
     trace.step(
         "scanner stops producing: timeout after 4 x RPI, fault E-EIP",
         check(
-            bench.adapter.connections().is_empty() && tripped && state == Some(RunState::Fault),
-            format!("{}; SW state {state:?}", bench.log.join(", ")),
+            stopped.closed && tripped && state == Some(RunState::Fault),
+            format!("{seen}; SW state {state:?}"),
         ),
     );
     Ok(())

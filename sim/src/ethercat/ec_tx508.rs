@@ -45,6 +45,11 @@ impl EcTx508Behaviour {
     pub fn card(&self) -> &EcTx508 {
         &self.card
     }
+
+    /// The card, to raise and clear its drive's faults as the application would.
+    pub fn card_mut(&mut self) -> &mut EcTx508 {
+        &mut self.card
+    }
 }
 
 impl Behaviour for EcTx508Behaviour {

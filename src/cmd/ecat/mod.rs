@@ -12,9 +12,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Args as ClapArgs, Subcommand};
+use edsgen::ecat::{discover, runtime};
 use edsgen_codegen::model::Device;
-use ethercrab::std::{ethercat_now, tx_rx_task};
-use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
 
 use super::{fail, print_stdout};
 
@@ -64,9 +63,6 @@ enum EcatCommand {
     /// readable object), in the validator's format.
     Check(check::CheckArgs),
 }
-
-const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
-static PDU_STORAGE: PduStorage<16, MAX_PDU_DATA> = PduStorage::new();
 
 /// Runs `edsgen ecat`.
 pub fn run(args: Args) -> ExitCode {
@@ -210,41 +206,6 @@ fn inputs_line(image: &[u8], entries: &[(String, u16, bool)]) -> String {
 }
 
 /// A current-thread async runtime for one command, or the message to print.
-fn runtime() -> Result<tokio::runtime::Runtime, String> {
-    tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .map_err(|err| format!("cannot start the async runtime: {err}"))
-}
-
-/// ethercrab's MainDevice on `iface` (its frames carried by a task on the current runtime) and
-/// every SubDevice it found there, in Pre-Op.
-async fn discover(
-    iface: &str,
-) -> Result<(MainDevice<'static>, ethercrab::SubDeviceGroup<64, 4096>), String> {
-    let (tx, rx, pdu_loop) = PDU_STORAGE
-        .try_split()
-        .map_err(|_| "the PDU storage is split once".to_owned())?;
-    // ethercrab's defaults suit a dedicated real-time machine (an SII read within 10 ms, a
-    // mailbox echo within 100 ms); a loaded desktop or CI machine needs more. These bound only
-    // how long a SubDevice that does not answer is waited for.
-    let timeouts = Timeouts {
-        pdu: Duration::from_millis(500),
-        eeprom: Duration::from_millis(500),
-        mailbox_echo: Duration::from_millis(500),
-        mailbox_response: Duration::from_secs(2),
-        ..Timeouts::default()
-    };
-    let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
-    let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
-    tokio::spawn(task);
-    let group = maindevice
-        .init_single_group::<64, 4096>(ethercat_now)
-        .await
-        .map_err(|e| format!("discovery: {e}"))?;
-    Ok((maindevice, group))
-}
-
 async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, String> {
     let (maindevice, group) = discover(iface).await?;
     let mut text = String::new();
