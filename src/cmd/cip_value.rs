@@ -263,8 +263,27 @@ pub fn parse(cip: &Cip, member: &Member<'_>, text: &str) -> Result<u64, String> 
     if !number.is_finite() {
         return Err(format!("{what}: not a finite number"));
     }
-    let native = match param.and_then(scaling) {
-        Some((mult, div, base, offset, _)) if mult * base != 0.0 => {
+    let native = match param.zip(param.and_then(scaling)) {
+        Some((p, (mult, div, base, offset, places))) if mult * base != 0.0 => {
+            // The limits in the units the value is given in.
+            let eng = |raw: f64| (raw + offset) * mult * base / div;
+            let low = p.min.as_ref().map(|m| eng(m.value.as_f64()));
+            let high = p.max.as_ref().map(|m| eng(m.value.as_f64()));
+            if let (Some(low), Some(high)) = (low, high) {
+                let (low, high) = (low.min(high), low.max(high));
+                if number < low || number > high {
+                    let units = p.units.trim();
+                    let units = if units.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {units}")
+                    };
+                    return Err(format!(
+                        "{what}: outside {low:.places$}..{high:.places$}{units} (Param{})",
+                        p.number
+                    ));
+                }
+            }
             number * div / (mult * base) - offset
         }
         _ => number,
