@@ -11,63 +11,8 @@ mod process_support;
 use std::process::Command;
 use std::time::Duration;
 
+use process_support::netns::{is_root, Link};
 use process_support::{python, skip, Process, EDSGEN};
-
-/// Two namespaces and the veth pair between them, deleted on drop (also when the test fails).
-struct Link {
-    device_ns: String,
-    controller_ns: String,
-}
-
-fn ip(args: &[&str]) {
-    let status = Command::new("ip").args(args).status().expect("ip runs");
-    assert!(status.success(), "ip {args:?} failed");
-}
-
-impl Link {
-    fn new() -> Link {
-        let pid = std::process::id();
-        let link = Link {
-            device_ns: format!("pn-dev-{pid}"),
-            controller_ns: format!("pn-ctl-{pid}"),
-        };
-        ip(&["netns", "add", &link.device_ns]);
-        ip(&["netns", "add", &link.controller_ns]);
-        let (dev, ctl) = (format!("pnd{pid}"), format!("pnc{pid}"));
-        ip(&["link", "add", &dev, "type", "veth", "peer", "name", &ctl]);
-        ip(&["link", "set", &dev, "netns", &link.device_ns]);
-        ip(&["link", "set", &ctl, "netns", &link.controller_ns]);
-        ip(&["-n", &link.device_ns, "link", "set", &dev, "up"]);
-        ip(&["-n", &link.controller_ns, "link", "set", &ctl, "up"]);
-        // pnio-dcp finds its interface by IP address.
-        ip(&[
-            "-n",
-            &link.controller_ns,
-            "addr",
-            "add",
-            "10.77.0.1/24",
-            "dev",
-            &ctl,
-        ]);
-        link
-    }
-}
-
-impl Drop for Link {
-    fn drop(&mut self) {
-        // Deleting a namespace deletes the veth end inside it, and so the pair.
-        for ns in [&self.device_ns, &self.controller_ns] {
-            let _ = Command::new("ip").args(["netns", "del", ns]).status();
-        }
-    }
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-}
 
 #[test]
 fn pnio_dcp_finds_names_and_addresses_the_simulated_card() {
@@ -76,7 +21,8 @@ fn pnio_dcp_finds_names_and_addresses_the_simulated_card() {
         return;
     }
     let Some(python) = python() else { return };
-    let link = Link::new();
+    // pnio-dcp finds its interface by IP address.
+    let link = Link::new("pn", "10.77.0.1/24", None);
     let pid = std::process::id();
     let device = Process::start(Command::new("ip").args([
         "netns",

@@ -84,6 +84,10 @@ pub struct Args {
     /// `--card goodrive350-pn`); see `simulate_profinet`.
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
     profinet: Option<String>,
+    /// With --profinet: the device's IP address and prefix (`10.0.0.2/24`), as DCP reports it;
+    /// the interface must have the address for the RPC endpoint (UDP 34964) to be reached.
+    #[arg(long, value_name = "ADDR/PREFIX", requires = "profinet")]
+    ip: Option<String>,
     /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
     /// or one FILE.gsd[@ADDR]; see `simulate_dp`).
     #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
@@ -112,7 +116,7 @@ pub fn run(args: Args) -> ExitCode {
         return super::simulate_enip::run(addr, &args.files, &args.cards);
     }
     if let Some(iface) = &args.profinet {
-        return super::simulate_profinet::run(iface, &args.files, &args.cards);
+        return super::simulate_profinet::run(iface, &args.files, &args.cards, args.ip.as_deref());
     }
     if let Some(tty) = &args.profibus {
         return super::simulate_dp::run(tty, &args.files, &args.cards);

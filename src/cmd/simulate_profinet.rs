@@ -1,13 +1,20 @@
-//! `edsgen simulate --profinet IFACE (FILE.xml | --card goodrive350-pn)`: a PROFINET IO device
-//! from a GSDML on a network interface (root, or `CAP_NET_RAW`). It says Hello, then answers
-//! DCP (identify, get, set name of station and IP, signal) as the GSDML's default access point,
-//! printing what a controller sets, until it is stopped.
+//! `edsgen simulate --profinet IFACE (FILE.xml | --card goodrive350-pn) [--ip ADDR/PREFIX]`: a
+//! PROFINET IO device from a GSDML on a network interface (root, or `CAP_NET_RAW`). It says
+//! Hello, then answers DCP (identify, get, set name of station and IP, signal) as the GSDML's
+//! default access point, serves connection management on UDP 34964 (Connect, Read, Write,
+//! PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of the AR, with the
+//! Goodrive350's drive behind the card; it prints what a controller sets and each step of an AR,
+//! until it is stopped.
 
 use std::path::Path;
 use std::process::ExitCode;
 
 use edsgen_codegen::{read, validate};
-use edsgen_sim::profinet::dcp::{Dcp, DcpEvent};
+use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use edsgen_sim::profinet::ar::config::DeviceConfig;
+use edsgen_sim::profinet::ar::ArEvent;
+use edsgen_sim::profinet::dcp::DcpEvent;
+use edsgen_sim::profinet::device::{Device, DeviceEvent};
 use edsgen_sim::profinet::{driver, station};
 
 use super::fail;
@@ -17,7 +24,12 @@ const GOODRIVE350_PN: &[u8] = include_bytes!("../../eds/goodrive350-pn.xml");
 
 /// Runs the device on `iface`; exit 2 for bad usage, a file that is not a readable GSDML, or an
 /// interface that cannot be opened.
-pub fn run(iface: &str, files: &[String], cards: &[String]) -> ExitCode {
+pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) -> ExitCode {
+    let ip = match ip.map(parse_ip).transpose() {
+        Ok(ip) => ip,
+        Err(e) => return fail(e),
+    };
+    let card = cards.first().is_some_and(|c| c == "goodrive350-pn");
     let (name, bytes) = match (files, cards) {
         ([file], []) => match std::fs::read(file) {
             Ok(bytes) => (file.clone(), bytes),
@@ -45,11 +57,18 @@ pub fn run(iface: &str, files: &[String], cards: &[String]) -> ExitCode {
             "`{name}` is not a GSDML file without errors (run `edsgen validate {name}`)"
         ));
     };
-    let mut socket = match driver::RawSocket::open(iface, std::time::Duration::from_millis(200)) {
+    let mut socket = match driver::RawSocket::open(iface, std::time::Duration::from_millis(1)) {
         Ok(socket) => socket,
         Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
     };
-    let station = station::from_gsdml(pn, socket.mac());
+    let rpc = match driver::RpcSocket::open(iface) {
+        Ok(rpc) => rpc,
+        Err(e) => return fail(format!("cannot bind UDP 34964 on `{iface}`: {e}")),
+    };
+    let mut station = station::from_gsdml(pn, socket.mac());
+    if let Some(ip) = ip {
+        station.ip = ip;
+    }
     let mac: Vec<String> = station.mac.iter().map(|b| format!("{b:02x}")).collect();
     println!(
         "PROFINET device `{}` (VendorID {:#06x}, DeviceID {:#06x}) on {iface}, MAC {}",
@@ -58,11 +77,25 @@ pub fn run(iface: &str, files: &[String], cards: &[String]) -> ExitCode {
         station.device_id,
         mac.join(":")
     );
-    let mut dcp = Dcp::new(station);
-    let served = driver::serve_dcp(&mut socket, &mut dcp, None, |event| {
+    match ip {
+        Some([a, m, _]) => println!(
+            "RPC on UDP 34964 at {}.{}.{}.{} mask {}.{}.{}.{}",
+            a[0], a[1], a[2], a[3], m[0], m[1], m[2], m[3]
+        ),
+        None => println!(
+            "no IP yet (--ip ADDR/PREFIX, or a DCP Set): RPC on UDP 34964 answers once {iface} has the address"
+        ),
+    }
+    let config = DeviceConfig::from_gsdml(pn);
+    let drive = card.then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
+    let mut device = Device::new(station, config, drive);
+    let served = driver::serve(&mut socket, &rpc, &mut device, None, |event| {
         match event {
-            DcpEvent::NameSet(name) => println!("name of station set to `{name}`"),
-            DcpEvent::IpSet([ip, mask, gw]) => println!(
+            DeviceEvent::Ar(event) => print_ar(event),
+            DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
+                println!("name of station set to `{name}`")
+            }
+            DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => println!(
                 "IP set to {}.{}.{}.{} mask {}.{}.{}.{} gateway {}.{}.{}.{}",
                 ip[0],
                 ip[1],
@@ -77,8 +110,8 @@ pub fn run(iface: &str, files: &[String], cards: &[String]) -> ExitCode {
                 gw[2],
                 gw[3]
             ),
-            DcpEvent::Signal => println!("signal: flashing the LED"),
-            DcpEvent::ResetToFactory => println!("reset to factory"),
+            DeviceEvent::Dcp(DcpEvent::Signal) => println!("signal: flashing the LED"),
+            DeviceEvent::Dcp(DcpEvent::ResetToFactory) => println!("reset to factory"),
         }
         use std::io::Write;
         let _ = std::io::stdout().flush();
@@ -87,4 +120,55 @@ pub fn run(iface: &str, files: &[String], cards: &[String]) -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(format!("PROFINET on `{iface}`: {e}")),
     }
+}
+
+/// Prints one step of an AR.
+fn print_ar(event: &ArEvent) {
+    match event {
+        ArEvent::Connected {
+            ar_type,
+            layout,
+            diff,
+        } => {
+            let mut line = format!("AR connected (ARType {ar_type:#06x})");
+            if let Some(l) = layout {
+                line += &format!(
+                    ": input FrameID {:#06x}, output FrameID {:#06x}, every {} us",
+                    l.input_frame_id,
+                    l.output_frame_id,
+                    l.interval.as_micros()
+                );
+            }
+            if *diff {
+                line += ", with module differences";
+            }
+            println!("{line}");
+        }
+        ArEvent::RecordWritten {
+            slot,
+            subslot,
+            index,
+            data,
+        } => println!(
+            "record {index} of slot {slot} subslot {subslot} written ({} bytes)",
+            data.len()
+        ),
+        ArEvent::PrmEnd => println!("PrmEnd: ApplicationReady sent"),
+        ArEvent::DataStart => println!("ApplicationReady confirmed: cyclic data exchange"),
+        ArEvent::Released => println!("AR released"),
+        ArEvent::Aborted => println!("AR aborted"),
+    }
+}
+
+/// `ADDR/PREFIX` as the IP, mask and (no) gateway DCP reports.
+fn parse_ip(text: &str) -> Result<[[u8; 4]; 3], String> {
+    let bad = || format!("--ip `{text}` is not ADDR/PREFIX (such as 10.0.0.2/24)");
+    let (addr, prefix) = text.split_once('/').ok_or_else(bad)?;
+    let addr: std::net::Ipv4Addr = addr.parse().map_err(|_| bad())?;
+    let prefix: u32 = prefix.parse().map_err(|_| bad())?;
+    if !(1..=32).contains(&prefix) {
+        return Err(bad());
+    }
+    let mask = (u32::MAX << (32 - prefix)).to_be_bytes();
+    Ok([addr.octets(), mask, [0; 4]])
 }

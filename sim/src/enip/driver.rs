@@ -174,6 +174,7 @@ pub fn link(
         match event {
             Event::Opened(id) => log(format!("connection {id:#010x} opened")),
             Event::Closed(id) => log(format!("connection {id:#010x} closed")),
+            Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
             Event::TimedOut(id) => {
                 log(format!("connection {id:#010x} timed out"));
                 if let Some(card) = card.as_deref_mut() {

@@ -77,6 +77,8 @@ pub mod general {
     pub const ATTRIBUTE_NOT_SETTABLE: u8 = 0x0E;
     /// Device state conflict.
     pub const DEVICE_STATE_CONFLICT: u8 = 0x10;
+    /// Reply data too large (for the connection).
+    pub const REPLY_DATA_TOO_LARGE: u8 = 0x11;
     /// Not enough data.
     pub const NOT_ENOUGH_DATA: u8 = 0x13;
     /// Attribute not supported.

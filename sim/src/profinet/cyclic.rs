@@ -15,6 +15,10 @@ use super::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
 /// IOPS right after.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DataObject {
+    /// The submodule's slot.
+    pub slot: u16,
+    /// The submodule's subslot.
+    pub subslot: u16,
     /// Offset of the data in the C_SDU.
     pub offset: usize,
     /// Bytes of data.
@@ -111,6 +115,14 @@ impl Cyclic {
         self.last_received = Some(now);
         self.expired = false;
         true
+    }
+
+    /// The index of the output submodule in `slot`, `subslot`.
+    pub fn output_index(&self, slot: u16, subslot: u16) -> Option<usize> {
+        self.layout
+            .outputs
+            .iter()
+            .position(|o| (o.slot, o.subslot) == (slot, subslot))
     }
 
     /// Output submodule `n`'s last data and its IOPS.

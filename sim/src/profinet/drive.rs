@@ -10,6 +10,9 @@ use super::cyclic::{CrLayout, Cyclic, DataObject};
 use super::wire::Mac;
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
+/// Where the card's module with the drive's 16 words sits: slot 1, subslot 1.
+pub const DRIVE_SLOT: (u16, u16) = (1, 1);
+
 /// The cyclic layout of the card's one module (slot 1, subslot 1) alone: in each CR its 32 bytes
 /// of data and its IOPS, then the IOCS of the other direction. `interval` and `factor` as the
 /// Connect's IOCR blocks give them.
@@ -20,12 +23,16 @@ pub fn card_layout(controller: Mac, device: Mac, interval: Duration, factor: u16
         output_frame_id: 0xC000,
         output_len: IMAGE_BYTES + 2,
         outputs: vec![DataObject {
+            slot: 1,
+            subslot: 1,
             offset: 0,
             len: IMAGE_BYTES,
         }],
         input_frame_id: 0xC001,
         input_len: IMAGE_BYTES + 2,
         inputs: vec![DataObject {
+            slot: 1,
+            subslot: 1,
             offset: 0,
             len: IMAGE_BYTES,
         }],
@@ -66,7 +73,11 @@ impl CardCycle {
         if !self.cyclic.handle(now, frame) {
             return;
         }
-        let Some((data, iops)) = self.cyclic.output(0) else {
+        let Some((data, iops)) = self
+            .cyclic
+            .output_index(DRIVE_SLOT.0, DRIVE_SLOT.1)
+            .and_then(|n| self.cyclic.output(n))
+        else {
             return;
         };
         // Outputs with a bad IOPS carry nothing to act on.
@@ -85,7 +96,20 @@ impl CardCycle {
         }
         self.next_send = now + self.cyclic.layout().interval;
         let inputs = self.inputs;
-        Some(self.cyclic.produce(now, &[&inputs]))
+        let data: Vec<&[u8]> = self
+            .cyclic
+            .layout()
+            .inputs
+            .iter()
+            .map(|o| {
+                if (o.slot, o.subslot) == DRIVE_SLOT {
+                    &inputs[..]
+                } else {
+                    &[][..]
+                }
+            })
+            .collect();
+        Some(self.cyclic.produce(now, &data))
     }
 
     /// The next time something is due: a send, the watchdog, or the drive's ramps.
@@ -101,14 +125,27 @@ impl CardCycle {
         .unwrap_or(self.next_send)
     }
 
-    /// Time passed to `now`: the watchdog trips the drive's bus fault (E-PN).
-    pub fn handle_timeout(&mut self, now: Instant) {
-        if self.cyclic.handle_timeout(now) {
+    /// Time passed to `now`: the watchdog trips the drive's bus fault (E-PN); `true` when it
+    /// expired now (the AR is then over).
+    pub fn handle_timeout(&mut self, now: Instant) -> bool {
+        let expired = self.cyclic.handle_timeout(now);
+        if expired {
             self.drive.communication_lost(now);
         } else {
             self.drive.handle_timeout(now);
         }
         self.inputs = self.drive.inputs().emit(ByteOrder::BigEndian);
+        expired
+    }
+
+    /// The drive, when the AR ends (it serves the next one).
+    pub fn into_drive(self) -> PkwPzdDrive {
+        self.drive
+    }
+
+    /// The drive, to change its parameters (a record write).
+    pub fn drive_mut(&mut self) -> &mut PkwPzdDrive {
+        &mut self.drive
     }
 }
 

@@ -1,13 +1,16 @@
 //! The thin I/O driver: a [`PacketSocket`] on one interface for EtherType 0x8892 (Linux, needs
-//! `CAP_NET_RAW`), and [`serve_dcp`], the loop that feeds received frames to the DCP machine and
-//! sends its answers. The protocol machines never see the socket.
+//! `CAP_NET_RAW`), the RPC endpoint's UDP socket ([`RpcSocket`]), [`serve_dcp`], the loop that
+//! feeds received frames to the DCP machine alone, and [`serve`], the loop of the whole
+//! [`Device`]. The protocol machines never see the sockets.
 
 use std::io;
 use std::time::{Duration, Instant};
 
 use crate::packet_socket::{interface_mac, PacketSocket};
 
+use super::ar::Peer;
 use super::dcp::{Dcp, DcpEvent};
+use super::device::{Device, DeviceEvent};
 use super::wire::{Mac, ETHERTYPE_PROFINET};
 
 /// A packet socket bound to one interface, receiving PROFINET frames.
@@ -61,6 +64,97 @@ pub fn serve_dcp(
             socket.send(&answer)?;
         }
         while let Some(event) = dcp.poll_event() {
+            on_event(&event);
+        }
+    }
+    Ok(())
+}
+
+/// The device's RPC endpoint: UDP 34964 on all addresses of one interface (`SO_BINDTODEVICE`),
+/// non-blocking. Datagrams reach it for the addresses the interface has: the device's IP must
+/// be one of them.
+#[derive(Debug)]
+pub struct RpcSocket {
+    socket: std::net::UdpSocket,
+}
+
+impl RpcSocket {
+    /// Binds UDP 34964 on `iface`.
+    pub fn open(iface: &str) -> io::Result<RpcSocket> {
+        use socket2::{Domain, Protocol, Socket, Type};
+        let socket = Socket::new(Domain::IPV4, Type::DGRAM, Some(Protocol::UDP))?;
+        socket.set_reuse_address(true)?;
+        socket.bind_device(Some(iface.as_bytes()))?;
+        let any = std::net::SocketAddr::from(([0, 0, 0, 0], super::wire::rpc::RPC_PORT));
+        socket.bind(&any.into())?;
+        socket.set_nonblocking(true)?;
+        Ok(RpcSocket {
+            socket: socket.into(),
+        })
+    }
+
+    /// The next datagram and its IPv4 sender, if one is waiting.
+    pub fn recv(&self, buf: &mut [u8]) -> io::Result<Option<(usize, Peer)>> {
+        match self.socket.recv_from(buf) {
+            Ok((n, std::net::SocketAddr::V4(from))) => {
+                Ok(Some((n, (from.ip().octets(), from.port()))))
+            }
+            Ok(_) => Ok(None),
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Sends `pdu` to `to`.
+    pub fn send(&self, to: Peer, pdu: &[u8]) -> io::Result<()> {
+        self.socket
+            .send_to(pdu, std::net::SocketAddr::from((to.0, to.1)))
+            .map(|_| ())
+    }
+}
+
+/// Serves the whole device until `until` passes (forever with `None`): a DCP Hello, then DCP
+/// and cyclic frames on `raw` (opened with a short read timeout: it paces the loop), RPC
+/// datagrams on `rpc`, the device's own datagrams and frames when due; each event is passed to
+/// `on_event`.
+pub fn serve(
+    raw: &mut RawSocket,
+    rpc: &RpcSocket,
+    device: &mut Device,
+    until: Option<Instant>,
+    mut on_event: impl FnMut(&DeviceEvent),
+) -> io::Result<()> {
+    let start = Instant::now();
+    let clock = || edsgen_runtime::Instant::from_micros(start.elapsed().as_micros() as u64);
+    let hello = device.dcp().hello();
+    raw.send(&hello)?;
+    let mut buf = vec![0u8; 1600];
+    let mut dgram = vec![0u8; 4096];
+    while until.is_none_or(|t| Instant::now() < t) {
+        if let Some(n) = raw.recv(&mut buf)? {
+            if let Some(answer) = buf.get(..n).and_then(|f| device.handle_frame(clock(), f)) {
+                raw.send(&answer)?;
+            }
+        }
+        while let Some((n, from)) = rpc.recv(&mut dgram)? {
+            if let Some(answer) = dgram
+                .get(..n)
+                .and_then(|p| device.handle_datagram(clock(), from, p))
+            {
+                rpc.send(from, &answer)?;
+            }
+        }
+        while let Some((to, pdu)) = device.poll_datagram() {
+            rpc.send(to, &pdu)?;
+        }
+        let now = clock();
+        if device.poll_timeout().is_some_and(|t| t <= now) {
+            device.handle_timeout(now);
+        }
+        while let Some(frame) = device.poll_frame(now) {
+            raw.send(&frame)?;
+        }
+        while let Some(event) = device.poll_event() {
             on_event(&event);
         }
     }

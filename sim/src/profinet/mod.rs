@@ -7,8 +7,11 @@
 //! Not yet here: connection management (the DCE/RPC endpoint on UDP 34964: Connect, Write,
 //! Read, PrmEnd, ApplicationReady, Release), which would fill the cyclic layout, and alarms.
 
+pub mod ar;
+pub mod controller;
 pub mod cyclic;
 pub mod dcp;
+pub mod device;
 pub mod drive;
 pub mod driver;
 pub mod station;

@@ -1,9 +1,12 @@
 //! PROFINET wire formats, apart from the protocol machines: the Ethernet header (with or without
 //! a VLAN tag) that carries every PROFINET frame on EtherType 0x8892, the DCP PDU ([`dcp`]) and
-//! the cyclic RT frame ([`rt`]).
+//! the cyclic RT frame ([`rt`]), the DCE/RPC PDU of connection management ([`rpc`]) and the PNIO
+//! blocks it carries ([`blocks`]).
 //! Parsing never panics: a frame too short or of another EtherType is `None`.
 
+pub mod blocks;
 pub mod dcp;
+pub mod rpc;
 pub mod rt;
 
 /// PROFINET's EtherType.

@@ -1,0 +1,556 @@
+//! The device's connection management (p-net's `pf_cmrpc`, `pf_cmdev`, `pf_cmrdr`, `pf_cmwrr`):
+//! the RPC endpoint on UDP 34964 and the one application relation (AR) it serves. Sans-IO: a
+//! datagram and its sender in, the answer out; the device's own requests (the ApplicationReady
+//! CControl) and what happened ([`ArEvent`]) polled.
+//!
+//! An AR's life: Connect (checked in [`connect`] against the GSDML's [`config`]) → parameter
+//! phase (Write of records, Read) → the controller's PrmEnd → the device's ApplicationReady
+//! request to the controller's RPC port → its Done → data exchange ([`ArEvent::DataStart`]: the
+//! cyclic frames are valid from now) → Release, or [`Cm::abort`] when the cyclic watchdog
+//! expires. One AR at a time: a Connect while one is up is refused (CMRPC out of AR resources),
+//! unless it repeats the same AR UUID. A device access AR (IOSAR) has no cyclic data.
+//! Records: 0xF000 RealIdentificationData, 0xAFF0 I&M0, and the GSDML's parameter records of
+//! each submodule (written with their exact length, read back).
+//! Alarms: the AlarmCR is accepted and answered (AlarmCRBlockRes) but the device sends no
+//! alarm (no alarm frames on 0xFC01/0xFE01): the card has nothing to report that the cyclic
+//! data does not already carry.
+
+pub mod config;
+pub mod connect;
+
+use edsgen_runtime::{Duration, Instant};
+
+use super::cyclic::CrLayout;
+use super::wire::blocks::*;
+use super::wire::rpc::*;
+use super::wire::Mac;
+use config::DeviceConfig;
+use connect::{refuse, Accepted, AR_TYPE_IOC_SINGLE};
+
+/// A datagram's peer: IPv4 address and UDP port.
+pub type Peer = ([u8; 4], u16);
+
+/// What the connection management tells the application.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ArEvent {
+    /// An AR was established (with its cyclic layout for an IO AR; `diff` when the expected
+    /// configuration differed).
+    Connected {
+        /// ARType.
+        ar_type: u16,
+        /// The cyclic layout, for an IO AR.
+        layout: Option<CrLayout>,
+        /// The expected configuration differed (a ModuleDiffBlock was sent).
+        diff: bool,
+    },
+    /// A parameter record was written.
+    RecordWritten {
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// Index.
+        index: u16,
+        /// The data.
+        data: Vec<u8>,
+    },
+    /// The controller ended the parameter phase.
+    PrmEnd,
+    /// The controller confirmed ApplicationReady: cyclic data is valid from now.
+    DataStart,
+    /// The controller released the AR.
+    Released,
+    /// The AR was aborted (watchdog, or the controller never confirmed ApplicationReady).
+    Aborted,
+}
+
+/// Where the AR is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// Between Connect and PrmEnd.
+    Parameter,
+    /// ApplicationReady sent, its Done not yet come.
+    AwaitingReady,
+    /// Cyclic data exchange.
+    Data,
+}
+
+#[derive(Debug, Clone)]
+struct Ar {
+    accepted: Accepted,
+    controller: [u8; 4],
+    phase: Phase,
+    /// The ApplicationReady request, its activity, when it was last sent, how often.
+    ready: Option<(Vec<u8>, Uuid, Instant, u8)>,
+}
+
+/// How long the device waits for the Done of its ApplicationReady before sending it again,
+/// and how often it sends it.
+const READY_RETRY: Duration = Duration::from_millis(1000);
+const READY_TRIES: u8 = 3;
+
+/// The device's connection management.
+#[derive(Debug, Clone)]
+pub struct Cm {
+    config: DeviceConfig,
+    mac: Mac,
+    object: Uuid,
+    ar: Option<Ar>,
+    records: Vec<((u16, u16, u16), Vec<u8>)>,
+    outbox: Vec<(Peer, Vec<u8>)>,
+    events: Vec<ArEvent>,
+    /// The last answer, by activity and sequence: a repeated request gets it again.
+    last: Option<(Uuid, u32, Vec<u8>)>,
+    /// I&M0's fields: VendorID, OrderID.
+    vendor_id: u16,
+    order_id: String,
+    sequence: u32,
+}
+
+impl Cm {
+    /// The connection management of a device with `config`, on an interface with `mac`;
+    /// `ids` are its (VendorID, DeviceID, instance) for its object UUID, `order_id` its I&M0
+    /// OrderID.
+    pub fn new(config: DeviceConfig, mac: Mac, ids: (u16, u16, u16), order_id: &str) -> Cm {
+        let records = config
+            .slots
+            .iter()
+            .flat_map(|s| {
+                s.submodules.iter().flat_map(move |sub| {
+                    sub.records
+                        .iter()
+                        .map(move |r| ((s.slot, sub.subslot, r.index), r.initial.clone()))
+                })
+            })
+            .collect();
+        Cm {
+            object: Uuid::pnio_object(ids.2, ids.1, ids.0),
+            config,
+            mac,
+            ar: None,
+            records,
+            outbox: Vec::new(),
+            events: Vec::new(),
+            last: None,
+            vendor_id: ids.0,
+            order_id: order_id.to_owned(),
+            sequence: 0,
+        }
+    }
+
+    /// `true` while cyclic data is valid (between ApplicationReady's Done and the AR's end).
+    pub fn data_valid(&self) -> bool {
+        self.ar.as_ref().is_some_and(|a| a.phase == Phase::Data)
+    }
+
+    /// The next event.
+    pub fn poll_event(&mut self) -> Option<ArEvent> {
+        (!self.events.is_empty()).then(|| self.events.remove(0))
+    }
+
+    /// The next datagram the device sends of its own (the ApplicationReady request).
+    pub fn poll_datagram(&mut self) -> Option<(Peer, Vec<u8>)> {
+        (!self.outbox.is_empty()).then(|| self.outbox.remove(0))
+    }
+
+    /// When [`Cm::handle_timeout`] has something to do.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        let (_, _, at, _) = self.ar.as_ref()?.ready.as_ref()?;
+        Some(*at + READY_RETRY)
+    }
+
+    /// Time passed: ApplicationReady sent again, or the AR aborted after the last try.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        let Some(ar) = self.ar.as_mut() else { return };
+        let Some((pdu, _, at, tries)) = ar.ready.as_mut() else {
+            return;
+        };
+        if now < *at + READY_RETRY {
+            return;
+        }
+        if *tries >= READY_TRIES {
+            self.abort();
+            return;
+        }
+        *tries += 1;
+        *at = now;
+        let pdu = pdu.clone();
+        self.outbox.push(((ar.controller, RPC_PORT), pdu));
+    }
+
+    /// Ends the AR (the cyclic watchdog expired).
+    pub fn abort(&mut self) {
+        if self.ar.take().is_some() {
+            self.events.push(ArEvent::Aborted);
+        }
+    }
+
+    /// A datagram from `from` at `now`: the answer to send back to it, if any.
+    pub fn handle_datagram(&mut self, now: Instant, from: Peer, pdu: &[u8]) -> Option<Vec<u8>> {
+        let (header, body) = RpcHeader::parse(pdu)?;
+        match header.packet_type {
+            REQUEST => {}
+            RESPONSE => {
+                self.handle_response(&header, body);
+                return None;
+            }
+            PING => {
+                let known = self
+                    .last
+                    .as_ref()
+                    .is_some_and(|(a, s, _)| *a == header.activity && *s == header.sequence);
+                let mut out = Vec::new();
+                header
+                    .answer(if known { WORKING } else { NOCALL })
+                    .emit(0, &mut out);
+                return Some(out);
+            }
+            _ => return None,
+        }
+        if header.interface != Uuid::PNIO_DEVICE {
+            return Some(emit_reject(&header, REJECT, NCA_UNKNOWN_INTERFACE));
+        }
+        if let Some((activity, sequence, answer)) = &self.last {
+            if *activity == header.activity && *sequence == header.sequence {
+                return Some(answer.clone());
+            }
+        }
+        let little = header.little_endian;
+        let (status, args, max) = match Ndr::parse(body, little) {
+            // CMRPC: ArgsLength invalid.
+            None => (
+                PnioStatus::new(0xDB, 0x81, connect::CMRPC, 0),
+                Vec::new(),
+                0,
+            ),
+            Some((ndr, args)) => {
+                let result = match header.opnum {
+                    OP_CONNECT => self.connect(from, args),
+                    OP_RELEASE => self.release(args, PnioStatus::CODE_RELEASE),
+                    OP_READ => self.read(args, false),
+                    OP_READ_IMPLICIT => self.read(args, true),
+                    OP_WRITE => self.write(args),
+                    OP_CONTROL => self.control(now, args),
+                    _ => return Some(emit_reject(&header, REJECT, NCA_OP_RANGE_ERROR)),
+                };
+                match result {
+                    Ok(args) => (PnioStatus::OK, args, ndr.args_maximum()),
+                    Err(status) => (status, Vec::new(), ndr.args_maximum()),
+                }
+            }
+        };
+        let ndr = Ndr::response(status, args.len() as u32, max, little);
+        let answer = emit_pdu(&header.answer(RESPONSE), &ndr, &args);
+        self.last = Some((header.activity, header.sequence, answer.clone()));
+        Some(answer)
+    }
+
+    fn connect(&mut self, from: Peer, args: &[u8]) -> Result<Vec<u8>, PnioStatus> {
+        let accepted = connect::check(&self.config, self.mac, args)?;
+        if let Some(ar) = &self.ar {
+            if ar.accepted.ar.ar_uuid != accepted.ar.ar_uuid {
+                return Err(refuse(connect::CMRPC, 0x04));
+            }
+        }
+        let mut out = Vec::new();
+        ArBlockRes {
+            ar_type: accepted.ar.ar_type,
+            ar_uuid: accepted.ar.ar_uuid,
+            session_key: accepted.ar.session_key,
+            responder_mac: self.mac,
+            udp_rt_port: 0x8892,
+        }
+        .emit(&mut out);
+        for iocr in &accepted.iocrs {
+            iocr.emit(&mut out);
+        }
+        if let Some(alarm) = &accepted.alarm {
+            AlarmCrBlockRes {
+                alarm_cr_type: alarm.alarm_cr_type,
+                local_alarm_reference: 1,
+                max_alarm_data_length: alarm.max_alarm_data_length,
+            }
+            .emit(&mut out);
+        }
+        if !accepted.diff.is_empty() {
+            ModuleDiffBlock {
+                apis: accepted.diff.clone(),
+            }
+            .emit(&mut out);
+        }
+        self.events.push(ArEvent::Connected {
+            ar_type: accepted.ar.ar_type,
+            layout: accepted.layout.clone(),
+            diff: !accepted.diff.is_empty(),
+        });
+        self.ar = Some(Ar {
+            accepted,
+            controller: from.0,
+            phase: Phase::Parameter,
+            ready: None,
+        });
+        Ok(out)
+    }
+
+    /// The AR a request names, with its session key when it has one.
+    fn ar_of(&self, ar_uuid: Uuid, session_key: Option<u16>) -> Option<&Ar> {
+        self.ar.as_ref().filter(|a| {
+            a.accepted.ar.ar_uuid == ar_uuid
+                && session_key.is_none_or(|k| k == a.accepted.ar.session_key)
+        })
+    }
+
+    fn control_block(args: &[u8], code: u8) -> Result<IodControl, PnioStatus> {
+        let blocks = split(args).map_err(|_| PnioStatus::new(code, 0x81, 0x40, 0x01))?;
+        let block = blocks
+            .first()
+            .filter(|_| blocks.len() == 1)
+            .ok_or(PnioStatus::new(code, 0x81, 0x40, 0x03))?;
+        IodControl::parse(block.block_type, block.body)
+            .ok_or(PnioStatus::new(code, 0x81, 0x40, 0x01))
+    }
+
+    fn release(&mut self, args: &[u8], code: u8) -> Result<Vec<u8>, PnioStatus> {
+        let req = Self::control_block(args, code)?;
+        if req.block_type != RELEASE_REQ || req.command != CMD_RELEASE {
+            return Err(PnioStatus::new(code, 0x81, 0x28, 0x04));
+        }
+        self.ar_of(req.ar_uuid, Some(req.session_key))
+            .ok_or(PnioStatus::new(code, 0x81, 0x40, 0x05))?;
+        self.ar = None;
+        self.events.push(ArEvent::Released);
+        let mut out = Vec::new();
+        req.done().emit(&mut out);
+        Ok(out)
+    }
+
+    fn control(&mut self, now: Instant, args: &[u8]) -> Result<Vec<u8>, PnioStatus> {
+        let code = PnioStatus::CODE_CONTROL;
+        let req = Self::control_block(args, code)?;
+        if req.block_type == RELEASE_REQ {
+            return self.release(args, code);
+        }
+        if req.block_type != PRM_END_REQ || req.command != CMD_PRM_END {
+            return Err(PnioStatus::new(code, 0x81, 0x3D, 0x00));
+        }
+        let ar = self
+            .ar_of(req.ar_uuid, Some(req.session_key))
+            .ok_or(PnioStatus::new(code, 0x81, 0x40, 0x05))?;
+        if ar.phase != Phase::Parameter {
+            // CMDEV state conflict.
+            return Err(PnioStatus::new(code, 0x81, 0x3D, 0x00));
+        }
+        let mut out = Vec::new();
+        req.done().emit(&mut out);
+        self.events.push(ArEvent::PrmEnd);
+        self.application_ready(now);
+        Ok(out)
+    }
+
+    /// Queues the ApplicationReady request (CControl) to the controller's RPC port.
+    fn application_ready(&mut self, now: Instant) {
+        self.sequence = self.sequence.wrapping_add(1);
+        let Some(ar) = self.ar.as_mut() else { return };
+        if ar.accepted.ar.ar_type != AR_TYPE_IOC_SINGLE {
+            ar.phase = Phase::Data;
+            return;
+        }
+        // The activity of the device's call: the AR UUID with the first byte turned.
+        let mut activity = ar.accepted.ar.ar_uuid;
+        activity.0[0] ^= 0xFF;
+        let header = RpcHeader::request(
+            ar.accepted.ar.initiator_object,
+            Uuid::PNIO_CONTROLLER,
+            activity,
+            self.sequence,
+            OP_CONTROL,
+        );
+        let mut args = Vec::new();
+        IodControl {
+            block_type: APPLICATION_READY_REQ,
+            ar_uuid: ar.accepted.ar.ar_uuid,
+            session_key: ar.accepted.ar.session_key,
+            command: CMD_APPLICATION_READY,
+            properties: 0,
+        }
+        .emit(&mut args);
+        let pdu = emit_pdu(
+            &header,
+            &Ndr::request(4068, args.len() as u32, false),
+            &args,
+        );
+        ar.phase = Phase::AwaitingReady;
+        ar.ready = Some((pdu.clone(), activity, now, 1));
+        self.outbox.push(((ar.controller, RPC_PORT), pdu));
+    }
+
+    fn handle_response(&mut self, header: &RpcHeader, body: &[u8]) {
+        let Some(ar) = self.ar.as_mut() else { return };
+        let Some((_, activity, _, _)) = &ar.ready else {
+            return;
+        };
+        if header.activity != *activity || header.opnum != OP_CONTROL {
+            return;
+        }
+        let Some((ndr, args)) = Ndr::parse(body, header.little_endian) else {
+            return;
+        };
+        let done = split(args).ok().and_then(|b| {
+            let b = b.first()?;
+            IodControl::parse(b.block_type, b.body)
+        });
+        if !ndr.status().is_ok()
+            || !done.is_some_and(|d| {
+                d.block_type == APPLICATION_READY_REQ | RESPONSE_BIT
+                    && d.command == CMD_DONE
+                    && d.ar_uuid == ar.accepted.ar.ar_uuid
+            })
+        {
+            return;
+        }
+        ar.ready = None;
+        ar.phase = Phase::Data;
+        self.events.push(ArEvent::DataStart);
+    }
+
+    /// The record access header that starts `args`, and the record data after it.
+    fn iod(args: &[u8], expect: u16, code: u8) -> Result<(IodHeader, &[u8]), PnioStatus> {
+        let err = PnioStatus::new(code, PnioStatus::DECODE_PNIORW, 0xB8, 0);
+        let mut r = Reader::new(args);
+        let (block_type, len) = (r.u16().ok_or(err)?, r.u16().ok_or(err)?);
+        let body = r.take(usize::from(len)).ok_or(err)?;
+        if block_type != expect || len < 2 {
+            return Err(err);
+        }
+        let header = IodHeader::parse(block_type, &body[2..]).ok_or(err)?;
+        Ok((header, r.rest()))
+    }
+
+    fn read(&mut self, args: &[u8], implicit: bool) -> Result<Vec<u8>, PnioStatus> {
+        let code = PnioStatus::CODE_READ;
+        let rw = |c1| PnioStatus::new(code, PnioStatus::DECODE_PNIORW, c1, 0);
+        let (req, _) = Self::iod(args, IOD_READ_REQ, code)?;
+        if !implicit && self.ar_of(req.ar_uuid, None).is_none() {
+            return Err(rw(0xB5));
+        }
+        let mut data = Vec::new();
+        if req.index == 0xF000 {
+            RealIdentificationData {
+                apis: vec![ApiIdent {
+                    api: 0,
+                    modules: self
+                        .config
+                        .slots
+                        .iter()
+                        .map(|s| SlotIdent {
+                            slot: s.slot,
+                            module_ident: s.module_ident,
+                            state: 0,
+                            submodules: s
+                                .submodules
+                                .iter()
+                                .map(|sub| (sub.subslot, sub.ident, 0))
+                                .collect(),
+                        })
+                        .collect(),
+                }],
+            }
+            .emit(&mut data);
+        } else {
+            self.config
+                .submodule(req.slot, req.subslot)
+                .ok_or(rw(0xB2))?;
+            if req.index == 0xAFF0 {
+                self.im0(&mut data);
+            } else {
+                let (_, value) = self
+                    .records
+                    .iter()
+                    .find(|(at, _)| *at == (req.slot, req.subslot, req.index))
+                    .ok_or(rw(0xB0))?;
+                data = value.clone();
+            }
+        }
+        let len = data
+            .len()
+            .min(usize::try_from(req.record_length).unwrap_or(usize::MAX));
+        data.truncate(len);
+        let mut out = Vec::new();
+        req.response(len as u32, PnioStatus::OK).emit(&mut out);
+        out.extend_from_slice(&data);
+        Ok(out)
+    }
+
+    /// I&M0 (version 1.1): VendorID, OrderID, serial number, revisions, I&M0 only supported.
+    fn im0(&self, out: &mut Vec<u8>) {
+        emit_block(out, IM0, 0, |o| {
+            o.extend_from_slice(&self.vendor_id.to_be_bytes());
+            let mut order = self.order_id.as_bytes().to_vec();
+            order.resize(20, b' ');
+            o.extend_from_slice(&order);
+            let mut serial = b"0001".to_vec();
+            serial.resize(16, b' ');
+            o.extend_from_slice(&serial);
+            o.extend_from_slice(&[0, 1]); // hardware revision
+            o.extend_from_slice(b"V"); // software revision prefix
+            o.extend_from_slice(&[1, 0, 0]);
+            o.extend_from_slice(&[0, 0]); // revision counter
+            o.extend_from_slice(&[0, 0]); // profile ID: none
+            o.extend_from_slice(&[0, 0]); // profile specific type
+            o.extend_from_slice(&[1, 1]); // I&M version 1.1
+            o.extend_from_slice(&[0, 0]); // I&M supported: I&M0 only
+        });
+    }
+
+    fn write(&mut self, args: &[u8]) -> Result<Vec<u8>, PnioStatus> {
+        let code = PnioStatus::CODE_WRITE;
+        let rw = |c1| PnioStatus::new(code, PnioStatus::DECODE_PNIORW, c1, 0);
+        let (req, data) = Self::iod(args, IOD_WRITE_REQ, code)?;
+        if self.ar_of(req.ar_uuid, None).is_none() {
+            return Err(rw(0xB5));
+        }
+        let data = data
+            .get(..usize::try_from(req.record_length).unwrap_or(usize::MAX))
+            .ok_or(rw(0xB1))?;
+        self.config
+            .submodule(req.slot, req.subslot)
+            .ok_or(rw(0xB2))?;
+        let (_, value) = self
+            .records
+            .iter_mut()
+            .find(|(at, _)| *at == (req.slot, req.subslot, req.index))
+            .ok_or(rw(0xB0))?;
+        if value.len() != data.len() {
+            return Err(rw(0xB1));
+        }
+        value.copy_from_slice(data);
+        self.events.push(ArEvent::RecordWritten {
+            slot: req.slot,
+            subslot: req.subslot,
+            index: req.index,
+            data: data.to_vec(),
+        });
+        let mut out = Vec::new();
+        req.response(req.record_length, PnioStatus::OK)
+            .emit(&mut out);
+        Ok(out)
+    }
+
+    /// Sets the content of the record at (slot, subslot, index), if the GSDML has it with
+    /// this length (the application's own values, such as the drive's parameters).
+    pub fn set_record(&mut self, at: (u16, u16, u16), data: &[u8]) {
+        if let Some((_, value)) = self.records.iter_mut().find(|(a, _)| *a == at) {
+            if value.len() == data.len() {
+                value.copy_from_slice(data);
+            }
+        }
+    }
+
+    /// The device's object UUID.
+    pub fn object(&self) -> Uuid {
+        self.object
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,292 @@
+//! The IO controller's side of connection management, as far as the demo and the tests need it:
+//! the requests (Connect with the IOCRs, AlarmCR and expected submodules of a configuration,
+//! Read, Write, PrmEnd, Release), the answer to the device's ApplicationReady, and the reading
+//! of the device's responses. The IOCR layout is the one profinet-py builds: in each CR the
+//! data objects (data and IOPS) of the submodules that provide in that direction (a submodule
+//! without IO data provides an IOPS in the input CR), then the IOCS of those that provide in the
+//! other.
+
+use super::ar::config::{DeviceConfig, RealSubmodule};
+use super::ar::connect::AR_TYPE_IOC_SINGLE;
+use super::wire::blocks::*;
+use super::wire::rpc::*;
+use super::wire::Mac;
+
+/// One AR of a controller.
+#[derive(Debug, Clone)]
+pub struct Controller {
+    /// The ARBlockReq of the Connect.
+    pub ar: ArBlockReq,
+    /// The device's object UUID.
+    pub object: Uuid,
+    activity: Uuid,
+    sequence: u32,
+}
+
+/// What the controller reads in the device's answer to its Connect.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Connected {
+    /// The FrameIDs of the input and the output CR.
+    pub frame_ids: (u16, u16),
+    /// The ModuleDiffBlock, when the device sent one.
+    pub diff: Option<ModuleDiffBlock>,
+}
+
+impl Controller {
+    /// An IO AR from a controller with `mac` to the device with `object`; `seed` makes the
+    /// AR UUID and the activity (tests and the demo want the same bytes each run).
+    pub fn new(mac: Mac, object: Uuid, seed: u8) -> Controller {
+        Controller {
+            ar: ArBlockReq {
+                ar_type: AR_TYPE_IOC_SINGLE,
+                ar_uuid: Uuid([seed; 16]),
+                session_key: 1,
+                initiator_mac: mac,
+                initiator_object: Uuid::pnio_object(1, 0, 0),
+                properties: 0x11,
+                timeout_factor: 100,
+                udp_rt_port: 0x8892,
+                station_name: b"edsgen-controller".to_vec(),
+            },
+            object,
+            activity: Uuid([seed ^ 0x5A; 16]),
+            sequence: 0,
+        }
+    }
+
+    fn request(&mut self, opnum: u16, args: &[u8]) -> Vec<u8> {
+        let header = RpcHeader::request(
+            self.object,
+            Uuid::PNIO_DEVICE,
+            self.activity,
+            self.sequence,
+            opnum,
+        );
+        self.sequence += 1;
+        emit_pdu(&header, &Ndr::request(4068, args.len() as u32, false), args)
+    }
+
+    /// The blocks of a Connect for `config` as it is (the expected configuration is the real
+    /// one), every `scf` × `rr` × 31.25 µs, with DataHoldFactor `factor`.
+    pub fn connect_blocks(&self, config: &DeviceConfig, scf: u16, rr: u16, factor: u16) -> Vec<u8> {
+        let subs: Vec<(u16, &RealSubmodule)> = config
+            .slots
+            .iter()
+            .flat_map(|s| s.submodules.iter().map(move |sub| (s.slot, sub)))
+            .collect();
+        let provides = |sub: &RealSubmodule, input: bool| {
+            if input {
+                sub.input_len > 0 || sub.output_len == 0
+            } else {
+                sub.output_len > 0
+            }
+        };
+        let iocr = |input: bool| {
+            let mut offset = 0u16;
+            let mut data = Vec::new();
+            let mut iocs = Vec::new();
+            for &(slot, sub) in &subs {
+                if provides(sub, input) {
+                    data.push(FrameEntry {
+                        slot,
+                        subslot: sub.subslot,
+                        offset,
+                    });
+                    offset += if input { sub.input_len } else { sub.output_len } + 1;
+                }
+            }
+            for &(slot, sub) in &subs {
+                if provides(sub, !input) {
+                    iocs.push(FrameEntry {
+                        slot,
+                        subslot: sub.subslot,
+                        offset,
+                    });
+                    offset += 1;
+                }
+            }
+            IocrBlockReq {
+                iocr_type: if input { IOCR_INPUT } else { IOCR_OUTPUT },
+                reference: if input { 1 } else { 2 },
+                lt: 0x8892,
+                properties: 1,
+                data_length: offset.max(40),
+                frame_id: if input { 0xC001 } else { 0xFFFF },
+                send_clock_factor: scf,
+                reduction_ratio: rr,
+                phase: 1,
+                sequence: 0,
+                frame_send_offset: 0xFFFF_FFFF,
+                watchdog_factor: factor,
+                data_hold_factor: factor,
+                tag_header: 0xC000,
+                multicast_mac: [0; 6],
+                apis: vec![IocrApi { api: 0, data, iocs }],
+            }
+        };
+        let mut out = Vec::new();
+        self.ar.emit(&mut out);
+        iocr(true).emit(&mut out);
+        iocr(false).emit(&mut out);
+        AlarmCrBlockReq {
+            alarm_cr_type: 1,
+            lt: 0x8892,
+            properties: 0,
+            rta_timeout_factor: 1,
+            rta_retries: 3,
+            local_alarm_reference: 1,
+            max_alarm_data_length: 200,
+            tag_header_high: 0xC000,
+            tag_header_low: 0xA000,
+        }
+        .emit(&mut out);
+        ExpectedSubmoduleBlockReq {
+            slots: config
+                .slots
+                .iter()
+                .map(|s| ExpectedSlot {
+                    api: 0,
+                    slot: s.slot,
+                    module_ident: s.module_ident,
+                    module_properties: 0,
+                    submodules: s.submodules.iter().map(expected).collect(),
+                })
+                .collect(),
+        }
+        .emit(&mut out);
+        out
+    }
+
+    /// A Connect request carrying `blocks`.
+    pub fn connect(&mut self, blocks: &[u8]) -> Vec<u8> {
+        self.request(OP_CONNECT, blocks)
+    }
+
+    fn control(&mut self, opnum: u16, block_type: u16, command: u16) -> Vec<u8> {
+        let mut args = Vec::new();
+        IodControl {
+            block_type,
+            ar_uuid: self.ar.ar_uuid,
+            session_key: self.ar.session_key,
+            command,
+            properties: 0,
+        }
+        .emit(&mut args);
+        self.request(opnum, &args)
+    }
+
+    /// The PrmEnd request.
+    pub fn prm_end(&mut self) -> Vec<u8> {
+        self.control(OP_CONTROL, PRM_END_REQ, CMD_PRM_END)
+    }
+
+    /// The Release request.
+    pub fn release(&mut self) -> Vec<u8> {
+        self.control(OP_RELEASE, RELEASE_REQ, CMD_RELEASE)
+    }
+
+    /// A Read request of record `index` of `slot`, `subslot`.
+    pub fn read(&mut self, slot: u16, subslot: u16, index: u16) -> Vec<u8> {
+        let mut args = Vec::new();
+        IodHeader::request(
+            IOD_READ_REQ,
+            0,
+            self.ar.ar_uuid,
+            (slot, subslot, index),
+            4096,
+        )
+        .emit(&mut args);
+        self.request(OP_READ, &args)
+    }
+
+    /// A Write request of `data` to record `index` of `slot`, `subslot`.
+    pub fn write(&mut self, slot: u16, subslot: u16, index: u16, data: &[u8]) -> Vec<u8> {
+        let mut args = Vec::new();
+        IodHeader::request(
+            IOD_WRITE_REQ,
+            0,
+            self.ar.ar_uuid,
+            (slot, subslot, index),
+            data.len() as u32,
+        )
+        .emit(&mut args);
+        args.extend_from_slice(data);
+        self.request(OP_WRITE, &args)
+    }
+
+    /// The answer to the device's ApplicationReady request for this AR (Done), `None` for
+    /// anything else.
+    pub fn answer_ready(&self, pdu: &[u8]) -> Option<Vec<u8>> {
+        let (header, body) = RpcHeader::parse(pdu)?;
+        if header.packet_type != REQUEST || header.opnum != OP_CONTROL {
+            return None;
+        }
+        let (ndr, args) = Ndr::parse(body, header.little_endian)?;
+        let block = *split(args).ok()?.first()?;
+        let req = IodControl::parse(block.block_type, block.body)?;
+        if req.block_type != APPLICATION_READY_REQ || req.ar_uuid != self.ar.ar_uuid {
+            return None;
+        }
+        let mut out = Vec::new();
+        req.done().emit(&mut out);
+        let ndr = Ndr::response(
+            PnioStatus::OK,
+            out.len() as u32,
+            ndr.args_maximum(),
+            header.little_endian,
+        );
+        Some(emit_pdu(&header.answer(RESPONSE), &ndr, &out))
+    }
+}
+
+/// The expected submodule that matches `sub`.
+fn expected(sub: &RealSubmodule) -> ExpectedSubmodule {
+    let d = |direction, length| DataDescription {
+        direction,
+        length,
+        iocs_len: 1,
+        iops_len: 1,
+    };
+    let (properties, data) = match (sub.input_len, sub.output_len) {
+        (0, 0) => (0, vec![d(DATA_INPUT, 0)]),
+        (i, 0) => (1, vec![d(DATA_INPUT, i)]),
+        (0, o) => (2, vec![d(DATA_OUTPUT, o)]),
+        (i, o) => (3, vec![d(DATA_INPUT, i), d(DATA_OUTPUT, o)]),
+    };
+    ExpectedSubmodule {
+        subslot: sub.subslot,
+        ident: sub.ident,
+        properties,
+        data,
+    }
+}
+
+/// A response's PNIOStatus and argument bytes, `None` when `pdu` is no response.
+pub fn response(pdu: &[u8]) -> Option<(PnioStatus, Vec<u8>)> {
+    let (header, body) = RpcHeader::parse(pdu)?;
+    if header.packet_type != RESPONSE {
+        return None;
+    }
+    let (ndr, args) = Ndr::parse(body, header.little_endian)?;
+    Some((ndr.status(), args.to_vec()))
+}
+
+/// The FrameIDs and any ModuleDiffBlock of a Connect's answer blocks.
+pub fn connected(args: &[u8]) -> Option<Connected> {
+    let blocks = split(args).ok()?;
+    let frame_id = |t| {
+        blocks
+            .iter()
+            .filter(|b| b.block_type == IOCR_BLOCK_REQ | RESPONSE_BIT)
+            .filter_map(|b| IocrBlockRes::parse(b.body))
+            .find(|r| r.iocr_type == t)
+            .map(|r| r.frame_id)
+    };
+    Some(Connected {
+        frame_ids: (frame_id(IOCR_INPUT)?, frame_id(IOCR_OUTPUT)?),
+        diff: blocks
+            .iter()
+            .find(|b| b.block_type == MODULE_DIFF_BLOCK)
+            .and_then(|b| ModuleDiffBlock::parse(b.body)),
+    })
+}

@@ -1,0 +1,245 @@
+//! One simulated IO device, its protocol machines together: DCP ([`Dcp`]), connection
+//! management ([`Cm`]) and, while an IO AR is up, the cyclic exchange on the AR's layout, with
+//! the Goodrive350's PKW/PZD drive behind it when the device is the card (else inputs of zero).
+//! Cyclic frames are produced only while the AR's data is valid (after ApplicationReady's Done)
+//! and the watchdog aborts the AR. Records 256 and 257 of the card are the drive's P16.32-P16.42
+//! and P16.43-P16.53: a write sets them, a read shows them. Sans-IO: Ethernet frames and UDP
+//! datagrams in, frames and datagrams out; the driver ([`super::driver`]) moves them.
+
+use edsgen_runtime::pkw_pzd::IMAGE_BYTES;
+use edsgen_runtime::{Duration, Instant};
+
+use super::ar::config::DeviceConfig;
+use super::ar::{ArEvent, Cm, Peer};
+use super::cyclic::{CrLayout, Cyclic};
+use super::dcp::{Dcp, DcpEvent, Station};
+use super::drive::{CardCycle, DRIVE_SLOT};
+use crate::drives::pkw_pzd::PkwPzdDrive;
+
+/// The card's record of the received PZD meanings (P16.32-P16.42).
+pub const RECORD_RECEIVED_PZD: u16 = 256;
+/// The card's record of the transmitted PZD meanings (P16.43-P16.53).
+pub const RECORD_TRANSMITTED_PZD: u16 = 257;
+
+/// What happened in the device.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DeviceEvent {
+    /// A DCP Set.
+    Dcp(DcpEvent),
+    /// An AR's step.
+    Ar(ArEvent),
+}
+
+#[derive(Debug, Clone)]
+enum Exchange {
+    /// No IO AR.
+    Idle(Option<PkwPzdDrive>),
+    /// The card's drive behind the AR's layout.
+    Card(CardCycle),
+    /// A device without a drive: its inputs are zero.
+    Plain(Cyclic, Instant),
+}
+
+/// The device.
+#[derive(Debug, Clone)]
+pub struct Device {
+    dcp: Dcp,
+    cm: Cm,
+    exchange: Exchange,
+    events: Vec<DeviceEvent>,
+}
+
+impl Device {
+    /// A device with `station` (DCP) and `config` (its GSDML's), and the card's `drive` if it is
+    /// the Goodrive350 card.
+    pub fn new(station: Station, config: DeviceConfig, drive: Option<PkwPzdDrive>) -> Device {
+        let ids = (
+            station.vendor_id,
+            station.device_id,
+            u16::from_be_bytes([station.instance.0, station.instance.1]),
+        );
+        let mut cm = Cm::new(config, station.mac, ids, &station.type_of_station);
+        if let Some(drive) = &drive {
+            for (index, first) in [
+                (RECORD_RECEIVED_PZD, drive.bus().received_pzd2()),
+                (RECORD_TRANSMITTED_PZD, drive.bus().transmitted_pzd2()),
+            ] {
+                let words: Vec<u8> = (0..11)
+                    .flat_map(|i| drive.parameter(first + i).unwrap_or(0).to_be_bytes())
+                    .collect();
+                cm.set_record((DRIVE_SLOT.0, DRIVE_SLOT.1, index), &words);
+            }
+        }
+        Device {
+            dcp: Dcp::new(station),
+            cm,
+            exchange: Exchange::Idle(drive),
+            events: Vec::new(),
+        }
+    }
+
+    /// The DCP machine (its station and Hello).
+    pub fn dcp(&mut self) -> &mut Dcp {
+        &mut self.dcp
+    }
+
+    /// The drive, if the device has one.
+    pub fn drive(&self) -> Option<&PkwPzdDrive> {
+        match &self.exchange {
+            Exchange::Idle(d) => d.as_ref(),
+            Exchange::Card(c) => Some(c.drive()),
+            Exchange::Plain(..) => None,
+        }
+    }
+
+    /// The next event.
+    pub fn poll_event(&mut self) -> Option<DeviceEvent> {
+        (!self.events.is_empty()).then(|| self.events.remove(0))
+    }
+
+    /// A received Ethernet frame: DCP's answer, if any (cyclic frames are consumed).
+    pub fn handle_frame(&mut self, now: Instant, frame: &[u8]) -> Option<Vec<u8>> {
+        let answer = self.dcp.handle(frame);
+        while let Some(e) = self.dcp.poll_event() {
+            self.events.push(DeviceEvent::Dcp(e));
+        }
+        if answer.is_some() {
+            return answer;
+        }
+        if self.cm.data_valid() {
+            match &mut self.exchange {
+                Exchange::Card(c) => c.handle(now, frame),
+                Exchange::Plain(c, _) => {
+                    c.handle(now, frame);
+                }
+                Exchange::Idle(_) => {}
+            }
+        }
+        None
+    }
+
+    /// A received datagram on UDP 34964: the answer to its sender, if any.
+    pub fn handle_datagram(&mut self, now: Instant, from: Peer, pdu: &[u8]) -> Option<Vec<u8>> {
+        let answer = self.cm.handle_datagram(now, from, pdu);
+        self.ar_events(now);
+        answer
+    }
+
+    /// A datagram the device sends of its own.
+    pub fn poll_datagram(&mut self) -> Option<(Peer, Vec<u8>)> {
+        self.cm.poll_datagram()
+    }
+
+    /// The cyclic frame due at `now`, if any.
+    pub fn poll_frame(&mut self, now: Instant) -> Option<Vec<u8>> {
+        if !self.cm.data_valid() {
+            return None;
+        }
+        match &mut self.exchange {
+            Exchange::Card(c) => c.poll_transmit(now),
+            Exchange::Plain(c, next) => {
+                if now < *next {
+                    return None;
+                }
+                *next = now + c.layout().interval;
+                let empty: Vec<&[u8]> = Vec::new();
+                Some(c.produce(now, &empty))
+            }
+            Exchange::Idle(_) => None,
+        }
+    }
+
+    /// The next time something is due.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        let cyclic = match &self.exchange {
+            Exchange::Card(c) if self.cm.data_valid() => Some(c.poll_timeout()),
+            Exchange::Plain(c, next) if self.cm.data_valid() => {
+                Some(c.poll_timeout().map_or(*next, |w| w.min(*next)))
+            }
+            _ => None,
+        };
+        [cyclic, self.cm.poll_timeout()].into_iter().flatten().min()
+    }
+
+    /// Time passed to `now`: the watchdog (which aborts the AR), the drive's ramps, the
+    /// ApplicationReady's retries.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        self.cm.handle_timeout(now);
+        let expired = match &mut self.exchange {
+            Exchange::Card(c) if self.cm.data_valid() => c.handle_timeout(now),
+            Exchange::Plain(c, _) if self.cm.data_valid() => c.handle_timeout(now),
+            _ => false,
+        };
+        if expired {
+            self.cm.abort();
+        }
+        self.ar_events(now);
+    }
+
+    fn ar_events(&mut self, now: Instant) {
+        while let Some(event) = self.cm.poll_event() {
+            match &event {
+                ArEvent::Connected {
+                    layout: Some(layout),
+                    ..
+                } => self.start(now, layout.clone()),
+                ArEvent::Released | ArEvent::Aborted => self.stop(),
+                ArEvent::RecordWritten { index, data, .. } => self.write_parameters(*index, data),
+                _ => {}
+            }
+            self.events.push(DeviceEvent::Ar(event));
+        }
+    }
+
+    fn start(&mut self, now: Instant, layout: CrLayout) {
+        self.stop();
+        let drive_fits = layout
+            .inputs
+            .iter()
+            .chain(&layout.outputs)
+            .any(|o| (o.slot, o.subslot) == DRIVE_SLOT && o.len == IMAGE_BYTES);
+        let idle = std::mem::replace(&mut self.exchange, Exchange::Idle(None));
+        self.exchange = match idle {
+            Exchange::Idle(Some(drive)) if drive_fits => {
+                Exchange::Card(CardCycle::new(layout, drive, now))
+            }
+            Exchange::Idle(drive) if drive.is_some() => {
+                // The expected configuration has no drive module: keep the drive for the
+                // next AR.
+                self.exchange = Exchange::Idle(drive);
+                return;
+            }
+            _ => Exchange::Plain(Cyclic::new(layout), now),
+        };
+    }
+
+    fn stop(&mut self) {
+        let old = std::mem::replace(&mut self.exchange, Exchange::Idle(None));
+        self.exchange = match old {
+            Exchange::Card(c) => Exchange::Idle(Some(c.into_drive())),
+            Exchange::Plain(..) => Exchange::Idle(None),
+            idle => idle,
+        };
+    }
+
+    /// A write of the card's record 256 or 257 sets the drive's PZD parameters, word by word.
+    fn write_parameters(&mut self, index: u16, data: &[u8]) {
+        let drive = match &mut self.exchange {
+            Exchange::Idle(Some(d)) => d,
+            Exchange::Card(c) => c.drive_mut(),
+            _ => return,
+        };
+        let first = match index {
+            RECORD_RECEIVED_PZD => drive.bus().received_pzd2(),
+            RECORD_TRANSMITTED_PZD => drive.bus().transmitted_pzd2(),
+            _ => return,
+        };
+        for (i, word) in data.chunks_exact(2).enumerate() {
+            // A value the drive refuses leaves the parameter as it was (the record keeps it).
+            let _ = drive.set_parameter(first + i as u16, u16::from_be_bytes([word[0], word[1]]));
+        }
+    }
+}
+
+/// How often a driver looks at the sockets when nothing is due.
+pub const IDLE_POLL: Duration = Duration::from_millis(1);

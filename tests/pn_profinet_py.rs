@@ -1,0 +1,91 @@
+//! The simulated Goodrive350 PROFINET card against profinet-py (a third-party IO controller,
+//! pinned in scripts/python-venv.sh) over a veth pair joining two private network namespaces:
+//! scripts/pn_cyclic_controller.py runs profinet-py's `cyclic` path with the card's GSDML
+//! (DCP identify by name, a device access Connect, Read 0xF000 RealIdentificationData, Release,
+//! the Connect with IOCRs, a Write and Read of record 256, PrmEnd, ApplicationReady), reaches
+//! cyclic data exchange in RT_CLASS_1 frames and sees the drive run to 5.00 Hz on CW 1, answer a
+//! PKW read of P00.11 and stop on CW 5; the device prints each step of the two ARs. Needs root
+//! (namespaces, raw sockets): without it the test says so and passes, except under `CI=true`.
+
+mod process_support;
+
+use std::process::Command;
+use std::time::Duration;
+
+use process_support::netns::{is_root, Link};
+use process_support::{python, skip, Process, EDSGEN};
+
+#[test]
+fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces or raw sockets for the PROFINET test");
+        return;
+    }
+    let Some(python) = python() else { return };
+    let link = Link::new("pnr", "10.79.0.1/24", Some("10.79.0.2/24"));
+    let device = Process::start(Command::new("ip").args([
+        "netns",
+        "exec",
+        &link.device_ns,
+        EDSGEN,
+        "simulate",
+        "--profinet",
+        &link.device_if,
+        "--card",
+        "goodrive350-pn",
+        "--ip",
+        "10.79.0.2/24",
+    ]));
+    assert_eq!(
+        device.stdout_line(|l| l.starts_with("RPC on"), Duration::from_secs(10)),
+        "RPC on UDP 34964 at 10.79.0.2 mask 255.255.255.0"
+    );
+    let gsdml = process_support::root().join("eds/goodrive350-pn.xml");
+    let script = process_support::root().join("scripts/pn_cyclic_controller.py");
+    let controller = Process::start(Command::new("ip").args([
+        "netns",
+        "exec",
+        &link.controller_ns,
+        python.to_str().expect("a UTF-8 path"),
+        script.to_str().expect("a UTF-8 path"),
+        &link.controller_if,
+        "goodrive350-pn",
+        gsdml.to_str().expect("a UTF-8 path"),
+    ]));
+    let done = controller.finish(Duration::from_secs(90));
+    assert_eq!(done.code, Some(0), "{}\n{}", done.stdout, done.stderr);
+    assert_eq!(
+        done.stdout.lines().collect::<Vec<_>>(),
+        vec![
+            "found goodrive350-pn at 10.79.0.2",
+            "real 0:0x1=0x1/0x1 0:0x8000=0x1/0x8000 0:0x8001=0x1/0x8001 0:0x8002=0x1/0x8002 1:0x1=0x10/0x10",
+            "io 0:0x1=0/0 0:0x8000=0/0 0:0x8001=0/0 0:0x8002=0/0 1:0x1=32/32",
+            "connected input 0xc001 output 0xc102",
+            "record 256 00010000000000000000000000000000000000000000",
+            "prm end",
+            "application ready",
+            "data exchange sw 3",
+            "run sw 1 frequency 500",
+            "pkw read 0x000b = 100",
+            "stop sw 3 frequency 0",
+            "frames in yes",
+            "released",
+        ]
+    );
+    for expected in [
+        "AR connected (ARType 0x0006)",
+        "AR released",
+        "AR connected (ARType 0x0001): input FrameID 0xc001, output FrameID 0xc102, every 8000 us",
+        "record 256 of slot 1 subslot 1 written (22 bytes)",
+        "PrmEnd: ApplicationReady sent",
+        "ApplicationReady confirmed: cyclic data exchange",
+        "AR released",
+    ] {
+        assert_eq!(
+            device.stdout_line(|l| l == expected, Duration::from_secs(5)),
+            expected
+        );
+    }
+    drop(device);
+    drop(link);
+}
