@@ -324,3 +324,44 @@ fn generated_module_snapshot() {
     assert_eq!(generated.diagnostics, vec![]);
     insta::assert_snapshot!("goodrive350_enip_module", generated.code);
 }
+
+/// Tables 5-11 and 5-12 as the generated enums of `Enum2` and `Enum18`: every task code the
+/// EDS names is the runtime's task of the same number, and the four response codes convert both
+/// ways; an undefined code comes back as the error.
+#[test]
+fn task_and_response_enums_follow_tables_5_11_and_5_12() {
+    use edsgen_runtime::pkw_pzd::Task;
+    let tasks = [
+        (card::Pkw1Task::NoTask, Task::None),
+        (card::Pkw1Task::ReadAParameter, Task::Read),
+        (card::Pkw1Task::WriteOneWordRam, Task::WriteRam),
+        (card::Pkw1Task::WriteTwoWordsRam, Task::WriteRamDouble),
+        (card::Pkw1Task::WriteOneWordRamAndEeprom, Task::WriteEeprom),
+        (
+            card::Pkw1Task::WriteTwoWordsRamAndEeprom,
+            Task::WriteEepromDouble,
+        ),
+    ];
+    for (generated, runtime) in tasks {
+        assert_eq!(generated.raw(), runtime.code());
+        assert_eq!(card::Pkw1Task::try_from(runtime.code()), Ok(generated));
+    }
+    assert_eq!(card::Pkw1Task::try_from(6), Err(6));
+    let responses = [
+        (card::Pkw1Response::NoResponse, 0u16),
+        (card::Pkw1Response::ValueOneWord, 1),
+        (card::Pkw1Response::ValueTwoWords, 2),
+        (card::Pkw1Response::RefusedErrorInPkw3, 3),
+    ];
+    for (generated, code) in responses {
+        assert_eq!(u16::from(generated), code);
+        assert_eq!(card::Pkw1Response::try_from(code), Ok(generated));
+    }
+    assert_eq!(card::Pkw1Response::try_from(4), Err(4));
+    let request = card::Output {
+        pkw1_task: card::Pkw1Task::ReadAParameter.into(),
+        pkw2_address: 10,
+        ..card::Output::default()
+    };
+    assert_eq!(request.pkw_pzd().pkw, PkwRequest::read(10));
+}

@@ -2,8 +2,8 @@
 //! the Goodrive350 card configured through the PKW channel, run forward at a frequency set
 //! through PZD2, its SW reporting running and its transmitted PZD2 ramping; an ODVA EDS served
 //! as written (`tests/enip/io.eds`: outputs of several kinds written by name, inputs decoded by
-//! name, a Large_Forward_Open); Ctrl-C closing the connection; a Forward_Open refusal (exit 1) and
-//! bad usage (exit 2).
+//! name, a Large_Forward_Open); Ctrl-C closing the connection; a device that stops producing and
+//! a Forward_Open refusal (exit 1); bad usage (exit 2).
 //!
 //! Each adapter gets a loopback address of its own (127.x.y.z, from the process ID and a
 //! counter): class-1 I/O is UDP 2222 of that address, which two adapters on one address could
@@ -295,6 +295,21 @@ fn ctrl_c_closes_the_connection() {
 }
 
 #[test]
+fn a_device_that_stops_producing_times_the_connection_out() {
+    let (adapter, address) = adapter(&[TEST_EDS]);
+    let io = Process::edsgen(&["enip", "io", &address, "--eds", TEST_EDS, "--rpi", "10"]);
+    io.stdout_line(|l| l.starts_with("1: "), START_TIMEOUT);
+    // The adapter is killed: no T→O data for 16 × 10 ms.
+    drop(adapter);
+    let exited = io.finish(START_TIMEOUT);
+    assert_eq!(exited.code, Some(1), "{}", exited.stderr);
+    assert_eq!(
+        exited.stderr,
+        "error: no T→O data for 160 ms: the connection timed out\n"
+    );
+}
+
+#[test]
 fn bad_usage_exits_2_before_connecting() {
     // Nothing listens there: every case fails before a connection is tried.
     let address = "127.0.0.1:9";
@@ -316,7 +331,7 @@ fn bad_usage_exits_2_before_connecting() {
     );
     assert_eq!(
         case(&["Setpoint=101"]),
-        "error: `Setpoint=101`: 1010 is outside -1000..1000 (Param2, raw)\n"
+        "error: `Setpoint=101`: outside -100.0..100.0 bar (Param2)\n"
     );
     assert_eq!(
         case(&["Setpoint=0.05"]),
@@ -325,6 +340,14 @@ fn bad_usage_exits_2_before_connecting() {
     assert_eq!(
         case(&["Mode=Medium"]),
         "error: `Mode=Medium`: not a number (or one of `Off`, `Slow`, `Fast`)\n"
+    );
+    assert_eq!(
+        case(&["Mode=3"]),
+        "error: `Mode=3`: 3 is outside 0..2 (Param1, raw)\n"
+    );
+    assert_eq!(
+        case(&["Setpoint=0x8000"]),
+        "error: `Setpoint=0x8000`: -32768 is outside -1000..1000 (Param2, raw)\n"
     );
     assert_eq!(
         case(&["Mode=0x100"]),

@@ -68,3 +68,12 @@ fn the_connection() {
         }
     );
 }
+
+#[test]
+fn the_mode_enumeration() {
+    assert_eq!(Mode::try_from(2u8), Ok(Mode::Fast));
+    assert_eq!(Mode::try_from(3u8), Err(3));
+    assert_eq!(u8::from(Mode::Slow), 1);
+    let inputs = Inputs::decode(&[0, 0, 1]).expect("3 bytes");
+    assert_eq!(Mode::try_from(inputs.mode), Ok(Mode::Slow));
+}

@@ -263,8 +263,27 @@ pub fn parse(cip: &Cip, member: &Member<'_>, text: &str) -> Result<u64, String> 
     if !number.is_finite() {
         return Err(format!("{what}: not a finite number"));
     }
-    let native = match param.and_then(scaling) {
-        Some((mult, div, base, offset, _)) if mult * base != 0.0 => {
+    let native = match param.zip(param.and_then(scaling)) {
+        Some((p, (mult, div, base, offset, places))) if mult * base != 0.0 => {
+            // The limits in the units the value is given in.
+            let eng = |raw: f64| (raw + offset) * mult * base / div;
+            let low = p.min.as_ref().map(|m| eng(m.value.as_f64()));
+            let high = p.max.as_ref().map(|m| eng(m.value.as_f64()));
+            if let (Some(low), Some(high)) = (low, high) {
+                let (low, high) = (low.min(high), low.max(high));
+                if number < low || number > high {
+                    let units = p.units.trim();
+                    let units = if units.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {units}")
+                    };
+                    return Err(format!(
+                        "{what}: outside {low:.places$}..{high:.places$}{units} (Param{})",
+                        p.number
+                    ));
+                }
+            }
             number * div / (mult * base) - offset
         }
         _ => number,
@@ -386,4 +405,88 @@ pub fn defaults(members: &[Member<'_>], size: usize) -> Vec<u8> {
         put_bits(&mut image, m.bit, m.bits, raw);
     }
     image
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model() -> Cip {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/enip/io.eds");
+        let read = edsgen_codegen::read::read_file(&path).expect("tests/enip/io.eds");
+        read.device.cip.expect("an ODVA EDS")
+    }
+
+    #[test]
+    fn members_are_laid_out_as_cip_packs_them() {
+        let cip = model();
+        let outputs = members(&cip, &cip.assemblies[&150]);
+        let layout: Vec<(&str, u64, u32)> = outputs
+            .iter()
+            .map(|m| (m.name.as_str(), m.bit, m.bits))
+            .collect();
+        // Seven bits of padding between Enable and Gain have no member.
+        assert_eq!(
+            layout,
+            [
+                ("Mode", 0, 8),
+                ("Setpoint", 8, 16),
+                ("Enable", 24, 1),
+                ("Gain", 32, 32)
+            ]
+        );
+        assert_eq!(
+            defaults(&outputs, 8),
+            [0x00, 0xE7, 0xFF, 0x00, 0x00, 0x00, 0xC0, 0x3F]
+        );
+    }
+
+    #[test]
+    fn values_shown_and_parsed_back() {
+        let cip = model();
+        let outputs = members(&cip, &cip.assemblies[&150]);
+        let inputs = members(&cip, &cip.assemblies[&100]);
+        let image = [0x02, 0x83, 0xFF, 0x01, 0x00, 0x00, 0x10, 0x40];
+        let shown: Vec<String> = outputs.iter().map(|m| show(&cip, m, &image)).collect();
+        assert_eq!(shown, ["Fast", "-12.5 bar", "1", "2.25"]);
+        for (m, text) in outputs.iter().zip(&shown) {
+            let value = text.strip_suffix(" bar").unwrap_or(text);
+            assert_eq!(
+                parse(&cip, m, value),
+                Ok(get_bits(&image, m.bit, m.bits)),
+                "{}",
+                m.name
+            );
+        }
+        // An enumeration value without a text is its number; a WORD is hex; signed with units.
+        let status = show(&cip, &inputs[0], &[0x03, 0x41, 0x9C, 0xFF, 0x07]);
+        let temperature = show(&cip, &inputs[1], &[0x03, 0x41, 0x9C, 0xFF, 0x07]);
+        let mode = show(&cip, &inputs[2], &[0x03, 0x41, 0x9C, 0xFF, 0x07]);
+        assert_eq!(
+            (status.as_str(), temperature.as_str(), mode.as_str()),
+            ("0x4103", "-100 degC", "7")
+        );
+        assert_eq!(parse(&cip, &outputs[0], "SLOW"), Ok(1));
+        assert_eq!(parse(&cip, &outputs[1], "0xFFE7"), Ok(0xFFE7));
+        assert_eq!(
+            parse(&cip, &outputs[3], "11"),
+            Err("`Gain=11`: outside 0..10 (Param3, raw)".to_owned())
+        );
+        assert_eq!(
+            parse(&cip, &outputs[2], "2"),
+            Err("`Enable=2`: 2 does not fit 1 bits (0..1)".to_owned())
+        );
+    }
+
+    #[test]
+    fn names_fold_and_bits_round_trip() {
+        assert_eq!(fold("  Received PZD2 "), "received_pzd2");
+        assert_eq!(fold("received-pzd2"), "received_pzd2");
+        assert_eq!(fold("PKW1 (task)"), "pkw1_task");
+        let mut buf = [0u8; 3];
+        put_bits(&mut buf, 4, 12, 0xABC);
+        assert_eq!(buf, [0xC0, 0xAB, 0x00]);
+        assert_eq!(get_bits(&buf, 4, 12), 0xABC);
+        assert_eq!(get_bits(&buf, 20, 12), 0, "bits past the end read as zero");
+    }
 }

@@ -1,11 +1,11 @@
-//! `edsgen enip list|get|set`: an EtherNet/IP scanner at the bench. `list [ADDR]` sends
+//! `edsgen enip list|get|set|io`: an EtherNet/IP scanner at the bench. `list [ADDR]` sends
 //! ListIdentity over UDP (to ADDR, else broadcast) and prints each identity that answers within a
 //! second, matched to an ODVA EDS with `--eds FILE`; `get ADDR @CLASS/INST/ATTR` and `set ADDR
 //! @CLASS/INST/ATTR HEX` are Get/Set_Attribute_Single by explicit messaging (RegisterSession,
 //! SendRRData); `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
-//! EDS, typed, scaled and range-checked (`enip_param`). Exit 0 ok, 1 a refusal (the CIP status is
-//! printed) or no identity, 2 bad usage or I/O. The wire formats are the simulated adapter's
-//! (`edsgen_sim::enip::wire`).
+//! EDS, typed, scaled and range-checked (`enip_param`); `io` is a class-1 connection from the
+//! EDS (`enip_io`). Exit 0 ok, 1 a refusal (the CIP status is printed) or no identity, 2 bad
+//! usage or I/O. The wire formats are the simulated adapter's (`edsgen_sim::enip::wire`).
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream, ToSocketAddrs, UdpSocket};

@@ -8,6 +8,8 @@
 //! default when the type holds it, else zero. The module needs neither `std` nor `alloc`, nor
 //! the runtime: its bit helpers are its own.
 
+use std::collections::BTreeMap;
+
 use heck::ToUpperCamelCase;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
@@ -22,8 +24,11 @@ use crate::validate::cip_assembly_size;
 /// Generates the module of a device read from an ODVA EDS.
 pub fn generate(device: &Device, cip: &Cip, module: &str) -> Result<Generated, Vec<Diagnostic>> {
     let identity = identity(cip);
-    let assemblies = assemblies(cip);
-    let connections = connections(cip);
+    let assembly_names = assembly_type_names(cip);
+    let enum_names = super::cip_enums::enum_names(cip, &assembly_names);
+    let enums = super::cip_enums::enums(cip, &enum_names);
+    let assemblies = assemblies(cip, &assembly_names, &enum_names);
+    let connections = super::cip_connections::connections(cip);
     let module_ident = id(module);
     let module_doc = super::module_doc(device);
     let tokens = quote! {
@@ -33,6 +38,7 @@ pub fn generate(device: &Device, cip: &Cip, module: &str) -> Result<Generated, V
         #[allow(dead_code)]
         pub mod #module_ident {
             #identity
+            #enums
             #assemblies
             #connections
         }
@@ -255,7 +261,9 @@ fn member_bits(cip: &Cip, bits: Option<u32>, member: &FieldRef) -> u32 {
     .unwrap_or(0)
 }
 
-fn slots(cip: &Cip, assembly: &CipAssembly) -> (Vec<Slot>, u64) {
+/// The fields of an assembly's image and its size in bits; `enums` names the enumeration type
+/// of each parameter that has one, for the field's documentation to link.
+fn slots(cip: &Cip, assembly: &CipAssembly, enums: &BTreeMap<u32, String>) -> (Vec<Slot>, u64) {
     let mut slots: Vec<Slot> = Vec::new();
     let mut bit = 0u64;
     let mut names: Vec<String> = Vec::new();
@@ -284,6 +292,9 @@ fn slots(cip: &Cip, assembly: &CipAssembly) -> (Vec<Slot>, u64) {
         let (wanted, doc, default) = match (&m.member, param) {
             (FieldRef::Param(n), Some(p)) => {
                 let mut doc = format!(" Param{n} `{}`", doc_text(&p.name));
+                if let Some(e) = enums.get(n) {
+                    doc.push_str(&format!(" (values: [`{e}`])"));
+                }
                 if !p.units.is_empty() {
                     doc.push_str(&format!(", in {}", doc_text(&p.units)));
                 }
@@ -335,24 +346,33 @@ fn slots(cip: &Cip, assembly: &CipAssembly) -> (Vec<Slot>, u64) {
     (slots, bit)
 }
 
-fn assemblies(cip: &Cip) -> TokenStream {
+/// The type name of each assembly's image, in `cip.assemblies`' order: its name in
+/// UpperCamelCase, with its number appended on a clash (with another image, or a name the module
+/// or the prelude uses).
+fn assembly_type_names(cip: &Cip) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for assembly in cip.assemblies.values() {
+        let wanted = ident(&assembly.name, Case::Snake, "assembly").to_upper_camel_case();
+        let mut name = wanted.clone();
+        if names.contains(&name) || super::cip_enums::reserved(&name) {
+            name = format!("{wanted}{}", assembly.number);
+        }
+        names.push(name);
+    }
+    names
+}
+
+fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> TokenStream {
     if cip.assemblies.is_empty() {
         return TokenStream::new();
     }
     let mut items = Vec::new();
-    let mut type_names: Vec<String> = Vec::new();
-    for assembly in cip.assemblies.values() {
-        let (slots, member_bits) = slots(cip, assembly);
+    for (assembly, name) in cip.assemblies.values().zip(names) {
+        let (slots, member_bits) = slots(cip, assembly, enums);
         let declared = assembly.size.as_ref().map_or(0, |s| u64::from(s.value));
         let size = declared.max(member_bits.div_ceil(8));
         let size_lit = Literal::usize_unsuffixed(usize::try_from(size).unwrap_or(0));
-        let wanted = ident(&assembly.name, Case::Snake, "assembly").to_upper_camel_case();
-        let mut name = wanted.clone();
-        if type_names.contains(&name) || name.is_empty() {
-            name = format!("{wanted}{}", assembly.number);
-        }
-        type_names.push(name.clone());
-        let ty = id(&name);
+        let ty = id(name);
         let instance = Literal::u32_unsuffixed(assembly.instance());
         let doc = format!(
             " Assem{} `{}`: assembly instance {}, {size} bytes.",
@@ -555,136 +575,5 @@ fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
         }
     } else {
         TokenStream::new()
-    }
-}
-
-fn connections(cip: &Cip) -> TokenStream {
-    if cip.connections.is_empty() {
-        return TokenStream::new();
-    }
-    let mut items = Vec::new();
-    let mut names: Vec<String> = Vec::new();
-    let instance = |r: &FieldRef| match r {
-        FieldRef::Assem(n) => cip.assemblies.get(n).map(CipAssembly::instance),
-        _ => None,
-    };
-    let option = |v: Option<u32>| match v {
-        Some(v) => {
-            let v = Literal::u32_unsuffixed(v);
-            quote!(Some(#v))
-        }
-        None => quote!(None),
-    };
-    for c in cip.connections.values() {
-        let size = |d: &crate::model::ConnectionData| -> u64 {
-            match &d.size.value {
-                FieldRef::Number(n) => *n,
-                FieldRef::Param(n) => cip
-                    .params
-                    .get(n)
-                    .and_then(|p| match p.default.as_ref()?.value {
-                        CipNumber::Int(v) => u64::try_from(v).ok(),
-                        CipNumber::Real(_) => None,
-                    })
-                    .unwrap_or(0),
-                _ => match &d.format.value {
-                    FieldRef::Assem(n) => cip
-                        .assemblies
-                        .get(n)
-                        .and_then(|a| cip_assembly_size(cip, a))
-                        .unwrap_or(0),
-                    _ => 0,
-                },
-            }
-        };
-        let rpi = match &c.o_t.rpi.value {
-            FieldRef::Number(n) => u32::try_from(*n).unwrap_or(0),
-            FieldRef::Param(n) => cip
-                .params
-                .get(n)
-                .and_then(|p| match p.default.as_ref()?.value {
-                    CipNumber::Int(v) => u32::try_from(v).ok(),
-                    CipNumber::Real(_) => None,
-                })
-                .unwrap_or(0),
-            _ => 0,
-        };
-        let path: Vec<u8> = c
-            .path
-            .as_ref()
-            .and_then(|p| {
-                p.value
-                    .split_whitespace()
-                    .map(|t| u8::from_str_radix(t, 16).ok())
-                    .collect()
-            })
-            .unwrap_or_default();
-        let config = instance(&c.config2.format.value).or(instance(&c.config1.format.value));
-        let wanted = ident(&c.name, Case::Shouty, &format!("CONNECTION_{}", c.number));
-        let mut name = wanted.clone();
-        if names.contains(&name) {
-            name = format!("{wanted}_{}", c.number);
-        }
-        names.push(name.clone());
-        let const_name = id(&name);
-        let doc = format!(" Connection{} `{}`.", c.number, doc_text(&c.name));
-        let cname = c.name.clone();
-        let tt = types::hex(
-            u128::from(c.trigger_transport.as_ref().map_or(0, |t| t.value.0)),
-            8,
-        );
-        let params = types::hex(u128::from(c.params.as_ref().map_or(0, |p| p.value.0)), 8);
-        let o_t = option(instance(&c.o_t.format.value));
-        let t_o = option(instance(&c.t_o.format.value));
-        let config = option(config);
-        let o_t_size = Literal::u64_unsuffixed(size(&c.o_t));
-        let t_o_size = Literal::u64_unsuffixed(size(&c.t_o));
-        let rpi = Literal::u32_unsuffixed(rpi);
-        let path = path.iter().map(|b| types::hex(u128::from(*b), 2));
-        items.push(quote! {
-            #[doc = #doc]
-            pub const #const_name: Connection = Connection {
-                name: #cname,
-                trigger_transport: #tt,
-                connection_params: #params,
-                o_t_assembly: #o_t,
-                t_o_assembly: #t_o,
-                config_assembly: #config,
-                o_t_size: #o_t_size,
-                t_o_size: #t_o_size,
-                rpi_us: #rpi,
-                path: &[#(#path),*],
-            };
-        });
-    }
-    quote! {
-        /// A connection `[Connection Manager]` describes.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        pub struct Connection {
-            /// Its name.
-            pub name: &'static str,
-            /// The trigger and transport word (bits 0-15 classes, 16-18 triggers, 24-27
-            /// application type, 31 server).
-            pub trigger_transport: u32,
-            /// The connection parameters word (sizes, real-time formats, types, priorities).
-            pub connection_params: u32,
-            /// The O->T assembly instance (its format), if it names one.
-            pub o_t_assembly: Option<u32>,
-            /// The T->O assembly instance, if it names one.
-            pub t_o_assembly: Option<u32>,
-            /// The configuration assembly instance, if it names one.
-            pub config_assembly: Option<u32>,
-            /// The O->T data size in bytes (without the run/idle header).
-            pub o_t_size: u64,
-            /// The T->O data size in bytes.
-            pub t_o_size: u64,
-            /// The O->T RPI in microseconds (the parameter's default when a parameter holds it;
-            /// 0 when the file gives none).
-            pub rpi_us: u32,
-            /// The connection path (empty when the file's path is not plain hex bytes).
-            pub path: &'static [u8],
-        }
-
-        #(#items)*
     }
 }

@@ -8,6 +8,8 @@
 //! paths only, needs neither `std` nor `alloc`, and holds no `unsafe`, `static mut` or `unwrap`.
 
 pub mod cip;
+mod cip_connections;
+mod cip_enums;
 pub mod dp;
 pub mod ethercat;
 pub mod names;

@@ -19,6 +19,43 @@ pub mod odva_io {
     pub const MINOR_REVISION: u8 = 2;
     /// Product name, Identity attribute 7 (`[Device]` ProdName).
     pub const PRODUCT_NAME: &str = "IO test";
+    /// Param2 `Mode`: the values `Enum2` names (raw `u8`).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+    pub enum Mode {
+        /// `Off` (0).
+        Off,
+        /// `Slow` (1).
+        Slow,
+        /// `Fast` (2).
+        Fast,
+    }
+    impl Mode {
+        /// The raw value of the parameter.
+        pub const fn raw(self) -> u8 {
+            match self {
+                Self::Off => 0,
+                Self::Slow => 1,
+                Self::Fast => 2,
+            }
+        }
+    }
+    impl ::core::convert::TryFrom<u8> for Mode {
+        /// The raw value, when no variant names it.
+        type Error = u8;
+        fn try_from(raw: u8) -> ::core::result::Result<Self, u8> {
+            match raw {
+                0 => ::core::result::Result::Ok(Self::Off),
+                1 => ::core::result::Result::Ok(Self::Slow),
+                2 => ::core::result::Result::Ok(Self::Fast),
+                other => ::core::result::Result::Err(other),
+            }
+        }
+    }
+    impl ::core::convert::From<Mode> for u8 {
+        fn from(value: Mode) -> u8 {
+            value.raw()
+        }
+    }
     /// Bits `at..at + len` of `buf`, least significant first (CIP's order); bits past the
     /// end read as zero.
     fn get(buf: &[u8], at: usize, len: u32) -> u64 {
@@ -51,7 +88,7 @@ pub mod odva_io {
     pub struct Inputs {
         /// Param1 `Speed`, in rpm (scaling: multiplier 1, divisor 10, base 1, offset 0): bit 0 of the image, 16 bits.
         pub speed: u16,
-        /// Param2 `Mode`: bit 16 of the image, 8 bits.
+        /// Param2 `Mode` (values: [`Mode`]): bit 16 of the image, 8 bits.
         pub mode: u8,
     }
     impl Inputs {
