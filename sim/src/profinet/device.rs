@@ -184,6 +184,15 @@ impl Device {
                     ..
                 } => self.start(now, layout.clone()),
                 ArEvent::Released | ArEvent::Aborted => self.stop(),
+                ArEvent::DataStart => {
+                    // The first output frame may take the AR's activity timeout to come.
+                    let first = self.cm.activity_timeout();
+                    match &mut self.exchange {
+                        Exchange::Card(c) => c.arm(now, first),
+                        Exchange::Plain(c, _) => c.arm(now, first),
+                        Exchange::Idle(_) => {}
+                    }
+                }
                 ArEvent::RecordWritten { index, data, .. } => self.write_parameters(*index, data),
                 _ => {}
             }
