@@ -14,8 +14,8 @@ fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
         // The Goodrive350's EtherNet/IP card (an ODVA EDS, with goodrive350-enip.toml): identity,
         // the assemblies' images typed through edsgen_runtime::pkw_pzd, its connection.
         .device("../eds/goodrive350-enip.eds")
-        // The Goodrive350's PROFINET card (a GSDML file): identity, its module's typed images
-        // and its PZD parameter records.
+        // The Goodrive350's PROFINET card (a GSDML file, with goodrive350-pn.toml): identity,
+        // its module's images typed through edsgen_runtime::pkw_pzd, its PZD parameter records.
         .device("../eds/goodrive350-pn.xml")
         // The Goodrive350's PROFIBUS-DP card (a GSD file): identity, Chk_Cfg bytes, images.
         .device("../eds/goodrive350-dp.gsd")

@@ -7,6 +7,7 @@
 
 pub mod decode;
 pub mod demo;
+pub mod netns;
 
 pub use edsgen_sim::canopen as sim;
 pub use edsgen_sim::{cards, drives};

@@ -1,6 +1,8 @@
 //! `edsgen enip list|get|set` against the simulated card (`edsgen simulate --enip`) on 127.0.0.1:
 //! the identity matched to the card's EDS, attributes read and written by explicit messaging,
-//! refusals with their CIP status and exit 1, bad usage with exit 2.
+//! refusals with their CIP status and exit 1, bad usage with exit 2; parameters of the card's EDS
+//! and of a generic ODVA EDS by name, typed, scaled and named, written after their type and
+//! limits are checked.
 
 mod process_support;
 
@@ -10,12 +12,17 @@ use std::time::Duration;
 use process_support::{Process, EDSGEN};
 
 fn adapter() -> (Process, String) {
+    serve(&["--card", "goodrive350-enip"])
+}
+
+/// `edsgen simulate --enip 127.0.0.1:PORT ARGS` on a free port, once it says it serves.
+fn serve(args: &[&str]) -> (Process, String) {
     let port = std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())
         .expect("a free port")
         .port();
     let address = format!("127.0.0.1:{port}");
-    let process = Process::edsgen(&["simulate", "--enip", &address, "--card", "goodrive350-enip"]);
+    let process = Process::edsgen(&[&["simulate", "--enip", &address], args].concat());
     process.stderr_line(|l| l.starts_with("serving"), Duration::from_secs(10));
     (process, address)
 }
@@ -99,5 +106,156 @@ fn list_get_set_against_the_simulated_card() {
             String::new(),
             "error: `@4/100` is not @CLASS/INSTANCE/ATTRIBUTE\n".to_owned()
         )
+    );
+}
+
+const CARD: &str = "eds/goodrive350-enip.eds";
+
+/// `edsgen enip ARGS --eds FILE`: exit code, stdout, stderr.
+fn with_eds(file: &str, args: &[&str]) -> (Option<i32>, String, String) {
+    edsgen(&[&["enip"], args, &["--eds", file]].concat())
+}
+
+fn ok(stdout: &str) -> (Option<i32>, String, String) {
+    (Some(0), stdout.to_owned(), String::new())
+}
+
+fn error(code: i32, stderr: &str) -> (Option<i32>, String, String) {
+    (Some(code), String::new(), stderr.to_owned())
+}
+
+#[test]
+fn parameters_of_the_cards_eds_by_name() {
+    let (_adapter, a) = adapter();
+    // The drive at rest: SW 0x4103; the PKW channel idle, its enumeration's text.
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "SW"]),
+        ok("Param22 SW = 16643 (0x4103)\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "pkw1 RES"]),
+        ok("Param18 PKW1 response = 0 (0x0000) \"No response\"\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "Transmitted PZD2"]),
+        ok("Param23 Transmitted PZD2 = 0.00 Hz (raw 0)\n")
+    );
+    // A PKW read of P00.10 through the output assembly, member by member (each write reads
+    // assembly 150 and writes it back with the member replaced): address 10, then task
+    // "Read a parameter" by a prefix of its text.
+    assert_eq!(
+        with_eds(CARD, &["set", &a, "Param3", "10"]),
+        ok("Param3 PKW2 address written\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["set", &a, "PKW1 task", "read"]),
+        ok("Param2 PKW1 task written\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "Param2"]),
+        ok("Param2 PKW1 task = 1 (0x0001) \"Read a parameter\"\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "PKW1 response"]),
+        ok("Param18 PKW1 response = 1 (0x0001) \"Value, one word\"\n")
+    );
+    // P00.10, the maximum output frequency: 50.00 Hz.
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "Param21"]),
+        ok("Param21 PKW4 value low = 5000 (0x1388)\n")
+    );
+    // Two parameters share the name: which one?
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "PKW2 address"]),
+        error(
+            2,
+            "error: `PKW2 address` names 2 parameters; did you mean:\n  \
+             Param3  PKW2 address\n  Param19  PKW2 address\n"
+        )
+    );
+    // Checked before sending: the type's range, read-only, a value of no kind it takes.
+    assert_eq!(
+        with_eds(CARD, &["set", &a, "CW", "70000"]),
+        error(2, "error: Param6 CW: 70000 is outside 0 ..= 65535\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["set", &a, "SW", "1"]),
+        error(
+            2,
+            "error: Param22 SW is read-only (its descriptor's bit 4)\n"
+        )
+    );
+    assert_eq!(
+        with_eds(CARD, &["set", &a, "PKW1 task", "write"]),
+        error(
+            2,
+            "error: Param2 PKW1 task: `write` is not a value of type u16; it takes 0 \"No \
+             task\", 1 \"Read a parameter\", 2 \"Write one word (RAM)\", 3 \"Write two words \
+             (RAM)\", 4 \"Write one word (RAM and EEPROM)\", 5 \"Write two words (RAM and \
+             EEPROM)\"\n"
+        )
+    );
+    // The PKW task's limits are 0..=5.
+    assert_eq!(
+        with_eds(CARD, &["set", &a, "PKW1 task", "6"]),
+        error(2, "error: Param2 PKW1 task: 6 is outside 0 ..= 5\n")
+    );
+    // The RPI is no member and has no link path: its Parameter object, which the card lacks.
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "RPI"]),
+        error(
+            1,
+            "error: Param1 RPI: path destination unknown (general status 0x05)\n"
+        )
+    );
+    // A name without --eds.
+    assert_eq!(
+        edsgen(&["enip", "get", &a, "SW"]),
+        error(
+            2,
+            "error: `SW` is not @CLASS/INSTANCE/ATTRIBUTE: give a parameter name with --eds FILE\n"
+        )
+    );
+}
+
+#[test]
+fn parameters_of_a_generic_eds_by_name() {
+    const IO: &str = "codegen/tests/odva/io.eds";
+    let (_adapter, a) = serve(&[IO]);
+    // Speed: default 1500, scaled by 1/10 with one decimal, in rpm.
+    assert_eq!(
+        with_eds(IO, &["get", &a, "speed"]),
+        ok("Param1 Speed = 150.0 rpm (raw 1500)\n")
+    );
+    assert_eq!(
+        with_eds(IO, &["get", &a, "Mo"]),
+        ok("Param2 Mode = 0 (0x00) \"Off\"\n")
+    );
+    assert_eq!(
+        with_eds(IO, &["get", &a, "Sped"]),
+        error(
+            2,
+            "error: the EDS has no parameter named `Sped`; did you mean:\n  Param1  Speed\n"
+        )
+    );
+    // Engineering values are checked against the limits in engineering units.
+    assert_eq!(
+        with_eds(IO, &["set", &a, "Speed", "300.1"]),
+        error(
+            2,
+            "error: Param1 Speed: 300.1 is outside 0.0 ..= 300.0 rpm\n"
+        )
+    );
+    // Mode is in the input assembly, which the adapter produces: refused by the device.
+    assert_eq!(
+        with_eds(IO, &["set", &a, "Mode", "fast"]),
+        error(
+            1,
+            "error: Param2 Mode: attribute not settable (general status 0x0e)\n"
+        )
+    );
+    assert_eq!(
+        with_eds(IO, &["set", &a, "Mode", "3"]),
+        error(2, "error: Param2 Mode: 3 is outside 0 ..= 2\n")
     );
 }

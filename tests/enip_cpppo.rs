@@ -1,7 +1,9 @@
 //! The simulated EtherNet/IP adapter (`edsgen simulate --enip`) read by a real third-party
 //! client: PyPI `cpppo` 5.2.5 (pinned in scripts/python-venv.sh) gets the Identity object's
 //! attributes and assembly 100 by explicit messaging (SendRRData, Get_Attribute_Single) and lists
-//! the identity (ListIdentity), over TCP on 127.0.0.1; the card's and a generic ODVA EDS's.
+//! the identity (ListIdentity), over TCP on 127.0.0.1; the card's and a generic ODVA EDS's. Its
+//! `client.implicit` opens a class-3 connection (Forward_Open, transport 0xA3, to the Message
+//! Router) and reads and writes over it by SendUnitData.
 
 mod process_support;
 
@@ -104,4 +106,69 @@ fn cpppo_reads_a_generic_edss_assembly_with_its_defaults() {
         get_attributes(&python, &address, &["@4/100/3", "@4/150/3", "@1/1/1"]),
         vec!["[220, 5, 0]", "[220, 5]", "[52, 18]"]
     );
+}
+
+/// cpppo's `client.implicit` (class 3, transport 0xA3, connection path `@2/1`): Forward_Open,
+/// then each operation of `paths` by SendUnitData, then Forward_Close. Prints the transport, one
+/// `value status` line per operation, and `closed`.
+const CLASS3: &str = "\
+import sys
+from cpppo.server.enip import client
+from cpppo.server.enip.get_attribute import attribute_operations
+host, port = sys.argv[1].split(':')
+conn = client.implicit(host=host, port=int(port), timeout=5.0, connection_path='@2/1')
+print('transport', hex(conn.requested.forward_open.transport_class_triggers))
+with conn:
+    ops = attribute_operations(sys.argv[2:], route_path=False, send_path='')
+    for _, _, _, _, sts, val in conn.synchronous(operations=ops, timeout=5.0):
+        print(val, sts)
+conn.close()
+print('closed')
+";
+
+#[test]
+fn cpppo_reads_and_writes_over_a_class3_connection() {
+    let Some(python) = python() else { return };
+    let (adapter, address) = adapter(&["--card", "goodrive350-enip"]);
+    let out = Command::new(&python)
+        .args(["-c", CLASS3, &address])
+        .args([
+            "@1/1/1",
+            "@1/1/3",
+            "@1/1/7",
+            "@4/100/3",
+            "@1/1/99",
+            "@4/100/3=(SINT)1",
+        ])
+        .current_dir(root())
+        .output()
+        .expect("cpppo runs");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut name = vec![28u8];
+    name.extend_from_slice(b"Goodrive350 EtherNet/IP card");
+    let mut input = vec![0u8; 32];
+    input[8] = 0x03;
+    input[9] = 0x41;
+    let expected = [
+        "transport 0xa3".to_owned(),
+        "[0, 0] 0".to_owned(),
+        "[94, 1] 0".to_owned(),
+        format!("{name:?} 0"),
+        format!("{input:?} 0"),
+        // Attribute not supported; the input assembly not settable.
+        "None 20".to_owned(),
+        "None 14".to_owned(),
+        "closed".to_owned(),
+    ];
+    assert_eq!(text.lines().collect::<Vec<_>>(), expected);
+    // The adapter opened a connection and Forward_Close closed it.
+    let opened = adapter.stderr_line(|l| l.starts_with("connection"), Duration::from_secs(5));
+    assert!(opened.ends_with(" opened"), "{opened}");
+    let closed = adapter.stderr_line(|l| l.starts_with("connection"), Duration::from_secs(5));
+    assert_eq!(closed, opened.replace(" opened", " closed"));
 }

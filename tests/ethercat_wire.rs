@@ -12,7 +12,15 @@
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
 //! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
 //!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h;
+//!   by name through `--esi`, typed values, an ambiguous name's suggestions and a refused write;
 //!   `edsgen ecat pdo` prints the inputs by name.
+//! - `edsgen ecat check`: clean against eds/ec-tx508.xml; against tests/esi/ec-tx508-altered.xml,
+//!   one finding per check (SII identity, SyncManager, PDO assignment and mapping, a missing
+//!   object, a length, a default), exit 1.
+//! - `eeprom`: ethercrab's own EEPROM reader reads back the SII the simulator serves, byte for
+//!   byte what `edsgen sii` writes (EC-TX508 and tests/esi/io-no-mailbox.xml), and takes the
+//!   identity, names and mailbox SyncManagers from it; the I/O device without CoE reaches Op
+//!   with the image sizes of the SII's PDO categories.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
@@ -51,9 +59,11 @@ fn main() {
     drive(&ns);
     reassign(&ns);
     scan(&ns);
+    check(&ns);
+    sii_read_back(&ns);
     let soem = soem(&ns);
     let corpus = corpus(&ns);
-    println!("ethercat_wire: ok (drive, reassign, scan, {soem}, {corpus})");
+    println!("ethercat_wire: ok (drive, reassign, scan, check, SII, {soem}, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -190,6 +200,57 @@ fn scan(ns: &Namespace) {
     let missing = ecat(&["read", "--iface", "ecm", "1234:0"]);
     assert_eq!(missing.code, Some(1));
     assert!(missing.stderr.contains("0x06020000"), "{missing:?}");
+    // By name through the ESI, typed by its data types (a segmented read for 1008h's 13 bytes).
+    let esi = root().join("eds/ec-tx508.xml");
+    let esi = esi.to_str().expect("a path");
+    let named = |args: &[&str]| ecat(&[&["--iface", "ecm", "--esi", esi][..], args].concat());
+    for (args, line) in [
+        (
+            &["read", "ID object / Supplier"][..],
+            "1018h:01h ID object / Supplier ID = 1240 (0x000004D8)\n",
+        ),
+        (
+            &["read", "factory device"],
+            "1008h:00h Factory device name = INVT-EtherCAT\n",
+        ),
+        (
+            &["write", "operationmode", "-3"],
+            "6060h:00h Operation mode written\n",
+        ),
+        (
+            &["read", "Operation mode"],
+            "6060h:00h Operation mode = -3 (0xFD)\n",
+        ),
+    ] {
+        let done = named(args);
+        assert_eq!(
+            (done.code, done.stdout.as_str()),
+            (Some(0), line),
+            "{done:?}"
+        );
+    }
+    let ambiguous = named(&["read", "operation"]);
+    assert_eq!(
+        (ambiguous.code, ambiguous.stderr.as_str()),
+        (
+            Some(2),
+            "error: `operation` names 2 entries; did you mean:\n  6060:0  Operation mode\n  \
+             6061:0  Operation mode display\n"
+        )
+    );
+    let too_big = named(&["write", "Operation mode", "300"]);
+    assert_eq!(
+        (too_big.code, too_big.stderr.as_str()),
+        (Some(2), "error: 300 does not fit i8\n")
+    );
+    let refused = named(&["write", "ID object / Supplier", "5"]);
+    assert_eq!(
+        (refused.code, refused.stderr.as_str()),
+        (
+            Some(1),
+            "error: ecm: 1018h:01h: 0x06010002: Attempt to write to a read only object\n"
+        )
+    );
     let mut command = ns.exec(
         EDSGEN,
         &[
@@ -220,6 +281,141 @@ fn scan(ns: &Namespace) {
             "{line}"
         );
     }
+}
+
+/// `edsgen ecat check` judges the simulated EC-TX508 against its own ESI (clean, exit 0) and
+/// against an ESI that differs from it once per check (exit 1, each difference shown).
+fn check(ns: &Namespace) {
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let check = |esi: &str| {
+        let mut command = ns.exec(EDSGEN, &["ecat", "check", "--iface", "ecm", "--esi", esi]);
+        command.current_dir(root());
+        Process::start(&mut command).finish(Duration::from_secs(60))
+    };
+    let clean = check("eds/ec-tx508.xml");
+    assert_eq!(
+        (clean.code, clean.stdout.as_str()),
+        (
+            Some(0),
+            "SubDevice 0 checked against eds/ec-tx508.xml: 0 error(s), 0 warning(s)\n"
+        ),
+        "{clean:?}"
+    );
+    let altered = check("tests/esi/ec-tx508-altered.xml");
+    assert_eq!(altered.code, Some(1), "{altered:?}");
+    assert_eq!(altered.stdout, ALTERED, "{altered:?}");
+}
+
+/// What `edsgen ecat check` says of the EC-TX508 against tests/esi/ec-tx508-altered.xml.
+const ALTERED: &str = "\
+error[CHK006]: the revision in the SII of SubDevice 0 is 0x00000001, the ESI says 0x00000002
+  --> tests/esi/ec-tx508-altered.xml:25:52
+   |
+25 |         <Type ProductCode=\"#x00009252\" RevisionNo=\"#x00000002\">EC-TX508</Type>
+   |                                                    ^^^^^^^^^^
+   |
+
+warning[CHK005]: 1018h:03h Identity object / Revision number of SubDevice 0 holds 1 (0x00000001), the description's default is 2
+   --> tests/esi/ec-tx508-altered.xml:133:37
+    |
+133 |                       <DefaultValue>2</DefaultValue>
+    |                                     -
+    |
+
+error[CHK001]: object 2100h is missing on SubDevice 0
+   --> tests/esi/ec-tx508-altered.xml:138:15
+    |
+138 |               <Object>
+    |               ^^^^^^^
+    |
+
+error[CHK002]: 6060h:00h of SubDevice 0 is 1 byte(s) long, its data type INTEGER16 has 2
+   --> tests/esi/ec-tx508-altered.xml:147:15
+    |
+147 |               <Object>
+    |               ^^^^^^^
+    |
+
+error[CHK007]: SM2 in the SII of SubDevice 0 starts at 0x1800 (the ESI: 0x1100)
+   --> tests/esi/ec-tx508-altered.xml:165:9
+    |
+165 |         <Sm DefaultSize=\"128\" StartAddress=\"#x1100\" ControlByte=\"#x64\" Enable=\"1\">Outputs</Sm>
+    |         ^^^
+    |
+
+error[CHK008]: 1C13h of SubDevice 0 assigns 1A00h to SM3, the ESI assigns 1A01h by default
+   --> tests/esi/ec-tx508-altered.xml:166:9
+    |
+166 |         <Sm DefaultSize=\"128\" StartAddress=\"#x1C00\" ControlByte=\"#x20\" Enable=\"1\">Inputs</Sm>
+    |         ^^^
+    |
+
+error[CHK008]: 1600h of SubDevice 0 maps 6040h:00h/16, 607Ah:00h/32, 60FFh:00h/32, 6071h:00h/16, 6072h:00h/16, 6060h:00h/8, 6081h:00h/32, 60B8h:00h/16, the ESI's 1600h (RX PDO1 mapping parameter) maps 6040h:00h/16, 6060h:00h/16
+   --> tests/esi/ec-tx508-altered.xml:167:9
+    |
+167 |         <RxPdo Fixed=\"0\" Mandatory=\"0\" Sm=\"2\">
+    |         ^^^^^^
+    |
+
+SubDevice 0 checked against tests/esi/ec-tx508-altered.xml: 6 error(s), 1 warning(s)
+";
+
+/// ethercrab reads back the SII image the simulator serves: byte for byte what `edsgen sii`
+/// writes (0xFF past its end marker, up to the size word 0x3E gives), and it takes from it the
+/// identity, the order string (its name), the device name (its description) and the mailbox
+/// SyncManagers. A device without CoE is configured from the SII's PDO categories alone.
+fn sii_read_back(ns: &Namespace) {
+    let io = root().join("tests/esi/io-no-mailbox.xml");
+    let io = io.to_str().expect("a path");
+    for (served, esi, expected) in [
+        (
+            &["--card", "ec-tx508"][..],
+            "eds/ec-tx508.xml",
+            "identity 0x000004d8 0x00009252 0x00000001\nname EC-TX508\n\
+             description EC-TX508 EtherCAT communication card (Goodrive350)\n\
+             sm0 0x1000 512 0x26\nsm1 0x1400 512 0x22\n",
+        ),
+        (
+            &[io][..],
+            "tests/esi/io-no-mailbox.xml",
+            "identity 0x00001234 0x00000101 0x00000003\nname TIO-8\n\
+             description Test I/O, 8 outputs, 8 inputs and a counter\n\
+             sm0 0x0000 0 0x00\nsm1 0x0000 0 0x00\n",
+        ),
+    ] {
+        let image = std::env::temp_dir().join(format!("edsgen-sii-{}.bin", std::process::id()));
+        let written = Command::new(EDSGEN)
+            .current_dir(root())
+            .args(["sii", esi, "-o", image.to_str().expect("a path")])
+            .output()
+            .expect("edsgen sii");
+        assert!(written.status.success(), "{written:?}");
+        let image_bytes = std::fs::read(&image).expect("the image");
+        let _ = std::fs::remove_file(&image);
+        let _sim = ns.simulator(served);
+        let done = ns.master("eeprom").finish(Duration::from_secs(60));
+        assert_eq!(done.code, Some(0), "{esi}: {done:?}");
+        let (parsed, sii) = done.stdout.split_once("sii ").expect("the SII line");
+        assert_eq!(parsed, expected, "{esi}");
+        let sii = sii.trim_end();
+        let read: Vec<u8> = (0..sii.len() / 2)
+            .map(|i| u8::from_str_radix(&sii[2 * i..2 * i + 2], 16).expect("hex"))
+            .collect();
+        assert!(
+            read.len() >= image_bytes.len(),
+            "{esi}: {} bytes read",
+            read.len()
+        );
+        assert_eq!(read[..image_bytes.len()], image_bytes[..], "{esi}");
+        assert!(
+            read[image_bytes.len()..].iter().all(|&b| b == 0xFF),
+            "{esi}"
+        );
+    }
+    let _sim = ns.simulator(&[io]);
+    let done = ns.master("corpus").finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{done:?}");
+    assert!(done.stdout.contains("op 1/3"), "{done:?}");
 }
 
 /// SOEM (pysoem, pinned in scripts/python-venv.sh) finds the EC-TX508, maps its 21/23-byte
@@ -377,6 +573,36 @@ mod master {
                 .init_single_group::<4, 256>(ethercat_now)
                 .await
                 .expect("discovery");
+            if role == "eeprom" {
+                let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
+                let size = card.eeprom_size(&maindevice).await.expect("the SII's size");
+                let mut image = vec![0u8; size];
+                card.eeprom_read_raw(&maindevice, 0, &mut image)
+                    .await
+                    .expect("the SII");
+                let id = card.identity();
+                println!(
+                    "identity {:#010x} {:#010x} {:#010x}",
+                    id.vendor_id, id.product_id, id.revision
+                );
+                println!("name {}", card.name());
+                let description = card.description().await.expect("the SII's name");
+                println!("description {}", description.unwrap_or_default());
+                // The mailbox SyncManagers ethercrab set up in Pre-Op from the SII's SyncM
+                // category: start, length, control.
+                for n in 0..2u16 {
+                    let sm: [u8; 8] = card
+                        .register_read(0x0800 + 8 * n)
+                        .await
+                        .expect("a SyncManager");
+                    let start = u16::from_le_bytes([sm[0], sm[1]]);
+                    let len = u16::from_le_bytes([sm[2], sm[3]]);
+                    println!("sm{n} {start:#06x} {len} {:#04x}", sm[4]);
+                }
+                let hex: Vec<String> = image.iter().map(|b| format!("{b:02x}")).collect();
+                println!("sii {}", hex.concat());
+                return;
+            }
             if role == "corpus" {
                 let group = group.into_op(&maindevice).await.expect("Op");
                 for _ in 0..10 {

@@ -22,7 +22,8 @@
 //! output = 150     # the scanner's image: PKW request, CW, PZD2-PZD12
 //! input = 100      # the drive's image: PKW response, SW, PZD2-PZD12
 //! byte_order = "little"
-//! # (GSD: module = "4 PKW + 12 PZD", the module carrying them)
+//! # (GSD: module = "4 PKW + 12 PZD", the module carrying them; GSDML: module = "MOD_1" (the
+//! # ModuleItem's or DeviceAccessPointItem's ID or name) and subslot = 1, the submodule)
 //! ```
 //!
 //! [`apply`] checks the overlay against the model and sets [`SubObject::capacity`] and

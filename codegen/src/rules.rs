@@ -5,7 +5,8 @@
 //! sub-objects, `EDS4xx` PDOs, `EDS5xx` DCF, commissioning, modules and the rest, `EDS6xx` XML
 //! (XDD/XDC), `EDS7xx` code generation, `EDS8xx` EtherCAT (ESI); `CIP0xx` ODVA EDS (EtherNet/IP,
 //! listed first: the table sorts by code), `GSD0xx` PROFIBUS-DP (GSD), `PN0xx` PROFINET (GSDML);
-//! and `CHKxxx`, a live device against its description (`edsgen check`). `edsgen rules` prints
+//! and `CHKxxx`, a live device against its description (`edsgen check`; CHK006–CHK008 an EtherCAT
+//! SubDevice, `edsgen ecat check`). `edsgen rules` prints
 //! this table.
 
 use crate::diag::Severity;
@@ -41,6 +42,9 @@ rules! {
     CHK_UNREADABLE = "CHK003" Error "(`edsgen check`) the device refuses to read an entry the description says is readable";
     CHK_IDENTITY = "CHK004" Error "(`edsgen check`) the device's identity (1000h, 1018h:1-3) differs from the description";
     CHK_DEFAULT = "CHK005" Warning "(`edsgen check`) a value differs from the description's default or DCF ParameterValue (an error for a constant)";
+    CHK_SII_IDENTITY = "CHK006" Error "(`edsgen ecat check`) the EtherCAT SubDevice's identity in its SII (vendor, product code, revision, order string) differs from the ESI";
+    CHK_SYNC_MANAGER = "CHK007" Error "(`edsgen ecat check`) a SyncManager of the SubDevice's SII (kind, start, length, control byte, enable), or its ESC's SyncManager count, differs from the ESI";
+    CHK_PDO_ASSIGNMENT = "CHK008" Error "(`edsgen ecat check`) the PDO assignment (1C12h/1C13h) or the mapping of a default PDO, read by SDO, differs from the ESI's default PDOs";
 
     // ---- CIP0xx: ODVA EDS (EtherNet/IP, DeviceNet; CIP). Before EDS0xx: codes sort by text ----
     CIP_SYNTAX = "CIP001" Error "ODVA EDS text: a line that is neither a `[section]`, an entry `Key = ...;` nor a `$` comment, an entry without its `;`, or a string without its closing quote";
@@ -248,6 +252,9 @@ rules! {
     PN_DEFAULT_NOT_ALLOWED = "PN012" Error "a record field whose DefaultValue is not a number, or is outside its AllowedValues or its data type";
     PN_BIT_OUTSIDE = "PN013" Error "a BitDataItem whose BitOffset lies beyond its DataItem, or a Bit/BitArea field wider than a byte's bits allow";
     PN_DUPLICATE_RECORD = "PN014" Error "two parameter records of one submodule with one Index";
+    PN_DUPLICATE_EXT_DIAG = "PN015" Error "two ExtChannelDiagItems of one ChannelDiagItem with one ErrorType (an alarm's ExtChannelErrorType would have two meanings)";
+    PN_EXT_ADD_VALUE_SIZE = "PN016" Error "ExtChannelAddValue DataItems longer than the 4 bytes of an alarm's ExtChannelAddValue (Unsigned32)";
+    PN_DUPLICATE_SUBSLOT_LABEL = "PN017" Warning "two SubslotItems of one module or access point with one SubslotNumber (the subslot gets two labels)";
 }
 
 /// Looks a rule up by its code.

@@ -105,3 +105,53 @@ fn count_in(notes: &str, word: &str) -> Option<usize> {
         .find(|w| w[1] == word)
         .and_then(|w| w[0].parse().ok())
 }
+
+/// A drive's extended channel diagnoses as the corpus's SEW file gives them: 800
+/// `ExtChannelDiagItem`s under 53 of its 70 `ChannelDiagItem`s (57 under error type 4162), each
+/// with one 32-bit additional value; no PN015/PN016/PN017 (the summary above pins no codes for
+/// it); and the subslot labels of its first access point.
+#[test]
+fn the_sew_drive_s_extended_channel_diagnoses_are_read() {
+    let Some(dir) = corpus() else { return };
+    let file = "HeisenZergA__SEWProfinetLabview/GSDML-V2.34-SEW-MOVI-C-Decentralized-Electronics-20200731-071447.xml";
+    let read = read_file(&dir.join(file)).expect("readable");
+    let pn = read.device.profinet.as_ref().expect("a PROFINET side");
+    let diags = &pn.channel_diagnostics;
+    assert_eq!(diags.len(), 70);
+    assert_eq!(diags.iter().filter(|d| !d.ext.is_empty()).count(), 53);
+    assert_eq!(diags.iter().map(|d| d.ext.len()).sum::<usize>(), 800);
+    let most = diags.iter().max_by_key(|d| d.ext.len()).expect("some");
+    assert_eq!((most.error_type, most.ext.len()), (4162, 57));
+    let overcurrent = diags
+        .iter()
+        .find(|d| d.error_type == 4097)
+        .expect("error type 4097");
+    let first = &overcurrent.ext[0];
+    assert_eq!(first.error_type.value, 1);
+    assert_eq!(
+        first.name.as_deref(),
+        Some(
+            "E-1.1 Short circuit in motor output terminals 'Overcurrent in output stage or faulty \
+             output stage control detected, and output stage inhibited by hardware'"
+        )
+    );
+    // Its access points label their interface and ports (`SubslotList`).
+    let labels: Vec<(u16, Option<&str>)> = pn.access_points[0]
+        .subslot_labels
+        .iter()
+        .map(|l| (l.subslot.value, l.text.as_deref()))
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            (32768, Some("X1")),
+            (32769, Some("X1 P1")),
+            (32770, Some("X1 P2"))
+        ]
+    );
+    assert!(diags
+        .iter()
+        .flat_map(|d| &d.ext)
+        .flat_map(|x| &x.add_values)
+        .all(|v| v.id == Some(1) && v.data_type.value == "Unsigned32"));
+}

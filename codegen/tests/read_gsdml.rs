@@ -508,3 +508,215 @@ fn pn014_two_records_with_one_index() {
         vec![pn_diag("PN014", Error, line_of("Index=\"257\""), &format!("submodule `SUB_PKW_PZD_16` has two parameter records with index 256 (the other on line {})", line_of("Index=\"256\"")))]
     );
 }
+
+/// The card's channel diagnosis with an `ExtChannelDiagList` of two finer causes, the second
+/// with `add` as its `ExtChannelAddValue` data items.
+fn with_ext_diagnosis(first: u32, second: u32, add: &str) -> String {
+    edit(
+        "          <Help TextId=\"T_DIAG_EPN_HELP\"/>\n        </ChannelDiagItem>",
+        &format!(
+            "          <Help TextId=\"T_DIAG_EPN_HELP\"/>\n          <ExtChannelDiagList>\n            \
+             <ExtChannelDiagItem ErrorType=\"{first}\">\n              <Name TextId=\"T_DIAG_EPN\"/>\n            \
+             </ExtChannelDiagItem>\n            <ExtChannelDiagItem ErrorType=\"{second}\">\n              \
+             <Name TextId=\"T_DIAG_EPN_HELP\"/>\n              <ExtChannelAddValue>{add}</ExtChannelAddValue>\n            \
+             </ExtChannelDiagItem>\n          </ExtChannelDiagList>\n        </ChannelDiagItem>"
+        ),
+    )
+}
+
+/// The line of the `n`th (from 1) `<ExtChannelDiagItem` in `text`.
+fn ext_line(text: &str, n: usize) -> u32 {
+    let at = text
+        .match_indices("<ExtChannelDiagItem")
+        .nth(n - 1)
+        .expect("present")
+        .0;
+    text[..at].lines().count() as u32
+}
+
+#[test]
+fn ext_channel_diagnostics_are_read_and_dumped() {
+    let text = with_ext_diagnosis(
+        1,
+        2,
+        "<DataItem Id=\"1\" DataType=\"Unsigned16\"/><DataItem Id=\"2\" DataType=\"Unsigned16\"/>",
+    );
+    assert_eq!(diagnostics(&text), vec![]);
+    let read = read(&text);
+    let diag = &pn(&read).channel_diagnostics[0];
+    assert_eq!(diag.ext.len(), 2);
+    let (first, second) = (&diag.ext[0], &diag.ext[1]);
+    assert_eq!(
+        (
+            first.error_type.value,
+            first.name.as_deref(),
+            first.add_values.len()
+        ),
+        (1, Some("E-PN: PROFINET communication fault"), 0)
+    );
+    assert_eq!(first.error_type.span.line, ext_line(&text, 1));
+    let add: Vec<(Option<u32>, &str, Option<PnDataType>)> = second
+        .add_values
+        .iter()
+        .map(|v| (v.id, v.data_type.value.as_str(), v.kind))
+        .collect();
+    assert_eq!(
+        add,
+        vec![
+            (Some(1), "Unsigned16", Some(PnDataType::Unsigned16)),
+            (Some(2), "Unsigned16", Some(PnDataType::Unsigned16))
+        ]
+    );
+    let dump = edsgen_codegen::dump::to_json(&read.device);
+    assert_eq!(
+        dump["profinet"]["channel_diagnostics"][0]["ext"],
+        serde_json::json!([
+            {"error_type": 1, "name": "E-PN: PROFINET communication fault", "help": null, "add_values": []},
+            {"error_type": 2, "name": "The controller's cyclic data stopped (watchdog); check the cable and the controller, then reset the fault (CW command 7).", "help": null, "add_values": [
+                {"id": 1, "data_type": "Unsigned16", "length": null},
+                {"id": 2, "data_type": "Unsigned16", "length": null}
+            ]}
+        ])
+    );
+}
+
+#[test]
+fn pn015_two_ext_channel_diagnostics_with_one_error_type() {
+    let text = with_ext_diagnosis(7, 7, "");
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "PN015",
+            Error,
+            ext_line(&text, 2),
+            &format!(
+                "a second ExtChannelDiagItem with ErrorType 7 in channel error type 256 (the first \
+                 on line {})",
+                ext_line(&text, 1)
+            )
+        )]
+    );
+}
+
+#[test]
+fn pn016_ext_add_values_beyond_32_bits_and_pn003_unknown_types() {
+    let text = with_ext_diagnosis(
+        1,
+        2,
+        "<DataItem Id=\"1\" DataType=\"Unsigned32\"/><DataItem Id=\"2\" DataType=\"Unsigned8\"/>",
+    );
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "PN016",
+            Error,
+            ext_line(&text, 2),
+            "ExtChannelDiagItem 2 of channel error type 256 adds 5 bytes of values; an alarm \
+             carries 4 (ExtChannelAddValue, Unsigned32)"
+        )]
+    );
+    let text = with_ext_diagnosis(1, 2, "<DataItem Id=\"1\" DataType=\"Unsigned24\"/>");
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "PN003",
+            Error,
+            ext_line(&text, 2) + 2,
+            "`Unsigned24` is not a GSDML data type"
+        )]
+    );
+    // An ErrorType that is no 16-bit number: the attribute's error, and the item is left out.
+    let text = with_ext_diagnosis(1, 70000, "");
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "EDS604",
+            Error,
+            ext_line(&text, 2),
+            "`ErrorType` is 70000, outside its range"
+        )]
+    );
+    assert_eq!(pn(&read(&text)).channel_diagnostics[0].ext.len(), 1);
+}
+
+/// The card with a `SubslotList` on its access point labelling subslot `first` and `second`
+/// (the interface's and the first port's labels by default).
+fn with_subslot_list(first: u32, second: u32) -> String {
+    edit(
+        "          <IOConfigData MaxInputLength",
+        &format!(
+            "          <SubslotList>\n            <SubslotItem SubslotNumber=\"{first}\" \
+             TextId=\"T_IF\"/>\n            <SubslotItem SubslotNumber=\"{second}\" \
+             TextId=\"T_P1\"/>\n          </SubslotList>\n          <IOConfigData MaxInputLength"
+        ),
+    )
+}
+
+#[test]
+fn subslot_labels_are_read_and_dumped() {
+    let text = with_subslot_list(32768, 32769);
+    assert_eq!(diagnostics(&text), vec![]);
+    let read = read(&text);
+    let labels: Vec<(u16, Option<&str>)> = pn(&read).access_points[0]
+        .subslot_labels
+        .iter()
+        .map(|l| (l.subslot.value, l.text.as_deref()))
+        .collect();
+    let texts = |id: &str| {
+        let at = text
+            .find(&format!("TextId=\"{id}\" Value=\""))
+            .expect("a text")
+            + id.len()
+            + 17;
+        text[at..at + text[at..].find('"').expect("closed")].to_owned()
+    };
+    assert_eq!(
+        labels,
+        vec![
+            (32768, Some(texts("T_IF").as_str())),
+            (32769, Some(texts("T_P1").as_str()))
+        ]
+    );
+    let dump = edsgen_codegen::dump::to_json(&read.device);
+    assert_eq!(
+        dump["profinet"]["access_points"][0]["subslot_labels"],
+        serde_json::json!([
+            {"subslot": 32768, "text": texts("T_IF")},
+            {"subslot": 32769, "text": texts("T_P1")}
+        ])
+    );
+    assert_eq!(
+        dump["profinet"]["modules"][0]["subslot_labels"],
+        serde_json::json!([])
+    );
+}
+
+#[test]
+fn pn017_a_subslot_labelled_twice() {
+    let text = with_subslot_list(32768, 32768);
+    let line = line_of("          <IOConfigData MaxInputLength");
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "PN017",
+            Warning,
+            line + 2,
+            &format!(
+                "`DAP_GD350_PN` labels subslot 32768 twice (the first on line {})",
+                line + 1
+            )
+        )]
+    );
+    // A subslot number that is not 16 bits: the attribute's error, the item left out.
+    let text = with_subslot_list(32768, 65536);
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "EDS604",
+            Error,
+            line + 2,
+            "`SubslotNumber` is 65536, outside its range"
+        )]
+    );
+    assert_eq!(pn(&read(&text)).access_points[0].subslot_labels.len(), 1);
+}

@@ -640,7 +640,8 @@ fn overlay_pkw_pzd_names_32_byte_assemblies() {
     assert_eq!(
         diags.iter().map(|d| d.message.as_str()).collect::<Vec<_>>(),
         vec![
-            "[pkw_pzd] is for an ODVA EDS (EtherNet/IP) or a GSD file; this description is neither"
+            "[pkw_pzd] is for an ODVA EDS (EtherNet/IP), a GSD or a GSDML file; this description \
+             is none of them"
         ]
     );
 }

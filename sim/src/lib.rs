@@ -8,7 +8,8 @@
 //! - [`drives`]: the bundled cards' drives as their manuals describe them, on those bindings.
 //! - [`dp`]: a PROFIBUS-DP slave from any GSD (FDL telegrams, the DP state machine), with a serial
 //!   driver.
-//! - [`enip`]: an EtherNet/IP adapter's protocol core (encapsulation, CIP objects, class-1 I/O).
+//! - [`enip`]: an EtherNet/IP adapter's protocol core (encapsulation, CIP objects, class-1 I/O,
+//!   class-3 connected explicit messaging).
 //! - [`profinet`]: a PROFINET IO device from a GSDML (DCP so far) and its raw-socket driver.
 //! - [`ethercat`]: an EtherCAT SubDevice from any ESI (ESC registers, AL state machine, SII,
 //!   mailbox and CoE SDO, FMMU process data), sans-IO, with a raw-socket driver.

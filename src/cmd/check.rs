@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
-use edsgen_codegen::model::{AccessType, BasicType, Device, ObjectType, SubObject, Value};
+use edsgen_codegen::model::{AccessType, Device, ObjectType, SubObject, Value};
 use edsgen_codegen::rules::{
     CHK_DEFAULT as CHK005, CHK_IDENTITY as CHK004, CHK_LENGTH as CHK002, CHK_MISSING as CHK001,
     CHK_UNREADABLE as CHK003,
@@ -219,19 +219,45 @@ fn compare(
     sub: &SubObject,
     bytes: &[u8],
 ) -> Option<Diagnostic> {
-    let basic = sub.data_type.and_then(|t| device.basic_type(t));
-    if let Some(bits) = basic.and_then(BasicType::bits) {
-        let len = bits.div_ceil(8) as usize;
-        if bytes.len() != len {
-            let message = format!(
-                "{} of node {node_id} is {} byte(s) long, its data type {} has {len}",
-                show_mux(mux),
-                bytes.len(),
-                basic.map_or("?", BasicType::name)
-            );
-            return Some(Diagnostic::new(&CHK002, Some(sub.span), message));
-        }
+    let who = format!("node {node_id}");
+    length_differs(device, &who, mux, sub, bytes)
+        .or_else(|| default_differs(device, &who, node_id, mux, sub, bytes))
+}
+
+/// CHK002 when `bytes`, read from `who` (`node 3`, `SubDevice 0`), are not as long as the
+/// entry's data type.
+pub fn length_differs(
+    device: &Device,
+    who: &str,
+    mux: Multiplexer,
+    sub: &SubObject,
+    bytes: &[u8],
+) -> Option<Diagnostic> {
+    let basic = sub.data_type.and_then(|t| device.basic_type(t))?;
+    let len = basic.bits()?.div_ceil(8) as usize;
+    if bytes.len() == len {
+        return None;
     }
+    let message = format!(
+        "{} of {who} is {} byte(s) long, its data type {} has {len}",
+        show_mux(mux),
+        bytes.len(),
+        basic.name()
+    );
+    Some(Diagnostic::new(&CHK002, Some(sub.span), message))
+}
+
+/// CHK005 when `bytes`, read from `who`, differ from the entry's ParameterValue or default
+/// (`$NODEID` is `node_id`): an error for a constant, else a warning.
+pub fn default_differs(
+    device: &Device,
+    who: &str,
+    node_id: u8,
+    mux: Multiplexer,
+    sub: &SubObject,
+    bytes: &[u8],
+) -> Option<Diagnostic> {
+    let basic = sub.data_type.and_then(|t| device.basic_type(t));
     let expected = sub.parameter_value.as_ref().or(sub.default.as_ref())?;
     let matches = match expected.value.as_ref()? {
         Value::Integer(v) => integer_matches(*v, bytes),
@@ -270,7 +296,7 @@ fn compare(
         None => show_mux(mux),
     };
     let message = format!(
-        "{label} of node {node_id} holds {shown}, the description's default is {}",
+        "{label} of {who} holds {shown}, the description's default is {}",
         expected.raw
     );
     Some(Diagnostic::new(&CHK005, Some(expected.span), message).with_severity(severity))

@@ -2,16 +2,21 @@
 //! ListIdentity over UDP (to ADDR, else broadcast) and prints each identity that answers within a
 //! second, matched to an ODVA EDS with `--eds FILE`; `get ADDR @CLASS/INST/ATTR` and `set ADDR
 //! @CLASS/INST/ATTR HEX` are Get/Set_Attribute_Single by explicit messaging (RegisterSession,
-//! SendRRData). Exit 0 ok, 1 a refusal (the CIP status is printed) or no identity, 2 bad usage or
-//! I/O. The wire formats are the simulated adapter's (`edsgen_sim::enip::wire`).
+//! SendRRData); `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
+//! EDS, typed, scaled and range-checked (`enip_param`). Exit 0 ok, 1 a refusal (the CIP status is
+//! printed) or no identity, 2 bad usage or I/O. The wire formats are the simulated adapter's
+//! (`edsgen_sim::enip::wire`).
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream, ToSocketAddrs, UdpSocket};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
+use edsgen_codegen::model::Cip;
 use edsgen_sim::enip::wire::{emit_items, item, parse_items, EncapError, Encapsulation};
+
+use super::enip_param::{self, Access};
 
 /// `edsgen enip`.
 #[derive(Debug, clap::Subcommand)]
@@ -25,22 +30,35 @@ pub enum Args {
         #[arg(long)]
         eds: Option<PathBuf>,
     },
-    /// Read an attribute: `@CLASS/INSTANCE/ATTRIBUTE` (decimal, or hex with 0x).
+    /// Read an attribute (`@CLASS/INSTANCE/ATTRIBUTE`, decimal or hex with 0x), or a parameter
+    /// of the --eds file by name, its value typed, scaled and named as the file says.
     Get {
         /// The device (`IP` or `IP:PORT`).
         addr: String,
-        /// The attribute.
+        /// `@CLASS/INSTANCE/ATTRIBUTE`, or a parameter's name in the --eds file (a unique
+        /// prefix will do, case and spaces do not matter; `ParamN` too).
         path: String,
+        /// The device's ODVA EDS: names, types and places its parameters.
+        #[arg(long, value_name = "FILE")]
+        eds: Option<PathBuf>,
     },
-    /// Write an attribute: its bytes in hex (`0A 00` or `0a00`).
+    /// Write an attribute (its bytes in hex: `0A 00` or `0a00`), or a parameter of the --eds
+    /// file by name (a number, an engineering value when the parameter is scaled, or its
+    /// enumeration's text), checked against its type and limits before it is sent.
     Set {
         /// The device (`IP` or `IP:PORT`).
         addr: String,
-        /// The attribute.
+        /// `@CLASS/INSTANCE/ATTRIBUTE`, or a parameter's name in the --eds file.
         path: String,
-        /// The value's bytes, in hex.
+        /// The value.
+        #[arg(allow_negative_numbers = true)]
         value: String,
+        /// The device's ODVA EDS: names, types and places its parameters.
+        #[arg(long, value_name = "FILE")]
+        eds: Option<PathBuf>,
     },
+    /// A class-1 connection from the EDS: set outputs by name, print the inputs each RPI.
+    Io(super::enip_io::Args),
 }
 
 fn usage(message: String) -> ExitCode {
@@ -48,7 +66,7 @@ fn usage(message: String) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn address(text: &str) -> Result<SocketAddr, String> {
+pub(super) fn address(text: &str) -> Result<SocketAddr, String> {
     let with_port = if text.contains(':') {
         text.to_owned()
     } else {
@@ -103,8 +121,20 @@ fn hex(bytes: &[u8]) -> String {
 pub fn run(args: Args) -> ExitCode {
     match args {
         Args::List { addr, eds } => list(addr.as_deref(), eds),
-        Args::Get { addr, path } => explicit(&addr, &path, 0x0E, Vec::new()),
-        Args::Set { addr, path, value } => {
+        Args::Io(args) => super::enip_io::run(args),
+        Args::Get { addr, path, eds } if !path.starts_with('@') => {
+            parameter(&addr, &path, None, eds)
+        }
+        Args::Set {
+            addr,
+            path,
+            value,
+            eds,
+        } if !path.starts_with('@') => parameter(&addr, &path, Some(&value), eds),
+        Args::Get { addr, path, .. } => explicit(&addr, &path, 0x0E, Vec::new()),
+        Args::Set {
+            addr, path, value, ..
+        } => {
             let digits: String = value.chars().filter(|c| !c.is_whitespace()).collect();
             let bytes: Option<Vec<u8>> = (0..digits.len())
                 .step_by(2)
@@ -122,14 +152,19 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
+/// The CIP part of the ODVA EDS at `path`.
+fn read_cip(path: &Path) -> Result<Cip, String> {
+    let device = super::read_device(path)?;
+    device
+        .cip
+        .ok_or_else(|| format!("`{}` is not an ODVA EDS", path.display()))
+}
+
 fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
     let key = match eds {
-        Some(path) => match edsgen_codegen::read::read_file(&path) {
-            Ok(read) => match read.device.cip {
-                Some(cip) => Some((path, cip.identity)),
-                None => return usage(format!("`{}` is not an ODVA EDS", path.display())),
-            },
-            Err(err) => return usage(err.to_string()),
+        Some(path) => match read_cip(&path) {
+            Ok(cip) => Some((path, cip.identity)),
+            Err(message) => return usage(message),
         },
         None => None,
     };
@@ -271,16 +306,15 @@ fn general_status_text(code: u8) -> &'static str {
     }
 }
 
-fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
-    let target = match address(addr) {
-        Ok(a) => a,
-        Err(m) => return usage(m),
-    };
-    let epath = match epath(path) {
-        Ok(p) => p,
-        Err(m) => return usage(m),
-    };
-    let result = (|| -> Result<Vec<u8>, String> {
+/// A registered session with a device over TCP.
+struct Session {
+    stream: TcpStream,
+    handle: u32,
+}
+
+impl Session {
+    /// Connects to `target` and registers a session.
+    fn open(target: SocketAddr) -> Result<Session, String> {
         let mut stream = TcpStream::connect_timeout(&target, Duration::from_secs(3))
             .map_err(|e| format!("cannot connect to {target}: {e}"))?;
         stream
@@ -301,9 +335,23 @@ fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
                 registered.status
             ));
         }
+        Ok(Session {
+            stream,
+            handle: registered.session,
+        })
+    }
+
+    /// One Message Router request by SendRRData: `Ok(Ok(data))` on success, `Ok(Err(general
+    /// status))` on a refusal, `Err` when the exchange itself fails.
+    fn request(
+        &mut self,
+        service: u8,
+        epath: &[u8],
+        data: &[u8],
+    ) -> Result<Result<Vec<u8>, u8>, String> {
         let mut request = vec![service, (epath.len() / 2) as u8];
-        request.extend_from_slice(&epath);
-        request.extend_from_slice(&data);
+        request.extend_from_slice(epath);
+        request.extend_from_slice(data);
         let mut body = vec![0; 6];
         body.extend(emit_items(&[
             (item::NULL_ADDRESS, &[]),
@@ -311,13 +359,13 @@ fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
         ]));
         let message = Encapsulation {
             command: 0x6F,
-            session: registered.session,
+            session: self.handle,
             status: 0,
             context: *b"edsgen  ",
             options: 0,
             data: body,
         };
-        let reply = exchange(&mut stream, &message)?;
+        let reply = exchange(&mut self.stream, &message)?;
         if reply.status != 0 {
             return Err(format!(
                 "SendRRData refused: encapsulation status {:#06x}",
@@ -334,25 +382,156 @@ fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
             .find(|(k, _)| *k == item::UNCONNECTED_DATA)
             .map(|(_, d)| d.to_vec())
             .ok_or("a reply without a response")?;
-        Ok(response)
-    })();
-    let response = match result {
-        Ok(r) => r,
+        let (Some(&status), Some(&extra)) = (response.get(2), response.get(3)) else {
+            return Err("a response shorter than its header".into());
+        };
+        if status != 0 {
+            return Ok(Err(status));
+        }
+        Ok(Ok(response
+            .get(4 + 2 * usize::from(extra)..)
+            .unwrap_or(&[])
+            .to_vec()))
+    }
+}
+
+/// The exit of a refusal: its general status printed, exit 1.
+fn refused(what: &str, status: u8) -> ExitCode {
+    eprintln!(
+        "error: {what}: {} (general status {status:#04x})",
+        general_status_text(status)
+    );
+    ExitCode::from(1)
+}
+
+fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
+    let target = match address(addr) {
+        Ok(a) => a,
+        Err(m) => return usage(m),
+    };
+    let epath = match epath(path) {
+        Ok(p) => p,
+        Err(m) => return usage(m),
+    };
+    let result = Session::open(target).and_then(|mut s| s.request(service, &epath, &data));
+    match result {
+        Err(message) => usage(message),
+        Ok(Err(status)) => refused(path, status),
+        Ok(Ok(data)) => {
+            if service == 0x0E {
+                println!("{}", hex(&data));
+            }
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+/// `get|set ADDR PARAM-NAME [VALUE] --eds FILE`: the parameter read (and shown typed) or written
+/// (typed and range-checked first). A member of an assembly is read from the assembly, and
+/// written by reading the assembly and writing it back with the member's bits replaced.
+fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
+    let Some(eds) = eds else {
+        return usage(format!(
+            "`{name}` is not @CLASS/INSTANCE/ATTRIBUTE: give a parameter name with --eds FILE"
+        ));
+    };
+    let cip = match read_cip(&eds) {
+        Ok(cip) => cip,
         Err(message) => return usage(message),
     };
-    let (Some(&status), Some(&extra)) = (response.get(2), response.get(3)) else {
-        return usage("a response shorter than its header".into());
+    let param = match enip_param::resolve(&cip, name) {
+        Ok(p) => p,
+        Err(message) => return usage(message),
     };
-    if status != 0 {
-        eprintln!(
-            "error: {path}: {} (general status {status:#04x})",
-            general_status_text(status)
-        );
-        return ExitCode::from(1);
+    let label = param.label();
+    let bytes = match value.map(|v| param.encode(v)).transpose() {
+        Ok(bytes) => bytes,
+        Err(message) => return usage(message),
+    };
+    if bytes.is_some() && param.param.read_only() {
+        return usage(format!("{label} is read-only (its descriptor's bit 4)"));
     }
-    let data = response.get(4 + 2 * usize::from(extra)..).unwrap_or(&[]);
-    if service == 0x0E {
-        println!("{}", hex(data));
+    let target = match address(addr) {
+        Ok(a) => a,
+        Err(m) => return usage(m),
+    };
+    let mut session = match Session::open(target) {
+        Ok(s) => s,
+        Err(message) => return usage(message),
+    };
+    let assembly_path = |instance: u32| -> Vec<u8> {
+        let mut path = vec![0x20, 0x04];
+        match u8::try_from(instance) {
+            Ok(i) => path.extend_from_slice(&[0x24, i]),
+            Err(_) => {
+                path.extend_from_slice(&[0x25, 0]);
+                path.extend_from_slice(&(instance as u16).to_le_bytes());
+            }
+        }
+        path.extend_from_slice(&[0x30, 0x03]);
+        path
+    };
+    let result = match (&param.access, bytes) {
+        (Access::Attribute(path), None) => session.request(0x0E, path, &[]),
+        (Access::Attribute(path), Some(bytes)) => session.request(0x10, path, &bytes),
+        (&Access::Member { instance, .. }, bytes) => {
+            let path = assembly_path(instance);
+            match (session.request(0x0E, &path, &[]), bytes) {
+                (Ok(Ok(data)), Some(bytes)) => match member(&param, &data, Some(&bytes)) {
+                    Ok(patched) => session.request(0x10, &path, &patched),
+                    Err(message) => Err(message),
+                },
+                (Ok(Ok(data)), None) => member(&param, &data, None).map(Ok),
+                (other, _) => other,
+            }
+        }
+    };
+    match (result, value) {
+        (Err(message), _) => usage(message),
+        (Ok(Err(status)), _) => refused(&label, status),
+        (Ok(Ok(_)), Some(_)) => {
+            println!("{label} written");
+            ExitCode::SUCCESS
+        }
+        (Ok(Ok(data)), None) => match param.show(&data) {
+            Ok(text) => {
+                println!("{label} = {text}");
+                ExitCode::SUCCESS
+            }
+            Err(message) => {
+                eprintln!("error: {label}: {message} ({})", hex(&data));
+                ExitCode::from(1)
+            }
+        },
     }
-    ExitCode::SUCCESS
+}
+
+/// A member's bytes cut from its assembly's `data`, or (with `bytes`) the assembly with them
+/// written in.
+fn member(
+    param: &enip_param::Param<'_>,
+    data: &[u8],
+    bytes: Option<&[u8]>,
+) -> Result<Vec<u8>, String> {
+    let Access::Member {
+        instance,
+        offset,
+        bits,
+    } = param.access
+    else {
+        return Err("not an assembly member".into());
+    };
+    let len = param.kind.len().unwrap_or(bits.div_ceil(8));
+    let done = match bytes {
+        Some(bytes) => enip_param::patch(data, offset, bits, bytes),
+        None => enip_param::extract(data, offset, bits, len),
+    };
+    done.ok_or_else(|| {
+        format!(
+            "assembly {instance} has {} bytes, too few for {} (bits {offset}..{})",
+            data.len(),
+            param.label(),
+            offset + bits
+        )
+    })
 }

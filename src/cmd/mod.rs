@@ -13,6 +13,7 @@
 
 pub mod bus;
 pub mod check;
+pub mod cip_value;
 pub mod decode;
 pub mod demo;
 pub mod devices;
@@ -21,6 +22,8 @@ pub mod dump;
 #[cfg(feature = "ethercrab")]
 pub mod ecat;
 pub mod enip;
+pub mod enip_io;
+pub mod enip_param;
 pub mod entry;
 pub mod generate;
 pub mod nmt;

@@ -180,7 +180,8 @@ pub fn hex(bytes: &[u8]) -> String {
     parts.join(" ")
 }
 
-fn parse_int(text: &str) -> Option<i128> {
+/// A decimal or `0x` hex integer, with an optional minus sign.
+pub fn parse_int(text: &str) -> Option<i128> {
     let (negative, digits) = match text.strip_prefix('-') {
         Some(rest) => (true, rest),
         None => (false, text),

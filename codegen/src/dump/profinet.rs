@@ -1,11 +1,12 @@
 //! The `profinet` object of `edsgen dump`: what a GSDML file says (identity, access points,
-//! modules, submodules with their IO data and records, value lists, channel diagnostics).
+//! modules, submodules with their IO data and records, value lists, channel diagnostics with
+//! their extended ones).
 
 use serde_json::{json, Value as Json};
 
 use crate::model::{
     AccessPoint, DataItem, ParameterRecord, PnModule, Profinet, RecordField, Submodule,
-    SystemSubmodule,
+    SubslotLabel, SystemSubmodule,
 };
 
 pub(super) fn profinet(pn: &Profinet) -> Json {
@@ -23,6 +24,12 @@ pub(super) fn profinet(pn: &Profinet) -> Json {
         })).collect::<Vec<_>>(),
         "channel_diagnostics": pn.channel_diagnostics.iter().map(|d| json!({
             "error_type": d.error_type, "name": d.name, "help": d.help,
+            "ext": d.ext.iter().map(|x| json!({
+                "error_type": x.error_type.value, "name": x.name, "help": x.help,
+                "add_values": x.add_values.iter().map(|v| json!({
+                    "id": v.id, "data_type": v.data_type.value, "length": v.length,
+                })).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
     })
 }
@@ -51,6 +58,7 @@ fn access_point(dap: &AccessPoint) -> Json {
             "used_in_slots": r.used_in_slots,
         })).collect::<Vec<_>>(),
         "submodules": dap.submodules.iter().map(submodule).collect::<Vec<_>>(),
+        "subslot_labels": subslot_labels(&dap.subslot_labels),
         "interface": dap.interface.as_ref().map(system_submodule),
         "ports": dap.ports.iter().map(system_submodule).collect::<Vec<_>>(),
     })
@@ -75,7 +83,15 @@ fn module(m: &PnModule) -> Json {
         "name": m.name,
         "info_text": m.info_text,
         "submodules": m.submodules.iter().map(submodule).collect::<Vec<_>>(),
+        "subslot_labels": subslot_labels(&m.subslot_labels),
     })
+}
+
+fn subslot_labels(labels: &[SubslotLabel]) -> Json {
+    labels
+        .iter()
+        .map(|l| json!({"subslot": l.subslot.value, "text": l.text}))
+        .collect()
 }
 
 fn submodule(s: &Submodule) -> Json {

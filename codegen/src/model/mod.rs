@@ -37,8 +37,9 @@ pub use ethercat::{
 };
 pub use object::{KeySpans, Object, SubObject, Value, ValueSource};
 pub use profinet::{
-    AccessPoint, BitDataItem, ChannelDiag, DataItem, ModuleRef, ParameterRecord, PnDataType,
-    PnModule, Profinet, RecordField, Submodule, SystemSubmodule, ValueList,
+    AccessPoint, BitDataItem, ChannelDiag, DataItem, ExtAddValue, ExtChannelDiag, ModuleRef,
+    ParameterRecord, PnDataType, PnModule, Profinet, RecordField, Submodule, SubslotLabel,
+    SystemSubmodule, ValueList,
 };
 pub use source::{Format, Source, Span, Spanned, TextEncoding};
 pub use types::{AccessType, BasicType, ObjectType};

@@ -60,6 +60,8 @@ pub struct AccessPoint {
     pub useable_modules: Vec<ModuleRef>,
     /// The access point's own `VirtualSubmoduleList` items (subslot 1 and on).
     pub submodules: Vec<Submodule>,
+    /// `SubslotList/SubslotItem`s: labels of its subslots.
+    pub subslot_labels: Vec<SubslotLabel>,
     /// The `InterfaceSubmoduleItem`, if any.
     pub interface: Option<SystemSubmodule>,
     /// The `PortSubmoduleItem`s.
@@ -96,8 +98,20 @@ pub struct PnModule {
     pub info_text: Option<String>,
     /// Its `VirtualSubmoduleItem`s.
     pub submodules: Vec<Submodule>,
+    /// `SubslotList/SubslotItem`s: labels of its subslots.
+    pub subslot_labels: Vec<SubslotLabel>,
     /// Where the element is.
     pub span: Span,
+}
+
+/// One `SubslotItem`: the label an engineering tool shows for a subslot of a module or access
+/// point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubslotLabel {
+    /// `SubslotNumber`.
+    pub subslot: Spanned<u16>,
+    /// The text `TextId` names.
+    pub text: Option<String>,
 }
 
 /// One `VirtualSubmoduleItem`: IO data and parameter records.
@@ -117,6 +131,10 @@ pub struct Submodule {
     pub outputs: Vec<DataItem>,
     /// `RecordDataList/ParameterRecordDataItem`s.
     pub records: Vec<ParameterRecord>,
+    /// Whether its images are the Goodrive350's 16-word PKW/PZD images, as the overlay's
+    /// `[pkw_pzd]` says (a GSDML file cannot): its generated images then convert to and from
+    /// `edsgen_runtime::pkw_pzd`'s.
+    pub pkw_pzd: bool,
     /// Where the element is.
     pub span: Span,
 }
@@ -356,6 +374,40 @@ pub struct ChannelDiag {
     pub name: Option<String>,
     /// `Help`, resolved.
     pub help: Option<String>,
+    /// `ExtChannelDiagList/ExtChannelDiagItem`s: the error's finer causes.
+    pub ext: Vec<ExtChannelDiag>,
+    /// Where the `ErrorType` attribute is (else the element).
+    pub error_type_span: Span,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// One `ExtChannelDiagItem`: a finer cause of a channel error (the alarm's ExtChannelErrorType).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtChannelDiag {
+    /// `ErrorType`: the ExtChannelErrorType (16 bits).
+    pub error_type: Spanned<u16>,
+    /// `Name`, resolved.
+    pub name: Option<String>,
+    /// `Help`, resolved.
+    pub help: Option<String>,
+    /// `ExtChannelAddValue/DataItem`s: what the alarm's ExtChannelAddValue (32 bits) carries.
+    pub add_values: Vec<ExtAddValue>,
+    /// Where the element is.
+    pub span: Span,
+}
+
+/// One `ExtChannelAddValue/DataItem`: a field of the alarm's 32-bit additional value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtAddValue {
+    /// `Id`.
+    pub id: Option<u32>,
+    /// `DataType` as written.
+    pub data_type: Spanned<String>,
+    /// The type, when GSDML defines it.
+    pub kind: Option<PnDataType>,
+    /// `Length` (strings).
+    pub length: Option<u32>,
     /// Where the element is.
     pub span: Span,
 }

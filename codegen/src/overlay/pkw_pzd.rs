@@ -1,17 +1,18 @@
-//! `[pkw_pzd]` of an overlay: which assemblies of an ODVA EDS (and their byte order), or which
-//! module of a GSD file, carry the Goodrive350's 16-word PKW/PZD images. The emitter then gives
-//! those images conversions to and from `edsgen_runtime::pkw_pzd::{OutputImage, InputImage}`.
+//! `[pkw_pzd]` of an overlay: which assemblies of an ODVA EDS (and their byte order), which
+//! module of a GSD file, or which submodule of a GSDML file carry the Goodrive350's 16-word
+//! PKW/PZD images. The emitter then gives those images conversions to and from
+//! `edsgen_runtime::pkw_pzd::{OutputImage, InputImage}`.
 
 use toml::de::{DeTable, DeValue};
 
 use crate::diag::Diagnostic;
-use crate::model::{Device, PkwPzdImages, Span};
+use crate::model::{Device, PkwPzdImages, Profinet, Span, Submodule};
 use crate::read::text::LineIndex;
 use crate::rules;
 use crate::validate::cip_assembly_size;
 
-/// Checks `[pkw_pzd]` and sets [`crate::model::Cip::pkw_pzd`] (ODVA EDS) or
-/// [`crate::model::Dp::pkw_pzd_module`] (GSD).
+/// Checks `[pkw_pzd]` and sets [`crate::model::Cip::pkw_pzd`] (ODVA EDS),
+/// [`crate::model::Dp::pkw_pzd_module`] (GSD) or [`Submodule::pkw_pzd`] (GSDML).
 pub fn apply(
     table: &DeTable<'_>,
     key_span: Span,
@@ -22,6 +23,8 @@ pub fn apply(
 ) {
     if device.dp.is_some() {
         apply_dp(table, key_span, device, text, lines, diags);
+    } else if let Some(pn) = device.profinet.as_mut() {
+        apply_pn(table, key_span, pn, text, lines, diags);
     } else {
         apply_cip(table, key_span, device, text, lines, diags);
     }
@@ -42,7 +45,8 @@ fn apply_cip(
     let Some(cip) = device.cip.as_mut() else {
         diags.push(error(
             key_span,
-            "[pkw_pzd] is for an ODVA EDS (EtherNet/IP) or a GSD file; this description is neither"
+            "[pkw_pzd] is for an ODVA EDS (EtherNet/IP), a GSD or a GSDML file; this description is \
+             none of them"
                 .to_owned(),
         ));
         return;
@@ -154,5 +158,167 @@ fn apply_dp(
                 ),
             ));
         }
+    }
+}
+
+/// `[pkw_pzd] module = "ID or name", subslot = N` (GSDML): the submodule whose images are INVT's
+/// PKW/PZD layout, 32 bytes each way. `module` names a `ModuleItem` or a
+/// `DeviceAccessPointItem` (a compact device's own submodules) by its `ID`, else by its name;
+/// `subslot` may be left out when the module has one submodule.
+fn apply_pn(
+    table: &DeTable<'_>,
+    key_span: Span,
+    pn: &mut Profinet,
+    text: &str,
+    lines: &LineIndex,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let error = |span: Span, message: String| {
+        Diagnostic::new(&rules::OVERLAY, Some(span), message).with_label("[pkw_pzd] ignored")
+    };
+    let before = diags.len();
+    let mut module = None;
+    let mut subslot = None;
+    for (key, value) in table {
+        let span = lines.span(text, value.span());
+        match (key.get_ref().as_ref(), value.get_ref()) {
+            ("module", DeValue::String(name)) => module = Some((name.to_string(), span)),
+            ("module", _) => diags.push(error(
+                span,
+                "`module` is the ID or name of a ModuleItem or DeviceAccessPointItem: \
+                 module = \"MOD_1\""
+                    .to_owned(),
+            )),
+            ("subslot", DeValue::Integer(n)) => match n.as_str().parse::<u16>() {
+                Ok(n) => subslot = Some((n, span)),
+                Err(_) => diags.push(error(
+                    span,
+                    format!(
+                        "`subslot` is a subslot number (0..=65535), not {}",
+                        n.as_str()
+                    ),
+                )),
+            },
+            ("subslot", _) => diags.push(error(
+                span,
+                "`subslot` is a subslot number: subslot = 1".to_owned(),
+            )),
+            (other, _) => diags.push(error(
+                lines.span(text, key.span()),
+                format!(
+                    "`{other}` is not a key of [pkw_pzd] for a GSDML file (module = \"ID or \
+                     name\", subslot = N)"
+                ),
+            )),
+        }
+    }
+    if diags.len() != before {
+        return;
+    }
+    let Some((name, module_span)) = module else {
+        diags.push(error(
+            key_span,
+            "[pkw_pzd] needs `module = \"ID or name\"` (and `subslot = N` when the module has \
+             several submodules)"
+                .to_owned(),
+        ));
+        return;
+    };
+    let submodules = match module_submodules(pn, &name) {
+        Ok(submodules) => submodules,
+        Err(message) => return diags.push(error(module_span, message)),
+    };
+    if submodules.is_empty() {
+        return diags.push(error(module_span, format!("\"{name}\" has no submodule")));
+    }
+    let subslots = submodules
+        .iter()
+        .map(|s| s.subslot.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let chosen = match subslot {
+        Some((n, span)) => match submodules.iter_mut().find(|s| s.subslot == n) {
+            Some(sub) => (sub, span),
+            None => {
+                return diags.push(error(
+                    span,
+                    format!(
+                        "\"{name}\" has no submodule in subslot {n} (its subslots: {subslots})"
+                    ),
+                ))
+            }
+        },
+        None if submodules.len() == 1 => (&mut submodules[0], module_span),
+        None => {
+            return diags.push(error(
+                module_span,
+                format!(
+                    "\"{name}\" has {} submodules (subslots {subslots}): say which with \
+                     `subslot = N`",
+                    submodules.len()
+                ),
+            ))
+        }
+    };
+    let (sub, span) = chosen;
+    let bytes = |items: &[crate::model::DataItem]| -> Option<u32> {
+        items.iter().map(|i| i.size()).sum::<Option<u32>>()
+    };
+    match (bytes(&sub.inputs), bytes(&sub.outputs)) {
+        (Some(32), Some(32)) => sub.pkw_pzd = true,
+        (inputs, outputs) => {
+            let shown =
+                |n: Option<u32>| n.map_or("an unknown number of".to_owned(), |n| n.to_string());
+            diags.push(error(
+                span,
+                format!(
+                    "submodule `{}` in subslot {} has {} input bytes and {} output bytes; a \
+                     PKW/PZD image is 32 each way (16 words)",
+                    sub.id,
+                    sub.subslot,
+                    shown(inputs),
+                    shown(outputs)
+                ),
+            ))
+        }
+    }
+}
+
+/// The submodules of the module or access point `name` names (its `ID`, else its one name).
+fn module_submodules<'a>(
+    pn: &'a mut Profinet,
+    name: &str,
+) -> Result<&'a mut Vec<Submodule>, String> {
+    let by_id = pn.modules.iter().position(|m| m.id == name);
+    let dap_by_id = pn.access_points.iter().position(|d| d.id == name);
+    let by_name: Vec<usize> = pn
+        .modules
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.name.as_deref() == Some(name))
+        .map(|(n, _)| n)
+        .collect();
+    let dap_by_name: Vec<usize> = pn
+        .access_points
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| d.name.as_deref() == Some(name))
+        .map(|(n, _)| n)
+        .collect();
+    match (by_id, dap_by_id) {
+        (Some(n), _) => return Ok(&mut pn.modules[n].submodules),
+        (None, Some(n)) => return Ok(&mut pn.access_points[n].submodules),
+        (None, None) => {}
+    }
+    match (by_name.as_slice(), dap_by_name.as_slice()) {
+        ([n], []) => Ok(&mut pn.modules[*n].submodules),
+        ([], [n]) => Ok(&mut pn.access_points[*n].submodules),
+        ([], []) => Err(format!(
+            "no ModuleItem or DeviceAccessPointItem has the ID or name \"{name}\""
+        )),
+        (modules, daps) => Err(format!(
+            "\"{name}\" is the name of {} items: give the ID",
+            modules.len() + daps.len()
+        )),
     }
 }

@@ -1,5 +1,6 @@
-//! PROFINET rules (PN002..PN014; PN001 is the reader's) over the GSDML part of the model: access
-//! points, modules, submodules, IO data, parameter records, references.
+//! PROFINET rules (PN002..PN017; PN001 is the reader's) over the GSDML part of the model: access
+//! points, modules, submodules, IO data, parameter records, references, channel diagnostics,
+//! subslot labels.
 //!
 //! Severities: an error where a controller following the file would build a connection the device
 //! refuses or misreads (a type without size, IO data over the limits, a record field past its
@@ -14,7 +15,9 @@ use std::collections::{HashMap, HashSet};
 
 use super::short_list;
 use crate::diag::{self, Diagnostic, Severity};
-use crate::model::{AccessPoint, PnDataType, PnModule, Profinet, RecordField, Span, Submodule};
+use crate::model::{
+    AccessPoint, ChannelDiag, PnDataType, PnModule, Profinet, RecordField, Span, Submodule,
+};
 use crate::rules;
 
 pub(super) fn check(pn: &Profinet, out: &mut Vec<Diagnostic>) {
@@ -38,6 +41,9 @@ pub(super) fn check(pn: &Profinet, out: &mut Vec<Diagnostic>) {
     }
     unused_modules(pn, out);
     duplicates(pn, out);
+    for diag in &pn.channel_diagnostics {
+        ext_channel_diagnostics(diag, out);
+    }
     missing_texts(pn, out);
 }
 
@@ -472,6 +478,26 @@ fn duplicates(pn: &Profinet, out: &mut Vec<Diagnostic>) {
             }
         }
     }
+    let labels = pn
+        .access_points
+        .iter()
+        .map(|d| (&d.id, &d.subslot_labels))
+        .chain(pn.modules.iter().map(|m| (&m.id, &m.subslot_labels)));
+    for (owner, labels) in labels {
+        let mut seen: HashMap<u16, Span> = HashMap::new();
+        for label in labels {
+            if let Some(first) = seen.insert(label.subslot.value, label.subslot.span) {
+                out.push(Diagnostic::new(
+                    &rules::PN_DUPLICATE_SUBSLOT_LABEL,
+                    Some(label.subslot.span),
+                    format!(
+                        "`{owner}` labels subslot {} twice (the first on line {})",
+                        label.subslot.value, first.line
+                    ),
+                ));
+            }
+        }
+    }
     let mut ids: HashMap<&str, Span> = HashMap::new();
     let items = pn
         .access_points
@@ -492,6 +518,62 @@ fn duplicates(pn: &Profinet, out: &mut Vec<Diagnostic>) {
                     first.line
                 ),
             ));
+        }
+    }
+}
+
+/// A channel error's `ExtChannelDiagItem`s: one meaning per ExtChannelErrorType, and additional
+/// values that are data types GSDML defines and fit the alarm's 32 bits.
+fn ext_channel_diagnostics(diag: &ChannelDiag, out: &mut Vec<Diagnostic>) {
+    let mut seen: HashMap<u16, Span> = HashMap::new();
+    for ext in &diag.ext {
+        if let Some(first) = seen.insert(ext.error_type.value, ext.error_type.span) {
+            out.push(Diagnostic::new(
+                &rules::PN_DUPLICATE_EXT_DIAG,
+                Some(ext.error_type.span),
+                format!(
+                    "a second ExtChannelDiagItem with ErrorType {} in channel error type {} (the \
+                     first on line {})",
+                    ext.error_type.value, diag.error_type, first.line
+                ),
+            ));
+        }
+        let mut bytes = Some(0u32);
+        for value in &ext.add_values {
+            let size = match value.kind {
+                None => {
+                    out.push(
+                        Diagnostic::new(
+                            &rules::PN_UNKNOWN_TYPE,
+                            Some(value.data_type.span),
+                            format!("`{}` is not a GSDML data type", value.data_type.value),
+                        )
+                        .with_label("unknown type"),
+                    );
+                    None
+                }
+                Some(
+                    PnDataType::OctetString
+                    | PnDataType::VisibleString
+                    | PnDataType::UnicodeString8,
+                ) => value.length,
+                Some(kind) => kind.size(),
+            };
+            bytes = bytes.zip(size).map(|(a, b)| a.saturating_add(b));
+        }
+        if let Some(bytes) = bytes.filter(|b| *b > 4) {
+            out.push(
+                Diagnostic::new(
+                    &rules::PN_EXT_ADD_VALUE_SIZE,
+                    Some(ext.span),
+                    format!(
+                        "ExtChannelDiagItem {} of channel error type {} adds {bytes} bytes of \
+                         values; an alarm carries 4 (ExtChannelAddValue, Unsigned32)",
+                        ext.error_type.value, diag.error_type
+                    ),
+                )
+                .with_label("too long"),
+            );
         }
     }
 }

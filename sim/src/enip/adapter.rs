@@ -1,6 +1,7 @@
 //! The adapter's protocol core, sans-IO: encapsulation messages in (per TCP client, or one UDP
 //! datagram), replies out; class-1 datagrams in, T→O datagrams out when [`Adapter::poll`] says
-//! they are due; connections closed after their timeout. Layered as OpENer is: the
+//! they are due; connections closed after their timeout. Class-3 connected messaging
+//! (SendUnitData) is in `class3`. Layered as OpENer is: the
 //! encapsulation ([`Adapter::handle`]) knows no objects and hands Message Router requests to
 //! [`Adapter::route`], which dispatches to the objects (`objects`).
 
@@ -8,6 +9,7 @@ use std::collections::BTreeMap;
 
 use edsgen_runtime::{Duration, Instant};
 
+use super::class3::ExplicitConnection;
 use super::wire::{
     command, emit_items, encap_status, item, parse_items, u16_at, u32_at, EncapError, Encapsulation,
 };
@@ -69,6 +71,9 @@ pub struct IoConnection {
     pub run: bool,
     /// The originator's address key (the driver's: where T→O data goes).
     pub peer: u64,
+    /// The UDP port the originator asked T→O data on with a T→O sockaddr info item in its
+    /// Forward_Open (as OpENer honours it); `None`: the class-1 port, 2222.
+    pub t_o_port: Option<u16>,
 }
 
 /// What happened to the connections that the application should know.
@@ -82,6 +87,8 @@ pub enum Event {
     TimedOut(u32),
     /// O→T data written into an assembly (its instance).
     Consumed(u32),
+    /// A class-3 connection closed with its session or after its timeout without a request.
+    Expired(u32),
 }
 
 /// The adapter: identity, assemblies, sessions and connections.
@@ -100,6 +107,9 @@ pub struct Adapter {
     pub(super) connections: Vec<IoConnection>,
     pub(super) next_connection_id: u32,
     pub(super) events: Vec<Event>,
+    pub(super) explicit: Vec<ExplicitConnection>,
+    /// The session whose request [`Adapter::route`] serves (a class-3 connection's owner).
+    pub(super) serving_session: u32,
     /// The configuration assembly instances a connection path may name (size 0).
     pub config_instances: Vec<u32>,
 }
@@ -117,6 +127,8 @@ impl Adapter {
             connections: Vec::new(),
             next_connection_id: 0x1000_0001,
             events: Vec::new(),
+            explicit: Vec::new(),
+            serving_session: 0,
             config_instances: Vec::new(),
         }
     }
@@ -145,9 +157,18 @@ impl Adapter {
         Ok((reply.map(|r| r.emit()), used))
     }
 
-    /// A TCP client went away: its sessions end.
+    /// A TCP client went away: its sessions end, and their class-3 connections.
     pub fn client_gone(&mut self, client: u64) {
-        self.sessions.retain(|_, c| *c != client);
+        let ended: Vec<u32> = self
+            .sessions
+            .iter()
+            .filter(|(_, c)| **c == client)
+            .map(|(s, _)| *s)
+            .collect();
+        for session in ended {
+            self.sessions.remove(&session);
+            self.end_session(session);
+        }
     }
 
     fn command(&mut self, client: u64, m: &Encapsulation, now: Instant) -> Option<Encapsulation> {
@@ -187,6 +208,7 @@ impl Adapter {
             command::UNREGISTER_SESSION => {
                 if session_ok {
                     self.sessions.remove(&m.session);
+                    self.end_session(m.session);
                 }
                 return None;
             }
@@ -194,23 +216,25 @@ impl Adapter {
                 m.reply(encap_status::INVALID_SESSION, Vec::new())
             }
             command::SEND_RR_DATA => self.send_rr_data(client, m, now),
-            command::SEND_UNIT_DATA => m.reply(encap_status::INCORRECT_DATA, Vec::new()),
+            command::SEND_UNIT_DATA => self.send_unit_data(client, m, now),
             _ => m.reply(encap_status::INVALID_COMMAND, Vec::new()),
         })
     }
 
     fn send_rr_data(&mut self, client: u64, m: &Encapsulation, now: Instant) -> Encapsulation {
         // Interface handle (4), timeout (2), then the items.
-        let request = m.data.get(6..).and_then(parse_items).and_then(|items| {
-            items
-                .iter()
-                .find(|(kind, _)| *kind == item::UNCONNECTED_DATA)
-                .map(|(_, d)| d.to_vec())
-        });
-        let Some(request) = request else {
+        let items = m.data.get(6..).and_then(parse_items).unwrap_or_default();
+        let find = |wanted: u16| items.iter().find(|(kind, _)| *kind == wanted);
+        let Some((_, request)) = find(item::UNCONNECTED_DATA) else {
             return m.reply(encap_status::INCORRECT_DATA, Vec::new());
         };
-        let response = self.route(client, &request, now);
+        self.serving_session = m.session;
+        let t_o_port = find(item::SOCKADDR_T_O).and_then(|(_, d)| super::wire::parse_sockaddr(d));
+        let opened = self.connections.len();
+        let response = self.route(client, request, now);
+        if let (Some((port, _)), Some(c)) = (t_o_port, self.connections.get_mut(opened)) {
+            c.t_o_port = Some(port);
+        }
         let mut data = vec![0; 6];
         data.extend(emit_items(&[
             (item::NULL_ADDRESS, &[]),
@@ -285,15 +309,18 @@ impl Adapter {
 
     /// When [`poll`](Self::poll) has something to do next: a T→O production or a timeout.
     pub fn next_deadline(&self) -> Option<Instant> {
+        let explicit = self.explicit.iter().map(|c| c.last_heard + c.timeout);
         self.connections
             .iter()
             .flat_map(|c| [c.next_produce, c.last_heard + c.timeout])
+            .chain(explicit)
             .min()
     }
 
-    /// At `now`: closes connections whose O→T data stopped for their timeout, and returns the
-    /// T→O datagrams due, with the peer key of each.
+    /// At `now`: closes connections whose O→T data (class 1) or requests (class 3) stopped for
+    /// their timeout, and returns the T→O datagrams due, with the peer key of each.
     pub fn poll(&mut self, now: Instant) -> Vec<(u64, Vec<u8>)> {
+        self.expire_explicit(now);
         let mut timed_out = Vec::new();
         self.connections.retain(|c| {
             let alive = now < c.last_heard + c.timeout;

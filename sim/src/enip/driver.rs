@@ -1,6 +1,7 @@
 //! The adapter on real sockets, a thin driver around the sans-IO core: encapsulation on TCP
 //! (the address given, 44818 by default) and ListIdentity on UDP at the same port, class-1 I/O
-//! on UDP 2222 (T→O to the originator's address, port 2222). One thread, non-blocking sockets,
+//! on UDP 2222 (T→O to the originator's address, port 2222 or the one its Forward_Open's T→O
+//! sockaddr item names). One thread, non-blocking sockets,
 //! a millisecond tick. A bad client never stops the others: its bytes get the protocol's
 //! refusal, and a client that sends what is no encapsulation header is dropped.
 //!
@@ -17,6 +18,7 @@ use edsgen_runtime::pkw_pzd::ByteOrder;
 use edsgen_runtime::Instant;
 
 use super::adapter::{Adapter, Event};
+use super::wire::parse_io_datagram;
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// The class-1 I/O port.
@@ -136,13 +138,26 @@ pub fn serve(
             for (peer, datagram) in produce.drain(..) {
                 let ip = clients.get(&peer).map(|c| c.peer);
                 if let Some(ip) = ip {
-                    let _ = io.send_to(&datagram, SocketAddr::new(ip, IO_PORT));
+                    let port = t_o_port(&adapter, &datagram);
+                    let _ = io.send_to(&datagram, SocketAddr::new(ip, port));
                 }
             }
         }
         std::thread::sleep(std::time::Duration::from_millis(1));
     }
     Ok(())
+}
+
+/// The UDP port a T→O datagram goes to: the one its connection's Forward_Open asked for, else
+/// [`IO_PORT`].
+fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
+    let id = parse_io_datagram(datagram).map(|(id, _, _)| id);
+    adapter
+        .connections()
+        .iter()
+        .find(|c| Some(c.t_o_id) == id)
+        .and_then(|c| c.t_o_port)
+        .unwrap_or(IO_PORT)
 }
 
 /// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
@@ -159,6 +174,7 @@ pub fn link(
         match event {
             Event::Opened(id) => log(format!("connection {id:#010x} opened")),
             Event::Closed(id) => log(format!("connection {id:#010x} closed")),
+            Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
             Event::TimedOut(id) => {
                 log(format!("connection {id:#010x} timed out"));
                 if let Some(card) = card.as_deref_mut() {

@@ -9,16 +9,20 @@
 //! panic.
 //!
 //! [`driver`] serves it on sockets (TCP and UDP 44818, UDP 2222), [`device`] builds it from any
-//! ODVA EDS or as the Goodrive350 card with its drive. Not yet: class-3 connected messaging
-//! (SendUnitData is refused with "incorrect data").
+//! ODVA EDS or as the Goodrive350 card with its drive. Class-3 connected explicit messaging
+//! (Forward_Open to the Message Router, SendUnitData) is in [`class3`].
 
 pub mod adapter;
+pub mod class3;
 pub mod device;
 pub mod driver;
 pub mod objects;
 pub mod wire;
 
 pub use adapter::{Adapter, Assembly, Event, Identity, IoConnection};
+pub use class3::ExplicitConnection;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_scanner;

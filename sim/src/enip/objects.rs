@@ -1,11 +1,13 @@
 //! The Message Router (class 2) and the objects behind it: Identity (1), Assembly (4),
-//! Connection Manager (6: Forward_Open, Large_Forward_Open, Forward_Close), TCP/IP Interface
+//! Connection Manager (6: Forward_Open, Large_Forward_Open, Forward_Close; class 1 to assemblies,
+//! class 3 to the Message Router), TCP/IP Interface
 //! (0xF5) and Ethernet Link (0xF6). Each refusal carries CIP's general status (and the
 //! Connection Manager's extended status).
 
 use edsgen_runtime::{Duration, Instant};
 
 use super::adapter::{Adapter, Event, IoConnection};
+use super::class3::ExplicitOpen;
 use super::wire::{general, parse_path, response, u16_at, u32_at, Path, Request};
 
 /// Services.
@@ -258,15 +260,50 @@ impl Adapter {
         if d.len() > fixed + 2 * usize::from(path_words) {
             return status(request.service, general::TOO_MUCH_DATA);
         }
-        if self.connections.iter().any(|c| c.triad == triad) {
+        let in_use = self.connections.iter().any(|c| c.triad == triad)
+            || self.explicit.iter().any(|c| c.triad == triad);
+        if in_use {
             return fail(extended::CONNECTION_IN_USE);
-        }
-        if transport & 0x0F != 1 {
-            return fail(extended::TRANSPORT_NOT_SUPPORTED);
         }
         let Some(path) = parse_path(path_bytes) else {
             return fail(extended::INVALID_SEGMENT);
         };
+        let size_mask = if large { 0xFFFF } else { 0x01FF };
+        let timeout_factor = 4u64 << multiplier.min(7);
+        let opened = |id: u32| {
+            let mut data = Vec::new();
+            data.extend_from_slice(&id.to_le_bytes());
+            data.extend_from_slice(&t_o_id.to_le_bytes());
+            data.extend_from_slice(&serial.to_le_bytes());
+            data.extend_from_slice(&vendor.to_le_bytes());
+            data.extend_from_slice(&orig_serial.to_le_bytes());
+            data.extend_from_slice(&o_t_rpi.to_le_bytes());
+            data.extend_from_slice(&t_o_rpi.to_le_bytes());
+            data.extend_from_slice(&[0, 0]);
+            response(request.service, general::SUCCESS, &[], &data)
+        };
+        match transport & 0x0F {
+            1 => {}
+            // Class 3, server: explicit messages to the Message Router (path 20 02 24 01).
+            3 if transport & 0x80 != 0 => {
+                let router = path.class == Some(2)
+                    && path.instance == Some(1)
+                    && path.points.is_empty()
+                    && path.attribute.is_none();
+                if !router {
+                    return fail(extended::INVALID_SEGMENT);
+                }
+                let open = ExplicitOpen {
+                    t_o_id,
+                    triad,
+                    t_o_size: (t_o_params & size_mask) as usize,
+                    timeout: Duration::from_micros(u64::from(o_t_rpi.max(1000)) * timeout_factor),
+                };
+                let id = self.open_explicit(open, now);
+                return opened(id);
+            }
+            _ => return fail(extended::TRANSPORT_NOT_SUPPORTED),
+        }
         let (o_t_point, t_o_point) = match (path.class, path.points.as_slice()) {
             (Some(4), [o_t, t_o]) => (*o_t, *t_o),
             _ => return fail(extended::INVALID_SEGMENT),
@@ -276,7 +313,6 @@ impl Adapter {
                 return fail(extended::INVALID_CONFIG_PATH);
             }
         }
-        let size_mask = if large { 0xFFFF } else { 0x01FF };
         let Some(consumed) = self.assemblies.get(&o_t_point).filter(|a| a.consumed) else {
             return fail(extended::INVALID_CONSUMING_PATH);
         };
@@ -307,7 +343,6 @@ impl Adapter {
         let id = self.next_connection_id;
         self.next_connection_id = self.next_connection_id.wrapping_add(1);
         let o_t = Duration::from_micros(u64::from(o_t_rpi.max(1000)));
-        let timeout_factor = 4u64 << multiplier.min(7);
         self.connections.push(IoConnection {
             o_t_id: id,
             t_o_id,
@@ -323,18 +358,10 @@ impl Adapter {
             o_t_sequence: None,
             run: false,
             peer: client,
+            t_o_port: None,
         });
         self.events.push(Event::Opened(id));
-        let mut data = Vec::new();
-        data.extend_from_slice(&id.to_le_bytes());
-        data.extend_from_slice(&t_o_id.to_le_bytes());
-        data.extend_from_slice(&serial.to_le_bytes());
-        data.extend_from_slice(&vendor.to_le_bytes());
-        data.extend_from_slice(&orig_serial.to_le_bytes());
-        data.extend_from_slice(&o_t_rpi.to_le_bytes());
-        data.extend_from_slice(&t_o_rpi.to_le_bytes());
-        data.extend_from_slice(&[0, 0]);
-        response(request.service, general::SUCCESS, &[], &data)
+        opened(id)
     }
 
     fn forward_close(&mut self, request: &Request<'_>) -> Vec<u8> {
@@ -349,6 +376,9 @@ impl Adapter {
         data.extend_from_slice(&vendor.to_le_bytes());
         data.extend_from_slice(&orig_serial.to_le_bytes());
         data.extend_from_slice(&[0, 0]);
+        if self.close_explicit((serial, vendor, orig_serial)) {
+            return response(request.service, general::SUCCESS, &[], &data);
+        }
         let Some(at) = self
             .connections
             .iter()

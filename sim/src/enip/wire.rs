@@ -77,6 +77,8 @@ pub mod general {
     pub const ATTRIBUTE_NOT_SETTABLE: u8 = 0x0E;
     /// Device state conflict.
     pub const DEVICE_STATE_CONFLICT: u8 = 0x10;
+    /// Reply data too large (for the connection).
+    pub const REPLY_DATA_TOO_LARGE: u8 = 0x11;
     /// Not enough data.
     pub const NOT_ENOUGH_DATA: u8 = 0x13;
     /// Attribute not supported.
@@ -307,4 +309,151 @@ pub fn parse_path(bytes: &[u8]) -> Option<Path> {
         }
     }
     Some(path)
+}
+
+/// A sockaddr info item's data (CPF items 0x8000/0x8001): family 2 (AF_INET), port and IPv4
+/// address big-endian, eight zero bytes. A scanner puts one T→O in its Forward_Open to ask for
+/// T→O data on another port than 2222.
+pub fn sockaddr(port: u16, address: [u8; 4]) -> [u8; 16] {
+    let mut out = [0; 16];
+    out[..2].copy_from_slice(&2u16.to_be_bytes());
+    out[2..4].copy_from_slice(&port.to_be_bytes());
+    out[4..8].copy_from_slice(&address);
+    out
+}
+
+/// The port and address of a sockaddr info item's data; `None` when it is not 16 bytes of
+/// family 2.
+pub fn parse_sockaddr(data: &[u8]) -> Option<(u16, [u8; 4])> {
+    if data.len() != 16 || data[..2] != [0, 2] {
+        return None;
+    }
+    Some((
+        u16::from_be_bytes([data[2], data[3]]),
+        [data[4], data[5], data[6], data[7]],
+    ))
+}
+
+/// A Forward_Open (or Large_Forward_Open) request as a scanner sends it to the Connection
+/// Manager (class 6, instance 1).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ForwardOpen {
+    /// Large_Forward_Open (32-bit network connection parameters) instead of Forward_Open.
+    pub large: bool,
+    /// The T→O connection ID the scanner chooses (the adapter chooses the O→T one).
+    pub t_o_id: u32,
+    /// Connection serial number.
+    pub serial: u16,
+    /// Originator vendor ID.
+    pub vendor: u16,
+    /// Originator serial number.
+    pub originator_serial: u32,
+    /// Timeout multiplier code (0 is ×4, 1 ×8, ... 7 ×512).
+    pub multiplier: u8,
+    /// O→T RPI in µs.
+    pub o_t_rpi: u32,
+    /// O→T network connection parameters (size in bits 0-8, or 0-15 when large).
+    pub o_t_params: u32,
+    /// T→O RPI in µs.
+    pub t_o_rpi: u32,
+    /// T→O network connection parameters.
+    pub t_o_params: u32,
+    /// Transport class and trigger byte (0x01: class 1, cyclic).
+    pub transport: u8,
+    /// The connection path (configuration instance, O→T and T→O connection points), padded.
+    pub path: Vec<u8>,
+}
+
+impl ForwardOpen {
+    /// The Message Router request's bytes (service, path `20 06 24 01`, data); the path is cut
+    /// at 255 words.
+    pub fn request(&self) -> Vec<u8> {
+        let service = if self.large { 0x5B } else { 0x54 };
+        let mut r = vec![service, 2, 0x20, 0x06, 0x24, 0x01];
+        r.extend_from_slice(&[0x0A, 0x0E]); // priority/time tick, timeout ticks: 14 × 1 ms
+        r.extend_from_slice(&0u32.to_le_bytes());
+        r.extend_from_slice(&self.t_o_id.to_le_bytes());
+        r.extend_from_slice(&self.serial.to_le_bytes());
+        r.extend_from_slice(&self.vendor.to_le_bytes());
+        r.extend_from_slice(&self.originator_serial.to_le_bytes());
+        r.extend_from_slice(&[self.multiplier, 0, 0, 0]);
+        for (rpi, params) in [
+            (self.o_t_rpi, self.o_t_params),
+            (self.t_o_rpi, self.t_o_params),
+        ] {
+            r.extend_from_slice(&rpi.to_le_bytes());
+            if self.large {
+                r.extend_from_slice(&params.to_le_bytes());
+            } else {
+                r.extend_from_slice(&(params as u16).to_le_bytes());
+            }
+        }
+        r.push(self.transport);
+        let path = &self.path[..self.path.len().min(510)];
+        r.push((path.len() / 2) as u8);
+        r.extend_from_slice(path);
+        r
+    }
+}
+
+/// A successful Forward_Open reply's data: the O→T and T→O connection IDs and the actual O→T
+/// and T→O packet intervals (µs); `None` when the data is short.
+pub fn parse_forward_open_reply(data: &[u8]) -> Option<(u32, u32, u32, u32)> {
+    Some((
+        u32_at(data, 0)?,
+        u32_at(data, 4)?,
+        u32_at(data, 16)?,
+        u32_at(data, 20)?,
+    ))
+}
+
+/// A Forward_Close request naming a connection by its triad (serial, vendor, originator
+/// serial), with its connection path.
+pub fn forward_close_request(
+    serial: u16,
+    vendor: u16,
+    originator_serial: u32,
+    path: &[u8],
+) -> Vec<u8> {
+    let mut r = vec![0x4E, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E];
+    r.extend_from_slice(&serial.to_le_bytes());
+    r.extend_from_slice(&vendor.to_le_bytes());
+    r.extend_from_slice(&originator_serial.to_le_bytes());
+    let path = &path[..path.len().min(510)];
+    r.extend_from_slice(&[(path.len() / 2) as u8, 0]);
+    r.extend_from_slice(path);
+    r
+}
+
+/// A class-0/1 datagram: the sequenced address item (connection ID, encapsulation sequence
+/// number) and the connected data item (for class 1 its 16-bit sequence count first).
+pub fn io_datagram(connection: u32, sequence: u32, data: &[u8]) -> Vec<u8> {
+    let mut address = connection.to_le_bytes().to_vec();
+    address.extend_from_slice(&sequence.to_le_bytes());
+    emit_items(&[
+        (item::SEQUENCED_ADDRESS, &address),
+        (item::CONNECTED_DATA, data),
+    ])
+}
+
+/// A class-0/1 datagram's connection ID, encapsulation sequence number and connected data;
+/// `None` without both items.
+pub fn parse_io_datagram(bytes: &[u8]) -> Option<(u32, u32, &[u8])> {
+    let items = parse_items(bytes)?;
+    let (_, address) = items.iter().find(|(k, _)| *k == item::SEQUENCED_ADDRESS)?;
+    let (_, data) = items.iter().find(|(k, _)| *k == item::CONNECTED_DATA)?;
+    Some((u32_at(address, 0)?, u32_at(address, 4)?, data))
+}
+
+/// A Forward_Open's network connection parameters: the connection type (1 multicast, 2
+/// point-to-point), the priority (0 low, 1 high, 2 scheduled, 3 urgent), fixed or variable size
+/// and the size in bytes; 16 bits (size in bits 0-8) or, for Large_Forward_Open, 32 (size in
+/// bits 0-15).
+pub fn network_params(large: bool, kind: u8, priority: u8, variable: bool, size: u16) -> u32 {
+    let (kind, priority) = (u32::from(kind & 3), u32::from(priority & 3));
+    if large {
+        kind << 29 | priority << 26 | u32::from(variable) << 25 | u32::from(size)
+    } else {
+        kind << 13 | priority << 10 | u32::from(variable) << 9 | u32::from(size & 0x01FF)
+    }
 }

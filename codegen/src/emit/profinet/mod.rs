@@ -1,7 +1,8 @@
 //! The module generated for a GSDML file: identity constants, the default access point's
 //! constants, and per module a module of its own holding per submodule its ident numbers, its
-//! typed input and output images ([`image`]) and its parameter records' indexes, lengths and
-//! default bytes ([`records`]).
+//! typed input and output images ([`image`]), their conversions to the Goodrive350's PKW/PZD
+//! images when the overlay names the submodule ([`pkw_pzd`]), and its parameter records'
+//! indexes, lengths and default bytes ([`records`]).
 //!
 //! PROFINET carries IO data big-endian; each image encodes to and decodes from its data bytes,
 //! and with the provider status (IOPS) byte that follows the data in the frame. No object
@@ -17,6 +18,7 @@ use crate::diag::Diagnostic;
 use crate::model::{Profinet, Submodule};
 
 mod image;
+mod pkw_pzd;
 mod records;
 
 /// The tokens of the whole generated module for a device with a PROFINET side.
@@ -193,6 +195,11 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
                 "data the controller sends (output CR)",
             );
             let records = records::records(&sub.records);
+            let conversions = if sub.pkw_pzd {
+                pkw_pzd::conversions()
+            } else {
+                TokenStream::new()
+            };
             quote! {
                 #[doc = #doc]
                 pub mod #name {
@@ -202,6 +209,7 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
                     pub const SUBSLOT: u16 = #subslot;
                     #input
                     #output
+                    #conversions
                     #records
                 }
             }

@@ -1,5 +1,5 @@
 //! The GSDML items: device access points (slots, limits, useable modules, interface and port
-//! submodules), modules, virtual submodules with their IO data (typed data items and their bits)
+//! submodules, subslot labels), modules, virtual submodules with their IO data (typed data items and their bits)
 //! and parameter records (typed fields, constants, defaults, allowed values).
 
 use roxmltree::Node;
@@ -81,6 +81,7 @@ impl GsdmlReader<'_, '_> {
             max_output_length,
             useable_modules,
             submodules,
+            subslot_labels: self.read_subslot_labels(node),
             interface,
             ports,
             span: self.spans.element(node),
@@ -103,8 +104,29 @@ impl GsdmlReader<'_, '_> {
             name,
             info_text,
             submodules,
+            subslot_labels: self.read_subslot_labels(node),
             span: self.spans.element(node),
         }
+    }
+
+    /// The `SubslotList/SubslotItem`s of a module or access point; an item without a 16-bit
+    /// `SubslotNumber` is left out with the attribute's error.
+    fn read_subslot_labels(&mut self, node: Node) -> Vec<SubslotLabel> {
+        let items: Vec<Node> = child(node, "SubslotList")
+            .into_iter()
+            .flat_map(|l| children(l, "SubslotItem"))
+            .collect();
+        let mut labels = Vec::new();
+        for item in items {
+            if attribute(item, "SubslotNumber").is_none() {
+                self.required(item, "SubslotNumber");
+            }
+            if let Some(subslot) = self.attr_unsigned::<u16>(item, "SubslotNumber") {
+                let text = self.text_of(item);
+                labels.push(SubslotLabel { subslot, text });
+            }
+        }
+        labels
     }
 
     /// The `VirtualSubmoduleList/VirtualSubmoduleItem`s of a module or access point.
@@ -158,6 +180,7 @@ impl GsdmlReader<'_, '_> {
             inputs,
             outputs,
             records,
+            pkw_pzd: false,
             span: self.spans.element(node),
         }
     }

@@ -2,7 +2,8 @@
 //!
 //! Identity goes to [`DeviceInfo`] (VendorID as the vendor number, DeviceID as the product
 //! number) and to [`Profinet`]; the access points, modules, submodules with their typed IO data
-//! and parameter records, value lists and channel diagnostics to [`Profinet`] (`items`). Texts
+//! and parameter records, value lists and channel diagnostics (with their extended channel
+//! diagnostics) to [`Profinet`] (`items`). Texts
 //! are resolved from the `ExternalTextList` (the primary language, else the first language);
 //! a `TextId` without a text is kept in [`Profinet::missing_texts`] for the validator. XML is
 //! handled as the ESI reader does it: ISO-8859-1 where declared, no DTD, bounded nesting.
@@ -337,19 +338,59 @@ impl<'a, 'input> GsdmlReader<'a, 'input> {
                 .into_iter()
                 .flat_map(|l| l.children().filter(move |c| is_element(*c, item)))
             {
-                let error_type = self
-                    .attr_unsigned::<u32>(diag, number)
-                    .map_or(0, |n| n.value);
+                let span = self.spans.element(diag);
+                let error_type = self.attr_unsigned::<u32>(diag, number);
                 let name = self.child_text(diag, "Name");
                 let help = self.child_text(diag, "Help");
+                let ext = child(diag, "ExtChannelDiagList")
+                    .into_iter()
+                    .flat_map(|l| children(l, "ExtChannelDiagItem"))
+                    .filter_map(|item| self.read_ext_channel_diag(item))
+                    .collect();
                 pn.channel_diagnostics.push(ChannelDiag {
-                    error_type,
+                    error_type: error_type.as_ref().map_or(0, |n| n.value),
                     name,
                     help,
-                    span: self.spans.element(diag),
+                    ext,
+                    error_type_span: error_type.map_or(span, |n| n.span),
+                    span,
                 });
             }
         }
+    }
+
+    /// One `ExtChannelDiagItem`; `None` (with the attribute's error) without a 16-bit
+    /// `ErrorType`.
+    fn read_ext_channel_diag(&mut self, item: Node) -> Option<ExtChannelDiag> {
+        if attribute(item, "ErrorType").is_none() {
+            self.required(item, "ErrorType");
+        }
+        let error_type = self.attr_unsigned::<u16>(item, "ErrorType")?;
+        let name = self.child_text(item, "Name");
+        let help = self.child_text(item, "Help");
+        let mut add_values = Vec::new();
+        for data in child(item, "ExtChannelAddValue")
+            .into_iter()
+            .flat_map(|v| children(v, "DataItem"))
+        {
+            let Some(data_type) = self.required(data, "DataType") else {
+                continue;
+            };
+            add_values.push(ExtAddValue {
+                kind: PnDataType::from_name(&data_type.value),
+                data_type,
+                id: self.attr_unsigned::<u32>(data, "Id").map(|n| n.value),
+                length: self.attr_unsigned::<u32>(data, "Length").map(|n| n.value),
+                span: self.spans.element(data),
+            });
+        }
+        Some(ExtChannelDiag {
+            error_type,
+            name,
+            help,
+            add_values,
+            span: self.spans.element(item),
+        })
     }
 
     fn read_value_item(&mut self, item: Node) -> ValueList {

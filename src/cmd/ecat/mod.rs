@@ -1,11 +1,11 @@
 //! `edsgen ecat` (feature `ethercrab`): the bench side of EtherCAT, an ethercrab MainDevice on a
 //! network interface (root or CAP_NET_RAW). `ecat scan --iface IFACE [--esi FILE...]` lists the
 //! SubDevices: position, configured address, identity, the name from their SII, and the ESI
-//! device whose identity matches among the files given. `ecat sdo read|write --iface IFACE
-//! [--position N] INDEX:SUB [VALUE] --size 1|2|4|8`: one CoE SDO transfer of a little-endian
-//! number with the SubDevice in Pre-Op (exit 1 with the abort when the SubDevice refuses).
+//! device whose identity matches among the files given. `ecat sdo read|write`: one CoE SDO
+//! transfer, by index or by name through the ESI ([`sdo`]).
 //! `ecat pdo --iface IFACE --esi FILE [--cycles N]`: the SubDevice brought to Op, its inputs
 //! printed by name (the ESI's default TxPDO entries) every 1 ms cycle until Ctrl-C or N cycles.
+//! `ecat check --iface IFACE --esi FILE`: the SubDevice judged against its ESI ([`check`]).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -17,6 +17,9 @@ use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
 
 use super::{fail, print_stdout};
+
+mod check;
+mod sdo;
 
 /// `edsgen ecat ...`.
 #[derive(ClapArgs, Debug)]
@@ -36,25 +39,8 @@ enum EcatCommand {
         #[arg(long, value_name = "FILE")]
         esi: Vec<PathBuf>,
     },
-    /// Read or write one object by SDO (CoE).
-    Sdo {
-        /// `read` or `write`.
-        #[arg(value_enum)]
-        verb: SdoVerb,
-        /// The network interface of the EtherCAT segment.
-        #[arg(long, value_name = "IFACE")]
-        iface: String,
-        /// The SubDevice's position on the segment (0 first).
-        #[arg(long, default_value_t = 0)]
-        position: usize,
-        /// The entry, `INDEX:SUB` in hex (such as 1018:1).
-        address: String,
-        /// The value to write (decimal or 0x hex).
-        value: Option<String>,
-        /// The value's size in bytes.
-        #[arg(long, value_parser = ["1", "2", "4", "8"], default_value = "4")]
-        size: String,
-    },
+    /// Read or write one object by SDO (CoE), by index or by name through the ESI.
+    Sdo(sdo::SdoArgs),
     /// Bring the SubDevice to Op and print its inputs by name (the ESI's default TxPDOs), one
     /// line per cycle, until Ctrl-C or `--cycles`.
     Pdo {
@@ -74,13 +60,9 @@ enum EcatCommand {
         #[arg(long)]
         cycles: Option<u64>,
     },
-}
-
-/// What `ecat sdo` does.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-enum SdoVerb {
-    Read,
-    Write,
+    /// Judge a SubDevice against its ESI (identity, SyncManagers, PDO assignment, every
+    /// readable object), in the validator's format.
+    Check(check::CheckArgs),
 }
 
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
@@ -90,14 +72,7 @@ static PDU_STORAGE: PduStorage<16, MAX_PDU_DATA> = PduStorage::new();
 pub fn run(args: Args) -> ExitCode {
     let (iface, esi) = match args.command {
         EcatCommand::Scan { iface, esi } => (iface, esi),
-        EcatCommand::Sdo {
-            verb,
-            iface,
-            position,
-            address,
-            value,
-            size,
-        } => return sdo(verb, &iface, position, &address, value.as_deref(), &size),
+        EcatCommand::Sdo(args) => return sdo::run(&args),
         EcatCommand::Pdo {
             iface,
             esi,
@@ -105,6 +80,7 @@ pub fn run(args: Args) -> ExitCode {
             position,
             cycles,
         } => return pdo(&iface, &esi, device.as_deref(), position, cycles),
+        EcatCommand::Check(args) => return check::run(&args),
     };
     let mut described = Vec::new();
     for path in &esi {
@@ -128,107 +104,6 @@ pub fn run(args: Args) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(message) => fail(format!("{iface}: {message}")),
-    }
-}
-
-/// Runs `edsgen ecat sdo`.
-fn sdo(
-    verb: SdoVerb,
-    iface: &str,
-    position: usize,
-    address: &str,
-    value: Option<&str>,
-    size: &str,
-) -> ExitCode {
-    let entry = match super::entry::resolve(address, None) {
-        Ok(entry) => entry,
-        Err(message) => return fail(message),
-    };
-    let size: usize = match size.parse() {
-        Ok(size @ (1 | 2 | 4 | 8)) => size,
-        _ => return fail(format!("--size `{size}` is not 1, 2, 4 or 8 bytes")),
-    };
-    let value = match (verb, value) {
-        (SdoVerb::Read, None) => None,
-        (SdoVerb::Write, Some(text)) => {
-            let parsed = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
-                Some(hex) => u64::from_str_radix(hex, 16),
-                None => text.parse::<u64>(),
-            };
-            match parsed {
-                Ok(v) if size == 8 || v < 1u64 << (8 * size) => Some(v),
-                _ => return fail(format!("`{text}` is not a number of {size} bytes")),
-            }
-        }
-        (SdoVerb::Read, Some(_)) => return fail("ecat sdo read takes no value"),
-        (SdoVerb::Write, None) => return fail("ecat sdo write needs a value"),
-    };
-    let runtime = match runtime() {
-        Ok(runtime) => runtime,
-        Err(message) => return fail(message),
-    };
-    let (index, sub) = (entry.index, entry.sub);
-    let result: Result<String, String> = runtime.block_on(async {
-        let (maindevice, group) = discover(iface).await?;
-        let sub_device = group
-            .subdevice(&maindevice, position)
-            .map_err(|_| format!("no SubDevice at position {position}"))?;
-        let refused = |e: ethercrab::error::Error| format!("{index:04X}h:{sub:02X}: {e}");
-        match value {
-            None => {
-                let v = match size {
-                    1 => u64::from(
-                        sub_device
-                            .sdo_read::<u8>(index, sub)
-                            .await
-                            .map_err(refused)?,
-                    ),
-                    2 => u64::from(
-                        sub_device
-                            .sdo_read::<u16>(index, sub)
-                            .await
-                            .map_err(refused)?,
-                    ),
-                    8 => sub_device
-                        .sdo_read::<u64>(index, sub)
-                        .await
-                        .map_err(refused)?,
-                    _ => u64::from(
-                        sub_device
-                            .sdo_read::<u32>(index, sub)
-                            .await
-                            .map_err(refused)?,
-                    ),
-                };
-                Ok(format!(
-                    "{index:04X}h:{sub:02X} = {v:#0w$x} ({v})\n",
-                    w = 2 + 2 * size
-                ))
-            }
-            Some(v) => {
-                match size {
-                    1 => sub_device.sdo_write(index, sub, v as u8).await,
-                    2 => sub_device.sdo_write(index, sub, v as u16).await,
-                    8 => sub_device.sdo_write(index, sub, v).await,
-                    _ => sub_device.sdo_write(index, sub, v as u32).await,
-                }
-                .map_err(refused)?;
-                Ok(format!(
-                    "{index:04X}h:{sub:02X} := {v:#0w$x}\n",
-                    w = 2 + 2 * size
-                ))
-            }
-        }
-    });
-    match result {
-        Ok(text) => {
-            print_stdout(&text);
-            ExitCode::SUCCESS
-        }
-        Err(message) => {
-            eprintln!("error: {iface}: {message}");
-            ExitCode::from(1)
-        }
     }
 }
 
@@ -350,8 +225,14 @@ async fn discover(
     let (tx, rx, pdu_loop) = PDU_STORAGE
         .try_split()
         .map_err(|_| "the PDU storage is split once".to_owned())?;
+    // ethercrab's defaults suit a dedicated real-time machine (an SII read within 10 ms, a
+    // mailbox echo within 100 ms); a loaded desktop or CI machine needs more. These bound only
+    // how long a SubDevice that does not answer is waited for.
     let timeouts = Timeouts {
         pdu: Duration::from_millis(500),
+        eeprom: Duration::from_millis(500),
+        mailbox_echo: Duration::from_millis(500),
+        mailbox_response: Duration::from_secs(2),
         ..Timeouts::default()
     };
     let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());

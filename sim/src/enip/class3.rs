@@ -1,0 +1,178 @@
+//! Class-3 connected explicit messaging, sans-IO: the connections a Forward_Open (or
+//! Large_Forward_Open) with transport class 3 opens to the Message Router, and SendUnitData on
+//! them. A request travels in a Connected Data item (0xB1) after its 16-bit sequence count,
+//! addressed by the O→T connection ID in a Connected Address item (0xA1); the reply carries the
+//! T→O connection ID and echoes the count. A request with the count of the previous one is a
+//! retransmission: it gets the previous reply again and is not executed twice. A connection
+//! belongs to the session that opened it and closes with it, on Forward_Close, or after its
+//! timeout (multiplier × O→T RPI) without a request.
+
+use edsgen_runtime::{Duration, Instant};
+
+use super::adapter::{Adapter, Event};
+use super::wire::{emit_items, encap_status, general, item, parse_items, u16_at, u32_at};
+use super::wire::{response, Encapsulation};
+
+/// A class-3 connection.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ExplicitConnection {
+    /// The ID requests come with (chosen by the adapter).
+    pub o_t_id: u32,
+    /// The ID replies go with (the originator's choice).
+    pub t_o_id: u32,
+    /// Connection serial, originator vendor and serial: the triad Forward_Close names.
+    pub triad: (u16, u16, u32),
+    /// The session that opened it.
+    pub session: u32,
+    /// The largest reply the originator takes, sequence count included (the T→O size).
+    pub t_o_size: usize,
+    /// The timeout: the multiplier times the O→T RPI.
+    pub timeout: Duration,
+    /// When the last request came (or the connection opened).
+    pub last_heard: Instant,
+    /// The last request's sequence count and the reply it got.
+    pub last: Option<(u16, Vec<u8>)>,
+}
+
+/// What a class-3 Forward_Open asks, as the Connection Manager decoded it.
+pub(super) struct ExplicitOpen {
+    pub t_o_id: u32,
+    pub triad: (u16, u16, u32),
+    pub t_o_size: usize,
+    pub timeout: Duration,
+}
+
+/// SendUnitData refused with the encapsulation's "incorrect data" (0x0003): malformed, or for a
+/// connection that is not open (OpENer drops such a message unanswered; an answer tells the
+/// originator at once).
+fn incorrect(m: &Encapsulation) -> Encapsulation {
+    m.reply(encap_status::INCORRECT_DATA, Vec::new())
+}
+
+impl Adapter {
+    /// The open class-3 connections.
+    pub fn explicit_connections(&self) -> &[ExplicitConnection] {
+        &self.explicit
+    }
+
+    /// Opens a class-3 connection for the session `route` serves; the O→T ID it got.
+    pub(super) fn open_explicit(&mut self, open: ExplicitOpen, now: Instant) -> u32 {
+        let id = self.next_connection_id;
+        self.next_connection_id = self.next_connection_id.wrapping_add(1);
+        self.explicit.push(ExplicitConnection {
+            o_t_id: id,
+            t_o_id: open.t_o_id,
+            triad: open.triad,
+            session: self.serving_session,
+            t_o_size: open.t_o_size,
+            timeout: open.timeout,
+            last_heard: now,
+            last: None,
+        });
+        self.events.push(Event::Opened(id));
+        id
+    }
+
+    /// Forward_Close of the class-3 connection with `triad`; whether there was one.
+    pub(super) fn close_explicit(&mut self, triad: (u16, u16, u32)) -> bool {
+        let Some(at) = self.explicit.iter().position(|c| c.triad == triad) else {
+            return false;
+        };
+        let closed = self.explicit.remove(at);
+        self.events.push(Event::Closed(closed.o_t_id));
+        true
+    }
+
+    /// The class-3 connections of `session` close with it.
+    pub(super) fn end_session(&mut self, session: u32) {
+        let mut ended = Vec::new();
+        self.explicit.retain(|c| {
+            let keep = c.session != session;
+            if !keep {
+                ended.push(c.o_t_id);
+            }
+            keep
+        });
+        self.events.extend(ended.into_iter().map(Event::Expired));
+    }
+
+    /// Closes the class-3 connections that heard no request for their timeout.
+    pub(super) fn expire_explicit(&mut self, now: Instant) {
+        let mut expired = Vec::new();
+        self.explicit.retain(|c| {
+            let alive = now < c.last_heard + c.timeout;
+            if !alive {
+                expired.push(c.o_t_id);
+            }
+            alive
+        });
+        self.events.extend(expired.into_iter().map(Event::Expired));
+    }
+
+    /// SendUnitData (its session checked): the request on its connection, the reply on the
+    /// connection's T→O ID with the same sequence count.
+    pub(super) fn send_unit_data(
+        &mut self,
+        client: u64,
+        m: &Encapsulation,
+        now: Instant,
+    ) -> Encapsulation {
+        // Interface handle (4), timeout (2), then the items.
+        let Some(items) = m.data.get(6..).and_then(parse_items) else {
+            return incorrect(m);
+        };
+        let address = items.iter().find(|(k, _)| *k == item::CONNECTED_ADDRESS);
+        let data = items.iter().find(|(k, _)| *k == item::CONNECTED_DATA);
+        let (Some((_, address)), Some((_, data))) = (address, data) else {
+            return incorrect(m);
+        };
+        let (Some(id), Some(sequence), 4) = (u32_at(address, 0), u16_at(data, 0), address.len())
+        else {
+            return incorrect(m);
+        };
+        let Some(at) = self
+            .explicit
+            .iter()
+            .position(|c| c.o_t_id == id && c.session == m.session)
+        else {
+            return incorrect(m);
+        };
+        self.explicit[at].last_heard = now;
+        let t_o_id = self.explicit[at].t_o_id;
+        let reply = match &self.explicit[at].last {
+            Some((last, reply)) if *last == sequence => reply.clone(),
+            _ => {
+                self.serving_session = m.session;
+                let mut reply = self.route(client, &data[2..], now);
+                // Routing may have closed connections (a Forward_Close on this one).
+                let Some(at) = self.explicit.iter().position(|c| c.o_t_id == id) else {
+                    return self.connected_reply(m, t_o_id, sequence, &reply);
+                };
+                if reply.len() + 2 > self.explicit[at].t_o_size {
+                    let service = data.get(2).copied().unwrap_or(0);
+                    reply = response(service, general::REPLY_DATA_TOO_LARGE, &[], &[]);
+                }
+                self.explicit[at].last = Some((sequence, reply.clone()));
+                reply
+            }
+        };
+        self.connected_reply(m, t_o_id, sequence, &reply)
+    }
+
+    fn connected_reply(
+        &self,
+        m: &Encapsulation,
+        t_o_id: u32,
+        sequence: u16,
+        reply: &[u8],
+    ) -> Encapsulation {
+        let mut payload = sequence.to_le_bytes().to_vec();
+        payload.extend_from_slice(reply);
+        let mut data = vec![0; 6];
+        data.extend(emit_items(&[
+            (item::CONNECTED_ADDRESS, &t_o_id.to_le_bytes()),
+            (item::CONNECTED_DATA, &payload),
+        ]));
+        m.reply(encap_status::SUCCESS, data)
+    }
+}

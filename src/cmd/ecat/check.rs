@@ -1,0 +1,496 @@
+//! `edsgen ecat check --iface IFACE --esi FILE [--device NAME|#xCODE] [--position N]`: a live
+//! EtherCAT SubDevice judged against its ESI, in the validator's diagnostic format (as `edsgen
+//! check` judges a CANopen node): its SII read back through the EEPROM interface (identity and
+//! order string, CHK006; SyncManagers, CHK007, with the ESC's SyncManager count), the PDO
+//! assignment and the default PDOs' mappings read by SDO (CHK008), and every readable entry of
+//! the ESI's dictionary read by SDO: missing (CHK001), refused (CHK003), of another length than
+//! its type (CHK002), or, for a constant or a read-only entry no PDO can carry, other than the
+//! ESI's default (CHK005). Reading the SubDevice ([`observe`], ethercrab in Pre-Op) is apart
+//! from judging what was read ([`judge`]).
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use edsgen_codegen::diag::{self, Diagnostic, Severity};
+use edsgen_codegen::model::{AccessType, Device, EcPdo, ObjectType, SmKind, SubObject};
+use edsgen_codegen::rules::{
+    CHK_MISSING as CHK001, CHK_PDO_ASSIGNMENT as CHK008, CHK_SII_IDENTITY as CHK006,
+    CHK_SYNC_MANAGER as CHK007, CHK_UNREADABLE as CHK003,
+};
+use edsgen_codegen::{read, render};
+use edsgen_runtime::wire::sdo::{abort_meaning, Multiplexer};
+use ethercrab::{MainDevice, SubDevice, SubDeviceRef};
+
+use super::super::check::{default_differs, length_differs, Format};
+use super::super::fail;
+use super::super::sdo::show_mux;
+use super::sdo::upload;
+use super::{discover, runtime};
+
+/// `edsgen ecat check` options.
+#[derive(clap::Args, Debug)]
+pub struct CheckArgs {
+    /// The network interface of the EtherCAT segment.
+    #[arg(long, value_name = "IFACE")]
+    iface: String,
+    /// The SubDevice's ESI file.
+    #[arg(long, value_name = "FILE")]
+    esi: PathBuf,
+    /// The device of an ESI file with several (type name or `#x` product code).
+    #[arg(long, value_name = "NAME|#xCODE")]
+    device: Option<String>,
+    /// The SubDevice's position on the segment (0 first).
+    #[arg(long, default_value_t = 0)]
+    position: usize,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    format: Format,
+    /// Treat warnings (read-only values differing from defaults) as differences too (exit 1).
+    #[arg(long)]
+    deny_warnings: bool,
+}
+
+/// What was read from the SubDevice, for [`judge`].
+#[derive(Debug)]
+pub struct Observed {
+    /// Its SII image read back through the EEPROM interface, as the SII reader models it.
+    pub sii: Device,
+    /// ESC register 0x0005: how many SyncManager channels the ESC has.
+    pub sm_channels: u8,
+    /// Per process-data SyncManager of the ESI, 1C10h + its number read by SDO: the PDOs
+    /// assigned (sub-indices 1..), or the abort code.
+    pub assignments: Vec<(u8, Result<Vec<u16>, u32>)>,
+    /// Per PDO the ESI assigns by default, its mapping object read by SDO: the entries
+    /// (index << 16 | sub << 8 | bits), or the abort code.
+    pub mappings: Vec<(u16, Result<Vec<u32>, u32>)>,
+    /// Every readable entry of the ESI's dictionary, in order: its bytes, or the abort code.
+    /// An object whose sub-index 0 answers 0602 0000h (no such object) has no more entries.
+    pub entries: Vec<(Multiplexer, Result<Vec<u8>, u32>)>,
+}
+
+/// Runs `edsgen ecat check`: 0 when the SubDevice matches, 1 for errors (or warnings with
+/// `--deny-warnings`), 2 when the ESI, the interface or the SubDevice cannot be read.
+pub fn run(args: &CheckArgs) -> ExitCode {
+    let read = match read::read_file_device(&args.esi, args.device.as_deref()) {
+        Ok(read) => read,
+        Err(err) => return fail(err),
+    };
+    if read.nothing_read() || read.device.ethercat.is_none() {
+        return fail(format!("{}: not an ESI device", args.esi.display()));
+    }
+    let runtime = match runtime() {
+        Ok(runtime) => runtime,
+        Err(message) => return fail(message),
+    };
+    let position = args.position;
+    let observed = runtime.block_on(async {
+        let (maindevice, group) = discover(&args.iface).await?;
+        let sub_device = group
+            .subdevice(&maindevice, position)
+            .map_err(|_| format!("no SubDevice at position {position}"))?;
+        observe(&maindevice, &sub_device, &read.device).await
+    });
+    let observed = match observed {
+        Ok(observed) => observed,
+        Err(message) => return fail(format!("{}: {message}", args.iface)),
+    };
+    let mut diags = judge(&read.device, position, &observed);
+    diag::sort(&mut diags);
+    let name = args.esi.display().to_string();
+    let count = |severity| diags.iter().filter(|d| d.severity == severity).count();
+    let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
+    match args.format {
+        Format::Human => {
+            let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+            print!("{}", render::human(&name, &read.text, &diags, color));
+            println!(
+                "SubDevice {position} checked against {name}: {errors} error(s), {warnings} warning(s)"
+            );
+        }
+        Format::Json => {
+            let list = render::json(&name, &diags);
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into())
+            );
+        }
+    }
+    if errors > 0 || (args.deny_warnings && warnings > 0) {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Reads from the SubDevice in Pre-Op what [`judge`] compares with `esi`.
+pub async fn observe(
+    maindevice: &MainDevice<'_>,
+    sub_device: &SubDeviceRef<'_, &SubDevice>,
+    esi: &Device,
+) -> Result<Observed, String> {
+    let size = sub_device
+        .eeprom_size(maindevice)
+        .await
+        .map_err(|e| format!("SII size: {e}"))?;
+    let mut image = vec![0u8; size];
+    sub_device
+        .eeprom_read_raw(maindevice, 0, &mut image)
+        .await
+        .map_err(|e| format!("SII: {e}"))?;
+    let sii = read::sii::read(Path::new("SII"), &image).device;
+    let sm_channels: u8 = sub_device
+        .register_read(0x0005u16)
+        .await
+        .map_err(|e| format!("ESC register 0x0005: {e}"))?;
+    let mut observed = Observed {
+        sii,
+        sm_channels,
+        assignments: Vec::new(),
+        mappings: Vec::new(),
+        entries: Vec::new(),
+    };
+    let Some(ec) = esi.ethercat.as_ref() else {
+        return Ok(observed);
+    };
+    if ec.coe.is_some() {
+        for (n, sm) in ec.sync_managers.iter().enumerate() {
+            if !matches!(sm.kind, SmKind::Outputs | SmKind::Inputs) {
+                continue;
+            }
+            let index = 0x1C10 + n as u16;
+            let list = read_list(sub_device, index, 2).await?;
+            let list = list.map(|l| l.into_iter().map(|v| v as u16).collect());
+            observed.assignments.push((n as u8, list));
+        }
+        for pdo in default_pdos(esi) {
+            let list = read_list(sub_device, pdo.index, 4).await?;
+            observed.mappings.push((pdo.index, list));
+        }
+    }
+    for object in esi.objects.values() {
+        if !checked(object.index, &object.object_type) {
+            continue;
+        }
+        for sub in object.subs.values().filter(|s| readable(s)) {
+            let mux = Multiplexer::new(object.index, sub.sub_index);
+            let value = upload(sub_device, mux).await?;
+            let gone = value == Err(0x0602_0000);
+            observed.entries.push((mux, value));
+            if gone {
+                break;
+            }
+        }
+    }
+    Ok(observed)
+}
+
+/// An array object's entries 1..=sub 0 read by SDO, each `width` bytes, little-endian.
+async fn read_list(
+    sub_device: &SubDeviceRef<'_, &SubDevice>,
+    index: u16,
+    width: usize,
+) -> Result<Result<Vec<u32>, u32>, String> {
+    let count = match upload(sub_device, Multiplexer::new(index, 0)).await? {
+        Ok(bytes) => bytes.first().copied().unwrap_or(0),
+        Err(code) => return Ok(Err(code)),
+    };
+    let mut list = Vec::new();
+    for sub in 1..=count {
+        match upload(sub_device, Multiplexer::new(index, sub)).await? {
+            Ok(bytes) => {
+                let mut wide = [0u8; 4];
+                let n = bytes.len().min(width);
+                wide[..n].copy_from_slice(&bytes[..n]);
+                list.push(u32::from_le_bytes(wide));
+            }
+            Err(code) => return Ok(Err(code)),
+        }
+    }
+    Ok(Ok(list))
+}
+
+/// Whether the dictionary check reads the object: a communication or application object, not
+/// a type definition.
+fn checked(index: u16, object_type: &ObjectType) -> bool {
+    index >= 0x1000 && !matches!(object_type, ObjectType::DefType | ObjectType::DefStruct)
+}
+
+/// Whether the ESI says an entry can be read.
+fn readable(sub: &SubObject) -> bool {
+    !matches!(sub.access, Some(AccessType::Wo) | None)
+}
+
+/// The ESI's PDOs assigned to a SyncManager by default (its `Sm` attribute), RxPDOs first.
+fn default_pdos(esi: &Device) -> Vec<&EcPdo> {
+    esi.ethercat.as_ref().map_or(Vec::new(), |ec| {
+        ec.rx_pdos
+            .iter()
+            .chain(&ec.tx_pdos)
+            .filter(|p| p.sm.is_some())
+            .collect()
+    })
+}
+
+/// Where the SubDevice at `position`, as `observed`, differs from `esi`.
+pub fn judge(esi: &Device, position: usize, observed: &Observed) -> Vec<Diagnostic> {
+    let who = format!("SubDevice {position}");
+    let mut diags = identity(esi, &who, &observed.sii);
+    diags.extend(sync_managers(esi, &who, observed));
+    diags.extend(assignment(esi, &who, observed));
+    diags.extend(dictionary(esi, &who, &observed.entries));
+    diags
+}
+
+/// CHK006: vendor, product code, revision and order string of the SII against the ESI.
+fn identity(esi: &Device, who: &str, sii: &Device) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    let (want, have) = (&esi.device_info, &sii.device_info);
+    for (what, expected, actual) in [
+        ("vendor ID", &want.vendor_number, &have.vendor_number),
+        ("product code", &want.product_number, &have.product_number),
+        ("revision", &want.revision_number, &have.revision_number),
+    ] {
+        let (Some(expected), Some(actual)) = (expected, actual) else {
+            continue;
+        };
+        if expected.value != actual.value {
+            let message = format!(
+                "the {what} in the SII of {who} is {:#010X}, the ESI says {:#010X}",
+                actual.value, expected.value
+            );
+            diags.push(Diagnostic::new(&CHK006, Some(expected.span), message));
+        }
+    }
+    let type_name = |d: &Device| d.ethercat.as_ref().map(|ec| ec.type_name.clone());
+    if let (Some(ec), Some(actual)) = (esi.ethercat.as_ref(), type_name(sii)) {
+        if ec.type_name != actual {
+            let message = format!(
+                "the order string in the SII of {who} is {actual:?}, the ESI's Type is {:?}",
+                ec.type_name
+            );
+            diags.push(Diagnostic::new(&CHK006, Some(ec.span), message));
+        }
+    }
+    diags
+}
+
+/// CHK007: each SyncManager of the SII against the ESI's, and the ESC's channel count.
+fn sync_managers(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    let Some(ec) = esi.ethercat.as_ref() else {
+        return diags;
+    };
+    let empty = Vec::new();
+    let sii = observed
+        .sii
+        .ethercat
+        .as_ref()
+        .map_or(&empty, |s| &s.sync_managers);
+    if usize::from(observed.sm_channels) < ec.sync_managers.len() {
+        let message = format!(
+            "the ESC of {who} has {} SyncManager channel(s) (register 0x0005), the ESI describes {}",
+            observed.sm_channels,
+            ec.sync_managers.len()
+        );
+        diags.push(Diagnostic::new(&CHK007, Some(ec.span), message));
+    }
+    for (n, want) in ec.sync_managers.iter().enumerate() {
+        let Some(have) = sii.get(n) else {
+            let message = format!("SM{n} ({}) is not in the SII of {who}", kind(&want.kind));
+            diags.push(Diagnostic::new(&CHK007, Some(want.span), message));
+            continue;
+        };
+        let mut differences = Vec::new();
+        if have.kind != want.kind {
+            differences.push(format!(
+                "carries {} (the ESI: {})",
+                kind(&have.kind),
+                kind(&want.kind)
+            ));
+        }
+        if have.start_address != want.start_address {
+            differences.push(format!(
+                "starts at {:#06X} (the ESI: {:#06X})",
+                have.start_address, want.start_address
+            ));
+        }
+        if let (Some(length), Some(wanted)) = (have.default_size, want.default_size) {
+            if length != wanted {
+                differences.push(format!("is {length} bytes long (the ESI: {wanted})"));
+            }
+        }
+        if have.control_byte != want.control_byte {
+            differences.push(format!(
+                "has control byte {:#04X} (the ESI: {:#04X})",
+                have.control_byte, want.control_byte
+            ));
+        }
+        if have.enable != want.enable {
+            let state = |on: bool| if on { "enabled" } else { "disabled" };
+            differences.push(format!(
+                "is {} (the ESI: {})",
+                state(have.enable),
+                state(want.enable)
+            ));
+        }
+        if !differences.is_empty() {
+            let message = format!("SM{n} in the SII of {who} {}", differences.join(", "));
+            diags.push(Diagnostic::new(&CHK007, Some(want.span), message));
+        }
+    }
+    for (n, extra) in sii.iter().enumerate().skip(ec.sync_managers.len()) {
+        let message = format!(
+            "the SII of {who} has SM{n} ({}), the ESI describes {} SyncManager(s)",
+            kind(&extra.kind),
+            ec.sync_managers.len()
+        );
+        diags.push(Diagnostic::new(&CHK007, Some(ec.span), message));
+    }
+    diags
+}
+
+/// A SyncManager's kind as the ESI names it.
+fn kind(kind: &SmKind) -> String {
+    match kind {
+        SmKind::MailboxOut => "MBoxOut".into(),
+        SmKind::MailboxIn => "MBoxIn".into(),
+        SmKind::Outputs => "Outputs".into(),
+        SmKind::Inputs => "Inputs".into(),
+        SmKind::Other(text) => format!("{text:?}"),
+    }
+}
+
+/// CHK008: 1C1xh against the ESI's default assignment; each default PDO's mapping against its
+/// entries.
+fn assignment(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    let Some(ec) = esi.ethercat.as_ref() else {
+        return diags;
+    };
+    let refused = |code: u32| {
+        format!(
+            "{code:08X}h ({})",
+            abort_meaning(code).unwrap_or("unknown abort code")
+        )
+    };
+    for (n, list) in &observed.assignments {
+        let Some(sm) = ec.sync_managers.get(usize::from(*n)) else {
+            continue;
+        };
+        let index = 0x1C10 + u16::from(*n);
+        let pdos = if sm.kind == SmKind::Outputs {
+            &ec.rx_pdos
+        } else {
+            &ec.tx_pdos
+        };
+        let wanted: Vec<u16> = pdos
+            .iter()
+            .filter(|p| p.sm == Some(*n))
+            .map(|p| p.index)
+            .collect();
+        let message = match list {
+            Err(code) => format!("{who} refuses to read {index:04X}h: {}", refused(*code)),
+            Ok(list) if *list == wanted => continue,
+            Ok(list) => format!(
+                "{index:04X}h of {who} assigns {} to SM{n}, the ESI assigns {} by default",
+                indices(list),
+                indices(&wanted)
+            ),
+        };
+        diags.push(Diagnostic::new(&CHK008, Some(sm.span), message));
+    }
+    for (index, list) in &observed.mappings {
+        let Some(pdo) = default_pdos(esi).into_iter().find(|p| p.index == *index) else {
+            continue;
+        };
+        let wanted: Vec<u32> = pdo
+            .entries
+            .iter()
+            .map(|e| u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bit_len))
+            .collect();
+        let message = match list {
+            Err(code) => format!("{who} refuses to read {index:04X}h: {}", refused(*code)),
+            Ok(list) if *list == wanted => continue,
+            Ok(list) => format!(
+                "{index:04X}h of {who} maps {}, the ESI's {index:04X}h ({}) maps {}",
+                entries(list),
+                pdo.name,
+                entries(&wanted)
+            ),
+        };
+        diags.push(Diagnostic::new(&CHK008, Some(pdo.span), message));
+    }
+    diags
+}
+
+/// `1600h, 1601h`, or `nothing`.
+fn indices(list: &[u16]) -> String {
+    if list.is_empty() {
+        return "nothing".into();
+    }
+    let parts: Vec<String> = list.iter().map(|i| format!("{i:04X}h")).collect();
+    parts.join(", ")
+}
+
+/// Mapping entries as `6041h:00h/16, ...`, or `nothing`.
+fn entries(list: &[u32]) -> String {
+    if list.is_empty() {
+        return "nothing".into();
+    }
+    let parts: Vec<String> = list
+        .iter()
+        .map(|e| format!("{:04X}h:{:02X}h/{}", e >> 16, e >> 8 & 0xFF, e & 0xFF))
+        .collect();
+    parts.join(", ")
+}
+
+/// CHK001/2/3/5: each entry read against the ESI's dictionary. Defaults are compared for
+/// constants, and for read-only entries no PDO can carry (a PDO-mappable one is live data).
+fn dictionary(
+    esi: &Device,
+    who: &str,
+    entries: &[(Multiplexer, Result<Vec<u8>, u32>)],
+) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    for (mux, value) in entries {
+        let Some(object) = esi.objects.get(&mux.index) else {
+            continue;
+        };
+        let Some(sub) = object.subs.get(&mux.sub) else {
+            continue;
+        };
+        match value {
+            Ok(bytes) => {
+                let fixed = match sub.access {
+                    Some(AccessType::Const) => true,
+                    Some(AccessType::Ro) => !sub.pdo_mapping,
+                    _ => false,
+                };
+                let found = length_differs(esi, who, *mux, sub, bytes).or_else(|| {
+                    fixed
+                        .then(|| default_differs(esi, who, 0, *mux, sub, bytes))
+                        .flatten()
+                });
+                diags.extend(found);
+            }
+            Err(0x0602_0000) => {
+                let message = format!("object {:04X}h is missing on {who}", mux.index);
+                diags.push(Diagnostic::new(&CHK001, Some(object.span), message));
+            }
+            Err(0x0609_0011) => {
+                let message = format!("{} is missing on {who}", show_mux(*mux));
+                diags.push(Diagnostic::new(&CHK001, Some(sub.span), message));
+            }
+            Err(code) => {
+                let meaning = abort_meaning(*code).unwrap_or("unknown abort code");
+                let message = format!(
+                    "{who} refuses to read {}: {code:08X}h ({meaning})",
+                    show_mux(*mux)
+                );
+                diags.push(Diagnostic::new(&CHK003, Some(sub.span), message));
+            }
+        }
+    }
+    diags
+}
