@@ -252,3 +252,6 @@ impl Device {
 
 /// How often a driver looks at the sockets when nothing is due.
 pub const IDLE_POLL: Duration = Duration::from_millis(1);
+
+#[cfg(test)]
+mod tests;
