@@ -239,6 +239,11 @@ fn connects_the_device_cannot_serve_are_refused_with_their_field() {
     );
     // ARType 2.
     assert_eq!(refused(&|b| b[7] = 2), PnioStatus::new(0xDB, 0x81, 0x01, 4));
+    // The nil ARUUID.
+    assert_eq!(
+        refused(&|b| b[8..24].fill(0)),
+        PnioStatus::new(0xDB, 0x81, 0x01, 5)
+    );
     // An unknown block type.
     assert_eq!(
         refused(&|b| b[75] = 0x7F),
