@@ -349,6 +349,13 @@ fn a_repeated_request_gets_the_same_answer_and_other_interfaces_a_reject() {
         (REJECT, &[0x1C, 0x01, 0x00, 0x03][..])
     );
     assert_eq!(cm.handle_datagram(at(0), FROM, &connect[..70]), None);
+    // A ping of the call gets its answer again; of another, "no call" (type 5, no body).
+    let mut ping = connect.clone();
+    ping[1] = PING;
+    assert_eq!(cm.handle_datagram(at(6), FROM, &ping), first);
+    ping[64..68].copy_from_slice(&[0, 0, 0, 9]);
+    let nocall = cm.handle_datagram(at(6), FROM, &ping).expect("no call");
+    assert_eq!((nocall.len(), nocall[1]), (80, NOCALL));
 }
 
 #[test]
