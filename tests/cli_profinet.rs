@@ -92,6 +92,14 @@ fn profinet_usage_and_interface_errors_exit_2() {
             "error: `eds/cp301.eds` is not a GSDML file without errors (run `edsgen validate eds/cp301.eds`)",
         ),
         (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2"][..],
+            "error: --ip `10.0.0.2` is not ADDR/PREFIX (such as 10.0.0.2/24)",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2/33"][..],
+            "error: --ip `10.0.0.2/33` is not ADDR/PREFIX (such as 10.0.0.2/24)",
+        ),
+        (
             &["pn", "set-name", "lo", "zz:00:00:00:00:00", "a"][..],
             "error: `zz:00:00:00:00:00` is not a MAC address (aa:bb:cc:dd:ee:ff)",
         ),

@@ -16,7 +16,7 @@ fn every_step_of_the_demo_behaves_as_the_manuals_say() {
     let report = edsgen::demo::run();
     let failed: Vec<_> = report.steps.iter().filter(|s| s.outcome.is_err()).collect();
     assert_eq!(failed, Vec::<&edsgen::demo::Step>::new());
-    assert_eq!(report.steps.len(), 57);
+    assert_eq!(report.steps.len(), 59);
     // The Goodrive350 manual's PDO2 Tx (§3.5.4), 283: 01 01 88 13 7C 01 00 00, decoded.
     let pdo2 = "7.100000  283  TPDO2      node 3 Status word = 257 (0x0101), Monitoring data: \
                 Returned value 1 = 5000 (0x1388), Monitoring data: Returned value 2 = 380 \
@@ -116,7 +116,7 @@ fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
 #[test]
 fn the_goodrive350_profinet_card_is_found_named_and_driven_in_process() {
     let report = edsgen::demo::run();
-    let steps: Vec<(&str, &Result<String, String>)> = report.steps[43..50]
+    let steps: Vec<(&str, &Result<String, String>)> = report.steps[43..52]
         .iter()
         .map(|s| (s.name.as_str(), &s.outcome))
         .collect();
@@ -131,6 +131,11 @@ fn the_goodrive350_profinet_card_is_found_named_and_driven_in_process() {
             (
                 "DCP Set name of station `gd350-line-1`, then Identify by that name",
                 &ok("(Some(0), true)")
+            ),
+            // Input CR 0xC001 (the controller's), output CR 0xC102 (the device's choice).
+            (
+                "RPC Connect (IOCRs, AlarmCR, expected submodules), PrmEnd, ApplicationReady",
+                &ok("((49153, 49410), [\"Connected\", \"PrmEnd\", \"DataStart\"])")
             ),
             // P00.11's default acceleration time is 10.0 s: 2500 cycles of 4 ms to 50.00 Hz.
             (
@@ -150,8 +155,12 @@ fn the_goodrive350_profinet_card_is_found_named_and_driven_in_process() {
                 &ok("0 after 2501 cycles")
             ),
             (
-                "the controller stops sending: watchdog, E-PN (fault 57)",
-                &ok("(4, Some(57), true)")
+                "RPC Release: the AR ends and the card stops sending",
+                &ok("(true, [\"Released\"], true)")
+            ),
+            (
+                "the controller stops sending: watchdog, E-PN (fault 57), the AR aborted",
+                &ok("(Some(57), true, true)")
             ),
         ]
     );
@@ -166,7 +175,7 @@ fn the_demo_command_exits_0_with_its_summary() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n59 step(s): 59 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }
@@ -209,7 +218,7 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
         "{stdout}"
     );
     assert!(
-        stdout.ends_with("\n42 step(s): 42 as the manuals say, 0 not\n"),
+        stdout.ends_with("\n44 step(s): 44 as the manuals say, 0 not\n"),
         "{stdout}"
     );
 }

@@ -4,8 +4,10 @@
 //! (DCP identify by name, a device access Connect, Read 0xF000 RealIdentificationData, Release,
 //! the Connect with IOCRs, a Write and Read of record 256, PrmEnd, ApplicationReady), reaches
 //! cyclic data exchange in RT_CLASS_1 frames and sees the drive run to 5.00 Hz on CW 1, answer a
-//! PKW read of P00.11 and stop on CW 5; the device prints each step of the two ARs. Needs root
-//! (namespaces, raw sockets): without it the test says so and passes, except under `CI=true`.
+//! PKW read of P00.11 and stop on CW 5; the device prints each step of the two ARs. Then
+//! profinet-py's own `profinet cyclic` command against a corpus GSDML (p-net's counter sample)
+//! simulated as it is. Needs root (namespaces, raw sockets) and, for the second, the GSDML
+//! corpus: without them the tests say so and pass, except under `CI=true`.
 
 mod process_support;
 
@@ -13,7 +15,7 @@ use std::process::Command;
 use std::time::Duration;
 
 use process_support::netns::{is_root, Link};
-use process_support::{python, skip, Process, EDSGEN};
+use process_support::{gsdml_corpus_dir, python, skip, Process, EDSGEN};
 
 #[test]
 fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
@@ -86,6 +88,97 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
             expected
         );
     }
+    drop(device);
+    drop(link);
+}
+
+#[test]
+fn profinet_py_s_cyclic_command_runs_against_a_corpus_gsdml() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces or raw sockets for the PROFINET test");
+        return;
+    }
+    let Some(python) = python() else { return };
+    let Some(corpus) = gsdml_corpus_dir() else {
+        return;
+    };
+    // p-net's counter sample: an 8-bit input module in slot 2, a 16-bit output one in slot 1.
+    let gsdml = corpus.join("rtlabs-com__p-net/GSDML-V2.33-Conf#inspire-pnet-counter-20230105.xml");
+    let gsdml = gsdml.to_str().expect("a UTF-8 path");
+    let link = Link::new("pnq", "10.80.0.1/24", Some("10.80.0.2/24"));
+    let device = Process::start(Command::new("ip").args([
+        "netns",
+        "exec",
+        &link.device_ns,
+        EDSGEN,
+        "simulate",
+        "--profinet",
+        &link.device_if,
+        gsdml,
+        "--ip",
+        "10.80.0.2/24",
+    ]));
+    assert!(device
+        .stdout_line(
+            |l| l.starts_with("PROFINET device"),
+            Duration::from_secs(10)
+        )
+        .starts_with("PROFINET device `tcpniodevice` (VendorID 0x0120, DeviceID 0x0021)"));
+    let profinet = python.with_file_name("profinet");
+    let controller = Process::start(Command::new("ip").args([
+        "netns",
+        "exec",
+        &link.controller_ns,
+        profinet.to_str().expect("a UTF-8 path"),
+        "-i",
+        &link.controller_if,
+        "cyclic",
+        "tcpniodevice",
+        "--gsdml",
+        gsdml,
+        "--cycle-ms",
+        "8",
+        "--duration",
+        "2",
+    ]));
+    let done = controller.finish(Duration::from_secs(60));
+    assert_eq!(done.code, Some(0), "{}\n{}", done.stdout, done.stderr);
+    let lines: Vec<&str> = done.stdout.lines().collect();
+    for expected in [
+        "Connecting to tcpniodevice (10.80.0.2)...",
+        "Discovering slots... 5 entries",
+        "  slot=1 sub=1: 2B out",
+        "  slot=2 sub=1: 1B in",
+        "  PrmEnd OK",
+        "  ApplicationReady OK",
+        "  Input frame: 0xC001, Output frame: 0xC102",
+    ] {
+        assert!(lines.contains(&expected), "{expected}: {}", done.stdout);
+    }
+    // The input module's byte (zero: no application behind it) seen in the cyclic data.
+    assert!(
+        lines.iter().any(|l| l.starts_with("[  1.0s] 2:1=00 | TX=")),
+        "{}",
+        done.stdout
+    );
+    let stopped = lines
+        .iter()
+        .find(|l| l.starts_with("Stopped. TX="))
+        .expect("the summary");
+    let received: u32 = stopped
+        .split("RX=")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .expect("RX=N");
+    assert!(received > 0, "{stopped}");
+    assert_eq!(
+        device.stdout_line(
+            |l| l.starts_with("ApplicationReady confirmed"),
+            Duration::from_secs(5)
+        ),
+        "ApplicationReady confirmed: cyclic data exchange"
+    );
     drop(device);
     drop(link);
 }

@@ -7,7 +7,8 @@
 //! phase (Write of records, Read) → the controller's PrmEnd → the device's ApplicationReady
 //! request to the controller's RPC port → its Done → data exchange ([`ArEvent::DataStart`]: the
 //! cyclic frames are valid from now) → Release, or [`Cm::abort`] when the cyclic watchdog
-//! expires. One AR at a time: a Connect while one is up is refused (CMRPC out of AR resources),
+//! expires, or when the controller sends no request for its CMInitiatorActivityTimeout before
+//! data exchange. One AR at a time: a Connect while one is up is refused (CMRPC out of AR resources),
 //! unless it repeats the same AR UUID. A device access AR (IOSAR) has no cyclic data.
 //! Records: 0xF000 RealIdentificationData, 0xAFF0 I&M0, and the GSDML's parameter records of
 //! each submodule (written with their exact length, read back).
@@ -82,6 +83,21 @@ struct Ar {
     phase: Phase,
     /// The ApplicationReady request, its activity, when it was last sent, how often.
     ready: Option<(Vec<u8>, Uuid, Instant, u8)>,
+    /// The last request of the controller: before data exchange, the AR ends when none comes
+    /// for CMInitiatorActivityTimeoutFactor × 100 ms.
+    last_request: Instant,
+}
+
+impl Ar {
+    /// CMInitiatorActivityTimeoutFactor × 100 ms.
+    fn activity_timeout(&self) -> Duration {
+        Duration::from_millis(u64::from(self.accepted.ar.timeout_factor.max(1)) * 100)
+    }
+
+    /// When the AR ends for want of the controller's requests (not in data exchange).
+    fn activity_deadline(&self) -> Option<Instant> {
+        (self.phase != Phase::Data).then(|| self.last_request + self.activity_timeout())
+    }
 }
 
 /// How long the device waits for the Done of its ApplicationReady before sending it again,
@@ -143,6 +159,13 @@ impl Cm {
         self.ar.as_ref().is_some_and(|a| a.phase == Phase::Data)
     }
 
+    /// The AR's CMInitiatorActivityTimeout (zero without an AR).
+    pub fn activity_timeout(&self) -> Duration {
+        self.ar
+            .as_ref()
+            .map_or(Duration::from_micros(0), Ar::activity_timeout)
+    }
+
     /// The next event.
     pub fn poll_event(&mut self) -> Option<ArEvent> {
         (!self.events.is_empty()).then(|| self.events.remove(0))
@@ -155,13 +178,19 @@ impl Cm {
 
     /// When [`Cm::handle_timeout`] has something to do.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        let (_, _, at, _) = self.ar.as_ref()?.ready.as_ref()?;
-        Some(*at + READY_RETRY)
+        let ar = self.ar.as_ref()?;
+        let ready = ar.ready.as_ref().map(|(_, _, at, _)| *at + READY_RETRY);
+        [ready, ar.activity_deadline()].into_iter().flatten().min()
     }
 
-    /// Time passed: ApplicationReady sent again, or the AR aborted after the last try.
+    /// Time passed: ApplicationReady sent again, or the AR aborted after the last try or when
+    /// the controller fell silent before data exchange.
     pub fn handle_timeout(&mut self, now: Instant) {
         let Some(ar) = self.ar.as_mut() else { return };
+        if ar.activity_deadline().is_some_and(|d| d <= now) {
+            self.abort();
+            return;
+        }
         let Some((pdu, _, at, tries)) = ar.ready.as_mut() else {
             return;
         };
@@ -195,14 +224,15 @@ impl Cm {
                 return None;
             }
             PING => {
-                let known = self
-                    .last
-                    .as_ref()
-                    .is_some_and(|(a, s, _)| *a == header.activity && *s == header.sequence);
+                // Calls complete at once: a ping of the last one gets its answer again, of
+                // any other "no call".
+                if let Some((activity, sequence, answer)) = &self.last {
+                    if *activity == header.activity && *sequence == header.sequence {
+                        return Some(answer.clone());
+                    }
+                }
                 let mut out = Vec::new();
-                header
-                    .answer(if known { WORKING } else { NOCALL })
-                    .emit(0, &mut out);
+                header.answer(NOCALL).emit(0, &mut out);
                 return Some(out);
             }
             _ => return None,
@@ -215,6 +245,9 @@ impl Cm {
                 return Some(answer.clone());
             }
         }
+        if let Some(ar) = self.ar.as_mut() {
+            ar.last_request = now;
+        }
         let little = header.little_endian;
         let (status, args, max) = match Ndr::parse(body, little) {
             // CMRPC: ArgsLength invalid.
@@ -225,7 +258,7 @@ impl Cm {
             ),
             Some((ndr, args)) => {
                 let result = match header.opnum {
-                    OP_CONNECT => self.connect(from, args),
+                    OP_CONNECT => self.connect(now, from, args),
                     OP_RELEASE => self.release(args, PnioStatus::CODE_RELEASE),
                     OP_READ => self.read(args, false),
                     OP_READ_IMPLICIT => self.read(args, true),
@@ -245,7 +278,7 @@ impl Cm {
         Some(answer)
     }
 
-    fn connect(&mut self, from: Peer, args: &[u8]) -> Result<Vec<u8>, PnioStatus> {
+    fn connect(&mut self, now: Instant, from: Peer, args: &[u8]) -> Result<Vec<u8>, PnioStatus> {
         let accepted = connect::check(&self.config, self.mac, args)?;
         if let Some(ar) = &self.ar {
             if ar.accepted.ar.ar_uuid != accepted.ar.ar_uuid {
@@ -288,6 +321,7 @@ impl Cm {
             controller: from.0,
             phase: Phase::Parameter,
             ready: None,
+            last_request: now,
         });
         Ok(out)
     }

@@ -58,6 +58,7 @@ pub struct Cyclic {
     layout: CrLayout,
     outputs: Vec<(Vec<u8>, u8)>,
     last_received: Option<Instant>,
+    first_deadline: Option<Instant>,
     cycle: u16,
     expired: bool,
 }
@@ -70,9 +71,17 @@ impl Cyclic {
             layout,
             outputs,
             last_received: None,
+            first_deadline: None,
             cycle: 0,
             expired: false,
         }
+    }
+
+    /// Data exchange starts at `now`: the first output frame must come within `first`, or the
+    /// watchdog expires (a controller that never sends one is noticed too).
+    pub fn arm(&mut self, now: Instant, first: Duration) {
+        self.first_deadline = Some(now + first);
+        self.expired = false;
     }
 
     /// The layout.
@@ -166,7 +175,12 @@ impl Cyclic {
 
     /// When the watchdog expires if no output frame comes first.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        let last = self.last_received.filter(|_| !self.expired)?;
+        if self.expired {
+            return None;
+        }
+        let Some(last) = self.last_received else {
+            return self.first_deadline;
+        };
         let micros = self.layout.interval.as_micros() * u64::from(self.layout.watchdog_factor);
         Some(last + Duration::from_micros(micros))
     }
@@ -178,5 +192,28 @@ impl Cyclic {
             return true;
         }
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_armed_watchdog_expires_without_a_first_frame_and_a_running_one_after_the_factor() {
+        let layout = crate::profinet::drive::card_layout(
+            [2, 0, 0, 0, 0, 1],
+            [2, 0, 0, 0, 3, 0x50],
+            Duration::from_millis(8),
+            3,
+        );
+        let mut c = Cyclic::new(layout);
+        assert_eq!(c.poll_timeout(), None);
+        c.arm(Instant::from_millis(100), Duration::from_millis(10_000));
+        assert_eq!(c.poll_timeout(), Some(Instant::from_millis(10_100)));
+        assert!(!c.handle_timeout(Instant::from_millis(10_099)));
+        assert!(c.handle_timeout(Instant::from_millis(10_100)));
+        assert_eq!(c.poll_timeout(), None);
+        assert!(!c.handle_timeout(Instant::from_millis(20_000)));
     }
 }

@@ -184,6 +184,15 @@ impl Device {
                     ..
                 } => self.start(now, layout.clone()),
                 ArEvent::Released | ArEvent::Aborted => self.stop(),
+                ArEvent::DataStart => {
+                    // The first output frame may take the AR's activity timeout to come.
+                    let first = self.cm.activity_timeout();
+                    match &mut self.exchange {
+                        Exchange::Card(c) => c.arm(now, first),
+                        Exchange::Plain(c, _) => c.arm(now, first),
+                        Exchange::Idle(_) => {}
+                    }
+                }
                 ArEvent::RecordWritten { index, data, .. } => self.write_parameters(*index, data),
                 _ => {}
             }
@@ -243,3 +252,6 @@ impl Device {
 
 /// How often a driver looks at the sockets when nothing is due.
 pub const IDLE_POLL: Duration = Duration::from_millis(1);
+
+#[cfg(test)]
+mod tests;

@@ -143,6 +143,11 @@ impl CardCycle {
         self.drive
     }
 
+    /// Data exchange starts at `now`: the first output frame must come within `first`.
+    pub fn arm(&mut self, now: Instant, first: Duration) {
+        self.cyclic.arm(now, first);
+    }
+
     /// The drive, to change its parameters (a record write).
     pub fn drive_mut(&mut self) -> &mut PkwPzdDrive {
         &mut self.drive

@@ -1,11 +1,13 @@
 //! A simulated PROFINET IO device built from a GSDML model, one module per protocol machine as
-//! p-net names them: [`dcp`] (discovery and naming), [`cyclic`] (the cyclic consumer with its
-//! watchdog and the provider, on a layout a Connect would give); [`drive`] puts the Goodrive350's
-//! PKW/PZD drive behind the cyclic data; wire formats apart in [`wire`]; the raw-socket driver in
-//! [`driver`]; [`station`] derives what the device says about itself from the GSDML.
+//! p-net names them: [`dcp`] (discovery and naming), [`ar`] (connection management: the DCE/RPC
+//! endpoint and the application relation), [`cyclic`] (the cyclic consumer with its watchdog and
+//! the provider, on the layout a Connect gives); [`drive`] puts the Goodrive350's PKW/PZD drive
+//! behind the cyclic data; [`device`] joins them into one device; wire formats apart in
+//! [`wire`]; the raw-socket and UDP driver in [`driver`]; [`station`] derives what the device
+//! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's
+//! and the tests').
 //!
-//! Not yet here: connection management (the DCE/RPC endpoint on UDP 34964: Connect, Write,
-//! Read, PrmEnd, ApplicationReady, Release), which would fill the cyclic layout, and alarms.
+//! Not yet here: alarms (the AlarmCR is accepted, no alarm is sent).
 
 pub mod ar;
 pub mod controller;

@@ -91,6 +91,10 @@ pub fn check(config: &DeviceConfig, mac: Mac, args: &[u8]) -> Result<Accepted, P
         }
     }
     let ar = ar.ok_or(refuse(CMRPC, CMRPC_WRONG_BLOCK_COUNT))?;
+    // The nil UUID names no AR.
+    if ar.ar_uuid.0 == [0; 16] {
+        return Err(refuse(FAULTY_AR, 5));
+    }
     match ar.ar_type {
         AR_TYPE_IOSAR => {
             if !iocrs.is_empty() || !expected.is_empty() {
@@ -106,9 +110,6 @@ pub fn check(config: &DeviceConfig, mac: Mac, args: &[u8]) -> Result<Accepted, P
         }
         AR_TYPE_IOC_SINGLE => {}
         _ => return Err(refuse(FAULTY_AR, 4)),
-    }
-    if ar.session_key == 0 && ar.ar_uuid.0 == [0; 16] {
-        return Err(refuse(FAULTY_AR, 5));
     }
     let input = iocrs.iter().filter(|i| i.iocr_type == IOCR_INPUT).count();
     let output = iocrs.iter().filter(|i| i.iocr_type == IOCR_OUTPUT).count();

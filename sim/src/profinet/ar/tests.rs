@@ -5,12 +5,18 @@ const DEVICE: Mac = [2, 0, 0, 0, 3, 0x50];
 const CONTROLLER: Mac = [2, 0, 0, 0, 0, 1];
 const FROM: Peer = ([10, 0, 0, 1], 49152);
 
+/// The card's configuration, read once.
 fn config() -> DeviceConfig {
-    let read = edsgen_codegen::read::read_bytes(
-        std::path::Path::new("goodrive350-pn.xml"),
-        include_bytes!("../../../../eds/goodrive350-pn.xml"),
-    );
-    DeviceConfig::from_gsdml(read.device.profinet.as_ref().expect("a GSDML"))
+    static CONFIG: std::sync::OnceLock<DeviceConfig> = std::sync::OnceLock::new();
+    CONFIG
+        .get_or_init(|| {
+            let read = edsgen_codegen::read::read_bytes(
+                std::path::Path::new("goodrive350-pn.xml"),
+                include_bytes!("../../../../eds/goodrive350-pn.xml"),
+            );
+            DeviceConfig::from_gsdml(read.device.profinet.as_ref().expect("a GSDML"))
+        })
+        .clone()
 }
 
 fn cm() -> Cm {
@@ -233,6 +239,11 @@ fn connects_the_device_cannot_serve_are_refused_with_their_field() {
     );
     // ARType 2.
     assert_eq!(refused(&|b| b[7] = 2), PnioStatus::new(0xDB, 0x81, 0x01, 4));
+    // The nil ARUUID.
+    assert_eq!(
+        refused(&|b| b[8..24].fill(0)),
+        PnioStatus::new(0xDB, 0x81, 0x01, 5)
+    );
     // An unknown block type.
     assert_eq!(
         refused(&|b| b[75] = 0x7F),
@@ -338,4 +349,82 @@ fn a_repeated_request_gets_the_same_answer_and_other_interfaces_a_reject() {
         (REJECT, &[0x1C, 0x01, 0x00, 0x03][..])
     );
     assert_eq!(cm.handle_datagram(at(0), FROM, &connect[..70]), None);
+    // A ping of the call gets its answer again; of another, "no call" (type 5, no body).
+    let mut ping = connect.clone();
+    ping[1] = PING;
+    assert_eq!(cm.handle_datagram(at(6), FROM, &ping), first);
+    ping[64..68].copy_from_slice(&[0, 0, 0, 9]);
+    let nocall = cm.handle_datagram(at(6), FROM, &ping).expect("no call");
+    assert_eq!((nocall.len(), nocall[1]), (80, NOCALL));
+}
+
+#[test]
+fn a_controller_silent_before_prm_end_loses_its_ar_after_its_activity_timeout() {
+    let mut cm = cm();
+    let mut ctl = Controller::new(CONTROLLER, cm.object(), 9);
+    let blocks = ctl.connect_blocks(&config(), 32, 8, 3);
+    call(&mut cm, &ctl.connect(&blocks));
+    // CMInitiatorActivityTimeoutFactor 100: 10 s.
+    assert_eq!(cm.poll_timeout(), Some(at(10_000)));
+    cm.handle_timeout(at(9_999));
+    assert_eq!(cm.poll_event().map(|e| e == ArEvent::Aborted), Some(false));
+    assert_eq!(cm.poll_event(), None);
+    cm.handle_timeout(at(10_000));
+    assert_eq!(cm.poll_event(), Some(ArEvent::Aborted));
+    // Another controller may connect now.
+    let mut other = Controller::new(CONTROLLER, cm.object(), 10);
+    assert_eq!(call(&mut cm, &other.connect(&blocks)).0, PnioStatus::OK);
+}
+
+#[test]
+fn a_little_endian_request_is_answered_in_little_endian() {
+    let mut cm = cm();
+    let mut ctl = Controller::new(CONTROLLER, cm.object(), 9);
+    ctl.ar.ar_type = connect::AR_TYPE_IOSAR;
+    let mut blocks = Vec::new();
+    ctl.ar.emit(&mut blocks);
+    let (be, _) = RpcHeader::parse(&ctl.connect(&blocks)).expect("a request");
+    let le = RpcHeader {
+        little_endian: true,
+        ..be
+    };
+    let pdu = emit_pdu(&le, &Ndr::request(4068, blocks.len() as u32, true), &blocks);
+    let answer = cm.handle_datagram(at(0), FROM, &pdu).expect("an answer");
+    assert_eq!(answer[4], 0x10);
+    let (header, body) = RpcHeader::parse(&answer).expect("a response");
+    assert_eq!((header.packet_type, header.little_endian), (RESPONSE, true));
+    // PNIOStatus 0 and ArgsLength 34, little-endian; the blocks stay big-endian.
+    assert_eq!(body[..8], [0, 0, 0, 0, 34, 0, 0, 0]);
+    assert_eq!(body[20..22], [0x81, 0x01]);
+}
+
+#[test]
+fn truncated_and_flipped_requests_never_panic_and_are_answered_as_rpc() {
+    let mut ctl = Controller::new(CONTROLLER, cm().object(), 9);
+    let blocks = ctl.connect_blocks(&config(), 32, 8, 3);
+    let pdus = [
+        ctl.connect(&blocks),
+        ctl.write(1, 1, 256, &[0; 22]),
+        ctl.read(0, 1, 0xF000),
+        ctl.prm_end(),
+        ctl.release(),
+    ];
+    for pdu in &pdus {
+        for cut in 0..pdu.len() {
+            let mut cm = cm();
+            if let Some(answer) = cm.handle_datagram(at(0), FROM, &pdu[..cut]) {
+                assert!(RpcHeader::parse(&answer).is_some());
+            }
+        }
+        for at_byte in 0..pdu.len() {
+            let mut cm = cm();
+            call(&mut cm, &pdus[0]);
+            let mut flipped = pdu.clone();
+            flipped[at_byte] ^= 0xA5;
+            if let Some(answer) = cm.handle_datagram(at(1), FROM, &flipped) {
+                assert!(RpcHeader::parse(&answer).is_some());
+            }
+            cm.handle_timeout(at(20_000));
+        }
+    }
 }

@@ -1,0 +1,160 @@
+use super::*;
+use crate::drives::pkw_pzd::Bus;
+use crate::profinet::ar::config::{RealSlot, RealSubmodule};
+use crate::profinet::controller::{connected, response, Controller};
+use crate::profinet::wire::rpc::{PnioStatus, Uuid};
+use crate::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
+use crate::profinet::wire::{Ethernet, Mac};
+
+const DEVICE: Mac = [2, 0, 0, 0, 3, 0x50];
+const CONTROLLER: Mac = [2, 0, 0, 0, 0, 1];
+const FROM: Peer = ([10, 0, 0, 1], 49152);
+
+fn station() -> Station {
+    Station {
+        mac: DEVICE,
+        name_of_station: "dev".to_owned(),
+        ip: [[10, 0, 0, 2], [255, 255, 255, 0], [0; 4]],
+        vendor_id: 0x0350,
+        device_id: 0x0350,
+        type_of_station: "t".to_owned(),
+        instance: (0, 1),
+    }
+}
+
+fn card() -> DeviceConfig {
+    let read = edsgen_codegen::read::read_bytes(
+        std::path::Path::new("goodrive350-pn.xml"),
+        include_bytes!("../../../../eds/goodrive350-pn.xml"),
+    );
+    DeviceConfig::from_gsdml(read.device.profinet.as_ref().expect("a GSDML"))
+}
+
+/// An IO AR from Connect to data exchange at 0 ms: the controller and the FrameIDs.
+fn establish(device: &mut Device, config: &DeviceConfig) -> (Controller, (u16, u16)) {
+    let object = Uuid::pnio_object(1, 0x0350, 0x0350);
+    let mut ctl = Controller::new(CONTROLLER, object, 3);
+    let blocks = ctl.connect_blocks(config, 32, 8, 3);
+    let now = Instant::from_millis(0);
+    let answer = device.handle_datagram(now, FROM, &ctl.connect(&blocks));
+    let (status, args) = response(&answer.expect("an answer")).expect("a response");
+    assert_eq!(status, PnioStatus::OK);
+    let ids = connected(&args).expect("IOCRs").frame_ids;
+    device.handle_datagram(now, FROM, &ctl.prm_end());
+    let (_, ready) = device.poll_datagram().expect("ApplicationReady");
+    let done = ctl.answer_ready(&ready).expect("a Done");
+    assert_eq!(device.handle_datagram(now, FROM, &done), None);
+    (ctl, ids)
+}
+
+fn output_frame(frame_id: u16, c_sdu: &[u8]) -> Vec<u8> {
+    let mut frame = Vec::new();
+    Ethernet::emit(DEVICE, CONTROLLER, &mut frame);
+    RtFrame {
+        frame_id,
+        c_sdu,
+        cycle_counter: 0,
+        data_status: DATA_STATUS_GOOD,
+        transfer_status: 0,
+    }
+    .emit(&mut frame);
+    frame
+}
+
+#[test]
+fn a_device_without_a_drive_sends_zero_inputs_with_good_status_only_in_data_exchange() {
+    let config = DeviceConfig {
+        slots: vec![
+            RealSlot {
+                slot: 0,
+                module_ident: 1,
+                submodules: vec![RealSubmodule {
+                    subslot: 1,
+                    ident: 1,
+                    input_len: 0,
+                    output_len: 0,
+                    records: vec![],
+                }],
+            },
+            RealSlot {
+                slot: 1,
+                module_ident: 0x20,
+                submodules: vec![RealSubmodule {
+                    subslot: 1,
+                    ident: 0x20,
+                    input_len: 4,
+                    output_len: 2,
+                    records: vec![],
+                }],
+            },
+        ],
+        send_clocks: vec![32],
+        reduction_ratios: vec![8],
+        min_device_interval: 32,
+    };
+    let mut device = Device::new(station(), config.clone(), None);
+    assert_eq!(device.poll_frame(Instant::from_millis(0)), None);
+    let (_, (input_id, _)) = establish(&mut device, &config);
+    let frame = device
+        .poll_frame(Instant::from_millis(0))
+        .expect("an input frame");
+    assert_eq!(frame[12..16], [0x88, 0x92, 0xC0, 0x01]);
+    // Slot 0's IOPS at 0, slot 1's four bytes of zero and IOPS, then slot 1's IOCS.
+    assert_eq!(frame[16..23], [0x80, 0, 0, 0, 0, 0x80, 0x80]);
+    assert_eq!(input_id, 0xC001);
+    // The next one after 8 ms.
+    assert_eq!(device.poll_frame(Instant::from_millis(7)), None);
+    assert!(device.poll_frame(Instant::from_millis(8)).is_some());
+    // The next send is what is due next.
+    assert_eq!(device.poll_timeout(), Some(Instant::from_millis(16)));
+    // No output frame within the activity timeout (10 s): the watchdog aborts the AR.
+    device.handle_timeout(Instant::from_millis(9_999));
+    assert!(device.poll_frame(Instant::from_millis(9_999)).is_some());
+    device.handle_timeout(Instant::from_millis(10_000));
+    let events: Vec<_> = std::iter::from_fn(|| device.poll_event()).collect();
+    assert_eq!(events.last(), Some(&DeviceEvent::Ar(ArEvent::Aborted)));
+    assert_eq!(device.poll_frame(Instant::from_millis(10_008)), None);
+}
+
+#[test]
+fn the_card_runs_its_drive_and_record_256_sets_the_received_pzd_meanings() {
+    let config = card();
+    let drive = PkwPzdDrive::bus_controlled(Bus::Profinet, Instant::from_millis(0));
+    let mut device = Device::new(station(), config.clone(), Some(drive));
+    let (mut ctl, (_, output_id)) = establish(&mut device, &config);
+    // P16.33 (received PZD3) = 1: PZD3 becomes the set frequency too.
+    let record: Vec<u8> = [1u16, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+        .iter()
+        .flat_map(|w| w.to_be_bytes())
+        .collect();
+    device.handle_datagram(
+        Instant::from_millis(1),
+        FROM,
+        &ctl.write(1, 1, 256, &record),
+    );
+    assert_eq!(device.drive().and_then(|d| d.parameter(0x1021)), Some(1));
+    let (_, read) = response(
+        &device
+            .handle_datagram(Instant::from_millis(1), FROM, &ctl.read(1, 1, 256))
+            .expect("an answer"),
+    )
+    .expect("a response");
+    assert_eq!(read[64..], record[..]);
+    // CW 1 and PZD2 300 (3.00 Hz): the drive runs.
+    let mut c_sdu = vec![0u8; 40];
+    c_sdu[8..12].copy_from_slice(&[0, 1, 0x01, 0x2C]);
+    c_sdu[32] = 0x80;
+    let mut ms = 0;
+    while device.drive().is_some_and(|d| !d.vfd().running()) && ms < 1000 {
+        ms += 8;
+        let now = Instant::from_millis(ms);
+        device.handle_frame(now, &output_frame(output_id, &c_sdu));
+        device.handle_timeout(now);
+        while device.poll_frame(now).is_some() {}
+    }
+    assert!(device.drive().is_some_and(|d| d.vfd().running()), "{ms} ms");
+    // Release: the drive stays, the cyclic exchange stops.
+    device.handle_datagram(Instant::from_millis(ms), FROM, &ctl.release());
+    assert!(device.drive().is_some());
+    assert_eq!(device.poll_frame(Instant::from_millis(ms + 100)), None);
+}
