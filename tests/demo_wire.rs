@@ -183,7 +183,7 @@ fn demo_ethercat_drives_the_ec_tx508_over_a_veth_pair() {
     assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
     assert!(
         run.stdout
-            .ends_with("\n60 step(s): 60 as the manuals say, 0 not\n"),
+            .ends_with("\n62 step(s): 62 as the manuals say, 0 not\n"),
         "{}",
         run.stdout
     );
@@ -255,7 +255,7 @@ fn demo_ethercat_without_ethercrab_says_so_and_runs_in_process() {
         .contains("\n== EC-TX508 (EtherCAT, simulated in this process)"));
     assert!(run
         .stdout
-        .ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"));
+        .ends_with("\n59 step(s): 59 as the manuals say, 0 not\n"));
     assert!(run.left.is_empty(), "left behind: {:?}", run.left);
 }
 
@@ -292,7 +292,7 @@ fn demo_enip_drives_the_card_between_two_namespaces() {
     assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
     assert!(
         run.stdout
-            .ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"),
+            .ends_with("\n59 step(s): 59 as the manuals say, 0 not\n"),
         "{}",
         run.stdout
     );
@@ -440,5 +440,5 @@ fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
     ));
     assert!(run
         .stdout
-        .ends_with("\n57 step(s): 57 as the manuals say, 0 not\n"));
+        .ends_with("\n59 step(s): 59 as the manuals say, 0 not\n"));
 }
