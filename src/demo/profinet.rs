@@ -47,9 +47,11 @@ pub(super) struct Timing {
     /// The DataHoldFactor: the card's watchdog expires `factor` intervals after the last output
     /// frame.
     pub(super) factor: u16,
-    /// How much later than the watchdog's time the card may be seen to stop (ms): 0 in this
-    /// process.
-    pub(super) slack_ms: u64,
+    /// How much earlier and how much later than the watchdog's time the card may be seen to
+    /// stop (ms): in this process, up to the two intervals between its last input frame and
+    /// the watchdog, and not later.
+    pub(super) early_ms: u64,
+    pub(super) late_ms: u64,
 }
 
 impl Timing {
@@ -128,7 +130,8 @@ impl Transport for InProcess {
         Timing {
             interval_ms: INTERVAL_MS,
             factor: FACTOR,
-            slack_ms: 0,
+            early_ms: 2 * INTERVAL_MS,
+            late_ms: 0,
         }
     }
 
@@ -553,7 +556,7 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Transport) -> Result<()
     }
     let silence = bench.link.fall_silent()?;
     let watchdog = timing.watchdog_ms();
-    let in_time = (watchdog.saturating_sub(2 * timing.interval_ms)..=watchdog + timing.slack_ms)
+    let in_time = (watchdog.saturating_sub(timing.early_ms)..=watchdog + timing.late_ms)
         .contains(&silence.after_ms);
     bench.establish(3)?;
     let fault = Output {

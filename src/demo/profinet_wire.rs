@@ -34,11 +34,14 @@ const CONTROLLER: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 2);
 /// drive's ramps alone take 20 s).
 const START: Duration = Duration::from_secs(20);
 const STEPS: Duration = Duration::from_secs(120);
-/// On the wire: 4 ms cycles, a watchdog of 100 of them, seen up to 200 ms late.
+/// On the wire: 4 ms cycles, a watchdog of 100 of them; the card's last input frame seen up to
+/// 40 ms before the watchdog's time (its loop takes the kernel's ticks of 4 ms or more) or up
+/// to 200 ms after it (a loaded machine).
 const TIMING: Timing = Timing {
     interval_ms: 4,
     factor: 100,
-    slack_ms: 200,
+    early_ms: 40,
+    late_ms: 200,
 };
 /// How long the controller waits for a DCP answer, and for an RPC response or request.
 const DCP_WAIT: Duration = Duration::from_secs(1);
@@ -370,7 +373,7 @@ impl Transport for Wire {
     /// seconds after that: the card aborted the AR if its frames stopped.
     fn fall_silent(&mut self) -> Result<Silence, String> {
         let sent = self.sent.ok_or("no output frame was sent")?;
-        let watchdog = Duration::from_millis(TIMING.watchdog_ms() + TIMING.slack_ms);
+        let watchdog = Duration::from_millis(TIMING.watchdog_ms() + TIMING.late_ms);
         let quiet = QUIET_INTERVALS * interval();
         let stopped = |w: &Wire| {
             let last = w.last.as_ref().map_or(sent, |(_, at)| *at);
