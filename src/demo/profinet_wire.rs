@@ -13,6 +13,9 @@
 
 use std::net::Ipv4Addr;
 use std::process::Stdio;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use edsgen_sim::profinet::ar::Peer;
@@ -198,8 +201,14 @@ pub fn control(iface: &str, card: Ipv4Addr) -> Report {
 
 /// The controller's sockets and what came on them.
 struct Wire {
-    /// DCP and RT_CLASS_1 frames (EtherType 0x8892), read with a 1 ms timeout.
+    /// DCP and RT_CLASS_1 frames (EtherType 0x8892) out.
     raw: RawSocket,
+    /// The frames received on it, each with when it came, from a thread blocked in its reads:
+    /// a socket's read timeout goes by the kernel's ticks (4 ms or more), a channel's wait does
+    /// not, so that the cycles keep to their interval.
+    frames: Receiver<(Vec<u8>, Instant)>,
+    /// Tells that thread to end.
+    done: Arc<AtomicBool>,
     mac: Mac,
     /// UDP 34964: the controller's requests out, the card's responses and requests in.
     rpc: RpcSocket,
@@ -219,14 +228,35 @@ struct Wire {
 
 impl Wire {
     fn open(iface: &str, card: Ipv4Addr) -> Result<Wire, String> {
-        let raw = RawSocket::open(iface, Duration::from_millis(1))
-            .map_err(|e| format!("a packet socket on `{iface}`: {e}"))?;
+        let packet = |e: std::io::Error| format!("a packet socket on `{iface}`: {e}");
+        let raw = RawSocket::open(iface, Duration::from_millis(1)).map_err(packet)?;
+        let mut reader = raw.try_clone().map_err(packet)?;
         let rpc =
             RpcSocket::open(iface).map_err(|e| format!("UDP {RPC_PORT} on `{iface}`: {e}"))?;
+        let (tx, frames) = mpsc::channel();
+        let done = Arc::new(AtomicBool::new(false));
+        let stop = Arc::clone(&done);
+        std::thread::spawn(move || {
+            let mut buf = vec![0u8; 1600];
+            while !stop.load(Ordering::Relaxed) {
+                match reader.recv(&mut buf) {
+                    Ok(Some(n)) => {
+                        let frame = buf.get(..n).unwrap_or_default().to_vec();
+                        if tx.send((frame, Instant::now())).is_err() {
+                            break;
+                        }
+                    }
+                    Ok(None) => {}
+                    Err(_) => break,
+                }
+            }
+        });
         let now = Instant::now();
         Ok(Wire {
             mac: raw.mac(),
             raw,
+            frames,
+            done,
             rpc,
             card: (card.octets(), RPC_PORT),
             start: now,
@@ -242,10 +272,19 @@ impl Wire {
     /// Takes what comes on both sockets until `until`, or until `enough` holds.
     fn pump(&mut self, until: Instant, enough: impl Fn(&Wire) -> bool) -> Result<(), String> {
         let mut buf = vec![0u8; 1600];
-        while Instant::now() < until && !enough(self) {
-            let received = self.raw.recv(&mut buf).map_err(|e| format!("{e}"))?;
-            if let Some(frame) = received.and_then(|n| buf.get(..n)) {
-                self.take_frame(frame);
+        loop {
+            let now = Instant::now();
+            if now >= until || enough(self) {
+                return Ok(());
+            }
+            // The UDP socket is looked at every millisecond at least.
+            let wait = (until - now).min(Duration::from_millis(1));
+            match self.frames.recv_timeout(wait) {
+                Ok((frame, at)) => self.take_frame(&frame, at),
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err("the packet socket's reader ended".into())
+                }
             }
             while let Some((n, from)) = self.rpc.recv(&mut buf).map_err(|e| format!("{e}"))? {
                 let Some(pdu) = buf.get(..n).filter(|_| from.0 == self.card.0) else {
@@ -258,12 +297,11 @@ impl Wire {
                 }
             }
         }
-        Ok(())
     }
 
     /// A frame from the card: a DCP answer, or an input frame (the packet socket also sees the
     /// controller's own frames, which are not the card's).
-    fn take_frame(&mut self, frame: &[u8]) {
+    fn take_frame(&mut self, frame: &[u8], at: Instant) {
         let Some(eth) = Ethernet::parse(frame) else {
             return;
         };
@@ -275,7 +313,7 @@ impl Wire {
             return;
         };
         if RT_CLASS_1.contains(&frame_id) {
-            self.last = Some((frame.to_vec(), Instant::now()));
+            self.last = Some((frame.to_vec(), at));
         } else if DcpHeader::parse(pdu).is_some_and(|(h, _)| h.service_type == TYPE_RESPONSE) {
             self.dcp.push(frame.to_vec());
         }
@@ -285,6 +323,12 @@ impl Wire {
         self.rpc
             .send(self.card, pdu)
             .map_err(|e| format!("UDP to the card's {RPC_PORT}: {e}"))
+    }
+}
+
+impl Drop for Wire {
+    fn drop(&mut self) {
+        self.done.store(true, Ordering::Relaxed);
     }
 }
 
