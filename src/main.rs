@@ -155,7 +155,8 @@ enum Command {
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
     /// on a bus) through their manuals' workflows, every frame decoded, then the EC-TX508 over
     /// EtherCAT in cyclic synchronous velocity and the Goodrive350's EtherNet/IP, PROFINET and
-    /// PROFIBUS-DP cards, in this process, or with --ethercat and --enip over a real wire.
+    /// PROFIBUS-DP cards, in this process, or with --ethercat, --enip and --profinet over a
+    /// real wire.
     Demo(cmd::demo::Args),
 }
 

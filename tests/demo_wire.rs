@@ -347,25 +347,21 @@ fn demo_enip_drives_the_card_between_two_namespaces() {
     );
 }
 
-/// Root: Ctrl-C while the demo runs over a wire removes its namespaces and pair, stops the
-/// programs in them, and exits 130.
-#[test]
-fn demo_interrupted_on_the_wire_leaves_nothing_behind() {
-    if !is_root() {
-        skip::<()>("not root: no network namespaces for edsgen demo --enip");
-        return;
-    }
+/// Root: Ctrl-C while the demo runs `flag` over a wire (namespaces tagged `tag`) removes its
+/// namespaces and pair, stops the programs in them, and exits 130.
+fn interrupted_on_the_wire(flag: &str, tag: &str) {
     let mut command = Command::new(process_support::EDSGEN);
-    command.args(["demo", "--enip"]);
+    command.args(["demo", flag]);
     let run = run(&mut command, |pid| {
-        // Once a program runs in each of its two namespaces (adapter, then scanner), SIGINT.
+        // Once a program runs in each of its two namespaces (the card, then the other end),
+        // SIGINT.
         let started = std::time::Instant::now();
         let both_running = || {
             let listed = namespaces();
             let mine: Vec<&str> = listed
                 .lines()
                 .filter_map(|l| l.split_whitespace().next())
-                .filter(|n| n.starts_with(&format!("edsgen-enip-{pid}-")))
+                .filter(|n| n.starts_with(&format!("edsgen-{tag}-{pid}-")))
                 .collect();
             mine.len() == 2
                 && mine
@@ -386,8 +382,147 @@ fn demo_interrupted_on_the_wire_leaves_nothing_behind() {
     assert!(run.left.is_empty(), "left behind: {:?}", run.left);
 }
 
-/// Not root (here as `nobody` through setpriv when the test runs as root): `--ethercat` and
-/// `--enip` say so on stderr, and every section runs in this process as without them.
+/// Root: Ctrl-C during `demo --enip`: nothing left behind, exit 130.
+#[test]
+fn demo_interrupted_on_the_wire_leaves_nothing_behind() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces for edsgen demo --enip");
+        return;
+    }
+    interrupted_on_the_wire("--enip", "enip");
+}
+
+/// Root: Ctrl-C during `demo --profinet`: nothing left behind, exit 130.
+#[test]
+fn demo_profinet_interrupted_leaves_nothing_behind() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces for edsgen demo --profinet");
+        return;
+    }
+    interrupted_on_the_wire("--profinet", "pn");
+}
+
+/// Root: the PROFINET card between two namespaces, `edsgen simulate --profinet` in one, the
+/// demo's controller in the other, every step as in the in-process run (the ramp and the
+/// watchdog in real time), together with `--enip` (and `--ethercat` where edsgen has
+/// ethercrab); nothing left behind.
+#[test]
+fn demo_profinet_drives_the_card_between_two_namespaces() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces for edsgen demo --profinet");
+        return;
+    }
+    let mut args = vec!["--enip", "--profinet"];
+    let total = if cfg!(feature = "ethercrab") {
+        args.push("--ethercat");
+        62
+    } else {
+        59
+    };
+    let run = demo(&args);
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout.ends_with(&format!(
+            "\n{total} step(s): {total} as the manuals say, 0 not\n"
+        )),
+        "{}",
+        run.stdout
+    );
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    if cfg!(feature = "ethercrab") {
+        assert!(run
+            .stdout
+            .contains("\n== EC-TX508 (EtherCAT over a veth pair"));
+    }
+    assert!(run.stdout.contains(
+        "\n== Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images, over \
+         TCP 44818 and UDP 2222 between two network namespaces\n"
+    ));
+    let heading = "== Goodrive350 PROFINET card: DCP, an AR over RPC on UDP 34964, RT_CLASS_1 \
+                   frames every 4 ms, between two network namespaces";
+    let steps = section_steps(&run.stdout, heading);
+    assert_eq!(steps.len(), 9, "{}", run.stdout);
+    assert_eq!(
+        steps[..3],
+        [
+            "  ok    DCP Identify all: the card answers with its GSDML's name and IDs: \
+             (\"goodrive350-pn\", (848, 848))",
+            "  ok    DCP Set name of station `gd350-line-1`, then Identify by that name: \
+             (Some(0), true)",
+            "  ok    RPC Connect (IOCRs, AlarmCR, expected submodules), PrmEnd, \
+             ApplicationReady: ((49153, 49410), [\"Connected\", \"PrmEnd\", \"DataStart\"])",
+        ]
+    );
+    // In real time: P00.11's 10.0 s to 50.00 Hz, in as many cycles as the clock allowed.
+    let ramp = steps[3]
+        .strip_prefix(
+            "  ok    CW 1 (run forward) and PZD2 5000: the drive ramps to 50.00 Hz: (1, 5000) \
+             after ",
+        )
+        .unwrap_or_else(|| panic!("{}", steps[3]));
+    let ms: u64 = ramp
+        .rsplit_once(" cycles (")
+        .and_then(|(_, ms)| ms.strip_suffix(" ms)"))
+        .and_then(|ms| ms.parse().ok())
+        .unwrap_or_else(|| panic!("{ramp}"));
+    assert!((9_900..=12_000).contains(&ms), "{ramp}");
+    assert_eq!(
+        steps[4..6],
+        [
+            "  ok    PKW read of P00.11 (acceleration time): Word { address: 11, value: 100 }",
+            "  ok    PKW write without CW bit 8 (enable writing): refused: Refused { address: \
+             11, error: InvalidCommand }",
+        ]
+    );
+    assert!(
+        steps[6].starts_with("  ok    CW 5 (stop): the drive decelerates and stops: 0 after "),
+        "{}",
+        steps[6]
+    );
+    assert_eq!(
+        steps[7],
+        "  ok    RPC Release: the AR ends and the card stops sending: (true, [\"Released\"], \
+         true)"
+    );
+    // The watchdog of 100 × 4 ms, seen at the card's last input frame; E-PN read back by PKW
+    // in a third AR.
+    let watchdog = steps[8]
+        .strip_prefix(
+            "  ok    the controller stops sending: watchdog, E-PN (fault 57), the AR aborted: \
+             (Some(57), true, true); the card's input frames stopped ",
+        )
+        .and_then(|s| {
+            s.strip_suffix(" ms after the controller's last output frame (watchdog 100 × 4 ms)")
+        })
+        .and_then(|ms| ms.parse::<u64>().ok())
+        .unwrap_or_else(|| panic!("{}", steps[8]));
+    assert!((360..=600).contains(&watchdog), "{}", steps[8]);
+    // The card's own log: the name set, three ARs, the second aborted by its watchdog.
+    let said: Vec<&str> = run
+        .stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("  device: "))
+        .filter(|l| !l.starts_with("PROFINET device") && !l.starts_with("RPC on"))
+        .collect();
+    let ar = |end| {
+        [
+            "AR connected (ARType 0x0001): input FrameID 0xc001, output FrameID 0xc102, every \
+             4000 us",
+            "PrmEnd: ApplicationReady sent",
+            "ApplicationReady confirmed: cyclic data exchange",
+            end,
+        ]
+    };
+    let mut expected = vec!["name of station set to `gd350-line-1`"];
+    expected.extend(ar("AR released"));
+    expected.extend(ar("AR aborted"));
+    expected.extend(ar("AR released"));
+    assert_eq!(said, expected, "{}", run.stdout);
+}
+
+/// Not root (here as `nobody` through setpriv when the test runs as root): `--ethercat`,
+/// `--enip` and `--profinet` say so on stderr, and every section runs in this process as
+/// without them.
 #[test]
 fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
     let mut command;
@@ -415,7 +550,7 @@ fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
     } else {
         command = Command::new(process_support::EDSGEN);
     }
-    command.args(["demo", "--ethercat", "--enip"]);
+    command.args(["demo", "--ethercat", "--enip", "--profinet"]);
     let run = run(&mut command, |_| {});
     assert_eq!(run.code, Some(0), "{run:?}");
     let ethercat = if cfg!(feature = "ethercrab") {
@@ -429,6 +564,8 @@ fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
         format!(
             "{ethercat}; the EC-TX508 runs in this process instead\n\
              demo --enip needs root (for network namespaces and a veth pair); the EtherNet/IP \
+             card runs in this process instead\n\
+             demo --profinet needs root (for network namespaces and a veth pair); the PROFINET \
              card runs in this process instead\n"
         )
     );
@@ -437,6 +574,10 @@ fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
         .contains("\n== EC-TX508 (EtherCAT, simulated in this process)"));
     assert!(run.stdout.contains(
         "\n== Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images\n"
+    ));
+    assert!(run.stdout.contains(
+        "\n== Goodrive350 PROFINET card (simulated in this process): DCP, an AR over RPC, \
+         RT_CLASS_1 frames every 4 ms\n"
     ));
     assert!(run
         .stdout

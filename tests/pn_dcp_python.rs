@@ -8,10 +8,9 @@
 
 mod process_support;
 
-use std::process::Command;
 use std::time::Duration;
 
-use process_support::netns::{is_root, Link};
+use edsgen::netns::{is_root, End, Network};
 use process_support::{python, skip, Process, EDSGEN};
 
 #[test]
@@ -22,16 +21,17 @@ fn pnio_dcp_finds_names_and_addresses_the_simulated_card() {
     }
     let Some(python) = python() else { return };
     // pnio-dcp finds its interface by IP address.
-    let link = Link::new("pn", "10.77.0.1/24", None);
-    let pid = std::process::id();
-    let device = Process::start(Command::new("ip").args([
-        "netns",
-        "exec",
-        &link.device_ns,
-        EDSGEN,
+    // The device in namespace 0, the controller in namespace 1.
+    let mut net = Network::create("pn-dcp", 2).expect("two namespaces");
+    let (device_if, ctl) = net
+        .veth(End::Namespace(0), End::Namespace(1))
+        .expect("a veth pair");
+    net.address(1, &ctl, "10.77.0.1/24").expect("an address");
+    let inside = |n: usize, program: &str| net.command(n, program).expect("a namespace");
+    let device = Process::start(inside(0, EDSGEN).args([
         "simulate",
         "--profinet",
-        &format!("pnd{pid}"),
+        &device_if,
         "--card",
         "goodrive350-pn",
     ]));
@@ -41,22 +41,18 @@ fn pnio_dcp_finds_names_and_addresses_the_simulated_card() {
     );
     assert!(
         started.starts_with(&format!(
-            "PROFINET device `goodrive350-pn` (VendorID 0x0350, DeviceID 0x0350) on pnd{pid}, MAC "
+            "PROFINET device `goodrive350-pn` (VendorID 0x0350, DeviceID 0x0350) on {device_if}, MAC "
         )),
         "{started}"
     );
     let controller = Process::start(
-        Command::new("ip").args([
-            "netns",
-            "exec",
-            &link.controller_ns,
-            python.to_str().expect("a UTF-8 path"),
+        inside(1, python.to_str().expect("a UTF-8 path")).args([
             process_support::root()
                 .join("scripts/pn_dcp_controller.py")
                 .to_str()
                 .expect("a UTF-8 path"),
             "10.77.0.1",
-            &format!("pnc{pid}"),
+            &ctl,
             "goodrive350-pn",
             "drive-7",
         ]),
@@ -91,11 +87,8 @@ fn pnio_dcp_finds_names_and_addresses_the_simulated_card() {
     let mac = started.rsplit(' ').next().expect("the MAC").to_owned();
     let gsdml = process_support::root().join("eds/goodrive350-pn.xml");
     let gsdml = gsdml.to_str().expect("a UTF-8 path");
-    let ctl = format!("pnc{pid}");
     let pn = |args: &[&str]| {
-        let mut all = vec!["netns", "exec", &link.controller_ns, EDSGEN, "pn"];
-        all.extend_from_slice(args);
-        Process::start(Command::new("ip").args(&all)).finish(Duration::from_secs(20))
+        Process::start(inside(1, EDSGEN).arg("pn").args(args)).finish(Duration::from_secs(20))
     };
     let listed = pn(&["list", &ctl, "--gsdml", gsdml]);
     assert_eq!(listed.code, Some(0), "{}", listed.stderr);
@@ -117,5 +110,5 @@ fn pnio_dcp_finds_names_and_addresses_the_simulated_card() {
     let refused = pn(&["set-name", &ctl, &mac, "Not_A_Name"]);
     assert_eq!(refused.code, Some(2));
     drop(device);
-    drop(link);
+    drop(net);
 }

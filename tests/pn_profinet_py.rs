@@ -14,8 +14,38 @@ mod process_support;
 use std::process::Command;
 use std::time::Duration;
 
-use process_support::netns::{is_root, Link};
+use edsgen::netns::{is_root, End, Network};
 use process_support::{gsdml_corpus_dir, python, skip, Process, EDSGEN};
+
+/// The device's namespace (0) and the controller's (1) joined by a veth pair, with an address
+/// on each end; removed on drop ([`edsgen::netns`]).
+struct Pair {
+    net: Network,
+    device_if: String,
+    controller_if: String,
+}
+
+impl Pair {
+    fn new(tag: &str, controller_addr: &str, device_addr: &str) -> Pair {
+        let mut net = Network::create(tag, 2).expect("two namespaces");
+        let (device_if, controller_if) = net
+            .veth(End::Namespace(0), End::Namespace(1))
+            .expect("a veth pair");
+        net.address(0, &device_if, device_addr).expect("an address");
+        net.address(1, &controller_if, controller_addr)
+            .expect("an address");
+        Pair {
+            net,
+            device_if,
+            controller_if,
+        }
+    }
+
+    /// `program` to run in namespace `n`.
+    fn inside(&self, n: usize, program: &str) -> Command {
+        self.net.command(n, program).expect("a namespace")
+    }
+}
 
 #[test]
 fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
@@ -24,15 +54,11 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
         return;
     }
     let Some(python) = python() else { return };
-    let link = Link::new("pnr", "10.79.0.1/24", Some("10.79.0.2/24"));
-    let device = Process::start(Command::new("ip").args([
-        "netns",
-        "exec",
-        &link.device_ns,
-        EDSGEN,
+    let net = Pair::new("pn-py", "10.79.0.1/24", "10.79.0.2/24");
+    let device = Process::start(net.inside(0, EDSGEN).args([
         "simulate",
         "--profinet",
-        &link.device_if,
+        &net.device_if,
         "--card",
         "goodrive350-pn",
         "--ip",
@@ -44,13 +70,9 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
     );
     let gsdml = process_support::root().join("eds/goodrive350-pn.xml");
     let script = process_support::root().join("scripts/pn_cyclic_controller.py");
-    let controller = Process::start(Command::new("ip").args([
-        "netns",
-        "exec",
-        &link.controller_ns,
-        python.to_str().expect("a UTF-8 path"),
+    let controller = Process::start(net.inside(1, python.to_str().expect("a UTF-8 path")).args([
         script.to_str().expect("a UTF-8 path"),
-        &link.controller_if,
+        &net.controller_if,
         "goodrive350-pn",
         gsdml.to_str().expect("a UTF-8 path"),
     ]));
@@ -89,7 +111,7 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
         );
     }
     drop(device);
-    drop(link);
+    drop(net);
 }
 
 #[test]
@@ -105,15 +127,11 @@ fn profinet_py_s_cyclic_command_runs_against_a_corpus_gsdml() {
     // p-net's counter sample: an 8-bit input module in slot 2, a 16-bit output one in slot 1.
     let gsdml = corpus.join("rtlabs-com__p-net/GSDML-V2.33-Conf#inspire-pnet-counter-20230105.xml");
     let gsdml = gsdml.to_str().expect("a UTF-8 path");
-    let link = Link::new("pnq", "10.80.0.1/24", Some("10.80.0.2/24"));
-    let device = Process::start(Command::new("ip").args([
-        "netns",
-        "exec",
-        &link.device_ns,
-        EDSGEN,
+    let net = Pair::new("pn-corpus", "10.80.0.1/24", "10.80.0.2/24");
+    let device = Process::start(net.inside(0, EDSGEN).args([
         "simulate",
         "--profinet",
-        &link.device_if,
+        &net.device_if,
         gsdml,
         "--ip",
         "10.80.0.2/24",
@@ -125,22 +143,21 @@ fn profinet_py_s_cyclic_command_runs_against_a_corpus_gsdml() {
         )
         .starts_with("PROFINET device `tcpniodevice` (VendorID 0x0120, DeviceID 0x0021)"));
     let profinet = python.with_file_name("profinet");
-    let controller = Process::start(Command::new("ip").args([
-        "netns",
-        "exec",
-        &link.controller_ns,
-        profinet.to_str().expect("a UTF-8 path"),
-        "-i",
-        &link.controller_if,
-        "cyclic",
-        "tcpniodevice",
-        "--gsdml",
-        gsdml,
-        "--cycle-ms",
-        "8",
-        "--duration",
-        "2",
-    ]));
+    let controller = Process::start(
+        net.inside(1, profinet.to_str().expect("a UTF-8 path"))
+            .args([
+                "-i",
+                &net.controller_if,
+                "cyclic",
+                "tcpniodevice",
+                "--gsdml",
+                gsdml,
+                "--cycle-ms",
+                "8",
+                "--duration",
+                "2",
+            ]),
+    );
     let done = controller.finish(Duration::from_secs(60));
     assert_eq!(done.code, Some(0), "{}\n{}", done.stdout, done.stderr);
     let lines: Vec<&str> = done.stdout.lines().collect();
@@ -180,5 +197,5 @@ fn profinet_py_s_cyclic_command_runs_against_a_corpus_gsdml() {
         "ApplicationReady confirmed: cyclic data exchange"
     );
     drop(device);
-    drop(link);
+    drop(net);
 }

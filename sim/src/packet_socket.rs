@@ -55,6 +55,14 @@ impl PacketSocket {
     pub fn send(&mut self, frame: &[u8]) -> io::Result<()> {
         (&self.socket).write_all(frame)
     }
+
+    /// A second handle on the same socket (same binding and read timeout), so that one thread
+    /// may read while another sends.
+    pub fn try_clone(&self) -> io::Result<Self> {
+        Ok(PacketSocket {
+            socket: self.socket.try_clone()?,
+        })
+    }
 }
 
 /// The folder of interface `iface` in sysfs, refusing names that would lead elsewhere.

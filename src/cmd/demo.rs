@@ -1,9 +1,10 @@
-//! `edsgen demo [--bus HOST:PORT] [--ethercat] [--enip]`: the bundled cards at work (see the
-//! library's `demo` module), on the in-memory bus or against the drives on a socketcand bus, the
-//! EC-TX508 and the EtherNet/IP card in this process or over a real wire (root: network
-//! namespaces, removed also on Ctrl-C, exit 130); exit 0 only if every step behaved as the
-//! manuals say. `--enip-scanner ADDR` (hidden) is the scanner that `--enip` runs in its
-//! namespace: its report as JSON on stdout.
+//! `edsgen demo [--bus HOST:PORT] [--ethercat] [--enip] [--profinet]`: the bundled cards at work
+//! (see the library's `demo` module), on the in-memory bus or against the drives on a socketcand
+//! bus, the EC-TX508, the EtherNet/IP and the PROFINET card in this process or over a real wire
+//! (root: network namespaces, removed also on Ctrl-C, exit 130); exit 0 only if every step
+//! behaved as the manuals say. `--enip-scanner ADDR` and `--profinet-controller IFACE ADDR`
+//! (hidden) are the scanner and the controller that `--enip` and `--profinet` run in their
+//! namespaces: their report as JSON on stdout.
 
 use std::process::ExitCode;
 use std::time::Duration;
@@ -35,8 +36,25 @@ pub struct Args {
     enip: bool,
     /// The demo's EtherNet/IP scanner alone, against the adapter at this address, its report
     /// as JSON: what `--enip` runs inside the scanner's namespace.
-    #[arg(long, value_name = "IPV4", hide = true, conflicts_with_all = ["bus", "ethercat", "enip"])]
+    #[arg(long, value_name = "IPV4", hide = true, conflicts_with_all = ["bus", "ethercat", "enip", "profinet"])]
     enip_scanner: Option<std::net::Ipv4Addr>,
+    /// Run the Goodrive350's PROFINET card over a real wire: two private network namespaces
+    /// joined by a veth pair, `edsgen simulate --profinet` in one, the demo's controller in the
+    /// other, with DCP and RT_CLASS_1 frames and RPC on UDP 34964 (root; otherwise said on
+    /// stderr, and run in this process). Namespaces and pair are removed on exit, also on
+    /// Ctrl-C.
+    #[arg(long, conflicts_with = "bus")]
+    profinet: bool,
+    /// The demo's PROFINET controller alone, on this interface against the card at this
+    /// address, its report as JSON: what `--profinet` runs inside the controller's namespace.
+    #[arg(
+        long,
+        num_args = 2,
+        value_names = ["IFACE", "IPV4"],
+        hide = true,
+        conflicts_with_all = ["bus", "ethercat", "enip", "profinet", "enip_scanner"]
+    )]
+    profinet_controller: Option<Vec<String>>,
 }
 
 /// Runs the demo, prints its trace and summary.
@@ -54,9 +72,19 @@ pub fn run(args: &Args) -> ExitCode {
         print_stdout(&edsgen::demo::enip_scanner(addr).to_json());
         return ExitCode::SUCCESS;
     }
+    if let Some([iface, addr]) = args.profinet_controller.as_deref() {
+        let Ok(addr) = addr.parse::<std::net::Ipv4Addr>() else {
+            return fail(format!(
+                "--profinet-controller: `{addr}` is not an IPv4 address"
+            ));
+        };
+        print_stdout(&edsgen::demo::profinet_controller(iface, addr).to_json());
+        return ExitCode::SUCCESS;
+    }
     let wires = edsgen::demo::Wires {
         ethercat: args.ethercat,
         enip: args.enip,
+        profinet: args.profinet,
     };
     if wires != edsgen::demo::Wires::default() {
         // Ctrl-C must not leave a namespace behind.

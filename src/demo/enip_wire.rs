@@ -68,7 +68,7 @@ pub(super) fn run(trace: &mut Trace) {
 }
 
 /// A child's standard stream, line by line, from a thread.
-fn lines_of(stream: impl Read + Send + 'static) -> Receiver<String> {
+pub(super) fn lines_of(stream: impl Read + Send + 'static) -> Receiver<String> {
     let (tx, rx) = mpsc::channel();
     std::thread::spawn(move || {
         for line in BufReader::new(stream).lines() {

@@ -5,8 +5,7 @@
 //! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
 //! by name at the cycles the steps look at; then a class-1 EtherNet/IP scanner drives the
 //! Goodrive350's EtherNet/IP card through PKW and PZD ([`enip`]), a PROFINET controller finds,
-//! names and drives the Goodrive350's PROFINET card by DCP and RT frames, in this process
-//! ([`profinet`]), and profirust's DP master brings the Goodrive350's PROFIBUS-DP card to data
+//! names and drives the Goodrive350's PROFINET card by DCP, RPC and RT frames ([`profinet`]), and profirust's DP master brings the Goodrive350's PROFIBUS-DP card to data
 //! exchange on its simulated bus and walks the manual's PKW examples and CW/SW commands ([`dp`]).
 //! Each step checks what the manual (or CiA 402) says should happen; the demo passes only if
 //! every step does.
@@ -22,9 +21,10 @@
 //!
 //! Over a real wire ([`Wires`], root): the EC-TX508 on a veth pair to `edsgen simulate
 //! --ethercat` in a network namespace, driven by ethercrab (`ethercat_wire`), and the
-//! EtherNet/IP card between two namespaces, TCP 44818 and UDP 2222 (`enip_wire`); the same
-//! steps, checked within the slack real time needs ([`crate::netns`] makes and removes the
-//! namespaces).
+//! EtherNet/IP card between two namespaces, TCP 44818 and UDP 2222 (`enip_wire`), and the
+//! PROFINET card between two namespaces, DCP and RT_CLASS_1 frames and UDP 34964
+//! (`profinet_wire`); the same steps, checked within the slack real time needs
+//! ([`crate::netns`] makes and removes the namespaces).
 
 mod dp;
 mod enip;
@@ -33,6 +33,7 @@ mod ethercat;
 mod ethercat_wire;
 mod memory;
 mod profinet;
+mod profinet_wire;
 mod remote;
 
 use std::path::Path;
@@ -296,9 +297,13 @@ pub struct Wires {
     /// The EtherNet/IP card between two network namespaces, `edsgen simulate --enip` in one,
     /// the demo's scanner in the other (TCP 44818, UDP 2222).
     pub enip: bool,
+    /// The PROFINET card between two network namespaces, `edsgen simulate --profinet` in one,
+    /// the demo's controller in the other (DCP and RT_CLASS_1 frames, UDP 34964).
+    pub profinet: bool,
 }
 
 pub use enip_wire::scan as enip_scanner;
+pub use profinet_wire::control as profinet_controller;
 
 /// Runs the whole demo in this process: the CANopen drives on the in-memory bus, then the
 /// EC-TX508's cyclic exchange.
@@ -325,7 +330,11 @@ pub fn run_with(wires: Wires) -> Report {
     } else {
         enip::run(&mut trace);
     }
-    profinet::run(&mut trace);
+    if wires.profinet {
+        profinet_wire::run(&mut trace);
+    } else {
+        profinet::run(&mut trace);
+    }
     dp::run(&mut trace);
     trace.finish()
 }

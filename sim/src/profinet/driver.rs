@@ -44,6 +44,16 @@ impl RawSocket {
     pub fn recv(&mut self, buf: &mut [u8]) -> io::Result<Option<usize>> {
         self.socket.recv(buf)
     }
+
+    /// A second handle on the same socket, so that one thread may read while another sends
+    /// (a read timeout goes by the kernel's ticks; a thread blocked in a read wakes when a frame
+    /// comes).
+    pub fn try_clone(&self) -> io::Result<RawSocket> {
+        Ok(RawSocket {
+            socket: self.socket.try_clone()?,
+            mac: self.mac,
+        })
+    }
 }
 
 /// Serves DCP on `socket` until `until` passes (forever with `None`): a Hello at start, then
