@@ -19,7 +19,9 @@ pub struct Args {
     /// Drive the devices on this socketcand bus (`edsgen bus`) instead of simulating them: a
     /// CP301 at node 2 and a Goodrive350 at node 3 (their default node-IDs: `edsgen simulate
     /// --card cp301 --card goodrive350`), in real time. Without HOST:PORT, `edsgen bus`'s
-    /// default address. The EC-TX508 is not run: there is no EtherCAT network.
+    /// default address. The EC-TX508 and the EtherNet/IP card are then reported as not run
+    /// (their simulated devices live in this process); the PROFINET and PROFIBUS-DP cards still
+    /// run in this process.
     #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = DEFAULT_BUS)]
     bus: Option<String>,
     /// Run the EC-TX508 over a real wire: a veth pair to a private network namespace, `edsgen
