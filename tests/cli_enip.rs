@@ -189,7 +189,7 @@ fn parameters_of_the_cards_eds_by_name() {
         with_eds(CARD, &["set", &a, "PKW1 task", "write"]),
         error(
             2,
-            "error: Param2 PKW1 task: `write` is not a value of type u16; it takes 0 \"No \
+            "error: Param2 PKW1 task: `write` is not a number; it takes 0 \"No \
              task\", 1 \"Read a parameter\", 2 \"Write one word (RAM)\", 3 \"Write two words \
              (RAM)\", 4 \"Write one word (RAM and EEPROM)\", 5 \"Write two words (RAM and \
              EEPROM)\"\n"

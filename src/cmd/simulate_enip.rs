@@ -10,7 +10,6 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 
-use edsgen_codegen::model::Format;
 use edsgen_runtime::Instant;
 use edsgen_sim::enip::{device, driver};
 
@@ -49,22 +48,11 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
             return fail(format!("--enip serves the card `{CARD}`, not `{other}`"));
         }
         ([file], []) => {
-            let path = Path::new(file);
-            let read = match edsgen_codegen::read::read_file(path) {
-                Ok(read) => read,
-                Err(err) => return fail(err.to_string()),
+            let cip = match super::enip::read_cip(Path::new(file)) {
+                Ok(cip) => cip,
+                Err(message) => return fail(message),
             };
-            let Some(cip) = read
-                .device
-                .cip
-                .as_ref()
-                .filter(|_| read.device.source.format == Format::OdvaEds)
-            else {
-                return fail(format!(
-                    "`{file}` is not an ODVA EDS (no [File]/[Device] section)"
-                ));
-            };
-            (device::from_cip(cip, ip), None, format!("`{file}`"))
+            (device::from_cip(&cip, ip), None, format!("`{file}`"))
         }
         _ => return fail("--enip serves one ODVA EDS file or --card goodrive350-enip".to_owned()),
     };
