@@ -231,6 +231,17 @@ fn parameters_of_the_cards_eds_by_name() {
     );
     // PKW1 task (Param2) through the Parameter object is the same bits of assembly 150.
     assert_eq!(edsgen(&["enip", "get", &a, "@0x0F/2/1"]), ok("01 00\n"));
+    // --eds with an attribute's path: said to be unused, the bytes in hex.
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "@1/1/3"]),
+        (
+            Some(0),
+            "5E 01\n".to_owned(),
+            "warning: --eds eds/goodrive350-enip.eds is not used with @CLASS/INSTANCE/ATTRIBUTE \
+             (its bytes are in hex): name a parameter to have its value typed\n"
+                .to_owned()
+        )
+    );
     // A name without --eds.
     assert_eq!(
         edsgen(&["enip", "get", &a, "SW"]),
@@ -294,4 +305,25 @@ fn parameters_of_a_generic_eds_by_name() {
         with_eds(IO, &["get", &a, "RPI"]),
         ok("Param3 RPI = 20000 (0x00004E20) us\n")
     );
+}
+
+/// SIGINT and SIGTERM stop the adapter cleanly: exit 0 and a `stopped:` line with what it
+/// served.
+#[test]
+fn the_adapter_stops_on_sigint_and_sigterm() {
+    for signal in ["-INT", "-TERM"] {
+        let (adapter, address) = serve(&["codegen/tests/odva/io.eds"]);
+        assert_eq!(edsgen(&["enip", "get", &address, "@1/1/3"]).1, "07 00\n");
+        let sent = Command::new("kill")
+            .args([signal, &adapter.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let exited = adapter.finish(Duration::from_secs(10));
+        assert_eq!(
+            (exited.code, exited.stderr.as_str()),
+            (Some(0), "stopped: 1 clients served, 0 connections opened\n"),
+            "{signal}"
+        );
+    }
 }

@@ -132,10 +132,17 @@ pub fn run(args: Args) -> ExitCode {
             value,
             eds,
         } if !path.starts_with('@') => parameter(&addr, &path, Some(&value), eds),
-        Args::Get { addr, path, .. } => explicit(&addr, &path, 0x0E, Vec::new()),
+        Args::Get { addr, path, eds } => {
+            unused_eds(eds.as_deref());
+            explicit(&addr, &path, 0x0E, Vec::new())
+        }
         Args::Set {
-            addr, path, value, ..
+            addr,
+            path,
+            value,
+            eds,
         } => {
+            unused_eds(eds.as_deref());
             let digits: String = value.chars().filter(|c| !c.is_whitespace()).collect();
             let bytes: Option<Vec<u8>> = (0..digits.len())
                 .step_by(2)
@@ -150,6 +157,18 @@ pub fn run(args: Args) -> ExitCode {
                 _ => usage(format!("`{value}` is not hex bytes")),
             }
         }
+    }
+}
+
+/// `--eds` with `@CLASS/INSTANCE/ATTRIBUTE`: said to be unused (the attribute's bytes are in
+/// hex whatever the file says; a parameter's name types them).
+fn unused_eds(eds: Option<&Path>) {
+    if let Some(eds) = eds {
+        eprintln!(
+            "warning: --eds {} is not used with @CLASS/INSTANCE/ATTRIBUTE (its bytes are in \
+             hex): name a parameter to have its value typed",
+            eds.display()
+        );
     }
 }
 

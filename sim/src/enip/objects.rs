@@ -298,6 +298,7 @@ impl Adapter {
                     t_o_id,
                     triad,
                     t_o_size: (t_o_params & size_mask) as usize,
+                    o_t_size: (o_t_params & size_mask) as usize,
                     timeout: Duration::from_micros(u64::from(o_t_rpi.max(1000)) * timeout_factor),
                 };
                 let id = self.open_explicit(open, now);
