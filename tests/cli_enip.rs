@@ -189,7 +189,7 @@ fn parameters_of_the_cards_eds_by_name() {
         with_eds(CARD, &["set", &a, "PKW1 task", "write"]),
         error(
             2,
-            "error: Param2 PKW1 task: `write` is not a value of type u16; it takes 0 \"No \
+            "error: Param2 PKW1 task: `write` is not a number; it takes 0 \"No \
              task\", 1 \"Read a parameter\", 2 \"Write one word (RAM)\", 3 \"Write two words \
              (RAM)\", 4 \"Write one word (RAM and EEPROM)\", 5 \"Write two words (RAM and \
              EEPROM)\"\n"
@@ -200,12 +200,46 @@ fn parameters_of_the_cards_eds_by_name() {
         with_eds(CARD, &["set", &a, "PKW1 task", "6"]),
         error(2, "error: Param2 PKW1 task: 6 is outside 0 ..= 5\n")
     );
-    // The RPI is no member and has no link path: its Parameter object, which the card lacks.
+    // The RPI is no member and has no link path: attribute 1 of its Parameter object.
     assert_eq!(
         with_eds(CARD, &["get", &a, "RPI"]),
+        ok("Param1 RPI = 50000 (0x0000C350) us\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["set", &a, "RPI", "100000"]),
+        ok("Param1 RPI written\n")
+    );
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "Param1"]),
+        ok("Param1 RPI = 100000 (0x000186A0) us\n")
+    );
+    // The same Parameter object by its path: the descriptor and the value's refusals.
+    assert_eq!(edsgen(&["enip", "get", &a, "@0x0F/1/5"]), ok("C8\n"));
+    assert_eq!(
+        edsgen(&["enip", "set", &a, "@0x0F/1/1", "00 00 00 00"]),
         error(
             1,
-            "error: Param1 RPI: path destination unknown (general status 0x05)\n"
+            "error: @0x0F/1/1: invalid attribute value (general status 0x09)\n"
+        )
+    );
+    assert_eq!(
+        edsgen(&["enip", "set", &a, "@0x0F/22/1", "00 00"]),
+        error(
+            1,
+            "error: @0x0F/22/1: attribute not settable (general status 0x0e)\n"
+        )
+    );
+    // PKW1 task (Param2) through the Parameter object is the same bits of assembly 150.
+    assert_eq!(edsgen(&["enip", "get", &a, "@0x0F/2/1"]), ok("01 00\n"));
+    // --eds with an attribute's path: said to be unused, the bytes in hex.
+    assert_eq!(
+        with_eds(CARD, &["get", &a, "@1/1/3"]),
+        (
+            Some(0),
+            "5E 01\n".to_owned(),
+            "warning: --eds eds/goodrive350-enip.eds is not used with @CLASS/INSTANCE/ATTRIBUTE \
+             (its bytes are in hex): name a parameter to have its value typed\n"
+                .to_owned()
         )
     );
     // A name without --eds.
@@ -258,4 +292,38 @@ fn parameters_of_a_generic_eds_by_name() {
         with_eds(IO, &["set", &a, "Mode", "3"]),
         error(2, "error: Param2 Mode: 3 is outside 0 ..= 2\n")
     );
+    // The RPI, in no assembly: the adapter's Parameter object keeps it.
+    assert_eq!(
+        with_eds(IO, &["get", &a, "RPI"]),
+        ok("Param3 RPI = 50000 (0x0000C350) us\n")
+    );
+    assert_eq!(
+        with_eds(IO, &["set", &a, "RPI", "0x4E20"]),
+        ok("Param3 RPI written\n")
+    );
+    assert_eq!(
+        with_eds(IO, &["get", &a, "RPI"]),
+        ok("Param3 RPI = 20000 (0x00004E20) us\n")
+    );
+}
+
+/// SIGINT and SIGTERM stop the adapter cleanly: exit 0 and a `stopped:` line with what it
+/// served.
+#[test]
+fn the_adapter_stops_on_sigint_and_sigterm() {
+    for signal in ["-INT", "-TERM"] {
+        let (adapter, address) = serve(&["codegen/tests/odva/io.eds"]);
+        assert_eq!(edsgen(&["enip", "get", &address, "@1/1/3"]).1, "07 00\n");
+        let sent = Command::new("kill")
+            .args([signal, &adapter.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let exited = adapter.finish(Duration::from_secs(10));
+        assert_eq!(
+            (exited.code, exited.stderr.as_str()),
+            (Some(0), "stopped: 1 clients served, 0 connections opened\n"),
+            "{signal}"
+        );
+    }
 }

@@ -331,7 +331,7 @@ fn bad_usage_exits_2_before_connecting() {
     );
     assert_eq!(
         case(&["Setpoint=101"]),
-        "error: `Setpoint=101`: outside -100.0..100.0 bar (Param2)\n"
+        "error: `Setpoint=101`: 101 is outside -100.0 ..= 100.0 bar\n"
     );
     assert_eq!(
         case(&["Setpoint=0.05"]),
@@ -339,19 +339,16 @@ fn bad_usage_exits_2_before_connecting() {
     );
     assert_eq!(
         case(&["Mode=Medium"]),
-        "error: `Mode=Medium`: not a number (or one of `Off`, `Slow`, `Fast`)\n"
+        "error: `Mode=Medium`: `Medium` is not a number; it takes 0 \"Off\", 1 \"Slow\", 2 \"Fast\"\n"
     );
-    assert_eq!(
-        case(&["Mode=3"]),
-        "error: `Mode=3`: 3 is outside 0..2 (Param1, raw)\n"
-    );
+    assert_eq!(case(&["Mode=3"]), "error: `Mode=3`: 3 is outside 0 ..= 2\n");
     assert_eq!(
         case(&["Setpoint=0x8000"]),
-        "error: `Setpoint=0x8000`: -32768 is outside -1000..1000 (Param2, raw)\n"
+        "error: `Setpoint=0x8000`: 0x8000 (-32768 raw) is outside -1000 ..= 1000 raw\n"
     );
     assert_eq!(
         case(&["Mode=0x100"]),
-        "error: `Mode=0x100`: more than 8 bits\n"
+        "error: `Mode=0x100`: 0x100 has more than 8 bits\n"
     );
     assert_eq!(case(&["Mode"]), "error: `Mode` is not NAME=VALUE\n");
     assert_eq!(

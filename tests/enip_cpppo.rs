@@ -1,7 +1,8 @@
 //! The simulated EtherNet/IP adapter (`edsgen simulate --enip`) read by a real third-party
 //! client: PyPI `cpppo` 5.2.5 (pinned in scripts/python-venv.sh) gets the Identity object's
 //! attributes and assembly 100 by explicit messaging (SendRRData, Get_Attribute_Single) and lists
-//! the identity (ListIdentity), over TCP on 127.0.0.1; the card's and a generic ODVA EDS's. Its
+//! the identity (ListIdentity), over TCP on 127.0.0.1; the card's and a generic ODVA EDS's (with
+//! its Parameter object). Its
 //! `client.implicit` opens a class-3 connection (Forward_Open, transport 0xA3, to the Message
 //! Router) and reads and writes over it by SendUnitData.
 
@@ -105,6 +106,22 @@ fn cpppo_reads_a_generic_edss_assembly_with_its_defaults() {
     assert_eq!(
         get_attributes(&python, &address, &["@4/100/3", "@4/150/3", "@1/1/1"]),
         vec!["[220, 5, 0]", "[220, 5]", "[52, 18]"]
+    );
+    // The Parameter object (class 0x0F): its max instance; Param3 `RPI`, in no assembly, at
+    // its default 50000 with its name; Param1 `Speed`, the bits of assembly 100.
+    assert_eq!(
+        get_attributes(
+            &python,
+            &address,
+            &["@15/0/2", "@15/3/1", "@15/3/7", "@15/3/5", "@15/1/1"]
+        ),
+        vec![
+            "[3, 0]",
+            "[80, 195, 0, 0]",
+            "[3, 82, 80, 73]",
+            "[200]",
+            "[220, 5]"
+        ]
     );
 }
 

@@ -1,16 +1,14 @@
 //! Fuzz the simulated EtherNet/IP adapter's parsers and state machine (`edsgen_sim::enip`): the
 //! input is cut into messages by its first byte's bits and fed as encapsulation messages on one
 //! TCP client (after a RegisterSession, so SendRRData reaches the objects), as bare Message
-//! Router requests, as SendUnitData on a class-3 connection opened first, and as class-1
+//! Router requests (the card's objects, its Parameter object included), as SendUnitData on a class-3 connection opened first, and as class-1
 //! datagrams. Must not panic; afterwards the adapter must still answer a Get_Attribute_Single of
 //! the Identity object.
 #![no_main]
 
-use std::collections::BTreeMap;
-
 use edsgen_runtime::{Duration, Instant};
 use edsgen_sim::enip::wire::{emit_items, item, Encapsulation};
-use edsgen_sim::enip::{Adapter, Assembly, Identity};
+use edsgen_sim::enip::device;
 use libfuzzer_sys::fuzz_target;
 
 fn encap(command: u16, session: u32, data: Vec<u8>) -> Vec<u8> {
@@ -18,19 +16,9 @@ fn encap(command: u16, session: u32, data: Vec<u8>) -> Vec<u8> {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let mut assemblies = BTreeMap::new();
-    assemblies.insert(100, Assembly { data: vec![0; 32], consumed: false });
-    assemblies.insert(150, Assembly { data: vec![0; 32], consumed: true });
-    let identity = Identity {
-        vendor: 0,
-        device_type: 12,
-        product_code: 350,
-        revision: (1, 10),
-        serial: 1,
-        name: "fuzz".to_owned(),
-    };
-    let mut a = Adapter::new(identity, assemblies, [127, 0, 0, 1]);
-    a.config_instances.push(1);
+    // The card: assemblies 100 and 150 of 32 bytes, configuration 1, and the Parameter object
+    // of its EDS.
+    let (mut a, _) = device::goodrive350([127, 0, 0, 1], Instant::from_micros(0));
     let _ = a.handle(1, &encap(0x65, 0, vec![1, 0, 0, 0]), Instant::from_micros(0));
     // A class-3 connection to the Message Router (its O->T ID is 0x1000_0001), RPI 1 s.
     let mut open = vec![0x54, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E, 0, 0, 0, 0, 7, 0, 0, 0x30];

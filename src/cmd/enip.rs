@@ -13,9 +13,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
-use edsgen_codegen::model::Cip;
+use edsgen_codegen::model::{Cip, Format};
 use edsgen_sim::enip::wire::{emit_items, item, parse_items, EncapError, Encapsulation};
 
+use super::cip_value::{get_bits, put_bits};
 use super::enip_param::{self, Access};
 
 /// `edsgen enip`.
@@ -131,10 +132,17 @@ pub fn run(args: Args) -> ExitCode {
             value,
             eds,
         } if !path.starts_with('@') => parameter(&addr, &path, Some(&value), eds),
-        Args::Get { addr, path, .. } => explicit(&addr, &path, 0x0E, Vec::new()),
+        Args::Get { addr, path, eds } => {
+            unused_eds(eds.as_deref());
+            explicit(&addr, &path, 0x0E, Vec::new())
+        }
         Args::Set {
-            addr, path, value, ..
+            addr,
+            path,
+            value,
+            eds,
         } => {
+            unused_eds(eds.as_deref());
             let digits: String = value.chars().filter(|c| !c.is_whitespace()).collect();
             let bytes: Option<Vec<u8>> = (0..digits.len())
                 .step_by(2)
@@ -152,11 +160,24 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
-/// The CIP part of the ODVA EDS at `path`.
-fn read_cip(path: &Path) -> Result<Cip, String> {
+/// `--eds` with `@CLASS/INSTANCE/ATTRIBUTE`: said to be unused (the attribute's bytes are in
+/// hex whatever the file says; a parameter's name types them).
+fn unused_eds(eds: Option<&Path>) {
+    if let Some(eds) = eds {
+        eprintln!(
+            "warning: --eds {} is not used with @CLASS/INSTANCE/ATTRIBUTE (its bytes are in \
+             hex): name a parameter to have its value typed",
+            eds.display()
+        );
+    }
+}
+
+/// The CIP part of the ODVA EDS at `path` (every `enip` verb and `simulate --enip` read it so).
+pub(super) fn read_cip(path: &Path) -> Result<Cip, String> {
     let device = super::read_device(path)?;
     device
         .cip
+        .filter(|_| device.source.format == Format::OdvaEds)
         .ok_or_else(|| format!("`{}` is not an ODVA EDS", path.display()))
 }
 
@@ -444,11 +465,19 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
         Err(message) => return usage(message),
     };
     let label = param.label();
-    let bytes = match value.map(|v| param.encode(v)).transpose() {
-        Ok(bytes) => bytes,
-        Err(message) => return usage(message),
+    let typed = param.typed;
+    // Values wider than 64 bits (strings, ...) are bytes in hex.
+    let wide = typed.bits > 64;
+    let raw = match value {
+        Some(v) if wide => super::value::Kind::Bytes.encode(v).map(Some),
+        Some(v) => typed.parse(v).map(|raw| Some(typed.bytes(raw))),
+        None => Ok(None),
     };
-    if bytes.is_some() && param.param.read_only() {
+    let raw = match raw {
+        Ok(raw) => raw,
+        Err(message) => return usage(format!("{label}: {message}")),
+    };
+    if raw.is_some() && param.param.read_only() {
         return usage(format!("{label} is read-only (its descriptor's bit 4)"));
     }
     let target = match address(addr) {
@@ -459,30 +488,51 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
         Ok(s) => s,
         Err(message) => return usage(message),
     };
-    let assembly_path = |instance: u32| -> Vec<u8> {
-        let mut path = vec![0x20, 0x04];
-        match u8::try_from(instance) {
-            Ok(i) => path.extend_from_slice(&[0x24, i]),
-            Err(_) => {
-                path.extend_from_slice(&[0x25, 0]);
-                path.extend_from_slice(&(instance as u16).to_le_bytes());
-            }
-        }
-        path.extend_from_slice(&[0x30, 0x03]);
-        path
-    };
-    let result = match (&param.access, bytes) {
-        (Access::Attribute(path), None) => session.request(0x0E, path, &[]),
-        (Access::Attribute(path), Some(bytes)) => session.request(0x10, path, &bytes),
-        (&Access::Member { instance, .. }, bytes) => {
+    let shown = |raw: u64| typed.full(raw);
+    let result = match (&param.access, raw) {
+        (Access::Attribute(path), None) => session.request(0x0E, path, &[]).map(|r| {
+            r.map(|data| match wide {
+                true => Ok(hex(&data)),
+                false => typed.raw(&data).map(shown),
+            })
+        }),
+        (Access::Attribute(path), Some(bytes)) => session
+            .request(0x10, path, &bytes)
+            .map(|r| r.map(|_| Ok(String::new()))),
+        (
+            &Access::Member {
+                instance,
+                offset,
+                bits,
+            },
+            raw,
+        ) => {
             let path = assembly_path(instance);
-            match (session.request(0x0E, &path, &[]), bytes) {
-                (Ok(Ok(data)), Some(bytes)) => match member(&param, &data, Some(&bytes)) {
-                    Ok(patched) => session.request(0x10, &path, &patched),
-                    Err(message) => Err(message),
+            let short = |data: &[u8]| {
+                format!(
+                    "assembly {instance} has {} bytes, too few for {label} (bits {offset}..{})",
+                    data.len(),
+                    offset + bits
+                )
+            };
+            let at = offset as u64;
+            match session.request(0x0E, &path, &[]) {
+                Ok(Ok(data)) if 8 * data.len() < offset + bits => Err(short(&data)),
+                Ok(Ok(data)) => match raw {
+                    None if wide => Ok(Ok(Ok(show_wide(&data, at, bits)))),
+                    None => Ok(Ok(Ok(shown(get_bits(&data, at, bits as u32))))),
+                    Some(bytes) => {
+                        let mut data = data;
+                        for (i, byte) in bytes.iter().enumerate() {
+                            let left = bits.saturating_sub(8 * i).min(8) as u32;
+                            put_bits(&mut data, at + 8 * i as u64, left, u64::from(*byte));
+                        }
+                        session
+                            .request(0x10, &path, &data)
+                            .map(|r| r.map(|_| Ok(String::new())))
+                    }
                 },
-                (Ok(Ok(data)), None) => member(&param, &data, None).map(Ok),
-                (other, _) => other,
+                other => other.map(|r| r.map(|_| Ok(String::new()))),
             }
         }
     };
@@ -493,45 +543,35 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
             println!("{label} written");
             ExitCode::SUCCESS
         }
-        (Ok(Ok(data)), None) => match param.show(&data) {
-            Ok(text) => {
-                println!("{label} = {text}");
-                ExitCode::SUCCESS
-            }
-            Err(message) => {
-                eprintln!("error: {label}: {message} ({})", hex(&data));
-                ExitCode::from(1)
-            }
-        },
+        (Ok(Ok(Ok(text))), None) => {
+            println!("{label} = {text}");
+            ExitCode::SUCCESS
+        }
+        (Ok(Ok(Err(message))), None) => {
+            eprintln!("error: {label}: {message}");
+            ExitCode::from(1)
+        }
     }
 }
 
-/// A member's bytes cut from its assembly's `data`, or (with `bytes`) the assembly with them
-/// written in.
-fn member(
-    param: &enip_param::Param<'_>,
-    data: &[u8],
-    bytes: Option<&[u8]>,
-) -> Result<Vec<u8>, String> {
-    let Access::Member {
-        instance,
-        offset,
-        bits,
-    } = param.access
-    else {
-        return Err("not an assembly member".into());
-    };
-    let len = param.kind.len().unwrap_or(bits.div_ceil(8));
-    let done = match bytes {
-        Some(bytes) => enip_param::patch(data, offset, bits, bytes),
-        None => enip_param::extract(data, offset, bits, len),
-    };
-    done.ok_or_else(|| {
-        format!(
-            "assembly {instance} has {} bytes, too few for {} (bits {offset}..{})",
-            data.len(),
-            param.label(),
-            offset + bits
-        )
-    })
+/// The path of an assembly's data (attribute 3).
+fn assembly_path(instance: u32) -> Vec<u8> {
+    let mut path = vec![0x20, 0x04];
+    match u8::try_from(instance) {
+        Ok(i) => path.extend_from_slice(&[0x24, i]),
+        Err(_) => {
+            path.extend_from_slice(&[0x25, 0]);
+            path.extend_from_slice(&(instance as u16).to_le_bytes());
+        }
+    }
+    path.extend_from_slice(&[0x30, 0x03]);
+    path
+}
+
+/// A member wider than 64 bits as its bytes in hex.
+fn show_wide(data: &[u8], at: u64, bits: usize) -> String {
+    let bytes: Vec<u8> = (0..bits.div_ceil(8) as u64)
+        .map(|i| get_bits(data, at + 8 * i, 8) as u8)
+        .collect();
+    hex(&bytes)
 }

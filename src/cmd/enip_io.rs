@@ -19,12 +19,12 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use edsgen_codegen::model::{Cip, CipAssembly, CipConnection, CipNumber, FieldRef, Format};
+use edsgen_codegen::model::{Cip, CipAssembly, CipConnection, CipNumber, FieldRef};
 use edsgen_sim::enip::wire::{
     self, emit_items, item, parse_items, EncapError, Encapsulation, ForwardOpen,
 };
 
-use super::cip_value::{self, Member};
+use super::cip_value::{self, Member, Typed};
 use super::signals;
 
 /// The class-1 UDP port.
@@ -83,19 +83,12 @@ struct Plan<'a> {
 
 /// Runs `edsgen enip io`.
 pub fn run(args: Args) -> ExitCode {
-    let read = match edsgen_codegen::read::read_file(&args.eds) {
-        Ok(read) => read,
-        Err(err) => return usage(err.to_string()),
-    };
     let shown = args.eds.display().to_string();
-    let Some(cip) = read
-        .device
-        .cip
-        .as_ref()
-        .filter(|_| read.device.source.format == Format::OdvaEds)
-    else {
-        return usage(format!("`{shown}` is not an ODVA EDS"));
+    let cip = match super::enip::read_cip(&args.eds) {
+        Ok(cip) => cip,
+        Err(m) => return usage(m),
     };
+    let cip = &cip;
     let plan = match plan(cip, &shown, &args) {
         Ok(p) => p,
         Err(m) => return usage(m),
@@ -315,7 +308,7 @@ fn plan<'a>(cip: &'a Cip, file: &str, args: &Args) -> Result<Plan<'a>, String> {
 fn output_image(cip: &Cip, plan: &Plan<'_>, values: &[String]) -> Result<Vec<u8>, String> {
     let empty = Vec::new();
     let members = plan.output.as_ref().map_or(&empty, |(_, m)| m);
-    let mut image = cip_value::defaults(members, plan.o_t_size);
+    let mut image = cip_value::defaults(cip, members, plan.o_t_size);
     for pair in values {
         let Some((name, value)) = pair.split_once('=') else {
             return Err(format!("`{pair}` is not NAME=VALUE"));
@@ -338,7 +331,9 @@ fn output_image(cip: &Cip, plan: &Plan<'_>, values: &[String]) -> Result<Vec<u8>
                 suggestions(&wanted, members)
             ));
         };
-        let raw = cip_value::parse(cip, member, value)?;
+        let raw = Typed::member(cip, member)
+            .parse(value)
+            .map_err(|m| format!("`{}={}`: {m}", member.name, value.trim()))?;
         cip_value::put_bits(&mut image, member.bit, member.bits, raw);
     }
     Ok(image)

@@ -25,6 +25,12 @@ pub fn requested() -> bool {
     REQUESTED.load(Ordering::SeqCst)
 }
 
+/// The flag a stop sets, for a loop that polls an `AtomicBool` of its own (the EtherNet/IP
+/// adapter's driver).
+pub fn flag() -> &'static AtomicBool {
+    &REQUESTED
+}
+
 /// Sleeps up to `timeout`, waking early when a stop is asked for; returns [`requested`].
 pub fn wait(timeout: Duration) -> bool {
     let end = Instant::now() + timeout;

@@ -1,16 +1,15 @@
 //! `edsgen simulate --enip ADDR --card goodrive350-enip` and `edsgen simulate --enip ADDR
 //! FILE.eds`: an EtherNet/IP adapter on `ADDR` (an IPv4 address, optionally `:PORT`, 44818 by
 //! default; class-1 I/O on UDP 2222 of that address), serving the Goodrive350 card with its drive
-//! or any ODVA EDS's identity and assemblies (filled with their parameters' defaults). Runs until
-//! interrupted. Exit 2 for bad usage, a file that is not an ODVA EDS, or an address it cannot
+//! or any ODVA EDS's identity and assemblies (filled with their parameters' defaults) and its
+//! Parameter object. Runs until SIGINT, SIGTERM or SIGHUP, then says `stopped:` with what it
+//! served and exits 0. Exit 2 for bad usage, a file that is not an ODVA EDS, or an address it cannot
 //! bind.
 
 use std::net::{IpAddr, SocketAddr};
 use std::path::Path;
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
 
-use edsgen_codegen::model::Format;
 use edsgen_runtime::Instant;
 use edsgen_sim::enip::{device, driver};
 
@@ -49,32 +48,30 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
             return fail(format!("--enip serves the card `{CARD}`, not `{other}`"));
         }
         ([file], []) => {
-            let path = Path::new(file);
-            let read = match edsgen_codegen::read::read_file(path) {
-                Ok(read) => read,
-                Err(err) => return fail(err.to_string()),
+            let cip = match super::enip::read_cip(Path::new(file)) {
+                Ok(cip) => cip,
+                Err(message) => return fail(message),
             };
-            let Some(cip) = read
-                .device
-                .cip
-                .as_ref()
-                .filter(|_| read.device.source.format == Format::OdvaEds)
-            else {
-                return fail(format!(
-                    "`{file}` is not an ODVA EDS (no [File]/[Device] section)"
-                ));
-            };
-            (device::from_cip(cip, ip), None, format!("`{file}`"))
+            (device::from_cip(&cip, ip), None, format!("`{file}`"))
         }
         _ => return fail("--enip serves one ODVA EDS file or --card goodrive350-enip".to_owned()),
+    };
+    if let Err(message) = super::signals::install() {
+        return fail(message);
+    }
+    let log = |line: String| eprintln!("{line}");
+    let sockets = match driver::bind(address, log) {
+        Ok(sockets) => sockets,
+        Err(err) => return fail(format!("cannot serve on {address}: {err}")),
     };
     eprintln!(
         "serving {what} on {address} (EtherNet/IP; class-1 I/O on UDP {})",
         driver::IO_PORT
     );
-    let stop = AtomicBool::new(false);
-    match driver::serve(address, adapter, card, &stop, |line| eprintln!("{line}")) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(err) => fail(format!("cannot serve on {address}: {err}")),
-    }
+    let served = driver::run(sockets, adapter, card, super::signals::flag(), log);
+    eprintln!(
+        "stopped: {} clients served, {} connections opened",
+        served.clients, served.connections
+    );
+    ExitCode::SUCCESS
 }

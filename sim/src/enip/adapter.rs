@@ -112,6 +112,8 @@ pub struct Adapter {
     pub(super) serving_session: u32,
     /// The configuration assembly instances a connection path may name (size 0).
     pub config_instances: Vec<u32>,
+    /// The Parameter object's instances (class 0x0F), by instance.
+    pub parameters: BTreeMap<u32, super::parameter::Parameter>,
 }
 
 impl Adapter {
@@ -130,6 +132,7 @@ impl Adapter {
             explicit: Vec::new(),
             serving_session: 0,
             config_instances: Vec::new(),
+            parameters: BTreeMap::new(),
         }
     }
 

@@ -3,7 +3,8 @@
 //! them. A request travels in a Connected Data item (0xB1) after its 16-bit sequence count,
 //! addressed by the O→T connection ID in a Connected Address item (0xA1); the reply carries the
 //! T→O connection ID and echoes the count. A request with the count of the previous one is a
-//! retransmission: it gets the previous reply again and is not executed twice. A connection
+//! retransmission: it gets the previous reply again and is not executed twice. A request longer
+//! than the connection's O→T size (count included) is not executed: general status 0x15. A connection
 //! belongs to the session that opened it and closes with it, on Forward_Close, or after its
 //! timeout (multiplier × O→T RPI) without a request.
 
@@ -26,6 +27,8 @@ pub struct ExplicitConnection {
     pub session: u32,
     /// The largest reply the originator takes, sequence count included (the T→O size).
     pub t_o_size: usize,
+    /// The largest request it may send, sequence count included (the O→T size).
+    pub o_t_size: usize,
     /// The timeout: the multiplier times the O→T RPI.
     pub timeout: Duration,
     /// When the last request came (or the connection opened).
@@ -39,6 +42,7 @@ pub(super) struct ExplicitOpen {
     pub t_o_id: u32,
     pub triad: (u16, u16, u32),
     pub t_o_size: usize,
+    pub o_t_size: usize,
     pub timeout: Duration,
 }
 
@@ -65,6 +69,7 @@ impl Adapter {
             triad: open.triad,
             session: self.serving_session,
             t_o_size: open.t_o_size,
+            o_t_size: open.o_t_size,
             timeout: open.timeout,
             last_heard: now,
             last: None,
@@ -141,6 +146,13 @@ impl Adapter {
         let t_o_id = self.explicit[at].t_o_id;
         let reply = match &self.explicit[at].last {
             Some((last, reply)) if *last == sequence => reply.clone(),
+            // A request longer than the connection's O→T size is not executed: too much data.
+            _ if data.len() > self.explicit[at].o_t_size => {
+                let service = data.get(2).copied().unwrap_or(0);
+                let reply = response(service, general::TOO_MUCH_DATA, &[], &[]);
+                self.explicit[at].last = Some((sequence, reply.clone()));
+                reply
+            }
             _ => {
                 self.serving_session = m.session;
                 let mut reply = self.route(client, &data[2..], now);

@@ -1,14 +1,16 @@
 //! What the adapter serves: any ODVA EDS's identity and assemblies (each filled with its
 //! members' parameter defaults, little-endian, packed from bit 0 as CIP packs them), or the
-//! Goodrive350 EtherNet/IP card with its drive.
+//! Goodrive350 EtherNet/IP card with its drive; both with the Parameter object of their EDS's
+//! `[Params]`.
 
 use std::collections::BTreeMap;
 
-use edsgen_codegen::model::{Cip, CipNumber, FieldRef};
+use edsgen_codegen::model::{Cip, FieldRef};
 use edsgen_runtime::Instant;
 
 use super::adapter::{Adapter, Assembly, Identity};
 use super::driver::Card;
+use super::parameter as param_object;
 use crate::cards::goodrive350_enip as card;
 use crate::drives::pkw_pzd::{parameter, Bus, PkwPzdDrive};
 
@@ -47,19 +49,12 @@ pub fn from_cip(cip: &Cip, address: [u8; 4]) -> Adapter {
         let mut data = vec![0u8; size];
         let mut bit = 0usize;
         for m in &a.members {
-            let bits = m.bits.unwrap_or(0) as usize;
-            if let FieldRef::Param(n) = m.member {
-                let default = cip.params.get(&n).and_then(|p| p.default.as_ref());
-                if let Some(CipNumber::Int(v)) = default.map(|d| d.value) {
-                    for i in 0..bits.min(64) {
-                        let on = (v >> i) & 1 != 0;
-                        if let Some(byte) = data.get_mut((bit + i) / 8) {
-                            if on {
-                                *byte |= 1 << ((bit + i) % 8);
-                            }
-                        }
-                    }
-                }
+            let bits = param_object::member_bits(cip, m);
+            if let Some(p) = match m.member {
+                FieldRef::Param(n) => cip.params.get(&n),
+                _ => None,
+            } {
+                param_object::paste(&mut data, bit, bits, &param_object::default_bytes(p));
             }
             bit += bits;
         }
@@ -71,10 +66,15 @@ pub fn from_cip(cip: &Cip, address: [u8; 4]) -> Adapter {
             },
         );
     }
+    let parameters = param_object::from_cip(cip, &assemblies);
     let mut adapter = Adapter::new(identity, assemblies, address);
     adapter.config_instances = config_instances;
+    adapter.parameters = parameters;
     adapter
 }
+
+/// The card's EDS, whose `[Params]` the Parameter object serves.
+const CARD_EDS: &str = include_str!("../../../eds/goodrive350-enip.eds");
 
 /// The Goodrive350 EtherNet/IP card: its generated identity and images, the drive behind it
 /// with P00.01 = 2 and P00.02 = 3 (5.4.1: run commands from EtherNet/IP) and P00.06 = 13 (the
@@ -119,8 +119,18 @@ pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
             consumed: true,
         },
     );
+    let read = edsgen_codegen::read::read_bytes(
+        std::path::Path::new("eds/goodrive350-enip.eds"),
+        CARD_EDS.as_bytes(),
+    );
+    let parameters = read
+        .device
+        .cip
+        .map(|cip| param_object::from_cip(&cip, &assemblies))
+        .unwrap_or_default();
     let mut adapter = Adapter::new(identity, assemblies, address);
     adapter.config_instances.push(card::Configuration::INSTANCE);
+    adapter.parameters = parameters;
     (
         adapter,
         Card {

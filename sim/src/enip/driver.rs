@@ -40,14 +40,25 @@ struct Client {
     buffer: Vec<u8>,
 }
 
-/// Serves `adapter` on `address` until `stop` is set. `log` gets one line per connection event.
-pub fn serve(
-    address: SocketAddr,
-    mut adapter: Adapter,
-    mut card: Option<Card>,
-    stop: &AtomicBool,
-    mut log: impl FnMut(String),
-) -> std::io::Result<()> {
+/// The adapter's sockets, bound: encapsulation on TCP and UDP at the address, class-1 I/O on
+/// UDP 2222 of it (when that port is taken, explicit messages only).
+pub struct Sockets {
+    listener: TcpListener,
+    udp: UdpSocket,
+    io: Option<UdpSocket>,
+}
+
+/// What a run served, for the line it ends with.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Served {
+    /// TCP clients accepted.
+    pub clients: u64,
+    /// Connections opened (class 1 and class 3).
+    pub connections: u64,
+}
+
+/// Binds the adapter's sockets on `address`. `log` gets a line when class-1 I/O is off.
+pub fn bind(address: SocketAddr, mut log: impl FnMut(String)) -> std::io::Result<Sockets> {
     let listener = TcpListener::bind(address)?;
     listener.set_nonblocking(true)?;
     let udp = UdpSocket::bind(address)?;
@@ -65,6 +76,20 @@ pub fn serve(
             None
         }
     };
+    Ok(Sockets { listener, udp, io })
+}
+
+/// Serves `adapter` on bound `sockets` until `stop` is set. `log` gets one line per connection
+/// event.
+pub fn run(
+    sockets: Sockets,
+    mut adapter: Adapter,
+    mut card: Option<Card>,
+    stop: &AtomicBool,
+    mut log: impl FnMut(String),
+) -> Served {
+    let Sockets { listener, udp, io } = sockets;
+    let mut served = Served::default();
     let start = std::time::Instant::now();
     let now = || Instant::from_micros(start.elapsed().as_micros() as u64);
     let mut clients: BTreeMap<u64, Client> = BTreeMap::new();
@@ -85,6 +110,7 @@ pub fn serve(
                         },
                     );
                     next_client += 1;
+                    served.clients += 1;
                 }
                 Err(e) if e.kind() == ErrorKind::WouldBlock => break,
                 Err(_) => break,
@@ -133,7 +159,7 @@ pub fn serve(
         }
         let t = now();
         let mut produce = adapter.poll(t);
-        link(&mut adapter, card.as_mut(), t, &mut log);
+        served.connections += link(&mut adapter, card.as_mut(), t, &mut log);
         if let Some(io) = &io {
             for (peer, datagram) in produce.drain(..) {
                 let ip = clients.get(&peer).map(|c| c.peer);
@@ -145,7 +171,7 @@ pub fn serve(
         }
         std::thread::sleep(std::time::Duration::from_millis(1));
     }
-    Ok(())
+    served
 }
 
 /// The UDP port a T→O datagram goes to: the one its connection's Forward_Open asked for, else
@@ -163,16 +189,20 @@ fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
 /// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
 /// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
 /// trips the drive (E-EIP); without a connection the T→O assembly shows the drive as it stands.
-/// `log` gets one line per connection event.
+/// `log` gets one line per connection event. Returns how many connections opened.
 pub fn link(
     adapter: &mut Adapter,
     mut card: Option<&mut Card>,
     now: Instant,
     log: &mut impl FnMut(String),
-) {
+) -> u64 {
+    let mut opened = 0;
     for event in adapter.take_events() {
         match event {
-            Event::Opened(id) => log(format!("connection {id:#010x} opened")),
+            Event::Opened(id) => {
+                opened += 1;
+                log(format!("connection {id:#010x} opened"));
+            }
             Event::Closed(id) => log(format!("connection {id:#010x} closed")),
             Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
             Event::TimedOut(id) => {
@@ -211,4 +241,5 @@ pub fn link(
             }
         }
     }
+    opened
 }

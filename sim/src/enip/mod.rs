@@ -3,7 +3,7 @@
 //! RegisterSession, UnRegisterSession, SendRRData) knows nothing of objects and hands Message
 //! Router requests to the objects ([`objects`]: Identity, Message Router, Assembly, Connection
 //! Manager with Forward_Open, Large_Forward_Open and Forward_Close, TCP/IP Interface, Ethernet
-//! Link); class-1 I/O (O→T with its 32-bit run/idle header and sequence count, T→O at the RPI,
+//! Link, and the Parameter object in [`parameter`]); class-1 I/O (O→T with its 32-bit run/idle header and sequence count, T→O at the RPI,
 //! the connection closed after its timeout) lives in the adapter too. Wire formats are in
 //! [`wire`]. Every refusal carries the status CIP or the encapsulation defines; bad bytes never
 //! panic.
@@ -17,6 +17,7 @@ pub mod class3;
 pub mod device;
 pub mod driver;
 pub mod objects;
+pub mod parameter;
 pub mod wire;
 
 pub use adapter::{Adapter, Assembly, Event, Identity, IoConnection};
@@ -24,5 +25,7 @@ pub use class3::ExplicitConnection;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_parameter;
 #[cfg(test)]
 mod tests_scanner;

@@ -1,6 +1,6 @@
 //! The Message Router (class 2) and the objects behind it: Identity (1), Assembly (4),
 //! Connection Manager (6: Forward_Open, Large_Forward_Open, Forward_Close; class 1 to assemblies,
-//! class 3 to the Message Router), TCP/IP Interface
+//! class 3 to the Message Router), Parameter (0x0F, in `parameter`), TCP/IP Interface
 //! (0xF5) and Ethernet Link (0xF6). Each refusal carries CIP's general status (and the
 //! Connection Manager's extended status).
 
@@ -63,6 +63,7 @@ impl Adapter {
             Some(2) => self.simple_get(&request, &path, |_, _| None),
             Some(4) => self.assembly_service(&request, &path),
             Some(6) => self.connection_manager(client, &request, now),
+            Some(0x0F) => self.parameter_service(&request, &path),
             Some(0xF5) => self.simple_get(&request, &path, |a, attr| match attr {
                 1 => Some(2u32.to_le_bytes().to_vec()),
                 2 => Some(0x0000_0014u32.to_le_bytes().to_vec()),
@@ -297,6 +298,7 @@ impl Adapter {
                     t_o_id,
                     triad,
                     t_o_size: (t_o_params & size_mask) as usize,
+                    o_t_size: (o_t_params & size_mask) as usize,
                     timeout: Duration::from_micros(u64::from(o_t_rpi.max(1000)) * timeout_factor),
                 };
                 let id = self.open_explicit(open, now);

@@ -590,4 +590,22 @@ fn class3_refusals() {
         unit_data(&mut a, s, id, 1, &name, T0),
         (0, connected(1, &[0x8E, 0, 0x11, 0]))
     );
+    // A request longer than the O→T size (8 bytes with the count): too much data, and not
+    // executed (the assembly keeps its bytes).
+    let mut narrow = class3_open(0x54, 3, 100_000, 0xA3, &ROUTER);
+    narrow[32..34].copy_from_slice(&0x4208u16.to_le_bytes());
+    let ok = explicit(&mut a, s, &narrow);
+    let id = u32::from_le_bytes([ok[4], ok[5], ok[6], ok[7]]);
+    let write = [0x10, 3, 0x20, 0x04, 0x24, 0x96, 0x30, 0x03, 0xFF];
+    assert_eq!(
+        unit_data(&mut a, s, id, 1, &write, T0),
+        (0, connected(1, &[0x90, 0, 0x15, 0]))
+    );
+    assert_eq!(a.assemblies[&150].data, [0; 32]);
+    // Six bytes with the count fit: executed.
+    let vendor = [0x0E, 2, 0x20, 0x01, 0x24, 0x01];
+    assert_eq!(
+        unit_data(&mut a, s, id, 2, &vendor, T0),
+        (0, connected(2, &[0x8E, 0, 0x14, 0]))
+    );
 }
