@@ -9,6 +9,7 @@
 //!
 //! Not yet here: alarms (the AlarmCR is accepted, no alarm is sent).
 
+pub mod alarm;
 pub mod ar;
 pub mod controller;
 pub mod cyclic;

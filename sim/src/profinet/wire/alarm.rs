@@ -369,7 +369,7 @@ impl ChannelDiagnosis {
             USI_EXT_CHANNEL_DIAGNOSIS => 12,
             _ => return None,
         };
-        if data.len() % size != 0 {
+        if !data.len().is_multiple_of(size) {
             return None;
         }
         data.chunks_exact(size)
