@@ -11,6 +11,7 @@ use std::process::ExitCode;
 
 use edsgen_codegen::{read, validate};
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use edsgen_sim::profinet::alarm::AlarmEvent;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::ArEvent;
 use edsgen_sim::profinet::dcp::DcpEvent;
@@ -112,6 +113,17 @@ pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) ->
             ),
             DeviceEvent::Dcp(DcpEvent::Signal) => println!("signal: flashing the LED"),
             DeviceEvent::Dcp(DcpEvent::ResetToFactory) => println!("reset to factory"),
+            DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)) => println!(
+                "alarm {:#06x} of slot {} subslot {} acknowledged (sequence {}, PNIOStatus {})",
+                ack.source.alarm_type,
+                ack.source.slot,
+                ack.source.subslot,
+                ack.source.specifier & 0x07FF,
+                hex(&ack.status.0)
+            ),
+            DeviceEvent::Alarm(AlarmEvent::Aborted(status)) => {
+                println!("alarm CR over (PNIOStatus {})", hex(&status.0))
+            }
         }
         use std::io::Write;
         let _ = std::io::stdout().flush();
@@ -120,6 +132,11 @@ pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) ->
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(format!("PROFINET on `{iface}`: {e}")),
     }
+}
+
+/// Bytes as hex digits.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02X}")).collect()
 }
 
 /// Prints one step of an AR.
