@@ -6,8 +6,10 @@
 //! Goodrive350's drive behind the card; it prints what a controller sets and each step of an AR,
 //! until it is stopped.
 
+use std::io::BufRead;
 use std::path::Path;
 use std::process::ExitCode;
+use std::sync::mpsc;
 
 use edsgen_codegen::{read, validate};
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
@@ -25,12 +27,23 @@ const GOODRIVE350_PN: &[u8] = include_bytes!("../../eds/goodrive350-pn.xml");
 
 /// Runs the device on `iface`; exit 2 for bad usage, a file that is not a readable GSDML, or an
 /// interface that cannot be opened.
-pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) -> ExitCode {
+/// With `faults_on_stdin` (the card only), its drive's faults are switched by `fault` and
+/// `clear` lines on standard input.
+pub fn run(
+    iface: &str,
+    files: &[String],
+    cards: &[String],
+    ip: Option<&str>,
+    faults_on_stdin: bool,
+) -> ExitCode {
     let ip = match ip.map(parse_ip).transpose() {
         Ok(ip) => ip,
         Err(e) => return fail(e),
     };
     let card = cards.first().is_some_and(|c| c == "goodrive350-pn");
+    if faults_on_stdin && !card {
+        return fail("--faults-on-stdin switches the faults of --card goodrive350-pn's drive");
+    }
     let (name, bytes) = match (files, cards) {
         ([file], []) => match std::fs::read(file) {
             Ok(bytes) => (file.clone(), bytes),
@@ -90,7 +103,19 @@ pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) ->
     let config = DeviceConfig::from_gsdml(pn);
     let drive = card.then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
     let mut device = Device::new(station, config, drive);
-    let served = driver::serve(&mut socket, &rpc, &mut device, None, |event| {
+    let faults = faults_on_stdin.then(faults_from_stdin);
+    let tick = |device: &mut Device, now| {
+        for fault in faults.iter().flat_map(|f| f.try_iter()) {
+            if fault {
+                device.inject_fault(now, FAULT_OC1);
+                println!("drive fault {FAULT_OC1} (OC1) raised");
+            } else {
+                device.remove_fault_cause();
+                println!("drive fault cause removed: a fault reset (CW command 7) clears it");
+            }
+        }
+    };
+    let served = driver::serve_with(&mut socket, &rpc, &mut device, None, tick, |event| {
         match event {
             DeviceEvent::Ar(event) => print_ar(event),
             DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
@@ -132,6 +157,31 @@ pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) ->
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(format!("PROFINET on `{iface}`: {e}")),
     }
+}
+
+/// The fault a `fault` line raises: P07.27's type 4, OC1 (overcurrent while accelerating).
+const FAULT_OC1: u16 = 4;
+
+/// `fault` (true) and `clear` (false) lines of standard input, read by a thread of their own.
+fn faults_from_stdin() -> mpsc::Receiver<bool> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines() {
+            let Ok(line) = line else { break };
+            let fault = match line.trim() {
+                "fault" => true,
+                "clear" => false,
+                other => {
+                    eprintln!("ignored on standard input: `{other}` (fault or clear)");
+                    continue;
+                }
+            };
+            if tx.send(fault).is_err() {
+                break;
+            }
+        }
+    });
+    rx
 }
 
 /// Bytes as hex digits.
