@@ -3,8 +3,9 @@
 //! Hello, then answers DCP (identify, get, set name of station and IP, signal) as the GSDML's
 //! default access point, serves connection management on UDP 34964 (Connect, Read, Write,
 //! PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of the AR, with the
-//! Goodrive350's drive behind the card; it prints what a controller sets and each step of an AR,
-//! until it is stopped.
+//! Goodrive350's drive behind the card, whose faults are Diagnosis alarms on the AR's AlarmCR
+//! (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch one); it prints what
+//! a controller sets, each step of an AR and each alarm acknowledged, until it is stopped.
 
 use std::io::BufRead;
 use std::path::Path;
