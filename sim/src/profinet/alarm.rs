@@ -200,7 +200,11 @@ impl AlarmCr {
         }
         let n = usize::from(rta.high());
         match h.pdu_type {
-            PDU_ACK if rta.var_part.is_empty() => self.apmx[n].acknowledged(h.ack_seq),
+            PDU_ACK if rta.var_part.is_empty() => {
+                self.apmx[n].acknowledged(h.ack_seq);
+                // An AlarmAck may have come before this ACK: the next alarm's turn.
+                self.next_alarm(now, n);
+            }
             PDU_ERR => {
                 if let Ok(status) = <[u8; 4]>::try_from(rta.var_part) {
                     self.close(PnioStatus(status));

@@ -327,3 +327,60 @@ fn a_high_priority_alarm_goes_on_0xfc01_with_priority_6() {
     assert_eq!((rta.frame_id, rta.eth.vlan), (FRAME_ID_HIGH, Some(0xC000)));
     assert_eq!(rta.var_part[..2], [0x00, 0x01]);
 }
+
+#[test]
+fn an_alarm_ack_before_the_transport_ack_lets_the_next_alarm_go_after_the_ack() {
+    let mut cr = cr();
+    let t0 = Instant::from_millis(0);
+    cr.send(t0, alarm(ALARM_DIAGNOSIS));
+    cr.send(t0, alarm(ALARM_DIAGNOSIS_DISAPPEARS));
+    cr.poll_frame().expect("the first alarm");
+    // The AlarmAck whose AckSeqNum does not yet acknowledge the DATA.
+    let ack = alarm_ack(ALARM_DIAGNOSIS, 0);
+    cr.handle_frame(
+        t0,
+        &from_controller(PDU_DATA, 0x11, SEQ_FIRST, SEQ_NONE, &ack),
+    );
+    let (header, _) = sent(&cr.poll_frame().expect("its transport ACK"));
+    assert_eq!(header.1, 0x13);
+    assert!(matches!(cr.poll_event(), Some(AlarmEvent::Acknowledged(_))));
+    assert_eq!(
+        cr.poll_frame(),
+        None,
+        "the first DATA is not acknowledged yet"
+    );
+    cr.handle_frame(
+        t0,
+        &from_controller(PDU_ACK, WINDOW_1, SEQ_FIRST, SEQ_FIRST, &[]),
+    );
+    let (header, var) = sent(&cr.poll_frame().expect("the second alarm"));
+    assert_eq!(header, (FRAME_ID_LOW, 0x11, 0x11, 0x0000, 0xFFFF));
+    assert_eq!(
+        AlarmNotification::parse(&var).map(|a| a.source.alarm_type),
+        Some(ALARM_DIAGNOSIS_DISAPPEARS)
+    );
+}
+
+#[test]
+fn every_byte_of_a_controller_frame_changed_is_taken_without_a_panic() {
+    let ack = alarm_ack(ALARM_DIAGNOSIS, 0);
+    let data = from_controller(PDU_DATA, 0x11, SEQ_FIRST, SEQ_FIRST, &ack);
+    for at in 0..data.len() {
+        for value in [0x00, 0x01, 0x04, 0x7F, 0x80, 0xFF] {
+            let mut cr = cr();
+            cr.send(Instant::from_millis(0), alarm(ALARM_DIAGNOSIS));
+            cr.poll_frame().expect("the alarm");
+            let mut frame = data.clone();
+            frame[at] = value;
+            cr.handle_frame(Instant::from_millis(1), &frame);
+            cr.handle_timeout(Instant::from_millis(1000));
+            while let Some(out) = cr.poll_frame() {
+                let rta = RtaFrame::parse(&out).expect("the device's frames parse");
+                assert_eq!(
+                    (rta.header.dst, rta.header.src),
+                    (CONTROLLER_REF, DEVICE_REF)
+                );
+            }
+        }
+    }
+}
