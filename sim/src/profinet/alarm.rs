@@ -100,6 +100,8 @@ pub struct AlarmCr {
     retries: u16,
     /// Low, high.
     apmx: [Apmx; 2],
+    /// AlarmCRProperties bit 0: every alarm goes with low priority.
+    low_only: bool,
     outbox: VecDeque<Vec<u8>>,
     events: VecDeque<AlarmEvent>,
     closed: bool,
@@ -118,6 +120,7 @@ impl AlarmCr {
             timeout: Duration::from_millis(u64::from(req.rta_timeout_factor.max(1)) * 100),
             retries: req.rta_retries,
             apmx: [Apmx::new(false), Apmx::new(true)],
+            low_only: req.properties & 1 != 0,
             outbox: VecDeque::new(),
             events: VecDeque::new(),
             closed: false,
@@ -130,12 +133,14 @@ impl AlarmCr {
     }
 
     /// Sends `alarm` on its priority at `now`, or queues it behind the alarm not acknowledged
-    /// yet. The machine sets the AlarmSpecifier's sequence number (bits 0-10). Nothing happens
-    /// once the AlarmCR is over.
-    pub fn send(&mut self, now: Instant, alarm: AlarmNotification) {
+    /// yet. The machine sets the AlarmSpecifier's sequence number (bits 0-10), and the low
+    /// priority when the AlarmCRProperties ask for it only. Nothing happens once the AlarmCR is
+    /// over.
+    pub fn send(&mut self, now: Instant, mut alarm: AlarmNotification) {
         if self.closed {
             return;
         }
+        alarm.high &= !self.low_only;
         let n = usize::from(alarm.high);
         self.apmx[n].queue.push_back(alarm);
         self.next_alarm(now, n);

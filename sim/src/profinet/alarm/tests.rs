@@ -317,7 +317,7 @@ fn frames_for_another_endpoint_version_or_peer_are_ignored_and_garbage_never_pan
 }
 
 #[test]
-fn a_high_priority_alarm_goes_on_0xfc01_with_priority_6() {
+fn a_high_priority_alarm_goes_on_0xfc01_with_priority_6_unless_only_low_is_asked() {
     let mut cr = cr();
     let mut process = alarm(0x0002);
     process.high = true;
@@ -326,6 +326,23 @@ fn a_high_priority_alarm_goes_on_0xfc01_with_priority_6() {
     let rta = RtaFrame::parse(&frame).expect("an alarm frame");
     assert_eq!((rta.frame_id, rta.eth.vlan), (FRAME_ID_HIGH, Some(0xC000)));
     assert_eq!(rta.var_part[..2], [0x00, 0x01]);
+    // AlarmCRProperties bit 0: low priority only.
+    let mut cr = AlarmCr::new(
+        &AlarmCrBlockReq {
+            properties: 1,
+            ..request()
+        },
+        DEVICE_REF,
+        DEVICE,
+        CONTROLLER,
+    );
+    let mut process = alarm(0x0002);
+    process.high = true;
+    cr.send(Instant::from_millis(0), process);
+    let frame = cr.poll_frame().expect("the alarm");
+    let rta = RtaFrame::parse(&frame).expect("an alarm frame");
+    assert_eq!((rta.frame_id, rta.eth.vlan), (FRAME_ID_LOW, Some(0xA000)));
+    assert_eq!(rta.var_part[..2], [0x00, 0x02]);
 }
 
 #[test]
