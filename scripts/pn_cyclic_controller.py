@@ -4,11 +4,15 @@ by step, with outputs of our own: DCP identify by name, a device access Connect,
 RealIdentificationData, Release; the Connect with IOCRs built from the GSDML and the real
 identification, a Write of record 256 and its Read, PrmEnd, ApplicationReady; then RT frames:
 CW 1 (run forward) with PZD2 500 (5.00 Hz) until the running frequency reaches it, a PKW read
-of P00.11, CW 5 (stop) until the drive stops; Release. One line per step on stdout, values
-exact so that the test can assert them.
+of P00.11, CW 5 (stop) until the drive stops; then, with profinet-py's alarm listener on the
+AR's AlarmCR, the drive's fault (raised by the test through the device's standard input) as a
+Diagnosis alarm, which the listener acknowledges, CW 7 (fault reset) until the fault is gone
+(the test removes its cause) and the Diagnosis disappears alarm; Release. One line per step on
+stdout, values exact so that the test can assert them.
 
 Usage: pn_cyclic_controller.py IFACE NAME GSDML
 """
+import queue
 import struct
 import sys
 import time
@@ -95,6 +99,25 @@ def until(output, done, seconds):
     raise SystemExit(f"not within {seconds} s: {inputs()}")
 
 
+alarms = queue.Queue()
+listener = conn.create_alarm_listener(iface)
+if listener is None:
+    raise SystemExit("no AlarmCR established")
+listener.add_callback(alarms.put)
+listener.start()
+
+
+def alarm(seconds):
+    try:
+        a = alarms.get(timeout=seconds)
+    except queue.Empty:
+        raise SystemExit(f"no alarm within {seconds} s")
+    return (
+        f"alarm {a.alarm_type:#06x} slot {a.slot_number} subslot {a.subslot_number} "
+        f"seq {a.alarm_sequence_number} payload {a.raw_payload.hex()}"
+    )
+
+
 cyclic.set_output_data(1, 1, words())
 cyclic.start()
 seen = until(words(), lambda w: True, 5)
@@ -105,6 +128,24 @@ seen = until(words(pkw=(1, 0x000B, 0, 0), cw=1, pzd2=500), lambda w: w[0] == 1, 
 print(f"pkw read {seen[1]:#06x} = {seen[3]}", flush=True)
 seen = until(words(cw=5), lambda w: w[4] & 0xFF == 3, 20)
 print(f"stop sw {seen[4] & 0xFF} frequency {seen[5]}", flush=True)
+print("waiting for an alarm", flush=True)
+print(alarm(20), flush=True)
+seen = until(words(), lambda w: w[4] & 0xFF == 4, 5)
+print(f"fault sw {seen[4] & 0xFF}", flush=True)
+# The drive takes a command when the CW changes: CW 7 and 0 in turn until the cause is gone.
+deadline = time.monotonic() + 20
+cw = 7
+while (inputs() or (0,) * 16)[4] & 0xFF != 3:
+    if time.monotonic() > deadline:
+        raise SystemExit(f"no fault reset within 20 s: {inputs()}")
+    cyclic.set_output_data(1, 1, words(cw=cw))
+    cw = 7 - cw
+    time.sleep(0.1)
+seen = inputs()
+print(f"reset sw {seen[4] & 0xFF}", flush=True)
+print(alarm(10), flush=True)
+time.sleep(0.5)
+listener.stop()
 cyclic.stop()
 print(f"frames in {'yes' if cyclic.stats.frames_received > 0 else 'no'}", flush=True)
 conn.close()

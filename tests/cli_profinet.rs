@@ -88,6 +88,14 @@ fn profinet_usage_and_interface_errors_exit_2() {
             "error: no PROFINET card `cp301`: the bundled PROFINET card is goodrive350-pn",
         ),
         (
+            &["simulate", "--profinet", "lo", "eds/goodrive350-pn.xml", "--faults-on-stdin"][..],
+            "error: --faults-on-stdin switches the faults of --card goodrive350-pn's drive",
+        ),
+        (
+            &["simulate", "--enip", "127.0.0.1", "--card", "goodrive350-enip", "--faults-on-stdin"][..],
+            "error: --faults-on-stdin goes with --ethercat or --profinet",
+        ),
+        (
             &["simulate", "--profinet", "lo", "eds/cp301.eds"][..],
             "error: `eds/cp301.eds` is not a GSDML file without errors (run `edsgen validate eds/cp301.eds`)",
         ),

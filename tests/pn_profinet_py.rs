@@ -4,7 +4,10 @@
 //! (DCP identify by name, a device access Connect, Read 0xF000 RealIdentificationData, Release,
 //! the Connect with IOCRs, a Write and Read of record 256, PrmEnd, ApplicationReady), reaches
 //! cyclic data exchange in RT_CLASS_1 frames and sees the drive run to 5.00 Hz on CW 1, answer a
-//! PKW read of P00.11 and stop on CW 5; the device prints each step of the two ARs. Then
+//! PKW read of P00.11 and stop on CW 5; then the drive's fault (raised on the device's
+//! standard input, `--faults-on-stdin`) reaches profinet-py's alarm listener as a Diagnosis
+//! alarm it acknowledges, and its reset (CW 7) as a Diagnosis disappears alarm; the device
+//! prints each step of the two ARs and the AlarmAcks. Then
 //! profinet-py's own `profinet cyclic` command against a corpus GSDML (p-net's counter sample)
 //! simulated as it is. Needs root (namespaces, raw sockets) and, for the second, the GSDML
 //! corpus: without them the tests say so and pass, except under `CI=true`.
@@ -47,6 +50,20 @@ impl Pair {
     }
 }
 
+/// Reads `process`'s standard output into `said` up to the line starting with `prefix`.
+fn lines_until(process: &Process, prefix: &str, said: &mut Vec<String>) {
+    loop {
+        let Some(line) = process.next_line(Duration::from_secs(60)) else {
+            panic!("no line `{prefix}...` within 60 s; it said {said:#?}");
+        };
+        let found = line.starts_with(prefix);
+        said.push(line);
+        if found {
+            return;
+        }
+    }
+}
+
 #[test]
 fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
     if !is_root() {
@@ -55,7 +72,7 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
     }
     let Some(python) = python() else { return };
     let net = Pair::new("pn-py", "10.79.0.1/24", "10.79.0.2/24");
-    let device = Process::start(net.inside(0, EDSGEN).args([
+    let mut device = Process::start(net.inside(0, EDSGEN).args([
         "simulate",
         "--profinet",
         &net.device_if,
@@ -63,6 +80,7 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
         "goodrive350-pn",
         "--ip",
         "10.79.0.2/24",
+        "--faults-on-stdin",
     ]));
     assert_eq!(
         device.stdout_line(|l| l.starts_with("RPC on"), Duration::from_secs(10)),
@@ -76,10 +94,22 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
         "goodrive350-pn",
         gsdml.to_str().expect("a UTF-8 path"),
     ]));
+    let mut said = Vec::new();
+    lines_until(&controller, "waiting for an alarm", &mut said);
+    device.send_line("fault");
+    lines_until(&controller, "fault sw", &mut said);
+    device.send_line("clear");
     let done = controller.finish(Duration::from_secs(90));
-    assert_eq!(done.code, Some(0), "{}\n{}", done.stdout, done.stderr);
     assert_eq!(
-        done.stdout.lines().collect::<Vec<_>>(),
+        done.code,
+        Some(0),
+        "{said:#?}\n{}\n{}",
+        done.stdout,
+        done.stderr
+    );
+    said.extend(done.stdout.lines().map(str::to_owned));
+    assert_eq!(
+        said,
         vec![
             "found goodrive350-pn at 10.79.0.2",
             "real 0:0x1=0x1/0x1 0:0x8000=0x1/0x8000 0:0x8001=0x1/0x8001 0:0x8002=0x1/0x8002 1:0x1=0x10/0x10",
@@ -92,6 +122,11 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
             "run sw 1 frequency 500",
             "pkw read 0x000b = 100",
             "stop sw 3 frequency 0",
+            "waiting for an alarm",
+            "alarm 0x0001 slot 1 subslot 1 seq 0 payload 8002800008000101000100000004",
+            "fault sw 4",
+            "reset sw 3",
+            "alarm 0x000c slot 1 subslot 1 seq 1 payload 8002800010000101000100000004",
             "frames in yes",
             "released",
         ]
@@ -103,6 +138,10 @@ fn profinet_py_connects_and_drives_the_simulated_card_cyclically() {
         "record 256 of slot 1 subslot 1 written (22 bytes)",
         "PrmEnd: ApplicationReady sent",
         "ApplicationReady confirmed: cyclic data exchange",
+        "drive fault 4 (OC1) raised",
+        "alarm 0x0001 of slot 1 subslot 1 acknowledged (sequence 0, PNIOStatus 00000000)",
+        "drive fault cause removed: a fault reset (CW command 7) clears it",
+        "alarm 0x000c of slot 1 subslot 1 acknowledged (sequence 1, PNIOStatus 00000000)",
         "AR released",
     ] {
         assert_eq!(

@@ -232,11 +232,25 @@ fn the_pzd_parameters_are_records_as_tables_4_6_and_4_8_give_them() {
         vl_tx.assignments[26],
         (26, Some("HDIB frequency value (x100, kHz)".to_owned()))
     );
-    assert_eq!(pn.channel_diagnostics.len(), 1);
+    assert_eq!(pn.channel_diagnostics.len(), 2);
     assert_eq!(pn.channel_diagnostics[0].error_type, 0x100);
     assert_eq!(
         pn.channel_diagnostics[0].name.as_deref(),
         Some("E-PN: PROFINET communication fault")
+    );
+    let fault = &pn.channel_diagnostics[1];
+    assert_eq!(
+        (fault.error_type, fault.name.as_deref()),
+        (0x101, Some("Drive fault"))
+    );
+    assert_eq!(fault.ext.len(), 1);
+    assert_eq!(
+        (
+            fault.ext[0].error_type.value,
+            fault.ext[0].name.as_deref(),
+            fault.ext[0].add_values.len()
+        ),
+        (1, Some("Fault type (P07.27)"), 1)
     );
 }
 

@@ -99,10 +99,11 @@ pub struct Args {
     /// With --ethercat: the device of an ESI file with several (type name or `#x` product code).
     #[arg(long, value_name = "NAME|#xCODE", requires = "ethercat")]
     device: Option<String>,
-    /// With --ethercat --card ec-tx508: read `fault` and `clear` lines on standard input, which
-    /// raise a drive fault and remove its cause (to try a MainDevice's fault handling; `edsgen
-    /// demo --ethercat` does).
-    #[arg(long, requires = "ethercat")]
+    /// With --ethercat --card ec-tx508 or --profinet --card goodrive350-pn: read `fault` and
+    /// `clear` lines on standard input, which raise a drive fault and remove its cause (to try a
+    /// MainDevice's fault handling, as `edsgen demo --ethercat` does, or a PROFINET
+    /// controller's diagnosis alarms).
+    #[arg(long)]
     faults_on_stdin: bool,
 }
 
@@ -117,11 +118,20 @@ struct Planned {
 
 /// Runs `edsgen simulate`.
 pub fn run(args: Args) -> ExitCode {
+    if args.faults_on_stdin && args.ethercat.is_none() && args.profinet.is_none() {
+        return fail("--faults-on-stdin goes with --ethercat or --profinet");
+    }
     if let Some(addr) = &args.enip {
         return super::simulate_enip::run(addr, &args.files, &args.cards);
     }
     if let Some(iface) = &args.profinet {
-        return super::simulate_profinet::run(iface, &args.files, &args.cards, args.ip.as_deref());
+        return super::simulate_profinet::run(
+            iface,
+            &args.files,
+            &args.cards,
+            args.ip.as_deref(),
+            args.faults_on_stdin,
+        );
     }
     if let Some(tty) = &args.profibus {
         return super::simulate_dp::run(tty, &args.files, &args.cards);

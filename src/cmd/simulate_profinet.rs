@@ -3,14 +3,18 @@
 //! Hello, then answers DCP (identify, get, set name of station and IP, signal) as the GSDML's
 //! default access point, serves connection management on UDP 34964 (Connect, Read, Write,
 //! PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of the AR, with the
-//! Goodrive350's drive behind the card; it prints what a controller sets and each step of an AR,
-//! until it is stopped.
+//! Goodrive350's drive behind the card, whose faults are Diagnosis alarms on the AR's AlarmCR
+//! (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch one); it prints what
+//! a controller sets, each step of an AR and each alarm acknowledged, until it is stopped.
 
+use std::io::BufRead;
 use std::path::Path;
 use std::process::ExitCode;
+use std::sync::mpsc;
 
 use edsgen_codegen::{read, validate};
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use edsgen_sim::profinet::alarm::AlarmEvent;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::ArEvent;
 use edsgen_sim::profinet::dcp::DcpEvent;
@@ -24,12 +28,23 @@ const GOODRIVE350_PN: &[u8] = include_bytes!("../../eds/goodrive350-pn.xml");
 
 /// Runs the device on `iface`; exit 2 for bad usage, a file that is not a readable GSDML, or an
 /// interface that cannot be opened.
-pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) -> ExitCode {
+/// With `faults_on_stdin` (the card only), its drive's faults are switched by `fault` and
+/// `clear` lines on standard input.
+pub fn run(
+    iface: &str,
+    files: &[String],
+    cards: &[String],
+    ip: Option<&str>,
+    faults_on_stdin: bool,
+) -> ExitCode {
     let ip = match ip.map(parse_ip).transpose() {
         Ok(ip) => ip,
         Err(e) => return fail(e),
     };
     let card = cards.first().is_some_and(|c| c == "goodrive350-pn");
+    if faults_on_stdin && !card {
+        return fail("--faults-on-stdin switches the faults of --card goodrive350-pn's drive");
+    }
     let (name, bytes) = match (files, cards) {
         ([file], []) => match std::fs::read(file) {
             Ok(bytes) => (file.clone(), bytes),
@@ -89,7 +104,19 @@ pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) ->
     let config = DeviceConfig::from_gsdml(pn);
     let drive = card.then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
     let mut device = Device::new(station, config, drive);
-    let served = driver::serve(&mut socket, &rpc, &mut device, None, |event| {
+    let faults = faults_on_stdin.then(faults_from_stdin);
+    let tick = |device: &mut Device, now| {
+        for fault in faults.iter().flat_map(|f| f.try_iter()) {
+            if fault {
+                device.inject_fault(now, FAULT_OC1);
+                println!("drive fault {FAULT_OC1} (OC1) raised");
+            } else {
+                device.remove_fault_cause();
+                println!("drive fault cause removed: a fault reset (CW command 7) clears it");
+            }
+        }
+    };
+    let served = driver::serve_with(&mut socket, &rpc, &mut device, None, tick, |event| {
         match event {
             DeviceEvent::Ar(event) => print_ar(event),
             DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
@@ -112,6 +139,17 @@ pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) ->
             ),
             DeviceEvent::Dcp(DcpEvent::Signal) => println!("signal: flashing the LED"),
             DeviceEvent::Dcp(DcpEvent::ResetToFactory) => println!("reset to factory"),
+            DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)) => println!(
+                "alarm {:#06x} of slot {} subslot {} acknowledged (sequence {}, PNIOStatus {})",
+                ack.source.alarm_type,
+                ack.source.slot,
+                ack.source.subslot,
+                ack.source.specifier & 0x07FF,
+                hex(&ack.status.0)
+            ),
+            DeviceEvent::Alarm(AlarmEvent::Aborted(status)) => {
+                println!("alarm CR over (PNIOStatus {})", hex(&status.0))
+            }
         }
         use std::io::Write;
         let _ = std::io::stdout().flush();
@@ -120,6 +158,36 @@ pub fn run(iface: &str, files: &[String], cards: &[String], ip: Option<&str>) ->
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(format!("PROFINET on `{iface}`: {e}")),
     }
+}
+
+/// The fault a `fault` line raises: P07.27's type 4, OC1 (overcurrent while accelerating).
+const FAULT_OC1: u16 = 4;
+
+/// `fault` (true) and `clear` (false) lines of standard input, read by a thread of their own.
+fn faults_from_stdin() -> mpsc::Receiver<bool> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines() {
+            let Ok(line) = line else { break };
+            let fault = match line.trim() {
+                "fault" => true,
+                "clear" => false,
+                other => {
+                    eprintln!("ignored on standard input: `{other}` (fault or clear)");
+                    continue;
+                }
+            };
+            if tx.send(fault).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// Bytes as hex digits.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02X}")).collect()
 }
 
 /// Prints one step of an AR.

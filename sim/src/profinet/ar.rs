@@ -12,15 +12,16 @@
 //! unless it repeats the same AR UUID. A device access AR (IOSAR) has no cyclic data.
 //! Records: 0xF000 RealIdentificationData, 0xAFF0 I&M0, and the GSDML's parameter records of
 //! each submodule (written with their exact length, read back).
-//! Alarms: the AlarmCR is accepted and answered (AlarmCRBlockRes) but the device sends no
-//! alarm (no alarm frames on 0xFC01/0xFE01): the card has nothing to report that the cyclic
-//! data does not already carry.
+//! Alarms: the AlarmCR is accepted and answered (AlarmCRBlockRes, the device's
+//! LocalAlarmReference 1); [`Cm::alarm_cr`] gives the AR's alarm machines
+//! ([`super::alarm::AlarmCr`]), which the device runs.
 
 pub mod config;
 pub mod connect;
 
 use edsgen_runtime::{Duration, Instant};
 
+use super::alarm::AlarmCr;
 use super::cyclic::CrLayout;
 use super::wire::blocks::*;
 use super::wire::rpc::*;
@@ -99,6 +100,9 @@ impl Ar {
         (self.phase != Phase::Data).then(|| self.last_request + self.activity_timeout())
     }
 }
+
+/// The device's LocalAlarmReference (its AlarmSrcEndpoint), the same for every AR.
+pub const LOCAL_ALARM_REFERENCE: u16 = 1;
 
 /// How long the device waits for the Done of its ApplicationReady before sending it again,
 /// and how often it sends it.
@@ -300,7 +304,7 @@ impl Cm {
         if let Some(alarm) = &accepted.alarm {
             AlarmCrBlockRes {
                 alarm_cr_type: alarm.alarm_cr_type,
-                local_alarm_reference: 1,
+                local_alarm_reference: LOCAL_ALARM_REFERENCE,
                 max_alarm_data_length: alarm.max_alarm_data_length,
             }
             .emit(&mut out);
@@ -583,6 +587,23 @@ impl Cm {
     /// The device's object UUID.
     pub fn object(&self) -> Uuid {
         self.object
+    }
+
+    /// The configuration the device checks Connects against.
+    pub fn config(&self) -> &DeviceConfig {
+        &self.config
+    }
+
+    /// The AR's AlarmCR machines, as its AlarmCRBlockReq asked, when the AR has one.
+    pub fn alarm_cr(&self) -> Option<AlarmCr> {
+        let ar = self.ar.as_ref()?;
+        let req = ar.accepted.alarm.as_ref()?;
+        Some(AlarmCr::new(
+            req,
+            LOCAL_ALARM_REFERENCE,
+            self.mac,
+            ar.accepted.ar.initiator_mac,
+        ))
     }
 }
 

@@ -2,18 +2,21 @@
 //! management ([`Cm`]) and, while an IO AR is up, the cyclic exchange on the AR's layout, with
 //! the Goodrive350's PKW/PZD drive behind it when the device is the card (else inputs of zero).
 //! Cyclic frames are produced only while the AR's data is valid (after ApplicationReady's Done)
-//! and the watchdog aborts the AR. Records 256 and 257 of the card are the drive's P16.32-P16.42
+//! and the watchdog aborts the AR. The AR's AlarmCR ([`AlarmCr`]) carries the card's
+//! diagnosis: a fault of the drive is a Diagnosis alarm, its reset a Diagnosis disappears
+//! alarm; an alarm the controller does not acknowledge ends the AR. Records 256 and 257 of the card are the drive's P16.32-P16.42
 //! and P16.43-P16.53: a write sets them, a read shows them. Sans-IO: Ethernet frames and UDP
 //! datagrams in, frames and datagrams out; the driver ([`super::driver`]) moves them.
 
 use edsgen_runtime::pkw_pzd::IMAGE_BYTES;
 use edsgen_runtime::{Duration, Instant};
 
+use super::alarm::{AlarmCr, AlarmEvent};
 use super::ar::config::DeviceConfig;
 use super::ar::{ArEvent, Cm, Peer};
 use super::cyclic::{CrLayout, Cyclic};
 use super::dcp::{Dcp, DcpEvent, Station};
-use super::drive::{CardCycle, DRIVE_SLOT};
+use super::drive::{fault_alarm, CardCycle, DRIVE_SLOT};
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// The card's record of the received PZD meanings (P16.32-P16.42).
@@ -28,6 +31,8 @@ pub enum DeviceEvent {
     Dcp(DcpEvent),
     /// An AR's step.
     Ar(ArEvent),
+    /// The AlarmCR's: an alarm acknowledged, or the AlarmCR (and its AR) over.
+    Alarm(AlarmEvent),
 }
 
 #[derive(Debug, Clone)]
@@ -46,6 +51,8 @@ pub struct Device {
     dcp: Dcp,
     cm: Cm,
     exchange: Exchange,
+    /// The AR's AlarmCR (after an abort it stays until the next Connect, to send its ERR).
+    alarm: Option<AlarmCr>,
     events: Vec<DeviceEvent>,
 }
 
@@ -74,6 +81,7 @@ impl Device {
             dcp: Dcp::new(station),
             cm,
             exchange: Exchange::Idle(drive),
+            alarm: None,
             events: Vec::new(),
         }
     }
@@ -106,6 +114,12 @@ impl Device {
         if answer.is_some() {
             return answer;
         }
+        if let Some(alarm) = self.alarm.as_mut() {
+            if alarm.handle_frame(now, frame) {
+                self.alarm_events(now);
+                return None;
+            }
+        }
         if self.cm.data_valid() {
             match &mut self.exchange {
                 Exchange::Card(c) => c.handle(now, frame),
@@ -114,8 +128,68 @@ impl Device {
                 }
                 Exchange::Idle(_) => {}
             }
+            self.diagnosis(now);
         }
         None
+    }
+
+    /// A test's hook: the drive trips with `fault` (P07.27's type) at `now`, as an
+    /// overcurrent would; in data exchange the controller gets a Diagnosis alarm.
+    pub fn inject_fault(&mut self, now: Instant, fault: u16) {
+        if let Some(drive) = self.drive_mut() {
+            drive.inject_fault(now, fault);
+        }
+        self.diagnosis(now);
+    }
+
+    /// A test's hook: the injected fault's cause is gone; the controller's fault reset (CW
+    /// command 7) now clears it, and the controller gets a Diagnosis disappears alarm.
+    pub fn remove_fault_cause(&mut self) {
+        if let Some(drive) = self.drive_mut() {
+            drive.remove_fault_cause();
+        }
+    }
+
+    fn drive_mut(&mut self) -> Option<&mut PkwPzdDrive> {
+        match &mut self.exchange {
+            Exchange::Idle(d) => d.as_mut(),
+            Exchange::Card(c) => Some(c.drive_mut()),
+            Exchange::Plain(..) => None,
+        }
+    }
+
+    /// The drive's diagnosis changes as alarms, while the AR exchanges data.
+    fn diagnosis(&mut self, now: Instant) {
+        let (Exchange::Card(card), Some(alarm)) = (&mut self.exchange, self.alarm.as_mut()) else {
+            return;
+        };
+        if !self.cm.data_valid() {
+            return;
+        }
+        let config = self.cm.config();
+        let idents = config
+            .slot(DRIVE_SLOT.0)
+            .zip(config.submodule(DRIVE_SLOT.0, DRIVE_SLOT.1))
+            .map_or((0, 0), |(slot, sub)| (slot.module_ident, sub.ident));
+        while let Some(change) = card.poll_diagnosis() {
+            alarm.send(now, fault_alarm(change, idents));
+        }
+    }
+
+    /// The AlarmCR's events; its end ends the AR.
+    fn alarm_events(&mut self, now: Instant) {
+        let Some(alarm) = self.alarm.as_mut() else {
+            return;
+        };
+        let mut aborted = false;
+        while let Some(event) = alarm.poll_event() {
+            aborted |= matches!(event, AlarmEvent::Aborted(_));
+            self.events.push(DeviceEvent::Alarm(event));
+        }
+        if aborted {
+            self.cm.abort();
+            self.ar_events(now);
+        }
     }
 
     /// A received datagram on UDP 34964: the answer to its sender, if any.
@@ -132,6 +206,9 @@ impl Device {
 
     /// The cyclic frame due at `now`, if any.
     pub fn poll_frame(&mut self, now: Instant) -> Option<Vec<u8>> {
+        if let Some(frame) = self.alarm.as_mut().and_then(AlarmCr::poll_frame) {
+            return Some(frame);
+        }
         if !self.cm.data_valid() {
             return None;
         }
@@ -158,13 +235,21 @@ impl Device {
             }
             _ => None,
         };
-        [cyclic, self.cm.poll_timeout()].into_iter().flatten().min()
+        let alarm = self.alarm.as_ref().and_then(AlarmCr::poll_timeout);
+        [cyclic, self.cm.poll_timeout(), alarm]
+            .into_iter()
+            .flatten()
+            .min()
     }
 
     /// Time passed to `now`: the watchdog (which aborts the AR), the drive's ramps, the
-    /// ApplicationReady's retries.
+    /// ApplicationReady's retries, the alarms' retransmissions.
     pub fn handle_timeout(&mut self, now: Instant) {
         self.cm.handle_timeout(now);
+        if let Some(alarm) = self.alarm.as_mut() {
+            alarm.handle_timeout(now);
+            self.alarm_events(now);
+        }
         let expired = match &mut self.exchange {
             Exchange::Card(c) if self.cm.data_valid() => c.handle_timeout(now),
             Exchange::Plain(c, _) if self.cm.data_valid() => c.handle_timeout(now),
@@ -174,6 +259,7 @@ impl Device {
             self.cm.abort();
         }
         self.ar_events(now);
+        self.diagnosis(now);
     }
 
     fn ar_events(&mut self, now: Instant) {
@@ -182,8 +268,15 @@ impl Device {
                 ArEvent::Connected {
                     layout: Some(layout),
                     ..
-                } => self.start(now, layout.clone()),
-                ArEvent::Released | ArEvent::Aborted => self.stop(),
+                } => {
+                    self.alarm = self.cm.alarm_cr();
+                    self.start(now, layout.clone());
+                }
+                ArEvent::Released | ArEvent::Aborted => {
+                    // A closed AlarmCR may still have its ERR to send; an open one is over.
+                    self.alarm = self.alarm.take().filter(AlarmCr::closed);
+                    self.stop();
+                }
                 ArEvent::DataStart => {
                     // The first output frame may take the AR's activity timeout to come.
                     let first = self.cm.activity_timeout();

@@ -1,12 +1,19 @@
 //! The Goodrive350 behind the simulated PROFINET card: each output frame's 16 words go to the
 //! PKW/PZD drive ([`PkwPzdDrive`] on `Bus::Profinet`, big-endian as PROFINET carries them) and
 //! its 16 words come back in the input frames; the cyclic watchdog trips the drive's E-PN fault.
-//! Sans-IO, as [`Cyclic`] is.
+//! The drive's other faults are its diagnosis: [`CardCycle::poll_diagnosis`] tells when one
+//! appears or disappears, [`fault_alarm`] makes the Diagnosis alarm of the card's GSDML
+//! (ChannelDiagItem 0x0101, the fault type as ExtChannelAddValue). Sans-IO, as [`Cyclic`] is.
 
 use edsgen_runtime::pkw_pzd::{ByteOrder, IMAGE_BYTES};
 use edsgen_runtime::{Duration, Instant};
 
 use super::cyclic::{CrLayout, Cyclic, DataObject};
+use super::wire::alarm::{
+    AlarmNotification, AlarmSource, ChannelDiagnosis, ALARM_DIAGNOSIS, ALARM_DIAGNOSIS_DISAPPEARS,
+    CHANNEL_APPEARS, CHANNEL_DISAPPEARS, CHANNEL_SUBMODULE, SPEC_AR_DIAGNOSIS,
+    SPEC_CHANNEL_DIAGNOSIS, SPEC_SUBMODULE_DIAGNOSIS,
+};
 use super::wire::Mac;
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
@@ -42,6 +49,62 @@ pub fn card_layout(controller: Mac, device: Mac, interval: Duration, factor: u16
     }
 }
 
+/// The card's GSDML's ChannelDiagItem of the drive's faults (other than E-PN).
+pub const DRIVE_FAULT_ERROR_TYPE: u16 = 0x0101;
+/// Its ExtChannelDiagItem: the fault type (P07.27) as ExtChannelAddValue.
+pub const DRIVE_FAULT_EXT_ERROR_TYPE: u16 = 1;
+
+/// A change of the drive's diagnosis: a fault (P07.27's type) appeared or disappeared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaultChange {
+    /// The drive tripped with this fault.
+    Appears(u16),
+    /// This fault was reset.
+    Disappears(u16),
+}
+
+/// The Diagnosis alarm (low priority) of `change` on the drive's submodule, whose module and
+/// submodule have the ident numbers `idents`: ExtChannelDiagnosis of the whole submodule with
+/// the card's error type 0x0101 and the fault type. After "appears" the submodule has a
+/// diagnosis; after "disappears" none is left (the drive has one fault at a time).
+pub fn fault_alarm(change: FaultChange, idents: (u32, u32)) -> AlarmNotification {
+    let (alarm_type, specifier, properties, fault) = match change {
+        FaultChange::Appears(f) => (
+            ALARM_DIAGNOSIS,
+            SPEC_CHANNEL_DIAGNOSIS | SPEC_SUBMODULE_DIAGNOSIS | SPEC_AR_DIAGNOSIS,
+            CHANNEL_APPEARS,
+            f,
+        ),
+        FaultChange::Disappears(f) => (
+            ALARM_DIAGNOSIS_DISAPPEARS,
+            SPEC_CHANNEL_DIAGNOSIS,
+            CHANNEL_DISAPPEARS,
+            f,
+        ),
+    };
+    let diagnosis = ChannelDiagnosis {
+        channel: CHANNEL_SUBMODULE,
+        properties,
+        error_type: DRIVE_FAULT_ERROR_TYPE,
+        ext: Some((DRIVE_FAULT_EXT_ERROR_TYPE, u32::from(fault))),
+    };
+    let mut data = Vec::new();
+    diagnosis.emit(&mut data);
+    AlarmNotification {
+        high: false,
+        source: AlarmSource {
+            alarm_type,
+            api: 0,
+            slot: DRIVE_SLOT.0,
+            subslot: DRIVE_SLOT.1,
+            specifier,
+        },
+        module_ident: idents.0,
+        submodule_ident: idents.1,
+        payload: Some((diagnosis.usi(), data)),
+    }
+}
+
 /// The card's cyclic exchange and the drive behind it.
 #[derive(Debug, Clone)]
 pub struct CardCycle {
@@ -49,6 +112,8 @@ pub struct CardCycle {
     drive: PkwPzdDrive,
     inputs: [u8; IMAGE_BYTES],
     next_send: Instant,
+    /// The fault last reported by [`CardCycle::poll_diagnosis`].
+    reported: Option<u16>,
 }
 
 impl CardCycle {
@@ -60,7 +125,24 @@ impl CardCycle {
             drive,
             inputs,
             next_send: now,
+            reported: None,
         }
+    }
+
+    /// The next change of the drive's diagnosis since the last call: its fault other than the
+    /// bus's own (E-PN ends the AR: there is no AR left to tell). A fault present when the
+    /// exchange starts appears at the first call.
+    pub fn poll_diagnosis(&mut self) -> Option<FaultChange> {
+        let bus_fault = self.drive.bus().fault();
+        let fault = self.drive.vfd().fault().filter(|&f| f != bus_fault);
+        if fault == self.reported {
+            return None;
+        }
+        if let Some(old) = self.reported.take() {
+            return Some(FaultChange::Disappears(old));
+        }
+        self.reported = fault;
+        fault.map(FaultChange::Appears)
     }
 
     /// The drive.

@@ -132,6 +132,19 @@ pub fn serve(
     rpc: &RpcSocket,
     device: &mut Device,
     until: Option<Instant>,
+    on_event: impl FnMut(&DeviceEvent),
+) -> io::Result<()> {
+    serve_with(raw, rpc, device, until, |_, _| {}, on_event)
+}
+
+/// [`serve`], with `tick` given the device and the time once a round, before its timers (to
+/// act on the device from outside, such as a drive fault switched by standard input).
+pub fn serve_with(
+    raw: &mut RawSocket,
+    rpc: &RpcSocket,
+    device: &mut Device,
+    until: Option<Instant>,
+    mut tick: impl FnMut(&mut Device, edsgen_runtime::Instant),
     mut on_event: impl FnMut(&DeviceEvent),
 ) -> io::Result<()> {
     let start = Instant::now();
@@ -158,6 +171,7 @@ pub fn serve(
             rpc.send(to, &pdu)?;
         }
         let now = clock();
+        tick(device, now);
         if device.poll_timeout().is_some_and(|t| t <= now) {
             device.handle_timeout(now);
         }

@@ -1,14 +1,16 @@
 //! A simulated PROFINET IO device built from a GSDML model, one module per protocol machine as
 //! p-net names them: [`dcp`] (discovery and naming), [`ar`] (connection management: the DCE/RPC
 //! endpoint and the application relation), [`cyclic`] (the cyclic consumer with its watchdog and
-//! the provider, on the layout a Connect gives); [`drive`] puts the Goodrive350's PKW/PZD drive
-//! behind the cyclic data; [`device`] joins them into one device; wire formats apart in
+//! the provider, on the layout a Connect gives), [`alarm`] (the AlarmCR's alarm transport and
+//! acknowledgement); [`drive`] puts the Goodrive350's PKW/PZD drive behind the cyclic data and
+//! makes its faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
 //! [`wire`]; the raw-socket and UDP driver in [`driver`]; [`station`] derives what the device
 //! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's
 //! and the tests').
 //!
-//! Not yet here: alarms (the AlarmCR is accepted, no alarm is sent).
+//! Alarms: the card's drive faults only (Diagnosis appears and disappears), over layer 2.
 
+pub mod alarm;
 pub mod ar;
 pub mod controller;
 pub mod cyclic;

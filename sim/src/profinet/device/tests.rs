@@ -158,3 +158,155 @@ fn the_card_runs_its_drive_and_record_256_sets_the_received_pzd_meanings() {
     assert!(device.drive().is_some());
     assert_eq!(device.poll_frame(Instant::from_millis(ms + 100)), None);
 }
+
+/// A low-priority alarm frame of the controller to the device (its LocalAlarmReference 1,
+/// the device's 1).
+fn alarm_frame(pdu_type: u8, flags: u8, send: u16, ack: u16, var: &[u8]) -> Vec<u8> {
+    use crate::profinet::wire::alarm::{emit_frame, RtaHeader, FRAME_ID_LOW, RTA_VERSION};
+    let header = RtaHeader {
+        dst: 1,
+        src: 1,
+        pdu_type,
+        version: RTA_VERSION,
+        add_flags: flags,
+        send_seq: send,
+        ack_seq: ack,
+    };
+    emit_frame(DEVICE, CONTROLLER, 0xA000, FRAME_ID_LOW, &header, var)
+}
+
+#[test]
+fn a_drive_fault_is_a_diagnosis_alarm_the_controller_acknowledges_and_its_reset_disappears() {
+    use crate::profinet::alarm::AlarmEvent;
+    use crate::profinet::wire::alarm::*;
+    let config = card();
+    let drive = PkwPzdDrive::bus_controlled(Bus::Profinet, Instant::from_millis(0));
+    let mut device = Device::new(station(), config.clone(), Some(drive));
+    let (_, (_, output_id)) = establish(&mut device, &config);
+    let mut c_sdu = vec![0u8; 40];
+    c_sdu[32] = 0x80;
+    let t = Instant::from_millis(8);
+    device.handle_frame(t, &output_frame(output_id, &c_sdu));
+    while device.poll_event().is_some() {}
+    assert!(device.poll_frame(t).is_some(), "the input frame");
+    assert_eq!(device.poll_frame(t), None, "no alarm without a fault");
+
+    // Fault type 4 (P07.27's numbering) trips the drive.
+    device.inject_fault(t, 4);
+    let frame = device.poll_frame(t).expect("the alarm");
+    #[rustfmt::skip]
+    assert_eq!(
+        frame[..72],
+        [
+            2, 0, 0, 0, 0, 1, 2, 0, 0, 0, 3, 0x50, 0x81, 0x00, 0xA0, 0x00, 0x88, 0x92,
+            0xFE, 0x01, 0x00, 0x01, 0x00, 0x01, 0x11, 0x11, 0xFF, 0xFF, 0xFF, 0xFE, 0x00, 0x28,
+            0x00, 0x02, 0x00, 0x24, 0x01, 0x00,             // AlarmNotification low
+            0x00, 0x01, 0x00, 0x00, 0x00, 0x00,             // Diagnosis, API 0
+            0x00, 0x01, 0x00, 0x01,                         // slot 1, subslot 1
+            0x00, 0x00, 0x00, 0x10, 0x00, 0x00, 0x00, 0x10, // the GSDML's ident numbers
+            0xA8, 0x00,                                     // AR, submodule, channel; seq 0
+            0x80, 0x02,                                     // ExtChannelDiagnosis
+            0x80, 0x00, 0x08, 0x00, 0x01, 0x01,             // submodule, appears, 0x0101
+            0x00, 0x01, 0x00, 0x00, 0x00, 0x04,             // fault type 4
+        ]
+    );
+    // The controller's transport ACK, then its AlarmAck; the device ACKs that.
+    let t = Instant::from_millis(10);
+    assert_eq!(
+        device.handle_frame(t, &alarm_frame(PDU_ACK, 0x01, SEQ_NONE, SEQ_FIRST, &[])),
+        None
+    );
+    let notification = AlarmNotification::parse(&frame[32..72]).expect("a notification");
+    let ack = AlarmAck {
+        high: false,
+        source: notification.source,
+        status: PnioStatus::OK,
+    };
+    let mut var = Vec::new();
+    ack.emit(&mut var);
+    device.handle_frame(t, &alarm_frame(PDU_DATA, 0x11, SEQ_FIRST, SEQ_FIRST, &var));
+    let tack = device.poll_frame(t).expect("the transport ACK");
+    assert_eq!(
+        tack[24..32],
+        [0x13, 0x01, 0xFF, 0xFF, 0xFF, 0xFF, 0x00, 0x00]
+    );
+    assert_eq!(
+        device.poll_event(),
+        Some(DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)))
+    );
+
+    // The cause gone, the controller resets the fault (CW command 7): the diagnosis disappears.
+    device.remove_fault_cause();
+    c_sdu[8..10].copy_from_slice(&[0, 7]);
+    let t = Instant::from_millis(16);
+    device.handle_frame(t, &output_frame(output_id, &c_sdu));
+    assert_eq!(device.drive().and_then(|d| d.vfd().fault()), None);
+    let frame = device.poll_frame(t).expect("the disappears alarm");
+    assert_eq!(
+        frame[26..30],
+        [0x00, 0x00, 0xFF, 0xFF],
+        "SendSeqNum 0, AckSeqNum 0xFFFF"
+    );
+    let notification = AlarmNotification::parse(&frame[32..72]).expect("a notification");
+    assert_eq!(
+        (
+            notification.source.alarm_type,
+            notification.source.specifier
+        ),
+        (ALARM_DIAGNOSIS_DISAPPEARS, 0x0801)
+    );
+    assert_eq!(
+        notification.payload,
+        Some((
+            USI_EXT_CHANNEL_DIAGNOSIS,
+            vec![0x80, 0x00, 0x10, 0x00, 0x01, 0x01, 0x00, 0x01, 0x00, 0x00, 0x00, 0x04]
+        ))
+    );
+}
+
+#[test]
+fn an_alarm_never_acknowledged_is_repeated_then_the_ar_ends_with_an_err_pdu() {
+    use crate::profinet::alarm::AlarmEvent;
+    let config = card();
+    let drive = PkwPzdDrive::bus_controlled(Bus::Profinet, Instant::from_millis(0));
+    let mut device = Device::new(station(), config.clone(), Some(drive));
+    establish(&mut device, &config);
+    while device.poll_event().is_some() {}
+    let t0 = Instant::from_millis(0);
+    device.inject_fault(t0, 4);
+    let alarm = device.poll_frame(t0).expect("the alarm");
+    let mut repeats = 0;
+    let mut err = None;
+    // RTATimeoutFactor 1 and RTARetries 3 (the controller's AlarmCRBlockReq): 100 ms apart.
+    for ms in (1..=40).map(|n| n * 10) {
+        let now = Instant::from_millis(ms);
+        device.handle_timeout(now);
+        while let Some(frame) = device.poll_frame(now) {
+            if frame == alarm {
+                repeats += 1;
+            } else if frame[18..20] == [0xFE, 0x01] {
+                err = Some((ms, frame));
+            }
+        }
+    }
+    assert_eq!(repeats, 3);
+    let (ms, err) = err.expect("an ERR PDU");
+    assert_eq!(ms, 400);
+    assert_eq!(
+        err[24..36],
+        [0x14, 0x01, 0xFF, 0xFF, 0xFF, 0xFE, 0x00, 0x04, 0xCF, 0x81, 0xFD, 0x08]
+    );
+    let events: Vec<_> = std::iter::from_fn(|| device.poll_event()).collect();
+    assert_eq!(
+        events,
+        [
+            DeviceEvent::Alarm(AlarmEvent::Aborted(PnioStatus::new(0xCF, 0x81, 0xFD, 0x08))),
+            DeviceEvent::Ar(ArEvent::Aborted)
+        ]
+    );
+    assert_eq!(
+        device.poll_frame(Instant::from_millis(408)),
+        None,
+        "no cyclic data"
+    );
+}

@@ -1,9 +1,10 @@
 //! PROFINET wire formats, apart from the protocol machines: the Ethernet header (with or without
 //! a VLAN tag) that carries every PROFINET frame on EtherType 0x8892, the DCP PDU ([`dcp`]) and
 //! the cyclic RT frame ([`rt`]), the DCE/RPC PDU of connection management ([`rpc`]) and the PNIO
-//! blocks it carries ([`blocks`]).
+//! blocks it carries ([`blocks`]), the alarm frames of the AlarmCR ([`alarm`]).
 //! Parsing never panics: a frame too short or of another EtherType is `None`.
 
+pub mod alarm;
 pub mod blocks;
 pub mod dcp;
 pub mod rpc;
