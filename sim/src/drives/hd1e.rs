@@ -1,6 +1,6 @@
 //! The HD1-E CANopen card in an HD1 (or INVT GD/CHV) inverter, as the manual fragment describes
 //! it: PDO1 reads and writes the inverter's parameters with the response and error codes of
-//! Tables 20 and 21 ([`pdo1`](super::pdo1)). The fragment documents no drive control, so the
+//! Tables 20 and 21 ([`super::pdo1`]). The fragment documents no drive control, so the
 //! inverter stands still; its parameter table is Table 19's (P10.00, P10.01).
 
 use edsgen_runtime::node::InvalidNodeId;

@@ -1,4 +1,4 @@
-//! The SubDevice's socket: a [`PacketSocket`](crate::packet_socket::PacketSocket) for EtherCAT
+//! The SubDevice's socket: a [`crate::packet_socket::PacketSocket`] for EtherCAT
 //! frames (EtherType 0x88A4), the thin I/O under the sans-IO [`SubDevice`](super::SubDevice).
 
 use std::io;
