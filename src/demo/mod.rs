@@ -35,6 +35,7 @@ mod memory;
 mod profinet;
 mod profinet_wire;
 mod remote;
+mod two_namespaces;
 
 use std::path::Path;
 use std::time::Duration as StdDuration;
