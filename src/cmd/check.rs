@@ -65,37 +65,51 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Ok(master) => master,
         Err(message) => return fail(message),
     };
-    let mut diags = match check(&mut master, &read.device, node_id) {
+    let diags = match check(&mut master, &read.device, node_id) {
         Ok(diags) => diags,
         Err(e) => return fail(e),
     };
-    diag::sort(&mut diags);
     let name = args.eds.display().to_string();
-    let errors = diags
-        .iter()
-        .filter(|d| d.severity == Severity::Error)
-        .count();
-    let warnings = diags
-        .iter()
-        .filter(|d| d.severity == Severity::Warning)
-        .count();
-    match args.format {
+    let what = format!("node {node_id}");
+    report(
+        args.format,
+        &name,
+        &read.text,
+        diags,
+        &what,
+        args.deny_warnings,
+    )
+}
+
+/// Prints the diagnostics a live check found in the description `name` (its `text`), sorted,
+/// in `format`; the human format ends with a line counting them for `what` was checked. Exit
+/// code 1 when there are errors (or warnings with `deny_warnings`), else 0.
+pub fn report(
+    format: Format,
+    name: &str,
+    text: &str,
+    mut diags: Vec<Diagnostic>,
+    what: &str,
+    deny_warnings: bool,
+) -> ExitCode {
+    diag::sort(&mut diags);
+    let count = |severity| diags.iter().filter(|d| d.severity == severity).count();
+    let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
+    match format {
         Format::Human => {
             let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-            print!("{}", render::human(&name, &read.text, &diags, color));
-            println!(
-                "node {node_id} checked against {name}: {errors} error(s), {warnings} warning(s)"
-            );
+            print!("{}", render::human(name, text, &diags, color));
+            println!("{what} checked against {name}: {errors} error(s), {warnings} warning(s)");
         }
         Format::Json => {
-            let list = render::json(&name, &diags);
+            let list = render::json(name, &diags);
             println!(
                 "{}",
                 serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into())
             );
         }
     }
-    if errors > 0 || (args.deny_warnings && warnings > 0) {
+    if errors > 0 || (deny_warnings && warnings > 0) {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
