@@ -3,7 +3,7 @@
 //! with the boot-up check of its identity (1000h, 1018h:1–4) first.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
@@ -69,11 +69,10 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Ok(diags) => diags,
         Err(e) => return fail(e),
     };
-    let name = args.eds.display().to_string();
     let what = format!("node {node_id}");
     report(
         args.format,
-        &name,
+        &args.eds,
         &read.text,
         diags,
         &what,
@@ -81,28 +80,29 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     )
 }
 
-/// Prints the diagnostics a live check found in the description `name` (its `text`), sorted,
-/// in `format`; the human format ends with a line counting them for `what` was checked. Exit
-/// code 1 when there are errors (or warnings with `deny_warnings`), else 0.
+/// Prints the diagnostics a live check found in the description at `path` (its `text`),
+/// sorted, in `format`; the human format ends with a line counting them for `what` was checked.
+/// Exit code 1 when there are errors (or warnings with `deny_warnings`), else 0.
 pub fn report(
     format: Format,
-    name: &str,
+    path: &Path,
     text: &str,
     mut diags: Vec<Diagnostic>,
     what: &str,
     deny_warnings: bool,
 ) -> ExitCode {
     diag::sort(&mut diags);
+    let name = path.display().to_string();
     let count = |severity| diags.iter().filter(|d| d.severity == severity).count();
     let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
     match format {
         Format::Human => {
             let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-            print!("{}", render::human(name, text, &diags, color));
+            print!("{}", render::human(&name, text, &diags, color));
             println!("{what} checked against {name}: {errors} error(s), {warnings} warning(s)");
         }
         Format::Json => {
-            let list = render::json(name, &diags);
+            let list = render::json(&name, &diags);
             println!(
                 "{}",
                 serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into())

@@ -93,11 +93,10 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Err(message) => return fail(format!("{}: {message}", args.sub_device.iface)),
     };
     let diags = judge(&read.device, position, &observed);
-    let name = args.sub_device.esi.display().to_string();
     let what = format!("SubDevice {position}");
     report(
         args.format,
-        &name,
+        &args.sub_device.esi,
         &read.text,
         diags,
         &what,
