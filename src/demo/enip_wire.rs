@@ -16,9 +16,9 @@ use edsgen_sim::enip::driver::IO_PORT;
 use edsgen_sim::enip::wire::{item, parse_items};
 
 use super::enip::{workflow, Scanner, Stopped, RPI_US};
-use super::two_namespaces::{self, Outcome, Server};
+use super::two_namespaces::{self, Outcome, Pair, Server};
 use super::{Report, Trace};
-use crate::netns::{End, Network};
+use crate::netns::Network;
 
 /// The adapter's address (namespace 0) and the scanner's (namespace 1), on a /24.
 const ADAPTER: Ipv4Addr = Ipv4Addr::new(192, 168, 250, 1);
@@ -43,25 +43,15 @@ pub(super) fn run(trace: &mut Trace) {
          44818 and UDP 2222 between two network namespaces",
     );
     let workflow = "Goodrive350 EtherNet/IP workflow";
-    two_namespaces::between_two(trace, "enip", workflow, "adapter", on_wire);
+    let addresses = [ADAPTER, SCANNER];
+    two_namespaces::between_two(trace, "enip", addresses, workflow, "adapter", on_wire);
 }
 
 /// The adapter and the scanner in their namespaces, the scanner's report taken into `trace`;
 /// the adapter's log once it is stopped (with the problem, if any).
-fn on_wire(trace: &mut Trace, net: &mut Network) -> Outcome {
-    let bare = |problem: String| (problem, Vec::new());
-    let (adapter_end, scanner_end) = net
-        .veth(End::Namespace(0), End::Namespace(1))
-        .map_err(bare)?;
-    net.address(0, &adapter_end, &format!("{ADAPTER}/24"))
-        .map_err(bare)?;
-    net.address(1, &scanner_end, &format!("{SCANNER}/24"))
-        .map_err(bare)?;
-    let exe = std::env::current_exe().map_err(|e| bare(format!("this program: {e}")))?;
-    let ns = |n: usize| net.namespace(n).unwrap_or_default().to_owned();
-    let (adapter_ns, scanner_ns) = (ns(0), ns(1));
-
-    let mut command = net.command(0, &exe).map_err(bare)?;
+fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
+    let [adapter_ns, scanner_ns] = &pair.namespaces;
+    let mut command = net.command(0, &pair.exe).map_err(|p| (p, Vec::new()))?;
     command
         .args(["simulate", "--enip", &ADAPTER.to_string()])
         .args(["--card", "goodrive350-enip"])
@@ -74,12 +64,8 @@ fn on_wire(trace: &mut Trace, net: &mut Network) -> Outcome {
     let ready = ("serving ", false);
     let adapter = Server::start(trace, net, &mut command, shown, "the adapter", ready)?;
 
-    let result = net.command(1, &exe).and_then(|mut command| {
-        command
-            .args(["demo", "--enip-scanner", &ADAPTER.to_string()])
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped());
+    let result = net.command(1, &pair.exe).and_then(|mut command| {
+        command.args(["demo", "--enip-scanner", &ADAPTER.to_string()]);
         let shown = format!(
             "ip netns exec {scanner_ns} edsgen demo --enip-scanner {ADAPTER} (the scanner, at \
              {SCANNER})"

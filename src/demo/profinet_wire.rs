@@ -26,9 +26,9 @@ use edsgen_sim::profinet::wire::rt::RT_CLASS_1;
 use edsgen_sim::profinet::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
 
 use super::profinet::{workflow, Silence, Timing, Transport};
-use super::two_namespaces::{self, Outcome, Server};
+use super::two_namespaces::{self, Outcome, Pair, Server};
 use super::{Report, Trace};
-use crate::netns::{End, Network};
+use crate::netns::Network;
 
 /// The card's address (namespace 0) and the controller's (namespace 1), on a /24.
 const CARD: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 1);
@@ -65,27 +65,18 @@ pub(super) fn run(trace: &mut Trace) {
          4 ms, between two network namespaces",
     );
     let workflow = "Goodrive350 PROFINET workflow";
-    two_namespaces::between_two(trace, "pn", workflow, "device", on_wire);
+    let addresses = [CARD, CONTROLLER];
+    two_namespaces::between_two(trace, "pn", addresses, workflow, "device", on_wire);
 }
 
 /// The card and the controller in their namespaces, the controller's report taken into
 /// `trace`; the card's log once it is stopped (with the problem, if any).
-fn on_wire(trace: &mut Trace, net: &mut Network) -> Outcome {
-    let bare = |problem: String| (problem, Vec::new());
-    let (card_end, controller_end) = net
-        .veth(End::Namespace(0), End::Namespace(1))
-        .map_err(bare)?;
-    net.address(0, &card_end, &format!("{CARD}/24"))
-        .map_err(bare)?;
-    net.address(1, &controller_end, &format!("{CONTROLLER}/24"))
-        .map_err(bare)?;
-    let exe = std::env::current_exe().map_err(|e| bare(format!("this program: {e}")))?;
-    let ns = |n: usize| net.namespace(n).unwrap_or_default().to_owned();
-    let (card_ns, controller_ns) = (ns(0), ns(1));
-
-    let mut command = net.command(0, &exe).map_err(bare)?;
+fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
+    let [card_end, controller_end] = &pair.ends;
+    let [card_ns, controller_ns] = &pair.namespaces;
+    let mut command = net.command(0, &pair.exe).map_err(|p| (p, Vec::new()))?;
     command
-        .args(["simulate", "--profinet", &card_end])
+        .args(["simulate", "--profinet", card_end])
         .args(["--card", "goodrive350-pn", "--ip", &format!("{CARD}/24")])
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
@@ -97,13 +88,10 @@ fn on_wire(trace: &mut Trace, net: &mut Network) -> Outcome {
     let ready = ("RPC on UDP 34964", true);
     let card = Server::start(trace, net, &mut command, shown, "the card", ready)?;
 
-    let result = net.command(1, &exe).and_then(|mut command| {
+    let result = net.command(1, &pair.exe).and_then(|mut command| {
         command
-            .args(["demo", "--profinet-controller", &controller_end])
-            .arg(CARD.to_string())
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped());
+            .args(["demo", "--profinet-controller", controller_end])
+            .arg(CARD.to_string());
         let shown = format!(
             "ip netns exec {controller_ns} edsgen demo --profinet-controller {controller_end} \
              {CARD} (the controller, at {CONTROLLER})"

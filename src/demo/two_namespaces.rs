@@ -4,12 +4,14 @@
 //! by being started in it), and the JSON report that client prints, merged into the trace.
 
 use std::io::{BufRead, BufReader, Read};
-use std::process::Command;
+use std::net::Ipv4Addr;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
 use std::sync::mpsc::{self, Receiver};
 use std::time::Duration;
 
 use super::{Report, Step, Trace};
-use crate::netns::{self, ChildId, Network};
+use crate::netns::{self, ChildId, End, Network};
 
 /// How long a simulator may take to say it serves.
 const START: Duration = Duration::from_secs(20);
@@ -36,14 +38,24 @@ pub(super) fn as_root(
     false
 }
 
-/// Two namespaces tagged `tag`, the section `on_wire` between them, a failure of it as the
-/// step `workflow`; then, the namespaces gone, the simulator's log, each line after `speaker`.
+/// What a section's two namespaces hold for it: a veth pair's ends (namespace 0's, then
+/// namespace 1's) with their addresses, the namespaces' names, and this program, to start there.
+pub(super) struct Pair {
+    pub(super) ends: [String; 2],
+    pub(super) namespaces: [String; 2],
+    pub(super) exe: PathBuf,
+}
+
+/// Two namespaces tagged `tag` joined by a veth pair with `addresses` (/24) on its ends, the
+/// section `on_wire` in them, a failure of it as the step `workflow`; then, the namespaces
+/// gone, the simulator's log, each line after `speaker`.
 pub(super) fn between_two(
     trace: &mut Trace,
     tag: &str,
+    addresses: [Ipv4Addr; 2],
     workflow: &str,
     speaker: &str,
-    on_wire: impl FnOnce(&mut Trace, &mut Network) -> Outcome,
+    on_wire: impl FnOnce(&mut Trace, &mut Network, &Pair) -> Outcome,
 ) {
     let mut net = match Network::create(tag, 2) {
         Ok(net) => net,
@@ -52,7 +64,11 @@ pub(super) fn between_two(
             return;
         }
     };
-    let said = match on_wire(trace, &mut net) {
+    let outcome = match join(&mut net, addresses) {
+        Ok(pair) => on_wire(trace, &mut net, &pair),
+        Err(problem) => Err((problem, Vec::new())),
+    };
+    let said = match outcome {
         Ok(said) => said,
         Err((problem, said)) => {
             trace.step(workflow, Err(problem));
@@ -63,6 +79,20 @@ pub(super) fn between_two(
     for line in said {
         trace.line(None, format!("{speaker}: {line}"));
     }
+}
+
+/// Namespaces 0 and 1 of `net` joined by a veth pair with `addresses` on its ends.
+fn join(net: &mut Network, addresses: [Ipv4Addr; 2]) -> Result<Pair, String> {
+    let (a, b) = net.veth(End::Namespace(0), End::Namespace(1))?;
+    net.address(0, &a, &format!("{}/24", addresses[0]))?;
+    net.address(1, &b, &format!("{}/24", addresses[1]))?;
+    let exe = std::env::current_exe().map_err(|e| format!("this program: {e}"))?;
+    let ns = |n: usize| net.namespace(n).unwrap_or_default().to_owned();
+    Ok(Pair {
+        ends: [a, b],
+        namespaces: [ns(0), ns(1)],
+        exe,
+    })
 }
 
 /// A child's standard stream, line by line, from a thread.
@@ -153,7 +183,8 @@ impl Server {
 }
 
 /// Runs `command`, this program again in a client role (`shown` in `trace`, `who` in problems),
-/// for up to `steps`, and merges the report it prints as JSON into `trace`.
+/// for up to `steps`, its standard output and error piped, and merges the report it prints as
+/// JSON into `trace`.
 pub(super) fn client(
     trace: &mut Trace,
     net: &mut Network,
@@ -163,6 +194,10 @@ pub(super) fn client(
     steps: Duration,
 ) -> Result<(), String> {
     trace.line(None, shown);
+    command
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
     let id = net.spawn(command)?;
     let child = net.child(id).ok_or_else(|| who.to_owned())?;
     let (Some(stdout), Some(stderr)) = (child.stdout.take(), child.stderr.take()) else {
