@@ -3,17 +3,17 @@
 //! lays the 16 words out little-endian, as the EDS decides, and types them through
 //! `edsgen_runtime::pkw_pzd`; and the drive behind the card answers the generated images.
 
+mod card_support;
 mod process_support;
 
+use card_support::pkw_pzd_drive::drive_answers;
 use edsgen::cards::goodrive350_enip as card;
-use edsgen::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use edsgen::drives::pkw_pzd::Bus;
 use edsgen_codegen::model::{CipNumber, FieldRef, TriggerTransport};
 use edsgen_codegen::{read, validate};
 use edsgen_runtime::pkw_pzd::{
-    ByteOrder, Command, ControlWord, ErrorNumber, OutputImage, PkwRequest, PkwResponse, RunState,
-    WordLayout,
+    ByteOrder, Command, ControlWord, OutputImage, PkwRequest, WordLayout,
 };
-use edsgen_runtime::{Duration, Instant};
 use process_support::root;
 
 fn model() -> edsgen_codegen::model::Cip {
@@ -252,58 +252,18 @@ fn table_5_6_by_bit() {
 /// transmitted PZD2 ramping.
 #[test]
 fn the_drive_answers_the_generated_images() {
-    let t0 = Instant::from_micros(0);
-    let mut drive = PkwPzdDrive::bus_controlled(Bus::EthernetIp, t0);
-    let cycle = |drive: &mut PkwPzdDrive, ms: u64, image: &OutputImage| -> card::Input {
-        let bytes = card::Output::from_pkw_pzd(image).encode();
-        let answer = drive.exchange_bytes(
-            t0 + Duration::from_micros(ms * 1000),
-            &bytes,
-            ByteOrder::LittleEndian,
-        );
-        card::Input::decode(&answer).expect("32 bytes")
-    };
-    let read = OutputImage {
-        pkw: PkwRequest::read(10),
-        control: ControlWord(0),
-        pzd: [0; 11],
-    };
-    let input = cycle(&mut drive, 0, &read);
-    assert_eq!(input.pkw1_response, 1);
-    assert_eq!(input.pkw2_address, 10);
-    let keypad = drive.parameter(10).expect("P00.10");
-    assert_eq!(input.pkw4_value_low, keypad);
-    assert_eq!(
-        input.pkw_pzd().expect("a response").pkw,
-        PkwResponse::Word {
-            address: 10,
-            value: keypad
-        }
+    let answers = drive_answers(
+        Bus::EthernetIp,
+        ByteOrder::LittleEndian,
+        |image| card::Output::from_pkw_pzd(image).encode(),
+        |bytes| card::Input::decode(bytes).expect("32 bytes"),
+        |input| input.pkw_pzd().expect("a response"),
     );
-    // P07.27 (present fault, 0x071B) is read only: refused with error 7.
-    let write = OutputImage {
-        pkw: PkwRequest::write(0x071B, 1),
-        control: ControlWord(0).with(1 << 8, true),
-        pzd: [0; 11],
-    };
-    let input = cycle(&mut drive, 50, &write);
-    assert_eq!((input.pkw1_response, input.pkw3_value_high), (3, 7));
-    assert_eq!(
-        input.pkw_pzd().expect("a response").pkw,
-        PkwResponse::Refused {
-            address: 0x071B,
-            error: ErrorNumber::ReadOnly
-        }
-    );
-    let run = OutputImage {
-        pkw: PkwRequest::from_words([0; 4]),
-        control: ControlWord::new(Command::RunForward, WordLayout::ByByte),
-        pzd: [2500, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0],
-    };
-    let first = cycle(&mut drive, 100, &run);
-    let later = cycle(&mut drive, 1100, &run);
-    let status = later.pkw_pzd().expect("a response").status;
-    assert_eq!(status.state(WordLayout::ByByte), Some(RunState::Forward));
+    let (read, refused) = (&answers.read, &answers.refused);
+    assert_eq!((read.pkw1_response, read.pkw2_address), (1, 10));
+    assert_eq!(read.pkw4_value_low, answers.keypad);
+    assert_eq!((refused.pkw1_response, refused.pkw3_value_high), (3, 7));
+    let (first, later) = (&answers.first, &answers.later);
     assert!(later.transmitted_pzd2 > first.transmitted_pzd2, "ramping");
     assert!(later.transmitted_pzd2 <= 2500);
 }

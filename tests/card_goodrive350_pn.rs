@@ -5,16 +5,17 @@
 //! byte), the CW/SW bit masks of Tables 4-5/4-7, the PZD parameter records of Tables 4-6/4-8,
 //! the drive behind the card answering the generated images, and a snapshot of the whole module.
 
+mod card_support;
 mod process_support;
 
+use card_support::pkw_pzd_drive::drive_answers;
 use edsgen::cards::goodrive350_pn as card;
-use edsgen::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use edsgen::drives::pkw_pzd::Bus;
 use edsgen_runtime::pkw_pzd::control::{cw_bit, sw_bit};
 use edsgen_runtime::pkw_pzd::{
-    ByteOrder, Command, ControlWord, ErrorNumber, InputImage, OutputImage, PkwRequest, PkwResponse,
+    ByteOrder, Command, ControlWord, InputImage, OutputImage, PkwRequest, PkwResponse,
     ResponseError, RunState, RunStopMode, StatusWord, Task, WordLayout,
 };
-use edsgen_runtime::{Duration, Instant};
 use process_support::root;
 
 use card::modules::pkw_pzd_16_words::subslot_1::{record_256, record_257, Input, Output};
@@ -246,62 +247,23 @@ fn undefined_response_code_is_an_error() {
 /// says forward and the transmitted PZD2 ramps.
 #[test]
 fn the_drive_answers_the_generated_images() {
-    let t0 = Instant::from_micros(0);
-    let mut drive = PkwPzdDrive::bus_controlled(Bus::Profinet, t0);
-    let cycle = |drive: &mut PkwPzdDrive, ms: u64, image: &OutputImage| -> Input {
-        let bytes = Output::from_pkw_pzd(image).encode();
-        let answer = drive.exchange_bytes(
-            t0 + Duration::from_micros(ms * 1000),
-            &bytes,
-            ByteOrder::BigEndian,
-        );
-        Input::decode(&answer)
-    };
-    let read = OutputImage {
-        pkw: PkwRequest::read(10),
-        control: ControlWord(0),
-        pzd: [0; 11],
-    };
-    let input = cycle(&mut drive, 0, &read);
-    let keypad = drive.parameter(10).expect("P00.10");
-    assert_eq!(
-        input.pkw_pzd().expect("a response").pkw,
-        PkwResponse::Word {
-            address: 10,
-            value: keypad
-        }
+    let answers = drive_answers(
+        Bus::Profinet,
+        ByteOrder::BigEndian,
+        |image| Output::from_pkw_pzd(image).encode(),
+        Input::decode,
+        |input| input.pkw_pzd().expect("a response"),
     );
-    assert_eq!(input.pkw4_value_low_word, keypad);
-    // P07.27 (present fault, 0x071B) is read only: refused with error 7 in PKW3.
-    let write = OutputImage {
-        pkw: PkwRequest::write(0x071B, 1),
-        control: ControlWord(0).with(Output::CW_CONTROL_WORD_ENABLE_WRITING_PKW, true),
-        pzd: [0; 11],
-    };
-    let input = cycle(&mut drive, 50, &write);
+    assert_eq!(answers.read.pkw4_value_low_word, answers.keypad);
+    let refused = &answers.refused;
     assert_eq!(
         (
-            input.pkw1_response_identification,
-            input.pkw3_value_high_word_or_error_number
+            refused.pkw1_response_identification,
+            refused.pkw3_value_high_word_or_error_number
         ),
         (3, 7)
     );
-    assert_eq!(
-        input.pkw_pzd().expect("a response").pkw,
-        PkwResponse::Refused {
-            address: 0x071B,
-            error: ErrorNumber::ReadOnly
-        }
-    );
-    let run = OutputImage {
-        pkw: PkwRequest::from_words([0; 4]),
-        control: ControlWord::new(Command::RunForward, WordLayout::ByByte),
-        pzd: [2500, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0],
-    };
-    let first = cycle(&mut drive, 100, &run);
-    let later = cycle(&mut drive, 1100, &run);
-    let status = later.pkw_pzd().expect("a response").status;
-    assert_eq!(status.state(WordLayout::ByByte), Some(RunState::Forward));
+    let (first, later) = (&answers.first, &answers.later);
     assert!(
         later.pzd2_actual_value_p16_43 > first.pzd2_actual_value_p16_43,
         "ramping"

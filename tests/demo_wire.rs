@@ -129,6 +129,17 @@ fn demo(args: &[&str]) -> Demo {
     run(&mut command, |_| {})
 }
 
+/// Runs `edsgen demo ARGS`, asserting that all its `total` steps passed and that it left
+/// nothing behind.
+fn demo_passing(args: &[&str], total: usize) -> Demo {
+    let run = demo(args);
+    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
+    let summary = format!("\n{total} step(s): {total} as the manuals say, 0 not\n");
+    assert!(run.stdout.ends_with(&summary), "{}", run.stdout);
+    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    run
+}
+
 /// Runs `command` (an `edsgen demo`), `meanwhile` given its process ID; see [`Demo`].
 fn run(command: &mut Command, meanwhile: impl FnOnce(u32)) -> Demo {
     let child = command
@@ -179,15 +190,7 @@ fn demo_ethercat_drives_the_ec_tx508_over_a_veth_pair() {
         skip::<()>("not root: no network namespace for edsgen demo --ethercat");
         return;
     }
-    let run = demo(&["--ethercat"]);
-    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
-    assert!(
-        run.stdout
-            .ends_with("\n62 step(s): 62 as the manuals say, 0 not\n"),
-        "{}",
-        run.stdout
-    );
-    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    let run = demo_passing(&["--ethercat"], 62);
     let steps = section_steps(&run.stdout, "== EC-TX508 (EtherCAT over a veth pair");
     let names: Vec<&str> = steps
         .iter()
@@ -288,15 +291,7 @@ fn demo_enip_drives_the_card_between_two_namespaces() {
         skip::<()>("not root: no network namespaces for edsgen demo --enip");
         return;
     }
-    let run = demo(&["--enip"]);
-    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
-    assert!(
-        run.stdout
-            .ends_with("\n59 step(s): 59 as the manuals say, 0 not\n"),
-        "{}",
-        run.stdout
-    );
-    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    let run = demo_passing(&["--enip"], 59);
     let steps = section_steps(
         &run.stdout,
         "== Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images, over TCP \
@@ -419,16 +414,7 @@ fn demo_profinet_drives_the_card_between_two_namespaces() {
     } else {
         59
     };
-    let run = demo(&args);
-    assert_eq!(run.code, Some(0), "{}\n{}", run.stdout, run.stderr);
-    assert!(
-        run.stdout.ends_with(&format!(
-            "\n{total} step(s): {total} as the manuals say, 0 not\n"
-        )),
-        "{}",
-        run.stdout
-    );
-    assert!(run.left.is_empty(), "left behind: {:?}", run.left);
+    let run = demo_passing(&args, total);
     if cfg!(feature = "ethercrab") {
         assert!(run
             .stdout

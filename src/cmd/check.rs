@@ -3,7 +3,7 @@
 //! with the boot-up check of its identity (1000h, 1018h:1–4) first.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
@@ -65,27 +65,41 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Ok(master) => master,
         Err(message) => return fail(message),
     };
-    let mut diags = match check(&mut master, &read.device, node_id) {
+    let diags = match check(&mut master, &read.device, node_id) {
         Ok(diags) => diags,
         Err(e) => return fail(e),
     };
+    let what = format!("node {node_id}");
+    report(
+        args.format,
+        &args.eds,
+        &read.text,
+        diags,
+        &what,
+        args.deny_warnings,
+    )
+}
+
+/// Prints the diagnostics a live check found in the description at `path` (its `text`),
+/// sorted, in `format`; the human format ends with a line counting them for `what` was checked.
+/// Exit code 1 when there are errors (or warnings with `deny_warnings`), else 0.
+pub fn report(
+    format: Format,
+    path: &Path,
+    text: &str,
+    mut diags: Vec<Diagnostic>,
+    what: &str,
+    deny_warnings: bool,
+) -> ExitCode {
     diag::sort(&mut diags);
-    let name = args.eds.display().to_string();
-    let errors = diags
-        .iter()
-        .filter(|d| d.severity == Severity::Error)
-        .count();
-    let warnings = diags
-        .iter()
-        .filter(|d| d.severity == Severity::Warning)
-        .count();
-    match args.format {
+    let name = path.display().to_string();
+    let count = |severity| diags.iter().filter(|d| d.severity == severity).count();
+    let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
+    match format {
         Format::Human => {
             let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-            print!("{}", render::human(&name, &read.text, &diags, color));
-            println!(
-                "node {node_id} checked against {name}: {errors} error(s), {warnings} warning(s)"
-            );
+            print!("{}", render::human(&name, text, &diags, color));
+            println!("{what} checked against {name}: {errors} error(s), {warnings} warning(s)");
         }
         Format::Json => {
             let list = render::json(&name, &diags);
@@ -95,7 +109,7 @@ pub fn run(args: &CheckArgs) -> ExitCode {
             );
         }
     }
-    if errors > 0 || (args.deny_warnings && warnings > 0) {
+    if errors > 0 || (deny_warnings && warnings > 0) {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

@@ -7,24 +7,23 @@
 //! programs go when the section ends (or on Ctrl-C, [`crate::netns`]). Not root: said on
 //! standard error, and run in this process.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::{Ipv4Addr, SocketAddr, TcpStream, UdpSocket};
 use std::process::Stdio;
-use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant};
 
 use edsgen_sim::enip::driver::IO_PORT;
 use edsgen_sim::enip::wire::{item, parse_items};
 
 use super::enip::{workflow, Scanner, Stopped, RPI_US};
-use super::{Report, Step, Trace};
-use crate::netns::{self, End, Network};
+use super::two_namespaces::{self, Outcome, Pair, Server};
+use super::{Report, Trace};
+use crate::netns::Network;
 
 /// The adapter's address (namespace 0) and the scanner's (namespace 1), on a /24.
 const ADAPTER: Ipv4Addr = Ipv4Addr::new(192, 168, 250, 1);
 const SCANNER: Ipv4Addr = Ipv4Addr::new(192, 168, 250, 2);
-/// How long the adapter may take to say it serves, and the scanner to finish its steps.
-const START: Duration = Duration::from_secs(20);
+/// How long the scanner may take to finish its steps.
 const STEPS: Duration = Duration::from_secs(60);
 /// How long a TCP exchange with the adapter may take.
 const TCP_TIMEOUT: Duration = Duration::from_secs(5);
@@ -35,135 +34,45 @@ fn rpi() -> Duration {
 
 /// Runs the card's section between two namespaces where this process can, else in process.
 pub(super) fn run(trace: &mut Trace) {
-    if !netns::is_root() {
-        eprintln!(
-            "{}; the EtherNet/IP card runs in this process instead",
-            netns::not_root("demo --enip")
-        );
-        super::enip::run(trace);
+    let card = "the EtherNet/IP card";
+    if !two_namespaces::as_root("demo --enip", card, trace, super::enip::run) {
         return;
     }
     trace.heading(
         "Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images, over TCP \
          44818 and UDP 2222 between two network namespaces",
     );
-    let mut net = match Network::create("enip", 2) {
-        Ok(net) => net,
-        Err(problem) => {
-            trace.step("two network namespaces and a veth pair", Err(problem));
-            return;
-        }
-    };
-    let said = match on_wire(trace, &mut net) {
-        Ok(said) => said,
-        Err((problem, said)) => {
-            trace.step("Goodrive350 EtherNet/IP workflow", Err(problem));
-            said
-        }
-    };
-    drop(net);
-    for line in said {
-        trace.line(None, format!("adapter: {line}"));
-    }
-}
-
-/// A child's standard stream, line by line, from a thread.
-pub(super) fn lines_of(stream: impl Read + Send + 'static) -> Receiver<String> {
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stream).lines() {
-            let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    rx
+    let workflow = "Goodrive350 EtherNet/IP workflow";
+    let addresses = [ADAPTER, SCANNER];
+    two_namespaces::between_two(trace, "enip", addresses, workflow, "adapter", on_wire);
 }
 
 /// The adapter and the scanner in their namespaces, the scanner's report taken into `trace`;
 /// the adapter's log once it is stopped (with the problem, if any).
-fn on_wire(trace: &mut Trace, net: &mut Network) -> Result<Vec<String>, (String, Vec<String>)> {
-    let bare = |problem: String| (problem, Vec::new());
-    let (adapter_end, scanner_end) = net
-        .veth(End::Namespace(0), End::Namespace(1))
-        .map_err(bare)?;
-    net.address(0, &adapter_end, &format!("{ADAPTER}/24"))
-        .map_err(bare)?;
-    net.address(1, &scanner_end, &format!("{SCANNER}/24"))
-        .map_err(bare)?;
-    let exe = std::env::current_exe().map_err(|e| bare(format!("this program: {e}")))?;
-    let ns = |n: usize| net.namespace(n).unwrap_or_default().to_owned();
-    let (adapter_ns, scanner_ns) = (ns(0), ns(1));
-
-    let mut command = net.command(0, &exe).map_err(bare)?;
+fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
+    let [adapter_ns, scanner_ns] = &pair.namespaces;
+    let mut command = net.command(0, &pair.exe).map_err(|p| (p, Vec::new()))?;
     command
         .args(["simulate", "--enip", &ADAPTER.to_string()])
         .args(["--card", "goodrive350-enip"])
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
-    trace.line(
-        None,
-        format!(
-            "ip netns exec {adapter_ns} edsgen simulate --enip {ADAPTER} --card goodrive350-enip"
-        ),
+    let shown = format!(
+        "ip netns exec {adapter_ns} edsgen simulate --enip {ADAPTER} --card goodrive350-enip"
     );
-    let adapter = net.spawn(&mut command).map_err(bare)?;
-    let stderr = net
-        .child(adapter)
-        .and_then(|c| c.stderr.take())
-        .ok_or_else(|| bare("the adapter's standard error".into()))?;
-    let log = lines_of(stderr);
-    let mut said = Vec::new();
-    loop {
-        match log.recv_timeout(START) {
-            Ok(line) if line.starts_with("serving ") => break,
-            Ok(line) => said.push(line),
-            Err(_) => return Err((format!("the adapter did not start in {START:?}"), said)),
-        }
-    }
+    let ready = ("serving ", false);
+    let adapter = Server::start(trace, net, &mut command, shown, "the adapter", ready)?;
 
-    let mut command = net.command(1, &exe).map_err(bare)?;
-    command
-        .args(["demo", "--enip-scanner", &ADAPTER.to_string()])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    trace.line(
-        None,
-        format!(
+    let result = net.command(1, &pair.exe).and_then(|mut command| {
+        command.args(["demo", "--enip-scanner", &ADAPTER.to_string()]);
+        let shown = format!(
             "ip netns exec {scanner_ns} edsgen demo --enip-scanner {ADAPTER} (the scanner, at \
              {SCANNER})"
-        ),
-    );
-    let scanner = net.spawn(&mut command).map_err(bare)?;
-    let child = net
-        .child(scanner)
-        .ok_or_else(|| bare("the scanner".into()))?;
-    let (Some(stdout), Some(stderr)) = (child.stdout.take(), child.stderr.take()) else {
-        return Err(bare("the scanner's standard streams".into()));
-    };
-    let (stdout, stderr) = (lines_of(stdout), lines_of(stderr));
-    let finished = net.wait(scanner, STEPS);
-    let result = match finished {
-        None => Err(format!("the scanner did not finish in {STEPS:?}")),
-        Some(status) if !status.success() => Err(format!(
-            "the scanner exited with {status}: {}",
-            stderr.try_iter().collect::<Vec<_>>().join(" / ")
-        )),
-        Some(_) => {
-            let json: Vec<String> = stdout.iter().collect();
-            Report::from_json(&json.join("\n")).map(|report| trace.merge(report))
-        }
-    };
-    // The adapter runs until stopped.
-    net.stop(adapter, Duration::from_secs(2));
-    said.extend(log.iter());
-    match result {
-        Ok(()) => Ok(said),
-        Err(problem) => Err((problem, said)),
-    }
+        );
+        two_namespaces::client(trace, net, &mut command, shown, "the scanner", STEPS)
+    });
+    adapter.stop(net, Duration::from_secs(2), result)
 }
 
 /// `edsgen demo --enip-scanner ADDR`, run inside the scanner's namespace by `--enip`: the card's
@@ -305,74 +214,5 @@ impl Scanner for Wire {
                 "the adapter's T→O datagrams stopped {after} ms after the scanner's last O→T"
             ),
         })
-    }
-}
-
-impl Report {
-    /// The report as one JSON object (`lines`, and `steps` with `name` and `ok` or `err`), for
-    /// a section run in another process.
-    pub fn to_json(&self) -> String {
-        let steps: Vec<serde_json::Value> = self
-            .steps
-            .iter()
-            .map(|step| match &step.outcome {
-                Ok(seen) => serde_json::json!({ "name": step.name, "ok": seen }),
-                Err(problem) => serde_json::json!({ "name": step.name, "err": problem }),
-            })
-            .collect();
-        serde_json::json!({ "lines": self.lines, "steps": steps }).to_string()
-    }
-
-    /// The report [`Report::to_json`] wrote.
-    pub fn from_json(text: &str) -> Result<Report, String> {
-        let bad = || format!("not a report: {text:?}");
-        let value: serde_json::Value = serde_json::from_str(text).map_err(|_| bad())?;
-        let lines = value["lines"]
-            .as_array()
-            .ok_or_else(bad)?
-            .iter()
-            .map(|line| line.as_str().map(str::to_owned).ok_or_else(bad))
-            .collect::<Result<Vec<_>, _>>()?;
-        let steps = value["steps"]
-            .as_array()
-            .ok_or_else(bad)?
-            .iter()
-            .map(|step| {
-                let name = step["name"].as_str().ok_or_else(bad)?.to_owned();
-                let outcome = match (step["ok"].as_str(), step["err"].as_str()) {
-                    (Some(seen), None) => Ok(seen.to_owned()),
-                    (None, Some(problem)) => Err(problem.to_owned()),
-                    _ => return Err(bad()),
-                };
-                Ok(Step { name, outcome })
-            })
-            .collect::<Result<Vec<_>, String>>()?;
-        Ok(Report { lines, steps })
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_report_goes_through_json_unchanged() {
-        let report = Report {
-            lines: vec!["== a".into(), "  ok    b: c \"d\"".into()],
-            steps: vec![
-                Step {
-                    name: "b".into(),
-                    outcome: Ok("c \"d\"".into()),
-                },
-                Step {
-                    name: "e".into(),
-                    outcome: Err("f".into()),
-                },
-            ],
-        };
-        let back = Report::from_json(&report.to_json()).expect("a report");
-        assert_eq!((back.lines, back.steps), (report.lines, report.steps));
-        assert!(Report::from_json("{\"lines\": []}").is_err());
-        assert!(Report::from_json("").is_err());
     }
 }

@@ -36,9 +36,8 @@ pub(super) fn run(trace: &mut Trace) {
 
 #[cfg(feature = "ethercrab")]
 mod wire {
-    use std::io::{BufRead, BufReader, Write};
+    use std::io::Write;
     use std::process::{ChildStdin, Stdio};
-    use std::sync::mpsc::{self, Receiver};
     use std::time::{Duration, Instant};
 
     use edsgen_runtime::ethercat::ethercrab::SdoExt;
@@ -46,13 +45,11 @@ mod wire {
     use ethercrab::{MainDevice, SubDeviceGroup};
 
     use super::super::ethercat::{workflow, Exchange};
+    use super::super::two_namespaces::{Outcome, Server};
     use super::super::{expect, Trace};
     use crate::cards::ec_tx508::ethercat::{Inputs, Outputs, IDENTITY};
     use crate::cards::ec_tx508::od;
     use crate::netns::{End, Network};
-
-    /// How long the simulator may take to say it serves.
-    const START: Duration = Duration::from_secs(20);
 
     /// The EC-TX508 on the far end of the pair, in Op, cycled by ethercrab.
     struct Wire {
@@ -160,23 +157,9 @@ mod wire {
         }
     }
 
-    /// The simulator's standard error, line by line, from a thread.
-    fn lines_of(stderr: impl std::io::Read + Send + 'static) -> Receiver<String> {
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stderr).lines() {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        rx
-    }
-
     /// The section on the wire; the simulator's standard error after its "serving" line, once
     /// it is stopped (with the problem, if any).
-    fn on_wire(trace: &mut Trace, net: &mut Network) -> Result<Vec<String>, (String, Vec<String>)> {
+    fn on_wire(trace: &mut Trace, net: &mut Network) -> Outcome {
         let bare = |problem: String| (problem, Vec::new());
         let (master, device) = net.veth(End::Host, End::Namespace(0)).map_err(bare)?;
         let exe = std::env::current_exe().map_err(|e| bare(format!("this program: {e}")))?;
@@ -187,36 +170,20 @@ mod wire {
             .stdin(Stdio::piped())
             .stdout(Stdio::null())
             .stderr(Stdio::piped());
-        trace.line(
-            None,
-            format!(
-                "ip netns exec {} edsgen simulate --ethercat {device} --card ec-tx508 \
-                 --faults-on-stdin; ethercrab on {master}",
-                net.namespace(0).unwrap_or_default()
-            ),
+        let shown = format!(
+            "ip netns exec {} edsgen simulate --ethercat {device} --card ec-tx508 \
+             --faults-on-stdin; ethercrab on {master}",
+            net.namespace(0).unwrap_or_default()
         );
-        let sim = net.spawn(&mut command).map_err(bare)?;
-        let child = net.child(sim).ok_or_else(|| bare("the simulator".into()))?;
-        let (Some(stdin), Some(stderr)) = (child.stdin.take(), child.stderr.take()) else {
-            return Err(bare("the simulator's standard streams".into()));
-        };
-        let stderr = lines_of(stderr);
-        let mut said = Vec::new();
-        loop {
-            match stderr.recv_timeout(START) {
-                Ok(line) if line.starts_with("serving ") => break,
-                Ok(line) => said.push(line),
-                Err(_) => return Err((format!("the simulator did not start in {START:?}"), said)),
-            }
-        }
-        let result = drive(trace, &master, stdin);
+        let ready = ("serving ", false);
+        let sim = Server::start(trace, net, &mut command, shown, "the simulator", ready)?;
+        let result = net
+            .child(sim.id)
+            .and_then(|child| child.stdin.take())
+            .ok_or_else(|| "the simulator's standard input".to_owned())
+            .and_then(|stdin| drive(trace, &master, stdin));
         // SIGTERM: the simulator says what it served, and exits.
-        net.stop(sim, Duration::from_secs(5));
-        said.extend(stderr.try_iter());
-        match result {
-            Ok(()) => Ok(said),
-            Err(problem) => Err((problem, said)),
-        }
+        sim.stop(net, Duration::from_secs(5), result)
     }
 
     /// Discovery, a typed SDO write and read in Pre-Op, Op, then the cyclic steps.

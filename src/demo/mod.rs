@@ -24,7 +24,8 @@
 //! EtherNet/IP card between two namespaces, TCP 44818 and UDP 2222 (`enip_wire`), and the
 //! PROFINET card between two namespaces, DCP and RT_CLASS_1 frames and UDP 34964
 //! (`profinet_wire`); the same steps, checked within the slack real time needs
-//! ([`crate::netns`] makes and removes the namespaces).
+//! ([`crate::netns`] makes and removes the namespaces; `two_namespaces` starts the simulator
+//! and the demo's client role in them).
 
 mod dp;
 mod enip;
@@ -35,6 +36,7 @@ mod memory;
 mod profinet;
 mod profinet_wire;
 mod remote;
+mod two_namespaces;
 
 use std::path::Path;
 use std::time::Duration as StdDuration;

@@ -25,17 +25,15 @@ use edsgen_sim::profinet::wire::rpc::{RpcHeader, REQUEST, RESPONSE, RPC_PORT};
 use edsgen_sim::profinet::wire::rt::RT_CLASS_1;
 use edsgen_sim::profinet::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
 
-use super::enip_wire::lines_of;
 use super::profinet::{workflow, Silence, Timing, Transport};
+use super::two_namespaces::{self, Outcome, Pair, Server};
 use super::{Report, Trace};
-use crate::netns::{self, End, Network};
+use crate::netns::Network;
 
 /// The card's address (namespace 0) and the controller's (namespace 1), on a /24.
 const CARD: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 1);
 const CONTROLLER: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 2);
-/// How long the card may take to say it serves, and the controller to finish its steps (the
-/// drive's ramps alone take 20 s).
-const START: Duration = Duration::from_secs(20);
+/// How long the controller may take to finish its steps (the drive's ramps alone take 20 s).
 const STEPS: Duration = Duration::from_secs(120);
 /// On the wire: 4 ms cycles, a watchdog of 100 of them; the card's last input frame seen up to
 /// 40 ms before the watchdog's time (its loop takes the kernel's ticks of 4 ms or more) or up
@@ -58,129 +56,49 @@ fn interval() -> Duration {
 
 /// Runs the card's section between two namespaces where this process can, else in process.
 pub(super) fn run(trace: &mut Trace) {
-    if !netns::is_root() {
-        eprintln!(
-            "{}; the PROFINET card runs in this process instead",
-            netns::not_root("demo --profinet")
-        );
-        super::profinet::run(trace);
+    let card = "the PROFINET card";
+    if !two_namespaces::as_root("demo --profinet", card, trace, super::profinet::run) {
         return;
     }
     trace.heading(
         "Goodrive350 PROFINET card: DCP, an AR over RPC on UDP 34964, RT_CLASS_1 frames every \
          4 ms, between two network namespaces",
     );
-    let mut net = match Network::create("pn", 2) {
-        Ok(net) => net,
-        Err(problem) => {
-            trace.step("two network namespaces and a veth pair", Err(problem));
-            return;
-        }
-    };
-    let said = match on_wire(trace, &mut net) {
-        Ok(said) => said,
-        Err((problem, said)) => {
-            trace.step("Goodrive350 PROFINET workflow", Err(problem));
-            said
-        }
-    };
-    drop(net);
-    for line in said {
-        trace.line(None, format!("device: {line}"));
-    }
+    let workflow = "Goodrive350 PROFINET workflow";
+    let addresses = [CARD, CONTROLLER];
+    two_namespaces::between_two(trace, "pn", addresses, workflow, "device", on_wire);
 }
 
 /// The card and the controller in their namespaces, the controller's report taken into
 /// `trace`; the card's log once it is stopped (with the problem, if any).
-fn on_wire(trace: &mut Trace, net: &mut Network) -> Result<Vec<String>, (String, Vec<String>)> {
-    let bare = |problem: String| (problem, Vec::new());
-    let (card_end, controller_end) = net
-        .veth(End::Namespace(0), End::Namespace(1))
-        .map_err(bare)?;
-    net.address(0, &card_end, &format!("{CARD}/24"))
-        .map_err(bare)?;
-    net.address(1, &controller_end, &format!("{CONTROLLER}/24"))
-        .map_err(bare)?;
-    let exe = std::env::current_exe().map_err(|e| bare(format!("this program: {e}")))?;
-    let ns = |n: usize| net.namespace(n).unwrap_or_default().to_owned();
-    let (card_ns, controller_ns) = (ns(0), ns(1));
-
-    let mut command = net.command(0, &exe).map_err(bare)?;
+fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
+    let [card_end, controller_end] = &pair.ends;
+    let [card_ns, controller_ns] = &pair.namespaces;
+    let mut command = net.command(0, &pair.exe).map_err(|p| (p, Vec::new()))?;
     command
-        .args(["simulate", "--profinet", &card_end])
+        .args(["simulate", "--profinet", card_end])
         .args(["--card", "goodrive350-pn", "--ip", &format!("{CARD}/24")])
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    trace.line(
-        None,
-        format!(
-            "ip netns exec {card_ns} edsgen simulate --profinet {card_end} --card \
-             goodrive350-pn --ip {CARD}/24"
-        ),
+    let shown = format!(
+        "ip netns exec {card_ns} edsgen simulate --profinet {card_end} --card goodrive350-pn \
+         --ip {CARD}/24"
     );
-    let card = net.spawn(&mut command).map_err(bare)?;
-    let child = net.child(card).ok_or_else(|| bare("the card".into()))?;
-    let (Some(stdout), Some(stderr)) = (child.stdout.take(), child.stderr.take()) else {
-        return Err(bare("the card's standard streams".into()));
-    };
-    let (log, errors) = (lines_of(stdout), lines_of(stderr));
-    let mut said = Vec::new();
-    loop {
-        match log.recv_timeout(START) {
-            Ok(line) if line.starts_with("RPC on UDP 34964") => {
-                said.push(line);
-                break;
-            }
-            Ok(line) => said.push(line),
-            Err(_) => {
-                said.extend(errors.try_iter());
-                return Err((format!("the card did not start in {START:?}"), said));
-            }
-        }
-    }
+    let ready = ("RPC on UDP 34964", true);
+    let card = Server::start(trace, net, &mut command, shown, "the card", ready)?;
 
-    let mut command = net.command(1, &exe).map_err(bare)?;
-    command
-        .args(["demo", "--profinet-controller", &controller_end])
-        .arg(CARD.to_string())
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    trace.line(
-        None,
-        format!(
+    let result = net.command(1, &pair.exe).and_then(|mut command| {
+        command
+            .args(["demo", "--profinet-controller", controller_end])
+            .arg(CARD.to_string());
+        let shown = format!(
             "ip netns exec {controller_ns} edsgen demo --profinet-controller {controller_end} \
              {CARD} (the controller, at {CONTROLLER})"
-        ),
-    );
-    let controller = net.spawn(&mut command).map_err(bare)?;
-    let child = net
-        .child(controller)
-        .ok_or_else(|| bare("the controller".into()))?;
-    let (Some(stdout), Some(stderr)) = (child.stdout.take(), child.stderr.take()) else {
-        return Err(bare("the controller's standard streams".into()));
-    };
-    let (stdout, stderr) = (lines_of(stdout), lines_of(stderr));
-    let result = match net.wait(controller, STEPS) {
-        None => Err(format!("the controller did not finish in {STEPS:?}")),
-        Some(status) if !status.success() => Err(format!(
-            "the controller exited with {status}: {}",
-            stderr.try_iter().collect::<Vec<_>>().join(" / ")
-        )),
-        Some(_) => {
-            let json: Vec<String> = stdout.iter().collect();
-            Report::from_json(&json.join("\n")).map(|report| trace.merge(report))
-        }
-    };
-    // The card runs until stopped.
-    net.stop(card, Duration::from_secs(2));
-    said.extend(log.iter());
-    said.extend(errors.iter());
-    match result {
-        Ok(()) => Ok(said),
-        Err(problem) => Err((problem, said)),
-    }
+        );
+        two_namespaces::client(trace, net, &mut command, shown, "the controller", STEPS)
+    });
+    card.stop(net, Duration::from_secs(2), result)
 }
 
 /// `edsgen demo --profinet-controller IFACE ADDR`, run inside the controller's namespace by

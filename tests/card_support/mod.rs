@@ -4,6 +4,8 @@
 // Each card test is a crate of its own and uses only some of these helpers.
 #![allow(dead_code)]
 
+pub mod pkw_pzd_drive;
+
 use std::fmt::Debug;
 use std::path::Path;
 

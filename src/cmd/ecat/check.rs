@@ -10,43 +10,32 @@
 //! ESI's default (CHK005). Reading the SubDevice ([`observe`], ethercrab in Pre-Op) is apart
 //! from judging what was read ([`judge`]).
 
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::diag::{self, Diagnostic, Severity};
+use edsgen_codegen::diag::Diagnostic;
 use edsgen_codegen::model::{
     AccessType, Device, EcPdo, ObjectType, SmKind, Span, SubObject, Value,
 };
+use edsgen_codegen::read;
 use edsgen_codegen::rules::{
     CHK_MISSING as CHK001, CHK_PDO_ASSIGNMENT as CHK008, CHK_SII_IDENTITY as CHK006,
     CHK_SYNC_MANAGER as CHK007, CHK_UNREADABLE as CHK003,
 };
-use edsgen_codegen::{read, render};
 use edsgen_runtime::wire::sdo::{abort_meaning, Multiplexer};
 use ethercrab::{MainDevice, SubDevice, SubDeviceRef};
 
-use super::super::check::{default_differs, length_differs, Format};
+use super::super::check::{default_differs, length_differs, report, Format};
 use super::super::fail;
 use super::super::sdo::show_mux;
 use super::sdo::upload;
-use super::{discover, runtime};
+use super::{discover, runtime, SubDeviceArgs};
 
 /// `edsgen ecat check` options.
 #[derive(clap::Args, Debug)]
 pub struct CheckArgs {
-    /// The network interface of the EtherCAT segment.
-    #[arg(long, value_name = "IFACE")]
-    iface: String,
-    /// The SubDevice's ESI file.
-    #[arg(long, value_name = "FILE")]
-    esi: PathBuf,
-    /// The device of an ESI file with several (type name or `#x` product code).
-    #[arg(long, value_name = "NAME|#xCODE")]
-    device: Option<String>,
-    /// The SubDevice's position on the segment (0 first).
-    #[arg(long, default_value_t = 0)]
-    position: usize,
+    #[command(flatten)]
+    sub_device: SubDeviceArgs,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Human)]
     format: Format,
@@ -76,20 +65,24 @@ pub struct Observed {
 /// Runs `edsgen ecat check`: 0 when the SubDevice matches, 1 for errors (or warnings with
 /// `--deny-warnings`), 2 when the ESI, the interface or the SubDevice cannot be read.
 pub fn run(args: &CheckArgs) -> ExitCode {
-    let read = match read::read_file_device(&args.esi, args.device.as_deref()) {
+    let read = match read::read_file_device(&args.sub_device.esi, args.sub_device.device.as_deref())
+    {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
     if read.nothing_read() || read.device.ethercat.is_none() {
-        return fail(format!("{}: not an ESI device", args.esi.display()));
+        return fail(format!(
+            "{}: not an ESI device",
+            args.sub_device.esi.display()
+        ));
     }
     let runtime = match runtime() {
         Ok(runtime) => runtime,
         Err(message) => return fail(message),
     };
-    let position = args.position;
+    let position = args.sub_device.position;
     let observed = runtime.block_on(async {
-        let (maindevice, group) = discover(&args.iface).await?;
+        let (maindevice, group) = discover(&args.sub_device.iface).await?;
         let sub_device = group
             .subdevice(&maindevice, position)
             .map_err(|_| format!("no SubDevice at position {position}"))?;
@@ -97,34 +90,18 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     });
     let observed = match observed {
         Ok(observed) => observed,
-        Err(message) => return fail(format!("{}: {message}", args.iface)),
+        Err(message) => return fail(format!("{}: {message}", args.sub_device.iface)),
     };
-    let mut diags = judge(&read.device, position, &observed);
-    diag::sort(&mut diags);
-    let name = args.esi.display().to_string();
-    let count = |severity| diags.iter().filter(|d| d.severity == severity).count();
-    let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
-    match args.format {
-        Format::Human => {
-            let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-            print!("{}", render::human(&name, &read.text, &diags, color));
-            println!(
-                "SubDevice {position} checked against {name}: {errors} error(s), {warnings} warning(s)"
-            );
-        }
-        Format::Json => {
-            let list = render::json(&name, &diags);
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into())
-            );
-        }
-    }
-    if errors > 0 || (args.deny_warnings && warnings > 0) {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    }
+    let diags = judge(&read.device, position, &observed);
+    let what = format!("SubDevice {position}");
+    report(
+        args.format,
+        &args.sub_device.esi,
+        &read.text,
+        diags,
+        &what,
+        args.deny_warnings,
+    )
 }
 
 /// Reads from the SubDevice in Pre-Op what [`judge`] compares with `esi`.

@@ -43,18 +43,8 @@ enum EcatCommand {
     /// Bring the SubDevice to Op and print its inputs by name (the ESI's default TxPDOs), one
     /// line per cycle, until Ctrl-C or `--cycles`.
     Pdo {
-        /// The network interface of the EtherCAT segment.
-        #[arg(long, value_name = "IFACE")]
-        iface: String,
-        /// The ESI file of the SubDevice.
-        #[arg(long, value_name = "FILE")]
-        esi: PathBuf,
-        /// The device of an ESI file with several (type name or `#x` product code).
-        #[arg(long, value_name = "NAME|#xCODE")]
-        device: Option<String>,
-        /// The SubDevice's position on the segment (0 first).
-        #[arg(long, default_value_t = 0)]
-        position: usize,
+        #[command(flatten)]
+        sub_device: SubDeviceArgs,
         /// Stop after this many cycles (1 ms each).
         #[arg(long)]
         cycles: Option<u64>,
@@ -64,18 +54,29 @@ enum EcatCommand {
     Check(check::CheckArgs),
 }
 
+/// One SubDevice and its ESI: the options `ecat pdo` and `ecat check` share.
+#[derive(clap::Args, Debug)]
+pub struct SubDeviceArgs {
+    /// The network interface of the EtherCAT segment.
+    #[arg(long, value_name = "IFACE")]
+    iface: String,
+    /// The SubDevice's ESI file.
+    #[arg(long, value_name = "FILE")]
+    esi: PathBuf,
+    /// The device of an ESI file with several (type name or `#x` product code).
+    #[arg(long, value_name = "NAME|#xCODE")]
+    device: Option<String>,
+    /// The SubDevice's position on the segment (0 first).
+    #[arg(long, default_value_t = 0)]
+    position: usize,
+}
+
 /// Runs `edsgen ecat`.
 pub fn run(args: Args) -> ExitCode {
     let (iface, esi) = match args.command {
         EcatCommand::Scan { iface, esi } => (iface, esi),
         EcatCommand::Sdo(args) => return sdo::run(&args),
-        EcatCommand::Pdo {
-            iface,
-            esi,
-            device,
-            position,
-            cycles,
-        } => return pdo(&iface, &esi, device.as_deref(), position, cycles),
+        EcatCommand::Pdo { sub_device, cycles } => return pdo(&sub_device, cycles),
         EcatCommand::Check(args) => return check::run(&args),
     };
     let mut described = Vec::new();
@@ -104,14 +105,15 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 /// Runs `edsgen ecat pdo`.
-fn pdo(
-    iface: &str,
-    esi: &std::path::Path,
-    device: Option<&str>,
-    position: usize,
-    cycles: Option<u64>,
-) -> ExitCode {
-    let read = match edsgen_codegen::read::read_file_device(esi, device) {
+fn pdo(sub_device: &SubDeviceArgs, cycles: Option<u64>) -> ExitCode {
+    let SubDeviceArgs {
+        iface,
+        esi,
+        device,
+        position,
+    } = sub_device;
+    let (iface, position) = (iface.as_str(), *position);
+    let read = match edsgen_codegen::read::read_file_device(esi, device.as_deref()) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
