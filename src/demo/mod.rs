@@ -2,19 +2,20 @@
 //! ESI) are validated; then a master built from the generated bindings brings a CP301 (node 2)
 //! and a Goodrive350 (node 3) through their manuals' workflows, every frame decoded by name; then
 //! an EtherCAT master walks a simulated EC-TX508 through CiA 402 cyclic synchronous velocity,
-//! exchanging the card's real process images every 1 ms cycle ([`ethercat`]), the images decoded
+//! exchanging the card's real process images every 1 ms cycle (`ethercat`), the images decoded
 //! by name at the cycles the steps look at; then a class-1 EtherNet/IP scanner drives the
-//! Goodrive350's EtherNet/IP card through PKW and PZD ([`enip`]), a PROFINET controller finds,
-//! names and drives the Goodrive350's PROFINET card by DCP, RPC and RT frames ([`profinet`]), and profirust's DP master brings the Goodrive350's PROFIBUS-DP card to data
-//! exchange on its simulated bus and walks the manual's PKW examples and CW/SW commands ([`dp`]).
+//! Goodrive350's EtherNet/IP card through PKW and PZD (`enip`), a PROFINET controller finds,
+//! names and drives the Goodrive350's PROFINET card by DCP, RPC and RT frames (`profinet`),
+//! and profirust's DP master brings the Goodrive350's PROFIBUS-DP card to data exchange on its
+//! simulated bus and walks the manual's PKW examples and CW/SW commands (`dp`).
 //! Each step checks what the manual (or CiA 402) says should happen; the demo passes only if
 //! every step does.
 //!
-//! Two links for the CANopen drives, one set of workflows ([`Link`]): by default the drives are
-//! simulated in this process on the in-memory bus ([`memory`]), in the bus's own time, so the
+//! Two links for the CANopen drives, one set of workflows (`Link`): by default the drives are
+//! simulated in this process on the in-memory bus (`memory`), in the bus's own time, so the
 //! manuals' ramps of several seconds run in no time and every run gives the same frames; with
 //! `--bus HOST:PORT` edsgen's blocking master drives whatever answers at those node-IDs on a
-//! socketcand bus ([`remote`]), in real time (`edsgen simulate --card cp301@2 --card
+//! socketcand bus (`remote`), in real time (`edsgen simulate --card cp301@2 --card
 //! goodrive350`, or real drives); a fault cannot be injected there, and that step says so. The
 //! EC-TX508 runs in the first mode only, in its own 1 ms cycles; a socketcand bus has no
 //! EtherCAT network, and with `--bus` its one step says it was not run.
