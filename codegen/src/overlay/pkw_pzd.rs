@@ -30,6 +30,11 @@ pub fn apply(
     }
 }
 
+/// A refusal of the table: the overlay's rule at `span`, the table ignored.
+fn ignored(span: Span, message: String) -> Diagnostic {
+    Diagnostic::new(&rules::OVERLAY, Some(span), message).with_label("[pkw_pzd] ignored")
+}
+
 /// `[pkw_pzd] output = N, input = N, byte_order = "little"|"big"` (ODVA EDS): the assemblies.
 fn apply_cip(
     table: &DeTable<'_>,
@@ -39,11 +44,8 @@ fn apply_cip(
     lines: &LineIndex,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let error = |span: Span, message: String| {
-        Diagnostic::new(&rules::OVERLAY, Some(span), message).with_label("[pkw_pzd] ignored")
-    };
     let Some(cip) = device.cip.as_mut() else {
-        diags.push(error(
+        diags.push(ignored(
             key_span,
             "[pkw_pzd] is for an ODVA EDS (EtherNet/IP), a GSD or a GSDML file; this description is \
              none of them"
@@ -66,11 +68,11 @@ fn apply_cip(
                 match (number, size) {
                     (Some(n), Some(32)) if which == "output" => output = Some(n),
                     (Some(n), Some(32)) => input = Some(n),
-                    (Some(n), Some(size)) => diags.push(error(
+                    (Some(n), Some(size)) => diags.push(ignored(
                         span,
                         format!("Assem{n} is {size} bytes; a PKW/PZD image is 32 (16 words)"),
                     )),
-                    _ => diags.push(error(
+                    _ => diags.push(ignored(
                         span,
                         format!("`{which}` names no assembly of the file"),
                     )),
@@ -79,12 +81,12 @@ fn apply_cip(
             ("byte_order", DeValue::String(order)) => match order.as_ref() {
                 "little" => little_endian = Some(true),
                 "big" => little_endian = Some(false),
-                other => diags.push(error(
+                other => diags.push(ignored(
                     span,
                     format!("byte_order is `little` or `big`, not `{other}`"),
                 )),
             },
-            (other, _) => diags.push(error(
+            (other, _) => diags.push(ignored(
                 lines.span(text, key.span()),
                 format!(
                     "`{other}` is not a key of [pkw_pzd] (output = N, input = N, byte_order = \"little\")"
@@ -100,7 +102,7 @@ fn apply_cip(
                 little_endian,
             })
         }
-        _ if diags.len() == before => diags.push(error(
+        _ if diags.len() == before => diags.push(ignored(
             key_span,
             "[pkw_pzd] needs output, input and byte_order".to_owned(),
         )),
@@ -173,9 +175,6 @@ fn apply_pn(
     lines: &LineIndex,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let error = |span: Span, message: String| {
-        Diagnostic::new(&rules::OVERLAY, Some(span), message).with_label("[pkw_pzd] ignored")
-    };
     let before = diags.len();
     let mut module = None;
     let mut subslot = None;
@@ -183,7 +182,7 @@ fn apply_pn(
         let span = lines.span(text, value.span());
         match (key.get_ref().as_ref(), value.get_ref()) {
             ("module", DeValue::String(name)) => module = Some((name.to_string(), span)),
-            ("module", _) => diags.push(error(
+            ("module", _) => diags.push(ignored(
                 span,
                 "`module` is the ID or name of a ModuleItem or DeviceAccessPointItem: \
                  module = \"MOD_1\""
@@ -191,7 +190,7 @@ fn apply_pn(
             )),
             ("subslot", DeValue::Integer(n)) => match n.as_str().parse::<u16>() {
                 Ok(n) => subslot = Some((n, span)),
-                Err(_) => diags.push(error(
+                Err(_) => diags.push(ignored(
                     span,
                     format!(
                         "`subslot` is a subslot number (0..=65535), not {}",
@@ -199,11 +198,11 @@ fn apply_pn(
                     ),
                 )),
             },
-            ("subslot", _) => diags.push(error(
+            ("subslot", _) => diags.push(ignored(
                 span,
                 "`subslot` is a subslot number: subslot = 1".to_owned(),
             )),
-            (other, _) => diags.push(error(
+            (other, _) => diags.push(ignored(
                 lines.span(text, key.span()),
                 format!(
                     "`{other}` is not a key of [pkw_pzd] for a GSDML file (module = \"ID or \
@@ -216,7 +215,7 @@ fn apply_pn(
         return;
     }
     let Some((name, module_span)) = module else {
-        diags.push(error(
+        diags.push(ignored(
             key_span,
             "[pkw_pzd] needs `module = \"ID or name\"` (and `subslot = N` when the module has \
              several submodules)"
@@ -226,10 +225,10 @@ fn apply_pn(
     };
     let submodules = match module_submodules(pn, &name) {
         Ok(submodules) => submodules,
-        Err(message) => return diags.push(error(module_span, message)),
+        Err(message) => return diags.push(ignored(module_span, message)),
     };
     if submodules.is_empty() {
-        return diags.push(error(module_span, format!("\"{name}\" has no submodule")));
+        return diags.push(ignored(module_span, format!("\"{name}\" has no submodule")));
     }
     let subslots = submodules
         .iter()
@@ -240,7 +239,7 @@ fn apply_pn(
         Some((n, span)) => match submodules.iter_mut().find(|s| s.subslot == n) {
             Some(sub) => (sub, span),
             None => {
-                return diags.push(error(
+                return diags.push(ignored(
                     span,
                     format!(
                         "\"{name}\" has no submodule in subslot {n} (its subslots: {subslots})"
@@ -250,7 +249,7 @@ fn apply_pn(
         },
         None if submodules.len() == 1 => (&mut submodules[0], module_span),
         None => {
-            return diags.push(error(
+            return diags.push(ignored(
                 module_span,
                 format!(
                     "\"{name}\" has {} submodules (subslots {subslots}): say which with \
@@ -269,7 +268,7 @@ fn apply_pn(
         (inputs, outputs) => {
             let shown =
                 |n: Option<u32>| n.map_or("an unknown number of".to_owned(), |n| n.to_string());
-            diags.push(error(
+            diags.push(ignored(
                 span,
                 format!(
                     "submodule `{}` in subslot {} has {} input bytes and {} output bytes; a \
