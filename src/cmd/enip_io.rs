@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use edsgen_codegen::model::{Cip, CipAssembly, CipConnection, CipNumber, FieldRef};
+use edsgen_codegen::model::{path_bytes, Cip, CipAssembly, CipConnection, CipNumber, FieldRef};
 use edsgen_sim::enip::wire::{
     self, emit_items, item, parse_items, EncapError, Encapsulation, ForwardOpen,
 };
@@ -243,12 +243,7 @@ fn plan<'a>(cip: &'a Cip, file: &str, args: &Args) -> Result<Plan<'a>, String> {
     let path: Vec<u8> = c
         .path
         .as_ref()
-        .and_then(|p| {
-            p.value
-                .split_whitespace()
-                .map(|t| u8::from_str_radix(t, 16).ok())
-                .collect()
-        })
+        .and_then(|p| path_bytes(&p.value).ok())
         .filter(|p: &Vec<u8>| !p.is_empty() && p.len().is_multiple_of(2))
         .ok_or_else(|| format!("{label}: its path is not plain hex bytes of whole words"))?;
     // Class 1: the 16-bit sequence count both ways, the run/idle header where the format says.

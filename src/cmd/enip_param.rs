@@ -4,7 +4,7 @@
 //! assembly it is a member of; else attribute 1 of its Parameter object instance, `@0x0F/N/1`),
 //! typed as wide as it is there (`cip_value::Typed`).
 
-use edsgen_codegen::model::{decode_path, Cip, CipParam, FieldRef};
+use edsgen_codegen::model::{decode_path, path_bytes, Cip, CipParam, FieldRef};
 
 use super::cip_value::Typed;
 
@@ -140,12 +140,7 @@ fn access(cip: &Cip, param: &CipParam) -> Result<Access, String> {
             )
         };
         decode_path(&path.value).map_err(|_| bad())?;
-        let mut bytes: Vec<u8> = path
-            .value
-            .split_whitespace()
-            .map(|t| u8::from_str_radix(t, 16))
-            .collect::<Result<_, _>>()
-            .map_err(|_| bad())?;
+        let mut bytes = path_bytes(&path.value).map_err(|_| bad())?;
         if bytes.len() % 2 == 1 {
             bytes.push(0);
         }

@@ -8,7 +8,7 @@ use quote::quote;
 use super::names::{ident, Case};
 use super::plan::{doc_text, id};
 use super::types;
-use crate::model::{Cip, CipAssembly, CipNumber, FieldRef};
+use crate::model::{path_bytes, Cip, CipAssembly, CipNumber, FieldRef};
 use crate::validate::cip_assembly_size;
 
 /// The `Connection` type and one constant per connection.
@@ -66,12 +66,7 @@ pub(super) fn connections(cip: &Cip) -> TokenStream {
         let path: Vec<u8> = c
             .path
             .as_ref()
-            .and_then(|p| {
-                p.value
-                    .split_whitespace()
-                    .map(|t| u8::from_str_radix(t, 16).ok())
-                    .collect()
-            })
+            .and_then(|p| path_bytes(&p.value).ok())
             .unwrap_or_default();
         let config = instance(&c.config2.format.value).or(instance(&c.config1.format.value));
         let wanted = ident(&c.name, Case::Shouty, &format!("CONNECTION_{}", c.number));

@@ -517,17 +517,23 @@ pub enum PathSegment {
     Data(usize),
 }
 
+/// The bytes of a path written as hex bytes (`20 04 24 97 2C 96 2C 64`); `Err` with the index
+/// of the first token that is not a hex byte.
+pub fn path_bytes(text: &str) -> Result<Vec<u8>, usize> {
+    text.split_whitespace()
+        .enumerate()
+        .map(|(i, token)| match u8::from_str_radix(token, 16) {
+            Ok(b) if token.len() <= 2 => Ok(b),
+            _ => Err(i),
+        })
+        .collect()
+}
+
 /// Decodes a path written as hex bytes (`20 04 24 97 2C 96 2C 64`); `Err` with the byte offset
 /// where decoding failed (a token that is not a hex byte, a segment type it does not know, or a
 /// truncated segment).
 pub fn decode_path(text: &str) -> Result<Vec<PathSegment>, usize> {
-    let mut bytes = Vec::new();
-    for (i, token) in text.split_whitespace().enumerate() {
-        match u8::from_str_radix(token, 16) {
-            Ok(b) if token.len() <= 2 => bytes.push(b),
-            _ => return Err(i),
-        }
-    }
+    let bytes = path_bytes(text)?;
     let mut out = Vec::new();
     let mut at = 0;
     let byte = |i: usize| bytes.get(i).copied().ok_or(i);

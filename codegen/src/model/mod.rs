@@ -22,10 +22,10 @@ mod source;
 mod types;
 
 pub use cip::{
-    data_type_info, data_type_range, decode_path, real_time_format_name, AssemblyMember, Cip,
-    CipAssembly, CipConnection, CipEntry, CipEnum, CipFile, CipIdentity, CipNumber, CipParam,
-    CipPort, CipSection, ConnectionData, ConnectionParams, Field, FieldRef, PathSegment,
-    PkwPzdImages, TriggerTransport,
+    data_type_info, data_type_range, decode_path, path_bytes, real_time_format_name,
+    AssemblyMember, Cip, CipAssembly, CipConnection, CipEntry, CipEnum, CipFile, CipIdentity,
+    CipNumber, CipParam, CipPort, CipSection, ConnectionData, ConnectionParams, Field, FieldRef,
+    PathSegment, PkwPzdImages, TriggerTransport,
 };
 pub use dp::{
     decode_cfg, CfgError, CfgIdentifier, Dp, DpBaud, DpBaudRate, DpModule, DpSlot, ExtUserPrmData,

@@ -11,7 +11,9 @@
 
 use std::collections::BTreeMap;
 
-use edsgen_codegen::model::{decode_path, AssemblyMember, Cip, CipNumber, CipParam, FieldRef};
+use edsgen_codegen::model::{
+    decode_path, path_bytes, AssemblyMember, Cip, CipNumber, CipParam, FieldRef,
+};
 
 use super::adapter::{Adapter, Event};
 use super::wire::{general, response, Path, Request};
@@ -124,12 +126,7 @@ fn parameter(p: &CipParam, storage: Storage) -> Parameter {
         .link_path
         .as_ref()
         .filter(|l| decode_path(&l.value).is_ok())
-        .and_then(|l| {
-            l.value
-                .split_whitespace()
-                .map(|t| u8::from_str_radix(t, 16).ok())
-                .collect::<Option<Vec<u8>>>()
-        })
+        .and_then(|l| path_bytes(&l.value).ok())
         .unwrap_or_default();
     let [mult, div, base, offset] = p.scaling;
     Parameter {
