@@ -15,6 +15,7 @@
 //! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
+//! - `enip`: EtherNet/IP and CIP wire formats ([`enip`]), `no_std` like the rest.
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less
@@ -24,6 +25,8 @@
 #![warn(missing_docs)]
 
 pub mod cia402;
+#[cfg(feature = "enip")]
+pub mod enip;
 pub mod ethercat;
 pub mod frame;
 pub mod master;
