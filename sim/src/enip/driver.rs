@@ -14,11 +14,11 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use edsgen_runtime::enip::wire::io::IoDatagram;
 use edsgen_runtime::pkw_pzd::ByteOrder;
 use edsgen_runtime::Instant;
 
 use super::adapter::{Adapter, Event};
-use super::wire::parse_io_datagram;
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// The class-1 I/O port.
@@ -177,7 +177,7 @@ pub fn run(
 /// The UDP port a T→O datagram goes to: the one its connection's Forward_Open asked for, else
 /// [`IO_PORT`].
 fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
-    let id = parse_io_datagram(datagram).map(|(id, _, _)| id);
+    let id = IoDatagram::parse(datagram).ok().map(|d| d.connection);
     adapter
         .connections()
         .iter()

@@ -13,12 +13,12 @@
 //! (Forward_Open to the Message Router, SendUnitData) is in [`class3`].
 
 pub mod adapter;
+mod bytes;
 pub mod class3;
 pub mod device;
 pub mod driver;
 pub mod objects;
 pub mod parameter;
-pub mod wire;
 
 pub use adapter::{Adapter, Assembly, Event, Identity, IoConnection};
 pub use class3::ExplicitConnection;
@@ -29,3 +29,5 @@ mod tests;
 mod tests_parameter;
 #[cfg(test)]
 mod tests_scanner;
+#[cfg(test)]
+mod tests_support;

@@ -14,9 +14,11 @@ use std::collections::BTreeMap;
 use edsgen_codegen::model::{
     decode_path, path_bytes, AssemblyMember, Cip, CipNumber, CipParam, FieldRef,
 };
+use edsgen_runtime::enip::wire::epath::Path;
+use edsgen_runtime::enip::wire::message::{general, RequestRepr as Request};
 
 use super::adapter::{Adapter, Event};
-use super::wire::{general, response, Path, Request};
+use super::bytes::{response, status_only};
 
 /// Services of the Parameter object.
 const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
@@ -234,7 +236,7 @@ impl Parameter {
 }
 
 fn status(service: u8, code: u8) -> Vec<u8> {
-    response(service, code, &[], &[])
+    status_only(service, code)
 }
 
 /// Bits `at..at + len` of `data` as `size` little-endian bytes.

@@ -7,7 +7,9 @@ use std::collections::BTreeMap;
 
 use edsgen_runtime::{Duration, Instant};
 
-use super::wire::{emit_items, item, parse_items, Encapsulation};
+use edsgen_runtime::enip::wire::cpf::item;
+
+use super::tests_support::{emit_items, parse_items, Encapsulation};
 use super::{Adapter, Assembly, Event, Identity};
 
 fn adapter() -> Adapter {
