@@ -23,6 +23,7 @@ pub mod dump;
 pub mod ecat;
 pub mod enip;
 pub mod enip_io;
+mod enip_link;
 pub mod enip_param;
 pub mod entry;
 pub mod generate;
