@@ -363,8 +363,9 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
                 false => typed.raw(&data).map(shown),
             })
         }),
-        (Access::Attribute(path), Some(bytes)) => request(&mut session, 0x10, path, &bytes)
-            .map(|r| r.map(|_| Ok(String::new()))),
+        (Access::Attribute(path), Some(bytes)) => {
+            request(&mut session, 0x10, path, &bytes).map(|r| r.map(|_| Ok(String::new())))
+        }
         (
             &Access::Member {
                 instance,

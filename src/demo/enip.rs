@@ -8,10 +8,6 @@
 //! TCP 44818 and UDP 2222 to `edsgen simulate --enip` in another network namespace, in real
 //! time ([`super::enip_wire`]).
 
-use edsgen_runtime::pkw_pzd::{
-    Command, ControlWord, ErrorNumber, InputImage, OutputImage, PkwRequest, PkwResponse, RunState,
-    WordLayout,
-};
 use edsgen_runtime::enip::originator::{Class1, Session};
 use edsgen_runtime::enip::wire::connection_manager::{
     network_params, ForwardOpenRepr, Triad, DEFAULT_TICKS,
@@ -19,6 +15,10 @@ use edsgen_runtime::enip::wire::connection_manager::{
 use edsgen_runtime::enip::wire::cpf::item;
 use edsgen_runtime::enip::wire::message::RequestRepr;
 use edsgen_runtime::enip::wire::Emit;
+use edsgen_runtime::pkw_pzd::{
+    Command, ControlWord, ErrorNumber, InputImage, OutputImage, PkwRequest, PkwResponse, RunState,
+    WordLayout,
+};
 use edsgen_runtime::{Duration, Instant};
 use edsgen_sim::enip::{device, driver, Adapter};
 

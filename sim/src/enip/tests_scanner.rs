@@ -136,11 +136,7 @@ fn the_adapter_honours_the_t_o_sockaddr_and_the_scanner_frames() {
     assert_eq!(a.connections()[0].t_o_port, Some(40_000));
     assert_eq!(a.take_events(), vec![Event::Opened(o_t_id)]);
     // Sequence count 1, run, 4 bytes.
-    a.receive_io(
-        9,
-        &datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]),
-        T0,
-    );
+    a.receive_io(9, &datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]), T0);
     assert_eq!(a.assemblies[&150].data, [9, 8, 7, 6]);
     let produced = a.poll(T0);
     let produced = IoDatagram::parse(&produced[0].1).expect("T→O");
