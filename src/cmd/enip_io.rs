@@ -336,25 +336,18 @@ fn output_image(cip: &Cip, plan: &Plan<'_>, values: &[String]) -> Result<Vec<u8>
     Ok(image)
 }
 
-/// `; did you mean ...?` with the closest output names (or all of them, when few).
+/// `; did you mean ...?` with the five output names closest to `wanted` (ties by name).
 fn suggestions(wanted: &str, members: &[Member<'_>]) -> String {
     if members.is_empty() {
         return ": it has no output assembly members".to_owned();
     }
-    let mut scored: Vec<(usize, &str)> = members
-        .iter()
-        .map(|m| {
-            (
-                strsim::levenshtein(wanted, &cip_value::fold(&m.name)),
-                m.name.as_str(),
-            )
-        })
-        .collect();
-    scored.sort();
-    let names: Vec<String> = scored
-        .iter()
+    let mut names: Vec<&str> = members.iter().map(|m| m.name.as_str()).collect();
+    names.sort();
+    let keyed = names.into_iter().map(|n| (cip_value::fold(n), n));
+    let names: Vec<String> = super::did_you_mean::closest(wanted, keyed, false)
+        .into_iter()
         .take(5)
-        .map(|(_, n)| format!("`{n}`"))
+        .map(|n| format!("`{n}`"))
         .collect();
     format!("; did you mean {}?", names.join(", "))
 }

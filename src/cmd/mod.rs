@@ -17,6 +17,7 @@ pub mod cip_value;
 pub mod decode;
 pub mod demo;
 pub mod devices;
+mod did_you_mean;
 pub mod dp;
 pub mod dump;
 #[cfg(feature = "ethercrab")]
