@@ -1,9 +1,8 @@
 //! The adapter's protocol core, sans-IO: encapsulation messages in (per TCP client, or one UDP
 //! datagram), replies out; class-1 datagrams in, T→O datagrams out when [`Adapter::poll`] says
-//! they are due; connections closed after their timeout. Class-3 connected messaging
-//! (SendUnitData) is in `class3`. Layered as OpENer is: the
-//! encapsulation ([`Adapter::handle`]) knows no objects and hands Message Router requests to
-//! [`Adapter::route`], which dispatches to the objects (`objects`).
+//! they are due; connections closed after their timeout. The encapsulation
+//! ([`Adapter::handle`]) hands Message Router requests to [`Adapter::route`] (`objects`) and
+//! SendUnitData to `class3`.
 
 use std::collections::BTreeMap;
 
