@@ -65,7 +65,9 @@ fuzz_target!(|data: &[u8]| {
             }
             2 => a.receive_io(1, chunk, now),
             _ => {
-                let _ = a.poll(now);
+                a.handle_timeout(now);
+                while a.poll_transmit().is_some() {}
+                while a.poll_event().is_some() {}
             }
         }
     }

@@ -65,7 +65,8 @@ impl InProcess {
     fn step_time(&mut self, by: Duration) {
         self.now = self.now + by;
         // The T→O datagrams are not needed: the card's image is read from assembly 100.
-        self.adapter.poll(self.now);
+        self.adapter.handle_timeout(self.now);
+        while self.adapter.poll_transmit().is_some() {}
         let mut log = Vec::new();
         driver::link(
             &mut self.adapter,

@@ -1,10 +1,11 @@
 //! The adapter's protocol core, sans-IO: encapsulation messages in (per TCP client, or one UDP
-//! datagram), replies out; class-1 datagrams in, T→O datagrams out when [`Adapter::poll`] says
-//! they are due; connections closed after their timeout. The encapsulation
+//! datagram), replies out; class-1 datagrams in, T→O datagrams out when
+//! [`Adapter::handle_timeout`] finds them due ([`Adapter::poll_transmit`]), events out
+//! ([`Adapter::poll_event`]); connections closed after their timeout. The encapsulation
 //! ([`Adapter::handle`]) hands Message Router requests to [`Adapter::route`] (`objects`) and
 //! SendUnitData to `class3`.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 
 use edsgen_runtime::{Duration, Instant};
 
@@ -110,7 +111,9 @@ pub struct Adapter {
     next_session: u32,
     pub(super) connections: Vec<IoConnection>,
     pub(super) next_connection_id: u32,
-    pub(super) events: Vec<Event>,
+    pub(super) events: VecDeque<Event>,
+    /// T→O datagrams due, with the peer key of each.
+    transmit: VecDeque<(u64, Vec<u8>)>,
     pub(super) explicit: Vec<ExplicitConnection>,
     /// The session whose request [`Adapter::route`] serves (a class-3 connection's owner).
     pub(super) serving_session: u32,
@@ -132,7 +135,8 @@ impl Adapter {
             next_session: 1,
             connections: Vec::new(),
             next_connection_id: 0x1000_0001,
-            events: Vec::new(),
+            events: VecDeque::new(),
+            transmit: VecDeque::new(),
             explicit: Vec::new(),
             serving_session: 0,
             config_instances: Vec::new(),
@@ -145,9 +149,15 @@ impl Adapter {
         &self.connections
     }
 
-    /// The events since the last call.
-    pub fn take_events(&mut self) -> Vec<Event> {
-        std::mem::take(&mut self.events)
+    /// The next event, oldest first.
+    pub fn poll_event(&mut self) -> Option<Event> {
+        self.events.pop_front()
+    }
+
+    /// The next T→O datagram due (after [`handle_timeout`](Self::handle_timeout)), with the
+    /// peer key of the originator it goes to.
+    pub fn poll_transmit(&mut self) -> Option<(u64, Vec<u8>)> {
+        self.transmit.pop_front()
     }
 
     /// One encapsulation message from client `client` (a key the driver chooses per TCP
@@ -307,13 +317,14 @@ impl Adapter {
             let payload = &data[6..];
             if payload.len() == assembly.data.len() {
                 assembly.data.copy_from_slice(payload);
-                self.events.push(Event::Consumed(point));
+                self.events.push_back(Event::Consumed(point));
             }
         }
     }
 
-    /// When [`poll`](Self::poll) has something to do next: a T→O production or a timeout.
-    pub fn next_deadline(&self) -> Option<Instant> {
+    /// When [`handle_timeout`](Self::handle_timeout) has something to do next: a T→O
+    /// production or a timeout.
+    pub fn poll_timeout(&self) -> Option<Instant> {
         let explicit = self.explicit.iter().map(|c| c.last_heard + c.timeout);
         self.connections
             .iter()
@@ -323,8 +334,8 @@ impl Adapter {
     }
 
     /// At `now`: closes connections whose O→T data (class 1) or requests (class 3) stopped for
-    /// their timeout, and returns the T→O datagrams due, with the peer key of each.
-    pub fn poll(&mut self, now: Instant) -> Vec<(u64, Vec<u8>)> {
+    /// their timeout, and queues the T→O datagrams due ([`poll_transmit`](Self::poll_transmit)).
+    pub fn handle_timeout(&mut self, now: Instant) {
         self.expire_explicit(now);
         let mut timed_out = Vec::new();
         self.connections.retain(|c| {
@@ -336,7 +347,6 @@ impl Adapter {
         });
         self.events
             .extend(timed_out.into_iter().map(Event::TimedOut));
-        let mut out = Vec::new();
         for c in &mut self.connections {
             if now < c.next_produce {
                 continue;
@@ -356,10 +366,9 @@ impl Adapter {
             };
             // An assembly fits a datagram (the Forward_Open checked its size).
             if let Ok(bytes) = datagram.to_vec() {
-                out.push((c.peer, bytes));
+                self.transmit.push_back((c.peer, bytes));
             }
         }
-        out
     }
 }
 

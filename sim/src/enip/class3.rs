@@ -78,7 +78,7 @@ impl Adapter {
             last_heard: now,
             last: None,
         });
-        self.events.push(Event::Opened(id));
+        self.events.push_back(Event::Opened(id));
         id
     }
 
@@ -88,7 +88,7 @@ impl Adapter {
             return false;
         };
         let closed = self.explicit.remove(at);
-        self.events.push(Event::Closed(closed.o_t_id));
+        self.events.push_back(Event::Closed(closed.o_t_id));
         true
     }
 

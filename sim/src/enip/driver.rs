@@ -158,15 +158,13 @@ pub fn run(
             }
         }
         let t = now();
-        let mut produce = adapter.poll(t);
+        adapter.handle_timeout(t);
         served.connections += link(&mut adapter, card.as_mut(), t, &mut log);
-        if let Some(io) = &io {
-            for (peer, datagram) in produce.drain(..) {
-                let ip = clients.get(&peer).map(|c| c.peer);
-                if let Some(ip) = ip {
-                    let port = t_o_port(&adapter, &datagram);
-                    let _ = io.send_to(&datagram, SocketAddr::new(ip, port));
-                }
+        while let Some((peer, datagram)) = adapter.poll_transmit() {
+            let ip = clients.get(&peer).map(|c| c.peer);
+            if let (Some(io), Some(ip)) = (&io, ip) {
+                let port = t_o_port(&adapter, &datagram);
+                let _ = io.send_to(&datagram, SocketAddr::new(ip, port));
             }
         }
         std::thread::sleep(std::time::Duration::from_millis(1));
@@ -197,7 +195,7 @@ pub fn link(
     log: &mut impl FnMut(String),
 ) -> u64 {
     let mut opened = 0;
-    for event in adapter.take_events() {
+    while let Some(event) = adapter.poll_event() {
         match event {
             Event::Opened(id) => {
                 opened += 1;

@@ -153,7 +153,7 @@ impl Adapter {
                     std::cmp::Ordering::Greater => general::TOO_MUCH_DATA,
                     std::cmp::Ordering::Equal => {
                         assembly.data.copy_from_slice(request.data);
-                        self.events.push(Event::Consumed(instance));
+                        self.events.push_back(Event::Consumed(instance));
                         general::SUCCESS
                     }
                 };
@@ -298,7 +298,7 @@ impl Adapter {
             peer: client,
             t_o_port: None,
         });
-        self.events.push(Event::Opened(id));
+        self.events.push_back(Event::Opened(id));
         opened(id)
     }
 
@@ -328,7 +328,7 @@ impl Adapter {
             );
         };
         let closed = self.connections.remove(at);
-        self.events.push(Event::Closed(closed.o_t_id));
+        self.events.push_back(Event::Closed(closed.o_t_id));
         response(request.service, general::SUCCESS, &[], &data)
     }
 }

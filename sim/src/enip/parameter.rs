@@ -326,7 +326,7 @@ impl Adapter {
         };
         paste(&mut assembly.data, bit, bits, data);
         if assembly.consumed {
-            self.events.push(Event::Consumed(instance));
+            self.events.push_back(Event::Consumed(instance));
         }
         general::SUCCESS
     }

@@ -13,7 +13,7 @@ use edsgen_runtime::enip::wire::io::IoDatagram;
 use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::Instant;
 
-use super::tests_support::{emit_items, parse_items, Encapsulation};
+use super::tests_support::{emit_items, events, parse_items, produce, Encapsulation};
 use super::{Adapter, Assembly, Event, Identity};
 
 const T0: Instant = Instant::from_micros(0);
@@ -134,11 +134,11 @@ fn the_adapter_honours_the_t_o_sockaddr_and_the_scanner_frames() {
         (0x2000_0001, TRIAD, 20_000, 20_000)
     );
     assert_eq!(a.connections()[0].t_o_port, Some(40_000));
-    assert_eq!(a.take_events(), vec![Event::Opened(o_t_id)]);
+    assert_eq!(events(&mut a), vec![Event::Opened(o_t_id)]);
     // Sequence count 1, run, 4 bytes.
     a.receive_io(9, &datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]), T0);
     assert_eq!(a.assemblies[&150].data, [9, 8, 7, 6]);
-    let produced = a.poll(T0);
+    let produced = produce(&mut a, T0);
     let produced = IoDatagram::parse(&produced[0].1).expect("T→O");
     assert_eq!(
         produced,

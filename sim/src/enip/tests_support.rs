@@ -4,6 +4,20 @@
 use edsgen_runtime::enip::wire::cpf::{CpfRepr, Item, Items};
 use edsgen_runtime::enip::wire::encap::{EncapError, EncapRepr};
 use edsgen_runtime::enip::wire::Emit;
+use edsgen_runtime::Instant;
+
+use super::{Adapter, Event};
+
+/// The adapter's events since the last call, oldest first.
+pub(super) fn events(a: &mut Adapter) -> Vec<Event> {
+    std::iter::from_fn(|| a.poll_event()).collect()
+}
+
+/// The T→O datagrams due at `now`, with the peer key of each.
+pub(super) fn produce(a: &mut Adapter, now: Instant) -> Vec<(u64, Vec<u8>)> {
+    a.handle_timeout(now);
+    std::iter::from_fn(|| a.poll_transmit()).collect()
+}
 
 /// An encapsulation message that owns its data.
 #[derive(Debug, Clone, PartialEq, Eq)]
