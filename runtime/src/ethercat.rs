@@ -9,6 +9,8 @@
 
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;
+#[cfg(feature = "ethercat-wire")]
+pub mod wire;
 
 use crate::od::typed::PdoError;
 

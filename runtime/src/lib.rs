@@ -15,6 +15,8 @@
 //! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
+//! - `ethercat-wire`: EtherCAT's frames, datagrams, mailbox and CoE headers as views
+//!   (`ethercat::wire`), for SubDevices, masters and decoders.
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less
