@@ -21,9 +21,10 @@ use edsgen_codegen::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
 
 use super::coe::SdoServer;
-use super::mailbox::{self, SERVICE_SDO_REQUEST, SERVICE_SDO_RESPONSE, TYPE_COE};
 use super::{AlState, Application, Layout, SubDevice};
 use crate::canopen::RuntimeDictionary;
+use edsgen_runtime::ethercat::wire::coe::{self, Coe, CoeRepr, SERVICE_SDO_REQUEST};
+use edsgen_runtime::ethercat::wire::mailbox::{self, Mailbox, MailboxRepr, TYPE_COE};
 
 /// What runs on the dictionary each cycle, as a device's firmware does behind its objects.
 pub trait Behaviour: std::fmt::Debug + Send {
@@ -443,33 +444,41 @@ pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
     }
 }
 
+/// A CoE SDO response with `counter` around the SDO part `body`.
+fn sdo_response(counter: u8, body: &[u8]) -> Vec<u8> {
+    let length = coe::HEADER_LEN + body.len();
+    let mut reply = vec![0; mailbox::HEADER_LEN + length];
+    let _ = MailboxRepr::new(TYPE_COE, counter, length as u16).emit(&mut reply);
+    let _ = CoeRepr::service(coe::SERVICE_SDO_RESPONSE).emit(&mut reply[mailbox::HEADER_LEN..]);
+    reply[mailbox::HEADER_LEN + coe::HEADER_LEN..].copy_from_slice(body);
+    reply
+}
+
 impl Application for EsiDevice {
     fn mailbox(&mut self, _state: AlState, request: &[u8]) -> Vec<Vec<u8>> {
-        let Some(message) = mailbox::parse(request) else {
+        let Ok(message) = Mailbox::new_checked(request) else {
             return Vec::new();
         };
-        if message.kind != TYPE_COE {
-            return vec![mailbox::error_reply(
-                message.counter,
-                mailbox::ERROR_UNSUPPORTED_PROTOCOL,
-            )];
+        let counter = message.counter();
+        if message.kind() != TYPE_COE {
+            let mut reply = vec![0; mailbox::ERROR_REPLY_LEN];
+            let _ = mailbox::emit_error(&mut reply, counter, mailbox::ERROR_UNSUPPORTED_PROTOCOL);
+            return vec![reply];
         }
-        let Some((SERVICE_SDO_REQUEST, body)) = mailbox::coe(message.data) else {
+        let Some(coe) = Coe::new_checked(message.data())
+            .ok()
+            .filter(|coe| coe.service() == SERVICE_SDO_REQUEST)
+        else {
             return Vec::new();
         };
+        let body = coe.payload();
         let rules = &self.rules;
         let guard = |index: u16, sub: u8, data: &[u8]| rules.check(index, sub, data);
         let answer = self
             .sdo
             .request(&mut self.od, &guard, self.mailbox_in, body);
         answer
-            .map(|body| {
-                mailbox::emit(
-                    TYPE_COE,
-                    message.counter,
-                    &mailbox::coe_message(SERVICE_SDO_RESPONSE, &body),
-                )
-            })
+            .map(|body| sdo_response(counter, &body))
             .into_iter()
             .collect()
     }

@@ -14,7 +14,7 @@
 //! registers are plain memory. Reading a mailbox SyncManager that is empty, or writing one that
 //! is full, is refused as the ESC refuses it (no working counter).
 
-use super::frame::{Command, Header};
+use edsgen_runtime::ethercat::wire::datagram::{Command, DatagramRepr};
 
 /// Number of FMMUs.
 pub const FMMUS: usize = 8;
@@ -260,7 +260,7 @@ impl Esc {
     /// Processes one datagram: `data` is its data in the frame, changed as the command says.
     /// Returns what the working counter gains and the ADP to write back (auto-increment
     /// commands count it up). A command code that is not EtherCAT's gains nothing.
-    pub fn datagram(&mut self, header: &Header, data: &mut [u8]) -> (u16, u16) {
+    pub fn datagram(&mut self, header: &DatagramRepr, data: &mut [u8]) -> (u16, u16) {
         let Some(command) = Command::from_code(header.command) else {
             return (0, header.adp);
         };

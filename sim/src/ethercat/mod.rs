@@ -1,8 +1,9 @@
-//! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000): the frame and
-//! datagram wire formats ([`frame`]), the ESC's registers and memory and what each datagram does
+//! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000), on the runtime's
+//! wire views (`edsgen_runtime::ethercat::wire`): frames as a MainDevice builds and reads them
+//! ([`frame`]), the ESC's registers and memory and what each datagram does
 //! to them ([`esc`]), the AL state machine's rules ([`al`]), the SubDevice that answers frames
-//! with its application behind the ESC ([`subdevice`]), the mailbox and CoE formats
-//! ([`mailbox`]) and SDO server ([`coe`]), the application of any ESI device ([`device`]) and the EC-TX508's drive behind it
+//! with its application behind the ESC ([`subdevice`]), the CoE SDO server ([`coe`]), the
+//! application of any ESI device ([`device`]) and the EC-TX508's drive behind it
 //! ([`ec_tx508`]); on a wire, [`raw_socket`] and [`serve`].
 
 pub mod al;
@@ -11,7 +12,6 @@ pub mod device;
 pub mod ec_tx508;
 pub mod esc;
 pub mod frame;
-pub mod mailbox;
 pub mod raw_socket;
 pub mod serve;
 pub mod subdevice;

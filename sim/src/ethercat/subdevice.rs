@@ -11,7 +11,7 @@ use edsgen_runtime::Instant;
 
 use super::al::{self, code, AlState, Request};
 use super::esc::{reg, Esc, Event, SmRegisters};
-use super::frame::{parse, Parsed};
+use edsgen_runtime::ethercat::wire::frame::Frame;
 
 /// Where the device expects its SyncManagers (from its SII or ESI): SyncManager numbers and
 /// the mailboxes' places and sizes.
@@ -94,23 +94,26 @@ impl<A: Application> SubDevice<A> {
     /// back: `false` for a frame that is not EtherCAT (ignored, unchanged). Datagrams after a
     /// malformed one are left as they came (their working counters unchanged).
     pub fn process_frame(&mut self, now: Instant, frame: &mut [u8]) -> bool {
-        let Parsed::Datagrams { datagrams, .. } = parse(frame) else {
+        let Ok(mut frame) = Frame::new_checked(frame) else {
             return false;
         };
         self.poll(now);
         self.refresh_inputs(now);
-        for datagram in &datagrams {
-            let data = &mut frame[datagram.data.clone()];
-            let (gain, adp) = self.esc.datagram(&datagram.header, data);
-            let at = datagram.header_at + 2;
-            frame[at..at + 2].copy_from_slice(&adp.to_le_bytes());
-            let wkc = u16::from_le_bytes([frame[datagram.wkc_at], frame[datagram.wkc_at + 1]]);
-            frame[datagram.wkc_at..datagram.wkc_at + 2]
-                .copy_from_slice(&wkc.wrapping_add(gain).to_le_bytes());
+        let mut datagrams = frame.datagrams();
+        while let Some(Ok(place)) = datagrams.next(frame.as_bytes()) {
+            let Some(mut datagram) = frame.datagram_mut(place) else {
+                break;
+            };
+            let (header, data) = datagram.split_mut();
+            let (gain, adp) = self.esc.datagram(&header, data);
+            datagram.set_adp(adp);
+            datagram.set_wkc(datagram.wkc().wrapping_add(gain));
             self.handle_events(now);
         }
         // As an ESC does on the way back: the source address's locally-administered bit.
-        frame[6] |= 0x02;
+        let mut source = frame.source();
+        source[0] |= 0x02;
+        frame.set_source(source);
         true
     }
 

@@ -48,23 +48,24 @@ impl<T: AsRef<[u8]>> Frame<T> {
         self.buffer
     }
 
-    fn bytes(&self) -> &[u8] {
+    /// The frame's bytes.
+    pub fn as_bytes(&self) -> &[u8] {
         self.buffer.as_ref()
     }
 
     /// The destination MAC address.
     pub fn destination(&self) -> [u8; 6] {
-        mac(self.bytes(), 0)
+        mac(self.as_bytes(), 0)
     }
 
     /// The source MAC address.
     pub fn source(&self) -> [u8; 6] {
-        mac(self.bytes(), 6)
+        mac(self.as_bytes(), 6)
     }
 
     /// The EtherType (big-endian, as Ethernet's).
     pub fn ethertype(&self) -> u16 {
-        match self.bytes().get(12..14) {
+        match self.as_bytes().get(12..14) {
             Some(&[a, b]) => u16::from_be_bytes([a, b]),
             _ => 0,
         }
@@ -72,19 +73,19 @@ impl<T: AsRef<[u8]>> Frame<T> {
 
     /// The EtherCAT header's length: the bytes of datagrams (the rest is Ethernet padding).
     pub fn ecat_length(&self) -> usize {
-        usize::from(le16(self.bytes(), ETHERNET_HEADER_LEN)) & MAX_DATA_LEN
+        usize::from(le16(self.as_bytes(), ETHERNET_HEADER_LEN)) & MAX_DATA_LEN
     }
 
     /// The EtherCAT header's type.
     pub fn ecat_type(&self) -> u8 {
-        (le16(self.bytes(), ETHERNET_HEADER_LEN) >> 12) as u8
+        (le16(self.as_bytes(), ETHERNET_HEADER_LEN) >> 12) as u8
     }
 
     /// A cursor over the datagrams.
     pub fn datagrams(&self) -> Datagrams {
         Datagrams {
             at: DATAGRAMS_AT,
-            end: self.bytes().len().min(DATAGRAMS_AT + self.ecat_length()),
+            end: self.as_bytes().len().min(DATAGRAMS_AT + self.ecat_length()),
             finished: false,
         }
     }
