@@ -9,6 +9,8 @@
 
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;
+#[cfg(feature = "ethercat-subdevice")]
+pub mod sdo;
 #[cfg(feature = "ethercat-wire")]
 pub mod wire;
 

@@ -17,6 +17,8 @@
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
 //! - `ethercat-wire`: EtherCAT's frames, datagrams, mailbox and CoE headers as views
 //!   (`ethercat::wire`), for SubDevices, masters and decoders.
+//! - `ethercat-subdevice` (with `ethercat-wire`): an EtherCAT SubDevice's cores: CoE SDO on the
+//!   SDO server (`ethercat::sdo`).
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less

@@ -20,9 +20,9 @@ use std::collections::{HashMap, HashSet};
 use edsgen_codegen::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
 
-use super::coe::SdoServer;
 use super::{AlState, Application, Layout, SubDevice};
 use crate::canopen::RuntimeDictionary;
+use edsgen_runtime::ethercat::sdo::CoeSdoServer;
 use edsgen_runtime::ethercat::wire::coe::{self, Coe, CoeRepr, SERVICE_SDO_REQUEST};
 use edsgen_runtime::ethercat::wire::mailbox::{self, Mailbox, MailboxRepr, TYPE_COE};
 
@@ -39,7 +39,7 @@ pub type Mapped = (u16, u8, u16);
 #[derive(Debug)]
 pub struct EsiDevice {
     od: RuntimeDictionary,
-    sdo: SdoServer,
+    sdo: CoeSdoServer,
     rx_pdos: Vec<EcPdo>,
     tx_pdos: Vec<EcPdo>,
     outputs_sm: Option<u8>,
@@ -114,7 +114,7 @@ impl EsiDevice {
         );
         Ok(EsiDevice {
             od,
-            sdo: SdoServer::default(),
+            sdo: CoeSdoServer::new(),
             rx_pdos: ec.rx_pdos.clone(),
             tx_pdos: ec.tx_pdos.clone(),
             outputs_sm: position(SmKind::Outputs),
@@ -444,14 +444,25 @@ pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
     }
 }
 
-/// A CoE SDO response with `counter` around the SDO part `body`.
-fn sdo_response(counter: u8, body: &[u8]) -> Vec<u8> {
-    let length = coe::HEADER_LEN + body.len();
-    let mut reply = vec![0; mailbox::HEADER_LEN + length];
-    let _ = MailboxRepr::new(TYPE_COE, counter, length as u16).emit(&mut reply);
-    let _ = CoeRepr::service(coe::SERVICE_SDO_RESPONSE).emit(&mut reply[mailbox::HEADER_LEN..]);
-    reply[mailbox::HEADER_LEN + coe::HEADER_LEN..].copy_from_slice(body);
-    reply
+/// A CoE SDO response with `counter` around the SDO part, which `answer` writes after the
+/// headers of a message of at most `mailbox` bytes.
+fn sdo_response(
+    counter: u8,
+    mailbox: usize,
+    answer: impl FnOnce(&mut [u8]) -> Option<usize>,
+) -> Option<Vec<u8>> {
+    const HEADERS: usize = mailbox::HEADER_LEN + coe::HEADER_LEN;
+    let mut reply = vec![0; mailbox.max(HEADERS)];
+    let len = answer(&mut reply[HEADERS..])?;
+    reply.truncate(HEADERS + len);
+    let length = (coe::HEADER_LEN + len) as u16;
+    MailboxRepr::new(TYPE_COE, counter, length)
+        .emit(&mut reply)
+        .ok()?;
+    CoeRepr::service(coe::SERVICE_SDO_RESPONSE)
+        .emit(&mut reply[mailbox::HEADER_LEN..])
+        .ok()?;
+    Some(reply)
 }
 
 impl Application for EsiDevice {
@@ -474,13 +485,12 @@ impl Application for EsiDevice {
         let body = coe.payload();
         let rules = &self.rules;
         let guard = |index: u16, sub: u8, data: &[u8]| rules.check(index, sub, data);
-        let answer = self
-            .sdo
-            .request(&mut self.od, &guard, self.mailbox_in, body);
-        answer
-            .map(|body| sdo_response(counter, &body))
-            .into_iter()
-            .collect()
+        let (sdo, od) = (&mut self.sdo, &mut self.od);
+        sdo_response(counter, self.mailbox_in, |answer| {
+            sdo.request(od, &guard, body, answer)
+        })
+        .into_iter()
+        .collect()
     }
 
     fn image_sizes(&self) -> (usize, usize) {

@@ -1,13 +1,12 @@
 //! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000), on the runtime's
-//! wire views (`edsgen_runtime::ethercat::wire`): frames as a MainDevice builds and reads them
-//! ([`frame`]), the ESC's registers and memory and what each datagram does
-//! to them ([`esc`]), the AL state machine's rules ([`al`]), the SubDevice that answers frames
-//! with its application behind the ESC ([`subdevice`]), the CoE SDO server ([`coe`]), the
-//! application of any ESI device ([`device`]) and the EC-TX508's drive behind it
-//! ([`ec_tx508`]); on a wire, [`raw_socket`] and [`serve`].
+//! wire views and CoE SDO server (`edsgen_runtime::ethercat`): frames as a MainDevice builds
+//! and reads them ([`frame`]), the ESC's registers and memory and what each datagram does to
+//! them ([`esc`]), the AL state machine's rules ([`al`]), the SubDevice that answers frames with
+//! its application behind the ESC ([`subdevice`]), the application of any ESI device
+//! ([`device`]) and the EC-TX508's drive behind it ([`ec_tx508`]); on a wire, [`raw_socket`]
+//! and [`serve`].
 
 pub mod al;
-pub mod coe;
 pub mod device;
 pub mod ec_tx508;
 pub mod esc;
