@@ -62,6 +62,9 @@ pub(super) fn object_len<O: ObjectDictionary + ?Sized>(
     Ok(total)
 }
 
+/// Reads a piece of an object's image from an offset into a buffer; returns the bytes read.
+type PieceReader<'a> = dyn FnMut(usize, &mut [u8]) -> Result<usize, SdoAbort> + 'a;
+
 /// Reads `out.len()` bytes of a whole object by complete access, `offset` bytes in.
 pub(super) fn read_object<O: ObjectDictionary + ?Sized>(
     od: &O,
@@ -71,18 +74,17 @@ pub(super) fn read_object<O: ObjectDictionary + ?Sized>(
     out: &mut [u8],
 ) -> Result<(), SdoAbort> {
     let mut filled = 0;
-    let mut piece =
-        |len: usize, read: &mut dyn FnMut(usize, &mut [u8]) -> Result<usize, SdoAbort>| {
-            if offset >= len {
-                offset -= len;
-                return Ok(());
-            }
-            let want = (len - offset).min(out.len() - filled);
-            let got = read(offset, &mut out[filled..filled + want])?;
-            filled += got;
-            offset = 0;
-            Ok::<(), SdoAbort>(())
-        };
+    let mut piece = |len: usize, read: &mut PieceReader<'_>| {
+        if offset >= len {
+            offset -= len;
+            return Ok(());
+        }
+        let want = (len - offset).min(out.len() - filled);
+        let got = read(offset, &mut out[filled..filled + want])?;
+        filled += got;
+        offset = 0;
+        Ok::<(), SdoAbort>(())
+    };
     let Some(n) = object_count(od, index, sub)? else {
         let len = readable_len(od, index, 0)?;
         return piece(len, &mut |at, buf| od.read(index, 0, at, buf));
