@@ -7,6 +7,8 @@
 //! (`subdevice.inputs_raw()` bytes decode into them, they pack into `outputs_raw_mut()`), and
 //! `ethercrab::SdoExt` reads and writes typed addresses (`od::CONTROL_WORD`) over CoE.
 
+#[cfg(feature = "ethercat-subdevice")]
+pub mod esc;
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;
 #[cfg(feature = "ethercat-subdevice")]

@@ -10,7 +10,9 @@ use std::collections::VecDeque;
 use edsgen_runtime::Instant;
 
 use super::al::{self, code, AlState, Request};
-use super::esc::{reg, Esc, Event, SmRegisters};
+use edsgen_runtime::ethercat::esc::{reg, Esc, Event, SmRegisters};
+
+use super::esc::EmulatedEsc;
 use edsgen_runtime::ethercat::wire::frame::Frame;
 
 /// Where the device expects its SyncManagers (from its SII or ESI): SyncManager numbers and
@@ -42,10 +44,10 @@ pub trait Application {
     fn state_changed(&mut self, _now: Instant, _from: AlState, _to: AlState) {}
 }
 
-/// A SubDevice: its ESC and the application behind it.
+/// A SubDevice: its ESC (the emulated one unless said) and the application behind it.
 #[derive(Debug)]
-pub struct SubDevice<A> {
-    esc: Esc,
+pub struct SubDevice<A, E = EmulatedEsc> {
+    esc: E,
     app: A,
     layout: Layout,
     state: AlState,
@@ -55,43 +57,14 @@ pub struct SubDevice<A> {
 }
 
 impl<A: Application> SubDevice<A> {
-    /// A SubDevice in Init with the SII image `sii`.
+    /// A SubDevice in Init with the SII image `sii` in an emulated ESC.
     pub fn new(sii: Vec<u8>, layout: Layout, app: A) -> Self {
-        let mut device = SubDevice {
-            esc: Esc::new(sii),
-            app,
-            layout,
-            state: AlState::Init,
-            outbox: VecDeque::new(),
-            last_answer: None,
-            last_outputs: None,
-        };
-        device.set_process_sms();
-        device
+        SubDevice::with_esc(EmulatedEsc::new(sii), layout, app)
     }
 
-    /// The AL state.
-    pub fn state(&self) -> AlState {
-        self.state
-    }
-
-    /// The ESC, to look at its registers.
-    pub fn esc(&self) -> &Esc {
-        &self.esc
-    }
-
-    /// The application.
-    pub fn app(&self) -> &A {
-        &self.app
-    }
-
-    /// The application, to change it.
-    pub fn app_mut(&mut self) -> &mut A {
-        &mut self.app
-    }
-
-    /// Processes the Ethernet frame `frame` in place at `now`. Returns whether it is to be sent
-    /// back: `false` for a frame that is not EtherCAT (ignored, unchanged). Datagrams after a
+    /// Processes the Ethernet frame `frame` in place at `now`, as the emulated ESC does in
+    /// hardware, and the device between datagrams. Returns whether it is to be sent back:
+    /// `false` for a frame that is not EtherCAT (ignored, unchanged). Datagrams after a
     /// malformed one are left as they came (their working counters unchanged).
     pub fn process_frame(&mut self, now: Instant, frame: &mut [u8]) -> bool {
         let Ok(mut frame) = Frame::new_checked(frame) else {
@@ -116,6 +89,43 @@ impl<A: Application> SubDevice<A> {
         frame.set_source(source);
         true
     }
+}
+
+impl<A: Application, E: Esc> SubDevice<A, E> {
+    /// A SubDevice in Init over `esc`.
+    pub fn with_esc(esc: E, layout: Layout, app: A) -> Self {
+        let mut device = SubDevice {
+            esc,
+            app,
+            layout,
+            state: AlState::Init,
+            outbox: VecDeque::new(),
+            last_answer: None,
+            last_outputs: None,
+        };
+        device.set_process_sms();
+        device
+    }
+
+    /// The AL state.
+    pub fn state(&self) -> AlState {
+        self.state
+    }
+
+    /// The ESC, to look at its registers.
+    pub fn esc(&self) -> &E {
+        &self.esc
+    }
+
+    /// The application.
+    pub fn app(&self) -> &A {
+        &self.app
+    }
+
+    /// The application, to change it.
+    pub fn app_mut(&mut self) -> &mut A {
+        &mut self.app
+    }
 
     /// Lets time pass: the outputs watchdog.
     pub fn poll(&mut self, now: Instant) {
@@ -126,16 +136,16 @@ impl<A: Application> SubDevice<A> {
             return;
         };
         let sm = self.esc.sm(n);
-        let time = u64::from(self.esc.u16(reg::WATCHDOG_TIME_PD));
+        let time = u64::from(self.esc.read_u16(reg::WATCHDOG_TIME_PD));
         if !sm.enabled() || sm.control & 0x40 == 0 || time == 0 {
             return;
         }
-        let divider = u64::from(self.esc.u16(reg::WATCHDOG_DIVIDER));
+        let divider = u64::from(self.esc.read_u16(reg::WATCHDOG_DIVIDER));
         // One watchdog tick is (divider + 2) × 40 ns.
         let limit_us = (divider + 2) * 40 * time / 1000;
         let since = self.last_outputs.unwrap_or(Instant(0));
         if now.saturating_since(since).as_micros() > limit_us {
-            self.esc.set_u16(reg::WATCHDOG_STATUS_PD, 0);
+            self.esc.write_u16(reg::WATCHDOG_STATUS_PD, 0);
             self.enter(now, AlState::SafeOp);
             self.refuse(code::SM_WATCHDOG);
         }
@@ -150,18 +160,17 @@ impl<A: Application> SubDevice<A> {
             let sm = self.esc.sm(n);
             let inputs = self.app.inputs(now);
             let len = inputs.len().min(usize::from(sm.len));
-            self.esc.write_memory(sm.start, &inputs[..len]);
+            self.esc.write(sm.start, &inputs[..len]);
         }
     }
 
     fn handle_events(&mut self, now: Instant) {
-        for event in self.esc.take_events() {
+        while let Some(event) = self.esc.poll_event() {
             match event {
                 Event::AlControl => self.al_control(now),
                 Event::MailboxWritten(n) if Some(n) == self.layout.mailbox_out.map(|m| m.0) => {
-                    let sm = self.esc.sm(n);
-                    let request = self.esc.memory(sm.start, usize::from(sm.len)).to_vec();
-                    self.esc.set_mailbox_full(n, false);
+                    // Reading the whole buffer empties the mailbox.
+                    let request = self.read_buffer(n);
                     if self.state >= AlState::PreOp {
                         let answers = self.app.mailbox(self.state, &request);
                         self.outbox.extend(answers);
@@ -173,20 +182,30 @@ impl<A: Application> SubDevice<A> {
                     if let Some(answer) = self.last_answer.clone() {
                         self.put_in_mailbox(n, &answer);
                     }
-                    self.esc.acknowledge_repeat(n);
+                    // The acknowledge (PDI control bit 1) follows the request (activate bit 1).
+                    let sm = self.esc.sm(n);
+                    let acknowledged = (sm.pdi_control & !0x02) | (sm.activate & 0x02);
+                    self.esc.write_u8(reg::sm_pdi_control(n), acknowledged);
                 }
                 Event::BufferWritten(n) if Some(n) == self.layout.outputs => {
                     self.last_outputs = Some(now);
-                    self.esc.set_u16(reg::WATCHDOG_STATUS_PD, 1);
+                    self.esc.write_u16(reg::WATCHDOG_STATUS_PD, 1);
                     if self.state == AlState::Op {
-                        let sm = self.esc.sm(n);
-                        let outputs = self.esc.memory(sm.start, usize::from(sm.len)).to_vec();
+                        let outputs = self.read_buffer(n);
                         self.app.outputs(now, &outputs);
                     }
                 }
                 _ => {}
             }
         }
+    }
+
+    /// SyncManager `n`'s whole buffer.
+    fn read_buffer(&mut self, n: usize) -> Vec<u8> {
+        let sm = self.esc.sm(n);
+        let mut buffer = vec![0; usize::from(sm.len)];
+        self.esc.read(sm.start, &mut buffer);
+        buffer
     }
 
     /// Puts the next queued answer in the device-to-master mailbox if it is empty.
@@ -208,22 +227,22 @@ impl<A: Application> SubDevice<A> {
         let sm = self.esc.sm(n);
         let mut buffer = message.to_vec();
         buffer.resize(usize::from(sm.len), 0);
-        self.esc.write_memory(sm.start, &buffer);
-        self.esc.set_mailbox_full(n, true);
+        // Writing the whole buffer fills the mailbox.
+        self.esc.write(sm.start, &buffer);
     }
 
     fn al_control(&mut self, now: Instant) {
-        let control = self.esc.u16(reg::AL_CONTROL);
+        let control = self.esc.read_u16(reg::AL_CONTROL);
         let requested = (control & 0x0F) as u8;
         let acknowledge = control & 0x10 != 0;
-        let in_error = self.esc.u16(reg::AL_STATUS) & 0x10 != 0;
+        let in_error = self.esc.read_u16(reg::AL_STATUS) & 0x10 != 0;
         if in_error && !acknowledge && requested >= self.state.code() {
             return;
         }
         if acknowledge {
             self.esc
-                .set_u16(reg::AL_STATUS, u16::from(self.state.code()));
-            self.esc.set_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
+                .write_u16(reg::AL_STATUS, u16::from(self.state.code()));
+            self.esc.write_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
         }
         match al::request(self.state, requested) {
             Request::Stay => {}
@@ -239,25 +258,31 @@ impl<A: Application> SubDevice<A> {
     /// Stays in the current state with the error indication and `status`.
     fn refuse(&mut self, status: u16) {
         self.esc
-            .set_u16(reg::AL_STATUS, u16::from(self.state.code()) | 0x10);
-        self.esc.set_u16(reg::AL_STATUS_CODE, status);
+            .write_u16(reg::AL_STATUS, u16::from(self.state.code()) | 0x10);
+        self.esc.write_u16(reg::AL_STATUS_CODE, status);
     }
 
     /// What a step up to `target` needs.
-    fn check(&self, target: AlState) -> Result<(), u16> {
+    fn check(&mut self, target: AlState) -> Result<(), u16> {
+        let mut sm = |n: Option<usize>| n.map(|n| self.esc.sm(n));
         match target {
             AlState::PreOp => {
-                let fits = |expected: Option<(usize, u16, u16)>, master_writes: bool| {
-                    expected.is_none_or(|(n, start, len)| {
-                        let sm = self.esc.sm(n);
-                        sm.activate & 1 != 0
-                            && sm.start == start
-                            && sm.len == len
-                            && sm.is_mailbox()
-                            && sm.master_writes() == master_writes
+                let fits = |expected: Option<(usize, u16, u16)>,
+                            sm: Option<SmRegisters>,
+                            master_writes: bool| {
+                    expected.is_none_or(|(_, start, len)| {
+                        sm.is_some_and(|sm| {
+                            sm.activate & 1 != 0
+                                && sm.start == start
+                                && sm.len == len
+                                && sm.is_mailbox()
+                                && sm.master_writes() == master_writes
+                        })
                     })
                 };
-                if fits(self.layout.mailbox_out, true) && fits(self.layout.mailbox_in, false) {
+                let (out, inp) = (self.layout.mailbox_out, self.layout.mailbox_in);
+                let (out_sm, in_sm) = (sm(out.map(|m| m.0)), sm(inp.map(|m| m.0)));
+                if fits(out, out_sm, true) && fits(inp, in_sm, false) {
                     Ok(())
                 } else {
                     Err(code::INVALID_MAILBOX_CONFIG)
@@ -265,19 +290,19 @@ impl<A: Application> SubDevice<A> {
             }
             AlState::SafeOp => {
                 let (outputs, inputs) = self.app.image_sizes();
-                let fits = |n: Option<usize>, size: usize, master_writes: bool| {
+                let fits = |sm: Option<SmRegisters>, size: usize, master_writes: bool| {
                     size == 0
-                        || n.is_some_and(|n| {
-                            let sm: SmRegisters = self.esc.sm(n);
+                        || sm.is_some_and(|sm| {
                             sm.activate & 1 != 0
                                 && usize::from(sm.len) == size
                                 && !sm.is_mailbox()
                                 && sm.master_writes() == master_writes
                         })
                 };
-                if !fits(self.layout.outputs, outputs, true) {
+                let (out_sm, in_sm) = (sm(self.layout.outputs), sm(self.layout.inputs));
+                if !fits(out_sm, outputs, true) {
                     Err(code::INVALID_OUTPUT_CONFIG)
-                } else if !fits(self.layout.inputs, inputs, false) {
+                } else if !fits(in_sm, inputs, false) {
                     Err(code::INVALID_INPUT_CONFIG)
                 } else {
                     Ok(())
@@ -290,16 +315,20 @@ impl<A: Application> SubDevice<A> {
     fn enter(&mut self, now: Instant, target: AlState) {
         let from = self.state;
         self.state = target;
-        self.esc.set_u16(reg::AL_STATUS, u16::from(target.code()));
-        self.esc.set_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
+        self.esc.write_u16(reg::AL_STATUS, u16::from(target.code()));
+        self.esc.write_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
         if target == AlState::Init {
             self.outbox.clear();
             self.last_answer = None;
+            // Deactivating a mailbox SyncManager resets it (empties it).
             for n in [self.layout.mailbox_out, self.layout.mailbox_in]
                 .into_iter()
                 .flatten()
             {
-                self.esc.set_mailbox_full(n.0, false);
+                let at = reg::sm_pdi_control(n.0);
+                let pdi_control = self.esc.read_u8(at);
+                self.esc.write_u8(at, pdi_control | 1);
+                self.esc.write_u8(at, pdi_control);
             }
         }
         if target == AlState::Op {
@@ -319,7 +348,16 @@ impl<A: Application> SubDevice<A> {
             .into_iter()
             .flatten()
         {
-            self.esc.set_sm_deactivated(n, off);
+            let at = reg::sm_pdi_control(n);
+            let pdi_control = self.esc.read_u8(at);
+            self.esc.write_u8(
+                at,
+                if off {
+                    pdi_control | 1
+                } else {
+                    pdi_control & !1
+                },
+            );
         }
     }
 }
