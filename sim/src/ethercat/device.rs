@@ -444,53 +444,45 @@ pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
     }
 }
 
-/// A CoE SDO response with `counter` around the SDO part, which `answer` writes after the
-/// headers of a message of at most `mailbox` bytes.
-fn sdo_response(
-    counter: u8,
-    mailbox: usize,
-    answer: impl FnOnce(&mut [u8]) -> Option<usize>,
-) -> Option<Vec<u8>> {
-    const HEADERS: usize = mailbox::HEADER_LEN + coe::HEADER_LEN;
-    let mut reply = vec![0; mailbox.max(HEADERS)];
-    let len = answer(&mut reply[HEADERS..])?;
-    reply.truncate(HEADERS + len);
-    let length = (coe::HEADER_LEN + len) as u16;
-    MailboxRepr::new(TYPE_COE, counter, length)
-        .emit(&mut reply)
-        .ok()?;
-    CoeRepr::service(coe::SERVICE_SDO_RESPONSE)
-        .emit(&mut reply[mailbox::HEADER_LEN..])
-        .ok()?;
-    Some(reply)
-}
+/// The mailbox and CoE headers' length before an SDO answer.
+const HEADERS: usize = mailbox::HEADER_LEN + coe::HEADER_LEN;
 
 impl Application for EsiDevice {
-    fn mailbox(&mut self, _state: AlState, request: &[u8]) -> Vec<Vec<u8>> {
+    fn mailbox(&mut self, _state: AlState, request: &[u8], answer: &mut [u8]) -> usize {
         let Ok(message) = Mailbox::new_checked(request) else {
-            return Vec::new();
+            return 0;
         };
         let counter = message.counter();
         if message.kind() != TYPE_COE {
-            let mut reply = vec![0; mailbox::ERROR_REPLY_LEN];
-            let _ = mailbox::emit_error(&mut reply, counter, mailbox::ERROR_UNSUPPORTED_PROTOCOL);
-            return vec![reply];
+            return mailbox::emit_error(answer, counter, mailbox::ERROR_UNSUPPORTED_PROTOCOL)
+                .unwrap_or(0);
         }
         let Some(coe) = Coe::new_checked(message.data())
             .ok()
             .filter(|coe| coe.service() == SERVICE_SDO_REQUEST)
         else {
-            return Vec::new();
+            return 0;
         };
-        let body = coe.payload();
         let rules = &self.rules;
         let guard = |index: u16, sub: u8, data: &[u8]| rules.check(index, sub, data);
-        let (sdo, od) = (&mut self.sdo, &mut self.od);
-        sdo_response(counter, self.mailbox_in, |answer| {
-            sdo.request(od, &guard, body, answer)
-        })
-        .into_iter()
-        .collect()
+        let room = self.mailbox_in.min(answer.len());
+        let answer = &mut answer[..room];
+        let Some(sdo) = answer.get_mut(HEADERS..) else {
+            return 0;
+        };
+        let Some(len) = self.sdo.request(&mut self.od, &guard, coe.payload(), sdo) else {
+            return 0;
+        };
+        let length = (coe::HEADER_LEN + len) as u16;
+        let headers = MailboxRepr::new(TYPE_COE, counter, length)
+            .emit(answer)
+            .and_then(|()| {
+                CoeRepr::service(coe::SERVICE_SDO_RESPONSE).emit(&mut answer[mailbox::HEADER_LEN..])
+            });
+        if headers.is_err() {
+            return 0;
+        }
+        HEADERS + len
     }
 
     fn image_sizes(&self) -> (usize, usize) {
@@ -508,11 +500,13 @@ impl Application for EsiDevice {
         unpack(&mut self.od, &entries, outputs);
     }
 
-    fn inputs(&mut self, now: Instant) -> Vec<u8> {
+    fn inputs(&mut self, now: Instant, inputs: &mut [u8]) {
         if let Some(behaviour) = self.behaviour.as_mut() {
             behaviour.cycle(now, &mut self.od);
         }
-        pack(&self.od, &self.image(false))
+        let image = pack(&self.od, &self.image(false));
+        let len = image.len().min(inputs.len());
+        inputs[..len].copy_from_slice(&image[..len]);
     }
 
     fn state_changed(&mut self, _now: Instant, _from: AlState, to: AlState) {

@@ -1,12 +1,11 @@
 //! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000), on the runtime's
 //! wire views and CoE SDO server (`edsgen_runtime::ethercat`): frames as a MainDevice builds
 //! and reads them ([`frame`]), the ESC's registers and memory and what each datagram does to
-//! them ([`esc`]), the AL state machine's rules ([`al`]), the SubDevice that answers frames with
-//! its application behind the ESC ([`subdevice`]), the application of any ESI device
+//! them ([`esc`]), the SubDevice that answers frames with its application behind the ESC ([`subdevice`], the
+//! runtime's core), the application of any ESI device
 //! ([`device`]) and the EC-TX508's drive behind it ([`ec_tx508`]); on a wire, [`raw_socket`]
 //! and [`serve`].
 
-pub mod al;
 pub mod device;
 pub mod ec_tx508;
 pub mod esc;
@@ -18,6 +17,6 @@ pub mod subdevice;
 #[cfg(test)]
 mod tests;
 
-pub use al::AlState;
 pub use device::{Behaviour, EsiDevice};
+pub use edsgen_runtime::ethercat::al::{self, AlState};
 pub use subdevice::{Application, Layout, SubDevice};
