@@ -93,7 +93,10 @@ impl<S: Spi> Lan9252<S> {
         let mut done = 0;
         while done < buf.len() {
             let size = Self::csr_chunk(address, buf.len() - done);
-            self.write_32(CSR_COMMAND, CSR_READ | ((size as u32) << 16) | u32::from(address));
+            self.write_32(
+                CSR_COMMAND,
+                CSR_READ | ((size as u32) << 16) | u32::from(address),
+            );
             self.wait_while(CSR_COMMAND, CSR_BUSY);
             let value = self.read_32(CSR_DATA).to_le_bytes();
             buf[done..done + size].copy_from_slice(&value[..size]);
@@ -109,7 +112,10 @@ impl<S: Spi> Lan9252<S> {
             let mut value = [0u8; 4];
             value[..size].copy_from_slice(&data[done..done + size]);
             self.write_32(CSR_DATA, u32::from_le_bytes(value));
-            self.write_32(CSR_COMMAND, CSR_WRITE | ((size as u32) << 16) | u32::from(address));
+            self.write_32(
+                CSR_COMMAND,
+                CSR_WRITE | ((size as u32) << 16) | u32::from(address),
+            );
             self.wait_while(CSR_COMMAND, CSR_BUSY);
             done += size;
             address = address.wrapping_add(size as u16);

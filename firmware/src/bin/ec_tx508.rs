@@ -86,8 +86,7 @@ impl Application for Drive {
         let headers = MailboxRepr::new(TYPE_COE, counter, (coe::HEADER_LEN + len) as u16)
             .emit(answer)
             .and_then(|()| {
-                CoeRepr::service(coe::SERVICE_SDO_RESPONSE)
-                    .emit(&mut answer[mailbox::HEADER_LEN..])
+                CoeRepr::service(coe::SERVICE_SDO_RESPONSE).emit(&mut answer[mailbox::HEADER_LEN..])
             });
         if headers.is_err() {
             return 0;
