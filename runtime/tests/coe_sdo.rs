@@ -185,6 +185,23 @@ fn a_complete_access_download_writes_the_whole_object() {
 }
 
 #[test]
+fn an_upload_into_the_smallest_room_continues_in_segments() {
+    let (mut server, mut od) = (CoeSdoServer::new(), Od::new());
+    assert_eq!(
+        ask(&mut server, &mut od, 8, &[0x50, 0x18, 0x10, 1, 0, 0, 0, 0]),
+        [0x51, 0x18, 0x10, 1, 8, 0, 0, 0]
+    );
+    assert_eq!(
+        ask(&mut server, &mut od, 8, &[0x60, 0, 0, 0, 0, 0, 0, 0]),
+        [0x00, 0xD8, 0x04, 0, 0, 0x52, 0x92, 0]
+    );
+    assert_eq!(
+        ask(&mut server, &mut od, 8, &[0x70, 0, 0, 0, 0, 0, 0, 0]),
+        [0x1D, 0, 0, 0, 0, 0, 0, 0]
+    );
+}
+
+#[test]
 fn aborts_name_the_requests_entry() {
     let (mut server, mut od) = (CoeSdoServer::new(), Od::new());
     assert_eq!(

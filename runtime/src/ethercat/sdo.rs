@@ -372,7 +372,7 @@ impl CoeSdoServer {
         }
         answer[..4].copy_from_slice(&[0x41 | ca, i0, i1, sub]);
         answer[4..8].copy_from_slice(&(total as u32).to_le_bytes());
-        let room = (answer.len() - FRAME_LEN).max(1);
+        let room = answer.len() - FRAME_LEN;
         let first = total.min(room);
         self.pull(od, &mut answer[FRAME_LEN..FRAME_LEN + first])?;
         if first == total {
