@@ -1,8 +1,8 @@
 //! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000), on the runtime's
-//! wire views and CoE SDO server (`edsgen_runtime::ethercat`): frames as a MainDevice builds
-//! and reads them ([`frame`]), the ESC's registers and memory and what each datagram does to
-//! them ([`esc`]), the SubDevice that answers frames with its application behind the ESC ([`subdevice`], the
-//! runtime's core), the application of any ESI device
+//! wire views, SubDevice core and CoE SDO server (`edsgen_runtime::ethercat`): frames as a
+//! MainDevice builds and reads them ([`frame`]), the emulated ESC's registers and memory and
+//! what each datagram does to them ([`esc`]), the SubDevice that answers frames with the
+//! runtime's core behind that ESC ([`subdevice`]), the application of any ESI device
 //! ([`device`]) and the EC-TX508's drive behind it ([`ec_tx508`]); on a wire, [`raw_socket`]
 //! and [`serve`].
 
