@@ -1,6 +1,6 @@
 //! Puts memory.x and device.x where the cortex-m-rt linker script finds them, and generates the CP301 card's
-//! object dictionary from `eds/cp301.eds` for the `cp301` example, as any firmware's build.rs
-//! would.
+//! object dictionary from `eds/cp301.eds` for the `cp301` example and the EC-TX508's from
+//! `eds/ec-tx508.xml` for the `ec_tx508` example, as any firmware's build.rs would.
 use std::{env, fs, path::PathBuf};
 
 fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
@@ -13,5 +13,6 @@ fn main() -> Result<(), edsgen_codegen::builder::BuildError> {
     println!("cargo:rerun-if-changed=build.rs");
     edsgen_codegen::Builder::new()
         .device("../eds/cp301.eds")
+        .device("../eds/ec-tx508.xml")
         .generate()
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Builds the Cortex-M4F firmware examples (firmware/src/bin/: a node with NMT, heartbeat, SDO
-# server, 4+4 PDOs, SYNC and EMCY over each example's OD) and prints their flash and RAM use:
-# text/data/bss from the image, and the node's RAM on main's stack (the size of the Node with its
+# Builds the Cortex-M4F firmware examples (firmware/src/bin/: CANopen nodes with NMT, heartbeat,
+# SDO server, 4+4 PDOs, SYNC and EMCY over each example's OD, and ec_tx508, an EtherCAT
+# SubDevice with CoE over a LAN9252 on SPI) and prints their flash and RAM use: text/data/bss
+# from the image, and the node's RAM on main's stack (the size of the Node, or SubDevice, with its
 # OD, which the image records in EDSGEN_NODE_RAM_BYTES).
 #
 # Two configurations: the default one, comparable with CANopenNode v4's default configuration

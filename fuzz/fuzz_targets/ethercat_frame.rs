@@ -17,15 +17,21 @@ use libfuzzer_sys::fuzz_target;
 struct App;
 
 impl Application for App {
-    fn mailbox(&mut self, _state: AlState, request: &[u8]) -> Vec<Vec<u8>> {
-        vec![request.iter().take(16).rev().copied().collect()]
+    fn mailbox(&mut self, _state: AlState, request: &[u8], answer: &mut [u8]) -> usize {
+        let len = request.len().min(16).min(answer.len());
+        for (a, r) in answer.iter_mut().zip(request[..len].iter().rev()) {
+            *a = *r;
+        }
+        len
     }
     fn image_sizes(&self) -> (usize, usize) {
         (4, 2)
     }
     fn outputs(&mut self, _now: Instant, _outputs: &[u8]) {}
-    fn inputs(&mut self, _now: Instant) -> Vec<u8> {
-        vec![0xAB, 0xCD]
+    fn inputs(&mut self, _now: Instant, inputs: &mut [u8]) {
+        for (i, b) in inputs.iter_mut().zip([0xAB, 0xCD]) {
+            *i = b;
+        }
     }
 }
 

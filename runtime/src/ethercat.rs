@@ -7,8 +7,18 @@
 //! (`subdevice.inputs_raw()` bytes decode into them, they pack into `outputs_raw_mut()`), and
 //! `ethercrab::SdoExt` reads and writes typed addresses (`od::CONTROL_WORD`) over CoE.
 
+#[cfg(feature = "ethercat-subdevice")]
+pub mod al;
+#[cfg(feature = "ethercat-subdevice")]
+pub mod esc;
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;
+#[cfg(feature = "ethercat-subdevice")]
+pub mod sdo;
+#[cfg(feature = "ethercat-subdevice")]
+pub mod subdevice;
+#[cfg(feature = "ethercat-wire")]
+pub mod wire;
 
 use crate::od::typed::PdoError;
 

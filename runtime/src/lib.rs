@@ -16,6 +16,10 @@
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
 //! - `enip`: EtherNet/IP and CIP wire formats ([`enip`]), `no_std` like the rest.
+//! - `ethercat-wire`: EtherCAT's frames, datagrams, mailbox and CoE headers as views
+//!   (`ethercat::wire`), for SubDevices, masters and decoders.
+//! - `ethercat-subdevice` (with `ethercat-wire`): an EtherCAT SubDevice's cores: CoE SDO on the
+//!   SDO server (`ethercat::sdo`).
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less

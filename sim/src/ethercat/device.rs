@@ -20,10 +20,11 @@ use std::collections::{HashMap, HashSet};
 use edsgen_codegen::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
 
-use super::coe::SdoServer;
-use super::mailbox::{self, SERVICE_SDO_REQUEST, SERVICE_SDO_RESPONSE, TYPE_COE};
 use super::{AlState, Application, Layout, SubDevice};
 use crate::canopen::RuntimeDictionary;
+use edsgen_runtime::ethercat::sdo::CoeSdoServer;
+use edsgen_runtime::ethercat::wire::coe::{self, Coe, CoeRepr, SERVICE_SDO_REQUEST};
+use edsgen_runtime::ethercat::wire::mailbox::{self, Mailbox, MailboxRepr, TYPE_COE};
 
 /// What runs on the dictionary each cycle, as a device's firmware does behind its objects.
 pub trait Behaviour: std::fmt::Debug + Send {
@@ -38,7 +39,7 @@ pub type Mapped = (u16, u8, u16);
 #[derive(Debug)]
 pub struct EsiDevice {
     od: RuntimeDictionary,
-    sdo: SdoServer,
+    sdo: CoeSdoServer,
     rx_pdos: Vec<EcPdo>,
     tx_pdos: Vec<EcPdo>,
     outputs_sm: Option<u8>,
@@ -113,7 +114,7 @@ impl EsiDevice {
         );
         Ok(EsiDevice {
             od,
-            sdo: SdoServer::default(),
+            sdo: CoeSdoServer::new(),
             rx_pdos: ec.rx_pdos.clone(),
             tx_pdos: ec.tx_pdos.clone(),
             outputs_sm: position(SmKind::Outputs),
@@ -443,35 +444,45 @@ pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
     }
 }
 
+/// The mailbox and CoE headers' length before an SDO answer.
+const HEADERS: usize = mailbox::HEADER_LEN + coe::HEADER_LEN;
+
 impl Application for EsiDevice {
-    fn mailbox(&mut self, _state: AlState, request: &[u8]) -> Vec<Vec<u8>> {
-        let Some(message) = mailbox::parse(request) else {
-            return Vec::new();
+    fn mailbox(&mut self, _state: AlState, request: &[u8], answer: &mut [u8]) -> usize {
+        let Ok(message) = Mailbox::new_checked(request) else {
+            return 0;
         };
-        if message.kind != TYPE_COE {
-            return vec![mailbox::error_reply(
-                message.counter,
-                mailbox::ERROR_UNSUPPORTED_PROTOCOL,
-            )];
+        let counter = message.counter();
+        if message.kind() != TYPE_COE {
+            return mailbox::emit_error(answer, counter, mailbox::ERROR_UNSUPPORTED_PROTOCOL)
+                .unwrap_or(0);
         }
-        let Some((SERVICE_SDO_REQUEST, body)) = mailbox::coe(message.data) else {
-            return Vec::new();
+        let Some(coe) = Coe::new_checked(message.data())
+            .ok()
+            .filter(|coe| coe.service() == SERVICE_SDO_REQUEST)
+        else {
+            return 0;
         };
         let rules = &self.rules;
         let guard = |index: u16, sub: u8, data: &[u8]| rules.check(index, sub, data);
-        let answer = self
-            .sdo
-            .request(&mut self.od, &guard, self.mailbox_in, body);
-        answer
-            .map(|body| {
-                mailbox::emit(
-                    TYPE_COE,
-                    message.counter,
-                    &mailbox::coe_message(SERVICE_SDO_RESPONSE, &body),
-                )
-            })
-            .into_iter()
-            .collect()
+        let room = self.mailbox_in.min(answer.len());
+        let answer = &mut answer[..room];
+        let Some(sdo) = answer.get_mut(HEADERS..) else {
+            return 0;
+        };
+        let Some(len) = self.sdo.request(&mut self.od, &guard, coe.payload(), sdo) else {
+            return 0;
+        };
+        let length = (coe::HEADER_LEN + len) as u16;
+        let headers = MailboxRepr::new(TYPE_COE, counter, length)
+            .emit(answer)
+            .and_then(|()| {
+                CoeRepr::service(coe::SERVICE_SDO_RESPONSE).emit(&mut answer[mailbox::HEADER_LEN..])
+            });
+        if headers.is_err() {
+            return 0;
+        }
+        HEADERS + len
     }
 
     fn image_sizes(&self) -> (usize, usize) {
@@ -489,11 +500,13 @@ impl Application for EsiDevice {
         unpack(&mut self.od, &entries, outputs);
     }
 
-    fn inputs(&mut self, now: Instant) -> Vec<u8> {
+    fn inputs(&mut self, now: Instant, inputs: &mut [u8]) {
         if let Some(behaviour) = self.behaviour.as_mut() {
             behaviour.cycle(now, &mut self.od);
         }
-        pack(&self.od, &self.image(false))
+        let image = pack(&self.od, &self.image(false));
+        let len = image.len().min(inputs.len());
+        inputs[..len].copy_from_slice(&image[..len]);
     }
 
     fn state_changed(&mut self, _now: Instant, _from: AlState, to: AlState) {

@@ -14,122 +14,23 @@
 //! registers are plain memory. Reading a mailbox SyncManager that is empty, or writing one that
 //! is full, is refused as the ESC refuses it (no working counter).
 
-use super::frame::{Command, Header};
+use std::collections::VecDeque;
+
+use edsgen_runtime::ethercat::wire::datagram::{Command, DatagramRepr};
 
 /// Number of FMMUs.
 pub const FMMUS: usize = 8;
 /// Number of SyncManagers.
 pub const SYNC_MANAGERS: usize = 8;
 
-/// Register addresses.
-pub mod reg {
-    /// ESC type (u8).
-    pub const TYPE: u16 = 0x0000;
-    /// FMMUs supported (u8).
-    pub const FMMU_COUNT: u16 = 0x0004;
-    /// SyncManagers supported (u8).
-    pub const SM_COUNT: u16 = 0x0005;
-    /// RAM size in KiB (u8).
-    pub const RAM_SIZE: u16 = 0x0006;
-    /// Port descriptor (u8).
-    pub const PORT_DESCRIPTOR: u16 = 0x0007;
-    /// ESC features supported (u16).
-    pub const FEATURES: u16 = 0x0008;
-    /// Configured station address (u16).
-    pub const STATION_ADDRESS: u16 = 0x0010;
-    /// Configured station alias (u16).
-    pub const STATION_ALIAS: u16 = 0x0012;
-    /// DL control (u32); bit 24 enables the alias.
-    pub const DL_CONTROL: u16 = 0x0100;
-    /// DL status (u16).
-    pub const DL_STATUS: u16 = 0x0110;
-    /// AL control (u16).
-    pub const AL_CONTROL: u16 = 0x0120;
-    /// AL status (u16).
-    pub const AL_STATUS: u16 = 0x0130;
-    /// AL status code (u16).
-    pub const AL_STATUS_CODE: u16 = 0x0134;
-    /// PDI control (u8).
-    pub const PDI_CONTROL: u16 = 0x0140;
-    /// Watchdog divider (u16).
-    pub const WATCHDOG_DIVIDER: u16 = 0x0400;
-    /// Process-data watchdog time (u16).
-    pub const WATCHDOG_TIME_PD: u16 = 0x0420;
-    /// Process-data watchdog status (u16).
-    pub const WATCHDOG_STATUS_PD: u16 = 0x0440;
-    /// SII configuration (u8): bit 0 offers the SII to the PDI.
-    pub const SII_CONFIG: u16 = 0x0500;
-    /// SII PDI access state (u8).
-    pub const SII_PDI_ACCESS: u16 = 0x0501;
-    /// SII control/status (u16).
-    pub const SII_CONTROL: u16 = 0x0502;
-    /// SII word address (u32).
-    pub const SII_ADDRESS: u16 = 0x0504;
-    /// SII data (8 bytes).
-    pub const SII_DATA: u16 = 0x0508;
-    /// FMMU 0 (16 bytes each).
-    pub const FMMU0: u16 = 0x0600;
-    /// SyncManager 0 (8 bytes each).
-    pub const SM0: u16 = 0x0800;
-}
-
-/// What the ESC tells the device's application, in the order it happened.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Event {
-    /// AL control was written.
-    AlControl,
-    /// The master filled the mailbox SyncManager `n` (master to device).
-    MailboxWritten(usize),
-    /// The master emptied the mailbox SyncManager `n` (device to master).
-    MailboxRead(usize),
-    /// The master toggled the repeat request of SyncManager `n`.
-    RepeatRequest(usize),
-    /// The master wrote the last byte of the buffered SyncManager `n` (outputs).
-    BufferWritten(usize),
-}
-
-/// One SyncManager's registers, decoded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct SmRegisters {
-    /// Physical start address.
-    pub start: u16,
-    /// Length in bytes.
-    pub len: u16,
-    /// Control byte (mode in bits 0–1, direction in bits 2–3, watchdog in bit 6).
-    pub control: u8,
-    /// Status byte (bit 3: mailbox full).
-    pub status: u8,
-    /// Activate byte (bit 0 enable, bit 1 repeat request).
-    pub activate: u8,
-    /// PDI control byte (bit 0 deactivated by the device, bit 1 repeat acknowledge).
-    pub pdi_control: u8,
-}
-
-impl SmRegisters {
-    /// Enabled by the master and not deactivated by the device.
-    pub fn enabled(&self) -> bool {
-        self.activate & 1 != 0 && self.pdi_control & 1 == 0 && self.len > 0
-    }
-    /// Mailbox mode (control bits 0–1 = 10b).
-    pub fn is_mailbox(&self) -> bool {
-        self.control & 0x03 == 0x02
-    }
-    /// Written by the master (control bits 2–3 = 01b).
-    pub fn master_writes(&self) -> bool {
-        self.control & 0x0C == 0x04
-    }
-    /// The bytes it covers.
-    pub fn range(&self) -> std::ops::Range<u32> {
-        u32::from(self.start)..u32::from(self.start) + u32::from(self.len)
-    }
-}
+pub use edsgen_runtime::ethercat::esc::{reg, Event, SmRegisters};
 
 /// The ESC's memory and SII.
 #[derive(Debug, Clone)]
-pub struct Esc {
+pub struct EmulatedEsc {
     mem: Vec<u8>,
     sii: Vec<u8>,
-    events: Vec<Event>,
+    events: VecDeque<Event>,
 }
 
 /// Registers the master cannot change (a write still counts, but leaves them as they are).
@@ -141,14 +42,14 @@ fn read_only(address: u16) -> bool {
             && matches!(address % 8, 5 | 7))
 }
 
-impl Esc {
+impl EmulatedEsc {
     /// An ESC after power-up, loaded from the SII image `sii` (its configured station alias,
     /// word 4).
     pub fn new(sii: Vec<u8>) -> Self {
-        let mut esc = Esc {
+        let mut esc = EmulatedEsc {
             mem: vec![0; 0x1_0000],
             sii,
-            events: Vec::new(),
+            events: VecDeque::new(),
         };
         esc.mem[usize::from(reg::FMMU_COUNT)] = FMMUS as u8;
         esc.mem[usize::from(reg::SM_COUNT)] = SYNC_MANAGERS as u8;
@@ -179,11 +80,6 @@ impl Esc {
             Some(b) => u16::from_le_bytes([b[0], b[1]]),
             None => 0xFFFF,
         }
-    }
-
-    /// The events since the last call.
-    pub fn take_events(&mut self) -> Vec<Event> {
-        std::mem::take(&mut self.events)
     }
 
     /// A register (or memory) byte.
@@ -260,7 +156,7 @@ impl Esc {
     /// Processes one datagram: `data` is its data in the frame, changed as the command says.
     /// Returns what the working counter gains and the ADP to write back (auto-increment
     /// commands count it up). A command code that is not EtherCAT's gains nothing.
-    pub fn datagram(&mut self, header: &Header, data: &mut [u8]) -> (u16, u16) {
+    pub fn datagram(&mut self, header: &DatagramRepr, data: &mut [u8]) -> (u16, u16) {
         let Some(command) = Command::from_code(header.command) else {
             return (0, header.adp);
         };
@@ -391,7 +287,7 @@ impl Esc {
                 let last = sm.range().end - 1;
                 if range.contains(&last) {
                     self.set_mailbox_full(n, false);
-                    self.events.push(Event::MailboxRead(n));
+                    self.events.push_back(Event::MailboxRead(n));
                 }
             }
         }
@@ -402,7 +298,7 @@ impl Esc {
     /// master-written SyncManager.
     fn after_write(&mut self, range: std::ops::Range<u32>) {
         if overlaps(&range, &(0x0120..0x0122)) {
-            self.events.push(Event::AlControl);
+            self.events.push_back(Event::AlControl);
         }
         if overlaps(&range, &(0x0502..0x0504)) {
             self.sii_command();
@@ -420,15 +316,15 @@ impl Esc {
                     self.set_mailbox_full(n, false);
                 }
                 if sm.is_mailbox() && (sm.activate ^ sm.pdi_control) & 0x02 != 0 {
-                    self.events.push(Event::RepeatRequest(n));
+                    self.events.push_back(Event::RepeatRequest(n));
                 }
             }
             if sm.enabled() && sm.master_writes() && range.contains(&(sm.range().end - 1)) {
                 if sm.is_mailbox() {
                     self.set_mailbox_full(n, true);
-                    self.events.push(Event::MailboxWritten(n));
+                    self.events.push_back(Event::MailboxWritten(n));
                 } else {
-                    self.events.push(Event::BufferWritten(n));
+                    self.events.push_back(Event::BufferWritten(n));
                 }
             }
         }
@@ -556,4 +452,49 @@ impl Esc {
 /// Whether two ranges share a value.
 fn overlaps(a: &std::ops::Range<u32>, b: &std::ops::Range<u32>) -> bool {
     a.start < b.end && b.start < a.end
+}
+
+/// The PDI: what the device's firmware reads and writes, with an ESC's side effects on the
+/// mailboxes (see [`Esc`](edsgen_runtime::ethercat::esc::Esc)).
+impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
+    fn read(&mut self, address: u16, buf: &mut [u8]) {
+        let start = usize::from(address);
+        let end = (start + buf.len()).min(self.mem.len());
+        buf[..end - start].copy_from_slice(&self.mem[start..end]);
+        for n in 0..SYNC_MANAGERS {
+            let sm = EmulatedEsc::sm(self, n);
+            if sm.is_mailbox() && sm.master_writes() && covers_last_byte(&sm, start, end) {
+                self.set_mailbox_full(n, false);
+            }
+        }
+    }
+
+    fn write(&mut self, address: u16, data: &[u8]) {
+        self.write_memory(address, data);
+        let start = usize::from(address);
+        let end = (start + data.len()).min(self.mem.len());
+        for n in 0..SYNC_MANAGERS {
+            let sm = EmulatedEsc::sm(self, n);
+            if !sm.is_mailbox() {
+                continue;
+            }
+            if !sm.master_writes() && covers_last_byte(&sm, start, end) {
+                self.set_mailbox_full(n, true);
+            }
+            let pdi_control = usize::from(reg::sm_pdi_control(n));
+            if (start..end).contains(&pdi_control) && sm.pdi_control & 1 != 0 {
+                self.set_mailbox_full(n, false);
+            }
+        }
+    }
+
+    fn poll_event(&mut self) -> Option<Event> {
+        self.events.pop_front()
+    }
+}
+
+/// Whether bytes `start..end` hold the last byte of the SyncManager's buffer.
+fn covers_last_byte(sm: &SmRegisters, start: usize, end: usize) -> bool {
+    let last = usize::from(sm.start) + usize::from(sm.len);
+    sm.len > 0 && start < last && last <= end
 }

@@ -1,17 +1,15 @@
-//! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000): the frame and
-//! datagram wire formats ([`frame`]), the ESC's registers and memory and what each datagram does
-//! to them ([`esc`]), the AL state machine's rules ([`al`]), the SubDevice that answers frames
-//! with its application behind the ESC ([`subdevice`]), the mailbox and CoE formats
-//! ([`mailbox`]) and SDO server ([`coe`]), the application of any ESI device ([`device`]) and the EC-TX508's drive behind it
-//! ([`ec_tx508`]); on a wire, [`raw_socket`] and [`serve`].
+//! An EtherCAT SubDevice simulated from its description, sans-IO (ETG.1000), on the runtime's
+//! wire views, SubDevice core and CoE SDO server (`edsgen_runtime::ethercat`): frames as a
+//! MainDevice builds and reads them ([`frame`]), the emulated ESC's registers and memory and
+//! what each datagram does to them ([`esc`]), the SubDevice that answers frames with the
+//! runtime's core behind that ESC ([`subdevice`]), the application of any ESI device
+//! ([`device`]) and the EC-TX508's drive behind it ([`ec_tx508`]); on a wire, [`raw_socket`]
+//! and [`serve`].
 
-pub mod al;
-pub mod coe;
 pub mod device;
 pub mod ec_tx508;
 pub mod esc;
 pub mod frame;
-pub mod mailbox;
 pub mod raw_socket;
 pub mod serve;
 pub mod subdevice;
@@ -19,6 +17,6 @@ pub mod subdevice;
 #[cfg(test)]
 mod tests;
 
-pub use al::AlState;
 pub use device::{Behaviour, EsiDevice};
+pub use edsgen_runtime::ethercat::al::{self, AlState};
 pub use subdevice::{Application, Layout, SubDevice};

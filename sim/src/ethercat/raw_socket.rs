@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use crate::packet_socket::PacketSocket;
 
-use super::frame::ETHERTYPE;
+use edsgen_runtime::ethercat::wire::frame::ETHERTYPE;
 
 /// A packet socket bound to one interface, receiving EtherCAT frames only.
 #[derive(Debug)]

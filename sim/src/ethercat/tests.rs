@@ -20,8 +20,11 @@ struct TestApp {
 }
 
 impl Application for TestApp {
-    fn mailbox(&mut self, _state: AlState, request: &[u8]) -> Vec<Vec<u8>> {
-        vec![request[..6].iter().rev().copied().collect()]
+    fn mailbox(&mut self, _state: AlState, request: &[u8], answer: &mut [u8]) -> usize {
+        for (a, r) in answer.iter_mut().zip(request[..6].iter().rev()) {
+            *a = *r;
+        }
+        6
     }
     fn image_sizes(&self) -> (usize, usize) {
         (4, 2)
@@ -29,8 +32,8 @@ impl Application for TestApp {
     fn outputs(&mut self, _now: Instant, outputs: &[u8]) {
         self.outputs = outputs.to_vec();
     }
-    fn inputs(&mut self, _now: Instant) -> Vec<u8> {
-        self.inputs.to_vec()
+    fn inputs(&mut self, _now: Instant, inputs: &mut [u8]) {
+        inputs.copy_from_slice(&self.inputs);
     }
     fn state_changed(&mut self, _now: Instant, from: AlState, to: AlState) {
         self.changes.push((from, to));
