@@ -157,7 +157,7 @@ fn the_blocking_master_scans_and_assigns_over_the_memory_bus() {
     for serial in [5, 2] {
         let node = Node::new(TestOd::new(1).with_serial(serial), 0xFF, clock.now()).unwrap();
         handles.push(
-            Driver::with_clock(bus.endpoint(), node, clock.clone())
+            Driver::with_clock(bus.endpoint(), node, clock)
                 .spawn()
                 .unwrap(),
         );
