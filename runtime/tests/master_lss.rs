@@ -167,7 +167,7 @@ fn the_blocking_master_scans_and_assigns_over_the_memory_bus() {
         .lss_scan_all(StdDuration::from_millis(30), |master, _address| {
             master.lss(LssService::ConfigureNodeId(next_id))?;
             next_id += 1;
-            Ok(())
+            Ok(true)
         })
         .unwrap();
     let serials: Vec<u32> = found.iter().map(|a| a[3]).collect();
@@ -180,5 +180,24 @@ fn the_blocking_master_scans_and_assigns_over_the_memory_bus() {
         none,
         Err(MasterError::Lss(LssMasterError::NoAnswer))
     ));
+    // Listing only: every one is found, none keeps a node-ID.
+    let clock2 = MonotonicClock::new();
+    for serial in [9, 4, 6] {
+        let node = Node::new(TestOd::new(1).with_serial(serial), 0xFF, clock2.now()).unwrap();
+        handles.push(
+            Driver::with_clock(bus.endpoint(), node, clock2)
+                .spawn()
+                .unwrap(),
+        );
+    }
+    let listed = master
+        .lss_scan_all(StdDuration::from_millis(30), |_, _| Ok(false))
+        .unwrap();
+    let serials: Vec<u32> = listed.iter().map(|a| a[3]).collect();
+    assert_eq!(serials, [4, 6, 9]);
+    let again = master
+        .lss_scan_all(StdDuration::from_millis(30), |_, _| Ok(false))
+        .unwrap();
+    assert_eq!(again.len(), 3, "back in waiting, still unconfigured");
     drop(handles);
 }

@@ -26,6 +26,7 @@ pub mod enip_io;
 pub mod enip_param;
 pub mod entry;
 pub mod generate;
+pub mod lss;
 pub mod nmt;
 pub mod pn;
 pub mod rules;

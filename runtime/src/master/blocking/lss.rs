@@ -50,31 +50,45 @@ impl<T: Transport> Master<T> {
     }
 
     /// Fastscan, again and again: the address of every non-configured slave, one after the
-    /// other. `assign` is called with each as it is found (the slave is in configuration
-    /// then) and must take it out of the scan, by giving it a node-ID; the master switches
-    /// it back to waiting afterwards. Stops when no slave answers, or after 127.
+    /// other. `found` is called with each as it is found, while that slave is in configuration
+    /// (and the only one there): it returns `true` if it gave the slave a node-ID, which the
+    /// master then switches back to waiting (where an unconfigured slave takes the ID), or
+    /// `false` to leave it in configuration, out of the next scans, until the end, when the
+    /// master switches every slave back to waiting. Stops when no slave answers, or after 127.
     pub fn lss_scan_all(
         &mut self,
         probe_timeout: StdDuration,
-        mut assign: impl FnMut(&mut Self, LssAddress) -> Result<(), MasterError>,
+        mut found: impl FnMut(&mut Self, LssAddress) -> Result<bool, MasterError>,
     ) -> Result<Vec<LssAddress>, MasterError> {
         let mut lss = LssMaster::new();
         lss.set_timeouts(
             crate::master::lss::DEFAULT_TIMEOUT,
             to_duration(probe_timeout),
         );
-        let mut found = Vec::new();
-        while found.len() < 127 {
-            match self.lss_with(&mut lss, LssService::Fastscan)? {
-                LssOutcome::Scanned(Some(address)) => {
-                    found.push(address);
-                    let assigned = assign(self, address);
-                    self.lss(LssService::SwitchGlobal(LssMode::Waiting))?;
-                    assigned?;
+        let mut addresses = Vec::new();
+        let mut left_in_configuration = false;
+        let waiting = LssService::SwitchGlobal(LssMode::Waiting);
+        while addresses.len() < 127 {
+            let LssOutcome::Scanned(Some(address)) =
+                self.lss_with(&mut lss, LssService::Fastscan)?
+            else {
+                break;
+            };
+            addresses.push(address);
+            match found(self, address) {
+                Ok(true) => {
+                    self.lss(waiting)?;
                 }
-                _ => break,
+                Ok(false) => left_in_configuration = true,
+                Err(e) => {
+                    self.lss(waiting)?;
+                    return Err(e);
+                }
             }
         }
-        Ok(found)
+        if left_in_configuration {
+            self.lss(waiting)?;
+        }
+        Ok(addresses)
     }
 }
