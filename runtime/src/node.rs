@@ -212,7 +212,7 @@ pub trait NodeHooks<O: ?Sized> {
     /// Stores the LSS configuration (CiA 305 store configuration): the node-ID a power-on or
     /// reset node starts with, and the bit timing, if one was configured. The same persistence
     /// as [`save`](Self::save) keeps them (the dictionary does not hold them). By default
-    /// storing is not supported (LSS error 2).
+    /// storing is not supported (LSS error 1).
     #[cfg(feature = "lss")]
     fn store_lss(
         &mut self,

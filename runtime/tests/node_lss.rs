@@ -156,7 +156,7 @@ fn a_refused_store_answers_its_error() {
     node.handle_frame(ms(1), &lss([0x17, 0, 0, 0, 0, 0, 0, 0]));
     assert_eq!(
         show(&node.poll_transmit(ms(1)).unwrap()),
-        "7E4: 17 03 00 00 00 00 00 00"
+        "7E4: 17 02 00 00 00 00 00 00"
     );
     let mut plain = Node::new(TestOd::new(3), 3, ms(0)).unwrap();
     plain.poll_transmit(ms(0));
@@ -164,7 +164,7 @@ fn a_refused_store_answers_its_error() {
     plain.handle_frame(ms(1), &lss([0x17, 0, 0, 0, 0, 0, 0, 0]));
     assert_eq!(
         show(&plain.poll_transmit(ms(1)).unwrap()),
-        "7E4: 17 02 00 00 00 00 00 00",
+        "7E4: 17 01 00 00 00 00 00 00",
         "without a store hook: not supported"
     );
 }

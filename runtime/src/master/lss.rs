@@ -106,10 +106,13 @@ impl core::fmt::Display for LssMasterError {
                 )
             }
             LssMasterError::Refused(LssError::StoreNotSupported) => {
-                write!(f, "refused: store configuration not supported (2)")
+                write!(f, "refused: store configuration not supported (1)")
             }
             LssMasterError::Refused(LssError::StorageAccess) => {
-                write!(f, "refused: storage media access error (3)")
+                write!(f, "refused: storage media access error (2)")
+            }
+            LssMasterError::Refused(LssError::Reserved(code)) => {
+                write!(f, "refused with reserved error code {code}")
             }
             LssMasterError::Refused(LssError::Specific(code)) => {
                 write!(f, "refused: implementation-specific error (255, {code})")
@@ -267,8 +270,10 @@ impl Job {
             | LssService::ConfigureBitTiming { .. }
             | LssService::Store => match answer {
                 Some(LssResponse::Result {
-                    error, specific, ..
-                }) => match LssError::from_codes(error, specific) {
+                    cs,
+                    error,
+                    specific,
+                }) => match LssError::from_codes(cs, error, specific) {
                     None => done,
                     Some(error) => Some(Err(LssMasterError::Refused(error))),
                 },

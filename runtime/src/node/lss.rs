@@ -467,7 +467,7 @@ mod tests {
         s.stored(Err(LssError::StoreNotSupported));
         assert_eq!(
             s.poll_transmit().unwrap().data(),
-            [0x17, 2, 0, 0, 0, 0, 0, 0]
+            [0x17, 1, 0, 0, 0, 0, 0, 0]
         );
         s.stored(Err(LssError::Specific(9)));
         assert_eq!(

@@ -279,38 +279,44 @@ pub enum LssResponse {
     NonConfiguredSlave,
 }
 
-/// The error codes of configure and store answers (CiA 305).
+/// The error codes of configure and store answers (CiA 305). Code 1 means "out of range" to
+/// configure node-ID and bit timing, "not supported" to store configuration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum LssError {
-    /// 1: node-ID out of range, or bit timing not supported.
+    /// 1 to configure: node-ID out of range, or bit timing not supported.
     OutOfRange,
-    /// 2: store configuration not supported (store only).
+    /// 1 to store: store configuration not supported.
     StoreNotSupported,
-    /// 3: storage media access error (store only).
+    /// 2 to store: storage media access error.
     StorageAccess,
     /// 255: implementation specific, with the manufacturer's code.
     Specific(u8),
+    /// A code CiA 305 reserves.
+    Reserved(u8),
 }
 
 impl LssError {
     /// The error code and the implementation-specific byte.
     pub const fn codes(self) -> (u8, u8) {
         match self {
-            LssError::OutOfRange => (1, 0),
-            LssError::StoreNotSupported => (2, 0),
-            LssError::StorageAccess => (3, 0),
+            LssError::OutOfRange | LssError::StoreNotSupported => (1, 0),
+            LssError::StorageAccess => (2, 0),
             LssError::Specific(code) => (255, code),
+            LssError::Reserved(code) => (code, 0),
         }
     }
 
-    /// The error of codes other than 0 (success); unknown codes as [`LssError::Specific`].
-    pub const fn from_codes(error: u8, specific: u8) -> Option<Self> {
+    /// The error of an answer to service `cs` (11h, 13h or 17h) with these codes; `None` for
+    /// 0 (success).
+    pub const fn from_codes(cs: u8, error: u8, specific: u8) -> Option<Self> {
+        let store = cs == cs::STORE_CONFIGURATION;
         Some(match error {
             0 => return None,
+            1 if store => LssError::StoreNotSupported,
             1 => LssError::OutOfRange,
-            2 => LssError::StoreNotSupported,
-            3 => LssError::StorageAccess,
-            _ => LssError::Specific(specific),
+            2 if store => LssError::StorageAccess,
+            255 => LssError::Specific(specific),
+            code => LssError::Reserved(code),
         })
     }
 }
@@ -446,7 +452,23 @@ mod tests {
         assert_eq!(LssRequest::parse(&[0x99, 0, 0, 0, 0, 0, 0, 0]), None);
         assert_eq!(LssResponse::parse(&[0x44, 0, 0, 0, 0, 0, 0]), None);
         assert_eq!(LssResponse::parse(&[0x04, 0, 0, 0, 0, 0, 0, 0]), None);
-        assert_eq!(LssError::from_codes(0, 0), None);
-        assert_eq!(LssError::from_codes(255, 9), Some(LssError::Specific(9)));
+        assert_eq!(LssError::from_codes(0x11, 0, 0), None);
+        assert_eq!(LssError::from_codes(0x11, 1, 0), Some(LssError::OutOfRange));
+        assert_eq!(
+            LssError::from_codes(0x17, 1, 0),
+            Some(LssError::StoreNotSupported)
+        );
+        assert_eq!(
+            LssError::from_codes(0x17, 2, 0),
+            Some(LssError::StorageAccess)
+        );
+        assert_eq!(
+            LssError::from_codes(0x13, 2, 0),
+            Some(LssError::Reserved(2))
+        );
+        assert_eq!(
+            LssError::from_codes(0x17, 255, 9),
+            Some(LssError::Specific(9))
+        );
     }
 }
