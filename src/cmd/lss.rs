@@ -220,6 +220,18 @@ impl Request {
     }
 }
 
+/// The line `scan` and `check` print when an LSS inquiry (identify non-configured remote
+/// slave) finds nodes without a node-ID: they answer no SDO, so a scan cannot see them.
+pub fn unconfigured_note<T: Transport>(master: &mut Master<T>) -> Option<&'static str> {
+    match master.lss(LssService::IdentifyNonConfigured) {
+        Ok(LssOutcome::Identified(true)) => Some(
+            "unconfigured node(s) on the bus (LSS, node-ID 255): they answer no SDO; \
+             `edsgen lss scan` lists them, `edsgen lss set-id` gives each a node-ID",
+        ),
+        _ => None,
+    }
+}
+
 /// The table 0 entry of a bit rate (CiA 301: entry 5 reserved, 9 automatic detection).
 fn table0_index(kbit: u16) -> Option<u8> {
     const TABLE: [(u16, u8); 8] = [
