@@ -31,13 +31,19 @@ fn three_unconfigured() -> Option<(Hub, Process, String, Vec<String>)> {
     let mut announced = Vec::new();
     for _ in 0..3 {
         announced.push(sim.stderr_line(|l| l.starts_with("unconfigured node"), START_TIMEOUT));
-        sim.stderr_line(|l| l.starts_with("simulating unconfigured node"), START_TIMEOUT);
+        sim.stderr_line(
+            |l| l.starts_with("simulating unconfigured node"),
+            START_TIMEOUT,
+        );
     }
     Some((hub, sim, addr, announced))
 }
 
 fn edsgen(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = std::process::Command::new(EDSGEN).args(args).output().unwrap();
+    let out = std::process::Command::new(EDSGEN)
+        .args(args)
+        .output()
+        .unwrap();
     (
         out.status.code(),
         String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -100,7 +106,10 @@ fn edsgen_lss_lists_assigns_and_inquires() {
     let bus = ["--bus", addr.as_str()];
     let (code, stdout, _) = edsgen(&[&["scan"][..], &bus, &["--timeout", "300"]].concat());
     assert_eq!(code, Some(0));
-    assert!(stdout.contains("unconfigured node(s) on the bus"), "{stdout}");
+    assert!(
+        stdout.contains("unconfigured node(s) on the bus"),
+        "{stdout}"
+    );
     let (code, stdout, stderr) = edsgen(&[&["lss", "scan"][..], &bus].concat());
     assert_eq!(code, Some(0), "{stderr}");
     assert_eq!(
@@ -112,7 +121,12 @@ fn edsgen_lss_lists_assigns_and_inquires() {
     );
     let (code, stdout, _) = edsgen(
         &[
-            &["lss", "set-id", "0x00000000:0x00000001:0x00000000:0x00000003", "7"][..],
+            &[
+                "lss",
+                "set-id",
+                "0x00000000:0x00000001:0x00000000:0x00000003",
+                "7",
+            ][..],
             &bus,
             &["--store"],
         ]
@@ -123,7 +137,8 @@ fn edsgen_lss_lists_assigns_and_inquires() {
         stdout,
         "0x00000000:0x00000001:0x00000000:0x00000003: node-ID 7, stored\n"
     );
-    let (code, stdout, _) = edsgen(&[&["sdo", "read", "7", "0x1018", "4"][..], &bus].concat());
+    let (code, stdout, _) =
+        edsgen(&[&["sdo", "read", "7", "1018:4", "--type", "u32"][..], &bus].concat());
     assert_eq!(code, Some(0), "{stdout}");
     assert!(stdout.contains('3'), "{stdout}");
     // Absent identity: no answer, exit 1; a node-ID out of range: usage, exit 2.
@@ -142,7 +157,10 @@ fn edsgen_lss_lists_assigns_and_inquires() {
     assert_eq!(code, Some(0));
     let (code, stdout, _) = edsgen(&[&["lss", "scan"][..], &bus].concat());
     assert_eq!(code, Some(0));
-    assert!(stdout.ends_with("2 unconfigured node(s) found on can0\n"), "{stdout}");
+    assert!(
+        stdout.ends_with("2 unconfigured node(s) found on can0\n"),
+        "{stdout}"
+    );
 }
 
 #[test]

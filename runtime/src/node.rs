@@ -159,15 +159,14 @@ pub enum Event {
         reason: SdoAbort,
     },
     /// An LSS master activated the configured bit timing (CiA 305): the application switches
-    /// the controller to it at `switch_at`; the node sends nothing before `transmit_from`.
+    /// the controller to it one switch delay after this event; the node sends nothing until a
+    /// second switch delay has passed.
     #[cfg(feature = "lss")]
     BitTimingActivated {
         /// The bit timing to switch to.
         timing: BitTiming,
-        /// When to switch (the switch delay after the request).
-        switch_at: Instant,
-        /// When the node may transmit again (a second switch delay later).
-        transmit_from: Instant,
+        /// The switch delay, in milliseconds.
+        switch_delay_ms: u16,
     },
 }
 

@@ -185,8 +185,7 @@ fn activating_a_bit_timing_reports_it_and_keeps_the_node_silent_twice_the_delay(
         node.poll_event(),
         Some(Event::BitTimingActivated {
             timing: BitTiming { table: 0, index: 4 },
-            switch_at: ms(120),
-            transmit_from: ms(220),
+            switch_delay_ms: 100,
         })
     );
     assert_eq!(BitTiming { table: 0, index: 4 }.table0_kbit(), Some(125));

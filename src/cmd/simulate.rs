@@ -35,12 +35,12 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
+use edsgen_runtime::od::ObjectDictionary;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::trace::epoch_micros;
 use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::transport::Transport;
-use edsgen_runtime::od::ObjectDictionary;
 use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
 use edsgen_runtime::{CanFrame, Node};
 

@@ -311,14 +311,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 let result = self.hooks.store_lss(self.lss.pending_node_id, timing);
                 self.lss.stored(result);
             }
-            LssAction::Activate(delay) => {
-                let delay = Duration::from_millis(u64::from(delay));
+            LssAction::Activate(switch_delay_ms) => {
+                let delay = Duration::from_millis(u64::from(switch_delay_ms));
                 self.lss.silent_until = Some(now + delay + delay);
                 if let Some(timing) = self.lss.pending_bit_timing() {
                     self.events.push(Event::BitTimingActivated {
                         timing,
-                        switch_at: now + delay,
-                        transmit_from: now + delay + delay,
+                        switch_delay_ms,
                     });
                 }
             }

@@ -163,7 +163,8 @@ impl ObjectDictionary for RuntimeDictionary {
         for (entry, slot) in self.entries.iter().zip(&mut self.slots) {
             if let Some(offset) = slot.node_offset {
                 let size = slot.size.min(8);
-                slot.initial = offset.wrapping_add(u64::from(node_id)).to_le_bytes()[..size].to_vec();
+                slot.initial =
+                    offset.wrapping_add(u64::from(node_id)).to_le_bytes()[..size].to_vec();
             }
             if indices.contains(&entry.index) {
                 slot.value.clone_from(&slot.initial);
