@@ -137,10 +137,21 @@ fn edsgen_lss_lists_assigns_and_inquires() {
         stdout,
         "0x00000000:0x00000001:0x00000000:0x00000003: node-ID 7, stored\n"
     );
-    let (code, stdout, _) =
-        edsgen(&[&["sdo", "read", "7", "1018:4", "--type", "u32"][..], &bus].concat());
-    assert_eq!(code, Some(0), "{stdout}");
-    assert!(stdout.contains('3'), "{stdout}");
+    let read = |entry: &str| {
+        let args = [&["sdo", "read", "7", entry, "--type", "u32"][..], &bus].concat();
+        edsgen(&args)
+    };
+    let (code, stdout, _) = read("1018:4");
+    assert_eq!(
+        (code, stdout.as_str()),
+        (Some(0), "1018h:04h = 3 (0x00000003)\n")
+    );
+    // The $NODEID defaults follow the new node-ID: the EMCY COB-ID is 80h + 7.
+    let (code, stdout, _) = read("1014");
+    assert_eq!(
+        (code, stdout.as_str()),
+        (Some(0), "1014h:00h = 135 (0x00000087)\n")
+    );
     // Absent identity: no answer, exit 1; a node-ID out of range: usage, exit 2.
     let absent = "0x00000000:0x00000000:0x00000000:0x00000009";
     let (code, stdout, _) = edsgen(&[&["lss", "set-id", absent, "8"][..], &bus].concat());
