@@ -110,6 +110,12 @@ fn edsgen_lss_lists_assigns_and_inquires() {
         stdout.contains("unconfigured node(s) on the bus"),
         "{stdout}"
     );
+    let (code, stdout, _) = edsgen(&[&["lss", "inquire"][..], &bus].concat());
+    assert_eq!(
+        (code, stdout.as_str()),
+        (Some(1), "no LSS answer\n"),
+        "no node is in configuration"
+    );
     let (code, stdout, stderr) = edsgen(&[&["lss", "scan"][..], &bus].concat());
     assert_eq!(code, Some(0), "{stderr}");
     assert_eq!(
