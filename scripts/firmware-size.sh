@@ -5,11 +5,12 @@
 # from the image, and the node's RAM on main's stack (the size of the Node, or SubDevice, with its
 # OD, which the image records in EDSGEN_NODE_RAM_BYTES).
 #
-# Two configurations: the default one, comparable with CANopenNode v4's default configuration
+# Three configurations: the default one, comparable with CANopenNode v4's default configuration
 # (segmented SDO server without block transfer, no node guarding), and `full` (firmware feature
-# `full`: SDO block transfer with CRC and node/life guarding too), built into the workspace's
-# target directory (scripts/target-dir.sh: CARGO_TARGET_DIR or target/), in firmware/ and
-# firmware-full/.
+# `full`: SDO block transfer with CRC and node/life guarding too), and `lss` (the default one
+# with the LSS slave, CiA 305), built into the workspace's target directory
+# (scripts/target-dir.sh: CARGO_TARGET_DIR or target/), in firmware/, firmware-full/ and
+# firmware-lss/.
 #
 # Fails (exit 1) when an image's flash or RAM exceeds its budget in budgets.toml.
 set -euo pipefail
@@ -20,6 +21,7 @@ cd firmware
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
 cargo build --release --quiet --locked --target-dir "$target/firmware"
 cargo build --release --quiet --locked --features full --target-dir "$target/firmware-full"
+cargo build --release --quiet --locked --features lss --target-dir "$target/firmware-lss"
 size_tool=$(command -v llvm-size || true)
 if [ -z "$size_tool" ]; then
     rustup component add llvm-tools >/dev/null 2>&1 || true
@@ -80,5 +82,10 @@ for src in src/bin/*.rs; do
     bin=$(basename "$src" .rs)
     report "$bin full (with SDO block transfer and node guarding)" \
         "$target/firmware-full/thumbv7em-none-eabihf/release/$bin" "${bin}_full"
+done
+for src in src/bin/*.rs; do
+    bin=$(basename "$src" .rs)
+    report "$bin lss (the default services and the LSS slave, CiA 305)" \
+        "$target/firmware-lss/thumbv7em-none-eabihf/release/$bin" "${bin}_lss"
 done
 exit "$failed"

@@ -125,6 +125,12 @@ enum Command {
         /// The node-ID, or `all`.
         node: String,
     },
+    /// LSS (CiA 305): find nodes without a node-ID (fastscan), inquire, give a node-ID or a
+    /// bit rate by identity; exit 1 when no node answers or one refuses.
+    Lss {
+        #[command(subcommand)]
+        command: cmd::lss::LssCommand,
+    },
     /// Find the nodes on a bus: node-ID, NMT state and identity.
     Scan {
         #[command(flatten)]
@@ -252,6 +258,7 @@ fn main() -> ExitCode {
         Command::Explain { code } => cmd::rules::explain(&code),
         Command::Sdo { command } => cmd::sdo::run(&command),
         Command::Nmt { bus, verb, node } => cmd::nmt::run(&bus, verb, &node),
+        Command::Lss { command } => cmd::lss::run(&command),
         Command::Scan { bus } => cmd::scan::run(&bus),
         Command::Check(args) => cmd::check::run(&args),
         Command::Bus(args) => cmd::bus::run(&args),

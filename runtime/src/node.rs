@@ -8,7 +8,8 @@
 //! guarding (with the `node-guarding` feature), SYNC consumer and producer, the EMCY
 //! producer with 1001h/1003h, TPDOs and RPDOs of every transmission type with dynamic mapping,
 //! RPDO deadline monitoring (event timer, EMCY 8250h), and store/restore (1010h/1011h) through
-//! [`NodeHooks`]. No allocation, no clock reads.
+//! [`NodeHooks`]. No allocation, no clock reads. With the `lss` feature it is an LSS slave
+//! (CiA 305, `lss`): it may start without a node-ID (255) and be given one over the bus.
 //!
 //! Services by NMT state (CiA 301 table 80): pre-operational serves SDO, SYNC, EMCY and error
 //! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node
@@ -35,6 +36,8 @@ mod config;
 mod emcy;
 mod error_control;
 mod events;
+#[cfg(feature = "lss")]
+mod lss;
 mod nmt;
 mod pdo;
 mod routing;
@@ -45,6 +48,8 @@ mod timer;
 pub use self::comm::{LOAD_SIGNATURE, SAVE_SIGNATURE};
 pub use self::emcy::{error_code, error_register, MAX_ACTIVE_ERRORS};
 pub use self::error_control::MAX_HEARTBEAT_CONSUMERS;
+#[cfg(feature = "lss")]
+pub use self::lss::BitTiming;
 pub use self::pdo::MAX_MAPPED;
 pub use crate::wire::heartbeat::NmtState;
 
@@ -154,6 +159,16 @@ pub enum Event {
         /// Why: 0604 0041 (an object cannot be mapped) or 0604 0042 (too long).
         reason: SdoAbort,
     },
+    /// An LSS master activated the configured bit timing (CiA 305): the application switches
+    /// the controller to it one switch delay after this event; the node sends nothing until a
+    /// second switch delay has passed.
+    #[cfg(feature = "lss")]
+    BitTimingActivated {
+        /// The bit timing to switch to.
+        timing: BitTiming,
+        /// The switch delay, in milliseconds.
+        switch_delay_ms: u16,
+    },
 }
 
 /// What the application provides to the node: re-initialisation on reset, and the persistence
@@ -192,6 +207,28 @@ pub trait NodeHooks<O: ?Sized> {
     fn restore_defaults(&mut self, sub: u8) -> Result<(), SdoAbort> {
         let _ = sub;
         Err(SdoAbort::CannotStore)
+    }
+
+    /// Stores the LSS configuration (CiA 305 store configuration): the node-ID a power-on or
+    /// reset node starts with, and the bit timing, if one was configured. The same persistence
+    /// as [`save`](Self::save) keeps them (the dictionary does not hold them). By default
+    /// storing is not supported (LSS error 1).
+    #[cfg(feature = "lss")]
+    fn store_lss(
+        &mut self,
+        node_id: u8,
+        bit_timing: Option<BitTiming>,
+    ) -> Result<(), crate::wire::lss::LssError> {
+        let _ = (node_id, bit_timing);
+        Err(crate::wire::lss::LssError::StoreNotSupported)
+    }
+
+    /// Whether the device offers a bit timing (configure bit timing answers error 1
+    /// otherwise). By default the entries of table 0 that have a bit rate
+    /// ([`BitTiming::table0_kbit`]); override it to offer a manufacturer table (128..=255).
+    #[cfg(feature = "lss")]
+    fn bit_timing_supported(&self, timing: BitTiming) -> bool {
+        timing.table0_kbit().is_some()
     }
 }
 
@@ -276,6 +313,8 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     /// Some TPDO may have something to send or a change to look for (a fast path for
     /// [`Node::poll_transmit`]).
     tpdo_attention: bool,
+    #[cfg(feature = "lss")]
+    lss: self::lss::LssSlave,
 }
 
 impl<O: ObjectDictionary> Node<O> {
@@ -298,7 +337,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// Powers the node on at `now`, with room for `RPDOS` receive and `TPDOS` transmit PDOs
     /// (`Node::<Od, Hooks, 8, 8>::with_capacity(od, hooks, 3, now)`): the hooks load power-on
     /// values ([`ResetKind::Node`]), the node reads its communication parameters, queues the
-    /// boot-up message and enters pre-operational. `node_id` must be 1..=127.
+    /// boot-up message and enters pre-operational. `node_id` must be 1..=127, or with the `lss`
+    /// feature 255: the node is unconfigured, serves LSS only and waits for an LSS master to
+    /// give it a node-ID (CiA 305).
     #[inline(never)]
     pub fn with_capacity(
         od: O,
@@ -306,7 +347,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         node_id: u8,
         now: Instant,
     ) -> Result<Self, InvalidNodeId> {
-        if !matches!(node_id, 1..=127) {
+        let unconfigured = cfg!(feature = "lss") && node_id == 0xFF;
+        if !matches!(node_id, 1..=127) && !unconfigured {
             return Err(InvalidNodeId(node_id));
         }
         let mut node = Node {
@@ -327,6 +369,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             announce_no_error: false,
             length_error_raised: false,
             tpdo_attention: false,
+            #[cfg(feature = "lss")]
+            lss: self::lss::LssSlave::new(node_id),
         };
         node.hooks.reset(ResetKind::Node, &mut node.od);
         node.reset_communication(now);

@@ -67,7 +67,12 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     };
     let diags = match check(&mut master, &read.device, node_id) {
         Ok(diags) => diags,
-        Err(e) => return fail(e),
+        Err(e) => {
+            if let Some(note) = super::lss::unconfigured_note(&mut master) {
+                eprintln!("note: {note}");
+            }
+            return fail(e);
+        }
     };
     let what = format!("node {node_id}");
     report(

@@ -28,6 +28,7 @@ mod enip_link;
 pub mod enip_param;
 pub mod entry;
 pub mod generate;
+pub mod lss;
 pub mod nmt;
 pub mod pn;
 pub mod rules;

@@ -76,6 +76,9 @@ pub fn run(bus: &BusArgs) -> ExitCode {
     if unreadable {
         println!("-: the node does not have the entry, or refused to read it");
     }
+    if let Some(note) = super::lss::unconfigured_note(&mut master) {
+        println!("{note}");
+    }
     let shared: Vec<_> = answers.iter().filter(|(_, &n)| n > 1).collect();
     for (node_id, count) in &shared {
         eprintln!(

@@ -9,6 +9,9 @@
 //! `edsgen generate`: its strings and domains hold what the generated `Od` would. A card's
 //! node-ID is its `@ID`, else its default (ms300 1, cp301 2, goodrive350 3, rd11 4, hd1e 5: the
 //! demo's CP301 and Goodrive350 are `--card cp301 --card goodrive350`).
+//! `@255` starts a device unconfigured, for an LSS master (CiA 305) to give it a node-ID; only
+//! files that say `LSS_Supported=1` (none of the bundled cards does). Several unconfigured
+//! devices of one identity get consecutive serial numbers (1018h:04), printed at start.
 //! `--trace` prints every frame on the bus decoded
 //! ([`edsgen::decode`]), as a further listening connection sees it. With python `canopen` as the
 //! master (some lines left out):
@@ -32,11 +35,13 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
+use edsgen_runtime::od::ObjectDictionary;
 use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::transport::trace::epoch_micros;
 use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::transport::Transport;
+use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
 use edsgen_runtime::{CanFrame, Node};
 
 use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
@@ -170,6 +175,7 @@ pub fn run(args: Args) -> ExitCode {
             Err(message) => return fail(message),
         }
     }
+    let mut identities: Vec<[u32; 4]> = Vec::new();
     for p in &planned {
         let transport = match bus.join() {
             Ok(transport) => transport,
@@ -179,7 +185,17 @@ pub fn run(args: Args) -> ExitCode {
         let device = match p.card {
             Some(card) => (card.power_up)(p.node_id, clock.now()),
             None => {
-                let od = RuntimeDictionary::new(&p.device, p.node_id);
+                let mut od = RuntimeDictionary::new(&p.device, p.node_id);
+                if p.node_id == UNCONFIGURED_NODE_ID {
+                    match own_serial(&mut od, &mut identities) {
+                        Ok(identity) => eprintln!(
+                            "unconfigured node (LSS address {}): {}",
+                            super::lss::show_identity(&identity),
+                            p.path.display()
+                        ),
+                        Err(message) => return fail(format!("{}: {message}", p.path.display())),
+                    }
+                }
                 for (index, name) in od.left_out() {
                     eprintln!(
                         "warning: {}: {index:04X}h `{name}` is left out (`edsgen generate` says why)",
@@ -194,7 +210,9 @@ pub fn run(args: Args) -> ExitCode {
             Ok(device) => device,
             Err(e) => return fail(format!("bad node-ID {}", e.0)),
         };
-        decoder.describe(p.node_id, &p.device);
+        if p.node_id != UNCONFIGURED_NODE_ID {
+            decoder.describe(p.node_id, &p.device);
+        }
         match Driver::with_clock(transport, node, clock).spawn() {
             Ok(handle) => drivers.push(handle),
             Err(e) => return fail(format!("cannot start the node's thread: {e}")),
@@ -203,9 +221,12 @@ pub fn run(args: Args) -> ExitCode {
             Some(card) => format!("card {}", card.name),
             None => p.path.display().to_string(),
         };
+        let who = match p.node_id {
+            UNCONFIGURED_NODE_ID => "unconfigured node".to_owned(),
+            id => format!("node {id}"),
+        };
         eprintln!(
-            "simulating node {} ({what}) on {}",
-            p.node_id,
+            "simulating {who} ({what}) on {}",
             match bus {
                 Bus::Hub(addr) | Bus::SocketCan(addr) => addr,
             }
@@ -255,7 +276,7 @@ const DUPLICATE_WAIT: Duration = Duration::from_millis(300);
 fn no_one_answers_as(bus: &Bus<'_>, planned: &[Planned]) -> Result<(), String> {
     let mut probe = bus.join()?;
     let gone = |e: std::io::Error| format!("{bus} went away: {e}");
-    for p in planned {
+    for p in planned.iter().filter(|p| p.node_id != UNCONFIGURED_NODE_ID) {
         let request = [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0];
         if let Some(frame) = CanFrame::new(0x600 + u16::from(p.node_id), &request) {
             probe.send(&frame).map_err(gone)?;
@@ -365,7 +386,7 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
         let (path, given) = match arg.rsplit_once('@') {
             Some((path, id)) => (
                 path,
-                Some(parse_node_id(id).map_err(|e| format!("{arg}: {e}"))?),
+                Some(parse_sim_node_id(id).map_err(|e| format!("{arg}: {e}"))?),
             ),
             None => (arg.as_str(), args.node_id.get(i).copied()),
         };
@@ -390,12 +411,17 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
                 ))
             }
         };
+        if node_id == UNCONFIGURED_NODE_ID && !device.device_info.lss_supported {
+            return Err(no_lss(&path));
+        }
         if let Some(other) = planned.iter().find(|p| p.node_id == node_id) {
-            return Err(format!(
-                "node-ID {node_id} is given to both `{}` and `{}`",
-                other.path.display(),
-                path.display()
-            ));
+            if node_id != UNCONFIGURED_NODE_ID {
+                return Err(format!(
+                    "node-ID {node_id} is given to both `{}` and `{}`",
+                    other.path.display(),
+                    path.display()
+                ));
+            }
         }
         planned.push(Planned {
             path,
@@ -408,7 +434,7 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
         let (name, id) = match arg.rsplit_once('@') {
             Some((name, id)) => (
                 name,
-                Some(parse_node_id(id).map_err(|e| format!("{arg}: {e}"))?),
+                Some(parse_sim_node_id(id).map_err(|e| format!("{arg}: {e}"))?),
             ),
             None => (arg.as_str(), None),
         };
@@ -421,6 +447,10 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
         })?;
         let node_id = id.unwrap_or(card.default_node_id);
         let path = PathBuf::from(card.eds_path);
+        if node_id == UNCONFIGURED_NODE_ID {
+            // Every bundled card's EDS says LSS_Supported=0, as its manual does.
+            return Err(format!("--card {name}@255: {}", no_lss(&path)));
+        }
         if let Some(other) = planned.iter().find(|p| p.node_id == node_id) {
             return Err(format!(
                 "node-ID {node_id} is given to both `{}` and `{}`",
@@ -436,4 +466,40 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
         });
     }
     Ok(planned)
+}
+
+/// A node-ID of a simulated device: 1..=127, or 255 for an unconfigured one (LSS).
+fn parse_sim_node_id(text: &str) -> Result<u8, String> {
+    match text {
+        "255" | "0xFF" | "0xff" => Ok(UNCONFIGURED_NODE_ID),
+        _ => parse_node_id(text).map_err(|e| format!("{e} (or 255: unconfigured, for LSS)")),
+    }
+}
+
+/// Why a device cannot start unconfigured.
+fn no_lss(path: &Path) -> String {
+    format!(
+        "{} says LSS_Supported=0: the device cannot be configured by LSS (CiA 305), so it \
+         cannot start unconfigured (@255); give it a node-ID 1..=127",
+        path.display()
+    )
+}
+
+/// Gives an unconfigured device a serial number (1018h:04) no other unconfigured device of its
+/// kind has (the next free one from its own), so that LSS can tell them apart; returns its LSS
+/// address and records it in `taken`.
+fn own_serial(od: &mut RuntimeDictionary, taken: &mut Vec<[u32; 4]>) -> Result<[u32; 4], String> {
+    let mut identity = [0u32; 4];
+    for (sub, value) in (1..).zip(&mut identity) {
+        let mut bytes = [0u8; 4];
+        od.read(0x1018, sub, 0, &mut bytes)
+            .map_err(|_| format!("1018h:{sub:02X}h is missing: LSS needs the whole identity"))?;
+        *value = u32::from_le_bytes(bytes);
+    }
+    while taken.contains(&identity) {
+        identity[3] = identity[3].wrapping_add(1);
+    }
+    od.set_initial(0x1018, 4, u64::from(identity[3]));
+    taken.push(identity);
+    Ok(identity)
 }

@@ -23,6 +23,7 @@ use super::nmt::{MonitorEvent, NodeMonitor};
 use super::sdo_client::{Completed, SdoClient, SdoError, Transfer};
 use crate::wire::sdo::abort_meaning;
 
+mod lss;
 mod nmt;
 mod pdo;
 mod sdo;
@@ -91,6 +92,8 @@ pub enum MasterError {
     Busy(u8),
     /// The node-ID is not 1..=127 (0 for a broadcast where one is allowed).
     NodeId(u8),
+    /// An LSS service failed (no answer, or the slave refused).
+    Lss(super::lss::LssMasterError),
     /// The transport failed: the bus is gone.
     Io(io::Error),
 }
@@ -139,6 +142,7 @@ impl fmt::Display for MasterError {
             ),
             MasterError::Busy(id) => write!(f, "the SDO channel to node {id} is busy"),
             MasterError::NodeId(id) => write!(f, "node-ID {id} is not 1..=127"),
+            MasterError::Lss(e) => write!(f, "LSS: {e}"),
             MasterError::Io(e) => write!(f, "bus: {e}"),
         }
     }

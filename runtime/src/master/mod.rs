@@ -19,6 +19,7 @@ mod drive;
 pub mod emcy;
 mod fifo;
 pub mod identity;
+pub mod lss;
 pub mod nmt;
 pub mod pdo;
 pub mod sdo_client;
@@ -26,6 +27,7 @@ pub mod sync;
 
 pub use emcy::Emergency;
 pub use identity::{ExpectedIdentity, IdentityMismatch};
+pub use lss::{LssMaster, LssMasterError, LssOutcome, LssService};
 pub use nmt::{nmt_frame, MonitorEvent, NodeMonitor, Watch};
 pub use pdo::{MappedPdo, PdoConfig, PdoKind};
 pub use sdo_client::{Completed, Mode, SdoClient, SdoError, StartError, Transfer};
@@ -74,5 +76,21 @@ impl crate::transport::vbus::BusDevice for SyncProducer {
     }
     fn handle_timeout(&mut self, now: crate::Instant) {
         SyncProducer::handle_timeout(self, now)
+    }
+}
+
+#[cfg(feature = "std")]
+impl crate::transport::vbus::BusDevice for LssMaster {
+    fn handle_frame(&mut self, now: crate::Instant, frame: &crate::CanFrame) {
+        LssMaster::handle_frame(self, now, frame)
+    }
+    fn poll_transmit(&mut self, now: crate::Instant) -> Option<crate::CanFrame> {
+        LssMaster::poll_transmit(self, now)
+    }
+    fn poll_timeout(&self) -> Option<crate::Instant> {
+        LssMaster::poll_timeout(self)
+    }
+    fn handle_timeout(&mut self, now: crate::Instant) {
+        LssMaster::handle_timeout(self, now)
     }
 }

@@ -68,6 +68,18 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     pub(super) fn reset_communication(&mut self, now: Instant) {
         self.state = NmtState::Initialising;
+        #[cfg(feature = "lss")]
+        {
+            self.lss.load_address(&self.od);
+            if self.is_unconfigured() {
+                // CiA 305: no NMT slave service but LSS until the node has an ID.
+                self.timers = TimerTable::OFF;
+                self.reset_sdo();
+                self.emcy.reset_queue(&mut self.od);
+                self.error_control = ErrorControl::OFF;
+                return;
+            }
+        }
         self.timers = TimerTable::OFF;
         self.reset_sdo();
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
@@ -108,6 +120,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     }
 
     fn reset(&mut self, kind: ResetKind, now: Instant) {
+        #[cfg(feature = "lss")]
+        self.take_lss_node_id(kind);
         if kind == ResetKind::Node {
             if self.emcy.any_active() {
                 self.announce_no_error = true;
@@ -122,6 +136,21 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if core::mem::take(&mut self.announce_no_error) {
             // The master saw errors before the reset: tell it they are gone.
             self.emcy.announce_no_error();
+        }
+    }
+
+    /// The node-ID an NMT reset starts with (CiA 305): reset communication takes the pending
+    /// one an LSS master configured, reset node the stored one.
+    #[cfg(feature = "lss")]
+    fn take_lss_node_id(&mut self, kind: ResetKind) {
+        let id = match kind {
+            ResetKind::Node => self.lss.stored_node_id,
+            ResetKind::Communication => self.lss.pending_node_id,
+        };
+        self.lss.pending_node_id = id;
+        if id != self.node_id {
+            self.node_id = id;
+            self.sdo[0] = super::sdo_channel::SdoChannel::new(id);
         }
     }
 

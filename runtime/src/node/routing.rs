@@ -24,11 +24,21 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         };
         if id == NMT_COB_ID {
             if let Some(nmt) = NmtRepr::parse(frame.data()) {
-                if !frame.is_remote() && nmt.addresses(self.node_id) {
+                if !frame.is_remote() && nmt.addresses(self.node_id) && self.serves_nmt(nmt) {
                     self.handle_nmt(nmt.command, now);
                 }
             }
             return;
+        }
+        #[cfg(feature = "lss")]
+        {
+            if id == crate::wire::lss::LSS_REQUEST_COB_ID && !frame.is_remote() {
+                self.handle_lss(frame.data(), now);
+                return;
+            }
+            if self.is_unconfigured() {
+                return;
+            }
         }
         if frame.is_remote() {
             self.handle_remote(id, now);
@@ -64,6 +74,21 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.end_error_control_loss();
             }
         }
+    }
+
+    /// Whether the node serves an NMT command: every one, but an unconfigured LSS node (ID 255)
+    /// only the resets, which take the node-ID it was given (CiA 305).
+    fn serves_nmt(&self, nmt: NmtRepr) -> bool {
+        #[cfg(feature = "lss")]
+        if self.is_unconfigured() {
+            use crate::wire::nmt::NmtCommand;
+            return matches!(
+                nmt.command,
+                NmtCommand::ResetNode | NmtCommand::ResetCommunication
+            );
+        }
+        let _ = nmt;
+        true
     }
 
     #[cfg_attr(not(feature = "node-guarding"), allow(unused_variables))]
@@ -246,6 +271,18 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// The next frame to send, if any. Frames go out in CAN priority order of their function:
     /// boot-up first, then SYNC, EMCY, TPDOs, SDO responses, node guarding and heartbeat.
     pub fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        #[cfg(feature = "lss")]
+        {
+            if self.lss_silent(now) {
+                return None;
+            }
+            if let Some(frame) = self.lss.poll_transmit() {
+                return Some(frame);
+            }
+            if self.is_unconfigured() {
+                return None;
+            }
+        }
         let error_control_id = ErrorControlRepr::cob_id(self.node_id);
         if core::mem::take(&mut self.boot_up_due) {
             return Some(one_byte_frame(

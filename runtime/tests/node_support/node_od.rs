@@ -172,6 +172,19 @@ impl TestOd {
         }
     }
 
+    /// The same device with a serial number (1018h:04), as LSS slaves need to differ.
+    pub fn with_serial(mut self, serial: u32) -> Self {
+        let Err(pos) = self.keys.binary_search(&key(0x1018, 4)) else {
+            panic!("1018h:04 exists already");
+        };
+        self.entries
+            .insert(pos, entry(0x1018, 4, Unsigned32, Ro, false));
+        self.keys.insert(pos, key(0x1018, 4));
+        self.values.insert(pos, u64::from(serial).to_le_bytes());
+        self.defaults.insert(pos, u64::from(serial).to_le_bytes());
+        self
+    }
+
     /// Refuses writes of values above `high` to (index, sub) with 0609 0031 (a signed value for
     /// an INTEGERn entry).
     pub fn with_high_limit(mut self, index: u16, sub: u8, high: i64) -> Self {

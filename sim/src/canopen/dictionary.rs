@@ -42,6 +42,9 @@ struct Slot {
     /// A fixed-size value's size, or a string's, octet string's or domain's capacity.
     size: usize,
     limits: Option<(Number, Number)>,
+    /// A `$NODEID` default's offset: `initial` is recomputed when the node-ID changes (an LSS
+    /// master gives an unconfigured node one).
+    node_offset: Option<u64>,
 }
 
 impl RuntimeDictionary {
@@ -75,11 +78,16 @@ impl RuntimeDictionary {
                 access(entry.access),
                 entry.pdo_mappable,
             ));
+            let node_offset = match &entry.init {
+                Initial::NodeRelative(offset) => Some(*offset),
+                _ => None,
+            };
             slots.push(Slot {
                 value: initial.clone(),
                 initial,
                 size,
                 limits: entry.limits,
+                node_offset,
             });
         }
         let left_out = device
@@ -119,6 +127,25 @@ impl RuntimeDictionary {
         }
     }
 
+    /// Sets an unsigned entry's value and the value resets return to (a simulated device's own
+    /// serial number, 1018h:04). `false` if the entry is absent or not 1 to 8 bytes.
+    pub fn set_initial(&mut self, index: u16, sub: u8, value: u64) -> bool {
+        let Ok(position) = self
+            .entries
+            .binary_search_by_key(&(index, sub), |e| (e.index, e.sub))
+        else {
+            return false;
+        };
+        let slot = &mut self.slots[position];
+        if !(1..=8).contains(&slot.size) {
+            return false;
+        }
+        slot.initial = value.to_le_bytes()[..slot.size].to_vec();
+        slot.node_offset = None;
+        slot.value.clone_from(&slot.initial);
+        true
+    }
+
     /// The current value of the entry at `position`, if there is one.
     pub fn value_at(&self, position: usize) -> Option<&[u8]> {
         self.slots.get(position).map(|slot| slot.value.as_slice())
@@ -128,6 +155,22 @@ impl RuntimeDictionary {
 impl ObjectDictionary for RuntimeDictionary {
     fn entries(&self) -> &[EntryDescriptor] {
         &self.entries
+    }
+
+    /// Recomputes the `$NODEID` defaults for `node_id` (the node-ID may have changed, by LSS)
+    /// and sets the entries in `indices` to their initial values.
+    fn restore_defaults(&mut self, indices: core::ops::RangeInclusive<u16>, node_id: u8) -> bool {
+        for (entry, slot) in self.entries.iter().zip(&mut self.slots) {
+            if let Some(offset) = slot.node_offset {
+                let size = slot.size.min(8);
+                slot.initial =
+                    offset.wrapping_add(u64::from(node_id)).to_le_bytes()[..size].to_vec();
+            }
+            if indices.contains(&entry.index) {
+                slot.value.clone_from(&slot.initial);
+            }
+        }
+        true
     }
 
     fn capacity(&self, position: usize) -> Option<usize> {
@@ -248,6 +291,8 @@ impl ObjectDictionary for RuntimeDictionary {
 pub struct DictionaryHooks {
     /// Every entry's value when "save" was last written, until "load".
     stored: Option<Vec<Vec<u8>>>,
+    /// The node-ID and bit timing an LSS master stored last.
+    pub lss_stored: Option<(u8, Option<edsgen_runtime::node::BitTiming>)>,
 }
 
 impl NodeHooks<RuntimeDictionary> for DictionaryHooks {
@@ -262,6 +307,17 @@ impl NodeHooks<RuntimeDictionary> for DictionaryHooks {
 
     fn restore_defaults(&mut self, _sub: u8) -> Result<(), SdoAbort> {
         self.stored = None;
+        Ok(())
+    }
+
+    /// Keeps the LSS configuration in memory: the node starts with the stored node-ID after a
+    /// reset node (the node keeps it), as a device with non-volatile storage would.
+    fn store_lss(
+        &mut self,
+        node_id: u8,
+        bit_timing: Option<edsgen_runtime::node::BitTiming>,
+    ) -> Result<(), edsgen_runtime::wire::lss::LssError> {
+        self.lss_stored = Some((node_id, bit_timing));
         Ok(())
     }
 }
