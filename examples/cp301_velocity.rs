@@ -11,11 +11,11 @@ use std::time::Duration;
 
 use edsgen::cards::cp301::{self, od};
 use edsgen::drives::Cp301;
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::memory::MemoryBus;
 use edsgen_runtime::cia402::State;
-use edsgen_runtime::master::blocking::{Master, MasterError};
 use edsgen_runtime::master::ExpectedIdentity;
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::memory::MemoryBus;
 use edsgen_runtime::wire::nmt::NmtCommand;
 
 const NODE_ID: u8 = 3;

@@ -17,11 +17,11 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use edsgen::cards::cp301;
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::CanFrame;
 
 const TIMEOUT: Duration = Duration::from_secs(5);

@@ -8,7 +8,7 @@ mod process_support;
 
 use std::process::Command;
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_host::hub::{Hub, HubOptions};
 use process_support::edsgen_simulate;
 
 #[test]

@@ -2,8 +2,8 @@
 //! runtime beyond reads and writes (the defaults NMT resets restore).
 
 use edsgen::cards::goodrive350::{od, Od};
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, Instant};
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {

@@ -11,8 +11,8 @@
 //!   The read back answers `4B` (2 bytes, UNSIGNED16), where the manual prints `43`.
 
 use edsgen::cards::goodrive350::{od, Od};
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::node::{error_register, NmtState, Node};
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, Instant};
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {

@@ -22,12 +22,12 @@ use std::time::Duration;
 
 use edsgen::cards::{cp301, goodrive350};
 use edsgen::sim::RuntimeDictionary;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::socketcand::SocketcandClient;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::od::ObjectDictionary;
 use edsgen_runtime::sdo::crc::crc16;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
 use process_support::{edsgen_bus, python, root, Process};
 use serde_json::{json, Value};
 

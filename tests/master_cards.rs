@@ -3,10 +3,10 @@
 //! `VL_TARGET_VELOCITY` writes an `i16`, and the boot-up identity entries read as `u32`.
 
 use edsgen::cards::cp301::{self, od};
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::master::SdoClient;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::od::access::Readable;
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{Entry, Instant, OdValue};
 
 fn ms(millis: u64) -> Instant {

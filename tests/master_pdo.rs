@@ -9,12 +9,12 @@ mod drive_support;
 use std::time::Duration;
 
 use edsgen::cards::cp301::{self, od, pdo};
-use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::memory::MemoryBus;
+use edsgen_host::Transport;
 use edsgen_runtime::master::{MappedPdo, PdoConfig, PdoKind, SdoError};
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::memory::MemoryBus;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::nmt::NmtCommand;
 
 edsgen_runtime::pdo_dispatch! {

@@ -8,12 +8,12 @@ mod sim_support;
 use std::io;
 
 use edsgen::sim::RuntimeDictionary;
-use edsgen_runtime::master::blocking::{Master, MasterError};
-use edsgen_runtime::master::concurrent::AsyncMaster;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::master::concurrent::AsyncMaster;
+use edsgen_host::memory::{MemoryBus, MemoryEndpoint};
 use edsgen_runtime::master::{Mode, SdoError};
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
 use edsgen_runtime::wire::sdo::Multiplexer;
 
 /// The simulated device's DOMAIN (2001h, "Program", up to 64 KiB).

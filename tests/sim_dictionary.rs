@@ -10,8 +10,8 @@ mod sim_support;
 use std::path::Path;
 
 use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::sdo::crc::crc16;
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, DataType, Instant, Node, ObjectDictionary, ResetKind, SdoAbort};
 use process_support::corpus_dir;
 use sim_support::{test_dcf, test_device};

@@ -19,7 +19,7 @@ use std::time::Duration;
 
 use edsgen::sim::{commissioned_node_id, RuntimeDictionary};
 use edsgen_codegen::model::Device;
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_host::hub::{Hub, HubOptions};
 use edsgen_runtime::{Access, DataType, ObjectDictionary};
 use process_support::{corpus_file, edsgen_simulate, python, root, Process, EDSGEN};
 

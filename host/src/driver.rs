@@ -1,4 +1,4 @@
-//! Runs a sans-IO device (anything that is a [`BusDevice`], such as a [`crate::Node`]) on a
+//! Runs a sans-IO device (anything that is a [`BusDevice`], such as a [`Node`](edsgen_runtime::Node)) on a
 //! [`Transport`] in real time: received frames go in, offered frames go out, and the device's
 //! timers fire at its deadlines, on a [`MonotonicClock`]. On the current thread until a stop flag
 //! is set, or on a thread of its own ([`Driver::spawn`]).
@@ -10,9 +10,9 @@ use std::thread::{self, JoinHandle};
 use std::time::{Duration as StdDuration, Instant as StdInstant};
 
 use super::Transport;
-use crate::frame::CanFrame;
-use crate::time::Instant;
-use crate::transport::vbus::BusDevice;
+use crate::vbus::BusDevice;
+use edsgen_runtime::frame::CanFrame;
+use edsgen_runtime::time::Instant;
 
 /// The runtime's [`Instant`] from the operating system's monotonic clock: microseconds since
 /// the clock was made.

@@ -586,9 +586,9 @@ fn write_frames(mut stream: TcpStream, outbox: &Outbox, ready_at: StdInstant) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frame::CanFrame;
-    use crate::transport::socketcand::SocketcandClient;
-    use crate::transport::Transport;
+    use crate::socketcand::SocketcandClient;
+    use crate::Transport;
+    use edsgen_runtime::frame::CanFrame;
 
     const WAIT: StdDuration = StdDuration::from_secs(5);
 

@@ -1,21 +1,29 @@
-//! Transports (feature `std`): how frames reach a real or simulated bus from an operating system.
+//! edsgen-host: the operating-system side of [`edsgen_runtime`], whose protocol cores are sans-IO
+//! and `no_std`. Here live what needs threads, sockets or a clock.
 //!
 //! One trait, [`Transport`], that every transport implements: send a frame, receive one with a
 //! timeout. A device node and a master are both driven through it, so the same driver code runs
 //! over the in-memory bus in tests, a socketcand hub on loopback, and Linux SocketCAN.
 //! Beside them, [`vbus`]: the deterministic in-memory bus that steps sans-IO devices by a
-//! simulated clock, with no transport and no threads.
+//! simulated clock, with no transport and no threads; and [`master`]: the blocking and the
+//! async CANopen master, which run the runtime's master cores on a transport.
 //!
 //! Blocking by design: a transport is owned by one driver thread, which also owns the sans-IO core
 //! it feeds; an async driver wraps a transport in its own task.
+//!
+//! Cargo features:
+//! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 use std::io;
 use std::time::Duration as StdDuration;
 
-use crate::frame::CanFrame;
+use edsgen_runtime::frame::CanFrame;
 
 pub mod driver;
 pub mod hub;
+pub mod master;
 pub mod memory;
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 pub mod socketcan;

@@ -1,6 +1,6 @@
 //! An in-memory CAN bus across threads: every [`MemoryEndpoint`] is a [`Transport`], and a frame
 //! one endpoint sends reaches every other endpoint in the order sent. For testing drivers and
-//! masters without sockets; unlike [`crate::transport::vbus`] it runs in real time.
+//! masters without sockets; unlike [`crate::vbus`] it runs in real time.
 
 use std::io;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};
@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration as StdDuration;
 
 use super::Transport;
-use crate::frame::CanFrame;
+use edsgen_runtime::frame::CanFrame;
 
 /// The bus. Cloning it gives another handle on the same bus.
 #[derive(Debug, Clone, Default)]

@@ -9,7 +9,7 @@ use std::time::{Duration as StdDuration, Instant as StdInstant};
 use socketcan::{CanFrame as KernelFrame, CanSocket, Socket};
 
 use super::Transport;
-use crate::frame::CanFrame;
+use edsgen_runtime::frame::CanFrame;
 
 /// A raw CAN socket bound to one interface.
 #[derive(Debug)]

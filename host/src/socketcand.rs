@@ -14,7 +14,7 @@ use std::time::{Duration as StdDuration, Instant as StdInstant};
 
 use super::trace::parse_hex;
 use super::Transport;
-use crate::frame::{CanFrame, CanId};
+use edsgen_runtime::frame::{CanFrame, CanId};
 
 /// The port socketcand listens on by default.
 pub const DEFAULT_PORT: u16 = 29536;

@@ -10,7 +10,7 @@ use std::io::{self, BufRead, Write};
 use std::time::{Duration as StdDuration, SystemTime, UNIX_EPOCH};
 
 use super::Transport;
-use crate::frame::{CanFrame, CanId};
+use edsgen_runtime::frame::{CanFrame, CanId};
 
 /// One line of a trace: when, on which interface, what.
 #[derive(Debug, Clone, PartialEq, Eq)]

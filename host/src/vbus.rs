@@ -5,10 +5,11 @@
 //! time, lowest identifier first when several wait, as CAN arbitration would) and logs it. No
 //! threads, no sleeps: the same script gives the same frames at the same instants every time.
 
-use crate::frame::{CanFrame, CanId};
-use crate::node::{Node, NodeHooks};
-use crate::od::ObjectDictionary;
-use crate::time::Instant;
+use edsgen_runtime::frame::{CanFrame, CanId};
+use edsgen_runtime::master::{NodeMonitor, SdoClient, SyncProducer};
+use edsgen_runtime::node::{Node, NodeHooks};
+use edsgen_runtime::od::ObjectDictionary;
+use edsgen_runtime::time::Instant;
 
 /// Something that sits on the bus: the sans-IO shape every protocol core here has.
 pub trait BusDevice {
@@ -51,6 +52,49 @@ impl<D: BusDevice + ?Sized> BusDevice for Box<D> {
     }
     fn handle_timeout(&mut self, now: Instant) {
         (**self).handle_timeout(now)
+    }
+}
+
+impl<const BUF: usize> BusDevice for SdoClient<BUF> {
+    fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
+        SdoClient::handle_frame(self, now, frame)
+    }
+    fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        SdoClient::poll_transmit(self, now)
+    }
+    fn poll_timeout(&self) -> Option<Instant> {
+        SdoClient::poll_timeout(self)
+    }
+    fn handle_timeout(&mut self, now: Instant) {
+        SdoClient::handle_timeout(self, now)
+    }
+}
+
+impl<const N: usize> BusDevice for NodeMonitor<N> {
+    fn handle_frame(&mut self, now: Instant, frame: &CanFrame) {
+        NodeMonitor::handle_frame(self, now, frame)
+    }
+    fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        NodeMonitor::poll_transmit(self, now)
+    }
+    fn poll_timeout(&self) -> Option<Instant> {
+        NodeMonitor::poll_timeout(self)
+    }
+    fn handle_timeout(&mut self, now: Instant) {
+        NodeMonitor::handle_timeout(self, now)
+    }
+}
+
+impl BusDevice for SyncProducer {
+    fn handle_frame(&mut self, _now: Instant, _frame: &CanFrame) {}
+    fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        SyncProducer::poll_transmit(self, now)
+    }
+    fn poll_timeout(&self) -> Option<Instant> {
+        SyncProducer::poll_timeout(self)
+    }
+    fn handle_timeout(&mut self, now: Instant) {
+        SyncProducer::handle_timeout(self, now)
     }
 }
 

@@ -9,9 +9,9 @@ use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::{Duration, Instant};
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::{MessageScanner, SocketcandClient};
-use edsgen_runtime::transport::Transport;
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::socketcand::{MessageScanner, SocketcandClient};
+use edsgen_host::Transport;
 use edsgen_runtime::{CanFrame, CanId};
 
 const WAIT: Duration = Duration::from_secs(10);

@@ -2,17 +2,18 @@
 //! driver on its own thread, in real time: typed reads and writes, an abort as an error with its
 //! meaning, the timeout, NMT and waiting for boot-up, heartbeat events, and 10,000 transfers.
 
+#[path = "../../runtime/tests/node_support/mod.rs"]
 mod node_support;
 
 use std::time::{Duration as StdDuration, Instant as StdInstant};
 
-use edsgen_runtime::master::blocking::{Master, MasterError, MasterEvent};
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError, MasterEvent};
+use edsgen_host::memory::{MemoryBus, MemoryEndpoint};
 use edsgen_runtime::master::{
     ExpectedIdentity, IdentityMismatch, Mode, MonitorEvent, SdoError, Watch,
 };
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
 use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::wire::sdo::Multiplexer;
@@ -252,7 +253,6 @@ fn boot_node_checks_the_identity_then_configures_and_starts_or_stops_at_a_mismat
     let _ = node.stop();
 }
 
-#[cfg(feature = "node-guarding")]
 #[test]
 fn the_master_guards_a_node_and_reports_its_loss() {
     let (mut master, node) = bus_with_node(5);

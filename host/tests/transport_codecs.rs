@@ -2,8 +2,8 @@
 //! written reads back to the same frame (candump lines, socketcand `send` and `frame`), however the
 //! reads split the socketcand stream, and arbitrary bytes never make a reader panic.
 
-use edsgen_runtime::transport::socketcand::{Message, MessageScanner};
-use edsgen_runtime::transport::trace::{format_line, parse_line};
+use edsgen_host::socketcand::{Message, MessageScanner};
+use edsgen_host::trace::{format_line, parse_line};
 use edsgen_runtime::CanFrame;
 use proptest::prelude::*;
 

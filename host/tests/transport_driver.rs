@@ -2,18 +2,19 @@
 //! 127.0.0.1, with the test as the master: boot-up, SDO, heartbeat at its period, NMT, an EMCY
 //! raised from another thread, stopping, and a bus that goes away.
 
+#[path = "../../runtime/tests/node_support/mod.rs"]
 mod node_support;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration as StdDuration, Instant as StdInstant};
 
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::memory::MemoryBus;
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 use edsgen_runtime::node::{NmtState, Node};
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::memory::MemoryBus;
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::CanFrame;
 use node_support::frame;
 use node_support::node_od::TestOd;

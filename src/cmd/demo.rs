@@ -9,7 +9,7 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
-use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_host::socketcand::SocketcandClient;
 
 use super::{fail, print_stdout, DEFAULT_BUS};
 

@@ -32,11 +32,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::trace::epoch_micros;
-use edsgen_runtime::transport::vbus::BusDevice;
-use edsgen_runtime::transport::Transport;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::trace::epoch_micros;
+use edsgen_host::vbus::BusDevice;
+use edsgen_host::Transport;
 use edsgen_runtime::{CanFrame, Node};
 
 use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
@@ -306,7 +306,7 @@ impl Bus<'_> {
             },
             #[cfg(feature = "socketcan")]
             Bus::SocketCan(iface) => {
-                match edsgen_runtime::transport::socketcan::SocketCan::open(iface) {
+                match edsgen_host::socketcan::SocketCan::open(iface) {
                     Ok(socket) => Ok(Box::new(socket)),
                     Err(e) => Err(e.to_string()),
                 }

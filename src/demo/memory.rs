@@ -5,9 +5,9 @@
 use std::collections::VecDeque;
 use std::time::Duration as StdDuration;
 
+use edsgen_host::vbus::{BusDevice, VirtualBus};
 use edsgen_runtime::master::SdoClient;
 use edsgen_runtime::od::access::{Readable, Writable};
-use edsgen_runtime::transport::vbus::{BusDevice, VirtualBus};
 use edsgen_runtime::{CanFrame, Duration, Entry, Instant, OdValue};
 
 use super::{Link, Trace, CP301_NODE, GOODRIVE350_NODE};

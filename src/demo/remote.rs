@@ -6,10 +6,10 @@
 use std::sync::{Arc, Mutex};
 use std::time::{Duration as StdDuration, SystemTime, UNIX_EPOCH};
 
-use edsgen_runtime::master::blocking::Master;
+use edsgen_host::master::blocking::Master;
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 use edsgen_runtime::od::access::{Readable, Writable};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::{CanFrame, Entry, OdValue};
 
 use super::{Link, Trace};

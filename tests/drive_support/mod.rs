@@ -3,7 +3,7 @@
 // Each drive test is a crate of its own and uses only some of these helpers.
 #![allow(dead_code)]
 
-use edsgen_runtime::transport::vbus::{BusDevice, VirtualBus};
+use edsgen_host::vbus::{BusDevice, VirtualBus};
 use edsgen_runtime::{CanFrame, Instant};
 
 /// The instant `millis` ms after the bus started.

@@ -1,6 +1,6 @@
 //! The blocking master (feature `std`): a [`Master`] owns a [`Transport`] and runs the sans-IO
 //! SDO clients, node monitor and EMCY consumer on it, one call at a time, with timeouts.
-//! Typed reads and writes go through the generated [`Entry`](crate::Entry) addresses.
+//! Typed reads and writes go through the generated [`Entry`](edsgen_runtime::Entry) addresses.
 //!
 //! This module holds the master, its errors and its event loop; `sdo`, `nmt` and `pdo` hold its
 //! SDO transfers, its NMT and monitoring calls and its PDO calls.
@@ -10,18 +10,18 @@ use std::fmt;
 use std::io;
 use std::time::Duration as StdDuration;
 
-use crate::frame::CanFrame;
-use crate::time::{Duration, Instant};
-use crate::transport::driver::MonotonicClock;
-use crate::transport::Transport;
-use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
-use crate::wire::sdo::Multiplexer;
+use crate::driver::MonotonicClock;
+use crate::Transport;
+use edsgen_runtime::frame::CanFrame;
+use edsgen_runtime::time::{Duration, Instant};
+use edsgen_runtime::wire::heartbeat::{ErrorControlRepr, NmtState};
+use edsgen_runtime::wire::sdo::Multiplexer;
 
-use super::emcy::Emergency;
-use super::identity::IdentityMismatch;
-use super::nmt::{MonitorEvent, NodeMonitor};
-use super::sdo_client::{Completed, SdoClient, SdoError, Transfer};
-use crate::wire::sdo::abort_meaning;
+use edsgen_runtime::master::emcy::Emergency;
+use edsgen_runtime::master::identity::IdentityMismatch;
+use edsgen_runtime::master::nmt::{MonitorEvent, NodeMonitor};
+use edsgen_runtime::master::sdo_client::{Completed, SdoClient, SdoError, Transfer};
+use edsgen_runtime::wire::sdo::abort_meaning;
 
 mod nmt;
 mod pdo;
@@ -76,7 +76,7 @@ pub enum MasterError {
         /// The node.
         node_id: u8,
         /// The state it shows.
-        state: crate::cia402::State,
+        state: edsgen_runtime::cia402::State,
     },
     /// The drive does not show the mode of operation set.
     ModeNotConfirmed {
@@ -175,7 +175,7 @@ impl<T: Transport> Master<T> {
         Master {
             transport,
             clock: MonotonicClock::new(),
-            default_timeout: super::sdo_client::DEFAULT_TIMEOUT,
+            default_timeout: edsgen_runtime::master::sdo_client::DEFAULT_TIMEOUT,
             read_retries: 1,
             clients: BTreeMap::new(),
             own_timeouts: BTreeSet::new(),
@@ -257,7 +257,7 @@ impl<T: Transport> Master<T> {
                 // The bus or the source is gone: free the channel for a later call, and tell
                 // the node if the bus is still there.
                 let client = self.client(node_id)?;
-                client.abort(crate::od::SdoAbort::General.code());
+                client.abort(edsgen_runtime::od::SdoAbort::General.code());
                 if let Some(frame) = client.poll_transmit(now) {
                     let _ = self.transport.send(&frame);
                 }

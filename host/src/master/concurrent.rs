@@ -15,20 +15,20 @@ use std::task::{Context, Poll, Waker};
 use std::thread::{self, JoinHandle};
 use std::time::Duration as StdDuration;
 
-use crate::frame::CanFrame;
-use crate::od::access::{Readable, Writable};
-use crate::od::entry::{Entry, OdValue};
-use crate::time::{Duration, Instant};
-use crate::transport::driver::MonotonicClock;
-use crate::transport::Transport;
-use crate::wire::heartbeat::ErrorControlRepr;
-use crate::wire::nmt::NmtCommand;
-use crate::wire::sdo::Multiplexer;
+use crate::driver::MonotonicClock;
+use crate::Transport;
+use edsgen_runtime::frame::CanFrame;
+use edsgen_runtime::od::access::{Readable, Writable};
+use edsgen_runtime::od::entry::{Entry, OdValue};
+use edsgen_runtime::time::{Duration, Instant};
+use edsgen_runtime::wire::heartbeat::ErrorControlRepr;
+use edsgen_runtime::wire::nmt::NmtCommand;
+use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::blocking::{Feed, MasterError, MasterEvent, ReadFeed};
-use super::emcy::Emergency;
-use super::nmt::{nmt_frame, NodeMonitor, Watch};
-use super::sdo_client::{Mode, SdoClient, SdoError, StartError, DEFAULT_TIMEOUT};
+use edsgen_runtime::master::emcy::Emergency;
+use edsgen_runtime::master::nmt::{nmt_frame, NodeMonitor, Watch};
+use edsgen_runtime::master::sdo_client::{Mode, SdoClient, SdoError, StartError, DEFAULT_TIMEOUT};
 
 /// How long the driver thread waits for a frame before it looks for new requests again.
 const POLL: StdDuration = StdDuration::from_millis(1);
@@ -584,7 +584,7 @@ fn run_channel<T: Transport>(
             Transfer::DownloadFrom(_, source, _) => {
                 if let Err(e) = source.feed(client) {
                     job.failed = Some(e);
-                    client.abort(crate::od::SdoAbort::General.code());
+                    client.abort(edsgen_runtime::od::SdoAbort::General.code());
                 }
             }
             Transfer::Upload(..) => {}

@@ -5,14 +5,14 @@
 
 use std::time::{Duration as StdDuration, Instant as StdInstant};
 
-use crate::transport::Transport;
+use crate::Transport;
 
 use super::blocking::{Master, MasterError};
-use super::cia402::{
+use edsgen_runtime::cia402::{Command, State};
+use edsgen_runtime::master::cia402::{
     state_of, Controller, Outcome, CONTROLWORD, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY,
     STATUSWORD,
 };
-use crate::cia402::{Command, State};
 
 /// How often a helper reads the statusword while it waits for a transition.
 const POLL: StdDuration = StdDuration::from_millis(5);

@@ -4,14 +4,14 @@
 use std::io;
 use std::time::Duration as StdDuration;
 
-use crate::frame::CanFrame;
-use crate::master::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
-use crate::master::nmt::{nmt_frame, Watch, WatchError};
-use crate::master::sdo_client::{Mode, SdoError};
-use crate::transport::Transport;
-use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
-use crate::wire::nmt::NmtCommand;
-use crate::wire::sdo::Multiplexer;
+use crate::Transport;
+use edsgen_runtime::frame::CanFrame;
+use edsgen_runtime::master::identity::{ExpectedIdentity, IdentityMismatch, IDENTITY_ENTRIES};
+use edsgen_runtime::master::nmt::{nmt_frame, Watch, WatchError};
+use edsgen_runtime::master::sdo_client::{Mode, SdoError};
+use edsgen_runtime::wire::heartbeat::{ErrorControlRepr, NmtState};
+use edsgen_runtime::wire::nmt::NmtCommand;
+use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::{to_duration, Master, MasterError, MasterEvent};
 

@@ -2,10 +2,10 @@
 
 use std::time::Duration as StdDuration;
 
-use crate::frame::CanFrame;
-use crate::master::pdo::PdoConfig;
-use crate::master::sdo_client::Mode;
-use crate::transport::Transport;
+use crate::Transport;
+use edsgen_runtime::frame::CanFrame;
+use edsgen_runtime::master::pdo::PdoConfig;
+use edsgen_runtime::master::sdo_client::Mode;
 
 use super::{to_duration, Master, MasterError, MAX_WAIT};
 
@@ -34,7 +34,7 @@ impl<T: Transport> Master<T> {
     }
 
     /// Waits at most `timeout` for a frame `accept` takes (a PDO decoded by a
-    /// [`pdo_dispatch!`](crate::pdo_dispatch) enum), handling everything else as usual.
+    /// [`pdo_dispatch!`](edsgen_runtime::pdo_dispatch) enum), handling everything else as usual.
     pub fn receive<R>(
         &mut self,
         timeout: StdDuration,

@@ -3,11 +3,11 @@
 
 use std::io;
 
-use crate::master::sdo_client::{Mode, SdoClient, SdoError, StartError};
-use crate::od::access::{Readable, Writable};
-use crate::od::entry::{Entry, OdValue};
-use crate::transport::Transport;
-use crate::wire::sdo::Multiplexer;
+use crate::Transport;
+use edsgen_runtime::master::sdo_client::{Mode, SdoClient, SdoError, StartError};
+use edsgen_runtime::od::access::{Readable, Writable};
+use edsgen_runtime::od::entry::{Entry, OdValue};
+use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::{Master, MasterError};
 
@@ -134,14 +134,14 @@ impl<T: Transport> Master<T> {
     }
 
     /// Downloads a configuration (a DCF's ParameterValues) in the safe order of
-    /// [`download_order`](crate::master::dcf::download_order); the first write the node refuses is the
+    /// [`download_order`](edsgen_runtime::master::dcf::download_order); the first write the node refuses is the
     /// error (naming the entry).
     pub fn download_configuration<V: AsRef<[u8]>>(
         &mut self,
         node_id: u8,
         entries: &[(Multiplexer, V)],
     ) -> Result<(), MasterError> {
-        for (mux, value) in crate::master::dcf::download_order(entries) {
+        for (mux, value) in edsgen_runtime::master::dcf::download_order(entries) {
             value.with_bytes(|bytes| self.download(node_id, mux, bytes, Mode::Normal))?;
         }
         Ok(())
