@@ -5,7 +5,6 @@
 //! bundled cards' bindings and drives `edsgen-sim`, re-exported here under their earlier paths.
 #![forbid(unsafe_code)]
 
-pub mod decode;
 pub mod demo;
 #[cfg(feature = "ethercrab")]
 pub mod ecat;

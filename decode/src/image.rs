@@ -8,7 +8,7 @@ use edsgen_runtime::od::typed::get_bits;
 use edsgen_runtime::ObjectDictionary;
 
 use super::text;
-use crate::sim::RuntimeDictionary;
+use edsgen_sim::canopen::RuntimeDictionary;
 
 /// A device's process images, decoded by its ESI file's default PDO assignment.
 pub struct ImageDecoder {

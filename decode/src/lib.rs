@@ -1,6 +1,6 @@
-//! The bus decoder: CAN frames with their timestamps in, one line of text per CANopen message
-//! out, naming entries and typing values from the devices' descriptions. `edsgen decode` feeds
-//! it a candump log, `edsgen simulate --trace` the live bus.
+//! edsgen-decode, the bus decoder: CAN frames with their timestamps in, one line of text per
+//! CANopen message out, naming entries and typing values from the devices' descriptions.
+//! `edsgen decode` feeds it a log ([`log`]), `edsgen simulate --trace` the live bus.
 //!
 //! Each line is the time (seconds, as candump prints it), the CAN identifier, the service and
 //! what the message says. An SDO transfer is one line when it finishes, whatever its frames
@@ -33,6 +33,7 @@
 //! A value of more than 64 bytes is summarised: its first 16 bytes (or 64 characters), its
 //! size and, for a block transfer, the CRC its end message gave (checked against the data);
 //! [`Decoder::show_full_values`] (`edsgen decode --full`) prints it whole.
+#![forbid(unsafe_code)]
 
 pub mod image;
 pub mod log;
@@ -49,7 +50,7 @@ use edsgen_runtime::wire::heartbeat::{ErrorControlRepr, NmtState};
 use edsgen_runtime::wire::nmt::{NmtCommand, NmtRepr};
 use edsgen_runtime::{CanFrame, CanId, ObjectDictionary, ResetKind};
 
-use crate::sim::RuntimeDictionary;
+use edsgen_sim::canopen::RuntimeDictionary;
 use sdo::{Channel, Kind, Outcome, Transfer};
 
 /// A described node: the names and types of its entries, and a copy of its dictionary kept up

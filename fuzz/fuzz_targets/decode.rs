@@ -15,7 +15,7 @@
 use std::sync::OnceLock;
 use std::time::Duration;
 
-use edsgen::decode::Decoder;
+use edsgen_decode::Decoder;
 use edsgen_codegen::model::Device;
 use edsgen_host::trace::{format_line, parse_line, TraceReadError, TraceReader};
 use libfuzzer_sys::fuzz_target;

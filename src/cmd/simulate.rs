@@ -40,10 +40,10 @@ use edsgen_host::Transport;
 use edsgen_runtime::{CanFrame, Node};
 
 use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
-use edsgen::decode::Decoder;
 use edsgen::drives::{Card, CARDS};
 use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use edsgen_codegen::model::Device;
+use edsgen_decode::Decoder;
 
 /// How many receive and transmit PDOs a simulated node serves (1400h–140Fh, 1800h–180Fh).
 pub const PDOS: usize = 16;

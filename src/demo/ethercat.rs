@@ -14,8 +14,8 @@ use edsgen_runtime::Instant;
 
 use super::{expect, Trace};
 use crate::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
-use crate::decode::image::ImageDecoder;
 use crate::drives::ec_tx508::{EcTx508, ESI, ESI_PATH};
+use edsgen_decode::image::ImageDecoder;
 
 /// The speed (rpm, 60FFh) the master asks for once operation is enabled.
 const SPEED: i32 = 300;

@@ -51,8 +51,8 @@ use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::{CanFrame, Entry, OdValue};
 
 use crate::cards::{cp301, goodrive350};
-use crate::decode::Decoder;
 use crate::drives::{ec_tx508, Card, CARDS};
+use edsgen_decode::Decoder;
 
 /// The CP301's node-ID on the demo bus.
 pub const CP301_NODE: u8 = 2;
