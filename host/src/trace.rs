@@ -1,9 +1,10 @@
 //! Frame traces in the `candump -L` log format, which `canplayer` replays and python-can reads:
 //! `(1700000000.123456) can0 603#2B011803E8030000`, one frame a line.
 //!
-//! [`format_line`] and [`parse_line`] own the format; [`TraceWriter`] writes lines, [`TraceReader`]
-//! reads them with line numbers in its errors, and [`Traced`] logs every frame a [`Transport`]
-//! sends or receives.
+//! [`format_line`] and [`parse_log_line`] own the format (the one candump reader: `edsgen-decode`
+//! reads candump logs through it); [`TraceWriter`] writes lines, [`TraceReader`] reads them with
+//! line numbers in its errors, and [`Traced`] logs every frame a [`Transport`] sends or
+//! receives. Beside them, the pieces other log formats share: hex bytes, decimal times, frames.
 
 use std::fmt;
 use std::io::{self, BufRead, Write};
@@ -80,126 +81,216 @@ pub fn format_line(timestamp_us: u64, channel: &str, frame: &CanFrame) -> String
     line
 }
 
-/// Reads one `candump -L` line (surrounding white space ignored).
+/// Reads one `candump -L` line (surrounding white space ignored) as a frame this crate carries:
+/// a CAN FD or an error frame is an error here (see [`parse_log_line`] to tell them apart).
 pub fn parse_line(line: &str) -> Result<TraceRecord, TraceError> {
     parse(line.trim()).map_err(|message| TraceError { line: 0, message })
 }
 
 fn parse(line: &str) -> Result<TraceRecord, String> {
-    let mut fields = line.split_ascii_whitespace();
-    let (Some(time), Some(channel), Some(frame), None) =
-        (fields.next(), fields.next(), fields.next(), fields.next())
-    else {
-        return Err(format!(
-            "expected `(SECS.USECS) CHANNEL ID#DATA`, found `{line}`"
-        ));
-    };
-    let timestamp_us = parse_timestamp(time)?;
-    let frame = parse_frame(frame)?;
-    Ok(TraceRecord {
-        timestamp_us,
-        channel: channel.to_owned(),
-        frame,
-    })
+    match parse_log_line(line)? {
+        LogLine::Frame(record) => Ok(record),
+        LogLine::Fd => Err(format!(
+            "`{line}` is a CAN FD frame (`ID##FLAGSDATA`): not supported"
+        )),
+        LogLine::Error => Err(format!(
+            "`{line}` is an error frame (CAN_ERR_FLAG set): not supported"
+        )),
+    }
 }
 
-fn parse_timestamp(field: &str) -> Result<u64, String> {
-    let bad = || format!("bad timestamp `{field}`: expected `(SECS.USECS)` with 6 decimals");
-    let inner = field
-        .strip_prefix('(')
-        .and_then(|f| f.strip_suffix(')'))
-        .ok_or_else(bad)?;
-    let (secs, micros) = inner.split_once('.').ok_or_else(bad)?;
-    if secs.is_empty() || micros.len() != 6 || !all_digits(secs) || !all_digits(micros) {
-        return Err(bad());
-    }
-    let secs: u64 = secs.parse().map_err(|_| bad())?;
-    let micros: u64 = micros.parse().map_err(|_| bad())?;
-    secs.checked_mul(1_000_000)
-        .and_then(|s| s.checked_add(micros))
-        .ok_or_else(bad)
-}
-
-fn all_digits(text: &str) -> bool {
-    text.bytes().all(|b| b.is_ascii_digit())
-}
-
-fn parse_frame(field: &str) -> Result<CanFrame, String> {
-    let (id, data) = field
-        .split_once('#')
-        .ok_or_else(|| format!("bad frame `{field}`: expected `ID#DATA`"))?;
-    if data.starts_with('#') {
-        return Err(format!(
-            "`{field}` is a CAN FD frame (`ID##FLAGSDATA`): not supported"
-        ));
-    }
-    if id.is_empty() || !id.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Err(format!("bad identifier `{id}`: expected hex digits"));
-    }
-    let extended = match id.len() {
-        3 => false,
-        8 => true,
-        n => {
-            return Err(format!(
-                "bad identifier `{id}`: {n} digits, expected 3 (standard) or 8 (extended)"
-            ))
-        }
-    };
-    let raw = u32::from_str_radix(id, 16).map_err(|_| format!("bad identifier `{id}`"))?;
-    if extended && raw & CAN_ERR_FLAG != 0 {
-        return Err(format!(
-            "`{field}` is an error frame (CAN_ERR_FLAG set): not supported"
-        ));
-    }
-    if let Some(len) = data.strip_prefix('R').or_else(|| data.strip_prefix('r')) {
-        let len = match len {
-            "" => 0,
-            digit if digit.len() == 1 && all_digits(digit) && digit <= "8" => {
-                digit.as_bytes()[0] - b'0'
-            }
-            _ => {
-                return Err(format!(
-                    "bad remote request `{field}`: expected `ID#R` or `ID#R0`..`ID#R8`"
-                ))
-            }
-        };
-        return remote_frame(raw, extended, len)
-            .ok_or_else(|| format!("identifier {id} out of range"));
-    }
-    let bytes = parse_hex(data).ok_or_else(|| {
-        format!("bad data `{data}`: expected 0 to 8 bytes as pairs of hex digits")
-    })?;
-    if extended {
-        CanFrame::new_extended(raw, &bytes)
-    } else {
-        CanFrame::new(raw as u16, &bytes)
-    }
-    .ok_or_else(|| format!("identifier {id} out of range"))
+/// What one `candump -L` line holds.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LogLine {
+    /// A classic CAN frame.
+    Frame(TraceRecord),
+    /// A CAN FD frame (`ID##FLAGSDATA`).
+    Fd,
+    /// An error frame (the identifier has Linux's `CAN_ERR_FLAG`).
+    Error,
 }
 
 /// The flag Linux sets in the identifier of an error frame, which candump logs as it is.
-const CAN_ERR_FLAG: u32 = 0x2000_0000;
+pub const CAN_ERR_FLAG: u32 = 0x2000_0000;
 
-fn remote_frame(raw: u32, extended: bool, len: u8) -> Option<CanFrame> {
-    use embedded_can::{ExtendedId, Frame as _, Id, StandardId};
-    let id = if extended {
-        Id::Extended(ExtendedId::new(raw)?)
-    } else {
-        Id::Standard(StandardId::new(u16::try_from(raw).ok()?)?)
+/// One `candump -L` line, as can-utils and python-can write it: `(1700000000.123456) can0
+/// 701#05`, any number of decimals (digits past the sixth are dropped), `ID#R` or `ID#R8` for a
+/// remote request, an optional direction (`R`, `T`) after the frame as python-can writes it. CAN
+/// FD and error frames are recognised, not read.
+pub fn parse_log_line(text: &str) -> Result<LogLine, String> {
+    let words: Vec<&str> = text.split_ascii_whitespace().collect();
+    let (time, channel, frame) = match words.as_slice() {
+        [time, channel, frame] | [time, channel, frame, "R" | "T"] => (*time, *channel, *frame),
+        _ => {
+            return Err(format!(
+                "expected `(SECONDS) CHANNEL ID#DATA`, found `{}`",
+                shorten(text)
+            ))
+        }
     };
-    CanFrame::new_remote(id, len as usize)
+    let timestamp_us = parenthesised_time(time)?;
+    let (id, data) = frame
+        .split_once('#')
+        .ok_or_else(|| format!("bad frame `{frame}`: expected `ID#DATA`"))?;
+    if data.starts_with('#') {
+        return Ok(LogLine::Fd);
+    }
+    let (id, extended) = identifier(id)?;
+    if extended && id & CAN_ERR_FLAG != 0 {
+        return Ok(LogLine::Error);
+    }
+    let remote = match data.strip_prefix(['R', 'r']) {
+        Some("") => Some(0),
+        Some(len) if len.len() == 1 && len.as_bytes()[0].is_ascii_digit() => {
+            Some(len.as_bytes()[0] - b'0')
+        }
+        Some(_) => {
+            return Err(format!(
+                "bad remote request `{frame}`: expected `ID#R` or `ID#R0`..`ID#R8`"
+            ))
+        }
+        None => None,
+    };
+    let bytes = if remote.is_some() {
+        Vec::new()
+    } else {
+        hex_pairs(data).ok_or_else(|| format!("bad data `{data}`: expected pairs of hex digits"))?
+    };
+    let frame = make_frame(id, extended, remote, &bytes)?;
+    Ok(LogLine::Frame(TraceRecord {
+        timestamp_us,
+        channel: channel.to_owned(),
+        frame,
+    }))
 }
 
-/// `text` as bytes written as pairs of hex digits (at most 8 of them). Only digits: a sign, which
-/// `from_str_radix` would take (`+F`), is not one.
-pub(crate) fn parse_hex(text: &str) -> Option<Vec<u8>> {
-    if text.len() % 2 != 0 || text.len() > 16 || !text.bytes().all(|b| b.is_ascii_hexdigit()) {
+/// `text` cut to its first 60 characters (and `...`) for an error message.
+pub fn shorten(text: &str) -> String {
+    match text.char_indices().nth(60) {
+        Some((at, _)) => format!("{}...", &text[..at]),
+        None => text.to_owned(),
+    }
+}
+
+/// Bytes written as pairs of hex digits without separators (`057F`).
+pub fn hex_pairs(text: &str) -> Option<Vec<u8>> {
+    if !text.is_ascii() || text.len() % 2 != 0 {
         return None;
     }
-    (0..text.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(&text[i..i + 2], 16).ok())
+    let pairs: Vec<&str> = (0..text.len() / 2)
+        .map(|i| &text[2 * i..2 * i + 2])
+        .collect();
+    hex_words(&pairs)
+}
+
+/// `text` as at most 8 bytes written as pairs of hex digits. Only digits: a sign, which
+/// `from_str_radix` would take (`+F`), is not one.
+pub(crate) fn parse_hex(text: &str) -> Option<Vec<u8>> {
+    hex_pairs(text).filter(|bytes| bytes.len() <= 8)
+}
+
+/// `(1700000000.123456)` (any decimals) as microseconds.
+pub fn parenthesised_time(word: &str) -> Result<u64, String> {
+    word.strip_prefix('(')
+        .and_then(|w| w.strip_suffix(')'))
+        .and_then(seconds_to_micros)
+        .ok_or_else(|| {
+            format!("bad timestamp `{word}`: expected `(SECONDS)`, such as `(1700000000.123456)`")
+        })
+}
+
+/// An identifier in hex as candump writes it: 3 digits or fewer standard, 8 extended (flags
+/// included); `(identifier, extended)`.
+pub fn identifier(word: &str) -> Result<(u32, bool), String> {
+    if word.is_empty() || word.len() > 8 || !word.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return Err(format!(
+            "bad identifier `{word}`: expected 3 or 8 hex digits"
+        ));
+    }
+    let id = u32::from_str_radix(word, 16).map_err(|_| format!("bad identifier `{word}`"))?;
+    Ok((id, word.len() == 8))
+}
+
+/// Seconds with any number of decimals (`1700000000.123456`, `0.5`, `12`) as microseconds;
+/// digits past the sixth decimal are dropped. `None` for anything else.
+pub fn seconds_to_micros(text: &str) -> Option<u64> {
+    decimal_to_micros(text, 1_000_000)
+}
+
+/// A decimal number of `unit`s (1,000,000 for seconds, 1,000 for milliseconds) as
+/// microseconds, truncated.
+pub fn decimal_to_micros(text: &str, unit: u64) -> Option<u64> {
+    let (whole, fraction) = text.split_once('.').unwrap_or((text, ""));
+    if whole.is_empty() || !whole.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    if !fraction.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let whole: u64 = whole.parse().ok()?;
+    let mut micros = 0u64;
+    let mut scale = unit;
+    for digit in fraction.bytes() {
+        scale /= 10;
+        if scale == 0 {
+            break;
+        }
+        micros += u64::from(digit - b'0') * scale;
+    }
+    whole.checked_mul(unit)?.checked_add(micros)
+}
+
+/// Bytes as pairs of hex digits, one pair a word (`05 7F`); `None` if a word is not one.
+pub fn hex_words(words: &[&str]) -> Option<Vec<u8>> {
+    words
+        .iter()
+        .map(|w| {
+            (w.len() == 2 && w.bytes().all(|b| b.is_ascii_hexdigit()))
+                .then(|| u8::from_str_radix(w, 16).ok())
+                .flatten()
+        })
         .collect()
+}
+
+/// A classic frame: standard when `extended` is false (11 bits), else 29 bits; a remote request
+/// of `len` when `remote`.
+pub fn make_frame(
+    id: u32,
+    extended: bool,
+    remote: Option<u8>,
+    data: &[u8],
+) -> Result<CanFrame, String> {
+    use embedded_can::{ExtendedId, Id, StandardId};
+    if data.len() > 8 {
+        return Err(format!(
+            "{} data bytes: a classic frame has at most 8",
+            data.len()
+        ));
+    }
+    let bad_id = || {
+        if extended {
+            format!("identifier {id:X} is not 29 bits")
+        } else {
+            format!("identifier {id:X} is not 11 bits")
+        }
+    };
+    match remote {
+        Some(len) if len <= 8 => {
+            let id = if extended {
+                Id::Extended(ExtendedId::new(id).ok_or_else(bad_id)?)
+            } else {
+                let id = u16::try_from(id).ok().and_then(StandardId::new);
+                Id::Standard(id.ok_or_else(bad_id)?)
+            };
+            <CanFrame as embedded_can::Frame>::new_remote(id, usize::from(len)).ok_or_else(bad_id)
+        }
+        Some(len) => Err(format!("remote request of length {len}: at most 8")),
+        None if extended => CanFrame::new_extended(id, data).ok_or_else(bad_id),
+        None => u16::try_from(id)
+            .ok()
+            .and_then(|id| CanFrame::new(id, data))
+            .ok_or_else(bad_id),
+    }
 }
 
 /// Reads a `candump -L` log line by line; blank lines are skipped.
@@ -446,15 +537,15 @@ mod tests {
         let cases = [
             (
                 "can0 603#00",
-                "expected `(SECS.USECS) CHANNEL ID#DATA`, found `can0 603#00`",
+                "expected `(SECONDS) CHANNEL ID#DATA`, found `can0 603#00`",
             ),
             (
-                "(1.5) can0 603#00",
-                "bad timestamp `(1.5)`: expected `(SECS.USECS)` with 6 decimals",
+                "(1.x) can0 603#00",
+                "bad timestamp `(1.x)`: expected `(SECONDS)`, such as `(1700000000.123456)`",
             ),
             (
                 "(x.000000) can0 603#00",
-                "bad timestamp `(x.000000)`: expected `(SECS.USECS)` with 6 decimals",
+                "bad timestamp `(x.000000)`: expected `(SECONDS)`, such as `(1700000000.123456)`",
             ),
             (
                 "(1.000000) can0 60300",
@@ -462,48 +553,52 @@ mod tests {
             ),
             (
                 "(1.000000) can0 6030#00",
-                "bad identifier `6030`: 4 digits, expected 3 (standard) or 8 (extended)",
+                "identifier 6030 is not 11 bits",
             ),
             (
                 "(1.000000) can0 G03#00",
-                "bad identifier `G03`: expected hex digits",
+                "bad identifier `G03`: expected 3 or 8 hex digits",
             ),
-            ("(1.000000) can0 803#00", "identifier 803 out of range"),
+            ("(1.000000) can0 803#00", "identifier 803 is not 11 bits"),
             (
                 "(1.000000) can0 40000000#00",
-                "identifier 40000000 out of range",
+                "identifier 40000000 is not 29 bits",
             ),
             (
                 "(1.000000) can0 20000004#0004000000000000",
-                "`20000004#0004000000000000` is an error frame (CAN_ERR_FLAG set): not supported",
+                "`(1.000000) can0 20000004#0004000000000000` is an error frame (CAN_ERR_FLAG set): not supported",
             ),
             (
                 "(1.000000) can0 123##1DEADBEEF",
-                "`123##1DEADBEEF` is a CAN FD frame (`ID##FLAGSDATA`): not supported",
+                "`(1.000000) can0 123##1DEADBEEF` is a CAN FD frame (`ID##FLAGSDATA`): not supported",
             ),
             (
                 "(1.000000) can0 603#0",
-                "bad data `0`: expected 0 to 8 bytes as pairs of hex digits",
+                "bad data `0`: expected pairs of hex digits",
             ),
             (
                 "(1.000000) can0 603#000102030405060708",
-                "bad data `000102030405060708`: expected 0 to 8 bytes as pairs of hex digits",
+                "9 data bytes: a classic frame has at most 8",
             ),
             (
                 "(1.000000) can0 603#é1",
-                "bad data `é1`: expected 0 to 8 bytes as pairs of hex digits",
+                "bad data `é1`: expected pairs of hex digits",
             ),
             (
                 "(1.000000) can0 603#+F",
-                "bad data `+F`: expected 0 to 8 bytes as pairs of hex digits",
+                "bad data `+F`: expected pairs of hex digits",
             ),
             (
                 "(1.000000) can0 603#R9",
-                "bad remote request `603#R9`: expected `ID#R` or `ID#R0`..`ID#R8`",
+                "remote request of length 9: at most 8",
+            ),
+            (
+                "(1.000000) can0 603#Rx",
+                "bad remote request `603#Rx`: expected `ID#R` or `ID#R0`..`ID#R8`",
             ),
             (
                 "(1.000000) can0 603#00 extra",
-                "expected `(SECS.USECS) CHANNEL ID#DATA`, found `(1.000000) can0 603#00 extra`",
+                "expected `(SECONDS) CHANNEL ID#DATA`, found `(1.000000) can0 603#00 extra`",
             ),
         ];
         for (line, message) in cases {
@@ -532,7 +627,7 @@ mod tests {
         let error = reader.next().unwrap().unwrap_err();
         assert_eq!(
             error.to_string(),
-            "line 4: bad candump line: expected `(SECS.USECS) CHANNEL ID#DATA`, found `nonsense`"
+            "line 4: bad candump line: expected `(SECONDS) CHANNEL ID#DATA`, found `nonsense`"
         );
         assert_eq!(reader.next().unwrap().unwrap().timestamp_us, 3_000_000);
         assert!(reader.next().is_none());

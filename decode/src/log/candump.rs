@@ -6,53 +6,20 @@
 //! for an RTR, a two-digit length (`[08]`) for CAN FD, and `-a`'s `'...'` or `ERRORFRAME` after
 //! the data.
 
-use super::{hex_words, make_frame, seconds_to_micros, Line};
+use edsgen_host::trace::{identifier, parenthesised_time, LogLine, CAN_ERR_FLAG};
 
-/// The flag Linux sets in the identifier of an error frame, which candump prints as it is.
-const CAN_ERR_FLAG: u32 = 0x2000_0000;
+use super::{hex_words, make_frame, Line};
 
-/// One `candump -L` line.
+/// One `candump -L` line, read by the host crate's trace codec.
 pub fn parse_log_line(text: &str) -> Result<Line, String> {
-    let words: Vec<&str> = text.split_ascii_whitespace().collect();
-    let (time, frame) = match words.as_slice() {
-        [time, _channel, frame] | [time, _channel, frame, "R" | "T"] => (*time, *frame),
-        _ => {
-            return Err(format!(
-                "expected `(SECONDS) CHANNEL ID#DATA`, found `{}`",
-                super::shorten(text)
-            ))
-        }
-    };
-    let time_us = parenthesised_time(time)?;
-    let (id, data) = frame
-        .split_once('#')
-        .ok_or_else(|| format!("bad frame `{frame}`: expected `ID#DATA`"))?;
-    if data.starts_with('#') {
-        return Ok(Line::Fd);
-    }
-    let (id, extended) = identifier(id)?;
-    if extended && id & CAN_ERR_FLAG != 0 {
-        return Ok(Line::Error);
-    }
-    let remote = match data.strip_prefix(['R', 'r']) {
-        Some("") => Some(0),
-        Some(len) if len.len() == 1 && len.as_bytes()[0].is_ascii_digit() => {
-            Some(len.as_bytes()[0] - b'0')
-        }
-        Some(_) => {
-            return Err(format!(
-                "bad remote request `{frame}`: expected `ID#R` or `ID#R0`..`ID#R8`"
-            ))
-        }
-        None => None,
-    };
-    let bytes = if remote.is_some() {
-        Vec::new()
-    } else {
-        hex_pairs(data).ok_or_else(|| format!("bad data `{data}`: expected pairs of hex digits"))?
-    };
-    let frame = make_frame(id, extended, remote, &bytes)?;
-    Ok(Line::Frame { time_us, frame })
+    Ok(match edsgen_host::trace::parse_log_line(text)? {
+        LogLine::Frame(record) => Line::Frame {
+            time_us: record.timestamp_us,
+            frame: record.frame,
+        },
+        LogLine::Fd => Line::Fd,
+        LogLine::Error => Line::Error,
+    })
 }
 
 /// One line of candump's default output, with or without a `(SECONDS)` timestamp.
@@ -136,38 +103,6 @@ pub fn parse_line(text: &str) -> Result<Line, String> {
         time_us,
         frame: make_frame(id, extended, None, &bytes)?,
     })
-}
-
-/// Bytes written as pairs of hex digits without separators (`057F`).
-fn hex_pairs(text: &str) -> Option<Vec<u8>> {
-    if !text.is_ascii() || !text.len().is_multiple_of(2) {
-        return None;
-    }
-    let pairs: Vec<&str> = (0..text.len() / 2)
-        .map(|i| &text[2 * i..2 * i + 2])
-        .collect();
-    hex_words(&pairs)
-}
-
-/// `(1700000000.123456)` (any decimals) as microseconds.
-fn parenthesised_time(word: &str) -> Result<u64, String> {
-    word.strip_prefix('(')
-        .and_then(|w| w.strip_suffix(')'))
-        .and_then(seconds_to_micros)
-        .ok_or_else(|| {
-            format!("bad timestamp `{word}`: expected `(SECONDS)`, such as `(1700000000.123456)`")
-        })
-}
-
-/// An identifier in hex: 3 digits or fewer standard, 8 extended (flags included).
-fn identifier(word: &str) -> Result<(u32, bool), String> {
-    if word.is_empty() || word.len() > 8 || !word.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Err(format!(
-            "bad identifier `{word}`: expected 3 or 8 hex digits"
-        ));
-    }
-    let id = u32::from_str_radix(word, 16).map_err(|_| format!("bad identifier `{word}`"))?;
-    Ok((id, word.len() == 8))
 }
 
 #[cfg(test)]

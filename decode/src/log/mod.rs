@@ -17,6 +17,9 @@ use std::io::{self, BufRead};
 
 use edsgen_runtime::CanFrame;
 
+pub use edsgen_host::trace::seconds_to_micros;
+use edsgen_host::trace::{decimal_to_micros, hex_words, make_frame, shorten};
+
 /// What one line of a log holds.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Line {
@@ -229,96 +232,6 @@ fn recognise(text: &str) -> Option<Parser> {
         return Some(Parser::Asc(asc::Asc::default()));
     }
     None
-}
-
-/// `text` cut to 60 characters for a warning.
-fn shorten(text: &str) -> String {
-    match text.char_indices().nth(60) {
-        Some((at, _)) => format!("{}...", &text[..at]),
-        None => text.to_owned(),
-    }
-}
-
-/// Seconds with any number of decimals (`1700000000.123456`, `0.5`, `12`) as microseconds;
-/// digits past the sixth decimal are dropped. `None` for anything else.
-pub fn seconds_to_micros(text: &str) -> Option<u64> {
-    decimal_to_micros(text, 1_000_000)
-}
-
-/// A decimal number of `unit`s (1,000,000 for seconds, 1,000 for milliseconds) as
-/// microseconds, truncated.
-pub(crate) fn decimal_to_micros(text: &str, unit: u64) -> Option<u64> {
-    let (whole, fraction) = text.split_once('.').unwrap_or((text, ""));
-    if whole.is_empty() || !whole.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    if !fraction.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    let whole: u64 = whole.parse().ok()?;
-    let mut micros = 0u64;
-    let mut scale = unit;
-    for digit in fraction.bytes() {
-        scale /= 10;
-        if scale == 0 {
-            break;
-        }
-        micros += u64::from(digit - b'0') * scale;
-    }
-    whole.checked_mul(unit)?.checked_add(micros)
-}
-
-/// Bytes as pairs of hex digits, one pair a word (`05 7F`); `None` if a word is not one.
-pub(crate) fn hex_words(words: &[&str]) -> Option<Vec<u8>> {
-    words
-        .iter()
-        .map(|w| {
-            (w.len() == 2 && w.bytes().all(|b| b.is_ascii_hexdigit()))
-                .then(|| u8::from_str_radix(w, 16).ok())
-                .flatten()
-        })
-        .collect()
-}
-
-/// A classic frame: standard when `extended` is false (11 bits), else 29 bits; a remote request
-/// of `len` when `remote`.
-pub(crate) fn make_frame(
-    id: u32,
-    extended: bool,
-    remote: Option<u8>,
-    data: &[u8],
-) -> Result<CanFrame, String> {
-    use embedded_can::{ExtendedId, Id, StandardId};
-    if data.len() > 8 {
-        return Err(format!(
-            "{} data bytes: a classic frame has at most 8",
-            data.len()
-        ));
-    }
-    let bad_id = || {
-        if extended {
-            format!("identifier {id:X} is not 29 bits")
-        } else {
-            format!("identifier {id:X} is not 11 bits")
-        }
-    };
-    match remote {
-        Some(len) if len <= 8 => {
-            let id = if extended {
-                Id::Extended(ExtendedId::new(id).ok_or_else(bad_id)?)
-            } else {
-                let id = u16::try_from(id).ok().and_then(StandardId::new);
-                Id::Standard(id.ok_or_else(bad_id)?)
-            };
-            <CanFrame as embedded_can::Frame>::new_remote(id, usize::from(len)).ok_or_else(bad_id)
-        }
-        Some(len) => Err(format!("remote request of length {len}: at most 8")),
-        None if extended => CanFrame::new_extended(id, data).ok_or_else(bad_id),
-        None => u16::try_from(id)
-            .ok()
-            .and_then(|id| CanFrame::new(id, data))
-            .ok_or_else(bad_id),
-    }
 }
 
 /// Days since 1970-01-01 of a civil date (the proleptic Gregorian calendar).
