@@ -1,7 +1,7 @@
 //! The `edsgen` command line: validate, dump, generate, list and explain the rules, and the bus
 //! commands. The commands themselves live in `cmd/`; this file parses the arguments.
 //!
-//! Exit codes (design.md): 0 clean, 1 the input has errors (or warnings under `--deny
+//! Exit codes: 0 clean, 1 the input has errors (or warnings under `--deny
 //! warnings`), 2 usage or I/O problems.
 
 mod cmd;
@@ -18,7 +18,7 @@ use cmd::EXIT_USAGE;
 #[command(
     name = "edsgen",
     version,
-    about = "Typed Rust from CANopen device descriptions (EDS, DCF, XDD, XDC)"
+    about = "Typed Rust from fieldbus device descriptions (CANopen EDS, DCF, XDD, XDC; EtherNet/IP EDS; PROFIBUS GSD; PROFINET GSDML; EtherCAT ESI)"
 )]
 struct Cli {
     #[command(subcommand)]
