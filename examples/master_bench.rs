@@ -12,7 +12,6 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use edsgen::cards::cp301::{self, od};
 use edsgen_host::driver::{Driver, MonotonicClock};
 use edsgen_host::hub::{Hub, HubOptions};
 use edsgen_host::master::blocking::Master;
@@ -25,6 +24,7 @@ use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::{
     Access, CanFrame, DataType, Duration as OdDuration, EntryDescriptor, ObjectDictionary, SdoAbort,
 };
+use edsgen_sim::cards::cp301::{self, od};
 
 const ROUND_TRIPS: usize = 10_000;
 const DOMAIN_LEN: usize = 64 * 1024;

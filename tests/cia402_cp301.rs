@@ -1,9 +1,9 @@
 //! The runtime's CiA 402 drive on the CP301's generated dictionary: the manual's velocity-mode
 //! sequence (CP301 §5.3) by SDO, frame for frame, with the statusword and the ramp read back.
 
-use edsgen::cards::cp301::Od;
 use edsgen_runtime::cia402::{Drive, DriveConfig};
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
+use edsgen_sim::cards::cp301::Od;
 
 const NODE: u8 = 3;
 

@@ -5,8 +5,8 @@
 mod drive_support;
 
 use drive_support::{ms, Bench};
-use edsgen::drives::Cp301;
 use edsgen_runtime::cia402::State;
+use edsgen_sim::drives::Cp301;
 
 const NODE: u8 = 3;
 

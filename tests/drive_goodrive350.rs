@@ -5,7 +5,7 @@
 mod drive_support;
 
 use drive_support::{ms, timed, Bench};
-use edsgen::drives::goodrive350::{parameter, Goodrive350};
+use edsgen_sim::drives::goodrive350::{parameter, Goodrive350};
 
 /// The drive powered up and started (NMT start all, §3.4.3).
 fn started() -> Bench<Goodrive350> {

@@ -5,7 +5,7 @@
 mod drive_support;
 
 use drive_support::{ms, Bench};
-use edsgen::drives::Hd1e;
+use edsgen_sim::drives::Hd1e;
 
 #[test]
 fn pdo1_parameter_access_answers_with_tables_20_and_21() {

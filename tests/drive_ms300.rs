@@ -5,8 +5,8 @@
 mod drive_support;
 
 use drive_support::{ms, Bench};
-use edsgen::drives::ms300::ControlMode;
-use edsgen::drives::Ms300;
+use edsgen_sim::drives::ms300::ControlMode;
+use edsgen_sim::drives::Ms300;
 
 /// Powered up, with Pr. 00-21 = 3 and Pr. 00-20 = 6 (CANopen commands and frequency).
 fn booted() -> Bench<Ms300> {

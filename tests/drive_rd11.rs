@@ -5,7 +5,7 @@
 mod drive_support;
 
 use drive_support::{ms, Bench};
-use edsgen::drives::Rd11;
+use edsgen_sim::drives::Rd11;
 
 fn booted() -> Bench<Rd11> {
     Bench::booted(Rd11::new(2, ms(0)).expect("node-ID 2"))

@@ -1,16 +1,16 @@
 //! CiA 402 over EtherCAT without hardware: the master's cyclic `Controller` against the
-//! simulated EC-TX508 (`edsgen::drives::EcTx508`: the runtime's `cia402::Drive` in cyclic
+//! simulated EC-TX508 (`edsgen_sim::drives::EcTx508`: the runtime's `cia402::Drive` in cyclic
 //! synchronous velocity), through the card's generated process images as bytes. Each 1 ms cycle
 //! the controller fills `ethercat::Outputs` (controlword, 6060h, 60FFh), which is encoded into
 //! the 21-byte image; the device decodes it by the 1600h mapping, runs the drive one cycle, and
 //! encodes its statusword, 6061h and actual speed into the 23-byte inputs image (1A00h), which
 //! the master decodes next cycle.
 
-use edsgen::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
-use edsgen::drives::EcTx508;
 use edsgen_runtime::cia402::{mode, State};
 use edsgen_runtime::master::cia402::{Controller, Outcome};
 use edsgen_runtime::Instant;
+use edsgen_sim::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
+use edsgen_sim::drives::EcTx508;
 
 /// The master's side of one cycle: what it decided and what it had seen.
 #[derive(Debug, Clone, Copy)]

@@ -1,10 +1,10 @@
 //! A node serving a generated `Od` on the virtual bus: what the generated code provides to the
 //! runtime beyond reads and writes (the defaults NMT resets restore).
 
-use edsgen::cards::goodrive350::{od, Od};
 use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::{CanFrame, Instant};
+use edsgen_sim::cards::goodrive350::{od, Od};
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::new(id, data).unwrap()

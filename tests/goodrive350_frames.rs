@@ -10,10 +10,10 @@
 //!   bit 31), as the CiA 301 procedure asks; the write and the read back are the manual's frames.
 //!   The read back answers `4B` (2 bytes, UNSIGNED16), where the manual prints `43`.
 
-use edsgen::cards::goodrive350::{od, Od};
 use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::node::{error_register, NmtState, Node};
 use edsgen_runtime::{CanFrame, Instant};
+use edsgen_sim::cards::goodrive350::{od, Od};
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::new(id, data).unwrap()

@@ -10,8 +10,6 @@ mod sim_support;
 use std::cell::Cell;
 use std::time::{Duration, Instant};
 
-use edsgen::cards::cp301::{self, od};
-use edsgen::sim::RuntimeDictionary;
 use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_host::master::blocking::{MasterError, MasterEvent};
 use edsgen_host::master::concurrent::AsyncMaster;
@@ -22,6 +20,8 @@ use edsgen_runtime::node::Node;
 use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::wire::sdo::Multiplexer;
+use edsgen_sim::canopen::RuntimeDictionary;
+use edsgen_sim::cards::cp301::{self, od};
 
 fn nodes(bus: &MemoryBus, ids: &[u8]) -> Vec<DriverHandle<MemoryEndpoint, Node<cp301::Od>>> {
     ids.iter()

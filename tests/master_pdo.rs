@@ -8,7 +8,6 @@ mod drive_support;
 
 use std::time::Duration;
 
-use edsgen::cards::cp301::{self, od, pdo};
 use edsgen_host::driver::{Driver, MonotonicClock};
 use edsgen_host::master::blocking::{Master, MasterError};
 use edsgen_host::memory::MemoryBus;
@@ -16,6 +15,7 @@ use edsgen_host::Transport;
 use edsgen_runtime::master::{MappedPdo, PdoConfig, PdoKind, SdoError};
 use edsgen_runtime::node::Node;
 use edsgen_runtime::wire::nmt::NmtCommand;
+use edsgen_sim::cards::cp301::{self, od, pdo};
 
 edsgen_runtime::pdo_dispatch! {
     /// The TPDOs of a CP301 (it has one).

@@ -1,7 +1,7 @@
 //! `edsgen simulate [FILE[@ID]...] [--node-id N]... [--card NAME[@ID]]... [--bus HOST:PORT |
 //! --socketcan IFACE] [--trace]`: devices built at run time from description files, each a
 //! runtime `Node` serving a [`RuntimeDictionary`], and the bundled cards with their drives'
-//! behaviour ([`edsgen::drives`]); each on a driver thread with its own bus connection (so the
+//! behaviour ([`edsgen_sim::drives`]); each on a driver thread with its own bus connection (so the
 //! devices hear one another), until the process is stopped or the bus goes away.
 //!
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
@@ -40,10 +40,10 @@ use edsgen_host::Transport;
 use edsgen_runtime::{CanFrame, Node};
 
 use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
-use edsgen::drives::{Card, CARDS};
-use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use edsgen_codegen::model::Device;
 use edsgen_decode::Decoder;
+use edsgen_sim::canopen::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
+use edsgen_sim::drives::{Card, CARDS};
 
 /// How many receive and transmit PDOs a simulated node serves (1400h–140Fh, 1800h–180Fh).
 pub const PDOS: usize = 16;

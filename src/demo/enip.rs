@@ -17,7 +17,7 @@ use edsgen_sim::enip::wire::{emit_items, item, parse_items, Encapsulation};
 use edsgen_sim::enip::{device, driver, Adapter};
 
 use super::Trace;
-use crate::cards::goodrive350_enip as card;
+use edsgen_sim::cards::goodrive350_enip as card;
 
 /// The connection's RPI (µs): the EDS's 50 ms.
 pub(super) const RPI_US: u64 = 50_000;

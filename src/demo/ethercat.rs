@@ -13,9 +13,9 @@ use edsgen_runtime::master::cia402::{Controller, Outcome};
 use edsgen_runtime::Instant;
 
 use super::{expect, Trace};
-use crate::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
-use crate::drives::ec_tx508::{EcTx508, ESI, ESI_PATH};
 use edsgen_decode::image::ImageDecoder;
+use edsgen_sim::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
+use edsgen_sim::drives::ec_tx508::{EcTx508, ESI, ESI_PATH};
 
 /// The speed (rpm, 60FFh) the master asks for once operation is enabled.
 const SPEED: i32 = 300;

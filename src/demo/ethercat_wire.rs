@@ -47,9 +47,9 @@ mod wire {
     use super::super::ethercat::{workflow, Exchange};
     use super::super::two_namespaces::{Outcome, Server};
     use super::super::{expect, Trace};
-    use crate::cards::ec_tx508::ethercat::{Inputs, Outputs, IDENTITY};
-    use crate::cards::ec_tx508::od;
     use crate::netns::{End, Network};
+    use edsgen_sim::cards::ec_tx508::ethercat::{Inputs, Outputs, IDENTITY};
+    use edsgen_sim::cards::ec_tx508::od;
 
     /// The EC-TX508 on the far end of the pair, in Op, cycled by ethercrab.
     struct Wire {

@@ -11,7 +11,7 @@ use edsgen_runtime::od::access::{Readable, Writable};
 use edsgen_runtime::{CanFrame, Duration, Entry, Instant, OdValue};
 
 use super::{Link, Trace, CP301_NODE, GOODRIVE350_NODE};
-use crate::drives::{Cp301, Goodrive350};
+use edsgen_sim::drives::{Cp301, Goodrive350};
 
 /// The master's side of the bus: one SDO client per node, and frames to send (NMT, PDOs).
 #[derive(Default)]

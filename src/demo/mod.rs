@@ -50,9 +50,9 @@ use edsgen_runtime::od::access::{Readable, Writable};
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::{CanFrame, Entry, OdValue};
 
-use crate::cards::{cp301, goodrive350};
-use crate::drives::{ec_tx508, Card, CARDS};
 use edsgen_decode::Decoder;
+use edsgen_sim::cards::{cp301, goodrive350};
+use edsgen_sim::drives::{ec_tx508, Card, CARDS};
 
 /// The CP301's node-ID on the demo bus.
 pub const CP301_NODE: u8 = 2;

@@ -28,8 +28,8 @@ use edsgen_sim::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
 use edsgen_sim::profinet::wire::{Ethernet, Mac};
 
 use super::{expect, Trace};
-use crate::cards::goodrive350_pn as card;
 use card::modules::pkw_pzd_16_words::subslot_1::{Input, Output};
+use edsgen_sim::cards::goodrive350_pn as card;
 
 /// In this process: the card's and the controller's MAC addresses and the controller's RPC
 /// endpoint.

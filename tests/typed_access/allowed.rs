@@ -2,7 +2,7 @@
 //! write-only and read-write ones, and reads and writes an address built by hand (access
 //! unknown); the device application gets and sets its entries whatever their access.
 
-use edsgen::cards::{cp301, goodrive350, rd11};
+use edsgen_sim::cards::{cp301, goodrive350, rd11};
 use edsgen_host::master::blocking::{Master, MasterError};
 use edsgen_host::master::concurrent::AsyncMaster;
 use edsgen_runtime::master::{SdoClient, StartError};

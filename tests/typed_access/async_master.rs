@@ -1,7 +1,7 @@
 //! The async master refuses, at compile time, a typed write of a read-only or constant entry
 //! and a typed read of a write-only one.
 
-use edsgen::cards::{cp301, goodrive350, rd11};
+use edsgen_sim::cards::{cp301, goodrive350, rd11};
 use edsgen_host::master::concurrent::AsyncMaster;
 use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::FixedBytes;
