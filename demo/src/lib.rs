@@ -28,6 +28,8 @@
 //! ([`crate::netns`] makes and removes the namespaces; `two_namespaces` starts the simulator
 //! and the demo's client role in them).
 
+#![forbid(unsafe_code)]
+
 mod dp;
 mod enip;
 mod enip_wire;
@@ -38,6 +40,10 @@ mod profinet;
 mod profinet_wire;
 mod remote;
 mod two_namespaces;
+
+#[cfg(feature = "ethercrab")]
+pub mod ecat;
+pub mod netns;
 
 use std::path::Path;
 use std::time::Duration as StdDuration;

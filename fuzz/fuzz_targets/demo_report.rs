@@ -3,7 +3,7 @@
 //! (`Report::to_json`) to text that reads as the same report.
 #![no_main]
 
-use edsgen::demo::Report;
+use edsgen_demo::Report;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -1,5 +1,5 @@
 //! `edsgen decode [--eds FILE --node-id N]... [--full] [LOG]`: every frame of a CAN log (a
-//! file, or standard input) as one decoded line (see [`edsgen::decode`] for the lines and
+//! file, or standard input) as one decoded line (see [`edsgen_decode`] for the lines and
 //! [`edsgen_decode::log`] for the formats: candump `-L` and default, Vector ASC, PCAN TRC,
 //! recognised by their content). A line that cannot be read is a warning with its number on
 //! standard error and decoding goes on; what was skipped (CAN FD, error frames, bytes that are

@@ -71,7 +71,7 @@ pub fn run(args: &Args) -> ExitCode {
         }
     }
     if let Some(addr) = args.enip_scanner {
-        print_stdout(&edsgen::demo::enip_scanner(addr).to_json());
+        print_stdout(&edsgen_demo::enip_scanner(addr).to_json());
         return ExitCode::SUCCESS;
     }
     if let Some([iface, addr]) = args.profinet_controller.as_deref() {
@@ -80,25 +80,25 @@ pub fn run(args: &Args) -> ExitCode {
                 "--profinet-controller: `{addr}` is not an IPv4 address"
             ));
         };
-        print_stdout(&edsgen::demo::profinet_controller(iface, addr).to_json());
+        print_stdout(&edsgen_demo::profinet_controller(iface, addr).to_json());
         return ExitCode::SUCCESS;
     }
-    let wires = edsgen::demo::Wires {
+    let wires = edsgen_demo::Wires {
         ethercat: args.ethercat,
         enip: args.enip,
         profinet: args.profinet,
     };
-    if wires != edsgen::demo::Wires::default() {
+    if wires != edsgen_demo::Wires::default() {
         // Ctrl-C must not leave a namespace behind.
-        if let Err(message) = edsgen::netns::clean_up_on_signal() {
+        if let Err(message) = edsgen_demo::netns::clean_up_on_signal() {
             return fail(message);
         }
     }
     let report = match &args.bus {
-        Some(addr) => edsgen::demo::run_on_bus(addr),
-        None => edsgen::demo::run_with(wires),
+        Some(addr) => edsgen_demo::run_on_bus(addr),
+        None => edsgen_demo::run_with(wires),
     };
-    while edsgen::netns::interrupted() {
+    while edsgen_demo::netns::interrupted() {
         // Ctrl-C: the handler removes the namespaces, then ends the process with 130.
         std::thread::sleep(Duration::from_millis(100));
     }

@@ -10,7 +10,7 @@
 //! node-ID is its `@ID`, else its default (ms300 1, cp301 2, goodrive350 3, rd11 4, hd1e 5: the
 //! demo's CP301 and Goodrive350 are `--card cp301 --card goodrive350`).
 //! `--trace` prints every frame on the bus decoded
-//! ([`edsgen::decode`]), as a further listening connection sees it. With python `canopen` as the
+//! ([`edsgen_decode`]), as a further listening connection sees it. With python `canopen` as the
 //! master (some lines left out):
 //!
 //! ```text
