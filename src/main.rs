@@ -158,6 +158,11 @@ enum Command {
     /// PROFIBUS-DP cards, in this process, or with --ethercat, --enip and --profinet over a
     /// real wire.
     Demo(cmd::demo::Args),
+    /// The demo's client roles that `demo --enip` and `demo --profinet` run inside a network
+    /// namespace (a process enters one only by being started in it): the card's steps against
+    /// the device at the address, the report as JSON on standard output.
+    #[command(subcommand)]
+    DemoRole(cmd::demo::Role),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -263,5 +268,6 @@ fn main() -> ExitCode {
         Command::Dp(command) => cmd::dp::run(command),
         Command::Decode(args) => cmd::decode::run(args),
         Command::Demo(args) => cmd::demo::run(&args),
+        Command::DemoRole(role) => cmd::demo::run_role(&role),
     }
 }

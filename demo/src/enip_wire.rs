@@ -1,7 +1,7 @@
 //! `edsgen demo --enip`: the EtherNet/IP card's steps ([`super::enip::workflow`]) over real TCP
 //! 44818 and UDP 2222. As root, two private network namespaces joined by a veth pair: `edsgen
 //! simulate --enip 192.168.250.1 --card goodrive350-enip` in one; in the other this same
-//! binary again as the demo's scanner (`edsgen demo --enip-scanner ADDR`, [`scan`]: a process
+//! binary again as the demo's scanner (`edsgen demo-role enip-scanner ADDR`, [`scan`]: a process
 //! enters a namespace only by being started in it), which prints its report as JSON for this
 //! process to take into its trace, with the adapter's own log lines. Namespaces, pair and
 //! programs go when the section ends (or on Ctrl-C, [`crate::netns`]). Not root: said on
@@ -65,9 +65,9 @@ fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
     let adapter = Server::start(trace, net, &mut command, shown, "the adapter", ready)?;
 
     let result = net.command(1, &pair.exe).and_then(|mut command| {
-        command.args(["demo", "--enip-scanner", &ADAPTER.to_string()]);
+        command.args(["demo-role", "enip-scanner", &ADAPTER.to_string()]);
         let shown = format!(
-            "ip netns exec {scanner_ns} edsgen demo --enip-scanner {ADAPTER} (the scanner, at \
+            "ip netns exec {scanner_ns} edsgen demo-role enip-scanner {ADAPTER} (the scanner, at \
              {SCANNER})"
         );
         two_namespaces::client(trace, net, &mut command, shown, "the scanner", STEPS)
@@ -75,7 +75,7 @@ fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
     adapter.stop(net, Duration::from_secs(2), result)
 }
 
-/// `edsgen demo --enip-scanner ADDR`, run inside the scanner's namespace by `--enip`: the card's
+/// `edsgen demo-role enip-scanner ADDR`, run inside the scanner's namespace by `--enip`: the card's
 /// steps against the adapter at `addr` (TCP 44818, UDP 2222), the report to print as JSON.
 pub fn scan(addr: Ipv4Addr) -> Report {
     let mut trace = Trace::new(Report::default());

@@ -1,7 +1,7 @@
 //! `edsgen demo --profinet`: the PROFINET card's steps ([`super::profinet::workflow`]) over real
 //! frames. As root, two private network namespaces joined by a veth pair: `edsgen simulate
 //! --profinet END --card goodrive350-pn --ip 192.168.251.1/24` in one; in the other this same
-//! binary again as the demo's controller (`edsgen demo --profinet-controller IFACE ADDR`,
+//! binary again as the demo's controller (`edsgen demo-role profinet-controller IFACE ADDR`,
 //! [`control`]: a process enters a namespace only by being started in it), with DCP and the
 //! RT_CLASS_1 frames on a packet socket (EtherType 0x8892) and connection management on its own
 //! UDP 34964, where the card's ApplicationReady comes; it prints its report as JSON for this
@@ -90,10 +90,10 @@ fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
 
     let result = net.command(1, &pair.exe).and_then(|mut command| {
         command
-            .args(["demo", "--profinet-controller", controller_end])
+            .args(["demo-role", "profinet-controller", controller_end])
             .arg(CARD.to_string());
         let shown = format!(
-            "ip netns exec {controller_ns} edsgen demo --profinet-controller {controller_end} \
+            "ip netns exec {controller_ns} edsgen demo-role profinet-controller {controller_end} \
              {CARD} (the controller, at {CONTROLLER})"
         );
         two_namespaces::client(trace, net, &mut command, shown, "the controller", STEPS)
@@ -101,7 +101,7 @@ fn on_wire(trace: &mut Trace, net: &mut Network, pair: &Pair) -> Outcome {
     card.stop(net, Duration::from_secs(2), result)
 }
 
-/// `edsgen demo --profinet-controller IFACE ADDR`, run inside the controller's namespace by
+/// `edsgen demo-role profinet-controller IFACE ADDR`, run inside the controller's namespace by
 /// `--profinet`: the card's steps from `iface` against the card at `card` (UDP 34964), the
 /// report to print as JSON.
 pub fn control(iface: &str, card: Ipv4Addr) -> Report {
