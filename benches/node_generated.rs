@@ -4,9 +4,9 @@
 //! `runtime/benches/node.rs` measures the same loops over the runtime's hand-written test OD.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use edsgen::cards::goodrive350::Od;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::{CanFrame, Instant};
+use edsgen_sim::cards::goodrive350::Od;
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::new(id, data).unwrap()

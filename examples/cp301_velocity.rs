@@ -1,5 +1,5 @@
 //! A master driving a simulated CP301 card through CiA 402 velocity mode with the typed API:
-//! the drive (`edsgen::drives::Cp301`: the generated `cp301::Od` served by a device node, with the
+//! the drive (`edsgen_sim::drives::Cp301`: the generated `cp301::Od` served by a device node, with the
 //! runtime's CiA 402 drive behind it) runs on its own thread on an in-memory bus; the master
 //! boots it, checks its identity against the card's constants, starts it, enables operation, sets
 //! a target velocity and the ramp, reads the speed back, and switches the drive off again.
@@ -9,14 +9,14 @@
 
 use std::time::Duration;
 
-use edsgen::cards::cp301::{self, od};
-use edsgen::drives::Cp301;
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::memory::MemoryBus;
 use edsgen_runtime::cia402::State;
-use edsgen_runtime::master::blocking::{Master, MasterError};
 use edsgen_runtime::master::ExpectedIdentity;
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::memory::MemoryBus;
 use edsgen_runtime::wire::nmt::NmtCommand;
+use edsgen_sim::cards::cp301::{self, od};
+use edsgen_sim::drives::Cp301;
 
 const NODE_ID: u8 = 3;
 const STEP: Duration = Duration::from_secs(1);

@@ -1,5 +1,5 @@
 //! Drives an INVT EC-TX508 (the Goodrive350's EtherCAT card) through CiA 402 with ethercrab and
-//! the bindings generated from `eds/ec-tx508.xml` (`edsgen::cards::ec_tx508`).
+//! the bindings generated from `eds/ec-tx508.xml` (`edsgen_sim::cards::ec_tx508`).
 //!
 //! The card is found by its identity; cyclic synchronous velocity mode (manual 6.5.2.4: 6060h =
 //! 9) is set by a typed SDO write; then every cycle the typed outputs image (1600h: control
@@ -19,10 +19,10 @@
 
 use std::time::Duration;
 
-use edsgen::cards::ec_tx508::{ethercat, od};
 use edsgen_runtime::cia402::State;
 use edsgen_runtime::ethercat::ethercrab::SdoExt;
 use edsgen_runtime::master::cia402::{state_of, Controller, Outcome};
+use edsgen_sim::cards::ec_tx508::{ethercat, od};
 use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::{EtherCrabWireRead, EtherCrabWireWrite};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};

@@ -12,19 +12,19 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use edsgen::cards::cp301::{self, od};
-use edsgen_runtime::master::blocking::Master;
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::master::blocking::Master;
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::master::Mode;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::sdo::SdoServer;
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::{
     Access, CanFrame, DataType, Duration as OdDuration, EntryDescriptor, ObjectDictionary, SdoAbort,
 };
+use edsgen_sim::cards::cp301::{self, od};
 
 const ROUND_TRIPS: usize = 10_000;
 const DOMAIN_LEN: usize = 64 * 1024;

@@ -4,9 +4,9 @@
 //! to 2100h:00, UNSIGNED16), each: inject the frame, process it, collect the response, drain the
 //! events.
 
-use edsgen::cards::goodrive350::Od;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::{CanFrame, Instant};
+use edsgen_sim::cards::goodrive350::Od;
 use std::hint::black_box;
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {

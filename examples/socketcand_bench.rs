@@ -16,13 +16,13 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use edsgen::cards::cp301;
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::CanFrame;
+use edsgen_sim::cards::cp301;
 
 const TIMEOUT: Duration = Duration::from_secs(5);
 

@@ -1,7 +1,7 @@
 //! The `edsgen` command line: validate, dump, generate, list and explain the rules, and the bus
 //! commands. The commands themselves live in `cmd/`; this file parses the arguments.
 //!
-//! Exit codes (design.md): 0 clean, 1 the input has errors (or warnings under `--deny
+//! Exit codes: 0 clean, 1 the input has errors (or warnings under `--deny
 //! warnings`), 2 usage or I/O problems.
 
 mod cmd;
@@ -18,7 +18,7 @@ use cmd::EXIT_USAGE;
 #[command(
     name = "edsgen",
     version,
-    about = "Typed Rust from CANopen device descriptions (EDS, DCF, XDD, XDC)"
+    about = "Typed Rust from fieldbus device descriptions (CANopen EDS, DCF, XDD, XDC; EtherNet/IP EDS; PROFIBUS GSD; PROFINET GSDML; EtherCAT ESI)"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -164,6 +164,11 @@ enum Command {
     /// PROFIBUS-DP cards, in this process, or with --ethercat, --enip and --profinet over a
     /// real wire.
     Demo(cmd::demo::Args),
+    /// The demo's client roles that `demo --enip` and `demo --profinet` run inside a network
+    /// namespace (a process enters one only by being started in it): the card's steps against
+    /// the device at the address, the report as JSON on standard output.
+    #[command(subcommand)]
+    DemoRole(cmd::demo::Role),
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -270,5 +275,6 @@ fn main() -> ExitCode {
         Command::Dp(command) => cmd::dp::run(command),
         Command::Decode(args) => cmd::decode::run(args),
         Command::Demo(args) => cmd::demo::run(&args),
+        Command::DemoRole(role) => cmd::demo::run_role(&role),
     }
 }

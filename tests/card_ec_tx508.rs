@@ -9,9 +9,9 @@ mod card_support;
 use card_support::{
     check_rows, integer_default, read, row, warnings_and_errors, DefaultValue, Row,
 };
-use edsgen::cards::ec_tx508::{ethercat, od};
 use edsgen_codegen::model::{AccessType, BasicType, Device, EcPdo, EtherCat, SmKind, SyncManager};
 use edsgen_runtime::ethercat::ProcessData;
+use edsgen_sim::cards::ec_tx508::{ethercat, od};
 
 use AccessType::{Ro, Rw, Rwr, Rww};
 use BasicType::{
@@ -371,7 +371,7 @@ fn generated_images_have_the_default_assignment_s_lengths() {
     assert_eq!(ethercat::SM2.start_address, 0x1800);
     assert_eq!(ethercat::SM3.start_address, 0x1C00);
     assert!(ethercat::IDENTITY.matches_exactly(0x4D8, 0x9252, 1));
-    let _: edsgen_runtime::Entry<i8, edsgen::cards::ec_tx508::Od> = od::OPERATION_MODE;
+    let _: edsgen_runtime::Entry<i8, edsgen_sim::cards::ec_tx508::Od> = od::OPERATION_MODE;
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! The Goodrive350 EtherNet/IP card (`eds/goodrive350-enip.eds`, manual chapter 5): the EDS says
-//! what the manual says, table by table; its generated module (`edsgen::cards::goodrive350_enip`)
+//! what the manual says, table by table; its generated module (`edsgen_sim::cards::goodrive350_enip`)
 //! lays the 16 words out little-endian, as the EDS decides, and types them through
 //! `edsgen_runtime::pkw_pzd`; and the drive behind the card answers the generated images.
 
@@ -7,13 +7,13 @@ mod card_support;
 mod process_support;
 
 use card_support::pkw_pzd_drive::drive_answers;
-use edsgen::cards::goodrive350_enip as card;
-use edsgen::drives::pkw_pzd::Bus;
 use edsgen_codegen::model::{CipNumber, FieldRef, TriggerTransport};
 use edsgen_codegen::{read, validate};
 use edsgen_runtime::pkw_pzd::{
     ByteOrder, Command, ControlWord, OutputImage, PkwRequest, WordLayout,
 };
+use edsgen_sim::cards::goodrive350_enip as card;
+use edsgen_sim::drives::pkw_pzd::Bus;
 use process_support::root;
 
 fn model() -> edsgen_codegen::model::Cip {

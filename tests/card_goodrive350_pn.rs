@@ -1,6 +1,6 @@
 //! The Goodrive350 PROFINET card's generated code (`eds/goodrive350-pn.xml` with
 //! `eds/goodrive350-pn.toml`, through the sim crate's build.rs, reached as
-//! `edsgen::cards::goodrive350_pn`): identity constants, the 16-word images big-endian with their
+//! `edsgen_sim::cards::goodrive350_pn`): identity constants, the 16-word images big-endian with their
 //! IOPS and typed through `edsgen_runtime::pkw_pzd` (the manual's §2.6 PKW examples byte for
 //! byte), the CW/SW bit masks of Tables 4-5/4-7, the PZD parameter records of Tables 4-6/4-8,
 //! the drive behind the card answering the generated images, and a snapshot of the whole module.
@@ -9,13 +9,13 @@ mod card_support;
 mod process_support;
 
 use card_support::pkw_pzd_drive::drive_answers;
-use edsgen::cards::goodrive350_pn as card;
-use edsgen::drives::pkw_pzd::Bus;
 use edsgen_runtime::pkw_pzd::control::{cw_bit, sw_bit};
 use edsgen_runtime::pkw_pzd::{
     ByteOrder, Command, ControlWord, InputImage, OutputImage, PkwRequest, PkwResponse,
     ResponseError, RunState, RunStopMode, StatusWord, Task, WordLayout,
 };
+use edsgen_sim::cards::goodrive350_pn as card;
+use edsgen_sim::drives::pkw_pzd::Bus;
 use process_support::root;
 
 use card::modules::pkw_pzd_16_words::subslot_1::{record_256, record_257, Input, Output};

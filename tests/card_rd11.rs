@@ -281,7 +281,7 @@ fn dump_snapshot() {
 fn generated_names_follow_the_manuals_parameter_numbers() {
     // The overlay eds/rd11.toml: sub-index = parameter number + 1 (3.1.3), so F28.85 is
     // 201Ch sub 86, and the manual's example F01.05 is 2001h:06.
-    use edsgen::cards::rd11::od;
+    use edsgen_sim::cards::rd11::od;
     assert_eq!((od::f28::F28_85.index, od::f28::F28_85.sub), (0x201C, 86));
     assert_eq!((od::f01::F01_05.index, od::f01::F01_05.sub), (0x2001, 6));
     assert_eq!((od::f02::F02_02.index, od::f02::F02_02.sub), (0x2002, 3));

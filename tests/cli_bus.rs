@@ -7,8 +7,8 @@ mod process_support;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 use edsgen_runtime::CanFrame;
 use process_support::{Process, EDSGEN};
 

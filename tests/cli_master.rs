@@ -10,12 +10,12 @@ use std::path::Path;
 use std::process::Command;
 
 use bench_support::*;
-use edsgen::sim::RuntimeDictionary;
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::frame::CanFrame;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::time::Instant;
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::vbus::BusDevice;
+use edsgen_sim::canopen::RuntimeDictionary;
 
 #[test]
 fn sdo_read_and_write_are_typed_and_named_by_the_eds() {

@@ -10,11 +10,11 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 use edsgen_runtime::master::{Mode, SdoError};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::CanFrame;
 

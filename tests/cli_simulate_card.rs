@@ -7,13 +7,13 @@ mod process_support;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use edsgen::cards::cp301::od;
-use edsgen_runtime::master::blocking::Master;
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::master::blocking::Master;
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::CanFrame;
+use edsgen_sim::cards::cp301::od;
 use process_support::{edsgen_simulate, Process, EDSGEN};
 
 /// Starts `edsgen simulate` and waits until it has announced `nodes` nodes.

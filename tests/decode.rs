@@ -1,14 +1,14 @@
-//! The bus decoder (`edsgen::decode::Decoder`): the exact line for every kind of frame, SDO
+//! The bus decoder (`edsgen_decode::Decoder`): the exact line for every kind of frame, SDO
 //! transfers of every type reassembled into one line, aborts with their meaning, PDOs decoded by
 //! the mapping the SDO writes on the bus set, and raw lines for what it cannot attribute; and
 //! EtherCAT process images decoded by an ESI file's default PDO assignment
-//! (`edsgen::decode::image::ImageDecoder`).
+//! (`edsgen_decode::image::ImageDecoder`).
 
 mod sim_support;
 
 use std::time::Duration;
 
-use edsgen::decode::Decoder;
+use edsgen_decode::Decoder;
 use edsgen_runtime::sdo::crc::crc16;
 use edsgen_runtime::CanFrame;
 use sim_support::test_device;
@@ -390,15 +390,15 @@ fn a_time_message_gives_the_date_and_time() {
 }
 
 /// The EC-TX508's ESI model, for its process images.
-fn ec_tx508_images() -> edsgen::decode::image::ImageDecoder {
-    let path = std::path::Path::new(edsgen::drives::ec_tx508::ESI_PATH);
-    let model = edsgen_codegen::read::read_bytes(path, edsgen::drives::ec_tx508::ESI).device;
-    edsgen::decode::image::ImageDecoder::new(&model)
+fn ec_tx508_images() -> edsgen_decode::image::ImageDecoder {
+    let path = std::path::Path::new(edsgen_sim::drives::ec_tx508::ESI_PATH);
+    let model = edsgen_codegen::read::read_bytes(path, edsgen_sim::drives::ec_tx508::ESI).device;
+    edsgen_decode::image::ImageDecoder::new(&model)
 }
 
 #[test]
 fn ethercat_images_are_split_by_the_default_assignment_and_named_by_the_esi_file() {
-    use edsgen::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
+    use edsgen_sim::cards::ec_tx508::ethercat::{Inputs, Outputs, RxPdo1600, TxPdo1A00};
     let images = ec_tx508_images();
     let outputs = Outputs {
         rx_pdo_1600: RxPdo1600 {
@@ -448,10 +448,10 @@ fn an_image_shorter_than_its_pdos_or_without_an_esi_mapping_is_printed_as_bytes(
     // A CANopen device has no SyncManagers.
     let eds = edsgen_codegen::read::read_bytes(
         std::path::Path::new("eds/cp301.eds"),
-        edsgen::drives::CARDS[0].eds,
+        edsgen_sim::drives::CARDS[0].eds,
     )
     .device;
-    let images = edsgen::decode::image::ImageDecoder::new(&eds);
+    let images = edsgen_decode::image::ImageDecoder::new(&eds);
     assert_eq!(images.outputs(&[0x0F, 0x00]), "0F 00");
 }
 

@@ -8,14 +8,14 @@ mod process_support;
 
 use std::process::Command;
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_host::hub::{Hub, HubOptions};
 use process_support::edsgen_simulate;
 
 #[test]
 fn every_step_of_the_demo_behaves_as_the_manuals_say() {
-    let report = edsgen::demo::run();
+    let report = edsgen_demo::run();
     let failed: Vec<_> = report.steps.iter().filter(|s| s.outcome.is_err()).collect();
-    assert_eq!(failed, Vec::<&edsgen::demo::Step>::new());
+    assert_eq!(failed, Vec::<&edsgen_demo::Step>::new());
     assert_eq!(report.steps.len(), 59);
     // The Goodrive350 manual's PDO2 Tx (§3.5.4), 283: 01 01 88 13 7C 01 00 00, decoded.
     let pdo2 = "7.100000  283  TPDO2      node 3 Status word = 257 (0x0101), Monitoring data: \
@@ -32,7 +32,7 @@ fn every_step_of_the_demo_behaves_as_the_manuals_say() {
 
 #[test]
 fn the_demo_validates_six_description_files() {
-    let report = edsgen::demo::run();
+    let report = edsgen_demo::run();
     let validated: Vec<(&str, &Result<String, String>)> = report
         .steps
         .iter()
@@ -56,7 +56,7 @@ fn the_demo_validates_six_description_files() {
 
 #[test]
 fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
-    let report = edsgen::demo::run();
+    let report = edsgen_demo::run();
     let start = report
         .lines
         .iter()
@@ -115,7 +115,7 @@ fn the_ec_tx508_runs_in_csv_through_its_images_cycle_by_cycle() {
 
 #[test]
 fn the_goodrive350_profinet_card_is_found_named_and_driven_in_process() {
-    let report = edsgen::demo::run();
+    let report = edsgen_demo::run();
     let steps: Vec<(&str, &Result<String, String>)> = report.steps[43..52]
         .iter()
         .map(|s| (s.name.as_str(), &s.outcome))
@@ -225,7 +225,7 @@ fn the_demo_drives_simulated_cards_on_a_bus() {
 
 #[test]
 fn the_goodrive350_enip_card_runs_through_pkw_and_pzd() {
-    let report = edsgen::demo::run();
+    let report = edsgen_demo::run();
     let steps: Vec<(&str, &Result<String, String>)> = report.steps[35..43]
         .iter()
         .map(|s| (s.name.as_str(), &s.outcome))
@@ -277,7 +277,7 @@ fn the_goodrive350_enip_card_runs_through_pkw_and_pzd() {
 /// and every step of chapter 2's workflow behaves.
 #[test]
 fn the_demo_runs_the_dp_card_with_profirust() {
-    let report = edsgen::demo::run();
+    let report = edsgen_demo::run();
     let dp: Vec<&str> = report
         .steps
         .iter()

@@ -1,5 +1,5 @@
 //! The demo over a real wire (root only: a visible skip otherwise, a failure under `CI=true`):
-//! the [`edsgen::netns`] guard makes namespaces, veth pairs and addresses, runs programs inside
+//! the [`edsgen_demo::netns`] guard makes namespaces, veth pairs and addresses, runs programs inside
 //! and leaves nothing behind, also when the code using it panics.
 
 mod process_support;
@@ -7,7 +7,7 @@ mod process_support;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use edsgen::netns::{is_root, End, Network};
+use edsgen_demo::netns::{is_root, End, Network};
 use process_support::skip;
 
 /// The output of `ip ARGS` (empty when `ip` fails).

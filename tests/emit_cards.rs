@@ -1,15 +1,15 @@
 //! Generated code of the five cards and of six corpus files of different shapes, pinned by insta
 //! snapshots; determinism (twice, and with the sections reordered); and the cards' generated
-//! code at work through `edsgen::cards` (the Goodrive350 manual's PDO2 frames, OD access).
+//! code at work through `edsgen_sim::cards` (the Goodrive350 manual's PDO2 frames, OD access).
 
 mod emit_common;
 mod process_support;
 
 use std::path::Path;
 
-use edsgen::cards;
 use edsgen_codegen::read;
 use edsgen_runtime::{ObjectDictionary, PdoError, SdoAbort};
+use edsgen_sim::cards;
 use emit_common::*;
 use process_support::{corpus_dir, root};
 use proptest::prelude::*;

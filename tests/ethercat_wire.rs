@@ -565,10 +565,10 @@ mod master {
     use std::io::BufRead;
     use std::time::Duration;
 
-    use edsgen::cards::ec_tx508::{ethercat, od};
     use edsgen_runtime::cia402::State;
     use edsgen_runtime::ethercat::ethercrab::SdoExt;
     use edsgen_runtime::master::cia402::{Controller, Outcome};
+    use edsgen_sim::cards::ec_tx508::{ethercat, od};
     use ethercrab::std::{ethercat_now, tx_rx_task};
     use ethercrab::{EtherCrabWireRead, EtherCrabWireWrite};
     use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};

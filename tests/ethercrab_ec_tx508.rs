@@ -3,8 +3,8 @@
 //! `EtherCrabWireWrite` for the same layout (the 1600h and 1A00h mappings of the manual's
 //! Appendix B, written out by hand below), and as bytes built from those mappings.
 
-use edsgen::cards::ec_tx508::ethercat::{self, Inputs, Outputs, RxPdo1600, TxPdo1A00};
 use edsgen_runtime::ethercat::ethercrab::wire::WireError;
+use edsgen_sim::cards::ec_tx508::ethercat::{self, Inputs, Outputs, RxPdo1600, TxPdo1A00};
 use ethercrab_wire::{
     EtherCrabWireRead, EtherCrabWireReadWrite, EtherCrabWireSized, EtherCrabWireWrite,
     EtherCrabWireWriteSized,

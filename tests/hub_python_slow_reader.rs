@@ -10,7 +10,7 @@ use std::io::Write;
 use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions, OVERFLOW_ERROR_CLASS};
+use edsgen_host::hub::{Hub, HubOptions, OVERFLOW_ERROR_CLASS};
 use process_support::{python, Process};
 use serde_json::{json, Value};
 

@@ -1,6 +1,6 @@
 //! Interoperability with python `canopen` 2.4.1 over python-can 4.6.1's socketcand interface: the
 //! hub runs in-process on a free port of 127.0.0.1 (or as the `edsgen bus` command), nodes
-//! built from the generated cards (`edsgen::cards`) or the simulator's run-time dictionary run on
+//! built from the generated cards (`edsgen_sim::cards`) or the simulator's run-time dictionary run on
 //! the runtime's driver with the socketcand client, and `scripts/interop_master.py` (in the venv
 //! of `scripts/python-venv.sh`) is the master: every service on a CP301, two masters and two
 //! nodes on one hub, 10,000 SDO transactions, and large values (a 64 KiB domain by block
@@ -20,14 +20,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use edsgen::cards::{cp301, goodrive350};
-use edsgen::sim::RuntimeDictionary;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::socketcand::SocketcandClient;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::od::ObjectDictionary;
 use edsgen_runtime::sdo::crc::crc16;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_sim::canopen::RuntimeDictionary;
+use edsgen_sim::cards::{cp301, goodrive350};
 use process_support::{edsgen_bus, python, root, Process};
 use serde_json::{json, Value};
 

@@ -13,10 +13,10 @@ mod sim_support;
 use std::path::Path;
 use std::time::Duration;
 
-use edsgen_runtime::master::blocking::{Master, MasterError, MasterEvent};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::master::blocking::{Master, MasterError, MasterEvent};
+use edsgen_host::socketcand::SocketcandClient;
 use edsgen_runtime::master::{Emergency, Mode, MonitorEvent, PdoConfig, PdoKind, SdoError, Watch};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
 use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::wire::sdo::Multiplexer;

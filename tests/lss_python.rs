@@ -9,7 +9,7 @@ mod process_support;
 
 use std::time::Duration;
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_host::hub::{Hub, HubOptions};
 use process_support::{corpus_file, python, Process, EDSGEN, START_TIMEOUT};
 
 const BASIC: &str = "CANopenNode__CANopenSocket/examples__basicDevice__basicDevice.eds";

@@ -10,18 +10,18 @@ mod sim_support;
 use std::cell::Cell;
 use std::time::{Duration, Instant};
 
-use edsgen::cards::cp301::{self, od};
-use edsgen::sim::RuntimeDictionary;
-use edsgen_runtime::master::blocking::{MasterError, MasterEvent};
-use edsgen_runtime::master::concurrent::AsyncMaster;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::master::blocking::{MasterError, MasterEvent};
+use edsgen_host::master::concurrent::AsyncMaster;
+use edsgen_host::memory::{MemoryBus, MemoryEndpoint};
+use edsgen_host::Transport;
 use edsgen_runtime::master::{Emergency, Mode, MonitorEvent, SdoError, Watch};
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;
 use edsgen_runtime::wire::sdo::Multiplexer;
+use edsgen_sim::canopen::RuntimeDictionary;
+use edsgen_sim::cards::cp301::{self, od};
 
 fn nodes(bus: &MemoryBus, ids: &[u8]) -> Vec<DriverHandle<MemoryEndpoint, Node<cp301::Od>>> {
     ids.iter()

@@ -2,12 +2,12 @@
 //! generated cp301 card on the virtual bus: `cp301::od::STATUSWORD` reads as a `u16`,
 //! `VL_TARGET_VELOCITY` writes an `i16`, and the boot-up identity entries read as `u32`.
 
-use edsgen::cards::cp301::{self, od};
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::master::SdoClient;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::od::access::Readable;
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{Entry, Instant, OdValue};
+use edsgen_sim::cards::cp301::{self, od};
 
 fn ms(millis: u64) -> Instant {
     Instant::from_millis(millis)

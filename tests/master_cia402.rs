@@ -5,15 +5,15 @@
 
 use std::time::Duration;
 
-use edsgen::cards::ms300;
-use edsgen::drives::{Cp301, Ms300};
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::memory::{MemoryBus, MemoryEndpoint};
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::cia402::State;
-use edsgen_runtime::master::blocking::{Master, MasterError};
 use edsgen_runtime::master::cia402::{mode, CONTROLWORD};
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::Entry;
+use edsgen_sim::cards::ms300;
+use edsgen_sim::drives::{Cp301, Ms300};
 
 const STEP: Duration = Duration::from_secs(2);
 

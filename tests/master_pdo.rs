@@ -4,18 +4,19 @@
 //! the generated `Tpdo1` by a `pdo_dispatch!` enum, an RPDO sent from the generated `Rpdo1`, and
 //! a mapping the node refuses reported with its abort code and meaning.
 
+#[path = "../sim/tests/drive_support/mod.rs"]
 mod drive_support;
 
 use std::time::Duration;
 
-use edsgen::cards::cp301::{self, od, pdo};
-use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::memory::MemoryBus;
+use edsgen_host::Transport;
 use edsgen_runtime::master::{MappedPdo, PdoConfig, PdoKind, SdoError};
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, MonotonicClock};
-use edsgen_runtime::transport::memory::MemoryBus;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::nmt::NmtCommand;
+use edsgen_sim::cards::cp301::{self, od, pdo};
 
 edsgen_runtime::pdo_dispatch! {
     /// The TPDOs of a CP301 (it has one).

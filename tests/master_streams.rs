@@ -1,5 +1,5 @@
 //! Downloads of a value whose length the master does not know up front (read from a source to
-//! its end, the size not indicated) into the DOMAIN of a simulated device (`edsgen::sim`
+//! its end, the size not indicated) into the DOMAIN of a simulated device (`edsgen_sim::canopen`
 //! serving an EDS, on the in-memory bus): segmented and block, by the blocking and the async
 //! master, each value read back byte for byte.
 
@@ -7,14 +7,14 @@ mod sim_support;
 
 use std::io;
 
-use edsgen::sim::RuntimeDictionary;
-use edsgen_runtime::master::blocking::{Master, MasterError};
-use edsgen_runtime::master::concurrent::AsyncMaster;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::master::concurrent::AsyncMaster;
+use edsgen_host::memory::{MemoryBus, MemoryEndpoint};
 use edsgen_runtime::master::{Mode, SdoError};
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::memory::{MemoryBus, MemoryEndpoint};
 use edsgen_runtime::wire::sdo::Multiplexer;
+use edsgen_sim::canopen::RuntimeDictionary;
 
 /// The simulated device's DOMAIN (2001h, "Program", up to 64 KiB).
 const PROGRAM: Multiplexer = Multiplexer::new(0x2001, 0);

@@ -10,7 +10,7 @@ mod process_support;
 
 use std::time::Duration;
 
-use edsgen::netns::{is_root, End, Network};
+use edsgen_demo::netns::{is_root, End, Network};
 use process_support::{python, skip, Process, EDSGEN};
 
 #[test]

@@ -17,11 +17,11 @@ mod process_support;
 use std::process::Command;
 use std::time::Duration;
 
-use edsgen::netns::{is_root, End, Network};
+use edsgen_demo::netns::{is_root, End, Network};
 use process_support::{gsdml_corpus_dir, python, skip, Process, EDSGEN};
 
 /// The device's namespace (0) and the controller's (1) joined by a veth pair, with an address
-/// on each end; removed on drop ([`edsgen::netns`]).
+/// on each end; removed on drop ([`edsgen_demo::netns`]).
 struct Pair {
     net: Network,
     device_if: String,

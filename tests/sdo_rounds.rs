@@ -9,7 +9,7 @@ mod process_support;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_host::hub::{Hub, HubOptions};
 use process_support::{edsgen_simulate, python, Process, START_TIMEOUT};
 
 const ROUNDS: &str = "10000";

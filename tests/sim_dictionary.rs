@@ -1,4 +1,4 @@
-//! The run-time object dictionary (`edsgen::sim::RuntimeDictionary`): built from a model, it
+//! The run-time object dictionary (`edsgen_sim::canopen::RuntimeDictionary`): built from a model, it
 //! answers every SDO request exactly as the `Od` generated from the same file, resolves
 //! `$NODEID`, honours a DCF, checks lengths and limits, and serves a `Node` on the virtual bus
 //! for every SDO transfer type and PDO mapping changes; a node serving each corpus device
@@ -9,10 +9,10 @@ mod sim_support;
 
 use std::path::Path;
 
-use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::sdo::crc::crc16;
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, DataType, Instant, Node, ObjectDictionary, ResetKind, SdoAbort};
+use edsgen_sim::canopen::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use process_support::corpus_dir;
 use sim_support::{test_dcf, test_device};
 
@@ -120,7 +120,7 @@ fn answers_as_generated(card: &str, generated: impl ObjectDictionary) {
 
 #[test]
 fn answers_every_sdo_request_exactly_as_the_generated_od_of_each_card() {
-    use edsgen::cards;
+    use edsgen_sim::cards;
     answers_as_generated("cp301.eds", cards::cp301::Od::new(5));
     answers_as_generated("goodrive350.eds", cards::goodrive350::Od::new(5));
     answers_as_generated("hd1e.eds", cards::hd1e::Od::new(5));
@@ -173,7 +173,7 @@ fn strings_and_domains_have_their_documented_capacity() {
     );
     assert_eq!(
         od.capacity(program),
-        Some(edsgen::sim::dictionary::DOMAIN_CAPACITY)
+        Some(edsgen_sim::canopen::dictionary::DOMAIN_CAPACITY)
     );
     assert_eq!(od.value_len(0x2000, 0), Ok(3));
     assert_eq!(od.value_len(0x2001, 0), Ok(0), "no default: empty");

@@ -17,10 +17,10 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
 
-use edsgen::sim::{commissioned_node_id, RuntimeDictionary};
 use edsgen_codegen::model::Device;
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_host::hub::{Hub, HubOptions};
 use edsgen_runtime::{Access, DataType, ObjectDictionary};
+use edsgen_sim::canopen::{commissioned_node_id, RuntimeDictionary};
 use process_support::{corpus_file, edsgen_simulate, python, root, Process, EDSGEN};
 
 /// `scripts/canopen_master.py ARGS` to its end (at most 60 s): its standard output's lines.

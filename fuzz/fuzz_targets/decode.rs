@@ -15,9 +15,9 @@
 use std::sync::OnceLock;
 use std::time::Duration;
 
-use edsgen::decode::Decoder;
+use edsgen_decode::Decoder;
 use edsgen_codegen::model::Device;
-use edsgen_runtime::transport::trace::{format_line, parse_line, TraceReadError, TraceReader};
+use edsgen_host::trace::{format_line, parse_line, TraceReadError, TraceReader};
 use libfuzzer_sys::fuzz_target;
 
 /// The node the description is given for.

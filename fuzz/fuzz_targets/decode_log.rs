@@ -1,4 +1,4 @@
-//! Fuzz the log reader of `edsgen decode` (`edsgen::decode::log::LogReader`: candump `-L` and
+//! Fuzz the log reader of `edsgen decode` (`edsgen_decode::log::LogReader`: candump `-L` and
 //! default, Vector ASC, PCAN TRC, recognised by content) with the bus decoder behind it: any
 //! bytes, read line by line, every frame decoded, then the unfinished transfers.
 //!
@@ -9,8 +9,8 @@
 
 use std::time::Duration;
 
-use edsgen::decode::log::{Entry, LogReader};
-use edsgen::decode::Decoder;
+use edsgen_decode::log::{Entry, LogReader};
+use edsgen_decode::Decoder;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|bytes: &[u8]| {

@@ -1,9 +1,9 @@
-//! Fuzz the report `edsgen demo --enip-scanner` prints and `edsgen demo --enip` reads back
+//! Fuzz the report `edsgen demo-role enip-scanner` prints and `edsgen demo --enip` reads back
 //! (`Report::from_json`): any bytes, as text, must not panic; a report read writes back
 //! (`Report::to_json`) to text that reads as the same report.
 #![no_main]
 
-use edsgen::demo::Report;
+use edsgen_demo::Report;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -11,7 +11,7 @@
 //! The first input byte sets the read size (1 to 64 bytes); the rest is the stream.
 #![no_main]
 
-use edsgen_runtime::transport::socketcand::{Message, MessageScanner};
+use edsgen_host::socketcand::{Message, MessageScanner};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|input: &[u8]| {

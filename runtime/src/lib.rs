@@ -2,7 +2,8 @@
 //!
 //! `no_std` and allocation-free. Protocol cores take frames and timestamps and hand back frames,
 //! deadlines and events; they never block, read a clock or allocate. Transports that need an
-//! operating system live behind the `std` feature.
+//! operating system (socketcand, SocketCAN, candump traces, in-memory buses) and the threaded
+//! master drivers live in the `edsgen-host` crate.
 //!
 //! Cargo features:
 //! - `sdo-block` (default): SDO block upload and download with CRC-16. Without it the SDO server
@@ -11,11 +12,10 @@
 //! - `node-guarding` (default): node guarding and life guarding (100Ch × 100Dh, the answer to an
 //!   RTR on 700h + node-ID, `Event::LifeGuardingLost` and EMCY 8130h). Without it that RTR is
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
-//! - `std`: the operating-system transports and the in-memory buses ([`transport`]).
-//! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
 //! - `enip`: EtherNet/IP and CIP wire formats ([`enip`]), `no_std` like the rest.
+//! - `alloc`: conveniences that return vectors (`enip::wire::Emit::to_vec`), for hosts.
 //! - `ethercat-wire`: EtherCAT's frames, datagrams, mailbox and CoE headers as views
 //!   (`ethercat::wire`), for SubDevices, masters and decoders.
 //! - `ethercat-subdevice` (with `ethercat-wire`): an EtherCAT SubDevice's cores: CoE SDO on the
@@ -24,9 +24,12 @@
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less
 //! flash.
-#![cfg_attr(not(feature = "std"), no_std)]
+#![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+
+#[cfg(feature = "alloc")]
+extern crate alloc;
 
 pub mod cia402;
 #[cfg(feature = "enip")]
@@ -39,8 +42,6 @@ pub mod od;
 pub mod pkw_pzd;
 pub mod sdo;
 pub mod time;
-#[cfg(feature = "std")]
-pub mod transport;
 pub mod wire;
 
 mod macros;

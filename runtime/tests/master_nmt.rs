@@ -3,11 +3,11 @@
 
 mod node_support;
 
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::master::{
     nmt_frame, Emergency, MonitorEvent, NodeMonitor, SdoClient, SyncProducer, Watch,
 };
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::wire::emcy::meaning as emcy_meaning;
 use edsgen_runtime::wire::heartbeat::NmtState;
 use edsgen_runtime::wire::nmt::NmtCommand;

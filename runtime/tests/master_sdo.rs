@@ -5,11 +5,11 @@
 mod master_support;
 mod node_support;
 
+use edsgen_host::vbus::{BusDevice, ScriptedPeer, VirtualBus};
 #[cfg(feature = "sdo-block")]
 use edsgen_runtime::master::Transfer;
 use edsgen_runtime::master::{Completed, Mode, SdoClient, SdoError};
 use edsgen_runtime::node::Node;
-use edsgen_runtime::transport::vbus::{BusDevice, ScriptedPeer, VirtualBus};
 use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::Entry;

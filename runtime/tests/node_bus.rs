@@ -4,8 +4,8 @@
 
 mod node_support;
 
+use edsgen_host::vbus::{ScriptedPeer, VirtualBus};
 use edsgen_runtime::node::{Event, Node};
-use edsgen_runtime::transport::vbus::{ScriptedPeer, VirtualBus};
 use node_support::node_od::{RecordingHooks, TestOd};
 use node_support::{frame, ms, show};
 

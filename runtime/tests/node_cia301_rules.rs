@@ -4,8 +4,8 @@
 
 mod node_support;
 
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::node::{error_register, Event, Node};
-use edsgen_runtime::transport::vbus::VirtualBus;
 use node_support::node_od::TestOd;
 use node_support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_read, sdo_write, sent};
 

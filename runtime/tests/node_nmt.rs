@@ -3,8 +3,8 @@
 
 mod node_support;
 
+use edsgen_host::vbus::{BusDevice, VirtualBus};
 use edsgen_runtime::node::{Event, NmtState, Node, ResetKind};
-use edsgen_runtime::transport::vbus::{BusDevice, VirtualBus};
 use node_support::node_od::{RecordingHooks, TestOd};
 use node_support::{at_ms, frame, ms, sent, show};
 

@@ -4,8 +4,8 @@
 
 mod node_support;
 
+use edsgen_host::vbus::{ScriptedPeer, VirtualBus};
 use edsgen_runtime::node::{Event, Node};
-use edsgen_runtime::transport::vbus::{ScriptedPeer, VirtualBus};
 use edsgen_runtime::CanFrame;
 use node_support::node_od::TestOd;
 use node_support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_write, sent};

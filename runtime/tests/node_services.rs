@@ -3,8 +3,8 @@
 
 mod node_support;
 
+use edsgen_host::vbus::{ScriptedPeer, VirtualBus};
 use edsgen_runtime::node::{error_register, Event, NmtState, Node, ResetKind};
-use edsgen_runtime::transport::vbus::{ScriptedPeer, VirtualBus};
 use node_support::node_od::{RecordingHooks, TestOd};
 use node_support::{at_ms, frame, ms, sdo_abort, sdo_ok, sdo_read, sdo_write, sent};
 

@@ -1,13 +1,13 @@
 //! The node built without the optional services (`cargo test -p edsgen-runtime
-//! --no-default-features --features std`): a block request is an unknown command (abort
+//! --no-default-features`): a block request is an unknown command (abort
 //! 0504 0001), and node guarding's RTR gets no answer while 100Ch/100Dh stay ordinary entries.
 //! With the default features these tests are not built; the other node tests cover both services.
 #![cfg(not(all(feature = "sdo-block", feature = "node-guarding")))]
 
 mod node_support;
 
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::node::{Event, Node};
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::CanFrame;
 use node_support::node_od::TestOd;
 use node_support::{at_ms, frame, ms, sdo_ok, sdo_read, sdo_write, sent};

@@ -12,10 +12,10 @@
 
 mod node_support;
 
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::od::image::Layout;
 use edsgen_runtime::od::stage::Stage;
-use edsgen_runtime::transport::vbus::VirtualBus;
 use edsgen_runtime::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 use node_support::{frame, ms, show};
 

@@ -10,13 +10,14 @@
 //!   driver.
 //! - [`enip`]: an EtherNet/IP adapter's protocol core (encapsulation, CIP objects, class-1 I/O,
 //!   class-3 connected explicit messaging).
-//! - [`profinet`]: a PROFINET IO device from a GSDML (DCP so far) and its raw-socket driver.
+//! - [`profinet`]: a PROFINET IO device from a GSDML (DCP, connection over DCE/RPC, RT_CLASS_1
+//!   cyclic data, alarms) and its raw-socket and UDP driver.
 //! - [`ethercat`]: an EtherCAT SubDevice from any ESI (ESC registers, AL state machine, SII,
 //!   mailbox and CoE SDO, FMMU process data), sans-IO, with a raw-socket driver.
 //! - [`packet_socket`]: the raw `AF_PACKET` socket the EtherCAT and PROFINET drivers share.
 //!
-//! One folder per bus as the simulators grow (design.md); each protocol core is sans-IO (bytes
-//! and time in, bytes out), with the socket a thin driver.
+//! One folder per bus; each protocol core is sans-IO (bytes and time in, bytes out), with the
+//! socket a thin driver.
 // One audited exception: packet_socket.rs binds its packet socket (see there).
 #![deny(unsafe_code)]
 

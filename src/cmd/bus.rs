@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::mpsc;
 
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
+use edsgen_host::hub::{Hub, HubOptions};
 
 /// The arguments of `edsgen bus`.
 #[derive(clap::Args)]

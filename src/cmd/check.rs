@@ -13,9 +13,9 @@ use edsgen_codegen::rules::{
     CHK_UNREADABLE as CHK003,
 };
 use edsgen_codegen::{read, render};
-use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::Transport;
 use edsgen_runtime::master::{ExpectedIdentity, Mode, SdoError};
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::wire::sdo::Multiplexer;
 

@@ -1,6 +1,6 @@
 //! `edsgen decode [--eds FILE --node-id N]... [--full] [LOG]`: every frame of a CAN log (a
-//! file, or standard input) as one decoded line (see [`edsgen::decode`] for the lines and
-//! [`edsgen::decode::log`] for the formats: candump `-L` and default, Vector ASC, PCAN TRC,
+//! file, or standard input) as one decoded line (see [`edsgen_decode`] for the lines and
+//! [`edsgen_decode::log`] for the formats: candump `-L` and default, Vector ASC, PCAN TRC,
 //! recognised by their content). A line that cannot be read is a warning with its number on
 //! standard error and decoding goes on; what was skipped (CAN FD, error frames, bytes that are
 //! not UTF-8) is counted at the end. Exit code 1 when the log holds no frame at all; a closed
@@ -12,8 +12,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use super::{fail, parse_node_id, read_device};
-use edsgen::decode::log::{Entry, LogReader};
-use edsgen::decode::Decoder;
+use edsgen_decode::log::{Entry, LogReader};
+use edsgen_decode::Decoder;
 
 /// How many warnings about unreadable lines are printed; the rest are only counted.
 const WARNINGS_SHOWN: u64 = 20;

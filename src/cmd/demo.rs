@@ -2,14 +2,15 @@
 //! (see the library's `demo` module), on the in-memory bus or against the drives on a socketcand
 //! bus, the EC-TX508, the EtherNet/IP and the PROFINET card in this process or over a real wire
 //! (root: network namespaces, removed also on Ctrl-C, exit 130); exit 0 only if every step
-//! behaved as the manuals say. `--enip-scanner ADDR` and `--profinet-controller IFACE ADDR`
-//! (hidden) are the scanner and the controller that `--enip` and `--profinet` run in their
-//! namespaces: their report as JSON on stdout.
+//! behaved as the manuals say. `edsgen demo-role enip-scanner ADDR` and `edsgen demo-role
+//! profinet-controller IFACE ADDR` are the scanner and the controller that `--enip` and
+//! `--profinet` run in their namespaces: their report as JSON on stdout.
 
+use std::net::Ipv4Addr;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use edsgen_runtime::transport::socketcand::SocketcandClient;
+use edsgen_host::socketcand::SocketcandClient;
 
 use super::{fail, print_stdout, DEFAULT_BUS};
 
@@ -36,10 +37,6 @@ pub struct Args {
     /// Namespaces and pair are removed on exit, also on Ctrl-C.
     #[arg(long, conflicts_with = "bus")]
     enip: bool,
-    /// The demo's EtherNet/IP scanner alone, against the adapter at this address, its report
-    /// as JSON: what `--enip` runs inside the scanner's namespace.
-    #[arg(long, value_name = "IPV4", hide = true, conflicts_with_all = ["bus", "ethercat", "enip", "profinet"])]
-    enip_scanner: Option<std::net::Ipv4Addr>,
     /// Run the Goodrive350's PROFINET card over a real wire: two private network namespaces
     /// joined by a veth pair, `edsgen simulate --profinet` in one, the demo's controller in the
     /// other, with DCP and RT_CLASS_1 frames and RPC on UDP 34964 (root; otherwise said on
@@ -47,16 +44,6 @@ pub struct Args {
     /// Ctrl-C.
     #[arg(long, conflicts_with = "bus")]
     profinet: bool,
-    /// The demo's PROFINET controller alone, on this interface against the card at this
-    /// address, its report as JSON: what `--profinet` runs inside the controller's namespace.
-    #[arg(
-        long,
-        num_args = 2,
-        value_names = ["IFACE", "IPV4"],
-        hide = true,
-        conflicts_with_all = ["bus", "ethercat", "enip", "profinet", "enip_scanner"]
-    )]
-    profinet_controller: Option<Vec<String>>,
 }
 
 /// Runs the demo, prints its trace and summary.
@@ -70,35 +57,22 @@ pub fn run(args: &Args) -> ExitCode {
             ));
         }
     }
-    if let Some(addr) = args.enip_scanner {
-        print_stdout(&edsgen::demo::enip_scanner(addr).to_json());
-        return ExitCode::SUCCESS;
-    }
-    if let Some([iface, addr]) = args.profinet_controller.as_deref() {
-        let Ok(addr) = addr.parse::<std::net::Ipv4Addr>() else {
-            return fail(format!(
-                "--profinet-controller: `{addr}` is not an IPv4 address"
-            ));
-        };
-        print_stdout(&edsgen::demo::profinet_controller(iface, addr).to_json());
-        return ExitCode::SUCCESS;
-    }
-    let wires = edsgen::demo::Wires {
+    let wires = edsgen_demo::Wires {
         ethercat: args.ethercat,
         enip: args.enip,
         profinet: args.profinet,
     };
-    if wires != edsgen::demo::Wires::default() {
+    if wires != edsgen_demo::Wires::default() {
         // Ctrl-C must not leave a namespace behind.
-        if let Err(message) = edsgen::netns::clean_up_on_signal() {
+        if let Err(message) = edsgen_demo::netns::clean_up_on_signal() {
             return fail(message);
         }
     }
     let report = match &args.bus {
-        Some(addr) => edsgen::demo::run_on_bus(addr),
-        None => edsgen::demo::run_with(wires),
+        Some(addr) => edsgen_demo::run_on_bus(addr),
+        None => edsgen_demo::run_with(wires),
     };
-    while edsgen::netns::interrupted() {
+    while edsgen_demo::netns::interrupted() {
         // Ctrl-C: the handler removes the namespaces, then ends the process with 130.
         std::thread::sleep(Duration::from_millis(100));
     }
@@ -115,4 +89,37 @@ pub fn run(args: &Args) -> ExitCode {
     } else {
         ExitCode::from(1)
     }
+}
+
+/// `edsgen demo-role`: one of the demo's client roles, run by `edsgen demo --enip` or
+/// `--profinet` inside its own network namespace.
+#[derive(Debug, clap::Subcommand)]
+pub enum Role {
+    /// The EtherNet/IP scanner: the Goodrive350 EtherNet/IP card's steps against the adapter at
+    /// this address, over TCP 44818 and UDP 2222.
+    EnipScanner {
+        /// The adapter's IPv4 address.
+        #[arg(value_name = "IPV4")]
+        adapter: Ipv4Addr,
+    },
+    /// The PROFINET controller: the Goodrive350 PROFINET card's steps from this interface
+    /// against the card at this address (DCP and RT_CLASS_1 frames, RPC on UDP 34964).
+    ProfinetController {
+        /// The controller's network interface.
+        #[arg(value_name = "IFACE")]
+        iface: String,
+        /// The card's IPv4 address.
+        #[arg(value_name = "IPV4")]
+        card: Ipv4Addr,
+    },
+}
+
+/// Runs one of the demo's client roles and prints its report as JSON.
+pub fn run_role(role: &Role) -> ExitCode {
+    let report = match role {
+        Role::EnipScanner { adapter } => edsgen_demo::enip_scanner(*adapter),
+        Role::ProfinetController { iface, card } => edsgen_demo::profinet_controller(iface, *card),
+    };
+    print_stdout(&report.to_json());
+    ExitCode::SUCCESS
 }

@@ -7,9 +7,9 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Subcommand, ValueEnum};
-use edsgen_runtime::master::blocking::{Master, MasterError};
+use edsgen_host::master::blocking::{Master, MasterError};
 use edsgen_runtime::master::lss::{LssOutcome, LssService};
-use edsgen_runtime::transport::Transport;
+use edsgen_host::Transport;
 use edsgen_runtime::wire::lss::{LssAddress, LssMode};
 
 use super::{fail, parse_node_id, BusArgs};

@@ -51,9 +51,9 @@ use std::time::Duration;
 
 use clap::Args;
 use edsgen_codegen::model::Device;
-use edsgen_runtime::master::blocking::Master;
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::Transport;
+use edsgen_host::master::blocking::Master;
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::Transport;
 
 /// Exit code for usage and I/O problems.
 pub const EXIT_USAGE: u8 = 2;
@@ -149,7 +149,7 @@ impl BusArgs {
             ),
             #[cfg(feature = "socketcan")]
             Target::SocketCan(iface) => Box::new(
-                edsgen_runtime::transport::socketcan::SocketCan::open(iface)
+                edsgen_host::socketcan::SocketCan::open(iface)
                     .map_err(|e| format!("cannot open {iface}: {e}"))?,
             ),
         })

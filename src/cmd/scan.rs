@@ -7,9 +7,9 @@ use std::collections::BTreeMap;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use edsgen_runtime::transport::Transport;
+use edsgen_host::Transport;
 
-use edsgen_runtime::master::blocking::MasterError;
+use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::master::identity::IDENTITY_ENTRIES;
 use edsgen_runtime::wire::heartbeat::NmtState;
 

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::Subcommand;
 use edsgen_codegen::model::{AccessType, BasicType, Device};
 use edsgen_codegen::read;
-use edsgen_runtime::master::blocking::MasterError;
+use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::master::Mode;
 use edsgen_runtime::wire::sdo::Multiplexer;
 

@@ -1,7 +1,7 @@
 //! `edsgen simulate [FILE[@ID]...] [--node-id N]... [--card NAME[@ID]]... [--bus HOST:PORT |
 //! --socketcan IFACE] [--trace]`: devices built at run time from description files, each a
 //! runtime `Node` serving a [`RuntimeDictionary`], and the bundled cards with their drives'
-//! behaviour ([`edsgen::drives`]); each on a driver thread with its own bus connection (so the
+//! behaviour ([`edsgen_sim::drives`]); each on a driver thread with its own bus connection (so the
 //! devices hear one another), until the process is stopped or the bus goes away.
 //!
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
@@ -13,7 +13,7 @@
 //! files that say `LSS_Supported=1` (none of the bundled cards does). Several unconfigured
 //! devices of one identity get consecutive serial numbers (1018h:04), printed at start.
 //! `--trace` prints every frame on the bus decoded
-//! ([`edsgen::decode`]), as a further listening connection sees it. With python `canopen` as the
+//! ([`edsgen_decode`]), as a further listening connection sees it. With python `canopen` as the
 //! master (some lines left out):
 //!
 //! ```text
@@ -36,19 +36,19 @@ use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
 use edsgen_runtime::od::ObjectDictionary;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::trace::epoch_micros;
-use edsgen_runtime::transport::vbus::BusDevice;
-use edsgen_runtime::transport::Transport;
 use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::trace::epoch_micros;
+use edsgen_host::vbus::BusDevice;
+use edsgen_host::Transport;
 use edsgen_runtime::{CanFrame, Node};
 
 use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
-use edsgen::decode::Decoder;
-use edsgen::drives::{Card, CARDS};
-use edsgen::sim::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use edsgen_codegen::model::Device;
+use edsgen_decode::Decoder;
+use edsgen_sim::canopen::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
+use edsgen_sim::drives::{Card, CARDS};
 
 /// How many receive and transmit PDOs a simulated node serves (1400h–140Fh, 1800h–180Fh).
 pub const PDOS: usize = 16;
@@ -327,7 +327,7 @@ impl Bus<'_> {
             },
             #[cfg(feature = "socketcan")]
             Bus::SocketCan(iface) => {
-                match edsgen_runtime::transport::socketcan::SocketCan::open(iface) {
+                match edsgen_host::socketcan::SocketCan::open(iface) {
                     Ok(socket) => Ok(Box::new(socket)),
                     Err(e) => Err(e.to_string()),
                 }

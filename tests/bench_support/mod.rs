@@ -12,15 +12,15 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
-use edsgen::cards::{cp301, goodrive350};
-use edsgen::sim::RuntimeDictionary;
+use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::socketcand::SocketcandClient;
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::frame::CanFrame;
 use edsgen_runtime::node::Node;
 use edsgen_runtime::time::Instant;
-use edsgen_runtime::transport::driver::{Driver, DriverHandle, MonotonicClock};
-use edsgen_runtime::transport::hub::{Hub, HubOptions};
-use edsgen_runtime::transport::socketcand::SocketcandClient;
-use edsgen_runtime::transport::vbus::BusDevice;
+use edsgen_sim::canopen::RuntimeDictionary;
+use edsgen_sim::cards::{cp301, goodrive350};
 
 use crate::sim_support;
 

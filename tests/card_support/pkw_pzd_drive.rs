@@ -2,13 +2,13 @@
 //! for every card that carries the 16-word PKW/PZD images, each card test saying how its images
 //! are laid out in bytes and checking its own fields in the answers.
 
-use edsgen::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_runtime::pkw_pzd::control::cw_bit;
 use edsgen_runtime::pkw_pzd::{
     ByteOrder, Command, ControlWord, ErrorNumber, InputImage, OutputImage, PkwRequest, PkwResponse,
     RunState, WordLayout, IMAGE_BYTES,
 };
 use edsgen_runtime::{Duration, Instant};
+use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 
 /// The drive's answers, as the card's input type reads them.
 pub struct Answers<I> {

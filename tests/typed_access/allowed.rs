@@ -2,11 +2,11 @@
 //! write-only and read-write ones, and reads and writes an address built by hand (access
 //! unknown); the device application gets and sets its entries whatever their access.
 
-use edsgen::cards::{cp301, goodrive350, rd11};
-use edsgen_runtime::master::blocking::{Master, MasterError};
-use edsgen_runtime::master::concurrent::AsyncMaster;
+use edsgen_sim::cards::{cp301, goodrive350, rd11};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::master::concurrent::AsyncMaster;
 use edsgen_runtime::master::{SdoClient, StartError};
-use edsgen_runtime::transport::memory::MemoryEndpoint;
+use edsgen_host::memory::MemoryEndpoint;
 use edsgen_runtime::{Entry, FixedBytes, Instant};
 
 const HAND_BUILT: Entry<u16> = Entry::new(0x6041, 0);

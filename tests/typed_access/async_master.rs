@@ -1,9 +1,9 @@
 //! The async master refuses, at compile time, a typed write of a read-only or constant entry
 //! and a typed read of a write-only one.
 
-use edsgen::cards::{cp301, goodrive350, rd11};
-use edsgen_runtime::master::concurrent::AsyncMaster;
-use edsgen_runtime::master::blocking::MasterError;
+use edsgen_sim::cards::{cp301, goodrive350, rd11};
+use edsgen_host::master::concurrent::AsyncMaster;
+use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::FixedBytes;
 
 async fn refused(master: &AsyncMaster) -> Result<(), MasterError> {

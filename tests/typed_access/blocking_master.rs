@@ -2,9 +2,9 @@
 //! statusword) or constant (Goodrive350 device name) entry and a typed read of a write-only one
 //! (RD11 F16.00 save-at-power-down).
 
-use edsgen::cards::{cp301, goodrive350, rd11};
-use edsgen_runtime::master::blocking::{Master, MasterError};
-use edsgen_runtime::transport::memory::MemoryEndpoint;
+use edsgen_sim::cards::{cp301, goodrive350, rd11};
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::memory::MemoryEndpoint;
 use edsgen_runtime::FixedBytes;
 
 fn refused(master: &mut Master<MemoryEndpoint>) -> Result<(), MasterError> {

@@ -1,7 +1,7 @@
 //! The sans-IO SDO client refuses, at compile time, a typed write of a read-only or constant
 //! entry and a typed read of a write-only one.
 
-use edsgen::cards::{cp301, goodrive350, rd11};
+use edsgen_sim::cards::{cp301, goodrive350, rd11};
 use edsgen_runtime::master::{SdoClient, StartError};
 use edsgen_runtime::{FixedBytes, Instant};
 

@@ -1,8 +1,8 @@
 //! Shared helpers of the master tests: an SDO server with a large domain on the virtual bus.
 #![allow(dead_code)]
 
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::sdo::SdoServer;
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{
     Access, CanFrame, DataType, Duration, EntryDescriptor, Instant, ObjectDictionary, SdoAbort,
 };

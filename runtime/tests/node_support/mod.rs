@@ -3,7 +3,7 @@
 
 pub mod node_od;
 
-use edsgen_runtime::transport::vbus::VirtualBus;
+use edsgen_host::vbus::VirtualBus;
 use edsgen_runtime::{CanFrame, Instant};
 
 /// A data frame.

@@ -12,9 +12,9 @@
 //! - On heartbeat loss (a consumer configured in 1016h) the card sends EMCY 8130h (the runtime's
 //!   node does, until the heartbeat returns) and the drive acts as 6007h says.
 
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::cia402::{Drive, DriveConfig, State};
 use edsgen_runtime::node::{error_register, InvalidNodeId};
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::{earliest, write_u16};

@@ -19,8 +19,8 @@
 //!   31 (E-CAN) and 58 (ESCAN) to 8100h (communication); every other type to FF00h (device
 //!   specific) with the generic bit.
 
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::node::{error_register, InvalidNodeId};
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::vfd::{Modify, ParameterSpec, Parameters, Ratings, Run, Vfd};

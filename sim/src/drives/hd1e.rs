@@ -3,8 +3,8 @@
 //! Tables 20 and 21 ([`super::pdo1`]). The fragment documents no drive control, so the
 //! inverter stands still; its parameter table is Table 19's (P10.00, P10.01).
 
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::node::InvalidNodeId;
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::pdo1;

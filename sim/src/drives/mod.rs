@@ -2,7 +2,7 @@
 //! on the card's generated bindings and the device runtime, so that a master can be written and
 //! tested before a drive is wired.
 //!
-//! Each CANopen card is a [`edsgen_runtime::transport::vbus::BusDevice`]: it runs on
+//! Each CANopen card is a [`edsgen_host::vbus::BusDevice`]: it runs on
 //! the in-memory bus in tests, and on any transport through the runtime's driver. The EtherCAT
 //! card [`ec_tx508`] exchanges its process images with a master's cycle instead.
 
@@ -19,8 +19,8 @@ pub mod vfd;
 use std::path::Path;
 
 use edsgen_codegen::model::Device;
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::node::InvalidNodeId;
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{Instant, ObjectDictionary};
 
 pub use self::cp301::Cp301;

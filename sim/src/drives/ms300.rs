@@ -21,9 +21,9 @@
 //!   drive of the mode in force; 2021h and 2061h report the Delta-mode drive, 6041h–6044h the
 //!   DS402 one.
 
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::cia402::{Drive, DriveConfig, State};
 use edsgen_runtime::node::InvalidNodeId;
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Event, Instant, Node};
 
 use super::vfd::{Ratings, Run, Vfd};

@@ -21,8 +21,8 @@
 //! - Commands 3 and 4 (jog) run at 5.00 Hz; 8 (run ban) stops the drive and refuses to run
 //!   until 9 (run allow).
 
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::node::{error_register, InvalidNodeId};
-use edsgen_runtime::transport::vbus::BusDevice;
 use edsgen_runtime::{CanFrame, Duration, Event, Instant, Node};
 
 use super::vfd::{Ratings, Run, Vfd};

@@ -12,8 +12,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Args as ClapArgs, Subcommand};
-use edsgen::ecat::{discover, runtime};
 use edsgen_codegen::model::Device;
+use edsgen_demo::ecat::{discover, runtime};
 
 use super::{fail, print_stdout};
 

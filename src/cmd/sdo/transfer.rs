@@ -15,7 +15,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use edsgen_codegen::model::BasicType;
-use edsgen_runtime::master::blocking::MasterError;
+use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::master::{Mode, SdoError, Transfer};
 
 use super::{fail, master_failed, progress, Resolved, Target};

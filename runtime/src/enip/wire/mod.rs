@@ -37,10 +37,10 @@ pub trait Emit {
     /// Writes the layout at the start of `buf`; the bytes written.
     fn emit(&self, buf: &mut [u8]) -> Result<usize, Error>;
 
-    /// The layout as a new vector (with `std`).
-    #[cfg(feature = "std")]
-    fn to_vec(&self) -> Result<Vec<u8>, Error> {
-        let mut buf = vec![0; self.buffer_len()];
+    /// The layout as a new vector (with the `alloc` feature).
+    #[cfg(feature = "alloc")]
+    fn to_vec(&self) -> Result<alloc::vec::Vec<u8>, Error> {
+        let mut buf = alloc::vec![0; self.buffer_len()];
         let written = self.emit(&mut buf)?;
         buf.truncate(written);
         Ok(buf)
