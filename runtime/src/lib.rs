@@ -13,6 +13,7 @@
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
 //! - `std`: the operating-system transports and the in-memory buses ([`transport`]).
 //! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
+//! - `dp`: PROFIBUS-DP, the FDL telegrams and the DP-V0 slave ([`dp`]).
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
 //!
@@ -24,6 +25,8 @@
 #![warn(missing_docs)]
 
 pub mod cia402;
+#[cfg(feature = "dp")]
+pub mod dp;
 pub mod ethercat;
 pub mod frame;
 pub mod master;
