@@ -14,6 +14,7 @@
 //! - `std`: the operating-system transports and the in-memory buses ([`transport`]).
 //! - `socketcan` (Linux): Linux SocketCAN as a transport, through the `socketcan` crate.
 //! - `dp`: PROFIBUS-DP, the FDL telegrams and the DP-V0 slave ([`dp`]).
+//! - `profinet`: PROFINET IO's wire formats as views ([`profinet`]).
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
 //!
@@ -33,6 +34,8 @@ pub mod master;
 pub mod node;
 pub mod od;
 pub mod pkw_pzd;
+#[cfg(feature = "profinet")]
+pub mod profinet;
 pub mod sdo;
 pub mod time;
 #[cfg(feature = "std")]

@@ -16,16 +16,16 @@
 
 use edsgen_codegen::model::Profinet;
 use edsgen_runtime::pkw_pzd::{ByteOrder, ErrorNumber, InputImage, PkwResponse, IMAGE_BYTES};
+use edsgen_runtime::profinet::wire::dcp::{self as dcpw, emit_plain_block, response_blocks};
+use edsgen_runtime::profinet::wire::rpc::{PnioStatus, Uuid, RPC_PORT};
+use edsgen_runtime::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
+use edsgen_runtime::profinet::wire::{Ethernet, Mac};
 use edsgen_runtime::Instant;
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::{ArEvent, Peer};
 use edsgen_sim::profinet::controller::{connected, response, Controller};
 use edsgen_sim::profinet::device::{Device, DeviceEvent};
-use edsgen_sim::profinet::wire::dcp::{self as dcpw, emit_plain_block, request, response_blocks};
-use edsgen_sim::profinet::wire::rpc::{PnioStatus, Uuid, RPC_PORT};
-use edsgen_sim::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
-use edsgen_sim::profinet::wire::{Ethernet, Mac};
 
 use super::{expect, Trace};
 use crate::cards::goodrive350_pn as card;
@@ -284,16 +284,18 @@ impl Bench<'_> {
         // The output CR: the module's data and IOPS, then the IOCS for its inputs.
         let mut c_sdu = data.to_vec();
         c_sdu.push(card::IOXS_GOOD);
-        let mut frame = Vec::new();
-        Ethernet::emit(self.card, self.controller, &mut frame);
-        RtFrame {
+        let rt = RtFrame {
             frame_id: self.frame_ids.1,
             c_sdu: &c_sdu,
             cycle_counter: (self.link.now_ms() * 32) as u16,
             data_status: DATA_STATUS_GOOD,
             transfer_status: 0,
-        }
-        .emit(&mut frame);
+        };
+        let mut frame = vec![0; 14 + rt.buffer_len()];
+        let header = Ethernet::emit(self.card, self.controller, &mut frame);
+        header
+            .and_then(|at| rt.emit(&mut frame[at..]))
+            .map_err(|_| "the output frame does not fit")?;
         let reply = self.link.cycle(&frame)?.ok_or("no input frame")?;
         self.input = decode_input(&reply)?;
         Ok(())
@@ -423,19 +425,21 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Transport) -> Result<()
         ),
     );
 
-    let mut set = Vec::new();
-    emit_plain_block(&mut set, dcpw::NAME_OF_STATION, b"\x00\x01gd350-line-1");
+    let mut set = [0; 20];
+    let n = emit_plain_block(&mut set, dcpw::NAME_OF_STATION, b"\x00\x01gd350-line-1")
+        .map_err(|_| "the Set block does not fit")?;
     let set = request(
         device,
         controller,
         dcpw::FRAME_GET_SET,
         dcpw::SERVICE_SET,
         2,
-        &set,
+        &set[..n],
     );
     let (_, blocks) = answer(link, &set)?;
-    let mut by_name = Vec::new();
-    emit_plain_block(&mut by_name, dcpw::NAME_OF_STATION, b"gd350-line-1");
+    let mut by_name = [0; 16];
+    let n = emit_plain_block(&mut by_name, dcpw::NAME_OF_STATION, b"gd350-line-1")
+        .map_err(|_| "the filter block does not fit")?;
     let found = link
         .dcp(&request(
             dcpw::MULTICAST_IDENTIFY,
@@ -443,7 +447,7 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Transport) -> Result<()
             dcpw::FRAME_IDENTIFY_REQUEST,
             dcpw::SERVICE_IDENTIFY,
             3,
-            &by_name,
+            &by_name[..n],
         ))?
         .is_some();
     trace.step(
@@ -597,4 +601,12 @@ fn ar_events(device: &mut Device) -> Vec<&'static str> {
             _ => None,
         })
         .collect()
+}
+
+/// A DCP request frame (see [`dcpw::request`]).
+fn request(dst: Mac, src: Mac, frame_id: u16, service: u8, xid: u32, blocks: &[u8]) -> Vec<u8> {
+    let mut frame = vec![0; 14 + dcpw::HEADER_LEN + blocks.len()];
+    let n = dcpw::request(&mut frame, dst, src, frame_id, service, xid, blocks).unwrap_or(0);
+    frame.truncate(n);
+    frame
 }

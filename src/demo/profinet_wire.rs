@@ -18,12 +18,12 @@ use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use edsgen_runtime::profinet::wire::dcp::{DcpHeader, TYPE_RESPONSE};
+use edsgen_runtime::profinet::wire::rpc::{RpcHeader, REQUEST, RESPONSE, RPC_PORT};
+use edsgen_runtime::profinet::wire::rt::RT_CLASS_1;
+use edsgen_runtime::profinet::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
 use edsgen_sim::profinet::ar::Peer;
 use edsgen_sim::profinet::driver::{RawSocket, RpcSocket};
-use edsgen_sim::profinet::wire::dcp::{DcpHeader, TYPE_RESPONSE};
-use edsgen_sim::profinet::wire::rpc::{RpcHeader, REQUEST, RESPONSE, RPC_PORT};
-use edsgen_sim::profinet::wire::rt::RT_CLASS_1;
-use edsgen_sim::profinet::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
 
 use super::profinet::{workflow, Silence, Timing, Transport};
 use super::two_namespaces::{self, Outcome, Pair, Server};
