@@ -359,7 +359,7 @@ impl PkwPzdDrive {
         let mut pzd = [0u16; PZD_WORDS];
         for (n, value) in pzd.iter_mut().enumerate() {
             let function = self.parameter(base + n as u16).unwrap_or(0);
-            *value = self.actual_value(function);
+            *value = super::goodrive350::returned_value(&self.vfd, function);
         }
         InputImage {
             pkw: self.response,
@@ -545,22 +545,6 @@ impl PkwPzdDrive {
             .with(sw_bit::READY, true)
             .with_run_stop_mode(mode)
             .with(sw_bit::HEARTBEAT, self.last_control.0 & 0x8000 != 0)
-    }
-
-    /// Table 2-8: an actual value by its function.
-    fn actual_value(&self, function: u16) -> u16 {
-        let vfd = &self.vfd;
-        let value = match function {
-            1 | 10 => vfd.output_frequency().unsigned_abs(),
-            2 => vfd.reference(),
-            3 => vfd.bus_voltage(),
-            4 => vfd.output_voltage(),
-            5 => vfd.output_current(),
-            8 => vfd.speed_rpm().unsigned_abs(),
-            11 => u32::from(vfd.fault().unwrap_or(0)),
-            _ => 0,
-        };
-        value as u16
     }
 }
 
