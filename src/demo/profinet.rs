@@ -25,7 +25,7 @@ use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::{ArEvent, Peer};
 use edsgen_sim::profinet::controller::{connected, response, Controller};
-use edsgen_sim::profinet::device::{Device, DeviceEvent};
+use edsgen_sim::profinet::device::{Device, DeviceEvent, Link, Transmit};
 
 use super::{expect, Trace};
 use crate::cards::goodrive350_pn as card;
@@ -136,17 +136,28 @@ impl Transport for InProcess {
     }
 
     fn dcp(&mut self, request: &[u8]) -> Result<Option<Vec<u8>>, String> {
-        Ok(self.card.handle_frame(self.now(), request))
+        let now = self.now();
+        self.card.handle(now, Link::Ethernet, request);
+        match self.card.poll_transmit(now) {
+            Some(Transmit::Frame(answer)) => Ok(Some(answer)),
+            None => Ok(None),
+            Some(other) => Err(format!("the card sent {other:02x?} for a DCP request")),
+        }
     }
 
     fn call(&mut self, pdu: &[u8]) -> Result<Vec<u8>, String> {
-        self.card
-            .handle_datagram(self.now(), CONTROLLER_RPC, pdu)
-            .ok_or_else(|| "the card did not answer".to_owned())
+        let now = self.now();
+        self.card.handle(now, Link::Rpc(CONTROLLER_RPC), pdu);
+        match self.card.poll_transmit(now) {
+            Some(Transmit::Datagram(to, answer)) if to == CONTROLLER_RPC => Ok(answer),
+            _ => Err("the card did not answer".to_owned()),
+        }
     }
 
     fn card_request(&mut self) -> Result<Vec<u8>, String> {
-        let (to, pdu) = self.card.poll_datagram().ok_or("no ApplicationReady")?;
+        let Some(Transmit::Datagram(to, pdu)) = self.card.poll_transmit(self.now()) else {
+            return Err("no ApplicationReady".to_owned());
+        };
         if to != (CONTROLLER_RPC.0, RPC_PORT) {
             return Err(format!("ApplicationReady sent to {to:?}"));
         }
@@ -154,8 +165,9 @@ impl Transport for InProcess {
     }
 
     fn answer(&mut self, pdu: &[u8]) -> Result<(), String> {
-        self.card
-            .handle_datagram(self.now(), (CONTROLLER_RPC.0, RPC_PORT), pdu);
+        let now = self.now();
+        let from = (CONTROLLER_RPC.0, RPC_PORT);
+        self.card.handle(now, Link::Rpc(from), pdu);
         Ok(())
     }
 
@@ -169,15 +181,19 @@ impl Transport for InProcess {
 
     fn cycle(&mut self, frame: &[u8]) -> Result<Option<Vec<u8>>, String> {
         let now = self.now();
-        self.card.handle_frame(now, frame);
+        self.card.handle(now, Link::Ethernet, frame);
         self.card.handle_timeout(now);
-        let reply = self.card.poll_frame(now);
+        let reply = match self.card.poll_transmit(now) {
+            Some(Transmit::Frame(reply)) => Some(reply),
+            None => None,
+            Some(other) => return Err(format!("the card sent {other:02x?} in a cycle")),
+        };
         self.ms += INTERVAL_MS;
         Ok(reply)
     }
 
     fn sending_stopped(&mut self) -> Result<bool, String> {
-        Ok(self.card.poll_frame(self.now()).is_none())
+        Ok(self.card.poll_transmit(self.now()).is_none())
     }
 
     /// The card's watchdog expires after FACTOR intervals without an output frame.
@@ -191,7 +207,7 @@ impl Transport for InProcess {
             };
             at = next;
             self.card.handle_timeout(at);
-            while self.card.poll_frame(at).is_some() {}
+            while self.card.poll_transmit(at).is_some() {}
             aborted |= ar_events(&mut self.card).contains(&"Aborted");
             if aborted {
                 break;

@@ -5,8 +5,12 @@
 //! and the watchdog aborts the AR. The AR's AlarmCR ([`AlarmCr`]) carries the card's
 //! diagnosis: a fault of the drive is a Diagnosis alarm, its reset a Diagnosis disappears
 //! alarm; an alarm the controller does not acknowledge ends the AR. Records 256 and 257 of the card are the drive's P16.32-P16.42
-//! and P16.43-P16.53: a write sets them, a read shows them. Sans-IO: Ethernet frames and UDP
-//! datagrams in, frames and datagrams out; the driver ([`super::driver`]) moves them.
+//! and P16.43-P16.53: a write sets them, a read shows them. Sans-IO, in the runtime's shape:
+//! [`Device::handle`] takes Ethernet frames and UDP datagrams, [`Device::poll_transmit`] gives
+//! frames and datagrams, with `poll_timeout`/`handle_timeout` and `poll_event`; the driver
+//! ([`super::driver`]) moves them.
+
+use std::collections::VecDeque;
 
 use edsgen_runtime::pkw_pzd::IMAGE_BYTES;
 use edsgen_runtime::{Duration, Instant};
@@ -23,6 +27,24 @@ use crate::drives::pkw_pzd::PkwPzdDrive;
 pub const RECORD_RECEIVED_PZD: u16 = 256;
 /// The card's record of the transmitted PZD meanings (P16.43-P16.53).
 pub const RECORD_TRANSMITTED_PZD: u16 = 257;
+
+/// Where received bytes came from, or where bytes to send go.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Link {
+    /// The Ethernet port: DCP, cyclic RT and alarm frames.
+    Ethernet,
+    /// A peer on PROFINET's RPC endpoint (UDP 34964).
+    Rpc(Peer),
+}
+
+/// Bytes the device sends.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Transmit {
+    /// An Ethernet frame.
+    Frame(Vec<u8>),
+    /// A UDP datagram to a peer.
+    Datagram(Peer, Vec<u8>),
+}
 
 /// What happened in the device.
 #[derive(Debug, Clone, PartialEq)]
@@ -54,6 +76,8 @@ pub struct Device {
     /// The AR's AlarmCR (after an abort it stays until the next Connect, to send its ERR).
     alarm: Option<AlarmCr>,
     events: Vec<DeviceEvent>,
+    /// Answers to received frames and datagrams, oldest first.
+    answers: VecDeque<Transmit>,
 }
 
 impl Device {
@@ -83,6 +107,7 @@ impl Device {
             exchange: Exchange::Idle(drive),
             alarm: None,
             events: Vec::new(),
+            answers: VecDeque::new(),
         }
     }
 
@@ -105,8 +130,32 @@ impl Device {
         (!self.events.is_empty()).then(|| self.events.remove(0))
     }
 
+    /// Bytes received at `now` on `from`: an Ethernet frame (DCP, cyclic, alarm) or an RPC
+    /// datagram. Answers wait in [`Device::poll_transmit`].
+    pub fn handle(&mut self, now: Instant, from: Link, bytes: &[u8]) {
+        let answer = match from {
+            Link::Ethernet => self.handle_frame(now, bytes).map(Transmit::Frame),
+            Link::Rpc(peer) => self
+                .handle_datagram(now, peer, bytes)
+                .map(|pdu| Transmit::Datagram(peer, pdu)),
+        };
+        self.answers.extend(answer);
+    }
+
+    /// The next bytes to send at `now`: answers first, then the device's own datagrams
+    /// (ApplicationReady), then alarm and cyclic frames as they fall due.
+    pub fn poll_transmit(&mut self, now: Instant) -> Option<Transmit> {
+        if let Some(answer) = self.answers.pop_front() {
+            return Some(answer);
+        }
+        if let Some((to, pdu)) = self.poll_datagram() {
+            return Some(Transmit::Datagram(to, pdu));
+        }
+        self.poll_frame(now).map(Transmit::Frame)
+    }
+
     /// A received Ethernet frame: DCP's answer, if any (cyclic frames are consumed).
-    pub fn handle_frame(&mut self, now: Instant, frame: &[u8]) -> Option<Vec<u8>> {
+    pub(crate) fn handle_frame(&mut self, now: Instant, frame: &[u8]) -> Option<Vec<u8>> {
         let answer = self.dcp.handle(frame);
         while let Some(e) = self.dcp.poll_event() {
             self.events.push(DeviceEvent::Dcp(e));
@@ -193,19 +242,24 @@ impl Device {
     }
 
     /// A received datagram on UDP 34964: the answer to its sender, if any.
-    pub fn handle_datagram(&mut self, now: Instant, from: Peer, pdu: &[u8]) -> Option<Vec<u8>> {
+    pub(crate) fn handle_datagram(
+        &mut self,
+        now: Instant,
+        from: Peer,
+        pdu: &[u8],
+    ) -> Option<Vec<u8>> {
         let answer = self.cm.handle_datagram(now, from, pdu);
         self.ar_events(now);
         answer
     }
 
     /// A datagram the device sends of its own.
-    pub fn poll_datagram(&mut self) -> Option<(Peer, Vec<u8>)> {
+    pub(crate) fn poll_datagram(&mut self) -> Option<(Peer, Vec<u8>)> {
         self.cm.poll_datagram()
     }
 
     /// The cyclic frame due at `now`, if any.
-    pub fn poll_frame(&mut self, now: Instant) -> Option<Vec<u8>> {
+    pub(crate) fn poll_frame(&mut self, now: Instant) -> Option<Vec<u8>> {
         if let Some(frame) = self.alarm.as_mut().and_then(AlarmCr::poll_frame) {
             return Some(frame);
         }
