@@ -15,6 +15,7 @@ use super::wire::alarm::{
     SPEC_CHANNEL_DIAGNOSIS, SPEC_SUBMODULE_DIAGNOSIS,
 };
 use super::wire::Mac;
+pub use crate::drives::pkw_pzd::FaultChange;
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// Where the card's module with the drive's 16 words sits: slot 1, subslot 1.
@@ -53,15 +54,6 @@ pub fn card_layout(controller: Mac, device: Mac, interval: Duration, factor: u16
 pub const DRIVE_FAULT_ERROR_TYPE: u16 = 0x0101;
 /// Its ExtChannelDiagItem: the fault type (P07.27) as ExtChannelAddValue.
 pub const DRIVE_FAULT_EXT_ERROR_TYPE: u16 = 1;
-
-/// A change of the drive's diagnosis: a fault (P07.27's type) appeared or disappeared.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FaultChange {
-    /// The drive tripped with this fault.
-    Appears(u16),
-    /// This fault was reset.
-    Disappears(u16),
-}
 
 /// The Diagnosis alarm (low priority) of `change` on the drive's submodule, whose module and
 /// submodule have the ident numbers `idents`: ExtChannelDiagnosis of the whole submodule with
@@ -112,37 +104,25 @@ pub struct CardCycle {
     drive: PkwPzdDrive,
     inputs: [u8; IMAGE_BYTES],
     next_send: Instant,
-    /// The fault last reported by [`CardCycle::poll_diagnosis`].
-    reported: Option<u16>,
 }
 
 impl CardCycle {
     /// The exchange of `layout` with `drive` from `now`.
-    pub fn new(layout: CrLayout, drive: PkwPzdDrive, now: Instant) -> Self {
+    pub fn new(layout: CrLayout, mut drive: PkwPzdDrive, now: Instant) -> Self {
         let inputs = drive.inputs().emit(ByteOrder::BigEndian);
+        drive.forget_reported_fault();
         CardCycle {
             cyclic: Cyclic::new(layout),
             drive,
             inputs,
             next_send: now,
-            reported: None,
         }
     }
 
-    /// The next change of the drive's diagnosis since the last call: its fault other than the
-    /// bus's own (E-PN ends the AR: there is no AR left to tell). A fault present when the
-    /// exchange starts appears at the first call.
+    /// The next change of the drive's diagnosis since the exchange started
+    /// ([`PkwPzdDrive::poll_fault_change`]): E-PN ends the AR, so it is not one.
     pub fn poll_diagnosis(&mut self) -> Option<FaultChange> {
-        let bus_fault = self.drive.bus().fault();
-        let fault = self.drive.vfd().fault().filter(|&f| f != bus_fault);
-        if fault == self.reported {
-            return None;
-        }
-        if let Some(old) = self.reported.take() {
-            return Some(FaultChange::Disappears(old));
-        }
-        self.reported = fault;
-        fault.map(FaultChange::Appears)
+        self.drive.poll_fault_change()
     }
 
     /// The drive.
