@@ -16,7 +16,7 @@
 
 use edsgen_codegen::model::Profinet;
 use edsgen_runtime::pkw_pzd::{ByteOrder, ErrorNumber, InputImage, PkwResponse, IMAGE_BYTES};
-use edsgen_runtime::profinet::wire::dcp::{self as dcpw, emit_plain_block, response_blocks};
+use edsgen_runtime::profinet::wire::dcp::{self as dcpw, emit_plain_block};
 use edsgen_runtime::profinet::wire::rpc::{PnioStatus, Uuid, RPC_PORT};
 use edsgen_runtime::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
 use edsgen_runtime::profinet::wire::{Ethernet, Mac};
@@ -27,6 +27,7 @@ use edsgen_sim::profinet::ar::{ArEvent, Peer};
 use edsgen_sim::profinet::controller::{connected, response, Controller};
 use edsgen_sim::profinet::device::{Device, DeviceEvent, Link, Transmit};
 
+use super::profinet_wire::{answer, dcp_request as request, find};
 use super::{expect, Trace};
 use crate::cards::goodrive350_pn as card;
 use card::modules::pkw_pzd_16_words::subslot_1::{Input, Output};
@@ -136,28 +137,30 @@ impl Transport for InProcess {
     }
 
     fn dcp(&mut self, request: &[u8]) -> Result<Option<Vec<u8>>, String> {
-        let now = self.now();
-        self.card.handle(now, Link::Ethernet, request);
-        match self.card.poll_transmit(now) {
-            Some(Transmit::Frame(answer)) => Ok(Some(answer)),
-            None => Ok(None),
-            Some(other) => Err(format!("the card sent {other:02x?} for a DCP request")),
-        }
+        self.card.handle(self.now(), Link::Ethernet, request);
+        Ok(self
+            .card
+            .poll_transmit(self.now())
+            .and_then(Transmit::frame))
     }
 
     fn call(&mut self, pdu: &[u8]) -> Result<Vec<u8>, String> {
-        let now = self.now();
-        self.card.handle(now, Link::Rpc(CONTROLLER_RPC), pdu);
-        match self.card.poll_transmit(now) {
-            Some(Transmit::Datagram(to, answer)) if to == CONTROLLER_RPC => Ok(answer),
-            _ => Err("the card did not answer".to_owned()),
-        }
+        self.card.handle(self.now(), Link::Rpc(CONTROLLER_RPC), pdu);
+        let answer = self
+            .card
+            .poll_transmit(self.now())
+            .and_then(Transmit::datagram);
+        answer
+            .map(|(_, pdu)| pdu)
+            .ok_or_else(|| "the card did not answer".to_owned())
     }
 
     fn card_request(&mut self) -> Result<Vec<u8>, String> {
-        let Some(Transmit::Datagram(to, pdu)) = self.card.poll_transmit(self.now()) else {
-            return Err("no ApplicationReady".to_owned());
-        };
+        let sent = self
+            .card
+            .poll_transmit(self.now())
+            .and_then(Transmit::datagram);
+        let (to, pdu) = sent.ok_or("no ApplicationReady")?;
         if to != (CONTROLLER_RPC.0, RPC_PORT) {
             return Err(format!("ApplicationReady sent to {to:?}"));
         }
@@ -165,9 +168,8 @@ impl Transport for InProcess {
     }
 
     fn answer(&mut self, pdu: &[u8]) -> Result<(), String> {
-        let now = self.now();
         let from = (CONTROLLER_RPC.0, RPC_PORT);
-        self.card.handle(now, Link::Rpc(from), pdu);
+        self.card.handle(self.now(), Link::Rpc(from), pdu);
         Ok(())
     }
 
@@ -183,11 +185,7 @@ impl Transport for InProcess {
         let now = self.now();
         self.card.handle(now, Link::Ethernet, frame);
         self.card.handle_timeout(now);
-        let reply = match self.card.poll_transmit(now) {
-            Some(Transmit::Frame(reply)) => Some(reply),
-            None => None,
-            Some(other) => return Err(format!("the card sent {other:02x?} in a cycle")),
-        };
+        let reply = self.card.poll_transmit(now).and_then(Transmit::frame);
         self.ms += INTERVAL_MS;
         Ok(reply)
     }
@@ -252,31 +250,6 @@ pub(super) fn run(trace: &mut Trace) {
     if let Err(problem) = done {
         trace.step("Goodrive350 PROFINET workflow", Err(problem));
     }
-}
-
-/// A DCP answer's block: option, BlockInfo, data.
-type Block = ((u8, u8), u16, Vec<u8>);
-
-/// The card's MAC address and the DCP blocks of its answer to `frame`, or why there is none.
-fn answer(link: &mut dyn Transport, frame: &[u8]) -> Result<(Mac, Vec<Block>), String> {
-    let reply = link.dcp(frame)?.ok_or("the device did not answer")?;
-    let eth = Ethernet::parse(&reply).ok_or("a short answer")?;
-    let (_, blocks) =
-        dcpw::DcpHeader::parse(&reply[eth.payload..]).ok_or("a malformed DCP answer")?;
-    Ok((
-        eth.src,
-        response_blocks(blocks)
-            .map(|(o, i, d)| (o, i, d.to_vec()))
-            .collect(),
-    ))
-}
-
-fn find(blocks: &[Block], option: (u8, u8)) -> Result<Vec<u8>, String> {
-    blocks
-        .iter()
-        .find(|b| b.0 == option)
-        .map(|b| b.2.clone())
-        .ok_or_else(|| format!("no block {option:?} in the answer"))
 }
 
 /// The controller and the card, joined by a [`Transport`].
@@ -617,12 +590,4 @@ fn ar_events(device: &mut Device) -> Vec<&'static str> {
             _ => None,
         })
         .collect()
-}
-
-/// A DCP request frame (see [`dcpw::request`]).
-fn request(dst: Mac, src: Mac, frame_id: u16, service: u8, xid: u32, blocks: &[u8]) -> Vec<u8> {
-    let mut frame = vec![0; 14 + dcpw::HEADER_LEN + blocks.len()];
-    let n = dcpw::request(&mut frame, dst, src, frame_id, service, xid, blocks).unwrap_or(0);
-    frame.truncate(n);
-    frame
 }

@@ -46,6 +46,24 @@ pub enum Transmit {
     Datagram(Peer, Vec<u8>),
 }
 
+impl Transmit {
+    /// The frame, if it is one.
+    pub fn frame(self) -> Option<Vec<u8>> {
+        match self {
+            Transmit::Frame(frame) => Some(frame),
+            Transmit::Datagram(..) => None,
+        }
+    }
+
+    /// The datagram and its destination, if it is one.
+    pub fn datagram(self) -> Option<(Peer, Vec<u8>)> {
+        match self {
+            Transmit::Datagram(to, pdu) => Some((to, pdu)),
+            Transmit::Frame(_) => None,
+        }
+    }
+}
+
 /// What happened in the device.
 #[derive(Debug, Clone, PartialEq)]
 pub enum DeviceEvent {
