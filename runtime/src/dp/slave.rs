@@ -111,7 +111,8 @@ pub enum Event {
         /// The state now.
         to: DpState,
     },
-    /// The watchdog expired: the slave left Data_Exchange.
+    /// The watchdog expired: the slave left Data_Exchange for Wait_Prm (no `StateChanged`
+    /// comes for this change).
     WatchdogExpired,
 }
 
@@ -143,9 +144,13 @@ pub struct DpSlave<A> {
     /// The last request with FCV: its (master, FCB) and its answer's length in `repeat`.
     last: Option<(u8, bool, Option<usize>)>,
     repeat: [u8; MAX_TELEGRAM_LEN],
-    event: Option<Event>,
+    /// Events not polled yet, oldest first (a telegram makes at most two).
+    events: [Option<Event>; EVENT_CAPACITY],
     events_lost: u32,
 }
+
+/// How many events wait for [`DpSlave::poll_event`].
+const EVENT_CAPACITY: usize = 4;
 
 impl<A: DpApplication> DpSlave<A> {
     /// A slave just powered up, in Wait_Prm. Lengths above [`DpData::CAPACITY`] are cut to it.
@@ -172,7 +177,7 @@ impl<A: DpApplication> DpSlave<A> {
             transmit_pending: false,
             last: None,
             repeat: [0; MAX_TELEGRAM_LEN],
-            event: None,
+            events: [None; EVENT_CAPACITY],
             events_lost: 0,
         }
     }
@@ -199,7 +204,9 @@ impl<A: DpApplication> DpSlave<A> {
 
     /// The next event, oldest first.
     pub fn poll_event(&mut self) -> Option<Event> {
-        self.event.take()
+        let first = self.events[0].take();
+        self.events.rotate_left(1);
+        first
     }
 
     /// Events dropped because the driver did not poll them in time.
@@ -216,7 +223,7 @@ impl<A: DpApplication> DpSlave<A> {
     /// Leaves Data_Exchange if the watchdog expired by `now`.
     pub fn handle_timeout(&mut self, now: Instant) {
         if self.poll_timeout().is_some_and(|at| at <= now) {
-            self.set_state(DpState::WaitPrm);
+            self.state = DpState::WaitPrm;
             self.master = None;
             self.watchdog = None;
             self.push_event(Event::WatchdogExpired);
@@ -340,11 +347,15 @@ impl<A: DpApplication> DpSlave<A> {
         }
     }
 
+    /// Queues `event`; when the driver has not polled the queue empty, the oldest is lost.
     fn push_event(&mut self, event: Event) {
-        // One slot: a driver polls after each telegram and timeout; a state change that
-        // replaces an unpolled one is counted.
-        if self.event.replace(event).is_some() {
+        if self.events[EVENT_CAPACITY - 1].is_some() {
             self.events_lost = self.events_lost.saturating_add(1);
+            self.events.rotate_left(1);
+            self.events[EVENT_CAPACITY - 1] = None;
+        }
+        if let Some(free) = self.events.iter_mut().find(|e| e.is_none()) {
+            *free = Some(event);
         }
     }
 

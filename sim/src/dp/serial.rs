@@ -14,16 +14,16 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use edsgen_runtime::dp::fdl::{self, FdlError, MAX_TELEGRAM_LEN};
-use edsgen_runtime::dp::{DpApplication, DpSlave};
+use edsgen_runtime::dp::{DpApplication, DpSlave, Event};
 use edsgen_runtime::transport::driver::MonotonicClock;
 
 /// Serves `slave` on the line `port` until `stop` is set or the line closes (an error then);
-/// `observe` sees the slave after each telegram and each watchdog check.
+/// `on_event` sees the slave's events as they come.
 pub fn serve<A: DpApplication>(
     port: File,
     slave: &mut DpSlave<A>,
     stop: &AtomicBool,
-    mut observe: impl FnMut(&DpSlave<A>),
+    mut on_event: impl FnMut(Event),
 ) -> std::io::Result<()> {
     let mut writer = port.try_clone()?;
     let mut reader = port;
@@ -57,7 +57,9 @@ pub fn serve<A: DpApplication>(
             }
         }
         slave.handle_timeout(clock.now());
-        observe(slave);
+        while let Some(event) = slave.poll_event() {
+            on_event(event);
+        }
         loop {
             match fdl::parse(&pending) {
                 Ok((_, used)) => {
@@ -67,7 +69,9 @@ pub fn serve<A: DpApplication>(
                         writer.write_all(&answer[..n])?;
                         writer.flush()?;
                     }
-                    observe(slave);
+                    while let Some(event) = slave.poll_event() {
+                        on_event(event);
+                    }
                 }
                 Err(FdlError::Incomplete) => break,
                 Err(_) => {

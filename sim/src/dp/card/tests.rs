@@ -302,3 +302,28 @@ fn sync_and_freeze() {
     handle(&mut slave, ms(2020), &global(0x20));
     assert_eq!(slave.app().drive.vfd().output_frequency(), 0);
 }
+
+#[test]
+fn events_tell_the_state_changes_and_the_watchdog() {
+    use edsgen_runtime::dp::Event;
+    let (mut slave, mut master) = started();
+    let changes: Vec<Event> = std::iter::from_fn(|| slave.poll_event()).collect();
+    assert_eq!(
+        changes,
+        [
+            Event::StateChanged {
+                from: DpState::WaitPrm,
+                to: DpState::WaitCfg
+            },
+            Event::StateChanged {
+                from: DpState::WaitCfg,
+                to: DpState::DataExchange
+            },
+        ]
+    );
+    master.send(&mut slave, ms(10), None, &outputs([0; 4], 0, 0));
+    assert_eq!(slave.poll_event(), None);
+    slave.handle_timeout(ms(1010));
+    assert_eq!(slave.poll_event(), Some(Event::WatchdogExpired));
+    assert_eq!((slave.poll_event(), slave.events_lost()), (None, 0));
+}
