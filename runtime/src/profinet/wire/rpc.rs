@@ -3,7 +3,7 @@
 //! flags, the data representation "drep" that says the byte order of every integer after it,
 //! the object, interface and activity UUIDs, sequence and operation numbers, fragment fields),
 //! then the NDR header of PROFINET's one argument (ArgsMaximum or the PNIOStatus, ArgsLength,
-//! MaximumCount, Offset, ActualCount), then the PNIO blocks ([`super::blocks`]), which are
+//! MaximumCount, Offset, ActualCount), then the PNIO blocks ([`super::block`]), which are
 //! big-endian whatever the drep says. Both byte orders are read; answers keep the request's.
 //! Parsing never panics: a short or malformed PDU is `None`; emitting writes into the caller's
 //! buffer and returns the length, or [`BufferTooSmall`].
