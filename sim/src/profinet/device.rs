@@ -16,17 +16,14 @@ use edsgen_runtime::pkw_pzd::IMAGE_BYTES;
 use edsgen_runtime::{Duration, Instant};
 
 use super::alarm::{AlarmCr, AlarmEvent};
+use super::application::IoApplication;
+pub use super::application::{RECORD_RECEIVED_PZD, RECORD_TRANSMITTED_PZD};
 use super::ar::config::DeviceConfig;
 use super::ar::{ArEvent, Cm, Peer};
 use super::cyclic::{CrLayout, Cyclic};
 use super::dcp::{Dcp, DcpEvent, Station};
 use super::drive::{fault_alarm, CardCycle, DRIVE_SLOT};
 use crate::drives::pkw_pzd::PkwPzdDrive;
-
-/// The card's record of the received PZD meanings (P16.32-P16.42).
-pub const RECORD_RECEIVED_PZD: u16 = 256;
-/// The card's record of the transmitted PZD meanings (P16.43-P16.53).
-pub const RECORD_TRANSMITTED_PZD: u16 = 257;
 
 /// Where received bytes came from, or where bytes to send go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -76,21 +73,22 @@ pub enum DeviceEvent {
 }
 
 #[derive(Debug, Clone)]
-enum Exchange {
+enum Exchange<A> {
     /// No IO AR.
-    Idle(Option<PkwPzdDrive>),
+    Idle(Option<A>),
     /// The card's drive behind the AR's layout.
-    Card(CardCycle),
+    Card(CardCycle<A>),
     /// A device without a drive: its inputs are zero.
     Plain(Cyclic, Instant),
 }
 
-/// The device.
+/// The device, with the application `A` behind its module (the Goodrive350 card's drive by
+/// default).
 #[derive(Debug, Clone)]
-pub struct Device {
+pub struct Device<A = PkwPzdDrive> {
     dcp: Dcp,
     cm: Cm,
-    exchange: Exchange,
+    exchange: Exchange<A>,
     /// The AR's AlarmCR (after an abort it stays until the next Connect, to send its ERR).
     alarm: Option<AlarmCr>,
     events: Vec<DeviceEvent>,
@@ -98,26 +96,18 @@ pub struct Device {
     answers: VecDeque<Transmit>,
 }
 
-impl Device {
-    /// A device with `station` (DCP) and `config` (its GSDML's), and the card's `drive` if it is
-    /// the Goodrive350 card.
-    pub fn new(station: Station, config: DeviceConfig, drive: Option<PkwPzdDrive>) -> Device {
+impl<A: IoApplication> Device<A> {
+    /// A device with `station` (DCP) and `config` (its GSDML's), and the application behind its
+    /// module (`drive`: the Goodrive350 card's), if it has one.
+    pub fn new(station: Station, config: DeviceConfig, drive: Option<A>) -> Self {
         let ids = (
             station.vendor_id,
             station.device_id,
             u16::from_be_bytes([station.instance.0, station.instance.1]),
         );
         let mut cm = Cm::new(config, station.mac, ids, &station.type_of_station);
-        if let Some(drive) = &drive {
-            for (index, first) in [
-                (RECORD_RECEIVED_PZD, drive.bus().received_pzd2()),
-                (RECORD_TRANSMITTED_PZD, drive.bus().transmitted_pzd2()),
-            ] {
-                let words: Vec<u8> = (0..11)
-                    .flat_map(|i| drive.parameter(first + i).unwrap_or(0).to_be_bytes())
-                    .collect();
-                cm.set_record((DRIVE_SLOT.0, DRIVE_SLOT.1, index), &words);
-            }
+        for (index, bytes) in drive.iter().flat_map(IoApplication::records) {
+            cm.set_record((DRIVE_SLOT.0, DRIVE_SLOT.1, index), &bytes);
         }
         Device {
             dcp: Dcp::new(station),
@@ -134,8 +124,8 @@ impl Device {
         &mut self.dcp
     }
 
-    /// The drive, if the device has one.
-    pub fn drive(&self) -> Option<&PkwPzdDrive> {
+    /// The application (the drive), if the device has one.
+    pub fn drive(&self) -> Option<&A> {
         match &self.exchange {
             Exchange::Idle(d) => d.as_ref(),
             Exchange::Card(c) => Some(c.drive()),
@@ -200,24 +190,8 @@ impl Device {
         None
     }
 
-    /// A test's hook: the drive trips with `fault` (P07.27's type) at `now`, as an
-    /// overcurrent would; in data exchange the controller gets a Diagnosis alarm.
-    pub fn inject_fault(&mut self, now: Instant, fault: u16) {
-        if let Some(drive) = self.drive_mut() {
-            drive.inject_fault(now, fault);
-        }
-        self.diagnosis(now);
-    }
-
-    /// A test's hook: the injected fault's cause is gone; the controller's fault reset (CW
-    /// command 7) now clears it, and the controller gets a Diagnosis disappears alarm.
-    pub fn remove_fault_cause(&mut self) {
-        if let Some(drive) = self.drive_mut() {
-            drive.remove_fault_cause();
-        }
-    }
-
-    fn drive_mut(&mut self) -> Option<&mut PkwPzdDrive> {
+    /// The application (the drive), to change, if the device has one.
+    pub fn drive_mut(&mut self) -> Option<&mut A> {
         match &mut self.exchange {
             Exchange::Idle(d) => d.as_mut(),
             Exchange::Card(c) => Some(c.drive_mut()),
@@ -396,21 +370,29 @@ impl Device {
         };
     }
 
-    /// A write of the card's record 256 or 257 sets the drive's PZD parameters, word by word.
+    /// A write of a record of the module goes to the application.
     fn write_parameters(&mut self, index: u16, data: &[u8]) {
-        let drive = match &mut self.exchange {
-            Exchange::Idle(Some(d)) => d,
-            Exchange::Card(c) => c.drive_mut(),
-            _ => return,
-        };
-        let first = match index {
-            RECORD_RECEIVED_PZD => drive.bus().received_pzd2(),
-            RECORD_TRANSMITTED_PZD => drive.bus().transmitted_pzd2(),
-            _ => return,
-        };
-        for (i, word) in data.chunks_exact(2).enumerate() {
-            // A value the drive refuses leaves the parameter as it was (the record keeps it).
-            let _ = drive.set_parameter(first + i as u16, u16::from_be_bytes([word[0], word[1]]));
+        if let Some(drive) = self.drive_mut() {
+            drive.write_record(index, data);
+        }
+    }
+}
+
+impl Device<PkwPzdDrive> {
+    /// A test's hook: the drive trips with `fault` (P07.27's type) at `now`, as an
+    /// overcurrent would; in data exchange the controller gets a Diagnosis alarm.
+    pub fn inject_fault(&mut self, now: Instant, fault: u16) {
+        if let Some(drive) = self.drive_mut() {
+            drive.inject_fault(now, fault);
+        }
+        self.diagnosis(now);
+    }
+
+    /// A test's hook: the injected fault's cause is gone; the controller's fault reset (CW
+    /// command 7) now clears it, and the controller gets a Diagnosis disappears alarm.
+    pub fn remove_fault_cause(&mut self) {
+        if let Some(drive) = self.drive_mut() {
+            drive.remove_fault_cause();
         }
     }
 }

@@ -5,9 +5,10 @@
 //! appears or disappears, [`fault_alarm`] makes the Diagnosis alarm of the card's GSDML
 //! (ChannelDiagItem 0x0101, the fault type as ExtChannelAddValue). Sans-IO, as [`Cyclic`] is.
 
-use edsgen_runtime::pkw_pzd::{ByteOrder, IMAGE_BYTES};
+use edsgen_runtime::pkw_pzd::IMAGE_BYTES;
 use edsgen_runtime::{Duration, Instant};
 
+use super::application::IoApplication;
 use super::cyclic::{CrLayout, Cyclic, DataObject};
 use super::wire::alarm::{
     AlarmNotification, AlarmSource, ChannelDiagnosis, ALARM_DIAGNOSIS, ALARM_DIAGNOSIS_DISAPPEARS,
@@ -97,19 +98,19 @@ pub fn fault_alarm(change: FaultChange, idents: (u32, u32)) -> AlarmNotification
     }
 }
 
-/// The card's cyclic exchange and the drive behind it.
+/// The card's cyclic exchange and the application (the drive) behind it.
 #[derive(Debug, Clone)]
-pub struct CardCycle {
+pub struct CardCycle<A = PkwPzdDrive> {
     cyclic: Cyclic,
-    drive: PkwPzdDrive,
+    drive: A,
     inputs: [u8; IMAGE_BYTES],
     next_send: Instant,
 }
 
-impl CardCycle {
+impl<A: IoApplication> CardCycle<A> {
     /// The exchange of `layout` with `drive` from `now`.
-    pub fn new(layout: CrLayout, mut drive: PkwPzdDrive, now: Instant) -> Self {
-        let inputs = drive.inputs().emit(ByteOrder::BigEndian);
+    pub fn new(layout: CrLayout, mut drive: A, now: Instant) -> Self {
+        let inputs = drive.inputs();
         drive.forget_reported_fault();
         CardCycle {
             cyclic: Cyclic::new(layout),
@@ -120,13 +121,13 @@ impl CardCycle {
     }
 
     /// The next change of the drive's diagnosis since the exchange started
-    /// ([`PkwPzdDrive::poll_fault_change`]): E-PN ends the AR, so it is not one.
+    /// ([`IoApplication::poll_fault_change`]): E-PN ends the AR, so it is not one.
     pub fn poll_diagnosis(&mut self) -> Option<FaultChange> {
         self.drive.poll_fault_change()
     }
 
     /// The drive.
-    pub fn drive(&self) -> &PkwPzdDrive {
+    pub fn drive(&self) -> &A {
         &self.drive
     }
 
@@ -147,7 +148,7 @@ impl CardCycle {
             return;
         };
         if iops & 0x80 != 0 {
-            self.inputs = self.drive.exchange_bytes(now, &words, ByteOrder::BigEndian);
+            self.inputs = self.drive.exchange(now, &words);
         }
     }
 
@@ -196,12 +197,12 @@ impl CardCycle {
         } else {
             self.drive.handle_timeout(now);
         }
-        self.inputs = self.drive.inputs().emit(ByteOrder::BigEndian);
+        self.inputs = self.drive.inputs();
         expired
     }
 
     /// The drive, when the AR ends (it serves the next one).
-    pub fn into_drive(self) -> PkwPzdDrive {
+    pub fn into_drive(self) -> A {
         self.drive
     }
 
@@ -211,7 +212,7 @@ impl CardCycle {
     }
 
     /// The drive, to change its parameters (a record write).
-    pub fn drive_mut(&mut self) -> &mut PkwPzdDrive {
+    pub fn drive_mut(&mut self) -> &mut A {
         &mut self.drive
     }
 }
