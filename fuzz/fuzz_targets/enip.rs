@@ -1,25 +1,36 @@
 //! Fuzz the simulated EtherNet/IP adapter's parsers and state machine (`edsgen_sim::enip`): the
 //! input is cut into messages by its first byte's bits and fed as encapsulation messages on one
 //! TCP client (after a RegisterSession, so SendRRData reaches the objects), as bare Message
-//! Router requests (the card's objects, its Parameter object included), as SendUnitData on a class-3 connection opened first, and as class-1
-//! datagrams. Must not panic; afterwards the adapter must still answer a Get_Attribute_Single of
-//! the Identity object.
+//! Router requests (the card's objects, its Parameter object included), as SendUnitData on a
+//! class-3 connection opened first, and as class-1 datagrams. Must not panic; afterwards the
+//! adapter must still answer a Get_Attribute_Single of the Identity object. The messages are
+//! written with the runtime's wire formats (`edsgen_runtime::enip::wire`).
 #![no_main]
 
+use edsgen_runtime::enip::wire::cpf::{item, Item, SendDataRepr};
+use edsgen_runtime::enip::wire::encap::EncapRepr;
+use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::{Duration, Instant};
-use edsgen_sim::enip::wire::{emit_items, item, Encapsulation};
 use edsgen_sim::enip::device;
 use libfuzzer_sys::fuzz_target;
 
-fn encap(command: u16, session: u32, data: Vec<u8>) -> Vec<u8> {
-    Encapsulation { command, session, status: 0, context: [0; 8], options: 0, data }.emit()
+fn encap(command: u16, session: u32, data: &[u8]) -> Vec<u8> {
+    EncapRepr::request(command, session, [0; 8], data).to_vec().expect("a message fits")
+}
+
+fn send_data(items: &[Item<'_>]) -> Vec<u8> {
+    SendDataRepr { timeout: 0, items }.to_vec().expect("items fit")
+}
+
+fn unconnected(request: &[u8]) -> Vec<u8> {
+    send_data(&[Item::new(item::NULL_ADDRESS, &[]), Item::new(item::UNCONNECTED_DATA, request)])
 }
 
 fuzz_target!(|data: &[u8]| {
     // The card: assemblies 100 and 150 of 32 bytes, configuration 1, and the Parameter object
     // of its EDS.
     let (mut a, _) = device::goodrive350([127, 0, 0, 1], Instant::from_micros(0));
-    let _ = a.handle(1, &encap(0x65, 0, vec![1, 0, 0, 0]), Instant::from_micros(0));
+    let _ = a.handle(1, &encap(0x65, 0, &[1, 0, 0, 0]), Instant::from_micros(0));
     // A class-3 connection to the Message Router (its O->T ID is 0x1000_0001), RPI 1 s.
     let mut open = vec![0x54, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E, 0, 0, 0, 0, 7, 0, 0, 0x30];
     open.extend_from_slice(&[1, 0, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0]);
@@ -28,9 +39,7 @@ fuzz_target!(|data: &[u8]| {
         open.extend_from_slice(&0x43FEu16.to_le_bytes());
     }
     open.extend_from_slice(&[0xA3, 2, 0x20, 0x02, 0x24, 0x01]);
-    let mut rr = vec![0; 6];
-    rr.extend(emit_items(&[(item::NULL_ADDRESS, &[]), (item::UNCONNECTED_DATA, &open)]));
-    let _ = a.handle(1, &encap(0x6F, 1, rr), Instant::from_micros(0));
+    let _ = a.handle(1, &encap(0x6F, 1, &unconnected(&open)), Instant::from_micros(0));
     let mut now = Instant::from_micros(0);
     let mut rest = data;
     while let Some((&head, tail)) = rest.split_first() {
@@ -44,27 +53,25 @@ fuzz_target!(|data: &[u8]| {
             }
             1 if head & 0x20 != 0 => {
                 // SendUnitData on the class-3 connection: the chunk is sequence count + request.
-                let mut unit = vec![0; 6];
-                unit.extend(emit_items(&[
-                    (item::CONNECTED_ADDRESS, &0x1000_0001u32.to_le_bytes()),
-                    (item::CONNECTED_DATA, chunk),
-                ]));
-                let _ = a.handle(1, &encap(0x70, 1, unit), now);
+                let address = 0x1000_0001u32.to_le_bytes();
+                let unit = send_data(&[
+                    Item::new(item::CONNECTED_ADDRESS, &address),
+                    Item::new(item::CONNECTED_DATA, chunk),
+                ]);
+                let _ = a.handle(1, &encap(0x70, 1, &unit), now);
             }
             1 => {
-                let mut rr = vec![0; 6];
-                rr.extend(emit_items(&[(item::NULL_ADDRESS, &[]), (item::UNCONNECTED_DATA, chunk)]));
-                let _ = a.handle(1, &encap(0x6F, 1, rr), now);
+                let _ = a.handle(1, &encap(0x6F, 1, &unconnected(chunk)), now);
             }
             2 => a.receive_io(1, chunk, now),
             _ => {
-                let _ = a.poll(now);
+                a.handle_timeout(now);
+                while a.poll_transmit().is_some() {}
+                while a.poll_event().is_some() {}
             }
         }
     }
-    let get = vec![0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x01];
-    let mut rr = vec![0; 6];
-    rr.extend(emit_items(&[(item::NULL_ADDRESS, &[]), (item::UNCONNECTED_DATA, &get)]));
-    let (reply, _) = a.handle(1, &encap(0x6F, 1, rr), now).expect("a whole message");
+    let get = [0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x01];
+    let (reply, _) = a.handle(1, &encap(0x6F, 1, &unconnected(&get)), now).expect("a whole message");
     assert!(reply.is_some());
 });

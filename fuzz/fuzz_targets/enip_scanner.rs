@@ -1,29 +1,66 @@
-//! Fuzz the scanner side of the EtherNet/IP wire formats (`edsgen_sim::enip::wire`), which
-//! `edsgen enip io` runs on what a device sends: class-1 datagrams, Forward_Open reply data and
-//! sockaddr items; and a Forward_Open whose T→O sockaddr item is the input, into the adapter. Must
-//! not panic; a datagram that parses re-emits to the same bytes; a sockaddr that parses re-emits
-//! to its first 8 bytes.
+//! Fuzz the runtime's EtherNet/IP wire formats (`edsgen_runtime::enip::wire`) and the
+//! originator core (`edsgen_runtime::enip::originator`), which `edsgen enip` and the demo run on
+//! what a device sends: any bytes as an encapsulation message, CPF items, a Message Router
+//! response, an EPATH, Forward_Open and its reply, Forward_Close, a class-1 datagram (one that
+//! parses re-emits to itself), a class-3 message, an identity item and a sockaddr item (one that
+//! parses re-emits to its first 8 bytes), and as the replies a session reads; then as the T→O
+//! sockaddr item of a Forward_Open into the simulated adapter, whose connection then has that
+//! item's port. Must not panic.
 #![no_main]
 
 use std::collections::BTreeMap;
 
-use edsgen_runtime::Instant;
-use edsgen_sim::enip::wire::{
-    self, emit_items, item, io_datagram, parse_forward_open_reply, parse_io_datagram,
-    parse_sockaddr, Encapsulation, ForwardOpen,
+use edsgen_runtime::enip::originator::{Class1, Session};
+use edsgen_runtime::enip::wire::connection_manager::{
+    network_params, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr, Triad, DEFAULT_TICKS,
 };
+use edsgen_runtime::enip::wire::cpf::{item, Item, Items, SendDataRepr, Sockaddr};
+use edsgen_runtime::enip::wire::encap::{EncapRepr, IdentityItem};
+use edsgen_runtime::enip::wire::epath::Path;
+use edsgen_runtime::enip::wire::io::{ConnectedMessage, IoDatagram};
+use edsgen_runtime::enip::wire::message::{RequestRepr, ResponseRepr};
+use edsgen_runtime::enip::wire::Emit;
+use edsgen_runtime::Instant;
 use edsgen_sim::enip::{Adapter, Assembly, Identity};
 use libfuzzer_sys::fuzz_target;
 
+/// A layout that parsed re-emits to bytes that parse to it again.
+fn round_trip<T: Emit + PartialEq + std::fmt::Debug>(
+    parsed: T,
+    parse: impl Fn(&[u8]) -> Option<T>,
+) {
+    let bytes = parsed.to_vec().expect("a parsed layout re-emits");
+    assert_eq!(parse(&bytes), Some(parsed));
+}
+
 fuzz_target!(|data: &[u8]| {
-    if let Some((id, sequence, payload)) = parse_io_datagram(data) {
-        let again = io_datagram(id, sequence, payload);
-        assert_eq!(parse_io_datagram(&again), Some((id, sequence, payload)));
+    if let Ok(datagram) = IoDatagram::parse(data) {
+        let again = datagram.to_vec().expect("re-emits");
+        assert_eq!(IoDatagram::parse(&again), Ok(datagram));
     }
-    let _ = parse_forward_open_reply(data);
-    if let Some((port, address)) = parse_sockaddr(data) {
-        assert_eq!(wire::sockaddr(port, address)[..8], data[..8]);
+    if let Ok(message) = ConnectedMessage::parse(data) {
+        let again = message.to_vec().expect("re-emits");
+        assert_eq!(ConnectedMessage::parse(&again), Ok(message));
     }
+    if let Ok(reply) = ForwardOpenReply::parse(data) {
+        round_trip(reply, |b| ForwardOpenReply::parse(b).ok());
+    }
+    if let Ok(sockaddr) = Sockaddr::parse(data) {
+        assert_eq!(sockaddr.to_bytes()[..8], data[..8]);
+    }
+    let _ = EncapRepr::parse_prefix(data);
+    let _ = Items::parse(data).map(|items| items.iter().count());
+    let _ = RequestRepr::parse(data);
+    let _ = ResponseRepr::parse(data).map(|r| r.extended_status(0));
+    let _ = Path::parse(data).map(|p| p.points().len());
+    let _ = ForwardOpenRepr::parse(data, data.len() % 2 == 0);
+    let _ = ForwardCloseRepr::parse(data);
+    let _ = IdentityItem::parse(data);
+    let session = Session::new(*b"fuzzfuzz");
+    let _ = session.rr_data_reply(data);
+    let _ = session.unit_data_reply(data);
+    let _ = Class1::new(1, 2, true, data.len() % 2 == 0).consume(data);
+
     let mut assemblies = BTreeMap::new();
     assemblies.insert(100, Assembly { data: vec![0; 4], consumed: false });
     assemblies.insert(150, Assembly { data: vec![0; 4], consumed: true });
@@ -37,33 +74,41 @@ fuzz_target!(|data: &[u8]| {
     };
     let mut a = Adapter::new(identity, assemblies, [127, 0, 0, 1]);
     a.config_instances.push(1);
-    let encap = |session: u32, command: u16, data: Vec<u8>| {
-        Encapsulation { command, session, status: 0, context: [0; 8], options: 0, data }.emit()
+    let encap = |session: u32, command: u16, data: &[u8]| {
+        EncapRepr::request(command, session, [0; 8], data).to_vec()
     };
-    let _ = a.handle(1, &encap(0, 0x65, vec![1, 0, 0, 0]), Instant::from_micros(0));
-    let open = ForwardOpen {
-        large: data.len() % 2 == 1,
+    let register = encap(0, 0x65, &[1, 0, 0, 0]).expect("fits");
+    let _ = a.handle(1, &register, Instant::from_micros(0));
+    let large = data.len() % 2 == 1;
+    let open = ForwardOpenRepr {
+        large,
+        ticks: DEFAULT_TICKS,
+        o_t_id: 0,
         t_o_id: 1,
-        serial: 1,
-        vendor: 1,
-        originator_serial: 1,
+        triad: Triad { serial: 1, vendor: 1, originator_serial: 1 },
         multiplier: 0,
         o_t_rpi: 10_000,
-        o_t_params: wire::network_params(data.len() % 2 == 1, 2, 2, false, 10),
+        o_t_params: network_params(large, 2, 2, false, 10),
         t_o_rpi: 10_000,
-        t_o_params: wire::network_params(data.len() % 2 == 1, 2, 2, false, 6),
+        t_o_params: network_params(large, 2, 2, false, 6),
         transport: 1,
-        path: vec![0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64],
+        path: &[0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64],
     };
-    let request = open.request();
-    let mut rr = vec![0; 6];
-    rr.extend(emit_items(&[
-        (item::NULL_ADDRESS, &[]),
-        (item::UNCONNECTED_DATA, &request),
-        (item::SOCKADDR_T_O, data),
-    ]));
-    let (reply, _) = a.handle(1, &encap(1, 0x6F, rr), Instant::from_micros(0)).expect("whole");
+    let request = open.to_vec().expect("fits");
+    let items = [
+        Item::new(item::NULL_ADDRESS, &[]),
+        Item::new(item::UNCONNECTED_DATA, &request),
+        Item::new(item::SOCKADDR_T_O, data),
+    ];
+    // An item longer than 65535 bytes cannot be sent.
+    let Ok(rr) = (SendDataRepr { timeout: 0, items: &items }).to_vec() else {
+        return;
+    };
+    let Ok(message) = encap(1, 0x6F, &rr) else {
+        return;
+    };
+    let (reply, _) = a.handle(1, &message, Instant::from_micros(0)).expect("whole");
     assert!(reply.is_some());
     let port = a.connections().first().and_then(|c| c.t_o_port);
-    assert_eq!(port, parse_sockaddr(data).map(|(p, _)| p));
+    assert_eq!(port, Sockaddr::parse(data).ok().map(|s| s.port));
 });

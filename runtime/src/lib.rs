@@ -17,6 +17,7 @@
 //! - `profinet`: PROFINET IO's wire formats as views ([`profinet`]).
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
+//! - `enip`: EtherNet/IP and CIP wire formats ([`enip`]), `no_std` like the rest.
 //!
 //! Without `sdo-block` and `node-guarding` the node offers what CANopenNode v4's default
 //! configuration does (segmented SDO server without block transfer, no node guarding), in less
@@ -28,6 +29,8 @@
 pub mod cia402;
 #[cfg(feature = "dp")]
 pub mod dp;
+#[cfg(feature = "enip")]
+pub mod enip;
 pub mod ethercat;
 pub mod frame;
 pub mod master;

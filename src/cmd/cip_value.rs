@@ -1,10 +1,12 @@
 //! CIP parameter values as a person reads and writes them at the bench, for `enip io` and
-//! `enip get|set` alike: an assembly's members laid out as CIP packs them (from bit 0 of byte 0,
-//! each member least significant bit first), and a parameter's raw bits typed by its `ParamN`
+//! `enip get|set` alike: an assembly's members named, laid out as the simulated adapter lays them
+//! out (`edsgen_codegen::model::cip_value`: from bit 0 of byte 0, each member least significant
+//! bit first), and a parameter's raw bits typed by its `ParamN`
 //! ([`Typed`]: signed, unsigned, BOOL, REAL, bit strings), scaled with its units (multiplier,
 //! divisor, base, offset, decimal places), named by its `EnumN` texts, and text made raw bits
 //! again, typed and checked against the parameter's limits, its type and its width.
 
+use edsgen_codegen::model::cip_value;
 use edsgen_codegen::model::{data_type_info, data_type_range, Cip, CipAssembly, CipEnum};
 use edsgen_codegen::model::{CipNumber, CipParam, FieldRef};
 
@@ -25,40 +27,23 @@ pub struct Member<'a> {
 /// The members of `assembly` that carry data (padding has no name and is left out).
 pub fn members<'a>(cip: &'a Cip, assembly: &CipAssembly) -> Vec<Member<'a>> {
     let mut out: Vec<Member<'a>> = Vec::new();
-    let mut bit = 0u64;
-    for m in &assembly.members {
-        let bits = m
-            .bits
-            .or_else(|| match &m.member {
-                FieldRef::Param(n) => cip.params.get(n)?.data_size.as_ref().map(|s| s.value * 8),
-                FieldRef::Assem(n) => cip
-                    .assemblies
-                    .get(n)
-                    .and_then(|a| edsgen_codegen::validate::cip_assembly_size(cip, a))
-                    .and_then(|s| u32::try_from(s * 8).ok()),
-                _ => None,
-            })
-            .unwrap_or(0);
-        let (name, param) = match &m.member {
+    for place in cip_value::layout(cip, assembly) {
+        let (name, param) = match &place.member.member {
             FieldRef::Param(n) => match cip.params.get(n) {
                 Some(p) if !p.name.trim().is_empty() => (p.name.trim().to_owned(), Some(p)),
                 p => (format!("Param{n}"), p),
             },
             FieldRef::Assem(n) => (format!("Assem{n}"), None),
-            _ => {
-                bit += u64::from(bits);
-                continue;
-            }
+            _ => continue,
         };
-        if bits > 0 {
+        if place.bits > 0 {
             out.push(Member {
                 name,
                 param,
-                bit,
-                bits,
+                bit: place.bit,
+                bits: place.bits,
             });
         }
-        bit += u64::from(bits);
     }
     // Repeated names get their index among their namesakes.
     let names: Vec<String> = out.iter().map(|m| m.name.clone()).collect();
@@ -86,36 +71,7 @@ pub fn fold(name: &str) -> String {
     out.trim_matches('_').to_owned()
 }
 
-/// Bits `at..at + len` (at most 64) of `buf`, least significant first; bits past its end are 0.
-pub fn get_bits(buf: &[u8], at: u64, len: u32) -> u64 {
-    let mut value = 0u64;
-    for i in 0..u64::from(len.min(64)) {
-        let bit = at + i;
-        let on = usize::try_from(bit / 8)
-            .ok()
-            .and_then(|byte| buf.get(byte))
-            .is_some_and(|byte| (byte >> (bit % 8)) & 1 != 0);
-        if on {
-            value |= 1 << i;
-        }
-    }
-    value
-}
-
-/// Writes the low `len` bits (at most 64) of `value` at bit `at` of `buf`.
-pub fn put_bits(buf: &mut [u8], at: u64, len: u32, value: u64) {
-    for i in 0..u64::from(len.min(64)) {
-        let bit = at + i;
-        let Some(byte) = usize::try_from(bit / 8).ok().and_then(|b| buf.get_mut(b)) else {
-            continue;
-        };
-        if (value >> i) & 1 != 0 {
-            *byte |= 1 << (bit % 8);
-        } else {
-            *byte &= !(1 << (bit % 8));
-        }
-    }
-}
+pub use edsgen_codegen::model::cip_value::{get_bits, put_bits};
 
 /// How a value's raw bits read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -5,18 +5,23 @@
 //! SendRRData); `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
 //! EDS, typed, scaled and range-checked (`enip_param`); `io` is a class-1 connection from the
 //! EDS (`enip_io`). Exit 0 ok, 1 a refusal (the CIP status is printed) or no identity, 2 bad
-//! usage or I/O. The wire formats are the simulated adapter's (`edsgen_sim::enip::wire`).
+//! usage or I/O. The bytes are the runtime's (`edsgen_runtime::enip`), carried by `enip_link`.
 
-use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpStream, ToSocketAddrs, UdpSocket};
+use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
 use edsgen_codegen::model::{Cip, Format};
-use edsgen_sim::enip::wire::{emit_items, item, parse_items, EncapError, Encapsulation};
+use edsgen_runtime::enip::originator::Session;
+use edsgen_runtime::enip::wire::cpf::{item, Items};
+use edsgen_runtime::enip::wire::encap::{EncapRepr, IdentityItem};
+use edsgen_runtime::enip::wire::epath::LogicalPath;
+use edsgen_runtime::enip::wire::message::{general, RequestRepr};
+use edsgen_runtime::enip::wire::Emit;
 
 use super::cip_value::{get_bits, put_bits};
+use super::enip_link::{Link, LinkError, CONTEXT};
 use super::enip_param::{self, Access};
 
 /// `edsgen enip`.
@@ -96,18 +101,15 @@ fn epath(text: &str) -> Result<Vec<u8>, String> {
     let [class, instance, attribute] = parts[..] else {
         return Err(bad());
     };
-    let mut path = Vec::new();
-    for (kind, value) in [(0x20u8, class), (0x24, instance), (0x30, attribute)] {
-        match u8::try_from(value) {
-            Ok(v) => path.extend_from_slice(&[kind, v]),
-            Err(_) => {
-                let v = u16::try_from(value).map_err(|_| bad())?;
-                path.extend_from_slice(&[kind | 1, 0]);
-                path.extend_from_slice(&v.to_le_bytes());
-            }
-        }
+    if parts.iter().any(|p| *p > 0xFFFF) {
+        return Err(bad());
     }
-    Ok(path)
+    let path = LogicalPath {
+        class,
+        instance,
+        attribute: Some(attribute),
+    };
+    path.to_vec().map_err(|_| bad())
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -202,30 +204,27 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
     };
     let _ = socket.set_broadcast(true);
     let _ = socket.set_read_timeout(Some(Duration::from_secs(1)));
-    let request = Encapsulation {
-        command: 0x63,
-        session: 0,
-        status: 0,
-        context: [0; 8],
-        options: 0,
-        data: Vec::new(),
-    };
-    if let Err(err) = socket.send_to(&request.emit(), target) {
+    let mut request = [0; 24];
+    let len = Session::new(CONTEXT)
+        .list_identity(&mut request)
+        .unwrap_or_default();
+    if let Err(err) = socket.send_to(&request[..len], target) {
         return usage(format!("cannot send to {target}: {err}"));
     }
     let mut found = 0;
     let mut buf = [0u8; 1500];
     while let Ok((n, from)) = socket.recv_from(&mut buf) {
-        let Ok((reply, _)) = Encapsulation::parse(&buf[..n]) else {
+        let Ok((reply, _)) = EncapRepr::parse_prefix(&buf[..n]) else {
             continue;
         };
-        let Some(items) = parse_items(&reply.data) else {
+        let Ok(items) = Items::parse(reply.data) else {
             continue;
         };
-        for (_, body) in items.iter().filter(|(k, _)| *k == item::IDENTITY) {
-            let Some(identity) = Identity::parse(body) else {
+        for body in items.iter().filter(|i| i.kind == item::IDENTITY) {
+            let Ok(identity) = IdentityItem::parse(body.data) else {
                 continue;
             };
+            let name = String::from_utf8_lossy(identity.name);
             found += 1;
             let mut line = format!(
                 "{}\tvendor {}\tdevice type {}\tproduct code {}\trevision {}.{}\tserial {:#010x}\t{}",
@@ -233,16 +232,16 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
                 identity.vendor,
                 identity.device_type,
                 identity.product_code,
-                identity.major,
-                identity.minor,
+                identity.revision.0,
+                identity.revision.1,
                 identity.serial,
-                identity.name
+                name
             );
             if let Some((path, id)) = &key {
                 let same = id.vendor_code.as_ref().map(|v| v.value) == Some(identity.vendor)
                     && id.product_type.as_ref().map(|v| v.value) == Some(identity.device_type)
                     && id.product_code.as_ref().map(|v| v.value) == Some(identity.product_code)
-                    && id.major_revision.as_ref().map(|v| v.value) == Some(identity.major);
+                    && id.major_revision.as_ref().map(|v| v.value) == Some(identity.revision.0);
                 line.push_str(&format!(
                     "\t{} {}",
                     if same { "matches" } else { "does not match" },
@@ -262,165 +261,31 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// A ListIdentity item's fields.
-struct Identity {
-    vendor: u16,
-    device_type: u16,
-    product_code: u16,
-    major: u8,
-    minor: u8,
-    serial: u32,
-    name: String,
-}
-
-impl Identity {
-    fn parse(b: &[u8]) -> Option<Identity> {
-        use edsgen_sim::enip::wire::{u16_at, u32_at};
-        let len = usize::from(*b.get(32)?);
-        Some(Identity {
-            vendor: u16_at(b, 18)?,
-            device_type: u16_at(b, 20)?,
-            product_code: u16_at(b, 22)?,
-            major: *b.get(24)?,
-            minor: *b.get(25)?,
-            serial: u32_at(b, 28)?,
-            name: String::from_utf8_lossy(b.get(33..33 + len)?).into_owned(),
-        })
-    }
-}
-
-/// One message and its reply over `stream`.
-fn exchange(stream: &mut TcpStream, message: &Encapsulation) -> Result<Encapsulation, String> {
-    stream
-        .write_all(&message.emit())
-        .map_err(|e| e.to_string())?;
-    let mut got = Vec::new();
-    let mut buf = [0u8; 4096];
-    loop {
-        match Encapsulation::parse(&got) {
-            Ok((reply, _)) => return Ok(reply),
-            Err(EncapError::Incomplete | EncapError::Truncated { .. }) => {}
-        }
-        let n = stream.read(&mut buf).map_err(|e| e.to_string())?;
-        if n == 0 {
-            return Err("the device closed the connection".into());
-        }
-        got.extend_from_slice(&buf[..n]);
-    }
-}
-
-fn general_status_text(code: u8) -> &'static str {
-    match code {
-        0x01 => "connection failure",
-        0x04 => "path segment error",
-        0x05 => "path destination unknown",
-        0x08 => "service not supported",
-        0x09 => "invalid attribute value",
-        0x0E => "attribute not settable",
-        0x0F => "privilege violation",
-        0x10 => "device state conflict",
-        0x13 => "not enough data",
-        0x14 => "attribute not supported",
-        0x15 => "too much data",
-        0x16 => "object does not exist",
-        _ => "error",
-    }
-}
-
-/// A registered session with a device over TCP.
-struct Session {
-    stream: TcpStream,
-    handle: u32,
-}
-
-impl Session {
-    /// Connects to `target` and registers a session.
-    fn open(target: SocketAddr) -> Result<Session, String> {
-        let mut stream = TcpStream::connect_timeout(&target, Duration::from_secs(3))
-            .map_err(|e| format!("cannot connect to {target}: {e}"))?;
-        stream
-            .set_read_timeout(Some(Duration::from_secs(3)))
-            .map_err(|e| e.to_string())?;
-        let register = Encapsulation {
-            command: 0x65,
-            session: 0,
-            status: 0,
-            context: *b"edsgen  ",
-            options: 0,
-            data: vec![1, 0, 0, 0],
-        };
-        let registered = exchange(&mut stream, &register)?;
-        if registered.status != 0 {
-            return Err(format!(
-                "RegisterSession refused: encapsulation status {:#06x}",
-                registered.status
-            ));
-        }
-        Ok(Session {
-            stream,
-            handle: registered.session,
-        })
-    }
-
-    /// One Message Router request by SendRRData: `Ok(Ok(data))` on success, `Ok(Err(general
-    /// status))` on a refusal, `Err` when the exchange itself fails.
-    fn request(
-        &mut self,
-        service: u8,
-        epath: &[u8],
-        data: &[u8],
-    ) -> Result<Result<Vec<u8>, u8>, String> {
-        let mut request = vec![service, (epath.len() / 2) as u8];
-        request.extend_from_slice(epath);
-        request.extend_from_slice(data);
-        let mut body = vec![0; 6];
-        body.extend(emit_items(&[
-            (item::NULL_ADDRESS, &[]),
-            (item::UNCONNECTED_DATA, &request),
-        ]));
-        let message = Encapsulation {
-            command: 0x6F,
-            session: self.handle,
-            status: 0,
-            context: *b"edsgen  ",
-            options: 0,
-            data: body,
-        };
-        let reply = exchange(&mut self.stream, &message)?;
-        if reply.status != 0 {
-            return Err(format!(
-                "SendRRData refused: encapsulation status {:#06x}",
-                reply.status
-            ));
-        }
-        let items = reply
-            .data
-            .get(6..)
-            .and_then(parse_items)
-            .ok_or("a malformed reply")?;
-        let response = items
-            .iter()
-            .find(|(k, _)| *k == item::UNCONNECTED_DATA)
-            .map(|(_, d)| d.to_vec())
-            .ok_or("a reply without a response")?;
-        let (Some(&status), Some(&extra)) = (response.get(2), response.get(3)) else {
-            return Err("a response shorter than its header".into());
-        };
-        if status != 0 {
-            return Ok(Err(status));
-        }
-        Ok(Ok(response
-            .get(4 + 2 * usize::from(extra)..)
-            .unwrap_or(&[])
-            .to_vec()))
-    }
+/// A Get or Set request on `link`: `Ok(Ok(data))` on success, `Ok(Err(general status))` on a
+/// refusal, `Err` when the exchange itself fails.
+fn request(
+    link: &mut Link,
+    service: u8,
+    path: &[u8],
+    data: &[u8],
+) -> Result<Result<Vec<u8>, u8>, String> {
+    let request = RequestRepr {
+        service,
+        path,
+        data,
+    };
+    let response = link.request(&request, &[]).map_err(LinkError::text)?;
+    Ok(match response.status {
+        general::SUCCESS => Ok(response.data),
+        status => Err(status),
+    })
 }
 
 /// The exit of a refusal: its general status printed, exit 1.
 fn refused(what: &str, status: u8) -> ExitCode {
     eprintln!(
         "error: {what}: {} (general status {status:#04x})",
-        general_status_text(status)
+        general::text(status)
     );
     ExitCode::from(1)
 }
@@ -434,7 +299,9 @@ fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
         Ok(p) => p,
         Err(m) => return usage(m),
     };
-    let result = Session::open(target).and_then(|mut s| s.request(service, &epath, &data));
+    let result = Link::open(target)
+        .map_err(LinkError::text)
+        .and_then(|mut link| request(&mut link, service, &epath, &data));
     match result {
         Err(message) => usage(message),
         Ok(Err(status)) => refused(path, status),
@@ -484,21 +351,21 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
         Ok(a) => a,
         Err(m) => return usage(m),
     };
-    let mut session = match Session::open(target) {
+    let mut session = match Link::open(target).map_err(LinkError::text) {
         Ok(s) => s,
         Err(message) => return usage(message),
     };
     let shown = |raw: u64| typed.full(raw);
     let result = match (&param.access, raw) {
-        (Access::Attribute(path), None) => session.request(0x0E, path, &[]).map(|r| {
+        (Access::Attribute(path), None) => request(&mut session, 0x0E, path, &[]).map(|r| {
             r.map(|data| match wide {
                 true => Ok(hex(&data)),
                 false => typed.raw(&data).map(shown),
             })
         }),
-        (Access::Attribute(path), Some(bytes)) => session
-            .request(0x10, path, &bytes)
-            .map(|r| r.map(|_| Ok(String::new()))),
+        (Access::Attribute(path), Some(bytes)) => {
+            request(&mut session, 0x10, path, &bytes).map(|r| r.map(|_| Ok(String::new())))
+        }
         (
             &Access::Member {
                 instance,
@@ -516,7 +383,7 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
                 )
             };
             let at = offset as u64;
-            match session.request(0x0E, &path, &[]) {
+            match request(&mut session, 0x0E, &path, &[]) {
                 Ok(Ok(data)) if 8 * data.len() < offset + bits => Err(short(&data)),
                 Ok(Ok(data)) => match raw {
                     None if wide => Ok(Ok(Ok(show_wide(&data, at, bits)))),
@@ -527,8 +394,7 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
                             let left = bits.saturating_sub(8 * i).min(8) as u32;
                             put_bits(&mut data, at + 8 * i as u64, left, u64::from(*byte));
                         }
-                        session
-                            .request(0x10, &path, &data)
+                        request(&mut session, 0x10, &path, &data)
                             .map(|r| r.map(|_| Ok(String::new())))
                     }
                 },
@@ -556,16 +422,9 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
 
 /// The path of an assembly's data (attribute 3).
 fn assembly_path(instance: u32) -> Vec<u8> {
-    let mut path = vec![0x20, 0x04];
-    match u8::try_from(instance) {
-        Ok(i) => path.extend_from_slice(&[0x24, i]),
-        Err(_) => {
-            path.extend_from_slice(&[0x25, 0]);
-            path.extend_from_slice(&(instance as u16).to_le_bytes());
-        }
-    }
-    path.extend_from_slice(&[0x30, 0x03]);
-    path
+    LogicalPath::assembly_data(instance)
+        .to_vec()
+        .unwrap_or_default()
 }
 
 /// A member wider than 64 bits as its bytes in hex.

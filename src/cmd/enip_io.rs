@@ -13,18 +13,20 @@
 //! OpENer and the simulated adapter honour it). O→T data goes to UDP 2222 of the device, or where
 //! its Forward_Open reply's O→T sockaddr item says.
 
-use std::io::{Read, Write};
-use std::net::{IpAddr, SocketAddr, TcpStream, UdpSocket};
+use std::net::{IpAddr, SocketAddr, UdpSocket};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use edsgen_codegen::model::{path_bytes, Cip, CipAssembly, CipConnection, CipNumber, FieldRef};
-use edsgen_sim::enip::wire::{
-    self, emit_items, item, parse_items, EncapError, Encapsulation, ForwardOpen,
+use edsgen_runtime::enip::originator::Class1;
+use edsgen_runtime::enip::wire::connection_manager::{
+    network_params, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr, Triad, DEFAULT_TICKS,
 };
+use edsgen_runtime::enip::wire::cpf::{item, Item, Sockaddr};
 
 use super::cip_value::{self, Member, Typed};
+use super::enip_link::{Link, LinkError};
 use super::signals;
 
 /// The class-1 UDP port.
@@ -269,14 +271,14 @@ fn plan<'a>(cip: &'a Cip, file: &str, args: &Args) -> Result<Plan<'a>, String> {
             "{label}: T→O is multicast only, which `enip io` does not join"
         ));
     }
-    let o_t_params = wire::network_params(
+    let o_t_params = network_params(
         large,
         2,
         priority(params.o_t_priorities()),
         !params.o_t_fixed() && params.o_t_variable(),
         o_t_wire as u16,
     );
-    let t_o_params = wire::network_params(
+    let t_o_params = network_params(
         large,
         2,
         priority(params.t_o_priorities()),
@@ -334,147 +336,34 @@ fn output_image(cip: &Cip, plan: &Plan<'_>, values: &[String]) -> Result<Vec<u8>
     Ok(image)
 }
 
-/// `; did you mean ...?` with the closest output names (or all of them, when few).
+/// `; did you mean ...?` with the five output names closest to `wanted` (ties by name).
 fn suggestions(wanted: &str, members: &[Member<'_>]) -> String {
     if members.is_empty() {
         return ": it has no output assembly members".to_owned();
     }
-    let mut scored: Vec<(usize, &str)> = members
-        .iter()
-        .map(|m| {
-            (
-                strsim::levenshtein(wanted, &cip_value::fold(&m.name)),
-                m.name.as_str(),
-            )
-        })
-        .collect();
-    scored.sort();
-    let names: Vec<String> = scored
-        .iter()
+    let mut names: Vec<&str> = members.iter().map(|m| m.name.as_str()).collect();
+    names.sort();
+    let keyed = names.into_iter().map(|n| (cip_value::fold(n), n));
+    let names: Vec<String> = super::did_you_mean::closest(wanted, keyed, false)
+        .into_iter()
         .take(5)
-        .map(|(_, n)| format!("`{n}`"))
+        .map(|n| format!("`{n}`"))
         .collect();
     format!("; did you mean {}?", names.join(", "))
 }
-
-/// CPF items of a reply (type, data).
-type Items = Vec<(u16, Vec<u8>)>;
 
 enum Failure {
     Usage(String),
     Refused(String),
 }
 
-/// One encapsulation message and its reply.
-fn request(stream: &mut TcpStream, message: &Encapsulation) -> Result<Encapsulation, Failure> {
-    let io = |e: std::io::Error| Failure::Usage(format!("the device's TCP connection: {e}"));
-    stream.write_all(&message.emit()).map_err(io)?;
-    let mut got = Vec::new();
-    let mut buf = [0u8; 4096];
-    loop {
-        match Encapsulation::parse(&got) {
-            Ok((reply, _)) => return Ok(reply),
-            Err(EncapError::Incomplete | EncapError::Truncated { .. }) => {}
+impl From<LinkError> for Failure {
+    fn from(error: LinkError) -> Failure {
+        match error {
+            LinkError::Io(m) => Failure::Usage(m),
+            LinkError::Refused(m) => Failure::Refused(m),
         }
-        let n = stream.read(&mut buf).map_err(io)?;
-        if n == 0 {
-            return Err(Failure::Usage("the device closed the connection".into()));
-        }
-        got.extend_from_slice(&buf[..n]);
     }
-}
-
-/// A Message Router request by SendRRData (with extra CPF items); the response and the reply's
-/// other items.
-fn explicit(
-    stream: &mut TcpStream,
-    session: u32,
-    mr: &[u8],
-    extra: &[(u16, &[u8])],
-) -> Result<(Vec<u8>, Items), Failure> {
-    let mut items: Vec<(u16, &[u8])> =
-        vec![(item::NULL_ADDRESS, &[]), (item::UNCONNECTED_DATA, mr)];
-    items.extend_from_slice(extra);
-    let mut data = vec![0; 6];
-    data.extend(emit_items(&items));
-    let message = Encapsulation {
-        command: wire::command::SEND_RR_DATA,
-        session,
-        status: 0,
-        context: *b"edsgenio",
-        options: 0,
-        data,
-    };
-    let reply = request(stream, &message)?;
-    if reply.status != 0 {
-        return Err(Failure::Refused(format!(
-            "SendRRData refused: encapsulation status {:#06x}",
-            reply.status
-        )));
-    }
-    let items = reply
-        .data
-        .get(6..)
-        .and_then(parse_items)
-        .ok_or_else(|| Failure::Usage("a malformed SendRRData reply".into()))?;
-    let response = items
-        .iter()
-        .find(|(k, _)| *k == item::UNCONNECTED_DATA)
-        .map(|(_, d)| d.to_vec())
-        .ok_or_else(|| Failure::Usage("a SendRRData reply without a response".into()))?;
-    let others = items
-        .iter()
-        .filter(|(k, _)| *k != item::UNCONNECTED_DATA && *k != item::NULL_ADDRESS)
-        .map(|(k, d)| (*k, d.to_vec()))
-        .collect();
-    Ok((response, others))
-}
-
-/// What an extended status of the Connection Manager means.
-fn extended_text(code: u16) -> &'static str {
-    match code {
-        0x0100 => "connection in use or duplicate Forward_Open",
-        0x0103 => "transport class and trigger not supported",
-        0x0106 => "ownership conflict",
-        0x0107 => "connection not found",
-        0x0108 => "invalid network connection parameter",
-        0x0109 => "invalid connection size",
-        0x0111 => "RPI not supported",
-        0x0114 => "vendor ID or product code mismatch",
-        0x0115 => "device type mismatch",
-        0x0116 => "revision mismatch",
-        0x0127 => "invalid O→T size",
-        0x0128 => "invalid T→O size",
-        0x0129 => "invalid configuration application path",
-        0x012A => "invalid consuming application path",
-        0x012B => "invalid producing application path",
-        0x0315 => "invalid segment in the connection path",
-        _ => "connection failure",
-    }
-}
-
-fn cip_refusal(what: &str, response: &[u8]) -> Option<String> {
-    let status = *response.get(2)?;
-    if status == 0 {
-        return None;
-    }
-    let words = usize::from(*response.get(3)?);
-    let extended: Vec<u16> = (0..words)
-        .filter_map(|i| wire::u16_at(response, 4 + 2 * i))
-        .collect();
-    Some(match extended.first() {
-        Some(&code) => {
-            let mut text = format!(
-                "{what} refused: {} (general status {status:#04x}, extended status {code:#06x})",
-                extended_text(code)
-            );
-            if let (0x0127 | 0x0128, Some(size)) = (code, extended.get(1)) {
-                text.push_str(&format!("; the device expects {size} bytes"));
-            }
-            text
-        }
-        None => format!("{what} refused: general status {status:#04x}"),
-    })
 }
 
 /// Opens the connection, exchanges data, closes it.
@@ -485,105 +374,84 @@ fn exchange(
     target: SocketAddr,
     cycles: Option<u64>,
 ) -> Result<(), Failure> {
-    let mut stream = TcpStream::connect_timeout(&target, Duration::from_secs(3))
-        .map_err(|e| Failure::Usage(format!("cannot connect to {target}: {e}")))?;
+    let mut link = Link::open(target)?;
+    let local = link.local()?.ip();
     let io = |e: std::io::Error| Failure::Usage(e.to_string());
-    stream
-        .set_read_timeout(Some(Duration::from_secs(3)))
-        .map_err(io)?;
-    let local = stream.local_addr().map_err(io)?.ip();
     let udp = UdpSocket::bind(SocketAddr::new(local, IO_PORT))
         .or_else(|_| UdpSocket::bind(SocketAddr::new(local, 0)))
         .map_err(|e| Failure::Usage(format!("cannot open a UDP socket on {local}: {e}")))?;
     let t_o_port = udp.local_addr().map_err(io)?.port();
-    let register = Encapsulation {
-        command: wire::command::REGISTER_SESSION,
-        session: 0,
-        status: 0,
-        context: *b"edsgenio",
-        options: 0,
-        data: vec![1, 0, 0, 0],
-    };
-    let registered = request(&mut stream, &register)?;
-    if registered.status != 0 {
-        return Err(Failure::Refused(format!(
-            "RegisterSession refused: encapsulation status {:#06x}",
-            registered.status
-        )));
-    }
-    let session = registered.session;
     let pid = std::process::id();
-    let open = ForwardOpen {
+    let open = ForwardOpenRepr {
         large: plan.large,
+        ticks: DEFAULT_TICKS,
+        o_t_id: 0,
         t_o_id: 0x4544_0000 | (pid & 0xFFFF),
-        serial: (pid as u16) ^ 0x5A5A,
-        vendor: 0,
-        originator_serial: pid,
+        triad: Triad {
+            serial: (pid as u16) ^ 0x5A5A,
+            vendor: 0,
+            originator_serial: pid,
+        },
         multiplier: MULTIPLIER,
         o_t_rpi: plan.rpi_us,
         o_t_params: plan.o_t_params,
         t_o_rpi: plan.rpi_us,
         t_o_params: plan.t_o_params,
         transport: 0x01,
-        path: plan.path.clone(),
+        path: &plan.path,
     };
-    let sockaddr = wire::sockaddr(t_o_port, [0; 4]);
-    let extra: Vec<(u16, &[u8])> = if t_o_port == IO_PORT {
-        Vec::new()
+    let sockaddr = Sockaddr {
+        port: t_o_port,
+        address: [0; 4],
+    }
+    .to_bytes();
+    let extra: &[Item<'_>] = if t_o_port == IO_PORT {
+        &[]
     } else {
-        vec![(item::SOCKADDR_T_O, &sockaddr)]
+        &[Item::new(item::SOCKADDR_T_O, &sockaddr)]
     };
     let service = if plan.large {
         "Large_Forward_Open"
     } else {
         "Forward_Open"
     };
-    let (reply, items) = explicit(&mut stream, session, &open.request(), &extra)?;
-    if let Some(text) = cip_refusal(&format!("{service} of {}", plan.name), &reply) {
+    let reply = link.request(&open, extra)?;
+    if let Some(text) = reply.refusal(&format!("{service} of {}", plan.name)) {
         return Err(Failure::Refused(text));
     }
-    let skip = 4 + 2 * usize::from(reply.get(3).copied().unwrap_or(0));
-    let (o_t_id, _, o_t_api, t_o_api) = reply
-        .get(skip..)
-        .and_then(wire::parse_forward_open_reply)
-        .ok_or_else(|| Failure::Usage(format!("a short {service} reply")))?;
-    let o_t_to = items
-        .iter()
-        .find(|(k, _)| *k == item::SOCKADDR_O_T)
-        .and_then(|(_, d)| wire::parse_sockaddr(d))
-        .map(|(port, ip)| {
-            let ip = if ip == [0; 4] {
+    let opened = ForwardOpenReply::parse(&reply.data)
+        .map_err(|_| Failure::Usage(format!("a short {service} reply")))?;
+    let o_t_to = reply
+        .o_t_sockaddr
+        .map(|s| {
+            let ip = if s.address == [0; 4] {
                 target.ip()
             } else {
-                IpAddr::from(ip)
+                IpAddr::from(s.address)
             };
-            SocketAddr::new(ip, port)
+            SocketAddr::new(ip, s.port)
         })
         .unwrap_or(SocketAddr::new(target.ip(), IO_PORT));
+    let connection = Class1::new(opened.o_t_id, open.t_o_id, plan.o_t_header, plan.t_o_header);
     let result = run_io(
         cip,
         plan,
         output,
         &udp,
         o_t_to,
-        (o_t_id, open.t_o_id),
-        (o_t_api.max(1000), t_o_api.max(1000)),
+        connection,
+        (opened.o_t_api.max(1000), opened.t_o_api.max(1000)),
         cycles,
     );
-    let close = wire::forward_close_request(open.serial, open.vendor, pid, &plan.path);
-    let closed = explicit(&mut stream, session, &close, &[]);
-    let unregister = Encapsulation {
-        command: wire::command::UNREGISTER_SESSION,
-        session,
-        status: 0,
-        context: *b"edsgenio",
-        options: 0,
-        data: Vec::new(),
+    let close = ForwardCloseRepr {
+        ticks: DEFAULT_TICKS,
+        triad: open.triad,
+        path: &plan.path,
     };
-    let _ = stream.write_all(&unregister.emit());
+    let closed = link.request(&close, &[]);
+    link.close();
     result?;
-    let (reply, _) = closed?;
-    match cip_refusal("Forward_Close", &reply) {
+    match closed?.refusal("Forward_Close") {
         Some(text) => Err(Failure::Refused(text)),
         None => Ok(()),
     }
@@ -597,7 +465,7 @@ fn run_io(
     output: &[u8],
     udp: &UdpSocket,
     o_t_to: SocketAddr,
-    (o_t_id, t_o_id): (u32, u32),
+    mut connection: Class1,
     (o_t_api, t_o_api): (u32, u32),
     cycles: Option<u64>,
 ) -> Result<(), Failure> {
@@ -606,27 +474,21 @@ fn run_io(
     let started = Instant::now();
     let mut next_send = started;
     let mut last_heard = started;
-    let mut sequence = 0u32;
-    let mut last_count: Option<u16> = None;
     let mut printed = 0u64;
     let mut buf = [0u8; 65_536];
+    let mut datagram = vec![0u8; 18 + 6 + output.len()];
     let empty = Vec::new();
     let inputs = plan.input.as_ref().map_or(&empty, |(_, m)| m);
-    let skip = 2 + if plan.t_o_header { 4 } else { 0 };
     let wanted = cycles.unwrap_or(u64::MAX);
     // After the last line, produce on until one RPI has passed since the first O→T datagram:
     // the device has had the outputs before the Forward_Close.
     while (printed < wanted || Instant::now() < started + rpi) && !signals::requested() {
         let now = Instant::now();
         if now >= next_send {
-            sequence = sequence.wrapping_add(1);
-            let mut data = (sequence as u16).to_le_bytes().to_vec();
-            if plan.o_t_header {
-                data.extend_from_slice(&1u32.to_le_bytes()); // run
-            }
-            data.extend_from_slice(output);
-            let datagram = wire::io_datagram(o_t_id, sequence, &data);
-            udp.send_to(&datagram, o_t_to)
+            let len = connection
+                .produce(true, output, &mut datagram)
+                .map_err(|e| Failure::Usage(format!("an O→T datagram: {e:?}")))?;
+            udp.send_to(&datagram[..len], o_t_to)
                 .map_err(|e| Failure::Usage(format!("cannot send to {o_t_to}: {e}")))?;
             next_send += rpi;
             if next_send < now {
@@ -646,18 +508,13 @@ fn run_io(
         let Ok((n, _)) = udp.recv_from(&mut buf) else {
             continue;
         };
-        let Some((id, _, data)) = wire::parse_io_datagram(&buf[..n]) else {
-            continue;
-        };
-        let Some(count) = wire::u16_at(data, 0) else {
-            continue;
-        };
-        if id != t_o_id || last_count == Some(count) || printed == wanted {
+        if printed == wanted {
             continue;
         }
+        let Some(image) = connection.consume(&buf[..n]) else {
+            continue;
+        };
         last_heard = Instant::now();
-        last_count = Some(count);
-        let image = data.get(skip..).unwrap_or(&[]);
         printed += 1;
         let values: Vec<String> = inputs
             .iter()

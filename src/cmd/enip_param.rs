@@ -87,13 +87,9 @@ fn by_name<'a>(cip: &'a Cip, text: &str) -> Result<&'a CipParam, String> {
                 .filter(|p| !wanted.is_empty() && key(&p.name).contains(&wanted))
                 .collect();
             if near.is_empty() {
-                let mut scored: Vec<(usize, &CipParam)> = params
-                    .iter()
-                    .map(|p| (strsim::levenshtein(&wanted, &key(&p.name)), *p))
-                    .filter(|(d, _)| *d <= wanted.chars().count().div_ceil(3))
-                    .collect();
-                scored.sort_by_key(|(d, p)| (*d, p.number));
-                near = scored.into_iter().map(|(_, p)| p).collect();
+                // In parameter order: the nearest by number first.
+                let keyed = params.iter().map(|p| (key(&p.name), *p));
+                near = super::did_you_mean::closest(&wanted, keyed, true);
             }
             Err(format!(
                 "the EDS has no parameter named `{text}`{}",
@@ -110,19 +106,11 @@ fn by_name<'a>(cip: &'a Cip, text: &str) -> Result<&'a CipParam, String> {
 
 /// `; did you mean:` and up to eight parameters as `ParamN  name`, or nothing.
 fn suggestions(params: &[&CipParam]) -> String {
-    const SHOWN: usize = 8;
-    if params.is_empty() {
-        return String::new();
-    }
-    let mut list: Vec<String> = params
+    let lines: Vec<String> = params
         .iter()
-        .take(SHOWN)
-        .map(|p| format!("  Param{}  {}", p.number, p.name))
+        .map(|p| format!("Param{}  {}", p.number, p.name))
         .collect();
-    if params.len() > SHOWN {
-        list.push(format!("  ... and {} more", params.len() - SHOWN));
-    }
-    format!("; did you mean:\n{}", list.join("\n"))
+    super::did_you_mean::listing(&lines)
 }
 
 /// Where `param` lives: its link path, else the first assembly that has it as a member, else its

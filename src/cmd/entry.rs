@@ -108,30 +108,17 @@ fn by_name(text: &str, device: &Device) -> Result<Multiplexer, String> {
 
 /// The names closest to `wanted` by edit distance, at most a third of its length away.
 fn closest<'a>(wanted: &str, names: &'a [(String, Multiplexer)]) -> Vec<&'a (String, Multiplexer)> {
-    let mut scored: Vec<_> = names
-        .iter()
-        .map(|entry| (strsim::levenshtein(wanted, &key(&entry.0)), entry))
-        .filter(|(distance, _)| *distance <= wanted.chars().count().div_ceil(3))
-        .collect();
-    scored.sort_by_key(|(distance, _)| *distance);
-    scored.into_iter().map(|(_, entry)| entry).collect()
+    let keyed = names.iter().map(|entry| (key(&entry.0), entry));
+    super::did_you_mean::closest(wanted, keyed, true)
 }
 
 /// `: did you mean ...?` with up to eight names and their indices, or nothing.
 fn suggestions(names: &[&(String, Multiplexer)]) -> String {
-    const SHOWN: usize = 8;
-    if names.is_empty() {
-        return String::new();
-    }
-    let mut list: Vec<String> = names
+    let lines: Vec<String> = names
         .iter()
-        .take(SHOWN)
-        .map(|(name, mux)| format!("  {:04X}:{:X}  {name}", mux.index, mux.sub))
+        .map(|(name, mux)| format!("{:04X}:{:X}  {name}", mux.index, mux.sub))
         .collect();
-    if names.len() > SHOWN {
-        list.push(format!("  ... and {} more", names.len() - SHOWN));
-    }
-    format!("; did you mean:\n{}", list.join("\n"))
+    super::did_you_mean::listing(&lines)
 }
 
 #[cfg(test)]

@@ -17,12 +17,14 @@ pub mod cip_value;
 pub mod decode;
 pub mod demo;
 pub mod devices;
+mod did_you_mean;
 pub mod dp;
 pub mod dump;
 #[cfg(feature = "ethercrab")]
 pub mod ecat;
 pub mod enip;
 pub mod enip_io;
+mod enip_link;
 pub mod enip_param;
 pub mod entry;
 pub mod generate;

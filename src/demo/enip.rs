@@ -8,12 +8,18 @@
 //! TCP 44818 and UDP 2222 to `edsgen simulate --enip` in another network namespace, in real
 //! time ([`super::enip_wire`]).
 
+use edsgen_runtime::enip::originator::{Class1, Session};
+use edsgen_runtime::enip::wire::connection_manager::{
+    network_params, ForwardOpenRepr, Triad, DEFAULT_TICKS,
+};
+use edsgen_runtime::enip::wire::cpf::item;
+use edsgen_runtime::enip::wire::message::RequestRepr;
+use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::pkw_pzd::{
     Command, ControlWord, ErrorNumber, InputImage, OutputImage, PkwRequest, PkwResponse, RunState,
     WordLayout,
 };
 use edsgen_runtime::{Duration, Instant};
-use edsgen_sim::enip::wire::{emit_items, item, parse_items, Encapsulation};
 use edsgen_sim::enip::{device, driver, Adapter};
 
 use super::Trace;
@@ -59,7 +65,8 @@ impl InProcess {
     fn step_time(&mut self, by: Duration) {
         self.now = self.now + by;
         // The T→O datagrams are not needed: the card's image is read from assembly 100.
-        self.adapter.poll(self.now);
+        self.adapter.handle_timeout(self.now);
+        while self.adapter.poll_transmit().is_some() {}
         let mut log = Vec::new();
         driver::link(
             &mut self.adapter,
@@ -109,60 +116,56 @@ impl Scanner for InProcess {
     }
 }
 
-/// The scanner's side of the session and the connection.
+/// The scanner's side of the session and the connection (the runtime's originator core).
 struct Bench<'a> {
     link: &'a mut dyn Scanner,
-    session: u32,
-    o_t_id: u32,
-    sequence: u16,
+    session: Session,
+    connection: Class1,
 }
 
+/// The T→O connection ID the scanner chooses.
+const T_O_ID: u32 = 0x0000_0064;
+
 impl Bench<'_> {
-    fn encapsulated(&mut self, command: u16, data: Vec<u8>) -> Result<Encapsulation, String> {
-        let message = Encapsulation {
-            command,
-            session: self.session,
-            status: 0,
-            context: *b"edsgen  ",
-            options: 0,
-            data,
-        };
-        let reply = self.link.request(&message.emit())?;
-        Ok(Encapsulation::parse(&reply)
-            .map_err(|e| format!("{e:?}"))?
-            .0)
+    /// RegisterSession: the session handle.
+    fn register(&mut self) -> Result<u32, String> {
+        let mut message = [0; 28];
+        let len = self
+            .session
+            .register(&mut message)
+            .map_err(|e| format!("{e:?}"))?;
+        let reply = self.link.request(&message[..len])?;
+        self.session
+            .registered(&reply)
+            .map_err(|e| format!("RegisterSession: {e:?}"))
     }
 
     /// A Message Router request over SendRRData; its response.
     fn explicit(&mut self, request: &[u8]) -> Result<Vec<u8>, String> {
-        let mut data = vec![0; 6];
-        data.extend(emit_items(&[
-            (item::NULL_ADDRESS, &[]),
-            (item::UNCONNECTED_DATA, request),
-        ]));
-        let reply = self.encapsulated(0x6F, data)?;
-        let items = reply
-            .data
-            .get(6..)
-            .and_then(parse_items)
-            .ok_or("no items")?;
-        Ok(items.get(1).ok_or("no response item")?.1.to_vec())
+        let request = RequestRepr::parse(request).map_err(|e| format!("{e:?}"))?;
+        let mut message = vec![0; 40 + request.buffer_len()];
+        let len = self
+            .session
+            .send_rr_data(&request, &[], &mut message)
+            .map_err(|e| format!("{e:?}"))?;
+        let reply = self.link.request(&message[..len])?;
+        let reply = self
+            .session
+            .rr_data_reply(&reply)
+            .map_err(|e| format!("{e:?}"))?;
+        let response = reply.items.find(item::UNCONNECTED_DATA);
+        Ok(response.ok_or("no response item")?.to_vec())
     }
 
     /// One RPI: the scanner's image out, the card's image back.
     fn cycle(&mut self, output: &OutputImage) -> Result<InputImage, String> {
         let image = card::Output::from_pkw_pzd(output).encode();
-        self.sequence = self.sequence.wrapping_add(1);
-        let mut address = self.o_t_id.to_le_bytes().to_vec();
-        address.extend_from_slice(&u32::from(self.sequence).to_le_bytes());
-        let mut payload = self.sequence.to_le_bytes().to_vec();
-        payload.extend_from_slice(&1u32.to_le_bytes()); // run
-        payload.extend_from_slice(&image);
-        let datagram = emit_items(&[
-            (item::SEQUENCED_ADDRESS, &address),
-            (item::CONNECTED_DATA, &payload),
-        ]);
-        let input = self.link.rpi(&datagram)?;
+        let mut datagram = vec![0; 24 + image.len()];
+        let len = self
+            .connection
+            .produce(true, &image, &mut datagram)
+            .map_err(|e| format!("{e:?}"))?;
+        let input = self.link.rpi(&datagram[..len])?;
         let input = card::Input::decode(&input).ok_or("assembly 100 is short")?;
         input.pkw_pzd().map_err(|e| format!("{e:?}"))
     }
@@ -223,44 +226,45 @@ fn check(ok: bool, seen: String) -> Result<String, String> {
 pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Scanner) -> Result<(), String> {
     let mut bench = Bench {
         link,
-        session: 0,
-        o_t_id: 0,
-        sequence: 0,
+        session: Session::new(*b"edsgen  "),
+        connection: Class1::new(0, T_O_ID, true, false),
     };
-    let registered = bench.encapsulated(0x65, vec![1, 0, 0, 0])?;
-    bench.session = registered.session;
+    let session = bench.register()?;
     let identity = bench.explicit(&[0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x03])?;
     trace.step(
         "RegisterSession, Identity product code (@1/1/3)",
         check(
-            registered.status == 0 && identity == [0x8E, 0, 0, 0, 0x5E, 0x01],
-            format!(
-                "session {}, product code {}",
-                bench.session,
-                card::PRODUCT_CODE
-            ),
+            identity == [0x8E, 0, 0, 0, 0x5E, 0x01],
+            format!("session {session}, product code {}", card::PRODUCT_CODE),
         ),
     );
     // Forward_Open 150 -> 100 at 50 ms, sizes 32 + 6 and 32 + 2, the EDS's connection path.
+    // Point-to-point, high priority, variable size; timeout multiplier ×4.
     let conn = card::EXCLUSIVE_OWNER;
-    let mut open = vec![0x54, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E];
-    open.extend_from_slice(&0u32.to_le_bytes());
-    open.extend_from_slice(&0x0000_0064u32.to_le_bytes());
-    open.extend_from_slice(&1u16.to_le_bytes());
-    open.extend_from_slice(&0x0001u16.to_le_bytes());
-    open.extend_from_slice(&1u32.to_le_bytes());
-    open.extend_from_slice(&[0, 0, 0, 0]);
-    open.extend_from_slice(&conn.rpi_us.to_le_bytes());
-    open.extend_from_slice(&(0x4600 | (conn.o_t_size as u16 + 6)).to_le_bytes());
-    open.extend_from_slice(&conn.rpi_us.to_le_bytes());
-    open.extend_from_slice(&(0x4600 | (conn.t_o_size as u16 + 2)).to_le_bytes());
-    open.push(0x01);
-    open.push((conn.path.len() / 2) as u8);
-    open.extend_from_slice(conn.path);
-    let reply = bench.explicit(&open)?;
+    let params = |size: u64| network_params(false, 2, 1, true, size as u16);
+    let open = ForwardOpenRepr {
+        large: false,
+        ticks: DEFAULT_TICKS,
+        o_t_id: 0,
+        t_o_id: T_O_ID,
+        triad: Triad {
+            serial: 1,
+            vendor: 1,
+            originator_serial: 1,
+        },
+        multiplier: 0,
+        o_t_rpi: conn.rpi_us,
+        o_t_params: params(conn.o_t_size + 6),
+        t_o_rpi: conn.rpi_us,
+        t_o_params: params(conn.t_o_size + 2),
+        transport: 0x01,
+        path: conn.path,
+    };
+    let reply = bench.explicit(&open.to_vec().map_err(|e| format!("{e:?}"))?)?;
     let opened = reply.len() >= 8 && reply[2] == 0;
     if opened {
-        bench.o_t_id = u32::from_le_bytes([reply[4], reply[5], reply[6], reply[7]]);
+        let o_t_id = u32::from_le_bytes([reply[4], reply[5], reply[6], reply[7]]);
+        bench.connection = Class1::new(o_t_id, T_O_ID, true, false);
     }
     trace.step(
         "Forward_Open 150 -> 100 at 50 ms (EXCLUSIVE_OWNER)",

@@ -12,8 +12,8 @@ use std::net::{Ipv4Addr, SocketAddr, TcpStream, UdpSocket};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 
+use edsgen_runtime::enip::wire::io::IoDatagram;
 use edsgen_sim::enip::driver::IO_PORT;
-use edsgen_sim::enip::wire::{item, parse_items};
 
 use super::enip::{workflow, Scanner, Stopped, RPI_US};
 use super::two_namespaces::{self, Outcome, Pair, Server};
@@ -141,13 +141,10 @@ impl Wire {
                 continue;
             }
             // Sequenced address, then connected data: its 16-bit sequence count, the image.
-            let image = parse_items(&buf[..n]).and_then(|items| {
-                items
-                    .iter()
-                    .find(|(kind, _)| *kind == item::CONNECTED_DATA)
-                    .and_then(|(_, data)| data.get(2..))
-                    .map(<[u8]>::to_vec)
-            });
+            let image = IoDatagram::parse(&buf[..n])
+                .ok()
+                .and_then(|datagram| datagram.data.get(2..))
+                .map(<[u8]>::to_vec);
             if let Some(image) = image {
                 self.last = Some((image, Instant::now()));
             }

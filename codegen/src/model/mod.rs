@@ -14,6 +14,7 @@
 use std::collections::BTreeMap;
 
 mod cip;
+pub mod cip_value;
 mod dp;
 mod ethercat;
 mod object;

@@ -1,18 +1,23 @@
 //! The adapter's protocol core, sans-IO: encapsulation messages in (per TCP client, or one UDP
-//! datagram), replies out; class-1 datagrams in, T→O datagrams out when [`Adapter::poll`] says
-//! they are due; connections closed after their timeout. Class-3 connected messaging
-//! (SendUnitData) is in `class3`. Layered as OpENer is: the
-//! encapsulation ([`Adapter::handle`]) knows no objects and hands Message Router requests to
-//! [`Adapter::route`], which dispatches to the objects (`objects`).
+//! datagram), replies out; class-1 datagrams in, T→O datagrams out when
+//! [`Adapter::handle_timeout`] finds them due ([`Adapter::poll_transmit`]), events out
+//! ([`Adapter::poll_event`]); connections closed after their timeout. The encapsulation
+//! ([`Adapter::handle`]) hands Message Router requests to [`Adapter::route`] (`objects`) and
+//! SendUnitData to `class3`.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 
 use edsgen_runtime::{Duration, Instant};
 
-use super::class3::ExplicitConnection;
-use super::wire::{
-    command, emit_items, encap_status, item, parse_items, u16_at, u32_at, EncapError, Encapsulation,
+use edsgen_runtime::enip::wire::cpf::{item, Item, Items, Sockaddr};
+use edsgen_runtime::enip::wire::encap::{
+    command, status as encap_status, EncapError, EncapRepr, IdentityItem, RegisterSession,
 };
+use edsgen_runtime::enip::wire::io::IoDatagram;
+use edsgen_runtime::enip::wire::{u16_at, u32_at, Emit};
+
+use super::bytes::{items, send_data};
+use super::class3::ExplicitConnection;
 
 /// What the Identity object (class 1) reports.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -106,7 +111,9 @@ pub struct Adapter {
     next_session: u32,
     pub(super) connections: Vec<IoConnection>,
     pub(super) next_connection_id: u32,
-    pub(super) events: Vec<Event>,
+    pub(super) events: VecDeque<Event>,
+    /// T→O datagrams due, with the peer key of each.
+    transmit: VecDeque<(u64, Vec<u8>)>,
     pub(super) explicit: Vec<ExplicitConnection>,
     /// The session whose request [`Adapter::route`] serves (a class-3 connection's owner).
     pub(super) serving_session: u32,
@@ -128,7 +135,8 @@ impl Adapter {
             next_session: 1,
             connections: Vec::new(),
             next_connection_id: 0x1000_0001,
-            events: Vec::new(),
+            events: VecDeque::new(),
+            transmit: VecDeque::new(),
             explicit: Vec::new(),
             serving_session: 0,
             config_instances: Vec::new(),
@@ -141,9 +149,15 @@ impl Adapter {
         &self.connections
     }
 
-    /// The events since the last call.
-    pub fn take_events(&mut self) -> Vec<Event> {
-        std::mem::take(&mut self.events)
+    /// The next event, oldest first.
+    pub fn poll_event(&mut self) -> Option<Event> {
+        self.events.pop_front()
+    }
+
+    /// The next T→O datagram due (after [`handle_timeout`](Self::handle_timeout)), with the
+    /// peer key of the originator it goes to.
+    pub fn poll_transmit(&mut self) -> Option<(u64, Vec<u8>)> {
+        self.transmit.pop_front()
     }
 
     /// One encapsulation message from client `client` (a key the driver chooses per TCP
@@ -155,9 +169,16 @@ impl Adapter {
         bytes: &[u8],
         now: Instant,
     ) -> Result<(Option<Vec<u8>>, usize), EncapError> {
-        let (message, used) = Encapsulation::parse(bytes)?;
-        let reply = self.command(client, &message, now);
-        Ok((reply.map(|r| r.emit()), used))
+        let (message, used) = EncapRepr::parse_prefix(bytes)?;
+        let reply = self.command(client, &message, now).and_then(|reply| {
+            EncapRepr {
+                session: reply.session.unwrap_or(message.session),
+                ..message.reply(reply.status, &reply.data)
+            }
+            .to_vec()
+            .ok()
+        });
+        Ok((reply, used))
     }
 
     /// A TCP client went away: its sessions end, and their class-3 connections.
@@ -174,40 +195,36 @@ impl Adapter {
         }
     }
 
-    fn command(&mut self, client: u64, m: &Encapsulation, now: Instant) -> Option<Encapsulation> {
+    fn command(&mut self, client: u64, m: &EncapRepr<'_>, now: Instant) -> Option<Reply> {
         let session_ok = self.sessions.get(&m.session) == Some(&client);
         Some(match m.command {
             command::NOP => return None,
-            command::LIST_IDENTITY => m.reply(encap_status::SUCCESS, self.list_identity()),
+            command::LIST_IDENTITY => Reply::success(self.list_identity()),
             command::LIST_SERVICES => {
                 let mut body = Vec::new();
                 body.extend_from_slice(&1u16.to_le_bytes());
                 // Capability: bit 5 CIP over TCP, bit 8 class 0/1 over UDP.
                 body.extend_from_slice(&0x0120u16.to_le_bytes());
                 body.extend_from_slice(b"Communications\0\0");
-                m.reply(
-                    encap_status::SUCCESS,
-                    emit_items(&[(item::SERVICES, &body)]),
-                )
+                Reply::success(items(&[Item::new(item::SERVICES, &body)]))
             }
-            command::LIST_INTERFACES => m.reply(encap_status::SUCCESS, 0u16.to_le_bytes().to_vec()),
-            command::REGISTER_SESSION => {
-                if m.data.len() != 4 {
-                    return Some(m.reply(encap_status::INVALID_LENGTH, m.data.clone()));
+            command::LIST_INTERFACES => Reply::success(0u16.to_le_bytes().to_vec()),
+            command::REGISTER_SESSION => match RegisterSession::parse(m.data) {
+                Err(_) => Reply::status(encap_status::INVALID_LENGTH, m.data.to_vec()),
+                Ok(register) if register.protocol_version != 1 => Reply::status(
+                    encap_status::UNSUPPORTED_PROTOCOL,
+                    1u32.to_le_bytes().to_vec(),
+                ),
+                Ok(_) => {
+                    let handle = self.next_session;
+                    self.next_session = self.next_session.wrapping_add(1).max(1);
+                    self.sessions.insert(handle, client);
+                    Reply {
+                        session: Some(handle),
+                        ..Reply::success(m.data.to_vec())
+                    }
                 }
-                if u16_at(&m.data, 0) != Some(1) {
-                    return Some(m.reply(
-                        encap_status::UNSUPPORTED_PROTOCOL,
-                        1u32.to_le_bytes().to_vec(),
-                    ));
-                }
-                let handle = self.next_session;
-                self.next_session = self.next_session.wrapping_add(1).max(1);
-                self.sessions.insert(handle, client);
-                let mut reply = m.reply(encap_status::SUCCESS, m.data.clone());
-                reply.session = handle;
-                reply
-            }
+            },
             command::UNREGISTER_SESSION => {
                 if session_ok {
                     self.sessions.remove(&m.session);
@@ -216,57 +233,54 @@ impl Adapter {
                 return None;
             }
             command::SEND_RR_DATA | command::SEND_UNIT_DATA if !session_ok => {
-                m.reply(encap_status::INVALID_SESSION, Vec::new())
+                Reply::status(encap_status::INVALID_SESSION, Vec::new())
             }
             command::SEND_RR_DATA => self.send_rr_data(client, m, now),
             command::SEND_UNIT_DATA => self.send_unit_data(client, m, now),
-            _ => m.reply(encap_status::INVALID_COMMAND, Vec::new()),
+            _ => Reply::status(encap_status::INVALID_COMMAND, Vec::new()),
         })
     }
 
-    fn send_rr_data(&mut self, client: u64, m: &Encapsulation, now: Instant) -> Encapsulation {
-        // Interface handle (4), timeout (2), then the items.
-        let items = m.data.get(6..).and_then(parse_items).unwrap_or_default();
-        let find = |wanted: u16| items.iter().find(|(kind, _)| *kind == wanted);
-        let Some((_, request)) = find(item::UNCONNECTED_DATA) else {
-            return m.reply(encap_status::INCORRECT_DATA, Vec::new());
+    fn send_rr_data(&mut self, client: u64, m: &EncapRepr<'_>, now: Instant) -> Reply {
+        let found = Items::parse_send_data(m.data).ok().and_then(|items| {
+            let t_o_port = items.find(item::SOCKADDR_T_O).map(Sockaddr::parse);
+            Some((items.find(item::UNCONNECTED_DATA)?, t_o_port))
+        });
+        let Some((request, t_o_port)) = found else {
+            return Reply::status(encap_status::INCORRECT_DATA, Vec::new());
         };
         self.serving_session = m.session;
-        let t_o_port = find(item::SOCKADDR_T_O).and_then(|(_, d)| super::wire::parse_sockaddr(d));
         let opened = self.connections.len();
         let response = self.route(client, request, now);
-        if let (Some((port, _)), Some(c)) = (t_o_port, self.connections.get_mut(opened)) {
-            c.t_o_port = Some(port);
+        if let (Some(Ok(sockaddr)), Some(c)) = (t_o_port, self.connections.get_mut(opened)) {
+            c.t_o_port = Some(sockaddr.port);
         }
-        let mut data = vec![0; 6];
-        data.extend(emit_items(&[
-            (item::NULL_ADDRESS, &[]),
-            (item::UNCONNECTED_DATA, &response),
-        ]));
-        m.reply(encap_status::SUCCESS, data)
+        Reply::success(send_data(&[
+            Item::new(item::NULL_ADDRESS, &[]),
+            Item::new(item::UNCONNECTED_DATA, &response),
+        ]))
     }
 
     /// The ListIdentity reply's data (one identity item).
     pub fn list_identity(&self) -> Vec<u8> {
         let id = &self.identity;
-        let mut body = Vec::new();
-        body.extend_from_slice(&1u16.to_le_bytes());
-        body.extend_from_slice(&2u16.to_be_bytes());
-        body.extend_from_slice(&44818u16.to_be_bytes());
-        body.extend_from_slice(&self.address);
-        body.extend_from_slice(&[0; 8]);
-        body.extend_from_slice(&id.vendor.to_le_bytes());
-        body.extend_from_slice(&id.device_type.to_le_bytes());
-        body.extend_from_slice(&id.product_code.to_le_bytes());
-        body.extend_from_slice(&[id.revision.0, id.revision.1]);
-        body.extend_from_slice(&self.identity_status().to_le_bytes());
-        body.extend_from_slice(&id.serial.to_le_bytes());
         let name = id.name.as_bytes();
-        let name = &name[..name.len().min(32)];
-        body.push(name.len() as u8);
-        body.extend_from_slice(name);
-        body.push(3); // state: operational
-        emit_items(&[(item::IDENTITY, &body)])
+        let body = IdentityItem {
+            protocol_version: 1,
+            port: 44818,
+            address: self.address,
+            vendor: id.vendor,
+            device_type: id.device_type,
+            product_code: id.product_code,
+            revision: id.revision,
+            status: self.identity_status(),
+            serial: id.serial,
+            name: &name[..name.len().min(32)],
+            state: 3, // operational
+        };
+        // 66 bytes at most: always written.
+        let body = body.to_vec().unwrap_or_default();
+        items(&[Item::new(item::IDENTITY, &body)])
     }
 
     /// Identity attribute 5: bit 0 owned (a connection is open).
@@ -277,20 +291,18 @@ impl Adapter {
     /// One class-1 datagram (O→T) from `peer` at `now`: its data goes into the connection's
     /// assembly. Datagrams for no connection, too short, or out of sequence are dropped, as
     /// CIP drops them.
-    pub fn receive_io(&mut self, peer: u64, bytes: &[u8], now: Instant) {
-        let Some(items) = parse_items(bytes) else {
+    pub fn receive_io(&mut self, _peer: u64, bytes: &[u8], now: Instant) {
+        let Ok(IoDatagram {
+            connection: id,
+            data,
+            ..
+        }) = IoDatagram::parse(bytes)
+        else {
             return;
         };
-        let address = items.iter().find(|(k, _)| *k == item::SEQUENCED_ADDRESS);
-        let data = items.iter().find(|(k, _)| *k == item::CONNECTED_DATA);
-        let (Some((_, address)), Some((_, data))) = (address, data) else {
-            return;
-        };
-        let Some(id) = u32_at(address, 0) else { return };
         let Some(conn) = self.connections.iter_mut().find(|c| c.o_t_id == id) else {
             return;
         };
-        let _ = peer;
         let (Some(sequence), Some(header)) = (u16_at(data, 0), u32_at(data, 2)) else {
             return;
         };
@@ -305,13 +317,14 @@ impl Adapter {
             let payload = &data[6..];
             if payload.len() == assembly.data.len() {
                 assembly.data.copy_from_slice(payload);
-                self.events.push(Event::Consumed(point));
+                self.events.push_back(Event::Consumed(point));
             }
         }
     }
 
-    /// When [`poll`](Self::poll) has something to do next: a T→O production or a timeout.
-    pub fn next_deadline(&self) -> Option<Instant> {
+    /// When [`handle_timeout`](Self::handle_timeout) has something to do next: a T→O
+    /// production or a timeout.
+    pub fn poll_timeout(&self) -> Option<Instant> {
         let explicit = self.explicit.iter().map(|c| c.last_heard + c.timeout);
         self.connections
             .iter()
@@ -321,8 +334,8 @@ impl Adapter {
     }
 
     /// At `now`: closes connections whose O→T data (class 1) or requests (class 3) stopped for
-    /// their timeout, and returns the T→O datagrams due, with the peer key of each.
-    pub fn poll(&mut self, now: Instant) -> Vec<(u64, Vec<u8>)> {
+    /// their timeout, and queues the T→O datagrams due ([`poll_transmit`](Self::poll_transmit)).
+    pub fn handle_timeout(&mut self, now: Instant) {
         self.expire_explicit(now);
         let mut timed_out = Vec::new();
         self.connections.retain(|c| {
@@ -334,7 +347,6 @@ impl Adapter {
         });
         self.events
             .extend(timed_out.into_iter().map(Event::TimedOut));
-        let mut out = Vec::new();
         for c in &mut self.connections {
             if now < c.next_produce {
                 continue;
@@ -345,18 +357,39 @@ impl Adapter {
                 .assemblies
                 .get(&c.t_o_point)
                 .map_or(&[][..], |a| &a.data[..]);
-            let mut address = c.t_o_id.to_le_bytes().to_vec();
-            address.extend_from_slice(&c.t_o_sequence.to_le_bytes());
             let mut payload = (c.t_o_sequence as u16).to_le_bytes().to_vec();
             payload.extend_from_slice(data);
-            out.push((
-                c.peer,
-                emit_items(&[
-                    (item::SEQUENCED_ADDRESS, &address),
-                    (item::CONNECTED_DATA, &payload),
-                ]),
-            ));
+            let datagram = IoDatagram {
+                connection: c.t_o_id,
+                sequence: c.t_o_sequence,
+                data: &payload,
+            };
+            // An assembly fits a datagram (the Forward_Open checked its size).
+            if let Ok(bytes) = datagram.to_vec() {
+                self.transmit.push_back((c.peer, bytes));
+            }
         }
-        out
+    }
+}
+
+/// An encapsulation reply before it is written: status and data, and the session handle
+/// RegisterSession issued (other replies keep the request's).
+pub(super) struct Reply {
+    pub(super) session: Option<u32>,
+    pub(super) status: u32,
+    pub(super) data: Vec<u8>,
+}
+
+impl Reply {
+    pub(super) fn success(data: Vec<u8>) -> Reply {
+        Reply::status(encap_status::SUCCESS, data)
+    }
+
+    pub(super) fn status(status: u32, data: Vec<u8>) -> Reply {
+        Reply {
+            session: None,
+            status,
+            data,
+        }
     }
 }

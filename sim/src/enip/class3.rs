@@ -10,9 +10,13 @@
 
 use edsgen_runtime::{Duration, Instant};
 
-use super::adapter::{Adapter, Event};
-use super::wire::{emit_items, encap_status, general, item, parse_items, u16_at, u32_at};
-use super::wire::{response, Encapsulation};
+use edsgen_runtime::enip::wire::encap::{status as encap_status, EncapRepr};
+use edsgen_runtime::enip::wire::io::ConnectedMessage;
+use edsgen_runtime::enip::wire::message::general;
+use edsgen_runtime::enip::wire::Emit;
+
+use super::adapter::{Adapter, Event, Reply};
+use super::bytes::status_only;
 
 /// A class-3 connection.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -49,8 +53,8 @@ pub(super) struct ExplicitOpen {
 /// SendUnitData refused with the encapsulation's "incorrect data" (0x0003): malformed, or for a
 /// connection that is not open (OpENer drops such a message unanswered; an answer tells the
 /// originator at once).
-fn incorrect(m: &Encapsulation) -> Encapsulation {
-    m.reply(encap_status::INCORRECT_DATA, Vec::new())
+fn incorrect() -> Reply {
+    Reply::status(encap_status::INCORRECT_DATA, Vec::new())
 }
 
 impl Adapter {
@@ -74,7 +78,7 @@ impl Adapter {
             last_heard: now,
             last: None,
         });
-        self.events.push(Event::Opened(id));
+        self.events.push_back(Event::Opened(id));
         id
     }
 
@@ -84,7 +88,7 @@ impl Adapter {
             return false;
         };
         let closed = self.explicit.remove(at);
-        self.events.push(Event::Closed(closed.o_t_id));
+        self.events.push_back(Event::Closed(closed.o_t_id));
         true
     }
 
@@ -116,75 +120,54 @@ impl Adapter {
 
     /// SendUnitData (its session checked): the request on its connection, the reply on the
     /// connection's T→O ID with the same sequence count.
-    pub(super) fn send_unit_data(
-        &mut self,
-        client: u64,
-        m: &Encapsulation,
-        now: Instant,
-    ) -> Encapsulation {
-        // Interface handle (4), timeout (2), then the items.
-        let Some(items) = m.data.get(6..).and_then(parse_items) else {
-            return incorrect(m);
+    pub(super) fn send_unit_data(&mut self, client: u64, m: &EncapRepr<'_>, now: Instant) -> Reply {
+        let Ok(request) = ConnectedMessage::parse(m.data) else {
+            return incorrect();
         };
-        let address = items.iter().find(|(k, _)| *k == item::CONNECTED_ADDRESS);
-        let data = items.iter().find(|(k, _)| *k == item::CONNECTED_DATA);
-        let (Some((_, address)), Some((_, data))) = (address, data) else {
-            return incorrect(m);
-        };
-        let (Some(id), Some(sequence), 4) = (u32_at(address, 0), u16_at(data, 0), address.len())
-        else {
-            return incorrect(m);
-        };
+        let (id, sequence) = (request.connection, request.sequence);
         let Some(at) = self
             .explicit
             .iter()
             .position(|c| c.o_t_id == id && c.session == m.session)
         else {
-            return incorrect(m);
+            return incorrect();
         };
         self.explicit[at].last_heard = now;
         let t_o_id = self.explicit[at].t_o_id;
+        let service = request.message.first().copied().unwrap_or(0);
         let reply = match &self.explicit[at].last {
             Some((last, reply)) if *last == sequence => reply.clone(),
             // A request longer than the connection's O→T size is not executed: too much data.
-            _ if data.len() > self.explicit[at].o_t_size => {
-                let service = data.get(2).copied().unwrap_or(0);
-                let reply = response(service, general::TOO_MUCH_DATA, &[], &[]);
+            _ if request.payload_len() > self.explicit[at].o_t_size => {
+                let reply = status_only(service, general::TOO_MUCH_DATA);
                 self.explicit[at].last = Some((sequence, reply.clone()));
                 reply
             }
             _ => {
                 self.serving_session = m.session;
-                let mut reply = self.route(client, &data[2..], now);
+                let mut reply = self.route(client, request.message, now);
                 // Routing may have closed connections (a Forward_Close on this one).
                 let Some(at) = self.explicit.iter().position(|c| c.o_t_id == id) else {
-                    return self.connected_reply(m, t_o_id, sequence, &reply);
+                    return connected_reply(t_o_id, sequence, &reply);
                 };
                 if reply.len() + 2 > self.explicit[at].t_o_size {
-                    let service = data.get(2).copied().unwrap_or(0);
-                    reply = response(service, general::REPLY_DATA_TOO_LARGE, &[], &[]);
+                    reply = status_only(service, general::REPLY_DATA_TOO_LARGE);
                 }
                 self.explicit[at].last = Some((sequence, reply.clone()));
                 reply
             }
         };
-        self.connected_reply(m, t_o_id, sequence, &reply)
+        connected_reply(t_o_id, sequence, &reply)
     }
+}
 
-    fn connected_reply(
-        &self,
-        m: &Encapsulation,
-        t_o_id: u32,
-        sequence: u16,
-        reply: &[u8],
-    ) -> Encapsulation {
-        let mut payload = sequence.to_le_bytes().to_vec();
-        payload.extend_from_slice(reply);
-        let mut data = vec![0; 6];
-        data.extend(emit_items(&[
-            (item::CONNECTED_ADDRESS, &t_o_id.to_le_bytes()),
-            (item::CONNECTED_DATA, &payload),
-        ]));
-        m.reply(encap_status::SUCCESS, data)
-    }
+/// SendUnitData's reply: the response on the connection's T→O ID with the request's count.
+fn connected_reply(t_o_id: u32, sequence: u16, response: &[u8]) -> Reply {
+    let message = ConnectedMessage {
+        connection: t_o_id,
+        sequence,
+        message: response,
+    };
+    // A response fits an encapsulation message (`bytes::response`).
+    Reply::success(message.to_vec().unwrap_or_default())
 }

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use edsgen_codegen::model::{Cip, FieldRef};
+use edsgen_codegen::model::{cip_value, Cip, FieldRef};
 use edsgen_runtime::Instant;
 
 use super::adapter::{Adapter, Assembly, Identity};
@@ -47,16 +47,13 @@ pub fn from_cip(cip: &Cip, address: [u8; 4]) -> Adapter {
             continue;
         }
         let mut data = vec![0u8; size];
-        let mut bit = 0usize;
-        for m in &a.members {
-            let bits = param_object::member_bits(cip, m);
-            if let Some(p) = match m.member {
-                FieldRef::Param(n) => cip.params.get(&n),
-                _ => None,
-            } {
-                param_object::paste(&mut data, bit, bits, &param_object::default_bytes(p));
+        for place in cip_value::layout(cip, a) {
+            if let FieldRef::Param(n) = place.member.member {
+                if let Some(p) = cip.params.get(&n) {
+                    let default = param_object::default_bytes(p);
+                    cip_value::write_bits(&mut data, place.bit, u64::from(place.bits), &default);
+                }
             }
-            bit += bits;
         }
         assemblies.insert(
             a.instance(),

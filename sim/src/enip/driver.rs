@@ -14,11 +14,11 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use edsgen_runtime::enip::wire::io::IoDatagram;
 use edsgen_runtime::pkw_pzd::ByteOrder;
 use edsgen_runtime::Instant;
 
 use super::adapter::{Adapter, Event};
-use super::wire::parse_io_datagram;
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// The class-1 I/O port.
@@ -158,15 +158,13 @@ pub fn run(
             }
         }
         let t = now();
-        let mut produce = adapter.poll(t);
+        adapter.handle_timeout(t);
         served.connections += link(&mut adapter, card.as_mut(), t, &mut log);
-        if let Some(io) = &io {
-            for (peer, datagram) in produce.drain(..) {
-                let ip = clients.get(&peer).map(|c| c.peer);
-                if let Some(ip) = ip {
-                    let port = t_o_port(&adapter, &datagram);
-                    let _ = io.send_to(&datagram, SocketAddr::new(ip, port));
-                }
+        while let Some((peer, datagram)) = adapter.poll_transmit() {
+            let ip = clients.get(&peer).map(|c| c.peer);
+            if let (Some(io), Some(ip)) = (&io, ip) {
+                let port = t_o_port(&adapter, &datagram);
+                let _ = io.send_to(&datagram, SocketAddr::new(ip, port));
             }
         }
         std::thread::sleep(std::time::Duration::from_millis(1));
@@ -177,7 +175,7 @@ pub fn run(
 /// The UDP port a T→O datagram goes to: the one its connection's Forward_Open asked for, else
 /// [`IO_PORT`].
 fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
-    let id = parse_io_datagram(datagram).map(|(id, _, _)| id);
+    let id = IoDatagram::parse(datagram).ok().map(|d| d.connection);
     adapter
         .connections()
         .iter()
@@ -197,7 +195,7 @@ pub fn link(
     log: &mut impl FnMut(String),
 ) -> u64 {
     let mut opened = 0;
-    for event in adapter.take_events() {
+    while let Some(event) = adapter.poll_event() {
         match event {
             Event::Opened(id) => {
                 opened += 1;

@@ -4,58 +4,31 @@
 //! (0xF5) and Ethernet Link (0xF6). Each refusal carries CIP's general status (and the
 //! Connection Manager's extended status).
 
+use edsgen_runtime::enip::wire::connection_manager::{
+    extended, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr,
+};
+use edsgen_runtime::enip::wire::epath::Path;
+use edsgen_runtime::enip::wire::message::{general, service, RequestRepr as Request};
+use edsgen_runtime::enip::wire::{Emit, Error};
+
 use edsgen_runtime::{Duration, Instant};
 
 use super::adapter::{Adapter, Event, IoConnection};
+use super::bytes::{response, status_only};
 use super::class3::ExplicitOpen;
-use super::wire::{general, parse_path, response, u16_at, u32_at, Path, Request};
-
-/// Services.
-mod service {
-    pub const GET_ATTRIBUTES_ALL: u8 = 0x01;
-    pub const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
-    pub const SET_ATTRIBUTE_SINGLE: u8 = 0x10;
-    pub const FORWARD_CLOSE: u8 = 0x4E;
-    pub const FORWARD_OPEN: u8 = 0x54;
-    pub const LARGE_FORWARD_OPEN: u8 = 0x5B;
-}
-
-/// Connection Manager extended status codes.
-pub mod extended {
-    /// Connection in use or duplicate Forward_Open.
-    pub const CONNECTION_IN_USE: u16 = 0x0100;
-    /// Transport class and trigger combination not supported.
-    pub const TRANSPORT_NOT_SUPPORTED: u16 = 0x0103;
-    /// Connection not found (Forward_Close).
-    pub const CONNECTION_NOT_FOUND: u16 = 0x0107;
-    /// Invalid connection size.
-    pub const INVALID_SIZE: u16 = 0x0109;
-    /// Invalid O→T connection size.
-    pub const INVALID_O_T_SIZE: u16 = 0x0127;
-    /// Invalid T→O connection size.
-    pub const INVALID_T_O_SIZE: u16 = 0x0128;
-    /// Invalid configuration application path.
-    pub const INVALID_CONFIG_PATH: u16 = 0x0129;
-    /// Invalid consuming application path.
-    pub const INVALID_CONSUMING_PATH: u16 = 0x012A;
-    /// Invalid producing application path.
-    pub const INVALID_PRODUCING_PATH: u16 = 0x012B;
-    /// Invalid segment in the connection path.
-    pub const INVALID_SEGMENT: u16 = 0x0315;
-}
 
 fn status(service: u8, code: u8) -> Vec<u8> {
-    response(service, code, &[], &[])
+    status_only(service, code)
 }
 
 impl Adapter {
     /// One Message Router request; the response's bytes.
     pub fn route(&mut self, client: u64, bytes: &[u8], now: Instant) -> Vec<u8> {
-        let Some(request) = Request::parse(bytes) else {
+        let Ok(request) = Request::parse(bytes) else {
             let service = bytes.first().copied().unwrap_or(0);
             return status(service, general::NOT_ENOUGH_DATA);
         };
-        let Some(path) = parse_path(request.path) else {
+        let Ok(path) = Path::parse(request.path) else {
             return status(request.service, general::PATH_SEGMENT_ERROR);
         };
         match path.class {
@@ -154,7 +127,7 @@ impl Adapter {
     }
 
     fn assembly_service(&mut self, request: &Request<'_>, path: &Path) -> Vec<u8> {
-        let Some(instance) = path.instance.or(path.points.first().copied()) else {
+        let Some(instance) = path.instance.or(path.points().first().copied()) else {
             return status(request.service, general::PATH_DESTINATION_UNKNOWN);
         };
         let owned = self.connections.iter().any(|c| c.o_t_point == instance);
@@ -180,7 +153,7 @@ impl Adapter {
                     std::cmp::Ordering::Greater => general::TOO_MUCH_DATA,
                     std::cmp::Ordering::Equal => {
                         assembly.data.copy_from_slice(request.data);
-                        self.events.push(Event::Consumed(instance));
+                        self.events.push_back(Event::Consumed(instance));
                         general::SUCCESS
                     }
                 };
@@ -206,90 +179,53 @@ impl Adapter {
         now: Instant,
         large: bool,
     ) -> Vec<u8> {
-        let d = request.data;
-        let word = if large { 4 } else { 2 };
-        let fixed = 32 + 2 * word;
-        let (Some(o_t_id), Some(t_o_id), Some(serial), Some(vendor), Some(orig_serial)) = (
-            u32_at(d, 2),
-            u32_at(d, 6),
-            u16_at(d, 10),
-            u16_at(d, 12),
-            u32_at(d, 14),
-        ) else {
-            return status(request.service, general::NOT_ENOUGH_DATA);
+        let open = match ForwardOpenRepr::parse(request.data, large) {
+            Ok(open) => open,
+            Err(Error::Trailing) => return status(request.service, general::TOO_MUCH_DATA),
+            Err(_) => return status(request.service, general::NOT_ENOUGH_DATA),
         };
-        let _ = o_t_id;
-        let triad = (serial, vendor, orig_serial);
+        let t_o_id = open.t_o_id;
+        let triad = (
+            open.triad.serial,
+            open.triad.vendor,
+            open.triad.originator_serial,
+        );
         let fail = |code: u16| {
-            let mut data = Vec::new();
-            data.extend_from_slice(&serial.to_le_bytes());
-            data.extend_from_slice(&vendor.to_le_bytes());
-            data.extend_from_slice(&orig_serial.to_le_bytes());
-            data.extend_from_slice(&[0, 0]);
-            response(request.service, general::CONNECTION_FAILURE, &[code], &data)
+            response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[code],
+                &open.triad.reply(),
+            )
         };
-        let params = |at: usize| -> Option<u32> {
-            if large {
-                u32_at(d, at)
-            } else {
-                u16_at(d, at).map(u32::from)
-            }
-        };
-        let (
-            Some(multiplier),
-            Some(o_t_rpi),
-            Some(o_t_params),
-            Some(t_o_rpi),
-            Some(t_o_params),
-            Some(transport),
-            Some(path_words),
-        ) = (
-            d.get(18).copied(),
-            u32_at(d, 22),
-            params(26),
-            u32_at(d, 26 + word),
-            params(30 + word),
-            d.get(30 + 2 * word).copied(),
-            d.get(31 + 2 * word).copied(),
-        )
-        else {
-            return status(request.service, general::NOT_ENOUGH_DATA);
-        };
-        let Some(path_bytes) = d.get(fixed..fixed + 2 * usize::from(path_words)) else {
-            return status(request.service, general::NOT_ENOUGH_DATA);
-        };
-        if d.len() > fixed + 2 * usize::from(path_words) {
-            return status(request.service, general::TOO_MUCH_DATA);
-        }
         let in_use = self.connections.iter().any(|c| c.triad == triad)
             || self.explicit.iter().any(|c| c.triad == triad);
         if in_use {
             return fail(extended::CONNECTION_IN_USE);
         }
-        let Some(path) = parse_path(path_bytes) else {
+        let Ok(path) = Path::parse(open.path) else {
             return fail(extended::INVALID_SEGMENT);
         };
-        let size_mask = if large { 0xFFFF } else { 0x01FF };
-        let timeout_factor = 4u64 << multiplier.min(7);
+        let timeout = Duration::from_micros(open.timeout_us());
         let opened = |id: u32| {
-            let mut data = Vec::new();
-            data.extend_from_slice(&id.to_le_bytes());
-            data.extend_from_slice(&t_o_id.to_le_bytes());
-            data.extend_from_slice(&serial.to_le_bytes());
-            data.extend_from_slice(&vendor.to_le_bytes());
-            data.extend_from_slice(&orig_serial.to_le_bytes());
-            data.extend_from_slice(&o_t_rpi.to_le_bytes());
-            data.extend_from_slice(&t_o_rpi.to_le_bytes());
-            data.extend_from_slice(&[0, 0]);
+            let reply = ForwardOpenReply {
+                o_t_id: id,
+                t_o_id,
+                triad: open.triad,
+                o_t_api: open.o_t_rpi,
+                t_o_api: open.t_o_rpi,
+            };
+            let mut data = [0; 26];
+            let _ = reply.emit(&mut data);
             response(request.service, general::SUCCESS, &[], &data)
         };
-        match transport & 0x0F {
+        match open.transport & 0x0F {
             1 => {}
             // Class 3, server: explicit messages to the Message Router (path 20 02 24 01).
-            3 if transport & 0x80 != 0 => {
+            3 if open.transport & 0x80 != 0 => {
                 let router = path.class == Some(2)
                     && path.instance == Some(1)
-                    && path.points.is_empty()
+                    && path.points().is_empty()
                     && path.attribute.is_none();
                 if !router {
                     return fail(extended::INVALID_SEGMENT);
@@ -297,16 +233,16 @@ impl Adapter {
                 let open = ExplicitOpen {
                     t_o_id,
                     triad,
-                    t_o_size: (t_o_params & size_mask) as usize,
-                    o_t_size: (o_t_params & size_mask) as usize,
-                    timeout: Duration::from_micros(u64::from(o_t_rpi.max(1000)) * timeout_factor),
+                    t_o_size: usize::from(open.t_o_size()),
+                    o_t_size: usize::from(open.o_t_size()),
+                    timeout,
                 };
                 let id = self.open_explicit(open, now);
                 return opened(id);
             }
             _ => return fail(extended::TRANSPORT_NOT_SUPPORTED),
         }
-        let (o_t_point, t_o_point) = match (path.class, path.points.as_slice()) {
+        let (o_t_point, t_o_point) = match (path.class, path.points()) {
             (Some(4), [o_t, t_o]) => (*o_t, *t_o),
             _ => return fail(extended::INVALID_SEGMENT),
         };
@@ -323,7 +259,7 @@ impl Adapter {
         };
         // Class 1: a 2-byte sequence count both ways, the 4-byte run/idle header O→T.
         let (want_o_t, want_t_o) = (consumed.data.len() + 6, produced.data.len() + 2);
-        if (o_t_params & size_mask) as usize != want_o_t {
+        if usize::from(open.o_t_size()) != want_o_t {
             return response(
                 request.service,
                 general::CONNECTION_FAILURE,
@@ -331,7 +267,7 @@ impl Adapter {
                 &[],
             );
         }
-        if (t_o_params & size_mask) as usize != want_t_o {
+        if usize::from(open.t_o_size()) != want_t_o {
             return response(
                 request.service,
                 general::CONNECTION_FAILURE,
@@ -344,7 +280,7 @@ impl Adapter {
         }
         let id = self.next_connection_id;
         self.next_connection_id = self.next_connection_id.wrapping_add(1);
-        let o_t = Duration::from_micros(u64::from(o_t_rpi.max(1000)));
+        let o_t = Duration::from_micros(u64::from(open.o_t_rpi.max(1000)));
         self.connections.push(IoConnection {
             o_t_id: id,
             t_o_id,
@@ -352,8 +288,8 @@ impl Adapter {
             o_t_point,
             t_o_point,
             o_t_rpi: o_t,
-            t_o_rpi: Duration::from_micros(u64::from(t_o_rpi.max(1000))),
-            timeout: Duration::from_micros(u64::from(o_t_rpi.max(1000)) * timeout_factor),
+            t_o_rpi: Duration::from_micros(u64::from(open.t_o_rpi.max(1000))),
+            timeout,
             last_heard: now,
             next_produce: now,
             t_o_sequence: 0,
@@ -362,22 +298,20 @@ impl Adapter {
             peer: client,
             t_o_port: None,
         });
-        self.events.push(Event::Opened(id));
+        self.events.push_back(Event::Opened(id));
         opened(id)
     }
 
     fn forward_close(&mut self, request: &Request<'_>) -> Vec<u8> {
-        let d = request.data;
-        let (Some(serial), Some(vendor), Some(orig_serial)) =
-            (u16_at(d, 2), u16_at(d, 4), u32_at(d, 6))
-        else {
+        let Ok(close) = ForwardCloseRepr::parse(request.data) else {
             return status(request.service, general::NOT_ENOUGH_DATA);
         };
-        let mut data = Vec::new();
-        data.extend_from_slice(&serial.to_le_bytes());
-        data.extend_from_slice(&vendor.to_le_bytes());
-        data.extend_from_slice(&orig_serial.to_le_bytes());
-        data.extend_from_slice(&[0, 0]);
+        let data = close.triad.reply();
+        let (serial, vendor, orig_serial) = (
+            close.triad.serial,
+            close.triad.vendor,
+            close.triad.originator_serial,
+        );
         if self.close_explicit((serial, vendor, orig_serial)) {
             return response(request.service, general::SUCCESS, &[], &data);
         }
@@ -394,7 +328,7 @@ impl Adapter {
             );
         };
         let closed = self.connections.remove(at);
-        self.events.push(Event::Closed(closed.o_t_id));
+        self.events.push_back(Event::Closed(closed.o_t_id));
         response(request.service, general::SUCCESS, &[], &data)
     }
 }

@@ -11,12 +11,13 @@
 
 use std::collections::BTreeMap;
 
-use edsgen_codegen::model::{
-    decode_path, path_bytes, AssemblyMember, Cip, CipNumber, CipParam, FieldRef,
-};
+use edsgen_codegen::model::cip_value;
+use edsgen_codegen::model::{decode_path, path_bytes, Cip, CipNumber, CipParam, FieldRef};
+use edsgen_runtime::enip::wire::epath::Path;
+use edsgen_runtime::enip::wire::message::{general, RequestRepr as Request};
 
 use super::adapter::{Adapter, Event};
-use super::wire::{general, response, Path, Request};
+use super::bytes::{response, status_only};
 
 /// Services of the Parameter object.
 const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
@@ -68,27 +69,6 @@ pub struct Parameter {
     pub storage: Storage,
 }
 
-/// The width in bits of an assembly member: written, else its parameter's data size, else its
-/// nested assembly's size; as `enip get|set` and `enip io` lay members out.
-pub fn member_bits(cip: &Cip, member: &AssemblyMember) -> usize {
-    if let Some(bits) = member.bits {
-        return bits as usize;
-    }
-    match member.member {
-        FieldRef::Param(n) => cip
-            .params
-            .get(&n)
-            .and_then(|p| p.data_size.as_ref())
-            .map_or(0, |s| 8 * s.value as usize),
-        FieldRef::Assem(n) => cip
-            .assemblies
-            .get(&n)
-            .and_then(|a| edsgen_codegen::validate::cip_assembly_size(cip, a))
-            .map_or(0, |s| 8 * s as usize),
-        _ => 0,
-    }
-}
-
 /// The Parameter object's instances for the EDS's `[Params]`: members of an assembly the
 /// adapter serves (the first that names them) in its bytes, the others with their default.
 pub fn from_cip(cip: &Cip, served: &BTreeMap<u32, super::Assembly>) -> BTreeMap<u32, Parameter> {
@@ -97,17 +77,14 @@ pub fn from_cip(cip: &Cip, served: &BTreeMap<u32, super::Assembly>) -> BTreeMap<
         if !served.contains_key(&assembly.instance()) {
             continue;
         }
-        let mut bit = 0;
-        for m in &assembly.members {
-            let bits = member_bits(cip, m);
-            if let FieldRef::Param(n) = m.member {
+        for place in cip_value::layout(cip, assembly) {
+            if let FieldRef::Param(n) = place.member.member {
                 places.entry(n).or_insert(Storage::Member {
                     instance: assembly.instance(),
-                    bit,
-                    bits,
+                    bit: place.bit as usize,
+                    bits: place.bits as usize,
                 });
             }
-            bit += bits;
         }
     }
     cip.params
@@ -234,36 +211,19 @@ impl Parameter {
 }
 
 fn status(service: u8, code: u8) -> Vec<u8> {
-    response(service, code, &[], &[])
+    status_only(service, code)
 }
 
 /// Bits `at..at + len` of `data` as `size` little-endian bytes.
 fn cut(data: &[u8], at: usize, len: usize, size: usize) -> Vec<u8> {
-    let mut out = vec![0u8; size.max(len.div_ceil(8))];
-    for i in 0..len {
-        let on = data
-            .get((at + i) / 8)
-            .is_some_and(|b| b >> ((at + i) % 8) & 1 != 0);
-        if on {
-            out[i / 8] |= 1 << (i % 8);
-        }
-    }
+    let mut out = cip_value::read_bits(data, at as u64, len as u64, size);
     out.truncate(size.max(1));
     out
 }
 
 /// `data` with bits `at..at + len` from the little-endian `value` (bits past `value` zero).
 pub fn paste(data: &mut [u8], at: usize, len: usize, value: &[u8]) {
-    for i in 0..len {
-        let on = value.get(i / 8).is_some_and(|b| b >> (i % 8) & 1 != 0);
-        if let Some(byte) = data.get_mut((at + i) / 8) {
-            if on {
-                *byte |= 1 << ((at + i) % 8);
-            } else {
-                *byte &= !(1 << ((at + i) % 8));
-            }
-        }
-    }
+    cip_value::write_bits(data, at as u64, len as u64, value);
 }
 
 impl Adapter {
@@ -366,7 +326,7 @@ impl Adapter {
         };
         paste(&mut assembly.data, bit, bits, data);
         if assembly.consumed {
-            self.events.push(Event::Consumed(instance));
+            self.events.push_back(Event::Consumed(instance));
         }
         general::SUCCESS
     }

@@ -7,7 +7,9 @@ use std::collections::BTreeMap;
 
 use edsgen_runtime::{Duration, Instant};
 
-use super::wire::{emit_items, item, parse_items, Encapsulation};
+use edsgen_runtime::enip::wire::cpf::item;
+
+use super::tests_support::{emit_items, events, parse_items, produce, Encapsulation};
 use super::{Adapter, Assembly, Event, Identity};
 
 fn adapter() -> Adapter {
@@ -222,14 +224,14 @@ fn forward_open_io_timeout_and_forward_close() {
     assert_eq!(&ok[..4], &[0xD4, 0, 0, 0]);
     let id = u32::from_le_bytes([ok[4], ok[5], ok[6], ok[7]]);
     assert_eq!(&ok[8..12], &0x2000_0002u32.to_le_bytes());
-    assert_eq!(a.take_events(), vec![Event::Opened(id)]);
+    assert_eq!(events(&mut a), vec![Event::Opened(id)]);
     // The same triad again: connection in use.
     assert_eq!(
         &explicit(&mut a, s, &forward_open(1, 50_000, 38, 34))[..6],
         &[0xD4, 0, 0x01, 1, 0x00, 0x01]
     );
     // T->O now, then at the RPI.
-    let out = a.poll(T0);
+    let out = produce(&mut a, T0);
     assert_eq!(out.len(), 1);
     let items = parse_items(&out[0].1).expect("items");
     assert_eq!(
@@ -238,8 +240,8 @@ fn forward_open_io_timeout_and_forward_close() {
     );
     assert_eq!(&items[1].1[..2], &[1, 0]);
     assert_eq!(items[1].1.len(), 34);
-    assert!(a.poll(T0 + Duration::from_micros(49_000)).is_empty());
-    assert_eq!(a.poll(T0 + Duration::from_micros(50_000)).len(), 1);
+    assert!(produce(&mut a, T0 + Duration::from_micros(49_000)).is_empty());
+    assert_eq!(produce(&mut a, T0 + Duration::from_micros(50_000)).len(), 1);
     // O->T data lands in assembly 150.
     a.receive_io(
         7,
@@ -248,7 +250,7 @@ fn forward_open_io_timeout_and_forward_close() {
     );
     assert_eq!(a.assemblies[&150].data, vec![0x11; 32]);
     assert!(a.connections()[0].run);
-    assert_eq!(a.take_events(), vec![Event::Consumed(150)]);
+    assert_eq!(events(&mut a), vec![Event::Consumed(150)]);
     // Owned: explicit writes conflict with the connection.
     let mut set = vec![0x10, 3, 0x20, 0x04, 0x24, 0x96, 0x30, 0x03];
     set.extend([0; 32]);
@@ -260,7 +262,7 @@ fn forward_open_io_timeout_and_forward_close() {
     close.extend_from_slice(&0x0BAD_CAFEu32.to_le_bytes());
     close.extend_from_slice(&[4, 0, 0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64]);
     assert_eq!(&explicit(&mut a, s, &close)[..4], &[0xCE, 0, 0, 0]);
-    assert_eq!(a.take_events(), vec![Event::Closed(id)]);
+    assert_eq!(events(&mut a), vec![Event::Closed(id)]);
     assert_eq!(
         &explicit(&mut a, s, &close)[..6],
         &[0xCE, 0, 0x01, 1, 0x07, 0x01]
@@ -268,15 +270,15 @@ fn forward_open_io_timeout_and_forward_close() {
     // A new connection that stops producing: closed after 4 x RPI.
     let ok = explicit(&mut a, s, &forward_open(2, 50_000, 38, 34));
     let id = u32::from_le_bytes([ok[4], ok[5], ok[6], ok[7]]);
-    a.take_events();
+    events(&mut a);
     let t1 = T0 + Duration::from_micros(100_000);
     a.receive_io(7, &io_packet(id, 1, true, &[0; 32]), t1);
-    a.poll(t1 + Duration::from_micros(199_000));
+    produce(&mut a, t1 + Duration::from_micros(199_000));
     assert_eq!(a.connections().len(), 1);
-    a.poll(t1 + Duration::from_micros(200_000));
+    produce(&mut a, t1 + Duration::from_micros(200_000));
     assert!(a.connections().is_empty());
     assert_eq!(
-        a.take_events(),
+        events(&mut a),
         vec![Event::Consumed(150), Event::TimedOut(id)]
     );
 }
@@ -435,7 +437,7 @@ fn class3_forward_open_send_unit_data_and_forward_close() {
     expected.extend_from_slice(&[0, 0]);
     assert_eq!(ok, expected);
     let id = 0x1000_0001;
-    assert_eq!(a.take_events(), vec![Event::Opened(id)]);
+    assert_eq!(events(&mut a), vec![Event::Opened(id)]);
     assert_eq!(
         a.explicit_connections()[0].timeout,
         Duration::from_micros(8_000_000)
@@ -453,13 +455,13 @@ fn class3_forward_open_send_unit_data_and_forward_close() {
         unit_data(&mut a, s, id, 2, &set, T0),
         (0, connected(2, &[0x90, 0, 0, 0]))
     );
-    assert_eq!(a.take_events(), vec![Event::Consumed(150)]);
+    assert_eq!(events(&mut a), vec![Event::Consumed(150)]);
     a.assemblies.get_mut(&150).expect("150").data = vec![0; 32];
     assert_eq!(
         unit_data(&mut a, s, id, 2, &set, T0),
         (0, connected(2, &[0x90, 0, 0, 0]))
     );
-    assert_eq!(a.take_events(), vec![]);
+    assert_eq!(events(&mut a), vec![]);
     assert_eq!(a.assemblies[&150].data, vec![0; 32]);
     // The next count executes again; a refusal travels as the CIP response.
     assert_eq!(
@@ -503,7 +505,7 @@ fn class3_forward_open_send_unit_data_and_forward_close() {
         explicit(&mut a, s, &close),
         vec![0xCE, 0, 0, 0, 5, 0, 1, 0, 0xFE, 0xCA, 0xAD, 0x0B, 0, 0]
     );
-    assert_eq!(a.take_events(), vec![Event::Closed(id)]);
+    assert_eq!(events(&mut a), vec![Event::Closed(id)]);
     assert!(a.explicit_connections().is_empty());
     assert_eq!(unit_data(&mut a, s, id, 6, &get, T0), (0x03, vec![]));
 }
@@ -515,28 +517,28 @@ fn class3_connections_close_on_timeout_and_with_their_session() {
     // RPI 100 ms, multiplier 0: 400 ms without a request closes it.
     let ok = explicit(&mut a, s, &class3_open(0x54, 1, 100_000, 0xA3, &ROUTER));
     let id = u32::from_le_bytes([ok[4], ok[5], ok[6], ok[7]]);
-    a.take_events();
-    assert_eq!(a.next_deadline(), Some(T0 + Duration::from_micros(400_000)));
+    events(&mut a);
+    assert_eq!(a.poll_timeout(), Some(T0 + Duration::from_micros(400_000)));
     let t1 = T0 + Duration::from_micros(300_000);
     let get = [0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x01];
     assert_eq!(unit_data(&mut a, s, id, 1, &get, t1).0, 0);
-    a.poll(t1 + Duration::from_micros(399_000));
+    produce(&mut a, t1 + Duration::from_micros(399_000));
     assert_eq!(a.explicit_connections().len(), 1);
-    a.poll(t1 + Duration::from_micros(400_000));
+    produce(&mut a, t1 + Duration::from_micros(400_000));
     assert!(a.explicit_connections().is_empty());
-    assert_eq!(a.take_events(), vec![Event::Expired(id)]);
+    assert_eq!(events(&mut a), vec![Event::Expired(id)]);
     // A Large_Forward_Open; the session ends (UnRegisterSession) and takes it along.
     let ok = explicit(&mut a, s, &class3_open(0x5B, 2, 100_000, 0xA3, &ROUTER));
     assert_eq!(&ok[..4], &[0xDB, 0, 0, 0]);
     let id = u32::from_le_bytes([ok[4], ok[5], ok[6], ok[7]]);
     assert_eq!(a.explicit_connections()[0].t_o_size, 510);
-    a.take_events();
+    events(&mut a);
     assert_eq!(
         a.handle(7, &encap(0x66, s, &[]), T0).expect("complete").0,
         None
     );
     assert!(a.explicit_connections().is_empty());
-    assert_eq!(a.take_events(), vec![Event::Expired(id)]);
+    assert_eq!(events(&mut a), vec![Event::Expired(id)]);
     // A client that goes away takes its sessions' connections along.
     let s = session(&mut a);
     explicit(&mut a, s, &class3_open(0x54, 3, 100_000, 0xA3, &ROUTER));

@@ -4,6 +4,7 @@
 
 use edsgen_runtime::Instant;
 
+use super::tests_support::events;
 use super::{device, Event};
 
 const T0: Instant = Instant::from_micros(0);
@@ -109,7 +110,7 @@ fn a_value_of_its_own_checked_against_its_limits() {
     assert_eq!(get(&mut a, 8, 1), ok(&[0x40, 0x9C, 0, 0]), "unchanged");
     assert_eq!(set(&mut a, 8, &[0x20, 0x4E, 0, 0]), SET_OK);
     assert_eq!(get(&mut a, 8, 1), ok(&[0x20, 0x4E, 0, 0]));
-    assert!(a.take_events().is_empty());
+    assert!(events(&mut a).is_empty());
 }
 
 #[test]
@@ -139,7 +140,7 @@ fn members_live_in_their_assemblys_bytes() {
         [0x00, 0x64, 0x00, 0x01, 0x00, 0x00, 0x20, 0x40]
     );
     assert_eq!(
-        a.take_events(),
+        events(&mut a),
         [
             Event::Consumed(150),
             Event::Consumed(150),

@@ -1,16 +1,19 @@
-//! The scanner side of the wire formats (`wire::ForwardOpen`, `forward_close_request`,
-//! `io_datagram`, sockaddr items) against exact bytes, and against the adapter core: a
-//! Forward_Open built by them opens a connection, its T→O sockaddr item sets the port T→O data
-//! goes to, its datagrams land in the O→T assembly, and the Forward_Close closes it.
+//! The scanner side of the runtime's wire formats (`ForwardOpenRepr`, `ForwardCloseRepr`,
+//! `IoDatagram`, sockaddr items; their bytes are tested in the runtime) against the adapter
+//! core: a Forward_Open built by them opens a connection, its T→O sockaddr item sets the port
+//! T→O data goes to, its datagrams land in the O→T assembly, and the Forward_Close closes it.
 
 use std::collections::BTreeMap;
 
+use edsgen_runtime::enip::wire::connection_manager::{
+    network_params, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr, Triad, DEFAULT_TICKS,
+};
+use edsgen_runtime::enip::wire::cpf::{item, Sockaddr};
+use edsgen_runtime::enip::wire::io::IoDatagram;
+use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::Instant;
 
-use super::wire::{
-    emit_items, forward_close_request, io_datagram, item, network_params, parse_forward_open_reply,
-    parse_io_datagram, parse_items, parse_sockaddr, sockaddr, Encapsulation, ForwardOpen,
-};
+use super::tests_support::{emit_items, events, parse_items, produce, Encapsulation};
 use super::{Adapter, Assembly, Event, Identity};
 
 const T0: Instant = Instant::from_micros(0);
@@ -39,21 +42,41 @@ fn adapter() -> Adapter {
     a
 }
 
-fn open(large: bool) -> ForwardOpen {
-    ForwardOpen {
+const PATH: [u8; 8] = [0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64];
+
+const TRIAD: Triad = Triad {
+    serial: 7,
+    vendor: 0xEDE5,
+    originator_serial: 0x0102_0304,
+};
+
+fn open(large: bool) -> Vec<u8> {
+    ForwardOpenRepr {
         large,
+        ticks: DEFAULT_TICKS,
+        o_t_id: 0,
         t_o_id: 0x2000_0001,
-        serial: 7,
-        vendor: 0xEDE5,
-        originator_serial: 0x0102_0304,
+        triad: TRIAD,
         multiplier: 1,
         o_t_rpi: 20_000,
         o_t_params: network_params(large, 2, 2, false, 10),
         t_o_rpi: 20_000,
         t_o_params: network_params(large, 2, 2, false, 6),
         transport: 0x01,
-        path: vec![0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64],
+        path: &PATH,
     }
+    .to_vec()
+    .expect("fits")
+}
+
+fn datagram(connection: u32, sequence: u32, data: &[u8]) -> Vec<u8> {
+    IoDatagram {
+        connection,
+        sequence,
+        data,
+    }
+    .to_vec()
+    .expect("fits")
 }
 
 /// SendRRData with `items` after the unconnected request; the Message Router response.
@@ -94,84 +117,47 @@ fn session(a: &mut Adapter) -> u32 {
 }
 
 #[test]
-fn forward_open_bytes_small_and_large() {
-    let small = open(false).request();
-    assert_eq!(
-        small,
-        [
-            0x54, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E, 0, 0, 0, 0, 0x01, 0, 0, 0x20, 7, 0, 0xE5,
-            0xED, 0x04, 0x03, 0x02, 0x01, 1, 0, 0, 0, 0x20, 0x4E, 0, 0, 0x0A, 0x48, 0x20, 0x4E, 0,
-            0, 0x06, 0x48, 0x01, 4, 0x20, 0x04, 0x24, 0x01, 0x2C, 0x96, 0x2C, 0x64
-        ]
-    );
-    let large = open(true).request();
-    assert_eq!(large[0], 0x5B);
-    // 32-bit parameter words: O→T at 32..36, T→O at 40..44.
-    assert_eq!(&large[32..36], &[0x0A, 0, 0, 0x48]);
-    assert_eq!(&large[40..44], &[0x06, 0, 0, 0x48]);
-    assert_eq!(large.len(), small.len() + 4);
-    assert_eq!(
-        forward_close_request(7, 0xEDE5, 0x0102_0304, &[0x20, 0x04]),
-        [
-            0x4E, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E, 7, 0, 0xE5, 0xED, 4, 3, 2, 1, 1, 0, 0x20,
-            0x04
-        ]
-    );
-    assert_eq!(
-        sockaddr(0x1234, [127, 0, 0, 1]),
-        [0, 2, 0x12, 0x34, 127, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        parse_sockaddr(&sockaddr(2222, [0; 4])),
-        Some((2222, [0; 4]))
-    );
-    assert_eq!(parse_sockaddr(&[0, 2, 8]), None);
-    let datagram = io_datagram(0x1000_0001, 5, &[5, 0, 1, 0, 0, 0]);
-    assert_eq!(
-        datagram,
-        [2, 0, 0x02, 0x80, 8, 0, 1, 0, 0, 0x10, 5, 0, 0, 0, 0xB1, 0, 6, 0, 5, 0, 1, 0, 0, 0]
-    );
-    assert_eq!(
-        parse_io_datagram(&datagram),
-        Some((0x1000_0001, 5, &[5, 0, 1, 0, 0, 0][..]))
-    );
-    assert_eq!(parse_io_datagram(&datagram[..10]), None);
-}
-
-#[test]
 fn the_adapter_honours_the_t_o_sockaddr_and_the_scanner_frames() {
     let mut a = adapter();
     let s = session(&mut a);
-    let port = sockaddr(40_000, [0; 4]);
-    let reply = send(
-        &mut a,
-        s,
-        &open(false).request(),
-        &[(item::SOCKADDR_T_O, &port)],
-    );
+    let port = Sockaddr {
+        port: 40_000,
+        address: [0; 4],
+    }
+    .to_bytes();
+    let reply = send(&mut a, s, &open(false), &[(item::SOCKADDR_T_O, &port)]);
     assert_eq!(&reply[..4], &[0xD4, 0, 0, 0]);
-    let (o_t_id, t_o_id, o_t_api, t_o_api) = parse_forward_open_reply(&reply[4..]).expect("reply");
-    assert_eq!((t_o_id, o_t_api, t_o_api), (0x2000_0001, 20_000, 20_000));
-    assert_eq!(a.connections()[0].t_o_port, Some(40_000));
-    assert_eq!(a.take_events(), vec![Event::Opened(o_t_id)]);
-    // Sequence count 1, run, 4 bytes.
-    a.receive_io(
-        9,
-        &io_datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]),
-        T0,
-    );
-    assert_eq!(a.assemblies[&150].data, [9, 8, 7, 6]);
-    let produced = a.poll(T0);
-    let (id, sequence, data) = parse_io_datagram(&produced[0].1).expect("T→O");
+    let opened = ForwardOpenReply::parse(&reply[4..]).expect("reply");
+    let o_t_id = opened.o_t_id;
     assert_eq!(
-        (id, sequence, data),
-        (0x2000_0001, 1, &[1, 0, 0, 0, 0, 0][..])
+        (opened.t_o_id, opened.triad, opened.o_t_api, opened.t_o_api),
+        (0x2000_0001, TRIAD, 20_000, 20_000)
     );
-    let close = forward_close_request(7, 0xEDE5, 0x0102_0304, &open(false).path);
+    assert_eq!(a.connections()[0].t_o_port, Some(40_000));
+    assert_eq!(events(&mut a), vec![Event::Opened(o_t_id)]);
+    // Sequence count 1, run, 4 bytes.
+    a.receive_io(9, &datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]), T0);
+    assert_eq!(a.assemblies[&150].data, [9, 8, 7, 6]);
+    let produced = produce(&mut a, T0);
+    let produced = IoDatagram::parse(&produced[0].1).expect("T→O");
+    assert_eq!(
+        produced,
+        IoDatagram {
+            connection: 0x2000_0001,
+            sequence: 1,
+            data: &[1, 0, 0, 0, 0, 0],
+        }
+    );
+    let close = ForwardCloseRepr {
+        ticks: DEFAULT_TICKS,
+        triad: TRIAD,
+        path: &PATH,
+    };
+    let close = close.to_vec().expect("fits");
     assert_eq!(&send(&mut a, s, &close, &[])[..4], &[0xCE, 0, 0, 0]);
     assert!(a.connections().is_empty());
     // Without the item: the default port.
-    let reply = send(&mut a, s, &open(true).request(), &[]);
+    let reply = send(&mut a, s, &open(true), &[]);
     assert_eq!(&reply[..4], &[0xDB, 0, 0, 0]);
     assert_eq!(a.connections()[0].t_o_port, None);
 }
