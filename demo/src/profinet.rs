@@ -16,17 +16,18 @@
 
 use edsgen_codegen::model::Profinet;
 use edsgen_runtime::pkw_pzd::{ByteOrder, ErrorNumber, InputImage, PkwResponse, IMAGE_BYTES};
+use edsgen_runtime::profinet::wire::dcp::{self as dcpw, emit_plain_block};
+use edsgen_runtime::profinet::wire::rpc::{PnioStatus, Uuid, RPC_PORT};
+use edsgen_runtime::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
+use edsgen_runtime::profinet::wire::{Ethernet, Mac};
 use edsgen_runtime::Instant;
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::{ArEvent, Peer};
 use edsgen_sim::profinet::controller::{connected, response, Controller};
-use edsgen_sim::profinet::device::{Device, DeviceEvent};
-use edsgen_sim::profinet::wire::dcp::{self as dcpw, emit_plain_block, request, response_blocks};
-use edsgen_sim::profinet::wire::rpc::{PnioStatus, Uuid, RPC_PORT};
-use edsgen_sim::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
-use edsgen_sim::profinet::wire::{Ethernet, Mac};
+use edsgen_sim::profinet::device::{Device, DeviceEvent, Link, Transmit};
 
+use super::profinet_wire::{answer, dcp_request as request, find};
 use super::{expect, Trace};
 use card::modules::pkw_pzd_16_words::subslot_1::{Input, Output};
 use edsgen_sim::cards::goodrive350_pn as card;
@@ -136,17 +137,30 @@ impl Transport for InProcess {
     }
 
     fn dcp(&mut self, request: &[u8]) -> Result<Option<Vec<u8>>, String> {
-        Ok(self.card.handle_frame(self.now(), request))
+        self.card.handle(self.now(), Link::Ethernet, request);
+        Ok(self
+            .card
+            .poll_transmit(self.now())
+            .and_then(Transmit::frame))
     }
 
     fn call(&mut self, pdu: &[u8]) -> Result<Vec<u8>, String> {
-        self.card
-            .handle_datagram(self.now(), CONTROLLER_RPC, pdu)
+        self.card.handle(self.now(), Link::Rpc(CONTROLLER_RPC), pdu);
+        let answer = self
+            .card
+            .poll_transmit(self.now())
+            .and_then(Transmit::datagram);
+        answer
+            .map(|(_, pdu)| pdu)
             .ok_or_else(|| "the card did not answer".to_owned())
     }
 
     fn card_request(&mut self) -> Result<Vec<u8>, String> {
-        let (to, pdu) = self.card.poll_datagram().ok_or("no ApplicationReady")?;
+        let sent = self
+            .card
+            .poll_transmit(self.now())
+            .and_then(Transmit::datagram);
+        let (to, pdu) = sent.ok_or("no ApplicationReady")?;
         if to != (CONTROLLER_RPC.0, RPC_PORT) {
             return Err(format!("ApplicationReady sent to {to:?}"));
         }
@@ -154,8 +168,8 @@ impl Transport for InProcess {
     }
 
     fn answer(&mut self, pdu: &[u8]) -> Result<(), String> {
-        self.card
-            .handle_datagram(self.now(), (CONTROLLER_RPC.0, RPC_PORT), pdu);
+        let from = (CONTROLLER_RPC.0, RPC_PORT);
+        self.card.handle(self.now(), Link::Rpc(from), pdu);
         Ok(())
     }
 
@@ -169,15 +183,15 @@ impl Transport for InProcess {
 
     fn cycle(&mut self, frame: &[u8]) -> Result<Option<Vec<u8>>, String> {
         let now = self.now();
-        self.card.handle_frame(now, frame);
+        self.card.handle(now, Link::Ethernet, frame);
         self.card.handle_timeout(now);
-        let reply = self.card.poll_frame(now);
+        let reply = self.card.poll_transmit(now).and_then(Transmit::frame);
         self.ms += INTERVAL_MS;
         Ok(reply)
     }
 
     fn sending_stopped(&mut self) -> Result<bool, String> {
-        Ok(self.card.poll_frame(self.now()).is_none())
+        Ok(self.card.poll_transmit(self.now()).is_none())
     }
 
     /// The card's watchdog expires after FACTOR intervals without an output frame.
@@ -191,7 +205,7 @@ impl Transport for InProcess {
             };
             at = next;
             self.card.handle_timeout(at);
-            while self.card.poll_frame(at).is_some() {}
+            while self.card.poll_transmit(at).is_some() {}
             aborted |= ar_events(&mut self.card).contains(&"Aborted");
             if aborted {
                 break;
@@ -238,31 +252,6 @@ pub(super) fn run(trace: &mut Trace) {
     }
 }
 
-/// A DCP answer's block: option, BlockInfo, data.
-type Block = ((u8, u8), u16, Vec<u8>);
-
-/// The card's MAC address and the DCP blocks of its answer to `frame`, or why there is none.
-fn answer(link: &mut dyn Transport, frame: &[u8]) -> Result<(Mac, Vec<Block>), String> {
-    let reply = link.dcp(frame)?.ok_or("the device did not answer")?;
-    let eth = Ethernet::parse(&reply).ok_or("a short answer")?;
-    let (_, blocks) =
-        dcpw::DcpHeader::parse(&reply[eth.payload..]).ok_or("a malformed DCP answer")?;
-    Ok((
-        eth.src,
-        response_blocks(blocks)
-            .map(|(o, i, d)| (o, i, d.to_vec()))
-            .collect(),
-    ))
-}
-
-fn find(blocks: &[Block], option: (u8, u8)) -> Result<Vec<u8>, String> {
-    blocks
-        .iter()
-        .find(|b| b.0 == option)
-        .map(|b| b.2.clone())
-        .ok_or_else(|| format!("no block {option:?} in the answer"))
-}
-
 /// The controller and the card, joined by a [`Transport`].
 struct Bench<'a> {
     link: &'a mut dyn Transport,
@@ -284,16 +273,18 @@ impl Bench<'_> {
         // The output CR: the module's data and IOPS, then the IOCS for its inputs.
         let mut c_sdu = data.to_vec();
         c_sdu.push(card::IOXS_GOOD);
-        let mut frame = Vec::new();
-        Ethernet::emit(self.card, self.controller, &mut frame);
-        RtFrame {
+        let rt = RtFrame {
             frame_id: self.frame_ids.1,
             c_sdu: &c_sdu,
             cycle_counter: (self.link.now_ms() * 32) as u16,
             data_status: DATA_STATUS_GOOD,
             transfer_status: 0,
-        }
-        .emit(&mut frame);
+        };
+        let mut frame = vec![0; 14 + rt.buffer_len()];
+        let header = Ethernet::emit(self.card, self.controller, &mut frame);
+        header
+            .and_then(|at| rt.emit(&mut frame[at..]))
+            .map_err(|_| "the output frame does not fit")?;
         let reply = self.link.cycle(&frame)?.ok_or("no input frame")?;
         self.input = decode_input(&reply)?;
         Ok(())
@@ -423,19 +414,21 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Transport) -> Result<()
         ),
     );
 
-    let mut set = Vec::new();
-    emit_plain_block(&mut set, dcpw::NAME_OF_STATION, b"\x00\x01gd350-line-1");
+    let mut set = [0; 20];
+    let n = emit_plain_block(&mut set, dcpw::NAME_OF_STATION, b"\x00\x01gd350-line-1")
+        .map_err(|_| "the Set block does not fit")?;
     let set = request(
         device,
         controller,
         dcpw::FRAME_GET_SET,
         dcpw::SERVICE_SET,
         2,
-        &set,
+        &set[..n],
     );
     let (_, blocks) = answer(link, &set)?;
-    let mut by_name = Vec::new();
-    emit_plain_block(&mut by_name, dcpw::NAME_OF_STATION, b"gd350-line-1");
+    let mut by_name = [0; 16];
+    let n = emit_plain_block(&mut by_name, dcpw::NAME_OF_STATION, b"gd350-line-1")
+        .map_err(|_| "the filter block does not fit")?;
     let found = link
         .dcp(&request(
             dcpw::MULTICAST_IDENTIFY,
@@ -443,7 +436,7 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Transport) -> Result<()
             dcpw::FRAME_IDENTIFY_REQUEST,
             dcpw::SERVICE_IDENTIFY,
             3,
-            &by_name,
+            &by_name[..n],
         ))?
         .is_some();
     trace.step(

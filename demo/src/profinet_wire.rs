@@ -9,7 +9,8 @@
 //! watchdog is longer than in process (a loaded machine may keep a process waiting for more
 //! than 12 ms), and the card's end is seen within a slack. Namespaces, pair and programs go
 //! when the section ends (or on Ctrl-C, [`crate::netns`]). Not root: said on standard error,
-//! and run in this process.
+//! and run in this process. The DCP frame helpers both ways share ([`dcp_request`],
+//! [`answer`]) are here too.
 
 use std::net::Ipv4Addr;
 use std::process::Stdio;
@@ -18,12 +19,12 @@ use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use edsgen_runtime::profinet::wire::dcp::{self, response_blocks, DcpHeader, TYPE_RESPONSE};
+use edsgen_runtime::profinet::wire::rpc::{RpcHeader, REQUEST, RESPONSE, RPC_PORT};
+use edsgen_runtime::profinet::wire::rt::RT_CLASS_1;
+use edsgen_runtime::profinet::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
 use edsgen_sim::profinet::ar::Peer;
 use edsgen_sim::profinet::driver::{RawSocket, RpcSocket};
-use edsgen_sim::profinet::wire::dcp::{DcpHeader, TYPE_RESPONSE};
-use edsgen_sim::profinet::wire::rpc::{RpcHeader, REQUEST, RESPONSE, RPC_PORT};
-use edsgen_sim::profinet::wire::rt::RT_CLASS_1;
-use edsgen_sim::profinet::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
 
 use super::profinet::{workflow, Silence, Timing, Transport};
 use super::two_namespaces::{self, Outcome, Pair, Server};
@@ -354,4 +355,43 @@ impl Transport for Wire {
             ),
         })
     }
+}
+
+/// A DCP request frame (see [`dcp::request`]).
+pub(super) fn dcp_request(
+    dst: Mac,
+    src: Mac,
+    frame_id: u16,
+    service: u8,
+    xid: u32,
+    blocks: &[u8],
+) -> Vec<u8> {
+    let mut frame = vec![0; 14 + dcp::HEADER_LEN + blocks.len()];
+    let n = dcp::request(&mut frame, dst, src, frame_id, service, xid, blocks).unwrap_or(0);
+    frame.truncate(n);
+    frame
+}
+
+/// A DCP answer's block: option, BlockInfo, data.
+pub(super) type Block = ((u8, u8), u16, Vec<u8>);
+
+/// The card's MAC address and the DCP blocks of its answer to `frame`, or why there is none.
+pub(super) fn answer(link: &mut dyn Transport, frame: &[u8]) -> Result<(Mac, Vec<Block>), String> {
+    let reply = link.dcp(frame)?.ok_or("the device did not answer")?;
+    let eth = Ethernet::parse(&reply).ok_or("a short answer")?;
+    let (_, blocks) = DcpHeader::parse(&reply[eth.payload..]).ok_or("a malformed DCP answer")?;
+    Ok((
+        eth.src,
+        response_blocks(blocks)
+            .map(|(o, i, d)| (o, i, d.to_vec()))
+            .collect(),
+    ))
+}
+
+pub(super) fn find(blocks: &[Block], option: (u8, u8)) -> Result<Vec<u8>, String> {
+    blocks
+        .iter()
+        .find(|b| b.0 == option)
+        .map(|b| b.2.clone())
+        .ok_or_else(|| format!("no block {option:?} in the answer"))
 }

@@ -6,10 +6,11 @@
 //! requests the device sends parse too.
 #![no_main]
 
+use edsgen_runtime::profinet::wire::rpc::{Ndr, RpcHeader, Uuid};
 use edsgen_runtime::Instant;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::Cm;
-use edsgen_sim::profinet::wire::rpc::{emit_pdu, Ndr, RpcHeader, Uuid};
+use edsgen_sim::profinet::wire::rpc_pdu;
 use libfuzzer_sys::fuzz_target;
 use std::sync::OnceLock;
 
@@ -25,7 +26,12 @@ fn config() -> &'static DeviceConfig {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let mut cm = Cm::new(config().clone(), [2, 0, 0, 0, 3, 0x50], (0x0350, 0x0350, 1), "x");
+    let mut cm = Cm::new(
+        config().clone(),
+        [2, 0, 0, 0, 3, 0x50],
+        (0x0350, 0x0350, 1),
+        "x",
+    );
     let mut pieces = Vec::new();
     let mut rest = data;
     while let Some(at) = rest.windows(2).position(|w| w == [0xFF, 0xFE]) {
@@ -43,7 +49,7 @@ fuzz_target!(|data: &[u8]| {
                     n as u32,
                     u16::from(opnum),
                 );
-                emit_pdu(&header, &Ndr::request(4068, args.len() as u32, false), args)
+                rpc_pdu(&header, &Ndr::request(4068, args.len() as u32, false), args)
             }
             _ => piece.to_vec(),
         };

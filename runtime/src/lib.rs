@@ -12,6 +12,8 @@
 //! - `node-guarding` (default): node guarding and life guarding (100Ch × 100Dh, the answer to an
 //!   RTR on 700h + node-ID, `Event::LifeGuardingLost` and EMCY 8130h). Without it that RTR is
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
+//! - `dp`: PROFIBUS-DP, the FDL telegrams and the DP-V0 slave ([`dp`]).
+//! - `profinet`: PROFINET IO's wire formats as views ([`profinet`]).
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
 //! - `enip`: EtherNet/IP and CIP wire formats ([`enip`]), `no_std` like the rest.
@@ -32,6 +34,8 @@
 extern crate alloc;
 
 pub mod cia402;
+#[cfg(feature = "dp")]
+pub mod dp;
 #[cfg(feature = "enip")]
 pub mod enip;
 pub mod ethercat;
@@ -40,6 +44,8 @@ pub mod master;
 pub mod node;
 pub mod od;
 pub mod pkw_pzd;
+#[cfg(feature = "profinet")]
+pub mod profinet;
 pub mod sdo;
 pub mod time;
 pub mod wire;

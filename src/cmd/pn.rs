@@ -11,9 +11,9 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::Subcommand;
+use edsgen_runtime::profinet::wire::dcp::{self, response_blocks, DcpHeader};
+use edsgen_runtime::profinet::wire::{Ethernet, Mac};
 use edsgen_sim::profinet::driver::RawSocket;
-use edsgen_sim::profinet::wire::dcp::{self, request, response_blocks, DcpHeader};
-use edsgen_sim::profinet::wire::{Ethernet, Mac};
 
 use super::fail;
 
@@ -186,7 +186,7 @@ fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
     let Some(mac) = parse_mac(mac) else {
         return fail(format!("`{mac}` is not a MAC address (aa:bb:cc:dd:ee:ff)"));
     };
-    if !edsgen_sim::profinet::dcp::valid_name(name) {
+    if !dcp::valid_name(name) {
         return fail(format!(
             "`{name}` is not a name of station (lowercase letters, digits, `-`, labels joined by `.`)"
         ));
@@ -198,8 +198,9 @@ fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
     let xid = std::process::id();
     let mut value = vec![0x00, 0x01];
     value.extend_from_slice(name.as_bytes());
-    let mut block = Vec::new();
-    dcp::emit_plain_block(&mut block, dcp::NAME_OF_STATION, &value);
+    let mut block = vec![0; 4 + value.len() + 1];
+    let n = dcp::emit_plain_block(&mut block, dcp::NAME_OF_STATION, &value).unwrap_or(0);
+    block.truncate(n);
     let frame = request(
         mac,
         socket.mac(),
@@ -238,4 +239,12 @@ fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+/// A DCP request frame (see [`dcp::request`]).
+fn request(dst: Mac, src: Mac, frame_id: u16, service: u8, xid: u32, blocks: &[u8]) -> Vec<u8> {
+    let mut frame = vec![0; 14 + dcp::HEADER_LEN + blocks.len()];
+    let n = dcp::request(&mut frame, dst, src, frame_id, service, xid, blocks).unwrap_or(0);
+    frame.truncate(n);
+    frame
 }

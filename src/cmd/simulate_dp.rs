@@ -13,7 +13,7 @@ use std::sync::atomic::AtomicBool;
 use edsgen_runtime::Instant;
 use edsgen_sim::dp::card::{self, DEFAULT_ADDRESS};
 use edsgen_sim::dp::serial::serve;
-use edsgen_sim::dp::{DpApplication, DpSlave, DpState};
+use edsgen_sim::dp::{DpState, Event};
 
 use super::fail;
 
@@ -80,21 +80,20 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
 }
 
 /// Prints the slave's state when it changes.
-fn reporter<A: DpApplication>() -> impl FnMut(&DpSlave<A>) {
-    let mut last = DpState::WaitPrm;
-    move |slave| {
-        let state = slave.state();
-        if state != last {
-            let text = match state {
-                DpState::WaitPrm if last == DpState::DataExchange => {
-                    "wait for parameters (the watchdog expired: E-DP)"
-                }
+fn reporter() -> impl FnMut(Event) {
+    |event| {
+        let text = match event {
+            Event::WatchdogExpired => "wait for parameters (the watchdog expired: E-DP)",
+            Event::StateChanged {
+                from: DpState::DataExchange,
+                to: DpState::WaitPrm,
+            } => "wait for parameters (the watchdog expired: E-DP)",
+            Event::StateChanged { to, .. } => match to {
                 DpState::WaitPrm => "wait for parameters",
                 DpState::WaitCfg => "wait for configuration",
                 DpState::DataExchange => "data exchange",
-            };
-            eprintln!("{text}");
-            last = state;
-        }
+            },
+        };
+        eprintln!("{text}");
     }
 }

@@ -9,8 +9,8 @@ use edsgen_codegen::model::Dp;
 use edsgen_runtime::pkw_pzd::ByteOrder;
 use edsgen_runtime::Instant;
 
-use super::slave::{DpApplication, DpSlave, SlaveConfig};
 use crate::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use edsgen_runtime::dp::{DpApplication, DpData, DpSlave, SlaveConfig};
 
 /// Where the card's GSD is in the repository.
 pub const GSD_PATH: &str = "eds/goodrive350-dp.gsd";
@@ -30,6 +30,8 @@ pub enum CardError {
     NoModule,
     /// An address above 125.
     BadAddress(u8),
+    /// Configuration bytes or an I/O length above DP's 244 bytes.
+    TooLong,
 }
 
 impl std::fmt::Display for CardError {
@@ -39,6 +41,7 @@ impl std::fmt::Display for CardError {
             CardError::NoIdentNumber => write!(f, "the GSD file has no Ident_Number"),
             CardError::NoModule => write!(f, "the GSD file has no module that decodes"),
             CardError::BadAddress(a) => write!(f, "station address {a} is not 0 to 125"),
+            CardError::TooLong => write!(f, "the module has more than 244 bytes of data"),
         }
     }
 }
@@ -47,7 +50,7 @@ impl std::error::Error for CardError {}
 
 /// The slave a GSD describes at `address`: its Ident_Number, its first module's configuration
 /// bytes and lengths, its User_Prm_Data length.
-pub fn slave_config(dp: &Dp, address: u8) -> Result<(SlaveConfig, usize), CardError> {
+pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
     if address > 125 {
         return Err(CardError::BadAddress(address));
     }
@@ -66,18 +69,20 @@ pub fn slave_config(dp: &Dp, address: u8) -> Result<(SlaveConfig, usize), CardEr
         .user_prm_data_len
         .as_ref()
         .map_or(dp.default_user_prm_data().len(), |l| l.value as usize);
-    Ok((
-        SlaveConfig {
-            address,
-            ident_number,
-            config: module.config.clone(),
-            user_prm_len,
-            output_len: output_len as usize,
-            freeze: dp.freeze,
-            sync: dp.sync,
-        },
-        input_len as usize,
-    ))
+    let too_long = |len: u32| (len as usize > DpData::CAPACITY).then_some(CardError::TooLong);
+    if let Some(e) = too_long(input_len).or(too_long(output_len)) {
+        return Err(e);
+    }
+    Ok(SlaveConfig {
+        address,
+        ident_number,
+        config: DpData::new(&module.config).ok_or(CardError::TooLong)?,
+        user_prm_len,
+        output_len: output_len as usize,
+        input_len: input_len as usize,
+        freeze: dp.freeze,
+        sync: dp.sync,
+    })
 }
 
 /// The model of a GSD file's bytes.
@@ -96,13 +101,13 @@ pub struct Goodrive350Dp {
 }
 
 impl DpApplication for Goodrive350Dp {
-    fn exchange(&mut self, now: Instant, outputs: &[u8]) -> Vec<u8> {
+    fn exchange(&mut self, now: Instant, outputs: &[u8], inputs: &mut [u8]) {
         let mut image = [0u8; 32];
         let n = outputs.len().min(32);
         image[..n].copy_from_slice(&outputs[..n]);
-        self.drive
-            .exchange_bytes(now, &image, ByteOrder::BigEndian)
-            .to_vec()
+        let answer = self.drive.exchange_bytes(now, &image, ByteOrder::BigEndian);
+        let n = inputs.len().min(answer.len());
+        inputs[..n].copy_from_slice(&answer[..n]);
     }
 
     fn watchdog_expired(&mut self, now: Instant) {
@@ -121,9 +126,10 @@ pub fn goodrive350(address: u8, now: Instant) -> Result<DpSlave<Goodrive350Dp>, 
     let config = SlaveConfig {
         address,
         ident_number: generated::IDENT_NUMBER,
-        config: module::CONFIG.to_vec(),
+        config: DpData::new(&module::CONFIG).ok_or(CardError::TooLong)?,
         user_prm_len: generated::USER_PRM_DATA.len(),
         output_len: module::Outputs::LEN,
+        input_len: module::Inputs::LEN,
         freeze: generated::FREEZE,
         sync: generated::SYNC,
     };
@@ -137,19 +143,16 @@ pub fn goodrive350(address: u8, now: Instant) -> Result<DpSlave<Goodrive350Dp>, 
 /// input length): a GSD file says nothing of what the device does.
 #[derive(Debug, Clone)]
 pub struct Loopback {
-    /// Input bytes.
-    pub input_len: usize,
     /// Whether the watchdog expired since the last exchange.
     pub watchdog_expired: bool,
 }
 
 impl DpApplication for Loopback {
-    fn exchange(&mut self, _now: Instant, outputs: &[u8]) -> Vec<u8> {
+    fn exchange(&mut self, _now: Instant, outputs: &[u8], inputs: &mut [u8]) {
         self.watchdog_expired = false;
-        let mut inputs = vec![0; self.input_len];
-        let n = outputs.len().min(self.input_len);
+        inputs.fill(0);
+        let n = outputs.len().min(inputs.len());
         inputs[..n].copy_from_slice(&outputs[..n]);
-        inputs
     }
 
     fn watchdog_expired(&mut self, _now: Instant) {
@@ -159,10 +162,12 @@ impl DpApplication for Loopback {
 
 /// A slave simulated from any GSD's model at `address`, echoing its outputs.
 pub fn loopback(dp: &Dp, address: u8, now: Instant) -> Result<DpSlave<Loopback>, CardError> {
-    let (config, input_len) = slave_config(dp, address)?;
+    let config = slave_config(dp, address)?;
     let app = Loopback {
-        input_len,
         watchdog_expired: false,
     };
     Ok(DpSlave::new(config, app, now))
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,10 +1,9 @@
-//! A simulated PROFIBUS-DP slave: the FDL telegrams ([`fdl`]), the DP state machine
-//! ([`slave`]), both sans-IO, and the bundled Goodrive350 DP card ([`card`]) behind them.
+//! A simulated PROFIBUS-DP slave: the runtime's sans-IO DP slave core
+//! ([`edsgen_runtime::dp`]) with the bundled Goodrive350 DP card ([`card`]) or a loopback
+//! application behind it, and its drivers (a serial line, profirust's simulated bus).
 
 pub mod card;
-pub mod fdl;
 pub mod serial;
 pub mod simulator_phy;
-pub mod slave;
 
-pub use slave::{DpApplication, DpSlave, DpState, SlaveConfig};
+pub use edsgen_runtime::dp::{fdl, slave, DpApplication, DpSlave, DpState, Event, SlaveConfig};

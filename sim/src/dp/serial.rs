@@ -13,18 +13,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use edsgen_runtime::Instant;
-
-use super::fdl::{self, FdlError};
-use super::slave::{DpApplication, DpSlave};
+use edsgen_runtime::dp::fdl::{self, FdlError, MAX_TELEGRAM_LEN};
+use edsgen_runtime::dp::{DpApplication, DpSlave, Event};
+use edsgen_host::driver::MonotonicClock;
 
 /// Serves `slave` on the line `port` until `stop` is set or the line closes (an error then);
-/// `observe` sees the slave after each telegram and each watchdog check.
+/// `on_event` sees the slave's events as they come.
 pub fn serve<A: DpApplication>(
     port: File,
     slave: &mut DpSlave<A>,
     stop: &AtomicBool,
-    mut observe: impl FnMut(&DpSlave<A>),
+    mut on_event: impl FnMut(Event),
 ) -> std::io::Result<()> {
     let mut writer = port.try_clone()?;
     let mut reader = port;
@@ -39,8 +38,8 @@ pub fn serve<A: DpApplication>(
             }
         }
     });
-    let start = std::time::Instant::now();
-    let now = || Instant::from_micros(u64::try_from(start.elapsed().as_micros()).unwrap_or(0));
+    let clock = MonotonicClock::new();
+    let mut answer = [0u8; MAX_TELEGRAM_LEN];
     let mut pending: Vec<u8> = Vec::new();
     while !stop.load(Ordering::Relaxed) {
         match rx.recv_timeout(Duration::from_millis(5)) {
@@ -57,17 +56,22 @@ pub fn serve<A: DpApplication>(
                 return Err(std::io::Error::other("the reader stopped"))
             }
         }
-        slave.handle_timeout(now());
-        observe(slave);
+        slave.handle_timeout(clock.now());
+        while let Some(event) = slave.poll_event() {
+            on_event(event);
+        }
         loop {
             match fdl::parse(&pending) {
                 Ok((_, used)) => {
                     let telegram: Vec<u8> = pending.drain(..used).collect();
-                    if let Some(answer) = slave.handle(now(), &telegram) {
-                        writer.write_all(&answer)?;
+                    slave.handle(clock.now(), &telegram);
+                    if let Some(n) = slave.poll_transmit(clock.now(), &mut answer) {
+                        writer.write_all(&answer[..n])?;
                         writer.flush()?;
                     }
-                    observe(slave);
+                    while let Some(event) = slave.poll_event() {
+                        on_event(event);
+                    }
                 }
                 Err(FdlError::Incomplete) => break,
                 Err(_) => {

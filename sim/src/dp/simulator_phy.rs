@@ -4,12 +4,11 @@
 //! complete telegram 11 bit times (the minimum Tsdr) after it ended; the simulator refuses an
 //! earlier answer.
 
+use edsgen_runtime::dp::fdl::{self, FdlError, MAX_TELEGRAM_LEN};
+use edsgen_runtime::dp::{DpApplication, DpSlave};
 use edsgen_runtime::Instant;
 use profirust::phy::{ProfibusPhy, SimulatorPhy};
 use profirust::Baudrate;
-
-use super::fdl::{self, FdlError};
-use super::slave::{DpApplication, DpSlave};
 
 /// A slave station on a [`SimulatorPhy`] (a `duplicate` of the master's).
 pub struct SlaveStation<A: DpApplication> {
@@ -17,7 +16,8 @@ pub struct SlaveStation<A: DpApplication> {
     baud: Baudrate,
     /// The slave, for a test or the demo to look at between polls.
     pub slave: DpSlave<A>,
-    answer: Option<(profirust::time::Instant, Vec<u8>)>,
+    /// An answer waiting for its Tsdr: when it may go, its bytes and length.
+    answer: Option<(profirust::time::Instant, [u8; MAX_TELEGRAM_LEN], usize)>,
 }
 
 impl<A: DpApplication> SlaveStation<A> {
@@ -39,27 +39,30 @@ impl<A: DpApplication> SlaveStation<A> {
         if self.phy.poll_transmission(now) {
             return;
         }
-        if let Some((due, bytes)) = self.answer.take() {
+        if let Some((due, bytes, len)) = self.answer.take() {
             if now >= due {
                 self.phy.transmit_data(now, |buf| {
-                    buf[..bytes.len()].copy_from_slice(&bytes);
-                    (bytes.len(), ())
+                    buf[..len].copy_from_slice(&bytes[..len]);
+                    (len, ())
                 });
             } else {
-                self.answer = Some((due, bytes));
+                self.answer = Some((due, bytes, len));
             }
             return;
         }
         let slave = &mut self.slave;
-        let answer = self
-            .phy
+        self.phy
             .receive_data(now, |pending| match fdl::parse(pending) {
-                Ok((_, used)) => (used, slave.handle(at, &pending[..used])),
-                Err(FdlError::Incomplete) => (0, None),
-                Err(_) => (1, None),
+                Ok((_, used)) => {
+                    slave.handle(at, &pending[..used]);
+                    (used, ())
+                }
+                Err(FdlError::Incomplete) => (0, ()),
+                Err(_) => (1, ()),
             });
-        if let Some(bytes) = answer {
-            self.answer = Some((now + self.baud.bits_to_time(11), bytes));
+        let mut bytes = [0u8; MAX_TELEGRAM_LEN];
+        if let Some(len) = self.slave.poll_transmit(at, &mut bytes) {
+            self.answer = Some((now + self.baud.bits_to_time(11), bytes, len));
         }
     }
 }

@@ -291,22 +291,6 @@ impl Goodrive350 {
         state | 1 << 8 // bit 8: bus voltage established
     }
 
-    /// A returned value by its function (P15.13–P15.23, §2 "transmitted PZD").
-    fn returned_value(&self, function: u16) -> u16 {
-        let vfd = &self.vfd;
-        let value = match function {
-            1 | 10 => vfd.output_frequency().unsigned_abs(),
-            2 => vfd.reference(),
-            3 => vfd.bus_voltage(),
-            4 => vfd.output_voltage(),
-            5 => vfd.output_current(),
-            8 => vfd.speed_rpm().unsigned_abs(),
-            11 => u32::from(vfd.fault().unwrap_or(0)),
-            _ => 0,
-        };
-        value as u16
-    }
-
     /// Writes the status word and returned values into the dictionary, and triggers each of
     /// PDO2–PDO4 Tx (transmission type 254) whose content changed.
     fn publish(&mut self) {
@@ -317,7 +301,7 @@ impl Goodrive350 {
                     .parameters
                     .get(parameter::TRANSMITTED_PZD2 + n)
                     .unwrap_or(0);
-                self.returned_value(function)
+                returned_value(&self.vfd, function)
             })
             .collect();
         let od = self.node.od_mut();
@@ -362,4 +346,20 @@ impl BusDevice for Goodrive350 {
             self.publish();
         }
     }
+}
+/// A returned value by its function: what a transmitted PZD carries (P15.13–P15.23 and
+/// P16.43–P16.53, Table 2-8 of the PROFIBUS/PROFINET manual; the CANopen card's §2
+/// "transmitted PZD"). One table for every Goodrive350 card.
+pub(crate) fn returned_value(vfd: &Vfd, function: u16) -> u16 {
+    let value = match function {
+        1 | 10 => vfd.output_frequency().unsigned_abs(),
+        2 => vfd.reference(),
+        3 => vfd.bus_voltage(),
+        4 => vfd.output_voltage(),
+        5 => vfd.output_current(),
+        8 => vfd.speed_rpm().unsigned_abs(),
+        11 => u32::from(vfd.fault().unwrap_or(0)),
+        _ => 0,
+    };
+    value as u16
 }

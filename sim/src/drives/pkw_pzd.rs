@@ -253,6 +253,17 @@ pub struct PkwPzdDrive {
     last_exchange: Option<Instant>,
     /// The bus fault's cause is present until the next exchange.
     bus_fault: bool,
+    /// The fault last reported by [`PkwPzdDrive::poll_fault_change`].
+    reported_fault: Option<u16>,
+}
+
+/// A change of the drive's faults, for the bus to report (PROFINET's Diagnosis alarms).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaultChange {
+    /// The drive tripped with this fault (P07.27's type).
+    Appears(u16),
+    /// This fault was reset.
+    Disappears(u16),
 }
 
 impl PkwPzdDrive {
@@ -277,6 +288,7 @@ impl PkwPzdDrive {
             jogging: false,
             last_exchange: None,
             bus_fault: false,
+            reported_fault: None,
         }
     }
 
@@ -359,7 +371,7 @@ impl PkwPzdDrive {
         let mut pzd = [0u16; PZD_WORDS];
         for (n, value) in pzd.iter_mut().enumerate() {
             let function = self.parameter(base + n as u16).unwrap_or(0);
-            *value = self.actual_value(function);
+            *value = super::goodrive350::returned_value(&self.vfd, function);
         }
         InputImage {
             pkw: self.response,
@@ -379,6 +391,27 @@ impl PkwPzdDrive {
     /// A fault of type `fault` (P07.27's numbering) trips the drive at `now`.
     pub fn inject_fault(&mut self, now: Instant, fault: u16) {
         self.trip(now, fault);
+    }
+
+    /// The next change of the drive's fault since the last call, other than the bus's own
+    /// (which ends the connection: there is no one left to tell). A fault present at the first
+    /// call after [`PkwPzdDrive::forget_reported_fault`] appears then.
+    pub fn poll_fault_change(&mut self) -> Option<FaultChange> {
+        let bus_fault = self.bus.fault();
+        let fault = self.vfd.fault().filter(|&f| f != bus_fault);
+        if fault == self.reported_fault {
+            return None;
+        }
+        if let Some(old) = self.reported_fault.take() {
+            return Some(FaultChange::Disappears(old));
+        }
+        self.reported_fault = fault;
+        fault.map(FaultChange::Appears)
+    }
+
+    /// A new connection starts: nothing has been reported to it.
+    pub fn forget_reported_fault(&mut self) {
+        self.reported_fault = None;
     }
 
     /// The injected fault's cause has gone: a fault reset now clears it.
@@ -545,22 +578,6 @@ impl PkwPzdDrive {
             .with(sw_bit::READY, true)
             .with_run_stop_mode(mode)
             .with(sw_bit::HEARTBEAT, self.last_control.0 & 0x8000 != 0)
-    }
-
-    /// Table 2-8: an actual value by its function.
-    fn actual_value(&self, function: u16) -> u16 {
-        let vfd = &self.vfd;
-        let value = match function {
-            1 | 10 => vfd.output_frequency().unsigned_abs(),
-            2 => vfd.reference(),
-            3 => vfd.bus_voltage(),
-            4 => vfd.output_voltage(),
-            5 => vfd.output_current(),
-            8 => vfd.speed_rpm().unsigned_abs(),
-            11 => u32::from(vfd.fault().unwrap_or(0)),
-            _ => 0,
-        };
-        value as u16
     }
 }
 

@@ -25,7 +25,7 @@ use super::alarm::AlarmCr;
 use super::cyclic::CrLayout;
 use super::wire::blocks::*;
 use super::wire::rpc::*;
-use super::wire::Mac;
+use super::wire::{rpc_pdu, rpc_reject, Mac};
 use config::DeviceConfig;
 use connect::{refuse, Accepted, AR_TYPE_IOC_SINGLE};
 
@@ -235,14 +235,15 @@ impl Cm {
                         return Some(answer.clone());
                     }
                 }
-                let mut out = Vec::new();
-                header.answer(NOCALL).emit(0, &mut out);
+                let mut out = vec![0; HEADER_LEN];
+                let written = header.answer(NOCALL).emit(0, &mut out).unwrap_or(0);
+                out.truncate(written);
                 return Some(out);
             }
             _ => return None,
         }
         if header.interface != Uuid::PNIO_DEVICE {
-            return Some(emit_reject(&header, REJECT, NCA_UNKNOWN_INTERFACE));
+            return Some(rpc_reject(&header, REJECT, NCA_UNKNOWN_INTERFACE));
         }
         if let Some((activity, sequence, answer)) = &self.last {
             if *activity == header.activity && *sequence == header.sequence {
@@ -268,7 +269,7 @@ impl Cm {
                     OP_READ_IMPLICIT => self.read(args, true),
                     OP_WRITE => self.write(args),
                     OP_CONTROL => self.control(now, args),
-                    _ => return Some(emit_reject(&header, REJECT, NCA_OP_RANGE_ERROR)),
+                    _ => return Some(rpc_reject(&header, REJECT, NCA_OP_RANGE_ERROR)),
                 };
                 match result {
                     Ok(args) => (PnioStatus::OK, args, ndr.args_maximum()),
@@ -277,7 +278,7 @@ impl Cm {
             }
         };
         let ndr = Ndr::response(status, args.len() as u32, max, little);
-        let answer = emit_pdu(&header.answer(RESPONSE), &ndr, &args);
+        let answer = rpc_pdu(&header.answer(RESPONSE), &ndr, &args);
         self.last = Some((header.activity, header.sequence, answer.clone()));
         Some(answer)
     }
@@ -412,7 +413,7 @@ impl Cm {
             properties: 0,
         }
         .emit(&mut args);
-        let pdu = emit_pdu(
+        let pdu = rpc_pdu(
             &header,
             &Ndr::request(4068, args.len() as u32, false),
             &args,

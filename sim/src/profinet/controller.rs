@@ -10,7 +10,7 @@ use super::ar::config::{DeviceConfig, RealSubmodule};
 use super::ar::connect::AR_TYPE_IOC_SINGLE;
 use super::wire::blocks::*;
 use super::wire::rpc::*;
-use super::wire::Mac;
+use super::wire::{rpc_pdu, Mac};
 
 /// One AR of a controller.
 #[derive(Debug, Clone)]
@@ -63,7 +63,7 @@ impl Controller {
             opnum,
         );
         self.sequence += 1;
-        emit_pdu(&header, &Ndr::request(4068, args.len() as u32, false), args)
+        rpc_pdu(&header, &Ndr::request(4068, args.len() as u32, false), args)
     }
 
     /// The blocks of a Connect for `config` as it is (the expected configuration is the real
@@ -235,7 +235,7 @@ impl Controller {
             ndr.args_maximum(),
             header.little_endian,
         );
-        Some(emit_pdu(&header.answer(RESPONSE), &ndr, &out))
+        Some(rpc_pdu(&header.answer(RESPONSE), &ndr, &out))
     }
 }
 

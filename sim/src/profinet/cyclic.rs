@@ -9,7 +9,7 @@
 use edsgen_runtime::{Duration, Instant};
 
 use super::wire::rt::{RtFrame, DATA_STATUS_GOOD, DATA_VALID};
-use super::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
+use super::wire::{append, Ethernet, Mac, ETHERTYPE_PROFINET};
 
 /// Where one submodule's IO data sits in a C_SDU: its data at `offset`, `len` bytes, and its
 /// IOPS right after.
@@ -161,15 +161,17 @@ impl Cyclic {
         // The cycle counter counts 31.25 µs units.
         self.cycle = (now.as_micros() * 32 / 1000) as u16;
         let mut out = Vec::new();
-        Ethernet::emit(self.layout.controller, self.layout.device, &mut out);
-        RtFrame {
+        append(&mut out, |b| {
+            Ethernet::emit(self.layout.controller, self.layout.device, b)
+        });
+        let frame = RtFrame {
             frame_id: self.layout.input_frame_id,
             c_sdu: &c_sdu,
             cycle_counter: self.cycle,
             data_status: DATA_STATUS_GOOD,
             transfer_status: 0,
-        }
-        .emit(&mut out);
+        };
+        append(&mut out, |b| frame.emit(b));
         out
     }
 

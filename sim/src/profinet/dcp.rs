@@ -9,7 +9,7 @@
 //! devices over time, which one simulated device on a link does not need.
 
 use super::wire::dcp::*;
-use super::wire::{Ethernet, Mac, ETHERTYPE_PROFINET};
+use super::wire::{append, Ethernet, Mac, ETHERTYPE_PROFINET};
 
 /// What the device says about itself over DCP.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -120,17 +120,19 @@ impl Dcp {
     pub fn hello(&mut self) -> Vec<u8> {
         self.hello_xid = self.hello_xid.wrapping_add(1);
         let mut out = Vec::new();
-        Ethernet::emit(MULTICAST_HELLO, self.station.mac, &mut out);
+        append(&mut out, |b| {
+            Ethernet::emit(MULTICAST_HELLO, self.station.mac, b)
+        });
         let start = out.len();
-        DcpHeader {
+        let header = DcpHeader {
             frame_id: FRAME_HELLO,
             service_id: SERVICE_HELLO,
             service_type: TYPE_REQUEST,
             xid: self.hello_xid,
             response_delay: 0,
             length: 0,
-        }
-        .emit(&mut out);
+        };
+        append(&mut out, |b| header.emit(b));
         for option in [
             NAME_OF_STATION,
             IP_PARAMETER,
@@ -153,17 +155,17 @@ impl Dcp {
         header: &DcpHeader,
         out: &mut Vec<u8>,
     ) -> usize {
-        Ethernet::emit(to, self.station.mac, out);
+        append(out, |b| Ethernet::emit(to, self.station.mac, b));
         let start = out.len();
-        DcpHeader {
+        let response = DcpHeader {
             frame_id,
             service_id: header.service_id,
             service_type: TYPE_RESPONSE,
             xid: header.xid,
             response_delay: 0,
             length: 0,
-        }
-        .emit(out);
+        };
+        append(out, |b| response.emit(b));
         start
     }
 
@@ -232,7 +234,8 @@ impl Dcp {
     fn emit_option(&self, option: (u8, u8), out: &mut Vec<u8>) {
         // BlockInfo of the IP parameter: bit 0 "IP set".
         let info = u16::from(option == IP_PARAMETER && self.station.ip[0] != [0; 4]);
-        emit_block(out, option, info, &self.value(option));
+        let value = self.value(option);
+        append(out, |b| emit_block(b, option, info, &value));
     }
 
     fn get(&self, from: Mac, header: &DcpHeader, data: &[u8]) -> Vec<u8> {
@@ -247,7 +250,7 @@ impl Dcp {
                 } else {
                     ERROR_OPTION
                 };
-                emit_set_response(&mut out, option, error);
+                append(&mut out, |b| emit_set_response(b, option, error));
             }
         }
         finish(&mut out, start);
@@ -256,13 +259,13 @@ impl Dcp {
 
     fn set(&mut self, from: Mac, header: &DcpHeader, data: &[u8]) -> Option<Vec<u8>> {
         let requests: Vec<Block> = super::wire::dcp::blocks(data)
-            .collect::<Result<_, ()>>()
+            .collect::<Result<_, TruncatedBlock>>()
             .ok()?;
         let mut out = Vec::new();
         let start = self.response_head(from, FRAME_GET_SET, header, &mut out);
         for block in requests {
             let error = self.set_one(&block);
-            emit_set_response(&mut out, block.option, error);
+            append(&mut out, |b| emit_set_response(b, block.option, error));
         }
         finish(&mut out, start);
         Some(out)
@@ -306,22 +309,6 @@ impl Dcp {
             _ => ERROR_OPTION,
         }
     }
-}
-
-/// A name of station as PROFINET allows it: empty (no name), or up to 240 characters of DNS
-/// labels (lowercase letters, digits and `-`, not starting or ending with `-`, 1 to 63 each)
-/// separated by dots.
-pub fn valid_name(name: &str) -> bool {
-    name.is_empty()
-        || (name.len() <= 240
-            && name.split('.').all(|label| {
-                (1..=63).contains(&label.len())
-                    && !label.starts_with('-')
-                    && !label.ends_with('-')
-                    && label
-                        .bytes()
-                        .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-')
-            }))
 }
 
 #[cfg(test)]

@@ -5,13 +5,19 @@
 //! and the watchdog aborts the AR. The AR's AlarmCR ([`AlarmCr`]) carries the card's
 //! diagnosis: a fault of the drive is a Diagnosis alarm, its reset a Diagnosis disappears
 //! alarm; an alarm the controller does not acknowledge ends the AR. Records 256 and 257 of the card are the drive's P16.32-P16.42
-//! and P16.43-P16.53: a write sets them, a read shows them. Sans-IO: Ethernet frames and UDP
-//! datagrams in, frames and datagrams out; the driver ([`super::driver`]) moves them.
+//! and P16.43-P16.53: a write sets them, a read shows them. Sans-IO, in the runtime's shape:
+//! [`Device::handle`] takes Ethernet frames and UDP datagrams, [`Device::poll_transmit`] gives
+//! frames and datagrams, with `poll_timeout`/`handle_timeout` and `poll_event`; the driver
+//! ([`super::driver`]) moves them.
+
+use std::collections::VecDeque;
 
 use edsgen_runtime::pkw_pzd::IMAGE_BYTES;
 use edsgen_runtime::{Duration, Instant};
 
 use super::alarm::{AlarmCr, AlarmEvent};
+use super::application::IoApplication;
+pub use super::application::{RECORD_RECEIVED_PZD, RECORD_TRANSMITTED_PZD};
 use super::ar::config::DeviceConfig;
 use super::ar::{ArEvent, Cm, Peer};
 use super::cyclic::{CrLayout, Cyclic};
@@ -19,10 +25,41 @@ use super::dcp::{Dcp, DcpEvent, Station};
 use super::drive::{fault_alarm, CardCycle, DRIVE_SLOT};
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
-/// The card's record of the received PZD meanings (P16.32-P16.42).
-pub const RECORD_RECEIVED_PZD: u16 = 256;
-/// The card's record of the transmitted PZD meanings (P16.43-P16.53).
-pub const RECORD_TRANSMITTED_PZD: u16 = 257;
+/// Where received bytes came from, or where bytes to send go.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Link {
+    /// The Ethernet port: DCP, cyclic RT and alarm frames.
+    Ethernet,
+    /// A peer on PROFINET's RPC endpoint (UDP 34964).
+    Rpc(Peer),
+}
+
+/// Bytes the device sends.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Transmit {
+    /// An Ethernet frame.
+    Frame(Vec<u8>),
+    /// A UDP datagram to a peer.
+    Datagram(Peer, Vec<u8>),
+}
+
+impl Transmit {
+    /// The frame, if it is one.
+    pub fn frame(self) -> Option<Vec<u8>> {
+        match self {
+            Transmit::Frame(frame) => Some(frame),
+            Transmit::Datagram(..) => None,
+        }
+    }
+
+    /// The datagram and its destination, if it is one.
+    pub fn datagram(self) -> Option<(Peer, Vec<u8>)> {
+        match self {
+            Transmit::Datagram(to, pdu) => Some((to, pdu)),
+            Transmit::Frame(_) => None,
+        }
+    }
+}
 
 /// What happened in the device.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,46 +73,41 @@ pub enum DeviceEvent {
 }
 
 #[derive(Debug, Clone)]
-enum Exchange {
+enum Exchange<A> {
     /// No IO AR.
-    Idle(Option<PkwPzdDrive>),
+    Idle(Option<A>),
     /// The card's drive behind the AR's layout.
-    Card(CardCycle),
+    Card(CardCycle<A>),
     /// A device without a drive: its inputs are zero.
     Plain(Cyclic, Instant),
 }
 
-/// The device.
+/// The device, with the application `A` behind its module (the Goodrive350 card's drive by
+/// default).
 #[derive(Debug, Clone)]
-pub struct Device {
+pub struct Device<A = PkwPzdDrive> {
     dcp: Dcp,
     cm: Cm,
-    exchange: Exchange,
+    exchange: Exchange<A>,
     /// The AR's AlarmCR (after an abort it stays until the next Connect, to send its ERR).
     alarm: Option<AlarmCr>,
     events: Vec<DeviceEvent>,
+    /// Answers to received frames and datagrams, oldest first.
+    answers: VecDeque<Transmit>,
 }
 
-impl Device {
-    /// A device with `station` (DCP) and `config` (its GSDML's), and the card's `drive` if it is
-    /// the Goodrive350 card.
-    pub fn new(station: Station, config: DeviceConfig, drive: Option<PkwPzdDrive>) -> Device {
+impl<A: IoApplication> Device<A> {
+    /// A device with `station` (DCP) and `config` (its GSDML's), and the application behind its
+    /// module (`drive`: the Goodrive350 card's), if it has one.
+    pub fn new(station: Station, config: DeviceConfig, drive: Option<A>) -> Self {
         let ids = (
             station.vendor_id,
             station.device_id,
             u16::from_be_bytes([station.instance.0, station.instance.1]),
         );
         let mut cm = Cm::new(config, station.mac, ids, &station.type_of_station);
-        if let Some(drive) = &drive {
-            for (index, first) in [
-                (RECORD_RECEIVED_PZD, drive.bus().received_pzd2()),
-                (RECORD_TRANSMITTED_PZD, drive.bus().transmitted_pzd2()),
-            ] {
-                let words: Vec<u8> = (0..11)
-                    .flat_map(|i| drive.parameter(first + i).unwrap_or(0).to_be_bytes())
-                    .collect();
-                cm.set_record((DRIVE_SLOT.0, DRIVE_SLOT.1, index), &words);
-            }
+        for (index, bytes) in drive.iter().flat_map(IoApplication::records) {
+            cm.set_record((DRIVE_SLOT.0, DRIVE_SLOT.1, index), &bytes);
         }
         Device {
             dcp: Dcp::new(station),
@@ -83,6 +115,7 @@ impl Device {
             exchange: Exchange::Idle(drive),
             alarm: None,
             events: Vec::new(),
+            answers: VecDeque::new(),
         }
     }
 
@@ -91,8 +124,8 @@ impl Device {
         &mut self.dcp
     }
 
-    /// The drive, if the device has one.
-    pub fn drive(&self) -> Option<&PkwPzdDrive> {
+    /// The application (the drive), if the device has one.
+    pub fn drive(&self) -> Option<&A> {
         match &self.exchange {
             Exchange::Idle(d) => d.as_ref(),
             Exchange::Card(c) => Some(c.drive()),
@@ -105,8 +138,32 @@ impl Device {
         (!self.events.is_empty()).then(|| self.events.remove(0))
     }
 
+    /// Bytes received at `now` on `from`: an Ethernet frame (DCP, cyclic, alarm) or an RPC
+    /// datagram. Answers wait in [`Device::poll_transmit`].
+    pub fn handle(&mut self, now: Instant, from: Link, bytes: &[u8]) {
+        let answer = match from {
+            Link::Ethernet => self.handle_frame(now, bytes).map(Transmit::Frame),
+            Link::Rpc(peer) => self
+                .handle_datagram(now, peer, bytes)
+                .map(|pdu| Transmit::Datagram(peer, pdu)),
+        };
+        self.answers.extend(answer);
+    }
+
+    /// The next bytes to send at `now`: answers first, then the device's own datagrams
+    /// (ApplicationReady), then alarm and cyclic frames as they fall due.
+    pub fn poll_transmit(&mut self, now: Instant) -> Option<Transmit> {
+        if let Some(answer) = self.answers.pop_front() {
+            return Some(answer);
+        }
+        if let Some((to, pdu)) = self.poll_datagram() {
+            return Some(Transmit::Datagram(to, pdu));
+        }
+        self.poll_frame(now).map(Transmit::Frame)
+    }
+
     /// A received Ethernet frame: DCP's answer, if any (cyclic frames are consumed).
-    pub fn handle_frame(&mut self, now: Instant, frame: &[u8]) -> Option<Vec<u8>> {
+    pub(crate) fn handle_frame(&mut self, now: Instant, frame: &[u8]) -> Option<Vec<u8>> {
         let answer = self.dcp.handle(frame);
         while let Some(e) = self.dcp.poll_event() {
             self.events.push(DeviceEvent::Dcp(e));
@@ -133,24 +190,8 @@ impl Device {
         None
     }
 
-    /// A test's hook: the drive trips with `fault` (P07.27's type) at `now`, as an
-    /// overcurrent would; in data exchange the controller gets a Diagnosis alarm.
-    pub fn inject_fault(&mut self, now: Instant, fault: u16) {
-        if let Some(drive) = self.drive_mut() {
-            drive.inject_fault(now, fault);
-        }
-        self.diagnosis(now);
-    }
-
-    /// A test's hook: the injected fault's cause is gone; the controller's fault reset (CW
-    /// command 7) now clears it, and the controller gets a Diagnosis disappears alarm.
-    pub fn remove_fault_cause(&mut self) {
-        if let Some(drive) = self.drive_mut() {
-            drive.remove_fault_cause();
-        }
-    }
-
-    fn drive_mut(&mut self) -> Option<&mut PkwPzdDrive> {
+    /// The application (the drive), to change, if the device has one.
+    pub fn drive_mut(&mut self) -> Option<&mut A> {
         match &mut self.exchange {
             Exchange::Idle(d) => d.as_mut(),
             Exchange::Card(c) => Some(c.drive_mut()),
@@ -193,19 +234,24 @@ impl Device {
     }
 
     /// A received datagram on UDP 34964: the answer to its sender, if any.
-    pub fn handle_datagram(&mut self, now: Instant, from: Peer, pdu: &[u8]) -> Option<Vec<u8>> {
+    pub(crate) fn handle_datagram(
+        &mut self,
+        now: Instant,
+        from: Peer,
+        pdu: &[u8],
+    ) -> Option<Vec<u8>> {
         let answer = self.cm.handle_datagram(now, from, pdu);
         self.ar_events(now);
         answer
     }
 
     /// A datagram the device sends of its own.
-    pub fn poll_datagram(&mut self) -> Option<(Peer, Vec<u8>)> {
+    pub(crate) fn poll_datagram(&mut self) -> Option<(Peer, Vec<u8>)> {
         self.cm.poll_datagram()
     }
 
     /// The cyclic frame due at `now`, if any.
-    pub fn poll_frame(&mut self, now: Instant) -> Option<Vec<u8>> {
+    pub(crate) fn poll_frame(&mut self, now: Instant) -> Option<Vec<u8>> {
         if let Some(frame) = self.alarm.as_mut().and_then(AlarmCr::poll_frame) {
             return Some(frame);
         }
@@ -324,21 +370,29 @@ impl Device {
         };
     }
 
-    /// A write of the card's record 256 or 257 sets the drive's PZD parameters, word by word.
+    /// A write of a record of the module goes to the application.
     fn write_parameters(&mut self, index: u16, data: &[u8]) {
-        let drive = match &mut self.exchange {
-            Exchange::Idle(Some(d)) => d,
-            Exchange::Card(c) => c.drive_mut(),
-            _ => return,
-        };
-        let first = match index {
-            RECORD_RECEIVED_PZD => drive.bus().received_pzd2(),
-            RECORD_TRANSMITTED_PZD => drive.bus().transmitted_pzd2(),
-            _ => return,
-        };
-        for (i, word) in data.chunks_exact(2).enumerate() {
-            // A value the drive refuses leaves the parameter as it was (the record keeps it).
-            let _ = drive.set_parameter(first + i as u16, u16::from_be_bytes([word[0], word[1]]));
+        if let Some(drive) = self.drive_mut() {
+            drive.write_record(index, data);
+        }
+    }
+}
+
+impl Device<PkwPzdDrive> {
+    /// A test's hook: the drive trips with `fault` (P07.27's type) at `now`, as an
+    /// overcurrent would; in data exchange the controller gets a Diagnosis alarm.
+    pub fn inject_fault(&mut self, now: Instant, fault: u16) {
+        if let Some(drive) = self.drive_mut() {
+            drive.inject_fault(now, fault);
+        }
+        self.diagnosis(now);
+    }
+
+    /// A test's hook: the injected fault's cause is gone; the controller's fault reset (CW
+    /// command 7) now clears it, and the controller gets a Diagnosis disappears alarm.
+    pub fn remove_fault_cause(&mut self) {
+        if let Some(drive) = self.drive_mut() {
+            drive.remove_fault_cause();
         }
     }
 }

@@ -5,9 +5,10 @@
 //! appears or disappears, [`fault_alarm`] makes the Diagnosis alarm of the card's GSDML
 //! (ChannelDiagItem 0x0101, the fault type as ExtChannelAddValue). Sans-IO, as [`Cyclic`] is.
 
-use edsgen_runtime::pkw_pzd::{ByteOrder, IMAGE_BYTES};
+use edsgen_runtime::pkw_pzd::IMAGE_BYTES;
 use edsgen_runtime::{Duration, Instant};
 
+use super::application::IoApplication;
 use super::cyclic::{CrLayout, Cyclic, DataObject};
 use super::wire::alarm::{
     AlarmNotification, AlarmSource, ChannelDiagnosis, ALARM_DIAGNOSIS, ALARM_DIAGNOSIS_DISAPPEARS,
@@ -15,6 +16,7 @@ use super::wire::alarm::{
     SPEC_CHANNEL_DIAGNOSIS, SPEC_SUBMODULE_DIAGNOSIS,
 };
 use super::wire::Mac;
+pub use crate::drives::pkw_pzd::FaultChange;
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// Where the card's module with the drive's 16 words sits: slot 1, subslot 1.
@@ -53,15 +55,6 @@ pub fn card_layout(controller: Mac, device: Mac, interval: Duration, factor: u16
 pub const DRIVE_FAULT_ERROR_TYPE: u16 = 0x0101;
 /// Its ExtChannelDiagItem: the fault type (P07.27) as ExtChannelAddValue.
 pub const DRIVE_FAULT_EXT_ERROR_TYPE: u16 = 1;
-
-/// A change of the drive's diagnosis: a fault (P07.27's type) appeared or disappeared.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FaultChange {
-    /// The drive tripped with this fault.
-    Appears(u16),
-    /// This fault was reset.
-    Disappears(u16),
-}
 
 /// The Diagnosis alarm (low priority) of `change` on the drive's submodule, whose module and
 /// submodule have the ident numbers `idents`: ExtChannelDiagnosis of the whole submodule with
@@ -105,48 +98,36 @@ pub fn fault_alarm(change: FaultChange, idents: (u32, u32)) -> AlarmNotification
     }
 }
 
-/// The card's cyclic exchange and the drive behind it.
+/// The card's cyclic exchange and the application (the drive) behind it.
 #[derive(Debug, Clone)]
-pub struct CardCycle {
+pub struct CardCycle<A = PkwPzdDrive> {
     cyclic: Cyclic,
-    drive: PkwPzdDrive,
+    drive: A,
     inputs: [u8; IMAGE_BYTES],
     next_send: Instant,
-    /// The fault last reported by [`CardCycle::poll_diagnosis`].
-    reported: Option<u16>,
 }
 
-impl CardCycle {
+impl<A: IoApplication> CardCycle<A> {
     /// The exchange of `layout` with `drive` from `now`.
-    pub fn new(layout: CrLayout, drive: PkwPzdDrive, now: Instant) -> Self {
-        let inputs = drive.inputs().emit(ByteOrder::BigEndian);
+    pub fn new(layout: CrLayout, mut drive: A, now: Instant) -> Self {
+        let inputs = drive.inputs();
+        drive.forget_reported_fault();
         CardCycle {
             cyclic: Cyclic::new(layout),
             drive,
             inputs,
             next_send: now,
-            reported: None,
         }
     }
 
-    /// The next change of the drive's diagnosis since the last call: its fault other than the
-    /// bus's own (E-PN ends the AR: there is no AR left to tell). A fault present when the
-    /// exchange starts appears at the first call.
+    /// The next change of the drive's diagnosis since the exchange started
+    /// ([`IoApplication::poll_fault_change`]): E-PN ends the AR, so it is not one.
     pub fn poll_diagnosis(&mut self) -> Option<FaultChange> {
-        let bus_fault = self.drive.bus().fault();
-        let fault = self.drive.vfd().fault().filter(|&f| f != bus_fault);
-        if fault == self.reported {
-            return None;
-        }
-        if let Some(old) = self.reported.take() {
-            return Some(FaultChange::Disappears(old));
-        }
-        self.reported = fault;
-        fault.map(FaultChange::Appears)
+        self.drive.poll_fault_change()
     }
 
     /// The drive.
-    pub fn drive(&self) -> &PkwPzdDrive {
+    pub fn drive(&self) -> &A {
         &self.drive
     }
 
@@ -167,7 +148,7 @@ impl CardCycle {
             return;
         };
         if iops & 0x80 != 0 {
-            self.inputs = self.drive.exchange_bytes(now, &words, ByteOrder::BigEndian);
+            self.inputs = self.drive.exchange(now, &words);
         }
     }
 
@@ -216,12 +197,12 @@ impl CardCycle {
         } else {
             self.drive.handle_timeout(now);
         }
-        self.inputs = self.drive.inputs().emit(ByteOrder::BigEndian);
+        self.inputs = self.drive.inputs();
         expired
     }
 
     /// The drive, when the AR ends (it serves the next one).
-    pub fn into_drive(self) -> PkwPzdDrive {
+    pub fn into_drive(self) -> A {
         self.drive
     }
 
@@ -231,7 +212,7 @@ impl CardCycle {
     }
 
     /// The drive, to change its parameters (a record write).
-    pub fn drive_mut(&mut self) -> &mut PkwPzdDrive {
+    pub fn drive_mut(&mut self) -> &mut A {
         &mut self.drive
     }
 }

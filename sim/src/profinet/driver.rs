@@ -6,11 +6,13 @@
 use std::io;
 use std::time::{Duration, Instant};
 
+use edsgen_host::driver::MonotonicClock;
+
 use crate::packet_socket::{interface_mac, PacketSocket};
 
 use super::ar::Peer;
 use super::dcp::{Dcp, DcpEvent};
-use super::device::{Device, DeviceEvent};
+use super::device::{Device, DeviceEvent, Link, Transmit};
 use super::wire::{Mac, ETHERTYPE_PROFINET};
 
 /// A packet socket bound to one interface, receiving PROFINET frames.
@@ -147,39 +149,44 @@ pub fn serve_with(
     mut tick: impl FnMut(&mut Device, edsgen_runtime::Instant),
     mut on_event: impl FnMut(&DeviceEvent),
 ) -> io::Result<()> {
-    let start = Instant::now();
-    let clock = || edsgen_runtime::Instant::from_micros(start.elapsed().as_micros() as u64);
+    let clock = MonotonicClock::new();
     let hello = device.dcp().hello();
     raw.send(&hello)?;
     let mut buf = vec![0u8; 1600];
     let mut dgram = vec![0u8; 4096];
     while until.is_none_or(|t| Instant::now() < t) {
         if let Some(n) = raw.recv(&mut buf)? {
-            if let Some(answer) = buf.get(..n).and_then(|f| device.handle_frame(clock(), f)) {
-                raw.send(&answer)?;
-            }
+            device.handle(clock.now(), Link::Ethernet, &buf[..n.min(buf.len())]);
+            send(raw, rpc, device, clock.now())?;
         }
         while let Some((n, from)) = rpc.recv(&mut dgram)? {
-            if let Some(answer) = dgram
-                .get(..n)
-                .and_then(|p| device.handle_datagram(clock(), from, p))
-            {
-                rpc.send(from, &answer)?;
-            }
+            device.handle(clock.now(), Link::Rpc(from), &dgram[..n.min(dgram.len())]);
+            send(raw, rpc, device, clock.now())?;
         }
-        while let Some((to, pdu)) = device.poll_datagram() {
-            rpc.send(to, &pdu)?;
-        }
-        let now = clock();
+        let now = clock.now();
         tick(device, now);
         if device.poll_timeout().is_some_and(|t| t <= now) {
             device.handle_timeout(now);
         }
-        while let Some(frame) = device.poll_frame(now) {
-            raw.send(&frame)?;
-        }
+        send(raw, rpc, device, now)?;
         while let Some(event) = device.poll_event() {
             on_event(&event);
+        }
+    }
+    Ok(())
+}
+
+/// Sends what the device has to send at `now`: frames on `raw`, datagrams on `rpc`.
+fn send(
+    raw: &mut RawSocket,
+    rpc: &RpcSocket,
+    device: &mut Device,
+    now: edsgen_runtime::Instant,
+) -> io::Result<()> {
+    while let Some(transmit) = device.poll_transmit(now) {
+        match transmit {
+            Transmit::Frame(frame) => raw.send(&frame)?,
+            Transmit::Datagram(to, pdu) => rpc.send(to, &pdu)?,
         }
     }
     Ok(())

@@ -2,8 +2,9 @@
 //! p-net names them: [`dcp`] (discovery and naming), [`ar`] (connection management: the DCE/RPC
 //! endpoint and the application relation), [`cyclic`] (the cyclic consumer with its watchdog and
 //! the provider, on the layout a Connect gives), [`alarm`] (the AlarmCR's alarm transport and
-//! acknowledgement); [`drive`] puts the Goodrive350's PKW/PZD drive behind the cyclic data and
-//! makes its faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
+//! acknowledgement); [`application`] is what sits behind a device ([`application::IoApplication`],
+//! the Goodrive350's PKW/PZD drive one), [`drive`] puts it behind the cyclic data and makes its
+//! faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
 //! [`wire`]; the raw-socket and UDP driver in [`driver`]; [`station`] derives what the device
 //! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's
 //! and the tests').
@@ -11,6 +12,7 @@
 //! Alarms: the card's drive faults only (Diagnosis appears and disappears), over layer 2.
 
 pub mod alarm;
+pub mod application;
 pub mod ar;
 pub mod controller;
 pub mod cyclic;

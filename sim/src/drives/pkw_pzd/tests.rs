@@ -292,3 +292,20 @@ fn ethernet_ip_by_bit() {
 fn the_parameter_table_is_sorted() {
     assert!(PARAMETERS.windows(2).all(|w| w[0].address < w[1].address));
 }
+
+#[test]
+fn fault_changes_are_reported_once_and_the_bus_fault_never() {
+    let mut drive = PkwPzdDrive::bus_controlled(Bus::Profinet, ms(0));
+    assert_eq!(drive.poll_fault_change(), None);
+    drive.inject_fault(ms(10), 4);
+    assert_eq!(drive.poll_fault_change(), Some(FaultChange::Appears(4)));
+    assert_eq!(drive.poll_fault_change(), None);
+    // A new connection hears of the present fault again.
+    drive.forget_reported_fault();
+    assert_eq!(drive.poll_fault_change(), Some(FaultChange::Appears(4)));
+    // E-PN is the bus's own: reported by the bus, not as a fault change.
+    let mut lost = PkwPzdDrive::bus_controlled(Bus::Profinet, ms(0));
+    lost.communication_lost(ms(10));
+    assert_eq!(lost.vfd().fault(), Some(57));
+    assert_eq!(lost.poll_fault_change(), None);
+}

@@ -388,7 +388,7 @@ fn a_little_endian_request_is_answered_in_little_endian() {
         little_endian: true,
         ..be
     };
-    let pdu = emit_pdu(&le, &Ndr::request(4068, blocks.len() as u32, true), &blocks);
+    let pdu = rpc_pdu(&le, &Ndr::request(4068, blocks.len() as u32, true), &blocks);
     let answer = cm.handle_datagram(at(0), FROM, &pdu).expect("an answer");
     assert_eq!(answer[4], 0x10);
     let (header, body) = RpcHeader::parse(&answer).expect("a response");

@@ -21,7 +21,7 @@ fn dcp() -> Dcp {
 /// A request frame: Ethernet header, DCP header, blocks.
 fn request(dst: Mac, frame_id: u16, service: u8, xid: u32, blocks: &[u8]) -> Vec<u8> {
     let mut f = Vec::new();
-    Ethernet::emit(dst, CONTROLLER, &mut f);
+    append(&mut f, |b| Ethernet::emit(dst, CONTROLLER, b));
     f.extend_from_slice(&frame_id.to_be_bytes());
     f.extend_from_slice(&[service, 0]);
     f.extend_from_slice(&xid.to_be_bytes());

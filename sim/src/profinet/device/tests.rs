@@ -4,7 +4,7 @@ use crate::profinet::ar::config::{RealSlot, RealSubmodule};
 use crate::profinet::controller::{connected, response, Controller};
 use crate::profinet::wire::rpc::{PnioStatus, Uuid};
 use crate::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
-use crate::profinet::wire::{Ethernet, Mac};
+use crate::profinet::wire::{append, Ethernet, Mac};
 
 const DEVICE: Mac = [2, 0, 0, 0, 3, 0x50];
 const CONTROLLER: Mac = [2, 0, 0, 0, 0, 1];
@@ -49,15 +49,15 @@ fn establish(device: &mut Device, config: &DeviceConfig) -> (Controller, (u16, u
 
 fn output_frame(frame_id: u16, c_sdu: &[u8]) -> Vec<u8> {
     let mut frame = Vec::new();
-    Ethernet::emit(DEVICE, CONTROLLER, &mut frame);
-    RtFrame {
+    append(&mut frame, |b| Ethernet::emit(DEVICE, CONTROLLER, b));
+    let rt = RtFrame {
         frame_id,
         c_sdu,
         cycle_counter: 0,
         data_status: DATA_STATUS_GOOD,
         transfer_status: 0,
-    }
-    .emit(&mut frame);
+    };
+    append(&mut frame, |b| rt.emit(b));
     frame
 }
 

@@ -4,7 +4,9 @@
 //! AlarmCRBlockReq and ExpectedSubmoduleBlockReq and their answers (ARBlockRes, IOCRBlockRes,
 //! AlarmCRBlockRes, ModuleDiffBlock), the record access headers (IODReadReq/Res,
 //! IODWriteReq/Res), IODControlReq/Res (PrmEnd, ApplicationReady, Release) and the
-//! RealIdentificationData record. Each parses and emits; parsing never panics.
+//! RealIdentificationData record. Each parses and emits; parsing never panics. The block
+//! framing (header, cursor, the blocks of an argument) is the runtime's
+//! ([`edsgen_runtime::profinet::wire::block`]); these owned structs are still to move.
 
 use super::rpc::Uuid;
 use super::Mac;
@@ -63,87 +65,12 @@ pub const SUBMODULE_WRONG: u16 = 0x8000 | (2 << 11);
 /// SubmoduleState (format 1): IdentInfo no submodule.
 pub const SUBMODULE_NO: u16 = 0x8000 | (3 << 11);
 
-/// A cursor over big-endian block bytes; every read is `None` past the end.
-#[derive(Debug, Clone)]
-pub struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
-}
+pub use edsgen_runtime::profinet::wire::block::{Block, Reader};
 
-impl<'a> Reader<'a> {
-    /// A reader at the start of `bytes`.
-    pub fn new(bytes: &'a [u8]) -> Self {
-        Reader { bytes, at: 0 }
-    }
-    /// The next `n` bytes.
-    pub fn take(&mut self, n: usize) -> Option<&'a [u8]> {
-        let b = self.bytes.get(self.at..self.at.checked_add(n)?)?;
-        self.at += n;
-        Some(b)
-    }
-    /// A byte.
-    pub fn u8(&mut self) -> Option<u8> {
-        Some(self.take(1)?[0])
-    }
-    /// A big-endian u16.
-    pub fn u16(&mut self) -> Option<u16> {
-        Some(u16::from_be_bytes(self.take(2)?.try_into().ok()?))
-    }
-    /// A big-endian u32.
-    pub fn u32(&mut self) -> Option<u32> {
-        Some(u32::from_be_bytes(self.take(4)?.try_into().ok()?))
-    }
-    /// A UUID (big-endian, as blocks carry them).
-    pub fn uuid(&mut self) -> Option<Uuid> {
-        Some(Uuid(self.take(16)?.try_into().ok()?))
-    }
-    /// A MAC address.
-    pub fn mac(&mut self) -> Option<Mac> {
-        self.take(6)?.try_into().ok()
-    }
-    /// The bytes not read yet.
-    pub fn rest(&self) -> &'a [u8] {
-        self.bytes.get(self.at..).unwrap_or(&[])
-    }
-}
-
-/// One block: its type, version and the bytes after the version.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Block<'a> {
-    /// BlockType.
-    pub block_type: u16,
-    /// BlockVersionHigh, BlockVersionLow.
-    pub version: (u8, u8),
-    /// The block's content after the header.
-    pub body: &'a [u8],
-}
-
-/// Splits an argument into its blocks; `Err(offset)` where a header is short, a BlockLength
-/// below 2, or a block runs past the end.
-pub fn split(mut args: &[u8]) -> Result<Vec<Block<'_>>, usize> {
-    let mut blocks = Vec::new();
-    let mut offset = 0;
-    while !args.is_empty() {
-        let mut r = Reader::new(args);
-        let (Some(block_type), Some(len)) = (r.u16(), r.u16()) else {
-            return Err(offset);
-        };
-        let len = usize::from(len);
-        if len < 2 {
-            return Err(offset);
-        }
-        let Some(rest) = r.take(len) else {
-            return Err(offset);
-        };
-        blocks.push(Block {
-            block_type,
-            version: (rest[0], rest[1]),
-            body: &rest[2..],
-        });
-        args = &args[4 + len..];
-        offset += 4 + len;
-    }
-    Ok(blocks)
+/// Splits an argument into its blocks ([`edsgen_runtime::profinet::wire::block::blocks`]);
+/// `Err(offset)` where a header is short, a BlockLength below 2, or a block runs past the end.
+pub fn split(args: &[u8]) -> Result<Vec<Block<'_>>, usize> {
+    edsgen_runtime::profinet::wire::block::blocks(args).collect()
 }
 
 /// Appends a block of `block_type`, version 1.`low`, whose content `body` writes.

@@ -1,91 +1,47 @@
-//! PROFINET wire formats, apart from the protocol machines: the Ethernet header (with or without
-//! a VLAN tag) that carries every PROFINET frame on EtherType 0x8892, the DCP PDU ([`dcp`]) and
-//! the cyclic RT frame ([`rt`]), the DCE/RPC PDU of connection management ([`rpc`]) and the PNIO
-//! blocks it carries ([`blocks`]), the alarm frames of the AlarmCR ([`alarm`]).
-//! Parsing never panics: a frame too short or of another EtherType is `None`.
+//! PROFINET wire formats, apart from the protocol machines. The Ethernet header, the DCP PDU
+//! ([`dcp`]), the cyclic RT frame ([`rt`]) and the DCE/RPC PDU of connection management
+//! ([`rpc`]) are the runtime's views ([`edsgen_runtime::profinet::wire`]); the PNIO blocks RPC
+//! carries ([`blocks`]) and the alarm frames of the AlarmCR ([`alarm`]) are still owned structs
+//! here. Parsing never panics: a frame too short or of another EtherType is `None`.
 
 pub mod alarm;
 pub mod blocks;
-pub mod dcp;
-pub mod rpc;
-pub mod rt;
 
-/// PROFINET's EtherType.
-pub const ETHERTYPE_PROFINET: u16 = 0x8892;
-/// The VLAN tag's EtherType.
-pub const ETHERTYPE_VLAN: u16 = 0x8100;
+use rpc::{Ndr, RpcHeader, HEADER_LEN, NDR_LEN};
 
-/// A MAC address.
-pub type Mac = [u8; 6];
+pub use edsgen_runtime::profinet::wire::{
+    dcp, rpc, rt, BufferTooSmall, Ethernet, EthernetFrame, Mac, ETHERTYPE_PROFINET, ETHERTYPE_VLAN,
+};
 
-/// An Ethernet frame's header and where its payload starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Ethernet {
-    /// Destination address.
-    pub dst: Mac,
-    /// Source address.
-    pub src: Mac,
-    /// The VLAN tag's TCI, when the frame has one.
-    pub vlan: Option<u16>,
-    /// The EtherType after any VLAN tag.
-    pub ethertype: u16,
-    /// The payload's offset in the frame.
-    pub payload: usize,
+/// The longest untagged Ethernet frame without FCS.
+const MAX_FRAME_LEN: usize = 1514;
+
+/// Appends to `out` what `emit` writes into a buffer (at most a whole Ethernet frame); nothing
+/// when it does not fit.
+pub fn append(out: &mut Vec<u8>, emit: impl FnOnce(&mut [u8]) -> Result<usize, BufferTooSmall>) {
+    let start = out.len();
+    out.resize(start + MAX_FRAME_LEN, 0);
+    let written = emit(&mut out[start..]).unwrap_or(0);
+    out.truncate(start + written);
 }
 
-impl Ethernet {
-    /// Reads the header; `None` for a frame shorter than its header.
-    pub fn parse(frame: &[u8]) -> Option<Ethernet> {
-        let mac = |at: usize| -> Option<Mac> { frame.get(at..at + 6)?.try_into().ok() };
-        let word = |at: usize| -> Option<u16> {
-            Some(u16::from_be_bytes(frame.get(at..at + 2)?.try_into().ok()?))
-        };
-        let (dst, src) = (mac(0)?, mac(6)?);
-        let first = word(12)?;
-        let (vlan, ethertype, payload) = if first == ETHERTYPE_VLAN {
-            (Some(word(14)?), word(16)?, 18)
-        } else {
-            (None, first, 14)
-        };
-        Some(Ethernet {
-            dst,
-            src,
-            vlan,
-            ethertype,
-            payload,
-        })
-    }
+/// A whole RPC PDU ([`rpc::emit_pdu`]) as a datagram.
+pub fn rpc_pdu(header: &RpcHeader, ndr: &Ndr, args: &[u8]) -> Vec<u8> {
+    let mut out = vec![0; HEADER_LEN + NDR_LEN + args.len()];
+    let written = rpc::emit_pdu(header, ndr, args, &mut out).unwrap_or(0);
+    out.truncate(written);
+    out
+}
 
-    /// A PROFINET frame's header bytes, untagged (14 bytes).
-    pub fn emit(dst: Mac, src: Mac, out: &mut Vec<u8>) {
-        out.extend_from_slice(&dst);
-        out.extend_from_slice(&src);
-        out.extend_from_slice(&ETHERTYPE_PROFINET.to_be_bytes());
-    }
+/// A reject or fault PDU ([`rpc::emit_reject`]) as a datagram.
+pub fn rpc_reject(request: &RpcHeader, packet_type: u8, status: u32) -> Vec<u8> {
+    let mut out = vec![0; HEADER_LEN + 4];
+    let written = rpc::emit_reject(request, packet_type, status, &mut out).unwrap_or(0);
+    out.truncate(written);
+    out
 }
 
 /// Pads a frame to Ethernet's 60-byte minimum (without FCS), as a driver sends it.
 pub fn pad(frame: &mut Vec<u8>) {
-    if frame.len() < 60 {
-        frame.resize(60, 0);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn tagged_and_untagged_headers() {
-        let mut f = vec![
-            1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 0x88, 0x92, 0xFE, 0xFE,
-        ];
-        let e = Ethernet::parse(&f).expect("a header");
-        assert_eq!((e.vlan, e.ethertype, e.payload), (None, 0x8892, 14));
-        f.splice(12..12, [0x81, 0x00, 0xA0, 0x00]);
-        let e = Ethernet::parse(&f).expect("a header");
-        assert_eq!((e.vlan, e.ethertype, e.payload), (Some(0xA000), 0x8892, 18));
-        assert_eq!(Ethernet::parse(&f[..13]), None);
-        assert_eq!(Ethernet::parse(&f[..16]), None);
-    }
+    frame.resize(edsgen_runtime::profinet::wire::padded_len(frame.len()), 0);
 }

@@ -3,9 +3,12 @@
 //! flags, the data representation "drep" that says the byte order of every integer after it,
 //! the object, interface and activity UUIDs, sequence and operation numbers, fragment fields),
 //! then the NDR header of PROFINET's one argument (ArgsMaximum or the PNIOStatus, ArgsLength,
-//! MaximumCount, Offset, ActualCount), then the PNIO blocks ([`super::blocks`]), which are
+//! MaximumCount, Offset, ActualCount), then the PNIO blocks ([`super::block`]), which are
 //! big-endian whatever the drep says. Both byte orders are read; answers keep the request's.
-//! Parsing never panics: a short or malformed PDU is `None`.
+//! Parsing never panics: a short or malformed PDU is `None`; emitting writes into the caller's
+//! buffer and returns the length, or [`BufferTooSmall`].
+
+use super::{put, BufferTooSmall};
 
 /// The UDP port of PROFINET's RPC endpoint (the device's and the controller's).
 pub const RPC_PORT: u16 = 34964;
@@ -93,15 +96,15 @@ impl Uuid {
         Uuid(b)
     }
 
-    /// Appends the UUID in the byte order of `little`.
-    pub fn write(&self, little: bool, out: &mut Vec<u8>) {
+    /// The UUID's bytes in the byte order of `little`.
+    pub fn to_bytes(&self, little: bool) -> [u8; 16] {
         let mut b = self.0;
         if little {
             b[0..4].reverse();
             b[4..6].reverse();
             b[6..8].reverse();
         }
-        out.extend_from_slice(&b);
+        b
     }
 }
 
@@ -200,20 +203,30 @@ fn u32_at(b: &[u8], at: usize, little: bool) -> Option<u32> {
     })
 }
 
-fn put16(v: u16, little: bool, out: &mut Vec<u8>) {
-    out.extend_from_slice(&if little {
-        v.to_le_bytes()
-    } else {
-        v.to_be_bytes()
-    });
+/// Writes a u16 at `at` in the given byte order; the offset after it.
+fn put16(buf: &mut [u8], at: usize, v: u16, little: bool) -> Result<usize, BufferTooSmall> {
+    put(
+        buf,
+        at,
+        &if little {
+            v.to_le_bytes()
+        } else {
+            v.to_be_bytes()
+        },
+    )
 }
 
-fn put32(v: u32, little: bool, out: &mut Vec<u8>) {
-    out.extend_from_slice(&if little {
-        v.to_le_bytes()
-    } else {
-        v.to_be_bytes()
-    });
+/// Writes a u32 at `at` in the given byte order; the offset after it.
+fn put32(buf: &mut [u8], at: usize, v: u32, little: bool) -> Result<usize, BufferTooSmall> {
+    put(
+        buf,
+        at,
+        &if little {
+            v.to_le_bytes()
+        } else {
+            v.to_be_bytes()
+        },
+    )
 }
 
 impl RpcHeader {
@@ -253,26 +266,30 @@ impl RpcHeader {
         Some((header, body))
     }
 
-    /// Appends the header for a body of `body_len` bytes (which overrides the field).
-    pub fn emit(&self, body_len: u16, out: &mut Vec<u8>) {
+    /// Writes the header for a body of `body_len` bytes (which overrides the field) at the
+    /// start of `buf`; its length ([`HEADER_LEN`]).
+    pub fn emit(&self, body_len: u16, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
         let little = self.little_endian;
-        out.extend_from_slice(&[4, self.packet_type, self.flags1, self.flags2]);
-        out.push(if little { 0x10 } else { 0x00 });
-        out.extend_from_slice(&self.drep_rest);
-        out.push(self.serial_high);
-        self.object.write(little, out);
-        self.interface.write(little, out);
-        self.activity.write(little, out);
-        put32(self.server_boot_time, little, out);
-        put32(self.interface_version, little, out);
-        put32(self.sequence, little, out);
-        put16(self.opnum, little, out);
-        put16(self.interface_hint, little, out);
-        put16(self.activity_hint, little, out);
-        put16(body_len, little, out);
-        put16(self.fragment, little, out);
-        out.push(self.auth_protocol);
-        out.push(self.serial_low);
+        let drep = if little { 0x10 } else { 0x00 };
+        let at = put(
+            buf,
+            0,
+            &[4, self.packet_type, self.flags1, self.flags2, drep],
+        )?;
+        let at = put(buf, at, &self.drep_rest)?;
+        let at = put(buf, at, &[self.serial_high])?;
+        let at = put(buf, at, &self.object.to_bytes(little))?;
+        let at = put(buf, at, &self.interface.to_bytes(little))?;
+        let at = put(buf, at, &self.activity.to_bytes(little))?;
+        let at = put32(buf, at, self.server_boot_time, little)?;
+        let at = put32(buf, at, self.interface_version, little)?;
+        let at = put32(buf, at, self.sequence, little)?;
+        let at = put16(buf, at, self.opnum, little)?;
+        let at = put16(buf, at, self.interface_hint, little)?;
+        let at = put16(buf, at, self.activity_hint, little)?;
+        let at = put16(buf, at, body_len, little)?;
+        let at = put16(buf, at, self.fragment, little)?;
+        put(buf, at, &[self.auth_protocol, self.serial_low])
     }
 
     /// The header of the answer to this request: `packet_type`, the same byte order, UUIDs,
@@ -412,35 +429,41 @@ impl Ndr {
         PnioStatus(status)
     }
 
-    /// Appends the header.
-    pub fn emit(&self, out: &mut Vec<u8>) {
+    /// Writes the header at the start of `buf`; its length ([`NDR_LEN`]).
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
         let little = self.little_endian;
-        out.extend_from_slice(&self.first);
-        put32(self.args_length, little, out);
-        put32(self.maximum_count, little, out);
-        put32(self.offset, little, out);
-        put32(self.actual_count, little, out);
+        let at = put(buf, 0, &self.first)?;
+        let at = put32(buf, at, self.args_length, little)?;
+        let at = put32(buf, at, self.maximum_count, little)?;
+        let at = put32(buf, at, self.offset, little)?;
+        put32(buf, at, self.actual_count, little)
     }
 }
 
-/// A whole PDU: `header`, then the NDR header and `args`.
-pub fn emit_pdu(header: &RpcHeader, ndr: &Ndr, args: &[u8]) -> Vec<u8> {
-    let mut body = Vec::with_capacity(NDR_LEN + args.len());
-    ndr.emit(&mut body);
-    body.extend_from_slice(args);
-    let mut out = Vec::with_capacity(HEADER_LEN + body.len());
-    header.emit(u16::try_from(body.len()).unwrap_or(u16::MAX), &mut out);
-    out.extend_from_slice(&body);
-    out
+/// A whole PDU written into `buf`: `header`, then the NDR header and `args`; its length. The
+/// body (NDR header and `args`) must fit RPC's 16-bit length.
+pub fn emit_pdu(
+    header: &RpcHeader,
+    ndr: &Ndr,
+    args: &[u8],
+    buf: &mut [u8],
+) -> Result<usize, BufferTooSmall> {
+    let body_len = u16::try_from(NDR_LEN + args.len()).map_err(|_| BufferTooSmall)?;
+    let at = header.emit(body_len, buf)?;
+    let at = at + ndr.emit(buf.get_mut(at..).ok_or(BufferTooSmall)?)?;
+    put(buf, at, args)
 }
 
-/// A reject or fault PDU answering `request` with the 4-byte `status` as its body.
-pub fn emit_reject(request: &RpcHeader, packet_type: u8, status: u32) -> Vec<u8> {
-    let header = request.answer(packet_type);
-    let mut out = Vec::new();
-    header.emit(4, &mut out);
-    put32(status, request.little_endian, &mut out);
-    out
+/// A reject or fault PDU answering `request` with the 4-byte `status` as its body, written
+/// into `buf`; its length.
+pub fn emit_reject(
+    request: &RpcHeader,
+    packet_type: u8,
+    status: u32,
+    buf: &mut [u8],
+) -> Result<usize, BufferTooSmall> {
+    let at = request.answer(packet_type).emit(4, buf)?;
+    put32(buf, at, status, request.little_endian)
 }
 
 #[cfg(test)]

@@ -2,7 +2,10 @@
 //! header (ServiceID, ServiceType, Xid, ResponseDelay, DCPDataLength) and the blocks (Option,
 //! Suboption, DCPBlockLength, data padded to an even length). Requests carry blocks with a
 //! BlockQualifier (Set) or filter values (Identify), Get requests bare option pairs; responses
-//! carry a BlockInfo before the data.
+//! carry a BlockInfo before the data. Blocks are read as an iterator over views of the caller's
+//! bytes and written into the caller's buffer.
+
+use super::{put, BufferTooSmall, Ethernet, Mac};
 
 /// FrameID of a Hello request (multicast 01:0e:cf:00:00:01).
 pub const FRAME_HELLO: u16 = 0xFEFC;
@@ -96,40 +99,67 @@ pub struct DcpHeader {
 /// The header's size with the FrameID.
 pub const HEADER_LEN: usize = 12;
 
-impl DcpHeader {
-    /// Reads the header and the blocks' bytes (`length` of them, or `None` when the PDU is
-    /// shorter than it says).
-    pub fn parse(pdu: &[u8]) -> Option<(DcpHeader, &[u8])> {
-        let h = pdu.get(..HEADER_LEN)?;
-        let header = DcpHeader {
+/// A checked view of a DCP PDU: the header and as many block bytes as DCPDataLength says.
+#[derive(Debug, Clone, Copy)]
+pub struct DcpPacket<T: AsRef<[u8]>> {
+    buffer: T,
+}
+
+impl<T: AsRef<[u8]>> DcpPacket<T> {
+    /// The view, or `None` when the PDU is shorter than its header or than DCPDataLength says.
+    pub fn new_checked(buffer: T) -> Option<Self> {
+        let packet = DcpPacket { buffer };
+        let h = packet.buffer.as_ref().get(..HEADER_LEN)?;
+        let length = usize::from(u16::from_be_bytes([h[10], h[11]]));
+        packet.buffer.as_ref().get(..HEADER_LEN + length)?;
+        Some(packet)
+    }
+
+    /// The header.
+    pub fn header(&self) -> DcpHeader {
+        let h = &self.buffer.as_ref()[..HEADER_LEN];
+        DcpHeader {
             frame_id: u16::from_be_bytes([h[0], h[1]]),
             service_id: h[2],
             service_type: h[3],
             xid: u32::from_be_bytes([h[4], h[5], h[6], h[7]]),
             response_delay: u16::from_be_bytes([h[8], h[9]]),
             length: u16::from_be_bytes([h[10], h[11]]),
-        };
+        }
+    }
+
+    /// The blocks' bytes (DCPDataLength of them; padding after them is not included).
+    pub fn blocks(&self) -> &[u8] {
+        let length = usize::from(self.header().length);
+        &self.buffer.as_ref()[HEADER_LEN..HEADER_LEN + length]
+    }
+}
+
+impl DcpHeader {
+    /// Reads the header and the blocks' bytes (`length` of them, or `None` when the PDU is
+    /// shorter than it says).
+    pub fn parse(pdu: &[u8]) -> Option<(DcpHeader, &[u8])> {
+        let header = DcpPacket::new_checked(pdu)?.header();
         let blocks = pdu.get(HEADER_LEN..HEADER_LEN + usize::from(header.length))?;
         Some((header, blocks))
     }
 
-    /// Appends the header; `length` is patched by [`finish`].
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.frame_id.to_be_bytes());
-        out.push(self.service_id);
-        out.push(self.service_type);
-        out.extend_from_slice(&self.xid.to_be_bytes());
-        out.extend_from_slice(&self.response_delay.to_be_bytes());
-        out.extend_from_slice(&self.length.to_be_bytes());
+    /// Writes the header at the start of `buf`; `length` is patched by [`finish`].
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        let at = put(buf, 0, &self.frame_id.to_be_bytes())?;
+        let at = put(buf, at, &[self.service_id, self.service_type])?;
+        let at = put(buf, at, &self.xid.to_be_bytes())?;
+        let at = put(buf, at, &self.response_delay.to_be_bytes())?;
+        put(buf, at, &self.length.to_be_bytes())
     }
 }
 
-/// Sets DCPDataLength of the PDU that starts at `pdu_start` in `out` to the bytes after its
-/// header.
-pub fn finish(out: &mut [u8], pdu_start: usize) {
-    let len = out.len().saturating_sub(pdu_start + HEADER_LEN);
+/// Sets DCPDataLength of the PDU that starts at `pdu_start` in `frame` to the bytes after its
+/// header (to the end of `frame`).
+pub fn finish(frame: &mut [u8], pdu_start: usize) {
+    let len = frame.len().saturating_sub(pdu_start + HEADER_LEN);
     let len = u16::try_from(len).unwrap_or(u16::MAX).to_be_bytes();
-    if let Some(field) = out.get_mut(pdu_start + 10..pdu_start + 12) {
+    if let Some(field) = frame.get_mut(pdu_start + 10..pdu_start + 12) {
         field.copy_from_slice(&len);
     }
 }
@@ -143,21 +173,25 @@ pub struct Block<'a> {
     pub data: &'a [u8],
 }
 
-/// The blocks of a request, in order; `Err(())` at a block whose length runs past the data.
-pub fn blocks(mut data: &[u8]) -> impl Iterator<Item = Result<Block<'_>, ()>> {
-    std::iter::from_fn(move || {
+/// A block whose DCPBlockLength runs past the PDU's data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TruncatedBlock;
+
+/// The blocks of a request, in order; an error at a block whose length runs past the data.
+pub fn blocks(mut data: &[u8]) -> impl Iterator<Item = Result<Block<'_>, TruncatedBlock>> {
+    core::iter::from_fn(move || {
         if data.is_empty() {
             return None;
         }
         let Some(head) = data.get(..4) else {
             data = &[];
-            return Some(Err(()));
+            return Some(Err(TruncatedBlock));
         };
         let option = (head[0], head[1]);
         let len = usize::from(u16::from_be_bytes([head[2], head[3]]));
         let Some(block) = data.get(4..4 + len) else {
             data = &[];
-            return Some(Err(()));
+            return Some(Err(TruncatedBlock));
         };
         let padded = (4 + len + (len & 1)).min(data.len());
         data = &data[padded..];
@@ -173,53 +207,70 @@ pub fn get_options(data: &[u8]) -> impl Iterator<Item = (u8, u8)> + '_ {
     data.chunks_exact(2).map(|c| (c[0], c[1]))
 }
 
-/// Appends a response block: option, suboption, length (BlockInfo + data), BlockInfo, data,
-/// padding to even.
-pub fn emit_block(out: &mut Vec<u8>, option: (u8, u8), block_info: u16, data: &[u8]) {
-    out.push(option.0);
-    out.push(option.1);
-    let len = u16::try_from(data.len() + 2).unwrap_or(u16::MAX);
-    out.extend_from_slice(&len.to_be_bytes());
-    out.extend_from_slice(&block_info.to_be_bytes());
-    out.extend_from_slice(data);
+/// Writes a block at the start of `buf`: option, suboption, DCPBlockLength (`info` and the
+/// data), `info`, the data, padding to even; its length.
+fn emit_any_block(
+    buf: &mut [u8],
+    option: (u8, u8),
+    info: &[u8],
+    data: &[u8],
+) -> Result<usize, BufferTooSmall> {
+    let len = u16::try_from(info.len() + data.len()).map_err(|_| BufferTooSmall)?;
+    let at = put(buf, 0, &[option.0, option.1])?;
+    let at = put(buf, at, &len.to_be_bytes())?;
+    let at = put(buf, at, info)?;
+    let at = put(buf, at, data)?;
     if data.len() % 2 == 1 {
-        out.push(0);
+        return put(buf, at, &[0]);
     }
+    Ok(at)
 }
 
-/// Appends a request block (Hello carries these: no BlockInfo): option, suboption, length, data,
-/// padding to even.
-pub fn emit_plain_block(out: &mut Vec<u8>, option: (u8, u8), data: &[u8]) {
-    out.push(option.0);
-    out.push(option.1);
-    let len = u16::try_from(data.len()).unwrap_or(u16::MAX);
-    out.extend_from_slice(&len.to_be_bytes());
-    out.extend_from_slice(data);
-    if data.len() % 2 == 1 {
-        out.push(0);
-    }
+/// Writes a response block at the start of `buf`: option, suboption, length (BlockInfo +
+/// data), BlockInfo, data, padding to even; its length.
+pub fn emit_block(
+    buf: &mut [u8],
+    option: (u8, u8),
+    block_info: u16,
+    data: &[u8],
+) -> Result<usize, BufferTooSmall> {
+    emit_any_block(buf, option, &block_info.to_be_bytes(), data)
 }
 
-/// Appends a Control/Response block answering a Set of `option` with `error`.
-pub fn emit_set_response(out: &mut Vec<u8>, option: (u8, u8), error: u8) {
-    out.extend_from_slice(&[CONTROL_RESPONSE.0, CONTROL_RESPONSE.1, 0, 3]);
-    out.extend_from_slice(&[option.0, option.1, error, 0]);
+/// Writes a request block (Hello carries these: no BlockInfo) at the start of `buf`: option,
+/// suboption, length, data, padding to even; its length.
+pub fn emit_plain_block(
+    buf: &mut [u8],
+    option: (u8, u8),
+    data: &[u8],
+) -> Result<usize, BufferTooSmall> {
+    emit_any_block(buf, option, &[], data)
 }
 
-/// A controller's request frame: `service` on `frame_id` from `src` to `dst`, with `blocks`
-/// already encoded (filter or Set blocks with [`emit_plain_block`], Get option pairs).
+/// Writes a Control/Response block answering a Set of `option` with `error`; its length (8).
+pub fn emit_set_response(
+    buf: &mut [u8],
+    option: (u8, u8),
+    error: u8,
+) -> Result<usize, BufferTooSmall> {
+    let at = put(buf, 0, &[CONTROL_RESPONSE.0, CONTROL_RESPONSE.1, 0, 3])?;
+    put(buf, at, &[option.0, option.1, error, 0])
+}
+
+/// A controller's request frame written into `buf`: `service` on `frame_id` from `src` to
+/// `dst`, with `blocks` already encoded (filter or Set blocks with [`emit_plain_block`], Get
+/// option pairs); its length (unpadded).
 pub fn request(
-    dst: [u8; 6],
-    src: [u8; 6],
+    buf: &mut [u8],
+    dst: Mac,
+    src: Mac,
     frame_id: u16,
     service: u8,
     xid: u32,
     blocks: &[u8],
-) -> Vec<u8> {
-    let mut out = Vec::new();
-    super::Ethernet::emit(dst, src, &mut out);
-    let start = out.len();
-    DcpHeader {
+) -> Result<usize, BufferTooSmall> {
+    let start = Ethernet::emit(dst, src, buf)?;
+    let header = DcpHeader {
         frame_id,
         service_id: service,
         service_type: TYPE_REQUEST,
@@ -227,11 +278,11 @@ pub fn request(
         // Identify's ResponseDelayFactor 1: answer at once.
         response_delay: u16::from(frame_id == FRAME_IDENTIFY_REQUEST),
         length: 0,
-    }
-    .emit(&mut out);
-    out.extend_from_slice(blocks);
-    finish(&mut out, start);
-    out
+    };
+    let at = start + header.emit(buf.get_mut(start..).ok_or(BufferTooSmall)?)?;
+    let end = put(buf, at, blocks)?;
+    finish(&mut buf[..end], start);
+    Ok(end)
 }
 
 /// The blocks of a response (each with its BlockInfo, or the Control/Response block with its
@@ -246,49 +297,21 @@ pub fn response_blocks(data: &[u8]) -> impl Iterator<Item = ((u8, u8), u16, &[u8
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn blocks_are_padded_to_even_and_bounded() {
-        let data = [2, 2, 0, 3, 0, 0, b'a', 0, 0xFF, 0xFF, 0, 0];
-        let read: Vec<_> = blocks(&data).collect();
-        assert_eq!(
-            read,
-            vec![
-                Ok(Block {
-                    option: (2, 2),
-                    data: &[0, 0, b'a'][..]
-                }),
-                Ok(Block {
-                    option: (0xFF, 0xFF),
-                    data: &[][..]
-                }),
-            ]
-        );
-        assert_eq!(blocks(&[2, 2, 0, 9, 1]).collect::<Vec<_>>(), vec![Err(())]);
-        assert_eq!(blocks(&[2, 2]).collect::<Vec<_>>(), vec![Err(())]);
-    }
-
-    #[test]
-    fn header_round_trip_and_short_pdus() {
-        let h = DcpHeader {
-            frame_id: FRAME_IDENTIFY_REQUEST,
-            service_id: SERVICE_IDENTIFY,
-            service_type: TYPE_REQUEST,
-            xid: 0x0102_0304,
-            response_delay: 0x80,
-            length: 4,
-        };
-        let mut out = Vec::new();
-        h.emit(&mut out);
-        out.extend_from_slice(&[0xFF, 0xFF, 0, 0]);
-        assert_eq!(
-            out,
-            [0xFE, 0xFE, 5, 0, 1, 2, 3, 4, 0, 0x80, 0, 4, 0xFF, 0xFF, 0, 0]
-        );
-        assert_eq!(DcpHeader::parse(&out), Some((h, &out[12..])));
-        assert_eq!(DcpHeader::parse(&out[..15]), None);
-    }
+/// A name of station as PROFINET allows it: empty (no name), or up to 240 characters of DNS
+/// labels (lowercase letters, digits and `-`, not starting or ending with `-`, 1 to 63 each)
+/// separated by dots.
+pub fn valid_name(name: &str) -> bool {
+    name.is_empty()
+        || (name.len() <= 240
+            && name.split('.').all(|label| {
+                (1..=63).contains(&label.len())
+                    && !label.starts_with('-')
+                    && !label.ends_with('-')
+                    && label
+                        .bytes()
+                        .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-')
+            }))
 }
+
+#[cfg(test)]
+mod tests;

@@ -2,8 +2,12 @@
 //! §2.6 PKW examples through Data_Exchange, FCB repetitions, bad telegrams, Global_Control and
 //! the watchdog.
 
-use super::*;
-use crate::dp::card::{goodrive350, Goodrive350Dp};
+use edsgen_runtime::dp::fdl::{self, DataRepr, Repr, MAX_TELEGRAM_LEN};
+use edsgen_runtime::dp::slave::sap;
+use edsgen_runtime::dp::{DpSlave, DpState};
+use edsgen_runtime::Instant;
+
+use super::{goodrive350, Goodrive350Dp};
 
 const MASTER: u8 = 1;
 const SLAVE: u8 = 2;
@@ -12,24 +16,37 @@ fn ms(n: u64) -> Instant {
     Instant::from_millis(n)
 }
 
+/// A telegram's bytes.
+fn emit(t: DataRepr<'_>) -> Vec<u8> {
+    let mut buf = [0; MAX_TELEGRAM_LEN];
+    let n = t.emit(&mut buf).unwrap();
+    buf[..n].to_vec()
+}
+
+/// The slave's answer to `bytes` at `now`, if any.
+fn handle(slave: &mut DpSlave<Goodrive350Dp>, now: Instant, bytes: &[u8]) -> Option<Vec<u8>> {
+    slave.handle(now, bytes);
+    let mut buf = [0; MAX_TELEGRAM_LEN];
+    let n = slave.poll_transmit(now, &mut buf)?;
+    Some(buf[..n].to_vec())
+}
+
 /// A master request: SRD low with FCV and the given FCB, SAPs as given.
 fn request(dsap: Option<u8>, fcb: bool, data: &[u8]) -> Vec<u8> {
-    DataTelegram {
+    emit(DataRepr {
         da: SLAVE,
         sa: MASTER,
         dsap,
         ssap: dsap.map(|_| 62),
         fc: 0x40 | 0x10 | if fcb { 0x20 } else { 0 } | fdl::request::SRD_LOW,
-        data: data.to_vec(),
-    }
-    .emit()
-    .unwrap()
+        data,
+    })
 }
 
 /// The data of a slave's answer.
 fn data(answer: &[u8]) -> Vec<u8> {
     match fdl::parse(answer).unwrap().0 {
-        Telegram::Data(t) => t.data,
+        Repr::Data(t) => t.data.to_vec(),
         other => panic!("{other:?}"),
     }
 }
@@ -53,7 +70,7 @@ impl Master {
         data: &[u8],
     ) -> Option<Vec<u8>> {
         self.fcb = !self.fcb;
-        slave.handle(now, &request(dsap, self.fcb, data))
+        handle(slave, now, &request(dsap, self.fcb, data))
     }
 }
 
@@ -188,9 +205,9 @@ fn a_repeated_fcb_repeats_the_answer_without_executing_twice() {
     let (mut slave, mut master) = started();
     master.fcb = !master.fcb;
     let write = request(None, master.fcb, &outputs([4, 10, 0, 3000], 0x0100, 0));
-    let first = slave.handle(ms(10), &write).unwrap();
+    let first = handle(&mut slave, ms(10), &write).unwrap();
     slave.app_mut().drive.set_parameter(10, 1234).unwrap();
-    let again = slave.handle(ms(20), &write).unwrap();
+    let again = handle(&mut slave, ms(20), &write).unwrap();
     assert_eq!(first, again);
     assert_eq!(slave.app().drive.parameter(10), Some(1234));
 }
@@ -201,21 +218,21 @@ fn bad_telegrams_are_not_answered() {
     let mut bytes = request(None, !master.fcb, &outputs([1, 10, 0, 0], 0, 0));
     let n = bytes.len();
     bytes[n - 2] ^= 1; // FCS
-    assert_eq!(slave.handle(ms(10), &bytes), None);
+    assert_eq!(handle(&mut slave, ms(10), &bytes), None);
     bytes[n - 2] ^= 1;
     bytes[n - 1] = 0x17; // end delimiter
-    assert_eq!(slave.handle(ms(10), &bytes), None);
+    assert_eq!(handle(&mut slave, ms(10), &bytes), None);
     // A SAP DP does not have; another station; a short output image.
     assert_eq!(master.send(&mut slave, ms(11), Some(20), &[]), None);
-    let other = DataTelegram {
+    let other = emit(DataRepr {
         da: 9,
         sa: MASTER,
         dsap: None,
         ssap: None,
         fc: 0x7C,
-        data: vec![0; 32],
-    };
-    assert_eq!(slave.handle(ms(12), &other.emit().unwrap()), None);
+        data: &[0; 32],
+    });
+    assert_eq!(handle(&mut slave, ms(12), &other), None);
     assert_eq!(master.send(&mut slave, ms(13), None, &[0; 4]), None);
     assert_eq!(slave.state(), DpState::DataExchange);
 }
@@ -240,20 +257,18 @@ fn the_watchdog_leaves_data_exchange_with_e_dp() {
 fn sync_and_freeze() {
     let (mut slave, mut master) = started();
     let global = |control: u8| {
-        DataTelegram {
+        emit(DataRepr {
             da: fdl::BROADCAST,
             sa: MASTER,
             dsap: Some(sap::GLOBAL_CONTROL),
             ssap: Some(62),
             fc: 0x46,
-            data: vec![control, 0],
-        }
-        .emit()
-        .unwrap()
+            data: &[control, 0],
+        })
     };
     // Freeze: the inputs stay those of the Freeze while the drive runs.
     master.send(&mut slave, ms(10), None, &outputs([0; 4], 1, 2500));
-    assert_eq!(slave.handle(ms(500), &global(0x08)), None);
+    assert_eq!(handle(&mut slave, ms(500), &global(0x08)), None);
     let frozen = data(
         &master
             .send(&mut slave, ms(1000), None, &outputs([0; 4], 1, 2500))
@@ -273,7 +288,7 @@ fn sync_and_freeze() {
         )[1],
         0x1C
     );
-    slave.handle(ms(1500), &global(0x04)); // Unfreeze
+    handle(&mut slave, ms(1500), &global(0x04)); // Unfreeze
     let fresh = data(
         &master
             .send(&mut slave, ms(2000), None, &outputs([0; 4], 1, 2500))
@@ -281,9 +296,34 @@ fn sync_and_freeze() {
     );
     assert_ne!(fresh[10..12], later[10..12]);
     // Sync: a coast command waits for the next Sync.
-    slave.handle(ms(2000), &global(0x20));
+    handle(&mut slave, ms(2000), &global(0x20));
     master.send(&mut slave, ms(2010), None, &outputs([0; 4], 6, 2500));
     assert!(slave.app().drive.vfd().output_frequency() > 0);
-    slave.handle(ms(2020), &global(0x20));
+    handle(&mut slave, ms(2020), &global(0x20));
     assert_eq!(slave.app().drive.vfd().output_frequency(), 0);
+}
+
+#[test]
+fn events_tell_the_state_changes_and_the_watchdog() {
+    use edsgen_runtime::dp::Event;
+    let (mut slave, mut master) = started();
+    let changes: Vec<Event> = std::iter::from_fn(|| slave.poll_event()).collect();
+    assert_eq!(
+        changes,
+        [
+            Event::StateChanged {
+                from: DpState::WaitPrm,
+                to: DpState::WaitCfg
+            },
+            Event::StateChanged {
+                from: DpState::WaitCfg,
+                to: DpState::DataExchange
+            },
+        ]
+    );
+    master.send(&mut slave, ms(10), None, &outputs([0; 4], 0, 0));
+    assert_eq!(slave.poll_event(), None);
+    slave.handle_timeout(ms(1010));
+    assert_eq!(slave.poll_event(), Some(Event::WatchdogExpired));
+    assert_eq!((slave.poll_event(), slave.events_lost()), (None, 0));
 }

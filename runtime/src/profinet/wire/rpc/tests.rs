@@ -1,5 +1,13 @@
 use super::*;
 
+/// What `emit` writes into a buffer as large as a UDP datagram gets.
+fn emitted(emit: impl FnOnce(&mut [u8]) -> Result<usize, BufferTooSmall>) -> Vec<u8> {
+    let mut buf = vec![0; 1500];
+    let n = emit(&mut buf).expect("it fits");
+    buf.truncate(n);
+    buf
+}
+
 /// The 80-byte header of a big-endian Connect request (as profinet-py sends it), body 4 bytes.
 fn connect_header_be() -> Vec<u8> {
     let mut b = vec![4, REQUEST, 0x20, 0x00, 0x00, 0x00, 0x00, 0x00];
@@ -33,9 +41,9 @@ fn a_big_endian_request_reads_and_writes_back_the_same_bytes() {
         [0xDE, 0xA0, 0, 0, 0x6C, 0x97, 0x11, 0xD1, 0x82, 0x71, 0, 1, 0x03, 0x50, 0x03, 0x50]
     );
     assert_eq!(body, [1, 2, 3, 4]);
-    let mut out = Vec::new();
-    h.emit(4, &mut out);
+    let out = emitted(|b| h.emit(4, b));
     assert_eq!(out, pdu[..80]);
+    assert_eq!(h.emit(4, &mut [0; 79]), Err(BufferTooSmall));
 }
 
 #[test]
@@ -46,8 +54,7 @@ fn a_little_endian_header_swaps_the_integers_and_the_uuids_first_fields() {
         little_endian: true,
         ..h
     };
-    let mut out = Vec::new();
-    le.emit(4, &mut out);
+    let mut out = emitted(|b| le.emit(4, b));
     assert_eq!(out[4], 0x10);
     // DEA00001-6C97-11D1 with its first three fields little-endian.
     assert_eq!(
@@ -76,14 +83,12 @@ fn short_pdus_other_versions_and_short_bodies_are_none() {
 #[test]
 fn the_ndr_header_and_the_pnio_status_in_both_byte_orders() {
     let status = PnioStatus::new(0xDB, 0x81, 0x40, 0x04);
-    let mut be = Vec::new();
-    Ndr::response(status, 0, 4068, false).emit(&mut be);
+    let be = emitted(|b| Ndr::response(status, 0, 4068, false).emit(b));
     assert_eq!(
         be,
         [0xDB, 0x81, 0x40, 0x04, 0, 0, 0, 0, 0, 0, 0x0F, 0xE4, 0, 0, 0, 0, 0, 0, 0, 0]
     );
-    let mut le = Vec::new();
-    Ndr::response(status, 0, 4068, true).emit(&mut le);
+    let le = emitted(|b| Ndr::response(status, 0, 4068, true).emit(b));
     assert_eq!(
         le,
         [0x04, 0x40, 0x81, 0xDB, 0, 0, 0, 0, 0xE4, 0x0F, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
@@ -96,8 +101,7 @@ fn the_ndr_header_and_the_pnio_status_in_both_byte_orders() {
         Ndr::parse(&be, false).expect("an NDR header").0.status(),
         status
     );
-    let mut req = Vec::new();
-    Ndr::request(4068, 2, false).emit(&mut req);
+    let mut req = emitted(|b| Ndr::request(4068, 2, false).emit(b));
     req.extend_from_slice(&[9, 9, 7]);
     let (ndr, args) = Ndr::parse(&req, false).expect("an NDR header");
     assert_eq!((ndr.args_maximum(), args), (4068, &[9, 9][..]));
@@ -110,11 +114,14 @@ fn the_ndr_header_and_the_pnio_status_in_both_byte_orders() {
 #[test]
 fn answers_keep_the_requests_uuids_and_sequence() {
     let (h, _) = RpcHeader::parse(&connect_header_be()).expect("a header");
-    let pdu = emit_pdu(
-        &h.answer(RESPONSE),
-        &Ndr::response(PnioStatus::OK, 1, 4068, false),
-        &[0xAB],
-    );
+    let pdu = emitted(|b| {
+        emit_pdu(
+            &h.answer(RESPONSE),
+            &Ndr::response(PnioStatus::OK, 1, 4068, false),
+            &[0xAB],
+            b,
+        )
+    });
     assert_eq!(pdu.len(), 80 + 20 + 1);
     let (a, body) = RpcHeader::parse(&pdu).expect("a header");
     assert_eq!(
@@ -122,7 +129,8 @@ fn answers_keep_the_requests_uuids_and_sequence() {
         (RESPONSE, 0x0A, 7, Uuid([0xA5; 16]), 21)
     );
     assert_eq!(body[20], 0xAB);
-    let reject = emit_reject(&h, REJECT, NCA_UNKNOWN_INTERFACE);
+    let reject = emitted(|b| emit_reject(&h, REJECT, NCA_UNKNOWN_INTERFACE, b));
+    assert_eq!(reject.len(), 84);
     assert_eq!(reject[1], REJECT);
     assert_eq!(reject[80..], [0x1C, 0x01, 0x00, 0x03]);
 }

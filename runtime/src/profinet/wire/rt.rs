@@ -2,8 +2,10 @@
 //! C_SDU (the IO data objects, at least 40 bytes), and the APDU status: CycleCounter (2 bytes),
 //! DataStatus and TransferStatus (Table 4-3 of the Goodrive350 manual shows the same fields).
 
+use super::{put, BufferTooSmall};
+
 /// The FrameIDs of RT_CLASS_1 frames (unicast and multicast).
-pub const RT_CLASS_1: std::ops::RangeInclusive<u16> = 0xC000..=0xF7FF;
+pub const RT_CLASS_1: core::ops::RangeInclusive<u16> = 0xC000..=0xF7FF;
 /// The smallest C_SDU: Ethernet's 60-byte minimum less the headers and the APDU status.
 pub const MIN_C_SDU: usize = 40;
 
@@ -18,7 +20,7 @@ pub const STATION_OK: u8 = 0x20;
 /// The DataStatus of a device that runs and has no problem (0x35).
 pub const DATA_STATUS_GOOD: u8 = STATE_PRIMARY | DATA_VALID | PROVIDER_RUN | STATION_OK;
 
-/// One RT frame's PDU (after the Ethernet header).
+/// One RT frame's PDU (after the Ethernet header), a view of the bytes it was read from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RtFrame<'a> {
     /// FrameID.
@@ -37,7 +39,7 @@ impl<'a> RtFrame<'a> {
     /// Reads a PDU of `c_sdu_len` C_SDU bytes (the IOCR's length: the frame may carry Ethernet
     /// padding after the status); `None` when it is shorter.
     pub fn parse(pdu: &'a [u8], c_sdu_len: usize) -> Option<RtFrame<'a>> {
-        let frame_id = u16::from_be_bytes(pdu.get(..2)?.try_into().ok()?);
+        let frame_id = u16::from_be_bytes([*pdu.first()?, *pdu.get(1)?]);
         let len = c_sdu_len.max(MIN_C_SDU);
         let c_sdu = pdu.get(2..2 + len)?;
         let status = pdu.get(2 + len..2 + len + 4)?;
@@ -50,16 +52,20 @@ impl<'a> RtFrame<'a> {
         })
     }
 
-    /// Appends the PDU, padding the C_SDU to [`MIN_C_SDU`].
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.frame_id.to_be_bytes());
-        out.extend_from_slice(self.c_sdu);
-        for _ in self.c_sdu.len()..MIN_C_SDU {
-            out.push(0);
-        }
-        out.extend_from_slice(&self.cycle_counter.to_be_bytes());
-        out.push(self.data_status);
-        out.push(self.transfer_status);
+    /// The PDU's length: the C_SDU padded to [`MIN_C_SDU`], the FrameID and the status.
+    pub fn buffer_len(&self) -> usize {
+        2 + self.c_sdu.len().max(MIN_C_SDU) + 4
+    }
+
+    /// Writes the PDU at the start of `buf`, padding the C_SDU to [`MIN_C_SDU`]; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        let out = buf.get_mut(..self.buffer_len()).ok_or(BufferTooSmall)?;
+        let at = put(out, 0, &self.frame_id.to_be_bytes())?;
+        let at = put(out, at, self.c_sdu)?;
+        let padded = 2 + self.c_sdu.len().max(MIN_C_SDU);
+        out[at..padded].fill(0);
+        let at = put(out, padded, &self.cycle_counter.to_be_bytes())?;
+        put(out, at, &[self.data_status, self.transfer_status])
     }
 }
 
@@ -76,14 +82,15 @@ mod tests {
             data_status: DATA_STATUS_GOOD,
             transfer_status: 0,
         };
-        let mut out = Vec::new();
-        frame.emit(&mut out);
-        assert_eq!(out.len(), 2 + 40 + 4);
+        let mut out = [0xAA; 64];
+        assert_eq!(frame.emit(&mut out), Ok(2 + 40 + 4));
         assert_eq!(out[..5], [0xC0, 0x01, 1, 2, 3]);
-        assert_eq!(out[42..], [0x01, 0x20, 0x35, 0x00]);
-        let read = RtFrame::parse(&out, 3).expect("a frame");
+        assert_eq!(out[5..42], [0; 37]);
+        assert_eq!(out[42..46], [0x01, 0x20, 0x35, 0x00]);
+        let read = RtFrame::parse(&out[..46], 3).expect("a frame");
         assert_eq!(read.c_sdu.len(), 40);
         assert_eq!((read.cycle_counter, read.data_status), (0x0120, 0x35));
         assert_eq!(RtFrame::parse(&out[..45], 3), None);
+        assert_eq!(frame.emit(&mut out[..45]), Err(BufferTooSmall));
     }
 }

@@ -1,6 +1,7 @@
-//! The DP slave's state machine (EN 50170 / IEC 61158 DP-V0), sans-IO: telegram bytes and the
-//! time in, the answer's bytes out (or none: a slave says nothing to a broadcast, to a telegram
-//! for another station, to a bad one, or to a SAP it does not serve).
+//! The DP slave's state machine (EN 50170 / IEC 61158 DP-V0), sans-IO, no_std and
+//! allocation-free: a telegram's bytes and the time in ([`DpSlave::handle`]), the answer out
+//! ([`DpSlave::poll_transmit`]); none for a broadcast, a telegram for another station, a bad
+//! one, or a SAP it does not serve.
 //!
 //! Wait_Prm → (Set_Prm with this slave's Ident_Number and parameters) → Wait_Cfg → (Chk_Cfg
 //! with its configuration bytes) → Data_Exchange. Slave_Diag answers the six standard bytes at
@@ -8,14 +9,18 @@
 //! Prm_Fault, a wrong configuration Cfg_Fault, both back in Wait_Prm. Global_Control's Sync
 //! latches outputs until the next Sync, Freeze holds inputs until the next Freeze, Clear_Data
 //! zeroes the outputs. The watchdog Set_Prm switches on leaves Data_Exchange when no telegram
-//! came in time, and tells the application ([`DpApplication::watchdog_expired`]).
+//! came in time ([`DpSlave::poll_timeout`], [`DpSlave::handle_timeout`]), and tells the
+//! application ([`DpApplication::watchdog_expired`]).
 //!
 //! FCB/FCV: a request whose frame count bit equals the last one from the same master (with FCV
 //! set) is a repetition: the stored answer goes again and nothing is executed twice.
+//!
+//! Unlike the Ethernet cores, `handle` takes no sender: on a PROFIBUS line the source address
+//! is in the telegram.
 
-use edsgen_runtime::{Duration, Instant};
-
-use super::fdl::{self, DataTelegram, Telegram};
+use super::fdl::{self, DataRepr, Repr, MAX_TELEGRAM_LEN};
+use super::DpData;
+use crate::{Duration, Instant};
 
 /// DP's service access points (the slave's DSAPs; the master sends from 62).
 pub mod sap {
@@ -57,8 +62,9 @@ pub mod diag2 {
 
 /// What sits behind the slave: the cyclic data's owner.
 pub trait DpApplication {
-    /// One exchange at `now`: the outputs (master to slave) in, the inputs out.
-    fn exchange(&mut self, now: Instant, outputs: &[u8]) -> Vec<u8>;
+    /// One exchange at `now`: the outputs (master to slave) in, the inputs written into
+    /// `inputs` (as long as [`SlaveConfig::input_len`]).
+    fn exchange(&mut self, now: Instant, outputs: &[u8], inputs: &mut [u8]);
     /// The DP watchdog expired at `now`: the master is gone.
     fn watchdog_expired(&mut self, now: Instant);
 }
@@ -71,11 +77,13 @@ pub struct SlaveConfig {
     /// Ident_Number.
     pub ident_number: u16,
     /// The configuration bytes Chk_Cfg must carry (and Get_Cfg answers).
-    pub config: Vec<u8>,
+    pub config: DpData,
     /// Bytes of User_Prm_Data Set_Prm must carry after its seven standard bytes.
     pub user_prm_len: usize,
-    /// Output bytes of Data_Exchange (master to slave).
+    /// Output bytes of Data_Exchange (master to slave), at most [`DpData::CAPACITY`].
     pub output_len: usize,
+    /// Input bytes of Data_Exchange (slave to master), at most [`DpData::CAPACITY`].
+    pub input_len: usize,
     /// Freeze supported.
     pub freeze: bool,
     /// Sync supported.
@@ -93,6 +101,21 @@ pub enum DpState {
     DataExchange,
 }
 
+/// What happened in the slave, for the driver to report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// The DP state changed.
+    StateChanged {
+        /// The state before.
+        from: DpState,
+        /// The state now.
+        to: DpState,
+    },
+    /// The watchdog expired: the slave left Data_Exchange for Wait_Prm (no `StateChanged`
+    /// comes for this change).
+    WatchdogExpired,
+}
+
 /// The slave (see the module comment).
 #[derive(Debug, Clone)]
 pub struct DpSlave<A> {
@@ -106,21 +129,37 @@ pub struct DpSlave<A> {
     last_seen: Instant,
     group: u8,
     sync_active: bool,
-    freeze_active: bool,
     /// Outputs in effect (latched by Sync in sync mode).
-    outputs: Vec<u8>,
+    outputs: DpData,
     /// Outputs received in sync mode, waiting for the next Sync.
-    pending_outputs: Option<Vec<u8>>,
-    frozen_inputs: Option<Vec<u8>>,
-    /// The last request's (master, FCB) and answer, for repetitions.
-    last: Option<(u8, bool, Option<Vec<u8>>)>,
+    pending_outputs: Option<DpData>,
+    /// The application's latest inputs.
+    inputs: DpData,
+    /// The inputs of the last Freeze, while freeze mode is active.
+    frozen_inputs: Option<DpData>,
+    /// The last answer and whether it waits to be sent.
+    answer: [u8; MAX_TELEGRAM_LEN],
+    answer_len: Option<usize>,
+    transmit_pending: bool,
+    /// The last request with FCV: its (master, FCB) and its answer's length in `repeat`.
+    last: Option<(u8, bool, Option<usize>)>,
+    repeat: [u8; MAX_TELEGRAM_LEN],
+    /// Events not polled yet, oldest first (a telegram makes at most two).
+    events: [Option<Event>; EVENT_CAPACITY],
+    events_lost: u32,
 }
 
+/// How many events wait for [`DpSlave::poll_event`].
+const EVENT_CAPACITY: usize = 4;
+
 impl<A: DpApplication> DpSlave<A> {
-    /// A slave just powered up, in Wait_Prm.
-    pub fn new(config: SlaveConfig, app: A, now: Instant) -> Self {
-        let outputs = vec![0; config.output_len];
+    /// A slave just powered up, in Wait_Prm. Lengths above [`DpData::CAPACITY`] are cut to it.
+    pub fn new(mut config: SlaveConfig, app: A, now: Instant) -> Self {
+        config.output_len = config.output_len.min(DpData::CAPACITY);
+        config.input_len = config.input_len.min(DpData::CAPACITY);
         DpSlave {
+            outputs: DpData::zeroed(config.output_len),
+            inputs: DpData::zeroed(config.input_len),
             config,
             app,
             state: DpState::WaitPrm,
@@ -131,11 +170,15 @@ impl<A: DpApplication> DpSlave<A> {
             last_seen: now,
             group: 0,
             sync_active: false,
-            freeze_active: false,
-            outputs,
             pending_outputs: None,
             frozen_inputs: None,
+            answer: [0; MAX_TELEGRAM_LEN],
+            answer_len: None,
+            transmit_pending: false,
             last: None,
+            repeat: [0; MAX_TELEGRAM_LEN],
+            events: [None; EVENT_CAPACITY],
+            events_lost: 0,
         }
     }
 
@@ -159,6 +202,18 @@ impl<A: DpApplication> DpSlave<A> {
         &self.config
     }
 
+    /// The next event, oldest first.
+    pub fn poll_event(&mut self) -> Option<Event> {
+        let first = self.events[0].take();
+        self.events.rotate_left(1);
+        first
+    }
+
+    /// Events dropped because the driver did not poll them in time.
+    pub fn events_lost(&self) -> u32 {
+        self.events_lost
+    }
+
     /// When the watchdog expires, while it runs.
     pub fn poll_timeout(&self) -> Option<Instant> {
         let watchdog = self.watchdog?;
@@ -171,71 +226,93 @@ impl<A: DpApplication> DpSlave<A> {
             self.state = DpState::WaitPrm;
             self.master = None;
             self.watchdog = None;
+            self.push_event(Event::WatchdogExpired);
             self.app.watchdog_expired(now);
         }
     }
 
-    /// Handles one received telegram's bytes at `now`; the answer's bytes, if any.
-    pub fn handle(&mut self, now: Instant, bytes: &[u8]) -> Option<Vec<u8>> {
-        let Ok((Telegram::Data(t), used)) = fdl::parse(bytes) else {
+    /// The answer to the last telegram, written into `buf`; its length. `None` when there is
+    /// nothing to send (or `buf` is shorter than the answer, which is then dropped).
+    pub fn poll_transmit(&mut self, _now: Instant, buf: &mut [u8]) -> Option<usize> {
+        if !core::mem::take(&mut self.transmit_pending) {
             return None;
+        }
+        let len = self.answer_len?;
+        buf.get_mut(..len)?.copy_from_slice(&self.answer[..len]);
+        Some(len)
+    }
+
+    /// Handles one received telegram's bytes at `now` (exactly one telegram); the answer, if
+    /// any, waits in [`DpSlave::poll_transmit`].
+    pub fn handle(&mut self, now: Instant, bytes: &[u8]) {
+        self.transmit_pending = false;
+        let Ok((Repr::Data(t), used)) = fdl::parse(bytes) else {
+            return;
         };
         if used != bytes.len() || !t.is_request() {
-            return None;
+            return;
         }
         let broadcast = t.da == fdl::BROADCAST;
         if t.da != self.config.address && !broadcast {
-            return None;
+            return;
         }
         self.handle_timeout(now);
-        if let (Some(fcb), Some((sa, last_fcb, answer))) = (t.fcb(), &self.last) {
-            if *sa == t.sa && *last_fcb == fcb {
-                return answer.clone();
+        if let (Some(fcb), Some((sa, last_fcb, repeated))) = (t.fcb(), self.last) {
+            if sa == t.sa && last_fcb == fcb {
+                if let Some(len) = repeated {
+                    self.answer[..len].copy_from_slice(&self.repeat[..len]);
+                }
+                self.answer_len = repeated;
+                self.transmit_pending = repeated.is_some();
+                return;
             }
         }
-        let answer = self.serve(now, &t, broadcast);
+        self.answer_len = None;
+        self.serve(now, &t, broadcast);
+        let answered = self.answer_len.is_some();
+        self.transmit_pending = answered;
         if let Some(fcb) = t.fcb() {
-            self.last = Some((t.sa, fcb, answer.clone()));
+            if let Some(len) = self.answer_len {
+                self.repeat[..len].copy_from_slice(&self.answer[..len]);
+            }
+            self.last = Some((t.sa, fcb, self.answer_len));
         }
-        if (answer.is_some() || broadcast) && self.master.is_none_or(|m| m == t.sa) {
+        if (answered || broadcast) && self.master.is_none_or(|m| m == t.sa) {
             self.last_seen = now;
         }
-        answer
     }
 
-    fn serve(&mut self, now: Instant, t: &DataTelegram, broadcast: bool) -> Option<Vec<u8>> {
+    fn serve(&mut self, now: Instant, t: &DataRepr<'_>, broadcast: bool) {
         use fdl::request::*;
-        let function = t.function();
-        match (t.dsap, function) {
+        match (t.dsap, t.function()) {
             (None, FDL_STATUS) if !broadcast => self.short(t, fdl::response::OK),
             (None, SRD_LOW | SRD_HIGH) if !broadcast => self.data_exchange(now, t),
             (Some(sap::GLOBAL_CONTROL), SDN_LOW | SDN_HIGH | SDA_LOW | SDA_HIGH) => {
-                self.global_control(now, t);
-                None
+                self.global_control(now, t)
             }
-            (Some(_), _) if broadcast => None,
+            (Some(_), _) if broadcast => {}
             (Some(sap::SLAVE_DIAG), SRD_LOW | SRD_HIGH) => {
                 let diag = self.diagnosis();
-                self.reply(t, diag)
+                self.reply(t, &diag);
             }
             (Some(sap::SET_PRM), SRD_LOW | SRD_HIGH | SDA_LOW | SDA_HIGH) => {
                 self.set_prm(t);
-                Some(vec![fdl::SC])
+                self.short_ack();
             }
             (Some(sap::CHK_CFG), SRD_LOW | SRD_HIGH | SDA_LOW | SDA_HIGH) => {
                 self.chk_cfg(t);
-                Some(vec![fdl::SC])
+                self.short_ack();
             }
             (Some(sap::GET_CFG), SRD_LOW | SRD_HIGH) => {
-                let config = self.config.config.clone();
-                self.reply(t, config)
+                let config = self.config.config;
+                self.reply(t, config.as_slice());
             }
-            _ => None,
+            _ => {}
         }
     }
 
     /// The six standard diagnosis bytes.
-    pub fn diagnosis(&self) -> Vec<u8> {
+    pub fn diagnosis(&self) -> [u8; 6] {
         let mut b1 = 0;
         if self.state != DpState::DataExchange {
             b1 |= diag1::STATION_NOT_READY;
@@ -253,18 +330,37 @@ impl<A: DpApplication> DpSlave<A> {
         if self.watchdog.is_some() {
             b2 |= diag2::WD_ON;
         }
-        if self.freeze_active {
+        if self.frozen_inputs.is_some() {
             b2 |= diag2::FREEZE;
         }
         if self.sync_active {
             b2 |= diag2::SYNC;
         }
         let [hi, lo] = self.config.ident_number.to_be_bytes();
-        vec![b1, b2, 0, self.master.unwrap_or(0xFF), hi, lo]
+        [b1, b2, 0, self.master.unwrap_or(0xFF), hi, lo]
     }
 
-    fn set_prm(&mut self, t: &DataTelegram) {
-        let data = &t.data;
+    fn set_state(&mut self, to: DpState) {
+        if self.state != to {
+            let from = core::mem::replace(&mut self.state, to);
+            self.push_event(Event::StateChanged { from, to });
+        }
+    }
+
+    /// Queues `event`; when the driver has not polled the queue empty, the oldest is lost.
+    fn push_event(&mut self, event: Event) {
+        if self.events[EVENT_CAPACITY - 1].is_some() {
+            self.events_lost = self.events_lost.saturating_add(1);
+            self.events.rotate_left(1);
+            self.events[EVENT_CAPACITY - 1] = None;
+        }
+        if let Some(free) = self.events.iter_mut().find(|e| e.is_none()) {
+            *free = Some(event);
+        }
+    }
+
+    fn set_prm(&mut self, t: &DataRepr<'_>) {
+        let data = t.data;
         let ident = data.get(4..6).map(|b| u16::from_be_bytes([b[0], b[1]]));
         let status = data.first().copied().unwrap_or(0);
         let freeze = status & 0x10 != 0;
@@ -276,7 +372,7 @@ impl<A: DpApplication> DpSlave<A> {
         self.cfg_fault = false;
         if !ok {
             self.prm_fault = true;
-            self.state = DpState::WaitPrm;
+            self.set_state(DpState::WaitPrm);
             return;
         }
         self.prm_fault = false;
@@ -287,44 +383,50 @@ impl<A: DpApplication> DpSlave<A> {
         });
         self.group = data[6];
         self.sync_active = false;
-        self.freeze_active = false;
         self.pending_outputs = None;
         self.frozen_inputs = None;
-        self.state = DpState::WaitCfg;
+        self.set_state(DpState::WaitCfg);
     }
 
-    fn chk_cfg(&mut self, t: &DataTelegram) {
+    fn chk_cfg(&mut self, t: &DataRepr<'_>) {
         if self.state == DpState::WaitPrm || self.master != Some(t.sa) {
             return;
         }
-        if t.data == self.config.config {
+        if t.data == self.config.config.as_slice() {
             self.cfg_fault = false;
-            self.state = DpState::DataExchange;
+            self.set_state(DpState::DataExchange);
         } else {
             self.cfg_fault = true;
             self.watchdog = None;
-            self.state = DpState::WaitPrm;
+            self.set_state(DpState::WaitPrm);
         }
     }
 
-    fn data_exchange(&mut self, now: Instant, t: &DataTelegram) -> Option<Vec<u8>> {
+    fn data_exchange(&mut self, now: Instant, t: &DataRepr<'_>) {
         if self.state != DpState::DataExchange || self.master != Some(t.sa) {
             return self.short(t, fdl::response::SAP_NOT_ACTIVATED);
         }
-        if t.data.len() != self.config.output_len {
-            return None;
-        }
+        let Some(received) = DpData::new(t.data).filter(|d| d.len() == self.config.output_len)
+        else {
+            return;
+        };
         if self.sync_active {
-            self.pending_outputs = Some(t.data.clone());
+            self.pending_outputs = Some(received);
         } else {
-            self.outputs.clone_from(&t.data);
+            self.outputs = received;
         }
-        let inputs = self.app.exchange(now, &self.outputs);
-        let inputs = self.frozen_inputs.clone().unwrap_or(inputs);
-        self.reply(t, inputs)
+        self.exchange(now);
+        let inputs = self.frozen_inputs.unwrap_or(self.inputs);
+        self.reply(t, inputs.as_slice());
     }
 
-    fn global_control(&mut self, now: Instant, t: &DataTelegram) {
+    /// One exchange with the application: the outputs in effect in, `self.inputs` out.
+    fn exchange(&mut self, now: Instant) {
+        self.app
+            .exchange(now, self.outputs.as_slice(), self.inputs.as_mut_slice());
+    }
+
+    fn global_control(&mut self, now: Instant, t: &DataRepr<'_>) {
         let (Some(&control), Some(&select)) = (t.data.first(), t.data.get(1)) else {
             return;
         };
@@ -336,9 +438,9 @@ impl<A: DpApplication> DpSlave<A> {
         }
         if control & 0x02 != 0 {
             // Clear_Data: outputs to zero.
-            self.outputs.iter_mut().for_each(|b| *b = 0);
+            self.outputs.as_mut_slice().fill(0);
             self.pending_outputs = None;
-            self.app.exchange(now, &self.outputs);
+            self.exchange(now);
         }
         if control & 0x20 != 0 && self.config.sync {
             // Sync: outputs received since take effect now, later ones wait for the next Sync.
@@ -346,7 +448,7 @@ impl<A: DpApplication> DpSlave<A> {
                 self.outputs = pending;
             }
             self.sync_active = true;
-            self.app.exchange(now, &self.outputs);
+            self.exchange(now);
         } else if control & 0x10 != 0 {
             self.sync_active = false;
             if let Some(pending) = self.pending_outputs.take() {
@@ -354,40 +456,44 @@ impl<A: DpApplication> DpSlave<A> {
             }
         }
         if control & 0x08 != 0 && self.config.freeze {
-            self.freeze_active = true;
-            self.frozen_inputs = Some(self.app.exchange(now, &self.outputs));
+            self.exchange(now);
+            self.frozen_inputs = Some(self.inputs);
         } else if control & 0x04 != 0 {
-            self.freeze_active = false;
             self.frozen_inputs = None;
         }
     }
 
+    /// The short acknowledgement.
+    fn short_ack(&mut self) {
+        self.answer[0] = fdl::SC;
+        self.answer_len = Some(1);
+    }
+
     /// An SD1 answer with a response function.
-    fn short(&self, t: &DataTelegram, function: u8) -> Option<Vec<u8>> {
-        DataTelegram {
+    fn short(&mut self, t: &DataRepr<'_>, function: u8) {
+        self.emit_answer(DataRepr {
             da: t.sa,
             sa: self.config.address,
             dsap: None,
             ssap: None,
             fc: function,
-            data: Vec::new(),
-        }
-        .emit()
+            data: &[],
+        });
     }
 
     /// A data answer (DL) with the request's SAPs swapped.
-    fn reply(&self, t: &DataTelegram, data: Vec<u8>) -> Option<Vec<u8>> {
-        DataTelegram {
+    fn reply(&mut self, t: &DataRepr<'_>, data: &[u8]) {
+        self.emit_answer(DataRepr {
             da: t.sa,
             sa: self.config.address,
             dsap: t.ssap,
             ssap: t.dsap,
             fc: fdl::response::DATA_LOW,
             data,
-        }
-        .emit()
+        });
+    }
+
+    fn emit_answer(&mut self, answer: DataRepr<'_>) {
+        self.answer_len = answer.emit(&mut self.answer).ok();
     }
 }
-
-#[cfg(test)]
-mod tests;
