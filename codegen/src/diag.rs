@@ -6,28 +6,7 @@
 
 use crate::model::Span;
 use crate::rules::Rule;
-
-/// How serious a diagnostic is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Severity {
-    /// A dialect was normalised or something is worth knowing; never fails anything.
-    Info,
-    /// Suspicious, or the established tools disagree; fails only with `--deny warnings`.
-    Warning,
-    /// The file breaks the standard, or code generated from it would be wrong.
-    Error,
-}
-
-impl Severity {
-    /// The lowercase name used in output (`error`, `warning`, `info`).
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Severity::Info => "info",
-            Severity::Warning => "warning",
-            Severity::Error => "error",
-        }
-    }
-}
+pub use crate::rules::Severity;
 
 /// One finding about one file.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -143,4 +122,29 @@ pub fn fold<K: std::hash::Hash + Eq>(
         index += 1;
         keep[index - 1]
     });
+}
+
+/// A short list of items for a message: the first few, then "and N more".
+pub fn short_list(items: &[String]) -> String {
+    const SHOWN: usize = 4;
+    if items.len() <= SHOWN {
+        items.join(", ")
+    } else {
+        format!(
+            "{}, and {} more",
+            items[..SHOWN].join(", "),
+            items.len() - SHOWN
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_list_elides_after_four() {
+        let items: Vec<String> = (1..=6).map(|i| i.to_string()).collect();
+        assert_eq!(short_list(&items), "1, 2, 3, 4, and 2 more");
+    }
 }

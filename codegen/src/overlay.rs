@@ -431,7 +431,7 @@ fn longest_value(basic: BasicType, entry: &SubObject) -> usize {
         .into_iter()
         .flatten()
         .filter_map(|v| v.value.as_ref())
-        .filter_map(|v| crate::emit::types::value_bytes(basic, v))
+        .filter_map(|v| crate::model::layout::value_bytes(basic, v))
         .map(|bytes| bytes.len())
         .max()
         .unwrap_or(0)

@@ -9,7 +9,27 @@
 //! SubDevice, `edsgen ecat check`). `edsgen rules` prints
 //! this table.
 
-use crate::diag::Severity;
+/// How serious a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Severity {
+    /// A dialect was normalised or something is worth knowing; never fails anything.
+    Info,
+    /// Suspicious, or the established tools disagree; fails only with `--deny warnings`.
+    Warning,
+    /// The file breaks the standard, or code generated from it would be wrong.
+    Error,
+}
+
+impl Severity {
+    /// The lowercase name used in output (`error`, `warning`, `info`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Severity::Info => "info",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        }
+    }
+}
 
 /// One validation rule.
 #[derive(Debug, PartialEq, Eq)]

@@ -34,7 +34,7 @@ pub fn members<'a>(cip: &'a Cip, assembly: &CipAssembly) -> Vec<Member<'a>> {
                 FieldRef::Assem(n) => cip
                     .assemblies
                     .get(n)
-                    .and_then(|a| edsgen_codegen::validate::cip_assembly_size(cip, a))
+                    .and_then(|a| cip.assembly_size(a))
                     .and_then(|s| u32::try_from(s * 8).ok()),
                 _ => None,
             })

@@ -207,12 +207,13 @@ fn module_doc(device: &Device) -> Vec<String> {
 /// The identity (1018h sub 1-3, else `[DeviceInfo]`) and PDO count constants.
 fn header(device: &Device) -> TokenStream {
     let identity = |sub: u8, info: Option<u32>| -> (u32, String) {
-        let from_od = device
-            .entry(0x1018, sub)
-            .and_then(|s| match types::initial_value(s) {
-                Some(Value::Integer(v)) => u32::try_from(*v).ok(),
-                _ => None,
-            });
+        let from_od =
+            device
+                .entry(0x1018, sub)
+                .and_then(|s| match crate::model::layout::initial_value(s) {
+                    Some(Value::Integer(v)) => u32::try_from(*v).ok(),
+                    _ => None,
+                });
         match (from_od, info) {
             (Some(v), _) => (v, format!("1018h sub {sub}")),
             (None, Some(v)) if device.ethercat.is_some() => {

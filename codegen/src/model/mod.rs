@@ -14,8 +14,10 @@
 use std::collections::BTreeMap;
 
 mod cip;
+mod cip_size;
 mod dp;
 mod ethercat;
+pub mod layout;
 mod object;
 mod profinet;
 mod source;

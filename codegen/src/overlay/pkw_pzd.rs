@@ -9,7 +9,6 @@ use crate::diag::Diagnostic;
 use crate::model::{Device, PkwPzdImages, Profinet, Span, Submodule};
 use crate::read::text::LineIndex;
 use crate::rules;
-use crate::validate::cip_assembly_size;
 
 /// Checks `[pkw_pzd]` and sets [`crate::model::Cip::pkw_pzd`] (ODVA EDS),
 /// [`crate::model::Dp::pkw_pzd_module`] (GSD) or [`Submodule::pkw_pzd`] (GSDML).
@@ -64,7 +63,7 @@ fn apply_cip(
                 let number = n.as_str().parse::<u32>().ok();
                 let size = number
                     .and_then(|n| cip.assemblies.get(&n))
-                    .and_then(|a| cip_assembly_size(cip, a));
+                    .and_then(|a| cip.assembly_size(a));
                 match (number, size) {
                     (Some(n), Some(32)) if which == "output" => output = Some(n),
                     (Some(n), Some(32)) => input = Some(n),

@@ -221,45 +221,6 @@ fn param_limits(param: &CipParam, out: &mut Vec<Diagnostic>) {
     }
 }
 
-/// The size in bits of what a member names, when the file says.
-fn member_target_bits(cip: &Cip, member: &FieldRef, depth: u32) -> Option<u64> {
-    match member {
-        FieldRef::Param(n) => cip
-            .params
-            .get(n)?
-            .data_size
-            .as_ref()
-            .map(|s| u64::from(s.value) * 8),
-        FieldRef::Assem(n) if depth < 8 => assembly_bits(cip, cip.assemblies.get(n)?, depth + 1),
-        _ => None,
-    }
-}
-
-/// An assembly's size in bits: its written size, else the sum of its members.
-fn assembly_bits(cip: &Cip, assembly: &CipAssembly, depth: u32) -> Option<u64> {
-    if let Some(size) = &assembly.size {
-        return Some(u64::from(size.value) * 8);
-    }
-    members_bits(cip, assembly, depth)
-}
-
-fn members_bits(cip: &Cip, assembly: &CipAssembly, depth: u32) -> Option<u64> {
-    assembly
-        .members
-        .iter()
-        .map(|m| {
-            m.bits
-                .map(u64::from)
-                .or_else(|| member_target_bits(cip, &m.member, depth))
-        })
-        .sum()
-}
-
-/// An assembly's size in bytes as the file says it (written, or the members' sum).
-pub fn assembly_size(cip: &Cip, assembly: &CipAssembly) -> Option<u64> {
-    assembly_bits(cip, assembly, 0).map(|bits| bits.div_ceil(8))
-}
-
 fn missing_ref(cip: &Cip, r: &FieldRef) -> Option<String> {
     match r {
         FieldRef::Param(n) if !cip.params.contains_key(n) => Some(format!("Param{n}")),
@@ -287,7 +248,7 @@ fn assembly_members(cip: &Cip, assembly: &CipAssembly, out: &mut Vec<Diagnostic>
     let (Some(size), false) = (&assembly.size, assembly.members.is_empty()) else {
         return;
     };
-    let Some(bits) = members_bits(cip, assembly, 0) else {
+    let Some(bits) = cip.members_bits(assembly) else {
         return;
     };
     // The last byte may be partly used: members that fill the size rounded up to bytes agree.
@@ -354,7 +315,7 @@ fn connection_sizes(cip: &Cip, c: &CipConnection, out: &mut Vec<Diagnostic>) {
         let Some(assembly) = cip.assemblies.get(n) else {
             continue;
         };
-        let Some(expected) = assembly_size(cip, assembly) else {
+        let Some(expected) = cip.assembly_size(assembly) else {
             continue;
         };
         if *size != expected {

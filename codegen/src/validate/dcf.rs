@@ -8,7 +8,8 @@
 //! hundred. XDC files carry the same data (deviceCommissioning, actualValue) and get the same rules.
 
 use super::device_info::STANDARD_BAUD_RATES;
-use super::{at, effective_int, entry_name, short_list, EntryName};
+use super::{at, effective_int, entry_name, EntryName};
+use crate::diag::short_list;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::{AccessType, Device, Format, ObjectType, Span};
 use crate::rules;

@@ -10,7 +10,8 @@
 
 use std::collections::BTreeSet;
 
-use super::{short_list, EntryName};
+use super::EntryName;
+use crate::diag::short_list;
 use crate::diag::Diagnostic;
 use crate::model::{Device, EcPdo, EtherCat, SmKind};
 use crate::rules;

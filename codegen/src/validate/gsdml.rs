@@ -13,7 +13,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::short_list;
+use crate::diag::short_list;
 use crate::diag::{self, Diagnostic, Severity};
 use crate::model::{
     AccessPoint, ChannelDiag, PnDataType, PnModule, Profinet, RecordField, Span, Submodule,

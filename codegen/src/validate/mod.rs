@@ -18,7 +18,6 @@ use crate::model::{Device, Format, RawSection, Span, SubObject, Value, ValueSour
 use crate::rules;
 
 mod cip;
-pub use cip::assembly_size as cip_assembly_size;
 mod dcf;
 mod device_info;
 mod esi;
@@ -29,6 +28,8 @@ mod object_lists;
 mod objects;
 mod pdo;
 mod sections;
+mod sizes;
+pub use sizes::size_errors;
 
 /// Judges a device model; the diagnostics come sorted by position.
 pub fn validate(device: &Device) -> Vec<Diagnostic> {
@@ -68,7 +69,7 @@ pub fn validate(device: &Device) -> Vec<Diagnostic> {
     dcf::check(device, &mut out);
     sections::check(device, &mut out);
     // What the generator cannot hold, so that a clean validate means generate succeeds.
-    out.extend(crate::emit::plan::size_errors(device));
+    out.extend(size_errors(device));
     diag::sort(&mut out);
     // Values outside their limits come in dozens in a vendor's DCF: one finding, naming the lines.
     diag::fold(
@@ -201,20 +202,6 @@ fn raw_section<'a>(device: &'a Device, name: &str) -> Option<&'a RawSection> {
         .find(|s| s.name.trim().eq_ignore_ascii_case(name))
 }
 
-/// A short list of items for a message: the first few, then "and N more".
-pub(crate) fn short_list(items: &[String]) -> String {
-    const SHOWN: usize = 4;
-    if items.len() <= SHOWN {
-        items.join(", ")
-    } else {
-        format!(
-            "{}, and {} more",
-            items[..SHOWN].join(", "),
-            items.len() - SHOWN
-        )
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -233,11 +220,5 @@ mod tests {
     fn entry_names_use_one_format() {
         assert_eq!(at(0x1A00, 10), "1A00h sub 10");
         assert_eq!(obj(0x1000), "1000h");
-    }
-
-    #[test]
-    fn short_list_elides_after_four() {
-        let items: Vec<String> = (1..=6).map(|i| i.to_string()).collect();
-        assert_eq!(short_list(&items), "1, 2, 3, 4, and 2 more");
     }
 }

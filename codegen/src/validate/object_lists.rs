@@ -10,7 +10,8 @@
 
 use std::collections::BTreeMap;
 
-use super::{is_ini, obj, short_list};
+use super::{is_ini, obj};
+use crate::diag::short_list;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::{Device, ObjectListKind, Span};
 use crate::rules;

@@ -11,7 +11,8 @@
 
 use std::collections::BTreeMap;
 
-use super::{at, effective_int, effective_value, entry_name, obj, short_list, value_span};
+use super::{at, effective_int, effective_value, entry_name, obj, value_span};
+use crate::diag::short_list;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::{AccessType, BasicType, Device, Object, Span, Value};
 use crate::rules;

@@ -5,7 +5,8 @@
 //! network-variable objects described inside a dynamic-channel range): they tell an integrator
 //! that other tools will read these sections differently.
 
-use super::{obj, parse_int, raw_section, short_list};
+use super::{obj, parse_int, raw_section};
+use crate::diag::short_list;
 use crate::diag::Diagnostic;
 use crate::model::{AccessType, BasicType, Device, RawEntry, RawSection};
 use crate::read::value::octal_objection;

@@ -83,7 +83,7 @@ pub fn member_bits(cip: &Cip, member: &AssemblyMember) -> usize {
         FieldRef::Assem(n) => cip
             .assemblies
             .get(&n)
-            .and_then(|a| edsgen_codegen::validate::cip_assembly_size(cip, a))
+            .and_then(|a| cip.assembly_size(a))
             .map_or(0, |s| 8 * s as usize),
         _ => 0,
     }

@@ -1,6 +1,7 @@
 //! The sections around the objects: `[FileInfo]`, `[DeviceInfo]`, `[DummyUsage]`, `[Comments]`,
 //! the object lists and `[DeviceComissioning]`.
 
+use super::keys::MAX_KNOWN_KEYS;
 use super::sections::parse_hex_name;
 use super::Reader;
 use crate::diag::{Diagnostic, Severity};
@@ -70,6 +71,12 @@ pub(super) const COMMISSIONING_KEYS: &[&str] = &[
     "CANopenManager",
     "LSS_SerialNumber",
 ];
+
+const _: () = assert!(
+    FILE_INFO_KEYS.len() <= MAX_KNOWN_KEYS
+        && DEVICE_INFO_KEYS.len() <= MAX_KNOWN_KEYS
+        && COMMISSIONING_KEYS.len() <= MAX_KNOWN_KEYS
+);
 impl Reader {
     pub(super) fn read_file_info(&mut self, section: &IniSection) {
         let (keys, rest) = self.split_keys(section, FILE_INFO_KEYS);

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::compact::{expand_compact_pdo, expand_compact_sub_obj};
-use super::keys::key_index;
+use super::keys::{key_index, MAX_KNOWN_KEYS};
 use super::Reader;
 use crate::diag::Diagnostic;
 use crate::model::*;
@@ -30,6 +30,8 @@ pub(super) const OBJECT_KEYS: &[&str] = &[
     "UploadFile",
     "DownloadFile",
 ];
+
+const _: () = assert!(OBJECT_KEYS.len() <= MAX_KNOWN_KEYS);
 
 const KEY_ACCESS_TYPE: usize = key_index(OBJECT_KEYS, "AccessType");
 const KEY_COMPACT_SUB_OBJ: usize = key_index(OBJECT_KEYS, "CompactSubObj");

@@ -304,7 +304,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                             Some(DeviceChoice::TypeName(n)) => format!("is named `{n}`"),
                             _ => "is at that position".to_owned(),
                         },
-                        crate::validate::short_list(&names)
+                        crate::diag::short_list(&names)
                     ),
                 )
                 .with_help("pick one by its type name or its product code (`#x...`)"),

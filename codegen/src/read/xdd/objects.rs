@@ -1,29 +1,15 @@
 //! `CANopenObjectList`: each `CANopenObject` and `CANopenSubObject` into an [`Object`] and its
 //! entries, with the index, sub-index, object type and flags checked.
 
-use roxmltree::{Attribute, Node};
+use roxmltree::Node;
 
-use super::parameters::ParameterFacts;
+use super::parameters::{EntryAttributes, ParameterFacts};
 use super::{parse_hex_binary, XmlReader};
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
 use crate::read::value::parse_integer;
 use crate::read::xml::{attribute, children, local};
 use crate::rules;
-
-/// The attributes CiA 311 gives both `CANopenObject` and `CANopenSubObject`, as written.
-#[derive(Default)]
-pub(super) struct EntryAttributes<'a, 'input> {
-    pub(super) data_type: Option<Attribute<'a, 'input>>,
-    pub(super) low_limit: Option<Attribute<'a, 'input>>,
-    pub(super) high_limit: Option<Attribute<'a, 'input>>,
-    pub(super) access_type: Option<Attribute<'a, 'input>>,
-    pub(super) default_value: Option<Attribute<'a, 'input>>,
-    pub(super) actual_value: Option<Attribute<'a, 'input>>,
-    pub(super) denotation: Option<Attribute<'a, 'input>>,
-    pub(super) pdo_mapping: Option<Attribute<'a, 'input>>,
-    pub(super) obj_flags: Option<Attribute<'a, 'input>>,
-}
 
 impl<'a, 'input> XmlReader<'a, 'input> {
     pub(super) fn read_object_list(&mut self, list: Node<'a, 'input>, device: &mut Device) {

@@ -3,13 +3,26 @@
 
 use roxmltree::{Attribute, Node};
 
-use super::objects::EntryAttributes;
 use super::{parse_hex_binary, XmlReader};
 use crate::diag::Diagnostic;
 use crate::model::*;
 use crate::read::value::parse_value;
 use crate::read::xml::{attribute, child, children, english_text, local, IEC_TYPES};
 use crate::rules;
+
+/// The attributes CiA 311 gives both `CANopenObject` and `CANopenSubObject`, as written.
+#[derive(Default)]
+pub(super) struct EntryAttributes<'a, 'input> {
+    pub(super) data_type: Option<Attribute<'a, 'input>>,
+    pub(super) low_limit: Option<Attribute<'a, 'input>>,
+    pub(super) high_limit: Option<Attribute<'a, 'input>>,
+    pub(super) access_type: Option<Attribute<'a, 'input>>,
+    pub(super) default_value: Option<Attribute<'a, 'input>>,
+    pub(super) actual_value: Option<Attribute<'a, 'input>>,
+    pub(super) denotation: Option<Attribute<'a, 'input>>,
+    pub(super) pdo_mapping: Option<Attribute<'a, 'input>>,
+    pub(super) obj_flags: Option<Attribute<'a, 'input>>,
+}
 
 /// A value text and where it is: an attribute's value.
 pub(super) struct RawValue {

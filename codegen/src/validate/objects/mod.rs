@@ -299,7 +299,7 @@ fn entry_keys_on_records(device: &Device, out: &mut Vec<Diagnostic>) {
                 format!(
                     "{} ARRAY/RECORD object(s) carry keys CiA 306 does not allow on them (ignored): {}",
                     found.len(),
-                    super::short_list(&found)
+                    crate::diag::short_list(&found)
                 ),
             )
             .with_severity(Severity::Info)
@@ -339,7 +339,7 @@ fn obj_flags(device: &Device, out: &mut Vec<Diagnostic>) {
                     "ObjFlags with reserved bits 2..31 set on {} entr{}: {}",
                     found.len(),
                     if found.len() == 1 { "y" } else { "ies" },
-                    super::short_list(&found)
+                    crate::diag::short_list(&found)
                 ),
             )
             .with_label("reserved bits set")

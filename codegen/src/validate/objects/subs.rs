@@ -32,7 +32,7 @@ pub(super) fn unnamed_subs(o: &Object, out: &mut Vec<Diagnostic>) {
             format!(
                 "{} has no ParameterName at sub-index {}",
                 obj(o.index),
-                crate::validate::short_list(&list)
+                crate::diag::short_list(&list)
             ),
         )
         .with_severity(if array {
@@ -235,7 +235,7 @@ pub(super) fn gaps(o: &Object, out: &mut Vec<Diagnostic>) {
             format!(
                 "{} has no sub-object at sub-index {} (below the highest, {})",
                 obj(o.index),
-                crate::validate::short_list(&list),
+                crate::diag::short_list(&list),
                 highest_sub(o)
             ),
         )
