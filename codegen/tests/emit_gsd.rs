@@ -10,7 +10,7 @@ use edsgen_codegen::read::read_file;
 #[test]
 fn the_dp_card_generates() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-dp.gsd");
-    let (code, warnings) = generate_device(&path, "goodrive350_dp", &[]).unwrap();
+    let (code, warnings) = generate_device(&path, "goodrive350_dp", &Default::default()).unwrap();
     assert_eq!(warnings, Vec::<String>::new());
     insta::assert_snapshot!(code);
     assert!(code.contains("pub const IDENT_NUMBER: u16 = 0x0350;"));

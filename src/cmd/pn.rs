@@ -105,7 +105,7 @@ fn gsdml_ids(files: &[PathBuf]) -> Result<Vec<(u16, u16, String)>, String> {
     files
         .iter()
         .map(|path| {
-            let read = edsgen_codegen::read::read_file(path).map_err(|e| e.to_string())?;
+            let read = super::load(path, None)?;
             let pn = read
                 .device
                 .profinet

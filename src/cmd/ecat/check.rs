@@ -65,12 +65,11 @@ pub struct Observed {
 /// Runs `edsgen ecat check`: 0 when the SubDevice matches, 1 for errors (or warnings with
 /// `--deny-warnings`), 2 when the ESI, the interface or the SubDevice cannot be read.
 pub fn run(args: &CheckArgs) -> ExitCode {
-    let read = match read::read_file_device(&args.sub_device.esi, args.sub_device.device.as_deref())
-    {
+    let read = match crate::cmd::load(&args.sub_device.esi, args.sub_device.device.as_deref()) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
-    if read.nothing_read() || read.device.ethercat.is_none() {
+    if read.nothing_read || read.device.ethercat.is_none() {
         return fail(format!(
             "{}: not an ESI device",
             args.sub_device.esi.display()

@@ -113,16 +113,11 @@ fn pdo(sub_device: &SubDeviceArgs, cycles: Option<u64>) -> ExitCode {
         position,
     } = sub_device;
     let (iface, position) = (iface.as_str(), *position);
-    let read = match edsgen_codegen::read::read_file_device(esi, device.as_deref()) {
+    let read = match crate::cmd::load(esi, device.as_deref()) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
-    let Some(ec) = read
-        .device
-        .ethercat
-        .as_ref()
-        .filter(|_| !read.nothing_read())
-    else {
+    let Some(ec) = read.device.ethercat.as_ref().filter(|_| !read.nothing_read) else {
         return fail(format!("{}: not an ESI device", esi.display()));
     };
     // (name, bit length, signed) of each entry of the default TxPDOs, in image order.
