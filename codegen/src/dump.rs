@@ -52,10 +52,10 @@ pub fn to_json(device: &Device) -> Json {
         "commissioning": device.commissioning.as_ref().map(commissioning),
         "objects": device.objects.values().map(object).collect::<Vec<_>>(),
         "other_sections": device.other_sections.iter().map(|s| s.name.clone()).collect::<Vec<_>>(),
-        "ethercat": device.ethercat.as_ref().map(ethercat),
-        "cip": device.cip.as_ref().map(cip::cip),
-        "profinet": device.profinet.as_ref().map(profinet::profinet),
-        "dp": device.dp.as_ref().map(dp),
+        "ethercat": device.ethercat().map(ethercat),
+        "cip": device.cip().map(cip::cip),
+        "profinet": device.profinet().map(profinet::profinet),
+        "dp": device.dp().map(dp),
     })
 }
 

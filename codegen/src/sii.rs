@@ -71,8 +71,7 @@ pub fn crc8(bytes: &[u8]) -> u8 {
 /// The SII image of `device`, or why there is none (a model without its EtherCAT part).
 pub fn build(device: &Device) -> Result<Vec<u8>, String> {
     let ec = device
-        .ethercat
-        .as_ref()
+        .ethercat()
         .ok_or("not an EtherCAT device: an SII image is built from an ESI file")?;
     let number = |n: Option<&crate::model::Spanned<u32>>| n.map_or(0, |n| n.value);
     let mailbox = |kind: SmKind| {

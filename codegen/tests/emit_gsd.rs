@@ -36,11 +36,11 @@ fn the_pkw_pzd_overlay_is_checked() {
             "no module \"PPO 2\" of 32 bytes each way whose first identifier is 4 words (PKW1-PKW4)"
         )]
     );
-    assert_eq!(device.dp.as_ref().unwrap().pkw_pzd_module, None);
+    assert_eq!(device.dp().unwrap().pkw_pzd_module, None);
     let diags = overlay::apply("[pkw_pzd]\nmodule = \"4 PKW + 12 PZD\"\n", &mut device);
     assert_eq!(diags.len(), 0);
     assert_eq!(
-        device.dp.unwrap().pkw_pzd_module.as_deref(),
+        device.dp().cloned().unwrap().pkw_pzd_module.as_deref(),
         Some("4 PKW + 12 PZD")
     );
 }

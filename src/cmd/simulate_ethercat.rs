@@ -42,7 +42,7 @@ pub fn run(
                 Ok(read) => read,
                 Err(err) => return fail(err),
             };
-            if read.nothing_read || read.device.ethercat.is_none() {
+            if read.nothing_read || read.device.ethercat().is_none() {
                 return fail(format!(
                     "{file}: not an ESI device (`edsgen validate {file}` says why)"
                 ));

@@ -72,7 +72,7 @@ pub fn run(
         .chain(read.overlay_diagnostics())
         .filter(|d| d.severity == edsgen_codegen::diag::Severity::Error)
         .count();
-    let Some(pn) = read.device.profinet.as_ref().filter(|_| errors == 0) else {
+    let Some(pn) = read.device.profinet().filter(|_| errors == 0) else {
         return fail(format!(
             "`{name}` is not a GSDML file without errors (run `edsgen validate {name}`)"
         ));

@@ -192,15 +192,28 @@ pub struct Device {
     pub other_sections: Vec<RawSection>,
     /// Generated names the overlay sets (see [`crate::overlay`]); empty without one.
     pub naming: Naming,
-    /// What an ESI file says beyond the CoE dictionary; `None` for CANopen descriptions.
-    pub ethercat: Option<EtherCat>,
-    /// What an ODVA EDS says about a CIP device; `None` for every other format.
-    pub cip: Option<Cip>,
-    /// What a GSDML file says (access points, modules, submodules, records); `None` for the
-    /// other formats.
-    pub profinet: Option<Profinet>,
-    /// What a GSD file says (PROFIBUS-DP); `None` for other descriptions.
-    pub dp: Option<Dp>,
+    /// The fieldbus the description is for, with what its format says beyond the object
+    /// dictionary.
+    pub bus: Bus,
+}
+
+/// The fieldbus a description is for, and what its format says beyond the CANopen object
+/// dictionary. Every stage matches on it once, so a new bus is a compile error at each place
+/// that must handle it.
+#[derive(Debug, Clone, PartialEq)]
+// One per description: the size of the larger variants costs nothing.
+#[allow(clippy::large_enum_variant)]
+pub enum Bus {
+    /// CANopen (EDS, DCF, XDD, XDC): everything is in the object dictionary.
+    CanOpen,
+    /// EtherCAT (ESI, SII): the CoE dictionary is in `objects`, the rest here.
+    EtherCat(EtherCat),
+    /// EtherNet/IP or DeviceNet (ODVA EDS): a CIP device.
+    Cip(Cip),
+    /// PROFINET (GSDML): access points, modules, submodules, records.
+    Profinet(Profinet),
+    /// PROFIBUS-DP (GSD).
+    Dp(Dp),
 }
 
 /// What an overlay says about generated names: the description cannot say how the device numbers
@@ -243,6 +256,70 @@ pub struct ObjectList {
 }
 
 impl Device {
+    /// What an ESI file says beyond the CoE dictionary; `None` for other buses.
+    pub fn ethercat(&self) -> Option<&EtherCat> {
+        match &self.bus {
+            Bus::EtherCat(ec) => Some(ec),
+            _ => None,
+        }
+    }
+
+    /// What an ODVA EDS says about a CIP device; `None` for other buses.
+    pub fn cip(&self) -> Option<&Cip> {
+        match &self.bus {
+            Bus::Cip(cip) => Some(cip),
+            _ => None,
+        }
+    }
+
+    /// What a GSDML file says; `None` for other buses.
+    pub fn profinet(&self) -> Option<&Profinet> {
+        match &self.bus {
+            Bus::Profinet(pn) => Some(pn),
+            _ => None,
+        }
+    }
+
+    /// What a GSD file says (PROFIBUS-DP); `None` for other buses.
+    pub fn dp(&self) -> Option<&Dp> {
+        match &self.bus {
+            Bus::Dp(dp) => Some(dp),
+            _ => None,
+        }
+    }
+
+    /// [`Device::ethercat`], to change.
+    pub fn ethercat_mut(&mut self) -> Option<&mut EtherCat> {
+        match &mut self.bus {
+            Bus::EtherCat(ec) => Some(ec),
+            _ => None,
+        }
+    }
+
+    /// [`Device::cip`], to change.
+    pub fn cip_mut(&mut self) -> Option<&mut Cip> {
+        match &mut self.bus {
+            Bus::Cip(cip) => Some(cip),
+            _ => None,
+        }
+    }
+
+    /// [`Device::profinet`], to change.
+    pub fn profinet_mut(&mut self) -> Option<&mut Profinet> {
+        match &mut self.bus {
+            Bus::Profinet(pn) => Some(pn),
+            _ => None,
+        }
+    }
+
+    /// [`Device::dp`], to change.
+    pub fn dp_mut(&mut self) -> Option<&mut Dp> {
+        match &mut self.bus {
+            Bus::Dp(dp) => Some(dp),
+            _ => None,
+        }
+    }
+
     /// The entry at (index, sub), if the model has it.
     pub fn entry(&self, index: u16, sub: u8) -> Option<&SubObject> {
         self.objects.get(&index)?.subs.get(&sub)

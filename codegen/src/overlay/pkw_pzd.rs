@@ -6,7 +6,7 @@
 use toml::de::{DeTable, DeValue};
 
 use crate::diag::Diagnostic;
-use crate::model::{Device, PkwPzdImages, Profinet, Span, Submodule};
+use crate::model::{Bus, Device, PkwPzdImages, Profinet, Span, Submodule};
 use crate::read::text::LineIndex;
 use crate::rules;
 
@@ -20,12 +20,12 @@ pub fn apply(
     lines: &LineIndex,
     diags: &mut Vec<Diagnostic>,
 ) {
-    if device.dp.is_some() {
-        apply_dp(table, key_span, device, text, lines, diags);
-    } else if let Some(pn) = device.profinet.as_mut() {
-        apply_pn(table, key_span, pn, text, lines, diags);
-    } else {
-        apply_cip(table, key_span, device, text, lines, diags);
+    match device.bus {
+        Bus::Dp(_) => apply_dp(table, key_span, device, text, lines, diags),
+        Bus::Profinet(ref mut pn) => apply_pn(table, key_span, pn, text, lines, diags),
+        Bus::Cip(_) | Bus::CanOpen | Bus::EtherCat(_) => {
+            apply_cip(table, key_span, device, text, lines, diags)
+        }
     }
 }
 
@@ -43,7 +43,7 @@ fn apply_cip(
     lines: &LineIndex,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let Some(cip) = device.cip.as_mut() else {
+    let Some(cip) = device.cip_mut() else {
         diags.push(ignored(
             key_span,
             "[pkw_pzd] is for an ODVA EDS (EtherNet/IP), a GSD or a GSDML file; this description is \
@@ -119,7 +119,7 @@ fn apply_dp(
     lines: &LineIndex,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let Some(dp) = device.dp.as_mut() else {
+    let Some(dp) = device.dp_mut() else {
         diags.push(Diagnostic::new(
             &rules::OVERLAY,
             Some(table_span),

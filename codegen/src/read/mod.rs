@@ -55,7 +55,7 @@ impl Read {
             .iter()
             .any(|rule| std::ptr::eq(d.rule, *rule))
                 // An SII image too short to hold its header.
-                || (std::ptr::eq(d.rule, &rules::SII_IMAGE) && self.device.ethercat.is_none())
+                || (std::ptr::eq(d.rule, &rules::SII_IMAGE) && self.device.ethercat().is_none())
         })
     }
 }

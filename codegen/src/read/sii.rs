@@ -155,7 +155,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
             _ => {}
         }
     }
-    device.ethercat = Some(ec);
+    device.bus = Bus::EtherCat(ec);
     Read {
         device,
         diagnostics,

@@ -9,13 +9,12 @@
 use crate::diag::Diagnostic;
 use crate::model::{
     data_type_info, data_type_range, decode_path, Cip, CipAssembly, CipConnection, CipNumber,
-    CipParam, Device, FieldRef, PathSegment, Spanned,
+    CipParam, FieldRef, PathSegment, Spanned,
 };
 use crate::rules;
 
 /// Judges the CIP part of a device read from an ODVA EDS.
-pub fn check(device: &Device, out: &mut Vec<Diagnostic>) {
-    let Some(cip) = &device.cip else { return };
+pub fn check(cip: &Cip, out: &mut Vec<Diagnostic>) {
     identity(cip, out);
     for param in cip.params.values() {
         param_type(param, out);

@@ -16,10 +16,7 @@ use crate::diag::Diagnostic;
 use crate::model::{Device, EcPdo, EtherCat, SmKind};
 use crate::rules;
 
-pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
-    let Some(ec) = &device.ethercat else {
-        return;
-    };
+pub(super) fn check(device: &Device, ec: &EtherCat, out: &mut Vec<Diagnostic>) {
     identity(device, ec, out);
     let pdos: Vec<(&str, &EcPdo)> = ec
         .rx_pdos
@@ -179,7 +176,7 @@ fn entries(device: &Device, kind: &str, pdo: &EcPdo, out: &mut Vec<Diagnostic>) 
 /// Whether a module of the file defines object `index`: at its own index, or moved by a whole
 /// number of a slot's `SlotIndexIncrement`, up to the slots' instances.
 fn module_defines(device: &Device, index: u16) -> bool {
-    let Some(ec) = &device.ethercat else {
+    let Some(ec) = device.ethercat() else {
         return false;
     };
     let positions: u32 = ec.slots.iter().map(|s| s.max_instances).sum();

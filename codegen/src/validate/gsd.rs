@@ -4,14 +4,11 @@
 //! referring to nothing, defaults a slave would refuse.
 
 use crate::diag::Diagnostic;
-use crate::model::{decode_cfg, CfgError, Device, Dp, PrmType, PrmValues, Span};
+use crate::model::{decode_cfg, CfgError, Dp, PrmType, PrmValues, Span};
 use crate::rules;
 
 /// Judges the DP part of a device read from a GSD file.
-pub fn check(device: &Device, out: &mut Vec<Diagnostic>) {
-    let Some(dp) = &device.dp else {
-        return;
-    };
+pub fn check(dp: &Dp, out: &mut Vec<Diagnostic>) {
     identity(dp, out);
     baud_rates(dp, out);
     modules(dp, out);

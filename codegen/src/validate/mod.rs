@@ -14,7 +14,7 @@
 //! numbers), else at the section header of the object or sub-object.
 
 use crate::diag::{self, Diagnostic};
-use crate::model::{Device, Format, RawSection, Span, SubObject, Value, ValueSource};
+use crate::model::{Bus, Device, Format, RawSection, Span, SubObject, Value, ValueSource};
 use crate::rules;
 
 mod cip;
@@ -34,50 +34,50 @@ pub use sizes::size_errors;
 /// Judges a device model; the diagnostics come sorted by position.
 pub fn validate(device: &Device) -> Vec<Diagnostic> {
     let mut out = Vec::new();
-    if device.source.format == Format::OdvaEds {
-        // An ODVA EDS has no object dictionary: its rules are CIP's, over `Device::cip`.
-        cip::check(device, &mut out);
-        diag::sort(&mut out);
-        return out;
-    }
-    if device.source.format == Format::Gsdml {
-        // A GSDML file has no object dictionary, FileInfo or PDOs: only the PN0xx rules apply
-        // (and none when the XML could not be read).
-        if let Some(profinet) = &device.profinet {
-            gsdml::check(profinet, &mut out);
-        }
-        diag::sort(&mut out);
-        return out;
-    }
-    if device.source.format == Format::Gsd {
+    match (&device.bus, device.source.format) {
+        // An ODVA EDS has no object dictionary: its rules are CIP's.
+        (Bus::Cip(cip), _) => cip::check(cip, &mut out),
+        // A GSDML file has no object dictionary, FileInfo or PDOs: only the PN0xx rules apply.
+        (Bus::Profinet(profinet), _) => gsdml::check(profinet, &mut out),
         // A GSD file has no CANopen dictionary: only the DP rules apply.
-        gsd::check(device, &mut out);
-        diag::sort(&mut out);
-        return out;
+        (Bus::Dp(dp), _) => gsd::check(dp, &mut out),
+        // A file of those formats that could not be read: nothing to judge.
+        (Bus::CanOpen, Format::OdvaEds | Format::Gsdml | Format::Gsd) => {}
+        (Bus::CanOpen | Bus::EtherCat(_), _) => {
+            dictionary(device, &mut out);
+            // Values outside their limits come in dozens in a vendor's DCF: one finding, naming
+            // the lines.
+            diag::sort(&mut out);
+            diag::fold(
+                &mut out,
+                |d| std::ptr::eq(d.rule, &rules::VALUE_OUTSIDE_LIMITS).then_some(d.severity),
+                "likewise on",
+            );
+            return out;
+        }
     }
-    file_info::check(device, &mut out);
-    device_info::check(device, &mut out);
-    object_lists::check(device, &mut out);
-    objects::check(device, &mut out);
-    if device.source.format == Format::Esi {
+    diag::sort(&mut out);
+    out
+}
+
+/// The rules of an object dictionary (CANopen's, or an ESI's CoE dictionary) and its PDOs.
+fn dictionary(device: &Device, out: &mut Vec<Diagnostic>) {
+    file_info::check(device, out);
+    device_info::check(device, out);
+    object_lists::check(device, out);
+    objects::check(device, out);
+    match (&device.bus, device.source.format) {
         // EtherCAT has no PDO communication parameters (1400h/1800h), COB-IDs or CAN frame
         // limits: its PDOs are the RxPdo/TxPdo elements, judged against the SyncManagers.
-        esi::check(device, &mut out);
-    } else {
-        pdo::check(device, &mut out);
+        (Bus::EtherCat(ec), _) => esi::check(device, ec, out),
+        // An ESI file without its device: no PDOs of either kind.
+        (_, Format::Esi) => {}
+        _ => pdo::check(device, out),
     }
-    dcf::check(device, &mut out);
-    sections::check(device, &mut out);
+    dcf::check(device, out);
+    sections::check(device, out);
     // What the generator cannot hold, so that a clean validate means generate succeeds.
     out.extend(size_errors(device));
-    diag::sort(&mut out);
-    // Values outside their limits come in dozens in a vendor's DCF: one finding, naming the lines.
-    diag::fold(
-        &mut out,
-        |d| std::ptr::eq(d.rule, &rules::VALUE_OUTSIDE_LIMITS).then_some(d.severity),
-        "likewise on",
-    );
-    out
 }
 
 /// `1A00h`.

@@ -125,8 +125,8 @@ pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
     );
     let parameters = read
         .device
-        .cip
-        .map(|cip| param_object::from_cip(&cip, &assemblies))
+        .cip()
+        .map(|cip| param_object::from_cip(cip, &assemblies))
         .unwrap_or_default();
     let mut adapter = Adapter::new(identity, assemblies, address);
     adapter.config_instances.push(card::Configuration::INSTANCE);

@@ -61,7 +61,7 @@ pub fn run(args: &Args) -> ExitCode {
         Ok(read) => read,
         Err(e) => return fail(e),
     };
-    let Some(gsd) = read.device.dp.as_ref() else {
+    let Some(gsd) = read.device.dp() else {
         return fail(format!("{}: not a GSD file", args.gsd.display()));
     };
     let Some(ident) = gsd.ident_number.as_ref().map(|i| i.value) else {

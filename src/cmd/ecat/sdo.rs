@@ -180,7 +180,7 @@ fn resolve(args: &SdoArgs) -> Result<Resolved, String> {
         });
     };
     let read = crate::cmd::load(path, args.device.as_deref())?;
-    if read.nothing_read || read.device.ethercat.is_none() {
+    if read.nothing_read || read.device.ethercat().is_none() {
         return Err(format!("{}: not an ESI device", path.display()));
     }
     let device: Device = read.device;

@@ -110,10 +110,7 @@ pub fn empty_device(path: &Path, format: Format, encoding: TextEncoding) -> Devi
         commissioning: None,
         other_sections: Vec::new(),
         naming: Default::default(),
-        ethercat: None,
-        cip: None,
-        profinet: None,
-        dp: None,
+        bus: Bus::CanOpen,
     }
 }
 

@@ -337,7 +337,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 ),
             ));
         }
-        device.ethercat = Some(ethercat);
+        device.bus = Bus::EtherCat(ethercat);
     }
 }
 

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use crate::diag::Diagnostic;
 use crate::model::{
-    DeviceInfo, Dp, DpBaud, DpBaudRate, DpModule, DpSlot, ExtUserPrmData, Format, GsdKeyword,
+    Bus, DeviceInfo, Dp, DpBaud, DpBaudRate, DpModule, DpSlot, ExtUserPrmData, Format, GsdKeyword,
     PrmConst, PrmRef, PrmText, PrmType, PrmValues, Span, Spanned, TextEncoding, UnitDiag,
 };
 use crate::rules::{self, Rule};
@@ -111,7 +111,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
             .map(|i| Spanned::new(u32::from(i.value), i.span)),
         ..DeviceInfo::default()
     };
-    device.dp = Some(dp);
+    device.bus = Bus::Dp(dp);
     let mut diagnostics = reader.diags;
     crate::diag::sort(&mut diagnostics);
     Read {

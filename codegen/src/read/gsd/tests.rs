@@ -69,7 +69,7 @@ Acme_Extension_Thing = 7
 #[test]
 fn reads_every_part() {
     let read = read_bytes(Path::new("a.gsd"), GOOD.as_bytes());
-    let dp = read.device.dp.as_ref().unwrap();
+    let dp = read.device.dp().unwrap();
     assert_eq!(dp.gsd_revision, Some(3));
     assert_eq!(dp.vendor_name.as_deref(), Some("Acme"));
     assert_eq!(dp.model_name.as_deref(), Some("Pump; DP"));
@@ -172,7 +172,7 @@ fn latin1_and_utf8() {
     let read = read_bytes(Path::new("a.gsd"), latin1);
     assert_eq!(read.device.source.encoding, TextEncoding::Latin1);
     assert_eq!(
-        read.device.dp.unwrap().vendor_name.as_deref(),
+        read.device.dp().unwrap().vendor_name.as_deref(),
         Some("M\u{fc}ller")
     );
     let utf8 = "#Profibus_DP\nVendor_Name = \"Müller\"\n";

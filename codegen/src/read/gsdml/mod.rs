@@ -29,7 +29,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
     if let Some(doc) = super::xml::parse(&text, &mut diagnostics) {
         let mut reader = GsdmlReader::new(&text, &mut diagnostics);
         let profinet = reader.read_root(doc.root_element(), &mut device);
-        device.profinet = Some(profinet);
+        device.bus = Bus::Profinet(profinet);
     }
     Read {
         device,

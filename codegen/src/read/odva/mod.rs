@@ -112,7 +112,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
     device.file_info.description = cip.file.desc_text.clone();
     device.file_info.file_revision = cip.file.revision.clone();
     device.file_info.span = cip.file.span;
-    device.cip = Some(cip);
+    device.bus = Bus::Cip(cip);
     crate::diag::sort(&mut diags);
     Read {
         device,
