@@ -11,7 +11,7 @@ pub(crate) fn hex_digits(text: &str) -> Option<&str> {
 }
 
 /// An ESI number: `#x` (or `0x`) hex, else decimal, optionally negative.
-pub(crate) fn parse_number(text: &str) -> Option<i128> {
+pub fn parse_number(text: &str) -> Option<i128> {
     let t = text.trim();
     let (negative, t) = match t.strip_prefix('-') {
         Some(rest) => (true, rest),

@@ -24,7 +24,7 @@ use values::{hex_digits, parse_bool, parse_number};
 
 mod device;
 mod dictionary;
-pub(crate) mod values;
+pub mod values;
 
 /// Which device of an ESI file to read.
 #[derive(Debug, Clone, PartialEq, Eq)]
