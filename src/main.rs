@@ -18,7 +18,7 @@ use cmd::EXIT_USAGE;
 #[command(
     name = "edsgen",
     version,
-    about = "Typed Rust from CANopen device descriptions (EDS, DCF, XDD, XDC)"
+    about = "Typed Rust from fieldbus device descriptions (CANopen, EtherCAT, EtherNet/IP, PROFINET, PROFIBUS-DP)"
 )]
 struct Cli {
     #[command(subcommand)]

@@ -1,19 +1,22 @@
-//! The resolved device model: one intermediate representation for EDS, DCF, XDD and XDC (and the
-//! bus parts of ESI and ODVA EDS files).
+//! The resolved device model: one intermediate representation for every format (CANopen EDS,
+//! DCF, XDD, XDC; EtherCAT ESI and SII; ODVA EDS; PROFINET GSDML; PROFIBUS-DP GSD), with the
+//! fieldbus part as one [`Bus`].
 //!
-//! Readers (`read::eds`, `read::xdd`) build it, the validator judges it, the emitter turns it into
-//! Rust. Every object, sub-object and value keeps the [`Span`] it was read from, so a diagnostic can
-//! point at the exact line of the vendor file. Nothing here evaluates `$NODEID`: node-relative
-//! values stay symbolic ([`Value::NodeRelative`]) until a DCF or the generated `new(node_id)` fixes
-//! the node-ID.
+//! Readers (`read::*`) build it, the validator judges it, the emitter turns it into Rust. Every
+//! object, sub-object and value keeps the [`Span`] it was read from, so a diagnostic can point at
+//! the exact line of the vendor file. Nothing here evaluates `$NODEID`: node-relative values stay
+//! symbolic ([`Value::NodeRelative`]) until a DCF or the generated `new(node_id)` fixes the
+//! node-ID.
 //!
 //! This module holds the device and its file-level parts (file and device info, object lists,
 //! commissioning, kept sections); spans and sources, the CiA 301 kinds, objects with their
-//! entries and values, the EtherCAT side and the CIP side have a submodule each, all re-exported here.
+//! entries and values, the value image's [`layout`], and each bus's part have a submodule each,
+//! re-exported here.
 
 use std::collections::BTreeMap;
 
 mod cip;
+mod cip_path;
 mod cip_size;
 mod dp;
 mod ethercat;
@@ -24,11 +27,11 @@ mod source;
 mod types;
 
 pub use cip::{
-    data_type_info, data_type_range, decode_path, path_bytes, real_time_format_name,
-    AssemblyMember, Cip, CipAssembly, CipConnection, CipEntry, CipEnum, CipFile, CipIdentity,
-    CipNumber, CipParam, CipPort, CipSection, ConnectionData, ConnectionParams, Field, FieldRef,
-    PathSegment, PkwPzdImages, TriggerTransport,
+    data_type_info, data_type_range, real_time_format_name, AssemblyMember, Cip, CipAssembly,
+    CipConnection, CipEntry, CipEnum, CipFile, CipIdentity, CipNumber, CipParam, CipPort,
+    CipSection, ConnectionData, ConnectionParams, Field, FieldRef, PkwPzdImages, TriggerTransport,
 };
+pub use cip_path::{decode_path, path_bytes, PathSegment};
 pub use dp::{
     decode_cfg, CfgError, CfgIdentifier, Dp, DpBaud, DpBaudRate, DpModule, DpSlot, ExtUserPrmData,
     GsdKeyword, PrmConst, PrmRef, PrmText, PrmType, PrmValues, UnitDiag,
