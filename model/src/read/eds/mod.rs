@@ -39,7 +39,8 @@
 use std::collections::{BTreeMap, HashSet};
 use std::path::Path;
 
-use super::ini::{self, FastHash, IniSection};
+use super::hash::FastHash;
+use super::ini::{self, IniSection};
 use super::Read;
 use crate::diag::Diagnostic;
 use crate::model::*;

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use super::Reader;
 use crate::diag::{Diagnostic, Severity};
 use crate::model::*;
-use crate::read::ini::FastHash;
+use crate::read::hash::FastHash;
 use crate::read::value::{parse_integer, parse_value, split_inline_comment, strips_inline_comment};
 use crate::rules;
 

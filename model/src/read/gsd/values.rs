@@ -149,6 +149,12 @@ pub fn slot_value(text: &str) -> Option<(String, u32, Vec<u32>)> {
     Some((name, default, allowed))
 }
 
+/// `name(arg)` (lowercase key) → `arg`.
+pub(super) fn call_arg<'a>(lower: &'a str, name: &str) -> Option<&'a str> {
+    let rest = lower.strip_prefix(name)?.trim_start();
+    rest.strip_prefix('(')?.strip_suffix(')').map(str::trim)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
