@@ -496,6 +496,3 @@ impl Reader {
         self.u32(value, span).map(|n| Spanned::new(n, span))
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use crate::model::{DpBaudRate, PrmType, PrmValues, Span, TextEncoding};
-use crate::read::read_bytes;
-use crate::validate::validate;
+use edsgen_model::model::{DpBaudRate, PrmType, PrmValues, Span, TextEncoding};
+use edsgen_model::read::read_bytes;
+use edsgen_model::validate::validate;
 
 const GOOD: &str = "\
 ; a test slave
@@ -122,7 +122,7 @@ fn codes(text: &str) -> Vec<(&'static str, u32)> {
     let read = read_bytes(Path::new("a.gsd"), text.as_bytes());
     let mut all = read.diagnostics.clone();
     all.extend(validate(&read.device));
-    crate::diag::sort(&mut all);
+    edsgen_model::diag::sort(&mut all);
     all.iter()
         .map(|d| (d.rule.code, d.span.map_or(0, |s| s.line)))
         .collect()
@@ -188,8 +188,8 @@ fn latin1_and_utf8() {
 
 #[test]
 fn detected_by_content() {
-    use crate::model::Format;
-    use crate::read::detect_format;
+    use edsgen_model::model::Format;
+    use edsgen_model::read::detect_format;
     assert_eq!(
         detect_format(Path::new("x.txt"), b"; c\n\n#PROFIBUS_DP\n"),
         Format::Gsd
