@@ -29,8 +29,7 @@ fn device() -> Device {
 
 fn ethercat_of(device: &Device) -> &EtherCat {
     device
-        .ethercat
-        .as_ref()
+        .ethercat()
         .expect("an ESI device has its EtherCAT side")
 }
 

@@ -20,7 +20,7 @@ fn model() -> edsgen_codegen::model::Cip {
     let read = read::read_file(&root().join("eds/goodrive350-enip.eds")).expect("the card's EDS");
     assert_eq!(read.diagnostics, vec![]);
     assert_eq!(validate::validate(&read.device), vec![]);
-    read.device.cip.expect("an ODVA EDS")
+    read.device.cip().cloned().expect("an ODVA EDS")
 }
 
 fn param_name(cip: &edsgen_codegen::model::Cip, member: &FieldRef) -> String {

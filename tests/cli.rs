@@ -327,6 +327,44 @@ error[EDS708]: 2000h sub 0 `Label` holds 5 bytes by default, more than the capac
 }
 
 #[test]
+fn validate_applies_the_overlay_and_reports_its_errors_under_its_name() {
+    let path = file("overlay-validate", "dev.eds", &with_string());
+    let overlay = path.with_extension("toml");
+    std::fs::write(&overlay, "# capacities\n[capacity]\n2000 = 3\n").unwrap();
+    let out = run(&["validate", path.to_str().unwrap()]);
+    assert_eq!(code(&out), 1);
+    let stdout =
+        String::from_utf8_lossy(&out.stdout).replace(overlay.to_str().unwrap(), "dev.toml");
+    assert_eq!(
+        stdout,
+        "\
+error[EDS708]: 2000h sub 0 `Label` holds 5 bytes by default, more than the capacity 3
+ --> dev.toml:3:8
+  |
+3 | 2000 = 3
+  |        ^
+  |
+  = help: give it at least 5 bytes
+
+1 file(s) checked: 1 error(s), 0 warning(s)
+"
+    );
+    // Sizes the generated code cannot hold are found by validate too (EDS707), once the overlay
+    // sets the capacity: 65535 bytes and a 2-byte length overflow the value image.
+    std::fs::write(&overlay, "[capacity]\n2000 = 65535\n").unwrap();
+    let out = run(&["validate", path.to_str().unwrap()]);
+    assert_eq!(code(&out), 1);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        stdout.starts_with(
+            "error[EDS707]: 2000h `Label`: with this object the device's values need more than \
+             65535 bytes in all"
+        ),
+        "{stdout}"
+    );
+}
+
+#[test]
 fn generate_of_a_missing_file_exits_2() {
     let out = run(&["generate", "/nonexistent/edsgen/none.eds"]);
     assert_eq!(code(&out), 2);

@@ -527,7 +527,7 @@ fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
 /// at least one direction, and every mapped object in the dictionary with the mapped size.
 fn complete_enough(model: &edsgen_codegen::model::Device) -> Option<(usize, usize)> {
     use edsgen_codegen::model::SmKind;
-    let ec = model.ethercat.as_ref()?;
+    let ec = model.ethercat()?;
     ec.coe.as_ref()?;
     // A modular device's process data depends on the modules plugged in.
     if !ec.slots.is_empty() {

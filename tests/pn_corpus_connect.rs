@@ -32,7 +32,7 @@ fn every_simulable_corpus_gsdml_accepts_the_connect_of_its_default_configuration
             .iter()
             .chain(&validate::validate(&read.device))
             .any(|d| d.severity == Severity::Error);
-        let Some(pn) = read.device.profinet.as_ref().filter(|_| !errors) else {
+        let Some(pn) = read.device.profinet().filter(|_| !errors) else {
             continue;
         };
         let config = DeviceConfig::from_gsdml(pn);

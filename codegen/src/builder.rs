@@ -8,7 +8,8 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::diag::{self, Severity};
-use crate::{emit, overlay, read, render, validate};
+use crate::lint::Policy;
+use crate::{emit, load, overlay, render};
 
 /// Generates typed bindings for one or more devices from build.rs.
 ///
@@ -135,10 +136,10 @@ impl Builder {
             modules: Vec::new(),
             warnings: Vec::new(),
         };
-        let mut allowed = Vec::new();
+        let mut policy = Policy::new();
         for code in &self.allowed {
             match crate::rules::by_code(code) {
-                Some(rule) => allowed.push(rule.code),
+                Some(rule) => policy.allow(rule),
                 None => errors.push_str(&format!(
                     "error: edsgen: Builder::allow(\"{code}\"): no such rule (see `edsgen rules`)\n"
                 )),
@@ -166,7 +167,7 @@ impl Builder {
                 ));
                 continue;
             }
-            match generate_device(path, &module, &allowed) {
+            match generate_device(path, &module, &policy) {
                 Ok((code, warnings)) => {
                     let file = out_dir.join(format!("{module}.rs"));
                     if let Err(err) = write_if_changed(&file, &code) {
@@ -215,76 +216,60 @@ fn write_if_changed(file: &Path, code: &str) -> std::io::Result<()> {
     std::fs::write(file, code)
 }
 
-/// Reads, validates and generates one device, with its overlay ([`overlay::path_for`]) if there
-/// is one: the module's code and the rendered warnings (less the `allowed` codes), or every
-/// error rendered. `edsgen generate` calls it too, so it writes exactly what build.rs gets.
+/// Loads ([`crate::load`]: read, overlay, validate) and generates one device: the module's code
+/// and the rendered warnings (less those `policy` allows; denied ones fail), or every error
+/// rendered. `edsgen generate` calls it too, so it writes exactly what build.rs gets.
 pub fn generate_device(
     path: &Path,
     module: &str,
-    allowed: &[&str],
+    policy: &Policy,
 ) -> Result<(String, Vec<String>), String> {
-    generate_chosen_device(path, None, module, allowed)
+    generate_chosen_device(path, None, module, policy)
 }
 
 /// [`generate_device`] for one device of an ESI file that describes several, chosen by type name
-/// or `#x` product code (see [`read::read_file_device`]); `None` is the first.
+/// or `#x` product code (see [`crate::read::read_file_device`]); `None` is the first.
 pub fn generate_chosen_device(
     path: &Path,
     device: Option<&str>,
     module: &str,
-    allowed: &[&str],
+    policy: &Policy,
 ) -> Result<(String, Vec<String>), String> {
-    let mut read =
-        read::read_file_device(path, device).map_err(|err| format!("error: edsgen: {err}\n"))?;
+    let loaded = load::load(path, device).map_err(|err| format!("error: edsgen: {err}\n"))?;
     let name = path.display().to_string();
-    let overlay_path = overlay::path_for(path);
-    let overlay_errors = if overlay_path.is_file() {
-        let text = std::fs::read_to_string(&overlay_path).map_err(|err| {
-            format!(
-                "error: edsgen: cannot read the overlay `{}`: {err}\n",
-                overlay_path.display()
-            )
-        })?;
-        let diags = overlay::apply(&text, &mut read.device);
-        (!diags.is_empty())
-            .then(|| render::human(&overlay_path.display().to_string(), &text, &diags, false))
-    } else {
-        None
-    };
-    let nothing_read = read.nothing_read();
-    let mut diags = read.diagnostics;
-    if !nothing_read {
-        diags.extend(validate::validate(&read.device));
-    }
+    let overlay_errors = loaded
+        .overlay
+        .as_ref()
+        .filter(|o| !o.diagnostics.is_empty())
+        .map(|o| o.rendered());
+    let mut diags = policy.apply(loaded.diagnostics);
     let emitted = if diags.iter().any(|d| d.severity == Severity::Error) {
         None
     } else {
-        match emit::generate_module(&read.device, module) {
+        match emit::generate_module(&loaded.device, module) {
             Ok(generated) => {
-                diags.extend(generated.diagnostics);
+                diags.extend(policy.apply(generated.diagnostics));
                 Some(generated.code)
             }
             Err(emit_diags) => {
-                diags.extend(emit_diags);
+                diags.extend(policy.apply(emit_diags));
                 None
             }
         }
     };
     diag::sort(&mut diags);
     let shown: Vec<_> = diags
-        .iter()
+        .into_iter()
         .filter(|d| d.severity != Severity::Info)
-        .filter(|d| d.severity == Severity::Error || !allowed.contains(&d.rule.code))
-        .cloned()
         .collect();
     let warnings: Vec<_> = shown
         .iter()
         .filter(|d| d.severity == Severity::Warning)
-        .map(|d| render::human(&name, &read.text, std::slice::from_ref(d), false))
+        .map(|d| render::human(&name, &loaded.text, std::slice::from_ref(d), false))
         .collect();
     match (emitted, overlay_errors) {
         (Some(code), None) => Ok((code, warnings)),
-        (None, overlay) => Err(render::human(&name, &read.text, &shown, false)
+        (None, overlay) => Err(render::human(&name, &loaded.text, &shown, false)
             + overlay.as_deref().unwrap_or_default()),
         (Some(_), Some(overlay)) => Err(overlay),
     }

@@ -1,23 +1,18 @@
-//! edsgen-codegen: read CANopen device descriptions (EDS, DCF, XDD, XDC) into one model, judge
-//! them, and generate typed Rust for the edsgen runtime.
+//! edsgen-codegen: typed Rust for the edsgen runtime from a device model (CANopen, EtherCAT,
+//! EtherNet/IP, PROFINET, PROFIBUS-DP), and the [`Builder`] that drives it from `build.rs`.
 //!
-//! The stages talk only through their output types: [`read`] turns bytes into a
-//! [`model::Device`] (plus the diagnostics the text itself calls for), [`validate`] turns a model
-//! into diagnostics, [`emit`] turns a model into Rust source. [`Builder`] drives them from
-//! `build.rs`.
+//! Reading, overlays and validation are `edsgen-model`'s (re-exported here under the same
+//! paths): [`load`] reads a description, applies its overlay and validates it; [`emit`] turns
+//! the model into Rust source. This crate alone depends on syn, quote, prettyplease and heck,
+//! as prost-build alone does beside prost.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod diag;
-pub mod dump;
+pub use edsgen_model::{
+    diag, dump, lint, load, model, overlay, read, render, rules, sii, validate,
+};
+
 pub mod emit;
-pub mod model;
-pub mod overlay;
-pub mod read;
-pub mod render;
-pub mod rules;
-pub mod sii;
-pub mod validate;
 
 pub mod builder;
 pub use builder::Builder;

@@ -25,7 +25,7 @@ fn reads_clean() {
 #[test]
 fn baud_rates_are_table_2_4() {
     let read = card();
-    let dp = read.device.dp.as_ref().unwrap();
+    let dp = read.device.dp().unwrap();
     let rates: Vec<(u32, Option<u32>)> = dp
         .baud_rates
         .iter()
@@ -54,7 +54,7 @@ fn baud_rates_are_table_2_4() {
 #[test]
 fn one_module_of_4_pkw_and_12_pzd() {
     let read = card();
-    let dp = read.device.dp.as_ref().unwrap();
+    let dp = read.device.dp().unwrap();
     assert_eq!(dp.ident_number.as_ref().map(|i| i.value), Some(0x0350));
     assert_eq!(dp.modules.len(), 1);
     let module = &dp.modules[0];

@@ -57,7 +57,7 @@ fn an_esi_device_gets_no_canopen_pdo_items() {
 #[test]
 fn two_output_sync_managers_get_an_image_each_named_by_number() {
     let mut device = ethercat_like();
-    let ec = device.ethercat.as_mut().unwrap();
+    let ec = device.ethercat_mut().unwrap();
     ec.rx_pdos[1].sm = Some(4);
     let code = emit::generate(&device, "ec_hand").expect("generates");
     for item in [

@@ -10,7 +10,7 @@ use edsgen_codegen::read::read_file;
 #[test]
 fn the_dp_card_generates() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-dp.gsd");
-    let (code, warnings) = generate_device(&path, "goodrive350_dp", &[]).unwrap();
+    let (code, warnings) = generate_device(&path, "goodrive350_dp", &Default::default()).unwrap();
     assert_eq!(warnings, Vec::<String>::new());
     insta::assert_snapshot!(code);
     assert!(code.contains("pub const IDENT_NUMBER: u16 = 0x0350;"));
@@ -36,11 +36,11 @@ fn the_pkw_pzd_overlay_is_checked() {
             "no module \"PPO 2\" of 32 bytes each way whose first identifier is 4 words (PKW1-PKW4)"
         )]
     );
-    assert_eq!(device.dp.as_ref().unwrap().pkw_pzd_module, None);
+    assert_eq!(device.dp().unwrap().pkw_pzd_module, None);
     let diags = overlay::apply("[pkw_pzd]\nmodule = \"4 PKW + 12 PZD\"\n", &mut device);
     assert_eq!(diags.len(), 0);
     assert_eq!(
-        device.dp.unwrap().pkw_pzd_module.as_deref(),
+        device.dp().cloned().unwrap().pkw_pzd_module.as_deref(),
         Some("4 PKW + 12 PZD")
     );
 }

@@ -87,8 +87,8 @@ fn every_corpus_esi_file_reads_as_its_manifest_says() {
         // The manifest counts the dictionaries and PDOs of the file's modules too.
         let with_objects = all.iter().any(|(d, _)| {
             !d.objects.is_empty()
-                || d.ethercat
-                    .iter()
+                || d.ethercat()
+                    .into_iter()
                     .flat_map(|ec| &ec.modules)
                     .any(|m| !m.objects.is_empty())
         });
@@ -101,7 +101,7 @@ fn every_corpus_esi_file_reads_as_its_manifest_says() {
         );
         let max_bits = all
             .iter()
-            .filter_map(|(d, _)| d.ethercat.as_ref())
+            .filter_map(|(d, _)| d.ethercat())
             .flat_map(|ec| {
                 let modules = ec
                     .modules
@@ -116,7 +116,7 @@ fn every_corpus_esi_file_reads_as_its_manifest_says() {
             assert_eq!(max_bits, row.max_pdo_bits, "{}: max PDO bits", row.file);
         }
         for (device, _) in &all {
-            let ec = device.ethercat.as_ref().expect("an ESI device");
+            let ec = device.ethercat().expect("an ESI device");
             for object in device.objects.values() {
                 assert!(object.span.line > 0, "{}: {:04X}h", row.file, object.index);
             }

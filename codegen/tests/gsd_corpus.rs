@@ -52,7 +52,7 @@ fn every_corpus_gsd_file_reads_as_its_manifest_says() {
             other => panic!("unknown encoding {other}"),
         };
         assert_eq!(device.source.encoding, expected, "{}", cells[file]);
-        let dp = device.dp.as_ref().expect("a DP part");
+        let dp = device.dp().expect("a DP part");
         let notes = cells[notes];
         if let Some(modular) = note(notes, "modular") {
             assert_eq!(dp.modular_station, modular == "yes", "{}", cells[file]);

@@ -60,7 +60,7 @@ fn every_gsdml_corpus_file_reads_as_its_manifest_says() {
             _ => TextEncoding::Ascii,
         };
         assert_eq!(device.source.encoding, expected, "{file}");
-        let pn = device.profinet.as_ref().expect("a PROFINET side");
+        let pn = device.profinet().expect("a PROFINET side");
         if notes.contains("no ModuleItem") {
             assert!(pn.modules.is_empty(), "{file}: no ModuleItem");
         }
@@ -115,7 +115,7 @@ fn the_sew_drive_s_extended_channel_diagnoses_are_read() {
     let Some(dir) = corpus() else { return };
     let file = "HeisenZergA__SEWProfinetLabview/GSDML-V2.34-SEW-MOVI-C-Decentralized-Electronics-20200731-071447.xml";
     let read = read_file(&dir.join(file)).expect("readable");
-    let pn = read.device.profinet.as_ref().expect("a PROFINET side");
+    let pn = read.device.profinet().expect("a PROFINET side");
     let diags = &pn.channel_diagnostics;
     assert_eq!(diags.len(), 70);
     assert_eq!(diags.iter().filter(|d| !d.ext.is_empty()).count(), 53);

@@ -33,7 +33,7 @@ fn every_corpus_odva_file_reads() {
     for file in &files {
         let read = read_file(&dir.join(file)).expect("readable");
         assert_eq!(read.device.source.format, Format::OdvaEds, "{file}");
-        let cip = read.device.cip.as_ref().expect("cip");
+        let cip = read.device.cip().expect("cip");
         assert!(cip.identity.vendor_code.is_some(), "{file}: VendCode");
         assert!(!cip.connections.is_empty(), "{file}: connections");
         parts.insert(

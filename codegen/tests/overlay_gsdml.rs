@@ -26,7 +26,7 @@ fn edited(from: &str, to: &str) -> String {
 
 /// Which submodules (module or access point ID, subslot) are marked as PKW/PZD.
 fn marked(device: &Device) -> Vec<(String, u16)> {
-    let pn = device.profinet.as_ref().expect("GSDML");
+    let pn = device.profinet().expect("GSDML");
     let modules = pn.modules.iter().map(|m| (&m.id, &m.submodules));
     let daps = pn.access_points.iter().map(|d| (&d.id, &d.submodules));
     modules

@@ -110,7 +110,7 @@ fn identity_names_and_encoding() {
     assert_eq!(info.revision_number.as_ref().map(|n| n.value), Some(1));
     // English is picked over the German name written first.
     assert_eq!(info.product_name.as_deref(), Some("Test drive"));
-    let ec = device.ethercat.as_ref().expect("EtherCAT part");
+    let ec = device.ethercat().expect("EtherCAT part");
     assert_eq!(ec.type_name, "TD-1");
     assert_eq!(ec.profiles, vec![402]);
     assert_eq!(ec.span, Span::new(15, 7, 7));
@@ -192,7 +192,7 @@ fn complex_types_make_records_and_arrays() {
 #[test]
 fn sync_managers_pdos_mailbox_and_op_modes() {
     let device = read(&drive()).device;
-    let ec = device.ethercat.expect("EtherCAT part");
+    let ec = device.ethercat().cloned().expect("EtherCAT part");
     assert_eq!(
         ec.sync_managers
             .iter()
@@ -284,7 +284,7 @@ fn a_device_is_picked_by_type_name_or_product_code() {
     let path = Path::new("drive.xml");
     for choice in ["TD-2", "td-2", "#x00009253", "0x9253"] {
         let read = read_bytes_device(path, &bytes, Some(choice));
-        let ec = read.device.ethercat.expect("EtherCAT part");
+        let ec = read.device.ethercat().cloned().expect("EtherCAT part");
         assert_eq!(ec.type_name, "TD-2", "{choice}");
         assert_eq!(ec.other_devices, vec![("TD-1".to_owned(), 0x9252, 1)]);
         assert_eq!(
@@ -306,7 +306,7 @@ fn a_device_is_picked_by_type_name_or_product_code() {
 #[test]
 fn no_device_matching_the_choice_is_an_error_listing_the_devices() {
     let read = read_bytes_device(Path::new("drive.xml"), &drive_bytes(), Some("TD-9"));
-    assert!(read.device.ethercat.is_none());
+    assert!(read.device.ethercat().is_none());
     assert!(read.device.objects.is_empty());
     let found: Vec<_> = read
         .diagnostics
@@ -662,7 +662,11 @@ fn profile_numbers_are_collected_from_channels_without_repeats() {
         "<ChannelInfo><ProfileNo>402</ProfileNo></ChannelInfo>\
          <ChannelInfo><ProfileNo>402</ProfileNo><ProfileNo>5001</ProfileNo></ChannelInfo>",
     );
-    let ec = read(&text).device.ethercat.expect("EtherCAT part");
+    let ec = read(&text)
+        .device
+        .ethercat()
+        .cloned()
+        .expect("EtherCAT part");
     assert_eq!(ec.profiles, vec![402, 5001]);
 }
 
@@ -692,7 +696,7 @@ fn modular_findings(text: &str) -> Vec<(&'static str, Severity, u32, String)> {
 #[test]
 fn alternative_mappings_slots_and_modules_are_read() {
     let read = read(&modular());
-    let ec = read.device.ethercat.as_ref().expect("an ESI device");
+    let ec = read.device.ethercat().expect("an ESI device");
     type Sms = Vec<(u8, Vec<u16>)>;
     let alternatives: Vec<(&str, bool, Sms)> = ec
         .alternative_mappings

@@ -20,7 +20,7 @@ fn read(text: &str) -> Read {
 }
 
 fn pn(read: &Read) -> &Profinet {
-    read.device.profinet.as_ref().expect("a PROFINET side")
+    read.device.profinet().expect("a PROFINET side")
 }
 
 /// Reader and validator diagnostics as (code, severity, line, message), in file order.

@@ -20,7 +20,7 @@ fn read(text: &str) -> Read {
 }
 
 fn cip(text: &str) -> Cip {
-    read(text).device.cip.expect("an ODVA EDS")
+    read(text).device.cip().cloned().expect("an ODVA EDS")
 }
 
 /// Reader and validator diagnostics as (code, severity, line, message), in file order.
@@ -65,7 +65,7 @@ fn the_file_reads_clean() {
 fn identity_and_file() {
     let read = read(&io());
     assert_eq!(read.device.source.format, Format::OdvaEds);
-    let cip = read.device.cip.expect("cip");
+    let cip = read.device.cip().cloned().expect("cip");
     assert_eq!(
         cip.file.desc_text.as_deref(),
         Some("Test adapter, with a comma, and $ inside")
@@ -275,7 +275,7 @@ fn told_from_a_cia_306_eds_by_its_sections() {
     );
     assert_eq!(detect_format(Path::new("a"), cia.as_bytes()), Format::Eds);
     let read = read_bytes(Path::new("a.eds"), cia.as_bytes());
-    assert!(read.device.cip.is_none());
+    assert!(read.device.cip().is_none());
 }
 
 #[test]
@@ -594,7 +594,7 @@ fn overlay_pkw_pzd_names_32_byte_assemblies() {
             "Assem100 is 3 bytes; a PKW/PZD image is 32 (16 words)",
         ]
     );
-    assert_eq!(device.cip.as_ref().and_then(|c| c.pkw_pzd), None);
+    assert_eq!(device.cip().and_then(|c| c.pkw_pzd), None);
     let text = io()
         .replace(
             "                3,\n                0x0000,",
@@ -622,7 +622,7 @@ fn overlay_pkw_pzd_names_32_byte_assemblies() {
     );
     assert_eq!(diags, vec![]);
     assert_eq!(
-        device.cip.as_ref().and_then(|c| c.pkw_pzd),
+        device.cip().and_then(|c| c.pkw_pzd),
         Some(PkwPzdImages {
             output: 150,
             input: 100,

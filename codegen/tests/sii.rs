@@ -266,10 +266,7 @@ fn images_read_back_as_their_esi() {
             want.device_info.revision_number.as_ref().map(|n| n.value)
         );
         assert_eq!(got.device_info.product_name, want.device_info.product_name);
-        let (want, got) = (
-            want.ethercat.as_ref().unwrap(),
-            got.ethercat.as_ref().unwrap(),
-        );
+        let (want, got) = (want.ethercat().unwrap(), got.ethercat().unwrap());
         assert_eq!(got.type_name, want.type_name);
         let sms = |ec: &edsgen_codegen::model::EtherCat| {
             ec.sync_managers
@@ -347,7 +344,7 @@ fn a_broken_image_says_what_is_wrong_and_keeps_what_it_read() {
             ),
         ]
     );
-    assert_eq!(back.device.ethercat.unwrap().rx_pdos.len(), 2);
+    assert_eq!(back.device.ethercat().cloned().unwrap().rx_pdos.len(), 2);
     let short = read_bytes(Path::new("x.sii"), &[0; 10]);
     assert_eq!(
         short.diagnostics[0].message,

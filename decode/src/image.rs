@@ -40,7 +40,7 @@ impl ImageDecoder {
     /// `Name = value` for each, hex bytes where the image is shorter than the PDOs need (bytes
     /// beyond them are not shown).
     fn image(&self, kind: SmKind, data: &[u8]) -> String {
-        let Some(ethercat) = &self.device.ethercat else {
+        let Some(ethercat) = self.device.ethercat() else {
             return text::hex_bytes(data);
         };
         let Some(sm) = ethercat.sync_managers.iter().position(|s| s.kind == kind) else {

@@ -229,7 +229,8 @@ fn gsdml() -> Result<Profinet, String> {
         include_bytes!("../../eds/goodrive350-pn.xml"),
     )
     .device
-    .profinet
+    .profinet()
+    .cloned()
     .ok_or_else(|| "the card's GSDML did not read".to_owned())
 }
 

@@ -17,7 +17,7 @@ fuzz_target!(|data: &[u8]| {
     let read = read_bytes(Path::new(name), data);
     let _ = edsgen_codegen::validate::validate(&read.device);
     let _ = edsgen_codegen::dump::to_json(&read.device);
-    if let Some(dp) = &read.device.dp {
+    if let Some(dp) = read.device.dp() {
         for module in &dp.modules {
             let _ = decode_cfg(&module.config);
             let _ = module.io_lengths();

@@ -14,7 +14,7 @@ fuzz_target!(|data: &[u8]| {
     let direct = gsdml::read(Path::new("fuzz.xml"), data);
     let _ = edsgen_codegen::validate::validate(&direct.device);
     let _ = edsgen_codegen::dump::to_json(&direct.device);
-    if direct.device.profinet.is_some() {
+    if direct.device.profinet().is_some() {
         let _ = edsgen_codegen::emit::generate(&direct.device, "fuzz");
     }
 });

@@ -10,7 +10,7 @@ use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     let read = read_bytes(Path::new("fuzz.eds"), data);
-    if read.device.cip.is_none() {
+    if read.device.cip().is_none() {
         return;
     }
     let _ = edsgen_codegen::validate::validate(&read.device);

@@ -21,7 +21,7 @@ fn config() -> &'static DeviceConfig {
             std::path::Path::new("goodrive350-pn.xml"),
             include_bytes!("../../eds/goodrive350-pn.xml"),
         );
-        DeviceConfig::from_gsdml(read.device.profinet.as_ref().expect("the card's GSDML"))
+        DeviceConfig::from_gsdml(read.device.profinet().expect("the card's GSDML"))
     })
 }
 

@@ -8,11 +8,11 @@ use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
 use edsgen_codegen::model::{AccessType, Device, ObjectType, SubObject, Value};
+use edsgen_codegen::render;
 use edsgen_codegen::rules::{
     CHK_DEFAULT as CHK005, CHK_IDENTITY as CHK004, CHK_LENGTH as CHK002, CHK_MISSING as CHK001,
     CHK_UNREADABLE as CHK003,
 };
-use edsgen_codegen::{read, render};
 use edsgen_host::master::blocking::{Master, MasterError};
 use edsgen_host::Transport;
 use edsgen_runtime::master::{ExpectedIdentity, Mode, SdoError};
@@ -57,7 +57,7 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Ok(id) => id,
         Err(message) => return fail(message),
     };
-    let read = match read::read_file(&args.eds) {
+    let read = match super::load(&args.eds, None) {
         Ok(read) => read,
         Err(e) => return fail(e),
     };

@@ -521,7 +521,7 @@ mod tests {
     fn model() -> Cip {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/enip/io.eds");
         let read = edsgen_codegen::read::read_file(&path).expect("tests/enip/io.eds");
-        read.device.cip.expect("an ODVA EDS")
+        read.device.cip().cloned().expect("an ODVA EDS")
     }
 
     #[test]

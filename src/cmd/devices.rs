@@ -53,7 +53,7 @@ fn rendered(path: &Path, read: &read::Read) -> ExitCode {
 fn line(device: &Device) -> String {
     let info = &device.device_info;
     let hex = |n: Option<u32>| n.map_or("-".to_owned(), |n| format!("#x{n:08X}"));
-    let Some(ec) = &device.ethercat else {
+    let Some(ec) = device.ethercat() else {
         return String::new();
     };
     let assigned = |pdos: &[EcPdo]| -> u64 {

@@ -4,17 +4,17 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::{dump, read, render};
+use edsgen_codegen::{dump, render};
 
 use super::{fail, print_stdout};
 
 /// Runs `edsgen dump FILE [--device NAME|#xCODE]`.
 pub fn run(path: &Path, device: Option<&str>) -> ExitCode {
-    let read = match read::read_file_device(path, device) {
+    let read = match super::load(path, device) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
-    if read.nothing_read() {
+    if read.nothing_read {
         let name = path.display().to_string();
         eprint!(
             "{}",

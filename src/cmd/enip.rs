@@ -178,7 +178,8 @@ fn unused_eds(eds: Option<&Path>) {
 pub(super) fn read_cip(path: &Path) -> Result<Cip, String> {
     let device = super::read_device(path)?;
     device
-        .cip
+        .cip()
+        .cloned()
         .filter(|_| device.source.format == Format::OdvaEds)
         .ok_or_else(|| format!("`{}` is not an ODVA EDS", path.display()))
 }

@@ -194,7 +194,7 @@ fn plan<'a>(cip: &'a Cip, file: &str, args: &Args) -> Result<Plan<'a>, String> {
                 FieldRef::Assem(n) => cip
                     .assemblies
                     .get(n)
-                    .and_then(|a| edsgen_codegen::validate::cip_assembly_size(cip, a))
+                    .and_then(|a| cip.assembly_size(a))
                     .unwrap_or(0),
                 _ => 0,
             },

@@ -185,7 +185,7 @@ mod tests {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("codegen/tests/odva/io.eds");
         let read = edsgen_codegen::read::read_file(&path).expect("io.eds reads");
-        read.device.cip.expect("an ODVA EDS")
+        read.device.cip().cloned().expect("an ODVA EDS")
     }
 
     #[test]

@@ -4,6 +4,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use edsgen_codegen::builder;
+use edsgen_codegen::lint::Policy;
 
 use super::{fail, print_stdout};
 
@@ -19,7 +20,7 @@ pub fn run(
     }
     let module = module.map_or_else(|| builder::default_module(path), str::to_owned);
     // The same function build.rs runs, overlay included: the output is what build.rs would write.
-    let code = match builder::generate_chosen_device(path, device, &module, &[]) {
+    let code = match builder::generate_chosen_device(path, device, &module, &Policy::new()) {
         Ok((code, warnings)) => {
             for warning in warnings {
                 eprint!("{warning}");

@@ -50,6 +50,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Args;
+use edsgen_codegen::load::Loaded;
 use edsgen_codegen::model::Device;
 use edsgen_host::master::blocking::Master;
 use edsgen_host::socketcand::SocketcandClient;
@@ -95,14 +96,28 @@ pub fn parse_node_id(text: &str) -> Result<u8, String> {
     }
 }
 
-/// Reads a description file into its model; the error is the message to print.
+/// Loads a description for a command ([`edsgen_codegen::load`]: read, its overlay applied,
+/// validated; one device of an ESI file when `device` names it). The error is the message to
+/// print: the file or its overlay cannot be read, or the overlay does not apply (unless nothing
+/// of the file could be read: the caller reports that).
+pub fn load(path: &Path, device: Option<&str>) -> Result<Loaded, String> {
+    let loaded = edsgen_codegen::load::load(path, device).map_err(|e| e.to_string())?;
+    match loaded.overlay.as_ref() {
+        Some(overlay) if !overlay.diagnostics.is_empty() && !loaded.nothing_read => Err(format!(
+            "the overlay `{}` cannot be applied:\n{}",
+            overlay.path.display(),
+            overlay.rendered().trim_end()
+        )),
+        _ => Ok(loaded),
+    }
+}
+
+/// Loads a description file's model ([`load`]); the error is the message to print.
 pub fn read_device(path: &Path) -> Result<Device, String> {
     if !path.is_file() {
         return Err(format!("cannot read `{}`: not a file", path.display()));
     }
-    edsgen_codegen::read::read_file(path)
-        .map(|read| read.device)
-        .map_err(|e| e.to_string())
+    load(path, None).map(|loaded| loaded.device)
 }
 
 /// The address `edsgen bus` listens on by default, and every client command joins by default.

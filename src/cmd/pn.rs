@@ -105,11 +105,10 @@ fn gsdml_ids(files: &[PathBuf]) -> Result<Vec<(u16, u16, String)>, String> {
     files
         .iter()
         .map(|path| {
-            let read = edsgen_codegen::read::read_file(path).map_err(|e| e.to_string())?;
+            let read = super::load(path, None)?;
             let pn = read
                 .device
-                .profinet
-                .as_ref()
+                .profinet()
                 .ok_or_else(|| format!("`{}` is not a GSDML file", path.display()))?;
             match (&pn.vendor_id, &pn.device_id) {
                 (Some(v), Some(d)) => Ok((v.value, d.value, path.display().to_string())),

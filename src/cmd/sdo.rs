@@ -7,7 +7,6 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 use edsgen_codegen::model::{AccessType, BasicType, Device};
-use edsgen_codegen::read;
 use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::master::Mode;
 use edsgen_runtime::wire::sdo::Multiplexer;
@@ -150,9 +149,7 @@ impl Resolved {
 
 /// Reads a description, failing on an unreadable file.
 pub fn load(path: &Path) -> Result<Device, String> {
-    read::read_file(path)
-        .map(|read| read.device)
-        .map_err(|e| e.to_string())
+    super::load(path, None).map(|loaded| loaded.device)
 }
 
 /// The name of (index, sub) in `device` ("Object / Sub" for records and arrays) and its basic

@@ -6,18 +6,18 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::{read, render, sii};
+use edsgen_codegen::{render, sii};
 
 use super::fail;
 
 /// Runs `edsgen sii`: 0 when written, 1 when the file could not be read, 2 for a file that is
 /// not an ESI device or an image that cannot be written.
 pub fn run(path: &Path, device: Option<&str>, output: &Path) -> ExitCode {
-    let read = match read::read_file_device(path, device) {
+    let read = match super::load(path, device) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
-    if read.nothing_read() {
+    if read.nothing_read {
         let name = path.display().to_string();
         eprint!(
             "{}",

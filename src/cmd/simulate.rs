@@ -31,7 +31,7 @@
 //! ```
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
@@ -349,29 +349,6 @@ impl std::fmt::Display for Bus<'_> {
     }
 }
 
-/// `device` with the overlay beside `path` applied, if there is one, so that its strings and
-/// domains hold what the generated `Od` would ([`edsgen_codegen::overlay`]); or the overlay's
-/// errors, rendered.
-fn with_overlay(path: &Path, mut device: Device) -> Result<Device, String> {
-    let overlay = edsgen_codegen::overlay::path_for(path);
-    if !overlay.is_file() {
-        return Ok(device);
-    }
-    let shown = overlay.display().to_string();
-    let text = std::fs::read_to_string(&overlay)
-        .map_err(|e| format!("cannot read the overlay `{shown}`: {e}"))?;
-    let diags = edsgen_codegen::overlay::apply(&text, &mut device);
-    if diags.is_empty() {
-        Ok(device)
-    } else {
-        let rendered = edsgen_codegen::render::human(&shown, &text, &diags, false);
-        Err(format!(
-            "the overlay `{shown}` cannot be applied:\n{}",
-            rendered.trim_end()
-        ))
-    }
-}
-
 /// The devices of the command line with their node-IDs, or what is wrong.
 fn plan(args: &Args) -> Result<Vec<Planned>, String> {
     if args.node_id.len() > args.files.len() {
@@ -391,7 +368,7 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
             None => (arg.as_str(), args.node_id.get(i).copied()),
         };
         let path = PathBuf::from(path);
-        let device = with_overlay(&path, read_device(&path)?)?;
+        let device = read_device(&path)?;
         let node_id = match (given, commissioned_node_id(&device)) {
             (Some(id), _) => id,
             (None, Some(id)) => u8::try_from(id)
@@ -477,7 +454,7 @@ fn parse_sim_node_id(text: &str) -> Result<u8, String> {
 }
 
 /// Why a device cannot start unconfigured.
-fn no_lss(path: &Path) -> String {
+fn no_lss(path: &std::path::Path) -> String {
     format!(
         "{} says LSS_Supported=0: the device cannot be configured by LSS (CiA 305), so it \
          cannot start unconfigured (@255); give it a node-ID 1..=127",

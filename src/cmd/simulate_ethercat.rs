@@ -38,11 +38,11 @@ pub fn run(
     let (model, behaviour): (Device, Option<Box<dyn Behaviour>>) = match (files, cards) {
         ([file], []) => {
             let path = Path::new(file);
-            let read = match read::read_file_device(path, device) {
+            let read = match super::load(path, device) {
                 Ok(read) => read,
                 Err(err) => return fail(err),
             };
-            if read.nothing_read() || read.device.ethercat.is_none() {
+            if read.nothing_read || read.device.ethercat().is_none() {
                 return fail(format!(
                     "{file}: not an ESI device (`edsgen validate {file}` says why)"
                 ));

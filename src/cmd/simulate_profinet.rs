@@ -12,7 +12,8 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::sync::mpsc;
 
-use edsgen_codegen::{read, validate};
+use edsgen_codegen::load::{self, LoadError};
+use edsgen_codegen::read;
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_sim::profinet::alarm::AlarmEvent;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
@@ -45,13 +46,18 @@ pub fn run(
     if faults_on_stdin && !card {
         return fail("--faults-on-stdin switches the faults of --card goodrive350-pn's drive");
     }
-    let (name, bytes) = match (files, cards) {
-        ([file], []) => match std::fs::read(file) {
-            Ok(bytes) => (file.clone(), bytes),
-            Err(e) => return fail(format!("cannot read `{file}`: {e}")),
+    let (name, read) = match (files, cards) {
+        ([file], []) => match load::load(Path::new(file), None) {
+            Ok(loaded) => (file.clone(), loaded),
+            Err(LoadError::Read(read::ReadError::Io(_, e))) => {
+                return fail(format!("cannot read `{file}`: {e}"))
+            }
+            Err(e) => return fail(e),
         },
         ([], [card]) if card == "goodrive350-pn" => {
-            ("eds/goodrive350-pn.xml".to_owned(), GOODRIVE350_PN.to_vec())
+            let name = "eds/goodrive350-pn.xml";
+            let read = load::judge(read::read_bytes(Path::new(name), GOODRIVE350_PN));
+            (name.to_owned(), read)
         }
         ([], [card]) => {
             return fail(format!(
@@ -60,14 +66,13 @@ pub fn run(
         }
         _ => return fail("--profinet takes one GSDML FILE or one --card"),
     };
-    let read = read::read_bytes(Path::new(&name), &bytes);
     let errors = read
         .diagnostics
         .iter()
-        .chain(&validate::validate(&read.device))
+        .chain(read.overlay_diagnostics())
         .filter(|d| d.severity == edsgen_codegen::diag::Severity::Error)
         .count();
-    let Some(pn) = read.device.profinet.as_ref().filter(|_| errors == 0) else {
+    let Some(pn) = read.device.profinet().filter(|_| errors == 0) else {
         return fail(format!(
             "`{name}` is not a GSDML file without errors (run `edsgen validate {name}`)"
         ));

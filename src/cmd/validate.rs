@@ -7,18 +7,16 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
-use edsgen_codegen::{read, render, rules, validate};
+use edsgen_codegen::lint::{self, Verdict};
+use edsgen_codegen::load::{self, LoadError};
+use edsgen_codegen::{read, render, rules};
 
 use super::{fail, rule_named, EXIT_USAGE};
 
-/// What the command line asks of the diagnostics.
+/// What the command line asks of the diagnostics: the lint levels, and what to show.
 pub struct Policy {
-    /// Rules whose warnings and infos are dropped (errors stay).
-    pub allowed: Vec<&'static str>,
-    /// Rules whose warnings and infos become errors.
-    pub denied: Vec<&'static str>,
-    /// Every warning becomes an error (`--deny warnings`).
-    pub deny_warnings: bool,
+    /// `--allow` and `--deny` (codes or `warnings`).
+    pub lint: lint::Policy,
     /// Diagnostics below this severity are counted but not shown.
     pub min_severity: Severity,
 }
@@ -26,40 +24,18 @@ pub struct Policy {
 impl Policy {
     /// The policy from the raw `--allow` and `--deny` arguments (`--deny warnings` or a code).
     pub fn new(allow: &[String], deny: &[String], min_severity: Severity) -> Result<Self, String> {
-        let mut policy = Policy {
-            allowed: Vec::new(),
-            denied: Vec::new(),
-            deny_warnings: false,
-            min_severity,
-        };
+        let mut lint = lint::Policy::new();
         for code in allow {
-            policy.allowed.push(rule_named("--allow", code)?.code);
+            lint.allow(rule_named("--allow", code)?);
         }
         for code in deny {
             if code.eq_ignore_ascii_case("warnings") {
-                policy.deny_warnings = true;
+                lint.deny_warnings();
                 continue;
             }
-            let rule = rule_named("--deny", code)?;
-            if policy.allowed.contains(&rule.code) {
-                return Err(format!("{} is both allowed and denied", rule.code));
-            }
-            policy.denied.push(rule.code);
+            lint.deny(rule_named("--deny", code)?)?;
         }
-        Ok(policy)
-    }
-
-    /// The `--deny` that turns this diagnostic into an error, if one does.
-    fn denial(&self, d: &Diagnostic) -> Option<&'static str> {
-        if d.severity == Severity::Error {
-            None
-        } else if self.denied.contains(&d.code()) {
-            Some(d.code())
-        } else if self.deny_warnings && d.severity == Severity::Warning {
-            Some("warnings")
-        } else {
-            None
-        }
+        Ok(Policy { lint, min_severity })
     }
 }
 
@@ -83,12 +59,13 @@ pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>)
     let mut out = std::io::stdout().lock();
     for path in files {
         let name = path.display().to_string();
-        let read = match read::read_file_device(path, device) {
-            Ok(read) => read,
+        let loaded = match load::load(path, device) {
+            Ok(loaded) => loaded,
             Err(err) => {
                 tally.unreadable += 1;
                 let cause = match &err {
-                    read::ReadError::Io(_, io) => io.to_string(),
+                    LoadError::Read(read::ReadError::Io(_, io)) => io.to_string(),
+                    LoadError::Overlay(..) => err.to_string(),
                 };
                 let d = Diagnostic::new(
                     &rules::UNREADABLE,
@@ -104,49 +81,61 @@ pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>)
             }
         };
         tally.checked += 1;
-        let mut diags = read.diagnostics.clone();
-        if !read.nothing_read() {
-            diags.extend(validate::validate(&read.device));
+        // The description's findings, then its overlay's under the overlay's own name, as
+        // `edsgen generate` shows them.
+        let mut parts = vec![(name, loaded.text.as_str(), loaded.diagnostics.clone())];
+        if let Some(overlay) = &loaded.overlay {
+            let overlay_name = overlay.path.display().to_string();
+            parts.push((
+                overlay_name,
+                overlay.text.as_str(),
+                overlay.diagnostics.clone(),
+            ));
         }
-        diag::sort(&mut diags);
-        let mut shown = Vec::new();
-        let mut denials = Vec::new();
-        for mut d in diags {
-            if d.severity != Severity::Error && policy.allowed.contains(&d.code()) {
-                tally.allowed += 1;
-                continue;
-            }
-            let denial = policy.denial(&d);
-            if denial.is_some() {
-                d.severity = Severity::Error;
-                tally.denied += 1;
-            }
-            match d.severity {
-                Severity::Error => tally.errors += 1,
-                Severity::Warning => tally.warnings += 1,
-                Severity::Info => {}
-            }
-            if d.severity < policy.min_severity {
-                tally.hidden += 1;
-                continue;
-            }
-            shown.push(d);
-            denials.push(denial);
-        }
-        if json {
-            for (mut value, denial) in render::json(&name, &shown).into_iter().zip(&denials) {
-                if let (Some(object), Some(by)) = (value.as_object_mut(), denial) {
-                    object.insert("denied".into(), serde_json::json!(format!("--deny {by}")));
+        for (name, text, mut diags) in parts {
+            diag::sort(&mut diags);
+            let mut shown = Vec::new();
+            let mut denials = Vec::new();
+            for mut d in diags {
+                let denial = match policy.lint.verdict(&d) {
+                    Verdict::Allowed => {
+                        tally.allowed += 1;
+                        continue;
+                    }
+                    Verdict::Denied(by) => {
+                        d.severity = Severity::Error;
+                        tally.denied += 1;
+                        Some(by)
+                    }
+                    Verdict::Kept => None,
+                };
+                match d.severity {
+                    Severity::Error => tally.errors += 1,
+                    Severity::Warning => tally.warnings += 1,
+                    Severity::Info => {}
                 }
-                all_json.push(value);
-            }
-        } else {
-            for (d, denial) in shown.iter_mut().zip(&denials) {
-                if let Some(by) = denial {
-                    d.message = format!("{} (denied by `--deny {by}`)", d.message);
+                if d.severity < policy.min_severity {
+                    tally.hidden += 1;
+                    continue;
                 }
+                shown.push(d);
+                denials.push(denial);
             }
-            let _ = out.write_all(render::human(&name, &read.text, &shown, color).as_bytes());
+            if json {
+                for (mut value, denial) in render::json(&name, &shown).into_iter().zip(&denials) {
+                    if let (Some(object), Some(by)) = (value.as_object_mut(), denial) {
+                        object.insert("denied".into(), serde_json::json!(format!("--deny {by}")));
+                    }
+                    all_json.push(value);
+                }
+            } else {
+                for (d, denial) in shown.iter_mut().zip(&denials) {
+                    if let Some(by) = denial {
+                        d.message = format!("{} (denied by `--deny {by}`)", d.message);
+                    }
+                }
+                let _ = out.write_all(render::human(&name, text, &shown, color).as_bytes());
+            }
         }
     }
     if json {
@@ -173,12 +162,7 @@ fn summary(tally: &Tally, policy: &Policy) -> String {
     }
     line.push_str(&format!(": {} error(s)", tally.errors));
     if tally.denied > 0 {
-        let mut by: Vec<&str> = policy
-            .deny_warnings
-            .then_some("warnings")
-            .into_iter()
-            .collect();
-        by.extend(&policy.denied);
+        let by = policy.lint.denials();
         line.push_str(&format!(
             " ({} of them denied by --deny {})",
             tally.denied,
@@ -197,7 +181,7 @@ fn summary(tally: &Tally, policy: &Policy) -> String {
         line.push_str(&format!(
             "; {} allowed by --allow {}",
             tally.allowed,
-            policy.allowed.join(", ")
+            policy.lint.allowed().join(", ")
         ));
     }
     line

@@ -19,7 +19,6 @@ use super::plan::{doc_text, id};
 use super::{types, Generated};
 use crate::diag::Diagnostic;
 use crate::model::{data_type_info, Cip, CipAssembly, CipNumber, CipParam, Device, FieldRef};
-use crate::validate::cip_assembly_size;
 
 /// Generates the module of a device read from an ODVA EDS.
 pub fn generate(device: &Device, cip: &Cip, module: &str) -> Result<Generated, Vec<Diagnostic>> {
@@ -254,7 +253,7 @@ fn member_bits(cip: &Cip, bits: Option<u32>, member: &FieldRef) -> u32 {
         FieldRef::Assem(n) => cip
             .assemblies
             .get(n)
-            .and_then(|a| cip_assembly_size(cip, a))
+            .and_then(|a| cip.assembly_size(a))
             .and_then(|s| u32::try_from(s * 8).ok()),
         _ => None,
     })

@@ -9,7 +9,6 @@ use super::names::{ident, Case};
 use super::plan::{doc_text, id};
 use super::types;
 use crate::model::{path_bytes, Cip, CipAssembly, CipNumber, FieldRef};
-use crate::validate::cip_assembly_size;
 
 /// The `Connection` type and one constant per connection.
 pub(super) fn connections(cip: &Cip) -> TokenStream {
@@ -45,7 +44,7 @@ pub(super) fn connections(cip: &Cip) -> TokenStream {
                     FieldRef::Assem(n) => cip
                         .assemblies
                         .get(n)
-                        .and_then(|a| cip_assembly_size(cip, a))
+                        .and_then(|a| cip.assembly_size(a))
                         .unwrap_or(0),
                     _ => 0,
                 },

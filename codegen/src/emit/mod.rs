@@ -24,7 +24,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use crate::diag::{Diagnostic, Severity};
-use crate::model::{Device, Format, Value};
+use crate::model::{Bus, Device, Format, Value};
 
 /// Generated code and what the emitter said about the device.
 #[derive(Debug, Clone)]
@@ -46,36 +46,27 @@ pub fn module_name(requested: &str) -> String {
 /// emitter found (errors included) and no code.
 pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
-    if let Some(cip) = &device.cip {
+    let plan = match &device.bus {
         // An ODVA EDS has no object dictionary: identity, assembly images and connections.
-        return cip::generate(device, cip, &module);
-    }
-    if let Some(pn) = &device.profinet {
+        Bus::Cip(cip) => return cip::generate(device, cip, &module),
         // A GSDML device has no object dictionary: its own module, from the PROFINET side.
-        let tokens = profinet::module(pn, &module_doc(device), &plan::id(&module))?;
-        let code = format_tokens(tokens, device, &text::Splices::default())?;
-        return Ok(Generated {
-            module,
-            code,
-            diagnostics: Vec::new(),
-        });
-    }
-    if let Some(dp) = &device.dp {
+        Bus::Profinet(pn) => {
+            let tokens = profinet::module(pn, &module_doc(device), &plan::id(&module))?;
+            return without_dictionary(device, module, tokens);
+        }
         // A GSD file has no dictionary: its module is the DP one alone.
-        let tokens = dp::module(device, dp, &module);
-        let code = format_tokens(tokens, device, &text::Splices::default())?;
-        return Ok(Generated {
-            module,
-            code,
-            diagnostics: Vec::new(),
-        });
-    }
-    let plan = plan::plan(device);
+        Bus::Dp(dp) => {
+            return without_dictionary(device, module.clone(), dp::module(device, dp, &module))
+        }
+        Bus::CanOpen | Bus::EtherCat(_) => plan::plan(device),
+    };
     let mut diagnostics = plan.diagnostics.clone();
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
-    let pdo_tokens = match &device.ethercat {
-        Some(ec) => ethercat::module(ec, &plan),
-        None => pdo::pdos(device, &plan, &mut diagnostics),
+    let pdo_tokens = match &device.bus {
+        Bus::EtherCat(ec) => ethercat::module(ec, &plan),
+        Bus::CanOpen | Bus::Cip(_) | Bus::Profinet(_) | Bus::Dp(_) => {
+            pdo::pdos(device, &plan, &mut diagnostics)
+        }
     };
     crate::diag::sort(&mut diagnostics);
     if diagnostics.iter().any(|d| d.severity == Severity::Error) {
@@ -109,6 +100,20 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
         module,
         code,
         diagnostics,
+    })
+}
+
+/// The module of a device without an object dictionary: `tokens` formatted, no diagnostics.
+fn without_dictionary(
+    device: &Device,
+    module: String,
+    tokens: TokenStream,
+) -> Result<Generated, Vec<Diagnostic>> {
+    let code = format_tokens(tokens, device, &text::Splices::default())?;
+    Ok(Generated {
+        module,
+        code,
+        diagnostics: Vec::new(),
     })
 }
 
@@ -207,15 +212,16 @@ fn module_doc(device: &Device) -> Vec<String> {
 /// The identity (1018h sub 1-3, else `[DeviceInfo]`) and PDO count constants.
 fn header(device: &Device) -> TokenStream {
     let identity = |sub: u8, info: Option<u32>| -> (u32, String) {
-        let from_od = device
-            .entry(0x1018, sub)
-            .and_then(|s| match types::initial_value(s) {
-                Some(Value::Integer(v)) => u32::try_from(*v).ok(),
-                _ => None,
-            });
+        let from_od =
+            device
+                .entry(0x1018, sub)
+                .and_then(|s| match crate::model::layout::initial_value(s) {
+                    Some(Value::Integer(v)) => u32::try_from(*v).ok(),
+                    _ => None,
+                });
         match (from_od, info) {
             (Some(v), _) => (v, format!("1018h sub {sub}")),
-            (None, Some(v)) if device.ethercat.is_some() => {
+            (None, Some(v)) if device.ethercat().is_some() => {
                 (v, "the ESI's `Vendor` and `Type`".to_owned())
             }
             (None, Some(v)) => (v, "`[DeviceInfo]`".to_owned()),
@@ -256,7 +262,7 @@ fn header(device: &Device) -> TokenStream {
         #[doc = #revision_doc]
         pub const REVISION_NUMBER: u32 = #revision;
     };
-    if device.ethercat.is_some() {
+    if device.ethercat().is_some() {
         // CANopen's PDO counts mean nothing on EtherCAT (the ethercat module lists the PDOs).
         return identity;
     }

@@ -12,8 +12,9 @@ use quote::quote;
 
 use super::names::Namespace;
 use super::plan::{id, Plan};
-use super::types::{hex, initial_value, pdo_derives, Prim, RustType};
+use super::types::{hex, pdo_derives, Prim, RustType};
 use crate::diag::Diagnostic;
+use crate::model::layout::initial_value;
 use crate::model::{Device, Value};
 use crate::rules;
 

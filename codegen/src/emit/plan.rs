@@ -5,11 +5,9 @@
 use proc_macro2::{Ident, Span as TokenSpan};
 
 use super::names::{ident, member_name, Case, Namespace};
-use super::types::{
-    capacity, initial_value, node_relative_offset, scalar_number, value_bytes, Number, Prim,
-    RustType, ValueProblem,
-};
+use super::types::{node_relative_offset, scalar_number, Number, Prim, RustType, ValueProblem};
 use crate::diag::Diagnostic;
+use crate::model::layout::{capacity, initial_value, value_bytes};
 use crate::model::{AccessType, BasicType, Device, Object, SubObject, Value};
 use crate::rules;
 
@@ -131,69 +129,6 @@ pub fn doc_text(text: &str) -> String {
     out
 }
 
-/// The most bytes all values of one device may take (see `Od`'s value image).
-pub const MAX_IMAGE_SIZE: usize = u16::MAX as usize;
-
-/// The stored entries of an object, as the generator stores them: a VAR's one entry, or every
-/// sub-object of an ARRAY or RECORD.
-fn stored_entries(object: &Object) -> Vec<&SubObject> {
-    if object.index < 0x1000 {
-        return Vec::new();
-    }
-    if object.object_type.has_subs() {
-        object.subs.values().collect()
-    } else {
-        object
-            .subs
-            .get(&0)
-            .or_else(|| object.subs.values().next())
-            .into_iter()
-            .collect()
-    }
-}
-
-/// The sizes the generated code cannot hold (EDS707): an entry longer than 65535 bytes, or a
-/// device whose values need more than [`MAX_IMAGE_SIZE`] bytes in all (the value image's
-/// offsets are 16-bit, 2 bytes of flash per entry rather than 4). The validator reports them
-/// too, so a file `edsgen validate` passes is a file the generator takes.
-pub fn size_errors(device: &Device) -> Vec<Diagnostic> {
-    let mut out = Vec::new();
-    let mut image_size = 0usize;
-    for object in device.objects.values() {
-        let before = image_size;
-        for sub in stored_entries(object) {
-            let Some(basic) = sub.data_type.and_then(|t| device.basic_type(t)) else {
-                continue;
-            };
-            let cap = capacity(basic, sub);
-            let ty = RustType::of(basic, cap);
-            if matches!(ty, RustType::Bytes(_)) && cap > usize::from(u16::MAX) {
-                out.push(Diagnostic::new(
-                    &rules::CAPACITY_TOO_LARGE,
-                    Some(sub.span),
-                    format!(
-                        "{:04X}h sub {} `{}`: needs {cap} bytes; an entry holds at most 65535",
-                        object.index, sub.sub_index, sub.name
-                    ),
-                ));
-                continue;
-            }
-            image_size += ty.image_size();
-        }
-        if before <= MAX_IMAGE_SIZE && image_size > MAX_IMAGE_SIZE {
-            out.push(Diagnostic::new(
-                &rules::CAPACITY_TOO_LARGE,
-                Some(object.span),
-                format!(
-                    "{:04X}h `{}`: with this object the device's values need more than {MAX_IMAGE_SIZE} bytes in all",
-                    object.index, object.name
-                ),
-            ).with_help("lower string and domain capacities (the overlay sets them)"));
-        }
-    }
-    out
-}
-
 struct Planner<'a> {
     device: &'a Device,
     diagnostics: Vec<Diagnostic>,
@@ -208,7 +143,7 @@ struct Planner<'a> {
 pub fn plan(device: &Device) -> Plan {
     let mut p = Planner {
         device,
-        diagnostics: size_errors(device),
+        diagnostics: crate::validate::size_errors(device),
         consts: Namespace::default(),
         modules: Namespace::default(),
     };

@@ -4,15 +4,12 @@
 //! Odd-width integers (24, 40, 48, 56 bits, and TIME_OF_DAY/TIME_DIFFERENCE as 48-bit unsigned)
 //! live in the smallest fitting Rust integer; the OD write reads exactly their wire width and sign
 //! extends, so a stored value is always in range. Strings, octet strings and domains are
-//! `FixedBytes<N>` (see [`capacity`] for `N`).
+//! `FixedBytes<N>` (see [`capacity`](crate::model::layout::capacity) for `N`).
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use crate::model::{AccessType, BasicType, SubObject, Value};
-
-/// Writable strings and domains get at least this many bytes of capacity.
-pub const MIN_WRITABLE_CAPACITY: usize = 32;
+use crate::model::{AccessType, BasicType, Value};
 
 /// A Rust primitive holding a fixed-size CiA 301 value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -165,45 +162,6 @@ pub fn access_variant(access: AccessType) -> &'static str {
         AccessType::Rwr => "Rwr",
         AccessType::Rww => "Rww",
         AccessType::Const => "Const",
-    }
-}
-
-/// The bytes a string, octet string or domain value holds (UNICODE_STRING text as UTF-16LE).
-pub fn value_bytes(basic: BasicType, value: &Value) -> Option<Vec<u8>> {
-    match value {
-        Value::Text(text) if basic == BasicType::UnicodeString => {
-            Some(text.encode_utf16().flat_map(u16::to_le_bytes).collect())
-        }
-        Value::Text(text) => Some(text.as_bytes().to_vec()),
-        Value::Bytes(bytes) => Some(bytes.clone()),
-        _ => None,
-    }
-}
-
-/// The configured value of an entry: the DCF ParameterValue when it parsed, else the default.
-pub fn initial_value(sub: &SubObject) -> Option<&Value> {
-    sub.parameter_value
-        .as_ref()
-        .and_then(|v| v.value.as_ref())
-        .or_else(|| sub.default.as_ref().and_then(|v| v.value.as_ref()))
-}
-
-/// The capacity of a string, octet string or domain entry: the overlay's, else the longest of
-/// its DefaultValue and ParameterValue, and at least [`MIN_WRITABLE_CAPACITY`] when it is writable.
-pub fn capacity(basic: BasicType, sub: &SubObject) -> usize {
-    if let Some(capacity) = sub.capacity {
-        return capacity;
-    }
-    let len_of = |v: Option<&crate::model::ValueSource>| {
-        v.and_then(|v| v.value.as_ref())
-            .and_then(|v| value_bytes(basic, v))
-            .map_or(0, |b| b.len())
-    };
-    let longest = len_of(sub.default.as_ref()).max(len_of(sub.parameter_value.as_ref()));
-    if sub.access.is_some_and(AccessType::writable) {
-        longest.max(MIN_WRITABLE_CAPACITY)
-    } else {
-        longest
     }
 }
 

@@ -107,10 +107,7 @@ pub fn device(objects: Vec<Object>) -> Device {
         commissioning: None,
         other_sections: Vec::new(),
         naming: Default::default(),
-        ethercat: None,
-        cip: None,
-        profinet: None,
-        dp: None,
+        bus: Bus::CanOpen,
     }
 }
 
@@ -405,7 +402,7 @@ pub fn ethercat_like() -> Device {
         vec![ec_entry(0x6040, 0, 16, "Control word", "UINT")],
     );
     excluding.exclude = vec![Spanned::new(0x1601, Span::new(1, 1, 0))];
-    dev.ethercat = Some(EtherCat {
+    dev.bus = Bus::EtherCat(EtherCat {
         type_name: "HAND-1".into(),
         profiles: vec![402],
         sync_managers: vec![

@@ -5,7 +5,7 @@
 //!
 //! Capacities: a string or octet string holds what the generated `Od` would hold (its overlay's
 //! capacity, else the longest of its DefaultValue and ParameterValue, and at least
-//! [`MIN_WRITABLE_CAPACITY`](edsgen_codegen::emit::types::MIN_WRITABLE_CAPACITY) bytes when it is writable). A DOMAIN holds up to
+//! [`MIN_WRITABLE_CAPACITY`](edsgen_codegen::model::layout::MIN_WRITABLE_CAPACITY) bytes when it is writable). A DOMAIN holds up to
 //! [`DOMAIN_CAPACITY`] bytes (a firmware image or a log fits; the bytes are allocated only as
 //! written).
 

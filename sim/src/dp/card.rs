@@ -89,7 +89,8 @@ pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
 pub fn read_gsd(path: &Path, bytes: &[u8]) -> Result<Dp, CardError> {
     edsgen_codegen::read::read_bytes(path, bytes)
         .device
-        .dp
+        .dp()
+        .cloned()
         .ok_or(CardError::NotGsd)
 }
 

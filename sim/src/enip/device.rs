@@ -41,7 +41,7 @@ pub fn from_cip(cip: &Cip, address: [u8; 4]) -> Adapter {
     let mut assemblies = BTreeMap::new();
     let mut config_instances = Vec::new();
     for a in cip.assemblies.values() {
-        let size = edsgen_codegen::validate::cip_assembly_size(cip, a).unwrap_or(0) as usize;
+        let size = cip.assembly_size(a).unwrap_or(0) as usize;
         if size == 0 {
             config_instances.push(a.instance());
             continue;
@@ -122,8 +122,8 @@ pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
     );
     let parameters = read
         .device
-        .cip
-        .map(|cip| param_object::from_cip(&cip, &assemblies))
+        .cip()
+        .map(|cip| param_object::from_cip(cip, &assemblies))
         .unwrap_or_default();
     let mut adapter = Adapter::new(identity, assemblies, address);
     adapter.config_instances.push(card::Configuration::INSTANCE);

@@ -68,8 +68,7 @@ impl EsiDevice {
     /// The application of `device` (an ESI model), with an optional behaviour.
     pub fn new(device: &Device, behaviour: Option<Box<dyn Behaviour>>) -> Result<Self, String> {
         let ec = device
-            .ethercat
-            .as_ref()
+            .ethercat()
             .ok_or("not an EtherCAT device: the simulator serves ESI files")?;
         let od = RuntimeDictionary::new(device, 0);
         let position = |kind: SmKind| {
@@ -365,7 +364,7 @@ fn seed_defaults(
 
 /// The SyncManager layout an ESI device expects.
 pub fn layout(device: &Device) -> Layout {
-    let Some(ec) = &device.ethercat else {
+    let Some(ec) = device.ethercat() else {
         return Layout {
             mailbox_out: None,
             mailbox_in: None,

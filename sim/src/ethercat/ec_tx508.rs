@@ -30,8 +30,7 @@ impl EcTx508Behaviour {
                 .collect()
         };
         let (outputs, inputs) = device
-            .ethercat
-            .as_ref()
+            .ethercat()
             .map(|ec| (default(&ec.rx_pdos), default(&ec.tx_pdos)))
             .unwrap_or_default();
         EcTx508Behaviour {

@@ -57,15 +57,11 @@ fn number(text: &str) -> Option<u16> {
 
 /// Runs `edsgen dp io`.
 pub fn run(args: &Args) -> ExitCode {
-    let mut read = match edsgen_codegen::read::read_file(&args.gsd) {
+    let read = match crate::cmd::load(&args.gsd, None) {
         Ok(read) => read,
         Err(e) => return fail(e),
     };
-    let overlay = edsgen_codegen::overlay::path_for(&args.gsd);
-    if let Ok(text) = std::fs::read_to_string(&overlay) {
-        let _ = edsgen_codegen::overlay::apply(&text, &mut read.device);
-    }
-    let Some(gsd) = read.device.dp.as_ref() else {
+    let Some(gsd) = read.device.dp() else {
         return fail(format!("{}: not a GSD file", args.gsd.display()));
     };
     let Some(ident) = gsd.ident_number.as_ref().map(|i| i.value) else {

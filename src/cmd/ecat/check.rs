@@ -65,12 +65,11 @@ pub struct Observed {
 /// Runs `edsgen ecat check`: 0 when the SubDevice matches, 1 for errors (or warnings with
 /// `--deny-warnings`), 2 when the ESI, the interface or the SubDevice cannot be read.
 pub fn run(args: &CheckArgs) -> ExitCode {
-    let read = match read::read_file_device(&args.sub_device.esi, args.sub_device.device.as_deref())
-    {
+    let read = match crate::cmd::load(&args.sub_device.esi, args.sub_device.device.as_deref()) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
-    if read.nothing_read() || read.device.ethercat.is_none() {
+    if read.nothing_read || read.device.ethercat().is_none() {
         return fail(format!(
             "{}: not an ESI device",
             args.sub_device.esi.display()
@@ -132,7 +131,7 @@ pub async fn observe(
         entries: Vec::new(),
     };
     // Without CoE there is no SDO: the SII is all a SubDevice says of itself.
-    let Some(ec) = esi.ethercat.as_ref().filter(|ec| ec.coe.is_some()) else {
+    let Some(ec) = esi.ethercat().filter(|ec| ec.coe.is_some()) else {
         return Ok(observed);
     };
     for (n, sm) in ec.sync_managers.iter().enumerate() {
@@ -203,7 +202,7 @@ fn readable(sub: &SubObject) -> bool {
 
 /// The ESI's PDOs assigned to a SyncManager by default (its `Sm` attribute), RxPDOs first.
 fn default_pdos(esi: &Device) -> Vec<&EcPdo> {
-    esi.ethercat.as_ref().map_or(Vec::new(), |ec| {
+    esi.ethercat().map_or(Vec::new(), |ec| {
         ec.rx_pdos
             .iter()
             .chain(&ec.tx_pdos)
@@ -242,8 +241,8 @@ fn identity(esi: &Device, who: &str, sii: &Device) -> Vec<Diagnostic> {
             diags.push(Diagnostic::new(&CHK006, Some(expected.span), message));
         }
     }
-    let type_name = |d: &Device| d.ethercat.as_ref().map(|ec| ec.type_name.clone());
-    if let (Some(ec), Some(actual)) = (esi.ethercat.as_ref(), type_name(sii)) {
+    let type_name = |d: &Device| d.ethercat().map(|ec| ec.type_name.clone());
+    if let (Some(ec), Some(actual)) = (esi.ethercat(), type_name(sii)) {
         if ec.type_name != actual {
             let message = format!(
                 "the order string in the SII of {who} is {actual:?}, the ESI's Type is {:?}",
@@ -258,15 +257,11 @@ fn identity(esi: &Device, who: &str, sii: &Device) -> Vec<Diagnostic> {
 /// CHK007: each SyncManager of the SII against the ESI's, and the ESC's channel count.
 fn sync_managers(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
-    let Some(ec) = esi.ethercat.as_ref() else {
+    let Some(ec) = esi.ethercat() else {
         return diags;
     };
     let empty = Vec::new();
-    let sii = observed
-        .sii
-        .ethercat
-        .as_ref()
-        .map_or(&empty, |s| &s.sync_managers);
+    let sii = observed.sii.ethercat().map_or(&empty, |s| &s.sync_managers);
     if usize::from(observed.sm_channels) < ec.sync_managers.len() {
         let message = format!(
             "the ESC of {who} has {} SyncManager channel(s) (register 0x0005), the ESI describes {}",
@@ -345,7 +340,7 @@ fn kind(kind: &SmKind) -> String {
 /// entries.
 fn assignment(esi: &Device, who: &str, observed: &Observed) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
-    let Some(ec) = esi.ethercat.as_ref() else {
+    let Some(ec) = esi.ethercat() else {
         return diags;
     };
     let refused = |code: u32| {
@@ -558,7 +553,7 @@ mod tests {
         if let Some(revision) = sii.device_info.revision_number.as_mut() {
             revision.value = 7;
         }
-        let ec = sii.ethercat.as_mut().expect("ESI");
+        let ec = sii.ethercat_mut().expect("ESI");
         ec.sync_managers[1].control_byte = 0x20;
         ec.sync_managers[1].enable = false;
         let extra = ec.sync_managers[3].clone();

@@ -86,7 +86,7 @@ pub fn run(args: Args) -> ExitCode {
             Err(err) => return fail(format!("cannot read `{}`: {err}", path.display())),
         };
         for (device, _) in edsgen_codegen::read::esi::read_all(path, &bytes) {
-            if device.ethercat.is_some() {
+            if device.ethercat().is_some() {
                 described.push((path.clone(), device));
             }
         }
@@ -113,16 +113,11 @@ fn pdo(sub_device: &SubDeviceArgs, cycles: Option<u64>) -> ExitCode {
         position,
     } = sub_device;
     let (iface, position) = (iface.as_str(), *position);
-    let read = match edsgen_codegen::read::read_file_device(esi, device.as_deref()) {
+    let read = match crate::cmd::load(esi, device.as_deref()) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };
-    let Some(ec) = read
-        .device
-        .ethercat
-        .as_ref()
-        .filter(|_| !read.nothing_read())
-    else {
+    let Some(ec) = read.device.ethercat().filter(|_| !read.nothing_read) else {
         return fail(format!("{}: not an ESI device", esi.display()));
     };
     // (name, bit length, signed) of each entry of the default TxPDOs, in image order.
@@ -220,7 +215,7 @@ async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, St
                 && n(&d.device_info.revision_number) == Some(id.revision)
         });
         let esi = matched.map_or(String::new(), |(path, d)| {
-            let name = d.ethercat.as_ref().map_or("", |ec| ec.type_name.as_str());
+            let name = d.ethercat().map_or("", |ec| ec.type_name.as_str());
             format!(" = {name} ({})", path.display())
         });
         text.push_str(&format!(

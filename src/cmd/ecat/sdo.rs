@@ -9,7 +9,6 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use edsgen_codegen::model::Device;
-use edsgen_codegen::read;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use ethercrab::error::{Error, MailboxError};
 use ethercrab::{EtherCrabWireRead, EtherCrabWireSized, SubDevice, SubDeviceRef};
@@ -180,8 +179,8 @@ fn resolve(args: &SdoArgs) -> Result<Resolved, String> {
             label: None,
         });
     };
-    let read = read::read_file_device(path, args.device.as_deref()).map_err(|e| e.to_string())?;
-    if read.nothing_read() || read.device.ethercat.is_none() {
+    let read = crate::cmd::load(path, args.device.as_deref())?;
+    if read.nothing_read || read.device.ethercat().is_none() {
         return Err(format!("{}: not an ESI device", path.display()));
     }
     let device: Device = read.device;

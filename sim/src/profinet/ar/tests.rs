@@ -14,7 +14,7 @@ fn config() -> DeviceConfig {
                 std::path::Path::new("goodrive350-pn.xml"),
                 include_bytes!("../../../../eds/goodrive350-pn.xml"),
             );
-            DeviceConfig::from_gsdml(read.device.profinet.as_ref().expect("a GSDML"))
+            DeviceConfig::from_gsdml(read.device.profinet().expect("a GSDML"))
         })
         .clone()
 }

@@ -27,7 +27,7 @@ fn card() -> DeviceConfig {
         std::path::Path::new("goodrive350-pn.xml"),
         include_bytes!("../../../../eds/goodrive350-pn.xml"),
     );
-    DeviceConfig::from_gsdml(read.device.profinet.as_ref().expect("a GSDML"))
+    DeviceConfig::from_gsdml(read.device.profinet().expect("a GSDML"))
 }
 
 /// An IO AR from Connect to data exchange at 0 ms: the controller and the FrameIDs.

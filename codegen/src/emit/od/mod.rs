@@ -1,0 +1,456 @@
+//! Tokens for the object dictionary of one device: the `Od` value image with `Od::new(node_id)`
+//! and the typed `get`/`set`, the sorted `ENTRIES` descriptor table with the image's layout
+//! (`OFFSETS`, `LIMITS`, `LAYOUT`), the `ObjectDictionary` implementation, and the typed addresses
+//! in `od`. Why a byte image rather than a struct field per entry: `docs/generated-code.md`.
+
+use std::fmt::Write as _;
+
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use super::plan::{Initial, Plan};
+use super::text::{self, Splices, ITEM_INDENT};
+use super::types::{access_variant, data_type_variant, Prim, RustType};
+
+mod addresses;
+pub use addresses::addresses;
+
+/// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`; `DEFAULTS` as text.
+pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
+    let size = Literal::usize_unsuffixed(plan.image_size);
+    let stage_size = Literal::usize_unsuffixed(stage_size(plan));
+    // Default values go into the default image, kept as runs of its non-zero bytes
+    // (`DEFAULTS`); `$NODEID` ones hold their offset, to which `Od::new` adds the node-ID.
+    let mut image = vec![0u8; plan.image_size];
+    let mut node_relative = Vec::new();
+    for e in &plan.entries {
+        let at = e.offset;
+        match (&e.init, e.ty) {
+            // The wire bytes only: a negative INTEGER16 is FF FF, not 64 bits of ones.
+            (Initial::Raw(raw) | Initial::NodeRelative(raw), RustType::Scalar(_, wire)) => {
+                image[at..at + wire].copy_from_slice(&raw.to_le_bytes()[..wire]);
+                if matches!(e.init, Initial::NodeRelative(_)) {
+                    // The planner keeps offsets below 65536 (EDS707); widths are 1 to 8.
+                    let (at, wire) = (
+                        Literal::u16_unsuffixed(at as u16),
+                        Literal::u8_unsuffixed(wire as u8),
+                    );
+                    node_relative.push(quote!((#at, #wire)));
+                }
+            }
+            (Initial::Bytes(bytes), _) => {
+                image[at..at + 2].copy_from_slice(&(bytes.len() as u16).to_le_bytes());
+                image[at + 2..at + 2 + bytes.len()].copy_from_slice(bytes);
+            }
+            _ => {}
+        }
+    }
+    let defaults = splices.item(defaults(plan, &image));
+    let node_count = Literal::usize_unsuffixed(node_relative.len());
+    let (node_param, node_table, add_node_id) = if node_relative.is_empty() {
+        let none = quote!(
+            const NODE_RELATIVE: [(u16, u8); 0] = [];
+        );
+        (quote!(_node_id), none, quote!())
+    } else {
+        (
+            quote!(node_id),
+            quote! {
+                /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
+                /// image, width).
+                const NODE_RELATIVE: [(u16, u8); #node_count] = [#(#node_relative),*];
+            },
+            quote!(::edsgen_runtime::support::add_node_id(&mut od.values, &NODE_RELATIVE, node_id);),
+        )
+    };
+    quote! {
+        /// The size of the value image in bytes.
+        const IMAGE_SIZE: usize = #size;
+
+        /// The longest value an SDO download stages before it is written (the largest
+        /// writable string, octet string or domain): a download changes its entry only once
+        /// complete.
+        pub const STAGE_SIZE: usize = #stage_size;
+
+        #defaults
+
+        #node_table
+
+        /// The object dictionary: every entry's value, little-endian, in one byte array laid out
+        /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
+        /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct Od {
+            values: [u8; IMAGE_SIZE],
+            /// An SDO download of a string, octet string or domain until it completes.
+            stage: ::edsgen_runtime::support::Stage<STAGE_SIZE>,
+        }
+
+        impl Od {
+            /// The dictionary with every entry at its default (a DCF's ParameterValue where
+            /// given); `$NODEID` defaults are computed from `node_id`.
+            pub const fn new(#node_param: u8) -> Self {
+                let mut od = Od { values: [0; IMAGE_SIZE], stage: ::edsgen_runtime::support::Stage::new() };
+                ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
+                #add_node_id
+                od
+            }
+
+            /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
+            /// branded `Entry<T, Od>`) of any access: it is here, at its recorded position, with
+            /// its type, so the read cannot fail.
+            pub fn get<T: ::edsgen_runtime::OdValue + Default, A>(&self, entry: ::edsgen_runtime::Entry<T, Od, A>) -> T {
+                // Only a forged brand (`Entry::in_dictionary` by hand) reaches the default.
+                LAYOUT.get(&self.values, entry).unwrap_or_default()
+            }
+
+            /// The value of an address from elsewhere (`Entry::new`, another device's module);
+            /// `None` if this dictionary does not hold it with that type.
+            pub fn get_checked<T: ::edsgen_runtime::OdValue, D, A>(&self, entry: ::edsgen_runtime::Entry<T, D, A>) -> Option<T> {
+                LAYOUT.get(&self.values, entry)
+            }
+
+            /// Sets `entry` (a typed address from `od`, or from elsewhere) to `value`, checked
+            /// like an SDO write (length, BOOLEAN, LowLimit/HighLimit) but not against access
+            /// rights: the application keeps its read-only entries current. On error the value
+            /// is unchanged.
+            pub fn set<T: ::edsgen_runtime::OdValue, D, A>(&mut self, entry: ::edsgen_runtime::Entry<T, D, A>, value: T) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                LAYOUT.set(&mut self.values, entry, &value)
+            }
+        }
+    }
+}
+
+/// `DEFAULTS`, the default image as runs (see [`default_runs`]), with its doc and the table of
+/// the defaults it packs.
+/// The staging room's size: the largest capacity of a writable string, octet string or domain
+/// (0 when there is none). Read-only ones are never downloaded, fixed-size values are collected
+/// by the SDO server itself.
+fn stage_size(plan: &Plan) -> usize {
+    plan.entries
+        .iter()
+        .filter(|e| e.access.writable())
+        .filter_map(|e| match e.ty {
+            RustType::Bytes(capacity) => Some(capacity),
+            RustType::Scalar(..) => None,
+        })
+        .max()
+        .unwrap_or(0)
+}
+
+fn defaults(plan: &Plan, image: &[u8]) -> String {
+    let mut out = String::new();
+    let doc = [
+        " The value image with every entry at its default (`$NODEID` ones at their offset from",
+        " the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes",
+        " each (see `edsgen_runtime::od::image::unpack_defaults`).",
+    ];
+    text::docs(&mut out, ITEM_INDENT, &doc);
+    text::docs(&mut out, ITEM_INDENT, &default_table(plan));
+    let runs: Vec<String> = default_runs(image).iter().map(u8::to_string).collect();
+    let head = format!("const DEFAULTS: [u8; {}] = ", runs.len());
+    text::literal_array(&mut out, ITEM_INDENT, &head, &runs);
+    out
+}
+
+/// The defaults `DEFAULTS` packs, readable: one doc line per entry whose default is not zero or
+/// empty, `offset: NAME (index sub) = value`, in image order. Docs cost no flash.
+fn default_table(plan: &Plan) -> Vec<String> {
+    let mut lines = Vec::new();
+    for e in &plan.entries {
+        let value = match (&e.init, e.ty) {
+            (Initial::Raw(0), _) => continue,
+            (Initial::Raw(raw), RustType::Scalar(_, wire)) => {
+                format!("0x{raw:0width$X}", width = wire * 2)
+            }
+            (Initial::NodeRelative(raw), _) => format!("$NODEID + 0x{raw:X}"),
+            (Initial::Bytes(bytes), _) if bytes.is_empty() => continue,
+            (Initial::Bytes(bytes), _) => match std::str::from_utf8(bytes) {
+                Ok(text) if text.chars().all(|c| c.is_ascii_graphic() || c == ' ') => {
+                    format!("{text:?}")
+                }
+                _ => bytes
+                    .iter()
+                    .map(|b| format!("{b:02X}"))
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            },
+            _ => continue,
+        };
+        let value = if value.chars().count() > 60 {
+            format!("{}...", value.chars().take(60).collect::<String>())
+        } else {
+            value
+        };
+        if lines.is_empty() {
+            lines.push(String::new());
+            lines.push(" The non-zero defaults, at their offset in the image:".to_owned());
+            lines.push(String::new());
+        }
+        lines.push(format!(
+            " - {:#06X}: `{}` ({:04X}h sub {}) = `{value}`",
+            e.offset,
+            e.path(),
+            e.index,
+            e.sub
+        ));
+    }
+    lines
+}
+
+/// The runs `edsgen_runtime::od::image::unpack_defaults` turns back into `image`: for each stretch of
+/// non-zero bytes, the gap since the previous run, the length and the bytes. Zero gaps of up to
+/// two bytes stay inside a run (they cost what a new run's gap and length would); a gap or a
+/// stretch longer than 255 bytes takes several runs.
+fn default_runs(image: &[u8]) -> Vec<u8> {
+    let mut runs = Vec::new();
+    let (mut end_of_previous, mut start) = (0usize, 0usize);
+    while start < image.len() {
+        if image[start] == 0 {
+            start += 1;
+            continue;
+        }
+        let mut end = start;
+        while end < image.len() && end - start < 255 {
+            if image[end] != 0 {
+                end += 1;
+                continue;
+            }
+            let zeros = image[end..].iter().take_while(|&&b| b == 0).count();
+            if zeros > 2 || end + zeros >= image.len() || end + zeros - start >= 255 {
+                break;
+            }
+            end += zeros;
+        }
+        let mut gap = start - end_of_previous;
+        while gap > 255 {
+            runs.extend([255, 0]);
+            gap -= 255;
+        }
+        runs.extend([gap as u8, (end - start) as u8]);
+        runs.extend_from_slice(&image[start..end]);
+        (end_of_previous, start) = (end, end);
+    }
+    runs
+}
+
+/// A static array's initialiser: `[]`, or the rows after the `use` of the short names they need.
+fn array_body(rows: &[TokenStream], imports: TokenStream) -> TokenStream {
+    if rows.is_empty() {
+        quote!([])
+    } else {
+        quote!({
+            #imports
+            [#(#rows),*]
+        })
+    }
+}
+
+/// The `ENTRIES` table and the value image's layout (`OFFSETS` as text, `LIMITS`, `LAYOUT`).
+pub fn descriptors(plan: &Plan, splices: &mut Splices) -> TokenStream {
+    let tables = splices.item(entries_and_offsets(plan));
+    let limits: Vec<_> = plan
+        .entries
+        .iter()
+        .enumerate()
+        .filter_map(|(position, e)| {
+            let (low, high) = e.limits?;
+            let RustType::Scalar(prim, _) = e.ty else {
+                return None;
+            };
+            let constructor = match prim {
+                Prim::Signed(_) => quote!(signed),
+                Prim::F32 => quote!(real32),
+                Prim::F64 => quote!(real64),
+                _ => quote!(unsigned),
+            };
+            let (low, high) = (low.tokens(prim), high.tokens(prim));
+            let position = Literal::u16_unsuffixed(position as u16);
+            Some(quote!((#position, L::#constructor(#low, #high))))
+        })
+        .collect();
+    let k = Literal::usize_unsuffixed(limits.len());
+    let limits_body = array_body(
+        &limits,
+        quote!(
+            use ::edsgen_runtime::support::Limit as L;
+        ),
+    );
+    quote! {
+        #tables
+
+        /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
+        static LIMITS: [(u16, ::edsgen_runtime::support::Limit); #k] = #limits_body;
+
+        /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
+        /// `get`/`set` work from.
+        static LAYOUT: ::edsgen_runtime::support::Layout =
+            ::edsgen_runtime::support::Layout::new(&ENTRIES, &OFFSETS, &LIMITS, IMAGE_SIZE);
+    }
+}
+
+/// `ENTRIES` (a row per entry) and `OFFSETS`, as text.
+fn entries_and_offsets(plan: &Plan) -> String {
+    let mut out = String::new();
+    let n = plan.entries.len();
+    text::docs(
+        &mut out,
+        ITEM_INDENT,
+        &[" Every entry's descriptor, sorted by (index, sub-index)."],
+    );
+    text::indent(&mut out, ITEM_INDENT);
+    let _ = write!(
+        out,
+        "pub static ENTRIES: [::edsgen_runtime::EntryDescriptor; {n}] = "
+    );
+    if n == 0 {
+        out.push_str("[];\n");
+    } else {
+        let rows: Vec<String> = plan
+            .entries
+            .iter()
+            .map(|e| {
+                format!(
+                    "E::new({}, {}, D::{}, A::{}, {})",
+                    text::hex(e.index.into(), 4),
+                    text::hex(e.sub.into(), 2),
+                    data_type_variant(e.basic),
+                    access_variant(e.access),
+                    e.pdo_mappable
+                )
+            })
+            .collect();
+        let inner = ITEM_INDENT + 4;
+        out.push_str("{\n");
+        text::indent(&mut out, inner);
+        out.push_str("use ::edsgen_runtime::{Access as A, DataType as D, EntryDescriptor as E};\n");
+        text::indent(&mut out, inner);
+        // One line if it fits, else a row per line (the rows are not literals: no filling).
+        if inner + rows.iter().map(|r| r.len() + 2).sum::<usize>() <= text::MARGIN {
+            out.push('[');
+            out.push_str(&rows.join(", "));
+            out.push_str("]\n");
+        } else {
+            out.push_str("[\n");
+            for row in &rows {
+                text::indent(&mut out, inner + 4);
+                out.push_str(row);
+                out.push_str(",\n");
+            }
+            text::indent(&mut out, inner);
+            out.push_str("]\n");
+        }
+        text::indent(&mut out, ITEM_INDENT);
+        out.push_str("};\n");
+    }
+    text::docs(
+        &mut out,
+        ITEM_INDENT,
+        &[
+            " Where each entry of `ENTRIES` starts in the value image (a string's or domain's",
+            " capacity is the room up to the next one).",
+        ],
+    );
+    let offsets: Vec<String> = plan.entries.iter().map(|e| e.offset.to_string()).collect();
+    let head = format!("static OFFSETS: [u16; {n}] = ");
+    text::literal_array(&mut out, ITEM_INDENT, &head, &offsets);
+    out
+}
+
+/// `impl ObjectDictionary for Od`: every access goes through `LAYOUT`, by position in
+/// `ENTRIES`; `read` and `write` find the position with one binary search.
+pub fn od_impl(_plan: &Plan) -> TokenStream {
+    quote! {
+        impl ::edsgen_runtime::ObjectDictionary for Od {
+            fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
+                &ENTRIES
+            }
+
+            fn capacity(&self, position: usize) -> Option<usize> {
+                LAYOUT.capacity(position)
+            }
+
+            fn value_len(&self, index: u16, sub: u8) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+                LAYOUT.value_len(&self.values, ::edsgen_runtime::support::position(&ENTRIES, index, sub)?)
+            }
+
+            fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+                self.read_at(::edsgen_runtime::support::position(&ENTRIES, index, sub)?, offset, buf)
+            }
+
+            fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                self.write_at(::edsgen_runtime::support::position(&ENTRIES, index, sub)?, data)
+            }
+
+            fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+                LAYOUT.read(&self.values, position, offset, buf)
+            }
+
+            fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                LAYOUT.write(&mut self.values, position, data)
+            }
+
+            fn begin_write(&mut self, position: usize) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                self.stage.begin(position)
+            }
+
+            fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                self.stage.write(position, offset, data)
+            }
+
+            fn commit_write(&mut self, position: usize, len: usize) -> Result<(), ::edsgen_runtime::SdoAbort> {
+                let value = self.stage.commit(position, len)?;
+                LAYOUT.write(&mut self.values, position, value)
+            }
+
+            fn abort_write(&mut self, position: usize) {
+                self.stage.abort(position)
+            }
+
+            fn restore_defaults(&mut self, indices: ::core::ops::RangeInclusive<u16>, node_id: u8) -> bool {
+                LAYOUT.restore_defaults(&mut self.values, &DEFAULTS, &NODE_RELATIVE, node_id, indices);
+                true
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::default_runs;
+    use edsgen_runtime::od::image::unpack_defaults;
+    use proptest::prelude::*;
+
+    fn unpacked(runs: &[u8], len: usize) -> Vec<u8> {
+        let mut values = vec![0; len];
+        unpack_defaults(&mut values, runs);
+        values
+    }
+
+    #[test]
+    fn runs_skip_zeros_and_keep_short_zero_gaps_inside() {
+        assert_eq!(default_runs(&[0; 9]), Vec::<u8>::new());
+        assert_eq!(default_runs(&[0, 0, 5]), vec![2, 1, 5]);
+        // Two zeros stay inside the run, three start a new one.
+        assert_eq!(default_runs(&[1, 0, 0, 2]), vec![0, 4, 1, 0, 0, 2]);
+        assert_eq!(default_runs(&[1, 0, 0, 0, 2, 0]), vec![0, 1, 1, 3, 1, 2]);
+        // A gap of 300 zeros takes an empty run of gap 255 first.
+        let mut image = vec![0; 301];
+        image[300] = 7;
+        assert_eq!(default_runs(&image), vec![255, 0, 45, 1, 7]);
+        // 300 non-zero bytes take two runs.
+        let runs = default_runs(&[9; 300]);
+        assert_eq!(runs.len(), 2 + 255 + 2 + 45);
+        assert_eq!((runs[0], runs[1], runs[257], runs[258]), (0, 255, 0, 45));
+    }
+
+    proptest! {
+        /// Whatever the image, its runs unpack to exactly it.
+        #[test]
+        fn runs_unpack_to_the_image(
+            image in proptest::collection::vec(prop_oneof![4 => Just(0u8), 1 => any::<u8>()], 0..700),
+        ) {
+            prop_assert_eq!(unpacked(&default_runs(&image), image.len()), image);
+        }
+    }
+}
