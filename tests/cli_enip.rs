@@ -43,7 +43,7 @@ fn edsgen(args: &[&str]) -> (Option<i32>, String, String) {
 #[test]
 fn list_get_set_against_the_simulated_card() {
     let (_adapter, address) = adapter();
-    let (code, stdout, _) = edsgen(&[
+    let (code, stdout, stderr) = edsgen(&[
         "enip",
         "list",
         &address,
@@ -51,6 +51,12 @@ fn list_get_set_against_the_simulated_card() {
         "eds/goodrive350-enip.eds",
     ]);
     assert_eq!(code, Some(0));
+    assert_eq!(
+        stderr,
+        format!(
+            "listening 1.5 s for ListIdentity answers from {address} (maximum delay 1000 ms)\n"
+        )
+    );
     assert_eq!(
         stdout,
         "127.0.0.1\tvendor 0\tdevice type 12\tproduct code 350\trevision 1.10\tserial 0x00350001\t\
@@ -63,7 +69,8 @@ fn list_get_set_against_the_simulated_card() {
         "--eds",
         "codegen/tests/odva/io.eds",
     ]);
-    assert_eq!(code, Some(0));
+    // A mismatch is exit 1, as `check` and `validate` say a difference.
+    assert_eq!(code, Some(1));
     assert!(
         stdout.ends_with("\tdoes not match codegen/tests/odva/io.eds\n"),
         "{stdout}"

@@ -1,6 +1,7 @@
 //! `edsgen enip list|get|set|io`: an EtherNet/IP scanner at the bench. `list [ADDR]` sends
-//! ListIdentity over UDP (to ADDR, else broadcast) and prints each identity that answers within a
-//! second, matched to an ODVA EDS with `--eds FILE`; `get ADDR @CLASS/INST/ATTR` and `set ADDR
+//! ListIdentity over UDP (to ADDR, else broadcast) with a maximum delay of 1 s and prints each
+//! identity that answers within 1.5 s, matched to an ODVA EDS with `--eds FILE` (exit 1 when
+//! one does not match); `get ADDR @CLASS/INST/ATTR` and `set ADDR
 //! @CLASS/INST/ATTR HEX` are Get/Set_Attribute_Single by explicit messaging (RegisterSession,
 //! SendRRData); `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
 //! EDS, typed, scaled and range-checked (`enip_param`); `io` is a class-1 connection from the
@@ -29,8 +30,13 @@ use super::enip_param::{self, Access};
 pub enum Args {
     /// List the identities that answer ListIdentity (at ADDR, else by broadcast).
     List {
-        /// The device (`IP` or `IP:PORT`); broadcast when absent.
+        /// The device (`IP` or `IP:PORT`), or a (directed) broadcast address; 255.255.255.255
+        /// when absent.
         addr: Option<String>,
+        /// The local address to send from (an address of the interface to broadcast on; needed
+        /// when there is no default route).
+        #[arg(long, value_name = "ADDR")]
+        from: Option<std::net::Ipv4Addr>,
         /// An ODVA EDS to match the identities against (vendor, device type, product code,
         /// major revision).
         #[arg(long)]
@@ -123,7 +129,7 @@ fn hex(bytes: &[u8]) -> String {
 /// Runs `edsgen enip`.
 pub fn run(args: Args) -> ExitCode {
     match args {
-        Args::List { addr, eds } => list(addr.as_deref(), eds),
+        Args::List { addr, from, eds } => list(addr.as_deref(), from, eds),
         Args::Io(args) => super::enip_io::run(args),
         Args::Get { addr, path, eds } if !path.starts_with('@') => {
             parameter(&addr, &path, None, eds)
@@ -183,7 +189,14 @@ pub(super) fn read_cip(path: &Path) -> Result<Cip, String> {
         .ok_or_else(|| format!("`{}` is not an ODVA EDS", path.display()))
 }
 
-fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
+/// The maximum delay ListIdentity asks the targets to answer within (CIP Vol 2 §2-4.2.3: each
+/// waits a random time up to it, so that many answering a broadcast do not collide).
+pub(super) const MAX_DELAY_MS: u16 = 1000;
+
+/// How long `list` listens: the maximum delay and half a second for the answers to travel.
+pub(super) const LISTEN: Duration = Duration::from_millis(MAX_DELAY_MS as u64 + 500);
+
+fn list(addr: Option<&str>, from: Option<std::net::Ipv4Addr>, eds: Option<PathBuf>) -> ExitCode {
     let key = match eds {
         Some(path) => match read_cip(&path) {
             Ok(cip) => Some((path, cip.identity)),
@@ -198,22 +211,43 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
         },
         None => SocketAddr::from(([255, 255, 255, 255], 44818)),
     };
-    let socket = match UdpSocket::bind("0.0.0.0:0") {
+    let local = SocketAddr::from((from.unwrap_or(std::net::Ipv4Addr::UNSPECIFIED), 0));
+    let socket = match UdpSocket::bind(local) {
         Ok(s) => s,
-        Err(err) => return usage(format!("cannot open a UDP socket: {err}")),
+        Err(err) => return usage(format!("cannot open a UDP socket on {}: {err}", local.ip())),
     };
     let _ = socket.set_broadcast(true);
-    let _ = socket.set_read_timeout(Some(Duration::from_secs(1)));
     let mut request = [0; 24];
     let len = Session::new(CONTEXT)
-        .list_identity(&mut request)
+        .list_identity(MAX_DELAY_MS, &mut request)
         .unwrap_or_default();
     if let Err(err) = socket.send_to(&request[..len], target) {
-        return usage(format!("cannot send to {target}: {err}"));
+        let hint = match (err.raw_os_error(), from) {
+            // ENETUNREACH: no route to the target.
+            (Some(101), None) => {
+                "; with no default route, name an address of the interface to send from \
+                 with --from ADDR"
+            }
+            _ => "",
+        };
+        return usage(format!("cannot send to {target}: {err}{hint}"));
     }
+    eprintln!(
+        "listening {:.1} s for ListIdentity answers from {target} (maximum delay {MAX_DELAY_MS} ms)",
+        LISTEN.as_secs_f32()
+    );
+    let deadline = std::time::Instant::now() + LISTEN;
     let mut found = 0;
+    let mut mismatched = false;
     let mut buf = [0u8; 1500];
-    while let Ok((n, from)) = socket.recv_from(&mut buf) {
+    loop {
+        let left = deadline.saturating_duration_since(std::time::Instant::now());
+        if left.is_zero() || socket.set_read_timeout(Some(left)).is_err() {
+            break;
+        }
+        let Ok((n, from)) = socket.recv_from(&mut buf) else {
+            break;
+        };
         let Ok((reply, _)) = EncapRepr::parse_prefix(&buf[..n]) else {
             continue;
         };
@@ -242,6 +276,7 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
                     && id.product_type.as_ref().map(|v| v.value) == Some(identity.device_type)
                     && id.product_code.as_ref().map(|v| v.value) == Some(identity.product_code)
                     && id.major_revision.as_ref().map(|v| v.value) == Some(identity.revision.0);
+                mismatched |= !same;
                 line.push_str(&format!(
                     "\t{} {}",
                     if same { "matches" } else { "does not match" },
@@ -250,12 +285,15 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
             }
             println!("{line}");
         }
-        if addr.is_some() {
-            break;
-        }
     }
     if found == 0 {
-        eprintln!("no identity answered at {target} within 1 s");
+        eprintln!(
+            "no identity answered at {target} within {:.1} s",
+            LISTEN.as_secs_f32()
+        );
+        return ExitCode::from(1);
+    }
+    if mismatched {
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS

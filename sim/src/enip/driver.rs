@@ -7,7 +7,8 @@
 //!
 //! [`Card`] links the adapter to the Goodrive350's drive ([`PkwPzdDrive`], bus EtherNet/IP):
 //! every O→T image the scanner writes is exchanged with the drive, whose answer becomes the T→O
-//! image; a connection that times out trips the drive with E-EIP.
+//! image; a connection that times out or that Forward_Close ends trips the drive with E-EIP (the
+//! card's communication-loss action: the drive coasts to a stop, faulted until a fault reset).
 
 use std::collections::BTreeMap;
 use std::io::{ErrorKind, Read, Write};
@@ -186,7 +187,8 @@ fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
 
 /// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
 /// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
-/// trips the drive (E-EIP); without a connection the T→O assembly shows the drive as it stands.
+/// or one Forward_Close ended trips the drive (E-EIP, [`communication_lost`]); without a
+/// connection the drive's ramps still move and the T→O assembly shows the drive as it stands.
 /// `log` gets one line per connection event. Returns how many connections opened.
 pub fn link(
     adapter: &mut Adapter,
@@ -201,15 +203,17 @@ pub fn link(
                 opened += 1;
                 log(format!("connection {id:#010x} opened"));
             }
-            Event::Closed(id) => log(format!("connection {id:#010x} closed")),
-            Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
-            Event::TimedOut(id) => {
-                log(format!("connection {id:#010x} timed out"));
+            Event::Closed(id) | Event::TimedOut(id) => {
+                let how = match event {
+                    Event::Closed(_) => "closed",
+                    _ => "timed out",
+                };
+                log(format!("connection {id:#010x} {how}"));
                 if let Some(card) = card.as_deref_mut() {
-                    card.drive.communication_lost(now);
-                    log(format!("drive fault {}", card.drive.bus().fault_name()));
+                    communication_lost(adapter, card, now, log);
                 }
             }
+            Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
             Event::Consumed(point) => {
                 let Some(card) = card.as_deref_mut() else {
                     continue;
@@ -233,6 +237,8 @@ pub fn link(
         }
     }
     if let Some(card) = card {
+        // The drive runs on (its ramps, its own timeout P16.54) with or without a connection.
+        card.drive.handle_timeout(now);
         if adapter.connections().is_empty() {
             if let Some(a) = adapter.assemblies.get_mut(&card.input) {
                 a.data = card.drive.inputs().emit(ByteOrder::LittleEndian).to_vec();
@@ -240,4 +246,25 @@ pub fn link(
         }
     }
     opened
+}
+
+/// The class-1 connection writing the drive's image ended (Forward_Close or its timeout): unless
+/// another connection still writes it, the drive trips with E-EIP (fault 70, P07.27) and coasts
+/// to a stop, so explicit reads show it faulted and stopping, and the next connection finds it
+/// faulted until its control word resets the fault (command 7).
+fn communication_lost(
+    adapter: &Adapter,
+    card: &mut Card,
+    now: Instant,
+    log: &mut impl FnMut(String),
+) {
+    let still_written = adapter
+        .connections()
+        .iter()
+        .any(|c| c.o_t_point == card.output);
+    if still_written || card.drive.vfd().fault().is_some() {
+        return;
+    }
+    card.drive.communication_lost(now);
+    log(format!("drive fault {}", card.drive.bus().fault_name()));
 }
