@@ -1,5 +1,6 @@
 //! The adapter on real sockets, a thin driver around the sans-IO core: encapsulation on TCP
-//! (the address given, 44818 by default) and ListIdentity on UDP at the same port, class-1 I/O
+//! (the address given, 44818 by default) and ListIdentity on UDP at the same port (and on every
+//! address's, for broadcasts, when the address is unicast), class-1 I/O
 //! on UDP 2222 (T→O to the originator's address, port 2222 or the one its Forward_Open's T→O
 //! sockaddr item names). One thread, non-blocking sockets,
 //! a millisecond tick. A bad client never stops the others: its bytes get the protocol's
@@ -42,11 +43,29 @@ struct Client {
 }
 
 /// The adapter's sockets, bound: encapsulation on TCP and UDP at the address, class-1 I/O on
-/// UDP 2222 of it (when that port is taken, explicit messages only).
+/// UDP 2222 of it (when that port is taken, explicit messages only), and for a unicast address
+/// UDP at the same port of every address, where Linux delivers broadcasts (answered from the
+/// unicast socket, so with the adapter's own address).
 pub struct Sockets {
     listener: TcpListener,
     udp: UdpSocket,
+    broadcast: Option<UdpSocket>,
     io: Option<UdpSocket>,
+}
+
+/// A non-blocking UDP socket on `address` sharing its port (SO_REUSEADDR): the unicast and the
+/// wildcard socket of one adapter, and those of other adapters on the host, all receive a
+/// broadcast.
+fn shared_udp(address: SocketAddr) -> std::io::Result<UdpSocket> {
+    let socket = socket2::Socket::new(
+        socket2::Domain::IPV4,
+        socket2::Type::DGRAM,
+        Some(socket2::Protocol::UDP),
+    )?;
+    socket.set_reuse_address(true)?;
+    socket.set_nonblocking(true)?;
+    socket.bind(&address.into())?;
+    Ok(socket.into())
 }
 
 /// What a run served, for the line it ends with.
@@ -62,8 +81,27 @@ pub struct Served {
 pub fn bind(address: SocketAddr, mut log: impl FnMut(String)) -> std::io::Result<Sockets> {
     let listener = TcpListener::bind(address)?;
     listener.set_nonblocking(true)?;
-    let udp = UdpSocket::bind(address)?;
-    udp.set_nonblocking(true)?;
+    let udp = match address.ip() {
+        IpAddr::V4(ip) if !ip.is_unspecified() && !ip.is_loopback() => shared_udp(address)?,
+        _ => {
+            let udp = UdpSocket::bind(address)?;
+            udp.set_nonblocking(true)?;
+            udp
+        }
+    };
+    let broadcast = match address.ip() {
+        IpAddr::V4(ip) if !ip.is_unspecified() && !ip.is_loopback() => {
+            let any = SocketAddr::new(IpAddr::V4(std::net::Ipv4Addr::UNSPECIFIED), address.port());
+            match shared_udp(any) {
+                Ok(socket) => Some(socket),
+                Err(err) => {
+                    log(format!("broadcast ListIdentity off: UDP {any}: {err}"));
+                    None
+                }
+            }
+        }
+        _ => None,
+    };
     let io = match UdpSocket::bind(SocketAddr::new(address.ip(), IO_PORT)) {
         Ok(socket) => {
             socket.set_nonblocking(true)?;
@@ -77,7 +115,12 @@ pub fn bind(address: SocketAddr, mut log: impl FnMut(String)) -> std::io::Result
             None
         }
     };
-    Ok(Sockets { listener, udp, io })
+    Ok(Sockets {
+        listener,
+        udp,
+        broadcast,
+        io,
+    })
 }
 
 /// Serves `adapter` on bound `sockets` until `stop` is set. `log` gets one line per connection
@@ -89,7 +132,12 @@ pub fn run(
     stop: &AtomicBool,
     mut log: impl FnMut(String),
 ) -> Served {
-    let Sockets { listener, udp, io } = sockets;
+    let Sockets {
+        listener,
+        udp,
+        broadcast,
+        io,
+    } = sockets;
     let mut served = Served::default();
     let start = std::time::Instant::now();
     let now = || Instant::from_micros(start.elapsed().as_micros() as u64);
@@ -144,9 +192,11 @@ pub fn run(
             clients.remove(&key);
             adapter.client_gone(key);
         }
-        while let Ok((n, from)) = udp.recv_from(&mut buf) {
-            if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
-                let _ = udp.send_to(&reply, from);
+        for socket in std::iter::once(&udp).chain(&broadcast) {
+            while let Ok((n, from)) = socket.recv_from(&mut buf) {
+                if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
+                    let _ = udp.send_to(&reply, from);
+                }
             }
         }
         if let Some(io) = &io {
