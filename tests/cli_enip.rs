@@ -76,6 +76,48 @@ fn list_get_set_against_the_simulated_card() {
         "{stdout}"
     );
     assert_eq!(edsgen(&["enip", "get", &address, "@1/1/3"]).1, "5E 01\n");
+    // Get_Attributes_All of the Identity: vendor, device type, product code, revision 1.10,
+    // status, serial, the name as a short string.
+    assert_eq!(
+        edsgen(&["enip", "get", &address, "@1/1"]),
+        (
+            Some(0),
+            "00 00 0C 00 5E 01 01 0A 00 00 01 00 35 00 1C 47 6F 6F 64 72 69 76 65 33 35 30 20 45 \
+             74 68 65 72 4E 65 74 2F 49 50 20 63 61 72 64\n"
+                .to_owned(),
+            String::new()
+        )
+    );
+    // Any service: Get_Attribute_Single by its code; one the Identity lacks is refused.
+    assert_eq!(
+        edsgen(&["enip", "service", &address, "0x0E", "@1/1/3"]).1,
+        "5E 01\n"
+    );
+    assert_eq!(
+        edsgen(&["enip", "service", &address, "0x4B", "@1/1"]),
+        (
+            Some(1),
+            String::new(),
+            "error: @1/1: service not supported (general status 0x08)\n".to_owned()
+        )
+    );
+    for (args, message) in [
+        (
+            &["service", &address, "0x80", "@1/1"][..],
+            "error: `0x80` is not a CIP service code (0..0x7F, decimal or hex with 0x)\n",
+        ),
+        (
+            &["service", &address, "5", "@1/1", "zz"],
+            "error: `zz` is not hex bytes\n",
+        ),
+        (
+            &["set", &address, "@1/1", "00"],
+            "error: `@1/1` is not @CLASS/INSTANCE/ATTRIBUTE\n",
+        ),
+    ] {
+        let out = edsgen(&[&["enip"], args].concat());
+        assert_eq!((out.0, out.2.as_str()), (Some(2), message));
+    }
     // The drive at rest in assembly 100: SW 0x4103 in word 4, little-endian.
     let (code, stdout, _) = edsgen(&["enip", "get", &address, "@4/100/3"]);
     assert_eq!(code, Some(0));
@@ -106,12 +148,17 @@ fn list_get_set_against_the_simulated_card() {
         edsgen(&["enip", "get", &address, "@0x70/1/1"]).2,
         "error: @0x70/1/1: path destination unknown (general status 0x05)\n"
     );
+    // An instance alone: Get_Attributes_All (the assembly's data); a class alone is no path.
     assert_eq!(
-        edsgen(&["enip", "get", &address, "@4/100"]),
+        &edsgen(&["enip", "get", &address, "@4/100"]).1[..30],
+        "00 00 00 00 00 00 00 00 03 41 "
+    );
+    assert_eq!(
+        edsgen(&["enip", "get", &address, "@4"]),
         (
             Some(2),
             String::new(),
-            "error: `@4/100` is not @CLASS/INSTANCE/ATTRIBUTE\n".to_owned()
+            "error: `@4` is not @CLASS/INSTANCE[/ATTRIBUTE]\n".to_owned()
         )
     );
 }

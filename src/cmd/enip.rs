@@ -42,13 +42,14 @@ pub enum Args {
         #[arg(long)]
         eds: Option<PathBuf>,
     },
-    /// Read an attribute (`@CLASS/INSTANCE/ATTRIBUTE`, decimal or hex with 0x), or a parameter
-    /// of the --eds file by name, its value typed, scaled and named as the file says.
+    /// Read an attribute (`@CLASS/INSTANCE/ATTRIBUTE`, decimal or hex with 0x), all of an
+    /// instance's (`@CLASS/INSTANCE`: Get_Attributes_All), or a parameter of the --eds file by
+    /// name, its value typed, scaled and named as the file says.
     Get {
         /// The device (`IP` or `IP:PORT`).
         addr: String,
-        /// `@CLASS/INSTANCE/ATTRIBUTE`, or a parameter's name in the --eds file (a unique
-        /// prefix will do, case and spaces do not matter; `ParamN` too).
+        /// `@CLASS/INSTANCE/ATTRIBUTE`, `@CLASS/INSTANCE`, or a parameter's name in the --eds
+        /// file (a unique prefix will do, case and spaces do not matter; `ParamN` too).
         path: String,
         /// The device's ODVA EDS: names, types and places its parameters.
         #[arg(long, value_name = "FILE")]
@@ -68,6 +69,19 @@ pub enum Args {
         /// The device's ODVA EDS: names, types and places its parameters.
         #[arg(long, value_name = "FILE")]
         eds: Option<PathBuf>,
+    },
+    /// Any CIP service by explicit messaging: its reply's data printed in hex (empty line when
+    /// there is none).
+    Service {
+        /// The device (`IP` or `IP:PORT`).
+        addr: String,
+        /// The service code, decimal or hex with 0x (0x01 Get_Attributes_All, 0x05 Reset,
+        /// 0x0E Get_Attribute_Single, ...).
+        service: String,
+        /// `@CLASS/INSTANCE` or `@CLASS/INSTANCE/ATTRIBUTE`.
+        path: String,
+        /// The request's data in hex (`0A 00` or `0a00`).
+        data: Option<String>,
     },
     /// A class-1 connection from the EDS: set outputs by name, print the inputs each RPI.
     Io(super::enip_io::Args),
@@ -91,21 +105,24 @@ pub(super) fn address(text: &str) -> Result<SocketAddr, String> {
         .ok_or_else(|| format!("`{text}` is not an address: write IP or IP:PORT"))
 }
 
-/// `@CLASS/INSTANCE/ATTRIBUTE` as a padded EPATH.
-fn epath(text: &str) -> Result<Vec<u8>, String> {
-    let bad = || format!("`{text}` is not @CLASS/INSTANCE/ATTRIBUTE");
+/// `@CLASS/INSTANCE/ATTRIBUTE` (or `@CLASS/INSTANCE` when `whole` allows it) as a padded
+/// EPATH.
+fn epath(text: &str, whole: bool) -> Result<Vec<u8>, String> {
+    let bad = || match whole {
+        true => format!("`{text}` is not @CLASS/INSTANCE[/ATTRIBUTE]"),
+        false => format!("`{text}` is not @CLASS/INSTANCE/ATTRIBUTE"),
+    };
     let parts: Vec<u32> = text
         .strip_prefix('@')
         .ok_or_else(bad)?
         .split('/')
-        .map(|p| match p.strip_prefix("0x") {
-            Some(hex) => u32::from_str_radix(hex, 16).ok(),
-            None => p.parse().ok(),
-        })
+        .map(number)
         .collect::<Option<_>>()
         .ok_or_else(bad)?;
-    let [class, instance, attribute] = parts[..] else {
-        return Err(bad());
+    let (class, instance, attribute) = match parts[..] {
+        [class, instance, attribute] => (class, instance, Some(attribute)),
+        [class, instance] if whole => (class, instance, None),
+        _ => return Err(bad()),
     };
     if parts.iter().any(|p| *p > 0xFFFF) {
         return Err(bad());
@@ -113,9 +130,30 @@ fn epath(text: &str) -> Result<Vec<u8>, String> {
     let path = LogicalPath {
         class,
         instance,
-        attribute: Some(attribute),
+        attribute,
     };
     path.to_vec().map_err(|_| bad())
+}
+
+/// A number in decimal or hex with 0x.
+fn number(text: &str) -> Option<u32> {
+    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => text.parse().ok(),
+    }
+}
+
+/// Bytes in hex (`0A 00` or `0a00`); `None` when they are not.
+fn hex_bytes(text: &str) -> Option<Vec<u8>> {
+    let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    (0..digits.len())
+        .step_by(2)
+        .map(|i| {
+            digits
+                .get(i..i + 2)
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        })
+        .collect()
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -142,7 +180,12 @@ pub fn run(args: Args) -> ExitCode {
         } if !path.starts_with('@') => parameter(&addr, &path, Some(&value), eds),
         Args::Get { addr, path, eds } => {
             unused_eds(eds.as_deref());
-            explicit(&addr, &path, 0x0E, Vec::new())
+            // Two numbers: the instance's Get_Attributes_All.
+            let service = match path.matches('/').count() {
+                1 => 0x01,
+                _ => 0x0E,
+            };
+            explicit(&addr, &path, service, Vec::new(), true)
         }
         Args::Set {
             addr,
@@ -151,18 +194,28 @@ pub fn run(args: Args) -> ExitCode {
             eds,
         } => {
             unused_eds(eds.as_deref());
-            let digits: String = value.chars().filter(|c| !c.is_whitespace()).collect();
-            let bytes: Option<Vec<u8>> = (0..digits.len())
-                .step_by(2)
-                .map(|i| {
-                    digits
-                        .get(i..i + 2)
-                        .and_then(|h| u8::from_str_radix(h, 16).ok())
-                })
-                .collect();
-            match bytes {
-                Some(bytes) if !bytes.is_empty() => explicit(&addr, &path, 0x10, bytes),
+            match hex_bytes(&value) {
+                Some(bytes) if !bytes.is_empty() => explicit(&addr, &path, 0x10, bytes, false),
                 _ => usage(format!("`{value}` is not hex bytes")),
+            }
+        }
+        Args::Service {
+            addr,
+            service,
+            path,
+            data,
+        } => {
+            let code = match number(&service) {
+                Some(code @ 0..=0x7F) => code as u8,
+                _ => {
+                    return usage(format!(
+                        "`{service}` is not a CIP service code (0..0x7F, decimal or hex with 0x)"
+                    ))
+                }
+            };
+            match hex_bytes(data.as_deref().unwrap_or("")) {
+                Some(bytes) => explicit(&addr, &path, code, bytes, true),
+                None => usage(format!("`{}` is not hex bytes", data.unwrap_or_default())),
             }
         }
     }
@@ -328,12 +381,14 @@ fn refused(what: &str, status: u8) -> ExitCode {
     ExitCode::from(1)
 }
 
-fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
+/// One explicit request, `service` at `path` with `data`; a reply's data printed in hex (for
+/// every service but Set_Attribute_Single). `whole`: the path may name an instance alone.
+fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>, whole: bool) -> ExitCode {
     let target = match address(addr) {
         Ok(a) => a,
         Err(m) => return usage(m),
     };
-    let epath = match epath(path) {
+    let epath = match epath(path, whole) {
         Ok(p) => p,
         Err(m) => return usage(m),
     };
@@ -344,7 +399,7 @@ fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
         Err(message) => usage(message),
         Ok(Err(status)) => refused(path, status),
         Ok(Ok(data)) => {
-            if service == 0x0E {
+            if service != 0x10 {
                 println!("{}", hex(&data));
             }
             ExitCode::SUCCESS

@@ -8,8 +8,9 @@
 //!
 //! [`Card`] links the adapter to the Goodrive350's drive ([`PkwPzdDrive`], bus EtherNet/IP):
 //! every O→T image the scanner writes is exchanged with the drive, whose answer becomes the T→O
-//! image; a connection that times out or that Forward_Close ends trips the drive with E-EIP (the
-//! card's communication-loss action: the drive coasts to a stop, faulted until a fault reset).
+//! image. The card's communication-loss actions: a connection that times out trips the drive
+//! with E-EIP (it coasts to a stop, faulted until a fault reset); one that Forward_Close ends
+//! decelerates it to a stop.
 
 use std::collections::BTreeMap;
 use std::io::{ErrorKind, Read, Write};
@@ -17,7 +18,7 @@ use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use edsgen_runtime::enip::wire::io::IoDatagram;
-use edsgen_runtime::pkw_pzd::ByteOrder;
+use edsgen_runtime::pkw_pzd::{ByteOrder, Command, ControlWord, OutputImage};
 use edsgen_runtime::Instant;
 
 use super::adapter::{Adapter, Event};
@@ -237,7 +238,7 @@ fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
 
 /// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
 /// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
-/// or one Forward_Close ended trips the drive (E-EIP, [`communication_lost`]); without a
+/// trips the drive (E-EIP, [`communication_lost`]), one Forward_Close ended stops it; without a
 /// connection the drive's ramps still move and the T→O assembly shows the drive as it stands.
 /// `log` gets one line per connection event. Returns how many connections opened.
 pub fn link(
@@ -253,12 +254,14 @@ pub fn link(
                 opened += 1;
                 log(format!("connection {id:#010x} opened"));
             }
-            Event::Closed(id) | Event::TimedOut(id) => {
-                let how = match event {
-                    Event::Closed(_) => "closed",
-                    _ => "timed out",
-                };
-                log(format!("connection {id:#010x} {how}"));
+            Event::Closed(id) => {
+                log(format!("connection {id:#010x} closed"));
+                if let Some(card) = card.as_deref_mut() {
+                    connection_closed(adapter, card, now, log);
+                }
+            }
+            Event::TimedOut(id) => {
+                log(format!("connection {id:#010x} timed out"));
                 if let Some(card) = card.as_deref_mut() {
                     communication_lost(adapter, card, now, log);
                 }
@@ -298,21 +301,51 @@ pub fn link(
     opened
 }
 
-/// The class-1 connection writing the drive's image ended (Forward_Close or its timeout): unless
-/// another connection still writes it, the drive trips with E-EIP (fault 70, P07.27) and coasts
-/// to a stop, so explicit reads show it faulted and stopping, and the next connection finds it
-/// faulted until its control word resets the fault (command 7).
+/// Whether a class-1 connection still writes the drive's image.
+fn still_written(adapter: &Adapter, card: &Card) -> bool {
+    adapter
+        .connections()
+        .iter()
+        .any(|c| c.o_t_point == card.output)
+}
+
+/// Forward_Close ended the connection writing the drive's image (an orderly end): unless another
+/// connection still writes it, the drive decelerates to stop (command 5) with the last settings
+/// kept and no PKW task, so explicit reads show it stopping and the next connection's run
+/// command starts it from rest.
+fn connection_closed(
+    adapter: &mut Adapter,
+    card: &mut Card,
+    now: Instant,
+    log: &mut impl FnMut(String),
+) {
+    if still_written(adapter, card) {
+        return;
+    }
+    let last: Option<[u8; 32]> = adapter
+        .assemblies
+        .get(&card.output)
+        .and_then(|a| a.data.as_slice().try_into().ok());
+    let mut output = last
+        .map(|bytes| OutputImage::parse(&bytes, ByteOrder::LittleEndian))
+        .unwrap_or_default();
+    output.pkw = OutputImage::default().pkw;
+    output.control = ControlWord::new(Command::DecelerateToStop, card.drive.layout());
+    card.drive.exchange(now, &output);
+    log("drive decelerates to stop".to_owned());
+}
+
+/// The connection writing the drive's image timed out: unless another connection still writes
+/// it, the drive trips with E-EIP (fault 70, P07.27) and coasts to a stop, so explicit reads show
+/// it faulted, and the next connection finds it faulted until its control word resets the fault
+/// (command 7).
 fn communication_lost(
     adapter: &Adapter,
     card: &mut Card,
     now: Instant,
     log: &mut impl FnMut(String),
 ) {
-    let still_written = adapter
-        .connections()
-        .iter()
-        .any(|c| c.o_t_point == card.output);
-    if still_written || card.drive.vfd().fault().is_some() {
+    if still_written(adapter, card) || card.drive.vfd().fault().is_some() {
         return;
     }
     card.drive.communication_lost(now);

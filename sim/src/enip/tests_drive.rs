@@ -1,6 +1,7 @@
-//! The Goodrive350 card's communication-loss action: the class-1 connection writing the drive's
-//! image ends (Forward_Close or its timeout) and the drive trips with E-EIP, coasts to a stop,
-//! shows it to explicit reads, and stays faulted for the next connection until a fault reset.
+//! The Goodrive350 card's communication-loss actions: the class-1 connection writing the drive's
+//! image times out and the drive trips with E-EIP, coasts to a stop, shows it to explicit reads,
+//! and stays faulted for the next connection until a fault reset; Forward_Close ends it and the
+//! drive decelerates to a stop, the next connection starting it from rest.
 
 use edsgen_runtime::enip::wire::connection_manager::{
     network_params, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr, Triad, DEFAULT_TICKS,
@@ -74,20 +75,26 @@ fn state(a: &Adapter) -> u8 {
     a.assemblies[&100].data[8]
 }
 
-#[test]
-fn forward_close_trips_e_eip_and_the_next_connection_starts_faulted() {
-    let (mut a, mut card) = device::goodrive350([127, 0, 0, 1], at(0));
+/// A drive set to take its frequency from PZD2, connected, run forward for 2 s; the session
+/// and the connection's O→T ID.
+fn running(a: &mut Adapter, card: &mut Card) -> (u32, u32) {
     // Received PZD2 is the set frequency (function 1).
     let pzd2 = Bus::EthernetIp.received_pzd2();
     assert_eq!(card.drive.set_parameter(pzd2, 1), Ok(()));
-    let s = session(&mut a);
-    let id = open(&mut a, s);
-    // Run forward (command 1) for 2 s: the drive ramps up.
+    let s = session(a);
+    let id = open(a, s);
     for n in 1..=40u16 {
-        write(&mut a, &mut card, id, n, 1, at(50 * u64::from(n)));
+        write(a, card, id, n, 1, at(50 * u64::from(n)));
     }
-    assert_eq!(state(&a), 1);
+    assert_eq!(state(a), 1);
     assert!(card.drive.vfd().output_frequency() > 0);
+    (s, id)
+}
+
+#[test]
+fn forward_close_decelerates_the_drive_to_a_stop() {
+    let (mut a, mut card) = device::goodrive350([127, 0, 0, 1], at(0));
+    let (s, id) = running(&mut a, &mut card);
     let close = ForwardCloseRepr {
         ticks: DEFAULT_TICKS,
         triad: TRIAD,
@@ -102,36 +109,33 @@ fn forward_close_trips_e_eip_and_the_next_connection_starts_faulted() {
         log,
         [
             format!("connection {id:#010x} closed"),
-            "drive fault E-EIP".to_owned()
+            "drive decelerates to stop".to_owned()
         ]
     );
-    // Explicit reads see the fault (SW state 4) and a stopped output; P07.27 = 70.
-    assert_eq!(state(&a), 4);
-    assert_eq!(card.drive.vfd().output_frequency(), 0);
-    assert_eq!(card.drive.parameter(0x071B), Some(70));
-    // The next connection asks to run: still faulted, not at speed.
+    // Without a connection the ramp goes on: explicit reads see the frequency fall to 0 and
+    // the SW's state become 3, stopped (no fault).
+    let at_close = card.drive.vfd().output_frequency();
+    link(&mut a, Some(&mut card), at(3000), &mut |_| {});
+    let later = card.drive.vfd().output_frequency();
+    assert!(later < at_close, "{later} < {at_close}");
+    link(&mut a, Some(&mut card), at(30_000), &mut |_| {});
+    assert_eq!((state(&a), card.drive.vfd().output_frequency()), (3, 0));
+    assert_eq!(card.drive.vfd().fault(), None);
+    // The next connection's run command starts from rest.
     let id = open(&mut a, s);
-    for n in 1..=10u16 {
-        write(&mut a, &mut card, id, n, 1, at(3000 + 50 * u64::from(n)));
-    }
-    assert_eq!((state(&a), card.drive.vfd().output_frequency()), (4, 0));
-    // A fault reset (command 7), then run: it ramps up again.
-    write(&mut a, &mut card, id, 11, 7, at(3600));
-    write(&mut a, &mut card, id, 12, 0, at(3650));
-    write(&mut a, &mut card, id, 13, 1, at(3700));
-    write(&mut a, &mut card, id, 14, 1, at(3900));
+    write(&mut a, &mut card, id, 1, 1, at(30_050));
+    write(&mut a, &mut card, id, 2, 1, at(30_100));
     assert_eq!(state(&a), 1);
+    assert!(card.drive.vfd().output_frequency() < at_close);
 }
 
 #[test]
-fn a_timeout_trips_e_eip_once() {
+fn a_timeout_trips_e_eip_and_the_next_connection_starts_faulted() {
     let (mut a, mut card) = device::goodrive350([127, 0, 0, 1], at(0));
-    let s = session(&mut a);
-    let id = open(&mut a, s);
-    write(&mut a, &mut card, id, 1, 1, at(50));
+    let (s, id) = running(&mut a, &mut card);
     // Nothing for the timeout (4 x 50 ms): closed, E-EIP; later ticks log nothing more.
     let mut log = Vec::new();
-    for ms in [100, 200, 300, 400] {
+    for ms in [2100, 2200, 2300, 2400] {
         a.handle_timeout(at(ms));
         link(&mut a, Some(&mut card), at(ms), &mut |l| log.push(l));
     }
@@ -142,5 +146,18 @@ fn a_timeout_trips_e_eip_once() {
             "drive fault E-EIP".to_owned()
         ]
     );
-    assert_eq!(state(&a), 4);
+    // Explicit reads see the fault (SW state 4), the output coasted to 0; P07.27 = 70.
+    assert_eq!((state(&a), card.drive.vfd().output_frequency()), (4, 0));
+    assert_eq!(card.drive.parameter(0x071B), Some(70));
+    // The next connection asks to run: still faulted, not at speed.
+    let id = open(&mut a, s);
+    for n in 1..=10u16 {
+        write(&mut a, &mut card, id, n, 1, at(3000 + 50 * u64::from(n)));
+    }
+    assert_eq!((state(&a), card.drive.vfd().output_frequency()), (4, 0));
+    // A fault reset (command 7), then run: it runs again.
+    write(&mut a, &mut card, id, 11, 7, at(3600));
+    write(&mut a, &mut card, id, 12, 1, at(3650));
+    write(&mut a, &mut card, id, 13, 1, at(3900));
+    assert_eq!(state(&a), 1);
 }
