@@ -1,9 +1,10 @@
-//! `edsgen enip list|get|set|io`: an EtherNet/IP scanner at the bench. `list [ADDR]` sends
-//! ListIdentity over UDP (to ADDR, else broadcast) with a maximum delay of 1 s and prints each
-//! identity that answers within 1.5 s, matched to an ODVA EDS with `--eds FILE` (exit 1 when
-//! one does not match); `get ADDR @CLASS/INST/ATTR` and `set ADDR
+//! `edsgen enip list|get|set|service|io`: an EtherNet/IP scanner at the bench. `list [ADDR]`
+//! sends ListIdentity over UDP (to ADDR, else broadcast; from `--from ADDR`) with a maximum
+//! delay of 1 s and prints each identity that answers within 1.5 s, matched to an ODVA EDS with
+//! `--eds FILE` (exit 1 when one does not match); `get ADDR @CLASS/INST/ATTR` and `set ADDR
 //! @CLASS/INST/ATTR HEX` are Get/Set_Attribute_Single by explicit messaging (RegisterSession,
-//! SendRRData); `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
+//! SendRRData), `get ADDR @CLASS/INST` Get_Attributes_All, `service` any service;
+//! `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
 //! EDS, typed, scaled and range-checked (`enip_param`); `io` is a class-1 connection from the
 //! EDS (`enip_io`). Exit 0 ok, 1 a refusal (the CIP status is printed) or no identity, 2 bad
 //! usage or I/O. The bytes are the runtime's (`edsgen_runtime::enip`), carried by `enip_link`.
