@@ -148,6 +148,33 @@ fn list_get_set_against_the_simulated_card() {
         edsgen(&["enip", "get", &address, "@0x70/1/1"]).2,
         "error: @0x70/1/1: path destination unknown (general status 0x05)\n"
     );
+    // An address the host does not have, to serve on or to send from.
+    assert_eq!(
+        edsgen(&["enip", "list", "--from", "192.0.2.77"]),
+        (
+            Some(2),
+            String::new(),
+            "error: cannot open a UDP socket on 192.0.2.77: Cannot assign requested address (os \
+             error 99): it is not an address of this host\n"
+                .to_owned()
+        )
+    );
+    assert_eq!(
+        edsgen(&[
+            "simulate",
+            "--enip",
+            "192.0.2.77",
+            "--card",
+            "goodrive350-enip"
+        ]),
+        (
+            Some(2),
+            String::new(),
+            "error: cannot serve on 192.0.2.77:44818: Cannot assign requested address (os error \
+             99): it is not an address of this host\n"
+                .to_owned()
+        )
+    );
     // An instance alone: Get_Attributes_All (the assembly's data); a class alone is no path.
     assert_eq!(
         &edsgen(&["enip", "get", &address, "@4/100"]).1[..30],

@@ -268,7 +268,13 @@ fn list(addr: Option<&str>, from: Option<std::net::Ipv4Addr>, eds: Option<PathBu
     let local = SocketAddr::from((from.unwrap_or(std::net::Ipv4Addr::UNSPECIFIED), 0));
     let socket = match UdpSocket::bind(local) {
         Ok(s) => s,
-        Err(err) => return usage(format!("cannot open a UDP socket on {}: {err}", local.ip())),
+        Err(err) => {
+            return usage(format!(
+                "cannot open a UDP socket on {}: {err}{}",
+                local.ip(),
+                socket_hint(&err)
+            ))
+        }
     };
     let _ = socket.set_broadcast(true);
     let mut request = [0; 24];
@@ -282,7 +288,7 @@ fn list(addr: Option<&str>, from: Option<std::net::Ipv4Addr>, eds: Option<PathBu
                 "; with no default route, name an address of the interface to send from \
                  with --from ADDR"
             }
-            _ => "",
+            _ => socket_hint(&err),
         };
         return usage(format!("cannot send to {target}: {err}{hint}"));
     }
@@ -351,6 +357,19 @@ fn list(addr: Option<&str>, from: Option<std::net::Ipv4Addr>, eds: Option<PathBu
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS
+}
+
+/// What a socket error asks of the user: root (or the capability) for a permission, a local
+/// address for one the host does not have.
+pub(super) fn socket_hint(err: &std::io::Error) -> &'static str {
+    match err.kind() {
+        std::io::ErrorKind::PermissionDenied => {
+            "; run as root (or with CAP_NET_BIND_SERVICE for a port below 1024, CAP_NET_RAW for \
+             raw sockets), or check the firewall"
+        }
+        std::io::ErrorKind::AddrNotAvailable => ": it is not an address of this host",
+        _ => "",
+    }
 }
 
 /// A Get or Set request on `link`: `Ok(Ok(data))` on success, `Ok(Err(general status))` on a
