@@ -148,6 +148,32 @@ fn list_get_set_against_the_simulated_card() {
         edsgen(&["enip", "get", &address, "@0x70/1/1"]).2,
         "error: @0x70/1/1: path destination unknown (general status 0x05)\n"
     );
+    // Bound to every address, the adapter reports the one a request reaches it at (ListIdentity's
+    // sockaddr: family 2, port 44818, then the address), not 0.0.0.0.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port();
+    let wildcard = Process::edsgen(&[
+        "simulate",
+        "--enip",
+        &format!("0.0.0.0:{port}"),
+        "--card",
+        "goodrive350-enip",
+    ]);
+    wildcard.stderr_line(|l| l.starts_with("serving"), Duration::from_secs(10));
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").expect("a UDP socket");
+    socket
+        .set_read_timeout(Some(Duration::from_secs(3)))
+        .expect("a timeout");
+    let mut request = [0u8; 24];
+    request[0] = 0x63;
+    socket.send_to(&request, ("127.0.0.1", port)).expect("sent");
+    let mut reply = [0u8; 200];
+    let n = socket.recv(&mut reply).expect("an answer");
+    assert!(n > 40);
+    assert_eq!(&reply[32..40], &[0, 2, 0xAF, 0x12, 127, 0, 0, 1]);
+    drop(wildcard);
     // An address the host does not have, to serve on or to send from.
     assert_eq!(
         edsgen(&["enip", "list", "--from", "192.0.2.77"]),

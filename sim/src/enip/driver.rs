@@ -145,6 +145,8 @@ pub fn run(
     let mut clients: BTreeMap<u64, Client> = BTreeMap::new();
     let mut next_client = 1u64;
     let mut buf = vec![0u8; 65_536];
+    // Bound to 0.0.0.0: the adapter's address is the one each request reaches it at.
+    let wildcard = udp.local_addr().is_ok_and(|a| a.ip().is_unspecified());
     while !stop.load(Ordering::Relaxed) {
         loop {
             match listener.accept() {
@@ -195,6 +197,9 @@ pub fn run(
         }
         for socket in std::iter::once(&udp).chain(&broadcast) {
             while let Ok((n, from)) = socket.recv_from(&mut buf) {
+                if let Some(own) = wildcard.then(|| address_toward(from)).flatten() {
+                    adapter.address = own;
+                }
                 if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
                     let _ = udp.send_to(&reply, from);
                 }
@@ -222,6 +227,17 @@ pub fn run(
         std::thread::sleep(std::time::Duration::from_millis(1));
     }
     served
+}
+
+/// This host's address on the way to `peer` (the source address the system would send from),
+/// as ListIdentity reports it when the adapter is bound to every address.
+fn address_toward(peer: SocketAddr) -> Option<[u8; 4]> {
+    let socket = UdpSocket::bind("0.0.0.0:0").ok()?;
+    socket.connect(peer).ok()?;
+    match socket.local_addr().ok()?.ip() {
+        IpAddr::V4(ip) if !ip.is_unspecified() => Some(ip.octets()),
+        _ => None,
+    }
 }
 
 /// The UDP port a T→O datagram goes to: the one its connection's Forward_Open asked for, else
