@@ -43,7 +43,7 @@ fn edsgen(args: &[&str]) -> (Option<i32>, String, String) {
 #[test]
 fn list_get_set_against_the_simulated_card() {
     let (_adapter, address) = adapter();
-    let (code, stdout, _) = edsgen(&[
+    let (code, stdout, stderr) = edsgen(&[
         "enip",
         "list",
         &address,
@@ -51,6 +51,12 @@ fn list_get_set_against_the_simulated_card() {
         "eds/goodrive350-enip.eds",
     ]);
     assert_eq!(code, Some(0));
+    assert_eq!(
+        stderr,
+        format!(
+            "listening 1.5 s for ListIdentity answers from {address} (maximum delay 1000 ms)\n"
+        )
+    );
     assert_eq!(
         stdout,
         "127.0.0.1\tvendor 0\tdevice type 12\tproduct code 350\trevision 1.10\tserial 0x00350001\t\
@@ -63,12 +69,55 @@ fn list_get_set_against_the_simulated_card() {
         "--eds",
         "codegen/tests/odva/io.eds",
     ]);
-    assert_eq!(code, Some(0));
+    // A mismatch is exit 1, as `check` and `validate` say a difference.
+    assert_eq!(code, Some(1));
     assert!(
         stdout.ends_with("\tdoes not match codegen/tests/odva/io.eds\n"),
         "{stdout}"
     );
     assert_eq!(edsgen(&["enip", "get", &address, "@1/1/3"]).1, "5E 01\n");
+    // Get_Attributes_All of the Identity: vendor, device type, product code, revision 1.10,
+    // status, serial, the name as a short string.
+    assert_eq!(
+        edsgen(&["enip", "get", &address, "@1/1"]),
+        (
+            Some(0),
+            "00 00 0C 00 5E 01 01 0A 00 00 01 00 35 00 1C 47 6F 6F 64 72 69 76 65 33 35 30 20 45 \
+             74 68 65 72 4E 65 74 2F 49 50 20 63 61 72 64\n"
+                .to_owned(),
+            String::new()
+        )
+    );
+    // Any service: Get_Attribute_Single by its code; one the Identity lacks is refused.
+    assert_eq!(
+        edsgen(&["enip", "service", &address, "0x0E", "@1/1/3"]).1,
+        "5E 01\n"
+    );
+    assert_eq!(
+        edsgen(&["enip", "service", &address, "0x4B", "@1/1"]),
+        (
+            Some(1),
+            String::new(),
+            "error: @1/1: service not supported (general status 0x08)\n".to_owned()
+        )
+    );
+    for (args, message) in [
+        (
+            &["service", &address, "0x80", "@1/1"][..],
+            "error: `0x80` is not a CIP service code (0..0x7F, decimal or hex with 0x)\n",
+        ),
+        (
+            &["service", &address, "5", "@1/1", "zz"],
+            "error: `zz` is not hex bytes\n",
+        ),
+        (
+            &["set", &address, "@1/1", "00"],
+            "error: `@1/1` is not @CLASS/INSTANCE/ATTRIBUTE\n",
+        ),
+    ] {
+        let out = edsgen(&[&["enip"], args].concat());
+        assert_eq!((out.0, out.2.as_str()), (Some(2), message));
+    }
     // The drive at rest in assembly 100: SW 0x4103 in word 4, little-endian.
     let (code, stdout, _) = edsgen(&["enip", "get", &address, "@4/100/3"]);
     assert_eq!(code, Some(0));
@@ -99,12 +148,70 @@ fn list_get_set_against_the_simulated_card() {
         edsgen(&["enip", "get", &address, "@0x70/1/1"]).2,
         "error: @0x70/1/1: path destination unknown (general status 0x05)\n"
     );
+    // Bound to every address, the adapter reports the one a request reaches it at (ListIdentity's
+    // sockaddr: family 2, port 44818, then the address), not 0.0.0.0.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port();
+    let wildcard = Process::edsgen(&[
+        "simulate",
+        "--enip",
+        &format!("0.0.0.0:{port}"),
+        "--card",
+        "goodrive350-enip",
+    ]);
+    wildcard.stderr_line(|l| l.starts_with("serving"), Duration::from_secs(10));
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").expect("a UDP socket");
+    socket
+        .set_read_timeout(Some(Duration::from_secs(3)))
+        .expect("a timeout");
+    let mut request = [0u8; 24];
+    request[0] = 0x63;
+    socket.send_to(&request, ("127.0.0.1", port)).expect("sent");
+    let mut reply = [0u8; 200];
+    let n = socket.recv(&mut reply).expect("an answer");
+    assert!(n > 40);
+    assert_eq!(&reply[32..40], &[0, 2, 0xAF, 0x12, 127, 0, 0, 1]);
+    drop(wildcard);
+    // An address the host does not have, to serve on or to send from.
     assert_eq!(
-        edsgen(&["enip", "get", &address, "@4/100"]),
+        edsgen(&["enip", "list", "--from", "192.0.2.77"]),
         (
             Some(2),
             String::new(),
-            "error: `@4/100` is not @CLASS/INSTANCE/ATTRIBUTE\n".to_owned()
+            "error: cannot open a UDP socket on 192.0.2.77: Cannot assign requested address (os \
+             error 99): it is not an address of this host\n"
+                .to_owned()
+        )
+    );
+    assert_eq!(
+        edsgen(&[
+            "simulate",
+            "--enip",
+            "192.0.2.77",
+            "--card",
+            "goodrive350-enip"
+        ]),
+        (
+            Some(2),
+            String::new(),
+            "error: cannot serve on 192.0.2.77:44818: Cannot assign requested address (os error \
+             99): it is not an address of this host\n"
+                .to_owned()
+        )
+    );
+    // An instance alone: Get_Attributes_All (the assembly's data); a class alone is no path.
+    assert_eq!(
+        &edsgen(&["enip", "get", &address, "@4/100"]).1[..30],
+        "00 00 00 00 00 00 00 00 03 41 "
+    );
+    assert_eq!(
+        edsgen(&["enip", "get", &address, "@4"]),
+        (
+            Some(2),
+            String::new(),
+            "error: `@4` is not @CLASS/INSTANCE[/ATTRIBUTE]\n".to_owned()
         )
     );
 }

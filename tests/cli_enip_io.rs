@@ -178,11 +178,13 @@ fn the_card_configured_through_pkw_runs_and_ramps_through_pzd() {
         ],
     );
     assert_eq!(lines.len(), 30);
+    // The last run's Forward_Close stopped the drive (command 5) with no PKW task: at rest,
+    // no PKW response.
     assert_eq!(
         lines[0],
         format!(
-            "1: PKW1 response=Refused (error in PKW3), PKW2 address=1819, PKW3 value high=7, \
-             PKW4 value low=0, SW=0x4103, Transmitted PZD2=0.00 Hz, {QUIET_PZD}"
+            "1: PKW1 response=No response, PKW2 address=0, PKW3 value high=0, PKW4 value low=0, \
+             SW=0x4103, Transmitted PZD2=0.00 Hz, {QUIET_PZD}"
         )
     );
     let running: Vec<&String> = lines
@@ -215,8 +217,9 @@ fn an_ods_eds_served_as_written_read_and_written_by_name() {
         &[
             "Mode=fast",
             "Setpoint=-12.5",
-            "Gain=2.25",
-            "Enable=1",
+            // `ParamN` as `enip get|set` take it, in any case.
+            "Param3=2.25",
+            "param4=1",
             "--cycles",
             "2",
         ],

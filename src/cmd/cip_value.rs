@@ -24,6 +24,17 @@ pub struct Member<'a> {
     pub bits: u32,
 }
 
+impl Member<'_> {
+    /// Whether `wanted` (already [`fold`]ed) names this member: its name, or `ParamN` of the
+    /// parameter it carries (as `enip get|set` take them).
+    pub fn is_named(&self, wanted: &str) -> bool {
+        fold(&self.name) == wanted
+            || self
+                .param
+                .is_some_and(|p| fold(&format!("Param{}", p.number)) == wanted)
+    }
+}
+
 /// The members of `assembly` that carry data (padding has no name and is left out).
 pub fn members<'a>(cip: &'a Cip, assembly: &CipAssembly) -> Vec<Member<'a>> {
     let mut out: Vec<Member<'a>> = Vec::new();
@@ -541,6 +552,19 @@ mod tests {
                 ("Enable", 24, 1),
                 ("Gain", 32, 32)
             ]
+        );
+        let named = |wanted: &str| {
+            let wanted = fold(wanted);
+            outputs.iter().position(|m| m.is_named(&wanted))
+        };
+        assert_eq!(
+            [
+                named("gain"),
+                named("Param3"),
+                named("PARAM4"),
+                named("Param5")
+            ],
+            [Some(3), Some(3), Some(2), None]
         );
         assert_eq!(
             defaults(&cip, &outputs, 8),

@@ -1,8 +1,10 @@
-//! `edsgen enip list|get|set|io`: an EtherNet/IP scanner at the bench. `list [ADDR]` sends
-//! ListIdentity over UDP (to ADDR, else broadcast) and prints each identity that answers within a
-//! second, matched to an ODVA EDS with `--eds FILE`; `get ADDR @CLASS/INST/ATTR` and `set ADDR
+//! `edsgen enip list|get|set|service|io`: an EtherNet/IP scanner at the bench. `list [ADDR]`
+//! sends ListIdentity over UDP (to ADDR, else broadcast; from `--from ADDR`) with a maximum
+//! delay of 1 s and prints each identity that answers within 1.5 s, matched to an ODVA EDS with
+//! `--eds FILE` (exit 1 when one does not match); `get ADDR @CLASS/INST/ATTR` and `set ADDR
 //! @CLASS/INST/ATTR HEX` are Get/Set_Attribute_Single by explicit messaging (RegisterSession,
-//! SendRRData); `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
+//! SendRRData), `get ADDR @CLASS/INST` Get_Attributes_All, `service` any service;
+//! `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
 //! EDS, typed, scaled and range-checked (`enip_param`); `io` is a class-1 connection from the
 //! EDS (`enip_io`). Exit 0 ok, 1 a refusal (the CIP status is printed) or no identity, 2 bad
 //! usage or I/O. The bytes are the runtime's (`edsgen_runtime::enip`), carried by `enip_link`.
@@ -29,20 +31,26 @@ use super::enip_param::{self, Access};
 pub enum Args {
     /// List the identities that answer ListIdentity (at ADDR, else by broadcast).
     List {
-        /// The device (`IP` or `IP:PORT`); broadcast when absent.
+        /// The device (`IP` or `IP:PORT`), or a (directed) broadcast address; 255.255.255.255
+        /// when absent.
         addr: Option<String>,
+        /// The local address to send from (an address of the interface to broadcast on; needed
+        /// when there is no default route).
+        #[arg(long, value_name = "ADDR")]
+        from: Option<std::net::Ipv4Addr>,
         /// An ODVA EDS to match the identities against (vendor, device type, product code,
         /// major revision).
         #[arg(long)]
         eds: Option<PathBuf>,
     },
-    /// Read an attribute (`@CLASS/INSTANCE/ATTRIBUTE`, decimal or hex with 0x), or a parameter
-    /// of the --eds file by name, its value typed, scaled and named as the file says.
+    /// Read an attribute (`@CLASS/INSTANCE/ATTRIBUTE`, decimal or hex with 0x), all of an
+    /// instance's (`@CLASS/INSTANCE`: Get_Attributes_All), or a parameter of the --eds file by
+    /// name, its value typed, scaled and named as the file says.
     Get {
         /// The device (`IP` or `IP:PORT`).
         addr: String,
-        /// `@CLASS/INSTANCE/ATTRIBUTE`, or a parameter's name in the --eds file (a unique
-        /// prefix will do, case and spaces do not matter; `ParamN` too).
+        /// `@CLASS/INSTANCE/ATTRIBUTE`, `@CLASS/INSTANCE`, or a parameter's name in the --eds
+        /// file (a unique prefix will do, case and spaces do not matter; `ParamN` too).
         path: String,
         /// The device's ODVA EDS: names, types and places its parameters.
         #[arg(long, value_name = "FILE")]
@@ -62,6 +70,19 @@ pub enum Args {
         /// The device's ODVA EDS: names, types and places its parameters.
         #[arg(long, value_name = "FILE")]
         eds: Option<PathBuf>,
+    },
+    /// Any CIP service by explicit messaging: its reply's data printed in hex (empty line when
+    /// there is none).
+    Service {
+        /// The device (`IP` or `IP:PORT`).
+        addr: String,
+        /// The service code, decimal or hex with 0x (0x01 Get_Attributes_All, 0x05 Reset,
+        /// 0x0E Get_Attribute_Single, ...).
+        service: String,
+        /// `@CLASS/INSTANCE` or `@CLASS/INSTANCE/ATTRIBUTE`.
+        path: String,
+        /// The request's data in hex (`0A 00` or `0a00`).
+        data: Option<String>,
     },
     /// A class-1 connection from the EDS: set outputs by name, print the inputs each RPI.
     Io(super::enip_io::Args),
@@ -85,21 +106,24 @@ pub(super) fn address(text: &str) -> Result<SocketAddr, String> {
         .ok_or_else(|| format!("`{text}` is not an address: write IP or IP:PORT"))
 }
 
-/// `@CLASS/INSTANCE/ATTRIBUTE` as a padded EPATH.
-fn epath(text: &str) -> Result<Vec<u8>, String> {
-    let bad = || format!("`{text}` is not @CLASS/INSTANCE/ATTRIBUTE");
+/// `@CLASS/INSTANCE/ATTRIBUTE` (or `@CLASS/INSTANCE` when `whole` allows it) as a padded
+/// EPATH.
+fn epath(text: &str, whole: bool) -> Result<Vec<u8>, String> {
+    let bad = || match whole {
+        true => format!("`{text}` is not @CLASS/INSTANCE[/ATTRIBUTE]"),
+        false => format!("`{text}` is not @CLASS/INSTANCE/ATTRIBUTE"),
+    };
     let parts: Vec<u32> = text
         .strip_prefix('@')
         .ok_or_else(bad)?
         .split('/')
-        .map(|p| match p.strip_prefix("0x") {
-            Some(hex) => u32::from_str_radix(hex, 16).ok(),
-            None => p.parse().ok(),
-        })
+        .map(number)
         .collect::<Option<_>>()
         .ok_or_else(bad)?;
-    let [class, instance, attribute] = parts[..] else {
-        return Err(bad());
+    let (class, instance, attribute) = match parts[..] {
+        [class, instance, attribute] => (class, instance, Some(attribute)),
+        [class, instance] if whole => (class, instance, None),
+        _ => return Err(bad()),
     };
     if parts.iter().any(|p| *p > 0xFFFF) {
         return Err(bad());
@@ -107,9 +131,30 @@ fn epath(text: &str) -> Result<Vec<u8>, String> {
     let path = LogicalPath {
         class,
         instance,
-        attribute: Some(attribute),
+        attribute,
     };
     path.to_vec().map_err(|_| bad())
+}
+
+/// A number in decimal or hex with 0x.
+fn number(text: &str) -> Option<u32> {
+    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => text.parse().ok(),
+    }
+}
+
+/// Bytes in hex (`0A 00` or `0a00`); `None` when they are not.
+fn hex_bytes(text: &str) -> Option<Vec<u8>> {
+    let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    (0..digits.len())
+        .step_by(2)
+        .map(|i| {
+            digits
+                .get(i..i + 2)
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        })
+        .collect()
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -123,7 +168,7 @@ fn hex(bytes: &[u8]) -> String {
 /// Runs `edsgen enip`.
 pub fn run(args: Args) -> ExitCode {
     match args {
-        Args::List { addr, eds } => list(addr.as_deref(), eds),
+        Args::List { addr, from, eds } => list(addr.as_deref(), from, eds),
         Args::Io(args) => super::enip_io::run(args),
         Args::Get { addr, path, eds } if !path.starts_with('@') => {
             parameter(&addr, &path, None, eds)
@@ -136,7 +181,12 @@ pub fn run(args: Args) -> ExitCode {
         } if !path.starts_with('@') => parameter(&addr, &path, Some(&value), eds),
         Args::Get { addr, path, eds } => {
             unused_eds(eds.as_deref());
-            explicit(&addr, &path, 0x0E, Vec::new())
+            // Two numbers: the instance's Get_Attributes_All.
+            let service = match path.matches('/').count() {
+                1 => 0x01,
+                _ => 0x0E,
+            };
+            explicit(&addr, &path, service, Vec::new(), true)
         }
         Args::Set {
             addr,
@@ -145,18 +195,28 @@ pub fn run(args: Args) -> ExitCode {
             eds,
         } => {
             unused_eds(eds.as_deref());
-            let digits: String = value.chars().filter(|c| !c.is_whitespace()).collect();
-            let bytes: Option<Vec<u8>> = (0..digits.len())
-                .step_by(2)
-                .map(|i| {
-                    digits
-                        .get(i..i + 2)
-                        .and_then(|h| u8::from_str_radix(h, 16).ok())
-                })
-                .collect();
-            match bytes {
-                Some(bytes) if !bytes.is_empty() => explicit(&addr, &path, 0x10, bytes),
+            match hex_bytes(&value) {
+                Some(bytes) if !bytes.is_empty() => explicit(&addr, &path, 0x10, bytes, false),
                 _ => usage(format!("`{value}` is not hex bytes")),
+            }
+        }
+        Args::Service {
+            addr,
+            service,
+            path,
+            data,
+        } => {
+            let code = match number(&service) {
+                Some(code @ 0..=0x7F) => code as u8,
+                _ => {
+                    return usage(format!(
+                        "`{service}` is not a CIP service code (0..0x7F, decimal or hex with 0x)"
+                    ))
+                }
+            };
+            match hex_bytes(data.as_deref().unwrap_or("")) {
+                Some(bytes) => explicit(&addr, &path, code, bytes, true),
+                None => usage(format!("`{}` is not hex bytes", data.unwrap_or_default())),
             }
         }
     }
@@ -184,7 +244,14 @@ pub(super) fn read_cip(path: &Path) -> Result<Cip, String> {
         .ok_or_else(|| format!("`{}` is not an ODVA EDS", path.display()))
 }
 
-fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
+/// The maximum delay ListIdentity asks the targets to answer within (CIP Vol 2 §2-4.2.3: each
+/// waits a random time up to it, so that many answering a broadcast do not collide).
+pub(super) const MAX_DELAY_MS: u16 = 1000;
+
+/// How long `list` listens: the maximum delay and half a second for the answers to travel.
+pub(super) const LISTEN: Duration = Duration::from_millis(MAX_DELAY_MS as u64 + 500);
+
+fn list(addr: Option<&str>, from: Option<std::net::Ipv4Addr>, eds: Option<PathBuf>) -> ExitCode {
     let key = match eds {
         Some(path) => match read_cip(&path) {
             Ok(cip) => Some((path, cip.identity)),
@@ -199,22 +266,49 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
         },
         None => SocketAddr::from(([255, 255, 255, 255], 44818)),
     };
-    let socket = match UdpSocket::bind("0.0.0.0:0") {
+    let local = SocketAddr::from((from.unwrap_or(std::net::Ipv4Addr::UNSPECIFIED), 0));
+    let socket = match UdpSocket::bind(local) {
         Ok(s) => s,
-        Err(err) => return usage(format!("cannot open a UDP socket: {err}")),
+        Err(err) => {
+            return usage(format!(
+                "cannot open a UDP socket on {}: {err}{}",
+                local.ip(),
+                socket_hint(&err)
+            ))
+        }
     };
     let _ = socket.set_broadcast(true);
-    let _ = socket.set_read_timeout(Some(Duration::from_secs(1)));
     let mut request = [0; 24];
     let len = Session::new(CONTEXT)
-        .list_identity(&mut request)
+        .list_identity(MAX_DELAY_MS, &mut request)
         .unwrap_or_default();
     if let Err(err) = socket.send_to(&request[..len], target) {
-        return usage(format!("cannot send to {target}: {err}"));
+        let hint = match (err.raw_os_error(), from) {
+            // ENETUNREACH: no route to the target.
+            (Some(101), None) => {
+                "; with no default route, name an address of the interface to send from \
+                 with --from ADDR"
+            }
+            _ => socket_hint(&err),
+        };
+        return usage(format!("cannot send to {target}: {err}{hint}"));
     }
+    eprintln!(
+        "listening {:.1} s for ListIdentity answers from {target} (maximum delay {MAX_DELAY_MS} ms)",
+        LISTEN.as_secs_f32()
+    );
+    let deadline = std::time::Instant::now() + LISTEN;
     let mut found = 0;
+    let mut mismatched = false;
     let mut buf = [0u8; 1500];
-    while let Ok((n, from)) = socket.recv_from(&mut buf) {
+    loop {
+        let left = deadline.saturating_duration_since(std::time::Instant::now());
+        if left.is_zero() || socket.set_read_timeout(Some(left)).is_err() {
+            break;
+        }
+        let Ok((n, from)) = socket.recv_from(&mut buf) else {
+            break;
+        };
         let Ok((reply, _)) = EncapRepr::parse_prefix(&buf[..n]) else {
             continue;
         };
@@ -243,6 +337,7 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
                     && id.product_type.as_ref().map(|v| v.value) == Some(identity.device_type)
                     && id.product_code.as_ref().map(|v| v.value) == Some(identity.product_code)
                     && id.major_revision.as_ref().map(|v| v.value) == Some(identity.revision.0);
+                mismatched |= !same;
                 line.push_str(&format!(
                     "\t{} {}",
                     if same { "matches" } else { "does not match" },
@@ -251,15 +346,31 @@ fn list(addr: Option<&str>, eds: Option<PathBuf>) -> ExitCode {
             }
             println!("{line}");
         }
-        if addr.is_some() {
-            break;
-        }
     }
     if found == 0 {
-        eprintln!("no identity answered at {target} within 1 s");
+        eprintln!(
+            "no identity answered at {target} within {:.1} s",
+            LISTEN.as_secs_f32()
+        );
+        return ExitCode::from(1);
+    }
+    if mismatched {
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS
+}
+
+/// What a socket error asks of the user: root (or the capability) for a permission, a local
+/// address for one the host does not have.
+pub(super) fn socket_hint(err: &std::io::Error) -> &'static str {
+    match err.kind() {
+        std::io::ErrorKind::PermissionDenied => {
+            "; run as root (or with CAP_NET_BIND_SERVICE for a port below 1024, CAP_NET_RAW for \
+             raw sockets), or check the firewall"
+        }
+        std::io::ErrorKind::AddrNotAvailable => ": it is not an address of this host",
+        _ => "",
+    }
 }
 
 /// A Get or Set request on `link`: `Ok(Ok(data))` on success, `Ok(Err(general status))` on a
@@ -291,12 +402,14 @@ fn refused(what: &str, status: u8) -> ExitCode {
     ExitCode::from(1)
 }
 
-fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
+/// One explicit request, `service` at `path` with `data`; a reply's data printed in hex (for
+/// every service but Set_Attribute_Single). `whole`: the path may name an instance alone.
+fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>, whole: bool) -> ExitCode {
     let target = match address(addr) {
         Ok(a) => a,
         Err(m) => return usage(m),
     };
-    let epath = match epath(path) {
+    let epath = match epath(path, whole) {
         Ok(p) => p,
         Err(m) => return usage(m),
     };
@@ -307,7 +420,7 @@ fn explicit(addr: &str, path: &str, service: u8, data: Vec<u8>) -> ExitCode {
         Err(message) => usage(message),
         Ok(Err(status)) => refused(path, status),
         Ok(Ok(data)) => {
-            if service == 0x0E {
+            if service != 0x10 {
                 println!("{}", hex(&data));
             }
             ExitCode::SUCCESS

@@ -311,11 +311,11 @@ fn output_image(cip: &Cip, plan: &Plan<'_>, values: &[String]) -> Result<Vec<u8>
             return Err(format!("`{pair}` is not NAME=VALUE"));
         };
         let wanted = cip_value::fold(name);
-        let Some(member) = members.iter().find(|m| cip_value::fold(&m.name) == wanted) else {
+        let Some(member) = members.iter().find(|m| m.is_named(&wanted)) else {
             let input = plan
                 .input
                 .as_ref()
-                .is_some_and(|(_, m)| m.iter().any(|m| cip_value::fold(&m.name) == wanted));
+                .is_some_and(|(_, m)| m.iter().any(|m| m.is_named(&wanted)));
             if input {
                 return Err(format!(
                     "`{name}` is an input (T→O) of {}, not an output",

@@ -62,7 +62,12 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
     let log = |line: String| eprintln!("{line}");
     let sockets = match driver::bind(address, log) {
         Ok(sockets) => sockets,
-        Err(err) => return fail(format!("cannot serve on {address}: {err}")),
+        Err(err) => {
+            return fail(format!(
+                "cannot serve on {address}: {err}{}",
+                super::enip::socket_hint(&err)
+            ))
+        }
     };
     eprintln!(
         "serving {what} on {address} (EtherNet/IP; class-1 I/O on UDP {})",

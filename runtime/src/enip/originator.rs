@@ -56,9 +56,14 @@ impl Session {
         EncapRepr::request(command, self.handle, self.context, data)
     }
 
-    /// ListIdentity (no session needed; over UDP, to one target or by broadcast).
-    pub fn list_identity(&self, buf: &mut [u8]) -> Result<usize, Error> {
-        EncapRepr::request(command::LIST_IDENTITY, 0, self.context, &[]).emit(buf)
+    /// ListIdentity (no session needed; over UDP, to one target or by broadcast). Its sender
+    /// context's first two bytes (little-endian, the low 16 bits) say the maximum delay in ms
+    /// a target may wait before it answers (CIP Vol 2 §2-4.2.3; 0 means up to 2000 ms, more
+    /// than 2000 is read as 2000); the other six bytes are this session's context's.
+    pub fn list_identity(&self, max_delay_ms: u16, buf: &mut [u8]) -> Result<usize, Error> {
+        let mut context = self.context;
+        context[..2].copy_from_slice(&max_delay_ms.to_le_bytes());
+        EncapRepr::request(command::LIST_IDENTITY, 0, context, &[]).emit(buf)
     }
 
     /// RegisterSession.
@@ -250,6 +255,24 @@ impl Class1 {
 mod tests {
     use super::*;
     use crate::enip::wire::message::RequestRepr;
+
+    #[test]
+    fn list_identity_carries_the_max_delay() {
+        let session = Session::new(*b"edsgen  ");
+        let mut buf = [0; 24];
+        let n = session.list_identity(1000, &mut buf).expect("fits");
+        assert_eq!(
+            &buf[..n],
+            &[
+                0x63, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0xE8, 0x03, b's', b'g', b'e', b'n', b' ',
+                b' ', 0, 0, 0, 0
+            ]
+        );
+        assert_eq!(
+            session.list_identity(0, &mut [0; 23]),
+            Err(Error::BufferTooSmall)
+        );
+    }
 
     #[test]
     fn session_messages_and_replies() {

@@ -209,6 +209,12 @@ impl Adapter {
                 Reply::success(items(&[Item::new(item::SERVICES, &body)]))
             }
             command::LIST_INTERFACES => Reply::success(0u16.to_le_bytes().to_vec()),
+            // TCP only (CIP Vol 2 Table 2-3.2): over UDP an invalid command, as any other.
+            command::REGISTER_SESSION | command::SEND_RR_DATA | command::SEND_UNIT_DATA
+                if client == u64::MAX =>
+            {
+                Reply::status(encap_status::INVALID_COMMAND, Vec::new())
+            }
             command::REGISTER_SESSION => match RegisterSession::parse(m.data) {
                 Err(_) => Reply::status(encap_status::INVALID_LENGTH, m.data.to_vec()),
                 Ok(register) if register.protocol_version != 1 => Reply::status(

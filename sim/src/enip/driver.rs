@@ -1,5 +1,6 @@
 //! The adapter on real sockets, a thin driver around the sans-IO core: encapsulation on TCP
-//! (the address given, 44818 by default) and ListIdentity on UDP at the same port, class-1 I/O
+//! (the address given, 44818 by default) and ListIdentity on UDP at the same port (and on every
+//! address's, for broadcasts, when the address is unicast), class-1 I/O
 //! on UDP 2222 (T→O to the originator's address, port 2222 or the one its Forward_Open's T→O
 //! sockaddr item names). One thread, non-blocking sockets,
 //! a millisecond tick. A bad client never stops the others: its bytes get the protocol's
@@ -7,7 +8,9 @@
 //!
 //! [`Card`] links the adapter to the Goodrive350's drive ([`PkwPzdDrive`], bus EtherNet/IP):
 //! every O→T image the scanner writes is exchanged with the drive, whose answer becomes the T→O
-//! image; a connection that times out trips the drive with E-EIP.
+//! image. The card's communication-loss actions: a connection that times out trips the drive
+//! with E-EIP (it coasts to a stop, faulted until a fault reset); one that Forward_Close ends
+//! decelerates it to a stop.
 
 use std::collections::BTreeMap;
 use std::io::{ErrorKind, Read, Write};
@@ -15,7 +18,7 @@ use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use edsgen_runtime::enip::wire::io::IoDatagram;
-use edsgen_runtime::pkw_pzd::ByteOrder;
+use edsgen_runtime::pkw_pzd::{ByteOrder, Command, ControlWord, OutputImage};
 use edsgen_runtime::Instant;
 
 use super::adapter::{Adapter, Event};
@@ -41,11 +44,29 @@ struct Client {
 }
 
 /// The adapter's sockets, bound: encapsulation on TCP and UDP at the address, class-1 I/O on
-/// UDP 2222 of it (when that port is taken, explicit messages only).
+/// UDP 2222 of it (when that port is taken, explicit messages only), and for a unicast address
+/// UDP at the same port of every address, where Linux delivers broadcasts (answered from the
+/// unicast socket, so with the adapter's own address).
 pub struct Sockets {
     listener: TcpListener,
     udp: UdpSocket,
+    broadcast: Option<UdpSocket>,
     io: Option<UdpSocket>,
+}
+
+/// A non-blocking UDP socket on `address` sharing its port (SO_REUSEADDR): the unicast and the
+/// wildcard socket of one adapter, and those of other adapters on the host, all receive a
+/// broadcast.
+fn shared_udp(address: SocketAddr) -> std::io::Result<UdpSocket> {
+    let socket = socket2::Socket::new(
+        socket2::Domain::IPV4,
+        socket2::Type::DGRAM,
+        Some(socket2::Protocol::UDP),
+    )?;
+    socket.set_reuse_address(true)?;
+    socket.set_nonblocking(true)?;
+    socket.bind(&address.into())?;
+    Ok(socket.into())
 }
 
 /// What a run served, for the line it ends with.
@@ -61,8 +82,27 @@ pub struct Served {
 pub fn bind(address: SocketAddr, mut log: impl FnMut(String)) -> std::io::Result<Sockets> {
     let listener = TcpListener::bind(address)?;
     listener.set_nonblocking(true)?;
-    let udp = UdpSocket::bind(address)?;
-    udp.set_nonblocking(true)?;
+    let udp = match address.ip() {
+        IpAddr::V4(ip) if !ip.is_unspecified() && !ip.is_loopback() => shared_udp(address)?,
+        _ => {
+            let udp = UdpSocket::bind(address)?;
+            udp.set_nonblocking(true)?;
+            udp
+        }
+    };
+    let broadcast = match address.ip() {
+        IpAddr::V4(ip) if !ip.is_unspecified() && !ip.is_loopback() => {
+            let any = SocketAddr::new(IpAddr::V4(std::net::Ipv4Addr::UNSPECIFIED), address.port());
+            match shared_udp(any) {
+                Ok(socket) => Some(socket),
+                Err(err) => {
+                    log(format!("broadcast ListIdentity off: UDP {any}: {err}"));
+                    None
+                }
+            }
+        }
+        _ => None,
+    };
     let io = match UdpSocket::bind(SocketAddr::new(address.ip(), IO_PORT)) {
         Ok(socket) => {
             socket.set_nonblocking(true)?;
@@ -76,7 +116,12 @@ pub fn bind(address: SocketAddr, mut log: impl FnMut(String)) -> std::io::Result
             None
         }
     };
-    Ok(Sockets { listener, udp, io })
+    Ok(Sockets {
+        listener,
+        udp,
+        broadcast,
+        io,
+    })
 }
 
 /// Serves `adapter` on bound `sockets` until `stop` is set. `log` gets one line per connection
@@ -88,13 +133,20 @@ pub fn run(
     stop: &AtomicBool,
     mut log: impl FnMut(String),
 ) -> Served {
-    let Sockets { listener, udp, io } = sockets;
+    let Sockets {
+        listener,
+        udp,
+        broadcast,
+        io,
+    } = sockets;
     let mut served = Served::default();
     let start = std::time::Instant::now();
     let now = || Instant::from_micros(start.elapsed().as_micros() as u64);
     let mut clients: BTreeMap<u64, Client> = BTreeMap::new();
     let mut next_client = 1u64;
     let mut buf = vec![0u8; 65_536];
+    // Bound to 0.0.0.0: the adapter's address is the one each request reaches it at.
+    let wildcard = udp.local_addr().is_ok_and(|a| a.ip().is_unspecified());
     while !stop.load(Ordering::Relaxed) {
         loop {
             match listener.accept() {
@@ -143,9 +195,14 @@ pub fn run(
             clients.remove(&key);
             adapter.client_gone(key);
         }
-        while let Ok((n, from)) = udp.recv_from(&mut buf) {
-            if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
-                let _ = udp.send_to(&reply, from);
+        for socket in std::iter::once(&udp).chain(&broadcast) {
+            while let Ok((n, from)) = socket.recv_from(&mut buf) {
+                if let Some(own) = wildcard.then(|| address_toward(from)).flatten() {
+                    adapter.address = own;
+                }
+                if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
+                    let _ = udp.send_to(&reply, from);
+                }
             }
         }
         if let Some(io) = &io {
@@ -172,6 +229,17 @@ pub fn run(
     served
 }
 
+/// This host's address on the way to `peer` (the source address the system would send from),
+/// as ListIdentity reports it when the adapter is bound to every address.
+fn address_toward(peer: SocketAddr) -> Option<[u8; 4]> {
+    let socket = UdpSocket::bind("0.0.0.0:0").ok()?;
+    socket.connect(peer).ok()?;
+    match socket.local_addr().ok()?.ip() {
+        IpAddr::V4(ip) if !ip.is_unspecified() => Some(ip.octets()),
+        _ => None,
+    }
+}
+
 /// The UDP port a T→O datagram goes to: the one its connection's Forward_Open asked for, else
 /// [`IO_PORT`].
 fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
@@ -186,7 +254,8 @@ fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
 
 /// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
 /// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
-/// trips the drive (E-EIP); without a connection the T→O assembly shows the drive as it stands.
+/// trips the drive (E-EIP, [`communication_lost`]), one Forward_Close ended stops it; without a
+/// connection the drive's ramps still move and the T→O assembly shows the drive as it stands.
 /// `log` gets one line per connection event. Returns how many connections opened.
 pub fn link(
     adapter: &mut Adapter,
@@ -201,15 +270,19 @@ pub fn link(
                 opened += 1;
                 log(format!("connection {id:#010x} opened"));
             }
-            Event::Closed(id) => log(format!("connection {id:#010x} closed")),
-            Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
+            Event::Closed(id) => {
+                log(format!("connection {id:#010x} closed"));
+                if let Some(card) = card.as_deref_mut() {
+                    connection_closed(adapter, card, now, log);
+                }
+            }
             Event::TimedOut(id) => {
                 log(format!("connection {id:#010x} timed out"));
                 if let Some(card) = card.as_deref_mut() {
-                    card.drive.communication_lost(now);
-                    log(format!("drive fault {}", card.drive.bus().fault_name()));
+                    communication_lost(adapter, card, now, log);
                 }
             }
+            Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
             Event::Consumed(point) => {
                 let Some(card) = card.as_deref_mut() else {
                     continue;
@@ -233,6 +306,8 @@ pub fn link(
         }
     }
     if let Some(card) = card {
+        // The drive runs on (its ramps, its own timeout P16.54) with or without a connection.
+        card.drive.handle_timeout(now);
         if adapter.connections().is_empty() {
             if let Some(a) = adapter.assemblies.get_mut(&card.input) {
                 a.data = card.drive.inputs().emit(ByteOrder::LittleEndian).to_vec();
@@ -240,4 +315,55 @@ pub fn link(
         }
     }
     opened
+}
+
+/// Whether a class-1 connection still writes the drive's image.
+fn still_written(adapter: &Adapter, card: &Card) -> bool {
+    adapter
+        .connections()
+        .iter()
+        .any(|c| c.o_t_point == card.output)
+}
+
+/// Forward_Close ended the connection writing the drive's image (an orderly end): unless another
+/// connection still writes it, the drive decelerates to stop (command 5) with the last settings
+/// kept and no PKW task, so explicit reads show it stopping and the next connection's run
+/// command starts it from rest.
+fn connection_closed(
+    adapter: &mut Adapter,
+    card: &mut Card,
+    now: Instant,
+    log: &mut impl FnMut(String),
+) {
+    if still_written(adapter, card) {
+        return;
+    }
+    let last: Option<[u8; 32]> = adapter
+        .assemblies
+        .get(&card.output)
+        .and_then(|a| a.data.as_slice().try_into().ok());
+    let mut output = last
+        .map(|bytes| OutputImage::parse(&bytes, ByteOrder::LittleEndian))
+        .unwrap_or_default();
+    output.pkw = OutputImage::default().pkw;
+    output.control = ControlWord::new(Command::DecelerateToStop, card.drive.layout());
+    card.drive.exchange(now, &output);
+    log("drive decelerates to stop".to_owned());
+}
+
+/// The connection writing the drive's image timed out: unless another connection still writes
+/// it, the drive trips with E-EIP (fault 70, P07.27) and coasts to a stop, so explicit reads show
+/// it faulted, and the next connection finds it faulted until its control word resets the fault
+/// (command 7).
+fn communication_lost(
+    adapter: &Adapter,
+    card: &mut Card,
+    now: Instant,
+    log: &mut impl FnMut(String),
+) {
+    if still_written(adapter, card) || card.drive.vfd().fault().is_some() {
+        return;
+    }
+    card.drive.communication_lost(now);
+    log(format!("drive fault {}", card.drive.bus().fault_name()));
 }

@@ -104,6 +104,31 @@ fn register_session_and_its_refusals() {
     assert_eq!(reply(&mut a, &encap(0x6F, 1, &[0; 16])).status, 0x64);
 }
 
+/// Over UDP (client `u64::MAX`) the TCP-only commands (CIP Vol 2 Table 2-3.2) get the
+/// encapsulation status 0x0001, invalid command, with no data and no session; ListIdentity works.
+#[test]
+fn tcp_only_commands_refused_over_udp() {
+    let mut a = adapter();
+    for (command, data) in [
+        (0x65, &[1u8, 0, 0, 0][..]),
+        (0x6F, &[0; 16]),
+        (0x70, &[0; 16]),
+    ] {
+        let (out, _) = a
+            .handle(u64::MAX, &encap(command, 0, data), T0)
+            .expect("complete");
+        let mut expected = encap(command, 0, &[]);
+        expected[8] = 0x01;
+        assert_eq!(out.expect("a reply"), expected);
+    }
+    // No session was registered: the first over TCP gets handle 1.
+    assert_eq!(session(&mut a), 1);
+    let (out, _) = a
+        .handle(u64::MAX, &encap(0x63, 0, &[]), T0)
+        .expect("complete");
+    assert_eq!(&out.expect("a reply")[..2], &[0x63, 0]);
+}
+
 #[test]
 fn list_identity_bytes() {
     let mut a = adapter();

@@ -80,7 +80,12 @@ fn datagram(connection: u32, sequence: u32, data: &[u8]) -> Vec<u8> {
 }
 
 /// SendRRData with `items` after the unconnected request; the Message Router response.
-fn send(a: &mut Adapter, session: u32, request: &[u8], extra: &[(u16, &[u8])]) -> Vec<u8> {
+pub(super) fn send(
+    a: &mut Adapter,
+    session: u32,
+    request: &[u8],
+    extra: &[(u16, &[u8])],
+) -> Vec<u8> {
     let mut all: Vec<(u16, &[u8])> =
         vec![(item::NULL_ADDRESS, &[]), (item::UNCONNECTED_DATA, request)];
     all.extend_from_slice(extra);
@@ -100,7 +105,7 @@ fn send(a: &mut Adapter, session: u32, request: &[u8], extra: &[(u16, &[u8])]) -
     items[1].1.to_vec()
 }
 
-fn session(a: &mut Adapter) -> u32 {
+pub(super) fn session(a: &mut Adapter) -> u32 {
     let register = Encapsulation {
         command: 0x65,
         session: 0,
