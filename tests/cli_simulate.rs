@@ -71,7 +71,7 @@ fn simulate_refuses_bad_and_missing_node_ids() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         stderr(&out),
-        "error: eds/cp301.eds@200: node-ID 200 is not in 1..=127\n"
+        "error: eds/cp301.eds@200: node-ID 200 is not in 1..=127 (or 255: unconfigured, for LSS)\n"
     );
     let out = edsgen(&["simulate", "eds/cp301.eds", "--node-id", "0"]);
     assert_eq!(out.status.code(), Some(2));
