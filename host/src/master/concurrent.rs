@@ -1,11 +1,12 @@
 //! The async master (feature `std`): [`AsyncMaster`] hands SDO transfers and NMT commands to a
 //! driver thread that owns the transport and runs one SDO client per node, all at once, so that
 //! transfers to different nodes overlap. The same thread runs the node monitor (heartbeat
-//! consumer, guarding master) on its clock and the EMCY consumer, whose events
-//! [`AsyncMaster::next_event`] yields. Its futures need no particular executor (tokio, or any
+//! consumer, guarding master) on its clock, the EMCY consumer, whose events
+//! [`AsyncMaster::next_event`] yields, and the LSS master ([`AsyncMaster::lss`]). Its futures need no particular executor (tokio, or any
 //! other): the driver thread completes them and wakes their task.
 mod channel;
 mod driver;
+mod lss;
 mod slot;
 
 use std::future::poll_fn;
@@ -30,7 +31,7 @@ use edsgen_runtime::wire::sdo::Multiplexer;
 use super::blocking::{MasterError, MasterEvent, ReadFeed};
 use channel::{Job, Transfer};
 use driver::{drive, Request};
-use slot::{lock, EventSender, Events, Outcome, Pending, Reply, Slot};
+use slot::{lock, pending, EventSender, Events, Outcome};
 
 /// A CANopen master whose operations are futures; see the module documentation.
 pub struct AsyncMaster {
@@ -150,19 +151,17 @@ impl AsyncMaster {
         if node_id > 127 {
             return Err(MasterError::NodeId(node_id));
         }
-        let slot = Arc::new(Mutex::new(Slot::default()));
-        let reply = Reply(Arc::clone(&slot));
+        let (reply, pending) = pending();
         self.request(Request::Frame(nmt_frame(command, node_id), reply))?;
-        Pending(slot).await.map(|_| ())
+        pending.await.map(|_| ())
     }
 
     /// Watches `node_id` by heartbeat or guarding, from now on the driver thread's clock; its
     /// boot-up, state changes, loss and recovery come from [`next_event`](Self::next_event).
     pub async fn watch(&self, node_id: u8, watch: Watch) -> Result<(), MasterError> {
-        let slot = Arc::new(Mutex::new(Slot::default()));
-        let reply = Reply(Arc::clone(&slot));
+        let (reply, pending) = pending();
         self.request(Request::Watch(node_id, watch, reply))?;
-        Pending(slot).await.map(|_| ())
+        pending.await.map(|_| ())
     }
 
     /// Waits for the next event noticed, oldest first: a watched node's boot-up, state change,
@@ -197,25 +196,24 @@ impl AsyncMaster {
         timeout: StdDuration,
     ) -> Result<(), MasterError> {
         check_node(node_id)?;
-        let slot = Arc::new(Mutex::new(Slot::default()));
-        let reply = Reply(Arc::clone(&slot));
+        let (reply, pending) = pending();
         self.request(Request::WaitBoot(node_id, to_duration(timeout), reply))?;
-        Pending(slot).await.map(|_| ())
+        pending.await.map(|_| ())
     }
 
     async fn transfer(&self, node_id: u8, transfer: Transfer) -> Outcome {
         check_node(node_id)?;
-        let slot = Arc::new(Mutex::new(Slot::default()));
+        let (reply, pending) = pending();
         let job = Job {
             transfer,
-            reply: Reply(Arc::clone(&slot)),
+            reply,
             sent: 0,
             received: Vec::new(),
             failed: None,
             retries: 0,
         };
         self.request(Request::Sdo(node_id, job))?;
-        Pending(slot).await
+        pending.await
     }
 
     fn request(&self, request: Request) -> Result<(), MasterError> {

@@ -17,6 +17,7 @@ use edsgen_runtime::wire::heartbeat::ErrorControlRepr;
 
 use super::super::blocking::{MasterError, MasterEvent};
 use super::channel::{channel, run_channel, Channel, Job, Transfer};
+use super::lss::{LssChannel, LssJob};
 use super::slot::{Done, EventSender, Reply};
 #[cfg(doc)]
 use super::AsyncMaster;
@@ -32,6 +33,7 @@ pub(super) enum Request {
     ReadRetries(u8),
     WaitBoot(u8, Duration, Reply),
     Watch(u8, Watch, Reply),
+    Lss(LssJob),
 }
 
 /// A wait for a node's boot-up: the node, until when, and the future to complete.
@@ -49,6 +51,7 @@ pub(super) fn drive<T: Transport>(
     let mut default_timeout = DEFAULT_TIMEOUT;
     let mut read_retries = 1;
     let mut channels: BTreeMap<u8, Channel> = BTreeMap::new();
+    let mut lss = LssChannel::default();
     let mut boot_waits: Vec<BootWait> = Vec::new();
     let mut booted: Vec<u8> = Vec::new();
     let mut open = true;
@@ -93,6 +96,7 @@ pub(super) fn drive<T: Transport>(
                         Err(_) => Err(MasterError::NodeId(node_id)),
                     });
                 }
+                Ok(Request::Lss(job)) => lss.push(job),
                 Err(TryRecvError::Empty) => break,
                 Err(TryRecvError::Disconnected) => open = false,
             }
@@ -110,6 +114,13 @@ pub(super) fn drive<T: Transport>(
                 (Some(a), Some(b)) => Some(a.min(b)),
                 (a, b) => a.or(b),
             };
+        }
+        if lss.run(now, &mut transport).is_err() {
+            return;
+        }
+        busy |= lss.is_busy();
+        if let Some(at) = lss.poll_timeout() {
+            deadline = Some(deadline.map_or(at, |d| d.min(at)));
         }
         let (overdue, waiting): (Vec<BootWait>, Vec<BootWait>) =
             boot_waits.drain(..).partition(|(_, at, _)| *at <= now);
@@ -144,6 +155,7 @@ pub(super) fn drive<T: Transport>(
         match transport.recv_timeout(wait) {
             Ok(Some(frame)) => {
                 monitor.handle_frame(clock.now(), &frame);
+                lss.handle_frame(clock.now(), &frame);
                 while let Some(event) = monitor.poll_event() {
                     events.send(MasterEvent::Monitor(event));
                 }

@@ -14,8 +14,8 @@ use super::super::blocking::{MasterError, MasterEvent};
 /// Events kept until taken; the oldest are dropped past this.
 const EVENT_QUEUE: usize = 1024;
 
-/// What a request gives back: the value read and its size (or the size written).
-pub(super) type Outcome = Result<Done, MasterError>;
+/// What a request gives back: by default the value read and its size (or the size written).
+pub(super) type Outcome<T = Done> = Result<T, MasterError>;
 
 /// A request's success: the bytes read (an upload) and the value's size (a transfer).
 #[derive(Default)]
@@ -24,10 +24,9 @@ pub(super) struct Done {
     pub(super) size: u32,
 }
 
-/// Where the driver thread leaves a transfer's outcome for its future.
-#[derive(Default)]
-pub(super) struct Slot {
-    outcome: Option<Outcome>,
+/// Where the driver thread leaves a request's outcome for its future.
+struct Slot<T> {
+    outcome: Option<Outcome<T>>,
     waker: Option<Waker>,
     /// The driver is gone without an outcome.
     abandoned: bool,
@@ -37,11 +36,21 @@ pub(super) fn lock<S>(slot: &Mutex<S>) -> MutexGuard<'_, S> {
     slot.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
-/// The driver thread's end of a pending transfer.
-pub(super) struct Reply(pub(super) Arc<Mutex<Slot>>);
+/// A new pending request's two ends: the driver thread's and the caller's.
+pub(super) fn pending<T>() -> (Reply<T>, Pending<T>) {
+    let slot = Arc::new(Mutex::new(Slot {
+        outcome: None,
+        waker: None,
+        abandoned: false,
+    }));
+    (Reply(Arc::clone(&slot)), Pending(slot))
+}
 
-impl Reply {
-    pub(super) fn send(self, outcome: Outcome) {
+/// The driver thread's end of a pending request.
+pub(super) struct Reply<T = Done>(Arc<Mutex<Slot<T>>>);
+
+impl<T> Reply<T> {
+    pub(super) fn send(self, outcome: Outcome<T>) {
         let mut slot = lock(&self.0);
         slot.outcome = Some(outcome);
         if let Some(waker) = slot.waker.take() {
@@ -50,7 +59,7 @@ impl Reply {
     }
 }
 
-impl Drop for Reply {
+impl<T> Drop for Reply<T> {
     fn drop(&mut self) {
         let mut slot = lock(&self.0);
         if slot.outcome.is_none() {
@@ -62,12 +71,12 @@ impl Drop for Reply {
     }
 }
 
-/// A transfer's outcome, once the driver thread has it.
-pub(super) struct Pending(pub(super) Arc<Mutex<Slot>>);
+/// A request's outcome, once the driver thread has it.
+pub(super) struct Pending<T = Done>(Arc<Mutex<Slot<T>>>);
 
-impl Future for Pending {
-    type Output = Outcome;
-    fn poll(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Outcome> {
+impl<T> Future for Pending<T> {
+    type Output = Outcome<T>;
+    fn poll(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Outcome<T>> {
         let mut slot = lock(&self.0);
         if let Some(outcome) = slot.outcome.take() {
             return Poll::Ready(outcome);
