@@ -1,18 +1,18 @@
 //! The async master's LSS services (CiA 305) against unconfigured LSS slave nodes on the
 //! in-memory bus: a scan that finds several nodes and gives each an ID (each then boots up and
 //! answers SDO there), selective switching, inquiries and refusals, listing without assigning,
-//! and a scan ended by its callback's error. Futures run on a small `block_on` of this file.
+//! a scan while SDO transfers run, and a scan ended by its callback's error. Futures run on a small `block_on` of this file.
 
 #[path = "../../runtime/tests/node_support/mod.rs"]
 mod node_support;
 
 use std::cell::Cell;
-use std::future::Future;
+use std::future::{poll_fn, Future};
 use std::pin::pin;
 use std::sync::Arc;
 use std::task::{Context, Poll, Wake, Waker};
 use std::thread::{self, Thread};
-use std::time::Duration as StdDuration;
+use std::time::{Duration as StdDuration, Instant};
 
 use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_host::master::blocking::MasterError;
@@ -46,6 +46,34 @@ fn block_on<F: Future>(future: F) -> F::Output {
         }
         thread::park();
     }
+}
+
+/// Runs two futures side by side until both end.
+async fn join<A: Future, B: Future>(a: A, b: B) -> (A::Output, B::Output) {
+    let (mut a, mut b) = (pin!(a), pin!(b));
+    let (mut done_a, mut done_b) = (None, None);
+    poll_fn(|cx| {
+        if done_a.is_none() {
+            done_a = match a.as_mut().poll(cx) {
+                Poll::Ready(output) => Some(output),
+                Poll::Pending => None,
+            };
+        }
+        if done_b.is_none() {
+            done_b = match b.as_mut().poll(cx) {
+                Poll::Ready(output) => Some(output),
+                Poll::Pending => None,
+            };
+        }
+        match (done_a.take(), done_b.take()) {
+            (Some(a), Some(b)) => Poll::Ready((a, b)),
+            (a, b) => {
+                (done_a, done_b) = (a, b);
+                Poll::Pending
+            }
+        }
+    })
+    .await
 }
 
 /// Unconfigured nodes (node-ID FFh) with these serial numbers, served on `bus`.
@@ -178,9 +206,23 @@ fn selective_switch_inquiries_and_refusals() {
             .expect("serial 8 boots up as node 40");
         let read = master.upload(40, SERIAL, Mode::Normal).await.unwrap();
         assert_eq!(read, 8u32.to_le_bytes());
-        // Serial 7 is still unconfigured and the only one a scan finds.
-        let listed = master.lss_scan_all(PROBE, |_| async { Ok(false) }).await;
+        // Serial 7 is still unconfigured and the only one a scan finds, while node 40 answers
+        // SDO reads on the same driver thread.
+        let scan = async {
+            let listed = master.lss_scan_all(PROBE, |_| async { Ok(false) }).await;
+            (listed, Instant::now())
+        };
+        let reads = async {
+            let mut serials = Vec::new();
+            for _ in 0..20 {
+                serials.push(master.upload(40, SERIAL, Mode::Normal).await.unwrap());
+            }
+            (serials, Instant::now())
+        };
+        let ((listed, scanned_at), (read, read_at)) = join(scan, reads).await;
         assert_eq!(serials(&listed.unwrap()), [7]);
+        assert_eq!(read, vec![8u32.to_le_bytes().to_vec(); 20]);
+        assert!(read_at < scanned_at, "the reads did not wait for the scan");
     });
     drop(handles);
 }
