@@ -2,12 +2,12 @@
 //! datagram), replies out; class-1 datagrams in, T→O datagrams out when
 //! [`Adapter::handle_timeout`] finds them due ([`Adapter::poll_transmit`]), events out
 //! ([`Adapter::poll_event`]); connections closed after their timeout. The encapsulation
-//! ([`Adapter::handle`]) hands Message Router requests to [`Adapter::route`] (`objects`) and
+//! ([`Adapter::handle`]) hands Message Router requests to [`Adapter::route`] (`message_router`) and
 //! SendUnitData to `class3`.
 
 use std::collections::{BTreeMap, VecDeque};
 
-use edsgen_runtime::{Duration, Instant};
+use edsgen_runtime::Instant;
 
 use edsgen_runtime::enip::wire::cpf::{item, Item, Items, Sockaddr};
 use edsgen_runtime::enip::wire::encap::{
@@ -18,68 +18,7 @@ use edsgen_runtime::enip::wire::{u16_at, u32_at, Emit};
 
 use super::bytes::{items, send_data};
 use super::class3::ExplicitConnection;
-
-/// What the Identity object (class 1) reports.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Identity {
-    /// Vendor ID (attribute 1).
-    pub vendor: u16,
-    /// Device type (attribute 2).
-    pub device_type: u16,
-    /// Product code (attribute 3).
-    pub product_code: u16,
-    /// Major and minor revision (attribute 4).
-    pub revision: (u8, u8),
-    /// Serial number (attribute 6).
-    pub serial: u32,
-    /// Product name (attribute 7).
-    pub name: String,
-}
-
-/// An assembly the adapter serves.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Assembly {
-    /// Its bytes.
-    pub data: Vec<u8>,
-    /// Whether an originator writes it (O→T): a class-1 connection or Set_Attribute_Single.
-    pub consumed: bool,
-}
-
-/// A class-1 connection.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IoConnection {
-    /// The ID the originator sends O→T data with (chosen by the adapter).
-    pub o_t_id: u32,
-    /// The ID the adapter produces T→O data with (the originator's choice).
-    pub t_o_id: u32,
-    /// Connection serial, originator vendor and serial: the triad Forward_Close names.
-    pub triad: (u16, u16, u32),
-    /// The O→T assembly instance.
-    pub o_t_point: u32,
-    /// The T→O assembly instance.
-    pub t_o_point: u32,
-    /// O→T and T→O RPI.
-    pub o_t_rpi: Duration,
-    /// T→O RPI.
-    pub t_o_rpi: Duration,
-    /// The timeout: the multiplier times the O→T RPI.
-    pub timeout: Duration,
-    /// When O→T data last came (or the connection opened).
-    pub last_heard: Instant,
-    /// When T→O data is next due.
-    pub next_produce: Instant,
-    /// The T→O sequence count and encapsulation sequence number.
-    pub t_o_sequence: u32,
-    /// The last O→T sequence count seen.
-    pub o_t_sequence: Option<u16>,
-    /// The originator's run/idle flag (bit 0 of the 32-bit header).
-    pub run: bool,
-    /// The originator's address key (the driver's: where T→O data goes).
-    pub peer: u64,
-    /// The UDP port the originator asked T→O data on with a T→O sockaddr info item in its
-    /// Forward_Open (as OpENer honours it); `None`: the class-1 port, 2222.
-    pub t_o_port: Option<u16>,
-}
+use super::{Assembly, Identity, IoConnection};
 
 /// What happened to the connections that the application should know.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -287,11 +226,6 @@ impl Adapter {
         // 66 bytes at most: always written.
         let body = body.to_vec().unwrap_or_default();
         items(&[Item::new(item::IDENTITY, &body)])
-    }
-
-    /// Identity attribute 5: bit 0 owned (a connection is open).
-    pub(super) fn identity_status(&self) -> u16 {
-        u16::from(!self.connections.is_empty())
     }
 
     /// One class-1 datagram (O→T) from `peer` at `now`: its data goes into the connection's

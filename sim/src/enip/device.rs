@@ -8,9 +8,9 @@ use std::collections::BTreeMap;
 use edsgen_codegen::model::{cip_value, Cip, FieldRef};
 use edsgen_runtime::Instant;
 
-use super::adapter::{Adapter, Assembly, Identity};
 use super::driver::Card;
 use super::parameter as param_object;
+use super::{Adapter, Assembly, Identity};
 use crate::cards::goodrive350_enip as card;
 use crate::drives::pkw_pzd::{parameter, Bus, PkwPzdDrive};
 

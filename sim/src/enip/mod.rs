@@ -2,13 +2,11 @@
 //! [`adapter`] holds the device (identity, assemblies, sessions, connections) and serves the
 //! encapsulation (ListIdentity, ListServices, RegisterSession, UnRegisterSession, SendRRData)
 //! and class-1 I/O (O→T with its 32-bit run/idle header and sequence count, T→O at the RPI, the
-//! connection closed after its timeout); [`objects`] routes Message Router requests to Identity,
-//! Message Router, Assembly, Connection Manager (Forward_Open, Large_Forward_Open,
-//! Forward_Close), TCP/IP Interface and Ethernet Link; [`parameter`] is the Parameter object;
-//! [`class3`] the class-3 connections (SendUnitData). All four are `impl Adapter` on the one
-//! device state (not yet one type per object). The byte layouts are the runtime's
-//! (`edsgen_runtime::enip::wire`); every refusal carries the status CIP or the encapsulation
-//! defines; bad bytes never panic.
+//! connection closed after its timeout); [`message_router`] routes requests to [`identity`],
+//! [`assembly`], [`connection_manager`] (Forward_Open, Large_Forward_Open, Forward_Close),
+//! [`parameter`], [`tcp_ip`] and [`ethernet_link`]; [`class3`] serves the class-3 connections
+//! (SendUnitData). The byte layouts are the runtime's (`edsgen_runtime::enip::wire`); every
+//! refusal carries the status CIP or the encapsulation defines; bad bytes never panic.
 //!
 //! Unlike the runtime's `no_std` wire formats this core uses `std` collections: its tables are
 //! built at run time from any ODVA EDS (assemblies, parameters of any size and number), and it
@@ -16,15 +14,23 @@
 //! 2222), [`device`] builds it from an ODVA EDS or as the Goodrive350 card with its drive.
 
 pub mod adapter;
+pub mod assembly;
 mod bytes;
 pub mod class3;
+pub mod connection_manager;
 pub mod device;
 pub mod driver;
-pub mod objects;
+pub mod ethernet_link;
+pub mod identity;
+pub mod message_router;
 pub mod parameter;
+pub mod tcp_ip;
 
-pub use adapter::{Adapter, Assembly, Event, Identity, IoConnection};
+pub use adapter::{Adapter, Event};
+pub use assembly::Assembly;
 pub use class3::ExplicitConnection;
+pub use connection_manager::IoConnection;
+pub use identity::Identity;
 
 #[cfg(test)]
 mod tests;

@@ -1,0 +1,228 @@
+//! The Connection Manager (class 6): Forward_Open and Large_Forward_Open (class 1 to two
+//! assemblies, class 3 to the Message Router, see `class3`) and Forward_Close. Each refusal
+//! carries CIP's general status and the Connection Manager's extended status.
+
+use edsgen_runtime::enip::wire::connection_manager::{
+    extended, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr,
+};
+use edsgen_runtime::enip::wire::epath::Path;
+use edsgen_runtime::enip::wire::message::{general, service, RequestRepr as Request};
+
+use edsgen_runtime::enip::wire::{Emit, Error};
+use edsgen_runtime::{Duration, Instant};
+
+use super::adapter::{Adapter, Event};
+use super::bytes::{response, status_only as status};
+use super::class3::ExplicitOpen;
+
+/// A class-1 connection.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct IoConnection {
+    /// The ID the originator sends O→T data with (chosen by the adapter).
+    pub o_t_id: u32,
+    /// The ID the adapter produces T→O data with (the originator's choice).
+    pub t_o_id: u32,
+    /// Connection serial, originator vendor and serial: the triad Forward_Close names.
+    pub triad: (u16, u16, u32),
+    /// The O→T assembly instance.
+    pub o_t_point: u32,
+    /// The T→O assembly instance.
+    pub t_o_point: u32,
+    /// O→T and T→O RPI.
+    pub o_t_rpi: Duration,
+    /// T→O RPI.
+    pub t_o_rpi: Duration,
+    /// The timeout: the multiplier times the O→T RPI.
+    pub timeout: Duration,
+    /// When O→T data last came (or the connection opened).
+    pub last_heard: Instant,
+    /// When T→O data is next due.
+    pub next_produce: Instant,
+    /// The T→O sequence count and encapsulation sequence number.
+    pub t_o_sequence: u32,
+    /// The last O→T sequence count seen.
+    pub o_t_sequence: Option<u16>,
+    /// The originator's run/idle flag (bit 0 of the 32-bit header).
+    pub run: bool,
+    /// The originator's address key (the driver's: where T→O data goes).
+    pub peer: u64,
+    /// The UDP port the originator asked T→O data on with a T→O sockaddr info item in its
+    /// Forward_Open (as OpENer honours it); `None`: the class-1 port, 2222.
+    pub t_o_port: Option<u16>,
+}
+
+impl Adapter {
+    pub(super) fn connection_manager(
+        &mut self,
+        client: u64,
+        request: &Request<'_>,
+        now: Instant,
+    ) -> Vec<u8> {
+        match request.service {
+            service::FORWARD_OPEN => self.forward_open(client, request, now, false),
+            service::LARGE_FORWARD_OPEN => self.forward_open(client, request, now, true),
+            service::FORWARD_CLOSE => self.forward_close(request),
+            _ => status(request.service, general::SERVICE_NOT_SUPPORTED),
+        }
+    }
+
+    fn forward_open(
+        &mut self,
+        client: u64,
+        request: &Request<'_>,
+        now: Instant,
+        large: bool,
+    ) -> Vec<u8> {
+        let open = match ForwardOpenRepr::parse(request.data, large) {
+            Ok(open) => open,
+            Err(Error::Trailing) => return status(request.service, general::TOO_MUCH_DATA),
+            Err(_) => return status(request.service, general::NOT_ENOUGH_DATA),
+        };
+        let t_o_id = open.t_o_id;
+        let triad = (
+            open.triad.serial,
+            open.triad.vendor,
+            open.triad.originator_serial,
+        );
+        let fail = |code: u16| {
+            response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[code],
+                &open.triad.reply(),
+            )
+        };
+        let in_use = self.connections.iter().any(|c| c.triad == triad)
+            || self.explicit.iter().any(|c| c.triad == triad);
+        if in_use {
+            return fail(extended::CONNECTION_IN_USE);
+        }
+        let Ok(path) = Path::parse(open.path) else {
+            return fail(extended::INVALID_SEGMENT);
+        };
+        let timeout = Duration::from_micros(open.timeout_us());
+        let opened = |id: u32| {
+            let reply = ForwardOpenReply {
+                o_t_id: id,
+                t_o_id,
+                triad: open.triad,
+                o_t_api: open.o_t_rpi,
+                t_o_api: open.t_o_rpi,
+            };
+            let mut data = [0; 26];
+            let _ = reply.emit(&mut data);
+            response(request.service, general::SUCCESS, &[], &data)
+        };
+        match open.transport & 0x0F {
+            1 => {}
+            // Class 3, server: explicit messages to the Message Router (path 20 02 24 01).
+            3 if open.transport & 0x80 != 0 => {
+                let router = path.class == Some(2)
+                    && path.instance == Some(1)
+                    && path.points().is_empty()
+                    && path.attribute.is_none();
+                if !router {
+                    return fail(extended::INVALID_SEGMENT);
+                }
+                let open = ExplicitOpen {
+                    t_o_id,
+                    triad,
+                    t_o_size: usize::from(open.t_o_size()),
+                    o_t_size: usize::from(open.o_t_size()),
+                    timeout,
+                };
+                let id = self.open_explicit(open, now);
+                return opened(id);
+            }
+            _ => return fail(extended::TRANSPORT_NOT_SUPPORTED),
+        }
+        let (o_t_point, t_o_point) = match (path.class, path.points()) {
+            (Some(4), [o_t, t_o]) => (*o_t, *t_o),
+            _ => return fail(extended::INVALID_SEGMENT),
+        };
+        if let Some(config) = path.instance {
+            if !self.config_instances.contains(&config) && !self.assemblies.contains_key(&config) {
+                return fail(extended::INVALID_CONFIG_PATH);
+            }
+        }
+        let Some(consumed) = self.assemblies.get(&o_t_point).filter(|a| a.consumed) else {
+            return fail(extended::INVALID_CONSUMING_PATH);
+        };
+        let Some(produced) = self.assemblies.get(&t_o_point) else {
+            return fail(extended::INVALID_PRODUCING_PATH);
+        };
+        // Class 1: a 2-byte sequence count both ways, the 4-byte run/idle header O→T.
+        let (want_o_t, want_t_o) = (consumed.data.len() + 6, produced.data.len() + 2);
+        if usize::from(open.o_t_size()) != want_o_t {
+            return response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[extended::INVALID_O_T_SIZE, want_o_t as u16],
+                &[],
+            );
+        }
+        if usize::from(open.t_o_size()) != want_t_o {
+            return response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[extended::INVALID_T_O_SIZE, want_t_o as u16],
+                &[],
+            );
+        }
+        if self.connections.iter().any(|c| c.o_t_point == o_t_point) {
+            return fail(extended::CONNECTION_IN_USE);
+        }
+        let id = self.next_connection_id;
+        self.next_connection_id = self.next_connection_id.wrapping_add(1);
+        let o_t = Duration::from_micros(u64::from(open.o_t_rpi.max(1000)));
+        self.connections.push(IoConnection {
+            o_t_id: id,
+            t_o_id,
+            triad,
+            o_t_point,
+            t_o_point,
+            o_t_rpi: o_t,
+            t_o_rpi: Duration::from_micros(u64::from(open.t_o_rpi.max(1000))),
+            timeout,
+            last_heard: now,
+            next_produce: now,
+            t_o_sequence: 0,
+            o_t_sequence: None,
+            run: false,
+            peer: client,
+            t_o_port: None,
+        });
+        self.events.push_back(Event::Opened(id));
+        opened(id)
+    }
+
+    fn forward_close(&mut self, request: &Request<'_>) -> Vec<u8> {
+        let Ok(close) = ForwardCloseRepr::parse(request.data) else {
+            return status(request.service, general::NOT_ENOUGH_DATA);
+        };
+        let data = close.triad.reply();
+        let (serial, vendor, orig_serial) = (
+            close.triad.serial,
+            close.triad.vendor,
+            close.triad.originator_serial,
+        );
+        if self.close_explicit((serial, vendor, orig_serial)) {
+            return response(request.service, general::SUCCESS, &[], &data);
+        }
+        let Some(at) = self
+            .connections
+            .iter()
+            .position(|c| c.triad == (serial, vendor, orig_serial))
+        else {
+            return response(
+                request.service,
+                general::CONNECTION_FAILURE,
+                &[extended::CONNECTION_NOT_FOUND],
+                &data,
+            );
+        };
+        let closed = self.connections.remove(at);
+        self.events.push_back(Event::Closed(closed.o_t_id));
+        response(request.service, general::SUCCESS, &[], &data)
+    }
+}

@@ -1,0 +1,23 @@
+//! The TCP/IP Interface object (class 0xF5, instance 1), read-only: status (a configured
+//! address), capability, configuration control, and the interface configuration (the adapter's
+//! address, netmask 255.255.255.0, no gateway or name servers).
+
+use super::adapter::Adapter;
+
+impl Adapter {
+    /// TCP/IP Interface attribute `attribute`.
+    pub(super) fn tcp_ip_attribute(&self, attribute: u32) -> Option<Vec<u8>> {
+        match attribute {
+            1 => Some(2u32.to_le_bytes().to_vec()),
+            2 => Some(0x0000_0014u32.to_le_bytes().to_vec()),
+            3 => Some(2u32.to_le_bytes().to_vec()),
+            5 => {
+                let mut v: Vec<u8> = self.address.iter().rev().copied().collect();
+                v.extend_from_slice(&[0, 255, 255, 255]);
+                v.extend_from_slice(&[0; 14]);
+                Some(v)
+            }
+            _ => None,
+        }
+    }
+}
