@@ -5,8 +5,9 @@
 use edsgen_runtime::enip::wire::epath::Path;
 use edsgen_runtime::enip::wire::message::{general, service, RequestRepr as Request};
 
-use super::adapter::Adapter;
-use super::bytes::{response, status_only as status};
+use super::bytes::response;
+use super::cip::{serve_attributes, Call, CipObject};
+use super::state::DeviceState;
 
 /// What the Identity object (class 1) reports.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -25,22 +26,23 @@ pub struct Identity {
     pub name: String,
 }
 
-impl Adapter {
-    /// Identity attribute 5: bit 0 owned (a connection is open).
-    pub(super) fn identity_status(&self) -> u16 {
-        u16::from(!self.connections.is_empty())
+/// The Identity object.
+#[derive(Debug)]
+pub struct IdentityObject;
+
+impl CipObject for IdentityObject {
+    fn class_id(&self) -> u32 {
+        1
     }
 
-    /// One class-1 datagram (O→T) from `peer` at `now`: its data goes into the connection's
-
-    fn identity_attribute(&self, attribute: u32) -> Option<Vec<u8>> {
-        let id = &self.identity;
+    fn attribute(&self, device: &DeviceState, _instance: u32, attribute: u32) -> Option<Vec<u8>> {
+        let id = &device.identity;
         Some(match attribute {
             1 => id.vendor.to_le_bytes().to_vec(),
             2 => id.device_type.to_le_bytes().to_vec(),
             3 => id.product_code.to_le_bytes().to_vec(),
             4 => vec![id.revision.0, id.revision.1],
-            5 => self.identity_status().to_le_bytes().to_vec(),
+            5 => device.identity_status().to_le_bytes().to_vec(),
             6 => id.serial.to_le_bytes().to_vec(),
             7 => {
                 let name = id.name.as_bytes();
@@ -53,28 +55,21 @@ impl Adapter {
         })
     }
 
-    pub(super) fn identity_service(&self, request: &Request<'_>, path: &Path) -> Vec<u8> {
-        if path.instance.unwrap_or(1) != 1 {
-            return status(request.service, general::OBJECT_DOES_NOT_EXIST);
+    /// Get_Attributes_All (attributes 1 to 7 in a row) besides the default services.
+    fn serve(
+        &self,
+        device: &mut DeviceState,
+        _call: &Call,
+        request: &Request<'_>,
+        path: &Path,
+    ) -> Vec<u8> {
+        if request.service == service::GET_ATTRIBUTES_ALL && path.instance.unwrap_or(1) == 1 {
+            let data: Vec<u8> = (1..=7)
+                .filter_map(|a| self.attribute(device, 1, a))
+                .flatten()
+                .collect();
+            return response(request.service, general::SUCCESS, &[], &data);
         }
-        match request.service {
-            service::GET_ATTRIBUTES_ALL => {
-                let data: Vec<u8> = (1..=7)
-                    .filter_map(|a| self.identity_attribute(a))
-                    .flatten()
-                    .collect();
-                response(request.service, general::SUCCESS, &[], &data)
-            }
-            service::GET_ATTRIBUTE_SINGLE => {
-                match path.attribute.and_then(|a| self.identity_attribute(a)) {
-                    Some(data) => response(request.service, general::SUCCESS, &[], &data),
-                    None => status(request.service, general::ATTRIBUTE_NOT_SUPPORTED),
-                }
-            }
-            service::SET_ATTRIBUTE_SINGLE => {
-                status(request.service, general::ATTRIBUTE_NOT_SETTABLE)
-            }
-            _ => status(request.service, general::SERVICE_NOT_SUPPORTED),
-        }
+        serve_attributes(self, device, request, path)
     }
 }

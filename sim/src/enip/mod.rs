@@ -16,7 +16,7 @@
 pub mod adapter;
 pub mod assembly;
 mod bytes;
-pub mod class3;
+pub mod cip;
 pub mod connection_manager;
 pub mod device;
 pub mod driver;
@@ -24,13 +24,15 @@ pub mod ethernet_link;
 pub mod identity;
 pub mod message_router;
 pub mod parameter;
+pub mod state;
 pub mod tcp_ip;
 
 pub use adapter::{Adapter, Event};
 pub use assembly::Assembly;
-pub use class3::ExplicitConnection;
-pub use connection_manager::IoConnection;
+pub use cip::{Call, CipObject, Registry};
+pub use connection_manager::{ExplicitConnection, IoConnection};
 pub use identity::Identity;
+pub use state::DeviceState;
 
 #[cfg(test)]
 mod tests;

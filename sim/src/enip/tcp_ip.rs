@@ -2,17 +2,25 @@
 //! address), capability, configuration control, and the interface configuration (the adapter's
 //! address, netmask 255.255.255.0, no gateway or name servers).
 
-use super::adapter::Adapter;
+use super::cip::CipObject;
+use super::state::DeviceState;
 
-impl Adapter {
-    /// TCP/IP Interface attribute `attribute`.
-    pub(super) fn tcp_ip_attribute(&self, attribute: u32) -> Option<Vec<u8>> {
+/// The TCP/IP Interface object.
+#[derive(Debug)]
+pub struct TcpIpInterface;
+
+impl CipObject for TcpIpInterface {
+    fn class_id(&self) -> u32 {
+        0xF5
+    }
+
+    fn attribute(&self, device: &DeviceState, _instance: u32, attribute: u32) -> Option<Vec<u8>> {
         match attribute {
             1 => Some(2u32.to_le_bytes().to_vec()),
             2 => Some(0x0000_0014u32.to_le_bytes().to_vec()),
             3 => Some(2u32.to_le_bytes().to_vec()),
             5 => {
-                let mut v: Vec<u8> = self.address.iter().rev().copied().collect();
+                let mut v: Vec<u8> = device.address.iter().rev().copied().collect();
                 v.extend_from_slice(&[0, 255, 255, 255]);
                 v.extend_from_slice(&[0; 14]);
                 Some(v)
