@@ -1,9 +1,11 @@
-//! The adapter's protocol core, sans-IO: encapsulation messages in (per TCP client, or one UDP
-//! datagram), replies out; class-1 datagrams in, T→O datagrams out when
+//! The encapsulation layer, sans-IO, and the adapter's verbs: encapsulation messages in (per TCP
+//! client, or one UDP datagram), replies out; it owns the sessions (RegisterSession,
+//! UnRegisterSession), ListIdentity, ListServices, and the CPF of SendRRData (a request to the
+//! Message Router) and SendUnitData (class 3: a request on a connection after its 16-bit
+//! sequence count; a retransmission gets the previous reply again, a request longer than the
+//! O→T size general status 0x15). Class-1 datagrams in, T→O datagrams out when
 //! [`Adapter::handle_timeout`] finds them due ([`Adapter::poll_transmit`]), events out
-//! ([`Adapter::poll_event`]); connections closed after their timeout. The encapsulation
-//! ([`Adapter::handle`]) hands Message Router requests to [`Adapter::route`] (`message_router`) and
-//! SendUnitData to `class3`.
+//! ([`Adapter::poll_event`]). It reaches the objects only through the Message Router.
 
 use std::collections::{BTreeMap, VecDeque};
 
@@ -22,23 +24,7 @@ use super::cip::{Call, Registry};
 use super::connection_manager::{end_session, expire_explicit};
 use super::message_router::{self, standard_objects};
 use super::parameter;
-use super::state::DeviceState;
-use super::{Assembly, ExplicitConnection, Identity, IoConnection};
-
-/// What happened to the connections that the application should know.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Event {
-    /// A connection opened (its O→T ID).
-    Opened(u32),
-    /// Forward_Close closed a connection.
-    Closed(u32),
-    /// A connection timed out: no O→T data for its timeout.
-    TimedOut(u32),
-    /// O→T data written into an assembly (its instance).
-    Consumed(u32),
-    /// A class-3 connection closed with its session or after its timeout without a request.
-    Expired(u32),
-}
+use super::state::{Assembly, DeviceState, Event, ExplicitConnection, Identity, IoConnection};
 
 /// The adapter: the encapsulation's sessions over the device state and the CIP objects.
 #[derive(Debug, Clone)]

@@ -7,17 +7,7 @@ use edsgen_runtime::enip::wire::message::{general, service, RequestRepr as Reque
 
 use super::bytes::{response, status_only as status};
 use super::cip::{Call, CipObject};
-use super::state::DeviceState;
-use super::Event;
-
-/// An assembly the adapter serves.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Assembly {
-    /// Its bytes.
-    pub data: Vec<u8>,
-    /// Whether an originator writes it (O→T): a class-1 connection or Set_Attribute_Single.
-    pub consumed: bool,
-}
+use super::state::{DeviceState, Event};
 
 /// The Assembly object.
 #[derive(Debug)]

@@ -1,6 +1,9 @@
-//! The Connection Manager (class 6): Forward_Open and Large_Forward_Open (class 1 to two
-//! assemblies, class 3 to the Message Router, see `class3`) and Forward_Close. Each refusal
-//! carries CIP's general status and the Connection Manager's extended status.
+//! The Connection Manager (class 6) and the connections it opens: Forward_Open and
+//! Large_Forward_Open (class 1 between two assemblies, class 3 to the Message Router) and
+//! Forward_Close, each refusal with CIP's general status and the Connection Manager's extended
+//! status; the class-3 connections' bookkeeping (a connection belongs to the session that
+//! opened it and closes with it, on Forward_Close, or after its timeout, multiplier × O→T RPI,
+//! without a request). Class-1 data and SendUnitData travel in the encapsulation (`adapter`).
 
 use edsgen_runtime::enip::wire::connection_manager::{
     extended, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr,
@@ -13,67 +16,7 @@ use edsgen_runtime::{Duration, Instant};
 
 use super::bytes::{response, status_only as status};
 use super::cip::{Call, CipObject};
-use super::state::DeviceState;
-use super::Event;
-
-/// A class-1 connection.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IoConnection {
-    /// The ID the originator sends O→T data with (chosen by the adapter).
-    pub o_t_id: u32,
-    /// The ID the adapter produces T→O data with (the originator's choice).
-    pub t_o_id: u32,
-    /// Connection serial, originator vendor and serial: the triad Forward_Close names.
-    pub triad: (u16, u16, u32),
-    /// The O→T assembly instance.
-    pub o_t_point: u32,
-    /// The T→O assembly instance.
-    pub t_o_point: u32,
-    /// O→T and T→O RPI.
-    pub o_t_rpi: Duration,
-    /// T→O RPI.
-    pub t_o_rpi: Duration,
-    /// The timeout: the multiplier times the O→T RPI.
-    pub timeout: Duration,
-    /// When O→T data last came (or the connection opened).
-    pub last_heard: Instant,
-    /// When T→O data is next due.
-    pub next_produce: Instant,
-    /// The T→O sequence count and encapsulation sequence number.
-    pub t_o_sequence: u32,
-    /// The last O→T sequence count seen.
-    pub o_t_sequence: Option<u16>,
-    /// The originator's run/idle flag (bit 0 of the 32-bit header).
-    pub run: bool,
-    /// The originator's address key (the driver's: where T→O data goes).
-    pub peer: u64,
-    /// The UDP port the originator asked T→O data on with a T→O sockaddr info item in its
-    /// Forward_Open (as OpENer honours it); `None`: the class-1 port, 2222.
-    pub t_o_port: Option<u16>,
-}
-
-/// A class-3 connection.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ExplicitConnection {
-    /// The ID requests come with (chosen by the adapter).
-    pub o_t_id: u32,
-    /// The ID replies go with (the originator's choice).
-    pub t_o_id: u32,
-    /// Connection serial, originator vendor and serial: the triad Forward_Close names.
-    pub triad: (u16, u16, u32),
-    /// The session that opened it.
-    pub session: u32,
-    /// The largest reply the originator takes, sequence count included (the T→O size).
-    pub t_o_size: usize,
-    /// The largest request it may send, sequence count included (the O→T size).
-    pub o_t_size: usize,
-    /// The timeout: the multiplier times the O→T RPI.
-    pub timeout: Duration,
-    /// When the last request came (or the connection opened).
-    pub last_heard: Instant,
-    /// The last request's sequence count and the reply it got.
-    pub last: Option<(u16, Vec<u8>)>,
-}
+use super::state::{DeviceState, Event, ExplicitConnection, IoConnection};
 
 /// What a class-3 Forward_Open asks, as the Connection Manager decoded it.
 struct ExplicitOpen {

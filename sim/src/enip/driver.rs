@@ -21,7 +21,7 @@ use edsgen_runtime::enip::wire::io::IoDatagram;
 use edsgen_runtime::pkw_pzd::{ByteOrder, Command, ControlWord, OutputImage};
 use edsgen_runtime::Instant;
 
-use super::adapter::{Adapter, Event};
+use super::{Adapter, Event};
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// The class-1 I/O port.

@@ -9,23 +9,6 @@ use super::bytes::response;
 use super::cip::{serve_attributes, Call, CipObject};
 use super::state::DeviceState;
 
-/// What the Identity object (class 1) reports.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Identity {
-    /// Vendor ID (attribute 1).
-    pub vendor: u16,
-    /// Device type (attribute 2).
-    pub device_type: u16,
-    /// Product code (attribute 3).
-    pub product_code: u16,
-    /// Major and minor revision (attribute 4).
-    pub revision: (u8, u8),
-    /// Serial number (attribute 6).
-    pub serial: u32,
-    /// Product name (attribute 7).
-    pub name: String,
-}
-
 /// The Identity object.
 #[derive(Debug)]
 pub struct IdentityObject;

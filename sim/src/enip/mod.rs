@@ -1,12 +1,13 @@
 //! A simulated EtherNet/IP adapter: the protocol core, sans-IO (bytes and time in, bytes out).
-//! [`adapter`] holds the device (identity, assemblies, sessions, connections) and serves the
-//! encapsulation (ListIdentity, ListServices, RegisterSession, UnRegisterSession, SendRRData)
-//! and class-1 I/O (O→T with its 32-bit run/idle header and sequence count, T→O at the RPI, the
-//! connection closed after its timeout); [`message_router`] routes requests to [`identity`],
-//! [`assembly`], [`connection_manager`] (Forward_Open, Large_Forward_Open, Forward_Close),
-//! [`parameter`], [`tcp_ip`] and [`ethernet_link`]; [`class3`] serves the class-3 connections
-//! (SendUnitData). The byte layouts are the runtime's (`edsgen_runtime::enip::wire`); every
-//! refusal carries the status CIP or the encapsulation defines; bad bytes never panic.
+//! Three layers, each importing only the ones below: [`adapter`], the encapsulation (sessions,
+//! ListIdentity, ListServices, SendRRData and SendUnitData, class-1 I/O); [`message_router`],
+//! which dispatches a request to the [`CipObject`] of its class in a [`Registry`] ([`cip`]); the
+//! objects, one type per file: [`identity`], [`message_router`], [`assembly`],
+//! [`connection_manager`] (class-1 and class-3 connections), [`parameter`], [`tcp_ip`] and
+//! [`ethernet_link`]. What the objects share (identity, assemblies' bytes, parameters,
+//! connections, events) is one [`DeviceState`] ([`state`]) they borrow. The byte layouts are the
+//! runtime's (`edsgen_runtime::enip::wire`); every refusal carries the status CIP or the
+//! encapsulation defines; bad bytes never panic.
 //!
 //! Unlike the runtime's `no_std` wire formats this core uses `std` collections: its tables are
 //! built at run time from any ODVA EDS (assemblies, parameters of any size and number), and it
@@ -27,12 +28,9 @@ pub mod parameter;
 pub mod state;
 pub mod tcp_ip;
 
-pub use adapter::{Adapter, Event};
-pub use assembly::Assembly;
+pub use adapter::Adapter;
 pub use cip::{Call, CipObject, Registry};
-pub use connection_manager::{ExplicitConnection, IoConnection};
-pub use identity::Identity;
-pub use state::DeviceState;
+pub use state::{Assembly, DeviceState, Event, ExplicitConnection, Identity, IoConnection};
 
 #[cfg(test)]
 mod tests;

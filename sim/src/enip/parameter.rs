@@ -18,8 +18,8 @@ use edsgen_runtime::enip::wire::message::{general, RequestRepr as Request};
 
 use super::bytes::{response, status_only};
 use super::cip::{Call, CipObject};
-use super::state::DeviceState;
-use super::Event;
+use super::state::{DeviceState, Event};
+pub use super::state::{Parameter, Storage};
 
 /// Services of the Parameter object.
 const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
@@ -31,45 +31,6 @@ pub const INVALID_ATTRIBUTE_VALUE: u8 = 0x09;
 /// The parameter class descriptor (class attribute 8): bit 0 parameter instances supported,
 /// bit 1 full attributes supported.
 pub const CLASS_DESCRIPTOR: u16 = 0x0003;
-
-/// Where a parameter's value is kept.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Storage {
-    /// Its own bytes, little-endian.
-    Own(Vec<u8>),
-    /// Bits `bit..bit + bits` of an assembly's data.
-    Member {
-        /// The Assembly instance.
-        instance: u32,
-        /// The first bit.
-        bit: usize,
-        /// The width in bits.
-        bits: usize,
-    },
-}
-
-/// One instance of the Parameter object.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Parameter {
-    /// The descriptor word (attribute 4; bit 4 read-only).
-    pub descriptor: u16,
-    /// The data type code (attribute 5: 0xC1 BOOL .. 0xDE).
-    pub data_type: u8,
-    /// The data size in bytes (attribute 6).
-    pub size: usize,
-    /// The link path's bytes (attributes 2 and 3).
-    pub link_path: Vec<u8>,
-    /// Name, units and help (attributes 7, 8, 9).
-    pub strings: [String; 3],
-    /// Minimum, maximum and default (attributes 10, 11, 12).
-    pub limits: [Option<CipNumber>; 3],
-    /// Scaling multiplier, divisor, base (13–15) and offset (16).
-    pub scaling: [i64; 4],
-    /// Decimal precision (attribute 21).
-    pub decimals: u8,
-    /// Where the value is.
-    pub storage: Storage,
-}
 
 /// The Parameter object's instances for the EDS's `[Params]`: members of an assembly the
 /// adapter serves (the first that names them) in its bytes, the others with their default.
