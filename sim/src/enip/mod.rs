@@ -39,6 +39,8 @@ mod tests_drive;
 #[cfg(test)]
 mod tests_parameter;
 #[cfg(test)]
+mod tests_registry;
+#[cfg(test)]
 mod tests_scanner;
 #[cfg(test)]
 mod tests_support;
