@@ -80,6 +80,7 @@ impl InProcess {
     fn input(&self) -> Result<Vec<u8>, String> {
         Ok(self
             .adapter
+            .device
             .assemblies
             .get(&card::Input::INSTANCE)
             .ok_or("no assembly 100")?

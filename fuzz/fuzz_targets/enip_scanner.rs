@@ -73,7 +73,7 @@ fuzz_target!(|data: &[u8]| {
         name: "fuzz".to_owned(),
     };
     let mut a = Adapter::new(identity, assemblies, [127, 0, 0, 1]);
-    a.config_instances.push(1);
+    a.device.config_instances.push(1);
     let encap = |session: u32, command: u16, data: &[u8]| {
         EncapRepr::request(command, session, [0; 8], data).to_vec()
     };

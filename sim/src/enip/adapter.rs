@@ -1,157 +1,83 @@
-//! The adapter's protocol core, sans-IO: encapsulation messages in (per TCP client, or one UDP
-//! datagram), replies out; class-1 datagrams in, T→O datagrams out when
+//! The encapsulation layer, sans-IO, and the adapter's verbs: encapsulation messages in (per TCP
+//! client, or one UDP datagram), replies out; it owns the sessions (RegisterSession,
+//! UnRegisterSession), ListIdentity, ListServices, and the CPF of SendRRData (a request to the
+//! Message Router) and SendUnitData (class 3: a request on a connection after its 16-bit
+//! sequence count; a retransmission gets the previous reply again, a request longer than the
+//! O→T size general status 0x15). Class-1 datagrams in, T→O datagrams out when
 //! [`Adapter::handle_timeout`] finds them due ([`Adapter::poll_transmit`]), events out
-//! ([`Adapter::poll_event`]); connections closed after their timeout. The encapsulation
-//! ([`Adapter::handle`]) hands Message Router requests to [`Adapter::route`] (`objects`) and
-//! SendUnitData to `class3`.
+//! ([`Adapter::poll_event`]). It reaches the objects only through the Message Router.
 
 use std::collections::{BTreeMap, VecDeque};
 
-use edsgen_runtime::{Duration, Instant};
+use edsgen_runtime::Instant;
 
 use edsgen_runtime::enip::wire::cpf::{item, Item, Items, Sockaddr};
 use edsgen_runtime::enip::wire::encap::{
     command, status as encap_status, EncapError, EncapRepr, IdentityItem, RegisterSession,
 };
-use edsgen_runtime::enip::wire::io::IoDatagram;
+use edsgen_runtime::enip::wire::io::{ConnectedMessage, IoDatagram};
+use edsgen_runtime::enip::wire::message::general;
 use edsgen_runtime::enip::wire::{u16_at, u32_at, Emit};
 
-use super::bytes::{items, send_data};
-use super::class3::ExplicitConnection;
+use super::bytes::{items, send_data, status_only};
+use super::cip::{Call, Registry};
+use super::connection_manager::{end_session, expire_explicit};
+use super::message_router::{self, standard_objects};
+use super::parameter;
+use super::state::{Assembly, DeviceState, Event, ExplicitConnection, Identity, IoConnection};
 
-/// What the Identity object (class 1) reports.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Identity {
-    /// Vendor ID (attribute 1).
-    pub vendor: u16,
-    /// Device type (attribute 2).
-    pub device_type: u16,
-    /// Product code (attribute 3).
-    pub product_code: u16,
-    /// Major and minor revision (attribute 4).
-    pub revision: (u8, u8),
-    /// Serial number (attribute 6).
-    pub serial: u32,
-    /// Product name (attribute 7).
-    pub name: String,
-}
-
-/// An assembly the adapter serves.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Assembly {
-    /// Its bytes.
-    pub data: Vec<u8>,
-    /// Whether an originator writes it (O→T): a class-1 connection or Set_Attribute_Single.
-    pub consumed: bool,
-}
-
-/// A class-1 connection.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct IoConnection {
-    /// The ID the originator sends O→T data with (chosen by the adapter).
-    pub o_t_id: u32,
-    /// The ID the adapter produces T→O data with (the originator's choice).
-    pub t_o_id: u32,
-    /// Connection serial, originator vendor and serial: the triad Forward_Close names.
-    pub triad: (u16, u16, u32),
-    /// The O→T assembly instance.
-    pub o_t_point: u32,
-    /// The T→O assembly instance.
-    pub t_o_point: u32,
-    /// O→T and T→O RPI.
-    pub o_t_rpi: Duration,
-    /// T→O RPI.
-    pub t_o_rpi: Duration,
-    /// The timeout: the multiplier times the O→T RPI.
-    pub timeout: Duration,
-    /// When O→T data last came (or the connection opened).
-    pub last_heard: Instant,
-    /// When T→O data is next due.
-    pub next_produce: Instant,
-    /// The T→O sequence count and encapsulation sequence number.
-    pub t_o_sequence: u32,
-    /// The last O→T sequence count seen.
-    pub o_t_sequence: Option<u16>,
-    /// The originator's run/idle flag (bit 0 of the 32-bit header).
-    pub run: bool,
-    /// The originator's address key (the driver's: where T→O data goes).
-    pub peer: u64,
-    /// The UDP port the originator asked T→O data on with a T→O sockaddr info item in its
-    /// Forward_Open (as OpENer honours it); `None`: the class-1 port, 2222.
-    pub t_o_port: Option<u16>,
-}
-
-/// What happened to the connections that the application should know.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Event {
-    /// A connection opened (its O→T ID).
-    Opened(u32),
-    /// Forward_Close closed a connection.
-    Closed(u32),
-    /// A connection timed out: no O→T data for its timeout.
-    TimedOut(u32),
-    /// O→T data written into an assembly (its instance).
-    Consumed(u32),
-    /// A class-3 connection closed with its session or after its timeout without a request.
-    Expired(u32),
-}
-
-/// The adapter: identity, assemblies, sessions and connections.
+/// The adapter: the encapsulation's sessions over the device state and the CIP objects.
 #[derive(Debug, Clone)]
 pub struct Adapter {
-    /// The Identity object.
-    pub identity: Identity,
-    /// The assemblies by instance.
-    pub assemblies: BTreeMap<u32, Assembly>,
-    /// The adapter's IPv4 address (ListIdentity, TCP/IP Interface).
-    pub address: [u8; 4],
-    /// The MAC address (Ethernet Link).
-    pub mac: [u8; 6],
-    pub(super) sessions: BTreeMap<u32, u64>,
+    /// The state the objects share: identity, assemblies, parameters, connections, events.
+    pub device: DeviceState,
+    /// The objects the Message Router reaches.
+    pub registry: Registry,
+    sessions: BTreeMap<u32, u64>,
     next_session: u32,
-    pub(super) connections: Vec<IoConnection>,
-    pub(super) next_connection_id: u32,
-    pub(super) events: VecDeque<Event>,
     /// T→O datagrams due, with the peer key of each.
     transmit: VecDeque<(u64, Vec<u8>)>,
-    pub(super) explicit: Vec<ExplicitConnection>,
     /// The session whose request [`Adapter::route`] serves (a class-3 connection's owner).
-    pub(super) serving_session: u32,
-    /// The configuration assembly instances a connection path may name (size 0).
-    pub config_instances: Vec<u32>,
-    /// The Parameter object's instances (class 0x0F), by instance.
-    pub parameters: BTreeMap<u32, super::parameter::Parameter>,
+    serving_session: u32,
 }
 
 impl Adapter {
     /// An adapter with `identity` serving `assemblies`.
     pub fn new(identity: Identity, assemblies: BTreeMap<u32, Assembly>, address: [u8; 4]) -> Self {
         Adapter {
-            identity,
-            assemblies,
-            address,
-            mac: [0x02, 0x00, address[0], address[1], address[2], address[3]],
+            device: DeviceState::new(identity, assemblies, address),
+            registry: standard_objects(),
             sessions: BTreeMap::new(),
             next_session: 1,
-            connections: Vec::new(),
-            next_connection_id: 0x1000_0001,
-            events: VecDeque::new(),
             transmit: VecDeque::new(),
-            explicit: Vec::new(),
             serving_session: 0,
-            config_instances: Vec::new(),
-            parameters: BTreeMap::new(),
         }
+    }
+
+    /// One Message Router request from `client` at `now` (in the session last served); the
+    /// response's bytes.
+    pub fn route(&mut self, client: u64, bytes: &[u8], now: Instant) -> Vec<u8> {
+        let call = Call {
+            client,
+            session: self.serving_session,
+            now,
+        };
+        message_router::route(&self.registry, &mut self.device, &call, bytes)
+    }
+
+    /// The value of parameter `n` (its data size in bytes), from wherever it is kept.
+    pub fn parameter_value(&self, n: u32) -> Option<Vec<u8>> {
+        parameter::value(&self.device, n)
     }
 
     /// The open class-1 connections.
     pub fn connections(&self) -> &[IoConnection] {
-        &self.connections
+        &self.device.connections
     }
 
     /// The next event, oldest first.
     pub fn poll_event(&mut self) -> Option<Event> {
-        self.events.pop_front()
+        self.device.events.pop_front()
     }
 
     /// The next T→O datagram due (after [`handle_timeout`](Self::handle_timeout)), with the
@@ -191,7 +117,7 @@ impl Adapter {
             .collect();
         for session in ended {
             self.sessions.remove(&session);
-            self.end_session(session);
+            end_session(&mut self.device, session);
         }
     }
 
@@ -234,7 +160,7 @@ impl Adapter {
             command::UNREGISTER_SESSION => {
                 if session_ok {
                     self.sessions.remove(&m.session);
-                    self.end_session(m.session);
+                    end_session(&mut self.device, m.session);
                 }
                 return None;
             }
@@ -256,9 +182,9 @@ impl Adapter {
             return Reply::status(encap_status::INCORRECT_DATA, Vec::new());
         };
         self.serving_session = m.session;
-        let opened = self.connections.len();
+        let opened = self.device.connections.len();
         let response = self.route(client, request, now);
-        if let (Some(Ok(sockaddr)), Some(c)) = (t_o_port, self.connections.get_mut(opened)) {
+        if let (Some(Ok(sockaddr)), Some(c)) = (t_o_port, self.device.connections.get_mut(opened)) {
             c.t_o_port = Some(sockaddr.port);
         }
         Reply::success(send_data(&[
@@ -269,17 +195,17 @@ impl Adapter {
 
     /// The ListIdentity reply's data (one identity item).
     pub fn list_identity(&self) -> Vec<u8> {
-        let id = &self.identity;
+        let id = &self.device.identity;
         let name = id.name.as_bytes();
         let body = IdentityItem {
             protocol_version: 1,
             port: 44818,
-            address: self.address,
+            address: self.device.address,
             vendor: id.vendor,
             device_type: id.device_type,
             product_code: id.product_code,
             revision: id.revision,
-            status: self.identity_status(),
+            status: self.device.identity_status(),
             serial: id.serial,
             name: &name[..name.len().min(32)],
             state: 3, // operational
@@ -287,11 +213,6 @@ impl Adapter {
         // 66 bytes at most: always written.
         let body = body.to_vec().unwrap_or_default();
         items(&[Item::new(item::IDENTITY, &body)])
-    }
-
-    /// Identity attribute 5: bit 0 owned (a connection is open).
-    pub(super) fn identity_status(&self) -> u16 {
-        u16::from(!self.connections.is_empty())
     }
 
     /// One class-1 datagram (O→T) from `peer` at `now`: its data goes into the connection's
@@ -306,7 +227,7 @@ impl Adapter {
         else {
             return;
         };
-        let Some(conn) = self.connections.iter_mut().find(|c| c.o_t_id == id) else {
+        let Some(conn) = self.device.connections.iter_mut().find(|c| c.o_t_id == id) else {
             return;
         };
         let (Some(sequence), Some(header)) = (u16_at(data, 0), u32_at(data, 2)) else {
@@ -319,11 +240,11 @@ impl Adapter {
         conn.o_t_sequence = Some(sequence);
         conn.run = header & 1 != 0;
         let point = conn.o_t_point;
-        if let Some(assembly) = self.assemblies.get_mut(&point) {
+        if let Some(assembly) = self.device.assemblies.get_mut(&point) {
             let payload = &data[6..];
             if payload.len() == assembly.data.len() {
                 assembly.data.copy_from_slice(payload);
-                self.events.push_back(Event::Consumed(point));
+                self.device.events.push_back(Event::Consumed(point));
             }
         }
     }
@@ -331,8 +252,13 @@ impl Adapter {
     /// When [`handle_timeout`](Self::handle_timeout) has something to do next: a T→O
     /// production or a timeout.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        let explicit = self.explicit.iter().map(|c| c.last_heard + c.timeout);
-        self.connections
+        let explicit = self
+            .device
+            .explicit
+            .iter()
+            .map(|c| c.last_heard + c.timeout);
+        self.device
+            .connections
             .iter()
             .flat_map(|c| [c.next_produce, c.last_heard + c.timeout])
             .chain(explicit)
@@ -342,24 +268,26 @@ impl Adapter {
     /// At `now`: closes connections whose O→T data (class 1) or requests (class 3) stopped for
     /// their timeout, and queues the T→O datagrams due ([`poll_transmit`](Self::poll_transmit)).
     pub fn handle_timeout(&mut self, now: Instant) {
-        self.expire_explicit(now);
+        expire_explicit(&mut self.device, now);
         let mut timed_out = Vec::new();
-        self.connections.retain(|c| {
+        self.device.connections.retain(|c| {
             let alive = now < c.last_heard + c.timeout;
             if !alive {
                 timed_out.push(c.o_t_id);
             }
             alive
         });
-        self.events
+        self.device
+            .events
             .extend(timed_out.into_iter().map(Event::TimedOut));
-        for c in &mut self.connections {
+        for c in &mut self.device.connections {
             if now < c.next_produce {
                 continue;
             }
             c.t_o_sequence = c.t_o_sequence.wrapping_add(1);
             c.next_produce = now + c.t_o_rpi;
             let data = self
+                .device
                 .assemblies
                 .get(&c.t_o_point)
                 .map_or(&[][..], |a| &a.data[..]);
@@ -376,22 +304,88 @@ impl Adapter {
             }
         }
     }
+
+    /// The open class-3 connections.
+    pub fn explicit_connections(&self) -> &[ExplicitConnection] {
+        &self.device.explicit
+    }
+
+    /// SendUnitData (its session checked): the request on its connection, the reply on the
+    /// connection's T→O ID with the same sequence count.
+    fn send_unit_data(&mut self, client: u64, m: &EncapRepr<'_>, now: Instant) -> Reply {
+        let Ok(request) = ConnectedMessage::parse(m.data) else {
+            return incorrect();
+        };
+        let (id, sequence) = (request.connection, request.sequence);
+        let Some(at) = self
+            .device
+            .explicit
+            .iter()
+            .position(|c| c.o_t_id == id && c.session == m.session)
+        else {
+            return incorrect();
+        };
+        self.device.explicit[at].last_heard = now;
+        let t_o_id = self.device.explicit[at].t_o_id;
+        let service = request.message.first().copied().unwrap_or(0);
+        let reply = match &self.device.explicit[at].last {
+            Some((last, reply)) if *last == sequence => reply.clone(),
+            // A request longer than the connection's O→T size is not executed: too much data.
+            _ if request.payload_len() > self.device.explicit[at].o_t_size => {
+                let reply = status_only(service, general::TOO_MUCH_DATA);
+                self.device.explicit[at].last = Some((sequence, reply.clone()));
+                reply
+            }
+            _ => {
+                self.serving_session = m.session;
+                let mut reply = self.route(client, request.message, now);
+                // Routing may have closed connections (a Forward_Close on this one).
+                let Some(at) = self.device.explicit.iter().position(|c| c.o_t_id == id) else {
+                    return connected_reply(t_o_id, sequence, &reply);
+                };
+                if reply.len() + 2 > self.device.explicit[at].t_o_size {
+                    reply = status_only(service, general::REPLY_DATA_TOO_LARGE);
+                }
+                self.device.explicit[at].last = Some((sequence, reply.clone()));
+                reply
+            }
+        };
+        connected_reply(t_o_id, sequence, &reply)
+    }
+}
+
+/// SendUnitData refused with the encapsulation's "incorrect data" (0x0003): malformed, or for a
+/// connection that is not open (OpENer drops such a message unanswered; an answer tells the
+/// originator at once).
+fn incorrect() -> Reply {
+    Reply::status(encap_status::INCORRECT_DATA, Vec::new())
+}
+
+/// SendUnitData's reply: the response on the connection's T→O ID with the request's count.
+fn connected_reply(t_o_id: u32, sequence: u16, response: &[u8]) -> Reply {
+    let message = ConnectedMessage {
+        connection: t_o_id,
+        sequence,
+        message: response,
+    };
+    // A response fits an encapsulation message (`bytes::response`).
+    Reply::success(message.to_vec().unwrap_or_default())
 }
 
 /// An encapsulation reply before it is written: status and data, and the session handle
 /// RegisterSession issued (other replies keep the request's).
-pub(super) struct Reply {
-    pub(super) session: Option<u32>,
-    pub(super) status: u32,
-    pub(super) data: Vec<u8>,
+struct Reply {
+    session: Option<u32>,
+    status: u32,
+    data: Vec<u8>,
 }
 
 impl Reply {
-    pub(super) fn success(data: Vec<u8>) -> Reply {
+    fn success(data: Vec<u8>) -> Reply {
         Reply::status(encap_status::SUCCESS, data)
     }
 
-    pub(super) fn status(status: u32, data: Vec<u8>) -> Reply {
+    fn status(status: u32, data: Vec<u8>) -> Reply {
         Reply {
             session: None,
             status,

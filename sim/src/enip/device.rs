@@ -8,9 +8,9 @@ use std::collections::BTreeMap;
 use edsgen_codegen::model::{cip_value, Cip, FieldRef};
 use edsgen_runtime::Instant;
 
-use super::adapter::{Adapter, Assembly, Identity};
 use super::driver::Card;
 use super::parameter as param_object;
+use super::{Adapter, Assembly, Identity};
 use crate::cards::goodrive350_enip as card;
 use crate::drives::pkw_pzd::{parameter, Bus, PkwPzdDrive};
 
@@ -65,8 +65,8 @@ pub fn from_cip(cip: &Cip, address: [u8; 4]) -> Adapter {
     }
     let parameters = param_object::from_cip(cip, &assemblies);
     let mut adapter = Adapter::new(identity, assemblies, address);
-    adapter.config_instances = config_instances;
-    adapter.parameters = parameters;
+    adapter.device.config_instances = config_instances;
+    adapter.device.parameters = parameters;
     adapter
 }
 
@@ -126,8 +126,11 @@ pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
         .map(|cip| param_object::from_cip(cip, &assemblies))
         .unwrap_or_default();
     let mut adapter = Adapter::new(identity, assemblies, address);
-    adapter.config_instances.push(card::Configuration::INSTANCE);
-    adapter.parameters = parameters;
+    adapter
+        .device
+        .config_instances
+        .push(card::Configuration::INSTANCE);
+    adapter.device.parameters = parameters;
     (
         adapter,
         Card {

@@ -21,7 +21,7 @@ use edsgen_runtime::enip::wire::io::IoDatagram;
 use edsgen_runtime::pkw_pzd::{ByteOrder, Command, ControlWord, OutputImage};
 use edsgen_runtime::Instant;
 
-use super::adapter::{Adapter, Event};
+use super::{Adapter, Event};
 use crate::drives::pkw_pzd::PkwPzdDrive;
 
 /// The class-1 I/O port.
@@ -198,7 +198,7 @@ pub fn run(
         for socket in std::iter::once(&udp).chain(&broadcast) {
             while let Ok((n, from)) = socket.recv_from(&mut buf) {
                 if let Some(own) = wildcard.then(|| address_toward(from)).flatten() {
-                    adapter.address = own;
+                    adapter.device.address = own;
                 }
                 if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
                     let _ = udp.send_to(&reply, from);
@@ -291,6 +291,7 @@ pub fn link(
                     continue;
                 }
                 let output: Option<[u8; 32]> = adapter
+                    .device
                     .assemblies
                     .get(&card.output)
                     .and_then(|a| a.data.as_slice().try_into().ok());
@@ -298,7 +299,7 @@ pub fn link(
                     let input = card
                         .drive
                         .exchange_bytes(now, &output, ByteOrder::LittleEndian);
-                    if let Some(a) = adapter.assemblies.get_mut(&card.input) {
+                    if let Some(a) = adapter.device.assemblies.get_mut(&card.input) {
                         a.data = input.to_vec();
                     }
                 }
@@ -309,7 +310,7 @@ pub fn link(
         // The drive runs on (its ramps, its own timeout P16.54) with or without a connection.
         card.drive.handle_timeout(now);
         if adapter.connections().is_empty() {
-            if let Some(a) = adapter.assemblies.get_mut(&card.input) {
+            if let Some(a) = adapter.device.assemblies.get_mut(&card.input) {
                 a.data = card.drive.inputs().emit(ByteOrder::LittleEndian).to_vec();
             }
         }
@@ -339,6 +340,7 @@ fn connection_closed(
         return;
     }
     let last: Option<[u8; 32]> = adapter
+        .device
         .assemblies
         .get(&card.output)
         .and_then(|a| a.data.as_slice().try_into().ok());

@@ -1,14 +1,13 @@
 //! A simulated EtherNet/IP adapter: the protocol core, sans-IO (bytes and time in, bytes out).
-//! [`adapter`] holds the device (identity, assemblies, sessions, connections) and serves the
-//! encapsulation (ListIdentity, ListServices, RegisterSession, UnRegisterSession, SendRRData)
-//! and class-1 I/O (O→T with its 32-bit run/idle header and sequence count, T→O at the RPI, the
-//! connection closed after its timeout); [`objects`] routes Message Router requests to Identity,
-//! Message Router, Assembly, Connection Manager (Forward_Open, Large_Forward_Open,
-//! Forward_Close), TCP/IP Interface and Ethernet Link; [`parameter`] is the Parameter object;
-//! [`class3`] the class-3 connections (SendUnitData). All four are `impl Adapter` on the one
-//! device state (not yet one type per object). The byte layouts are the runtime's
-//! (`edsgen_runtime::enip::wire`); every refusal carries the status CIP or the encapsulation
-//! defines; bad bytes never panic.
+//! Three layers, each importing only the ones below: [`adapter`], the encapsulation (sessions,
+//! ListIdentity, ListServices, SendRRData and SendUnitData, class-1 I/O); [`message_router`],
+//! which dispatches a request to the [`CipObject`] of its class in a [`Registry`] ([`cip`]); the
+//! objects, one type per file: [`identity`], [`message_router`], [`assembly`],
+//! [`connection_manager`] (class-1 and class-3 connections), [`parameter`], [`tcp_ip`] and
+//! [`ethernet_link`]. What the objects share (identity, assemblies' bytes, parameters,
+//! connections, events) is one [`DeviceState`] ([`state`]) they borrow. The byte layouts are the
+//! runtime's (`edsgen_runtime::enip::wire`); every refusal carries the status CIP or the
+//! encapsulation defines; bad bytes never panic.
 //!
 //! Unlike the runtime's `no_std` wire formats this core uses `std` collections: its tables are
 //! built at run time from any ODVA EDS (assemblies, parameters of any size and number), and it
@@ -16,15 +15,22 @@
 //! 2222), [`device`] builds it from an ODVA EDS or as the Goodrive350 card with its drive.
 
 pub mod adapter;
+pub mod assembly;
 mod bytes;
-pub mod class3;
+pub mod cip;
+pub mod connection_manager;
 pub mod device;
 pub mod driver;
-pub mod objects;
+pub mod ethernet_link;
+pub mod identity;
+pub mod message_router;
 pub mod parameter;
+pub mod state;
+pub mod tcp_ip;
 
-pub use adapter::{Adapter, Assembly, Event, Identity, IoConnection};
-pub use class3::ExplicitConnection;
+pub use adapter::Adapter;
+pub use cip::{Call, CipObject, Registry};
+pub use state::{Assembly, DeviceState, Event, ExplicitConnection, Identity, IoConnection};
 
 #[cfg(test)]
 mod tests;
@@ -32,6 +38,8 @@ mod tests;
 mod tests_drive;
 #[cfg(test)]
 mod tests_parameter;
+#[cfg(test)]
+mod tests_registry;
 #[cfg(test)]
 mod tests_scanner;
 #[cfg(test)]

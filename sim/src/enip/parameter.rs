@@ -16,8 +16,10 @@ use edsgen_codegen::model::{decode_path, path_bytes, Cip, CipNumber, CipParam, F
 use edsgen_runtime::enip::wire::epath::Path;
 use edsgen_runtime::enip::wire::message::{general, RequestRepr as Request};
 
-use super::adapter::{Adapter, Event};
 use super::bytes::{response, status_only};
+use super::cip::{Call, CipObject};
+use super::state::{DeviceState, Event};
+pub use super::state::{Parameter, Storage};
 
 /// Services of the Parameter object.
 const GET_ATTRIBUTE_SINGLE: u8 = 0x0E;
@@ -29,45 +31,6 @@ pub const INVALID_ATTRIBUTE_VALUE: u8 = 0x09;
 /// The parameter class descriptor (class attribute 8): bit 0 parameter instances supported,
 /// bit 1 full attributes supported.
 pub const CLASS_DESCRIPTOR: u16 = 0x0003;
-
-/// Where a parameter's value is kept.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Storage {
-    /// Its own bytes, little-endian.
-    Own(Vec<u8>),
-    /// Bits `bit..bit + bits` of an assembly's data.
-    Member {
-        /// The Assembly instance.
-        instance: u32,
-        /// The first bit.
-        bit: usize,
-        /// The width in bits.
-        bits: usize,
-    },
-}
-
-/// One instance of the Parameter object.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Parameter {
-    /// The descriptor word (attribute 4; bit 4 read-only).
-    pub descriptor: u16,
-    /// The data type code (attribute 5: 0xC1 BOOL .. 0xDE).
-    pub data_type: u8,
-    /// The data size in bytes (attribute 6).
-    pub size: usize,
-    /// The link path's bytes (attributes 2 and 3).
-    pub link_path: Vec<u8>,
-    /// Name, units and help (attributes 7, 8, 9).
-    pub strings: [String; 3],
-    /// Minimum, maximum and default (attributes 10, 11, 12).
-    pub limits: [Option<CipNumber>; 3],
-    /// Scaling multiplier, divisor, base (13–15) and offset (16).
-    pub scaling: [i64; 4],
-    /// Decimal precision (attribute 21).
-    pub decimals: u8,
-    /// Where the value is.
-    pub storage: Storage,
-}
 
 /// The Parameter object's instances for the EDS's `[Params]`: members of an assembly the
 /// adapter serves (the first that names them) in its bytes, the others with their default.
@@ -226,31 +189,45 @@ pub fn paste(data: &mut [u8], at: usize, len: usize, value: &[u8]) {
     cip_value::write_bits(data, at as u64, len as u64, value);
 }
 
-impl Adapter {
-    /// The value of parameter `n` (its data size in bytes), from wherever it is kept.
-    pub fn parameter_value(&self, n: u32) -> Option<Vec<u8>> {
-        let p = self.parameters.get(&n)?;
-        Some(match &p.storage {
-            Storage::Own(bytes) => bytes.clone(),
-            &Storage::Member {
-                instance,
-                bit,
-                bits,
-            } => cut(&self.assemblies.get(&instance)?.data, bit, bits, p.size),
-        })
+/// The value of parameter `n` (its data size in bytes), from wherever it is kept.
+pub fn value(device: &DeviceState, n: u32) -> Option<Vec<u8>> {
+    let p = device.parameters.get(&n)?;
+    Some(match &p.storage {
+        Storage::Own(bytes) => bytes.clone(),
+        &Storage::Member {
+            instance,
+            bit,
+            bits,
+        } => cut(&device.assemblies.get(&instance)?.data, bit, bits, p.size),
+    })
+}
+
+/// The Parameter object.
+#[derive(Debug)]
+pub struct ParameterObject;
+
+impl CipObject for ParameterObject {
+    fn class_id(&self) -> u32 {
+        0x0F
     }
 
-    /// A request to the Parameter object (class 0x0F).
-    pub(super) fn parameter_service(&mut self, request: &Request<'_>, path: &Path) -> Vec<u8> {
+    /// Get_Attribute_Single and Set_Attribute_Single on the class (instance 0) and instances.
+    fn serve(
+        &self,
+        device: &mut DeviceState,
+        _call: &Call,
+        request: &Request<'_>,
+        path: &Path,
+    ) -> Vec<u8> {
         let service = request.service;
         let instance = path.instance.unwrap_or(0);
         let attribute = path.attribute.unwrap_or(0);
         if instance == 0 {
             let value = match attribute {
                 1 => Some(1u16.to_le_bytes()),
-                2 => {
-                    Some((self.parameters.keys().last().copied().unwrap_or(0) as u16).to_le_bytes())
-                }
+                2 => Some(
+                    (device.parameters.keys().last().copied().unwrap_or(0) as u16).to_le_bytes(),
+                ),
                 8 => Some(CLASS_DESCRIPTOR.to_le_bytes()),
                 9 => Some(0u16.to_le_bytes()),
                 _ => None,
@@ -262,11 +239,11 @@ impl Adapter {
                 _ => status(service, general::SERVICE_NOT_SUPPORTED),
             };
         }
-        let Some(p) = self.parameters.get(&instance) else {
+        let Some(p) = device.parameters.get(&instance) else {
             return status(service, general::OBJECT_DOES_NOT_EXIST);
         };
         match (service, attribute) {
-            (GET_ATTRIBUTE_SINGLE, 1) => match self.parameter_value(instance) {
+            (GET_ATTRIBUTE_SINGLE, 1) => match value(device, instance) {
                 Some(v) => response(service, general::SUCCESS, &[], &v),
                 None => status(service, general::OBJECT_DOES_NOT_EXIST),
             },
@@ -275,7 +252,7 @@ impl Adapter {
                 None => status(service, general::ATTRIBUTE_NOT_SUPPORTED),
             },
             (SET_ATTRIBUTE_SINGLE, 1) => {
-                let code = self.set_parameter(instance, request.data);
+                let code = set_parameter(device, instance, request.data);
                 status(service, code)
             }
             (SET_ATTRIBUTE_SINGLE, a) if p.attribute(a).is_some() => {
@@ -285,49 +262,48 @@ impl Adapter {
             _ => status(service, general::SERVICE_NOT_SUPPORTED),
         }
     }
+}
 
-    /// Set_Attribute_Single of parameter `n`'s value: its general status.
-    fn set_parameter(&mut self, n: u32, data: &[u8]) -> u8 {
-        let Some(p) = self.parameters.get(&n) else {
-            return general::OBJECT_DOES_NOT_EXIST;
-        };
-        if p.read_only() {
-            return general::ATTRIBUTE_NOT_SETTABLE;
-        }
-        match data.len().cmp(&p.size) {
-            std::cmp::Ordering::Less => return general::NOT_ENOUGH_DATA,
-            std::cmp::Ordering::Greater => return general::TOO_MUCH_DATA,
-            std::cmp::Ordering::Equal => {}
-        }
-        if !p.within_limits(data) {
-            return INVALID_ATTRIBUTE_VALUE;
-        }
-        let (instance, bit, bits) = match p.storage {
-            Storage::Own(_) => {
-                if let Some(Storage::Own(bytes)) =
-                    self.parameters.get_mut(&n).map(|p| &mut p.storage)
-                {
-                    bytes.copy_from_slice(data);
-                }
-                return general::SUCCESS;
-            }
-            Storage::Member {
-                instance,
-                bit,
-                bits,
-            } => (instance, bit, bits),
-        };
-        // The member's assembly, as Set_Attribute_Single on it: not while a connection writes it.
-        if self.connections.iter().any(|c| c.o_t_point == instance) {
-            return general::DEVICE_STATE_CONFLICT;
-        }
-        let Some(assembly) = self.assemblies.get_mut(&instance) else {
-            return general::OBJECT_DOES_NOT_EXIST;
-        };
-        paste(&mut assembly.data, bit, bits, data);
-        if assembly.consumed {
-            self.events.push_back(Event::Consumed(instance));
-        }
-        general::SUCCESS
+/// Set_Attribute_Single of parameter `n`'s value: its general status.
+fn set_parameter(device: &mut DeviceState, n: u32, data: &[u8]) -> u8 {
+    let Some(p) = device.parameters.get(&n) else {
+        return general::OBJECT_DOES_NOT_EXIST;
+    };
+    if p.read_only() {
+        return general::ATTRIBUTE_NOT_SETTABLE;
     }
+    match data.len().cmp(&p.size) {
+        std::cmp::Ordering::Less => return general::NOT_ENOUGH_DATA,
+        std::cmp::Ordering::Greater => return general::TOO_MUCH_DATA,
+        std::cmp::Ordering::Equal => {}
+    }
+    if !p.within_limits(data) {
+        return INVALID_ATTRIBUTE_VALUE;
+    }
+    let (instance, bit, bits) = match p.storage {
+        Storage::Own(_) => {
+            if let Some(Storage::Own(bytes)) = device.parameters.get_mut(&n).map(|p| &mut p.storage)
+            {
+                bytes.copy_from_slice(data);
+            }
+            return general::SUCCESS;
+        }
+        Storage::Member {
+            instance,
+            bit,
+            bits,
+        } => (instance, bit, bits),
+    };
+    // The member's assembly, as Set_Attribute_Single on it: not while a connection writes it.
+    if device.written_by_connection(instance) {
+        return general::DEVICE_STATE_CONFLICT;
+    }
+    let Some(assembly) = device.assemblies.get_mut(&instance) else {
+        return general::OBJECT_DOES_NOT_EXIST;
+    };
+    paste(&mut assembly.data, bit, bits, data);
+    if assembly.consumed {
+        device.events.push_back(Event::Consumed(instance));
+    }
+    general::SUCCESS
 }

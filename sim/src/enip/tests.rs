@@ -40,7 +40,7 @@ fn adapter() -> Adapter {
         assemblies,
         [192, 168, 0, 1],
     );
-    a.config_instances.push(1);
+    a.device.config_instances.push(1);
     a
 }
 
@@ -196,7 +196,7 @@ fn explicit_messages_and_general_status() {
     assert_eq!(explicit(&mut a, s, &set(31)), vec![0x90, 0, 0x13, 0]);
     assert_eq!(explicit(&mut a, s, &set(33)), vec![0x90, 0, 0x15, 0]);
     assert_eq!(explicit(&mut a, s, &set(32)), vec![0x90, 0, 0x00, 0]);
-    assert_eq!(a.assemblies[&150].data, vec![0xAA; 32]);
+    assert_eq!(a.device.assemblies[&150].data, vec![0xAA; 32]);
     // The input assembly is the adapter's: not settable.
     let mut r = vec![0x10, 3, 0x20, 0x04, 0x24, 0x64, 0x30, 0x03];
     r.extend([0; 32]);
@@ -273,7 +273,7 @@ fn forward_open_io_timeout_and_forward_close() {
         &io_packet(id, 1, true, &[0x11; 32]),
         T0 + Duration::from_micros(60_000),
     );
-    assert_eq!(a.assemblies[&150].data, vec![0x11; 32]);
+    assert_eq!(a.device.assemblies[&150].data, vec![0x11; 32]);
     assert!(a.connections()[0].run);
     assert_eq!(events(&mut a), vec![Event::Consumed(150)]);
     // Owned: explicit writes conflict with the connection.
@@ -481,13 +481,13 @@ fn class3_forward_open_send_unit_data_and_forward_close() {
         (0, connected(2, &[0x90, 0, 0, 0]))
     );
     assert_eq!(events(&mut a), vec![Event::Consumed(150)]);
-    a.assemblies.get_mut(&150).expect("150").data = vec![0; 32];
+    a.device.assemblies.get_mut(&150).expect("150").data = vec![0; 32];
     assert_eq!(
         unit_data(&mut a, s, id, 2, &set, T0),
         (0, connected(2, &[0x90, 0, 0, 0]))
     );
     assert_eq!(events(&mut a), vec![]);
-    assert_eq!(a.assemblies[&150].data, vec![0; 32]);
+    assert_eq!(a.device.assemblies[&150].data, vec![0; 32]);
     // The next count executes again; a refusal travels as the CIP response.
     assert_eq!(
         unit_data(
@@ -628,7 +628,7 @@ fn class3_refusals() {
         unit_data(&mut a, s, id, 1, &write, T0),
         (0, connected(1, &[0x90, 0, 0x15, 0]))
     );
-    assert_eq!(a.assemblies[&150].data, [0; 32]);
+    assert_eq!(a.device.assemblies[&150].data, [0; 32]);
     // Six bytes with the count fit: executed.
     let vendor = [0x0E, 2, 0x20, 0x01, 0x24, 0x01];
     assert_eq!(

@@ -72,7 +72,7 @@ fn write(a: &mut Adapter, card: &mut Card, id: u32, n: u16, cw: u16, now: Instan
 
 /// The state byte of the SW (word 4 of the T→O image): 1 forward, 3 stopped, 4 fault.
 fn state(a: &Adapter) -> u8 {
-    a.assemblies[&100].data[8]
+    a.device.assemblies[&100].data[8]
 }
 
 /// A drive set to take its frequency from PZD2, connected, run forward for 2 s; the session

@@ -118,7 +118,7 @@ fn members_live_in_their_assemblys_bytes() {
     let mut a = io();
     // Output assembly 150: Mode (8 bits), Setpoint (16), Enable (1), padding (7), Gain (REAL).
     assert_eq!(
-        a.assemblies[&150].data,
+        a.device.assemblies[&150].data,
         [0x00, 0xE7, 0xFF, 0x00, 0x00, 0x00, 0xC0, 0x3F]
     );
     assert_eq!(get(&mut a, 2, 1), ok(&[0xE7, 0xFF]));
@@ -136,7 +136,7 @@ fn members_live_in_their_assemblys_bytes() {
     assert_eq!(set(&mut a, 3, &11.0f32.to_le_bytes()), [0x90, 0, 0x09, 0]);
     assert_eq!(set(&mut a, 3, &2.5f32.to_le_bytes()), SET_OK);
     assert_eq!(
-        a.assemblies[&150].data,
+        a.device.assemblies[&150].data,
         [0x00, 0x64, 0x00, 0x01, 0x00, 0x00, 0x20, 0x40]
     );
     assert_eq!(
@@ -148,10 +148,10 @@ fn members_live_in_their_assemblys_bytes() {
         ]
     );
     // What the assembly gets, the parameter shows: one storage.
-    a.assemblies.get_mut(&150).expect("150").data[0] = 2;
+    a.device.assemblies.get_mut(&150).expect("150").data[0] = 2;
     assert_eq!(get(&mut a, 1, 1), ok(&[2]));
     // Not while a class-1 connection writes the assembly (as Set_Attribute_Single on it).
-    a.connections.push(super::IoConnection {
+    a.device.connections.push(super::IoConnection {
         o_t_id: 1,
         t_o_id: 2,
         triad: (1, 2, 3),
@@ -180,9 +180,9 @@ fn the_cards_parameters() {
     // Param1 RPI: no member, 50 ms; Param22 SW read-only in assembly 100; Param2 PKW1 task in
     // 150.
     assert_eq!(get(&mut a, 1, 1), ok(&50_000u32.to_le_bytes()));
-    assert_eq!(get(&mut a, 0, 2), ok(&[a.parameters.len() as u8, 0]));
+    assert_eq!(get(&mut a, 0, 2), ok(&[a.device.parameters.len() as u8, 0]));
     assert_eq!(set(&mut a, 22, &[0, 0]), [0x90, 0, 0x0E, 0]);
     assert_eq!(set(&mut a, 2, &[6, 0]), [0x90, 0, 0x09, 0]);
     assert_eq!(set(&mut a, 2, &[1, 0]), SET_OK);
-    assert_eq!(a.assemblies[&150].data[..2], [1, 0]);
+    assert_eq!(a.device.assemblies[&150].data[..2], [1, 0]);
 }

@@ -38,7 +38,7 @@ fn adapter() -> Adapter {
         name: "T".to_owned(),
     };
     let mut a = Adapter::new(identity, assemblies, [127, 0, 0, 1]);
-    a.config_instances.push(1);
+    a.device.config_instances.push(1);
     a
 }
 
@@ -142,7 +142,7 @@ fn the_adapter_honours_the_t_o_sockaddr_and_the_scanner_frames() {
     assert_eq!(events(&mut a), vec![Event::Opened(o_t_id)]);
     // Sequence count 1, run, 4 bytes.
     a.receive_io(9, &datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]), T0);
-    assert_eq!(a.assemblies[&150].data, [9, 8, 7, 6]);
+    assert_eq!(a.device.assemblies[&150].data, [9, 8, 7, 6]);
     let produced = produce(&mut a, T0);
     let produced = IoDatagram::parse(&produced[0].1).expect("T→O");
     assert_eq!(
