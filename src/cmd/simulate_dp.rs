@@ -3,7 +3,7 @@
 //! with its PKW/PZD drive, or a slave built from any GSD file whose inputs echo its outputs.
 //! The address is `@ADDR`, else the card's default (2, P15.01's) or 2 for a file. State changes
 //! go to stderr (`data exchange`, `wait for parameters`, the watchdog's E-DP), until the line
-//! closes or SIGINT, SIGTERM or SIGHUP stops it (`stopped:` on stdout).
+//! closes or SIGINT, SIGTERM or SIGHUP stops it (then `stopped:`).
 
 use std::fs::OpenOptions;
 use std::path::Path;
@@ -77,7 +77,7 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
     };
     match result {
         Ok(()) => {
-            println!("stopped: DP slave {address} on {tty}");
+            eprintln!("stopped: DP slave {address} on {tty}");
             ExitCode::SUCCESS
         }
         Err(e) => fail(format!("{tty}: {e}")),

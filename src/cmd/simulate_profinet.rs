@@ -6,7 +6,7 @@
 //! Goodrive350's drive behind the card, whose faults are Diagnosis alarms on the AR's AlarmCR
 //! (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch one); it prints what
 //! a controller sets, each step of an AR and each alarm acknowledged, until SIGINT, SIGTERM or
-//! SIGHUP, then says `stopped:` with the number of ARs it served.
+//! SIGHUP, then says `stopped:` (on stderr) with the number of ARs it served.
 
 use std::io::BufRead;
 use std::ops::ControlFlow;
@@ -174,7 +174,7 @@ pub fn run(
     });
     match served {
         Ok(()) => {
-            println!("stopped: {connected} ARs connected");
+            eprintln!("stopped: {connected} ARs connected");
             ExitCode::SUCCESS
         }
         Err(e) => fail(format!("PROFINET on `{iface}`: {e}")),
