@@ -174,3 +174,28 @@ fn dp_io_reads_a_parameter_by_name() {
     assert_eq!(bad.code, Some(2));
     assert!(bad.stderr.contains("no output word `nope`"), "{bad:?}");
 }
+
+/// SIGINT and SIGTERM stop the simulated slave cleanly: exit 0 and a `stopped:` line, also
+/// when it was started the way a script starts it in the background.
+#[test]
+fn the_simulated_slave_stops_on_sigint_and_sigterm() {
+    let Some(python) = python() else { return };
+    for signal in ["-INT", "-TERM"] {
+        let pair = Process::python(&python, "scripts/pty_pair.py", &[]);
+        let line = pair.stdout_line(|l| l.starts_with("PTY "), WAIT);
+        let b = line.split(' ').nth(2).expect("two ends").to_owned();
+        let slave = Process::edsgen(&["simulate", "--profibus", &b, "--card", "goodrive350-dp"]);
+        slave.stderr_line(|l| l.starts_with("simulating DP slave 2"), WAIT);
+        let sent = std::process::Command::new("kill")
+            .args([signal, &slave.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let exited = slave.finish(WAIT);
+        assert_eq!(exited.code, Some(0), "{signal}: {exited:?}");
+        assert!(
+            exited.stderr.ends_with(&format!("stopped: DP slave 2 on {b}\n")),
+            "{signal}: {exited:?}"
+        );
+    }
+}

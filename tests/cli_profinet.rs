@@ -3,6 +3,7 @@
 //! usage and interfaces that do not exist with exit 2 and a message.
 
 mod process_support;
+mod skip_support;
 
 use std::process::Command;
 
@@ -125,3 +126,33 @@ fn profinet_usage_and_interface_errors_exit_2() {
         assert!(stderr.starts_with(message), "{args:?}: {stderr}");
     }
 }
+
+/// SIGINT and SIGTERM stop the simulated device cleanly: exit 0 and a `stopped:` line. Needs
+/// root (a raw socket, here on the loopback interface); without it the test says so and passes.
+#[test]
+fn the_simulated_device_stops_on_sigint_and_sigterm() {
+    if !edsgen_demo::netns::is_root() {
+        skip_support::skip::<()>("not root: no raw socket for simulate --profinet");
+        return;
+    }
+    for signal in ["-INT", "-TERM"] {
+        let device = process_support::Process::edsgen(&[
+            "simulate",
+            "--profinet",
+            "lo",
+            "--card",
+            "goodrive350-pn",
+        ]);
+        device.stdout_line(|l| l.starts_with("PROFINET device"), WAIT);
+        let sent = Command::new("kill")
+            .args([signal, &device.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let exited = device.finish(WAIT);
+        assert_eq!(exited.code, Some(0), "{signal}: {exited:?}");
+        assert_eq!(exited.stderr, "stopped: 0 ARs connected\n", "{signal}");
+    }
+}
+
+const WAIT: std::time::Duration = std::time::Duration::from_secs(10);

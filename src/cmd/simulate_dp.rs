@@ -3,12 +3,11 @@
 //! with its PKW/PZD drive, or a slave built from any GSD file whose inputs echo its outputs.
 //! The address is `@ADDR`, else the card's default (2, P15.01's) or 2 for a file. State changes
 //! go to stderr (`data exchange`, `wait for parameters`, the watchdog's E-DP), until the line
-//! closes or the process is stopped.
+//! closes or SIGINT, SIGTERM or SIGHUP stops it (then `stopped:`).
 
 use std::fs::OpenOptions;
 use std::path::Path;
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
 
 use edsgen_runtime::Instant;
 use edsgen_sim::dp::card::{self, DEFAULT_ADDRESS};
@@ -46,7 +45,10 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
         Err(e) => return fail(format!("cannot open {tty}: {e}")),
     };
     let now = Instant::from_micros(0);
-    let stop = AtomicBool::new(false);
+    if let Err(message) = super::signals::install() {
+        return fail(message);
+    }
+    let stop = super::signals::flag();
     let result = if what.is_none() {
         if name != CARD {
             return fail(format!("--profibus: no DP card `{name}` (there is {CARD})"));
@@ -56,7 +58,7 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
             Err(e) => return fail(e),
         };
         eprintln!("simulating DP slave {address} (card {CARD}) on {tty}");
-        serve(port, &mut slave, &stop, reporter())
+        serve(port, &mut slave, stop, reporter())
     } else {
         let bytes = match std::fs::read(&name) {
             Ok(bytes) => bytes,
@@ -71,10 +73,13 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
             Err(e) => return fail(format!("{name}: {e}")),
         };
         eprintln!("simulating DP slave {address} ({name}) on {tty}");
-        serve(port, &mut slave, &stop, reporter())
+        serve(port, &mut slave, stop, reporter())
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => {
+            eprintln!("stopped: DP slave {address} on {tty}");
+            ExitCode::SUCCESS
+        }
         Err(e) => fail(format!("{tty}: {e}")),
     }
 }

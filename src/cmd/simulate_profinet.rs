@@ -5,9 +5,11 @@
 //! PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of the AR, with the
 //! Goodrive350's drive behind the card, whose faults are Diagnosis alarms on the AR's AlarmCR
 //! (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch one); it prints what
-//! a controller sets, each step of an AR and each alarm acknowledged, until it is stopped.
+//! a controller sets, each step of an AR and each alarm acknowledged, until SIGINT, SIGTERM or
+//! SIGHUP, then says `stopped:` (on stderr) with the number of ARs it served.
 
 use std::io::BufRead;
+use std::ops::ControlFlow;
 use std::path::Path;
 use std::process::ExitCode;
 use std::sync::mpsc;
@@ -110,7 +112,13 @@ pub fn run(
     let drive = card.then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
     let mut device = Device::new(station, config, drive);
     let faults = faults_on_stdin.then(faults_from_stdin);
+    if let Err(message) = super::signals::install() {
+        return fail(message);
+    }
     let tick = |device: &mut Device, now| {
+        if super::signals::requested() {
+            return ControlFlow::Break(());
+        }
         for fault in faults.iter().flat_map(|f| f.try_iter()) {
             if fault {
                 device.inject_fault(now, FAULT_OC1);
@@ -120,10 +128,15 @@ pub fn run(
                 println!("drive fault cause removed: a fault reset (CW command 7) clears it");
             }
         }
+        ControlFlow::Continue(())
     };
+    let mut connected = 0u32;
     let served = driver::serve_with(&mut socket, &rpc, &mut device, None, tick, |event| {
         match event {
-            DeviceEvent::Ar(event) => print_ar(event),
+            DeviceEvent::Ar(event) => {
+                connected += u32::from(matches!(event, ArEvent::Connected { .. }));
+                print_ar(event)
+            }
             DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
                 println!("name of station set to `{name}`")
             }
@@ -160,7 +173,10 @@ pub fn run(
         let _ = std::io::stdout().flush();
     });
     match served {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => {
+            eprintln!("stopped: {connected} ARs connected");
+            ExitCode::SUCCESS
+        }
         Err(e) => fail(format!("PROFINET on `{iface}`: {e}")),
     }
 }

@@ -151,7 +151,10 @@ impl<R: BufRead> LogReader<R> {
             if matches!(text, std::borrow::Cow::Owned(_)) {
                 self.tally.not_utf8 += 1;
             }
-            let text = text.trim().to_owned();
+            let mut text = text.trim().to_owned();
+            if self.parser.as_ref().is_none_or(Parser::is_candump) {
+                text.truncate(without_comment(&text).len());
+            }
             if text.is_empty() {
                 continue;
             }
@@ -191,6 +194,11 @@ impl<R: BufRead> LogReader<R> {
 }
 
 impl Parser {
+    /// candump's own formats, where a `#` after white space starts a comment.
+    fn is_candump(&self) -> bool {
+        matches!(self, Parser::CandumpLog | Parser::Candump)
+    }
+
     fn read(&mut self, text: &str) -> Result<Line, String> {
         match self {
             Parser::CandumpLog => candump::parse_log_line(text),
@@ -199,6 +207,19 @@ impl Parser {
             Parser::Trc(trc) => trc.read(text),
         }
     }
+}
+
+/// `text` without a trailing `# comment`, as logs pasted from documentation carry: a `#` at the
+/// start or after white space (in `ID#DATA` the `#` follows the identifier directly).
+fn without_comment(text: &str) -> &str {
+    let mut previous_is_space = true;
+    for (at, c) in text.char_indices() {
+        if c == '#' && previous_is_space {
+            return text[..at].trim_end();
+        }
+        previous_is_space = c.is_whitespace();
+    }
+    text
 }
 
 /// The format a line shows, if it shows one.
@@ -350,6 +371,34 @@ mod tests {
         for bad in ["", ".5", "1.x", "-1.0", "1.2.3", "+1"] {
             assert_eq!(seconds_to_micros(bad), None, "{bad}");
         }
+    }
+
+    #[test]
+    fn a_trailing_comment_after_a_candump_frame_is_ignored() {
+        let log = b"# a session pasted from a manual\n\
+            (1700000000.000000) can0 703#00 # boot-up\n\
+            (1700000000.000100) can0 603#4018100100000000   # read 1018h:01\n";
+        let (entries, tally, format) = entries(log);
+        assert_eq!(format, Some(Format::CandumpLog));
+        assert_eq!(tally.unreadable, 0);
+        let read = [0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0];
+        assert_eq!(
+            entries,
+            [
+                frame(1_700_000_000_000_000, 0x703, &[0x00]),
+                frame(1_700_000_000_000_100, 0x603, &read),
+            ]
+        );
+        let log = b"  can0  583   [8]  43 18 10 01 D8 04 00 00  # the vendor-ID\n";
+        let (entries, tally, format) = entries(log);
+        assert_eq!(format, Some(Format::Candump));
+        assert_eq!(tally.unreadable, 0);
+        let vendor = [0x43, 0x18, 0x10, 0x01, 0xD8, 0x04, 0, 0];
+        assert_eq!(entries.len(), 1);
+        assert!(matches!(&entries[0], Entry::Frame { frame, .. } if frame.data() == vendor));
+        assert_eq!(without_comment("can0 123#11 # note"), "can0 123#11");
+        assert_eq!(without_comment("can0 123#11"), "can0 123#11");
+        assert_eq!(without_comment("# only a comment"), "");
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! [`Device`]. The protocol machines never see the sockets.
 
 use std::io;
+use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
 use edsgen_host::driver::MonotonicClock;
@@ -136,17 +137,18 @@ pub fn serve(
     until: Option<Instant>,
     on_event: impl FnMut(&DeviceEvent),
 ) -> io::Result<()> {
-    serve_with(raw, rpc, device, until, |_, _| {}, on_event)
+    serve_with(raw, rpc, device, until, |_, _| ControlFlow::Continue(()), on_event)
 }
 
 /// [`serve`], with `tick` given the device and the time once a round, before its timers (to
-/// act on the device from outside, such as a drive fault switched by standard input).
+/// act on the device from outside, such as a drive fault switched by standard input); serving
+/// ends when it breaks (a stop asked for).
 pub fn serve_with(
     raw: &mut RawSocket,
     rpc: &RpcSocket,
     device: &mut Device,
     until: Option<Instant>,
-    mut tick: impl FnMut(&mut Device, edsgen_runtime::Instant),
+    mut tick: impl FnMut(&mut Device, edsgen_runtime::Instant) -> ControlFlow<()>,
     mut on_event: impl FnMut(&DeviceEvent),
 ) -> io::Result<()> {
     let clock = MonotonicClock::new();
@@ -164,7 +166,9 @@ pub fn serve_with(
             send(raw, rpc, device, clock.now())?;
         }
         let now = clock.now();
-        tick(device, now);
+        if tick(device, now).is_break() {
+            break;
+        }
         if device.poll_timeout().is_some_and(|t| t <= now) {
             device.handle_timeout(now);
         }
