@@ -194,7 +194,9 @@ fn the_simulated_slave_stops_on_sigint_and_sigterm() {
         let exited = slave.finish(WAIT);
         assert_eq!(exited.code, Some(0), "{signal}: {exited:?}");
         assert!(
-            exited.stderr.ends_with(&format!("stopped: DP slave 2 on {b}\n")),
+            exited
+                .stderr
+                .ends_with(&format!("stopped: DP slave 2 on {b}\n")),
             "{signal}: {exited:?}"
         );
     }

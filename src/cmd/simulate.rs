@@ -35,13 +35,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
-use edsgen_runtime::od::ObjectDictionary;
-use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
 use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_host::socketcand::SocketcandClient;
 use edsgen_host::trace::epoch_micros;
 use edsgen_host::vbus::BusDevice;
 use edsgen_host::Transport;
+use edsgen_runtime::od::ObjectDictionary;
+use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
 use edsgen_runtime::{CanFrame, Node};
 
 use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};

@@ -378,24 +378,24 @@ mod tests {
         let log = b"# a session pasted from a manual\n\
             (1700000000.000000) can0 703#00 # boot-up\n\
             (1700000000.000100) can0 603#4018100100000000   # read 1018h:01\n";
-        let (entries, tally, format) = entries(log);
+        let (read, tally, format) = entries(log);
         assert_eq!(format, Some(Format::CandumpLog));
         assert_eq!(tally.unreadable, 0);
         let read = [0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0];
         assert_eq!(
-            entries,
+            read,
             [
                 frame(1_700_000_000_000_000, 0x703, &[0x00]),
                 frame(1_700_000_000_000_100, 0x603, &read),
             ]
         );
         let log = b"  can0  583   [8]  43 18 10 01 D8 04 00 00  # the vendor-ID\n";
-        let (entries, tally, format) = entries(log);
+        let (read, tally, format) = entries(log);
         assert_eq!(format, Some(Format::Candump));
         assert_eq!(tally.unreadable, 0);
         let vendor = [0x43, 0x18, 0x10, 0x01, 0xD8, 0x04, 0, 0];
-        assert_eq!(entries.len(), 1);
-        assert!(matches!(&entries[0], Entry::Frame { frame, .. } if frame.data() == vendor));
+        assert_eq!(read.len(), 1);
+        assert!(matches!(&read[0], Entry::Frame { frame, .. } if frame.data() == vendor));
         assert_eq!(without_comment("can0 123#11 # note"), "can0 123#11");
         assert_eq!(without_comment("can0 123#11"), "can0 123#11");
         assert_eq!(without_comment("# only a comment"), "");

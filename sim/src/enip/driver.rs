@@ -254,7 +254,7 @@ fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
 
 /// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
 /// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
-/// trips the drive (E-EIP, [`communication_lost`]), one Forward_Close ended stops it; without a
+/// trips the drive (E-EIP, `communication_lost`), one Forward_Close ended stops it; without a
 /// connection the drive's ramps still move and the T→O assembly shows the drive as it stands.
 /// `log` gets one line per connection event. Returns how many connections opened.
 pub fn link(

@@ -137,7 +137,14 @@ pub fn serve(
     until: Option<Instant>,
     on_event: impl FnMut(&DeviceEvent),
 ) -> io::Result<()> {
-    serve_with(raw, rpc, device, until, |_, _| ControlFlow::Continue(()), on_event)
+    serve_with(
+        raw,
+        rpc,
+        device,
+        until,
+        |_, _| ControlFlow::Continue(()),
+        on_event,
+    )
 }
 
 /// [`serve`], with `tick` given the device and the time once a round, before its timers (to
