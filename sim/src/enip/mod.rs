@@ -29,6 +29,8 @@ pub use class3::ExplicitConnection;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_class3;
+#[cfg(test)]
 mod tests_drive;
 #[cfg(test)]
 mod tests_parameter;
