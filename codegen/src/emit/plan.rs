@@ -1,6 +1,6 @@
-//! The plan: which Rust type, initial value, limits, docs and typed-address name each stored entry
-//! gets. Built from the model in (index, sub) order so names and output are
-//! deterministic; every problem becomes an `EDS7xx` diagnostic.
+//! The plan: the typed-address name and rustdoc of each stored entry, beside its Rust type,
+//! initial value and limits (`edsgen_model::values`). Built from the model in (index, sub) order
+//! so names and output are deterministic; every problem becomes an `EDS7xx` diagnostic.
 
 use proc_macro2::{Ident, Span as TokenSpan};
 

@@ -1,9 +1,6 @@
-//! The Rust side of CiA 301 data types: which Rust type holds each basic type, how many bytes it
-//! travels as, and the tokens of its default value, limits and descriptor data type.
-//!
-//! Odd-width integers (24, 40, 48, 56 bits, and TIME_OF_DAY/TIME_DIFFERENCE as 48-bit unsigned)
-//! live in the smallest fitting Rust integer; the OD write reads exactly their wire width and sign
-//! extends, so a stored value is always in range. Strings, octet strings and domains are
+//! The tokens of CiA 301 data types: each entry's Rust type, its default value and limits, and
+//! its descriptor's data type and access. Which primitive holds each basic type, and the values
+//! as numbers, are `model::layout`'s (re-exported here). Strings, octet strings and domains are
 //! `FixedBytes<N>` (see [`capacity`](crate::model::layout::capacity) for `N`).
 
 use proc_macro2::{Literal, TokenStream};

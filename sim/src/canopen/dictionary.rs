@@ -1,13 +1,14 @@
 //! The run-time object dictionary: any device the readers read (EDS, DCF, XDD, XDC), served by
 //! the runtime's `Node` without generated code. Each entry's type, access, limits and initial
-//! value come from the same `edsgen_model::values` the code generator uses, so it answers exactly as the `Od`
-//! generated from the same file would; only the storage differs (one `Vec<u8>` per entry).
+//! value come from [`edsgen_model::values`], as the code generator's do, so it answers exactly as
+//! the `Od` generated from the same file would; only the storage differs (one `Vec<u8>` per
+//! entry).
 //!
 //! Capacities: a string or octet string holds what the generated `Od` would hold (its overlay's
 //! capacity, else the longest of its DefaultValue and ParameterValue, and at least
-//! [`MIN_WRITABLE_CAPACITY`](edsgen_model::model::layout::MIN_WRITABLE_CAPACITY) bytes when it is writable). A DOMAIN holds up to
-//! [`DOMAIN_CAPACITY`] bytes (a firmware image or a log fits; the bytes are allocated only as
-//! written).
+//! [`MIN_WRITABLE_CAPACITY`](edsgen_model::model::layout::MIN_WRITABLE_CAPACITY) bytes when it
+//! is writable). A DOMAIN holds up to [`DOMAIN_CAPACITY`] bytes (a firmware image or a log fits;
+//! the bytes are allocated only as written).
 
 use edsgen_model::model::layout::{Number, RustType};
 use edsgen_model::model::{AccessType, BasicType, Device};

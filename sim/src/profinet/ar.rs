@@ -10,8 +10,8 @@
 //! expires, or when the controller sends no request for its CMInitiatorActivityTimeout before
 //! data exchange. One AR at a time: a Connect while one is up is refused (CMRPC out of AR resources),
 //! unless it repeats the same AR UUID. A device access AR (IOSAR) has no cyclic data.
-//! Records (module `records`): 0xF000 RealIdentificationData, 0xAFF0 I&M0, and the GSDML's parameter records of
-//! each submodule (written with their exact length, read back).
+//! Records (module `records`): 0xF000 RealIdentificationData, 0xAFF0 I&M0, and the GSDML's
+//! parameter records of each submodule (written with their exact length, read back).
 //! Alarms: the AlarmCR is accepted and answered (AlarmCRBlockRes, the device's
 //! LocalAlarmReference 1); [`Cm::alarm_cr`] gives the AR's alarm machines
 //! ([`super::alarm::AlarmCr`]), which the device runs.
