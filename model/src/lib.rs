@@ -5,7 +5,8 @@
 //! The stages only call forward, each talking to the next through its output type: [`read`]
 //! turns bytes into a [`model::Device`] (plus the diagnostics the text itself calls for),
 //! [`overlay`] adds what the description cannot say, [`validate`] turns a model into diagnostics.
-//! [`load`] runs the three for one file, with one [`lint`] policy. The code generator
+//! [`load`] runs the three for one file, with one [`lint`] policy. [`values`] gives each stored
+//! CANopen entry's type, initial value and limits as generated code and the simulators hold it. The code generator
 //! (`edsgen-codegen`), the simulators and the CLI start from a loaded model.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -21,3 +22,4 @@ pub mod render;
 pub mod rules;
 pub mod sii;
 pub mod validate;
+pub mod values;

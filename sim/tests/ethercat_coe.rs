@@ -23,7 +23,7 @@ impl Master {
         Master::with(&ec_tx508())
     }
 
-    fn with(model: &edsgen_codegen::model::Device) -> Self {
+    fn with(model: &edsgen_model::model::Device) -> Self {
         let device = EsiDevice::subdevice(model, None).unwrap();
         let mut master = Master {
             device,
@@ -88,9 +88,9 @@ impl Master {
     }
 }
 
-fn ec_tx508() -> edsgen_codegen::model::Device {
+fn ec_tx508() -> edsgen_model::model::Device {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/ec-tx508.xml");
-    edsgen_codegen::read::read_file(&path).unwrap().device
+    edsgen_model::read::read_file(&path).unwrap().device
 }
 
 fn sm(start: u16, len: u16, control: u8) -> Vec<u8> {

@@ -12,7 +12,7 @@ use quote::quote;
 
 use super::names::Namespace;
 use super::plan::{id, Plan};
-use super::types::{hex, pdo_derives, Prim, RustType};
+use super::types::{hex, pdo_derives, Prim, RustType, TypeTokens};
 use crate::diag::Diagnostic;
 use crate::model::layout::initial_value;
 use crate::model::{Device, Value};

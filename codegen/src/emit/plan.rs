@@ -1,15 +1,16 @@
-//! The plan: which Rust type, initial value, limits, docs and typed-address name each stored entry
-//! gets. Built from the model in (index, sub) order so names and output are
-//! deterministic; every problem becomes an `EDS7xx` diagnostic.
+//! The plan: the typed-address name and rustdoc of each stored entry, beside its Rust type,
+//! initial value and limits (`edsgen_model::values`). Built from the model in (index, sub) order
+//! so names and output are deterministic; every problem becomes an `EDS7xx` diagnostic.
 
 use proc_macro2::{Ident, Span as TokenSpan};
 
 use super::names::{ident, member_name, Case, Namespace};
-use super::types::{node_relative_offset, scalar_number, Number, Prim, RustType, ValueProblem};
+use super::types::{Number, RustType};
 use crate::diag::Diagnostic;
-use crate::model::layout::{capacity, initial_value, value_bytes};
-use crate::model::{AccessType, BasicType, Device, Object, SubObject, Value};
+use crate::model::{AccessType, BasicType, Device, Object, SubObject};
 use crate::rules;
+pub use crate::values::Initial;
+use crate::values::{entry_value, EntryValue};
 
 /// Everything the emitter needs to know about one stored entry.
 #[derive(Debug, Clone)]
@@ -65,17 +66,6 @@ impl EntryPlan {
             &format!("object_{:04x}_{}", self.index, self.sub),
         )
     }
-}
-
-/// An entry's initial value.
-#[derive(Debug, Clone)]
-pub enum Initial {
-    /// A constant scalar: the bits the value image stores (see [`Number::raw`]).
-    Raw(u64),
-    /// A `$NODEID + offset` value: the offset's bits, to which `Od::new` adds the node-ID.
-    NodeRelative(u64),
-    /// A string's, octet string's or domain's bytes.
-    Bytes(Vec<u8>),
 }
 
 /// The plan for a whole device.
@@ -291,35 +281,14 @@ impl Planner<'_> {
     }
 
     fn entry(&mut self, object: &Object, sub: &SubObject, const_name: Ident) -> Option<EntryPlan> {
-        let where_ = format!("{:04X}h sub {}", object.index, sub.sub_index);
-        let Some(basic) = sub.data_type.and_then(|t| self.device.basic_type(t)) else {
-            let what = match sub.data_type {
-                Some(t) => format!("data type {t:04X}h is not a basic type"),
-                None => "no data type".to_owned(),
-            };
-            self.diagnostics.push(
-                Diagnostic::new(
-                    &rules::UNREPRESENTABLE_TYPE,
-                    Some(sub.span),
-                    format!("{where_} `{}`: {what}; no Rust type can hold it", sub.name),
-                )
-                .with_help("give the entry a CiA 301 basic data type (0001h-001Bh)"),
-            );
-            return None;
-        };
-        let cap = capacity(basic, sub);
-        if matches!(RustType::of(basic, 0), RustType::Bytes(_)) && cap > usize::from(u16::MAX) {
-            return None; // reported by `size_errors`
-        }
-        let ty = RustType::of(basic, cap);
-        let init = self.initial(sub, basic, ty, &where_)?;
-        let limits = match ty {
-            RustType::Scalar(prim, _) if prim != Prim::Bool => {
-                self.limits(sub, basic, prim, &where_)
-            }
-            _ => None,
-        };
-        let access = sub.access.unwrap_or(AccessType::Ro);
+        let EntryValue {
+            basic,
+            ty,
+            access,
+            init,
+            limits,
+            ..
+        } = entry_value(self.device, object, sub, &mut self.diagnostics)?;
         let title = if sub.name != object.name && object.object_type.has_subs() {
             format!("{}: {}", doc_text(&object.name), doc_text(&sub.name))
         } else {
@@ -394,135 +363,5 @@ impl Planner<'_> {
             offset: 0,
             own_name: sub.name.clone(),
         })
-    }
-
-    fn initial(
-        &mut self,
-        sub: &SubObject,
-        basic: BasicType,
-        ty: RustType,
-        where_: &str,
-    ) -> Option<Initial> {
-        let value = initial_value(sub);
-        let source_span = sub
-            .parameter_value
-            .as_ref()
-            .filter(|v| v.value.is_some())
-            .or(sub.default.as_ref())
-            .map_or(sub.span, |v| v.span);
-        let Some(value) = value else {
-            if sub
-                .default
-                .as_ref()
-                .is_some_and(|d| d.value.is_none() && !d.raw.is_empty())
-            {
-                // The reader reported the unparseable value; generation cannot invent one.
-                self.diagnostics.push(Diagnostic::new(
-                    &rules::UNREPRESENTABLE_VALUE,
-                    Some(source_span),
-                    format!(
-                        "{where_} `{}`: the default `{}` could not be read",
-                        sub.name,
-                        sub.default.as_ref().map_or("", |d| d.raw.as_str())
-                    ),
-                ));
-                return None;
-            }
-            self.diagnostics.push(Diagnostic::new(
-                &rules::NO_DEFAULT,
-                Some(sub.span),
-                format!(
-                    "{where_} `{}` has no default value; it starts at zero or empty",
-                    sub.name
-                ),
-            ));
-            return Some(match ty {
-                RustType::Scalar(..) => Initial::Raw(0),
-                RustType::Bytes(_) => Initial::Bytes(Vec::new()),
-            });
-        };
-        let result = match (ty, value) {
-            (RustType::Bytes(_), v) => value_bytes(basic, v)
-                .map(Initial::Bytes)
-                .ok_or(ValueProblem::WrongKind),
-            (RustType::Scalar(..), Value::NodeRelative(offset)) => {
-                node_relative_offset(*offset, basic).map(Initial::NodeRelative)
-            }
-            (RustType::Scalar(prim, _), v) => {
-                scalar_number(v, basic, prim).map(|n| Initial::Raw(n.raw(prim)))
-            }
-        };
-        match result {
-            Ok(init) => Some(init),
-            Err(problem) => {
-                let why = match problem {
-                    ValueProblem::OutOfRange => "is outside the range of",
-                    ValueProblem::WrongKind => "is not a value of",
-                };
-                let raw = sub
-                    .parameter_value
-                    .as_ref()
-                    .filter(|v| v.value.is_some())
-                    .or(sub.default.as_ref())
-                    .map_or("", |v| v.raw.as_str());
-                self.diagnostics.push(Diagnostic::new(
-                    &rules::UNREPRESENTABLE_VALUE,
-                    Some(source_span),
-                    format!("{where_} `{}`: `{raw}` {why} {}", sub.name, basic.name()),
-                ));
-                None
-            }
-        }
-    }
-
-    fn limits(
-        &mut self,
-        sub: &SubObject,
-        basic: BasicType,
-        prim: Prim,
-        where_: &str,
-    ) -> Option<(Number, Number)> {
-        if sub.low_limit.is_none() && sub.high_limit.is_none() {
-            return None;
-        }
-        let mut bound = |source: &Option<crate::model::ValueSource>,
-                         is_low: bool|
-         -> Option<Number> {
-            let default = match (prim, is_low) {
-                (Prim::F32 | Prim::F64, true) => Number::Real(f64::NEG_INFINITY),
-                (Prim::F32 | Prim::F64, false) => Number::Real(f64::INFINITY),
-                _ => {
-                    let (min, max) = basic.integer_range().unwrap_or((0, 0));
-                    Number::Integer(if is_low { min } else { max })
-                }
-            };
-            let Some(source) = source else {
-                return Some(default);
-            };
-            let parsed = match &source.value {
-                Some(Value::NodeRelative(_)) | None => Err(ValueProblem::WrongKind),
-                Some(v) => scalar_number(v, basic, prim),
-            };
-            match parsed {
-                Ok(t) => Some(t),
-                Err(_) => {
-                    self.diagnostics.push(Diagnostic::new(
-                        &rules::UNUSABLE_LIMIT,
-                        Some(source.span),
-                        format!(
-                            "{where_} `{}`: the {} `{}` is not a constant {}; writes are not checked against it",
-                            sub.name,
-                            if is_low { "LowLimit" } else { "HighLimit" },
-                            source.raw,
-                            basic.name()
-                        ),
-                    ));
-                    Some(default)
-                }
-            }
-        };
-        let low = bound(&sub.low_limit, true)?;
-        let high = bound(&sub.high_limit, false)?;
-        Some((low, high))
     }
 }

@@ -381,12 +381,12 @@ mod tests {
         let (read, tally, format) = entries(log);
         assert_eq!(format, Some(Format::CandumpLog));
         assert_eq!(tally.unreadable, 0);
-        let read = [0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0];
+        let request = [0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0];
         assert_eq!(
             read,
             [
                 frame(1_700_000_000_000_000, 0x703, &[0x00]),
-                frame(1_700_000_000_000_100, 0x603, &read),
+                frame(1_700_000_000_000_100, 0x603, &request),
             ]
         );
         let log = b"  can0  583   [8]  43 18 10 01 D8 04 00 00  # the vendor-ID\n";

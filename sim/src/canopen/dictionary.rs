@@ -1,17 +1,18 @@
 //! The run-time object dictionary: any device the readers read (EDS, DCF, XDD, XDC), served by
 //! the runtime's `Node` without generated code. Each entry's type, access, limits and initial
-//! value come from the same plan the code generator uses, so it answers exactly as the `Od`
-//! generated from the same file would; only the storage differs (one `Vec<u8>` per entry).
+//! value come from [`edsgen_model::values`], as the code generator's do, so it answers exactly as
+//! the `Od` generated from the same file would; only the storage differs (one `Vec<u8>` per
+//! entry).
 //!
 //! Capacities: a string or octet string holds what the generated `Od` would hold (its overlay's
 //! capacity, else the longest of its DefaultValue and ParameterValue, and at least
-//! [`MIN_WRITABLE_CAPACITY`](edsgen_codegen::model::layout::MIN_WRITABLE_CAPACITY) bytes when it is writable). A DOMAIN holds up to
-//! [`DOMAIN_CAPACITY`] bytes (a firmware image or a log fits; the bytes are allocated only as
-//! written).
+//! [`MIN_WRITABLE_CAPACITY`](edsgen_model::model::layout::MIN_WRITABLE_CAPACITY) bytes when it
+//! is writable). A DOMAIN holds up to [`DOMAIN_CAPACITY`] bytes (a firmware image or a log fits;
+//! the bytes are allocated only as written).
 
-use edsgen_codegen::emit::plan::{plan, Initial};
-use edsgen_codegen::emit::types::{Number, RustType};
-use edsgen_codegen::model::{AccessType, BasicType, Device};
+use edsgen_model::model::layout::{Number, RustType};
+use edsgen_model::model::{AccessType, BasicType, Device};
+use edsgen_model::values::{stored_values, Initial};
 use edsgen_runtime::od::typed::read_bytes;
 use edsgen_runtime::{
     Access, DataType, EntryDescriptor, NodeHooks, ObjectDictionary, ResetKind, SdoAbort,
@@ -53,10 +54,10 @@ impl RuntimeDictionary {
     /// type, a default that does not fit its type) is left out whole; see
     /// [`left_out`](Self::left_out).
     pub fn new(device: &Device, node_id: u8) -> Self {
-        let plan = plan(device);
-        let mut entries = Vec::with_capacity(plan.entries.len());
-        let mut slots = Vec::with_capacity(plan.entries.len());
-        for entry in &plan.entries {
+        let values = stored_values(device);
+        let mut entries = Vec::with_capacity(values.len());
+        let mut slots = Vec::with_capacity(values.len());
+        for entry in &values {
             let size = match entry.ty {
                 RustType::Scalar(_, wire) => wire,
                 RustType::Bytes(_) if entry.basic == BasicType::Domain => DOMAIN_CAPACITY,

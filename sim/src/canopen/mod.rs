@@ -5,7 +5,7 @@ pub mod dictionary;
 
 pub use dictionary::{DictionaryHooks, RuntimeDictionary};
 
-use edsgen_codegen::model::Device;
+use edsgen_model::model::Device;
 
 /// The node-ID a DCF's `[DeviceComissioning]` section gives, if any (not range-checked: a
 /// caller reports a value outside 1..=127).

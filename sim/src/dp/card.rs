@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use edsgen_codegen::model::Dp;
+use edsgen_model::model::Dp;
 use edsgen_runtime::pkw_pzd::ByteOrder;
 use edsgen_runtime::Instant;
 
@@ -62,7 +62,7 @@ pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
     let module = dp
         .modules
         .iter()
-        .find(|m| edsgen_codegen::model::decode_cfg(&m.config).is_ok())
+        .find(|m| edsgen_model::model::decode_cfg(&m.config).is_ok())
         .ok_or(CardError::NoModule)?;
     let (input_len, output_len) = module.io_lengths();
     let user_prm_len = dp
@@ -87,7 +87,7 @@ pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
 
 /// The model of a GSD file's bytes.
 pub fn read_gsd(path: &Path, bytes: &[u8]) -> Result<Dp, CardError> {
-    edsgen_codegen::read::read_bytes(path, bytes)
+    edsgen_model::read::read_bytes(path, bytes)
         .device
         .dp()
         .cloned()

@@ -18,8 +18,8 @@ pub mod vfd;
 
 use std::path::Path;
 
-use edsgen_codegen::model::Device;
 use edsgen_host::vbus::BusDevice;
+use edsgen_model::model::Device;
 use edsgen_runtime::node::InvalidNodeId;
 use edsgen_runtime::{Instant, ObjectDictionary};
 
@@ -49,7 +49,7 @@ pub struct Card {
 impl Card {
     /// The card's model, read from its EDS (for decoding its frames by name).
     pub fn model(&self) -> Device {
-        edsgen_codegen::read::read_bytes(Path::new(self.eds_path), self.eds).device
+        edsgen_model::read::read_bytes(Path::new(self.eds_path), self.eds).device
     }
 
     /// The card by name.

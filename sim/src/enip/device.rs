@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use edsgen_codegen::model::{cip_value, Cip, FieldRef};
+use edsgen_model::model::{cip_value, Cip, FieldRef};
 use edsgen_runtime::Instant;
 
 use super::driver::Card;
@@ -116,7 +116,7 @@ pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
             consumed: true,
         },
     );
-    let read = edsgen_codegen::read::read_bytes(
+    let read = edsgen_model::read::read_bytes(
         std::path::Path::new("eds/goodrive350-enip.eds"),
         CARD_EDS.as_bytes(),
     );

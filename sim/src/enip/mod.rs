@@ -35,6 +35,8 @@ pub use state::{Assembly, DeviceState, Event, ExplicitConnection, Identity, IoCo
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_class3;
+#[cfg(test)]
 mod tests_drive;
 #[cfg(test)]
 mod tests_parameter;

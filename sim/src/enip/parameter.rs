@@ -11,8 +11,8 @@
 
 use std::collections::BTreeMap;
 
-use edsgen_codegen::model::cip_value;
-use edsgen_codegen::model::{decode_path, path_bytes, Cip, CipNumber, CipParam, FieldRef};
+use edsgen_model::model::cip_value;
+use edsgen_model::model::{decode_path, path_bytes, Cip, CipNumber, CipParam, FieldRef};
 use edsgen_runtime::enip::wire::epath::Path;
 use edsgen_runtime::enip::wire::message::{general, RequestRepr as Request};
 

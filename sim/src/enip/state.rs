@@ -5,7 +5,7 @@
 
 use std::collections::{BTreeMap, VecDeque};
 
-use edsgen_codegen::model::CipNumber;
+use edsgen_model::model::CipNumber;
 use edsgen_runtime::{Duration, Instant};
 
 /// What the objects of one adapter share.

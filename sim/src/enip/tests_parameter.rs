@@ -11,7 +11,7 @@ const T0: Instant = Instant::from_micros(0);
 
 fn io() -> super::Adapter {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/enip/io.eds");
-    let read = edsgen_codegen::read::read_file(&path).expect("tests/enip/io.eds reads");
+    let read = edsgen_model::read::read_file(&path).expect("tests/enip/io.eds reads");
     device::from_cip(read.device.cip().expect("an ODVA EDS"), [127, 0, 0, 1])
 }
 

@@ -1,6 +1,6 @@
 //! A SubDevice's application built from an ESI device: its CoE dictionary as a
 //! [`RuntimeDictionary`] (the one `edsgen simulate` serves for EDS files) answering SDO in the
-//! mailbox, its SII image ([`edsgen_codegen::sii`]), its SyncManager layout, and its process
+//! mailbox, its SII image ([`edsgen_model::sii`]), its SyncManager layout, and its process
 //! images laid out by the PDO assignment in force: 1C12h/1C13h (1C10h + SyncManager) and the
 //! mapping objects when the dictionary has them, else the ESI's default `Sm` assignment and
 //! `Entry` lists. Outputs from the master are written into the mapped objects in Op; inputs are
@@ -17,7 +17,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use edsgen_codegen::model::{Device, EcPdo, SmKind};
+use edsgen_model::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
 
 use super::{AlState, Application, Layout, SubDevice};
@@ -129,7 +129,7 @@ impl EsiDevice {
         device: &Device,
         behaviour: Option<Box<dyn Behaviour>>,
     ) -> Result<SubDevice<EsiDevice>, String> {
-        let sii = edsgen_codegen::sii::build(device)?;
+        let sii = edsgen_model::sii::build(device)?;
         let app = EsiDevice::new(device, behaviour)?;
         Ok(SubDevice::new(sii, layout(device), app))
     }
@@ -297,7 +297,7 @@ fn write_states(device: &Device) -> HashMap<(u16, u8), Vec<AlState>> {
 /// 0. Values the dictionary refuses are left as they are.
 fn seed_defaults(
     od: &mut RuntimeDictionary,
-    ec: &edsgen_codegen::model::EtherCat,
+    ec: &edsgen_model::model::EtherCat,
     outputs_sm: Option<u8>,
     inputs_sm: Option<u8>,
 ) {
@@ -380,7 +380,7 @@ pub fn layout(device: &Device) -> Layout {
             n,
             sm.start_address,
             sm.default_size
-                .unwrap_or(edsgen_codegen::sii::DEFAULT_MAILBOX_SIZE),
+                .unwrap_or(edsgen_model::sii::DEFAULT_MAILBOX_SIZE),
         ))
     };
     let (out, inp) = (mailbox(SmKind::MailboxOut), mailbox(SmKind::MailboxIn));

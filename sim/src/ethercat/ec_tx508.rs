@@ -4,7 +4,7 @@
 //! ([`crate::drives::ec_tx508::EcTx508`]). A master that reassigns PDOs still reaches
 //! the same objects; the drive sees them as the default images lay them out.
 
-use edsgen_codegen::model::Device;
+use edsgen_model::model::Device;
 use edsgen_runtime::Instant;
 
 use super::device::{pack, unpack, Behaviour, Mapped};
@@ -23,7 +23,7 @@ impl EcTx508Behaviour {
     /// The card powered up at `now`, its images laid out by `device`'s (the EC-TX508's ESI)
     /// default PDO assignment.
     pub fn new(device: &Device, now: Instant) -> Self {
-        let default = |pdos: &[edsgen_codegen::model::EcPdo]| -> Vec<Mapped> {
+        let default = |pdos: &[edsgen_model::model::EcPdo]| -> Vec<Mapped> {
             pdos.iter()
                 .filter(|p| p.sm.is_some())
                 .flat_map(|p| p.entries.iter().map(|e| (e.index, e.sub, e.bit_len)))

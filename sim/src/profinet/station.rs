@@ -2,7 +2,7 @@
 //! access point's `DNS_CompatibleName` (the name of station it starts with), a type of station
 //! (the vendor and product family), and its instance.
 
-use edsgen_codegen::model::Profinet;
+use edsgen_model::model::Profinet;
 
 use super::dcp::Station;
 use super::wire::Mac;

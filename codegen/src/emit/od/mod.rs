@@ -10,7 +10,7 @@ use quote::quote;
 
 use super::plan::{Initial, Plan};
 use super::text::{self, Splices, ITEM_INDENT};
-use super::types::{access_variant, data_type_variant, Prim, RustType};
+use super::types::{access_variant, data_type_variant, NumberTokens, Prim, RustType};
 
 mod addresses;
 pub use addresses::addresses;

@@ -4,7 +4,7 @@
 //! reader counts them) and its parameter records; the send clocks and reduction ratios the
 //! interface allows, and the minimum device interval.
 
-use edsgen_codegen::model::{Profinet, Submodule};
+use edsgen_model::model::{Profinet, Submodule};
 
 /// One parameter record of a submodule.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -54,7 +54,7 @@ pub struct DeviceConfig {
     pub min_device_interval: u32,
 }
 
-fn io_len(items: &[edsgen_codegen::model::DataItem]) -> u16 {
+fn io_len(items: &[edsgen_model::model::DataItem]) -> u16 {
     let sum: u32 = items.iter().filter_map(|i| i.size()).sum();
     u16::try_from(sum).unwrap_or(u16::MAX)
 }

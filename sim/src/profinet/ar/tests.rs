@@ -10,7 +10,7 @@ fn config() -> DeviceConfig {
     static CONFIG: std::sync::OnceLock<DeviceConfig> = std::sync::OnceLock::new();
     CONFIG
         .get_or_init(|| {
-            let read = edsgen_codegen::read::read_bytes(
+            let read = edsgen_model::read::read_bytes(
                 std::path::Path::new("goodrive350-pn.xml"),
                 include_bytes!("../../../../eds/goodrive350-pn.xml"),
             );

@@ -23,7 +23,7 @@ fn station() -> Station {
 }
 
 fn card() -> DeviceConfig {
-    let read = edsgen_codegen::read::read_bytes(
+    let read = edsgen_model::read::read_bytes(
         std::path::Path::new("goodrive350-pn.xml"),
         include_bytes!("../../../../eds/goodrive350-pn.xml"),
     );

@@ -2,6 +2,12 @@
 //! entries are stored, the bytes a value takes, a string's capacity. The validator reports what
 //! does not fit; the emitter and the simulator lay values out with it.
 
+mod number;
+
+pub use number::{
+    node_relative_offset, normalise_integer, scalar_number, Number, Prim, RustType, ValueProblem,
+};
+
 use super::{AccessType, BasicType, Object, SubObject, Value, ValueSource};
 
 /// Writable strings and domains get at least this many bytes of capacity.
