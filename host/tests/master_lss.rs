@@ -7,12 +7,12 @@ mod node_support;
 
 use std::time::Duration as StdDuration;
 
-use edsgen_host::master::blocking::{Master, MasterError};
-use edsgen_runtime::master::lss::{LssMaster, LssMasterError, LssOutcome, LssService};
-use edsgen_runtime::node::Node;
 use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::master::blocking::{Master, MasterError};
 use edsgen_host::memory::MemoryBus;
 use edsgen_host::vbus::{BusDevice, VirtualBus};
+use edsgen_runtime::master::lss::{LssMaster, LssMasterError, LssOutcome, LssService};
+use edsgen_runtime::node::Node;
 use edsgen_runtime::wire::lss::{LssError, LssMode};
 use edsgen_runtime::Duration;
 use node_support::node_od::TestOd;

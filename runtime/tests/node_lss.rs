@@ -5,8 +5,8 @@
 
 mod node_support;
 
-use edsgen_runtime::node::{BitTiming, Event, NmtState, Node, NodeHooks, ResetKind};
 use edsgen_host::vbus::VirtualBus;
+use edsgen_runtime::node::{BitTiming, Event, NmtState, Node, NodeHooks, ResetKind};
 use edsgen_runtime::wire::lss::LssError;
 use node_support::node_od::TestOd;
 use node_support::{frame, ms, sent, show};

@@ -1,46 +1,32 @@
-//! The commands, one module each. `main.rs` parses the command line and calls one of them; each
-//! returns the process exit code (0 clean, 1 a problem found, 2 usage or I/O).
+//! The commands. `main.rs` parses the command line and calls one of them; each returns the
+//! process exit code (0 clean, 1 a problem found, 2 usage or I/O). One folder per bus, the
+//! bus-neutral commands here:
 //!
 //! - Description files: [`validate`], [`dump`], [`generate`], [`devices`] (of an ESI file), and
 //!   the rule catalogue ([`rules`]: rules, explain).
-//! - A bus: [`bus`] runs a socketcand hub, [`simulate`] serves devices built from description
-//!   files, [`decode`] explains a candump log; the master's [`sdo`], [`nmt`], [`scan`] and
-//!   [`check`] reach live devices.
-//! - [`demo`]: the bundled cards at work.
+//! - [`simulate`] serves devices built from description files (CANopen here; the other buses'
+//!   simulators in their folders); [`decode`] explains a candump log; [`demo`]: the bundled cards
+//!   at work.
+//! - The buses: [`canopen`] (sdo, nmt, lss, scan, check, bus), [`ethercat`] (ecat, sii),
+//!   [`enip`], [`dp`], [`profinet`] (pn).
 //!
 //! This module holds what they share: exit codes and messages, node-IDs and addresses from the
 //! command line, and how the master's commands reach the bus.
 
-pub mod bus;
-pub mod check;
-pub mod cip_value;
+pub mod canopen;
 pub mod decode;
 pub mod demo;
 pub mod devices;
 mod did_you_mean;
 pub mod dp;
 pub mod dump;
-#[cfg(feature = "ethercrab")]
-pub mod ecat;
 pub mod enip;
-pub mod enip_io;
-mod enip_link;
-pub mod enip_param;
-pub mod entry;
+pub mod ethercat;
 pub mod generate;
-pub mod lss;
-pub mod nmt;
-pub mod pn;
+pub mod profinet;
 pub mod rules;
-pub mod scan;
-pub mod sdo;
 pub mod signals;
-pub mod sii;
 pub mod simulate;
-pub mod simulate_dp;
-pub mod simulate_enip;
-pub mod simulate_ethercat;
-pub mod simulate_profinet;
 pub mod validate;
 pub mod value;
 
@@ -226,7 +212,7 @@ mod tests {
     #[test]
     fn edsgen_bus_listens_where_the_clients_go_by_default() {
         use clap::{Args, Command};
-        let bus = bus::BusArgs::augment_args(Command::new("bus"));
+        let bus = canopen::bus::BusArgs::augment_args(Command::new("bus"));
         let listen = bus
             .get_arguments()
             .find(|arg| arg.get_id() == "listen")

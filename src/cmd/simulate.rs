@@ -35,13 +35,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
-use edsgen_runtime::od::ObjectDictionary;
-use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
 use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
 use edsgen_host::socketcand::SocketcandClient;
 use edsgen_host::trace::epoch_micros;
 use edsgen_host::vbus::BusDevice;
 use edsgen_host::Transport;
+use edsgen_runtime::od::ObjectDictionary;
+use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
 use edsgen_runtime::{CanFrame, Node};
 
 use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
@@ -127,10 +127,10 @@ pub fn run(args: Args) -> ExitCode {
         return fail("--faults-on-stdin goes with --ethercat or --profinet");
     }
     if let Some(addr) = &args.enip {
-        return super::simulate_enip::run(addr, &args.files, &args.cards);
+        return super::enip::simulate::run(addr, &args.files, &args.cards);
     }
     if let Some(iface) = &args.profinet {
-        return super::simulate_profinet::run(
+        return super::profinet::simulate::run(
             iface,
             &args.files,
             &args.cards,
@@ -139,10 +139,10 @@ pub fn run(args: Args) -> ExitCode {
         );
     }
     if let Some(tty) = &args.profibus {
-        return super::simulate_dp::run(tty, &args.files, &args.cards);
+        return super::dp::simulate::run(tty, &args.files, &args.cards);
     }
     if let Some(iface) = &args.ethercat {
-        return super::simulate_ethercat::run(
+        return super::ethercat::simulate::run(
             iface,
             &args.files,
             &args.cards,
@@ -190,7 +190,7 @@ pub fn run(args: Args) -> ExitCode {
                     match own_serial(&mut od, &mut identities) {
                         Ok(identity) => eprintln!(
                             "unconfigured node (LSS address {}): {}",
-                            super::lss::show_identity(&identity),
+                            super::canopen::lss::show_identity(&identity),
                             p.path.display()
                         ),
                         Err(message) => return fail(format!("{}: {message}", p.path.display())),

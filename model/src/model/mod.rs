@@ -17,8 +17,8 @@ use std::collections::BTreeMap;
 
 mod cip;
 mod cip_path;
-pub mod cip_value;
 mod cip_size;
+pub mod cip_value;
 mod dp;
 mod ethercat;
 pub mod layout;

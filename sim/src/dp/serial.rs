@@ -13,9 +13,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
+use edsgen_host::driver::MonotonicClock;
 use edsgen_runtime::dp::fdl::{self, FdlError, MAX_TELEGRAM_LEN};
 use edsgen_runtime::dp::{DpApplication, DpSlave, Event};
-use edsgen_host::driver::MonotonicClock;
 
 /// Serves `slave` on the line `port` until `stop` is set or the line closes (an error then);
 /// `on_event` sees the slave's events as they come.

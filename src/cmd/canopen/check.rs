@@ -20,8 +20,8 @@ use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::sdo::{describe, show_mux};
-use super::value::{hex, Kind};
-use super::{fail, parse_node_id, BusArgs};
+use crate::cmd::value::{hex, Kind};
+use crate::cmd::{fail, parse_node_id, BusArgs};
 
 /// `edsgen check` options.
 #[derive(clap::Args, Debug)]
@@ -57,7 +57,7 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Ok(id) => id,
         Err(message) => return fail(message),
     };
-    let read = match super::load(&args.eds, None) {
+    let read = match crate::cmd::load(&args.eds, None) {
         Ok(read) => read,
         Err(e) => return fail(e),
     };

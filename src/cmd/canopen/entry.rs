@@ -109,7 +109,7 @@ fn by_name(text: &str, device: &Device) -> Result<Multiplexer, String> {
 /// The names closest to `wanted` by edit distance, at most a third of its length away.
 fn closest<'a>(wanted: &str, names: &'a [(String, Multiplexer)]) -> Vec<&'a (String, Multiplexer)> {
     let keyed = names.iter().map(|entry| (key(&entry.0), entry));
-    super::did_you_mean::closest(wanted, keyed, true)
+    crate::cmd::did_you_mean::closest(wanted, keyed, true)
 }
 
 /// `: did you mean ...?` with up to eight names and their indices, or nothing.
@@ -118,7 +118,7 @@ fn suggestions(names: &[&(String, Multiplexer)]) -> String {
         .iter()
         .map(|(name, mux)| format!("{:04X}:{:X}  {name}", mux.index, mux.sub))
         .collect();
-    super::did_you_mean::listing(&lines)
+    crate::cmd::did_you_mean::listing(&lines)
 }
 
 #[cfg(test)]

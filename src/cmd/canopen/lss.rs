@@ -8,11 +8,11 @@ use std::time::Duration;
 
 use clap::{Subcommand, ValueEnum};
 use edsgen_host::master::blocking::{Master, MasterError};
-use edsgen_runtime::master::lss::{LssOutcome, LssService};
 use edsgen_host::Transport;
+use edsgen_runtime::master::lss::{LssOutcome, LssService};
 use edsgen_runtime::wire::lss::{LssAddress, LssMode};
 
-use super::{fail, parse_node_id, BusArgs};
+use crate::cmd::{fail, parse_node_id, BusArgs};
 
 /// The LSS commands.
 #[derive(Debug, Subcommand)]

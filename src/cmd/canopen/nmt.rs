@@ -13,7 +13,7 @@ use edsgen_runtime::wire::heartbeat::{ErrorControlRepr, NmtState};
 use edsgen_runtime::wire::nmt::NmtCommand;
 
 use super::scan::state_name;
-use super::{fail, parse_node_id, BusArgs};
+use crate::cmd::{fail, parse_node_id, BusArgs};
 
 /// The NMT commands by their bench names.
 #[derive(Clone, Copy, Debug, ValueEnum)]

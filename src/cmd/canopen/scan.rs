@@ -13,7 +13,7 @@ use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::master::identity::IDENTITY_ENTRIES;
 use edsgen_runtime::wire::heartbeat::NmtState;
 
-use super::{fail, BusArgs};
+use crate::cmd::{fail, BusArgs};
 
 /// Runs `edsgen scan`.
 pub fn run(bus: &BusArgs) -> ExitCode {

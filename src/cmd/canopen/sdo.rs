@@ -11,8 +11,9 @@ use edsgen_host::master::blocking::MasterError;
 use edsgen_runtime::master::Mode;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
-use super::value::{hex, value_bytes, Kind};
-use super::{entry, fail, parse_node_id, BusArgs};
+use super::entry;
+use crate::cmd::value::{hex, value_bytes, Kind};
+use crate::cmd::{fail, parse_node_id, BusArgs};
 use transfer::Stream;
 
 mod progress;
@@ -149,7 +150,7 @@ impl Resolved {
 
 /// Reads a description, failing on an unreadable file.
 pub fn load(path: &Path) -> Result<Device, String> {
-    super::load(path, None).map(|loaded| loaded.device)
+    crate::cmd::load(path, None).map(|loaded| loaded.device)
 }
 
 /// The name of (index, sub) in `device` ("Object / Sub" for records and arrays) and its basic

@@ -24,6 +24,7 @@ use super::fail;
 
 mod io;
 pub mod phy;
+pub mod simulate;
 
 /// The arguments of `edsgen dp`.
 #[derive(Debug, clap::Subcommand)]

@@ -15,7 +15,7 @@ use edsgen_sim::dp::card::{self, DEFAULT_ADDRESS};
 use edsgen_sim::dp::serial::serve;
 use edsgen_sim::dp::{DpState, Event};
 
-use super::fail;
+use crate::cmd::fail;
 
 /// The name `--card` takes for the DP card.
 pub const CARD: &str = "goodrive350-dp";

@@ -26,8 +26,8 @@ use edsgen_runtime::enip::wire::connection_manager::{
 use edsgen_runtime::enip::wire::cpf::{item, Item, Sockaddr};
 
 use super::cip_value::{self, Member, Typed};
-use super::enip_link::{Link, LinkError};
-use super::signals;
+use super::link::{Link, LinkError};
+use crate::cmd::signals;
 
 /// The class-1 UDP port.
 const IO_PORT: u16 = 2222;
@@ -86,7 +86,7 @@ struct Plan<'a> {
 /// Runs `edsgen enip io`.
 pub fn run(args: Args) -> ExitCode {
     let shown = args.eds.display().to_string();
-    let cip = match super::enip::read_cip(&args.eds) {
+    let cip = match super::read_cip(&args.eds) {
         Ok(cip) => cip,
         Err(m) => return usage(m),
     };
@@ -99,7 +99,7 @@ pub fn run(args: Args) -> ExitCode {
         Ok(image) => image,
         Err(m) => return usage(m),
     };
-    let target = match super::enip::address(&args.addr) {
+    let target = match super::address(&args.addr) {
         Ok(a) => a,
         Err(m) => return usage(m),
     };
@@ -344,7 +344,7 @@ fn suggestions(wanted: &str, members: &[Member<'_>]) -> String {
     let mut names: Vec<&str> = members.iter().map(|m| m.name.as_str()).collect();
     names.sort();
     let keyed = names.into_iter().map(|n| (cip_value::fold(n), n));
-    let names: Vec<String> = super::did_you_mean::closest(wanted, keyed, false)
+    let names: Vec<String> = crate::cmd::did_you_mean::closest(wanted, keyed, false)
         .into_iter()
         .take(5)
         .map(|n| format!("`{n}`"))
@@ -525,7 +525,7 @@ fn run_io(
         } else {
             format!("{printed}: {}", values.join(", "))
         };
-        super::print_stdout(&format!("{line}\n"));
+        crate::cmd::print_stdout(&format!("{line}\n"));
     }
     Ok(())
 }

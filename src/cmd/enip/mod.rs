@@ -5,9 +5,10 @@
 //! @CLASS/INST/ATTR HEX` are Get/Set_Attribute_Single by explicit messaging (RegisterSession,
 //! SendRRData), `get ADDR @CLASS/INST` Get_Attributes_All, `service` any service;
 //! `get|set ADDR PARAM-NAME [VALUE] --eds FILE` do the same for a parameter of the
-//! EDS, typed, scaled and range-checked (`enip_param`); `io` is a class-1 connection from the
-//! EDS (`enip_io`). Exit 0 ok, 1 a refusal (the CIP status is printed) or no identity, 2 bad
-//! usage or I/O. The bytes are the runtime's (`edsgen_runtime::enip`), carried by `enip_link`.
+//! EDS, typed, scaled and range-checked ([`param`]); `io` is a class-1 connection from the EDS
+//! ([`io`]). Exit 0 ok, 1 a refusal (the CIP status is printed) or no identity, 2 bad usage or
+//! I/O. The bytes are the runtime's (`edsgen_runtime::enip`), carried by [`link`]; values are
+//! typed by [`cip_value`]. `edsgen simulate --enip` serves an adapter ([`simulate`]).
 
 use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
 use std::path::{Path, PathBuf};
@@ -22,9 +23,15 @@ use edsgen_runtime::enip::wire::epath::LogicalPath;
 use edsgen_runtime::enip::wire::message::{general, RequestRepr};
 use edsgen_runtime::enip::wire::Emit;
 
-use super::cip_value::{get_bits, put_bits};
-use super::enip_link::{Link, LinkError, CONTEXT};
-use super::enip_param::{self, Access};
+use self::cip_value::{get_bits, put_bits};
+use self::link::{Link, LinkError, CONTEXT};
+use self::param::Access;
+
+pub mod cip_value;
+pub mod io;
+mod link;
+pub mod param;
+pub mod simulate;
 
 /// `edsgen enip`.
 #[derive(Debug, clap::Subcommand)]
@@ -85,7 +92,7 @@ pub enum Args {
         data: Option<String>,
     },
     /// A class-1 connection from the EDS: set outputs by name, print the inputs each RPI.
-    Io(super::enip_io::Args),
+    Io(io::Args),
 }
 
 fn usage(message: String) -> ExitCode {
@@ -169,7 +176,7 @@ fn hex(bytes: &[u8]) -> String {
 pub fn run(args: Args) -> ExitCode {
     match args {
         Args::List { addr, from, eds } => list(addr.as_deref(), from, eds),
-        Args::Io(args) => super::enip_io::run(args),
+        Args::Io(args) => io::run(args),
         Args::Get { addr, path, eds } if !path.starts_with('@') => {
             parameter(&addr, &path, None, eds)
         }
@@ -441,7 +448,7 @@ fn parameter(addr: &str, name: &str, value: Option<&str>, eds: Option<PathBuf>) 
         Ok(cip) => cip,
         Err(message) => return usage(message),
     };
-    let param = match enip_param::resolve(&cip, name) {
+    let param = match param::resolve(&cip, name) {
         Ok(p) => p,
         Err(message) => return usage(message),
     };

@@ -89,7 +89,7 @@ fn by_name<'a>(cip: &'a Cip, text: &str) -> Result<&'a CipParam, String> {
             if near.is_empty() {
                 // In parameter order: the nearest by number first.
                 let keyed = params.iter().map(|p| (key(&p.name), *p));
-                near = super::did_you_mean::closest(&wanted, keyed, true);
+                near = crate::cmd::did_you_mean::closest(&wanted, keyed, true);
             }
             Err(format!(
                 "the EDS has no parameter named `{text}`{}",
@@ -110,7 +110,7 @@ fn suggestions(params: &[&CipParam]) -> String {
         .iter()
         .map(|p| format!("Param{}  {}", p.number, p.name))
         .collect();
-    super::did_you_mean::listing(&lines)
+    crate::cmd::did_you_mean::listing(&lines)
 }
 
 /// Where `param` lives: its link path, else the first assembly that has it as a member, else its

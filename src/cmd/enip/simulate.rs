@@ -48,7 +48,7 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
             return fail(format!("--enip serves the card `{CARD}`, not `{other}`"));
         }
         ([file], []) => {
-            let cip = match super::enip::read_cip(Path::new(file)) {
+            let cip = match super::read_cip(Path::new(file)) {
                 Ok(cip) => cip,
                 Err(message) => return fail(message),
             };
@@ -56,7 +56,7 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
         }
         _ => return fail("--enip serves one ODVA EDS file or --card goodrive350-enip".to_owned()),
     };
-    if let Err(message) = super::signals::install() {
+    if let Err(message) = crate::cmd::signals::install() {
         return fail(message);
     }
     let log = |line: String| eprintln!("{line}");
@@ -65,7 +65,7 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
         Err(err) => {
             return fail(format!(
                 "cannot serve on {address}: {err}{}",
-                super::enip::socket_hint(&err)
+                super::socket_hint(&err)
             ))
         }
     };
@@ -73,7 +73,7 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
         "serving {what} on {address} (EtherNet/IP; class-1 I/O on UDP {})",
         driver::IO_PORT
     );
-    let served = driver::run(sockets, adapter, card, super::signals::flag(), log);
+    let served = driver::run(sockets, adapter, card, crate::cmd::signals::flag(), log);
     eprintln!(
         "stopped: {} clients served, {} connections opened",
         served.clients, served.connections

@@ -8,12 +8,12 @@ use std::process::ExitCode;
 
 use edsgen_codegen::{render, sii};
 
-use super::fail;
+use crate::cmd::fail;
 
 /// Runs `edsgen sii`: 0 when written, 1 when the file could not be read, 2 for a file that is
 /// not an ESI device or an image that cannot be written.
 pub fn run(path: &Path, device: Option<&str>, output: &Path) -> ExitCode {
-    let read = match super::load(path, device) {
+    let read = match crate::cmd::load(path, device) {
         Ok(read) => read,
         Err(err) => return fail(err),
     };

@@ -21,7 +21,7 @@ use edsgen_sim::ethercat::raw_socket::RawSocket;
 use edsgen_sim::ethercat::serve::serve;
 use edsgen_sim::ethercat::{Behaviour, EsiDevice};
 
-use super::fail;
+use crate::cmd::fail;
 
 /// Runs the EtherCAT simulator: exactly one of one ESI `files` entry or `--card ec-tx508`; with
 /// `faults_on_stdin` (the card only), its drive's faults switched by standard input.
@@ -38,7 +38,7 @@ pub fn run(
     let (model, behaviour): (Device, Option<Box<dyn Behaviour>>) = match (files, cards) {
         ([file], []) => {
             let path = Path::new(file);
-            let read = match super::load(path, device) {
+            let read = match crate::cmd::load(path, device) {
                 Ok(read) => read,
                 Err(err) => return fail(err),
             };

@@ -17,6 +17,8 @@ use edsgen_sim::profinet::driver::RawSocket;
 
 use super::fail;
 
+pub mod simulate;
+
 /// `edsgen pn` verbs.
 #[derive(Subcommand, Debug)]
 pub enum PnCommand {

@@ -22,10 +22,10 @@ use edsgen_sim::profinet::dcp::DcpEvent;
 use edsgen_sim::profinet::device::{Device, DeviceEvent};
 use edsgen_sim::profinet::{driver, station};
 
-use super::fail;
+use crate::cmd::fail;
 
 /// The bundled PROFINET card's GSDML, in the binary so that `--card` works anywhere.
-const GOODRIVE350_PN: &[u8] = include_bytes!("../../eds/goodrive350-pn.xml");
+const GOODRIVE350_PN: &[u8] = include_bytes!("../../../eds/goodrive350-pn.xml");
 
 /// Runs the device on `iface`; exit 2 for bad usage, a file that is not a readable GSDML, or an
 /// interface that cannot be opened.

@@ -4,8 +4,8 @@
 
 use std::time::Duration as StdDuration;
 
-use edsgen_runtime::master::lss::{LssMaster, LssOutcome, LssService};
 use crate::Transport;
+use edsgen_runtime::master::lss::{LssMaster, LssOutcome, LssService};
 use edsgen_runtime::wire::lss::{LssAddress, LssMode};
 
 use super::{to_duration, Master, MasterError, MAX_WAIT};

@@ -25,11 +25,11 @@ use edsgen_codegen::rules::{
 use edsgen_runtime::wire::sdo::{abort_meaning, Multiplexer};
 use ethercrab::{MainDevice, SubDevice, SubDeviceRef};
 
-use super::super::check::{default_differs, length_differs, report, Format};
-use super::super::fail;
-use super::super::sdo::show_mux;
 use super::sdo::upload;
 use super::{discover, runtime, SubDeviceArgs};
+use crate::cmd::canopen::check::{default_differs, length_differs, report, Format};
+use crate::cmd::canopen::sdo::show_mux;
+use crate::cmd::fail;
 
 /// `edsgen ecat check` options.
 #[derive(clap::Args, Debug)]

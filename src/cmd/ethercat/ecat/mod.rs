@@ -15,7 +15,7 @@ use clap::{Args as ClapArgs, Subcommand};
 use edsgen_codegen::model::Device;
 use edsgen_demo::ecat::{discover, runtime};
 
-use super::{fail, print_stdout};
+use crate::cmd::{fail, print_stdout};
 
 mod check;
 mod sdo;

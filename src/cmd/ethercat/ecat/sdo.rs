@@ -13,10 +13,11 @@ use edsgen_runtime::wire::sdo::Multiplexer;
 use ethercrab::error::{Error, MailboxError};
 use ethercrab::{EtherCrabWireRead, EtherCrabWireSized, SubDevice, SubDeviceRef};
 
-use super::super::sdo::{describe, show_mux};
-use super::super::value::{hex, Kind};
-use super::super::{entry, fail, print_stdout};
 use super::{discover, runtime};
+use crate::cmd::canopen::entry;
+use crate::cmd::canopen::sdo::{describe, show_mux};
+use crate::cmd::value::{hex, Kind};
+use crate::cmd::{fail, print_stdout};
 
 /// `edsgen ecat sdo` options.
 #[derive(clap::Args, Debug)]
