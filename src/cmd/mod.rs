@@ -12,6 +12,35 @@
 //!
 //! This module holds what they share: exit codes and messages, node-IDs and addresses from the
 //! command line, and how the master's commands reach the bus.
+//!
+//! One convention for the subcommands' arguments (a new command follows it):
+//!
+//! - The thing worked on comes first, positional: a description `FILE` for the file commands
+//!   (`validate`, `dump`, `generate`, `devices`, `sii`, `simulate FILE[@ID]`); for the bench
+//!   commands, the device: `NODE` (CANopen node-ID, 1..=127 in decimal or `0x` hex, `all` where
+//!   every node makes sense), `ADDR` (`IP` or `IP:PORT`), `IFACE` (a network interface), `TTY`
+//!   (a serial line), `MAC`. Then what on the device, positional: the entry (`INDEX[:SUB]` in
+//!   hex or its name) or the CIP path (`@CLASS/INST/ATTR` or a parameter's name); then the
+//!   `VALUE`, last (a number in decimal or `0x` hex, negative without `--`; several as
+//!   `NAME=VALUE...`).
+//! - A description that only names and types things for a bench command is a flag named after
+//!   its format: `--eds FILE` (CANopen, EtherNet/IP), `--esi FILE` (EtherCAT), `--gsd FILE`
+//!   (PROFIBUS-DP), `--gsdml FILE` (PROFINET); one device of a file with several:
+//!   `--device NAME|#xCODE`. A type where no description gives it: `--type TYPE`.
+//! - How to reach the bus, when the device's address is not enough, is a flag: `--bus
+//!   HOST:PORT`, `--socketcan IFACE`, `--channel` ([`BusArgs`]), `--from ADDR`, `--master N`
+//!   (this master's station address). A node given as an option is `--node-id N`; a station
+//!   address `--address N`; an EtherCAT SubDevice `--position N`. `simulate` picks the bus by
+//!   its flag: `--bus`/`--socketcan`, `--ethercat IFACE`, `--enip ADDR`, `--profinet IFACE`,
+//!   `--profibus TTY`.
+//! - Times are milliseconds, `MS`: `--timeout MS` is the whole wait for an answer, other waits
+//!   say what they wait for (`--rpi MS`, `--activate MS`); how long a command runs is
+//!   `--seconds S` or `--cycles N` (until Ctrl-C when absent).
+//! - Output: `--format human|json`, a file written `-o FILE`/`--output FILE` (`sdo read --out
+//!   PATH` and `sdo write --file PATH` stream an entry's value, `-` for standard output/input).
+//!
+//! Known outliers, kept for compatibility: `ecat` takes `--iface IFACE` where `pn` takes a
+//! positional `IFACE`; `ecat sdo` types a value by `--size 1|2|4|8` where `sdo` has `--type`.
 
 pub mod canopen;
 pub mod decode;

@@ -54,7 +54,7 @@ pub enum LssCommand {
         #[arg(long)]
         store: bool,
         /// Activate it on every node in configuration with this switch delay (ms).
-        #[arg(long, value_name = "DELAY_MS")]
+        #[arg(long, value_name = "MS")]
         activate: Option<u16>,
     },
     /// Switch every node to LSS waiting or configuration state.

@@ -50,10 +50,10 @@ pub struct Args {
     #[arg(long)]
     pub connection: Option<String>,
     /// The RPI in milliseconds (default: the EDS's).
-    #[arg(long)]
+    #[arg(long, value_name = "MS")]
     pub rpi: Option<f64>,
     /// Stop after this many input lines (default: until Ctrl-C).
-    #[arg(long)]
+    #[arg(long, value_name = "N")]
     pub cycles: Option<u64>,
 }
 

@@ -30,7 +30,7 @@ pub enum PnCommand {
         #[arg(long = "gsdml", value_name = "FILE")]
         gsdml: Vec<PathBuf>,
         /// How long to collect answers, in ms.
-        #[arg(long, default_value_t = 1000)]
+        #[arg(long, value_name = "MS", default_value_t = 1000)]
         timeout: u64,
     },
     /// Set a device's name of station (DCP Set, permanent).

@@ -46,7 +46,7 @@ enum EcatCommand {
         #[command(flatten)]
         sub_device: SubDeviceArgs,
         /// Stop after this many cycles (1 ms each).
-        #[arg(long)]
+        #[arg(long, value_name = "N")]
         cycles: Option<u64>,
     },
     /// Judge a SubDevice against its ESI (identity, SyncManagers, PDO assignment, every
@@ -67,7 +67,7 @@ pub struct SubDeviceArgs {
     #[arg(long, value_name = "NAME|#xCODE")]
     device: Option<String>,
     /// The SubDevice's position on the segment (0 first).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0)]
     position: usize,
 }
 

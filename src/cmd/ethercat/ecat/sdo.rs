@@ -29,7 +29,7 @@ pub struct SdoArgs {
     #[arg(long, value_name = "IFACE")]
     iface: String,
     /// The SubDevice's position on the segment (0 first).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0)]
     position: usize,
     /// The SubDevice's ESI file: names and types the entry.
     #[arg(long, value_name = "FILE")]
