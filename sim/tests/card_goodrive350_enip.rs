@@ -4,9 +4,9 @@
 //! `edsgen_runtime::pkw_pzd`; and the drive behind the card answers the generated images.
 
 mod card_support;
-mod process_support;
 
 use card_support::pkw_pzd_drive::drive_answers;
+use card_support::root;
 use edsgen_codegen::model::{CipNumber, FieldRef, TriggerTransport};
 use edsgen_codegen::{read, validate};
 use edsgen_runtime::pkw_pzd::{
@@ -14,7 +14,6 @@ use edsgen_runtime::pkw_pzd::{
 };
 use edsgen_sim::cards::goodrive350_enip as card;
 use edsgen_sim::drives::pkw_pzd::Bus;
-use process_support::root;
 
 fn model() -> edsgen_codegen::model::Cip {
     let read = read::read_file(&root().join("eds/goodrive350-enip.eds")).expect("the card's EDS");

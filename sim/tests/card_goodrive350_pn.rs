@@ -6,9 +6,9 @@
 //! the drive behind the card answering the generated images, and a snapshot of the whole module.
 
 mod card_support;
-mod process_support;
 
 use card_support::pkw_pzd_drive::drive_answers;
+use card_support::root;
 use edsgen_runtime::pkw_pzd::control::{cw_bit, sw_bit};
 use edsgen_runtime::pkw_pzd::{
     ByteOrder, Command, ControlWord, InputImage, OutputImage, PkwRequest, PkwResponse,
@@ -16,7 +16,6 @@ use edsgen_runtime::pkw_pzd::{
 };
 use edsgen_sim::cards::goodrive350_pn as card;
 use edsgen_sim::drives::pkw_pzd::Bus;
-use process_support::root;
 
 use card::modules::pkw_pzd_16_words::subslot_1::{record_256, record_257, Input, Output};
 

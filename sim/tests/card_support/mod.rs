@@ -1,4 +1,4 @@
-//! Shared by the card tests (`tests/card_*.rs`), which check each bundled EDS against its manual:
+//! Shared by the card tests (`sim/tests/card_*.rs`), which check each bundled EDS against its manual:
 //! reading a card, the table row that states what a manual says about one entry and its check,
 //! default values, PDO mappings and frames, the diagnostics above info, and a portable dump.
 // Each card test is a crate of its own and uses only some of these helpers.
@@ -7,15 +7,20 @@
 pub mod pkw_pzd_drive;
 
 use std::fmt::Debug;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use edsgen_codegen::diag::{Diagnostic, Severity};
 use edsgen_codegen::model::{AccessType, BasicType, Device, SubObject, Value};
 use edsgen_codegen::read::{read_file, Read};
 
-/// Reads a bundled card; `path` is relative to the package root (`eds/cp301.eds`).
+/// The workspace root, where the bundled cards are (`eds/`); the tests run in `sim/`.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// Reads a bundled card; `path` is relative to the workspace root (`eds/cp301.eds`).
 pub fn read(path: &str) -> Read {
-    let full = Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+    let full = root().join(path);
     read_file(&full).unwrap_or_else(|e| panic!("{path} is readable: {e:?}"))
 }
 
