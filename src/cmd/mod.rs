@@ -4,8 +4,8 @@
 //!
 //! - Description files: [`validate`], [`dump`], [`generate`], [`devices`] (of an ESI file), and
 //!   the rule catalogue ([`rules`]: rules, explain).
-//! - [`simulate`] serves devices built from description files (CANopen here; the other buses'
-//!   simulators in their folders); [`decode`] explains a candump log; [`demo`]: the bundled cards
+//! - [`simulate`] serves devices built from description files on the bus its flag names (each
+//!   bus's simulator in its folder); [`decode`] explains a candump log; [`demo`]: the bundled cards
 //!   at work.
 //! - The buses: [`canopen`] (sdo, nmt, lss, scan, check, bus), [`ethercat`] (ecat, sii),
 //!   [`enip`], [`dp`], [`profinet`] (pn).

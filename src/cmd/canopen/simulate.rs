@@ -44,7 +44,9 @@ use edsgen_runtime::od::ObjectDictionary;
 use edsgen_runtime::wire::lss::UNCONFIGURED_NODE_ID;
 use edsgen_runtime::{CanFrame, Node};
 
-use super::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
+use super::lss;
+use crate::cmd::simulate::Args;
+use crate::cmd::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
 use edsgen_codegen::model::Device;
 use edsgen_decode::Decoder;
 use edsgen_sim::canopen::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
@@ -59,59 +61,6 @@ pub type SimulatedNode = Node<RuntimeDictionary, DictionaryHooks, PDOS, PDOS>;
 /// How long connecting to the bus (each step of the socketcand handshake) may take.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
 
-/// The arguments of `edsgen simulate`.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Description files (EDS, DCF, XDD, XDC), each optionally followed by `@ID`, its node-ID.
-    #[arg(value_name = "FILE[@ID]", required_unless_present = "cards")]
-    files: Vec<String>,
-    /// A bundled card with its drive's behaviour (cp301, ms300, goodrive350, rd11, hd1e),
-    /// optionally followed by `@ID`; repeatable.
-    #[arg(long = "card", value_name = "NAME[@ID]")]
-    cards: Vec<String>,
-    /// Node-IDs (1 to 127), one per FILE in the same order, for files without `@ID`.
-    #[arg(long = "node-id", value_name = "N", value_parser = parse_node_id)]
-    node_id: Vec<u8>,
-    /// The socketcand server (`edsgen bus`) to join.
-    #[arg(long, value_name = "HOST:PORT", conflicts_with = "socketcan")]
-    bus: Option<String>,
-    /// A Linux SocketCAN interface to join instead (edsgen built with the `socketcan` feature).
-    #[arg(long, value_name = "IFACE")]
-    socketcan: Option<String>,
-    /// Print every frame on the bus, decoded.
-    #[arg(long)]
-    trace: bool,
-    /// Serve an ODVA EDS (or `--card goodrive350-enip`) as an EtherNet/IP adapter on this
-    /// address (`IP` or `IP:PORT`) instead of joining a CAN bus.
-    #[arg(long, value_name = "ADDR", conflicts_with_all = ["bus", "socketcan", "trace"])]
-    enip: Option<String>,
-    /// Simulate a PROFINET IO device on this network interface (a GSDML FILE, or
-    /// `--card goodrive350-pn`); see `simulate_profinet`.
-    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
-    profinet: Option<String>,
-    /// With --profinet: the device's IP address and prefix (`10.0.0.2/24`), as DCP reports it;
-    /// the interface must have the address for the RPC endpoint (UDP 34964) to be reached.
-    #[arg(long, value_name = "ADDR/PREFIX", requires = "profinet")]
-    ip: Option<String>,
-    /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
-    /// or one FILE.gsd[@ADDR]; see `simulate_dp`).
-    #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
-    profibus: Option<String>,
-    /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network
-    /// interface instead (root or CAP_NET_RAW).
-    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan", "trace", "node_id"])]
-    ethercat: Option<String>,
-    /// With --ethercat: the device of an ESI file with several (type name or `#x` product code).
-    #[arg(long, value_name = "NAME|#xCODE", requires = "ethercat")]
-    device: Option<String>,
-    /// With --ethercat --card ec-tx508 or --profinet --card goodrive350-pn: read `fault` and
-    /// `clear` lines on standard input, which raise a drive fault and remove its cause (to try a
-    /// MainDevice's fault handling, as `edsgen demo --ethercat` does, or a PROFINET
-    /// controller's diagnosis alarms).
-    #[arg(long)]
-    faults_on_stdin: bool,
-}
-
 /// One device to simulate: where it comes from, its node-ID and its model.
 struct Planned {
     path: PathBuf,
@@ -121,35 +70,8 @@ struct Planned {
     card: Option<&'static Card>,
 }
 
-/// Runs `edsgen simulate`.
+/// Runs `edsgen simulate` on a CAN bus.
 pub fn run(args: Args) -> ExitCode {
-    if args.faults_on_stdin && args.ethercat.is_none() && args.profinet.is_none() {
-        return fail("--faults-on-stdin goes with --ethercat or --profinet");
-    }
-    if let Some(addr) = &args.enip {
-        return super::enip::simulate::run(addr, &args.files, &args.cards);
-    }
-    if let Some(iface) = &args.profinet {
-        return super::profinet::simulate::run(
-            iface,
-            &args.files,
-            &args.cards,
-            args.ip.as_deref(),
-            args.faults_on_stdin,
-        );
-    }
-    if let Some(tty) = &args.profibus {
-        return super::dp::simulate::run(tty, &args.files, &args.cards);
-    }
-    if let Some(iface) = &args.ethercat {
-        return super::ethercat::simulate::run(
-            iface,
-            &args.files,
-            &args.cards,
-            args.device.as_deref(),
-            args.faults_on_stdin,
-        );
-    }
     let planned = match plan(&args) {
         Ok(planned) => planned,
         Err(message) => return fail(message),
@@ -190,7 +112,7 @@ pub fn run(args: Args) -> ExitCode {
                     match own_serial(&mut od, &mut identities) {
                         Ok(identity) => eprintln!(
                             "unconfigured node (LSS address {}): {}",
-                            super::canopen::lss::show_identity(&identity),
+                            lss::show_identity(&identity),
                             p.path.display()
                         ),
                         Err(message) => return fail(format!("{}: {message}", p.path.display())),

@@ -1,0 +1,93 @@
+//! `edsgen simulate`: simulated devices built from description files or bundled cards, on the
+//! bus its flag names: a CAN bus by default ([`super::canopen::simulate`]), `--ethercat`
+//! ([`super::ethercat::simulate`]), `--enip` ([`super::enip::simulate`]), `--profinet`
+//! ([`super::profinet::simulate`]) or `--profibus` ([`super::dp::simulate`]).
+
+use std::process::ExitCode;
+
+use super::{fail, parse_node_id};
+
+/// The arguments of `edsgen simulate`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Description files (EDS, DCF, XDD, XDC), each optionally followed by `@ID`, its node-ID.
+    #[arg(value_name = "FILE[@ID]", required_unless_present = "cards")]
+    pub files: Vec<String>,
+    /// A bundled card with its drive's behaviour (cp301, ms300, goodrive350, rd11, hd1e),
+    /// optionally followed by `@ID`; repeatable.
+    #[arg(long = "card", value_name = "NAME[@ID]")]
+    pub cards: Vec<String>,
+    /// Node-IDs (1 to 127), one per FILE in the same order, for files without `@ID`.
+    #[arg(long = "node-id", value_name = "N", value_parser = parse_node_id)]
+    pub node_id: Vec<u8>,
+    /// The socketcand server (`edsgen bus`) to join.
+    #[arg(long, value_name = "HOST:PORT", conflicts_with = "socketcan")]
+    pub bus: Option<String>,
+    /// A Linux SocketCAN interface to join instead (edsgen built with the `socketcan` feature).
+    #[arg(long, value_name = "IFACE")]
+    pub socketcan: Option<String>,
+    /// Print every frame on the bus, decoded.
+    #[arg(long)]
+    pub trace: bool,
+    /// Serve an ODVA EDS (or `--card goodrive350-enip`) as an EtherNet/IP adapter on this
+    /// address (`IP` or `IP:PORT`) instead of joining a CAN bus.
+    #[arg(long, value_name = "ADDR", conflicts_with_all = ["bus", "socketcan", "trace"])]
+    pub enip: Option<String>,
+    /// Simulate a PROFINET IO device on this network interface (a GSDML FILE, or
+    /// `--card goodrive350-pn`); see `simulate_profinet`.
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
+    pub profinet: Option<String>,
+    /// With --profinet: the device's IP address and prefix (`10.0.0.2/24`), as DCP reports it;
+    /// the interface must have the address for the RPC endpoint (UDP 34964) to be reached.
+    #[arg(long, value_name = "ADDR/PREFIX", requires = "profinet")]
+    pub ip: Option<String>,
+    /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
+    /// or one FILE.gsd[@ADDR]; see `simulate_dp`).
+    #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
+    pub profibus: Option<String>,
+    /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network
+    /// interface instead (root or CAP_NET_RAW).
+    #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan", "trace", "node_id"])]
+    pub ethercat: Option<String>,
+    /// With --ethercat: the device of an ESI file with several (type name or `#x` product code).
+    #[arg(long, value_name = "NAME|#xCODE", requires = "ethercat")]
+    pub device: Option<String>,
+    /// With --ethercat --card ec-tx508 or --profinet --card goodrive350-pn: read `fault` and
+    /// `clear` lines on standard input, which raise a drive fault and remove its cause (to try a
+    /// MainDevice's fault handling, as `edsgen demo --ethercat` does, or a PROFINET
+    /// controller's diagnosis alarms).
+    #[arg(long)]
+    pub faults_on_stdin: bool,
+}
+
+/// Runs `edsgen simulate`.
+pub fn run(args: Args) -> ExitCode {
+    if args.faults_on_stdin && args.ethercat.is_none() && args.profinet.is_none() {
+        return fail("--faults-on-stdin goes with --ethercat or --profinet");
+    }
+    if let Some(addr) = &args.enip {
+        return super::enip::simulate::run(addr, &args.files, &args.cards);
+    }
+    if let Some(iface) = &args.profinet {
+        return super::profinet::simulate::run(
+            iface,
+            &args.files,
+            &args.cards,
+            args.ip.as_deref(),
+            args.faults_on_stdin,
+        );
+    }
+    if let Some(tty) = &args.profibus {
+        return super::dp::simulate::run(tty, &args.files, &args.cards);
+    }
+    if let Some(iface) = &args.ethercat {
+        return super::ethercat::simulate::run(
+            iface,
+            &args.files,
+            &args.cards,
+            args.device.as_deref(),
+            args.faults_on_stdin,
+        );
+    }
+    super::canopen::simulate::run(args)
+}
