@@ -111,7 +111,7 @@ enum Command {
     /// Read or write an entry of a node on a live bus (SDO).
     Sdo {
         #[command(subcommand)]
-        command: cmd::sdo::SdoCommand,
+        command: cmd::canopen::sdo::SdoCommand,
     },
     /// Send an NMT command to a node or to all nodes, and report the state each then reports
     /// (its next heartbeat or boot-up within --timeout, else a guarding answer); exit 1 when
@@ -121,7 +121,7 @@ enum Command {
         bus: cmd::BusArgs,
         /// The command.
         #[arg(value_enum)]
-        verb: cmd::nmt::NmtVerb,
+        verb: cmd::canopen::nmt::NmtVerb,
         /// The node-ID, or `all`.
         node: String,
     },
@@ -129,7 +129,7 @@ enum Command {
     /// bit rate by identity; exit 1 when no node answers or one refuses.
     Lss {
         #[command(subcommand)]
-        command: cmd::lss::LssCommand,
+        command: cmd::canopen::lss::LssCommand,
     },
     /// Find the nodes on a bus: node-ID, NMT state and identity.
     Scan {
@@ -137,9 +137,9 @@ enum Command {
         bus: cmd::BusArgs,
     },
     /// Compare a live device with its description (every readable entry, and its identity).
-    Check(cmd::check::CheckArgs),
+    Check(cmd::canopen::check::CheckArgs),
     /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
-    Bus(cmd::bus::BusArgs),
+    Bus(cmd::canopen::bus::BusArgs),
     /// Simulate devices from description files on a CAN bus.
     Simulate(cmd::simulate::Args),
     /// An EtherNet/IP scanner at the bench: list identities, get and set attributes.
@@ -148,14 +148,14 @@ enum Command {
     /// PROFINET at the bench (DCP): list the devices on an interface, set a name of station.
     Pn {
         #[command(subcommand)]
-        command: cmd::pn::PnCommand,
+        command: cmd::profinet::PnCommand,
     },
     /// A PROFIBUS-DP master at the bench (profirust): scan a serial line.
     #[command(subcommand)]
     Dp(cmd::dp::Command),
     /// EtherCAT bench side over ethercrab: `ecat scan --iface IFACE [--esi FILE...]`.
     #[cfg(feature = "ethercrab")]
-    Ecat(cmd::ecat::Args),
+    Ecat(cmd::ethercat::ecat::Args),
     /// Decode a candump -L log (or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
@@ -258,20 +258,20 @@ fn main() -> ExitCode {
             file,
             device,
             output,
-        } => cmd::sii::run(&file, device.as_deref(), &output),
+        } => cmd::ethercat::sii::run(&file, device.as_deref(), &output),
         Command::Rules { format } => cmd::rules::list(matches!(format, OutputFormat::Json)),
         Command::Explain { code } => cmd::rules::explain(&code),
-        Command::Sdo { command } => cmd::sdo::run(&command),
-        Command::Nmt { bus, verb, node } => cmd::nmt::run(&bus, verb, &node),
-        Command::Lss { command } => cmd::lss::run(&command),
-        Command::Scan { bus } => cmd::scan::run(&bus),
-        Command::Check(args) => cmd::check::run(&args),
-        Command::Bus(args) => cmd::bus::run(&args),
+        Command::Sdo { command } => cmd::canopen::sdo::run(&command),
+        Command::Nmt { bus, verb, node } => cmd::canopen::nmt::run(&bus, verb, &node),
+        Command::Lss { command } => cmd::canopen::lss::run(&command),
+        Command::Scan { bus } => cmd::canopen::scan::run(&bus),
+        Command::Check(args) => cmd::canopen::check::run(&args),
+        Command::Bus(args) => cmd::canopen::bus::run(&args),
         #[cfg(feature = "ethercrab")]
-        Command::Ecat(args) => cmd::ecat::run(args),
+        Command::Ecat(args) => cmd::ethercat::ecat::run(args),
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Enip(args) => cmd::enip::run(args),
-        Command::Pn { command } => cmd::pn::run(&command),
+        Command::Pn { command } => cmd::profinet::run(&command),
         Command::Dp(command) => cmd::dp::run(command),
         Command::Decode(args) => cmd::decode::run(args),
         Command::Demo(args) => cmd::demo::run(&args),

@@ -1,46 +1,61 @@
-//! The commands, one module each. `main.rs` parses the command line and calls one of them; each
-//! returns the process exit code (0 clean, 1 a problem found, 2 usage or I/O).
+//! The commands. `main.rs` parses the command line and calls one of them; each returns the
+//! process exit code (0 clean, 1 a problem found, 2 usage or I/O). One folder per bus, the
+//! bus-neutral commands here:
 //!
 //! - Description files: [`validate`], [`dump`], [`generate`], [`devices`] (of an ESI file), and
 //!   the rule catalogue ([`rules`]: rules, explain).
-//! - A bus: [`bus`] runs a socketcand hub, [`simulate`] serves devices built from description
-//!   files, [`decode`] explains a candump log; the master's [`sdo`], [`nmt`], [`scan`] and
-//!   [`check`] reach live devices.
-//! - [`demo`]: the bundled cards at work.
+//! - [`simulate`] serves devices built from description files on the bus its flag names (each
+//!   bus's simulator in its folder); [`decode`] explains a candump log; [`demo`]: the bundled cards
+//!   at work.
+//! - The buses: [`canopen`] (sdo, nmt, lss, scan, check, bus), [`ethercat`] (ecat, sii),
+//!   [`enip`], [`dp`], [`profinet`] (pn).
 //!
 //! This module holds what they share: exit codes and messages, node-IDs and addresses from the
 //! command line, and how the master's commands reach the bus.
+//!
+//! One convention for the subcommands' arguments (a new command follows it):
+//!
+//! - The thing worked on comes first, positional: a description `FILE` for the file commands
+//!   (`validate`, `dump`, `generate`, `devices`, `sii`, `simulate FILE[@ID]`); for the bench
+//!   commands, the device: `NODE` (CANopen node-ID, 1..=127 in decimal or `0x` hex, `all` where
+//!   every node makes sense), `ADDR` (`IP` or `IP:PORT`), `IFACE` (a network interface), `TTY`
+//!   (a serial line), `MAC`. Then what on the device, positional: the entry (`INDEX[:SUB]` in
+//!   hex or its name) or the CIP path (`@CLASS/INST/ATTR` or a parameter's name); then the
+//!   `VALUE`, last (a number in decimal or `0x` hex, negative without `--`; several as
+//!   `NAME=VALUE...`).
+//! - A description that only names and types things for a bench command is a flag named after
+//!   its format: `--eds FILE` (CANopen, EtherNet/IP), `--esi FILE` (EtherCAT), `--gsd FILE`
+//!   (PROFIBUS-DP), `--gsdml FILE` (PROFINET); one device of a file with several:
+//!   `--device NAME|#xCODE`. A type where no description gives it: `--type TYPE`.
+//! - How to reach the bus, when the device's address is not enough, is a flag: `--bus
+//!   HOST:PORT`, `--socketcan IFACE`, `--channel` ([`BusArgs`]), `--from ADDR`, `--master N`
+//!   (this master's station address). A node given as an option is `--node-id N`; a station
+//!   address `--address N`; an EtherCAT SubDevice `--position N`. `simulate` picks the bus by
+//!   its flag: `--bus`/`--socketcan`, `--ethercat IFACE`, `--enip ADDR`, `--profinet IFACE`,
+//!   `--profibus TTY`.
+//! - Times are milliseconds, `MS`: `--timeout MS` is the whole wait for an answer, other waits
+//!   say what they wait for (`--rpi MS`, `--activate MS`); how long a command runs is
+//!   `--seconds S` or `--cycles N` (until Ctrl-C when absent).
+//! - Output: `--format human|json`, a file written `-o FILE`/`--output FILE` (`sdo read --out
+//!   PATH` and `sdo write --file PATH` stream an entry's value, `-` for standard output/input).
+//!
+//! Known outliers, kept for compatibility: `ecat` takes `--iface IFACE` where `pn` takes a
+//! positional `IFACE`; `ecat sdo` types a value by `--size 1|2|4|8` where `sdo` has `--type`.
 
-pub mod bus;
-pub mod check;
-pub mod cip_value;
+pub mod canopen;
 pub mod decode;
 pub mod demo;
 pub mod devices;
 mod did_you_mean;
 pub mod dp;
 pub mod dump;
-#[cfg(feature = "ethercrab")]
-pub mod ecat;
 pub mod enip;
-pub mod enip_io;
-mod enip_link;
-pub mod enip_param;
-pub mod entry;
+pub mod ethercat;
 pub mod generate;
-pub mod lss;
-pub mod nmt;
-pub mod pn;
+pub mod profinet;
 pub mod rules;
-pub mod scan;
-pub mod sdo;
 pub mod signals;
-pub mod sii;
 pub mod simulate;
-pub mod simulate_dp;
-pub mod simulate_enip;
-pub mod simulate_ethercat;
-pub mod simulate_profinet;
 pub mod validate;
 pub mod value;
 
@@ -226,7 +241,7 @@ mod tests {
     #[test]
     fn edsgen_bus_listens_where_the_clients_go_by_default() {
         use clap::{Args, Command};
-        let bus = bus::BusArgs::augment_args(Command::new("bus"));
+        let bus = canopen::bus::BusArgs::augment_args(Command::new("bus"));
         let listen = bus
             .get_arguments()
             .find(|arg| arg.get_id() == "listen")

@@ -21,10 +21,11 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     gsd: PathBuf,
     /// The slave's station address.
-    #[arg(long, value_parser = clap::value_parser!(u8).range(0..=125))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(0..=125))]
     address: u8,
     /// This master's station address.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(0..=125))]
+    #[arg(long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u8).range(0..=125))]
     master: u8,
     /// How long to exchange data before printing the inputs.
     #[arg(long, default_value_t = 1)]

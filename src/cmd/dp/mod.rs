@@ -24,6 +24,7 @@ use super::fail;
 
 mod io;
 pub mod phy;
+pub mod simulate;
 
 /// The arguments of `edsgen dp`.
 #[derive(Debug, clap::Subcommand)]
@@ -33,7 +34,8 @@ pub enum Command {
         /// The serial line (set to 19200 baud, 8E1, raw, for an RS-485 adapter).
         tty: String,
         /// This master's station address.
-        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(0..=125))]
+        #[arg(long, value_name = "N", default_value_t = 1,
+              value_parser = clap::value_parser!(u8).range(0..=125))]
         master: u8,
         /// How long to listen.
         #[arg(long, default_value_t = 3)]

@@ -1,0 +1,263 @@
+//! `edsgen simulate --profinet IFACE (FILE.xml | --card goodrive350-pn) [--ip ADDR/PREFIX]`: a
+//! PROFINET IO device from a GSDML on a network interface (root, or `CAP_NET_RAW`). It says
+//! Hello, then answers DCP (identify, get, set name of station and IP, signal) as the GSDML's
+//! default access point, serves connection management on UDP 34964 (Connect, Read, Write,
+//! PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of the AR, with the
+//! Goodrive350's drive behind the card, whose faults are Diagnosis alarms on the AR's AlarmCR
+//! (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch one); it prints what
+//! a controller sets, each step of an AR and each alarm acknowledged, until SIGINT, SIGTERM or
+//! SIGHUP, then says `stopped:` (on stderr) with the number of ARs it served.
+
+use std::io::BufRead;
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::process::ExitCode;
+use std::sync::mpsc;
+
+use edsgen_codegen::load::{self, LoadError};
+use edsgen_codegen::read;
+use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
+use edsgen_sim::profinet::alarm::AlarmEvent;
+use edsgen_sim::profinet::ar::config::DeviceConfig;
+use edsgen_sim::profinet::ar::ArEvent;
+use edsgen_sim::profinet::dcp::DcpEvent;
+use edsgen_sim::profinet::device::{Device, DeviceEvent};
+use edsgen_sim::profinet::{driver, station};
+
+use crate::cmd::fail;
+
+/// The bundled PROFINET card's GSDML, in the binary so that `--card` works anywhere.
+const GOODRIVE350_PN: &[u8] = include_bytes!("../../../eds/goodrive350-pn.xml");
+
+/// Runs the device on `iface`; exit 2 for bad usage, a file that is not a readable GSDML, or an
+/// interface that cannot be opened.
+/// With `faults_on_stdin` (the card only), its drive's faults are switched by `fault` and
+/// `clear` lines on standard input.
+pub fn run(
+    iface: &str,
+    files: &[String],
+    cards: &[String],
+    ip: Option<&str>,
+    faults_on_stdin: bool,
+) -> ExitCode {
+    let ip = match ip.map(parse_ip).transpose() {
+        Ok(ip) => ip,
+        Err(e) => return fail(e),
+    };
+    let card = cards.first().is_some_and(|c| c == "goodrive350-pn");
+    if faults_on_stdin && !card {
+        return fail("--faults-on-stdin switches the faults of --card goodrive350-pn's drive");
+    }
+    let (name, read) = match (files, cards) {
+        ([file], []) => match load::load(Path::new(file), None) {
+            Ok(loaded) => (file.clone(), loaded),
+            Err(LoadError::Read(read::ReadError::Io(_, e))) => {
+                return fail(format!("cannot read `{file}`: {e}"))
+            }
+            Err(e) => return fail(e),
+        },
+        ([], [card]) if card == "goodrive350-pn" => {
+            let name = "eds/goodrive350-pn.xml";
+            let read = load::judge(read::read_bytes(Path::new(name), GOODRIVE350_PN));
+            (name.to_owned(), read)
+        }
+        ([], [card]) => {
+            return fail(format!(
+                "no PROFINET card `{card}`: the bundled PROFINET card is goodrive350-pn"
+            ))
+        }
+        _ => return fail("--profinet takes one GSDML FILE or one --card"),
+    };
+    let errors = read
+        .diagnostics
+        .iter()
+        .chain(read.overlay_diagnostics())
+        .filter(|d| d.severity == edsgen_codegen::diag::Severity::Error)
+        .count();
+    let Some(pn) = read.device.profinet().filter(|_| errors == 0) else {
+        return fail(format!(
+            "`{name}` is not a GSDML file without errors (run `edsgen validate {name}`)"
+        ));
+    };
+    let mut socket = match driver::RawSocket::open(iface, std::time::Duration::from_millis(1)) {
+        Ok(socket) => socket,
+        Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
+    };
+    let rpc = match driver::RpcSocket::open(iface) {
+        Ok(rpc) => rpc,
+        Err(e) => return fail(format!("cannot bind UDP 34964 on `{iface}`: {e}")),
+    };
+    let mut station = station::from_gsdml(pn, socket.mac());
+    if let Some(ip) = ip {
+        station.ip = ip;
+    }
+    let mac: Vec<String> = station.mac.iter().map(|b| format!("{b:02x}")).collect();
+    println!(
+        "PROFINET device `{}` (VendorID {:#06x}, DeviceID {:#06x}) on {iface}, MAC {}",
+        station.name_of_station,
+        station.vendor_id,
+        station.device_id,
+        mac.join(":")
+    );
+    match ip {
+        Some([a, m, _]) => println!(
+            "RPC on UDP 34964 at {}.{}.{}.{} mask {}.{}.{}.{}",
+            a[0], a[1], a[2], a[3], m[0], m[1], m[2], m[3]
+        ),
+        None => println!(
+            "no IP yet (--ip ADDR/PREFIX, or a DCP Set): RPC on UDP 34964 answers once {iface} has the address"
+        ),
+    }
+    let config = DeviceConfig::from_gsdml(pn);
+    let drive = card.then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
+    let mut device = Device::new(station, config, drive);
+    let faults = faults_on_stdin.then(faults_from_stdin);
+    if let Err(message) = crate::cmd::signals::install() {
+        return fail(message);
+    }
+    let tick = |device: &mut Device, now| {
+        if crate::cmd::signals::requested() {
+            return ControlFlow::Break(());
+        }
+        for fault in faults.iter().flat_map(|f| f.try_iter()) {
+            if fault {
+                device.inject_fault(now, FAULT_OC1);
+                println!("drive fault {FAULT_OC1} (OC1) raised");
+            } else {
+                device.remove_fault_cause();
+                println!("drive fault cause removed: a fault reset (CW command 7) clears it");
+            }
+        }
+        ControlFlow::Continue(())
+    };
+    let mut connected = 0u32;
+    let served = driver::serve_with(&mut socket, &rpc, &mut device, None, tick, |event| {
+        match event {
+            DeviceEvent::Ar(event) => {
+                connected += u32::from(matches!(event, ArEvent::Connected { .. }));
+                print_ar(event)
+            }
+            DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
+                println!("name of station set to `{name}`")
+            }
+            DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => println!(
+                "IP set to {}.{}.{}.{} mask {}.{}.{}.{} gateway {}.{}.{}.{}",
+                ip[0],
+                ip[1],
+                ip[2],
+                ip[3],
+                mask[0],
+                mask[1],
+                mask[2],
+                mask[3],
+                gw[0],
+                gw[1],
+                gw[2],
+                gw[3]
+            ),
+            DeviceEvent::Dcp(DcpEvent::Signal) => println!("signal: flashing the LED"),
+            DeviceEvent::Dcp(DcpEvent::ResetToFactory) => println!("reset to factory"),
+            DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)) => println!(
+                "alarm {:#06x} of slot {} subslot {} acknowledged (sequence {}, PNIOStatus {})",
+                ack.source.alarm_type,
+                ack.source.slot,
+                ack.source.subslot,
+                ack.source.specifier & 0x07FF,
+                hex(&ack.status.0)
+            ),
+            DeviceEvent::Alarm(AlarmEvent::Aborted(status)) => {
+                println!("alarm CR over (PNIOStatus {})", hex(&status.0))
+            }
+        }
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+    });
+    match served {
+        Ok(()) => {
+            eprintln!("stopped: {connected} ARs connected");
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(format!("PROFINET on `{iface}`: {e}")),
+    }
+}
+
+/// The fault a `fault` line raises: P07.27's type 4, OC1 (overcurrent while accelerating).
+const FAULT_OC1: u16 = 4;
+
+/// `fault` (true) and `clear` (false) lines of standard input, read by a thread of their own.
+fn faults_from_stdin() -> mpsc::Receiver<bool> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines() {
+            let Ok(line) = line else { break };
+            let fault = match line.trim() {
+                "fault" => true,
+                "clear" => false,
+                other => {
+                    eprintln!("ignored on standard input: `{other}` (fault or clear)");
+                    continue;
+                }
+            };
+            if tx.send(fault).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// Bytes as hex digits.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02X}")).collect()
+}
+
+/// Prints one step of an AR.
+fn print_ar(event: &ArEvent) {
+    match event {
+        ArEvent::Connected {
+            ar_type,
+            layout,
+            diff,
+        } => {
+            let mut line = format!("AR connected (ARType {ar_type:#06x})");
+            if let Some(l) = layout {
+                line += &format!(
+                    ": input FrameID {:#06x}, output FrameID {:#06x}, every {} us",
+                    l.input_frame_id,
+                    l.output_frame_id,
+                    l.interval.as_micros()
+                );
+            }
+            if *diff {
+                line += ", with module differences";
+            }
+            println!("{line}");
+        }
+        ArEvent::RecordWritten {
+            slot,
+            subslot,
+            index,
+            data,
+        } => println!(
+            "record {index} of slot {slot} subslot {subslot} written ({} bytes)",
+            data.len()
+        ),
+        ArEvent::PrmEnd => println!("PrmEnd: ApplicationReady sent"),
+        ArEvent::DataStart => println!("ApplicationReady confirmed: cyclic data exchange"),
+        ArEvent::Released => println!("AR released"),
+        ArEvent::Aborted => println!("AR aborted"),
+    }
+}
+
+/// `ADDR/PREFIX` as the IP, mask and (no) gateway DCP reports.
+fn parse_ip(text: &str) -> Result<[[u8; 4]; 3], String> {
+    let bad = || format!("--ip `{text}` is not ADDR/PREFIX (such as 10.0.0.2/24)");
+    let (addr, prefix) = text.split_once('/').ok_or_else(bad)?;
+    let addr: std::net::Ipv4Addr = addr.parse().map_err(|_| bad())?;
+    let prefix: u32 = prefix.parse().map_err(|_| bad())?;
+    if !(1..=32).contains(&prefix) {
+        return Err(bad());
+    }
+    let mask = (u32::MAX << (32 - prefix)).to_be_bytes();
+    Ok([addr.octets(), mask, [0; 4]])
+}
