@@ -27,7 +27,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Check description files against CiA 306 / CiA 311 and print diagnostics.
+    /// Check description files (EDS, DCF, XDD, XDC, ESI, ODVA EDS, GSD, GSDML) against their
+    /// standards and print diagnostics.
     Validate {
         /// Output format.
         #[arg(long, value_enum, default_value_t = OutputFormat::Human)]
@@ -140,9 +141,11 @@ enum Command {
     Check(cmd::canopen::check::CheckArgs),
     /// Run a CAN bus on TCP (a socketcand hub for python-can and edsgen) until Ctrl-C.
     Bus(cmd::canopen::bus::BusArgs),
-    /// Simulate devices from description files on a CAN bus.
+    /// Simulate devices from description files on their bus: CAN by default, or EtherCAT,
+    /// EtherNet/IP, PROFINET, PROFIBUS-DP.
     Simulate(cmd::simulate::Args),
-    /// An EtherNet/IP scanner at the bench: list identities, get and set attributes.
+    /// An EtherNet/IP scanner at the bench: list identities, read and write attributes and
+    /// parameters, send any service, run a class-1 connection (io).
     #[command(subcommand)]
     Enip(cmd::enip::Args),
     /// PROFINET at the bench (DCP): list the devices on an interface, set a name of station.
@@ -150,13 +153,13 @@ enum Command {
         #[command(subcommand)]
         command: cmd::profinet::PnCommand,
     },
-    /// A PROFIBUS-DP master at the bench (profirust): scan a serial line.
+    /// A PROFIBUS-DP master at the bench (profirust): scan a serial line, exchange data (io).
     #[command(subcommand)]
     Dp(cmd::dp::Command),
     /// EtherCAT bench side over ethercrab: `ecat scan --iface IFACE [--esi FILE...]`.
     #[cfg(feature = "ethercrab")]
     Ecat(cmd::ethercat::ecat::Args),
-    /// Decode a candump -L log (or standard input) into CANopen messages.
+    /// Decode a CAN log (candump, Vector ASC, PCAN TRC; or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
     /// on a bus) through their manuals' workflows, every frame decoded, then the EC-TX508 over

@@ -483,7 +483,8 @@ fn demo_profinet_drives_the_card_between_two_namespaces() {
         .and_then(|ms| ms.parse::<u64>().ok())
         .unwrap_or_else(|| panic!("{}", steps[8]));
     assert!((360..=600).contains(&watchdog), "{}", steps[8]);
-    // The card's own log: the name set, three ARs, the second aborted by its watchdog.
+    // The card's own log: the name set, three ARs, the second aborted by its watchdog, and its
+    // clean stop when the demo ends it with SIGTERM.
     let said: Vec<&str> = run
         .stdout
         .lines()
@@ -503,6 +504,7 @@ fn demo_profinet_drives_the_card_between_two_namespaces() {
     expected.extend(ar("AR released"));
     expected.extend(ar("AR aborted"));
     expected.extend(ar("AR released"));
+    expected.push("stopped: 3 ARs connected");
     assert_eq!(said, expected, "{}", run.stdout);
 }
 

@@ -10,7 +10,9 @@ use super::{fail, parse_node_id};
 /// The arguments of `edsgen simulate`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Description files (EDS, DCF, XDD, XDC), each optionally followed by `@ID`, its node-ID.
+    /// Description files, each optionally followed by `@ID` (a node-ID, 255 for an unconfigured
+    /// LSS node; a station address with --profibus): EDS, DCF, XDD or XDC on a CAN bus, an ODVA
+    /// EDS with --enip, a GSDML with --profinet, a GSD with --profibus, an ESI with --ethercat.
     #[arg(value_name = "FILE[@ID]", required_unless_present = "cards")]
     pub files: Vec<String>,
     /// A bundled card with its drive's behaviour (cp301, ms300, goodrive350, rd11, hd1e),
@@ -34,7 +36,7 @@ pub struct Args {
     #[arg(long, value_name = "ADDR", conflicts_with_all = ["bus", "socketcan", "trace"])]
     pub enip: Option<String>,
     /// Simulate a PROFINET IO device on this network interface (a GSDML FILE, or
-    /// `--card goodrive350-pn`); see `simulate_profinet`.
+    /// `--card goodrive350-pn`; root or CAP_NET_RAW).
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
     pub profinet: Option<String>,
     /// With --profinet: the device's IP address and prefix (`10.0.0.2/24`), as DCP reports it;
@@ -42,7 +44,7 @@ pub struct Args {
     #[arg(long, value_name = "ADDR/PREFIX", requires = "profinet")]
     pub ip: Option<String>,
     /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
-    /// or one FILE.gsd[@ADDR]; see `simulate_dp`).
+    /// or one FILE.gsd[@ADDR]).
     #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
     pub profibus: Option<String>,
     /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network
