@@ -3,7 +3,6 @@
 //! usage and interfaces that do not exist with exit 2 and a message.
 
 mod process_support;
-mod skip_support;
 
 use std::process::Command;
 
@@ -132,7 +131,7 @@ fn profinet_usage_and_interface_errors_exit_2() {
 #[test]
 fn the_simulated_device_stops_on_sigint_and_sigterm() {
     if !edsgen_demo::netns::is_root() {
-        skip_support::skip::<()>("not root: no raw socket for simulate --profinet");
+        process_support::skip::<()>("not root: no raw socket for simulate --profinet");
         return;
     }
     for signal in ["-INT", "-TERM"] {
