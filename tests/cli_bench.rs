@@ -6,6 +6,7 @@
 
 mod bench_support;
 mod process_support;
+#[path = "../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::process::Command;

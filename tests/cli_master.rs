@@ -4,6 +4,7 @@
 //! file transfers (`--file`, `--out`) with the simulator test device's DOMAIN.
 
 mod bench_support;
+#[path = "../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::path::Path;

@@ -4,6 +4,7 @@
 //! overlay beside a file. Every wait is bounded; children are killed when their guard drops.
 
 mod process_support;
+#[path = "../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::path::PathBuf;

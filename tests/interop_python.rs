@@ -12,6 +12,7 @@
 //! processes are killed if a test ends early.
 
 mod process_support;
+#[path = "../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::io::{Read, Write};

@@ -8,6 +8,7 @@
 //! bounded and the python process is killed when the test ends.
 
 mod process_support;
+#[path = "../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::path::Path;

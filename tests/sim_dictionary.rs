@@ -5,6 +5,7 @@
 //! answers an upload of every entry.
 
 mod process_support;
+#[path = "../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::path::Path;

@@ -11,6 +11,7 @@
 //! Every wait is bounded; the simulator is killed when its guard drops.
 
 mod process_support;
+#[path = "../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::path::Path;

@@ -4,7 +4,6 @@
 //! the generated `Tpdo1` by a `pdo_dispatch!` enum, an RPDO sent from the generated `Rpdo1`, and
 //! a mapping the node refuses reported with its abort code and meaning.
 
-#[path = "../sim/tests/drive_support/mod.rs"]
 mod drive_support;
 
 use std::time::Duration;

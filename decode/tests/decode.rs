@@ -4,6 +4,7 @@
 //! EtherCAT process images decoded by an ESI file's default PDO assignment
 //! (`edsgen_decode::image::ImageDecoder`).
 
+#[path = "../../sim/tests/sim_support/mod.rs"]
 mod sim_support;
 
 use std::time::Duration;
