@@ -63,6 +63,30 @@ pub enum Format {
     Gsd,
 }
 
+// What a format's files are, each answered by an exhaustive match: a new format makes every
+// rule that depends on these properties decide, instead of falling into a `!=` branch.
+impl Format {
+    /// Whether the dictionary is CANopen over EtherCAT (CoE, from an ESI): no COB-IDs, no NMT
+    /// error control, no mandatory 1001h, and PDOs assigned through 1C1xh.
+    pub fn is_coe(self) -> bool {
+        match self {
+            Format::Esi => true,
+            Format::Eds | Format::Dcf | Format::Xdd | Format::Xdc => false,
+            Format::OdvaEds | Format::Gsdml | Format::Gsd => false,
+        }
+    }
+
+    /// Whether the file configures one device (DCF, XDC: values and commissioning) rather than
+    /// describing a product.
+    pub fn is_configuration(self) -> bool {
+        match self {
+            Format::Dcf | Format::Xdc => true,
+            Format::Eds | Format::Xdd | Format::Esi => false,
+            Format::OdvaEds | Format::Gsdml | Format::Gsd => false,
+        }
+    }
+}
+
 /// How the file's bytes were decoded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TextEncoding {

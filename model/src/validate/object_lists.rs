@@ -22,7 +22,7 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
     }
     // CoE has neither NMT error control nor a mandatory 1001h, and an ESI file may carry no
     // dictionary at all.
-    if device.source.format != crate::model::Format::Esi {
+    if !device.source.format.is_coe() {
         required(device, out);
     }
 }

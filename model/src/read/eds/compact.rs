@@ -159,7 +159,7 @@ pub fn expand_compact_pdo(device: &mut Device) {
         return;
     }
     let span = mask.span;
-    let dcf = device.source.format == Format::Dcf;
+    let dcf = device.source.format.is_configuration();
     let highest_sub = 32 - comm_bits.leading_zeros();
     for (kind, count, comm_base, map_base, cob_base) in [
         (

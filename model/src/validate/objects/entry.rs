@@ -4,7 +4,7 @@
 use super::limits::{limits, nodeid_ranges};
 use super::{missing_var_keys, MAX_NAME};
 use crate::diag::Diagnostic;
-use crate::model::{BasicType, Device, Format, Object, ObjectType, SubObject};
+use crate::model::{BasicType, Device, Object, ObjectType, SubObject};
 use crate::rules;
 use crate::validate::EntryName;
 
@@ -34,7 +34,7 @@ pub(super) fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<
         );
     }
     // An ESI reader reports a type or access it cannot read itself (EDS805, EDS604).
-    if needs_var_keys(o, sub) && device.source.format != Format::Esi {
+    if needs_var_keys(o, sub) && !device.source.format.is_coe() {
         let missing = missing_var_keys(sub);
         if !missing.is_empty() {
             out.push(

@@ -15,7 +15,7 @@
 
 use super::{at, obj, ObjName};
 use crate::diag::{Diagnostic, Severity};
-use crate::model::{Device, Format, Object, ObjectType, SubObject};
+use crate::model::{Device, Object, ObjectType, SubObject};
 use crate::rules;
 use cob_ids::default_cob_ids;
 use entry::entry;
@@ -37,7 +37,7 @@ pub(super) fn check(device: &Device, out: &mut Vec<Diagnostic>) {
         }
     }
     // EtherCAT has no COB-IDs.
-    if device.source.format != Format::Esi {
+    if !device.source.format.is_coe() {
         default_cob_ids(device, out);
     }
     entry_keys_on_records(device, out);

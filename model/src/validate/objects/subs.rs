@@ -2,7 +2,7 @@
 //! gaps.
 
 use crate::diag::{Diagnostic, Severity};
-use crate::model::{AccessType, BasicType, Device, Format, Object, ObjectType, SubObject};
+use crate::model::{AccessType, BasicType, Device, Object, ObjectType, SubObject};
 use crate::rules;
 use crate::validate::{at, effective_int, obj, set_value, value_span};
 
@@ -11,7 +11,7 @@ use crate::validate::{at, effective_int, obj, set_value, value_span};
 fn sub0_is_special(device: &Device, index: u16) -> bool {
     matches!(index, 0x1003 | 0x1600..=0x17FF | 0x1A00..=0x1BFF)
         // CoE PDO assignment (1C12h, 1C13h, ...): sub 0 counts the assigned PDOs.
-        || (device.source.format == Format::Esi && matches!(index, 0x1C10..=0x1C2F))
+        || (device.source.format.is_coe() && matches!(index, 0x1C10..=0x1C2F))
 }
 
 /// One diagnostic per object for sub-objects without ParameterName: an error for a RECORD
