@@ -48,8 +48,8 @@ pub mod netns;
 use std::path::Path;
 use std::time::Duration as StdDuration;
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::{read, validate};
+use edsgen_model::diag::Severity;
+use edsgen_model::load;
 use edsgen_runtime::cia402::State;
 use edsgen_runtime::master::nmt_frame;
 use edsgen_runtime::od::access::{Readable, Writable};
@@ -260,14 +260,17 @@ fn validate_cards() -> Report {
     report
         .lines
         .push("== validate the bundled description files".into());
+    let esi = load::load_bundled(Path::new(ec_tx508::ESI_PATH), ec_tx508::ESI, None);
     let files = CARDS
         .iter()
-        .map(|card| (card.eds_path, card.eds))
-        .chain([(ec_tx508::ESI_PATH, ec_tx508::ESI)]);
-    for (path, bytes) in files {
-        let read = read::read_bytes(Path::new(path), bytes);
-        let mut diagnostics = read.diagnostics;
-        diagnostics.extend(validate::validate(&read.device));
+        .map(|card| (card.eds_path, card.loaded()))
+        .chain([(ec_tx508::ESI_PATH, esi)]);
+    for (path, loaded) in files {
+        let diagnostics = loaded
+            .diagnostics
+            .iter()
+            .chain(loaded.overlay_diagnostics())
+            .collect::<Vec<_>>();
         let count = |s| diagnostics.iter().filter(|d| d.severity == s).count();
         let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
         let line = format!("{errors} error(s), {warnings} warning(s)");

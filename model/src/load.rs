@@ -83,23 +83,39 @@ pub fn load(path: &Path, device: Option<&str>) -> Result<Loaded, LoadError> {
 
 /// Finishes loading a description already read from `path` (from bytes built into a binary,
 /// say): applies the overlay beside `path`, if there is one, and validates.
-pub fn load_read(path: &Path, mut read: Read) -> Result<Loaded, LoadError> {
+pub fn load_read(path: &Path, read: Read) -> Result<Loaded, LoadError> {
     let overlay_path = overlay::path_for(path);
     let overlay = if overlay_path.is_file() {
         let text = std::fs::read_to_string(&overlay_path)
             .map_err(|err| LoadError::Overlay(overlay_path.clone(), err))?;
-        let diagnostics = overlay::apply(&text, &mut read.device);
-        Some(Overlay {
-            path: overlay_path,
-            text,
-            diagnostics,
-        })
+        Some((overlay_path, text))
     } else {
         None
     };
+    Ok(finish(read, overlay))
+}
+
+/// Loads a description built into a binary (a bundled card), with the overlay built in beside
+/// it, if it has one: what [`load`] gives for the same two files on disk, without the disk.
+pub fn load_bundled(path: &Path, bytes: &[u8], overlay: Option<&str>) -> Loaded {
+    let read = read::read_bytes(path, bytes);
+    let overlay = overlay.map(|text| (overlay::path_for(path), text.to_owned()));
+    finish(read, overlay)
+}
+
+/// Applies an overlay (its path and text), then judges.
+fn finish(mut read: Read, overlay: Option<(PathBuf, String)>) -> Loaded {
+    let overlay = overlay.map(|(path, text)| {
+        let diagnostics = overlay::apply(&text, &mut read.device);
+        Overlay {
+            path,
+            text,
+            diagnostics,
+        }
+    });
     let mut loaded = judge(read);
     loaded.overlay = overlay;
-    Ok(loaded)
+    loaded
 }
 
 /// Validates a description read from bytes built into a binary (a bundled card), without an

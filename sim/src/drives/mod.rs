@@ -19,6 +19,7 @@ pub mod vfd;
 use std::path::Path;
 
 use edsgen_host::vbus::BusDevice;
+use edsgen_model::load::{self, Loaded};
 use edsgen_model::model::Device;
 use edsgen_runtime::node::InvalidNodeId;
 use edsgen_runtime::{Instant, ObjectDictionary};
@@ -40,6 +41,8 @@ pub struct Card {
     pub eds_path: &'static str,
     /// The EDS file's bytes.
     pub eds: &'static [u8],
+    /// The overlay beside the EDS (`eds/NAME.toml`), when the card has one.
+    pub overlay: Option<&'static str>,
     /// The default node-ID: distinct for the five cards, so that all can share one bus.
     pub default_node_id: u8,
     /// Powers up the simulated drive at a node-ID.
@@ -47,9 +50,14 @@ pub struct Card {
 }
 
 impl Card {
-    /// The card's model, read from its EDS (for decoding its frames by name).
+    /// The card's EDS loaded as `edsgen validate` loads it: read, its overlay applied, judged.
+    pub fn loaded(&self) -> Loaded {
+        load::load_bundled(Path::new(self.eds_path), self.eds, self.overlay)
+    }
+
+    /// The card's model, its overlay applied (for decoding its frames by name).
     pub fn model(&self) -> Device {
-        edsgen_model::read::read_bytes(Path::new(self.eds_path), self.eds).device
+        self.loaded().device
     }
 
     /// The card by name.
@@ -70,6 +78,7 @@ pub static CARDS: [Card; 5] = [
         name: "cp301",
         eds_path: "eds/cp301.eds",
         eds: include_bytes!("../../../eds/cp301.eds"),
+        overlay: None,
         default_node_id: 2,
         power_up: |id, now| boxed(Cp301::new(id, now)),
     },
@@ -77,6 +86,7 @@ pub static CARDS: [Card; 5] = [
         name: "ms300",
         eds_path: "eds/ms300.eds",
         eds: include_bytes!("../../../eds/ms300.eds"),
+        overlay: None,
         default_node_id: 1,
         power_up: |id, now| boxed(Ms300::new(id, now)),
     },
@@ -84,6 +94,7 @@ pub static CARDS: [Card; 5] = [
         name: "goodrive350",
         eds_path: "eds/goodrive350.eds",
         eds: include_bytes!("../../../eds/goodrive350.eds"),
+        overlay: None,
         default_node_id: 3,
         power_up: |id, now| boxed(Goodrive350::new(id, now)),
     },
@@ -91,6 +102,7 @@ pub static CARDS: [Card; 5] = [
         name: "rd11",
         eds_path: "eds/rd11.eds",
         eds: include_bytes!("../../../eds/rd11.eds"),
+        overlay: Some(include_str!("../../../eds/rd11.toml")),
         default_node_id: 4,
         power_up: |id, now| boxed(Rd11::new(id, now)),
     },
@@ -98,6 +110,7 @@ pub static CARDS: [Card; 5] = [
         name: "hd1e",
         eds_path: "eds/hd1e.eds",
         eds: include_bytes!("../../../eds/hd1e.eds"),
+        overlay: None,
         default_node_id: 5,
         power_up: |id, now| boxed(Hd1e::new(id, now)),
     },
