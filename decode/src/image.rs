@@ -3,7 +3,7 @@
 //! the file names it and typed by its object in the dictionary, as the bus decoder prints a
 //! CANopen PDO (`Control word = 15, Target speed = 300, Operation mode = 9`).
 
-use edsgen_codegen::model::{Device, EcPdo, SmKind};
+use edsgen_model::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::od::typed::get_bits;
 use edsgen_runtime::ObjectDictionary;
 

@@ -44,7 +44,7 @@ pub mod text;
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Duration;
 
-use edsgen_codegen::model::Device;
+use edsgen_model::model::Device;
 use edsgen_runtime::wire::emcy::EmcyRepr;
 use edsgen_runtime::wire::heartbeat::{ErrorControlRepr, NmtState};
 use edsgen_runtime::wire::nmt::{NmtCommand, NmtRepr};
