@@ -203,6 +203,7 @@ impl From<MinSeverity> for Severity {
 }
 
 fn main() -> ExitCode {
+    cmd::signals::follow_parent();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(err) => {

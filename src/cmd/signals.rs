@@ -20,6 +20,25 @@ pub fn install() -> Result<(), String> {
         .clone()
 }
 
+/// The variable a machine (`simulate --machine`) sets for the buses it starts: its process ID.
+pub const PARENT_VARIABLE: &str = "EDSGEN_STOP_WITH_PARENT";
+
+/// When this process was started by a machine ([`PARENT_VARIABLE`]): a SIGTERM when the
+/// machine ends, however it ends (killed included), so that no bus outlives it; a machine
+/// already gone asks for the stop at once.
+pub fn follow_parent() {
+    let Some(parent) = std::env::var(PARENT_VARIABLE)
+        .ok()
+        .and_then(|v| v.parse::<i32>().ok())
+    else {
+        return;
+    };
+    let _ = nix::sys::prctl::set_pdeathsig(nix::sys::signal::Signal::SIGTERM);
+    if nix::unistd::getppid().as_raw() != parent {
+        REQUESTED.store(true, Ordering::SeqCst);
+    }
+}
+
 /// Whether a stop was asked for.
 pub fn requested() -> bool {
     REQUESTED.load(Ordering::SeqCst)

@@ -13,7 +13,7 @@ pub struct Args {
     /// Description files, each optionally followed by `@ID` (a node-ID, 255 for an unconfigured
     /// LSS node; a station address with --profibus): EDS, DCF, XDD or XDC on a CAN bus, an ODVA
     /// EDS with --enip, a GSDML with --profinet, a GSD with --profibus, an ESI with --ethercat.
-    #[arg(value_name = "FILE[@ID]", required_unless_present = "cards")]
+    #[arg(value_name = "FILE[@ID]", required_unless_present_any = ["cards", "machine"])]
     pub files: Vec<String>,
     /// A bundled card with its drive's behaviour (cp301, ms300, goodrive350, rd11, hd1e),
     /// optionally followed by `@ID`; repeatable.
@@ -60,10 +60,17 @@ pub struct Args {
     /// controller's diagnosis alarms).
     #[arg(long)]
     pub faults_on_stdin: bool,
+    /// Bring up a whole machine from a machine file (docs/machine.md): every bus table served,
+    /// each device printed with its address, `fault NAME`/`clear NAME` on standard input.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "ethercat", "device", "faults_on_stdin"])]
+    pub machine: Option<std::path::PathBuf>,
 }
 
 /// Runs `edsgen simulate`.
 pub fn run(args: Args) -> ExitCode {
+    if let Some(machine) = &args.machine {
+        return super::machine::run(machine);
+    }
     if args.faults_on_stdin && args.ethercat.is_none() && args.profinet.is_none() {
         return fail("--faults-on-stdin goes with --ethercat or --profinet");
     }

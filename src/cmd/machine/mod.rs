@@ -1,0 +1,377 @@
+//! `edsgen simulate --machine FILE`: a whole machine from one file (`docs/machine.md`). The file
+//! is read and checked as a whole first ([`file`]); then each bus table is served by an
+//! `edsgen simulate` of this same binary for that bus (one per EtherNet/IP adapter), whose lines
+//! are printed prefixed with the bus. `fault NAME` and `clear NAME` on standard input reach the
+//! device named; SIGINT, SIGTERM or SIGHUP stop every bus, and so does any bus that stops.
+
+pub mod file;
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::path::Path;
+use std::process::{Child, ChildStdin, Command, ExitCode, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use file::{Address, Bus, Machine, Planned, Source};
+
+use super::{fail, signals};
+
+/// How long the buses have to stop after SIGTERM before they are killed.
+const STOP_GRACE: Duration = Duration::from_secs(3);
+
+/// Runs the machine file at `path`.
+pub fn run(path: &Path) -> ExitCode {
+    let machine = match file::read(path) {
+        Ok(machine) => machine,
+        Err(problems) => {
+            for p in &problems {
+                if p.line == 0 {
+                    eprintln!("error: {}: {}", path.display(), p.message);
+                } else {
+                    eprintln!(
+                        "error: {}:{}:{}: {}",
+                        path.display(),
+                        p.line,
+                        p.column,
+                        p.message
+                    );
+                }
+            }
+            return fail(format!(
+                "{}: {} problem(s); nothing was started",
+                path.display(),
+                problems.len()
+            ));
+        }
+    };
+    if machine.sections.is_empty() {
+        return fail(format!(
+            "{}: no bus table, nothing to start",
+            path.display()
+        ));
+    }
+    if let Err(message) = signals::install() {
+        return fail(message);
+    }
+    print_plan(&machine);
+    let exe = match std::env::current_exe() {
+        Ok(exe) => exe,
+        Err(e) => return fail(format!("cannot find this program to start the buses: {e}")),
+    };
+    let (lines_tx, lines_rx) = mpsc::channel::<Line>();
+    let mut buses: Vec<Running> = Vec::new();
+    for launch in launches(&machine) {
+        match launch.start(&exe, &lines_tx) {
+            Ok(running) => buses.push(running),
+            Err(e) => {
+                eprintln!("error: cannot start {}: {e}", launch.label);
+                stop(&mut buses);
+                return ExitCode::from(1);
+            }
+        }
+    }
+    drop(lines_tx);
+    let commands = stdin_lines();
+    let code = supervise(&mut buses, &lines_rx, &commands);
+    stop(&mut buses);
+    while let Ok(line) = lines_rx.try_recv() {
+        line.print();
+    }
+    eprintln!("stopped: machine {}", path.display());
+    code
+}
+
+/// Every device with its bus and address, before anything starts.
+fn print_plan(machine: &Machine) {
+    for section in &machine.sections {
+        for device in &section.devices {
+            let what = match &device.source {
+                Source::Card(card) => format!("card {card}"),
+                Source::File(path, None) => path.display().to_string(),
+                Source::File(path, Some(pick)) => format!("{}#{pick}", path.display()),
+            };
+            println!(
+                "{:<9} {:<24} {:<32} {} on {}",
+                section.bus.table(),
+                device.name,
+                what,
+                device.address,
+                section.place
+            );
+        }
+    }
+}
+
+/// One `edsgen simulate` to start.
+struct Launch {
+    label: String,
+    args: Vec<String>,
+    /// The devices it serves whose faults come from standard input.
+    faulted: Vec<String>,
+}
+
+/// The `edsgen simulate` runs that serve `machine`: one per bus table, one per EtherNet/IP
+/// adapter.
+fn launches(machine: &Machine) -> Vec<Launch> {
+    let mut out = Vec::new();
+    for section in &machine.sections {
+        let bus = section.bus;
+        let place = match &section.place {
+            file::Place::CanBus(addr) => vec!["--bus".to_owned(), addr.clone()],
+            file::Place::SocketCan(iface) => vec!["--socketcan".to_owned(), iface.clone()],
+            file::Place::Interface(iface) if bus == Bus::EtherCat => {
+                vec!["--ethercat".to_owned(), iface.clone()]
+            }
+            file::Place::Interface(iface) => vec!["--profinet".to_owned(), iface.clone()],
+            file::Place::Tty(tty) => vec!["--profibus".to_owned(), tty.clone()],
+            file::Place::Host => Vec::new(),
+        };
+        if bus == Bus::Enip {
+            for device in &section.devices {
+                let Address::Ip(ip) = &device.address else {
+                    continue;
+                };
+                let mut args = vec!["simulate".to_owned(), "--enip".to_owned(), ip.clone()];
+                args.extend(device_args(bus, device));
+                out.push(Launch {
+                    label: format!("enip {ip}"),
+                    args,
+                    faulted: Vec::new(),
+                });
+            }
+            continue;
+        }
+        let mut args = vec!["simulate".to_owned()];
+        args.extend(place);
+        let mut faulted = Vec::new();
+        for device in &section.devices {
+            args.extend(device_args(bus, device));
+            if takes_faults(bus, device) {
+                faulted.push(device.name.clone());
+            }
+        }
+        if !faulted.is_empty() {
+            args.push("--faults-on-stdin".to_owned());
+        }
+        out.push(Launch {
+            label: format!("{} {}", bus.table(), section.place),
+            args,
+            faulted,
+        });
+    }
+    out
+}
+
+/// A device's arguments to `edsgen simulate`.
+fn device_args(bus: Bus, device: &Planned) -> Vec<String> {
+    let suffix = match &device.address {
+        Address::NodeId(id) | Address::Station(id) => format!("@{id}"),
+        Address::Pn { name: Some(n), .. } => format!("@{n}"),
+        _ => String::new(),
+    };
+    let mut args = match &device.source {
+        Source::Card(card) => vec!["--card".to_owned(), format!("{card}{suffix}")],
+        Source::File(path, _) => vec![format!("{}{suffix}", path.display())],
+    };
+    if let (Bus::EtherCat, Source::File(_, Some(pick))) = (bus, &device.source) {
+        args.extend(["--device".to_owned(), pick.clone()]);
+    }
+    if let Address::Pn { ip: Some(ip), .. } = &device.address {
+        args.extend(["--ip".to_owned(), ip.clone()]);
+    }
+    args
+}
+
+/// Whether the device's simulator takes `fault`/`clear` lines (the drives that do today).
+fn takes_faults(bus: Bus, device: &Planned) -> bool {
+    matches!(
+        (bus, &device.source),
+        (Bus::EtherCat, Source::Card("ec-tx508")) | (Bus::Profinet, Source::Card("goodrive350-pn"))
+    )
+}
+
+/// A started bus.
+struct Running {
+    label: String,
+    child: Child,
+    stdin: Option<ChildStdin>,
+    faulted: Vec<String>,
+}
+
+impl Launch {
+    fn start(&self, exe: &Path, lines: &mpsc::Sender<Line>) -> std::io::Result<Running> {
+        let mut child = Command::new(exe)
+            .args(&self.args)
+            .env(signals::PARENT_VARIABLE, std::process::id().to_string())
+            .stdin(if self.faulted.is_empty() {
+                Stdio::null()
+            } else {
+                Stdio::piped()
+            })
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()?;
+        if let Some(out) = child.stdout.take() {
+            prefix_lines(out, format!("[{}] ", self.label), false, lines.clone());
+        }
+        if let Some(err) = child.stderr.take() {
+            prefix_lines(err, format!("[{}] ", self.label), true, lines.clone());
+        }
+        Ok(Running {
+            label: self.label.clone(),
+            stdin: child.stdin.take(),
+            child,
+            faulted: self.faulted.clone(),
+        })
+    }
+}
+
+/// A line a bus printed, prefixed with the bus.
+struct Line {
+    text: String,
+    /// Whether the bus wrote it on its standard error (it goes to ours).
+    error: bool,
+}
+
+impl Line {
+    fn print(&self) {
+        if self.error {
+            eprintln!("{}", self.text);
+        } else {
+            println!("{}", self.text);
+        }
+    }
+}
+
+/// Forwards each line of `from`, prefixed, to `to`.
+fn prefix_lines(
+    from: impl Read + Send + 'static,
+    prefix: String,
+    error: bool,
+    to: mpsc::Sender<Line>,
+) {
+    std::thread::spawn(move || {
+        for line in BufReader::new(from).lines() {
+            let Ok(line) = line else { break };
+            let text = format!("{prefix}{line}");
+            if to.send(Line { text, error }).is_err() {
+                break;
+            }
+        }
+    });
+}
+
+/// The lines of standard input, as they come.
+fn stdin_lines() -> mpsc::Receiver<String> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines() {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// Prints the buses' lines and routes faults until a stop is asked for or a bus stops.
+fn supervise(
+    buses: &mut [Running],
+    lines: &mpsc::Receiver<Line>,
+    commands: &mpsc::Receiver<String>,
+) -> ExitCode {
+    loop {
+        while let Ok(line) = lines.recv_timeout(Duration::from_millis(20)) {
+            line.print();
+        }
+        while let Ok(command) = commands.try_recv() {
+            fault_command(buses, command.trim());
+        }
+        if signals::requested() {
+            return ExitCode::SUCCESS;
+        }
+        for bus in buses.iter_mut() {
+            if let Ok(Some(status)) = bus.child.try_wait() {
+                while let Ok(line) = lines.recv_timeout(Duration::from_millis(50)) {
+                    line.print();
+                }
+                eprintln!(
+                    "error: {} stopped ({status}); stopping the machine",
+                    bus.label
+                );
+                return ExitCode::from(1);
+            }
+        }
+    }
+}
+
+/// `fault NAME` or `clear NAME`, to the bus serving NAME.
+fn fault_command(buses: &mut [Running], command: &str) {
+    if command.is_empty() {
+        return;
+    }
+    let Some((verb, name)) = command
+        .split_once(char::is_whitespace)
+        .map(|(v, n)| (v, n.trim()))
+        .filter(|(v, _)| matches!(*v, "fault" | "clear"))
+    else {
+        eprintln!("machine: `{command}`: standard input takes `fault NAME` and `clear NAME`");
+        return;
+    };
+    let Some(bus) = buses
+        .iter_mut()
+        .find(|b| b.faulted.iter().any(|f| f == name))
+    else {
+        let names: Vec<&str> = buses
+            .iter()
+            .flat_map(|b| b.faulted.iter().map(String::as_str))
+            .collect();
+        let list = if names.is_empty() {
+            "none of this machine's devices does".to_owned()
+        } else {
+            format!("the drives that do: {}", names.join(", "))
+        };
+        eprintln!("machine: no device `{name}` takes faults from standard input ({list})");
+        return;
+    };
+    if let Some(stdin) = &mut bus.stdin {
+        if writeln!(stdin, "{verb}")
+            .and_then(|()| stdin.flush())
+            .is_err()
+        {
+            eprintln!("machine: {} does not listen for faults any more", bus.label);
+        }
+    }
+}
+
+/// SIGTERM to every bus still running, then SIGKILL to those still there after a grace time.
+fn stop(buses: &mut [Running]) {
+    for bus in buses.iter_mut() {
+        if let Ok(None) = bus.child.try_wait() {
+            terminate(&bus.child);
+        }
+    }
+    let end = Instant::now() + STOP_GRACE;
+    for bus in buses.iter_mut() {
+        loop {
+            match bus.child.try_wait() {
+                Ok(Some(_)) | Err(_) => break,
+                Ok(None) if Instant::now() >= end => {
+                    let _ = bus.child.kill();
+                    let _ = bus.child.wait();
+                    break;
+                }
+                Ok(None) => std::thread::sleep(Duration::from_millis(20)),
+            }
+        }
+    }
+}
+
+/// Asks a bus to stop as Ctrl-C would (each simulator stops cleanly on SIGTERM).
+fn terminate(child: &Child) {
+    let Ok(pid) = i32::try_from(child.id()) else {
+        return;
+    };
+    let _ = nix::sys::signal::kill(nix::unistd::Pid::from_raw(pid), nix::sys::signal::SIGTERM);
+}
