@@ -1,5 +1,5 @@
 //! How far one CANopen bus scales: N simulated CP301 nodes (the runtime's node serving the
-//! dictionary read from `eds/cp301.eds`, each on a driver thread with its own connection to one
+//! dictionary read from `eds/cp301.eds`, all on one driver thread and one connection to a
 //! socketcand hub, as `edsgen simulate` runs them), a master reading 1018h:01 of every node by
 //! SDO, then every node sending TPDO1 every 10 ms (event timer) for a while. Prints the SDO
 //! round trips, the TPDOs received against those sent, and the frames per second the hub
@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 
 use edsgen_host::driver::{Driver, MonotonicClock};
 use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_host::segment::Segment;
 use edsgen_host::socketcand::SocketcandClient;
 use edsgen_host::Transport;
 use edsgen_runtime::node::Node;
@@ -40,20 +41,27 @@ fn main() -> Result<(), String> {
     let bus = hub.local_addr().to_string();
     let connect = || SocketcandClient::connect(&bus, "can0", TIMEOUT).map_err(|e| e.to_string());
     let cp301 = Card::named("cp301").ok_or("no cp301 card")?.model();
-    let mut drivers = Vec::new();
+    let rss_before = resident_kib();
+    let clock = MonotonicClock::new();
+    let mut members = Vec::new();
     for id in 1..=nodes {
-        let clock = MonotonicClock::new();
         let node = Node::new(RuntimeDictionary::new(&cp301, id), id, clock.now())
             .map_err(|e| format!("node {id}: {e:?}"))?;
-        drivers.push(
-            Driver::with_clock(connect()?, node, clock)
-                .spawn()
-                .map_err(|e| e.to_string())?,
-        );
+        members.push(node);
     }
+    let driver = Driver::with_clock(connect()?, Segment::new(members), clock)
+        .spawn()
+        .map_err(|e| e.to_string())?;
     let mut master = connect()?;
     std::thread::sleep(Duration::from_millis(200)); // the hub's quiet period after rawmode
-    println!("{nodes} simulated CP301 nodes on one hub ({bus})");
+    let per_node = match (rss_before, resident_kib()) {
+        (Some(before), Some(after)) => format!(
+            ", {:.0} KiB resident per node (its dictionary and node)",
+            after.saturating_sub(before) as f64 / f64::from(nodes)
+        ),
+        _ => String::new(),
+    };
+    println!("{nodes} simulated CP301 nodes on one hub ({bus}){per_node}");
 
     // SDO: 1018h:01 of each node, one after the other.
     let start = Instant::now();
@@ -110,9 +118,16 @@ fn main() -> Result<(), String> {
         relayed as f64 / elapsed,
         hub.clients()
     );
-    drop(drivers);
+    let _ = driver.stop();
     hub.stop();
     Ok(())
+}
+
+/// This process's resident memory (VmRSS), in KiB, where /proc says it.
+fn resident_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
 }
 
 /// Sends an SDO request to `node` and waits for its answer's data.

@@ -25,6 +25,7 @@ pub mod driver;
 pub mod hub;
 pub mod master;
 pub mod memory;
+pub mod segment;
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 pub mod socketcan;
 pub mod socketcand;

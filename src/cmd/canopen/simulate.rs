@@ -1,8 +1,9 @@
 //! `edsgen simulate [FILE[@ID]...] [--node-id N]... [--card NAME[@ID]]... [--bus HOST:PORT |
 //! --socketcan IFACE] [--trace]`: devices built at run time from description files, each a
 //! runtime `Node` serving a [`RuntimeDictionary`], and the bundled cards with their drives'
-//! behaviour ([`edsgen_sim::drives`]); each on a driver thread with its own bus connection (so the
-//! devices hear one another), until the process is stopped or the bus goes away.
+//! behaviour ([`edsgen_sim::drives`]); all of them on one driver thread and one bus connection, as
+//! one [`Segment`] (they hear one another in the process, the bus hears each frame once), until
+//! the process is stopped or the bus goes away.
 //!
 //! Each FILE's node-ID is the `@ID` after it, else the `--node-id` in the same position, else a
 //! DCF's `[DeviceComissioning]` NodeID. A FILE's overlay (`NAME.toml` beside it) applies, as in
@@ -35,7 +36,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
-use edsgen_host::driver::{Driver, DriverHandle, MonotonicClock};
+use edsgen_host::driver::{Driver, MonotonicClock};
+use edsgen_host::segment::Segment;
 use edsgen_host::socketcand::SocketcandClient;
 use edsgen_host::trace::epoch_micros;
 use edsgen_host::vbus::BusDevice;
@@ -87,8 +89,7 @@ pub fn run(args: Args) -> ExitCode {
         return fail(message);
     }
     let mut decoder = Decoder::new();
-    let mut drivers: Vec<DriverHandle<Box<dyn Transport + Send>, Box<dyn BusDevice + Send>>> =
-        Vec::new();
+    let mut members: Vec<Box<dyn BusDevice + Send>> = Vec::new();
     // The tracing connection first, so that it sees the boot-up messages.
     let mut listener = None;
     if args.trace {
@@ -98,23 +99,20 @@ pub fn run(args: Args) -> ExitCode {
         }
     }
     let mut identities: Vec<[u32; 4]> = Vec::new();
+    let clock = MonotonicClock::new();
+    let mut started = Vec::new();
     for p in &planned {
-        let transport = match bus.join() {
-            Ok(transport) => transport,
-            Err(message) => return fail(message),
-        };
-        let clock = MonotonicClock::new();
         let device = match p.card {
             Some(card) => (card.power_up)(p.node_id, clock.now()),
             None => {
                 let mut od = RuntimeDictionary::new(&p.device, p.node_id);
                 if p.node_id == UNCONFIGURED_NODE_ID {
                     match own_serial(&mut od, &mut identities) {
-                        Ok(identity) => eprintln!(
+                        Ok(identity) => started.push(format!(
                             "unconfigured node (LSS address {}): {}",
                             lss::show_identity(&identity),
                             p.path.display()
-                        ),
+                        )),
                         Err(message) => return fail(format!("{}: {message}", p.path.display())),
                     }
                 }
@@ -135,10 +133,7 @@ pub fn run(args: Args) -> ExitCode {
         if p.node_id != UNCONFIGURED_NODE_ID {
             decoder.describe(p.node_id, &p.device);
         }
-        match Driver::with_clock(transport, node, clock).spawn() {
-            Ok(handle) => drivers.push(handle),
-            Err(e) => return fail(format!("cannot start the node's thread: {e}")),
-        }
+        members.push(node);
         let what = match p.card {
             Some(card) => format!("card {}", card.name),
             None => p.path.display().to_string(),
@@ -147,24 +142,36 @@ pub fn run(args: Args) -> ExitCode {
             UNCONFIGURED_NODE_ID => "unconfigured node".to_owned(),
             id => format!("node {id}"),
         };
-        eprintln!(
+        started.push(format!(
             "simulating {who} ({what}) on {}",
             match bus {
                 Bus::Hub(addr) | Bus::SocketCan(addr) => addr,
             }
-        );
+        ));
+    }
+    // One connection and one driver thread for all the nodes (a segment: they hear one
+    // another in this process), however many there are.
+    let transport = match bus.join() {
+        Ok(transport) => transport,
+        Err(message) => return fail(message),
+    };
+    let count = members.len();
+    let driver = match Driver::with_clock(transport, Segment::new(members), clock).spawn() {
+        Ok(driver) => driver,
+        Err(e) => return fail(format!("cannot start the nodes' thread: {e}")),
+    };
+    // Said once the nodes are on the bus, so that whoever waits for these lines can talk to them.
+    for line in started {
+        eprintln!("{line}");
     }
     loop {
         if signals::requested() {
-            let count = drivers.len();
-            for driver in drivers {
-                let _ = driver.stop();
-            }
+            let _ = driver.stop();
             eprintln!("edsgen simulate: stopped {count} node(s)");
             return ExitCode::SUCCESS;
         }
-        if let Some(finished) = drivers.iter().position(DriverHandle::is_finished) {
-            let (result, _, _) = drivers.swap_remove(finished).stop();
+        if driver.is_finished() {
+            let (result, _, _) = driver.stop();
             let why = result.err().map_or("closed".to_owned(), |e| e.to_string());
             return fail(format!("{bus} went away: {why}"));
         }
