@@ -100,28 +100,19 @@ pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
 /// the sub-index is.
 ///
 /// Every SDO transfer starts here, so the search is in two steps that each load little: the
-/// index's first entry by a binary search on the index alone, then the sub-index, which is at
-/// most `sub` places on (sub-indices are sorted and distinct) and, as most records and arrays
-/// have every sub-index from 0, usually exactly there; else a search of those few places.
+/// index's first entry by a binary search on the index alone, then the sub-index among the
+/// `sub + 1` entries from there (sub-indices are sorted and distinct, so it is not further on):
+/// one entry for sub-index 0, a few for most others.
 #[inline(never)]
 pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usize, SdoAbort> {
     let first = entries.partition_point(|e| e.index < index);
     let end = entries.len().min(first + usize::from(sub) + 1);
-    let Some(candidates) = entries.get(first..end) else {
-        return Err(SdoAbort::NoObject);
-    };
-    match candidates {
-        [] => Err(SdoAbort::NoObject),
-        [e, ..] if e.index != index => Err(SdoAbort::NoObject),
-        [.., e] if e.index == index && e.sub == sub => Ok(end - 1),
-        _ => {
-            let key = |e: &EntryDescriptor| (u32::from(e.index) << 8) | u32::from(e.sub);
-            let wanted = (u32::from(index) << 8) | u32::from(sub);
-            match candidates.binary_search_by_key(&wanted, key) {
-                Ok(found) => Ok(first + found),
-                Err(_) => Err(SdoAbort::NoSubIndex),
-            }
-        }
+    let window = entries.get(first..end).unwrap_or(&[]);
+    let key = |e: &EntryDescriptor| (u32::from(e.index) << 8) | u32::from(e.sub);
+    match window.binary_search_by_key(&((u32::from(index) << 8) | u32::from(sub)), key) {
+        Ok(found) => Ok(first + found),
+        Err(_) if window.first().is_some_and(|e| e.index == index) => Err(SdoAbort::NoSubIndex),
+        Err(_) => Err(SdoAbort::NoObject),
     }
 }
 
