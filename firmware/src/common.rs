@@ -73,3 +73,75 @@ pub fn run<O: ObjectDictionary>(node: &mut Node<O>) -> ! {
 fn panic(_: &PanicInfo) -> ! {
     loop {}
 }
+
+/// The image's memory copy and fill, in place of compiler_builtins' speed-tuned ones (about
+/// 1 KB of word-at-a-time paths for every alignment): byte loops, as newlib-nano's
+/// size-optimised `memcpy`/`memset` are. The node copies a few bytes at a time (a frame, a
+/// value), so speed is not what these cost. They are the ARM EABI's entry points, which the
+/// compiler calls (compiler_builtins defines them weak). Volatile accesses keep the compiler
+/// from turning the loops back into calls of the functions they define.
+mod mem {
+    /// Copies `n` bytes.
+    ///
+    /// # Safety
+    /// `n` readable bytes at `src`, `n` writable at `dest`, not overlapping.
+    unsafe fn copy(dest: *mut u8, src: *const u8, n: usize) {
+        for i in 0..n {
+            // SAFETY: the caller's contract.
+            unsafe { dest.add(i).write_volatile(src.add(i).read_volatile()) };
+        }
+    }
+
+    /// Fills `n` bytes with `byte`.
+    ///
+    /// # Safety
+    /// `n` writable bytes at `dest`.
+    unsafe fn fill(dest: *mut u8, n: usize, byte: u8) {
+        for i in 0..n {
+            // SAFETY: the caller's contract.
+            unsafe { dest.add(i).write_volatile(byte) };
+        }
+    }
+
+    #[no_mangle]
+    unsafe extern "C" fn __aeabi_memcpy(dest: *mut u8, src: *const u8, n: usize) {
+        // SAFETY: the EABI's contract for memcpy.
+        unsafe { copy(dest, src, n) }
+    }
+
+    #[no_mangle]
+    unsafe extern "C" fn __aeabi_memcpy4(dest: *mut u8, src: *const u8, n: usize) {
+        // SAFETY: as for `__aeabi_memcpy` (the alignment is a promise it need not use).
+        unsafe { copy(dest, src, n) }
+    }
+
+    #[no_mangle]
+    unsafe extern "C" fn __aeabi_memcpy8(dest: *mut u8, src: *const u8, n: usize) {
+        // SAFETY: as for `__aeabi_memcpy`.
+        unsafe { copy(dest, src, n) }
+    }
+
+    #[no_mangle]
+    unsafe extern "C" fn __aeabi_memclr(dest: *mut u8, n: usize) {
+        // SAFETY: the EABI's contract for memset.
+        unsafe { fill(dest, n, 0) }
+    }
+
+    #[no_mangle]
+    unsafe extern "C" fn __aeabi_memclr4(dest: *mut u8, n: usize) {
+        // SAFETY: as for `__aeabi_memclr`.
+        unsafe { fill(dest, n, 0) }
+    }
+
+    #[no_mangle]
+    unsafe extern "C" fn __aeabi_memclr8(dest: *mut u8, n: usize) {
+        // SAFETY: as for `__aeabi_memclr`.
+        unsafe { fill(dest, n, 0) }
+    }
+
+    #[no_mangle]
+    unsafe extern "C" fn __aeabi_memset(dest: *mut u8, n: usize, byte: i32) {
+        // SAFETY: the EABI's contract for memset (its arguments in this order).
+        unsafe { fill(dest, n, byte as u8) }
+    }
+}

@@ -132,6 +132,12 @@ impl Emcy {
         self.active_count > 0
     }
 
+    /// Whether an emergency waits to be sent (perhaps for its inhibit time).
+    #[inline]
+    pub fn queued(&self) -> bool {
+        self.queued > 0
+    }
+
     fn enqueue(&mut self, repr: EmcyRepr) {
         if self.queued < QUEUE {
             self.queue[self.queued] = repr;

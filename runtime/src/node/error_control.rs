@@ -176,6 +176,16 @@ impl ErrorControl {
         Some((now + life, core::mem::take(&mut self.guarding.life_lost)))
     }
 
+    /// Whether an error-control frame is due (a heartbeat, or the answer to a guard request).
+    #[inline]
+    pub fn due(&self) -> bool {
+        #[cfg(feature = "node-guarding")]
+        if self.guarding.answer_due {
+            return true;
+        }
+        self.heartbeat_due
+    }
+
     /// The error-control byte to send for a node in `state`, if one is due: the answer to a
     /// guard request (with the toggle bit, which then alternates), else a heartbeat.
     #[inline]

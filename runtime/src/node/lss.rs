@@ -87,6 +87,9 @@ pub(crate) struct LssSlave {
     answer: Option<LssResponse>,
     /// While a bit timing is activated: no frame goes out before this (twice the switch delay).
     pub silent_until: Option<Instant>,
+    /// The node needs the slave in [`Node::poll_transmit`]: an answer is due, the node is
+    /// silent, or it is unconfigured. One flag, so that a configured node pays one test.
+    pub attention: bool,
 }
 
 impl LssSlave {
@@ -102,6 +105,7 @@ impl LssSlave {
             pending_bit_timing: None,
             answer: None,
             silent_until: None,
+            attention: node_id == UNCONFIGURED_NODE_ID,
         }
     }
 
@@ -119,6 +123,7 @@ impl LssSlave {
 
     fn answer(&mut self, response: LssResponse) {
         self.answer = Some(response);
+        self.attention = true;
     }
 
     fn result(&mut self, cs: u8, error: Option<LssError>) {
@@ -295,8 +300,39 @@ impl LssSlave {
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>
 {
+    /// A frame on 7E5h, or any frame while the node is unconfigured: whether LSS took it (a
+    /// request on 7E5h, or a frame an unconfigured node does not serve). Out of line and cold,
+    /// so that a configured node's frames pay one comparison for LSS.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn lss_takes_frame(&mut self, id: u16, frame: &CanFrame, now: Instant) -> bool {
+        if id == crate::wire::lss::LSS_REQUEST_COB_ID && !frame.is_remote() {
+            self.handle_lss(frame.data(), now);
+            return true;
+        }
+        self.is_unconfigured()
+    }
+
+    /// What [`Node::poll_transmit`] returns while the LSS slave has something to say or keeps
+    /// the node silent, or the node is unconfigured: `Some(frame)` (the answer, or `None` while
+    /// silent or unconfigured), else `None` and the node's other services go on. Out of line
+    /// and cold, like [`Node::lss_takes_frame`].
+    #[cold]
+    #[inline(never)]
+    pub(super) fn poll_lss(&mut self, now: Instant) -> Option<Option<CanFrame>> {
+        if self.lss_silent(now) {
+            return Some(None);
+        }
+        if let Some(frame) = self.lss.poll_transmit() {
+            return Some(Some(frame));
+        }
+        let unconfigured = self.is_unconfigured();
+        self.lss.attention = unconfigured || self.lss.silent_until.is_some();
+        unconfigured.then_some(None)
+    }
+
     /// A frame on 7E5h.
-    pub(super) fn handle_lss(&mut self, data: &[u8], now: Instant) {
+    fn handle_lss(&mut self, data: &[u8], now: Instant) {
         let Some(request) = LssRequest::parse(data) else {
             return;
         };
@@ -314,6 +350,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             LssAction::Activate(switch_delay_ms) => {
                 let delay = Duration::from_millis(u64::from(switch_delay_ms));
                 self.lss.silent_until = Some(now + delay + delay);
+                self.lss.attention = true;
                 if let Some(timing) = self.lss.pending_bit_timing() {
                     self.events.push(Event::BitTimingActivated {
                         timing,
@@ -337,7 +374,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// Whether an activated bit timing keeps the node silent at `now` (CiA 305: from the
     /// activate request until twice the switch delay has passed).
-    pub(super) fn lss_silent(&mut self, now: Instant) -> bool {
+    fn lss_silent(&mut self, now: Instant) -> bool {
         if self.lss.silent_until.is_some_and(|until| now < until) {
             return true;
         }

@@ -148,6 +148,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             ResetKind::Communication => self.lss.pending_node_id,
         };
         self.lss.pending_node_id = id;
+        self.lss.attention |= id == crate::wire::lss::UNCONFIGURED_NODE_ID;
         if id != self.node_id {
             self.node_id = id;
             self.sdo[0] = super::sdo_channel::SdoChannel::new(id);

@@ -2,7 +2,7 @@
 //! out in CAN priority order.
 
 use crate::frame::CanFrame;
-use crate::od::ObjectDictionary;
+use crate::od::{ObjectDictionary, SdoAbort};
 use crate::sdo::SdoEvent;
 use crate::time::Instant;
 use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
@@ -30,15 +30,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             }
             return;
         }
+        // LSS costs a configured node one comparison per frame: the rest is out of line.
         #[cfg(feature = "lss")]
+        if (id == crate::wire::lss::LSS_REQUEST_COB_ID || self.is_unconfigured())
+            && self.lss_takes_frame(id, frame, now)
         {
-            if id == crate::wire::lss::LSS_REQUEST_COB_ID && !frame.is_remote() {
-                self.handle_lss(frame.data(), now);
-                return;
-            }
-            if self.is_unconfigured() {
-                return;
-            }
+            return;
         }
         if frame.is_remote() {
             self.handle_remote(id, now);
@@ -142,6 +139,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
+    /// Inlined into its one caller whatever the features: out of line (as the `lss` feature's
+    /// code made it) it costs an RPDO some 25 instructions more.
+    #[inline(always)]
     fn handle_rpdo(&mut self, n: usize, data: &[u8], now: Instant) {
         let rpdo = &mut self.rpdos[n];
         let expected = usize::from(rpdo.mapping().len);
@@ -177,12 +177,18 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     self.emcy.clear(&mut self.od, error_code::PROTOCOL);
                 }
             }
-            Err(abort) => {
-                let [a, b, c, d] = abort.code().to_le_bytes();
-                let info = [n as u8, a, b, c, d];
-                self.raise_communication_error(error_code::PROTOCOL, info);
-            }
+            Err(abort) => self.rpdo_refused(n, abort),
         }
+    }
+
+    /// EMCY 8200h for RPDO `n`, whose values the OD refused: manufacturer bytes `n` then the
+    /// abort code. Out of line, so that applying an RPDO keeps a small frame.
+    #[cold]
+    #[inline(never)]
+    fn rpdo_refused(&mut self, n: usize, abort: SdoAbort) {
+        let [a, b, c, d] = abort.code().to_le_bytes();
+        let info = [n as u8, a, b, c, d];
+        self.raise_communication_error(error_code::PROTOCOL, info);
     }
 
     /// Raises an error of the node's own communication (register bit 4) with the
@@ -270,19 +276,38 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     /// The next frame to send, if any. Frames go out in CAN priority order of their function:
     /// boot-up first, then SYNC, EMCY, TPDOs, SDO responses, node guarding and heartbeat.
+    ///
+    /// Asked after every received frame, mostly with nothing to send: the services' flags are
+    /// tested here, inlined, and the frames built out of line only when one is set.
+    #[inline]
     pub fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
+        // As for received frames: one test on a configured node with nothing to say.
         #[cfg(feature = "lss")]
-        {
-            if self.lss_silent(now) {
-                return None;
-            }
-            if let Some(frame) = self.lss.poll_transmit() {
-                return Some(frame);
-            }
-            if self.is_unconfigured() {
-                return None;
+        if self.lss.attention {
+            if let Some(frame) = self.poll_lss(now) {
+                return frame;
             }
         }
+        // A test, not the order frames go out in: the default SDO channel's answer, the most
+        // frequent frame, is tested first.
+        let may_send = self.sdo[0].busy()
+            || self.boot_up_due
+            || self.sync.due()
+            || self.emcy.queued()
+            || self.tpdo_attention
+            || self.sdo[1].busy()
+            || self.error_control.due();
+        if may_send {
+            self.poll_transmit_due(now)
+        } else {
+            None
+        }
+    }
+
+    /// [`Node::poll_transmit`] once a service has a frame, or may have one (an EMCY or a TPDO
+    /// held back by its inhibit time).
+    #[inline(never)]
+    fn poll_transmit_due(&mut self, now: Instant) -> Option<CanFrame> {
         let error_control_id = ErrorControlRepr::cob_id(self.node_id);
         if core::mem::take(&mut self.boot_up_due) {
             return Some(one_byte_frame(

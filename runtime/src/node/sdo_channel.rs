@@ -65,6 +65,12 @@ impl SdoChannel {
         self.server.handle(now, request, od)
     }
 
+    /// Whether the server may have a frame to send.
+    #[inline]
+    pub fn busy(&self) -> bool {
+        self.busy
+    }
+
     /// The server's next response frame. A channel disabled by the write it is answering still
     /// sends that answer.
     #[inline]

@@ -82,6 +82,12 @@ impl Sync {
         monitoring.then(|| now + Duration(self.period.as_micros() * 3 / 2))
     }
 
+    /// Whether a produced SYNC waits to be sent.
+    #[inline]
+    pub fn due(&self) -> bool {
+        self.due.is_some()
+    }
+
     /// The SYNC the producer has to send, as (CAN-ID, counter byte, length).
     #[inline]
     pub fn poll_transmit(&mut self) -> Option<(u16, u8, u8)> {

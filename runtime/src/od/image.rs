@@ -271,8 +271,8 @@ impl Layout {
         if data_type == DataType::Boolean && data.first().is_some_and(|&byte| byte > 1) {
             return Err(SdoAbort::InvalidValue);
         }
-        if let Some(limit) = self.limit(position) {
-            limit.check(data_type, data)?;
+        if !self.limits.is_empty() {
+            self.check_limit(position, data_type, data)?;
         }
         let target = values
             .get_mut(start..start + size)
@@ -308,6 +308,22 @@ impl Layout {
     /// `ObjectDictionary::value_len`: the current length of the value at `position`.
     pub fn value_len(&self, values: &[u8], position: usize) -> Result<usize, SdoAbort> {
         Ok(self.value(values, position)?.len())
+    }
+
+    /// Checks `data` against the limits of the entry at `position`, if it has any. Out of line:
+    /// the search and the 64-bit comparisons would make every write save and restore the
+    /// registers they need, limits or not.
+    #[inline(never)]
+    fn check_limit(
+        &self,
+        position: usize,
+        data_type: DataType,
+        data: &[u8],
+    ) -> Result<(), SdoAbort> {
+        match self.limit(position) {
+            Some(limit) => limit.check(data_type, data),
+            None => Ok(()),
+        }
     }
 
     /// The limits of the entry at `position`, if it has any.

@@ -99,26 +99,20 @@ pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
 /// `write` dispatches on this position. `NoObject` if the index is absent, `NoSubIndex` if only
 /// the sub-index is.
 ///
-/// Every SDO transfer and PDO access starts here, so the search compares one `u32` key
-/// (`index << 8 | sub`) per step, without early exits: a third of the instructions of a search
-/// by `(index, sub)` tuples.
+/// Every SDO transfer starts here, so the search is in two steps that each load little: the
+/// index's first entry by a binary search on the index alone, then the sub-index among the
+/// `sub + 1` entries from there (sub-indices are sorted and distinct, so it is not further on):
+/// one entry for sub-index 0, a few for most others.
 #[inline(never)]
 pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usize, SdoAbort> {
+    let first = entries.partition_point(|e| e.index < index);
+    let end = entries.len().min(first + usize::from(sub) + 1);
+    let window = entries.get(first..end).unwrap_or(&[]);
     let key = |e: &EntryDescriptor| (u32::from(e.index) << 8) | u32::from(e.sub);
-    let wanted = (u32::from(index) << 8) | u32::from(sub);
-    // `base` ends on the last entry whose key is at most `wanted` (or on 0).
-    let (mut base, mut len) = (0usize, entries.len());
-    while len > 1 {
-        let half = len / 2;
-        if entries.get(base + half).is_some_and(|e| key(e) <= wanted) {
-            base += half;
-        }
-        len -= half;
-    }
-    match entries.get(base) {
-        Some(e) if key(e) == wanted => Ok(base),
-        _ if entries.iter().any(|e| e.index == index) => Err(SdoAbort::NoSubIndex),
-        _ => Err(SdoAbort::NoObject),
+    match window.binary_search_by_key(&((u32::from(index) << 8) | u32::from(sub)), key) {
+        Ok(found) => Ok(first + found),
+        Err(_) if window.first().is_some_and(|e| e.index == index) => Err(SdoAbort::NoSubIndex),
+        Err(_) => Err(SdoAbort::NoObject),
     }
 }
 

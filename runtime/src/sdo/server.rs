@@ -352,32 +352,38 @@ impl SdoServer {
         request: Frame<'_>,
         od: &mut O,
     ) -> Handled {
-        let mux = request.mux();
-        let toggle = request.toggle();
-        match (request.specifier(), self.transfer) {
-            (ccs::ABORT, _) => {
+        // On the command specifier first, and on the transfer in progress only where a segment
+        // needs it: matching a copy of the transfer with every request loads all of it first.
+        match request.specifier() {
+            ccs::ABORT => {
                 self.release(od);
                 self.end_transfer();
                 Ok(false)
             }
-            (ccs::INITIATE_DOWNLOAD, _) => {
+            ccs::INITIATE_DOWNLOAD => {
+                let mux = request.mux();
                 self.start(mux, od);
                 self.initiate_download(mux, request, od)
             }
-            (ccs::INITIATE_UPLOAD, _) => {
+            ccs::INITIATE_UPLOAD => {
+                let mux = request.mux();
                 self.start(mux, od);
                 self.initiate_upload(mux, od)
             }
-            (ccs::DOWNLOAD_SEGMENT, Transfer::Download(download)) => {
-                let bytes = request.segment_data();
-                self.download_segment(download, toggle, bytes, request.last(), od)
-            }
-            (ccs::UPLOAD_SEGMENT, Transfer::Upload(upload)) => {
-                self.upload_segment(upload, toggle, od)
-            }
+            ccs::DOWNLOAD_SEGMENT => match self.transfer {
+                Transfer::Download(download) => {
+                    let bytes = request.segment_data();
+                    self.download_segment(download, request.toggle(), bytes, request.last(), od)
+                }
+                _ => Err(SdoAbort::InvalidCommand),
+            },
+            ccs::UPLOAD_SEGMENT => match self.transfer {
+                Transfer::Upload(upload) => self.upload_segment(upload, request.toggle(), od),
+                _ => Err(SdoAbort::InvalidCommand),
+            },
             #[cfg(feature = "sdo-block")]
-            (ccs::BLOCK_UPLOAD | ccs::BLOCK_DOWNLOAD, _) => {
-                self.handle_block_request(request, mux, od)
+            ccs::BLOCK_UPLOAD | ccs::BLOCK_DOWNLOAD => {
+                self.handle_block_request(request, request.mux(), od)
             }
             _ => Err(SdoAbort::InvalidCommand),
         }

@@ -133,9 +133,15 @@ impl Mapping {
         data: &[u8],
     ) -> Result<(), SdoAbort> {
         if self.count <= 1 {
-            return self
-                .write_objects(od, data, MAX_MAPPED)
-                .map_err(|(_, abort)| abort);
+            // One object (a PDO's most common mapping), written here rather than through the
+            // loop: the OD leaves a refused value unchanged, so there is nothing to restore.
+            return match self.objects().first() {
+                Some(object) if !object.is_dummy() => match data.get(..usize::from(object.len)) {
+                    Some(bytes) => object.write(od, bytes),
+                    None => Ok(()),
+                },
+                _ => Ok(()),
+            };
         }
         let previous = self.pack(od);
         self.write_objects(od, data, MAX_MAPPED)

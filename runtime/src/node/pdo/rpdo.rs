@@ -123,8 +123,9 @@ impl Rpdo {
     /// A frame received at `now`. A frame shorter than the mapping is not processed (and is no
     /// reception for the deadline monitoring); a synchronous PDO's data waits for the next
     /// SYNC; an event-driven one is handed back to be applied. Also returns whether a timeout
-    /// of the PDO ended. `deadline` is the PDO's slot in the node's timer table.
-    #[inline]
+    /// of the PDO ended. `deadline` is the PDO's slot in the node's timer table. Inlined into
+    /// its one caller, the node's frame routing, whatever else that inlines.
+    #[inline(always)]
     pub fn receive<'d>(
         &mut self,
         now: Instant,
