@@ -155,3 +155,44 @@ fn the_simulated_device_stops_on_sigint_and_sigterm() {
 }
 
 const WAIT: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// `pn io` refuses what it cannot do before it touches the network: settings that name no
+/// output, values out of range, a module the access point does not allow, a cycle that is no
+/// power of two; exit 2 with the reason.
+#[test]
+fn pn_io_refuses_bad_settings_with_exit_2() {
+    let card = ["pn", "io", "lo", "goodrive350-pn", "--gsdml", "eds/goodrive350-pn.xml"];
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["Speed=1"],
+            "error: no output named `Speed` (the outputs: PKW1, PKW2, PKW3, PKW4, CW, PZD2, PZD3, \
+             PZD4, PZD5, PZD6, PZD7, PZD8, PZD9, PZD10, PZD11, PZD12)\n",
+        ),
+        (
+            &["CW=65536"],
+            "error: 65536 is out of range for `CW` (0 to 65535)\n",
+        ),
+        (&["CW=fast"], "error: `fast` is not an integer for `CW`\n"),
+        (
+            &["1.1=0102"],
+            "error: slot 1 subslot 1 takes 32 bytes of output data, `0102` is 2\n",
+        ),
+        (
+            &["--module", "2=MOD_PKW_PZD_16"],
+            "error: the access point does not allow module `MOD_PKW_PZD_16` in slot 2\n",
+        ),
+        (
+            &["--cycle-ms", "3"],
+            "error: --cycle-ms 3 is not a power of two from 1 to 512\n",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let args: Vec<&str> = card.iter().chain(extra).copied().collect();
+        let (code, stdout, stderr) = edsgen(&args);
+        assert_eq!(
+            (code, stdout.as_str(), stderr.as_str()),
+            (Some(2), "", expected),
+            "{extra:?}"
+        );
+    }
+}

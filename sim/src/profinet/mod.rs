@@ -6,8 +6,8 @@
 //! the Goodrive350's PKW/PZD drive one), [`drive`] puts it behind the cyclic data and makes its
 //! faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
 //! [`wire`]; the raw-socket and UDP driver in [`driver`]; [`station`] derives what the device
-//! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's
-//! and the tests').
+//! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's,
+//! the tests' and `edsgen pn io`'s), [`controller_alarm`] takes and acknowledges a device's alarms.
 //!
 //! Alarms: the card's drive faults only (Diagnosis appears and disappears), over layer 2.
 
@@ -15,10 +15,12 @@ pub mod alarm;
 pub mod application;
 pub mod ar;
 pub mod controller;
+pub mod controller_alarm;
 pub mod cyclic;
 pub mod dcp;
 pub mod device;
 pub mod drive;
 pub mod driver;
+pub mod iface;
 pub mod station;
 pub mod wire;
