@@ -113,7 +113,31 @@ fn profinet_usage_and_interface_errors_exit_2() {
         ),
         (
             &["pn", "set-name", "lo", "02:00:00:00:00:01", "Bad_Name"][..],
-            "error: `Bad_Name` is not a name of station (lowercase letters, digits, `-`, labels joined by `.`)",
+            "error: `Bad_Name` is not a PROFINET name of station: it has uppercase letters (names of station are lowercase)\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "Drive-7"][..],
+            "error: `Drive-7` is not a PROFINET name of station: it has uppercase letters (names of station are lowercase): use `drive-7`\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "port-001"][..],
+            "error: `port-001` is not a PROFINET name of station: it has a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "port-001-00000"][..],
+            "error: `port-001-00000` is not a PROFINET name of station: it has a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "1.2.3.4"][..],
+            "error: `1.2.3.4` is not a PROFINET name of station: it has the form `n.n.n.n` of an IP address\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "a..b"][..],
+            "error: `a..b` is not a PROFINET name of station: it has an empty label (a leading, trailing or doubled `.`)\n",
+        ),
+        (
+            &["pn", "io", "lo", "port-001", "--gsdml", "eds/goodrive350-pn.xml"][..],
+            "error: `port-001` is not a PROFINET name of station: it has a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port\n",
         ),
         (
             &["pn", "list", "nosuchif0"][..],
@@ -161,7 +185,14 @@ const WAIT: std::time::Duration = std::time::Duration::from_secs(10);
 /// power of two; exit 2 with the reason.
 #[test]
 fn pn_io_refuses_bad_settings_with_exit_2() {
-    let card = ["pn", "io", "lo", "goodrive350-pn", "--gsdml", "eds/goodrive350-pn.xml"];
+    let card = [
+        "pn",
+        "io",
+        "lo",
+        "goodrive350-pn",
+        "--gsdml",
+        "eds/goodrive350-pn.xml",
+    ];
     let cases: [(&[&str], &str); 6] = [
         (
             &["Speed=1"],

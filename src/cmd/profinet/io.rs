@@ -84,9 +84,10 @@ fn session(args: &IoArgs) -> Result<(), Stop> {
             args.cycle_ms
         )));
     }
-    if !dcp::valid_name(args.name) || args.name.is_empty() {
-        return Err(usage(format!("`{}` is not a name of station", args.name)));
+    if args.name.is_empty() {
+        return Err(usage("the device's name of station is empty"));
     }
+    super::check_name(args.name).map_err(Stop::Usage)?;
     let loaded = super::super::load(args.gsdml, None).map_err(Stop::Usage)?;
     let pn = loaded
         .device

@@ -245,10 +245,8 @@ fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
     let Some(mac) = parse_mac(mac) else {
         return fail(format!("`{mac}` is not a MAC address (aa:bb:cc:dd:ee:ff)"));
     };
-    if !dcp::valid_name(name) {
-        return fail(format!(
-            "`{name}` is not a name of station (lowercase letters, digits, `-`, labels joined by `.`)"
-        ));
+    if let Err(message) = check_name(name) {
+        return fail(message);
     }
     let mut socket = match RawSocket::open(iface, Duration::from_millis(100)) {
         Ok(socket) => socket,
@@ -298,6 +296,22 @@ fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+/// Why `name` cannot be a name of station (a device would refuse it with BlockError 3), in
+/// words; with uppercase letters, the lowercase name to use.
+fn check_name(name: &str) -> Result<(), String> {
+    let Some(problem) = dcp::name_problem(name) else {
+        return Ok(());
+    };
+    let lower = name.to_ascii_lowercase();
+    let hint = match problem {
+        dcp::NameProblem::Uppercase if dcp::valid_name(&lower) => format!(": use `{lower}`"),
+        _ => String::new(),
+    };
+    Err(format!(
+        "`{name}` is not a PROFINET name of station: it has {problem}{hint}"
+    ))
 }
 
 /// A DCP request frame (see [`dcp::request`]).
