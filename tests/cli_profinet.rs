@@ -101,11 +101,19 @@ fn profinet_usage_and_interface_errors_exit_2() {
         ),
         (
             &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2"][..],
-            "error: --ip `10.0.0.2` is not ADDR/PREFIX (such as 10.0.0.2/24)",
+            "error: `lo` does not have the address 10.0.0.2 (it has 127.0.0.1/8): RPC datagrams to it would not reach the device; add it (ip addr add 10.0.0.2/24 dev lo) or leave --ip out to take the interface's\n",
         ),
         (
-            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2/33"][..],
-            "error: --ip `10.0.0.2/33` is not ADDR/PREFIX (such as 10.0.0.2/24)",
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2/24"][..],
+            "error: `lo` does not have the address 10.0.0.2 (it has 127.0.0.1/8)",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "127.0.0.1/33"][..],
+            "error: --ip `127.0.0.1/33` is not ADDR or ADDR/PREFIX (such as 10.0.0.2/24)\n",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0"][..],
+            "error: --ip `10.0.0` is not ADDR or ADDR/PREFIX (such as 10.0.0.2/24)\n",
         ),
         (
             &["pn", "set-name", "lo", "zz:00:00:00:00:00", "a"][..],
@@ -167,6 +175,10 @@ fn the_simulated_device_stops_on_sigint_and_sigterm() {
             "goodrive350-pn",
         ]);
         device.stdout_line(|l| l.starts_with("PROFINET device"), WAIT);
+        assert_eq!(
+            device.stdout_line(|l| l.starts_with("RPC on"), WAIT),
+            "RPC on UDP 34964 at 127.0.0.1 mask 255.0.0.0 (lo's address)"
+        );
         let sent = Command::new("kill")
             .args([signal, &device.id().to_string()])
             .status()
@@ -179,6 +191,29 @@ fn the_simulated_device_stops_on_sigint_and_sigterm() {
 }
 
 const WAIT: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// `--ip` without a prefix takes the interface's prefix for the address, and says so. Root,
+/// as the test above.
+#[test]
+fn a_bare_ip_takes_the_interface_s_prefix() {
+    if !edsgen_demo::netns::is_root() {
+        process_support::skip::<()>("not root: no raw socket for the simulated device");
+        return;
+    }
+    let device = process_support::Process::edsgen(&[
+        "simulate",
+        "--profinet",
+        "lo",
+        "--card",
+        "goodrive350-pn",
+        "--ip",
+        "127.0.0.1",
+    ]);
+    assert_eq!(
+        device.stdout_line(|l| l.starts_with("RPC on"), WAIT),
+        "RPC on UDP 34964 at 127.0.0.1 mask 255.0.0.0 (lo's prefix for it)"
+    );
+}
 
 /// `pn io` refuses what it cannot do before it touches the network: settings that name no
 /// output, values out of range, a module the access point does not allow, a cycle that is no

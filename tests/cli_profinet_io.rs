@@ -1,6 +1,6 @@
 //! `edsgen pn io`, the PROFINET IO controller at the bench, over a veth pair joining two
 //! private network namespaces: against `edsgen simulate --profinet --card goodrive350-pn` (the
-//! drive run to 5.00 Hz and a PKW read of P00.11 by name, a drive fault's Diagnosis alarm
+//! device taking its interface's address, the drive run to 5.00 Hz and a PKW read of P00.11 by name, a drive fault's Diagnosis alarm
 //! printed and acknowledged, the AR released on SIGTERM), and against p-net's Linux sample
 //! (`../shared/peers/p-net/pn_dev_veth`, a device nobody here wrote: its echo module's gain
 //! set by a parameter record, its inputs the outputs times the gain). Needs root (namespaces,
@@ -73,11 +73,16 @@ fn pn_io_runs_the_simulated_goodrive350_by_name_and_acknowledges_its_alarm() {
         &net.device_if,
         "--card",
         "goodrive350-pn",
-        "--ip",
-        "10.78.0.2/24",
         "--faults-on-stdin",
     ]));
-    device.stdout_line(|l| l.starts_with("RPC on"), Duration::from_secs(10));
+    // Without --ip, the device takes its interface's address.
+    assert_eq!(
+        device.stdout_line(|l| l.starts_with("RPC on"), Duration::from_secs(10)),
+        format!(
+            "RPC on UDP 34964 at 10.78.0.2 mask 255.255.255.0 ({}'s address)",
+            net.device_if
+        )
+    );
     let gsdml = process_support::root().join("eds/goodrive350-pn.xml");
     // PZD2 out is the frequency reference (P16.32 = 1), PZD2 in the running frequency
     // (P16.43 = 1); PKW task 1 reads P00.11 (acceleration time, 10.0 s).
