@@ -255,6 +255,9 @@ fn print_ar(event: &ArEvent) {
     }
 }
 
+/// IP, mask and gateway, as DCP carries them.
+type IpParameter = [[u8; 4]; 3];
+
 /// The IP, mask and (no) gateway the device reports, and where they come from (said after
 /// the address): `--ip ADDR/PREFIX` as given; `--ip ADDR` with the prefix the interface has
 /// for that address (a bare address must be one of the interface's, and the kernel's netmask
@@ -262,7 +265,7 @@ fn print_ar(event: &ArEvent) {
 /// missing mask, could report a mask the interface does not use); without `--ip`, the
 /// interface's first IPv4 address and its prefix (`None` when it has none). An address the
 /// interface does not have is refused: RPC datagrams to it would never reach the device.
-fn address(iface: &str, ip: Option<&str>) -> Result<(Option<[[u8; 4]; 3]>, String), String> {
+fn address(iface: &str, ip: Option<&str>) -> Result<(Option<IpParameter>, String), String> {
     let own = iface::ipv4_addresses(iface).unwrap_or_default();
     let Some(text) = ip else {
         return Ok(match own.first() {
