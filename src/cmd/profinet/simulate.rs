@@ -141,26 +141,21 @@ pub fn run(
             DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
                 println!("name of station set to `{name}`")
             }
-            DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => println!(
-                "IP set to {}.{}.{}.{} mask {}.{}.{}.{} gateway {}.{}.{}.{}{}",
-                ip[0],
-                ip[1],
-                ip[2],
-                ip[3],
-                mask[0],
-                mask[1],
-                mask[2],
-                mask[3],
-                gw[0],
-                gw[1],
-                gw[2],
-                gw[3],
-                if has_address(iface, *ip) {
-                    ""
-                } else {
-                    " (not an address of the interface: RPC reaches the device once it has it)"
+            DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => {
+                let dotted = |a: &[u8; 4]| std::net::Ipv4Addr::from(*a).to_string();
+                println!(
+                    "IP set to {} mask {} gateway {}",
+                    dotted(ip),
+                    dotted(mask),
+                    dotted(gw)
+                );
+                if !has_address(iface, *ip) {
+                    eprintln!(
+                        "note: `{iface}` does not have {}: RPC reaches the device once it has it",
+                        dotted(ip)
+                    );
                 }
-            ),
+            }
             DeviceEvent::Dcp(DcpEvent::Signal) => println!("signal: flashing the LED"),
             DeviceEvent::Dcp(DcpEvent::ResetToFactory) => println!("reset to factory"),
             DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)) => println!(
