@@ -200,7 +200,7 @@ impl ControllerAlarms {
             return;
         };
         let mut var_part = Vec::new();
-        ack.emit(&mut var_part);
+        append_ack(&mut var_part, &ack);
         let header = RtaHeader {
             dst: self.remote_ref,
             src: self.local_ref,

@@ -1,8 +1,9 @@
 //! PROFINET wire formats, apart from the protocol machines. The Ethernet header, the DCP PDU
 //! ([`dcp`]), the cyclic RT frame ([`rt`]) and the DCE/RPC PDU of connection management
-//! ([`rpc`]) are the runtime's views ([`edsgen_runtime::profinet::wire`]); the PNIO blocks RPC
-//! carries ([`blocks`]) and the alarm frames of the AlarmCR ([`alarm`]) are still owned structs
-//! here. Parsing never panics: a frame too short or of another EtherType is `None`.
+//! ([`rpc`]) and the AlarmCR's RTA-PDU and AlarmAck ([`alarm`]) are the runtime's views
+//! ([`edsgen_runtime::profinet::wire`]); the PNIO blocks RPC carries ([`blocks`]) and the
+//! AlarmNotification with its diagnosis data are still owned structs here (the machines keep
+//! and queue them; moving them is the next step). Parsing never panics: a frame too short or of another EtherType is `None`.
 
 pub mod alarm;
 pub mod blocks;
