@@ -362,3 +362,68 @@ fn put_default(data: &mut [u8], field: &edsgen_codegen::model::RecordField, valu
         None => {}
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use edsgen_codegen::model::PnDataType::*;
+
+    fn item(kind: PnDataType, size: usize, bits: bool) -> Item {
+        Item {
+            label: "x".into(),
+            name: "x (y)".into(),
+            offset: 1,
+            size,
+            kind: Some(kind),
+            bits,
+        }
+    }
+
+    #[test]
+    fn values_are_written_big_endian_in_range() {
+        assert_eq!(
+            encode(&item(Unsigned16, 2, false), "0x1234"),
+            Ok(vec![0x12, 0x34])
+        );
+        assert_eq!(
+            encode(&item(Integer16, 2, false), "-2"),
+            Ok(vec![0xFF, 0xFE])
+        );
+        assert_eq!(
+            encode(&item(Integer8, 1, false), "128"),
+            Err("128 is out of range for `x` (-128 to 127)".to_owned())
+        );
+        assert_eq!(
+            encode(&item(Float32, 4, false), "1.5"),
+            Ok(vec![0x3F, 0xC0, 0, 0])
+        );
+        assert_eq!(encode(&item(Boolean, 1, false), "true"), Ok(vec![1]));
+        assert_eq!(
+            encode(&item(OctetString, 2, false), "0a0b"),
+            Ok(vec![0x0A, 0x0B])
+        );
+        assert_eq!(
+            encode(&item(OctetString, 2, false), "0a"),
+            Err("`0a` is not 2 hex bytes for `x`".to_owned())
+        );
+    }
+
+    #[test]
+    fn inputs_are_shown_in_words() {
+        let data = [0x00, 0xFF, 0xFE, 0x00];
+        assert_eq!(show(&item(Unsigned16, 2, false), &data), "65534");
+        assert_eq!(show(&item(Integer16, 2, false), &data), "-2");
+        assert_eq!(show(&item(Unsigned16, 2, true), &data), "0xfffe");
+        assert_eq!(show(&item(Unsigned32, 4, false), &data), "?");
+        let float = [0, 0x40, 0x90, 0, 0];
+        assert_eq!(show(&item(Float32, 4, false), &float), "4.5");
+    }
+
+    #[test]
+    fn hex_takes_separators_and_refuses_odd_digits() {
+        assert_eq!(hex("0x01 02:03_04"), Some(vec![1, 2, 3, 4]));
+        assert_eq!(hex("123"), None);
+        assert_eq!(hex(""), None);
+        assert_eq!(hex("zz"), None);
+    }
+}
