@@ -148,7 +148,8 @@ enum Command {
     /// parameters, send any service, run a class-1 connection (io).
     #[command(subcommand)]
     Enip(cmd::enip::Args),
-    /// PROFINET at the bench (DCP): list the devices on an interface, set a name of station.
+    /// PROFINET at the bench: list the devices on an interface (DCP), set a name of station,
+    /// connect to a device as its IO controller and exchange its IO data (io).
     Pn {
         #[command(subcommand)]
         command: cmd::profinet::PnCommand,

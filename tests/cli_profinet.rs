@@ -101,11 +101,19 @@ fn profinet_usage_and_interface_errors_exit_2() {
         ),
         (
             &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2"][..],
-            "error: --ip `10.0.0.2` is not ADDR/PREFIX (such as 10.0.0.2/24)",
+            "error: `lo` does not have the address 10.0.0.2 (it has 127.0.0.1/8): RPC datagrams to it would not reach the device; add it (ip addr add 10.0.0.2/24 dev lo) or leave --ip out to take the interface's\n",
         ),
         (
-            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2/33"][..],
-            "error: --ip `10.0.0.2/33` is not ADDR/PREFIX (such as 10.0.0.2/24)",
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2/24"][..],
+            "error: `lo` does not have the address 10.0.0.2 (it has 127.0.0.1/8)",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "127.0.0.1/33"][..],
+            "error: --ip `127.0.0.1/33` is not ADDR or ADDR/PREFIX (such as 10.0.0.2/24)\n",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0"][..],
+            "error: --ip `10.0.0` is not ADDR or ADDR/PREFIX (such as 10.0.0.2/24)\n",
         ),
         (
             &["pn", "set-name", "lo", "zz:00:00:00:00:00", "a"][..],
@@ -113,7 +121,31 @@ fn profinet_usage_and_interface_errors_exit_2() {
         ),
         (
             &["pn", "set-name", "lo", "02:00:00:00:00:01", "Bad_Name"][..],
-            "error: `Bad_Name` is not a name of station (lowercase letters, digits, `-`, labels joined by `.`)",
+            "error: `Bad_Name` is not a PROFINET name of station: it has uppercase letters (names of station are lowercase)\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "Drive-7"][..],
+            "error: `Drive-7` is not a PROFINET name of station: it has uppercase letters (names of station are lowercase): use `drive-7`\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "port-001"][..],
+            "error: `port-001` is not a PROFINET name of station: it has a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "port-001-00000"][..],
+            "error: `port-001-00000` is not a PROFINET name of station: it has a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "1.2.3.4"][..],
+            "error: `1.2.3.4` is not a PROFINET name of station: it has the form `n.n.n.n` of an IP address\n",
+        ),
+        (
+            &["pn", "set-name", "lo", "02:00:00:00:00:01", "a..b"][..],
+            "error: `a..b` is not a PROFINET name of station: it has an empty label (a leading, trailing or doubled `.`)\n",
+        ),
+        (
+            &["pn", "io", "lo", "port-001", "--gsdml", "eds/goodrive350-pn.xml"][..],
+            "error: `port-001` is not a PROFINET name of station: it has a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port\n",
         ),
         (
             &["pn", "list", "nosuchif0"][..],
@@ -143,6 +175,10 @@ fn the_simulated_device_stops_on_sigint_and_sigterm() {
             "goodrive350-pn",
         ]);
         device.stdout_line(|l| l.starts_with("PROFINET device"), WAIT);
+        assert_eq!(
+            device.stdout_line(|l| l.starts_with("RPC on"), WAIT),
+            "RPC on UDP 34964 at 127.0.0.1 mask 255.0.0.0 (lo's address)"
+        );
         let sent = Command::new("kill")
             .args([signal, &device.id().to_string()])
             .status()
@@ -155,3 +191,74 @@ fn the_simulated_device_stops_on_sigint_and_sigterm() {
 }
 
 const WAIT: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// `--ip` without a prefix takes the interface's prefix for the address, and says so. Root,
+/// as the test above.
+#[test]
+fn a_bare_ip_takes_the_interface_s_prefix() {
+    if !edsgen_demo::netns::is_root() {
+        process_support::skip::<()>("not root: no raw socket for the simulated device");
+        return;
+    }
+    let device = process_support::Process::edsgen(&[
+        "simulate",
+        "--profinet",
+        "lo",
+        "--card",
+        "goodrive350-pn",
+        "--ip",
+        "127.0.0.1",
+    ]);
+    assert_eq!(
+        device.stdout_line(|l| l.starts_with("RPC on"), WAIT),
+        "RPC on UDP 34964 at 127.0.0.1 mask 255.0.0.0 (lo's prefix for it)"
+    );
+}
+
+/// `pn io` refuses what it cannot do before it touches the network: settings that name no
+/// output, values out of range, a module the access point does not allow, a cycle that is no
+/// power of two; exit 2 with the reason.
+#[test]
+fn pn_io_refuses_bad_settings_with_exit_2() {
+    let card = [
+        "pn",
+        "io",
+        "lo",
+        "goodrive350-pn",
+        "--gsdml",
+        "eds/goodrive350-pn.xml",
+    ];
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["Speed=1"],
+            "error: no output named `Speed` (the outputs: PKW1, PKW2, PKW3, PKW4, CW, PZD2, PZD3, \
+             PZD4, PZD5, PZD6, PZD7, PZD8, PZD9, PZD10, PZD11, PZD12)\n",
+        ),
+        (
+            &["CW=65536"],
+            "error: 65536 is out of range for `CW` (0 to 65535)\n",
+        ),
+        (&["CW=fast"], "error: `fast` is not an integer for `CW`\n"),
+        (
+            &["1.1=0102"],
+            "error: slot 1 subslot 1 takes 32 bytes of output data, `0102` is 2\n",
+        ),
+        (
+            &["--module", "2=MOD_PKW_PZD_16"],
+            "error: the access point does not allow module `MOD_PKW_PZD_16` in slot 2\n",
+        ),
+        (
+            &["--cycle-ms", "3"],
+            "error: --cycle-ms 3 is not a power of two from 1 to 512\n",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let args: Vec<&str> = card.iter().chain(extra).copied().collect();
+        let (code, stdout, stderr) = edsgen(&args);
+        assert_eq!(
+            (code, stdout.as_str(), stderr.as_str()),
+            (Some(2), "", expected),
+            "{extra:?}"
+        );
+    }
+}

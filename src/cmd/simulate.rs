@@ -39,9 +39,10 @@ pub struct Args {
     /// `--card goodrive350-pn`; root or CAP_NET_RAW).
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
     pub profinet: Option<String>,
-    /// With --profinet: the device's IP address and prefix (`10.0.0.2/24`), as DCP reports it;
-    /// the interface must have the address for the RPC endpoint (UDP 34964) to be reached.
-    #[arg(long, value_name = "ADDR/PREFIX", requires = "profinet")]
+    /// With --profinet: the device's IP address, and prefix (`10.0.0.2/24`; without one, the
+    /// interface's prefix for it), as DCP reports it: one of the interface's addresses, for the
+    /// RPC endpoint (UDP 34964) to be reached. Default: the interface's first IPv4 address.
+    #[arg(long, value_name = "ADDR[/PREFIX]", requires = "profinet")]
     pub ip: Option<String>,
     /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
     /// or one FILE.gsd[@ADDR]).

@@ -33,6 +33,12 @@ use connect::{refuse, Accepted, AR_TYPE_IOC_SINGLE};
 /// A datagram's peer: IPv4 address and UDP port.
 pub type Peer = ([u8; 4], u16);
 
+/// Whether a datagram can be sent to `peer`: a port, and a unicast address.
+pub fn answerable(peer: Peer) -> bool {
+    let ip = core::net::Ipv4Addr::from(peer.0);
+    peer.1 != 0 && !ip.is_unspecified() && !ip.is_broadcast() && !ip.is_multicast()
+}
+
 /// What the connection management tells the application.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ArEvent {
@@ -219,8 +225,13 @@ impl Cm {
         }
     }
 
-    /// A datagram from `from` at `now`: the answer to send back to it, if any.
+    /// A datagram from `from` at `now`: the answer to send back to it, if any. A sender that
+    /// cannot be answered (port 0, or a source address no host has: 0.0.0.0, broadcast,
+    /// multicast) is ignored: a socket refuses a datagram to it.
     pub fn handle_datagram(&mut self, now: Instant, from: Peer, pdu: &[u8]) -> Option<Vec<u8>> {
+        if !answerable(from) {
+            return None;
+        }
         let (header, body) = RpcHeader::parse(pdu)?;
         match header.packet_type {
             REQUEST => {}

@@ -30,6 +30,8 @@ pub struct Connected {
     pub frame_ids: (u16, u16),
     /// The ModuleDiffBlock, when the device sent one.
     pub diff: Option<ModuleDiffBlock>,
+    /// The device's LocalAlarmReference (AlarmCRBlockRes), when it sent one.
+    pub device_alarm_ref: Option<u16>,
 }
 
 impl Controller {
@@ -69,48 +71,19 @@ impl Controller {
     /// The blocks of a Connect for `config` as it is (the expected configuration is the real
     /// one), every `scf` × `rr` × 31.25 µs, with DataHoldFactor `factor`.
     pub fn connect_blocks(&self, config: &DeviceConfig, scf: u16, rr: u16, factor: u16) -> Vec<u8> {
-        let subs: Vec<(u16, &RealSubmodule)> = config
-            .slots
-            .iter()
-            .flat_map(|s| s.submodules.iter().map(move |sub| (s.slot, sub)))
-            .collect();
-        let provides = |sub: &RealSubmodule, input: bool| {
-            if input {
-                sub.input_len > 0 || sub.output_len == 0
-            } else {
-                sub.output_len > 0
-            }
-        };
         let iocr = |input: bool| {
-            let mut offset = 0u16;
-            let mut data = Vec::new();
-            let mut iocs = Vec::new();
-            for &(slot, sub) in &subs {
-                if provides(sub, input) {
-                    data.push(FrameEntry {
-                        slot,
-                        subslot: sub.subslot,
-                        offset,
-                    });
-                    offset += if input { sub.input_len } else { sub.output_len } + 1;
-                }
-            }
-            for &(slot, sub) in &subs {
-                if provides(sub, !input) {
-                    iocs.push(FrameEntry {
-                        slot,
-                        subslot: sub.subslot,
-                        offset,
-                    });
-                    offset += 1;
-                }
-            }
+            let layout = CrLayout::of(config, input);
+            let entry = |&(slot, subslot, offset, _): &(u16, u16, u16, u16)| FrameEntry {
+                slot,
+                subslot,
+                offset,
+            };
             IocrBlockReq {
                 iocr_type: if input { IOCR_INPUT } else { IOCR_OUTPUT },
                 reference: if input { 1 } else { 2 },
                 lt: 0x8892,
                 properties: 1,
-                data_length: offset.max(40),
+                data_length: layout.length,
                 frame_id: if input { 0xC001 } else { 0xFFFF },
                 send_clock_factor: scf,
                 reduction_ratio: rr,
@@ -121,25 +94,18 @@ impl Controller {
                 data_hold_factor: factor,
                 tag_header: 0xC000,
                 multicast_mac: [0; 6],
-                apis: vec![IocrApi { api: 0, data, iocs }],
+                apis: vec![IocrApi {
+                    api: 0,
+                    data: layout.data.iter().map(entry).collect(),
+                    iocs: layout.iocs.iter().map(entry).collect(),
+                }],
             }
         };
         let mut out = Vec::new();
         self.ar.emit(&mut out);
         iocr(true).emit(&mut out);
         iocr(false).emit(&mut out);
-        AlarmCrBlockReq {
-            alarm_cr_type: 1,
-            lt: 0x8892,
-            properties: 0,
-            rta_timeout_factor: 1,
-            rta_retries: 3,
-            local_alarm_reference: 1,
-            max_alarm_data_length: 200,
-            tag_header_high: 0xC000,
-            tag_header_low: 0xA000,
-        }
-        .emit(&mut out);
+        alarm_cr().emit(&mut out);
         ExpectedSubmoduleBlockReq {
             slots: config
                 .slots
@@ -239,6 +205,75 @@ impl Controller {
     }
 }
 
+/// The AlarmCRBlockReq of every Connect: LocalAlarmReference 1, an RTA timeout of 100 ms and
+/// 3 retries, priorities 6 (high) and 5 (low).
+pub fn alarm_cr() -> AlarmCrBlockReq {
+    AlarmCrBlockReq {
+        alarm_cr_type: 1,
+        lt: 0x8892,
+        properties: 0,
+        rta_timeout_factor: 1,
+        rta_retries: 3,
+        local_alarm_reference: 1,
+        max_alarm_data_length: 200,
+        tag_header_high: 0xC000,
+        tag_header_low: 0xA000,
+    }
+}
+
+/// Where each submodule's bytes are in one IOCR's C_SDU, as [`Controller::connect_blocks`]
+/// lays it out.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CrLayout {
+    /// The submodules that provide data in this CR: slot, subslot, offset of the data, its
+    /// length (the IOPS follows it).
+    pub data: Vec<(u16, u16, u16, u16)>,
+    /// The submodules that provide in the other CR: slot, subslot, offset of their IOCS (the
+    /// last field is 0).
+    pub iocs: Vec<(u16, u16, u16, u16)>,
+    /// The C_SDU's length (40 at least).
+    pub length: u16,
+}
+
+impl CrLayout {
+    /// The input CR's layout (`input`), or the output CR's, for `config`.
+    pub fn of(config: &DeviceConfig, input: bool) -> CrLayout {
+        let subs: Vec<(u16, &RealSubmodule)> = config
+            .slots
+            .iter()
+            .flat_map(|s| s.submodules.iter().map(move |sub| (s.slot, sub)))
+            .collect();
+        let provides = |sub: &RealSubmodule, input: bool| {
+            if input {
+                sub.input_len > 0 || sub.output_len == 0
+            } else {
+                sub.output_len > 0
+            }
+        };
+        let mut offset = 0u16;
+        let mut data = Vec::new();
+        let mut iocs = Vec::new();
+        for &(slot, sub) in &subs {
+            if provides(sub, input) {
+                let len = if input { sub.input_len } else { sub.output_len };
+                data.push((slot, sub.subslot, offset, len));
+                offset = offset.saturating_add(len).saturating_add(1);
+            }
+        }
+        for &(slot, sub) in &subs {
+            if provides(sub, !input) {
+                iocs.push((slot, sub.subslot, offset, 0));
+                offset = offset.saturating_add(1);
+            }
+        }
+        CrLayout {
+            data,
+            iocs,
+            length: offset.max(40),
+        }
+    }
+}
+
 /// The expected submodule that matches `sub`.
 fn expected(sub: &RealSubmodule) -> ExpectedSubmodule {
     let d = |direction, length| DataDescription {
@@ -288,5 +323,10 @@ pub fn connected(args: &[u8]) -> Option<Connected> {
             .iter()
             .find(|b| b.block_type == MODULE_DIFF_BLOCK)
             .and_then(|b| ModuleDiffBlock::parse(b.body)),
+        device_alarm_ref: blocks
+            .iter()
+            .find(|b| b.block_type == ALARM_CR_BLOCK_REQ | RESPONSE_BIT)
+            .and_then(|b| AlarmCrBlockRes::parse(b.body))
+            .map(|r| r.local_alarm_reference),
     })
 }

@@ -283,7 +283,8 @@ impl Dcp {
                     self.events.push(DcpEvent::NameSet(name.to_owned()));
                     ERROR_NONE
                 }
-                _ => ERROR_LOCAL,
+                // A name the PROFINET name rules refuse: "not set", as p-net answers.
+                _ => ERROR_NOT_SET,
             },
             IP_PARAMETER => match value.get(..12) {
                 Some(v) if value.len() == 12 => {

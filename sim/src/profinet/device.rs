@@ -402,3 +402,6 @@ pub const IDLE_POLL: Duration = Duration::from_millis(1);
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod hostile;

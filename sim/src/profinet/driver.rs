@@ -74,7 +74,9 @@ pub fn serve_dcp(
             continue;
         };
         if let Some(answer) = buf.get(..n).and_then(|frame| dcp.handle(frame)) {
-            socket.send(&answer)?;
+            if let Err(e) = socket.send(&answer) {
+                eprintln!("dropped a DCP answer the socket refused: {e}");
+            }
         }
         while let Some(event) = dcp.poll_event() {
             on_event(&event);
@@ -160,7 +162,9 @@ pub fn serve_with(
 ) -> io::Result<()> {
     let clock = MonotonicClock::new();
     let hello = device.dcp().hello();
-    raw.send(&hello)?;
+    if let Err(e) = raw.send(&hello) {
+        eprintln!("dropped the DCP Hello the socket refused: {e}");
+    }
     let mut buf = vec![0u8; 1600];
     let mut dgram = vec![0u8; 4096];
     while until.is_none_or(|t| Instant::now() < t) {
@@ -187,7 +191,9 @@ pub fn serve_with(
     Ok(())
 }
 
-/// Sends what the device has to send at `now`: frames on `raw`, datagrams on `rpc`.
+/// Sends what the device has to send at `now`: frames on `raw`, datagrams on `rpc`. An answer
+/// the socket refuses is said on standard error and dropped: one bad request never stops the
+/// device (the errors that do are the sockets' reads).
 fn send(
     raw: &mut RawSocket,
     rpc: &RpcSocket,
@@ -195,9 +201,22 @@ fn send(
     now: edsgen_runtime::Instant,
 ) -> io::Result<()> {
     while let Some(transmit) = device.poll_transmit(now) {
-        match transmit {
-            Transmit::Frame(frame) => raw.send(&frame)?,
-            Transmit::Datagram(to, pdu) => rpc.send(to, &pdu)?,
+        let (sent, what) = match &transmit {
+            Transmit::Frame(frame) => {
+                (raw.send(frame), format!("a frame of {} bytes", frame.len()))
+            }
+            Transmit::Datagram(to, pdu) => (
+                rpc.send(*to, pdu),
+                format!(
+                    "a datagram of {} bytes to {}:{}",
+                    pdu.len(),
+                    core::net::Ipv4Addr::from(to.0),
+                    to.1
+                ),
+            ),
+        };
+        if let Err(e) = sent {
+            eprintln!("dropped {what} the socket refused: {e}");
         }
     }
     Ok(())

@@ -6,19 +6,31 @@
 //! the Goodrive350's PKW/PZD drive one), [`drive`] puts it behind the cyclic data and makes its
 //! faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
 //! [`wire`]; the raw-socket and UDP driver in [`driver`]; [`station`] derives what the device
-//! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's
-//! and the tests').
+//! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's,
+//! the tests' and `edsgen pn io`'s), [`controller_alarm`] takes and acknowledges a device's alarms.
 //!
 //! Alarms: the card's drive faults only (Diagnosis appears and disappears), over layer 2.
+//!
+//! What is no_std already: the wire views of the runtime (`edsgen_runtime::profinet::wire`:
+//! Ethernet, DCP with the name rules, RT frames, DCE/RPC, the block framing, the RTA-PDU and
+//! AlarmAck). What remains here, and why: the PNIO blocks of connection management and the
+//! AlarmNotification are owned structs ([`wire::blocks`], [`wire::alarm`]) the machines keep
+//! (an AR's accepted request, queued alarms): they need views with borrowed lists first; the
+//! machines ([`dcp`], [`ar`], [`cyclic`], [`alarm`], [`controller_alarm`]) queue their frames
+//! and datagrams in `Vec`s and `VecDeque`s (they could live behind the runtime's `alloc`
+//! feature once the blocks are views); [`ar::config`] and [`station`] read the GSDML model,
+//! which is std; [`driver`] and [`iface`] are sockets.
 
 pub mod alarm;
 pub mod application;
 pub mod ar;
 pub mod controller;
+pub mod controller_alarm;
 pub mod cyclic;
 pub mod dcp;
 pub mod device;
 pub mod drive;
 pub mod driver;
+pub mod iface;
 pub mod station;
 pub mod wire;

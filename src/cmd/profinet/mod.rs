@@ -1,4 +1,5 @@
-//! `edsgen pn list IFACE [--gsdml FILE]...` and `edsgen pn set-name IFACE MAC NAME`: PROFINET
+//! `edsgen pn list IFACE [--gsdml FILE]...`, `edsgen pn set-name IFACE MAC NAME` and `edsgen pn
+//! io` (a controller at the bench, [`io`]): PROFINET
 //! DCP at the bench, as a controller (root, or `CAP_NET_RAW`). `list` sends Identify all and
 //! prints one tab-separated line per device that answers within the timeout: MAC, name of
 //! station, VendorID:DeviceID, IP, type of station, and with `--gsdml` the file whose VendorID
@@ -17,6 +18,9 @@ use edsgen_sim::profinet::driver::RawSocket;
 
 use super::fail;
 
+mod io;
+mod io_data;
+mod io_link;
 pub mod simulate;
 
 /// `edsgen pn` verbs.
@@ -42,6 +46,41 @@ pub enum PnCommand {
         /// The new name of station (DNS-compatible: lowercase letters, digits, `-`, `.`).
         name: String,
     },
+    /// Connect to a device as its IO controller and exchange its IO data (RT_CLASS_1).
+    ///
+    /// Finds the device by its name of station, connects with the GSDML's default access
+    /// point and modules, writes their parameter records, and exchanges cyclic frames: the
+    /// outputs as set here (zero elsewhere), the inputs printed by name whenever they change,
+    /// alarms printed and acknowledged. Releases the connection after --cycles, or on Ctrl-C.
+    /// Exit 0; 1 when the device is not found, refuses or is lost; 2 for usage.
+    Io {
+        /// The network interface.
+        iface: String,
+        /// The device's name of station.
+        name: String,
+        /// The device's GSDML file.
+        #[arg(long = "gsdml", value_name = "FILE")]
+        gsdml: PathBuf,
+        /// Outputs to set: `NAME=VALUE` (a data item's name, as printed for the inputs, or its
+        /// whole GSDML text) or `SLOT.SUBSLOT=HEX` (a submodule's whole output data).
+        #[arg(value_name = "SETTING")]
+        settings: Vec<String>,
+        /// Plug the GSDML module with this ID in SLOT (`SLOT=MODULE_ID`), for devices whose
+        /// modules are only allowed, not used, in their slots.
+        #[arg(long = "module", value_name = "SLOT=MODULE_ID")]
+        modules: Vec<String>,
+        /// Write this content to a parameter record instead of the GSDML's defaults
+        /// (`SLOT.SUBSLOT.INDEX=HEX`).
+        #[arg(long = "record", value_name = "SLOT.SUBSLOT.INDEX=HEX")]
+        records: Vec<String>,
+        /// Release the connection after this many cycles of data exchange (default: run until
+        /// Ctrl-C or SIGTERM).
+        #[arg(long, value_name = "N")]
+        cycles: Option<u64>,
+        /// The cycle time in ms: a power of two from 1 to 512.
+        #[arg(long = "cycle-ms", value_name = "MS", default_value_t = 8)]
+        cycle_ms: u16,
+    },
 }
 
 /// Runs an `edsgen pn` verb.
@@ -53,6 +92,25 @@ pub fn run(command: &PnCommand) -> ExitCode {
             timeout,
         } => list(iface, gsdml, Duration::from_millis(*timeout)),
         PnCommand::SetName { iface, mac, name } => set_name(iface, mac, name),
+        PnCommand::Io {
+            iface,
+            name,
+            gsdml,
+            settings,
+            modules,
+            records,
+            cycles,
+            cycle_ms,
+        } => io::run(&io::IoArgs {
+            iface,
+            name,
+            gsdml,
+            settings,
+            modules,
+            records,
+            cycles: *cycles,
+            cycle_ms: *cycle_ms,
+        }),
     }
 }
 
@@ -187,10 +245,8 @@ fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
     let Some(mac) = parse_mac(mac) else {
         return fail(format!("`{mac}` is not a MAC address (aa:bb:cc:dd:ee:ff)"));
     };
-    if !dcp::valid_name(name) {
-        return fail(format!(
-            "`{name}` is not a name of station (lowercase letters, digits, `-`, labels joined by `.`)"
-        ));
+    if let Err(message) = check_name(name) {
+        return fail(message);
     }
     let mut socket = match RawSocket::open(iface, Duration::from_millis(100)) {
         Ok(socket) => socket,
@@ -240,6 +296,22 @@ fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+/// Why `name` cannot be a name of station (a device would refuse it with BlockError 3), in
+/// words; with uppercase letters, the lowercase name to use.
+fn check_name(name: &str) -> Result<(), String> {
+    let Some(problem) = dcp::name_problem(name) else {
+        return Ok(());
+    };
+    let lower = name.to_ascii_lowercase();
+    let hint = match problem {
+        dcp::NameProblem::Uppercase if dcp::valid_name(&lower) => format!(": use `{lower}`"),
+        _ => String::new(),
+    };
+    Err(format!(
+        "`{name}` is not a PROFINET name of station: it has {problem}{hint}"
+    ))
 }
 
 /// A DCP request frame (see [`dcp::request`]).

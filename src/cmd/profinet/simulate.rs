@@ -1,4 +1,4 @@
-//! `edsgen simulate --profinet IFACE (FILE.xml | --card goodrive350-pn) [--ip ADDR/PREFIX]`: a
+//! `edsgen simulate --profinet IFACE (FILE.xml | --card goodrive350-pn) [--ip ADDR[/PREFIX]]`: a
 //! PROFINET IO device from a GSDML on a network interface (root, or `CAP_NET_RAW`). It says
 //! Hello, then answers DCP (identify, get, set name of station and IP, signal) as the GSDML's
 //! default access point, serves connection management on UDP 34964 (Connect, Read, Write,
@@ -22,7 +22,7 @@ use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::ArEvent;
 use edsgen_sim::profinet::dcp::DcpEvent;
 use edsgen_sim::profinet::device::{Device, DeviceEvent};
-use edsgen_sim::profinet::{driver, station};
+use edsgen_sim::profinet::{driver, iface, station};
 
 use crate::cmd::fail;
 
@@ -40,7 +40,7 @@ pub fn run(
     ip: Option<&str>,
     faults_on_stdin: bool,
 ) -> ExitCode {
-    let ip = match ip.map(parse_ip).transpose() {
+    let (ip, source) = match address(iface, ip) {
         Ok(ip) => ip,
         Err(e) => return fail(e),
     };
@@ -79,6 +79,10 @@ pub fn run(
             "`{name}` is not a GSDML file without errors (run `edsgen validate {name}`)"
         ));
     };
+    // Before the first line: a signal that comes once the device is announced stops it cleanly.
+    if let Err(message) = crate::cmd::signals::install() {
+        return fail(message);
+    }
     let mut socket = match driver::RawSocket::open(iface, std::time::Duration::from_millis(1)) {
         Ok(socket) => socket,
         Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
@@ -101,20 +105,17 @@ pub fn run(
     );
     match ip {
         Some([a, m, _]) => println!(
-            "RPC on UDP 34964 at {}.{}.{}.{} mask {}.{}.{}.{}",
+            "RPC on UDP 34964 at {}.{}.{}.{} mask {}.{}.{}.{}{source}",
             a[0], a[1], a[2], a[3], m[0], m[1], m[2], m[3]
         ),
         None => println!(
-            "no IP yet (--ip ADDR/PREFIX, or a DCP Set): RPC on UDP 34964 answers once {iface} has the address"
+            "no IP yet ({iface} has no IPv4 address; --ip ADDR[/PREFIX], or a DCP Set): RPC on UDP 34964 answers once {iface} has the address"
         ),
     }
     let config = DeviceConfig::from_gsdml(pn);
     let drive = card.then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
     let mut device = Device::new(station, config, drive);
     let faults = faults_on_stdin.then(faults_from_stdin);
-    if let Err(message) = crate::cmd::signals::install() {
-        return fail(message);
-    }
     let tick = |device: &mut Device, now| {
         if crate::cmd::signals::requested() {
             return ControlFlow::Break(());
@@ -140,21 +141,21 @@ pub fn run(
             DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
                 println!("name of station set to `{name}`")
             }
-            DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => println!(
-                "IP set to {}.{}.{}.{} mask {}.{}.{}.{} gateway {}.{}.{}.{}",
-                ip[0],
-                ip[1],
-                ip[2],
-                ip[3],
-                mask[0],
-                mask[1],
-                mask[2],
-                mask[3],
-                gw[0],
-                gw[1],
-                gw[2],
-                gw[3]
-            ),
+            DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => {
+                let dotted = |a: &[u8; 4]| std::net::Ipv4Addr::from(*a).to_string();
+                println!(
+                    "IP set to {} mask {} gateway {}",
+                    dotted(ip),
+                    dotted(mask),
+                    dotted(gw)
+                );
+                if !has_address(iface, *ip) {
+                    eprintln!(
+                        "note: `{iface}` does not have {}: RPC reaches the device once it has it",
+                        dotted(ip)
+                    );
+                }
+            }
             DeviceEvent::Dcp(DcpEvent::Signal) => println!("signal: flashing the LED"),
             DeviceEvent::Dcp(DcpEvent::ResetToFactory) => println!("reset to factory"),
             DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)) => println!(
@@ -249,15 +250,64 @@ fn print_ar(event: &ArEvent) {
     }
 }
 
-/// `ADDR/PREFIX` as the IP, mask and (no) gateway DCP reports.
-fn parse_ip(text: &str) -> Result<[[u8; 4]; 3], String> {
-    let bad = || format!("--ip `{text}` is not ADDR/PREFIX (such as 10.0.0.2/24)");
-    let (addr, prefix) = text.split_once('/').ok_or_else(bad)?;
+/// IP, mask and gateway, as DCP carries them.
+type IpParameter = [[u8; 4]; 3];
+
+/// The IP, mask and (no) gateway the device reports, and where they come from (said after
+/// the address): `--ip ADDR/PREFIX` as given; `--ip ADDR` with the prefix the interface has
+/// for that address (a bare address must be one of the interface's, and the kernel's netmask
+/// is the one datagrams to it are routed by: assuming /24, as p-net's sample does for a
+/// missing mask, could report a mask the interface does not use); without `--ip`, the
+/// interface's first IPv4 address and its prefix (`None` when it has none). An address the
+/// interface does not have is refused: RPC datagrams to it would never reach the device.
+fn address(iface: &str, ip: Option<&str>) -> Result<(Option<IpParameter>, String), String> {
+    let own = iface::ipv4_addresses(iface).unwrap_or_default();
+    let Some(text) = ip else {
+        return Ok(match own.first() {
+            Some(&(a, m)) => (Some([a, m, [0; 4]]), format!(" ({iface}'s address)")),
+            None => (None, String::new()),
+        });
+    };
+    let bad = || format!("--ip `{text}` is not ADDR or ADDR/PREFIX (such as 10.0.0.2/24)");
+    let (addr, prefix) = match text.split_once('/') {
+        Some((addr, prefix)) => (addr, Some(prefix)),
+        None => (text, None),
+    };
     let addr: std::net::Ipv4Addr = addr.parse().map_err(|_| bad())?;
-    let prefix: u32 = prefix.parse().map_err(|_| bad())?;
-    if !(1..=32).contains(&prefix) {
-        return Err(bad());
-    }
-    let mask = (u32::MAX << (32 - prefix)).to_be_bytes();
-    Ok([addr.octets(), mask, [0; 4]])
+    let Some(&(_, own_mask)) = own.iter().find(|(a, _)| *a == addr.octets()) else {
+        let list: Vec<String> = own
+            .iter()
+            .map(|(a, m)| {
+                format!(
+                    "{}/{}",
+                    std::net::Ipv4Addr::from(*a),
+                    u32::from_be_bytes(*m).count_ones()
+                )
+            })
+            .collect();
+        return Err(format!(
+            "`{iface}` does not have the address {addr} ({}): RPC datagrams to it would not reach the device; add it (ip addr add {addr}/24 dev {iface}) or leave --ip out to take the interface's",
+            if list.is_empty() {
+                "it has no IPv4 address".to_owned()
+            } else {
+                format!("it has {}", list.join(", "))
+            }
+        ));
+    };
+    let (mask, source) = match prefix {
+        Some(prefix) => {
+            let prefix: u32 = prefix.parse().map_err(|_| bad())?;
+            if !(1..=32).contains(&prefix) {
+                return Err(bad());
+            }
+            ((u32::MAX << (32 - prefix)).to_be_bytes(), String::new())
+        }
+        None => (own_mask, format!(" ({iface}'s prefix for it)")),
+    };
+    Ok((Some([addr.octets(), mask, [0; 4]]), source))
+}
+
+/// Whether `iface` has the IPv4 address `ip`.
+fn has_address(iface: &str, ip: [u8; 4]) -> bool {
+    iface::ipv4_addresses(iface).is_ok_and(|own| own.iter().any(|(a, _)| *a == ip))
 }

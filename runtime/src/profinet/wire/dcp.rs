@@ -297,20 +297,119 @@ pub fn response_blocks(data: &[u8]) -> impl Iterator<Item = ((u8, u8), u16, &[u8
     })
 }
 
-/// A name of station as PROFINET allows it: empty (no name), or up to 240 characters of DNS
-/// labels (lowercase letters, digits and `-`, not starting or ending with `-`, 1 to 63 each)
-/// separated by dots.
+/// How a name of station breaks the PROFINET name rules (IEC 61158-6-10, NameOfStationValue):
+/// up to 240 characters of labels separated by dots, each 1 to 63 lowercase letters, digits and
+/// `-`, not starting or ending with `-`; the first label not of the form `port-xyz` or
+/// `port-xyz-abcde` (digits), which name ports; and not of the form `n.n.n.n` (digits), which
+/// reads as an IPv4 address. A device refuses such a name with BlockError 3 (p-net does, for the
+/// forms it checks; it lets an empty label pass, and `port-xyz` only as the whole name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NameProblem {
+    /// Over 240 characters.
+    TooLong,
+    /// An empty label (a leading, trailing or doubled dot).
+    EmptyLabel,
+    /// A label over 63 characters.
+    LabelTooLong,
+    /// An uppercase letter: names of station are lowercase.
+    Uppercase,
+    /// A character other than a lowercase letter, a digit, `-` or `.`.
+    Character,
+    /// A label that starts or ends with `-`.
+    Hyphen,
+    /// The first label is `port-xyz` or `port-xyz-abcde`.
+    PortName,
+    /// The name is four labels of digits, like an IPv4 address.
+    IpAddress,
+}
+
+impl NameProblem {
+    /// The rule broken, in words.
+    pub fn reason(self) -> &'static str {
+        match self {
+            NameProblem::TooLong => "longer than 240 characters",
+            NameProblem::EmptyLabel => "an empty label (a leading, trailing or doubled `.`)",
+            NameProblem::LabelTooLong => "a label longer than 63 characters",
+            NameProblem::Uppercase => "uppercase letters (names of station are lowercase)",
+            NameProblem::Character => {
+                "a character other than lowercase letters, digits, `-` and `.`"
+            }
+            NameProblem::Hyphen => "a label that starts or ends with `-`",
+            NameProblem::PortName => {
+                "a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port"
+            }
+            NameProblem::IpAddress => "the form `n.n.n.n` of an IP address",
+        }
+    }
+}
+
+impl core::fmt::Display for NameProblem {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.reason())
+    }
+}
+
+/// `true` when `label` is `port-` and `digits` digits.
+fn port_label(label: &str, digits: usize) -> bool {
+    label.len() == 5 + digits
+        && label.starts_with("port-")
+        && label.bytes().skip(5).all(|b| b.is_ascii_digit())
+}
+
+/// The first rule a name of station breaks, `None` for a valid one. The empty name is valid
+/// (a device without a name).
+pub fn name_problem(name: &str) -> Option<NameProblem> {
+    if name.is_empty() {
+        return None;
+    }
+    if name.len() > 240 {
+        return Some(NameProblem::TooLong);
+    }
+    for label in name.split('.') {
+        if label.is_empty() {
+            return Some(NameProblem::EmptyLabel);
+        }
+        if label.len() > 63 {
+            return Some(NameProblem::LabelTooLong);
+        }
+        if label.bytes().any(|b| b.is_ascii_uppercase()) {
+            return Some(NameProblem::Uppercase);
+        }
+        if !label
+            .bytes()
+            .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-')
+        {
+            return Some(NameProblem::Character);
+        }
+        if label.starts_with('-') || label.ends_with('-') {
+            return Some(NameProblem::Hyphen);
+        }
+    }
+    let first = name.split('.').next().unwrap_or_default();
+    let port_with_slot = first
+        .get(..8)
+        .zip(first.get(8..9))
+        .is_some_and(|(port, dash)| port_label(port, 3) && dash == "-")
+        && first.len() == 14
+        && first.bytes().skip(9).all(|b| b.is_ascii_digit());
+    if port_label(first, 3) || port_with_slot {
+        return Some(NameProblem::PortName);
+    }
+    let labels = name.split('.');
+    if labels.clone().count() == 4
+        && labels
+            .clone()
+            .all(|l| l.bytes().all(|b| b.is_ascii_digit()))
+    {
+        return Some(NameProblem::IpAddress);
+    }
+    None
+}
+
+/// A name of station as PROFINET allows it ([`name_problem`] finds nothing): empty (no name),
+/// or labels of lowercase letters, digits and `-` that are not a port's name or an address.
 pub fn valid_name(name: &str) -> bool {
-    name.is_empty()
-        || (name.len() <= 240
-            && name.split('.').all(|label| {
-                (1..=63).contains(&label.len())
-                    && !label.starts_with('-')
-                    && !label.ends_with('-')
-                    && label
-                        .bytes()
-                        .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-')
-            }))
+    name_problem(name).is_none()
 }
 
 #[cfg(test)]

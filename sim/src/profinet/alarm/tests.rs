@@ -62,7 +62,7 @@ fn from_controller(pdu_type: u8, flags: u8, send: u16, ack: u16, var: &[u8]) -> 
 /// The AlarmAck the controller sends for a low-priority alarm.
 fn alarm_ack(alarm_type: u16, sequence: u16) -> Vec<u8> {
     let mut var = Vec::new();
-    AlarmAck {
+    let ack = AlarmAck {
         high: false,
         source: AlarmSource {
             alarm_type,
@@ -72,8 +72,8 @@ fn alarm_ack(alarm_type: u16, sequence: u16) -> Vec<u8> {
             specifier: SPEC_CHANNEL_DIAGNOSIS | sequence,
         },
         status: PnioStatus::OK,
-    }
-    .emit(&mut var);
+    };
+    append_ack(&mut var, &ack);
     var
 }
 

@@ -154,6 +154,42 @@ impl DeviceConfig {
         }
     }
 
+    /// Plugs the GSDML's module `module_id` (its `ID`) in `slot`, in place of what the default
+    /// configuration has there: the default access point must allow it in that slot.
+    pub fn plug(&mut self, pn: &Profinet, slot: u16, module_id: &str) -> Result<(), String> {
+        let dap = pn
+            .access_points
+            .first()
+            .ok_or("the GSDML has no access point")?;
+        let module = pn
+            .modules
+            .iter()
+            .find(|m| m.id == module_id)
+            .ok_or_else(|| format!("the GSDML has no module `{module_id}`"))?;
+        let allowed = dap.useable_modules.iter().any(|u| {
+            u.target.value == module_id
+                && (u.allowed_in_slots.contains(&slot)
+                    || u.fixed_in_slots.contains(&slot)
+                    || u.used_in_slots.contains(&slot))
+        });
+        if !allowed {
+            return Err(format!(
+                "the access point does not allow module `{module_id}` in slot {slot}"
+            ));
+        }
+        if dap.fixed_in_slots.first().copied().unwrap_or(0) == slot {
+            return Err(format!("slot {slot} is the access point's"));
+        }
+        self.slots.retain(|s| s.slot != slot);
+        self.slots.push(RealSlot {
+            slot,
+            module_ident: module.module_ident.as_ref().map_or(0, |m| m.value),
+            submodules: module.submodules.iter().map(real).collect(),
+        });
+        self.slots.sort_by_key(|s| s.slot);
+        Ok(())
+    }
+
     /// The module in `slot`.
     pub fn slot(&self, slot: u16) -> Option<&RealSlot> {
         self.slots.iter().find(|s| s.slot == slot)

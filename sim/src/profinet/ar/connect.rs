@@ -95,6 +95,11 @@ pub fn check(config: &DeviceConfig, mac: Mac, args: &[u8]) -> Result<Accepted, P
     if ar.ar_uuid.0 == [0; 16] {
         return Err(refuse(FAULTY_AR, 5));
     }
+    // CMInitiatorActivityTimeoutFactor: 1 to 1000 (100 ms to 100 s); a larger one would keep
+    // an AR that never reaches data exchange (and the device) busy for up to 109 minutes.
+    if !(1..=1000).contains(&ar.timeout_factor) {
+        return Err(refuse(FAULTY_AR, 10));
+    }
     match ar.ar_type {
         AR_TYPE_IOSAR => {
             if !iocrs.is_empty() || !expected.is_empty() {

@@ -244,6 +244,19 @@ fn connects_the_device_cannot_serve_are_refused_with_their_field() {
         refused(&|b| b[8..24].fill(0)),
         PnioStatus::new(0xDB, 0x81, 0x01, 5)
     );
+    // CMInitiatorActivityTimeoutFactor (bytes 52-53) 0 or 1001: outside 1 to 1000.
+    assert_eq!(
+        refused(&|b| b[52..54].copy_from_slice(&[0, 0])),
+        PnioStatus::new(0xDB, 0x81, 0x01, 10)
+    );
+    assert_eq!(
+        refused(&|b| b[52..54].copy_from_slice(&1001u16.to_be_bytes())),
+        PnioStatus::new(0xDB, 0x81, 0x01, 10)
+    );
+    assert_eq!(
+        refused(&|b| b[52..54].copy_from_slice(&0xFF40u16.to_be_bytes())),
+        PnioStatus::new(0xDB, 0x81, 0x01, 10)
+    );
     // An unknown block type.
     assert_eq!(
         refused(&|b| b[75] = 0x7F),

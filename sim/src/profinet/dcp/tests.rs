@@ -94,14 +94,50 @@ fn set_name_of_station_answers_with_a_control_response_and_an_event() {
         Some(DcpEvent::NameSet("drive-7".to_owned()))
     );
     assert_eq!(d.poll_event(), None);
-    // An invalid name is refused with "set not possible by local reasons".
+    // An invalid name is refused with BlockError 3, "not set", as p-net refuses it.
     let mut bad = vec![2, 2, 0, 5, 0, 1];
     bad.extend_from_slice(b"Bad\0");
     let resp = d
         .handle(&request(DEVICE, 0xFEFD, 4, 10, &bad))
         .expect("an answer");
-    assert_eq!(resp[30..34], [2, 2, 5, 0]);
+    assert_eq!(resp[30..34], [2, 2, 3, 0]);
     assert_eq!(d.station().name_of_station, "drive-7");
+}
+
+/// The names p-net's device refuses (BlockError 3) are refused the same, byte for byte: the
+/// answer p-net sent to each of them on a veth pair, and the name kept.
+#[test]
+fn names_a_real_device_refuses_are_refused_with_block_error_3() {
+    let long_label = "a".repeat(64);
+    for name in [
+        "port-001",
+        "port-001-00000",
+        "1.2.3.4",
+        "Abc-dev",
+        "-ab",
+        "ab-",
+        long_label.as_str(),
+    ] {
+        let mut d = dcp();
+        let mut value = vec![0, 1];
+        value.extend_from_slice(name.as_bytes());
+        let mut block = vec![2, 2];
+        block.extend_from_slice(&(value.len() as u16).to_be_bytes());
+        block.extend_from_slice(&value);
+        if value.len() % 2 == 1 {
+            block.push(0);
+        }
+        let resp = d
+            .handle(&request(DEVICE, 0xFEFD, 4, 0x1234, &block))
+            .expect("an answer");
+        assert_eq!(
+            resp[14..],
+            [0xFE, 0xFD, 4, 1, 0, 0, 0x12, 0x34, 0, 0, 0, 8, 5, 4, 0, 3, 2, 2, 3, 0],
+            "{name}"
+        );
+        assert_eq!(d.station().name_of_station, "goodrive350-pn", "{name}");
+        assert_eq!(d.poll_event(), None, "{name}");
+    }
 }
 
 #[test]

@@ -223,7 +223,7 @@ fn a_drive_fault_is_a_diagnosis_alarm_the_controller_acknowledges_and_its_reset_
         status: PnioStatus::OK,
     };
     let mut var = Vec::new();
-    ack.emit(&mut var);
+    append_ack(&mut var, &ack);
     device.handle_frame(t, &alarm_frame(PDU_DATA, 0x11, SEQ_FIRST, SEQ_FIRST, &var));
     let tack = device.poll_frame(t).expect("the transport ACK");
     assert_eq!(

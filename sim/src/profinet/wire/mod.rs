@@ -1,8 +1,9 @@
 //! PROFINET wire formats, apart from the protocol machines. The Ethernet header, the DCP PDU
 //! ([`dcp`]), the cyclic RT frame ([`rt`]) and the DCE/RPC PDU of connection management
-//! ([`rpc`]) are the runtime's views ([`edsgen_runtime::profinet::wire`]); the PNIO blocks RPC
-//! carries ([`blocks`]) and the alarm frames of the AlarmCR ([`alarm`]) are still owned structs
-//! here. Parsing never panics: a frame too short or of another EtherType is `None`.
+//! ([`rpc`]) and the AlarmCR's RTA-PDU and AlarmAck ([`alarm`]) are the runtime's views
+//! ([`edsgen_runtime::profinet::wire`]); the PNIO blocks RPC carries ([`blocks`]) and the
+//! AlarmNotification with its diagnosis data are still owned structs here (the machines keep
+//! and queue them; moving them is the next step). Parsing never panics: a frame too short or of another EtherType is `None`.
 
 pub mod alarm;
 pub mod blocks;
@@ -16,11 +17,13 @@ pub use edsgen_runtime::profinet::wire::{
 /// The longest untagged Ethernet frame without FCS.
 const MAX_FRAME_LEN: usize = 1514;
 
-/// Appends to `out` what `emit` writes into a buffer (at most a whole Ethernet frame); nothing
-/// when it does not fit.
+/// Appends to `out`, a frame being built, what `emit` writes into the room the frame has left
+/// (a whole Ethernet frame at most, whatever came before); nothing when it does not fit. A
+/// frame built by appending never outgrows the interface: a DCP Get asking for the name of
+/// station 700 times gets the answers that fit one frame.
 pub fn append(out: &mut Vec<u8>, emit: impl FnOnce(&mut [u8]) -> Result<usize, BufferTooSmall>) {
     let start = out.len();
-    out.resize(start + MAX_FRAME_LEN, 0);
+    out.resize(MAX_FRAME_LEN.max(start), 0);
     let written = emit(&mut out[start..]).unwrap_or(0);
     out.truncate(start + written);
 }

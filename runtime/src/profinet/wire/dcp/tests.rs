@@ -88,3 +88,58 @@ fn blocks_and_requests_written_into_the_buffer() {
     assert_eq!(read.next(), Some(blocks[0]));
     assert_eq!(read.next(), None);
 }
+
+#[test]
+fn names_of_station_follow_iec_61158_6_10() {
+    let long_label = "a".repeat(64);
+    let longest_label = "a".repeat(63);
+    let too_long = ["a"; 121].join(".");
+    let longest = format!("{}a", ["a"; 120].join("."));
+    for ok in [
+        "",
+        "a",
+        "drive-7.line-2",
+        "goodrive350-pn",
+        "rt-labs-dev",
+        "port-01",
+        "port-0011",
+        "port-abc",
+        "port-001-0000",
+        "a.port-001",
+        "1.2.3",
+        "1.2.3.4.5",
+        "123",
+        "xn--abc",
+        &longest_label,
+        &longest,
+    ] {
+        assert_eq!(name_problem(ok), None, "{ok}");
+        assert!(valid_name(ok), "{ok}");
+    }
+    for (bad, problem) in [
+        ("port-001", NameProblem::PortName),
+        ("port-001-00000", NameProblem::PortName),
+        ("port-001.line-2", NameProblem::PortName),
+        ("1.2.3.4", NameProblem::IpAddress),
+        ("192.168.0.1", NameProblem::IpAddress),
+        ("Abc-dev", NameProblem::Uppercase),
+        ("A", NameProblem::Uppercase),
+        ("-ab", NameProblem::Hyphen),
+        ("ab-", NameProblem::Hyphen),
+        ("a..b", NameProblem::EmptyLabel),
+        (".a", NameProblem::EmptyLabel),
+        ("a_b", NameProblem::Character),
+        ("drive 1", NameProblem::Character),
+        (long_label.as_str(), NameProblem::LabelTooLong),
+        (too_long.as_str(), NameProblem::TooLong),
+    ] {
+        assert_eq!(name_problem(bad), Some(problem), "{bad}");
+        assert!(!valid_name(bad), "{bad}");
+    }
+    assert_eq!(longest.len(), 240);
+    assert_eq!(too_long.len(), 241);
+    assert_eq!(
+        NameProblem::PortName.to_string(),
+        "a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port"
+    );
+}

@@ -1,4 +1,5 @@
 use super::*;
+use crate::profinet::wire::rpc::PnioStatus;
 
 const CONTROLLER: Mac = [2, 0, 0, 0, 0, 1];
 const DEVICE: Mac = [2, 0, 0, 0, 3, 0x50];
@@ -88,7 +89,7 @@ fn an_alarm_ack_has_these_bytes_and_only_a_whole_one_reads() {
         status: PnioStatus::OK,
     };
     let mut var = Vec::new();
-    ack.emit(&mut var);
+    append_ack(&mut var, &ack);
     #[rustfmt::skip]
     assert_eq!(
         var,
