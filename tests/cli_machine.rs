@@ -66,6 +66,10 @@ devices = ["ec-tx508"]
 [[enip]]
 devices = [{ device = "goodrive350-enip", address = "10.0.0.21" }, { device = "goodrive350-enip", address = "10.0.0.21", name = "b" }]
 
+[[profinet]]
+interface = "veth9"
+devices = ["goodrive350-pn@port-001"]
+
 [[profibuss]]
 tty = "/dev/ttyS1"
 "#,
@@ -82,8 +86,9 @@ error: {p}:3:51: no file `{dir}/missing.eds` (relative to the machine file)
 error: {p}:3:68: `vendor.eds` needs its node-ID: `vendor.eds@ID`
 error: {p}:5:1: [[ethercat]] without its `interface`
 error: {p}:9:68: IP address 10.0.0.21 is taken by an earlier device
-error: {p}:11:3: unknown table `profibuss` (did you mean `[[profibus]]`?): a machine file has [[canopen]], [[ethercat]], [[profibus]], [[profinet]] and [[enip]]
-error: {p}: 7 problem(s); nothing was started
+error: {p}:13:12: `port-001` is not a PROFINET name of station: a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port
+error: {p}:15:3: unknown table `profibuss` (did you mean `[[profibus]]`?): a machine file has [[canopen]], [[ethercat]], [[profibus]], [[profinet]] and [[enip]]
+error: {p}: 8 problem(s); nothing was started
 ",
             dir = path.parent().unwrap().display()
         )

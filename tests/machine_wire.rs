@@ -38,6 +38,8 @@ fn a_machine_of_five_buses_answers_on_each() {
         .expect("the EtherNet/IP link");
     net.address(0, &ip_dev, "10.231.7.2/24")
         .expect("an address");
+    net.address(0, &pn_dev, "10.231.8.2/24")
+        .expect("an address");
     net.address(1, &ip_master, "10.231.7.1/24")
         .expect("an address");
     let pair = Process::python(&python, "scripts/pty_pair.py", &[]);
@@ -77,7 +79,7 @@ devices = ["goodrive350-dp@2"]
 
 [[profinet]]
 interface = "{pn_dev}"
-devices = [{{ device = "goodrive350-pn", ip = "10.231.8.2/24" }}]
+devices = [{{ device = "goodrive350-pn", name = "drive-a", ip = "10.231.8.2/24" }}]
 
 [[enip]]
 devices = [{{ device = "goodrive350-enip", address = "10.231.7.2" }}]
@@ -134,7 +136,10 @@ devices = [{{ device = "goodrive350-enip", address = "10.231.7.2" }}]
     // PROFINET.
     let pn = Process::start(&mut in_ns(1, EDSGEN, &["pn", "list", &pn_master])).finish(WAIT);
     assert_eq!(pn.code, Some(0), "{pn:?}");
-    assert!(pn.stdout.contains("10.231.8.2"), "{pn:?}");
+    assert!(
+        pn.stdout.contains("drive-a") && pn.stdout.contains("10.231.8.2"),
+        "{pn:?}"
+    );
     // EtherNet/IP.
     let enip = Process::start(&mut in_ns(1, EDSGEN, &["enip", "list", "10.231.7.2"])).finish(WAIT);
     assert_eq!(enip.code, Some(0), "{enip:?}");

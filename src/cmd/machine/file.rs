@@ -519,10 +519,10 @@ impl Reader<'_> {
             },
         };
         if let Address::Pn { name: Some(n), .. } = &address {
-            if !edsgen_runtime::profinet::wire::dcp::valid_name(n) {
+            if let Some(problem) = edsgen_runtime::profinet::wire::dcp::name_problem(n) {
                 self.problem(
                     at,
-                    format!("`{n}` is not a valid PROFINET name of station (IEC 61158-6-10: lower-case labels of letters, digits and hyphens, not `port-xyz` and not an IP address)"),
+                    format!("`{n}` is not a PROFINET name of station: {problem}"),
                 );
                 return None;
             }

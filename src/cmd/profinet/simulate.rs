@@ -44,6 +44,16 @@ pub fn run(
         Ok(ip) => ip,
         Err(e) => return fail(e),
     };
+    let (files, file_name) = match station_name(files) {
+        Ok(split) => split,
+        Err(e) => return fail(e),
+    };
+    let (cards, card_name) = match station_name(cards) {
+        Ok(split) => split,
+        Err(e) => return fail(e),
+    };
+    let (files, cards) = (files.as_slice(), cards.as_slice());
+    let station_name = file_name.or(card_name);
     let card = cards.first().is_some_and(|c| c == "goodrive350-pn");
     if faults_on_stdin && !card {
         return fail("--faults-on-stdin switches the faults of --card goodrive350-pn's drive");
@@ -92,6 +102,9 @@ pub fn run(
         Err(e) => return fail(format!("cannot bind UDP 34964 on `{iface}`: {e}")),
     };
     let mut station = station::from_gsdml(pn, socket.mac());
+    if let Some(name) = station_name {
+        station.name_of_station = name;
+    }
     if let Some(ip) = ip {
         station.ip = ip;
     }
@@ -310,4 +323,26 @@ fn address(iface: &str, ip: Option<&str>) -> Result<(Option<IpParameter>, String
 /// Whether `iface` has the IPv4 address `ip`.
 fn has_address(iface: &str, ip: [u8; 4]) -> bool {
     iface::ipv4_addresses(iface).is_ok_and(|own| own.iter().any(|(a, _)| *a == ip))
+}
+
+/// `FILE@NAME` or `--card goodrive350-pn@NAME`: the entries without their `@NAME`, and the name
+/// of station given (checked against the PROFINET name rules).
+fn station_name(entries: &[String]) -> Result<(Vec<String>, Option<String>), String> {
+    let mut name = None;
+    let mut stripped = Vec::new();
+    for entry in entries {
+        match entry.rsplit_once('@') {
+            Some((what, given)) => {
+                if let Some(problem) = edsgen_runtime::profinet::wire::dcp::name_problem(given) {
+                    return Err(format!(
+                        "`{given}` is not a PROFINET name of station: {problem}"
+                    ));
+                }
+                name = Some(given.to_owned());
+                stripped.push(what.to_owned());
+            }
+            None => stripped.push(entry.clone()),
+        }
+    }
+    Ok((stripped, name))
 }
