@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use edsgen_runtime::Instant;
-use edsgen_sim::enip::{device, driver};
+use edsgen_sim::enip::{device, driver, Adapter, EnipApplication};
 
 /// The card name `--card` takes with `--enip`.
 pub const CARD: &str = "goodrive350-enip";
@@ -39,23 +39,23 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
         IpAddr::V4(v4) => v4.octets(),
         IpAddr::V6(_) => return fail("EtherNet/IP needs an IPv4 address".to_owned()),
     };
-    let (adapter, card, what) = match (files, cards) {
-        ([], [card]) if card == CARD => {
-            let (adapter, card) = device::goodrive350(ip, Instant::from_micros(0));
-            (adapter, Some(card), format!("card {CARD}"))
-        }
-        ([], [other]) => {
-            return fail(format!("--enip serves the card `{CARD}`, not `{other}`"));
-        }
-        ([file], []) => {
-            let cip = match super::read_cip(Path::new(file)) {
-                Ok(cip) => cip,
-                Err(message) => return fail(message),
-            };
-            (device::from_cip(&cip, ip), None, format!("`{file}`"))
-        }
-        _ => return fail("--enip serves one ODVA EDS file or --card goodrive350-enip".to_owned()),
-    };
+    match (files, cards) {
+        ([], [card]) if card == CARD => serve(
+            address,
+            device::goodrive350(ip, Instant::from_micros(0)),
+            format!("card {CARD}"),
+        ),
+        ([], [other]) => fail(format!("--enip serves the card `{CARD}`, not `{other}`")),
+        ([file], []) => match super::read_cip(Path::new(file)) {
+            Ok(cip) => serve(address, device::from_cip(&cip, ip), format!("`{file}`")),
+            Err(message) => fail(message),
+        },
+        _ => fail("--enip serves one ODVA EDS file or --card goodrive350-enip".to_owned()),
+    }
+}
+
+/// Serves `adapter` (`what` it serves, for the first line) on `address` until a signal.
+fn serve<A: EnipApplication>(address: SocketAddr, adapter: Adapter<A>, what: String) -> ExitCode {
     if let Err(message) = crate::cmd::signals::install() {
         return fail(message);
     }
@@ -73,7 +73,7 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
         "serving {what} on {address} (EtherNet/IP; class-1 I/O on UDP {})",
         driver::IO_PORT
     );
-    let served = driver::run(sockets, adapter, card, crate::cmd::signals::flag(), log);
+    let served = driver::run(sockets, adapter, crate::cmd::signals::flag(), log);
     eprintln!(
         "stopped: {} clients served, {} connections opened",
         served.clients, served.connections
