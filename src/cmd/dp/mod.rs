@@ -6,13 +6,17 @@
 //!   slowest Tsdr, so the sweep's time is known and said first; one line per station that
 //!   answered: address, Ident_Number, the master it is locked to. Exit 0 when at least one
 //!   answered, 1 when none did, 2 for bad usage or a line that cannot be opened.
-//! - `edsgen dp io TTY --gsd FILE --address N [NAME=VALUE...]`: parameterise and configure the
-//!   slave from its GSD (Ident_Number, default User_Prm_Data, its first module's Chk_Cfg bytes),
-//!   exchange data for `--seconds` with the outputs set by name, then print the inputs by name.
-//!   Names are the 16-bit words `w0`, `w1`, ... of the images; a module the overlay marks as
-//!   PKW/PZD (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its PKW response and
-//!   status word are decoded. Exit 0 after the exchange, 1 if data exchange was not reached, 2 for
-//!   bad usage.
+//! - `edsgen dp io TTY --gsd FILE --address N [SETTING...] [--cycles N] [--no-watchdog]`: a
+//!   session. The station's Slave_Diag first (a missing station or an Ident_Number mismatch is
+//!   named at once), then it is parameterised and configured from its GSD (Ident_Number, default
+//!   User_Prm_Data, its first module's Chk_Cfg bytes; a refusal is named from its diagnosis) and
+//!   exchanges data until Ctrl-C or `--cycles`, the inputs printed whenever they change. Settings
+//!   (`NAME=VALUE`, and `reset`, `run`, `stop` on a PKW/PZD module: CW commands 7, 1, 5) come as
+//!   arguments and as lines on standard input. Names are the words `w0`, `w1`, ... of a word
+//!   module, the bytes `b0`, `b1`, ... of a byte module; a module the overlay marks as PKW/PZD
+//!   (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its PKW response and status
+//!   word are put in words. Exit 0 after the session, 1 if the station is missing, refuses or
+//!   stops answering, 2 for bad usage.
 
 use std::fs::OpenOptions;
 use std::process::ExitCode;
@@ -29,7 +33,7 @@ pub mod simulate;
 /// The arguments of `edsgen dp`.
 #[derive(Debug, clap::Subcommand)]
 pub enum Command {
-    /// List the DP slaves that answer on a serial line.
+    /// Ask every address 0 to 125 on a serial line (in the time it states first).
     Scan {
         /// The serial line (set to 19200 baud, 8E1, raw, for an RS-485 adapter).
         tty: String,
@@ -38,7 +42,8 @@ pub enum Command {
               value_parser = clap::value_parser!(u8).range(0..=125))]
         master: u8,
     },
-    /// Bring a slave to data exchange from its GSD, set outputs by name, print its inputs.
+    /// A session with one slave from its GSD: settings by name (arguments and standard input),
+    /// the inputs printed as they change, until Ctrl-C or --cycles.
     Io(io::Args),
 }
 
@@ -81,8 +86,21 @@ fn request(master: u8, address: u8, function: u8, dsap: Option<u8>) -> Vec<u8> {
     buf[..len].to_vec()
 }
 
-fn scan(tty: &str, master: u8) -> ExitCode {
+/// Station `address`'s six standard diagnosis bytes (Slave_Diag from `master`, one try), if it
+/// answers.
+fn slave_diag(phy: &mut phy::TtyPhy, master: u8, address: u8) -> Option<[u8; 6]> {
     use edsgen_runtime::dp::fdl::{self, request as function, Repr};
+    let timeout = per_address_timeout(BAUD);
+    let diag = request(master, address, function::SRD_LOW, Some(60));
+    let answer = phy.request(&diag, address, master, timeout)?;
+    match fdl::parse(&answer) {
+        Ok((Repr::Data(t), _)) => t.data.get(..6)?.try_into().ok(),
+        _ => None,
+    }
+}
+
+fn scan(tty: &str, master: u8) -> ExitCode {
+    use edsgen_runtime::dp::fdl::request as function;
     let port = match OpenOptions::new().read(true).write(true).open(tty) {
         Ok(port) => port,
         Err(e) => return fail(format!("cannot open {tty}: {e}")),
@@ -106,13 +124,7 @@ fn scan(tty: &str, master: u8) -> ExitCode {
             continue;
         }
         found += 1;
-        let diag = request(master, address, function::SRD_LOW, Some(60));
-        let answer = phy.request(&diag, address, master, timeout);
-        let data = answer.as_deref().and_then(|bytes| match fdl::parse(bytes) {
-            Ok((Repr::Data(t), _)) if t.data.len() >= 6 => Some(t.data[..6].to_vec()),
-            _ => None,
-        });
-        match data {
+        match slave_diag(&mut phy, master, address) {
             Some(d) => {
                 let locked = match d[3] {
                     255 => "no master".to_owned(),
