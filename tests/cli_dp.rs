@@ -97,6 +97,58 @@ fn bad_usage_exits_2() {
         exited.stderr.contains("bad station address `126`"),
         "{exited:?}"
     );
+    let exited = Process::edsgen(&[
+        "simulate",
+        "--profibus",
+        "/dev/null",
+        "--card",
+        "goodrive350-dp@4",
+        "eds/goodrive350-dp.gsd@4",
+    ])
+    .finish(WAIT);
+    assert_eq!(exited.code, Some(2));
+    assert_eq!(exited.stderr, "error: two slaves at station address 4\n");
+}
+
+/// Three slaves on one line (issue 31), each at its own address: two cards and a slave from a
+/// GSD file; pyprofibus exchanges data with all three.
+#[test]
+fn pyprofibus_exchanges_data_with_three_slaves_on_one_line() {
+    let Some(python) = python() else { return };
+    let gsd = "eds/goodrive350-dp.gsd";
+    let master = Process::python(
+        &python,
+        "scripts/dp_master_many.py",
+        &[gsd, "3:card", "4:card", "5:echo"],
+    );
+    let pty = master.stdout_line(|l| l.starts_with("PTY "), WAIT);
+    let pty = pty.trim_start_matches("PTY ").to_owned();
+    let slave = Process::edsgen(&[
+        "simulate",
+        "--profibus",
+        &pty,
+        "--card",
+        "goodrive350-dp@3",
+        "--card",
+        "goodrive350-dp@4",
+        "eds/goodrive350-dp.gsd@5",
+    ]);
+    let exited = master.finish(Duration::from_secs(40));
+    assert_eq!(exited.code, Some(0), "{exited:?}");
+    // The master gone, the line closes and the simulator ends.
+    let served = slave.finish(WAIT);
+    for address in [3, 4, 5] {
+        let line = format!("station {address}: data exchange");
+        assert!(served.stderr.lines().any(|l| l == line), "{served:?}");
+    }
+    assert_eq!(
+        exited.stdout.lines().collect::<Vec<_>>(),
+        [
+            "OK 3 0001000a00001388",
+            "OK 4 0001000a00001388",
+            "OK 5 05a55a05"
+        ]
+    );
 }
 
 /// `edsgen dp scan` asks every address once, in the time it states first, and finds the
@@ -163,7 +215,9 @@ fn dp_io_reads_a_parameter_by_name() {
     expected.extend(zeros.iter().map(String::as_str));
     expected.extend(["pkw: parameter P00.10 = 5000", "sw: stopped, ready"]);
     assert_eq!(io.stdout.lines().collect::<Vec<_>>(), expected);
-    assert_eq!(io.stderr, "");
+    // On a loaded machine profirust may miss an answer; nothing else goes to stderr.
+    let known = ["station 2: stopped answering", "station 2: answers again"];
+    assert!(io.stderr.lines().all(|l| known.contains(&l)), "{io:?}");
     let bad =
         Process::edsgen(&["dp", "io", &a, "--gsd", gsd, "--address", "2", "nope=1"]).finish(WAIT);
     assert_eq!(bad.code, Some(2));

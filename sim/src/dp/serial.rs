@@ -1,5 +1,5 @@
-//! The DP slave on a serial line (an RS-485 adapter, or a pseudo-terminal for tests): a thin
-//! driver around the sans-IO [`DpSlave`]. A reader thread hands the line's bytes over with the
+//! DP slaves on a serial line (an RS-485 adapter, or a pseudo-terminal for tests), each at its
+//! own address: a thin driver around the sans-IO [`DpSlave`]. A reader thread hands the line's bytes over with the
 //! time they came; the runtime's [`LineReceiver`] cuts them into telegrams under FDL's idle rule
 //! (after a bad telegram nothing counts until the line goes idle; an idle line ends an
 //! unfinished telegram), the loop answers each at once and runs the watchdog, all on the
@@ -24,13 +24,13 @@ use edsgen_runtime::Instant;
 /// chunks up to 16 ms apart; a master's retry comes later than that).
 pub const IDLE: edsgen_runtime::Duration = edsgen_runtime::Duration::from_millis(20);
 
-/// Serves `slave` on the line `port` until `stop` is set or the line closes (an error then);
-/// `on_event` sees the slave's events as they come.
+/// Serves `slaves` (each at its own address) on the line `port` until `stop` is set or the line
+/// closes (an error then); `on_event` sees each slave's events as they come, with its address.
 pub fn serve<A: DpApplication>(
     port: File,
-    slave: &mut DpSlave<A>,
+    slaves: &mut [DpSlave<A>],
     stop: &AtomicBool,
-    mut on_event: impl FnMut(Event),
+    mut on_event: impl FnMut(u8, Event),
 ) -> std::io::Result<()> {
     let mut writer = port.try_clone()?;
     let mut reader = port;
@@ -65,23 +65,28 @@ pub fn serve<A: DpApplication>(
                 return Err(std::io::Error::other("the reader stopped"))
             }
         }
-        slave.handle_timeout(clock());
-        while let Some(event) = slave.poll_event() {
-            on_event(event);
+        for slave in slaves.iter_mut() {
+            slave.handle_timeout(clock());
+            while let Some(event) = slave.poll_event() {
+                on_event(slave.config().address, event);
+            }
         }
         let Some((at, bytes)) = received else {
             continue;
         };
         let mut written = Ok(());
         line.receive(at, &bytes, |telegram| {
-            slave.handle(clock(), telegram);
-            if let Some(n) = slave.poll_transmit(clock(), &mut answer) {
-                if written.is_ok() {
-                    written = writer.write_all(&answer[..n]).and_then(|()| writer.flush());
+            // Each slave takes what is addressed to it (and broadcasts); one answers at most.
+            for slave in slaves.iter_mut() {
+                slave.handle(clock(), telegram);
+                if let Some(n) = slave.poll_transmit(clock(), &mut answer) {
+                    if written.is_ok() {
+                        written = writer.write_all(&answer[..n]).and_then(|()| writer.flush());
+                    }
                 }
-            }
-            while let Some(event) = slave.poll_event() {
-                on_event(event);
+                while let Some(event) = slave.poll_event() {
+                    on_event(slave.config().address, event);
+                }
             }
         });
         written?;

@@ -3,7 +3,8 @@
 //! input, the inputs printed whenever they change, until Ctrl-C or `--cycles`. Before the
 //! master starts, the slave's own diagnosis (Slave_Diag) names a missing station or an
 //! Ident_Number mismatch at once; a refused configuration or parameterisation is named from the
-//! diagnosis profirust reads.
+//! diagnosis profirust reads; a station that stops answering is said so (and again when it
+//! answers), the session going on.
 
 use std::fs::OpenOptions;
 use std::io::BufRead;
@@ -214,6 +215,7 @@ pub fn run(args: &Args) -> ExitCode {
     let start = Instant::now();
     let mut shown: Option<Vec<u8>> = None;
     let mut cycles = 0u64;
+    let mut silent = false;
     while !crate::cmd::signals::requested() {
         station.poll(profirust::time::Instant::now(), &mut phy, &mut master);
         let events = master.take_last_events();
@@ -223,11 +225,15 @@ pub fn run(args: &Args) -> ExitCode {
                 eprintln!("{}", refused(args.address, peripheral.last_diagnostics()));
                 return ExitCode::from(1);
             }
-            Some(PeripheralEvent::Offline) if shown.is_some() => {
+            Some(PeripheralEvent::Offline) if shown.is_some() && !silent => {
+                // profirust takes it up again when it answers.
                 eprintln!("station {}: stopped answering", args.address);
-                return ExitCode::from(1);
+                silent = true;
             }
             Some(PeripheralEvent::DataExchanged) => {
+                if std::mem::take(&mut silent) {
+                    eprintln!("station {}: answers again", args.address);
+                }
                 cycles += 1;
                 let now = peripheral.pi_i().to_vec();
                 print_changes(shown.as_deref(), &now, names);
@@ -275,7 +281,9 @@ fn stdin_lines() -> mpsc::Receiver<String> {
 /// Ident_Number.
 fn check_station(phy: &mut TtyPhy, args: &Args, ident: u16) -> Result<(), String> {
     let address = args.address;
-    let diag = (0..3).find_map(|_| super::slave_diag(phy, args.master, address));
+    // Five tries of 100 ms: at once for a person, patient with a loaded host.
+    let timeout = Duration::from_millis(100);
+    let diag = (0..5).find_map(|_| super::slave_diag(phy, args.master, address, timeout));
     let Some(diag) = diag else {
         return Err(format!(
             "station {address} does not answer on {} (station missing)",

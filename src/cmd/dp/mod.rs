@@ -86,11 +86,15 @@ fn request(master: u8, address: u8, function: u8, dsap: Option<u8>) -> Vec<u8> {
     buf[..len].to_vec()
 }
 
-/// Station `address`'s six standard diagnosis bytes (Slave_Diag from `master`, one try), if it
-/// answers.
-fn slave_diag(phy: &mut phy::TtyPhy, master: u8, address: u8) -> Option<[u8; 6]> {
+/// Station `address`'s six standard diagnosis bytes (Slave_Diag from `master`, one try of
+/// `timeout`), if it answers.
+fn slave_diag(
+    phy: &mut phy::TtyPhy,
+    master: u8,
+    address: u8,
+    timeout: Duration,
+) -> Option<[u8; 6]> {
     use edsgen_runtime::dp::fdl::{self, request as function, Repr};
-    let timeout = per_address_timeout(BAUD);
     let diag = request(master, address, function::SRD_LOW, Some(60));
     let answer = phy.request(&diag, address, master, timeout)?;
     match fdl::parse(&answer) {
@@ -124,7 +128,7 @@ fn scan(tty: &str, master: u8) -> ExitCode {
             continue;
         }
         found += 1;
-        match slave_diag(&mut phy, master, address) {
+        match slave_diag(&mut phy, master, address, timeout) {
             Some(d) => {
                 let locked = match d[3] {
                     255 => "no master".to_owned(),
