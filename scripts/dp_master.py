@@ -40,15 +40,19 @@ def relay(a, b):
             os.write(b if fd == a else a, data)
 
 
-def main():
+def main(before_master=None):
+    """Runs the master; `before_master(fd, address)`, if given, gets the slave's line (the
+    relay's end of it) first, before the relay and the master start."""
     gsd, address = sys.argv[1], int(sys.argv[2])
     echo = sys.argv[3:] == ["echo"]
     master_a, slave_a = os.openpty()
     master_b, slave_b = os.openpty()
     tty.setraw(slave_a)
     tty.setraw(slave_b)
-    threading.Thread(target=relay, args=(master_a, master_b), daemon=True).start()
     print("PTY", os.ttyname(slave_b), flush=True)
+    if before_master is not None:
+        before_master(master_b, address)
+    threading.Thread(target=relay, args=(master_a, master_b), daemon=True).start()
 
     conf_dir = tempfile.mkdtemp()
     conf_path = os.path.join(conf_dir, "dp.conf")

@@ -189,3 +189,43 @@ fn cpppo_reads_and_writes_over_a_class3_connection() {
     let closed = adapter.stderr_line(|l| l.starts_with("connection"), Duration::from_secs(5));
     assert_eq!(closed, opened.replace(" opened", " closed"));
 }
+
+/// Several adapters in one process, one per address of the host (issue 31): the card on
+/// 127.0.0.2 and 127.0.0.3 at the same port, each read by cpppo at its own address; SIGINT
+/// stops both, each with its `stopped:` line.
+#[test]
+fn one_adapter_per_address_in_one_process() {
+    let Some(python) = python() else { return };
+    let port = std::net::TcpListener::bind("127.0.0.2:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port();
+    let (a, b) = (format!("127.0.0.2:{port}"), format!("127.0.0.3:{port}"));
+    let both = format!("{a},{b}");
+    let process = Process::edsgen(&["simulate", "--enip", &both, "--card", "goodrive350-enip"]);
+    // The two adapters start in either order.
+    let serving = |address: &str| format!("serving card goodrive350-enip on {address} ");
+    let mut started: Vec<String> = (0..2)
+        .map(|_| process.stderr_line(|l| l.starts_with("serving"), Duration::from_secs(10)))
+        .collect();
+    started.sort();
+    assert!(started[0].starts_with(&serving(&a)), "{started:?}");
+    assert!(started[1].starts_with(&serving(&b)), "{started:?}");
+    let mut name = vec![28u8];
+    name.extend_from_slice(b"Goodrive350 EtherNet/IP card");
+    for address in [&a, &b] {
+        assert_eq!(
+            get_attributes(&python, address, &["@1/1/7"]),
+            vec![format!("{name:?}")]
+        );
+    }
+    let pid = process.id().to_string();
+    let killed = Command::new("kill").args(["-INT", &pid]).status();
+    assert!(killed.is_ok_and(|s| s.success()));
+    let exited = process.finish(Duration::from_secs(10));
+    assert_eq!(exited.code, Some(0), "{exited:?}");
+    for address in [&a, &b] {
+        let stopped = format!("{address}: stopped: 1 clients served, 0 connections opened");
+        assert!(exited.stderr.lines().any(|l| l == stopped), "{exited:?}");
+    }
+}

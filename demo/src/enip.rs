@@ -20,7 +20,8 @@ use edsgen_runtime::pkw_pzd::{
     WordLayout,
 };
 use edsgen_runtime::{Duration, Instant};
-use edsgen_sim::enip::{device, driver, Adapter};
+use edsgen_sim::drives::pkw_pzd::PkwPzdDrive;
+use edsgen_sim::enip::{device, Adapter, Peer};
 
 use super::Trace;
 use edsgen_sim::cards::goodrive350_enip as card;
@@ -55,8 +56,7 @@ pub(super) struct Stopped {
 
 /// The adapter's protocol core and the card in this process, in simulated time.
 struct InProcess {
-    adapter: Adapter,
-    card: driver::Card,
+    adapter: Adapter<PkwPzdDrive>,
     now: Instant,
     log: Vec<String>,
 }
@@ -66,15 +66,10 @@ impl InProcess {
         self.now = self.now + by;
         // The T→O datagrams are not needed: the card's image is read from assembly 100.
         self.adapter.handle_timeout(self.now);
-        while self.adapter.poll_transmit().is_some() {}
-        let mut log = Vec::new();
-        driver::link(
-            &mut self.adapter,
-            Some(&mut self.card),
-            self.now,
-            &mut |l| log.push(l),
-        );
-        self.log.extend(log);
+        while self.adapter.poll_transmit(self.now).is_some() {}
+        while let Some(event) = self.adapter.poll_event() {
+            self.log.extend(event.log_line());
+        }
     }
 
     fn input(&self) -> Result<Vec<u8>, String> {
@@ -91,16 +86,20 @@ impl InProcess {
 
 impl Scanner for InProcess {
     fn request(&mut self, message: &[u8]) -> Result<Vec<u8>, String> {
-        let (reply, _) = self
-            .adapter
-            .handle(1, message, self.now)
+        self.adapter
+            .handle(self.now, Peer::Tcp(1), message)
             .map_err(|e| format!("{e:?}"))?;
-        reply.ok_or_else(|| "no reply".to_owned())
+        let reply = self.adapter.poll_transmit(self.now);
+        reply
+            .map(|(_, bytes)| bytes)
+            .ok_or_else(|| "no reply".to_owned())
     }
 
     fn rpi(&mut self, datagram: &[u8]) -> Result<Vec<u8>, String> {
-        self.adapter.receive_io(1, datagram, self.now);
+        // The datagram's image is exchanged with the drive at the end of the RPI, when the
+        // scanner reads the card's image back.
         self.step_time(Duration::from_micros(RPI_US));
+        let _ = self.adapter.handle(self.now, Peer::Io(1), datagram);
         self.input()
     }
 
@@ -192,10 +191,9 @@ impl Bench<'_> {
 /// The card's section of the demo, in this process.
 pub(super) fn run(trace: &mut Trace) {
     trace.heading("Goodrive350 EtherNet/IP card: a class-1 scanner from the generated images");
-    let (adapter, card) = device::goodrive350([10, 0, 0, 1], Instant::from_micros(0));
+    let adapter = device::goodrive350([10, 0, 0, 1], Instant::from_micros(0));
     let mut link = InProcess {
         adapter,
-        card,
         now: Instant::from_micros(0),
         log: Vec::new(),
     };

@@ -11,7 +11,7 @@ use edsgen_runtime::enip::wire::cpf::{item, Item, SendDataRepr};
 use edsgen_runtime::enip::wire::encap::EncapRepr;
 use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::{Duration, Instant};
-use edsgen_sim::enip::device;
+use edsgen_sim::enip::{device, Peer};
 use libfuzzer_sys::fuzz_target;
 
 fn encap(command: u16, session: u32, data: &[u8]) -> Vec<u8> {
@@ -29,8 +29,8 @@ fn unconnected(request: &[u8]) -> Vec<u8> {
 fuzz_target!(|data: &[u8]| {
     // The card: assemblies 100 and 150 of 32 bytes, configuration 1, and the Parameter object
     // of its EDS.
-    let (mut a, _) = device::goodrive350([127, 0, 0, 1], Instant::from_micros(0));
-    let _ = a.handle(1, &encap(0x65, 0, &[1, 0, 0, 0]), Instant::from_micros(0));
+    let mut a = device::goodrive350([127, 0, 0, 1], Instant::from_micros(0));
+    let _ = a.handle(Instant::from_micros(0), Peer::Tcp(1), &encap(0x65, 0, &[1, 0, 0, 0]));
     // A class-3 connection to the Message Router (its O->T ID is 0x1000_0001), RPI 1 s.
     let mut open = vec![0x54, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E, 0, 0, 0, 0, 7, 0, 0, 0x30];
     open.extend_from_slice(&[1, 0, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0]);
@@ -39,7 +39,7 @@ fuzz_target!(|data: &[u8]| {
         open.extend_from_slice(&0x43FEu16.to_le_bytes());
     }
     open.extend_from_slice(&[0xA3, 2, 0x20, 0x02, 0x24, 0x01]);
-    let _ = a.handle(1, &encap(0x6F, 1, &unconnected(&open)), Instant::from_micros(0));
+    let _ = a.handle(Instant::from_micros(0), Peer::Tcp(1), &encap(0x6F, 1, &unconnected(&open)));
     let mut now = Instant::from_micros(0);
     let mut rest = data;
     while let Some((&head, tail)) = rest.split_first() {
@@ -49,7 +49,7 @@ fuzz_target!(|data: &[u8]| {
         now = now + Duration::from_micros(u64::from(head) * 1000);
         match head >> 6 {
             0 => {
-                let _ = a.handle(1, chunk, now);
+                let _ = a.handle(now, Peer::Tcp(1), chunk);
             }
             1 if head & 0x20 != 0 => {
                 // SendUnitData on the class-3 connection: the chunk is sequence count + request.
@@ -58,20 +58,23 @@ fuzz_target!(|data: &[u8]| {
                     Item::new(item::CONNECTED_ADDRESS, &address),
                     Item::new(item::CONNECTED_DATA, chunk),
                 ]);
-                let _ = a.handle(1, &encap(0x70, 1, &unit), now);
+                let _ = a.handle(now, Peer::Tcp(1), &encap(0x70, 1, &unit));
             }
             1 => {
-                let _ = a.handle(1, &encap(0x6F, 1, &unconnected(chunk)), now);
+                let _ = a.handle(now, Peer::Tcp(1), &encap(0x6F, 1, &unconnected(chunk)));
             }
-            2 => a.receive_io(1, chunk, now),
+            2 => {
+                let _ = a.handle(now, Peer::Io(1), chunk);
+            }
             _ => {
                 a.handle_timeout(now);
-                while a.poll_transmit().is_some() {}
+                while a.poll_transmit(now).is_some() {}
                 while a.poll_event().is_some() {}
             }
         }
     }
     let get = [0x0E, 3, 0x20, 0x01, 0x24, 0x01, 0x30, 0x01];
-    let (reply, _) = a.handle(1, &encap(0x6F, 1, &unconnected(&get)), now).expect("a whole message");
-    assert!(reply.is_some());
+    while a.poll_transmit(now).is_some() {}
+    a.handle(now, Peer::Tcp(1), &encap(0x6F, 1, &unconnected(&get))).expect("a whole message");
+    assert!(matches!(a.poll_transmit(now), Some((Peer::Tcp(1), _))));
 });

@@ -21,7 +21,7 @@ use edsgen_runtime::enip::wire::io::{ConnectedMessage, IoDatagram};
 use edsgen_runtime::enip::wire::message::{RequestRepr, ResponseRepr};
 use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::Instant;
-use edsgen_sim::enip::{Adapter, Assembly, Identity};
+use edsgen_sim::enip::{Adapter, Assembly, Identity, Peer};
 use libfuzzer_sys::fuzz_target;
 
 /// A layout that parsed re-emits to bytes that parse to it again.
@@ -78,7 +78,8 @@ fuzz_target!(|data: &[u8]| {
         EncapRepr::request(command, session, [0; 8], data).to_vec()
     };
     let register = encap(0, 0x65, &[1, 0, 0, 0]).expect("fits");
-    let _ = a.handle(1, &register, Instant::from_micros(0));
+    let _ = a.handle(Instant::from_micros(0), Peer::Tcp(1), &register);
+    while a.poll_transmit(Instant::from_micros(0)).is_some() {}
     let large = data.len() % 2 == 1;
     let open = ForwardOpenRepr {
         large,
@@ -107,8 +108,8 @@ fuzz_target!(|data: &[u8]| {
     let Ok(message) = encap(1, 0x6F, &rr) else {
         return;
     };
-    let (reply, _) = a.handle(1, &message, Instant::from_micros(0)).expect("whole");
-    assert!(reply.is_some());
+    a.handle(Instant::from_micros(0), Peer::Tcp(1), &message).expect("whole");
+    assert!(a.poll_transmit(Instant::from_micros(0)).is_some());
     let port = a.connections().first().and_then(|c| c.t_o_port);
     assert_eq!(port, Sockaddr::parse(data).ok().map(|s| s.port));
 });

@@ -190,9 +190,10 @@ pub struct DataRepr<'a> {
     pub da: u8,
     /// Source address (without the SAP extension bit).
     pub sa: u8,
-    /// Destination SAP, if DA's extension bit was set.
+    /// Destination SAP byte as sent, if DA's extension bit was set (0–63 for a SAP; bits 6–7,
+    /// segment and address extension, are not DP-V0's).
     pub dsap: Option<u8>,
-    /// Source SAP, if SA's extension bit was set.
+    /// Source SAP byte as sent, if SA's extension bit was set.
     pub ssap: Option<u8>,
     /// The frame control byte.
     pub fc: u8,
@@ -235,7 +236,7 @@ impl<'a> Repr<'a> {
         let mut sap = |present: bool| {
             let (&first, tail) = rest.split_first().filter(|_| present)?;
             rest = tail;
-            Some(first & 0x3F)
+            Some(first)
         };
         let dsap = sap(da & 0x80 != 0);
         let ssap = sap(sa & 0x80 != 0);

@@ -1,10 +1,15 @@
-//! PROFIBUS-DP (feature `dp`): the FDL telegrams ([`fdl`]) and the DP-V0 slave's state machine
+//! PROFIBUS-DP (feature `dp`): the FDL telegrams ([`fdl`]), the line's receiver that cuts bytes
+//! into telegrams under FDL's idle rule ([`line`]) and the DP-V0 slave's state machine
 //! ([`slave`]), sans-IO, no_std and allocation-free. The application behind the slave (the
-//! cyclic data's owner) implements [`DpApplication`]; a driver puts the slave on a line.
+//! cyclic data's owner) implements [`DpApplication`]: an application trait per bus, as
+//! PROFINET's `IoApplication` and EtherNet/IP's `EnipApplication` in the simulator, and one
+//! PKW/PZD card application (`PkwPzdDrive`) serves all three. A driver puts the slave on a line.
 
 pub mod fdl;
+pub mod line;
 pub mod slave;
 
+pub use line::LineReceiver;
 pub use slave::{DpApplication, DpSlave, DpState, Event, SlaveConfig};
 
 /// Up to 244 bytes of DP data (the most a DP-V0 telegram carries in each direction: outputs,

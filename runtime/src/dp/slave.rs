@@ -15,8 +15,10 @@
 //! FCB/FCV: a request whose frame count bit equals the last one from the same master (with FCV
 //! set) is a repetition: the stored answer goes again and nothing is executed twice.
 //!
-//! Unlike the Ethernet cores, `handle` takes no sender: on a PROFIBUS line the source address
-//! is in the telegram.
+//! Only a valid request is served ([`is_valid_request`]); anything else gets silence, as from
+//! any FDL station. Unlike the Ethernet cores, `handle` takes no sender: on a PROFIBUS line the
+//! source address is in the telegram. Cutting the line's bytes into telegrams is
+//! [`super::line`]'s.
 
 use super::fdl::{self, DataRepr, Repr, MAX_TELEGRAM_LEN};
 use super::DpData;
@@ -58,6 +60,31 @@ pub mod diag2 {
     pub const FREEZE: u8 = 0x10;
     /// Sync mode is active.
     pub const SYNC: u8 = 0x20;
+}
+
+/// Whether `t` is a request a DP-V0 slave at `address` may answer or execute (addressed to it
+/// or broadcast): FC a request (bit 7 clear, bit 6 set) with a function a DP slave serves, FCV
+/// only on a function with an acknowledgement (SDA, SRD); a master's source address (0–126,
+/// not the slave's own); both SAPs or none, each 0–63 (no segment or address extension).
+pub fn is_valid_request(t: &DataRepr<'_>, address: u8) -> bool {
+    use fdl::request::*;
+    let fcv = t.fc & 0x10 != 0;
+    let function_ok = match t.function() {
+        SDA_LOW | SDA_HIGH | SRD_LOW | SRD_HIGH => true,
+        SDN_LOW | SDN_HIGH | FDL_STATUS => !fcv,
+        _ => false,
+    };
+    let saps_ok = match (t.dsap, t.ssap) {
+        (Some(d), Some(s)) => d <= 63 && s <= 63,
+        (None, None) => true,
+        _ => false,
+    };
+    t.fc & 0xC0 == 0x40
+        && function_ok
+        && saps_ok
+        && t.sa < fdl::BROADCAST
+        && t.sa != address
+        && (t.da == address || t.da == fdl::BROADCAST)
 }
 
 /// What sits behind the slave: the cyclic data's owner.
@@ -249,7 +276,7 @@ impl<A: DpApplication> DpSlave<A> {
         let Ok((Repr::Data(t), used)) = fdl::parse(bytes) else {
             return;
         };
-        if used != bytes.len() || !t.is_request() {
+        if used != bytes.len() || !is_valid_request(&t, self.config.address) {
             return;
         }
         let broadcast = t.da == fdl::BROADCAST;

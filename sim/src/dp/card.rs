@@ -161,6 +161,32 @@ impl DpApplication for Loopback {
     }
 }
 
+/// The application of a simulated slave: the card's drive or a GSD file's echo (so that one
+/// line can carry both).
+#[derive(Debug, Clone)]
+pub enum Simulated {
+    /// The Goodrive350 card.
+    Card(Goodrive350Dp),
+    /// A slave from a GSD file.
+    Loopback(Loopback),
+}
+
+impl DpApplication for Simulated {
+    fn exchange(&mut self, now: Instant, outputs: &[u8], inputs: &mut [u8]) {
+        match self {
+            Simulated::Card(card) => card.exchange(now, outputs, inputs),
+            Simulated::Loopback(echo) => echo.exchange(now, outputs, inputs),
+        }
+    }
+
+    fn watchdog_expired(&mut self, now: Instant) {
+        match self {
+            Simulated::Card(card) => card.watchdog_expired(now),
+            Simulated::Loopback(echo) => echo.watchdog_expired(now),
+        }
+    }
+}
+
 /// A slave simulated from any GSD's model at `address`, echoing its outputs.
 pub fn loopback(dp: &Dp, address: u8, now: Instant) -> Result<DpSlave<Loopback>, CardError> {
     let config = slave_config(dp, address)?;

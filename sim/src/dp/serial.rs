@@ -1,7 +1,10 @@
-//! The DP slave on a serial line (an RS-485 adapter, or a pseudo-terminal for tests): a thin
-//! driver around the sans-IO [`DpSlave`]. A reader thread hands the line's bytes over; the loop
-//! cuts them into telegrams (a byte is dropped where none parses, as a receiver resynchronising
-//! does), answers each at once, and runs the watchdog on the machine's monotonic clock.
+//! DP slaves on a serial line (an RS-485 adapter, or a pseudo-terminal for tests), each at its
+//! own address: a thin driver around the sans-IO [`DpSlave`]. A reader thread hands the line's bytes over with the
+//! time they came; the runtime's [`LineReceiver`] cuts them into telegrams under FDL's idle rule
+//! (after a bad telegram nothing counts until the line goes idle; an idle line ends an
+//! unfinished telegram), the loop answers each at once and runs the watchdog, all on the
+//! machine's monotonic clock. The operating system hands bytes over in chunks, so the idle
+//! time is [`IDLE`], longer than Tsyn at any rate DP runs at.
 //!
 //! The line is used as it is set: for a real bus, set its rate and parity (8E1) first, e.g.
 //! `stty -F /dev/ttyUSB0 19200 raw parenb -parodd cs8`; a test's pseudo-terminal is set raw by
@@ -13,37 +16,43 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use edsgen_host::driver::MonotonicClock;
-use edsgen_runtime::dp::fdl::{self, FdlError, MAX_TELEGRAM_LEN};
-use edsgen_runtime::dp::{DpApplication, DpSlave, Event};
+use edsgen_runtime::dp::fdl::MAX_TELEGRAM_LEN;
+use edsgen_runtime::dp::{DpApplication, DpSlave, Event, LineReceiver};
+use edsgen_runtime::Instant;
 
-/// Serves `slave` on the line `port` until `stop` is set or the line closes (an error then);
-/// `on_event` sees the slave's events as they come.
+/// The line's silence that counts as idle: 20 ms (a USB adapter delivers a telegram's bytes in
+/// chunks up to 16 ms apart; a master's retry comes later than that).
+pub const IDLE: edsgen_runtime::Duration = edsgen_runtime::Duration::from_millis(20);
+
+/// Serves `slaves` (each at its own address) on the line `port` until `stop` is set or the line
+/// closes (an error then); `on_event` sees each slave's events as they come, with its address.
 pub fn serve<A: DpApplication>(
     port: File,
-    slave: &mut DpSlave<A>,
+    slaves: &mut [DpSlave<A>],
     stop: &AtomicBool,
-    mut on_event: impl FnMut(Event),
+    mut on_event: impl FnMut(u8, Event),
 ) -> std::io::Result<()> {
     let mut writer = port.try_clone()?;
     let mut reader = port;
-    let (tx, rx) = mpsc::channel::<std::io::Result<Vec<u8>>>();
+    let origin = std::time::Instant::now();
+    let clock = move || Instant::from_micros(origin.elapsed().as_micros() as u64);
+    let (tx, rx) = mpsc::channel::<std::io::Result<(Instant, Vec<u8>)>>();
     std::thread::spawn(move || {
         let mut buf = [0u8; 512];
         loop {
-            let result = reader.read(&mut buf).map(|n| buf[..n].to_vec());
-            let end = !matches!(&result, Ok(bytes) if !bytes.is_empty());
+            let result = reader.read(&mut buf).map(|n| (clock(), buf[..n].to_vec()));
+            let end = !matches!(&result, Ok((_, bytes)) if !bytes.is_empty());
             if tx.send(result).is_err() || end {
                 return;
             }
         }
     });
-    let clock = MonotonicClock::new();
     let mut answer = [0u8; MAX_TELEGRAM_LEN];
-    let mut pending: Vec<u8> = Vec::new();
+    let mut line = LineReceiver::new(IDLE);
     while !stop.load(Ordering::Relaxed) {
+        let mut received = None;
         match rx.recv_timeout(Duration::from_millis(5)) {
-            Ok(Ok(bytes)) if !bytes.is_empty() => pending.extend(bytes),
+            Ok(Ok((at, bytes))) if !bytes.is_empty() => received = Some((at, bytes)),
             Ok(Ok(_)) => {
                 return Err(std::io::Error::new(
                     std::io::ErrorKind::UnexpectedEof,
@@ -56,29 +65,31 @@ pub fn serve<A: DpApplication>(
                 return Err(std::io::Error::other("the reader stopped"))
             }
         }
-        slave.handle_timeout(clock.now());
-        while let Some(event) = slave.poll_event() {
-            on_event(event);
-        }
-        loop {
-            match fdl::parse(&pending) {
-                Ok((_, used)) => {
-                    let telegram: Vec<u8> = pending.drain(..used).collect();
-                    slave.handle(clock.now(), &telegram);
-                    if let Some(n) = slave.poll_transmit(clock.now(), &mut answer) {
-                        writer.write_all(&answer[..n])?;
-                        writer.flush()?;
-                    }
-                    while let Some(event) = slave.poll_event() {
-                        on_event(event);
-                    }
-                }
-                Err(FdlError::Incomplete) => break,
-                Err(_) => {
-                    pending.remove(0);
-                }
+        for slave in slaves.iter_mut() {
+            slave.handle_timeout(clock());
+            while let Some(event) = slave.poll_event() {
+                on_event(slave.config().address, event);
             }
         }
+        let Some((at, bytes)) = received else {
+            continue;
+        };
+        let mut written = Ok(());
+        line.receive(at, &bytes, |telegram| {
+            // Each slave takes what is addressed to it (and broadcasts); one answers at most.
+            for slave in slaves.iter_mut() {
+                slave.handle(clock(), telegram);
+                if let Some(n) = slave.poll_transmit(clock(), &mut answer) {
+                    if written.is_ok() {
+                        written = writer.write_all(&answer[..n]).and_then(|()| writer.flush());
+                    }
+                }
+                while let Some(event) = slave.poll_event() {
+                    on_event(slave.config().address, event);
+                }
+            }
+        });
+        written?;
     }
     Ok(())
 }

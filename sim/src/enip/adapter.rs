@@ -1,11 +1,13 @@
-//! The encapsulation layer, sans-IO, and the adapter's verbs: encapsulation messages in (per TCP
-//! client, or one UDP datagram), replies out; it owns the sessions (RegisterSession,
-//! UnRegisterSession), ListIdentity, ListServices, and the CPF of SendRRData (a request to the
-//! Message Router) and SendUnitData (class 3: a request on a connection after its 16-bit
-//! sequence count; a retransmission gets the previous reply again, a request longer than the
-//! O→T size general status 0x15). Class-1 datagrams in, T→O datagrams out when
-//! [`Adapter::handle_timeout`] finds them due ([`Adapter::poll_transmit`]), events out
-//! ([`Adapter::poll_event`]). It reaches the objects only through the Message Router.
+//! The encapsulation layer, sans-IO, with the runtime's verbs: bytes in with the time and their
+//! sender ([`Adapter::handle`]: an encapsulation message from a TCP client or a UDP datagram, or
+//! a class-1 datagram), bytes out with their destination ([`Adapter::poll_transmit`]: replies,
+//! and the T→O datagrams [`Adapter::handle_timeout`] finds due), events out
+//! ([`Adapter::poll_event`]). It owns the sessions (RegisterSession, UnRegisterSession),
+//! ListIdentity, ListServices, and the CPF of SendRRData (a request to the Message Router) and
+//! SendUnitData (class 3: a request on a connection after its 16-bit sequence count; a
+//! retransmission gets the previous reply again, a request longer than the O→T size general
+//! status 0x15). It reaches the objects only through the Message Router, and tells its
+//! application ([`EnipApplication`]) what the originators wrote and how connections ended.
 
 use std::collections::{BTreeMap, VecDeque};
 
@@ -19,6 +21,7 @@ use edsgen_runtime::enip::wire::io::{ConnectedMessage, IoDatagram};
 use edsgen_runtime::enip::wire::message::general;
 use edsgen_runtime::enip::wire::{u16_at, u32_at, Emit};
 
+use super::application::{Ending, EnipApplication};
 use super::bytes::{items, send_data, status_only};
 use super::cip::{Call, Registry};
 use super::connection_manager::{end_session, expire_explicit};
@@ -26,34 +29,78 @@ use super::message_router::{self, standard_objects};
 use super::parameter;
 use super::state::{Assembly, DeviceState, Event, ExplicitConnection, Identity, IoConnection};
 
-/// The adapter: the encapsulation's sessions over the device state and the CIP objects.
+/// Where bytes come from or go to, in the driver's terms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Peer {
+    /// A TCP client on the encapsulation port: a key the driver chooses per connection.
+    Tcp(u64),
+    /// A UDP datagram on the encapsulation port; its reply goes back to its sender.
+    Udp,
+    /// Class-1 I/O (UDP 2222) with the originator of TCP client `key` (`u64::MAX`: none known).
+    Io(u64),
+}
+
+/// The adapter: the encapsulation's sessions over the device state, the CIP objects and the
+/// application `A`.
 #[derive(Debug, Clone)]
-pub struct Adapter {
+pub struct Adapter<A = ()> {
     /// The state the objects share: identity, assemblies, parameters, connections, events.
     pub device: DeviceState,
     /// The objects the Message Router reaches.
     pub registry: Registry,
+    app: A,
     sessions: BTreeMap<u32, u64>,
     next_session: u32,
-    /// T→O datagrams due, with the peer key of each.
-    transmit: VecDeque<(u64, Vec<u8>)>,
+    /// Bytes to send, with their destination.
+    transmit: VecDeque<(Peer, Vec<u8>)>,
     /// The session whose request [`Adapter::route`] serves (a class-3 connection's owner).
     serving_session: u32,
 }
 
-impl Adapter {
-    /// An adapter with `identity` serving `assemblies`.
+/// The key of UDP requests on the encapsulation port among the TCP clients' keys.
+const UDP: u64 = u64::MAX;
+
+impl Adapter<()> {
+    /// An adapter with `identity` serving `assemblies`, no application behind them.
     pub fn new(identity: Identity, assemblies: BTreeMap<u32, Assembly>, address: [u8; 4]) -> Self {
         Adapter {
             device: DeviceState::new(identity, assemblies, address),
             registry: standard_objects(),
+            app: (),
             sessions: BTreeMap::new(),
             next_session: 1,
             transmit: VecDeque::new(),
             serving_session: 0,
         }
     }
+}
 
+impl<A> Adapter<A> {
+    /// The same adapter with `app` behind it.
+    pub fn with_application<B>(self, app: B) -> Adapter<B> {
+        Adapter {
+            device: self.device,
+            registry: self.registry,
+            app,
+            sessions: self.sessions,
+            next_session: self.next_session,
+            transmit: self.transmit,
+            serving_session: self.serving_session,
+        }
+    }
+
+    /// The application.
+    pub fn app(&self) -> &A {
+        &self.app
+    }
+
+    /// The application, to change.
+    pub fn app_mut(&mut self) -> &mut A {
+        &mut self.app
+    }
+}
+
+impl<A: EnipApplication> Adapter<A> {
     /// One Message Router request from `client` at `now` (in the session last served); the
     /// response's bytes.
     pub fn route(&mut self, client: u64, bytes: &[u8], now: Instant) -> Vec<u8> {
@@ -80,21 +127,29 @@ impl Adapter {
         self.device.events.pop_front()
     }
 
-    /// The next T→O datagram due (after [`handle_timeout`](Self::handle_timeout)), with the
-    /// peer key of the originator it goes to.
-    pub fn poll_transmit(&mut self) -> Option<(u64, Vec<u8>)> {
+    /// The next bytes to send, oldest first, with their destination: replies (to the TCP
+    /// client or UDP sender of the request) and T→O datagrams (after
+    /// [`handle_timeout`](Self::handle_timeout)).
+    pub fn poll_transmit(&mut self, _now: Instant) -> Option<(Peer, Vec<u8>)> {
         self.transmit.pop_front()
     }
 
-    /// One encapsulation message from client `client` (a key the driver chooses per TCP
-    /// connection; `u64::MAX` for UDP). Returns the reply's bytes (none for UnRegisterSession,
-    /// NOP, or an incomplete message, see [`EncapError`]) and the bytes consumed.
-    pub fn handle(
-        &mut self,
-        client: u64,
-        bytes: &[u8],
-        now: Instant,
-    ) -> Result<(Option<Vec<u8>>, usize), EncapError> {
+    /// Bytes `from` a peer at `now`: one encapsulation message from the front of a TCP
+    /// client's stream or a UDP datagram (its reply, if any, waits in
+    /// [`poll_transmit`](Self::poll_transmit): none for UnRegisterSession or NOP), or one
+    /// class-1 datagram. Returns the bytes consumed; an incomplete encapsulation message
+    /// consumes none ([`EncapError`]).
+    pub fn handle(&mut self, now: Instant, from: Peer, bytes: &[u8]) -> Result<usize, EncapError> {
+        let before = self.device.events.len();
+        let client = match from {
+            Peer::Io(key) => {
+                self.receive_io(now, key, bytes);
+                self.tell_application(now, before);
+                return Ok(bytes.len());
+            }
+            Peer::Tcp(key) => key,
+            Peer::Udp => UDP,
+        };
         let (message, used) = EncapRepr::parse_prefix(bytes)?;
         let reply = self.command(client, &message, now).and_then(|reply| {
             EncapRepr {
@@ -104,11 +159,36 @@ impl Adapter {
             .to_vec()
             .ok()
         });
-        Ok((reply, used))
+        if let Some(reply) = reply {
+            self.transmit.push_back((from, reply));
+        }
+        self.tell_application(now, before);
+        Ok(used)
     }
 
-    /// A TCP client went away: its sessions end, and their class-3 connections.
-    pub fn client_gone(&mut self, client: u64) {
+    /// Hands the events since the `before`-th to the application: the assemblies written, the
+    /// class-1 connections ended (what it did about them becomes an event too).
+    fn tell_application(&mut self, now: Instant, before: usize) {
+        let new: Vec<Event> = self.device.events.iter().skip(before).cloned().collect();
+        for event in new {
+            let ending = match event {
+                Event::Consumed(instance) => {
+                    self.app.consumed(now, instance, &mut self.device);
+                    continue;
+                }
+                Event::Closed(_) => Ending::Closed,
+                Event::TimedOut(_) => Ending::TimedOut,
+                Event::Opened(_) | Event::Expired(_) | Event::Reacted(_) => continue,
+            };
+            if let Some(reaction) = self.app.connection_ended(now, ending, &mut self.device) {
+                self.device.events.push_back(Event::Reacted(reaction));
+            }
+        }
+    }
+
+    /// A TCP client went away at `now`: its sessions end, and their class-3 connections.
+    pub fn client_gone(&mut self, now: Instant, client: u64) {
+        let before = self.device.events.len();
         let ended: Vec<u32> = self
             .sessions
             .iter()
@@ -119,6 +199,7 @@ impl Adapter {
             self.sessions.remove(&session);
             end_session(&mut self.device, session);
         }
+        self.tell_application(now, before);
     }
 
     fn command(&mut self, client: u64, m: &EncapRepr<'_>, now: Instant) -> Option<Reply> {
@@ -137,7 +218,7 @@ impl Adapter {
             command::LIST_INTERFACES => Reply::success(0u16.to_le_bytes().to_vec()),
             // TCP only (CIP Vol 2 Table 2-3.2): over UDP an invalid command, as any other.
             command::REGISTER_SESSION | command::SEND_RR_DATA | command::SEND_UNIT_DATA
-                if client == u64::MAX =>
+                if client == UDP =>
             {
                 Reply::status(encap_status::INVALID_COMMAND, Vec::new())
             }
@@ -215,10 +296,10 @@ impl Adapter {
         items(&[Item::new(item::IDENTITY, &body)])
     }
 
-    /// One class-1 datagram (O→T) from `peer` at `now`: its data goes into the connection's
-    /// assembly. Datagrams for no connection, too short, or out of sequence are dropped, as
-    /// CIP drops them.
-    pub fn receive_io(&mut self, _peer: u64, bytes: &[u8], now: Instant) {
+    /// One class-1 datagram (O→T) at `now`: its data goes into the connection's assembly.
+    /// Datagrams for no connection, too short, or out of sequence are dropped, as CIP drops
+    /// them.
+    fn receive_io(&mut self, now: Instant, _peer: u64, bytes: &[u8]) {
         let Ok(IoDatagram {
             connection: id,
             data,
@@ -262,12 +343,15 @@ impl Adapter {
             .iter()
             .flat_map(|c| [c.next_produce, c.last_heard + c.timeout])
             .chain(explicit)
+            .chain(self.app.poll_timeout())
             .min()
     }
 
     /// At `now`: closes connections whose O→T data (class 1) or requests (class 3) stopped for
-    /// their timeout, and queues the T→O datagrams due ([`poll_transmit`](Self::poll_transmit)).
+    /// their timeout, moves the application on, and queues the T→O datagrams due
+    /// ([`poll_transmit`](Self::poll_transmit)).
     pub fn handle_timeout(&mut self, now: Instant) {
+        let before = self.device.events.len();
         expire_explicit(&mut self.device, now);
         let mut timed_out = Vec::new();
         self.device.connections.retain(|c| {
@@ -280,6 +364,8 @@ impl Adapter {
         self.device
             .events
             .extend(timed_out.into_iter().map(Event::TimedOut));
+        self.tell_application(now, before);
+        self.app.handle_timeout(now, &mut self.device);
         for c in &mut self.device.connections {
             if now < c.next_produce {
                 continue;
@@ -300,7 +386,7 @@ impl Adapter {
             };
             // An assembly fits a datagram (the Forward_Open checked its size).
             if let Ok(bytes) = datagram.to_vec() {
-                self.transmit.push_back((c.peer, bytes));
+                self.transmit.push_back((Peer::Io(c.peer), bytes));
             }
         }
     }

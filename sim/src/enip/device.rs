@@ -8,7 +8,6 @@ use std::collections::BTreeMap;
 use edsgen_model::model::{cip_value, Cip, FieldRef};
 use edsgen_runtime::Instant;
 
-use super::driver::Card;
 use super::parameter as param_object;
 use super::{Adapter, Assembly, Identity};
 use crate::cards::goodrive350_enip as card;
@@ -76,8 +75,8 @@ const CARD_EDS: &str = include_str!("../../../eds/goodrive350-enip.eds");
 /// The Goodrive350 EtherNet/IP card: its generated identity and images, the drive behind it
 /// with P00.01 = 2 and P00.02 = 3 (5.4.1: run commands from EtherNet/IP) and P00.06 = 13 (the
 /// frequency from it); the PZD functions (P16.32-P16.53) at their defaults, 0, for the scanner to
-/// set through PKW.
-pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
+/// set through PKW. The drive is the adapter's application.
+pub fn goodrive350(address: [u8; 4], now: Instant) -> Adapter<PkwPzdDrive> {
     let identity = Identity {
         vendor: card::VENDOR_ID,
         device_type: card::DEVICE_TYPE,
@@ -131,12 +130,5 @@ pub fn goodrive350(address: [u8; 4], now: Instant) -> (Adapter, Card) {
         .config_instances
         .push(card::Configuration::INSTANCE);
     adapter.device.parameters = parameters;
-    (
-        adapter,
-        Card {
-            drive,
-            output: card::Output::INSTANCE,
-            input: card::Input::INSTANCE,
-        },
-    )
+    adapter.with_application(drive)
 }

@@ -4,38 +4,22 @@
 //! on UDP 2222 (T→O to the originator's address, port 2222 or the one its Forward_Open's T→O
 //! sockaddr item names). One thread, non-blocking sockets,
 //! a millisecond tick. A bad client never stops the others: its bytes get the protocol's
-//! refusal, and a client that sends what is no encapsulation header is dropped.
-//!
-//! [`Card`] links the adapter to the Goodrive350's drive ([`PkwPzdDrive`], bus EtherNet/IP):
-//! every O→T image the scanner writes is exchanged with the drive, whose answer becomes the T→O
-//! image. The card's communication-loss actions: a connection that times out trips the drive
-//! with E-EIP (it coasts to a stop, faulted until a fault reset); one that Forward_Close ends
-//! decelerates it to a stop.
+//! refusal, and a client that sends what is no encapsulation header is dropped. What sits behind
+//! the adapter is its application ([`EnipApplication`]), not the driver's business.
 
 use std::collections::BTreeMap;
 use std::io::{ErrorKind, Read, Write};
 use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use edsgen_host::driver::MonotonicClock;
 use edsgen_runtime::enip::wire::io::IoDatagram;
-use edsgen_runtime::pkw_pzd::{ByteOrder, Command, ControlWord, OutputImage};
 use edsgen_runtime::Instant;
 
-use super::{Adapter, Event};
-use crate::drives::pkw_pzd::PkwPzdDrive;
+use super::{Adapter, EnipApplication, Event, Peer};
 
 /// The class-1 I/O port.
 pub const IO_PORT: u16 = 2222;
-
-/// The drive behind the adapter and the assemblies it reads and writes.
-pub struct Card {
-    /// The drive.
-    pub drive: PkwPzdDrive,
-    /// The O→T assembly (the scanner's image).
-    pub output: u32,
-    /// The T→O assembly (the drive's image).
-    pub input: u32,
-}
 
 struct Client {
     stream: TcpStream,
@@ -124,12 +108,11 @@ pub fn bind(address: SocketAddr, mut log: impl FnMut(String)) -> std::io::Result
     })
 }
 
-/// Serves `adapter` on bound `sockets` until `stop` is set. `log` gets one line per connection
-/// event.
-pub fn run(
+/// Serves `adapter` on bound `sockets` until `stop` is set, on the runtime's clock. `log` gets
+/// one line per connection event and per action of the application.
+pub fn run<A: EnipApplication>(
     sockets: Sockets,
-    mut adapter: Adapter,
-    mut card: Option<Card>,
+    mut adapter: Adapter<A>,
     stop: &AtomicBool,
     mut log: impl FnMut(String),
 ) -> Served {
@@ -140,93 +123,124 @@ pub fn run(
         io,
     } = sockets;
     let mut served = Served::default();
-    let start = std::time::Instant::now();
-    let now = || Instant::from_micros(start.elapsed().as_micros() as u64);
+    let clock = MonotonicClock::new();
     let mut clients: BTreeMap<u64, Client> = BTreeMap::new();
     let mut next_client = 1u64;
     let mut buf = vec![0u8; 65_536];
     // Bound to 0.0.0.0: the adapter's address is the one each request reaches it at.
     let wildcard = udp.local_addr().is_ok_and(|a| a.ip().is_unspecified());
     while !stop.load(Ordering::Relaxed) {
-        loop {
-            match listener.accept() {
-                Ok((stream, peer)) => {
-                    let _ = stream.set_nonblocking(true);
-                    let _ = stream.set_nodelay(true);
-                    clients.insert(
-                        next_client,
-                        Client {
-                            stream,
-                            peer: peer.ip(),
-                            buffer: Vec::new(),
-                        },
-                    );
-                    next_client += 1;
-                    served.clients += 1;
-                }
-                Err(e) if e.kind() == ErrorKind::WouldBlock => break,
-                Err(_) => break,
-            }
+        while let Ok((stream, peer)) = listener.accept() {
+            let _ = stream.set_nonblocking(true);
+            let _ = stream.set_nodelay(true);
+            let client = Client {
+                stream,
+                peer: peer.ip(),
+                buffer: Vec::new(),
+            };
+            clients.insert(next_client, client);
+            next_client += 1;
+            served.clients += 1;
         }
         let mut gone = Vec::new();
-        for (&key, client) in clients.iter_mut() {
+        let keys: Vec<u64> = clients.keys().copied().collect();
+        for key in keys {
+            let Some(client) = clients.get_mut(&key) else {
+                continue;
+            };
             match client.stream.read(&mut buf) {
                 Ok(0) => gone.push(key),
                 Ok(n) => client.buffer.extend_from_slice(&buf[..n]),
                 Err(e) if e.kind() == ErrorKind::WouldBlock => {}
                 Err(_) => gone.push(key),
             }
-            while !client.buffer.is_empty() {
-                match adapter.handle(key, &client.buffer, now()) {
-                    Ok((reply, used)) => {
-                        client.buffer.drain(..used);
-                        if let Some(reply) = reply {
-                            if client.stream.write_all(&reply).is_err() {
-                                gone.push(key);
-                                break;
-                            }
-                        }
-                    }
-                    Err(_) => break,
+            while let Some(client) = clients.get_mut(&key).filter(|c| !c.buffer.is_empty()) {
+                let Ok(used) = adapter.handle(clock.now(), Peer::Tcp(key), &client.buffer) else {
+                    break;
+                };
+                client.buffer.drain(..used);
+                if !send(clock.now(), &mut adapter, &mut clients, &io, None) {
+                    gone.push(key);
+                    break;
                 }
             }
         }
         for key in gone {
             clients.remove(&key);
-            adapter.client_gone(key);
+            adapter.client_gone(clock.now(), key);
         }
         for socket in std::iter::once(&udp).chain(&broadcast) {
             while let Ok((n, from)) = socket.recv_from(&mut buf) {
                 if let Some(own) = wildcard.then(|| address_toward(from)).flatten() {
                     adapter.device.address = own;
                 }
-                if let Ok((Some(reply), _)) = adapter.handle(u64::MAX, &buf[..n], now()) {
-                    let _ = udp.send_to(&reply, from);
-                }
+                let _ = adapter.handle(clock.now(), Peer::Udp, &buf[..n]);
+                send(
+                    clock.now(),
+                    &mut adapter,
+                    &mut clients,
+                    &io,
+                    Some((&udp, from)),
+                );
             }
         }
-        if let Some(io) = &io {
-            while let Ok((n, from)) = io.recv_from(&mut buf) {
+        if let Some(socket) = &io {
+            while let Ok((n, from)) = socket.recv_from(&mut buf) {
                 let key = clients
                     .iter()
                     .find(|(_, c)| c.peer == from.ip())
                     .map_or(u64::MAX, |(k, _)| *k);
-                adapter.receive_io(key, &buf[..n], now());
+                let _ = adapter.handle(clock.now(), Peer::Io(key), &buf[..n]);
             }
         }
-        let t = now();
-        adapter.handle_timeout(t);
-        served.connections += link(&mut adapter, card.as_mut(), t, &mut log);
-        while let Some((peer, datagram)) = adapter.poll_transmit() {
-            let ip = clients.get(&peer).map(|c| c.peer);
-            if let (Some(io), Some(ip)) = (&io, ip) {
-                let port = t_o_port(&adapter, &datagram);
-                let _ = io.send_to(&datagram, SocketAddr::new(ip, port));
+        adapter.handle_timeout(clock.now());
+        send(clock.now(), &mut adapter, &mut clients, &io, None);
+        while let Some(event) = adapter.poll_event() {
+            if matches!(event, Event::Opened(_)) {
+                served.connections += 1;
+            }
+            if let Some(line) = event.log_line() {
+                log(line);
             }
         }
         std::thread::sleep(std::time::Duration::from_millis(1));
     }
     served
+}
+
+/// Sends what the adapter has to send: replies to their TCP client (or, for a UDP request, from
+/// `udp` to its sender), T→O datagrams to their originator's address. False when writing to a
+/// TCP client failed (the client is gone).
+fn send<A: EnipApplication>(
+    now: Instant,
+    adapter: &mut Adapter<A>,
+    clients: &mut BTreeMap<u64, Client>,
+    io: &Option<UdpSocket>,
+    udp: Option<(&UdpSocket, SocketAddr)>,
+) -> bool {
+    let mut ok = true;
+    while let Some((to, bytes)) = adapter.poll_transmit(now) {
+        match to {
+            Peer::Tcp(key) => {
+                if let Some(client) = clients.get_mut(&key) {
+                    ok &= client.stream.write_all(&bytes).is_ok();
+                }
+            }
+            Peer::Udp => {
+                if let Some((socket, from)) = udp {
+                    let _ = socket.send_to(&bytes, from);
+                }
+            }
+            Peer::Io(key) => {
+                let ip = clients.get(&key).map(|c| c.peer);
+                if let (Some(io), Some(ip)) = (io, ip) {
+                    let port = t_o_port(adapter, &bytes);
+                    let _ = io.send_to(&bytes, SocketAddr::new(ip, port));
+                }
+            }
+        }
+    }
+    ok
 }
 
 /// This host's address on the way to `peer` (the source address the system would send from),
@@ -242,7 +256,7 @@ fn address_toward(peer: SocketAddr) -> Option<[u8; 4]> {
 
 /// The UDP port a T→O datagram goes to: the one its connection's Forward_Open asked for, else
 /// [`IO_PORT`].
-fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
+fn t_o_port<A: EnipApplication>(adapter: &Adapter<A>, datagram: &[u8]) -> u16 {
     let id = IoDatagram::parse(datagram).ok().map(|d| d.connection);
     adapter
         .connections()
@@ -250,122 +264,4 @@ fn t_o_port(adapter: &Adapter, datagram: &[u8]) -> u16 {
         .find(|c| Some(c.t_o_id) == id)
         .and_then(|c| c.t_o_port)
         .unwrap_or(IO_PORT)
-}
-
-/// Hands the adapter's events since the last call to `card` at `now`: each O→T image the scanner
-/// wrote is exchanged with the drive and its answer becomes the T→O image; a timed-out connection
-/// trips the drive (E-EIP, `communication_lost`), one Forward_Close ended stops it; without a
-/// connection the drive's ramps still move and the T→O assembly shows the drive as it stands.
-/// `log` gets one line per connection event. Returns how many connections opened.
-pub fn link(
-    adapter: &mut Adapter,
-    mut card: Option<&mut Card>,
-    now: Instant,
-    log: &mut impl FnMut(String),
-) -> u64 {
-    let mut opened = 0;
-    while let Some(event) = adapter.poll_event() {
-        match event {
-            Event::Opened(id) => {
-                opened += 1;
-                log(format!("connection {id:#010x} opened"));
-            }
-            Event::Closed(id) => {
-                log(format!("connection {id:#010x} closed"));
-                if let Some(card) = card.as_deref_mut() {
-                    connection_closed(adapter, card, now, log);
-                }
-            }
-            Event::TimedOut(id) => {
-                log(format!("connection {id:#010x} timed out"));
-                if let Some(card) = card.as_deref_mut() {
-                    communication_lost(adapter, card, now, log);
-                }
-            }
-            Event::Expired(id) => log(format!("explicit connection {id:#010x} closed")),
-            Event::Consumed(point) => {
-                let Some(card) = card.as_deref_mut() else {
-                    continue;
-                };
-                if point != card.output {
-                    continue;
-                }
-                let output: Option<[u8; 32]> = adapter
-                    .device
-                    .assemblies
-                    .get(&card.output)
-                    .and_then(|a| a.data.as_slice().try_into().ok());
-                if let Some(output) = output {
-                    let input = card
-                        .drive
-                        .exchange_bytes(now, &output, ByteOrder::LittleEndian);
-                    if let Some(a) = adapter.device.assemblies.get_mut(&card.input) {
-                        a.data = input.to_vec();
-                    }
-                }
-            }
-        }
-    }
-    if let Some(card) = card {
-        // The drive runs on (its ramps, its own timeout P16.54) with or without a connection.
-        card.drive.handle_timeout(now);
-        if adapter.connections().is_empty() {
-            if let Some(a) = adapter.device.assemblies.get_mut(&card.input) {
-                a.data = card.drive.inputs().emit(ByteOrder::LittleEndian).to_vec();
-            }
-        }
-    }
-    opened
-}
-
-/// Whether a class-1 connection still writes the drive's image.
-fn still_written(adapter: &Adapter, card: &Card) -> bool {
-    adapter
-        .connections()
-        .iter()
-        .any(|c| c.o_t_point == card.output)
-}
-
-/// Forward_Close ended the connection writing the drive's image (an orderly end): unless another
-/// connection still writes it, the drive decelerates to stop (command 5) with the last settings
-/// kept and no PKW task, so explicit reads show it stopping and the next connection's run
-/// command starts it from rest.
-fn connection_closed(
-    adapter: &mut Adapter,
-    card: &mut Card,
-    now: Instant,
-    log: &mut impl FnMut(String),
-) {
-    if still_written(adapter, card) {
-        return;
-    }
-    let last: Option<[u8; 32]> = adapter
-        .device
-        .assemblies
-        .get(&card.output)
-        .and_then(|a| a.data.as_slice().try_into().ok());
-    let mut output = last
-        .map(|bytes| OutputImage::parse(&bytes, ByteOrder::LittleEndian))
-        .unwrap_or_default();
-    output.pkw = OutputImage::default().pkw;
-    output.control = ControlWord::new(Command::DecelerateToStop, card.drive.layout());
-    card.drive.exchange(now, &output);
-    log("drive decelerates to stop".to_owned());
-}
-
-/// The connection writing the drive's image timed out: unless another connection still writes
-/// it, the drive trips with E-EIP (fault 70, P07.27) and coasts to a stop, so explicit reads show
-/// it faulted, and the next connection finds it faulted until its control word resets the fault
-/// (command 7).
-fn communication_lost(
-    adapter: &Adapter,
-    card: &mut Card,
-    now: Instant,
-    log: &mut impl FnMut(String),
-) {
-    if still_written(adapter, card) || card.drive.vfd().fault().is_some() {
-        return;
-    }
-    card.drive.communication_lost(now);
-    log(format!("drive fault {}", card.drive.bus().fault_name()));
 }

@@ -11,10 +11,13 @@
 //!
 //! Unlike the runtime's `no_std` wire formats this core uses `std` collections: its tables are
 //! built at run time from any ODVA EDS (assemblies, parameters of any size and number), and it
-//! keeps a session per TCP client. [`driver`] serves it on sockets (TCP and UDP 44818, UDP
-//! 2222), [`device`] builds it from an ODVA EDS or as the Goodrive350 card with its drive.
+//! keeps a session per TCP client. [`application`] is what sits behind it ([`EnipApplication`]:
+//! the Goodrive350's PKW/PZD drive, the same card application DP and PROFINET serve);
+//! [`driver`] serves it on sockets (TCP and UDP 44818, UDP 2222), [`device`] builds it from an
+//! ODVA EDS or as the Goodrive350 card with its drive.
 
 pub mod adapter;
+pub mod application;
 pub mod assembly;
 mod bytes;
 pub mod cip;
@@ -28,7 +31,8 @@ pub mod parameter;
 pub mod state;
 pub mod tcp_ip;
 
-pub use adapter::Adapter;
+pub use adapter::{Adapter, Peer};
+pub use application::{Ending, EnipApplication, Reaction};
 pub use cip::{Call, CipObject, Registry};
 pub use state::{Assembly, DeviceState, Event, ExplicitConnection, Identity, IoConnection};
 

@@ -8,6 +8,8 @@ use std::collections::{BTreeMap, VecDeque};
 use edsgen_model::model::CipNumber;
 use edsgen_runtime::{Duration, Instant};
 
+use super::application::Reaction;
+
 /// What the objects of one adapter share.
 #[derive(Debug, Clone)]
 pub struct DeviceState {
@@ -205,4 +207,21 @@ pub enum Event {
     Consumed(u32),
     /// A class-3 connection closed with its session or after its timeout without a request.
     Expired(u32),
+    /// The application acted on a connection's end.
+    Reacted(Reaction),
+}
+
+impl Event {
+    /// The line a driver logs for it: connections opening and ending, what the application did
+    /// (none for an assembly written).
+    pub fn log_line(&self) -> Option<String> {
+        Some(match self {
+            Event::Opened(id) => format!("connection {id:#010x} opened"),
+            Event::Closed(id) => format!("connection {id:#010x} closed"),
+            Event::TimedOut(id) => format!("connection {id:#010x} timed out"),
+            Event::Expired(id) => format!("explicit connection {id:#010x} closed"),
+            Event::Reacted(reaction) => reaction.to_string(),
+            Event::Consumed(_) => return None,
+        })
+    }
 }

@@ -58,20 +58,24 @@ pub(super) fn encap(command: u16, session: u32, data: &[u8]) -> Vec<u8> {
     .emit()
 }
 
-pub(super) fn reply(a: &mut Adapter, bytes: &[u8]) -> Encapsulation {
-    let (out, used) = a.handle(7, bytes, T0).expect("complete");
+pub(super) fn reply<A: super::EnipApplication>(a: &mut Adapter<A>, bytes: &[u8]) -> Encapsulation {
+    let (out, used) = a.request(7, bytes, T0).expect("complete");
     assert_eq!(used, bytes.len());
     Encapsulation::parse(&out.expect("a reply"))
         .expect("parses")
         .0
 }
 
-pub(super) fn session(a: &mut Adapter) -> u32 {
+pub(super) fn session<A: super::EnipApplication>(a: &mut Adapter<A>) -> u32 {
     reply(a, &encap(0x65, 0, &[1, 0, 0, 0])).session
 }
 
 /// A Message Router request over SendRRData; the response's bytes.
-pub(super) fn explicit(a: &mut Adapter, handle: u32, request: &[u8]) -> Vec<u8> {
+pub(super) fn explicit<A: super::EnipApplication>(
+    a: &mut Adapter<A>,
+    handle: u32,
+    request: &[u8],
+) -> Vec<u8> {
     let mut data = vec![0; 6];
     data.extend(emit_items(&[
         (item::NULL_ADDRESS, &[]),
@@ -98,7 +102,7 @@ fn register_session_and_its_refusals() {
     assert_eq!(reply(&mut a, &encap(0x0123, 1, &[])).status, 0x01);
     // UnRegisterSession has no reply and ends the session.
     assert_eq!(
-        a.handle(7, &encap(0x66, 1, &[]), T0).expect("complete").0,
+        a.request(7, &encap(0x66, 1, &[]), T0).expect("complete").0,
         None
     );
     assert_eq!(reply(&mut a, &encap(0x6F, 1, &[0; 16])).status, 0x64);
@@ -115,7 +119,7 @@ fn tcp_only_commands_refused_over_udp() {
         (0x70, &[0; 16]),
     ] {
         let (out, _) = a
-            .handle(u64::MAX, &encap(command, 0, data), T0)
+            .request(u64::MAX, &encap(command, 0, data), T0)
             .expect("complete");
         let mut expected = encap(command, 0, &[]);
         expected[8] = 0x01;
@@ -124,7 +128,7 @@ fn tcp_only_commands_refused_over_udp() {
     // No session was registered: the first over TCP gets handle 1.
     assert_eq!(session(&mut a), 1);
     let (out, _) = a
-        .handle(u64::MAX, &encap(0x63, 0, &[]), T0)
+        .request(u64::MAX, &encap(0x63, 0, &[]), T0)
         .expect("complete");
     assert_eq!(&out.expect("a reply")[..2], &[0x63, 0]);
 }
@@ -268,7 +272,7 @@ fn forward_open_io_timeout_and_forward_close() {
     assert!(produce(&mut a, T0 + Duration::from_micros(49_000)).is_empty());
     assert_eq!(produce(&mut a, T0 + Duration::from_micros(50_000)).len(), 1);
     // O->T data lands in assembly 150.
-    a.receive_io(
+    a.io(
         7,
         &io_packet(id, 1, true, &[0x11; 32]),
         T0 + Duration::from_micros(60_000),
@@ -297,7 +301,7 @@ fn forward_open_io_timeout_and_forward_close() {
     let id = u32::from_le_bytes([ok[4], ok[5], ok[6], ok[7]]);
     events(&mut a);
     let t1 = T0 + Duration::from_micros(100_000);
-    a.receive_io(7, &io_packet(id, 1, true, &[0; 32]), t1);
+    a.io(7, &io_packet(id, 1, true, &[0; 32]), t1);
     produce(&mut a, t1 + Duration::from_micros(199_000));
     assert_eq!(a.connections().len(), 1);
     produce(&mut a, t1 + Duration::from_micros(200_000));
@@ -325,21 +329,21 @@ fn garbage_never_panics() {
                 x as u8
             })
             .collect();
-        let _ = a.handle(7, &bytes, T0);
+        let _ = a.request(7, &bytes, T0);
         let _ = a.route(7, &bytes, T0);
-        a.receive_io(7, &bytes, T0);
+        a.io(7, &bytes, T0);
         let mut wrapped = vec![0; 6];
         wrapped.extend(emit_items(&[
             (item::NULL_ADDRESS, &[]),
             (item::UNCONNECTED_DATA, &bytes),
         ]));
-        let _ = a.handle(7, &encap(0x6F, s, &wrapped), T0);
+        let _ = a.request(7, &encap(0x6F, s, &wrapped), T0);
         let mut unit = vec![0; 6];
         unit.extend(emit_items(&[
             (item::CONNECTED_ADDRESS, &id.to_le_bytes()),
             (item::CONNECTED_DATA, &bytes),
         ]));
-        let _ = a.handle(7, &encap(0x70, s, &unit), T0);
+        let _ = a.request(7, &encap(0x70, s, &unit), T0);
     }
     // The class-3 connection lived through it.
     assert!(a.explicit_connections().iter().any(|c| c.o_t_id == id));

@@ -13,8 +13,8 @@ use super::{Adapter, Event};
 
 /// SendUnitData on connection `id` with sequence count `sequence` at `now`: the encapsulation
 /// status and data of the reply.
-fn unit_data(
-    a: &mut Adapter,
+fn unit_data<A: super::EnipApplication>(
+    a: &mut Adapter<A>,
     session: u32,
     id: u32,
     sequence: u16,
@@ -29,7 +29,7 @@ fn unit_data(
         (item::CONNECTED_DATA, &payload),
     ]));
     let (out, _) = a
-        .handle(7, &encap(0x70, session, &data), now)
+        .request(7, &encap(0x70, session, &data), now)
         .expect("complete");
     let r = Encapsulation::parse(&out.expect("a reply"))
         .expect("parses")
@@ -164,7 +164,7 @@ fn class3_connections_close_on_timeout_and_with_their_session() {
     assert_eq!(a.explicit_connections()[0].t_o_size, 510);
     events(&mut a);
     assert_eq!(
-        a.handle(7, &encap(0x66, s, &[]), T0).expect("complete").0,
+        a.request(7, &encap(0x66, s, &[]), T0).expect("complete").0,
         None
     );
     assert!(a.explicit_connections().is_empty());
@@ -172,7 +172,7 @@ fn class3_connections_close_on_timeout_and_with_their_session() {
     // A client that goes away takes its sessions' connections along.
     let s = session(&mut a);
     explicit(&mut a, s, &class3_open(0x54, 3, 100_000, 0xA3, &ROUTER));
-    a.client_gone(7);
+    a.client_gone(T0, 7);
     assert!(a.explicit_connections().is_empty());
 }
 

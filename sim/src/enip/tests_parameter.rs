@@ -16,7 +16,11 @@ fn io() -> super::Adapter {
 }
 
 /// Get_Attribute_Single `@0x0F/instance/attribute`: the response's bytes.
-fn get(a: &mut super::Adapter, instance: u8, attribute: u8) -> Vec<u8> {
+fn get<A: super::EnipApplication>(
+    a: &mut super::Adapter<A>,
+    instance: u8,
+    attribute: u8,
+) -> Vec<u8> {
     a.route(
         1,
         &[0x0E, 3, 0x20, 0x0F, 0x24, instance, 0x30, attribute],
@@ -25,7 +29,11 @@ fn get(a: &mut super::Adapter, instance: u8, attribute: u8) -> Vec<u8> {
 }
 
 /// Set_Attribute_Single of a parameter's value: the response's bytes.
-fn set(a: &mut super::Adapter, instance: u8, value: &[u8]) -> Vec<u8> {
+fn set<A: super::EnipApplication>(
+    a: &mut super::Adapter<A>,
+    instance: u8,
+    value: &[u8],
+) -> Vec<u8> {
     let mut request = vec![0x10, 3, 0x20, 0x0F, 0x24, instance, 0x30, 1];
     request.extend_from_slice(value);
     a.route(1, &request, T0)
@@ -176,7 +184,7 @@ fn members_live_in_their_assemblys_bytes() {
 
 #[test]
 fn the_cards_parameters() {
-    let (mut a, _) = device::goodrive350([127, 0, 0, 1], T0);
+    let mut a = device::goodrive350([127, 0, 0, 1], T0);
     // Param1 RPI: no member, 50 ms; Param22 SW read-only in assembly 100; Param2 PKW1 task in
     // 150.
     assert_eq!(get(&mut a, 1, 1), ok(&50_000u32.to_le_bytes()));

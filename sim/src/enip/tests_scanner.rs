@@ -80,8 +80,8 @@ fn datagram(connection: u32, sequence: u32, data: &[u8]) -> Vec<u8> {
 }
 
 /// SendRRData with `items` after the unconnected request; the Message Router response.
-pub(super) fn send(
-    a: &mut Adapter,
+pub(super) fn send<A: super::EnipApplication>(
+    a: &mut Adapter<A>,
     session: u32,
     request: &[u8],
     extra: &[(u16, &[u8])],
@@ -99,13 +99,13 @@ pub(super) fn send(
         options: 0,
         data,
     };
-    let (reply, _) = a.handle(9, &message.emit(), T0).expect("complete");
+    let (reply, _) = a.request(9, &message.emit(), T0).expect("complete");
     let (reply, _) = Encapsulation::parse(&reply.expect("a reply")).expect("parses");
     let items = parse_items(&reply.data[6..]).expect("items");
     items[1].1.to_vec()
 }
 
-pub(super) fn session(a: &mut Adapter) -> u32 {
+pub(super) fn session<A: super::EnipApplication>(a: &mut Adapter<A>) -> u32 {
     let register = Encapsulation {
         command: 0x65,
         session: 0,
@@ -114,7 +114,7 @@ pub(super) fn session(a: &mut Adapter) -> u32 {
         options: 0,
         data: vec![1, 0, 0, 0],
     };
-    let (reply, _) = a.handle(9, &register.emit(), T0).expect("complete");
+    let (reply, _) = a.request(9, &register.emit(), T0).expect("complete");
     Encapsulation::parse(&reply.expect("a reply"))
         .expect("parses")
         .0
@@ -141,7 +141,7 @@ fn the_adapter_honours_the_t_o_sockaddr_and_the_scanner_frames() {
     assert_eq!(a.connections()[0].t_o_port, Some(40_000));
     assert_eq!(events(&mut a), vec![Event::Opened(o_t_id)]);
     // Sequence count 1, run, 4 bytes.
-    a.receive_io(9, &datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]), T0);
+    a.io(9, &datagram(o_t_id, 1, &[1, 0, 1, 0, 0, 0, 9, 8, 7, 6]), T0);
     assert_eq!(a.device.assemblies[&150].data, [9, 8, 7, 6]);
     let produced = produce(&mut a, T0);
     let produced = IoDatagram::parse(&produced[0].1).expect("T→O");

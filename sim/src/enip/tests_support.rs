@@ -6,17 +6,52 @@ use edsgen_runtime::enip::wire::encap::{EncapError, EncapRepr};
 use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::Instant;
 
-use super::{Adapter, Event};
+use super::{Adapter, EnipApplication, Event, Peer};
 
 /// The adapter's events since the last call, oldest first.
-pub(super) fn events(a: &mut Adapter) -> Vec<Event> {
+pub(super) fn events<A: EnipApplication>(a: &mut Adapter<A>) -> Vec<Event> {
     std::iter::from_fn(|| a.poll_event()).collect()
 }
 
 /// The T→O datagrams due at `now`, with the peer key of each.
-pub(super) fn produce(a: &mut Adapter, now: Instant) -> Vec<(u64, Vec<u8>)> {
+pub(super) fn produce<A: EnipApplication>(a: &mut Adapter<A>, now: Instant) -> Vec<(u64, Vec<u8>)> {
     a.handle_timeout(now);
-    std::iter::from_fn(|| a.poll_transmit()).collect()
+    std::iter::from_fn(|| a.poll_transmit(now))
+        .map(|(to, bytes)| match to {
+            Peer::Io(key) => (key, bytes),
+            other => panic!("a T→O datagram goes to class-1 I/O, not {other:?}"),
+        })
+        .collect()
+}
+
+impl<A: EnipApplication> Adapter<A> {
+    /// One encapsulation message from TCP client `client` (`u64::MAX`: a UDP datagram) at
+    /// `now`: the reply it queued, if any, and the bytes consumed.
+    pub(super) fn request(
+        &mut self,
+        client: u64,
+        bytes: &[u8],
+        now: Instant,
+    ) -> Result<(Option<Vec<u8>>, usize), EncapError> {
+        let from = if client == u64::MAX {
+            Peer::Udp
+        } else {
+            Peer::Tcp(client)
+        };
+        let used = self.handle(now, from, bytes)?;
+        // T→O datagrams due before are dropped here, as `produce` would return them.
+        let mut replies: Vec<Vec<u8>> = std::iter::from_fn(|| self.poll_transmit(now))
+            .filter(|(to, _)| *to == from)
+            .map(|(_, reply)| reply)
+            .collect();
+        assert!(replies.len() <= 1, "one reply per request");
+        Ok((replies.pop(), used))
+    }
+
+    /// One class-1 datagram from the originator of client `client` at `now`.
+    pub(super) fn io(&mut self, client: u64, bytes: &[u8], now: Instant) {
+        assert_eq!(self.handle(now, Peer::Io(client), bytes), Ok(bytes.len()));
+    }
 }
 
 /// An encapsulation message that owns its data.

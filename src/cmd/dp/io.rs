@@ -1,12 +1,20 @@
-//! `edsgen dp io`: one slave brought to data exchange by profirust's DP master from its GSD
-//! (see the parent module).
+//! `edsgen dp io`: one slave brought to data exchange by profirust's DP master from its GSD, as
+//! a session (see the parent module): settings from the arguments and from lines on standard
+//! input, the inputs printed whenever they change, until Ctrl-C or `--cycles`. Before the
+//! master starts, the slave's own diagnosis (Slave_Diag) names a missing station or an
+//! Ident_Number mismatch at once; a refused configuration or parameterisation is named from the
+//! diagnosis profirust reads; a station that stops answering is said so (and again when it
+//! answers), the session going on.
 
 use std::fs::OpenOptions;
+use std::io::BufRead;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use edsgen_runtime::pkw_pzd::{ByteOrder, InputImage, WordLayout};
+use edsgen_runtime::pkw_pzd::{ByteOrder, InputImage, PkwResponse, RunState, WordLayout};
+use profirust::dp::{DiagnosticFlags, PeripheralEvent};
 use profirust::{dp, fdl, Baudrate};
 
 use super::super::fail;
@@ -27,12 +35,25 @@ pub struct Args {
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u8).range(0..=125))]
     master: u8,
-    /// How long to exchange data before printing the inputs.
-    #[arg(long, default_value_t = 1)]
-    seconds: u64,
-    /// Outputs to set: NAME=VALUE (decimal or 0x hex), a 16-bit word each.
-    #[arg(value_name = "NAME=VALUE")]
-    outputs: Vec<String>,
+    /// Stop after N data exchanges (default: until Ctrl-C).
+    #[arg(long, value_name = "N")]
+    cycles: Option<u64>,
+    /// Parameterise the slave without its watchdog (it then keeps its outputs when this
+    /// master stops).
+    #[arg(long)]
+    no_watchdog: bool,
+    /// Outputs to set: NAME=VALUE (decimal or 0x hex), or `reset`, `run`, `stop` on a PKW/PZD
+    /// module; more come as lines on standard input.
+    #[arg(value_name = "SETTING")]
+    settings: Vec<String>,
+}
+
+/// How an image's fields are named: 16-bit words (`w0`, ... or the PKW/PZD names) or bytes
+/// (`b0`, ...).
+#[derive(Debug, Clone, Copy)]
+struct Names {
+    words: bool,
+    pkw_pzd: bool,
 }
 
 const PKW_PZD_NAMES: [&str; 16] = [
@@ -40,12 +61,33 @@ const PKW_PZD_NAMES: [&str; 16] = [
     "pzd9", "pzd10", "pzd11", "pzd12",
 ];
 
-/// The name of word `n` of an image.
-fn word_name(n: usize, pkw_pzd: bool, input: bool) -> String {
-    match (pkw_pzd, n) {
-        (true, 4) if input => "sw".to_owned(),
-        (true, n) if n < 16 => PKW_PZD_NAMES[n].to_owned(),
-        _ => format!("w{n}"),
+impl Names {
+    fn width(self) -> usize {
+        if self.words {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// The name of field `n` of the inputs or the outputs.
+    fn name(self, n: usize, input: bool) -> String {
+        match (self.pkw_pzd, n) {
+            (true, 4) if input => "sw".to_owned(),
+            (true, n) if n < 16 => PKW_PZD_NAMES[n].to_owned(),
+            _ if self.words => format!("w{n}"),
+            _ => format!("b{n}"),
+        }
+    }
+
+    /// Field `n` of `image` and its text.
+    fn field(self, image: &[u8], n: usize) -> String {
+        if self.words {
+            let word = u16::from_be_bytes([image[2 * n], image[2 * n + 1]]);
+            format!("{word} (0x{word:04X})")
+        } else {
+            format!("{} (0x{:02X})", image[n], image[n])
+        }
     }
 }
 
@@ -54,6 +96,46 @@ fn number(text: &str) -> Option<u16> {
         Some(hex) => u16::from_str_radix(hex, 16).ok(),
         None => text.parse().ok(),
     }
+}
+
+/// Applies one setting to `outputs`.
+fn apply(setting: &str, names: Names, outputs: &mut [u8]) -> Result<(), String> {
+    let setting = setting.trim();
+    // The card's control word commands (CW bits 0-7): 1 run forward, 5 stop, 7 fault reset.
+    let command = match setting {
+        "run" => Some(1),
+        "stop" => Some(5),
+        "reset" => Some(7),
+        _ => None,
+    };
+    if let Some(command) = command {
+        if !names.pkw_pzd {
+            return Err(format!(
+                "`{setting}`: the module has no PKW/PZD control word"
+            ));
+        }
+        outputs[9] = command;
+        return Ok(());
+    }
+    let Some((name, value)) = setting.split_once('=') else {
+        return Err(format!("`{setting}` is not NAME=VALUE, reset, run or stop"));
+    };
+    let width = names.width();
+    let index = (0..outputs.len() / width)
+        .find(|n| names.name(*n, false) == name.trim().to_ascii_lowercase());
+    let value = number(value.trim()).filter(|v| width == 2 || *v <= 0xFF);
+    let (Some(index), Some(value)) = (index, value) else {
+        let kind = if width == 2 { "a 16-bit" } else { "an 8-bit" };
+        return Err(format!(
+            "`{setting}`: no output `{name}` or not {kind} value"
+        ));
+    };
+    if width == 2 {
+        outputs[2 * index..2 * index + 2].copy_from_slice(&value.to_be_bytes());
+    } else {
+        outputs[index] = value as u8;
+    }
+    Ok(())
 }
 
 /// Runs `edsgen dp io`.
@@ -71,22 +153,17 @@ pub fn run(args: &Args) -> ExitCode {
     let Some(module) = gsd.modules.iter().find(|m| !m.identifiers().is_empty()) else {
         return fail(format!("{}: no module", args.gsd.display()));
     };
-    let pkw_pzd = gsd.pkw_pzd_module.as_deref() == Some(module.name.as_str());
+    let names = Names {
+        words: module.identifiers().iter().all(|i| i.words),
+        pkw_pzd: gsd.pkw_pzd_module.as_deref() == Some(module.name.as_str()),
+    };
     let (input_len, output_len) = module.io_lengths();
     let (input_len, output_len) = (input_len as usize, output_len as usize);
     let mut outputs = vec![0u8; output_len];
-    for assignment in &args.outputs {
-        let Some((name, value)) = assignment.split_once('=') else {
-            return fail(format!("`{assignment}` is not NAME=VALUE"));
-        };
-        let index = (0..output_len / 2)
-            .find(|n| word_name(*n, pkw_pzd, false) == name.to_ascii_lowercase());
-        let (Some(index), Some(value)) = (index, number(value)) else {
-            return fail(format!(
-                "`{assignment}`: no output word `{name}` or not a 16-bit value"
-            ));
-        };
-        outputs[2 * index..2 * index + 2].copy_from_slice(&value.to_be_bytes());
+    for setting in &args.settings {
+        if let Err(message) = apply(setting, names, &mut outputs) {
+            return fail(message);
+        }
     }
     let port = match OpenOptions::new().read(true).write(true).open(&args.tty) {
         Ok(port) => port,
@@ -97,6 +174,13 @@ pub fn run(args: &Args) -> ExitCode {
         Ok(phy) => phy,
         Err(e) => return fail(format!("{}: {e}", args.tty)),
     };
+    if let Err(message) = check_station(&mut phy, args, ident) {
+        eprintln!("{message}");
+        return ExitCode::from(1);
+    }
+    if let Err(message) = crate::cmd::signals::install() {
+        return fail(message);
+    }
     let max_tsdr = gsd
         .baud_rates
         .iter()
@@ -105,7 +189,7 @@ pub fn run(args: &Args) -> ExitCode {
         .unwrap_or(60);
     let user = gsd.default_user_prm_data();
     let mut inputs = vec![0u8; input_len];
-    let mut out_buffer = vec![0u8; output_len];
+    let mut out_buffer = outputs.clone();
     let mut master = dp::DpMaster::new(vec![]);
     let handle = master.add(dp::Peripheral::new(
         args.address,
@@ -119,51 +203,185 @@ pub fn run(args: &Args) -> ExitCode {
         &mut inputs[..],
         &mut out_buffer[..],
     ));
-    let mut station = fdl::FdlActiveStation::new(
-        fdl::ParametersBuilder::new(args.master, baud)
-            .slot_bits(4000)
-            .max_retry_limit(3)
-            .watchdog_timeout(profirust::time::Duration::from_secs(1))
-            .build_verified(&master),
-    );
+    let mut parameters = fdl::ParametersBuilder::new(args.master, baud);
+    parameters.slot_bits(4000).max_retry_limit(3);
+    if !args.no_watchdog {
+        parameters.watchdog_timeout(profirust::time::Duration::from_secs(1));
+    }
+    let mut station = fdl::FdlActiveStation::new(parameters.build_verified(&master));
     station.set_online();
     master.enter_operate();
+    let lines = stdin_lines();
     let start = Instant::now();
-    let mut exchanging_since = None;
-    while start.elapsed() < Duration::from_secs(10 + args.seconds) {
+    let mut shown: Option<Vec<u8>> = None;
+    let mut cycles = 0u64;
+    let mut silent = false;
+    while !crate::cmd::signals::requested() {
         station.poll(profirust::time::Instant::now(), &mut phy, &mut master);
+        let events = master.take_last_events();
         let peripheral = master.get_mut(handle);
+        match events.peripheral.map(|(_, event)| event) {
+            Some(PeripheralEvent::ConfigError | PeripheralEvent::ParameterError) => {
+                eprintln!("{}", refused(args.address, peripheral.last_diagnostics()));
+                return ExitCode::from(1);
+            }
+            Some(PeripheralEvent::Offline) if shown.is_some() && !silent => {
+                // profirust takes it up again when it answers.
+                eprintln!("station {}: stopped answering", args.address);
+                silent = true;
+            }
+            Some(PeripheralEvent::DataExchanged) => {
+                if std::mem::take(&mut silent) {
+                    eprintln!("station {}: answers again", args.address);
+                }
+                cycles += 1;
+                let now = peripheral.pi_i().to_vec();
+                print_changes(shown.as_deref(), &now, names);
+                shown = Some(now);
+                // One line of standard input a cycle, so that each setting reaches the slave
+                // (a reset, then a run command).
+                if let Ok(line) = lines.try_recv() {
+                    if let Err(message) = apply(&line, names, &mut outputs) {
+                        eprintln!("{message}");
+                    }
+                }
+            }
+            _ => {}
+        }
         if peripheral.is_running() {
             peripheral.pi_q_mut().copy_from_slice(&outputs);
-            let since = *exchanging_since.get_or_insert_with(Instant::now);
-            if since.elapsed() >= Duration::from_secs(args.seconds) {
-                print_inputs(peripheral.pi_i(), pkw_pzd);
-                return ExitCode::SUCCESS;
-            }
+        }
+        if args.cycles.is_some_and(|n| cycles >= n) {
+            return ExitCode::SUCCESS;
+        }
+        if shown.is_none() && start.elapsed() > Duration::from_secs(10) {
+            eprintln!("station {}: no data exchange within 10 s", args.address);
+            return ExitCode::from(1);
         }
         std::thread::sleep(Duration::from_micros(500));
     }
-    eprintln!("station {}: no data exchange", args.address);
-    ExitCode::from(1)
+    ExitCode::SUCCESS
 }
 
-fn print_inputs(inputs: &[u8], pkw_pzd: bool) {
-    for (n, pair) in inputs.chunks_exact(2).enumerate() {
-        let word = u16::from_be_bytes([pair[0], pair[1]]);
-        println!("{} = {word} (0x{word:04X})", word_name(n, pkw_pzd, true));
-    }
-    if let (true, Ok(bytes)) = (pkw_pzd, <&[u8; 32]>::try_from(inputs)) {
-        match InputImage::parse(bytes, ByteOrder::BigEndian) {
-            Ok(image) => {
-                println!("pkw: {:?}", image.pkw);
-                println!(
-                    "sw: {:?}, ready {}, {:?}",
-                    image.status.state(WordLayout::ByByte),
-                    image.status.ready(),
-                    image.status.run_stop_mode()
-                );
+/// Lines of standard input, as they come (none when it is closed or not given).
+fn stdin_lines() -> mpsc::Receiver<String> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines() {
+            let Ok(line) = line else { return };
+            if !line.trim().is_empty() && tx.send(line).is_err() {
+                return;
             }
-            Err(e) => println!("pkw: {e:?}"),
+        }
+    });
+    rx
+}
+
+/// The station's own diagnosis before the master starts: it answers, and with the GSD's
+/// Ident_Number.
+fn check_station(phy: &mut TtyPhy, args: &Args, ident: u16) -> Result<(), String> {
+    let address = args.address;
+    // Five tries of 100 ms: at once for a person, patient with a loaded host.
+    let timeout = Duration::from_millis(100);
+    let diag = (0..5).find_map(|_| super::slave_diag(phy, args.master, address, timeout));
+    let Some(diag) = diag else {
+        return Err(format!(
+            "station {address} does not answer on {} (station missing)",
+            args.tty
+        ));
+    };
+    let theirs = u16::from_be_bytes([diag[4], diag[5]]);
+    if theirs != ident {
+        return Err(format!(
+            "station {address} is Ident_Number {theirs:04X}h, the GSD file's is {ident:04X}h \
+             (Ident_Number mismatch)"
+        ));
+    }
+    Ok(())
+}
+
+/// Why the station refused to enter data exchange, from its diagnosis.
+fn refused(address: u8, diag: Option<dp::PeripheralDiagnostics<'_>>) -> String {
+    let flags = diag.map(|d| d.flags).unwrap_or(DiagnosticFlags::empty());
+    let why = if flags.contains(DiagnosticFlags::CONFIGURATION_FAULT) {
+        "configuration fault: it refused the module's Chk_Cfg bytes"
+    } else if flags.contains(DiagnosticFlags::PARAMETER_FAULT) {
+        "parameter fault: it refused Set_Prm (Ident_Number or User_Prm_Data)"
+    } else if flags.contains(DiagnosticFlags::NOT_SUPPORTED) {
+        "it does not support a function the parameters ask for"
+    } else {
+        "it refused the parameters or the configuration"
+    };
+    format!("station {address}: {why}")
+}
+
+/// Prints the fields of `now` that differ from `before` (all of them the first time), then, on
+/// a PKW/PZD image, the PKW response and the status word in words when they changed.
+fn print_changes(before: Option<&[u8]>, now: &[u8], names: Names) {
+    let width = names.width();
+    let changed = |n: usize| {
+        let field = &now[n * width..(n + 1) * width];
+        before.is_none_or(|b| b.get(n * width..(n + 1) * width) != Some(field))
+    };
+    for n in (0..now.len() / width).filter(|&n| changed(n)) {
+        println!("{} = {}", names.name(n, true), names.field(now, n));
+    }
+    let (true, Ok(bytes)) = (names.pkw_pzd, <&[u8; 32]>::try_from(now)) else {
+        return;
+    };
+    match InputImage::parse(bytes, ByteOrder::BigEndian) {
+        Ok(image) => {
+            if (0..4).any(changed) {
+                println!("pkw: {}", pkw_text(image.pkw));
+            }
+            if changed(4) {
+                println!("sw: {}", sw_text(&image));
+            }
+        }
+        Err(_) if (0..4).any(changed) => println!("pkw: not a PKW response"),
+        Err(_) => {}
+    }
+}
+
+fn pkw_text(pkw: PkwResponse) -> String {
+    match pkw {
+        PkwResponse::None => "no response".to_owned(),
+        PkwResponse::Word { address, value } => {
+            format!("parameter {} = {value}", parameter_name(address))
+        }
+        PkwResponse::DoubleWord { address, value } => {
+            format!("parameter {} = {value}", parameter_name(address))
+        }
+        PkwResponse::Refused { address, error } | PkwResponse::RefusedWrite { address, error } => {
+            format!(
+                "parameter {} refused: error {} ({})",
+                parameter_name(address),
+                error.code(),
+                error.text()
+            )
         }
     }
+}
+
+/// A parameter address as the manual writes it: P00.10 for 000Ah (group, number).
+fn parameter_name(address: u16) -> String {
+    format!("P{:02}.{:02}", address >> 8, address & 0xFF)
+}
+
+fn sw_text(image: &InputImage) -> String {
+    let state = match image.status.state(WordLayout::ByByte) {
+        Some(RunState::Forward) => "running forward",
+        Some(RunState::Reverse) => "running reverse",
+        Some(RunState::Stopped) => "stopped",
+        Some(RunState::Fault) => "fault",
+        Some(RunState::PowerOff) => "power off (POFF)",
+        Some(RunState::PreExcitation) => "pre-excitation",
+        None => "state unknown",
+    };
+    let ready = if image.status.ready() {
+        "ready"
+    } else {
+        "not ready"
+    };
+    format!("{state}, {ready}")
 }

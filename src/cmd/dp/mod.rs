@@ -1,24 +1,28 @@
 //! `edsgen dp`: a PROFIBUS-DP master at the bench, through profirust (the Rust DP master) on a
 //! serial line ([`phy::TtyPhy`]).
 //!
-//! - `edsgen dp scan TTY [--master N] [--seconds S]`: the slaves that answer (profirust's
-//!   `DpScanner`: FDL status, then Slave_Diag), one line each: address, Ident_Number, the master
-//!   it is locked to. Exit 0 when at least one answered, 1 when none did, 2 for bad usage or a
-//!   line that cannot be opened.
-//! - `edsgen dp io TTY --gsd FILE --address N [NAME=VALUE...]`: parameterise and configure the
-//!   slave from its GSD (Ident_Number, default User_Prm_Data, its first module's Chk_Cfg bytes),
-//!   exchange data for `--seconds` with the outputs set by name, then print the inputs by name.
-//!   Names are the 16-bit words `w0`, `w1`, ... of the images; a module the overlay marks as
-//!   PKW/PZD (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its PKW response and
-//!   status word are decoded. Exit 0 after the exchange, 1 if data exchange was not reached, 2 for
-//!   bad usage.
+//! - `edsgen dp scan TTY [--master N]`: every address 0 to 125 asked once (FDL status, then
+//!   Slave_Diag of those that answer) with a per-address timeout from the baud rate and the
+//!   slowest Tsdr, so the sweep's time is known and said first; one line per station that
+//!   answered: address, Ident_Number, the master it is locked to. Exit 0 when at least one
+//!   answered, 1 when none did, 2 for bad usage or a line that cannot be opened.
+//! - `edsgen dp io TTY --gsd FILE --address N [SETTING...] [--cycles N] [--no-watchdog]`: a
+//!   session. The station's Slave_Diag first (a missing station or an Ident_Number mismatch is
+//!   named at once), then it is parameterised and configured from its GSD (Ident_Number, default
+//!   User_Prm_Data, its first module's Chk_Cfg bytes; a refusal is named from its diagnosis) and
+//!   exchanges data until Ctrl-C or `--cycles`, the inputs printed whenever they change. Settings
+//!   (`NAME=VALUE`, and `reset`, `run`, `stop` on a PKW/PZD module: CW commands 7, 1, 5) come as
+//!   arguments and as lines on standard input. Names are the words `w0`, `w1`, ... of a word
+//!   module, the bytes `b0`, `b1`, ... of a byte module; a module the overlay marks as PKW/PZD
+//!   (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its PKW response and status
+//!   word are put in words. Exit 0 after the session, 1 if the station is missing, refuses or
+//!   stops answering, 2 for bad usage.
 
 use std::fs::OpenOptions;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use profirust::dp::scan::{DpScanEvent, DpScanner};
-use profirust::{fdl, Baudrate};
+use profirust::Baudrate;
 
 use super::fail;
 
@@ -29,7 +33,7 @@ pub mod simulate;
 /// The arguments of `edsgen dp`.
 #[derive(Debug, clap::Subcommand)]
 pub enum Command {
-    /// List the DP slaves that answer on a serial line.
+    /// Ask every address 0 to 125 on a serial line (in the time it states first).
     Scan {
         /// The serial line (set to 19200 baud, 8E1, raw, for an RS-485 adapter).
         tty: String,
@@ -37,63 +41,107 @@ pub enum Command {
         #[arg(long, value_name = "N", default_value_t = 1,
               value_parser = clap::value_parser!(u8).range(0..=125))]
         master: u8,
-        /// How long to listen.
-        #[arg(long, default_value_t = 3)]
-        seconds: u64,
     },
-    /// Bring a slave to data exchange from its GSD, set outputs by name, print its inputs.
+    /// A session with one slave from its GSD: settings by name (arguments and standard input),
+    /// the inputs printed as they change, until Ctrl-C or --cycles.
     Io(io::Args),
 }
 
 /// Runs `edsgen dp`.
 pub fn run(command: Command) -> ExitCode {
     match command {
-        Command::Scan {
-            tty,
-            master,
-            seconds,
-        } => scan(&tty, master, Duration::from_secs(seconds)),
+        Command::Scan { tty, master } => scan(&tty, master),
         Command::Io(args) => io::run(&args),
     }
 }
 
-fn scan(tty: &str, master: u8, time: Duration) -> ExitCode {
+/// The bench's baud rate.
+const BAUD: u32 = 19_200;
+/// The slowest station's delay before it answers (max Tsdr), in bit times: DP's 60 at 19.2 kbit/s.
+const MAX_TSDR_BITS: u32 = 60;
+/// What the operating system adds to a request and its answer (scheduling, a USB adapter's
+/// latency, a pseudo-terminal's relay).
+const HOST_LATENCY: Duration = Duration::from_millis(20);
+
+/// How long `dp scan` waits for one address: a 6-byte request and a 6-byte answer (11 bits a
+/// byte) and max Tsdr at the baud rate, plus the host's latency.
+fn per_address_timeout(baud: u32) -> Duration {
+    let bits = u64::from(2 * 6 * 11 + MAX_TSDR_BITS);
+    Duration::from_micros(bits * 1_000_000 / u64::from(baud)) + HOST_LATENCY
+}
+
+/// A request from `master` to `address`: SD1 without SAPs, SD2 with them (SSAP 62).
+fn request(master: u8, address: u8, function: u8, dsap: Option<u8>) -> Vec<u8> {
+    let mut buf = [0u8; 16];
+    let telegram = edsgen_runtime::dp::fdl::DataRepr {
+        da: address,
+        sa: master,
+        dsap,
+        ssap: dsap.map(|_| 62),
+        fc: 0x40 | function,
+        data: &[],
+    };
+    // At most 11 bytes.
+    let len = telegram.emit(&mut buf).unwrap_or(0);
+    buf[..len].to_vec()
+}
+
+/// Station `address`'s six standard diagnosis bytes (Slave_Diag from `master`, one try of
+/// `timeout`), if it answers.
+fn slave_diag(
+    phy: &mut phy::TtyPhy,
+    master: u8,
+    address: u8,
+    timeout: Duration,
+) -> Option<[u8; 6]> {
+    use edsgen_runtime::dp::fdl::{self, request as function, Repr};
+    let diag = request(master, address, function::SRD_LOW, Some(60));
+    let answer = phy.request(&diag, address, master, timeout)?;
+    match fdl::parse(&answer) {
+        Ok((Repr::Data(t), _)) => t.data.get(..6)?.try_into().ok(),
+        _ => None,
+    }
+}
+
+fn scan(tty: &str, master: u8) -> ExitCode {
+    use edsgen_runtime::dp::fdl::request as function;
     let port = match OpenOptions::new().read(true).write(true).open(tty) {
         Ok(port) => port,
         Err(e) => return fail(format!("cannot open {tty}: {e}")),
     };
-    let baud = Baudrate::B19200;
-    let mut phy = match phy::TtyPhy::new(port, baud) {
+    let mut phy = match phy::TtyPhy::new(port, Baudrate::B19200) {
         Ok(phy) => phy,
         Err(e) => return fail(format!("{tty}: {e}")),
     };
-    let mut scanner = DpScanner::new();
-    let mut station = fdl::FdlActiveStation::new(
-        fdl::ParametersBuilder::new(master, baud)
-            .slot_bits(4000)
-            .max_retry_limit(3)
-            .gap_wait_rotations(1)
-            .build(),
+    let timeout = per_address_timeout(BAUD);
+    let addresses: Vec<u8> = (0..=125).filter(|&a| a != master).collect();
+    let total = timeout * addresses.len() as u32;
+    eprintln!(
+        "scanning addresses 0 to 125 on {tty} at {BAUD} baud: {} ms an address, {:.1} s",
+        timeout.as_millis(),
+        total.as_secs_f64()
     );
-    station.set_online();
-    let start = Instant::now();
     let mut found = 0;
-    while start.elapsed() < time {
-        station.poll(profirust::time::Instant::now(), &mut phy, &mut scanner);
-        if let Some(DpScanEvent::PeripheralFound(desc)) = scanner.take_last_event() {
-            found += 1;
-            let locked = desc
-                .master_address
-                .map_or("no master".to_owned(), |m| format!("master {m}"));
-            println!(
-                "station {}: Ident_Number {:04X}h, {locked}",
-                desc.address, desc.ident
-            );
+    for address in addresses {
+        let status = request(master, address, function::FDL_STATUS, None);
+        if phy.request(&status, address, master, timeout).is_none() {
+            continue;
         }
-        std::thread::sleep(Duration::from_micros(500));
+        found += 1;
+        match slave_diag(&mut phy, master, address, timeout) {
+            Some(d) => {
+                let locked = match d[3] {
+                    255 => "no master".to_owned(),
+                    m => format!("master {m}"),
+                };
+                let ident = u16::from_be_bytes([d[4], d[5]]);
+                println!("station {address}: Ident_Number {ident:04X}h, {locked}");
+            }
+            None => println!("station {address}: answers FDL status, not Slave_Diag"),
+        }
     }
     if found == 0 {
-        eprintln!("no DP slave answered on {tty} within {time:?}");
+        eprintln!("no DP slave answered on {tty}");
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS

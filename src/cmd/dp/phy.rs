@@ -8,6 +8,7 @@ use std::fs::File;
 use std::io::{Read, Write};
 use std::sync::mpsc::{self, Receiver};
 
+use edsgen_runtime::dp::fdl::{self, FdlError, Repr};
 use profirust::phy::ProfibusPhy;
 use profirust::time::Instant;
 use profirust::Baudrate;
@@ -41,6 +42,48 @@ impl TtyPhy {
             baud,
             sending_until: None,
         })
+    }
+}
+
+impl TtyPhy {
+    /// Sends `request` and waits up to `timeout` for a telegram from station `from` (to
+    /// `to`); bytes that are no such telegram are dropped. For `dp scan`, which asks each
+    /// address once without profirust's token cycle.
+    pub fn request(
+        &mut self,
+        request: &[u8],
+        from: u8,
+        to: u8,
+        timeout: std::time::Duration,
+    ) -> Option<Vec<u8>> {
+        while self.rx.try_recv().is_ok() {}
+        self.received.clear();
+        self.writer.write_all(request).ok()?;
+        let _ = self.writer.flush();
+        let deadline = std::time::Instant::now() + timeout;
+        loop {
+            let left = deadline.checked_duration_since(std::time::Instant::now())?;
+            let bytes = self.rx.recv_timeout(left).ok()?;
+            self.received.extend(bytes);
+            while !self.received.is_empty() {
+                match fdl::parse(&self.received) {
+                    Ok((Repr::Data(t), used)) => {
+                        let answer = t.sa == from && t.da == to && !t.is_request();
+                        let telegram: Vec<u8> = self.received.drain(..used).collect();
+                        if answer {
+                            return Some(telegram);
+                        }
+                    }
+                    Ok((_, used)) => {
+                        self.received.drain(..used);
+                    }
+                    Err(FdlError::Incomplete) => break,
+                    Err(_) => {
+                        self.received.remove(0);
+                    }
+                }
+            }
+        }
     }
 }
 

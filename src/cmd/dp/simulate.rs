@@ -1,16 +1,18 @@
-//! `edsgen simulate --profibus TTY (--card goodrive350-dp[@ADDR] | FILE.gsd[@ADDR])`: one
-//! PROFIBUS-DP slave on a serial line (`edsgen_sim::dp::serial`): the bundled Goodrive350 card
-//! with its PKW/PZD drive, or a slave built from any GSD file whose inputs echo its outputs.
-//! The address is `@ADDR`, else the card's default (2, P15.01's) or 2 for a file. State changes
-//! go to stderr (`data exchange`, `wait for parameters`, the watchdog's E-DP), until the line
-//! closes or SIGINT, SIGTERM or SIGHUP stops it (then `stopped:`).
+//! `edsgen simulate --profibus TTY (--card goodrive350-dp[@ADDR] | FILE.gsd[@ADDR])...`:
+//! PROFIBUS-DP slaves on one serial line (`edsgen_sim::dp::serial`), each at its own address:
+//! the bundled Goodrive350 card with its PKW/PZD drive, or a slave built from any GSD file
+//! whose inputs echo its outputs. The address is `@ADDR`, else the card's default (2, P15.01's)
+//! or 2 for a file. State changes go to stderr (`data exchange`, `wait for parameters`, the
+//! watchdog's E-DP; `station N: ` before each with several slaves), until the line closes or
+//! SIGINT, SIGTERM or SIGHUP stops it (then `stopped:`).
 
 use std::fs::OpenOptions;
 use std::path::Path;
 use std::process::ExitCode;
 
+use edsgen_runtime::dp::DpSlave;
 use edsgen_runtime::Instant;
-use edsgen_sim::dp::card::{self, DEFAULT_ADDRESS};
+use edsgen_sim::dp::card::{self, Simulated, DEFAULT_ADDRESS};
 use edsgen_sim::dp::serial::serve;
 use edsgen_sim::dp::{DpState, Event};
 
@@ -19,75 +21,105 @@ use crate::cmd::fail;
 /// The name `--card` takes for the DP card.
 pub const CARD: &str = "goodrive350-dp";
 
-/// Runs one DP slave on `tty`, from the `--card` or FILE arguments of `edsgen simulate`.
-pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
-    let (what, address) = match (files, cards) {
-        ([file], []) => (Some(file.as_str()), file.rsplit_once('@')),
-        ([], [card]) => (None, card.rsplit_once('@')),
-        _ => {
-            return fail(format!(
-                "--profibus serves one slave: --card {CARD}[@ADDR] or one FILE.gsd[@ADDR]"
-            ))
-        }
-    };
-    let (name, address) = match address {
+/// `NAME[@ADDR]`: the name and the address (the card's default, 2, without one).
+fn name_and_address(text: &str) -> Result<(String, u8), String> {
+    match text.rsplit_once('@') {
         Some((name, address)) => match address.parse::<u8>() {
-            Ok(a) if a <= 125 => (name.to_owned(), a),
-            _ => return fail(format!("bad station address `{address}` (0 to 125)")),
+            Ok(a) if a <= 125 => Ok((name.to_owned(), a)),
+            _ => Err(format!("bad station address `{address}` (0 to 125)")),
         },
-        None => (
-            what.map_or_else(|| cards[0].clone(), str::to_owned),
-            DEFAULT_ADDRESS,
-        ),
-    };
+        None => Ok((text.to_owned(), DEFAULT_ADDRESS)),
+    }
+}
+
+/// The slave one `--card` or FILE argument names.
+fn slave(text: &str, is_card: bool, now: Instant) -> Result<(DpSlave<Simulated>, String), String> {
+    let (name, address) = name_and_address(text)?;
+    if is_card {
+        if name != CARD {
+            return Err(format!("--profibus: no DP card `{name}` (there is {CARD})"));
+        }
+        let card = card::goodrive350(address, now).map_err(|e| e.to_string())?;
+        let config = card.config().clone();
+        let app = Simulated::Card(card.app().clone());
+        return Ok((DpSlave::new(config, app, now), format!("card {CARD}")));
+    }
+    let bytes = std::fs::read(&name).map_err(|e| format!("cannot read `{name}`: {e}"))?;
+    let dp = card::read_gsd(Path::new(&name), &bytes).map_err(|e| format!("{name}: {e}"))?;
+    let echo = card::loopback(&dp, address, now).map_err(|e| format!("{name}: {e}"))?;
+    let config = echo.config().clone();
+    let app = Simulated::Loopback(echo.app().clone());
+    Ok((DpSlave::new(config, app, now), name))
+}
+
+/// Runs the DP slaves of the `--card` and FILE arguments of `edsgen simulate` on `tty`, each at
+/// its own address.
+pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
+    if files.is_empty() && cards.is_empty() {
+        return fail(format!(
+            "--profibus serves slaves: --card {CARD}[@ADDR] or FILE.gsd[@ADDR], one or more"
+        ));
+    }
+    let now = Instant::from_micros(0);
+    let named = cards
+        .iter()
+        .map(|c| (c, true))
+        .chain(files.iter().map(|f| (f, false)));
+    let mut slaves = Vec::new();
+    let mut lines = Vec::new();
+    for (text, is_card) in named {
+        let (slave, what) = match slave(text, is_card, now) {
+            Ok(slave) => slave,
+            Err(message) => return fail(message),
+        };
+        let address = slave.config().address;
+        if slaves
+            .iter()
+            .any(|s: &DpSlave<Simulated>| s.config().address == address)
+        {
+            return fail(format!("two slaves at station address {address}"));
+        }
+        lines.push(format!("simulating DP slave {address} ({what}) on {tty}"));
+        slaves.push(slave);
+    }
     let port = match OpenOptions::new().read(true).write(true).open(tty) {
         Ok(port) => port,
         Err(e) => return fail(format!("cannot open {tty}: {e}")),
     };
-    let now = Instant::from_micros(0);
     if let Err(message) = crate::cmd::signals::install() {
         return fail(message);
     }
-    let stop = crate::cmd::signals::flag();
-    let result = if what.is_none() {
-        if name != CARD {
-            return fail(format!("--profibus: no DP card `{name}` (there is {CARD})"));
+    for line in lines {
+        eprintln!("{line}");
+    }
+    let several = slaves.len() > 1;
+    let report = move |address: u8, event: Event| {
+        let text = event_text(event);
+        if several {
+            eprintln!("station {address}: {text}");
+        } else {
+            eprintln!("{text}");
         }
-        let mut slave = match card::goodrive350(address, now) {
-            Ok(slave) => slave,
-            Err(e) => return fail(e),
-        };
-        eprintln!("simulating DP slave {address} (card {CARD}) on {tty}");
-        serve(port, &mut slave, stop, reporter())
-    } else {
-        let bytes = match std::fs::read(&name) {
-            Ok(bytes) => bytes,
-            Err(e) => return fail(format!("cannot read `{name}`: {e}")),
-        };
-        let dp = match card::read_gsd(Path::new(&name), &bytes) {
-            Ok(dp) => dp,
-            Err(e) => return fail(format!("{name}: {e}")),
-        };
-        let mut slave = match card::loopback(&dp, address, now) {
-            Ok(slave) => slave,
-            Err(e) => return fail(format!("{name}: {e}")),
-        };
-        eprintln!("simulating DP slave {address} ({name}) on {tty}");
-        serve(port, &mut slave, stop, reporter())
     };
+    let result = serve(port, &mut slaves, crate::cmd::signals::flag(), report);
+    let addresses: Vec<String> = slaves
+        .iter()
+        .map(|s| s.config().address.to_string())
+        .collect();
     match result {
         Ok(()) => {
-            eprintln!("stopped: DP slave {address} on {tty}");
+            let s = if several { "s" } else { "" };
+            eprintln!("stopped: DP slave{s} {} on {tty}", addresses.join(", "));
             ExitCode::SUCCESS
         }
         Err(e) => fail(format!("{tty}: {e}")),
     }
 }
 
-/// Prints the slave's state when it changes.
-fn reporter() -> impl FnMut(Event) {
-    |event| {
-        let text = match event {
+/// A slave's state change in words.
+fn event_text(event: Event) -> &'static str {
+    {
+        match event {
             Event::WatchdogExpired => "wait for parameters (the watchdog expired: E-DP)",
             Event::StateChanged {
                 from: DpState::DataExchange,
@@ -98,7 +130,6 @@ fn reporter() -> impl FnMut(Event) {
                 DpState::WaitCfg => "wait for configuration",
                 DpState::DataExchange => "data exchange",
             },
-        };
-        eprintln!("{text}");
+        }
     }
 }

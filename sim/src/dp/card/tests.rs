@@ -237,6 +237,41 @@ fn bad_telegrams_are_not_answered() {
     assert_eq!(slave.state(), DpState::DataExchange);
 }
 
+/// Issue 34: telegrams that check but are no valid request to this slave get silence (each of
+/// these was answered before).
+#[test]
+fn requests_that_are_not_valid_get_no_answer() {
+    let (mut slave, _) = started();
+    // FDL status from master 1, and Slave_Diag with both SAPs (60 from 62): answered.
+    let status = [0x10, 0x02, 0x01, 0x49, 0x4C, 0x16];
+    let answer = [0x10, 0x01, 0x02, 0x00, 0x03, 0x16];
+    assert_eq!(handle(&mut slave, ms(10), &status), Some(answer.to_vec()));
+    let diag = [
+        0x68, 0x05, 0x05, 0x68, 0x82, 0x81, 0x5D, 0x3C, 0x3E, 0xDA, 0x16,
+    ];
+    assert!(handle(&mut slave, ms(10), &diag).is_some());
+    for bytes in [
+        // From 127 (the broadcast address) and from the slave's own address 2.
+        &[0x10, 0x02, 0x7F, 0x49, 0xCA, 0x16][..],
+        &[0x10, 0x02, 0x02, 0x49, 0x4D, 0x16],
+        // FC bit 7 set (reserved); FDL status with FCV.
+        &[0x10, 0x02, 0x01, 0xC9, 0xCC, 0x16],
+        &[0x10, 0x02, 0x01, 0x59, 0x5C, 0x16],
+        // Slave_Diag with a DSAP and no SSAP; with DSAP 7Ch (60 with the extension bit); with
+        // SSAP FEh.
+        &[0x68, 0x04, 0x04, 0x68, 0x82, 0x01, 0x5D, 0x3C, 0x1C, 0x16],
+        &[
+            0x68, 0x05, 0x05, 0x68, 0x82, 0x81, 0x5D, 0x7C, 0x3E, 0x1A, 0x16,
+        ],
+        &[
+            0x68, 0x05, 0x05, 0x68, 0x82, 0x81, 0x5D, 0x3C, 0xFE, 0x9A, 0x16,
+        ],
+    ] {
+        assert_eq!(handle(&mut slave, ms(11), bytes), None, "{bytes:02X?}");
+    }
+    assert_eq!(slave.state(), DpState::DataExchange);
+}
+
 #[test]
 fn the_watchdog_leaves_data_exchange_with_e_dp() {
     let (mut slave, mut master) = started();
