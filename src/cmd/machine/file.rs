@@ -79,8 +79,9 @@ impl Bus {
     pub fn capacity(self) -> usize {
         match self {
             Bus::CanOpen => 127,
+            Bus::Profibus => 126,
             Bus::Enip => usize::MAX,
-            Bus::EtherCat | Bus::Profibus | Bus::Profinet => 1,
+            Bus::EtherCat | Bus::Profinet => 1,
         }
     }
 }
