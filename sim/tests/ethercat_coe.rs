@@ -31,6 +31,8 @@ impl Master {
             now: 0,
         };
         master.one(Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
+        // The SII offered to the device, as SOEM and ethercrab do before Pre-Op.
+        master.fpwr(0x0500, &[1]);
         master.fpwr(0x0800, &sm(0x1000, 512, 0x26));
         master.fpwr(0x0808, &sm(0x1400, 512, 0x22));
         master.fpwr(0x0120, &[2, 0]);
