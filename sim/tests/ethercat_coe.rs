@@ -181,10 +181,11 @@ fn a_segmented_download_writes_at_the_end() {
         m.sdo(&[0x21, 0x7A, 0x60, 0, 4, 0, 0, 0, 0x11, 0x22]),
         [0x60, 0x7A, 0x60, 0, 0, 0, 0, 0]
     );
-    // A segment with the wrong toggle aborts.
-    let toggled = m.sdo(&[0x10 | 0x01 | (5 << 1), 0x33, 0x44, 0, 0, 0, 0, 0]);
-    assert_eq!(toggled[0], 0x80);
-    assert_eq!(toggled[4..], 0x0503_0000u32.to_le_bytes());
+    // A segment with the wrong toggle aborts, naming the transfer's entry 607Ah:00.
+    assert_eq!(
+        m.sdo(&[0x10 | 0x01 | (5 << 1), 0x33, 0x44, 0, 0, 0, 0, 0]),
+        [0x80, 0x7A, 0x60, 0, 0x00, 0x00, 0x03, 0x05]
+    );
     m.sdo(&[0x21, 0x7A, 0x60, 0, 4, 0, 0, 0, 0x11, 0x22]);
     assert_eq!(
         m.sdo(&[0x01 | (5 << 1), 0x33, 0x44, 0, 0, 0, 0, 0]),

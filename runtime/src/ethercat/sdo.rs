@@ -17,7 +17,8 @@
 //! - Which writes the device's state allows is the caller's `guard`, asked before a download
 //!   reaches the server with the bytes the initiate carries; access rights are the dictionary's.
 //! - Every abort names the request's index and sub-index (bytes 1..4 of the request), as
-//!   CiA 301 §7.2.4.3.17 says, also for a command that is none.
+//!   CiA 301 §7.2.4.3.17 says, also for a command that is none; an abort of a segment names
+//!   its transfer's (a segment's bytes 1..4 are data), 0 without a transfer.
 
 mod complete_access;
 
@@ -78,6 +79,9 @@ enum Transfer {
 pub struct CoeSdoServer {
     server: SdoServer,
     transfer: Transfer,
+    /// The index and sub-index of the transfer in progress (its initiate's bytes 1..4), which
+    /// an abort of one of its segments names.
+    mux: [u8; 3],
 }
 
 impl Default for CoeSdoServer {
@@ -109,6 +113,7 @@ impl CoeSdoServer {
         CoeSdoServer {
             server: SdoServer::new(Duration::from_micros(u64::MAX / 2)),
             transfer: Transfer::Idle,
+            mux: [0; 3],
         }
     }
 
@@ -177,6 +182,16 @@ impl CoeSdoServer {
         }
         let index = u16::from_le_bytes([mux[0], mux[1]]);
         let sub = mux[2];
+        if matches!(command >> 5, ccs::DOWNLOAD_SEGMENT | ccs::UPLOAD_SEGMENT) {
+            // A segment's bytes 1..4 are data: its abort names the transfer's entry (none
+            // without a transfer).
+            mux = match self.transfer {
+                Transfer::Idle => [0; 3],
+                _ => self.mux,
+            };
+        } else {
+            self.mux = mux;
+        }
         let result = match command >> 5 {
             ccs::DOWNLOAD_SEGMENT => self.download_segment(od, request, answer),
             ccs::DOWNLOAD if request.len() >= FRAME_LEN => {
