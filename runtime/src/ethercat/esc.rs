@@ -56,6 +56,8 @@ pub mod reg {
     pub const SII_ADDRESS: u16 = 0x0504;
     /// SII data (8 bytes).
     pub const SII_DATA: u16 = 0x0508;
+    /// Where the process memory starts, which the SyncManagers govern (below: registers).
+    pub const PROCESS_MEMORY: u16 = 0x1000;
     /// FMMU 0 (16 bytes each).
     pub const FMMU0: u16 = 0x0600;
     /// SyncManager 0 (8 bytes each).

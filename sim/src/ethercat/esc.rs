@@ -13,7 +13,8 @@
 //! link, port 1 closed), SII reads of 8 bytes; the ESC type, revision and build read 0 (not a
 //! real chip's); distributed clocks are declared unsupported (0x0008 bit 2 clear), and the DC
 //! registers are plain memory. Reading a mailbox SyncManager that is empty, or writing one that
-//! is full, is refused as the ESC refuses it (no working counter).
+//! is full, is refused as the ESC refuses it (no working counter). SyncManagers govern the
+//! process memory only: one that starts below 0x1000 governs nothing.
 
 use std::collections::VecDeque;
 
@@ -266,7 +267,8 @@ impl EmulatedEsc {
     fn mailbox_allows(&self, range: std::ops::Range<u32>, read: bool, write: bool) -> bool {
         (0..SYNC_MANAGERS).all(|n| {
             let sm = self.sm(n);
-            if !sm.enabled() || !sm.is_mailbox() || !overlaps(&sm.range(), &range) {
+            if !sm.enabled() || !sm.is_mailbox() || !governs(&sm) || !overlaps(&sm.range(), &range)
+            {
                 return true;
             }
             let full = sm.status & 0x08 != 0;
@@ -284,7 +286,7 @@ impl EmulatedEsc {
     fn after_read(&mut self, range: std::ops::Range<u32>) {
         for n in 0..SYNC_MANAGERS {
             let sm = self.sm(n);
-            if sm.enabled() && sm.is_mailbox() && !sm.master_writes() {
+            if sm.enabled() && governs(&sm) && sm.is_mailbox() && !sm.master_writes() {
                 let last = sm.range().end - 1;
                 if range.contains(&last) {
                     self.set_mailbox_full(n, false);
@@ -318,7 +320,11 @@ impl EmulatedEsc {
                     self.events.push_back(Event::RepeatRequest(n));
                 }
             }
-            if sm.enabled() && sm.master_writes() && range.contains(&(sm.range().end - 1)) {
+            if sm.enabled()
+                && governs(&sm)
+                && sm.master_writes()
+                && range.contains(&(sm.range().end - 1))
+            {
                 if sm.is_mailbox() {
                     self.set_mailbox_full(n, true);
                     self.events.push_back(Event::MailboxWritten(n));
@@ -452,7 +458,7 @@ impl EmulatedEsc {
         let range = first as u32..last as u32 + 1;
         (0..SYNC_MANAGERS).all(|n| {
             let sm = self.sm(n);
-            sm.len == 0 || !overlaps(&sm.range(), &range) || (sm.enabled() && !sm.is_mailbox())
+            !governs(&sm) || !overlaps(&sm.range(), &range) || (sm.enabled() && !sm.is_mailbox())
         })
     }
 }
@@ -508,8 +514,17 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     }
 }
 
+/// Where the process memory starts: SyncManagers govern it only, never the registers.
+const PROCESS_MEMORY: u16 = 0x1000;
+
+/// Whether the SyncManager governs memory: it has a length and starts in the process memory
+/// (one configured over the registers would lock the master out of its own configuration).
+fn governs(sm: &SmRegisters) -> bool {
+    sm.len > 0 && sm.start >= PROCESS_MEMORY
+}
+
 /// Whether bytes `start..end` hold the last byte of the SyncManager's buffer.
 fn covers_last_byte(sm: &SmRegisters, start: usize, end: usize) -> bool {
     let last = usize::from(sm.start) + usize::from(sm.len);
-    sm.len > 0 && start < last && last <= end
+    governs(sm) && start < last && last <= end
 }

@@ -498,3 +498,25 @@ fn the_outputs_watchdog_drops_op_to_safeop_with_0x001b() {
     let (data, _, _) = one_at(&mut d, 150_001, Command::Fprd, (STATION, 0x0130), &[0; 6]);
     assert_eq!(data, [0x14, 0, 0, 0, 0x1B, 0]);
 }
+
+/// Found by hostile frames (issue 34): a mailbox SyncManager configured over the registers
+/// refused every write to them, its own configuration and AL control included, until the
+/// simulator was restarted. SyncManagers govern the process memory only.
+#[test]
+fn a_sync_manager_over_the_registers_does_not_lock_the_master_out() {
+    let mut d = device();
+    one(&mut d, Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
+    // SM1, device to master (0x22), enabled, over 0x0000-0x0FFF: empty, so never written.
+    assert_eq!(
+        fpwr(
+            &mut d,
+            0x0808,
+            &[0x00, 0x00, 0x00, 0x10, 0x22, 0x00, 0x01, 0x00]
+        ),
+        1
+    );
+    assert_eq!(fpwr(&mut d, 0x0120, &[0x11, 0x00]), 1, "AL control");
+    assert_eq!(fpwr(&mut d, 0x0808, &[0; 8]), 1, "SM1 cleared");
+    let (data, wkc) = one(&mut d, Command::Fprd, (STATION, 0x0808), &[0xEE; 8]);
+    assert_eq!((data, wkc), (vec![0; 8], 1));
+}
