@@ -23,10 +23,14 @@
 //!   with the image sizes of the SII's PDO categories.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
+//! - `hostile`: 3,000 frames mutated (seeded) from a recorded good start-up, sent at the
+//!   simulator from a raw socket; the simulator still runs and SOEM then reaches Op as above.
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
 //!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op, and
 //!   `edsgen ecat check` finds it clean against its own ESI.
 
+#[path = "../sim/tests/hostile_support/mod.rs"]
+mod hostile_support;
 #[path = "process_support/mod.rs"]
 mod process_support;
 
@@ -45,7 +49,11 @@ const IFACE: &str = "EDSGEN_ECAT_IFACE";
 fn main() {
     if let Ok(role) = std::env::var(ROLE) {
         let iface = std::env::var(IFACE).expect("the interface");
-        master::run(&role, &iface);
+        if role == "hostile" {
+            send_hostile_frames(&iface);
+        } else {
+            master::run(&role, &iface);
+        }
         return;
     }
     let root = Command::new("id")
@@ -63,8 +71,9 @@ fn main() {
     check(&ns);
     sii_read_back(&ns);
     let soem = soem(&ns);
+    let hostile = hostile(&ns);
     let corpus = corpus(&ns);
-    println!("ethercat_wire: ok (drive, reassign, scan, check, SII, {soem}, {corpus})");
+    println!("ethercat_wire: ok (drive, reassign, scan, check, SII, {soem}, {hostile}, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -439,6 +448,12 @@ fn soem(ns: &Namespace) -> String {
         return "SOEM skipped".to_owned();
     };
     let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    soem_reaches_op(ns, &python);
+    "SOEM".to_owned()
+}
+
+/// SOEM (pysoem) finds the EC-TX508 and takes it to Op.
+fn soem_reaches_op(ns: &Namespace, python: &Path) {
     let script = root().join("scripts/soem_master.py");
     let master = Process::start(&mut ns.exec(
         python.to_str().expect("a path"),
@@ -452,7 +467,42 @@ fn soem(ns: &Namespace) -> String {
          images 21/23\nop True\nwkc 3 expected 3\n",
         "{done:?}"
     );
-    "SOEM".to_owned()
+}
+
+/// Hostile frames over the wire (issue 34): the simulator outlives 3,000 mutated frames and
+/// SOEM takes the SubDevice to Op afterwards.
+fn hostile(ns: &Namespace) -> String {
+    let Some(python) = python() else {
+        return "hostile frames skipped (no python)".to_owned();
+    };
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let sent = ns.master("hostile").finish(Duration::from_secs(120));
+    assert_eq!(sent.code, Some(0), "{sent:?}");
+    assert_eq!(sent.stdout, "sent 3000\n", "{sent:?}");
+    // The simulator still answers: SOEM needs it.
+    soem_reaches_op(ns, &python);
+    "3000 hostile frames".to_owned()
+}
+
+/// The `hostile` role: 3,000 frames mutated from a recorded start-up (seed 0x5EED_EC47), each
+/// sent and its answer, if any, read.
+fn send_hostile_frames(iface: &str) {
+    use edsgen_sim::packet_socket::PacketSocket;
+    let model = edsgen_codegen::read::read_file(&root().join("eds/ec-tx508.xml"))
+        .expect("readable")
+        .device;
+    let device = EsiDevice::subdevice(&model, None).expect("the EC-TX508");
+    let good = hostile_support::recorded_start_up(device);
+    let mut rng = hostile_support::Rng(0x5EED_EC47);
+    let mut socket =
+        PacketSocket::open(iface, 0x88A4, Duration::from_millis(2)).expect("the raw socket");
+    let mut buf = vec![0u8; 2048];
+    for _ in 0..3000 {
+        let frame = hostile_support::mutate(&mut rng, &good);
+        socket.send(&frame).expect("sent");
+        while let Ok(Some(_)) = socket.recv(&mut buf) {}
+    }
+    println!("sent 3000");
 }
 
 /// Every ESI of the corpus (its first device) whose dictionary and PDOs are complete enough

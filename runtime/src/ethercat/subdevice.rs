@@ -338,7 +338,7 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
                         || sm.is_some_and(|sm| {
                             sm.activate & 1 != 0
                                 && usize::from(sm.len) == size
-                                && sm.start >= reg::PROCESS_MEMORY
+                                && sm.start >= reg::SYNC_MANAGED
                                 && !sm.is_mailbox()
                                 && sm.master_writes() == master_writes
                         })

@@ -14,7 +14,8 @@
 //! real chip's); distributed clocks are declared unsupported (0x0008 bit 2 clear), and the DC
 //! registers are plain memory. Reading a mailbox SyncManager that is empty, or writing one that
 //! is full, is refused as the ESC refuses it (no working counter). SyncManagers govern the
-//! process memory only: one that starts below 0x1000 governs nothing.
+//! digital I/O registers and the process memory only: one that starts below 0x0F00 governs
+//! nothing.
 
 use std::collections::VecDeque;
 
@@ -514,13 +515,11 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     }
 }
 
-/// Where the process memory starts: SyncManagers govern it only, never the registers.
-const PROCESS_MEMORY: u16 = 0x1000;
-
-/// Whether the SyncManager governs memory: it has a length and starts in the process memory
-/// (one configured over the registers would lock the master out of its own configuration).
+/// Whether the SyncManager governs memory: it has a length and starts at the digital I/O
+/// registers or in the process memory ([`reg::SYNC_MANAGED`]; one configured over the other
+/// registers would lock the master out of its own configuration).
 fn governs(sm: &SmRegisters) -> bool {
-    sm.len > 0 && sm.start >= PROCESS_MEMORY
+    sm.len > 0 && sm.start >= reg::SYNC_MANAGED
 }
 
 /// Whether bytes `start..end` hold the last byte of the SyncManager's buffer.

@@ -501,7 +501,8 @@ fn the_outputs_watchdog_drops_op_to_safeop_with_0x001b() {
 
 /// Found by hostile frames (issue 34): a mailbox SyncManager configured over the registers
 /// refused every write to them, its own configuration and AL control included, until the
-/// simulator was restarted. SyncManagers govern the process memory only.
+/// simulator was restarted. SyncManagers govern the digital I/O registers and the process
+/// memory only.
 #[test]
 fn a_sync_manager_over_the_registers_does_not_lock_the_master_out() {
     let mut d = device();
