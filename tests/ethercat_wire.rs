@@ -12,6 +12,8 @@
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
 //! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
 //!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h;
+//!   without `--esi` reads 1008h's 13 bytes as hex and text, writes and reads with `--type`, and
+//!   tells a write without a type what to pass;
 //!   by name through `--esi`, typed values, an ambiguous name's suggestions and a refused write;
 //!   `edsgen ecat pdo` prints the inputs by name.
 //! - `edsgen ecat check`: clean against eds/ec-tx508.xml; against tests/esi/ec-tx508-altered.xml,
@@ -206,6 +208,40 @@ fn scan(ns: &Namespace) {
     assert_eq!(
         (back.code, back.stdout.as_str()),
         (Some(0), "6060h:00 = 0x09 (9)\n")
+    );
+    // Without --esi: a read sized by what arrives (1008h's 13 bytes as hex and text), a typed
+    // write and read, and a write without a type told what to pass.
+    let name = ecat(&["read", "--iface", "ecm", "1008:0"]);
+    assert_eq!(
+        (name.code, name.stdout.as_str()),
+        (
+            Some(0),
+            "1008h:00 = 49 4E 56 54 2D 45 74 68 65 72 43 41 54 (\"INVT-EtherCAT\")\n"
+        ),
+        "{name:?}"
+    );
+    let typed = ecat(&["write", "--iface", "ecm", "6060:0", "-3", "--type", "i8"]);
+    assert_eq!(
+        (typed.code, typed.stdout.as_str()),
+        (Some(0), "6060h:00 := FD\n"),
+        "{typed:?}"
+    );
+    let typed = ecat(&["read", "--iface", "ecm", "6060:0", "--type", "i8"]);
+    assert_eq!(
+        (typed.code, typed.stdout.as_str()),
+        (Some(0), "6060h:00 = -3 (0xFD)\n"),
+        "{typed:?}"
+    );
+    let untyped = ecat(&["write", "--iface", "ecm", "6060:0", "9"]);
+    assert_eq!(
+        (untyped.code, untyped.stderr.as_str()),
+        (
+            Some(2),
+            "error: ecat sdo write without --esi needs the value's type: --type TYPE (u8, u16, \
+             u32, u64, i8, i16, i32, i64, r32, r64, b, vs or os), such as `edsgen ecat sdo write \
+             --iface ecm 6060:0 9 --type u8`\n"
+        ),
+        "{untyped:?}"
     );
     let missing = ecat(&["read", "--iface", "ecm", "1234:0"]);
     assert_eq!(missing.code, Some(1));
