@@ -15,7 +15,8 @@
 //!   without `--esi` reads 1008h's 13 bytes as hex and text, writes and reads with `--type`, and
 //!   tells a write without a type what to pass;
 //!   by name through `--esi`, typed values, an ambiguous name's suggestions and a refused write;
-//!   `edsgen ecat pdo` prints the inputs by name.
+//!   `edsgen ecat pdo` prints the inputs by name, and sets outputs by name (`operation mode=9`,
+//!   which the inputs' operation mode display then shows).
 //! - `edsgen ecat check`: clean against eds/ec-tx508.xml; against tests/esi/ec-tx508-altered.xml,
 //!   one finding per check (SII identity, SyncManager, PDO assignment and mapping, a missing
 //!   object, a length, a default), exit 1.
@@ -313,6 +314,29 @@ fn scan(ns: &Namespace) {
     command.current_dir(root());
     let pdo = Process::start(&mut command).finish(Duration::from_secs(60));
     assert_eq!(pdo.code, Some(0), "{pdo:?}");
+    // Outputs by name: the drive takes the operation mode, and its display shows it.
+    let mut command = ns.exec(
+        EDSGEN,
+        &[
+            "ecat",
+            "pdo",
+            "--iface",
+            "ecm",
+            "--esi",
+            "eds/ec-tx508.xml",
+            "--cycles",
+            "20",
+            "operation mode=9",
+        ],
+    );
+    command.current_dir(root());
+    let set = Process::start(&mut command).finish(Duration::from_secs(60));
+    assert_eq!(set.code, Some(0), "{set:?}");
+    let last = set.stdout.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with("19: ") && last.contains(", Operation mode display=9, "),
+        "{set:?}"
+    );
     let lines: Vec<&str> = pdo.stdout.lines().collect();
     assert_eq!(lines.len(), 2, "{pdo:?}");
     for (n, line) in lines.iter().enumerate() {
