@@ -298,39 +298,16 @@ fn scan(ns: &Namespace) {
             "error: ecm: 1018h:01h: 0x06010002: Attempt to write to a read only object\n"
         )
     );
-    let mut command = ns.exec(
-        EDSGEN,
-        &[
-            "ecat",
-            "pdo",
-            "--iface",
-            "ecm",
-            "--esi",
-            "eds/ec-tx508.xml",
-            "--cycles",
-            "2",
-        ],
-    );
-    command.current_dir(root());
-    let pdo = Process::start(&mut command).finish(Duration::from_secs(60));
+    let ecat_pdo = |args: &[&str]| {
+        let base = ["ecat", "pdo", "--iface", "ecm", "--esi", "eds/ec-tx508.xml"];
+        let mut command = ns.exec(EDSGEN, &[&base[..], args].concat());
+        command.current_dir(root());
+        Process::start(&mut command).finish(Duration::from_secs(60))
+    };
+    let pdo = ecat_pdo(&["--cycles", "2"]);
     assert_eq!(pdo.code, Some(0), "{pdo:?}");
     // Outputs by name: the drive takes the operation mode, and its display shows it.
-    let mut command = ns.exec(
-        EDSGEN,
-        &[
-            "ecat",
-            "pdo",
-            "--iface",
-            "ecm",
-            "--esi",
-            "eds/ec-tx508.xml",
-            "--cycles",
-            "20",
-            "operation mode=9",
-        ],
-    );
-    command.current_dir(root());
-    let set = Process::start(&mut command).finish(Duration::from_secs(60));
+    let set = ecat_pdo(&["--cycles", "20", "operation mode=9"]);
     assert_eq!(set.code, Some(0), "{set:?}");
     let last = set.stdout.lines().last().unwrap_or_default();
     assert!(
