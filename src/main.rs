@@ -160,6 +160,14 @@ enum Command {
     /// EtherCAT bench side over ethercrab: `ecat scan --iface IFACE [--esi FILE...]`.
     #[cfg(feature = "ethercrab")]
     Ecat(cmd::ethercat::ecat::Args),
+    /// EtherCAT bench side: not in this build (it needs the `ethercrab` feature).
+    #[cfg(not(feature = "ethercrab"))]
+    #[command(disable_help_flag = true)]
+    Ecat {
+        /// Whatever was given: the command says how to get a build that has it.
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true, hide = true)]
+        args: Vec<String>,
+    },
     /// Decode a CAN log (candump, Vector ASC, PCAN TRC; or standard input) into CANopen messages.
     Decode(cmd::decode::Args),
     /// The bundled cards at work: validate them, drive a CP301 and a Goodrive350 (simulated, or
@@ -274,6 +282,11 @@ fn main() -> ExitCode {
         Command::Bus(args) => cmd::canopen::bus::run(&args),
         #[cfg(feature = "ethercrab")]
         Command::Ecat(args) => cmd::ethercat::ecat::run(args),
+        #[cfg(not(feature = "ethercrab"))]
+        Command::Ecat { .. } => {
+            eprintln!("{}", cmd::ethercat::NOT_BUILT);
+            ExitCode::from(EXIT_USAGE)
+        }
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Enip(args) => cmd::enip::run(args),
         Command::Pn { command } => cmd::profinet::run(&command),

@@ -12,8 +12,11 @@
 //! - `reassign`: 1C12h set to {1601h} by SDO in Pre-Op; the images in Op are then 6/23 bytes.
 //! - `edsgen ecat scan --esi ...` lists the SubDevice with the ESI device it matches; `edsgen ecat
 //!   sdo read|write` reads 1018h:01, writes and reads back 6060h, and shows 0602 0000 for 1234h;
+//!   without `--esi` reads 1008h's 13 bytes as hex and text, writes and reads with `--type`, and
+//!   tells a write without a type what to pass;
 //!   by name through `--esi`, typed values, an ambiguous name's suggestions and a refused write;
-//!   `edsgen ecat pdo` prints the inputs by name.
+//!   `edsgen ecat pdo` prints the inputs by name, and sets outputs by name (`operation mode=9`,
+//!   which the inputs' operation mode display then shows).
 //! - `edsgen ecat check`: clean against eds/ec-tx508.xml; against tests/esi/ec-tx508-altered.xml,
 //!   one finding per check (SII identity, SyncManager, PDO assignment and mapping, a missing
 //!   object, a length, a default), exit 1.
@@ -23,10 +26,14 @@
 //!   with the image sizes of the SII's PDO categories.
 //! - SOEM (python `pysoem`): discovery, identity and name, the 21/23-byte mapping, Op with the
 //!   expected working counter (scripts/soem_master.py).
+//! - `hostile`: 3,000 frames mutated (seeded) from a recorded good start-up, sent at the
+//!   simulator from a raw socket; the simulator still runs and SOEM then reaches Op as above.
 //! - `corpus`: each ESI of the ESI corpus (`EDSGEN_ESI_CORPUS`, else `../shared/esi-corpus`;
 //!   a visible skip when absent) whose dictionary and PDOs are complete enough reaches Op, and
 //!   `edsgen ecat check` finds it clean against its own ESI.
 
+#[path = "../sim/tests/hostile_support/mod.rs"]
+mod hostile_support;
 #[path = "process_support/mod.rs"]
 mod process_support;
 
@@ -45,7 +52,11 @@ const IFACE: &str = "EDSGEN_ECAT_IFACE";
 fn main() {
     if let Ok(role) = std::env::var(ROLE) {
         let iface = std::env::var(IFACE).expect("the interface");
-        master::run(&role, &iface);
+        if role == "hostile" {
+            send_hostile_frames(&iface);
+        } else {
+            master::run(&role, &iface);
+        }
         return;
     }
     let root = Command::new("id")
@@ -63,8 +74,9 @@ fn main() {
     check(&ns);
     sii_read_back(&ns);
     let soem = soem(&ns);
+    let hostile = hostile(&ns);
     let corpus = corpus(&ns);
-    println!("ethercat_wire: ok (drive, reassign, scan, check, SII, {soem}, {corpus})");
+    println!("ethercat_wire: ok (drive, reassign, scan, check, SII, {soem}, {hostile}, {corpus})");
 }
 
 /// A private network namespace with a veth pair `ecm` (MainDevice) / `ecs` (SubDevice), deleted
@@ -198,6 +210,40 @@ fn scan(ns: &Namespace) {
         (back.code, back.stdout.as_str()),
         (Some(0), "6060h:00 = 0x09 (9)\n")
     );
+    // Without --esi: a read sized by what arrives (1008h's 13 bytes as hex and text), a typed
+    // write and read, and a write without a type told what to pass.
+    let name = ecat(&["read", "--iface", "ecm", "1008:0"]);
+    assert_eq!(
+        (name.code, name.stdout.as_str()),
+        (
+            Some(0),
+            "1008h:00 = 49 4E 56 54 2D 45 74 68 65 72 43 41 54 (\"INVT-EtherCAT\")\n"
+        ),
+        "{name:?}"
+    );
+    let typed = ecat(&["write", "--iface", "ecm", "6060:0", "-3", "--type", "i8"]);
+    assert_eq!(
+        (typed.code, typed.stdout.as_str()),
+        (Some(0), "6060h:00 := FD\n"),
+        "{typed:?}"
+    );
+    let typed = ecat(&["read", "--iface", "ecm", "6060:0", "--type", "i8"]);
+    assert_eq!(
+        (typed.code, typed.stdout.as_str()),
+        (Some(0), "6060h:00 = -3 (0xFD)\n"),
+        "{typed:?}"
+    );
+    let untyped = ecat(&["write", "--iface", "ecm", "6060:0", "9"]);
+    assert_eq!(
+        (untyped.code, untyped.stderr.as_str()),
+        (
+            Some(2),
+            "error: ecat sdo write without --esi needs the value's type: --type TYPE (u8, u16, \
+             u32, u64, i8, i16, i32, i64, r32, r64, b, vs or os), such as `edsgen ecat sdo write \
+             --iface ecm 6060:0 9 --type u8`\n"
+        ),
+        "{untyped:?}"
+    );
     let missing = ecat(&["read", "--iface", "ecm", "1234:0"]);
     assert_eq!(missing.code, Some(1));
     assert!(missing.stderr.contains("0x06020000"), "{missing:?}");
@@ -252,22 +298,22 @@ fn scan(ns: &Namespace) {
             "error: ecm: 1018h:01h: 0x06010002: Attempt to write to a read only object\n"
         )
     );
-    let mut command = ns.exec(
-        EDSGEN,
-        &[
-            "ecat",
-            "pdo",
-            "--iface",
-            "ecm",
-            "--esi",
-            "eds/ec-tx508.xml",
-            "--cycles",
-            "2",
-        ],
-    );
-    command.current_dir(root());
-    let pdo = Process::start(&mut command).finish(Duration::from_secs(60));
+    let ecat_pdo = |args: &[&str]| {
+        let base = ["ecat", "pdo", "--iface", "ecm", "--esi", "eds/ec-tx508.xml"];
+        let mut command = ns.exec(EDSGEN, &[&base[..], args].concat());
+        command.current_dir(root());
+        Process::start(&mut command).finish(Duration::from_secs(60))
+    };
+    let pdo = ecat_pdo(&["--cycles", "2"]);
     assert_eq!(pdo.code, Some(0), "{pdo:?}");
+    // Outputs by name: the drive takes the operation mode, and its display shows it.
+    let set = ecat_pdo(&["--cycles", "20", "operation mode=9"]);
+    assert_eq!(set.code, Some(0), "{set:?}");
+    let last = set.stdout.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with("19: ") && last.contains(", Operation mode display=9, "),
+        "{set:?}"
+    );
     let lines: Vec<&str> = pdo.stdout.lines().collect();
     assert_eq!(lines.len(), 2, "{pdo:?}");
     for (n, line) in lines.iter().enumerate() {
@@ -439,6 +485,12 @@ fn soem(ns: &Namespace) -> String {
         return "SOEM skipped".to_owned();
     };
     let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    soem_reaches_op(ns, &python);
+    "SOEM".to_owned()
+}
+
+/// SOEM (pysoem) finds the EC-TX508 and takes it to Op.
+fn soem_reaches_op(ns: &Namespace, python: &Path) {
     let script = root().join("scripts/soem_master.py");
     let master = Process::start(&mut ns.exec(
         python.to_str().expect("a path"),
@@ -452,7 +504,42 @@ fn soem(ns: &Namespace) -> String {
          images 21/23\nop True\nwkc 3 expected 3\n",
         "{done:?}"
     );
-    "SOEM".to_owned()
+}
+
+/// Hostile frames over the wire (issue 34): the simulator outlives 3,000 mutated frames and
+/// SOEM takes the SubDevice to Op afterwards.
+fn hostile(ns: &Namespace) -> String {
+    let Some(python) = python() else {
+        return "hostile frames skipped (no python)".to_owned();
+    };
+    let _sim = ns.simulator(&["--card", "ec-tx508"]);
+    let sent = ns.master("hostile").finish(Duration::from_secs(120));
+    assert_eq!(sent.code, Some(0), "{sent:?}");
+    assert_eq!(sent.stdout, "sent 3000\n", "{sent:?}");
+    // The simulator still answers: SOEM needs it.
+    soem_reaches_op(ns, &python);
+    "3000 hostile frames".to_owned()
+}
+
+/// The `hostile` role: 3,000 frames mutated from a recorded start-up (seed 0x5EED_EC47), each
+/// sent and its answer, if any, read.
+fn send_hostile_frames(iface: &str) {
+    use edsgen_sim::packet_socket::PacketSocket;
+    let model = edsgen_codegen::read::read_file(&root().join("eds/ec-tx508.xml"))
+        .expect("readable")
+        .device;
+    let device = EsiDevice::subdevice(&model, None).expect("the EC-TX508");
+    let good = hostile_support::recorded_start_up(device);
+    let mut rng = hostile_support::Rng(0x5EED_EC47);
+    let mut socket =
+        PacketSocket::open(iface, 0x88A4, Duration::from_millis(2)).expect("the raw socket");
+    let mut buf = vec![0u8; 2048];
+    for _ in 0..3000 {
+        let frame = hostile_support::mutate(&mut rng, &good);
+        socket.send(&frame).expect("sent");
+        while let Ok(Some(_)) = socket.recv(&mut buf) {}
+    }
+    println!("sent 3000");
 }
 
 /// Every ESI of the corpus (its first device) whose dictionary and PDOs are complete enough

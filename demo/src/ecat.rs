@@ -4,6 +4,7 @@
 
 use std::time::Duration;
 
+use edsgen_sim::ethercat::raw_socket::open_error;
 use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, SubDeviceGroup, Timeouts};
 
@@ -38,7 +39,7 @@ pub async fn discover(iface: &str) -> Result<(MainDevice<'static>, Group), Strin
         ..Timeouts::default()
     };
     let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
-    let task = tx_rx_task(iface, tx, rx).map_err(|e| format!("cannot open: {e}"))?;
+    let task = tx_rx_task(iface, tx, rx).map_err(|e| open_error(iface, &e))?;
     tokio::spawn(task);
     let group = maindevice
         .init_single_group::<64, 4096>(ethercat_now)

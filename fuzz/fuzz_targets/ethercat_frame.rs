@@ -11,7 +11,7 @@
 
 use edsgen_runtime::Instant;
 use edsgen_sim::ethercat::frame::{parse, Parsed};
-use edsgen_sim::ethercat::{AlState, Application, Layout, SubDevice};
+use edsgen_sim::ethercat::{AlState, Application, SubDevice};
 use libfuzzer_sys::fuzz_target;
 
 struct App;
@@ -35,14 +35,21 @@ impl Application for App {
     }
 }
 
+/// An SII whose SyncM category (41) gives SM0/SM1 128-byte mailboxes at 0x1000/0x1080, SM2
+/// outputs and SM3 inputs; the frames may offer it to the device (0x0500) or not.
+fn sii() -> Vec<u8> {
+    let mut sii = vec![0x5A; 0x80];
+    sii.extend_from_slice(&[41, 0, 16, 0]);
+    sii.extend_from_slice(&[0x00, 0x10, 128, 0, 0x26, 0, 1, 1]);
+    sii.extend_from_slice(&[0x80, 0x10, 128, 0, 0x22, 0, 1, 2]);
+    sii.extend_from_slice(&[0x00, 0x11, 4, 0, 0x64, 0, 1, 3]);
+    sii.extend_from_slice(&[0x80, 0x11, 2, 0, 0x20, 0, 1, 4]);
+    sii.extend_from_slice(&[0xFF, 0xFF]);
+    sii
+}
+
 fuzz_target!(|input: &[u8]| {
-    let layout = Layout {
-        mailbox_out: Some((0, 0x1000, 128)),
-        mailbox_in: Some((1, 0x1080, 128)),
-        outputs: Some(2),
-        inputs: Some(3),
-    };
-    let mut device = SubDevice::new(vec![0x5A; 64], layout, App);
+    let mut device = SubDevice::new(sii(), App);
     let mut rest = input;
     let mut now = 0;
     while let Some((&len, tail)) = rest.split_first() {

@@ -16,6 +16,8 @@ pub mod ethercrab;
 #[cfg(feature = "ethercat-subdevice")]
 pub mod sdo;
 #[cfg(feature = "ethercat-subdevice")]
+pub mod sii;
+#[cfg(feature = "ethercat-subdevice")]
 pub mod subdevice;
 #[cfg(feature = "ethercat-wire")]
 pub mod wire;

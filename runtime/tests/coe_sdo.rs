@@ -141,12 +141,13 @@ fn a_download_of_whole_segments_ends_with_the_last_one() {
     );
     assert_eq!(od.value_len(0x2000, 0), Ok(14));
     // A length that differs from the announced one is aborted (the value is the dictionary's
-    // to keep: this one's default `write_part` is not all or nothing).
+    // to keep: this one's default `write_part` is not all or nothing), naming the transfer's
+    // entry 2000h:00 (CiA 301 §7.2.4.3.17), not the segment's data.
     ask(&mut server, &mut od, 24, &initiate);
     let short = [0x01 | (3 << 1), b'x', b'y', b'z', b'w', 0, 0, 0];
     assert_eq!(
         ask(&mut server, &mut od, 24, &short),
-        [0x80, b'x', b'y', b'z', 0x10, 0x00, 0x07, 0x06]
+        [0x80, 0x00, 0x20, 0, 0x10, 0x00, 0x07, 0x06]
     );
 }
 
@@ -232,8 +233,20 @@ fn aborts_name_the_requests_entry() {
         ),
         [0x60, 0x00, 0x20, 0, 0, 0, 0, 0]
     );
+    // A segment with the wrong toggle: the abort names the transfer's entry, 2000h:00, not
+    // the segment's data bytes.
     assert_eq!(
-        ask(&mut server, &mut od, 24, &[0x11, 0, 0, 0, 0, 0, 0, 0]),
-        [0x80, 0, 0, 0, 0x00, 0x00, 0x03, 0x05]
+        ask(
+            &mut server,
+            &mut od,
+            24,
+            &[0x11, 0x33, 0x44, 0x55, 0, 0, 0, 0]
+        ),
+        [0x80, 0x00, 0x20, 0, 0x00, 0x00, 0x03, 0x05]
+    );
+    // A segment without a transfer names none.
+    assert_eq!(
+        ask(&mut server, &mut od, 24, &[0x60, 0x18, 0x10, 1, 0, 0, 0, 0]),
+        [0x80, 0, 0, 0, 0x01, 0x00, 0x04, 0x05]
     );
 }

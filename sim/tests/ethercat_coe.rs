@@ -31,6 +31,8 @@ impl Master {
             now: 0,
         };
         master.one(Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
+        // The SII offered to the device, as SOEM and ethercrab do before Pre-Op.
+        master.fpwr(0x0500, &[1]);
         master.fpwr(0x0800, &sm(0x1000, 512, 0x26));
         master.fpwr(0x0808, &sm(0x1400, 512, 0x22));
         master.fpwr(0x0120, &[2, 0]);
@@ -179,10 +181,11 @@ fn a_segmented_download_writes_at_the_end() {
         m.sdo(&[0x21, 0x7A, 0x60, 0, 4, 0, 0, 0, 0x11, 0x22]),
         [0x60, 0x7A, 0x60, 0, 0, 0, 0, 0]
     );
-    // A segment with the wrong toggle aborts.
-    let toggled = m.sdo(&[0x10 | 0x01 | (5 << 1), 0x33, 0x44, 0, 0, 0, 0, 0]);
-    assert_eq!(toggled[0], 0x80);
-    assert_eq!(toggled[4..], 0x0503_0000u32.to_le_bytes());
+    // A segment with the wrong toggle aborts, naming the transfer's entry 607Ah:00.
+    assert_eq!(
+        m.sdo(&[0x10 | 0x01 | (5 << 1), 0x33, 0x44, 0, 0, 0, 0, 0]),
+        [0x80, 0x7A, 0x60, 0, 0x00, 0x00, 0x03, 0x05]
+    );
     m.sdo(&[0x21, 0x7A, 0x60, 0, 4, 0, 0, 0, 0x11, 0x22]);
     assert_eq!(
         m.sdo(&[0x01 | (5 << 1), 0x33, 0x44, 0, 0, 0, 0, 0]),

@@ -47,6 +47,10 @@ pub mod code {
     pub const INVALID_OUTPUT_CONFIG: u16 = 0x001D;
     /// Invalid input configuration.
     pub const INVALID_INPUT_CONFIG: u16 = 0x001E;
+    /// The SII (EEPROM) is not offered to the device, which has not read it yet.
+    pub const EEPROM_NO_ACCESS: u16 = 0x0050;
+    /// The SII (EEPROM) could not be read.
+    pub const EEPROM_ERROR: u16 = 0x0051;
 }
 
 /// What a request written to AL control asks, before the configuration is checked.

@@ -56,6 +56,10 @@ pub mod reg {
     pub const SII_ADDRESS: u16 = 0x0504;
     /// SII data (8 bytes).
     pub const SII_DATA: u16 = 0x0508;
+    /// The lowest address a SyncManager governs: the digital I/O registers (0x0F00, where
+    /// simple I/O devices put their outputs) and the process memory (0x1000); below them the
+    /// registers are never buffered.
+    pub const SYNC_MANAGED: u16 = 0x0F00;
     /// FMMU 0 (16 bytes each).
     pub const FMMU0: u16 = 0x0600;
     /// SyncManager 0 (8 bytes each).

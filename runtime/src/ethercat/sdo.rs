@@ -1,6 +1,7 @@
 //! CoE's SDO (ETG.1000.6 §5.6.2) on the runtime's SDO server: a mailbox framing adapter that
 //! feeds each CoE SDO request through [`SdoServer`] (CiA 301's state machine, 8 bytes at a
-//! time) and frames the answers as CoE defines them, as long as the mailbox allows.
+//! time) and frames the answers as CoE defines them, as long as the mailbox allows; whole
+//! mailbox messages in and out with [`CoeSdoServer::mailbox`].
 //!
 //! What CoE adds to CiA 301, and where it is served:
 //! - A normal download or upload carries data after the initiate's 8 bytes, and a segment can
@@ -16,12 +17,15 @@
 //! - Which writes the device's state allows is the caller's `guard`, asked before a download
 //!   reaches the server with the bytes the initiate carries; access rights are the dictionary's.
 //! - Every abort names the request's index and sub-index (bytes 1..4 of the request), as
-//!   CiA 301 §7.2.4.3.17 says, also for a command that is none.
+//!   CiA 301 §7.2.4.3.17 says, also for a command that is none; an abort of a segment names
+//!   its transfer's (a segment's bytes 1..4 are data), 0 without a transfer.
 
 mod complete_access;
 
 use complete_access::{object_len, read_object, write_object};
 
+use super::wire::coe::{self, Coe, CoeRepr};
+use super::wire::mailbox::{self, Mailbox, MailboxRepr, TYPE_COE};
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::sdo::SdoServer;
 use crate::time::{Duration, Instant};
@@ -75,6 +79,9 @@ enum Transfer {
 pub struct CoeSdoServer {
     server: SdoServer,
     transfer: Transfer,
+    /// The index and sub-index of the transfer in progress (its initiate's bytes 1..4), which
+    /// an abort of one of its segments names.
+    mux: [u8; 3],
 }
 
 impl Default for CoeSdoServer {
@@ -96,6 +103,8 @@ mod ccs {
 const NO_TIME: Instant = Instant(0);
 const TOGGLE: u8 = 0x10;
 const COMPLETE_ACCESS: u8 = 0x10;
+/// The mailbox and CoE headers before an SDO answer.
+const HEADERS: usize = mailbox::HEADER_LEN + coe::HEADER_LEN;
 
 impl CoeSdoServer {
     /// A server with no transfer in progress. CoE transfers have no timeout of their own: the
@@ -104,7 +113,52 @@ impl CoeSdoServer {
         CoeSdoServer {
             server: SdoServer::new(Duration::from_micros(u64::MAX / 2)),
             transfer: Transfer::Idle,
+            mux: [0; 3],
         }
+    }
+
+    /// Answers a whole mailbox message `message` (what the master wrote to the master-to-device
+    /// mailbox) into `answer` (at most the device-to-master mailbox's size), headers and all:
+    /// a CoE SDO request by [`request`](Self::request), another protocol with the mailbox error
+    /// "unsupported protocol". Returns the answer's length, 0 for a message that gets none
+    /// (malformed, a CoE service other than an SDO request, an abort from the master).
+    pub fn mailbox<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &mut O,
+        guard: &dyn Guard,
+        message: &[u8],
+        answer: &mut [u8],
+    ) -> usize {
+        let Ok(message) = Mailbox::new_checked(message) else {
+            return 0;
+        };
+        let counter = message.counter();
+        if message.kind() != TYPE_COE {
+            return mailbox::emit_error(answer, counter, mailbox::ERROR_UNSUPPORTED_PROTOCOL)
+                .unwrap_or(0);
+        }
+        let Some(coe) = Coe::new_checked(message.data())
+            .ok()
+            .filter(|coe| coe.service() == coe::SERVICE_SDO_REQUEST)
+        else {
+            return 0;
+        };
+        let Some(sdo) = answer.get_mut(HEADERS..) else {
+            return 0;
+        };
+        let Some(len) = self.request(od, guard, coe.payload(), sdo) else {
+            return 0;
+        };
+        let length = (coe::HEADER_LEN + len) as u16;
+        let headers = MailboxRepr::new(TYPE_COE, counter, length)
+            .emit(answer)
+            .and_then(|()| {
+                CoeRepr::service(coe::SERVICE_SDO_RESPONSE).emit(&mut answer[mailbox::HEADER_LEN..])
+            });
+        if headers.is_err() {
+            return 0;
+        }
+        HEADERS + len
     }
 
     /// Answers the SDO request `request` (the mailbox's data after the CoE header) into
@@ -128,6 +182,16 @@ impl CoeSdoServer {
         }
         let index = u16::from_le_bytes([mux[0], mux[1]]);
         let sub = mux[2];
+        if matches!(command >> 5, ccs::DOWNLOAD_SEGMENT | ccs::UPLOAD_SEGMENT) {
+            // A segment's bytes 1..4 are data: its abort names the transfer's entry (none
+            // without a transfer).
+            mux = match self.transfer {
+                Transfer::Idle => [0; 3],
+                _ => self.mux,
+            };
+        } else {
+            self.mux = mux;
+        }
         let result = match command >> 5 {
             ccs::DOWNLOAD_SEGMENT => self.download_segment(od, request, answer),
             ccs::DOWNLOAD if request.len() >= FRAME_LEN => {

@@ -6,6 +6,10 @@
 //! [`Application`] in Safe-Op and Op, and the outputs watchdog. Buffers are `N` bytes: the
 //! longest mailbox and process image the device takes.
 //!
+//! The layout comes from the SII, read through the ESC's EEPROM interface ([`sii`]) when the
+//! master asks for a step up from Init (SOEM and ethercrab offer the SII to the device first);
+//! without an SII read at least once, the step is refused with 0x0050 (0x0051 if it fails).
+//!
 //! Drive it with [`SubDevice::poll`] (or its three steps, in the order an emulated ESC needs
 //! them: [`handle_timeout`](SubDevice::handle_timeout) and
 //! [`update_inputs`](SubDevice::update_inputs) before a frame's datagrams,
@@ -13,11 +17,13 @@
 
 use super::al::{self, code, AlState, Request};
 use super::esc::{reg, Esc, Event, SmRegisters};
+use super::sii::{self, SiiError};
+use super::Identity;
 use crate::time::Instant;
 
-/// Where the device expects its SyncManagers (from its SII or ESI): SyncManager numbers and
-/// the mailboxes' places and sizes.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// Where the device expects its SyncManagers (from its SII): SyncManager numbers and the
+/// mailboxes' places and sizes.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Layout {
     /// The master-to-device mailbox (number, start, length), if the device has a mailbox.
     pub mailbox_out: Option<(usize, u16, u16)>,
@@ -32,7 +38,8 @@ pub struct Layout {
 /// What runs behind the ESC: the device's mailbox protocols and process data.
 pub trait Application {
     /// Answers one mailbox message (the whole master-to-device SyncManager) received in
-    /// `state` into `answer`; returns the answer's length, 0 for a message it ignores.
+    /// `state` into `answer` (as long as the device-to-master mailbox); returns the answer's
+    /// length, 0 for a message it ignores.
     fn mailbox(&mut self, state: AlState, request: &[u8], answer: &mut [u8]) -> usize;
     /// The outputs and inputs image sizes in bytes for the PDO assignment in force.
     fn image_sizes(&self) -> (usize, usize);
@@ -50,6 +57,8 @@ pub struct SubDevice<E, A, const N: usize> {
     esc: E,
     app: A,
     layout: Layout,
+    /// The identity in the SII, once it has been read.
+    identity: Option<Identity>,
     state: AlState,
     /// A request or process image on its way.
     scratch: [u8; N],
@@ -63,12 +72,13 @@ pub struct SubDevice<E, A, const N: usize> {
 }
 
 impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
-    /// A SubDevice in Init over `esc`.
-    pub fn new(esc: E, layout: Layout, app: A) -> Self {
+    /// A SubDevice in Init over `esc`; it reads its layout from the SII (see the module comment).
+    pub fn new(esc: E, app: A) -> Self {
         let mut device = SubDevice {
             esc,
             app,
-            layout,
+            layout: Layout::default(),
+            identity: None,
             state: AlState::Init,
             scratch: [0; N],
             next: [0; N],
@@ -84,6 +94,16 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
     /// The AL state.
     pub fn state(&self) -> AlState {
         self.state
+    }
+
+    /// The identity the SII gives, once it has been read.
+    pub fn identity(&self) -> Option<Identity> {
+        self.identity
+    }
+
+    /// The SyncManager layout the SII gives (empty until it has been read).
+    pub fn layout(&self) -> &Layout {
+        &self.layout
     }
 
     /// The ESC.
@@ -162,7 +182,9 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
                     let len = self.read_buffer(n);
                     if self.state >= AlState::PreOp && self.queued.is_none() {
                         let request = &self.scratch[..len];
-                        let answer = self.app.mailbox(self.state, request, &mut self.next);
+                        let room = self.layout.mailbox_in.map_or(0, |m| usize::from(m.2));
+                        let answer = &mut self.next[..room.min(N)];
+                        let answer = self.app.mailbox(self.state, request, answer);
                         self.queued = (answer > 0).then_some(answer.min(N));
                         self.deliver();
                     }
@@ -246,11 +268,32 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
         match al::request(self.state, requested) {
             Request::Stay => {}
             Request::Refuse(status) => self.refuse(status),
-            Request::Go(target) if target > self.state => match self.check(target) {
-                Ok(()) => self.enter(now, target),
-                Err(status) => self.refuse(status),
-            },
+            Request::Go(target) if target > self.state => {
+                match self.read_sii().and_then(|()| self.check(target)) {
+                    Ok(()) => self.enter(now, target),
+                    Err(status) => self.refuse(status),
+                }
+            }
             Request::Go(target) => self.enter(now, target),
+        }
+    }
+
+    /// Reads the SII on a step up from Init when the master offers it; an SII read before
+    /// stands when it does not.
+    fn read_sii(&mut self) -> Result<(), u16> {
+        if self.state != AlState::Init {
+            return Ok(());
+        }
+        match sii::read(&mut self.esc) {
+            Ok(sii) => {
+                self.layout = sii.layout;
+                self.identity = Some(sii.identity);
+                self.set_process_sms();
+                Ok(())
+            }
+            Err(SiiError::NoAccess) if self.identity.is_some() => Ok(()),
+            Err(SiiError::NoAccess) => Err(code::EEPROM_NO_ACCESS),
+            Err(SiiError::Failed) => Err(code::EEPROM_ERROR),
         }
     }
 
@@ -295,6 +338,7 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
                         || sm.is_some_and(|sm| {
                             sm.activate & 1 != 0
                                 && usize::from(sm.len) == size
+                                && sm.start >= reg::SYNC_MANAGED
                                 && !sm.is_mailbox()
                                 && sm.master_writes() == master_writes
                         })

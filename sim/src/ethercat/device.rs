@@ -1,6 +1,6 @@
 //! A SubDevice's application built from an ESI device: its CoE dictionary as a
 //! [`RuntimeDictionary`] (the one `edsgen simulate` serves for EDS files) answering SDO in the
-//! mailbox, its SII image ([`edsgen_model::sii`]), its SyncManager layout, and its process
+//! mailbox, its SII image ([`edsgen_model::sii`], where the core finds its layout), and its process
 //! images laid out by the PDO assignment in force: 1C12h/1C13h (1C10h + SyncManager) and the
 //! mapping objects when the dictionary has them, else the ESI's default `Sm` assignment and
 //! `Entry` lists. Outputs from the master are written into the mapped objects in Op; inputs are
@@ -20,11 +20,9 @@ use std::collections::{HashMap, HashSet};
 use edsgen_model::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
 
-use super::{AlState, Application, Layout, SubDevice};
+use super::{AlState, Application, SubDevice};
 use crate::canopen::RuntimeDictionary;
 use edsgen_runtime::ethercat::sdo::CoeSdoServer;
-use edsgen_runtime::ethercat::wire::coe::{self, Coe, CoeRepr, SERVICE_SDO_REQUEST};
-use edsgen_runtime::ethercat::wire::mailbox::{self, Mailbox, MailboxRepr, TYPE_COE};
 
 /// What runs on the dictionary each cycle, as a device's firmware does behind its objects.
 pub trait Behaviour: std::fmt::Debug + Send {
@@ -44,7 +42,6 @@ pub struct EsiDevice {
     tx_pdos: Vec<EcPdo>,
     outputs_sm: Option<u8>,
     inputs_sm: Option<u8>,
-    mailbox_in: usize,
     rules: Rules,
     behaviour: Option<Box<dyn Behaviour>>,
 }
@@ -83,7 +80,6 @@ impl EsiDevice {
             .filter(|e| e.pdo_mappable)
             .map(|e| (e.index, e.sub))
             .collect();
-        let layout = layout(device);
         let esi_pdos = || ec.rx_pdos.iter().chain(&ec.tx_pdos);
         let pdos = esi_pdos()
             .map(|p| p.index)
@@ -118,20 +114,20 @@ impl EsiDevice {
             tx_pdos: ec.tx_pdos.clone(),
             outputs_sm: position(SmKind::Outputs),
             inputs_sm: position(SmKind::Inputs),
-            mailbox_in: layout.mailbox_in.map_or(0, |m| usize::from(m.2)),
             rules,
             behaviour,
         })
     }
 
-    /// The SubDevice serving `device`: its SII image, layout and this application.
+    /// The SubDevice serving `device`: its SII image (from which the core reads its layout)
+    /// and this application.
     pub fn subdevice(
         device: &Device,
         behaviour: Option<Box<dyn Behaviour>>,
     ) -> Result<SubDevice<EsiDevice>, String> {
         let sii = edsgen_model::sii::build(device)?;
         let app = EsiDevice::new(device, behaviour)?;
-        Ok(SubDevice::new(sii, layout(device), app))
+        Ok(SubDevice::new(sii, app))
     }
 
     /// The dictionary.
@@ -362,37 +358,6 @@ fn seed_defaults(
     }
 }
 
-/// The SyncManager layout an ESI device expects.
-pub fn layout(device: &Device) -> Layout {
-    let Some(ec) = device.ethercat() else {
-        return Layout {
-            mailbox_out: None,
-            mailbox_in: None,
-            outputs: None,
-            inputs: None,
-        };
-    };
-    let find = |kind: SmKind| ec.sync_managers.iter().position(|sm| sm.kind == kind);
-    let mailbox = |kind: SmKind| {
-        let n = find(kind)?;
-        let sm = &ec.sync_managers[n];
-        Some((
-            n,
-            sm.start_address,
-            sm.default_size
-                .unwrap_or(edsgen_model::sii::DEFAULT_MAILBOX_SIZE),
-        ))
-    };
-    let (out, inp) = (mailbox(SmKind::MailboxOut), mailbox(SmKind::MailboxIn));
-    let both = out.is_some() && inp.is_some();
-    Layout {
-        mailbox_out: out.filter(|_| both),
-        mailbox_in: inp.filter(|_| both),
-        outputs: find(SmKind::Outputs),
-        inputs: find(SmKind::Inputs),
-    }
-}
-
 /// A one-byte entry's value (sub-index 0 of an array or record), if the entry exists.
 fn u8_value(od: &RuntimeDictionary, index: u16, sub: u8) -> Option<u8> {
     let mut b = [0u8; 1];
@@ -443,45 +408,11 @@ pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
     }
 }
 
-/// The mailbox and CoE headers' length before an SDO answer.
-const HEADERS: usize = mailbox::HEADER_LEN + coe::HEADER_LEN;
-
 impl Application for EsiDevice {
     fn mailbox(&mut self, _state: AlState, request: &[u8], answer: &mut [u8]) -> usize {
-        let Ok(message) = Mailbox::new_checked(request) else {
-            return 0;
-        };
-        let counter = message.counter();
-        if message.kind() != TYPE_COE {
-            return mailbox::emit_error(answer, counter, mailbox::ERROR_UNSUPPORTED_PROTOCOL)
-                .unwrap_or(0);
-        }
-        let Some(coe) = Coe::new_checked(message.data())
-            .ok()
-            .filter(|coe| coe.service() == SERVICE_SDO_REQUEST)
-        else {
-            return 0;
-        };
         let rules = &self.rules;
         let guard = |index: u16, sub: u8, data: &[u8]| rules.check(index, sub, data);
-        let room = self.mailbox_in.min(answer.len());
-        let answer = &mut answer[..room];
-        let Some(sdo) = answer.get_mut(HEADERS..) else {
-            return 0;
-        };
-        let Some(len) = self.sdo.request(&mut self.od, &guard, coe.payload(), sdo) else {
-            return 0;
-        };
-        let length = (coe::HEADER_LEN + len) as u16;
-        let headers = MailboxRepr::new(TYPE_COE, counter, length)
-            .emit(answer)
-            .and_then(|()| {
-                CoeRepr::service(coe::SERVICE_SDO_RESPONSE).emit(&mut answer[mailbox::HEADER_LEN..])
-            });
-        if headers.is_err() {
-            return 0;
-        }
-        HEADERS + len
+        self.sdo.mailbox(&mut self.od, &guard, request, answer)
     }
 
     fn image_sizes(&self) -> (usize, usize) {

@@ -1,7 +1,8 @@
 //! The EtherCAT SubDevice Controller (ESC) as a master sees it: the 64 KiB register and process
 //! memory, and what one datagram does to it (ETG.1000.4 §5.4, ETG.1000.3): physical reads and
 //! writes by position, station address (or alias) and broadcast, logical ones through the FMMUs,
-//! the working-counter rules, read-only registers, the SII (EEPROM) interface at 0x0500, and the
+//! the working-counter rules, read-only registers, the SII (EEPROM) interface at 0x0500 (for the
+//! master, and for the device's PDI while the master offers it the SII), and the
 //! SyncManagers' mailbox full/empty states and repeat toggle.
 //!
 //! What the device's application does (the AL state machine, the mailbox protocols, the process
@@ -12,7 +13,9 @@
 //! link, port 1 closed), SII reads of 8 bytes; the ESC type, revision and build read 0 (not a
 //! real chip's); distributed clocks are declared unsupported (0x0008 bit 2 clear), and the DC
 //! registers are plain memory. Reading a mailbox SyncManager that is empty, or writing one that
-//! is full, is refused as the ESC refuses it (no working counter).
+//! is full, is refused as the ESC refuses it (no working counter). SyncManagers govern the
+//! digital I/O registers and the process memory only: one that starts below 0x0F00 governs
+//! nothing.
 
 use std::collections::VecDeque;
 
@@ -265,7 +268,8 @@ impl EmulatedEsc {
     fn mailbox_allows(&self, range: std::ops::Range<u32>, read: bool, write: bool) -> bool {
         (0..SYNC_MANAGERS).all(|n| {
             let sm = self.sm(n);
-            if !sm.enabled() || !sm.is_mailbox() || !overlaps(&sm.range(), &range) {
+            if !sm.enabled() || !sm.is_mailbox() || !governs(&sm) || !overlaps(&sm.range(), &range)
+            {
                 return true;
             }
             let full = sm.status & 0x08 != 0;
@@ -283,7 +287,7 @@ impl EmulatedEsc {
     fn after_read(&mut self, range: std::ops::Range<u32>) {
         for n in 0..SYNC_MANAGERS {
             let sm = self.sm(n);
-            if sm.enabled() && sm.is_mailbox() && !sm.master_writes() {
+            if sm.enabled() && governs(&sm) && sm.is_mailbox() && !sm.master_writes() {
                 let last = sm.range().end - 1;
                 if range.contains(&last) {
                     self.set_mailbox_full(n, false);
@@ -301,12 +305,10 @@ impl EmulatedEsc {
             self.events.push_back(Event::AlControl);
         }
         if overlaps(&range, &(0x0502..0x0504)) {
-            self.sii_command();
+            self.sii_command(false);
         }
         if overlaps(&range, &(0x0500..0x0501)) {
-            // The PDI takes the SII as soon as it is offered, and gives it back likewise.
-            let offered = self.u8(reg::SII_CONFIG) & 1;
-            self.set_u8(reg::SII_PDI_ACCESS, offered);
+            self.sii_access_follows_offer();
         }
         for n in 0..SYNC_MANAGERS {
             let base = u32::from(reg::SM0) + 8 * n as u32;
@@ -319,7 +321,11 @@ impl EmulatedEsc {
                     self.events.push_back(Event::RepeatRequest(n));
                 }
             }
-            if sm.enabled() && sm.master_writes() && range.contains(&(sm.range().end - 1)) {
+            if sm.enabled()
+                && governs(&sm)
+                && sm.master_writes()
+                && range.contains(&(sm.range().end - 1))
+            {
                 if sm.is_mailbox() {
                     self.set_mailbox_full(n, true);
                     self.events.push_back(Event::MailboxWritten(n));
@@ -338,13 +344,22 @@ impl EmulatedEsc {
         self.set_u8(at, (sm.pdi_control & !0x02) | (sm.activate & 0x02));
     }
 
-    /// Runs the SII command the master wrote to 0x0502 (bits 8–10: 1 read, 2 write, 4 reload),
-    /// unless the PDI holds the SII.
-    fn sii_command(&mut self) {
+    /// The PDI holds the SII only while the master offers it (0x0500 bit 0, without bit 1
+    /// "force ECAT access").
+    fn sii_access_follows_offer(&mut self) {
+        if self.u8(reg::SII_CONFIG) & 0x03 != 0x01 {
+            let access = self.u8(reg::SII_PDI_ACCESS);
+            self.set_u8(reg::SII_PDI_ACCESS, access & !1);
+        }
+    }
+
+    /// Runs the SII command written to 0x0502 (bits 8–10: 1 read, 2 write, 4 reload) by the
+    /// master (`by_pdi` false) or the device, if it is the one holding the SII (0x0501 bit 0).
+    fn sii_command(&mut self, by_pdi: bool) {
         let control = self.u16(reg::SII_CONTROL);
         let write_enable = control & 1;
         let mut status = 0x0040 | write_enable;
-        if self.u8(reg::SII_PDI_ACCESS) & 1 == 0 {
+        if (self.u8(reg::SII_PDI_ACCESS) & 1 != 0) == by_pdi {
             let address = u32::from(self.u16(reg::SII_ADDRESS))
                 | (u32::from(self.u16(reg::SII_ADDRESS + 2)) << 16);
             match (control >> 8) & 0x07 {
@@ -444,7 +459,7 @@ impl EmulatedEsc {
         let range = first as u32..last as u32 + 1;
         (0..SYNC_MANAGERS).all(|n| {
             let sm = self.sm(n);
-            sm.len == 0 || !overlaps(&sm.range(), &range) || (sm.enabled() && !sm.is_mailbox())
+            !governs(&sm) || !overlaps(&sm.range(), &range) || (sm.enabled() && !sm.is_mailbox())
         })
     }
 }
@@ -473,6 +488,13 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
         self.write_memory(address, data);
         let start = usize::from(address);
         let end = (start + data.len()).min(self.mem.len());
+        let touches = |register: u16| (start..end).contains(&usize::from(register));
+        if touches(reg::SII_PDI_ACCESS) {
+            self.sii_access_follows_offer();
+        }
+        if touches(reg::SII_CONTROL) || touches(reg::SII_CONTROL + 1) {
+            self.sii_command(true);
+        }
         for n in 0..SYNC_MANAGERS {
             let sm = EmulatedEsc::sm(self, n);
             if !sm.is_mailbox() {
@@ -493,8 +515,15 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     }
 }
 
+/// Whether the SyncManager governs memory: it has a length and starts at the digital I/O
+/// registers or in the process memory ([`reg::SYNC_MANAGED`]; one configured over the other
+/// registers would lock the master out of its own configuration).
+fn governs(sm: &SmRegisters) -> bool {
+    sm.len > 0 && sm.start >= reg::SYNC_MANAGED
+}
+
 /// Whether bytes `start..end` hold the last byte of the SyncManager's buffer.
 fn covers_last_byte(sm: &SmRegisters, start: usize, end: usize) -> bool {
     let last = usize::from(sm.start) + usize::from(sm.len);
-    sm.len > 0 && start < last && last <= end
+    governs(sm) && start < last && last <= end
 }

@@ -31,3 +31,37 @@ impl RawSocket {
         self.socket.send(frame)
     }
 }
+
+/// What to say when `iface` cannot be opened: the error, and for a permission error what the
+/// raw socket needs.
+pub fn open_error(iface: &str, err: &io::Error) -> String {
+    if err.kind() == io::ErrorKind::PermissionDenied {
+        format!(
+            "cannot open {iface}: {err}: a raw socket needs root or CAP_NET_RAW (run as root, or \
+             give the binary the capability: sudo setcap cap_net_raw+ep $(which edsgen))"
+        )
+    } else {
+        format!("cannot open {iface}: {err}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_permission_error_names_root_and_cap_net_raw() {
+        let denied = io::Error::from_raw_os_error(1);
+        assert_eq!(
+            open_error("ecs", &denied),
+            "cannot open ecs: Operation not permitted (os error 1): a raw socket needs root or \
+             CAP_NET_RAW (run as root, or give the binary the capability: sudo setcap \
+             cap_net_raw+ep $(which edsgen))"
+        );
+        let missing = io::Error::from_raw_os_error(19);
+        assert_eq!(
+            open_error("ecs", &missing),
+            "cannot open ecs: No such device (os error 19)"
+        );
+    }
+}

@@ -22,11 +22,11 @@ pub struct SubDevice<A> {
 }
 
 impl<A: Application> SubDevice<A> {
-    /// A SubDevice in Init with the SII image `sii`.
-    pub fn new(sii: Vec<u8>, layout: Layout, app: A) -> Self {
+    /// A SubDevice in Init with the SII image `sii`, which the core reads its layout from.
+    pub fn new(sii: Vec<u8>, app: A) -> Self {
         let esc = EmulatedEsc::new(sii);
         SubDevice {
-            core: Box::new(subdevice::SubDevice::new(esc, layout, app)),
+            core: Box::new(subdevice::SubDevice::new(esc, app)),
         }
     }
 
@@ -38,6 +38,11 @@ impl<A: Application> SubDevice<A> {
     /// The ESC, to look at its registers.
     pub fn esc(&self) -> &EmulatedEsc {
         self.core.esc()
+    }
+
+    /// The ESC as the device's PDI reaches it, to act as its firmware would.
+    pub fn esc_mut(&mut self) -> &mut EmulatedEsc {
+        self.core.esc_mut()
     }
 
     /// The application.

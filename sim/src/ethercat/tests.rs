@@ -2,10 +2,11 @@
 //! master reads and writes, the SII interface, the AL state machine's refusals and
 //! acknowledgement, the mailbox states and repeat toggle, the FMMUs and the outputs watchdog.
 
+use edsgen_runtime::ethercat::esc::Esc;
 use edsgen_runtime::Instant;
 
 use super::frame::{parse, Command, FrameBuilder, Parsed};
-use super::{AlState, Application, Layout, SubDevice};
+use super::{AlState, Application, SubDevice};
 
 const MAC: [u8; 6] = [0x10; 6];
 const STATION: u16 = 0x1001;
@@ -40,23 +41,28 @@ impl Application for TestApp {
     }
 }
 
-/// An SII image of 16 words: word 4 the alias 0x00AA, word 8 the vendor 0x04D8.
+/// An SII image: word 4 the alias 0x00AA, word 8 the vendor 0x04D8, and the SyncM category
+/// (words 0x40–0x52): SM0 mailbox out at 0x1000 and SM1 mailbox in at 0x1080, 128 bytes each,
+/// SM2 outputs, SM3 inputs.
 fn sii() -> Vec<u8> {
-    let mut sii = vec![0u8; 32];
+    let mut sii = vec![0u8; 0x80];
     sii[8] = 0xAA;
     sii[16] = 0xD8;
     sii[17] = 0x04;
+    sii.extend_from_slice(&[41, 0, 16, 0]);
+    sii.extend_from_slice(&[0x00, 0x10, 128, 0, 0x26, 0, 1, 1]);
+    sii.extend_from_slice(&[0x80, 0x10, 128, 0, 0x22, 0, 1, 2]);
+    sii.extend_from_slice(&[0x00, 0x11, 4, 0, 0x64, 0, 1, 3]);
+    sii.extend_from_slice(&[0x80, 0x11, 2, 0, 0x20, 0, 1, 4]);
+    sii.extend_from_slice(&[0xFF, 0xFF]);
     sii
 }
 
+/// A SubDevice whose master has offered it the SII (as SOEM and ethercrab do before Pre-Op).
 fn device() -> SubDevice<TestApp> {
-    let layout = Layout {
-        mailbox_out: Some((0, 0x1000, 128)),
-        mailbox_in: Some((1, 0x1080, 128)),
-        outputs: Some(2),
-        inputs: Some(3),
-    };
-    SubDevice::new(sii(), layout, TestApp::default())
+    let mut d = SubDevice::new(sii(), TestApp::default());
+    one(&mut d, Command::Bwr, (0, 0x0500), &[1]);
+    d
 }
 
 /// One datagram of a frame sent to `device` at `now`: the data and working counter that came
@@ -299,7 +305,7 @@ fn armw_and_frmw_read_at_the_addressed_one_and_write_elsewhere() {
 
 #[test]
 fn sii_reads_eight_bytes_and_refuses_writes_without_enable() {
-    let mut d = device();
+    let mut d = SubDevice::new(sii(), TestApp::default());
     // Read command at word address 7 (control 0x0100, address 7).
     assert_eq!(
         one(&mut d, Command::Bwr, (0, 0x0502), &[0, 1, 7, 0, 0, 0]).1,
@@ -309,11 +315,11 @@ fn sii_reads_eight_bytes_and_refuses_writes_without_enable() {
     assert_eq!(wkc, 1);
     assert_eq!(data[..2], [0x40, 0], "not busy, 8-byte reads");
     assert_eq!(data[6..], [0, 0, 0xD8, 0x04, 0, 0, 0, 0]);
-    // Past the end: 0xFFFF.
-    one(&mut d, Command::Bwr, (0, 0x0502), &[0, 1, 15, 0, 0, 0]);
+    // The SyncM category's last word, the end marker, then past the end: 0xFFFF.
+    one(&mut d, Command::Bwr, (0, 0x0502), &[0, 1, 0x51, 0, 0, 0]);
     assert_eq!(
         one(&mut d, Command::Brd, (0, 0x0508), &[0; 8]).0,
-        [0, 0, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]
+        [1, 4, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]
     );
     // A write without write enable: error bit 14, nothing written.
     one(&mut d, Command::Bwr, (0, 0x0508), &[0x55, 0x55]);
@@ -322,14 +328,43 @@ fn sii_reads_eight_bytes_and_refuses_writes_without_enable() {
     assert_eq!(d.esc().sii_word(8), 0x04D8);
     one(&mut d, Command::Bwr, (0, 0x0502), &[1, 2, 8, 0, 0, 0]);
     assert_eq!(d.esc().sii_word(8), 0x5555);
-    // While the PDI holds the SII, the master's commands do nothing.
+    // The PDI takes the SII only when the master offers it.
+    d.esc_mut().write(0x0501, &[1]);
+    assert_eq!(d.esc().u8(0x0501), 0);
     one(&mut d, Command::Bwr, (0, 0x0500), &[1]);
+    d.esc_mut().write(0x0501, &[1]);
     assert_eq!(d.esc().u8(0x0501), 1);
+    // While the PDI holds the SII, the master's commands do nothing; the PDI's run.
     one(&mut d, Command::Bwr, (0, 0x0502), &[0, 1, 4, 0, 0, 0]);
     assert_eq!(
         one(&mut d, Command::Brd, (0, 0x0508), &[0; 2]).0,
         [0x55, 0x55]
     );
+    d.esc_mut().write(0x0504, &[4, 0, 0, 0]);
+    d.esc_mut().write(0x0502, &[0, 1]);
+    assert_eq!(d.esc().memory(0x0508, 2), [0xAA, 0]);
+    // Force ECAT access (bit 1) takes it from the PDI.
+    one(&mut d, Command::Bwr, (0, 0x0500), &[3]);
+    assert_eq!(d.esc().u8(0x0501), 0);
+}
+
+#[test]
+fn preop_needs_the_sii_offered_once() {
+    let mut d = SubDevice::new(sii(), TestApp::default());
+    one(&mut d, Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
+    fpwr(&mut d, 0x0800, &sm(0x1000, 128, 0x26, 1));
+    fpwr(&mut d, 0x0808, &sm(0x1080, 128, 0x22, 1));
+    fpwr(&mut d, 0x0120, &[2, 0]);
+    assert_eq!(al_status(&mut d), (0x11, 0x0050), "EEPROM no access");
+    fpwr(&mut d, 0x0500, &[1]);
+    fpwr(&mut d, 0x0120, &[0x12, 0]);
+    assert_eq!(al_status(&mut d), (2, 0));
+    assert_eq!(d.esc().u8(0x0501), 0, "the PDI gave the SII back");
+    // Back in Init with the SII taken back: the SII read before stands.
+    fpwr(&mut d, 0x0500, &[0]);
+    fpwr(&mut d, 0x0120, &[1, 0]);
+    fpwr(&mut d, 0x0120, &[2, 0]);
+    assert_eq!(al_status(&mut d), (2, 0));
 }
 
 #[test]
@@ -462,4 +497,27 @@ fn the_outputs_watchdog_drops_op_to_safeop_with_0x001b() {
     assert_eq!(data, [8, 0]);
     let (data, _, _) = one_at(&mut d, 150_001, Command::Fprd, (STATION, 0x0130), &[0; 6]);
     assert_eq!(data, [0x14, 0, 0, 0, 0x1B, 0]);
+}
+
+/// Found by hostile frames (issue 34): a mailbox SyncManager configured over the registers
+/// refused every write to them, its own configuration and AL control included, until the
+/// simulator was restarted. SyncManagers govern the digital I/O registers and the process
+/// memory only.
+#[test]
+fn a_sync_manager_over_the_registers_does_not_lock_the_master_out() {
+    let mut d = device();
+    one(&mut d, Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
+    // SM1, device to master (0x22), enabled, over 0x0000-0x0FFF: empty, so never written.
+    assert_eq!(
+        fpwr(
+            &mut d,
+            0x0808,
+            &[0x00, 0x00, 0x00, 0x10, 0x22, 0x00, 0x01, 0x00]
+        ),
+        1
+    );
+    assert_eq!(fpwr(&mut d, 0x0120, &[0x11, 0x00]), 1, "AL control");
+    assert_eq!(fpwr(&mut d, 0x0808, &[0; 8]), 1, "SM1 cleared");
+    let (data, wkc) = one(&mut d, Command::Fprd, (STATION, 0x0808), &[0xEE; 8]);
+    assert_eq!((data, wkc), (vec![0; 8], 1));
 }

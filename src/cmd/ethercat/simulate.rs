@@ -68,7 +68,7 @@ pub fn run(
     };
     let mut socket = match RawSocket::open(iface, Duration::from_millis(100)) {
         Ok(socket) => socket,
-        Err(err) => return fail(format!("cannot open {iface}: {err}")),
+        Err(err) => return fail(edsgen_sim::ethercat::raw_socket::open_error(iface, &err)),
     };
     let stop = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&stop);

@@ -1,9 +1,11 @@
 //! `edsgen ecat sdo read|write --iface IFACE [--position N] ENTRY [VALUE]`: one CoE SDO transfer
 //! with a SubDevice in Pre-Op. With `--esi FILE [--device NAME|#xCODE]` the entry may be named
 //! (as `edsgen sdo --eds` names CANopen entries: exact or unique prefix, suggestions on a miss)
-//! and the value is typed by the ESI's data type; without it, the entry is `INDEX:SUB` and the
-//! value a little-endian number of `--size` bytes (4 unless given). An abort is exit 1 with its
-//! code and meaning.
+//! and the value is typed by the ESI's data type; without it, the entry is `INDEX:SUB`, the
+//! value typed by `--type` (`u8`, `i16`, `vs`, ...; `--size N` for an unsigned number of N
+//! bytes), and a read without either is sized by what arrives: 1, 2, 4 or 8 bytes as a number,
+//! anything else as hex bytes and their text. A write without a type says what to pass. An
+//! abort is exit 1 with its code and meaning.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -45,10 +47,17 @@ pub struct SdoArgs {
     /// ESI's data type says; a number of --size bytes without --esi.
     #[arg(allow_negative_numbers = true)]
     value: Option<String>,
-    /// Without --esi: the value's size in bytes (4 when not given).
+    /// Without --esi: the value's size in bytes, an unsigned number.
     #[arg(long, value_parser = ["1", "2", "4", "8"], conflicts_with = "esi")]
     size: Option<String>,
+    /// Without --esi: the value's type: u8, u16, u32, u64, i8, i16, i32, i64, r32, r64, b
+    /// (boolean), vs (visible string), os (octet string).
+    #[arg(long = "type", value_name = "TYPE", conflicts_with_all = ["esi", "size"])]
+    kind: Option<String>,
 }
+
+/// The types `--type` takes, as the messages list them.
+const TYPES: &str = "u8, u16, u32, u64, i8, i16, i32, i64, r32, r64, b, vs or os";
 
 /// What `ecat sdo` does.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,7 +98,8 @@ pub async fn upload(
 /// The entry as the command understood it.
 struct Resolved {
     mux: Multiplexer,
-    kind: Kind,
+    /// `None`: no type given, a read is sized by what arrives.
+    kind: Option<Kind>,
     /// `6060h:00h Operation mode` with an ESI; `None` keeps the numeric form.
     label: Option<String>,
 }
@@ -102,7 +112,16 @@ pub fn run(args: &SdoArgs) -> ExitCode {
     };
     let data = match (args.verb, &args.value) {
         (SdoVerb::Read, None) => None,
-        (SdoVerb::Write, Some(text)) => match resolved.kind.encode(text) {
+        (SdoVerb::Write, Some(_)) if resolved.kind.is_none() => {
+            return fail(format!(
+                "ecat sdo write without --esi needs the value's type: --type TYPE ({TYPES}), \
+                 such as `edsgen ecat sdo write --iface {} {} {} --type u8`",
+                args.iface,
+                args.entry,
+                args.value.as_deref().unwrap_or_default()
+            ))
+        }
+        (SdoVerb::Write, Some(text)) => match resolved.kind.unwrap_or(Kind::Bytes).encode(text) {
             Ok(bytes) if bytes.len() <= 4 => Some(bytes),
             Ok(bytes) => {
                 return fail(format!(
@@ -170,13 +189,19 @@ pub fn run(args: &SdoArgs) -> ExitCode {
 fn resolve(args: &SdoArgs) -> Result<Resolved, String> {
     let Some(path) = &args.esi else {
         let mux = entry::resolve(&args.entry, None)?;
-        let size = match args.size.as_deref().unwrap_or("4").parse() {
-            Ok(size @ (1 | 2 | 4 | 8)) => size,
-            _ => return Err("--size is 1, 2, 4 or 8 bytes".into()),
+        let kind = match (&args.kind, args.size.as_deref()) {
+            (Some(name), _) => Some(
+                Kind::parse(name).ok_or_else(|| format!("--type {name} is not a type: {TYPES}"))?,
+            ),
+            (None, Some(size)) => match size.parse() {
+                Ok(size @ (1 | 2 | 4 | 8)) => Some(Kind::Unsigned(size)),
+                _ => return Err("--size is 1, 2, 4 or 8 bytes".into()),
+            },
+            (None, None) => None,
         };
         return Ok(Resolved {
             mux,
-            kind: Kind::Unsigned(size),
+            kind,
             label: None,
         });
     };
@@ -197,7 +222,7 @@ fn resolve(args: &SdoArgs) -> Result<Resolved, String> {
     })?;
     Ok(Resolved {
         mux,
-        kind: Kind::of(basic),
+        kind: Some(Kind::of(basic)),
         label: Some(format!("{} {name}", show_mux(mux))),
     })
 }
@@ -206,7 +231,28 @@ fn resolve(args: &SdoArgs) -> Result<Resolved, String> {
 fn shown(resolved: &Resolved, bytes: &[u8], written: bool) -> Result<String, String> {
     let (index, sub) = (resolved.mux.index, resolved.mux.sub);
     let Some(label) = &resolved.label else {
-        let size = resolved.kind.len().unwrap_or(4);
+        let kind = match resolved.kind {
+            Some(kind @ Kind::Unsigned(_)) => kind,
+            Some(_) if written => return Ok(format!("{index:04X}h:{sub:02X} := {}\n", hex(bytes))),
+            Some(kind) => {
+                return match kind.show(bytes) {
+                    Ok(text) => Ok(format!("{index:04X}h:{sub:02X} = {text}\n")),
+                    Err(message) => Err(format!(
+                        "{index:04X}h:{sub:02X}: {message} ({})",
+                        hex(bytes)
+                    )),
+                }
+            }
+            None if matches!(bytes.len(), 1 | 2 | 4 | 8) => Kind::Unsigned(bytes.len()),
+            None => {
+                return Ok(format!(
+                    "{index:04X}h:{sub:02X} = {} ({})\n",
+                    hex(bytes),
+                    text_of(bytes)
+                ))
+            }
+        };
+        let size = kind.len().unwrap_or(4);
         if bytes.len() != size {
             return Err(format!(
                 "{index:04X}h:{sub:02X}: {} byte(s) received where --size says {size} ({})",
@@ -227,8 +273,25 @@ fn shown(resolved: &Resolved, bytes: &[u8], written: bool) -> Result<String, Str
     if written {
         return Ok(format!("{label} written\n"));
     }
-    match resolved.kind.show(bytes) {
+    match resolved.kind.unwrap_or(Kind::Bytes).show(bytes) {
         Ok(text) => Ok(format!("{label} = {text}\n")),
         Err(message) => Err(format!("{label}: {message} ({})", hex(bytes))),
     }
+}
+
+/// Bytes of no known type as text: quoted, trailing NULs dropped, anything not printable ASCII
+/// as `.`.
+fn text_of(bytes: &[u8]) -> String {
+    let end = bytes.iter().rposition(|&b| b != 0).map_or(0, |i| i + 1);
+    let text: String = bytes[..end]
+        .iter()
+        .map(|&b| {
+            if (0x20..0x7F).contains(&b) {
+                b as char
+            } else {
+                '.'
+            }
+        })
+        .collect();
+    format!("\"{text}\"")
 }
