@@ -52,6 +52,7 @@ pub mod dump;
 pub mod enip;
 pub mod ethercat;
 pub mod generate;
+mod parallel;
 pub mod profinet;
 pub mod rules;
 pub mod signals;
