@@ -21,7 +21,12 @@ fn odva_headers_anywhere_in_the_file_with_white_space_and_any_case() {
         b"[\xC2\xA0File]\n",
         b"\xC2\xA0[File]\n",
     ] {
-        assert_eq!(format_of(text), Format::OdvaEds, "{:?}", String::from_utf8_lossy(text));
+        assert_eq!(
+            format_of(text),
+            Format::OdvaEds,
+            "{:?}",
+            String::from_utf8_lossy(text)
+        );
     }
 }
 
@@ -39,7 +44,12 @@ fn cia306_headers_and_near_misses_are_not_odva() {
         b"",
         b"[",
     ] {
-        assert_eq!(format_of(text), Format::Eds, "{:?}", String::from_utf8_lossy(text));
+        assert_eq!(
+            format_of(text),
+            Format::Eds,
+            "{:?}",
+            String::from_utf8_lossy(text)
+        );
     }
     assert_eq!(detect_format(Path::new("x.DCF"), b"[File]"), Format::Dcf);
 }

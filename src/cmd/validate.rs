@@ -182,7 +182,9 @@ fn check(path: &Path, device: Option<&str>, policy: &Policy, json: bool, color: 
                     d.message = format!("{} (denied by `--deny {by}`)", d.message);
                 }
             }
-            checked.text.push_str(&render::human(&name, text, &shown, color));
+            checked
+                .text
+                .push_str(&render::human(&name, text, &shown, color));
         }
     }
     checked

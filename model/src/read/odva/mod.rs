@@ -25,7 +25,10 @@ mod parts;
 /// `[` bytes are looked at, and a line with a non-ASCII byte before its `]` is decoded alone.
 pub fn is_odva(bytes: &[u8]) -> bool {
     let mut from = 0;
-    while let Some(at) = bytes.get(from..).and_then(|rest| memchr::memchr(b'[', rest)) {
+    while let Some(at) = bytes
+        .get(from..)
+        .and_then(|rest| memchr::memchr(b'[', rest))
+    {
         let bracket = from + at;
         let start = memchr::memrchr(b'\n', &bytes[..bracket]).map_or(0, |n| n + 1);
         let end = memchr::memchr(b'\n', &bytes[bracket..]).map_or(bytes.len(), |n| bracket + n);
@@ -40,10 +43,7 @@ pub fn is_odva(bytes: &[u8]) -> bool {
 /// Whether one line (without its `\n`) is a `[File]` or `[Device]` header, leading white space
 /// allowed: ASCII lines directly, others decoded as `String::from_utf8_lossy` would.
 fn line_is_odva_header(line: &[u8]) -> bool {
-    let name_end = line
-        .iter()
-        .position(|&b| b == b']')
-        .unwrap_or(line.len());
+    let name_end = line.iter().position(|&b| b == b']').unwrap_or(line.len());
     if !line[..name_end].is_ascii() {
         let text = String::from_utf8_lossy(line);
         let Some(rest) = text.trim_start().strip_prefix('[') else {
@@ -63,7 +63,10 @@ fn line_is_odva_header(line: &[u8]) -> bool {
         return false;
     };
     let first = rest.iter().position(|b| !space(b)).unwrap_or(rest.len());
-    let last = rest.iter().rposition(|b| !space(b)).map_or(first, |l| l + 1);
+    let last = rest
+        .iter()
+        .rposition(|b| !space(b))
+        .map_or(first, |l| l + 1);
     let name = &rest[first..last.max(first)];
     name.eq_ignore_ascii_case(b"File") || name.eq_ignore_ascii_case(b"Device")
 }
