@@ -71,13 +71,23 @@ pub fn entry_value(
     values.entry(device, object, sub)
 }
 
+/// An entry's place in diagnostics, `1018h sub 1`: written only when a diagnostic is.
+#[derive(Debug, Clone, Copy)]
+struct Where(u16, u8);
+
+impl std::fmt::Display for Where {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:04X}h sub {}", self.0, self.1)
+    }
+}
+
 struct Values<'a> {
     diagnostics: &'a mut Vec<Diagnostic>,
 }
 
 impl Values<'_> {
     fn entry(&mut self, device: &Device, object: &Object, sub: &SubObject) -> Option<EntryValue> {
-        let where_ = format!("{:04X}h sub {}", object.index, sub.sub_index);
+        let where_ = Where(object.index, sub.sub_index);
         let Some(basic) = sub.data_type.and_then(|t| device.basic_type(t)) else {
             let what = match sub.data_type {
                 Some(t) => format!("data type {t:04X}h is not a basic type"),
@@ -98,10 +108,10 @@ impl Values<'_> {
             return None; // reported by `size_errors`
         }
         let ty = RustType::of(basic, cap);
-        let init = self.initial(sub, basic, ty, &where_)?;
+        let init = self.initial(sub, basic, ty, where_)?;
         let limits = match ty {
             RustType::Scalar(prim, _) if prim != Prim::Bool => {
-                self.limits(sub, basic, prim, &where_)
+                self.limits(sub, basic, prim, where_)
             }
             _ => None,
         };
@@ -122,7 +132,7 @@ impl Values<'_> {
         sub: &SubObject,
         basic: BasicType,
         ty: RustType,
-        where_: &str,
+        where_: Where,
     ) -> Option<Initial> {
         let value = initial_value(sub);
         let source_span = sub
@@ -201,7 +211,7 @@ impl Values<'_> {
         sub: &SubObject,
         basic: BasicType,
         prim: Prim,
-        where_: &str,
+        where_: Where,
     ) -> Option<(Number, Number)> {
         if sub.low_limit.is_none() && sub.high_limit.is_none() {
             return None;

@@ -53,6 +53,7 @@ pub mod enip;
 pub mod ethercat;
 pub mod generate;
 pub mod machine;
+mod parallel;
 pub mod profinet;
 pub mod rules;
 pub mod signals;

@@ -3,7 +3,7 @@
 //! a summary that says what the policy did, so the exit code matches what is printed.
 
 use std::io::{IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use edsgen_codegen::diag::{self, Diagnostic, Severity};
@@ -11,7 +11,7 @@ use edsgen_codegen::lint::{self, Verdict};
 use edsgen_codegen::load::{self, LoadError};
 use edsgen_codegen::{read, render, rules};
 
-use super::{fail, rule_named, EXIT_USAGE};
+use super::{fail, parallel, rule_named, EXIT_USAGE};
 
 /// What the command line asks of the diagnostics: the lint levels, and what to show.
 pub struct Policy {
@@ -51,92 +51,41 @@ struct Tally {
     allowed: usize,
 }
 
+impl Tally {
+    fn add(&mut self, other: &Tally) {
+        self.checked += other.checked;
+        self.unreadable += other.unreadable;
+        self.errors += other.errors;
+        self.denied += other.denied;
+        self.warnings += other.warnings;
+        self.hidden += other.hidden;
+        self.allowed += other.allowed;
+    }
+}
+
+/// What one file gives: its counts and what to print for it (JSON values or rustc-style text,
+/// and text for standard error).
+#[derive(Default)]
+struct Checked {
+    tally: Tally,
+    json: Vec<serde_json::Value>,
+    text: String,
+    error_text: String,
+}
+
 /// Runs `edsgen validate`.
 pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>) -> ExitCode {
     let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
     let mut tally = Tally::default();
     let mut all_json = Vec::new();
     let mut out = std::io::stdout().lock();
-    for path in files {
-        let name = path.display().to_string();
-        let loaded = match load::load(path, device) {
-            Ok(loaded) => loaded,
-            Err(err) => {
-                tally.unreadable += 1;
-                let cause = match &err {
-                    LoadError::Read(read::ReadError::Io(_, io)) => io.to_string(),
-                    LoadError::Overlay(..) => err.to_string(),
-                };
-                let d = Diagnostic::new(
-                    &rules::UNREADABLE,
-                    None,
-                    format!("cannot read `{name}`: {cause}"),
-                );
-                if json {
-                    all_json.extend(render::json(&name, &[d]));
-                } else {
-                    eprint!("{}", render::human(&name, "", &[d], false));
-                }
-                continue;
-            }
-        };
-        tally.checked += 1;
-        // The description's findings, then its overlay's under the overlay's own name, as
-        // `edsgen generate` shows them.
-        let mut parts = vec![(name, loaded.text.as_str(), loaded.diagnostics.clone())];
-        if let Some(overlay) = &loaded.overlay {
-            let overlay_name = overlay.path.display().to_string();
-            parts.push((
-                overlay_name,
-                overlay.text.as_str(),
-                overlay.diagnostics.clone(),
-            ));
-        }
-        for (name, text, mut diags) in parts {
-            diag::sort(&mut diags);
-            let mut shown = Vec::new();
-            let mut denials = Vec::new();
-            for mut d in diags {
-                let denial = match policy.lint.verdict(&d) {
-                    Verdict::Allowed => {
-                        tally.allowed += 1;
-                        continue;
-                    }
-                    Verdict::Denied(by) => {
-                        d.severity = Severity::Error;
-                        tally.denied += 1;
-                        Some(by)
-                    }
-                    Verdict::Kept => None,
-                };
-                match d.severity {
-                    Severity::Error => tally.errors += 1,
-                    Severity::Warning => tally.warnings += 1,
-                    Severity::Info => {}
-                }
-                if d.severity < policy.min_severity {
-                    tally.hidden += 1;
-                    continue;
-                }
-                shown.push(d);
-                denials.push(denial);
-            }
-            if json {
-                for (mut value, denial) in render::json(&name, &shown).into_iter().zip(&denials) {
-                    if let (Some(object), Some(by)) = (value.as_object_mut(), denial) {
-                        object.insert("denied".into(), serde_json::json!(format!("--deny {by}")));
-                    }
-                    all_json.push(value);
-                }
-            } else {
-                for (d, denial) in shown.iter_mut().zip(&denials) {
-                    if let Some(by) = denial {
-                        d.message = format!("{} (denied by `--deny {by}`)", d.message);
-                    }
-                }
-                let _ = out.write_all(render::human(&name, text, &shown, color).as_bytes());
-            }
-        }
+    // Files are read and judged on every core, and printed in the order given.
+    let checked = parallel::map_in_order(files, |path| check(path, device, policy, json, color));
+    for file in checked {
+        tally.add(&file.tally);
+        all_json.extend(file.json);
+        eprint!("{}", file.error_text);
+        let _ = out.write_all(file.text.as_bytes());
     }
     if json {
         let text = serde_json::to_string_pretty(&all_json).unwrap_or_else(|_| "[]".into());
@@ -151,6 +100,94 @@ pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>)
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// Reads and judges one file under the policy.
+fn check(path: &Path, device: Option<&str>, policy: &Policy, json: bool, color: bool) -> Checked {
+    let mut checked = Checked::default();
+    let tally = &mut checked.tally;
+    let name = path.display().to_string();
+    let loaded = match load::load(path, device) {
+        Ok(loaded) => loaded,
+        Err(err) => {
+            tally.unreadable += 1;
+            let cause = match &err {
+                LoadError::Read(read::ReadError::Io(_, io)) => io.to_string(),
+                LoadError::Overlay(..) => err.to_string(),
+            };
+            let d = Diagnostic::new(
+                &rules::UNREADABLE,
+                None,
+                format!("cannot read `{name}`: {cause}"),
+            );
+            if json {
+                checked.json.extend(render::json(&name, &[d]));
+            } else {
+                checked.error_text = render::human(&name, "", &[d], false);
+            }
+            return checked;
+        }
+    };
+    tally.checked += 1;
+    // The description's findings, then its overlay's under the overlay's own name, as
+    // `edsgen generate` shows them.
+    let mut parts = vec![(name, loaded.text.as_str(), loaded.diagnostics)];
+    if let Some(overlay) = &loaded.overlay {
+        let overlay_name = overlay.path.display().to_string();
+        parts.push((
+            overlay_name,
+            overlay.text.as_str(),
+            overlay.diagnostics.clone(),
+        ));
+    }
+    for (name, text, mut diags) in parts {
+        diag::sort(&mut diags);
+        let mut shown = Vec::new();
+        let mut denials = Vec::new();
+        for mut d in diags {
+            let denial = match policy.lint.verdict(&d) {
+                Verdict::Allowed => {
+                    tally.allowed += 1;
+                    continue;
+                }
+                Verdict::Denied(by) => {
+                    d.severity = Severity::Error;
+                    tally.denied += 1;
+                    Some(by)
+                }
+                Verdict::Kept => None,
+            };
+            match d.severity {
+                Severity::Error => tally.errors += 1,
+                Severity::Warning => tally.warnings += 1,
+                Severity::Info => {}
+            }
+            if d.severity < policy.min_severity {
+                tally.hidden += 1;
+                continue;
+            }
+            shown.push(d);
+            denials.push(denial);
+        }
+        if json {
+            for (mut value, denial) in render::json(&name, &shown).into_iter().zip(&denials) {
+                if let (Some(object), Some(by)) = (value.as_object_mut(), denial) {
+                    object.insert("denied".into(), serde_json::json!(format!("--deny {by}")));
+                }
+                checked.json.push(value);
+            }
+        } else {
+            for (d, denial) in shown.iter_mut().zip(&denials) {
+                if let Some(by) = denial {
+                    d.message = format!("{} (denied by `--deny {by}`)", d.message);
+                }
+            }
+            checked
+                .text
+                .push_str(&render::human(&name, text, &shown, color));
+        }
+    }
+    checked
 }
 
 /// `2 file(s) checked: 1 error(s) (1 of them denied by --deny warnings), 0 warning(s)`, with

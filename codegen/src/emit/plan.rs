@@ -2,6 +2,8 @@
 //! initial value and limits (`edsgen_model::values`). Built from the model in (index, sub) order
 //! so names and output are deterministic; every problem becomes an `EDS7xx` diagnostic.
 
+use std::fmt::Write as _;
+
 use proc_macro2::{Ident, Span as TokenSpan};
 
 use super::names::{ident, member_name, Case, Namespace};
@@ -290,50 +292,69 @@ impl Planner<'_> {
             ..
         } = entry_value(self.device, object, sub, &mut self.diagnostics)?;
         let title = if sub.name != object.name && object.object_type.has_subs() {
-            format!("{}: {}", doc_text(&object.name), doc_text(&sub.name))
+            let (object_name, sub_name) = (doc_text(&object.name), doc_text(&sub.name));
+            let mut title = String::with_capacity(object_name.len() + 2 + sub_name.len());
+            title.push_str(&object_name);
+            title.push_str(": ");
+            title.push_str(&sub_name);
+            title
         } else {
             doc_text(&sub.name)
         };
-        let mut facts = format!(
-            "{:04X}h sub {}: {}, {}, {}",
-            object.index,
-            sub.sub_index,
-            basic.name(),
-            access.as_str(),
-            if sub.pdo_mapping {
-                "PDO-mappable"
-            } else {
-                "not PDO-mappable"
-            }
-        );
+        // ` TITLE (IIIIh sub S: TYPE, ACCESS, PDO-mappable[, capacity N bytes][; default `V`]
+        // [; limits `L` to `H`]).`, written in one string sized for it (formatting piece by
+        // piece into growing strings was most of the planning).
+        let mut doc = String::with_capacity(title.len() + 160);
+        doc.push(' ');
+        doc.push_str(&title);
+        let _ = write!(doc, " ({:04X}h sub {}: ", object.index, sub.sub_index);
+        doc.push_str(basic.name());
+        doc.push_str(", ");
+        doc.push_str(access.as_str());
+        doc.push_str(if sub.pdo_mapping {
+            ", PDO-mappable"
+        } else {
+            ", not PDO-mappable"
+        });
         if let RustType::Bytes(n) = ty {
-            facts.push_str(&format!(", capacity {n} bytes"));
+            let _ = write!(doc, ", capacity {n} bytes");
         }
-        let value_text = |raw: &str| {
-            raw.chars()
-                .map(|c| match c {
-                    '`' => '\'',
-                    c if c.is_control() => ' ',
-                    c => c,
-                })
-                .collect::<String>()
+        // A value from the file in backticks: a backtick in it becomes `'`, a control
+        // character a space.
+        let value_text = |doc: &mut String, raw: &str| {
+            if raw.bytes().all(|b| b != b'`' && !b.is_ascii_control()) && raw.is_ascii() {
+                doc.push_str(raw);
+                return;
+            }
+            doc.extend(raw.chars().map(|c| match c {
+                '`' => '\'',
+                c if c.is_control() => ' ',
+                c => c,
+            }));
         };
         if let Some(p) = sub.parameter_value.as_ref().filter(|p| p.value.is_some()) {
-            facts.push_str(&format!("; ParameterValue `{}`", value_text(&p.raw)));
+            doc.push_str("; ParameterValue `");
+            value_text(&mut doc, &p.raw);
+            doc.push('`');
         } else if let Some(d) = &sub.default {
-            facts.push_str(&format!("; default `{}`", value_text(&d.raw)));
+            doc.push_str("; default `");
+            value_text(&mut doc, &d.raw);
+            doc.push('`');
         }
         if sub.low_limit.is_some() || sub.high_limit.is_some() {
-            facts.push_str(&format!(
-                "; limits `{}` to `{}`",
-                sub.low_limit
-                    .as_ref()
-                    .map_or("-".to_owned(), |v| value_text(&v.raw)),
-                sub.high_limit
-                    .as_ref()
-                    .map_or("-".to_owned(), |v| value_text(&v.raw))
-            ));
+            doc.push_str("; limits `");
+            match &sub.low_limit {
+                Some(v) => value_text(&mut doc, &v.raw),
+                None => doc.push('-'),
+            }
+            doc.push_str("` to `");
+            match &sub.high_limit {
+                Some(v) => value_text(&mut doc, &v.raw),
+                None => doc.push('-'),
+            }
+            doc.push('`');
         }
+        doc.push_str(").");
         let mut extra = Vec::new();
         if let Some(d) = &sub.denotation {
             extra.push(format!(" Denotation: {}.", doc_text(d)));
@@ -344,7 +365,8 @@ impl Planner<'_> {
                 extra.push(format!(" {}: {}.", doc_text(key), doc_text(value)));
             }
         }
-        let mut short_doc = vec![format!(" {title} ({facts}).")];
+        let mut short_doc = Vec::with_capacity(1 + extra.len());
+        short_doc.push(doc);
         short_doc.extend(extra);
         Some(EntryPlan {
             index: object.index,

@@ -3,8 +3,6 @@
 //! re-formatting thousands of table rows was most of a build script's time. Each such item
 //! stands in the token stream as a placeholder item, replaced after formatting ([`Splices`]).
 
-use std::fmt::Write as _;
-
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
@@ -123,11 +121,4 @@ pub fn literal_array(out: &mut String, at: usize, head: &str, elems: &[String]) 
     out.push('\n');
     indent(out, at);
     out.push_str("];\n");
-}
-
-/// `0x` and `digits` upper-case hexadecimal digits, as `types::hex` writes them.
-pub fn hex(value: u32, digits: usize) -> String {
-    let mut text = String::with_capacity(2 + digits);
-    let _ = write!(text, "0x{value:0digits$X}");
-    text
 }

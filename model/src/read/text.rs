@@ -55,7 +55,7 @@ pub fn first_nul(bytes: &[u8]) -> Option<usize> {
     if utf16(bytes).is_some() {
         return None;
     }
-    bytes.iter().position(|&b| b == 0)
+    memchr::memchr(0, bytes)
 }
 
 /// DOS code page 437 (and 850, which agrees here) for the bytes 80h..9Ah, all letters.

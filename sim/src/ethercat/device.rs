@@ -15,6 +15,7 @@
 //! An entry whose `Access` has `WriteRestrictions` (`PreOP`, `SafeOP`, `OP`, joined by `_`:
 //! the states a write is allowed in) is written only in those states, else 0800 0022.
 
+use std::cell::OnceCell;
 use std::collections::{HashMap, HashSet};
 
 use edsgen_model::model::{Device, EcPdo, SmKind};
@@ -44,6 +45,18 @@ pub struct EsiDevice {
     inputs_sm: Option<u8>,
     rules: Rules,
     behaviour: Option<Box<dyn Behaviour>>,
+    /// The process images' layout, worked out when first needed after the dictionary or the
+    /// state last changed outside a cycle (a mailbox message, [`EsiDevice::dictionary_mut`], a
+    /// state change): a cycle's outputs and behaviour change values, not the PDO assignment.
+    images: OnceCell<Images>,
+}
+
+/// The outputs and inputs images' entries, in order, and their sizes in bytes.
+#[derive(Debug)]
+struct Images {
+    outputs: Vec<Mapped>,
+    inputs: Vec<Mapped>,
+    sizes: (usize, usize),
 }
 
 /// What the write rules need (see the module comment).
@@ -116,6 +129,7 @@ impl EsiDevice {
             inputs_sm: position(SmKind::Inputs),
             rules,
             behaviour,
+            images: OnceCell::new(),
         })
     }
 
@@ -137,6 +151,7 @@ impl EsiDevice {
 
     /// The dictionary, to change values as the device's firmware would.
     pub fn dictionary_mut(&mut self) -> &mut RuntimeDictionary {
+        self.images.take();
         &mut self.od
     }
 
@@ -202,6 +217,32 @@ impl EsiDevice {
                 .collect()
         })
         .unwrap_or_default()
+    }
+}
+
+impl EsiDevice {
+    /// The process images' layout, worked out again after a change (see the `images` field).
+    fn images(&self) -> &Images {
+        self.images.get_or_init(|| Images::of(self))
+    }
+}
+
+impl Images {
+    fn of(device: &EsiDevice) -> Self {
+        let bytes = |entries: &[Mapped]| {
+            entries
+                .iter()
+                .map(|e| usize::from(e.2))
+                .sum::<usize>()
+                .div_ceil(8)
+        };
+        let (outputs, inputs) = (device.image(true), device.image(false));
+        let sizes = (bytes(&outputs), bytes(&inputs));
+        Images {
+            outputs,
+            inputs,
+            sizes,
+        }
     }
 }
 
@@ -372,16 +413,23 @@ pub fn pack(od: &RuntimeDictionary, entries: &[Mapped]) -> Vec<u8> {
     let mut image = vec![0u8; bits.div_ceil(8)];
     let mut at = 0;
     for &(index, sub, len) in entries {
-        let mut value = vec![0u8; usize::from(len).div_ceil(8)];
+        let len = usize::from(len);
+        let mut value = EntryBytes::new(len);
         if index != 0 {
-            let _ = od.read(index, sub, 0, &mut value);
+            let _ = od.read(index, sub, 0, value.bytes_mut());
         }
-        for bit in 0..usize::from(len) {
-            if value[bit / 8] >> (bit % 8) & 1 != 0 {
-                image[(at + bit) / 8] |= 1 << ((at + bit) % 8);
+        let value = value.bytes();
+        if at % 8 == 0 && len % 8 == 0 {
+            // Whole bytes at a byte boundary, as most mapped entries are.
+            image[at / 8..(at + len) / 8].copy_from_slice(value);
+        } else {
+            for bit in 0..len {
+                if value[bit / 8] >> (bit % 8) & 1 != 0 {
+                    image[(at + bit) / 8] |= 1 << ((at + bit) % 8);
+                }
             }
         }
-        at += usize::from(len);
+        at += len;
     }
     image
 }
@@ -391,20 +439,62 @@ pub fn pack(od: &RuntimeDictionary, entries: &[Mapped]) -> Vec<u8> {
 pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
     let mut at = 0;
     for &(index, sub, len) in entries {
-        let mut value = vec![0u8; usize::from(len).div_ceil(8)];
-        for bit in 0..usize::from(len) {
-            let source = at + bit;
-            if image
-                .get(source / 8)
-                .is_some_and(|b| b >> (source % 8) & 1 != 0)
-            {
-                value[bit / 8] |= 1 << (bit % 8);
+        let len = usize::from(len);
+        let mut value = EntryBytes::new(len);
+        let whole = (at % 8 == 0 && len % 8 == 0)
+            .then(|| image.get(at / 8..(at + len) / 8))
+            .flatten();
+        match whole {
+            Some(bytes) => value.bytes_mut().copy_from_slice(bytes),
+            None => {
+                let value = value.bytes_mut();
+                for bit in 0..len {
+                    let source = at + bit;
+                    if image
+                        .get(source / 8)
+                        .is_some_and(|b| b >> (source % 8) & 1 != 0)
+                    {
+                        value[bit / 8] |= 1 << (bit % 8);
+                    }
+                }
             }
         }
         if index != 0 {
-            let _ = od.write(index, sub, &value);
+            let _ = od.write(index, sub, value.bytes());
         }
-        at += usize::from(len);
+        at += len;
+    }
+}
+
+/// One mapped entry's value, zeroed: on the stack up to 8 bytes (every scalar), else on the
+/// heap (a string or domain mapped whole).
+enum EntryBytes {
+    Small([u8; 8], usize),
+    Large(Vec<u8>),
+}
+
+impl EntryBytes {
+    fn new(bits: usize) -> Self {
+        let len = bits.div_ceil(8);
+        if len <= 8 {
+            EntryBytes::Small([0; 8], len)
+        } else {
+            EntryBytes::Large(vec![0; len])
+        }
+    }
+
+    fn bytes(&self) -> &[u8] {
+        match self {
+            EntryBytes::Small(bytes, len) => &bytes[..*len],
+            EntryBytes::Large(bytes) => bytes,
+        }
+    }
+
+    fn bytes_mut(&mut self) -> &mut [u8] {
+        match self {
+            EntryBytes::Small(bytes, len) => &mut bytes[..*len],
+            EntryBytes::Large(bytes) => bytes,
+        }
     }
 }
 
@@ -412,34 +502,31 @@ impl Application for EsiDevice {
     fn mailbox(&mut self, _state: AlState, request: &[u8], answer: &mut [u8]) -> usize {
         let rules = &self.rules;
         let guard = |index: u16, sub: u8, data: &[u8]| rules.check(index, sub, data);
+        // An SDO write may change the PDO assignment or mapping.
+        self.images.take();
         self.sdo.mailbox(&mut self.od, &guard, request, answer)
     }
 
     fn image_sizes(&self) -> (usize, usize) {
-        let bytes = |e: Vec<Mapped>| {
-            e.iter()
-                .map(|e| usize::from(e.2))
-                .sum::<usize>()
-                .div_ceil(8)
-        };
-        (bytes(self.image(true)), bytes(self.image(false)))
+        self.images().sizes
     }
 
     fn outputs(&mut self, _now: Instant, outputs: &[u8]) {
-        let entries = self.image(true);
-        unpack(&mut self.od, &entries, outputs);
+        let images = self.images.get_or_init(|| Images::of(self));
+        unpack(&mut self.od, &images.outputs, outputs);
     }
 
     fn inputs(&mut self, now: Instant, inputs: &mut [u8]) {
         if let Some(behaviour) = self.behaviour.as_mut() {
             behaviour.cycle(now, &mut self.od);
         }
-        let image = pack(&self.od, &self.image(false));
+        let image = pack(&self.od, &self.images().inputs);
         let len = image.len().min(inputs.len());
         inputs[..len].copy_from_slice(&image[..len]);
     }
 
     fn state_changed(&mut self, _now: Instant, _from: AlState, to: AlState) {
+        self.images.take();
         self.rules.state = to;
     }
 }

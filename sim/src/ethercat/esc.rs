@@ -418,23 +418,37 @@ impl EmulatedEsc {
             if pto > 0x1_0000 * 8 || !self.process_memory_reachable(pfrom / 8, (pto - 1) / 8) {
                 continue;
             }
+            // Whole bytes on both sides, as a MainDevice lays out most images: copied as bytes.
+            let bytes = (from % 8 == 0 && to % 8 == 0 && pfrom % 8 == 0).then(|| {
+                let (d, p) = (((from - d0) / 8) as usize, (pfrom / 8) as usize);
+                let n = ((to - from) / 8) as usize;
+                (d..d + n, p..p + n)
+            });
             if read && kind & 1 != 0 {
-                for bit in from..to {
-                    let p = p0 + (bit - l0);
-                    let value = self.mem[(p / 8) as usize] >> (p % 8) & 1;
-                    let d = bit - d0;
-                    let byte = &mut data[(d / 8) as usize];
-                    *byte = (*byte & !(1 << (d % 8))) | (value << (d % 8));
+                if let Some((d, p)) = bytes.clone() {
+                    data[d].copy_from_slice(&self.mem[p]);
+                } else {
+                    for bit in from..to {
+                        let p = p0 + (bit - l0);
+                        let value = self.mem[(p / 8) as usize] >> (p % 8) & 1;
+                        let d = bit - d0;
+                        let byte = &mut data[(d / 8) as usize];
+                        *byte = (*byte & !(1 << (d % 8))) | (value << (d % 8));
+                    }
                 }
                 did_read = true;
             }
             if write && kind & 2 != 0 {
-                for bit in from..to {
-                    let p = p0 + (bit - l0);
-                    let d = bit - d0;
-                    let value = incoming[(d / 8) as usize] >> (d % 8) & 1;
-                    let byte = &mut self.mem[(p / 8) as usize];
-                    *byte = (*byte & !(1 << (p % 8))) | (value << (p % 8));
+                if let Some((d, p)) = bytes {
+                    self.mem[p].copy_from_slice(&incoming[d]);
+                } else {
+                    for bit in from..to {
+                        let p = p0 + (bit - l0);
+                        let d = bit - d0;
+                        let value = incoming[(d / 8) as usize] >> (d % 8) & 1;
+                        let byte = &mut self.mem[(p / 8) as usize];
+                        *byte = (*byte & !(1 << (p % 8))) | (value << (p % 8));
+                    }
                 }
                 written.push((pfrom / 8) as u32..((pto - 1) / 8 + 1) as u32);
                 did_write = true;

@@ -24,7 +24,8 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
             pub mod od {}
         };
     }
-    let mut out = String::new();
+    // About 300 bytes an entry: one allocation for the whole item.
+    let mut out = String::with_capacity(300 * plan.entries.len());
     let modules =
         " A VAR's address is here (`od::CONTROLWORD`), an ARRAY's or RECORD's entries are in a";
     let modules_2 = " module of their own (`od::identity_object::VENDOR_ID`).";
@@ -115,16 +116,23 @@ fn uses(out: &mut String, at: usize, entries: &[(usize, &EntryPlan)]) {
 
 /// One entry's typed address with its rustdoc, branded with the dictionary at `dict`.
 fn constant(out: &mut String, at: usize, position: usize, e: &EntryPlan, dict: &str) {
-    let ty = match e.ty {
-        RustType::Bytes(n) => format!("FixedBytes<{n}>"),
-        RustType::Scalar(prim, _) => prim.name().to_owned(),
-    };
-    let (index, sub) = (text::hex(e.index.into(), 4), text::hex(e.sub.into(), 2));
-    let (constructor, args) = match e.ty {
-        RustType::Scalar(prim, wire) if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool => {
-            ("Entry::with_width", vec![index, sub, wire.to_string()])
+    // The type and the constructor's arguments, written once into one small buffer each
+    // (thousands of entries: a string per piece was most of this item's cost).
+    let mut ty = String::with_capacity(16);
+    match e.ty {
+        RustType::Bytes(n) => {
+            let _ = write!(ty, "FixedBytes<{n}>");
         }
-        _ => ("Entry::new", vec![index, sub]),
+        RustType::Scalar(prim, _) => ty.push_str(prim.name()),
+    }
+    let mut args = String::with_capacity(20);
+    let _ = write!(args, "0x{:04X}, 0x{:02X}", e.index, e.sub);
+    let constructor = match e.ty {
+        RustType::Scalar(prim, wire) if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool => {
+            let _ = write!(args, ", {wire}");
+            "Entry::with_width"
+        }
+        _ => "Entry::new",
     };
     text::docs(out, at, &e.short_doc);
     address(
@@ -160,54 +168,82 @@ fn access_constructor(marker: &str) -> &'static str {
 /// One typed address, `pub const NAME: Entry<TY, super::Od[, MARKER]> =
 /// CONSTRUCTOR(ARGS)[.read_only()].at_position(POSITION).in_dictionary();`, broken as
 /// `prettyplease` breaks it: the method calls on lines of their own, and the constructor's
-/// arguments too when the line up to them does not fit; or, when even the line up to ` = ` does
-/// not fit, the type's parameters on lines of their own and the rest on one line.
+/// arguments (`args`, joined by `, `) too when the line up to them does not fit; or, when even
+/// the line up to ` = ` does not fit, the type's parameters on lines of their own and the rest on
+/// one line.
 fn address(
     out: &mut String,
     at: usize,
     (name, dict): (&str, &str),
     ty: &str,
     marker: Option<&str>,
-    (constructor, args): (&str, &[String]),
+    (constructor, args): (&str, &str),
     position: usize,
 ) {
-    let mut params = vec![ty, dict];
-    params.extend(marker);
-    let head = format!("pub const {name}: Entry<{}> = ", params.join(", "));
-    let call = format!("{constructor}({})", args.join(", "));
-    let mut chain: Vec<String> = marker
-        .map(|m| access_constructor(m).to_owned())
-        .into_iter()
-        .collect();
-    chain.push(format!(".at_position({position})"));
-    chain.push(".in_dictionary();".to_owned());
+    let params = [Some(ty), Some(dict), marker];
+    let params = || params.iter().flatten();
+    // `pub const NAME: Entry<P1, P2> = ` and `CONSTRUCTOR(ARGS)`.
+    let head_len =
+        "pub const : Entry<> = ".len() + name.len() + params().map(|p| p.len() + 2).sum::<usize>()
+            - 2;
+    let call_len = constructor.len() + args.len() + 2;
+    let call = |out: &mut String| {
+        out.push_str(constructor);
+        out.push('(');
+        out.push_str(args);
+        out.push(')');
+    };
+    let link = |out: &mut String, link: usize| match link {
+        0 => out.push_str(marker.map_or("", access_constructor)),
+        1 => {
+            let _ = write!(out, ".at_position({position})");
+        }
+        _ => out.push_str(".in_dictionary();"),
+    };
     text::indent(out, at);
-    if at + head.len() > text::MARGIN {
+    if at + head_len > text::MARGIN {
         let _ = writeln!(out, "pub const {name}: Entry<");
-        for param in &params {
+        for param in params() {
             text::indent(out, at + 4);
-            let _ = writeln!(out, "{param},");
+            out.push_str(param);
+            out.push_str(",\n");
         }
         text::indent(out, at);
-        let _ = writeln!(out, "> = {call}{}", chain.concat());
+        out.push_str("> = ");
+        call(out);
+        for n in 0..3 {
+            link(out, n);
+        }
+        out.push('\n');
         return;
     }
-    out.push_str(&head);
-    if at + head.len() + call.len() <= text::MARGIN {
-        out.push_str(&call);
+    out.push_str("pub const ");
+    out.push_str(name);
+    out.push_str(": Entry<");
+    for (n, param) in params().enumerate() {
+        if n > 0 {
+            out.push_str(", ");
+        }
+        out.push_str(param);
+    }
+    out.push_str("> = ");
+    if at + head_len + call_len <= text::MARGIN {
+        call(out);
     } else {
-        let _ = writeln!(out, "{constructor}(");
-        for arg in args {
+        out.push_str(constructor);
+        out.push_str("(\n");
+        for arg in args.split(", ") {
             text::indent(out, at + 8);
-            let _ = writeln!(out, "{arg},");
+            out.push_str(arg);
+            out.push_str(",\n");
         }
         text::indent(out, at + 4);
         out.push(')');
     }
     out.push('\n');
-    for link in &chain {
+    for n in usize::from(marker.is_none())..3 {
         text::indent(out, at + 4);
-        out.push_str(link);
+        link(out, n);
         out.push('\n');
     }
 }

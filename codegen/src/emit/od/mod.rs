@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::plan::{Initial, Plan};
+use super::plan::{EntryPlan, Initial, Plan};
 use super::text::{self, Splices, ITEM_INDENT};
 use super::types::{access_variant, data_type_variant, NumberTokens, Prim, RustType};
 
@@ -291,7 +291,8 @@ pub fn descriptors(plan: &Plan, splices: &mut Splices) -> TokenStream {
 
 /// `ENTRIES` (a row per entry) and `OFFSETS`, as text.
 fn entries_and_offsets(plan: &Plan) -> String {
-    let mut out = String::new();
+    // About 100 bytes an entry: one allocation for the whole item.
+    let mut out = String::with_capacity(100 * plan.entries.len() + 256);
     let n = plan.entries.len();
     text::docs(
         &mut out,
@@ -306,37 +307,45 @@ fn entries_and_offsets(plan: &Plan) -> String {
     if n == 0 {
         out.push_str("[];\n");
     } else {
-        let rows: Vec<String> = plan
-            .entries
-            .iter()
-            .map(|e| {
-                format!(
-                    "E::new({}, {}, D::{}, A::{}, {})",
-                    text::hex(e.index.into(), 4),
-                    text::hex(e.sub.into(), 2),
-                    data_type_variant(e.basic),
-                    access_variant(e.access),
-                    e.pdo_mappable
-                )
-            })
-            .collect();
+        let row = |out: &mut String, e: &EntryPlan| {
+            let _ = write!(
+                out,
+                "E::new(0x{:04X}, 0x{:02X}, D::{}, A::{}, {})",
+                e.index,
+                e.sub,
+                data_type_variant(e.basic),
+                access_variant(e.access),
+                e.pdo_mappable
+            );
+        };
         let inner = ITEM_INDENT + 4;
         out.push_str("{\n");
         text::indent(&mut out, inner);
         out.push_str("use ::edsgen_runtime::{Access as A, DataType as D, EntryDescriptor as E};\n");
         text::indent(&mut out, inner);
-        // One line if it fits, else a row per line (the rows are not literals: no filling).
-        if inner + rows.iter().map(|r| r.len() + 2).sum::<usize>() <= text::MARGIN {
+        // A row per line, written in place; one line if they all fit (the rows are not
+        // literals: no filling).
+        out.push_str("[\n");
+        let rows_at = out.len();
+        let mut one_line = inner;
+        for e in &plan.entries {
+            text::indent(&mut out, inner + 4);
+            let at = out.len();
+            row(&mut out, e);
+            one_line += out.len() - at + 2;
+            out.push_str(",\n");
+        }
+        if one_line <= text::MARGIN {
+            out.truncate(rows_at - 2);
             out.push('[');
-            out.push_str(&rows.join(", "));
+            for (i, e) in plan.entries.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(", ");
+                }
+                row(&mut out, e);
+            }
             out.push_str("]\n");
         } else {
-            out.push_str("[\n");
-            for row in &rows {
-                text::indent(&mut out, inner + 4);
-                out.push_str(row);
-                out.push_str(",\n");
-            }
             text::indent(&mut out, inner);
             out.push_str("]\n");
         }

@@ -60,10 +60,11 @@ pub use compact::{expand_compact_pdo, expand_compact_sub_obj, IMPLICIT_MAPPING_E
 /// Reads an EDS or DCF file (a DCF when the extension is `.dcf`, case-insensitively).
 pub fn read(path: &Path, bytes: &[u8]) -> Read {
     let (text, encoding) = super::text::decode(bytes);
-    let format = match super::detect_format(path, bytes) {
-        Format::Dcf => Format::Dcf,
-        _ => Format::Eds,
-    };
+    // A DCF by its extension alone, as `detect_format` has it (without its ODVA scan again).
+    let dcf = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("dcf"));
+    let format = if dcf { Format::Dcf } else { Format::Eds };
     let mut reader = Reader {
         device: empty_device(path, format, encoding),
         diags: Vec::new(),

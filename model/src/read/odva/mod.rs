@@ -20,16 +20,55 @@ mod parts;
 
 /// Whether the text is an ODVA EDS: it has a `[File]` or `[Device]` section header (CiA 306 files
 /// have `[FileInfo]` and `[DeviceInfo]`). Looks only at lines that start with `[`.
+///
+/// Every CiA 306 file goes through here, so it scans the bytes without decoding them: only the
+/// `[` bytes are looked at, and a line with a non-ASCII byte before its `]` is decoded alone.
 pub fn is_odva(bytes: &[u8]) -> bool {
-    let text = String::from_utf8_lossy(bytes);
-    text.lines().any(|line| {
-        let line = line.trim_start();
-        let Some(rest) = line.strip_prefix('[') else {
+    let mut from = 0;
+    while let Some(at) = bytes
+        .get(from..)
+        .and_then(|rest| memchr::memchr(b'[', rest))
+    {
+        let bracket = from + at;
+        let start = memchr::memrchr(b'\n', &bytes[..bracket]).map_or(0, |n| n + 1);
+        let end = memchr::memchr(b'\n', &bytes[bracket..]).map_or(bytes.len(), |n| bracket + n);
+        from = end;
+        if line_is_odva_header(&bytes[start..end]) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Whether one line (without its `\n`) is a `[File]` or `[Device]` header, leading white space
+/// allowed: ASCII lines directly, others decoded as `String::from_utf8_lossy` would.
+fn line_is_odva_header(line: &[u8]) -> bool {
+    let name_end = line.iter().position(|&b| b == b']').unwrap_or(line.len());
+    if !line[..name_end].is_ascii() {
+        let text = String::from_utf8_lossy(line);
+        let Some(rest) = text.trim_start().strip_prefix('[') else {
             return false;
         };
         let name = rest.split(']').next().unwrap_or("").trim();
-        name.eq_ignore_ascii_case("File") || name.eq_ignore_ascii_case("Device")
-    })
+        return name.eq_ignore_ascii_case("File") || name.eq_ignore_ascii_case("Device");
+    }
+    // White space as `char::is_whitespace` has it among ASCII bytes (with 0Bh, which
+    // `u8::is_ascii_whitespace` leaves out).
+    let space = |b: &u8| matches!(b, b'\t' | b'\n' | 0x0B | 0x0C | b'\r' | b' ');
+    let Some(rest) = line[..name_end]
+        .iter()
+        .position(|b| !space(b))
+        .and_then(|first| line[first..name_end].strip_prefix(b"["))
+    else {
+        return false;
+    };
+    let first = rest.iter().position(|b| !space(b)).unwrap_or(rest.len());
+    let last = rest
+        .iter()
+        .rposition(|b| !space(b))
+        .map_or(first, |l| l + 1);
+    let name = &rest[first..last.max(first)];
+    name.eq_ignore_ascii_case(b"File") || name.eq_ignore_ascii_case(b"Device")
 }
 
 /// Reads an ODVA EDS.
