@@ -178,6 +178,38 @@ fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStre
         offset += n;
     }
     let doc = format!(" {doc}");
+    // An empty direction (a module without inputs, or without outputs) reads and writes nothing.
+    let (read, write) = if fields.is_empty() {
+        (
+            quote! {
+                pub fn from_bytes(_bytes: &[u8; 0]) -> Self {
+                    Self::ZERO
+                }
+            },
+            quote! {
+                pub fn to_bytes(&self) -> [u8; 0] {
+                    [0u8; 0]
+                }
+            },
+        )
+    } else {
+        (
+            quote! {
+                pub fn from_bytes(bytes: &[u8; #len]) -> Self {
+                    let mut image = Self::ZERO;
+                    #(#reads)*
+                    image
+                }
+            },
+            quote! {
+                pub fn to_bytes(&self) -> [u8; #len] {
+                    let mut bytes = [0u8; #len];
+                    #(#writes)*
+                    bytes
+                }
+            },
+        )
+    };
     quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -188,17 +220,9 @@ fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStre
             /// All zero.
             pub const ZERO: Self = Self { #(#zero)* };
             /// The image of Data_Exchange's bytes.
-            pub fn from_bytes(bytes: &[u8; #len]) -> Self {
-                let mut image = Self::ZERO;
-                #(#reads)*
-                image
-            }
+            #read
             /// Data_Exchange's bytes of the image.
-            pub fn to_bytes(&self) -> [u8; #len] {
-                let mut bytes = [0u8; #len];
-                #(#writes)*
-                bytes
-            }
+            #write
         }
     }
 }
