@@ -21,10 +21,10 @@
 //! let mut dict = Od::new(3); // $NODEID defaults resolve here, at run time
 //! assert_eq!(dict.get(od::rpdo1_communication_parameter::COB_ID_USED_BY_RPDO), 0x203);
 //! assert_eq!(dict.set(od::CONTROLWORD, 0x000F), Ok(())); // typed, checked like an SDO write
-//! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.encode();
+//! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.to_bytes();
 //! assert_eq!(frame, [0x0F, 0x00, 0xDC, 0x05]);
 //! assert_eq!(pdo::Rpdo1::cob_id(3), 0x203);
-//! // No field of Rpdo1 can overflow its mapped bits: encode cannot fail, and cob_id is the
+//! // No field of Rpdo1 can overflow its mapped bits: to_bytes cannot fail, and cob_id is the
 //! // CAN identifier a frame takes.
 //! let can = edsgen_runtime::CanFrame::new(pdo::Rpdo1::cob_id(3), &frame);
 //! assert!(can.is_some_and(|f| f.data() == frame));

@@ -1,12 +1,12 @@
 //! The module of an ODVA EDS (CIP): identity constants (the Identity object's attributes a
-//! scanner's electronic key compares), one typed image per assembly with `decode`/`encode` of its
-//! bytes, and the connections of `[Connection Manager]` as constants.
+//! scanner's electronic key compares), one typed image per assembly with the image API (`SIZE`,
+//! `from_bytes`, `to_bytes`, `from_slice`) over its bytes, and the connections of `[Connection Manager]` as constants.
 //!
 //! CIP carries data little-endian and packs an assembly's members from bit 0 of byte 0, each
 //! member's bits least significant first: the images follow that. Runs of equal members
 //! (`8,Param1` written 32 times) become one array field. A member's default is its parameter's
-//! default when the type holds it, else zero. The module needs neither `std` nor `alloc`, nor
-//! the runtime: its bit helpers are its own.
+//! default when the type holds it, else zero. The module needs neither `std` nor `alloc`; of the
+//! runtime it names only `PdoError` and the length check of `from_slice`.
 
 use std::collections::BTreeMap;
 
@@ -436,8 +436,8 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
                 defaults.push(quote!(#field: #value,));
             }
         }
-        let (buf_in, encode_body) = if slots.is_empty() {
-            (quote!(_buf), quote!([0u8; #size_lit]))
+        let (bytes_in, to_bytes_body) = if slots.is_empty() {
+            (quote!(_bytes), quote!([0u8; #size_lit]))
         } else {
             (
                 quote!(buf),
@@ -448,13 +448,10 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
                 },
             )
         };
-        let check = if size == 0 {
-            TokenStream::new()
-        } else if slots.is_empty() {
-            quote!(if _buf.len() < #size_lit { return None; })
-        } else {
-            quote!(if buf.len() < #size_lit { return None; })
-        };
+        let size_and_from_slice = super::image_api::size_and_from_slice(
+            usize::try_from(size).unwrap_or(0),
+            "The size in bytes.",
+        );
         items.push(pkw_pzd(cip, assembly.number, &ty));
         items.push(quote! {
             #[doc = #doc]
@@ -466,19 +463,16 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
             impl #ty {
                 /// The Assembly object instance (connection point).
                 pub const INSTANCE: u32 = #instance;
-                /// The size in bytes.
-                pub const SIZE: usize = #size_lit;
+                #size_and_from_slice
 
-                /// Reads the image from the assembly's bytes; `None` when fewer than
-                /// [`Self::SIZE`] are given.
-                pub fn decode(#buf_in: &[u8]) -> Option<Self> {
-                    #check
-                    Some(Self { #(#gets)* })
+                /// Reads the image from the assembly's bytes.
+                pub fn from_bytes(#bytes_in: &[u8; #size_lit]) -> Self {
+                    Self { #(#gets)* }
                 }
 
                 /// The assembly's bytes (members not named here are zero).
-                pub fn encode(&self) -> [u8; #size_lit] {
-                    #encode_body
+                pub fn to_bytes(self) -> [u8; #size_lit] {
+                    #to_bytes_body
                 }
             }
 
@@ -545,12 +539,12 @@ fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
             impl #ty {
                 #[doc = #doc]
                 pub fn pkw_pzd(&self) -> #p::OutputImage {
-                    #p::OutputImage::parse(&self.encode(), #p::ByteOrder::#order)
+                    #p::OutputImage::parse(&self.to_bytes(), #p::ByteOrder::#order)
                 }
 
                 /// The image carrying a PKW/PZD output image.
                 pub fn from_pkw_pzd(image: &#p::OutputImage) -> Self {
-                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
+                    Self::from_bytes(&image.emit(#p::ByteOrder::#order))
                 }
             }
         }
@@ -563,12 +557,12 @@ fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
             impl #ty {
                 #[doc = #doc]
                 pub fn pkw_pzd(&self) -> Result<#p::InputImage, #p::ResponseError> {
-                    #p::InputImage::parse(&self.encode(), #p::ByteOrder::#order)
+                    #p::InputImage::parse(&self.to_bytes(), #p::ByteOrder::#order)
                 }
 
                 /// The image carrying a PKW/PZD input image.
                 pub fn from_pkw_pzd(image: &#p::InputImage) -> Self {
-                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
+                    Self::from_bytes(&image.emit(#p::ByteOrder::#order))
                 }
             }
         }

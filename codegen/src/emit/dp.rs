@@ -1,9 +1,10 @@
 //! The module generated from a GSD file (PROFIBUS-DP): what a DP master's code needs to bring
 //! the slave to data exchange, and what a slave's firmware answers with. Identity
 //! (`IDENT_NUMBER`, names), baud rates with MaxTsdr, the master's flags, the default
-//! User_Prm_Data, and per module (`modules::NAME`): its Chk_Cfg bytes, its lengths and its
-//! input and output images, one field per configuration identifier (16-bit words big-endian
-//! for word identifiers, bytes otherwise), read from and written to the bytes of Data_Exchange.
+//! User_Prm_Data, and per module (`modules::NAME`): its name, its Chk_Cfg bytes and its input
+//! and output images with the image API every bus shares (`SIZE`, `from_bytes`, `to_bytes`,
+//! `from_slice`), one field per configuration identifier carrying data in that direction
+//! (16-bit words big-endian for word identifiers, bytes otherwise).
 //! No allocation, no `unsafe`: the module builds `no_std`.
 
 use proc_macro2::{Literal, TokenStream};
@@ -106,12 +107,21 @@ pub(super) fn module(device: &Device, dp: &Dp, module: &str) -> TokenStream {
     }
 }
 
-/// One image field per identifier: its name, type and byte length.
-fn fields(
-    ids: &[CfgIdentifier],
-    input: bool,
-) -> Vec<(proc_macro2::Ident, TokenStream, usize, bool)> {
-    ids.iter()
+/// One image field: the identifier it carries (its position in `CONFIG`'s identifiers), its
+/// name, and its byte length.
+struct ImageField {
+    identifier: usize,
+    name: proc_macro2::Ident,
+    len: usize,
+    /// 16-bit words, big-endian (the identifier's bit 6), rather than bytes.
+    words: bool,
+}
+
+/// One field per identifier with data in this direction: `data` when there is one, `data_1`,
+/// `data_2`, ... when there are several (a GSD names its modules, not their identifiers).
+fn fields(ids: &[CfgIdentifier], input: bool) -> Vec<ImageField> {
+    let carrying: Vec<(usize, &CfgIdentifier, usize)> = ids
+        .iter()
         .enumerate()
         .filter_map(|(n, id)| {
             let len = if input {
@@ -119,19 +129,22 @@ fn fields(
             } else {
                 id.output_bytes
             } as usize;
-            if len == 0 {
-                return None;
-            }
-            let name = format_ident!("id{n}");
-            let words = id.words && len.is_multiple_of(2);
-            let ty = if words {
-                let count = Literal::usize_unsuffixed(len / 2);
-                quote!([u16; #count])
+            (len > 0).then_some((n, id, len))
+        })
+        .collect();
+    let several = carrying.len() > 1;
+    carrying
+        .iter()
+        .enumerate()
+        .map(|(k, (n, id, len))| ImageField {
+            identifier: *n,
+            name: if several {
+                format_ident!("data_{}", k + 1)
             } else {
-                let count = Literal::usize_unsuffixed(len);
-                quote!([u8; #count])
-            };
-            Some((name, ty, len, words))
+                format_ident!("data")
+            },
+            len: *len,
+            words: id.words && len.is_multiple_of(2),
         })
         .collect()
 }
@@ -139,31 +152,45 @@ fn fields(
 fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStream {
     let ty = format_ident!("{name}");
     let fields = fields(ids, input);
-    let total: usize = fields.iter().map(|f| f.2).sum();
+    let total: usize = fields.iter().map(|f| f.len).sum();
     let len = Literal::usize_unsuffixed(total);
-    let decls = fields.iter().map(|(f, t, n, words)| {
-        let what = if *words { "words, big-endian" } else { "bytes" };
-        let doc = format!(
-            " Configuration identifier `{}`: {n} bytes ({what}).",
-            &f.to_string()[2..]
-        );
-        quote!(#[doc = #doc] pub #f: #t,)
-    });
-    let zero = fields.iter().map(|(f, _, n, words)| {
-        let count = Literal::usize_unsuffixed(if *words { n / 2 } else { *n });
-        quote!(#f: [0; #count],)
-    });
-    let mut offset = 0usize;
+    let mut decls = Vec::new();
+    let mut zero = Vec::new();
     let mut reads = Vec::new();
     let mut writes = Vec::new();
-    for (f, _, n, words) in &fields {
+    let mut offset = 0usize;
+    for field in &fields {
+        let (f, n) = (&field.name, field.len);
         let at = Literal::usize_unsuffixed(offset);
-        if *words {
-            let end = Literal::usize_unsuffixed(offset + n);
+        let end = Literal::usize_unsuffixed(offset + n);
+        let count = Literal::usize_unsuffixed(if field.words { n / 2 } else { n });
+        let (t, what) = if field.words {
+            (
+                quote!([u16; #count]),
+                format!("{} words, big-endian", n / 2),
+            )
+        } else {
+            (quote!([u8; #count]), format!("{n} bytes"))
+        };
+        let doc = format!(
+            " Bytes {offset} to {}: identifier {} of `CONFIG`, {what}.",
+            offset + n - 1,
+            field.identifier + 1
+        );
+        // Byte `k` of the field, `i` counting its bytes or words (no `0 + i` for the first).
+        let byte = |k: TokenStream| {
+            if offset == 0 {
+                k
+            } else {
+                quote!(#at + #k)
+            }
+        };
+        decls.push(quote!(#[doc = #doc] pub #f: #t,));
+        zero.push(quote!(#f: [0; #count],));
+        if field.words {
+            let (high, low) = (byte(quote!(2 * i)), byte(quote!(2 * i + 1)));
             reads.push(quote! {
-                for (word, pair) in image.#f.iter_mut().zip(bytes[#at..#end].chunks_exact(2)) {
-                    *word = u16::from_be_bytes([pair[0], pair[1]]);
-                }
+                #f: ::core::array::from_fn(|i| u16::from_be_bytes([bytes[#high], bytes[#low]])),
             });
             writes.push(quote! {
                 for (word, pair) in self.#f.iter().zip(bytes[#at..#end].chunks_exact_mut(2)) {
@@ -171,38 +198,32 @@ fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStre
                 }
             });
         } else {
-            let end = Literal::usize_unsuffixed(offset + n);
-            reads.push(quote!(image.#f.copy_from_slice(&bytes[#at..#end]);));
+            let k = byte(quote!(i));
+            reads.push(quote!(#f: ::core::array::from_fn(|i| bytes[#k]),));
             writes.push(quote!(bytes[#at..#end].copy_from_slice(&self.#f);));
         }
         offset += n;
     }
-    let doc = format!(" {doc}");
+    let doc = format!(" {doc}: {total} bytes of Data_Exchange.");
     // An empty direction (a module without inputs, or without outputs) reads and writes nothing.
-    let (read, write) = if fields.is_empty() {
+    let (from_bytes, to_bytes) = if fields.is_empty() {
         (
-            quote! {
+            quote!(
                 pub fn from_bytes(_bytes: &[u8; 0]) -> Self {
-                    Self::ZERO
+                    Self {}
                 }
-            },
-            quote! {
-                pub fn to_bytes(&self) -> [u8; 0] {
+            ),
+            quote!(
+                pub fn to_bytes(self) -> [u8; 0] {
                     [0u8; 0]
                 }
-            },
+            ),
         )
     } else {
         (
+            quote!(pub fn from_bytes(bytes: &[u8; #len]) -> Self { Self { #(#reads)* } }),
             quote! {
-                pub fn from_bytes(bytes: &[u8; #len]) -> Self {
-                    let mut image = Self::ZERO;
-                    #(#reads)*
-                    image
-                }
-            },
-            quote! {
-                pub fn to_bytes(&self) -> [u8; #len] {
+                pub fn to_bytes(self) -> [u8; #len] {
                     let mut bytes = [0u8; #len];
                     #(#writes)*
                     bytes
@@ -210,19 +231,25 @@ fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStre
             },
         )
     };
+    let size_and_from_slice =
+        super::image_api::size_and_from_slice(total, "The image's length in bytes.");
     quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
         pub struct #ty { #(#decls)* }
         impl #ty {
-            /// The image's length in bytes.
-            pub const LEN: usize = #len;
+            #size_and_from_slice
             /// All zero.
             pub const ZERO: Self = Self { #(#zero)* };
             /// The image of Data_Exchange's bytes.
-            #read
+            #from_bytes
             /// Data_Exchange's bytes of the image.
-            #write
+            #to_bytes
+        }
+        impl Default for #ty {
+            fn default() -> Self {
+                Self::ZERO
+            }
         }
     }
 }
@@ -232,16 +259,27 @@ fn dp_module(m: &DpModule, ids: &[CfgIdentifier], name: &str, pkw_pzd: bool) -> 
     let doc = format!(" Module \"{}\".", doc_text(&m.name));
     let config: Vec<_> = m.config.iter().map(|b| hex(u128::from(*b), 2)).collect();
     let n_config = Literal::usize_unsuffixed(config.len());
-    let inputs = image("Inputs", "The inputs (slave to master).", ids, true);
-    let outputs = image("Outputs", "The outputs (master to slave).", ids, false);
+    let inputs = image("Inputs", "The inputs (slave to master)", ids, true);
+    let outputs = image("Outputs", "The outputs (master to slave)", ids, false);
     let conversions = if pkw_pzd {
         pkw_pzd_conversions()
     } else {
         TokenStream::new()
     };
+    let module_name = Literal::string(&m.name);
+    let reference = m.reference.map(|r| {
+        let r = Literal::u32_unsuffixed(r);
+        quote! {
+            /// The module reference number (the number after the module's configuration).
+            pub const REFERENCE: u32 = #r;
+        }
+    });
     quote! {
         #[doc = #doc]
         pub mod #name {
+            /// The module's name as the GSD writes it.
+            pub const NAME: &str = #module_name;
+            #reference
             /// The configuration bytes a master sends in Chk_Cfg (and Get_Cfg answers).
             pub const CONFIG: [u8; #n_config] = [#(#config),*];
             #inputs

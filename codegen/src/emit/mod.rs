@@ -12,6 +12,7 @@ mod cip_connections;
 mod cip_enums;
 pub mod dp;
 pub mod ethercat;
+mod image_api;
 pub mod names;
 pub mod od;
 pub mod pdo;

@@ -96,19 +96,22 @@ pub mod odva_io {
         pub const INSTANCE: u32 = 100;
         /// The size in bytes.
         pub const SIZE: usize = 3;
-        /// Reads the image from the assembly's bytes; `None` when fewer than
-        /// [`Self::SIZE`] are given.
-        pub fn decode(buf: &[u8]) -> Option<Self> {
-            if buf.len() < 3 {
-                return None;
-            }
-            Some(Self {
+        /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+        pub fn from_slice(
+            bytes: &[u8],
+        ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+            ::edsgen_runtime::support::payload::<3>(bytes)
+                .map(|bytes| Self::from_bytes(&bytes))
+        }
+        /// Reads the image from the assembly's bytes.
+        pub fn from_bytes(buf: &[u8; 3]) -> Self {
+            Self {
                 speed: get(buf, 0, 16) as u16,
                 mode: get(buf, 16, 8) as u8,
-            })
+            }
         }
         /// The assembly's bytes (members not named here are zero).
-        pub fn encode(&self) -> [u8; 3] {
+        pub fn to_bytes(self) -> [u8; 3] {
             let mut buf = [0u8; 3];
             put(&mut buf, 0, 16, u64::from(self.speed));
             put(&mut buf, 16, 8, u64::from(self.mode));
@@ -132,18 +135,21 @@ pub mod odva_io {
         pub const INSTANCE: u32 = 150;
         /// The size in bytes.
         pub const SIZE: usize = 2;
-        /// Reads the image from the assembly's bytes; `None` when fewer than
-        /// [`Self::SIZE`] are given.
-        pub fn decode(buf: &[u8]) -> Option<Self> {
-            if buf.len() < 2 {
-                return None;
-            }
-            Some(Self {
+        /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+        pub fn from_slice(
+            bytes: &[u8],
+        ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+            ::edsgen_runtime::support::payload::<2>(bytes)
+                .map(|bytes| Self::from_bytes(&bytes))
+        }
+        /// Reads the image from the assembly's bytes.
+        pub fn from_bytes(buf: &[u8; 2]) -> Self {
+            Self {
                 speed: get(buf, 0, 16) as u16,
-            })
+            }
         }
         /// The assembly's bytes (members not named here are zero).
-        pub fn encode(&self) -> [u8; 2] {
+        pub fn to_bytes(self) -> [u8; 2] {
             let mut buf = [0u8; 2];
             put(&mut buf, 0, 16, u64::from(self.speed));
             buf
