@@ -244,7 +244,7 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Scanner) -> Result<(), 
     // Forward_Open 150 -> 100 at 50 ms, sizes 32 + 6 and 32 + 2, the EDS's connection path.
     // Point-to-point, high priority, variable size; timeout multiplier ×4.
     let conn = card::EXCLUSIVE_OWNER;
-    let params = |size: u64| network_params(false, 2, 1, true, size as u16);
+    let params = |size: u16| network_params(false, 2, 1, true, size);
     let open = ForwardOpenRepr {
         large: false,
         ticks: DEFAULT_TICKS,

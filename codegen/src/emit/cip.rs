@@ -15,7 +15,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::names::{ident, Case};
-use super::plan::{doc_text, id};
+use super::plan::{code_span, doc_text, id};
 use super::{types, Generated};
 use crate::diag::Diagnostic;
 use crate::model::{data_type_info, Cip, CipAssembly, CipNumber, CipParam, Device, FieldRef};
@@ -290,7 +290,7 @@ fn slots(cip: &Cip, assembly: &CipAssembly, enums: &BTreeMap<u32, String>) -> (V
         }
         let (wanted, doc, default) = match (&m.member, param) {
             (FieldRef::Param(n), Some(p)) => {
-                let mut doc = format!(" Param{n} `{}`", doc_text(&p.name));
+                let mut doc = format!(" Param{n} {}", code_span(&p.name));
                 if let Some(e) = enums.get(n) {
                     doc.push_str(&format!(" (values: [`{e}`])"));
                 }
@@ -321,7 +321,7 @@ fn slots(cip: &Cip, assembly: &CipAssembly, enums: &BTreeMap<u32, String>) -> (V
                     FieldRef::Other(t) => t.clone(),
                     _ => String::new(),
                 };
-                ("member".to_owned(), format!(" `{}`", doc_text(&text)), None)
+                ("member".to_owned(), format!(" {}", code_span(&text)), None)
             }
         };
         let mut name = wanted.clone();
@@ -374,9 +374,9 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
         let ty = id(name);
         let instance = Literal::u32_unsuffixed(assembly.instance());
         let doc = format!(
-            " Assem{} `{}`: assembly instance {}, {size} bytes.",
+            " Assem{} {}: assembly instance {}, {size} bytes.",
             assembly.number,
-            doc_text(&assembly.name),
+            code_span(&assembly.name),
             assembly.instance()
         );
         let mut fields = Vec::new();

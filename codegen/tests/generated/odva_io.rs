@@ -177,10 +177,11 @@ pub mod odva_io {
         pub t_o_assembly: Option<u32>,
         /// The configuration assembly instance, if it names one.
         pub config_assembly: Option<u32>,
-        /// The O->T data size in bytes (without the run/idle header).
-        pub o_t_size: u64,
+        /// The O->T data size in bytes (without the run/idle header), as Forward_Open's
+        /// 16-bit connection size carries it.
+        pub o_t_size: u16,
         /// The T->O data size in bytes.
-        pub t_o_size: u64,
+        pub t_o_size: u16,
         /// The O->T RPI in microseconds (the parameter's default when a parameter holds it;
         /// 0 when the file gives none).
         pub rpi_us: u32,

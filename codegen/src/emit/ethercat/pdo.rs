@@ -5,7 +5,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use crate::emit::names::{ident, Case, Namespace};
-use crate::emit::plan::{doc_text, id, Plan};
+use crate::emit::plan::{code_span, doc_text, id, Plan};
 use crate::emit::types::{pdo_derives, Prim, RustType, TypeTokens};
 use crate::model::EcPdo;
 
@@ -121,14 +121,14 @@ pub(super) fn plan_pdo(pdo: &EcPdo, rx: bool, plan: &Plan) -> PdoPlan {
     };
     let mut doc = vec![
         format!(
-            " {} {:04X}h `{}`: {offset} bits ({} bytes){assigned}.",
+            " {} {:04X}h {}: {offset} bits ({} bytes){assigned}.",
             if rx {
                 "RxPDO (outputs)"
             } else {
                 "TxPDO (inputs)"
             },
             pdo.index,
-            doc_text(pdo.name.trim()).replace('`', "'"),
+            code_span(pdo.name.trim()),
             offset.div_ceil(8)
         ),
         String::new(),

@@ -7,7 +7,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use crate::emit::names::{ident, Case};
-use crate::emit::plan::{doc_text, id};
+use crate::emit::plan::{code_span, doc_text, id};
 use crate::model::{DataItem, PnDataType};
 
 /// What a field holds.
@@ -69,8 +69,8 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
         names.push(field.clone());
         let f = id(&field);
         let doc = format!(
-            " Byte {offset}: `{}`{}.",
-            doc_text(&item.data_type.value),
+            " Byte {offset}: {}{}.",
+            code_span(&item.data_type.value),
             item.name
                 .as_deref()
                 .map(|t| format!(", {}", doc_text(t)))

@@ -12,7 +12,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::names::{ident, Case};
-use super::plan::{doc_text, id};
+use super::plan::{code_span, doc_text, id};
 use super::types::hex;
 use crate::diag::Diagnostic;
 use crate::model::{Profinet, Submodule};
@@ -48,14 +48,14 @@ pub(super) fn module(
                 &format!("module_{n}"),
             ),
         );
-        let ident_doc = format!(" `{}`'s ModuleIdentNumber.", doc_text(&m.id));
+        let ident_doc = format!(" {}'s ModuleIdentNumber.", code_span(&m.id));
         let module_ident_value = hex(
             u128::from(m.module_ident.as_ref().map_or(0, |v| v.value)),
             8,
         );
         let doc = format!(
-            " Module `{}`{}.",
-            doc_text(&m.id),
+            " Module {}{}.",
+            code_span(&m.id),
             m.name
                 .as_deref()
                 .map(|n| format!(": {}", doc_text(n)))
@@ -123,8 +123,8 @@ fn identity(pn: &Profinet) -> TokenStream {
             8,
         );
         let doc = format!(
-            " The default access point `{}`'s ModuleIdentNumber (slot 0).",
-            doc_text(&dap.id)
+            " The default access point {}'s ModuleIdentNumber (slot 0).",
+            code_span(&dap.id)
         );
         items.push(quote! {
             #[doc = #doc]
@@ -180,8 +180,8 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
             );
             let subslot = Literal::u16_unsuffixed(sub.subslot);
             let doc = format!(
-                " Submodule `{}` in subslot {}{}.",
-                doc_text(&sub.id),
+                " Submodule {} in subslot {}{}.",
+                code_span(&sub.id),
                 sub.subslot,
                 sub.name
                     .as_deref()

@@ -5,7 +5,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use crate::emit::names::{ident, Case};
-use crate::emit::plan::{doc_text, id};
+use crate::emit::plan::{code_span, doc_text, id};
 use crate::model::{ParameterRecord, PnDataType, RecordField};
 use crate::read::esi::values::parse_number;
 
@@ -51,8 +51,8 @@ pub(super) fn records(records: &[ParameterRecord]) -> TokenStream {
             let name = id(&format!("{name}_BYTE_OFFSET"));
             let offset = Literal::usize_unsuffixed(f.byte_offset as usize);
             let doc = format!(
-                " Byte offset of the `{}` field{}{}.",
-                doc_text(&f.data_type.value),
+                " Byte offset of the {} field{}{}.",
+                code_span(&f.data_type.value),
                 f.name
                     .as_deref()
                     .map(|t| format!(" {}", doc_text(t)))
