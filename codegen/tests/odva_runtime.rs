@@ -47,6 +47,17 @@ fn images_decode_and_encode_little_endian() {
 }
 
 #[test]
+fn a_scaled_parameter_has_its_engineering_value() {
+    // Param1 `Speed`: scaling 1, 10, 1, 0 (multiplier, divisor, base, offset).
+    let inputs = Inputs {
+        speed: 5000,
+        mode: 0,
+    };
+    assert_eq!(inputs.speed_scaled(), 500.0);
+    assert_eq!(Outputs { speed: 15 }.speed_scaled(), 1.5);
+}
+
+#[test]
 fn defaults_are_the_parameters() {
     assert_eq!(
         Inputs::default(),

@@ -245,6 +245,8 @@ struct Slot {
     count: usize,
     doc: String,
     default: Option<CipNumber>,
+    /// The parameter's scaling (multiplier, divisor, base, offset), when the file gives any.
+    scaling: Option<[i64; 4]>,
 }
 
 fn member_bits(cip: &Cip, bits: Option<u32>, member: &FieldRef) -> u32 {
@@ -339,6 +341,17 @@ fn slots(cip: &Cip, assembly: &CipAssembly, enums: &BTreeMap<u32, String>) -> (V
             count: 1,
             doc,
             default,
+            scaling: param
+                .filter(|p| p.scaling.iter().any(Option::is_some))
+                .map(|p| {
+                    let [mult, div, base, offset] = p.scaling;
+                    [
+                        mult.unwrap_or(1),
+                        div.unwrap_or(1),
+                        base.unwrap_or(1),
+                        offset.unwrap_or(0),
+                    ]
+                }),
         });
         bit += u64::from(bits);
     }
@@ -383,6 +396,7 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
         let mut gets = Vec::new();
         let mut puts = Vec::new();
         let mut defaults = Vec::new();
+        let mut scaled = Vec::new();
         for s in &slots {
             let field = id(&s.name);
             let t = s.ty.tokens();
@@ -452,6 +466,10 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
             usize::try_from(size).unwrap_or(0),
             "The size in bytes.",
         );
+        for s in &slots {
+            scaled.extend(scaled_getter(s));
+        }
+        let scaled_impl = (!scaled.is_empty()).then(|| quote!(impl #ty { #(#scaled)* }));
         items.push(pkw_pzd(cip, assembly.number, &ty));
         items.push(quote! {
             #[doc = #doc]
@@ -483,6 +501,7 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
                 }
             }
         });
+        items.push(quote!(#scaled_impl));
     }
     quote! {
         /// Bits `at..at + len` of `buf`, least significant first (CIP's order); bits past the
@@ -569,4 +588,67 @@ fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
     } else {
         TokenStream::new()
     }
+}
+
+/// `NAME_scaled()`, the engineering value of a numeric member whose parameter gives scaling:
+/// `(value + offset) * multiplier * base / divisor`, CIP's Parameter object formula.
+fn scaled_getter(s: &Slot) -> Option<TokenStream> {
+    let [mult, div, base, offset] = s.scaling?;
+    if s.count != 1 || div == 0 {
+        return None;
+    }
+    let field = id(&s.name);
+    let raw = match s.ty {
+        Ty::Unsigned(64) | Ty::Signed(64) => quote!(self.#field as f64),
+        Ty::Unsigned(_) | Ty::Signed(_) | Ty::F32 => quote!(f64::from(self.#field)),
+        Ty::F64 => quote!(self.#field),
+        Ty::Bool | Ty::Bytes(_) => return None,
+    };
+    let name = id(&format!("{}_scaled", s.name));
+    // The formula without its identity terms (`+ 0`, `* 1`): what the file's numbers do.
+    let mut text = "raw".to_owned();
+    let mut value = raw;
+    // A negative number as `-magnitude` (a literal token is never negative).
+    let number = |v: i64| {
+        let magnitude = Literal::f64_unsuffixed(v.unsigned_abs() as f64);
+        if v < 0 {
+            quote!(-#magnitude)
+        } else {
+            quote!(#magnitude)
+        }
+    };
+    if offset != 0 {
+        let o = Literal::f64_unsuffixed(offset.unsigned_abs() as f64);
+        let sign = if offset < 0 { "-" } else { "+" };
+        text = format!("(raw {sign} {})", offset.unsigned_abs());
+        value = if offset < 0 {
+            quote!((#value - #o))
+        } else {
+            quote!((#value + #o))
+        };
+    }
+    for (factor, v) in [("*", mult), ("*", base), ("/", div)] {
+        if v != 1 {
+            let n = number(v);
+            text = format!("{text} {factor} {v}");
+            value = if factor == "*" {
+                quote!(#value * #n)
+            } else {
+                quote!(#value / #n)
+            };
+        }
+    }
+    if text == "raw" {
+        return None;
+    }
+    let doc = format!(
+        " The engineering value of `{}`: `{text}`, its parameter's scaling.",
+        s.name
+    );
+    Some(quote! {
+        #[doc = #doc]
+        pub fn #name(self) -> f64 {
+            #value
+        }
+    })
 }

@@ -124,6 +124,12 @@ pub mod odva_io {
             Self { speed: 1500, mode: 0 }
         }
     }
+    impl Inputs {
+        /// The engineering value of `speed`: `raw / 10`, its parameter's scaling.
+        pub fn speed_scaled(self) -> f64 {
+            f64::from(self.speed) / 10.0
+        }
+    }
     /// Assem150 `Outputs`: assembly instance 150, 2 bytes.
     #[derive(Debug, Clone, Copy, PartialEq)]
     pub struct Outputs {
@@ -159,6 +165,12 @@ pub mod odva_io {
         /// The parameters' defaults, where the file gives them.
         fn default() -> Self {
             Self { speed: 1500 }
+        }
+    }
+    impl Outputs {
+        /// The engineering value of `speed`: `raw / 10`, its parameter's scaling.
+        pub fn speed_scaled(self) -> f64 {
+            f64::from(self.speed) / 10.0
         }
     }
     /// A connection `[Connection Manager]` describes.
