@@ -1,11 +1,13 @@
 //! The module of an ODVA EDS (CIP): identity constants (the Identity object's attributes a
 //! scanner's electronic key compares), one typed image per assembly with the image API (`SIZE`,
-//! `from_bytes`, `to_bytes`, `from_slice`) over its bytes, and the connections of `[Connection Manager]` as constants.
+//! `from_bytes`, `to_bytes`, `from_slice`) over its bytes, and the connections of
+//! `[Connection Manager]` as constants.
 //!
 //! CIP carries data little-endian and packs an assembly's members from bit 0 of byte 0, each
 //! member's bits least significant first: the images follow that. Runs of equal members
 //! (`8,Param1` written 32 times) become one array field. A member's default is its parameter's
-//! default when the type holds it, else zero. The module needs neither `std` nor `alloc`; of the
+//! default when the type holds it, else zero; a member whose parameter gives scaling has
+//! `NAME_scaled()`, its engineering value. The module needs neither `std` nor `alloc`; of the
 //! runtime it names only `PdoError` and the length check of `from_slice`.
 
 use std::collections::BTreeMap;
