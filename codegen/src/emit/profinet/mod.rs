@@ -67,6 +67,7 @@ pub(super) fn module(
             .map(|t| format!(" {}", doc_text(t)))
             .into_iter();
         let subs = submodules(&m.submodules);
+        let slots = slot_constants(pn, &m.id);
         let name = id(&name);
         modules.push(quote! {
             #[doc = #doc]
@@ -74,6 +75,7 @@ pub(super) fn module(
             pub mod #name {
                 #[doc = #ident_doc]
                 pub const MODULE_IDENT: u32 = #module_ident_value;
+                #slots
                 #(#subs)*
             }
         });
@@ -215,4 +217,34 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
             }
         })
         .collect()
+}
+
+/// The slots the default access point lets module `id` go in (`ModuleItemRef`), as constants;
+/// nothing when it does not list the module.
+fn slot_constants(pn: &Profinet, module_id: &str) -> TokenStream {
+    let Some(reference) = pn.access_points.first().and_then(|dap| {
+        dap.useable_modules
+            .iter()
+            .find(|r| r.target.value == module_id)
+    }) else {
+        return TokenStream::new();
+    };
+    let list = |slots: &[u16]| {
+        let slots = slots.iter().map(|s| Literal::u16_unsuffixed(*s));
+        quote!(&[#(#slots),*])
+    };
+    let (allowed, fixed, used) = (
+        list(&reference.allowed_in_slots),
+        list(&reference.fixed_in_slots),
+        list(&reference.used_in_slots),
+    );
+    quote! {
+        /// The slots the default access point allows the module in (`AllowedInSlots`, else
+        /// `FixedInSlots`, else `UsedInSlots`).
+        pub const ALLOWED_IN_SLOTS: &[u16] = #allowed;
+        /// The slots the module is always in (`FixedInSlots`).
+        pub const FIXED_IN_SLOTS: &[u16] = #fixed;
+        /// The slots the module is in by default (`UsedInSlots`).
+        pub const USED_IN_SLOTS: &[u16] = #used;
+    }
 }
