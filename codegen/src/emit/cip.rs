@@ -472,7 +472,7 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
             scaled.extend(scaled_getter(s));
         }
         let scaled_impl = (!scaled.is_empty()).then(|| quote!(impl #ty { #(#scaled)* }));
-        items.push(pkw_pzd(cip, assembly.number, &ty));
+        items.push(super::cip_pkw_pzd::conversions(cip, assembly.number, &ty));
         items.push(quote! {
             #[doc = #doc]
             #[derive(Debug, Clone, Copy, PartialEq)]
@@ -539,59 +539,6 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
     }
 }
 
-/// Conversions between an assembly's image and the PKW/PZD protocol's typed image, when the
-/// overlay says the assembly carries one (`[pkw_pzd]`).
-fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
-    let Some(images) = cip.pkw_pzd else {
-        return TokenStream::new();
-    };
-    let (order, order_doc) = if images.little_endian {
-        (quote!(LittleEndian), "little-endian")
-    } else {
-        (quote!(BigEndian), "big-endian")
-    };
-    let p = quote!(::edsgen_runtime::pkw_pzd);
-    if number == images.output {
-        let doc = format!(
-            " The image as the PKW/PZD protocol's: PKW request, control word, PZD2-PZD12 (words \
-             {order_doc}, as the overlay says)."
-        );
-        quote! {
-            impl #ty {
-                #[doc = #doc]
-                pub fn pkw_pzd(&self) -> #p::OutputImage {
-                    #p::OutputImage::parse(&self.to_bytes(), #p::ByteOrder::#order)
-                }
-
-                /// The image carrying a PKW/PZD output image.
-                pub fn from_pkw_pzd(image: &#p::OutputImage) -> Self {
-                    Self::from_bytes(&image.emit(#p::ByteOrder::#order))
-                }
-            }
-        }
-    } else if number == images.input {
-        let doc = format!(
-            " The image as the PKW/PZD protocol's: PKW response, status word, PZD2-PZD12 (words \
-             {order_doc}, as the overlay says); an error for an undefined response code."
-        );
-        quote! {
-            impl #ty {
-                #[doc = #doc]
-                pub fn pkw_pzd(&self) -> Result<#p::InputImage, #p::ResponseError> {
-                    #p::InputImage::parse(&self.to_bytes(), #p::ByteOrder::#order)
-                }
-
-                /// The image carrying a PKW/PZD input image.
-                pub fn from_pkw_pzd(image: &#p::InputImage) -> Self {
-                    Self::from_bytes(&image.emit(#p::ByteOrder::#order))
-                }
-            }
-        }
-    } else {
-        TokenStream::new()
-    }
-}
-
 /// `NAME_scaled()`, the engineering value of a numeric member whose parameter gives scaling:
 /// `(value + offset) * multiplier * base / divisor`, CIP's Parameter object formula.
 fn scaled_getter(s: &Slot) -> Option<TokenStream> {
@@ -620,14 +567,9 @@ fn scaled_getter(s: &Slot) -> Option<TokenStream> {
         }
     };
     if offset != 0 {
-        let o = Literal::f64_unsuffixed(offset.unsigned_abs() as f64);
-        let sign = if offset < 0 { "-" } else { "+" };
-        text = format!("(raw {sign} {})", offset.unsigned_abs());
-        value = if offset < 0 {
-            quote!((#value - #o))
-        } else {
-            quote!((#value + #o))
-        };
+        let o = number(offset);
+        text = format!("(raw + {offset})");
+        value = quote!((#value + #o));
     }
     for (factor, v) in [("*", mult), ("*", base), ("/", div)] {
         if v != 1 {

@@ -10,6 +10,7 @@
 pub mod cip;
 mod cip_connections;
 mod cip_enums;
+mod cip_pkw_pzd;
 pub mod dp;
 pub mod ethercat;
 mod image_api;
