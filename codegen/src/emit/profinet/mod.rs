@@ -15,11 +15,12 @@ use super::names::{ident, Case};
 use super::plan::{code_span, doc_text, id};
 use super::types::hex;
 use crate::diag::Diagnostic;
-use crate::model::{Profinet, Submodule};
+use crate::model::{Profinet, Submodule, ValueList};
 
 mod image;
 mod pkw_pzd;
 mod records;
+mod value_enums;
 
 /// The tokens of the whole generated module for a device with a PROFINET side.
 pub(super) fn module(
@@ -31,7 +32,7 @@ pub(super) fn module(
     let mut names = Vec::new();
     let mut modules = Vec::new();
     if let Some(dap) = pn.access_points.first() {
-        let subs: Vec<TokenStream> = submodules(&dap.submodules);
+        let subs: Vec<TokenStream> = submodules(&dap.submodules, &pn.value_lists);
         modules.push(quote! {
             /// The default access point's own submodules (slot 0).
             pub mod access_point {
@@ -66,7 +67,7 @@ pub(super) fn module(
             .as_deref()
             .map(|t| format!(" {}", doc_text(t)))
             .into_iter();
-        let subs = submodules(&m.submodules);
+        let subs = submodules(&m.submodules, &pn.value_lists);
         let slots = slot_constants(pn, &m.id);
         let name = id(&name);
         modules.push(quote! {
@@ -172,7 +173,7 @@ fn identity(pn: &Profinet) -> TokenStream {
 }
 
 /// One module per submodule (`submodule_1`, ... by subslot) holding its images and records.
-fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
+fn submodules(subs: &[Submodule], value_lists: &[ValueList]) -> Vec<TokenStream> {
     subs.iter()
         .map(|sub| {
             let name = id(&format!("subslot_{}", sub.subslot));
@@ -196,7 +197,7 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
                 "Output",
                 "data the controller sends (output CR)",
             );
-            let records = records::records(&sub.records);
+            let records = records::records(&sub.records, value_lists);
             let conversions = if sub.pkw_pzd {
                 pkw_pzd::conversions()
             } else {
