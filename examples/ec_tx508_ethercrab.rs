@@ -73,9 +73,9 @@ async fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "outputs {} bytes (expected {}), inputs {} bytes (expected {})",
         card.outputs_raw().len(),
-        ethercat::Outputs::LEN,
+        ethercat::Outputs::SIZE,
         card.inputs_raw().len(),
-        ethercat::Inputs::LEN
+        ethercat::Inputs::SIZE
     );
 
     let mut outputs = ethercat::Outputs::default();

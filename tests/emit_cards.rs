@@ -135,7 +135,7 @@ fn goodrive350_pdo2_rx_encodes_the_manual_frame() {
         ..Default::default()
     };
     assert_eq!(
-        rpdo.encode(),
+        rpdo.to_bytes(),
         [0x01, 0x00, 0x00, 0x00, 0x88, 0x13, 0x00, 0x00]
     );
     assert_eq!(Rpdo2::cob_id(3), 0x303);
@@ -144,14 +144,14 @@ fn goodrive350_pdo2_rx_encodes_the_manual_frame() {
 #[test]
 fn goodrive350_pdo2_tx_decodes_the_manual_frame() {
     use cards::goodrive350::pdo::Tpdo2;
-    let tpdo = Tpdo2::decode(&[0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00]).unwrap();
+    let tpdo = Tpdo2::from_slice(&[0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00]).unwrap();
     assert_eq!(tpdo.status_word, 0x0101);
     assert_eq!(tpdo.returned_value_1, 5000);
     assert_eq!(tpdo.returned_value_2, 380);
     assert_eq!(tpdo.returned_value_3, 0);
     assert_eq!(Tpdo2::cob_id(3), 0x283);
     assert_eq!(
-        Tpdo2::decode(&[0x01, 0x01, 0x88]),
+        Tpdo2::from_slice(&[0x01, 0x01, 0x88]),
         Err(PdoError::WrongLength {
             expected: 8,
             actual: 3
@@ -163,8 +163,8 @@ proptest! {
     #[test]
     fn goodrive350_pdos_round_trip(payload in any::<[u8; 8]>()) {
         use cards::goodrive350::pdo::{Rpdo2, Tpdo2};
-        prop_assert_eq!(Rpdo2::decode(&payload).unwrap().encode(), payload);
-        prop_assert_eq!(Tpdo2::decode(&payload).unwrap().encode(), payload);
+        prop_assert_eq!(Rpdo2::from_slice(&payload).unwrap().to_bytes(), payload);
+        prop_assert_eq!(Tpdo2::from_slice(&payload).unwrap().to_bytes(), payload);
     }
 }
 

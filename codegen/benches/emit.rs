@@ -73,11 +73,11 @@ fn pdos(c: &mut Criterion) {
         ..Default::default()
     };
     c.bench_function("Rpdo2 encode (4 x u16)", |b| {
-        b.iter(|| black_box(&rpdo).encode())
+        b.iter(|| black_box(&rpdo).to_bytes())
     });
     let frame = [0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00];
     c.bench_function("Tpdo2 decode (4 x u16)", |b| {
-        b.iter(|| pdo::Tpdo2::decode(black_box(&frame)))
+        b.iter(|| pdo::Tpdo2::from_slice(black_box(&frame)))
     });
     let words = [1u16, 0, 5000, 0];
     c.bench_function("baseline: 4 x u16 to_le_bytes by hand", |b| {
@@ -107,7 +107,7 @@ fn pdos(c: &mut Criterion) {
         flag: true,
     };
     c.bench_function("Tpdo3 encode (bit-packed)", |b| {
-        b.iter(|| black_box(&t3).encode())
+        b.iter(|| black_box(&t3).to_bytes())
     });
 }
 

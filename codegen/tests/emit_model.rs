@@ -552,7 +552,7 @@ fn values_needing_more_than_65535_bytes_in_all_are_eds707() {
 }
 
 #[test]
-fn cob_id_is_the_can_identifier_and_encode_is_fallible_only_for_narrow_fields() {
+fn cob_id_is_the_can_identifier_and_to_bytes_is_fallible_only_for_narrow_fields() {
     let speed = var(
         0x2000,
         "Speed",
@@ -599,11 +599,11 @@ fn cob_id_is_the_can_identifier_and_encode_is_fallible_only_for_narrow_fields() 
     );
     // 16 bits in 16: nothing can overflow; an INTEGER24 in an i32 can.
     assert!(
-        squeezed.contains("pub fn encode(&self) -> [u8; 2] {"),
+        squeezed.contains("pub fn to_bytes(self) -> [u8; 2] {"),
         "{code}"
     );
     assert!(
-        squeezed.contains("pub fn encode(&self) -> Result<[u8; 3], ::edsgen_runtime::PdoError> {"),
+        squeezed.contains("pub fn to_bytes(self) -> Result<[u8; 3], ::edsgen_runtime::PdoError> {"),
         "{code}"
     );
 }

@@ -27,16 +27,16 @@ fn goodrive_pdo2_rx_encodes_the_manual_frame() {
         ..Default::default()
     };
     assert_eq!(
-        rpdo.encode(),
+        rpdo.to_bytes(),
         [0x01, 0x00, 0x00, 0x00, 0x88, 0x13, 0x00, 0x00]
     );
     assert_eq!(pdo::Rpdo2::cob_id(3), 0x303);
-    assert_eq!(pdo::Rpdo2::LEN, 8);
+    assert_eq!(pdo::Rpdo2::SIZE, 8);
 }
 
 #[test]
 fn goodrive_pdo2_tx_decodes_the_manual_frame() {
-    let tpdo = pdo::Tpdo2::decode(&[0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00]).unwrap();
+    let tpdo = pdo::Tpdo2::from_slice(&[0x01, 0x01, 0x88, 0x13, 0x7C, 0x01, 0x00, 0x00]).unwrap();
     assert_eq!(
         tpdo,
         pdo::Tpdo2 {
@@ -52,14 +52,14 @@ fn goodrive_pdo2_tx_decodes_the_manual_frame() {
 #[test]
 fn pdo_of_wrong_length_is_an_error() {
     assert_eq!(
-        pdo::Tpdo2::decode(&[1, 2, 3]),
+        pdo::Tpdo2::from_slice(&[1, 2, 3]),
         Err(PdoError::WrongLength {
             expected: 8,
             actual: 3
         })
     );
     assert_eq!(
-        pdo::Tpdo3::decode(&[0; 7]),
+        pdo::Tpdo3::from_slice(&[0; 7]),
         Err(PdoError::WrongLength {
             expected: 6,
             actual: 7
@@ -76,14 +76,14 @@ fn non_aligned_pdo_is_bit_exact() {
         type_: -128,
         flag: true,
     };
-    assert_eq!(t.encode(), Ok([0x0A, 0xFE, 0xFF, 0xFF, 0x80, 0x01]));
+    assert_eq!(t.to_bytes(), Ok([0x0A, 0xFE, 0xFF, 0xFF, 0x80, 0x01]));
     assert_eq!(
-        pdo::Tpdo3::decode(&[0xFA, 0xFE, 0xFF, 0xFF, 0x80, 0x01]),
+        pdo::Tpdo3::from_slice(&[0xFA, 0xFE, 0xFF, 0xFF, 0x80, 0x01]),
         Ok(t)
     );
     let too_wide = pdo::Tpdo3 { nibble: 0x10, ..t };
     assert_eq!(
-        too_wide.encode(),
+        too_wide.to_bytes(),
         Err(PdoError::OutOfRange { field: "nibble" })
     );
     let too_big = pdo::Tpdo3 {
@@ -91,7 +91,7 @@ fn non_aligned_pdo_is_bit_exact() {
         ..t
     };
     assert_eq!(
-        too_big.encode(),
+        too_big.to_bytes(),
         Err(PdoError::OutOfRange { field: "signed_24" })
     );
 }
@@ -104,9 +104,9 @@ fn byte_string_field_at_an_odd_bit_offset() {
         tag: [0x80, 0x01, 0xFF, 0x00],
         type_: -1,
     };
-    assert_eq!(t.encode(), [0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]);
+    assert_eq!(t.to_bytes(), [0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]);
     assert_eq!(
-        pdo::Tpdo4::decode(&[0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]),
+        pdo::Tpdo4::from_slice(&[0x01, 0x03, 0xFE, 0x01, 0xFE, 0x01]),
         Ok(t)
     );
 }
@@ -115,20 +115,20 @@ proptest! {
     #[test]
     fn tpdo4_round_trips(flag in any::<bool>(), tag in any::<[u8; 4]>(), type_ in any::<i8>()) {
         let t = pdo::Tpdo4 { flag, tag, type_ };
-        prop_assert_eq!(pdo::Tpdo4::decode(&t.encode()), Ok(t));
+        prop_assert_eq!(pdo::Tpdo4::from_slice(&t.to_bytes()), Ok(t));
     }
 
     #[test]
     fn tpdo3_round_trips(nibble in 0u8..16, signed_24 in -(1i32 << 23)..(1i32 << 23), type_ in any::<i8>(), flag in any::<bool>()) {
         let t = pdo::Tpdo3 { nibble, signed_24, type_, flag };
-        let bytes = t.encode().unwrap();
-        prop_assert_eq!(pdo::Tpdo3::decode(&bytes), Ok(t));
+        let bytes = t.to_bytes().unwrap();
+        prop_assert_eq!(pdo::Tpdo3::from_slice(&bytes), Ok(t));
     }
 
     #[test]
     fn rpdo2_round_trips(payload in any::<[u8; 8]>()) {
-        let r = pdo::Rpdo2::decode(&payload).unwrap();
-        prop_assert_eq!(r.encode(), payload);
+        let r = pdo::Rpdo2::from_slice(&payload).unwrap();
+        prop_assert_eq!(r.to_bytes(), payload);
     }
 
     #[test]

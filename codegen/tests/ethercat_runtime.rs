@@ -61,10 +61,10 @@ fn rx_a_bits() -> Vec<(u128, u32)> {
 
 #[test]
 fn rx_pdo_fields_land_at_their_mapped_bits() {
-    let bytes = rx_a().encode().unwrap();
+    let bytes = rx_a().to_bytes().unwrap();
     assert_eq!(RxPdo1600::LEN, 18);
     assert_eq!(bytes.to_vec(), pack(&rx_a_bits()));
-    assert_eq!(RxPdo1600::decode(&bytes), Ok(rx_a()));
+    assert_eq!(RxPdo1600::from_slice(&bytes), Ok(rx_a()));
 }
 
 #[test]
@@ -72,18 +72,18 @@ fn narrow_fields_are_range_checked_and_sign_extended() {
     let mut too_big = rx_a();
     too_big.offset = 2048;
     assert_eq!(
-        too_big.encode(),
+        too_big.to_bytes(),
         Err(PdoError::OutOfRange { field: "offset" })
     );
     too_big.offset = -2048;
     too_big.select = 4;
     assert_eq!(
-        too_big.encode(),
+        too_big.to_bytes(),
         Err(PdoError::OutOfRange { field: "select" })
     );
     let mut bytes = [0xFFu8; 18];
     bytes[2] = 0x07; // padding bits 16-18 set, `enable` (bit 19) and offset's low nibble clear
-    let decoded = RxPdo1600::decode(&bytes).unwrap();
+    let decoded = RxPdo1600::from_slice(&bytes).unwrap();
     assert_eq!(decoded.offset, -16); // 0xFF0 in 12 bits
     assert_eq!(decoded.mode_of_operation, -1);
     assert!(!decoded.enable);
@@ -100,8 +100,8 @@ fn a_field_wider_than_64_bits_keeps_its_bytes() {
     let mut fields: Vec<(u128, u32)> = blob[..12].iter().map(|b| (u128::from(*b), 8)).collect();
     fields.push((0x0C, 4));
     fields.push((twos(-3, 5), 5));
-    assert_eq!(pdo.encode().unwrap().to_vec(), pack(&fields));
-    assert_eq!(RxPdo1601::decode(&pack(&fields)), Ok(pdo));
+    assert_eq!(pdo.to_bytes().unwrap().to_vec(), pack(&fields));
+    assert_eq!(RxPdo1601::from_slice(&pack(&fields)), Ok(pdo));
 }
 
 #[test]
@@ -119,8 +119,8 @@ fn the_outputs_image_concatenates_the_pdos_assigned_to_sm2() {
     let expected = pack(&fields);
     assert_eq!(Outputs::LEN, 31);
     assert_eq!(<Outputs as ProcessData>::BITS, 243);
-    assert_eq!(image.encode().unwrap().to_vec(), expected);
-    assert_eq!(Outputs::decode(&expected), Ok(image));
+    assert_eq!(image.to_bytes().unwrap().to_vec(), expected);
+    assert_eq!(Outputs::from_slice(&expected), Ok(image));
 }
 
 #[test]
@@ -151,17 +151,17 @@ fn process_data_goes_at_any_bit_offset_and_leaves_its_neighbours() {
             actual: 13
         })
     );
-    let inputs = Inputs::decode(&pdo.encode()).unwrap();
+    let inputs = Inputs::from_slice(&pdo.to_bytes()).unwrap();
     assert_eq!(inputs.tx_pdo_1a00, pdo);
 }
 
 #[test]
 fn an_empty_pdo_is_zero_bytes() {
     let empty = ethercat::TxPdo1A01 {};
-    assert_eq!(empty.encode(), [0u8; 0]);
-    assert_eq!(ethercat::TxPdo1A01::decode(&[]), Ok(empty));
+    assert_eq!(empty.to_bytes(), [0u8; 0]);
+    assert_eq!(ethercat::TxPdo1A01::from_slice(&[]), Ok(empty));
     assert_eq!(
-        ethercat::TxPdo1A01::decode(&[0]),
+        ethercat::TxPdo1A01::from_slice(&[0]),
         Err(PdoError::WrongLength {
             expected: 0,
             actual: 1

@@ -87,5 +87,5 @@ fn variants_convert_both_ways() {
         connection: Connection2::Forward.into(),
         option: Option3::Yes.raw(),
     };
-    assert_eq!(image.encode(), [3, 1, 0, 1, 0]);
+    assert_eq!(image.to_bytes(), [3, 1, 0, 1, 0]);
 }

@@ -24,7 +24,7 @@ fn identity() {
 
 #[test]
 fn images_decode_and_encode_little_endian() {
-    let inputs = Inputs::decode(&[0x88, 0x13, 0x02]).expect("3 bytes");
+    let inputs = Inputs::from_slice(&[0x88, 0x13, 0x02]).expect("3 bytes");
     assert_eq!(
         inputs,
         Inputs {
@@ -32,10 +32,29 @@ fn images_decode_and_encode_little_endian() {
             mode: 2
         }
     );
-    assert_eq!(inputs.encode(), [0x88, 0x13, 0x02]);
-    assert_eq!(Inputs::decode(&[0x88, 0x13]), None);
+    assert_eq!(inputs.to_bytes(), [0x88, 0x13, 0x02]);
+    assert_eq!(Inputs::from_bytes(&[0x88, 0x13, 0x02]), inputs);
+    let wrong = |actual| {
+        Err(edsgen_runtime::PdoError::WrongLength {
+            expected: 3,
+            actual,
+        })
+    };
+    assert_eq!(Inputs::from_slice(&[0x88, 0x13]), wrong(2));
+    assert_eq!(Inputs::from_slice(&[0x88, 0x13, 0x02, 0x00]), wrong(4));
     assert_eq!((Inputs::INSTANCE, Inputs::SIZE), (100, 3));
-    assert_eq!(Outputs { speed: 0x0102 }.encode(), [0x02, 0x01]);
+    assert_eq!(Outputs { speed: 0x0102 }.to_bytes(), [0x02, 0x01]);
+}
+
+#[test]
+fn a_scaled_parameter_has_its_engineering_value() {
+    // Param1 `Speed`: scaling 1, 10, 1, 0 (multiplier, divisor, base, offset).
+    let inputs = Inputs {
+        speed: 5000,
+        mode: 0,
+    };
+    assert_eq!(inputs.speed_scaled(), 500.0);
+    assert_eq!(Outputs { speed: 15 }.speed_scaled(), 1.5);
 }
 
 #[test]
@@ -47,7 +66,7 @@ fn defaults_are_the_parameters() {
             mode: 0
         }
     );
-    assert_eq!(Outputs::default().encode(), [0xDC, 0x05]);
+    assert_eq!(Outputs::default().to_bytes(), [0xDC, 0x05]);
 }
 
 #[test]
@@ -74,6 +93,6 @@ fn the_mode_enumeration() {
     assert_eq!(Mode::try_from(2u8), Ok(Mode::Fast));
     assert_eq!(Mode::try_from(3u8), Err(3));
     assert_eq!(u8::from(Mode::Slow), 1);
-    let inputs = Inputs::decode(&[0, 0, 1]).expect("3 bytes");
+    let inputs = Inputs::from_slice(&[0, 0, 1]).expect("3 bytes");
     assert_eq!(Mode::try_from(inputs.mode), Ok(Mode::Slow));
 }

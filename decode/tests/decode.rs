@@ -410,7 +410,7 @@ fn ethercat_images_are_split_by_the_default_assignment_and_named_by_the_esi_file
             ..RxPdo1600::default()
         },
     }
-    .encode();
+    .to_bytes();
     assert_eq!(
         images.outputs(&outputs),
         "Control word = 143, Target position = 0, Target speed = -300, Target torque = 0, \
@@ -426,7 +426,7 @@ fn ethercat_images_are_split_by_the_default_assignment_and_named_by_the_esi_file
             ..TxPdo1A00::default()
         },
     }
-    .encode();
+    .to_bytes();
     assert_eq!(
         images.inputs(&inputs),
         "Status word = 1591 (0x0637), Position actual value = -2, Actual speed = 0, \

@@ -30,9 +30,9 @@ type Station = SlaveStation<Goodrive350Dp>;
 /// The 32 output bytes of PKW1–PKW4, the CW and PZD2, through the generated image.
 fn outputs(pkw: [u16; 4], cw: u16, pzd2: u16) -> [u8; 32] {
     let mut image = module::Outputs::ZERO;
-    image.id0 = pkw;
-    image.id1[0] = cw;
-    image.id1[1] = pzd2;
+    image.data_1 = pkw;
+    image.data_2[0] = cw;
+    image.data_2[1] = pzd2;
     image.to_bytes()
 }
 

@@ -159,14 +159,16 @@ impl Bench<'_> {
 
     /// One RPI: the scanner's image out, the card's image back.
     fn cycle(&mut self, output: &OutputImage) -> Result<InputImage, String> {
-        let image = card::Output::from_pkw_pzd(output).encode();
+        let image = card::Output::from_pkw_pzd(output).to_bytes();
         let mut datagram = vec![0; 24 + image.len()];
         let len = self
             .connection
             .produce(true, &image, &mut datagram)
             .map_err(|e| format!("{e:?}"))?;
         let input = self.link.rpi(&datagram[..len])?;
-        let input = card::Input::decode(&input).ok_or("assembly 100 is short")?;
+        let input = card::Input::from_slice(&input)
+            .ok()
+            .ok_or("assembly 100 is not 32 bytes")?;
         input.pkw_pzd().map_err(|e| format!("{e:?}"))
     }
 
@@ -240,7 +242,7 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Scanner) -> Result<(), 
     // Forward_Open 150 -> 100 at 50 ms, sizes 32 + 6 and 32 + 2, the EDS's connection path.
     // Point-to-point, high priority, variable size; timeout multiplier ×4.
     let conn = card::EXCLUSIVE_OWNER;
-    let params = |size: u64| network_params(false, 2, 1, true, size as u16);
+    let params = |size: u16| network_params(false, 2, 1, true, size);
     let open = ForwardOpenRepr {
         large: false,
         ticks: DEFAULT_TICKS,
@@ -364,7 +366,8 @@ pub(super) fn workflow(trace: &mut Trace, link: &mut dyn Scanner) -> Result<(), 
             }
         }
     };
-    let state = card::Input::decode(&image)
+    let state = card::Input::from_slice(&image)
+        .ok()
         .and_then(|f| f.pkw_pzd().ok())
         .and_then(|i| i.status.state(WordLayout::ByByte));
     let (tripped, seen) = match &stopped.log {

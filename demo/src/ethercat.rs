@@ -39,7 +39,7 @@ const QUICK_STOP_SEEN_MS: std::ops::RangeInclusive<u64> = 5..=40;
 /// What carries the images between the master and the card.
 pub(super) trait Exchange {
     /// The inputs image before the first cycle.
-    fn first_inputs(&self) -> [u8; Inputs::LEN];
+    fn first_inputs(&self) -> [u8; Inputs::SIZE];
     /// The time of the next cycle, in ms since the first: the cycle's number in this process,
     /// the clock's on a wire.
     fn now_ms(&self) -> u64;
@@ -48,8 +48,8 @@ pub(super) trait Exchange {
     /// trip).
     fn exchange(
         &mut self,
-        outputs: &[u8; Outputs::LEN],
-    ) -> Result<([u8; Inputs::LEN], u64), String>;
+        outputs: &[u8; Outputs::SIZE],
+    ) -> Result<([u8; Inputs::SIZE], u64), String>;
     /// Raises a drive fault in the card, as the drive's own monitoring would.
     fn raise_fault(&mut self) -> Result<(), String>;
     /// Removes the fault's cause: from then on the drive takes a fault reset.
@@ -68,7 +68,7 @@ struct InProcess {
 }
 
 impl Exchange for InProcess {
-    fn first_inputs(&self) -> [u8; Inputs::LEN] {
+    fn first_inputs(&self) -> [u8; Inputs::SIZE] {
         self.device.inputs()
     }
 
@@ -78,8 +78,8 @@ impl Exchange for InProcess {
 
     fn exchange(
         &mut self,
-        outputs: &[u8; Outputs::LEN],
-    ) -> Result<([u8; Inputs::LEN], u64), String> {
+        outputs: &[u8; Outputs::SIZE],
+    ) -> Result<([u8; Inputs::SIZE], u64), String> {
         let ms = self.ms;
         self.ms += 1;
         let inputs = self
@@ -111,9 +111,9 @@ struct Bench<'a> {
     link: &'a mut dyn Exchange,
     images: ImageDecoder,
     /// The outputs image of the last cycle.
-    outputs: [u8; Outputs::LEN],
+    outputs: [u8; Outputs::SIZE],
     /// The inputs image of the last cycle, which the master reads in the next.
-    inputs: [u8; Inputs::LEN],
+    inputs: [u8; Inputs::SIZE],
     /// The time (ms) of the last cycle.
     last_ms: u64,
     /// The cycles run since the last one shown in the trace.
@@ -140,7 +140,7 @@ impl<'a> Bench<'a> {
             inputs: link.first_inputs(),
             link,
             images: ImageDecoder::new(&model),
-            outputs: [0; Outputs::LEN],
+            outputs: [0; Outputs::SIZE],
             last_ms: 0,
             hidden: 0,
             state: (None, 0),
@@ -156,7 +156,7 @@ impl<'a> Bench<'a> {
     /// operation is enabled), the device answers with new inputs.
     fn cycle(&mut self) -> Result<Cycle, String> {
         let error = |e| format!("{e:?}");
-        let seen = Inputs::decode(&self.inputs).map_err(error)?.tx_pdo_1a00;
+        let seen = Inputs::from_slice(&self.inputs).map_err(error)?.tx_pdo_1a00;
         let cycle = self
             .controller
             .cycle(seen.status_word, seen.operation_mode_display);
@@ -170,10 +170,10 @@ impl<'a> Bench<'a> {
                 ..RxPdo1600::default()
             },
         }
-        .encode();
+        .to_bytes();
         (self.inputs, self.last_ms) = self.link.exchange(&self.outputs)?;
         self.hidden += 1;
-        let inputs = Inputs::decode(&self.inputs).map_err(error)?.tx_pdo_1a00;
+        let inputs = Inputs::from_slice(&self.inputs).map_err(error)?.tx_pdo_1a00;
         let state = State::from_statusword(inputs.status_word);
         if state != self.state.0 {
             self.state = (state, self.last_ms);
@@ -227,7 +227,7 @@ impl<'a> Bench<'a> {
 
     /// The inputs of the last cycle.
     fn inputs(&self) -> Result<TxPdo1A00, String> {
-        Ok(Inputs::decode(&self.inputs)
+        Ok(Inputs::from_slice(&self.inputs)
             .map_err(|e| format!("{e:?}"))?
             .tx_pdo_1a00)
     }

@@ -58,7 +58,7 @@ mod wire {
         group: SubDeviceGroup<64, 4096, ethercrab::DefaultLock, Op>,
         /// The simulator's standard input: `fault` and `clear`.
         faults: ChildStdin,
-        first: [u8; Inputs::LEN],
+        first: [u8; Inputs::SIZE],
         /// When the first cycle ran.
         start: Option<Instant>,
         /// When the next cycle is due.
@@ -66,7 +66,7 @@ mod wire {
     }
 
     impl Exchange for Wire {
-        fn first_inputs(&self) -> [u8; Inputs::LEN] {
+        fn first_inputs(&self) -> [u8; Inputs::SIZE] {
             self.first
         }
 
@@ -77,14 +77,14 @@ mod wire {
 
         fn exchange(
             &mut self,
-            outputs: &[u8; Outputs::LEN],
-        ) -> Result<([u8; Inputs::LEN], u64), String> {
+            outputs: &[u8; Outputs::SIZE],
+        ) -> Result<([u8; Inputs::SIZE], u64), String> {
             let card = self
                 .group
                 .subdevice(&self.maindevice, 0)
                 .map_err(|e| format!("the SubDevice: {e}"))?;
             card.outputs_raw_mut()
-                .get_mut(..Outputs::LEN)
+                .get_mut(..Outputs::SIZE)
                 .ok_or("the outputs image is short")?
                 .copy_from_slice(outputs);
             let start = *self.start.get_or_insert_with(Instant::now);
@@ -111,7 +111,7 @@ mod wire {
                 .max(Instant::now() + Duration::from_micros(500));
             let inputs = card.inputs_raw();
             let inputs = inputs
-                .get(..Inputs::LEN)
+                .get(..Inputs::SIZE)
                 .and_then(|i| i.try_into().ok())
                 .ok_or("the inputs image is short")?;
             Ok((inputs, at.as_millis() as u64))
@@ -227,13 +227,13 @@ mod wire {
         runtime
             .block_on(group.tx_rx(&maindevice))
             .map_err(|e| format!("the first cycle: {e}"))?;
-        let mut first = [0; Inputs::LEN];
-        if let Some(inputs) = card.inputs_raw().get(..Inputs::LEN) {
+        let mut first = [0; Inputs::SIZE];
+        if let Some(inputs) = card.inputs_raw().get(..Inputs::SIZE) {
             first.copy_from_slice(inputs);
         }
         trace.step(
             "Pre-Op → Safe-Op → Op: the 21-byte outputs (1600h), the 23-byte inputs (1A00h)",
-            expect(sizes, (Outputs::LEN, Inputs::LEN)),
+            expect(sizes, (Outputs::SIZE, Inputs::SIZE)),
         );
         let mut wire = Wire {
             runtime,

@@ -453,7 +453,7 @@ fn goodrive350_parameter(
         parameter_address: address,
         requested_data: value,
     };
-    let payload = request.encode();
+    let payload = request.to_bytes();
     let frame = CanFrame::new(pdo::Rpdo1::cob_id(node), &payload).ok_or("a PDO1 frame")?;
     bench.take_seen(0);
     bench.send(frame)?;
@@ -461,7 +461,7 @@ fn goodrive350_parameter(
     bench.wait(StdDuration::from_millis(100))?;
     let answers = bench.take_seen(pdo::Tpdo1::cob_id(node));
     let answer = answers.last().ok_or("no PDO1 Tx answer")?;
-    let response = pdo::Tpdo1::decode(answer.data()).map_err(|e| format!("{e:?}"))?;
+    let response = pdo::Tpdo1::from_slice(answer.data()).map_err(|e| format!("{e:?}"))?;
     Ok((
         response.response_code,
         response.error_code,
@@ -508,13 +508,13 @@ fn goodrive350_run(bench: &mut impl Link) -> Result<(), String> {
         setting_2: 5000,
         setting_3: 0,
     };
-    let payload = run.encode();
+    let payload = run.to_bytes();
     bench.take_seen(0);
     bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node), &payload).ok_or("a PDO2 frame")?)?;
     bench.wait(StdDuration::from_millis(2_200))?;
     let reports = bench.take_seen(pdo::Tpdo2::cob_id(node));
     let last = reports.last().ok_or("no PDO2 Tx")?;
-    let status = pdo::Tpdo2::decode(last.data()).map_err(|e| format!("{e:?}"))?;
+    let status = pdo::Tpdo2::from_slice(last.data()).map_err(|e| format!("{e:?}"))?;
     bench.trace().step(
         &format!(
             "PDO2 run forward at 50.00 Hz: {} PDO2 Tx while ramping, the last (SW, Hz × 100, V)",
@@ -553,7 +553,7 @@ fn goodrive350_run(bench: &mut impl Link) -> Result<(), String> {
         control_word: 7,
         ..run
     };
-    let payload = reset.encode();
+    let payload = reset.to_bytes();
     bench.send(CanFrame::new(pdo::Rpdo2::cob_id(node), &payload).ok_or("a PDO2 frame")?)?;
     bench.wait(StdDuration::from_millis(100))?;
     let emcy = bench.take_seen(0x080 + u16::from(node));

@@ -270,7 +270,7 @@ struct Bench<'a> {
 impl Bench<'_> {
     /// One cycle: the controller's output frame, then the card's input frame.
     fn cycle(&mut self, output: &Output) -> Result<(), String> {
-        let data = output.encode_with_iops(card::IOXS_GOOD);
+        let data = output.to_bytes_with_iops(card::IOXS_GOOD);
         // The output CR: the module's data and IOPS, then the IOCS for its inputs.
         let mut c_sdu = data.to_vec();
         c_sdu.push(card::IOXS_GOOD);
@@ -364,7 +364,7 @@ fn decode_input(frame: &[u8]) -> Result<Input, String> {
     let bytes: [u8; IMAGE_BYTES + 1] = rt.c_sdu[INPUT_OFFSET..INPUT_OFFSET + IMAGE_BYTES + 1]
         .try_into()
         .map_err(|_| "a short C_SDU")?;
-    let (input, iops) = Input::decode_with_iops(&bytes);
+    let (input, iops) = Input::from_bytes_with_iops(&bytes);
     if iops != card::IOXS_GOOD {
         return Err(format!("IOPS {iops:#04x}"));
     }
@@ -373,7 +373,7 @@ fn decode_input(frame: &[u8]) -> Result<Input, String> {
 
 /// The input as the PKW/PZD protocol reads it.
 fn typed(input: &Input) -> Result<InputImage, String> {
-    let bytes: [u8; IMAGE_BYTES] = input.encode();
+    let bytes: [u8; IMAGE_BYTES] = input.to_bytes();
     InputImage::parse(&bytes, ByteOrder::BigEndian).map_err(|e| format!("{e:?}"))
 }
 

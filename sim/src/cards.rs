@@ -21,10 +21,10 @@
 //! let mut dict = Od::new(3); // $NODEID defaults resolve here, at run time
 //! assert_eq!(dict.get(od::rpdo1_communication_parameter::COB_ID_USED_BY_RPDO), 0x203);
 //! assert_eq!(dict.set(od::CONTROLWORD, 0x000F), Ok(())); // typed, checked like an SDO write
-//! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.encode();
+//! let frame = pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 }.to_bytes();
 //! assert_eq!(frame, [0x0F, 0x00, 0xDC, 0x05]);
 //! assert_eq!(pdo::Rpdo1::cob_id(3), 0x203);
-//! // No field of Rpdo1 can overflow its mapped bits: encode cannot fail, and cob_id is the
+//! // No field of Rpdo1 can overflow its mapped bits: to_bytes cannot fail, and cob_id is the
 //! // CAN identifier a frame takes.
 //! let can = edsgen_runtime::CanFrame::new(pdo::Rpdo1::cob_id(3), &frame);
 //! assert!(can.is_some_and(|f| f.data() == frame));
@@ -33,6 +33,44 @@
 //! let _: edsgen_runtime::Entry<u16, Od, edsgen_runtime::od::access::ReadOnly> = od::STATUSWORD;
 //! assert_eq!(dict.set(od::STATUSWORD, 0x0237), Ok(()));
 //! let controlword: u16 = dict.get(od::CONTROLWORD); // an address of this Od: no Option
+//! ```
+//!
+//! Every bus's images have one API (docs/generated-code.md): `SIZE`, `from_bytes(&[u8; SIZE])`,
+//! `to_bytes() -> [u8; SIZE]` and `from_slice(&[u8])`, exactly `SIZE` bytes or `WrongLength`:
+//!
+//! ```
+//! use edsgen_runtime::PdoError;
+//! use edsgen_sim::cards::{cp301, ec_tx508, goodrive350_dp, goodrive350_enip, goodrive350_pn};
+//!
+//! macro_rules! one_api {
+//!     ($ty:ty, $image:expr) => {{
+//!         let image: $ty = $image;
+//!         let bytes: [u8; <$ty>::SIZE] = image.to_bytes();
+//!         assert_eq!(<$ty>::from_bytes(&bytes), image);
+//!         assert_eq!(<$ty>::from_slice(&bytes), Ok(image));
+//!         let short = PdoError::WrongLength { expected: <$ty>::SIZE, actual: <$ty>::SIZE - 1 };
+//!         assert_eq!(<$ty>::from_slice(&bytes[1..]), Err(short));
+//!         bytes
+//!     }};
+//! }
+//! // CANopen: RPDO1's payload.
+//! let rpdo = cp301::pdo::Rpdo1 { controlword: 0x000F, vl_target_velocity: 1500 };
+//! assert_eq!(one_api!(cp301::pdo::Rpdo1, rpdo), [0x0F, 0x00, 0xDC, 0x05]);
+//! // EtherCAT: SM2's image of the default PDO assignment (RxPDO 1600h).
+//! let mut outputs = ec_tx508::ethercat::Outputs::default();
+//! outputs.rx_pdo_1600.control_word = 0x000F;
+//! assert_eq!(one_api!(ec_tx508::ethercat::Outputs, outputs)[..2], [0x0F, 0x00]);
+//! // PROFIBUS-DP: the module's outputs of Data_Exchange (PKW1-4, then CW and PZD2-12).
+//! use goodrive350_dp::modules::n_4_pkw_12_pzd as dp;
+//! let mut outputs = dp::Outputs::ZERO;
+//! outputs.data_2[0] = 0x047F;
+//! assert_eq!(one_api!(dp::Outputs, outputs)[8..10], [0x04, 0x7F]); // words big-endian
+//! // PROFINET: the submodule's output data (without its IOPS).
+//! use goodrive350_pn::modules::pkw_pzd_16_words::subslot_1 as pn;
+//! assert_eq!(one_api!(pn::Output, pn::Output::default()), [0; 32]);
+//! // EtherNet/IP: assembly 150, the O->T data.
+//! assert_eq!(goodrive350_enip::Output::INSTANCE, 150);
+//! assert_eq!(one_api!(goodrive350_enip::Output, Default::default()).len(), 32);
 //! ```
 
 edsgen_runtime::include_device!("cp301");

@@ -384,8 +384,8 @@ fn csv_mode_outputs_encode_as_the_manual_lays_them_out() {
     expected[0] = 0x0F; // 6040h, bytes 0-1
     expected[6..10].copy_from_slice(&(-1500i32).to_le_bytes()); // 60FFh, bytes 6-9
     expected[14] = 9; // 6060h, byte 14
-    assert_eq!(outputs.encode(), expected);
-    assert_eq!(ethercat::Outputs::decode(&expected), Ok(outputs));
+    assert_eq!(outputs.to_bytes(), expected);
+    assert_eq!(ethercat::Outputs::from_slice(&expected), Ok(outputs));
 }
 
 #[test]
@@ -395,14 +395,14 @@ fn status_inputs_decode_from_the_manual_layout() {
     bytes[0..2].copy_from_slice(&0x0637u16.to_le_bytes());
     bytes[6..10].copy_from_slice(&1500i32.to_le_bytes());
     bytes[16] = 9;
-    let inputs = ethercat::Inputs::decode(&bytes).expect("23 bytes");
+    let inputs = ethercat::Inputs::from_slice(&bytes).expect("23 bytes");
     let tx = inputs.tx_pdo_1a00;
     assert_eq!(
         (tx.status_word, tx.actual_speed, tx.operation_mode_display),
         (0x0637, 1500, 9)
     );
     assert_eq!(
-        ethercat::Inputs::decode(&bytes[..22]),
+        ethercat::Inputs::from_slice(&bytes[..22]),
         Err(edsgen_runtime::PdoError::WrongLength {
             expected: 23,
             actual: 22

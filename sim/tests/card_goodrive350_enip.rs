@@ -220,7 +220,7 @@ fn output_image_little_endian() {
     let mut bytes = [0u8; 32];
     bytes[..10].copy_from_slice(&[0x01, 0x00, 0x0A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00]);
     bytes[10..12].copy_from_slice(&[0x88, 0x13]);
-    assert_eq!(output.encode(), bytes);
+    assert_eq!(output.to_bytes(), bytes);
     assert_eq!(output.pkw_pzd(), image);
     assert_eq!(image.emit(ByteOrder::LittleEndian), bytes);
 }
@@ -237,11 +237,11 @@ fn table_5_6_by_bit() {
         pzd: [0; 11],
     };
     assert_eq!(
-        card::Output::from_pkw_pzd(&image(by_bit)).encode()[8..10],
+        card::Output::from_pkw_pzd(&image(by_bit)).to_bytes()[8..10],
         [0x10, 0x00]
     );
     assert_eq!(
-        card::Output::from_pkw_pzd(&image(by_byte)).encode()[8..10],
+        card::Output::from_pkw_pzd(&image(by_byte)).to_bytes()[8..10],
         [0x03, 0x00]
     );
 }
@@ -254,8 +254,8 @@ fn the_drive_answers_the_generated_images() {
     let answers = drive_answers(
         Bus::EthernetIp,
         ByteOrder::LittleEndian,
-        |image| card::Output::from_pkw_pzd(image).encode(),
-        |bytes| card::Input::decode(bytes).expect("32 bytes"),
+        |image| card::Output::from_pkw_pzd(image).to_bytes(),
+        |bytes| card::Input::from_slice(bytes).expect("32 bytes"),
         |input| input.pkw_pzd().expect("a response"),
     );
     let (read, refused) = (&answers.read, &answers.refused);

@@ -36,7 +36,7 @@ fn identity_is_the_gsdml_s() {
 
 #[test]
 fn output_image_is_16_big_endian_words_then_the_iops() {
-    assert_eq!(Output::LEN, 32);
+    assert_eq!(Output::SIZE, 32);
     // §2.6's example as PROFINET carries it: a PKW read (task 1) of P00.10, CW 1 (run forward)
     // and PZD2 5000 (50.00 Hz once P16.32 = 1).
     let out = Output {
@@ -46,14 +46,14 @@ fn output_image_is_16_big_endian_words_then_the_iops() {
         pzd2_reference_value_p16_32: 5000,
         ..Output::default()
     };
-    let bytes = out.encode_with_iops(card::IOXS_GOOD);
+    let bytes = out.to_bytes_with_iops(card::IOXS_GOOD);
     assert_eq!(
         bytes[..12],
         [0x00, 0x01, 0x00, 0x0A, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x13, 0x88]
     );
     assert!(bytes[12..32].iter().all(|&b| b == 0));
     assert_eq!(bytes[32], 0x80);
-    assert_eq!(Output::decode_with_iops(&bytes), (out, 0x80));
+    assert_eq!(Output::from_bytes_with_iops(&bytes), (out, 0x80));
 }
 
 #[test]
@@ -98,7 +98,7 @@ fn cw_and_sw_bits_are_tables_4_5_and_4_7() {
             sw_bit::HEARTBEAT,
         ]
     );
-    let input = Input::decode(&{
+    let input = Input::from_bytes(&{
         let mut b = [0u8; 32];
         b[8] = 0x01; // SW high byte: ready to run
         b[9] = 0x03; // SW low byte: state 3, stopped
@@ -129,8 +129,8 @@ fn pkw_example_1_read_request() {
     let mut frame = [0u8; 33];
     frame[..8].copy_from_slice(&[0x00, 0x01, 0x00, 0x0A, 0x00, 0x00, 0x00, 0x00]);
     frame[32] = 0x80;
-    assert_eq!(output.encode_with_iops(card::IOXS_GOOD), frame);
-    let (decoded, iops) = Output::decode_with_iops(&frame);
+    assert_eq!(output.to_bytes_with_iops(card::IOXS_GOOD), frame);
+    let (decoded, iops) = Output::from_bytes_with_iops(&frame);
     assert_eq!((decoded.pkw_pzd(), iops), (image, 0x80));
     assert_eq!(decoded.pkw_pzd().pkw.task, Task::Read);
 }
@@ -143,7 +143,7 @@ fn pkw_example_1_read_response() {
     let mut frame = [0u8; 33];
     frame[..10].copy_from_slice(&[0x00, 0x01, 0x00, 0x0A, 0x00, 0x00, 0x13, 0x88, 0x01, 0x03]);
     frame[32] = 0x80;
-    let (input, iops) = Input::decode_with_iops(&frame);
+    let (input, iops) = Input::from_bytes_with_iops(&frame);
     assert_eq!(iops, card::IOXS_GOOD);
     assert_eq!(
         (
@@ -168,7 +168,7 @@ fn pkw_example_1_read_response() {
     );
     assert!(image.status.ready());
     assert_eq!(
-        Input::from_pkw_pzd(&image).encode_with_iops(card::IOXS_GOOD),
+        Input::from_pkw_pzd(&image).to_bytes_with_iops(card::IOXS_GOOD),
         frame
     );
 }
@@ -183,12 +183,15 @@ fn pkw_example_2_write() {
         control: ControlWord(0).with(Output::CW_CONTROL_WORD_ENABLE_WRITING_PKW, true),
         pzd: [0; 11],
     };
-    let bytes = Output::from_pkw_pzd(&image).encode();
+    let bytes = Output::from_pkw_pzd(&image).to_bytes();
     assert_eq!(
         bytes[..10],
         [0x00, 0x04, 0x00, 0x0A, 0x00, 0x00, 0x13, 0x88, 0x01, 0x00]
     );
-    assert_eq!(Output::decode(&bytes).pkw_pzd().pkw.task, Task::WriteEeprom);
+    assert_eq!(
+        Output::from_bytes(&bytes).pkw_pzd().pkw.task,
+        Task::WriteEeprom
+    );
 }
 
 /// The CW of Table 4-5 typed: run forward (command 1 in bits 0-7) with the heartbeat (bit 15)
@@ -208,7 +211,7 @@ fn cw_command_and_pzd_words_in_place() {
     assert_eq!(output.cw_control_word, 0x8001);
     assert_eq!(output.pzd2_reference_value_p16_32, 5000);
     assert_eq!(output.pzd12_reference_value_p16_42, 0xBEEF);
-    let bytes = output.encode();
+    let bytes = output.to_bytes();
     assert_eq!(bytes[8..12], [0x80, 0x01, 0x13, 0x88]);
     assert_eq!(bytes[30..], [0xBE, 0xEF]);
     assert_eq!(
@@ -223,7 +226,10 @@ fn cw_command_and_pzd_words_in_place() {
 fn sw_state_and_mode() {
     let mut bytes = [0u8; 32];
     bytes[8..10].copy_from_slice(&[0x51, 0x01]);
-    let status = Input::decode(&bytes).pkw_pzd().expect("no response").status;
+    let status = Input::from_bytes(&bytes)
+        .pkw_pzd()
+        .expect("no response")
+        .status;
     assert_eq!(status, StatusWord(0x5101));
     assert_eq!(status.state(WordLayout::ByByte), Some(RunState::Forward));
     assert_eq!(status.run_stop_mode(), RunStopMode::Communication);
@@ -236,7 +242,7 @@ fn undefined_response_code_is_an_error() {
     let mut bytes = [0u8; 32];
     bytes[1] = 9;
     assert_eq!(
-        Input::decode(&bytes).pkw_pzd(),
+        Input::from_bytes(&bytes).pkw_pzd(),
         Err(ResponseError::UnknownResponse(9))
     );
 }
@@ -249,8 +255,8 @@ fn the_drive_answers_the_generated_images() {
     let answers = drive_answers(
         Bus::Profinet,
         ByteOrder::BigEndian,
-        |image| Output::from_pkw_pzd(image).encode(),
-        Input::decode,
+        |image| Output::from_pkw_pzd(image).to_bytes(),
+        Input::from_bytes,
         |input| input.pkw_pzd().expect("a response"),
     );
     assert_eq!(answers.read.pkw4_value_low_word, answers.keypad);
@@ -269,7 +275,7 @@ fn the_drive_answers_the_generated_images() {
     );
     assert!(later.pzd2_actual_value_p16_43 <= 2500);
     assert_eq!(
-        InputImage::parse(&later.encode(), ByteOrder::BigEndian),
+        InputImage::parse(&later.to_bytes(), ByteOrder::BigEndian),
         later.pkw_pzd()
     );
 }

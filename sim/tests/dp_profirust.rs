@@ -163,18 +163,18 @@ fn profirust_brings_the_card_to_data_exchange() {
         bytes.copy_from_slice(master.get_mut(handle).pi_i());
         let inputs = Inputs::from_bytes(&bytes);
         assert_eq!(
-            inputs.id1[0],
+            inputs.data_2[0],
             u16::from_be_bytes([expected[8], expected[9]]),
             "SW"
         );
         assert_eq!(
-            inputs.id0[0],
+            inputs.data_1[0],
             u16::from_be_bytes([expected[0], expected[1]]),
             "PKW1"
         );
         // The overlay's [pkw_pzd]: the generated image as the runtime's typed PKW/PZD image.
         let typed = inputs.pkw_pzd().unwrap();
-        assert_eq!(typed.status.0, inputs.id1[0]);
+        assert_eq!(typed.status.0, inputs.data_2[0]);
         if expected[1] == 1 {
             let value = PkwResponse::Word {
                 address: 10,

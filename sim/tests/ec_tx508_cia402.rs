@@ -25,9 +25,9 @@ struct Link {
     controller: Controller,
     device: EcTx508,
     /// The inputs image the device sent last cycle.
-    inputs: [u8; Inputs::LEN],
+    inputs: [u8; Inputs::SIZE],
     /// The outputs image the master sent last cycle.
-    outputs: [u8; Outputs::LEN],
+    outputs: [u8; Outputs::SIZE],
     /// The speed (rpm) the master asks for once operation is enabled.
     speed: i32,
     ms: u64,
@@ -42,7 +42,7 @@ impl Link {
             controller,
             inputs: device.inputs(),
             device,
-            outputs: [0; Outputs::LEN],
+            outputs: [0; Outputs::SIZE],
             speed: 0,
             ms: 0,
         }
@@ -51,7 +51,7 @@ impl Link {
     /// One cycle, master then device.
     fn cycle(&mut self) -> Seen {
         // Master: the inputs of the last cycle in, the outputs out.
-        let inputs = Inputs::decode(&self.inputs).unwrap().tx_pdo_1a00;
+        let inputs = Inputs::from_slice(&self.inputs).unwrap().tx_pdo_1a00;
         let cycle = self
             .controller
             .cycle(inputs.status_word, inputs.operation_mode_display);
@@ -67,7 +67,7 @@ impl Link {
                 ..RxPdo1600::default()
             },
         };
-        self.outputs = outputs.encode();
+        self.outputs = outputs.to_bytes();
 
         // Device: the outputs image by the 1600h mapping, one drive cycle, the inputs image.
         let now = Instant::from_millis(self.ms);
@@ -138,7 +138,7 @@ fn csv_drive_is_enabled_by_exact_controlwords_and_follows_the_target_on_its_ramp
         [0x0F, 0x00, 0, 0, 0, 0, 0x2C, 0x01, 0x00, 0x00, 0, 0, 0, 0, 0x09, 0, 0, 0, 0, 0, 0]
     );
     // And the last inputs: 6041h 0637h, 606Ch 300, 6061h 9.
-    let mut expected = [0u8; Inputs::LEN];
+    let mut expected = [0u8; Inputs::SIZE];
     expected[..2].copy_from_slice(&0x0637u16.to_le_bytes());
     expected[6..10].copy_from_slice(&300i32.to_le_bytes());
     expected[16] = 9;
@@ -227,7 +227,7 @@ fn an_outputs_image_of_the_wrong_length_is_refused_and_the_drive_left_as_it_was(
             ..RxPdo1600::default()
         },
     }
-    .encode();
+    .to_bytes();
     assert_eq!(
         device.cycle(Instant::from_millis(1), &enable[..20]),
         Err(edsgen_runtime::PdoError::WrongLength {
@@ -240,7 +240,7 @@ fn an_outputs_image_of_the_wrong_length_is_refused_and_the_drive_left_as_it_was(
     // The whole image is taken: shutdown, ready to switch on.
     let inputs = device.cycle(Instant::from_millis(2), &enable).unwrap();
     assert_eq!(
-        State::from_statusword(Inputs::decode(&inputs).unwrap().tx_pdo_1a00.status_word),
+        State::from_statusword(Inputs::from_slice(&inputs).unwrap().tx_pdo_1a00.status_word),
         Some(State::ReadyToSwitchOn)
     );
 }

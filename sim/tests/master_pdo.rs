@@ -61,7 +61,7 @@ fn pdos_are_configured_sent_and_decoded_into_the_generated_structs() {
         vl_target_velocity: -1500,
     };
     master
-        .send_pdo(pdo::Rpdo1::cob_id(3), &command.encode())
+        .send_pdo(pdo::Rpdo1::cob_id(3), &command.to_bytes())
         .unwrap();
     master.listen(Duration::from_millis(20)).unwrap();
     assert_eq!(master.read(3, od::CONTROLWORD).unwrap(), 0x000F);

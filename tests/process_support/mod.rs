@@ -79,6 +79,12 @@ pub fn gsdml_corpus_dir() -> Option<PathBuf> {
     skip_support::corpus("EDSGEN_GSDML_CORPUS", "gsdml-corpus")
 }
 
+/// The third-party GSD corpus (`EDSGEN_GSD_CORPUS`, else `../shared/gsd-corpus`), or a
+/// [`skip`].
+pub fn gsd_corpus_dir() -> Option<PathBuf> {
+    skip_support::corpus("EDSGEN_GSD_CORPUS", "gsd-corpus")
+}
+
 /// A file of the third-party corpus, or a [`skip`].
 pub fn corpus_file(relative: &str) -> Option<PathBuf> {
     let path = corpus_dir()?.join(relative);

@@ -1,12 +1,14 @@
 //! The module of an ODVA EDS (CIP): identity constants (the Identity object's attributes a
-//! scanner's electronic key compares), one typed image per assembly with `decode`/`encode` of its
-//! bytes, and the connections of `[Connection Manager]` as constants.
+//! scanner's electronic key compares), one typed image per assembly with the image API (`SIZE`,
+//! `from_bytes`, `to_bytes`, `from_slice`) over its bytes, and the connections of
+//! `[Connection Manager]` as constants.
 //!
 //! CIP carries data little-endian and packs an assembly's members from bit 0 of byte 0, each
 //! member's bits least significant first: the images follow that. Runs of equal members
 //! (`8,Param1` written 32 times) become one array field. A member's default is its parameter's
-//! default when the type holds it, else zero. The module needs neither `std` nor `alloc`, nor
-//! the runtime: its bit helpers are its own.
+//! default when the type holds it, else zero; a member whose parameter gives scaling has
+//! `NAME_scaled()`, its engineering value. The module needs neither `std` nor `alloc`; of the
+//! runtime it names only `PdoError` and the length check of `from_slice`.
 
 use std::collections::BTreeMap;
 
@@ -15,7 +17,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::names::{ident, Case};
-use super::plan::{doc_text, id};
+use super::plan::{code_span, doc_text, id};
 use super::{types, Generated};
 use crate::diag::Diagnostic;
 use crate::model::{data_type_info, Cip, CipAssembly, CipNumber, CipParam, Device, FieldRef};
@@ -245,6 +247,8 @@ struct Slot {
     count: usize,
     doc: String,
     default: Option<CipNumber>,
+    /// The parameter's scaling (multiplier, divisor, base, offset), when the file gives any.
+    scaling: Option<[i64; 4]>,
 }
 
 fn member_bits(cip: &Cip, bits: Option<u32>, member: &FieldRef) -> u32 {
@@ -290,7 +294,7 @@ fn slots(cip: &Cip, assembly: &CipAssembly, enums: &BTreeMap<u32, String>) -> (V
         }
         let (wanted, doc, default) = match (&m.member, param) {
             (FieldRef::Param(n), Some(p)) => {
-                let mut doc = format!(" Param{n} `{}`", doc_text(&p.name));
+                let mut doc = format!(" Param{n} {}", code_span(&p.name));
                 if let Some(e) = enums.get(n) {
                     doc.push_str(&format!(" (values: [`{e}`])"));
                 }
@@ -321,7 +325,7 @@ fn slots(cip: &Cip, assembly: &CipAssembly, enums: &BTreeMap<u32, String>) -> (V
                     FieldRef::Other(t) => t.clone(),
                     _ => String::new(),
                 };
-                ("member".to_owned(), format!(" `{}`", doc_text(&text)), None)
+                ("member".to_owned(), format!(" {}", code_span(&text)), None)
             }
         };
         let mut name = wanted.clone();
@@ -339,6 +343,17 @@ fn slots(cip: &Cip, assembly: &CipAssembly, enums: &BTreeMap<u32, String>) -> (V
             count: 1,
             doc,
             default,
+            scaling: param
+                .filter(|p| p.scaling.iter().any(Option::is_some))
+                .map(|p| {
+                    let [mult, div, base, offset] = p.scaling;
+                    [
+                        mult.unwrap_or(1),
+                        div.unwrap_or(1),
+                        base.unwrap_or(1),
+                        offset.unwrap_or(0),
+                    ]
+                }),
         });
         bit += u64::from(bits);
     }
@@ -374,15 +389,16 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
         let ty = id(name);
         let instance = Literal::u32_unsuffixed(assembly.instance());
         let doc = format!(
-            " Assem{} `{}`: assembly instance {}, {size} bytes.",
+            " Assem{} {}: assembly instance {}, {size} bytes.",
             assembly.number,
-            doc_text(&assembly.name),
+            code_span(&assembly.name),
             assembly.instance()
         );
         let mut fields = Vec::new();
         let mut gets = Vec::new();
         let mut puts = Vec::new();
         let mut defaults = Vec::new();
+        let mut scaled = Vec::new();
         for s in &slots {
             let field = id(&s.name);
             let t = s.ty.tokens();
@@ -436,8 +452,8 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
                 defaults.push(quote!(#field: #value,));
             }
         }
-        let (buf_in, encode_body) = if slots.is_empty() {
-            (quote!(_buf), quote!([0u8; #size_lit]))
+        let (bytes_in, to_bytes_body) = if slots.is_empty() {
+            (quote!(_bytes), quote!([0u8; #size_lit]))
         } else {
             (
                 quote!(buf),
@@ -448,14 +464,15 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
                 },
             )
         };
-        let check = if size == 0 {
-            TokenStream::new()
-        } else if slots.is_empty() {
-            quote!(if _buf.len() < #size_lit { return None; })
-        } else {
-            quote!(if buf.len() < #size_lit { return None; })
-        };
-        items.push(pkw_pzd(cip, assembly.number, &ty));
+        let size_and_from_slice = super::image_api::size_and_from_slice(
+            usize::try_from(size).unwrap_or(0),
+            "The size in bytes.",
+        );
+        for s in &slots {
+            scaled.extend(scaled_getter(s));
+        }
+        let scaled_impl = (!scaled.is_empty()).then(|| quote!(impl #ty { #(#scaled)* }));
+        items.push(super::cip_pkw_pzd::conversions(cip, assembly.number, &ty));
         items.push(quote! {
             #[doc = #doc]
             #[derive(Debug, Clone, Copy, PartialEq)]
@@ -466,19 +483,16 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
             impl #ty {
                 /// The Assembly object instance (connection point).
                 pub const INSTANCE: u32 = #instance;
-                /// The size in bytes.
-                pub const SIZE: usize = #size_lit;
+                #size_and_from_slice
 
-                /// Reads the image from the assembly's bytes; `None` when fewer than
-                /// [`Self::SIZE`] are given.
-                pub fn decode(#buf_in: &[u8]) -> Option<Self> {
-                    #check
-                    Some(Self { #(#gets)* })
+                /// Reads the image from the assembly's bytes.
+                pub fn from_bytes(#bytes_in: &[u8; #size_lit]) -> Self {
+                    Self { #(#gets)* }
                 }
 
                 /// The assembly's bytes (members not named here are zero).
-                pub fn encode(&self) -> [u8; #size_lit] {
-                    #encode_body
+                pub fn to_bytes(self) -> [u8; #size_lit] {
+                    #to_bytes_body
                 }
             }
 
@@ -489,6 +503,7 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
                 }
             }
         });
+        items.push(quote!(#scaled_impl));
     }
     quote! {
         /// Bits `at..at + len` of `buf`, least significant first (CIP's order); bits past the
@@ -524,55 +539,60 @@ fn assemblies(cip: &Cip, names: &[String], enums: &BTreeMap<u32, String>) -> Tok
     }
 }
 
-/// Conversions between an assembly's image and the PKW/PZD protocol's typed image, when the
-/// overlay says the assembly carries one (`[pkw_pzd]`).
-fn pkw_pzd(cip: &Cip, number: u32, ty: &proc_macro2::Ident) -> TokenStream {
-    let Some(images) = cip.pkw_pzd else {
-        return TokenStream::new();
-    };
-    let (order, order_doc) = if images.little_endian {
-        (quote!(LittleEndian), "little-endian")
-    } else {
-        (quote!(BigEndian), "big-endian")
-    };
-    let p = quote!(::edsgen_runtime::pkw_pzd);
-    if number == images.output {
-        let doc = format!(
-            " The image as the PKW/PZD protocol's: PKW request, control word, PZD2-PZD12 (words \
-             {order_doc}, as the overlay says)."
-        );
-        quote! {
-            impl #ty {
-                #[doc = #doc]
-                pub fn pkw_pzd(&self) -> #p::OutputImage {
-                    #p::OutputImage::parse(&self.encode(), #p::ByteOrder::#order)
-                }
-
-                /// The image carrying a PKW/PZD output image.
-                pub fn from_pkw_pzd(image: &#p::OutputImage) -> Self {
-                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
-                }
-            }
-        }
-    } else if number == images.input {
-        let doc = format!(
-            " The image as the PKW/PZD protocol's: PKW response, status word, PZD2-PZD12 (words \
-             {order_doc}, as the overlay says); an error for an undefined response code."
-        );
-        quote! {
-            impl #ty {
-                #[doc = #doc]
-                pub fn pkw_pzd(&self) -> Result<#p::InputImage, #p::ResponseError> {
-                    #p::InputImage::parse(&self.encode(), #p::ByteOrder::#order)
-                }
-
-                /// The image carrying a PKW/PZD input image.
-                pub fn from_pkw_pzd(image: &#p::InputImage) -> Self {
-                    Self::decode(&image.emit(#p::ByteOrder::#order)).unwrap_or_default()
-                }
-            }
-        }
-    } else {
-        TokenStream::new()
+/// `NAME_scaled()`, the engineering value of a numeric member whose parameter gives scaling:
+/// `(value + offset) * multiplier * base / divisor`, CIP's Parameter object formula.
+fn scaled_getter(s: &Slot) -> Option<TokenStream> {
+    let [mult, div, base, offset] = s.scaling?;
+    if s.count != 1 || div == 0 {
+        return None;
     }
+    let field = id(&s.name);
+    let raw = match s.ty {
+        Ty::Unsigned(64) | Ty::Signed(64) => quote!(self.#field as f64),
+        Ty::Unsigned(_) | Ty::Signed(_) | Ty::F32 => quote!(f64::from(self.#field)),
+        Ty::F64 => quote!(self.#field),
+        Ty::Bool | Ty::Bytes(_) => return None,
+    };
+    let name = id(&format!("{}_scaled", s.name));
+    // The formula without its identity terms (`+ 0`, `* 1`): what the file's numbers do.
+    let mut text = "raw".to_owned();
+    let mut value = raw;
+    // A negative number as `-magnitude` (a literal token is never negative).
+    let number = |v: i64| {
+        let magnitude = Literal::f64_unsuffixed(v.unsigned_abs() as f64);
+        if v < 0 {
+            quote!(-#magnitude)
+        } else {
+            quote!(#magnitude)
+        }
+    };
+    if offset != 0 {
+        let o = number(offset);
+        text = format!("(raw + {offset})");
+        value = quote!((#value + #o));
+    }
+    for (factor, v) in [("*", mult), ("*", base), ("/", div)] {
+        if v != 1 {
+            let n = number(v);
+            text = format!("{text} {factor} {v}");
+            value = if factor == "*" {
+                quote!(#value * #n)
+            } else {
+                quote!(#value / #n)
+            };
+        }
+    }
+    if text == "raw" {
+        return None;
+    }
+    let doc = format!(
+        " The engineering value of `{}`: `{text}`, its parameter's scaling.",
+        s.name
+    );
+    Some(quote! {
+        #[doc = #doc]
+        pub fn #name(self) -> f64 {
+            #value
+        }
+    })
 }

@@ -6,7 +6,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::names::{ident, Case};
-use super::plan::{doc_text, id};
+use super::plan::{code_span, id};
 use super::types;
 use crate::model::{path_bytes, Cip, CipAssembly, CipNumber, FieldRef};
 
@@ -75,7 +75,7 @@ pub(super) fn connections(cip: &Cip) -> TokenStream {
         }
         names.push(name.clone());
         let const_name = id(&name);
-        let doc = format!(" Connection{} `{}`.", c.number, doc_text(&c.name));
+        let doc = format!(" Connection{} {}.", c.number, code_span(&c.name));
         let cname = c.name.clone();
         let tt = types::hex(
             u128::from(c.trigger_transport.as_ref().map_or(0, |t| t.value.0)),
@@ -85,8 +85,9 @@ pub(super) fn connections(cip: &Cip) -> TokenStream {
         let o_t = option(instance(&c.o_t.format.value));
         let t_o = option(instance(&c.t_o.format.value));
         let config = option(config);
-        let o_t_size = Literal::u64_unsuffixed(size(&c.o_t));
-        let t_o_size = Literal::u64_unsuffixed(size(&c.t_o));
+        // Forward_Open carries a connection size in 16 bits (9 in a small Forward_Open).
+        let o_t_size = Literal::u16_unsuffixed(size(&c.o_t).min(u64::from(u16::MAX)) as u16);
+        let t_o_size = Literal::u16_unsuffixed(size(&c.t_o).min(u64::from(u16::MAX)) as u16);
         let rpi = Literal::u32_unsuffixed(rpi);
         let path = path.iter().map(|b| types::hex(u128::from(*b), 2));
         items.push(quote! {
@@ -122,10 +123,11 @@ pub(super) fn connections(cip: &Cip) -> TokenStream {
             pub t_o_assembly: Option<u32>,
             /// The configuration assembly instance, if it names one.
             pub config_assembly: Option<u32>,
-            /// The O->T data size in bytes (without the run/idle header).
-            pub o_t_size: u64,
+            /// The O->T data size in bytes (without the run/idle header), as Forward_Open's
+            /// 16-bit connection size carries it.
+            pub o_t_size: u16,
             /// The T->O data size in bytes.
-            pub t_o_size: u64,
+            pub t_o_size: u16,
             /// The O->T RPI in microseconds (the parameter's default when a parameter holds it;
             /// 0 when the file gives none).
             pub rpi_us: u32,

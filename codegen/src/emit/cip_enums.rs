@@ -14,7 +14,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::names::{ident, Case};
-use super::plan::{doc_text, id};
+use super::plan::{code_span, id};
 use crate::model::{Cip, CipParam};
 
 /// Type names the module's items and the prelude use: no image or enumeration takes them.
@@ -160,7 +160,7 @@ pub(super) fn enums(cip: &Cip, names: &BTreeMap<u32, String>) -> TokenStream {
         for (v, text) in &e.values {
             let fits = (low..=high).contains(&i128::from(*v));
             if !fits || variants.iter().any(|(_, seen, _)| seen == v) {
-                left_out.push(format!("{v} `{}`", doc_text(text)));
+                left_out.push(format!("{v} {}", code_span(text)));
                 continue;
             }
             let value_name = if *v < 0 {
@@ -181,8 +181,8 @@ pub(super) fn enums(cip: &Cip, names: &BTreeMap<u32, String>) -> TokenStream {
             variants.push((variant, *v, text));
         }
         let mut doc = vec![format!(
-            " Param{n} `{}`: the values `Enum{n}` names (raw `{raw}`).",
-            doc_text(&p.name)
+            " Param{n} {}: the values `Enum{n}` names (raw `{raw}`).",
+            code_span(&p.name)
         )];
         if !left_out.is_empty() {
             doc.push(String::new());
@@ -193,7 +193,7 @@ pub(super) fn enums(cip: &Cip, names: &BTreeMap<u32, String>) -> TokenStream {
         }
         let declared = variants.iter().map(|(variant, v, text)| {
             let variant = id(variant);
-            let vdoc = format!(" `{}` ({v}).", doc_text(text));
+            let vdoc = format!(" {} ({v}).", code_span(text));
             quote!(#[doc = #vdoc] #variant,)
         });
         let to_raw = variants.iter().map(|(variant, v, _)| {

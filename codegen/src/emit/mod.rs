@@ -10,8 +10,10 @@
 pub mod cip;
 mod cip_connections;
 mod cip_enums;
+mod cip_pkw_pzd;
 pub mod dp;
 pub mod ethercat;
+mod image_api;
 pub mod names;
 pub mod od;
 pub mod pdo;

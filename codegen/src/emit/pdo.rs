@@ -1,11 +1,12 @@
 //! Tokens for the typed PDOs of one device: one struct per default mapping (16xxh as `RpdoN`,
-//! 1Axxh as `TpdoN`), with bit-exact `encode`/`decode` of the payload, its length, and the COB-ID
-//! as a function of the node-ID.
+//! 1Axxh as `TpdoN`), with the image API over the payload (`SIZE`, bit-exact `from_bytes` and
+//! `to_bytes`, `from_slice`), and the COB-ID as a function of the node-ID.
 //!
 //! Fields follow the mapping order; dummy entries (indices 0001h-0007h) take their bits but no
 //! field and encode as zeros. Each struct implements the runtime's `MappedPdo` (its kind, number
-//! and mapping entries), from which a master configures a node's PDO to match it. A field mapped with fewer bits than its type is range-checked on
-//! `encode`, and sign-extended on `decode` when signed.
+//! and mapping entries), from which a master configures a node's PDO to match it. A field mapped
+//! with fewer bits than its type is range-checked by `to_bytes`, and sign-extended by
+//! `from_bytes` when signed.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
@@ -333,14 +334,14 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                             Prim::Bool => (
                                 quote!(u64::from(self.#field)),
                                 None,
-                                quote!(::edsgen_runtime::support::get_bits(&payload, #off, #nbits) != 0),
+                                quote!(::edsgen_runtime::support::get_bits(payload, #off, #nbits) != 0),
                             ),
                             Prim::F32 => {
                                 eq = false;
                                 (
                                     quote!(u64::from(self.#field.to_bits())),
                                     None,
-                                    quote!(f32::from_bits(::edsgen_runtime::support::get_bits(&payload, #off, #nbits) as u32)),
+                                    quote!(f32::from_bits(::edsgen_runtime::support::get_bits(payload, #off, #nbits) as u32)),
                                 )
                             }
                             Prim::F64 => {
@@ -348,7 +349,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                                 (
                                     quote!(self.#field.to_bits()),
                                     None,
-                                    quote!(f64::from_bits(::edsgen_runtime::support::get_bits(&payload, #off, #nbits))),
+                                    quote!(f64::from_bits(::edsgen_runtime::support::get_bits(payload, #off, #nbits))),
                                 )
                             }
                             Prim::Unsigned(w) => {
@@ -360,7 +361,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                                 let check = narrow.then(
                                     || quote!(::edsgen_runtime::support::fits_unsigned(#raw, #nbits)),
                                 );
-                                let get = quote!(::edsgen_runtime::support::get_bits(&payload, #off, #nbits));
+                                let get = quote!(::edsgen_runtime::support::get_bits(payload, #off, #nbits));
                                 let decode = if *w == 64 { get } else { quote!(#get as #t) };
                                 (raw, check, decode)
                             }
@@ -373,7 +374,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                                 let check = narrow.then(
                                     || quote!(::edsgen_runtime::support::fits_signed(#wide, #nbits)),
                                 );
-                                let get = quote!(::edsgen_runtime::support::sign_extend(::edsgen_runtime::support::get_bits(&payload, #off, #nbits), #nbits));
+                                let get = quote!(::edsgen_runtime::support::sign_extend(::edsgen_runtime::support::get_bits(payload, #off, #nbits), #nbits));
                                 let decode = if *w == 64 { get } else { quote!(#get as #t) };
                                 (quote!(#wide as u64), check, decode)
                             }
@@ -408,7 +409,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                         decodes.push(quote!(#field: {
                             let mut bytes = [0u8; #n_lit];
                             for (i, byte) in bytes.iter_mut().enumerate() {
-                                *byte = ::edsgen_runtime::support::get_bits(&payload, #at, 8) as u8;
+                                *byte = ::edsgen_runtime::support::get_bits(payload, #at, 8) as u8;
                             }
                             bytes
                         },));
@@ -449,6 +450,8 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
         },
         None => TokenStream::new(),
     };
+    let size_and_from_slice =
+        super::image_api::size_and_from_slice(len, "The payload length in bytes.");
     let payload_binding = if decodes.is_empty() {
         quote!(_payload)
     } else {
@@ -465,7 +468,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
         quote! {
             /// The payload, bit-exact (little-endian, least significant bit first); an error if a
             /// field does not fit its mapped length.
-            pub fn encode(&self) -> Result<[u8; #len_lit], ::edsgen_runtime::PdoError> {
+            pub fn to_bytes(self) -> Result<[u8; #len_lit], ::edsgen_runtime::PdoError> {
                 #encode_binding
                 #(#encodes)*
                 Ok(payload)
@@ -474,7 +477,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
     } else {
         quote! {
             /// The payload, bit-exact (little-endian, least significant bit first).
-            pub fn encode(&self) -> [u8; #len_lit] {
+            pub fn to_bytes(self) -> [u8; #len_lit] {
                 #encode_binding
                 #(#encodes)*
                 payload
@@ -489,18 +492,16 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
         }
 
         impl #name {
-            /// The payload length in bytes.
-            pub const LEN: usize = #len_lit;
+            #size_and_from_slice
 
             #cob_id_fn
 
-            #encode_fn
-
-            /// The fields of a payload; an error if its length is not [`Self::LEN`].
-            pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let #payload_binding = ::edsgen_runtime::support::payload::<#len_lit>(payload)?;
-                Ok(Self { #(#decodes)* })
+            /// The fields of a payload.
+            pub fn from_bytes(#payload_binding: &[u8; #len_lit]) -> Self {
+                Self { #(#decodes)* }
             }
+
+            #encode_fn
         }
 
         impl MappedPdo for #name {

@@ -94,7 +94,24 @@ pub(crate) fn id(name: &str) -> Ident {
     Ident::new(name, TokenSpan::call_site())
 }
 
-/// Escapes text from the file for rustdoc: no links, no HTML, no control characters.
+/// Text from the file as a rustdoc code span, shown exactly as written (no escapes, which a
+/// code span would show): in backticks, or fenced by more backticks when it holds some.
+pub fn code_span(text: &str) -> String {
+    let text: String = text
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect();
+    // A span holding backticks is fenced by one more than its longest run, padded by spaces.
+    let longest = text.split(|c| c != '`').map(str::len).max().unwrap_or(0);
+    if longest == 0 {
+        return format!("`{text}`");
+    }
+    let fence = "`".repeat(longest + 1);
+    format!("{fence} {text} {fence}")
+}
+
+/// Escapes text from the file for rustdoc: no links, no HTML, no control characters. Inside a
+/// code span use [`code_span`], where an escape would show.
 pub fn doc_text(text: &str) -> String {
     // Most text needs no escape: copied whole, not char by char (slow in a debug build script).
     let plain = |b: u8| {

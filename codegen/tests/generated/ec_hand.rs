@@ -411,19 +411,25 @@ pub mod ec_hand {
         }
         impl RxPdo1600 {
             /// The length in bytes.
-            pub const LEN: usize = 18;
+            pub const SIZE: usize = 18;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<18>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; 18]) -> Self {
+                Self::get(bytes, 0)
+            }
             /// The bytes, bit-exact (least significant bit first, little-endian); an error if
             /// a field does not fit its mapped bits.
-            pub fn encode(&self) -> Result<[u8; 18], ::edsgen_runtime::PdoError> {
+            pub fn to_bytes(self) -> Result<[u8; 18], ::edsgen_runtime::PdoError> {
                 self.check()?;
                 let mut bytes = [0u8; 18];
                 self.put(&mut bytes, 0);
                 Ok(bytes)
-            }
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<18>(bytes)?;
-                Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
@@ -537,19 +543,25 @@ pub mod ec_hand {
         }
         impl RxPdo1601 {
             /// The length in bytes.
-            pub const LEN: usize = 14;
+            pub const SIZE: usize = 14;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<14>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; 14]) -> Self {
+                Self::get(bytes, 0)
+            }
             /// The bytes, bit-exact (least significant bit first, little-endian); an error if
             /// a field does not fit its mapped bits.
-            pub fn encode(&self) -> Result<[u8; 14], ::edsgen_runtime::PdoError> {
+            pub fn to_bytes(self) -> Result<[u8; 14], ::edsgen_runtime::PdoError> {
                 self.check()?;
                 let mut bytes = [0u8; 14];
                 self.put(&mut bytes, 0);
                 Ok(bytes)
-            }
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<14>(bytes)?;
-                Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
@@ -632,17 +644,23 @@ pub mod ec_hand {
         }
         impl RxPdo1602 {
             /// The length in bytes.
-            pub const LEN: usize = 2;
+            pub const SIZE: usize = 2;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<2>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; 2]) -> Self {
+                Self::get(bytes, 0)
+            }
             /// The bytes, bit-exact (least significant bit first, little-endian).
-            pub fn encode(&self) -> [u8; 2] {
+            pub fn to_bytes(self) -> [u8; 2] {
                 let mut bytes = [0u8; 2];
                 self.put(&mut bytes, 0);
                 bytes
-            }
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<2>(bytes)?;
-                Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
@@ -697,17 +715,23 @@ pub mod ec_hand {
         }
         impl TxPdo1A00 {
             /// The length in bytes.
-            pub const LEN: usize = 14;
+            pub const SIZE: usize = 14;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<14>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; 14]) -> Self {
+                Self::get(bytes, 0)
+            }
             /// The bytes, bit-exact (least significant bit first, little-endian).
-            pub fn encode(&self) -> [u8; 14] {
+            pub fn to_bytes(self) -> [u8; 14] {
                 let mut bytes = [0u8; 14];
                 self.put(&mut bytes, 0);
                 bytes
-            }
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<14>(bytes)?;
-                Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, buf: &mut [u8], at: usize) {
@@ -782,17 +806,23 @@ pub mod ec_hand {
         pub struct TxPdo1A01 {}
         impl TxPdo1A01 {
             /// The length in bytes.
-            pub const LEN: usize = 0;
+            pub const SIZE: usize = 0;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<0>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; 0]) -> Self {
+                Self::get(bytes, 0)
+            }
             /// The bytes, bit-exact (least significant bit first, little-endian).
-            pub fn encode(&self) -> [u8; 0] {
+            pub fn to_bytes(self) -> [u8; 0] {
                 let mut bytes = [0u8; 0];
                 self.put(&mut bytes, 0);
                 bytes
-            }
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<0>(bytes)?;
-                Ok(Self::get(&bytes, 0))
             }
             /// Writes the fields from bit `at` (bits beyond `buf` are dropped).
             fn put(&self, _buf: &mut [u8], _at: usize) {}
@@ -837,19 +867,25 @@ pub mod ec_hand {
         }
         impl Outputs {
             /// The length in bytes.
-            pub const LEN: usize = 31;
+            pub const SIZE: usize = 31;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<31>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; 31]) -> Self {
+                Self::get(bytes, 0)
+            }
             /// The bytes, bit-exact (least significant bit first, little-endian); an error if
             /// a field does not fit its mapped bits.
-            pub fn encode(&self) -> Result<[u8; 31], ::edsgen_runtime::PdoError> {
+            pub fn to_bytes(self) -> Result<[u8; 31], ::edsgen_runtime::PdoError> {
                 self.check()?;
                 let mut bytes = [0u8; 31];
                 self.put(&mut bytes, 0);
                 Ok(bytes)
-            }
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<31>(bytes)?;
-                Ok(Self::get(&bytes, 0))
             }
             /// Writes every PDO from bit `at`.
             fn put(&self, buf: &mut [u8], at: usize) {
@@ -902,17 +938,23 @@ pub mod ec_hand {
         }
         impl Inputs {
             /// The length in bytes.
-            pub const LEN: usize = 14;
+            pub const SIZE: usize = 14;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<14>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; 14]) -> Self {
+                Self::get(bytes, 0)
+            }
             /// The bytes, bit-exact (least significant bit first, little-endian).
-            pub fn encode(&self) -> [u8; 14] {
+            pub fn to_bytes(self) -> [u8; 14] {
                 let mut bytes = [0u8; 14];
                 self.put(&mut bytes, 0);
                 bytes
-            }
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<14>(bytes)?;
-                Ok(Self::get(&bytes, 0))
             }
             /// Writes every PDO from bit `at`.
             fn put(&self, buf: &mut [u8], at: usize) {

@@ -791,15 +791,35 @@ pub mod gd350 {
         }
         impl Rpdo2 {
             /// The payload length in bytes.
-            pub const LEN: usize = 8;
+            pub const SIZE: usize = 8;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<8>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
             /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// The COB-ID of 1401h sub 1: `$NODEID + 0x300`.
             pub const fn cob_id(node_id: u8) -> u16 {
                 (node_id as u16).wrapping_add(0x300)
             }
+            /// The fields of a payload.
+            pub fn from_bytes(payload: &[u8; 8]) -> Self {
+                Self {
+                    control_word: ::edsgen_runtime::support::get_bits(payload, 0, 16)
+                        as u16,
+                    setting_1: ::edsgen_runtime::support::get_bits(payload, 16, 16)
+                        as u16,
+                    setting_2: ::edsgen_runtime::support::get_bits(payload, 32, 16)
+                        as u16,
+                    setting_3: ::edsgen_runtime::support::get_bits(payload, 48, 16)
+                        as u16,
+                }
+            }
             /// The payload, bit-exact (little-endian, least significant bit first).
-            pub fn encode(&self) -> [u8; 8] {
+            pub fn to_bytes(self) -> [u8; 8] {
                 let mut payload = [0u8; 8];
                 ::edsgen_runtime::support::put_bits(
                     &mut payload,
@@ -826,20 +846,6 @@ pub mod gd350 {
                     u64::from(self.setting_3),
                 );
                 payload
-            }
-            /// The fields of a payload; an error if its length is not [`Self::LEN`].
-            pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::support::payload::<8>(payload)?;
-                Ok(Self {
-                    control_word: ::edsgen_runtime::support::get_bits(&payload, 0, 16)
-                        as u16,
-                    setting_1: ::edsgen_runtime::support::get_bits(&payload, 16, 16)
-                        as u16,
-                    setting_2: ::edsgen_runtime::support::get_bits(&payload, 32, 16)
-                        as u16,
-                    setting_3: ::edsgen_runtime::support::get_bits(&payload, 48, 16)
-                        as u16,
-                })
             }
         }
         impl MappedPdo for Rpdo2 {
@@ -870,15 +876,44 @@ pub mod gd350 {
         }
         impl Tpdo2 {
             /// The payload length in bytes.
-            pub const LEN: usize = 8;
+            pub const SIZE: usize = 8;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<8>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
             /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// The COB-ID of 1801h sub 1: `$NODEID + 0x280`.
             pub const fn cob_id(node_id: u8) -> u16 {
                 (node_id as u16).wrapping_add(0x280)
             }
+            /// The fields of a payload.
+            pub fn from_bytes(payload: &[u8; 8]) -> Self {
+                Self {
+                    status_word: ::edsgen_runtime::support::get_bits(payload, 0, 16)
+                        as u16,
+                    returned_value_1: ::edsgen_runtime::support::get_bits(
+                        payload,
+                        16,
+                        16,
+                    ) as u16,
+                    returned_value_2: ::edsgen_runtime::support::get_bits(
+                        payload,
+                        32,
+                        16,
+                    ) as u16,
+                    returned_value_3: ::edsgen_runtime::support::get_bits(
+                        payload,
+                        48,
+                        16,
+                    ) as u16,
+                }
+            }
             /// The payload, bit-exact (little-endian, least significant bit first).
-            pub fn encode(&self) -> [u8; 8] {
+            pub fn to_bytes(self) -> [u8; 8] {
                 let mut payload = [0u8; 8];
                 ::edsgen_runtime::support::put_bits(
                     &mut payload,
@@ -905,29 +940,6 @@ pub mod gd350 {
                     u64::from(self.returned_value_3),
                 );
                 payload
-            }
-            /// The fields of a payload; an error if its length is not [`Self::LEN`].
-            pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::support::payload::<8>(payload)?;
-                Ok(Self {
-                    status_word: ::edsgen_runtime::support::get_bits(&payload, 0, 16)
-                        as u16,
-                    returned_value_1: ::edsgen_runtime::support::get_bits(
-                        &payload,
-                        16,
-                        16,
-                    ) as u16,
-                    returned_value_2: ::edsgen_runtime::support::get_bits(
-                        &payload,
-                        32,
-                        16,
-                    ) as u16,
-                    returned_value_3: ::edsgen_runtime::support::get_bits(
-                        &payload,
-                        48,
-                        16,
-                    ) as u16,
-                })
             }
         }
         impl MappedPdo for Tpdo2 {
@@ -957,16 +969,38 @@ pub mod gd350 {
         }
         impl Tpdo3 {
             /// The payload length in bytes.
-            pub const LEN: usize = 6;
+            pub const SIZE: usize = 6;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<6>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
             /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// 1802h sub 1 gives no COB-ID; this is the predefined connection set's `0x380 + node-ID`.
             pub const fn cob_id(node_id: u8) -> u16 {
                 (node_id as u16).wrapping_add(0x380)
             }
+            /// The fields of a payload.
+            pub fn from_bytes(payload: &[u8; 6]) -> Self {
+                Self {
+                    nibble: ::edsgen_runtime::support::get_bits(payload, 0, 4) as u8,
+                    signed_24: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(payload, 8, 24),
+                        24,
+                    ) as i32,
+                    type_: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(payload, 32, 8),
+                        8,
+                    ) as i8,
+                    flag: ::edsgen_runtime::support::get_bits(payload, 40, 1) != 0,
+                }
+            }
             /// The payload, bit-exact (little-endian, least significant bit first); an error if a
             /// field does not fit its mapped length.
-            pub fn encode(&self) -> Result<[u8; 6], ::edsgen_runtime::PdoError> {
+            pub fn to_bytes(self) -> Result<[u8; 6], ::edsgen_runtime::PdoError> {
                 let mut payload = [0u8; 6];
                 if !::edsgen_runtime::support::fits_unsigned(u64::from(self.nibble), 4) {
                     return Err(::edsgen_runtime::PdoError::OutOfRange {
@@ -1007,22 +1041,6 @@ pub mod gd350 {
                 );
                 Ok(payload)
             }
-            /// The fields of a payload; an error if its length is not [`Self::LEN`].
-            pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::support::payload::<6>(payload)?;
-                Ok(Self {
-                    nibble: ::edsgen_runtime::support::get_bits(&payload, 0, 4) as u8,
-                    signed_24: ::edsgen_runtime::support::sign_extend(
-                        ::edsgen_runtime::support::get_bits(&payload, 8, 24),
-                        24,
-                    ) as i32,
-                    type_: ::edsgen_runtime::support::sign_extend(
-                        ::edsgen_runtime::support::get_bits(&payload, 32, 8),
-                        8,
-                    ) as i8,
-                    flag: ::edsgen_runtime::support::get_bits(&payload, 40, 1) != 0,
-                })
-            }
         }
         impl MappedPdo for Tpdo3 {
             const KIND: PdoKind = PdoKind::Transmit;
@@ -1047,15 +1065,43 @@ pub mod gd350 {
         }
         impl Tpdo4 {
             /// The payload length in bytes.
-            pub const LEN: usize = 6;
+            pub const SIZE: usize = 6;
+            /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+            pub fn from_slice(
+                bytes: &[u8],
+            ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                ::edsgen_runtime::support::payload::<6>(bytes)
+                    .map(|bytes| Self::from_bytes(&bytes))
+            }
             /// The CAN identifier for a node-ID (the COB-ID without its flag bits).
             ///
             /// 1803h sub 1 gives no COB-ID; this is the predefined connection set's `0x480 + node-ID`.
             pub const fn cob_id(node_id: u8) -> u16 {
                 (node_id as u16).wrapping_add(0x480)
             }
+            /// The fields of a payload.
+            pub fn from_bytes(payload: &[u8; 6]) -> Self {
+                Self {
+                    flag: ::edsgen_runtime::support::get_bits(payload, 0, 1) != 0,
+                    tag: {
+                        let mut bytes = [0u8; 4];
+                        for (i, byte) in bytes.iter_mut().enumerate() {
+                            *byte = ::edsgen_runtime::support::get_bits(
+                                payload,
+                                1 + 8 * i,
+                                8,
+                            ) as u8;
+                        }
+                        bytes
+                    },
+                    type_: ::edsgen_runtime::support::sign_extend(
+                        ::edsgen_runtime::support::get_bits(payload, 33, 8),
+                        8,
+                    ) as i8,
+                }
+            }
             /// The payload, bit-exact (little-endian, least significant bit first).
-            pub fn encode(&self) -> [u8; 6] {
+            pub fn to_bytes(self) -> [u8; 6] {
                 let mut payload = [0u8; 6];
                 ::edsgen_runtime::support::put_bits(
                     &mut payload,
@@ -1078,28 +1124,6 @@ pub mod gd350 {
                     i64::from(self.type_) as u64,
                 );
                 payload
-            }
-            /// The fields of a payload; an error if its length is not [`Self::LEN`].
-            pub fn decode(payload: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let payload = ::edsgen_runtime::support::payload::<6>(payload)?;
-                Ok(Self {
-                    flag: ::edsgen_runtime::support::get_bits(&payload, 0, 1) != 0,
-                    tag: {
-                        let mut bytes = [0u8; 4];
-                        for (i, byte) in bytes.iter_mut().enumerate() {
-                            *byte = ::edsgen_runtime::support::get_bits(
-                                &payload,
-                                1 + 8 * i,
-                                8,
-                            ) as u8;
-                        }
-                        bytes
-                    },
-                    type_: ::edsgen_runtime::support::sign_extend(
-                        ::edsgen_runtime::support::get_bits(&payload, 33, 8),
-                        8,
-                    ) as i8,
-                })
             }
         }
         impl MappedPdo for Tpdo4 {

@@ -214,20 +214,23 @@ pub mod odva_enums {
         pub const INSTANCE: u32 = 100;
         /// The size in bytes.
         pub const SIZE: usize = 5;
-        /// Reads the image from the assembly's bytes; `None` when fewer than
-        /// [`Self::SIZE`] are given.
-        pub fn decode(buf: &[u8]) -> Option<Self> {
-            if buf.len() < 5 {
-                return None;
-            }
-            Some(Self {
+        /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+        pub fn from_slice(
+            bytes: &[u8],
+        ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+            ::edsgen_runtime::support::payload::<5>(bytes)
+                .map(|bytes| Self::from_bytes(&bytes))
+        }
+        /// Reads the image from the assembly's bytes.
+        pub fn from_bytes(buf: &[u8; 5]) -> Self {
+            Self {
                 inputs: get(buf, 0, 8) as u8,
                 connection: get(buf, 8, 16) as u16 as i16,
                 option: get(buf, 24, 16) as u16,
-            })
+            }
         }
         /// The assembly's bytes (members not named here are zero).
-        pub fn encode(&self) -> [u8; 5] {
+        pub fn to_bytes(self) -> [u8; 5] {
             let mut buf = [0u8; 5];
             put(&mut buf, 0, 8, u64::from(self.inputs));
             put(&mut buf, 8, 16, u64::from(self.connection as u16));

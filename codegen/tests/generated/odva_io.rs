@@ -96,19 +96,22 @@ pub mod odva_io {
         pub const INSTANCE: u32 = 100;
         /// The size in bytes.
         pub const SIZE: usize = 3;
-        /// Reads the image from the assembly's bytes; `None` when fewer than
-        /// [`Self::SIZE`] are given.
-        pub fn decode(buf: &[u8]) -> Option<Self> {
-            if buf.len() < 3 {
-                return None;
-            }
-            Some(Self {
+        /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+        pub fn from_slice(
+            bytes: &[u8],
+        ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+            ::edsgen_runtime::support::payload::<3>(bytes)
+                .map(|bytes| Self::from_bytes(&bytes))
+        }
+        /// Reads the image from the assembly's bytes.
+        pub fn from_bytes(buf: &[u8; 3]) -> Self {
+            Self {
                 speed: get(buf, 0, 16) as u16,
                 mode: get(buf, 16, 8) as u8,
-            })
+            }
         }
         /// The assembly's bytes (members not named here are zero).
-        pub fn encode(&self) -> [u8; 3] {
+        pub fn to_bytes(self) -> [u8; 3] {
             let mut buf = [0u8; 3];
             put(&mut buf, 0, 16, u64::from(self.speed));
             put(&mut buf, 16, 8, u64::from(self.mode));
@@ -119,6 +122,12 @@ pub mod odva_io {
         /// The parameters' defaults, where the file gives them.
         fn default() -> Self {
             Self { speed: 1500, mode: 0 }
+        }
+    }
+    impl Inputs {
+        /// The engineering value of `speed`: `raw / 10`, its parameter's scaling.
+        pub fn speed_scaled(self) -> f64 {
+            f64::from(self.speed) / 10.0
         }
     }
     /// Assem150 `Outputs`: assembly instance 150, 2 bytes.
@@ -132,18 +141,21 @@ pub mod odva_io {
         pub const INSTANCE: u32 = 150;
         /// The size in bytes.
         pub const SIZE: usize = 2;
-        /// Reads the image from the assembly's bytes; `None` when fewer than
-        /// [`Self::SIZE`] are given.
-        pub fn decode(buf: &[u8]) -> Option<Self> {
-            if buf.len() < 2 {
-                return None;
-            }
-            Some(Self {
+        /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+        pub fn from_slice(
+            bytes: &[u8],
+        ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+            ::edsgen_runtime::support::payload::<2>(bytes)
+                .map(|bytes| Self::from_bytes(&bytes))
+        }
+        /// Reads the image from the assembly's bytes.
+        pub fn from_bytes(buf: &[u8; 2]) -> Self {
+            Self {
                 speed: get(buf, 0, 16) as u16,
-            })
+            }
         }
         /// The assembly's bytes (members not named here are zero).
-        pub fn encode(&self) -> [u8; 2] {
+        pub fn to_bytes(self) -> [u8; 2] {
             let mut buf = [0u8; 2];
             put(&mut buf, 0, 16, u64::from(self.speed));
             buf
@@ -153,6 +165,12 @@ pub mod odva_io {
         /// The parameters' defaults, where the file gives them.
         fn default() -> Self {
             Self { speed: 1500 }
+        }
+    }
+    impl Outputs {
+        /// The engineering value of `speed`: `raw / 10`, its parameter's scaling.
+        pub fn speed_scaled(self) -> f64 {
+            f64::from(self.speed) / 10.0
         }
     }
     /// A connection `[Connection Manager]` describes.
@@ -171,10 +189,11 @@ pub mod odva_io {
         pub t_o_assembly: Option<u32>,
         /// The configuration assembly instance, if it names one.
         pub config_assembly: Option<u32>,
-        /// The O->T data size in bytes (without the run/idle header).
-        pub o_t_size: u64,
+        /// The O->T data size in bytes (without the run/idle header), as Forward_Open's
+        /// 16-bit connection size carries it.
+        pub o_t_size: u16,
         /// The T->O data size in bytes.
-        pub t_o_size: u64,
+        pub t_o_size: u16,
         /// The O->T RPI in microseconds (the parameter's default when a parameter holds it;
         /// 0 when the file gives none).
         pub rpi_us: u32,

@@ -149,7 +149,7 @@ impl PdoConfig<'_> {
 /// pub struct Tpdo1 { pub statusword: u16 }
 /// impl Tpdo1 {
 ///     pub const fn cob_id(node_id: u8) -> u16 { 0x180 + node_id as u16 }
-///     pub fn decode(p: &[u8]) -> Result<Self, edsgen_runtime::PdoError> {
+///     pub fn from_slice(p: &[u8]) -> Result<Self, edsgen_runtime::PdoError> {
 ///         let p = edsgen_runtime::od::typed::payload::<2>(p)?;
 ///         Ok(Tpdo1 { statusword: u16::from_le_bytes(p) })
 ///     }
@@ -193,7 +193,7 @@ macro_rules! pdo_dispatch {
                 }
                 $(
                     if u32::from(<$ty>::cob_id(node_id)) == id {
-                        return Some(<$ty>::decode(frame.data()).map($name::$variant));
+                        return Some(<$ty>::from_slice(frame.data()).map($name::$variant));
                     }
                 )+
                 None

@@ -41,7 +41,7 @@ impl EcTx508 {
     }
 
     /// The inputs image the device shows now (before any cycle: the power-up state).
-    pub fn inputs(&self) -> [u8; Inputs::LEN] {
+    pub fn inputs(&self) -> [u8; Inputs::SIZE] {
         let drive = &self.drive;
         Inputs {
             tx_pdo_1a00: TxPdo1A00 {
@@ -51,14 +51,14 @@ impl EcTx508 {
                 ..TxPdo1A00::default()
             },
         }
-        .encode()
+        .to_bytes()
     }
 
     /// One cycle at `now`: the outputs image in (decoded by the 1600h mapping; an image of the
     /// wrong length is refused and the drive left as it was), the drive run, the inputs image
     /// out.
-    pub fn cycle(&mut self, now: Instant, outputs: &[u8]) -> Result<[u8; Inputs::LEN], PdoError> {
-        let rx = Outputs::decode(outputs)?.rx_pdo_1600;
+    pub fn cycle(&mut self, now: Instant, outputs: &[u8]) -> Result<[u8; Inputs::SIZE], PdoError> {
+        let rx = Outputs::from_slice(outputs)?.rx_pdo_1600;
         self.drive.set_mode(now, rx.operation_mode);
         let target = rx.target_speed.clamp(i16::MIN.into(), i16::MAX.into()) as i16;
         if target != self.drive.target() {

@@ -104,14 +104,14 @@ pub fn goodrive350(address: [u8; 4], now: Instant) -> Adapter<PkwPzdDrive> {
     assemblies.insert(
         card::Input::INSTANCE,
         Assembly {
-            data: card::Input::default().encode().to_vec(),
+            data: card::Input::default().to_bytes().to_vec(),
             consumed: false,
         },
     );
     assemblies.insert(
         card::Output::INSTANCE,
         Assembly {
-            data: card::Output::default().encode().to_vec(),
+            data: card::Output::default().to_bytes().to_vec(),
             consumed: true,
         },
     );

@@ -4,7 +4,7 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use crate::emit::plan::{doc_text, id};
+use crate::emit::plan::{code_span, id};
 use crate::emit::types::hex;
 use crate::model::{EtherCat, SmKind};
 
@@ -12,8 +12,8 @@ pub(super) fn constants(ec: &EtherCat) -> TokenStream {
     let rt = quote!(::edsgen_runtime::ethercat);
     let type_name = Literal::string(&ec.type_name);
     let type_doc = format!(
-        " The device's type name in the ESI file (`{}`).",
-        doc_text(&ec.type_name).replace('`', "'")
+        " The device's type name in the ESI file ({}).",
+        code_span(&ec.type_name)
     );
     let profiles: Vec<_> = ec
         .profiles
@@ -35,10 +35,7 @@ pub(super) fn constants(ec: &EtherCat) -> TokenStream {
             ),
             SmKind::Outputs => (quote!(Outputs), "process data outputs".to_owned()),
             SmKind::Inputs => (quote!(Inputs), "process data inputs".to_owned()),
-            SmKind::Other(text) => (
-                quote!(Other),
-                format!("`{}`", doc_text(text).replace('`', "'")),
-            ),
+            SmKind::Other(text) => (quote!(Other), code_span(text)),
         };
         let size = sm.default_size.unwrap_or(0);
         let doc = match sm.default_size {

@@ -5,7 +5,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use crate::emit::names::{ident, Case, Namespace};
-use crate::emit::plan::{doc_text, id, Plan};
+use crate::emit::plan::{code_span, doc_text, id, Plan};
 use crate::emit::types::{pdo_derives, Prim, RustType, TypeTokens};
 use crate::model::EcPdo;
 
@@ -121,14 +121,14 @@ pub(super) fn plan_pdo(pdo: &EcPdo, rx: bool, plan: &Plan) -> PdoPlan {
     };
     let mut doc = vec![
         format!(
-            " {} {:04X}h `{}`: {offset} bits ({} bytes){assigned}.",
+            " {} {:04X}h {}: {offset} bits ({} bytes){assigned}.",
             if rx {
                 "RxPDO (outputs)"
             } else {
                 "TxPDO (inputs)"
             },
             pdo.index,
-            doc_text(pdo.name.trim()).replace('`', "'"),
+            code_span(pdo.name.trim()),
             offset.div_ceil(8)
         ),
         String::new(),
@@ -277,7 +277,8 @@ pub(super) fn pdo_methods(p: &PdoPlan) -> TokenStream {
     }
 }
 
-/// One struct with its fields' declarations, `LEN`, `encode`/`decode`, and `ProcessData`.
+/// One struct with its fields' declarations, the image API (`SIZE`, `from_bytes`, `to_bytes`,
+/// `from_slice`), and `ProcessData`.
 pub(super) fn emit_struct(p: &PdoPlan, methods: &TokenStream) -> TokenStream {
     let fields = p.fields.iter().map(|f| {
         let field = id(&f.name);
@@ -303,7 +304,7 @@ pub(super) fn emit_struct(p: &PdoPlan, methods: &TokenStream) -> TokenStream {
     )
 }
 
-/// The struct, its inherent `LEN`, `encode`, `decode` and private methods, its `ProcessData`
+/// The struct, its inherent image API and private methods, its `ProcessData`
 /// implementation and the ethercrab-wire hook: shared by PDOs and process images.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn emit_item(
@@ -317,16 +318,18 @@ pub(super) fn emit_item(
     methods: &TokenStream,
 ) -> TokenStream {
     let name = id(name);
+    let bits_count = bits;
     let len = Literal::usize_unsuffixed(bits.div_ceil(8) as usize);
     let bits = Literal::usize_unsuffixed(bits as usize);
     let doc_attrs = doc.iter().map(|l| quote!(#[doc = #l]));
     let derives = pdo_derives(eq, default);
-    let (encode, check) = if fallible {
+    let size = bits_count.div_ceil(8) as usize;
+    let (to_bytes, check) = if fallible {
         (
             quote! {
                 /// The bytes, bit-exact (least significant bit first, little-endian); an error if
                 /// a field does not fit its mapped bits.
-                pub fn encode(&self) -> Result<[u8; #len], ::edsgen_runtime::PdoError> {
+                pub fn to_bytes(self) -> Result<[u8; #len], ::edsgen_runtime::PdoError> {
                     self.check()?;
                     let mut bytes = [0u8; #len];
                     self.put(&mut bytes, 0);
@@ -339,7 +342,7 @@ pub(super) fn emit_item(
         (
             quote! {
                 /// The bytes, bit-exact (least significant bit first, little-endian).
-                pub fn encode(&self) -> [u8; #len] {
+                pub fn to_bytes(self) -> [u8; #len] {
                     let mut bytes = [0u8; #len];
                     self.put(&mut bytes, 0);
                     bytes
@@ -348,6 +351,8 @@ pub(super) fn emit_item(
             TokenStream::new(),
         )
     };
+    let size_and_from_slice =
+        crate::emit::image_api::size_and_from_slice(size, "The length in bytes.");
     quote! {
         #(#doc_attrs)*
         #[derive(#(#derives),*)]
@@ -356,16 +361,14 @@ pub(super) fn emit_item(
         }
 
         impl #name {
-            /// The length in bytes.
-            pub const LEN: usize = #len;
+            #size_and_from_slice
 
-            #encode
-
-            /// The fields of exactly [`Self::LEN`] bytes.
-            pub fn decode(bytes: &[u8]) -> Result<Self, ::edsgen_runtime::PdoError> {
-                let bytes = ::edsgen_runtime::support::payload::<#len>(bytes)?;
-                Ok(Self::get(&bytes, 0))
+            /// The fields of the image's bytes.
+            pub fn from_bytes(bytes: &[u8; #len]) -> Self {
+                Self::get(bytes, 0)
             }
+
+            #to_bytes
 
             #methods
         }

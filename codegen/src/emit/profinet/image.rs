@@ -1,12 +1,13 @@
 //! One struct per submodule direction (`Input`, `Output`): a field per `DataItem`, big-endian
-//! on the wire as PROFINET carries IO data, with `encode`/`decode` over the data bytes and over
-//! the data followed by its IOPS byte, and a mask constant per named bit of a `UseAsBits` item.
+//! on the wire as PROFINET carries IO data, with the image API (`SIZE`, `from_bytes`,
+//! `to_bytes`, `from_slice`) over the data bytes, `_with_iops` over the data and its IOPS byte,
+//! and a mask constant per named bit of a `UseAsBits` item.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use crate::emit::names::{ident, Case};
-use crate::emit::plan::{doc_text, id};
+use crate::emit::plan::{code_span, doc_text, id};
 use crate::model::{DataItem, PnDataType};
 
 /// What a field holds.
@@ -68,8 +69,8 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
         names.push(field.clone());
         let f = id(&field);
         let doc = format!(
-            " Byte {offset}: `{}`{}.",
-            doc_text(&item.data_type.value),
+            " Byte {offset}: {}{}.",
+            code_span(&item.data_type.value),
             item.name
                 .as_deref()
                 .map(|t| format!(", {}", doc_text(t)))
@@ -160,6 +161,8 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
     let last = Literal::usize_unsuffixed(offset);
     let doc = format!(" The submodule's {what}: {offset} bytes, big-endian.");
     let eq = (!float).then(|| quote!(Eq,));
+    let size_and_from_slice =
+        crate::emit::image_api::size_and_from_slice(offset, "Bytes of data, without the IOPS.");
     quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq, #eq)]
@@ -168,41 +171,40 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
         }
 
         impl #name {
-            /// Bytes of data, without the IOPS.
-            pub const LEN: usize = #len;
+            #size_and_from_slice
             #(#masks)*
 
             /// The data bytes, big-endian.
-            pub fn encode(&self) -> [u8; #len] {
+            pub fn to_bytes(self) -> [u8; #len] {
                 let mut out = [0u8; #len];
                 #(#encodes)*
                 out
             }
 
             /// Reads the data bytes.
-            pub fn decode(bytes: &[u8; #len]) -> Self {
+            pub fn from_bytes(bytes: &[u8; #len]) -> Self {
                 Self { #(#decodes)* }
             }
 
             /// The data bytes followed by the provider status (IOPS), as the frame carries them.
-            pub fn encode_with_iops(&self, iops: u8) -> [u8; #with_iops] {
+            pub fn to_bytes_with_iops(self, iops: u8) -> [u8; #with_iops] {
                 let mut out = [0u8; #with_iops];
-                out[..#len].copy_from_slice(&self.encode());
+                out[..#len].copy_from_slice(&self.to_bytes());
                 out[#last] = iops;
                 out
             }
 
             /// Reads the data bytes and the IOPS that follows them.
-            pub fn decode_with_iops(bytes: &[u8; #with_iops]) -> (Self, u8) {
+            pub fn from_bytes_with_iops(bytes: &[u8; #with_iops]) -> (Self, u8) {
                 let mut data = [0u8; #len];
                 data.copy_from_slice(&bytes[..#len]);
-                (Self::decode(&data), bytes[#last])
+                (Self::from_bytes(&data), bytes[#last])
             }
         }
 
         impl Default for #name {
             fn default() -> Self {
-                Self::decode(&[0u8; #len])
+                Self::from_bytes(&[0u8; #len])
             }
         }
     }

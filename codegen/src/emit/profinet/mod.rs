@@ -12,14 +12,15 @@ use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::names::{ident, Case};
-use super::plan::{doc_text, id};
+use super::plan::{code_span, doc_text, id};
 use super::types::hex;
 use crate::diag::Diagnostic;
-use crate::model::{Profinet, Submodule};
+use crate::model::{Profinet, Submodule, ValueList};
 
 mod image;
 mod pkw_pzd;
 mod records;
+mod value_enums;
 
 /// The tokens of the whole generated module for a device with a PROFINET side.
 pub(super) fn module(
@@ -31,7 +32,7 @@ pub(super) fn module(
     let mut names = Vec::new();
     let mut modules = Vec::new();
     if let Some(dap) = pn.access_points.first() {
-        let subs: Vec<TokenStream> = submodules(&dap.submodules);
+        let subs: Vec<TokenStream> = submodules(&dap.submodules, &pn.value_lists);
         modules.push(quote! {
             /// The default access point's own submodules (slot 0).
             pub mod access_point {
@@ -48,14 +49,14 @@ pub(super) fn module(
                 &format!("module_{n}"),
             ),
         );
-        let ident_doc = format!(" `{}`'s ModuleIdentNumber.", doc_text(&m.id));
+        let ident_doc = format!(" {}'s ModuleIdentNumber.", code_span(&m.id));
         let module_ident_value = hex(
             u128::from(m.module_ident.as_ref().map_or(0, |v| v.value)),
             8,
         );
         let doc = format!(
-            " Module `{}`{}.",
-            doc_text(&m.id),
+            " Module {}{}.",
+            code_span(&m.id),
             m.name
                 .as_deref()
                 .map(|n| format!(": {}", doc_text(n)))
@@ -66,7 +67,8 @@ pub(super) fn module(
             .as_deref()
             .map(|t| format!(" {}", doc_text(t)))
             .into_iter();
-        let subs = submodules(&m.submodules);
+        let subs = submodules(&m.submodules, &pn.value_lists);
+        let slots = slot_constants(pn, &m.id);
         let name = id(&name);
         modules.push(quote! {
             #[doc = #doc]
@@ -74,6 +76,7 @@ pub(super) fn module(
             pub mod #name {
                 #[doc = #ident_doc]
                 pub const MODULE_IDENT: u32 = #module_ident_value;
+                #slots
                 #(#subs)*
             }
         });
@@ -123,8 +126,8 @@ fn identity(pn: &Profinet) -> TokenStream {
             8,
         );
         let doc = format!(
-            " The default access point `{}`'s ModuleIdentNumber (slot 0).",
-            doc_text(&dap.id)
+            " The default access point {}'s ModuleIdentNumber (slot 0).",
+            code_span(&dap.id)
         );
         items.push(quote! {
             #[doc = #doc]
@@ -170,7 +173,7 @@ fn identity(pn: &Profinet) -> TokenStream {
 }
 
 /// One module per submodule (`submodule_1`, ... by subslot) holding its images and records.
-fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
+fn submodules(subs: &[Submodule], value_lists: &[ValueList]) -> Vec<TokenStream> {
     subs.iter()
         .map(|sub| {
             let name = id(&format!("subslot_{}", sub.subslot));
@@ -180,8 +183,8 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
             );
             let subslot = Literal::u16_unsuffixed(sub.subslot);
             let doc = format!(
-                " Submodule `{}` in subslot {}{}.",
-                doc_text(&sub.id),
+                " Submodule {} in subslot {}{}.",
+                code_span(&sub.id),
                 sub.subslot,
                 sub.name
                     .as_deref()
@@ -194,7 +197,7 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
                 "Output",
                 "data the controller sends (output CR)",
             );
-            let records = records::records(&sub.records);
+            let records = records::records(&sub.records, value_lists);
             let conversions = if sub.pkw_pzd {
                 pkw_pzd::conversions()
             } else {
@@ -215,4 +218,34 @@ fn submodules(subs: &[Submodule]) -> Vec<TokenStream> {
             }
         })
         .collect()
+}
+
+/// The slots the default access point lets module `id` go in (`ModuleItemRef`), as constants;
+/// nothing when it does not list the module.
+fn slot_constants(pn: &Profinet, module_id: &str) -> TokenStream {
+    let Some(reference) = pn.access_points.first().and_then(|dap| {
+        dap.useable_modules
+            .iter()
+            .find(|r| r.target.value == module_id)
+    }) else {
+        return TokenStream::new();
+    };
+    let list = |slots: &[u16]| {
+        let slots = slots.iter().map(|s| Literal::u16_unsuffixed(*s));
+        quote!(&[#(#slots),*])
+    };
+    let (allowed, fixed, used) = (
+        list(&reference.allowed_in_slots),
+        list(&reference.fixed_in_slots),
+        list(&reference.used_in_slots),
+    );
+    quote! {
+        /// The slots the default access point allows the module in (`AllowedInSlots`, else
+        /// `FixedInSlots`, else `UsedInSlots`).
+        pub const ALLOWED_IN_SLOTS: &[u16] = #allowed;
+        /// The slots the module is always in (`FixedInSlots`).
+        pub const FIXED_IN_SLOTS: &[u16] = #fixed;
+        /// The slots the module is in by default (`UsedInSlots`).
+        pub const USED_IN_SLOTS: &[u16] = #used;
+    }
 }

@@ -2,7 +2,7 @@
 //! overlay's `[pkw_pzd]` names the submodule: its 32-byte `Input` is the drive's PKW response,
 //! status word and PZD2-PZD12, its `Output` the controller's PKW request, control word and
 //! PZD2-PZD12, words big-endian as PROFINET carries them. The IOPS stays where the raw images
-//! put it: `Input::from_pkw_pzd(&image).encode_with_iops(IOXS_GOOD)` is the frame's part.
+//! put it: `Input::from_pkw_pzd(&image).to_bytes_with_iops(IOXS_GOOD)` is the frame's part.
 
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -15,12 +15,12 @@ pub(super) fn conversions() -> TokenStream {
             /// The image as the drive's PKW/PZD input image (PKW response, status word,
             /// PZD2-PZD12; words big-endian); an error for an undefined response code in PKW1.
             pub fn pkw_pzd(&self) -> Result<#rt::InputImage, #rt::ResponseError> {
-                #rt::InputImage::parse(&self.encode(), #rt::ByteOrder::BigEndian)
+                #rt::InputImage::parse(&self.to_bytes(), #rt::ByteOrder::BigEndian)
             }
 
             /// The image carrying a PKW/PZD input image.
             pub fn from_pkw_pzd(image: &#rt::InputImage) -> Self {
-                Self::decode(&image.emit(#rt::ByteOrder::BigEndian))
+                Self::from_bytes(&image.emit(#rt::ByteOrder::BigEndian))
             }
         }
 
@@ -28,12 +28,12 @@ pub(super) fn conversions() -> TokenStream {
             /// The image as the controller's PKW/PZD output image (PKW request, control word,
             /// PZD2-PZD12; words big-endian).
             pub fn pkw_pzd(&self) -> #rt::OutputImage {
-                #rt::OutputImage::parse(&self.encode(), #rt::ByteOrder::BigEndian)
+                #rt::OutputImage::parse(&self.to_bytes(), #rt::ByteOrder::BigEndian)
             }
 
             /// The image carrying a PKW/PZD output image.
             pub fn from_pkw_pzd(image: &#rt::OutputImage) -> Self {
-                Self::decode(&image.emit(#rt::ByteOrder::BigEndian))
+                Self::from_bytes(&image.emit(#rt::ByteOrder::BigEndian))
             }
         }
     }

@@ -1,15 +1,16 @@
 //! One module per parameter record (`record_125`): its index, its length, its default bytes
-//! (the `Const` bytes, then each `Ref`'s `DefaultValue`, big-endian) and each field's offset.
+//! (the `Const` bytes, then each `Ref`'s `DefaultValue`, big-endian), each field's offset, and
+//! an enum per field that names a `ValueItem` (`value_enums`).
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use crate::emit::names::{ident, Case};
-use crate::emit::plan::{doc_text, id};
-use crate::model::{ParameterRecord, PnDataType, RecordField};
+use crate::emit::plan::{code_span, doc_text, id};
+use crate::model::{ParameterRecord, PnDataType, RecordField, ValueList};
 use crate::read::esi::values::parse_number;
 
-pub(super) fn records(records: &[ParameterRecord]) -> TokenStream {
+pub(super) fn records(records: &[ParameterRecord], value_lists: &[ValueList]) -> TokenStream {
     let mut out = Vec::new();
     let mut taken: Vec<u16> = Vec::new();
     for record in records {
@@ -35,6 +36,7 @@ pub(super) fn records(records: &[ParameterRecord]) -> TokenStream {
             record.length.value
         );
         let mut names: Vec<String> = Vec::new();
+        let mut enums: Vec<String> = Vec::new();
         let fields = record.fields.iter().enumerate().map(|(n, f)| {
             let wanted = ident(
                 f.name.as_deref().unwrap_or(""),
@@ -51,8 +53,8 @@ pub(super) fn records(records: &[ParameterRecord]) -> TokenStream {
             let name = id(&format!("{name}_BYTE_OFFSET"));
             let offset = Literal::usize_unsuffixed(f.byte_offset as usize);
             let doc = format!(
-                " Byte offset of the `{}` field{}{}.",
-                doc_text(&f.data_type.value),
+                " Byte offset of the {} field{}{}.",
+                code_span(&f.data_type.value),
                 f.name
                     .as_deref()
                     .map(|t| format!(" {}", doc_text(t)))
@@ -61,9 +63,11 @@ pub(super) fn records(records: &[ParameterRecord]) -> TokenStream {
                     .map(|b| format!(" (bit {b})"))
                     .unwrap_or_default()
             );
+            let values = super::value_enums::value_enum(f, value_lists, &mut enums);
             quote! {
                 #[doc = #doc]
                 pub const #name: usize = #offset;
+                #values
             }
         });
         out.push(quote! {

@@ -1,0 +1,36 @@
+//! The GSDML emitter's module constants: where a module may go, as the default access point's
+//! `ModuleItemRef` says.
+
+use std::path::Path;
+
+use edsgen_codegen::emit;
+use edsgen_codegen::read::read_file;
+
+#[test]
+fn a_module_names_the_slots_the_access_point_allows() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-pn.xml");
+    let code = emit::generate(&read_file(&path).unwrap().device, "goodrive350_pn").unwrap();
+    for constant in [
+        "pub const ALLOWED_IN_SLOTS: &[u16] = &[1];",
+        "pub const FIXED_IN_SLOTS: &[u16] = &[];",
+        "pub const USED_IN_SLOTS: &[u16] = &[1];",
+    ] {
+        assert_eq!(code.matches(constant).count(), 1, "{constant} in {code}");
+    }
+}
+
+#[test]
+fn a_value_list_becomes_an_enum_in_its_record() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-pn.xml");
+    let code = emit::generate(&read_file(&path).unwrap().device, "goodrive350_pn").unwrap();
+    let squeezed: String = code.split_whitespace().collect();
+    for part in [
+        "pubenumP1632ReceivedPzd2Values{",
+        "///`Setfrequency(0-Fmax,0.01Hz)`(1).SetFrequency0Fmax001Hz,",
+        "Self::SetFrequency0Fmax001Hz=>1,",
+        "1=>{::core::result::Result::Ok(Self::SetFrequency0Fmax001Hz)}",
+        "other=>::core::result::Result::Err(other),",
+    ] {
+        assert!(squeezed.contains(part), "{part} in {code}");
+    }
+}
