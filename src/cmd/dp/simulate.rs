@@ -9,6 +9,7 @@ use std::fs::OpenOptions;
 use std::path::Path;
 use std::process::ExitCode;
 
+use edsgen_codegen::lint::Policy;
 use edsgen_runtime::Instant;
 use edsgen_sim::dp::card::{self, DEFAULT_ADDRESS};
 use edsgen_sim::dp::serial::serve;
@@ -20,7 +21,7 @@ use crate::cmd::fail;
 pub const CARD: &str = "goodrive350-dp";
 
 /// Runs one DP slave on `tty`, from the `--card` or FILE arguments of `edsgen simulate`.
-pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
+pub fn run(tty: &str, files: &[String], cards: &[String], allow: &Policy) -> ExitCode {
     let (what, address) = match (files, cards) {
         ([file], []) => (Some(file.as_str()), file.rsplit_once('@')),
         ([], [card]) => (None, card.rsplit_once('@')),
@@ -40,6 +41,14 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
             DEFAULT_ADDRESS,
         ),
     };
+    // A FILE is judged before the line is opened: one with errors is not served.
+    let gsd = match what {
+        Some(_) => match crate::cmd::simulate::load_servable(Path::new(&name), None, allow) {
+            Ok(loaded) => Some(loaded.device),
+            Err(message) => return fail(message),
+        },
+        None => None,
+    };
     let port = match OpenOptions::new().read(true).write(true).open(tty) {
         Ok(port) => port,
         Err(e) => return fail(format!("cannot open {tty}: {e}")),
@@ -49,7 +58,17 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
         return fail(message);
     }
     let stop = crate::cmd::signals::flag();
-    let result = if what.is_none() {
+    let result = if let Some(gsd) = gsd {
+        let Some(dp) = gsd.dp() else {
+            return fail(format!("{name}: {}", card::CardError::NotGsd));
+        };
+        let mut slave = match card::loopback(dp, address, now) {
+            Ok(slave) => slave,
+            Err(e) => return fail(format!("{name}: {e}")),
+        };
+        eprintln!("simulating DP slave {address} ({name}) on {tty}");
+        serve(port, &mut slave, stop, reporter())
+    } else {
         if name != CARD {
             return fail(format!("--profibus: no DP card `{name}` (there is {CARD})"));
         }
@@ -58,21 +77,6 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
             Err(e) => return fail(e),
         };
         eprintln!("simulating DP slave {address} (card {CARD}) on {tty}");
-        serve(port, &mut slave, stop, reporter())
-    } else {
-        let bytes = match std::fs::read(&name) {
-            Ok(bytes) => bytes,
-            Err(e) => return fail(format!("cannot read `{name}`: {e}")),
-        };
-        let dp = match card::read_gsd(Path::new(&name), &bytes) {
-            Ok(dp) => dp,
-            Err(e) => return fail(format!("{name}: {e}")),
-        };
-        let mut slave = match card::loopback(&dp, address, now) {
-            Ok(slave) => slave,
-            Err(e) => return fail(format!("{name}: {e}")),
-        };
-        eprintln!("simulating DP slave {address} ({name}) on {tty}");
         serve(port, &mut slave, stop, reporter())
     };
     match result {

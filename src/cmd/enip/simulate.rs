@@ -10,6 +10,7 @@ use std::net::{IpAddr, SocketAddr};
 use std::path::Path;
 use std::process::ExitCode;
 
+use edsgen_codegen::lint::Policy;
 use edsgen_runtime::Instant;
 use edsgen_sim::enip::{device, driver};
 
@@ -31,7 +32,7 @@ fn address(text: &str) -> Option<SocketAddr> {
 }
 
 /// Runs the adapter.
-pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
+pub fn run(addr: &str, files: &[String], cards: &[String], allow: &Policy) -> ExitCode {
     let Some(address) = address(addr) else {
         return fail(format!("`{addr}` is not an address: write IP or IP:PORT"));
     };
@@ -48,7 +49,9 @@ pub fn run(addr: &str, files: &[String], cards: &[String]) -> ExitCode {
             return fail(format!("--enip serves the card `{CARD}`, not `{other}`"));
         }
         ([file], []) => {
-            let cip = match super::read_cip(Path::new(file)) {
+            let path = Path::new(file);
+            let loaded = crate::cmd::simulate::load_servable(path, None, allow);
+            let cip = match loaded.and_then(|loaded| super::cip_of(path, &loaded.device)) {
                 Ok(cip) => cip,
                 Err(message) => return fail(message),
             };
