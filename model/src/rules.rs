@@ -77,6 +77,8 @@ rules! {
     CIP_ENUM_ORPHAN = "CIP012" Error "an `EnumN` for a parameter `ParamN` the file does not have";
     CIP_ASSEMBLY_SIZE = "CIP020" Error "an assembly whose members' bits, rounded up to whole bytes, do not add up to its size in bytes";
     CIP_MISSING_REF = "CIP021" Error "an assembly member or a connection field that names a `ParamN` or `AssemN` the file does not have";
+    CIP_MEMBER_BYTES = "CIP022" Warning "assembly member sizes written in bytes where the EDS specification wants bits: read as bytes, because only that makes the assembly add up to its size";
+    CIP_MEMBER_PARAM = "CIP023" Warning "an assembly member whose size in bits differs from its parameter's data size (a BOOL or bit string may take fewer bits)";
     CIP_CONNECTION_SIZE = "CIP030" Error "a connection size that disagrees with the size of the assembly it names as its format (or that its path names)";
     CIP_PATH = "CIP031" Error "a path that does not decode as an EPATH, or names an assembly instance (connection point) the file does not have";
     CIP_CONNECTION_WORD = "CIP032" Warning "a connection whose trigger and transport word names no transport class, trigger or application type, or whose parameters word allows neither fixed nor variable size in a direction";
