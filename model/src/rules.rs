@@ -242,6 +242,8 @@ rules! {
     ESI_ALT_SM_OVERFLOW = "EDS816" Error "the PDOs an AlternativeSmMapping assigns to a SyncManager hold more bytes than its DefaultSize";
     ESI_ALT_EXCLUDE_CONFLICT = "EDS817" Error "an AlternativeSmMapping assigns two PDOs that exclude each other";
     SII_IMAGE = "EDS818" Error "an SII (EEPROM) image `.bin`/`.sii` that is shorter than its header, whose configuration-area CRC does not match, or whose categories run past its end or have no end marker";
+    ESI_PDO_SWAPPED = "EDS819" Error "an RxPdo whose Index is a TxPDO mapping object (1A00h-1BFFh), or a TxPdo whose Index is an RxPDO one (1600h-17FFh): the directions are swapped";
+    ESI_ASSIGN_DEFAULT = "EDS820" Warning "a default PDO assignment in the dictionary (1C12h, 1C13h: 1C10h + SyncManager) that lists other PDOs than those whose `Sm` names that SyncManager";
 
     // ---- GSD0xx: PROFIBUS-DP GSD files (reader and validator) ----
     GSD_NOT_GSD = "GSD001" Error "no `#Profibus_DP` line: not a GSD file (read as one all the same)";
