@@ -279,6 +279,7 @@ rules! {
     PN_DUPLICATE_EXT_DIAG = "PN015" Error "two ExtChannelDiagItems of one ChannelDiagItem with one ErrorType (an alarm's ExtChannelErrorType would have two meanings)";
     PN_EXT_ADD_VALUE_SIZE = "PN016" Error "ExtChannelAddValue DataItems longer than the 4 bytes of an alarm's ExtChannelAddValue (Unsigned32)";
     PN_DUPLICATE_SUBSLOT_LABEL = "PN017" Warning "two SubslotItems of one module or access point with one SubslotNumber (the subslot gets two labels)";
+    PN_STATION_NAME = "PN018" Warning "an access point's DNS_CompatibleName (its default name of station) that PROFINET's name rules forbid in any case: DNS labels of letters, digits and `-`, at most 240 characters (capitals pass: controllers lowercase the name)";
 }
 
 /// Looks a rule up by its code.

@@ -1,4 +1,4 @@
-//! PROFINET rules (PN002..PN017; PN001 is the reader's) over the GSDML part of the model: access
+//! PROFINET rules (PN002..PN018; PN001 is the reader's) over the GSDML part of the model: access
 //! points, modules, submodules, IO data, parameter records, references, channel diagnostics,
 //! subslot labels.
 //!
@@ -21,6 +21,7 @@ use crate::model::{
 use crate::rules;
 
 mod records;
+mod station_name;
 use records::{field_type, field_value};
 
 pub(super) fn check(pn: &Profinet, out: &mut Vec<Diagnostic>) {
@@ -41,6 +42,7 @@ pub(super) fn check(pn: &Profinet, out: &mut Vec<Diagnostic>) {
     }
     for dap in &pn.access_points {
         access_point(pn, dap, out);
+        station_name::check(dap, out);
     }
     unused_modules(pn, out);
     duplicates(pn, out);
