@@ -200,3 +200,37 @@ fn detected_by_content() {
         Format::Eds
     );
 }
+
+/// A misspelt keyword gets the keyword it is a letter or two from; another keyword does not.
+#[test]
+fn an_unknown_keyword_near_a_known_one_says_did_you_mean() {
+    let text = "#Profibus_DP\nGSD_Revision = 1\nMin_Slave_Interval = 1\nFamily_Name = \"x\"\n";
+    let read = read_bytes(Path::new("t.gsd"), text.as_bytes());
+    let found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .filter(|d| d.rule.code == "GSD005")
+        .map(|d| {
+            (
+                d.span.map(|s| s.line),
+                d.message.as_str(),
+                d.help.as_deref(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (
+                Some(3),
+                "unknown keyword `Min_Slave_Interval` (kept, not interpreted)",
+                Some("did you mean `Min_Slave_Intervall`?")
+            ),
+            (
+                Some(4),
+                "unknown keyword `Family_Name` (kept, not interpreted)",
+                None
+            ),
+        ]
+    );
+}
