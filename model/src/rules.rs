@@ -259,7 +259,7 @@ rules! {
     GSD_PRM_LENGTH = "GSD013" Error "an Ext_User_Prm_Data_Ref or _Const beyond User_Prm_Data_Len (or Max_User_Prm_Data_Len), or User_Prm_Data longer than User_Prm_Data_Len";
     GSD_PRM_DEFAULT = "GSD014" Error "an ExtUserPrmData default outside its allowed values, or allowed values outside its type";
     GSD_IDENT = "GSD015" Error "Ident_Number is missing: a master cannot parameterise the slave";
-    GSD_TSDR = "GSD016" Warning "a supported baud rate without MaxTsdr, or a MaxTsdr for a rate not supported";
+    GSD_TSDR = "GSD016" Warning "a supported baud rate without MaxTsdr (a MaxTsdr for a rate not supported is harmless, and not reported)";
     GSD_NO_MODULE = "GSD017" Warning "no module: a master has no configuration to send in Chk_Cfg";
     // ---- PN0xx: PROFINET (GSDML files) ----
     PN_IDENTITY = "PN001" Error "a GSDML file without DeviceIdentity, or whose VendorID or DeviceID is missing or not a 16-bit number";
