@@ -272,7 +272,7 @@ rules! {
     PN_MISSING_VALUE_LIST = "PN008" Error "a record field whose ValueItemTarget names no ValueItem";
     PN_RECORD_OVERLAP = "PN009" Error "two fields (Ref or Const) of one parameter record that share bytes or bits";
     PN_RECORD_OVERRUN = "PN010" Error "a parameter record field (Ref or Const) that ends beyond the record's Length";
-    PN_DUPLICATE_IDENT = "PN011" Error "two submodules of one module in one subslot, or two items with one ID (warning for two modules with one ModuleIdentNumber, which vendors give variants of a module; access points, being alternatives, may share one)";
+    PN_DUPLICATE_IDENT = "PN011" Error "two submodules of one module in one subslot, or two items with one ID (warning for two modules with one ModuleIdentNumber and different IO data; variants of a module with the same IO data may share one, as may access points, being alternatives, may share one)";
     PN_DEFAULT_NOT_ALLOWED = "PN012" Error "a record field whose DefaultValue is not a number, or is outside its AllowedValues or its data type";
     PN_BIT_OUTSIDE = "PN013" Error "a BitDataItem whose BitOffset lies beyond its DataItem, or a Bit/BitArea field wider than a byte's bits allow";
     PN_DUPLICATE_RECORD = "PN014" Error "two parameter records of one submodule with one Index";

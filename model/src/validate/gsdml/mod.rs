@@ -322,15 +322,22 @@ fn unused_modules(pn: &Profinet, out: &mut Vec<Diagnostic>) {
 fn duplicates(pn: &Profinet, out: &mut Vec<Diagnostic>) {
     // Access points are alternatives (a device runs one): they may share a ModuleIdentNumber, as
     // versions of one head module do. Modules are told apart by theirs.
-    let mut idents: HashMap<u32, (String, Span)> = HashMap::new();
+    let mut idents: HashMap<u32, (String, Span, Option<(u32, u32)>)> = HashMap::new();
     for module in &pn.modules {
         let Some(ident) = &module.module_ident else {
             continue;
         };
         let id = &module.id;
-        if let Some((other, span)) = idents.insert(ident.value, (id.clone(), ident.span)) {
-            // A warning: vendors give variants of one module one number (ET 200M does 34
-            // times); the device cannot tell them apart in its RealIdentificationData.
+        let io = lengths(module.submodules.iter());
+        let entry = (id.clone(), ident.span, io);
+        if let Some((other, span, other_io)) = idents.insert(ident.value, entry) {
+            // Vendors give variants of one module one number (ET 200M does 34 times): with the
+            // same IO data a controller that takes one for the other exchanges the same bytes,
+            // which is harmless. A warning only where the IO data differ: the device cannot
+            // tell them apart in its RealIdentificationData, and a controller would misread.
+            if io.is_some() && io == other_io {
+                continue;
+            }
             out.push(
                 Diagnostic::new(
                     &rules::PN_DUPLICATE_IDENT,
