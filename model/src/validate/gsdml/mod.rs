@@ -322,7 +322,9 @@ fn unused_modules(pn: &Profinet, out: &mut Vec<Diagnostic>) {
 fn duplicates(pn: &Profinet, out: &mut Vec<Diagnostic>) {
     // Access points are alternatives (a device runs one): they may share a ModuleIdentNumber, as
     // versions of one head module do. Modules are told apart by theirs.
-    let mut idents: HashMap<u32, (String, Span, Option<(u32, u32)>)> = HashMap::new();
+    // By ident number: the module's ID, where the number is, its IO data lengths.
+    type Seen = (String, Span, Option<(u32, u32)>);
+    let mut idents: HashMap<u32, Seen> = HashMap::new();
     for module in &pn.modules {
         let Some(ident) = &module.module_ident else {
             continue;
