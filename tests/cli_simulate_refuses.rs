@@ -87,7 +87,7 @@ fn enip_refuses_an_odva_eds_with_an_error_and_serves_it_with_allow() {
 49 |                 5,
    |                 ^ size of the assembly
    |
-   = help: set the size to 6, or correct the members
+   = help: read as bits, the members fill 6 bytes, not 5: correct the members (to 33 to 40 bits) or the size (to 6), whichever is wrong
 
 error: `{eds}` has 1 error (CIP020): not served; `--allow CIP020` serves it anyway
 "
