@@ -531,7 +531,7 @@ fn empty_and_binary_files_get_one_diagnostic_and_dump_refuses_them() {
             .replace(b, "binary.eds"),
         "error[EDS022]: the file is empty\n --> empty.eds\n\n\
          error[EDS029]: not a text file: NUL byte at offset 7\n --> binary.eds\n \
-         = help: an EDS/DCF is ASCII text and an XDD/XDC is XML; is this the right file?\n\n\
+         = help: an EDS or DCF is ASCII text; is this the right file?\n\n\
          2 file(s) checked: 2 error(s), 0 warning(s)\n"
     );
     for path in [e, b] {
@@ -547,7 +547,7 @@ fn empty_and_binary_files_get_one_diagnostic_and_dump_refuses_them() {
     assert_eq!(
         String::from_utf8_lossy(&out.stderr).replace(b, "binary.eds"),
         "error[EDS029]: not a text file: NUL byte at offset 7\n --> binary.eds\n \
-         = help: an EDS/DCF is ASCII text and an XDD/XDC is XML; is this the right file?\n\n"
+         = help: an EDS or DCF is ASCII text; is this the right file?\n\n"
     );
     let out = run(&["devices", e]);
     assert_eq!(code(&out), 1);

@@ -97,7 +97,7 @@ fn profinet_usage_and_interface_errors_exit_2() {
         ),
         (
             &["simulate", "--profinet", "lo", "eds/cp301.eds"][..],
-            "error: `eds/cp301.eds` is not a GSDML file without errors (run `edsgen validate eds/cp301.eds`)",
+            "error: `eds/cp301.eds` is not a GSDML file",
         ),
         (
             &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--ip", "10.0.0.2"][..],

@@ -553,10 +553,14 @@ fn corpus(ns: &Namespace) -> String {
     files.sort();
     let (mut served, mut passed_over) = (0, Vec::new());
     for file in &files {
-        let model = edsgen_codegen::read::read_file(file)
-            .expect("readable")
-            .device;
-        let Some((outputs, inputs)) = complete_enough(&model) else {
+        let loaded = edsgen_codegen::load::load(file, None).expect("readable");
+        let model = loaded.device;
+        // `edsgen simulate` refuses a description with errors (without `--allow`).
+        let clean = !loaded
+            .diagnostics
+            .iter()
+            .any(|d| d.severity == edsgen_codegen::diag::Severity::Error);
+        let Some((outputs, inputs)) = complete_enough(&model).filter(|_| clean) else {
             passed_over.push(
                 file.strip_prefix(&dir)
                     .unwrap_or(file)
@@ -588,7 +592,7 @@ fn corpus(ns: &Namespace) -> String {
     }
     assert!(served > 0, "no ESI of the corpus reached Op");
     println!(
-        "corpus: {served} ESI files reached Op; {} passed over (modular, no CoE mailbox or a disabled one, no process data, or PDOs naming objects the dictionary lacks): {passed_over:?}",
+        "corpus: {served} ESI files reached Op; {} passed over (errors, modular, no CoE mailbox or a disabled one, no process data, or PDOs naming objects the dictionary lacks): {passed_over:?}",
         passed_over.len()
     );
     format!("{served} corpus files")

@@ -9,7 +9,8 @@
 #![warn(missing_docs)]
 
 pub use edsgen_model::{
-    diag, dump, lint, load, model, overlay, read, render, rules, sii, validate, values,
+    diag, did_you_mean, dump, lint, load, model, overlay, read, render, rules, sii, validate,
+    values,
 };
 
 pub mod emit;

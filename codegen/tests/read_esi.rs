@@ -500,13 +500,22 @@ fn eds812_two_excluding_pdos_both_assigned() {
     );
     assert_eq!(
         diagnostics(&text),
-        vec![(
-            "EDS812",
-            Error,
-            236,
-            "RxPdo 1600h excludes RxPdo 1601h, but both are assigned by default (Sm 2 and Sm 2)"
-                .to_owned()
-        )]
+        vec![
+            (
+                "EDS820",
+                Warning,
+                152,
+                "1C12h assigns 1600h to SM2 by default, but the PDOs whose `Sm` is 2 are 1600h, 1601h"
+                    .to_owned()
+            ),
+            (
+                "EDS812",
+                Error,
+                236,
+                "RxPdo 1600h excludes RxPdo 1601h, but both are assigned by default (Sm 2 and Sm 2)"
+                    .to_owned()
+            )
+        ]
     );
 }
 
@@ -515,12 +524,20 @@ fn eds813_two_pdos_with_one_index() {
     let text = edit("<Index>#x1A00</Index>", "<Index>#x1600</Index>");
     assert_eq!(
         findings(&text),
-        vec![(
-            "EDS813",
-            Error,
-            271,
-            "TxPdo 1600h is described twice".to_owned()
-        )]
+        vec![
+            (
+                "EDS813",
+                Error,
+                271,
+                "TxPdo 1600h is described twice".to_owned()
+            ),
+            (
+                "EDS819",
+                Error,
+                271,
+                "TxPdo `Inputs` has Index 1600h, an RxPDO mapping object".to_owned()
+            )
+        ]
     );
 }
 
@@ -985,4 +1002,42 @@ fn an_enum_without_base_type_is_unsigned_by_its_bit_size() {
                 .to_owned()
         )]
     );
+}
+
+#[test]
+fn eds819_a_pdo_with_the_other_directions_index() {
+    let text = edit("<Index>#x1A00</Index>", "<Index>#x1602</Index>");
+    assert_eq!(
+        findings(&text),
+        vec![(
+            "EDS819",
+            Error,
+            271,
+            "TxPdo `Inputs` has Index 1602h, an RxPDO mapping object".to_owned()
+        )]
+    );
+}
+
+#[test]
+fn eds820_the_dictionarys_default_assignment_against_sm() {
+    let text = edit(
+        "<DefaultData>0016</DefaultData>",
+        "<DefaultData>0116</DefaultData>",
+    );
+    assert_eq!(
+        findings(&text),
+        vec![(
+            "EDS820",
+            Warning,
+            152,
+            "1C12h assigns 1601h to SM2 by default, but the PDOs whose `Sm` is 2 are 1600h"
+                .to_owned()
+        )]
+    );
+    // None assigned at power-up is the master's to fill from `Sm`.
+    let text = edit(
+        "<DefaultData>01</DefaultData>",
+        "<DefaultData>00</DefaultData>",
+    );
+    assert_eq!(findings(&text), vec![]);
 }

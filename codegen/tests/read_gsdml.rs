@@ -734,3 +734,30 @@ fn pn017_a_subslot_labelled_twice() {
     );
     assert_eq!(pn(&read(&text)).access_points[0].subslot_labels.len(), 1);
 }
+
+#[test]
+fn pn018_a_default_name_of_station_profinet_forbids() {
+    let text = edit(
+        "DNS_CompatibleName=\"goodrive350-pn\"",
+        "DNS_CompatibleName=\"GD350_PN\"",
+    );
+    let found: Vec<_> = validate::validate(&read(&text).device)
+        .into_iter()
+        .map(|d| (d.rule.code, d.span.map(|s| s.line), d.message, d.help))
+        .collect();
+    assert_eq!(
+        found,
+        [(
+            "PN018",
+            Some(54),
+            "access point `DAP_GD350_PN`'s DNS_CompatibleName `GD350_PN` is not a name of station PROFINET allows".to_owned(),
+            Some("a name of station is DNS labels of lowercase letters, digits and `-`, joined by `.`, at most 240 characters: `gd350-pn` is one".to_owned()),
+        )]
+    );
+    // Capitals alone pass: DNS names are case-insensitive, and controllers lowercase them.
+    let text = edit(
+        "DNS_CompatibleName=\"goodrive350-pn\"",
+        "DNS_CompatibleName=\"GD350-PN\"",
+    );
+    assert_eq!(validate::validate(&read(&text).device), vec![]);
+}

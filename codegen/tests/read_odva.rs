@@ -645,3 +645,109 @@ fn overlay_pkw_pzd_names_32_byte_assemblies() {
         ]
     );
 }
+
+/// Reader and validator diagnostics as (code, line, message, help), in file order.
+fn helps(text: &str) -> Vec<(&'static str, u32, String, Option<String>)> {
+    let read = read(text);
+    let mut all = read.diagnostics.clone();
+    all.extend(validate::validate(&read.device));
+    edsgen_codegen::diag::sort(&mut all);
+    all.into_iter()
+        .map(|d| (d.rule.code, d.span.map_or(0, |s| s.line), d.message, d.help))
+        .collect()
+}
+
+#[test]
+fn cip022_member_sizes_in_bytes_are_read_as_bytes_when_only_that_adds_up() {
+    let text = edit(
+        "16,Param1,\n                8,Param2;",
+        "2,Param1,\n                1,Param2;",
+    );
+    assert_eq!(
+        helps(&text),
+        vec![(
+            "CIP022",
+            50,
+            "Assem100 `Inputs`: member sizes read as bytes: 1 member of 2 bytes and 1 of 1 byte = 3 bytes, the assembly's size".to_owned(),
+            Some("member sizes are bits in the EDS specification: write each member's size times 8 (read as bits, the members add up to 3 bits, not 3 bytes)".to_owned()),
+        )]
+    );
+    // Honoured: the model holds bits, as the specification's reading of the file would.
+    let members: Vec<_> = cip(&text).assemblies[&100]
+        .members
+        .iter()
+        .map(|m| m.bits)
+        .collect();
+    assert_eq!(members, [Some(16), Some(8)]);
+}
+
+#[test]
+fn cip020_help_names_the_reading_nearer_the_size_and_both_fixes() {
+    let text = edit("                3,\n", "                4,\n");
+    assert_eq!(
+        helps(&text)[0].3.as_deref(),
+        Some("read as bits, the members fill 3 bytes, not 4: correct the members (to 25 to 32 bits) or the size (to 3), whichever is wrong")
+    );
+    // Read as bytes the members are 4 bytes, the size 3: neither reading adds up.
+    let text = edit(
+        "16,Param1,\n                8,Param2;",
+        "2,Param1,\n                2,Param2;",
+    );
+    assert_eq!(
+        helps(&text),
+        vec![
+            (
+                "CIP020",
+                50,
+                "Assem100 `Inputs` is 3 bytes (24 bits) but its 2 members add up to 4 bits".to_owned(),
+                Some("read as bytes, as this file may write them, the members make 4 bytes, not 3 either: correct the members or the size, whichever is wrong".to_owned()),
+            ),
+            (
+                "CIP023",
+                53,
+                "a member of Assem100 `Inputs` takes 2 bits of Param1 `Speed`, whose data size is 2 bytes (16 bits)".to_owned(),
+                Some("a scanner places Param1's value in these bits: make the member 16 bits, or the parameter's data size match".to_owned()),
+            ),
+            (
+                "CIP023",
+                54,
+                "a member of Assem100 `Inputs` takes 2 bits of Param2 `Mode`, whose data size is 1 byte (8 bits)".to_owned(),
+                Some("a scanner places Param2's value in these bits: make the member 8 bits, or the parameter's data size match".to_owned()),
+            ),
+        ]
+    );
+}
+
+#[test]
+fn cip023_a_member_against_its_parameter_and_packed_bits_pass() {
+    let text = edit("16,Param1;", "8,Param1,\n                8,;");
+    assert_eq!(
+        diagnostics(&text),
+        vec![d("CIP023", Warning, 61, "a member of Assem150 `Outputs` takes 8 bits of Param1 `Speed`, whose data size is 2 bytes (16 bits)")]
+    );
+    // A BOOL takes one bit of its byte.
+    let text = edit(
+        "0xC6,1,\"Mode\",\"\",\"\",0,2,0",
+        "0xC1,1,\"Mode\",\"\",\"\",0,1,0",
+    )
+    .replacen("8,Param2;", "1,Param2,\n                7,;", 1);
+    assert_eq!(diagnostics(&text), vec![]);
+}
+
+#[test]
+fn a_connection_is_sized_by_its_format_assembly_then_by_its_size() {
+    let cip = cip(&io());
+    let c = &cip.connections[&1];
+    assert_eq!(
+        (cip.connection_size(&c.o_t), cip.connection_size(&c.t_o)),
+        (Some(2), Some(3))
+    );
+    // The size written disagrees (CIP030): the assembly, which the device holds, wins.
+    let cip = self::cip(&edit("Param3,3,Assem100", "Param3,5,Assem100"));
+    assert_eq!(cip.connection_size(&cip.connections[&1].t_o), Some(3));
+    // No format: the size written, a number or a parameter's default.
+    let cip = self::cip(&edit("Param3,3,Assem100", "Param3,7,"));
+    assert_eq!(cip.connection_size(&cip.connections[&1].t_o), Some(7));
+    let cip = self::cip(&edit("Param3,3,Assem100", "Param3,Param3,"));
+    assert_eq!(cip.connection_size(&cip.connections[&1].t_o), Some(50000));
+}

@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 pub mod diag;
+pub mod did_you_mean;
 pub mod dump;
 pub mod lint;
 pub mod load;

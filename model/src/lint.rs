@@ -1,6 +1,8 @@
 //! Lint levels: which rules' warnings a caller silences (`allow`) or turns into errors (`deny`,
 //! or every warning with `deny warnings`). One policy for `Builder` and `edsgen validate`;
-//! errors are never silenced (the generated code would be wrong).
+//! errors are never silenced (the generated code would be wrong). A simulator asks
+//! [`Policy::refusing`] instead: there `allow` is the user's word that a device with those
+//! errors is worth serving.
 
 use crate::diag::{Diagnostic, Severity};
 use crate::rules::Rule;
@@ -86,6 +88,18 @@ impl Policy {
         }
     }
 
+    /// The diagnostics that keep a simulator from serving a description: its errors, but those of
+    /// a code the policy allows (`edsgen simulate --allow CODE`), in display order.
+    pub fn refusing(&self, diagnostics: &[Diagnostic]) -> Vec<Diagnostic> {
+        let mut refusing: Vec<Diagnostic> = diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Error && !self.allowed.contains(&d.code()))
+            .cloned()
+            .collect();
+        crate::diag::sort(&mut refusing);
+        refusing
+    }
+
     /// The diagnostics the policy keeps, denied ones made errors.
     pub fn apply(&self, diagnostics: Vec<Diagnostic>) -> Vec<Diagnostic> {
         diagnostics
@@ -143,5 +157,22 @@ mod tests {
             policy.deny(&rules::LONG_LINE),
             Err("EDS003 is both allowed and denied".to_owned())
         );
+    }
+
+    #[test]
+    fn refusing_keeps_the_errors_an_allow_does_not_name() {
+        let error = |rule| Diagnostic::new(rule, None, "m").with_severity(Severity::Error);
+        let found = [
+            error(&rules::LONG_LINE),
+            warning(&rules::NON_ASCII),
+            error(&rules::INLINE_COMMENT),
+        ];
+        let mut policy = Policy::new();
+        let codes = |ds: Vec<Diagnostic>| ds.iter().map(Diagnostic::code).collect::<Vec<_>>();
+        assert_eq!(codes(policy.refusing(&found)), ["EDS003", "EDS004"]);
+        policy.allow(&rules::LONG_LINE);
+        assert_eq!(codes(policy.refusing(&found)), ["EDS004"]);
+        policy.allow(&rules::INLINE_COMMENT);
+        assert!(policy.refusing(&found).is_empty());
     }
 }

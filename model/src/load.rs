@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::diag::Diagnostic;
+use crate::lint::Policy;
 use crate::model::Device;
 use crate::read::{self, Read, ReadError};
 use crate::{overlay, render, validate};
@@ -139,7 +140,44 @@ pub fn judge(read: Read) -> Loaded {
     }
 }
 
+/// Why a simulator refuses a description ([`Loaded::servable`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Refusal {
+    /// The errors that refuse it, rendered rustc-style as `edsgen validate` prints them.
+    pub rendered: String,
+    /// One line: how many errors of which codes, and the `--allow` that serves it anyway.
+    pub summary: String,
+}
+
 impl Loaded {
+    /// The rule every simulator applies before serving the description read from `name`: a
+    /// description (or its overlay) with errors is refused, unless `policy` allows each of
+    /// their codes ([`Policy::refusing`]).
+    pub fn servable(&self, name: &str, policy: &Policy) -> Result<(), Refusal> {
+        let own = policy.refusing(&self.diagnostics);
+        let overlay = policy.refusing(self.overlay_diagnostics());
+        if own.is_empty() && overlay.is_empty() {
+            return Ok(());
+        }
+        let mut rendered = render::human(name, &self.text, &own, false);
+        if let Some(o) = self.overlay.as_ref().filter(|_| !overlay.is_empty()) {
+            let overlay_name = o.path.display().to_string();
+            rendered.push_str(&render::human(&overlay_name, &o.text, &overlay, false));
+        }
+        let mut codes: Vec<&str> = own.iter().chain(&overlay).map(Diagnostic::code).collect();
+        codes.sort_unstable();
+        codes.dedup();
+        let count = own.len() + overlay.len();
+        let allow: Vec<String> = codes.iter().map(|c| format!("--allow {c}")).collect();
+        let summary = format!(
+            "`{name}` has {count} error{s} ({codes}): not served; `{allow}` serves it anyway",
+            s = if count == 1 { "" } else { "s" },
+            codes = codes.join(", "),
+            allow = allow.join(" "),
+        );
+        Err(Refusal { rendered, summary })
+    }
+
     /// The overlay's diagnostics (none without an overlay).
     pub fn overlay_diagnostics(&self) -> &[Diagnostic] {
         self.overlay.as_ref().map_or(&[], |o| &o.diagnostics)

@@ -77,6 +77,8 @@ rules! {
     CIP_ENUM_ORPHAN = "CIP012" Error "an `EnumN` for a parameter `ParamN` the file does not have";
     CIP_ASSEMBLY_SIZE = "CIP020" Error "an assembly whose members' bits, rounded up to whole bytes, do not add up to its size in bytes";
     CIP_MISSING_REF = "CIP021" Error "an assembly member or a connection field that names a `ParamN` or `AssemN` the file does not have";
+    CIP_MEMBER_BYTES = "CIP022" Warning "assembly member sizes written in bytes where the EDS specification wants bits: read as bytes, because only that makes the assembly add up to its size";
+    CIP_MEMBER_PARAM = "CIP023" Warning "an assembly member whose size in bits differs from its parameter's data size (a BOOL or bit string may take fewer bits)";
     CIP_CONNECTION_SIZE = "CIP030" Error "a connection size that disagrees with the size of the assembly it names as its format (or that its path names)";
     CIP_PATH = "CIP031" Error "a path that does not decode as an EPATH, or names an assembly instance (connection point) the file does not have";
     CIP_CONNECTION_WORD = "CIP032" Warning "a connection whose trigger and transport word names no transport class, trigger or application type, or whose parameters word allows neither fixed nor variable size in a direction";
@@ -240,6 +242,8 @@ rules! {
     ESI_ALT_SM_OVERFLOW = "EDS816" Error "the PDOs an AlternativeSmMapping assigns to a SyncManager hold more bytes than its DefaultSize";
     ESI_ALT_EXCLUDE_CONFLICT = "EDS817" Error "an AlternativeSmMapping assigns two PDOs that exclude each other";
     SII_IMAGE = "EDS818" Error "an SII (EEPROM) image `.bin`/`.sii` that is shorter than its header, whose configuration-area CRC does not match, or whose categories run past its end or have no end marker";
+    ESI_PDO_SWAPPED = "EDS819" Error "an RxPdo whose Index is a TxPDO mapping object (1A00h-1BFFh), or a TxPdo whose Index is an RxPDO one (1600h-17FFh): the directions are swapped";
+    ESI_ASSIGN_DEFAULT = "EDS820" Warning "a default PDO assignment in the dictionary (1C12h, 1C13h: 1C10h + SyncManager) that lists other PDOs than those whose `Sm` names that SyncManager";
 
     // ---- GSD0xx: PROFIBUS-DP GSD files (reader and validator) ----
     GSD_NOT_GSD = "GSD001" Error "no `#Profibus_DP` line: not a GSD file (read as one all the same)";
@@ -255,7 +259,7 @@ rules! {
     GSD_PRM_LENGTH = "GSD013" Error "an Ext_User_Prm_Data_Ref or _Const beyond User_Prm_Data_Len (or Max_User_Prm_Data_Len), or User_Prm_Data longer than User_Prm_Data_Len";
     GSD_PRM_DEFAULT = "GSD014" Error "an ExtUserPrmData default outside its allowed values, or allowed values outside its type";
     GSD_IDENT = "GSD015" Error "Ident_Number is missing: a master cannot parameterise the slave";
-    GSD_TSDR = "GSD016" Warning "a supported baud rate without MaxTsdr, or a MaxTsdr for a rate not supported";
+    GSD_TSDR = "GSD016" Warning "a supported baud rate without MaxTsdr (a MaxTsdr for a rate not supported is harmless, and not reported)";
     GSD_NO_MODULE = "GSD017" Warning "no module: a master has no configuration to send in Chk_Cfg";
     // ---- PN0xx: PROFINET (GSDML files) ----
     PN_IDENTITY = "PN001" Error "a GSDML file without DeviceIdentity, or whose VendorID or DeviceID is missing or not a 16-bit number";
@@ -268,13 +272,14 @@ rules! {
     PN_MISSING_VALUE_LIST = "PN008" Error "a record field whose ValueItemTarget names no ValueItem";
     PN_RECORD_OVERLAP = "PN009" Error "two fields (Ref or Const) of one parameter record that share bytes or bits";
     PN_RECORD_OVERRUN = "PN010" Error "a parameter record field (Ref or Const) that ends beyond the record's Length";
-    PN_DUPLICATE_IDENT = "PN011" Error "two submodules of one module in one subslot, or two items with one ID (warning for two modules with one ModuleIdentNumber, which vendors give variants of a module; access points, being alternatives, may share one)";
+    PN_DUPLICATE_IDENT = "PN011" Error "two submodules of one module in one subslot, or two items with one ID (warning for two modules with one ModuleIdentNumber and different IO data; variants of a module with the same IO data may share one, as may access points, being alternatives, may share one)";
     PN_DEFAULT_NOT_ALLOWED = "PN012" Error "a record field whose DefaultValue is not a number, or is outside its AllowedValues or its data type";
     PN_BIT_OUTSIDE = "PN013" Error "a BitDataItem whose BitOffset lies beyond its DataItem, or a Bit/BitArea field wider than a byte's bits allow";
     PN_DUPLICATE_RECORD = "PN014" Error "two parameter records of one submodule with one Index";
     PN_DUPLICATE_EXT_DIAG = "PN015" Error "two ExtChannelDiagItems of one ChannelDiagItem with one ErrorType (an alarm's ExtChannelErrorType would have two meanings)";
     PN_EXT_ADD_VALUE_SIZE = "PN016" Error "ExtChannelAddValue DataItems longer than the 4 bytes of an alarm's ExtChannelAddValue (Unsigned32)";
     PN_DUPLICATE_SUBSLOT_LABEL = "PN017" Warning "two SubslotItems of one module or access point with one SubslotNumber (the subslot gets two labels)";
+    PN_STATION_NAME = "PN018" Warning "an access point's DNS_CompatibleName (its default name of station) that PROFINET's name rules forbid in any case: DNS labels of letters, digits and `-`, at most 240 characters (capitals pass: controllers lowercase the name)";
 }
 
 /// Looks a rule up by its code.

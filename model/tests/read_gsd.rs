@@ -200,3 +200,58 @@ fn detected_by_content() {
         Format::Eds
     );
 }
+
+/// A misspelt keyword gets the keyword it is a letter or two from; another keyword does not.
+#[test]
+fn an_unknown_keyword_near_a_known_one_says_did_you_mean() {
+    let text = "#Profibus_DP\nGSD_Revision = 1\nMin_Slave_Interval = 1\nFamily_Name = \"x\"\n";
+    let read = read_bytes(Path::new("t.gsd"), text.as_bytes());
+    let found: Vec<_> = read
+        .diagnostics
+        .iter()
+        .filter(|d| d.rule.code == "GSD005")
+        .map(|d| {
+            (
+                d.span.map(|s| s.line),
+                d.message.as_str(),
+                d.help.as_deref(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (
+                Some(3),
+                "unknown keyword `Min_Slave_Interval` (kept, not interpreted)",
+                Some("did you mean `Min_Slave_Intervall`?")
+            ),
+            (
+                Some(4),
+                "unknown keyword `Family_Name` (kept, not interpreted)",
+                None
+            ),
+        ]
+    );
+}
+
+/// GSD016 fires on a supported rate without MaxTsdr, with a help line; a MaxTsdr for a rate not
+/// supported (vendors fill the whole table) is harmless and not reported.
+#[test]
+fn gsd016_only_a_supported_rate_without_maxtsdr() {
+    let text = "#Profibus_DP\n9.6_supp = 1\nMaxTsdr_9.6 = 60\nMaxTsdr_19.2 = 60\nMaxTsdr_1.5M = 150\n12M_supp = 1\n";
+    let read = read_bytes(Path::new("t.gsd"), text.as_bytes());
+    let found: Vec<_> = validate(&read.device)
+        .into_iter()
+        .filter(|d| d.rule.code == "GSD016")
+        .map(|d| (d.span.map(|s| s.line), d.message, d.help))
+        .collect();
+    assert_eq!(
+        found,
+        [(
+            Some(6),
+            "12M_supp without MaxTsdr_12M: a master cannot know how long to wait".to_owned(),
+            Some("add `MaxTsdr_12M = N`, the slave's longest response time at that rate in bit times (the table of the slave's manual or ASIC), or remove `12M_supp`".to_owned())
+        )]
+    );
+}

@@ -46,7 +46,7 @@ pub mod canopen;
 pub mod decode;
 pub mod demo;
 pub mod devices;
-mod did_you_mean;
+use edsgen_codegen::did_you_mean;
 pub mod dp;
 pub mod dump;
 pub mod enip;

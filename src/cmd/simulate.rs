@@ -3,9 +3,13 @@
 //! ([`super::ethercat::simulate`]), `--enip` ([`super::enip::simulate`]), `--profinet`
 //! ([`super::profinet::simulate`]) or `--profibus` ([`super::dp::simulate`]).
 
+use std::path::Path;
 use std::process::ExitCode;
 
-use super::{fail, parse_node_id};
+use edsgen_codegen::lint::Policy;
+use edsgen_codegen::load::Loaded;
+
+use super::{fail, parse_node_id, rule_named};
 
 /// The arguments of `edsgen simulate`.
 #[derive(Debug, clap::Args)]
@@ -65,18 +69,26 @@ pub struct Args {
     /// each device printed with its address, `fault NAME`/`clear NAME` on standard input.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "ethercat", "device", "faults_on_stdin"])]
     pub machine: Option<std::path::PathBuf>,
+    /// Serve a FILE despite its errors of this rule (repeatable): without it, a description
+    /// with errors is refused, its errors shown as `edsgen validate` shows them.
+    #[arg(long, value_name = "CODE")]
+    pub allow: Vec<String>,
 }
 
 /// Runs `edsgen simulate`.
 pub fn run(args: Args) -> ExitCode {
-    if let Some(machine) = &args.machine {
-        return super::machine::run(machine);
-    }
     if args.faults_on_stdin && args.ethercat.is_none() && args.profinet.is_none() {
         return fail("--faults-on-stdin goes with --ethercat or --profinet");
     }
+    let allow = match allowed(&args.allow) {
+        Ok(allow) => allow,
+        Err(message) => return fail(message),
+    };
+    if let Some(machine) = &args.machine {
+        return super::machine::run(machine, &args.allow, &allow);
+    }
     if let Some(addr) = &args.enip {
-        return super::enip::simulate::run(addr, &args.files, &args.cards);
+        return super::enip::simulate::run(addr, &args.files, &args.cards, &allow);
     }
     if let Some(iface) = &args.profinet {
         return super::profinet::simulate::run(
@@ -85,10 +97,11 @@ pub fn run(args: Args) -> ExitCode {
             &args.cards,
             args.ip.as_deref(),
             args.faults_on_stdin,
+            &allow,
         );
     }
     if let Some(tty) = &args.profibus {
-        return super::dp::simulate::run(tty, &args.files, &args.cards);
+        return super::dp::simulate::run(tty, &args.files, &args.cards, &allow);
     }
     if let Some(iface) = &args.ethercat {
         return super::ethercat::simulate::run(
@@ -97,7 +110,39 @@ pub fn run(args: Args) -> ExitCode {
             &args.cards,
             args.device.as_deref(),
             args.faults_on_stdin,
+            &allow,
         );
     }
-    super::canopen::simulate::run(args)
+    super::canopen::simulate::run(args, &allow)
+}
+
+/// The policy of `--allow CODE...`.
+fn allowed(codes: &[String]) -> Result<Policy, String> {
+    let mut policy = Policy::new();
+    for code in codes {
+        policy.allow(rule_named("--allow", code)?);
+    }
+    Ok(policy)
+}
+
+/// Loads a FILE for a simulator (one device of an ESI file when `device` names it) under the
+/// one rule of every simulator ([`Loaded::servable`]): a description with errors that `allow`
+/// does not name is refused, its errors printed on standard error rustc-style; the error is
+/// then the last line to print.
+pub fn load_servable(path: &Path, device: Option<&str>, allow: &Policy) -> Result<Loaded, String> {
+    if !path.is_file() {
+        return Err(format!("cannot read `{}`: not a file", path.display()));
+    }
+    let loaded = super::load(path, device)?;
+    servable(&loaded, &path.display().to_string(), allow)?;
+    Ok(loaded)
+}
+
+/// [`Loaded::servable`] for a description already loaded from `name`: the refusing errors
+/// printed on standard error, the error the last line to print.
+pub fn servable(loaded: &Loaded, name: &str, allow: &Policy) -> Result<(), String> {
+    loaded.servable(name, allow).map_err(|refusal| {
+        eprint!("{}", refusal.rendered);
+        refusal.summary
+    })
 }

@@ -122,6 +122,26 @@ pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Rea
     read
 }
 
+/// EDS029's help, for the format the file's name (or what little of it reads) says it is.
+fn not_text_help(path: &Path, format: Format) -> String {
+    let xml = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"));
+    let what = match format {
+        Format::Esi => "an ESI is XML text (an SII image is a `.bin` or `.sii`)",
+        Format::Gsdml => "a GSDML is XML text",
+        _ if xml => {
+            "an XML description (XDD, XDC, ESI or GSDML) is text (an EtherCAT SII image is a \
+             `.bin` or `.sii`)"
+        }
+        Format::Eds | Format::Dcf => "an EDS or DCF is ASCII text",
+        Format::OdvaEds => "an ODVA EDS is ASCII text",
+        Format::Gsd => "a GSD is ASCII text",
+        Format::Xdd | Format::Xdc => "an XDD or XDC is XML text",
+    };
+    format!("{what}; is this the right file?")
+}
+
 /// One diagnostic instead of a reading, for a file that is empty (or only whitespace) or is not
 /// text at all: a binary file would otherwise give a diagnostic per "line" of noise, and its bytes
 /// would reach the terminal.
@@ -140,7 +160,7 @@ fn not_a_description(path: &Path, bytes: &[u8]) -> Option<Read> {
             None,
             format!("not a text file: NUL byte at offset {offset}"),
         )
-        .with_help("an EDS/DCF is ASCII text and an XDD/XDC is XML; is this the right file?")
+        .with_help(not_text_help(path, detect_format(path, bytes)))
     };
     Some(Read {
         device: eds::empty_device(path, detect_format(path, bytes), TextEncoding::Ascii),

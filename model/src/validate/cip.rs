@@ -1,6 +1,7 @@
 //! The ODVA EDS rules (CIP005, CIP010..CIP032): the identity a scanner matches, parameters against
 //! their data types and limits, enumerations against parameters, assemblies against their
-//! members, and connections against the assemblies their sizes, formats and paths name.
+//! members and the members against their parameters, and connections against the assemblies
+//! their sizes, formats and paths name.
 //!
 //! Policy as for the other formats: an error where a scanner configured from the file would open
 //! a connection the device refuses, or read a value the device would not hold; a warning where
@@ -37,6 +38,7 @@ pub fn check(cip: &Cip, out: &mut Vec<Diagnostic>) {
     }
     for assembly in cip.assemblies.values() {
         assembly_members(cip, assembly, out);
+        member_params(cip, assembly, out);
     }
     for connection in cip.connections.values() {
         connection_refs(cip, connection, out);
@@ -266,11 +268,79 @@ fn assembly_members(cip: &Cip, assembly: &CipAssembly, out: &mut Vec<Diagnostic>
                 ),
             )
             .with_label("size of the assembly")
-            .with_help(if bits.is_multiple_of(8) {
-                format!("set the size to {}, or correct the members", bits / 8)
-            } else {
-                "correct the members' bit counts".to_owned()
-            }),
+            .with_help(size_help(bits, u64::from(size.value))),
+        );
+    }
+}
+
+/// CIP020's help: the reading of the members nearer the size (bits, or bytes as some authors
+/// write them), and both ways to agree, since the file does not say which is wrong.
+fn size_help(bits: u64, size: u64) -> String {
+    let filled = bits.div_ceil(8);
+    if bits.abs_diff(size) < filled.abs_diff(size) {
+        return format!(
+            "read as bytes, as this file may write them, the members make {bits} bytes, not \
+             {size} either: correct the members or the size, whichever is wrong"
+        );
+    }
+    let low = size.saturating_sub(1) * 8 + 1;
+    format!(
+        "read as bits, the members fill {filled} byte{s}, not {size}: correct the members (to \
+         {low} to {high} bits) or the size (to {filled}), whichever is wrong",
+        s = if filled == 1 { "" } else { "s" },
+        high = size * 8,
+    )
+}
+
+/// CIP023: each member that names a parameter against the parameter's data size. A BOOL or a
+/// bit string (BYTE, WORD, DWORD, LWORD) may take fewer bits: single bits are packed.
+fn member_params(cip: &Cip, assembly: &CipAssembly, out: &mut Vec<Diagnostic>) {
+    for m in &assembly.members {
+        // A member of 0 bits holds nothing: a placeholder, not a size.
+        let (Some(bits @ 1..), FieldRef::Param(n)) = (m.bits, &m.member) else {
+            continue;
+        };
+        let Some(param) = cip.params.get(n) else {
+            continue;
+        };
+        let Some(size) = param.data_size.as_ref().map(|s| u64::from(s.value) * 8) else {
+            continue;
+        };
+        // A data size that disagrees with the type is CIP010's: which one is meant is unknown.
+        let typed = param
+            .data_type
+            .as_ref()
+            .and_then(|t| data_type_info(t.value));
+        if typed.is_some_and(|(_, bytes)| bytes.is_some_and(|b| u64::from(b) * 8 != size)) {
+            continue;
+        }
+        let packed = param
+            .data_type
+            .as_ref()
+            .is_some_and(|t| matches!(t.value, 0xC1 | 0xD1..=0xD4));
+        let bits = u64::from(bits);
+        if bits == size || (packed && bits < size) {
+            continue;
+        }
+        out.push(
+            Diagnostic::new(
+                &rules::CIP_MEMBER_PARAM,
+                Some(m.span),
+                format!(
+                    "a member of Assem{} `{}` takes {bits} bits of Param{n} `{}`, whose data size \
+                     is {} byte{} ({size} bits)",
+                    assembly.number,
+                    assembly.name,
+                    param.name,
+                    size / 8,
+                    if size == 8 { "" } else { "s" },
+                ),
+            )
+            .with_label(format!("Param{n} is {size} bits"))
+            .with_help(format!(
+                "a scanner places Param{n}'s value in these bits: make the member {size} bits, or \
+                 the parameter's data size match"
+            )),
         );
     }
 }

@@ -28,6 +28,8 @@ pub(super) fn check(device: &Device, ec: &EtherCat, out: &mut Vec<Diagnostic>) {
         entries(device, kind, pdo, out);
     }
     duplicates(&pdos, out);
+    super::esi_assign::swapped(ec, out);
+    super::esi_assign::assignment_defaults(device, ec, out);
     excludes(&pdos, out);
     assignment(ec, &pdos, out);
     alternatives(ec, &pdos, out);

@@ -21,6 +21,7 @@ mod cip;
 mod dcf;
 mod device_info;
 mod esi;
+mod esi_assign;
 mod file_info;
 mod gsd;
 mod gsdml;

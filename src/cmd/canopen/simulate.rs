@@ -48,7 +48,8 @@ use edsgen_runtime::{CanFrame, Node};
 
 use super::lss;
 use crate::cmd::simulate::Args;
-use crate::cmd::{fail, parse_node_id, read_device, signals, DEFAULT_BUS};
+use crate::cmd::{fail, parse_node_id, signals, DEFAULT_BUS};
+use edsgen_codegen::lint::Policy;
 use edsgen_codegen::model::Device;
 use edsgen_decode::Decoder;
 use edsgen_sim::canopen::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
@@ -73,8 +74,8 @@ struct Planned {
 }
 
 /// Runs `edsgen simulate` on a CAN bus.
-pub fn run(args: Args) -> ExitCode {
-    let planned = match plan(&args) {
+pub fn run(args: Args, allow: &Policy) -> ExitCode {
+    let planned = match plan(&args, allow) {
         Ok(planned) => planned,
         Err(message) => return fail(message),
     };
@@ -279,7 +280,7 @@ impl std::fmt::Display for Bus<'_> {
 }
 
 /// The devices of the command line with their node-IDs, or what is wrong.
-fn plan(args: &Args) -> Result<Vec<Planned>, String> {
+fn plan(args: &Args, allow: &Policy) -> Result<Vec<Planned>, String> {
     if args.node_id.len() > args.files.len() {
         return Err(format!(
             "{} --node-id for {} file(s)",
@@ -297,7 +298,7 @@ fn plan(args: &Args) -> Result<Vec<Planned>, String> {
             None => (arg.as_str(), args.node_id.get(i).copied()),
         };
         let path = PathBuf::from(path);
-        let device = read_device(&path)?;
+        let device = crate::cmd::simulate::load_servable(&path, None, allow)?.device;
         let node_id = match (given, commissioned_node_id(&device)) {
             (Some(id), _) => id,
             (None, Some(id)) => u8::try_from(id)

@@ -10,6 +10,7 @@ use std::fs::OpenOptions;
 use std::path::Path;
 use std::process::ExitCode;
 
+use edsgen_codegen::lint::Policy;
 use edsgen_runtime::dp::DpSlave;
 use edsgen_runtime::Instant;
 use edsgen_sim::dp::card::{self, Simulated, DEFAULT_ADDRESS};
@@ -33,7 +34,12 @@ fn name_and_address(text: &str) -> Result<(String, u8), String> {
 }
 
 /// The slave one `--card` or FILE argument names.
-fn slave(text: &str, is_card: bool, now: Instant) -> Result<(DpSlave<Simulated>, String), String> {
+fn slave(
+    text: &str,
+    is_card: bool,
+    now: Instant,
+    allow: &Policy,
+) -> Result<(DpSlave<Simulated>, String), String> {
     let (name, address) = name_and_address(text)?;
     if is_card {
         if name != CARD {
@@ -44,9 +50,13 @@ fn slave(text: &str, is_card: bool, now: Instant) -> Result<(DpSlave<Simulated>,
         let app = Simulated::Card(card.app().clone());
         return Ok((DpSlave::new(config, app, now), format!("card {CARD}")));
     }
-    let bytes = std::fs::read(&name).map_err(|e| format!("cannot read `{name}`: {e}"))?;
-    let dp = card::read_gsd(Path::new(&name), &bytes).map_err(|e| format!("{name}: {e}"))?;
-    let echo = card::loopback(&dp, address, now).map_err(|e| format!("{name}: {e}"))?;
+    // A FILE is judged before the line is opened: one with errors is not served.
+    let loaded = crate::cmd::simulate::load_servable(Path::new(&name), None, allow)?;
+    let dp = loaded
+        .device
+        .dp()
+        .ok_or_else(|| format!("{name}: {}", card::CardError::NotGsd))?;
+    let echo = card::loopback(dp, address, now).map_err(|e| format!("{name}: {e}"))?;
     let config = echo.config().clone();
     let app = Simulated::Loopback(echo.app().clone());
     Ok((DpSlave::new(config, app, now), name))
@@ -54,7 +64,7 @@ fn slave(text: &str, is_card: bool, now: Instant) -> Result<(DpSlave<Simulated>,
 
 /// Runs the DP slaves of the `--card` and FILE arguments of `edsgen simulate` on `tty`, each at
 /// its own address.
-pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
+pub fn run(tty: &str, files: &[String], cards: &[String], allow: &Policy) -> ExitCode {
     if files.is_empty() && cards.is_empty() {
         return fail(format!(
             "--profibus serves slaves: --card {CARD}[@ADDR] or FILE.gsd[@ADDR], one or more"
@@ -68,7 +78,7 @@ pub fn run(tty: &str, files: &[String], cards: &[String]) -> ExitCode {
     let mut slaves = Vec::new();
     let mut lines = Vec::new();
     for (text, is_card) in named {
-        let (slave, what) = match slave(text, is_card, now) {
+        let (slave, what) = match slave(text, is_card, now, allow) {
             Ok(slave) => slave,
             Err(message) => return fail(message),
         };

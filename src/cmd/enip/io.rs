@@ -186,20 +186,8 @@ fn plan<'a>(cip: &'a Cip, file: &str, args: &Args) -> Result<Plan<'a>, String> {
             .map(|a| (a, cip_value::members(cip, a))),
         _ => None,
     };
-    let size = |d: &edsgen_codegen::model::ConnectionData| -> u64 {
-        match &d.size.value {
-            FieldRef::Number(n) => *n,
-            FieldRef::Param(n) => param_default(cip, *n).unwrap_or(0),
-            _ => match &d.format.value {
-                FieldRef::Assem(n) => cip
-                    .assemblies
-                    .get(n)
-                    .and_then(|a| cip.assembly_size(a))
-                    .unwrap_or(0),
-                _ => 0,
-            },
-        }
-    };
+    // Sized as the simulated adapter sizes it (one model function).
+    let size = |d: &edsgen_codegen::model::ConnectionData| cip.connection_size(d).unwrap_or(0);
     let (o_t_size, t_o_size) = (size(&c.o_t), size(&c.t_o));
     let header = |format: u8, direction: &str| match format {
         0 | 1 => Ok(false),

@@ -243,7 +243,11 @@ fn unused_eds(eds: Option<&Path>) {
 
 /// The CIP part of the ODVA EDS at `path` (every `enip` verb and `simulate --enip` read it so).
 pub(super) fn read_cip(path: &Path) -> Result<Cip, String> {
-    let device = super::read_device(path)?;
+    cip_of(path, &super::read_device(path)?)
+}
+
+/// The CIP part of the model read from `path`, or the message saying it is not an ODVA EDS.
+pub(super) fn cip_of(path: &Path, device: &edsgen_codegen::model::Device) -> Result<Cip, String> {
     device
         .cip()
         .cloned()

@@ -11,6 +11,7 @@ use std::net::{IpAddr, SocketAddr};
 use std::path::Path;
 use std::process::ExitCode;
 
+use edsgen_codegen::lint::Policy;
 use edsgen_codegen::model::Cip;
 use edsgen_runtime::Instant;
 use edsgen_sim::enip::{device, driver, Adapter, EnipApplication};
@@ -42,7 +43,7 @@ enum Device {
 
 /// Runs an adapter on each address of `addrs` (comma-separated), each serving the device of
 /// the arguments, until a signal.
-pub fn run(addrs: &str, files: &[String], cards: &[String]) -> ExitCode {
+pub fn run(addrs: &str, files: &[String], cards: &[String], allow: &Policy) -> ExitCode {
     let mut addresses = Vec::new();
     for addr in addrs.split(',') {
         let Some(address) = address(addr.trim()) else {
@@ -59,10 +60,14 @@ pub fn run(addrs: &str, files: &[String], cards: &[String]) -> ExitCode {
     let device = match (files, cards) {
         ([], [card]) if card == CARD => Device::Card,
         ([], [other]) => return fail(format!("--enip serves the card `{CARD}`, not `{other}`")),
-        ([file], []) => match super::read_cip(Path::new(file)) {
-            Ok(cip) => Device::Eds(Box::new(cip), file.clone()),
-            Err(message) => return fail(message),
-        },
+        ([file], []) => {
+            let path = Path::new(file);
+            let loaded = crate::cmd::simulate::load_servable(path, None, allow);
+            match loaded.and_then(|loaded| super::cip_of(path, &loaded.device)) {
+                Ok(cip) => Device::Eds(Box::new(cip), file.clone()),
+                Err(message) => return fail(message),
+            }
+        }
         _ => return fail("--enip serves one ODVA EDS file or --card goodrive350-enip".to_owned()),
     };
     if let Err(message) = crate::cmd::signals::install() {

@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
+use edsgen_codegen::lint::Policy;
 use edsgen_codegen::model::Device;
 use edsgen_codegen::read;
 use edsgen_runtime::Instant;
@@ -31,6 +32,7 @@ pub fn run(
     cards: &[String],
     device: Option<&str>,
     faults_on_stdin: bool,
+    allow: &Policy,
 ) -> ExitCode {
     if faults_on_stdin && cards.is_empty() {
         return fail("--faults-on-stdin switches the faults of --card ec-tx508's drive");
@@ -38,7 +40,7 @@ pub fn run(
     let (model, behaviour): (Device, Option<Box<dyn Behaviour>>) = match (files, cards) {
         ([file], []) => {
             let path = Path::new(file);
-            let read = match crate::cmd::load(path, device) {
+            let read = match crate::cmd::simulate::load_servable(path, device, allow) {
                 Ok(read) => read,
                 Err(err) => return fail(err),
             };

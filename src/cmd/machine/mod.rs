@@ -15,12 +15,14 @@ use std::time::{Duration, Instant};
 use file::{Address, Bus, Machine, Planned, Source};
 
 use super::{fail, signals};
+use edsgen_codegen::lint::Policy;
 
 /// How long the buses have to stop after SIGTERM before they are killed.
 const STOP_GRACE: Duration = Duration::from_secs(3);
 
-/// Runs the machine file at `path`.
-pub fn run(path: &Path) -> ExitCode {
+/// Runs the machine file at `path`; each bus serves descriptions with errors of the rules in
+/// `allow` (`--allow CODE`), as `simulate` does.
+pub fn run(path: &Path, allow: &[String], policy: &Policy) -> ExitCode {
     let machine = match file::read(path) {
         Ok(machine) => machine,
         Err(problems) => {
@@ -50,6 +52,15 @@ pub fn run(path: &Path) -> ExitCode {
             path.display()
         ));
     }
+    // Every description judged before anything starts, as each bus would judge it.
+    for device in machine.sections.iter().flat_map(|s| &s.devices) {
+        if let Source::File(file, pick) = &device.source {
+            let pick = pick.as_deref().map(device_choice);
+            if let Err(message) = super::simulate::load_servable(file, pick.as_deref(), policy) {
+                return fail(format!("{}: {message}; nothing was started", path.display()));
+            }
+        }
+    }
     if let Err(message) = signals::install() {
         return fail(message);
     }
@@ -60,7 +71,10 @@ pub fn run(path: &Path) -> ExitCode {
     };
     let (lines_tx, lines_rx) = mpsc::channel::<Line>();
     let mut buses: Vec<Running> = Vec::new();
-    for launch in launches(&machine) {
+    for mut launch in launches(&machine) {
+        for code in allow {
+            launch.args.extend(["--allow".to_owned(), code.clone()]);
+        }
         match launch.start(&exe, &lines_tx) {
             Ok(running) => buses.push(running),
             Err(e) => {
@@ -174,12 +188,24 @@ fn device_args(bus: Bus, device: &Planned) -> Vec<String> {
         Source::File(path, _) => vec![format!("{}{suffix}", path.display())],
     };
     if let (Bus::EtherCat, Source::File(_, Some(pick))) = (bus, &device.source) {
-        args.extend(["--device".to_owned(), pick.clone()]);
+        args.extend(["--device".to_owned(), device_choice(pick)]);
     }
     if let Address::Pn { ip: Some(ip), .. } = &device.address {
         args.extend(["--ip".to_owned(), ip.clone()]);
     }
     args
+}
+
+/// `FILE.xml#xCODE` or `FILE.xml#NAME` in a machine file: the `--device` choice, `#xCODE` for a
+/// product code, the name as written otherwise.
+fn device_choice(pick: &str) -> String {
+    let code = pick.strip_prefix('x').filter(|hex| {
+        !hex.is_empty() && hex.chars().all(|c| c.is_ascii_hexdigit())
+    });
+    match code {
+        Some(_) => format!("#{pick}"),
+        None => pick.to_owned(),
+    }
 }
 
 /// Whether the device's simulator takes `fault`/`clear` lines (the drives that do today).

@@ -14,6 +14,7 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::sync::mpsc;
 
+use edsgen_codegen::lint::Policy;
 use edsgen_codegen::load::{self, LoadError};
 use edsgen_codegen::read;
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
@@ -39,6 +40,7 @@ pub fn run(
     cards: &[String],
     ip: Option<&str>,
     faults_on_stdin: bool,
+    allow: &Policy,
 ) -> ExitCode {
     let (ip, source) = match address(iface, ip) {
         Ok(ip) => ip,
@@ -78,16 +80,11 @@ pub fn run(
         }
         _ => return fail("--profinet takes one GSDML FILE or one --card"),
     };
-    let errors = read
-        .diagnostics
-        .iter()
-        .chain(read.overlay_diagnostics())
-        .filter(|d| d.severity == edsgen_codegen::diag::Severity::Error)
-        .count();
-    let Some(pn) = read.device.profinet().filter(|_| errors == 0) else {
-        return fail(format!(
-            "`{name}` is not a GSDML file without errors (run `edsgen validate {name}`)"
-        ));
+    if let Err(message) = crate::cmd::simulate::servable(&read, &name, allow) {
+        return fail(message);
+    }
+    let Some(pn) = read.device.profinet() else {
+        return fail(format!("`{name}` is not a GSDML file"));
     };
     // Before the first line: a signal that comes once the device is announced stops it cleanly.
     if let Err(message) = crate::cmd::signals::install() {

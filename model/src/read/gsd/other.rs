@@ -4,6 +4,7 @@
 
 use super::values::{call_arg, number, quoted};
 use super::Reader;
+use crate::diag::Diagnostic;
 use crate::model::{DpBaud, DpBaudRate, GsdKeyword, Span, UnitDiag};
 use crate::rules;
 
@@ -49,6 +50,41 @@ const KNOWN_OTHER: &[&str] = &[
 ];
 
 /// Prefixes of such keywords (C1_/C2_ DPV1 services, bitmaps, OrderNumber-like texts...).
+/// The keywords the reader interprets (`mod.rs`), spelt as the GSD specification writes them:
+/// what an unknown keyword may have meant.
+const INTERPRETED: &[&str] = &[
+    "GSD_Revision",
+    "Vendor_Name",
+    "Model_Name",
+    "Revision",
+    "Ident_Number",
+    "Protocol_Ident",
+    "Station_Type",
+    "Hardware_Release",
+    "Software_Release",
+    "OrderNumber",
+    "Freeze_Mode_supp",
+    "Sync_Mode_supp",
+    "Auto_Baud_supp",
+    "Set_Slave_Add_supp",
+    "Fail_Safe",
+    "DPV1_Slave",
+    "Min_Slave_Intervall",
+    "Modular_Station",
+    "Max_Module",
+    "Max_Input_Len",
+    "Max_Output_Len",
+    "Max_Data_Len",
+    "Max_Diag_Data_Len",
+    "Max_User_Prm_Data_Len",
+    "User_Prm_Data_Len",
+    "User_Prm_Data",
+    "Unit_Diag_Area",
+    "PrmText",
+    "ExtUserPrmData",
+    "Module",
+];
+
 const KNOWN_OTHER_PREFIXES: &[&str] = &[
     "c1_", "c2_", "bitmap_", "x_", "dxb_", "isochron", "tbase_", "t_", "ti_", "to_", "ppo",
     "vendor_", "mod_", "prm_", "info_", "cs_", "sub_",
@@ -113,11 +149,27 @@ impl Reader {
         let known = KNOWN_OTHER.contains(&lower)
             || KNOWN_OTHER_PREFIXES.iter().any(|p| lower.starts_with(p));
         if !known {
-            self.diag(
-                &rules::GSD_UNKNOWN,
-                Some(span),
-                format!("unknown keyword `{key}` (kept, not interpreted)"),
-            );
+            let candidates = INTERPRETED
+                .iter()
+                .map(|k| (k.to_ascii_lowercase(), (*k).to_owned()))
+                .chain(
+                    KNOWN_OTHER
+                        .iter()
+                        .map(|k| ((*k).to_owned(), (*k).to_owned())),
+                );
+            let near = crate::did_you_mean::closest(lower, candidates, true);
+            let message = format!("unknown keyword `{key}` (kept, not interpreted)");
+            // A misspelling is a letter or two away; farther is another keyword.
+            let typo = near
+                .first()
+                .filter(|k| strsim::levenshtein(lower, &k.to_ascii_lowercase()) <= 2);
+            match typo {
+                Some(meant) => self.diags.push(
+                    Diagnostic::new(&rules::GSD_UNKNOWN, Some(span), message)
+                        .with_help(format!("did you mean `{meant}`?")),
+                ),
+                None => self.diag(&rules::GSD_UNKNOWN, Some(span), message),
+            }
         }
         self.dp.other.push(GsdKeyword {
             key: key.to_owned(),

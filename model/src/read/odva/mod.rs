@@ -5,7 +5,7 @@
 //! diagnostic and reads as absent; unknown sections and keys are kept (in
 //! [`Cip::other_sections`], or as entries of their section) and reported once each (CIP002).
 //! Judging the parts against each other (sizes, limits, references) is the validator's
-//! (`validate::cip`).
+//! (`validate::cip`), once the authors' dialects are read as they meant them ([`dialect`]).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -15,6 +15,7 @@ use crate::diag::Diagnostic;
 use crate::model::*;
 use crate::rules;
 
+mod dialect;
 pub mod lex;
 mod parts;
 
@@ -135,6 +136,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
             }
         }
     }
+    dialect::member_sizes_in_bytes(&mut cip, &mut diags);
     let id = &cip.identity;
     device.device_info.vendor_name = id.vendor_name.clone();
     device.device_info.product_name = id.product_name.clone();

@@ -1,4 +1,4 @@
-//! PROFINET rules (PN002..PN017; PN001 is the reader's) over the GSDML part of the model: access
+//! PROFINET rules (PN002..PN018; PN001 is the reader's) over the GSDML part of the model: access
 //! points, modules, submodules, IO data, parameter records, references, channel diagnostics,
 //! subslot labels.
 //!
@@ -21,6 +21,7 @@ use crate::model::{
 use crate::rules;
 
 mod records;
+mod station_name;
 use records::{field_type, field_value};
 
 pub(super) fn check(pn: &Profinet, out: &mut Vec<Diagnostic>) {
@@ -41,6 +42,7 @@ pub(super) fn check(pn: &Profinet, out: &mut Vec<Diagnostic>) {
     }
     for dap in &pn.access_points {
         access_point(pn, dap, out);
+        station_name::check(dap, out);
     }
     unused_modules(pn, out);
     duplicates(pn, out);
@@ -320,15 +322,24 @@ fn unused_modules(pn: &Profinet, out: &mut Vec<Diagnostic>) {
 fn duplicates(pn: &Profinet, out: &mut Vec<Diagnostic>) {
     // Access points are alternatives (a device runs one): they may share a ModuleIdentNumber, as
     // versions of one head module do. Modules are told apart by theirs.
-    let mut idents: HashMap<u32, (String, Span)> = HashMap::new();
+    // By ident number: the module's ID, where the number is, its IO data lengths.
+    type Seen = (String, Span, Option<(u32, u32)>);
+    let mut idents: HashMap<u32, Seen> = HashMap::new();
     for module in &pn.modules {
         let Some(ident) = &module.module_ident else {
             continue;
         };
         let id = &module.id;
-        if let Some((other, span)) = idents.insert(ident.value, (id.clone(), ident.span)) {
-            // A warning: vendors give variants of one module one number (ET 200M does 34
-            // times); the device cannot tell them apart in its RealIdentificationData.
+        let io = lengths(module.submodules.iter());
+        let entry = (id.clone(), ident.span, io);
+        if let Some((other, span, other_io)) = idents.insert(ident.value, entry) {
+            // Vendors give variants of one module one number (ET 200M does 34 times): with the
+            // same IO data a controller that takes one for the other exchanges the same bytes,
+            // which is harmless. A warning only where the IO data differ: the device cannot
+            // tell them apart in its RealIdentificationData, and a controller would misread.
+            if io.is_some() && io == other_io {
+                continue;
+            }
             out.push(
                 Diagnostic::new(
                     &rules::PN_DUPLICATE_IDENT,

@@ -1,6 +1,6 @@
 //! "Did you mean": the names nearest to one the user gave, for the bench commands that take
-//! names (an entry of an EDS, a parameter of an ODVA EDS, an assembly member): one edit-distance
-//! rule and one listing.
+//! names (an entry of an EDS, a parameter of an ODVA EDS, an assembly member) and the readers'
+//! unknown keywords: one edit-distance rule and one listing.
 
 /// How many suggestions a listing shows.
 const SHOWN: usize = 8;
