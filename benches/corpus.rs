@@ -13,7 +13,7 @@ use std::process::Command;
 use std::time::Instant;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use edsgen_codegen::{read, validate};
+use edsgen_model::{read, validate};
 
 fn corpus_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("EDSGEN_CORPUS")

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use edsgen_codegen::diag::Severity;
+use edsgen_model::diag::Severity;
 
 use cmd::EXIT_USAGE;
 

@@ -8,7 +8,7 @@ mod process_support;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use edsgen_codegen::{read, validate};
+use edsgen_model::{read, validate};
 use process_support::corpus_dir;
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {

@@ -7,7 +7,7 @@ mod process_support;
 
 use std::path::Path;
 
-use edsgen_codegen::read;
+use edsgen_model::read;
 use edsgen_runtime::{ObjectDictionary, PdoError, SdoAbort};
 use edsgen_sim::cards;
 use emit_common::*;

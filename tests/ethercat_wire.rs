@@ -525,7 +525,7 @@ fn hostile(ns: &Namespace) -> String {
 /// sent and its answer, if any, read.
 fn send_hostile_frames(iface: &str) {
     use edsgen_sim::packet_socket::PacketSocket;
-    let model = edsgen_codegen::read::read_file(&root().join("eds/ec-tx508.xml"))
+    let model = edsgen_model::read::read_file(&root().join("eds/ec-tx508.xml"))
         .expect("readable")
         .device;
     let device = EsiDevice::subdevice(&model, None).expect("the EC-TX508");
@@ -553,13 +553,13 @@ fn corpus(ns: &Namespace) -> String {
     files.sort();
     let (mut served, mut passed_over) = (0, Vec::new());
     for file in &files {
-        let loaded = edsgen_codegen::load::load(file, None).expect("readable");
+        let loaded = edsgen_model::load::load(file, None).expect("readable");
         let model = loaded.device;
         // `edsgen simulate` refuses a description with errors (without `--allow`).
         let clean = !loaded
             .diagnostics
             .iter()
-            .any(|d| d.severity == edsgen_codegen::diag::Severity::Error);
+            .any(|d| d.severity == edsgen_model::diag::Severity::Error);
         let Some((outputs, inputs)) = complete_enough(&model).filter(|_| clean) else {
             passed_over.push(
                 file.strip_prefix(&dir)
@@ -616,8 +616,8 @@ fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
 /// CoE mailbox
 /// (both mailbox SyncManagers), 1C12h/1C13h for its process-data SyncManagers, process data in
 /// at least one direction, and every mapped object in the dictionary with the mapped size.
-fn complete_enough(model: &edsgen_codegen::model::Device) -> Option<(usize, usize)> {
-    use edsgen_codegen::model::SmKind;
+fn complete_enough(model: &edsgen_model::model::Device) -> Option<(usize, usize)> {
+    use edsgen_model::model::SmKind;
     let ec = model.ethercat()?;
     ec.coe.as_ref()?;
     // A modular device's process data depends on the modules plugged in.

@@ -260,7 +260,7 @@ impl LargeBench {
         let eds = dir.join("sim.eds");
         std::fs::write(&eds, sim_support::DEVICE_EDS).unwrap();
         let mut device = sim_support::test_device();
-        let overlay = edsgen_codegen::overlay::apply("[capacity]\n2000 = 100\n", &mut device);
+        let overlay = edsgen_model::overlay::apply("[capacity]\n2000 = 100\n", &mut device);
         assert!(overlay.is_empty(), "{overlay:?}");
         let od = RuntimeDictionary::new(&device, 9);
         let log = dir.join("bus.log");

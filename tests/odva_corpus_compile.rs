@@ -10,7 +10,9 @@
 mod emit_common;
 mod process_support;
 
-use edsgen_codegen::{emit, read};
+use edsgen_codegen::emit;
+
+use edsgen_model::read;
 use emit_common::*;
 use process_support::odva_corpus_dir;
 

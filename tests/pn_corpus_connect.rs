@@ -8,8 +8,8 @@
 mod emit_common;
 mod process_support;
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::{read, validate};
+use edsgen_model::diag::Severity;
+use edsgen_model::{read, validate};
 use edsgen_runtime::Instant;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::Cm;

@@ -65,7 +65,7 @@ fn recorded(device: [u8; 6]) -> Vec<(bool, Vec<u8>)> {
     let mut signal = [0; 8];
     let n = dcp::emit_plain_block(&mut signal, dcp::CONTROL_SIGNAL, &[0, 0, 1, 0]).unwrap_or(0);
     out.push((false, dcp_frame(device, 0xFEFD, 4, 4, &signal[..n])));
-    let read = edsgen_codegen::read::read_bytes(
+    let read = edsgen_model::read::read_bytes(
         std::path::Path::new("goodrive350-pn.xml"),
         include_bytes!("../eds/goodrive350-pn.xml"),
     );

@@ -20,8 +20,8 @@ use std::process::Command;
 
 use process_support::{corpus_dir, python, root};
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::{dump, read, validate};
+use edsgen_model::diag::Severity;
+use edsgen_model::{dump, read, validate};
 use serde_json::Value as Json;
 
 /// Which sub-indices a known difference covers.
@@ -250,7 +250,7 @@ fn python_dump(python: &Path, files: &[PathBuf]) -> Vec<Json> {
     all
 }
 
-fn edsgen_dump(path: &Path) -> (Json, edsgen_codegen::model::Device) {
+fn edsgen_dump(path: &Path) -> (Json, edsgen_model::model::Device) {
     let read = read::read_file(path).expect("readable file");
     (dump::to_json(&read.device), read.device)
 }
@@ -624,8 +624,7 @@ fn bundled_cards_match_python_exactly() {
             // The EtherNet/IP card's ODVA EDS is not a CiA 306 file: python canopen has no part in it.
             .filter(|p| {
                 std::fs::read(p).is_ok_and(|bytes| {
-                    edsgen_codegen::read::detect_format(p, &bytes)
-                        == edsgen_codegen::model::Format::Eds
+                    edsgen_model::read::detect_format(p, &bytes) == edsgen_model::model::Format::Eds
                 })
             })
             .collect(),

@@ -100,7 +100,7 @@ fn transcript(od: impl ObjectDictionary, requests: &[CanFrame]) -> Vec<String> {
 /// `generated` through every request of [`requests`].
 fn answers_as_generated(card: &str, generated: impl ObjectDictionary) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("eds").join(card);
-    let device = edsgen_codegen::read::read_file(&path).unwrap().device;
+    let device = edsgen_model::read::read_file(&path).unwrap().device;
     let runtime = RuntimeDictionary::new(&device, 5);
     assert_eq!(runtime.entries(), generated.entries(), "{card}");
     assert!(runtime.left_out().is_empty(), "{card}");
@@ -435,7 +435,7 @@ fn every_corpus_device_is_served_and_answers_an_upload_of_every_entry() {
     files.sort();
     assert!(files.len() >= 100, "{} files", files.len());
     for path in &files {
-        let device = edsgen_codegen::read::read_file(path).unwrap().device;
+        let device = edsgen_model::read::read_file(path).unwrap().device;
         let od = RuntimeDictionary::new(&device, 1);
         // The default SDO server's COB-IDs are 601h/581h whatever 1200h stores (oresat's
         // battery card holds 8000 0000h there, to be set at run time).

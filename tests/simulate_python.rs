@@ -18,8 +18,8 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
 
-use edsgen_codegen::model::Device;
 use edsgen_host::hub::{Hub, HubOptions};
+use edsgen_model::model::Device;
 use edsgen_runtime::{Access, DataType, ObjectDictionary};
 use edsgen_sim::canopen::{commissioned_node_id, RuntimeDictionary};
 use process_support::{corpus_file, edsgen_simulate, python, root, Process, EDSGEN};
@@ -232,7 +232,7 @@ fn python_masters_all(devices: &[(&Path, Option<u8>)], trace: Option<&Path>) {
     let mut args = Vec::new();
     let mut masters = Vec::new();
     for &(path, node_id) in devices {
-        let device = edsgen_codegen::read::read_file(path).unwrap().device;
+        let device = edsgen_model::read::read_file(path).unwrap().device;
         let id = node_id.unwrap_or_else(|| commissioned_node_id(&device).unwrap() as u8);
         let (plan, expected) = plan(&device, id);
         let plan_path = dir.join(format!("plan-{id}.json"));

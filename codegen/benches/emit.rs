@@ -10,7 +10,8 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use edsgen_codegen::{emit, read};
+use edsgen_codegen::emit;
+use edsgen_model::read;
 use edsgen_runtime::ObjectDictionary;
 
 #[allow(dead_code, missing_docs)]
@@ -27,10 +28,10 @@ fn corpus_dir() -> PathBuf {
 }
 
 /// The device in `path` as build.rs reads it (with the overlay beside it), if it reads.
-fn device(path: &Path) -> Option<edsgen_codegen::model::Device> {
+fn device(path: &Path) -> Option<edsgen_model::model::Device> {
     let mut read = read::read_file(path).ok()?;
-    if let Ok(text) = std::fs::read_to_string(edsgen_codegen::overlay::path_for(path)) {
-        edsgen_codegen::overlay::apply(&text, &mut read.device);
+    if let Ok(text) = std::fs::read_to_string(edsgen_model::overlay::path_for(path)) {
+        edsgen_model::overlay::apply(&text, &mut read.device);
     }
     Some(read.device)
 }
@@ -60,7 +61,7 @@ fn generation(c: &mut Criterion) {
         c.bench_function(&format!("baseline: read and validate {name}"), |b| {
             b.iter(|| {
                 read::read_file(black_box(path))
-                    .map(|read| edsgen_codegen::validate::validate(&read.device).len())
+                    .map(|read| edsgen_model::validate::validate(&read.device).len())
             })
         });
     }

@@ -8,7 +8,9 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use edsgen_codegen::{builder, emit, overlay, read};
+use edsgen_codegen::{builder, emit};
+
+use edsgen_model::{overlay, read};
 
 fn main() {
     let mut args = std::env::args().skip(1);

@@ -2,14 +2,15 @@
 //! its module into `OUT_DIR/NAME.rs` (for `edsgen_runtime::include_device!("NAME")`), prints
 //! `cargo:rerun-if-changed` for every input and warnings as `cargo:warning`, and fails on errors
 //! with the rendered diagnostics. A device's overlay (`NAME.toml` beside `NAME.eds`, see
-//! [`crate::overlay`]) is applied before generation.
+//! [`edsgen_model::overlay`]) is applied before generation.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::diag::{self, Severity};
-use crate::lint::Policy;
-use crate::{emit, load, overlay, render};
+use crate::emit;
+use edsgen_model::diag::{self, Severity};
+use edsgen_model::lint::Policy;
+use edsgen_model::{load, overlay, render};
 
 /// Generates typed bindings for one or more devices from build.rs.
 ///
@@ -138,7 +139,7 @@ impl Builder {
         };
         let mut policy = Policy::new();
         for code in &self.allowed {
-            match crate::rules::by_code(code) {
+            match edsgen_model::rules::by_code(code) {
                 Some(rule) => policy.allow(rule),
                 None => errors.push_str(&format!(
                     "error: edsgen: Builder::allow(\"{code}\"): no such rule (see `edsgen rules`)\n"
@@ -216,7 +217,7 @@ fn write_if_changed(file: &Path, code: &str) -> std::io::Result<()> {
     std::fs::write(file, code)
 }
 
-/// Loads ([`crate::load`]: read, overlay, validate) and generates one device: the module's code
+/// Loads ([`edsgen_model::load`]: read, overlay, validate) and generates one device: the module's code
 /// and the rendered warnings (less those `policy` allows; denied ones fail), or every error
 /// rendered. `edsgen generate` calls it too, so it writes exactly what build.rs gets.
 pub fn generate_device(
@@ -228,7 +229,7 @@ pub fn generate_device(
 }
 
 /// [`generate_device`] for one device of an ESI file that describes several, chosen by type name
-/// or `#x` product code (see [`crate::read::read_file_device`]); `None` is the first.
+/// or `#x` product code (see [`edsgen_model::read::read_file_device`]); `None` is the first.
 pub fn generate_chosen_device(
     path: &Path,
     device: Option<&str>,

@@ -1,17 +1,12 @@
 //! edsgen-codegen: typed Rust for the edsgen runtime from a device model (CANopen, EtherCAT,
 //! EtherNet/IP, PROFINET, PROFIBUS-DP), and the [`Builder`] that drives it from `build.rs`.
 //!
-//! Reading, overlays and validation are `edsgen-model`'s (re-exported here under the same
-//! paths): [`load`] reads a description, applies its overlay and validates it; [`emit`] turns
-//! the model into Rust source. This crate alone depends on syn, quote, prettyplease and heck,
-//! as prost-build alone does beside prost.
+//! Reading, overlays and validation are `edsgen-model`'s: `edsgen_model::load` reads a
+//! description, applies its overlay and validates it; [`emit`] turns the model into Rust source.
+//! This crate alone depends on syn, quote, prettyplease and heck, as prost-build alone does
+//! beside prost.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
-
-pub use edsgen_model::{
-    diag, did_you_mean, dump, lint, load, model, overlay, read, render, rules, sii, validate,
-    values,
-};
 
 pub mod emit;
 

@@ -3,11 +3,11 @@
 
 use std::path::Path;
 
-use edsgen_codegen::model::{DpBaudRate, Format, TextEncoding};
-use edsgen_codegen::read::read_file;
-use edsgen_codegen::validate::validate;
+use edsgen_model::model::{DpBaudRate, Format, TextEncoding};
+use edsgen_model::read::read_file;
+use edsgen_model::validate::validate;
 
-fn card() -> edsgen_codegen::read::Read {
+fn card() -> edsgen_model::read::Read {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-dp.gsd");
     read_file(&path).expect("the card's GSD")
 }

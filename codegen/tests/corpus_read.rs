@@ -8,9 +8,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use corpus_support::corpus_dir;
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::Format;
-use edsgen_codegen::read;
+use edsgen_model::diag::Severity;
+use edsgen_model::model::Format;
+use edsgen_model::read;
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
     let Ok(entries) = std::fs::read_dir(dir) else {

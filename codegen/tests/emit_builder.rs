@@ -3,7 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use edsgen_codegen::{emit, read, Builder};
+use edsgen_codegen::{emit, Builder};
+
+use edsgen_model::read;
 
 fn card(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use edsgen_codegen::emit;
 use edsgen_codegen::emit::plan::code_span;
-use edsgen_codegen::read::read_file;
+use edsgen_model::read::read_file;
 
 #[test]
 fn code_spans_show_identifiers_as_written() {

@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use edsgen_codegen::builder::generate_device;
-use edsgen_codegen::overlay;
-use edsgen_codegen::read::read_file;
+use edsgen_model::overlay;
+use edsgen_model::read::read_file;
 
 #[test]
 fn the_dp_card_generates() {

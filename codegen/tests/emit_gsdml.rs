@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use edsgen_codegen::emit;
-use edsgen_codegen::read::read_file;
+use edsgen_model::read::read_file;
 
 #[test]
 fn a_module_names_the_slots_the_access_point_allows() {

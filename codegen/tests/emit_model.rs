@@ -3,9 +3,9 @@
 
 mod emit_support;
 
-use edsgen_codegen::diag::Severity;
 use edsgen_codegen::emit;
-use edsgen_codegen::model::{AccessType, ObjectType, Value};
+use edsgen_model::diag::Severity;
+use edsgen_model::model::{AccessType, ObjectType, Value};
 use emit_support::*;
 
 const FIXTURE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/generated/gd350.rs");
@@ -240,7 +240,7 @@ fn untypeable_pdo_mapping_is_eds704_and_skipped() {
             ),
         ],
     );
-    mapping.span = edsgen_codegen::model::Span::new(40, 1, 6);
+    mapping.span = edsgen_model::model::Span::new(40, 1, 6);
     let device = device(vec![
         mapping,
         var(
@@ -500,7 +500,7 @@ fn time_of_day_as_a_48_bit_integer() {
     );
 }
 
-fn device_with(data_type: u16, default: Value) -> edsgen_codegen::model::Device {
+fn device_with(data_type: u16, default: Value) -> edsgen_model::model::Device {
     device(vec![var(
         0x2000,
         "Stamp",

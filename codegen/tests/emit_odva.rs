@@ -3,7 +3,9 @@
 
 use std::path::Path;
 
-use edsgen_codegen::{emit, read};
+use edsgen_codegen::emit;
+
+use edsgen_model::read;
 
 const FIXTURE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/generated/odva_io.rs");
 

@@ -12,7 +12,8 @@ mod corpus_support;
 use std::path::{Path, PathBuf};
 
 use corpus_support::corpus_dir;
-use edsgen_codegen::{builder, emit, overlay, read};
+use edsgen_codegen::{builder, emit};
+use edsgen_model::{overlay, read};
 
 fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")

@@ -8,8 +8,8 @@ mod corpus_support;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use edsgen_codegen::read::{esi, read_file};
-use edsgen_codegen::{rules, validate};
+use edsgen_model::read::{esi, read_file};
+use edsgen_model::{rules, validate};
 
 /// One MANIFEST.tsv row: the columns this test compares.
 struct Row {

@@ -8,9 +8,9 @@ mod corpus_support;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use edsgen_codegen::model::{decode_cfg, Format, TextEncoding};
-use edsgen_codegen::read::read_file;
-use edsgen_codegen::validate;
+use edsgen_model::model::{decode_cfg, Format, TextEncoding};
+use edsgen_model::read::read_file;
+use edsgen_model::validate;
 
 /// The corpus directory, or `None` after a visible skip (a failure under `CI=true`).
 fn corpus() -> Option<PathBuf> {

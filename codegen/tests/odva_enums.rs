@@ -6,7 +6,9 @@
 
 use std::path::Path;
 
-use edsgen_codegen::{emit, read};
+use edsgen_codegen::emit;
+
+use edsgen_model::read;
 
 include!("generated/odva_enums.rs");
 

@@ -5,8 +5,9 @@ mod emit_support;
 
 use std::path::Path;
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::{emit, overlay, read};
+use edsgen_codegen::emit;
+use edsgen_model::diag::Severity;
+use edsgen_model::{overlay, read};
 use emit_support::addresses;
 
 /// 2000h a writable VISIBLE_STRING, 2001h an UNSIGNED16, 2100h an ARRAY of two OCTET_STRINGs.
@@ -50,7 +51,7 @@ DataType=0x000A
 AccessType=rw
 ";
 
-fn device() -> edsgen_codegen::model::Device {
+fn device() -> edsgen_model::model::Device {
     read::read_bytes(Path::new("t.eds"), EDS.as_bytes()).device
 }
 
@@ -323,7 +324,7 @@ fn a_device_without_default_pdos_says_so_and_the_overlay_declares_mappings() {
     let mut device = read::read_file(&path).unwrap().device;
     let plain = emit::generate_module(&device, "ms300").unwrap();
     assert!(!plain.code.contains("pub mod pdo"));
-    let said: Vec<_> = edsgen_codegen::validate::validate(&device)
+    let said: Vec<_> = edsgen_model::validate::validate(&device)
         .iter()
         .filter(|d| d.code() == "EDS709")
         .map(|d| (d.severity, d.message.clone()))
@@ -346,7 +347,7 @@ fn a_device_without_default_pdos_says_so_and_the_overlay_declares_mappings() {
     assert!(squeezed.contains("pubstructRpdo1{"), "{}", mapped.code);
     assert!(squeezed.contains("pubstructTpdo1{"));
     assert!(!squeezed.contains("pubstructRpdo2{"));
-    let validated = edsgen_codegen::validate::validate(&device);
+    let validated = edsgen_model::validate::validate(&device);
     assert!(validated.iter().all(|d| d.code() != "EDS709"));
     // The mapping objects hold the declared mapping as their defaults.
     let default = |sub: u8| {
@@ -359,10 +360,10 @@ fn a_device_without_default_pdos_says_so_and_the_overlay_declares_mappings() {
             .value
             .clone()
     };
-    assert_eq!(default(0), Some(edsgen_codegen::model::Value::Integer(2)));
+    assert_eq!(default(0), Some(edsgen_model::model::Value::Integer(2)));
     assert_eq!(
         default(1),
-        Some(edsgen_codegen::model::Value::Integer(0x6040_0010))
+        Some(edsgen_model::model::Value::Integer(0x6040_0010))
     );
 
     let text = "[pdo_mapping]\n2000 = [\"6040\"]\n1601 = [\"2999\"]\n1602 = \"6040\"\n";

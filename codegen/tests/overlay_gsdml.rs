@@ -4,9 +4,10 @@
 
 use std::path::Path;
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::Device;
-use edsgen_codegen::{emit, overlay, read, render};
+use edsgen_codegen::emit;
+use edsgen_model::diag::Severity;
+use edsgen_model::model::Device;
+use edsgen_model::{overlay, read, render};
 
 fn card() -> String {
     std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-pn.xml"))

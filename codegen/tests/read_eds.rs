@@ -2,9 +2,9 @@
 
 use std::path::Path;
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::*;
-use edsgen_codegen::read::{self, Read};
+use edsgen_model::diag::Severity;
+use edsgen_model::model::*;
+use edsgen_model::read::{self, Read};
 
 fn read_eds(text: &str) -> Read {
     read::read_bytes(Path::new("test.eds"), text.as_bytes())
@@ -249,7 +249,7 @@ fn small_eds_reads_cleanly() {
 #[test]
 fn dump_of_small_eds() {
     let read = read_eds(SMALL);
-    let json = edsgen_codegen::dump::to_json(&read.device);
+    let json = edsgen_model::dump::to_json(&read.device);
     insta::assert_snapshot!(serde_json::to_string_pretty(&json).unwrap());
 }
 

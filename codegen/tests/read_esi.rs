@@ -4,11 +4,11 @@
 
 use std::path::Path;
 
-use edsgen_codegen::diag::Severity::{self, Error, Info, Warning};
-use edsgen_codegen::model::*;
-use edsgen_codegen::read::esi::{self, DeviceChoice};
-use edsgen_codegen::read::{detect_format, read_bytes, read_bytes_device, Read};
-use edsgen_codegen::validate;
+use edsgen_model::diag::Severity::{self, Error, Info, Warning};
+use edsgen_model::model::*;
+use edsgen_model::read::esi::{self, DeviceChoice};
+use edsgen_model::read::{detect_format, read_bytes, read_bytes_device, Read};
+use edsgen_model::validate;
 
 fn drive_bytes() -> Vec<u8> {
     std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/esi/drive.xml"))
@@ -35,7 +35,7 @@ fn diagnostics(text: &str) -> Vec<(&'static str, Severity, u32, String)> {
     let read = read(text);
     let mut all = read.diagnostics.clone();
     all.extend(validate::validate(&read.device));
-    edsgen_codegen::diag::sort(&mut all);
+    edsgen_model::diag::sort(&mut all);
     all.into_iter()
         .map(|d| {
             (
@@ -656,7 +656,7 @@ fn cut_and_corrupted_files_read_without_a_panic() {
     for input in &inputs {
         let read = read(input);
         let _ = validate::validate(&read.device);
-        let _ = edsgen_codegen::dump::to_json(&read.device);
+        let _ = edsgen_model::dump::to_json(&read.device);
     }
     // The cyclic BaseType is an unknown type, not a loop.
     let cyclic = edit("<BaseType>SINT</BaseType>", "<BaseType>DT6060EN</BaseType>");
@@ -932,7 +932,7 @@ fn eds817_an_alternative_with_two_excluding_pdos() {
 
 #[test]
 fn dump_shows_alternatives_slots_and_modules() {
-    let json = edsgen_codegen::dump::to_json(&read(&modular()).device);
+    let json = edsgen_model::dump::to_json(&read(&modular()).device);
     let ec = &json["ethercat"];
     assert_eq!(
         ec["alternative_mappings"][1],

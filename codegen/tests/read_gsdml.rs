@@ -5,10 +5,10 @@
 
 use std::path::Path;
 
-use edsgen_codegen::diag::Severity::{self, Error, Warning};
-use edsgen_codegen::model::*;
-use edsgen_codegen::read::{detect_format, read_bytes, Read};
-use edsgen_codegen::validate;
+use edsgen_model::diag::Severity::{self, Error, Warning};
+use edsgen_model::model::*;
+use edsgen_model::read::{detect_format, read_bytes, Read};
+use edsgen_model::validate;
 
 fn card() -> String {
     std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-pn.xml"))
@@ -28,7 +28,7 @@ fn diagnostics(text: &str) -> Vec<(&'static str, Severity, u32, String)> {
     let read = read(text);
     let mut all = read.diagnostics.clone();
     all.extend(validate::validate(&read.device));
-    edsgen_codegen::diag::sort(&mut all);
+    edsgen_model::diag::sort(&mut all);
     all.into_iter()
         .map(|d| {
             (
@@ -581,7 +581,7 @@ fn ext_channel_diagnostics_are_read_and_dumped() {
             (Some(2), "Unsigned16", Some(PnDataType::Unsigned16))
         ]
     );
-    let dump = edsgen_codegen::dump::to_json(&read.device);
+    let dump = edsgen_model::dump::to_json(&read.device);
     assert_eq!(
         dump["profinet"]["channel_diagnostics"][0]["ext"],
         serde_json::json!([
@@ -691,7 +691,7 @@ fn subslot_labels_are_read_and_dumped() {
             (32769, Some(texts("T_P1").as_str()))
         ]
     );
-    let dump = edsgen_codegen::dump::to_json(&read.device);
+    let dump = edsgen_model::dump::to_json(&read.device);
     assert_eq!(
         dump["profinet"]["access_points"][0]["subslot_labels"],
         serde_json::json!([

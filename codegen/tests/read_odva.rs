@@ -5,10 +5,10 @@
 
 use std::path::Path;
 
-use edsgen_codegen::diag::Severity::{self, Error, Info, Warning};
-use edsgen_codegen::model::*;
-use edsgen_codegen::read::{detect_format, read_bytes, Read};
-use edsgen_codegen::validate;
+use edsgen_model::diag::Severity::{self, Error, Info, Warning};
+use edsgen_model::model::*;
+use edsgen_model::read::{detect_format, read_bytes, Read};
+use edsgen_model::validate;
 
 fn io() -> String {
     std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/odva/io.eds"))
@@ -28,7 +28,7 @@ fn diagnostics(text: &str) -> Vec<(&'static str, Severity, u32, String)> {
     let read = read(text);
     let mut all = read.diagnostics.clone();
     all.extend(validate::validate(&read.device));
-    edsgen_codegen::diag::sort(&mut all);
+    edsgen_model::diag::sort(&mut all);
     all.into_iter()
         .map(|d| {
             (
@@ -581,7 +581,7 @@ fn spans_point_at_fields_of_entries_over_many_lines() {
 
 #[test]
 fn overlay_pkw_pzd_names_32_byte_assemblies() {
-    use edsgen_codegen::overlay::apply;
+    use edsgen_model::overlay::apply;
     let mut device = read(&io()).device;
     let diags = apply(
         "[pkw_pzd]\noutput = 150\ninput = 100\nbyte_order = \"little\"\n",
@@ -651,7 +651,7 @@ fn helps(text: &str) -> Vec<(&'static str, u32, String, Option<String>)> {
     let read = read(text);
     let mut all = read.diagnostics.clone();
     all.extend(validate::validate(&read.device));
-    edsgen_codegen::diag::sort(&mut all);
+    edsgen_model::diag::sort(&mut all);
     all.into_iter()
         .map(|d| (d.rule.code, d.span.map_or(0, |s| s.line), d.message, d.help))
         .collect()

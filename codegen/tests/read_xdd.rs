@@ -6,9 +6,9 @@ mod corpus_support;
 use std::path::{Path, PathBuf};
 
 use corpus_support::corpus_dir;
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::*;
-use edsgen_codegen::read::{read_bytes, read_file, Read};
+use edsgen_model::diag::Severity;
+use edsgen_model::model::*;
+use edsgen_model::read::{read_bytes, read_file, Read};
 
 // ---------------------------------------------------------------------------------------------
 // Corpus
@@ -736,7 +736,7 @@ fn pdo_mapping_direction_wins_over_a_contrary_access_with_a_warning() {
 
 /// The objects of a dump, by index, without the ones named in `except`.
 fn dumped_objects(read: &Read, except: &[u64]) -> Vec<serde_json::Value> {
-    let dump = edsgen_codegen::dump::to_json(&read.device);
+    let dump = edsgen_model::dump::to_json(&read.device);
     dump["objects"]
         .as_array()
         .expect("objects array")
@@ -871,7 +871,7 @@ fn dump_of_the_minimal_xdc() {
     );
     // The snapshot must not depend on where the corpus is.
     read.device.source.path = PathBuf::from("minimal.xdc");
-    let dump = edsgen_codegen::dump::to_json(&read.device);
+    let dump = edsgen_model::dump::to_json(&read.device);
     insta::assert_snapshot!(serde_json::to_string_pretty(&dump).unwrap());
 }
 
@@ -1012,7 +1012,7 @@ fn no_access_leaves_the_access_unknown_and_no_diagnostic_quotes_one() {
         )]
     );
     assert_eq!(read.device.objects[&0x6009].subs[&1].access, None);
-    let validated = edsgen_codegen::validate::validate(&read.device);
+    let validated = edsgen_model::validate::validate(&read.device);
     for d in &validated {
         assert!(
             !d.message.contains("(ro)") && !d.message.contains("into an RPDO"),

@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use edsgen_codegen::diag::Severity::{self, Error, Info, Warning};
-use edsgen_codegen::{read, rules, validate};
+use edsgen_model::diag::Severity::{self, Error, Info, Warning};
+use edsgen_model::{read, rules, validate};
 
 /// A clean device: every rule is quiet on `eds(&[], &[], "")`. Tests add objects in `body` (and
 /// list them in `optional`/`manufacturer`) or edit keys with `str::replace`.
@@ -1708,7 +1708,7 @@ mod no_panic {
             let path = if dcf { "p.dcf" } else { "p.eds" };
             let read = read::read_bytes(Path::new(path), text.as_bytes());
             let diags = validate::validate(&read.device);
-            let rendered = edsgen_codegen::render::human(path, &read.text, &diags, false);
+            let rendered = edsgen_model::render::human(path, &read.text, &diags, false);
             prop_assert_eq!(diags.is_empty(), rendered.is_empty());
         }
     }
@@ -1725,8 +1725,8 @@ fn eds408_a_missing_object_is_one_error_per_mapping_that_names_it() {
             d("EDS408", Error, line_of(&t, "DefaultValue=0x20060008")),
         ]
     );
-    let read = edsgen_codegen::read::read_bytes(std::path::Path::new("t.eds"), t.as_bytes());
-    let messages: Vec<String> = edsgen_codegen::validate::validate(&read.device)
+    let read = edsgen_model::read::read_bytes(std::path::Path::new("t.eds"), t.as_bytes());
+    let messages: Vec<String> = edsgen_model::validate::validate(&read.device)
         .into_iter()
         .map(|d| d.message)
         .collect();
@@ -1748,8 +1748,8 @@ fn eds317_values_outside_their_limits_fold_into_one_finding_naming_the_lines() {
         })
         .collect::<String>();
     let t = eds(&[], &[0x2000, 0x2001, 0x2002], &body);
-    let read = edsgen_codegen::read::read_bytes(std::path::Path::new("t.eds"), t.as_bytes());
-    let found = edsgen_codegen::validate::validate(&read.device);
+    let read = edsgen_model::read::read_bytes(std::path::Path::new("t.eds"), t.as_bytes());
+    let found = edsgen_model::validate::validate(&read.device);
     assert_eq!(found.len(), 1, "{found:?}");
     let lines: Vec<usize> = t
         .lines()
@@ -1776,7 +1776,7 @@ fn eds310_advice_names_the_key_that_holds_the_value_and_refuse_read_on_scan_is_r
             )
             + &sub(0x2000, 1, "A", 6, "rw", "0", false)
     };
-    let t = edsgen_codegen::read::read_bytes(
+    let t = edsgen_model::read::read_bytes(
         Path::new("t.dcf"),
         dcf(&body(""))
             .replace(
@@ -1799,7 +1799,7 @@ fn eds310_advice_names_the_key_that_holds_the_value_and_refuse_read_on_scan_is_r
         ]
     );
     // ObjFlags bit 1: the tool did not read the entry back; the default (1) is the value.
-    let t = edsgen_codegen::read::read_bytes(
+    let t = edsgen_model::read::read_bytes(
         Path::new("t.dcf"),
         dcf(&body("\nObjFlags=2"))
             .replace(

@@ -1,13 +1,13 @@
-//! SII images built from ESI files (`edsgen_codegen::sii::build`) compared byte for byte with
+//! SII images built from ESI files (`edsgen_model::sii::build`) compared byte for byte with
 //! images written out here by hand from the ETG.2010 layout, for the test drive (tests/esi/
 //! drive.xml) and the EC-TX508 (eds/ec-tx508.xml); and read back (`read::sii`) into the same
 //! EtherCAT model the ESI gives.
 
 use std::path::Path;
 
-use edsgen_codegen::model::Format;
-use edsgen_codegen::read::{read_bytes, read_file};
-use edsgen_codegen::sii::build;
+use edsgen_model::model::Format;
+use edsgen_model::read::{read_bytes, read_file};
+use edsgen_model::sii::build;
 
 /// A category: type, length in words, data padded to a word.
 fn category(kind: u16, data: &[u8]) -> Vec<u8> {
@@ -268,7 +268,7 @@ fn images_read_back_as_their_esi() {
         assert_eq!(got.device_info.product_name, want.device_info.product_name);
         let (want, got) = (want.ethercat().unwrap(), got.ethercat().unwrap());
         assert_eq!(got.type_name, want.type_name);
-        let sms = |ec: &edsgen_codegen::model::EtherCat| {
+        let sms = |ec: &edsgen_model::model::EtherCat| {
             ec.sync_managers
                 .iter()
                 .map(|sm| {
@@ -283,7 +283,7 @@ fn images_read_back_as_their_esi() {
                 .collect::<Vec<_>>()
         };
         assert_eq!(sms(got), sms(want), "{path}");
-        let pdos = |pdos: &[edsgen_codegen::model::EcPdo]| {
+        let pdos = |pdos: &[edsgen_model::model::EcPdo]| {
             pdos.iter()
                 .map(|p| {
                     let entries: Vec<_> = p
@@ -305,7 +305,7 @@ fn images_read_back_as_their_esi() {
         };
         assert_eq!(pdos(&got.tx_pdos), pdos(&want.tx_pdos), "{path}");
         assert_eq!(pdos(&got.rx_pdos), pdos(&want.rx_pdos), "{path}");
-        let coe = |c: &edsgen_codegen::model::CoeMailbox| {
+        let coe = |c: &edsgen_model::model::CoeMailbox| {
             (c.sdo_info, c.pdo_assign, c.pdo_config, c.complete_access)
         };
         assert_eq!(

@@ -393,7 +393,7 @@ fn a_time_message_gives_the_date_and_time() {
 /// The EC-TX508's ESI model, for its process images.
 fn ec_tx508_images() -> edsgen_decode::image::ImageDecoder {
     let path = std::path::Path::new(edsgen_sim::drives::ec_tx508::ESI_PATH);
-    let model = edsgen_codegen::read::read_bytes(path, edsgen_sim::drives::ec_tx508::ESI).device;
+    let model = edsgen_model::read::read_bytes(path, edsgen_sim::drives::ec_tx508::ESI).device;
     edsgen_decode::image::ImageDecoder::new(&model)
 }
 
@@ -447,7 +447,7 @@ fn an_image_shorter_than_its_pdos_or_without_an_esi_mapping_is_printed_as_bytes(
         "(empty) (the PDOs need 168 bits, the image has 0)"
     );
     // A CANopen device has no SyncManagers.
-    let eds = edsgen_codegen::read::read_bytes(
+    let eds = edsgen_model::read::read_bytes(
         std::path::Path::new("eds/cp301.eds"),
         edsgen_sim::drives::CARDS[0].eds,
     )

@@ -41,11 +41,11 @@ pub(super) fn run(trace: &mut Trace) {
     trace.heading(
         "Goodrive350 DP card (station 2): PROFIBUS-DP with profirust's master, manual chapter 2",
     );
-    let read = edsgen_codegen::read::read_bytes(Path::new(GSD_PATH), GSD);
-    let errors = edsgen_codegen::validate::validate(&read.device)
+    let read = edsgen_model::read::read_bytes(Path::new(GSD_PATH), GSD);
+    let errors = edsgen_model::validate::validate(&read.device)
         .iter()
         .chain(&read.diagnostics)
-        .filter(|d| d.severity == edsgen_codegen::diag::Severity::Error)
+        .filter(|d| d.severity == edsgen_model::diag::Severity::Error)
         .count();
     trace.step(
         "the card's GSD reads and validates",

@@ -14,7 +14,7 @@
 //! veth pair to `edsgen simulate --profinet` in another network namespace, in real time
 //! ([`super::profinet_wire`]).
 
-use edsgen_codegen::model::Profinet;
+use edsgen_model::model::Profinet;
 use edsgen_runtime::pkw_pzd::{ByteOrder, ErrorNumber, InputImage, PkwResponse, IMAGE_BYTES};
 use edsgen_runtime::profinet::wire::dcp::{self as dcpw, emit_plain_block};
 use edsgen_runtime::profinet::wire::rpc::{PnioStatus, Uuid, RPC_PORT};
@@ -224,7 +224,7 @@ impl Transport for InProcess {
 /// The card's GSDML, as the controller is configured with it and the simulated card is built
 /// from it.
 fn gsdml() -> Result<Profinet, String> {
-    edsgen_codegen::read::read_bytes(
+    edsgen_model::read::read_bytes(
         std::path::Path::new("goodrive350-pn.xml"),
         include_bytes!("../../eds/goodrive350-pn.xml"),
     )

@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 use std::time::Duration;
 
 use edsgen_decode::Decoder;
-use edsgen_codegen::model::Device;
+use edsgen_model::model::Device;
 use edsgen_host::trace::{format_line, parse_line, TraceReadError, TraceReader};
 use libfuzzer_sys::fuzz_target;
 
@@ -28,7 +28,7 @@ fn cp301() -> &'static Device {
     static DEVICE: OnceLock<Device> = OnceLock::new();
     DEVICE.get_or_init(|| {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../eds/cp301.eds");
-        edsgen_codegen::read::read_file(std::path::Path::new(path))
+        edsgen_model::read::read_file(std::path::Path::new(path))
             .expect("eds/cp301.eds is readable")
             .device
     })

@@ -10,21 +10,21 @@
 //! every device of the file is read (`read_all`, as the corpus tests do), validated and dumped.
 #![no_main]
 
-use edsgen_codegen::read::{esi, read_bytes};
+use edsgen_model::read::{esi, read_bytes};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     if data.len() % 2 == 1 {
         let read = read_bytes(Path::new("fuzz.xml"), data);
-        let _ = edsgen_codegen::validate::validate(&read.device);
+        let _ = edsgen_model::validate::validate(&read.device);
         for (device, _) in esi::read_all(Path::new("fuzz.xml"), data) {
-            let _ = edsgen_codegen::validate::validate(&device);
-            let _ = edsgen_codegen::dump::to_json(&device);
+            let _ = edsgen_model::validate::validate(&device);
+            let _ = edsgen_model::dump::to_json(&device);
         }
     } else {
         let read = read_bytes(Path::new("fuzz.esi"), data);
-        let _ = edsgen_codegen::validate::validate(&read.device);
-        let _ = edsgen_codegen::dump::to_json(&read.device);
+        let _ = edsgen_model::validate::validate(&read.device);
+        let _ = edsgen_model::dump::to_json(&read.device);
     }
 });

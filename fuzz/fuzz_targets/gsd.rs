@@ -7,16 +7,16 @@
 //! configuration bytes are decoded, and the default parameterisation built.
 #![no_main]
 
-use edsgen_codegen::model::decode_cfg;
-use edsgen_codegen::read::read_bytes;
+use edsgen_model::model::decode_cfg;
+use edsgen_model::read::read_bytes;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     let name = if data.len() % 2 == 0 { "fuzz.gsd" } else { "fuzz.txt" };
     let read = read_bytes(Path::new(name), data);
-    let _ = edsgen_codegen::validate::validate(&read.device);
-    let _ = edsgen_codegen::dump::to_json(&read.device);
+    let _ = edsgen_model::validate::validate(&read.device);
+    let _ = edsgen_model::dump::to_json(&read.device);
     if let Some(dp) = read.device.dp() {
         for module in &dp.modules {
             let _ = decode_cfg(&module.config);

@@ -4,16 +4,16 @@
 //! the root element still exercise it.
 #![no_main]
 
-use edsgen_codegen::read::{gsdml, read_bytes};
+use edsgen_model::read::{gsdml, read_bytes};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     let read = read_bytes(Path::new("fuzz.xml"), data);
-    let _ = edsgen_codegen::validate::validate(&read.device);
+    let _ = edsgen_model::validate::validate(&read.device);
     let direct = gsdml::read(Path::new("fuzz.xml"), data);
-    let _ = edsgen_codegen::validate::validate(&direct.device);
-    let _ = edsgen_codegen::dump::to_json(&direct.device);
+    let _ = edsgen_model::validate::validate(&direct.device);
+    let _ = edsgen_model::dump::to_json(&direct.device);
     if direct.device.profinet().is_some() {
         let _ = edsgen_codegen::emit::generate(&direct.device, "fuzz");
     }

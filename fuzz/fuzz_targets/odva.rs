@@ -4,7 +4,7 @@
 //! header exercise the CiA 306 reader instead (the seeds have them).
 #![no_main]
 
-use edsgen_codegen::read::read_bytes;
+use edsgen_model::read::read_bytes;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
@@ -13,7 +13,7 @@ fuzz_target!(|data: &[u8]| {
     if read.device.cip().is_none() {
         return;
     }
-    let _ = edsgen_codegen::validate::validate(&read.device);
-    let _ = edsgen_codegen::dump::to_json(&read.device);
+    let _ = edsgen_model::validate::validate(&read.device);
+    let _ = edsgen_model::dump::to_json(&read.device);
     let _ = edsgen_codegen::emit::generate_module(&read.device, "fuzz");
 });

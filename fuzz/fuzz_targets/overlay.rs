@@ -1,4 +1,4 @@
-//! Fuzz the overlays (`NAME.toml` beside a description, `edsgen_codegen::overlay`): any bytes as
+//! Fuzz the overlays (`NAME.toml` beside a description, `edsgen_model::overlay`): any bytes as
 //! an overlay applied to one of the bundled descriptions, then generated. The first byte picks
 //! the description (the Goodrive350's GSDML, GSD and ODVA EDS cards, whose `[pkw_pzd]` keys
 //! differ, and its CiA 306 EDS for the other tables); the rest is the overlay's text (lossy
@@ -6,8 +6,8 @@
 //! points into the overlay's text.
 #![no_main]
 
-use edsgen_codegen::overlay;
-use edsgen_codegen::read::read_bytes;
+use edsgen_model::overlay;
+use edsgen_model::read::read_bytes;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

@@ -17,7 +17,7 @@ use std::sync::OnceLock;
 fn config() -> &'static DeviceConfig {
     static CONFIG: OnceLock<DeviceConfig> = OnceLock::new();
     CONFIG.get_or_init(|| {
-        let read = edsgen_codegen::read::read_bytes(
+        let read = edsgen_model::read::read_bytes(
             std::path::Path::new("goodrive350-pn.xml"),
             include_bytes!("../../eds/goodrive350-pn.xml"),
         );

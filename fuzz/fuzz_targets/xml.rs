@@ -15,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
     } else {
         "fuzz.xml"
     };
-    let read = edsgen_codegen::read::read_bytes(Path::new(name), data);
-    let _ = edsgen_codegen::validate::validate(&read.device);
-    let _ = edsgen_codegen::dump::to_json(&read.device);
+    let read = edsgen_model::read::read_bytes(Path::new(name), data);
+    let _ = edsgen_model::validate::validate(&read.device);
+    let _ = edsgen_model::dump::to_json(&read.device);
 });

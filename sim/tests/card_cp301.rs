@@ -9,8 +9,8 @@ use card_support::{
     all_diagnostics, baud_rates, check_rows, default_value, dump, line_of, mapped, read, row, subs,
     warnings_and_errors, DefaultValue, Finding, Row,
 };
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::{AccessType, BasicType, Value};
+use edsgen_model::diag::Severity;
+use edsgen_model::model::{AccessType, BasicType, Value};
 
 use AccessType::{Ro, Rw};
 use BasicType::{Integer16 as I16, Integer8 as I8, Unsigned16 as U16};

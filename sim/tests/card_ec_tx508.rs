@@ -9,7 +9,7 @@ mod card_support;
 use card_support::{
     check_rows, integer_default, read, row, warnings_and_errors, DefaultValue, Row,
 };
-use edsgen_codegen::model::{AccessType, BasicType, Device, EcPdo, EtherCat, SmKind, SyncManager};
+use edsgen_model::model::{AccessType, BasicType, Device, EcPdo, EtherCat, SmKind, SyncManager};
 use edsgen_runtime::ethercat::ProcessData;
 use edsgen_sim::cards::ec_tx508::{ethercat, od};
 

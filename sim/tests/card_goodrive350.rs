@@ -8,8 +8,8 @@ use card_support::{
     above_info, baud_rates, check_absent, check_rows, cob_id, decode, dump, integer_default,
     key_line, node_relative, read, row, subs, warnings_and_errors, DefaultValue, Finding, Row,
 };
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::{AccessType, BasicType};
+use edsgen_model::diag::Severity;
+use edsgen_model::model::{AccessType, BasicType};
 
 use AccessType::{Const, Ro, Rw};
 use BasicType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8, VisibleString as Str};

@@ -7,22 +7,22 @@ mod card_support;
 
 use card_support::pkw_pzd_drive::drive_answers;
 use card_support::root;
-use edsgen_codegen::model::{CipNumber, FieldRef, TriggerTransport};
-use edsgen_codegen::{read, validate};
+use edsgen_model::model::{CipNumber, FieldRef, TriggerTransport};
+use edsgen_model::{read, validate};
 use edsgen_runtime::pkw_pzd::{
     ByteOrder, Command, ControlWord, OutputImage, PkwRequest, WordLayout,
 };
 use edsgen_sim::cards::goodrive350_enip as card;
 use edsgen_sim::drives::pkw_pzd::Bus;
 
-fn model() -> edsgen_codegen::model::Cip {
+fn model() -> edsgen_model::model::Cip {
     let read = read::read_file(&root().join("eds/goodrive350-enip.eds")).expect("the card's EDS");
     assert_eq!(read.diagnostics, vec![]);
     assert_eq!(validate::validate(&read.device), vec![]);
     read.device.cip().cloned().expect("an ODVA EDS")
 }
 
-fn param_name(cip: &edsgen_codegen::model::Cip, member: &FieldRef) -> String {
+fn param_name(cip: &edsgen_model::model::Cip, member: &FieldRef) -> String {
     match member {
         FieldRef::Param(n) => cip.params[n].name.clone(),
         other => panic!("{other:?}"),
@@ -272,10 +272,10 @@ fn the_drive_answers_the_generated_images() {
 fn generated_module_snapshot() {
     let path = root().join("eds/goodrive350-enip.eds");
     let mut read = read::read_file(&path).expect("the card's EDS");
-    let overlay = std::fs::read_to_string(edsgen_codegen::overlay::path_for(&path))
+    let overlay = std::fs::read_to_string(edsgen_model::overlay::path_for(&path))
         .expect("eds/goodrive350-enip.toml");
     assert_eq!(
-        edsgen_codegen::overlay::apply(&overlay, &mut read.device),
+        edsgen_model::overlay::apply(&overlay, &mut read.device),
         vec![]
     );
     let generated =

@@ -293,11 +293,11 @@ fn the_pzd_records_default_to_invalid() {
 #[test]
 fn generated_module_snapshot() {
     let path = root().join("eds/goodrive350-pn.xml");
-    let mut read = edsgen_codegen::read::read_file(&path).expect("readable");
-    let overlay = std::fs::read_to_string(edsgen_codegen::overlay::path_for(&path))
+    let mut read = edsgen_model::read::read_file(&path).expect("readable");
+    let overlay = std::fs::read_to_string(edsgen_model::overlay::path_for(&path))
         .expect("eds/goodrive350-pn.toml");
     assert_eq!(
-        edsgen_codegen::overlay::apply(&overlay, &mut read.device),
+        edsgen_model::overlay::apply(&overlay, &mut read.device),
         vec![]
     );
     let code = edsgen_codegen::emit::generate(&read.device, "goodrive350_pn").expect("generates");

@@ -8,8 +8,8 @@ use card_support::{
     above_info, check_rows, decode, dump, integer_default, is_dummy, key_line, read, row,
     warnings_and_errors, DefaultValue, Finding, Row,
 };
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::model::{AccessType, BasicType, Device};
+use edsgen_model::diag::Severity;
+use edsgen_model::model::{AccessType, BasicType, Device};
 
 use AccessType::{Ro, Rw};
 use BasicType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};

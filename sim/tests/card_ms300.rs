@@ -9,7 +9,7 @@ use card_support::{
     baud_rates, check_rows, default_value, dump, mapped, read, row, subs, warnings_and_errors,
     DefaultValue, Finding, Row,
 };
-use edsgen_codegen::model::{AccessType, BasicType, Value};
+use edsgen_model::model::{AccessType, BasicType, Value};
 
 use AccessType::{Ro, Rw};
 use BasicType::{Integer16 as I16, Integer32 as I32, Integer8 as I8, Unsigned16 as U16};

@@ -9,7 +9,7 @@ use card_support::{
     above_info, baud_rates, check_absent, check_rows, dump, integer_default, read, row,
     warnings_and_errors, DefaultValue, Finding, Row,
 };
-use edsgen_codegen::model::{AccessType, BasicType, ObjectType};
+use edsgen_model::model::{AccessType, BasicType, ObjectType};
 
 use AccessType::{Ro, Rw, Wo};
 use BasicType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};

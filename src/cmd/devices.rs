@@ -3,9 +3,9 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::model::{Device, EcPdo, Format};
-use edsgen_codegen::read::{self, esi};
-use edsgen_codegen::render;
+use edsgen_model::model::{Device, EcPdo, Format};
+use edsgen_model::read::{self, esi};
+use edsgen_model::render;
 
 use super::{fail, print_stdout};
 

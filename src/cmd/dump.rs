@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::{dump, render};
+use edsgen_model::{dump, render};
 
 use super::{fail, print_stdout};
 

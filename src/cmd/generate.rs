@@ -4,7 +4,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use edsgen_codegen::builder;
-use edsgen_codegen::lint::Policy;
+use edsgen_model::lint::Policy;
 
 use super::{fail, print_stdout};
 

@@ -46,7 +46,7 @@ pub mod canopen;
 pub mod decode;
 pub mod demo;
 pub mod devices;
-use edsgen_codegen::did_you_mean;
+use edsgen_model::did_you_mean;
 pub mod dp;
 pub mod dump;
 pub mod enip;
@@ -67,11 +67,11 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Args;
-use edsgen_codegen::load::Loaded;
-use edsgen_codegen::model::Device;
 use edsgen_host::master::blocking::Master;
 use edsgen_host::socketcand::SocketcandClient;
 use edsgen_host::Transport;
+use edsgen_model::load::Loaded;
+use edsgen_model::model::Device;
 
 /// Exit code for usage and I/O problems.
 pub const EXIT_USAGE: u8 = 2;
@@ -88,8 +88,8 @@ pub fn fail(message: impl std::fmt::Display) -> ExitCode {
 }
 
 /// The rule a `--allow`/`--deny`/`explain` argument names, or the usage error to print.
-pub fn rule_named(flag: &str, code: &str) -> Result<&'static edsgen_codegen::rules::Rule, String> {
-    let rule = edsgen_codegen::rules::by_code(code)
+pub fn rule_named(flag: &str, code: &str) -> Result<&'static edsgen_model::rules::Rule, String> {
+    let rule = edsgen_model::rules::by_code(code)
         .ok_or_else(|| format!("{flag} {code}: no such rule (`edsgen rules` lists them)"))?;
     if flag.starts_with("--") && rule.code.starts_with("CHK") {
         return Err(format!(
@@ -113,12 +113,12 @@ pub fn parse_node_id(text: &str) -> Result<u8, String> {
     }
 }
 
-/// Loads a description for a command ([`edsgen_codegen::load`]: read, its overlay applied,
+/// Loads a description for a command ([`edsgen_model::load`]: read, its overlay applied,
 /// validated; one device of an ESI file when `device` names it). The error is the message to
 /// print: the file or its overlay cannot be read, or the overlay does not apply (unless nothing
 /// of the file could be read: the caller reports that).
 pub fn load(path: &Path, device: Option<&str>) -> Result<Loaded, String> {
-    let loaded = edsgen_codegen::load::load(path, device).map_err(|e| e.to_string())?;
+    let loaded = edsgen_model::load::load(path, device).map_err(|e| e.to_string())?;
     match loaded.overlay.as_ref() {
         Some(overlay) if !overlay.diagnostics.is_empty() && !loaded.nothing_read => Err(format!(
             "the overlay `{}` cannot be applied:\n{}",

@@ -2,8 +2,8 @@
 
 use std::process::ExitCode;
 
-use edsgen_codegen::diag::Severity;
-use edsgen_codegen::rules::{self, Rule};
+use edsgen_model::diag::Severity;
+use edsgen_model::rules::{self, Rule};
 
 use super::{fail, print_stdout};
 

@@ -6,8 +6,8 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::lint::Policy;
-use edsgen_codegen::load::Loaded;
+use edsgen_model::lint::Policy;
+use edsgen_model::load::Loaded;
 
 use super::{fail, parse_node_id, rule_named};
 

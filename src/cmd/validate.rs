@@ -6,10 +6,10 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use edsgen_codegen::diag::{self, Diagnostic, Severity};
-use edsgen_codegen::lint::{self, Verdict};
-use edsgen_codegen::load::{self, LoadError};
-use edsgen_codegen::{read, render, rules};
+use edsgen_model::diag::{self, Diagnostic, Severity};
+use edsgen_model::lint::{self, Verdict};
+use edsgen_model::load::{self, LoadError};
+use edsgen_model::{read, render, rules};
 
 use super::{fail, parallel, rule_named, EXIT_USAGE};
 

@@ -1,7 +1,7 @@
 //! Values as the bench commands show and take them: the kind of an entry (from its EDS data type
 //! or a `--type` name as CiA 309-3 spells them), its bytes shown as text, and text made bytes.
 
-use edsgen_codegen::model::{BasicType, Value};
+use edsgen_model::model::{BasicType, Value};
 
 /// How a value's bytes read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,8 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use edsgen_codegen::diag::{self, Diagnostic, Severity};
-use edsgen_codegen::{emit, read, validate};
+use edsgen_codegen::emit;
+use edsgen_model::diag::{self, Diagnostic, Severity};
+use edsgen_model::{read, validate};
 
 use crate::process_support::{root, target_dir};
 
@@ -52,9 +53,9 @@ pub fn generate(path: &Path, module: &str) -> Result<String, Diagnostic> {
 /// `read` with the overlay beside `path` applied, as the builder applies it (the cards'
 /// `eds/rd11.toml`); an overlay error fails the test.
 pub fn with_overlay(path: &Path, mut read: read::Read) -> read::Read {
-    let overlay = edsgen_codegen::overlay::path_for(path);
+    let overlay = edsgen_model::overlay::path_for(path);
     if let Ok(text) = std::fs::read_to_string(&overlay) {
-        let diags = edsgen_codegen::overlay::apply(&text, &mut read.device);
+        let diags = edsgen_model::overlay::apply(&text, &mut read.device);
         assert_eq!(diags, vec![], "{}", overlay.display());
     }
     read

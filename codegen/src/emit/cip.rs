@@ -19,8 +19,10 @@ use quote::quote;
 use super::names::{ident, Case};
 use super::plan::{code_span, doc_text, id};
 use super::{types, Generated};
-use crate::diag::Diagnostic;
-use crate::model::{data_type_info, Cip, CipAssembly, CipNumber, CipParam, Device, FieldRef};
+use edsgen_model::diag::Diagnostic;
+use edsgen_model::model::{
+    data_type_info, Cip, CipAssembly, CipNumber, CipParam, Device, FieldRef,
+};
 
 /// Generates the module of a device read from an ODVA EDS.
 pub fn generate(device: &Device, cip: &Cip, module: &str) -> Result<Generated, Vec<Diagnostic>> {

@@ -8,7 +8,7 @@ use quote::quote;
 use super::names::{ident, Case};
 use super::plan::{code_span, id};
 use super::types;
-use crate::model::{path_bytes, Cip, CipAssembly, CipNumber, FieldRef};
+use edsgen_model::model::{path_bytes, Cip, CipAssembly, CipNumber, FieldRef};
 
 /// The `Connection` type and one constant per connection.
 pub(super) fn connections(cip: &Cip) -> TokenStream {
@@ -29,7 +29,7 @@ pub(super) fn connections(cip: &Cip) -> TokenStream {
         None => quote!(None),
     };
     for c in cip.connections.values() {
-        let size = |d: &crate::model::ConnectionData| -> u64 {
+        let size = |d: &edsgen_model::model::ConnectionData| -> u64 {
             match &d.size.value {
                 FieldRef::Number(n) => *n,
                 FieldRef::Param(n) => cip

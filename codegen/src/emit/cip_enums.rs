@@ -15,7 +15,7 @@ use quote::quote;
 
 use super::names::{ident, Case};
 use super::plan::{code_span, id};
-use crate::model::{Cip, CipParam};
+use edsgen_model::model::{Cip, CipParam};
 
 /// Type names the module's items and the prelude use: no image or enumeration takes them.
 const RESERVED: &[&str] = &[

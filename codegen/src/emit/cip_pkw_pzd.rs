@@ -5,7 +5,7 @@
 use proc_macro2::TokenStream;
 use quote::quote;
 
-use crate::model::Cip;
+use edsgen_model::model::Cip;
 
 /// Conversions between an assembly's image and the PKW/PZD protocol's typed image, when the
 /// overlay says the assembly carries one (`[pkw_pzd]`).

@@ -13,7 +13,7 @@ use quote::{format_ident, quote};
 use super::names::{ident, Case};
 use super::plan::{code_span, doc_text, id};
 use super::types::hex;
-use crate::model::{CfgIdentifier, Device, Dp, DpModule};
+use edsgen_model::model::{CfgIdentifier, Device, Dp, DpModule};
 
 /// The generated module's tokens (inside `pub mod NAME { ... }`).
 pub(super) fn module(device: &Device, dp: &Dp, module: &str) -> TokenStream {
@@ -61,7 +61,7 @@ pub(super) fn module(device: &Device, dp: &Dp, module: &str) -> TokenStream {
         .modules
         .iter()
         .filter_map(|m| {
-            let ids = crate::model::decode_cfg(&m.config).ok()?;
+            let ids = edsgen_model::model::decode_cfg(&m.config).ok()?;
             let mut name = ident(&m.name, Case::Snake, "module");
             if name.starts_with(|c: char| c.is_ascii_digit()) {
                 name = format!("m{name}");

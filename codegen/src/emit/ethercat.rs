@@ -17,7 +17,7 @@ use quote::quote;
 
 use super::plan::Plan;
 use super::types::Prim;
-use crate::model::EtherCat;
+use edsgen_model::model::EtherCat;
 
 mod constants;
 mod image;

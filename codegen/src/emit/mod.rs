@@ -25,8 +25,8 @@ pub mod types;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use crate::diag::{Diagnostic, Severity};
-use crate::model::{Bus, Device, Format, Value};
+use edsgen_model::diag::{Diagnostic, Severity};
+use edsgen_model::model::{Bus, Device, Format, Value};
 
 /// Generated code and what the emitter said about the device.
 #[derive(Debug, Clone)]
@@ -70,7 +70,7 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
             pdo::pdos(device, &plan, &mut diagnostics)
         }
     };
-    crate::diag::sort(&mut diagnostics);
+    edsgen_model::diag::sort(&mut diagnostics);
     if diagnostics.iter().any(|d| d.severity == Severity::Error) {
         return Err(diagnostics);
     }
@@ -147,7 +147,7 @@ fn format_tokens(
         Ok(file) => file,
         Err(err) => {
             return Err(vec![Diagnostic::new(
-                &crate::rules::UNREPRESENTABLE_TYPE,
+                &edsgen_model::rules::UNREPRESENTABLE_TYPE,
                 None,
                 format!(
                 "internal error: generated tokens do not parse ({err}); please report this file"
@@ -215,12 +215,12 @@ fn module_doc(device: &Device) -> Vec<String> {
 fn header(device: &Device) -> TokenStream {
     let identity = |sub: u8, info: Option<u32>| -> (u32, String) {
         let from_od =
-            device
-                .entry(0x1018, sub)
-                .and_then(|s| match crate::model::layout::initial_value(s) {
+            device.entry(0x1018, sub).and_then(
+                |s| match edsgen_model::model::layout::initial_value(s) {
                     Some(Value::Integer(v)) => u32::try_from(*v).ok(),
                     _ => None,
-                });
+                },
+            );
         match (from_od, info) {
             (Some(v), _) => (v, format!("1018h sub {sub}")),
             (None, Some(v)) if device.ethercat().is_some() => {

@@ -14,10 +14,10 @@ use quote::quote;
 use super::names::Namespace;
 use super::plan::{id, Plan};
 use super::types::{hex, pdo_derives, Prim, RustType, TypeTokens};
-use crate::diag::Diagnostic;
-use crate::model::layout::initial_value;
-use crate::model::{Device, Value};
-use crate::rules;
+use edsgen_model::diag::Diagnostic;
+use edsgen_model::model::layout::initial_value;
+use edsgen_model::model::{Device, Value};
+use edsgen_model::rules;
 
 /// Direction of a PDO.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -8,11 +8,11 @@ use proc_macro2::{Ident, Span as TokenSpan};
 
 use super::names::{ident, member_name, Case, Namespace};
 use super::types::{Number, RustType};
-use crate::diag::Diagnostic;
-use crate::model::{AccessType, BasicType, Device, Object, SubObject};
-use crate::rules;
-pub use crate::values::Initial;
-use crate::values::{entry_value, EntryValue};
+use edsgen_model::diag::Diagnostic;
+use edsgen_model::model::{AccessType, BasicType, Device, Object, SubObject};
+use edsgen_model::rules;
+pub use edsgen_model::values::Initial;
+use edsgen_model::values::{entry_value, EntryValue};
 
 /// Everything the emitter needs to know about one stored entry.
 #[derive(Debug, Clone)]
@@ -152,7 +152,7 @@ struct Planner<'a> {
 pub fn plan(device: &Device) -> Plan {
     let mut p = Planner {
         device,
-        diagnostics: crate::validate::size_errors(device),
+        diagnostics: edsgen_model::validate::size_errors(device),
         consts: Namespace::default(),
         modules: Namespace::default(),
     };
@@ -177,7 +177,7 @@ pub fn plan(device: &Device) -> Plan {
 }
 
 impl Planner<'_> {
-    fn renamed(&mut self, span: crate::model::Span, what: &str, wanted: &str, got: &str) {
+    fn renamed(&mut self, span: edsgen_model::model::Span, what: &str, wanted: &str, got: &str) {
         self.diagnostics.push(
             Diagnostic::new(
                 &rules::NAME_COLLISION,

@@ -1,15 +1,15 @@
 //! The tokens of CiA 301 data types: each entry's Rust type, its default value and limits, and
 //! its descriptor's data type and access. Which primitive holds each basic type, and the values
 //! as numbers, are `model::layout`'s (re-exported here). Strings, octet strings and domains are
-//! `FixedBytes<N>` (see [`capacity`](crate::model::layout::capacity) for `N`).
+//! `FixedBytes<N>` (see [`capacity`](edsgen_model::model::layout::capacity) for `N`).
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-pub use crate::model::layout::{
+pub use edsgen_model::model::layout::{
     node_relative_offset, normalise_integer, scalar_number, Number, Prim, RustType, ValueProblem,
 };
-use crate::model::{AccessType, BasicType};
+use edsgen_model::model::{AccessType, BasicType};
 
 /// The tokens of a type: a primitive's name (`u16`), or `FixedBytes<N>`.
 pub trait TypeTokens {

@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use edsgen_codegen::model::*;
+use edsgen_model::model::*;
 
 pub fn value(v: Value, raw: &str) -> ValueSource {
     ValueSource {

@@ -9,9 +9,9 @@ pub mod pkw_pzd_drive;
 use std::fmt::Debug;
 use std::path::{Path, PathBuf};
 
-use edsgen_codegen::diag::{Diagnostic, Severity};
-use edsgen_codegen::model::{AccessType, BasicType, Device, SubObject, Value};
-use edsgen_codegen::read::{read_file, Read};
+use edsgen_model::diag::{Diagnostic, Severity};
+use edsgen_model::model::{AccessType, BasicType, Device, SubObject, Value};
+use edsgen_model::read::{read_file, Read};
 
 /// The workspace root, where the bundled cards are (`eds/`); the tests run in `sim/`.
 pub fn root() -> PathBuf {
@@ -27,7 +27,7 @@ pub fn read(path: &str) -> Read {
 /// The model dump of a card read with [`read`]. The dump names the file as given (an absolute
 /// path); it is named `path` here so that snapshots do not depend on where the workspace is.
 pub fn dump(device: &Device, path: &str) -> serde_json::Value {
-    let mut dump = edsgen_codegen::dump::to_json(device);
+    let mut dump = edsgen_model::dump::to_json(device);
     dump["file"] = path.into();
     dump
 }
@@ -279,7 +279,7 @@ pub fn above_info<'a>(diagnostics: impl IntoIterator<Item = &'a Diagnostic>) -> 
 
 /// Everything reading and validating the card reports, infos included.
 pub fn all_diagnostics(read: &Read) -> Vec<Diagnostic> {
-    let validated = edsgen_codegen::validate::validate(&read.device);
+    let validated = edsgen_model::validate::validate(&read.device);
     read.diagnostics.iter().cloned().chain(validated).collect()
 }
 

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use edsgen_codegen::model::Device;
+use edsgen_model::model::Device;
 
 /// A device with the CiA 301 communication objects, one RPDO and one TPDO, and application
 /// objects 2000h (VISIBLE_STRING rw), 2001h (DOMAIN rw), 2002h (UNSIGNED16 rww, 10 to 1000),
@@ -301,7 +301,7 @@ PDOMapping=1
 
 /// Reads description text as if from a file named `name` (the extension picks the reader).
 pub fn device(name: &str, text: &str) -> Device {
-    edsgen_codegen::read::read_bytes(Path::new(name), text.as_bytes()).device
+    edsgen_model::read::read_bytes(Path::new(name), text.as_bytes()).device
 }
 
 /// The test device of [`DEVICE_EDS`].

@@ -6,15 +6,15 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use edsgen_codegen::diag::{self, Diagnostic, Severity};
-use edsgen_codegen::model::{AccessType, Device, ObjectType, SubObject, Value};
-use edsgen_codegen::render;
-use edsgen_codegen::rules::{
+use edsgen_host::master::blocking::{Master, MasterError};
+use edsgen_host::Transport;
+use edsgen_model::diag::{self, Diagnostic, Severity};
+use edsgen_model::model::{AccessType, Device, ObjectType, SubObject, Value};
+use edsgen_model::render;
+use edsgen_model::rules::{
     CHK_DEFAULT as CHK005, CHK_IDENTITY as CHK004, CHK_LENGTH as CHK002, CHK_MISSING as CHK001,
     CHK_UNREADABLE as CHK003,
 };
-use edsgen_host::master::blocking::{Master, MasterError};
-use edsgen_host::Transport;
 use edsgen_runtime::master::{ExpectedIdentity, Mode, SdoError};
 use edsgen_runtime::wire::sdo::abort_meaning;
 use edsgen_runtime::wire::sdo::Multiplexer;

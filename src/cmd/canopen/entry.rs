@@ -3,7 +3,7 @@
 //! unique prefix, case- and space-insensitive), with suggestions when a name is ambiguous or
 //! unknown.
 
-use edsgen_codegen::model::Device;
+use edsgen_model::model::Device;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
 use super::sdo::describe;

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Subcommand;
-use edsgen_codegen::model::{AccessType, BasicType, Device};
 use edsgen_host::master::blocking::MasterError;
+use edsgen_model::model::{AccessType, BasicType, Device};
 use edsgen_runtime::master::Mode;
 use edsgen_runtime::wire::sdo::Multiplexer;
 
@@ -158,7 +158,7 @@ pub fn load(path: &Path) -> Result<Device, String> {
 pub fn describe(
     device: &Device,
     mux: Multiplexer,
-) -> Option<(String, Option<edsgen_codegen::model::BasicType>)> {
+) -> Option<(String, Option<edsgen_model::model::BasicType>)> {
     let object = device.objects.get(&mux.index)?;
     let sub = object.subs.get(&mux.sub)?;
     let name = if object.subs.len() == 1 && mux.sub == 0 {

@@ -49,9 +49,9 @@ use edsgen_runtime::{CanFrame, Node};
 use super::lss;
 use crate::cmd::simulate::Args;
 use crate::cmd::{fail, parse_node_id, signals, DEFAULT_BUS};
-use edsgen_codegen::lint::Policy;
-use edsgen_codegen::model::Device;
 use edsgen_decode::Decoder;
+use edsgen_model::lint::Policy;
+use edsgen_model::model::Device;
 use edsgen_sim::canopen::{commissioned_node_id, DictionaryHooks, RuntimeDictionary};
 use edsgen_sim::drives::{Card, CARDS};
 

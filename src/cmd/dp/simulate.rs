@@ -10,7 +10,7 @@ use std::fs::OpenOptions;
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::lint::Policy;
+use edsgen_model::lint::Policy;
 use edsgen_runtime::dp::DpSlave;
 use edsgen_runtime::Instant;
 use edsgen_sim::dp::card::{self, Simulated, DEFAULT_ADDRESS};

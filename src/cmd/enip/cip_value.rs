@@ -1,14 +1,14 @@
 //! CIP parameter values as a person reads and writes them at the bench, for `enip io` and
 //! `enip get|set` alike: an assembly's members named, laid out as the simulated adapter lays them
-//! out (`edsgen_codegen::model::cip_value`: from bit 0 of byte 0, each member least significant
+//! out (`edsgen_model::model::cip_value`: from bit 0 of byte 0, each member least significant
 //! bit first), and a parameter's raw bits typed by its `ParamN`
 //! ([`Typed`]: signed, unsigned, BOOL, REAL, bit strings), scaled with its units (multiplier,
 //! divisor, base, offset, decimal places), named by its `EnumN` texts, and text made raw bits
 //! again, typed and checked against the parameter's limits, its type and its width.
 
-use edsgen_codegen::model::cip_value;
-use edsgen_codegen::model::{data_type_info, data_type_range, Cip, CipAssembly, CipEnum};
-use edsgen_codegen::model::{CipNumber, CipParam, FieldRef};
+use edsgen_model::model::cip_value;
+use edsgen_model::model::{data_type_info, data_type_range, Cip, CipAssembly, CipEnum};
+use edsgen_model::model::{CipNumber, CipParam, FieldRef};
 
 /// One member of an assembly with its place in the image.
 #[derive(Debug, Clone)]
@@ -82,7 +82,7 @@ pub fn fold(name: &str) -> String {
     out.trim_matches('_').to_owned()
 }
 
-pub use edsgen_codegen::model::cip_value::{get_bits, put_bits};
+pub use edsgen_model::model::cip_value::{get_bits, put_bits};
 
 /// How a value's raw bits read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -427,7 +427,7 @@ impl<'a> Typed<'a> {
     /// `value` (native) checked against the parameter's limits, its type's range and the
     /// width; its raw bits. `hex`: the text was raw bits, so the limits are said raw.
     fn checked(&self, text: &str, value: Number, hex: bool) -> Result<u64, String> {
-        let limit = |n: Option<&edsgen_codegen::model::Spanned<CipNumber>>| {
+        let limit = |n: Option<&edsgen_model::model::Spanned<CipNumber>>| {
             n.map(|n| match n.value {
                 CipNumber::Int(v) => Number::Int(v),
                 CipNumber::Real(v) => Number::Real(v),
@@ -531,7 +531,7 @@ mod tests {
 
     fn model() -> Cip {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/enip/io.eds");
-        let read = edsgen_codegen::read::read_file(&path).expect("tests/enip/io.eds");
+        let read = edsgen_model::read::read_file(&path).expect("tests/enip/io.eds");
         read.device.cip().cloned().expect("an ODVA EDS")
     }
 

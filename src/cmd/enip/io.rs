@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use edsgen_codegen::model::{path_bytes, Cip, CipAssembly, CipConnection, CipNumber, FieldRef};
+use edsgen_model::model::{path_bytes, Cip, CipAssembly, CipConnection, CipNumber, FieldRef};
 use edsgen_runtime::enip::originator::Class1;
 use edsgen_runtime::enip::wire::connection_manager::{
     network_params, ForwardCloseRepr, ForwardOpenReply, ForwardOpenRepr, Triad, DEFAULT_TICKS,
@@ -187,14 +187,14 @@ fn plan<'a>(cip: &'a Cip, file: &str, args: &Args) -> Result<Plan<'a>, String> {
         _ => None,
     };
     // Sized as the simulated adapter sizes it (one model function).
-    let size = |d: &edsgen_codegen::model::ConnectionData| cip.connection_size(d).unwrap_or(0);
+    let size = |d: &edsgen_model::model::ConnectionData| cip.connection_size(d).unwrap_or(0);
     let (o_t_size, t_o_size) = (size(&c.o_t), size(&c.t_o));
     let header = |format: u8, direction: &str| match format {
         0 | 1 => Ok(false),
         4 => Ok(true),
         other => Err(format!(
             "{label}: the {direction} real-time format `{}` is not one `enip io` sends",
-            edsgen_codegen::model::real_time_format_name(other)
+            edsgen_model::model::real_time_format_name(other)
         )),
     };
     let o_t_header = header(params.o_t_format(), "O→T")?;

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
-use edsgen_codegen::model::{Cip, Format};
+use edsgen_model::model::{Cip, Format};
 use edsgen_runtime::enip::originator::Session;
 use edsgen_runtime::enip::wire::cpf::{item, Items};
 use edsgen_runtime::enip::wire::encap::{EncapRepr, IdentityItem};
@@ -247,7 +247,7 @@ pub(super) fn read_cip(path: &Path) -> Result<Cip, String> {
 }
 
 /// The CIP part of the model read from `path`, or the message saying it is not an ODVA EDS.
-pub(super) fn cip_of(path: &Path, device: &edsgen_codegen::model::Device) -> Result<Cip, String> {
+pub(super) fn cip_of(path: &Path, device: &edsgen_model::model::Device) -> Result<Cip, String> {
     device
         .cip()
         .cloned()

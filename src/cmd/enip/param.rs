@@ -4,7 +4,7 @@
 //! assembly it is a member of; else attribute 1 of its Parameter object instance, `@0x0F/N/1`),
 //! typed as wide as it is there (`cip_value::Typed`).
 
-use edsgen_codegen::model::{decode_path, path_bytes, Cip, CipParam, FieldRef};
+use edsgen_model::model::{decode_path, path_bytes, Cip, CipParam, FieldRef};
 
 use super::cip_value::Typed;
 
@@ -184,7 +184,7 @@ mod tests {
     fn io() -> Cip {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("codegen/tests/odva/io.eds");
-        let read = edsgen_codegen::read::read_file(&path).expect("io.eds reads");
+        let read = edsgen_model::read::read_file(&path).expect("io.eds reads");
         read.device.cip().cloned().expect("an ODVA EDS")
     }
 

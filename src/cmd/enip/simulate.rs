@@ -11,8 +11,8 @@ use std::net::{IpAddr, SocketAddr};
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::lint::Policy;
-use edsgen_codegen::model::Cip;
+use edsgen_model::lint::Policy;
+use edsgen_model::model::Cip;
 use edsgen_runtime::Instant;
 use edsgen_sim::enip::{device, driver, Adapter, EnipApplication};
 

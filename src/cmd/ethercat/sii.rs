@@ -1,12 +1,12 @@
 //! `edsgen sii FILE [--device NAME|#xCODE] -o eeprom.bin`: the SII (EEPROM) image of an ESI
 //! device, as the EtherCAT simulator serves it and as a real ESC's EEPROM would hold it
-//! (`edsgen_codegen::sii`; docs/ethercat-sii.md says what the image holds and what is our
+//! (`edsgen_model::sii`; docs/ethercat-sii.md says what the image holds and what is our
 //! choice).
 
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::{render, sii};
+use edsgen_model::{render, sii};
 
 use crate::cmd::fail;
 

@@ -11,9 +11,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use edsgen_codegen::lint::Policy;
-use edsgen_codegen::model::Device;
-use edsgen_codegen::read;
+use edsgen_model::lint::Policy;
+use edsgen_model::model::Device;
+use edsgen_model::read;
 use edsgen_runtime::Instant;
 use edsgen_sim::canopen::RuntimeDictionary;
 use edsgen_sim::drives::ec_tx508;
@@ -78,8 +78,7 @@ pub fn run(
         return fail(format!("cannot handle signals: {err}"));
     }
     let info = &model.device_info;
-    let number =
-        |n: &Option<edsgen_codegen::model::Spanned<u32>>| n.as_ref().map_or(0, |n| n.value);
+    let number = |n: &Option<edsgen_model::model::Spanned<u32>>| n.as_ref().map_or(0, |n| n.value);
     eprintln!(
         "serving {} (vendor {:#010X}, product {:#010X}, revision {:#010X}) as an EtherCAT SubDevice on {iface}; Ctrl-C stops",
         info.product_name.as_deref().unwrap_or("?"),

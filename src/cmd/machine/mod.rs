@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use file::{Address, Bus, Machine, Planned, Source};
 
 use super::{fail, signals};
-use edsgen_codegen::lint::Policy;
+use edsgen_model::lint::Policy;
 
 /// How long the buses have to stop after SIGTERM before they are killed.
 const STOP_GRACE: Duration = Duration::from_secs(3);
@@ -57,7 +57,10 @@ pub fn run(path: &Path, allow: &[String], policy: &Policy) -> ExitCode {
         if let Source::File(file, pick) = &device.source {
             let pick = pick.as_deref().map(device_choice);
             if let Err(message) = super::simulate::load_servable(file, pick.as_deref(), policy) {
-                return fail(format!("{}: {message}; nothing was started", path.display()));
+                return fail(format!(
+                    "{}: {message}; nothing was started",
+                    path.display()
+                ));
             }
         }
     }
@@ -199,9 +202,9 @@ fn device_args(bus: Bus, device: &Planned) -> Vec<String> {
 /// `FILE.xml#xCODE` or `FILE.xml#NAME` in a machine file: the `--device` choice, `#xCODE` for a
 /// product code, the name as written otherwise.
 fn device_choice(pick: &str) -> String {
-    let code = pick.strip_prefix('x').filter(|hex| {
-        !hex.is_empty() && hex.chars().all(|c| c.is_ascii_hexdigit())
-    });
+    let code = pick
+        .strip_prefix('x')
+        .filter(|hex| !hex.is_empty() && hex.chars().all(|c| c.is_ascii_hexdigit()));
     match code {
         Some(_) => format!("#{pick}"),
         None => pick.to_owned(),

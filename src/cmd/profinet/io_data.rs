@@ -4,7 +4,7 @@
 //! `SLOT.SUBSLOT=HEX` for a submodule's whole output data) turned into bytes, the inputs shown
 //! in words, and the parameter records to write (their `Const` bytes and `Ref` defaults).
 
-use edsgen_codegen::model::{DataItem, PnDataType, Profinet, Submodule};
+use edsgen_model::model::{DataItem, PnDataType, Profinet, Submodule};
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 
 /// One named data item of a submodule's input or output data.
@@ -337,7 +337,7 @@ pub fn records_with(
 }
 
 /// Writes `value` into `data` where `field` is: whole bytes big-endian, or bits.
-fn put_default(data: &mut [u8], field: &edsgen_codegen::model::RecordField, value: i128) {
+fn put_default(data: &mut [u8], field: &edsgen_model::model::RecordField, value: i128) {
     let at = field.byte_offset as usize;
     match field.kind {
         Some(PnDataType::Bit | PnDataType::BitArea) => {
@@ -366,7 +366,7 @@ fn put_default(data: &mut [u8], field: &edsgen_codegen::model::RecordField, valu
 #[cfg(test)]
 mod tests {
     use super::*;
-    use edsgen_codegen::model::PnDataType::*;
+    use edsgen_model::model::PnDataType::*;
 
     fn item(kind: PnDataType, size: usize, bits: bool) -> Item {
         Item {

@@ -14,9 +14,9 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::sync::mpsc;
 
-use edsgen_codegen::lint::Policy;
-use edsgen_codegen::load::{self, LoadError};
-use edsgen_codegen::read;
+use edsgen_model::lint::Policy;
+use edsgen_model::load::{self, LoadError};
+use edsgen_model::read;
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_sim::profinet::alarm::AlarmEvent;
 use edsgen_sim::profinet::ar::config::DeviceConfig;

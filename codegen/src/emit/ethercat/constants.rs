@@ -6,7 +6,7 @@ use quote::quote;
 
 use crate::emit::plan::{code_span, id};
 use crate::emit::types::hex;
-use crate::model::{EtherCat, SmKind};
+use edsgen_model::model::{EtherCat, SmKind};
 
 pub(super) fn constants(ec: &EtherCat) -> TokenStream {
     let rt = quote!(::edsgen_runtime::ethercat);

@@ -5,7 +5,7 @@ use proc_macro2::TokenStream;
 use quote::quote;
 
 use crate::emit::plan::id;
-use crate::model::{EcPdo, EtherCat, SmKind};
+use edsgen_model::model::{EcPdo, EtherCat, SmKind};
 
 use super::pdo::{at_plus, emit_item};
 use super::PdoPlan;

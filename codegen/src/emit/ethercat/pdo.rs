@@ -7,7 +7,7 @@ use quote::quote;
 use crate::emit::names::{ident, Case, Namespace};
 use crate::emit::plan::{code_span, doc_text, id, Plan};
 use crate::emit::types::{pdo_derives, Prim, RustType, TypeTokens};
-use crate::model::EcPdo;
+use edsgen_model::model::EcPdo;
 
 use super::{Field, FieldType, PdoPlan};
 

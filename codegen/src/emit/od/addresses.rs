@@ -10,7 +10,7 @@ use quote::quote;
 use super::super::plan::{EntryPlan, Plan};
 use super::super::text::{self, Splices, ITEM_INDENT};
 use super::super::types::{Prim, RustType};
-use crate::model::AccessType;
+use edsgen_model::model::AccessType;
 
 /// The typed addresses, branded with the module's `Od`, as text: a VAR's in `od`
 /// (`pub mod od { pub const CONTROLWORD: Entry<u16, super::Od> = ...; }`), an ARRAY's or

@@ -8,7 +8,7 @@ use quote::quote;
 
 use crate::emit::names::{ident, Case};
 use crate::emit::plan::{code_span, doc_text, id};
-use crate::model::{DataItem, PnDataType};
+use edsgen_model::model::{DataItem, PnDataType};
 
 /// What a field holds.
 enum Ty {

@@ -14,8 +14,8 @@ use quote::quote;
 use super::names::{ident, Case};
 use super::plan::{code_span, doc_text, id};
 use super::types::hex;
-use crate::diag::Diagnostic;
-use crate::model::{Profinet, Submodule, ValueList};
+use edsgen_model::diag::Diagnostic;
+use edsgen_model::model::{Profinet, Submodule, ValueList};
 
 mod image;
 mod pkw_pzd;

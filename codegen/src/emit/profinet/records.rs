@@ -7,8 +7,8 @@ use quote::quote;
 
 use crate::emit::names::{ident, Case};
 use crate::emit::plan::{code_span, doc_text, id};
-use crate::model::{ParameterRecord, PnDataType, RecordField, ValueList};
-use crate::read::esi::values::parse_number;
+use edsgen_model::model::{ParameterRecord, PnDataType, RecordField, ValueList};
+use edsgen_model::read::esi::values::parse_number;
 
 pub(super) fn records(records: &[ParameterRecord], value_lists: &[ValueList]) -> TokenStream {
     let mut out = Vec::new();

@@ -8,7 +8,7 @@ use quote::quote;
 
 use crate::emit::names::{ident, Case};
 use crate::emit::plan::{code_span, id};
-use crate::model::{PnDataType, RecordField, ValueList};
+use edsgen_model::model::{PnDataType, RecordField, ValueList};
 
 /// The raw type of a field that names values, and its range.
 fn raw_type(field: &RecordField) -> Option<(&'static str, i128, i128)> {

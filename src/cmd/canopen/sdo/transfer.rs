@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use edsgen_codegen::model::BasicType;
 use edsgen_host::master::blocking::MasterError;
+use edsgen_model::model::BasicType;
 use edsgen_runtime::master::{Mode, SdoError, Transfer};
 
 use super::{fail, master_failed, progress, Resolved, Target};

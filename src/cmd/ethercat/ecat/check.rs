@@ -13,12 +13,10 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use edsgen_codegen::diag::Diagnostic;
-use edsgen_codegen::model::{
-    AccessType, Device, EcPdo, ObjectType, SmKind, Span, SubObject, Value,
-};
-use edsgen_codegen::read;
-use edsgen_codegen::rules::{
+use edsgen_model::diag::Diagnostic;
+use edsgen_model::model::{AccessType, Device, EcPdo, ObjectType, SmKind, Span, SubObject, Value};
+use edsgen_model::read;
+use edsgen_model::rules::{
     CHK_MISSING as CHK001, CHK_PDO_ASSIGNMENT as CHK008, CHK_SII_IDENTITY as CHK006,
     CHK_SYNC_MANAGER as CHK007, CHK_UNREADABLE as CHK003,
 };

@@ -12,8 +12,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Args as ClapArgs, Subcommand};
-use edsgen_codegen::model::Device;
 use edsgen_demo::ecat::{discover, runtime};
+use edsgen_model::model::Device;
 
 use crate::cmd::{fail, print_stdout};
 
@@ -93,7 +93,7 @@ pub fn run(args: Args) -> ExitCode {
             Ok(bytes) => bytes,
             Err(err) => return fail(format!("cannot read `{}`: {err}", path.display())),
         };
-        for (device, _) in edsgen_codegen::read::esi::read_all(path, &bytes) {
+        for (device, _) in edsgen_model::read::esi::read_all(path, &bytes) {
             if device.ethercat().is_some() {
                 described.push((path.clone(), device));
             }
@@ -178,7 +178,7 @@ fn pdo(sub_device: &SubDeviceArgs, cycles: Option<u64>, settings: &[String]) -> 
 }
 
 /// (name, bit length, signed) of each entry of the PDOs assigned by default, in image order.
-fn default_entries(pdos: &[edsgen_codegen::model::EcPdo]) -> Vec<(String, u16, bool)> {
+fn default_entries(pdos: &[edsgen_model::model::EcPdo]) -> Vec<(String, u16, bool)> {
     pdos.iter()
         .filter(|p| p.sm.is_some())
         .flat_map(|p| &p.entries)
@@ -306,7 +306,7 @@ async fn scan(iface: &str, described: &[(PathBuf, Device)]) -> Result<String, St
     for (position, sub) in group.iter(&maindevice).enumerate() {
         let id = sub.identity();
         let matched = described.iter().find(|(_, d)| {
-            let n = |v: &Option<edsgen_codegen::model::Spanned<u32>>| v.as_ref().map(|v| v.value);
+            let n = |v: &Option<edsgen_model::model::Spanned<u32>>| v.as_ref().map(|v| v.value);
             n(&d.device_info.vendor_number) == Some(id.vendor_id)
                 && n(&d.device_info.product_number) == Some(id.product_id)
                 && n(&d.device_info.revision_number) == Some(id.revision)

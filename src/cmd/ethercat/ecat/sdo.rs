@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use edsgen_codegen::model::Device;
+use edsgen_model::model::Device;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use ethercrab::error::{Error, MailboxError};
 use ethercrab::{EtherCrabWireRead, EtherCrabWireSized, SubDevice, SubDeviceRef};
