@@ -41,10 +41,16 @@ pub(super) fn run(trace: &mut Trace) {
     trace.heading(
         "Goodrive350 DP card (station 2): PROFIBUS-DP with profirust's master, manual chapter 2",
     );
-    let read = edsgen_model::read::read_bytes(Path::new(GSD_PATH), GSD);
-    let errors = edsgen_model::validate::validate(&read.device)
+    // Loaded as `edsgen validate eds/goodrive350-dp.gsd` loads it: with the overlay beside it.
+    let loaded = edsgen_model::load::load_bundled(
+        Path::new(GSD_PATH),
+        GSD,
+        Some(include_str!("../../eds/goodrive350-dp.toml")),
+    );
+    let errors = loaded
+        .diagnostics
         .iter()
-        .chain(&read.diagnostics)
+        .chain(loaded.overlay_diagnostics())
         .filter(|d| d.severity == edsgen_model::diag::Severity::Error)
         .count();
     trace.step(

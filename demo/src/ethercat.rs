@@ -132,7 +132,8 @@ struct Cycle {
 
 impl<'a> Bench<'a> {
     fn new(link: &'a mut dyn Exchange) -> Self {
-        let model = edsgen_model::read::read_bytes(std::path::Path::new(ESI_PATH), ESI).device;
+        let model =
+            edsgen_model::load::load_bundled(std::path::Path::new(ESI_PATH), ESI, None).device;
         Bench {
             controller: Controller::new(State::OperationEnabled)
                 .with_mode(mode::CYCLIC_VELOCITY)

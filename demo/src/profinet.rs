@@ -224,9 +224,10 @@ impl Transport for InProcess {
 /// The card's GSDML, as the controller is configured with it and the simulated card is built
 /// from it.
 fn gsdml() -> Result<Profinet, String> {
-    edsgen_model::read::read_bytes(
-        std::path::Path::new("goodrive350-pn.xml"),
+    edsgen_model::load::load_bundled(
+        std::path::Path::new("eds/goodrive350-pn.xml"),
         include_bytes!("../../eds/goodrive350-pn.xml"),
+        Some(include_str!("../../eds/goodrive350-pn.toml")),
     )
     .device
     .profinet()

@@ -70,7 +70,11 @@ pub fn run(
         },
         ([], [card]) if card == "goodrive350-pn" => {
             let name = "eds/goodrive350-pn.xml";
-            let read = load::judge(read::read_bytes(Path::new(name), GOODRIVE350_PN));
+            let read = load::load_bundled(
+                Path::new(name),
+                GOODRIVE350_PN,
+                Some(include_str!("../../../eds/goodrive350-pn.toml")),
+            );
             (name.to_owned(), read)
         }
         ([], [card]) => {
