@@ -63,11 +63,11 @@ impl Application for Drive {
     }
 
     fn image_sizes(&self) -> (usize, usize) {
-        (Outputs::LEN, Inputs::LEN)
+        (Outputs::SIZE, Inputs::SIZE)
     }
 
     fn outputs(&mut self, _now: Instant, outputs: &[u8]) {
-        if let Ok(outputs) = Outputs::decode(outputs) {
+        if let Ok(outputs) = Outputs::from_slice(outputs) {
             self.outputs = outputs;
         }
     }
@@ -75,7 +75,7 @@ impl Application for Drive {
     fn inputs(&mut self, _now: Instant, inputs: &mut [u8]) {
         let mut image = Inputs::default();
         image.tx_pdo_1a00.status_word = black_box(self.outputs.rx_pdo_1600.control_word);
-        let bytes = image.encode();
+        let bytes = image.to_bytes();
         let len = bytes.len().min(inputs.len());
         inputs[..len].copy_from_slice(&bytes[..len]);
     }
