@@ -27,7 +27,7 @@ use edsgen_runtime::node::Node;
 use edsgen_runtime::{CanFrame, Duration, Instant};
 use edsgen_sim::canopen::RuntimeDictionary;
 use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
-use edsgen_sim::enip::{Adapter, Assembly, Identity};
+use edsgen_sim::enip::{Adapter, Assembly, Identity, Peer};
 use edsgen_sim::ethercat::ec_tx508::EcTx508Behaviour;
 use edsgen_sim::ethercat::frame::{Command, FrameBuilder};
 use edsgen_sim::ethercat::{AlState, EsiDevice, SubDevice};
@@ -90,6 +90,8 @@ fn ec_tx508_in_op() -> SubDevice<EsiDevice> {
     };
     write(&mut d, Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
     for (register, value) in [
+        // The SII offered to the device, as SOEM and ethercrab do before Pre-Op.
+        (0x0500, vec![1]),
         (0x0800, sync_manager(0x1000, 512, 0x26)),
         (0x0808, sync_manager(0x1400, 512, 0x22)),
         (0x0120, vec![2, 0]),
@@ -178,10 +180,9 @@ fn adapter_with_connection() -> (Adapter, u32) {
     let mut a = Adapter::new(identity, assemblies, [192, 168, 0, 1]);
     a.device.config_instances.push(1);
     let t0 = Instant::from_micros(0);
-    let (reply, _) = a
-        .handle(7, &encapsulation(0x65, 0, &[1, 0, 0, 0]), t0)
+    a.handle(t0, Peer::Tcp(7), &encapsulation(0x65, 0, &[1, 0, 0, 0]))
         .expect("complete");
-    let reply = reply.expect("a session");
+    let (_, reply) = a.poll_transmit(t0).expect("a session");
     let session = u32::from_le_bytes([reply[4], reply[5], reply[6], reply[7]]);
     // Forward_Open 150 -> 100, config instance 1, RPI 1 ms, sizes 38 O→T and 34 T→O.
     let mut open = vec![0x54, 2, 0x20, 0x06, 0x24, 0x01, 0x0A, 0x0E];
@@ -201,10 +202,9 @@ fn adapter_with_connection() -> (Adapter, u32) {
         (item::NULL_ADDRESS, &[]),
         (item::UNCONNECTED_DATA, &open),
     ]));
-    let (reply, _) = a
-        .handle(7, &encapsulation(0x6F, session, &data), t0)
+    a.handle(t0, Peer::Tcp(7), &encapsulation(0x6F, session, &data))
         .expect("complete");
-    let reply = reply.expect("a reply");
+    let (_, reply) = a.poll_transmit(t0).expect("a reply");
     let found = Items::parse(&reply[24 + 6..]).expect("items");
     let answer = found.iter().nth(1).expect("the response").data;
     assert_eq!(answer[..4], [0xD4, 0, 0, 0], "Forward_Open succeeds");
@@ -233,9 +233,9 @@ fn ethernet_ip(c: &mut Criterion) {
                     (item::SEQUENCED_ADDRESS, &address),
                     (item::CONNECTED_DATA, &payload),
                 ]);
-                adapter.receive_io(7, black_box(&datagram), now);
+                let _ = adapter.handle(now, Peer::Io(7), black_box(&datagram));
                 adapter.handle_timeout(now);
-                while let Some(out) = adapter.poll_transmit() {
+                while let Some(out) = adapter.poll_transmit(now) {
                     black_box(out);
                 }
                 while let Some(event) = adapter.poll_event() {
