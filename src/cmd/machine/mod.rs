@@ -5,6 +5,7 @@
 //! device named; SIGINT, SIGTERM or SIGHUP stop every bus, and so does any bus that stops.
 
 pub mod file;
+pub mod model;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::Path;
@@ -12,7 +13,7 @@ use std::process::{Child, ChildStdin, Command, ExitCode, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use file::{Address, Bus, Machine, Planned, Source};
+use model::{Address, Bus, Machine, Place, Planned, Source};
 
 use super::{fail, signals};
 use edsgen_model::lint::Policy;
@@ -134,14 +135,14 @@ fn launches(machine: &Machine) -> Vec<Launch> {
     for section in &machine.sections {
         let bus = section.bus;
         let place = match &section.place {
-            file::Place::CanBus(addr) => vec!["--bus".to_owned(), addr.clone()],
-            file::Place::SocketCan(iface) => vec!["--socketcan".to_owned(), iface.clone()],
-            file::Place::Interface(iface) if bus == Bus::EtherCat => {
+            Place::CanBus(addr) => vec!["--bus".to_owned(), addr.clone()],
+            Place::SocketCan(iface) => vec!["--socketcan".to_owned(), iface.clone()],
+            Place::Interface(iface) if bus == Bus::EtherCat => {
                 vec!["--ethercat".to_owned(), iface.clone()]
             }
-            file::Place::Interface(iface) => vec!["--profinet".to_owned(), iface.clone()],
-            file::Place::Tty(tty) => vec!["--profibus".to_owned(), tty.clone()],
-            file::Place::Host => Vec::new(),
+            Place::Interface(iface) => vec!["--profinet".to_owned(), iface.clone()],
+            Place::Tty(tty) => vec!["--profibus".to_owned(), tty.clone()],
+            Place::Host => Vec::new(),
         };
         if bus == Bus::Enip {
             for device in &section.devices {
