@@ -781,9 +781,9 @@ mod master {
 
             let group = group.into_op(&maindevice).await.expect("Op");
             let card = group.subdevice(&maindevice, 0).expect("one SubDevice");
-            assert_eq!(card.outputs_raw().len(), ethercat::Outputs::LEN);
-            assert_eq!(card.inputs_raw().len(), ethercat::Inputs::LEN);
-            assert_eq!((ethercat::Outputs::LEN, ethercat::Inputs::LEN), (21, 23));
+            assert_eq!(card.outputs_raw().len(), ethercat::Outputs::SIZE);
+            assert_eq!(card.inputs_raw().len(), ethercat::Inputs::SIZE);
+            assert_eq!((ethercat::Outputs::SIZE, ethercat::Inputs::SIZE), (21, 23));
             let mut outputs = ethercat::Outputs::default();
             let mut drive = Controller::new(State::OperationEnabled)
                 .with_mode(9)

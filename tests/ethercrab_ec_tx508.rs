@@ -142,7 +142,7 @@ fn inputs_unpack_what_ethercrab_wire_packs() {
         }
     );
     // And the other way: our bytes are what ethercrab-wire reads.
-    assert_eq!(WireTx::unpack_from_slice(&inputs.encode()), Ok(wire));
+    assert_eq!(WireTx::unpack_from_slice(&inputs.to_bytes()), Ok(wire));
     // A SubDevice's inputs slice may be longer than the image; never shorter.
     let mut longer = bytes.to_vec();
     longer.push(0xAA);
