@@ -1,5 +1,5 @@
 //! PROFIBUS-DP (feature `dp`): the FDL telegrams ([`fdl`]), the line's receiver that cuts bytes
-//! into telegrams under FDL's idle rule ([`line`]) and the DP-V0 slave's state machine
+//! into telegrams under FDL's idle rule ([`mod@line`]) and the DP-V0 slave's state machine
 //! ([`slave`]), sans-IO, no_std and allocation-free. The application behind the slave (the
 //! cyclic data's owner) implements [`DpApplication`]: an application trait per bus, as
 //! PROFINET's `IoApplication` and EtherNet/IP's `EnipApplication` in the simulator, and one

@@ -5,7 +5,7 @@
 //! diagnostic and reads as absent; unknown sections and keys are kept (in
 //! [`Cip::other_sections`], or as entries of their section) and reported once each (CIP002).
 //! Judging the parts against each other (sizes, limits, references) is the validator's
-//! (`validate::cip`), once the authors' dialects are read as they meant them ([`dialect`]).
+//! (`validate::cip`), once the authors' dialects are read as they meant them (the private `dialect` module).
 
 use std::collections::BTreeMap;
 use std::path::Path;
