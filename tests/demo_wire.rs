@@ -508,36 +508,100 @@ fn demo_profinet_drives_the_card_between_two_namespaces() {
     assert_eq!(said, expected, "{}", run.stdout);
 }
 
+/// Root: the bundled cards as one machine (`demo --machine`): `edsgen simulate --machine` in a
+/// namespace, each bus driven from the far side of its wire, the EC-TX508's fault through the
+/// machine's standard input by name, SIGTERM stopping every bus; nothing left behind.
+#[test]
+fn demo_machine_drives_every_bus_of_one_machine() {
+    if !is_root() {
+        skip::<()>("not root: no network namespaces for edsgen demo --machine");
+        return;
+    }
+    let ethercrab = cfg!(feature = "ethercrab");
+    let run = demo_passing(&["--machine"], if ethercrab { 62 } else { 59 });
+    for heading in [
+        "\n== the bundled cards as one machine: `edsgen simulate --machine` in a network \
+         namespace, each bus driven from the far side of its wire\n",
+        "\n== CP301 and Goodrive350 on the machine's CANopen bus, from its namespace\n",
+        "\n== Goodrive350 EtherNet/IP card on the machine, from the masters' namespace\n",
+        "\n== Goodrive350 PROFINET card on the machine, from the masters' namespace\n",
+        "\n== what the machine said\n",
+        "\n== Goodrive350 DP card (station 2)",
+    ] {
+        assert!(run.stdout.contains(heading), "{heading}\n{}", run.stdout);
+    }
+    for line in [
+        "  machine.toml: devices = [\"cp301@2\", \"goodrive350@3\"]\n",
+        "  ok    6044h at 1.1 s: 1500 rpm: 1500\n",
+        "  ok    fault OUT1 injected, and its reset: not run: the drive is not in this process\n",
+        "  ok    SIGTERM stops the machine: every bus, then `stopped: machine`: exit status: 0\n",
+        "  machine: [enip 192.168.250.1] drive fault E-EIP\n",
+        "  machine: [canopen bus 127.0.0.1:29536] edsgen simulate: stopped 2 node(s)\n",
+    ] {
+        assert!(run.stdout.contains(line), "{line}\n{}", run.stdout);
+    }
+    assert!(
+        run.stdout
+            .contains("] name of station set to `gd350-line-1`\n"),
+        "{}",
+        run.stdout
+    );
+    if ethercrab {
+        assert!(
+            run.stdout
+                .contains("\n== EC-TX508 on the machine's EtherCAT link: ethercrab on "),
+            "{}",
+            run.stdout
+        );
+        for said in [
+            "] drive fault raised at ",
+            "] drive fault cause removed at ",
+        ] {
+            assert!(run.stdout.contains(said), "{said}\n{}", run.stdout);
+        }
+    } else {
+        assert!(
+            run.stderr.contains(
+                "demo --machine drives the EC-TX508 with ethercrab, which needs edsgen built \
+                 with the `ethercrab` feature"
+            ),
+            "{}",
+            run.stderr
+        );
+    }
+}
+
+/// edsgen as an unprivileged user: itself when the test is not root, else as `nobody` through
+/// setpriv (`None` where setpriv cannot run it so).
+fn as_nobody() -> Option<Command> {
+    if !is_root() {
+        return Some(Command::new(process_support::EDSGEN));
+    }
+    let nobody = ["--reuid=65534", "--regid=65534", "--clear-groups"];
+    let nobody_can_run = Command::new("setpriv")
+        .args(nobody)
+        .args(["test", "-x"])
+        .arg(process_support::EDSGEN)
+        .status()
+        .is_ok_and(|s| s.success());
+    if !nobody_can_run {
+        return None;
+    }
+    let mut command = Command::new("setpriv");
+    command.args(nobody).arg(process_support::EDSGEN);
+    Some(command)
+}
+
 /// Not root (here as `nobody` through setpriv when the test runs as root): `--ethercat`,
 /// `--enip` and `--profinet` say so on stderr, and every section runs in this process as
 /// without them.
 #[test]
 fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
-    let mut command;
-    if is_root() {
-        let nobody_can_run = Command::new("setpriv")
-            .args([
-                "--reuid=65534",
-                "--regid=65534",
-                "--clear-groups",
-                "test",
-                "-x",
-            ])
-            .arg(process_support::EDSGEN)
-            .status()
-            .is_ok_and(|s| s.success());
-        if !nobody_can_run {
-            // Root runs the wire tests above; this one needs an unprivileged user.
-            println!("demo_on_the_wire_without_root: setpriv cannot run edsgen as nobody here");
-            return;
-        }
-        command = Command::new("setpriv");
-        command
-            .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
-            .arg(process_support::EDSGEN);
-    } else {
-        command = Command::new(process_support::EDSGEN);
-    }
+    let Some(mut command) = as_nobody() else {
+        // Root runs the wire tests above; this one needs an unprivileged user.
+        println!("demo_on_the_wire_without_root: setpriv cannot run edsgen as nobody here");
+        return;
+    };
     command.args(["demo", "--ethercat", "--enip", "--profinet"]);
     let run = run(&mut command, |_| {});
     assert_eq!(run.code, Some(0), "{run:?}");
@@ -567,6 +631,26 @@ fn demo_on_the_wire_without_root_says_so_and_runs_in_process() {
         "\n== Goodrive350 PROFINET card (simulated in this process): DCP, an AR over RPC, \
          RT_CLASS_1 frames every 4 ms\n"
     ));
+    assert!(run
+        .stdout
+        .ends_with("\n59 step(s): 59 as the manuals say, 0 not\n"));
+}
+
+/// Not root, `--machine`: said on stderr, and the whole demo runs in this process.
+#[test]
+fn demo_machine_without_root_says_so_and_runs_in_process() {
+    let Some(mut command) = as_nobody() else {
+        println!("demo_machine_without_root: setpriv cannot run edsgen as nobody here");
+        return;
+    };
+    command.args(["demo", "--machine"]);
+    let run = run(&mut command, |_| {});
+    assert_eq!(run.code, Some(0), "{run:?}");
+    assert_eq!(
+        run.stderr,
+        "demo --machine needs root (for network namespaces and a veth pair); every card runs in \
+         this process instead\n"
+    );
     assert!(run
         .stdout
         .ends_with("\n59 step(s): 59 as the manuals say, 0 not\n"));

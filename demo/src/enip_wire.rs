@@ -21,10 +21,10 @@ use super::{Report, Trace};
 use crate::netns::Network;
 
 /// The adapter's address (namespace 0) and the scanner's (namespace 1), on a /24.
-const ADAPTER: Ipv4Addr = Ipv4Addr::new(192, 168, 250, 1);
-const SCANNER: Ipv4Addr = Ipv4Addr::new(192, 168, 250, 2);
+pub(super) const ADAPTER: Ipv4Addr = Ipv4Addr::new(192, 168, 250, 1);
+pub(super) const SCANNER: Ipv4Addr = Ipv4Addr::new(192, 168, 250, 2);
 /// How long the scanner may take to finish its steps.
-const STEPS: Duration = Duration::from_secs(60);
+pub(super) const STEPS: Duration = Duration::from_secs(60);
 /// How long a TCP exchange with the adapter may take.
 const TCP_TIMEOUT: Duration = Duration::from_secs(5);
 

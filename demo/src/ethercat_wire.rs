@@ -35,6 +35,9 @@ pub(super) fn run(trace: &mut Trace) {
 }
 
 #[cfg(feature = "ethercrab")]
+pub(super) use wire::{drive as drive_machine, Faults};
+
+#[cfg(feature = "ethercrab")]
 mod wire {
     use std::io::Write;
     use std::process::{ChildStdin, Stdio};
@@ -56,8 +59,8 @@ mod wire {
         runtime: tokio::runtime::Runtime,
         maindevice: MainDevice<'static>,
         group: SubDeviceGroup<64, 4096, ethercrab::DefaultLock, Op>,
-        /// The simulator's standard input: `fault` and `clear`.
-        faults: ChildStdin,
+        /// Where the drive's fault is raised and cleared.
+        faults: Faults,
         first: [u8; Inputs::SIZE],
         /// When the first cycle ran.
         start: Option<Instant>,
@@ -118,15 +121,40 @@ mod wire {
         }
 
         fn raise_fault(&mut self) -> Result<(), String> {
-            writeln!(self.faults, "fault").map_err(|e| format!("the simulator's stdin: {e}"))
+            self.faults.send("fault")
         }
 
         fn clear_fault(&mut self) -> Result<(), String> {
-            writeln!(self.faults, "clear").map_err(|e| format!("the simulator's stdin: {e}"))
+            self.faults.send("clear")
         }
 
         fn wire(&self) -> bool {
             true
+        }
+    }
+
+    /// A simulator's standard input that takes `fault` and `clear`: `edsgen simulate
+    /// --faults-on-stdin`'s bare words, or a machine's `fault NAME` and `clear NAME`.
+    pub(crate) struct Faults {
+        stdin: ChildStdin,
+        name: Option<String>,
+    }
+
+    impl Faults {
+        /// A machine's standard input, for the device called `name` in its file.
+        pub(crate) fn named(stdin: ChildStdin, name: &str) -> Faults {
+            Faults {
+                stdin,
+                name: Some(name.to_owned()),
+            }
+        }
+
+        fn send(&mut self, word: &str) -> Result<(), String> {
+            match &self.name {
+                Some(name) => writeln!(self.stdin, "{word} {name}"),
+                None => writeln!(self.stdin, "{word}"),
+            }
+            .map_err(|e| format!("the simulator's stdin: {e}"))
         }
     }
 
@@ -181,13 +209,13 @@ mod wire {
             .child(sim.id)
             .and_then(|child| child.stdin.take())
             .ok_or_else(|| "the simulator's standard input".to_owned())
-            .and_then(|stdin| drive(trace, &master, stdin));
+            .and_then(|stdin| drive(trace, &master, Faults { stdin, name: None }));
         // SIGTERM: the simulator says what it served, and exits.
         sim.stop(net, Duration::from_secs(5), result)
     }
 
     /// Discovery, a typed SDO write and read in Pre-Op, Op, then the cyclic steps.
-    fn drive(trace: &mut Trace, iface: &str, faults: ChildStdin) -> Result<(), String> {
+    pub(crate) fn drive(trace: &mut Trace, iface: &str, faults: Faults) -> Result<(), String> {
         let runtime = crate::ecat::runtime()?;
         let (maindevice, group) = runtime.block_on(crate::ecat::discover(iface))?;
         let count = group.len();

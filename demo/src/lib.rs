@@ -35,6 +35,7 @@ mod enip;
 mod enip_wire;
 mod ethercat;
 mod ethercat_wire;
+mod machine;
 mod memory;
 mod profinet;
 mod profinet_wire;
@@ -349,6 +350,37 @@ pub fn run_with(wires: Wires) -> Report {
     }
     dp::run(&mut trace);
     trace.finish()
+}
+
+/// Runs the whole demo as one machine (`edsgen demo --machine`, root): the six description files
+/// validated, then `edsgen simulate --machine` serving the bundled cards in a network namespace
+/// and each bus driven from the far side of its wire (see `machine`). Not root: says so on
+/// standard error and runs the demo in this process.
+pub fn run_machine() -> Report {
+    if !netns::is_root() {
+        eprintln!(
+            "{}; every card runs in this process instead",
+            netns::not_root("demo --machine")
+        );
+        return run();
+    }
+    let mut trace = Trace::new(validate_cards());
+    machine::run(&mut trace);
+    trace.finish()
+}
+
+/// `edsgen demo-role canopen-master ADDR`, run by `--machine` in the machine's namespace: both
+/// CANopen workflows against the CP301 (node 2) and the Goodrive350 (node 3) on the socketcand
+/// bus at `addr`, in real time, every frame decoded; the report to print as JSON.
+pub fn canopen_master(addr: &str) -> Report {
+    match remote::Remote::connect(addr, Trace::new(Report::default())) {
+        Ok(link) => workflows(link).finish(),
+        Err(problem) => {
+            let mut trace = Trace::new(Report::default());
+            trace.step("join the bus", Err(problem));
+            trace.finish()
+        }
+    }
 }
 
 /// Runs the CANopen workflows against the drives on the socketcand bus at `addr` (CP301 at

@@ -32,10 +32,10 @@ use super::{Report, Trace};
 use crate::netns::Network;
 
 /// The card's address (namespace 0) and the controller's (namespace 1), on a /24.
-const CARD: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 1);
-const CONTROLLER: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 2);
+pub(super) const CARD: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 1);
+pub(super) const CONTROLLER: Ipv4Addr = Ipv4Addr::new(192, 168, 251, 2);
 /// How long the controller may take to finish its steps (the drive's ramps alone take 20 s).
-const STEPS: Duration = Duration::from_secs(120);
+pub(super) const STEPS: Duration = Duration::from_secs(120);
 /// On the wire: 4 ms cycles, a watchdog of 100 of them; the card's last input frame seen up to
 /// 40 ms before the watchdog's time (its loop takes the kernel's ticks of 4 ms or more) or up
 /// to 200 ms after it (a loaded machine).

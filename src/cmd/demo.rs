@@ -1,4 +1,4 @@
-//! `edsgen demo [--bus HOST:PORT] [--ethercat] [--enip] [--profinet]`: the bundled cards at work
+//! `edsgen demo [--bus HOST:PORT] [--ethercat] [--enip] [--profinet] [--machine]`: the bundled cards at work
 //! (see the library's `demo` module), on the in-memory bus or against the drives on a socketcand
 //! bus, the EC-TX508, the EtherNet/IP and the PROFINET card in this process or over a real wire
 //! (root: network namespaces, removed also on Ctrl-C, exit 130); exit 0 only if every step
@@ -44,6 +44,14 @@ pub struct Args {
     /// Ctrl-C.
     #[arg(long, conflicts_with = "bus")]
     profinet: bool,
+    /// Run the bundled cards as one machine: `edsgen simulate --machine` in a private network
+    /// namespace serving the CP301 and the Goodrive350 on CANopen (an `edsgen bus` beside
+    /// it), the EC-TX508 on EtherCAT, the EtherNet/IP and the PROFINET cards, each bus driven
+    /// from the far side of its wire by the demo's master for it (root; the EC-TX508 by
+    /// ethercrab, with the `ethercrab` feature). The DP card runs in this process. Then SIGTERM
+    /// stops the machine. Not root: said on stderr, and the demo runs in this process.
+    #[arg(long, conflicts_with_all = ["bus", "ethercat", "enip", "profinet"])]
+    machine: bool,
 }
 
 /// Runs the demo, prints its trace and summary.
@@ -62,7 +70,7 @@ pub fn run(args: &Args) -> ExitCode {
         enip: args.enip,
         profinet: args.profinet,
     };
-    if wires != edsgen_demo::Wires::default() {
+    if args.machine || wires != edsgen_demo::Wires::default() {
         // Ctrl-C must not leave a namespace behind.
         if let Err(message) = edsgen_demo::netns::clean_up_on_signal() {
             return fail(message);
@@ -70,6 +78,7 @@ pub fn run(args: &Args) -> ExitCode {
     }
     let report = match &args.bus {
         Some(addr) => edsgen_demo::run_on_bus(addr),
+        None if args.machine => edsgen_demo::run_machine(),
         None => edsgen_demo::run_with(wires),
     };
     while edsgen_demo::netns::interrupted() {
@@ -91,10 +100,17 @@ pub fn run(args: &Args) -> ExitCode {
     }
 }
 
-/// `edsgen demo-role`: one of the demo's client roles, run by `edsgen demo --enip` or
-/// `--profinet` inside its own network namespace.
+/// `edsgen demo-role`: one of the demo's client roles, run by `edsgen demo --enip`,
+/// `--profinet` or `--machine` inside its own network namespace.
 #[derive(Debug, clap::Subcommand)]
 pub enum Role {
+    /// The CANopen master: both drives' workflows (CP301 at node 2, Goodrive350 at node 3)
+    /// on the socketcand bus at this address, in real time.
+    CanopenMaster {
+        /// The bus's HOST:PORT.
+        #[arg(value_name = "HOST:PORT")]
+        bus: String,
+    },
     /// The EtherNet/IP scanner: the Goodrive350 EtherNet/IP card's steps against the adapter at
     /// this address, over TCP 44818 and UDP 2222.
     EnipScanner {
@@ -117,6 +133,7 @@ pub enum Role {
 /// Runs one of the demo's client roles and prints its report as JSON.
 pub fn run_role(role: &Role) -> ExitCode {
     let report = match role {
+        Role::CanopenMaster { bus } => edsgen_demo::canopen_master(bus),
         Role::EnipScanner { adapter } => edsgen_demo::enip_scanner(*adapter),
         Role::ProfinetController { iface, card } => edsgen_demo::profinet_controller(iface, *card),
     };

@@ -73,7 +73,7 @@ pub fn run(path: &Path, allow: &[String], policy: &Policy) -> ExitCode {
         Ok(exe) => exe,
         Err(e) => return fail(format!("cannot find this program to start the buses: {e}")),
     };
-    let (lines_tx, lines_rx) = mpsc::channel::<Line>();
+    let (lines_tx, lines_rx) = mpsc::channel::<Heard>();
     let mut buses: Vec<Running> = Vec::new();
     for mut launch in launches(&machine) {
         for code in allow {
@@ -88,12 +88,13 @@ pub fn run(path: &Path, allow: &[String], policy: &Policy) -> ExitCode {
             }
         }
     }
-    drop(lines_tx);
-    let commands = stdin_lines();
-    let code = supervise(&mut buses, &lines_rx, &commands);
+    stdin_lines(lines_tx);
+    let code = supervise(&mut buses, &lines_rx);
     stop(&mut buses);
-    while let Ok(line) = lines_rx.try_recv() {
-        line.print();
+    while let Ok(heard) = lines_rx.try_recv() {
+        if let Heard::Line(line) = heard {
+            line.print();
+        }
     }
     eprintln!("stopped: machine {}", path.display());
     code
@@ -229,7 +230,7 @@ struct Running {
 }
 
 impl Launch {
-    fn start(&self, exe: &Path, lines: &mpsc::Sender<Line>) -> std::io::Result<Running> {
+    fn start(&self, exe: &Path, lines: &mpsc::Sender<Heard>) -> std::io::Result<Running> {
         let mut child = Command::new(exe)
             .args(&self.args)
             .env(signals::PARENT_VARIABLE, std::process::id().to_string())
@@ -256,6 +257,12 @@ impl Launch {
     }
 }
 
+/// What the machine hears, in the order it comes: a bus's line, or a command on standard input.
+enum Heard {
+    Line(Line),
+    Command(String),
+}
+
 /// A line a bus printed, prefixed with the bus.
 struct Line {
     text: String,
@@ -278,53 +285,49 @@ fn prefix_lines(
     from: impl Read + Send + 'static,
     prefix: String,
     error: bool,
-    to: mpsc::Sender<Line>,
+    to: mpsc::Sender<Heard>,
 ) {
     std::thread::spawn(move || {
         for line in BufReader::new(from).lines() {
             let Ok(line) = line else { break };
             let text = format!("{prefix}{line}");
-            if to.send(Line { text, error }).is_err() {
+            if to.send(Heard::Line(Line { text, error })).is_err() {
                 break;
             }
         }
     });
 }
 
-/// The lines of standard input, as they come.
-fn stdin_lines() -> mpsc::Receiver<String> {
-    let (tx, rx) = mpsc::channel();
+/// The lines of standard input, as they come, to `to`.
+fn stdin_lines(to: mpsc::Sender<Heard>) {
     std::thread::spawn(move || {
         for line in std::io::stdin().lock().lines() {
             let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
+            if to.send(Heard::Command(line)).is_err() {
                 break;
             }
         }
     });
-    rx
 }
 
-/// Prints the buses' lines and routes faults until a stop is asked for or a bus stops.
-fn supervise(
-    buses: &mut [Running],
-    lines: &mpsc::Receiver<Line>,
-    commands: &mpsc::Receiver<String>,
-) -> ExitCode {
+/// Prints the buses' lines and routes faults, each as it comes, until a stop is asked for or
+/// a bus stops.
+fn supervise(buses: &mut [Running], heard: &mpsc::Receiver<Heard>) -> ExitCode {
     loop {
-        while let Ok(line) = lines.recv_timeout(Duration::from_millis(20)) {
-            line.print();
-        }
-        while let Ok(command) = commands.try_recv() {
-            fault_command(buses, command.trim());
+        match heard.recv_timeout(Duration::from_millis(20)) {
+            Ok(Heard::Line(line)) => line.print(),
+            Ok(Heard::Command(command)) => fault_command(buses, command.trim()),
+            Err(_) => {}
         }
         if signals::requested() {
             return ExitCode::SUCCESS;
         }
         for bus in buses.iter_mut() {
             if let Ok(Some(status)) = bus.child.try_wait() {
-                while let Ok(line) = lines.recv_timeout(Duration::from_millis(50)) {
-                    line.print();
+                while let Ok(heard) = heard.recv_timeout(Duration::from_millis(50)) {
+                    if let Heard::Line(line) = heard {
+                        line.print();
+                    }
                 }
                 eprintln!(
                     "error: {} stopped ({status}); stopping the machine",
