@@ -26,7 +26,12 @@ use process_support::{corpus_file, edsgen_simulate, python, root, Process, EDSGE
 
 /// `scripts/canopen_master.py ARGS` to its end (at most 60 s): its standard output's lines.
 fn run_python(python: &Path, args: &[&str]) -> Vec<String> {
-    let master = Process::python(python, "scripts/canopen_master.py", args);
+    run_script(python, "scripts/canopen_master.py", args)
+}
+
+/// A python script's standard output, line by line; it must exit 0 within a minute.
+fn run_script(python: &Path, script: &str, args: &[&str]) -> Vec<String> {
+    let master = Process::python(python, script, args);
     let exited = master.finish(Duration::from_secs(60));
     assert_eq!(
         exited.code,
@@ -290,6 +295,58 @@ fn several_python_masters_and_simulated_nodes_on_one_hub() {
         None,
         &[],
     );
+}
+
+/// A mixed bus, bundled cards and description files in one `simulate`: python `canopen`'s
+/// scanner finds every node, and reads each one's device type and identity as its file says.
+#[test]
+fn python_canopen_scans_a_bus_of_cards_and_files() {
+    let Some(python) = python() else { return };
+    let hub = Hub::start("127.0.0.1:0", HubOptions::default()).expect("the hub starts");
+    let addr = hub.local_addr().to_string();
+    let ms300 = root().join("eds/ms300.eds");
+    let rd11 = root().join("eds/rd11.eds");
+    let args = [
+        "--card".to_owned(),
+        "cp301@2".to_owned(),
+        "--card".to_owned(),
+        "goodrive350@3".to_owned(),
+        format!("{}@4", ms300.display()),
+        format!("{}@5", rd11.display()),
+        "--bus".to_owned(),
+        addr.clone(),
+    ];
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (sim, _) = edsgen_simulate(&args, 4);
+    let (host, port) = addr.rsplit_once(':').unwrap();
+    let got = run_script(&python, "scripts/canopen_scan.py", &[host, port]);
+    let mut expected = vec!["found 2 3 4 5".to_owned()];
+    for (node, file) in [
+        (2, "eds/cp301.eds"),
+        (3, "eds/goodrive350.eds"),
+        (4, "eds/ms300.eds"),
+        (5, "eds/rd11.eds"),
+    ] {
+        let device = edsgen_model::read::read_file(&root().join(file))
+            .unwrap()
+            .device;
+        let od = RuntimeDictionary::new(&device, node);
+        let word = |index, sub| {
+            let bytes = read_value(&od, index, sub);
+            let mut le = [0u8; 4];
+            le[..bytes.len()].copy_from_slice(&bytes);
+            u32::from_le_bytes(le)
+        };
+        expected.push(format!(
+            "node {node} 1000h {:#010x} vendor {:#010x} product {:#010x}",
+            word(0x1000, 0),
+            word(0x1018, 1),
+            word(0x1018, 2)
+        ));
+    }
+    assert_eq!(got, expected);
+    drop(sim);
+    hub.stop();
 }
 
 #[test]
