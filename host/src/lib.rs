@@ -21,6 +21,7 @@ use std::time::Duration as StdDuration;
 
 use edsgen_runtime::frame::CanFrame;
 
+pub mod dp_line;
 pub mod driver;
 pub mod hub;
 pub mod master;

@@ -18,7 +18,7 @@ use profirust::dp::{DiagnosticFlags, PeripheralEvent};
 use profirust::{dp, fdl, Baudrate};
 
 use super::super::fail;
-use super::phy::TtyPhy;
+use edsgen_host::dp_line::TtyPhy;
 
 /// The arguments of `edsgen dp io`.
 #[derive(Debug, clap::Args)]

@@ -1,5 +1,5 @@
 //! `edsgen dp`: a PROFIBUS-DP master at the bench, through profirust (the Rust DP master) on a
-//! serial line ([`phy::TtyPhy`]).
+//! serial line ([`TtyPhy`]).
 //!
 //! - `edsgen dp scan TTY [--master N]`: every address 0 to 125 asked once (FDL status, then
 //!   Slave_Diag of those that answer) with a per-address timeout from the baud rate and the
@@ -22,12 +22,12 @@ use std::fs::OpenOptions;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use edsgen_host::dp_line::TtyPhy;
 use profirust::Baudrate;
 
 use super::fail;
 
 mod io;
-pub mod phy;
 pub mod simulate;
 
 /// The arguments of `edsgen dp`.
@@ -88,12 +88,7 @@ fn request(master: u8, address: u8, function: u8, dsap: Option<u8>) -> Vec<u8> {
 
 /// Station `address`'s six standard diagnosis bytes (Slave_Diag from `master`, one try of
 /// `timeout`), if it answers.
-fn slave_diag(
-    phy: &mut phy::TtyPhy,
-    master: u8,
-    address: u8,
-    timeout: Duration,
-) -> Option<[u8; 6]> {
+fn slave_diag(phy: &mut TtyPhy, master: u8, address: u8, timeout: Duration) -> Option<[u8; 6]> {
     use edsgen_runtime::dp::fdl::{self, request as function, Repr};
     let diag = request(master, address, function::SRD_LOW, Some(60));
     let answer = phy.request(&diag, address, master, timeout)?;
@@ -109,7 +104,7 @@ fn scan(tty: &str, master: u8) -> ExitCode {
         Ok(port) => port,
         Err(e) => return fail(format!("cannot open {tty}: {e}")),
     };
-    let mut phy = match phy::TtyPhy::new(port, Baudrate::B19200) {
+    let mut phy = match TtyPhy::new(port, Baudrate::B19200) {
         Ok(phy) => phy,
         Err(e) => return fail(format!("{tty}: {e}")),
     };

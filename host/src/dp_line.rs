@@ -1,4 +1,4 @@
-//! A profirust PHY over a serial line opened as a file (a pseudo-terminal, or an RS-485 adapter
+//! A PROFIBUS-DP line for profirust: its PHY over a serial line opened as a file (a pseudo-terminal, or an RS-485 adapter
 //! set up beforehand with `stty`): profirust's own serial PHYs query the line with ioctls a
 //! pseudo-terminal refuses. A reader thread hands the received bytes over; writes go out at
 //! once, and the transmission counts as going on for the telegram's time on the wire (11 bits a
