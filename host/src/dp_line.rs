@@ -1,8 +1,8 @@
-//! A PROFIBUS-DP line for profirust: its PHY over a serial line opened as a file (a pseudo-terminal, or an RS-485 adapter
-//! set up beforehand with `stty`): profirust's own serial PHYs query the line with ioctls a
-//! pseudo-terminal refuses. A reader thread hands the received bytes over; writes go out at
-//! once, and the transmission counts as going on for the telegram's time on the wire (11 bits a
-//! byte at the bus's rate), so that profirust's timing holds.
+//! A PROFIBUS-DP line for profirust's master: its PHY over a serial line opened as a file (a
+//! pseudo-terminal, or an RS-485 adapter set up beforehand with `stty`): profirust's own serial
+//! PHYs query the line with ioctls a pseudo-terminal refuses. A reader thread hands the received
+//! bytes over; writes go out at once, and the transmission counts as going on for the telegram's
+//! time on the wire (11 bits a byte at the bus's rate), so that profirust's timing holds.
 
 use std::fs::File;
 use std::io::{Read, Write};
