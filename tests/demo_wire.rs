@@ -526,7 +526,8 @@ fn demo_machine_drives_every_bus_of_one_machine() {
         "\n== Goodrive350 EtherNet/IP card on the machine, from the masters' namespace\n",
         "\n== Goodrive350 PROFINET card on the machine, from the masters' namespace\n",
         "\n== what the machine said\n",
-        "\n== Goodrive350 DP card (station 2)",
+        "\n== Goodrive350 DP card (station 2) on the machine's PROFIBUS line: profirust's master \
+         on /dev/pts/",
     ] {
         assert!(run.stdout.contains(heading), "{heading}\n{}", run.stdout);
     }
@@ -540,9 +541,18 @@ fn demo_machine_drives_every_bus_of_one_machine() {
     ] {
         assert!(run.stdout.contains(line), "{line}\n{}", run.stdout);
     }
+    for said in [
+        "] name of station set to `gd350-line-1`\n",
+        "] wait for parameters (the watchdog expired: E-DP)\n",
+    ] {
+        assert!(run.stdout.contains(said), "{said}\n{}", run.stdout);
+    }
     assert!(
-        run.stdout
-            .contains("] name of station set to `gd350-line-1`\n"),
+        run.stdout.contains(
+            "  ok    the master falls silent: the card's DP watchdog (200 ms) ends data exchange, \
+             Slave_Diag says station not ready and asks for parameters (Prm_Req): diagnosis 02 05 \
+             00 FF 03 50\n"
+        ),
         "{}",
         run.stdout
     );

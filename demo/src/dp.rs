@@ -19,7 +19,7 @@ use profirust::{dp, fdl as pfdl, Baudrate};
 use super::Trace;
 
 const MASTER: u8 = 1;
-const SLAVE: u8 = 2;
+pub(super) const SLAVE: u8 = 2;
 const BAUD: Baudrate = Baudrate::B19200;
 /// The bus time one step may take.
 const STEP_TIME: Duration = Duration::from_secs(20);
@@ -36,11 +36,9 @@ fn outputs(pkw: [u16; 4], cw: u16, pzd2: u16) -> [u8; 32] {
     image.to_bytes()
 }
 
-/// Runs the DP section into `trace`.
-pub(super) fn run(trace: &mut Trace) {
-    trace.heading(
-        "Goodrive350 DP card (station 2): PROFIBUS-DP with profirust's master, manual chapter 2",
-    );
+/// The card's GSD, loaded as `edsgen validate eds/goodrive350-dp.gsd` loads it (with the
+/// overlay beside it): no errors.
+pub(super) fn check_gsd(trace: &mut Trace) {
     // Loaded as `edsgen validate eds/goodrive350-dp.gsd` loads it: with the overlay beside it.
     let loaded = edsgen_model::load::load_bundled(
         Path::new(GSD_PATH),
@@ -65,19 +63,23 @@ pub(super) fn run(trace: &mut Trace) {
             Err(format!("{errors} error(s)"))
         },
     );
-    let phy = SimulatorPhy::new(BAUD, "master");
-    let slave = match goodrive350(SLAVE, Instant::from_micros(0)) {
-        Ok(slave) => slave,
-        Err(e) => return trace.step("power up the card", Err(e.to_string())),
-    };
-    let mut station = SlaveStation::new(phy.duplicate("goodrive350-dp"), BAUD, slave);
-    let mut phy = phy;
+}
+
+/// profirust's DP master (station 1) with the card at station 2 as its one peripheral: the
+/// GSD's identity, Tsdr at 19.2 kbit/s, parameters and configuration, a 200 ms watchdog; online
+/// and operating.
+pub(super) fn master<'a>(
+    inputs: &'a mut [u8; 32],
+    out: &'a mut [u8; 32],
+) -> (
+    dp::DpMaster<'a>,
+    dp::PeripheralHandle,
+    pfdl::FdlActiveStation,
+) {
     let tsdr = card::BAUD_RATES
         .iter()
         .find(|(rate, _)| *rate == 19_200)
         .map_or(60, |(_, tsdr)| *tsdr);
-    let mut inputs = [0u8; 32];
-    let mut out = [0u8; 32];
     let mut master = dp::DpMaster::new(vec![]);
     let handle = master.add(dp::Peripheral::new(
         SLAVE,
@@ -100,6 +102,25 @@ pub(super) fn run(trace: &mut Trace) {
     );
     fdl.set_online();
     master.enter_operate();
+    (master, handle, fdl)
+}
+
+/// Runs the DP section into `trace`.
+pub(super) fn run(trace: &mut Trace) {
+    trace.heading(
+        "Goodrive350 DP card (station 2): PROFIBUS-DP with profirust's master, manual chapter 2",
+    );
+    check_gsd(trace);
+    let phy = SimulatorPhy::new(BAUD, "master");
+    let slave = match goodrive350(SLAVE, Instant::from_micros(0)) {
+        Ok(slave) => slave,
+        Err(e) => return trace.step("power up the card", Err(e.to_string())),
+    };
+    let mut station = SlaveStation::new(phy.duplicate("goodrive350-dp"), BAUD, slave);
+    let mut phy = phy;
+    let mut inputs = [0u8; 32];
+    let mut out = [0u8; 32];
+    let (mut master, handle, mut fdl) = master(&mut inputs, &mut out);
     let mut until =
         |master: &mut dp::DpMaster, station: &mut Station, done: &dyn Fn(&[u8], bool) -> bool| {
             let end = phy.bus_time() + STEP_TIME;
@@ -129,29 +150,7 @@ pub(super) fn run(trace: &mut Trace) {
     if reached.is_none() {
         return;
     }
-    let steps: [(&str, [u8; 32], [u8; 12]); 4] = [
-        (
-            "§2.6 example 1: read P00.10 (task 1, address 10)",
-            outputs([1, 10, 0, 0], 0, 0),
-            [0, 1, 0, 0x0A, 0, 0, 0x13, 0x88, 0x41, 0x03, 0, 0],
-        ),
-        (
-            "§2.6 example 2: write 50.00 Hz to P00.10 (task 4, CW bit 8)",
-            outputs([4, 10, 0, 5000], 0x0100, 0),
-            [0, 1, 0, 0x0A, 0, 0, 0x13, 0x88, 0x41, 0x03, 0, 0],
-        ),
-        (
-            "CW 1 (run forward) at 10.00 Hz on PZD2",
-            outputs([0; 4], 1, 1000),
-            [0, 0, 0, 0, 0, 0, 0, 0, 0x41, 0x01, 0x03, 0xE8],
-        ),
-        (
-            "CW 6 (coast to stop)",
-            outputs([0; 4], 6, 1000),
-            [0, 0, 0, 0, 0, 0, 0, 0, 0x41, 0x03, 0, 0],
-        ),
-    ];
-    for (name, image, expected) in steps {
+    for (name, image, expected) in pkw_steps() {
         master.get_mut(handle).pi_q_mut().copy_from_slice(&image);
         let seen = until(&mut master, &mut station, &|inputs, _| {
             inputs[..12] == expected
@@ -182,7 +181,34 @@ pub(super) fn run(trace: &mut Trace) {
     );
 }
 
-fn hex(bytes: &[u8]) -> String {
+/// The manual's §2.6 PKW examples and two CW/SW commands: each step's name, the 32 output bytes,
+/// and the first 12 input bytes the card answers with.
+pub(super) fn pkw_steps() -> [(&'static str, [u8; 32], [u8; 12]); 4] {
+    [
+        (
+            "§2.6 example 1: read P00.10 (task 1, address 10)",
+            outputs([1, 10, 0, 0], 0, 0),
+            [0, 1, 0, 0x0A, 0, 0, 0x13, 0x88, 0x41, 0x03, 0, 0],
+        ),
+        (
+            "§2.6 example 2: write 50.00 Hz to P00.10 (task 4, CW bit 8)",
+            outputs([4, 10, 0, 5000], 0x0100, 0),
+            [0, 1, 0, 0x0A, 0, 0, 0x13, 0x88, 0x41, 0x03, 0, 0],
+        ),
+        (
+            "CW 1 (run forward) at 10.00 Hz on PZD2",
+            outputs([0; 4], 1, 1000),
+            [0, 0, 0, 0, 0, 0, 0, 0, 0x41, 0x01, 0x03, 0xE8],
+        ),
+        (
+            "CW 6 (coast to stop)",
+            outputs([0; 4], 6, 1000),
+            [0, 0, 0, 0, 0, 0, 0, 0, 0x41, 0x03, 0, 0],
+        ),
+    ]
+}
+
+pub(super) fn hex(bytes: &[u8]) -> String {
     bytes
         .iter()
         .map(|b| format!("{b:02X}"))

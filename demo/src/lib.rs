@@ -31,6 +31,7 @@
 #![forbid(unsafe_code)]
 
 mod dp;
+mod dp_line;
 mod enip;
 mod enip_wire;
 mod ethercat;
@@ -39,6 +40,7 @@ mod machine;
 mod memory;
 mod profinet;
 mod profinet_wire;
+mod pty;
 mod remote;
 mod two_namespaces;
 

@@ -4,8 +4,8 @@
 //! the CANopen workflows over socketcand (an `edsgen bus` beside the machine, the master a role
 //! in the machine's namespace), the EC-TX508 by ethercrab over a veth pair from this process
 //! (feature `ethercrab`; its fault raised and cleared through the machine's standard input, by
-//! name), and the EtherNet/IP scanner and the PROFINET controller in a second namespace. The DP
-//! card runs in this process on profirust's simulated bus, in bus time, as in the plain demo.
+//! name), the EtherNet/IP scanner and the PROFINET controller in a second namespace, and
+//! profirust's DP master in this process on a pseudo-terminal line to the DP card.
 //! SIGTERM then stops the machine, which must say every bus stopped.
 
 use std::io::{BufRead, BufReader, Read};
@@ -77,7 +77,6 @@ pub(super) fn run(trace: &mut Trace) {
     if !ethercat {
         super::ethercat::run(trace);
     }
-    super::dp::run(trace);
 }
 
 /// The links the machine's buses use (veth pairs, the machine's end first) that the demo needs
@@ -86,6 +85,8 @@ struct Links {
     /// The EC-TX508's end and ethercrab's (in this process's namespace), with ethercrab.
     ethercat: Option<(String, String)>,
     profinet: (String, String),
+    /// The PROFIBUS line: the master's end, then the card's.
+    dp: crate::pty::Line,
 }
 
 fn links(net: &mut Network, ethercat: bool) -> Result<Links, String> {
@@ -101,10 +102,15 @@ fn links(net: &mut Network, ethercat: bool) -> Result<Links, String> {
     let profinet = net.veth(End::Namespace(0), End::Namespace(1))?;
     net.address(0, &profinet.0, &format!("{}/24", profinet_wire::CARD))?;
     net.address(1, &profinet.1, &format!("{}/24", profinet_wire::CONTROLLER))?;
-    Ok(Links { ethercat, profinet })
+    let dp = crate::pty::line()?;
+    Ok(Links {
+        ethercat,
+        profinet,
+        dp,
+    })
 }
 
-/// The machine file: every bundled card but the DP one, each on its link.
+/// The machine file: every bundled card, each on its link.
 fn machine_file(links: &Links) -> String {
     let mut text = format!(
         "[[canopen]]\nbus = \"{CAN_BUS}\"\ndevices = [\"cp301@2\", \"goodrive350@3\"]\n\n\
@@ -115,6 +121,10 @@ fn machine_file(links: &Links) -> String {
         links.profinet.0,
         profinet_wire::CARD,
     );
+    text.push_str(&format!(
+        "\n[[profibus]]\ntty = \"{}\"\ndevices = [\"goodrive350-dp@2\"]\n",
+        links.dp.ends[1].display()
+    ));
     if let Some((device, _)) = &links.ethercat {
         text.push_str(&format!(
             "\n[[ethercat]]\ninterface = \"{device}\"\ndevices = [\"ec-tx508\"]\n"
@@ -251,7 +261,10 @@ fn drive(
         shown,
         "the controller",
         profinet_wire::STEPS,
-    )
+    )?;
+
+    super::dp_line::run(trace, &links.dp.ends[0]);
+    Ok(())
 }
 
 /// The EC-TX508 by ethercrab from this process, its fault raised and cleared through the

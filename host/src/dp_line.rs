@@ -85,6 +85,22 @@ impl TtyPhy {
             }
         }
     }
+
+    /// Station `address`'s six standard diagnosis bytes (Slave_Diag from `master`, one try of
+    /// `timeout`), if it answers.
+    pub fn slave_diag(
+        &mut self,
+        master: u8,
+        address: u8,
+        timeout: std::time::Duration,
+    ) -> Option<[u8; 6]> {
+        let diag = request(master, address, fdl::request::SRD_LOW, Some(60));
+        let answer = self.request(&diag, address, master, timeout)?;
+        match fdl::parse(&answer) {
+            Ok((Repr::Data(t), _)) => t.data.get(..6)?.try_into().ok(),
+            _ => None,
+        }
+    }
 }
 
 impl ProfibusPhy for TtyPhy {
@@ -123,4 +139,20 @@ impl ProfibusPhy for TtyPhy {
         self.received.drain(..drop.min(self.received.len()));
         result
     }
+}
+
+/// A request from `master` to `address`: SD1 without SAPs, SD2 with them (SSAP 62).
+pub fn request(master: u8, address: u8, function: u8, dsap: Option<u8>) -> Vec<u8> {
+    let mut buf = [0u8; 16];
+    let telegram = edsgen_runtime::dp::fdl::DataRepr {
+        da: address,
+        sa: master,
+        dsap,
+        ssap: dsap.map(|_| 62),
+        fc: 0x40 | function,
+        data: &[],
+    };
+    // At most 11 bytes.
+    let len = telegram.emit(&mut buf).unwrap_or(0);
+    buf[..len].to_vec()
 }

@@ -46,10 +46,10 @@ pub struct Args {
     profinet: bool,
     /// Run the bundled cards as one machine: `edsgen simulate --machine` in a private network
     /// namespace serving the CP301 and the Goodrive350 on CANopen (an `edsgen bus` beside
-    /// it), the EC-TX508 on EtherCAT, the EtherNet/IP and the PROFINET cards, each bus driven
+    /// it), the EC-TX508 on EtherCAT, the EtherNet/IP, PROFINET and DP cards, each bus driven
     /// from the far side of its wire by the demo's master for it (root; the EC-TX508 by
-    /// ethercrab, with the `ethercrab` feature). The DP card runs in this process. Then SIGTERM
-    /// stops the machine. Not root: said on stderr, and the demo runs in this process.
+    /// ethercrab, with the `ethercrab` feature; the DP card by profirust on a pseudo-terminal
+    /// line). Then SIGTERM stops the machine. Not root: said on stderr, and the demo runs in this process.
     #[arg(long, conflicts_with_all = ["bus", "ethercat", "enip", "profinet"])]
     machine: bool,
 }

@@ -283,7 +283,7 @@ fn check_station(phy: &mut TtyPhy, args: &Args, ident: u16) -> Result<(), String
     let address = args.address;
     // Five tries of 100 ms: at once for a person, patient with a loaded host.
     let timeout = Duration::from_millis(100);
-    let diag = (0..5).find_map(|_| super::slave_diag(phy, args.master, address, timeout));
+    let diag = (0..5).find_map(|_| phy.slave_diag(args.master, address, timeout));
     let Some(diag) = diag else {
         return Err(format!(
             "station {address} does not answer on {} (station missing)",

@@ -22,7 +22,7 @@ use std::fs::OpenOptions;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use edsgen_host::dp_line::TtyPhy;
+use edsgen_host::dp_line::{self, TtyPhy};
 use profirust::Baudrate;
 
 use super::fail;
@@ -70,34 +70,6 @@ fn per_address_timeout(baud: u32) -> Duration {
     Duration::from_micros(bits * 1_000_000 / u64::from(baud)) + HOST_LATENCY
 }
 
-/// A request from `master` to `address`: SD1 without SAPs, SD2 with them (SSAP 62).
-fn request(master: u8, address: u8, function: u8, dsap: Option<u8>) -> Vec<u8> {
-    let mut buf = [0u8; 16];
-    let telegram = edsgen_runtime::dp::fdl::DataRepr {
-        da: address,
-        sa: master,
-        dsap,
-        ssap: dsap.map(|_| 62),
-        fc: 0x40 | function,
-        data: &[],
-    };
-    // At most 11 bytes.
-    let len = telegram.emit(&mut buf).unwrap_or(0);
-    buf[..len].to_vec()
-}
-
-/// Station `address`'s six standard diagnosis bytes (Slave_Diag from `master`, one try of
-/// `timeout`), if it answers.
-fn slave_diag(phy: &mut TtyPhy, master: u8, address: u8, timeout: Duration) -> Option<[u8; 6]> {
-    use edsgen_runtime::dp::fdl::{self, request as function, Repr};
-    let diag = request(master, address, function::SRD_LOW, Some(60));
-    let answer = phy.request(&diag, address, master, timeout)?;
-    match fdl::parse(&answer) {
-        Ok((Repr::Data(t), _)) => t.data.get(..6)?.try_into().ok(),
-        _ => None,
-    }
-}
-
 fn scan(tty: &str, master: u8) -> ExitCode {
     use edsgen_runtime::dp::fdl::request as function;
     let port = match OpenOptions::new().read(true).write(true).open(tty) {
@@ -118,12 +90,12 @@ fn scan(tty: &str, master: u8) -> ExitCode {
     );
     let mut found = 0;
     for address in addresses {
-        let status = request(master, address, function::FDL_STATUS, None);
+        let status = dp_line::request(master, address, function::FDL_STATUS, None);
         if phy.request(&status, address, master, timeout).is_none() {
             continue;
         }
         found += 1;
-        match slave_diag(&mut phy, master, address, timeout) {
+        match phy.slave_diag(master, address, timeout) {
             Some(d) => {
                 let locked = match d[3] {
                     255 => "no master".to_owned(),
