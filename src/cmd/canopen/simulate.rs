@@ -68,9 +68,14 @@ const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
 struct Planned {
     path: PathBuf,
     node_id: u8,
-    device: Device,
-    /// A bundled card's simulated drive, instead of a node serving the model.
-    card: Option<&'static Card>,
+    /// What the node serves: a file's description, or a bundled card's simulated drive (whose
+    /// description is parsed only to decode a trace).
+    source: Source,
+}
+
+enum Source {
+    File(Device),
+    Card(&'static Card),
 }
 
 /// Runs `edsgen simulate` on a CAN bus.
@@ -103,10 +108,10 @@ pub fn run(args: Args, allow: &Policy) -> ExitCode {
     let clock = MonotonicClock::new();
     let mut started = Vec::new();
     for p in &planned {
-        let device = match p.card {
-            Some(card) => (card.power_up)(p.node_id, clock.now()),
-            None => {
-                let mut od = RuntimeDictionary::new(&p.device, p.node_id);
+        let device = match &p.source {
+            Source::Card(card) => (card.power_up)(p.node_id, clock.now()),
+            Source::File(description) => {
+                let mut od = RuntimeDictionary::new(description, p.node_id);
                 if p.node_id == UNCONFIGURED_NODE_ID {
                     match own_serial(&mut od, &mut identities) {
                         Ok(identity) => started.push(format!(
@@ -131,13 +136,17 @@ pub fn run(args: Args, allow: &Policy) -> ExitCode {
             Ok(device) => device,
             Err(e) => return fail(format!("bad node-ID {}", e.0)),
         };
-        if p.node_id != UNCONFIGURED_NODE_ID {
-            decoder.describe(p.node_id, &p.device);
+        // Only a trace decodes frames: a node's description is not kept otherwise.
+        if args.trace && p.node_id != UNCONFIGURED_NODE_ID {
+            match &p.source {
+                Source::File(description) => decoder.describe(p.node_id, description),
+                Source::Card(card) => decoder.describe(p.node_id, &card.model()),
+            }
         }
         members.push(node);
-        let what = match p.card {
-            Some(card) => format!("card {}", card.name),
-            None => p.path.display().to_string(),
+        let what = match &p.source {
+            Source::Card(card) => format!("card {}", card.name),
+            Source::File(_) => p.path.display().to_string(),
         };
         let who = match p.node_id {
             UNCONFIGURED_NODE_ID => "unconfigured node".to_owned(),
@@ -150,6 +159,8 @@ pub fn run(args: Args, allow: &Policy) -> ExitCode {
             }
         ));
     }
+    // The parsed descriptions are not needed any more: each node has its dictionary.
+    drop(planned);
     // One connection and one driver thread for all the nodes (a segment: they hear one
     // another in this process), however many there are.
     let transport = match bus.join() {
@@ -333,8 +344,7 @@ fn plan(args: &Args, allow: &Policy) -> Result<Vec<Planned>, String> {
         planned.push(Planned {
             path,
             node_id,
-            device,
-            card: None,
+            source: Source::File(device),
         });
     }
     for arg in &args.cards {
@@ -368,8 +378,7 @@ fn plan(args: &Args, allow: &Policy) -> Result<Vec<Planned>, String> {
         planned.push(Planned {
             path,
             node_id,
-            device: card.model(),
-            card: Some(card),
+            source: Source::Card(card),
         });
     }
     Ok(planned)
