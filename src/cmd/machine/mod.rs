@@ -126,7 +126,17 @@ struct Launch {
     label: String,
     args: Vec<String>,
     /// The devices it serves whose faults come from standard input.
-    faulted: Vec<String>,
+    faulted: Vec<Faulted>,
+}
+
+/// A device whose faults come from its bus's standard input.
+#[derive(Debug, Clone)]
+struct Faulted {
+    /// Its name in the machine file.
+    name: String,
+    /// What its bus calls it after `fault`/`clear` when the bus serves several (an EtherCAT
+    /// position, a PROFINET name of station); nothing when it is the bus's only drive.
+    target: Option<String>,
 }
 
 /// The `edsgen simulate` runs that serve `machine`: one per bus table, one per EtherNet/IP
@@ -163,11 +173,28 @@ fn launches(machine: &Machine) -> Vec<Launch> {
         let mut args = vec!["simulate".to_owned()];
         args.extend(place);
         let mut faulted = Vec::new();
-        for device in &section.devices {
+        // PROFINET gives `--ip` in its devices' order, the cards first, then the files.
+        let mut devices: Vec<&Planned> = section.devices.iter().collect();
+        if bus == Bus::Profinet {
+            devices.sort_by_key(|d| !matches!(d.source, Source::Card(_)));
+        }
+        for (position, device) in devices.iter().enumerate() {
             args.extend(device_args(bus, device));
             if takes_faults(bus, device) {
-                faulted.push(device.name.clone());
+                faulted.push(Faulted {
+                    name: device.name.clone(),
+                    target: fault_target(bus, device, position),
+                });
             }
+        }
+        if bus == Bus::Profinet && devices.iter().any(|d| pn_ip(d).is_some()) {
+            for device in &devices {
+                let ip = pn_ip(device).unwrap_or("-");
+                args.extend(["--ip".to_owned(), ip.to_owned()]);
+            }
+        }
+        if faulted.len() == 1 && section.devices.len() == 1 {
+            faulted[0].target = None;
         }
         if !faulted.is_empty() {
             args.push("--faults-on-stdin".to_owned());
@@ -195,10 +222,25 @@ fn device_args(bus: Bus, device: &Planned) -> Vec<String> {
     if let (Bus::EtherCat, Source::File(_, Some(pick))) = (bus, &device.source) {
         args.extend(["--device".to_owned(), device_choice(pick)]);
     }
-    if let Address::Pn { ip: Some(ip), .. } = &device.address {
-        args.extend(["--ip".to_owned(), ip.clone()]);
-    }
     args
+}
+
+/// A PROFINET device's `ip`, if the machine file gives one.
+fn pn_ip(device: &Planned) -> Option<&str> {
+    match &device.address {
+        Address::Pn { ip: Some(ip), .. } => Some(ip),
+        _ => None,
+    }
+}
+
+/// What the bus's `fault`/`clear` lines call a device among several: its position in an
+/// EtherCAT segment, its name of station on a PROFINET interface.
+fn fault_target(bus: Bus, device: &Planned, position: usize) -> Option<String> {
+    match (bus, &device.address) {
+        (Bus::EtherCat, _) => Some(position.to_string()),
+        (Bus::Profinet, Address::Pn { name: Some(name), .. }) => Some(name.clone()),
+        _ => None,
+    }
 }
 
 /// `FILE.xml#xCODE` or `FILE.xml#NAME` in a machine file: the `--device` choice, `#xCODE` for a
@@ -226,7 +268,7 @@ struct Running {
     label: String,
     child: Child,
     stdin: Option<ChildStdin>,
-    faulted: Vec<String>,
+    faulted: Vec<Faulted>,
 }
 
 impl Launch {
@@ -352,13 +394,14 @@ fn fault_command(buses: &mut [Running], command: &str) {
         eprintln!("machine: `{command}`: standard input takes `fault NAME` and `clear NAME`");
         return;
     };
-    let Some(bus) = buses
-        .iter_mut()
-        .find(|b| b.faulted.iter().any(|f| f == name))
-    else {
+    let found = buses.iter_mut().find_map(|b| {
+        let target = b.faulted.iter().find(|f| f.name == name)?.target.clone();
+        Some((b, target))
+    });
+    let Some((bus, target)) = found else {
         let names: Vec<&str> = buses
             .iter()
-            .flat_map(|b| b.faulted.iter().map(String::as_str))
+            .flat_map(|b| b.faulted.iter().map(|f| f.name.as_str()))
             .collect();
         let list = if names.is_empty() {
             "none of this machine's devices does".to_owned()
@@ -369,7 +412,11 @@ fn fault_command(buses: &mut [Running], command: &str) {
         return;
     };
     if let Some(stdin) = &mut bus.stdin {
-        if writeln!(stdin, "{verb}")
+        let line = match target {
+            Some(target) => format!("{verb} {target}"),
+            None => verb.to_owned(),
+        };
+        if writeln!(stdin, "{line}")
             .and_then(|()| stdin.flush())
             .is_err()
         {

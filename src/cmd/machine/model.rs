@@ -71,8 +71,9 @@ impl Bus {
         match self {
             Bus::CanOpen => 127,
             Bus::Profibus => 126,
-            Bus::Enip => usize::MAX,
-            Bus::EtherCat | Bus::Profinet => 1,
+            // An EtherCAT segment addresses up to 65,535 SubDevices (auto-increment positions).
+            Bus::EtherCat => 65_535,
+            Bus::Enip | Bus::Profinet => usize::MAX,
         }
     }
 }
