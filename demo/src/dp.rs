@@ -156,14 +156,7 @@ pub(super) fn run(trace: &mut Trace) {
             inputs[..12] == expected
         });
         let got = master.get_mut(handle).pi_i()[..12].to_vec();
-        trace.step(
-            name,
-            if seen.is_some() {
-                Ok(format!("inputs {}", hex(&got)))
-            } else {
-                Err(format!("inputs {}, expected {}", hex(&got), hex(&expected)))
-            },
-        );
+        trace.step(name, inputs_seen(seen.is_some(), &got, &expected));
     }
     // The master stops: 0.5 s of bus time with only the card polled.
     for _ in 0..5000 {
@@ -206,6 +199,19 @@ pub(super) fn pkw_steps() -> [(&'static str, [u8; 32], [u8; 12]); 4] {
             [0, 0, 0, 0, 0, 0, 0, 0, 0x41, 0x03, 0, 0],
         ),
     ]
+}
+
+/// A PKW step's outcome: the first 12 input bytes, as expected or not.
+pub(super) fn inputs_seen(
+    as_expected: bool,
+    got: &[u8],
+    expected: &[u8],
+) -> Result<String, String> {
+    if as_expected {
+        Ok(format!("inputs {}", hex(got)))
+    } else {
+        Err(format!("inputs {}, expected {}", hex(got), hex(expected)))
+    }
 }
 
 pub(super) fn hex(bytes: &[u8]) -> String {

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use edsgen_host::dp_line::TtyPhy;
 use profirust::{dp, Baudrate};
 
-use super::dp::{check_gsd, hex, master, pkw_steps, SLAVE};
+use super::dp::{check_gsd, hex, inputs_seen, master, pkw_steps, SLAVE};
 use super::Trace;
 
 /// How long one step may take in real time.
@@ -66,14 +66,7 @@ pub(super) fn run(trace: &mut Trace, tty: &Path) {
         master.get_mut(handle).pi_q_mut().copy_from_slice(&image);
         let seen = until(&mut master, &|inputs, _| inputs[..12] == expected);
         let got = master.get_mut(handle).pi_i()[..12].to_vec();
-        trace.step(
-            name,
-            if seen.is_some() {
-                Ok(format!("inputs {}", hex(&got)))
-            } else {
-                Err(format!("inputs {}, expected {}", hex(&got), hex(&expected)))
-            },
-        );
+        trace.step(name, inputs_seen(seen.is_some(), &got, &expected));
     }
     // The master falls silent; then one Slave_Diag from it.
     std::thread::sleep(SILENCE);

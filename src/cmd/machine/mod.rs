@@ -238,7 +238,12 @@ fn pn_ip(device: &Planned) -> Option<&str> {
 fn fault_target(bus: Bus, device: &Planned, position: usize) -> Option<String> {
     match (bus, &device.address) {
         (Bus::EtherCat, _) => Some(position.to_string()),
-        (Bus::Profinet, Address::Pn { name: Some(name), .. }) => Some(name.clone()),
+        (
+            Bus::Profinet,
+            Address::Pn {
+                name: Some(name), ..
+            },
+        ) => Some(name.clone()),
         _ => None,
     }
 }
