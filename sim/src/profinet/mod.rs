@@ -5,7 +5,8 @@
 //! acknowledgement); [`application`] is what sits behind a device ([`application::IoApplication`],
 //! the Goodrive350's PKW/PZD drive one), [`drive`] puts it behind the cyclic data and makes its
 //! faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
-//! [`wire`]; the raw-socket and UDP driver in [`driver`]; [`station`] derives what the device
+//! [`wire`]; the raw-socket and UDP driver in [`driver`], [`segment`] serving several devices on
+//! one interface; [`station`] derives what the device
 //! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's,
 //! the tests' and `edsgen pn io`'s), [`controller_alarm`] takes and acknowledges a device's alarms.
 //!
@@ -32,5 +33,6 @@ pub mod device;
 pub mod drive;
 pub mod driver;
 pub mod iface;
+pub mod segment;
 pub mod station;
 pub mod wire;
