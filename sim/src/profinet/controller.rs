@@ -1,7 +1,7 @@
 //! The IO controller's side of connection management, as far as the demo and the tests need it:
 //! the requests (Connect with the IOCRs, AlarmCR and expected submodules of a configuration,
-//! Read, Write, PrmEnd, Release), the answer to the device's ApplicationReady, and the reading
-//! of the device's responses. The IOCR layout is the one profinet-py builds: in each CR the
+//! Read, Write, PrmEnd, Release; a ReadImplicit outside any AR), the answer to the device's
+//! ApplicationReady, and the reading of the device's responses. The IOCR layout is the one profinet-py builds: in each CR the
 //! data objects (data and IOPS) of the submodules that provide in that direction (a submodule
 //! without IO data provides an IOPS in the input CR), then the IOCS of those that provide in the
 //! other.
@@ -294,6 +294,33 @@ fn expected(sub: &RealSubmodule) -> ExpectedSubmodule {
         properties,
         data,
     }
+}
+
+/// A ReadImplicit request (a read without an AR: the NIL AR UUID) of record `at` (slot,
+/// subslot, index) of the device with `object`, as the call `activity`.
+pub fn read_implicit(object: Uuid, activity: Uuid, at: (u16, u16, u16)) -> Vec<u8> {
+    let mut args = Vec::new();
+    IodHeader::request(IOD_READ_REQ, 0, Uuid::default(), at, 4096).emit(&mut args);
+    let header = RpcHeader::request(object, Uuid::PNIO_DEVICE, activity, 0, OP_READ_IMPLICIT);
+    rpc_pdu(
+        &header,
+        &Ndr::request(4068, args.len() as u32, false),
+        &args,
+    )
+}
+
+/// The record data of a Read response's arguments (the IODReadResHeader, then the data, as
+/// long as its RecordDataLength says); `None` when they are not that.
+pub fn read_data(args: &[u8]) -> Option<&[u8]> {
+    let mut r = Reader::new(args);
+    let (block_type, len) = (r.u16()?, r.u16()?);
+    let body = r.take(usize::from(len))?;
+    if block_type != IOD_READ_REQ | RESPONSE_BIT {
+        return None;
+    }
+    let header = IodHeader::parse(block_type, body.get(2..)?)?;
+    let rest = r.take(usize::try_from(header.record_length).ok()?)?;
+    Some(rest)
 }
 
 /// A response's PNIOStatus and argument bytes, `None` when `pdu` is no response.

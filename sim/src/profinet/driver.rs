@@ -100,28 +100,27 @@ pub struct RpcSocket {
 impl RpcSocket {
     /// Binds UDP 34964 on `iface`.
     pub fn open(iface: &str) -> io::Result<RpcSocket> {
-        use socket2::{Domain, Protocol, Socket, Type};
-        let socket = Socket::new(Domain::IPV4, Type::DGRAM, Some(Protocol::UDP))?;
-        socket.set_reuse_address(true)?;
-        socket.bind_device(Some(iface.as_bytes()))?;
-        let any = std::net::SocketAddr::from(([0, 0, 0, 0], super::wire::rpc::RPC_PORT));
-        socket.bind(&any.into())?;
-        socket.set_nonblocking(true)?;
-        Ok(RpcSocket {
-            socket: socket.into(),
-        })
+        Self::bind(iface, ([0; 4], super::wire::rpc::RPC_PORT), false)
     }
 
     /// Binds UDP 34964 at `ip` on `iface` (one device's endpoint among several), even before the
     /// interface has the address (`IP_FREEBIND`: datagrams come once it has).
     pub fn open_at(iface: &str, ip: [u8; 4]) -> io::Result<RpcSocket> {
+        Self::bind(iface, (ip, super::wire::rpc::RPC_PORT), true)
+    }
+
+    /// Binds a port the system chooses on `iface`: a client's, for calls outside any AR.
+    pub fn open_client(iface: &str) -> io::Result<RpcSocket> {
+        Self::bind(iface, ([0; 4], 0), false)
+    }
+
+    fn bind(iface: &str, at: Peer, freebind: bool) -> io::Result<RpcSocket> {
         use socket2::{Domain, Protocol, Socket, Type};
         let socket = Socket::new(Domain::IPV4, Type::DGRAM, Some(Protocol::UDP))?;
         socket.set_reuse_address(true)?;
-        socket.set_freebind_v4(true)?;
+        socket.set_freebind_v4(freebind)?;
         socket.bind_device(Some(iface.as_bytes()))?;
-        let at = std::net::SocketAddr::from((ip, super::wire::rpc::RPC_PORT));
-        socket.bind(&at.into())?;
+        socket.bind(&std::net::SocketAddr::from(at).into())?;
         socket.set_nonblocking(true)?;
         Ok(RpcSocket {
             socket: socket.into(),

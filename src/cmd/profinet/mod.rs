@@ -1,11 +1,11 @@
-//! `edsgen pn list IFACE [--gsdml FILE]...`, `edsgen pn set-name IFACE MAC NAME` and `edsgen pn
-//! io` (a controller at the bench, [`io`]): PROFINET
-//! DCP at the bench, as a controller (root, or `CAP_NET_RAW`). `list` sends Identify all and
-//! prints one tab-separated line per device that answers within the timeout: MAC, name of
-//! station, VendorID:DeviceID, IP, type of station, and with `--gsdml` the file whose VendorID
-//! and DeviceID it has (or `-`). `set-name` sets the name of station (permanently) and prints
-//! the device's answer. Exit 0; 1 when no device answers or the device refuses; 2 for usage and
-//! I/O problems.
+//! `edsgen pn`: PROFINET at the bench, as a controller (root, or `CAP_NET_RAW`). DCP
+//! ([`dcp_verbs`]): `list` sends Identify all and prints one tab-separated line per device that
+//! answers in its window, by MAC: MAC, name of station, VendorID:DeviceID, IP, type of
+//! station, and with `--gsdml` the file whose VendorID and DeviceID it has (or `-`);
+//! `set-name`, `set-ip` and `blink` set a device's name of station, IP parameter or signal and
+//! print its answer. Records without a connection ([`record`]): `im` (I&M0 in words) and
+//! `record` (a hex dump). A controller at the bench ([`io`]). Exit 0; 1 when no device answers
+//! or the device refuses; 2 for usage and I/O problems.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -13,12 +13,13 @@ use std::time::Duration;
 
 use clap::Subcommand;
 
-use dcp_verbs::{check_name, list, request, set_name, show_mac};
+use dcp_verbs::{check_name, request, show_mac};
 
 mod dcp_verbs;
 mod io;
 mod io_data;
 mod io_link;
+mod record;
 pub mod simulate;
 
 /// `edsgen pn` verbs.
@@ -31,9 +32,11 @@ pub enum PnCommand {
         /// GSDML files to match the devices to, by VendorID and DeviceID.
         #[arg(long = "gsdml", value_name = "FILE")]
         gsdml: Vec<PathBuf>,
-        /// How long to collect answers, in ms.
-        #[arg(long, value_name = "MS", default_value_t = 1000)]
-        timeout: u64,
+        /// The window the devices spread their answers over, in ms: sent as the Identify's
+        /// ResponseDelayFactor (10 ms steps, up to 64 s); `list` listens that long and 0.5 s
+        /// more, and says so on standard error.
+        #[arg(long, value_name = "MS", default_value_t = 1000, alias = "timeout")]
+        window: u64,
     },
     /// Set a device's name of station (DCP Set, permanent).
     SetName {
@@ -43,6 +46,51 @@ pub enum PnCommand {
         mac: String,
         /// The new name of station (DNS-compatible: lowercase letters, digits, `-`, `.`).
         name: String,
+    },
+    /// Set a device's IP address, netmask and gateway (DCP Set, permanent unless --temporary).
+    SetIp {
+        /// The network interface.
+        iface: String,
+        /// The device: its name of station or MAC address.
+        device: String,
+        /// The address and prefix (`10.0.0.5/24`).
+        #[arg(value_name = "ADDR/PREFIX")]
+        address: String,
+        /// The gateway (default: none, 0.0.0.0).
+        gateway: Option<String>,
+        /// Set it temporarily: the device forgets it at power-off.
+        #[arg(long)]
+        temporary: bool,
+    },
+    /// Have a device flash its LED (DCP Control Signal), to find it in the cabinet.
+    Blink {
+        /// The network interface.
+        iface: String,
+        /// The device: its name of station or MAC address.
+        device: String,
+    },
+    /// Read a device's I&M0 (vendor, order ID, serial number, revisions) without a connection.
+    Im {
+        /// The network interface.
+        iface: String,
+        /// The device's name of station.
+        name: String,
+    },
+    /// Read one record of a device without a connection (RPC ReadImplicit) as a hex dump.
+    Record {
+        /// The network interface.
+        iface: String,
+        /// The device's name of station.
+        name: String,
+        /// The slot (decimal or 0x hex).
+        #[arg(long, value_parser = number)]
+        slot: u16,
+        /// The subslot (decimal or 0x hex, such as 0x8000).
+        #[arg(long, value_parser = number)]
+        subslot: u16,
+        /// The record's index (decimal or 0x hex, such as 0xAFF0 for I&M0).
+        #[arg(long, value_parser = number)]
+        index: u16,
     },
     /// Connect to a device as its IO controller and exchange its IO data (RT_CLASS_1).
     ///
@@ -87,9 +135,25 @@ pub fn run(command: &PnCommand) -> ExitCode {
         PnCommand::List {
             iface,
             gsdml,
-            timeout,
-        } => list(iface, gsdml, Duration::from_millis(*timeout)),
-        PnCommand::SetName { iface, mac, name } => set_name(iface, mac, name),
+            window,
+        } => dcp_verbs::list(iface, gsdml, Duration::from_millis(*window)),
+        PnCommand::SetName { iface, mac, name } => dcp_verbs::set_name(iface, mac, name),
+        PnCommand::SetIp {
+            iface,
+            device,
+            address,
+            gateway,
+            temporary,
+        } => dcp_verbs::set_ip(iface, device, address, gateway.as_deref(), *temporary),
+        PnCommand::Blink { iface, device } => dcp_verbs::blink(iface, device),
+        PnCommand::Im { iface, name } => record::im(iface, name),
+        PnCommand::Record {
+            iface,
+            name,
+            slot,
+            subslot,
+            index,
+        } => record::record(iface, name, (*slot, *subslot, *index)),
         PnCommand::Io {
             iface,
             name,
@@ -112,3 +176,11 @@ pub fn run(command: &PnCommand) -> ExitCode {
     }
 }
 
+/// A 16-bit number, decimal or `0x` hex.
+fn number(text: &str) -> Result<u16, String> {
+    let parsed = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u16::from_str_radix(hex, 16),
+        None => text.parse(),
+    };
+    parsed.map_err(|_| format!("`{text}` is not a number from 0 to 65535 (decimal or 0x hex)"))
+}
