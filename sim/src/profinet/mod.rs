@@ -2,7 +2,8 @@
 //! p-net names them: [`dcp`] (discovery and naming), [`ar`] (connection management: the DCE/RPC
 //! endpoint and the application relation), [`cyclic`] (the cyclic consumer with its watchdog and
 //! the provider, on the layout a Connect gives), [`alarm`] (the AlarmCR's alarm transport and
-//! acknowledgement); [`application`] is what sits behind a device ([`application::IoApplication`],
+//! acknowledgement; its transport state, shared with [`controller_alarm`], in [`rta`]);
+//! [`application`] is what sits behind a device ([`application::IoApplication`],
 //! the Goodrive350's PKW/PZD drive one), [`drive`] puts it behind the cyclic data and makes its
 //! faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
 //! [`wire`]; the raw-socket and UDP driver in [`driver`], [`segment`] serving several devices on
@@ -33,6 +34,7 @@ pub mod device;
 pub mod drive;
 pub mod driver;
 pub mod iface;
+pub mod rta;
 pub mod segment;
 pub mod station;
 pub mod wire;
