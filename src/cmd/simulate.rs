@@ -47,8 +47,9 @@ pub struct Args {
     /// With --profinet: a device's IP address, and prefix (`10.0.0.2/24`; without one, the
     /// interface's prefix for it), as DCP reports it: one of the interface's addresses, for the
     /// RPC endpoint (UDP 34964) to be reached. Repeated, one per device in the devices' order
-    /// (the cards, then the files). Default: the interface's IPv4 addresses in order, the
-    /// first device the first; a device past them has none until a DCP Set gives it one.
+    /// (the cards, then the files), `-` for a device without one until a DCP Set gives it
+    /// one. Default: the interface's IPv4 addresses in order, the first device the first; a
+    /// device past them has none until a DCP Set gives it one.
     #[arg(long, value_name = "ADDR[/PREFIX]", requires = "profinet")]
     pub ip: Vec<String>,
     /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`

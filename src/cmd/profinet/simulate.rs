@@ -106,16 +106,11 @@ pub fn run(
         Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
     };
     let mut devices = Vec::new();
-    for (position, (mut plan, (ip, source))) in planned.into_iter().zip(addresses).enumerate() {
+    for (mut plan, (ip, source)) in planned.into_iter().zip(addresses) {
         if let Some(ip) = ip {
             plan.station.ip = ip;
         }
-        announce(
-            iface,
-            position,
-            &plan,
-            ip.is_some().then_some(source.as_str()),
-        );
+        announce(iface, &plan, &source);
         let drive = plan
             .card
             .then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
@@ -171,9 +166,9 @@ fn mac_text(mac: &[u8; 6]) -> String {
     bytes.join(":")
 }
 
-/// The two lines the device at `position` starts with: what and where it is, and its RPC
-/// address (`source` says where that came from), or that it has none yet.
-fn announce(iface: &str, position: usize, plan: &Planned, source: Option<&str>) {
+/// The two lines a device starts with: what and where it is, and its RPC address (`source`
+/// says where that came from), or why it has none yet.
+fn announce(iface: &str, plan: &Planned, source: &str) {
     let station = &plan.station;
     println!(
         "PROFINET device `{}` (VendorID {:#06x}, DeviceID {:#06x}) on {iface}, MAC {}",
@@ -183,18 +178,13 @@ fn announce(iface: &str, position: usize, plan: &Planned, source: Option<&str>) 
         mac_text(&station.mac)
     );
     let [a, m, _] = station.ip;
-    match source {
-        Some(source) => println!(
+    if a == [0; 4] {
+        println!("no IP yet ({source}): RPC on UDP 34964 answers once {iface} has the address");
+    } else {
+        println!(
             "RPC on UDP 34964 at {}.{}.{}.{} mask {}.{}.{}.{}{source}",
             a[0], a[1], a[2], a[3], m[0], m[1], m[2], m[3]
-        ),
-        None if position == 0 => println!(
-            "no IP yet ({iface} has no IPv4 address; --ip ADDR[/PREFIX], or a DCP Set): RPC on UDP 34964 answers once {iface} has the address"
-        ),
-        None => println!(
-            "no IP yet ({iface} has no IPv4 address number {}; --ip for each device, or a DCP Set): RPC on UDP 34964 answers once {iface} has the address",
-            position + 1
-        ),
+        );
     }
 }
 
@@ -404,7 +394,8 @@ type IpParameter = [[u8; 4]; 3];
 /// same order, or none: then each device takes the interface's IPv4 address at its position
 /// (the first its first, as one device always did; a second device the interface's second
 /// address, if it has one), and a device past the interface's addresses has none until a DCP
-/// Set gives it one. See [`address`] for one `--ip`.
+/// Set gives it one; so has a device whose `--ip` is `-`. See [`address`] for one `--ip`.
+/// With an address, the text says where it came from; without, why there is none.
 fn addresses(
     iface: &str,
     ips: &[String],
@@ -415,7 +406,17 @@ fn addresses(
         return Ok((0..count)
             .map(|i| match own.get(i) {
                 Some(&(a, m)) => (Some([a, m, [0; 4]]), format!(" ({iface}'s address)")),
-                None => (None, String::new()),
+                None if i == 0 => (
+                    None,
+                    format!("{iface} has no IPv4 address; --ip ADDR[/PREFIX], or a DCP Set"),
+                ),
+                None => (
+                    None,
+                    format!(
+                        "{iface} has no IPv4 address number {}; --ip for each device, or a DCP Set",
+                        i + 1
+                    ),
+                ),
             })
             .collect());
     }
@@ -430,6 +431,10 @@ fn addresses(
     }
     let mut found: Vec<(Option<IpParameter>, String)> = Vec::new();
     for text in ips {
+        if text == "-" {
+            found.push((None, "--ip -: a DCP Set gives one".to_owned()));
+            continue;
+        }
         let (ip, source) = address(iface, text)?;
         if found
             .iter()
