@@ -128,7 +128,7 @@ pub(super) fn list(iface: &str, gsdml: &[PathBuf], window: Duration) -> ExitCode
     );
     let mut found = answers(&mut socket, xid, Instant::now() + listen, false);
     // One line per device, by MAC: the order the answers came in is the devices' delays.
-    found.sort_by(|a, b| a.0.cmp(&b.0));
+    found.sort_by_key(|a| a.0);
     found.dedup_by(|a, b| a.0 == b.0);
     for (mac, blocks) in &found {
         let get = |option| {
