@@ -10,7 +10,7 @@ use super::ar::config::{DeviceConfig, RealSubmodule};
 use super::ar::connect::AR_TYPE_IOC_SINGLE;
 use super::wire::blocks::*;
 use super::wire::rpc::*;
-use super::wire::{rpc_pdu, Mac};
+use super::wire::{append, rpc_pdu, Mac};
 
 /// One AR of a controller.
 #[derive(Debug, Clone)]
@@ -130,14 +130,14 @@ impl Controller {
 
     fn control(&mut self, opnum: u16, block_type: u16, command: u16) -> Vec<u8> {
         let mut args = Vec::new();
-        IodControl {
+        let block = IodControl {
             block_type,
             ar_uuid: self.ar.ar_uuid,
             session_key: self.ar.session_key,
             command,
             properties: 0,
-        }
-        .emit(&mut args);
+        };
+        append(&mut args, |b| block.emit(b));
         self.request(opnum, &args)
     }
 
@@ -154,28 +154,28 @@ impl Controller {
     /// A Read request of record `index` of `slot`, `subslot`.
     pub fn read(&mut self, slot: u16, subslot: u16, index: u16) -> Vec<u8> {
         let mut args = Vec::new();
-        IodHeader::request(
+        let block = IodHeader::request(
             IOD_READ_REQ,
             0,
             self.ar.ar_uuid,
             (slot, subslot, index),
             4096,
-        )
-        .emit(&mut args);
+        );
+        append(&mut args, |b| block.emit(b));
         self.request(OP_READ, &args)
     }
 
     /// A Write request of `data` to record `index` of `slot`, `subslot`.
     pub fn write(&mut self, slot: u16, subslot: u16, index: u16, data: &[u8]) -> Vec<u8> {
         let mut args = Vec::new();
-        IodHeader::request(
+        let block = IodHeader::request(
             IOD_WRITE_REQ,
             0,
             self.ar.ar_uuid,
             (slot, subslot, index),
             data.len() as u32,
-        )
-        .emit(&mut args);
+        );
+        append(&mut args, |b| block.emit(b));
         args.extend_from_slice(data);
         self.request(OP_WRITE, &args)
     }
@@ -194,7 +194,7 @@ impl Controller {
             return None;
         }
         let mut out = Vec::new();
-        req.done().emit(&mut out);
+        append(&mut out, |b| req.done().emit(b));
         let ndr = Ndr::response(
             PnioStatus::OK,
             out.len() as u32,
@@ -300,7 +300,8 @@ fn expected(sub: &RealSubmodule) -> ExpectedSubmodule {
 /// subslot, index) of the device with `object`, as the call `activity`.
 pub fn read_implicit(object: Uuid, activity: Uuid, at: (u16, u16, u16)) -> Vec<u8> {
     let mut args = Vec::new();
-    IodHeader::request(IOD_READ_REQ, 0, Uuid::default(), at, 4096).emit(&mut args);
+    let header = IodHeader::request(IOD_READ_REQ, 0, Uuid::default(), at, 4096);
+    append(&mut args, |b| header.emit(b));
     let header = RpcHeader::request(object, Uuid::PNIO_DEVICE, activity, 0, OP_READ_IMPLICIT);
     rpc_pdu(
         &header,

@@ -15,9 +15,9 @@
 //!
 //! What is no_std already: the wire views of the runtime (`edsgen_runtime::profinet::wire`:
 //! Ethernet, DCP with the name rules, RT frames, DCE/RPC, the block framing, the RTA-PDU and
-//! AlarmAck). What remains here, and why: the PNIO blocks of connection management and the
-//! AlarmNotification are owned structs ([`wire::blocks`], [`wire::alarm`]) the machines keep
-//! (an AR's accepted request, queued alarms): they need views with borrowed lists first; the
+//! AlarmAck and AlarmNotification, the record access and control blocks). What remains here,
+//! and why: the PNIO blocks of the Connect and its answer are owned structs ([`wire::blocks`])
+//! the machines keep (an AR's accepted request): they need views with borrowed lists first; the
 //! machines ([`dcp`], [`ar`], [`cyclic`], [`alarm`], [`controller_alarm`]) queue their frames
 //! and datagrams in `Vec`s and `VecDeque`s (they could live behind the runtime's `alloc`
 //! feature once the blocks are views); [`ar::config`] and [`station`] read the GSDML model,
