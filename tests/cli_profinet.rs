@@ -116,6 +116,42 @@ fn profinet_usage_and_interface_errors_exit_2() {
             "error: --ip `10.0.0` is not ADDR or ADDR/PREFIX (such as 10.0.0.2/24)\n",
         ),
         (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn", "--card", "goodrive350-pn"][..],
+            "error: two devices named `goodrive350-pn`: give each its own name of station (`--card goodrive350-pn@drive-a`, `FILE.xml@drive-b`)\n",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn@a", "eds/goodrive350-pn.xml@b", "--ip", "127.0.0.1"][..],
+            "error: --ip is given once for 2 devices: give one per device, in the order of the devices (the cards first, then the files), or none to take lo's addresses in that order\n",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn@a", "--card", "goodrive350-pn@b", "--ip", "127.0.0.1", "--ip", "127.0.0.1/8"][..],
+            "error: --ip 127.0.0.1 is given twice: each device has its own address\n",
+        ),
+        (
+            &["simulate", "--profinet", "lo", "--card", "goodrive350-pn@a", "--card", "goodrive350-pn@B"][..],
+            "error: `B` is not a PROFINET name of station: uppercase letters",
+        ),
+        (
+            &["pn", "set-ip", "lo", "drive-7", "10.0.0.5/33"][..],
+            "error: `10.0.0.5/33` is not ADDR/PREFIX (such as 10.0.0.5/24)\n",
+        ),
+        (
+            &["pn", "set-ip", "lo", "drive-7", "10.0.0.5/24", "10.0.0"][..],
+            "error: `10.0.0` is not an IPv4 gateway address\n",
+        ),
+        (
+            &["pn", "blink", "lo", "Drive-7"][..],
+            "error: `Drive-7` is not a PROFINET name of station: it has uppercase letters (names of station are lowercase): use `drive-7`\n",
+        ),
+        (
+            &["pn", "record", "lo", "drive-7", "--slot", "1", "--subslot", "1", "--index", "0x1ffff"][..],
+            "error: invalid value '0x1ffff' for '--index <INDEX>': `0x1ffff` is not a number from 0 to 65535 (decimal or 0x hex)\n",
+        ),
+        (
+            &["pn", "im", "lo", "port-001"][..],
+            "error: `port-001` is not a PROFINET name of station: it has a first label of the form `port-xyz` or `port-xyz-abcde`, which names a port\n",
+        ),
+        (
             &["pn", "set-name", "lo", "zz:00:00:00:00:00", "a"][..],
             "error: `zz:00:00:00:00:00` is not a MAC address (aa:bb:cc:dd:ee:ff)",
         ),

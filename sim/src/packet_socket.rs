@@ -1,9 +1,10 @@
 //! A raw Linux `AF_PACKET` socket on one network interface for one EtherType: the thin I/O
 //! under the EtherCAT and PROFINET simulators (their protocol cores never see it).
 //!
-//! The one piece of `unsafe` in this crate is here, in `bind`: binding a packet socket to an
-//! interface takes a `sockaddr_ll`, which neither `socket2` nor `nix` can build without `unsafe`
-//! (their link-layer address types have no public constructor). Everything else (creating the
+//! The one piece of `unsafe` in this crate is here, in `bind` and `accept_unicast`: binding a
+//! packet socket to an interface takes a `sockaddr_ll`, which neither `socket2` nor `nix` can
+//! build without `unsafe` (their link-layer address types have no public constructor), and
+//! neither offers `PACKET_ADD_MEMBERSHIP`. Everything else (creating the
 //! socket, reading, writing, the read timeout) goes through `socket2`'s safe API, and the
 //! interface's index and MAC address come from `/sys/class/net/IFACE`.
 #![allow(unsafe_code)]
@@ -54,6 +55,36 @@ impl PacketSocket {
     /// Sends one frame as it is.
     pub fn send(&mut self, frame: &[u8]) -> io::Result<()> {
         (&self.socket).write_all(frame)
+    }
+
+    /// Has the interface (`index`) accept frames to `mac` as well as to its own address
+    /// (`PACKET_MR_UNICAST`: the address joins the interface's unicast filter while the socket
+    /// is open), for devices simulated with MAC addresses of their own.
+    pub fn accept_unicast(&self, index: i32, mac: [u8; 6]) -> io::Result<()> {
+        let mut address = [0u8; 8];
+        address[..6].copy_from_slice(&mac);
+        let request = libc::packet_mreq {
+            mr_ifindex: index,
+            mr_type: libc::PACKET_MR_UNICAST as u16,
+            mr_alen: 6,
+            mr_address: address,
+        };
+        // SAFETY: `request` is a fully initialised `packet_mreq` that lives across the call, the
+        // length passed is its size, and the descriptor is the open socket `self` owns.
+        let result = unsafe {
+            libc::setsockopt(
+                self.socket.as_raw_fd(),
+                libc::SOL_PACKET,
+                libc::PACKET_ADD_MEMBERSHIP,
+                (&raw const request).cast::<libc::c_void>(),
+                std::mem::size_of::<libc::packet_mreq>() as libc::socklen_t,
+            )
+        };
+        if result == 0 {
+            Ok(())
+        } else {
+            Err(io::Error::last_os_error())
+        }
     }
 
     /// A second handle on the same socket (same binding and read timeout), so that one thread

@@ -39,15 +39,19 @@ pub struct Args {
     /// address (`IP` or `IP:PORT`) instead of joining a CAN bus.
     #[arg(long, value_name = "ADDR", conflicts_with_all = ["bus", "socketcan", "trace"])]
     pub enip: Option<String>,
-    /// Simulate a PROFINET IO device on this network interface (a GSDML FILE, or
-    /// `--card goodrive350-pn`; root or CAP_NET_RAW).
+    /// Simulate PROFINET IO devices on this network interface (GSDML FILEs and `--card
+    /// goodrive350-pn`, each `@NAME` for its name of station, each with a MAC of its own;
+    /// root or CAP_NET_RAW).
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan"])]
     pub profinet: Option<String>,
-    /// With --profinet: the device's IP address, and prefix (`10.0.0.2/24`; without one, the
+    /// With --profinet: a device's IP address, and prefix (`10.0.0.2/24`; without one, the
     /// interface's prefix for it), as DCP reports it: one of the interface's addresses, for the
-    /// RPC endpoint (UDP 34964) to be reached. Default: the interface's first IPv4 address.
+    /// RPC endpoint (UDP 34964) to be reached. Repeated, one per device in the devices' order
+    /// (the cards, then the files), `-` for a device without one until a DCP Set gives it
+    /// one. Default: the interface's IPv4 addresses in order, the first device the first; a
+    /// device past them has none until a DCP Set gives it one.
     #[arg(long, value_name = "ADDR[/PREFIX]", requires = "profinet")]
-    pub ip: Option<String>,
+    pub ip: Vec<String>,
     /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
     /// or one FILE.gsd[@ADDR]).
     #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
@@ -95,7 +99,7 @@ pub fn run(args: Args) -> ExitCode {
             iface,
             &args.files,
             &args.cards,
-            args.ip.as_deref(),
+            &args.ip,
             args.faults_on_stdin,
             &allow,
         );

@@ -19,6 +19,7 @@ use std::collections::VecDeque;
 
 use edsgen_runtime::{Duration, Instant};
 
+use super::rta::{Due, Pending, Transport};
 use super::wire::alarm::*;
 use super::wire::blocks::AlarmCrBlockReq;
 use super::wire::rpc::PnioStatus;
@@ -47,13 +48,8 @@ pub const ABORT_ALARM_IND_ERROR: u8 = 0x0B;
 #[derive(Debug, Clone)]
 struct Apmx {
     high: bool,
-    send_seq: u16,
-    send_seq_o: u16,
-    exp_seq: u16,
-    exp_seq_o: u16,
-    /// The DATA frame waiting for its transport ACK, when it was last sent, retransmissions
-    /// left.
-    pending: Option<(Vec<u8>, Instant, u16)>,
+    /// APMS/APMR: sequence numbers and the DATA PDU waiting for its ACK.
+    rta: Transport,
     /// ALPMI: an alarm was sent and its AlarmAck has not come.
     awaiting_ack: bool,
     /// Alarms waiting for their turn.
@@ -66,23 +62,10 @@ impl Apmx {
     fn new(high: bool) -> Apmx {
         Apmx {
             high,
-            send_seq: SEQ_FIRST,
-            send_seq_o: SEQ_NONE,
-            exp_seq: SEQ_FIRST,
-            exp_seq_o: SEQ_NONE,
-            pending: None,
+            rta: Transport::default(),
             awaiting_ack: false,
             queue: VecDeque::new(),
             sequence: 0,
-        }
-    }
-
-    /// APMS: a transport acknowledgement (an ACK, or a DATA's AckSeqNum) of the DATA sent.
-    fn acknowledged(&mut self, ack_seq: u16) {
-        if self.pending.is_some() && ack_seq == self.send_seq {
-            self.send_seq_o = self.send_seq;
-            self.send_seq = self.send_seq.wrapping_add(1) & SEQ_MASK;
-            self.pending = None;
         }
     }
 }
@@ -160,7 +143,7 @@ impl AlarmCr {
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.apmx
             .iter()
-            .filter_map(|a| a.pending.as_ref().map(|(_, at, _)| *at + self.timeout))
+            .filter_map(|a| a.rta.pending.as_ref().map(|p| p.deadline(self.timeout)))
             .min()
     }
 
@@ -168,21 +151,20 @@ impl AlarmCr {
     /// retry.
     pub fn handle_timeout(&mut self, now: Instant) {
         for n in 0..2 {
-            let timeout = self.timeout;
-            let Some((frame, at, left)) = self.apmx[n].pending.as_mut() else {
+            let Some(pending) = self.apmx[n].rta.pending.as_mut() else {
                 continue;
             };
-            if now < *at + timeout {
-                continue;
+            match pending.due(now, self.timeout) {
+                Due::Wait => {}
+                Due::GiveUp => {
+                    self.abort(ABORT_SEND_CNF_NEG);
+                    return;
+                }
+                Due::Resend => {
+                    let frame = pending.resend(now);
+                    self.outbox.push_back(frame);
+                }
             }
-            if *left == 0 {
-                self.abort(ABORT_SEND_CNF_NEG);
-                return;
-            }
-            *left -= 1;
-            *at = now;
-            let frame = frame.clone();
-            self.outbox.push_back(frame);
         }
     }
 
@@ -206,7 +188,7 @@ impl AlarmCr {
         let n = usize::from(rta.high());
         match h.pdu_type {
             PDU_ACK if rta.var_part.is_empty() => {
-                self.apmx[n].acknowledged(h.ack_seq);
+                self.apmx[n].rta.acknowledged(h.ack_seq);
                 // An AlarmAck may have come before this ACK: the next alarm's turn.
                 self.next_alarm(now, n);
             }
@@ -225,13 +207,13 @@ impl AlarmCr {
     /// APMR: a DATA PDU asking for a transport ACK.
     fn data(&mut self, now: Instant, n: usize, h: &RtaHeader, var_part: &[u8]) {
         let apmx = &mut self.apmx[n];
-        if h.send_seq == apmx.exp_seq_o {
+        if h.send_seq == apmx.rta.exp_seq_o {
             // A repetition: its ACK was lost.
-            apmx.acknowledged(h.ack_seq);
+            apmx.rta.acknowledged(h.ack_seq);
             self.transport(n, PDU_ACK);
             return;
         }
-        if h.send_seq != apmx.exp_seq {
+        if h.send_seq != apmx.rta.exp_seq {
             self.transport(n, PDU_NACK);
             return;
         }
@@ -241,9 +223,8 @@ impl AlarmCr {
             self.abort(ABORT_ALARM_IND_ERROR);
             return;
         }
-        apmx.acknowledged(h.ack_seq);
-        apmx.exp_seq_o = apmx.exp_seq;
-        apmx.exp_seq = apmx.exp_seq.wrapping_add(1) & SEQ_MASK;
+        apmx.rta.acknowledged(h.ack_seq);
+        apmx.rta.received();
         self.transport(n, PDU_ACK);
         let apmx = &mut self.apmx[n];
         if let Some(ack) = ack {
@@ -258,7 +239,7 @@ impl AlarmCr {
     /// ALPMI: sends the next queued alarm when none is outstanding.
     fn next_alarm(&mut self, now: Instant, n: usize) {
         let apmx = &mut self.apmx[n];
-        if apmx.awaiting_ack || apmx.pending.is_some() {
+        if apmx.awaiting_ack || apmx.rta.pending.is_some() {
             return;
         }
         let Some(mut alarm) = apmx.queue.pop_front() else {
@@ -274,12 +255,12 @@ impl AlarmCr {
             pdu_type: PDU_DATA,
             version: RTA_VERSION,
             add_flags: WINDOW_1 | TACK,
-            send_seq: apmx.send_seq,
-            ack_seq: apmx.exp_seq_o,
+            send_seq: apmx.rta.send_seq,
+            ack_seq: apmx.rta.exp_seq_o,
         };
         let frame = self.frame(n, &header, &var_part);
         let apmx = &mut self.apmx[n];
-        apmx.pending = Some((frame.clone(), now, self.retries));
+        apmx.rta.pending = Some(Pending::new(frame.clone(), now, self.retries));
         apmx.awaiting_ack = true;
         self.outbox.push_back(frame);
     }
@@ -293,8 +274,8 @@ impl AlarmCr {
             pdu_type,
             version: RTA_VERSION,
             add_flags: WINDOW_1,
-            send_seq: apmx.send_seq_o,
-            ack_seq: apmx.exp_seq_o,
+            send_seq: apmx.rta.send_seq_o,
+            ack_seq: apmx.rta.exp_seq_o,
         };
         let frame = self.frame(n, &header, &[]);
         self.outbox.push_back(frame);
@@ -318,8 +299,8 @@ impl AlarmCr {
             pdu_type: PDU_ERR,
             version: RTA_VERSION,
             add_flags: WINDOW_1,
-            send_seq: self.apmx[0].send_seq,
-            ack_seq: self.apmx[0].exp_seq_o,
+            send_seq: self.apmx[0].rta.send_seq,
+            ack_seq: self.apmx[0].rta.exp_seq_o,
         };
         let frame = self.frame(0, &header, &status.0);
         self.outbox.push_back(frame);
@@ -329,7 +310,7 @@ impl AlarmCr {
     fn close(&mut self, status: PnioStatus) {
         self.closed = true;
         for apmx in &mut self.apmx {
-            apmx.pending = None;
+            apmx.rta.pending = None;
             apmx.queue.clear();
         }
         self.events.push_back(AlarmEvent::Aborted(status));

@@ -26,7 +26,7 @@ use super::alarm::AlarmCr;
 use super::cyclic::CrLayout;
 use super::wire::blocks::*;
 use super::wire::rpc::*;
-use super::wire::{rpc_pdu, rpc_reject, Mac};
+use super::wire::{append, rpc_pdu, rpc_reject, Mac};
 use config::DeviceConfig;
 use connect::{refuse, Accepted, AR_TYPE_IOC_SINGLE};
 
@@ -371,7 +371,7 @@ impl Cm {
         self.ar = None;
         self.events.push(ArEvent::Released);
         let mut out = Vec::new();
-        req.done().emit(&mut out);
+        append(&mut out, |b| req.done().emit(b));
         Ok(out)
     }
 
@@ -392,7 +392,7 @@ impl Cm {
             return Err(PnioStatus::new(code, 0x81, 0x3D, 0x00));
         }
         let mut out = Vec::new();
-        req.done().emit(&mut out);
+        append(&mut out, |b| req.done().emit(b));
         self.events.push(ArEvent::PrmEnd);
         self.application_ready(now);
         Ok(out)
@@ -417,14 +417,14 @@ impl Cm {
             OP_CONTROL,
         );
         let mut args = Vec::new();
-        IodControl {
+        let block = IodControl {
             block_type: APPLICATION_READY_REQ,
             ar_uuid: ar.accepted.ar.ar_uuid,
             session_key: ar.accepted.ar.session_key,
             command: CMD_APPLICATION_READY,
             properties: 0,
-        }
-        .emit(&mut args);
+        };
+        append(&mut args, |b| block.emit(b));
         let pdu = rpc_pdu(
             &header,
             &Ndr::request(4068, args.len() as u32, false),

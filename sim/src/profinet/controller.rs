@@ -1,7 +1,7 @@
 //! The IO controller's side of connection management, as far as the demo and the tests need it:
 //! the requests (Connect with the IOCRs, AlarmCR and expected submodules of a configuration,
-//! Read, Write, PrmEnd, Release), the answer to the device's ApplicationReady, and the reading
-//! of the device's responses. The IOCR layout is the one profinet-py builds: in each CR the
+//! Read, Write, PrmEnd, Release; a ReadImplicit outside any AR), the answer to the device's
+//! ApplicationReady, and the reading of the device's responses. The IOCR layout is the one profinet-py builds: in each CR the
 //! data objects (data and IOPS) of the submodules that provide in that direction (a submodule
 //! without IO data provides an IOPS in the input CR), then the IOCS of those that provide in the
 //! other.
@@ -10,7 +10,7 @@ use super::ar::config::{DeviceConfig, RealSubmodule};
 use super::ar::connect::AR_TYPE_IOC_SINGLE;
 use super::wire::blocks::*;
 use super::wire::rpc::*;
-use super::wire::{rpc_pdu, Mac};
+use super::wire::{append, rpc_pdu, Mac};
 
 /// One AR of a controller.
 #[derive(Debug, Clone)]
@@ -130,14 +130,14 @@ impl Controller {
 
     fn control(&mut self, opnum: u16, block_type: u16, command: u16) -> Vec<u8> {
         let mut args = Vec::new();
-        IodControl {
+        let block = IodControl {
             block_type,
             ar_uuid: self.ar.ar_uuid,
             session_key: self.ar.session_key,
             command,
             properties: 0,
-        }
-        .emit(&mut args);
+        };
+        append(&mut args, |b| block.emit(b));
         self.request(opnum, &args)
     }
 
@@ -154,28 +154,28 @@ impl Controller {
     /// A Read request of record `index` of `slot`, `subslot`.
     pub fn read(&mut self, slot: u16, subslot: u16, index: u16) -> Vec<u8> {
         let mut args = Vec::new();
-        IodHeader::request(
+        let block = IodHeader::request(
             IOD_READ_REQ,
             0,
             self.ar.ar_uuid,
             (slot, subslot, index),
             4096,
-        )
-        .emit(&mut args);
+        );
+        append(&mut args, |b| block.emit(b));
         self.request(OP_READ, &args)
     }
 
     /// A Write request of `data` to record `index` of `slot`, `subslot`.
     pub fn write(&mut self, slot: u16, subslot: u16, index: u16, data: &[u8]) -> Vec<u8> {
         let mut args = Vec::new();
-        IodHeader::request(
+        let block = IodHeader::request(
             IOD_WRITE_REQ,
             0,
             self.ar.ar_uuid,
             (slot, subslot, index),
             data.len() as u32,
-        )
-        .emit(&mut args);
+        );
+        append(&mut args, |b| block.emit(b));
         args.extend_from_slice(data);
         self.request(OP_WRITE, &args)
     }
@@ -194,7 +194,7 @@ impl Controller {
             return None;
         }
         let mut out = Vec::new();
-        req.done().emit(&mut out);
+        append(&mut out, |b| req.done().emit(b));
         let ndr = Ndr::response(
             PnioStatus::OK,
             out.len() as u32,
@@ -294,6 +294,34 @@ fn expected(sub: &RealSubmodule) -> ExpectedSubmodule {
         properties,
         data,
     }
+}
+
+/// A ReadImplicit request (a read without an AR: the NIL AR UUID) of record `at` (slot,
+/// subslot, index) of the device with `object`, as the call `activity`.
+pub fn read_implicit(object: Uuid, activity: Uuid, at: (u16, u16, u16)) -> Vec<u8> {
+    let mut args = Vec::new();
+    let header = IodHeader::request(IOD_READ_REQ, 0, Uuid::default(), at, 4096);
+    append(&mut args, |b| header.emit(b));
+    let header = RpcHeader::request(object, Uuid::PNIO_DEVICE, activity, 0, OP_READ_IMPLICIT);
+    rpc_pdu(
+        &header,
+        &Ndr::request(4068, args.len() as u32, false),
+        &args,
+    )
+}
+
+/// The record data of a Read response's arguments (the IODReadResHeader, then the data, as
+/// long as its RecordDataLength says); `None` when they are not that.
+pub fn read_data(args: &[u8]) -> Option<&[u8]> {
+    let mut r = Reader::new(args);
+    let (block_type, len) = (r.u16()?, r.u16()?);
+    let body = r.take(usize::from(len))?;
+    if block_type != IOD_READ_REQ | RESPONSE_BIT {
+        return None;
+    }
+    let header = IodHeader::parse(block_type, body.get(2..)?)?;
+    let rest = r.take(usize::try_from(header.record_length).ok()?)?;
+    Some(rest)
 }
 
 /// A response's PNIOStatus and argument bytes, `None` when `pdu` is no response.

@@ -9,6 +9,7 @@ use std::collections::VecDeque;
 
 use edsgen_runtime::{Duration, Instant};
 
+use super::rta::{Due, Pending, Transport};
 use super::wire::alarm::*;
 use super::wire::blocks::AlarmCrBlockReq;
 use super::wire::rpc::PnioStatus;
@@ -24,38 +25,13 @@ pub enum ControllerAlarmEvent {
     Aborted(Option<PnioStatus>),
 }
 
-/// One priority's sequence numbers and the DATA PDU waiting for its ACK.
-#[derive(Debug, Clone)]
+/// One priority's transport and the AlarmAcks waiting.
+#[derive(Debug, Clone, Default)]
 struct Priority {
-    send_seq: u16,
-    send_seq_o: u16,
-    exp_seq: u16,
-    exp_seq_o: u16,
-    /// The DATA frame sent, when it was last sent, retransmissions left.
-    pending: Option<(Vec<u8>, Instant, u16)>,
+    /// APMS/APMR: sequence numbers and the DATA PDU waiting for its ACK.
+    rta: Transport,
     /// AlarmAcks waiting for the one before to be acknowledged.
     queue: VecDeque<AlarmAck>,
-}
-
-impl Priority {
-    fn new() -> Priority {
-        Priority {
-            send_seq: SEQ_FIRST,
-            send_seq_o: SEQ_NONE,
-            exp_seq: SEQ_FIRST,
-            exp_seq_o: SEQ_NONE,
-            pending: None,
-            queue: VecDeque::new(),
-        }
-    }
-
-    fn acknowledged(&mut self, ack_seq: u16) {
-        if self.pending.is_some() && ack_seq == self.send_seq {
-            self.send_seq_o = self.send_seq;
-            self.send_seq = self.send_seq.wrapping_add(1) & SEQ_MASK;
-            self.pending = None;
-        }
-    }
 }
 
 /// The controller's AlarmCR of one AR.
@@ -88,7 +64,7 @@ impl ControllerAlarms {
             tags: [req.tag_header_low, req.tag_header_high],
             timeout: Duration::from_millis(u64::from(req.rta_timeout_factor.max(1)) * 100),
             retries: req.rta_retries,
-            priorities: [Priority::new(), Priority::new()],
+            priorities: [Priority::default(), Priority::default()],
             outbox: VecDeque::new(),
             events: VecDeque::new(),
             closed: false,
@@ -109,7 +85,7 @@ impl ControllerAlarms {
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.priorities
             .iter()
-            .filter_map(|p| p.pending.as_ref().map(|(_, at, _)| *at + self.timeout))
+            .filter_map(|p| p.rta.pending.as_ref().map(|p| p.deadline(self.timeout)))
             .min()
     }
 
@@ -117,21 +93,20 @@ impl ControllerAlarms {
     /// the last retry.
     pub fn handle_timeout(&mut self, now: Instant) {
         for n in 0..2 {
-            let timeout = self.timeout;
-            let Some((frame, at, left)) = self.priorities[n].pending.as_mut() else {
+            let Some(pending) = self.priorities[n].rta.pending.as_mut() else {
                 continue;
             };
-            if now < *at + timeout {
-                continue;
+            match pending.due(now, self.timeout) {
+                Due::Wait => {}
+                Due::GiveUp => {
+                    self.close(None);
+                    return;
+                }
+                Due::Resend => {
+                    let frame = pending.resend(now);
+                    self.outbox.push_back(frame);
+                }
             }
-            if *left == 0 {
-                self.close(None);
-                return;
-            }
-            *left -= 1;
-            *at = now;
-            let frame = frame.clone();
-            self.outbox.push_back(frame);
         }
     }
 
@@ -151,7 +126,7 @@ impl ControllerAlarms {
         let n = usize::from(rta.high());
         match h.pdu_type {
             PDU_ACK => {
-                self.priorities[n].acknowledged(h.ack_seq);
+                self.priorities[n].rta.acknowledged(h.ack_seq);
                 self.next_ack(now, n);
             }
             PDU_ERR => {
@@ -166,18 +141,17 @@ impl ControllerAlarms {
 
     fn data(&mut self, now: Instant, n: usize, h: &RtaHeader, var_part: &[u8]) {
         let p = &mut self.priorities[n];
-        if h.send_seq == p.exp_seq_o {
-            p.acknowledged(h.ack_seq);
+        if h.send_seq == p.rta.exp_seq_o {
+            p.rta.acknowledged(h.ack_seq);
             self.transport(n, PDU_ACK);
             return;
         }
-        if h.send_seq != p.exp_seq {
+        if h.send_seq != p.rta.exp_seq {
             self.transport(n, PDU_NACK);
             return;
         }
-        p.acknowledged(h.ack_seq);
-        p.exp_seq_o = p.exp_seq;
-        p.exp_seq = p.exp_seq.wrapping_add(1) & SEQ_MASK;
+        p.rta.acknowledged(h.ack_seq);
+        p.rta.received();
         self.transport(n, PDU_ACK);
         if let Some(alarm) = AlarmNotification::parse(var_part) {
             self.priorities[n].queue.push_back(AlarmAck {
@@ -193,7 +167,7 @@ impl ControllerAlarms {
     /// Sends the next AlarmAck of priority `n` when none is waiting for its ACK.
     fn next_ack(&mut self, now: Instant, n: usize) {
         let p = &mut self.priorities[n];
-        if p.pending.is_some() {
+        if p.rta.pending.is_some() {
             return;
         }
         let Some(ack) = p.queue.pop_front() else {
@@ -207,11 +181,11 @@ impl ControllerAlarms {
             pdu_type: PDU_DATA,
             version: RTA_VERSION,
             add_flags: WINDOW_1 | TACK,
-            send_seq: p.send_seq,
-            ack_seq: p.exp_seq_o,
+            send_seq: p.rta.send_seq,
+            ack_seq: p.rta.exp_seq_o,
         };
         let frame = self.frame(n, &header, &var_part);
-        self.priorities[n].pending = Some((frame.clone(), now, self.retries));
+        self.priorities[n].rta.pending = Some(Pending::new(frame.clone(), now, self.retries));
         self.outbox.push_back(frame);
     }
 
@@ -223,8 +197,8 @@ impl ControllerAlarms {
             pdu_type,
             version: RTA_VERSION,
             add_flags: WINDOW_1,
-            send_seq: p.send_seq_o,
-            ack_seq: p.exp_seq_o,
+            send_seq: p.rta.send_seq_o,
+            ack_seq: p.rta.exp_seq_o,
         };
         let frame = self.frame(n, &header, &[]);
         self.outbox.push_back(frame);
@@ -236,7 +210,7 @@ impl ControllerAlarms {
         }
         self.closed = true;
         for p in &mut self.priorities {
-            p.pending = None;
+            p.rta.pending = None;
             p.queue.clear();
         }
         self.events.push_back(ControllerAlarmEvent::Aborted(status));

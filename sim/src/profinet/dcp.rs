@@ -5,8 +5,11 @@
 //! another FrameID, service or destination, and malformed ones, get no answer (the standard's
 //! answer to what a device does not understand); no frame panics it.
 //!
-//! Identify responses go out at once: the ResponseDelayFactor spreads the answers of many
-//! devices over time, which one simulated device on a link does not need.
+//! An Identify sent to the multicast address is answered after the device's own share of the
+//! request's ResponseDelayFactor ([`Dcp::response_delay`]: the factor's 10 ms steps, one chosen
+//! by the MAC address, as the standard asks so that many devices do not answer at once); the
+//! device ([`super::device::Device`]) holds the answer that long. Unicast requests are
+//! answered at once.
 
 use super::wire::dcp::*;
 use super::wire::{append, Ethernet, Mac, ETHERTYPE_PROFINET};
@@ -114,6 +117,25 @@ impl Dcp {
             }
             _ => None,
         }
+    }
+
+    /// How long the answer to `frame` waits: for an Identify to the multicast address with a
+    /// ResponseDelayFactor F over 1, a step of 0 to F-1 times 10 ms chosen by the device's MAC
+    /// address (FNV-1a of its six bytes, so that devices of one interface spread out and each
+    /// always takes the same step); zero for anything else.
+    pub fn response_delay(&self, frame: &[u8]) -> edsgen_runtime::Duration {
+        let factor = Ethernet::parse(frame)
+            .filter(|eth| eth.dst == MULTICAST_IDENTIFY && eth.ethertype == ETHERTYPE_PROFINET)
+            .and_then(|eth| DcpHeader::parse(frame.get(eth.payload..)?))
+            .filter(|(h, _)| h.frame_id == FRAME_IDENTIFY_REQUEST)
+            .map_or(0, |(h, _)| h.response_delay);
+        if factor <= 1 {
+            return edsgen_runtime::Duration::from_millis(0);
+        }
+        let hash = self.station.mac.iter().fold(0x811c_9dc5u32, |h, b| {
+            (h ^ u32::from(*b)).wrapping_mul(0x0100_0193)
+        });
+        edsgen_runtime::Duration::from_millis(u64::from(hash % u32::from(factor)) * 10)
     }
 
     /// A Hello request announcing the device (to 01:0e:cf:00:00:01).

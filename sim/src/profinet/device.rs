@@ -94,6 +94,8 @@ pub struct Device<A = PkwPzdDrive> {
     events: Vec<DeviceEvent>,
     /// Answers to received frames and datagrams, oldest first.
     answers: VecDeque<Transmit>,
+    /// Identify answers held for their response delay: when each is due, oldest first.
+    delayed: VecDeque<(Instant, Vec<u8>)>,
 }
 
 impl<A: IoApplication> Device<A> {
@@ -116,12 +118,18 @@ impl<A: IoApplication> Device<A> {
             alarm: None,
             events: Vec::new(),
             answers: VecDeque::new(),
+            delayed: VecDeque::new(),
         }
     }
 
     /// The DCP machine (its station and Hello).
     pub fn dcp(&mut self) -> &mut Dcp {
         &mut self.dcp
+    }
+
+    /// What the device says about itself now (its name of station and IP change by DCP).
+    pub fn station(&self) -> &Station {
+        self.dcp.station()
     }
 
     /// The application (the drive), if the device has one.
@@ -156,6 +164,12 @@ impl<A: IoApplication> Device<A> {
         if let Some(answer) = self.answers.pop_front() {
             return Some(answer);
         }
+        if self.delayed.front().is_some_and(|(due, _)| *due <= now) {
+            return self
+                .delayed
+                .pop_front()
+                .map(|(_, frame)| Transmit::Frame(frame));
+        }
         if let Some((to, pdu)) = self.poll_datagram() {
             return Some(Transmit::Datagram(to, pdu));
         }
@@ -168,8 +182,19 @@ impl<A: IoApplication> Device<A> {
         while let Some(e) = self.dcp.poll_event() {
             self.events.push(DeviceEvent::Dcp(e));
         }
-        if answer.is_some() {
-            return answer;
+        if let Some(answer) = answer {
+            let delay = self.dcp.response_delay(frame);
+            if delay.as_micros() == 0 {
+                return Some(answer);
+            }
+            // Kept in the order they fall due; a flood of Identify requests holds a few
+            // answers at most (a real device answers one at a time).
+            if self.delayed.len() >= MAX_HELD_IDENTIFY {
+                return None;
+            }
+            self.delayed.push_back((now + delay, answer));
+            self.delayed.make_contiguous().sort_by_key(|(due, _)| *due);
+            return None;
         }
         if let Some(alarm) = self.alarm.as_mut() {
             if alarm.handle_frame(now, frame) {
@@ -282,7 +307,8 @@ impl<A: IoApplication> Device<A> {
             _ => None,
         };
         let alarm = self.alarm.as_ref().and_then(AlarmCr::poll_timeout);
-        [cyclic, self.cm.poll_timeout(), alarm]
+        let identify = self.delayed.front().map(|(due, _)| *due);
+        [cyclic, self.cm.poll_timeout(), alarm, identify]
             .into_iter()
             .flatten()
             .min()
@@ -396,6 +422,9 @@ impl Device<PkwPzdDrive> {
         }
     }
 }
+
+/// How many Identify answers a device holds for their response delay at once.
+const MAX_HELD_IDENTIFY: usize = 8;
 
 /// How often a driver looks at the sockets when nothing is due.
 pub const IDLE_POLL: Duration = Duration::from_millis(1);

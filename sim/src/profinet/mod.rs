@@ -2,10 +2,12 @@
 //! p-net names them: [`dcp`] (discovery and naming), [`ar`] (connection management: the DCE/RPC
 //! endpoint and the application relation), [`cyclic`] (the cyclic consumer with its watchdog and
 //! the provider, on the layout a Connect gives), [`alarm`] (the AlarmCR's alarm transport and
-//! acknowledgement); [`application`] is what sits behind a device ([`application::IoApplication`],
+//! acknowledgement; its transport state, shared with [`controller_alarm`], in [`rta`]);
+//! [`application`] is what sits behind a device ([`application::IoApplication`],
 //! the Goodrive350's PKW/PZD drive one), [`drive`] puts it behind the cyclic data and makes its
 //! faults diagnosis alarms; [`device`] joins them into one device; wire formats apart in
-//! [`wire`]; the raw-socket and UDP driver in [`driver`]; [`station`] derives what the device
+//! [`wire`]; the raw-socket and UDP driver in [`driver`], [`segment`] serving several devices on
+//! one interface; [`station`] derives what the device
 //! says about itself from the GSDML; [`controller`] builds a controller's requests (the demo's,
 //! the tests' and `edsgen pn io`'s), [`controller_alarm`] takes and acknowledges a device's alarms.
 //!
@@ -13,9 +15,9 @@
 //!
 //! What is no_std already: the wire views of the runtime (`edsgen_runtime::profinet::wire`:
 //! Ethernet, DCP with the name rules, RT frames, DCE/RPC, the block framing, the RTA-PDU and
-//! AlarmAck). What remains here, and why: the PNIO blocks of connection management and the
-//! AlarmNotification are owned structs ([`wire::blocks`], [`wire::alarm`]) the machines keep
-//! (an AR's accepted request, queued alarms): they need views with borrowed lists first; the
+//! AlarmAck and AlarmNotification, the record access and control blocks). What remains here,
+//! and why: the PNIO blocks of the Connect and its answer are owned structs ([`wire::blocks`])
+//! the machines keep (an AR's accepted request): they need views with borrowed lists first; the
 //! machines ([`dcp`], [`ar`], [`cyclic`], [`alarm`], [`controller_alarm`]) queue their frames
 //! and datagrams in `Vec`s and `VecDeque`s (they could live behind the runtime's `alloc`
 //! feature once the blocks are views); [`ar::config`] and [`station`] read the GSDML model,
@@ -32,5 +34,7 @@ pub mod device;
 pub mod drive;
 pub mod driver;
 pub mod iface;
+pub mod rta;
+pub mod segment;
 pub mod station;
 pub mod wire;

@@ -1,26 +1,25 @@
-//! `edsgen pn list IFACE [--gsdml FILE]...`, `edsgen pn set-name IFACE MAC NAME` and `edsgen pn
-//! io` (a controller at the bench, [`io`]): PROFINET
-//! DCP at the bench, as a controller (root, or `CAP_NET_RAW`). `list` sends Identify all and
-//! prints one tab-separated line per device that answers within the timeout: MAC, name of
-//! station, VendorID:DeviceID, IP, type of station, and with `--gsdml` the file whose VendorID
-//! and DeviceID it has (or `-`). `set-name` sets the name of station (permanently) and prints
-//! the device's answer. Exit 0; 1 when no device answers or the device refuses; 2 for usage and
-//! I/O problems.
+//! `edsgen pn`: PROFINET at the bench, as a controller (root, or `CAP_NET_RAW`). DCP
+//! ([`dcp_verbs`]): `list` sends Identify all and prints one tab-separated line per device that
+//! answers in its window, by MAC: MAC, name of station, VendorID:DeviceID, IP, type of
+//! station, and with `--gsdml` the file whose VendorID and DeviceID it has (or `-`);
+//! `set-name`, `set-ip` and `blink` set a device's name of station, IP parameter or signal and
+//! print its answer. Records without a connection ([`record`]): `im` (I&M0 in words) and
+//! `record` (a hex dump). A controller at the bench ([`io`]). Exit 0; 1 when no device answers
+//! or the device refuses; 2 for usage and I/O problems.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use clap::Subcommand;
-use edsgen_runtime::profinet::wire::dcp::{self, response_blocks, DcpHeader};
-use edsgen_runtime::profinet::wire::{Ethernet, Mac};
-use edsgen_sim::profinet::driver::RawSocket;
 
-use super::fail;
+use dcp_verbs::{check_name, request, show_mac};
 
+mod dcp_verbs;
 mod io;
 mod io_data;
 mod io_link;
+mod record;
 pub mod simulate;
 
 /// `edsgen pn` verbs.
@@ -33,9 +32,11 @@ pub enum PnCommand {
         /// GSDML files to match the devices to, by VendorID and DeviceID.
         #[arg(long = "gsdml", value_name = "FILE")]
         gsdml: Vec<PathBuf>,
-        /// How long to collect answers, in ms.
-        #[arg(long, value_name = "MS", default_value_t = 1000)]
-        timeout: u64,
+        /// The window the devices spread their answers over, in ms: sent as the Identify's
+        /// ResponseDelayFactor (10 ms steps, up to 64 s); `list` listens that long and 0.5 s
+        /// more, and says so on standard error.
+        #[arg(long, value_name = "MS", default_value_t = 1000, alias = "timeout")]
+        window: u64,
     },
     /// Set a device's name of station (DCP Set, permanent).
     SetName {
@@ -45,6 +46,51 @@ pub enum PnCommand {
         mac: String,
         /// The new name of station (DNS-compatible: lowercase letters, digits, `-`, `.`).
         name: String,
+    },
+    /// Set a device's IP address, netmask and gateway (DCP Set, permanent unless --temporary).
+    SetIp {
+        /// The network interface.
+        iface: String,
+        /// The device: its name of station or MAC address.
+        device: String,
+        /// The address and prefix (`10.0.0.5/24`).
+        #[arg(value_name = "ADDR/PREFIX")]
+        address: String,
+        /// The gateway (default: none, 0.0.0.0).
+        gateway: Option<String>,
+        /// Set it temporarily: the device forgets it at power-off.
+        #[arg(long)]
+        temporary: bool,
+    },
+    /// Have a device flash its LED (DCP Control Signal), to find it in the cabinet.
+    Blink {
+        /// The network interface.
+        iface: String,
+        /// The device: its name of station or MAC address.
+        device: String,
+    },
+    /// Read a device's I&M0 (vendor, order ID, serial number, revisions) without a connection.
+    Im {
+        /// The network interface.
+        iface: String,
+        /// The device's name of station.
+        name: String,
+    },
+    /// Read one record of a device without a connection (RPC ReadImplicit) as a hex dump.
+    Record {
+        /// The network interface.
+        iface: String,
+        /// The device's name of station.
+        name: String,
+        /// The slot (decimal or 0x hex).
+        #[arg(long, value_parser = number)]
+        slot: u16,
+        /// The subslot (decimal or 0x hex, such as 0x8000).
+        #[arg(long, value_parser = number)]
+        subslot: u16,
+        /// The record's index (decimal or 0x hex, such as 0xAFF0 for I&M0).
+        #[arg(long, value_parser = number)]
+        index: u16,
     },
     /// Connect to a device as its IO controller and exchange its IO data (RT_CLASS_1).
     ///
@@ -89,9 +135,25 @@ pub fn run(command: &PnCommand) -> ExitCode {
         PnCommand::List {
             iface,
             gsdml,
-            timeout,
-        } => list(iface, gsdml, Duration::from_millis(*timeout)),
-        PnCommand::SetName { iface, mac, name } => set_name(iface, mac, name),
+            window,
+        } => dcp_verbs::list(iface, gsdml, Duration::from_millis(*window)),
+        PnCommand::SetName { iface, mac, name } => dcp_verbs::set_name(iface, mac, name),
+        PnCommand::SetIp {
+            iface,
+            device,
+            address,
+            gateway,
+            temporary,
+        } => dcp_verbs::set_ip(iface, device, address, gateway.as_deref(), *temporary),
+        PnCommand::Blink { iface, device } => dcp_verbs::blink(iface, device),
+        PnCommand::Im { iface, name } => record::im(iface, name),
+        PnCommand::Record {
+            iface,
+            name,
+            slot,
+            subslot,
+            index,
+        } => record::record(iface, name, (*slot, *subslot, *index)),
         PnCommand::Io {
             iface,
             name,
@@ -114,210 +176,11 @@ pub fn run(command: &PnCommand) -> ExitCode {
     }
 }
 
-fn parse_mac(text: &str) -> Option<Mac> {
-    let bytes: Vec<u8> = text
-        .split([':', '-'])
-        .map(|p| u8::from_str_radix(p, 16).ok())
-        .collect::<Option<_>>()?;
-    bytes.try_into().ok()
-}
-
-fn show_mac(mac: &Mac) -> String {
-    mac.iter()
-        .map(|b| format!("{b:02x}"))
-        .collect::<Vec<_>>()
-        .join(":")
-}
-
-/// The DCP answers to transaction `xid` that reach `socket` before `until`: (sender, blocks).
-type Answer = (Mac, Vec<((u8, u8), u16, Vec<u8>)>);
-
-fn answers(socket: &mut RawSocket, xid: u32, until: Instant, first_only: bool) -> Vec<Answer> {
-    let mut found = Vec::new();
-    let mut buf = vec![0u8; 1600];
-    while Instant::now() < until {
-        let Ok(Some(n)) = socket.recv(&mut buf) else {
-            continue;
-        };
-        let frame = &buf[..n];
-        let Some(eth) = Ethernet::parse(frame).filter(|e| e.dst == socket.mac()) else {
-            continue;
-        };
-        let Some((header, blocks)) = frame.get(eth.payload..).and_then(DcpHeader::parse) else {
-            continue;
-        };
-        if header.xid != xid || header.service_type != dcp::TYPE_RESPONSE {
-            continue;
-        }
-        let blocks = response_blocks(blocks)
-            .map(|(o, i, d)| (o, i, d.to_vec()))
-            .collect();
-        found.push((eth.src, blocks));
-        if first_only {
-            break;
-        }
-    }
-    found
-}
-
-/// The GSDML files' (VendorID, DeviceID, path).
-fn gsdml_ids(files: &[PathBuf]) -> Result<Vec<(u16, u16, String)>, String> {
-    files
-        .iter()
-        .map(|path| {
-            let read = super::load(path, None)?;
-            let pn = read
-                .device
-                .profinet()
-                .ok_or_else(|| format!("`{}` is not a GSDML file", path.display()))?;
-            match (&pn.vendor_id, &pn.device_id) {
-                (Some(v), Some(d)) => Ok((v.value, d.value, path.display().to_string())),
-                _ => Err(format!("`{}` has no VendorID/DeviceID", path.display())),
-            }
-        })
-        .collect()
-}
-
-fn list(iface: &str, gsdml: &[PathBuf], timeout: Duration) -> ExitCode {
-    let known = match gsdml_ids(gsdml) {
-        Ok(known) => known,
-        Err(message) => return fail(message),
+/// A 16-bit number, decimal or `0x` hex.
+fn number(text: &str) -> Result<u16, String> {
+    let parsed = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u16::from_str_radix(hex, 16),
+        None => text.parse(),
     };
-    let mut socket = match RawSocket::open(iface, Duration::from_millis(100)) {
-        Ok(socket) => socket,
-        Err(e) => return fail(format!("cannot open `{iface}`: {e}")),
-    };
-    let xid = std::process::id();
-    let frame = request(
-        dcp::MULTICAST_IDENTIFY,
-        socket.mac(),
-        dcp::FRAME_IDENTIFY_REQUEST,
-        dcp::SERVICE_IDENTIFY,
-        xid,
-        &[0xFF, 0xFF, 0, 0],
-    );
-    if let Err(e) = socket.send(&frame) {
-        return fail(format!("cannot send on `{iface}`: {e}"));
-    }
-    let found = answers(&mut socket, xid, Instant::now() + timeout, false);
-    for (mac, blocks) in &found {
-        let get = |option| {
-            blocks
-                .iter()
-                .find(|b| b.0 == option)
-                .map(|b| b.2.clone())
-                .unwrap_or_default()
-        };
-        let text = |option| String::from_utf8_lossy(&get(option)).into_owned();
-        let ids = get(dcp::DEVICE_ID);
-        let (vendor, device) = match ids[..] {
-            [a, b, c, d, ..] => (u16::from_be_bytes([a, b]), u16::from_be_bytes([c, d])),
-            _ => (0, 0),
-        };
-        let ip = get(dcp::IP_PARAMETER);
-        let ip = ip.get(..4).map_or("-".to_owned(), |a| {
-            format!("{}.{}.{}.{}", a[0], a[1], a[2], a[3])
-        });
-        let mut line = format!(
-            "{}\t{}\t{vendor:04x}:{device:04x}\t{ip}\t{}",
-            show_mac(mac),
-            text(dcp::NAME_OF_STATION),
-            text(dcp::TYPE_OF_STATION)
-        );
-        if !known.is_empty() {
-            let matched = known
-                .iter()
-                .find(|(v, d, _)| (*v, *d) == (vendor, device))
-                .map_or("-", |k| k.2.as_str());
-            line.push('\t');
-            line.push_str(matched);
-        }
-        println!("{line}");
-    }
-    if found.is_empty() {
-        eprintln!("no PROFINET device answered on `{iface}`");
-        return ExitCode::from(1);
-    }
-    ExitCode::SUCCESS
-}
-
-fn set_name(iface: &str, mac: &str, name: &str) -> ExitCode {
-    let Some(mac) = parse_mac(mac) else {
-        return fail(format!("`{mac}` is not a MAC address (aa:bb:cc:dd:ee:ff)"));
-    };
-    if let Err(message) = check_name(name) {
-        return fail(message);
-    }
-    let mut socket = match RawSocket::open(iface, Duration::from_millis(100)) {
-        Ok(socket) => socket,
-        Err(e) => return fail(format!("cannot open `{iface}`: {e}")),
-    };
-    let xid = std::process::id();
-    let mut value = vec![0x00, 0x01];
-    value.extend_from_slice(name.as_bytes());
-    let mut block = vec![0; 4 + value.len() + 1];
-    let n = dcp::emit_plain_block(&mut block, dcp::NAME_OF_STATION, &value).unwrap_or(0);
-    block.truncate(n);
-    let frame = request(
-        mac,
-        socket.mac(),
-        dcp::FRAME_GET_SET,
-        dcp::SERVICE_SET,
-        xid,
-        &block,
-    );
-    if let Err(e) = socket.send(&frame) {
-        return fail(format!("cannot send on `{iface}`: {e}"));
-    }
-    let answer = answers(
-        &mut socket,
-        xid,
-        Instant::now() + Duration::from_secs(2),
-        true,
-    );
-    let error = answer
-        .first()
-        .and_then(|(_, blocks)| blocks.iter().find(|b| b.0 == dcp::CONTROL_RESPONSE))
-        .and_then(|b| b.2.first().copied());
-    match error {
-        Some(0) => {
-            println!("{}: name of station set to `{name}`", show_mac(&mac));
-            ExitCode::SUCCESS
-        }
-        Some(code) => {
-            eprintln!(
-                "{}: the device refused the name (BlockError {code})",
-                show_mac(&mac)
-            );
-            ExitCode::from(1)
-        }
-        None => {
-            eprintln!("{}: no answer within 2 s", show_mac(&mac));
-            ExitCode::from(1)
-        }
-    }
-}
-
-/// Why `name` cannot be a name of station (a device would refuse it with BlockError 3), in
-/// words; with uppercase letters, the lowercase name to use.
-fn check_name(name: &str) -> Result<(), String> {
-    let Some(problem) = dcp::name_problem(name) else {
-        return Ok(());
-    };
-    let lower = name.to_ascii_lowercase();
-    let hint = match problem {
-        dcp::NameProblem::Uppercase if dcp::valid_name(&lower) => format!(": use `{lower}`"),
-        _ => String::new(),
-    };
-    Err(format!(
-        "`{name}` is not a PROFINET name of station: it has {problem}{hint}"
-    ))
-}
-
-/// A DCP request frame (see [`dcp::request`]).
-fn request(dst: Mac, src: Mac, frame_id: u16, service: u8, xid: u32, blocks: &[u8]) -> Vec<u8> {
-    let mut frame = vec![0; 14 + dcp::HEADER_LEN + blocks.len()];
-    let n = dcp::request(&mut frame, dst, src, frame_id, service, xid, blocks).unwrap_or(0);
-    frame.truncate(n);
-    frame
+    parsed.map_err(|_| format!("`{text}` is not a number from 0 to 65535 (decimal or 0x hex)"))
 }

@@ -1,12 +1,15 @@
-//! `edsgen simulate --profinet IFACE (FILE.xml | --card goodrive350-pn) [--ip ADDR[/PREFIX]]`: a
-//! PROFINET IO device from a GSDML on a network interface (root, or `CAP_NET_RAW`). It says
-//! Hello, then answers DCP (identify, get, set name of station and IP, signal) as the GSDML's
-//! default access point, serves connection management on UDP 34964 (Connect, Read, Write,
-//! PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of the AR, with the
-//! Goodrive350's drive behind the card, whose faults are Diagnosis alarms on the AR's AlarmCR
-//! (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch one); it prints what
-//! a controller sets, each step of an AR and each alarm acknowledged, until SIGINT, SIGTERM or
-//! SIGHUP, then says `stopped:` (on stderr) with the number of ARs it served.
+//! `edsgen simulate --profinet IFACE (FILE.xml[@NAME] | --card goodrive350-pn[@NAME])...
+//! [--ip ADDR[/PREFIX]]...`: PROFINET IO devices from GSDMLs on one network interface (root, or
+//! `CAP_NET_RAW`), the cards first, then the files, each with its own MAC
+//! ([`segment::device_mac`]), name of station, IP, ARs, alarms and cyclic data. Each says Hello,
+//! then answers DCP (identify, get, set name of station and IP, signal) as its GSDML's default
+//! access point, serves connection management on UDP 34964 at its own IP (Connect, Read,
+//! Write, PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of its AR, with
+//! the Goodrive350's drive behind a card, whose faults are Diagnosis alarms on the AR's
+//! AlarmCR (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch them,
+//! `fault NAME` one device's); it prints what a controller sets, each step of an AR and each
+//! alarm acknowledged (each line after `NAME: ` when there are several devices), until SIGINT,
+//! SIGTERM or SIGHUP, then says `stopped:` (on stderr) with the number of ARs it served.
 
 use std::io::BufRead;
 use std::ops::ControlFlow;
@@ -21,8 +24,9 @@ use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_sim::profinet::alarm::AlarmEvent;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::ArEvent;
-use edsgen_sim::profinet::dcp::DcpEvent;
+use edsgen_sim::profinet::dcp::{DcpEvent, Station};
 use edsgen_sim::profinet::device::{Device, DeviceEvent};
+use edsgen_sim::profinet::segment::{self, Segment};
 use edsgen_sim::profinet::{driver, iface, station};
 
 use crate::cmd::fail;
@@ -30,159 +34,111 @@ use crate::cmd::fail;
 /// The bundled PROFINET card's GSDML, in the binary so that `--card` works anywhere.
 const GOODRIVE350_PN: &[u8] = include_bytes!("../../../eds/goodrive350-pn.xml");
 
-/// Runs the device on `iface`; exit 2 for bad usage, a file that is not a readable GSDML, or an
-/// interface that cannot be opened.
-/// With `faults_on_stdin` (the card only), its drive's faults are switched by `fault` and
-/// `clear` lines on standard input.
+/// The bundled PROFINET card.
+const CARD: &str = "goodrive350-pn";
+
+/// One device to simulate, as the command line gives it.
+struct Planned {
+    station: Station,
+    config: DeviceConfig,
+    /// The card's drive, or none for a GSDML file.
+    card: bool,
+}
+
+/// Runs the devices of `cards` (`goodrive350-pn[@NAME]`, first) and `files` (`FILE[@NAME]`)
+/// on `iface`, each with the MAC [`segment::device_mac`] gives its position and the IP of
+/// `ips` at that position (or the interface's address at that position when `ips` is empty).
+/// Exit 2 for bad usage, a file that is not a readable GSDML, or an interface that cannot be
+/// opened. With `faults_on_stdin`, the card devices' drives' faults are switched by `fault`
+/// and `clear` lines on standard input (`fault NAME` for the device of that name of station).
 pub fn run(
     iface: &str,
     files: &[String],
     cards: &[String],
-    ip: Option<&str>,
+    ips: &[String],
     faults_on_stdin: bool,
     allow: &Policy,
 ) -> ExitCode {
-    let (ip, source) = match address(iface, ip) {
-        Ok(ip) => ip,
-        Err(e) => return fail(e),
-    };
-    let (files, file_name) = match station_name(files) {
-        Ok(split) => split,
-        Err(e) => return fail(e),
-    };
-    let (cards, card_name) = match station_name(cards) {
-        Ok(split) => split,
-        Err(e) => return fail(e),
-    };
-    let (files, cards) = (files.as_slice(), cards.as_slice());
-    let station_name = file_name.or(card_name);
-    let card = cards.first().is_some_and(|c| c == "goodrive350-pn");
-    if faults_on_stdin && !card {
-        return fail("--faults-on-stdin switches the faults of --card goodrive350-pn's drive");
+    let count = files.len() + cards.len();
+    if count == 0 {
+        return fail(format!(
+            "--profinet serves IO devices: --card {CARD}[@NAME] or FILE.xml[@NAME], one or more"
+        ));
     }
-    let (name, read) = match (files, cards) {
-        ([file], []) => match load::load(Path::new(file), None) {
-            Ok(loaded) => (file.clone(), loaded),
-            Err(LoadError::Read(read::ReadError::Io(_, e))) => {
-                return fail(format!("cannot read `{file}`: {e}"))
-            }
+    let addresses = match addresses(iface, ips, count) {
+        Ok(addresses) => addresses,
+        Err(e) => return fail(e),
+    };
+    let iface_mac = match edsgen_sim::packet_socket::interface_mac(iface) {
+        Ok(mac) => mac,
+        Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
+    };
+    let entries = cards
+        .iter()
+        .map(|c| (c, true))
+        .chain(files.iter().map(|f| (f, false)));
+    let mut planned: Vec<Planned> = Vec::new();
+    for (position, (entry, is_card)) in entries.enumerate() {
+        let mac = segment::device_mac(iface_mac, position);
+        let device = match plan(entry, is_card, mac, allow) {
+            Ok(device) => device,
             Err(e) => return fail(e),
-        },
-        ([], [card]) if card == "goodrive350-pn" => {
-            let name = "eds/goodrive350-pn.xml";
-            let read = load::load_bundled(
-                Path::new(name),
-                GOODRIVE350_PN,
-                Some(include_str!("../../../eds/goodrive350-pn.toml")),
-            );
-            (name.to_owned(), read)
-        }
-        ([], [card]) => {
+        };
+        let name = &device.station.name_of_station;
+        if !name.is_empty() && planned.iter().any(|p| &p.station.name_of_station == name) {
             return fail(format!(
-                "no PROFINET card `{card}`: the bundled PROFINET card is goodrive350-pn"
-            ))
+                "two devices named `{name}`: give each its own name of station (`--card {CARD}@drive-a`, `FILE.xml@drive-b`)"
+            ));
         }
-        _ => return fail("--profinet takes one GSDML FILE or one --card"),
-    };
-    if let Err(message) = crate::cmd::simulate::servable(&read, &name, allow) {
-        return fail(message);
+        planned.push(device);
     }
-    let Some(pn) = read.device.profinet() else {
-        return fail(format!("`{name}` is not a GSDML file"));
-    };
+    if faults_on_stdin && !planned.iter().any(|p| p.card) {
+        return fail(format!(
+            "--faults-on-stdin switches the faults of --card {CARD}'s drive"
+        ));
+    }
     // Before the first line: a signal that comes once the device is announced stops it cleanly.
     if let Err(message) = crate::cmd::signals::install() {
         return fail(message);
     }
-    let mut socket = match driver::RawSocket::open(iface, std::time::Duration::from_millis(1)) {
+    let socket = match driver::RawSocket::open(iface, std::time::Duration::from_millis(1)) {
         Ok(socket) => socket,
         Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
     };
-    let rpc = match driver::RpcSocket::open(iface) {
-        Ok(rpc) => rpc,
-        Err(e) => return fail(format!("cannot bind UDP 34964 on `{iface}`: {e}")),
+    let mut devices = Vec::new();
+    for (mut plan, (ip, source)) in planned.into_iter().zip(addresses) {
+        if let Some(ip) = ip {
+            plan.station.ip = ip;
+        }
+        announce(iface, &plan, &source);
+        let drive = plan
+            .card
+            .then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
+        devices.push(Device::new(plan.station, plan.config, drive));
+    }
+    let several = devices.len() > 1;
+    let mut segment = match Segment::new(iface, socket, devices) {
+        Ok(segment) => segment,
+        Err(e) => return fail(format!("PROFINET on `{iface}`: {e}")),
     };
-    let mut station = station::from_gsdml(pn, socket.mac());
-    if let Some(name) = station_name {
-        station.name_of_station = name;
-    }
-    if let Some(ip) = ip {
-        station.ip = ip;
-    }
-    let mac: Vec<String> = station.mac.iter().map(|b| format!("{b:02x}")).collect();
-    println!(
-        "PROFINET device `{}` (VendorID {:#06x}, DeviceID {:#06x}) on {iface}, MAC {}",
-        station.name_of_station,
-        station.vendor_id,
-        station.device_id,
-        mac.join(":")
-    );
-    match ip {
-        Some([a, m, _]) => println!(
-            "RPC on UDP 34964 at {}.{}.{}.{} mask {}.{}.{}.{}{source}",
-            a[0], a[1], a[2], a[3], m[0], m[1], m[2], m[3]
-        ),
-        None => println!(
-            "no IP yet ({iface} has no IPv4 address; --ip ADDR[/PREFIX], or a DCP Set): RPC on UDP 34964 answers once {iface} has the address"
-        ),
-    }
-    let config = DeviceConfig::from_gsdml(pn);
-    let drive = card.then(|| PkwPzdDrive::bus_controlled(Bus::Profinet, Default::default()));
-    let mut device = Device::new(station, config, drive);
     let faults = faults_on_stdin.then(faults_from_stdin);
-    let tick = |device: &mut Device, now| {
+    let tick = |devices: &mut [Device], now| {
         if crate::cmd::signals::requested() {
             return ControlFlow::Break(());
         }
-        for fault in faults.iter().flat_map(|f| f.try_iter()) {
-            if fault {
-                device.inject_fault(now, FAULT_OC1);
-                println!("drive fault {FAULT_OC1} (OC1) raised");
-            } else {
-                device.remove_fault_cause();
-                println!("drive fault cause removed: a fault reset (CW command 7) clears it");
-            }
+        for (fault, name) in faults.iter().flat_map(|f| f.try_iter()) {
+            switch_fault(devices, now, fault, name.as_deref(), several);
         }
         ControlFlow::Continue(())
     };
     let mut connected = 0u32;
-    let served = driver::serve_with(&mut socket, &rpc, &mut device, None, tick, |event| {
-        match event {
-            DeviceEvent::Ar(event) => {
-                connected += u32::from(matches!(event, ArEvent::Connected { .. }));
-                print_ar(event)
-            }
-            DeviceEvent::Dcp(DcpEvent::NameSet(name)) => {
-                println!("name of station set to `{name}`")
-            }
-            DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => {
-                let dotted = |a: &[u8; 4]| std::net::Ipv4Addr::from(*a).to_string();
-                println!(
-                    "IP set to {} mask {} gateway {}",
-                    dotted(ip),
-                    dotted(mask),
-                    dotted(gw)
-                );
-                if !has_address(iface, *ip) {
-                    eprintln!(
-                        "note: `{iface}` does not have {}: RPC reaches the device once it has it",
-                        dotted(ip)
-                    );
-                }
-            }
-            DeviceEvent::Dcp(DcpEvent::Signal) => println!("signal: flashing the LED"),
-            DeviceEvent::Dcp(DcpEvent::ResetToFactory) => println!("reset to factory"),
-            DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)) => println!(
-                "alarm {:#06x} of slot {} subslot {} acknowledged (sequence {}, PNIOStatus {})",
-                ack.source.alarm_type,
-                ack.source.slot,
-                ack.source.subslot,
-                ack.source.specifier & 0x07FF,
-                hex(&ack.status.0)
-            ),
-            DeviceEvent::Alarm(AlarmEvent::Aborted(status)) => {
-                println!("alarm CR over (PNIOStatus {})", hex(&status.0))
-            }
+    let served = segment.serve(None, tick, |_, station, event| {
+        connected += u32::from(matches!(event, DeviceEvent::Ar(ArEvent::Connected { .. })));
+        let line = event_line(iface, event);
+        if several {
+            println!("{}: {line}", who(station));
+        } else {
+            println!("{line}");
         }
         use std::io::Write;
         let _ = std::io::stdout().flush();
@@ -196,24 +152,190 @@ pub fn run(
     }
 }
 
+/// A device's name for the lines of several: its name of station, or its MAC without one.
+fn who(station: &Station) -> String {
+    if station.name_of_station.is_empty() {
+        mac_text(&station.mac)
+    } else {
+        station.name_of_station.clone()
+    }
+}
+
+fn mac_text(mac: &[u8; 6]) -> String {
+    let bytes: Vec<String> = mac.iter().map(|b| format!("{b:02x}")).collect();
+    bytes.join(":")
+}
+
+/// The two lines a device starts with: what and where it is, and its RPC address (`source`
+/// says where that came from), or why it has none yet.
+fn announce(iface: &str, plan: &Planned, source: &str) {
+    let station = &plan.station;
+    println!(
+        "PROFINET device `{}` (VendorID {:#06x}, DeviceID {:#06x}) on {iface}, MAC {}",
+        station.name_of_station,
+        station.vendor_id,
+        station.device_id,
+        mac_text(&station.mac)
+    );
+    let [a, m, _] = station.ip;
+    if a == [0; 4] {
+        println!("no IP yet ({source}): RPC on UDP 34964 answers once {iface} has the address");
+    } else {
+        println!(
+            "RPC on UDP 34964 at {}.{}.{}.{} mask {}.{}.{}.{}{source}",
+            a[0], a[1], a[2], a[3], m[0], m[1], m[2], m[3]
+        );
+    }
+}
+
+/// One device of the command line: its GSDML loaded and judged, its station on `mac` (the
+/// `@NAME` given, else the GSDML's name).
+fn plan(entry: &str, is_card: bool, mac: [u8; 6], allow: &Policy) -> Result<Planned, String> {
+    let (what, given) = match entry.rsplit_once('@') {
+        Some((what, given)) => {
+            if let Some(problem) = edsgen_runtime::profinet::wire::dcp::name_problem(given) {
+                return Err(format!(
+                    "`{given}` is not a PROFINET name of station: {problem}"
+                ));
+            }
+            (what, Some(given))
+        }
+        None => (entry, None),
+    };
+    let (path, read) = if is_card {
+        if what != CARD {
+            return Err(format!(
+                "no PROFINET card `{what}`: the bundled PROFINET card is {CARD}"
+            ));
+        }
+        let path = "eds/goodrive350-pn.xml";
+        let read = load::load_bundled(
+            Path::new(path),
+            GOODRIVE350_PN,
+            Some(include_str!("../../../eds/goodrive350-pn.toml")),
+        );
+        (path.to_owned(), read)
+    } else {
+        match load::load(Path::new(what), None) {
+            Ok(loaded) => (what.to_owned(), loaded),
+            Err(LoadError::Read(read::ReadError::Io(_, e))) => {
+                return Err(format!("cannot read `{what}`: {e}"))
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    };
+    crate::cmd::simulate::servable(&read, &path, allow)?;
+    let Some(pn) = read.device.profinet() else {
+        return Err(format!("`{path}` is not a GSDML file"));
+    };
+    let mut station = station::from_gsdml(pn, mac);
+    if let Some(name) = given {
+        station.name_of_station = name.to_owned();
+    }
+    Ok(Planned {
+        station,
+        config: DeviceConfig::from_gsdml(pn),
+        card: is_card,
+    })
+}
+
+/// Raises (`fault`) or removes the cause of a drive fault on the card devices, on the one named
+/// `name` if a name is given.
+fn switch_fault(
+    devices: &mut [Device],
+    now: edsgen_runtime::Instant,
+    fault: bool,
+    name: Option<&str>,
+    several: bool,
+) {
+    let mut found = false;
+    for device in devices.iter_mut() {
+        if device.drive().is_none() {
+            continue;
+        }
+        if name.is_some_and(|n| n != device.station().name_of_station) {
+            continue;
+        }
+        found = true;
+        let line = if fault {
+            device.inject_fault(now, FAULT_OC1);
+            format!("drive fault {FAULT_OC1} (OC1) raised")
+        } else {
+            device.remove_fault_cause();
+            "drive fault cause removed: a fault reset (CW command 7) clears it".to_owned()
+        };
+        if several {
+            println!("{}: {line}", who(device.station()));
+        } else {
+            println!("{line}");
+        }
+    }
+    if let (false, Some(name)) = (found, name) {
+        eprintln!("no card device named `{name}` on this interface");
+    }
+}
+
+/// The line of one event.
+fn event_line(iface: &str, event: &DeviceEvent) -> String {
+    match event {
+        DeviceEvent::Ar(event) => ar_line(event),
+        DeviceEvent::Dcp(DcpEvent::NameSet(name)) => format!("name of station set to `{name}`"),
+        DeviceEvent::Dcp(DcpEvent::IpSet([ip, mask, gw])) => {
+            let dotted = |a: &[u8; 4]| std::net::Ipv4Addr::from(*a).to_string();
+            if !has_address(iface, *ip) && *ip != [0; 4] {
+                eprintln!(
+                    "note: `{iface}` does not have {}: RPC reaches the device once it has it (ip addr add {}/{} dev {iface})",
+                    dotted(ip),
+                    dotted(ip),
+                    u32::from_be_bytes(*mask).count_ones()
+                );
+            }
+            format!(
+                "IP set to {} mask {} gateway {}",
+                dotted(ip),
+                dotted(mask),
+                dotted(gw)
+            )
+        }
+        DeviceEvent::Dcp(DcpEvent::Signal) => "signal: flashing the LED".to_owned(),
+        DeviceEvent::Dcp(DcpEvent::ResetToFactory) => "reset to factory".to_owned(),
+        DeviceEvent::Alarm(AlarmEvent::Acknowledged(ack)) => format!(
+            "alarm {:#06x} of slot {} subslot {} acknowledged (sequence {}, PNIOStatus {})",
+            ack.source.alarm_type,
+            ack.source.slot,
+            ack.source.subslot,
+            ack.source.specifier & 0x07FF,
+            hex(&ack.status.0)
+        ),
+        DeviceEvent::Alarm(AlarmEvent::Aborted(status)) => {
+            format!("alarm CR over (PNIOStatus {})", hex(&status.0))
+        }
+    }
+}
+
 /// The fault a `fault` line raises: P07.27's type 4, OC1 (overcurrent while accelerating).
 const FAULT_OC1: u16 = 4;
 
-/// `fault` (true) and `clear` (false) lines of standard input, read by a thread of their own.
-fn faults_from_stdin() -> mpsc::Receiver<bool> {
+/// `fault` (true) and `clear` (false) lines of standard input, each with the name after it
+/// (`fault drive-a`) if any, read by a thread of their own.
+fn faults_from_stdin() -> mpsc::Receiver<(bool, Option<String>)> {
     let (tx, rx) = mpsc::channel();
     std::thread::spawn(move || {
         for line in std::io::stdin().lock().lines() {
             let Ok(line) = line else { break };
-            let fault = match line.trim() {
-                "fault" => true,
-                "clear" => false,
-                other => {
-                    eprintln!("ignored on standard input: `{other}` (fault or clear)");
+            let mut words = line.split_whitespace();
+            let fault = match words.next() {
+                Some("fault") => true,
+                Some("clear") => false,
+                _ => {
+                    eprintln!(
+                        "ignored on standard input: `{}` (fault or clear, optionally followed by a name of station)",
+                        line.trim()
+                    );
                     continue;
                 }
             };
-            if tx.send(fault).is_err() {
+            if tx.send((fault, words.next().map(str::to_owned))).is_err() {
                 break;
             }
         }
@@ -226,8 +348,8 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02X}")).collect()
 }
 
-/// Prints one step of an AR.
-fn print_ar(event: &ArEvent) {
+/// The line of one step of an AR.
+fn ar_line(event: &ArEvent) -> String {
     match event {
         ArEvent::Connected {
             ar_type,
@@ -246,42 +368,97 @@ fn print_ar(event: &ArEvent) {
             if *diff {
                 line += ", with module differences";
             }
-            println!("{line}");
+            line
         }
         ArEvent::RecordWritten {
             slot,
             subslot,
             index,
             data,
-        } => println!(
+        } => format!(
             "record {index} of slot {slot} subslot {subslot} written ({} bytes)",
             data.len()
         ),
-        ArEvent::PrmEnd => println!("PrmEnd: ApplicationReady sent"),
-        ArEvent::DataStart => println!("ApplicationReady confirmed: cyclic data exchange"),
-        ArEvent::Released => println!("AR released"),
-        ArEvent::Aborted => println!("AR aborted"),
+        ArEvent::PrmEnd => "PrmEnd: ApplicationReady sent".to_owned(),
+        ArEvent::DataStart => "ApplicationReady confirmed: cyclic data exchange".to_owned(),
+        ArEvent::Released => "AR released".to_owned(),
+        ArEvent::Aborted => "AR aborted".to_owned(),
     }
 }
 
 /// IP, mask and gateway, as DCP carries them.
 type IpParameter = [[u8; 4]; 3];
 
-/// The IP, mask and (no) gateway the device reports, and where they come from (said after
-/// the address): `--ip ADDR/PREFIX` as given; `--ip ADDR` with the prefix the interface has
-/// for that address (a bare address must be one of the interface's, and the kernel's netmask
-/// is the one datagrams to it are routed by: assuming /24, as p-net's sample does for a
-/// missing mask, could report a mask the interface does not use); without `--ip`, the
-/// interface's first IPv4 address and its prefix (`None` when it has none). An address the
-/// interface does not have is refused: RPC datagrams to it would never reach the device.
-fn address(iface: &str, ip: Option<&str>) -> Result<(Option<IpParameter>, String), String> {
+/// The IP, mask and (no) gateway of each of `count` devices, and where they come from (said
+/// after the address), `None` for a device without one. `ips` gives one per device in the
+/// same order, or none: then each device takes the interface's IPv4 address at its position
+/// (the first its first, as one device always did; a second device the interface's second
+/// address, if it has one), and a device past the interface's addresses has none until a DCP
+/// Set gives it one; so has a device whose `--ip` is `-`. See [`address`] for one `--ip`.
+/// With an address, the text says where it came from; without, why there is none.
+fn addresses(
+    iface: &str,
+    ips: &[String],
+    count: usize,
+) -> Result<Vec<(Option<IpParameter>, String)>, String> {
+    if ips.is_empty() {
+        let own = iface::ipv4_addresses(iface).unwrap_or_default();
+        return Ok((0..count)
+            .map(|i| match own.get(i) {
+                Some(&(a, m)) => (Some([a, m, [0; 4]]), format!(" ({iface}'s address)")),
+                None if i == 0 => (
+                    None,
+                    format!("{iface} has no IPv4 address; --ip ADDR[/PREFIX], or a DCP Set"),
+                ),
+                None => (
+                    None,
+                    format!(
+                        "{iface} has no IPv4 address number {}; --ip for each device, or a DCP Set",
+                        i + 1
+                    ),
+                ),
+            })
+            .collect());
+    }
+    if ips.len() != count {
+        let given = match ips.len() {
+            1 => "once".to_owned(),
+            n => format!("{n} times"),
+        };
+        return Err(format!(
+            "--ip is given {given} for {count} devices: give one per device, in the order of the devices (the cards first, then the files), or none to take {iface}'s addresses in that order"
+        ));
+    }
+    let mut found: Vec<(Option<IpParameter>, String)> = Vec::new();
+    for text in ips {
+        if text == "-" {
+            found.push((None, "--ip -: a DCP Set gives one".to_owned()));
+            continue;
+        }
+        let (ip, source) = address(iface, text)?;
+        if found
+            .iter()
+            .any(|(other, _)| other.is_some_and(|o| o[0] == ip[0]))
+        {
+            return Err(format!(
+                "--ip {} is given twice: each device has its own address",
+                std::net::Ipv4Addr::from(ip[0])
+            ));
+        }
+        found.push((Some(ip), source));
+    }
+    Ok(found)
+}
+
+/// The IP, mask and (no) gateway of `--ip TEXT`, and where they come from: `ADDR/PREFIX` as
+/// given; `ADDR` with the prefix the interface has for that address (a bare address must be
+/// one of the interface's, and the kernel's netmask is the one datagrams to it are routed by:
+/// assuming /24, as p-net's sample does for a missing mask, could report a mask the interface
+/// does not use). An address the interface does not have is refused: RPC datagrams to it
+/// would never reach the device (the addresses are required, not added: the host's own
+/// addresses are the user's to choose).
+fn address(iface: &str, text: &str) -> Result<(IpParameter, String), String> {
     let own = iface::ipv4_addresses(iface).unwrap_or_default();
-    let Some(text) = ip else {
-        return Ok(match own.first() {
-            Some(&(a, m)) => (Some([a, m, [0; 4]]), format!(" ({iface}'s address)")),
-            None => (None, String::new()),
-        });
-    };
     let bad = || format!("--ip `{text}` is not ADDR or ADDR/PREFIX (such as 10.0.0.2/24)");
     let (addr, prefix) = match text.split_once('/') {
         Some((addr, prefix)) => (addr, Some(prefix)),
@@ -318,32 +495,10 @@ fn address(iface: &str, ip: Option<&str>) -> Result<(Option<IpParameter>, String
         }
         None => (own_mask, format!(" ({iface}'s prefix for it)")),
     };
-    Ok((Some([addr.octets(), mask, [0; 4]]), source))
+    Ok(([addr.octets(), mask, [0; 4]], source))
 }
 
 /// Whether `iface` has the IPv4 address `ip`.
 fn has_address(iface: &str, ip: [u8; 4]) -> bool {
     iface::ipv4_addresses(iface).is_ok_and(|own| own.iter().any(|(a, _)| *a == ip))
-}
-
-/// `FILE@NAME` or `--card goodrive350-pn@NAME`: the entries without their `@NAME`, and the name
-/// of station given (checked against the PROFINET name rules).
-fn station_name(entries: &[String]) -> Result<(Vec<String>, Option<String>), String> {
-    let mut name = None;
-    let mut stripped = Vec::new();
-    for entry in entries {
-        match entry.rsplit_once('@') {
-            Some((what, given)) => {
-                if let Some(problem) = edsgen_runtime::profinet::wire::dcp::name_problem(given) {
-                    return Err(format!(
-                        "`{given}` is not a PROFINET name of station: {problem}"
-                    ));
-                }
-                name = Some(given.to_owned());
-                stripped.push(what.to_owned());
-            }
-            None => stripped.push(entry.clone()),
-        }
-    }
-    Ok((stripped, name))
 }

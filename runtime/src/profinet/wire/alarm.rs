@@ -254,6 +254,86 @@ impl AlarmAck {
     }
 }
 
+/// The AlarmNotification-PDU as a view: an alarm of a device, with its AlarmPayload borrowed
+/// from the frame it was read from (or to be written into one).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AlarmNotificationRepr<'a> {
+    /// High priority (block 0x0001) or low (0x0002).
+    pub high: bool,
+    /// Type, place and specifier.
+    pub source: AlarmSource,
+    /// ModuleIdentNumber.
+    pub module_ident: u32,
+    /// SubmoduleIdentNumber.
+    pub submodule_ident: u32,
+    /// The AlarmPayload: UserStructureIdentifier and its data, if any.
+    pub payload: Option<(u16, &'a [u8])>,
+}
+
+impl<'a> AlarmNotificationRepr<'a> {
+    /// Writes the block at the start of `buf`; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        let block = if self.high {
+            BLOCK_NOTIFICATION_HIGH
+        } else {
+            BLOCK_NOTIFICATION_LOW
+        };
+        emit_block(buf, block, 0, |b| {
+            let s = &self.source;
+            let at = put(b, 0, &s.alarm_type.to_be_bytes())?;
+            let at = put(b, at, &s.api.to_be_bytes())?;
+            let at = put(b, at, &s.slot.to_be_bytes())?;
+            let at = put(b, at, &s.subslot.to_be_bytes())?;
+            let at = put(b, at, &self.module_ident.to_be_bytes())?;
+            let at = put(b, at, &self.submodule_ident.to_be_bytes())?;
+            let at = put(b, at, &s.specifier.to_be_bytes())?;
+            match self.payload {
+                Some((usi, data)) => {
+                    let at = put(b, at, &usi.to_be_bytes())?;
+                    put(b, at, data)
+                }
+                None => Ok(at),
+            }
+        })
+    }
+
+    /// Reads a DATA PDU's variable part: `None` unless it is one whole AlarmNotification
+    /// block (a payload too short for its UserStructureIdentifier included).
+    pub fn parse(var_part: &'a [u8]) -> Option<AlarmNotificationRepr<'a>> {
+        let mut all = blocks(var_part);
+        let block = all.next()?.ok()?;
+        if all.next().is_some() {
+            return None;
+        }
+        let high = match block.block_type {
+            BLOCK_NOTIFICATION_HIGH => true,
+            BLOCK_NOTIFICATION_LOW => false,
+            _ => return None,
+        };
+        let mut r = Reader::new(block.body);
+        let alarm_type = r.u16()?;
+        let (api, slot, subslot) = (r.u32()?, r.u16()?, r.u16()?);
+        let (module_ident, submodule_ident, specifier) = (r.u32()?, r.u32()?, r.u16()?);
+        let payload = match r.rest() {
+            [] => None,
+            _ => Some((r.u16()?, r.rest())),
+        };
+        Some(AlarmNotificationRepr {
+            high,
+            source: AlarmSource {
+                alarm_type,
+                api,
+                slot,
+                subslot,
+                specifier,
+            },
+            module_ident,
+            submodule_ident,
+            payload,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -287,6 +367,51 @@ mod tests {
         assert_eq!(AlarmAck::parse(&buf[..n]), Some(ACK));
         assert_eq!(AlarmAck::parse(&buf[..n - 1]), None);
         assert_eq!(ACK.emit(&mut buf[..n - 1]), Err(BufferTooSmall));
+    }
+
+    #[test]
+    fn an_alarm_notification_is_written_into_the_buffer_and_read_back() {
+        let payload = [0x80, 0x00, 0x80, 0x00];
+        let alarm = AlarmNotificationRepr {
+            high: false,
+            source: AlarmSource {
+                alarm_type: ALARM_DIAGNOSIS,
+                api: 0,
+                slot: 1,
+                subslot: 1,
+                specifier: SPEC_CHANNEL_DIAGNOSIS | 2,
+            },
+            module_ident: 0x10,
+            submodule_ident: 0x20,
+            payload: Some((USI_CHANNEL_DIAGNOSIS, &payload)),
+        };
+        let mut buf = [0u8; 40];
+        let n = alarm.emit(&mut buf).expect("fits");
+        #[rustfmt::skip]
+        assert_eq!(
+            buf[..n],
+            [
+                0x00, 0x02, 0x00, 0x1C, 0x01, 0x00, // AlarmNotification low, BlockLength 28
+                0x00, 0x01, 0x00, 0x00, 0x00, 0x00, // Diagnosis, API 0
+                0x00, 0x01, 0x00, 0x01,             // slot 1, subslot 1
+                0x00, 0x00, 0x00, 0x10, 0x00, 0x00, 0x00, 0x20, // module, submodule
+                0x08, 0x02, 0x80, 0x00,             // specifier, USI
+                0x80, 0x00, 0x80, 0x00,             // the USI's data
+            ]
+        );
+        assert_eq!(AlarmNotificationRepr::parse(&buf[..n]), Some(alarm));
+        assert_eq!(AlarmNotificationRepr::parse(&buf[..n - 1]), None);
+        assert_eq!(alarm.emit(&mut buf[..n - 1]), Err(BufferTooSmall));
+        let bare = AlarmNotificationRepr {
+            payload: None,
+            ..alarm
+        };
+        let n = bare.emit(&mut buf).expect("fits");
+        assert_eq!((n, buf[3]), (26, 0x16));
+        assert_eq!(AlarmNotificationRepr::parse(&buf[..n]), Some(bare));
+        // An AlarmAck block is not a notification.
+        let n = ACK.emit(&mut buf).expect("fits");
+        assert_eq!(AlarmNotificationRepr::parse(&buf[..n]), None);
     }
 
     #[test]

@@ -9,6 +9,7 @@
 pub mod alarm;
 pub mod block;
 pub mod dcp;
+pub mod records;
 pub mod rpc;
 pub mod rt;
 

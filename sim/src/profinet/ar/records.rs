@@ -2,6 +2,7 @@
 //! records, with their exact length; RealIdentificationData (0xF000) and I&M0 (0xAFF0) read back
 //! from the device's configuration.
 
+use super::super::wire::append;
 use super::super::wire::blocks::*;
 use super::super::wire::rpc::*;
 use super::{ArEvent, Cm};
@@ -70,7 +71,9 @@ impl Cm {
             .min(usize::try_from(req.record_length).unwrap_or(usize::MAX));
         data.truncate(len);
         let mut out = Vec::new();
-        req.response(len as u32, PnioStatus::OK).emit(&mut out);
+        append(&mut out, |b| {
+            req.response(len as u32, PnioStatus::OK).emit(b)
+        });
         out.extend_from_slice(&data);
         Ok(out)
     }
@@ -125,8 +128,9 @@ impl Cm {
             data: data.to_vec(),
         });
         let mut out = Vec::new();
-        req.response(req.record_length, PnioStatus::OK)
-            .emit(&mut out);
+        append(&mut out, |b| {
+            req.response(req.record_length, PnioStatus::OK).emit(b)
+        });
         Ok(out)
     }
 

@@ -441,3 +441,26 @@ fn truncated_and_flipped_requests_never_panic_and_are_answered_as_rpc() {
         }
     }
 }
+
+#[test]
+fn a_read_implicit_with_the_nil_ar_uuid_reads_i_m0_and_records_without_an_ar() {
+    use crate::profinet::controller::{read_data, read_implicit};
+    let mut cm = cm();
+    let object = Uuid::pnio_object(1, 0x0350, 0x0350);
+    let (status, args) = call(
+        &mut cm,
+        &read_implicit(object, Uuid([7; 16]), (0, 1, 0xAFF0)),
+    );
+    assert!(status.is_ok(), "{status:?}");
+    let mut im0 = vec![0x00, 0x20, 0x00, 0x38, 0x01, 0x00, 0x03, 0x50];
+    im0.extend_from_slice(b"Goodrive350         0001            ");
+    im0.extend_from_slice(&[0, 1, b'V', 1, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0]);
+    assert_eq!(read_data(&args), Some(&im0[..]));
+    // Record 256 of the drive's subslot: its default mapping; an index it lacks is refused
+    // with ErrorCode1 0xB0 (invalid index).
+    let (status, args) = call(&mut cm, &read_implicit(object, Uuid([8; 16]), (1, 1, 256)));
+    assert!(status.is_ok(), "{status:?}");
+    assert_eq!(read_data(&args).map(<[u8]>::len), Some(22));
+    let (status, _) = call(&mut cm, &read_implicit(object, Uuid([9; 16]), (1, 1, 999)));
+    assert_eq!(status, PnioStatus::new(0xDE, 0x80, 0xB0, 0));
+}

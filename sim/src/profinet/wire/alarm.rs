@@ -1,12 +1,12 @@
-//! The alarm frames of the AlarmCR: the RTA-PDU header, the frame and the AlarmAck-PDU are the
-//! runtime's views ([`edsgen_runtime::profinet::wire::alarm`]); here the AlarmNotification-PDU
-//! (0x0001/0x0002, whose payload the device's alarm machine queues, owned) and the diagnosis
-//! data an alarm carries (ChannelDiagnosis, USI 0x8000; ExtChannelDiagnosis, USI 0x8002), and
+//! The alarm frames of the AlarmCR: the RTA-PDU header, the frame, the AlarmAck-PDU and the
+//! AlarmNotification-PDU are the runtime's views ([`edsgen_runtime::profinet::wire::alarm`]);
+//! here the AlarmNotification the alarm machines queue and report (its payload owned, written
+//! and read through the view) and the diagnosis data an alarm carries (ChannelDiagnosis, USI 0x8000; ExtChannelDiagnosis, USI 0x8002), and
 //! a whole frame as a `Vec`. Parsing never panics.
 
 pub use edsgen_runtime::profinet::wire::alarm::*;
 
-use super::blocks::{emit_block, split, Reader};
+use super::blocks::Reader;
 use super::Mac;
 
 /// A whole alarm frame (see the runtime's `emit_frame`), padded to Ethernet's minimum.
@@ -54,63 +54,34 @@ pub struct AlarmNotification {
 }
 
 impl AlarmNotification {
+    /// The runtime's view of it, borrowing its payload.
+    pub fn repr(&self) -> AlarmNotificationRepr<'_> {
+        AlarmNotificationRepr {
+            high: self.high,
+            source: self.source,
+            module_ident: self.module_ident,
+            submodule_ident: self.submodule_ident,
+            payload: self
+                .payload
+                .as_ref()
+                .map(|(usi, data)| (*usi, data.as_slice())),
+        }
+    }
+
     /// Appends the block.
     pub fn emit(&self, out: &mut Vec<u8>) {
-        let block = if self.high {
-            BLOCK_NOTIFICATION_HIGH
-        } else {
-            BLOCK_NOTIFICATION_LOW
-        };
-        emit_block(out, block, 0, |o| {
-            let s = &self.source;
-            o.extend_from_slice(&s.alarm_type.to_be_bytes());
-            o.extend_from_slice(&s.api.to_be_bytes());
-            o.extend_from_slice(&s.slot.to_be_bytes());
-            o.extend_from_slice(&s.subslot.to_be_bytes());
-            o.extend_from_slice(&self.module_ident.to_be_bytes());
-            o.extend_from_slice(&self.submodule_ident.to_be_bytes());
-            o.extend_from_slice(&s.specifier.to_be_bytes());
-            if let Some((usi, data)) = &self.payload {
-                o.extend_from_slice(&usi.to_be_bytes());
-                o.extend_from_slice(data);
-            }
-        });
+        super::append(out, |b| self.repr().emit(b));
     }
 
     /// Reads a DATA PDU's variable part: `None` unless it is one AlarmNotification block.
     pub fn parse(var_part: &[u8]) -> Option<AlarmNotification> {
-        let blocks = split(var_part).ok()?;
-        let [block] = blocks.as_slice() else {
-            return None;
-        };
-        let high = match block.block_type {
-            BLOCK_NOTIFICATION_HIGH => true,
-            BLOCK_NOTIFICATION_LOW => false,
-            _ => return None,
-        };
-        let mut r = Reader::new(block.body);
-        let alarm_type = r.u16()?;
-        let (api, slot, subslot) = (r.u32()?, r.u16()?, r.u16()?);
-        let (module_ident, submodule_ident, specifier) = (r.u32()?, r.u32()?, r.u16()?);
-        let payload = match r.rest() {
-            [] => None,
-            rest => {
-                let usi = r.u16()?;
-                Some((usi, rest.get(2..)?.to_vec()))
-            }
-        };
+        let view = AlarmNotificationRepr::parse(var_part)?;
         Some(AlarmNotification {
-            high,
-            source: AlarmSource {
-                alarm_type,
-                api,
-                slot,
-                subslot,
-                specifier,
-            },
-            module_ident,
-            submodule_ident,
-            payload,
+            high: view.high,
+            source: view.source,
+            module_ident: view.module_ident,
+            submodule_ident: view.submodule_ident,
+            payload: view.payload.map(|(usi, data)| (usi, data.to_vec())),
         })
     }
 }

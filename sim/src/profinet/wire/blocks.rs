@@ -5,8 +5,10 @@
 //! AlarmCRBlockRes, ModuleDiffBlock), the record access headers (IODReadReq/Res,
 //! IODWriteReq/Res), IODControlReq/Res (PrmEnd, ApplicationReady, Release) and the
 //! RealIdentificationData record. Each parses and emits; parsing never panics. The block
-//! framing (header, cursor, the blocks of an argument) is the runtime's
-//! ([`edsgen_runtime::profinet::wire::block`]); these owned structs are still to move.
+//! framing (header, cursor, the blocks of an argument) and the record access and control
+//! blocks are the runtime's views ([`edsgen_runtime::profinet::wire::block`],
+//! [`edsgen_runtime::profinet::wire::records`], re-exported here); the owned structs of the
+//! Connect are still to move.
 
 use super::rpc::Uuid;
 use super::Mac;
@@ -19,33 +21,12 @@ pub const IOCR_BLOCK_REQ: u16 = 0x0102;
 pub const ALARM_CR_BLOCK_REQ: u16 = 0x0103;
 /// ExpectedSubmoduleBlockReq.
 pub const EXPECTED_SUBMODULE_BLOCK_REQ: u16 = 0x0104;
-/// IODWriteReqHeader.
-pub const IOD_WRITE_REQ: u16 = 0x0008;
-/// IODReadReqHeader.
-pub const IOD_READ_REQ: u16 = 0x0009;
-/// IODControlReq for PrmEnd.
-pub const PRM_END_REQ: u16 = 0x0110;
-/// IODControlReq for ApplicationReady (the device's CControl).
-pub const APPLICATION_READY_REQ: u16 = 0x0112;
-/// IODReleaseReq.
-pub const RELEASE_REQ: u16 = 0x0114;
 /// RealIdentificationData.
 pub const REAL_IDENTIFICATION_DATA: u16 = 0x0013;
 /// I&M0.
 pub const IM0: u16 = 0x0020;
-/// A response's block type: the request's with bit 15 set.
-pub const RESPONSE_BIT: u16 = 0x8000;
 /// ModuleDiffBlock.
 pub const MODULE_DIFF_BLOCK: u16 = 0x8104;
-
-/// ControlCommand PrmEnd.
-pub const CMD_PRM_END: u16 = 0x0001;
-/// ControlCommand ApplicationReady.
-pub const CMD_APPLICATION_READY: u16 = 0x0002;
-/// ControlCommand Release.
-pub const CMD_RELEASE: u16 = 0x0004;
-/// ControlCommand Done.
-pub const CMD_DONE: u16 = 0x0008;
 
 /// IOCRType input (device to controller).
 pub const IOCR_INPUT: u16 = 1;
@@ -465,9 +446,8 @@ impl AlarmCrBlockRes {
 }
 
 mod submodules;
+pub use edsgen_runtime::profinet::wire::records::*;
 pub use submodules::*;
-mod records;
-pub use records::*;
 
 #[cfg(test)]
 mod tests;

@@ -1,9 +1,9 @@
 //! PROFINET wire formats, apart from the protocol machines. The Ethernet header, the DCP PDU
 //! ([`dcp`]), the cyclic RT frame ([`rt`]) and the DCE/RPC PDU of connection management
-//! ([`rpc`]) and the AlarmCR's RTA-PDU and AlarmAck ([`alarm`]) are the runtime's views
-//! ([`edsgen_runtime::profinet::wire`]); the PNIO blocks RPC carries ([`blocks`]) and the
-//! AlarmNotification with its diagnosis data are still owned structs here (the machines keep
-//! and queue them; moving them is the next step). Parsing never panics: a frame too short or of another EtherType is `None`.
+//! ([`rpc`]), the AlarmCR's RTA-PDU, AlarmAck and AlarmNotification ([`alarm`]) and the record
+//! access and control blocks are the runtime's views ([`edsgen_runtime::profinet::wire`]); the
+//! PNIO blocks of the Connect ([`blocks`]) and the diagnosis data of an alarm are still owned
+//! structs here (the machines keep them; moving them is the next step). Parsing never panics: a frame too short or of another EtherType is `None`.
 
 pub mod alarm;
 pub mod blocks;

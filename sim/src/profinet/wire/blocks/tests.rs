@@ -242,7 +242,7 @@ fn real_identification_data_bytes() {
 fn record_headers_are_64_bytes_and_read_back() {
     let req = IodHeader::request(IOD_READ_REQ, 3, AR, (0, 1, 0xF000), 4096);
     let mut out = Vec::new();
-    req.emit(&mut out);
+    crate::profinet::wire::append(&mut out, |b| req.emit(b));
     assert_eq!(out.len(), 64);
     assert_eq!(out[..8], [0x00, 0x09, 0x00, 0x3C, 0x01, 0x00, 0x00, 0x03]);
     assert_eq!(out[24..36], [0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0xF0, 0x00]);
@@ -252,7 +252,7 @@ fn record_headers_are_64_bytes_and_read_back() {
     let res = IodHeader::request(IOD_WRITE_REQ, 3, AR, (1, 1, 256), 22)
         .response(22, PnioStatus::new(0xDF, 0x80, 0xB0, 0));
     let mut out = Vec::new();
-    res.emit(&mut out);
+    crate::profinet::wire::append(&mut out, |b| res.emit(b));
     assert_eq!(out.len(), 64);
     assert_eq!(out[..2], [0x80, 0x08]);
     assert_eq!(out[40..48], [0, 0, 0, 0, 0xDF, 0x80, 0xB0, 0]);
@@ -270,7 +270,7 @@ fn control_blocks_and_their_done() {
         properties: 0,
     };
     let mut out = Vec::new();
-    req.emit(&mut out);
+    crate::profinet::wire::append(&mut out, |b| req.emit(b));
     assert_eq!(out.len(), 32);
     assert_eq!(out[..8], [0x01, 0x10, 0, 28, 1, 0, 0, 0]);
     assert_eq!(out[24..], [0, 5, 0, 0, 0, 1, 0, 0]);

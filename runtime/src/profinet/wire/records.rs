@@ -1,8 +1,34 @@
 //! The record access headers (IODReadReq/Res, IODWriteReq/Res: one 64-byte shape with a tail
-//! that differs) and IODControlReq/Res (PrmEnd, ApplicationReady, Release and their Done).
+//! that differs) and IODControlReq/Res (PrmEnd, ApplicationReady, Release and their Done), with
+//! their block types and control commands: views written into the caller's buffer and read
+//! from a block's body, never panicking.
 
-use super::super::rpc::{PnioStatus, Uuid};
-use super::{emit_block, put16, put32, Reader, IOD_READ_REQ, IOD_WRITE_REQ, RESPONSE_BIT};
+use super::block::{emit_block, Reader};
+use super::put;
+use super::rpc::{PnioStatus, Uuid};
+use super::BufferTooSmall;
+
+/// IODWriteReqHeader.
+pub const IOD_WRITE_REQ: u16 = 0x0008;
+/// IODReadReqHeader.
+pub const IOD_READ_REQ: u16 = 0x0009;
+/// IODControlReq for PrmEnd.
+pub const PRM_END_REQ: u16 = 0x0110;
+/// IODControlReq for ApplicationReady (the device's CControl).
+pub const APPLICATION_READY_REQ: u16 = 0x0112;
+/// IODReleaseReq.
+pub const RELEASE_REQ: u16 = 0x0114;
+/// A response's block type: the request's with bit 15 set.
+pub const RESPONSE_BIT: u16 = 0x8000;
+
+/// ControlCommand PrmEnd.
+pub const CMD_PRM_END: u16 = 0x0001;
+/// ControlCommand ApplicationReady.
+pub const CMD_APPLICATION_READY: u16 = 0x0002;
+/// ControlCommand Release.
+pub const CMD_RELEASE: u16 = 0x0004;
+/// ControlCommand Done.
+pub const CMD_DONE: u16 = 0x0008;
 
 /// IODReadReqHeader, IODReadResHeader, IODWriteReqHeader or IODWriteResHeader.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -108,33 +134,33 @@ impl IodHeader {
         Some(h)
     }
 
-    /// Appends the header block (64 bytes).
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, self.block_type, 0, |o| {
-            put16(o, self.sequence);
-            o.extend_from_slice(&self.ar_uuid.0);
-            put32(o, self.api);
-            put16(o, self.slot);
-            put16(o, self.subslot);
-            put16(o, 0);
-            put16(o, self.index);
-            put32(o, self.record_length);
+    /// Writes the header block (64 bytes) at the start of `buf`; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        emit_block(buf, self.block_type, 0, |b| {
+            let at = put(b, 0, &self.sequence.to_be_bytes())?;
+            let at = put(b, at, &self.ar_uuid.0)?;
+            let at = put(b, at, &self.api.to_be_bytes())?;
+            let at = put(b, at, &self.slot.to_be_bytes())?;
+            let at = put(b, at, &self.subslot.to_be_bytes())?;
+            let at = put(b, at, &[0, 0])?;
+            let at = put(b, at, &self.index.to_be_bytes())?;
+            let at = put(b, at, &self.record_length.to_be_bytes())?;
             if self.block_type == IOD_READ_REQ {
-                o.extend_from_slice(&self.target_ar_uuid.0);
-                o.extend_from_slice(&[0; 8]);
+                let at = put(b, at, &self.target_ar_uuid.0)?;
+                put(b, at, &[0; 8])
             } else if self.block_type & RESPONSE_BIT == 0 {
-                o.extend_from_slice(&[0; 24]);
+                put(b, at, &[0; 24])
             } else {
-                put16(o, self.additional.0);
-                put16(o, self.additional.1);
+                let at = put(b, at, &self.additional.0.to_be_bytes())?;
+                let at = put(b, at, &self.additional.1.to_be_bytes())?;
                 if self.block_type == IOD_WRITE_REQ | RESPONSE_BIT {
-                    o.extend_from_slice(&self.status.0);
-                    o.extend_from_slice(&[0; 16]);
+                    let at = put(b, at, &self.status.0)?;
+                    put(b, at, &[0; 16])
                 } else {
-                    o.extend_from_slice(&[0; 20]);
+                    put(b, at, &[0; 20])
                 }
             }
-        });
+        })
     }
 }
 
@@ -174,21 +200,51 @@ impl IodControl {
     pub fn done(&self) -> IodControl {
         IodControl {
             block_type: self.block_type | RESPONSE_BIT,
-            command: super::CMD_DONE,
+            command: CMD_DONE,
             properties: 0,
             ..*self
         }
     }
 
-    /// Appends the block (32 bytes).
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, self.block_type, 0, |o| {
-            put16(o, 0);
-            o.extend_from_slice(&self.ar_uuid.0);
-            put16(o, self.session_key);
-            put16(o, 0);
-            put16(o, self.command);
-            put16(o, self.properties);
-        });
+    /// Writes the block (32 bytes) at the start of `buf`; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        emit_block(buf, self.block_type, 0, |b| {
+            let at = put(b, 0, &[0, 0])?;
+            let at = put(b, at, &self.ar_uuid.0)?;
+            let at = put(b, at, &self.session_key.to_be_bytes())?;
+            let at = put(b, at, &[0, 0])?;
+            let at = put(b, at, &self.command.to_be_bytes())?;
+            put(b, at, &self.properties.to_be_bytes())
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profinet::wire::block::blocks;
+
+    #[test]
+    fn headers_are_written_whole_into_the_buffer_or_not_at_all_and_read_back() {
+        let read = IodHeader::request(IOD_READ_REQ, 1, Uuid([7; 16]), (0, 1, 0xAFF0), 4096);
+        let mut buf = [0u8; 64];
+        assert_eq!(read.emit(&mut buf), Ok(64));
+        let block = blocks(&buf).next().expect("a block").expect("whole");
+        assert_eq!(IodHeader::parse(block.block_type, block.body), Some(read));
+        assert_eq!(read.emit(&mut buf[..63]), Err(BufferTooSmall));
+        let control = IodControl {
+            block_type: RELEASE_REQ,
+            ar_uuid: Uuid([7; 16]),
+            session_key: 2,
+            command: CMD_RELEASE,
+            properties: 0,
+        };
+        let done = control.done();
+        assert_eq!(done.emit(&mut buf), Ok(32));
+        assert_eq!(buf[..2], [0x81, 0x14]);
+        let block = blocks(&buf[..32]).next().expect("a block").expect("whole");
+        assert_eq!(IodControl::parse(block.block_type, block.body), Some(done));
+        assert_eq!(control.emit(&mut buf[..31]), Err(BufferTooSmall));
+        assert_eq!(IodControl::parse(RELEASE_REQ, &buf[6..20]), None);
     }
 }
