@@ -3,7 +3,8 @@
 //! checked from the other side of its wire:
 //! - CANopen: `edsgen scan` on the machine's `edsgen bus` finds the CP301 and the Goodrive350;
 //! - EtherCAT: SOEM (python `pysoem`, scripts/soem_master.py) takes the EC-TX508 to Op;
-//! - PROFINET: `edsgen pn list` finds the Goodrive350 PROFINET card by its name of station;
+//! - PROFINET: `edsgen pn list` finds two Goodrive350 PROFINET cards on one interface, each by
+//!   its name of station and IP;
 //! - EtherNet/IP: `edsgen enip list` finds the Goodrive350 EtherNet/IP card at its address;
 //! - PROFIBUS-DP: `edsgen dp scan` finds the DP card on a pseudo-terminal line.
 //!
@@ -38,8 +39,9 @@ fn a_machine_of_five_buses_answers_on_each() {
         .expect("the EtherNet/IP link");
     net.address(0, &ip_dev, "10.231.7.2/24")
         .expect("an address");
-    net.address(0, &pn_dev, "10.231.8.2/24")
-        .expect("an address");
+    for address in ["10.231.8.2/24", "10.231.8.3/24"] {
+        net.address(0, &pn_dev, address).expect("an address");
+    }
     net.address(1, &ip_master, "10.231.7.1/24")
         .expect("an address");
     let pair = Process::python(&python, "scripts/pty_pair.py", &[]);
@@ -79,7 +81,10 @@ devices = ["goodrive350-dp@2"]
 
 [[profinet]]
 interface = "{pn_dev}"
-devices = [{{ device = "goodrive350-pn", name = "drive-a", ip = "10.231.8.2/24" }}]
+devices = [
+    {{ device = "goodrive350-pn", name = "drive-a", ip = "10.231.8.2/24" }},
+    {{ device = "goodrive350-pn", name = "drive-b", ip = "10.231.8.3/24" }},
+]
 
 [[enip]]
 devices = [{{ device = "goodrive350-enip", address = "10.231.7.2" }}]
@@ -87,7 +92,7 @@ devices = [{{ device = "goodrive350-enip", address = "10.231.7.2" }}]
         ),
     )
     .unwrap();
-    let machine = Process::start(&mut in_ns(
+    let mut machine = Process::start(&mut in_ns(
         0,
         EDSGEN,
         &["simulate", "--machine", file.to_str().unwrap()],
@@ -136,9 +141,18 @@ devices = [{{ device = "goodrive350-enip", address = "10.231.7.2" }}]
     // PROFINET.
     let pn = Process::start(&mut in_ns(1, EDSGEN, &["pn", "list", &pn_master])).finish(WAIT);
     assert_eq!(pn.code, Some(0), "{pn:?}");
+    for (name, ip) in [("drive-a", "10.231.8.2"), ("drive-b", "10.231.8.3")] {
+        let line = pn.stdout.lines().find(|l| l.contains(name));
+        assert!(line.is_some_and(|l| l.contains(ip)), "{name}: {pn:?}");
+    }
+    // A fault for one of the two, by its name, reaches that one.
+    machine.send_line("fault drive-b");
+    let raised = machine.stdout_line(|l| l.contains("drive fault"), WAIT);
     assert!(
-        pn.stdout.contains("drive-a") && pn.stdout.contains("10.231.8.2"),
-        "{pn:?}"
+        raised.starts_with(&format!(
+            "[profinet interface {pn_dev}] drive-b: drive fault "
+        )) && raised.ends_with(" (OC1) raised"),
+        "{raised}"
     );
     // EtherNet/IP.
     let enip = Process::start(&mut in_ns(1, EDSGEN, &["enip", "list", "10.231.7.2"])).finish(WAIT);
