@@ -442,4 +442,6 @@ rules! {
         why "The engineering tool shows two labels for one subslot.";
     PN_STATION_NAME = "PN018" Warning "an access point's DNS_CompatibleName (its default name of station) that PROFINET's name rules forbid in any case: DNS labels of letters, digits and `-`, at most 240 characters (capitals pass: controllers lowercase the name)"
         why "A controller assigns the device that name by DCP; a device refuses a name that breaks the rules, and the controller cannot connect.";
+    PN_MISSPELT = "PN019" Warning "an attribute or child element that GSDML's schema does not allow on the element, a letter or two from one it does (with that name as help; a name far from every allowed one is left to schema validation)"
+        why "The value is ignored by every tool, so the default, limit or slot the author wrote is lost, and engineering tools that validate against the schema refuse the file.";
 }
