@@ -153,8 +153,8 @@ fn an_unknown_code_is_offered_the_nearest_one() {
         "error: explain EDS999: no such rule; did you mean EDS820? (`edsgen rules` lists them)\n"
     );
     assert_eq!(
-        refused(&["explain", "pn19"]),
-        "error: explain pn19: no such rule; did you mean PN018? (`edsgen rules` lists them)\n"
+        refused(&["explain", "pn21"]),
+        "error: explain pn21: no such rule; did you mean PN019? (`edsgen rules` lists them)\n"
     );
     assert_eq!(
         refused(&["explain", "CPI023"]),

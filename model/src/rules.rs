@@ -172,7 +172,7 @@ mod tests {
     fn the_nearest_code_is_the_nearest_number_of_the_same_letters_else_a_letter_away() {
         let nearest = |code| nearest(code).map(|rule| rule.code);
         assert_eq!(nearest("EDS999"), Some("EDS820"));
-        assert_eq!(nearest("pn19"), Some("PN018"));
+        assert_eq!(nearest("pn21"), Some("PN019"));
         assert_eq!(nearest("CIP024"), Some("CIP023"));
         assert_eq!(nearest("GSD008"), Some("GSD007"));
         assert_eq!(nearest("CPI023"), Some("CIP023"));
