@@ -125,7 +125,7 @@ fn explain_an_ethercat_check_code() {
         "CHK007 (error): (`edsgen ecat check`) a SyncManager of the SubDevice's SII (kind, start, length, control byte, enable), or its ESC's SyncManager count, differs from the ESI\n\n\
          Why it matters: The master programs the SyncManagers from the ESI; a SII that disagrees leaves mailbox or process data at other addresses, and the SubDevice stays in Init or SafeOp.\n\
          Area: a live device against its description (`edsgen check`).\n\
-         `edsgen check` reports it where the device differs from its description: an error fails the check (exit 1); a warning only under `--deny-warnings`. It says nothing about the description file itself (`edsgen validate` does).\n"
+         `edsgen ecat check` reports it where the device differs from its description: an error fails the check (exit 1); a warning only under `--deny-warnings`. It says nothing about the description file itself (`edsgen validate` does).\n"
     );
 }
 

@@ -61,11 +61,18 @@ fn explanation(rule: &Rule) -> String {
     let code = rule.code;
     let area = rule.area().unwrap_or("not numbered by area");
     let effect = match rule.severity {
-        _ if code.starts_with("CHK") => "`edsgen check` reports it where the device differs \
-             from its description: an error fails the check (exit 1); a warning only under \
-             `--deny-warnings`. It says nothing about the description file itself (`edsgen \
-             validate` does)."
-            .to_string(),
+        _ if code.starts_with("CHK") => {
+            let command = if rule.summary.starts_with("(`edsgen ecat check`)") {
+                "edsgen ecat check"
+            } else {
+                "edsgen check"
+            };
+            format!(
+                "`{command}` reports it where the device differs from its description: an \
+                 error fails the check (exit 1); a warning only under `--deny-warnings`. It says \
+                 nothing about the description file itself (`edsgen validate` does)."
+            )
+        }
         Severity::Error => format!(
             "An error fails `edsgen validate` (exit 1) and the build: the file breaks the standard \
              or code generated from it would be wrong. `--allow {code}` and \
