@@ -26,7 +26,9 @@ fn the_default_record_is_the_file_s() {
         [0xA5, 0x00, 0x02, 0xFF, 0xFE, 0x58, 0, 0, 0, 0, 0x12, 0x34]
     );
     assert_eq!(record.to_bytes(), record_100::DEFAULT);
-    assert_eq!(ModeValues::try_from(record.mode), Ok(ModeValues::Fast));
+    assert_eq!(record.mode_value(), Ok(ModeValues::Fast));
+    let unnamed = Record { mode: 3, ..record };
+    assert_eq!(unnamed.mode_value(), Err(3));
 }
 
 #[test]

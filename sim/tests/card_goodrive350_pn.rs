@@ -293,6 +293,10 @@ fn the_pzd_records_default_to_invalid() {
     };
     assert_eq!(rx.to_bytes()[..4], [0x00, 0x00, 0x00, 0x01]);
     assert_eq!(record_256::Record::from_bytes(&rx.to_bytes()), rx);
+    assert_eq!(
+        rx.p16_33_received_pzd3_value(),
+        Ok(record_256::P1633ReceivedPzd3Values::SetFrequency0Fmax001Hz)
+    );
 }
 
 /// The generated module, byte for byte (with the overlay, as `sim/build.rs` generates it).

@@ -139,6 +139,14 @@ pub mod pn_records {
                                 limit: u16::from_be_bytes([bytes[10], bytes[11]]),
                             }
                         }
+                        /// `mode` as [`ModeValues`]; the raw value when no variant names it.
+                        pub fn mode_value(
+                            self,
+                        ) -> ::core::result::Result<ModeValues, u16> {
+                            <ModeValues as ::core::convert::TryFrom<
+                                u16,
+                            >>::try_from(self.mode)
+                        }
                     }
                     impl Default for Record {
                         /// The file's defaults ([`DEFAULT`]).

@@ -38,40 +38,49 @@ pub(super) fn records(records: &[ParameterRecord], value_lists: &[ValueList]) ->
         );
         let mut names: Vec<String> = Vec::new();
         let mut enums: Vec<String> = Vec::new();
-        let fields = record.fields.iter().enumerate().map(|(n, f)| {
-            let wanted = ident(
-                f.name.as_deref().unwrap_or(""),
-                Case::Shouty,
-                &format!("FIELD_{n}"),
-            );
-            let mut name = wanted.clone();
-            let mut k = 2;
-            while names.contains(&name) {
-                name = format!("{wanted}_{k}");
-                k += 1;
-            }
-            names.push(name.clone());
-            let name = id(&format!("{name}_BYTE_OFFSET"));
-            let offset = Literal::usize_unsuffixed(f.byte_offset as usize);
-            let doc = format!(
-                " Byte offset of the {} field{}{}.",
-                code_span(&f.data_type.value),
-                f.name
-                    .as_deref()
-                    .map(|t| format!(" {}", doc_text(t)))
-                    .unwrap_or_default(),
-                f.bit_offset
-                    .map(|b| format!(" (bit {b})"))
-                    .unwrap_or_default()
-            );
-            let values = super::value_enums::value_enum(f, value_lists, &mut enums);
-            quote! {
-                #[doc = #doc]
-                pub const #name: usize = #offset;
-                #values
-            }
-        });
-        let record_struct = record_struct(record);
+        // Per field, the enum naming its values, if one is generated.
+        let mut value_enums: Vec<Option<String>> = Vec::new();
+        let fields: Vec<TokenStream> = record
+            .fields
+            .iter()
+            .enumerate()
+            .map(|(n, f)| {
+                let wanted = ident(
+                    f.name.as_deref().unwrap_or(""),
+                    Case::Shouty,
+                    &format!("FIELD_{n}"),
+                );
+                let mut name = wanted.clone();
+                let mut k = 2;
+                while names.contains(&name) {
+                    name = format!("{wanted}_{k}");
+                    k += 1;
+                }
+                names.push(name.clone());
+                let name = id(&format!("{name}_BYTE_OFFSET"));
+                let offset = Literal::usize_unsuffixed(f.byte_offset as usize);
+                let doc = format!(
+                    " Byte offset of the {} field{}{}.",
+                    code_span(&f.data_type.value),
+                    f.name
+                        .as_deref()
+                        .map(|t| format!(" {}", doc_text(t)))
+                        .unwrap_or_default(),
+                    f.bit_offset
+                        .map(|b| format!(" (bit {b})"))
+                        .unwrap_or_default()
+                );
+                let before = enums.len();
+                let values = super::value_enums::value_enum(f, value_lists, &mut enums);
+                value_enums.push(enums.get(before).cloned());
+                quote! {
+                    #[doc = #doc]
+                    pub const #name: usize = #offset;
+                    #values
+                }
+            })
+            .collect();
+        let record_struct = record_struct(record, &value_enums);
         out.push(quote! {
             #[doc = #doc]
             pub mod #name {
@@ -133,13 +142,15 @@ fn field_type(field: &RecordField) -> Option<FieldType> {
 }
 
 /// `Record`: the fields as typed values, `to_bytes` over `DEFAULT` (so `Const` bytes stay),
-/// `from_bytes`, `from_slice` and `SIZE`; its `Default` the file's defaults. Nothing when a
-/// field has no type, lies past the record's length (PN010), or the record has no field.
-fn record_struct(record: &ParameterRecord) -> TokenStream {
+/// `from_bytes`, `from_slice` and `SIZE`, `FIELD_value()` for a field whose values an enum of
+/// `value_enums` names; its `Default` the file's defaults. Nothing when a field has no type,
+/// lies past the record's length (PN010), or the record has no field.
+fn record_struct(record: &ParameterRecord, value_enums: &[Option<String>]) -> TokenStream {
     let length = record.length.value as usize;
     let mut names: Vec<String> = Vec::new();
     let (mut fields, mut encodes, mut decodes) = (Vec::new(), Vec::new(), Vec::new());
     let mut float = false;
+    let mut accessors = Vec::new();
     for (n, field) in record.fields.iter().enumerate() {
         let Some(ty) = field_type(field) else {
             return TokenStream::new();
@@ -231,6 +242,21 @@ fn record_struct(record: &ParameterRecord) -> TokenStream {
                 quote!([u8; #n])
             }
         };
+        if let Some(values) = value_enums.get(n).and_then(Option::as_ref) {
+            let (raw, conv) = match ty {
+                FieldType::Bit(_) => (quote!(u8), quote!(u8::from(self.#f))),
+                _ => (rust.clone(), quote!(self.#f)),
+            };
+            let method = id(&format!("{name}_value"));
+            let values_ty = id(values);
+            let doc = format!(" `{name}` as [`{values}`]; the raw value when no variant names it.");
+            accessors.push(quote! {
+                #[doc = #doc]
+                pub fn #method(self) -> ::core::result::Result<#values_ty, #raw> {
+                    <#values_ty as ::core::convert::TryFrom<#raw>>::try_from(#conv)
+                }
+            });
+        }
         fields.push(quote!(#[doc = #doc] pub #f: #rust,));
     }
     if fields.is_empty() {
@@ -261,6 +287,8 @@ fn record_struct(record: &ParameterRecord) -> TokenStream {
             pub fn from_bytes(bytes: &[u8; #len]) -> Self {
                 Self { #(#decodes)* }
             }
+
+            #(#accessors)*
         }
 
         impl Default for Record {
