@@ -427,7 +427,7 @@ fn allow_silences_a_warning_but_not_an_error_and_unknown_codes_are_usage_errors(
     assert_eq!(code(&out), 2);
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "error: --allow EDS999: no such rule (`edsgen rules` lists them)\n"
+        "error: --allow EDS999: no such rule; did you mean EDS820? (`edsgen rules` lists them)\n"
     );
     let out = run(&[
         "validate",
@@ -472,6 +472,8 @@ fn explain_prints_the_rule_and_what_its_severity_does() {
     assert_eq!(
         String::from_utf8_lossy(&out.stdout),
         "EDS102 (warning): EDSVersion is missing (meaning 3.0) or is not of the form x.y\n\n\
+         Why it matters: Readers that switch behaviour on the version (python canopen, vendor \
+         tools) treat the file as 3.0, which can differ from what the author wrote it for.\n\
          Area: [FileInfo] and [DeviceInfo].\n\
          A warning fails `edsgen validate` only under `--deny warnings` or `--deny EDS102`. \
          `--allow EDS102` (in build.rs `Builder::allow(\"EDS102\")`) silences it where the \
@@ -481,7 +483,7 @@ fn explain_prints_the_rule_and_what_its_severity_does() {
     assert_eq!(code(&out), 2);
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "error: explain EDS999: no such rule (`edsgen rules` lists them)\n"
+        "error: explain EDS999: no such rule; did you mean EDS820? (`edsgen rules` lists them)\n"
     );
 }
 

@@ -34,3 +34,27 @@ fn a_value_list_becomes_an_enum_in_its_record() {
         assert!(squeezed.contains(part), "{part} in {code}");
     }
 }
+
+const RECORDS_FIXTURE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/generated/pn_records.rs");
+
+/// `tests/gsdml/records.xml`, generated as `gsdml_records.rs` includes it: the checked-in module
+/// is current and deterministic, and it is clean (regenerate with `EDSGEN_BLESS=1`).
+#[test]
+fn checked_in_record_module_is_current() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/gsdml/records.xml");
+    let read = read_file(&path).unwrap();
+    let mut diags = read.diagnostics.clone();
+    diags.extend(edsgen_model::validate::validate(&read.device));
+    assert!(diags.is_empty(), "{diags:?}");
+    let generated = emit::generate_module(&read.device, "pn_records").expect("generates");
+    if std::env::var_os("EDSGEN_BLESS").is_some() {
+        std::fs::write(RECORDS_FIXTURE, &generated.code).unwrap();
+    }
+    let on_disk = std::fs::read_to_string(RECORDS_FIXTURE).unwrap();
+    assert!(
+        on_disk == generated.code,
+        "tests/generated/pn_records.rs is stale; run with EDSGEN_BLESS=1"
+    );
+    let again = emit::generate_module(&read.device, "pn_records").expect("generates");
+    assert_eq!(again.code, generated.code, "deterministic");
+}

@@ -761,3 +761,59 @@ fn pn018_a_default_name_of_station_profinet_forbids() {
     );
     assert_eq!(validate::validate(&read(&text).device), vec![]);
 }
+
+/// PN019: an attribute or child element the schema does not allow, a letter or two from one it
+/// does, is named with its help; one far from every allowed name raises nothing.
+#[test]
+fn pn019_a_misspelt_attribute_or_element_says_did_you_mean() {
+    let text = edit(
+        "Changeable=\"true\" Visible=\"true\" TextId=\"T_REC_RX_2\"",
+        "Changeable=\"true\" Visble=\"true\" Colour=\"red\" TextId=\"T_REC_RX_2\"",
+    )
+    .replacen("<IOConfigData ", "<IOConfigData MaxDataLenght=\"2880\" ", 1);
+    let read = read(&text);
+    let mut all = read.diagnostics.clone();
+    all.extend(validate::validate(&read.device));
+    edsgen_model::diag::sort(&mut all);
+    let found: Vec<_> = all
+        .iter()
+        .map(|d| {
+            (
+                d.code(),
+                d.severity,
+                d.span.map_or(0, |s| s.line),
+                d.message.as_str(),
+                d.help.as_deref(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (
+                "PN019",
+                Warning,
+                line_of("<IOConfigData "),
+                "the attribute `MaxDataLenght` is not one GSDML allows on `IOConfigData` (ignored)",
+                Some("did you mean `MaxDataLength`?")
+            ),
+            (
+                "PN019",
+                Warning,
+                line_of("TextId=\"T_REC_RX_2\""),
+                "the attribute `Visble` is not one GSDML allows on `Ref` (ignored)",
+                Some("did you mean `Visible`?")
+            ),
+        ]
+    );
+    let text = edit("<ModuleInfo", "<ModuleInf/>\n<ModuleInfo");
+    assert_eq!(
+        diagnostics(&text),
+        vec![pn_diag(
+            "PN019",
+            Warning,
+            line_of("<ModuleInfo"),
+            "the element `ModuleInf` is not one GSDML allows on `DeviceAccessPointItem` (ignored)"
+        )]
+    );
+}

@@ -751,3 +751,49 @@ fn a_connection_is_sized_by_its_format_assembly_then_by_its_size() {
     let cip = self::cip(&edit("Param3,3,Assem100", "Param3,Param3,"));
     assert_eq!(cip.connection_size(&cip.connections[&1].t_o), Some(50000));
 }
+
+/// A key a letter or two from one its section defines (a numbered key with the same number), or
+/// a section a letter or two from one the reader interprets, gets that name as its help; a key
+/// near no name gets none.
+#[test]
+fn a_misspelt_key_or_section_says_did_you_mean() {
+    let text = edit(
+        "        ProdName",
+        "        ProdTypStr = \"I/O\";\n        ProdName",
+    )
+    .replacen(
+        "[Port]\n",
+        "[Port]\n        Prot2 = TCP, \"x\", \"20 F5 24 01\", 2;\n        Bar = x;\n",
+        1,
+    ) + "\n[Capacty]\n        MaxIOConnections = 1;\n";
+    assert_eq!(
+        helps(&text),
+        vec![
+            (
+                "CIP002",
+                17,
+                "the key `ProdTypStr` is not one [Device] defines (kept as written)".to_owned(),
+                Some("did you mean `ProdTypeStr`?".to_owned())
+            ),
+            (
+                "CIP002",
+                77,
+                "the key `Prot2` is not one [Port] defines (kept as written)".to_owned(),
+                Some("did you mean `Port2`?".to_owned())
+            ),
+            (
+                "CIP002",
+                78,
+                "the key `Bar` is not one [Port] defines (kept as written)".to_owned(),
+                None
+            ),
+            (
+                "CIP002",
+                88,
+                "the section [Capacty] is not one this reader interprets (kept as written)"
+                    .to_owned(),
+                Some("did you mean [Capacity]?".to_owned())
+            ),
+        ]
+    );
+}

@@ -22,6 +22,20 @@ pub fn closest<T>(
     scored.into_iter().map(|(_, candidate)| candidate).collect()
 }
 
+/// The candidate a misspelt name most likely means, case aside: the nearest whose key is at most
+/// two edits (and a third of the name's length) away; `None` when none is. A misspelling is a
+/// letter or two away; farther is another name, not a typo.
+pub fn misspelt<T>(wanted: &str, candidates: impl IntoIterator<Item = (String, T)>) -> Option<T> {
+    let wanted = wanted.to_ascii_lowercase();
+    let lowered = candidates
+        .into_iter()
+        .map(|(key, candidate)| (key.to_ascii_lowercase(), (key, candidate)));
+    closest(&wanted, lowered, true)
+        .into_iter()
+        .find(|(key, _)| strsim::levenshtein(&wanted, &key.to_ascii_lowercase()) <= 2)
+        .map(|(_, candidate)| candidate)
+}
+
 /// `; did you mean:` and up to eight lines (each indented, then `... and N more`), or nothing.
 pub fn listing(lines: &[String]) -> String {
     if lines.is_empty() {
@@ -46,6 +60,15 @@ mod tests {
             closest("sped", names, false),
             ["speed", "spend", "sped up", "torque"]
         );
+    }
+
+    #[test]
+    fn a_misspelling_is_two_letters_away_at_most_case_aside() {
+        let keys = ["VendCode", "VendName", "ProdCode"].map(|k| (k.to_owned(), k));
+        assert_eq!(misspelt("vendcod", keys.clone()), Some("VendCode"));
+        assert_eq!(misspelt("VENDNAM", keys.clone()), Some("VendName"));
+        assert_eq!(misspelt("Vendor", keys.clone()), None);
+        assert_eq!(misspelt("X", keys), None);
     }
 
     #[test]

@@ -287,6 +287,16 @@ fn the_pzd_records_default_to_invalid() {
     assert_eq!(record_256::DEFAULT, [0u8; 22]);
     assert_eq!(record_256::P16_32_RECEIVED_PZD2_BYTE_OFFSET, 0);
     assert_eq!(record_257::P16_53_TRANSMITTED_PZD12_BYTE_OFFSET, 20);
+    let rx = record_256::Record {
+        p16_33_received_pzd3: record_256::P1633ReceivedPzd3Values::SetFrequency0Fmax001Hz.raw(),
+        ..Default::default()
+    };
+    assert_eq!(rx.to_bytes()[..4], [0x00, 0x00, 0x00, 0x01]);
+    assert_eq!(record_256::Record::from_bytes(&rx.to_bytes()), rx);
+    assert_eq!(
+        rx.p16_33_received_pzd3_value(),
+        Ok(record_256::P1633ReceivedPzd3Values::SetFrequency0Fmax001Hz)
+    );
 }
 
 /// The generated module, byte for byte (with the overlay, as `sim/build.rs` generates it).

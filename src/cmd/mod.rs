@@ -89,8 +89,16 @@ pub fn fail(message: impl std::fmt::Display) -> ExitCode {
 
 /// The rule a `--allow`/`--deny`/`explain` argument names, or the usage error to print.
 pub fn rule_named(flag: &str, code: &str) -> Result<&'static edsgen_model::rules::Rule, String> {
-    let rule = edsgen_model::rules::by_code(code)
-        .ok_or_else(|| format!("{flag} {code}: no such rule (`edsgen rules` lists them)"))?;
+    let rule =
+        edsgen_model::rules::by_code(code).ok_or_else(|| {
+            match edsgen_model::rules::nearest(code) {
+                Some(near) => format!(
+                    "{flag} {code}: no such rule; did you mean {}? (`edsgen rules` lists them)",
+                    near.code
+                ),
+                None => format!("{flag} {code}: no such rule (`edsgen rules` lists them)"),
+            }
+        })?;
     if flag.starts_with("--") && rule.code.starts_with("CHK") {
         return Err(format!(
             "{flag} {code}: `edsgen check` reports {}, not `edsgen validate`",

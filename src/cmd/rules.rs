@@ -13,7 +13,12 @@ pub fn list(json: bool) -> ExitCode {
         let list: Vec<_> = rules::ALL
             .iter()
             .map(|r| {
-                serde_json::json!({"code": r.code, "severity": r.severity.as_str(), "summary": r.summary})
+                serde_json::json!({
+                    "code": r.code,
+                    "severity": r.severity.as_str(),
+                    "summary": r.summary,
+                    "why": r.why,
+                })
             })
             .collect();
         print_stdout(&format!(
@@ -25,10 +30,12 @@ pub fn list(json: bool) -> ExitCode {
             .iter()
             .map(|rule| {
                 format!(
-                    "{}  {:<7}  {}\n",
+                    "{:<6}  {:<7}  {}\n{:17}why: {}\n",
                     rule.code,
                     rule.severity.as_str(),
-                    rule.summary
+                    rule.summary,
+                    "",
+                    rule.why
                 )
             })
             .collect();
@@ -48,26 +55,24 @@ pub fn explain(code: &str) -> ExitCode {
     }
 }
 
-/// What the rule checks, which part of edsgen reports it, and what its severity does.
+/// What the rule checks, why it matters, which part of a description it judges, and what its
+/// severity does.
 fn explanation(rule: &Rule) -> String {
     let code = rule.code;
-    let area = match code.as_bytes().get(3) {
-        _ if code.starts_with("CHK") => "a live device against its description (`edsgen check`)",
-        Some(b'0') => "the text and its values (reported while reading)",
-        Some(b'1') => "[FileInfo] and [DeviceInfo]",
-        Some(b'2') => "the object lists",
-        Some(b'3') => "objects and sub-objects",
-        Some(b'4') => "PDOs",
-        Some(b'5') => "DCF, commissioning, modules, comments, object links, dynamic channels",
-        Some(b'6') => "XML descriptions (XDD, XDC)",
-        _ => "code generation (reported by `edsgen generate` and build.rs)",
-    };
+    let area = rule.area().unwrap_or("not numbered by area");
     let effect = match rule.severity {
-        _ if code.starts_with("CHK") => "`edsgen check` reports it where the device differs \
-             from its description: an error fails the check (exit 1); a warning only under \
-             `--deny-warnings`. It says nothing about the description file itself (`edsgen \
-             validate` does)."
-            .to_string(),
+        _ if code.starts_with("CHK") => {
+            let command = if rule.summary.starts_with("(`edsgen ecat check`)") {
+                "edsgen ecat check"
+            } else {
+                "edsgen check"
+            };
+            format!(
+                "`{command}` reports it where the device differs from its description: an \
+                 error fails the check (exit 1); a warning only under `--deny-warnings`. It says \
+                 nothing about the description file itself (`edsgen validate` does)."
+            )
+        }
         Severity::Error => format!(
             "An error fails `edsgen validate` (exit 1) and the build: the file breaks the standard \
              or code generated from it would be wrong. `--allow {code}` and \
@@ -84,8 +89,9 @@ fn explanation(rule: &Rule) -> String {
         ),
     };
     format!(
-        "{code} ({severity}): {summary}\n\nArea: {area}.\n{effect}\n",
+        "{code} ({severity}): {summary}\n\nWhy it matters: {why}\nArea: {area}.\n{effect}\n",
         severity = rule.severity.as_str(),
         summary = rule.summary,
+        why = rule.why,
     )
 }

@@ -157,12 +157,8 @@ impl Reader {
                         .iter()
                         .map(|k| ((*k).to_owned(), (*k).to_owned())),
                 );
-            let near = crate::did_you_mean::closest(lower, candidates, true);
             let message = format!("unknown keyword `{key}` (kept, not interpreted)");
-            // A misspelling is a letter or two away; farther is another keyword.
-            let typo = near
-                .first()
-                .filter(|k| strsim::levenshtein(lower, &k.to_ascii_lowercase()) <= 2);
+            let typo = crate::did_you_mean::misspelt(lower, candidates);
             match typo {
                 Some(meant) => self.diags.push(
                     Diagnostic::new(&rules::GSD_UNKNOWN, Some(span), message)

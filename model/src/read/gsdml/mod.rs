@@ -21,6 +21,7 @@ use crate::model::*;
 use crate::rules;
 
 mod items;
+mod names;
 
 /// Reads a GSDML file.
 pub fn read(path: &Path, bytes: &[u8]) -> Read {
@@ -29,6 +30,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
     if let Some(doc) = super::xml::parse(&text, &mut diagnostics) {
         let mut reader = GsdmlReader::new(&text, &mut diagnostics);
         let profinet = reader.read_root(doc.root_element(), &mut device);
+        names::check(doc.root_element(), &reader.spans, reader.diags);
         device.bus = Bus::Profinet(profinet);
     }
     Read {

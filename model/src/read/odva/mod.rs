@@ -123,13 +123,18 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
                     } else {
                         format!("the section [{}]", section.name)
                     };
+                    let diag = Diagnostic::new(
+                        &rules::CIP_UNKNOWN,
+                        Some(section.span),
+                        format!("{what} is not one this reader interprets (kept as written)"),
+                    )
+                    .with_label("kept, not interpreted");
+                    let sections = SECTIONS.iter().map(|s| ((*s).to_owned(), *s));
                     diags.push(
-                        Diagnostic::new(
-                            &rules::CIP_UNKNOWN,
-                            Some(section.span),
-                            format!("{what} is not one this reader interprets (kept as written)"),
-                        )
-                        .with_label("kept, not interpreted"),
+                        match crate::did_you_mean::misspelt(&section.name, sections) {
+                            Some(meant) => diag.with_help(format!("did you mean [{meant}]?")),
+                            None => diag,
+                        },
                     );
                 }
                 cip.other_sections.push(section);
@@ -161,6 +166,19 @@ pub fn read(path: &Path, bytes: &[u8]) -> Read {
         text,
     }
 }
+
+/// The sections this reader interprets, as the specification spells them (for "did you mean").
+const SECTIONS: &[&str] = &[
+    "File",
+    "Device",
+    "Device Classification",
+    "Params",
+    "EnumPar",
+    "Assembly",
+    "Connection Manager",
+    "Port",
+    "Capacity",
+];
 
 /// Class sections the EDS specification defines (`[Identity Class]`, `[TCP/IP Interface Class]`,
 /// `[QoS Class]`, ...) and vendor classes (`[Class15_Vendor1]`): kept as written, not reported.

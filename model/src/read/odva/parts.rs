@@ -27,6 +27,33 @@ const CLASS_KEYS: &[&str] = &[
     "Instance_Services",
 ];
 
+/// The keys of `[File]`, as the specification spells them.
+const FILE_KEYS: &[&str] = &[
+    "DescText",
+    "CreateDate",
+    "CreateTime",
+    "ModDate",
+    "ModTime",
+    "Revision",
+    "HomeURL",
+    "Exclude",
+];
+
+/// The keys of `[Device]`, as the specification spells them.
+const DEVICE_KEYS: &[&str] = &[
+    "VendCode",
+    "VendName",
+    "ProdType",
+    "ProdTypeStr",
+    "ProdCode",
+    "MajRev",
+    "MinRev",
+    "ProdName",
+    "Catalog",
+    "Icon",
+    "IconContents",
+];
+
 fn known(key: &str, list: &[&str]) -> bool {
     list.iter().any(|k| k.eq_ignore_ascii_case(key))
 }
@@ -47,18 +74,31 @@ fn text(entry: &CipEntry, i: usize) -> String {
 }
 
 impl Parts<'_> {
-    fn unknown_key(&mut self, section: &str, entry: &CipEntry) {
-        self.diags.push(
-            Diagnostic::new(
-                &rules::CIP_UNKNOWN,
-                Some(entry.span),
-                format!(
-                    "the key `{}` is not one [{section}] defines (kept as written)",
-                    entry.key
-                ),
-            )
-            .with_label("kept, not interpreted"),
-        );
+    /// CIP002 for a key `section` does not define; `keys` and the numbered `families` (`Param`
+    /// for `ParamN`) are the section's own, offered when the key is a misspelling of one.
+    fn unknown_key(&mut self, section: &str, entry: &CipEntry, keys: &[&str], families: &[&str]) {
+        let key = entry.key.as_str();
+        let number = &key[key.trim_end_matches(|c: char| c.is_ascii_digit()).len()..];
+        let numbered = families
+            .iter()
+            .filter(|_| !number.is_empty())
+            .map(|family| format!("{family}{number}"));
+        let candidates = keys
+            .iter()
+            .map(|k| (*k).to_owned())
+            .chain(numbered)
+            .map(|k| (k.clone(), k));
+        let diag = Diagnostic::new(
+            &rules::CIP_UNKNOWN,
+            Some(entry.span),
+            format!("the key `{key}` is not one [{section}] defines (kept as written)"),
+        )
+        .with_label("kept, not interpreted");
+        self.diags
+            .push(match crate::did_you_mean::misspelt(key, candidates) {
+                Some(meant) => diag.with_help(format!("did you mean `{meant}`?")),
+                None => diag,
+            });
     }
 
     fn bad_field(&mut self, entry: &CipEntry, i: usize, what: &str) {
@@ -136,7 +176,7 @@ impl Parts<'_> {
                 "moddate" => self.cip.file.mod_date = value,
                 "revision" => self.cip.file.revision = value,
                 "createtime" | "modtime" | "homeurl" | "exclude" => {}
-                _ => self.unknown_key("File", entry),
+                _ => self.unknown_key("File", entry, FILE_KEYS, &[]),
             }
         }
     }
@@ -165,7 +205,7 @@ impl Parts<'_> {
                 "prodname" => id.product_name = value,
                 "catalog" => id.catalog = value,
                 "icon" | "iconcontents" => {}
-                _ => self.unknown_key("Device", entry),
+                _ => self.unknown_key("Device", entry, DEVICE_KEYS, &[]),
             }
         }
     }
@@ -177,7 +217,7 @@ impl Parts<'_> {
                     .cip
                     .classifications
                     .push(Spanned::new(f.text.clone(), f.span)),
-                _ => self.unknown_key("Device Classification", entry),
+                _ => self.unknown_key("Device Classification", entry, &[], &["Class"]),
             }
         }
     }
@@ -191,7 +231,7 @@ impl Parts<'_> {
                 let e = self.enumeration(n, entry);
                 self.cip.enums.insert(n, e);
             } else if !known(&entry.key, CLASS_KEYS) {
-                self.unknown_key(&section.name, entry);
+                self.unknown_key(&section.name, entry, CLASS_KEYS, &["Param", "Enum"]);
             }
         }
     }
@@ -271,7 +311,7 @@ impl Parts<'_> {
         for entry in &section.entries {
             let Some(n) = key_number(&entry.key, "Assem") else {
                 if !known(&entry.key, CLASS_KEYS) {
-                    self.unknown_key("Assembly", entry);
+                    self.unknown_key("Assembly", entry, CLASS_KEYS, &["Assem"]);
                 }
                 continue;
             };
@@ -335,7 +375,8 @@ impl Parts<'_> {
             let Some(n) = key_number(&entry.key, "Connection") else {
                 // PITNS: production inhibit time network segment supported (Yes/No).
                 if !known(&entry.key, CLASS_KEYS) && !entry.key.eq_ignore_ascii_case("PITNS") {
-                    self.unknown_key("Connection Manager", entry);
+                    let keys = [CLASS_KEYS, &["PITNS"]].concat();
+                    self.unknown_key("Connection Manager", entry, &keys, &["Connection"]);
                 }
                 continue;
             };
@@ -386,7 +427,7 @@ impl Parts<'_> {
         for entry in &section.entries {
             let Some(n) = key_number(&entry.key, "Port") else {
                 if !known(&entry.key, CLASS_KEYS) {
-                    self.unknown_key("Port", entry);
+                    self.unknown_key("Port", entry, CLASS_KEYS, &["Port"]);
                 }
                 continue;
             };
@@ -419,7 +460,7 @@ impl Parts<'_> {
         ];
         for entry in &section.entries {
             if !known(&entry.key, KEYS) && key_number(&entry.key, "TSpec").is_none() {
-                self.unknown_key("Capacity", entry);
+                self.unknown_key("Capacity", entry, KEYS, &["TSpec"]);
             }
             self.cip.capacity.push(entry.clone());
         }
