@@ -1,0 +1,79 @@
+//! `[modules]` of an overlay: the modules a modular device is built with, as a configuration
+//! tool plugs them (`slots = ["4 PKW, 2 PZD (PPO 1)", "3=8 DI"]`, each `NAME` or `SLOT=NAME`, as
+//! `--module` writes them). Checked against the description by
+//! [`crate::model::modules`]; the generator then emits the chosen configuration's images.
+
+use toml::de::{DeTable, DeValue};
+
+use crate::diag::Diagnostic;
+use crate::model::modules::{choose_dp, parse_choice};
+use crate::model::{Device, Span};
+use crate::read::text::LineIndex;
+use crate::rules;
+
+/// A refusal: the overlay's rule at `span`, the table ignored.
+fn ignored(span: Span, message: String) -> Diagnostic {
+    Diagnostic::new(&rules::OVERLAY, Some(span), message).with_label("[modules] ignored")
+}
+
+/// Checks `[modules]` and sets [`crate::model::Dp::chosen`] (GSD).
+pub fn apply(
+    table: &DeTable<'_>,
+    key_span: Span,
+    device: &mut Device,
+    text: &str,
+    lines: &LineIndex,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let before = diags.len();
+    let mut slots = None;
+    for (key, value) in table {
+        let span = lines.span(text, value.span());
+        match (key.get_ref().as_ref(), value.get_ref()) {
+            ("slots", DeValue::Array(items)) => {
+                let mut choices = Vec::new();
+                for item in items.iter() {
+                    let item_span = lines.span(text, item.span());
+                    let parsed = match item.get_ref() {
+                        DeValue::String(choice) => parse_choice(choice),
+                        _ => {
+                            Err("a module is written as a string: \"NAME\" or \"SLOT=NAME\"".into())
+                        }
+                    };
+                    match parsed {
+                        Ok(choice) => choices.push(choice),
+                        Err(message) => diags.push(ignored(item_span, message)),
+                    }
+                }
+                slots = Some((choices, span));
+            }
+            ("slots", _) => diags.push(ignored(
+                span,
+                "`slots` is a list: slots = [\"NAME\", \"SLOT=NAME\"]".to_owned(),
+            )),
+            (other, _) => diags.push(ignored(
+                lines.span(text, key.span()),
+                format!("`{other}` is not a key of [modules] (slots = [\"NAME\", ...])"),
+            )),
+        }
+    }
+    if diags.len() > before {
+        return;
+    }
+    let Some((choices, span)) = slots else {
+        return diags.push(ignored(
+            key_span,
+            "[modules] needs `slots = [\"NAME\", \"SLOT=NAME\", ...]`".to_owned(),
+        ));
+    };
+    let Some(dp) = device.dp_mut() else {
+        return diags.push(ignored(
+            key_span,
+            "[modules] is for a GSD file's modular station".to_owned(),
+        ));
+    };
+    match choose_dp(dp, &choices) {
+        Ok(configuration) => dp.chosen = Some(configuration),
+        Err(errors) => diags.extend(errors.into_iter().map(|e| ignored(span, e))),
+    }
+}
