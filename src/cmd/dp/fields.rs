@@ -59,7 +59,12 @@ impl Layout {
             } else {
                 String::new()
             };
-            let ids = module.identifiers();
+            // Identifiers that carry data (an empty slot's 00h says nothing of words).
+            let ids: Vec<_> = module
+                .identifiers()
+                .into_iter()
+                .filter(|i| i.input_bytes + i.output_bytes > 0)
+                .collect();
             let (input_len, output_len) = module.io_lengths();
             let (input_len, output_len) = (input_len as usize, output_len as usize);
             let pkw_pzd = dp.pkw_pzd_module.as_deref() == Some(module.name.as_str());
@@ -122,11 +127,19 @@ impl Layout {
         let wanted = name.trim().to_ascii_lowercase();
         let field = self.outputs.iter().find(|f| f.name == wanted);
         let Some(field) = field else {
-            return Err(format!("`{setting}`: no output `{}`{}", name.trim(), self.known()));
+            return Err(format!(
+                "`{setting}`: no output `{}`{}",
+                name.trim(),
+                self.known()
+            ));
         };
         let value = number(value.trim()).filter(|v| field.width == 2 || *v <= 0xFF);
         let Some(value) = value else {
-            let kind = if field.width == 2 { "a 16-bit" } else { "an 8-bit" };
+            let kind = if field.width == 2 {
+                "a 16-bit"
+            } else {
+                "an 8-bit"
+            };
             return Err(format!("`{setting}`: not {kind} value"));
         };
         let at = field.offset;

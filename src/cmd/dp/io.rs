@@ -71,14 +71,11 @@ pub fn run(args: &Args) -> ExitCode {
     let configuration = if args.modules.is_empty() {
         gsd.configuration()
     } else {
-        let chosen = parse_choices(&args.modules).and_then(|choices| {
-            choose_dp(gsd, &choices).map_err(|problems| problems.join("\n  "))
-        });
+        let chosen = parse_choices(&args.modules)
+            .and_then(|choices| choose_dp(gsd, &choices).map_err(|problems| problems.join("\n  ")));
         match chosen {
             Ok(configuration) => configuration,
-            Err(message) => {
-                return fail(format!("{}: --module: {message}", args.gsd.display()))
-            }
+            Err(message) => return fail(format!("{}: --module: {message}", args.gsd.display())),
         }
     };
     if configuration.slots.is_empty() {
