@@ -130,7 +130,7 @@ fn the_modules_overlay_is_checked_with_lines() {
         messages,
         [
             "EDS708 line 2: `1=`: no module named (write SLOT=NAME or NAME)",
-            "EDS708 line 3: `plugs` is not a key of [modules] (slots = [\"NAME\", ...])",
+            "EDS708 line 3: `plugs` is not a key of [modules] (slots = [\"NAME\", ...], access_point = \"ID\")",
         ]
     );
 }

@@ -1,8 +1,13 @@
 //! A modular device's chosen configuration: which module is plugged in which slot. One spelling
 //! for the overlay's `[modules]`, `--module` and a machine file ([`parse_choice`]), resolved and
-//! checked against the description as a configuration tool would (GSD: [`DpConfiguration`]).
+//! checked against the description as a configuration tool would (GSD: [`DpConfiguration`];
+//! GSDML: [`PnConfiguration`], with its access point).
 
 use super::dp::{decode_cfg, Dp, DpModule};
+
+mod profinet;
+
+pub use profinet::{choose_pn, PnConfiguration, PnPlugged};
 
 /// DP's limit on configuration bytes and on each direction's data (EN 50170).
 const DP_MAX_BYTES: u32 = 244;

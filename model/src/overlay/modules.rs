@@ -1,12 +1,13 @@
 //! `[modules]` of an overlay: the modules a modular device is built with, as a configuration
 //! tool plugs them (`slots = ["4 PKW, 2 PZD (PPO 1)", "3=8 DI"]`, each `NAME` or `SLOT=NAME`, as
-//! `--module` writes them). Checked against the description by
-//! [`crate::model::modules`]; the generator then emits the chosen configuration's images.
+//! `--module` writes them), and a GSDML device's access point (`access_point = "DAP 2"`, its ID
+//! or name). Checked against the description by [`crate::model::modules`]; the generator then
+//! emits the chosen configuration's images.
 
 use toml::de::{DeTable, DeValue};
 
 use crate::diag::Diagnostic;
-use crate::model::modules::{choose_dp, parse_choice};
+use crate::model::modules::{choose_dp, choose_pn, parse_choice};
 use crate::model::{Device, Span};
 use crate::read::text::LineIndex;
 use crate::rules;
@@ -16,7 +17,8 @@ fn ignored(span: Span, message: String) -> Diagnostic {
     Diagnostic::new(&rules::OVERLAY, Some(span), message).with_label("[modules] ignored")
 }
 
-/// Checks `[modules]` and sets [`crate::model::Dp::chosen`] (GSD).
+/// Checks `[modules]` and sets [`crate::model::Dp::chosen`] (GSD) or
+/// [`crate::model::Profinet::chosen`] (GSDML).
 pub fn apply(
     table: &DeTable<'_>,
     key_span: Span,
@@ -27,6 +29,7 @@ pub fn apply(
 ) {
     let before = diags.len();
     let mut slots = None;
+    let mut access_point = None;
     for (key, value) in table {
         let span = lines.span(text, value.span());
         match (key.get_ref().as_ref(), value.get_ref()) {
@@ -47,18 +50,45 @@ pub fn apply(
                 }
                 slots = Some((choices, span));
             }
+            ("access_point", DeValue::String(id)) => access_point = Some((id.to_string(), span)),
+            ("access_point", _) => diags.push(ignored(
+                span,
+                "`access_point` is the ID or name of a DeviceAccessPointItem".to_owned(),
+            )),
             ("slots", _) => diags.push(ignored(
                 span,
                 "`slots` is a list: slots = [\"NAME\", \"SLOT=NAME\"]".to_owned(),
             )),
             (other, _) => diags.push(ignored(
                 lines.span(text, key.span()),
-                format!("`{other}` is not a key of [modules] (slots = [\"NAME\", ...])"),
+                format!(
+                    "`{other}` is not a key of [modules] (slots = [\"NAME\", ...], access_point = \"ID\")"
+                ),
             )),
         }
     }
     if diags.len() > before {
         return;
+    }
+    if let Some(pn) = device.profinet_mut() {
+        let span = slots
+            .as_ref()
+            .map(|(_, span)| *span)
+            .or(access_point.as_ref().map(|(_, span)| *span))
+            .unwrap_or(key_span);
+        let choices = slots.map(|(choices, _)| choices).unwrap_or_default();
+        let access_point = access_point.as_ref().map(|(id, _)| id.as_str());
+        match choose_pn(pn, access_point, &choices) {
+            Ok(configuration) => pn.chosen = Some(configuration),
+            Err(errors) => diags.extend(errors.into_iter().map(|e| ignored(span, e))),
+        }
+        return;
+    }
+    if let Some((_, span)) = access_point {
+        return diags.push(ignored(
+            span,
+            "`access_point` is for a GSDML file".to_owned(),
+        ));
     }
     let Some((choices, span)) = slots else {
         return diags.push(ignored(
@@ -69,7 +99,7 @@ pub fn apply(
     let Some(dp) = device.dp_mut() else {
         return diags.push(ignored(
             key_span,
-            "[modules] is for a GSD file's modular station".to_owned(),
+            "[modules] is for a GSD file's modular station or a GSDML device".to_owned(),
         ));
     };
     match choose_dp(dp, &choices) {
