@@ -1,12 +1,14 @@
 //! A modular device's chosen configuration: which module is plugged in which slot. One spelling
 //! for the overlay's `[modules]`, `--module` and a machine file ([`parse_choice`]), resolved and
 //! checked against the description as a configuration tool would (GSD: [`DpConfiguration`];
-//! GSDML: [`PnConfiguration`], with its access point).
+//! GSDML: [`PnConfiguration`], with its access point; ESI: [`EcConfiguration`]).
 
 use super::dp::{decode_cfg, Dp, DpModule};
 
+mod ethercat;
 mod profinet;
 
+pub use ethercat::{choose_ec, EcConfiguration, EcPlugged};
 pub use profinet::{choose_pn, PnConfiguration, PnPlugged};
 
 /// DP's limit on configuration bytes and on each direction's data (EN 50170).

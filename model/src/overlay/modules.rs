@@ -1,13 +1,14 @@
 //! `[modules]` of an overlay: the modules a modular device is built with, as a configuration
 //! tool plugs them (`slots = ["4 PKW, 2 PZD (PPO 1)", "3=8 DI"]`, each `NAME` or `SLOT=NAME`, as
-//! `--module` writes them), and a GSDML device's access point (`access_point = "DAP 2"`, its ID
+//! `--module` writes them; an ESI's `SLOT` is the number of its `Slots/Slot`, 1 first), and a
+//! GSDML device's access point (`access_point = "DAP 2"`, its ID
 //! or name). Checked against the description by [`crate::model::modules`]; the generator then
 //! emits the chosen configuration's images.
 
 use toml::de::{DeTable, DeValue};
 
 use crate::diag::Diagnostic;
-use crate::model::modules::{choose_dp, choose_pn, parse_choice};
+use crate::model::modules::{choose_dp, choose_ec, choose_pn, parse_choice};
 use crate::model::{Device, Span};
 use crate::read::text::LineIndex;
 use crate::rules;
@@ -17,8 +18,8 @@ fn ignored(span: Span, message: String) -> Diagnostic {
     Diagnostic::new(&rules::OVERLAY, Some(span), message).with_label("[modules] ignored")
 }
 
-/// Checks `[modules]` and sets [`crate::model::Dp::chosen`] (GSD) or
-/// [`crate::model::Profinet::chosen`] (GSDML).
+/// Checks `[modules]` and sets [`crate::model::Dp::chosen`] (GSD),
+/// [`crate::model::Profinet::chosen`] (GSDML) or [`crate::model::EtherCat::chosen`] (ESI).
 pub fn apply(
     table: &DeTable<'_>,
     key_span: Span,
@@ -96,10 +97,17 @@ pub fn apply(
             "[modules] needs `slots = [\"NAME\", \"SLOT=NAME\", ...]`".to_owned(),
         ));
     };
+    if let Some(ec) = device.ethercat_mut() {
+        match choose_ec(ec, &choices) {
+            Ok(configuration) => ec.chosen = Some(configuration),
+            Err(errors) => diags.extend(errors.into_iter().map(|e| ignored(span, e))),
+        }
+        return;
+    }
     let Some(dp) = device.dp_mut() else {
         return diags.push(ignored(
             key_span,
-            "[modules] is for a GSD file's modular station or a GSDML device".to_owned(),
+            "[modules] is for a modular device: a GSD, GSDML or ESI file".to_owned(),
         ));
     };
     match choose_dp(dp, &choices) {
