@@ -25,8 +25,9 @@
 //! # (GSD: module = "4 PKW + 12 PZD", the module carrying them; GSDML: module = "MOD_1" (the
 //! # ModuleItem's or DeviceAccessPointItem's ID or name) and subslot = 1, the submodule)
 //!
-//! [modules]        # GSD: a modular station's modules, slot by slot (`NAME` or `SLOT=NAME`)
+//! [modules]        # a modular device's modules (GSD, GSDML, ESI), `NAME` or `SLOT=NAME`
 //! slots = ["4 PKW, 2 PZD (PPO 1)", "3=8 DI"]
+//! # (GSDML: access_point = "DAP 2", the DeviceAccessPointItem's ID or name; docs/modules.md)
 //! ```
 //!
 //! [`apply`] checks the overlay against the model and sets [`SubObject::capacity`] and

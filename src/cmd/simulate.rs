@@ -54,7 +54,7 @@ pub struct Args {
     #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
     pub profibus: Option<String>,
     /// With --profibus and one FILE.gsd: the module plugged in a slot (`SLOT=NAME`, or `NAME`
-    /// for the slot after the previous one; repeatable, docs/gsd.md). The slave then accepts only
+    /// for the slot after the previous one; repeatable, docs/modules.md). The slave then accepts only
     /// these; without, any combination of its modules the GSD allows.
     #[arg(long = "module", value_name = "[SLOT=]NAME", requires = "profibus")]
     pub modules: Vec<String>,

@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long)]
     no_watchdog: bool,
     /// The module in a slot of a modular slave (`SLOT=NAME`, or `NAME` for the slot after the
-    /// previous one; repeatable, docs/gsd.md): Chk_Cfg sends them all in slot order. Default:
+    /// previous one; repeatable, docs/modules.md): Chk_Cfg sends them all in slot order. Default:
     /// the overlay's `[modules]`, else the GSD's first module.
     #[arg(long = "module", value_name = "[SLOT=]NAME")]
     modules: Vec<String>,
