@@ -54,8 +54,8 @@ pub struct Args {
     #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
     pub profibus: Option<String>,
     /// With --profibus and one FILE.gsd: the module plugged in a slot (`SLOT=NAME`, or `NAME`
-    /// for the slot after the previous one; repeatable, docs/modules.md). The slave then accepts only
-    /// these; without, any combination of its modules the GSD allows.
+    /// for the slot after the previous one; repeatable, docs/modules.md). The slave then
+    /// accepts only these; without, any combination of its modules the GSD allows.
     #[arg(long = "module", value_name = "[SLOT=]NAME", requires = "profibus")]
     pub modules: Vec<String>,
     /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network

@@ -14,8 +14,8 @@
 //!   refusal is named from its diagnosis) and exchanges data until Ctrl-C or `--cycles`, the
 //!   inputs printed whenever they change. Settings (`NAME=VALUE`, and `reset`, `run`, `stop` on
 //!   a PKW/PZD module: CW commands 7, 1, 5) come as arguments and as lines on standard input.
-//!   Names ([`fields`]) are the words `w0`, `w1`, ... of a word module, the bytes `b0`, `b1`, ...
-//!   of a byte module, prefixed `slotN.` when the configuration has several modules; a module the
+//!   Names ([`fields`]) are the words `w0`, `w1`, ... of a word module, the bytes `b0`, `b1`,
+//!   ... of a byte module, prefixed `slotN.` when the configuration has several modules; a module the
 //!   overlay marks as PKW/PZD (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its
 //!   PKW response and status word are put in words. Exit 0 after the session, 1 if the station
 //!   is missing, refuses or stops answering, 2 for bad usage.
