@@ -6,7 +6,7 @@
 //! `from_slice`), one field per configuration identifier carrying data in that direction
 //! (16-bit words big-endian for word identifiers, bytes otherwise). A modular station whose
 //! overlay chooses its modules (`[modules]`) also gets `configuration`, the whole slave's images
-//! in slot order ([`super::dp_configuration`]).
+//! in slot order (`dp_configuration`).
 //! No allocation, no `unsafe`: the module builds `no_std`.
 
 use proc_macro2::{Literal, TokenStream};
