@@ -223,7 +223,7 @@ fn dp_io_reads_a_parameter_by_name() {
     assert_eq!(bad.code, Some(2));
     assert_eq!(
         bad.stderr,
-        "error: `nope=1`: no output `nope` or not a 16-bit value\n"
+        "error: `nope=1`: no output `nope` (the outputs are pkw1, ... pzd12)\n"
     );
     let missing = Process::edsgen(&["dp", "io", &a, "--gsd", gsd, "--address", "3"]).finish(WAIT);
     assert_eq!(missing.code, Some(1));

@@ -44,3 +44,93 @@ fn the_pkw_pzd_overlay_is_checked() {
         Some("4 PKW + 12 PZD")
     );
 }
+
+/// A modular station of three slots, slot 1 for the PPO modules (as a MICROMASTER's), 2 and 3
+/// for I/O modules.
+const MODULAR: &str = r#"#Profibus_DP
+GSD_Revision = 3
+Vendor_Name = "Test"
+Model_Name = "Modular"
+Ident_Number = 0x1234
+Protocol_Ident = 0
+Station_Type = 0
+19.2_supp = 1
+MaxTsdr_19.2 = 60
+Modular_Station = 1
+Max_Module = 3
+Max_Input_Len = 40
+Max_Output_Len = 48
+Max_Data_Len = 70
+Module = "4 PKW, 2 PZD (PPO 1)" 0xF3, 0xF1
+1
+EndModule
+Module = "0 PKW, 2 PZD (PPO 3)" 0xF1
+2
+EndModule
+Module = "8 DI" 0x10
+3
+EndModule
+Module = "16 words out" 0x6F
+4
+EndModule
+SlotDefinition
+Slot(1) = "Drive" 1 1-2
+Slot(2) = "IO" 3 3-4
+Slot(3) = "IO" 3 3-4
+EndSlotDefinition
+"#;
+
+fn modular(overlay_text: &str) -> (edsgen_model::model::Device, Vec<String>) {
+    let mut device =
+        edsgen_model::read::read_bytes(Path::new("modular.gsd"), MODULAR.as_bytes()).device;
+    let diags = overlay::apply(overlay_text, &mut device);
+    let messages = diags
+        .iter()
+        .map(|d| {
+            let line = d.span.map_or(0, |s| s.line);
+            format!("{} line {line}: {}", d.rule.code, d.message)
+        })
+        .collect();
+    (device, messages)
+}
+
+#[test]
+fn a_chosen_configuration_generates_the_whole_slaves_images() {
+    let (device, messages) =
+        modular("[modules]\nslots = [\"4 PKW, 2 PZD (PPO 1)\", \"3=16 words out\"]\n");
+    assert_eq!(messages, Vec::<String>::new());
+    let code = edsgen_codegen::emit::generate_module(&device, "modular")
+        .unwrap()
+        .code;
+    let start = code
+        .find("    /// The configuration chosen")
+        .expect("a configuration");
+    insta::assert_snapshot!(&code[start..]);
+    // Without [modules], no configuration (the default is unchanged).
+    let (device, _) = modular("");
+    let code = edsgen_codegen::emit::generate_module(&device, "modular")
+        .unwrap()
+        .code;
+    assert!(!code.contains("pub mod configuration"));
+}
+
+#[test]
+fn the_modules_overlay_is_checked_with_lines() {
+    let (device, messages) = modular("[modules]\nslots = [\n  \"8 DI\",\n  \"PPO 9\",\n]\n");
+    assert_eq!(
+        messages,
+        [
+            "EDS708 line 2: slot 2: no module \"PPO 9\"; did you mean:\n  \"8 DI\"\n  \"16 words out\"\n  \"4 PKW, 2 PZD (PPO 1)\"",
+            "EDS708 line 2: slot 1 (\"Drive\") does not take module \"8 DI\"",
+        ]
+    );
+    assert_eq!(device.dp().unwrap().chosen, None);
+    let (_, messages) = modular("[modules]\nslots = [\"1=\"]\nplugs = 1\n");
+    assert_eq!(
+        messages,
+        [
+            "EDS708 line 2: `1=`: no module named (write SLOT=NAME or NAME)",
+            "EDS708 line 3: `plugs` is not a key of [modules] (slots = [\"NAME\", ...], access_point = \"ID\")",
+        ]
+    );
+}

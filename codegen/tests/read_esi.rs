@@ -850,8 +850,8 @@ fn the_modular_device_is_clean_but_for_two_infos() {
                 "EDS802",
                 Info,
                 126,
-                "the device has 2 slot(s) and the file 2 module(s): they are read, but no \
-                 process image is generated for a module"
+                "the device has 2 slot(s) and the file 2 module(s): a module's PDOs join the \
+                 process image when the overlay's [modules] plugs it"
                     .to_owned()
             ),
         ]

@@ -24,6 +24,10 @@
 //! byte_order = "little"
 //! # (GSD: module = "4 PKW + 12 PZD", the module carrying them; GSDML: module = "MOD_1" (the
 //! # ModuleItem's or DeviceAccessPointItem's ID or name) and subslot = 1, the submodule)
+//!
+//! [modules]        # a modular device's modules (GSD, GSDML, ESI), `NAME` or `SLOT=NAME`
+//! slots = ["4 PKW, 2 PZD (PPO 1)", "3=8 DI"]
+//! # (GSDML: access_point = "DAP 2", the DeviceAccessPointItem's ID or name; docs/modules.md)
 //! ```
 //!
 //! [`apply`] checks the overlay against the model and sets [`SubObject::capacity`] and
@@ -41,6 +45,7 @@ use crate::model::{BasicType, Device, ObjectType, SubObject, Value, ValueSource}
 use crate::read::text::LineIndex;
 use crate::rules;
 
+mod modules;
 mod pkw_pzd;
 
 /// The largest capacity an entry can have: SDO sizes and the runtime's lengths are 16-bit.
@@ -97,7 +102,13 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
             ("pkw_pzd", DeValue::Table(table)) => {
                 pkw_pzd::apply(table, key_span, device, text, &lines, &mut diags);
             }
-            (table @ ("capacity" | "names" | "numbering" | "pdo_mapping" | "pkw_pzd"), _) => {
+            ("modules", DeValue::Table(table)) => {
+                modules::apply(table, key_span, device, text, &lines, &mut diags);
+            }
+            (
+                table @ ("capacity" | "names" | "numbering" | "pdo_mapping" | "pkw_pzd" | "modules"),
+                _,
+            ) => {
                 diags.push(Diagnostic::new(
                     &rules::OVERLAY,
                     Some(key_span),
@@ -112,7 +123,7 @@ pub fn apply(text: &str, device: &mut Device) -> Vec<Diagnostic> {
                 )
                 .with_label("ignored")
                 .with_help(
-                    "an overlay has the tables [capacity], [names], [numbering], [pdo_mapping] and [pkw_pzd]",
+                    "an overlay has the tables [capacity], [names], [numbering], [pdo_mapping], [pkw_pzd] and [modules]",
                 ),
             ),
         }

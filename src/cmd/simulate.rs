@@ -35,9 +35,10 @@ pub struct Args {
     /// Print every frame on the bus, decoded.
     #[arg(long)]
     pub trace: bool,
-    /// Serve an ODVA EDS (or `--card goodrive350-enip`) as an EtherNet/IP adapter on this
-    /// address (`IP` or `IP:PORT`) instead of joining a CAN bus.
-    #[arg(long, value_name = "ADDR", conflicts_with_all = ["bus", "socketcan", "trace"])]
+    /// Serve one ODVA EDS FILE (or `--card goodrive350-enip`) as an EtherNet/IP adapter on each
+    /// address instead of joining a CAN bus (`IP` or `IP:PORT`; several as `A,B,...`, one
+    /// adapter each).
+    #[arg(long, value_name = "ADDR[,ADDR...]", conflicts_with_all = ["bus", "socketcan", "trace"])]
     pub enip: Option<String>,
     /// Simulate PROFINET IO devices on this network interface (GSDML FILEs and `--card
     /// goodrive350-pn`, each `@NAME` for its name of station, each with a MAC of its own;
@@ -52,10 +53,15 @@ pub struct Args {
     /// device past them has none until a DCP Set gives it one.
     #[arg(long, value_name = "ADDR[/PREFIX]", requires = "profinet")]
     pub ip: Vec<String>,
-    /// Serve one PROFIBUS-DP slave on this serial line instead (`--card goodrive350-dp[@ADDR]`
-    /// or one FILE.gsd[@ADDR]).
+    /// Serve PROFIBUS-DP slaves on this serial line instead, each at its own address
+    /// (`--card goodrive350-dp[@ADDR]` and FILE.gsd[@ADDR], repeatable; 2 without `@ADDR`).
     #[arg(long, value_name = "TTY", conflicts_with_all = ["bus", "socketcan", "trace"])]
     pub profibus: Option<String>,
+    /// With --profibus and one FILE.gsd: the module plugged in a slot (`SLOT=NAME`, or `NAME`
+    /// for the slot after the previous one; repeatable, docs/modules.md). The slave then
+    /// accepts only these; without, any combination of its modules the GSD allows.
+    #[arg(long = "module", value_name = "[SLOT=]NAME", requires = "profibus")]
+    pub modules: Vec<String>,
     /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network
     /// interface instead (root or CAP_NET_RAW).
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan", "trace", "node_id"])]
@@ -71,7 +77,7 @@ pub struct Args {
     pub faults_on_stdin: bool,
     /// Bring up a whole machine from a machine file (docs/machine.md): every bus table served,
     /// each device printed with its address, `fault NAME`/`clear NAME` on standard input.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "ethercat", "device", "faults_on_stdin"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "modules", "ethercat", "device", "faults_on_stdin"])]
     pub machine: Option<std::path::PathBuf>,
     /// Serve a FILE despite its errors of this rule (repeatable): without it, a description
     /// with errors is refused, its errors shown as `edsgen validate` shows them.
@@ -105,7 +111,7 @@ pub fn run(args: Args) -> ExitCode {
         );
     }
     if let Some(tty) = &args.profibus {
-        return super::dp::simulate::run(tty, &args.files, &args.cards, &allow);
+        return super::dp::simulate::run(tty, &args.files, &args.cards, &args.modules, &allow);
     }
     if let Some(iface) = &args.ethercat {
         return super::ethercat::simulate::run(

@@ -4,7 +4,9 @@
 //! User_Prm_Data, and per module (`modules::NAME`): its name, its Chk_Cfg bytes and its input
 //! and output images with the image API every bus shares (`SIZE`, `from_bytes`, `to_bytes`,
 //! `from_slice`), one field per configuration identifier carrying data in that direction
-//! (16-bit words big-endian for word identifiers, bytes otherwise).
+//! (16-bit words big-endian for word identifiers, bytes otherwise). A modular station whose
+//! overlay chooses its modules (`[modules]`) also gets `configuration`, the whole slave's images
+//! in slot order (`dp_configuration`).
 //! No allocation, no `unsafe`: the module builds `no_std`.
 
 use proc_macro2::{Literal, TokenStream};
@@ -57,10 +59,13 @@ pub(super) fn module(device: &Device, dp: &Dp, module: &str) -> TokenStream {
     let prm_bytes: Vec<_> = prm.iter().map(|b| hex(u128::from(*b), 2)).collect();
     let n_prm = Literal::usize_unsuffixed(prm.len());
     let mut names = Vec::new();
+    // The generated name of each module of the file, by its index (`None`: not generated).
+    let mut by_index = Vec::new();
     let modules: Vec<_> = dp
         .modules
         .iter()
         .filter_map(|m| {
+            by_index.push(None);
             let ids = edsgen_model::model::decode_cfg(&m.config).ok()?;
             let mut name = ident(&m.name, Case::Snake, "module");
             if name.starts_with(|c: char| c.is_ascii_digit()) {
@@ -70,10 +75,14 @@ pub(super) fn module(device: &Device, dp: &Dp, module: &str) -> TokenStream {
                 name.push('_');
             }
             names.push(name.clone());
+            if let Some(slot) = by_index.last_mut() {
+                *slot = Some(name.clone());
+            }
             let pkw_pzd = dp.pkw_pzd_module.as_deref() == Some(m.name.as_str());
             Some(dp_module(m, &ids, &name, pkw_pzd))
         })
         .collect();
+    let configuration = super::dp_configuration::configuration(dp, &by_index);
     quote! {
         #(#[doc = #module_doc])*
         #[allow(dead_code)]
@@ -103,6 +112,7 @@ pub(super) fn module(device: &Device, dp: &Dp, module: &str) -> TokenStream {
             pub mod modules {
                 #(#modules)*
             }
+            #configuration
         }
     }
 }

@@ -9,7 +9,8 @@
 //! but no field. A field's type is its dictionary entry's; an entry the dictionary does not hold
 //! is typed by its `DataType` and bit length.
 //!
-//! `constants` emits the constants, `pdo` the PDO structs and `image` the process images; the
+//! A modular device's chosen module instances add their PDOs (indices moved per slot) to the
+//! device's, and so to its images. `constants` emits the constants, `pdo` the PDO structs and `image` the process images; the
 //! planned PDOs and fields both kinds of struct are built from live here.
 
 use proc_macro2::TokenStream;
@@ -55,8 +56,10 @@ struct PdoPlan {
     default: bool,
 }
 
-/// The `ethercat` module for a device with an EtherCAT side.
+/// The `ethercat` module for a device with an EtherCAT side: as configured, with the PDOs of the
+/// modules its overlay's `[modules]` plugs ([`EtherCat::configured`]).
 pub fn module(ec: &EtherCat, plan: &Plan) -> TokenStream {
+    let ec = &ec.configured();
     let constants = constants(ec);
     let mut items = Vec::new();
     let mut planned = Vec::new();

@@ -12,6 +12,7 @@ mod cip_connections;
 mod cip_enums;
 mod cip_pkw_pzd;
 pub mod dp;
+mod dp_configuration;
 pub mod ethercat;
 mod image_api;
 pub mod names;

@@ -478,6 +478,7 @@ pub fn ethercat_like() -> Device {
         slots: Vec::new(),
         other_devices: Vec::new(),
         span: Span::new(1, 1, 0),
+        chosen: None,
     });
     dev
 }

@@ -448,9 +448,34 @@ pub struct Dp {
     /// the overlay's `[pkw_pzd] module` says: its generated images convert to and from
     /// `edsgen_runtime::pkw_pzd`'s. A GSD cannot say it.
     pub pkw_pzd_module: Option<String>,
+    /// The modules chosen for a modular station (the overlay's `[modules]`); `None`: the
+    /// default configuration ([`Dp::configuration`]).
+    pub chosen: Option<super::modules::DpConfiguration>,
 }
 
 impl Dp {
+    /// The configuration the slave runs with: the chosen one, else its first module whose
+    /// configuration bytes decode, in the first slot (a compact station's one module).
+    pub fn configuration(&self) -> super::modules::DpConfiguration {
+        use super::modules::{dp_first_slot, DpConfiguration, DpPlugged};
+        if let Some(chosen) = &self.chosen {
+            return chosen.clone();
+        }
+        let first = self
+            .modules
+            .iter()
+            .position(|m| !m.config.is_empty() && decode_cfg(&m.config).is_ok());
+        DpConfiguration {
+            slots: first
+                .map(|module| DpPlugged {
+                    slot: dp_first_slot(self),
+                    module,
+                })
+                .into_iter()
+                .collect(),
+        }
+    }
+
     /// The parameterisation's default bytes (DP's User_Prm_Data after the seven standard
     /// Set_Prm bytes): `User_Prm_Data`, overlaid by the device's `Ext_User_Prm_Data_Const`
     /// blocks, then by the defaults of the definitions its `Ext_User_Prm_Data_Ref` entries place

@@ -36,6 +36,9 @@ pub struct EtherCat {
     pub other_devices: Vec<(String, u32, u32)>,
     /// Where the `Device` element is.
     pub span: Span,
+    /// The module instances chosen (the overlay's `[modules]`); `None`: no module
+    /// ([`EtherCat::configured`]).
+    pub chosen: Option<super::modules::EcConfiguration>,
 }
 
 /// What a SyncManager carries.

@@ -22,6 +22,7 @@ pub mod cip_value;
 mod dp;
 mod ethercat;
 pub mod layout;
+pub mod modules;
 mod object;
 mod profinet;
 mod source;

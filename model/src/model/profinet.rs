@@ -31,6 +31,20 @@ pub struct Profinet {
     pub missing_texts: Vec<Spanned<String>>,
     /// Where the `DeviceIdentity` element is (else the root element).
     pub span: Span,
+    /// The access point and modules chosen (the overlay's `[modules]`); `None`: the default
+    /// ([`Profinet::configuration`]).
+    pub chosen: Option<super::modules::PnConfiguration>,
+}
+
+impl Profinet {
+    /// The configuration the device runs with: the chosen one, else the first access point with
+    /// the modules it fixes or uses by default.
+    pub fn configuration(&self) -> super::modules::PnConfiguration {
+        match &self.chosen {
+            Some(chosen) => chosen.clone(),
+            None => super::modules::choose_pn(self, None, &[]).unwrap_or_default(),
+        }
+    }
 }
 
 /// One `DeviceAccessPointItem`: the head module in slot 0 and what may be plugged beside it.

@@ -335,8 +335,8 @@ rules! {
     // ---- EDS8xx: EtherCAT (ESI files) ----
     ESI_NO_DEVICE = "EDS801" Error "an ESI file with no Device to read (a module description, or no device matches the `--device` choice)"
         why "There is no device to generate or simulate; the wrong file or a wrong `--device` choice.";
-    ESI_MODULES = "EDS802" Info "a modular device: its Slots and the file's Modules are read, but no process image is generated for a module (a file of modules without a device is not read)"
-        why "A modular device's I/O depends on its modules; without their images the application must lay them out by hand.";
+    ESI_MODULES = "EDS802" Info "a modular device: its Slots and the file's Modules are read; a module's PDOs join the process image when the overlay's [modules] plugs it (a file of modules without a device is not read)"
+        why "A modular device's I/O depends on its modules; without a choice of modules the images hold the device's own PDOs only.";
     ESI_IDENTITY = "EDS803" Error "a Vendor Id, ProductCode or RevisionNo that is missing or not a number"
         why "The master identifies the SubDevice by vendor, product code and revision; without them it cannot match the ESI to the device.";
     ESI_PROFILE = "EDS804" Warning "a device with a CoE dictionary but no Profile/ProfileNo"

@@ -6,7 +6,8 @@
 //! Wait_Prm → (Set_Prm with this slave's Ident_Number and parameters) → Wait_Cfg → (Chk_Cfg
 //! with its configuration bytes) → Data_Exchange. Slave_Diag answers the six standard bytes at
 //! any time; Get_Cfg the configuration. A wrong Ident_Number or parameter length sets
-//! Prm_Fault, a wrong configuration Cfg_Fault, both back in Wait_Prm. Global_Control's Sync
+//! Prm_Fault, a configuration the application refuses ([`DpApplication::check_config`]: by
+//! default any but the slave's own) Cfg_Fault, both back in Wait_Prm. Global_Control's Sync
 //! latches outputs until the next Sync, Freeze holds inputs until the next Freeze, Clear_Data
 //! zeroes the outputs. The watchdog Set_Prm switches on leaves Data_Exchange when no telegram
 //! came in time ([`DpSlave::poll_timeout`], [`DpSlave::handle_timeout`]), and tells the
@@ -94,6 +95,13 @@ pub trait DpApplication {
     fn exchange(&mut self, now: Instant, outputs: &[u8], inputs: &mut [u8]);
     /// The DP watchdog expired at `now`: the master is gone.
     fn watchdog_expired(&mut self, now: Instant);
+    /// Chk_Cfg's configuration bytes `config`: the input and output lengths of Data_Exchange
+    /// they mean if the slave accepts them, `None` for a Cfg_Fault. By default only the
+    /// slave's own configuration ([`SlaveConfig::config`], `own`) is accepted; a modular
+    /// slave accepts any allowed combination of its modules.
+    fn check_config(&mut self, own: &SlaveConfig, config: &[u8]) -> Option<(usize, usize)> {
+        (config == own.config.as_slice()).then_some((own.input_len, own.output_len))
+    }
 }
 
 /// What the slave is: from its GSD.
@@ -419,7 +427,22 @@ impl<A: DpApplication> DpSlave<A> {
         if self.state == DpState::WaitPrm || self.master != Some(t.sa) {
             return;
         }
-        if t.data == self.config.config.as_slice() {
+        let accepted = self
+            .app
+            .check_config(&self.config, t.data)
+            .zip(DpData::new(t.data))
+            .filter(|((i, o), _)| *i <= DpData::CAPACITY && *o <= DpData::CAPACITY);
+        if let Some(((input_len, output_len), config)) = accepted {
+            // Get_Cfg answers the configuration in effect; the images take its lengths.
+            self.config.config = config;
+            if (input_len, output_len) != (self.config.input_len, self.config.output_len) {
+                self.config.input_len = input_len;
+                self.config.output_len = output_len;
+                self.inputs = DpData::zeroed(input_len);
+                self.outputs = DpData::zeroed(output_len);
+                self.pending_outputs = None;
+                self.frozen_inputs = None;
+            }
             self.cfg_fault = false;
             self.set_state(DpState::DataExchange);
         } else {

@@ -1,10 +1,14 @@
-//! DP slaves from GSD files: a [`SlaveConfig`] from any GSD's model (its first module, as a
-//! compact station has one), the bundled Goodrive350 card (`eds/goodrive350-dp.gsd`) with its
-//! PKW/PZD drive behind it, and [`Loopback`], the application of a slave simulated from any
-//! other GSD (its inputs echo its outputs).
+//! DP slaves from GSD files: a [`SlaveConfig`] from any GSD's model (its configuration: the
+//! modules chosen, else its first module, as a compact station has one), the bundled
+//! Goodrive350 card (`eds/goodrive350-dp.gsd`) with its PKW/PZD drive behind it, and
+//! [`Loopback`], the application of a slave simulated from any other GSD (its inputs echo its
+//! outputs; unless its modules are chosen, it accepts in Chk_Cfg any combination of them its
+//! GSD allows, as a drive whose PPO the master picks does).
 
 use std::path::Path;
+use std::sync::Arc;
 
+use edsgen_model::model::modules::{choose_dp, match_dp_cfg, ModuleChoice};
 use edsgen_model::model::Dp;
 use edsgen_runtime::pkw_pzd::ByteOrder;
 use edsgen_runtime::Instant;
@@ -32,6 +36,8 @@ pub enum CardError {
     BadAddress(u8),
     /// Configuration bytes or an I/O length above DP's 244 bytes.
     TooLong,
+    /// Modules chosen that the GSD does not allow, each problem a sentence.
+    Modules(Vec<String>),
 }
 
 impl std::fmt::Display for CardError {
@@ -42,14 +48,18 @@ impl std::fmt::Display for CardError {
             CardError::NoModule => write!(f, "the GSD file has no module that decodes"),
             CardError::BadAddress(a) => write!(f, "station address {a} is not 0 to 125"),
             CardError::TooLong => write!(f, "the module has more than 244 bytes of data"),
+            CardError::Modules(problems) => {
+                write!(f, "the modules chosen do not fit: {}", problems.join("; "))
+            }
         }
     }
 }
 
 impl std::error::Error for CardError {}
 
-/// The slave a GSD describes at `address`: its Ident_Number, its first module's configuration
-/// bytes and lengths, its User_Prm_Data length.
+/// The slave a GSD describes at `address`: its Ident_Number, its configuration's bytes and
+/// lengths ([`Dp::configuration`]: the modules chosen, else its first module), its
+/// User_Prm_Data length.
 pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
     if address > 125 {
         return Err(CardError::BadAddress(address));
@@ -59,12 +69,11 @@ pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
         .as_ref()
         .ok_or(CardError::NoIdentNumber)?
         .value;
-    let module = dp
-        .modules
-        .iter()
-        .find(|m| edsgen_model::model::decode_cfg(&m.config).is_ok())
-        .ok_or(CardError::NoModule)?;
-    let (input_len, output_len) = module.io_lengths();
+    let configuration = dp.configuration();
+    if configuration.slots.is_empty() {
+        return Err(CardError::NoModule);
+    }
+    let (input_len, output_len) = configuration.io_lengths(dp);
     let user_prm_len = dp
         .user_prm_data_len
         .as_ref()
@@ -76,7 +85,7 @@ pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
     Ok(SlaveConfig {
         address,
         ident_number,
-        config: DpData::new(&module.config).ok_or(CardError::TooLong)?,
+        config: DpData::new(&configuration.config_bytes(dp)).ok_or(CardError::TooLong)?,
         user_prm_len,
         output_len: output_len as usize,
         input_len: input_len as usize,
@@ -146,6 +155,10 @@ pub fn goodrive350(address: u8, now: Instant) -> Result<DpSlave<Goodrive350Dp>, 
 pub struct Loopback {
     /// Whether the watchdog expired since the last exchange.
     pub watchdog_expired: bool,
+    /// The GSD whose modules Chk_Cfg may combine as it allows (a slave whose modules the
+    /// master picks); `None`: only the slave's own configuration is accepted (modules
+    /// plugged, as in an I/O station).
+    pub modular: Option<Arc<Dp>>,
 }
 
 impl DpApplication for Loopback {
@@ -158,6 +171,14 @@ impl DpApplication for Loopback {
 
     fn watchdog_expired(&mut self, _now: Instant) {
         self.watchdog_expired = true;
+    }
+
+    fn check_config(&mut self, own: &SlaveConfig, config: &[u8]) -> Option<(usize, usize)> {
+        let Some(dp) = &self.modular else {
+            return (config == own.config.as_slice()).then_some((own.input_len, own.output_len));
+        };
+        let (input_len, output_len) = match_dp_cfg(dp, config)?.io_lengths(dp);
+        Some((input_len as usize, output_len as usize))
     }
 }
 
@@ -185,16 +206,38 @@ impl DpApplication for Simulated {
             Simulated::Loopback(echo) => echo.watchdog_expired(now),
         }
     }
+
+    fn check_config(&mut self, own: &SlaveConfig, config: &[u8]) -> Option<(usize, usize)> {
+        match self {
+            Simulated::Card(card) => card.check_config(own, config),
+            Simulated::Loopback(echo) => echo.check_config(own, config),
+        }
+    }
 }
 
-/// A slave simulated from any GSD's model at `address`, echoing its outputs.
-pub fn loopback(dp: &Dp, address: u8, now: Instant) -> Result<DpSlave<Loopback>, CardError> {
-    let config = slave_config(dp, address)?;
+/// A slave simulated from any GSD's model at `address`, echoing its outputs. With `modules`
+/// chosen (`--module`, the overlay's `[modules]`), it is plugged with them and accepts only
+/// them; without, it starts with [`Dp::configuration`] and accepts any combination of its
+/// modules the GSD allows.
+pub fn loopback(
+    dp: &Dp,
+    modules: &[ModuleChoice],
+    address: u8,
+    now: Instant,
+) -> Result<DpSlave<Loopback>, CardError> {
+    let mut dp = dp.clone();
+    if !modules.is_empty() {
+        dp.chosen = Some(choose_dp(&dp, modules).map_err(CardError::Modules)?);
+    }
+    let config = slave_config(&dp, address)?;
     let app = Loopback {
         watchdog_expired: false,
+        modular: dp.chosen.is_none().then(|| Arc::new(dp)),
     };
     Ok(DpSlave::new(config, app, now))
 }
 
+#[cfg(test)]
+mod modular_tests;
 #[cfg(test)]
 mod tests;

@@ -17,7 +17,10 @@ use edsgen_runtime::pkw_pzd::{ByteOrder, InputImage, PkwResponse, RunState, Word
 use profirust::dp::{DiagnosticFlags, PeripheralEvent};
 use profirust::{dp, fdl, Baudrate};
 
+use edsgen_model::model::modules::{choose_dp, parse_choices};
+
 use super::super::fail;
+use super::fields::{changed, Layout};
 use edsgen_host::dp_line::TtyPhy;
 
 /// The arguments of `edsgen dp io`.
@@ -42,100 +45,15 @@ pub struct Args {
     /// master stops).
     #[arg(long)]
     no_watchdog: bool,
+    /// The module in a slot of a modular slave (`SLOT=NAME`, or `NAME` for the slot after the
+    /// previous one; repeatable, docs/modules.md): Chk_Cfg sends them all in slot order. Default:
+    /// the overlay's `[modules]`, else the GSD's first module.
+    #[arg(long = "module", value_name = "[SLOT=]NAME")]
+    modules: Vec<String>,
     /// Outputs to set: NAME=VALUE (decimal or 0x hex), or `reset`, `run`, `stop` on a PKW/PZD
     /// module; more come as lines on standard input.
     #[arg(value_name = "SETTING")]
     settings: Vec<String>,
-}
-
-/// How an image's fields are named: 16-bit words (`w0`, ... or the PKW/PZD names) or bytes
-/// (`b0`, ...).
-#[derive(Debug, Clone, Copy)]
-struct Names {
-    words: bool,
-    pkw_pzd: bool,
-}
-
-const PKW_PZD_NAMES: [&str; 16] = [
-    "pkw1", "pkw2", "pkw3", "pkw4", "cw", "pzd2", "pzd3", "pzd4", "pzd5", "pzd6", "pzd7", "pzd8",
-    "pzd9", "pzd10", "pzd11", "pzd12",
-];
-
-impl Names {
-    fn width(self) -> usize {
-        if self.words {
-            2
-        } else {
-            1
-        }
-    }
-
-    /// The name of field `n` of the inputs or the outputs.
-    fn name(self, n: usize, input: bool) -> String {
-        match (self.pkw_pzd, n) {
-            (true, 4) if input => "sw".to_owned(),
-            (true, n) if n < 16 => PKW_PZD_NAMES[n].to_owned(),
-            _ if self.words => format!("w{n}"),
-            _ => format!("b{n}"),
-        }
-    }
-
-    /// Field `n` of `image` and its text.
-    fn field(self, image: &[u8], n: usize) -> String {
-        if self.words {
-            let word = u16::from_be_bytes([image[2 * n], image[2 * n + 1]]);
-            format!("{word} (0x{word:04X})")
-        } else {
-            format!("{} (0x{:02X})", image[n], image[n])
-        }
-    }
-}
-
-fn number(text: &str) -> Option<u16> {
-    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
-        Some(hex) => u16::from_str_radix(hex, 16).ok(),
-        None => text.parse().ok(),
-    }
-}
-
-/// Applies one setting to `outputs`.
-fn apply(setting: &str, names: Names, outputs: &mut [u8]) -> Result<(), String> {
-    let setting = setting.trim();
-    // The card's control word commands (CW bits 0-7): 1 run forward, 5 stop, 7 fault reset.
-    let command = match setting {
-        "run" => Some(1),
-        "stop" => Some(5),
-        "reset" => Some(7),
-        _ => None,
-    };
-    if let Some(command) = command {
-        if !names.pkw_pzd {
-            return Err(format!(
-                "`{setting}`: the module has no PKW/PZD control word"
-            ));
-        }
-        outputs[9] = command;
-        return Ok(());
-    }
-    let Some((name, value)) = setting.split_once('=') else {
-        return Err(format!("`{setting}` is not NAME=VALUE, reset, run or stop"));
-    };
-    let width = names.width();
-    let index = (0..outputs.len() / width)
-        .find(|n| names.name(*n, false) == name.trim().to_ascii_lowercase());
-    let value = number(value.trim()).filter(|v| width == 2 || *v <= 0xFF);
-    let (Some(index), Some(value)) = (index, value) else {
-        let kind = if width == 2 { "a 16-bit" } else { "an 8-bit" };
-        return Err(format!(
-            "`{setting}`: no output `{name}` or not {kind} value"
-        ));
-    };
-    if width == 2 {
-        outputs[2 * index..2 * index + 2].copy_from_slice(&value.to_be_bytes());
-    } else {
-        outputs[index] = value as u8;
-    }
-    Ok(())
 }
 
 /// Runs `edsgen dp io`.
@@ -150,18 +68,26 @@ pub fn run(args: &Args) -> ExitCode {
     let Some(ident) = gsd.ident_number.as_ref().map(|i| i.value) else {
         return fail(format!("{}: no Ident_Number", args.gsd.display()));
     };
-    let Some(module) = gsd.modules.iter().find(|m| !m.identifiers().is_empty()) else {
+    let configuration = if args.modules.is_empty() {
+        gsd.configuration()
+    } else {
+        let chosen = parse_choices(&args.modules)
+            .and_then(|choices| choose_dp(gsd, &choices).map_err(|problems| problems.join("\n  ")));
+        match chosen {
+            Ok(configuration) => configuration,
+            Err(message) => return fail(format!("{}: --module: {message}", args.gsd.display())),
+        }
+    };
+    if configuration.slots.is_empty() {
         return fail(format!("{}: no module", args.gsd.display()));
-    };
-    let names = Names {
-        words: module.identifiers().iter().all(|i| i.words),
-        pkw_pzd: gsd.pkw_pzd_module.as_deref() == Some(module.name.as_str()),
-    };
-    let (input_len, output_len) = module.io_lengths();
+    }
+    let layout = Layout::new(gsd, &configuration);
+    let config = configuration.config_bytes(gsd);
+    let (input_len, output_len) = configuration.io_lengths(gsd);
     let (input_len, output_len) = (input_len as usize, output_len as usize);
     let mut outputs = vec![0u8; output_len];
     for setting in &args.settings {
-        if let Err(message) = apply(setting, names, &mut outputs) {
+        if let Err(message) = layout.apply(setting, &mut outputs) {
             return fail(message);
         }
     }
@@ -197,7 +123,7 @@ pub fn run(args: &Args) -> ExitCode {
             ident_number: ident,
             max_tsdr: u16::try_from(max_tsdr).unwrap_or(u16::MAX),
             user_parameters: Some(&user),
-            config: Some(&module.config),
+            config: Some(&config),
             ..Default::default()
         },
         &mut inputs[..],
@@ -236,12 +162,12 @@ pub fn run(args: &Args) -> ExitCode {
                 }
                 cycles += 1;
                 let now = peripheral.pi_i().to_vec();
-                print_changes(shown.as_deref(), &now, names);
+                print_changes(shown.as_deref(), &now, &layout);
                 shown = Some(now);
                 // One line of standard input a cycle, so that each setting reaches the slave
                 // (a reset, then a run command).
                 if let Ok(line) = lines.try_recv() {
-                    if let Err(message) = apply(&line, names, &mut outputs) {
+                    if let Err(message) = layout.apply(&line, &mut outputs) {
                         eprintln!("{message}");
                     }
                 }
@@ -304,7 +230,7 @@ fn check_station(phy: &mut TtyPhy, args: &Args, ident: u16) -> Result<(), String
 fn refused(address: u8, diag: Option<dp::PeripheralDiagnostics<'_>>) -> String {
     let flags = diag.map(|d| d.flags).unwrap_or(DiagnosticFlags::empty());
     let why = if flags.contains(DiagnosticFlags::CONFIGURATION_FAULT) {
-        "configuration fault: it refused the module's Chk_Cfg bytes"
+        "configuration fault: it refused the Chk_Cfg bytes of the modules chosen"
     } else if flags.contains(DiagnosticFlags::PARAMETER_FAULT) {
         "parameter fault: it refused Set_Prm (Ident_Number or User_Prm_Data)"
     } else if flags.contains(DiagnosticFlags::NOT_SUPPORTED) {
@@ -316,29 +242,31 @@ fn refused(address: u8, diag: Option<dp::PeripheralDiagnostics<'_>>) -> String {
 }
 
 /// Prints the fields of `now` that differ from `before` (all of them the first time), then, on
-/// a PKW/PZD image, the PKW response and the status word in words when they changed.
-fn print_changes(before: Option<&[u8]>, now: &[u8], names: Names) {
-    let width = names.width();
-    let changed = |n: usize| {
-        let field = &now[n * width..(n + 1) * width];
-        before.is_none_or(|b| b.get(n * width..(n + 1) * width) != Some(field))
-    };
-    for n in (0..now.len() / width).filter(|&n| changed(n)) {
-        println!("{} = {}", names.name(n, true), names.field(now, n));
+/// a PKW/PZD module, the PKW response and the status word in words when they changed.
+fn print_changes(before: Option<&[u8]>, now: &[u8], layout: &Layout) {
+    for line in layout.changes(before, now) {
+        println!("{line}");
     }
-    let (true, Ok(bytes)) = (names.pkw_pzd, <&[u8; 32]>::try_from(now)) else {
+    let Some((at, _)) = layout.pkw_pzd else {
         return;
     };
+    let Some(Ok(bytes)) = now.get(at..at + 32).map(<&[u8; 32]>::try_from) else {
+        return;
+    };
+    let (pkw, sw) = (
+        changed(before, now, at..at + 8),
+        changed(before, now, at + 8..at + 10),
+    );
     match InputImage::parse(bytes, ByteOrder::BigEndian) {
         Ok(image) => {
-            if (0..4).any(changed) {
+            if pkw {
                 println!("pkw: {}", pkw_text(image.pkw));
             }
-            if changed(4) {
+            if sw {
                 println!("sw: {}", sw_text(&image));
             }
         }
-        Err(_) if (0..4).any(changed) => println!("pkw: not a PKW response"),
+        Err(_) if pkw => println!("pkw: not a PKW response"),
         Err(_) => {}
     }
 }

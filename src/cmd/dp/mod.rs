@@ -6,17 +6,19 @@
 //!   slowest Tsdr, so the sweep's time is known and said first; one line per station that
 //!   answered: address, Ident_Number, the master it is locked to. Exit 0 when at least one
 //!   answered, 1 when none did, 2 for bad usage or a line that cannot be opened.
-//! - `edsgen dp io TTY --gsd FILE --address N [SETTING...] [--cycles N] [--no-watchdog]`: a
-//!   session. The station's Slave_Diag first (a missing station or an Ident_Number mismatch is
-//!   named at once), then it is parameterised and configured from its GSD (Ident_Number, default
-//!   User_Prm_Data, its first module's Chk_Cfg bytes; a refusal is named from its diagnosis) and
-//!   exchanges data until Ctrl-C or `--cycles`, the inputs printed whenever they change. Settings
-//!   (`NAME=VALUE`, and `reset`, `run`, `stop` on a PKW/PZD module: CW commands 7, 1, 5) come as
-//!   arguments and as lines on standard input. Names are the words `w0`, `w1`, ... of a word
-//!   module, the bytes `b0`, `b1`, ... of a byte module; a module the overlay marks as PKW/PZD
-//!   (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its PKW response and status
-//!   word are put in words. Exit 0 after the session, 1 if the station is missing, refuses or
-//!   stops answering, 2 for bad usage.
+//! - `edsgen dp io TTY --gsd FILE --address N [--module [SLOT=]NAME]... [SETTING...] [--cycles N]
+//!   [--no-watchdog]`: a session. The station's Slave_Diag first (a missing station or an
+//!   Ident_Number mismatch is named at once), then it is parameterised and configured from its
+//!   GSD (Ident_Number, default User_Prm_Data, Chk_Cfg with every module of its configuration in
+//!   slot order: `--module`, else the overlay's `[modules]`, else the GSD's first module; a
+//!   refusal is named from its diagnosis) and exchanges data until Ctrl-C or `--cycles`, the
+//!   inputs printed whenever they change. Settings (`NAME=VALUE`, and `reset`, `run`, `stop` on
+//!   a PKW/PZD module: CW commands 7, 1, 5) come as arguments and as lines on standard input.
+//!   Names ([`fields`]) are the words `w0`, `w1`, ... of a word module, the bytes `b0`, `b1`,
+//!   ... of a byte module, prefixed `slotN.` when the configuration has several modules; a module the
+//!   overlay marks as PKW/PZD (`[pkw_pzd]`) has `pkw1`–`pkw4`, `cw`/`sw`, `pzd2`–`pzd12`, and its
+//!   PKW response and status word are put in words. Exit 0 after the session, 1 if the station
+//!   is missing, refuses or stops answering, 2 for bad usage.
 
 use std::fs::OpenOptions;
 use std::process::ExitCode;
@@ -27,6 +29,7 @@ use profirust::Baudrate;
 
 use super::fail;
 
+mod fields;
 mod io;
 pub mod simulate;
 

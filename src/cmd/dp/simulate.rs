@@ -2,7 +2,9 @@
 //! PROFIBUS-DP slaves on one serial line (`edsgen_sim::dp::serial`), each at its own address:
 //! the bundled Goodrive350 card with its PKW/PZD drive, or a slave built from any GSD file
 //! whose inputs echo its outputs. The address is `@ADDR`, else the card's default (2, P15.01's)
-//! or 2 for a file. State changes go to stderr (`data exchange`, `wait for parameters`, the
+//! or 2 for a file. A file's slave accepts in Chk_Cfg any combination of its modules its GSD
+//! allows, unless `--module [SLOT=]NAME` (with one file) plugs it with those modules, which it
+//! then accepts alone. State changes go to stderr (`data exchange`, `wait for parameters`, the
 //! watchdog's E-DP; `station N: ` before each with several slaves), until the line closes or
 //! SIGINT, SIGTERM or SIGHUP stops it (then `stopped:`).
 
@@ -11,6 +13,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use edsgen_model::lint::Policy;
+use edsgen_model::model::modules::{parse_choices, ModuleChoice};
 use edsgen_runtime::dp::DpSlave;
 use edsgen_runtime::Instant;
 use edsgen_sim::dp::card::{self, Simulated, DEFAULT_ADDRESS};
@@ -37,6 +40,7 @@ fn name_and_address(text: &str) -> Result<(String, u8), String> {
 fn slave(
     text: &str,
     is_card: bool,
+    modules: &[ModuleChoice],
     now: Instant,
     allow: &Policy,
 ) -> Result<(DpSlave<Simulated>, String), String> {
@@ -56,7 +60,7 @@ fn slave(
         .device
         .dp()
         .ok_or_else(|| format!("{name}: {}", card::CardError::NotGsd))?;
-    let echo = card::loopback(dp, address, now).map_err(|e| format!("{name}: {e}"))?;
+    let echo = card::loopback(dp, modules, address, now).map_err(|e| format!("{name}: {e}"))?;
     let config = echo.config().clone();
     let app = Simulated::Loopback(echo.app().clone());
     Ok((DpSlave::new(config, app, now), name))
@@ -64,12 +68,25 @@ fn slave(
 
 /// Runs the DP slaves of the `--card` and FILE arguments of `edsgen simulate` on `tty`, each at
 /// its own address.
-pub fn run(tty: &str, files: &[String], cards: &[String], allow: &Policy) -> ExitCode {
+pub fn run(
+    tty: &str,
+    files: &[String],
+    cards: &[String],
+    modules: &[String],
+    allow: &Policy,
+) -> ExitCode {
     if files.is_empty() && cards.is_empty() {
         return fail(format!(
             "--profibus serves slaves: --card {CARD}[@ADDR] or FILE.gsd[@ADDR], one or more"
         ));
     }
+    if !modules.is_empty() && files.len() != 1 {
+        return fail("--module plugs the modules of one FILE.gsd: give exactly one".to_owned());
+    }
+    let modules = match parse_choices(modules) {
+        Ok(modules) => modules,
+        Err(message) => return fail(format!("--module {message}")),
+    };
     let now = Instant::from_micros(0);
     let named = cards
         .iter()
@@ -78,7 +95,7 @@ pub fn run(tty: &str, files: &[String], cards: &[String], allow: &Policy) -> Exi
     let mut slaves = Vec::new();
     let mut lines = Vec::new();
     for (text, is_card) in named {
-        let (slave, what) = match slave(text, is_card, now, allow) {
+        let (slave, what) = match slave(text, is_card, &modules, now, allow) {
             Ok(slave) => slave,
             Err(message) => return fail(message),
         };

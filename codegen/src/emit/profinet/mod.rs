@@ -31,15 +31,28 @@ pub(super) fn module(
     let identity = identity(pn);
     let mut names = Vec::new();
     let mut modules = Vec::new();
-    if let Some(dap) = pn.access_points.first() {
+    let access_point = pn
+        .chosen
+        .as_ref()
+        .and_then(|c| c.access_point(pn))
+        .or(pn.access_points.first());
+    if let Some(dap) = access_point {
         let subs: Vec<TokenStream> = submodules(&dap.submodules, &pn.value_lists);
+        let doc = match &pn.chosen {
+            Some(_) => format!(
+                " The chosen access point's own submodules ({}, slot 0).",
+                code_span(&dap.id)
+            ),
+            None => " The default access point's own submodules (slot 0).".to_owned(),
+        };
         modules.push(quote! {
-            /// The default access point's own submodules (slot 0).
+            #[doc = #doc]
             pub mod access_point {
                 #(#subs)*
             }
         });
     }
+    let mut module_names = vec![None; pn.modules.len()];
     for (n, m) in pn.modules.iter().enumerate() {
         let name = unique(
             &mut names,
@@ -69,6 +82,7 @@ pub(super) fn module(
             .into_iter();
         let subs = submodules(&m.submodules, &pn.value_lists);
         let slots = slot_constants(pn, &m.id);
+        module_names[n] = Some(name.clone());
         let name = id(&name);
         modules.push(quote! {
             #[doc = #doc]
@@ -81,6 +95,7 @@ pub(super) fn module(
             }
         });
     }
+    let configuration = configuration(pn, &module_names);
     Ok(quote! {
         #(#[doc = #module_doc])*
         // A controller uses a few of the images: the rest is not dead code to warn about.
@@ -95,8 +110,61 @@ pub(super) fn module(
             pub mod modules {
                 #(#modules)*
             }
+            #configuration
         }
     })
+}
+
+/// `pub mod configuration`: the chosen access point and the modules in their slots (the
+/// overlay's `[modules]`), each slot a path to its module's generated images; nothing when no
+/// configuration is chosen.
+fn configuration(pn: &Profinet, names: &[Option<String>]) -> TokenStream {
+    let Some(chosen) = &pn.chosen else {
+        return TokenStream::new();
+    };
+    let Some(dap) = chosen.access_point(pn) else {
+        return TokenStream::new();
+    };
+    let dap_id = Literal::string(&dap.id);
+    let dap_ident = hex(
+        u128::from(dap.module_ident.as_ref().map_or(0, |v| v.value)),
+        8,
+    );
+    let mut slots = Vec::new();
+    let mut uses = Vec::new();
+    for plugged in &chosen.slots {
+        let (Some(module), Some(Some(name))) =
+            (pn.modules.get(plugged.module), names.get(plugged.module))
+        else {
+            continue;
+        };
+        let slot = Literal::u16_unsuffixed(plugged.slot);
+        let ident = hex(
+            u128::from(module.module_ident.as_ref().map_or(0, |v| v.value)),
+            8,
+        );
+        let module_id = Literal::string(&module.id);
+        slots.push(quote!((#slot, #ident, #module_id)));
+        let alias = quote::format_ident!("slot_{}", plugged.slot);
+        let target = id(name);
+        let doc = format!(" Slot {}: module {}.", plugged.slot, code_span(&module.id));
+        uses.push(quote!(#[doc = #doc] pub use super::modules::#target as #alias;));
+    }
+    let n_slots = Literal::usize_unsuffixed(slots.len());
+    quote! {
+        /// The configuration chosen in the overlay's `[modules]`: the access point and the
+        /// modules in their slots.
+        #[allow(unused_imports)]
+        pub mod configuration {
+            /// The access point's `ID`.
+            pub const ACCESS_POINT: &str = #dap_id;
+            /// The access point's ModuleIdentNumber (slot 0).
+            pub const ACCESS_POINT_IDENT: u32 = #dap_ident;
+            /// The modules: slot, ModuleIdentNumber and `ID`, in slot order.
+            pub const SLOTS: [(u16, u32, &str); #n_slots] = [#(#slots),*];
+            #(#uses)*
+        }
+    }
 }
 
 /// `name`, else `name_2`, `name_3`, ... when taken.

@@ -331,7 +331,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
                 &rules::ESI_MODULES,
                 Some(span),
                 format!(
-                    "the device has {} slot(s) and the file {} module(s): they are read, but no process image is generated for a module",
+                    "the device has {} slot(s) and the file {} module(s): a module's PDOs join the process image when the overlay's [modules] plugs it",
                     ethercat.slots.len(),
                     ethercat.modules.len()
                 ),

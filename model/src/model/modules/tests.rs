@@ -1,0 +1,155 @@
+use super::*;
+use std::path::Path;
+
+/// A modular slave of three slots: slot 1 takes only the PPO modules, slots 2-3 anything.
+const GSD: &str = r#"#Profibus_DP
+GSD_Revision = 3
+Vendor_Name = "Test"
+Model_Name = "Modular"
+Ident_Number = 0x1234
+Protocol_Ident = 0
+Station_Type = 0
+19.2_supp = 1
+MaxTsdr_19.2 = 60
+Modular_Station = 1
+Max_Module = 3
+Max_Input_Len = 40
+Max_Output_Len = 48
+Max_Data_Len = 70
+Module = "4 PKW, 2 PZD (PPO 1)" 0xF3, 0xF1
+1
+EndModule
+Module = "0 PKW, 2 PZD (PPO 3)" 0xF1
+2
+EndModule
+Module = "8 DI" 0x10
+3
+EndModule
+Module = "16 words out" 0x6F
+4
+EndModule
+SlotDefinition
+Slot(1) = "Drive" 1 1-2
+Slot(2) = "IO" 3 3-4
+Slot(3) = "IO" 3 3-4
+EndSlotDefinition
+"#;
+
+fn dp() -> Dp {
+    crate::read::read_bytes(Path::new("modular.gsd"), GSD.as_bytes())
+        .device
+        .dp()
+        .cloned()
+        .expect("a GSD")
+}
+
+fn choices(texts: &[&str]) -> Vec<ModuleChoice> {
+    parse_choices(texts).expect("choices")
+}
+
+#[test]
+fn choices_parse_with_and_without_a_slot() {
+    assert_eq!(
+        parse_choice("4 PKW, 2 PZD (PPO 1)"),
+        Ok(ModuleChoice {
+            slot: None,
+            module: "4 PKW, 2 PZD (PPO 1)".into()
+        })
+    );
+    assert_eq!(
+        parse_choice(" 2 = 8 DI "),
+        Ok(ModuleChoice {
+            slot: Some(2),
+            module: "8 DI".into()
+        })
+    );
+    // Not a number before `=`: the whole text is the name.
+    assert_eq!(parse_choice("a=b").map(|c| c.slot), Ok(None));
+    assert_eq!(
+        parse_choice("3="),
+        Err("`3=`: no module named (write SLOT=NAME or NAME)".into())
+    );
+    assert_eq!(
+        parse_choice("99999999999=x"),
+        Err("`99999999999=x`: slot `99999999999` is too large".into())
+    );
+}
+
+#[test]
+fn a_chosen_configuration_is_its_modules_in_slot_order() {
+    let dp = dp();
+    let config = choose_dp(
+        &dp,
+        &choices(&["4 pkw,  2 PZD (ppo 1)", "3=16 words out", "2=8 DI"]),
+    )
+    .expect("allowed");
+    assert_eq!(
+        config.slots,
+        [
+            DpPlugged { slot: 1, module: 0 },
+            DpPlugged { slot: 2, module: 2 },
+            DpPlugged { slot: 3, module: 3 }
+        ]
+    );
+    assert_eq!(config.config_bytes(&dp), [0xF3, 0xF1, 0x10, 0x6F]);
+    // Inputs 8 + 4 + 1, outputs 8 + 4 + 32.
+    assert_eq!(config.io_lengths(&dp), (13, 44));
+}
+
+#[test]
+fn a_gap_takes_the_slot_default_and_the_default_is_the_first_module() {
+    let dp = dp();
+    let config = choose_dp(&dp, &choices(&["1=0 PKW, 2 PZD (PPO 3)", "3=8 DI"])).unwrap();
+    assert_eq!(config.config_bytes(&dp), [0xF1, 0x10, 0x10]);
+    assert_eq!(dp.configuration().config_bytes(&dp), [0xF3, 0xF1]);
+}
+
+#[test]
+fn what_the_slave_would_refuse_is_said() {
+    let dp = dp();
+    let errors = |texts: &[&str]| choose_dp(&dp, &choices(texts)).unwrap_err();
+    assert_eq!(
+        errors(&["8 DI", "PPO 9", "2=0 PKW, 2 PZD (PPO 3)", "2=8 DI"]),
+        [
+            "slot 2: no module \"PPO 9\"; did you mean:\n  \"8 DI\"\n  \"16 words out\"\n  \"4 PKW, 2 PZD (PPO 1)\"",
+            "slot 2 is chosen twice",
+            "slot 1 (\"Drive\") does not take module \"8 DI\"",
+            "slot 2 (\"IO\") does not take module \"0 PKW, 2 PZD (PPO 3)\"",
+        ]
+    );
+    assert_eq!(
+        errors(&["5=8 DI"]),
+        [
+            "slot 4 is empty: a DP configuration has no gaps; choose its module",
+            "4 modules: Max_Module is 3"
+        ]
+    );
+    assert_eq!(
+        errors(&["4 PKW, 2 PZD (PPO 1)", "16 words out", "16 words out"]),
+        [
+            "76 output bytes: Max_Output_Len is 48",
+            "88 bytes of inputs and outputs: Max_Data_Len is 70"
+        ]
+    );
+    assert_eq!(errors(&[]), ["no module chosen"]);
+}
+
+#[test]
+fn chk_cfg_bytes_are_recognised_as_an_allowed_combination() {
+    let dp = dp();
+    let found = match_dp_cfg(&dp, &[0xF1, 0x10, 0x6F]).expect("PPO 3, 8 DI, 16 words out");
+    assert_eq!(
+        found.slots.iter().map(|p| p.module).collect::<Vec<_>>(),
+        [1, 2, 3]
+    );
+    // F3 F1 is PPO 1, not PPO 3 after something: the search backtracks to the allowed reading.
+    assert_eq!(
+        match_dp_cfg(&dp, &[0xF3, 0xF1]).map(|c| c.slots.len()),
+        Some(1)
+    );
+    // 8 DI is not allowed in slot 1; four modules are too many; unknown bytes.
+    assert_eq!(match_dp_cfg(&dp, &[0x10]), None);
+    assert_eq!(match_dp_cfg(&dp, &[0xF1, 0x10, 0x10, 0x10]), None);
+    assert_eq!(match_dp_cfg(&dp, &[0xF1, 0x77]), None);
+    assert_eq!(match_dp_cfg(&dp, &[]), None);
+}

@@ -1,0 +1,155 @@
+//! A slave simulated from a modular GSD: Chk_Cfg accepts any combination of modules the GSD
+//! allows (and then exchanges that combination's images), refuses others with Cfg_Fault, and
+//! with modules chosen accepts only those.
+
+use std::path::Path;
+
+use edsgen_model::model::modules::parse_choices;
+use edsgen_runtime::dp::fdl::{self, DataRepr, Repr, MAX_TELEGRAM_LEN};
+use edsgen_runtime::dp::slave::sap;
+use edsgen_runtime::dp::{DpSlave, DpState};
+use edsgen_runtime::Instant;
+
+use super::{loopback, read_gsd, CardError, Loopback};
+
+/// Slot 1 takes a PPO module, slots 2 and 3 the I/O modules (as the model's tests).
+const GSD: &str = r#"#Profibus_DP
+GSD_Revision = 3
+Vendor_Name = "Test"
+Model_Name = "Modular"
+Ident_Number = 0x1234
+Protocol_Ident = 0
+Station_Type = 0
+19.2_supp = 1
+MaxTsdr_19.2 = 60
+Modular_Station = 1
+Max_Module = 3
+Max_Input_Len = 40
+Max_Output_Len = 48
+Max_Data_Len = 70
+Module = "4 PKW, 2 PZD (PPO 1)" 0xF3, 0xF1
+1
+EndModule
+Module = "0 PKW, 2 PZD (PPO 3)" 0xF1
+2
+EndModule
+Module = "8 DI" 0x10
+3
+EndModule
+Module = "16 words out" 0x6F
+4
+EndModule
+SlotDefinition
+Slot(1) = "Drive" 1 1-2
+Slot(2) = "IO" 3 3-4
+Slot(3) = "IO" 3 3-4
+EndSlotDefinition
+"#;
+
+const MASTER: u8 = 1;
+const SLAVE: u8 = 7;
+
+struct Bench {
+    slave: DpSlave<Loopback>,
+    fcb: bool,
+    now: u64,
+}
+
+impl Bench {
+    fn new(modules: &[&str]) -> Self {
+        let dp = read_gsd(Path::new("modular.gsd"), GSD.as_bytes()).unwrap();
+        let modules = parse_choices(modules).unwrap();
+        let slave = loopback(&dp, &modules, SLAVE, Instant::from_millis(0)).unwrap();
+        Bench {
+            slave,
+            fcb: false,
+            now: 0,
+        }
+    }
+
+    /// The data of the slave's answer to a request to `dsap` (`None`: Data_Exchange); `None`
+    /// for a short acknowledgement or silence.
+    fn send(&mut self, dsap: Option<u8>, data: &[u8]) -> Option<Vec<u8>> {
+        self.fcb = !self.fcb;
+        self.now += 1;
+        let mut buf = [0; MAX_TELEGRAM_LEN];
+        let request = DataRepr {
+            da: SLAVE,
+            sa: MASTER,
+            dsap,
+            ssap: dsap.map(|_| 62),
+            fc: 0x40 | 0x10 | if self.fcb { 0x20 } else { 0 } | fdl::request::SRD_LOW,
+            data,
+        };
+        let n = request.emit(&mut buf).unwrap();
+        let now = Instant::from_millis(self.now);
+        self.slave.handle(now, &buf[..n]);
+        let n = self.slave.poll_transmit(now, &mut buf)?;
+        match fdl::parse(&buf[..n]).unwrap().0 {
+            Repr::Data(t) => Some(t.data.to_vec()),
+            _ => None,
+        }
+    }
+
+    /// Set_Prm (no watchdog, Ident_Number 1234h) then Chk_Cfg with `config`; the diagnosis.
+    fn configure(&mut self, config: &[u8]) -> Vec<u8> {
+        self.send(Some(sap::SET_PRM), &[0x00, 0, 0, 11, 0x12, 0x34, 0]);
+        self.send(Some(sap::CHK_CFG), config);
+        self.send(Some(sap::SLAVE_DIAG), &[]).unwrap()
+    }
+}
+
+#[test]
+fn any_allowed_combination_is_accepted_and_exchanged() {
+    let mut bench = Bench::new(&[]);
+    // The default configuration is the first module.
+    assert_eq!(bench.send(Some(sap::GET_CFG), &[]), Some(vec![0xF3, 0xF1]));
+    // PPO 3, 8 DI, 16 words out: 4 + 1 input bytes, 4 + 32 output bytes.
+    let diag = bench.configure(&[0xF1, 0x10, 0x6F]);
+    assert_eq!(diag, [0x00, 0x04, 0x00, MASTER, 0x12, 0x34]);
+    assert_eq!(bench.slave.state(), DpState::DataExchange);
+    assert_eq!(
+        bench.send(Some(sap::GET_CFG), &[]),
+        Some(vec![0xF1, 0x10, 0x6F])
+    );
+    let outputs: Vec<u8> = (1..=36).collect();
+    // The inputs echo the outputs, cut to the 5 input bytes.
+    assert_eq!(bench.send(None, &outputs), Some(vec![1, 2, 3, 4, 5]));
+    // Outputs of the old length are not this configuration's.
+    assert_eq!(bench.send(None, &outputs[..12]), None);
+}
+
+#[test]
+fn a_combination_the_gsd_does_not_allow_is_a_cfg_fault() {
+    let mut bench = Bench::new(&[]);
+    // 8 DI in slot 1 (the drive's slot): Cfg_Fault, station not ready, back to Wait_Prm
+    // (Prm_Req), as a real slave reports it.
+    let diag = bench.configure(&[0x10]);
+    assert_eq!(diag, [0x06, 0x05, 0x00, MASTER, 0x12, 0x34]);
+    assert_eq!(bench.slave.state(), DpState::WaitPrm);
+    // Unknown bytes, and four modules where Max_Module is 3.
+    assert_eq!(bench.configure(&[0xF1, 0x77])[0], 0x06);
+    assert_eq!(bench.configure(&[0xF1, 0x10, 0x10, 0x10])[0], 0x06);
+    // Then an allowed one.
+    assert_eq!(bench.configure(&[0xF3, 0xF1])[0], 0x00);
+}
+
+#[test]
+fn chosen_modules_are_plugged_and_only_they_are_accepted() {
+    let mut bench = Bench::new(&["0 PKW, 2 PZD (PPO 3)", "3=16 words out"]);
+    // Slot 2 takes its SlotDefinition default, 8 DI.
+    assert_eq!(
+        bench.send(Some(sap::GET_CFG), &[]),
+        Some(vec![0xF1, 0x10, 0x6F])
+    );
+    assert_eq!(bench.configure(&[0xF3, 0xF1])[0], 0x06);
+    assert_eq!(bench.configure(&[0xF1, 0x10, 0x6F])[0], 0x00);
+    let dp = read_gsd(Path::new("modular.gsd"), GSD.as_bytes()).unwrap();
+    let bad = parse_choices(&["8 DI"]).unwrap();
+    assert_eq!(
+        loopback(&dp, &bad, SLAVE, Instant::from_millis(0)).err(),
+        Some(CardError::Modules(vec![
+            "slot 1 (\"Drive\") does not take module \"8 DI\"".to_owned()
+        ]))
+    );
+}
