@@ -4,6 +4,8 @@
 //!
 //! - EtherCAT: the EC-TX508 SubDevice (its ESI and drive), the cycle frame ethercrab sends (LRW
 //!   of the 21-byte outputs and 23-byte inputs, and the AL status read: 86 bytes). Goal: 1 µs.
+//!   And a segment of 1, 16 and 64 EC-TX508s: the frames of one cycle (LRWs of 30 SubDevices'
+//!   images at most, the AL status BRD) through every SubDevice, per SubDevice.
 //! - EtherNet/IP: a class-1 O→T datagram (32 bytes) consumed, and the T→O datagram produced.
 //! - PROFIBUS-DP: a Data_Exchange telegram to the Goodrive350 DP card and its answer.
 //! - PROFINET: an RT_CLASS_1 output frame to the Goodrive350 PN card and its input frame.
@@ -16,7 +18,7 @@ use std::collections::BTreeMap;
 use std::hint::black_box;
 use std::path::Path;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use edsgen_runtime::dp::fdl::{self, DataRepr, MAX_TELEGRAM_LEN};
 use edsgen_runtime::dp::slave::sap;
 use edsgen_runtime::dp::DpState;
@@ -30,7 +32,7 @@ use edsgen_sim::drives::pkw_pzd::{Bus, PkwPzdDrive};
 use edsgen_sim::enip::{Adapter, Assembly, Identity, Peer};
 use edsgen_sim::ethercat::ec_tx508::EcTx508Behaviour;
 use edsgen_sim::ethercat::frame::{Command, FrameBuilder};
-use edsgen_sim::ethercat::{AlState, EsiDevice, SubDevice};
+use edsgen_sim::ethercat::{AlState, EsiDevice, Segment, SubDevice};
 use edsgen_sim::profinet::drive::{card_layout, CardCycle};
 
 fn description(name: &str) -> edsgen_model::model::Device {
@@ -77,19 +79,11 @@ fn fmmu(logical: u32, len: u16, physical: u16, kind: u8) -> Vec<u8> {
     r
 }
 
-/// The EC-TX508 in Op, as a MainDevice leaves it: station address, mailbox and process data
-/// SyncManagers, FMMUs for the 21-byte outputs at logical 0 and the 23-byte inputs after them.
-fn ec_tx508_in_op() -> SubDevice<EsiDevice> {
-    let model = description("ec-tx508.xml");
-    let behaviour = EcTx508Behaviour::new(&model, Instant(0));
-    let mut d = EsiDevice::subdevice(&model, Some(Box::new(behaviour))).expect("the ESI serves");
-    let mut now = 0;
-    let mut write = |d: &mut SubDevice<EsiDevice>, command, address, data: &[u8]| {
-        now += 1_000;
-        one(d, now, command, address, data)
-    };
-    write(&mut d, Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
-    for (register, value) in [
+/// What a MainDevice writes to take an EC-TX508 to Op, in order: the SII offered, the mailbox
+/// and process data SyncManagers, FMMUs for the 21-byte outputs at `logical` and the 23-byte
+/// inputs after them, and the AL states.
+fn to_op(logical: u32) -> Vec<(u16, Vec<u8>)> {
+    vec![
         // The SII offered to the device, as SOEM and ethercrab do before Pre-Op.
         (0x0500, vec![1]),
         (0x0800, sync_manager(0x1000, 512, 0x26)),
@@ -97,15 +91,96 @@ fn ec_tx508_in_op() -> SubDevice<EsiDevice> {
         (0x0120, vec![2, 0]),
         (0x0810, sync_manager(0x1800, 21, 0x64)),
         (0x0818, sync_manager(0x1C00, 23, 0x20)),
-        (0x0600, fmmu(0, 21, 0x1800, 2)),
-        (0x0610, fmmu(21, 23, 0x1C00, 1)),
+        (0x0600, fmmu(logical, 21, 0x1800, 2)),
+        (0x0610, fmmu(logical + 21, 23, 0x1C00, 1)),
         (0x0120, vec![4, 0]),
         (0x0120, vec![8, 0]),
-    ] {
+    ]
+}
+
+/// The EC-TX508 SubDevice, its drive behind it.
+fn ec_tx508() -> SubDevice<EsiDevice> {
+    let model = description("ec-tx508.xml");
+    let behaviour = EcTx508Behaviour::new(&model, Instant(0));
+    EsiDevice::subdevice(&model, Some(Box::new(behaviour))).expect("the ESI serves")
+}
+
+/// The EC-TX508 in Op, as a MainDevice leaves it ([`to_op`], its images at logical 0).
+fn ec_tx508_in_op() -> SubDevice<EsiDevice> {
+    let mut d = ec_tx508();
+    let mut now = 0;
+    let mut write = |d: &mut SubDevice<EsiDevice>, command, address, data: &[u8]| {
+        now += 1_000;
+        one(d, now, command, address, data)
+    };
+    write(&mut d, Command::Apwr, (0, 0x0010), &STATION.to_le_bytes());
+    for (register, value) in to_op(0) {
         write(&mut d, Command::Fpwr, (STATION, register), &value);
     }
     assert_eq!(d.state(), AlState::Op);
     d
+}
+
+/// A segment of `n` EC-TX508s in Op: stations 0x1001 up, each one's 44 bytes of images after
+/// the one before's in the logical space.
+fn segment_in_op(n: usize) -> Segment<EsiDevice> {
+    let mut segment = Segment::new((0..n).map(|_| ec_tx508()).collect());
+    let mut now = 0;
+    let mut send = |segment: &mut Segment<EsiDevice>, command, address, data: &[u8]| {
+        now += 100;
+        let mut frame = FrameBuilder::new([0x10; 6])
+            .datagram(command, 1, address, data, 0)
+            .build();
+        assert!(segment.process_frame(Instant(now), &mut frame));
+        let wkc_at = 26 + data.len();
+        u16::from_le_bytes([frame[wkc_at], frame[wkc_at + 1]])
+    };
+    for k in 0..n {
+        let station = STATION + k as u16;
+        let position = 0u16.wrapping_sub(k as u16);
+        assert_eq!(
+            send(
+                &mut segment,
+                Command::Apwr,
+                (position, 0x0010),
+                &station.to_le_bytes()
+            ),
+            1
+        );
+        for (register, value) in to_op(44 * k as u32) {
+            assert_eq!(
+                send(&mut segment, Command::Fpwr, (station, register), &value),
+                1
+            );
+        }
+    }
+    assert!(segment.devices().iter().all(|d| d.state() == AlState::Op));
+    segment
+}
+
+/// The frames of one cycle of a segment of `n` EC-TX508s, as a MainDevice sends them: LRWs of
+/// 30 SubDevices' images at most each (1,320 bytes), the first frame with the AL status BRD.
+fn segment_cycle(n: usize) -> Vec<Vec<u8>> {
+    (0..n)
+        .step_by(30)
+        .map(|first| {
+            let count = (n - first).min(30);
+            let mut outputs = vec![0u8; 44 * count];
+            for k in 0..count {
+                outputs[44 * k..44 * k + 2].copy_from_slice(&0x000Fu16.to_le_bytes());
+            }
+            let logical = (44 * first) as u32;
+            let address = (logical as u16, (logical >> 16) as u16);
+            let frame =
+                FrameBuilder::new([0x10; 6]).datagram(Command::Lrw, 1, address, &outputs, 0);
+            let frame = if first == 0 {
+                frame.datagram(Command::Brd, 2, (0, 0x0130), &[0, 0], 0)
+            } else {
+                frame
+            };
+            frame.build()
+        })
+        .collect()
 }
 
 fn ethercat(c: &mut Criterion) {
@@ -129,6 +204,35 @@ fn ethercat(c: &mut Criterion) {
             })
         },
     );
+    // A segment's cycle, per SubDevice (the throughput's elements): every frame of the cycle
+    // through every SubDevice.
+    let mut group = c.benchmark_group("ethercat segment: cycle per SubDevice (EC-TX508s)");
+    for n in [1, 16, 64] {
+        let mut segment = segment_in_op(n);
+        let cycle = segment_cycle(n);
+        let mut frames = cycle.clone();
+        // Every SubDevice counts 3 on its LRW, and once on the BRD.
+        for frame in &mut frames {
+            assert!(segment.process_frame(Instant(now), frame));
+        }
+        let lrw_wkc = |frame: &[u8]| {
+            let len = usize::from(u16::from_le_bytes([frame[22], frame[23]]) & 0x07FF);
+            u16::from_le_bytes([frame[26 + len], frame[27 + len]])
+        };
+        let counted: u16 = frames.iter().map(|f| lrw_wkc(f)).sum();
+        assert_eq!(usize::from(counted), 3 * n);
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::from_parameter(n), |b| {
+            b.iter(|| {
+                now += 1_000;
+                for (frame, sent) in frames.iter_mut().zip(&cycle) {
+                    frame.copy_from_slice(sent);
+                    black_box(segment.process_frame(Instant(now), black_box(frame)));
+                }
+            })
+        });
+    }
+    group.finish();
 }
 
 // --- EtherNet/IP -----------------------------------------------------------------------------

@@ -62,22 +62,26 @@ pub struct Args {
     /// accepts only these; without, any combination of its modules the GSD allows.
     #[arg(long = "module", value_name = "[SLOT=]NAME", requires = "profibus")]
     pub modules: Vec<String>,
-    /// Serve one ESI device (or `--card ec-tx508`) as an EtherCAT SubDevice on this network
-    /// interface instead (root or CAP_NET_RAW).
+    /// Serve an EtherCAT segment on this network interface instead (root or CAP_NET_RAW): ESI
+    /// FILEs and `--card ec-tx508`, repeated and mixed, as SubDevices in the order given (the
+    /// first nearest the MainDevice), each with its own ESC, SII, station address, AL state
+    /// machine, mailbox and process data.
     #[arg(long, value_name = "IFACE", conflicts_with_all = ["bus", "socketcan", "trace", "node_id"])]
     pub ethercat: Option<String>,
-    /// With --ethercat: the device of an ESI file with several (type name or `#x` product code).
-    #[arg(long, value_name = "NAME|#xCODE", requires = "ethercat")]
-    pub device: Option<String>,
+    /// With --ethercat: the device of an ESI file with several (type name or `#x` product
+    /// code), given after the FILE it chooses in; repeatable, one per FILE.
+    #[arg(long = "device", value_name = "NAME|#xCODE", requires = "ethercat")]
+    pub devices: Vec<String>,
     /// With --ethercat --card ec-tx508 or --profinet --card goodrive350-pn: read `fault` and
     /// `clear` lines on standard input, which raise a drive fault and remove its cause (to try a
     /// MainDevice's fault handling, as `edsgen demo --ethercat` does, or a PROFINET
-    /// controller's diagnosis alarms).
+    /// controller's diagnosis alarms). In an EtherCAT segment, `fault N` and `clear N` switch
+    /// the EC-TX508 at position N (0 first), `fault` and `clear` every one.
     #[arg(long)]
     pub faults_on_stdin: bool,
     /// Bring up a whole machine from a machine file (docs/machine.md): every bus table served,
     /// each device printed with its address, `fault NAME`/`clear NAME` on standard input.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "modules", "ethercat", "device", "faults_on_stdin"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "modules", "ethercat", "devices", "faults_on_stdin"])]
     pub machine: Option<std::path::PathBuf>,
     /// Serve a FILE despite its errors of this rule (repeatable): without it, a description
     /// with errors is refused, its errors shown as `edsgen validate` shows them.
@@ -118,7 +122,7 @@ pub fn run(args: Args) -> ExitCode {
             iface,
             &args.files,
             &args.cards,
-            args.device.as_deref(),
+            &args.devices,
             args.faults_on_stdin,
             &allow,
         );

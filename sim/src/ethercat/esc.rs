@@ -10,12 +10,12 @@
 //! datagrams, as an ESC's PDI would.
 //!
 //! Choices: 8 FMMUs, 8 SyncManagers, process memory 0x1000–0xFFFF, two MII ports (port 0 the
-//! link, port 1 closed), SII reads of 8 bytes; the ESC type, revision and build read 0 (not a
-//! real chip's); distributed clocks are declared unsupported (0x0008 bit 2 clear), and the DC
-//! registers are plain memory. Reading a mailbox SyncManager that is empty, or writing one that
-//! is full, is refused as the ESC refuses it (no working counter). SyncManagers govern the
-//! digital I/O registers and the process memory only: one that starts below 0x0F00 governs
-//! nothing.
+//! link, port 1 closed unless a next SubDevice follows it: [`EmulatedEsc::connect_port1`]), SII
+//! reads of 8 bytes; the ESC type, revision and build read 0 (not a real chip's); distributed
+//! clocks are declared unsupported (0x0008 bit 2 clear), and the DC registers are plain memory.
+//! Reading a mailbox SyncManager that is empty, or writing one that is full, is refused as the
+//! ESC refuses it (no working counter). SyncManagers govern the digital I/O registers and the
+//! process memory only: one that starts below 0x0F00 governs nothing.
 
 use std::collections::VecDeque;
 
@@ -69,6 +69,21 @@ impl EmulatedEsc {
         let alias = esc.sii_word(4);
         esc.set_u16(reg::STATION_ALIAS, alias);
         esc
+    }
+
+    /// Connects port 1 to a next SubDevice (link, loop open, communication) or leaves it
+    /// closed, as the last SubDevice of a segment has it (the DL status, 0x0110).
+    pub fn connect_port1(&mut self, connected: bool) {
+        const LINK: u16 = 1 << 5;
+        const LOOP_CLOSED: u16 = 1 << 10;
+        const COMMUNICATION: u16 = 1 << 11;
+        let status = self.u16(reg::DL_STATUS) & !(LINK | LOOP_CLOSED | COMMUNICATION);
+        let port1 = if connected {
+            LINK | COMMUNICATION
+        } else {
+            LOOP_CLOSED
+        };
+        self.set_u16(reg::DL_STATUS, status | port1);
     }
 
     /// The SII image.

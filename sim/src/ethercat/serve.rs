@@ -1,5 +1,5 @@
-//! The SubDevice on a wire: frames read from a [`RawSocket`], processed, and sent back, until
-//! a stop flag is raised. Frames whose source address has the locally-administered bit set
+//! A segment on a wire: frames read from a [`RawSocket`], processed by every SubDevice in
+//! turn ([`Segment`]), and sent back from the last one, until a stop flag is raised. Frames whose source address has the locally-administered bit set
 //! (0x02 in its first byte) are not taken: they are frames a SubDevice already processed (our
 //! own answers, which a packet socket also sees going out), as in a real ring.
 
@@ -9,7 +9,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use edsgen_runtime::Instant;
 
 use super::raw_socket::RawSocket;
-use super::{Application, SubDevice};
+use super::segment::Segment;
+use super::Application;
 
 /// What a run served.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -20,10 +21,10 @@ pub struct Served {
     pub ignored: u64,
 }
 
-/// Serves `device` on `socket` until `stop` is set (checked at least every read timeout).
+/// Serves `segment` on `socket` until `stop` is set (checked at least every read timeout).
 pub fn serve<A: Application>(
     socket: &mut RawSocket,
-    device: &mut SubDevice<A>,
+    segment: &mut Segment<A>,
     stop: &AtomicBool,
 ) -> io::Result<Served> {
     let start = std::time::Instant::now();
@@ -32,7 +33,7 @@ pub fn serve<A: Application>(
     let mut served = Served::default();
     while !stop.load(Ordering::Relaxed) {
         let Some(len) = socket.recv(&mut buf)? else {
-            device.poll(now());
+            segment.poll(now());
             continue;
         };
         let frame = &mut buf[..len];
@@ -40,7 +41,7 @@ pub fn serve<A: Application>(
             served.ignored += 1;
             continue;
         }
-        if device.process_frame(now(), frame) {
+        if segment.process_frame(now(), frame) {
             socket.send(frame)?;
             served.frames += 1;
         } else {

@@ -14,7 +14,7 @@ const STATION: u16 = 0x1001;
 /// An application with a 4-byte outputs image and a 2-byte inputs image, which answers a
 /// mailbox message with its first 6 bytes reversed.
 #[derive(Debug, Default)]
-struct TestApp {
+pub(super) struct TestApp {
     outputs: Vec<u8>,
     inputs: [u8; 2],
     changes: Vec<(AlState, AlState)>,
@@ -44,7 +44,7 @@ impl Application for TestApp {
 /// An SII image: word 4 the alias 0x00AA, word 8 the vendor 0x04D8, and the SyncM category
 /// (words 0x40–0x52): SM0 mailbox out at 0x1000 and SM1 mailbox in at 0x1080, 128 bytes each,
 /// SM2 outputs, SM3 inputs.
-fn sii() -> Vec<u8> {
+pub(super) fn sii() -> Vec<u8> {
     let mut sii = vec![0u8; 0x80];
     sii[8] = 0xAA;
     sii[16] = 0xD8;
@@ -109,7 +109,7 @@ fn sm(start: u16, len: u16, control: u8, activate: u8) -> Vec<u8> {
 }
 
 /// 16 bytes of FMMU registers, byte-aligned.
-fn fmmu(logical: u32, len: u16, physical: u16, kind: u8) -> Vec<u8> {
+pub(super) fn fmmu(logical: u32, len: u16, physical: u16, kind: u8) -> Vec<u8> {
     let mut r = logical.to_le_bytes().to_vec();
     r.extend_from_slice(&len.to_le_bytes());
     r.extend_from_slice(&[0, 7]);
