@@ -2,7 +2,8 @@
 //! network namespace (root only; a visible skip otherwise, a failure under `CI=true`), each bus
 //! checked from the other side of its wire:
 //! - CANopen: `edsgen scan` on the machine's `edsgen bus` finds the CP301 and the Goodrive350;
-//! - EtherCAT: SOEM (python `pysoem`, scripts/soem_master.py) takes the EC-TX508 to Op;
+//! - EtherCAT: SOEM (python `pysoem`, scripts/soem_segment.py) takes a segment of two EC-TX508s
+//!   to Op and drives each to its own speed;
 //! - PROFINET: `edsgen pn list` finds two Goodrive350 PROFINET cards on one interface, each by
 //!   its name of station and IP;
 //! - EtherNet/IP: `edsgen enip list` finds the Goodrive350 EtherNet/IP card at its address;
@@ -73,7 +74,7 @@ devices = ["cp301@2", "goodrive350@3"]
 
 [[ethercat]]
 interface = "{ecat_dev}"
-devices = ["ec-tx508"]
+devices = ["ec-tx508", "ec-tx508"]
 
 [[profibus]]
 tty = "{dp_dev}"
@@ -124,20 +125,31 @@ devices = [{{ device = "goodrive350-enip", address = "10.231.7.2" }}]
         scan.stdout.contains("\n2 node(s) found on can0\n"),
         "{scan:?}"
     );
-    // EtherCAT, by SOEM.
-    let script = root().join("scripts/soem_master.py");
+    // EtherCAT, by SOEM: a segment of two EC-TX508s, each driven to its own speed.
+    let script = root().join("scripts/soem_segment.py");
     let soem = Process::start(&mut in_ns(
         1,
         python.to_str().unwrap(),
         &[script.to_str().unwrap(), &ecat_master],
     ))
-    .finish(Duration::from_secs(60));
+    .finish(Duration::from_secs(90));
+    let lines: Vec<&str> = soem.stdout.lines().collect();
     assert_eq!(
-        soem.stdout,
-        "found 1\nidentity 0x000004d8 0x00009252 0x00000001\nname EC-TX508\niomap 44\nstate 4\n\
-         images 21/23\nop True\nwkc 3 expected 3\n",
+        lines[..3],
+        [
+            "found 2",
+            "0 identity 0x000004d8 0x00009252 0x00000001 name EC-TX508 images 21/23",
+            "1 identity 0x000004d8 0x00009252 0x00000001 name EC-TX508 images 21/23",
+        ],
         "{soem:?}"
     );
+    assert_eq!(lines[3..4], ["op True"], "{soem:?}");
+    assert_eq!(lines[5..], ["speeds 300 150", "done"], "{soem:?}");
+    let (got, expected) = lines[4]
+        .strip_prefix("wkc ")
+        .and_then(|w| w.split_once(" expected "))
+        .unwrap_or_else(|| panic!("{soem:?}"));
+    assert_eq!(got, expected, "{soem:?}");
     // PROFINET.
     let pn = Process::start(&mut in_ns(1, EDSGEN, &["pn", "list", &pn_master])).finish(WAIT);
     assert_eq!(pn.code, Some(0), "{pn:?}");

@@ -229,7 +229,16 @@ impl Reader<'_> {
                     None
                 }
             };
-            if let Some(fields) = fields {
+            if let Some(mut fields) = fields {
+                // The same EtherCAT device written twice in a segment (two EC-TX508s) is
+                // named by its position too, so that faults can name each.
+                if bus == Bus::EtherCat && fields.name.is_none() {
+                    let written =
+                        |v: &DeValue<'_>| matches!(v, DeValue::String(s) if *s == fields.device);
+                    if list.iter().filter(|v| written(v.get_ref())).count() > 1 {
+                        fields.name = Some(format!("{}@{position}", fields.device));
+                    }
+                }
                 if let Some(device) = self.device(bus, fields, position, at) {
                     planned.push(device);
                 }

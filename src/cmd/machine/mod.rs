@@ -460,3 +460,6 @@ fn terminate(child: &Child) {
     };
     let _ = nix::sys::signal::kill(nix::unistd::Pid::from_raw(pid), nix::sys::signal::SIGTERM);
 }
+
+#[cfg(test)]
+mod tests;
