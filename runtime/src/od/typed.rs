@@ -98,7 +98,7 @@ pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
 /// Copies `src` into `dst`, of the same length: the usual widths of a value (1, 2 and 4 bytes)
 /// by one load and store, other lengths with `copy_from_slice`, whose `memcpy` call costs more
 /// than the copy of a few bytes.
-#[inline(always)]
+#[inline]
 pub(crate) fn copy_value(dst: &mut [u8], src: &[u8]) {
     /// `src` into `dst` when both have `N` bytes.
     #[inline]

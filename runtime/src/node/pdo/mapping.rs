@@ -143,17 +143,6 @@ impl Mapping {
                 _ => Ok(()),
             };
         }
-        self.unpack_all(od, data)
-    }
-
-    /// [`Mapping::unpack`] of several objects, with the rollback. Out of line, so that the
-    /// one-object path keeps a small frame.
-    #[inline(never)]
-    fn unpack_all<O: ObjectDictionary + ?Sized>(
-        &self,
-        od: &mut O,
-        data: &[u8],
-    ) -> Result<(), SdoAbort> {
         let previous = self.pack(od);
         self.write_objects(od, data, MAX_MAPPED)
             .map_err(|(written, abort)| {
