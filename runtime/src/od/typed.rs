@@ -135,12 +135,12 @@ pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usiz
     {
         return Ok(dense);
     }
+    if entries.get(first).is_none_or(|e| e.index != index) {
+        return Err(SdoAbort::NoObject);
+    }
     let rest = entries
         .get(first..dense)
         .unwrap_or_else(|| entries.get(first..).unwrap_or(&[]));
-    if !rest.first().is_some_and(|e| e.index == index) {
-        return Err(SdoAbort::NoObject);
-    }
     for (k, e) in rest.iter().enumerate() {
         if e.index != index || e.sub > sub {
             break;
@@ -323,6 +323,12 @@ mod tests {
         assert_eq!(position(&entries, 0x1001, 0), Err(SdoAbort::NoObject));
         assert_eq!(position(&entries, 0x7000, 0), Err(SdoAbort::NoObject));
         assert_eq!(position(&[], 0x1000, 0), Err(SdoAbort::NoObject));
+        // An index without sub-index 0: its sub-index 0 is missing, not the index.
+        assert_eq!(
+            position(&entries[2..], 0x1018, 0),
+            Err(SdoAbort::NoSubIndex)
+        );
+        assert_eq!(position(&entries[2..], 0x1018, 2), Ok(0));
     }
 
     #[test]
