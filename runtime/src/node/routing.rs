@@ -290,18 +290,27 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         // A test, not the order frames go out in: the default SDO channel's answer, the most
         // frequent frame, is tested first.
-        let may_send = self.sdo[0].busy()
+        let sdo_answer = self.sdo[0].busy();
+        let may_send = sdo_answer
             || self.boot_up_due
             || self.sync.due()
             || self.emcy.queued()
             || self.tpdo_attention
             || self.sdo[1].busy()
             || self.error_control.due();
-        if may_send {
-            self.poll_transmit_due(now)
-        } else {
-            None
+        if !may_send {
+            return None;
         }
+        // That answer with nothing due before it (the services whose frames go out first):
+        // straight from the channel.
+        if sdo_answer
+            && !(self.boot_up_due || self.sync.due() || self.emcy.queued() || self.tpdo_attention)
+        {
+            if let Some(frame) = self.sdo[0].poll_transmit(now, &self.od) {
+                return Some(frame);
+            }
+        }
+        self.poll_transmit_due(now)
     }
 
     /// [`Node::poll_transmit`] once a service has a frame, or may have one (an EMCY or a TPDO

@@ -10,7 +10,7 @@
 //! typed [`Layout::get`]/[`Layout::set`] go through the same checks as an SDO write.
 
 use crate::od::entry::{Entry, OdValue};
-use crate::od::typed::{position, read_bytes};
+use crate::od::typed::{copy_value, position, read_bytes};
 use crate::od::{DataType, EntryDescriptor, SdoAbort};
 
 /// An entry's LowLimit and HighLimit, as keys whose signed order is the numeric order of the
@@ -277,7 +277,7 @@ impl Layout {
         let target = values
             .get_mut(start..start + size)
             .ok_or(SdoAbort::NoObject)?;
-        target.copy_from_slice(data);
+        copy_value(target, data);
         Ok(())
     }
 

@@ -91,8 +91,28 @@ impl<const N: usize> core::fmt::Debug for FixedBytes<N> {
 pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
     let rest = value.get(offset..).unwrap_or(&[]);
     let n = rest.len().min(buf.len());
-    buf[..n].copy_from_slice(&rest[..n]);
+    copy_value(&mut buf[..n], &rest[..n]);
     n
+}
+
+/// Copies `src` into `dst`, of the same length: the usual widths of a value (1, 2 and 4 bytes)
+/// by one load and store, other lengths with `copy_from_slice`, whose `memcpy` call costs more
+/// than the copy of a few bytes.
+#[inline]
+pub(crate) fn copy_value(dst: &mut [u8], src: &[u8]) {
+    /// `src` into `dst` when both have `N` bytes.
+    #[inline]
+    fn copy_n<const N: usize>(dst: &mut [u8], src: &[u8]) {
+        if let (Ok(dst), Ok(src)) = (<&mut [u8; N]>::try_from(dst), <&[u8; N]>::try_from(src)) {
+            *dst = *src;
+        }
+    }
+    match src.len() {
+        1 => copy_n::<1>(dst, src),
+        2 => copy_n::<2>(dst, src),
+        4 => copy_n::<4>(dst, src),
+        _ => dst.copy_from_slice(src),
+    }
 }
 
 /// Where (index, sub) is in `entries` (sorted by index, then sub-index): a generated `read` or
@@ -100,20 +120,36 @@ pub fn read_bytes(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
 /// the sub-index is.
 ///
 /// Every SDO transfer starts here, so the search is in two steps that each load little: the
-/// index's first entry by a binary search on the index alone, then the sub-index among the
-/// `sub + 1` entries from there (sub-indices are sorted and distinct, so it is not further on):
-/// one entry for sub-index 0, a few for most others.
+/// index's first entry by a binary search on the index alone, then the sub-index. Sub-indices
+/// are sorted and distinct, so the entry is at most `sub` places further on: exactly there
+/// when the sub-indices up to it are all present (sub-index 0, and most arrays and records),
+/// which one comparison tells; else among the index's entries before that place, a short scan
+/// (the sub-indices a sparse record leaves out are what makes it shorter than `sub`).
 #[inline(never)]
 pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usize, SdoAbort> {
     let first = entries.partition_point(|e| e.index < index);
-    let end = entries.len().min(first + usize::from(sub) + 1);
-    let window = entries.get(first..end).unwrap_or(&[]);
-    let key = |e: &EntryDescriptor| (u32::from(e.index) << 8) | u32::from(e.sub);
-    match window.binary_search_by_key(&((u32::from(index) << 8) | u32::from(sub)), key) {
-        Ok(found) => Ok(first + found),
-        Err(_) if window.first().is_some_and(|e| e.index == index) => Err(SdoAbort::NoSubIndex),
-        Err(_) => Err(SdoAbort::NoObject),
+    let dense = first + usize::from(sub);
+    if entries
+        .get(dense)
+        .is_some_and(|e| e.index == index && e.sub == sub)
+    {
+        return Ok(dense);
     }
+    if entries.get(first).is_none_or(|e| e.index != index) {
+        return Err(SdoAbort::NoObject);
+    }
+    let rest = entries
+        .get(first..dense)
+        .unwrap_or_else(|| entries.get(first..).unwrap_or(&[]));
+    for (k, e) in rest.iter().enumerate() {
+        if e.index != index || e.sub > sub {
+            break;
+        }
+        if e.sub == sub {
+            return Ok(first + k);
+        }
+    }
+    Err(SdoAbort::NoSubIndex)
 }
 
 /// The low `bits` bits of `raw` read as a two's-complement number (`bits` in 1..=64).
@@ -287,6 +323,12 @@ mod tests {
         assert_eq!(position(&entries, 0x1001, 0), Err(SdoAbort::NoObject));
         assert_eq!(position(&entries, 0x7000, 0), Err(SdoAbort::NoObject));
         assert_eq!(position(&[], 0x1000, 0), Err(SdoAbort::NoObject));
+        // An index without sub-index 0: its sub-index 0 is missing, not the index.
+        assert_eq!(
+            position(&entries[2..], 0x1018, 0),
+            Err(SdoAbort::NoSubIndex)
+        );
+        assert_eq!(position(&entries[2..], 0x1018, 2), Ok(0));
     }
 
     #[test]

@@ -316,15 +316,15 @@ impl SdoServer {
         request: Frame<'_>,
         od: &mut O,
     ) -> Handled {
-        let Transfer::BlockDownload(block) = self.transfer else {
-            return self.handle_request(request, od);
-        };
-        if block.complete {
-            self.handle_request(request, od)
-        } else {
+        // Tested by reference: a copy of the transfer would load all of it with every request.
+        match &self.transfer {
             // Every frame of a sub-block is a segment: `80` too (sequence number 0 with the
             // last-segment bit), aborted with 0504 0003 as `00` is.
-            self.block_download_segment(block, request.as_bytes(), od)
+            Transfer::BlockDownload(block) if !block.complete => {
+                let block = *block;
+                self.block_download_segment(block, request.as_bytes(), od)
+            }
+            _ => self.handle_request(request, od),
         }
     }
 
@@ -448,7 +448,9 @@ impl SdoServer {
     }
 
     /// A readable entry's position and the length of its value: a fixed-size type's size from
-    /// its descriptor (no second search), else the OD's current length.
+    /// its descriptor (no second search), else the OD's current length. Inlined into the
+    /// upload's initiate: out of line, an expedited upload pays its call and frame.
+    #[inline(always)]
     fn upload_len<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
         od: &O,
