@@ -236,7 +236,7 @@ cargo fuzz build -s "$sanitizer" -a >fuzz/logs/build.log 2>&1 || {
     exit 1
 }
 # FUZZ_JOBS targets at a time; `wait -n -p` says which one ended.
-declare -A pids
+declare -A pids=()
 failed=()
 finish() {
     local pid status=0
