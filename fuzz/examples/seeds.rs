@@ -14,7 +14,7 @@ use edsgen_runtime::dp::slave::sap;
 use edsgen_runtime::enip::wire::connection_manager::{
     network_params, ForwardOpenRepr, Triad, DEFAULT_TICKS,
 };
-use edsgen_runtime::enip::wire::cpf::{item, Item, SendDataRepr};
+use edsgen_runtime::enip::wire::cpf::{item, CpfRepr, Item, SendDataRepr};
 use edsgen_runtime::enip::wire::encap::EncapRepr;
 use edsgen_runtime::enip::wire::Emit;
 use edsgen_runtime::profinet::wire::dcp;
@@ -431,6 +431,19 @@ fn enip(out: &mut Seeds) {
         unit.extend_from_slice(&a.to_le_bytes());
     }
     chunk(1, &unit);
+    // A class-1 datagram on the connection the target opens (O->T ID 0x1000_0002): sequence 1,
+    // run, 32 bytes of outputs.
+    let mut address = 0x1000_0002u32.to_le_bytes().to_vec();
+    address.extend_from_slice(&1u32.to_le_bytes());
+    let mut payload = vec![1, 0, 1, 0, 0, 0];
+    payload.extend_from_slice(&[0; 32]);
+    let datagram = CpfRepr {
+        items: &[
+            Item::new(item::SEQUENCED_ADDRESS, &address),
+            Item::new(item::CONNECTED_DATA, &payload),
+        ],
+    };
+    chunk(2, &datagram.to_vec().expect("a datagram fits"));
     chunk(3, &[]);
     out.write("enip", "session", &chunks);
 
