@@ -110,12 +110,12 @@ seed() {
         copy_corpus "$odva_src" "$dir" eds
         ;;
     gsd)
-        # Even lengths are read as GSD by name, odd ones by content: both kinds come from the corpus.
+        # Even lengths are read as GSD by name, odd ones by content; five files are over the limit.
         cp eds/*.gsd "$dir"/
         copy_corpus "$gsd_src" "$dir" gsd gse gsg gsi gsf
         ;;
     gsdml)
-        # Files over the length limit (three Siemens and SEW files of 100 KiB to 1 MiB) are left out.
+        # Files over the length limit (two Siemens files and a SEW one, 100 KiB to 1.1 MiB) are left out.
         cp eds/goodrive350-pn.xml "$dir"/
         copy_corpus "$gsdml_src" "$dir" xml
         ;;
