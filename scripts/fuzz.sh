@@ -115,26 +115,27 @@ seed() {
         copy_corpus "$gsd_src" "$dir" gsd gse gsg gsi gsf
         ;;
     gsdml)
-        # Files over the length limit (two Siemens files and a SEW one, 100 KiB to 1.1 MiB) are left out.
+        # Three files are over the limit (two Siemens files and a SEW one, 100 KiB to 1.1 MiB).
         cp eds/goodrive350-pn.xml "$dir"/
         copy_corpus "$gsdml_src" "$dir" xml
         ;;
     overlay)
         # The first byte picks the description: 0 GSDML, 1 GSD, 2 ODVA EDS, 3 CiA 306 EDS.
         local pick=0 toml
-        for toml in eds/goodrive350-pn.toml eds/goodrive350-dp.toml eds/goodrive350-enip.toml eds/rd11.toml; do
+        for toml in eds/goodrive350-{pn,dp,enip}.toml eds/rd11.toml; do
             { printf "\\x0$pick"; cat "$toml"; } >"$dir/$pick-$(basename "$toml")"
             pick=$((pick + 1))
         done
         ;;
     socketcand)
         # A client's session with the hub and the frames it is sent (< > delimit each message).
-        printf '%s' '< hi >< open can0 >< ok >< rawmode >< ok >< send 602 8 40 18 10 01 00 00 00 00 >' \
+        printf '%s' '< hi >< open can0 >< ok >< rawmode >< ok >' \
+            '< send 602 8 40 18 10 01 00 00 00 00 >' \
             '< frame 582 1764000000.000100 4318100178563412 >< echo >< bcmmode >' \
             '< add 0 100000 123 2 AA BB >< update 0 100000 123 2 CC DD >< delete 0 0 123 >' \
             '< filter 0 0 1 602 >< frame 12345678 23.424242 >< error 0 >' >"$dir/session.txt"
         ;;
-    enip | enip_scanner | pn_dcp | pn_rpc | pn_alarm | dp_fdl | ethercat_frame | ethercat_coe | demo_report)
+    enip | enip_scanner | pn_dcp | pn_rpc | pn_alarm | dp_fdl | ethercat_* | demo_report)
         cp fuzz/seeds/"$name"/* "$dir"/
         ;;
     decode)
