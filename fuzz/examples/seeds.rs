@@ -139,8 +139,9 @@ fn pn_dcp(out: &mut Seeds) {
     }
 }
 
-/// pn_rpc: the controller core's Connect, Write, Read, PrmEnd and Release of the card's GSDML,
-/// each as its opnum and arguments (the target writes the RPC header).
+/// pn_rpc: the controller core's Connect, Write, PrmEnd, (the answer to ApplicationReady), Read
+/// and Release of the card's GSDML, each as its opnum and arguments (the target writes the RPC
+/// header).
 fn pn_rpc(out: &mut Seeds) {
     let read = edsgen_model::read::read_bytes(
         Path::new("goodrive350-pn.xml"),
@@ -152,8 +153,10 @@ fn pn_rpc(out: &mut Seeds) {
     let requests = [
         ("connect", 0u8, ctl.connect(&blocks)),
         ("write", 3, ctl.write(1, 1, 256, &[0; 22])),
-        ("read", 2, ctl.read(1, 1, 256)),
         ("prm-end", 4, ctl.prm_end()),
+        // The controller's answer to the device's ApplicationReady (the target writes it).
+        ("ready", 6, vec![0; HEADER_LEN + NDR_LEN]),
+        ("read", 2, ctl.read(1, 1, 256)),
         ("release", 1, ctl.release()),
     ];
     let mut session = Vec::new();
