@@ -6,10 +6,12 @@
 //! points into the overlay's text.
 #![no_main]
 
+use edsgen_model::model::Device;
 use edsgen_model::overlay;
 use edsgen_model::read::read_bytes;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
+use std::sync::OnceLock;
 
 /// (name, bytes) of the descriptions an overlay may be applied to.
 const DESCRIPTIONS: [(&str, &[u8]); 4] = [
@@ -35,8 +37,15 @@ fuzz_target!(|data: &[u8]| {
     let Some((&pick, text)) = data.split_first() else {
         return;
     };
-    let (name, bytes) = DESCRIPTIONS[usize::from(pick) % DESCRIPTIONS.len()];
-    let mut device = read_bytes(Path::new(name), bytes).device;
+    // Read once (milliseconds each), cloned for each input.
+    static READ: OnceLock<Vec<Device>> = OnceLock::new();
+    let read = READ.get_or_init(|| {
+        DESCRIPTIONS
+            .iter()
+            .map(|(name, bytes)| read_bytes(Path::new(name), bytes).device)
+            .collect()
+    });
+    let mut device = read[usize::from(pick) % read.len()].clone();
     let text = String::from_utf8_lossy(text);
     let lines = text.lines().count().max(1) as u32 + 1;
     for diag in overlay::apply(&text, &mut device) {

@@ -1,15 +1,18 @@
 //! Fuzz the simulated PROFINET device's connection management and the RPC and block parsers:
 //! the input, cut into pieces at 0xFF 0xFE, goes to the device in turn; a piece whose first byte
 //! is below 6 becomes the argument of a well-formed request with that opnum (so that the block
-//! parsers see it), any other piece is a datagram as it is. Nothing may panic; every answer is
-//! an RPC PDU that parses, with the request's sequence number, and the ApplicationReady
-//! requests the device sends parse too.
+//! parsers see it), a piece whose first byte is 6 the controller's answer to the device's last
+//! ApplicationReady request (when it is for the AR of the seeds' Connect, whose AR UUID is
+//! `[9; 16]`), any other piece is a datagram as it is. Nothing may panic; every answer is an RPC
+//! PDU that parses, with the request's sequence number, and the ApplicationReady requests the
+//! device sends parse too.
 #![no_main]
 
 use edsgen_runtime::profinet::wire::rpc::{Ndr, RpcHeader, Uuid};
 use edsgen_runtime::Instant;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::ar::Cm;
+use edsgen_sim::profinet::controller::Controller;
 use edsgen_sim::profinet::wire::rpc_pdu;
 use libfuzzer_sys::fuzz_target;
 use std::sync::OnceLock;
@@ -39,6 +42,8 @@ fuzz_target!(|data: &[u8]| {
         rest = &rest[at + 2..];
     }
     pieces.push(rest);
+    let controller = Controller::new([2, 0, 0, 0, 0, 1], Uuid::pnio_object(1, 0x0350, 0x0350), 9);
+    let mut ready = None;
     for (n, piece) in pieces.into_iter().enumerate() {
         let pdu = match piece.split_first() {
             Some((&opnum, args)) if opnum < 6 => {
@@ -51,6 +56,10 @@ fuzz_target!(|data: &[u8]| {
                 );
                 rpc_pdu(&header, &Ndr::request(4068, args.len() as u32, false), args)
             }
+            Some((&6, _)) => {
+                let answer = ready.take().and_then(|r: Vec<u8>| controller.answer_ready(&r));
+                answer.unwrap_or_else(|| piece.to_vec())
+            }
             _ => piece.to_vec(),
         };
         let now = Instant::from_millis(n as u64 * 10);
@@ -61,6 +70,7 @@ fuzz_target!(|data: &[u8]| {
         }
         while let Some((_, request)) = cm.poll_datagram() {
             assert!(RpcHeader::parse(&request).is_some());
+            ready = Some(request);
         }
         cm.handle_timeout(now);
         while cm.poll_event().is_some() {}
