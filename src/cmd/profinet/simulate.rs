@@ -65,22 +65,14 @@ pub fn run(
             "--profinet serves IO devices: --card {CARD}[@NAME] or FILE.xml[@NAME], one or more"
         ));
     }
-    let addresses = match addresses(iface, ips, count) {
-        Ok(addresses) => addresses,
-        Err(e) => return fail(e),
-    };
-    let iface_mac = match edsgen_sim::packet_socket::interface_mac(iface) {
-        Ok(mac) => mac,
-        Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
-    };
+    // The descriptions are judged first: a file with errors is refused whatever the interface.
     let entries = cards
         .iter()
         .map(|c| (c, true))
         .chain(files.iter().map(|f| (f, false)));
     let mut planned: Vec<Planned> = Vec::new();
-    for (position, (entry, is_card)) in entries.enumerate() {
-        let mac = segment::device_mac(iface_mac, position);
-        let device = match plan(entry, is_card, mac, allow) {
+    for (entry, is_card) in entries {
+        let device = match plan(entry, is_card, allow) {
             Ok(device) => device,
             Err(e) => return fail(e),
         };
@@ -96,6 +88,17 @@ pub fn run(
         return fail(format!(
             "--faults-on-stdin switches the faults of --card {CARD}'s drive"
         ));
+    }
+    let addresses = match addresses(iface, ips, count) {
+        Ok(addresses) => addresses,
+        Err(e) => return fail(e),
+    };
+    let iface_mac = match edsgen_sim::packet_socket::interface_mac(iface) {
+        Ok(mac) => mac,
+        Err(e) => return fail(format!("cannot open `{iface}` for PROFINET: {e}")),
+    };
+    for (position, device) in planned.iter_mut().enumerate() {
+        device.station.mac = segment::device_mac(iface_mac, position);
     }
     // Before the first line: a signal that comes once the device is announced stops it cleanly.
     if let Err(message) = crate::cmd::signals::install() {
@@ -188,9 +191,9 @@ fn announce(iface: &str, plan: &Planned, source: &str) {
     }
 }
 
-/// One device of the command line: its GSDML loaded and judged, its station on `mac` (the
+/// One device of the command line: its GSDML loaded and judged, its station (the
 /// `@NAME` given, else the GSDML's name).
-fn plan(entry: &str, is_card: bool, mac: [u8; 6], allow: &Policy) -> Result<Planned, String> {
+fn plan(entry: &str, is_card: bool, allow: &Policy) -> Result<Planned, String> {
     let (what, given) = match entry.rsplit_once('@') {
         Some((what, given)) => {
             if let Some(problem) = edsgen_runtime::profinet::wire::dcp::name_problem(given) {
@@ -228,7 +231,8 @@ fn plan(entry: &str, is_card: bool, mac: [u8; 6], allow: &Policy) -> Result<Plan
     let Some(pn) = read.device.profinet() else {
         return Err(format!("`{path}` is not a GSDML file"));
     };
-    let mut station = station::from_gsdml(pn, mac);
+    // Its MAC comes with the interface's (`run`).
+    let mut station = station::from_gsdml(pn, [0; 6]);
     if let Some(name) = given {
         station.name_of_station = name.to_owned();
     }
