@@ -74,7 +74,7 @@ struct Planned {
 }
 
 enum Source {
-    File(Device),
+    File(Box<Device>),
     Card(&'static Card),
 }
 
@@ -344,7 +344,7 @@ fn plan(args: &Args, allow: &Policy) -> Result<Vec<Planned>, String> {
         planned.push(Planned {
             path,
             node_id,
-            source: Source::File(device),
+            source: Source::File(Box::new(device)),
         });
     }
     for arg in &args.cards {
