@@ -9,7 +9,7 @@
 //! in slot order (`dp_configuration`).
 //! No allocation, no `unsafe`: the module builds `no_std`.
 
-use proc_macro2::{Literal, TokenStream};
+use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use super::names::{ident, Case};
@@ -163,7 +163,6 @@ fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStre
     let ty = format_ident!("{name}");
     let fields = fields(ids, input);
     let total: usize = fields.iter().map(|f| f.len).sum();
-    let len = Literal::usize_unsuffixed(total);
     let mut decls = Vec::new();
     let mut zero = Vec::new();
     let mut reads = Vec::new();
@@ -214,9 +213,41 @@ fn image(name: &str, doc: &str, ids: &[CfgIdentifier], input: bool) -> TokenStre
         }
         offset += n;
     }
+    image_struct(
+        &ty,
+        doc,
+        total,
+        Fields {
+            decls,
+            zero,
+            reads,
+            writes,
+        },
+    )
+}
+
+/// An image struct's pieces, one per field: its declaration, its zero, its read from
+/// Data_Exchange's bytes and its write into them.
+pub(super) struct Fields {
+    pub(super) decls: Vec<TokenStream>,
+    pub(super) zero: Vec<TokenStream>,
+    pub(super) reads: Vec<TokenStream>,
+    pub(super) writes: Vec<TokenStream>,
+}
+
+/// A DP image struct `ty` of `total` bytes of Data_Exchange: its fields, `ZERO`, the image API
+/// (`SIZE`, `from_bytes`, `to_bytes`, `from_slice`) and `Default`.
+pub(super) fn image_struct(ty: &Ident, doc: &str, total: usize, fields: Fields) -> TokenStream {
+    let Fields {
+        decls,
+        zero,
+        reads,
+        writes,
+    } = fields;
+    let len = Literal::usize_unsuffixed(total);
     let doc = format!(" {doc}: {total} bytes of Data_Exchange.");
     // An empty direction (a module without inputs, or without outputs) reads and writes nothing.
-    let (from_bytes, to_bytes) = if fields.is_empty() {
+    let (from_bytes, to_bytes) = if reads.is_empty() {
         (
             quote!(
                 pub fn from_bytes(_bytes: &[u8; 0]) -> Self {

@@ -82,7 +82,6 @@ pub(super) fn configuration(dp: &Dp, names: &[Option<String>]) -> TokenStream {
 fn image(name: &str, doc: &str, parts: &[Part]) -> TokenStream {
     let ty = format_ident!("{name}");
     let total: usize = parts.iter().map(|p| p.size).sum();
-    let len = Literal::usize_unsuffixed(total);
     let mut decls = Vec::new();
     let mut zero = Vec::new();
     let mut reads = Vec::new();
@@ -104,51 +103,15 @@ fn image(name: &str, doc: &str, parts: &[Part]) -> TokenStream {
         writes.push(quote!(bytes[#at..#end].copy_from_slice(&self.#field.to_bytes());));
         offset += part.size;
     }
-    let doc = format!(" {doc}: {total} bytes of Data_Exchange.");
-    let (from_bytes, to_bytes) = if parts.is_empty() {
-        (
-            quote!(
-                pub fn from_bytes(_bytes: &[u8; 0]) -> Self {
-                    Self {}
-                }
-            ),
-            quote!(
-                pub fn to_bytes(self) -> [u8; 0] {
-                    [0u8; 0]
-                }
-            ),
-        )
-    } else {
-        (
-            quote!(pub fn from_bytes(bytes: &[u8; #len]) -> Self { Self { #(#reads)* } }),
-            quote! {
-                pub fn to_bytes(self) -> [u8; #len] {
-                    let mut bytes = [0u8; #len];
-                    #(#writes)*
-                    bytes
-                }
-            },
-        )
-    };
-    let size_and_from_slice =
-        super::image_api::size_and_from_slice(total, "The image's length in bytes.");
-    quote! {
-        #[doc = #doc]
-        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        pub struct #ty { #(#decls)* }
-        impl #ty {
-            #size_and_from_slice
-            /// All zero.
-            pub const ZERO: Self = Self { #(#zero)* };
-            /// The image of Data_Exchange's bytes.
-            #from_bytes
-            /// Data_Exchange's bytes of the image.
-            #to_bytes
-        }
-        impl Default for #ty {
-            fn default() -> Self {
-                Self::ZERO
-            }
-        }
-    }
+    super::dp::image_struct(
+        &ty,
+        doc,
+        total,
+        super::dp::Fields {
+            decls,
+            zero,
+            reads,
+            writes,
+        },
+    )
 }
