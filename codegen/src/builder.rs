@@ -141,9 +141,14 @@ impl Builder {
         for code in &self.allowed {
             match edsgen_model::rules::by_code(code) {
                 Some(rule) => policy.allow(rule),
-                None => errors.push_str(&format!(
-                    "error: edsgen: Builder::allow(\"{code}\"): no such rule (see `edsgen rules`)\n"
-                )),
+                None => {
+                    let near = edsgen_model::rules::nearest(code).map_or(String::new(), |rule| {
+                        format!("; did you mean {}?", rule.code)
+                    });
+                    errors.push_str(&format!(
+                        "error: edsgen: Builder::allow(\"{code}\"): no such rule{near} (see `edsgen rules`)\n"
+                    ))
+                }
             }
         }
         let mut seen = std::collections::BTreeSet::new();

@@ -121,7 +121,7 @@ fn allowed_warnings_are_silenced_but_errors_still_fail() {
         .unwrap_err();
     assert_eq!(
         err.message(),
-        "error: edsgen: Builder::allow(\"EDS999\"): no such rule (see `edsgen rules`)\n"
+        "error: edsgen: Builder::allow(\"EDS999\"): no such rule; did you mean EDS820? (see `edsgen rules`)\n"
     );
     let _ = std::fs::remove_dir_all(&out);
 }
