@@ -12,39 +12,8 @@ use edsgen_runtime::Instant;
 
 use super::{loopback, read_gsd, CardError, Loopback};
 
-/// Slot 1 takes a PPO module, slots 2 and 3 the I/O modules (as the model's tests).
-const GSD: &str = r#"#Profibus_DP
-GSD_Revision = 3
-Vendor_Name = "Test"
-Model_Name = "Modular"
-Ident_Number = 0x1234
-Protocol_Ident = 0
-Station_Type = 0
-19.2_supp = 1
-MaxTsdr_19.2 = 60
-Modular_Station = 1
-Max_Module = 3
-Max_Input_Len = 40
-Max_Output_Len = 48
-Max_Data_Len = 70
-Module = "4 PKW, 2 PZD (PPO 1)" 0xF3, 0xF1
-1
-EndModule
-Module = "0 PKW, 2 PZD (PPO 3)" 0xF1
-2
-EndModule
-Module = "8 DI" 0x10
-3
-EndModule
-Module = "16 words out" 0x6F
-4
-EndModule
-SlotDefinition
-Slot(1) = "Drive" 1 1-2
-Slot(2) = "IO" 3 3-4
-Slot(3) = "IO" 3 3-4
-EndSlotDefinition
-"#;
+/// Slot 1 takes a PPO module, slots 2 and 3 the I/O modules (the model's fixture, as its tests use it).
+const GSD: &str = include_str!("../../../../model/src/model/modules/modular.gsd");
 
 const MASTER: u8 = 1;
 const SLAVE: u8 = 7;
