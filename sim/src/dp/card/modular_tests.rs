@@ -12,7 +12,8 @@ use edsgen_runtime::Instant;
 
 use super::{loopback, read_gsd, CardError, Loopback};
 
-/// Slot 1 takes a PPO module, slots 2 and 3 the I/O modules (the model's fixture, as its tests use it).
+/// Slot 1 takes a PPO module, slots 2 and 3 the I/O modules (the model's fixture, as its
+/// tests use it).
 const GSD: &str = include_str!("../../../../model/src/model/modules/modular.gsd");
 
 const MASTER: u8 = 1;
