@@ -225,7 +225,12 @@ where
         (&mut cli.command, matches.subcommand_matches("simulate"))
     {
         if let Err(message) = args.place_modules(simulate) {
-            return Err(command.error(clap::error::ErrorKind::ArgumentConflict, message));
+            let kind = clap::error::ErrorKind::ArgumentConflict;
+            let simulate = command.find_subcommand_mut("simulate");
+            return Err(match simulate {
+                Some(simulate) => simulate.error(kind, message),
+                None => command.error(kind, message),
+            });
         }
     }
     Ok(cli)

@@ -181,13 +181,12 @@ struct Places {
     access_points: Vec<usize>,
 }
 
+/// Each FILE's modules and its access point, in the order of the files.
+type Placed = (Vec<Vec<String>>, Vec<Option<String>>);
+
 /// Each FILE's modules and access point, in the order of the files: every `--module` and
 /// `--access-point` goes to the FILE before it.
-fn place(
-    places: &Places,
-    modules: &[String],
-    access_points: &[String],
-) -> Result<(Vec<Vec<String>>, Vec<Option<String>>), String> {
+fn place(places: &Places, modules: &[String], access_points: &[String]) -> Result<Placed, String> {
     /// What stands at an index.
     enum Word {
         File(usize),
@@ -253,9 +252,9 @@ fn place(
         if flag == "--module" {
             per_file[file].push(value);
         } else if points[file].replace(value).is_some() {
-            return Err(format!(
-                "two --access-point for one FILE: a device has one access point"
-            ));
+            return Err(
+                "two --access-point for one FILE: a device has one access point".to_owned(),
+            );
         }
     }
     Ok((per_file, points))

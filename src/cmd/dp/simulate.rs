@@ -82,10 +82,10 @@ pub fn run(
         ));
     }
     let mut chosen = Vec::new();
-    for n in 0..files.len() {
+    for (n, file) in files.iter().enumerate() {
         match parse_choices(modules.get(n).map_or(&[][..], Vec::as_slice)) {
             Ok(choices) => chosen.push(choices),
-            Err(message) => return fail(format!("{}: --module {message}", files[n])),
+            Err(message) => return fail(format!("{file}: --module {message}")),
         }
     }
     let now = Instant::from_micros(0);

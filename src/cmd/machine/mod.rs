@@ -6,6 +6,7 @@
 
 pub mod file;
 pub mod model;
+mod modules;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::Path;
@@ -221,6 +222,12 @@ fn device_args(bus: Bus, device: &Planned) -> Vec<String> {
     };
     if let (Bus::EtherCat, Source::File(_, Some(pick))) = (bus, &device.source) {
         args.extend(["--device".to_owned(), device_choice(pick)]);
+    }
+    for module in &device.modules {
+        args.extend(["--module".to_owned(), module.clone()]);
+    }
+    if let Some(access_point) = &device.access_point {
+        args.extend(["--access-point".to_owned(), access_point.clone()]);
     }
     args
 }
