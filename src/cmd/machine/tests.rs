@@ -207,3 +207,31 @@ fn modules_on_a_card_or_a_canopen_or_enip_device_are_refused() {
         ]
     );
 }
+
+#[test]
+fn the_example_machine_is_read_with_its_modules() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/machine.toml");
+    let machine = file::read(&example).expect("the example reads");
+    let runs = launches(&machine);
+    let dp = runs
+        .iter()
+        .find(|r| r.args[1] == "--profibus")
+        .expect("a DP line");
+    let gsd = example
+        .parent()
+        .expect("examples/")
+        .join("../eds/goodrive350-dp.gsd@4");
+    assert_eq!(
+        dp.args,
+        strings(&[
+            "simulate",
+            "--profibus",
+            "/tmp/edsgen-dp-line",
+            "--card",
+            "goodrive350-dp@3",
+            &gsd.display().to_string(),
+            "--module",
+            "1=4 PKW + 12 PZD",
+        ])
+    );
+}
