@@ -110,8 +110,17 @@ fn print_plan(machine: &Machine) {
                 Source::File(path, None) => path.display().to_string(),
                 Source::File(path, Some(pick)) => format!("{}#{pick}", path.display()),
             };
+            let mut plugged = String::new();
+            if let Some(access_point) = &device.access_point {
+                plugged.push_str(&format!(", access point {access_point:?}"));
+            }
+            if !device.modules.is_empty() {
+                let modules: Vec<String> =
+                    device.modules.iter().map(|m| format!("{m:?}")).collect();
+                plugged.push_str(&format!(", modules {}", modules.join(", ")));
+            }
             println!(
-                "{:<9} {:<24} {:<32} {} on {}",
+                "{:<9} {:<24} {:<32} {} on {}{plugged}",
                 section.bus.table(),
                 device.name,
                 what,
