@@ -235,3 +235,27 @@ fn the_example_machine_is_read_with_its_modules() {
         ])
     );
 }
+
+#[test]
+fn profinet_and_ethercat_modules_are_checked_against_their_files() {
+    let eds = Path::new(env!("CARGO_MANIFEST_DIR")).join("eds");
+    let text = "[[profinet]]\ninterface = \"veth2\"\ndevices = [\n\
+        { device = \"goodrive350-pn.xml\", name = \"d-1\", access_point = \"NO_DAP\" },\n]\n\
+        [[ethercat]]\ninterface = \"veth1\"\ndevices = [\n\
+        { device = \"goodrive350-pn.xml\", modules = [\"X\"] },\n]\n";
+    let problems: Vec<String> = match file::parse(text, &eds) {
+        Ok(_) => Vec::new(),
+        Err(problems) => problems
+            .iter()
+            .map(|p| format!("{}:{}", p.line, p.message))
+            .collect(),
+    };
+    assert_eq!(
+        problems[0],
+        "4:EDS708: no access point \"NO_DAP\"; did you mean:\n  \"DAP_GD350_PN\""
+    );
+    assert_eq!(
+        problems[1],
+        "9:EDS708: modules are chosen in an ESI file on [[ethercat]]"
+    );
+}
