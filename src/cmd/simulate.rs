@@ -59,8 +59,8 @@ pub struct Args {
     pub profibus: Option<String>,
     /// With --profibus, --ethercat or --profinet: a module plugged in a slot of the FILE before
     /// it (`SLOT=NAME`, or `NAME` for the next slot; repeatable, docs/modules.md). A FILE with
-    /// modules is plugged with them; a GSD slave then accepts only these, without any
-    /// combination of its modules the GSD allows.
+    /// modules is plugged with them, and a GSD slave then accepts only these (without, any
+    /// combination of its modules the GSD allows).
     #[arg(long = "module", value_name = "[SLOT=]NAME")]
     pub module_args: Vec<String>,
     /// With --profinet: the access point (DeviceAccessPointItem's ID or name) of the GSDML FILE
