@@ -1,5 +1,6 @@
 """pyprofibus (PyPI, pinned in scripts/python-venv.sh) as the DP master of a simulated modular
-slave: `python scripts/dp_master_modules.py GSD ADDRESS INPUT_SIZE OUTPUT_SIZE MODULE...`.
+slave: `python scripts/dp_master_modules.py GSD ADDRESS INPUT_SIZE OUTPUT_SIZE MODULE...`
+(the master's inputs and outputs: the bytes the slave answers and the bytes it is sent).
 
 As scripts/dp_master.py (a relay between two pseudo-terminal pairs, `PTY <path>` printed for the
 slave's side), but pyprofibus plugs the MODULEs (`module_0`, `module_1`, ... of its slave
@@ -44,7 +45,8 @@ def main():
             "[DP]\nmaster_class = 1\nmaster_addr = 1\n"
             "[SLAVE_0]\nname = modular\naddr = %d\ngsd = %s\nsync_mode = 0\nfreeze_mode = 0\n"
             "group_mask = 1\nwatchdog_ms = 500\ninput_size = %d\noutput_size = %d\n%s"
-            % (os.ttyname(slave_a), address, gsd, input_size, output_size, plugged)
+            # pyprofibus names the sizes as the slave sees them: its input is our output.
+            % (os.ttyname(slave_a), address, gsd, output_size, input_size, plugged)
         )
     conf = pyprofibus.PbConf.fromFile(conf_path)
     master = conf.makeDPM()

@@ -211,9 +211,34 @@ impl From<MinSeverity> for Severity {
     }
 }
 
+/// Parses the command line; `simulate`'s `--module`s then go to the FILE before each.
+fn parse<I, T>(argv: I) -> Result<Cli, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    use clap::{CommandFactory, FromArgMatches};
+    let mut command = Cli::command();
+    let matches = command.try_get_matches_from_mut(argv)?;
+    let mut cli = Cli::from_arg_matches(&matches)?;
+    if let (Command::Simulate(args), Some(simulate)) =
+        (&mut cli.command, matches.subcommand_matches("simulate"))
+    {
+        if let Err(message) = args.place_modules(simulate) {
+            let kind = clap::error::ErrorKind::ArgumentConflict;
+            let simulate = command.find_subcommand_mut("simulate");
+            return Err(match simulate {
+                Some(simulate) => simulate.error(kind, message),
+                None => command.error(kind, message),
+            });
+        }
+    }
+    Ok(cli)
+}
+
 fn main() -> ExitCode {
     cmd::signals::follow_parent();
-    let cli = match Cli::try_parse() {
+    let cli = match parse(std::env::args_os()) {
         Ok(cli) => cli,
         Err(err) => {
             let _ = err.print();

@@ -108,6 +108,44 @@ fn bad_usage_exits_2() {
     .finish(WAIT);
     assert_eq!(exited.code, Some(2));
     assert_eq!(exited.stderr, "error: two slaves at station address 4\n");
+    // A --module goes after the FILE it plugs: before any, or after a card, is refused.
+    for args in [
+        &["--module", "PPO 3", "eds/goodrive350-dp.gsd@4"][..],
+        &[
+            "eds/goodrive350-dp.gsd@4",
+            "--card",
+            "goodrive350-dp@3",
+            "--module",
+            "PPO 3",
+        ][..],
+    ] {
+        let mut all = vec!["simulate", "--profibus", "/dev/null"];
+        all.extend_from_slice(args);
+        let exited = Process::edsgen(&all).finish(WAIT);
+        assert_eq!(exited.code, Some(2), "{exited:?}");
+        let first = exited.stderr.lines().next().unwrap_or_default().to_owned();
+        let expected = if args[0] == "--module" {
+            "error: --module `PPO 3` comes before any FILE: put it after the FILE it plugs"
+        } else {
+            "error: --module `PPO 3` follows a --card: a card's modules are its own; put --module after the FILE it plugs"
+        };
+        assert_eq!(first, expected);
+    }
+    // A module the GSD does not have, after its FILE: its name and the nearest.
+    let exited = Process::edsgen(&[
+        "simulate",
+        "--profibus",
+        "/dev/null",
+        "eds/goodrive350-dp.gsd@4",
+        "--module",
+        "4 PKW + 2 PZD",
+    ])
+    .finish(WAIT);
+    assert_eq!(exited.code, Some(2), "{exited:?}");
+    assert!(
+        exited.stderr.contains("no module \"4 PKW + 2 PZD\""),
+        "{exited:?}"
+    );
 }
 
 /// Three slaves on one line (issue 31), each at its own address: two cards and a slave from a

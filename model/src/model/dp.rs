@@ -218,6 +218,25 @@ impl DpModule {
         decode_cfg(&self.config).unwrap_or_default()
     }
 
+    /// The module's parameter bytes in Set_Prm (GSD defaults): `Ext_Module_Prm_Data_Len`
+    /// bytes, overlaid by its `Ext_User_Prm_Data_Const` blocks and the defaults its
+    /// `Ext_User_Prm_Data_Ref` entries place, offsets counted from the module's first byte
+    /// (`dp` holds the definitions). Without `Ext_Module_Prm_Data_Len`, as long as its
+    /// constants and references reach; none for a module without parameters.
+    pub fn default_prm_data(&self, dp: &Dp) -> Vec<u8> {
+        let len = self.prm_data_len.unwrap_or(0) as usize;
+        let mut data = prm_defaults(
+            vec![0; len],
+            &self.prm_consts,
+            &self.prm_refs,
+            &dp.prm_definitions,
+        );
+        if self.prm_data_len.is_some() {
+            data.truncate(len);
+        }
+        data
+    }
+
     /// Input and output bytes of the module.
     pub fn io_lengths(&self) -> (u32, u32) {
         self.identifiers().iter().fold((0, 0), |(i, o), id| {
@@ -481,49 +500,72 @@ impl Dp {
     /// blocks, then by the defaults of the definitions its `Ext_User_Prm_Data_Ref` entries place
     /// (the modules' own parameter blocks are not included).
     pub fn default_user_prm_data(&self) -> Vec<u8> {
-        let mut data = self.user_prm_data.clone();
-        let mut consts: Vec<&PrmConst> = self.prm_consts.iter().collect();
-        consts.sort_by_key(|c| c.offset);
-        fn put(data: &mut Vec<u8>, offset: usize, bytes: &[u8]) {
-            if data.len() < offset + bytes.len() {
-                data.resize(offset + bytes.len(), 0);
-            }
-            data[offset..offset + bytes.len()].copy_from_slice(bytes);
-        }
-        for c in consts {
-            put(&mut data, c.offset as usize, &c.bytes);
-        }
-        for r in &self.prm_refs {
-            let Some(def) = self
-                .prm_definitions
-                .iter()
-                .find(|d| d.reference == r.reference)
-            else {
-                continue;
-            };
-            let at = r.offset as usize;
-            match def.data_type {
-                PrmType::Bit(bit) => {
-                    let mut byte = [data.get(at).copied().unwrap_or(0)];
-                    byte[0] =
-                        byte[0] & !(1 << (bit & 7)) | (((def.default & 1) as u8) << (bit & 7));
-                    put(&mut data, at, &byte);
-                }
-                PrmType::BitArea(first, last) => {
-                    let width = last.saturating_sub(first) + 1;
-                    let mask = (((1u16 << width) - 1) << first) as u8;
-                    let value = ((def.default as u16) << first) as u8 & mask;
-                    let byte = [data.get(at).copied().unwrap_or(0) & !mask | value];
-                    put(&mut data, at, &byte);
-                }
-                PrmType::Unsigned(n) | PrmType::Signed(n) => {
-                    let bytes = (def.default as u32).to_be_bytes();
-                    put(&mut data, at, &bytes[4 - usize::from(n)..]);
-                }
+        prm_defaults(
+            self.user_prm_data.clone(),
+            &self.prm_consts,
+            &self.prm_refs,
+            &self.prm_definitions,
+        )
+    }
+
+    /// The slave's own parameter bytes in Set_Prm: [`Dp::default_user_prm_data`], padded with
+    /// zeros to `User_Prm_Data_Len` when that is longer (the modules' follow them:
+    /// [`crate::model::modules::DpConfiguration::user_prm_data`]).
+    pub fn own_prm_data(&self) -> Vec<u8> {
+        let mut data = self.default_user_prm_data();
+        if let Some(len) = &self.user_prm_data_len {
+            if (len.value as usize) > data.len() {
+                data.resize(len.value as usize, 0);
             }
         }
         data
     }
+}
+
+/// Parameter bytes from `data`: overlaid by the `consts` in offset order, then by the defaults
+/// of the definitions (`defs`) the `refs` place (a device's or a module's own block).
+pub(crate) fn prm_defaults(
+    mut data: Vec<u8>,
+    consts: &[PrmConst],
+    refs: &[PrmRef],
+    defs: &[ExtUserPrmData],
+) -> Vec<u8> {
+    let mut consts: Vec<&PrmConst> = consts.iter().collect();
+    consts.sort_by_key(|c| c.offset);
+    fn put(data: &mut Vec<u8>, offset: usize, bytes: &[u8]) {
+        if data.len() < offset + bytes.len() {
+            data.resize(offset + bytes.len(), 0);
+        }
+        data[offset..offset + bytes.len()].copy_from_slice(bytes);
+    }
+    for c in consts {
+        put(&mut data, c.offset as usize, &c.bytes);
+    }
+    for r in refs {
+        let Some(def) = defs.iter().find(|d| d.reference == r.reference) else {
+            continue;
+        };
+        let at = r.offset as usize;
+        match def.data_type {
+            PrmType::Bit(bit) => {
+                let mut byte = [data.get(at).copied().unwrap_or(0)];
+                byte[0] = byte[0] & !(1 << (bit & 7)) | (((def.default & 1) as u8) << (bit & 7));
+                put(&mut data, at, &byte);
+            }
+            PrmType::BitArea(first, last) => {
+                let width = last.saturating_sub(first) + 1;
+                let mask = (((1u16 << width) - 1) << first) as u8;
+                let value = ((def.default as u16) << first) as u8 & mask;
+                let byte = [data.get(at).copied().unwrap_or(0) & !mask | value];
+                put(&mut data, at, &byte);
+            }
+            PrmType::Unsigned(n) | PrmType::Signed(n) => {
+                let bytes = (def.default as u32).to_be_bytes();
+                put(&mut data, at, &bytes[4 - usize::from(n)..]);
+            }
+        }
+    }
+    data
 }
 
 #[cfg(test)]

@@ -121,6 +121,22 @@ impl DpConfiguration {
             .collect()
     }
 
+    /// The modules' parameter bytes in Set_Prm, after the slave's own: each module's
+    /// ([`DpModule::default_prm_data`]) in slot order, plain (one after the other).
+    pub fn module_prm_data(&self, dp: &Dp) -> Vec<u8> {
+        self.modules(dp)
+            .flat_map(|(_, m)| m.default_prm_data(dp))
+            .collect()
+    }
+
+    /// Set_Prm's User_Prm_Data for this configuration: the slave's own bytes
+    /// ([`Dp::own_prm_data`]), then [`DpConfiguration::module_prm_data`].
+    pub fn user_prm_data(&self, dp: &Dp) -> Vec<u8> {
+        let mut data = dp.own_prm_data();
+        data.extend(self.module_prm_data(dp));
+        data
+    }
+
     /// Input and output bytes of Data_Exchange: the modules' images one after the other.
     pub fn io_lengths(&self, dp: &Dp) -> (u32, u32) {
         self.modules(dp).fold((0, 0), |(i, o), (_, m)| {

@@ -102,6 +102,12 @@ pub trait DpApplication {
     fn check_config(&mut self, own: &SlaveConfig, config: &[u8]) -> Option<(usize, usize)> {
         (config == own.config.as_slice()).then_some((own.input_len, own.output_len))
     }
+    /// Set_Prm's User_Prm_Data (`user_prm`, after the seven standard bytes): whether the slave
+    /// takes it, else Prm_Fault. By default exactly [`SlaveConfig::user_prm_len`] bytes; a
+    /// modular slave whose master picks the modules takes its own and any modules' after them.
+    fn check_prm(&mut self, own: &SlaveConfig, user_prm: &[u8]) -> bool {
+        user_prm.len() == own.user_prm_len
+    }
 }
 
 /// What the slave is: from its GSD.
@@ -113,7 +119,8 @@ pub struct SlaveConfig {
     pub ident_number: u16,
     /// The configuration bytes Chk_Cfg must carry (and Get_Cfg answers).
     pub config: DpData,
-    /// Bytes of User_Prm_Data Set_Prm must carry after its seven standard bytes.
+    /// Bytes of User_Prm_Data Set_Prm must carry after its seven standard bytes: the slave's
+    /// own, then its modules' (see [`DpApplication::check_prm`]).
     pub user_prm_len: usize,
     /// Output bytes of Data_Exchange (master to slave), at most [`DpData::CAPACITY`].
     pub output_len: usize,
@@ -400,7 +407,9 @@ impl<A: DpApplication> DpSlave<A> {
         let status = data.first().copied().unwrap_or(0);
         let freeze = status & 0x10 != 0;
         let sync = status & 0x20 != 0;
-        let ok = data.len() == 7 + self.config.user_prm_len
+        let user_prm = data.get(7..).unwrap_or(&[]);
+        let ok = data.len() >= 7
+            && self.app.check_prm(&self.config, user_prm)
             && ident == Some(self.config.ident_number)
             && (!freeze || self.config.freeze)
             && (!sync || self.config.sync);

@@ -74,10 +74,8 @@ pub fn slave_config(dp: &Dp, address: u8) -> Result<SlaveConfig, CardError> {
         return Err(CardError::NoModule);
     }
     let (input_len, output_len) = configuration.io_lengths(dp);
-    let user_prm_len = dp
-        .user_prm_data_len
-        .as_ref()
-        .map_or(dp.default_user_prm_data().len(), |l| l.value as usize);
+    // The slave's own parameter bytes, then its modules' (Ext_Module_Prm_Data_Len).
+    let user_prm_len = configuration.user_prm_data(dp).len();
     let too_long = |len: u32| (len as usize > DpData::CAPACITY).then_some(CardError::TooLong);
     if let Some(e) = too_long(input_len).or(too_long(output_len)) {
         return Err(e);
@@ -159,6 +157,9 @@ pub struct Loopback {
     /// master picks); `None`: only the slave's own configuration is accepted (modules
     /// plugged, as in an I/O station).
     pub modular: Option<Arc<Dp>>,
+    /// With `modular`: the bytes of module parameters the last Set_Prm carried after the
+    /// slave's own, which the modules Chk_Cfg then names must take.
+    pub module_prm_len: usize,
 }
 
 impl DpApplication for Loopback {
@@ -177,8 +178,25 @@ impl DpApplication for Loopback {
         let Some(dp) = &self.modular else {
             return (config == own.config.as_slice()).then_some((own.input_len, own.output_len));
         };
-        let (input_len, output_len) = match_dp_cfg(dp, config)?.io_lengths(dp);
+        let configuration = match_dp_cfg(dp, config)?;
+        if configuration.module_prm_data(dp).len() != self.module_prm_len {
+            return None;
+        }
+        let (input_len, output_len) = configuration.io_lengths(dp);
         Some((input_len as usize, output_len as usize))
+    }
+
+    /// Plugged: exactly its own and its modules' parameters. Modular (the master picks the
+    /// modules): its own, then any modules' (Chk_Cfg's modules must then take them).
+    fn check_prm(&mut self, own: &SlaveConfig, user_prm: &[u8]) -> bool {
+        let Some(dp) = &self.modular else {
+            return user_prm.len() == own.user_prm_len;
+        };
+        let Some(modules) = user_prm.len().checked_sub(dp.own_prm_data().len()) else {
+            return false;
+        };
+        self.module_prm_len = modules;
+        true
     }
 }
 
@@ -213,6 +231,13 @@ impl DpApplication for Simulated {
             Simulated::Loopback(echo) => echo.check_config(own, config),
         }
     }
+
+    fn check_prm(&mut self, own: &SlaveConfig, user_prm: &[u8]) -> bool {
+        match self {
+            Simulated::Card(card) => card.check_prm(own, user_prm),
+            Simulated::Loopback(echo) => echo.check_prm(own, user_prm),
+        }
+    }
 }
 
 /// A slave simulated from any GSD's model at `address`, echoing its outputs. With `modules`
@@ -233,6 +258,7 @@ pub fn loopback(
     let app = Loopback {
         watchdog_expired: false,
         modular: dp.chosen.is_none().then(|| Arc::new(dp)),
+        module_prm_len: 0,
     };
     Ok(DpSlave::new(config, app, now))
 }

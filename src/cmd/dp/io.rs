@@ -113,7 +113,8 @@ pub fn run(args: &Args) -> ExitCode {
         .find(|b| b.rate.bits_per_second() == 19_200)
         .and_then(|b| b.max_tsdr)
         .unwrap_or(60);
-    let user = gsd.default_user_prm_data();
+    // The slave's own parameters, then each module's in slot order (Ext_Module_Prm_Data_Len).
+    let user = configuration.user_prm_data(gsd);
     let mut inputs = vec![0u8; input_len];
     let mut out_buffer = outputs.clone();
     let mut master = dp::DpMaster::new(vec![]);

@@ -3,8 +3,8 @@
 //! the bundled Goodrive350 card with its PKW/PZD drive, or a slave built from any GSD file
 //! whose inputs echo its outputs. The address is `@ADDR`, else the card's default (2, P15.01's)
 //! or 2 for a file. A file's slave accepts in Chk_Cfg any combination of its modules its GSD
-//! allows, unless `--module [SLOT=]NAME` (with one file) plugs it with those modules, which it
-//! then accepts alone. State changes go to stderr (`data exchange`, `wait for parameters`, the
+//! allows, unless `--module [SLOT=]NAME` after it plugs it with those modules, which it then
+//! accepts alone. State changes go to stderr (`data exchange`, `wait for parameters`, the
 //! watchdog's E-DP; `station N: ` before each with several slaves), until the line closes or
 //! SIGINT, SIGTERM or SIGHUP stops it (then `stopped:`).
 
@@ -67,12 +67,13 @@ fn slave(
 }
 
 /// Runs the DP slaves of the `--card` and FILE arguments of `edsgen simulate` on `tty`, each at
-/// its own address.
+/// its own address; `modules` holds each FILE's `--module`s, in the order of `files` (none for
+/// a FILE past its end).
 pub fn run(
     tty: &str,
     files: &[String],
     cards: &[String],
-    modules: &[String],
+    modules: &[Vec<String>],
     allow: &Policy,
 ) -> ExitCode {
     if files.is_empty() && cards.is_empty() {
@@ -80,22 +81,24 @@ pub fn run(
             "--profibus serves slaves: --card {CARD}[@ADDR] or FILE.gsd[@ADDR], one or more"
         ));
     }
-    if !modules.is_empty() && files.len() != 1 {
-        return fail("--module plugs the modules of one FILE.gsd: give exactly one".to_owned());
+    let mut chosen = Vec::new();
+    for (n, file) in files.iter().enumerate() {
+        match parse_choices(modules.get(n).map_or(&[][..], Vec::as_slice)) {
+            Ok(choices) => chosen.push(choices),
+            Err(message) => return fail(format!("{file}: --module {message}")),
+        }
     }
-    let modules = match parse_choices(modules) {
-        Ok(modules) => modules,
-        Err(message) => return fail(format!("--module {message}")),
-    };
     let now = Instant::from_micros(0);
-    let named = cards
-        .iter()
-        .map(|c| (c, true))
-        .chain(files.iter().map(|f| (f, false)));
+    let named = cards.iter().map(|c| (c, true, &[][..])).chain(
+        files
+            .iter()
+            .zip(&chosen)
+            .map(|(f, m)| (f, false, m.as_slice())),
+    );
     let mut slaves = Vec::new();
     let mut lines = Vec::new();
-    for (text, is_card) in named {
-        let (slave, what) = match slave(text, is_card, &modules, now, allow) {
+    for (text, is_card, modules) in named {
+        let (slave, what) = match slave(text, is_card, modules, now, allow) {
             Ok(slave) => slave,
             Err(message) => return fail(message),
         };

@@ -100,14 +100,14 @@ pub fn parse(text: &str, base: &Path) -> Result<Machine, Vec<Problem>> {
     }
 }
 
-struct Reader<'a> {
+pub(super) struct Reader<'a> {
     text: &'a str,
     base: &'a Path,
     problems: Vec<Problem>,
 }
 
 impl Reader<'_> {
-    fn problem(&mut self, at: usize, message: String) {
+    pub(super) fn problem(&mut self, at: usize, message: String) {
         let before = &self.text[..at.min(self.text.len())];
         let line = before.matches('\n').count() + 1;
         let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
@@ -209,6 +209,27 @@ impl Reader<'_> {
         }
     }
 
+    /// A list of strings (`modules = ["1=8 DI", ...]`).
+    fn strings(&mut self, value: &Spanned<DeValue<'_>>, key: &str) -> Option<Vec<String>> {
+        let words = match value.get_ref() {
+            DeValue::Array(list) => list
+                .iter()
+                .map(|item| match item.get_ref() {
+                    DeValue::String(s) => Some(s.to_string()),
+                    _ => None,
+                })
+                .collect(),
+            _ => None,
+        };
+        if words.is_none() {
+            self.problem(
+                value.span().start,
+                format!("`{key}` is a list of strings: `{key} = [\"1=NAME\", ...]`"),
+            );
+        }
+        words
+    }
+
     fn devices(&mut self, bus: Bus, list: &DeArray<'_>) -> Vec<Planned> {
         let mut planned = Vec::new();
         for (position, item) in list.iter().enumerate() {
@@ -216,9 +237,7 @@ impl Reader<'_> {
             let fields = match item.get_ref() {
                 DeValue::String(s) => Some(Fields {
                     device: s.to_string(),
-                    name: None,
-                    ip: None,
-                    address: None,
+                    ..Fields::default()
                 }),
                 DeValue::Table(t) => self.fields(bus, t, at),
                 _ => {
@@ -251,12 +270,30 @@ impl Reader<'_> {
     fn fields(&mut self, bus: Bus, table: &DeTable<'_>, at: usize) -> Option<Fields> {
         let mut values: BTreeMap<&str, (String, usize)> = BTreeMap::new();
         let allowed: &[&str] = match bus {
-            Bus::Profinet => &["device", "name", "ip"],
+            Bus::Profinet => &["device", "name", "ip", "modules", "access_point"],
             Bus::Enip => &["device", "address", "name"],
-            _ => &["device", "name"],
+            Bus::CanOpen => &["device", "name"],
+            Bus::EtherCat | Bus::Profibus => &["device", "name", "modules"],
         };
+        let mut modules = None;
         for (key, value) in table {
             let k = key.get_ref().as_ref();
+            if k == "modules" || k == "access_point" {
+                if !allowed.contains(&k) {
+                    self.problem(
+                        key.span().start,
+                        format!(
+                            "`{k}` is for a modular device in [[profibus]], [[profinet]] or [[ethercat]]: a [[{}]] device takes none",
+                            bus.table()
+                        ),
+                    );
+                    continue;
+                }
+                if k == "modules" {
+                    modules = self.strings(value, k).map(|list| (list, key.span().start));
+                    continue;
+                }
+            }
             let Some(known) = allowed.iter().find(|a| **a == k) else {
                 let list = allowed
                     .iter()
@@ -286,11 +323,14 @@ impl Reader<'_> {
             );
             return None;
         };
+        let access_point = values.remove("access_point");
         Some(Fields {
             device,
             name: take("name", &mut values),
             ip: take("ip", &mut values),
             address: take("address", &mut values),
+            modules,
+            access_point,
         })
     }
 
@@ -371,10 +411,13 @@ impl Reader<'_> {
             }
             (source, _, _) => source,
         };
+        let (modules, access_point) = self.modules(bus, &source, &f)?;
         Some(Planned {
             name: f.name.unwrap_or(f.device),
             source,
             address,
+            modules,
+            access_point,
             at,
         })
     }
@@ -469,11 +512,16 @@ impl Reader<'_> {
 }
 
 /// A device entry's keys.
-struct Fields {
-    device: String,
-    name: Option<String>,
-    ip: Option<String>,
-    address: Option<String>,
+#[derive(Default)]
+pub(super) struct Fields {
+    pub(super) device: String,
+    pub(super) name: Option<String>,
+    pub(super) ip: Option<String>,
+    pub(super) address: Option<String>,
+    /// `modules = [...]` and where its key is.
+    pub(super) modules: Option<(Vec<String>, usize)>,
+    /// `access_point = "..."` and where its value is.
+    pub(super) access_point: Option<(String, usize)>,
 }
 
 /// `card@ID` / `FILE@ID` (`@NAME` for PROFINET), `FILE#PICK` for EtherCAT.

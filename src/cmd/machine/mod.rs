@@ -6,6 +6,7 @@
 
 pub mod file;
 pub mod model;
+mod modules;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::Path;
@@ -109,8 +110,17 @@ fn print_plan(machine: &Machine) {
                 Source::File(path, None) => path.display().to_string(),
                 Source::File(path, Some(pick)) => format!("{}#{pick}", path.display()),
             };
+            let mut plugged = String::new();
+            if let Some(access_point) = &device.access_point {
+                plugged.push_str(&format!(", access point {access_point:?}"));
+            }
+            if !device.modules.is_empty() {
+                let modules: Vec<String> =
+                    device.modules.iter().map(|m| format!("{m:?}")).collect();
+                plugged.push_str(&format!(", modules {}", modules.join(", ")));
+            }
             println!(
-                "{:<9} {:<24} {:<32} {} on {}",
+                "{:<9} {:<24} {:<32} {} on {}{plugged}",
                 section.bus.table(),
                 device.name,
                 what,
@@ -221,6 +231,12 @@ fn device_args(bus: Bus, device: &Planned) -> Vec<String> {
     };
     if let (Bus::EtherCat, Source::File(_, Some(pick))) = (bus, &device.source) {
         args.extend(["--device".to_owned(), device_choice(pick)]);
+    }
+    for module in &device.modules {
+        args.extend(["--module".to_owned(), module.clone()]);
+    }
+    if let Some(access_point) = &device.access_point {
+        args.extend(["--access-point".to_owned(), access_point.clone()]);
     }
     args
 }

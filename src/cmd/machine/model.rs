@@ -125,6 +125,11 @@ pub struct Planned {
     pub source: Source,
     /// Its address on its bus.
     pub address: Address,
+    /// The modules plugged in it (`SLOT=NAME` or `NAME`, docs/modules.md), checked against its
+    /// file: `--module` after its FILE.
+    pub modules: Vec<String>,
+    /// A PROFINET device's access point, checked against its GSDML: `--access-point`.
+    pub access_point: Option<String>,
     /// Where it is in the machine file (a byte offset), for the problems found across devices.
     pub(super) at: usize,
 }

@@ -122,3 +122,26 @@ fn chk_cfg_bytes_are_recognised_as_an_allowed_combination() {
     assert_eq!(match_dp_cfg(&dp, &[0xF1, 0x77]), None);
     assert_eq!(match_dp_cfg(&dp, &[]), None);
 }
+
+/// A modular slave with module parameters, as DPV10008.gsd (the gsd-corpus) writes them: its
+/// own 3 bytes, AI16's 4 (two Unsigned16 limits), DO8's 1 (two bits over a constant).
+const PRM_GSD: &str = include_str!("module_prm.gsd");
+
+#[test]
+fn set_prm_carries_each_modules_parameters_after_the_slaves_in_slot_order() {
+    let dp = crate::read::read_bytes(Path::new("prm.gsd"), PRM_GSD.as_bytes())
+        .device
+        .dp()
+        .cloned()
+        .expect("a GSD");
+    let plugged = choose_dp(&dp, &choices(&["DO8", "DI8", "AI16"])).expect("allowed");
+    // DO8: 0x05 with bit 0 cleared (hot = 0) and bit 1 set (cool = 1); DI8 none; AI16 the
+    // limits big-endian.
+    assert_eq!(plugged.module_prm_data(&dp), [0x06, 0x1F, 0x40, 0xF0, 0x60]);
+    assert_eq!(
+        plugged.user_prm_data(&dp),
+        [0, 0, 0, 0x06, 0x1F, 0x40, 0xF0, 0x60]
+    );
+    let without = choose_dp(&dp, &choices(&["DI8"])).expect("allowed");
+    assert_eq!(without.user_prm_data(&dp), [0, 0, 0]);
+}

@@ -27,7 +27,12 @@ struct Bench {
 
 impl Bench {
     fn new(modules: &[&str]) -> Self {
-        let dp = read_gsd(Path::new("modular.gsd"), GSD.as_bytes()).unwrap();
+        Self::of(GSD, modules)
+    }
+
+    /// A slave of the GSD `text`, plugged with `modules` (none: the master picks them).
+    fn of(text: &str, modules: &[&str]) -> Self {
+        let dp = read_gsd(Path::new("modular.gsd"), text.as_bytes()).unwrap();
         let modules = parse_choices(modules).unwrap();
         let slave = loopback(&dp, &modules, SLAVE, Instant::from_millis(0)).unwrap();
         Bench {
@@ -122,4 +127,51 @@ fn chosen_modules_are_plugged_and_only_they_are_accepted() {
             "slot 1 (\"Drive\") does not take module \"8 DI\"".to_owned()
         ]))
     );
+}
+
+/// A modular slave with module parameters (the model's fixture): its own 3 bytes, AI16's 4,
+/// DO8's 1 (Ident_Number 0008h).
+const PRM_GSD: &str = include_str!("../../../../model/src/model/modules/module_prm.gsd");
+
+/// Set_Prm (no watchdog, Ident_Number 0008h) with `user_prm` after the seven standard bytes,
+/// then Chk_Cfg with `config`; the diagnosis.
+fn parameterise(bench: &mut Bench, user_prm: &[u8], config: &[u8]) -> Vec<u8> {
+    let mut prm = vec![0x00, 0, 0, 11, 0x00, 0x08, 0];
+    prm.extend_from_slice(user_prm);
+    bench.send(Some(sap::SET_PRM), &prm);
+    bench.send(Some(sap::CHK_CFG), config);
+    bench.send(Some(sap::SLAVE_DIAG), &[]).unwrap()
+}
+
+#[test]
+fn a_plugged_slave_takes_its_modules_parameters_and_refuses_other_lengths_with_prm_fault() {
+    let mut bench = Bench::of(PRM_GSD, &["DO8", "DI8", "AI16"]);
+    // Its own 3 bytes, DO8's 1, AI16's 4: data exchange.
+    let user_prm = [0, 0, 0, 0x06, 0x1F, 0x40, 0xF0, 0x60];
+    let diag = parameterise(&mut bench, &user_prm, &[0x20, 0x10, 0x50]);
+    assert_eq!(diag, [0x00, 0x04, 0x00, MASTER, 0x00, 0x08]);
+    assert_eq!(bench.slave.state(), DpState::DataExchange);
+    // Without AI16's 4 bytes: Prm_Fault and Station_Not_Ready, Prm_Req (the master it had
+    // stays in byte 4).
+    let diag = parameterise(&mut bench, &user_prm[..4], &[0x20, 0x10, 0x50]);
+    assert_eq!(diag, [0x42, 0x05, 0x00, MASTER, 0x00, 0x08]);
+    assert_eq!(bench.slave.state(), DpState::WaitPrm);
+}
+
+#[test]
+fn a_slave_whose_master_picks_the_modules_takes_their_parameters_then_checks_them_in_chk_cfg() {
+    let mut bench = Bench::of(PRM_GSD, &[]);
+    // AI16 alone with its 4 bytes.
+    let diag = parameterise(&mut bench, &[0, 0, 0, 0x1F, 0x40, 0xF0, 0x60], &[0x50]);
+    assert_eq!(diag, [0x00, 0x04, 0x00, MASTER, 0x00, 0x08]);
+    // DO8 and DI8 sent with AI16's 4 bytes: the modules named do not take them, Cfg_Fault.
+    let diag = parameterise(
+        &mut bench,
+        &[0, 0, 0, 0x1F, 0x40, 0xF0, 0x60],
+        &[0x20, 0x10],
+    );
+    assert_eq!(diag, [0x06, 0x05, 0x00, MASTER, 0x00, 0x08]);
+    // Fewer than its own 3 bytes: Prm_Fault.
+    let diag = parameterise(&mut bench, &[0, 0], &[0x50]);
+    assert_eq!(diag[0], 0x42);
 }
