@@ -8,6 +8,8 @@
 
 pub mod alarm;
 pub mod block;
+#[cfg(feature = "alloc")]
+pub mod connect;
 pub mod dcp;
 pub mod records;
 pub mod rpc;

@@ -1,7 +1,16 @@
 use super::*;
+use crate::profinet::wire::records::*;
 use crate::profinet::wire::rpc::PnioStatus;
+use crate::profinet::wire::BufferTooSmall;
 
 const AR: Uuid = Uuid([0x11; 16]);
+
+fn append(out: &mut Vec<u8>, emit: impl FnOnce(&mut [u8]) -> Result<usize, BufferTooSmall>) {
+    let start = out.len();
+    out.resize(start + 1514, 0);
+    let written = emit(&mut out[start..]).expect("room");
+    out.truncate(start + written);
+}
 
 fn one(bytes: &[u8]) -> Block<'_> {
     let blocks = split(bytes).expect("blocks");
@@ -72,7 +81,7 @@ fn ar_block_res_and_iocr_res_and_alarm_res_bytes() {
     assert_eq!(out, [0x81, 0x03, 0, 8, 1, 0, 0, 1, 0, 1, 0, 200]);
 }
 
-pub(crate) fn iocr(iocr_type: u16, frame_id: u16) -> IocrBlockReq {
+fn iocr(iocr_type: u16, frame_id: u16) -> IocrBlockReq {
     IocrBlockReq {
         iocr_type,
         reference: iocr_type,
@@ -242,7 +251,7 @@ fn real_identification_data_bytes() {
 fn record_headers_are_64_bytes_and_read_back() {
     let req = IodHeader::request(IOD_READ_REQ, 3, AR, (0, 1, 0xF000), 4096);
     let mut out = Vec::new();
-    crate::profinet::wire::append(&mut out, |b| req.emit(b));
+    append(&mut out, |b| req.emit(b));
     assert_eq!(out.len(), 64);
     assert_eq!(out[..8], [0x00, 0x09, 0x00, 0x3C, 0x01, 0x00, 0x00, 0x03]);
     assert_eq!(out[24..36], [0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0xF0, 0x00]);
@@ -252,7 +261,7 @@ fn record_headers_are_64_bytes_and_read_back() {
     let res = IodHeader::request(IOD_WRITE_REQ, 3, AR, (1, 1, 256), 22)
         .response(22, PnioStatus::new(0xDF, 0x80, 0xB0, 0));
     let mut out = Vec::new();
-    crate::profinet::wire::append(&mut out, |b| res.emit(b));
+    append(&mut out, |b| res.emit(b));
     assert_eq!(out.len(), 64);
     assert_eq!(out[..2], [0x80, 0x08]);
     assert_eq!(out[40..48], [0, 0, 0, 0, 0xDF, 0x80, 0xB0, 0]);
@@ -270,7 +279,7 @@ fn control_blocks_and_their_done() {
         properties: 0,
     };
     let mut out = Vec::new();
-    crate::profinet::wire::append(&mut out, |b| req.emit(b));
+    append(&mut out, |b| req.emit(b));
     assert_eq!(out.len(), 32);
     assert_eq!(out[..8], [0x01, 0x10, 0, 28, 1, 0, 0, 0]);
     assert_eq!(out[24..], [0, 5, 0, 0, 0, 1, 0, 0]);

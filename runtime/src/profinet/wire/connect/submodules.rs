@@ -3,6 +3,8 @@
 //! RealIdentificationData record (what the device has), all of one shape: APIs, slots with a
 //! module ident, subslots with a submodule ident.
 
+use alloc::vec::Vec;
+
 use super::REAL_IDENTIFICATION_DATA;
 use super::{emit_block, put16, put32, Reader, EXPECTED_SUBMODULE_BLOCK_REQ, MODULE_DIFF_BLOCK};
 
