@@ -1,20 +1,24 @@
-//! The PNIO blocks inside the RPC argument (IEC 61158-6-10; the names are the standard's):
-//! every block starts with a BlockHeader (BlockType, BlockLength counting the bytes after the
-//! length field, BlockVersionHigh/Low) and is big-endian. The Connect's ARBlockReq, IOCRBlockReq,
-//! AlarmCRBlockReq and ExpectedSubmoduleBlockReq and their answers (ARBlockRes, IOCRBlockRes,
-//! AlarmCRBlockRes, ModuleDiffBlock), the record access headers (IODReadReq/Res,
-//! IODWriteReq/Res), IODControlReq/Res (PrmEnd, ApplicationReady, Release) and the
-//! RealIdentificationData record. Each parses and emits; parsing never panics. The block
-//! framing (header, cursor, the blocks of an argument) and the record access and control
-//! blocks are the runtime's views ([`edsgen_runtime::profinet::wire::block`],
-//! [`edsgen_runtime::profinet::wire::records`], re-exported here); the owned structs of the
-//! Connect are still to move.
+//! The PNIO blocks of the Connect (IEC 61158-6-10; the names are the standard's): ARBlockReq,
+//! IOCRBlockReq, AlarmCRBlockReq and ExpectedSubmoduleBlockReq and their answers (ARBlockRes,
+//! IOCRBlockRes, AlarmCRBlockRes, ModuleDiffBlock), and the RealIdentificationData record of
+//! the same shape ([`submodules`]). Each reads a block's body (after BlockHeader and version)
+//! and writes the whole block into the caller's buffer; nothing panics.
+//!
+//! The blocks of fixed size are plain `Copy` reprs. A block holding a list has a checked view
+//! (`*Packet`, its lists as iterators) that needs no allocation; its owned repr, lists in `Vec`s
+//! (what the device keeps of an accepted Connect, what a controller builds), is behind the
+//! `alloc` feature.
 
+#[cfg(feature = "alloc")]
 use alloc::vec::Vec;
 
+use super::block::{emit_block, Reader};
 use super::records::RESPONSE_BIT;
 use super::rpc::Uuid;
-use super::Mac;
+use super::{put, BufferTooSmall, Mac};
+
+pub mod submodules;
+pub use submodules::*;
 
 /// ARBlockReq.
 pub const AR_BLOCK_REQ: u16 = 0x0101;
@@ -49,33 +53,127 @@ pub const SUBMODULE_WRONG: u16 = 0x8000 | (2 << 11);
 /// SubmoduleState (format 1): IdentInfo no submodule.
 pub const SUBMODULE_NO: u16 = 0x8000 | (3 << 11);
 
-pub use super::block::{Block, Reader};
-
-/// Splits an argument into its blocks ([`edsgen_runtime::profinet::wire::block::blocks`]);
-/// `Err(offset)` where a header is short, a BlockLength below 2, or a block runs past the end.
-pub fn split(args: &[u8]) -> Result<Vec<Block<'_>>, usize> {
-    super::block::blocks(args).collect()
+/// A big-endian cursor writing into the caller's buffer.
+pub(crate) struct Writer<'a> {
+    buf: &'a mut [u8],
+    at: usize,
 }
 
-/// Appends a block of `block_type`, version 1.`low`, whose content `body` writes.
-pub fn emit_block(out: &mut Vec<u8>, block_type: u16, low: u8, body: impl FnOnce(&mut Vec<u8>)) {
-    let start = out.len();
-    out.extend_from_slice(&block_type.to_be_bytes());
-    out.extend_from_slice(&[0, 0, 1, low]);
-    body(out);
-    let len = u16::try_from(out.len() - start - 4).unwrap_or(u16::MAX);
-    out[start + 2..start + 4].copy_from_slice(&len.to_be_bytes());
+impl<'a> Writer<'a> {
+    pub(crate) fn new(buf: &'a mut [u8]) -> Self {
+        Writer { buf, at: 0 }
+    }
+    pub(crate) fn bytes(&mut self, bytes: &[u8]) -> Result<(), BufferTooSmall> {
+        self.at = put(self.buf, self.at, bytes)?;
+        Ok(())
+    }
+    #[cfg(feature = "alloc")]
+    pub(crate) fn u8(&mut self, v: u8) -> Result<(), BufferTooSmall> {
+        self.bytes(&[v])
+    }
+    pub(crate) fn u16(&mut self, v: u16) -> Result<(), BufferTooSmall> {
+        self.bytes(&v.to_be_bytes())
+    }
+    pub(crate) fn u32(&mut self, v: u32) -> Result<(), BufferTooSmall> {
+        self.bytes(&v.to_be_bytes())
+    }
+    /// A count field: `BufferTooSmall` when it does not fit 16 bits (no block could hold it).
+    pub(crate) fn count(&mut self, n: usize) -> Result<(), BufferTooSmall> {
+        self.u16(u16::try_from(n).map_err(|_| BufferTooSmall)?)
+    }
+    pub(crate) fn len(&self) -> usize {
+        self.at
+    }
 }
 
-fn put16(out: &mut Vec<u8>, v: u16) {
-    out.extend_from_slice(&v.to_be_bytes());
+/// A checked view of an ARBlockReq's body: the fixed fields and the station name fit.
+#[derive(Debug, Clone, Copy)]
+pub struct ArBlockReqPacket<T: AsRef<[u8]>> {
+    body: T,
 }
 
-fn put32(out: &mut Vec<u8>, v: u32) {
-    out.extend_from_slice(&v.to_be_bytes());
+impl<T: AsRef<[u8]>> ArBlockReqPacket<T> {
+    const NAME_LEN_AT: usize = 50;
+
+    /// The view, or `None` when the body is shorter than its fields and station name.
+    pub fn new_checked(body: T) -> Option<Self> {
+        let b = body.as_ref();
+        let len = usize::from(u16::from_be_bytes(
+            b.get(Self::NAME_LEN_AT..Self::NAME_LEN_AT + 2)?
+                .try_into()
+                .ok()?,
+        ));
+        b.get(..Self::NAME_LEN_AT + 2 + len)?;
+        Some(ArBlockReqPacket { body })
+    }
+
+    fn reader(&self) -> Reader<'_> {
+        Reader::new(self.body.as_ref())
+    }
+
+    /// The fixed fields, in the [`ArBlockReq`]'s order (without the station name).
+    pub fn fields(&self) -> ArBlockReqFields {
+        ArBlockReqFields::read(&mut self.reader()).unwrap_or_default()
+    }
+
+    /// CMInitiatorStationName.
+    pub fn station_name(&self) -> &[u8] {
+        let mut r = self.reader();
+        let _ = r.take(Self::NAME_LEN_AT);
+        let len = r.u16().unwrap_or(0);
+        r.take(usize::from(len)).unwrap_or(&[])
+    }
+}
+
+/// An ARBlockReq's fields but the station name (see [`ArBlockReq`] for each).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub struct ArBlockReqFields {
+    pub ar_type: u16,
+    pub ar_uuid: Uuid,
+    pub session_key: u16,
+    pub initiator_mac: Mac,
+    pub initiator_object: Uuid,
+    pub properties: u32,
+    pub timeout_factor: u16,
+    pub udp_rt_port: u16,
+}
+
+impl ArBlockReqFields {
+    fn read(r: &mut Reader<'_>) -> Option<ArBlockReqFields> {
+        Some(ArBlockReqFields {
+            ar_type: r.u16()?,
+            ar_uuid: r.uuid()?,
+            session_key: r.u16()?,
+            initiator_mac: r.mac()?,
+            initiator_object: r.uuid()?,
+            properties: r.u32()?,
+            timeout_factor: r.u16()?,
+            udp_rt_port: r.u16()?,
+        })
+    }
+
+    /// Writes the ARBlockReq with `station_name` at the start of `buf`; its length.
+    pub fn emit(&self, station_name: &[u8], buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        emit_block(buf, AR_BLOCK_REQ, 0, |b| {
+            let mut w = Writer::new(b);
+            w.u16(self.ar_type)?;
+            w.bytes(&self.ar_uuid.0)?;
+            w.u16(self.session_key)?;
+            w.bytes(&self.initiator_mac)?;
+            w.bytes(&self.initiator_object.0)?;
+            w.u32(self.properties)?;
+            w.u16(self.timeout_factor)?;
+            w.u16(self.udp_rt_port)?;
+            w.count(station_name.len())?;
+            w.bytes(station_name)?;
+            Ok(w.len())
+        })
+    }
 }
 
 /// ARBlockReq.
+#[cfg(feature = "alloc")]
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ArBlockReq {
     /// ARType (1 IOCARSingle, 6 IOSAR, ...).
@@ -98,40 +196,38 @@ pub struct ArBlockReq {
     pub station_name: Vec<u8>,
 }
 
+#[cfg(feature = "alloc")]
 impl ArBlockReq {
     /// Reads the block's content.
     pub fn parse(body: &[u8]) -> Option<ArBlockReq> {
-        let mut r = Reader::new(body);
-        let mut b = ArBlockReq {
-            ar_type: r.u16()?,
-            ar_uuid: r.uuid()?,
-            session_key: r.u16()?,
-            initiator_mac: r.mac()?,
-            initiator_object: r.uuid()?,
-            properties: r.u32()?,
-            timeout_factor: r.u16()?,
-            udp_rt_port: r.u16()?,
-            station_name: Vec::new(),
-        };
-        let len = r.u16()?;
-        b.station_name = r.take(usize::from(len))?.to_vec();
-        Some(b)
+        let view = ArBlockReqPacket::new_checked(body)?;
+        let f = view.fields();
+        Some(ArBlockReq {
+            ar_type: f.ar_type,
+            ar_uuid: f.ar_uuid,
+            session_key: f.session_key,
+            initiator_mac: f.initiator_mac,
+            initiator_object: f.initiator_object,
+            properties: f.properties,
+            timeout_factor: f.timeout_factor,
+            udp_rt_port: f.udp_rt_port,
+            station_name: view.station_name().to_vec(),
+        })
     }
 
-    /// Appends the block.
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, AR_BLOCK_REQ, 0, |o| {
-            put16(o, self.ar_type);
-            o.extend_from_slice(&self.ar_uuid.0);
-            put16(o, self.session_key);
-            o.extend_from_slice(&self.initiator_mac);
-            o.extend_from_slice(&self.initiator_object.0);
-            put32(o, self.properties);
-            put16(o, self.timeout_factor);
-            put16(o, self.udp_rt_port);
-            put16(o, self.station_name.len() as u16);
-            o.extend_from_slice(&self.station_name);
-        });
+    /// Writes the block at the start of `buf`; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        let fields = ArBlockReqFields {
+            ar_type: self.ar_type,
+            ar_uuid: self.ar_uuid,
+            session_key: self.session_key,
+            initiator_mac: self.initiator_mac,
+            initiator_object: self.initiator_object,
+            properties: self.properties,
+            timeout_factor: self.timeout_factor,
+            udp_rt_port: self.udp_rt_port,
+        };
+        fields.emit(&self.station_name, buf)
     }
 }
 
@@ -163,15 +259,17 @@ impl ArBlockRes {
         })
     }
 
-    /// Appends the block.
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, AR_BLOCK_REQ | RESPONSE_BIT, 0, |o| {
-            put16(o, self.ar_type);
-            o.extend_from_slice(&self.ar_uuid.0);
-            put16(o, self.session_key);
-            o.extend_from_slice(&self.responder_mac);
-            put16(o, self.udp_rt_port);
-        });
+    /// Writes the block at the start of `buf`; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        emit_block(buf, AR_BLOCK_REQ | RESPONSE_BIT, 0, |b| {
+            let mut w = Writer::new(b);
+            w.u16(self.ar_type)?;
+            w.bytes(&self.ar_uuid.0)?;
+            w.u16(self.session_key)?;
+            w.bytes(&self.responder_mac)?;
+            w.u16(self.udp_rt_port)?;
+            Ok(w.len())
+        })
     }
 }
 
@@ -186,7 +284,168 @@ pub struct FrameEntry {
     pub offset: u16,
 }
 
+/// The fixed fields of an IOCRBlockReq, before its APIs (see [`IocrBlockReq`] for each).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub struct IocrFields {
+    pub iocr_type: u16,
+    pub reference: u16,
+    pub lt: u16,
+    pub properties: u32,
+    pub data_length: u16,
+    pub frame_id: u16,
+    pub send_clock_factor: u16,
+    pub reduction_ratio: u16,
+    pub phase: u16,
+    pub sequence: u16,
+    pub frame_send_offset: u32,
+    pub watchdog_factor: u16,
+    pub data_hold_factor: u16,
+    pub tag_header: u16,
+    pub multicast_mac: Mac,
+}
+
+impl IocrFields {
+    fn read(r: &mut Reader<'_>) -> Option<IocrFields> {
+        Some(IocrFields {
+            iocr_type: r.u16()?,
+            reference: r.u16()?,
+            lt: r.u16()?,
+            properties: r.u32()?,
+            data_length: r.u16()?,
+            frame_id: r.u16()?,
+            send_clock_factor: r.u16()?,
+            reduction_ratio: r.u16()?,
+            phase: r.u16()?,
+            sequence: r.u16()?,
+            frame_send_offset: r.u32()?,
+            watchdog_factor: r.u16()?,
+            data_hold_factor: r.u16()?,
+            tag_header: r.u16()?,
+            multicast_mac: r.mac()?,
+        })
+    }
+
+    #[cfg(feature = "alloc")]
+    fn write(&self, w: &mut Writer<'_>) -> Result<(), BufferTooSmall> {
+        for v in [self.iocr_type, self.reference, self.lt] {
+            w.u16(v)?;
+        }
+        w.u32(self.properties)?;
+        for v in [
+            self.data_length,
+            self.frame_id,
+            self.send_clock_factor,
+            self.reduction_ratio,
+            self.phase,
+            self.sequence,
+        ] {
+            w.u16(v)?;
+        }
+        w.u32(self.frame_send_offset)?;
+        for v in [self.watchdog_factor, self.data_hold_factor, self.tag_header] {
+            w.u16(v)?;
+        }
+        w.bytes(&self.multicast_mac)
+    }
+}
+
+/// A list of [`FrameEntry`]s (NumberOfIODataObjects or NumberOfIOCS, then the entries).
+#[derive(Debug, Clone)]
+pub struct FrameEntries<'a> {
+    r: Reader<'a>,
+    left: u16,
+}
+
+impl<'a> FrameEntries<'a> {
+    /// Reads the count; the reader is left after the entries.
+    fn read(r: &mut Reader<'a>) -> Option<FrameEntries<'a>> {
+        let left = r.u16()?;
+        let entries = FrameEntries {
+            r: Reader::new(r.take(usize::from(left) * 6)?),
+            left,
+        };
+        Some(entries)
+    }
+}
+
+impl Iterator for FrameEntries<'_> {
+    type Item = FrameEntry;
+    fn next(&mut self) -> Option<FrameEntry> {
+        self.left = self.left.checked_sub(1)?;
+        Some(FrameEntry {
+            slot: self.r.u16()?,
+            subslot: self.r.u16()?,
+            offset: self.r.u16()?,
+        })
+    }
+}
+
+/// One API of an IOCRBlockReq as a view: its IO data objects and IOCS entries.
+#[derive(Debug, Clone)]
+pub struct IocrApiView<'a> {
+    /// API.
+    pub api: u32,
+    /// The IODataObjects.
+    pub data: FrameEntries<'a>,
+    /// The IOCSs.
+    pub iocs: FrameEntries<'a>,
+}
+
+/// The APIs of an IOCRBlockReq.
+#[derive(Debug, Clone)]
+pub struct IocrApis<'a> {
+    r: Reader<'a>,
+    left: u16,
+}
+
+impl<'a> Iterator for IocrApis<'a> {
+    type Item = IocrApiView<'a>;
+    fn next(&mut self) -> Option<IocrApiView<'a>> {
+        self.left = self.left.checked_sub(1)?;
+        Some(IocrApiView {
+            api: self.r.u32()?,
+            data: FrameEntries::read(&mut self.r)?,
+            iocs: FrameEntries::read(&mut self.r)?,
+        })
+    }
+}
+
+/// A checked view of an IOCRBlockReq's body: its fields and every API's lists fit.
+#[derive(Debug, Clone, Copy)]
+pub struct IocrBlockReqPacket<T: AsRef<[u8]>> {
+    body: T,
+}
+
+impl<T: AsRef<[u8]>> IocrBlockReqPacket<T> {
+    /// The view, or `None` when the body is shorter than its fields and lists.
+    pub fn new_checked(body: T) -> Option<Self> {
+        let view = IocrBlockReqPacket { body };
+        let mut r = Reader::new(view.body.as_ref());
+        IocrFields::read(&mut r)?;
+        for _ in 0..r.u16()? {
+            r.u32()?;
+            FrameEntries::read(&mut r)?;
+            FrameEntries::read(&mut r)?;
+        }
+        Some(view)
+    }
+
+    /// The fixed fields.
+    pub fn fields(&self) -> IocrFields {
+        IocrFields::read(&mut Reader::new(self.body.as_ref())).unwrap_or_default()
+    }
+
+    /// The APIs, in order.
+    pub fn apis(&self) -> IocrApis<'_> {
+        let mut r = Reader::new(self.body.as_ref());
+        let left = IocrFields::read(&mut r).and_then(|_| r.u16()).unwrap_or(0);
+        IocrApis { r, left }
+    }
+}
+
 /// One API of an IOCRBlockReq: its IO data objects and IOCS entries.
+#[cfg(feature = "alloc")]
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct IocrApi {
     /// API.
@@ -198,6 +457,7 @@ pub struct IocrApi {
 }
 
 /// IOCRBlockReq.
+#[cfg(feature = "alloc")]
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct IocrBlockReq {
     /// IOCRType ([`IOCR_INPUT`], [`IOCR_OUTPUT`], multicast ones).
@@ -234,89 +494,75 @@ pub struct IocrBlockReq {
     pub apis: Vec<IocrApi>,
 }
 
-fn entries(r: &mut Reader<'_>) -> Option<Vec<FrameEntry>> {
-    let n = r.u16()?;
-    (0..n)
-        .map(|_| {
-            Some(FrameEntry {
-                slot: r.u16()?,
-                subslot: r.u16()?,
-                offset: r.u16()?,
-            })
-        })
-        .collect()
-}
-
-fn put_entries(o: &mut Vec<u8>, entries: &[FrameEntry]) {
-    put16(o, entries.len() as u16);
-    for e in entries {
-        put16(o, e.slot);
-        put16(o, e.subslot);
-        put16(o, e.offset);
-    }
-}
-
+#[cfg(feature = "alloc")]
 impl IocrBlockReq {
     /// Reads the block's content.
     pub fn parse(body: &[u8]) -> Option<IocrBlockReq> {
-        let mut r = Reader::new(body);
-        let mut b = IocrBlockReq {
-            iocr_type: r.u16()?,
-            reference: r.u16()?,
-            lt: r.u16()?,
-            properties: r.u32()?,
-            data_length: r.u16()?,
-            frame_id: r.u16()?,
-            send_clock_factor: r.u16()?,
-            reduction_ratio: r.u16()?,
-            phase: r.u16()?,
-            sequence: r.u16()?,
-            frame_send_offset: r.u32()?,
-            watchdog_factor: r.u16()?,
-            data_hold_factor: r.u16()?,
-            tag_header: r.u16()?,
-            multicast_mac: r.mac()?,
-            apis: Vec::new(),
-        };
-        let n = r.u16()?;
-        for _ in 0..n {
-            let api = r.u32()?;
-            let data = entries(&mut r)?;
-            let iocs = entries(&mut r)?;
-            b.apis.push(IocrApi { api, data, iocs });
-        }
-        Some(b)
+        let view = IocrBlockReqPacket::new_checked(body)?;
+        let f = view.fields();
+        Some(IocrBlockReq {
+            iocr_type: f.iocr_type,
+            reference: f.reference,
+            lt: f.lt,
+            properties: f.properties,
+            data_length: f.data_length,
+            frame_id: f.frame_id,
+            send_clock_factor: f.send_clock_factor,
+            reduction_ratio: f.reduction_ratio,
+            phase: f.phase,
+            sequence: f.sequence,
+            frame_send_offset: f.frame_send_offset,
+            watchdog_factor: f.watchdog_factor,
+            data_hold_factor: f.data_hold_factor,
+            tag_header: f.tag_header,
+            multicast_mac: f.multicast_mac,
+            apis: view
+                .apis()
+                .map(|a| IocrApi {
+                    api: a.api,
+                    data: a.data.collect(),
+                    iocs: a.iocs.collect(),
+                })
+                .collect(),
+        })
     }
 
-    /// Appends the block.
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, IOCR_BLOCK_REQ, 0, |o| {
-            for v in [self.iocr_type, self.reference, self.lt] {
-                put16(o, v);
-            }
-            put32(o, self.properties);
-            for v in [
-                self.data_length,
-                self.frame_id,
-                self.send_clock_factor,
-                self.reduction_ratio,
-                self.phase,
-                self.sequence,
-            ] {
-                put16(o, v);
-            }
-            put32(o, self.frame_send_offset);
-            for v in [self.watchdog_factor, self.data_hold_factor, self.tag_header] {
-                put16(o, v);
-            }
-            o.extend_from_slice(&self.multicast_mac);
-            put16(o, self.apis.len() as u16);
+    /// Writes the block at the start of `buf`; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        let fields = IocrFields {
+            iocr_type: self.iocr_type,
+            reference: self.reference,
+            lt: self.lt,
+            properties: self.properties,
+            data_length: self.data_length,
+            frame_id: self.frame_id,
+            send_clock_factor: self.send_clock_factor,
+            reduction_ratio: self.reduction_ratio,
+            phase: self.phase,
+            sequence: self.sequence,
+            frame_send_offset: self.frame_send_offset,
+            watchdog_factor: self.watchdog_factor,
+            data_hold_factor: self.data_hold_factor,
+            tag_header: self.tag_header,
+            multicast_mac: self.multicast_mac,
+        };
+        emit_block(buf, IOCR_BLOCK_REQ, 0, |b| {
+            let mut w = Writer::new(b);
+            fields.write(&mut w)?;
+            w.count(self.apis.len())?;
             for api in &self.apis {
-                put32(o, api.api);
-                put_entries(o, &api.data);
-                put_entries(o, &api.iocs);
+                w.u32(api.api)?;
+                for entries in [&api.data, &api.iocs] {
+                    w.count(entries.len())?;
+                    for e in entries {
+                        for v in [e.slot, e.subslot, e.offset] {
+                            w.u16(v)?;
+                        }
+                    }
+                }
             }
-        });
+            Ok(w.len())
+        })
     }
 }
 
@@ -342,114 +588,20 @@ impl IocrBlockRes {
         })
     }
 
-    /// Appends the block.
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, IOCR_BLOCK_REQ | RESPONSE_BIT, 0, |o| {
+    /// Writes the block at the start of `buf`; its length.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        emit_block(buf, IOCR_BLOCK_REQ | RESPONSE_BIT, 0, |b| {
+            let mut w = Writer::new(b);
             for v in [self.iocr_type, self.reference, self.frame_id] {
-                put16(o, v);
+                w.u16(v)?;
             }
-        });
-    }
-}
-
-/// AlarmCRBlockReq.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct AlarmCrBlockReq {
-    /// AlarmCRType (1).
-    pub alarm_cr_type: u16,
-    /// LT (0x8892 on layer 2, 0x0800 over UDP).
-    pub lt: u16,
-    /// AlarmCRProperties (bit 0 priority, bit 1 transport UDP).
-    pub properties: u32,
-    /// RTATimeoutFactor (100 ms units).
-    pub rta_timeout_factor: u16,
-    /// RTARetries.
-    pub rta_retries: u16,
-    /// LocalAlarmReference (the controller's).
-    pub local_alarm_reference: u16,
-    /// MaxAlarmDataLength.
-    pub max_alarm_data_length: u16,
-    /// AlarmCRTagHeaderHigh.
-    pub tag_header_high: u16,
-    /// AlarmCRTagHeaderLow.
-    pub tag_header_low: u16,
-}
-
-impl AlarmCrBlockReq {
-    /// Reads the block's content.
-    pub fn parse(body: &[u8]) -> Option<AlarmCrBlockReq> {
-        let mut r = Reader::new(body);
-        Some(AlarmCrBlockReq {
-            alarm_cr_type: r.u16()?,
-            lt: r.u16()?,
-            properties: r.u32()?,
-            rta_timeout_factor: r.u16()?,
-            rta_retries: r.u16()?,
-            local_alarm_reference: r.u16()?,
-            max_alarm_data_length: r.u16()?,
-            tag_header_high: r.u16()?,
-            tag_header_low: r.u16()?,
+            Ok(w.len())
         })
     }
-
-    /// Appends the block.
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, ALARM_CR_BLOCK_REQ, 0, |o| {
-            put16(o, self.alarm_cr_type);
-            put16(o, self.lt);
-            put32(o, self.properties);
-            for v in [
-                self.rta_timeout_factor,
-                self.rta_retries,
-                self.local_alarm_reference,
-                self.max_alarm_data_length,
-                self.tag_header_high,
-                self.tag_header_low,
-            ] {
-                put16(o, v);
-            }
-        });
-    }
 }
 
-/// AlarmCRBlockRes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct AlarmCrBlockRes {
-    /// AlarmCRType.
-    pub alarm_cr_type: u16,
-    /// LocalAlarmReference (the device's).
-    pub local_alarm_reference: u16,
-    /// MaxAlarmDataLength.
-    pub max_alarm_data_length: u16,
-}
+mod alarm_cr;
+pub use alarm_cr::*;
 
-impl AlarmCrBlockRes {
-    /// Reads the block's content.
-    pub fn parse(body: &[u8]) -> Option<AlarmCrBlockRes> {
-        let mut r = Reader::new(body);
-        Some(AlarmCrBlockRes {
-            alarm_cr_type: r.u16()?,
-            local_alarm_reference: r.u16()?,
-            max_alarm_data_length: r.u16()?,
-        })
-    }
-
-    /// Appends the block.
-    pub fn emit(&self, out: &mut Vec<u8>) {
-        emit_block(out, ALARM_CR_BLOCK_REQ | RESPONSE_BIT, 0, |o| {
-            for v in [
-                self.alarm_cr_type,
-                self.local_alarm_reference,
-                self.max_alarm_data_length,
-            ] {
-                put16(o, v);
-            }
-        });
-    }
-}
-
-mod submodules;
-pub use submodules::*;
-
-#[cfg(test)]
+#[cfg(all(test, feature = "alloc"))]
 mod tests;

@@ -8,7 +8,6 @@
 
 pub mod alarm;
 pub mod block;
-#[cfg(feature = "alloc")]
 pub mod connect;
 pub mod dcp;
 pub mod records;
