@@ -4,4 +4,5 @@
 //! application relations, records and connection state in heap collections and run over a
 //! UDP socket the runtime does not have.
 
+pub mod rta;
 pub mod wire;
