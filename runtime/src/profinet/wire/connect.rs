@@ -111,7 +111,7 @@ impl<T: AsRef<[u8]>> ArBlockReqPacket<T> {
         Reader::new(self.body.as_ref())
     }
 
-    /// The fixed fields, in the [`ArBlockReq`]'s order (without the station name).
+    /// The fixed fields, in the `ArBlockReq`'s order (without the station name).
     pub fn fields(&self) -> ArBlockReqFields {
         ArBlockReqFields::read(&mut self.reader()).unwrap_or_default()
     }
@@ -125,7 +125,7 @@ impl<T: AsRef<[u8]>> ArBlockReqPacket<T> {
     }
 }
 
-/// An ARBlockReq's fields but the station name (see [`ArBlockReq`] for each).
+/// An ARBlockReq's fields but the station name (see `ArBlockReq` for each).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[allow(missing_docs)]
 pub struct ArBlockReqFields {
@@ -284,7 +284,7 @@ pub struct FrameEntry {
     pub offset: u16,
 }
 
-/// The fixed fields of an IOCRBlockReq, before its APIs (see [`IocrBlockReq`] for each).
+/// The fixed fields of an IOCRBlockReq, before its APIs (see `IocrBlockReq` for each).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[allow(missing_docs)]
 pub struct IocrFields {
