@@ -12,10 +12,11 @@
 #[cfg(feature = "alloc")]
 use alloc::vec::Vec;
 
+pub(crate) use super::block::Writer;
 use super::block::{emit_block, Reader};
 use super::records::RESPONSE_BIT;
 use super::rpc::Uuid;
-use super::{put, BufferTooSmall, Mac};
+use super::{BufferTooSmall, Mac};
 
 pub mod submodules;
 pub use submodules::*;
@@ -52,39 +53,6 @@ pub const SUBMODULE_OK: u16 = 0x8000;
 pub const SUBMODULE_WRONG: u16 = 0x8000 | (2 << 11);
 /// SubmoduleState (format 1): IdentInfo no submodule.
 pub const SUBMODULE_NO: u16 = 0x8000 | (3 << 11);
-
-/// A big-endian cursor writing into the caller's buffer.
-pub(crate) struct Writer<'a> {
-    buf: &'a mut [u8],
-    at: usize,
-}
-
-impl<'a> Writer<'a> {
-    pub(crate) fn new(buf: &'a mut [u8]) -> Self {
-        Writer { buf, at: 0 }
-    }
-    pub(crate) fn bytes(&mut self, bytes: &[u8]) -> Result<(), BufferTooSmall> {
-        self.at = put(self.buf, self.at, bytes)?;
-        Ok(())
-    }
-    #[cfg(feature = "alloc")]
-    pub(crate) fn u8(&mut self, v: u8) -> Result<(), BufferTooSmall> {
-        self.bytes(&[v])
-    }
-    pub(crate) fn u16(&mut self, v: u16) -> Result<(), BufferTooSmall> {
-        self.bytes(&v.to_be_bytes())
-    }
-    pub(crate) fn u32(&mut self, v: u32) -> Result<(), BufferTooSmall> {
-        self.bytes(&v.to_be_bytes())
-    }
-    /// A count field: `BufferTooSmall` when it does not fit 16 bits (no block could hold it).
-    pub(crate) fn count(&mut self, n: usize) -> Result<(), BufferTooSmall> {
-        self.u16(u16::try_from(n).map_err(|_| BufferTooSmall)?)
-    }
-    pub(crate) fn len(&self) -> usize {
-        self.at
-    }
-}
 
 /// A checked view of an ARBlockReq's body: the fixed fields and the station name fit.
 #[derive(Debug, Clone, Copy)]
