@@ -7,10 +7,10 @@
 //! DATA's variable part is an AlarmNotification.
 #![no_main]
 
+use edsgen_runtime::profinet::wire::connect::AlarmCrBlockReq;
 use edsgen_runtime::{Duration, Instant};
 use edsgen_sim::profinet::alarm::AlarmCr;
 use edsgen_sim::profinet::wire::alarm::*;
-use edsgen_sim::profinet::wire::blocks::AlarmCrBlockReq;
 use libfuzzer_sys::fuzz_target;
 
 const CONTROLLER: [u8; 6] = [2, 0, 0, 0, 0, 1];

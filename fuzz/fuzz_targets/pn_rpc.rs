@@ -5,9 +5,12 @@
 //! ApplicationReady request (when it is for the AR of the seeds' Connect, whose AR UUID is
 //! `[9; 16]`), any other piece is a datagram as it is. Nothing may panic; every answer is an RPC
 //! PDU that parses, with the request's sequence number, and the ApplicationReady requests the
-//! device sends parse too.
+//! device sends parse too. Each block of a request's argument that reads as one of the
+//! Connect's (`runtime::profinet::wire::connect`) is written again and reads back the same.
 #![no_main]
 
+use edsgen_runtime::profinet::wire::block::blocks;
+use edsgen_runtime::profinet::wire::connect::*;
 use edsgen_runtime::profinet::wire::rpc::{Ndr, RpcHeader, Uuid};
 use edsgen_runtime::Instant;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
@@ -26,6 +29,36 @@ fn config() -> &'static DeviceConfig {
         );
         DeviceConfig::from_gsdml(read.device.profinet().expect("the card's GSDML"))
     })
+}
+
+/// Writes `repr` again and reads it back: the same repr, as `parse` of the new block's body.
+macro_rules! round_trip {
+    ($body:expr, $($t:ident),*) => {$(
+        if let Some(repr) = $t::parse($body) {
+            let mut buf = vec![0; 4 + usize::from(u16::MAX)];
+            if let Ok(n) = repr.emit(&mut buf) {
+                let again = blocks(&buf[..n]).next().and_then(Result::ok).expect("one block");
+                assert_eq!($t::parse(again.body), Some(repr));
+            }
+        }
+    )*};
+}
+
+fn connect_blocks_round_trip(args: &[u8]) {
+    for block in blocks(args).flatten() {
+        round_trip!(
+            block.body,
+            ArBlockReq,
+            ArBlockRes,
+            IocrBlockReq,
+            IocrBlockRes,
+            AlarmCrBlockReq,
+            AlarmCrBlockRes,
+            ExpectedSubmoduleBlockReq,
+            ModuleDiffBlock,
+            RealIdentificationData
+        );
+    }
 }
 
 fuzz_target!(|data: &[u8]| {
@@ -47,6 +80,7 @@ fuzz_target!(|data: &[u8]| {
     for (n, piece) in pieces.into_iter().enumerate() {
         let pdu = match piece.split_first() {
             Some((&opnum, args)) if opnum < 6 => {
+                connect_blocks_round_trip(args);
                 let header = RpcHeader::request(
                     cm.object(),
                     Uuid::PNIO_DEVICE,

@@ -19,7 +19,7 @@ use std::collections::VecDeque;
 
 use edsgen_runtime::{Duration, Instant};
 
-use super::rta::{Due, Pending, Transport};
+use super::rta::{Pending, Receipt, Transport};
 use super::wire::alarm::*;
 use super::wire::blocks::AlarmCrBlockReq;
 use super::wire::rpc::PnioStatus;
@@ -143,7 +143,7 @@ impl AlarmCr {
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.apmx
             .iter()
-            .filter_map(|a| a.rta.pending.as_ref().map(|p| p.deadline(self.timeout)))
+            .filter_map(|a| a.rta.poll_timeout(self.timeout))
             .min()
     }
 
@@ -151,18 +151,11 @@ impl AlarmCr {
     /// retry.
     pub fn handle_timeout(&mut self, now: Instant) {
         for n in 0..2 {
-            let Some(pending) = self.apmx[n].rta.pending.as_mut() else {
-                continue;
-            };
-            match pending.due(now, self.timeout) {
-                Due::Wait => {}
-                Due::GiveUp => {
+            match self.apmx[n].rta.handle_timeout(now, self.timeout) {
+                Ok(resend) => self.outbox.extend(resend),
+                Err(()) => {
                     self.abort(ABORT_SEND_CNF_NEG);
                     return;
-                }
-                Due::Resend => {
-                    let frame = pending.resend(now);
-                    self.outbox.push_back(frame);
                 }
             }
         }
@@ -207,15 +200,10 @@ impl AlarmCr {
     /// APMR: a DATA PDU asking for a transport ACK.
     fn data(&mut self, now: Instant, n: usize, h: &RtaHeader, var_part: &[u8]) {
         let apmx = &mut self.apmx[n];
-        if h.send_seq == apmx.rta.exp_seq_o {
-            // A repetition: its ACK was lost.
-            apmx.rta.acknowledged(h.ack_seq);
-            self.transport(n, PDU_ACK);
-            return;
-        }
-        if h.send_seq != apmx.rta.exp_seq {
-            self.transport(n, PDU_NACK);
-            return;
+        match apmx.rta.receive(h) {
+            Receipt::Repeated => return self.transport(n, PDU_ACK),
+            Receipt::OutOfSequence => return self.transport(n, PDU_NACK),
+            Receipt::InSequence => {}
         }
         let ack = AlarmAck::parse(var_part).filter(|a| a.high == apmx.high);
         let notification = AlarmNotification::parse(var_part).filter(|a| a.high == apmx.high);
@@ -223,8 +211,7 @@ impl AlarmCr {
             self.abort(ABORT_ALARM_IND_ERROR);
             return;
         }
-        apmx.rta.acknowledged(h.ack_seq);
-        apmx.rta.received();
+        apmx.rta.take(h);
         self.transport(n, PDU_ACK);
         let apmx = &mut self.apmx[n];
         if let Some(ack) = ack {
@@ -249,15 +236,7 @@ impl AlarmCr {
         apmx.sequence = (apmx.sequence + 1) & SPEC_SEQUENCE;
         let mut var_part = Vec::new();
         alarm.emit(&mut var_part);
-        let header = RtaHeader {
-            dst: self.remote_ref,
-            src: self.local_ref,
-            pdu_type: PDU_DATA,
-            version: RTA_VERSION,
-            add_flags: WINDOW_1 | TACK,
-            send_seq: apmx.rta.send_seq,
-            ack_seq: apmx.rta.exp_seq_o,
-        };
+        let header = apmx.rta.data_header((self.remote_ref, self.local_ref));
         let frame = self.frame(n, &header, &var_part);
         let apmx = &mut self.apmx[n];
         apmx.rta.pending = Some(Pending::new(frame.clone(), now, self.retries));
@@ -267,16 +246,9 @@ impl AlarmCr {
 
     /// Queues an ACK or NACK of priority `n`.
     fn transport(&mut self, n: usize, pdu_type: u8) {
-        let apmx = &self.apmx[n];
-        let header = RtaHeader {
-            dst: self.remote_ref,
-            src: self.local_ref,
-            pdu_type,
-            version: RTA_VERSION,
-            add_flags: WINDOW_1,
-            send_seq: apmx.rta.send_seq_o,
-            ack_seq: apmx.rta.exp_seq_o,
-        };
+        let header = self.apmx[n]
+            .rta
+            .transport_header((self.remote_ref, self.local_ref), pdu_type);
         let frame = self.frame(n, &header, &[]);
         self.outbox.push_back(frame);
     }

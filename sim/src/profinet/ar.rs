@@ -303,30 +303,30 @@ impl Cm {
             }
         }
         let mut out = Vec::new();
-        ArBlockRes {
+        let ar_res = ArBlockRes {
             ar_type: accepted.ar.ar_type,
             ar_uuid: accepted.ar.ar_uuid,
             session_key: accepted.ar.session_key,
             responder_mac: self.mac,
             udp_rt_port: 0x8892,
-        }
-        .emit(&mut out);
+        };
+        append_block(&mut out, |b| ar_res.emit(b));
         for iocr in &accepted.iocrs {
-            iocr.emit(&mut out);
+            append_block(&mut out, |b| iocr.emit(b));
         }
         if let Some(alarm) = &accepted.alarm {
-            AlarmCrBlockRes {
+            let alarm_res = AlarmCrBlockRes {
                 alarm_cr_type: alarm.alarm_cr_type,
                 local_alarm_reference: LOCAL_ALARM_REFERENCE,
                 max_alarm_data_length: alarm.max_alarm_data_length,
-            }
-            .emit(&mut out);
+            };
+            append_block(&mut out, |b| alarm_res.emit(b));
         }
         if !accepted.diff.is_empty() {
-            ModuleDiffBlock {
+            let diff = ModuleDiffBlock {
                 apis: accepted.diff.clone(),
-            }
-            .emit(&mut out);
+            };
+            append_block(&mut out, |b| diff.emit(b));
         }
         self.events.push(ArEvent::Connected {
             ar_type: accepted.ar.ar_type,

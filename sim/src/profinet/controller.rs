@@ -102,11 +102,11 @@ impl Controller {
             }
         };
         let mut out = Vec::new();
-        self.ar.emit(&mut out);
-        iocr(true).emit(&mut out);
-        iocr(false).emit(&mut out);
-        alarm_cr().emit(&mut out);
-        ExpectedSubmoduleBlockReq {
+        append_block(&mut out, |b| self.ar.emit(b));
+        append_block(&mut out, |b| iocr(true).emit(b));
+        append_block(&mut out, |b| iocr(false).emit(b));
+        append_block(&mut out, |b| alarm_cr().emit(b));
+        let expected = ExpectedSubmoduleBlockReq {
             slots: config
                 .slots
                 .iter()
@@ -118,8 +118,8 @@ impl Controller {
                     submodules: s.submodules.iter().map(expected).collect(),
                 })
                 .collect(),
-        }
-        .emit(&mut out);
+        };
+        append_block(&mut out, |b| expected.emit(b));
         out
     }
 

@@ -9,7 +9,7 @@ use std::collections::VecDeque;
 
 use edsgen_runtime::{Duration, Instant};
 
-use super::rta::{Due, Pending, Transport};
+use super::rta::{Pending, Receipt, Transport};
 use super::wire::alarm::*;
 use super::wire::blocks::AlarmCrBlockReq;
 use super::wire::rpc::PnioStatus;
@@ -85,7 +85,7 @@ impl ControllerAlarms {
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.priorities
             .iter()
-            .filter_map(|p| p.rta.pending.as_ref().map(|p| p.deadline(self.timeout)))
+            .filter_map(|p| p.rta.poll_timeout(self.timeout))
             .min()
     }
 
@@ -93,18 +93,11 @@ impl ControllerAlarms {
     /// the last retry.
     pub fn handle_timeout(&mut self, now: Instant) {
         for n in 0..2 {
-            let Some(pending) = self.priorities[n].rta.pending.as_mut() else {
-                continue;
-            };
-            match pending.due(now, self.timeout) {
-                Due::Wait => {}
-                Due::GiveUp => {
+            match self.priorities[n].rta.handle_timeout(now, self.timeout) {
+                Ok(resend) => self.outbox.extend(resend),
+                Err(()) => {
                     self.close(None);
                     return;
-                }
-                Due::Resend => {
-                    let frame = pending.resend(now);
-                    self.outbox.push_back(frame);
                 }
             }
         }
@@ -140,18 +133,12 @@ impl ControllerAlarms {
     }
 
     fn data(&mut self, now: Instant, n: usize, h: &RtaHeader, var_part: &[u8]) {
-        let p = &mut self.priorities[n];
-        if h.send_seq == p.rta.exp_seq_o {
-            p.rta.acknowledged(h.ack_seq);
-            self.transport(n, PDU_ACK);
-            return;
+        let rta = &mut self.priorities[n].rta;
+        match rta.receive(h) {
+            Receipt::Repeated => return self.transport(n, PDU_ACK),
+            Receipt::OutOfSequence => return self.transport(n, PDU_NACK),
+            Receipt::InSequence => rta.take(h),
         }
-        if h.send_seq != p.rta.exp_seq {
-            self.transport(n, PDU_NACK);
-            return;
-        }
-        p.rta.acknowledged(h.ack_seq);
-        p.rta.received();
         self.transport(n, PDU_ACK);
         if let Some(alarm) = AlarmNotification::parse(var_part) {
             self.priorities[n].queue.push_back(AlarmAck {
@@ -175,31 +162,16 @@ impl ControllerAlarms {
         };
         let mut var_part = Vec::new();
         append_ack(&mut var_part, &ack);
-        let header = RtaHeader {
-            dst: self.remote_ref,
-            src: self.local_ref,
-            pdu_type: PDU_DATA,
-            version: RTA_VERSION,
-            add_flags: WINDOW_1 | TACK,
-            send_seq: p.rta.send_seq,
-            ack_seq: p.rta.exp_seq_o,
-        };
+        let header = p.rta.data_header((self.remote_ref, self.local_ref));
         let frame = self.frame(n, &header, &var_part);
         self.priorities[n].rta.pending = Some(Pending::new(frame.clone(), now, self.retries));
         self.outbox.push_back(frame);
     }
 
     fn transport(&mut self, n: usize, pdu_type: u8) {
-        let p = &self.priorities[n];
-        let header = RtaHeader {
-            dst: self.remote_ref,
-            src: self.local_ref,
-            pdu_type,
-            version: RTA_VERSION,
-            add_flags: WINDOW_1,
-            send_seq: p.rta.send_seq_o,
-            ack_seq: p.rta.exp_seq_o,
-        };
+        let header = self.priorities[n]
+            .rta
+            .transport_header((self.remote_ref, self.local_ref), pdu_type);
         let frame = self.frame(n, &header, &[]);
         self.outbox.push_back(frame);
     }

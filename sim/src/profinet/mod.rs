@@ -13,15 +13,28 @@
 //!
 //! Alarms: the card's drive faults only (Diagnosis appears and disappears), over layer 2.
 //!
-//! What is no_std already: the wire views of the runtime (`edsgen_runtime::profinet::wire`:
-//! Ethernet, DCP with the name rules, RT frames, DCE/RPC, the block framing, the RTA-PDU and
-//! AlarmAck and AlarmNotification, the record access and control blocks). What remains here,
-//! and why: the PNIO blocks of the Connect and its answer are owned structs ([`wire::blocks`])
-//! the machines keep (an AR's accepted request): they need views with borrowed lists first; the
-//! machines ([`dcp`], [`ar`], [`cyclic`], [`alarm`], [`controller_alarm`]) queue their frames
-//! and datagrams in `Vec`s and `VecDeque`s (they could live behind the runtime's `alloc`
-//! feature once the blocks are views); [`ar::config`] and [`station`] read the GSDML model,
-//! which is std; [`driver`] and [`iface`] are sockets.
+//! What is no_std already, in the runtime (`edsgen_runtime::profinet`): every wire format
+//! (Ethernet, DCP with the name rules, RT frames, DCE/RPC, the block framing, the Connect's
+//! blocks as checked views with their lists as iterators, the record access and control
+//! blocks, the RTA-PDU, AlarmAck and AlarmNotification) and the AlarmCR's transport state for
+//! each priority (`rta`: sequence numbers, ACK/NACK, retransmission), which the device's and
+//! the controller's alarm machines here use with a `Vec` as the frame they keep.
+//!
+//! What remains std here, and why:
+//! - The Connect's blocks as the machines keep them (an AR's accepted request, a controller's
+//!   expected configuration) are owned reprs with `Vec` lists, behind the runtime's `alloc`.
+//! - [`ar`] (connection management) is a DCE/RPC server over UDP: it answers datagrams with
+//!   whole PDUs it builds in `Vec`s, keeps the last answer to repeat it, and the written
+//!   records of any length; without a UDP/IP stack on the target there is nothing to bind it
+//!   to, and a fixed-size pool for answers and records would be the first step.
+//! - [`ar::config`] and [`station`] read the GSDML model, which is std (XML, strings).
+//! - [`dcp`] keeps the station name and type as `String`s and builds answers in `Vec`s.
+//! - [`cyclic`]'s layout (data objects per Connect) and produced frames are `Vec`s: any
+//!   number of submodules a Connect asks for.
+//! - [`alarm`] and [`controller_alarm`] queue alarms, frames and events in `VecDeque`s (their
+//!   ALPMI/ALPMR logic is small; the transport under it is the runtime's).
+//! - [`device`] joins them with an outbox of `Vec` frames and datagrams; [`driver`] and
+//!   [`iface`] are sockets.
 
 pub mod alarm;
 pub mod application;

@@ -2,7 +2,7 @@
 //! block starts with a BlockHeader (BlockType, BlockLength counting the bytes after the length
 //! field, BlockVersionHigh/Low) and is big-endian. The blocks of an argument as an iterator over
 //! views ([`blocks`]), a big-endian cursor to read a block's content ([`Reader`]), and a block
-//! written into the caller's buffer ([`emit_block`]).
+//! written into the caller's buffer ([`emit_block`], its content through a cursor too).
 
 use super::rpc::Uuid;
 use super::{put, BufferTooSmall, Mac};
@@ -48,6 +48,39 @@ impl<'a> Reader<'a> {
     /// The bytes not read yet.
     pub fn rest(&self) -> &'a [u8] {
         self.bytes.get(self.at..).unwrap_or(&[])
+    }
+}
+
+/// A big-endian cursor writing into the caller's buffer.
+pub(crate) struct Writer<'a> {
+    buf: &'a mut [u8],
+    at: usize,
+}
+
+impl<'a> Writer<'a> {
+    pub(crate) fn new(buf: &'a mut [u8]) -> Self {
+        Writer { buf, at: 0 }
+    }
+    pub(crate) fn bytes(&mut self, bytes: &[u8]) -> Result<(), BufferTooSmall> {
+        self.at = put(self.buf, self.at, bytes)?;
+        Ok(())
+    }
+    #[cfg(feature = "alloc")]
+    pub(crate) fn u8(&mut self, v: u8) -> Result<(), BufferTooSmall> {
+        self.bytes(&[v])
+    }
+    pub(crate) fn u16(&mut self, v: u16) -> Result<(), BufferTooSmall> {
+        self.bytes(&v.to_be_bytes())
+    }
+    pub(crate) fn u32(&mut self, v: u32) -> Result<(), BufferTooSmall> {
+        self.bytes(&v.to_be_bytes())
+    }
+    /// A count field: `BufferTooSmall` when it does not fit 16 bits (no block could hold it).
+    pub(crate) fn count(&mut self, n: usize) -> Result<(), BufferTooSmall> {
+        self.u16(u16::try_from(n).map_err(|_| BufferTooSmall)?)
+    }
+    pub(crate) fn len(&self) -> usize {
+        self.at
     }
 }
 

@@ -1,13 +1,15 @@
 //! PROFINET wire formats, apart from the protocol machines: the Ethernet header (with or without
 //! a VLAN tag) that carries every PROFINET frame on EtherType 0x8892 ([`EthernetFrame`],
 //! [`Ethernet`]), the DCP PDU ([`dcp`]), the cyclic RT frame ([`rt`]) and the DCE/RPC PDU of
-//! connection management ([`rpc`]) and the framing of the PNIO blocks it carries ([`block`]), the
-//! AlarmCR's frames ([`alarm`]). Parsing never panics:
+//! connection management ([`rpc`]) and the framing of the PNIO blocks it carries ([`block`]): the
+//! Connect's ([`connect`]), record access and control ([`records`]); the AlarmCR's frames
+//! ([`alarm`]). Parsing never panics:
 //! a frame too short or of another EtherType is `None`; emitting writes into the caller's buffer
 //! and returns the length, or [`BufferTooSmall`].
 
 pub mod alarm;
 pub mod block;
+pub mod connect;
 pub mod dcp;
 pub mod records;
 pub mod rpc;

@@ -30,7 +30,7 @@ impl Cm {
         }
         let mut data = Vec::new();
         if req.index == 0xF000 {
-            RealIdentificationData {
+            let real = RealIdentificationData {
                 apis: vec![ApiIdent {
                     api: 0,
                     modules: self
@@ -49,8 +49,8 @@ impl Cm {
                         })
                         .collect(),
                 }],
-            }
-            .emit(&mut data);
+            };
+            append_block(&mut data, |b| real.emit(b));
         } else {
             self.config
                 .submodule(req.slot, req.subslot)

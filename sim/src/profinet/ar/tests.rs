@@ -73,7 +73,7 @@ fn a_device_access_ar_reads_the_real_identification_and_is_released() {
     let mut ctl = Controller::new(CONTROLLER, cm.object(), 7);
     ctl.ar.ar_type = connect::AR_TYPE_IOSAR;
     let mut blocks = Vec::new();
-    ctl.ar.emit(&mut blocks);
+    append_block(&mut blocks, |b| ctl.ar.emit(b));
     let (status, args) = call(&mut cm, &ctl.connect(&blocks));
     assert_eq!(status, PnioStatus::OK);
     assert_eq!(args[..2], [0x81, 0x01]);
@@ -395,7 +395,7 @@ fn a_little_endian_request_is_answered_in_little_endian() {
     let mut ctl = Controller::new(CONTROLLER, cm.object(), 9);
     ctl.ar.ar_type = connect::AR_TYPE_IOSAR;
     let mut blocks = Vec::new();
-    ctl.ar.emit(&mut blocks);
+    append_block(&mut blocks, |b| ctl.ar.emit(b));
     let (be, _) = RpcHeader::parse(&ctl.connect(&blocks)).expect("a request");
     let le = RpcHeader {
         little_endian: true,

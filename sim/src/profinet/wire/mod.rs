@@ -1,9 +1,9 @@
-//! PROFINET wire formats, apart from the protocol machines. The Ethernet header, the DCP PDU
-//! ([`dcp`]), the cyclic RT frame ([`rt`]) and the DCE/RPC PDU of connection management
-//! ([`rpc`]), the AlarmCR's RTA-PDU, AlarmAck and AlarmNotification ([`alarm`]) and the record
-//! access and control blocks are the runtime's views ([`edsgen_runtime::profinet::wire`]); the
-//! PNIO blocks of the Connect ([`blocks`]) and the diagnosis data of an alarm are still owned
-//! structs here (the machines keep them; moving them is the next step). Parsing never panics: a frame too short or of another EtherType is `None`.
+//! PROFINET wire formats, apart from the protocol machines, are the runtime's views
+//! ([`edsgen_runtime::profinet::wire`]): the Ethernet header, DCP ([`dcp`]), the RT frame
+//! ([`rt`]), DCE/RPC ([`rpc`]), the AlarmCR's frames ([`alarm`]), the Connect's blocks and the
+//! record access and control blocks ([`blocks`]). Here what the simulator adds over `Vec`s:
+//! frames and blocks appended, whole PDUs as datagrams, and the alarm payload and diagnosis
+//! data the alarm machines keep as owned structs. Parsing never panics.
 
 pub mod alarm;
 pub mod blocks;

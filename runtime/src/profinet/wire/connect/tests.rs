@@ -1,7 +1,48 @@
 use super::*;
+use crate::profinet::wire::block::Block;
+use crate::profinet::wire::records::*;
 use crate::profinet::wire::rpc::PnioStatus;
+use crate::profinet::wire::BufferTooSmall;
 
 const AR: Uuid = Uuid([0x11; 16]);
+
+fn append(out: &mut Vec<u8>, emit: impl FnOnce(&mut [u8]) -> Result<usize, BufferTooSmall>) {
+    let start = out.len();
+    out.resize(start + 1514, 0);
+    let written = emit(&mut out[start..]).expect("room");
+    out.truncate(start + written);
+}
+
+/// A block appended to a vector, as the simulator writes them.
+trait AppendTo {
+    fn append_to(&self, out: &mut Vec<u8>);
+}
+
+macro_rules! append_to {
+    ($($t:ty),*) => {$(
+        impl AppendTo for $t {
+            fn append_to(&self, out: &mut Vec<u8>) {
+                append(out, |b| self.emit(b));
+            }
+        }
+    )*};
+}
+
+append_to!(
+    ArBlockReq,
+    ArBlockRes,
+    IocrBlockReq,
+    IocrBlockRes,
+    AlarmCrBlockReq,
+    AlarmCrBlockRes,
+    ExpectedSubmoduleBlockReq,
+    ModuleDiffBlock,
+    RealIdentificationData
+);
+
+fn split(args: &[u8]) -> Result<Vec<Block<'_>>, usize> {
+    crate::profinet::wire::block::blocks(args).collect()
+}
 
 fn one(bytes: &[u8]) -> Block<'_> {
     let blocks = split(bytes).expect("blocks");
@@ -23,7 +64,7 @@ fn ar_block_req_bytes_and_back() {
         station_name: b"tp".to_vec(),
     };
     let mut out = Vec::new();
-    req.emit(&mut out);
+    req.append_to(&mut out);
     assert_eq!(out.len(), 60);
     assert_eq!(out[..8], [0x01, 0x01, 0x00, 0x38, 0x01, 0x00, 0x00, 0x01]);
     assert_eq!(out[24..32], [0x01, 0x02, 2, 0, 0, 0, 0, 1]);
@@ -47,7 +88,7 @@ fn ar_block_res_and_iocr_res_and_alarm_res_bytes() {
         responder_mac: [2, 0, 0, 0, 3, 0x50],
         udp_rt_port: 0x8892,
     }
-    .emit(&mut out);
+    .append_to(&mut out);
     assert_eq!(out[..8], [0x81, 0x01, 0x00, 0x1E, 0x01, 0x00, 0x00, 0x01]);
     assert_eq!(out[24..], [0, 7, 2, 0, 0, 0, 3, 0x50, 0x88, 0x92]);
     let mut out = Vec::new();
@@ -56,7 +97,7 @@ fn ar_block_res_and_iocr_res_and_alarm_res_bytes() {
         reference: 2,
         frame_id: 0xC102,
     }
-    .emit(&mut out);
+    .append_to(&mut out);
     assert_eq!(out, [0x81, 0x02, 0, 8, 1, 0, 0, 2, 0, 2, 0xC1, 0x02]);
     assert_eq!(
         IocrBlockRes::parse(one(&out).body).map(|r| r.frame_id),
@@ -68,11 +109,11 @@ fn ar_block_res_and_iocr_res_and_alarm_res_bytes() {
         local_alarm_reference: 1,
         max_alarm_data_length: 200,
     }
-    .emit(&mut out);
+    .append_to(&mut out);
     assert_eq!(out, [0x81, 0x03, 0, 8, 1, 0, 0, 1, 0, 1, 0, 200]);
 }
 
-pub(crate) fn iocr(iocr_type: u16, frame_id: u16) -> IocrBlockReq {
+fn iocr(iocr_type: u16, frame_id: u16) -> IocrBlockReq {
     IocrBlockReq {
         iocr_type,
         reference: iocr_type,
@@ -109,7 +150,7 @@ pub(crate) fn iocr(iocr_type: u16, frame_id: u16) -> IocrBlockReq {
 fn iocr_block_req_bytes_and_back() {
     let req = iocr(IOCR_INPUT, 0xC001);
     let mut out = Vec::new();
-    req.emit(&mut out);
+    req.append_to(&mut out);
     assert_eq!(out.len(), 6 + 38 + 2 + 4 + 2 + 6 + 2 + 6);
     assert_eq!(
         out[..26],
@@ -139,7 +180,7 @@ fn alarm_cr_block_req_bytes_and_back() {
         tag_header_low: 0xA000,
     };
     let mut out = Vec::new();
-    req.emit(&mut out);
+    req.append_to(&mut out);
     assert_eq!(
         out,
         [
@@ -180,7 +221,7 @@ fn expected_submodules_and_module_diff_bytes_and_back() {
         }],
     };
     let mut out = Vec::new();
-    req.emit(&mut out);
+    req.append_to(&mut out);
     assert_eq!(
         out,
         [
@@ -202,7 +243,7 @@ fn expected_submodules_and_module_diff_bytes_and_back() {
         }],
     };
     let mut out = Vec::new();
-    diff.emit(&mut out);
+    diff.append_to(&mut out);
     assert_eq!(
         out,
         [
@@ -227,7 +268,7 @@ fn real_identification_data_bytes() {
         }],
     };
     let mut out = Vec::new();
-    real.emit(&mut out);
+    real.append_to(&mut out);
     assert_eq!(
         out,
         [
@@ -242,7 +283,7 @@ fn real_identification_data_bytes() {
 fn record_headers_are_64_bytes_and_read_back() {
     let req = IodHeader::request(IOD_READ_REQ, 3, AR, (0, 1, 0xF000), 4096);
     let mut out = Vec::new();
-    crate::profinet::wire::append(&mut out, |b| req.emit(b));
+    append(&mut out, |b| req.emit(b));
     assert_eq!(out.len(), 64);
     assert_eq!(out[..8], [0x00, 0x09, 0x00, 0x3C, 0x01, 0x00, 0x00, 0x03]);
     assert_eq!(out[24..36], [0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0xF0, 0x00]);
@@ -252,7 +293,7 @@ fn record_headers_are_64_bytes_and_read_back() {
     let res = IodHeader::request(IOD_WRITE_REQ, 3, AR, (1, 1, 256), 22)
         .response(22, PnioStatus::new(0xDF, 0x80, 0xB0, 0));
     let mut out = Vec::new();
-    crate::profinet::wire::append(&mut out, |b| res.emit(b));
+    append(&mut out, |b| res.emit(b));
     assert_eq!(out.len(), 64);
     assert_eq!(out[..2], [0x80, 0x08]);
     assert_eq!(out[40..48], [0, 0, 0, 0, 0xDF, 0x80, 0xB0, 0]);
@@ -270,7 +311,7 @@ fn control_blocks_and_their_done() {
         properties: 0,
     };
     let mut out = Vec::new();
-    crate::profinet::wire::append(&mut out, |b| req.emit(b));
+    append(&mut out, |b| req.emit(b));
     assert_eq!(out.len(), 32);
     assert_eq!(out[..8], [0x01, 0x10, 0, 28, 1, 0, 0, 0]);
     assert_eq!(out[24..], [0, 5, 0, 0, 0, 1, 0, 0]);
@@ -288,4 +329,90 @@ fn split_refuses_short_and_overrunning_blocks() {
     let blocks = split(&two).expect("two blocks");
     assert_eq!(blocks[1].body, [7]);
     assert_eq!(split(&two[..12]), Err(6));
+}
+
+#[test]
+fn the_views_walk_the_lists_without_allocating_and_refuse_every_truncation() {
+    let mut out = Vec::new();
+    iocr(IOCR_INPUT, 0xC001).append_to(&mut out);
+    let body = one(&out).body;
+    let view = IocrBlockReqPacket::new_checked(body).expect("a whole IOCRBlockReq");
+    assert_eq!(
+        (view.fields().frame_id, view.fields().data_length),
+        (0xC001, 40)
+    );
+    let api = view.apis().next().expect("one API");
+    let entry = |offset| FrameEntry {
+        slot: 1,
+        subslot: 1,
+        offset,
+    };
+    assert_eq!(api.data.collect::<Vec<_>>(), [entry(0)]);
+    assert_eq!(api.iocs.collect::<Vec<_>>(), [entry(33)]);
+    for len in 0..body.len() {
+        assert!(
+            IocrBlockReqPacket::new_checked(&body[..len]).is_none(),
+            "{len}"
+        );
+    }
+
+    let mut out = Vec::new();
+    ArBlockReq {
+        ar_type: 1,
+        ar_uuid: AR,
+        session_key: 1,
+        initiator_mac: [2; 6],
+        initiator_object: AR,
+        properties: 0,
+        timeout_factor: 1,
+        udp_rt_port: 0x8892,
+        station_name: b"plc".to_vec(),
+    }
+    .append_to(&mut out);
+    let body = one(&out).body;
+    let view = ArBlockReqPacket::new_checked(body).expect("a whole ARBlockReq");
+    assert_eq!(
+        (view.station_name(), view.fields().session_key),
+        (&b"plc"[..], 1)
+    );
+    assert!(ArBlockReqPacket::new_checked(&body[..body.len() - 1]).is_none());
+
+    // Slot 1 with one submodule of input and output (two DataDescriptions), slot 2 with none.
+    let expected = [
+        0, 2, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0x10, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0x10, 0, 3, 0, 1, 0, 32,
+        1, 1, 0, 2, 0, 32, 1, 1, 0, 0, 0, 0, 0, 2, 0, 0, 0, 0x20, 0, 0, 0, 0,
+    ];
+    let view = ExpectedSubmoduleBlockReqPacket::new_checked(&expected[..]).expect("checked");
+    let slots: Vec<_> = view
+        .slots()
+        .map(|s| (s.slot, s.submodules.count()))
+        .collect();
+    assert_eq!(slots, [(1, 1), (2, 0)]);
+    let sub = view.slots().next().unwrap().submodules.next().unwrap();
+    assert_eq!(
+        (sub.ident, sub.data().len(), sub.data()[1].direction),
+        (0x10, 2, DATA_OUTPUT)
+    );
+    for len in 0..expected.len() {
+        assert!(ExpectedSubmoduleBlockReqPacket::new_checked(&expected[..len]).is_none());
+    }
+
+    let diff = [
+        0, 1, 0, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0x10, 0, 2, 0, 1, 0, 1, 0, 0, 0, 0x10, 0x90, 0,
+    ];
+    let view = IdentificationPacket::module_diff(&diff[..]).expect("checked");
+    let module = view.apis().next().unwrap().modules.next().unwrap();
+    assert_eq!((module.slot, module.state), (1, MODULE_PROPER));
+    assert_eq!(
+        module.submodules.collect::<Vec<_>>(),
+        [(1, 0x10, SUBMODULE_WRONG)]
+    );
+    for len in 0..diff.len() {
+        assert!(
+            IdentificationPacket::module_diff(&diff[..len]).is_none(),
+            "{len}"
+        );
+    }
+    // The same bytes without states are another list: its submodule runs past the end.
+    assert!(IdentificationPacket::real_identification(&diff[..]).is_none());
 }
