@@ -82,7 +82,7 @@ pub fn fault_alarm(change: FaultChange, idents: (u32, u32)) -> AlarmNotification
         ext: Some((DRIVE_FAULT_EXT_ERROR_TYPE, u32::from(fault))),
     };
     let mut data = Vec::new();
-    diagnosis.emit(&mut data);
+    super::wire::append(&mut data, |b| diagnosis.emit(b));
     AlarmNotification {
         high: false,
         source: AlarmSource {

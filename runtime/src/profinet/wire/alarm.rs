@@ -3,9 +3,9 @@
 //! RTA-PDU header (AlarmDstEndpoint, AlarmSrcEndpoint, PDUType with its version, AddFlags with
 //! the window size and TACK, SendSeqNum, AckSeqNum, VarPartLen) and its variable part; the
 //! AlarmAck-PDU (0x8001/0x8002) a DATA PDU carries. Views and emitters into the caller's buffer:
-//! a frame too short, or whose VarPartLen runs past its end, is `None`. The AlarmNotification
-//! (whose payload a device queues) and the diagnosis data are still owned structs in
-//! `edsgen_sim::profinet::wire::alarm`.
+//! a frame too short, or whose VarPartLen runs past its end, is `None`; the AlarmNotification-PDU
+//! and the (Ext)ChannelDiagnosis entries its payload carries. A simulator that queues alarms
+//! keeps their payloads in owned structs of its own (`edsgen_sim::profinet::wire::alarm`).
 
 use super::block::{blocks, emit_block, Reader};
 use super::rpc::PnioStatus;
@@ -334,6 +334,87 @@ impl<'a> AlarmNotificationRepr<'a> {
     }
 }
 
+/// One ChannelDiagnosis (USI 0x8000) or ExtChannelDiagnosis (USI 0x8002) entry of an alarm's
+/// payload or a diagnosis record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChannelDiagnosis {
+    /// ChannelNumber ([`CHANNEL_SUBMODULE`] for the whole submodule).
+    pub channel: u16,
+    /// ChannelProperties: type, accumulative, maintenance, specifier, direction.
+    pub properties: u16,
+    /// ChannelErrorType (the GSDML's ChannelDiagItem ErrorType).
+    pub error_type: u16,
+    /// ExtChannelErrorType and ExtChannelAddValue, for ExtChannelDiagnosis.
+    pub ext: Option<(u16, u32)>,
+}
+
+impl ChannelDiagnosis {
+    /// The UserStructureIdentifier of a list of these (all of one kind).
+    pub fn usi(&self) -> u16 {
+        if self.ext.is_some() {
+            USI_EXT_CHANNEL_DIAGNOSIS
+        } else {
+            USI_CHANNEL_DIAGNOSIS
+        }
+    }
+
+    /// Writes the entry at the start of `buf`; its length (6 bytes, 12 with `ext`).
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, BufferTooSmall> {
+        let at = put(buf, 0, &self.channel.to_be_bytes())?;
+        let at = put(buf, at, &self.properties.to_be_bytes())?;
+        let at = put(buf, at, &self.error_type.to_be_bytes())?;
+        match self.ext {
+            Some((ext_type, add_value)) => {
+                let at = put(buf, at, &ext_type.to_be_bytes())?;
+                put(buf, at, &add_value.to_be_bytes())
+            }
+            None => Ok(at),
+        }
+    }
+
+    /// The entries of an alarm payload with `usi`, read as they are iterated: `None` for another
+    /// USI or a length that is not a whole number of entries.
+    pub fn parse_all(usi: u16, data: &[u8]) -> Option<ChannelDiagnoses<'_>> {
+        let size = match usi {
+            USI_CHANNEL_DIAGNOSIS => 6,
+            USI_EXT_CHANNEL_DIAGNOSIS => 12,
+            _ => return None,
+        };
+        data.len()
+            .is_multiple_of(size)
+            .then(|| ChannelDiagnoses(data.chunks_exact(size)))
+    }
+
+    fn parse(entry: &[u8]) -> Option<ChannelDiagnosis> {
+        let mut r = Reader::new(entry);
+        let channel = r.u16()?;
+        let properties = r.u16()?;
+        let error_type = r.u16()?;
+        let ext = match r.rest().len() {
+            0 => None,
+            _ => Some((r.u16()?, r.u32()?)),
+        };
+        Some(ChannelDiagnosis {
+            channel,
+            properties,
+            error_type,
+            ext,
+        })
+    }
+}
+
+/// The (Ext)ChannelDiagnosis entries of a payload ([`ChannelDiagnosis::parse_all`]).
+#[derive(Debug, Clone)]
+pub struct ChannelDiagnoses<'a>(core::slice::ChunksExact<'a, u8>);
+
+impl Iterator for ChannelDiagnoses<'_> {
+    type Item = ChannelDiagnosis;
+
+    fn next(&mut self) -> Option<ChannelDiagnosis> {
+        ChannelDiagnosis::parse(self.0.next()?)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -455,5 +536,43 @@ mod tests {
             ),
             Err(BufferTooSmall)
         );
+    }
+
+    #[test]
+    fn channel_diagnoses_are_written_and_read_back_entry_by_entry() {
+        let ext = ChannelDiagnosis {
+            channel: CHANNEL_SUBMODULE,
+            properties: CHANNEL_APPEARS,
+            error_type: 0x0100,
+            ext: Some((0x8000, 0x0000_0007)),
+        };
+        let mut buf = [0u8; 24];
+        assert_eq!(ext.emit(&mut buf), Ok(12));
+        assert_eq!(
+            buf[..12],
+            [0x80, 0x00, 0x08, 0x00, 0x01, 0x00, 0x80, 0x00, 0x00, 0x00, 0x00, 0x07]
+        );
+        assert_eq!(ext.emit(&mut buf[..11]), Err(BufferTooSmall));
+        buf.copy_within(..12, 12);
+        let read: Vec<_> = ChannelDiagnosis::parse_all(USI_EXT_CHANNEL_DIAGNOSIS, &buf)
+            .expect("two whole entries")
+            .collect();
+        assert_eq!(read, [ext, ext]);
+        let plain: Vec<_> = ChannelDiagnosis::parse_all(USI_CHANNEL_DIAGNOSIS, &buf[..12])
+            .expect("two whole entries")
+            .collect();
+        assert_eq!(plain[0].ext, None);
+        let disappears = ChannelDiagnosis {
+            channel: CHANNEL_SUBMODULE,
+            properties: CHANNEL_DISAPPEARS,
+            error_type: 0x0100,
+            ext: None,
+        };
+        assert_eq!(disappears.usi(), USI_CHANNEL_DIAGNOSIS);
+        assert_eq!(disappears.emit(&mut buf), Ok(6));
+        assert_eq!(buf[..6], [0x80, 0x00, 0x10, 0x00, 0x01, 0x00]);
+        assert_eq!((plain[0].channel, plain[1].channel), (0x8000, 0x8000));
+        assert!(ChannelDiagnosis::parse_all(USI_EXT_CHANNEL_DIAGNOSIS, &buf[..13]).is_none());
+        assert!(ChannelDiagnosis::parse_all(0x0001, &buf[..12]).is_none());
     }
 }
