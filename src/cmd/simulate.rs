@@ -59,9 +59,16 @@ pub struct Args {
     pub profibus: Option<String>,
     /// With --profibus and one FILE.gsd: the module plugged in a slot (`SLOT=NAME`, or `NAME`
     /// for the slot after the previous one; repeatable, docs/modules.md). The slave then
-    /// accepts only these; without, any combination of its modules the GSD allows.
-    #[arg(long = "module", value_name = "[SLOT=]NAME", requires = "profibus")]
+    /// accepts only these; without, any combination of its modules the GSD allows. With
+    /// --profinet and a FILE.xml: a module (ID or name) plugged in SLOT, or in the first free
+    /// slot it may take; the device then runs with these (its identification, the Connect's
+    /// ModuleDiff, its cyclic data, I&M), unless the file's overlay chooses its modules.
+    #[arg(long = "module", value_name = "[SLOT=]NAME")]
     pub modules: Vec<String>,
+    /// With --profinet and a FILE.xml: the access point the device runs with (a
+    /// DeviceAccessPointItem's ID or name; default: the GSDML's first).
+    #[arg(long = "access-point", value_name = "NAME", requires = "profinet")]
+    pub access_point: Option<String>,
     /// Serve an EtherCAT segment on this network interface instead (root or CAP_NET_RAW): ESI
     /// FILEs and `--card ec-tx508`, repeated and mixed, as SubDevices in the order given (the
     /// first nearest the MainDevice), each with its own ESC, SII, station address, AL state
@@ -81,7 +88,7 @@ pub struct Args {
     pub faults_on_stdin: bool,
     /// Bring up a whole machine from a machine file (docs/machine.md): every bus table served,
     /// each device printed with its address, `fault NAME`/`clear NAME` on standard input.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "modules", "ethercat", "devices", "faults_on_stdin"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["files", "cards", "node_id", "bus", "socketcan", "trace", "enip", "profinet", "ip", "profibus", "modules", "access_point", "ethercat", "devices", "faults_on_stdin"])]
     pub machine: Option<std::path::PathBuf>,
     /// Serve a FILE despite its errors of this rule (repeatable): without it, a description
     /// with errors is refused, its errors shown as `edsgen validate` shows them.
@@ -101,6 +108,9 @@ pub fn run(args: Args) -> ExitCode {
     if let Some(machine) = &args.machine {
         return super::machine::run(machine, &args.allow, &allow);
     }
+    if !args.modules.is_empty() && args.profibus.is_none() && args.profinet.is_none() {
+        return fail("--module goes with --profibus or --profinet");
+    }
     if let Some(addr) = &args.enip {
         return super::enip::simulate::run(addr, &args.files, &args.cards, &allow);
     }
@@ -109,6 +119,10 @@ pub fn run(args: Args) -> ExitCode {
             iface,
             &args.files,
             &args.cards,
+            (
+                &[args.modules.clone()],
+                &[args.access_point.clone()],
+            ),
             &args.ip,
             args.faults_on_stdin,
             &allow,

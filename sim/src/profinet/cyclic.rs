@@ -139,6 +139,18 @@ impl Cyclic {
         self.outputs.get(n).map(|(d, iops)| (d.as_slice(), *iops))
     }
 
+    /// A loopback's input data, as a test rack wired output to input: the bytes of the output
+    /// data (submodule after submodule, in the layout's order) poured into the input data
+    /// objects in their order, zero past the outputs' end.
+    pub fn looped_back(&self) -> Vec<Vec<u8>> {
+        let mut bytes = self.outputs.iter().flat_map(|(data, _)| data.iter().copied());
+        self.layout
+            .inputs
+            .iter()
+            .map(|input| (0..input.len).map(|_| bytes.next().unwrap_or(0)).collect())
+            .collect()
+    }
+
     /// The input CR's frame at `now`: each input submodule's data (from `inputs`, in order;
     /// missing ones zero) with IOPS good, the IOCS good, the cycle counter of `now`.
     pub fn produce(&mut self, now: Instant, inputs: &[&[u8]]) -> Vec<u8> {

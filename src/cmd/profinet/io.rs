@@ -1,8 +1,9 @@
 //! `edsgen pn io IFACE NAME --gsdml FILE [SETTING...]`: a PROFINET IO controller at the bench
 //! (root, or `CAP_NET_RAW`). It finds the device by its name of station (DCP Identify; a DCP
 //! Set of a temporary IP when it has none), connects an IO AR with the IOCRs, AlarmCR and
-//! expected submodules of the GSDML's default access point and its modules (`--module
-//! SLOT=MODULE_ID` plugs others), writes the parameter records, ends the parametrization,
+//! expected submodules of the GSDML's configuration (the overlay's `[modules]`, else
+//! `--access-point` and `--module [SLOT=]NAME`, else the first access point and its fixed and
+//! used modules), writes the parameter records, ends the parametrization,
 //! answers the device's ApplicationReady, and exchanges RT_CLASS_1 frames every `--cycle-ms`
 //! with the outputs set on the command line (zero elsewhere), printing the inputs by name
 //! whenever they change and each alarm (acknowledged); it releases the AR after `--cycles` or
@@ -45,8 +46,10 @@ pub struct IoArgs<'a> {
     pub gsdml: &'a PathBuf,
     /// `NAME=VALUE` and `SLOT.SUBSLOT=HEX` settings.
     pub settings: &'a [String],
-    /// `SLOT=MODULE_ID` modules to plug.
+    /// `[SLOT=]NAME` modules to plug (docs/modules.md).
     pub modules: &'a [String],
+    /// The access point (its ID or name).
+    pub access_point: Option<&'a str>,
     /// `SLOT.SUBSLOT.INDEX=HEX` record contents.
     pub records: &'a [String],
     /// Cycles of data exchange before the release (until a signal with `None`).
@@ -93,14 +96,14 @@ fn session(args: &IoArgs) -> Result<(), Stop> {
         .device
         .profinet()
         .ok_or_else(|| usage(format!("`{}` is not a GSDML file", args.gsdml.display())))?;
-    let mut config = DeviceConfig::from_gsdml(pn);
-    for module in args.modules {
-        let (slot, id) = module
-            .split_once('=')
-            .and_then(|(s, id)| Some((s.parse::<u16>().ok()?, id)))
-            .ok_or_else(|| usage(format!("--module `{module}` is not SLOT=MODULE_ID")))?;
-        config.plug(pn, slot, id).map_err(Stop::Usage)?;
-    }
+    let pn = &super::configured(
+        pn,
+        &args.gsdml.display().to_string(),
+        args.modules,
+        args.access_point,
+    )
+    .map_err(Stop::Usage)?;
+    let config = DeviceConfig::from_gsdml(pn);
     let subs = io_data::submodules(pn, &config);
     let output_len = |slot, subslot| config.submodule(slot, subslot).map(|s| s.output_len);
     let settings = args

@@ -67,29 +67,14 @@ fn items(list: &[DataItem]) -> Vec<Item> {
     out
 }
 
-/// The GSDML submodule of each submodule of `config`: (slot, the model's submodule).
+/// The GSDML submodule of each submodule of `config`: (slot, the model's submodule), those of
+/// the model's configuration ([`Profinet::configuration`]) that `config` has.
 pub fn model_submodules<'a>(pn: &'a Profinet, config: &DeviceConfig) -> Vec<(u16, &'a Submodule)> {
-    let Some(dap) = pn.access_points.first() else {
-        return Vec::new();
-    };
-    let dap_slot = dap.fixed_in_slots.first().copied().unwrap_or(0);
-    let mut found = Vec::new();
-    for slot in &config.slots {
-        let submodules = if slot.slot == dap_slot {
-            Some(&dap.submodules)
-        } else {
-            pn.modules
-                .iter()
-                .find(|m| m.module_ident.as_ref().map(|i| i.value) == Some(slot.module_ident))
-                .map(|m| &m.submodules)
-        };
-        for sub in submodules.into_iter().flatten() {
-            if slot.submodules.iter().any(|s| s.subslot == sub.subslot) {
-                found.push((slot.slot, sub));
-            }
-        }
-    }
-    found
+    pn.configuration()
+        .submodules(pn)
+        .into_iter()
+        .filter(|(slot, sub)| config.submodule(*slot, sub.subslot).is_some())
+        .collect()
 }
 
 /// The named data of every submodule of `config` that has IO data.

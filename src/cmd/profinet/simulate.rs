@@ -55,6 +55,7 @@ pub fn run(
     iface: &str,
     files: &[String],
     cards: &[String],
+    chosen: (&[Vec<String>], &[Option<String>]),
     ips: &[String],
     faults_on_stdin: bool,
     allow: &Policy,
@@ -66,13 +67,24 @@ pub fn run(
         ));
     }
     // The descriptions are judged first: a file with errors is refused whatever the interface.
+    let (modules, access_points) = chosen;
+    let beyond = files.len();
+    if modules.iter().skip(beyond).any(|m| !m.is_empty())
+        || access_points.iter().skip(beyond).any(Option::is_some)
+    {
+        return fail("--module and --access-point choose the configuration of a FILE.xml, not of a card");
+    }
     let entries = cards
         .iter()
-        .map(|c| (c, true))
-        .chain(files.iter().map(|f| (f, false)));
+        .map(|c| (c, None))
+        .chain(files.iter().enumerate().map(|(n, f)| (f, Some(n))));
     let mut planned: Vec<Planned> = Vec::new();
-    for (entry, is_card) in entries {
-        let device = match plan(entry, is_card, allow) {
+    for (entry, file) in entries {
+        let choice = file.map(|n| {
+            let access_point = access_points.get(n).and_then(Option::as_deref);
+            (modules.get(n).map_or(&[][..], Vec::as_slice), access_point)
+        });
+        let device = match plan(entry, choice, allow) {
             Ok(device) => device,
             Err(e) => return fail(e),
         };
@@ -192,8 +204,14 @@ fn announce(iface: &str, plan: &Planned, source: &str) {
 }
 
 /// One device of the command line: its GSDML loaded and judged, its station (the
-/// `@NAME` given, else the GSDML's name).
-fn plan(entry: &str, is_card: bool, allow: &Policy) -> Result<Planned, String> {
+/// `@NAME` given, else the GSDML's name) and configuration (a file's: the overlay's, else
+/// `choice`'s modules and access point, else the default). `choice` is `None` for a card.
+fn plan(
+    entry: &str,
+    choice: Option<(&[String], Option<&str>)>,
+    allow: &Policy,
+) -> Result<Planned, String> {
+    let is_card = choice.is_none();
     let (what, given) = match entry.rsplit_once('@') {
         Some((what, given)) => {
             if let Some(problem) = edsgen_runtime::profinet::wire::dcp::name_problem(given) {
@@ -231,6 +249,8 @@ fn plan(entry: &str, is_card: bool, allow: &Policy) -> Result<Planned, String> {
     let Some(pn) = read.device.profinet() else {
         return Err(format!("`{path}` is not a GSDML file"));
     };
+    let (modules, access_point) = choice.unwrap_or_default();
+    let pn = &super::configured(pn, &path, modules, access_point)?;
     // Its MAC comes with the interface's (`run`).
     let mut station = station::from_gsdml(pn, [0; 6]);
     if let Some(name) = given {
