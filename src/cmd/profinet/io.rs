@@ -23,6 +23,7 @@ use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::controller::{alarm_cr, connected, Controller, CrLayout};
 use edsgen_sim::profinet::controller_alarm::ControllerAlarms;
 use edsgen_sim::profinet::iface;
+use edsgen_sim::profinet::wire::blocks::{SlotIdent, MODULE_NO};
 
 use super::io_data::{self, RecordWrite, Setting, SubmoduleData};
 use super::io_link::Link;
@@ -276,6 +277,9 @@ pub(super) struct Ar {
     pub(super) last: Option<(Vec<u8>, Instant)>,
     pub(super) alarms: ControllerAlarms,
     pub(super) clock: MonotonicClock,
+    /// The modules of the device's ModuleDiffBlock: their submodules it lists, and every
+    /// submodule of a slot it says is empty, are not parametrized.
+    differing: Vec<SlotIdent>,
 }
 
 impl Ar {
@@ -308,16 +312,18 @@ impl Ar {
             last: None,
             alarms: ControllerAlarms::new(&alarm_cr(), 0, link.mac, device),
             clock: MonotonicClock::new(),
+            differing: Vec::new(),
         };
         let (status, answer) = link.call(ip, &ctl.connect(&blocks), &mut ar)?;
         refused("Connect", status)?;
         let connected = connected(&answer)
             .ok_or_else(|| Stop::Device("the Connect's answer has no IOCRBlockRes".into()))?;
         if let Some(diff) = &connected.diff {
-            println!(
-                "the device's modules differ from the GSDML's configuration: {} API(s) in its ModuleDiffBlock",
-                diff.apis.len()
-            );
+            println!("the device's modules differ from the configuration (its ModuleDiffBlock):");
+            for line in io_data::module_diff_lines(diff) {
+                println!("  {line}");
+            }
+            ar.differing = diff.apis.iter().flat_map(|a| a.modules.clone()).collect();
         }
         ar.frame_ids = connected.frame_ids;
         let device_ref = connected.device_alarm_ref.unwrap_or(0);
@@ -405,6 +411,13 @@ fn exchange(
     let ip = ar.ip;
     for (slot, subslot, index, data) in records {
         let (slot, subslot, index) = (*slot, *subslot, *index);
+        let differs = ar.differing.iter().filter(|m| m.slot == slot).any(|m| {
+            m.state == MODULE_NO || m.submodules.iter().any(|s| s.0 == subslot)
+        });
+        if differs {
+            println!("not writing record {index} of slot {slot} subslot {subslot}: the device has another submodule there");
+            continue;
+        }
         let (status, _) = link.call(ip, &ctl.write(slot, subslot, index, data), ar)?;
         refused(
             &format!("Write of record {index} of slot {slot} subslot {subslot}"),

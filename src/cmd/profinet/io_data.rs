@@ -6,6 +6,7 @@
 
 use edsgen_model::model::{DataItem, PnDataType, Profinet, Submodule};
 use edsgen_sim::profinet::ar::config::DeviceConfig;
+use edsgen_sim::profinet::wire::blocks::ModuleDiffBlock;
 
 /// One named data item of a submodule's input or output data.
 #[derive(Debug, Clone)]
@@ -346,6 +347,45 @@ fn put_default(data: &mut [u8], field: &edsgen_model::model::RecordField, value:
         }
         None => {}
     }
+}
+
+/// One line per module of a ModuleDiffBlock, then one per submodule under it, with the
+/// states' meanings (IEC 61158-6-10: ModuleState, SubmoduleState's IdentInfo).
+pub fn module_diff_lines(diff: &ModuleDiffBlock) -> Vec<String> {
+    let module_state = |state| match state {
+        0 => "no module",
+        1 => "wrong module",
+        2 => "proper module",
+        3 => "substitute",
+        _ => "reserved",
+    };
+    let ident_info = |state: u16| match (state >> 11) & 0x0F {
+        0 => "ok",
+        1 => "substitute",
+        2 => "wrong",
+        3 => "no submodule",
+        _ => "reserved",
+    };
+    let mut lines = Vec::new();
+    for api in &diff.apis {
+        for module in &api.modules {
+            lines.push(format!(
+                "API {} slot {}: ModuleIdentNumber {:#010x}, ModuleState {} ({})",
+                api.api,
+                module.slot,
+                module.module_ident,
+                module.state,
+                module_state(module.state)
+            ));
+            for &(subslot, ident, state) in &module.submodules {
+                lines.push(format!(
+                    "  subslot {subslot:#06x}: SubmoduleIdentNumber {ident:#010x}, SubmoduleState {state:#06x} ({})",
+                    ident_info(state)
+                ));
+            }
+        }
+    }
+    lines
 }
 
 #[cfg(test)]

@@ -41,6 +41,8 @@ const CARD: &str = "goodrive350-pn";
 struct Planned {
     station: Station,
     config: DeviceConfig,
+    /// The access point and modules, when chosen (the overlay's or the command line's).
+    chosen: Option<String>,
     /// The card's drive, or none for a GSDML file.
     card: bool,
 }
@@ -192,6 +194,9 @@ fn announce(iface: &str, plan: &Planned, source: &str) {
         station.device_id,
         mac_text(&station.mac)
     );
+    if let Some(chosen) = &plan.chosen {
+        println!("{chosen}");
+    }
     let [a, m, _] = station.ip;
     if a == [0; 4] {
         println!("no IP yet ({source}): RPC on UDP 34964 answers once {iface} has the address");
@@ -256,9 +261,20 @@ fn plan(
     if let Some(name) = given {
         station.name_of_station = name.to_owned();
     }
+    let chosen = pn.chosen.as_ref().map(|c| {
+        let dap = c.access_point(pn).map_or("", |a| a.id.as_str());
+        let modules = c.slots.iter().filter_map(|p| {
+            let module = pn.modules.get(p.module)?;
+            let ident = module.module_ident.as_ref().map_or(0, |m| m.value);
+            Some(format!("slot {} {} ({ident:#010x})", p.slot, module.id))
+        });
+        let modules: Vec<String> = modules.collect();
+        format!("access point {dap}, modules: {}", modules.join(", "))
+    });
     Ok(Planned {
         station,
         config: DeviceConfig::from_gsdml(pn),
+        chosen,
         card: is_card,
     })
 }
