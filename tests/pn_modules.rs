@@ -95,7 +95,18 @@ fn pn_io_connects_with_the_modules_chosen() {
              0004000200010005",
         ]
     );
-    assert_eq!(expected, ["TODO"]);
+    // Three API entries (one per slot), API 0 each: slot 0, the access point (0x1) with its
+    // three submodules without data (one input DataDescription of length 0, IOCS and IOPS 1
+    // byte); slot 1, 0x31, submodule 1 (0x1) of type output, 1 byte; slot 2, 0x30, submodule 1
+    // of type input, 1 byte.
+    assert_eq!(
+        expected,
+        ["0003\
+          00000000000000000001000000030001000000010000000100000101\
+          800000008000000000010000010180010000800100000001000001010000\
+          000000010000003100000001000100000001000200020001010100000000\
+          000200000030000000010001000000010001000100010101"]
+    );
 }
 
 /// The device's namespace (0) and the controller's (1) joined by a veth pair, with an address
@@ -172,17 +183,41 @@ fn pn_io_and_profinet_py_exchange_data_with_the_modules_chosen() {
     let Some((gsdml, net)) = wire() else { return };
     let Some(python) = python() else { return };
     let mut device = net.device(&gsdml, &["1=IDM_12", "IDM_11"]);
-    let said = net.pn_io(&gsdml, &["--module", "1=IDM_12", "--module", "IDM_11", "1.1=a5"]);
-    assert_eq!(said, ["TODO"]);
-    let controller = Process::python(
-        &python,
-        "scripts/pn_modules_controller.py",
-        &[&net.controller_if, "rt-labs-dev", &gsdml, "1", "2", "3c"],
+    let mut said = net.pn_io(&gsdml, &["--module", "1=IDM_12", "--module", "IDM_11", "1.1=a5"]);
+    // The first input frames may come before the first output frame has looped back.
+    said.retain(|l| l != "inputs 2.1: Input 8 bits=0x00");
+    assert_eq!(
+        said,
+        [
+            "connected: input frame 0xc001, output frame 0xc102, every 8 ms",
+            "application ready: exchanging data",
+            "inputs 2.1: Input 8 bits=0xa5",
+            "released the AR after 100 cycles",
+        ]
+    );
+    let script = process_support::root().join("scripts/pn_modules_controller.py");
+    let controller = Process::start(
+        net.inside(1, python.to_str().expect("a UTF-8 path"))
+            .arg(script)
+            .args([&net.controller_if, "rt-labs-dev", &gsdml, "1", "2", "3c"]),
     );
     let done = controller.finish(Duration::from_secs(60));
     assert_eq!(done.code, Some(0), "{}\n{}", done.stdout, done.stderr);
     let lines: Vec<&str> = done.stdout.lines().collect();
-    assert_eq!(lines, ["TODO"]);
+    // profinet-py reads the modules from the device's RealIdentificationData, takes their IO
+    // lengths from the GSDML and sees its output byte come back in the 8 DI module's input.
+    assert_eq!(
+        lines,
+        [
+            "found rt-labs-dev at 10.81.0.2",
+            "modules 1=0x31 2=0x30",
+            "io 1.1=0/1 2.1=1/0",
+            "connected input 0xc001 output 0xc102",
+            "application ready",
+            "output 1.1=3c input 2.1=3c",
+            "released",
+        ]
+    );
     device.close_stdin();
 }
 
@@ -191,11 +226,29 @@ fn a_controller_expecting_another_module_gets_the_module_diff() {
     let Some((gsdml, net)) = wire() else { return };
     let device = net.device(&gsdml, &["1=IDM_12", "IDM_11"]);
     // Slot 2 holds the 8 DI module; the controller expects the 8 DI 8 DO one there.
-    let said = net.pn_io(&gsdml, &["--module", "1=IDM_12", "--module", "2=IDM_13", "1.1=5a"]);
-    assert_eq!(said, ["TODO"]);
+    let mut said = net.pn_io(&gsdml, &["--module", "1=IDM_12", "--module", "2=IDM_13", "1.1=5a"]);
+    said.retain(|l| l != "inputs 2.1: Input 8 bits=0x00");
+    // The module really in slot 2 (0x30), wrong (1); its submodule wrong (IdentInfo 2, with
+    // the format indicator: 0x9000). The AR is still established, the wrong module not
+    // parametrized, and the data exchanged as the controller expects it.
+    assert_eq!(
+        said,
+        [
+            "the device's modules differ from the configuration (its ModuleDiffBlock):",
+            "  API 0 slot 2: ModuleIdentNumber 0x00000030, ModuleState 1 (wrong module)",
+            "    subslot 0x0001: SubmoduleIdentNumber 0x00000001, SubmoduleState 0x9000 (wrong)",
+            "connected: input frame 0xc001, output frame 0xc102, every 8 ms",
+            "not writing record 123 of slot 2 subslot 1: the device has another submodule there",
+            "not writing record 124 of slot 2 subslot 1: the device has another submodule there",
+            "application ready: exchanging data",
+            "inputs 2.1: Input 8 bits=0x5a",
+            "released the AR after 100 cycles",
+        ]
+    );
     assert_eq!(
         device.stdout_line(|l| l.starts_with("AR connected"), Duration::from_secs(5)),
-        "TODO"
+        "AR connected (ARType 0x0001): input FrameID 0xc001, output FrameID 0xc102, \
+         every 8000 us, with module differences"
     );
 }
 
