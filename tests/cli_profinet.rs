@@ -264,7 +264,7 @@ fn pn_io_refuses_bad_settings_with_exit_2() {
         "--gsdml",
         "eds/goodrive350-pn.xml",
     ];
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 7] = [
         (
             &["Speed=1"],
             "error: no output named `Speed` (the outputs: PKW1, PKW2, PKW3, PKW4, CW, PZD2, PZD3, \
@@ -281,7 +281,13 @@ fn pn_io_refuses_bad_settings_with_exit_2() {
         ),
         (
             &["--module", "2=MOD_PKW_PZD_16"],
-            "error: the access point does not allow module `MOD_PKW_PZD_16` in slot 2\n",
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: module \
+             MOD_PKW_PZD_16 is not allowed in slot 2 (it may take 1)\n",
+        ),
+        (
+            &["--access-point", "DAP_X"],
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: no access point \
+             \"DAP_X\"; did you mean:\n  \"DAP_GD350_PN\"\n",
         ),
         (
             &["--cycle-ms", "3"],
@@ -295,6 +301,50 @@ fn pn_io_refuses_bad_settings_with_exit_2() {
             (code, stdout.as_str(), stderr.as_str()),
             (Some(2), "", expected),
             "{extra:?}"
+        );
+    }
+}
+
+/// `simulate --profinet` refuses modules a FILE's access point does not allow, modules for a
+/// card, and `--module` on a bus that takes none, before it opens the interface: exit 2.
+#[test]
+fn simulate_profinet_refuses_modules_that_do_not_fit_with_exit_2() {
+    let file = ["simulate", "--profinet", "lo", "eds/goodrive350-pn.xml"];
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &[&file[..], &["--module", "2=MOD_PKW_PZD_16"]].concat(),
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: module \
+             MOD_PKW_PZD_16 is not allowed in slot 2 (it may take 1)\n",
+        ),
+        (
+            &[&file[..], &["--access-point", "DAP 2"]].concat(),
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: no access point \
+             \"DAP 2\"; did you mean:\n  \"DAP_GD350_PN\"\n",
+        ),
+        (
+            &[
+                "simulate",
+                "--profinet",
+                "lo",
+                "--card",
+                "goodrive350-pn",
+                "--module",
+                "MOD_PKW_PZD_16",
+            ],
+            "error: --module and --access-point choose the configuration of a FILE.xml, not of \
+             a card\n",
+        ),
+        (
+            &["simulate", "--enip", "127.0.0.1", "--card", "x", "--module", "M"],
+            "error: --module goes with --profibus or --profinet\n",
+        ),
+    ];
+    for (args, expected) in cases {
+        let (code, stdout, stderr) = edsgen(args);
+        assert_eq!(
+            (code, stdout.as_str(), stderr.as_str()),
+            (Some(2), "", expected),
+            "{args:?}"
         );
     }
 }
