@@ -224,28 +224,38 @@ fn controller(iface: &str, devices: &str, seconds: u64) -> Result<String, String
             *iocs = 0x80;
         }
     }
+    // A thread blocked in a read wakes when a frame comes; a read timeout goes by the
+    // kernel's ticks (4 or 10 ms): the ticks are slept here, the frames read there.
+    let mut reader = raw.try_clone().map_err(|e| e.to_string())?;
+    let stop = Arc::new(AtomicUsize::new(0));
+    let stopped = Arc::clone(&stop);
+    let (frames_tx, frames) = mpsc::channel::<(Instant, Vec<u8>)>();
+    let rx = std::thread::spawn(move || {
+        let mut buf = vec![0u8; 1600];
+        while stopped.load(Ordering::Relaxed) == 0 {
+            if let Ok(Some(len)) = reader.recv(&mut buf) {
+                let _ = frames_tx.send((Instant::now(), buf[..len].to_vec()));
+            }
+        }
+    });
     let mut gaps: Vec<Duration> = Vec::new();
     let (mut ticks, mut late, mut counter) = (0usize, 0usize, 0u16);
     let mut next = Instant::now();
     let end = next + Duration::from_secs(seconds);
-    let mut buf = vec![0u8; 1600];
-    while Instant::now() < end {
-        let now = Instant::now();
-        if now >= next {
-            if now - next > LATE {
-                late += 1;
-            }
-            ticks += 1;
-            counter = counter.wrapping_add(SEND_CLOCK * REDUCTION);
-            for device in &held {
-                let frame = output_frame(raw.mac(), device, &c_sdu, counter);
-                raw.send(&frame).map_err(|e| e.to_string())?;
-            }
-            next += PERIOD;
+    while next < end {
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
+        if Instant::now() - next > LATE {
+            late += 1;
         }
-        while let Ok(Some(len)) = raw.recv(&mut buf) {
-            let frame = &buf[..len];
-            let Some(eth) = Ethernet::parse(frame) else {
+        ticks += 1;
+        counter = counter.wrapping_add(SEND_CLOCK * REDUCTION);
+        for device in &held {
+            let frame = output_frame(raw.mac(), device, &c_sdu, counter);
+            raw.send(&frame).map_err(|e| e.to_string())?;
+        }
+        next += PERIOD;
+        for (at, frame) in frames.try_iter() {
+            let Some(eth) = Ethernet::parse(&frame) else {
                 continue;
             };
             let Some(device) = held.iter_mut().find(|d| d.mac == eth.src) else {
@@ -257,13 +267,14 @@ fn controller(iface: &str, devices: &str, seconds: u64) -> Result<String, String
             if rt.is_none_or(|rt| rt.frame_id != device.frame_ids.0) {
                 continue;
             }
-            let at = Instant::now();
             if let Some(last) = device.last_input.replace(at) {
                 gaps.push(at - last);
             }
             device.inputs += 1;
         }
     }
+    stop.store(1, Ordering::Relaxed);
+    let _ = rx.join();
     let due = held.len() * (seconds as usize * 1000 / 4);
     let received: usize = held.iter().map(|d| d.inputs).sum();
     let mut released = 0;
