@@ -335,7 +335,15 @@ fn simulate_profinet_refuses_modules_that_do_not_fit_with_exit_2() {
              a card\n",
         ),
         (
-            &["simulate", "--enip", "127.0.0.1", "--card", "x", "--module", "M"],
+            &[
+                "simulate",
+                "--enip",
+                "127.0.0.1",
+                "--card",
+                "x",
+                "--module",
+                "M",
+            ],
             "error: --module goes with --profibus or --profinet\n",
         ),
     ];

@@ -146,12 +146,13 @@ impl Pair {
         }
         let device = Process::start(self.inside(0, EDSGEN).args(args));
         assert_eq!(
-            device.stdout_line(
-                |l| l.starts_with("PROFINET device"),
-                Duration::from_secs(10)
-            )
-            .split(" on ")
-            .next(),
+            device
+                .stdout_line(
+                    |l| l.starts_with("PROFINET device"),
+                    Duration::from_secs(10)
+                )
+                .split(" on ")
+                .next(),
             Some("PROFINET device `rt-labs-dev` (VendorID 0xfeed, DeviceID 0xbeef)")
         );
         device
@@ -159,7 +160,14 @@ impl Pair {
 
     /// `pn io` in namespace 1 for 100 cycles with `args` after the GSDML.
     fn pn_io(&self, gsdml: &str, args: &[&str]) -> Vec<String> {
-        let mut all = vec!["pn", "io", &self.controller_if, "rt-labs-dev", "--gsdml", gsdml];
+        let mut all = vec![
+            "pn",
+            "io",
+            &self.controller_if,
+            "rt-labs-dev",
+            "--gsdml",
+            gsdml,
+        ];
         all.extend(["--cycles", "100"]);
         all.extend(args);
         let done = Process::start(self.inside(1, EDSGEN).args(all)).finish(Duration::from_secs(30));
@@ -183,7 +191,10 @@ fn pn_io_and_profinet_py_exchange_data_with_the_modules_chosen() {
     let Some((gsdml, net)) = wire() else { return };
     let Some(python) = python() else { return };
     let mut device = net.device(&gsdml, &["1=IDM_12", "IDM_11"]);
-    let mut said = net.pn_io(&gsdml, &["--module", "1=IDM_12", "--module", "IDM_11", "1.1=a5"]);
+    let mut said = net.pn_io(
+        &gsdml,
+        &["--module", "1=IDM_12", "--module", "IDM_11", "1.1=a5"],
+    );
     // The first input frames may come before the first output frame has looped back.
     said.retain(|l| l != "inputs 2.1: Input 8 bits=0x00");
     assert_eq!(
@@ -226,7 +237,10 @@ fn a_controller_expecting_another_module_gets_the_module_diff() {
     let Some((gsdml, net)) = wire() else { return };
     let device = net.device(&gsdml, &["1=IDM_12", "IDM_11"]);
     // Slot 2 holds the 8 DI module; the controller expects the 8 DI 8 DO one there.
-    let mut said = net.pn_io(&gsdml, &["--module", "1=IDM_12", "--module", "2=IDM_13", "1.1=5a"]);
+    let mut said = net.pn_io(
+        &gsdml,
+        &["--module", "1=IDM_12", "--module", "2=IDM_13", "1.1=5a"],
+    );
     said.retain(|l| l != "inputs 2.1: Input 8 bits=0x00");
     // The module really in slot 2 (0x30), wrong (1); its submodule wrong (IdentInfo 2, with
     // the format indicator: 0x9000). The AR is still established, the wrong module not
@@ -251,4 +265,3 @@ fn a_controller_expecting_another_module_gets_the_module_diff() {
          every 8000 us, with module differences"
     );
 }
-

@@ -119,10 +119,7 @@ pub fn run(args: Args) -> ExitCode {
             iface,
             &args.files,
             &args.cards,
-            (
-                &[args.modules.clone()],
-                &[args.access_point.clone()],
-            ),
+            (&[args.modules.clone()], &[args.access_point.clone()]),
             &args.ip,
             args.faults_on_stdin,
             &allow,

@@ -143,7 +143,10 @@ impl Cyclic {
     /// data (submodule after submodule, in the layout's order) poured into the input data
     /// objects in their order, zero past the outputs' end.
     pub fn looped_back(&self) -> Vec<Vec<u8>> {
-        let mut bytes = self.outputs.iter().flat_map(|(data, _)| data.iter().copied());
+        let mut bytes = self
+            .outputs
+            .iter()
+            .flat_map(|(data, _)| data.iter().copied());
         self.layout
             .inputs
             .iter()

@@ -411,9 +411,11 @@ fn exchange(
     let ip = ar.ip;
     for (slot, subslot, index, data) in records {
         let (slot, subslot, index) = (*slot, *subslot, *index);
-        let differs = ar.differing.iter().filter(|m| m.slot == slot).any(|m| {
-            m.state == MODULE_NO || m.submodules.iter().any(|s| s.0 == subslot)
-        });
+        let differs = ar
+            .differing
+            .iter()
+            .filter(|m| m.slot == slot)
+            .any(|m| m.state == MODULE_NO || m.submodules.iter().any(|s| s.0 == subslot));
         if differs {
             println!("not writing record {index} of slot {slot} subslot {subslot}: the device has another submodule there");
             continue;

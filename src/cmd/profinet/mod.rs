@@ -207,8 +207,12 @@ pub(crate) fn configured(
         ));
     }
     let choices = parse_choices(modules).map_err(|e| format!("--module {e}"))?;
-    let chosen = choose_pn(&pn, access_point, &choices)
-        .map_err(|problems| format!("`{path}`: the modules chosen do not fit: {}", problems.join("; ")))?;
+    let chosen = choose_pn(&pn, access_point, &choices).map_err(|problems| {
+        format!(
+            "`{path}`: the modules chosen do not fit: {}",
+            problems.join("; ")
+        )
+    })?;
     pn.chosen = Some(chosen);
     Ok(pn)
 }

@@ -2,8 +2,9 @@
 //! [--ip ADDR[/PREFIX]]...`: PROFINET IO devices from GSDMLs on one network interface (root, or
 //! `CAP_NET_RAW`), the cards first, then the files, each with its own MAC
 //! ([`segment::device_mac`]), name of station, IP, ARs, alarms and cyclic data. Each says Hello,
-//! then answers DCP (identify, get, set name of station and IP, signal) as its GSDML's default
-//! access point, serves connection management on UDP 34964 at its own IP (Connect, Read,
+//! then answers DCP (identify, get, set name of station and IP, signal) as its GSDML's
+//! configuration's access point (a file's: the overlay's `[modules]`, else `--access-point` and
+//! `--module`, else the default; docs/modules.md), with its modules, serves connection management on UDP 34964 at its own IP (Connect, Read,
 //! Write, PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of its AR, with
 //! the Goodrive350's drive behind a card, whose faults are Diagnosis alarms on the AR's
 //! AlarmCR (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch them,
@@ -50,6 +51,8 @@ struct Planned {
 /// Runs the devices of `cards` (`goodrive350-pn[@NAME]`, first) and `files` (`FILE[@NAME]`)
 /// on `iface`, each with the MAC [`segment::device_mac`] gives its position and the IP of
 /// `ips` at that position (or the interface's address at that position when `ips` is empty).
+/// `chosen` is the `--module` lists and the `--access-point`s of the files, one each in the
+/// order of `files` (an empty list or `None`: the overlay's choice, else the default).
 /// Exit 2 for bad usage, a file that is not a readable GSDML, or an interface that cannot be
 /// opened. With `faults_on_stdin`, the card devices' drives' faults are switched by `fault`
 /// and `clear` lines on standard input (`fault NAME` for the device of that name of station).
@@ -74,7 +77,9 @@ pub fn run(
     if modules.iter().skip(beyond).any(|m| !m.is_empty())
         || access_points.iter().skip(beyond).any(Option::is_some)
     {
-        return fail("--module and --access-point choose the configuration of a FILE.xml, not of a card");
+        return fail(
+            "--module and --access-point choose the configuration of a FILE.xml, not of a card",
+        );
     }
     let entries = cards
         .iter()
