@@ -356,3 +356,55 @@ fn simulate_profinet_refuses_modules_that_do_not_fit_with_exit_2() {
         );
     }
 }
+
+/// A GSDML's overlay (`FILE.toml` beside it) choosing its modules is what `simulate --profinet`
+/// serves (root, on `lo`), and `--module` then contradicts it: exit 2.
+#[test]
+fn simulate_profinet_serves_the_overlay_s_modules() {
+    let Some(corpus) = process_support::gsdml_corpus_dir() else {
+        return;
+    };
+    let source = corpus.join("rtlabs-com__p-net/GSDML-V2.4-rtlabs-IODevice-20201211.xml");
+    let dir = std::env::temp_dir().join(format!("edsgen-pn-overlay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let gsdml = dir.join("iodevice.xml");
+    std::fs::copy(&source, &gsdml).expect("the GSDML copied");
+    std::fs::write(
+        dir.join("iodevice.toml"),
+        "[modules]\nslots = [\"1=IDM_12\", \"IDM_11\"]\n",
+    )
+    .expect("the overlay");
+    let path = gsdml.to_str().expect("a UTF-8 path");
+    let (code, stdout, stderr) =
+        edsgen(&["simulate", "--profinet", "lo", path, "--module", "IDM_13"]);
+    assert_eq!(
+        (code, stdout.as_str(), stderr.as_str()),
+        (
+            Some(2),
+            "",
+            format!(
+                "error: `{path}`: its overlay's [modules] already chooses the configuration; \
+                 --module and --access-point would contradict it\n"
+            )
+            .as_str()
+        )
+    );
+    if edsgen_demo::netns::is_root() {
+        let device = process_support::Process::edsgen(&[
+            "simulate",
+            "--profinet",
+            "lo",
+            path,
+            "--ip",
+            "127.0.0.1",
+        ]);
+        device.stdout_line(|l| l.starts_with("PROFINET device"), WAIT);
+        assert_eq!(
+            device.stdout_line(|_| true, WAIT),
+            "access point IDD_1, modules: slot 1 IDM_12 (0x00000031), slot 2 IDM_11 (0x00000030)"
+        );
+    } else {
+        process_support::skip::<()>("not root: no raw socket on lo for PROFINET");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
