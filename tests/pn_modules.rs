@@ -29,6 +29,9 @@ fn iodevice() -> Option<PathBuf> {
     Some(gsdml_corpus_dir()?.join(IODEVICE))
 }
 
+/// A slot: its number, ModuleIdentNumber, and (subslot, ident, input and output bytes) each.
+type Slot = (u16, u32, Vec<(u16, u32, u16, u16)>);
+
 fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
@@ -43,7 +46,7 @@ fn pn_io_connects_with_the_modules_chosen() {
     let choices = parse_choices(&["1=IDM_12", "IDM_11"]).expect("two choices");
     let chosen = choose_pn(pn, None, &choices).expect("allowed");
     let config = DeviceConfig::configured(pn, &chosen);
-    let slots: Vec<(u16, u32, Vec<(u16, u32, u16, u16)>)> = config
+    let slots: Vec<Slot> = config
         .slots
         .iter()
         .map(|s| {

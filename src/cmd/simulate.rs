@@ -119,7 +119,10 @@ pub fn run(args: Args) -> ExitCode {
             iface,
             &args.files,
             &args.cards,
-            (&[args.modules.clone()], &[args.access_point.clone()]),
+            (
+                std::slice::from_ref(&args.modules),
+                std::slice::from_ref(&args.access_point),
+            ),
             &args.ip,
             args.faults_on_stdin,
             &allow,
