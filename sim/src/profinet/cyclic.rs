@@ -233,4 +233,26 @@ mod tests {
         assert_eq!(c.poll_timeout(), None);
         assert!(!c.handle_timeout(Instant::from_millis(20_000)));
     }
+
+    #[test]
+    fn a_loopback_pours_the_output_bytes_into_the_inputs_in_order() {
+        let object = |slot, offset, len| DataObject {
+            slot,
+            subslot: 1,
+            offset,
+            len,
+        };
+        let mut layout = crate::profinet::drive::card_layout(
+            [2, 0, 0, 0, 0, 1],
+            [2, 0, 0, 0, 3, 0x50],
+            Duration::from_millis(4),
+            3,
+        );
+        layout.outputs = vec![object(1, 0, 2), object(2, 3, 1)];
+        layout.inputs = vec![object(3, 0, 1), object(4, 2, 3)];
+        let mut c = Cyclic::new(layout);
+        assert_eq!(c.looped_back(), [vec![0], vec![0, 0, 0]]);
+        c.outputs = vec![(vec![0x11, 0x22], 0x80), (vec![0x33], 0x80)];
+        assert_eq!(c.looped_back(), [vec![0x11], vec![0x22, 0x33, 0]]);
+    }
 }
