@@ -4,17 +4,18 @@
 //! namespace on the other end, this program as the IO controller, with the project's
 //! controller core (`edsgen_sim::profinet::controller`): N ARs connected one after the other
 //! (Connect, PrmEnd, ApplicationReady answered), then held for SECONDS at SendClockFactor 32,
-//! ReductionRatio 4 (4 ms), DataHoldFactor 3 (the device's watchdog: 12 ms without outputs),
-//! then released. Per N: the controller's ticks that started over 1 ms late, the input frames
-//! received of those due, the gaps between one device's input frames (p50, p99, worst), the
-//! ARs the devices aborted (their watchdog expired: "AR aborted" on the simulator's output) and
-//! the ARs still there to release, and the simulator's resident memory; then the largest N of
-//! those tried with no watchdog expiry. Prints the load average first and last: on a shared
-//! machine the figures are as quiet as it was. Needs root; release builds:
+//! ReductionRatio 4 (4 ms), DataHoldFactor 3 (the device's watchdog: 12 ms without outputs;
+//! `--hold=H` for another), then released. Per N: the controller's ticks that started over
+//! 1 ms late, the input frames received of those due, the gaps between one device's input
+//! frames as the controller's reading thread saw them (p50, p99, worst), the ARs the devices
+//! aborted (their watchdog expired: "AR aborted" on the simulator's output) and the ARs still
+//! there to release, and the simulator's resident memory; then the largest N of those tried
+//! with no watchdog expiry. Prints the load average first and last: on a shared machine the
+//! figures are as quiet as it was. Needs root; release builds:
 //!
 //! ```sh
 //! cargo build --release --bin edsgen --example profinet_scale
-//! sudo target/release/examples/profinet_scale [SECONDS (10)] [N...] (1 8 16 32 64 128)
+//! sudo target/release/examples/profinet_scale [SECONDS (10)] [--hold=H (3)] [N...] (1 8 16 32 64 128)
 //! ```
 //!
 //! The namespaces, the veth pair and the simulator are removed at the end, also on failure.
@@ -41,8 +42,10 @@ const ROLE: &str = "EDSGEN_PN_SCALE_DEVICES";
 const SEND_CLOCK: u16 = 32;
 const REDUCTION: u16 = 4;
 const PERIOD: Duration = Duration::from_millis(4);
-/// DataHoldFactor: the device's watchdog is 3 cycles without outputs.
+/// DataHoldFactor by default: the device's watchdog is 3 cycles without outputs.
 const HOLD: u16 = 3;
+/// The variable carrying the DataHoldFactor to the controller.
+const HOLD_VAR: &str = "EDSGEN_PN_SCALE_HOLD";
 /// A controller tick this late is counted.
 const LATE: Duration = Duration::from_millis(1);
 
@@ -51,7 +54,8 @@ fn main() {
     let seconds: u64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(10);
     if let Ok(devices) = std::env::var(ROLE) {
         let iface = args.next().unwrap_or_default();
-        match controller(&iface, &devices, seconds) {
+        let hold = std::env::var(HOLD_VAR).ok().and_then(|h| h.parse().ok());
+        match controller(&iface, &devices, seconds, hold.unwrap_or(HOLD)) {
             Ok(line) => println!("{line}"),
             Err(e) => {
                 eprintln!("{e}");
@@ -64,7 +68,12 @@ fn main() {
         eprintln!("profinet_scale needs root (network namespaces, raw sockets)");
         std::process::exit(2);
     }
-    let mut counts: Vec<usize> = args.filter_map(|a| a.parse().ok()).collect();
+    let rest: Vec<String> = args.collect();
+    let hold = rest
+        .iter()
+        .find_map(|a| a.strip_prefix("--hold=")?.parse::<u16>().ok())
+        .unwrap_or(HOLD);
+    let mut counts: Vec<usize> = rest.iter().filter_map(|a| a.parse().ok()).collect();
     if counts.is_empty() {
         counts = vec![1, 8, 16, 32, 64, 128];
     }
@@ -77,9 +86,13 @@ fn main() {
         std::process::exit(2);
     };
     println!("load average {}", load_average());
+    println!(
+        "{seconds} s per N at 4 ms, DataHoldFactor {hold} (the devices' watchdog: {} ms)",
+        4 * hold
+    );
     let mut largest = None;
     for n in counts {
-        match run(&edsgen, n, seconds) {
+        match run(&edsgen, n, seconds, hold) {
             Ok((line, aborted)) => {
                 println!("N {n}: {line}");
                 if aborted == 0 {
@@ -97,7 +110,12 @@ fn main() {
 }
 
 /// N cards served and driven for `seconds`: the controller's line and the ARs aborted.
-fn run(edsgen: &std::path::Path, n: usize, seconds: u64) -> Result<(String, usize), String> {
+fn run(
+    edsgen: &std::path::Path,
+    n: usize,
+    seconds: u64,
+    hold: u16,
+) -> Result<(String, usize), String> {
     let mut net = Network::create("pnscale", 2)?;
     let (device_if, controller_if) = net.veth(End::Namespace(0), End::Namespace(1))?;
     net.address(1, &controller_if, "10.90.0.1/16")?;
@@ -148,6 +166,7 @@ fn run(edsgen: &std::path::Path, n: usize, seconds: u64) -> Result<(String, usiz
         .command(1, &me)?
         .args([seconds.to_string(), controller_if.clone()])
         .env(ROLE, devices.join(" "))
+        .env(HOLD_VAR, hold.to_string())
         .output()
         .map_err(|e| format!("the controller: {e}"))?;
     let rss = resident_kib(pid).map_or("?".to_owned(), |k| k.to_string());
@@ -176,7 +195,7 @@ struct Held {
 }
 
 /// The controller's side: connect every device, hold the ARs, release them; one line.
-fn controller(iface: &str, devices: &str, seconds: u64) -> Result<String, String> {
+fn controller(iface: &str, devices: &str, seconds: u64, hold: u16) -> Result<String, String> {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/eds/goodrive350-pn.xml");
     let read = edsgen_model::load::load(std::path::Path::new(path), None)
         .map_err(|e| format!("{path}: {e}"))?;
@@ -206,7 +225,7 @@ fn controller(iface: &str, devices: &str, seconds: u64) -> Result<String, String
     for device in &mut held {
         let blocks = device
             .ctl
-            .connect_blocks(&config, SEND_CLOCK, REDUCTION, HOLD);
+            .connect_blocks(&config, SEND_CLOCK, REDUCTION, hold);
         let args = call(&rpc, &mut stash, device.ip, &device.ctl.connect(&blocks))?;
         device.frame_ids = connected(&args).ok_or("no IOCRBlockRes")?.frame_ids;
         call(&rpc, &mut stash, device.ip, &device.ctl.prm_end())?;
