@@ -3,8 +3,9 @@
 //! Set of a temporary IP when it has none), connects an IO AR with the IOCRs, AlarmCR and
 //! expected submodules of the GSDML's configuration (the overlay's `[modules]`, else
 //! `--access-point` and `--module [SLOT=]NAME`, else the first access point and its fixed and
-//! used modules), writes the parameter records, ends the parametrization,
-//! answers the device's ApplicationReady, and exchanges RT_CLASS_1 frames every `--cycle-ms`
+//! used modules), prints the device's ModuleDiffBlock if it sends one, writes the parameter
+//! records (not those of the submodules it lists), ends the parametrization, answers the
+//! device's ApplicationReady, and exchanges RT_CLASS_1 frames every `--cycle-ms`
 //! with the outputs set on the command line (zero elsewhere), printing the inputs by name
 //! whenever they change and each alarm (acknowledged); it releases the AR after `--cycles` or
 //! on SIGINT/SIGTERM. Exit 0; 1 when the device is not found, refuses a step or is lost; 2 for
