@@ -296,12 +296,7 @@ fn controller(iface: &str, devices: &str, seconds: u64, hold: u16) -> Result<Str
     let _ = rx.join();
     let due = held.len() * (seconds as usize * 1000 / 4);
     let received: usize = held.iter().map(|d| d.inputs).sum();
-    let mut released = 0;
-    for device in &mut held {
-        if call(&rpc, &mut stash, device.ip, &device.ctl.release()).is_ok() {
-            released += 1;
-        }
-    }
+    let released = release_all(&rpc, &mut held)?;
     gaps.sort_unstable();
     let at = |q: f64| {
         let i = ((gaps.len() as f64 - 1.0) * q).round() as usize;
@@ -362,6 +357,31 @@ fn call(rpc: &RpcSocket, stash: &mut Stash, ip: [u8; 4], pdu: &[u8]) -> Result<V
         }
     }
     Err(format!("no answer from {ip:?}"))
+}
+
+/// Releases every AR at once (one after the other, each device would see no outputs for the
+/// others' round trips, and its watchdog expire): how many the devices confirmed.
+fn release_all(rpc: &RpcSocket, held: &mut [Held]) -> Result<usize, String> {
+    for device in held.iter_mut() {
+        let pdu = device.ctl.release();
+        rpc.send((device.ip, RPC_PORT), &pdu)
+            .map_err(|e| e.to_string())?;
+    }
+    let mut confirmed: Vec<[u8; 4]> = Vec::new();
+    let mut buf = vec![0u8; 4096];
+    let deadline = Instant::now() + Duration::from_secs(2);
+    while Instant::now() < deadline && confirmed.len() < held.len() {
+        match rpc.recv(&mut buf).map_err(|e| e.to_string())? {
+            Some((len, from)) => {
+                let ok = response(&buf[..len]).is_some_and(|(status, _)| status.is_ok());
+                if ok && !confirmed.contains(&from.0) {
+                    confirmed.push(from.0);
+                }
+            }
+            None => std::thread::sleep(Duration::from_micros(200)),
+        }
+    }
+    Ok(confirmed.len())
 }
 
 /// Waits for the device's ApplicationReady (perhaps in `stash` already) and answers it.
