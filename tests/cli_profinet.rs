@@ -264,7 +264,7 @@ fn pn_io_refuses_bad_settings_with_exit_2() {
         "--gsdml",
         "eds/goodrive350-pn.xml",
     ];
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 7] = [
         (
             &["Speed=1"],
             "error: no output named `Speed` (the outputs: PKW1, PKW2, PKW3, PKW4, CW, PZD2, PZD3, \
@@ -281,7 +281,13 @@ fn pn_io_refuses_bad_settings_with_exit_2() {
         ),
         (
             &["--module", "2=MOD_PKW_PZD_16"],
-            "error: the access point does not allow module `MOD_PKW_PZD_16` in slot 2\n",
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: module \
+             MOD_PKW_PZD_16 is not allowed in slot 2 (it may take 1)\n",
+        ),
+        (
+            &["--access-point", "DAP_X"],
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: no access point \
+             \"DAP_X\"; did you mean:\n  \"DAP_GD350_PN\"\n",
         ),
         (
             &["--cycle-ms", "3"],
@@ -297,4 +303,108 @@ fn pn_io_refuses_bad_settings_with_exit_2() {
             "{extra:?}"
         );
     }
+}
+
+/// `simulate --profinet` refuses modules a FILE's access point does not allow, modules for a
+/// card, and `--module` on a bus that takes none, before it opens the interface: exit 2.
+#[test]
+fn simulate_profinet_refuses_modules_that_do_not_fit_with_exit_2() {
+    let file = ["simulate", "--profinet", "lo", "eds/goodrive350-pn.xml"];
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &[&file[..], &["--module", "2=MOD_PKW_PZD_16"]].concat(),
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: module \
+             MOD_PKW_PZD_16 is not allowed in slot 2 (it may take 1)\n",
+        ),
+        (
+            &[&file[..], &["--access-point", "DAP 2"]].concat(),
+            "error: `eds/goodrive350-pn.xml`: the modules chosen do not fit: no access point \
+             \"DAP 2\"; did you mean:\n  \"DAP_GD350_PN\"\n",
+        ),
+        (
+            &[
+                "simulate",
+                "--profinet",
+                "lo",
+                "--card",
+                "goodrive350-pn",
+                "--module",
+                "MOD_PKW_PZD_16",
+            ],
+            "error: --module and --access-point choose the configuration of a FILE.xml, not of \
+             a card\n",
+        ),
+        (
+            &[
+                "simulate",
+                "--enip",
+                "127.0.0.1",
+                "--card",
+                "x",
+                "--module",
+                "M",
+            ],
+            "error: --module goes with --profibus or --profinet\n",
+        ),
+    ];
+    for (args, expected) in cases {
+        let (code, stdout, stderr) = edsgen(args);
+        assert_eq!(
+            (code, stdout.as_str(), stderr.as_str()),
+            (Some(2), "", expected),
+            "{args:?}"
+        );
+    }
+}
+
+/// A GSDML's overlay (`FILE.toml` beside it) choosing its modules is what `simulate --profinet`
+/// serves (root, on `lo`), and `--module` then contradicts it: exit 2.
+#[test]
+fn simulate_profinet_serves_the_overlay_s_modules() {
+    let Some(corpus) = process_support::gsdml_corpus_dir() else {
+        return;
+    };
+    let source = corpus.join("rtlabs-com__p-net/GSDML-V2.4-rtlabs-IODevice-20201211.xml");
+    let dir = std::env::temp_dir().join(format!("edsgen-pn-overlay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let gsdml = dir.join("iodevice.xml");
+    std::fs::copy(&source, &gsdml).expect("the GSDML copied");
+    std::fs::write(
+        dir.join("iodevice.toml"),
+        "[modules]\nslots = [\"1=IDM_12\", \"IDM_11\"]\n",
+    )
+    .expect("the overlay");
+    let path = gsdml.to_str().expect("a UTF-8 path");
+    let (code, stdout, stderr) =
+        edsgen(&["simulate", "--profinet", "lo", path, "--module", "IDM_13"]);
+    assert_eq!(
+        (code, stdout.as_str(), stderr.as_str()),
+        (
+            Some(2),
+            "",
+            format!(
+                "error: `{path}`: its overlay's [modules] already chooses the configuration; \
+                 --module and --access-point would contradict it\n"
+            )
+            .as_str()
+        )
+    );
+    if edsgen_demo::netns::is_root() {
+        let device = process_support::Process::edsgen(&[
+            "simulate",
+            "--profinet",
+            "lo",
+            path,
+            "--ip",
+            "127.0.0.1",
+        ]);
+        device.stdout_line(|l| l.starts_with("PROFINET device"), WAIT);
+        assert_eq!(
+            device.stdout_line(|_| true, WAIT),
+            "access point IDD_1, modules: slot 1 IDM_12 (0x00000031), slot 2 IDM_11 (0x00000030)"
+        );
+    } else {
+        process_support::skip::<()>("not root: no raw socket on lo for PROFINET");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -211,7 +211,7 @@ fn profinet_py_s_cyclic_command_runs_against_a_corpus_gsdml() {
     ] {
         assert!(lines.contains(&expected), "{expected}: {}", done.stdout);
     }
-    // The input module's byte (zero: no application behind it) seen in the cyclic data.
+    // The input module's byte seen in the cyclic data: zero, profinet-py's outputs looped back.
     assert!(
         lines.iter().any(|l| l.starts_with("[  1.0s] 2:1=00 | TX=")),
         "{}",

@@ -113,6 +113,10 @@ pub fn run(args: Args) -> ExitCode {
     if let Some(machine) = &args.machine {
         return super::machine::run(machine, &args.allow, &allow);
     }
+    let modular = args.profibus.is_some() || args.ethercat.is_some() || args.profinet.is_some();
+    if !args.module_args.is_empty() && !modular {
+        return fail("--module goes with --profibus, --ethercat or --profinet");
+    }
     if let Some(addr) = &args.enip {
         return super::enip::simulate::run(addr, &args.files, &args.cards, &allow);
     }
@@ -121,14 +125,11 @@ pub fn run(args: Args) -> ExitCode {
             iface,
             &args.files,
             &args.cards,
+            (&args.modules, &args.access_points),
             &args.ip,
             args.faults_on_stdin,
             &allow,
         );
-    }
-    let modular = args.profibus.is_some() || args.ethercat.is_some() || args.profinet.is_some();
-    if !args.module_args.is_empty() && !modular {
-        return fail("--module goes with --profibus, --ethercat or --profinet");
     }
     if let Some(tty) = &args.profibus {
         return super::dp::simulate::run(tty, &args.files, &args.cards, &args.modules, &allow);

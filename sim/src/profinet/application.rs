@@ -1,7 +1,8 @@
 //! What sits behind a simulated PROFINET IO device ([`IoApplication`]): the data of the card's
 //! module (slot 1, subslot 1, 32 bytes each way), its records and its faults. The Goodrive350's
 //! PKW/PZD drive is one ([`PkwPzdDrive`], the same card application the DP slave serves); a
-//! device built from any other GSDML has none and sends inputs of zero.
+//! device built from any other GSDML has none and loops its outputs back to its inputs
+//! ([`super::cyclic::Cyclic::looped_back`]).
 
 use edsgen_runtime::pkw_pzd::{ByteOrder, IMAGE_BYTES};
 use edsgen_runtime::Instant;

@@ -139,6 +139,21 @@ impl Cyclic {
         self.outputs.get(n).map(|(d, iops)| (d.as_slice(), *iops))
     }
 
+    /// A loopback's input data, as a test rack wired output to input: the bytes of the output
+    /// data (submodule after submodule, in the layout's order) poured into the input data
+    /// objects in their order, zero past the outputs' end.
+    pub fn looped_back(&self) -> Vec<Vec<u8>> {
+        let mut bytes = self
+            .outputs
+            .iter()
+            .flat_map(|(data, _)| data.iter().copied());
+        self.layout
+            .inputs
+            .iter()
+            .map(|input| (0..input.len).map(|_| bytes.next().unwrap_or(0)).collect())
+            .collect()
+    }
+
     /// The input CR's frame at `now`: each input submodule's data (from `inputs`, in order;
     /// missing ones zero) with IOPS good, the IOCS good, the cycle counter of `now`.
     pub fn produce(&mut self, now: Instant, inputs: &[&[u8]]) -> Vec<u8> {
@@ -217,5 +232,27 @@ mod tests {
         assert!(c.handle_timeout(Instant::from_millis(10_100)));
         assert_eq!(c.poll_timeout(), None);
         assert!(!c.handle_timeout(Instant::from_millis(20_000)));
+    }
+
+    #[test]
+    fn a_loopback_pours_the_output_bytes_into_the_inputs_in_order() {
+        let object = |slot, offset, len| DataObject {
+            slot,
+            subslot: 1,
+            offset,
+            len,
+        };
+        let mut layout = crate::profinet::drive::card_layout(
+            [2, 0, 0, 0, 0, 1],
+            [2, 0, 0, 0, 3, 0x50],
+            Duration::from_millis(4),
+            3,
+        );
+        layout.outputs = vec![object(1, 0, 2), object(2, 3, 1)];
+        layout.inputs = vec![object(3, 0, 1), object(4, 2, 3)];
+        let mut c = Cyclic::new(layout);
+        assert_eq!(c.looped_back(), [vec![0], vec![0, 0, 0]]);
+        c.outputs = vec![(vec![0x11, 0x22], 0x80), (vec![0x33], 0x80)];
+        assert_eq!(c.looped_back(), [vec![0x11], vec![0x22, 0x33, 0]]);
     }
 }

@@ -1,6 +1,7 @@
 //! One simulated IO device, its protocol machines together: DCP ([`Dcp`]), connection
 //! management ([`Cm`]) and, while an IO AR is up, the cyclic exchange on the AR's layout, with
-//! the Goodrive350's PKW/PZD drive behind it when the device is the card (else inputs of zero).
+//! the Goodrive350's PKW/PZD drive behind it when the device is the card (else a loopback: its
+//! inputs are its outputs, [`Cyclic::looped_back`]).
 //! Cyclic frames are produced only while the AR's data is valid (after ApplicationReady's Done)
 //! and the watchdog aborts the AR. The AR's AlarmCR ([`AlarmCr`]) carries the card's
 //! diagnosis: a fault of the drive is a Diagnosis alarm, its reset a Diagnosis disappears
@@ -78,7 +79,7 @@ enum Exchange<A> {
     Idle(Option<A>),
     /// The card's drive behind the AR's layout.
     Card(CardCycle<A>),
-    /// A device without a drive: its inputs are zero.
+    /// A device without a drive: a loopback ([`Cyclic::looped_back`]).
     Plain(Cyclic, Instant),
 }
 
@@ -290,8 +291,9 @@ impl<A: IoApplication> Device<A> {
                     return None;
                 }
                 *next = now + c.layout().interval;
-                let empty: Vec<&[u8]> = Vec::new();
-                Some(c.produce(now, &empty))
+                let looped = c.looped_back();
+                let inputs: Vec<&[u8]> = looped.iter().map(Vec::as_slice).collect();
+                Some(c.produce(now, &inputs))
             }
             Exchange::Idle(_) => None,
         }

@@ -117,8 +117,12 @@ impl<A: IoApplication> Segment<A> {
         }
         let mut buf = vec![0u8; 1600];
         let mut dgram = vec![0u8; 4096];
+        // The endpoints are read when the wire is idle, else once a millisecond: reading each
+        // device's after every frame would cost N system calls a frame.
+        let mut rpc_due = Instant::now();
         while until.is_none_or(|t| Instant::now() < t) {
-            if let Some(n) = self.raw.recv(&mut buf)? {
+            let received = self.raw.recv(&mut buf)?;
+            if let Some(n) = received {
                 let frame = &buf[..n.min(buf.len())];
                 let dst: Option<Mac> = frame.get(..6).and_then(|d| d.try_into().ok());
                 for device in &mut self.devices {
@@ -128,7 +132,11 @@ impl<A: IoApplication> Segment<A> {
                     }
                 }
             }
-            for i in 0..self.devices.len() {
+            let rpc = received.is_none() || Instant::now() >= rpc_due;
+            if rpc {
+                rpc_due = Instant::now() + std::time::Duration::from_millis(1);
+            }
+            for i in (0..self.devices.len()).filter(|_| rpc) {
                 while let Some((n, from)) = match &self.endpoints[i].socket {
                     Some(socket) => socket.recv(&mut dgram)?,
                     None => None,

@@ -1,5 +1,5 @@
-//! What a simulated device says about itself, from its GSDML: VendorID, DeviceID, the default
-//! access point's `DNS_CompatibleName` (the name of station it starts with), a type of station
+//! What a simulated device says about itself, from its GSDML: VendorID, DeviceID, the
+//! access point's `DNS_CompatibleName` (of the chosen configuration's, else the first's) (the name of station it starts with), a type of station
 //! (the vendor and product family), and its instance. A `DNS_CompatibleName` with capitals is
 //! lowercased: a name of station is lowercase (the PROFINET name rules), and DCP compares names
 //! byte for byte, so a controller looking for the GSDML's name in any case finds it lowercase.
@@ -9,9 +9,11 @@ use edsgen_model::model::Profinet;
 use super::dcp::Station;
 use super::wire::Mac;
 
-/// The station of the GSDML's default access point on an interface with `mac`.
+/// The station of the GSDML's access point ([`Profinet::configuration`]'s) on an interface
+/// with `mac`.
 pub fn from_gsdml(pn: &Profinet, mac: Mac) -> Station {
-    let dap = pn.access_points.first();
+    let configuration = pn.configuration();
+    let dap = configuration.access_point(pn);
     let family = pn
         .family
         .as_ref()

@@ -1,9 +1,11 @@
 //! `edsgen pn io IFACE NAME --gsdml FILE [SETTING...]`: a PROFINET IO controller at the bench
 //! (root, or `CAP_NET_RAW`). It finds the device by its name of station (DCP Identify; a DCP
 //! Set of a temporary IP when it has none), connects an IO AR with the IOCRs, AlarmCR and
-//! expected submodules of the GSDML's default access point and its modules (`--module
-//! SLOT=MODULE_ID` plugs others), writes the parameter records, ends the parametrization,
-//! answers the device's ApplicationReady, and exchanges RT_CLASS_1 frames every `--cycle-ms`
+//! expected submodules of the GSDML's configuration (the overlay's `[modules]`, else
+//! `--access-point` and `--module [SLOT=]NAME`, else the first access point and its fixed and
+//! used modules), prints the device's ModuleDiffBlock if it sends one, writes the parameter
+//! records (not those of the submodules it lists), ends the parametrization, answers the
+//! device's ApplicationReady, and exchanges RT_CLASS_1 frames every `--cycle-ms`
 //! with the outputs set on the command line (zero elsewhere), printing the inputs by name
 //! whenever they change and each alarm (acknowledged); it releases the AR after `--cycles` or
 //! on SIGINT/SIGTERM. Exit 0; 1 when the device is not found, refuses a step or is lost; 2 for
@@ -22,6 +24,7 @@ use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::controller::{alarm_cr, connected, Controller, CrLayout};
 use edsgen_sim::profinet::controller_alarm::ControllerAlarms;
 use edsgen_sim::profinet::iface;
+use edsgen_sim::profinet::wire::blocks::{SlotIdent, MODULE_NO};
 
 use super::io_data::{self, RecordWrite, Setting, SubmoduleData};
 use super::io_link::Link;
@@ -45,8 +48,10 @@ pub struct IoArgs<'a> {
     pub gsdml: &'a PathBuf,
     /// `NAME=VALUE` and `SLOT.SUBSLOT=HEX` settings.
     pub settings: &'a [String],
-    /// `SLOT=MODULE_ID` modules to plug.
+    /// `[SLOT=]NAME` modules to plug (docs/modules.md).
     pub modules: &'a [String],
+    /// The access point (its ID or name).
+    pub access_point: Option<&'a str>,
     /// `SLOT.SUBSLOT.INDEX=HEX` record contents.
     pub records: &'a [String],
     /// Cycles of data exchange before the release (until a signal with `None`).
@@ -93,14 +98,14 @@ fn session(args: &IoArgs) -> Result<(), Stop> {
         .device
         .profinet()
         .ok_or_else(|| usage(format!("`{}` is not a GSDML file", args.gsdml.display())))?;
-    let mut config = DeviceConfig::from_gsdml(pn);
-    for module in args.modules {
-        let (slot, id) = module
-            .split_once('=')
-            .and_then(|(s, id)| Some((s.parse::<u16>().ok()?, id)))
-            .ok_or_else(|| usage(format!("--module `{module}` is not SLOT=MODULE_ID")))?;
-        config.plug(pn, slot, id).map_err(Stop::Usage)?;
-    }
+    let pn = &super::configured(
+        pn,
+        &args.gsdml.display().to_string(),
+        args.modules,
+        args.access_point,
+    )
+    .map_err(Stop::Usage)?;
+    let config = DeviceConfig::from_gsdml(pn);
     let subs = io_data::submodules(pn, &config);
     let output_len = |slot, subslot| config.submodule(slot, subslot).map(|s| s.output_len);
     let settings = args
@@ -273,6 +278,9 @@ pub(super) struct Ar {
     pub(super) last: Option<(Vec<u8>, Instant)>,
     pub(super) alarms: ControllerAlarms,
     pub(super) clock: MonotonicClock,
+    /// The modules of the device's ModuleDiffBlock: their submodules it lists, and every
+    /// submodule of a slot it says is empty, are not parametrized.
+    differing: Vec<SlotIdent>,
 }
 
 impl Ar {
@@ -305,16 +313,18 @@ impl Ar {
             last: None,
             alarms: ControllerAlarms::new(&alarm_cr(), 0, link.mac, device),
             clock: MonotonicClock::new(),
+            differing: Vec::new(),
         };
         let (status, answer) = link.call(ip, &ctl.connect(&blocks), &mut ar)?;
         refused("Connect", status)?;
         let connected = connected(&answer)
             .ok_or_else(|| Stop::Device("the Connect's answer has no IOCRBlockRes".into()))?;
         if let Some(diff) = &connected.diff {
-            println!(
-                "the device's modules differ from the GSDML's configuration: {} API(s) in its ModuleDiffBlock",
-                diff.apis.len()
-            );
+            println!("the device's modules differ from the configuration (its ModuleDiffBlock):");
+            for line in io_data::module_diff_lines(diff) {
+                println!("  {line}");
+            }
+            ar.differing = diff.apis.iter().flat_map(|a| a.modules.clone()).collect();
         }
         ar.frame_ids = connected.frame_ids;
         let device_ref = connected.device_alarm_ref.unwrap_or(0);
@@ -402,6 +412,15 @@ fn exchange(
     let ip = ar.ip;
     for (slot, subslot, index, data) in records {
         let (slot, subslot, index) = (*slot, *subslot, *index);
+        let differs = ar
+            .differing
+            .iter()
+            .filter(|m| m.slot == slot)
+            .any(|m| m.state == MODULE_NO || m.submodules.iter().any(|s| s.0 == subslot));
+        if differs {
+            println!("not writing record {index} of slot {slot} subslot {subslot}: the device has another submodule there");
+            continue;
+        }
         let (status, _) = link.call(ip, &ctl.write(slot, subslot, index, data), ar)?;
         refused(
             &format!("Write of record {index} of slot {slot} subslot {subslot}"),

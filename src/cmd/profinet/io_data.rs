@@ -6,6 +6,7 @@
 
 use edsgen_model::model::{DataItem, PnDataType, Profinet, Submodule};
 use edsgen_sim::profinet::ar::config::DeviceConfig;
+use edsgen_sim::profinet::wire::blocks::ModuleDiffBlock;
 
 /// One named data item of a submodule's input or output data.
 #[derive(Debug, Clone)]
@@ -67,29 +68,14 @@ fn items(list: &[DataItem]) -> Vec<Item> {
     out
 }
 
-/// The GSDML submodule of each submodule of `config`: (slot, the model's submodule).
+/// The GSDML submodule of each submodule of `config`: (slot, the model's submodule), those of
+/// the model's configuration ([`Profinet::configuration`]) that `config` has.
 pub fn model_submodules<'a>(pn: &'a Profinet, config: &DeviceConfig) -> Vec<(u16, &'a Submodule)> {
-    let Some(dap) = pn.access_points.first() else {
-        return Vec::new();
-    };
-    let dap_slot = dap.fixed_in_slots.first().copied().unwrap_or(0);
-    let mut found = Vec::new();
-    for slot in &config.slots {
-        let submodules = if slot.slot == dap_slot {
-            Some(&dap.submodules)
-        } else {
-            pn.modules
-                .iter()
-                .find(|m| m.module_ident.as_ref().map(|i| i.value) == Some(slot.module_ident))
-                .map(|m| &m.submodules)
-        };
-        for sub in submodules.into_iter().flatten() {
-            if slot.submodules.iter().any(|s| s.subslot == sub.subslot) {
-                found.push((slot.slot, sub));
-            }
-        }
-    }
-    found
+    pn.configuration()
+        .submodules(pn)
+        .into_iter()
+        .filter(|(slot, sub)| config.submodule(*slot, sub.subslot).is_some())
+        .collect()
 }
 
 /// The named data of every submodule of `config` that has IO data.
@@ -361,6 +347,45 @@ fn put_default(data: &mut [u8], field: &edsgen_model::model::RecordField, value:
         }
         None => {}
     }
+}
+
+/// One line per module of a ModuleDiffBlock, then one per submodule under it, with the
+/// states' meanings (IEC 61158-6-10: ModuleState, SubmoduleState's IdentInfo).
+pub fn module_diff_lines(diff: &ModuleDiffBlock) -> Vec<String> {
+    let module_state = |state| match state {
+        0 => "no module",
+        1 => "wrong module",
+        2 => "proper module",
+        3 => "substitute",
+        _ => "reserved",
+    };
+    let ident_info = |state: u16| match (state >> 11) & 0x0F {
+        0 => "ok",
+        1 => "substitute",
+        2 => "wrong",
+        3 => "no submodule",
+        _ => "reserved",
+    };
+    let mut lines = Vec::new();
+    for api in &diff.apis {
+        for module in &api.modules {
+            lines.push(format!(
+                "API {} slot {}: ModuleIdentNumber {:#010x}, ModuleState {} ({})",
+                api.api,
+                module.slot,
+                module.module_ident,
+                module.state,
+                module_state(module.state)
+            ));
+            for &(subslot, ident, state) in &module.submodules {
+                lines.push(format!(
+                    "  subslot {subslot:#06x}: SubmoduleIdentNumber {ident:#010x}, SubmoduleState {state:#06x} ({})",
+                    ident_info(state)
+                ));
+            }
+        }
+    }
+    lines
 }
 
 #[cfg(test)]

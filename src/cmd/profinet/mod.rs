@@ -12,6 +12,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Subcommand;
+use edsgen_model::model::modules::{choose_pn, parse_choices};
+use edsgen_model::model::Profinet;
 
 use dcp_verbs::{check_name, request, show_mac};
 
@@ -94,8 +96,9 @@ pub enum PnCommand {
     },
     /// Connect to a device as its IO controller and exchange its IO data (RT_CLASS_1).
     ///
-    /// Finds the device by its name of station, connects with the GSDML's default access
-    /// point and modules, writes their parameter records, and exchanges cyclic frames: the
+    /// Finds the device by its name of station, connects with the GSDML's configuration (the
+    /// overlay's `[modules]`, else --access-point and --module, else its first access point
+    /// with the modules it fixes or uses), writes their parameter records, and exchanges cyclic frames: the
     /// outputs as set here (zero elsewhere), the inputs printed by name whenever they change,
     /// alarms printed and acknowledged. Releases the connection after --cycles, or on Ctrl-C.
     /// Exit 0; 1 when the device is not found, refuses or is lost; 2 for usage.
@@ -111,10 +114,15 @@ pub enum PnCommand {
         /// whole GSDML text) or `SLOT.SUBSLOT=HEX` (a submodule's whole output data).
         #[arg(value_name = "SETTING")]
         settings: Vec<String>,
-        /// Plug the GSDML module with this ID in SLOT (`SLOT=MODULE_ID`), for devices whose
-        /// modules are only allowed, not used, in their slots.
-        #[arg(long = "module", value_name = "SLOT=MODULE_ID")]
+        /// Plug this GSDML module (its ID or name) in SLOT, or in the first free slot it may
+        /// take (`[SLOT=]NAME`, repeatable; docs/modules.md), for devices whose modules are
+        /// only allowed in their slots, or to replace the ones they use by default.
+        #[arg(long = "module", value_name = "[SLOT=]NAME")]
         modules: Vec<String>,
+        /// The access point (a DeviceAccessPointItem's ID or name) to connect with; default:
+        /// the GSDML's first.
+        #[arg(long = "access-point", value_name = "NAME")]
+        access_point: Option<String>,
         /// Write this content to a parameter record instead of the GSDML's defaults
         /// (`SLOT.SUBSLOT.INDEX=HEX`).
         #[arg(long = "record", value_name = "SLOT.SUBSLOT.INDEX=HEX")]
@@ -160,6 +168,7 @@ pub fn run(command: &PnCommand) -> ExitCode {
             gsdml,
             settings,
             modules,
+            access_point,
             records,
             cycles,
             cycle_ms,
@@ -169,11 +178,43 @@ pub fn run(command: &PnCommand) -> ExitCode {
             gsdml,
             settings,
             modules,
+            access_point: access_point.as_deref(),
             records,
             cycles: *cycles,
             cycle_ms: *cycle_ms,
         }),
     }
+}
+
+/// `pn` with the configuration its device runs with, set as [`Profinet::chosen`]: the
+/// overlay's `[modules]` when `FILE.toml` has one, else `access_point` and `modules`
+/// (`[SLOT=]NAME`) when given, else the default. Choices the GSDML does not allow are refused
+/// with every problem, as the overlay's EDS708 states them; so are choices on the command line
+/// for a file whose overlay already chooses.
+pub(crate) fn configured(
+    pn: &Profinet,
+    path: &str,
+    modules: &[String],
+    access_point: Option<&str>,
+) -> Result<Profinet, String> {
+    let mut pn = pn.clone();
+    if modules.is_empty() && access_point.is_none() {
+        return Ok(pn);
+    }
+    if pn.chosen.is_some() {
+        return Err(format!(
+            "`{path}`: its overlay's [modules] already chooses the configuration; --module and --access-point would contradict it"
+        ));
+    }
+    let choices = parse_choices(modules).map_err(|e| format!("--module {e}"))?;
+    let chosen = choose_pn(&pn, access_point, &choices).map_err(|problems| {
+        format!(
+            "`{path}`: the modules chosen do not fit: {}",
+            problems.join("; ")
+        )
+    })?;
+    pn.chosen = Some(chosen);
+    Ok(pn)
 }
 
 /// A 16-bit number, decimal or `0x` hex.

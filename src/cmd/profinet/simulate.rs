@@ -2,8 +2,9 @@
 //! [--ip ADDR[/PREFIX]]...`: PROFINET IO devices from GSDMLs on one network interface (root, or
 //! `CAP_NET_RAW`), the cards first, then the files, each with its own MAC
 //! ([`segment::device_mac`]), name of station, IP, ARs, alarms and cyclic data. Each says Hello,
-//! then answers DCP (identify, get, set name of station and IP, signal) as its GSDML's default
-//! access point, serves connection management on UDP 34964 at its own IP (Connect, Read,
+//! then answers DCP (identify, get, set name of station and IP, signal) as its GSDML's
+//! configuration's access point (a file's: the overlay's `[modules]`, else `--access-point` and
+//! `--module`, else the default; docs/modules.md), with its modules, serves connection management on UDP 34964 at its own IP (Connect, Read,
 //! Write, PrmEnd, ApplicationReady, Release) and the cyclic RT_CLASS_1 exchange of its AR, with
 //! the Goodrive350's drive behind a card, whose faults are Diagnosis alarms on the AR's
 //! AlarmCR (`--faults-on-stdin`: `fault` and `clear` lines on standard input switch them,
@@ -41,6 +42,8 @@ const CARD: &str = "goodrive350-pn";
 struct Planned {
     station: Station,
     config: DeviceConfig,
+    /// The access point and modules, when chosen (the overlay's or the command line's).
+    chosen: Option<String>,
     /// The card's drive, or none for a GSDML file.
     card: bool,
 }
@@ -48,6 +51,8 @@ struct Planned {
 /// Runs the devices of `cards` (`goodrive350-pn[@NAME]`, first) and `files` (`FILE[@NAME]`)
 /// on `iface`, each with the MAC [`segment::device_mac`] gives its position and the IP of
 /// `ips` at that position (or the interface's address at that position when `ips` is empty).
+/// `chosen` is the `--module` lists and the `--access-point`s of the files, one each in the
+/// order of `files` (an empty list or `None`: the overlay's choice, else the default).
 /// Exit 2 for bad usage, a file that is not a readable GSDML, or an interface that cannot be
 /// opened. With `faults_on_stdin`, the card devices' drives' faults are switched by `fault`
 /// and `clear` lines on standard input (`fault NAME` for the device of that name of station).
@@ -55,6 +60,7 @@ pub fn run(
     iface: &str,
     files: &[String],
     cards: &[String],
+    chosen: (&[Vec<String>], &[Option<String>]),
     ips: &[String],
     faults_on_stdin: bool,
     allow: &Policy,
@@ -66,13 +72,26 @@ pub fn run(
         ));
     }
     // The descriptions are judged first: a file with errors is refused whatever the interface.
+    let (modules, access_points) = chosen;
+    let beyond = files.len();
+    if modules.iter().skip(beyond).any(|m| !m.is_empty())
+        || access_points.iter().skip(beyond).any(Option::is_some)
+    {
+        return fail(
+            "--module and --access-point choose the configuration of a FILE.xml, not of a card",
+        );
+    }
     let entries = cards
         .iter()
-        .map(|c| (c, true))
-        .chain(files.iter().map(|f| (f, false)));
+        .map(|c| (c, None))
+        .chain(files.iter().enumerate().map(|(n, f)| (f, Some(n))));
     let mut planned: Vec<Planned> = Vec::new();
-    for (entry, is_card) in entries {
-        let device = match plan(entry, is_card, allow) {
+    for (entry, file) in entries {
+        let choice = file.map(|n| {
+            let access_point = access_points.get(n).and_then(Option::as_deref);
+            (modules.get(n).map_or(&[][..], Vec::as_slice), access_point)
+        });
+        let device = match plan(entry, choice, allow) {
             Ok(device) => device,
             Err(e) => return fail(e),
         };
@@ -180,6 +199,9 @@ fn announce(iface: &str, plan: &Planned, source: &str) {
         station.device_id,
         mac_text(&station.mac)
     );
+    if let Some(chosen) = &plan.chosen {
+        println!("{chosen}");
+    }
     let [a, m, _] = station.ip;
     if a == [0; 4] {
         println!("no IP yet ({source}): RPC on UDP 34964 answers once {iface} has the address");
@@ -192,8 +214,14 @@ fn announce(iface: &str, plan: &Planned, source: &str) {
 }
 
 /// One device of the command line: its GSDML loaded and judged, its station (the
-/// `@NAME` given, else the GSDML's name).
-fn plan(entry: &str, is_card: bool, allow: &Policy) -> Result<Planned, String> {
+/// `@NAME` given, else the GSDML's name) and configuration (a file's: the overlay's, else
+/// `choice`'s modules and access point, else the default). `choice` is `None` for a card.
+fn plan(
+    entry: &str,
+    choice: Option<(&[String], Option<&str>)>,
+    allow: &Policy,
+) -> Result<Planned, String> {
+    let is_card = choice.is_none();
     let (what, given) = match entry.rsplit_once('@') {
         Some((what, given)) => {
             if let Some(problem) = edsgen_runtime::profinet::wire::dcp::name_problem(given) {
@@ -231,14 +259,27 @@ fn plan(entry: &str, is_card: bool, allow: &Policy) -> Result<Planned, String> {
     let Some(pn) = read.device.profinet() else {
         return Err(format!("`{path}` is not a GSDML file"));
     };
+    let (modules, access_point) = choice.unwrap_or_default();
+    let pn = &super::configured(pn, &path, modules, access_point)?;
     // Its MAC comes with the interface's (`run`).
     let mut station = station::from_gsdml(pn, [0; 6]);
     if let Some(name) = given {
         station.name_of_station = name.to_owned();
     }
+    let chosen = pn.chosen.as_ref().map(|c| {
+        let dap = c.access_point(pn).map_or("", |a| a.id.as_str());
+        let modules = c.slots.iter().filter_map(|p| {
+            let module = pn.modules.get(p.module)?;
+            let ident = module.module_ident.as_ref().map_or(0, |m| m.value);
+            Some(format!("slot {} {} ({ident:#010x})", p.slot, module.id))
+        });
+        let modules: Vec<String> = modules.collect();
+        format!("access point {dap}, modules: {}", modules.join(", "))
+    });
     Ok(Planned {
         station,
         config: DeviceConfig::from_gsdml(pn),
+        chosen,
         card: is_card,
     })
 }

@@ -1,9 +1,11 @@
-//! The device's real configuration, from its GSDML: the default access point in its slot with
-//! its own, interface and port submodules, and each module the access point uses (`UsedInSlots`,
-//! else `FixedInSlots`) in its slot, each submodule with its IO data lengths (as the GSDML
+//! The device's real configuration, from its GSDML and the model's chosen configuration
+//! ([`PnConfiguration`]): the access point in its slot with its own, interface and port
+//! submodules, and each module plugged (the chosen ones, else those the access point fixes or
+//! uses) in its slot, each submodule with its IO data lengths (as the GSDML
 //! reader counts them) and its parameter records; the send clocks and reduction ratios the
 //! interface allows, and the minimum device interval.
 
+use edsgen_model::model::modules::PnConfiguration;
 use edsgen_model::model::{Profinet, Submodule};
 
 /// One parameter record of a submodule.
@@ -86,10 +88,17 @@ fn real(sub: &Submodule) -> RealSubmodule {
 }
 
 impl DeviceConfig {
-    /// The configuration of the GSDML's default access point.
+    /// The configuration the GSDML's device runs with ([`Profinet::configuration`]: the
+    /// chosen one, else the first access point with the modules it fixes or uses).
     pub fn from_gsdml(pn: &Profinet) -> DeviceConfig {
+        DeviceConfig::configured(pn, &pn.configuration())
+    }
+
+    /// The device of `pn` with `configuration`: its access point in its slot with its own,
+    /// interface and port submodules, each plugged module in its slot.
+    pub fn configured(pn: &Profinet, configuration: &PnConfiguration) -> DeviceConfig {
         let mut slots = Vec::new();
-        let Some(dap) = pn.access_points.first() else {
+        let Some(dap) = configuration.access_point(pn) else {
             return DeviceConfig {
                 slots,
                 send_clocks: vec![32],
@@ -112,22 +121,15 @@ impl DeviceConfig {
             module_ident: dap.module_ident.as_ref().map_or(0, |m| m.value),
             submodules: own,
         });
-        for used in &dap.useable_modules {
-            let Some(module) = pn.modules.iter().find(|m| m.id == used.target.value) else {
+        for plugged in &configuration.slots {
+            let Some(module) = pn.modules.get(plugged.module) else {
                 continue;
             };
-            let in_slots = if used.used_in_slots.is_empty() {
-                &used.fixed_in_slots
-            } else {
-                &used.used_in_slots
-            };
-            for &slot in in_slots {
-                slots.push(RealSlot {
-                    slot,
-                    module_ident: module.module_ident.as_ref().map_or(0, |m| m.value),
-                    submodules: module.submodules.iter().map(real).collect(),
-                });
-            }
+            slots.push(RealSlot {
+                slot: plugged.slot,
+                module_ident: module.module_ident.as_ref().map_or(0, |m| m.value),
+                submodules: module.submodules.iter().map(real).collect(),
+            });
         }
         slots.sort_by_key(|s| s.slot);
         let interface = dap.interface.as_ref();
@@ -152,42 +154,6 @@ impl DeviceConfig {
             },
             min_device_interval: dap.min_device_interval.unwrap_or(32),
         }
-    }
-
-    /// Plugs the GSDML's module `module_id` (its `ID`) in `slot`, in place of what the default
-    /// configuration has there: the default access point must allow it in that slot.
-    pub fn plug(&mut self, pn: &Profinet, slot: u16, module_id: &str) -> Result<(), String> {
-        let dap = pn
-            .access_points
-            .first()
-            .ok_or("the GSDML has no access point")?;
-        let module = pn
-            .modules
-            .iter()
-            .find(|m| m.id == module_id)
-            .ok_or_else(|| format!("the GSDML has no module `{module_id}`"))?;
-        let allowed = dap.useable_modules.iter().any(|u| {
-            u.target.value == module_id
-                && (u.allowed_in_slots.contains(&slot)
-                    || u.fixed_in_slots.contains(&slot)
-                    || u.used_in_slots.contains(&slot))
-        });
-        if !allowed {
-            return Err(format!(
-                "the access point does not allow module `{module_id}` in slot {slot}"
-            ));
-        }
-        if dap.fixed_in_slots.first().copied().unwrap_or(0) == slot {
-            return Err(format!("slot {slot} is the access point's"));
-        }
-        self.slots.retain(|s| s.slot != slot);
-        self.slots.push(RealSlot {
-            slot,
-            module_ident: module.module_ident.as_ref().map_or(0, |m| m.value),
-            submodules: module.submodules.iter().map(real).collect(),
-        });
-        self.slots.sort_by_key(|s| s.slot);
-        Ok(())
     }
 
     /// The module in `slot`.
