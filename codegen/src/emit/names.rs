@@ -14,6 +14,8 @@
 
 use std::collections::hash_map::{Entry, HashMap};
 
+use edsgen_model::read::hash::FastHash;
+
 use heck::{ToShoutySnakeCase, ToSnakeCase};
 
 /// The case a name is rendered in.
@@ -77,8 +79,9 @@ pub fn ident(text: &str, case: Case, fallback: &str) -> String {
 /// One namespace of generated names (the fields of a struct, the constants of a module, ...).
 #[derive(Debug, Default)]
 pub struct Namespace {
-    /// Every name claimed, with the OD index of the object it was claimed for.
-    taken: HashMap<String, u16>,
+    /// Every name claimed, with the OD index of the object it was claimed for (hashed by the
+    /// readers' Fx hasher: SipHash was most of a claim).
+    taken: HashMap<String, u16, FastHash>,
 }
 
 impl Namespace {

@@ -3,7 +3,7 @@
 //! so names and output are deterministic; every problem becomes an `EDS7xx` diagnostic.
 
 use std::fmt::Write as _;
-use std::sync::Arc;
+use std::rc::Rc;
 
 use proc_macro2::{Ident, Span as TokenSpan};
 
@@ -43,9 +43,9 @@ pub struct EntryPlan {
     pub const_name: Ident,
     /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR); one
     /// shared by the object's entries.
-    pub module: Option<Arc<Ident>>,
+    pub module: Option<Rc<Ident>>,
     /// The name of the entry's object, escaped for rustdoc; one shared by the object's entries.
-    pub object_title: Arc<str>,
+    pub object_title: Rc<str>,
     /// Where the value starts in the value image (set once the whole device is planned).
     pub offset: usize,
     /// The entry's own name in the file (a sub-object's, not its object's).
@@ -86,9 +86,11 @@ pub struct Plan {
 impl Plan {
     /// The entry at (index, sub), if stored.
     pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan> {
+        // In (index, sub-index) order: a binary search, not a scan per PDO-mapped entry.
         self.entries
-            .iter()
-            .find(|e| e.index == index && e.sub == sub)
+            .binary_search_by_key(&(index, sub), |e| (e.index, e.sub))
+            .ok()
+            .map(|at| &self.entries[at])
     }
 }
 
@@ -199,7 +201,7 @@ impl Planner<'_> {
             };
             let base = self.base_name(object);
             let const_name = self.var_name(object, base);
-            let object_title: Arc<str> = doc_text(&object.name).into();
+            let object_title: Rc<str> = doc_text(&object.name).into();
             return self
                 .entry(object, sub, const_name, &object_title)
                 .into_iter()
@@ -208,15 +210,15 @@ impl Planner<'_> {
         let mut entries = Vec::with_capacity(object.subs.len());
         let mut ok = true;
         let base = self.base_name(object);
-        let module = Arc::new(self.module_name(object));
-        let object_title: Arc<str> = doc_text(&object.name).into();
+        let module = Rc::new(self.module_name(object));
+        let object_title: Rc<str> = doc_text(&object.name).into();
         let numbering = self.numbering(object);
         let mut members = Namespace::default();
         for sub in object.subs.values() {
             let const_name = self.member_name(object, &base, numbering, sub, &mut members);
             match self.entry(object, sub, const_name, &object_title) {
                 Some(mut entry) => {
-                    entry.module = Some(Arc::clone(&module));
+                    entry.module = Some(Rc::clone(&module));
                     entries.push(entry);
                 }
                 None => ok = false,
@@ -332,7 +334,7 @@ impl Planner<'_> {
         object: &Object,
         sub: &SubObject,
         const_name: Ident,
-        object_title: &Arc<str>,
+        object_title: &Rc<str>,
     ) -> Option<EntryPlan> {
         let EntryValue {
             basic,
@@ -438,7 +440,7 @@ impl Planner<'_> {
             short_doc,
             const_name,
             module: None,
-            object_title: Arc::clone(object_title),
+            object_title: Rc::clone(object_title),
             offset: 0,
             own_name: sub.name.clone(),
         })
