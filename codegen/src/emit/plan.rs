@@ -117,6 +117,13 @@ pub fn code_span(text: &str) -> String {
 /// Escapes text from the file for rustdoc: no links, no HTML, no control characters. Inside a
 /// code span use [`code_span`], where an escape would show.
 pub fn doc_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    push_doc_text(&mut out, text);
+    out
+}
+
+/// [`doc_text`] appended to `out` (an entry's title is written straight into its string).
+pub fn push_doc_text(out: &mut String, text: &str) {
     // Most text needs no escape: copied whole, not char by char (slow in a debug build script).
     let plain = |b: u8| {
         matches!(b, b' '..=b'~')
@@ -126,9 +133,10 @@ pub fn doc_text(text: &str) -> String {
             )
     };
     if text.bytes().all(plain) {
-        return text.to_owned();
+        out.push_str(text);
+        return;
     }
-    let mut out = String::with_capacity(text.len());
+    out.reserve(text.len());
     for c in text.chars() {
         match c {
             '[' | ']' | '<' | '>' | '`' | '*' | '_' | '\\' | '#' => {
@@ -139,7 +147,6 @@ pub fn doc_text(text: &str) -> String {
             c => out.push(c),
         }
     }
-    out
 }
 
 struct Planner<'a> {
@@ -345,11 +352,10 @@ impl Planner<'_> {
             ..
         } = entry_value(self.device, object, sub, &mut self.diagnostics)?;
         let title = if sub.name != object.name && object.object_type.has_subs() {
-            let sub_name = doc_text(&sub.name);
-            let mut title = String::with_capacity(object_title.len() + 2 + sub_name.len());
+            let mut title = String::with_capacity(object_title.len() + 2 + sub.name.len() + 8);
             title.push_str(object_title);
             title.push_str(": ");
-            title.push_str(&sub_name);
+            push_doc_text(&mut title, &sub.name);
             title
         } else {
             doc_text(&sub.name)
