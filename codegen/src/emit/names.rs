@@ -85,6 +85,13 @@ pub struct Namespace {
 }
 
 impl Namespace {
+    /// A namespace for about `names` names (an object's members): no growing while claiming.
+    pub fn with_capacity(names: usize) -> Self {
+        Namespace {
+            taken: HashMap::with_capacity_and_hasher(names, FastHash::default()),
+        }
+    }
+
     /// The index of the object `name` was claimed for, if it was.
     pub fn owner(&self, name: &str) -> Option<u16> {
         self.taken.get(name).copied()

@@ -167,7 +167,12 @@ pub fn plan(device: &Device) -> Plan {
         consts: Namespace::default(),
         modules: Namespace::default(),
     };
-    let mut entries: Vec<EntryPlan> = Vec::new();
+    let stored = device
+        .objects
+        .range(0x1000..)
+        .map(|(_, o)| o.subs.len())
+        .sum();
+    let mut entries: Vec<EntryPlan> = Vec::with_capacity(stored);
     let mut image_size = 0usize;
     for object in device.objects.values() {
         if object.index < 0x1000 || object.subs.is_empty() {
@@ -220,7 +225,7 @@ impl Planner<'_> {
         let module = Rc::new(self.module_name(object));
         let object_title: Rc<str> = doc_text(&object.name).into();
         let numbering = self.numbering(object);
-        let mut members = Namespace::default();
+        let mut members = Namespace::with_capacity(object.subs.len());
         for sub in object.subs.values() {
             let const_name = self.member_name(object, &base, numbering, sub, &mut members);
             match self.entry(object, sub, const_name, &object_title) {
