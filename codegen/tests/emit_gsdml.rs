@@ -35,6 +35,31 @@ fn a_value_list_becomes_an_enum_in_its_record() {
     }
 }
 
+#[test]
+fn a_named_bit_gets_a_getter_and_a_setter_beside_its_mask() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../eds/goodrive350-pn.xml");
+    let code = emit::generate(&read_file(&path).unwrap().device, "goodrive350_pn").unwrap();
+    let squeezed: String = code.split_whitespace().collect();
+    for part in [
+        "pubconstSW_STATUS_WORD_OVERLOAD_PRE_ALARM:u16=1<<12;",
+        "///Whetherbit12of`sw_status_word`isset([`Self::SW_STATUS_WORD_OVERLOAD_PRE_ALARM`]).\
+         pubconstfnsw_status_word_overload_pre_alarm(self)->bool{\
+         self.sw_status_word&Self::SW_STATUS_WORD_OVERLOAD_PRE_ALARM!=0}",
+        "pubfnset_sw_status_word_overload_pre_alarm(&mutself,on:bool){ifon{\
+         self.sw_status_word|=Self::SW_STATUS_WORD_OVERLOAD_PRE_ALARM;}else{\
+         self.sw_status_word&=!Self::SW_STATUS_WORD_OVERLOAD_PRE_ALARM;}}",
+        "pubconstfncw_control_word_heartbeat_reference(self)->bool{",
+    ] {
+        assert_eq!(squeezed.matches(part).count(), 1, "{part} in {code}");
+    }
+    // One getter and one setter per named bit: 8 in the input's status word, 8 in the output's
+    // control word.
+    assert_eq!(squeezed.matches("pubconstfnsw_status_word_").count(), 8);
+    assert_eq!(squeezed.matches("pubconstfncw_control_word_").count(), 8);
+    assert_eq!(squeezed.matches("pubfnset_sw_status_word_").count(), 8);
+    assert_eq!(squeezed.matches("pubfnset_cw_control_word_").count(), 8);
+}
+
 const RECORDS_FIXTURE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/generated/pn_records.rs");
 
 /// `tests/gsdml/records.xml`, generated as `gsdml_records.rs` includes it: the checked-in module

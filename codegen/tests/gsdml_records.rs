@@ -84,3 +84,18 @@ fn a_record_is_read_from_bytes_of_its_length_only() {
         (12, 12, 100)
     );
 }
+
+/// A `DataItem`'s named bits: a mask, a getter and a setter each, on the byte the frame carries.
+#[test]
+fn named_bits_are_read_and_written_in_their_byte() {
+    use pn_records::modules::access_point::subslot_1::Input;
+    assert_eq!((Input::STATUS_READY, Input::STATUS_FAULT), (0x01, 0x80));
+    let mut input = Input::from_bytes(&[0x80]);
+    assert!(!input.status_ready() && input.status_fault());
+    input.set_status_ready(true);
+    input.set_status_fault(false);
+    assert_eq!(input.to_bytes(), [0x01]);
+    assert!(input.status_ready() && !input.status_fault());
+    input.set_status_ready(false);
+    assert_eq!(input.to_bytes(), [0x00]);
+}

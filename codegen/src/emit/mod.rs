@@ -49,7 +49,7 @@ pub fn module_name(requested: &str) -> String {
 /// emitter found (errors included) and no code.
 pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
-    let plan = match &device.bus {
+    let mut plan = match &device.bus {
         // An ODVA EDS has no object dictionary: identity, assembly images and connections.
         Bus::Cip(cip) => return cip::generate(device, cip, &module),
         // A GSDML device has no object dictionary: its own module, from the PROFINET side.
@@ -63,7 +63,7 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
         }
         Bus::CanOpen | Bus::EtherCat(_) => plan::plan(device),
     };
-    let mut diagnostics = plan.diagnostics.clone();
+    let mut diagnostics = std::mem::take(&mut plan.diagnostics);
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
     let pdo_tokens = match &device.bus {
         Bus::EtherCat(ec) => ethercat::module(ec, &plan),

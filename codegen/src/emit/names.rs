@@ -12,7 +12,9 @@
 //!   gets the suffixes the caller gives (for a typed address: `SUBn` when the name is taken in
 //!   the same object, the hex index when another object holds it), then `_2`, `_3`, ...
 
-use std::collections::BTreeMap;
+use std::collections::hash_map::{Entry, HashMap};
+
+use edsgen_model::read::hash::FastHash;
 
 use heck::{ToShoutySnakeCase, ToSnakeCase};
 
@@ -77,11 +79,19 @@ pub fn ident(text: &str, case: Case, fallback: &str) -> String {
 /// One namespace of generated names (the fields of a struct, the constants of a module, ...).
 #[derive(Debug, Default)]
 pub struct Namespace {
-    /// Every name claimed, with the OD index of the object it was claimed for.
-    taken: BTreeMap<String, u16>,
+    /// Every name claimed, with the OD index of the object it was claimed for (hashed by the
+    /// readers' Fx hasher: SipHash was most of a claim).
+    taken: HashMap<String, u16, FastHash>,
 }
 
 impl Namespace {
+    /// A namespace for about `names` names (an object's members): no growing while claiming.
+    pub fn with_capacity(names: usize) -> Self {
+        Namespace {
+            taken: HashMap::with_capacity_and_hasher(names, FastHash::default()),
+        }
+    }
+
     /// The index of the object `name` was claimed for, if it was.
     pub fn owner(&self, name: &str) -> Option<u16> {
         self.taken.get(name).copied()
@@ -91,28 +101,46 @@ impl Namespace {
     /// `suffixes` (joined by `_`), then numbered variants. Returns the name and whether it had
     /// to change.
     pub fn claim(&mut self, wanted: &str, index: u16, suffixes: &[String]) -> (String, bool) {
-        let mut free = |name: &str| match self.taken.entry(name.to_owned()) {
-            std::collections::btree_map::Entry::Vacant(slot) => {
+        let (name, wanted) = self.claim_with(wanted.to_owned(), index, || suffixes.to_vec());
+        (name, wanted.is_some())
+    }
+
+    /// [`Self::claim`] taking the wanted name by value and making the suffixes only when it is
+    /// taken: a free name (nearly every one) is hashed once and copied once, into the namespace.
+    /// Returns the name and, when it had to change, the name wanted.
+    pub fn claim_with(
+        &mut self,
+        wanted: String,
+        index: u16,
+        suffixes: impl FnOnce() -> Vec<String>,
+    ) -> (String, Option<String>) {
+        let wanted = match self.taken.entry(wanted) {
+            Entry::Vacant(slot) => {
+                let name = slot.key().clone();
                 slot.insert(index);
-                true
+                return (name, None);
             }
-            std::collections::btree_map::Entry::Occupied(_) => false,
+            Entry::Occupied(slot) => slot.key().clone(),
         };
-        if free(wanted) {
-            return (wanted.to_owned(), false);
-        }
-        let mut base = wanted.to_owned();
-        for suffix in suffixes {
+        let mut free = |name: &str| {
+            if self.taken.contains_key(name) {
+                return false;
+            }
+            self.taken.insert(name.to_owned(), index);
+            true
+        };
+        let mut base = wanted.clone();
+        for suffix in suffixes() {
             base = format!("{base}_{suffix}");
             if free(&base) {
-                return (base, true);
+                return (base, Some(wanted));
             }
         }
         let mut n = 2u32;
         loop {
             let candidate = format!("{base}_{n}");
             if free(&candidate) {
-                return (candidate, true);
+                return (candidate, Some(wanted));
             }
             n += 1;
         }

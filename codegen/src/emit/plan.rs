@@ -3,6 +3,7 @@
 //! so names and output are deterministic; every problem becomes an `EDS7xx` diagnostic.
 
 use std::fmt::Write as _;
+use std::rc::Rc;
 
 use proc_macro2::{Ident, Span as TokenSpan};
 
@@ -40,10 +41,11 @@ pub struct EntryPlan {
     pub short_doc: Vec<String>,
     /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise.
     pub const_name: Ident,
-    /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR).
-    pub module: Option<Ident>,
-    /// The name of the entry's object, escaped for rustdoc.
-    pub object_title: String,
+    /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR); one
+    /// shared by the object's entries.
+    pub module: Option<Rc<Ident>>,
+    /// The name of the entry's object, escaped for rustdoc; one shared by the object's entries.
+    pub object_title: Rc<str>,
     /// Where the value starts in the value image (set once the whole device is planned).
     pub offset: usize,
     /// The entry's own name in the file (a sub-object's, not its object's).
@@ -84,9 +86,11 @@ pub struct Plan {
 impl Plan {
     /// The entry at (index, sub), if stored.
     pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan> {
+        // In (index, sub-index) order: a binary search, not a scan per PDO-mapped entry.
         self.entries
-            .iter()
-            .find(|e| e.index == index && e.sub == sub)
+            .binary_search_by_key(&(index, sub), |e| (e.index, e.sub))
+            .ok()
+            .map(|at| &self.entries[at])
     }
 }
 
@@ -113,6 +117,13 @@ pub fn code_span(text: &str) -> String {
 /// Escapes text from the file for rustdoc: no links, no HTML, no control characters. Inside a
 /// code span use [`code_span`], where an escape would show.
 pub fn doc_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    push_doc_text(&mut out, text);
+    out
+}
+
+/// [`doc_text`] appended to `out` (an entry's title is written straight into its string).
+pub fn push_doc_text(out: &mut String, text: &str) {
     // Most text needs no escape: copied whole, not char by char (slow in a debug build script).
     let plain = |b: u8| {
         matches!(b, b' '..=b'~')
@@ -122,9 +133,10 @@ pub fn doc_text(text: &str) -> String {
             )
     };
     if text.bytes().all(plain) {
-        return text.to_owned();
+        out.push_str(text);
+        return;
     }
-    let mut out = String::with_capacity(text.len());
+    out.reserve(text.len());
     for c in text.chars() {
         match c {
             '[' | ']' | '<' | '>' | '`' | '*' | '_' | '\\' | '#' => {
@@ -135,7 +147,6 @@ pub fn doc_text(text: &str) -> String {
             c => out.push(c),
         }
     }
-    out
 }
 
 struct Planner<'a> {
@@ -156,7 +167,12 @@ pub fn plan(device: &Device) -> Plan {
         consts: Namespace::default(),
         modules: Namespace::default(),
     };
-    let mut entries: Vec<EntryPlan> = Vec::new();
+    let stored = device
+        .objects
+        .range(0x1000..)
+        .map(|(_, o)| o.subs.len())
+        .sum();
+    let mut entries: Vec<EntryPlan> = Vec::with_capacity(stored);
     let mut image_size = 0usize;
     for object in device.objects.values() {
         if object.index < 0x1000 || object.subs.is_empty() {
@@ -196,19 +212,25 @@ impl Planner<'_> {
                 return Vec::new();
             };
             let base = self.base_name(object);
-            let const_name = self.var_name(object, &base);
-            return self.entry(object, sub, const_name).into_iter().collect();
+            let const_name = self.var_name(object, base);
+            let object_title: Rc<str> = doc_text(&object.name).into();
+            return self
+                .entry(object, sub, const_name, &object_title)
+                .into_iter()
+                .collect();
         }
-        let mut entries = Vec::new();
+        let mut entries = Vec::with_capacity(object.subs.len());
         let mut ok = true;
         let base = self.base_name(object);
-        let module = self.module_name(object);
-        let mut members = Namespace::default();
+        let module = Rc::new(self.module_name(object));
+        let object_title: Rc<str> = doc_text(&object.name).into();
+        let numbering = self.numbering(object);
+        let mut members = Namespace::with_capacity(object.subs.len());
         for sub in object.subs.values() {
-            let const_name = self.member_name(object, &base, sub, &mut members);
-            match self.entry(object, sub, const_name) {
+            let const_name = self.member_name(object, &base, numbering, sub, &mut members);
+            match self.entry(object, sub, const_name, &object_title) {
                 Some(mut entry) => {
-                    entry.module = Some(module.clone());
+                    entry.module = Some(Rc::clone(&module));
                     entries.push(entry);
                 }
                 None => ok = false,
@@ -235,14 +257,15 @@ impl Planner<'_> {
     }
 
     /// A VAR's constant in `od`: the overlay's name of its entry or object, else the object's.
-    fn var_name(&mut self, object: &Object, base: &str) -> Ident {
+    fn var_name(&mut self, object: &Object, base: String) -> Ident {
         let wanted = match self.device.naming.entries.get(&(object.index, 0)) {
             Some(name) => ident(name, Case::Shouty, "SUB0"),
-            None => base.to_owned(),
+            None => base,
         };
-        let suffixes = [format!("{:04X}", object.index)];
-        let (name, changed) = self.consts.claim(&wanted, object.index, &suffixes);
-        if changed {
+        let (name, renamed) = self.consts.claim_with(wanted, object.index, || {
+            vec![format!("{:04X}", object.index)]
+        });
+        if let Some(wanted) = renamed {
             self.renamed(object.span, "constant", &wanted, &name);
         }
         id(&name)
@@ -257,21 +280,32 @@ impl Planner<'_> {
             .get(&object.index)
             .unwrap_or(&object.name);
         let wanted = ident(name, Case::Snake, &format!("object_{:04x}", object.index));
-        let suffixes = [format!("{:04x}", object.index)];
-        let (name, changed) = self.modules.claim(&wanted, object.index, &suffixes);
-        if changed {
+        let (name, renamed) = self.modules.claim_with(wanted, object.index, || {
+            vec![format!("{:04x}", object.index)]
+        });
+        if let Some(wanted) = renamed {
             self.renamed(object.span, "module", &wanted, &name);
         }
         id(&name)
     }
 
+    /// The device's numbering of an ARRAY's elements (the overlay's [numbering]): the number of
+    /// sub-index 1 and the digits every number is written with (the highest one's).
+    fn numbering(&self, object: &Object) -> Option<(u32, usize)> {
+        let first = *self.device.naming.first_number.get(&object.index)?;
+        let highest = object.subs.keys().next_back().map_or(0, |s| u32::from(*s));
+        let width = decimal_digits(highest.saturating_sub(1) + first);
+        Some((first, width))
+    }
+
     /// A member's constant in its object's module: the overlay's name, the device's numbering of
-    /// an array's elements (the overlay's [numbering]), else what its name adds to the object's
-    /// (see [`member_name`]).
+    /// an array's elements (`numbering`), else what its name adds to the object's (see
+    /// [`member_name`]).
     fn member_name(
         &mut self,
         object: &Object,
         base: &str,
+        numbering: Option<(u32, usize)>,
         sub: &SubObject,
         members: &mut Namespace,
     ) -> Ident {
@@ -282,24 +316,38 @@ impl Planner<'_> {
             .get(&(object.index, sub_index))
             .map(|name| ident(name, Case::Shouty, &format!("SUB{sub_index}")));
         let numbered = || {
-            let first = *naming.first_number.get(&object.index)?;
+            let (first, width) = numbering?;
             let number = u32::from(sub_index.checked_sub(1)?) + first;
-            let highest = object.subs.keys().next_back().map_or(0, |s| u32::from(*s));
-            let width = (highest.saturating_sub(1) + first).to_string().len();
-            Some(format!("{base}_{number:0width$}"))
+            let mut name = String::with_capacity(base.len() + 1 + width);
+            name.push_str(base);
+            name.push('_');
+            for _ in decimal_digits(number)..width {
+                name.push('0');
+            }
+            push_decimal(&mut name, number);
+            Some(name)
         };
         let wanted = renamed.or_else(numbered).unwrap_or_else(|| {
             let own = ident(&sub.name, Case::Shouty, &format!("SUB{sub_index}"));
             member_name(base, &own, sub_index)
         });
-        let (name, changed) = members.claim(&wanted, object.index, &[format!("SUB{sub_index}")]);
-        if changed {
+        let (name, renamed) =
+            members.claim_with(wanted, object.index, || vec![format!("SUB{sub_index}")]);
+        if let Some(wanted) = renamed {
             self.renamed(sub.span, "constant", &wanted, &name);
         }
         id(&name)
     }
 
-    fn entry(&mut self, object: &Object, sub: &SubObject, const_name: Ident) -> Option<EntryPlan> {
+    /// One entry's plan; `object_title` is the object's name escaped for rustdoc (made once per
+    /// object).
+    fn entry(
+        &mut self,
+        object: &Object,
+        sub: &SubObject,
+        const_name: Ident,
+        object_title: &Rc<str>,
+    ) -> Option<EntryPlan> {
         let EntryValue {
             basic,
             ty,
@@ -309,11 +357,10 @@ impl Planner<'_> {
             ..
         } = entry_value(self.device, object, sub, &mut self.diagnostics)?;
         let title = if sub.name != object.name && object.object_type.has_subs() {
-            let (object_name, sub_name) = (doc_text(&object.name), doc_text(&sub.name));
-            let mut title = String::with_capacity(object_name.len() + 2 + sub_name.len());
-            title.push_str(&object_name);
+            let mut title = String::with_capacity(object_title.len() + 2 + sub.name.len() + 8);
+            title.push_str(object_title);
             title.push_str(": ");
-            title.push_str(&sub_name);
+            push_doc_text(&mut title, &sub.name);
             title
         } else {
             doc_text(&sub.name)
@@ -324,7 +371,11 @@ impl Planner<'_> {
         let mut doc = String::with_capacity(title.len() + 160);
         doc.push(' ');
         doc.push_str(&title);
-        let _ = write!(doc, " ({:04X}h sub {}: ", object.index, sub.sub_index);
+        doc.push_str(" (");
+        push_hex4(&mut doc, object.index);
+        doc.push_str("h sub ");
+        push_decimal(&mut doc, u32::from(sub.sub_index));
+        doc.push_str(": ");
         doc.push_str(basic.name());
         doc.push_str(", ");
         doc.push_str(access.as_str());
@@ -377,8 +428,10 @@ impl Planner<'_> {
             extra.push(format!(" Denotation: {}.", doc_text(d)));
         }
         for (key, value) in sub.custom.iter().chain(object.custom.iter()) {
-            let k = key.to_ascii_lowercase();
-            if matches!(k.as_str(), "unit" | "description" | "factor") {
+            if ["unit", "description", "factor"]
+                .iter()
+                .any(|k| key.eq_ignore_ascii_case(k))
+            {
                 extra.push(format!(" {}: {}.", doc_text(key), doc_text(value)));
             }
         }
@@ -398,9 +451,60 @@ impl Planner<'_> {
             short_doc,
             const_name,
             module: None,
-            object_title: doc_text(&object.name),
+            object_title: Rc::clone(object_title),
             offset: 0,
             own_name: sub.name.clone(),
         })
+    }
+}
+
+/// The number of decimal digits of `n`.
+fn decimal_digits(n: u32) -> usize {
+    n.checked_ilog10().map_or(1, |log| log as usize + 1)
+}
+
+/// Appends `n` in decimal (`format!("{n}")` without the formatter: thousands of entries).
+fn push_decimal(out: &mut String, n: u32) {
+    let mut digits = [0u8; 10];
+    let mut at = digits.len();
+    let mut rest = n;
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (rest % 10) as u8;
+        rest /= 10;
+        if rest == 0 {
+            break;
+        }
+    }
+    for &digit in &digits[at..] {
+        out.push(char::from(digit));
+    }
+}
+
+/// Appends `n` as four upper-case hex digits (`{:04X}`).
+fn push_hex4(out: &mut String, n: u16) {
+    const HEX: &[u8; 16] = b"0123456789ABCDEF";
+    for shift in [12, 8, 4, 0] {
+        out.push(char::from(HEX[usize::from((n >> shift) & 0xF)]));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_written_by_hand_read_as_formatted() {
+        for n in [0u32, 7, 9, 10, 99, 100, 255, 65_535, u32::MAX] {
+            let mut out = String::new();
+            push_decimal(&mut out, n);
+            assert_eq!(out, n.to_string());
+            assert_eq!(decimal_digits(n), n.to_string().len());
+        }
+        for n in [0u16, 0x1018, 0xABCD, 0xFFFF] {
+            let mut out = String::new();
+            push_hex4(&mut out, n);
+            assert_eq!(out, format!("{n:04X}"));
+        }
     }
 }

@@ -33,6 +33,81 @@ pub mod pn_records {
                 pub const SUBMODULE_IDENT: u32 = 0x00000001;
                 /// The subslot number.
                 pub const SUBSLOT: u16 = 1;
+                /// The submodule's data the device sends (input CR): 1 bytes, big-endian.
+                #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+                pub struct Input {
+                    /// Byte 0: `Unsigned8`, Status.
+                    pub status: u8,
+                }
+                impl Input {
+                    /// Bytes of data, without the IOPS.
+                    pub const SIZE: usize = 1;
+                    /// The image of exactly [`Self::SIZE`] bytes; `WrongLength` for any other length.
+                    pub fn from_slice(
+                        bytes: &[u8],
+                    ) -> ::core::result::Result<Self, ::edsgen_runtime::PdoError> {
+                        ::edsgen_runtime::support::payload::<1>(bytes)
+                            .map(|bytes| Self::from_bytes(&bytes))
+                    }
+                    /// Bit 0 of `status`: Ready.
+                    pub const STATUS_READY: u8 = 1 << 0;
+                    /// Bit 7 of `status`: Fault.
+                    pub const STATUS_FAULT: u8 = 1 << 7;
+                    /// Whether bit 0 of `status` is set ([`Self::STATUS_READY`]).
+                    pub const fn status_ready(self) -> bool {
+                        self.status & Self::STATUS_READY != 0
+                    }
+                    /// Sets (`true`) or clears bit 0 of `status` ([`Self::STATUS_READY`]).
+                    pub fn set_status_ready(&mut self, on: bool) {
+                        if on {
+                            self.status |= Self::STATUS_READY;
+                        } else {
+                            self.status &= !Self::STATUS_READY;
+                        }
+                    }
+                    /// Whether bit 7 of `status` is set ([`Self::STATUS_FAULT`]).
+                    pub const fn status_fault(self) -> bool {
+                        self.status & Self::STATUS_FAULT != 0
+                    }
+                    /// Sets (`true`) or clears bit 7 of `status` ([`Self::STATUS_FAULT`]).
+                    pub fn set_status_fault(&mut self, on: bool) {
+                        if on {
+                            self.status |= Self::STATUS_FAULT;
+                        } else {
+                            self.status &= !Self::STATUS_FAULT;
+                        }
+                    }
+                    /// The data bytes, big-endian.
+                    pub fn to_bytes(self) -> [u8; 1] {
+                        let mut out = [0u8; 1];
+                        out[0..1].copy_from_slice(&self.status.to_be_bytes());
+                        out
+                    }
+                    /// Reads the data bytes.
+                    pub fn from_bytes(bytes: &[u8; 1]) -> Self {
+                        Self {
+                            status: u8::from_be_bytes([bytes[0]]),
+                        }
+                    }
+                    /// The data bytes followed by the provider status (IOPS), as the frame carries them.
+                    pub fn to_bytes_with_iops(self, iops: u8) -> [u8; 2] {
+                        let mut out = [0u8; 2];
+                        out[..1].copy_from_slice(&self.to_bytes());
+                        out[1] = iops;
+                        out
+                    }
+                    /// Reads the data bytes and the IOPS that follows them.
+                    pub fn from_bytes_with_iops(bytes: &[u8; 2]) -> (Self, u8) {
+                        let mut data = [0u8; 1];
+                        data.copy_from_slice(&bytes[..1]);
+                        (Self::from_bytes(&data), bytes[1])
+                    }
+                }
+                impl Default for Input {
+                    fn default() -> Self {
+                        Self::from_bytes(&[0u8; 1])
+                    }
+                }
                 /// Parameter record 100 (Settings), 12 bytes.
                 pub mod record_100 {
                     /// The record index a controller writes.

@@ -6,7 +6,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 /// A small, fast, non-cryptographic hasher (the Fx scheme) for the reader's lookup tables, whose
 /// keys are short names; the standard SipHash showed up in profiles.
 #[derive(Debug, Default, Clone, Copy)]
-pub(crate) struct FxHasher {
+pub struct FxHasher {
     hash: u64,
 }
 
@@ -59,7 +59,7 @@ impl Hasher for FxHasher {
 }
 
 /// The [`std::hash::BuildHasher`] of [`FxHasher`].
-pub(crate) type FastHash = BuildHasherDefault<FxHasher>;
+pub type FastHash = BuildHasherDefault<FxHasher>;
 
 /// A name hashed and compared ignoring ASCII case, borrowed from the text.
 #[derive(Debug, Clone, Copy)]

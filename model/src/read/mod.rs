@@ -13,7 +13,7 @@ pub mod eds;
 pub mod esi;
 pub mod gsd;
 pub mod gsdml;
-mod hash;
+pub mod hash;
 pub mod ini;
 pub mod odva;
 pub mod sii;

@@ -52,6 +52,9 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
     let mut encodes = Vec::new();
     let mut decodes = Vec::new();
     let mut masks = Vec::new();
+    let mut accessors = Vec::new();
+    // The image's method names, which a bit's accessors must not take.
+    let mut methods: Vec<String> = RESERVED_METHODS.iter().map(|m| (*m).to_owned()).collect();
     let mut offset = 0usize;
     let mut float = false;
     for (n, (item, ty)) in items.iter().zip(&types).enumerate() {
@@ -109,7 +112,9 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
                 (quote!([u8; #n]), *len)
             }
         };
-        if let Ty::Scalar(t, _) = ty {
+        // Named bits of an integer (a float has none to name).
+        if let Ty::Scalar(t @ ("u8" | "u16" | "u32" | "u64" | "i8" | "i16" | "i32" | "i64"), _) = ty
+        {
             let t = id(t);
             let mut taken: Vec<String> = Vec::new();
             for bit in &item.bits {
@@ -133,7 +138,6 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
                     k += 1;
                 }
                 taken.push(name.clone());
-                let name = id(&name);
                 let shift = Literal::u32_unsuffixed(bit.bit_offset);
                 let doc = format!(
                     " Bit {} of `{field}`{}.",
@@ -143,10 +147,12 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
                         .map(|t| format!(": {}", doc_text(t)))
                         .unwrap_or_default()
                 );
+                let mask = id(&name);
                 masks.push(quote! {
                     #[doc = #doc]
-                    pub const #name: #t = 1 << #shift;
+                    pub const #mask: #t = 1 << #shift;
                 });
+                accessors.push(bit_accessors(&field, &name, bit.bit_offset, &mut methods));
             }
         }
         fields.push(quote! {
@@ -173,6 +179,7 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
         impl #name {
             #size_and_from_slice
             #(#masks)*
+            #(#accessors)*
 
             /// The data bytes, big-endian.
             pub fn to_bytes(self) -> [u8; #len] {
@@ -205,6 +212,57 @@ pub(super) fn image(items: &[DataItem], name: &str, what: &str) -> TokenStream {
         impl Default for #name {
             fn default() -> Self {
                 Self::from_bytes(&[0u8; #len])
+            }
+        }
+    }
+}
+
+/// The methods an image has besides its bits' accessors (the image API, the PKW/PZD
+/// conversions, the derived traits' methods).
+const RESERVED_METHODS: &[&str] = &[
+    "to_bytes",
+    "from_bytes",
+    "from_slice",
+    "to_bytes_with_iops",
+    "from_bytes_with_iops",
+    "pkw_pzd",
+    "from_pkw_pzd",
+    "default",
+    "clone",
+    "eq",
+    "ne",
+    "fmt",
+];
+
+/// A named bit's getter and setter on the image (`ready(self) -> bool`,
+/// `set_ready(&mut self, bool)`), named as its mask constant `mask` in snake case; a name
+/// already among `methods` is numbered.
+fn bit_accessors(field: &str, mask: &str, bit: u32, methods: &mut Vec<String>) -> TokenStream {
+    let wanted = ident(mask, Case::Snake, "bit");
+    let mut getter = wanted.clone();
+    let mut k = 2;
+    while methods.contains(&getter) || methods.contains(&format!("set_{getter}")) {
+        getter = format!("{wanted}_{k}");
+        k += 1;
+    }
+    let setter = format!("set_{getter}");
+    methods.push(getter.clone());
+    methods.push(setter.clone());
+    let get_doc = format!(" Whether bit {bit} of `{field}` is set ([`Self::{mask}`]).");
+    let set_doc = format!(" Sets (`true`) or clears bit {bit} of `{field}` ([`Self::{mask}`]).");
+    let (f, mask, getter, setter) = (id(field), id(mask), id(&getter), id(&setter));
+    quote! {
+        #[doc = #get_doc]
+        pub const fn #getter(self) -> bool {
+            self.#f & Self::#mask != 0
+        }
+
+        #[doc = #set_doc]
+        pub fn #setter(&mut self, on: bool) {
+            if on {
+                self.#f |= Self::#mask;
+            } else {
+                self.#f &= !Self::#mask;
             }
         }
     }
