@@ -380,9 +380,7 @@ impl ChannelDiagnosis {
             USI_EXT_CHANNEL_DIAGNOSIS => 12,
             _ => return None,
         };
-        data.len()
-            .is_multiple_of(size)
-            .then(|| ChannelDiagnoses(data.chunks_exact(size)))
+        (data.len() % size == 0).then(|| ChannelDiagnoses(data.chunks_exact(size)))
     }
 
     fn parse(entry: &[u8]) -> Option<ChannelDiagnosis> {
