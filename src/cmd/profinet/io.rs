@@ -16,6 +16,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use edsgen_host::driver::MonotonicClock;
+use edsgen_runtime::profinet::wire::connect::{SlotIdent, MODULE_NO};
 use edsgen_runtime::profinet::wire::dcp;
 use edsgen_runtime::profinet::wire::rpc::{PnioStatus, Uuid};
 use edsgen_runtime::profinet::wire::rt::{RtFrame, DATA_STATUS_GOOD};
@@ -24,7 +25,6 @@ use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::controller::{alarm_cr, connected, Controller, CrLayout};
 use edsgen_sim::profinet::controller_alarm::ControllerAlarms;
 use edsgen_sim::profinet::iface;
-use edsgen_sim::profinet::wire::blocks::{SlotIdent, MODULE_NO};
 
 use super::io_data::{self, RecordWrite, Setting, SubmoduleData};
 use super::io_link::Link;

@@ -5,8 +5,8 @@
 //! in words, and the parameter records to write (their `Const` bytes and `Ref` defaults).
 
 use edsgen_model::model::{DataItem, PnDataType, Profinet, Submodule};
+use edsgen_runtime::profinet::wire::connect::ModuleDiffBlock;
 use edsgen_sim::profinet::ar::config::DeviceConfig;
-use edsgen_sim::profinet::wire::blocks::ModuleDiffBlock;
 
 /// One named data item of a submodule's input or output data.
 #[derive(Debug, Clone)]
