@@ -331,20 +331,20 @@ fn simulate_profinet_refuses_modules_that_do_not_fit_with_exit_2() {
                 "--module",
                 "MOD_PKW_PZD_16",
             ],
-            "error: --module and --access-point choose the configuration of a FILE.xml, not of \
-             a card\n",
+            "error: --module `MOD_PKW_PZD_16` follows a --card: a card's modules are its own; put \
+             --module after the FILE it plugs\n\nUsage: edsgen simulate [OPTIONS] \
+             [FILE[@ID]]...\n\nFor more information, try '--help'.\n",
         ),
         (
             &[
                 "simulate",
                 "--enip",
                 "127.0.0.1",
-                "--card",
-                "x",
+                "x.eds",
                 "--module",
                 "M",
             ],
-            "error: --module goes with --profibus or --profinet\n",
+            "error: --module goes with --profibus, --ethercat or --profinet\n",
         ),
     ];
     for (args, expected) in cases {
