@@ -59,8 +59,10 @@ pub struct Args {
     pub profibus: Option<String>,
     /// With --profibus and one FILE.gsd: the module plugged in a slot (`SLOT=NAME`, or `NAME`
     /// for the slot after the previous one; repeatable, docs/modules.md). The slave then
-    /// accepts only these; without, any combination of its modules the GSD allows.
-    #[arg(long = "module", value_name = "[SLOT=]NAME", requires = "profibus")]
+    /// accepts only these; without, any combination of its modules the GSD allows. With
+    /// --ethercat and one modular FILE.xml: the module instances in its `Slots/Slot`s (`SLOT`
+    /// counts them from 1); without, the overlay's `[modules]`, else each slot's default.
+    #[arg(long = "module", value_name = "[SLOT=]NAME")]
     pub modules: Vec<String>,
     /// Serve an EtherCAT segment on this network interface instead (root or CAP_NET_RAW): ESI
     /// FILEs and `--card ec-tx508`, repeated and mixed, as SubDevices in the order given (the
@@ -118,14 +120,22 @@ pub fn run(args: Args) -> ExitCode {
         return super::dp::simulate::run(tty, &args.files, &args.cards, &args.modules, &allow);
     }
     if let Some(iface) = &args.ethercat {
+        if !args.modules.is_empty() && args.files.len() != 1 {
+            return fail("--module plugs the modules of one ESI FILE: give exactly one");
+        }
+        let modules: Vec<Vec<String>> = args.files.iter().map(|_| args.modules.clone()).collect();
         return super::ethercat::simulate::run(
             iface,
             &args.files,
             &args.cards,
             &args.devices,
+            &modules,
             args.faults_on_stdin,
             &allow,
         );
+    }
+    if !args.modules.is_empty() {
+        return fail("--module goes with --profibus or --ethercat");
     }
     super::canopen::simulate::run(args, &allow)
 }
