@@ -52,7 +52,7 @@ fn main() {
     let soem_plain = soem(&ns, &file, &middle, &[]);
     let modular = corpus.join(MODULAR);
     if !modular.is_file() {
-        let _: Option<()> = skip(&format!(
+        let _: Option<()> = skip(format!(
             "ethercat_segment: the modular device: no {}",
             modular.display()
         ));

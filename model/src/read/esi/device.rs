@@ -219,8 +219,9 @@ impl<'a, 'input> EsiReader<'a, 'input> {
         if !self.attr_bool(index, "DependOnSlot") {
             return None;
         }
-        self.element_number(index)
-            .and_then(|n| u16::try_from(n).ok())
+        // Read quietly: a bad number was already reported where the index was read.
+        let text = element_text(index).unwrap_or_default();
+        parse_number(&text).and_then(|n| u16::try_from(n).ok())
     }
 
     /// One `AlternativeSmMapping`: its name, default flag and per-SM PDO indices.
