@@ -6,7 +6,7 @@
 use std::ops::Range;
 
 use edsgen_runtime::ethercat::subdevice;
-use edsgen_runtime::ethercat::wire::datagram::{Datagram, DatagramRepr};
+use edsgen_runtime::ethercat::wire::datagram::{Command, Datagram, DatagramRepr};
 use edsgen_runtime::ethercat::wire::frame::Frame;
 use edsgen_runtime::Instant;
 
@@ -89,6 +89,7 @@ impl<A: Application> SubDevice<A> {
                 }
             }
         }
+        let mut remapped = false;
         let mut datagrams = frame.datagrams();
         while let Some(Ok(place)) = datagrams.next(frame.as_bytes()) {
             let Some(mut datagram) = frame.datagram_mut(place) else {
@@ -97,7 +98,7 @@ impl<A: Application> SubDevice<A> {
             let (header, data) = datagram.split_mut();
             // An earlier datagram of this frame may have just mapped the inputs (an FMMU or
             // SyncManager written): they are put in before the first read of them.
-            if !fresh {
+            if !fresh && remapped {
                 if let Some(memory) = self.inputs_memory() {
                     if self.core.esc().reads(&header, &memory) {
                         self.core.update_inputs(now);
@@ -105,6 +106,7 @@ impl<A: Application> SubDevice<A> {
                     }
                 }
             }
+            remapped |= writes_mapping(&header);
             let (gain, adp) = self.core.esc_mut().datagram(&header, data);
             datagram.set_adp(adp);
             datagram.set_wkc(datagram.wkc().wrapping_add(gain));
@@ -130,4 +132,19 @@ impl<A: Application> SubDevice<A> {
     pub fn poll(&mut self, now: Instant) {
         self.core.handle_timeout(now);
     }
+}
+
+/// Whether the datagram `header` may write the FMMU or SyncManager registers (0x0600-0x08FF),
+/// which map the inputs: a physical write over them, whoever it addresses.
+fn writes_mapping(header: &DatagramRepr) -> bool {
+    use edsgen_runtime::ethercat::wire::datagram::Command::*;
+    let physical_write = matches!(
+        Command::from_code(header.command),
+        Some(Apwr | Aprw | Fpwr | Fprw | Bwr | Brw | Armw | Frmw)
+    );
+    let (start, end) = (
+        u32::from(header.ado),
+        u32::from(header.ado) + u32::from(header.len),
+    );
+    physical_write && start < 0x0900 && 0x0600 < end
 }
