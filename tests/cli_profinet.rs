@@ -336,14 +336,7 @@ fn simulate_profinet_refuses_modules_that_do_not_fit_with_exit_2() {
              [FILE[@ID]]...\n\nFor more information, try '--help'.\n",
         ),
         (
-            &[
-                "simulate",
-                "--enip",
-                "127.0.0.1",
-                "x.eds",
-                "--module",
-                "M",
-            ],
+            &["simulate", "--enip", "127.0.0.1", "x.eds", "--module", "M"],
             "error: --module goes with --profibus, --ethercat or --profinet\n",
         ),
     ];

@@ -8,7 +8,10 @@
 //!   each on its own (300 and 150 rpm, each seen in its own inputs); `fault 2` on the
 //!   simulator's standard input then faults the drive at position 2 alone;
 //! - SOEM (python `pysoem`, scripts/soem_segment.py) finds the three, maps them, reaches Op with
-//!   the working counter it expects and drives the two velocities in the same way.
+//!   the working counter it expects and drives the two velocities in the same way;
+//! - then both again with a *modular* corpus device in the middle (ETG.2001's two-axis
+//!   Modules/Slots example), axis 2 plugged by `--module 2=#x110` and axis 1 by its slot's
+//!   default: each sees its identity and the modules' images, 28 bytes out and 20 in.
 
 #[path = "ethercat_support/mod.rs"]
 mod ethercat_support;
@@ -45,13 +48,36 @@ fn main() {
     };
     let (file, middle) = corpus_device(&corpus);
     let ns = Namespace::new();
-    ethercrab(&ns, &file, &middle);
-    let soem = soem(&ns, &file, &middle);
+    ethercrab(&ns, &file, &middle, &[]);
+    let soem_plain = soem(&ns, &file, &middle, &[]);
+    let modular = corpus.join(MODULAR);
+    if !modular.is_file() {
+        let _: Option<()> = skip(format!(
+            "ethercat_segment: the modular device: no {}",
+            modular.display()
+        ));
+        return;
+    }
+    ethercrab(&ns, &modular, MODULAR_SEEN, MODULAR_ARGS);
+    let soem_modular = soem(&ns, &modular, MODULAR_SEEN, MODULAR_ARGS);
     println!(
-        "ethercat_segment: ok (ethercrab, {soem}; the corpus device {})",
+        "ethercat_segment: ok (ethercrab, {soem_plain}; the corpus device {}; the modular device with \
+         ethercrab, {soem_modular})",
         file.display()
     );
 }
+
+/// The modular device of the corpus: ETG.2001's DS402 Modules/Slots example, two axis slots
+/// (`SlotPdoIncrement` 16, `SlotIndexIncrement` 800h), no PDO of its own.
+const MODULAR: &str =
+    "synapticon__siitool/examples__ModulesSlots_DS402_Simple__ETG2001_ModulesSlots_CiA402.xml";
+/// Axis 2 plugged with module 110h (position, homing, touch probe: RxPDOs 1610h-1612h of 6, 4
+/// and 12 bytes, TxPDOs 1A10h-1A12h of 6, 4 and 4), axis 1 with its default 100h (RxPDO 1600h
+/// and TxPDO 1A00h, 6 bytes each); the file's F010h describes a reserved sub-index FFh (an
+/// EDS307 error), allowed.
+const MODULAR_ARGS: &[&str] = &["--module", "2=#x110", "--allow", "EDS307"];
+/// What the MainDevices see of it: its identity, 6 + 22 bytes of outputs, 6 + 14 of inputs.
+const MODULAR_SEEN: &str = "0xe0000001 0x00010000 0x00000000 28 20";
 
 /// The first ESI of the corpus the simulator serves to Op, and what the MainDevices are to see
 /// of it: `vendor product revision outputs inputs`, hexadecimal identity.
@@ -82,23 +108,22 @@ fn corpus_device(corpus: &std::path::Path) -> (PathBuf, String) {
     panic!("no ESI of the corpus can be served to Op");
 }
 
-/// The segment's simulator, its SubDevices' lines checked.
-fn segment(ns: &Namespace, file: &std::path::Path, middle: &str) -> Process {
+/// The segment's simulator (`extra` arguments after the rest), its SubDevices' lines checked.
+fn segment(ns: &Namespace, file: &std::path::Path, middle: &str, extra: &[&str]) -> Process {
     let file = file.to_str().expect("a path");
-    let mut command = ns.exec(
-        EDSGEN,
-        &[
-            "simulate",
-            "--ethercat",
-            "ecs",
-            "--card",
-            "ec-tx508",
-            file,
-            "--card",
-            "ec-tx508",
-            "--faults-on-stdin",
-        ],
-    );
+    let mut args = vec![
+        "simulate",
+        "--ethercat",
+        "ecs",
+        "--card",
+        "ec-tx508",
+        file,
+        "--card",
+        "ec-tx508",
+        "--faults-on-stdin",
+    ];
+    args.extend_from_slice(extra);
+    let mut command = ns.exec(EDSGEN, &args);
     let sim = Process::start(&mut command);
     let tx508 = "EC-TX508 EtherCAT communication card (Goodrive350) (vendor 0x000004D8, product \
         0x00009252, revision 0x00000001)";
@@ -126,8 +151,8 @@ fn segment(ns: &Namespace, file: &std::path::Path, middle: &str) -> Process {
     sim
 }
 
-fn ethercrab(ns: &Namespace, file: &std::path::Path, middle: &str) {
-    let mut sim = segment(ns, file, middle);
+fn ethercrab(ns: &Namespace, file: &std::path::Path, middle: &str, extra: &[&str]) {
+    let mut sim = segment(ns, file, middle, extra);
     let me = std::env::current_exe().expect("this test");
     let mut command = ns.exec(me.to_str().expect("a path"), &[]);
     command
@@ -145,11 +170,11 @@ fn ethercrab(ns: &Namespace, file: &std::path::Path, middle: &str) {
 }
 
 /// SOEM (pysoem) brings the segment to Op and drives both EC-TX508s.
-fn soem(ns: &Namespace, file: &std::path::Path, middle: &str) -> String {
+fn soem(ns: &Namespace, file: &std::path::Path, middle: &str, extra: &[&str]) -> String {
     let Some(python) = python() else {
         return "SOEM skipped".to_owned();
     };
-    let _sim = segment(ns, file, middle);
+    let _sim = segment(ns, file, middle, extra);
     let script = root().join("scripts/soem_segment.py");
     let master = Process::start(&mut ns.exec(
         python.to_str().expect("a path"),

@@ -140,6 +140,7 @@ pub fn run(args: Args) -> ExitCode {
             &args.files,
             &args.cards,
             &args.devices,
+            &args.modules,
             args.faults_on_stdin,
             &allow,
         );

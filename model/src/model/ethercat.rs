@@ -1,7 +1,7 @@
 //! The EtherCAT side of an ESI device: SyncManagers, PDOs and their alternative assignments,
 //! the CoE mailbox, DC op-modes, and the modules and slots of a modular device.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::{Object, Span, Spanned};
 
@@ -189,8 +189,24 @@ pub struct EcModule {
     /// The module's `Profile/Dictionary` objects, with indices as written (before
     /// `SlotIndexIncrement`).
     pub objects: BTreeMap<u16, Object>,
+    /// The indices written with `DependOnSlot`: they move with the instance's slot.
+    pub slot_indices: SlotIndices,
     /// Where the element is.
     pub span: Span,
+}
+
+/// A module's indices whose `Index` element says `DependOnSlot="1"` (ETG.2000): per slot
+/// instance, a PDO's index moves by the slot's `SlotPdoIncrement`, a mapped entry's and an
+/// object's by its `SlotIndexIncrement`; the others keep their written index.
+/// (`DependOnSlotGroup` is not read: no file of the corpus writes it.)
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SlotIndices {
+    /// `RxPdo`/`TxPdo` indices.
+    pub pdos: BTreeSet<u16>,
+    /// Mapped entries' indices.
+    pub entries: BTreeSet<u16>,
+    /// The module's dictionary's object indices.
+    pub objects: BTreeSet<u16>,
 }
 
 /// One `Slots/Slot` of a device.

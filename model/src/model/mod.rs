@@ -40,7 +40,7 @@ pub use dp::{
 };
 pub use ethercat::{
     AlternativeSmMapping, CoeInitCmd, CoeMailbox, DcOpMode, EcModule, EcPdo, EcPdoEntry, EcSlot,
-    EtherCat, SmKind, SyncManager,
+    EtherCat, SlotIndices, SmKind, SyncManager,
 };
 pub use object::{KeySpans, Object, SubObject, Value, ValueSource};
 pub use profinet::{

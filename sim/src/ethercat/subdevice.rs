@@ -3,7 +3,10 @@
 //! between datagrams the runtime's SubDevice core
 //! ([`edsgen_runtime::ethercat::subdevice`]) over that ESC, as a device's firmware runs it.
 
+use std::ops::Range;
+
 use edsgen_runtime::ethercat::subdevice;
+use edsgen_runtime::ethercat::wire::datagram::{Command, Datagram, DatagramRepr};
 use edsgen_runtime::ethercat::wire::frame::Frame;
 use edsgen_runtime::Instant;
 
@@ -58,18 +61,52 @@ impl<A: Application> SubDevice<A> {
     /// Processes the Ethernet frame `frame` in place at `now`. Returns whether it is to be sent
     /// back: `false` for a frame that is not EtherCAT (ignored, unchanged). Datagrams after a
     /// malformed one are left as they came (their working counters unchanged).
+    ///
+    /// The device puts its inputs into the ESC before the frame's datagrams (as they are at
+    /// `now`) only when one of them reads the inputs SyncManager's memory
+    /// ([`EmulatedEsc::reads`]): a frame that passes by (another SubDevice's images, a mailbox
+    /// exchange) costs the application nothing. Outputs reach it only when a datagram writes
+    /// the outputs buffer's last byte, as the ESC reports it.
     pub fn process_frame(&mut self, now: Instant, frame: &mut [u8]) -> bool {
         let Ok(mut frame) = Frame::new_checked(frame) else {
             return false;
         };
         self.core.handle_timeout(now);
-        self.core.update_inputs(now);
+        let inputs = self.inputs_memory();
+        let mut fresh = false;
+        if let Some(memory) = &inputs {
+            let mut datagrams = frame.datagrams();
+            while let Some(Ok(place)) = datagrams.next(frame.as_bytes()) {
+                let datagram = Datagram::new_unchecked(&frame.as_bytes()[place]);
+                if self
+                    .core
+                    .esc()
+                    .reads(&DatagramRepr::parse(&datagram), memory)
+                {
+                    self.core.update_inputs(now);
+                    fresh = true;
+                    break;
+                }
+            }
+        }
+        let mut remapped = false;
         let mut datagrams = frame.datagrams();
         while let Some(Ok(place)) = datagrams.next(frame.as_bytes()) {
             let Some(mut datagram) = frame.datagram_mut(place) else {
                 break;
             };
             let (header, data) = datagram.split_mut();
+            // An earlier datagram of this frame may have just mapped the inputs (an FMMU or
+            // SyncManager written): they are put in before the first read of them.
+            if !fresh && remapped {
+                if let Some(memory) = self.inputs_memory() {
+                    if self.core.esc().reads(&header, &memory) {
+                        self.core.update_inputs(now);
+                        fresh = true;
+                    }
+                }
+            }
+            remapped |= writes_mapping(&header);
             let (gain, adp) = self.core.esc_mut().datagram(&header, data);
             datagram.set_adp(adp);
             datagram.set_wkc(datagram.wkc().wrapping_add(gain));
@@ -82,8 +119,32 @@ impl<A: Application> SubDevice<A> {
         true
     }
 
+    /// The inputs SyncManager's memory, while the device shows inputs (Safe-Op and Op).
+    fn inputs_memory(&self) -> Option<Range<u32>> {
+        if self.core.state() < AlState::SafeOp {
+            return None;
+        }
+        let sm = self.core.esc().sm(self.core.layout().inputs?);
+        (sm.len > 0).then(|| sm.range())
+    }
+
     /// Lets time pass: the outputs watchdog.
     pub fn poll(&mut self, now: Instant) {
         self.core.handle_timeout(now);
     }
+}
+
+/// Whether the datagram `header` may write the FMMU or SyncManager registers (0x0600-0x08FF),
+/// which map the inputs: a physical write over them, whoever it addresses.
+fn writes_mapping(header: &DatagramRepr) -> bool {
+    use edsgen_runtime::ethercat::wire::datagram::Command::*;
+    let physical_write = matches!(
+        Command::from_code(header.command),
+        Some(Apwr | Aprw | Fpwr | Fprw | Bwr | Brw | Armw | Frmw)
+    );
+    let (start, end) = (
+        u32::from(header.ado),
+        u32::from(header.ado) + u32::from(header.len),
+    );
+    physical_write && start < 0x0900 && 0x0600 < end
 }

@@ -12,11 +12,13 @@ const MAC: [u8; 6] = [0x10; 6];
 const STATION: u16 = 0x1001;
 
 /// An application with a 4-byte outputs image and a 2-byte inputs image, which answers a
-/// mailbox message with its first 6 bytes reversed.
+/// mailbox message with its first 6 bytes reversed, and counts the times it was asked for its
+/// inputs.
 #[derive(Debug, Default)]
 pub(super) struct TestApp {
-    outputs: Vec<u8>,
-    inputs: [u8; 2],
+    pub(super) outputs: Vec<u8>,
+    pub(super) inputs: [u8; 2],
+    pub(super) inputs_asked: usize,
     changes: Vec<(AlState, AlState)>,
 }
 
@@ -34,6 +36,7 @@ impl Application for TestApp {
         self.outputs = outputs.to_vec();
     }
     fn inputs(&mut self, _now: Instant, inputs: &mut [u8]) {
+        self.inputs_asked += 1;
         inputs.copy_from_slice(&self.inputs);
     }
     fn state_changed(&mut self, _now: Instant, from: AlState, to: AlState) {
@@ -101,7 +104,7 @@ fn one(
 }
 
 /// 8 bytes of SyncManager registers: start, length, control, status 0, activate, PDI 0.
-fn sm(start: u16, len: u16, control: u8, activate: u8) -> Vec<u8> {
+pub(super) fn sm(start: u16, len: u16, control: u8, activate: u8) -> Vec<u8> {
     let mut r = start.to_le_bytes().to_vec();
     r.extend_from_slice(&len.to_le_bytes());
     r.extend_from_slice(&[control, 0, activate, 0]);

@@ -4,7 +4,8 @@
 //! its own ESC, SII, station address, AL state machine, mailbox and process data. Through a raw
 //! socket (root or CAP_NET_RAW), until SIGINT or SIGTERM. With `--faults-on-stdin` the
 //! EC-TX508s' drives take `fault [POSITION]` and `clear [POSITION]` lines on standard input
-//! ([`FaultSwitch`]).
+//! ([`FaultSwitch`]). A modular ESI device is served with its modules plugged (`--module`, the
+//! overlay's `[modules]`, else each slot's default): their PDOs, objects and SII categories.
 
 use std::io::BufRead;
 use std::path::Path;
@@ -14,6 +15,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use edsgen_model::lint::Policy;
+use edsgen_model::model::modules::{choose_ec, parse_choices};
 use edsgen_model::model::Device;
 use edsgen_model::read;
 use edsgen_runtime::Instant;
@@ -47,13 +49,16 @@ struct Places {
 }
 
 /// Runs the EtherCAT simulator: the segment of `files` (ESI) and `cards` (`ec-tx508`) in the
-/// order given, `devices` choosing the device of the FILE each follows; with `faults_on_stdin`,
-/// the EC-TX508s' drives' faults switched by standard input.
+/// order given, `devices` choosing the device of the FILE each follows, `modules` the module
+/// instances of each FILE in turn (`[SLOT=]NAME`; an empty list, or none, for a FILE: the
+/// overlay's `[modules]`, else each slot's default); with `faults_on_stdin`, the EC-TX508s'
+/// drives' faults switched by standard input.
 pub fn run(
     iface: &str,
     files: &[String],
     cards: &[String],
     devices: &[String],
+    modules: &[Vec<String>],
     faults_on_stdin: bool,
     allow: &Policy,
 ) -> ExitCode {
@@ -70,8 +75,16 @@ pub fn run(
     let faults = faults_on_stdin.then(|| FaultLines::reading_stdin(&drives));
     let mut subdevices = Vec::new();
     let mut shown = Vec::new();
+    let mut files_seen = 0;
     for (position, member) in members.iter().enumerate() {
-        let (model, behaviour) = match load(member, allow) {
+        let chosen: &[String] = match member {
+            Member::File { .. } => {
+                files_seen += 1;
+                modules.get(files_seen - 1).map_or(&[], Vec::as_slice)
+            }
+            Member::Card(_) => &[],
+        };
+        let (model, behaviour) = match load(member, chosen, allow) {
             Ok(loaded) => loaded,
             Err(message) => return fail(message),
         };
@@ -87,6 +100,7 @@ pub fn run(
             }
             (card, _) => card.map(|card| Box::new(card) as Box<dyn Behaviour>),
         };
+        let model = edsgen_sim::ethercat::modules::plugged(&model);
         match EsiDevice::subdevice(&model, behaviour) {
             Ok(subdevice) => subdevices.push(subdevice),
             Err(message) => return fail(format!("SubDevice {position}: {message}")),
@@ -126,21 +140,66 @@ pub fn run(
     }
 }
 
-/// `NAME (vendor .., product .., revision ..)` of a device's description.
+/// `NAME (vendor .., product .., revision ..)` of a device's description, and `, modules SLOT=TYPE,
+/// ...` (its `Slots/Slot`s counted from 1) when modules are plugged.
 fn identity(model: &Device) -> String {
     let info = &model.device_info;
     let number = |n: &Option<edsgen_model::model::Spanned<u32>>| n.as_ref().map_or(0, |n| n.value);
-    format!(
+    let mut line = format!(
         "{} (vendor {:#010X}, product {:#010X}, revision {:#010X})",
         info.product_name.as_deref().unwrap_or("?"),
         number(&info.vendor_number),
         number(&info.product_number),
         number(&info.revision_number),
-    )
+    );
+    let ec = model.ethercat();
+    let plugged = ec.and_then(|ec| Some((ec, ec.chosen.as_ref()?)));
+    if let Some((ec, chosen)) = plugged.filter(|(_, c)| !c.slots.is_empty()) {
+        let names: Vec<String> = chosen
+            .slots
+            .iter()
+            .map(|p| format!("{}={}", p.slot + 1, ec.modules[p.module].type_name))
+            .collect();
+        line.push_str(&format!(", modules {}", names.join(", ")));
+    }
+    line
 }
 
-/// A member's description, and the EC-TX508's drive for the card.
-fn load(member: &Member, allow: &Policy) -> Result<(Device, Option<EcTx508Behaviour>), String> {
+/// Plugs `device`'s modules: the overlay's `[modules]` if it chose (a `--module` as well is
+/// refused, as `--profinet` refuses it: the two would contradict), else `chosen` (`[SLOT=]NAME`), else each slot's default
+/// where that makes a configuration the device allows (otherwise the device as described).
+/// A `--module` choice the device does not allow is refused with EDS708's sentences.
+fn plug(device: &mut Device, path: &str, chosen: &[String]) -> Result<(), String> {
+    let Some(ec) = device.ethercat_mut() else {
+        return Ok(());
+    };
+    if ec.chosen.is_some() {
+        if !chosen.is_empty() {
+            return Err(format!(
+                "`{path}`: its overlay's [modules] already chooses the configuration; --module would contradict it"
+            ));
+        }
+        return Ok(());
+    }
+    if chosen.is_empty() {
+        ec.chosen = choose_ec(ec, &[]).ok();
+        return Ok(());
+    }
+    let configuration = parse_choices(chosen)
+        .map_err(|e| vec![e])
+        .and_then(|choices| choose_ec(ec, &choices))
+        .map_err(|problems| format!("{path}: --module (EDS708): {}", problems.join("; ")))?;
+    ec.chosen = Some(configuration);
+    Ok(())
+}
+
+/// A member's description, its modules plugged (`chosen`, [`plug`]), and the EC-TX508's drive
+/// for the card.
+fn load(
+    member: &Member,
+    chosen: &[String],
+    allow: &Policy,
+) -> Result<(Device, Option<EcTx508Behaviour>), String> {
     match member {
         Member::File { path, device } => {
             let read =
@@ -150,7 +209,9 @@ fn load(member: &Member, allow: &Policy) -> Result<(Device, Option<EcTx508Behavi
                     "{path}: not an ESI device (`edsgen validate {path}` says why)"
                 ));
             }
-            Ok((read.device, None))
+            let mut model = read.device;
+            plug(&mut model, path, chosen)?;
+            Ok((model, None))
         }
         Member::Card(card) if card == "ec-tx508" => {
             let model = read::read_bytes(Path::new(ec_tx508::ESI_PATH), ec_tx508::ESI).device;

@@ -170,6 +170,7 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             rx_pdos: Vec::new(),
             tx_pdos: Vec::new(),
             objects: Default::default(),
+            slot_indices: SlotIndices::default(),
             span: self.spans.element(node),
         };
         for pdo in node.children().filter(|n| n.is_element()) {
@@ -190,8 +191,37 @@ impl<'a, 'input> EsiReader<'a, 'input> {
             }
             self.read_dictionary(dictionary, &mut module.objects);
             self.data_types = device_types;
+            let objects = children(dictionary, "Objects").flat_map(|o| children(o, "Object"));
+            for index in objects.filter_map(|o| child(o, "Index")) {
+                if let Some(n) = self.slot_dependent(index) {
+                    module.slot_indices.objects.insert(n);
+                }
+            }
+        }
+        let pdos = node
+            .children()
+            .filter(|n| is_element(*n, "RxPdo") || is_element(*n, "TxPdo"));
+        for pdo in pdos {
+            if let Some(n) = child(pdo, "Index").and_then(|i| self.slot_dependent(i)) {
+                module.slot_indices.pdos.insert(n);
+            }
+            for index in children(pdo, "Entry").filter_map(|e| child(e, "Index")) {
+                if let Some(n) = self.slot_dependent(index) {
+                    module.slot_indices.entries.insert(n);
+                }
+            }
         }
         module
+    }
+
+    /// The index an `Index` element gives, if it says `DependOnSlot`.
+    fn slot_dependent(&mut self, index: Node) -> Option<u16> {
+        if !self.attr_bool(index, "DependOnSlot") {
+            return None;
+        }
+        // Read quietly: a bad number was already reported where the index was read.
+        let text = element_text(index).unwrap_or_default();
+        parse_number(&text).and_then(|n| u16::try_from(n).ok())
     }
 
     /// One `AlternativeSmMapping`: its name, default flag and per-SM PDO indices.
