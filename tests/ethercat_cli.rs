@@ -48,7 +48,7 @@ fn simulate_refuses_modules_the_esi_device_does_not_allow() {
         run(&["simulate", "some.eds", "--module", "1=X"]),
         (
             Some(2),
-            "error: --module goes with --profibus or --ethercat\n".to_owned()
+            "error: --module goes with --profibus, --ethercat or --profinet\n".to_owned()
         )
     );
     let Some(corpus) = process_support::esi_corpus_dir() else {

@@ -108,21 +108,13 @@ fn corpus_device(corpus: &std::path::Path) -> (PathBuf, String) {
     panic!("no ESI of the corpus can be served to Op");
 }
 
-/// The segment's simulator (`extra` arguments after the rest), its SubDevices' lines checked.
+/// The segment's simulator (`extra` arguments right after the middle FILE, whose `--module`s
+/// they are), its SubDevices' lines checked.
 fn segment(ns: &Namespace, file: &std::path::Path, middle: &str, extra: &[&str]) -> Process {
     let file = file.to_str().expect("a path");
-    let mut args = vec![
-        "simulate",
-        "--ethercat",
-        "ecs",
-        "--card",
-        "ec-tx508",
-        file,
-        "--card",
-        "ec-tx508",
-        "--faults-on-stdin",
-    ];
+    let mut args = vec!["simulate", "--ethercat", "ecs", "--card", "ec-tx508", file];
     args.extend_from_slice(extra);
+    args.extend_from_slice(&["--card", "ec-tx508", "--faults-on-stdin"]);
     let mut command = ns.exec(EDSGEN, &args);
     let sim = Process::start(&mut command);
     let tx508 = "EC-TX508 EtherCAT communication card (Goodrive350) (vendor 0x000004D8, product \
