@@ -106,7 +106,7 @@ pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
             }
         }
     }
-    if let Some(at) = lower.rfind("sub") {
+    if let Some(at) = rfind_sub(&lower) {
         let (index_text, sub_text) = (&lower[..at], &lower[at + 3..]);
         if let (Some((index, index_zeros)), Some(sub)) =
             (index_of(index_text), parse_hex_name(sub_text, 0xFF))
@@ -127,6 +127,12 @@ pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
         return (SectionKind::Object(index), zeros, false);
     }
     (SectionKind::Unknown, false, false)
+}
+
+/// The byte offset of the last `sub` in `name` (a lowercase section name): a byte scan, cheaper
+/// than `str::rfind`'s substring searcher on names this short.
+pub(super) fn rfind_sub(name: &str) -> Option<usize> {
+    name.as_bytes().windows(3).rposition(|w| w == b"sub")
 }
 
 /// Why the sub-index written after `sub` in a section name (`100` in `[D000sub100]`) cannot exist,
