@@ -103,7 +103,7 @@ impl IniEntry<'_> {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct IniSection<'t> {
     /// The name between the brackets, as first written (trimmed).
-    pub name: String,
+    pub name: IniText<'t>,
     /// Where the section header is (the whole `[name]`).
     pub span: Span,
     /// The entries, in file order; a key appears at most once (case-insensitively).
@@ -401,7 +401,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 section_at.insert(Caseless(name), file.sections.len());
                 current = Some(file.sections.len());
                 file.sections.push(IniSection {
-                    name: name.to_owned(),
+                    name: IniText(name),
                     span: header_span,
                     // Most object sections have up to eight keys: one allocation for them.
                     entries: Vec::with_capacity(8),

@@ -309,7 +309,7 @@ impl Reader {
 
     fn keep(&mut self, section: &IniSection) {
         self.device.other_sections.push(RawSection {
-            name: section.name.clone(),
+            name: section.name.as_str().to_owned(),
             entries: section
                 .entries
                 .iter()
