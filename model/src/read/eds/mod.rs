@@ -271,7 +271,7 @@ impl Reader {
     /// A sub-index section whose sub-index cannot exist (`[D000sub100]`): an EDS030 error at its
     /// header, the section kept in `other_sections`. Its keys are not read into the model.
     fn bad_sub_section(&mut self, section: &IniSection, index: u16) {
-        let at = sections::rfind_sub(&section.name.to_ascii_lowercase()).unwrap_or(0);
+        let at = sections::rfind_sub(&section.name).unwrap_or(0);
         let sub_text = section.name.get(at + 3..).unwrap_or("");
         let (what, why, help) = sections::bad_sub_index(sub_text);
         self.diags.push(
