@@ -103,7 +103,7 @@ impl IniEntry<'_> {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct IniSection<'t> {
     /// The name between the brackets, as first written (trimmed).
-    pub name: String,
+    pub name: IniText<'t>,
     /// Where the section header is (the whole `[name]`).
     pub span: Span,
     /// The entries, in file order; a key appears at most once (case-insensitively).
@@ -134,55 +134,25 @@ pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
-    const ONES: u64 = 0x0101_0101_0101_0101;
-    const HIGHS: u64 = 0x8080_8080_8080_8080;
-    // The high bit of each byte of `word` that is zero; a 0x01 byte just above a zero byte may
-    // be flagged too, so every candidate is checked again.
-    let zero_bytes = |word: u64| word.wrapping_sub(ONES) & !word & HIGHS;
     let bytes = text.as_bytes();
     let mut out = Vec::with_capacity(bytes.len() / 16 + 1);
     let mut start = 0;
-    // Eight bytes at a time: most bytes are neither CR nor LF.
-    let mut chunks = bytes.chunks_exact(8);
-    let mut base = 0;
-    for chunk in &mut chunks {
-        let mut word = [0u8; 8];
-        word.copy_from_slice(chunk);
-        let word = u64::from_le_bytes(word);
-        let mut candidates = zero_bytes(word ^ (ONES * u64::from(b'\n')))
-            | zero_bytes(word ^ (ONES * u64::from(b'\r')));
-        while candidates != 0 {
-            let at = base + (candidates.trailing_zeros() / 8) as usize;
-            candidates &= candidates - 1;
-            line_break(text, at, &mut start, &mut out);
+    // `memchr2` finds the line breaks many bytes at a time (most bytes are neither CR nor LF).
+    for at in memchr::memchr2_iter(b'\n', b'\r', bytes) {
+        // The LF of a CR LF ended its line with the CR.
+        if at < start {
+            continue;
         }
-        base += 8;
-    }
-    for (offset, byte) in chunks.remainder().iter().enumerate() {
-        if matches!(byte, b'\n' | b'\r') {
-            line_break(text, base + offset, &mut start, &mut out);
+        out.push(&text[start..at]);
+        start = at + 1;
+        if bytes[at] == b'\r' && bytes.get(at + 1) == Some(&b'\n') {
+            start += 1;
         }
     }
     if start < bytes.len() {
         out.push(&text[start..]);
     }
     out
-}
-
-/// Ends the line that starts at `start` if `at` is a line break: a CR or LF at or after `start`
-/// (the LF of a CR LF is skipped).
-#[inline]
-fn line_break<'t>(text: &'t str, at: usize, start: &mut usize, out: &mut Vec<&'t str>) {
-    let bytes = text.as_bytes();
-    let Some(&byte) = bytes.get(at) else { return };
-    if at < *start || !matches!(byte, b'\n' | b'\r') {
-        return;
-    }
-    out.push(&text[*start..at]);
-    *start = at + 1;
-    if byte == b'\r' && bytes.get(at + 1) == Some(&b'\n') {
-        *start += 1;
-    }
 }
 
 /// Whether an ASCII byte is white space to [`char::is_whitespace`].
@@ -254,13 +224,25 @@ fn column_in(line: &str, at: usize, ascii: bool) -> u32 {
 
 /// Whether a key is written only with `[A-Za-z0-9_]`.
 pub fn is_plain_key(key: &str) -> bool {
-    !key.is_empty() && key.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
+    !key.is_empty() && key.bytes().all(|b| PLAIN_KEY_BYTES[usize::from(b)])
 }
+
+/// Whether a byte may appear in a plain key (`[A-Za-z0-9_]`), by byte: one load per byte.
+const PLAIN_KEY_BYTES: [bool; 256] = {
+    let mut table = [false; 256];
+    let mut b = 0;
+    while b < 256 {
+        let byte = b as u8;
+        table[b] = byte.is_ascii_alphanumeric() || byte == b'_';
+        b += 1;
+    }
+    table
+};
 
 /// A `;Key=value` comment line whose key is one of [`COMMENTED_KEYS`], as an entry.
 fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     let body = line.strip_prefix(';')?;
-    let eq = body.bytes().position(|b| b == b'=')?;
+    let eq = memchr::memchr(b'=', body.as_bytes())?;
     let key = body[..eq].trim();
     if !COMMENTED_KEYS.iter().any(|k| k.eq_ignore_ascii_case(key)) {
         return None;
@@ -401,7 +383,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 section_at.insert(Caseless(name), file.sections.len());
                 current = Some(file.sections.len());
                 file.sections.push(IniSection {
-                    name: name.to_owned(),
+                    name: IniText(name),
                     span: header_span,
                     // Most object sections have up to eight keys: one allocation for them.
                     entries: Vec::with_capacity(8),
@@ -410,7 +392,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             }
             continue;
         }
-        let Some(eq) = line.bytes().position(|b| b == b'=') else {
+        let Some(eq) = memchr::memchr(b'=', line.as_bytes()) else {
             if let Some(comment_line) = after_comment {
                 diags.push(
                     Diagnostic::new(

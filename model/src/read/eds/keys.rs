@@ -76,10 +76,16 @@ impl Reader {
         };
         let mut rest = Vec::new();
         for entry in &section.entries {
-            // Most files write the canonical spelling: try that before comparing case-blind.
+            // Most files write the canonical spelling: try that before comparing case-blind,
+            // and compare the first byte before the rest (lengths often agree, first letters
+            // rarely do).
+            let key = entry.key.as_bytes();
             let at = known
                 .iter()
-                .position(|k| *k == entry.key.as_str())
+                .position(|k| {
+                    let k = k.as_bytes();
+                    k.len() == key.len() && k.first() == key.first() && k == key
+                })
                 .or_else(|| {
                     known
                         .iter()

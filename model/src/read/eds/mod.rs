@@ -271,7 +271,7 @@ impl Reader {
     /// A sub-index section whose sub-index cannot exist (`[D000sub100]`): an EDS030 error at its
     /// header, the section kept in `other_sections`. Its keys are not read into the model.
     fn bad_sub_section(&mut self, section: &IniSection, index: u16) {
-        let at = section.name.to_ascii_lowercase().rfind("sub").unwrap_or(0);
+        let at = sections::rfind_sub(&section.name).unwrap_or(0);
         let sub_text = section.name.get(at + 3..).unwrap_or("");
         let (what, why, help) = sections::bad_sub_index(sub_text);
         self.diags.push(
@@ -309,7 +309,7 @@ impl Reader {
 
     fn keep(&mut self, section: &IniSection) {
         self.device.other_sections.push(RawSection {
-            name: section.name.clone(),
+            name: section.name.as_str().to_owned(),
             entries: section
                 .entries
                 .iter()

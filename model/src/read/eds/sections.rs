@@ -71,18 +71,18 @@ pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
             return (*kind, false, false);
         }
     }
-    let lower = name.to_ascii_lowercase();
+    // No lowercase copy of the name: every comparison below ignores ASCII case.
     // Module sections: [M<n>...] and tool sections: [Tool<n>].
-    let bytes = lower.as_bytes();
-    if bytes.first() == Some(&b'm')
+    let bytes = name.as_bytes();
+    if bytes.first().is_some_and(|b| b.eq_ignore_ascii_case(&b'm'))
         && bytes.get(1).is_some_and(u8::is_ascii_digit)
-        && lower[1..]
+        && name[1..]
             .trim_start_matches(|c: char| c.is_ascii_digit())
             .starts_with(|c: char| c.is_ascii_alphabetic())
     {
         return (SectionKind::Kept, false, false);
     }
-    if let Some(n) = lower.strip_prefix("tool") {
+    if let Some(n) = strip_prefix_ignoring_case(name, "tool") {
         if !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()) {
             return (SectionKind::Kept, false, false);
         }
@@ -100,14 +100,14 @@ pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
         ("value", SectionKind::SubValues),
         ("name", SectionKind::SubNames),
     ] {
-        if let Some(prefix) = lower.strip_suffix(suffix) {
+        if let Some(prefix) = strip_suffix_ignoring_case(name, suffix) {
             if let Some((index, zeros)) = index_of(prefix) {
                 return (make(index), zeros, false);
             }
         }
     }
-    if let Some(at) = lower.rfind("sub") {
-        let (index_text, sub_text) = (&lower[..at], &lower[at + 3..]);
+    if let Some(at) = rfind_sub(name) {
+        let (index_text, sub_text) = (&name[..at], &name[at + 3..]);
         if let (Some((index, index_zeros)), Some(sub)) =
             (index_of(index_text), parse_hex_name(sub_text, 0xFF))
         {
@@ -123,10 +123,35 @@ pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
             return (SectionKind::BadSub(index), false, false);
         }
     }
-    if let Some((index, zeros)) = index_of(&lower) {
+    if let Some((index, zeros)) = index_of(name) {
         return (SectionKind::Object(index), zeros, false);
     }
     (SectionKind::Unknown, false, false)
+}
+
+/// The byte offset of the last `sub` in `name`, in any case: a byte scan, cheaper than
+/// `str::rfind`'s substring searcher on names this short.
+pub(super) fn rfind_sub(name: &str) -> Option<usize> {
+    name.as_bytes()
+        .windows(3)
+        .rposition(|w| w.eq_ignore_ascii_case(b"sub"))
+}
+
+/// `name` without `prefix` (ASCII, compared ignoring case).
+fn strip_prefix_ignoring_case<'n>(name: &'n str, prefix: &str) -> Option<&'n str> {
+    let head = name.as_bytes().get(..prefix.len())?;
+    head.eq_ignore_ascii_case(prefix.as_bytes())
+        .then(|| name.get(prefix.len()..))
+        .flatten()
+}
+
+/// `name` without `suffix` (ASCII, compared ignoring case).
+fn strip_suffix_ignoring_case<'n>(name: &'n str, suffix: &str) -> Option<&'n str> {
+    let at = name.len().checked_sub(suffix.len())?;
+    let tail = name.as_bytes().get(at..)?;
+    tail.eq_ignore_ascii_case(suffix.as_bytes())
+        .then(|| name.get(..at))
+        .flatten()
 }
 
 /// Why the sub-index written after `sub` in a section name (`100` in `[D000sub100]`) cannot exist,

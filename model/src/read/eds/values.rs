@@ -18,7 +18,10 @@ impl Reader {
             HashMap::default();
         // Only a span written into several entries (CompactSubObj) can hit the cache: count them
         // first, so values with a span of their own skip the cache (and its copies).
-        let mut span_uses: HashMap<Span, u32, FastHash> = HashMap::default();
+        // Sized for the usual one or two values per entry, so the map does not grow as it fills.
+        let entries: usize = self.device.objects.values().map(|o| o.subs.len()).sum();
+        let mut span_uses: HashMap<Span, u32, FastHash> =
+            HashMap::with_capacity_and_hasher(entries * 2, FastHash::default());
         for object in self.device.objects.values() {
             for entry in object.subs.values() {
                 for source in [
