@@ -10,92 +10,13 @@ mod process_support;
 use std::process::Command;
 use std::time::Duration;
 
+use process_support::netns::{is_root, VethPair};
 use process_support::{skip, Process, EDSGEN};
 
-/// Two namespaces and a veth pair, deleted when dropped (also on failure).
-struct Namespaces {
-    adapters: String,
-    scanner: String,
-}
-
-fn ip(args: &[&str]) -> bool {
-    Command::new("ip")
-        .args(args)
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
-impl Namespaces {
-    fn create() -> Namespaces {
-        let pid = std::process::id();
-        let ns = Namespaces {
-            adapters: format!("edsgen-disc-{pid}-a"),
-            scanner: format!("edsgen-disc-{pid}-s"),
-        };
-        let (va, vs) = (format!("eda{pid}"), format!("eds{pid}"));
-        let steps: Vec<Vec<&str>> = vec![
-            vec!["netns", "add", &ns.adapters],
-            vec!["netns", "add", &ns.scanner],
-            vec!["link", "add", &va, "type", "veth", "peer", "name", &vs],
-            vec!["link", "set", &va, "netns", &ns.adapters],
-            vec!["link", "set", &vs, "netns", &ns.scanner],
-            vec![
-                "-n",
-                &ns.adapters,
-                "addr",
-                "add",
-                "10.232.0.1/24",
-                "dev",
-                &va,
-            ],
-            vec![
-                "-n",
-                &ns.adapters,
-                "addr",
-                "add",
-                "10.232.0.3/24",
-                "dev",
-                &va,
-            ],
-            vec![
-                "-n",
-                &ns.scanner,
-                "addr",
-                "add",
-                "10.232.0.2/24",
-                "dev",
-                &vs,
-            ],
-            vec!["-n", &ns.adapters, "link", "set", &va, "up"],
-            vec!["-n", &ns.scanner, "link", "set", &vs, "up"],
-            vec!["-n", &ns.adapters, "link", "set", "lo", "up"],
-            vec!["-n", &ns.scanner, "link", "set", "lo", "up"],
-        ];
-        for step in &steps {
-            assert!(ip(step), "ip {step:?} failed");
-        }
-        ns
-    }
-}
-
-impl Drop for Namespaces {
-    fn drop(&mut self) {
-        ip(&["netns", "del", &self.adapters]);
-        ip(&["netns", "del", &self.scanner]);
-    }
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-}
-
 /// `edsgen enip list ARGS` in the scanner's namespace: exit code, stdout lines sorted, stderr.
-fn list(ns: &Namespaces, args: &[&str]) -> (Option<i32>, Vec<String>, String) {
+fn list(ns: &VethPair, args: &[&str]) -> (Option<i32>, Vec<String>, String) {
     let out = Command::new("ip")
-        .args(["netns", "exec", &ns.scanner, EDSGEN, "enip", "list"])
+        .args(["netns", "exec", &ns.far, EDSGEN, "enip", "list"])
         .args(args)
         .current_dir(process_support::root())
         .output()
@@ -118,7 +39,11 @@ fn a_broadcast_finds_every_adapter_by_its_own_address() {
         skip::<()>("not root: no network namespaces for the discovery test");
         return;
     }
-    let ns = Namespaces::create();
+    let ns = VethPair::create(
+        "ed",
+        &["10.232.0.1/24", "10.232.0.3/24"],
+        &["10.232.0.2/24"],
+    );
     let adapters: Vec<Process> = ["10.232.0.1", "10.232.0.3"]
         .iter()
         .map(|address| {
@@ -128,7 +53,7 @@ fn a_broadcast_finds_every_adapter_by_its_own_address() {
                     .args([
                         "netns",
                         "exec",
-                        &ns.adapters,
+                        &ns.near,
                         EDSGEN,
                         "simulate",
                         "--enip",

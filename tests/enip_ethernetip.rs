@@ -9,80 +9,9 @@ mod process_support;
 use std::process::Command;
 use std::time::Duration;
 
+use process_support::netns::{is_root, VethPair};
 use process_support::{python, root, skip, Process, EDSGEN};
 use serde_json::Value;
-
-/// Two namespaces and a veth pair, deleted when dropped.
-struct Namespaces {
-    adapter: String,
-    scanner: String,
-}
-
-fn ip(args: &[&str]) -> bool {
-    Command::new("ip")
-        .args(args)
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
-impl Namespaces {
-    fn create() -> Option<Namespaces> {
-        let pid = std::process::id();
-        let ns = Namespaces {
-            adapter: format!("edsgen-enip-{pid}-a"),
-            scanner: format!("edsgen-enip-{pid}-s"),
-        };
-        let (va, vs) = (format!("eea{pid}"), format!("ees{pid}"));
-        let steps: Vec<Vec<&str>> = vec![
-            vec!["netns", "add", &ns.adapter],
-            vec!["netns", "add", &ns.scanner],
-            vec!["link", "add", &va, "type", "veth", "peer", "name", &vs],
-            vec!["link", "set", &va, "netns", &ns.adapter],
-            vec!["link", "set", &vs, "netns", &ns.scanner],
-            vec![
-                "-n",
-                &ns.adapter,
-                "addr",
-                "add",
-                "10.231.0.1/24",
-                "dev",
-                &va,
-            ],
-            vec![
-                "-n",
-                &ns.scanner,
-                "addr",
-                "add",
-                "10.231.0.2/24",
-                "dev",
-                &vs,
-            ],
-            vec!["-n", &ns.adapter, "link", "set", &va, "up"],
-            vec!["-n", &ns.scanner, "link", "set", &vs, "up"],
-            vec!["-n", &ns.adapter, "link", "set", "lo", "up"],
-            vec!["-n", &ns.scanner, "link", "set", "lo", "up"],
-        ];
-        for step in &steps {
-            assert!(ip(step), "ip {step:?} failed");
-        }
-        Some(ns)
-    }
-}
-
-impl Drop for Namespaces {
-    fn drop(&mut self) {
-        // Deleting a namespace deletes the veth end in it, and with it the pair.
-        ip(&["netns", "del", &self.adapter]);
-        ip(&["netns", "del", &self.scanner]);
-    }
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-}
 
 fn words(step: &Value, key: &str) -> Vec<u64> {
     step[key]
@@ -100,13 +29,11 @@ fn ethernetip_scanner_drives_the_card() {
         return;
     }
     let Some(python) = python() else { return };
-    let Some(ns) = Namespaces::create() else {
-        return;
-    };
+    let ns = VethPair::create("ee", &["10.231.0.1/24"], &["10.231.0.2/24"]);
     let adapter = Process::start(Command::new("ip").args([
         "netns",
         "exec",
-        &ns.adapter,
+        &ns.near,
         EDSGEN,
         "simulate",
         "--enip",
@@ -117,7 +44,7 @@ fn ethernetip_scanner_drives_the_card() {
     adapter.stderr_line(|l| l.starts_with("serving"), Duration::from_secs(10));
     let scanner = Process::start(
         Command::new("ip")
-            .args(["netns", "exec", &ns.scanner])
+            .args(["netns", "exec", &ns.far])
             .arg(&python)
             .arg(root().join("scripts/enip_scanner.py"))
             .arg("10.231.0.1"),

@@ -10,65 +10,9 @@ mod process_support;
 use std::process::Command;
 use std::time::Duration;
 
+use process_support::netns::{is_root, VethPair};
 use process_support::{python, root, skip, Process, EDSGEN};
 use serde_json::Value;
-
-/// The adapters' namespace, the scanner's, and the veth pair between them; deleted when dropped.
-struct Namespaces {
-    adapters: String,
-    scanner: String,
-}
-
-fn ip(args: &[&str]) -> bool {
-    Command::new("ip")
-        .args(args)
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
-impl Namespaces {
-    fn create() -> Namespaces {
-        let pid = std::process::id();
-        let ns = Namespaces {
-            adapters: format!("edsgen-enip2-{pid}-a"),
-            scanner: format!("edsgen-enip2-{pid}-s"),
-        };
-        let (va, vs) = (format!("e2a{pid}"), format!("e2s{pid}"));
-        let (a, s) = (ns.adapters.as_str(), ns.scanner.as_str());
-        let steps: [&[&str]; 11] = [
-            &["netns", "add", a],
-            &["netns", "add", s],
-            &["link", "add", &va, "type", "veth", "peer", "name", &vs],
-            &["link", "set", &va, "netns", a],
-            &["link", "set", &vs, "netns", s],
-            &["-n", a, "addr", "add", "10.232.0.1/24", "dev", &va],
-            &["-n", a, "addr", "add", "10.232.0.3/24", "dev", &va],
-            &["-n", s, "addr", "add", "10.232.0.2/24", "dev", &vs],
-            &["-n", a, "link", "set", &va, "up"],
-            &["-n", s, "link", "set", &vs, "up"],
-            &["-n", a, "link", "set", "lo", "up"],
-        ];
-        for step in steps {
-            assert!(ip(step), "ip {step:?} failed");
-        }
-        ns
-    }
-}
-
-impl Drop for Namespaces {
-    fn drop(&mut self) {
-        // Deleting a namespace deletes the veth end in it, and with it the pair.
-        ip(&["netns", "del", &self.adapters]);
-        ip(&["netns", "del", &self.scanner]);
-    }
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-}
 
 fn bytes(line: &Value, key: &str) -> Vec<u64> {
     line[key]
@@ -96,12 +40,16 @@ fn ethernetip_opens_class_1_connections_to_two_adapters() {
         return;
     }
     let Some(python) = python() else { return };
-    let ns = Namespaces::create();
+    let ns = VethPair::create(
+        "e2",
+        &["10.232.0.1/24", "10.232.0.3/24"],
+        &["10.232.0.2/24"],
+    );
     let (a, b) = ("10.232.0.1", "10.232.0.3");
     let adapters = Process::start(Command::new("ip").args([
         "netns",
         "exec",
-        &ns.adapters,
+        &ns.near,
         EDSGEN,
         "simulate",
         "--enip",
@@ -114,7 +62,7 @@ fn ethernetip_opens_class_1_connections_to_two_adapters() {
     }
     let scanner = Process::start(
         Command::new("ip")
-            .args(["netns", "exec", &ns.scanner])
+            .args(["netns", "exec", &ns.far])
             .arg(&python)
             .arg(root().join("scripts/enip_two_adapters.py"))
             .args([a, b]),

@@ -17,6 +17,7 @@ use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
+pub mod netns;
 #[path = "../skip_support/mod.rs"]
 mod skip_support;
 pub use skip_support::{ci, corpus, skip, target_dir};
