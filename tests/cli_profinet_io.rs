@@ -13,37 +13,8 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::Duration;
 
-use edsgen_demo::netns::{is_root, End, Network};
+use process_support::netns::{is_root, VethPair};
 use process_support::{skip, Process, EDSGEN};
-
-/// The device's namespace (0) and the controller's (1) joined by a veth pair, with an address
-/// on each end; removed on drop ([`edsgen_demo::netns`]).
-struct Pair {
-    net: Network,
-    device_if: String,
-    controller_if: String,
-}
-
-impl Pair {
-    fn new(tag: &str, controller_addr: &str, device_addr: &str) -> Pair {
-        let mut net = Network::create(tag, 2).expect("two namespaces");
-        let (device_if, controller_if) = net
-            .veth(End::Namespace(0), End::Namespace(1))
-            .expect("a veth pair");
-        net.address(0, &device_if, device_addr).expect("an address");
-        net.address(1, &controller_if, controller_addr)
-            .expect("an address");
-        Pair {
-            net,
-            device_if,
-            controller_if,
-        }
-    }
-
-    fn inside(&self, n: usize, program: &str) -> Command {
-        self.net.command(n, program).expect("a namespace")
-    }
-}
 
 /// Reads `process`'s standard output into `said` up to the line `wanted` accepts.
 fn lines_until(process: &Process, wanted: impl Fn(&str) -> bool, said: &mut Vec<String>) -> String {
@@ -66,7 +37,7 @@ fn pn_io_runs_the_simulated_goodrive350_by_name_and_acknowledges_its_alarm() {
         skip::<()>("not root: no network namespaces or raw sockets for `pn io`");
         return;
     }
-    let net = Pair::new("pn-io", "10.78.0.1/24", "10.78.0.2/24");
+    let net = VethPair::new("pn-io", &["10.78.0.2/24"], &["10.78.0.1/24"]);
     let mut device = Process::start(net.inside(0, EDSGEN).args([
         "simulate",
         "--profinet",
@@ -91,7 +62,7 @@ fn pn_io_runs_the_simulated_goodrive350_by_name_and_acknowledges_its_alarm() {
     let controller = Process::start(net.inside(1, EDSGEN).args([
         "pn",
         "io",
-        &net.controller_if,
+        &net.master_if,
         "goodrive350-pn",
         "--gsdml",
         gsdml.to_str().expect("a UTF-8 path"),
@@ -175,7 +146,7 @@ fn pn_io_exchanges_data_with_p_nets_sample_device() {
         return;
     }
     let Some(peer) = p_net() else { return };
-    let net = Pair::new("pn-pnet", "10.77.0.1/24", "10.77.0.2/24");
+    let net = VethPair::new("pn-pnet", &["10.77.0.2/24"], &["10.77.0.1/24"]);
     let storage = std::env::temp_dir().join(format!("edsgen-pn-io-{}", std::process::id()));
     std::fs::create_dir_all(&storage).expect("a storage folder");
     let binary = peer.join("pn_dev_veth");
@@ -198,7 +169,7 @@ fn pn_io_exchanges_data_with_p_nets_sample_device() {
     let controller = Process::start(net.inside(1, EDSGEN).args([
         "pn",
         "io",
-        &net.controller_if,
+        &net.master_if,
         "rt-labs-dev",
         "--gsdml",
         gsdml.to_str().expect("a UTF-8 path"),

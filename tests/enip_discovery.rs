@@ -16,7 +16,7 @@ use process_support::{skip, Process, EDSGEN};
 /// `edsgen enip list ARGS` in the scanner's namespace: exit code, stdout lines sorted, stderr.
 fn list(ns: &VethPair, args: &[&str]) -> (Option<i32>, Vec<String>, String) {
     let out = Command::new("ip")
-        .args(["netns", "exec", &ns.far, EDSGEN, "enip", "list"])
+        .args(["netns", "exec", ns.master(), EDSGEN, "enip", "list"])
         .args(args)
         .current_dir(process_support::root())
         .output()
@@ -39,7 +39,7 @@ fn a_broadcast_finds_every_adapter_by_its_own_address() {
         skip::<()>("not root: no network namespaces for the discovery test");
         return;
     }
-    let ns = VethPair::create(
+    let ns = VethPair::new(
         "ed",
         &["10.232.0.1/24", "10.232.0.3/24"],
         &["10.232.0.2/24"],
@@ -53,7 +53,7 @@ fn a_broadcast_finds_every_adapter_by_its_own_address() {
                     .args([
                         "netns",
                         "exec",
-                        &ns.near,
+                        ns.devices(),
                         EDSGEN,
                         "simulate",
                         "--enip",

@@ -29,11 +29,11 @@ fn ethernetip_scanner_drives_the_card() {
         return;
     }
     let Some(python) = python() else { return };
-    let ns = VethPair::create("ee", &["10.231.0.1/24"], &["10.231.0.2/24"]);
+    let ns = VethPair::new("ee", &["10.231.0.1/24"], &["10.231.0.2/24"]);
     let adapter = Process::start(Command::new("ip").args([
         "netns",
         "exec",
-        &ns.near,
+        ns.devices(),
         EDSGEN,
         "simulate",
         "--enip",
@@ -44,7 +44,7 @@ fn ethernetip_scanner_drives_the_card() {
     adapter.stderr_line(|l| l.starts_with("serving"), Duration::from_secs(10));
     let scanner = Process::start(
         Command::new("ip")
-            .args(["netns", "exec", &ns.far])
+            .args(["netns", "exec", ns.master()])
             .arg(&python)
             .arg(root().join("scripts/enip_scanner.py"))
             .arg("10.231.0.1"),

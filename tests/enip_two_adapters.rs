@@ -40,7 +40,7 @@ fn ethernetip_opens_class_1_connections_to_two_adapters() {
         return;
     }
     let Some(python) = python() else { return };
-    let ns = VethPair::create(
+    let ns = VethPair::new(
         "e2",
         &["10.232.0.1/24", "10.232.0.3/24"],
         &["10.232.0.2/24"],
@@ -49,7 +49,7 @@ fn ethernetip_opens_class_1_connections_to_two_adapters() {
     let adapters = Process::start(Command::new("ip").args([
         "netns",
         "exec",
-        &ns.near,
+        ns.devices(),
         EDSGEN,
         "simulate",
         "--enip",
@@ -62,7 +62,7 @@ fn ethernetip_opens_class_1_connections_to_two_adapters() {
     }
     let scanner = Process::start(
         Command::new("ip")
-            .args(["netns", "exec", &ns.far])
+            .args(["netns", "exec", ns.master()])
             .arg(&python)
             .arg(root().join("scripts/enip_two_adapters.py"))
             .args([a, b]),

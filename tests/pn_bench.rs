@@ -9,41 +9,12 @@
 mod process_support;
 
 use std::path::PathBuf;
-use std::process::Command;
 use std::time::Duration;
 
-use edsgen_demo::netns::{is_root, End, Network};
+use process_support::netns::{is_root, VethPair};
 use process_support::{skip, Exited, Process, EDSGEN};
 
-/// The device's namespace (0) and the controller's (1) joined by a veth pair.
-struct Pair {
-    net: Network,
-    device_if: String,
-    controller_if: String,
-}
-
-impl Pair {
-    fn new(tag: &str, controller_addr: &str, device_addrs: &[&str]) -> Pair {
-        let mut net = Network::create(tag, 2).expect("two namespaces");
-        let (device_if, controller_if) = net
-            .veth(End::Namespace(0), End::Namespace(1))
-            .expect("a veth pair");
-        for addr in device_addrs {
-            net.address(0, &device_if, addr).expect("an address");
-        }
-        net.address(1, &controller_if, controller_addr)
-            .expect("an address");
-        Pair {
-            net,
-            device_if,
-            controller_if,
-        }
-    }
-
-    fn inside(&self, n: usize, program: &str) -> Command {
-        self.net.command(n, program).expect("a namespace")
-    }
-
+impl VethPair {
     /// `edsgen pn ARGS` in the controller's namespace, to its end.
     fn pn(&self, args: &[&str]) -> Exited {
         Process::start(self.inside(1, EDSGEN).arg("pn").args(args)).finish(WAIT)
@@ -63,12 +34,12 @@ fn the_bench_verbs_list_address_blink_and_read_the_simulated_card() {
         skip::<()>("not root: no network namespaces or raw sockets for `pn`");
         return;
     }
-    let net = Pair::new(
+    let net = VethPair::new(
         "pn-bench",
-        "10.83.0.1/24",
         &["10.83.0.2/24", "10.83.0.9/24"],
+        &["10.83.0.1/24"],
     );
-    let ctl = net.controller_if.as_str();
+    let ctl = net.master_if.as_str();
     let device = Process::start(net.inside(0, EDSGEN).args([
         "simulate",
         "--profinet",
@@ -228,7 +199,7 @@ fn pn_im_reads_p_nets_sample_device() {
         return;
     }
     let Some(peer) = p_net() else { return };
-    let net = Pair::new("pn-im", "10.84.0.1/24", &["10.84.0.2/24"]);
+    let net = VethPair::new("pn-im", &["10.84.0.2/24"], &["10.84.0.1/24"]);
     let storage = std::env::temp_dir().join(format!("edsgen-pn-im-{}", std::process::id()));
     std::fs::create_dir_all(&storage).expect("a storage folder");
     let binary = peer.join("pn_dev_veth");
@@ -244,7 +215,7 @@ fn pn_im_reads_p_nets_sample_device() {
     let device = Process::start(&mut command);
     device.stdout_line(|l| l.starts_with("Network script for"), WAIT);
     std::thread::sleep(Duration::from_millis(500));
-    let im = net.pn(&["im", &net.controller_if, "rt-labs-dev"]);
+    let im = net.pn(&["im", &net.master_if, "rt-labs-dev"]);
     let _ = std::fs::remove_dir_all(&storage);
     // The sample application's own identity (its I&M0 data, in p-net's sample sources),
     // I&M1 to I&M3 supported beside I&M0.

@@ -10,15 +10,14 @@
 mod process_support;
 
 use std::path::PathBuf;
-use std::process::Command;
 use std::time::Duration;
 
-use edsgen_demo::netns::{is_root, End, Network};
 use edsgen_model::model::modules::{choose_pn, parse_choices};
 use edsgen_sim::profinet::ar::config::DeviceConfig;
 use edsgen_sim::profinet::controller::Controller;
 use edsgen_sim::profinet::wire::blocks::{split, EXPECTED_SUBMODULE_BLOCK_REQ, IOCR_BLOCK_REQ};
 use edsgen_sim::profinet::wire::rpc::Uuid;
+use process_support::netns::{is_root, VethPair};
 use process_support::{gsdml_corpus_dir, python, skip, Process, EDSGEN};
 
 /// p-net's IODevice: IDM_11 8 DI (ModuleIdentNumber 0x30), IDM_12 8 DO (0x31), IDM_13 8 DI
@@ -112,34 +111,7 @@ fn pn_io_connects_with_the_modules_chosen() {
     );
 }
 
-/// The device's namespace (0) and the controller's (1) joined by a veth pair, with an address
-/// on each end; removed on drop ([`edsgen_demo::netns`]).
-struct Pair {
-    net: Network,
-    device_if: String,
-    controller_if: String,
-}
-
-impl Pair {
-    fn new(tag: &str, controller_addr: &str, device_addr: &str) -> Pair {
-        let mut net = Network::create(tag, 2).expect("two namespaces");
-        let (device_if, controller_if) = net
-            .veth(End::Namespace(0), End::Namespace(1))
-            .expect("a veth pair");
-        net.address(0, &device_if, device_addr).expect("an address");
-        net.address(1, &controller_if, controller_addr)
-            .expect("an address");
-        Pair {
-            net,
-            device_if,
-            controller_if,
-        }
-    }
-
-    fn inside(&self, n: usize, program: &str) -> Command {
-        self.net.command(n, program).expect("a namespace")
-    }
-
+impl VethPair {
     /// `edsgen simulate --profinet` in namespace 0 with the IODevice and `modules`, once it
     /// has said where it is.
     fn device(&self, gsdml: &str, modules: &[&str]) -> Process {
@@ -163,14 +135,7 @@ impl Pair {
 
     /// `pn io` in namespace 1 for 100 cycles with `args` after the GSDML.
     fn pn_io(&self, gsdml: &str, args: &[&str]) -> Vec<String> {
-        let mut all = vec![
-            "pn",
-            "io",
-            &self.controller_if,
-            "rt-labs-dev",
-            "--gsdml",
-            gsdml,
-        ];
+        let mut all = vec!["pn", "io", &self.master_if, "rt-labs-dev", "--gsdml", gsdml];
         all.extend(["--cycles", "100"]);
         all.extend(args);
         let done = Process::start(self.inside(1, EDSGEN).args(all)).finish(Duration::from_secs(30));
@@ -180,13 +145,16 @@ impl Pair {
     }
 }
 
-fn wire() -> Option<(String, Pair)> {
+fn wire() -> Option<(String, VethPair)> {
     if !is_root() {
         skip::<()>("not root: no network namespaces or raw sockets for PROFINET");
         return None;
     }
     let gsdml = iodevice()?.to_str().expect("a UTF-8 path").to_owned();
-    Some((gsdml, Pair::new("pn-mod", "10.81.0.1/24", "10.81.0.2/24")))
+    Some((
+        gsdml,
+        VethPair::new("pn-mod", &["10.81.0.2/24"], &["10.81.0.1/24"]),
+    ))
 }
 
 #[test]
@@ -213,7 +181,7 @@ fn pn_io_and_profinet_py_exchange_data_with_the_modules_chosen() {
     let controller = Process::start(
         net.inside(1, python.to_str().expect("a UTF-8 path"))
             .arg(script)
-            .args([&net.controller_if, "rt-labs-dev", &gsdml, "1", "2", "3c"]),
+            .args([&net.master_if, "rt-labs-dev", &gsdml, "1", "2", "3c"]),
     );
     let done = controller.finish(Duration::from_secs(60));
     assert_eq!(done.code, Some(0), "{}\n{}", done.stdout, done.stderr);

@@ -1,75 +1,55 @@
-//! Two network namespaces joined by a veth pair, for the tests that need a wire between a
-//! device and its master: each end up with its addresses and its loopback, both deleted when
-//! the guard drops (also on failure; deleting a namespace deletes its end of the pair, and with
-//! it the pair). Names carry the test's pid, so parallel test binaries do not meet.
+//! A device's network namespace and its master's joined by a veth pair, with addresses on each
+//! end, for the tests that need a wire: a thin layer over [`edsgen_demo::netns::Network`], which
+//! names them uniquely and removes them, and what runs inside, when dropped (also on failure).
 
 use std::process::Command;
 
-/// The two namespaces: `near` (the devices' side) and `far` (the master's).
+pub use edsgen_demo::netns::is_root;
+use edsgen_demo::netns::{End, Network};
+
+/// Namespace 0 (the devices') and 1 (the master's), joined by a veth pair.
 pub struct VethPair {
-    /// The devices' namespace.
-    pub near: String,
-    /// The master's namespace.
-    pub far: String,
+    /// The namespaces and their link.
+    pub net: Network,
+    /// The veth end in the devices' namespace.
+    pub device_if: String,
+    /// The veth end in the master's namespace.
+    pub master_if: String,
 }
 
 impl VethPair {
-    /// Creates `edsgen-TAG-PID-a` and `-b`, a veth pair between them, and the addresses
-    /// (`ADDR/PREFIX`) of each end; panics with the `ip` step that failed. `tag` is at most 4
-    /// characters: the veth names (`TAG` + pid + `a`/`b`) must fit the kernel's 15.
-    pub fn create(tag: &str, near_addresses: &[&str], far_addresses: &[&str]) -> VethPair {
-        let pid = std::process::id();
-        let pair = VethPair {
-            near: format!("edsgen-{tag}-{pid}-a"),
-            far: format!("edsgen-{tag}-{pid}-b"),
-        };
-        let (near_end, far_end) = (format!("{tag}{pid}a"), format!("{tag}{pid}b"));
-        let (near, far) = (pair.near.as_str(), pair.far.as_str());
-        let mut steps: Vec<Vec<&str>> = vec![
-            vec!["netns", "add", near],
-            vec!["netns", "add", far],
-            vec![
-                "link", "add", &near_end, "type", "veth", "peer", "name", &far_end,
-            ],
-            vec!["link", "set", &near_end, "netns", near],
-            vec!["link", "set", &far_end, "netns", far],
-        ];
-        for (ns, end, addresses) in [
-            (near, &near_end, near_addresses),
-            (far, &far_end, far_addresses),
-        ] {
-            for address in addresses {
-                steps.push(vec!["-n", ns, "addr", "add", address, "dev", end]);
-            }
-            steps.push(vec!["-n", ns, "link", "set", end, "up"]);
-            steps.push(vec!["-n", ns, "link", "set", "lo", "up"]);
+    /// Creates both namespaces (`edsgen-TAG-PID-N`), the pair and its ends' addresses
+    /// (`ADDR/PREFIX`); panics with what failed.
+    pub fn new(tag: &str, device_addrs: &[&str], master_addrs: &[&str]) -> VethPair {
+        let mut net = Network::create(tag, 2).expect("two namespaces");
+        let (device_if, master_if) = net
+            .veth(End::Namespace(0), End::Namespace(1))
+            .expect("a veth pair");
+        for addr in device_addrs {
+            net.address(0, &device_if, addr).expect("an address");
         }
-        for step in &steps {
-            assert!(ip(step), "ip {step:?} failed");
+        for addr in master_addrs {
+            net.address(1, &master_if, addr).expect("an address");
         }
-        pair
+        VethPair {
+            net,
+            device_if,
+            master_if,
+        }
     }
-}
 
-impl Drop for VethPair {
-    fn drop(&mut self) {
-        ip(&["netns", "del", &self.near]);
-        ip(&["netns", "del", &self.far]);
+    /// `program` to run in namespace `n` (0 the devices', 1 the master's).
+    pub fn inside(&self, n: usize, program: &str) -> Command {
+        self.net.command(n, program).expect("a namespace")
     }
-}
 
-/// Runs `ip ARGS`: whether it succeeded.
-pub fn ip(args: &[&str]) -> bool {
-    Command::new("ip")
-        .args(args)
-        .status()
-        .is_ok_and(|s| s.success())
-}
+    /// The devices' namespace.
+    pub fn devices(&self) -> &str {
+        self.net.namespace(0).expect("two namespaces")
+    }
 
-/// Whether this process runs as root (namespaces and veth pairs need it).
-pub fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+    /// The master's namespace.
+    pub fn master(&self) -> &str {
+        self.net.namespace(1).expect("two namespaces")
+    }
 }
