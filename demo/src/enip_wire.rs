@@ -131,9 +131,11 @@ impl Wire {
             if left.is_zero() {
                 return Ok(());
             }
-            self.udp
-                .set_read_timeout(Some(left))
-                .map_err(|e| format!("UDP {IO_PORT}: {e}"))?;
+            if !edsgen_host::wait::readable(&self.udp, left)
+                .map_err(|e| format!("UDP {IO_PORT}: {e}"))?
+            {
+                continue;
+            }
             let Ok((n, from)) = self.udp.recv_from(&mut buf) else {
                 continue;
             };

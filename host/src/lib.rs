@@ -32,6 +32,7 @@ pub mod socketcan;
 pub mod socketcand;
 pub mod trace;
 pub mod vbus;
+pub mod wait;
 
 /// A CAN bus as an operating system reaches it.
 ///

@@ -350,26 +350,8 @@ pub struct SocketcandClient {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum ReadMode {
     NonBlocking,
-    /// Blocking, after [`wait_readable`] said there is something to read.
+    /// Blocking, after [`crate::wait::readable`] said there is something to read.
     Waiting,
-}
-
-/// Waits until `stream` has something to read or `timeout` has passed (`Ok(false)`). `poll(2)`
-/// keeps a timeout to about the microsecond; a socket's own read timeout (`SO_RCVTIMEO`) counts
-/// in scheduler ticks, and on a 250 Hz kernel a 1 ms wait took 8 ms: a node's event timers and
-/// heartbeats ran late by that much whenever the bus was quiet.
-fn wait_readable(stream: &TcpStream, timeout: StdDuration) -> io::Result<bool> {
-    use rustix::event::{poll, PollFd, PollFlags, Timespec};
-    let mut fds = [PollFd::new(stream, PollFlags::IN)];
-    let timeout = Timespec {
-        tv_sec: i64::try_from(timeout.as_secs()).unwrap_or(i64::MAX),
-        tv_nsec: i64::from(timeout.subsec_nanos()),
-    };
-    match poll(&mut fds, Some(&timeout)) {
-        Ok(ready) => Ok(ready > 0),
-        Err(rustix::io::Errno::INTR) => Ok(false),
-        Err(e) => Err(e.into()),
-    }
 }
 
 impl SocketcandClient {
@@ -463,7 +445,7 @@ impl SocketcandClient {
             self.stream.set_nonblocking(mode == ReadMode::NonBlocking)?;
             self.read_mode = Some(mode);
         }
-        if mode == ReadMode::Waiting && !wait_readable(&self.stream, timeout)? {
+        if mode == ReadMode::Waiting && !crate::wait::readable(&self.stream, timeout)? {
             return Ok(false);
         }
         let mut chunk = [0u8; 4096];

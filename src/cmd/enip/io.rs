@@ -492,7 +492,12 @@ fn run_io(
         let wait = next_send
             .saturating_duration_since(Instant::now())
             .max(Duration::from_millis(1));
-        let _ = udp.set_read_timeout(Some(wait.min(Duration::from_millis(20))));
+        // poll(2), not the socket's read timeout: that one counts in scheduler ticks and would
+        // stretch every RPI shorter than a few ticks.
+        if !edsgen_host::wait::readable(&udp, wait.min(Duration::from_millis(20))).unwrap_or(false)
+        {
+            continue;
+        }
         let Ok((n, _)) = udp.recv_from(&mut buf) else {
             continue;
         };
