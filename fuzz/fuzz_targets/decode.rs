@@ -16,8 +16,8 @@ use std::sync::OnceLock;
 use std::time::Duration;
 
 use edsgen_decode::Decoder;
-use edsgen_model::model::Device;
 use edsgen_host::trace::{format_line, parse_line, TraceReadError, TraceReader};
+use edsgen_model::model::Device;
 use libfuzzer_sys::fuzz_target;
 
 /// The node the description is given for.

@@ -25,7 +25,10 @@ fuzz_target!(|bytes: &[u8]| {
                 last = Duration::from_micros(time_us);
                 let time = format!("{}.{:06}", last.as_secs(), last.subsec_micros());
                 for line in decoder.decode(last, &frame) {
-                    assert!(line.starts_with(&time), "`{line}` does not start with {time}");
+                    assert!(
+                        line.starts_with(&time),
+                        "`{line}` does not start with {time}"
+                    );
                 }
             }
             Entry::Warning(..) => warnings += 1,

@@ -62,8 +62,20 @@ fuzz_target!(|data: &[u8]| {
     let _ = Class1::new(1, 2, true, data.len() % 2 == 0).consume(data);
 
     let mut assemblies = BTreeMap::new();
-    assemblies.insert(100, Assembly { data: vec![0; 4], consumed: false });
-    assemblies.insert(150, Assembly { data: vec![0; 4], consumed: true });
+    assemblies.insert(
+        100,
+        Assembly {
+            data: vec![0; 4],
+            consumed: false,
+        },
+    );
+    assemblies.insert(
+        150,
+        Assembly {
+            data: vec![0; 4],
+            consumed: true,
+        },
+    );
     let identity = Identity {
         vendor: 0,
         device_type: 12,
@@ -86,7 +98,11 @@ fuzz_target!(|data: &[u8]| {
         ticks: DEFAULT_TICKS,
         o_t_id: 0,
         t_o_id: 1,
-        triad: Triad { serial: 1, vendor: 1, originator_serial: 1 },
+        triad: Triad {
+            serial: 1,
+            vendor: 1,
+            originator_serial: 1,
+        },
         multiplier: 0,
         o_t_rpi: 10_000,
         o_t_params: network_params(large, 2, 2, false, 10),
@@ -102,13 +118,18 @@ fuzz_target!(|data: &[u8]| {
         Item::new(item::SOCKADDR_T_O, data),
     ];
     // An item longer than 65535 bytes cannot be sent.
-    let Ok(rr) = (SendDataRepr { timeout: 0, items: &items }).to_vec() else {
+    let Ok(rr) = (SendDataRepr {
+        timeout: 0,
+        items: &items,
+    })
+    .to_vec() else {
         return;
     };
     let Ok(message) = encap(1, 0x6F, &rr) else {
         return;
     };
-    a.handle(Instant::from_micros(0), Peer::Tcp(1), &message).expect("whole");
+    a.handle(Instant::from_micros(0), Peer::Tcp(1), &message)
+        .expect("whole");
     assert!(a.poll_transmit(Instant::from_micros(0)).is_some());
     let port = a.connections().first().and_then(|c| c.t_o_port);
     assert_eq!(port, Sockaddr::parse(data).ok().map(|s| s.port));

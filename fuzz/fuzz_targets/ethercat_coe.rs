@@ -49,7 +49,11 @@ fuzz_target!(|input: &[u8]| {
         assert!((8..=room).contains(&n));
         if answer[0] == 0x80 {
             if segment {
-                assert!(answer[1..4] == entry || answer[1..4] == [0; 3], "{:?}", &answer[..4]);
+                assert!(
+                    answer[1..4] == entry || answer[1..4] == [0; 3],
+                    "{:?}",
+                    &answer[..4]
+                );
             } else {
                 assert_eq!(answer[1..4], mux);
             }

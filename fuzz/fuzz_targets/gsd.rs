@@ -13,7 +13,11 @@ use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    let name = if data.len() % 2 == 0 { "fuzz.gsd" } else { "fuzz.txt" };
+    let name = if data.len() % 2 == 0 {
+        "fuzz.gsd"
+    } else {
+        "fuzz.txt"
+    };
     let read = read_bytes(Path::new(name), data);
     let _ = edsgen_model::validate::validate(&read.device);
     let _ = edsgen_model::dump::to_json(&read.device);

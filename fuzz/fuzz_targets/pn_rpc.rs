@@ -91,7 +91,9 @@ fuzz_target!(|data: &[u8]| {
                 rpc_pdu(&header, &Ndr::request(4068, args.len() as u32, false), args)
             }
             Some((&6, _)) => {
-                let answer = ready.take().and_then(|r: Vec<u8>| controller.answer_ready(&r));
+                let answer = ready
+                    .take()
+                    .and_then(|r: Vec<u8>| controller.answer_ready(&r));
                 answer.unwrap_or_else(|| piece.to_vec())
             }
             _ => piece.to_vec(),

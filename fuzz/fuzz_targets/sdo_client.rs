@@ -15,9 +15,9 @@
 //! transfer ends (a result or an abort) at the latest at its deadline.
 #![no_main]
 
+use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::master::sdo_client::DEFAULT_BUFFER;
 use edsgen_runtime::master::{Completed, Mode, SdoClient, SdoError, StartError};
-use edsgen_host::vbus::BusDevice;
 use edsgen_runtime::wire::sdo::Multiplexer;
 use edsgen_runtime::{CanFrame, Duration, Instant};
 use libfuzzer_sys::fuzz_target;
