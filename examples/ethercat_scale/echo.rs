@@ -79,7 +79,7 @@ pub fn baseline(cycles: usize) -> Result<(), String> {
     println!(
         "echo baseline: lost {lost}, {}, its threads waited for a CPU {} ms",
         times.summary(PERIOD, late),
-        crate::host::waited_for_cpu("self").as_millis()
+        crate::host::waited_for_cpu("self", None).as_millis()
     );
     Ok(())
 }

@@ -85,7 +85,7 @@ impl Host {
             })
             .filter(|(_, n)| *n > 0)
             .collect();
-        interrupts.sort_by(|a, b| b.1.cmp(&a.1));
+        interrupts.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
         let top: Vec<String> = interrupts
             .iter()
             .take(4)
@@ -101,13 +101,19 @@ impl Host {
 }
 
 /// How long the threads of process `pid` (`"self"` for this one) have waited on a run queue,
-/// runnable but not running, in all (`/proc/PID/task/*/schedstat`'s second field).
-pub fn waited_for_cpu(pid: &str) -> std::time::Duration {
+/// runnable but not running, in all (`/proc/PID/task/*/schedstat`'s second field), leaving
+/// out the threads named `except`.
+pub fn waited_for_cpu(pid: &str, except: Option<&str>) -> std::time::Duration {
     let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else {
         return std::time::Duration::ZERO;
     };
     let ns: u64 = tasks
-        .filter_map(|task| std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok())
+        .filter_map(|task| task.ok())
+        .filter(|task| {
+            let comm = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+            except != Some(comm.trim())
+        })
+        .filter_map(|task| std::fs::read_to_string(task.path().join("schedstat")).ok())
         .filter_map(|stat| stat.split_whitespace().nth(1)?.parse::<u64>().ok())
         .sum();
     std::time::Duration::from_nanos(ns)

@@ -11,7 +11,7 @@
 use std::future::Future;
 use std::pin::pin;
 use std::task::{Context, Poll, Waker};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use edsgen_sim::packet_socket::PacketSocket;
 use ethercrab::{PduRx, PduTx};
@@ -27,6 +27,12 @@ pub struct Wire<'sto> {
     tx: PduTx<'sto>,
     rx: PduRx<'sto>,
     buf: Vec<u8>,
+    /// When the oldest frame still unanswered was sent.
+    sent_at: Option<Instant>,
+    /// Frames answered, and the time spent waiting for answers (the wire, the simulator and
+    /// the wake-ups), since [`Wire::take_counts`].
+    answered: u64,
+    waited: Duration,
 }
 
 impl<'sto> Wire<'sto> {
@@ -39,7 +45,18 @@ impl<'sto> Wire<'sto> {
             tx,
             rx,
             buf: vec![0; 2048],
+            sent_at: None,
+            answered: 0,
+            waited: Duration::ZERO,
         })
+    }
+
+    /// The frames answered and the time waited for them since the last call.
+    pub fn take_counts(&mut self) -> (u64, Duration) {
+        let counts = (self.answered, self.waited);
+        self.answered = 0;
+        self.waited = Duration::ZERO;
+        counts
     }
 
     /// Runs `future` (anything of ethercrab's that sends frames) to its end on this thread.
@@ -61,12 +78,20 @@ impl<'sto> Wire<'sto> {
                             .map_err(|_| ethercrab::error::Error::SendFrame)
                     })
                     .map_err(|e| format!("send: {e:?}"))?;
+                self.sent_at.get_or_insert_with(Instant::now);
             }
             if let Some(n) = self.socket.recv(&mut self.buf).map_err(|e| e.to_string())? {
                 // Our own frames going out come back here too, and ethercrab ignores them; an
                 // answer that comes after its frame timed out is refused, and that frame's
                 // future has already failed with the timeout: neither stops the wire.
-                let _ = self.rx.receive_frame(&self.buf[..n]);
+                if let Ok(ethercrab::ReceiveAction::Processed) =
+                    self.rx.receive_frame(&self.buf[..n])
+                {
+                    if let Some(sent) = self.sent_at.take() {
+                        self.waited += sent.elapsed();
+                        self.answered += 1;
+                    }
+                }
             }
         }
     }
