@@ -2,15 +2,25 @@
 //! EC-TX508s on one end of a veth pair in a private network namespace, ethercrab on the other
 //! bringing them to Op and running CYCLES cycles at a 1 ms period. Per N: the cycles missed (a
 //! `tx_rx` that fails, comes back with a working counter other than the first cycle's, which
-//! must be 3 per SubDevice at least, or takes longer than the 1 ms period), the p50/p99/worst cycle time, and the simulator's resident
-//! memory; then the memory per SubDevice (between the smallest and largest N) and the longest
-//! chain of those tried with no missed cycle. Prints the load average first and last: on a
-//! shared machine the figures are as quiet as it was. Needs root; release builds:
+//! must be 3 per SubDevice at least, or takes longer than the 1 ms period), the p50/p99/worst
+//! cycle time, and the simulator's resident memory; then the memory per SubDevice (between the
+//! smallest and largest N) and the longest chain of those tried with no missed cycle.
+//!
+//! Just before each chain, in the same namespace, the same number of cycles of a baseline with
+//! neither the simulator nor ethercrab ([`echo`]: a frame echoed across the veth pair every
+//! period), and for both what the machine did meanwhile ([`host`]: steal time, run-queue wait,
+//! interrupts). Prints the load average first and last: on a shared machine the figures are as
+//! quiet as it was. Needs root; release builds:
 //!
 //! ```sh
 //! cargo build --release --features ethercrab --bin edsgen --example ethercat_scale
 //! sudo target/release/examples/ethercat_scale [CYCLES (10000)] [N...] (1 16 64 96 128 192 256)
 //! ```
+//!
+//! The programs run under `SCHED_FIFO` at priority 50 ([`fifo_priority`] says why;
+//! `EDSGEN_SCALE_FIFO=PRIORITY` or `off`). `EDSGEN_SCALE_TXRX=tokio`, `EDSGEN_SCALE_PDU=1100`
+//! and `EDSGEN_SCALE_FIFO=off` measure the MainDevice as it was set up before (ethercrab's
+//! README setup), against the defaults ([`maindevice`] says why).
 //!
 //! The namespace, its veth pair and the simulator are removed at the end, also on failure.
 
@@ -18,10 +28,15 @@ use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use ethercrab::std::{ethercat_now, tx_rx_task};
-use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
+mod echo;
+mod host;
+mod maindevice;
+mod wire;
 
-/// The variable carrying the chain's length to this program run as the MainDevice.
+use host::Host;
+
+/// The variable carrying the chain's length (or `echo`, for the baseline) to this program run
+/// in the namespace.
 const ROLE: &str = "EDSGEN_SCALE_SUBDEVICES";
 /// The cycle period.
 const PERIOD: Duration = Duration::from_millis(1);
@@ -29,9 +44,6 @@ const PERIOD: Duration = Duration::from_millis(1);
 const MAX_SUBDEVICES: usize = 256;
 /// Each EC-TX508's images: 21 bytes of outputs, 23 of inputs.
 const IMAGE: usize = 44;
-
-const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
-static PDU_STORAGE: PduStorage<32, MAX_PDU_DATA> = PduStorage::new();
 
 fn main() -> Result<(), String> {
     let mut args = std::env::args().skip(1);
@@ -41,9 +53,13 @@ fn main() -> Result<(), String> {
             .map_err(|_| format!("CYCLES: `{n}` is not a number"))?,
         None => 10_000,
     };
-    if let Ok(n) = std::env::var(ROLE) {
-        let n: usize = n.parse().map_err(|_| "the chain's length".to_owned())?;
-        return maindevice(n, cycles);
+    match std::env::var(ROLE).as_deref() {
+        Ok("echo") => return echo::baseline(cycles),
+        Ok(n) => {
+            let n: usize = n.parse().map_err(|_| "the chain's length".to_owned())?;
+            return maindevice::run(n, cycles);
+        }
+        Err(_) => {}
     }
     let mut sizes: Vec<usize> = args
         .map(|n| n.parse().map_err(|_| format!("N: `{n}` is not a number")))
@@ -61,12 +77,27 @@ fn main() -> Result<(), String> {
         .ok_or("no edsgen next to this example: cargo build --release --bin edsgen")?;
     println!("load average before: {}", load_average());
     println!("{cycles} cycles at a 1 ms period per chain of N EC-TX508s");
+    println!("{}", maindevice::describe(maindevice::setup()?));
+    match fifo_priority() {
+        Some(priority) => println!(
+            "the simulator, the MainDevice and the baseline under SCHED_FIFO, priority {priority}"
+        ),
+        None => println!("the simulator, the MainDevice and the baseline under SCHED_OTHER"),
+    }
     let mut memory = Vec::new();
     let mut longest = None;
     for n in sizes {
         let ns = Namespace::new()?;
+        // The baseline first, in the same namespace, just before the chain: side by side.
+        let before = Host::read();
+        let baseline = ns.baseline(cycles)?;
+        let between = Host::read();
         let figures = ns.run(&edsgen, n, cycles)?;
+        let after = Host::read();
         println!("N {n:>3}: {figures}");
+        println!("       host meanwhile: {}", between.since(&after));
+        println!("       {baseline}");
+        println!("       host meanwhile: {}", before.since(&between));
         if let Some(rss) = figures.rss_kib {
             memory.push((n, rss));
         }
@@ -88,6 +119,27 @@ fn main() -> Result<(), String> {
     }
     println!("load average after: {}", load_average());
     Ok(())
+}
+
+/// The real-time priority the programs run at: 50 unless `EDSGEN_SCALE_FIFO` gives another,
+/// or `off` (the ordinary policy).
+///
+/// Why real time: on this shared 2-core machine, under the ordinary policy the MainDevice and
+/// the simulator (each woken three times a cycle at 64 SubDevices) wait behind the other jobs'
+/// processes for a CPU, and such a wait can last to the scheduler's next tick, 4 ms here
+/// (HZ=250): the stalls of 4 to 8 ms are one or two ticks. The echo baseline, which hardly uses the CPU, does not wait. Measured
+/// at load 9 to 11, 64 SubDevices, 3,000 cycles, three runs: 73 to 104 cycles over 1 ms (21 to
+/// 25 over 4 ms), the MainDevice's threads 3.5 to 3.8 s waiting for a CPU, against 0 to 1 over
+/// 1 ms and 0.2 to 0.3 s for the baseline beside it; under `SCHED_FIFO` (with async-io's thread
+/// back on the ordinary policy, see `maindevice`), 3 to 5 over 1 ms and none over 4 ms, the
+/// baseline 1 to 3. This is what ethercrab's examples do for their TX/RX
+/// thread (`thread_priority`, `SCHED_FIFO`).
+pub fn fifo_priority() -> Option<String> {
+    match std::env::var("EDSGEN_SCALE_FIFO") {
+        Err(_) => Some("50".to_owned()),
+        Ok(off) if off == "off" => None,
+        Ok(priority) => Some(priority),
+    }
 }
 
 /// `/proc/loadavg`'s three averages.
@@ -137,10 +189,39 @@ impl Namespace {
         Ok(ns)
     }
 
+    /// `program` in the namespace, under `SCHED_FIFO` ([`fifo_priority`]; the simulator, the
+    /// MainDevice and the baseline alike: `chrt` runs `ip`, which runs the program, and the
+    /// policy is inherited).
     fn exec(&self, program: &std::path::Path) -> Command {
-        let mut command = Command::new("ip");
+        let mut command = match fifo_priority() {
+            Some(priority) => {
+                let mut chrt = Command::new("chrt");
+                chrt.args(["-f", &priority, "ip"]);
+                chrt
+            }
+            None => Command::new("ip"),
+        };
         command.args(["netns", "exec", &self.name]).arg(program);
         command
+    }
+
+    /// The echo baseline ([`echo::baseline`]) for `cycles` cycles: its line of figures.
+    fn baseline(&self, cycles: usize) -> Result<String, String> {
+        let me = std::env::current_exe().map_err(|e| e.to_string())?;
+        let output = self
+            .exec(&me)
+            .arg(cycles.to_string())
+            .env(ROLE, "echo")
+            .output()
+            .map_err(|e| format!("the echo baseline: {e}"))?;
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        match stdout.lines().last() {
+            Some(line) if output.status.success() => Ok(line.to_owned()),
+            _ => Err(format!(
+                "the echo baseline: {}",
+                String::from_utf8_lossy(&output.stderr).trim()
+            )),
+        }
     }
 
     /// A chain of `n` EC-TX508s served and driven for `cycles` cycles.
@@ -173,6 +254,7 @@ impl Namespace {
         std::thread::spawn(move || lines.for_each(drop));
         // `ip netns exec` runs the program in its own place: the child is the simulator.
         let pid = sim.0.id();
+        let sim_waited_before = host::waited_for_cpu(&pid.to_string(), None);
         let me = std::env::current_exe().map_err(|e| e.to_string())?;
         let output = self
             .exec(&me)
@@ -181,6 +263,8 @@ impl Namespace {
             .output()
             .map_err(|e| format!("the MainDevice: {e}"))?;
         let rss_kib = resident_kib(pid);
+        let sim_waited =
+            host::waited_for_cpu(&pid.to_string(), None).saturating_sub(sim_waited_before);
         let stdout = String::from_utf8_lossy(&output.stdout);
         let line = stdout.lines().last().unwrap_or_default().to_owned();
         if !output.status.success() {
@@ -199,7 +283,7 @@ impl Namespace {
             .ok_or_else(|| format!("N {n}: the MainDevice said `{line}`"))?;
         Ok(Figures {
             missed,
-            line,
+            line: format!("{line}, the simulator's {} ms", sim_waited.as_millis()),
             rss_kib,
         })
     }
@@ -242,70 +326,70 @@ fn resident_kib(pid: u32) -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
-/// The MainDevice, in the namespace: `n` SubDevices to Op, then `cycles` cycles at [`PERIOD`],
-/// one line of figures.
-fn maindevice(n: usize, cycles: usize) -> Result<(), String> {
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .map_err(|e| e.to_string())?;
-    runtime.block_on(async {
-        let (tx, rx, pdu_loop) = PDU_STORAGE
-            .try_split()
-            .map_err(|_| "the PDU storage is split once")?;
-        let timeouts = Timeouts {
-            pdu: Duration::from_millis(500),
-            state_transition: Duration::from_secs(30),
-            mailbox_response: Duration::from_secs(2),
-            eeprom: Duration::from_secs(2),
-            ..Timeouts::default()
+/// The cycle's timer: absolute deadlines one [`PERIOD`] apart, slept to with `nanosleep`
+/// (high-resolution, unlike tokio's millisecond wheel); a deadline already passed moves the
+/// next ones (no burst of catch-up cycles).
+struct Ticker {
+    next: Instant,
+}
+
+impl Ticker {
+    fn new() -> Self {
+        Ticker {
+            next: Instant::now() + PERIOD,
+        }
+    }
+
+    /// Sleeps until the next deadline; returns how late it woke.
+    fn tick(&mut self) -> Duration {
+        let now = Instant::now();
+        if now < self.next {
+            std::thread::sleep(self.next - now);
+        }
+        let woke = Instant::now();
+        let late = woke.saturating_duration_since(self.next);
+        self.next = if late > PERIOD {
+            woke + PERIOD
+        } else {
+            self.next + PERIOD
         };
-        let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
-        tokio::spawn(tx_rx_task("ecm", tx, rx).map_err(|e| format!("ecm: {e}"))?);
-        let group = maindevice
-            .init_single_group::<MAX_SUBDEVICES, { MAX_SUBDEVICES * IMAGE }>(ethercat_now)
-            .await
-            .map_err(|e| format!("discovery: {e:?}"))?;
-        if group.len() != n {
-            return Err(format!("{} SubDevices found, {n} served", group.len()));
-        }
-        let group = group
-            .into_op(&maindevice)
-            .await
-            .map_err(|e| format!("Op: {e:?}"))?;
-        // Every SubDevice counts 3 on each LRW that reaches its images: once, or twice when
-        // ethercrab's chunks of the image (a frame's worth each) split its images.
-        let expected = group
-            .tx_rx(&maindevice)
-            .await
-            .map_err(|e| format!("the first cycle: {e:?}"))?
-            .working_counter;
-        if usize::from(expected) < 3 * n {
-            return Err(format!("working counter {expected} of {n} SubDevices"));
-        }
-        let mut interval = tokio::time::interval(PERIOD);
-        interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
-        let mut times = Vec::with_capacity(cycles);
-        let mut missed = 0;
-        for _ in 0..cycles {
-            interval.tick().await;
-            let start = Instant::now();
-            let answer = group.tx_rx(&maindevice).await;
-            let took = start.elapsed();
-            let counted = answer.is_ok_and(|a| a.working_counter == expected);
-            if !counted || took > PERIOD {
-                missed += 1;
-            }
-            times.push(took);
+        late
+    }
+}
+
+/// Round-trip or cycle times, for their quantiles.
+struct Times(Vec<Duration>);
+
+impl Times {
+    fn with_capacity(n: usize) -> Self {
+        Times(Vec::with_capacity(n))
+    }
+
+    fn push(&mut self, time: Duration) {
+        self.0.push(time);
+    }
+
+    fn total(&self) -> Duration {
+        self.0.iter().sum()
+    }
+
+    /// p50/p99/worst, how many took longer than `period` and over 4 ms (the stalls), and `late`,
+    /// the timer's wake-ups more than a period late.
+    fn summary(&mut self, period: Duration, late: usize) -> String {
+        let times = &mut self.0;
+        if times.is_empty() {
+            return "no cycles".to_owned();
         }
         times.sort();
-        let at = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
-        println!(
-            "missed {missed}, cycle time p50 {} µs, p99 {} µs, worst {} µs",
-            at(0.5).as_micros(),
-            at(0.99).as_micros(),
-            at(1.0).as_micros()
-        );
-        Ok(())
-    })
+        let over = times.iter().filter(|&&t| t > period).count();
+        let stalls = times.iter().filter(|&&t| t > 4 * period).count();
+        let at = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize].as_micros();
+        format!(
+            "p50 {} µs, p99 {} µs, worst {} µs, over 1 ms {over} (over 4 ms {stalls}), \
+             timer over 1 ms late {late}",
+            at(0.5),
+            at(0.99),
+            at(1.0)
+        )
+    }
 }
