@@ -7,7 +7,8 @@
 use edsgen_model::model::Device;
 use edsgen_runtime::Instant;
 
-use super::device::{pack, unpack, Behaviour, Mapped};
+use super::device::{Behaviour, Mapped};
+use super::image::{pack, unpack};
 use crate::canopen::RuntimeDictionary;
 use crate::drives::ec_tx508::EcTx508;
 
