@@ -21,7 +21,7 @@ use std::collections::{HashMap, HashSet};
 use edsgen_model::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
 
-use super::image::{pack, unpack};
+use super::image::{image_len, pack, place, unpack, Placed};
 use super::{AlState, Application, SubDevice};
 use crate::canopen::RuntimeDictionary;
 use edsgen_runtime::ethercat::sdo::CoeSdoServer;
@@ -55,8 +55,8 @@ pub struct EsiDevice {
 /// The outputs and inputs images' entries, in order, and their sizes in bytes.
 #[derive(Debug)]
 struct Images {
-    outputs: Vec<Mapped>,
-    inputs: Vec<Mapped>,
+    outputs: Vec<Placed>,
+    inputs: Vec<Placed>,
     sizes: (usize, usize),
 }
 
@@ -230,15 +230,9 @@ impl EsiDevice {
 
 impl Images {
     fn of(device: &EsiDevice) -> Self {
-        let bytes = |entries: &[Mapped]| {
-            entries
-                .iter()
-                .map(|e| usize::from(e.2))
-                .sum::<usize>()
-                .div_ceil(8)
-        };
-        let (outputs, inputs) = (device.image(true), device.image(false));
-        let sizes = (bytes(&outputs), bytes(&inputs));
+        let outputs = place(&device.od, &device.image(true));
+        let inputs = place(&device.od, &device.image(false));
+        let sizes = (image_len(&outputs), image_len(&inputs));
         Images {
             outputs,
             inputs,
@@ -430,9 +424,8 @@ impl Application for EsiDevice {
         if let Some(behaviour) = self.behaviour.as_mut() {
             behaviour.cycle(now, &mut self.od);
         }
-        let image = pack(&self.od, &self.images().inputs);
-        let len = image.len().min(inputs.len());
-        inputs[..len].copy_from_slice(&image[..len]);
+        let images = self.images.get_or_init(|| Images::of(self));
+        pack(&self.od, &images.inputs, inputs);
     }
 
     fn state_changed(&mut self, _now: Instant, _from: AlState, to: AlState) {

@@ -27,13 +27,16 @@ mod logical;
 pub const FMMUS: usize = 8;
 /// Number of SyncManagers.
 pub const SYNC_MANAGERS: usize = 8;
+/// The ESC's address space in bytes (registers and process memory).
+const MEMORY: usize = 0x1_0000;
 
 pub use edsgen_runtime::ethercat::esc::{reg, Event, SmRegisters};
 
 /// The ESC's memory and SII.
 #[derive(Debug, Clone)]
 pub struct EmulatedEsc {
-    mem: Vec<u8>,
+    /// The whole 64 KiB: a `u16` address indexes it without a bounds check.
+    mem: Box<[u8; MEMORY]>,
     sii: Vec<u8>,
     events: VecDeque<Event>,
 }
@@ -52,7 +55,7 @@ impl EmulatedEsc {
     /// word 4).
     pub fn new(sii: Vec<u8>) -> Self {
         let mut esc = EmulatedEsc {
-            mem: vec![0; 0x1_0000],
+            mem: Box::new([0; MEMORY]),
             sii,
             events: VecDeque::new(),
         };
@@ -129,27 +132,22 @@ impl EmulatedEsc {
     /// Memory as the device (PDI) sees it.
     pub fn memory(&self, start: u16, len: usize) -> &[u8] {
         let start = usize::from(start);
-        &self.mem[start..(start + len).min(self.mem.len())]
+        &self.mem[start..(start + len).min(MEMORY)]
     }
 
     /// Writes memory as the device (PDI) does (no events).
     pub fn write_memory(&mut self, start: u16, data: &[u8]) {
         let start = usize::from(start);
-        let end = (start + data.len()).min(self.mem.len());
+        let end = (start + data.len()).min(MEMORY);
         self.mem[start..end].copy_from_slice(&data[..end - start]);
     }
 
     /// SyncManager `n`'s registers.
     pub fn sm(&self, n: usize) -> SmRegisters {
-        let base = reg::SM0 + 8 * n as u16;
-        SmRegisters {
-            start: self.u16(base),
-            len: self.u16(base + 2),
-            control: self.u8(base + 4),
-            status: self.u8(base + 5),
-            activate: self.u8(base + 6),
-            pdi_control: self.u8(base + 7),
-        }
+        let base = usize::from(reg::sm(n));
+        let mut bytes = [0; 8];
+        bytes.copy_from_slice(&self.mem[base..base + 8]);
+        SmRegisters::from_bytes(bytes)
     }
 
     /// Sets or clears SyncManager `n`'s mailbox-full flag (status bit 3), as the device does
@@ -414,8 +412,13 @@ fn overlaps(a: &std::ops::Range<u32>, b: &std::ops::Range<u32>) -> bool {
 impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     fn read(&mut self, address: u16, buf: &mut [u8]) {
         let start = usize::from(address);
-        let end = (start + buf.len()).min(self.mem.len());
+        let end = (start + buf.len()).min(MEMORY);
         buf[..end - start].copy_from_slice(&self.mem[start..end]);
+        // Only a SyncManager's buffer (process memory) empties a mailbox: a register read
+        // changes nothing.
+        if end <= usize::from(reg::SYNC_MANAGED) {
+            return;
+        }
         for n in 0..SYNC_MANAGERS {
             let sm = EmulatedEsc::sm(self, n);
             if sm.is_mailbox() && sm.master_writes() && covers_last_byte(&sm, start, end) {
@@ -427,13 +430,21 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     fn write(&mut self, address: u16, data: &[u8]) {
         self.write_memory(address, data);
         let start = usize::from(address);
-        let end = (start + data.len()).min(self.mem.len());
+        let end = (start + data.len()).min(MEMORY);
         let touches = |register: u16| (start..end).contains(&usize::from(register));
         if touches(reg::SII_PDI_ACCESS) {
             self.sii_access_follows_offer();
         }
         if touches(reg::SII_CONTROL) || touches(reg::SII_CONTROL + 1) {
             self.sii_command(true);
+        }
+        // The mailboxes change with their buffers (process memory) and the SyncManagers' PDI
+        // control registers only.
+        let sm_registers = usize::from(reg::SM0)..usize::from(reg::sm(SYNC_MANAGERS));
+        if end <= sm_registers.start
+            || (sm_registers.end <= start && end <= usize::from(reg::SYNC_MANAGED))
+        {
+            return;
         }
         for n in 0..SYNC_MANAGERS {
             let sm = EmulatedEsc::sm(self, n);
