@@ -37,6 +37,8 @@ pub use edsgen_runtime::ethercat::esc::{reg, Event, SmRegisters};
 pub struct EmulatedEsc {
     /// The whole 64 KiB: a `u16` address indexes it without a bounds check.
     mem: Box<[u8; MEMORY]>,
+    /// The FMMU registers decoded, as the last write to them left them.
+    fmmus: [Option<logical::Fmmu>; FMMUS],
     sii: Vec<u8>,
     events: VecDeque<Event>,
 }
@@ -56,6 +58,7 @@ impl EmulatedEsc {
     pub fn new(sii: Vec<u8>) -> Self {
         let mut esc = EmulatedEsc {
             mem: Box::new([0; MEMORY]),
+            fmmus: [None; FMMUS],
             sii,
             events: VecDeque::new(),
         };
@@ -119,6 +122,7 @@ impl EmulatedEsc {
     /// Sets a register byte as the device (PDI) does.
     pub fn set_u8(&mut self, address: u16, value: u8) {
         self.mem[usize::from(address)] = value;
+        self.fmmus_written(u32::from(address)..u32::from(address) + 1);
     }
 
     /// Sets a little-endian u16 of registers as the device (PDI) does.
@@ -127,6 +131,7 @@ impl EmulatedEsc {
         let [lo, hi] = value.to_le_bytes();
         self.mem[a] = lo;
         self.mem[(a + 1) & 0xFFFF] = hi;
+        self.fmmus_written(u32::from(address)..u32::from(address) + 2);
     }
 
     /// Memory as the device (PDI) sees it.
@@ -140,6 +145,7 @@ impl EmulatedEsc {
         let start = usize::from(start);
         let end = (start + data.len()).min(MEMORY);
         self.mem[start..end].copy_from_slice(&data[..end - start]);
+        self.fmmus_written(start as u32..end as u32);
     }
 
     /// SyncManager `n`'s registers.
@@ -221,15 +227,19 @@ impl EmulatedEsc {
         }
     }
 
-    /// A BRD: the memory ORed into the data, +1 (nothing if refused).
+    /// A BRD: the memory ORed into the data, +1 (nothing if refused, as [`physical`] refuses).
+    ///
+    /// [`physical`]: Self::physical
     fn broadcast_read(&mut self, address: u16, data: &mut [u8]) -> u16 {
-        let mut read = vec![0; data.len()];
-        if self.physical(address, &mut read, true, false) == 0 {
+        let start = u32::from(address);
+        let end = start + data.len() as u32;
+        if end > 0x1_0000 || !self.mailbox_allows(start..end, true, false) {
             return 0;
         }
-        for (d, r) in data.iter_mut().zip(read) {
-            *d |= r;
+        for (d, m) in data.iter_mut().zip(&self.mem[start as usize..end as usize]) {
+            *d |= m;
         }
+        self.after_read(start..end);
         1
     }
 
@@ -259,8 +269,7 @@ impl EmulatedEsc {
         }
         if write {
             let source = incoming.as_deref().unwrap_or(data);
-            let source = source.to_vec();
-            self.write_bytes(start, &source);
+            self.write_bytes(start, source);
             self.after_write(start..end);
             wkc += if read { 2 } else { 1 };
         }
@@ -275,6 +284,7 @@ impl EmulatedEsc {
                 self.mem[address as usize] = byte;
             }
         }
+        self.fmmus_written(start..start + data.len() as u32);
     }
 
     /// Whether an access to `range` respects the mailboxes it touches: a master-written
