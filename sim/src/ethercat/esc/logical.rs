@@ -71,7 +71,7 @@ impl Share {
     /// The share as byte ranges of the datagram's data and of memory, when it is whole bytes on
     /// both sides (as a MainDevice lays out most images); `d0` is the datagram's first bit.
     fn bytes(&self, d0: u64) -> Option<(Range<usize>, Range<usize>)> {
-        let whole = self.from % 8 == 0 && self.to % 8 == 0 && self.physical % 8 == 0;
+        let whole = (self.from | self.to | self.physical) & 7 == 0;
         whole.then(|| {
             let (d, p) = (
                 ((self.from - d0) / 8) as usize,
