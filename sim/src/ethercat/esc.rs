@@ -474,6 +474,31 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     fn poll_event(&mut self) -> Option<Event> {
         self.events.pop_front()
     }
+
+    // Registers (below 0x0F00) have no side effects when the PDI reads them: a load, as the
+    // core reads them on every frame. Process memory goes through `read`.
+
+    fn read_u8(&mut self, address: u16) -> u8 {
+        if address >= reg::SYNC_MANAGED {
+            let mut b = [0];
+            self.read(address, &mut b);
+            return b[0];
+        }
+        EmulatedEsc::u8(self, address)
+    }
+
+    fn read_u16(&mut self, address: u16) -> u16 {
+        if address >= reg::SYNC_MANAGED - 1 {
+            let mut b = [0; 2];
+            self.read(address, &mut b);
+            return u16::from_le_bytes(b);
+        }
+        EmulatedEsc::u16(self, address)
+    }
+
+    fn sm(&mut self, n: usize) -> SmRegisters {
+        EmulatedEsc::sm(self, n)
+    }
 }
 
 /// Whether the SyncManager governs memory: it has a length and starts at the digital I/O
