@@ -94,6 +94,17 @@ impl EmulatedEsc {
         }
     }
 
+    /// Whether an active FMMU maps any of the `len` logical bytes at `address`: most logical
+    /// datagrams carry other SubDevices' images and pass by on this test.
+    fn maps(&self, address: u32, len: usize) -> bool {
+        let d0 = u64::from(address) * 8;
+        let d1 = d0 + len as u64 * 8;
+        self.fmmus
+            .iter()
+            .flatten()
+            .any(|f| f.from < d1 && d0 < f.to)
+    }
+
     /// FMMU `n`'s share of the logical bits `d0..d1`, if it is active and overlaps them and
     /// the memory it maps is reachable.
     fn share(&self, n: usize, d0: u64, d1: u64) -> Option<Share> {
@@ -145,6 +156,9 @@ impl EmulatedEsc {
         read: bool,
         write: bool,
     ) -> u16 {
+        if !self.maps(address, data.len()) {
+            return 0;
+        }
         let (shares, d0) = self.shares(address, data.len());
         let reads = read && shares.iter().flatten().any(|s| s.read);
         let writes = write && shares.iter().flatten().any(|s| s.write);
@@ -237,7 +251,11 @@ impl EmulatedEsc {
             Fprd | Fprw | Frmw => self.fixed_match(header.adp) && physical(),
             Brd | Brw => physical(),
             Lrd | Lrw => {
-                let (shares, _) = self.shares(header.logical_address(), usize::from(header.len));
+                let (address, len) = (header.logical_address(), usize::from(header.len));
+                if !self.maps(address, len) {
+                    return false;
+                }
+                let (shares, _) = self.shares(address, len);
                 shares
                     .iter()
                     .flatten()
