@@ -1,10 +1,11 @@
 //! A raw Linux `AF_PACKET` socket on one network interface for one EtherType: the thin I/O
 //! under the EtherCAT and PROFINET simulators (their protocol cores never see it).
 //!
-//! The one piece of `unsafe` in this crate is here, in `bind` and `accept_unicast`: binding a
-//! packet socket to an interface takes a `sockaddr_ll`, which neither `socket2` nor `nix` can
-//! build without `unsafe` (their link-layer address types have no public constructor), and
-//! neither offers `PACKET_ADD_MEMBERSHIP`. Everything else (creating the
+//! The one piece of `unsafe` in this crate is here, in `bind`, `accept_unicast` and
+//! `ignore_outgoing`: binding a packet socket to an interface takes a `sockaddr_ll`, which
+//! neither `socket2` nor `nix` can build without `unsafe` (their link-layer address types have
+//! no public constructor), and neither offers `PACKET_ADD_MEMBERSHIP` or
+//! `PACKET_IGNORE_OUTGOING`. Everything else (creating the
 //! socket, reading, writing) goes through `socket2`'s safe API, the wait for a frame through
 //! `rustix`'s `poll`, and the interface's index and MAC address come from `/sys/class/net/IFACE`.
 #![allow(unsafe_code)]
@@ -94,6 +95,29 @@ impl PacketSocket {
                 libc::PACKET_ADD_MEMBERSHIP,
                 (&raw const request).cast::<libc::c_void>(),
                 std::mem::size_of::<libc::packet_mreq>() as libc::socklen_t,
+            )
+        };
+        if result == 0 {
+            Ok(())
+        } else {
+            Err(io::Error::last_os_error())
+        }
+    }
+
+    /// Stops the socket from seeing the frames it sends itself (`PACKET_IGNORE_OUTGOING`,
+    /// Linux 4.20 and later): a packet socket otherwise reads each of its own frames back, one
+    /// wake-up and one read for nothing per frame sent.
+    pub fn ignore_outgoing(&self) -> io::Result<()> {
+        let on: libc::c_int = 1;
+        // SAFETY: `on` is an initialised `c_int` that lives across the call, the length passed
+        // is its size, and the descriptor is the open socket `self` owns.
+        let result = unsafe {
+            libc::setsockopt(
+                self.socket.as_raw_fd(),
+                libc::SOL_PACKET,
+                libc::PACKET_IGNORE_OUTGOING,
+                (&raw const on).cast::<libc::c_void>(),
+                std::mem::size_of::<libc::c_int>() as libc::socklen_t,
             )
         };
         if result == 0 {

@@ -21,6 +21,7 @@ use std::collections::{HashMap, HashSet};
 use edsgen_model::model::{Device, EcPdo, SmKind};
 use edsgen_runtime::{Instant, ObjectDictionary, SdoAbort};
 
+use super::image::{image_len, pack, place, unpack, Placed};
 use super::{AlState, Application, SubDevice};
 use crate::canopen::RuntimeDictionary;
 use edsgen_runtime::ethercat::sdo::CoeSdoServer;
@@ -54,8 +55,8 @@ pub struct EsiDevice {
 /// The outputs and inputs images' entries, in order, and their sizes in bytes.
 #[derive(Debug)]
 struct Images {
-    outputs: Vec<Mapped>,
-    inputs: Vec<Mapped>,
+    outputs: Vec<Placed>,
+    inputs: Vec<Placed>,
     sizes: (usize, usize),
 }
 
@@ -229,15 +230,9 @@ impl EsiDevice {
 
 impl Images {
     fn of(device: &EsiDevice) -> Self {
-        let bytes = |entries: &[Mapped]| {
-            entries
-                .iter()
-                .map(|e| usize::from(e.2))
-                .sum::<usize>()
-                .div_ceil(8)
-        };
-        let (outputs, inputs) = (device.image(true), device.image(false));
-        let sizes = (bytes(&outputs), bytes(&inputs));
+        let outputs = place(&device.od, &device.image(true));
+        let inputs = place(&device.od, &device.image(false));
+        let sizes = (image_len(&outputs), image_len(&inputs));
         Images {
             outputs,
             inputs,
@@ -407,97 +402,6 @@ fn u8_value(od: &RuntimeDictionary, index: u16, sub: u8) -> Option<u8> {
     Some(b[0])
 }
 
-/// The image of `entries` from the dictionary, bit by bit (LSB first).
-pub fn pack(od: &RuntimeDictionary, entries: &[Mapped]) -> Vec<u8> {
-    let bits: usize = entries.iter().map(|e| usize::from(e.2)).sum();
-    let mut image = vec![0u8; bits.div_ceil(8)];
-    let mut at = 0;
-    for &(index, sub, len) in entries {
-        let len = usize::from(len);
-        let mut value = EntryBytes::new(len);
-        if index != 0 {
-            let _ = od.read(index, sub, 0, value.bytes_mut());
-        }
-        let value = value.bytes();
-        if at % 8 == 0 && len % 8 == 0 {
-            // Whole bytes at a byte boundary, as most mapped entries are.
-            image[at / 8..(at + len) / 8].copy_from_slice(value);
-        } else {
-            for bit in 0..len {
-                if value[bit / 8] >> (bit % 8) & 1 != 0 {
-                    image[(at + bit) / 8] |= 1 << ((at + bit) % 8);
-                }
-            }
-        }
-        at += len;
-    }
-    image
-}
-
-/// Writes `image` into the dictionary's entries as `entries` lay it out (a value the
-/// dictionary refuses is left as it was).
-pub fn unpack(od: &mut RuntimeDictionary, entries: &[Mapped], image: &[u8]) {
-    let mut at = 0;
-    for &(index, sub, len) in entries {
-        let len = usize::from(len);
-        let mut value = EntryBytes::new(len);
-        let whole = (at % 8 == 0 && len % 8 == 0)
-            .then(|| image.get(at / 8..(at + len) / 8))
-            .flatten();
-        match whole {
-            Some(bytes) => value.bytes_mut().copy_from_slice(bytes),
-            None => {
-                let value = value.bytes_mut();
-                for bit in 0..len {
-                    let source = at + bit;
-                    if image
-                        .get(source / 8)
-                        .is_some_and(|b| b >> (source % 8) & 1 != 0)
-                    {
-                        value[bit / 8] |= 1 << (bit % 8);
-                    }
-                }
-            }
-        }
-        if index != 0 {
-            let _ = od.write(index, sub, value.bytes());
-        }
-        at += len;
-    }
-}
-
-/// One mapped entry's value, zeroed: on the stack up to 8 bytes (every scalar), else on the
-/// heap (a string or domain mapped whole).
-enum EntryBytes {
-    Small([u8; 8], usize),
-    Large(Vec<u8>),
-}
-
-impl EntryBytes {
-    fn new(bits: usize) -> Self {
-        let len = bits.div_ceil(8);
-        if len <= 8 {
-            EntryBytes::Small([0; 8], len)
-        } else {
-            EntryBytes::Large(vec![0; len])
-        }
-    }
-
-    fn bytes(&self) -> &[u8] {
-        match self {
-            EntryBytes::Small(bytes, len) => &bytes[..*len],
-            EntryBytes::Large(bytes) => bytes,
-        }
-    }
-
-    fn bytes_mut(&mut self) -> &mut [u8] {
-        match self {
-            EntryBytes::Small(bytes, len) => &mut bytes[..*len],
-            EntryBytes::Large(bytes) => bytes,
-        }
-    }
-}
-
 impl Application for EsiDevice {
     fn mailbox(&mut self, _state: AlState, request: &[u8], answer: &mut [u8]) -> usize {
         let rules = &self.rules;
@@ -520,9 +424,8 @@ impl Application for EsiDevice {
         if let Some(behaviour) = self.behaviour.as_mut() {
             behaviour.cycle(now, &mut self.od);
         }
-        let image = pack(&self.od, &self.images().inputs);
-        let len = image.len().min(inputs.len());
-        inputs[..len].copy_from_slice(&image[..len]);
+        let images = self.images.get_or_init(|| Images::of(self));
+        pack(&self.od, &images.inputs, inputs);
     }
 
     fn state_changed(&mut self, _now: Instant, _from: AlState, to: AlState) {

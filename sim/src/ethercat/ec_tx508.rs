@@ -7,7 +7,8 @@
 use edsgen_model::model::Device;
 use edsgen_runtime::Instant;
 
-use super::device::{pack, unpack, Behaviour, Mapped};
+use super::device::{Behaviour, Mapped};
+use super::image::{image_len, pack, place, unpack, Placed};
 use crate::canopen::RuntimeDictionary;
 use crate::drives::ec_tx508::EcTx508;
 
@@ -17,6 +18,9 @@ pub struct EcTx508Behaviour {
     card: EcTx508,
     outputs: Vec<Mapped>,
     inputs: Vec<Mapped>,
+    /// `outputs` and `inputs` placed in the dictionary, at the first cycle (its entries never
+    /// move), and the outputs image they are packed into.
+    placed: Option<(Vec<Placed>, Vec<Placed>, Vec<u8>)>,
 }
 
 impl EcTx508Behaviour {
@@ -37,6 +41,7 @@ impl EcTx508Behaviour {
             card: EcTx508::new(now),
             outputs,
             inputs,
+            placed: None,
         }
     }
 
@@ -53,9 +58,14 @@ impl EcTx508Behaviour {
 
 impl Behaviour for EcTx508Behaviour {
     fn cycle(&mut self, now: Instant, od: &mut RuntimeDictionary) {
-        let outputs = pack(od, &self.outputs);
-        if let Ok(inputs) = self.card.cycle(now, &outputs) {
-            unpack(od, &self.inputs, &inputs);
+        let (outputs, inputs, image) = self.placed.get_or_insert_with(|| {
+            let outputs = place(od, &self.outputs);
+            let image = vec![0; image_len(&outputs)];
+            (outputs, place(od, &self.inputs), image)
+        });
+        pack(od, outputs, image);
+        if let Ok(values) = self.card.cycle(now, image) {
+            unpack(od, inputs, &values);
         }
     }
 }

@@ -27,13 +27,18 @@ mod logical;
 pub const FMMUS: usize = 8;
 /// Number of SyncManagers.
 pub const SYNC_MANAGERS: usize = 8;
+/// The ESC's address space in bytes (registers and process memory).
+const MEMORY: usize = 0x1_0000;
 
 pub use edsgen_runtime::ethercat::esc::{reg, Event, SmRegisters};
 
 /// The ESC's memory and SII.
 #[derive(Debug, Clone)]
 pub struct EmulatedEsc {
-    mem: Vec<u8>,
+    /// The whole 64 KiB: a `u16` address indexes it without a bounds check.
+    mem: Box<[u8; MEMORY]>,
+    /// The FMMU registers decoded, as the last write to them left them.
+    fmmus: [Option<logical::Fmmu>; FMMUS],
     sii: Vec<u8>,
     events: VecDeque<Event>,
 }
@@ -52,7 +57,8 @@ impl EmulatedEsc {
     /// word 4).
     pub fn new(sii: Vec<u8>) -> Self {
         let mut esc = EmulatedEsc {
-            mem: vec![0; 0x1_0000],
+            mem: Box::new([0; MEMORY]),
+            fmmus: [None; FMMUS],
             sii,
             events: VecDeque::new(),
         };
@@ -116,6 +122,7 @@ impl EmulatedEsc {
     /// Sets a register byte as the device (PDI) does.
     pub fn set_u8(&mut self, address: u16, value: u8) {
         self.mem[usize::from(address)] = value;
+        self.fmmus_written(u32::from(address)..u32::from(address) + 1);
     }
 
     /// Sets a little-endian u16 of registers as the device (PDI) does.
@@ -124,32 +131,29 @@ impl EmulatedEsc {
         let [lo, hi] = value.to_le_bytes();
         self.mem[a] = lo;
         self.mem[(a + 1) & 0xFFFF] = hi;
+        self.fmmus_written(u32::from(address)..u32::from(address) + 2);
     }
 
     /// Memory as the device (PDI) sees it.
     pub fn memory(&self, start: u16, len: usize) -> &[u8] {
         let start = usize::from(start);
-        &self.mem[start..(start + len).min(self.mem.len())]
+        &self.mem[start..(start + len).min(MEMORY)]
     }
 
     /// Writes memory as the device (PDI) does (no events).
     pub fn write_memory(&mut self, start: u16, data: &[u8]) {
         let start = usize::from(start);
-        let end = (start + data.len()).min(self.mem.len());
+        let end = (start + data.len()).min(MEMORY);
         self.mem[start..end].copy_from_slice(&data[..end - start]);
+        self.fmmus_written(start as u32..end as u32);
     }
 
     /// SyncManager `n`'s registers.
     pub fn sm(&self, n: usize) -> SmRegisters {
-        let base = reg::SM0 + 8 * n as u16;
-        SmRegisters {
-            start: self.u16(base),
-            len: self.u16(base + 2),
-            control: self.u8(base + 4),
-            status: self.u8(base + 5),
-            activate: self.u8(base + 6),
-            pdi_control: self.u8(base + 7),
-        }
+        let base = usize::from(reg::sm(n));
+        let mut bytes = [0; 8];
+        bytes.copy_from_slice(&self.mem[base..base + 8]);
+        SmRegisters::from_bytes(bytes)
     }
 
     /// Sets or clears SyncManager `n`'s mailbox-full flag (status bit 3), as the device does
@@ -223,15 +227,19 @@ impl EmulatedEsc {
         }
     }
 
-    /// A BRD: the memory ORed into the data, +1 (nothing if refused).
+    /// A BRD: the memory ORed into the data, +1 (nothing if refused, as [`physical`] refuses).
+    ///
+    /// [`physical`]: Self::physical
     fn broadcast_read(&mut self, address: u16, data: &mut [u8]) -> u16 {
-        let mut read = vec![0; data.len()];
-        if self.physical(address, &mut read, true, false) == 0 {
+        let start = u32::from(address);
+        let end = start + data.len() as u32;
+        if end > 0x1_0000 || !self.mailbox_allows(start..end, true, false) {
             return 0;
         }
-        for (d, r) in data.iter_mut().zip(read) {
-            *d |= r;
+        for (d, m) in data.iter_mut().zip(&self.mem[start as usize..end as usize]) {
+            *d |= m;
         }
+        self.after_read(start..end);
         1
     }
 
@@ -261,8 +269,7 @@ impl EmulatedEsc {
         }
         if write {
             let source = incoming.as_deref().unwrap_or(data);
-            let source = source.to_vec();
-            self.write_bytes(start, &source);
+            self.write_bytes(start, source);
             self.after_write(start..end);
             wkc += if read { 2 } else { 1 };
         }
@@ -277,6 +284,7 @@ impl EmulatedEsc {
                 self.mem[address as usize] = byte;
             }
         }
+        self.fmmus_written(start..start + data.len() as u32);
     }
 
     /// Whether an access to `range` respects the mailboxes it touches: a master-written
@@ -414,8 +422,13 @@ fn overlaps(a: &std::ops::Range<u32>, b: &std::ops::Range<u32>) -> bool {
 impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     fn read(&mut self, address: u16, buf: &mut [u8]) {
         let start = usize::from(address);
-        let end = (start + buf.len()).min(self.mem.len());
+        let end = (start + buf.len()).min(MEMORY);
         buf[..end - start].copy_from_slice(&self.mem[start..end]);
+        // Only a SyncManager's buffer (process memory) empties a mailbox: a register read
+        // changes nothing.
+        if end <= usize::from(reg::SYNC_MANAGED) {
+            return;
+        }
         for n in 0..SYNC_MANAGERS {
             let sm = EmulatedEsc::sm(self, n);
             if sm.is_mailbox() && sm.master_writes() && covers_last_byte(&sm, start, end) {
@@ -427,13 +440,21 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
     fn write(&mut self, address: u16, data: &[u8]) {
         self.write_memory(address, data);
         let start = usize::from(address);
-        let end = (start + data.len()).min(self.mem.len());
+        let end = (start + data.len()).min(MEMORY);
         let touches = |register: u16| (start..end).contains(&usize::from(register));
         if touches(reg::SII_PDI_ACCESS) {
             self.sii_access_follows_offer();
         }
         if touches(reg::SII_CONTROL) || touches(reg::SII_CONTROL + 1) {
             self.sii_command(true);
+        }
+        // The mailboxes change with their buffers (process memory) and the SyncManagers' PDI
+        // control registers only.
+        let sm_registers = usize::from(reg::SM0)..usize::from(reg::sm(SYNC_MANAGERS));
+        if end <= sm_registers.start
+            || (sm_registers.end <= start && end <= usize::from(reg::SYNC_MANAGED))
+        {
+            return;
         }
         for n in 0..SYNC_MANAGERS {
             let sm = EmulatedEsc::sm(self, n);
@@ -452,6 +473,31 @@ impl edsgen_runtime::ethercat::esc::Esc for EmulatedEsc {
 
     fn poll_event(&mut self) -> Option<Event> {
         self.events.pop_front()
+    }
+
+    // Registers (below 0x0F00) have no side effects when the PDI reads them: a load, as the
+    // core reads them on every frame. Process memory goes through `read`.
+
+    fn read_u8(&mut self, address: u16) -> u8 {
+        if address >= reg::SYNC_MANAGED {
+            let mut b = [0];
+            self.read(address, &mut b);
+            return b[0];
+        }
+        EmulatedEsc::u8(self, address)
+    }
+
+    fn read_u16(&mut self, address: u16) -> u16 {
+        if address >= reg::SYNC_MANAGED - 1 {
+            let mut b = [0; 2];
+            self.read(address, &mut b);
+            return u16::from_le_bytes(b);
+        }
+        EmulatedEsc::u16(self, address)
+    }
+
+    fn sm(&mut self, n: usize) -> SmRegisters {
+        EmulatedEsc::sm(self, n)
     }
 }
 

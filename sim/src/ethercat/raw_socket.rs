@@ -18,6 +18,9 @@ impl RawSocket {
     /// Opens `iface` (root, or CAP_NET_RAW, is needed); reads wait at most `timeout`.
     pub fn open(iface: &str, timeout: Duration) -> io::Result<Self> {
         let socket = PacketSocket::open(iface, ETHERTYPE, timeout)?;
+        // The SubDevices' answers are not read back. A kernel without the option (before 4.20)
+        // still delivers them, and `serve` passes them by (their source address says so).
+        let _ = socket.ignore_outgoing();
         Ok(RawSocket { socket })
     }
 

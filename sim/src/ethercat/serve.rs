@@ -1,7 +1,8 @@
 //! A segment on a wire: frames read from a [`RawSocket`], processed by every SubDevice in
-//! turn ([`Segment`]), and sent back from the last one, until a stop flag is raised. Frames whose source address has the locally-administered bit set
-//! (0x02 in its first byte) are not taken: they are frames a SubDevice already processed (our
-//! own answers, which a packet socket also sees going out), as in a real ring.
+//! turn ([`Segment`]), and sent back from the last one, until a stop flag is raised. Frames
+//! whose source address has the locally-administered bit set (0x02 in its first byte) are not
+//! taken: they are frames a SubDevice already processed (another segment's answers, or our own
+//! where the kernel shows a packet socket what it sends), as in a real ring.
 
 use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -446,6 +446,33 @@ fn logical_commands_go_through_the_fmmus_in_safeop_and_op() {
 }
 
 #[test]
+fn an_lrw_writes_the_data_as_it_came_and_reads_memory_as_it_was() {
+    let mut d = in_safeop();
+    fpwr(&mut d, 0x0120, &[8, 0]);
+    d.app_mut().inputs = [0xAB, 0xCD];
+    // Inputs over the outputs' logical bytes, as SOEM's overlapping images have them: the
+    // outputs are the data as it came, the inputs read into the same bytes.
+    fpwr(&mut d, 0x0620, &fmmu(0x30000, 4, 0x1100, 2));
+    fpwr(&mut d, 0x0630, &fmmu(0x30000, 2, 0x1180, 1));
+    let (data, wkc) = one(&mut d, Command::Lrw, (0, 3), &[1, 2, 3, 4]);
+    assert_eq!((data, wkc), (vec![0xAB, 0xCD, 3, 4], 3));
+    assert_eq!(d.app().outputs, [1, 2, 3, 4]);
+    // A read FMMU over the memory a write FMMU of the same datagram changes (logical 0x10006
+    // reads the outputs buffer that 0x10000 writes): it reads the memory as it was.
+    fpwr(&mut d, 0x0620, &fmmu(0x10006, 4, 0x1100, 1));
+    fpwr(&mut d, 0x0630, &[0; 16]);
+    let (data, wkc) = one(
+        &mut d,
+        Command::Lrw,
+        (0, 1),
+        &[9, 9, 9, 9, 0, 0, 0, 0, 0, 0],
+    );
+    assert_eq!((data, wkc), (vec![9, 9, 9, 9, 0xAB, 0xCD, 1, 2, 3, 4], 3));
+    assert_eq!(d.app().outputs, [9, 9, 9, 9]);
+    assert_eq!(d.esc().memory(0x1100, 4), [9, 9, 9, 9]);
+}
+
+#[test]
 fn a_bit_fmmu_maps_single_bits() {
     let mut d = in_safeop();
     // FMMU 2: logical 0x20000 bits 3..=4 → physical 0x1180 bits 0..=1 (inputs), read.

@@ -1,6 +1,8 @@
 //! Logical addressing: what an LRD, LWR or LRW does through the ESC's FMMUs, each mapping a
 //! span of the logical address space bit by bit onto physical memory, and whether a datagram
-//! reads a span of memory at all (what the device need not prepare when no datagram does).
+//! reads a span of memory at all (what the device need not prepare when no datagram does). The
+//! FMMUs are decoded when their registers are written, so that a datagram that passes by
+//! another SubDevice's images costs a few comparisons.
 
 use std::ops::Range;
 
@@ -8,6 +10,43 @@ use edsgen_runtime::ethercat::wire::datagram::{Command, DatagramRepr};
 
 use super::{governs, overlaps};
 use super::{reg, EmulatedEsc, FMMUS, SYNC_MANAGERS};
+
+/// An active FMMU, decoded from its 16 registers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Fmmu {
+    /// Logical bits `from..to` (absolute).
+    from: u64,
+    to: u64,
+    /// The physical bit of `from`.
+    physical: u64,
+    read: bool,
+    write: bool,
+}
+
+impl Fmmu {
+    /// FMMU `n` of the registers in `mem`, if it is active and maps at least one bit.
+    fn decode(mem: &[u8], n: usize) -> Option<Fmmu> {
+        let base = usize::from(reg::FMMU0) + 16 * n;
+        let f = mem.get(base..base + 16)?;
+        let (kind, active) = (f[11], f[12] & 1 != 0);
+        let len = u16::from_le_bytes([f[4], f[5]]);
+        if !active || len == 0 {
+            return None;
+        }
+        let logical = u64::from(u32::from_le_bytes([f[0], f[1], f[2], f[3]]));
+        let (start_bit, stop_bit) = (u64::from(f[6] & 7), u64::from(f[7] & 7));
+        let physical = u64::from(u16::from_le_bytes([f[8], f[9]]));
+        let from = logical * 8 + start_bit;
+        let to = (logical + u64::from(len) - 1) * 8 + stop_bit + 1;
+        (from < to).then_some(Fmmu {
+            from,
+            to,
+            physical: physical * 8 + u64::from(f[10] & 7),
+            read: kind & 1 != 0,
+            write: kind & 2 != 0,
+        })
+    }
+}
 
 /// One active FMMU's share of a logical datagram: the bits it maps, in the datagram's logical
 /// space and in physical memory.
@@ -28,31 +67,56 @@ impl Share {
         let last = self.physical + (self.to - self.from) - 1;
         (self.physical / 8) as u32..(last / 8 + 1) as u32
     }
+
+    /// The share as byte ranges of the datagram's data and of memory, when it is whole bytes on
+    /// both sides (as a MainDevice lays out most images); `d0` is the datagram's first bit.
+    fn bytes(&self, d0: u64) -> Option<(Range<usize>, Range<usize>)> {
+        let whole = (self.from | self.to | self.physical) & 7 == 0;
+        whole.then(|| {
+            let (d, p) = (
+                ((self.from - d0) / 8) as usize,
+                (self.physical / 8) as usize,
+            );
+            let n = ((self.to - self.from) / 8) as usize;
+            (d..d + n, p..p + n)
+        })
+    }
 }
 
 impl EmulatedEsc {
+    /// Decodes the FMMUs again after a write over `range` reached their registers.
+    pub(super) fn fmmus_written(&mut self, range: Range<u32>) {
+        let registers = u32::from(reg::FMMU0)..u32::from(reg::FMMU0) + 16 * FMMUS as u32;
+        if overlaps(&range, &registers) {
+            for n in 0..FMMUS {
+                self.fmmus[n] = Fmmu::decode(&self.mem[..], n);
+            }
+        }
+    }
+
+    /// Whether an active FMMU maps any of the `len` logical bytes at `address`: most logical
+    /// datagrams carry other SubDevices' images and pass by on this test.
+    fn maps(&self, address: u32, len: usize) -> bool {
+        let d0 = u64::from(address) * 8;
+        let d1 = d0 + len as u64 * 8;
+        self.fmmus
+            .iter()
+            .flatten()
+            .any(|f| f.from < d1 && d0 < f.to)
+    }
+
     /// FMMU `n`'s share of the logical bits `d0..d1`, if it is active and overlaps them and
     /// the memory it maps is reachable.
     fn share(&self, n: usize, d0: u64, d1: u64) -> Option<Share> {
-        let base = usize::from(reg::FMMU0) + 16 * n;
-        let f = &self.mem[base..base + 16];
-        let (kind, active) = (f[11], f[12] & 1 != 0);
-        let len = u16::from_le_bytes([f[4], f[5]]);
-        if !active || len == 0 {
-            return None;
-        }
-        let logical = u32::from_le_bytes([f[0], f[1], f[2], f[3]]);
-        let (start_bit, stop_bit) = (f[6] & 7, f[7] & 7);
-        let physical = u16::from_le_bytes([f[8], f[9]]);
-        let physical_bit = f[10] & 7;
-        let l0 = u64::from(logical) * 8 + u64::from(start_bit);
-        let l1 = (u64::from(logical) + u64::from(len) - 1) * 8 + u64::from(stop_bit) + 1;
-        let (from, to) = (l0.max(d0), l1.min(d1));
+        let fmmu = self.fmmus[n]?;
+        let (from, to) = (fmmu.from.max(d0), fmmu.to.min(d1));
         if from >= to {
             return None;
         }
-        let p0 = u64::from(physical) * 8 + u64::from(physical_bit);
-        let (pfrom, pto) = (p0 + (from - l0), p0 + (to - l0));
+        let (pfrom, pto) = (
+            fmmu.physical + (from - fmmu.from),
+            fmmu.physical + (to - fmmu.from),
+        );
         if pto > 0x1_0000 * 8 || !self.process_memory_reachable(pfrom / 8, (pto - 1) / 8) {
             return None;
         }
@@ -60,8 +124,8 @@ impl EmulatedEsc {
             from,
             to,
             physical: pfrom,
-            read: kind & 1 != 0,
-            write: kind & 2 != 0,
+            read: fmmu.read,
+            write: fmmu.write,
         })
     }
 
@@ -80,6 +144,11 @@ impl EmulatedEsc {
     /// bits to physical memory; +1 if a read FMMU took part, +2 (or +1 for LWR) if a write one
     /// did. Memory of a SyncManager the device has deactivated is not reached. A datagram no
     /// FMMU overlaps is left as it came, at no cost.
+    ///
+    /// Writes take the data as it came: they go first, and the reads then put memory into the
+    /// data. Only when a read maps memory that a write of the same datagram changes do the
+    /// reads go first (they give the memory as it was), the writes then taking a copy of the
+    /// data as it came.
     pub(super) fn logical(
         &mut self,
         address: u32,
@@ -87,54 +156,33 @@ impl EmulatedEsc {
         read: bool,
         write: bool,
     ) -> u16 {
+        if !self.maps(address, data.len()) {
+            return 0;
+        }
         let (shares, d0) = self.shares(address, data.len());
         let reads = read && shares.iter().flatten().any(|s| s.read);
         let writes = write && shares.iter().flatten().any(|s| s.write);
         if !reads && !writes {
             return 0;
         }
-        // A write puts the data as it came, before any read of the same datagram changed it.
-        let incoming = (reads && writes).then(|| data.to_vec());
-        let mut written: [Option<Range<u32>>; FMMUS] = Default::default();
-        for (n, share) in shares.iter().enumerate() {
-            let Some(s) = share else { continue };
-            // Whole bytes on both sides, as a MainDevice lays out most images: copied as bytes.
-            let bytes = (s.from % 8 == 0 && s.to % 8 == 0 && s.physical % 8 == 0).then(|| {
-                let (d, p) = (((s.from - d0) / 8) as usize, (s.physical / 8) as usize);
-                let n = ((s.to - s.from) / 8) as usize;
-                (d..d + n, p..p + n)
-            });
-            if reads && s.read {
-                if let Some((d, p)) = bytes.clone() {
-                    data[d].copy_from_slice(&self.mem[p]);
-                } else {
-                    for bit in s.from..s.to {
-                        let p = s.physical + (bit - s.from);
-                        let value = self.mem[(p / 8) as usize] >> (p % 8) & 1;
-                        let d = bit - d0;
-                        let byte = &mut data[(d / 8) as usize];
-                        *byte = (*byte & !(1 << (d % 8))) | (value << (d % 8));
-                    }
-                }
+        let rewritten = |s: &Share| {
+            shares
+                .iter()
+                .flatten()
+                .any(|w| w.write && overlaps(&w.physical_bytes(), &s.physical_bytes()))
+        };
+        let read_first = reads && writes && shares.iter().flatten().any(|s| s.read && rewritten(s));
+        if read_first {
+            let incoming = data.to_vec();
+            self.read_shares(&shares, d0, data);
+            self.write_shares(&shares, d0, &incoming);
+        } else {
+            if writes {
+                self.write_shares(&shares, d0, data);
             }
-            if writes && s.write {
-                let source = incoming.as_deref().unwrap_or(data);
-                if let Some((d, p)) = bytes {
-                    self.mem[p].copy_from_slice(&source[d]);
-                } else {
-                    for bit in s.from..s.to {
-                        let p = s.physical + (bit - s.from);
-                        let d = bit - d0;
-                        let value = source[(d / 8) as usize] >> (d % 8) & 1;
-                        let byte = &mut self.mem[(p / 8) as usize];
-                        *byte = (*byte & !(1 << (p % 8))) | (value << (p % 8));
-                    }
-                }
-                written[n] = Some(s.physical_bytes());
+            if reads {
+                self.read_shares(&shares, d0, data);
             }
-        }
-        for range in written.into_iter().flatten() {
-            self.after_write(range);
         }
         let mut wkc = 0;
         if reads {
@@ -144,6 +192,45 @@ impl EmulatedEsc {
             wkc += if read { 2 } else { 1 };
         }
         wkc
+    }
+
+    /// Puts the memory the read shares map into `data` (the datagram's, from logical bit `d0`).
+    fn read_shares(&self, shares: &[Option<Share>; FMMUS], d0: u64, data: &mut [u8]) {
+        for s in shares.iter().flatten().filter(|s| s.read) {
+            if let Some((d, p)) = s.bytes(d0) {
+                data[d].copy_from_slice(&self.mem[p]);
+                continue;
+            }
+            for bit in s.from..s.to {
+                let p = s.physical + (bit - s.from);
+                let value = self.mem[(p / 8) as usize] >> (p % 8) & 1;
+                let d = bit - d0;
+                let byte = &mut data[(d / 8) as usize];
+                *byte = (*byte & !(1 << (d % 8))) | (value << (d % 8));
+            }
+        }
+    }
+
+    /// Puts `source` (the datagram's data as it came, from logical bit `d0`) into the memory
+    /// the write shares map, then reports what the writes did (a buffer's last byte written).
+    fn write_shares(&mut self, shares: &[Option<Share>; FMMUS], d0: u64, source: &[u8]) {
+        for s in shares.iter().flatten().filter(|s| s.write) {
+            if let Some((d, p)) = s.bytes(d0) {
+                self.mem[p].copy_from_slice(&source[d]);
+                continue;
+            }
+            for bit in s.from..s.to {
+                let p = s.physical + (bit - s.from);
+                let d = bit - d0;
+                let value = source[(d / 8) as usize] >> (d % 8) & 1;
+                let byte = &mut self.mem[(p / 8) as usize];
+                *byte = (*byte & !(1 << (p % 8))) | (value << (p % 8));
+            }
+        }
+        for s in shares.iter().flatten().filter(|s| s.write) {
+            self.fmmus_written(s.physical_bytes());
+            self.after_write(s.physical_bytes());
+        }
     }
 
     /// Whether the datagram `header`, reaching this ESC as it is, reads any byte of physical
@@ -164,7 +251,11 @@ impl EmulatedEsc {
             Fprd | Fprw | Frmw => self.fixed_match(header.adp) && physical(),
             Brd | Brw => physical(),
             Lrd | Lrw => {
-                let (shares, _) = self.shares(header.logical_address(), usize::from(header.len));
+                let (address, len) = (header.logical_address(), usize::from(header.len));
+                if !self.maps(address, len) {
+                    return false;
+                }
+                let (shares, _) = self.shares(address, len);
                 shares
                     .iter()
                     .flatten()
