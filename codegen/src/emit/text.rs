@@ -122,3 +122,54 @@ pub fn literal_array(out: &mut String, at: usize, head: &str, elems: &[String]) 
     indent(out, at);
     out.push_str("];\n");
 }
+
+/// The number of decimal digits of `n`.
+pub(crate) fn decimal_digits(n: u32) -> usize {
+    n.checked_ilog10().map_or(1, |log| log as usize + 1)
+}
+
+/// Appends `n` in decimal (`format!("{n}")` without the formatter: thousands of entries).
+pub(crate) fn push_decimal(out: &mut String, n: u32) {
+    let mut digits = [0u8; 10];
+    let mut at = digits.len();
+    let mut rest = n;
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (rest % 10) as u8;
+        rest /= 10;
+        if rest == 0 {
+            break;
+        }
+    }
+    for &digit in &digits[at..] {
+        out.push(char::from(digit));
+    }
+}
+
+/// Appends `n` as four upper-case hex digits (`{:04X}`).
+pub(crate) fn push_hex4(out: &mut String, n: u16) {
+    const HEX: &[u8; 16] = b"0123456789ABCDEF";
+    for shift in [12, 8, 4, 0] {
+        out.push(char::from(HEX[usize::from((n >> shift) & 0xF)]));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_written_by_hand_read_as_formatted() {
+        for n in [0u32, 7, 9, 10, 99, 100, 255, 65_535, u32::MAX] {
+            let mut out = String::new();
+            push_decimal(&mut out, n);
+            assert_eq!(out, n.to_string());
+            assert_eq!(decimal_digits(n), n.to_string().len());
+        }
+        for n in [0u16, 0x1018, 0xABCD, 0xFFFF] {
+            let mut out = String::new();
+            push_hex4(&mut out, n);
+            assert_eq!(out, format!("{n:04X}"));
+        }
+    }
+}
