@@ -41,10 +41,10 @@ pub struct EntryPlan {
     /// One-paragraph rustdoc for the typed address.
     pub short_doc: Vec<String>,
     /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise.
-    pub const_name: Ident,
+    pub const_name: String,
     /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR); one
     /// shared by the object's entries.
-    pub module: Option<Rc<Ident>>,
+    pub module: Option<Rc<str>>,
     /// The name of the entry's object, escaped for rustdoc; one shared by the object's entries.
     pub object_title: Rc<str>,
     /// Where the value starts in the value image (set once the whole device is planned).
@@ -58,7 +58,7 @@ impl EntryPlan {
     pub fn path(&self) -> String {
         match &self.module {
             Some(module) => format!("{module}::{}", self.const_name),
-            None => self.const_name.to_string(),
+            None => self.const_name.clone(),
         }
     }
 
@@ -223,7 +223,7 @@ impl Planner<'_> {
         let mut entries = Vec::with_capacity(object.subs.len());
         let mut ok = true;
         let base = self.base_name(object);
-        let module = Rc::new(self.module_name(object));
+        let module: Rc<str> = self.module_name(object).into();
         let object_title: Rc<str> = doc_text(&object.name).into();
         let numbering = self.numbering(object);
         let mut members = Namespace::with_capacity(object.subs.len());
@@ -258,7 +258,7 @@ impl Planner<'_> {
     }
 
     /// A VAR's constant in `od`: the overlay's name of its entry or object, else the object's.
-    fn var_name(&mut self, object: &Object, base: String) -> Ident {
+    fn var_name(&mut self, object: &Object, base: String) -> String {
         let wanted = match self.device.naming.entries.get(&(object.index, 0)) {
             Some(name) => ident(name, Case::Shouty, "SUB0"),
             None => base,
@@ -269,11 +269,11 @@ impl Planner<'_> {
         if let Some(wanted) = renamed {
             self.renamed(object.span, "constant", &wanted, &name);
         }
-        id(&name)
+        name
     }
 
     /// An ARRAY's or RECORD's module in `od`: the snake case of its (overlay's) name.
-    fn module_name(&mut self, object: &Object) -> Ident {
+    fn module_name(&mut self, object: &Object) -> String {
         let name = self
             .device
             .naming
@@ -287,7 +287,7 @@ impl Planner<'_> {
         if let Some(wanted) = renamed {
             self.renamed(object.span, "module", &wanted, &name);
         }
-        id(&name)
+        name
     }
 
     /// The device's numbering of an ARRAY's elements (the overlay's [numbering]): the number of
@@ -309,7 +309,7 @@ impl Planner<'_> {
         numbering: Option<(u32, usize)>,
         sub: &SubObject,
         members: &mut Namespace,
-    ) -> Ident {
+    ) -> String {
         let naming = &self.device.naming;
         let sub_index = sub.sub_index;
         let renamed = naming
@@ -337,7 +337,7 @@ impl Planner<'_> {
         if let Some(wanted) = renamed {
             self.renamed(sub.span, "constant", &wanted, &name);
         }
-        id(&name)
+        name
     }
 
     /// One entry's plan; `object_title` is the object's name escaped for rustdoc (made once per
@@ -346,7 +346,7 @@ impl Planner<'_> {
         &mut self,
         object: &Object,
         sub: &SubObject,
-        const_name: Ident,
+        const_name: String,
         object_title: &Rc<str>,
     ) -> Option<EntryPlan> {
         let EntryValue {

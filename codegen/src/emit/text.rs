@@ -79,18 +79,18 @@ pub fn docs<S: AsRef<str>>(out: &mut String, at: usize, lines: &[S]) {
 /// Appends `HEAD[e0, e1, ...];` for an array of literals, the way `prettyplease` fills one:
 /// on one line if it fits, else broken after `[`, as many elements per line as fit, a trailing
 /// comma and `];` on a line of its own. `head` is the item up to the `[`.
-pub fn literal_array(out: &mut String, at: usize, head: &str, elems: &[String]) {
+pub fn literal_array<S: AsRef<str>>(out: &mut String, at: usize, head: &str, elems: &[S]) {
     indent(out, at);
     out.push_str(head);
     // `[a, b, c];`: each element and its separator, or `[` and `];` for the first.
-    let one_line = elems.iter().map(|e| e.len() + 2).sum::<usize>() + 1;
+    let one_line = elems.iter().map(|e| e.as_ref().len() + 2).sum::<usize>() + 1;
     if elems.is_empty() || at + head.len() + one_line <= MARGIN {
         out.push('[');
         for (i, elem) in elems.iter().enumerate() {
             if i > 0 {
                 out.push_str(", ");
             }
-            out.push_str(elem);
+            out.push_str(elem.as_ref());
         }
         out.push_str("];\n");
         return;
@@ -99,6 +99,7 @@ pub fn literal_array(out: &mut String, at: usize, head: &str, elems: &[String]) 
     let inner = at + 4;
     let mut column = 0;
     for (i, elem) in elems.iter().enumerate() {
+        let elem = elem.as_ref();
         // A break is taken unless the next element (with its comma, but for the last one)
         // still fits after a space.
         let last = i + 1 == elems.len();
@@ -146,6 +147,42 @@ pub(crate) fn push_decimal(out: &mut String, n: u32) {
     }
 }
 
+/// Numbers in decimal, written into one buffer and read back as one `&str` each: the cells of
+/// a table of thousands of numbers (`OFFSETS`, `DEFAULTS`) without a `String` each.
+pub(crate) struct Decimals {
+    digits: String,
+    ends: Vec<usize>,
+}
+
+impl Decimals {
+    /// `values`, each written as `{n}` writes it.
+    pub(crate) fn new(values: impl ExactSizeIterator<Item = u32>) -> Self {
+        let mut digits = String::with_capacity(values.len() * 5);
+        let mut ends = Vec::with_capacity(values.len());
+        for n in values {
+            push_decimal(&mut digits, n);
+            ends.push(digits.len());
+        }
+        Decimals { digits, ends }
+    }
+
+    /// Each number's text, in order.
+    pub(crate) fn cells(&self) -> Vec<&str> {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts
+            .zip(&self.ends)
+            .map(|(start, &end)| &self.digits[start..end])
+            .collect()
+    }
+}
+
+/// Appends `n` as two upper-case hex digits (`{:02X}`).
+pub(crate) fn push_hex2(out: &mut String, n: u8) {
+    const HEX: &[u8; 16] = b"0123456789ABCDEF";
+    out.push(char::from(HEX[usize::from(n >> 4)]));
+    out.push(char::from(HEX[usize::from(n & 0xF)]));
+}
+
 /// Appends `n` as four upper-case hex digits (`{:04X}`).
 pub(crate) fn push_hex4(out: &mut String, n: u16) {
     const HEX: &[u8; 16] = b"0123456789ABCDEF";
@@ -171,5 +208,15 @@ mod tests {
             push_hex4(&mut out, n);
             assert_eq!(out, format!("{n:04X}"));
         }
+        for n in [0u8, 0x0A, 0x10, 0xFF] {
+            let mut out = String::new();
+            push_hex2(&mut out, n);
+            assert_eq!(out, format!("{n:02X}"));
+        }
+        let numbers = [0u32, 5, 10, 65_535, 7];
+        let decimals = Decimals::new(numbers.iter().copied());
+        let expected: Vec<String> = numbers.iter().map(u32::to_string).collect();
+        assert_eq!(decimals.cells(), expected);
+        assert!(Decimals::new(std::iter::empty()).cells().is_empty());
     }
 }

@@ -147,9 +147,10 @@ fn defaults(plan: &Plan, image: &[u8]) -> String {
     ];
     text::docs(&mut out, ITEM_INDENT, &doc);
     text::docs(&mut out, ITEM_INDENT, &default_table(plan));
-    let runs: Vec<String> = default_runs(image).iter().map(u8::to_string).collect();
+    let runs = default_runs(image);
     let head = format!("const DEFAULTS: [u8; {}] = ", runs.len());
-    text::literal_array(&mut out, ITEM_INDENT, &head, &runs);
+    let runs = text::Decimals::new(runs.iter().map(|&b| u32::from(b)));
+    text::literal_array(&mut out, ITEM_INDENT, &head, &runs.cells());
     out
 }
 
@@ -307,16 +308,22 @@ fn entries_and_offsets(plan: &Plan) -> String {
     if n == 0 {
         out.push_str("[];\n");
     } else {
+        // `E::new(0xIIII, 0xSS, D::TYPE, A::ACCESS, PDO_MAPPABLE)`, written without the
+        // formatter (thousands of rows).
         let row = |out: &mut String, e: &EntryPlan| {
-            let _ = write!(
-                out,
-                "E::new(0x{:04X}, 0x{:02X}, D::{}, A::{}, {})",
-                e.index,
-                e.sub,
-                data_type_variant(e.basic),
-                access_variant(e.access),
-                e.pdo_mappable
-            );
+            out.push_str("E::new(0x");
+            text::push_hex4(out, e.index);
+            out.push_str(", 0x");
+            text::push_hex2(out, e.sub);
+            out.push_str(", D::");
+            out.push_str(data_type_variant(e.basic));
+            out.push_str(", A::");
+            out.push_str(access_variant(e.access));
+            out.push_str(if e.pdo_mappable {
+                ", true)"
+            } else {
+                ", false)"
+            });
         };
         let inner = ITEM_INDENT + 4;
         out.push_str("{\n");
@@ -360,9 +367,10 @@ fn entries_and_offsets(plan: &Plan) -> String {
             " capacity is the room up to the next one).",
         ],
     );
-    let offsets: Vec<String> = plan.entries.iter().map(|e| e.offset.to_string()).collect();
+    // The planner keeps offsets below 65536 (EDS707).
+    let offsets = text::Decimals::new(plan.entries.iter().map(|e| e.offset as u32));
     let head = format!("static OFFSETS: [u16; {n}] = ");
-    text::literal_array(&mut out, ITEM_INDENT, &head, &offsets);
+    text::literal_array(&mut out, ITEM_INDENT, &head, &offsets.cells());
     out
 }
 
