@@ -56,6 +56,12 @@ impl Policy {
         self.deny_warnings = true;
     }
 
+    /// Whether the policy can make an info an error (it denies a code): when it cannot, a
+    /// caller that shows no infos need not make them.
+    pub fn raises_infos(&self) -> bool {
+        !self.denied.is_empty()
+    }
+
     /// The allowed codes, in the order given.
     pub fn allowed(&self) -> &[&'static str] {
         &self.allowed

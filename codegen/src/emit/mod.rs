@@ -45,13 +45,41 @@ pub fn module_name(requested: &str) -> String {
     names::ident(requested, names::Case::Snake, "device")
 }
 
+/// Whether the emitter reports infos beside its warnings and errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Infos {
+    /// Infos too: EDS705 for every entry without a default value, and the others.
+    Reported,
+    /// None, for a caller that shows none (the build script, `edsgen generate`): a file without
+    /// defaults has thousands, not worth making unseen.
+    Skipped,
+}
+
 /// Generates the module for one device. On an `EDS7xx` error, returns every diagnostic the
 /// emitter found (errors included) and no code.
 pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<Diagnostic>> {
+    generate_module_reporting(device, module, Infos::Reported)
+}
+
+/// [`generate_module`], with infos in the diagnostics only when `infos` says so.
+pub fn generate_module_reporting(
+    device: &Device,
+    module: &str,
+    infos: Infos,
+) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
     let mut plan = match &device.bus {
         // An ODVA EDS has no object dictionary: identity, assembly images and connections.
-        Bus::Cip(cip) => return cip::generate(device, cip, &module),
+        Bus::Cip(cip) => {
+            return cip::generate(device, cip, &module).map(|mut generated| {
+                if infos == Infos::Skipped {
+                    generated
+                        .diagnostics
+                        .retain(|d| d.severity != Severity::Info);
+                }
+                generated
+            })
+        }
         // A GSDML device has no object dictionary: its own module, from the PROFINET side.
         Bus::Profinet(pn) => {
             let tokens = profinet::module(pn, &module_doc(device), &plan::id(&module))?;
@@ -61,7 +89,7 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
         Bus::Dp(dp) => {
             return without_dictionary(device, module.clone(), dp::module(device, dp, &module))
         }
-        Bus::CanOpen | Bus::EtherCat(_) => plan::plan(device),
+        Bus::CanOpen | Bus::EtherCat(_) => plan::plan_reporting(device, infos),
     };
     let mut diagnostics = std::mem::take(&mut plan.diagnostics);
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
@@ -71,6 +99,9 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
             pdo::pdos(device, &plan, &mut diagnostics)
         }
     };
+    if infos == Infos::Skipped {
+        diagnostics.retain(|d| d.severity != Severity::Info);
+    }
     edsgen_model::diag::sort(&mut diagnostics);
     if diagnostics.iter().any(|d| d.severity == Severity::Error) {
         return Err(diagnostics);
@@ -78,7 +109,7 @@ pub fn generate_module(device: &Device, module: &str) -> Result<Generated, Vec<D
     let mut splices = text::Splices::default();
     let structs = od::structs(&plan, &mut splices);
     let table = od::descriptors(&plan, &mut splices);
-    let od_impl = od::od_impl(&plan);
+    let od_impl = od::od_impl(&mut splices);
     let addresses = od::addresses(&plan, &mut splices);
     let header = header(device);
     let module_ident = plan::id(&module);

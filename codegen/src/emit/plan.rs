@@ -14,7 +14,9 @@ use edsgen_model::diag::Diagnostic;
 use edsgen_model::model::{AccessType, BasicType, Device, Object, SubObject};
 use edsgen_model::rules;
 pub use edsgen_model::values::Initial;
-use edsgen_model::values::{entry_value, EntryValue};
+use edsgen_model::values::{entry_value, entry_value_without_infos, EntryValue};
+
+use super::Infos;
 
 /// Everything the emitter needs to know about one stored entry.
 #[derive(Debug, Clone)]
@@ -153,6 +155,7 @@ pub fn push_doc_text(out: &mut String, text: &str) {
 struct Planner<'a> {
     device: &'a Device,
     diagnostics: Vec<Diagnostic>,
+    infos: Infos,
     /// The constants of `od` (VAR objects).
     consts: Namespace,
     /// The modules of `od` (ARRAY and RECORD objects).
@@ -162,9 +165,15 @@ struct Planner<'a> {
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
 /// that are not stored).
 pub fn plan(device: &Device) -> Plan {
+    plan_reporting(device, Infos::Reported)
+}
+
+/// [`plan`], making its infos (EDS705) only when `infos` says so.
+pub fn plan_reporting(device: &Device, infos: Infos) -> Plan {
     let mut p = Planner {
         device,
         diagnostics: edsgen_model::validate::size_errors(device),
+        infos,
         consts: Namespace::default(),
         modules: Namespace::default(),
     };
@@ -356,7 +365,12 @@ impl Planner<'_> {
             init,
             limits,
             ..
-        } = entry_value(self.device, object, sub, &mut self.diagnostics)?;
+        } = match self.infos {
+            Infos::Reported => entry_value(self.device, object, sub, &mut self.diagnostics),
+            Infos::Skipped => {
+                entry_value_without_infos(self.device, object, sub, &mut self.diagnostics)
+            }
+        }?;
         let title = if sub.name != object.name && object.object_type.has_subs() {
             let mut title = String::with_capacity(object_title.len() + 2 + sub.name.len() + 8);
             title.push_str(object_title);

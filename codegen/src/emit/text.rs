@@ -142,9 +142,12 @@ pub(crate) fn push_decimal(out: &mut String, n: u32) {
             break;
         }
     }
-    for &digit in &digits[at..] {
-        out.push(char::from(digit));
-    }
+    push_ascii(out, &digits[at..]);
+}
+
+/// Appends ASCII bytes (digits) in one copy rather than a `char` each.
+fn push_ascii(out: &mut String, ascii: &[u8]) {
+    out.push_str(std::str::from_utf8(ascii).unwrap_or_default());
 }
 
 /// Numbers in decimal, written into one buffer and read back as one `&str` each: the cells of
@@ -176,19 +179,19 @@ impl Decimals {
     }
 }
 
+const HEX: &[u8; 16] = b"0123456789ABCDEF";
+
 /// Appends `n` as two upper-case hex digits (`{:02X}`).
 pub(crate) fn push_hex2(out: &mut String, n: u8) {
-    const HEX: &[u8; 16] = b"0123456789ABCDEF";
-    out.push(char::from(HEX[usize::from(n >> 4)]));
-    out.push(char::from(HEX[usize::from(n & 0xF)]));
+    push_ascii(out, &[HEX[usize::from(n >> 4)], HEX[usize::from(n & 0xF)]]);
 }
 
 /// Appends `n` as four upper-case hex digits (`{:04X}`).
 pub(crate) fn push_hex4(out: &mut String, n: u16) {
-    const HEX: &[u8; 16] = b"0123456789ABCDEF";
-    for shift in [12, 8, 4, 0] {
-        out.push(char::from(HEX[usize::from((n >> shift) & 0xF)]));
-    }
+    push_ascii(
+        out,
+        &[12, 8, 4, 0].map(|shift| HEX[usize::from((n >> shift) & 0xF)]),
+    );
 }
 
 #[cfg(test)]
