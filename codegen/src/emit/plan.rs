@@ -38,10 +38,13 @@ pub struct EntryPlan {
     /// LowLimit and HighLimit, when the entry has at least one usable limit (the type's range,
     /// or an infinity for a REAL, stands in for the missing one).
     pub limits: Option<(Number, Number)>,
-    /// The entry's name for rustdoc (`Object: Sub` for a sub-entry), escaped.
-    pub title: String,
-    /// One-paragraph rustdoc for the typed address.
-    pub short_doc: Vec<String>,
+    /// Whether the entry's rustdoc name is `Object: Sub` (a sub-entry named apart from its
+    /// object), or its own name alone (see [`EntryPlan::title`]).
+    pub titled_by_object: bool,
+    /// The typed address's rustdoc: its first line (name, place, type, access, value).
+    pub doc: String,
+    /// Its further lines (the entry's Denotation, unit, description and factor), if any.
+    pub notes: Vec<String>,
     /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise.
     pub const_name: String,
     /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR); one
@@ -62,6 +65,22 @@ impl EntryPlan {
             Some(module) => format!("{module}::{}", self.const_name),
             None => self.const_name.clone(),
         }
+    }
+
+    /// The entry's name for rustdoc (`Object: Sub` for a sub-entry), escaped.
+    pub fn title(&self) -> String {
+        let mut title = String::with_capacity(self.object_title.len() + self.own_name.len() + 8);
+        self.push_title(&mut title);
+        title
+    }
+
+    /// [`Self::title`] appended to `out` (written straight into the entry's rustdoc).
+    fn push_title(&self, out: &mut String) {
+        if self.titled_by_object {
+            out.push_str(&self.object_title);
+            out.push_str(": ");
+        }
+        push_doc_text(out, &self.own_name);
     }
 
     /// The field name for PDO structs mapping this entry: snake case of its own name. Made
@@ -127,15 +146,9 @@ pub fn doc_text(text: &str) -> String {
 
 /// [`doc_text`] appended to `out` (an entry's title is written straight into its string).
 pub fn push_doc_text(out: &mut String, text: &str) {
-    // Most text needs no escape: copied whole, not char by char (slow in a debug build script).
-    let plain = |b: u8| {
-        matches!(b, b' '..=b'~')
-            && !matches!(
-                b,
-                b'[' | b']' | b'<' | b'>' | b'`' | b'*' | b'_' | b'\\' | b'#'
-            )
-    };
-    if text.bytes().all(plain) {
+    // Most text needs no escape: copied whole, not char by char (slow in a debug build script),
+    // after one table look-up a byte.
+    if text.bytes().all(|b| PLAIN[usize::from(b)]) {
         out.push_str(text);
         return;
     }
@@ -151,6 +164,21 @@ pub fn push_doc_text(out: &mut String, text: &str) {
         }
     }
 }
+
+/// The bytes [`push_doc_text`] copies as they are: printable ASCII but what rustdoc's markdown
+/// would read.
+const PLAIN: [bool; 256] = {
+    let mut plain = [false; 256];
+    let mut b = b' ';
+    while b <= b'~' {
+        plain[b as usize] = !matches!(
+            b,
+            b'[' | b']' | b'<' | b'>' | b'`' | b'*' | b'_' | b'\\' | b'#'
+        );
+        b += 1;
+    }
+    plain
+};
 
 struct Planner<'a> {
     device: &'a Device,
@@ -371,21 +399,30 @@ impl Planner<'_> {
                 entry_value_without_infos(self.device, object, sub, &mut self.diagnostics)
             }
         }?;
-        let title = if sub.name != object.name && object.object_type.has_subs() {
-            let mut title = String::with_capacity(object_title.len() + 2 + sub.name.len() + 8);
-            title.push_str(object_title);
-            title.push_str(": ");
-            push_doc_text(&mut title, &sub.name);
-            title
-        } else {
-            doc_text(&sub.name)
-        };
         // ` TITLE (IIIIh sub S: TYPE, ACCESS, PDO-mappable[, capacity N bytes][; default `V`]
         // [; limits `L` to `H`]).`, written in one string sized for it (formatting piece by
         // piece into growing strings was most of the planning).
-        let mut doc = String::with_capacity(title.len() + 160);
+        let mut entry = EntryPlan {
+            index: object.index,
+            sub: sub.sub_index,
+            basic,
+            ty,
+            access,
+            pdo_mappable: sub.pdo_mapping,
+            init,
+            limits,
+            titled_by_object: sub.name != object.name && object.object_type.has_subs(),
+            doc: String::new(),
+            notes: Vec::new(),
+            const_name,
+            module: None,
+            object_title: Rc::clone(object_title),
+            offset: 0,
+            own_name: sub.name.clone(),
+        };
+        let mut doc = String::with_capacity(object_title.len() + sub.name.len() + 160);
         doc.push(' ');
-        doc.push_str(&title);
+        entry.push_title(&mut doc);
         doc.push_str(" (");
         push_hex4(&mut doc, object.index);
         doc.push_str("h sub ");
@@ -438,37 +475,20 @@ impl Planner<'_> {
             doc.push('`');
         }
         doc.push_str(").");
-        let mut extra = Vec::new();
+        entry.doc = doc;
         if let Some(d) = &sub.denotation {
-            extra.push(format!(" Denotation: {}.", doc_text(d)));
+            entry.notes.push(format!(" Denotation: {}.", doc_text(d)));
         }
         for (key, value) in sub.custom.iter().chain(object.custom.iter()) {
             if ["unit", "description", "factor"]
                 .iter()
                 .any(|k| key.eq_ignore_ascii_case(k))
             {
-                extra.push(format!(" {}: {}.", doc_text(key), doc_text(value)));
+                entry
+                    .notes
+                    .push(format!(" {}: {}.", doc_text(key), doc_text(value)));
             }
         }
-        let mut short_doc = Vec::with_capacity(1 + extra.len());
-        short_doc.push(doc);
-        short_doc.extend(extra);
-        Some(EntryPlan {
-            index: object.index,
-            sub: sub.sub_index,
-            basic,
-            ty,
-            access,
-            pdo_mappable: sub.pdo_mapping,
-            init,
-            limits,
-            title,
-            short_doc,
-            const_name,
-            module: None,
-            object_title: Rc::clone(object_title),
-            offset: 0,
-            own_name: sub.name.clone(),
-        })
+        Some(entry)
     }
 }

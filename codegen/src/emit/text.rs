@@ -28,18 +28,15 @@ impl Splices {
         quote!(const #placeholder: () = ();)
     }
 
-    /// `formatted` with every placeholder line replaced by its text.
-    pub fn apply(&self, formatted: &str) -> String {
-        let mut out = String::with_capacity(
-            formatted.len() + self.texts.iter().map(String::len).sum::<usize>(),
-        );
+    /// Appends `formatted` to `out`, every placeholder line replaced by its text.
+    pub fn apply(&self, formatted: &str, out: &mut String) {
+        out.reserve(formatted.len() + self.texts.iter().map(String::len).sum::<usize>());
         for line in formatted.split_inclusive('\n') {
             match self.placeholder_text(line) {
                 Some(text) => out.push_str(text),
                 None => out.push_str(line),
             }
         }
-        out
     }
 
     fn placeholder_text(&self, line: &str) -> Option<&str> {
@@ -142,12 +139,9 @@ pub(crate) fn push_decimal(out: &mut String, n: u32) {
             break;
         }
     }
-    push_ascii(out, &digits[at..]);
-}
-
-/// Appends ASCII bytes (digits) in one copy rather than a `char` each.
-fn push_ascii(out: &mut String, ascii: &[u8]) {
-    out.push_str(std::str::from_utf8(ascii).unwrap_or_default());
+    for &digit in &digits[at..] {
+        out.push(char::from(digit));
+    }
 }
 
 /// Numbers in decimal, written into one buffer and read back as one `&str` each: the cells of
@@ -183,15 +177,15 @@ const HEX: &[u8; 16] = b"0123456789ABCDEF";
 
 /// Appends `n` as two upper-case hex digits (`{:02X}`).
 pub(crate) fn push_hex2(out: &mut String, n: u8) {
-    push_ascii(out, &[HEX[usize::from(n >> 4)], HEX[usize::from(n & 0xF)]]);
+    out.push(char::from(HEX[usize::from(n >> 4)]));
+    out.push(char::from(HEX[usize::from(n & 0xF)]));
 }
 
 /// Appends `n` as four upper-case hex digits (`{:04X}`).
 pub(crate) fn push_hex4(out: &mut String, n: u16) {
-    push_ascii(
-        out,
-        &[12, 8, 4, 0].map(|shift| HEX[usize::from((n >> shift) & 0xF)]),
-    );
+    for shift in [12, 8, 4, 0] {
+        out.push(char::from(HEX[usize::from((n >> shift) & 0xF)]));
+    }
 }
 
 #[cfg(test)]

@@ -164,7 +164,8 @@ fn constant(
         }
         _ => "Entry::new",
     };
-    text::docs(out, at, &e.short_doc);
+    text::docs(out, at, &[&e.doc]);
+    text::docs(out, at, &e.notes);
     address(
         out,
         at,
