@@ -18,9 +18,10 @@ use edsgen_model::values::{entry_value, entry_value_without_infos, EntryValue};
 
 use super::Infos;
 
-/// Everything the emitter needs to know about one stored entry.
+/// Everything the emitter needs to know about one stored entry (borrowing its names from the
+/// device).
 #[derive(Debug, Clone)]
-pub struct EntryPlan {
+pub struct EntryPlan<'a> {
     /// OD index.
     pub index: u16,
     /// Sub-index.
@@ -55,10 +56,10 @@ pub struct EntryPlan {
     /// Where the value starts in the value image (set once the whole device is planned).
     pub offset: usize,
     /// The entry's own name in the file (a sub-object's, not its object's).
-    pub own_name: String,
+    pub own_name: &'a str,
 }
 
-impl EntryPlan {
+impl EntryPlan<'_> {
     /// The typed address's path from `od`: `CONTROLWORD`, `identity_object::VENDOR_ID`.
     pub fn path(&self) -> String {
         match &self.module {
@@ -80,14 +81,14 @@ impl EntryPlan {
             out.push_str(&self.object_title);
             out.push_str(": ");
         }
-        push_doc_text(out, &self.own_name);
+        push_doc_text(out, self.own_name);
     }
 
     /// The field name for PDO structs mapping this entry: snake case of its own name. Made
     /// when a PDO needs it (case conversion of every entry's name was a fifth of the planning).
     pub fn pdo_name(&self) -> String {
         ident(
-            &self.own_name,
+            self.own_name,
             Case::Snake,
             &format!("object_{:04x}_{}", self.index, self.sub),
         )
@@ -96,18 +97,18 @@ impl EntryPlan {
 
 /// The plan for a whole device.
 #[derive(Debug)]
-pub struct Plan {
+pub struct Plan<'a> {
     /// Stored entries in (index, sub-index) order: their order in `ENTRIES` and the image.
-    pub entries: Vec<EntryPlan>,
+    pub entries: Vec<EntryPlan<'a>>,
     /// The value image's size in bytes: every entry's [`RustType::image_size`].
     pub image_size: usize,
     /// Diagnostics found while planning.
     pub diagnostics: Vec<Diagnostic>,
 }
 
-impl Plan {
+impl Plan<'_> {
     /// The entry at (index, sub), if stored.
-    pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan> {
+    pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan<'_>> {
         // In (index, sub-index) order: a binary search, not a scan per PDO-mapped entry.
         self.entries
             .binary_search_by_key(&(index, sub), |e| (e.index, e.sub))
@@ -192,12 +193,12 @@ struct Planner<'a> {
 
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
 /// that are not stored).
-pub fn plan(device: &Device) -> Plan {
+pub fn plan(device: &Device) -> Plan<'_> {
     plan_reporting(device, Infos::Reported)
 }
 
 /// [`plan`], making its infos (EDS705) only when `infos` says so.
-pub fn plan_reporting(device: &Device, infos: Infos) -> Plan {
+pub fn plan_reporting(device: &Device, infos: Infos) -> Plan<'_> {
     let mut p = Planner {
         device,
         diagnostics: edsgen_model::validate::size_errors(device),
@@ -230,7 +231,7 @@ pub fn plan_reporting(device: &Device, infos: Infos) -> Plan {
     }
 }
 
-impl Planner<'_> {
+impl<'a> Planner<'a> {
     fn renamed(&mut self, span: edsgen_model::model::Span, what: &str, wanted: &str, got: &str) {
         self.diagnostics.push(
             Diagnostic::new(
@@ -244,7 +245,7 @@ impl Planner<'_> {
 
     /// The entries of one object: all of them, or none when one cannot be represented (its
     /// diagnostic says why), so that an object is never half there.
-    fn object(&mut self, object: &Object) -> Vec<EntryPlan> {
+    fn object(&mut self, object: &'a Object) -> Vec<EntryPlan<'a>> {
         if !object.object_type.has_subs() {
             let Some(sub) = object.subs.get(&0).or_else(|| object.subs.values().next()) else {
                 return Vec::new();
@@ -381,11 +382,11 @@ impl Planner<'_> {
     /// object).
     fn entry(
         &mut self,
-        object: &Object,
-        sub: &SubObject,
+        object: &'a Object,
+        sub: &'a SubObject,
         const_name: String,
         object_title: &Rc<str>,
-    ) -> Option<EntryPlan> {
+    ) -> Option<EntryPlan<'a>> {
         let EntryValue {
             basic,
             ty,
@@ -418,7 +419,7 @@ impl Planner<'_> {
             module: None,
             object_title: Rc::clone(object_title),
             offset: 0,
-            own_name: sub.name.clone(),
+            own_name: &sub.name,
         };
         let mut doc = String::with_capacity(object_title.len() + sub.name.len() + 160);
         doc.push(' ');
