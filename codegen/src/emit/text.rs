@@ -126,21 +126,26 @@ pub(crate) fn decimal_digits(n: u32) -> usize {
     n.checked_ilog10().map_or(1, |log| log as usize + 1)
 }
 
+/// `00` to `99`: two digits copied at a time.
+const DIGIT_PAIRS: &str = "\
+    000102030405060708091011121314151617181920212223242526272829\
+    303132333435363738394041424344454647484950515253545556575859\
+    606162636465666768697071727374757677787980818283848586878889\
+    90919293949596979899";
+
 /// Appends `n` in decimal (`format!("{n}")` without the formatter: thousands of entries).
 pub(crate) fn push_decimal(out: &mut String, n: u32) {
-    let mut digits = [0u8; 10];
-    let mut at = digits.len();
-    let mut rest = n;
-    loop {
-        at -= 1;
-        digits[at] = b'0' + (rest % 10) as u8;
-        rest /= 10;
-        if rest == 0 {
-            break;
+    let pair = |n: u32| {
+        let at = 2 * n as usize;
+        &DIGIT_PAIRS[at..at + 2]
+    };
+    match n {
+        0..=9 => out.push_str(&pair(n)[1..]),
+        10..=99 => out.push_str(pair(n)),
+        _ => {
+            push_decimal(out, n / 100);
+            out.push_str(pair(n % 100));
         }
-    }
-    for &digit in &digits[at..] {
-        out.push(char::from(digit));
     }
 }
 
@@ -173,19 +178,28 @@ impl Decimals {
     }
 }
 
-const HEX: &[u8; 16] = b"0123456789ABCDEF";
+/// `00` to `FF`: a byte's two hex digits copied at once.
+const HEX_PAIRS: &str = "\
+    000102030405060708090A0B0C0D0E0F101112131415161718191A1B1C1D1E1F\
+    202122232425262728292A2B2C2D2E2F303132333435363738393A3B3C3D3E3F\
+    404142434445464748494A4B4C4D4E4F505152535455565758595A5B5C5D5E5F\
+    606162636465666768696A6B6C6D6E6F707172737475767778797A7B7C7D7E7F\
+    808182838485868788898A8B8C8D8E8F909192939495969798999A9B9C9D9E9F\
+    A0A1A2A3A4A5A6A7A8A9AAABACADAEAFB0B1B2B3B4B5B6B7B8B9BABBBCBDBEBF\
+    C0C1C2C3C4C5C6C7C8C9CACBCCCDCECFD0D1D2D3D4D5D6D7D8D9DADBDCDDDEDF\
+    E0E1E2E3E4E5E6E7E8E9EAEBECEDEEEFF0F1F2F3F4F5F6F7F8F9FAFBFCFDFEFF";
 
 /// Appends `n` as two upper-case hex digits (`{:02X}`).
 pub(crate) fn push_hex2(out: &mut String, n: u8) {
-    out.push(char::from(HEX[usize::from(n >> 4)]));
-    out.push(char::from(HEX[usize::from(n & 0xF)]));
+    let at = 2 * usize::from(n);
+    out.push_str(&HEX_PAIRS[at..at + 2]);
 }
 
 /// Appends `n` as four upper-case hex digits (`{:04X}`).
 pub(crate) fn push_hex4(out: &mut String, n: u16) {
-    for shift in [12, 8, 4, 0] {
-        out.push(char::from(HEX[usize::from((n >> shift) & 0xF)]));
-    }
+    let [high, low] = n.to_be_bytes();
+    push_hex2(out, high);
+    push_hex2(out, low);
 }
 
 #[cfg(test)]
@@ -194,7 +208,20 @@ mod tests {
 
     #[test]
     fn numbers_written_by_hand_read_as_formatted() {
-        for n in [0u32, 7, 9, 10, 99, 100, 255, 65_535, u32::MAX] {
+        for n in [
+            0u32,
+            7,
+            9,
+            10,
+            99,
+            100,
+            101,
+            255,
+            1_000,
+            10_009,
+            65_535,
+            u32::MAX,
+        ] {
             let mut out = String::new();
             push_decimal(&mut out, n);
             assert_eq!(out, n.to_string());
@@ -205,7 +232,7 @@ mod tests {
             push_hex4(&mut out, n);
             assert_eq!(out, format!("{n:04X}"));
         }
-        for n in [0u8, 0x0A, 0x10, 0xFF] {
+        for n in 0..=u8::MAX {
             let mut out = String::new();
             push_hex2(&mut out, n);
             assert_eq!(out, format!("{n:02X}"));
