@@ -166,6 +166,20 @@ mod tests {
     }
 
     #[test]
+    fn only_a_denied_code_can_raise_an_info() {
+        let mut policy = Policy::new();
+        assert!(!policy.raises_infos());
+        policy.allow(&rules::LONG_LINE);
+        policy.deny_warnings();
+        assert!(!policy.raises_infos());
+        policy.deny(&rules::NO_DEFAULT).expect("not allowed");
+        assert!(policy.raises_infos());
+        let info = Diagnostic::new(&rules::NO_DEFAULT, None, "m");
+        assert_eq!(info.severity, Severity::Info);
+        assert_eq!(policy.verdict(&info), Verdict::Denied("EDS705"));
+    }
+
+    #[test]
     fn refusing_keeps_the_errors_an_allow_does_not_name() {
         let error = |rule| Diagnostic::new(rule, None, "m").with_severity(Severity::Error);
         let found = [

@@ -1,6 +1,6 @@
 //! The dictionary's items that are the same in every module (`Od`, `impl Od`, the
 //! `ObjectDictionary` implementation), written as the text `prettyplease` prints for them:
-//! parsing and printing them again was a third of formatting a module. A test checks that
+//! parsing and printing them again was a quarter of formatting a module. A test checks that
 //! printing them again changes nothing.
 
 /// `Od` and `impl Od`; `Od::new` adds the node-ID to the `$NODEID` defaults when
