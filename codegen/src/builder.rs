@@ -252,7 +252,13 @@ pub fn generate_chosen_device(
     let emitted = if diags.iter().any(|d| d.severity == Severity::Error) {
         None
     } else {
-        match emit::generate_module(&loaded.device, module) {
+        // Infos are not shown, unless the policy makes some errors: then they are made.
+        let infos = if policy.raises_infos() {
+            emit::Infos::Reported
+        } else {
+            emit::Infos::Skipped
+        };
+        match emit::generate_module_reporting(&loaded.device, module, infos) {
             Ok(generated) => {
                 diags.extend(policy.apply(generated.diagnostics));
                 Some(generated.code)

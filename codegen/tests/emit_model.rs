@@ -208,6 +208,19 @@ fn missing_default_is_eds705_and_zero() {
 }
 
 #[test]
+fn skipped_infos_leave_the_code_and_every_other_diagnostic() {
+    let device = device(vec![
+        var(0x2000, "Speed", 0x04, AccessType::Rw, None, false),
+        var(0x2001, "Name", 0x09, AccessType::Ro, None, false),
+    ]);
+    let reported = emit::generate_module(&device, "x").unwrap();
+    let skipped = emit::generate_module_reporting(&device, "x", emit::Infos::Skipped).unwrap();
+    assert_eq!(reported.diagnostics.len(), 2);
+    assert!(skipped.diagnostics.is_empty());
+    assert_eq!(skipped.code, reported.code);
+}
+
+#[test]
 fn untypeable_pdo_mapping_is_eds704_and_skipped() {
     let mut mapping = object(
         0x1A00,

@@ -56,6 +56,12 @@ impl Policy {
         self.deny_warnings = true;
     }
 
+    /// Whether the policy can make an info an error (it denies a code): when it cannot, a
+    /// caller that shows no infos need not make them.
+    pub fn raises_infos(&self) -> bool {
+        !self.denied.is_empty()
+    }
+
     /// The allowed codes, in the order given.
     pub fn allowed(&self) -> &[&'static str] {
         &self.allowed
@@ -157,6 +163,20 @@ mod tests {
             policy.deny(&rules::LONG_LINE),
             Err("EDS003 is both allowed and denied".to_owned())
         );
+    }
+
+    #[test]
+    fn only_a_denied_code_can_raise_an_info() {
+        let mut policy = Policy::new();
+        assert!(!policy.raises_infos());
+        policy.allow(&rules::LONG_LINE);
+        policy.deny_warnings();
+        assert!(!policy.raises_infos());
+        policy.deny(&rules::NO_DEFAULT).expect("not allowed");
+        assert!(policy.raises_infos());
+        let info = Diagnostic::new(&rules::NO_DEFAULT, None, "m");
+        assert_eq!(info.severity, Severity::Info);
+        assert_eq!(policy.verdict(&info), Verdict::Denied("EDS705"));
     }
 
     #[test]

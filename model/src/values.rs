@@ -52,7 +52,7 @@ pub fn stored_values(device: &Device) -> Vec<EntryValue> {
     for object in device.objects.values() {
         let entries: Option<Vec<EntryValue>> = stored_entries(object)
             .into_iter()
-            .map(|sub| entry_value(device, object, sub, &mut ignored))
+            .map(|sub| entry_value_without_infos(device, object, sub, &mut ignored))
             .collect();
         values.extend(entries.unwrap_or_default());
     }
@@ -67,7 +67,25 @@ pub fn entry_value(
     sub: &SubObject,
     diagnostics: &mut Vec<Diagnostic>,
 ) -> Option<EntryValue> {
-    let mut values = Values { diagnostics };
+    let mut values = Values {
+        diagnostics,
+        infos: true,
+    };
+    values.entry(device, object, sub)
+}
+
+/// [`entry_value`] for a caller that shows no infos: the errors and warnings alone. A file
+/// without defaults has an EDS705 info for every entry (thousands), not worth making unseen.
+pub fn entry_value_without_infos(
+    device: &Device,
+    object: &Object,
+    sub: &SubObject,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Option<EntryValue> {
+    let mut values = Values {
+        diagnostics,
+        infos: false,
+    };
     values.entry(device, object, sub)
 }
 
@@ -110,6 +128,8 @@ impl Where {
 
 struct Values<'a> {
     diagnostics: &'a mut Vec<Diagnostic>,
+    /// Whether infos (EDS705) are made, or only errors and warnings.
+    infos: bool,
 }
 
 impl Values<'_> {
@@ -186,14 +206,16 @@ impl Values<'_> {
                 ));
                 return None;
             }
-            self.diagnostics.push(Diagnostic::new(
-                &rules::NO_DEFAULT,
-                Some(sub.span),
-                where_.message(
-                    &sub.name,
-                    " has no default value; it starts at zero or empty",
-                ),
-            ));
+            if self.infos {
+                self.diagnostics.push(Diagnostic::new(
+                    &rules::NO_DEFAULT,
+                    Some(sub.span),
+                    where_.message(
+                        &sub.name,
+                        " has no default value; it starts at zero or empty",
+                    ),
+                ));
+            }
             return Some(match ty {
                 RustType::Scalar(..) => Initial::Raw(0),
                 RustType::Bytes(_) => Initial::Bytes(Vec::new()),

@@ -6,7 +6,9 @@ use std::path::Path;
 use edsgen_model::model::layout::{Number, Prim, RustType};
 use edsgen_model::model::{AccessType, BasicType};
 use edsgen_model::read::read_bytes;
-use edsgen_model::values::{entry_value, stored_values, EntryValue, Initial};
+use edsgen_model::values::{
+    entry_value, entry_value_without_infos, stored_values, EntryValue, Initial,
+};
 
 const EDS: &str = "\
 [FileInfo]
@@ -105,6 +107,30 @@ fn stored_values_of_a_small_eds() {
     assert_eq!(at(0x2002), None);
     let indices: Vec<u16> = values.iter().map(|v| v.index).collect();
     assert_eq!(indices, [0x1000, 0x2000, 0x2001, 0x2003]);
+}
+
+#[test]
+fn without_infos_a_missing_default_says_nothing_and_errors_stay() {
+    let mut device = device();
+    let speed = device.objects.get_mut(&0x2000).expect("2000h");
+    speed.subs.get_mut(&0).expect("sub 0").default = None;
+    let object = &device.objects[&0x2000];
+    let mut infos = Vec::new();
+    let with = entry_value(&device, object, &object.subs[&0], &mut infos);
+    let codes: Vec<&str> = infos.iter().map(|d| d.code()).collect();
+    assert_eq!(codes, ["EDS705"]);
+    let mut none = Vec::new();
+    let without = entry_value_without_infos(&device, object, &object.subs[&0], &mut none);
+    assert!(none.is_empty());
+    assert_eq!(without, with);
+    assert_eq!(without.map(|v| v.init), Some(Initial::Raw(0)));
+    // An error is made all the same.
+    let object = &device.objects[&0x2002];
+    let mut errors = Vec::new();
+    let value = entry_value_without_infos(&device, object, &object.subs[&0], &mut errors);
+    assert_eq!(value, None);
+    let codes: Vec<&str> = errors.iter().map(|d| d.code()).collect();
+    assert_eq!(codes, ["EDS703"]);
 }
 
 #[test]

@@ -186,7 +186,8 @@ fn plan_pdo(
             index,
             &[format!("{index:04x}_{sub_index}")],
         );
-        let title = entry.title.trim();
+        let title = entry.title();
+        let title = title.trim();
         let doc = format!(
             " {title} ({index:04X}h sub {sub_index}, {}): bits {offset} to {} of the payload.",
             entry.basic.name(),

@@ -8,16 +8,20 @@ use std::rc::Rc;
 use proc_macro2::{Ident, Span as TokenSpan};
 
 use super::names::{ident, member_name, Case, Namespace};
+use super::text::{decimal_digits, push_decimal, push_hex4};
 use super::types::{Number, RustType};
 use edsgen_model::diag::Diagnostic;
 use edsgen_model::model::{AccessType, BasicType, Device, Object, SubObject};
 use edsgen_model::rules;
 pub use edsgen_model::values::Initial;
-use edsgen_model::values::{entry_value, EntryValue};
+use edsgen_model::values::{entry_value, entry_value_without_infos, EntryValue};
 
-/// Everything the emitter needs to know about one stored entry.
+use super::Infos;
+
+/// Everything the emitter needs to know about one stored entry (borrowing its names from the
+/// device).
 #[derive(Debug, Clone)]
-pub struct EntryPlan {
+pub struct EntryPlan<'a> {
     /// OD index.
     pub index: u16,
     /// Sub-index.
@@ -35,37 +39,56 @@ pub struct EntryPlan {
     /// LowLimit and HighLimit, when the entry has at least one usable limit (the type's range,
     /// or an infinity for a REAL, stands in for the missing one).
     pub limits: Option<(Number, Number)>,
-    /// The entry's name for rustdoc (`Object: Sub` for a sub-entry), escaped.
-    pub title: String,
-    /// One-paragraph rustdoc for the typed address.
-    pub short_doc: Vec<String>,
+    /// Whether the entry's rustdoc name is `Object: Sub` (a sub-entry named apart from its
+    /// object), or its own name alone (see [`EntryPlan::title`]).
+    pub titled_by_object: bool,
+    /// The typed address's rustdoc: its first line (name, place, type, access, value).
+    pub doc: String,
+    /// Its further lines (the entry's Denotation, unit, description and factor), if any.
+    pub notes: Vec<String>,
     /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise.
-    pub const_name: Ident,
+    pub const_name: String,
     /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR); one
     /// shared by the object's entries.
-    pub module: Option<Rc<Ident>>,
+    pub module: Option<Rc<str>>,
     /// The name of the entry's object, escaped for rustdoc; one shared by the object's entries.
     pub object_title: Rc<str>,
     /// Where the value starts in the value image (set once the whole device is planned).
     pub offset: usize,
     /// The entry's own name in the file (a sub-object's, not its object's).
-    pub own_name: String,
+    pub own_name: &'a str,
 }
 
-impl EntryPlan {
+impl EntryPlan<'_> {
     /// The typed address's path from `od`: `CONTROLWORD`, `identity_object::VENDOR_ID`.
     pub fn path(&self) -> String {
         match &self.module {
             Some(module) => format!("{module}::{}", self.const_name),
-            None => self.const_name.to_string(),
+            None => self.const_name.clone(),
         }
+    }
+
+    /// The entry's name for rustdoc (`Object: Sub` for a sub-entry), escaped.
+    pub fn title(&self) -> String {
+        let mut title = String::with_capacity(self.object_title.len() + self.own_name.len() + 8);
+        self.push_title(&mut title);
+        title
+    }
+
+    /// [`Self::title`] appended to `out` (written straight into the entry's rustdoc).
+    fn push_title(&self, out: &mut String) {
+        if self.titled_by_object {
+            out.push_str(&self.object_title);
+            out.push_str(": ");
+        }
+        push_doc_text(out, self.own_name);
     }
 
     /// The field name for PDO structs mapping this entry: snake case of its own name. Made
     /// when a PDO needs it (case conversion of every entry's name was a fifth of the planning).
     pub fn pdo_name(&self) -> String {
         ident(
-            &self.own_name,
+            self.own_name,
             Case::Snake,
             &format!("object_{:04x}_{}", self.index, self.sub),
         )
@@ -74,18 +97,18 @@ impl EntryPlan {
 
 /// The plan for a whole device.
 #[derive(Debug)]
-pub struct Plan {
+pub struct Plan<'a> {
     /// Stored entries in (index, sub-index) order: their order in `ENTRIES` and the image.
-    pub entries: Vec<EntryPlan>,
+    pub entries: Vec<EntryPlan<'a>>,
     /// The value image's size in bytes: every entry's [`RustType::image_size`].
     pub image_size: usize,
     /// Diagnostics found while planning.
     pub diagnostics: Vec<Diagnostic>,
 }
 
-impl Plan {
+impl Plan<'_> {
     /// The entry at (index, sub), if stored.
-    pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan> {
+    pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan<'_>> {
         // In (index, sub-index) order: a binary search, not a scan per PDO-mapped entry.
         self.entries
             .binary_search_by_key(&(index, sub), |e| (e.index, e.sub))
@@ -124,15 +147,9 @@ pub fn doc_text(text: &str) -> String {
 
 /// [`doc_text`] appended to `out` (an entry's title is written straight into its string).
 pub fn push_doc_text(out: &mut String, text: &str) {
-    // Most text needs no escape: copied whole, not char by char (slow in a debug build script).
-    let plain = |b: u8| {
-        matches!(b, b' '..=b'~')
-            && !matches!(
-                b,
-                b'[' | b']' | b'<' | b'>' | b'`' | b'*' | b'_' | b'\\' | b'#'
-            )
-    };
-    if text.bytes().all(plain) {
+    // Most text needs no escape: copied whole, not char by char (slow in a debug build script),
+    // after one table look-up a byte.
+    if text.bytes().all(|b| PLAIN[usize::from(b)]) {
         out.push_str(text);
         return;
     }
@@ -149,9 +166,25 @@ pub fn push_doc_text(out: &mut String, text: &str) {
     }
 }
 
+/// The bytes [`push_doc_text`] copies as they are: printable ASCII but what rustdoc's markdown
+/// would read.
+const PLAIN: [bool; 256] = {
+    let mut plain = [false; 256];
+    let mut b = b' ';
+    while b <= b'~' {
+        plain[b as usize] = !matches!(
+            b,
+            b'[' | b']' | b'<' | b'>' | b'`' | b'*' | b'_' | b'\\' | b'#'
+        );
+        b += 1;
+    }
+    plain
+};
+
 struct Planner<'a> {
     device: &'a Device,
     diagnostics: Vec<Diagnostic>,
+    infos: Infos,
     /// The constants of `od` (VAR objects).
     consts: Namespace,
     /// The modules of `od` (ARRAY and RECORD objects).
@@ -160,10 +193,16 @@ struct Planner<'a> {
 
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
 /// that are not stored).
-pub fn plan(device: &Device) -> Plan {
+pub fn plan(device: &Device) -> Plan<'_> {
+    plan_reporting(device, Infos::Reported)
+}
+
+/// [`plan`], making its infos (EDS705) only when `infos` says so.
+pub fn plan_reporting(device: &Device, infos: Infos) -> Plan<'_> {
     let mut p = Planner {
         device,
         diagnostics: edsgen_model::validate::size_errors(device),
+        infos,
         consts: Namespace::default(),
         modules: Namespace::default(),
     };
@@ -192,7 +231,7 @@ pub fn plan(device: &Device) -> Plan {
     }
 }
 
-impl Planner<'_> {
+impl<'a> Planner<'a> {
     fn renamed(&mut self, span: edsgen_model::model::Span, what: &str, wanted: &str, got: &str) {
         self.diagnostics.push(
             Diagnostic::new(
@@ -206,7 +245,7 @@ impl Planner<'_> {
 
     /// The entries of one object: all of them, or none when one cannot be represented (its
     /// diagnostic says why), so that an object is never half there.
-    fn object(&mut self, object: &Object) -> Vec<EntryPlan> {
+    fn object(&mut self, object: &'a Object) -> Vec<EntryPlan<'a>> {
         if !object.object_type.has_subs() {
             let Some(sub) = object.subs.get(&0).or_else(|| object.subs.values().next()) else {
                 return Vec::new();
@@ -222,7 +261,7 @@ impl Planner<'_> {
         let mut entries = Vec::with_capacity(object.subs.len());
         let mut ok = true;
         let base = self.base_name(object);
-        let module = Rc::new(self.module_name(object));
+        let module: Rc<str> = self.module_name(object).into();
         let object_title: Rc<str> = doc_text(&object.name).into();
         let numbering = self.numbering(object);
         let mut members = Namespace::with_capacity(object.subs.len());
@@ -257,7 +296,7 @@ impl Planner<'_> {
     }
 
     /// A VAR's constant in `od`: the overlay's name of its entry or object, else the object's.
-    fn var_name(&mut self, object: &Object, base: String) -> Ident {
+    fn var_name(&mut self, object: &Object, base: String) -> String {
         let wanted = match self.device.naming.entries.get(&(object.index, 0)) {
             Some(name) => ident(name, Case::Shouty, "SUB0"),
             None => base,
@@ -268,11 +307,11 @@ impl Planner<'_> {
         if let Some(wanted) = renamed {
             self.renamed(object.span, "constant", &wanted, &name);
         }
-        id(&name)
+        name
     }
 
     /// An ARRAY's or RECORD's module in `od`: the snake case of its (overlay's) name.
-    fn module_name(&mut self, object: &Object) -> Ident {
+    fn module_name(&mut self, object: &Object) -> String {
         let name = self
             .device
             .naming
@@ -286,7 +325,7 @@ impl Planner<'_> {
         if let Some(wanted) = renamed {
             self.renamed(object.span, "module", &wanted, &name);
         }
-        id(&name)
+        name
     }
 
     /// The device's numbering of an ARRAY's elements (the overlay's [numbering]): the number of
@@ -308,7 +347,7 @@ impl Planner<'_> {
         numbering: Option<(u32, usize)>,
         sub: &SubObject,
         members: &mut Namespace,
-    ) -> Ident {
+    ) -> String {
         let naming = &self.device.naming;
         let sub_index = sub.sub_index;
         let renamed = naming
@@ -336,18 +375,18 @@ impl Planner<'_> {
         if let Some(wanted) = renamed {
             self.renamed(sub.span, "constant", &wanted, &name);
         }
-        id(&name)
+        name
     }
 
     /// One entry's plan; `object_title` is the object's name escaped for rustdoc (made once per
     /// object).
     fn entry(
         &mut self,
-        object: &Object,
-        sub: &SubObject,
-        const_name: Ident,
+        object: &'a Object,
+        sub: &'a SubObject,
+        const_name: String,
         object_title: &Rc<str>,
-    ) -> Option<EntryPlan> {
+    ) -> Option<EntryPlan<'a>> {
         let EntryValue {
             basic,
             ty,
@@ -355,22 +394,36 @@ impl Planner<'_> {
             init,
             limits,
             ..
-        } = entry_value(self.device, object, sub, &mut self.diagnostics)?;
-        let title = if sub.name != object.name && object.object_type.has_subs() {
-            let mut title = String::with_capacity(object_title.len() + 2 + sub.name.len() + 8);
-            title.push_str(object_title);
-            title.push_str(": ");
-            push_doc_text(&mut title, &sub.name);
-            title
-        } else {
-            doc_text(&sub.name)
-        };
+        } = match self.infos {
+            Infos::Reported => entry_value(self.device, object, sub, &mut self.diagnostics),
+            Infos::Skipped => {
+                entry_value_without_infos(self.device, object, sub, &mut self.diagnostics)
+            }
+        }?;
         // ` TITLE (IIIIh sub S: TYPE, ACCESS, PDO-mappable[, capacity N bytes][; default `V`]
         // [; limits `L` to `H`]).`, written in one string sized for it (formatting piece by
         // piece into growing strings was most of the planning).
-        let mut doc = String::with_capacity(title.len() + 160);
+        let mut entry = EntryPlan {
+            index: object.index,
+            sub: sub.sub_index,
+            basic,
+            ty,
+            access,
+            pdo_mappable: sub.pdo_mapping,
+            init,
+            limits,
+            titled_by_object: sub.name != object.name && object.object_type.has_subs(),
+            doc: String::new(),
+            notes: Vec::new(),
+            const_name,
+            module: None,
+            object_title: Rc::clone(object_title),
+            offset: 0,
+            own_name: &sub.name,
+        };
+        let mut doc = String::with_capacity(object_title.len() + sub.name.len() + 160);
         doc.push(' ');
-        doc.push_str(&title);
+        entry.push_title(&mut doc);
         doc.push_str(" (");
         push_hex4(&mut doc, object.index);
         doc.push_str("h sub ");
@@ -423,88 +476,20 @@ impl Planner<'_> {
             doc.push('`');
         }
         doc.push_str(").");
-        let mut extra = Vec::new();
+        entry.doc = doc;
         if let Some(d) = &sub.denotation {
-            extra.push(format!(" Denotation: {}.", doc_text(d)));
+            entry.notes.push(format!(" Denotation: {}.", doc_text(d)));
         }
         for (key, value) in sub.custom.iter().chain(object.custom.iter()) {
             if ["unit", "description", "factor"]
                 .iter()
                 .any(|k| key.eq_ignore_ascii_case(k))
             {
-                extra.push(format!(" {}: {}.", doc_text(key), doc_text(value)));
+                entry
+                    .notes
+                    .push(format!(" {}: {}.", doc_text(key), doc_text(value)));
             }
         }
-        let mut short_doc = Vec::with_capacity(1 + extra.len());
-        short_doc.push(doc);
-        short_doc.extend(extra);
-        Some(EntryPlan {
-            index: object.index,
-            sub: sub.sub_index,
-            basic,
-            ty,
-            access,
-            pdo_mappable: sub.pdo_mapping,
-            init,
-            limits,
-            title,
-            short_doc,
-            const_name,
-            module: None,
-            object_title: Rc::clone(object_title),
-            offset: 0,
-            own_name: sub.name.clone(),
-        })
-    }
-}
-
-/// The number of decimal digits of `n`.
-fn decimal_digits(n: u32) -> usize {
-    n.checked_ilog10().map_or(1, |log| log as usize + 1)
-}
-
-/// Appends `n` in decimal (`format!("{n}")` without the formatter: thousands of entries).
-fn push_decimal(out: &mut String, n: u32) {
-    let mut digits = [0u8; 10];
-    let mut at = digits.len();
-    let mut rest = n;
-    loop {
-        at -= 1;
-        digits[at] = b'0' + (rest % 10) as u8;
-        rest /= 10;
-        if rest == 0 {
-            break;
-        }
-    }
-    for &digit in &digits[at..] {
-        out.push(char::from(digit));
-    }
-}
-
-/// Appends `n` as four upper-case hex digits (`{:04X}`).
-fn push_hex4(out: &mut String, n: u16) {
-    const HEX: &[u8; 16] = b"0123456789ABCDEF";
-    for shift in [12, 8, 4, 0] {
-        out.push(char::from(HEX[usize::from((n >> shift) & 0xF)]));
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn numbers_written_by_hand_read_as_formatted() {
-        for n in [0u32, 7, 9, 10, 99, 100, 255, 65_535, u32::MAX] {
-            let mut out = String::new();
-            push_decimal(&mut out, n);
-            assert_eq!(out, n.to_string());
-            assert_eq!(decimal_digits(n), n.to_string().len());
-        }
-        for n in [0u16, 0x1018, 0xABCD, 0xFFFF] {
-            let mut out = String::new();
-            push_hex4(&mut out, n);
-            assert_eq!(out, format!("{n:04X}"));
-        }
+        Some(entry)
     }
 }

@@ -85,7 +85,7 @@ pub(super) fn plan_pdo(pdo: &EcPdo, rx: bool, plan: &Plan) -> PdoPlan {
             &[format!("{:04x}_{}", entry.index, entry.sub)],
         );
         let title = match known {
-            Some(e) => e.title.trim().to_owned(),
+            Some(e) => e.title().trim().to_owned(),
             None => doc_text(entry.name.trim()),
         };
         let kind = match known {

@@ -40,10 +40,11 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
         .filter(|(_, e)| e.module.is_none())
         .collect();
     uses(&mut out, at, &flat);
+    let mut scratch = Scratch::default();
     let mut rest = &positioned[..];
     while let Some(&(position, e)) = rest.first() {
         let Some(module) = &e.module else {
-            constant(&mut out, at, position, e, "super::Od");
+            constant(&mut out, &mut scratch, at, position, e, "super::Od");
             rest = &rest[1..];
             continue;
         };
@@ -63,7 +64,14 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
         let _ = writeln!(out, "pub mod {module} {{");
         uses(&mut out, at + 4, members);
         for &(position, member) in members {
-            constant(&mut out, at + 4, position, member, "super::super::Od");
+            constant(
+                &mut out,
+                &mut scratch,
+                at + 4,
+                position,
+                member,
+                "super::super::Od",
+            );
         }
         text::indent(&mut out, at);
         out.push_str("}\n");
@@ -114,34 +122,57 @@ fn uses(out: &mut String, at: usize, entries: &[(usize, &EntryPlan)]) {
     }
 }
 
+/// An address's type and constructor arguments, written anew for each entry into the same two
+/// buffers (thousands of entries: a string per piece was most of this item's cost).
+#[derive(Default)]
+struct Scratch {
+    ty: String,
+    args: String,
+}
+
 /// One entry's typed address with its rustdoc, branded with the dictionary at `dict`.
-fn constant(out: &mut String, at: usize, position: usize, e: &EntryPlan, dict: &str) {
-    // The type and the constructor's arguments, written once into one small buffer each
-    // (thousands of entries: a string per piece was most of this item's cost).
-    let mut ty = String::with_capacity(16);
+fn constant(
+    out: &mut String,
+    scratch: &mut Scratch,
+    at: usize,
+    position: usize,
+    e: &EntryPlan,
+    dict: &str,
+) {
+    let Scratch { ty, args } = scratch;
+    ty.clear();
     match e.ty {
         RustType::Bytes(n) => {
-            let _ = write!(ty, "FixedBytes<{n}>");
+            // A capacity fits the image's 16-bit offsets (EDS707).
+            ty.push_str("FixedBytes<");
+            text::push_decimal(ty, n as u32);
+            ty.push('>');
         }
         RustType::Scalar(prim, _) => ty.push_str(prim.name()),
     }
-    let mut args = String::with_capacity(20);
-    let _ = write!(args, "0x{:04X}, 0x{:02X}", e.index, e.sub);
+    // `0xIIII, 0xSS[, WIDTH]`
+    args.clear();
+    args.push_str("0x");
+    text::push_hex4(args, e.index);
+    args.push_str(", 0x");
+    text::push_hex2(args, e.sub);
     let constructor = match e.ty {
         RustType::Scalar(prim, wire) if (wire as u32) * 8 < prim.bits() && prim != Prim::Bool => {
-            let _ = write!(args, ", {wire}");
+            args.push_str(", ");
+            text::push_decimal(args, wire as u32);
             "Entry::with_width"
         }
         _ => "Entry::new",
     };
-    text::docs(out, at, &e.short_doc);
+    text::docs(out, at, &[&e.doc]);
+    text::docs(out, at, &e.notes);
     address(
         out,
         at,
-        (&e.const_name.to_string(), dict),
-        &ty,
+        (&e.const_name, dict),
+        ty,
         access_marker(e.access),
-        (constructor, &args),
+        (constructor, args),
         position,
     );
 }
@@ -196,13 +227,18 @@ fn address(
     let link = |out: &mut String, link: usize| match link {
         0 => out.push_str(marker.map_or("", access_constructor)),
         1 => {
-            let _ = write!(out, ".at_position({position})");
+            // Positions in `ENTRIES` are below 65536, as its offsets are (EDS707).
+            out.push_str(".at_position(");
+            text::push_decimal(out, position as u32);
+            out.push(')');
         }
         _ => out.push_str(".in_dictionary();"),
     };
     text::indent(out, at);
     if at + head_len > text::MARGIN {
-        let _ = writeln!(out, "pub const {name}: Entry<");
+        out.push_str("pub const ");
+        out.push_str(name);
+        out.push_str(": Entry<\n");
         for param in params() {
             text::indent(out, at + 4);
             out.push_str(param);

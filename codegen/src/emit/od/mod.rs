@@ -13,6 +13,7 @@ use super::text::{self, Splices, ITEM_INDENT};
 use super::types::{access_variant, data_type_variant, NumberTokens, Prim, RustType};
 
 mod addresses;
+mod fixed;
 pub use addresses::addresses;
 
 /// The `Od` struct (the value image), `Od::new` and the typed `get`/`set`; `DEFAULTS` as text.
@@ -47,22 +48,18 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
     }
     let defaults = splices.item(defaults(plan, &image));
     let node_count = Literal::usize_unsuffixed(node_relative.len());
-    let (node_param, node_table, add_node_id) = if node_relative.is_empty() {
-        let none = quote!(
+    let node_table = if node_relative.is_empty() {
+        quote!(
             const NODE_RELATIVE: [(u16, u8); 0] = [];
-        );
-        (quote!(_node_id), none, quote!())
-    } else {
-        (
-            quote!(node_id),
-            quote! {
-                /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
-                /// image, width).
-                const NODE_RELATIVE: [(u16, u8); #node_count] = [#(#node_relative),*];
-            },
-            quote!(::edsgen_runtime::support::add_node_id(&mut od.values, &NODE_RELATIVE, node_id);),
         )
+    } else {
+        quote! {
+            /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
+            /// image, width).
+            const NODE_RELATIVE: [(u16, u8); #node_count] = [#(#node_relative),*];
+        }
     };
+    let od = splices.item(fixed::od_struct(!node_relative.is_empty()));
     quote! {
         /// The size of the value image in bytes.
         const IMAGE_SIZE: usize = #size;
@@ -76,48 +73,7 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
 
         #node_table
 
-        /// The object dictionary: every entry's value, little-endian, in one byte array laid out
-        /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
-        /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
-        #[derive(Debug, Clone, PartialEq)]
-        pub struct Od {
-            values: [u8; IMAGE_SIZE],
-            /// An SDO download of a string, octet string or domain until it completes.
-            stage: ::edsgen_runtime::support::Stage<STAGE_SIZE>,
-        }
-
-        impl Od {
-            /// The dictionary with every entry at its default (a DCF's ParameterValue where
-            /// given); `$NODEID` defaults are computed from `node_id`.
-            pub const fn new(#node_param: u8) -> Self {
-                let mut od = Od { values: [0; IMAGE_SIZE], stage: ::edsgen_runtime::support::Stage::new() };
-                ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
-                #add_node_id
-                od
-            }
-
-            /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
-            /// branded `Entry<T, Od>`) of any access: it is here, at its recorded position, with
-            /// its type, so the read cannot fail.
-            pub fn get<T: ::edsgen_runtime::OdValue + Default, A>(&self, entry: ::edsgen_runtime::Entry<T, Od, A>) -> T {
-                // Only a forged brand (`Entry::in_dictionary` by hand) reaches the default.
-                LAYOUT.get(&self.values, entry).unwrap_or_default()
-            }
-
-            /// The value of an address from elsewhere (`Entry::new`, another device's module);
-            /// `None` if this dictionary does not hold it with that type.
-            pub fn get_checked<T: ::edsgen_runtime::OdValue, D, A>(&self, entry: ::edsgen_runtime::Entry<T, D, A>) -> Option<T> {
-                LAYOUT.get(&self.values, entry)
-            }
-
-            /// Sets `entry` (a typed address from `od`, or from elsewhere) to `value`, checked
-            /// like an SDO write (length, BOOLEAN, LowLimit/HighLimit) but not against access
-            /// rights: the application keeps its read-only entries current. On error the value
-            /// is unchanged.
-            pub fn set<T: ::edsgen_runtime::OdValue, D, A>(&mut self, entry: ::edsgen_runtime::Entry<T, D, A>, value: T) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                LAYOUT.set(&mut self.values, entry, &value)
-            }
-        }
+        #od
     }
 }
 
@@ -147,9 +103,10 @@ fn defaults(plan: &Plan, image: &[u8]) -> String {
     ];
     text::docs(&mut out, ITEM_INDENT, &doc);
     text::docs(&mut out, ITEM_INDENT, &default_table(plan));
-    let runs: Vec<String> = default_runs(image).iter().map(u8::to_string).collect();
+    let runs = default_runs(image);
     let head = format!("const DEFAULTS: [u8; {}] = ", runs.len());
-    text::literal_array(&mut out, ITEM_INDENT, &head, &runs);
+    let runs = text::Decimals::new(runs.iter().map(|&b| u32::from(b)));
+    text::literal_array(&mut out, ITEM_INDENT, &head, &runs.cells());
     out
 }
 
@@ -307,16 +264,22 @@ fn entries_and_offsets(plan: &Plan) -> String {
     if n == 0 {
         out.push_str("[];\n");
     } else {
+        // `E::new(0xIIII, 0xSS, D::TYPE, A::ACCESS, PDO_MAPPABLE)`, written without the
+        // formatter (thousands of rows).
         let row = |out: &mut String, e: &EntryPlan| {
-            let _ = write!(
-                out,
-                "E::new(0x{:04X}, 0x{:02X}, D::{}, A::{}, {})",
-                e.index,
-                e.sub,
-                data_type_variant(e.basic),
-                access_variant(e.access),
-                e.pdo_mappable
-            );
+            out.push_str("E::new(0x");
+            text::push_hex4(out, e.index);
+            out.push_str(", 0x");
+            text::push_hex2(out, e.sub);
+            out.push_str(", D::");
+            out.push_str(data_type_variant(e.basic));
+            out.push_str(", A::");
+            out.push_str(access_variant(e.access));
+            out.push_str(if e.pdo_mappable {
+                ", true)"
+            } else {
+                ", false)"
+            });
         };
         let inner = ITEM_INDENT + 4;
         out.push_str("{\n");
@@ -360,68 +323,16 @@ fn entries_and_offsets(plan: &Plan) -> String {
             " capacity is the room up to the next one).",
         ],
     );
-    let offsets: Vec<String> = plan.entries.iter().map(|e| e.offset.to_string()).collect();
+    // The planner keeps offsets below 65536 (EDS707).
+    let offsets = text::Decimals::new(plan.entries.iter().map(|e| e.offset as u32));
     let head = format!("static OFFSETS: [u16; {n}] = ");
-    text::literal_array(&mut out, ITEM_INDENT, &head, &offsets);
+    text::literal_array(&mut out, ITEM_INDENT, &head, &offsets.cells());
     out
 }
 
-/// `impl ObjectDictionary for Od`: every access goes through `LAYOUT`, by position in
-/// `ENTRIES`; `read` and `write` find the position with one binary search.
-pub fn od_impl(_plan: &Plan) -> TokenStream {
-    quote! {
-        impl ::edsgen_runtime::ObjectDictionary for Od {
-            fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
-                &ENTRIES
-            }
-
-            fn capacity(&self, position: usize) -> Option<usize> {
-                LAYOUT.capacity(position)
-            }
-
-            fn value_len(&self, index: u16, sub: u8) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                LAYOUT.value_len(&self.values, ::edsgen_runtime::support::position(&ENTRIES, index, sub)?)
-            }
-
-            fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                self.read_at(::edsgen_runtime::support::position(&ENTRIES, index, sub)?, offset, buf)
-            }
-
-            fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                self.write_at(::edsgen_runtime::support::position(&ENTRIES, index, sub)?, data)
-            }
-
-            fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-                LAYOUT.read(&self.values, position, offset, buf)
-            }
-
-            fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                LAYOUT.write(&mut self.values, position, data)
-            }
-
-            fn begin_write(&mut self, position: usize) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                self.stage.begin(position)
-            }
-
-            fn write_part(&mut self, position: usize, offset: usize, data: &[u8]) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                self.stage.write(position, offset, data)
-            }
-
-            fn commit_write(&mut self, position: usize, len: usize) -> Result<(), ::edsgen_runtime::SdoAbort> {
-                let value = self.stage.commit(position, len)?;
-                LAYOUT.write(&mut self.values, position, value)
-            }
-
-            fn abort_write(&mut self, position: usize) {
-                self.stage.abort(position)
-            }
-
-            fn restore_defaults(&mut self, indices: ::core::ops::RangeInclusive<u16>, node_id: u8) -> bool {
-                LAYOUT.restore_defaults(&mut self.values, &DEFAULTS, &NODE_RELATIVE, node_id, indices);
-                true
-            }
-        }
-    }
+/// `impl ObjectDictionary for Od` (the same in every module: [`fixed::OD_IMPL`]).
+pub fn od_impl(splices: &mut Splices) -> TokenStream {
+    splices.item(fixed::OD_IMPL.to_owned())
 }
 
 #[cfg(test)]
