@@ -51,43 +51,27 @@ pub enum DataType {
 }
 
 impl DataType {
-    /// The fixed size in bytes, or `None` for strings and DOMAIN (variable length). Read from
-    /// a table of one byte per type rather than matched: a match is a jump table and a move per size,
-    /// about twice the flash, and the SDO server asks it for every transfer.
+    /// The fixed size in bytes, or `None` for strings and DOMAIN (variable length).
     pub const fn fixed_size(self) -> Option<usize> {
-        match FIXED_SIZES[self as usize] {
-            0 => None,
-            size => Some(size as usize),
-        }
+        Some(match self {
+            DataType::Boolean | DataType::Integer8 | DataType::Unsigned8 => 1,
+            DataType::Integer16 | DataType::Unsigned16 => 2,
+            DataType::Integer24 | DataType::Unsigned24 => 3,
+            DataType::Integer32 | DataType::Unsigned32 | DataType::Real32 => 4,
+            DataType::Integer40 | DataType::Unsigned40 => 5,
+            DataType::Integer48
+            | DataType::Unsigned48
+            | DataType::TimeOfDay
+            | DataType::TimeDifference => 6,
+            DataType::Integer56 | DataType::Unsigned56 => 7,
+            DataType::Integer64 | DataType::Unsigned64 | DataType::Real64 => 8,
+            DataType::VisibleString
+            | DataType::OctetString
+            | DataType::UnicodeString
+            | DataType::Domain => return None,
+        })
     }
 }
-
-/// [`DataType::fixed_size`] by discriminant, 0 for the variable-length types.
-const FIXED_SIZES: [u8; DataType::Domain as usize + 1] = {
-    use DataType::*;
-    let mut sizes = [0u8; DataType::Domain as usize + 1];
-    let by_size: [(&[DataType], u8); 8] = [
-        (&[Boolean, Integer8, Unsigned8], 1),
-        (&[Integer16, Unsigned16], 2),
-        (&[Integer24, Unsigned24], 3),
-        (&[Integer32, Unsigned32, Real32], 4),
-        (&[Integer40, Unsigned40], 5),
-        (&[Integer48, Unsigned48, TimeOfDay, TimeDifference], 6),
-        (&[Integer56, Unsigned56], 7),
-        (&[Integer64, Unsigned64, Real64], 8),
-    ];
-    let mut i = 0;
-    while i < by_size.len() {
-        let (types, size) = by_size[i];
-        let mut j = 0;
-        while j < types.len() {
-            sizes[types[j] as usize] = size;
-            j += 1;
-        }
-        i += 1;
-    }
-    sizes
-};
 
 /// Access rights of an entry (CiA 306 spelling).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
