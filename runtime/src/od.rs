@@ -358,3 +358,42 @@ pub trait ObjectDictionary {
         self.write(entry.index, entry.sub, data)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::DataType::{self, *};
+
+    #[test]
+    fn every_data_type_has_its_cia_301_size() {
+        let sizes: [(DataType, Option<usize>); 25] = [
+            (Boolean, Some(1)),
+            (Integer8, Some(1)),
+            (Integer16, Some(2)),
+            (Integer24, Some(3)),
+            (Integer32, Some(4)),
+            (Integer40, Some(5)),
+            (Integer48, Some(6)),
+            (Integer56, Some(7)),
+            (Integer64, Some(8)),
+            (Unsigned8, Some(1)),
+            (Unsigned16, Some(2)),
+            (Unsigned24, Some(3)),
+            (Unsigned32, Some(4)),
+            (Unsigned40, Some(5)),
+            (Unsigned48, Some(6)),
+            (Unsigned56, Some(7)),
+            (Unsigned64, Some(8)),
+            (Real32, Some(4)),
+            (Real64, Some(8)),
+            (VisibleString, None),
+            (OctetString, None),
+            (UnicodeString, None),
+            (TimeOfDay, Some(6)),
+            (TimeDifference, Some(6)),
+            (Domain, None),
+        ];
+        for (data_type, size) in sizes {
+            assert_eq!(data_type.fixed_size(), size, "{data_type:?}");
+        }
+    }
+}
