@@ -143,13 +143,15 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
             return;
         };
         let sm = self.esc.sm(n);
-        let time = u64::from(self.esc.read_u16(reg::WATCHDOG_TIME_PD));
+        let time = u32::from(self.esc.read_u16(reg::WATCHDOG_TIME_PD));
         if !sm.enabled() || sm.control & 0x40 == 0 || time == 0 {
             return;
         }
-        let divider = u64::from(self.esc.read_u16(reg::WATCHDOG_DIVIDER));
-        // One watchdog tick is (divider + 2) × 40 ns.
-        let limit_us = (divider + 2) * 40 * time / 1000;
+        let divider = u32::from(self.esc.read_u16(reg::WATCHDOG_DIVIDER));
+        // One watchdog tick is (divider + 2) × 40 ns, and 40 ns is 1/25 µs. In 32 bits: at most
+        // 65,537 × 65,535 = 2³² − 1, and a microcontroller divides that without the ~1 KB of
+        // library code a 64-bit division pulls in.
+        let limit_us = u64::from((divider + 2) * time / 25);
         let since = self.last_outputs.unwrap_or(Instant(0));
         if now.saturating_since(since).as_micros() > limit_us {
             self.esc.write_u16(reg::WATCHDOG_STATUS_PD, 0);
