@@ -558,6 +558,23 @@ fn changing_the_rpdo_transmission_type_keeps_its_deadline() {
     );
 }
 
+/// A reception arms no deadline without an event timer, so a reload that finds none (the
+/// application cleared 1400h:05 directly, then a master wrote 1400h:02) clears the slot.
+#[test]
+fn a_reload_without_an_event_timer_stops_the_deadline() {
+    let (mut node, mut bus) = started_with_rpdo_deadline(100);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), Some(ms(100)));
+    node.od_mut().set(0x1400, 5, 0);
+    bus.run_until(ms(40), &mut [&mut node]);
+    bus.inject(sdo_write(0x1400, 2, 254, 1), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), None);
+    bus.inject(frame(0x203, &[0x34, 0x12]), &mut [&mut node]);
+    assert_eq!(node.poll_timeout(), None);
+    bus.run_until(ms(1000), &mut [&mut node]);
+    assert_eq!(sent(&mut bus), at_ms(&[(40, &sdo_ok(0x1400, 2))]));
+}
+
 #[test]
 fn disabling_a_monitored_rpdo_stops_its_deadline() {
     let (mut node, mut bus) = started_with_rpdo_deadline(100);

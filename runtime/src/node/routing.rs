@@ -162,22 +162,36 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// is written, no [`Event::RpdoReceived`] is reported, and EMCY 8200h
     /// ([`error_code::PROTOCOL`]) says which PDO and why: manufacturer bytes `n` then the abort
     /// code, little-endian. The next RPDO applied whole while no other is refused clears it.
+    #[inline]
     fn apply_rpdo(&mut self, n: usize, data: &[u8]) {
         let rpdo = &mut self.rpdos[n];
         match rpdo.apply(&mut self.od, data) {
             Ok(recovered) => {
-                if rpdo.feeds_tpdo() {
-                    let mapping = *rpdo.mapping();
-                    for object in mapping.objects() {
-                        self.mark_changed(object.index, object.sub);
-                    }
+                if rpdo.feeds_tpdo() || recovered {
+                    self.rpdo_applied(n, recovered);
                 }
                 self.events.push(Event::RpdoReceived { pdo: n as u16 });
-                if recovered && !self.rpdos.iter().any(|r| r.refused()) {
-                    self.emcy.clear(&mut self.od, error_code::PROTOCOL);
-                }
             }
             Err(abort) => self.rpdo_refused(n, abort),
+        }
+    }
+
+    /// What applying RPDO `n` changes besides its values, when it changes anything: the TPDOs
+    /// that map what it wrote look for a change of state, and 8200h clears once no RPDO is
+    /// refused (`recovered`: this one was). Cold, as `Mapping::unpack`'s general path: a
+    /// speed-optimized build keeps it out of `apply_rpdo`'s frame, a size-optimized one inlines
+    /// it at its one call.
+    #[cold]
+    fn rpdo_applied(&mut self, n: usize, recovered: bool) {
+        let rpdo = &self.rpdos[n];
+        if rpdo.feeds_tpdo() {
+            let mapping = *rpdo.mapping();
+            for object in mapping.objects() {
+                self.mark_changed(object.index, object.sub);
+            }
+        }
+        if recovered && !self.rpdos.iter().any(|r| r.refused()) {
+            self.emcy.clear(&mut self.od, error_code::PROTOCOL);
         }
     }
 

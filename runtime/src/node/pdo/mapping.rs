@@ -125,24 +125,35 @@ impl Mapping {
 
     /// Writes a payload's bytes into the mapped objects, all or none: if the OD refuses a value
     /// (a limit), the objects written before it get their previous values back and the refusal
-    /// is returned. A single object needs no copy: the OD leaves a refused value unchanged.
+    /// is returned. A single object at a known position is written straight to it: the OD
+    /// leaves a refused value unchanged, so there is nothing to copy or restore.
     #[inline]
     pub fn unpack<O: ObjectDictionary + ?Sized>(
         &self,
         od: &mut O,
         data: &[u8],
     ) -> Result<(), SdoAbort> {
-        if self.count <= 1 {
-            // One object (a PDO's most common mapping), written here rather than through the
-            // loop: the OD leaves a refused value unchanged, so there is nothing to restore.
-            return match self.objects().first() {
-                Some(object) if !object.is_dummy() => match data.get(..usize::from(object.len)) {
-                    Some(bytes) => object.write(od, bytes),
-                    None => Ok(()),
-                },
-                _ => Ok(()),
+        // One object at a known position (a PDO's most common mapping; a dummy has none).
+        let object = self.objects[0];
+        if self.count == 1 && object.position != BY_ADDRESS {
+            return match data.get(..usize::from(object.len)) {
+                Some(bytes) => od.write_at(usize::from(object.position), bytes),
+                None => Ok(()),
             };
         }
+        self.unpack_any(od, data)
+    }
+
+    /// [`Mapping::unpack`] of any mapping (several objects, a dummy, an object written by its
+    /// address): the previous values are kept to restore. Cold, so that a speed-optimized build
+    /// keeps it and its calls out of the one-object path, which then needs a small frame and is
+    /// inlined; a size-optimized build inlines it at its one call, at no cost in flash.
+    #[cold]
+    fn unpack_any<O: ObjectDictionary + ?Sized>(
+        &self,
+        od: &mut O,
+        data: &[u8],
+    ) -> Result<(), SdoAbort> {
         let previous = self.pack(od);
         self.write_objects(od, data, MAX_MAPPED)
             .map_err(|(written, abort)| {

@@ -140,9 +140,11 @@ impl Rpdo {
         }
         // CiA 301, 1400h+n sub 05h: a non-zero event timer of an RPDO is its deadline; the
         // monitoring is activated with the next reception of the RPDO (after entering
-        // operational or configuring the event timer) and restarts with each one.
-        let timer = Duration::from_millis(u64::from(self.event_timer_ms));
-        *deadline = (self.event_timer_ms != 0).then(|| now + timer);
+        // operational or configuring the event timer) and restarts with each one. Without an
+        // event timer the slot stays empty ([`Rpdo::reload`]).
+        if self.event_timer_ms != 0 {
+            *deadline = Some(now + Duration::from_millis(u64::from(self.event_timer_ms)));
+        }
         let recovered = core::mem::take(&mut self.timed_out);
         if self.synchronous() {
             let mut buffer = [0u8; 8];
@@ -195,9 +197,12 @@ impl Rpdo {
     ) -> bool {
         let timed_out = self.timed_out;
         self.load(od, n);
-        if self.enabled && !event_timer_written {
+        let keeps_monitoring = self.enabled && !event_timer_written;
+        if keeps_monitoring {
             self.timed_out = timed_out;
-        } else {
+        }
+        // Without an event timer, the slot stays empty (a reception arms none).
+        if !keeps_monitoring || self.event_timer_ms == 0 {
             *deadline = None;
         }
         timed_out && !self.timed_out
