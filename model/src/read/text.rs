@@ -85,8 +85,7 @@ pub fn dos_code_page_guess(bytes: &[u8]) -> Option<(usize, u8, char, char)> {
 
 /// The 1-based line and character column of the first non-ASCII character, if any.
 pub fn first_non_ascii(text: &str) -> Option<(u32, u32)> {
-    super::ini::lines(text)
-        .iter()
+    super::ini::Lines::new(text)
         .enumerate()
         .find_map(|(number, line)| {
             let column = line.chars().position(|c| !c.is_ascii())?;
