@@ -329,15 +329,17 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006, EDS007 and
 /// EDS027.
 pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
-    let mut file = IniFile::default();
     // Index into `file.sections` of the section that receives entries, and the keys seen in the
     // current occurrence of it (compared case-insensitively).
     let mut current: Option<usize> = None;
     let mut keys_here: Vec<&str> = Vec::new();
-    // Section name (case-insensitively) -> position in `file.sections`.
-    // Both maps are sized for the densest files of the corpus (about a section per 190 bytes),
-    // so they do not grow while they fill.
+    // The sections and both maps are sized for the densest files of the corpus (about a section
+    // per 190 bytes), so they do not grow while they fill.
     let expected = text.len() / 128;
+    let mut file = IniFile {
+        sections: Vec::with_capacity(expected),
+    };
+    // Section name (case-insensitively) -> position in `file.sections`.
     let mut section_at: HashMap<Caseless<'t>, usize, FastHash> =
         HashMap::with_capacity_and_hasher(expected, FastHash::default());
     // (section, key case-insensitively) -> position in its entries, for the sections with at
