@@ -232,7 +232,13 @@ impl Reader {
         let Some((text, span)) = self.plain_value(entry) else {
             return false;
         };
-        match parse_integer(text) {
+        // `0` and `1` as written nearly always: no number parsing for them.
+        let number = match text {
+            "0" => Some(0),
+            "1" => Some(1),
+            _ => parse_integer(text),
+        };
+        match number {
             Some(0) => false,
             Some(1) => true,
             _ => {
