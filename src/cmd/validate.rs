@@ -79,8 +79,10 @@ pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>)
     let mut tally = Tally::default();
     let mut all_json: Vec<String> = Vec::new();
     let mut out = std::io::stdout().lock();
-    // Files are read and judged on every core, and printed in the order given.
-    let checked = parallel::map_in_order(files, |path| check(path, device, policy, json, color));
+    // Files are read and judged on every core, the biggest first, and printed in the order given.
+    let size = |path: &PathBuf| std::fs::metadata(path).map_or(0, |m| m.len());
+    let checked =
+        parallel::map_in_order(files, size, |path| check(path, device, policy, json, color));
     for file in checked {
         tally.add(&file.tally);
         all_json.extend(file.json);
