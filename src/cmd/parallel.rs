@@ -5,23 +5,33 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread;
 
 /// `f` of each item, in the items' order, computed on up to as many threads as there are cores;
-/// threads take the next item as they finish one, so one big file does not hold up the rest.
-pub fn map_in_order<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+/// threads take the next item as they finish one, the heaviest first by `weight` (a file's
+/// size, say), so the threads run out of work together, each finishing on a light item.
+pub fn map_in_order<T: Sync, R: Send>(
+    items: &[T],
+    weight: impl Fn(&T) -> u64,
+    f: impl Fn(&T) -> R + Sync,
+) -> Vec<R> {
     let threads = thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(items.len());
     if threads <= 1 {
         return items.iter().map(f).collect();
     }
+    let mut order: Vec<(u64, usize)> = items.iter().map(&weight).zip(0..).collect();
+    order.sort_unstable_by(|a, b| b.cmp(a));
     let next = AtomicUsize::new(0);
     let work = || {
         let mut done = Vec::new();
         loop {
-            let at = next.fetch_add(1, Ordering::Relaxed);
-            let Some(item) = items.get(at) else {
+            let taken = next.fetch_add(1, Ordering::Relaxed);
+            let Some((_, at)) = order.get(taken) else {
                 return done;
             };
-            done.push((at, f(item)));
+            let Some(item) = items.get(*at) else {
+                return done;
+            };
+            done.push((*at, f(item)));
         }
     };
     let mut done: Vec<(usize, R)> = thread::scope(|scope| {
@@ -47,15 +57,20 @@ mod tests {
     #[test]
     fn results_come_in_the_items_order() {
         let items: Vec<u64> = (0..1000).collect();
-        let squares = map_in_order(&items, |n| {
-            // Uneven work, so threads finish out of order.
-            if n % 7 == 0 {
-                std::thread::yield_now();
-            }
-            n * n
-        });
+        // Weights that reorder the work: the results still come in the items' order.
+        let squares = map_in_order(
+            &items,
+            |n| n % 10,
+            |n| {
+                // Uneven work, so threads finish out of order.
+                if n % 7 == 0 {
+                    std::thread::yield_now();
+                }
+                n * n
+            },
+        );
         assert_eq!(squares, items.iter().map(|n| n * n).collect::<Vec<_>>());
-        assert_eq!(map_in_order(&[] as &[u8], |b| *b), Vec::<u8>::new());
-        assert_eq!(map_in_order(&[3u8], |b| *b + 1), vec![4]);
+        assert_eq!(map_in_order(&[] as &[u8], |_| 0, |b| *b), Vec::<u8>::new());
+        assert_eq!(map_in_order(&[3u8], |_| 0, |b| *b + 1), vec![4]);
     }
 }

@@ -63,12 +63,12 @@ impl Tally {
     }
 }
 
-/// What one file gives: its counts and what to print for it (JSON values or rustc-style text,
-/// and text for standard error).
+/// What one file gives: its counts and what to print for it (the JSON array's items, rendered,
+/// or rustc-style text, and text for standard error).
 #[derive(Default)]
 struct Checked {
     tally: Tally,
-    json: Vec<serde_json::Value>,
+    json: Vec<String>,
     text: String,
     error_text: String,
 }
@@ -77,10 +77,12 @@ struct Checked {
 pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>) -> ExitCode {
     let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
     let mut tally = Tally::default();
-    let mut all_json = Vec::new();
+    let mut all_json: Vec<String> = Vec::new();
     let mut out = std::io::stdout().lock();
-    // Files are read and judged on every core, and printed in the order given.
-    let checked = parallel::map_in_order(files, |path| check(path, device, policy, json, color));
+    // Files are read and judged on every core, the biggest first, and printed in the order given.
+    let size = |path: &PathBuf| std::fs::metadata(path).map_or(0, |m| m.len());
+    let checked =
+        parallel::map_in_order(files, size, |path| check(path, device, policy, json, color));
     for file in checked {
         tally.add(&file.tally);
         all_json.extend(file.json);
@@ -88,7 +90,12 @@ pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>)
         let _ = out.write_all(file.text.as_bytes());
     }
     if json {
-        let text = serde_json::to_string_pretty(&all_json).unwrap_or_else(|_| "[]".into());
+        // What `serde_json::to_string_pretty` prints for the array of all items, written at once.
+        let text = if all_json.is_empty() {
+            "[]".to_owned()
+        } else {
+            format!("[\n{}\n]", all_json.join(",\n"))
+        };
         let _ = writeln!(out, "{text}");
     } else {
         let _ = writeln!(out, "{}", summary(&tally, policy));
@@ -121,7 +128,9 @@ fn check(path: &Path, device: Option<&str>, policy: &Policy, json: bool, color: 
                 format!("cannot read `{name}`: {cause}"),
             );
             if json {
-                checked.json.extend(render::json(&name, &[d]));
+                checked
+                    .json
+                    .extend(render::json(&name, &[d]).iter().map(array_item));
             } else {
                 checked.error_text = render::human(&name, "", &[d], false);
             }
@@ -174,7 +183,7 @@ fn check(path: &Path, device: Option<&str>, policy: &Policy, json: bool, color: 
                 if let (Some(object), Some(by)) = (value.as_object_mut(), denial) {
                     object.insert("denied".into(), serde_json::json!(format!("--deny {by}")));
                 }
-                checked.json.push(value);
+                checked.json.push(array_item(&value));
             }
         } else {
             for (d, denial) in shown.iter_mut().zip(&denials) {
@@ -188,6 +197,22 @@ fn check(path: &Path, device: Option<&str>, policy: &Policy, json: bool, color: 
         }
     }
     checked
+}
+
+/// One item of the JSON array `validate` prints, as `serde_json::to_string_pretty` prints it
+/// inside the array (one level in): rendered on the thread that read the file, not at the end.
+fn array_item(value: &serde_json::Value) -> String {
+    let text = serde_json::to_string_pretty(value).unwrap_or_default();
+    // JSON strings hold no raw line break: each one is the printer's, and starts a line to indent.
+    let mut item = String::with_capacity(text.len() + text.len() / 4);
+    for (at, line) in text.split('\n').enumerate() {
+        if at > 0 {
+            item.push('\n');
+        }
+        item.push_str("  ");
+        item.push_str(line);
+    }
+    item
 }
 
 /// `2 file(s) checked: 1 error(s) (1 of them denied by --deny warnings), 0 warning(s)`, with

@@ -75,8 +75,55 @@ impl Eq for Caseless<'_> {}
 
 impl std::hash::Hash for Caseless<'_> {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        for byte in self.0.bytes() {
-            state.write_u8(byte.to_ascii_lowercase());
+        // The length and the first and last eight bytes, lowercased, as two words: a word at a
+        // time, not a byte. Names that agree in all three are rare, and are told apart by `eq`.
+        let bytes = self.0.as_bytes();
+        state.write_usize(bytes.len());
+        state.write_u64(lowercase_word(bytes));
+        if let Some(tail) = bytes.len().checked_sub(8).and_then(|at| bytes.get(at..)) {
+            state.write_u64(lowercase_word(tail));
         }
+    }
+}
+
+/// Up to the first eight bytes, ASCII-lowercased, as one word (first byte lowest).
+fn lowercase_word(bytes: &[u8]) -> u64 {
+    let mut word = [0u8; 8];
+    for (slot, byte) in word.iter_mut().zip(bytes) {
+        *slot = byte.to_ascii_lowercase();
+    }
+    u64::from_le_bytes(word)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+
+    use super::{Caseless, FastHash};
+
+    #[test]
+    fn names_that_differ_in_case_only_are_one_key() {
+        let names = [
+            "",
+            "1",
+            "a",
+            "1000",
+            "1000sub1",
+            "1A00sub10",
+            "DeviceInfo",
+            "ParameterName",
+            "ParameterNameX",
+            "parameternamey",
+        ];
+        let mut at: HashMap<Caseless, usize, FastHash> = HashMap::default();
+        for (i, name) in names.iter().enumerate() {
+            assert_eq!(at.insert(Caseless(name), i), None, "{name}");
+        }
+        for (i, name) in names.iter().enumerate() {
+            let upper = name.to_ascii_uppercase();
+            assert_eq!(at.get(&Caseless(&upper)), Some(&i), "{upper}");
+        }
+        assert_eq!(at.get(&Caseless("ParameterNamey")), Some(&9));
+        assert_eq!(at.get(&Caseless("1A00sub11")), None);
     }
 }

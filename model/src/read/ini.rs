@@ -134,25 +134,93 @@ pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
 /// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
 pub fn lines(text: &str) -> Vec<&str> {
-    let bytes = text.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len() / 16 + 1);
-    let mut start = 0;
-    // `memchr2` finds the line breaks many bytes at a time (most bytes are neither CR nor LF).
-    for at in memchr::memchr2_iter(b'\n', b'\r', bytes) {
-        // The LF of a CR LF ended its line with the CR.
-        if at < start {
+    Lines::new(text).collect()
+}
+
+/// The lines of a text, as [`lines`] splits them, one at a time: the lexer walks them without
+/// a list of them (which was as big as the text again, for a file of short lines).
+pub struct Lines<'t> {
+    text: &'t str,
+    /// Where the next line starts.
+    start: usize,
+}
+
+impl<'t> Lines<'t> {
+    /// The lines of `text`.
+    pub fn new(text: &'t str) -> Self {
+        Lines { text, start: 0 }
+    }
+}
+
+impl<'t> Iterator for Lines<'t> {
+    type Item = &'t str;
+
+    fn next(&mut self) -> Option<&'t str> {
+        let bytes = self.text.as_bytes();
+        let start = self.start;
+        if start >= bytes.len() {
+            return None;
+        }
+        let end = line_end(bytes, start);
+        self.start = end + 1;
+        // The LF of a CR LF ends its line with the CR.
+        if bytes.get(end) == Some(&b'\r') && bytes.get(end + 1) == Some(&b'\n') {
+            self.start += 1;
+        }
+        Some(&self.text[start..end])
+    }
+}
+
+/// Bytes read eight at a time, as one word, for the searches below: lines are about 20 bytes,
+/// too short for a vector search to pay for its set-up.
+const ONES: u64 = 0x0101_0101_0101_0101;
+const HIGH: u64 = 0x8080_8080_8080_8080;
+
+/// The eight bytes at `at` as one word (first byte lowest), if there are eight.
+#[inline]
+fn word_at(bytes: &[u8], at: usize) -> Option<u64> {
+    let chunk = <[u8; 8]>::try_from(bytes.get(at..at.checked_add(8)?)?).ok()?;
+    Some(u64::from_le_bytes(chunk))
+}
+
+/// The offset of the first CR or LF at or after `at`, or the text's length.
+fn line_end(bytes: &[u8], mut at: usize) -> usize {
+    // The lowest byte flagged is the first one below 0Eh exactly (LF is 0Ah, CR 0Dh); the
+    // others may be false alarms, and so may the first (a tab): look at it, go on after it.
+    while let Some(word) = word_at(bytes, at) {
+        let below = word.wrapping_sub(ONES * 0x0E) & !word & HIGH;
+        if below == 0 {
+            at += 8;
             continue;
         }
-        out.push(&text[start..at]);
-        start = at + 1;
-        if bytes[at] == b'\r' && bytes.get(at + 1) == Some(&b'\n') {
-            start += 1;
+        at += (below.trailing_zeros() / 8) as usize;
+        if matches!(bytes.get(at), Some(b'\n' | b'\r')) {
+            return at;
         }
+        at += 1;
     }
-    if start < bytes.len() {
-        out.push(&text[start..]);
+    while at < bytes.len() && !matches!(bytes[at], b'\n' | b'\r') {
+        at += 1;
     }
-    out
+    at
+}
+
+/// The offset of the first `byte` in `bytes`.
+fn find_byte(bytes: &[u8], byte: u8) -> Option<usize> {
+    let mut at = 0;
+    // A byte equal to `byte` is a zero byte of `word ^ pattern`; the lowest byte flagged is the
+    // first zero byte exactly.
+    let pattern = ONES * u64::from(byte);
+    while let Some(word) = word_at(bytes, at) {
+        let zeros = word ^ pattern;
+        let flagged = zeros.wrapping_sub(ONES) & !zeros & HIGH;
+        if flagged != 0 {
+            return Some(at + (flagged.trailing_zeros() / 8) as usize);
+        }
+        at += 8;
+    }
+    let rest = bytes.get(at..).unwrap_or_default();
+    rest.iter().position(|b| *b == byte).map(|p| at + p)
 }
 
 /// Whether an ASCII byte is white space to [`char::is_whitespace`].
@@ -242,7 +310,7 @@ const PLAIN_KEY_BYTES: [bool; 256] = {
 /// A `;Key=value` comment line whose key is one of [`COMMENTED_KEYS`], as an entry.
 fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     let body = line.strip_prefix(';')?;
-    let eq = memchr::memchr(b'=', body.as_bytes())?;
+    let eq = find_byte(body.as_bytes(), b'=')?;
     let key = body[..eq].trim();
     if !COMMENTED_KEYS.iter().any(|k| k.eq_ignore_ascii_case(key)) {
         return None;
@@ -261,21 +329,28 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006, EDS007 and
 /// EDS027.
 pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
-    let mut file = IniFile::default();
     // Index into `file.sections` of the section that receives entries, and the keys seen in the
     // current occurrence of it (compared case-insensitively).
     let mut current: Option<usize> = None;
     let mut keys_here: Vec<&str> = Vec::new();
+    // The sections and both maps are sized for the densest files of the corpus (about a section
+    // per 190 bytes), so they do not grow while they fill.
+    let expected = text.len() / 128;
+    let mut file = IniFile {
+        sections: Vec::with_capacity(expected),
+    };
     // Section name (case-insensitively) -> position in `file.sections`.
-    let mut section_at: HashMap<Caseless<'t>, usize, FastHash> = HashMap::default();
+    let mut section_at: HashMap<Caseless<'t>, usize, FastHash> =
+        HashMap::with_capacity_and_hasher(expected, FastHash::default());
     // (section, key case-insensitively) -> position in its entries, for the sections with at
     // least INDEXED_FROM entries (long object lists, [xxxxValue]); smaller ones are scanned.
     const INDEXED_FROM: usize = 16;
-    let mut entry_at: HashMap<(usize, Caseless<'t>), usize, FastHash> = HashMap::default();
+    let mut entry_at: HashMap<(usize, Caseless<'t>), usize, FastHash> =
+        HashMap::with_capacity_and_hasher(expected, FastHash::default());
     // The line of the comment that the previous line was or continued: a line without `;` or
     // `=` right after it continues that comment (a comment with a line break in it, EDS027).
     let mut comment_from: Option<u32> = None;
-    for (number, line) in lines(text).into_iter().enumerate() {
+    for (number, line) in Lines::new(text).enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
         let chars = if line.len() > MAX_LINE_CHARS {
@@ -329,7 +404,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 continue;
             };
             let inner = &trimmed[1..close];
-            let name = inner.trim();
+            let name = trim_in(inner, ascii);
             let header_span = Span::new(line_no, first_col, char_len_in(&trimmed[..=close], ascii));
             if indent > 0 || name.len() != inner.len() {
                 diags.push(
@@ -341,7 +416,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                     .with_help(format!("write `[{name}]` starting in column 1")),
                 );
             }
-            let rest = trimmed[close + 1..].trim();
+            let rest = trim_in(&trimmed[close + 1..], ascii);
             if rest.starts_with(';') {
                 diags.push(Diagnostic::new(
                     &rules::INLINE_COMMENT,
@@ -392,7 +467,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             }
             continue;
         }
-        let Some(eq) = memchr::memchr(b'=', line.as_bytes()) else {
+        let Some(eq) = find_byte(line.as_bytes(), b'=') else {
             if let Some(comment_line) = after_comment {
                 diags.push(
                     Diagnostic::new(
@@ -570,9 +645,10 @@ mod tests {
 
     #[test]
     fn lines_agree_with_the_bytewise_reference() {
-        // Every text of up to 7 characters over {a, CR, LF}, and the same padded past the
-        // eight-byte stride with long runs before and after.
-        let alphabet = ['a', '\r', '\n'];
+        // Every text of up to 7 characters over {tab, CR, LF} (a tab is below 0Eh too: the
+        // word search flags it and must go on), and the same padded past the eight-byte
+        // stride with long runs before and after. `find_byte` against `position` on the same.
+        let alphabet = ['\t', '\r', '\n'];
         let mut checked = 0;
         for len in 0..=7u32 {
             for mut code in 0..3usize.pow(len) {
@@ -587,6 +663,11 @@ mod tests {
                     format!("{text}{}", "é".repeat(9)),
                 ] {
                     assert_eq!(lines(&padded), reference_lines(&padded), "{padded:?}");
+                    assert_eq!(
+                        find_byte(padded.as_bytes(), b'\r'),
+                        padded.bytes().position(|b| b == b'\r'),
+                        "{padded:?}"
+                    );
                     checked += 1;
                 }
             }

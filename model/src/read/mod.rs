@@ -3,6 +3,7 @@
 //! Reading is lenient and lossless: every dialect seen in real vendor files is accepted and
 //! reported as a diagnostic; nothing is dropped silently. Only I/O problems are errors.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use crate::diag::Diagnostic;
@@ -73,8 +74,7 @@ impl std::error::Error for ReadError {}
 
 /// Reads a description file from disk; the format comes from the extension, or the content.
 pub fn read_file(path: &Path) -> Result<Read, ReadError> {
-    let bytes = std::fs::read(path).map_err(|e| ReadError::Io(path.to_path_buf(), e))?;
-    Ok(read_bytes(path, &bytes))
+    read_file_device(path, None)
 }
 
 /// Reads a description file, picking one device of an ESI file that describes several (by type
@@ -82,7 +82,7 @@ pub fn read_file(path: &Path) -> Result<Read, ReadError> {
 /// formats describe one device and ignore the choice.
 pub fn read_file_device(path: &Path, device: Option<&str>) -> Result<Read, ReadError> {
     let bytes = std::fs::read(path).map_err(|e| ReadError::Io(path.to_path_buf(), e))?;
-    Ok(read_bytes_device(path, &bytes, device))
+    Ok(read_any(path, Cow::Owned(bytes), device))
 }
 
 /// Reads a description from bytes; `path` names it (and its extension picks the format).
@@ -92,13 +92,29 @@ pub fn read_bytes(path: &Path, bytes: &[u8]) -> Read {
 
 /// [`read_bytes`] with a device choice, as [`read_file_device`].
 pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Read {
+    read_any(path, Cow::Borrowed(bytes), device)
+}
+
+/// [`read_bytes_device`] for bytes borrowed or owned: an EDS or DCF file read into owned bytes
+/// that are UTF-8 (almost every one) becomes its text without a copy.
+fn read_any(path: &Path, bytes: Cow<'_, [u8]>, device: Option<&str>) -> Read {
     if sii::is_sii_path(path) {
-        return sii::read(path, bytes);
+        return sii::read(path, &bytes);
     }
-    if let Some(read) = not_a_description(path, bytes) {
+    if let Some(read) = not_a_description(path, &bytes) {
         return read;
     }
-    let mut read = match detect_format(path, bytes) {
+    let format = detect_format(path, &bytes);
+    let bytes = match (format, bytes) {
+        (Format::Eds | Format::Dcf, Cow::Owned(owned)) => match text::decode_owned(owned) {
+            // UTF-8 text: no DOS code page to guess below, so no bytes are needed there.
+            Ok((text, encoding)) => return finish(eds::read_text(path, text, encoding), &[]),
+            Err(owned) => Cow::Owned(owned),
+        },
+        (_, bytes) => bytes,
+    };
+    let bytes: &[u8] = &bytes;
+    let read = match format {
         Format::Eds | Format::Dcf => eds::read(path, bytes),
         Format::Xdd | Format::Xdc => xdd::read(path, bytes),
         Format::Esi => {
@@ -109,6 +125,12 @@ pub fn read_bytes_device(path: &Path, bytes: &[u8], device: Option<&str>) -> Rea
         Format::Gsdml => gsdml::read(path, bytes),
         Format::Gsd => return gsd::read(path, bytes),
     };
+    finish(read, bytes)
+}
+
+/// What every format but GSD gets after reading: the DOS code page guess for a Windows-1252
+/// file (from its `bytes`), and the dialect diagnostics aggregated.
+fn finish(mut read: Read, bytes: &[u8]) -> Read {
     if read.device.source.encoding == TextEncoding::Windows1252 {
         if let Some(guess) = dos_code_page_guess(bytes) {
             // The guess says more than "not ASCII" at the same byte: it replaces that one.

@@ -34,6 +34,19 @@ pub fn decode(bytes: &[u8]) -> (String, TextEncoding) {
     }
 }
 
+/// [`decode`] for bytes the caller owns: the text without a copy when it is ASCII or UTF-8
+/// without a byte-order mark (almost every file), else the bytes back, for [`decode`].
+pub fn decode_owned(bytes: Vec<u8>) -> Result<(String, TextEncoding), Vec<u8>> {
+    if utf16(&bytes).is_some() || bytes.starts_with(b"\xEF\xBB\xBF") {
+        return Err(bytes);
+    }
+    match String::from_utf8(bytes) {
+        Ok(text) if text.is_ascii() => Ok((text, TextEncoding::Ascii)),
+        Ok(text) => Ok((text, TextEncoding::Utf8)),
+        Err(err) => Err(err.into_bytes()),
+    }
+}
+
 /// Whether the bytes are UTF-16: a byte-order mark, or (without one) text whose first two
 /// characters are ASCII with a zero byte each, as Windows "Unicode" editors write it.
 pub fn utf16(bytes: &[u8]) -> Option<TextEncoding> {
@@ -85,8 +98,7 @@ pub fn dos_code_page_guess(bytes: &[u8]) -> Option<(usize, u8, char, char)> {
 
 /// The 1-based line and character column of the first non-ASCII character, if any.
 pub fn first_non_ascii(text: &str) -> Option<(u32, u32)> {
-    super::ini::lines(text)
-        .iter()
+    super::ini::Lines::new(text)
         .enumerate()
         .find_map(|(number, line)| {
             let column = line.chars().position(|c| !c.is_ascii())?;

@@ -62,6 +62,25 @@ impl<'s> KnownKeys<'s> {
     }
 }
 
+/// Whether two keys are the same bytes: the length, then the first and the last eight bytes as
+/// two words when the keys are that long (most are), without a call to `memcmp`.
+#[inline]
+fn same_bytes(a: &[u8], b: &[u8]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let word = |bytes: &[u8], at: usize| {
+        bytes
+            .get(at..at + 8)
+            .and_then(|chunk| <[u8; 8]>::try_from(chunk).ok())
+            .map(u64::from_le_bytes)
+    };
+    match a.len().checked_sub(8) {
+        Some(last) if a.len() <= 16 => word(a, 0) == word(b, 0) && word(a, last) == word(b, last),
+        _ => a == b,
+    }
+}
+
 impl Reader {
     /// Looks up the known keys of a section, reporting case-only matches (EDS008), and returns the
     /// entries that are not in `known`.
@@ -82,10 +101,7 @@ impl Reader {
             let key = entry.key.as_bytes();
             let at = known
                 .iter()
-                .position(|k| {
-                    let k = k.as_bytes();
-                    k.len() == key.len() && k.first() == key.first() && k == key
-                })
+                .position(|k| same_bytes(k.as_bytes(), key))
                 .or_else(|| {
                     known
                         .iter()
@@ -148,7 +164,12 @@ impl Reader {
         if value.is_empty() {
             return None;
         }
-        let len = u32::try_from(value.chars().count()).unwrap_or(u32::MAX);
+        let chars = if value.is_ascii() {
+            value.len()
+        } else {
+            value.chars().count()
+        };
+        let len = u32::try_from(chars).unwrap_or(u32::MAX);
         Some((
             value,
             Span::new(entry.value_span.line, entry.value_span.column, len),
@@ -211,7 +232,13 @@ impl Reader {
         let Some((text, span)) = self.plain_value(entry) else {
             return false;
         };
-        match parse_integer(text) {
+        // `0` and `1` as written nearly always: no number parsing for them.
+        let number = match text {
+            "0" => Some(0),
+            "1" => Some(1),
+            _ => parse_integer(text),
+        };
+        match number {
             Some(0) => false,
             Some(1) => true,
             _ => {
@@ -242,5 +269,34 @@ impl Reader {
         entry
             .filter(|e| !e.value.is_empty())
             .map(|e| e.value.as_str().to_owned())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::same_bytes;
+
+    #[test]
+    fn same_bytes_is_slice_equality() {
+        let keys = [
+            "",
+            "a",
+            "Lines",
+            "DataType",
+            "DataTypf",
+            "EataType",
+            "HighLimit",
+            "ParameterName",
+            "ParameterNamf",
+            "ParameterValue",
+            "ParameterVal_e",
+            "AVeryLongKeyOverSixteen",
+            "AVeryLongKeyOverSixteeN",
+        ];
+        for a in keys {
+            for b in keys {
+                assert_eq!(same_bytes(a.as_bytes(), b.as_bytes()), a == b, "{a} {b}");
+            }
+        }
     }
 }

@@ -60,6 +60,11 @@ pub use compact::{expand_compact_pdo, expand_compact_sub_obj, IMPLICIT_MAPPING_E
 /// Reads an EDS or DCF file (a DCF when the extension is `.dcf`, case-insensitively).
 pub fn read(path: &Path, bytes: &[u8]) -> Read {
     let (text, encoding) = super::text::decode(bytes);
+    read_text(path, text, encoding)
+}
+
+/// Reads an EDS or DCF file already decoded (`encoding` says from what).
+pub(super) fn read_text(path: &Path, text: String, encoding: TextEncoding) -> Read {
     // A DCF by its extension alone, as `detect_format` has it (without its ODVA scan again).
     let dcf = path
         .extension()

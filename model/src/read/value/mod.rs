@@ -53,7 +53,7 @@ enum Radix {
 }
 
 fn parse_integer_with_radix(raw: &str) -> Option<(i128, Radix)> {
-    let text = raw.trim();
+    let text = trim(raw);
     let (negative, body) = match text.as_bytes().first() {
         Some(b'-') => (true, &text[1..]),
         Some(b'+') => (false, &text[1..]),
@@ -98,9 +98,23 @@ fn parse_integer_with_radix(raw: &str) -> Option<(i128, Radix)> {
 /// `0x0007 ; Unsigned32`. The value part is trimmed. Callers decide whether the value's type
 /// allows stripping (never for strings).
 pub fn split_inline_comment(raw: &str) -> (&str, Option<&str>) {
-    match raw.find(';') {
-        Some(at) => (raw[..at].trim(), Some(&raw[at..])),
-        None => (raw.trim(), None),
+    // A byte search: values are a few bytes, and `;` is ASCII.
+    match raw.bytes().position(|b| b == b';') {
+        Some(at) => (trim(&raw[..at]), Some(&raw[at..])),
+        None => (trim(raw), None),
+    }
+}
+
+/// [`str::trim`], with the answer for text that starts and ends with ASCII other than white
+/// space (a value the lexer already trimmed) found without a walk over characters.
+fn trim(text: &str) -> &str {
+    let bytes = text.as_bytes();
+    let settled =
+        |b: Option<&u8>| b.is_some_and(|b| b.is_ascii() && !b.is_ascii_whitespace() && *b != 0x0B);
+    if settled(bytes.first()) && settled(bytes.last()) {
+        text
+    } else {
+        text.trim()
     }
 }
 
@@ -141,7 +155,7 @@ pub fn parse_value(
     span: Span,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Value> {
-    let text = raw.trim();
+    let text = trim(raw);
     if text.is_empty() {
         return None;
     }
@@ -501,6 +515,18 @@ fn range_checked(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_quick_trim_is_str_trim() {
+        for text in [
+            "", " ", "7", "0x10", " 7", "7 ", "\x0B7", "7\x0B", "\t7\r", "\u{a0}7", "7\u{a0}", "é",
+            "\x1F", "a ; b",
+        ] {
+            assert_eq!(trim(text), text.trim(), "{text:?}");
+        }
+        assert_eq!(split_inline_comment(" 5 ; five"), ("5", Some("; five")));
+        assert_eq!(split_inline_comment("\u{a0}5\u{a0}"), ("5", None));
+    }
 
     fn span() -> Span {
         Span::new(3, 14, 6)
