@@ -6,6 +6,7 @@ selective switch, inquiries and bit timing (one accepted, one refused) on the fi
 Usage: lss_master.py HOST PORT FIRST_NODE_ID. Prints one line per step; exit 1 on a failure."""
 
 import sys
+import threading
 
 import canopen
 from canopen.lss import CS_INQUIRE_SERIAL_NUMBER, LssError
@@ -38,9 +39,21 @@ def run(network, first):
         lss.store_configuration()
         node = canopen.RemoteNode(node_id, canopen.ObjectDictionary())
         network.add_node(node)
-        # Leaving configuration, the unconfigured device takes its node-ID (CiA 305).
+        # Leaving configuration, the unconfigured device takes its node-ID (CiA 305) and boots
+        # up. The listener is in place before the switch: `nmt.wait_for_bootup` only sees a
+        # boot-up that comes after it is called, and on a loaded machine the device's can come
+        # first.
+        booted = threading.Event()
+
+        def on_error_control(can_id, data, timestamp):
+            if data[:1] == b"\x00":
+                booted.set()
+
+        network.subscribe(0x700 + node_id, on_error_control)
         lss.send_switch_state_global(lss.WAITING_STATE)
-        node.nmt.wait_for_bootup(5)
+        if not booted.wait(5):
+            raise SystemExit(f"no boot-up from node {node_id} within 5 s")
+        network.unsubscribe(0x700 + node_id, on_error_control)
         serial = int.from_bytes(node.sdo.upload(0x1018, 4), "little")
         print(f"found {identity(lss_id)} node {node_id} boot-up serial 0x{serial:08X}")
         found.append((lss_id, node_id))
