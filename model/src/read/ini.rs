@@ -292,7 +292,11 @@ fn column_in(line: &str, at: usize, ascii: bool) -> u32 {
 
 /// Whether a key is written only with `[A-Za-z0-9_]`.
 pub fn is_plain_key(key: &str) -> bool {
-    !key.is_empty() && key.bytes().all(|b| PLAIN_KEY_BYTES[usize::from(b)])
+    // Every byte looked up, without a branch per byte: keys are short, and nearly all plain.
+    !key.is_empty()
+        && key
+            .bytes()
+            .fold(true, |plain, b| plain & PLAIN_KEY_BYTES[usize::from(b)])
 }
 
 /// Whether a byte may appear in a plain key (`[A-Za-z0-9_]`), by byte: one load per byte.
@@ -350,6 +354,8 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     // The line of the comment that the previous line was or continued: a line without `;` or
     // `=` right after it continues that comment (a comment with a line break in it, EDS027).
     let mut comment_from: Option<u32> = None;
+    // Most files are ASCII throughout: one test for the whole text, not one per line.
+    let all_ascii = text.is_ascii();
     for (number, line) in Lines::new(text).enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
@@ -368,7 +374,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 .with_help("shorten the value; some tools truncate long lines"),
             );
         }
-        let ascii = line.is_ascii();
+        let ascii = all_ascii || line.is_ascii();
         let trimmed = trim_in(line, ascii);
         let after_comment = comment_from.take();
         if trimmed.is_empty() {
