@@ -330,6 +330,15 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     })
 }
 
+/// One bit of 64 for a key, the same for keys equal ignoring ASCII case (from its length and its
+/// first and last bytes, case folded): different bits are different keys.
+fn key_mark(key: &str) -> u64 {
+    let bytes = key.as_bytes();
+    let fold = |b: Option<&u8>| usize::from(b.map_or(0, |b| b | 0x20));
+    let bit = bytes.len() * 7 + fold(bytes.first()) * 3 + fold(bytes.last());
+    1 << (bit % 64)
+}
+
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006, EDS007 and
 /// EDS027.
 pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
@@ -349,6 +358,9 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     // (section, key case-insensitively) -> position in its entries, for the sections with at
     // least INDEXED_FROM entries (long object lists, [xxxxValue]); smaller ones are scanned.
     const INDEXED_FROM: usize = 16;
+    // For each section, the key marks of its entries (see `key_mark`): a key whose mark is not
+    // among them is new, without a scan of the entries.
+    let mut key_marks: Vec<u64> = Vec::with_capacity(expected);
     let mut entry_at: HashMap<(usize, Caseless<'t>), usize, FastHash> =
         HashMap::with_capacity_and_hasher(expected, FastHash::default());
     // The line of the comment that the previous line was or continued: a line without `;` or
@@ -462,6 +474,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 current = Some(existing);
             } else {
                 section_at.insert(Caseless(name), file.sections.len());
+                key_marks.push(0);
                 current = Some(file.sections.len());
                 file.sections.push(IniSection {
                     name: IniText(name),
@@ -558,8 +571,12 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             value: IniText(value),
             value_span,
         };
+        let marks = key_marks.get_mut(section_index);
+        let mark = key_mark(key);
         let existing = if section.entries.len() >= INDEXED_FROM {
             entry_at.get(&(section_index, Caseless(key))).copied()
+        } else if marks.as_ref().is_some_and(|m| **m & mark == 0) {
+            None
         } else {
             section
                 .entries
@@ -579,6 +596,9 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             ));
         } else {
             keys_here.push(key);
+        }
+        if let Some(marks) = marks {
+            *marks |= mark;
         }
         match existing.and_then(|at| section.entries.get_mut(at)) {
             Some(existing) => *existing = entry,
