@@ -155,6 +155,7 @@ impl<'t> Lines<'t> {
 impl<'t> Iterator for Lines<'t> {
     type Item = &'t str;
 
+    #[inline]
     fn next(&mut self) -> Option<&'t str> {
         let bytes = self.text.as_bytes();
         let start = self.start;
