@@ -89,10 +89,18 @@ impl std::hash::Hash for Caseless<'_> {
 /// Up to the first eight bytes, ASCII-lowercased, as one word (first byte lowest).
 fn lowercase_word(bytes: &[u8]) -> u64 {
     let mut word = [0u8; 8];
-    for (slot, byte) in word.iter_mut().zip(bytes) {
-        *slot = byte.to_ascii_lowercase();
-    }
-    u64::from_le_bytes(word)
+    let len = bytes.len().min(8);
+    word[..len].copy_from_slice(&bytes[..len]);
+    let word = u64::from_le_bytes(word);
+    // All eight bytes at once: a byte gets 20h added when it is `A`..=`Z`. Each sum stays
+    // within its byte (7Fh + 3Fh < 100h); its high bit says whether the byte's low seven bits
+    // are at least 41h (`A`), or at least 5Bh (past `Z`). Bytes of 80h and above stay as they are.
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let low7 = word & (ONES * 0x7F);
+    let from_a = low7 + ONES * (0x80 - 0x41);
+    let past_z = low7 + ONES * (0x80 - 0x5B);
+    let upper = from_a & !past_z & !word & (ONES * 0x80);
+    word | (upper >> 2)
 }
 
 #[cfg(test)]
@@ -125,5 +133,18 @@ mod tests {
         }
         assert_eq!(at.get(&Caseless("ParameterNamey")), Some(&9));
         assert_eq!(at.get(&Caseless("1A00sub11")), None);
+    }
+
+    #[test]
+    fn a_word_is_lowercased_as_its_bytes_are() {
+        for byte in 0..=255u8 {
+            let bytes = [byte, b'Z', byte, b'@', b'[', byte, b'a', byte];
+            let expected = u64::from_le_bytes(bytes.map(|b| b.to_ascii_lowercase()));
+            assert_eq!(super::lowercase_word(&bytes), expected, "{byte:#04x}");
+        }
+        assert_eq!(
+            super::lowercase_word(b"AB"),
+            u64::from_le_bytes(*b"ab\0\0\0\0\0\0")
+        );
     }
 }

@@ -16,6 +16,10 @@ use super::hash::{Caseless, FastHash};
 use crate::diag::Diagnostic;
 use crate::model::Span;
 use crate::rules;
+use scan::find_byte;
+pub use scan::{lines, Lines};
+
+mod scan;
 
 /// The longest line CiA 306 allows, in characters.
 pub const MAX_LINE_CHARS: usize = 255;
@@ -132,97 +136,6 @@ pub struct IniFile<'t> {
 /// The keys CANopenEditor writes as comments (`;StorageLocation=RAM`) and reads back.
 pub const COMMENTED_KEYS: &[&str] = &["StorageLocation", "TPDODetectCos"];
 
-/// Splits text into lines, accepting LF, CR LF and lone CR, and a last line without a newline.
-pub fn lines(text: &str) -> Vec<&str> {
-    Lines::new(text).collect()
-}
-
-/// The lines of a text, as [`lines`] splits them, one at a time: the lexer walks them without
-/// a list of them (which was as big as the text again, for a file of short lines).
-pub struct Lines<'t> {
-    text: &'t str,
-    /// Where the next line starts.
-    start: usize,
-}
-
-impl<'t> Lines<'t> {
-    /// The lines of `text`.
-    pub fn new(text: &'t str) -> Self {
-        Lines { text, start: 0 }
-    }
-}
-
-impl<'t> Iterator for Lines<'t> {
-    type Item = &'t str;
-
-    fn next(&mut self) -> Option<&'t str> {
-        let bytes = self.text.as_bytes();
-        let start = self.start;
-        if start >= bytes.len() {
-            return None;
-        }
-        let end = line_end(bytes, start);
-        self.start = end + 1;
-        // The LF of a CR LF ends its line with the CR.
-        if bytes.get(end) == Some(&b'\r') && bytes.get(end + 1) == Some(&b'\n') {
-            self.start += 1;
-        }
-        Some(&self.text[start..end])
-    }
-}
-
-/// Bytes read eight at a time, as one word, for the searches below: lines are about 20 bytes,
-/// too short for a vector search to pay for its set-up.
-const ONES: u64 = 0x0101_0101_0101_0101;
-const HIGH: u64 = 0x8080_8080_8080_8080;
-
-/// The eight bytes at `at` as one word (first byte lowest), if there are eight.
-#[inline]
-fn word_at(bytes: &[u8], at: usize) -> Option<u64> {
-    let chunk = <[u8; 8]>::try_from(bytes.get(at..at.checked_add(8)?)?).ok()?;
-    Some(u64::from_le_bytes(chunk))
-}
-
-/// The offset of the first CR or LF at or after `at`, or the text's length.
-fn line_end(bytes: &[u8], mut at: usize) -> usize {
-    // The lowest byte flagged is the first one below 0Eh exactly (LF is 0Ah, CR 0Dh); the
-    // others may be false alarms, and so may the first (a tab): look at it, go on after it.
-    while let Some(word) = word_at(bytes, at) {
-        let below = word.wrapping_sub(ONES * 0x0E) & !word & HIGH;
-        if below == 0 {
-            at += 8;
-            continue;
-        }
-        at += (below.trailing_zeros() / 8) as usize;
-        if matches!(bytes.get(at), Some(b'\n' | b'\r')) {
-            return at;
-        }
-        at += 1;
-    }
-    while at < bytes.len() && !matches!(bytes[at], b'\n' | b'\r') {
-        at += 1;
-    }
-    at
-}
-
-/// The offset of the first `byte` in `bytes`.
-fn find_byte(bytes: &[u8], byte: u8) -> Option<usize> {
-    let mut at = 0;
-    // A byte equal to `byte` is a zero byte of `word ^ pattern`; the lowest byte flagged is the
-    // first zero byte exactly.
-    let pattern = ONES * u64::from(byte);
-    while let Some(word) = word_at(bytes, at) {
-        let zeros = word ^ pattern;
-        let flagged = zeros.wrapping_sub(ONES) & !zeros & HIGH;
-        if flagged != 0 {
-            return Some(at + (flagged.trailing_zeros() / 8) as usize);
-        }
-        at += 8;
-    }
-    let rest = bytes.get(at..).unwrap_or_default();
-    rest.iter().position(|b| *b == byte).map(|p| at + p)
-}
-
 /// Whether an ASCII byte is white space to [`char::is_whitespace`].
 #[inline]
 fn is_ascii_space(b: u8) -> bool {
@@ -292,7 +205,11 @@ fn column_in(line: &str, at: usize, ascii: bool) -> u32 {
 
 /// Whether a key is written only with `[A-Za-z0-9_]`.
 pub fn is_plain_key(key: &str) -> bool {
-    !key.is_empty() && key.bytes().all(|b| PLAIN_KEY_BYTES[usize::from(b)])
+    // Every byte looked up, without a branch per byte: keys are short, and nearly all plain.
+    !key.is_empty()
+        && key
+            .bytes()
+            .fold(true, |plain, b| plain & PLAIN_KEY_BYTES[usize::from(b)])
 }
 
 /// Whether a byte may appear in a plain key (`[A-Za-z0-9_]`), by byte: one load per byte.
@@ -326,6 +243,15 @@ fn commented_entry(line: &str, line_no: u32) -> Option<IniEntry<'_>> {
     })
 }
 
+/// One bit of 64 for a key, the same for keys equal ignoring ASCII case (from its length and its
+/// first and last bytes, case folded): different bits are different keys.
+fn key_mark(key: &str) -> u64 {
+    let bytes = key.as_bytes();
+    let fold = |b: Option<&u8>| usize::from(b.map_or(0, |b| b | 0x20));
+    let bit = bytes.len() * 7 + fold(bytes.first()) * 3 + fold(bytes.last());
+    1 << (bit % 64)
+}
+
 /// Lexes the text into sections, reporting EDS001, EDS003, EDS004, EDS005, EDS006, EDS007 and
 /// EDS027.
 pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
@@ -345,11 +271,16 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
     // (section, key case-insensitively) -> position in its entries, for the sections with at
     // least INDEXED_FROM entries (long object lists, [xxxxValue]); smaller ones are scanned.
     const INDEXED_FROM: usize = 16;
+    // For each section, the key marks of its entries (see `key_mark`): a key whose mark is not
+    // among them is new, without a scan of the entries.
+    let mut key_marks: Vec<u64> = Vec::with_capacity(expected);
     let mut entry_at: HashMap<(usize, Caseless<'t>), usize, FastHash> =
         HashMap::with_capacity_and_hasher(expected, FastHash::default());
     // The line of the comment that the previous line was or continued: a line without `;` or
     // `=` right after it continues that comment (a comment with a line break in it, EDS027).
     let mut comment_from: Option<u32> = None;
+    // Most files are ASCII throughout: one test for the whole text, not one per line.
+    let all_ascii = text.is_ascii();
     for (number, line) in Lines::new(text).enumerate() {
         let line_no = u32::try_from(number + 1).unwrap_or(u32::MAX);
         // A line of at most MAX_LINE_CHARS bytes has at most as many characters.
@@ -368,7 +299,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 .with_help("shorten the value; some tools truncate long lines"),
             );
         }
-        let ascii = line.is_ascii();
+        let ascii = all_ascii || line.is_ascii();
         let trimmed = trim_in(line, ascii);
         let after_comment = comment_from.take();
         if trimmed.is_empty() {
@@ -456,6 +387,7 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
                 current = Some(existing);
             } else {
                 section_at.insert(Caseless(name), file.sections.len());
+                key_marks.push(0);
                 current = Some(file.sections.len());
                 file.sections.push(IniSection {
                     name: IniText(name),
@@ -552,8 +484,12 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             value: IniText(value),
             value_span,
         };
+        let marks = key_marks.get_mut(section_index);
+        let mark = key_mark(key);
         let existing = if section.entries.len() >= INDEXED_FROM {
             entry_at.get(&(section_index, Caseless(key))).copied()
+        } else if marks.as_ref().is_some_and(|m| **m & mark == 0) {
+            None
         } else {
             section
                 .entries
@@ -573,6 +509,9 @@ pub fn parse<'t>(text: &'t str, diags: &mut Vec<Diagnostic>) -> IniFile<'t> {
             ));
         } else {
             keys_here.push(key);
+        }
+        if let Some(marks) = marks {
+            *marks |= mark;
         }
         match existing.and_then(|at| section.entries.get_mut(at)) {
             Some(existing) => *existing = entry,

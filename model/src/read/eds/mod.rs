@@ -197,8 +197,11 @@ impl Reader {
                     "sub",
                 );
             }
+            // An object's or entry's name is none of the named sections (`classify` tells them).
+            let named = !matches!(kind, SectionKind::Object(_) | SectionKind::Sub(..));
             if let Some((canonical, _)) = NAMED_SECTIONS
                 .iter()
+                .filter(|_| named)
                 .find(|(c, _)| c.eq_ignore_ascii_case(&section.name))
             {
                 if *canonical != section.name {

@@ -66,6 +66,9 @@ pub(super) fn parse_hex_name(text: &str, max_value: u32) -> Option<u32> {
 /// leading zeros (more than four index digits, or a sub-index with a leading 0), and whether `sub`
 /// is spelled other than lowercase.
 pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
+    if let Some(kind) = classify_plain(name) {
+        return kind;
+    }
     for (canonical, kind) in NAMED_SECTIONS {
         if name.eq_ignore_ascii_case(canonical) {
             return (*kind, false, false);
@@ -129,6 +132,31 @@ pub(super) fn classify(name: &str) -> (SectionKind, bool, bool) {
     (SectionKind::Unknown, false, false)
 }
 
+/// [`classify`] for the names most sections have, `[1A00]` and `[1A00sub3]` (four hex digits,
+/// `sub` in lowercase, one or two hex digits), without the other kinds' tests; `None` for the rest.
+fn classify_plain(name: &str) -> Option<(SectionKind, bool, bool)> {
+    let hex = |text: &[u8]| {
+        text.iter().try_fold(0u16, |value, b| {
+            let digit = char::from(*b).to_digit(16)?;
+            Some(value << 4 | u16::try_from(digit).ok()?)
+        })
+    };
+    let bytes = name.as_bytes();
+    let index = hex(bytes.get(..4)?)?;
+    match bytes.get(4..) {
+        Some([]) => Some((SectionKind::Object(index), false, false)),
+        Some([b's', b'u', b'b', sub @ ..]) if matches!(sub.len(), 1 | 2) => {
+            let value = u8::try_from(hex(sub)?).ok()?;
+            Some((
+                SectionKind::Sub(index, value),
+                sub.len() > 1 && sub[0] == b'0',
+                false,
+            ))
+        }
+        _ => None,
+    }
+}
+
 /// The byte offset of the last `sub` in `name`, in any case: a byte scan, cheaper than
 /// `str::rfind`'s substring searcher on names this short.
 pub(super) fn rfind_sub(name: &str) -> Option<usize> {
@@ -182,5 +210,31 @@ pub(super) fn bad_sub_index(sub_text: &str) -> (String, &'static str, String) {
             "CiA 306 writes sub-index sections as [<index>sub<sub-index>], the sub-index in hex, 0..FF"
                 .to_owned(),
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{classify, SectionKind};
+
+    #[test]
+    fn object_and_entry_names_read_the_same_by_either_path() {
+        let cases = [
+            ("1A00", (SectionKind::Object(0x1A00), false, false)),
+            ("1a00sub3", (SectionKind::Sub(0x1A00, 3), false, false)),
+            ("1000sub1F", (SectionKind::Sub(0x1000, 0x1F), false, false)),
+            ("1000sub01", (SectionKind::Sub(0x1000, 1), true, false)),
+            ("1000SUB1", (SectionKind::Sub(0x1000, 1), false, true)),
+            ("01000sub1", (SectionKind::Sub(0x1000, 1), true, false)),
+            ("1000sub100", (SectionKind::BadSub(0x1000), false, false)),
+            ("1000subG", (SectionKind::BadSub(0x1000), false, false)),
+            ("01000", (SectionKind::Object(0x1000), true, false)),
+            ("1G00", (SectionKind::Unknown, false, false)),
+            ("1000Value", (SectionKind::SubValues(0x1000), false, false)),
+            ("FileInfo", (SectionKind::FileInfo, false, false)),
+        ];
+        for (name, expected) in cases {
+            assert_eq!(classify(name), expected, "{name}");
+        }
     }
 }

@@ -2,6 +2,7 @@
 //! read, and the limits vendors write past a type's range.
 
 use std::collections::HashMap;
+use std::ops::Bound::{Excluded, Included, Unbounded};
 
 use super::Reader;
 use crate::diag::{Diagnostic, Severity};
@@ -37,26 +38,23 @@ impl Reader {
                 }
             }
         }
-        for deftypes_pass in [true, false] {
-            let mut work = Vec::new();
-            for (index, object) in &self.device.objects {
-                if (*index < 0x1000) != deftypes_pass {
-                    continue;
-                }
-                for (sub, entry) in &object.subs {
-                    let basic = entry.data_type.and_then(|t| self.device.basic_type(t));
-                    work.push((*index, *sub, basic));
-                }
-            }
-            for (index, sub, basic) in work {
-                let Some(entry) = self
-                    .device
-                    .objects
-                    .get_mut(&index)
-                    .and_then(|o| o.subs.get_mut(&sub))
-                else {
-                    continue;
-                };
+        // The DEFTYPE objects (below 1000h) first, then the others.
+        for pass in [(Unbounded, Excluded(0x1000)), (Included(0x1000), Unbounded)] {
+            // Every entry's basic type first (a DEFTYPE's is read from its values, resolved in
+            // the first pass), then the entries again in the same order, to resolve their values.
+            let basics: Vec<Option<BasicType>> = self
+                .device
+                .objects
+                .range(pass)
+                .flat_map(|(_, object)| object.subs.values())
+                .map(|entry| entry.data_type.and_then(|t| self.device.basic_type(t)))
+                .collect();
+            let entries = self
+                .device
+                .objects
+                .range_mut(pass)
+                .flat_map(|(_, object)| object.subs.values_mut());
+            for (entry, basic) in entries.zip(basics) {
                 for (key, slot) in [
                     ("DefaultValue", &mut entry.default),
                     ("ParameterValue", &mut entry.parameter_value),
