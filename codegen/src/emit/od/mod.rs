@@ -330,7 +330,7 @@ fn entries_and_offsets(plan: &Plan) -> String {
     out
 }
 
-/// `impl ObjectDictionary for Od` (the same in every module: [`fixed::OD_IMPL`]).
+/// `impl ObjectDictionary for Od` (the same in every module: `fixed::OD_IMPL`).
 pub fn od_impl(splices: &mut Splices) -> TokenStream {
     splices.item(fixed::OD_IMPL.to_owned())
 }
