@@ -52,7 +52,7 @@ pub struct Adapter<A = ()> {
     sessions: BTreeMap<u32, u64>,
     next_session: u32,
     /// Bytes to send, with their destination.
-    transmit: VecDeque<(Peer, Vec<u8>)>,
+    pub(super) transmit: VecDeque<(Peer, Vec<u8>)>,
     /// The session whose request [`Adapter::route`] serves (a class-3 connection's owner).
     serving_session: u32,
 }
@@ -128,7 +128,8 @@ impl<A: EnipApplication> Adapter<A> {
     }
 
     /// The next bytes to send, oldest first, with their destination: replies (to the TCP
-    /// client or UDP sender of the request) and T→O datagrams (after
+    /// client or UDP sender of the request) and T→O datagrams (a connection's first right
+    /// after its Forward_Open's reply, the next ones after
     /// [`handle_timeout`](Self::handle_timeout)).
     pub fn poll_transmit(&mut self, _now: Instant) -> Option<(Peer, Vec<u8>)> {
         self.transmit.pop_front()
@@ -161,6 +162,18 @@ impl<A: EnipApplication> Adapter<A> {
         });
         if let Some(reply) = reply {
             self.transmit.push_back((from, reply));
+        }
+        // A class-1 connection's first T→O follows its Forward_Open reply at once, so that it
+        // shows the assemblies as they were when the connection opened, whatever the
+        // originator's first O→T then changes.
+        if self
+            .device
+            .events
+            .iter()
+            .skip(before)
+            .any(|e| matches!(e, Event::Opened(_)))
+        {
+            self.produce(now);
         }
         self.tell_application(now, before);
         Ok(used)
@@ -366,6 +379,11 @@ impl<A: EnipApplication> Adapter<A> {
             .extend(timed_out.into_iter().map(Event::TimedOut));
         self.tell_application(now, before);
         self.app.handle_timeout(now, &mut self.device);
+        self.produce(now);
+    }
+
+    /// Queues the T→O datagram of every class-1 connection whose production is due at `now`.
+    fn produce(&mut self, now: Instant) {
         for c in &mut self.device.connections {
             if now < c.next_produce {
                 continue;

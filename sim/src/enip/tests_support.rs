@@ -39,12 +39,13 @@ impl<A: EnipApplication> Adapter<A> {
             Peer::Tcp(client)
         };
         let used = self.handle(now, from, bytes)?;
-        // T→O datagrams due before are dropped here, as `produce` would return them.
-        let mut replies: Vec<Vec<u8>> = std::iter::from_fn(|| self.poll_transmit(now))
-            .filter(|(to, _)| *to == from)
-            .map(|(_, reply)| reply)
-            .collect();
+        // The reply is taken; T→O datagrams (a Forward_Open's first) stay queued, in order,
+        // for `produce`.
+        let (mut replies, others): (Vec<_>, Vec<_>) =
+            std::iter::from_fn(|| self.poll_transmit(now)).partition(|(to, _)| *to == from);
+        self.transmit.extend(others);
         assert!(replies.len() <= 1, "one reply per request");
+        let mut replies: Vec<Vec<u8>> = replies.drain(..).map(|(_, reply)| reply).collect();
         Ok((replies.pop(), used))
     }
 
