@@ -14,6 +14,13 @@ use edsgen_model::diag::Severity;
 
 use cmd::EXIT_USAGE;
 
+/// mimalloc, not the system's malloc: `validate` builds a model of tens of thousands of small
+/// strings per file and drops it whole, a pattern glibc's malloc serves with about 180
+/// instructions per allocation and a page fault for each page it takes back and gives again;
+/// mimalloc took 9 % of the instructions and 94 % of the page faults off reading the corpus.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[derive(Parser)]
 #[command(
     name = "edsgen",
