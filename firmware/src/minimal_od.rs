@@ -5,20 +5,11 @@
 use edsgen_runtime::od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 
 const fn e(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
-    EntryDescriptor {
-        index,
-        sub,
-        data_type,
-        access,
-        pdo_mappable: false,
-    }
+    EntryDescriptor::new(index, sub, data_type, access, false)
 }
 
 const fn m(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
-    EntryDescriptor {
-        pdo_mappable: true,
-        ..e(index, sub, data_type, access)
-    }
+    EntryDescriptor::new(index, sub, data_type, access, true)
 }
 
 use Access::{Ro, Rw, Rwr, Rww};

@@ -106,16 +106,11 @@ impl Access {
 /// string's or domain's capacity comes from [`ObjectDictionary::capacity`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct EntryDescriptor {
-    /// OD index.
-    pub index: u16,
-    /// Sub-index.
-    pub sub: u8,
-    /// Data type.
-    pub data_type: DataType,
-    /// Access rights.
-    pub access: Access,
-    /// Whether the entry may be mapped into a PDO.
-    pub pdo_mappable: bool,
+    index: u16,
+    sub: u8,
+    data_type: DataType,
+    access: Access,
+    pdo_mappable: bool,
 }
 
 impl EntryDescriptor {
@@ -134,6 +129,36 @@ impl EntryDescriptor {
             access,
             pdo_mappable,
         }
+    }
+
+    /// OD index.
+    #[inline]
+    pub const fn index(&self) -> u16 {
+        self.index
+    }
+
+    /// Sub-index.
+    #[inline]
+    pub const fn sub(&self) -> u8 {
+        self.sub
+    }
+
+    /// Data type.
+    #[inline]
+    pub const fn data_type(&self) -> DataType {
+        self.data_type
+    }
+
+    /// Access rights.
+    #[inline]
+    pub const fn access(&self) -> Access {
+        self.access
+    }
+
+    /// Whether the entry may be mapped into a PDO.
+    #[inline]
+    pub const fn pdo_mappable(&self) -> bool {
+        self.pdo_mappable
     }
 }
 
@@ -244,7 +269,7 @@ pub trait ObjectDictionary {
     /// [`write_part`](Self::write_part) when a piece passes the end); a dictionary holding
     /// strings or domains says their capacity.
     fn capacity(&self, position: usize) -> Option<usize> {
-        self.entries().get(position)?.data_type.fixed_size()
+        self.entries().get(position)?.data_type().fixed_size()
     }
 
     /// The current length in bytes of the value at (index, sub) (shorter than the capacity for a
@@ -266,7 +291,7 @@ pub trait ObjectDictionary {
     /// reads by the entry's (index, sub); the generated dictionaries dispatch on the position.
     fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         let entry = self.entries().get(position).ok_or(SdoAbort::NoObject)?;
-        self.read(entry.index, entry.sub, offset, buf)
+        self.read(entry.index(), entry.sub(), offset, buf)
     }
 
     /// Starts a download into the entry at `position` (a string, octet string or domain)
@@ -355,7 +380,7 @@ pub trait ObjectDictionary {
     /// [`read_at`](Self::read_at) reads: an RPDO's mapped objects, an SDO expedited download.
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
         let entry = *self.entries().get(position).ok_or(SdoAbort::NoObject)?;
-        self.write(entry.index, entry.sub, data)
+        self.write(entry.index(), entry.sub(), data)
     }
 }
 
