@@ -166,12 +166,12 @@ impl MinimalOd {
 
 /// The size of an entry's value: every entry here has a fixed-size type of at most 4 bytes.
 fn size(entry: &EntryDescriptor) -> usize {
-    entry.data_type.fixed_size().unwrap_or(0)
+    entry.data_type().fixed_size().unwrap_or(0)
 }
 
 fn position(index: u16, sub: u8) -> Result<usize, SdoAbort> {
     ENTRIES
-        .binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub)))
+        .binary_search_by(|e| (e.index(), e.sub()).cmp(&(index, sub)))
         .map_err(|_| SdoAbort::NoObject)
 }
 
