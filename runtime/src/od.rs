@@ -101,16 +101,58 @@ impl Access {
     }
 }
 
-/// What the protocols need to know about one entry, without touching its value: 6 bytes in a
-/// generated table. The size is the data type's ([`DataType::fixed_size`]); a string's, octet
-/// string's or domain's capacity comes from [`ObjectDictionary::capacity`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// What the protocols need to know about one entry, without touching its value: 5 bytes in a
+/// generated table (packed: the index, the sub-index, the data type, and the access rights
+/// with the PDO mappability in one byte). The size is the data type's
+/// ([`DataType::fixed_size`]); a string's, octet string's or domain's capacity comes from
+/// [`ObjectDictionary::capacity`].
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(C, packed)]
 pub struct EntryDescriptor {
     index: u16,
     sub: u8,
     data_type: DataType,
-    access: Access,
-    pdo_mappable: bool,
+    rights: Rights,
+}
+
+/// An entry's [`Access`] (its position in the enum, bits 0-2) and whether it is PDO-mappable
+/// (bit 7), in one byte.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct Rights(u8);
+
+impl Rights {
+    const MAPPABLE: u8 = 0x80;
+
+    const fn new(access: Access, pdo_mappable: bool) -> Self {
+        let code = match access {
+            Access::Ro => 0,
+            Access::Wo => 1,
+            Access::Rw => 2,
+            Access::Rwr => 3,
+            Access::Rww => 4,
+            Access::Const => 5,
+        };
+        Rights(if pdo_mappable {
+            code | Self::MAPPABLE
+        } else {
+            code
+        })
+    }
+
+    const fn access(self) -> Access {
+        match self.0 & 0x07 {
+            0 => Access::Ro,
+            1 => Access::Wo,
+            2 => Access::Rw,
+            3 => Access::Rwr,
+            4 => Access::Rww,
+            _ => Access::Const,
+        }
+    }
+
+    const fn pdo_mappable(self) -> bool {
+        self.0 & Self::MAPPABLE != 0
+    }
 }
 
 impl EntryDescriptor {
@@ -126,8 +168,7 @@ impl EntryDescriptor {
             index,
             sub,
             data_type,
-            access,
-            pdo_mappable,
+            rights: Rights::new(access, pdo_mappable),
         }
     }
 
@@ -152,13 +193,25 @@ impl EntryDescriptor {
     /// Access rights.
     #[inline]
     pub const fn access(&self) -> Access {
-        self.access
+        self.rights.access()
     }
 
     /// Whether the entry may be mapped into a PDO.
     #[inline]
     pub const fn pdo_mappable(&self) -> bool {
-        self.pdo_mappable
+        self.rights.pdo_mappable()
+    }
+}
+
+impl core::fmt::Debug for EntryDescriptor {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("EntryDescriptor")
+            .field("index", &self.index())
+            .field("sub", &self.sub())
+            .field("data_type", &self.data_type())
+            .field("access", &self.access())
+            .field("pdo_mappable", &self.pdo_mappable())
+            .finish()
     }
 }
 
@@ -387,6 +440,43 @@ pub trait ObjectDictionary {
 #[cfg(test)]
 mod tests {
     use super::DataType::{self, *};
+    use super::{Access, EntryDescriptor};
+
+    #[test]
+    fn a_descriptor_is_five_bytes_and_gives_back_its_parts() {
+        assert_eq!(core::mem::size_of::<EntryDescriptor>(), 5);
+        let accesses = [
+            Access::Ro,
+            Access::Wo,
+            Access::Rw,
+            Access::Rwr,
+            Access::Rww,
+            Access::Const,
+        ];
+        for access in accesses {
+            for mappable in [false, true] {
+                let e = EntryDescriptor::new(0xA1B2, 0xFE, Domain, access, mappable);
+                assert_eq!(
+                    (
+                        e.index(),
+                        e.sub(),
+                        e.data_type(),
+                        e.access(),
+                        e.pdo_mappable()
+                    ),
+                    (0xA1B2, 0xFE, Domain, access, mappable)
+                );
+            }
+        }
+        assert_eq!(
+            format!(
+                "{:?}",
+                EntryDescriptor::new(0x1017, 0, Unsigned16, Access::Rw, true)
+            ),
+            "EntryDescriptor { index: 4119, sub: 0, data_type: Unsigned16, access: Rw, \
+             pdo_mappable: true }"
+        );
+    }
 
     #[test]
     fn every_data_type_has_its_cia_301_size() {
