@@ -35,13 +35,13 @@ struct DomainDevice {
     server: SdoServer,
 }
 
-const DOMAIN: [EntryDescriptor; 1] = [EntryDescriptor {
-    index: 0x2100,
-    sub: 0,
-    data_type: DataType::Domain,
-    access: Access::Ro,
-    pdo_mappable: false,
-}];
+const DOMAIN: [EntryDescriptor; 1] = [EntryDescriptor::new(
+    0x2100,
+    0,
+    DataType::Domain,
+    Access::Ro,
+    false,
+)];
 
 struct DomainOd<'a>(&'a [u8]);
 

@@ -61,21 +61,21 @@ fn requests(entries: &[edsgen_runtime::EntryDescriptor]) -> Vec<CanFrame> {
         bytes[4..4 + data.len()].copy_from_slice(data);
         frame(0x605, &bytes)
     };
-    let mut list: Vec<CanFrame> = entries.iter().map(|e| upload(e.index, e.sub)).collect();
-    for e in entries.iter().filter(|e| e.access.writable()) {
-        let Some(size) = e.data_type.fixed_size().filter(|&s| s <= 4) else {
+    let mut list: Vec<CanFrame> = entries.iter().map(|e| upload(e.index(), e.sub())).collect();
+    for e in entries.iter().filter(|e| e.access().writable()) {
+        let Some(size) = e.data_type().fixed_size().filter(|&s| s <= 4) else {
             continue;
         };
-        list.push(download(e.index, e.sub, &vec![0x00; size]));
-        list.push(download(e.index, e.sub, &vec![0xFF; size]));
+        list.push(download(e.index(), e.sub(), &vec![0x00; size]));
+        list.push(download(e.index(), e.sub(), &vec![0xFF; size]));
         if size < 4 {
-            list.push(download(e.index, e.sub, &vec![0x01; size + 1]));
+            list.push(download(e.index(), e.sub(), &vec![0x01; size + 1]));
         }
         if size > 1 {
-            list.push(download(e.index, e.sub, &vec![0x01; size - 1]));
+            list.push(download(e.index(), e.sub(), &vec![0x01; size - 1]));
         }
     }
-    list.extend(entries.iter().map(|e| upload(e.index, e.sub)));
+    list.extend(entries.iter().map(|e| upload(e.index(), e.sub())));
     list.push(upload(0x5FFF, 0));
     list.push(upload(0x1018, 0x7F));
     list
@@ -166,7 +166,7 @@ fn strings_and_domains_have_their_documented_capacity() {
     let od = RuntimeDictionary::new(&test_device(), 1);
     let label = od.locate(0x2000, 0).unwrap();
     let program = od.locate(0x2001, 0).unwrap();
-    assert_eq!(od.entries()[label].data_type, DataType::VisibleString);
+    assert_eq!(od.entries()[label].data_type(), DataType::VisibleString);
     assert_eq!(
         od.capacity(label),
         Some(32),
@@ -444,8 +444,8 @@ fn every_corpus_device_is_served_and_answers_an_upload_of_every_entry() {
             .entries()
             .iter()
             .map(|e| {
-                let [lo, hi] = e.index.to_le_bytes();
-                frame(rx, &[0x40, lo, hi, e.sub, 0, 0, 0, 0])
+                let [lo, hi] = e.index().to_le_bytes();
+                frame(rx, &[0x40, lo, hi, e.sub(), 0, 0, 0, 0])
             })
             .collect();
         let mut node = Node::with_hooks(od, DictionaryHooks::default(), 1, ms(0)).unwrap();

@@ -73,7 +73,7 @@ fn is_integer(data_type: DataType) -> bool {
 /// minus 1), if there is one.
 fn new_value(od: &RuntimeDictionary, position: usize) -> Option<Vec<u8>> {
     let e = od.entries()[position];
-    let now = read_value(od, e.index, e.sub);
+    let now = read_value(od, e.index(), e.sub());
     let plus = now
         .iter()
         .copied()
@@ -92,24 +92,24 @@ fn new_value(od: &RuntimeDictionary, position: usize) -> Option<Vec<u8>> {
         });
     [plus.0, minus.0]
         .into_iter()
-        .find(|candidate| od.clone().write(e.index, e.sub, candidate).is_ok())
+        .find(|candidate| od.clone().write(e.index(), e.sub(), candidate).is_ok())
 }
 
 /// What python should do with `device` as node `node_id`, and the lines it should print.
 fn plan(device: &Device, node_id: u8) -> (serde_json::Value, Vec<String>) {
     let mut od = RuntimeDictionary::new(device, node_id);
     let entries = od.entries().to_vec();
-    let name = |e: &edsgen_runtime::EntryDescriptor| format!("{:04X}:{:02X}", e.index, e.sub);
+    let name = |e: &edsgen_runtime::EntryDescriptor| format!("{:04X}:{:02X}", e.index(), e.sub());
     // Python's object dictionary: every object the dictionary holds.
     let mut objects: Vec<serde_json::Value> = Vec::new();
     for object in device.objects.values() {
         let subs: Vec<serde_json::Value> = entries
             .iter()
-            .filter(|e| e.index == object.index)
+            .filter(|e| e.index() == object.index)
             .map(|e| {
-                let sub = &object.subs[&e.sub];
+                let sub = &object.subs[&e.sub()];
                 let basic = device.basic_type(sub.data_type.unwrap()).unwrap();
-                serde_json::json!([e.sub, basic.index(), access(e.access), sub.name])
+                serde_json::json!([e.sub(), basic.index(), access(e.access()), sub.name])
             })
             .collect();
         if !subs.is_empty() {
@@ -123,41 +123,41 @@ fn plan(device: &Device, node_id: u8) -> (serde_json::Value, Vec<String>) {
     }
     let skip_comm = |index: u16| (0x1000..0x2000).contains(&index);
     let fixed_integer = |e: &edsgen_runtime::EntryDescriptor| {
-        is_integer(e.data_type) && e.data_type.fixed_size().is_some_and(|s| s <= 4)
+        is_integer(e.data_type()) && e.data_type().fixed_size().is_some_and(|s| s <= 4)
     };
     let rw = (0..entries.len())
         .find(|&p| {
             let e = entries[p];
-            !skip_comm(e.index) && e.access.writable() && fixed_integer(&e)
+            !skip_comm(e.index()) && e.access().writable() && fixed_integer(&e)
         })
         .expect("a writable integer");
     let rw_value = new_value(&od, rw).expect("a new value");
-    od.write(entries[rw].index, entries[rw].sub, &rw_value)
+    od.write(entries[rw].index(), entries[rw].sub(), &rw_value)
         .unwrap();
     let bytes = (0..entries.len()).find(|&p| {
         let e = entries[p];
-        e.access.writable()
+        e.access().writable()
             && matches!(
-                e.data_type,
+                e.data_type(),
                 DataType::VisibleString | DataType::OctetString | DataType::Domain
             )
             && od.capacity(p).is_some_and(|c| c >= 20)
     });
     // PDO1 is configured only where its mapping can change (sub-index 0 writable).
-    let dynamic = |index: u16| od.find(index, 0).is_ok_and(|e| e.access.writable());
+    let dynamic = |index: u16| od.find(index, 0).is_ok_and(|e| e.access().writable());
     let tpdo = (0..entries.len()).find(|&p| {
         let e = entries[p];
         dynamic(0x1A00)
-            && e.pdo_mappable
-            && matches!(e.access, Access::Ro | Access::Rw | Access::Rwr)
+            && e.pdo_mappable()
+            && matches!(e.access(), Access::Ro | Access::Rw | Access::Rwr)
             && fixed_integer(&e)
             && p != rw
     });
     let rpdo = (0..entries.len()).find(|&p| {
         let e = entries[p];
         dynamic(0x1600)
-            && e.pdo_mappable
-            && matches!(e.access, Access::Rw | Access::Rww | Access::Wo)
+            && e.pdo_mappable()
+            && matches!(e.access(), Access::Rw | Access::Rww | Access::Wo)
             && fixed_integer(&e)
             && new_value(&od, p).is_some()
     });
@@ -198,7 +198,7 @@ fn plan(device: &Device, node_id: u8) -> (serde_json::Value, Vec<String>) {
         expected.push(format!(
             "tpdo {} {}",
             name(&e),
-            hex(&read_value(&od, e.index, e.sub))
+            hex(&read_value(&od, e.index(), e.sub()))
         ));
     }
     if let Some(p) = rpdo {

@@ -189,15 +189,18 @@ fn entries_are_sorted_and_found() {
     let entries = od.entries();
     assert!(entries
         .windows(2)
-        .all(|w| (w[0].index, w[0].sub) < (w[1].index, w[1].sub)));
+        .all(|w| (w[0].index(), w[0].sub()) < (w[1].index(), w[1].sub())));
     let d = od.find(0x2003, 5).unwrap();
-    assert_eq!(d.data_type, edsgen_runtime::DataType::Unsigned64);
+    assert_eq!(d.data_type(), edsgen_runtime::DataType::Unsigned64);
     assert_eq!(od.capacity(od.locate(0x2003, 5).unwrap()), Some(8));
     assert_eq!(od.find(0x2003, 3), Err(SdoAbort::NoSubIndex));
     assert_eq!(od.find(0x6000, 0), Err(SdoAbort::NoObject));
     let s = od.find(0x1009, 0).unwrap();
     let capacity = od.capacity(od.locate(0x1009, 0).unwrap());
-    assert_eq!((capacity, s.access), (Some(32), edsgen_runtime::Access::Rw));
+    assert_eq!(
+        (capacity, s.access()),
+        (Some(32), edsgen_runtime::Access::Rw)
+    );
 }
 
 /// `read` and `write` dispatch on the position in `ENTRIES`: every described entry is served at
@@ -209,7 +212,7 @@ fn every_entry_reads_and_writes_its_own_value() {
         .entries()
         .iter()
         .enumerate()
-        .map(|(position, e)| (e.index, e.sub, od.capacity(position).unwrap()))
+        .map(|(position, e)| (e.index(), e.sub(), od.capacity(position).unwrap()))
         .collect();
     let mut written = Vec::new();
     for (i, &(index, sub, size)) in addresses.iter().enumerate() {
@@ -328,11 +331,11 @@ fn access_by_position_agrees_with_access_by_address_for_every_entry() {
     let mut by_address = Od::new(3);
     let entries = by_address.entries().to_vec();
     for (position, entry) in entries.iter().enumerate() {
-        assert_eq!(by_address.locate(entry.index, entry.sub), Ok(position));
+        assert_eq!(by_address.locate(entry.index(), entry.sub()), Ok(position));
         let (mut a, mut b) = ([0u8; 64], [0u8; 64]);
         let read_a = by_position.read_at(position, 0, &mut a);
-        let read_b = by_address.read(entry.index, entry.sub, 0, &mut b);
-        assert_eq!(read_a, read_b, "{:04X}h sub {}", entry.index, entry.sub);
+        let read_b = by_address.read(entry.index(), entry.sub(), 0, &mut b);
+        assert_eq!(read_a, read_b, "{:04X}h sub {}", entry.index(), entry.sub());
         // Write the value's bytes back, each byte changed, through both paths.
         let len = read_b
             .unwrap_or(0)
@@ -340,15 +343,17 @@ fn access_by_position_agrees_with_access_by_address_for_every_entry() {
         let data: Vec<u8> = b[..len].iter().map(|x| x.wrapping_add(1)).collect();
         assert_eq!(
             by_position.write_at(position, &data),
-            by_address.write(entry.index, entry.sub, &data),
+            by_address.write(entry.index(), entry.sub(), &data),
             "{:04X}h sub {}",
-            entry.index,
-            entry.sub
+            entry.index(),
+            entry.sub()
         );
         assert_eq!(
-            by_position, by_address,
+            by_position,
+            by_address,
             "{:04X}h sub {}",
-            entry.index, entry.sub
+            entry.index(),
+            entry.sub()
         );
     }
     let past = entries.len();

@@ -71,7 +71,7 @@ impl ImageDecoder {
                     .dictionary
                     .find(entry.index, entry.sub)
                     .ok()
-                    .map(|e| e.data_type);
+                    .map(|e| e.data_type());
                 let value = if bits.is_multiple_of(8) && offset.is_multiple_of(8) {
                     text::value(data_type, &data[offset / 8..(offset + bits) / 8])
                 } else {

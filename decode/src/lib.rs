@@ -226,12 +226,12 @@ impl Decoder {
         for (&node, described) in &self.described {
             let od = &described.mirror;
             for (position, entry) in od.entries().iter().enumerate() {
-                if !(0x1201..=0x127F).contains(&entry.index) || !matches!(entry.sub, 1 | 2) {
+                if !(0x1201..=0x127F).contains(&entry.index()) || !matches!(entry.sub(), 1 | 2) {
                     continue;
                 }
                 let cob = od.value_at(position).map_or(0, u32_of);
                 if cob & 0x8000_0000 == 0 && cob & 0x1FFF_FFFF == u32::from(id) {
-                    return Some((node, (entry.index - 0x1200) as u8, entry.sub == 1));
+                    return Some((node, (entry.index() - 0x1200) as u8, entry.sub() == 1));
                 }
             }
         }
@@ -301,17 +301,18 @@ impl Decoder {
         for (&node, described) in &self.described {
             let od = &described.mirror;
             for (position, entry) in od.entries().iter().enumerate() {
-                let transmit = match entry.index {
+                let transmit = match entry.index() {
                     0x1400..=0x15FF => false,
                     0x1800..=0x19FF => true,
                     _ => continue,
                 };
                 let cob = od.value_at(position).map_or(0, u32_of);
-                if entry.sub != 1 || cob & 0x8000_0000 != 0 || cob & 0x1FFF_FFFF != u32::from(id) {
+                if entry.sub() != 1 || cob & 0x8000_0000 != 0 || cob & 0x1FFF_FFFF != u32::from(id)
+                {
                     continue;
                 }
-                let n = entry.index & 0x1FF;
-                let fields = described.pdo_fields(entry.index + 0x200, data);
+                let n = entry.index() & 0x1FF;
+                let fields = described.pdo_fields(entry.index() + 0x200, data);
                 return Some((pdo_kind(transmit, n), format!("node {node} {fields}")));
             }
         }
@@ -351,7 +352,7 @@ impl Described {
             }
             if index >= 0x1000 && bits % 8 == 0 && offset.is_multiple_of(8) {
                 let bytes = &data[offset / 8..(offset + bits) / 8];
-                let data_type = od.find(index, mapped_sub).ok().map(|e| e.data_type);
+                let data_type = od.find(index, mapped_sub).ok().map(|e| e.data_type());
                 fields.push(format!(
                     "{} = {}",
                     self.name(index, mapped_sub),
@@ -470,7 +471,7 @@ fn describe_transfer(
     if complete {
         let data_type = described
             .and_then(|d| d.mirror.find(index, sub).ok())
-            .map(|e| e.data_type);
+            .map(|e| e.data_type());
         let summarised = !full && t.data.len() > SUMMARY_AFTER;
         let value = if summarised {
             text::summary(data_type, &t.data)

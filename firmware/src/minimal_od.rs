@@ -5,20 +5,11 @@
 use edsgen_runtime::od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 
 const fn e(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
-    EntryDescriptor {
-        index,
-        sub,
-        data_type,
-        access,
-        pdo_mappable: false,
-    }
+    EntryDescriptor::new(index, sub, data_type, access, false)
 }
 
 const fn m(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
-    EntryDescriptor {
-        pdo_mappable: true,
-        ..e(index, sub, data_type, access)
-    }
+    EntryDescriptor::new(index, sub, data_type, access, true)
 }
 
 use Access::{Ro, Rw, Rwr, Rww};
@@ -175,12 +166,12 @@ impl MinimalOd {
 
 /// The size of an entry's value: every entry here has a fixed-size type of at most 4 bytes.
 fn size(entry: &EntryDescriptor) -> usize {
-    entry.data_type.fixed_size().unwrap_or(0)
+    entry.data_type().fixed_size().unwrap_or(0)
 }
 
 fn position(index: u16, sub: u8) -> Result<usize, SdoAbort> {
     ENTRIES
-        .binary_search_by(|e| (e.index, e.sub).cmp(&(index, sub)))
+        .binary_search_by(|e| (e.index(), e.sub()).cmp(&(index, sub)))
         .map_err(|_| SdoAbort::NoObject)
 }
 

@@ -54,7 +54,7 @@ macro_rules! resettable_generated {
                 let mut buf = [0u8; 256];
                 for position in 0..self.entries().len() {
                     let entry = self.entries()[position];
-                    if range.contains(&entry.index) {
+                    if range.contains(&entry.index()) {
                         let len = defaults.read_at(position, 0, &mut buf).expect("entry exists");
                         assert!(len < buf.len(), "a default longer than the buffer");
                         self.write_at(position, &buf[..len]).expect("defaults are legal");
@@ -142,7 +142,10 @@ impl<O: ObjectDictionary> ObjectDictionary for Watched<O> {
             );
         } else {
             let entry = self.0.entries()[position];
-            assert!(entry.access.writable(), "commit to non-writable {position}");
+            assert!(
+                entry.access().writable(),
+                "commit to non-writable {position}"
+            );
             assert_eq!(after[position].len(), len, "commit length at {position}");
             let others = (0..after.len()).filter(|&p| p != position);
             assert!(
@@ -167,7 +170,7 @@ impl<O: ObjectDictionary> ObjectDictionary for Watched<O> {
         if result.is_ok() {
             let node_owned = index == 0x1001 || index == 0x1003;
             assert!(
-                descriptor.access.writable() || node_owned,
+                descriptor.access().writable() || node_owned,
                 "write to non-writable {index:04X}:{sub}"
             );
             assert!(
@@ -178,7 +181,7 @@ impl<O: ObjectDictionary> ObjectDictionary for Watched<O> {
                 sub == 0 || !mapping_enabled,
                 "mapping {index:04X}:{sub} written while enabled"
             );
-            match descriptor.data_type.fixed_size() {
+            match descriptor.data_type().fixed_size() {
                 Some(size) => assert_eq!(data.len(), size, "{index:04X}:{sub} size"),
                 None => assert!(
                     capacity.is_some_and(|capacity| data.len() <= capacity),
@@ -310,11 +313,13 @@ fn accounted<O: Resettable>(node: &mut Node<Watched<O>, Hooks>, before: &[Vec<u8
         }
         // Save (1010h) and restore (1011h) act through the hooks, not the OD; 1001h and 1003h
         // the node keeps; an SDO write to a communication object may change others of its index.
-        let explained = written.contains(&entry.index) || matches!(entry.index, 0x1001 | 0x1003);
+        let explained =
+            written.contains(&entry.index()) || matches!(entry.index(), 0x1001 | 0x1003);
         assert!(
             explained,
             "{:04X}:{} changed without an event that accounts for it",
-            entry.index, entry.sub
+            entry.index(),
+            entry.sub()
         );
     }
 }

@@ -101,21 +101,58 @@ impl Access {
     }
 }
 
-/// What the protocols need to know about one entry, without touching its value: 6 bytes in a
-/// generated table. The size is the data type's ([`DataType::fixed_size`]); a string's, octet
-/// string's or domain's capacity comes from [`ObjectDictionary::capacity`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// What the protocols need to know about one entry, without touching its value: 5 bytes in a
+/// generated table (packed: the index, the sub-index, the data type, and the access rights
+/// with the PDO mappability in one byte). The size is the data type's
+/// ([`DataType::fixed_size`]); a string's, octet string's or domain's capacity comes from
+/// [`ObjectDictionary::capacity`].
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(C, packed)]
 pub struct EntryDescriptor {
-    /// OD index.
-    pub index: u16,
-    /// Sub-index.
-    pub sub: u8,
-    /// Data type.
-    pub data_type: DataType,
-    /// Access rights.
-    pub access: Access,
-    /// Whether the entry may be mapped into a PDO.
-    pub pdo_mappable: bool,
+    index: u16,
+    sub: u8,
+    data_type: DataType,
+    rights: Rights,
+}
+
+/// An entry's [`Access`] (its position in the enum, bits 0-2) and whether it is PDO-mappable
+/// (bit 7), in one byte.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct Rights(u8);
+
+impl Rights {
+    const MAPPABLE: u8 = 0x80;
+
+    const fn new(access: Access, pdo_mappable: bool) -> Self {
+        let code = match access {
+            Access::Ro => 0,
+            Access::Wo => 1,
+            Access::Rw => 2,
+            Access::Rwr => 3,
+            Access::Rww => 4,
+            Access::Const => 5,
+        };
+        Rights(if pdo_mappable {
+            code | Self::MAPPABLE
+        } else {
+            code
+        })
+    }
+
+    const fn access(self) -> Access {
+        match self.0 & 0x07 {
+            0 => Access::Ro,
+            1 => Access::Wo,
+            2 => Access::Rw,
+            3 => Access::Rwr,
+            4 => Access::Rww,
+            _ => Access::Const,
+        }
+    }
+
+    const fn pdo_mappable(self) -> bool {
+        self.0 & Self::MAPPABLE != 0
+    }
 }
 
 impl EntryDescriptor {
@@ -131,9 +168,50 @@ impl EntryDescriptor {
             index,
             sub,
             data_type,
-            access,
-            pdo_mappable,
+            rights: Rights::new(access, pdo_mappable),
         }
+    }
+
+    /// OD index.
+    #[inline]
+    pub const fn index(&self) -> u16 {
+        self.index
+    }
+
+    /// Sub-index.
+    #[inline]
+    pub const fn sub(&self) -> u8 {
+        self.sub
+    }
+
+    /// Data type.
+    #[inline]
+    pub const fn data_type(&self) -> DataType {
+        self.data_type
+    }
+
+    /// Access rights.
+    #[inline]
+    pub const fn access(&self) -> Access {
+        self.rights.access()
+    }
+
+    /// Whether the entry may be mapped into a PDO.
+    #[inline]
+    pub const fn pdo_mappable(&self) -> bool {
+        self.rights.pdo_mappable()
+    }
+}
+
+impl core::fmt::Debug for EntryDescriptor {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("EntryDescriptor")
+            .field("index", &self.index())
+            .field("sub", &self.sub())
+            .field("data_type", &self.data_type())
+            .field("access", &self.access())
+            .field("pdo_mappable", &self.pdo_mappable())
+            .finish()
     }
 }
 
@@ -244,7 +322,7 @@ pub trait ObjectDictionary {
     /// [`write_part`](Self::write_part) when a piece passes the end); a dictionary holding
     /// strings or domains says their capacity.
     fn capacity(&self, position: usize) -> Option<usize> {
-        self.entries().get(position)?.data_type.fixed_size()
+        self.entries().get(position)?.data_type().fixed_size()
     }
 
     /// The current length in bytes of the value at (index, sub) (shorter than the capacity for a
@@ -266,7 +344,7 @@ pub trait ObjectDictionary {
     /// reads by the entry's (index, sub); the generated dictionaries dispatch on the position.
     fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         let entry = self.entries().get(position).ok_or(SdoAbort::NoObject)?;
-        self.read(entry.index, entry.sub, offset, buf)
+        self.read(entry.index(), entry.sub(), offset, buf)
     }
 
     /// Starts a download into the entry at `position` (a string, octet string or domain)
@@ -355,13 +433,50 @@ pub trait ObjectDictionary {
     /// [`read_at`](Self::read_at) reads: an RPDO's mapped objects, an SDO expedited download.
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
         let entry = *self.entries().get(position).ok_or(SdoAbort::NoObject)?;
-        self.write(entry.index, entry.sub, data)
+        self.write(entry.index(), entry.sub(), data)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::DataType::{self, *};
+    use super::{Access, EntryDescriptor};
+
+    #[test]
+    fn a_descriptor_is_five_bytes_and_gives_back_its_parts() {
+        assert_eq!(core::mem::size_of::<EntryDescriptor>(), 5);
+        let accesses = [
+            Access::Ro,
+            Access::Wo,
+            Access::Rw,
+            Access::Rwr,
+            Access::Rww,
+            Access::Const,
+        ];
+        for access in accesses {
+            for mappable in [false, true] {
+                let e = EntryDescriptor::new(0xA1B2, 0xFE, Domain, access, mappable);
+                assert_eq!(
+                    (
+                        e.index(),
+                        e.sub(),
+                        e.data_type(),
+                        e.access(),
+                        e.pdo_mappable()
+                    ),
+                    (0xA1B2, 0xFE, Domain, access, mappable)
+                );
+            }
+        }
+        assert_eq!(
+            format!(
+                "{:?}",
+                EntryDescriptor::new(0x1017, 0, Unsigned16, Access::Rw, true)
+            ),
+            "EntryDescriptor { index: 4119, sub: 0, data_type: Unsigned16, access: Rw, \
+             pdo_mappable: true }"
+        );
+    }
 
     #[test]
     fn every_data_type_has_its_cia_301_size() {

@@ -5,13 +5,7 @@
 use edsgen_runtime::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
 
 const fn entry(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
-    EntryDescriptor {
-        index,
-        sub,
-        data_type,
-        access,
-        pdo_mappable: false,
-    }
+    EntryDescriptor::new(index, sub, data_type, access, false)
 }
 
 const ENTRIES: [EntryDescriptor; 10] = [

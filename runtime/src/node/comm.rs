@@ -187,7 +187,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                     .od
                     .entries()
                     .iter()
-                    .filter(|e| e.index == 0x1003)
+                    .filter(|e| e.index() == 0x1003)
                     .count();
                 for sub in 1..recorded.min(255) as u8 {
                     let _ = self.od.write(0x1003, sub, &[0; 4]);
@@ -308,13 +308,13 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
         let entry = *self.od.entries().get(position).ok_or(SdoAbort::NoObject)?;
         // Range checks in the node are `matches!` patterns: `RangeInclusive::contains` is a
         // function call on the device, some 120 B more flash over its five uses.
-        if matches!(entry.index, 0x1000..=0x1FFF) {
+        if matches!(entry.index(), 0x1000..=0x1FFF) {
             // A value of the wrong length gets the OD's length abort, not a rule's.
             let length_ok = entry
-                .data_type
+                .data_type()
                 .fixed_size()
                 .is_none_or(|size| size == data.len());
-            if length_ok && self.check(entry.index, entry.sub, data)? == Checked::Done {
+            if length_ok && self.check(entry.index(), entry.sub(), data)? == Checked::Done {
                 return Ok(());
             }
         }

@@ -103,7 +103,7 @@ impl Emcy {
         self.history_len = od
             .entries()
             .iter()
-            .filter(|e| e.index == 0x1003 && e.sub > 0)
+            .filter(|e| e.index() == 0x1003 && e.sub() > 0)
             .count()
             .min(254) as u8;
     }

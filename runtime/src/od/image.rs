@@ -199,12 +199,12 @@ impl Layout {
             Some(&next) => usize::from(next),
             None => self.image_size,
         };
-        let reserved = if holds_bytes(entry.data_type) { 2 } else { 0 };
+        let reserved = if holds_bytes(entry.data_type()) { 2 } else { 0 };
         let size = end
             .checked_sub(start + reserved)
             .ok_or(SdoAbort::NoObject)?;
         Ok(Place {
-            data_type: entry.data_type,
+            data_type: entry.data_type(),
             start,
             size,
         })
@@ -294,8 +294,12 @@ impl Layout {
         node_id: u8,
         indices: core::ops::RangeInclusive<u16>,
     ) {
-        let first = self.entries.partition_point(|e| e.index < *indices.start());
-        let end = self.entries.partition_point(|e| e.index <= *indices.end());
+        let first = self
+            .entries
+            .partition_point(|e| e.index() < *indices.start());
+        let end = self
+            .entries
+            .partition_point(|e| e.index() <= *indices.end());
         let offset = |position: usize| match self.offsets.get(position) {
             Some(&offset) => usize::from(offset),
             None => self.image_size,
@@ -343,7 +347,7 @@ impl Layout {
             if self
                 .entries
                 .get(hint)
-                .is_some_and(|e| e.index == entry.index && e.sub == entry.sub)
+                .is_some_and(|e| e.index() == entry.index && e.sub() == entry.sub)
             {
                 return Ok(hint);
             }

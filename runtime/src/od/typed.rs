@@ -127,25 +127,25 @@ pub(crate) fn copy_value(dst: &mut [u8], src: &[u8]) {
 /// (the sub-indices a sparse record leaves out are what makes it shorter than `sub`).
 #[inline(never)]
 pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usize, SdoAbort> {
-    let first = entries.partition_point(|e| e.index < index);
+    let first = entries.partition_point(|e| e.index() < index);
     let dense = first + usize::from(sub);
     if entries
         .get(dense)
-        .is_some_and(|e| e.index == index && e.sub == sub)
+        .is_some_and(|e| e.index() == index && e.sub() == sub)
     {
         return Ok(dense);
     }
-    if entries.get(first).is_none_or(|e| e.index != index) {
+    if entries.get(first).is_none_or(|e| e.index() != index) {
         return Err(SdoAbort::NoObject);
     }
     let rest = entries
         .get(first..dense)
         .unwrap_or_else(|| entries.get(first..).unwrap_or(&[]));
     for (k, e) in rest.iter().enumerate() {
-        if e.index != index || e.sub > sub {
+        if e.index() != index || e.sub() > sub {
             break;
         }
-        if e.sub == sub {
+        if e.sub() == sub {
             return Ok(first + k);
         }
     }
@@ -347,10 +347,10 @@ mod tests {
                 for sub in 0..=6u8 {
                     let linear = match entries
                         .iter()
-                        .position(|e| (e.index, e.sub) == (index, sub))
+                        .position(|e| (e.index(), e.sub()) == (index, sub))
                     {
                         Some(at) => Ok(at),
-                        None if entries.iter().any(|e| e.index == index) => {
+                        None if entries.iter().any(|e| e.index() == index) => {
                             Err(SdoAbort::NoSubIndex)
                         }
                         None => Err(SdoAbort::NoObject),

@@ -13,13 +13,13 @@
 //! /// One UNSIGNED16 at 1017h:00 (producer heartbeat time).
 //! struct Heartbeat(u16);
 //!
-//! const ENTRIES: [EntryDescriptor; 1] = [EntryDescriptor {
-//!     index: 0x1017,
-//!     sub: 0,
-//!     data_type: DataType::Unsigned16,
-//!     access: Access::Rw,
-//!     pdo_mappable: false,
-//! }];
+//! const ENTRIES: [EntryDescriptor; 1] = [EntryDescriptor::new(
+//!     0x1017,
+//!     0,
+//!     DataType::Unsigned16,
+//!     Access::Rw,
+//!     false,
+//! )];
 //!
 //! impl ObjectDictionary for Heartbeat {
 //!     fn entries(&self) -> &[EntryDescriptor] {

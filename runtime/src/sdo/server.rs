@@ -421,10 +421,10 @@ impl SdoServer {
     ) -> Result<WriteTarget, SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
         let entry = od.entries().get(position).ok_or(SdoAbort::NoObject)?;
-        if !entry.access.writable() {
+        if !entry.access().writable() {
             return Err(SdoAbort::ReadOnly);
         }
-        let fixed = entry.data_type.fixed_size();
+        let fixed = entry.data_type().fixed_size();
         Ok(WriteTarget {
             position,
             capacity: fixed
@@ -441,7 +441,7 @@ impl SdoServer {
     ) -> Result<(usize, EntryDescriptor), SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
         let entry = *od.entries().get(position).ok_or(SdoAbort::NoObject)?;
-        if !entry.access.readable() {
+        if !entry.access().readable() {
             return Err(SdoAbort::WriteOnly);
         }
         Ok((position, entry))
@@ -456,7 +456,7 @@ impl SdoServer {
         od: &O,
     ) -> Result<(usize, usize), SdoAbort> {
         let (position, entry) = Self::readable_entry(mux, od)?;
-        let len = match entry.data_type.fixed_size() {
+        let len = match entry.data_type().fixed_size() {
             Some(size) => size,
             None => od.value_len(mux.index, mux.sub)?,
         };

@@ -17,20 +17,8 @@ pub struct DomainOd {
 }
 
 const ENTRIES: [EntryDescriptor; 2] = [
-    EntryDescriptor {
-        index: 0x2100,
-        sub: 0,
-        data_type: DataType::Domain,
-        access: Access::Rw,
-        pdo_mappable: false,
-    },
-    EntryDescriptor {
-        index: 0x2101,
-        sub: 0,
-        data_type: DataType::Unsigned16,
-        access: Access::Rw,
-        pdo_mappable: false,
-    },
+    EntryDescriptor::new(0x2100, 0, DataType::Domain, Access::Rw, false),
+    EntryDescriptor::new(0x2101, 0, DataType::Unsigned16, Access::Rw, false),
 ];
 
 /// The domain's capacity.

@@ -26,13 +26,7 @@ fn entry(
     access: Access,
     pdo_mappable: bool,
 ) -> EntryDescriptor {
-    EntryDescriptor {
-        index,
-        sub,
-        data_type,
-        access,
-        pdo_mappable,
-    }
+    EntryDescriptor::new(index, sub, data_type, access, pdo_mappable)
 }
 
 fn key(index: u16, sub: u8) -> u32 {
@@ -159,9 +153,9 @@ impl TestOd {
         for sub in 1..=4u8 {
             table.push((entry(0x1003, sub, Unsigned32, Ro, false), 0));
         }
-        table.sort_by_key(|(e, _)| (e.index, e.sub));
+        table.sort_by_key(|(e, _)| (e.index(), e.sub()));
         let entries: Vec<EntryDescriptor> = table.iter().map(|(e, _)| *e).collect();
-        let keys = entries.iter().map(|e| key(e.index, e.sub)).collect();
+        let keys = entries.iter().map(|e| key(e.index(), e.sub())).collect();
         let values: Vec<[u8; 8]> = table.iter().map(|(_, v)| v.to_le_bytes()).collect();
         TestOd {
             entries,
@@ -214,7 +208,7 @@ impl TestOd {
     /// Sets every entry in `range` back to its default.
     pub fn reset_range(&mut self, range: core::ops::RangeInclusive<u16>) {
         for (i, e) in self.entries.iter().enumerate() {
-            if range.contains(&e.index) {
+            if range.contains(&e.index()) {
                 self.values[i] = self.defaults[i];
             }
         }
@@ -240,8 +234,8 @@ impl ObjectDictionary for TestOd {
         match self.keys.binary_search(&key(index, sub)) {
             Ok(pos) => Ok(&self.entries[pos]),
             Err(pos) => {
-                let index_exists = self.entries.get(pos).is_some_and(|e| e.index == index)
-                    || (pos > 0 && self.entries[pos - 1].index == index);
+                let index_exists = self.entries.get(pos).is_some_and(|e| e.index() == index)
+                    || (pos > 0 && self.entries[pos - 1].index() == index);
                 Err(if index_exists {
                     SdoAbort::NoSubIndex
                 } else {
@@ -253,12 +247,12 @@ impl ObjectDictionary for TestOd {
 
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         let pos = self.position(index, sub)?;
-        Ok(self.entries[pos].data_type.fixed_size().unwrap_or(8))
+        Ok(self.entries[pos].data_type().fixed_size().unwrap_or(8))
     }
 
     fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         let pos = self.position(index, sub)?;
-        let size = self.entries[pos].data_type.fixed_size().unwrap_or(8);
+        let size = self.entries[pos].data_type().fixed_size().unwrap_or(8);
         let value = &self.values[pos][..size];
         let rest = value.get(offset..).unwrap_or(&[]);
         let n = rest.len().min(buf.len());
@@ -273,7 +267,7 @@ impl ObjectDictionary for TestOd {
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let pos = self.position(index, sub)?;
-        let size = self.entries[pos].data_type.fixed_size().unwrap_or(8);
+        let size = self.entries[pos].data_type().fixed_size().unwrap_or(8);
         if data.len() > size {
             return Err(SdoAbort::LengthTooHigh);
         }
@@ -287,7 +281,7 @@ impl ObjectDictionary for TestOd {
             .iter()
             .find(|&&(i, s, _)| (i, s) == (index, sub))
         {
-            let number = match self.entries[pos].data_type {
+            let number = match self.entries[pos].data_type() {
                 Integer16 => i64::from(i16::from_le_bytes([value[0], value[1]])),
                 _ => u64::from_le_bytes(value) as i64,
             };

@@ -35,13 +35,8 @@ fn descriptor(
     access: Access,
     capacity: usize,
 ) -> (EntryDescriptor, usize) {
-    let descriptor = EntryDescriptor {
-        index,
-        sub,
-        data_type,
-        access,
-        pdo_mappable: matches!(access, Access::Rwr | Access::Rww),
-    };
+    let pdo_mappable = matches!(access, Access::Rwr | Access::Rww);
+    let descriptor = EntryDescriptor::new(index, sub, data_type, access, pdo_mappable);
     (descriptor, capacity)
 }
 
@@ -129,7 +124,7 @@ impl TestOd {
         assert!(od
             .descriptors
             .windows(2)
-            .all(|pair| (pair[0].index, pair[0].sub) < (pair[1].index, pair[1].sub)));
+            .all(|pair| (pair[0].index(), pair[0].sub()) < (pair[1].index(), pair[1].sub())));
         od
     }
 
@@ -137,7 +132,7 @@ impl TestOd {
         self.find(index, sub)?;
         self.descriptors
             .iter()
-            .position(|d| d.index == index && d.sub == sub)
+            .position(|d| d.index() == index && d.sub() == sub)
             .ok_or(SdoAbort::NoObject)
     }
 
@@ -232,7 +227,7 @@ impl ObjectDictionary for TestOd {
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let position = self.position(index, sub)?;
         let descriptor = self.descriptors[position];
-        match descriptor.data_type.fixed_size() {
+        match descriptor.data_type().fixed_size() {
             Some(size) if data.len() > size => return Err(SdoAbort::LengthTooHigh),
             Some(size) if data.len() < size => return Err(SdoAbort::LengthTooLow),
             None if data.len() > self.values[position].capacity => {

@@ -95,7 +95,11 @@ impl RuntimeDictionary {
             .objects
             .values()
             .filter(|o| o.index >= 0x1000 && !o.subs.is_empty())
-            .filter(|o| entries.binary_search_by_key(&o.index, |e| e.index).is_err())
+            .filter(|o| {
+                entries
+                    .binary_search_by_key(&o.index, |e| e.index())
+                    .is_err()
+            })
             .map(|o| (o.index, o.name.clone()))
             .collect();
         RuntimeDictionary {
@@ -121,7 +125,7 @@ impl RuntimeDictionary {
     /// [`reset`](Self::reset), to the `stored` values (one per entry) where given.
     fn reset_to(&mut self, kind: ResetKind, stored: Option<&[Vec<u8>]>) {
         for (position, (entry, slot)) in self.entries.iter().zip(&mut self.slots).enumerate() {
-            if kind == ResetKind::Node || (0x1000..=0x1FFF).contains(&entry.index) {
+            if kind == ResetKind::Node || (0x1000..=0x1FFF).contains(&entry.index()) {
                 let value = stored.and_then(|values| values.get(position));
                 slot.value.clone_from(value.unwrap_or(&slot.initial));
             }
@@ -133,7 +137,7 @@ impl RuntimeDictionary {
     pub fn set_initial(&mut self, index: u16, sub: u8, value: u64) -> bool {
         let Ok(position) = self
             .entries
-            .binary_search_by_key(&(index, sub), |e| (e.index, e.sub))
+            .binary_search_by_key(&(index, sub), |e| (e.index(), e.sub()))
         else {
             return false;
         };
@@ -167,7 +171,7 @@ impl ObjectDictionary for RuntimeDictionary {
                 slot.initial =
                     offset.wrapping_add(u64::from(node_id)).to_le_bytes()[..size].to_vec();
             }
-            if indices.contains(&entry.index) {
+            if indices.contains(&entry.index()) {
                 slot.value.clone_from(&slot.initial);
             }
         }
@@ -257,7 +261,7 @@ impl ObjectDictionary for RuntimeDictionary {
             .entries
             .get(position)
             .ok_or(SdoAbort::NoObject)?
-            .data_type;
+            .data_type();
         let slot = self.slots.get_mut(position).ok_or(SdoAbort::NoObject)?;
         if data_type.fixed_size().is_none() {
             if data.len() > slot.size {

@@ -91,8 +91,8 @@ impl EsiDevice {
         let mappable = od
             .entries()
             .iter()
-            .filter(|e| e.pdo_mappable)
-            .map(|e| (e.index, e.sub))
+            .filter(|e| e.pdo_mappable())
+            .map(|e| (e.index(), e.sub()))
             .collect();
         let esi_pdos = || ec.rx_pdos.iter().chain(&ec.tx_pdos);
         let pdos = esi_pdos()
@@ -100,7 +100,7 @@ impl EsiDevice {
             .chain(
                 od.entries()
                     .iter()
-                    .map(|e| e.index)
+                    .map(|e| e.index())
                     .filter(|i| matches!(i, 0x1600..=0x17FF | 0x1A00..=0x1BFF)),
             )
             .collect();

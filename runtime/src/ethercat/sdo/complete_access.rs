@@ -7,7 +7,9 @@ use crate::od::{ObjectDictionary, SdoAbort};
 
 /// Whether `index` is an object with sub-indices (a record or an array).
 fn has_subs<O: ObjectDictionary + ?Sized>(od: &O, index: u16) -> bool {
-    od.entries().iter().any(|e| e.index == index && e.sub > 0)
+    od.entries()
+        .iter()
+        .any(|e| e.index() == index && e.sub() > 0)
 }
 
 /// The length of a readable entry's value.
@@ -16,7 +18,7 @@ fn readable_len<O: ObjectDictionary + ?Sized>(
     index: u16,
     sub: u8,
 ) -> Result<usize, SdoAbort> {
-    if !od.find(index, sub)?.access.readable() {
+    if !od.find(index, sub)?.access().readable() {
         return Err(SdoAbort::WriteOnly);
     }
     od.value_len(index, sub)
@@ -115,7 +117,7 @@ fn write_entry<O: ObjectDictionary + ?Sized>(
     data: &[u8],
 ) -> Result<(), SdoAbort> {
     guard.check(index, sub, data)?;
-    if !od.find(index, sub)?.access.writable() {
+    if !od.find(index, sub)?.access().writable() {
         return Err(SdoAbort::ReadOnly);
     }
     od.write(index, sub, data)

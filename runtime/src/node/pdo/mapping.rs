@@ -233,14 +233,14 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
         .map_err(|_| SdoAbort::NotMappable)?;
     let descriptor = od.entries().get(position).ok_or(SdoAbort::NotMappable)?;
     let allowed = match direction {
-        Direction::Receive => descriptor.access.writable(),
-        Direction::Transmit => descriptor.access.readable(),
+        Direction::Receive => descriptor.access().writable(),
+        Direction::Transmit => descriptor.access().readable(),
     };
-    let size = descriptor.data_type.fixed_size();
-    if !descriptor.pdo_mappable
+    let size = descriptor.data_type().fixed_size();
+    if !descriptor.pdo_mappable()
         || !allowed
         || size != Some(len as usize)
-        || descriptor.data_type == DataType::Domain
+        || descriptor.data_type() == DataType::Domain
     {
         return Err(SdoAbort::NotMappable);
     }
