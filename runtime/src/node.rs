@@ -61,7 +61,7 @@ use self::sdo_channel::SdoChannel;
 use self::sync::Sync;
 use self::timer::TimerTable;
 use crate::frame::CanFrame;
-use crate::od::{ObjectDictionary, SdoAbort};
+use crate::od::{ObjectDictionary, SdoAbort, Services};
 use crate::time::{Duration, Instant};
 
 pub use self::events::EVENT_QUEUE;
@@ -375,6 +375,24 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         node.hooks.reset(ResetKind::Node, &mut node.od);
         node.reset_communication(now);
         Ok(node)
+    }
+
+    /// The optional services the dictionary has the objects of: a constant for a generated
+    /// dictionary, so that the node's tests of it leave no code for the others.
+    #[inline(always)]
+    fn services(&self) -> Services {
+        self.od.services()
+    }
+
+    /// The SDO server channels the dictionary has: the default one (1200h), and the second if
+    /// it has 1201h.
+    #[inline(always)]
+    fn sdo_channels(&self) -> usize {
+        if self.services().second_sdo {
+            2
+        } else {
+            1
+        }
     }
 
     /// The node-ID.
