@@ -8,8 +8,12 @@
 //! guarding (with the `node-guarding` feature), SYNC consumer and producer, the EMCY
 //! producer with 1001h/1003h, TPDOs and RPDOs of every transmission type with dynamic mapping,
 //! RPDO deadline monitoring (event timer, EMCY 8250h), and store/restore (1010h/1011h) through
-//! [`NodeHooks`]. No allocation, no clock reads. With the `lss` feature it is an LSS slave
-//! (CiA 305, `lss`): it may start without a node-ID (255) and be given one over the bus.
+//! [`NodeHooks`]. No allocation, no clock reads. A service whose objects the dictionary lacks
+//! costs no code: the node asks [`ObjectDictionary::services`], a constant for a generated
+//! dictionary, before each (error history, SYNC producer and monitoring, synchronous window and
+//! counter, EMCY inhibit time, life guarding, the second SDO server). With the `lss` feature it
+//! is an LSS slave (CiA 305, `lss`): it may start without a node-ID (255) and be given one over
+//! the bus.
 //!
 //! Services by NMT state (CiA 301 table 80): pre-operational serves SDO, SYNC, EMCY and error
 //! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node

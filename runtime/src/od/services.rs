@@ -5,9 +5,10 @@
 /// The optional communication objects a dictionary holds, each the one a service of the node
 /// cannot run without. A node over a dictionary without one of them never runs that service
 /// (it would read the object as absent, as 0, and stay off), so it builds no code for it; what
-/// the dictionary has works as before. [`ObjectDictionary::services`](super::ObjectDictionary::services)
-/// reports them: [`Services::ALL`] by default; a generated dictionary, the objects of the file it
-/// was generated from.
+/// the dictionary has works as before.
+/// [`ObjectDictionary::services`](super::ObjectDictionary::services) reports them:
+/// [`Services::ALL`] by default; a generated dictionary, the objects of the file it was
+/// generated from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Services {
     /// 1003h, the pre-defined error field: the error history the EMCY producer records.
