@@ -2,7 +2,9 @@
 //! heartbeat, SDO server, 4 RPDOs + 4 TPDOs, SYNC, EMCY), written by hand as a sorted `const`
 //! table and one 32-bit slot per entry.
 
-use edsgen_runtime::od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
+use edsgen_runtime::od::{
+    Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort, Services,
+};
 
 const fn e(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
     EntryDescriptor::new(index, sub, data_type, access, false)
@@ -178,6 +180,16 @@ fn position(index: u16, sub: u8) -> Result<usize, SdoAbort> {
 impl ObjectDictionary for MinimalOd {
     fn entries(&self) -> &[EntryDescriptor] {
         &ENTRIES
+    }
+
+    /// The services of the objects above: no 1007h, 100Ch/100Dh or 1201h.
+    fn services(&self) -> Services {
+        Services {
+            sync_window: false,
+            life_guarding: false,
+            second_sdo: false,
+            ..Services::ALL
+        }
     }
 
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {

@@ -8,8 +8,12 @@
 //! guarding (with the `node-guarding` feature), SYNC consumer and producer, the EMCY
 //! producer with 1001h/1003h, TPDOs and RPDOs of every transmission type with dynamic mapping,
 //! RPDO deadline monitoring (event timer, EMCY 8250h), and store/restore (1010h/1011h) through
-//! [`NodeHooks`]. No allocation, no clock reads. With the `lss` feature it is an LSS slave
-//! (CiA 305, `lss`): it may start without a node-ID (255) and be given one over the bus.
+//! [`NodeHooks`]. No allocation, no clock reads. A service whose objects the dictionary lacks
+//! costs no code: the node asks [`ObjectDictionary::services`], a constant for a generated
+//! dictionary, before each (error history, SYNC producer and monitoring, synchronous window and
+//! counter, EMCY inhibit time, life guarding, the second SDO server). With the `lss` feature it
+//! is an LSS slave (CiA 305, `lss`): it may start without a node-ID (255) and be given one over
+//! the bus.
 //!
 //! Services by NMT state (CiA 301 table 80): pre-operational serves SDO, SYNC, EMCY and error
 //! control; operational adds PDOs; stopped serves only NMT and error control (heartbeat, node
@@ -61,7 +65,7 @@ use self::sdo_channel::SdoChannel;
 use self::sync::Sync;
 use self::timer::TimerTable;
 use crate::frame::CanFrame;
-use crate::od::{ObjectDictionary, SdoAbort};
+use crate::od::{ObjectDictionary, SdoAbort, Services};
 use crate::time::{Duration, Instant};
 
 pub use self::events::EVENT_QUEUE;
@@ -375,6 +379,24 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         node.hooks.reset(ResetKind::Node, &mut node.od);
         node.reset_communication(now);
         Ok(node)
+    }
+
+    /// The optional services the dictionary has the objects of: a constant for a generated
+    /// dictionary, so that the node's tests of it leave no code for the others.
+    #[inline(always)]
+    fn services(&self) -> Services {
+        self.od.services()
+    }
+
+    /// The SDO server channels the dictionary has: the default one (1200h), and the second if
+    /// it has 1201h.
+    #[inline(always)]
+    fn sdo_channels(&self) -> usize {
+        if self.services().second_sdo {
+            2
+        } else {
+            1
+        }
     }
 
     /// The node-ID.

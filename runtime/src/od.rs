@@ -16,8 +16,11 @@
 pub mod access;
 pub mod entry;
 pub mod image;
+mod services;
 pub mod stage;
 pub mod typed;
+
+pub use self::services::Services;
 
 /// A CiA 301 data type, as the runtime needs it (the wire size and how a value is checked).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -297,6 +300,14 @@ impl SdoAbort {
 pub trait ObjectDictionary {
     /// Every entry, sorted by (index, sub).
     fn entries(&self) -> &[EntryDescriptor];
+
+    /// Which of the node's optional services the dictionary has the objects of ([`Services`]).
+    /// A node builds no code for the others, so the answer must not change at run time: every
+    /// service by default, the generated dictionaries' own objects (a constant).
+    #[inline]
+    fn services(&self) -> Services {
+        Services::ALL
+    }
 
     /// Where (index, sub) is in [`entries`](Self::entries): the position
     /// [`read_at`](Self::read_at) and [`write_at`](Self::write_at) take. `NoObject` if the index

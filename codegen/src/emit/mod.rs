@@ -109,7 +109,7 @@ pub fn generate_module_reporting(
     let mut splices = text::Splices::default();
     let structs = od::structs(&plan, &mut splices);
     let table = od::descriptors(&plan, &mut splices);
-    let od_impl = od::od_impl(&mut splices);
+    let od_impl = od::od_impl(&plan, &mut splices);
     let addresses = od::addresses(&plan, &mut splices);
     let header = header(device);
     let module_ident = plan::id(&module);

@@ -116,9 +116,24 @@ pub mod ec_hand {
         &LIMITS,
         IMAGE_SIZE,
     );
+    /// Which of the node's optional services this dictionary has the objects of: a node
+    /// builds no code for the others.
+    const SERVICES: ::edsgen_runtime::Services = ::edsgen_runtime::Services {
+        error_history: false,
+        sync_period: false,
+        sync_window: false,
+        sync_counter: false,
+        emcy_inhibit: false,
+        life_guarding: false,
+        second_sdo: false,
+    };
     impl ::edsgen_runtime::ObjectDictionary for Od {
         fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
             &ENTRIES
+        }
+        #[inline]
+        fn services(&self) -> ::edsgen_runtime::Services {
+            SERVICES
         }
         fn capacity(&self, position: usize) -> Option<usize> {
             LAYOUT.capacity(position)

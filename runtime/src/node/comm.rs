@@ -16,7 +16,7 @@
 
 use super::pdo::{self, Direction, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
-use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
+use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort, Services};
 use crate::wire::pdo::{CobIdEntry, MappingEntry};
 use crate::wire::sdo::{SDO_REQUEST_BASE, SDO_RESPONSE_BASE};
 
@@ -180,6 +180,9 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
     fn check(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<Checked, SdoAbort> {
         let value = value_u32(data);
         match index {
+            // No rule's code for the objects a dictionary lacks: they are never written.
+            0x1003 if !self.od.services().error_history => Ok(Checked::Write),
+            0x1019 if !self.od.services().sync_counter => Ok(Checked::Write),
             0x1003 if sub == 0 && value != 0 => Err(SdoAbort::InvalidValue),
             0x1003 if sub == 0 => {
                 // Deleting the history: the codes go too, so the sub-indices read 0.
@@ -256,6 +259,11 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
 impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGuard<'_, O, H> {
     fn entries(&self) -> &[EntryDescriptor] {
         self.od.entries()
+    }
+
+    #[inline]
+    fn services(&self) -> Services {
+        self.od.services()
     }
 
     fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {

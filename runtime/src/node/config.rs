@@ -13,12 +13,19 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 {
     /// Reads the second SDO server's COB-IDs (1201h); the default server's are fixed.
     pub(super) fn configure_second_sdo(&mut self) {
-        self.sdo[1].configure(&self.od, 0x1201);
+        if self.services().second_sdo {
+            self.sdo[1].configure(&self.od, 0x1201);
+        }
     }
 
     pub(super) fn restart_sync_producer(&mut self, now: Instant) {
         let serves = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
-        let first = self.sync.restart(now, serves);
+        // Without 1006h no SYNC is ever produced, and the consumer does not monitor.
+        let first = if self.services().sync_period {
+            self.sync.restart(now, serves)
+        } else {
+            None
+        };
         self.timers.set(Timer::SyncProducer, first);
         self.timers.set(Timer::SyncConsumer, None);
     }

@@ -99,13 +99,20 @@ impl Emcy {
         let cob = CobIdEntry(read_uint_or(od, 0x1014, 0, default));
         self.cob_id = cob.can_id();
         self.enabled = cob.valid() && !cob.extended();
-        self.inhibit = Duration::from_micros(u64::from(read_uint_or(od, 0x1015, 0, 0)) * 100);
-        self.history_len = od
-            .entries()
-            .iter()
-            .filter(|e| e.index() == 0x1003 && e.sub() > 0)
-            .count()
-            .min(254) as u8;
+        self.inhibit = if od.services().emcy_inhibit {
+            Duration::from_micros(u64::from(read_uint_or(od, 0x1015, 0, 0)) * 100)
+        } else {
+            Duration::ZERO
+        };
+        self.history_len = if od.services().error_history {
+            od.entries()
+                .iter()
+                .filter(|e| e.index() == 0x1003 && e.sub() > 0)
+                .count()
+                .min(254) as u8
+        } else {
+            0
+        };
     }
 
     /// The error register: every active error's bits, and the generic bit (bit 0) whenever
@@ -236,7 +243,7 @@ impl Emcy {
     }
 
     fn push_history<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O, value: u32) {
-        if self.history_len == 0 {
+        if !od.services().error_history || self.history_len == 0 {
             return;
         }
         let count = (read_uint_or(od, 0x1003, 0, 0) as u8).min(self.history_len);

@@ -83,6 +83,9 @@ impl ErrorControl {
     /// stops).
     #[cfg(feature = "node-guarding")]
     pub fn configure_guarding<O: ObjectDictionary + ?Sized>(&mut self, od: &O) -> bool {
+        if !od.services().life_guarding {
+            return false;
+        }
         let guard_ms = read_uint_or(od, 0x100C, 0, 0);
         self.guarding.guard_time = Duration::from_millis(u64::from(guard_ms));
         self.guarding.life_time_factor = read_uint_or(od, 0x100D, 0, 0) as u8;

@@ -56,12 +56,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// Through the dictionary the channels' requests see (the one the server's code is built
     /// for, rather than a second copy of it for the bare OD).
     fn reset_sdo(&mut self) {
+        let channels = self.sdo_channels();
         let mut guard = CommGuard {
             od: &mut self.od,
             hooks: &mut self.hooks,
             node_id: self.node_id,
         };
-        for channel in &mut self.sdo {
+        for channel in &mut self.sdo[..channels] {
             channel.reset(&mut guard);
         }
     }

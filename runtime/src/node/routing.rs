@@ -47,7 +47,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.handle_sync_frame(frame.data(), now);
                 return;
             }
-            for n in 0..self.sdo.len() {
+            for n in 0..self.sdo_channels() {
                 if self.sdo[n].accepts(id) {
                     self.handle_sdo(n, frame.data(), now);
                     return;
@@ -110,7 +110,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// A node-guarding RTR: queue the answer and (re)start life guarding.
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
-        if let Some((life_end, recovered)) = self.error_control.guard_request(now) {
+        let life_guarding = self.services().life_guarding;
+        let restarted = self.error_control.guard_request(now);
+        if let Some((life_end, recovered)) = restarted.filter(|_| life_guarding) {
             self.timers.set(Timer::LifeGuard, Some(life_end));
             if recovered {
                 self.end_error_control_loss();
@@ -126,6 +128,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
+    /// Inlined into its one caller: out of line (as the host build made it once the loop over
+    /// the channels had a constant bound) it costs an SDO request some 16 instructions more.
+    #[inline(always)]
     fn handle_sdo(&mut self, n: usize, request: &[u8], now: Instant) {
         let mut guard = CommGuard {
             od: &mut self.od,
@@ -252,7 +257,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// the right length clears it.
     fn handle_sync_frame(&mut self, data: &[u8], now: Instant) {
         match SyncRepr::parse(data) {
-            Some(sync) if self.sync.length_matches(sync.counter) => {
+            Some(sync) if self.sync_length_matches(sync.counter) => {
                 // Nothing happens unless it is active.
                 self.emcy.clear(&mut self.od, error_code::SYNC_LENGTH);
                 self.handle_sync(sync.counter, now);
@@ -264,9 +269,26 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
+    /// Whether a SYNC's counter matches 1019h (no counter without 1019h).
+    #[inline(always)]
+    fn sync_length_matches(&self, counter: Option<u8>) -> bool {
+        if self.services().sync_counter {
+            self.sync.length_matches(counter)
+        } else {
+            counter.is_none()
+        }
+    }
+
+    /// Whether the SYNC producer has a SYNC to send (never without 1006h).
+    #[inline(always)]
+    fn sync_due(&self) -> bool {
+        self.services().sync_period && self.sync.due()
+    }
+
     pub(super) fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
         self.events.push(Event::Sync { counter });
-        if let Some(timeout) = self.sync.consumed(now) {
+        let services = self.services();
+        if let Some(timeout) = self.sync.consumed(now).filter(|_| services.sync_period) {
             self.timers.set(Timer::SyncConsumer, Some(timeout));
             // Ends a SYNC timeout error, if one is active.
             self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
@@ -279,8 +301,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.apply_rpdo(n, &data);
             }
         }
-        let window_end = self.sync.window_end(now);
-        let use_start = self.sync.counting();
+        let window_end = self.sync.window_end(now).filter(|_| services.sync_window);
+        let use_start = services.sync_counter && self.sync.counting();
         for tpdo in &mut self.tpdos {
             if tpdo.on_sync(&self.od, counter, use_start, window_end) {
                 self.tpdo_attention = true;
@@ -307,10 +329,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         let sdo_answer = self.sdo[0].busy();
         let may_send = sdo_answer
             || self.boot_up_due
-            || self.sync.due()
+            || self.sync_due()
             || self.emcy.queued()
             || self.tpdo_attention
-            || self.sdo[1].busy()
+            || (self.sdo_channels() > 1 && self.sdo[1].busy())
             || self.error_control.due();
         if !may_send {
             return None;
@@ -318,7 +340,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         // That answer with nothing due before it (the services whose frames go out first):
         // straight from the channel.
         if sdo_answer
-            && !(self.boot_up_due || self.sync.due() || self.emcy.queued() || self.tpdo_attention)
+            && !(self.boot_up_due || self.sync_due() || self.emcy.queued() || self.tpdo_attention)
         {
             if let Some(frame) = self.sdo[0].poll_transmit(now, &self.od) {
                 return Some(frame);
@@ -339,8 +361,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 1,
             ));
         }
-        if let Some((id, counter, len)) = self.sync.poll_transmit() {
-            return Some(one_byte_frame(id, counter, len));
+        if self.services().sync_period {
+            if let Some((id, counter, len)) = self.sync.poll_transmit() {
+                return Some(one_byte_frame(id, counter, len));
+            }
         }
         if self.state != NmtState::Stopped {
             if let Some(frame) = self.emcy.poll_transmit(now) {
@@ -352,7 +376,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 return Some(frame);
             }
         }
-        for channel in &mut self.sdo {
+        let channels = self.sdo_channels();
+        for channel in &mut self.sdo[..channels] {
             if let Some(frame) = channel.poll_transmit(now, &self.od) {
                 return Some(frame);
             }

@@ -28,9 +28,18 @@ impl Sync {
         let cob = CobIdEntry(read_uint_or(od, 0x1005, 0, u32::from(SYNC_COB_ID)));
         self.cob_id = cob.can_id();
         self.producer = cob.bit30() && !cob.extended();
-        self.period = Duration(u64::from(read_uint_or(od, 0x1006, 0, 0)));
-        self.window = Duration(u64::from(read_uint_or(od, 0x1007, 0, 0)));
-        self.overflow = read_uint_or(od, 0x1019, 0, 0) as u8;
+        // An object the dictionary does not have reads as 0 (no code for it in a generated one's).
+        let services = od.services();
+        let read = |present: bool, index: u16| {
+            if present {
+                read_uint_or(od, index, 0, 0)
+            } else {
+                0
+            }
+        };
+        self.period = Duration(u64::from(read(services.sync_period, 0x1006)));
+        self.window = Duration(u64::from(read(services.sync_window, 0x1007)));
+        self.overflow = read(services.sync_counter, 0x1019) as u8;
         self.counter = 0;
     }
 

@@ -146,7 +146,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 keep_earliest(&mut next, &tpdo.inhibit_end());
             }
         }
-        for channel in &self.sdo {
+        for channel in &self.sdo[..self.sdo_channels()] {
             keep_earliest(&mut next, &channel.next_deadline());
         }
         next
@@ -162,12 +162,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.expire(timer, at, now);
             }
         });
+        let channels = self.sdo_channels();
         let mut guard = CommGuard {
             od: &mut self.od,
             hooks: &mut self.hooks,
             node_id: self.node_id,
         };
-        for channel in &mut self.sdo {
+        for channel in &mut self.sdo[..channels] {
             if channel.next_deadline().is_some_and(|at| at <= now) {
                 channel.expire(now, &mut guard);
             }
@@ -190,11 +191,16 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     [node_id, 0, 0, 0, 0],
                 );
             }
+            // Never armed without 100Ch and 100Dh.
+            #[cfg(feature = "node-guarding")]
+            Timer::LifeGuard if !self.services().life_guarding => {}
             #[cfg(feature = "node-guarding")]
             Timer::LifeGuard => {
                 self.error_control.expire_life_guard(&mut self.events);
                 self.raise_communication_error(super::error_code::LIFE_GUARD, [0; 5]);
             }
+            // Never armed without 1006h (the node then builds no SYNC producer or monitoring).
+            Timer::SyncConsumer | Timer::SyncProducer if !self.services().sync_period => {}
             Timer::SyncConsumer => {
                 // Monitoring waits for the next SYNC.
                 self.raise_communication_error(SYNC_TIMEOUT_CODE, [0; 5]);

@@ -181,6 +181,24 @@ impl TestOd {
 
     /// Refuses writes of values above `high` to (index, sub) with 0609 0031 (a signed value for
     /// an INTEGERn entry).
+    /// The same device without the objects `indices` (a dictionary lacking them).
+    pub fn without(mut self, indices: &[u16]) -> Self {
+        let keep: Vec<bool> = self
+            .entries
+            .iter()
+            .map(|e| !indices.contains(&e.index()))
+            .collect();
+        let mut kept = keep.iter().copied();
+        self.entries.retain(|_| kept.next().unwrap());
+        let mut kept = keep.iter().copied();
+        self.keys.retain(|_| kept.next().unwrap());
+        let mut kept = keep.iter().copied();
+        self.values.retain(|_| kept.next().unwrap());
+        let mut kept = keep.iter().copied();
+        self.defaults.retain(|_| kept.next().unwrap());
+        self
+    }
+
     pub fn with_high_limit(mut self, index: u16, sub: u8, high: i64) -> Self {
         self.limits.push((index, sub, high));
         self

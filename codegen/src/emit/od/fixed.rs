@@ -27,6 +27,10 @@ pub const OD_IMPL: &str = r##"    impl ::edsgen_runtime::ObjectDictionary for Od
         fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
             &ENTRIES
         }
+        #[inline]
+        fn services(&self) -> ::edsgen_runtime::Services {
+            SERVICES
+        }
         fn capacity(&self, position: usize) -> Option<usize> {
             LAYOUT.capacity(position)
         }

@@ -330,14 +330,51 @@ fn entries_and_offsets(plan: &Plan) -> String {
     out
 }
 
+/// The node's optional services (`edsgen_runtime::Services`' fields), each with the objects it
+/// cannot run without.
+const SERVICE_OBJECTS: [(&str, &[u16]); 7] = [
+    ("error_history", &[0x1003]),
+    ("sync_period", &[0x1006]),
+    ("sync_window", &[0x1007]),
+    ("sync_counter", &[0x1019]),
+    ("emcy_inhibit", &[0x1015]),
+    ("life_guarding", &[0x100C, 0x100D]),
+    ("second_sdo", &[0x1201]),
+];
+
+/// `SERVICES`, which of the node's optional services the dictionary has the objects of, and
 /// `impl ObjectDictionary for Od` (the same in every module: `fixed::OD_IMPL`).
-pub fn od_impl(splices: &mut Splices) -> TokenStream {
-    splices.item(fixed::OD_IMPL.to_owned())
+pub fn od_impl(plan: &Plan, splices: &mut Splices) -> TokenStream {
+    let mut out = services(|index| plan.entries.iter().any(|e| e.index == index));
+    out.push_str(fixed::OD_IMPL);
+    splices.item(out)
+}
+
+/// `SERVICES`, for a dictionary that `has` the objects of some indices.
+fn services(has: impl Fn(u16) -> bool) -> String {
+    let mut out = String::with_capacity(512);
+    text::docs(
+        &mut out,
+        ITEM_INDENT,
+        &[
+            " Which of the node's optional services this dictionary has the objects of: a node",
+            " builds no code for the others.",
+        ],
+    );
+    text::indent(&mut out, ITEM_INDENT);
+    out.push_str("const SERVICES: ::edsgen_runtime::Services = ::edsgen_runtime::Services {\n");
+    for (field, objects) in SERVICE_OBJECTS {
+        text::indent(&mut out, ITEM_INDENT + 4);
+        let _ = writeln!(out, "{field}: {},", objects.iter().all(|&index| has(index)));
+    }
+    text::indent(&mut out, ITEM_INDENT);
+    out.push_str("};\n");
+    out
 }
 
 #[cfg(test)]
 mod tests {
-    use super::default_runs;
+    use super::{default_runs, services};
     use edsgen_runtime::od::image::unpack_defaults;
     use proptest::prelude::*;
 
@@ -372,5 +409,22 @@ mod tests {
         ) {
             prop_assert_eq!(unpacked(&default_runs(&image), image.len()), image);
         }
+    }
+
+    #[test]
+    fn services_say_which_service_objects_the_dictionary_has() {
+        let cp301 = services(|index| matches!(index, 0x1000..=0x1018 if index != 0x1003));
+        assert!(cp301.contains("error_history: false,\n"));
+        assert!(cp301.contains("sync_period: true,\n"));
+        assert!(cp301.contains("emcy_inhibit: true,\n"));
+        // Life guarding needs both 100Ch and 100Dh.
+        assert!(cp301.contains("life_guarding: true,\n"));
+        assert!(cp301.contains("second_sdo: false,\n"));
+        let guard_time_only = services(|index| index == 0x100C);
+        assert!(guard_time_only.contains("life_guarding: false,\n"));
+        // As prettyplease prints it.
+        let module = format!("mod m {{\n{cp301}}}\n");
+        let file: syn::File = syn::parse_str(&module).expect("parses");
+        assert_eq!(prettyplease::unparse(&file), module);
     }
 }
