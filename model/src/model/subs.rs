@@ -20,6 +20,11 @@ impl Subs {
         }
     }
 
+    /// Room for `additional` more entries, so that adding them moves none (an entry is large).
+    pub fn reserve(&mut self, additional: usize) {
+        self.entries.reserve_exact(additional);
+    }
+
     /// Where `sub` is, or where it would go.
     fn search(&self, sub: u8) -> Result<usize, usize> {
         // Readers add entries in order: the last one is the likeliest place.
