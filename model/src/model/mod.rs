@@ -26,6 +26,7 @@ pub mod modules;
 mod object;
 mod profinet;
 mod source;
+mod subs;
 mod types;
 
 pub use cip::{
@@ -49,6 +50,7 @@ pub use profinet::{
     SystemSubmodule, ValueList,
 };
 pub use source::{Format, Source, Span, Spanned, TextEncoding};
+pub use subs::Subs;
 pub use types::{AccessType, BasicType, ObjectType};
 
 /// `[FileInfo]` (EDS/DCF) or the XML ProfileBody attributes.

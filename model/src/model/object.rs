@@ -1,9 +1,7 @@
 //! Objects and their entries (sub-objects), with the values read for them and where each key is
 //! written.
 
-use std::collections::BTreeMap;
-
-use super::{AccessType, ObjectType, Span, Spanned};
+use super::{AccessType, ObjectType, Span, Spanned, Subs};
 
 /// A value read from the file, typed by the entry's data type.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,7 +105,7 @@ pub struct Object {
     pub object_type: ObjectType,
     /// The entries: for VAR and DOMAIN exactly sub-index 0; for ARRAY, RECORD and DEFSTRUCT every
     /// implemented sub-index, sparse allowed.
-    pub subs: BTreeMap<u8, SubObject>,
+    pub subs: Subs,
     /// SubNumber as written (ARRAY/RECORD), for the validator to compare.
     pub sub_number: Option<Spanned<u32>>,
     /// CompactSubObj as written, if non-zero.
@@ -132,7 +130,7 @@ impl Object {
             index,
             name,
             object_type,
-            subs: BTreeMap::new(),
+            subs: Subs::new(),
             sub_number: None,
             compact_sub_obj: None,
             obj_flags: 0,

@@ -5,10 +5,8 @@
 //! written anew from the configured default assignment), each PDO's mapping object and the
 //! mapped objects. SOEM and ethercrab then size the images as the SII's PDO categories do.
 
-use std::collections::BTreeMap;
-
 use edsgen_model::model::{
-    AccessType, Device, EcPdo, KeySpans, Object, ObjectType, SmKind, Span, SubObject, Value,
+    AccessType, Device, EcPdo, KeySpans, Object, ObjectType, SmKind, Span, SubObject, Subs, Value,
     ValueSource,
 };
 
@@ -98,7 +96,7 @@ fn mapping_object(pdo: &EcPdo) -> Object {
 
 /// An ARRAY of `values` of `data_type` under a sub-index 0 that counts them, read-write.
 fn list(index: u16, name: &str, data_type: u16, values: &[u64]) -> Object {
-    let mut subs = BTreeMap::new();
+    let mut subs = Subs::new();
     let count = values.len() as u64;
     subs.insert(
         0,
@@ -135,7 +133,7 @@ fn empty(index: u16) -> Object {
         index,
         name: String::new(),
         object_type: ObjectType::Var,
-        subs: BTreeMap::new(),
+        subs: Subs::new(),
         sub_number: None,
         compact_sub_obj: None,
         obj_flags: 0,

@@ -244,7 +244,7 @@ pub fn expand_compact_pdo(device: &mut Device) {
             let mut mapping = Object {
                 index: map_base + n,
                 name: format!("{kind}PDO{number} mapping parameter"),
-                subs: BTreeMap::new(),
+                subs: Subs::new(),
                 ..comm.clone()
             };
             mapping.subs.insert(

@@ -317,6 +317,11 @@ impl Reader {
                     }
                 }
             }
+            let compact = object
+                .compact_sub_obj
+                .as_ref()
+                .map_or(0, |c| c.value as usize + 1);
+            object.subs.reserve(compact.min(256) + sections.subs.len());
             if let Some(count) = object.compact_sub_obj.clone() {
                 let template = self.read_entry(main, 0, ObjectKeys::Keep);
                 expand_compact_sub_obj(&mut object, &template, count);

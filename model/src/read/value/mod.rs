@@ -78,9 +78,11 @@ fn parse_integer_with_radix(raw: &str) -> Option<(i128, Radix)> {
     let mut value: i128 = 0;
     if digits.len() <= 15 {
         // At most 15 digits cannot overflow 64 bits (16^15 = 2^60): skip the 128-bit checks.
+        // Byte by byte: a digit is ASCII, and a byte of a non-ASCII character (80h..FFh as a
+        // `char`) is no digit, as the character is not.
         let mut small: u64 = 0;
-        for c in digits.chars() {
-            small = small * u64::from(base) + u64::from(c.to_digit(base)?);
+        for b in digits.bytes() {
+            small = small * u64::from(base) + u64::from(char::from(b).to_digit(base)?);
         }
         value = i128::from(small);
     } else {

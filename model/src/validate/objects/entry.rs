@@ -20,7 +20,11 @@ fn needs_var_keys(o: &Object, sub: &SubObject) -> bool {
 
 pub(super) fn entry(device: &Device, o: &Object, sub: &SubObject, out: &mut Vec<Diagnostic>) {
     let name = EntryName::new(device, o.index, sub.sub_index);
-    if o.object_type.has_subs() && !sub.implicit && sub.name.chars().count() > MAX_NAME {
+    if o.object_type.has_subs() && !sub.implicit
+        // A name of at most MAX_NAME bytes has at most MAX_NAME characters: most are not counted.
+        && sub.name.len() > MAX_NAME
+        && sub.name.chars().count() > MAX_NAME
+    {
         out.push(
             Diagnostic::new(
                 &rules::LONG_NAME,

@@ -123,12 +123,13 @@ pub(super) fn limits(
         };
         let relative =
             is_relative(v) || low.is_some_and(is_relative) || high.is_some_and(is_relative);
-        let nodes: Vec<i128> = match node_id {
-            Some(n) if relative => vec![n],
-            _ if relative => vec![1, 127],
-            _ => vec![1],
+        let ends = [1, 127];
+        let nodes: &[i128] = match &node_id {
+            Some(n) if relative => std::slice::from_ref(n),
+            _ if relative => &ends,
+            _ => &ends[..1],
         };
-        for &node in &nodes {
+        for &node in nodes {
             let below = low.and_then(|lo| less(v, lo, node)) == Some(true);
             let above = high.and_then(|hi| less(hi, v, node)) == Some(true);
             if !(below || above) {

@@ -56,7 +56,7 @@ fn object(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
                 .with_label("no ParameterName")
                 .with_help("add `ParameterName=...`; the generated identifiers come from it"),
             );
-        } else if o.name.chars().count() > MAX_NAME {
+        } else if o.name.len() > MAX_NAME && o.name.chars().count() > MAX_NAME {
             out.push(
                 Diagnostic::new(
                     &rules::LONG_NAME,

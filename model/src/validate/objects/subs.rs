@@ -17,13 +17,16 @@ fn sub0_is_special(device: &Device, index: u16) -> bool {
 /// One diagnostic per object for sub-objects without ParameterName: an error for a RECORD
 /// (its fields are named from them), a warning for an ARRAY (elements are indexed, not named).
 pub(super) fn unnamed_subs(o: &Object, out: &mut Vec<Diagnostic>) {
-    let unnamed: Vec<&SubObject> = o
-        .subs
-        .values()
-        .filter(|s| !s.implicit && s.name.trim().is_empty())
-        .collect();
-    let Some(first) = unnamed.first() else { return };
-    let list: Vec<String> = unnamed.iter().map(|s| s.sub_index.to_string()).collect();
+    let unnamed = || {
+        o.subs
+            .values()
+            .filter(|s| !s.implicit && s.name.trim().is_empty())
+    };
+    // Most objects have none: the list is built only for a finding.
+    let Some(first) = unnamed().next() else {
+        return;
+    };
+    let list: Vec<String> = unnamed().map(|s| s.sub_index.to_string()).collect();
     let array = o.object_type == ObjectType::Array;
     out.push(
         Diagnostic::new(
@@ -57,13 +60,9 @@ pub(super) fn described_subs(o: &Object) -> usize {
         .count()
 }
 
+/// The highest sub-index described, FFh not counted (the keys are in order).
 fn highest_sub(o: &Object) -> u8 {
-    o.subs
-        .keys()
-        .copied()
-        .filter(|s| *s != 0xFF)
-        .max()
-        .unwrap_or(0)
+    o.subs.range(..0xFF).next_back().map_or(0, |(s, _)| *s)
 }
 
 /// An ARRAY's sub 0 is its length, so a missing or non-UNSIGNED8 sub 0 is an error; a RECORD
@@ -145,15 +144,15 @@ pub(super) fn sub0_checks(
 }
 
 pub(super) fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagnostic>) {
-    let elements: Vec<&SubObject> = o
-        .subs
-        .values()
-        .filter(|s| s.sub_index != 0 && s.sub_index != 0xFF)
-        .collect();
-    let Some(first) = elements.first() else {
+    let elements = || {
+        o.subs
+            .values()
+            .filter(|s| s.sub_index != 0 && s.sub_index != 0xFF)
+    };
+    let Some(first) = elements().next() else {
         return;
     };
-    if let Some(odd) = elements.iter().find(|s| {
+    if let Some(odd) = elements().find(|s| {
         s.data_type.is_some() && first.data_type.is_some() && s.data_type != first.data_type
     }) {
         let (a, b) = (
@@ -178,9 +177,8 @@ pub(super) fn array_homogeneity(device: &Device, o: &Object, out: &mut Vec<Diagn
             ),
         );
     }
-    if let Some(odd) = elements
-        .iter()
-        .find(|s| s.access != first.access || s.pdo_mapping != first.pdo_mapping)
+    if let Some(odd) =
+        elements().find(|s| s.access != first.access || s.pdo_mapping != first.pdo_mapping)
     {
         let access = |s: &SubObject| s.access.map_or("missing", AccessType::as_str);
         let (key, what) = if odd.access != first.access {
@@ -222,9 +220,13 @@ pub(super) fn gaps(o: &Object, out: &mut Vec<Diagnostic>) {
     if matches!(o.index, 0x1400..=0x15FF | 0x1800..=0x19FF) {
         return;
     }
-    let missing: Vec<u8> = (1..highest_sub(o))
-        .filter(|s| !o.subs.contains_key(s))
-        .collect();
+    let highest = highest_sub(o);
+    // Most objects have no gap: then the keys 1..highest are all there, `highest - 1` of them,
+    // and there is nothing to collect.
+    if highest <= 1 || o.subs.range(1..highest).count() + 1 == usize::from(highest) {
+        return;
+    }
+    let missing: Vec<u8> = (1..highest).filter(|s| !o.subs.contains_key(s)).collect();
     let Some(first) = missing.first() else { return };
     let list: Vec<String> = missing.iter().map(u8::to_string).collect();
     let array = o.object_type == ObjectType::Array;
@@ -236,7 +238,7 @@ pub(super) fn gaps(o: &Object, out: &mut Vec<Diagnostic>) {
                 "{} has no sub-object at sub-index {} (below the highest, {})",
                 obj(o.index),
                 crate::diag::short_list(&list),
-                highest_sub(o)
+                highest
             ),
         )
         .with_severity(if array {
