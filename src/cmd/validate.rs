@@ -76,7 +76,6 @@ struct Checked {
 /// Runs `edsgen validate`.
 pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>) -> ExitCode {
     let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-    pad_the_heap();
     let mut tally = Tally::default();
     let mut all_json: Vec<String> = Vec::new();
     let mut out = std::io::stdout().lock();
@@ -109,30 +108,6 @@ pub fn run(json: bool, policy: &Policy, files: &[PathBuf], device: Option<&str>)
         ExitCode::SUCCESS
     }
 }
-
-/// Lets glibc's allocator grow its heaps 4 MiB beyond each request (`M_TOP_PAD`; the default is
-/// 128 KiB, and a reading thread's own arena grew a page or so at a time). Reading a description
-/// builds tens of thousands of small allocations: over the 93 corpus files python imports this
-/// took the `mprotect` calls from 520 to 9 and the page faults from about 2,500 to 2,100, and
-/// the CPU time by about a tenth. Pages the pad reserves but nothing touches cost no memory.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
-fn pad_the_heap() {
-    use std::ffi::c_int;
-    extern "C" {
-        fn mallopt(param: c_int, value: c_int) -> c_int;
-    }
-    /// glibc's `M_TOP_PAD` (malloc.h).
-    const M_TOP_PAD: c_int = -2;
-    // SAFETY: `mallopt` only sets one of the allocator's tunables (it takes the allocator's own
-    // lock), and is called before the reading threads start; a refusal (0) leaves the default.
-    unsafe {
-        mallopt(M_TOP_PAD, 4 << 20);
-    }
-}
-
-/// Other allocators need no tuning here.
-#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
-fn pad_the_heap() {}
 
 /// Reads and judges one file under the policy.
 fn check(path: &Path, device: Option<&str>, policy: &Policy, json: bool, color: bool) -> Checked {
