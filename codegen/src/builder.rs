@@ -258,7 +258,8 @@ pub fn generate_chosen_device(
         } else {
             emit::Infos::Skipped
         };
-        match emit::generate_module_reporting(&loaded.device, module, infos) {
+        // Loading validated the device, and found no error: its sizes fit.
+        match emit::generate_validated_module(&loaded.device, module, infos) {
             Ok(generated) => {
                 diags.extend(policy.apply(generated.diagnostics));
                 Some(generated.code)

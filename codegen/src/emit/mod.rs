@@ -67,6 +67,25 @@ pub fn generate_module_reporting(
     module: &str,
     infos: Infos,
 ) -> Result<Generated, Vec<Diagnostic>> {
+    generate_module_checked(device, module, infos, plan::Sizes::Unchecked)
+}
+
+/// [`generate_module_reporting`] for a device in which `edsgen_model::validate` found no error
+/// (the builder's case): the size checks validation made (EDS707) are not made again.
+pub fn generate_validated_module(
+    device: &Device,
+    module: &str,
+    infos: Infos,
+) -> Result<Generated, Vec<Diagnostic>> {
+    generate_module_checked(device, module, infos, plan::Sizes::Validated)
+}
+
+fn generate_module_checked(
+    device: &Device,
+    module: &str,
+    infos: Infos,
+    sizes: plan::Sizes,
+) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
     let mut plan = match &device.bus {
         // An ODVA EDS has no object dictionary: identity, assembly images and connections.
@@ -89,7 +108,7 @@ pub fn generate_module_reporting(
         Bus::Dp(dp) => {
             return without_dictionary(device, module.clone(), dp::module(device, dp, &module))
         }
-        Bus::CanOpen | Bus::EtherCat(_) => plan::plan_reporting(device, infos),
+        Bus::CanOpen | Bus::EtherCat(_) => plan::plan_checked(device, infos, sizes),
     };
     let mut diagnostics = std::mem::take(&mut plan.diagnostics);
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
