@@ -194,7 +194,7 @@ fn format_tokens(
     device: &Device,
     splices: &text::Splices,
 ) -> Result<String, Vec<Diagnostic>> {
-    let file: syn::File = match syn::parse2(quote!(#tokens)) {
+    let file: syn::File = match syn::parse2(tokens) {
         Ok(file) => file,
         Err(err) => {
             return Err(vec![Diagnostic::new(
