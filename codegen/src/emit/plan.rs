@@ -46,8 +46,9 @@ pub struct EntryPlan<'a> {
     pub doc: String,
     /// Its further lines (the entry's Denotation, unit, description and factor), if any.
     pub notes: Vec<String>,
-    /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise.
-    pub const_name: String,
+    /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise
+    /// (shared with the namespace that gave it).
+    pub const_name: Rc<str>,
     /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR); one
     /// shared by the object's entries.
     pub module: Option<Rc<str>>,
@@ -64,7 +65,7 @@ impl EntryPlan<'_> {
     pub fn path(&self) -> String {
         match &self.module {
             Some(module) => format!("{module}::{}", self.const_name),
-            None => self.const_name.clone(),
+            None => self.const_name.to_string(),
         }
     }
 
@@ -189,6 +190,8 @@ struct Planner<'a> {
     consts: Namespace,
     /// The modules of `od` (ARRAY and RECORD objects).
     modules: Namespace,
+    /// The buffer a member's wanted name is written into.
+    wanted: String,
 }
 
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
@@ -224,6 +227,7 @@ pub fn plan_checked(device: &Device, infos: Infos, sizes: Sizes) -> Plan<'_> {
         infos,
         consts: Namespace::default(),
         modules: Namespace::default(),
+        wanted: String::new(),
     };
     let stored = device
         .objects
@@ -279,7 +283,7 @@ impl<'a> Planner<'a> {
         let first = entries.len();
         let mut ok = true;
         let base = self.base_name(object);
-        let module: Rc<str> = self.module_name(object).into();
+        let module = self.module_name(object);
         let object_title: Rc<str> = doc_text(&object.name).into();
         let numbering = self.numbering(object);
         let mut members = Namespace::with_capacity(object.subs.len());
@@ -307,12 +311,12 @@ impl<'a> Planner<'a> {
     }
 
     /// A VAR's constant in `od`: the overlay's name of its entry or object, else the object's.
-    fn var_name(&mut self, object: &Object, base: String) -> String {
+    fn var_name(&mut self, object: &Object, base: String) -> Rc<str> {
         let wanted = match self.device.naming.entries.get(&(object.index, 0)) {
             Some(name) => ident(name, Case::Shouty, "SUB0"),
             None => base,
         };
-        let (name, renamed) = self.consts.claim_with(wanted, object.index, || {
+        let (name, renamed) = self.consts.claim_with(&wanted, object.index, || {
             vec![format!("{:04X}", object.index)]
         });
         if let Some(wanted) = renamed {
@@ -322,7 +326,7 @@ impl<'a> Planner<'a> {
     }
 
     /// An ARRAY's or RECORD's module in `od`: the snake case of its (overlay's) name.
-    fn module_name(&mut self, object: &Object) -> String {
+    fn module_name(&mut self, object: &Object) -> Rc<str> {
         let name = self
             .device
             .naming
@@ -330,7 +334,7 @@ impl<'a> Planner<'a> {
             .get(&object.index)
             .unwrap_or(&object.name);
         let wanted = ident(name, Case::Snake, &format!("object_{:04x}", object.index));
-        let (name, renamed) = self.modules.claim_with(wanted, object.index, || {
+        let (name, renamed) = self.modules.claim_with(&wanted, object.index, || {
             vec![format!("{:04x}", object.index)]
         });
         if let Some(wanted) = renamed {
@@ -358,31 +362,29 @@ impl<'a> Planner<'a> {
         numbering: Option<(u32, usize)>,
         sub: &SubObject,
         members: &mut Namespace,
-    ) -> String {
+    ) -> Rc<str> {
         let naming = &self.device.naming;
         let sub_index = sub.sub_index;
-        let renamed = naming
-            .entries
-            .get(&(object.index, sub_index))
-            .map(|name| ident(name, Case::Shouty, &format!("SUB{sub_index}")));
-        let numbered = || {
-            let (first, width) = numbering?;
-            let number = u32::from(sub_index.checked_sub(1)?) + first;
-            let mut name = String::with_capacity(base.len() + 1 + width);
-            name.push_str(base);
-            name.push('_');
+        // Written into one buffer for every member (the namespace keeps its own copy).
+        let mut wanted = std::mem::take(&mut self.wanted);
+        wanted.clear();
+        if let Some(name) = naming.entries.get(&(object.index, sub_index)) {
+            wanted.push_str(&ident(name, Case::Shouty, &format!("SUB{sub_index}")));
+        } else if let Some((first, width)) = numbering.filter(|_| sub_index >= 1) {
+            let number = u32::from(sub_index - 1) + first;
+            wanted.push_str(base);
+            wanted.push('_');
             for _ in decimal_digits(number)..width {
-                name.push('0');
+                wanted.push('0');
             }
-            push_decimal(&mut name, number);
-            Some(name)
-        };
-        let wanted = renamed.or_else(numbered).unwrap_or_else(|| {
+            push_decimal(&mut wanted, number);
+        } else {
             let own = ident(&sub.name, Case::Shouty, &format!("SUB{sub_index}"));
-            member_name(base, &own, sub_index)
-        });
+            wanted.push_str(&member_name(base, &own, sub_index));
+        }
         let (name, renamed) =
-            members.claim_with(wanted, object.index, || vec![format!("SUB{sub_index}")]);
+            members.claim_with(&wanted, object.index, || vec![format!("SUB{sub_index}")]);
+        self.wanted = wanted;
         if let Some(wanted) = renamed {
             self.renamed(sub.span, "constant", &wanted, &name);
         }
@@ -395,7 +397,7 @@ impl<'a> Planner<'a> {
         &mut self,
         object: &'a Object,
         sub: &'a SubObject,
-        const_name: String,
+        const_name: Rc<str>,
         object_title: &Rc<str>,
         module: Option<Rc<str>>,
         entries: &mut Vec<EntryPlan<'a>>,

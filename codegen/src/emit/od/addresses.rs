@@ -169,7 +169,7 @@ fn constant(
     address(
         out,
         at,
-        (&e.const_name, dict),
+        (&*e.const_name, dict),
         ty,
         access_marker(e.access),
         (constructor, args),
