@@ -3,6 +3,7 @@
 //! so names and output are deterministic; every problem becomes an `EDS7xx` diagnostic.
 
 use std::fmt::Write as _;
+use std::ops::Range;
 use std::rc::Rc;
 
 use proc_macro2::{Ident, Span as TokenSpan};
@@ -42,8 +43,9 @@ pub struct EntryPlan<'a> {
     /// Whether the entry's rustdoc name is `Object: Sub` (a sub-entry named apart from its
     /// object), or its own name alone (see [`EntryPlan::title`]).
     pub titled_by_object: bool,
-    /// The typed address's rustdoc: its first line (name, place, type, access, value).
-    pub doc: String,
+    /// The typed address's rustdoc: where its first line (name, place, type, access, value) is
+    /// in the plan's text ([`Plan::doc`]).
+    pub doc: Range<usize>,
     /// Its further lines (the entry's Denotation, unit, description and factor), if any.
     pub notes: Vec<String>,
     /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise
@@ -105,9 +107,16 @@ pub struct Plan<'a> {
     pub image_size: usize,
     /// Diagnostics found while planning.
     pub diagnostics: Vec<Diagnostic>,
+    /// The entries' rustdoc lines, one after the other (see [`Plan::doc`]).
+    docs: String,
 }
 
 impl Plan<'_> {
+    /// The first line of an entry's rustdoc (see [`EntryPlan::doc`]).
+    pub fn doc(&self, entry: &EntryPlan) -> &str {
+        &self.docs[entry.doc.clone()]
+    }
+
     /// The entry at (index, sub), if stored.
     pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan<'_>> {
         // In (index, sub-index) order: a binary search, not a scan per PDO-mapped entry.
@@ -192,6 +201,8 @@ struct Planner<'a> {
     modules: Namespace,
     /// The buffer a member's wanted name is written into.
     wanted: String,
+    /// The entries' rustdoc lines ([`Plan::doc`]).
+    docs: String,
 }
 
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
@@ -221,6 +232,11 @@ pub fn plan_checked(device: &Device, infos: Infos, sizes: Sizes) -> Plan<'_> {
         Sizes::Validated => Vec::new(),
         Sizes::Unchecked => edsgen_model::validate::size_errors(device),
     };
+    let stored = device
+        .objects
+        .range(0x1000..)
+        .map(|(_, o)| o.subs.len())
+        .sum();
     let mut p = Planner {
         device,
         diagnostics,
@@ -228,12 +244,9 @@ pub fn plan_checked(device: &Device, infos: Infos, sizes: Sizes) -> Plan<'_> {
         consts: Namespace::default(),
         modules: Namespace::default(),
         wanted: String::new(),
+        // About 130 bytes a line.
+        docs: String::with_capacity(130 * stored),
     };
-    let stored = device
-        .objects
-        .range(0x1000..)
-        .map(|(_, o)| o.subs.len())
-        .sum();
     let mut entries: Vec<EntryPlan> = Vec::with_capacity(stored);
     let mut image_size = 0usize;
     for object in device.objects.values() {
@@ -251,6 +264,7 @@ pub fn plan_checked(device: &Device, infos: Infos, sizes: Sizes) -> Plan<'_> {
         entries,
         image_size,
         diagnostics: p.diagnostics,
+        docs: p.docs,
     }
 }
 
@@ -432,7 +446,7 @@ impl<'a> Planner<'a> {
             init,
             limits,
             titled_by_object: sub.name != object.name && object.object_type.has_subs(),
-            doc: String::new(),
+            doc: 0..0,
             notes: Vec::new(),
             const_name,
             module,
@@ -440,7 +454,10 @@ impl<'a> Planner<'a> {
             offset: 0,
             own_name: &sub.name,
         };
-        let mut doc = String::with_capacity(object_title.len() + sub.name.len() + 160);
+        // Appended to the plan's text, where every entry's line is (a string each was a tenth of
+        // generating a dictionary of arrays, made and freed).
+        let mut doc = std::mem::take(&mut self.docs);
+        let start = doc.len();
         doc.push(' ');
         entry.push_title(&mut doc);
         doc.push_str(" (");
@@ -495,7 +512,8 @@ impl<'a> Planner<'a> {
             doc.push('`');
         }
         doc.push_str(").");
-        entry.doc = doc;
+        entry.doc = start..doc.len();
+        self.docs = doc;
         if let Some(d) = &sub.denotation {
             entry.notes.push(format!(" Denotation: {}.", doc_text(d)));
         }
