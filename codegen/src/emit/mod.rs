@@ -111,11 +111,12 @@ fn generate_module_checked(
         Bus::CanOpen | Bus::EtherCat(_) => plan::plan_checked(device, infos, sizes),
     };
     let mut diagnostics = std::mem::take(&mut plan.diagnostics);
+    let mut splices = text::Splices::default();
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
     let pdo_tokens = match &device.bus {
         Bus::EtherCat(ec) => ethercat::module(ec, &plan),
         Bus::CanOpen | Bus::Cip(_) | Bus::Profinet(_) | Bus::Dp(_) => {
-            pdo::pdos(device, &plan, &mut diagnostics)
+            pdo::pdos(device, &plan, &mut diagnostics, &mut splices)
         }
     };
     if infos == Infos::Skipped {
@@ -125,7 +126,6 @@ fn generate_module_checked(
     if diagnostics.iter().any(|d| d.severity == Severity::Error) {
         return Err(diagnostics);
     }
-    let mut splices = text::Splices::default();
     let structs = od::structs(&plan, &mut splices);
     let table = od::descriptors(&plan, &mut splices);
     let od_impl = od::od_impl(&mut splices);
