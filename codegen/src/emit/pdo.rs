@@ -1,6 +1,7 @@
-//! Tokens for the typed PDOs of one device: one struct per default mapping (16xxh as `RpdoN`,
-//! 1Axxh as `TpdoN`), with the image API over the payload (`SIZE`, bit-exact `from_bytes` and
-//! `to_bytes`, `from_slice`), and the COB-ID as a function of the node-ID.
+//! The typed PDOs of one device: one struct per default mapping (16xxh as `RpdoN`, 1Axxh as
+//! `TpdoN`), with the image API over the payload (`SIZE`, bit-exact `from_bytes` and `to_bytes`,
+//! `from_slice`), and the COB-ID as a function of the node-ID. Written as text ([`text`]) when
+//! every PDO has a shape it writes, else as tokens for `prettyplease`.
 //!
 //! Fields follow the mapping order; dummy entries (indices 0001h-0007h) take their bits but no
 //! field and encode as zeros. Each struct implements the runtime's `MappedPdo` (its kind, number
