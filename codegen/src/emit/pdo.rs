@@ -1,6 +1,6 @@
 //! The typed PDOs of one device: one struct per default mapping (16xxh as `RpdoN`, 1Axxh as
 //! `TpdoN`), with the image API over the payload (`SIZE`, bit-exact `from_bytes` and `to_bytes`,
-//! `from_slice`), and the COB-ID as a function of the node-ID. Written as text ([`text`]) when
+//! `from_slice`), and the COB-ID as a function of the node-ID. Written as text (`pdo::text`) when
 //! every PDO has a shape it writes, else as tokens for `prettyplease`.
 //!
 //! Fields follow the mapping order; dummy entries (indices 0001h-0007h) take their bits but no
@@ -64,7 +64,7 @@ struct PdoPlan {
     transmission: Option<i128>,
 }
 
-/// The `pdo` module: as text in `splices` when [`text::module`] can write it, else as tokens.
+/// The `pdo` module: as text in `splices` when `text::module` can write it, else as tokens.
 pub fn pdos(
     device: &Device,
     plan: &Plan,
