@@ -241,14 +241,25 @@ pub fn generate_chosen_device(
     module: &str,
     policy: &Policy,
 ) -> Result<(String, Vec<String>), String> {
-    let loaded = load::load(path, device).map_err(|err| format!("error: edsgen: {err}\n"))?;
+    let mut loaded = load::load(path, device).map_err(|err| format!("error: edsgen: {err}\n"))?;
+    generate_loaded(path, &mut loaded, module, policy)
+}
+
+/// [`generate_chosen_device`] for a description already loaded from `path`: the caller keeps
+/// the model (its diagnostics are taken out of it).
+pub fn generate_loaded(
+    path: &Path,
+    loaded: &mut load::Loaded,
+    module: &str,
+    policy: &Policy,
+) -> Result<(String, Vec<String>), String> {
     let name = path.display().to_string();
     let overlay_errors = loaded
         .overlay
         .as_ref()
         .filter(|o| !o.diagnostics.is_empty())
         .map(|o| o.rendered());
-    let mut diags = policy.apply(loaded.diagnostics);
+    let mut diags = policy.apply(std::mem::take(&mut loaded.diagnostics));
     let emitted = if diags.iter().any(|d| d.severity == Severity::Error) {
         None
     } else {
@@ -258,7 +269,8 @@ pub fn generate_chosen_device(
         } else {
             emit::Infos::Skipped
         };
-        match emit::generate_module_reporting(&loaded.device, module, infos) {
+        // Loading validated the device, and found no error: its sizes fit.
+        match emit::generate_validated_module(&loaded.device, module, infos) {
             Ok(generated) => {
                 diags.extend(policy.apply(generated.diagnostics));
                 Some(generated.code)

@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use edsgen_codegen::builder;
 use edsgen_model::lint::Policy;
+use edsgen_model::load;
 
 use super::{fail, print_stdout};
 
@@ -19,8 +20,20 @@ pub fn run(
         return fail(format!("cannot read `{}`: not a file", path.display()));
     }
     let module = module.map_or_else(|| builder::default_module(path), str::to_owned);
-    // The same function build.rs runs, overlay included: the output is what build.rs would write.
-    let code = match builder::generate_chosen_device(path, device, &module, &Policy::new()) {
+    let mut loaded = match load::load(path, device) {
+        Ok(loaded) => loaded,
+        Err(err) => {
+            eprintln!("error: edsgen: {err}");
+            return ExitCode::from(1);
+        }
+    };
+    // What build.rs runs (`generate_chosen_device` loads, then this), overlay included: the
+    // output is what build.rs would write.
+    let generated = builder::generate_loaded(path, &mut loaded, &module, &Policy::new());
+    // The process ends with this command: the model's thousands of allocations are not freed
+    // one by one (that was a twentieth of the command's instructions).
+    std::mem::forget(loaded);
+    let code = match generated {
         Ok((code, warnings)) => {
             for warning in warnings {
                 eprint!("{warning}");

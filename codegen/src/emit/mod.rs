@@ -67,6 +67,25 @@ pub fn generate_module_reporting(
     module: &str,
     infos: Infos,
 ) -> Result<Generated, Vec<Diagnostic>> {
+    generate_module_checked(device, module, infos, plan::Sizes::Unchecked)
+}
+
+/// [`generate_module_reporting`] for a device in which `edsgen_model::validate` found no error
+/// (the builder's case): the size checks validation made (EDS707) are not made again.
+pub fn generate_validated_module(
+    device: &Device,
+    module: &str,
+    infos: Infos,
+) -> Result<Generated, Vec<Diagnostic>> {
+    generate_module_checked(device, module, infos, plan::Sizes::Validated)
+}
+
+fn generate_module_checked(
+    device: &Device,
+    module: &str,
+    infos: Infos,
+    sizes: plan::Sizes,
+) -> Result<Generated, Vec<Diagnostic>> {
     let module = module_name(module);
     let mut plan = match &device.bus {
         // An ODVA EDS has no object dictionary: identity, assembly images and connections.
@@ -89,14 +108,15 @@ pub fn generate_module_reporting(
         Bus::Dp(dp) => {
             return without_dictionary(device, module.clone(), dp::module(device, dp, &module))
         }
-        Bus::CanOpen | Bus::EtherCat(_) => plan::plan_reporting(device, infos),
+        Bus::CanOpen | Bus::EtherCat(_) => plan::plan_checked(device, infos, sizes),
     };
     let mut diagnostics = std::mem::take(&mut plan.diagnostics);
+    let mut splices = text::Splices::default();
     // An ESI device has no COB-IDs nor PDO communication objects: its PDOs are EtherCAT's.
     let pdo_tokens = match &device.bus {
         Bus::EtherCat(ec) => ethercat::module(ec, &plan),
         Bus::CanOpen | Bus::Cip(_) | Bus::Profinet(_) | Bus::Dp(_) => {
-            pdo::pdos(device, &plan, &mut diagnostics)
+            pdo::pdos(device, &plan, &mut diagnostics, &mut splices)
         }
     };
     if infos == Infos::Skipped {
@@ -106,7 +126,6 @@ pub fn generate_module_reporting(
     if diagnostics.iter().any(|d| d.severity == Severity::Error) {
         return Err(diagnostics);
     }
-    let mut splices = text::Splices::default();
     let structs = od::structs(&plan, &mut splices);
     let table = od::descriptors(&plan, &mut splices);
     let od_impl = od::od_impl(&plan, &mut splices);
@@ -175,7 +194,7 @@ fn format_tokens(
     device: &Device,
     splices: &text::Splices,
 ) -> Result<String, Vec<Diagnostic>> {
-    let file: syn::File = match syn::parse2(quote!(#tokens)) {
+    let file: syn::File = match syn::parse2(tokens) {
         Ok(file) => file,
         Err(err) => {
             return Err(vec![Diagnostic::new(

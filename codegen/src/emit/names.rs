@@ -12,7 +12,8 @@
 //!   gets the suffixes the caller gives (for a typed address: `SUBn` when the name is taken in
 //!   the same object, the hex index when another object holds it), then `_2`, `_3`, ...
 
-use std::collections::hash_map::{Entry, HashMap};
+use std::collections::HashMap;
+use std::rc::Rc;
 
 use edsgen_model::read::hash::FastHash;
 
@@ -127,8 +128,9 @@ fn joined_words(ascii: &str, case: Case) -> String {
 #[derive(Debug, Default)]
 pub struct Namespace {
     /// Every name claimed, with the OD index of the object it was claimed for (hashed by the
-    /// readers' Fx hasher: SipHash was most of a claim).
-    taken: HashMap<String, u16, FastHash>,
+    /// readers' Fx hasher: SipHash was most of a claim). A name is shared with its claimer, not
+    /// copied.
+    taken: HashMap<Rc<str>, u16, FastHash>,
 }
 
 impl Namespace {
@@ -148,46 +150,43 @@ impl Namespace {
     /// `suffixes` (joined by `_`), then numbered variants. Returns the name and whether it had
     /// to change.
     pub fn claim(&mut self, wanted: &str, index: u16, suffixes: &[String]) -> (String, bool) {
-        let (name, wanted) = self.claim_with(wanted.to_owned(), index, || suffixes.to_vec());
-        (name, wanted.is_some())
+        let (name, wanted) = self.claim_with(wanted, index, || suffixes.to_vec());
+        (name.to_string(), wanted.is_some())
     }
 
-    /// [`Self::claim`] taking the wanted name by value and making the suffixes only when it is
-    /// taken: a free name (nearly every one) is hashed once and copied once, into the namespace.
-    /// Returns the name and, when it had to change, the name wanted.
+    /// [`Self::claim`] making the suffixes only when `wanted` is taken, and giving the name as
+    /// the namespace holds it: a free name (nearly every one) is stored once, shared by the
+    /// namespace and the caller. Returns the name and, when it had to change, the name wanted.
     pub fn claim_with(
         &mut self,
-        wanted: String,
+        wanted: &str,
         index: u16,
         suffixes: impl FnOnce() -> Vec<String>,
-    ) -> (String, Option<String>) {
-        let wanted = match self.taken.entry(wanted) {
-            Entry::Vacant(slot) => {
-                let name = slot.key().clone();
-                slot.insert(index);
-                return (name, None);
-            }
-            Entry::Occupied(slot) => slot.key().clone(),
-        };
+    ) -> (Rc<str>, Option<String>) {
         let mut free = |name: &str| {
             if self.taken.contains_key(name) {
-                return false;
+                return None;
             }
-            self.taken.insert(name.to_owned(), index);
-            true
+            let name: Rc<str> = Rc::from(name);
+            self.taken.insert(Rc::clone(&name), index);
+            Some(name)
         };
+        if let Some(name) = free(wanted) {
+            return (name, None);
+        }
+        let wanted = wanted.to_owned();
         let mut base = wanted.clone();
         for suffix in suffixes() {
             base = format!("{base}_{suffix}");
-            if free(&base) {
-                return (base, Some(wanted));
+            if let Some(name) = free(&base) {
+                return (name, Some(wanted));
             }
         }
         let mut n = 2u32;
         loop {
             let candidate = format!("{base}_{n}");
-            if free(&candidate) {
-                return (candidate, Some(wanted));
+            if let Some(name) = free(&candidate) {
+                return (name, Some(wanted));
             }
             n += 1;
         }

@@ -1,6 +1,7 @@
-//! Tokens for the typed PDOs of one device: one struct per default mapping (16xxh as `RpdoN`,
-//! 1Axxh as `TpdoN`), with the image API over the payload (`SIZE`, bit-exact `from_bytes` and
-//! `to_bytes`, `from_slice`), and the COB-ID as a function of the node-ID.
+//! The typed PDOs of one device: one struct per default mapping (16xxh as `RpdoN`, 1Axxh as
+//! `TpdoN`), with the image API over the payload (`SIZE`, bit-exact `from_bytes` and `to_bytes`,
+//! `from_slice`), and the COB-ID as a function of the node-ID. Written as text (`pdo::text`) when
+//! every PDO has a shape it writes, else as tokens for `prettyplease`.
 //!
 //! Fields follow the mapping order; dummy entries (indices 0001h-0007h) take their bits but no
 //! field and encode as zeros. Each struct implements the runtime's `MappedPdo` (its kind, number
@@ -8,11 +9,14 @@
 //! with fewer bits than its type is range-checked by `to_bytes`, and sign-extended by
 //! `from_bytes` when signed.
 
+mod text;
+
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
 use super::names::Namespace;
 use super::plan::{id, Plan};
+use super::text::Splices;
 use super::types::{hex, pdo_derives, Prim, RustType, TypeTokens};
 use edsgen_model::diag::Diagnostic;
 use edsgen_model::model::layout::initial_value;
@@ -53,14 +57,33 @@ struct PdoPlan {
     slots: Vec<Slot>,
     /// The body and return type of `cob_id`, or `None` when the PDO has no COB-ID to give.
     cob_id: Option<(TokenStream, TokenStream)>,
+    /// The same as text: the return type and the body.
+    cob_text: Option<(&'static str, String)>,
     cob_doc: String,
     uses_node_id: bool,
     transmission: Option<i128>,
 }
 
-/// The `pdo` module, and how many RPDO and TPDO structs it holds.
-pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> TokenStream {
-    let mut structs = Vec::new();
+/// The `pdo` module: as text in `splices` when `text::module` can write it, else as tokens.
+pub fn pdos(
+    device: &Device,
+    plan: &Plan,
+    diagnostics: &mut Vec<Diagnostic>,
+    splices: &mut Splices,
+) -> TokenStream {
+    let pdos = plan_pdos(device, plan, diagnostics);
+    if pdos.is_empty() {
+        return quote!();
+    }
+    match text::module(&pdos) {
+        Some(module) => splices.item(module),
+        None => module_tokens(&pdos),
+    }
+}
+
+/// The PDOs to generate, in index order; a diagnostic for each mapping that cannot be typed.
+fn plan_pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> Vec<PdoPlan> {
+    let mut pdos = Vec::new();
     for object in device.objects.values() {
         let (direction, base) = match object.index {
             0x1600..=0x17FF => (Direction::Rx, 0x1600),
@@ -69,7 +92,7 @@ pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> 
         };
         let number = object.index - base + 1;
         match plan_pdo(device, plan, object.index, direction, number) {
-            Ok(Some(p)) => structs.push(emit_pdo(&p)),
+            Ok(Some(p)) => pdos.push(p),
             Ok(None) => {}
             Err(why) => diagnostics.push(
                 Diagnostic::new(
@@ -85,9 +108,12 @@ pub fn pdos(device: &Device, plan: &Plan, diagnostics: &mut Vec<Diagnostic>) -> 
             ),
         }
     }
-    if structs.is_empty() {
-        return quote!();
-    }
+    pdos
+}
+
+/// The `pdo` module as tokens.
+fn module_tokens(pdos: &[PdoPlan]) -> TokenStream {
+    let structs = pdos.iter().map(emit_pdo);
     quote! {
         /// Typed PDOs: one struct per default mapping of the description.
         pub mod pdo {
@@ -213,7 +239,7 @@ fn plan_pdo(
     } else {
         None
     };
-    let (cob_id, cob_doc, uses_node_id) = cob_id_fn(comm_index, comm_cob, predefined);
+    let (cob_id, cob_text, cob_doc, uses_node_id) = cob_id_fn(comm_index, comm_cob, predefined);
     let transmission = device
         .entry(comm_index, 2)
         .and_then(|s| integer(initial_value(s)));
@@ -224,6 +250,7 @@ fn plan_pdo(
         mapping,
         slots,
         cob_id,
+        cob_text,
         cob_doc,
         uses_node_id,
         transmission,
@@ -239,11 +266,7 @@ const COB_INVALID: u32 = 1 << 31;
 /// function gives the CAN identifier as `CanFrame::new` takes it (`u16`, 11 bits), the COB-ID's
 /// flag bits stripped; a 29-bit one as `u32` (for `CanFrame::new_extended`); none at all when the
 /// description gives no COB-ID and there is no predefined one.
-fn cob_id_fn(
-    comm_index: u16,
-    comm_cob: Option<Value>,
-    predefined: Option<u32>,
-) -> (Option<(TokenStream, TokenStream)>, String, bool) {
+fn cob_id_fn(comm_index: u16, comm_cob: Option<Value>, predefined: Option<u32>) -> CobId {
     let (cob, relative, doc) = match comm_cob {
         Some(Value::Integer(v)) => (
             v as u32,
@@ -261,26 +284,39 @@ fn cob_id_fn(
                 true,
                 format!(" {comm_index:04X}h sub 1 gives no COB-ID; this is the predefined connection set's `0x{base:X} + node-ID`."),
             ),
-            None => return (None, String::new(), false),
+            None => return (None, None, String::new(), false),
         },
     };
     let mut doc = doc;
     if cob & COB_INVALID != 0 {
         doc.push_str(" Bit 31 is set: the PDO is disabled until a configuration tool enables it.");
     }
-    let (ty, id) = if cob & COB_EXTENDED != 0 {
+    let (ty, ty_name, id) = if cob & COB_EXTENDED != 0 {
         doc.push_str(" A 29-bit identifier: use `CanFrame::new_extended`.");
-        (quote!(u32), hex(u128::from(cob & 0x1FFF_FFFF), 1))
+        (quote!(u32), "u32", cob & 0x1FFF_FFFF)
     } else {
-        (quote!(u16), hex(u128::from(cob & 0x7FF), 1))
+        (quote!(u16), "u16", cob & 0x7FF)
     };
-    let body = if relative {
-        quote!((node_id as #ty).wrapping_add(#id))
+    let (id, id_text) = (hex(u128::from(id), 1), format!("0x{id:X}"));
+    let (body, body_text) = if relative {
+        (
+            quote!((node_id as #ty).wrapping_add(#id)),
+            format!("(node_id as {ty_name}).wrapping_add({id_text})"),
+        )
     } else {
-        quote!(#id)
+        (quote!(#id), id_text)
     };
-    (Some((body, ty)), doc, relative)
+    (Some((body, ty)), Some((ty_name, body_text)), doc, relative)
 }
+
+/// `cob_id`'s body and return type as tokens and as text, its doc line, and whether it uses the
+/// node-ID.
+type CobId = (
+    Option<(TokenStream, TokenStream)>,
+    Option<(&'static str, String)>,
+    String,
+    bool,
+);
 
 fn emit_pdo(p: &PdoPlan) -> TokenStream {
     let (prefix, word, kind) = match p.direction {

@@ -3,6 +3,7 @@
 //! so names and output are deterministic; every problem becomes an `EDS7xx` diagnostic.
 
 use std::fmt::Write as _;
+use std::ops::Range;
 use std::rc::Rc;
 
 use proc_macro2::{Ident, Span as TokenSpan};
@@ -42,12 +43,14 @@ pub struct EntryPlan<'a> {
     /// Whether the entry's rustdoc name is `Object: Sub` (a sub-entry named apart from its
     /// object), or its own name alone (see [`EntryPlan::title`]).
     pub titled_by_object: bool,
-    /// The typed address's rustdoc: its first line (name, place, type, access, value).
-    pub doc: String,
+    /// The typed address's rustdoc: where its first line (name, place, type, access, value) is
+    /// in the plan's text ([`Plan::doc`]).
+    pub doc: Range<usize>,
     /// Its further lines (the entry's Denotation, unit, description and factor), if any.
     pub notes: Vec<String>,
-    /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise.
-    pub const_name: String,
+    /// The typed-address constant's name: in `od` for a VAR, in the object's module otherwise
+    /// (shared with the namespace that gave it).
+    pub const_name: Rc<str>,
     /// The module in `od` of the ARRAY or RECORD the entry belongs to (`None` for a VAR); one
     /// shared by the object's entries.
     pub module: Option<Rc<str>>,
@@ -64,7 +67,7 @@ impl EntryPlan<'_> {
     pub fn path(&self) -> String {
         match &self.module {
             Some(module) => format!("{module}::{}", self.const_name),
-            None => self.const_name.clone(),
+            None => self.const_name.to_string(),
         }
     }
 
@@ -104,9 +107,16 @@ pub struct Plan<'a> {
     pub image_size: usize,
     /// Diagnostics found while planning.
     pub diagnostics: Vec<Diagnostic>,
+    /// The entries' rustdoc lines, one after the other (see [`Plan::doc`]).
+    docs: String,
 }
 
 impl Plan<'_> {
+    /// The first line of an entry's rustdoc (see [`EntryPlan::doc`]).
+    pub fn doc(&self, entry: &EntryPlan) -> &str {
+        &self.docs[entry.doc.clone()]
+    }
+
     /// The entry at (index, sub), if stored.
     pub fn entry(&self, index: u16, sub: u8) -> Option<&EntryPlan<'_>> {
         // In (index, sub-index) order: a binary search, not a scan per PDO-mapped entry.
@@ -189,6 +199,10 @@ struct Planner<'a> {
     consts: Namespace,
     /// The modules of `od` (ARRAY and RECORD objects).
     modules: Namespace,
+    /// The buffer a member's wanted name is written into.
+    wanted: String,
+    /// The entries' rustdoc lines ([`Plan::doc`]).
+    docs: String,
 }
 
 /// Plans every stored object of `device` (objects from 1000h on; data type definitions below
@@ -199,35 +213,58 @@ pub fn plan(device: &Device) -> Plan<'_> {
 
 /// [`plan`], making its infos (EDS705) only when `infos` says so.
 pub fn plan_reporting(device: &Device, infos: Infos) -> Plan<'_> {
-    let mut p = Planner {
-        device,
-        diagnostics: edsgen_model::validate::size_errors(device),
-        infos,
-        consts: Namespace::default(),
-        modules: Namespace::default(),
+    plan_checked(device, infos, Sizes::Unchecked)
+}
+
+/// Whether the device's sizes (EDS707, `edsgen_model::validate::size_errors`) are known to be
+/// within the generator's limits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sizes {
+    /// Validation found no error in the device: the planner does not check them again.
+    Validated,
+    /// Not known: the planner checks them.
+    Unchecked,
+}
+
+/// [`plan_reporting`], checking the device's sizes only when `sizes` says they are not known.
+pub fn plan_checked(device: &Device, infos: Infos, sizes: Sizes) -> Plan<'_> {
+    let diagnostics = match sizes {
+        Sizes::Validated => Vec::new(),
+        Sizes::Unchecked => edsgen_model::validate::size_errors(device),
     };
     let stored = device
         .objects
         .range(0x1000..)
         .map(|(_, o)| o.subs.len())
         .sum();
+    let mut p = Planner {
+        device,
+        diagnostics,
+        infos,
+        consts: Namespace::default(),
+        modules: Namespace::default(),
+        wanted: String::new(),
+        // About 130 bytes a line.
+        docs: String::with_capacity(130 * stored),
+    };
     let mut entries: Vec<EntryPlan> = Vec::with_capacity(stored);
     let mut image_size = 0usize;
     for object in device.objects.values() {
         if object.index < 0x1000 || object.subs.is_empty() {
             continue;
         }
-        let mut planned = p.object(object);
-        for entry in &mut planned {
+        let first = entries.len();
+        p.object(object, &mut entries);
+        for entry in &mut entries[first..] {
             entry.offset = image_size;
             image_size += entry.ty.image_size();
         }
-        entries.extend(planned);
     }
     Plan {
         entries,
         image_size,
         diagnostics: p.diagnostics,
+        docs: p.docs,
     }
 }
 
@@ -243,42 +280,34 @@ impl<'a> Planner<'a> {
         );
     }
 
-    /// The entries of one object: all of them, or none when one cannot be represented (its
-    /// diagnostic says why), so that an object is never half there.
-    fn object(&mut self, object: &'a Object) -> Vec<EntryPlan<'a>> {
+    /// Appends the entries of one object to `entries`: all of them, or none when one cannot be
+    /// represented (its diagnostic says why), so that an object is never half there. (Planned
+    /// in place: an entry moved through a vector per object was a tenth of the planning.)
+    fn object(&mut self, object: &'a Object, entries: &mut Vec<EntryPlan<'a>>) {
         if !object.object_type.has_subs() {
             let Some(sub) = object.subs.get(&0).or_else(|| object.subs.values().next()) else {
-                return Vec::new();
+                return;
             };
             let base = self.base_name(object);
             let const_name = self.var_name(object, base);
             let object_title: Rc<str> = doc_text(&object.name).into();
-            return self
-                .entry(object, sub, const_name, &object_title)
-                .into_iter()
-                .collect();
+            self.entry(object, sub, const_name, &object_title, None, entries);
+            return;
         }
-        let mut entries = Vec::with_capacity(object.subs.len());
+        let first = entries.len();
         let mut ok = true;
         let base = self.base_name(object);
-        let module: Rc<str> = self.module_name(object).into();
+        let module = self.module_name(object);
         let object_title: Rc<str> = doc_text(&object.name).into();
         let numbering = self.numbering(object);
         let mut members = Namespace::with_capacity(object.subs.len());
         for sub in object.subs.values() {
             let const_name = self.member_name(object, &base, numbering, sub, &mut members);
-            match self.entry(object, sub, const_name, &object_title) {
-                Some(mut entry) => {
-                    entry.module = Some(Rc::clone(&module));
-                    entries.push(entry);
-                }
-                None => ok = false,
-            }
+            let module = Some(Rc::clone(&module));
+            ok &= self.entry(object, sub, const_name, &object_title, module, entries);
         }
-        if ok {
-            entries
-        } else {
-            Vec::new()
+        if !ok {
+            entries.truncate(first);
         }
     }
 
@@ -296,12 +325,12 @@ impl<'a> Planner<'a> {
     }
 
     /// A VAR's constant in `od`: the overlay's name of its entry or object, else the object's.
-    fn var_name(&mut self, object: &Object, base: String) -> String {
+    fn var_name(&mut self, object: &Object, base: String) -> Rc<str> {
         let wanted = match self.device.naming.entries.get(&(object.index, 0)) {
             Some(name) => ident(name, Case::Shouty, "SUB0"),
             None => base,
         };
-        let (name, renamed) = self.consts.claim_with(wanted, object.index, || {
+        let (name, renamed) = self.consts.claim_with(&wanted, object.index, || {
             vec![format!("{:04X}", object.index)]
         });
         if let Some(wanted) = renamed {
@@ -311,7 +340,7 @@ impl<'a> Planner<'a> {
     }
 
     /// An ARRAY's or RECORD's module in `od`: the snake case of its (overlay's) name.
-    fn module_name(&mut self, object: &Object) -> String {
+    fn module_name(&mut self, object: &Object) -> Rc<str> {
         let name = self
             .device
             .naming
@@ -319,7 +348,7 @@ impl<'a> Planner<'a> {
             .get(&object.index)
             .unwrap_or(&object.name);
         let wanted = ident(name, Case::Snake, &format!("object_{:04x}", object.index));
-        let (name, renamed) = self.modules.claim_with(wanted, object.index, || {
+        let (name, renamed) = self.modules.claim_with(&wanted, object.index, || {
             vec![format!("{:04x}", object.index)]
         });
         if let Some(wanted) = renamed {
@@ -347,59 +376,63 @@ impl<'a> Planner<'a> {
         numbering: Option<(u32, usize)>,
         sub: &SubObject,
         members: &mut Namespace,
-    ) -> String {
+    ) -> Rc<str> {
         let naming = &self.device.naming;
         let sub_index = sub.sub_index;
-        let renamed = naming
-            .entries
-            .get(&(object.index, sub_index))
-            .map(|name| ident(name, Case::Shouty, &format!("SUB{sub_index}")));
-        let numbered = || {
-            let (first, width) = numbering?;
-            let number = u32::from(sub_index.checked_sub(1)?) + first;
-            let mut name = String::with_capacity(base.len() + 1 + width);
-            name.push_str(base);
-            name.push('_');
+        // Written into one buffer for every member (the namespace keeps its own copy).
+        let mut wanted = std::mem::take(&mut self.wanted);
+        wanted.clear();
+        if let Some(name) = naming.entries.get(&(object.index, sub_index)) {
+            wanted.push_str(&ident(name, Case::Shouty, &format!("SUB{sub_index}")));
+        } else if let Some((first, width)) = numbering.filter(|_| sub_index >= 1) {
+            let number = u32::from(sub_index - 1) + first;
+            wanted.push_str(base);
+            wanted.push('_');
             for _ in decimal_digits(number)..width {
-                name.push('0');
+                wanted.push('0');
             }
-            push_decimal(&mut name, number);
-            Some(name)
-        };
-        let wanted = renamed.or_else(numbered).unwrap_or_else(|| {
+            push_decimal(&mut wanted, number);
+        } else {
             let own = ident(&sub.name, Case::Shouty, &format!("SUB{sub_index}"));
-            member_name(base, &own, sub_index)
-        });
+            wanted.push_str(&member_name(base, &own, sub_index));
+        }
         let (name, renamed) =
-            members.claim_with(wanted, object.index, || vec![format!("SUB{sub_index}")]);
+            members.claim_with(&wanted, object.index, || vec![format!("SUB{sub_index}")]);
+        self.wanted = wanted;
         if let Some(wanted) = renamed {
             self.renamed(sub.span, "constant", &wanted, &name);
         }
         name
     }
 
-    /// One entry's plan; `object_title` is the object's name escaped for rustdoc (made once per
-    /// object).
+    /// Appends one entry's plan to `entries`, or returns `false` when it cannot be represented;
+    /// `object_title` is the object's name escaped for rustdoc (made once per object).
     fn entry(
         &mut self,
         object: &'a Object,
         sub: &'a SubObject,
-        const_name: String,
+        const_name: Rc<str>,
         object_title: &Rc<str>,
-    ) -> Option<EntryPlan<'a>> {
-        let EntryValue {
+        module: Option<Rc<str>>,
+        entries: &mut Vec<EntryPlan<'a>>,
+    ) -> bool {
+        let value = match self.infos {
+            Infos::Reported => entry_value(self.device, object, sub, &mut self.diagnostics),
+            Infos::Skipped => {
+                entry_value_without_infos(self.device, object, sub, &mut self.diagnostics)
+            }
+        };
+        let Some(EntryValue {
             basic,
             ty,
             access,
             init,
             limits,
             ..
-        } = match self.infos {
-            Infos::Reported => entry_value(self.device, object, sub, &mut self.diagnostics),
-            Infos::Skipped => {
-                entry_value_without_infos(self.device, object, sub, &mut self.diagnostics)
-            }
-        }?;
+        }) = value
+        else {
+            return false;
+        };
         // ` TITLE (IIIIh sub S: TYPE, ACCESS, PDO-mappable[, capacity N bytes][; default `V`]
         // [; limits `L` to `H`]).`, written in one string sized for it (formatting piece by
         // piece into growing strings was most of the planning).
@@ -413,15 +446,18 @@ impl<'a> Planner<'a> {
             init,
             limits,
             titled_by_object: sub.name != object.name && object.object_type.has_subs(),
-            doc: String::new(),
+            doc: 0..0,
             notes: Vec::new(),
             const_name,
-            module: None,
+            module,
             object_title: Rc::clone(object_title),
             offset: 0,
             own_name: &sub.name,
         };
-        let mut doc = String::with_capacity(object_title.len() + sub.name.len() + 160);
+        // Appended to the plan's text, where every entry's line is (a string each was a tenth of
+        // generating a dictionary of arrays, made and freed).
+        let mut doc = std::mem::take(&mut self.docs);
+        let start = doc.len();
         doc.push(' ');
         entry.push_title(&mut doc);
         doc.push_str(" (");
@@ -476,7 +512,8 @@ impl<'a> Planner<'a> {
             doc.push('`');
         }
         doc.push_str(").");
-        entry.doc = doc;
+        entry.doc = start..doc.len();
+        self.docs = doc;
         if let Some(d) = &sub.denotation {
             entry.notes.push(format!(" Denotation: {}.", doc_text(d)));
         }
@@ -490,6 +527,7 @@ impl<'a> Planner<'a> {
                     .push(format!(" {}: {}.", doc_text(key), doc_text(value)));
             }
         }
-        Some(entry)
+        entries.push(entry);
+        true
     }
 }

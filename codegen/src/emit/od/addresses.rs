@@ -44,7 +44,14 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
     let mut rest = &positioned[..];
     while let Some(&(position, e)) = rest.first() {
         let Some(module) = &e.module else {
-            constant(&mut out, &mut scratch, at, position, e, "super::Od");
+            constant(
+                &mut out,
+                &mut scratch,
+                at,
+                position,
+                (e, plan.doc(e)),
+                "super::Od",
+            );
             rest = &rest[1..];
             continue;
         };
@@ -69,7 +76,7 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
                 &mut scratch,
                 at + 4,
                 position,
-                member,
+                (member, plan.doc(member)),
                 "super::super::Od",
             );
         }
@@ -136,7 +143,7 @@ fn constant(
     scratch: &mut Scratch,
     at: usize,
     position: usize,
-    e: &EntryPlan,
+    (e, doc): (&EntryPlan, &str),
     dict: &str,
 ) {
     let Scratch { ty, args } = scratch;
@@ -164,12 +171,12 @@ fn constant(
         }
         _ => "Entry::new",
     };
-    text::docs(out, at, &[&e.doc]);
+    text::docs(out, at, &[doc]);
     text::docs(out, at, &e.notes);
     address(
         out,
         at,
-        (&e.const_name, dict),
+        (&*e.const_name, dict),
         ty,
         access_marker(e.access),
         (constructor, args),
@@ -268,7 +275,9 @@ fn address(
     } else {
         out.push_str(constructor);
         out.push_str("(\n");
-        for arg in args.split(", ") {
+        // `args` are joined by `, ` (split at the comma: a `&str` pattern's searcher cost more
+        // than the rest of the line).
+        for arg in args.split(',').map(str::trim_start) {
             text::indent(out, at + 8);
             out.push_str(arg);
             out.push_str(",\n");
