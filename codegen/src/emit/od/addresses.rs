@@ -24,8 +24,9 @@ pub fn addresses(plan: &Plan, splices: &mut Splices) -> TokenStream {
             pub mod od {}
         };
     }
-    // About 300 bytes an entry: one allocation for the whole item.
-    let mut out = String::with_capacity(300 * plan.entries.len());
+    // 340 to 370 bytes an entry on the bundled cards: one allocation for the whole item (each
+    // growth of a buffer this size copies megabytes).
+    let mut out = String::with_capacity(400 * plan.entries.len());
     let modules =
         " A VAR's address is here (`od::CONTROLWORD`), an ARRAY's or RECORD's entries are in a";
     let modules_2 = " module of their own (`od::identity_object::VENDOR_ID`).";
