@@ -239,18 +239,22 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 let exempt = sdo_exempt(index, sub, self.node_id);
                 check_cob_id(read_uint(self.od, index, sub), value, exempt).map(|()| Checked::Write)
             }
-            0x1400..=0x15FF => self
-                .check_pdo_comm(index, sub, value, true)
-                .map(|()| Checked::Write),
-            0x1600..=0x17FF => self
-                .check_pdo_mapping(index, sub, value, Direction::Receive)
-                .map(|()| Checked::Write),
-            0x1800..=0x19FF => self
-                .check_pdo_comm(index, sub, value, false)
-                .map(|()| Checked::Write),
-            0x1A00..=0x1BFF => self
-                .check_pdo_mapping(index, sub, value, Direction::Transmit)
-                .map(|()| Checked::Write),
+            // One call for both directions' parameters: bit 11 of the index tells them apart
+            // (receive 1400h/1600h, transmit 1800h/1A00h), bit 9 communication from mapping.
+            0x1400..=0x1BFF => {
+                let receive = index & 0x0800 == 0;
+                if index & 0x0200 == 0 {
+                    self.check_pdo_comm(index, sub, value, receive)
+                } else {
+                    let direction = if receive {
+                        Direction::Receive
+                    } else {
+                        Direction::Transmit
+                    };
+                    self.check_pdo_mapping(index, sub, value, direction)
+                }
+                .map(|()| Checked::Write)
+            }
             _ => Ok(Checked::Write),
         }
     }

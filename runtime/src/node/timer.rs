@@ -2,7 +2,7 @@
 //! ([`TimerTable`]: one slot per timer, fixed-size, `None` while disarmed). The services say
 //! when to arm a timer and what its expiry does; the node stores the instants here, finds the
 //! earliest ([`Node::poll_timeout`]) and runs those due ([`Node::handle_timeout`]), in the order
-//! of [`Timer::each`].
+//! of [`Timer::nth`].
 //!
 //! Three waits are not timers of the table: the EMCY inhibit time (1015h) and a TPDO's inhibit
 //! time (1800h+n sub 03h) only hold a frame back (nothing runs when they end; the services
@@ -39,21 +39,20 @@ pub(crate) enum Timer {
 }
 
 impl Timer {
-    /// Calls `f` with every timer, in the order [`Node::handle_timeout`] runs them.
-    fn each<const RPDOS: usize, const TPDOS: usize>(mut f: impl FnMut(Timer)) {
-        f(Timer::Heartbeat);
-        for k in 0..MAX_HEARTBEAT_CONSUMERS {
-            f(Timer::HeartbeatConsumer(k));
-        }
-        #[cfg(feature = "node-guarding")]
-        f(Timer::LifeGuard);
-        f(Timer::SyncConsumer);
-        f(Timer::SyncProducer);
-        for n in 0..RPDOS {
-            f(Timer::RpdoDeadline(n));
-        }
-        for n in 0..TPDOS {
-            f(Timer::TpdoEvent(n));
+    /// The `i`th timer in the order [`Node::handle_timeout`] runs them (the heartbeat
+    /// producer, the consumers, life guarding, the SYNC consumer and producer, the RPDOs'
+    /// deadlines, the TPDOs' event timers), `i` below [`TimerTable::LEN`]: one loop over an
+    /// index, so that running a timer is one call site rather than one per kind.
+    fn nth<const RPDOS: usize>(i: usize) -> Timer {
+        match i {
+            0 => Timer::Heartbeat,
+            k if k < CONSUMERS + MAX_HEARTBEAT_CONSUMERS => Timer::HeartbeatConsumer(k - CONSUMERS),
+            #[cfg(feature = "node-guarding")]
+            LIFE_GUARD => Timer::LifeGuard,
+            SYNC_CONSUMER => Timer::SyncConsumer,
+            SYNC_PRODUCER => Timer::SyncProducer,
+            n if n < SERVICE_TIMERS + RPDOS => Timer::RpdoDeadline(n - SERVICE_TIMERS),
+            n => Timer::TpdoEvent(n - SERVICE_TIMERS - RPDOS),
         }
     }
 }
@@ -64,6 +63,14 @@ const CONSUMERS: usize = 1;
 /// consumers', the SYNC consumer's and producer's, and life guarding's.
 const SERVICE_TIMERS: usize =
     CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2 + cfg!(feature = "node-guarding") as usize;
+/// Life guarding's slot, after the consumers'.
+#[cfg(feature = "node-guarding")]
+const LIFE_GUARD: usize = CONSUMERS + MAX_HEARTBEAT_CONSUMERS;
+/// The SYNC consumer's slot, after life guarding's (if the node has it).
+const SYNC_CONSUMER: usize =
+    CONSUMERS + MAX_HEARTBEAT_CONSUMERS + cfg!(feature = "node-guarding") as usize;
+/// The SYNC producer's slot, the last of the services'.
+const SYNC_PRODUCER: usize = SYNC_CONSUMER + 1;
 
 /// When each [`Timer`] runs out: `None` while it is disarmed. The PDO timers run in
 /// operational only (the node disarms them when it leaves).
@@ -77,6 +84,9 @@ pub(crate) struct TimerTable<const RPDOS: usize, const TPDOS: usize> {
 }
 
 impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
+    /// How many timers the table holds.
+    const LEN: usize = SERVICE_TIMERS + RPDOS + TPDOS;
+
     /// Every timer disarmed.
     pub const OFF: Self = TimerTable {
         services: [None; SERVICE_TIMERS],
@@ -91,12 +101,23 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
             Timer::TpdoEvent(n) => return &mut self.tpdo_events[n],
             Timer::Heartbeat => 0,
             Timer::HeartbeatConsumer(k) => CONSUMERS + k,
-            Timer::SyncConsumer => CONSUMERS + MAX_HEARTBEAT_CONSUMERS,
-            Timer::SyncProducer => CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 1,
             #[cfg(feature = "node-guarding")]
-            Timer::LifeGuard => CONSUMERS + MAX_HEARTBEAT_CONSUMERS + 2,
+            Timer::LifeGuard => LIFE_GUARD,
+            Timer::SyncConsumer => SYNC_CONSUMER,
+            Timer::SyncProducer => SYNC_PRODUCER,
         };
         &mut self.services[service]
+    }
+
+    /// The slot of [`Timer::nth`]`(i)`.
+    fn nth_slot(&mut self, i: usize) -> &mut Option<Instant> {
+        if i < SERVICE_TIMERS {
+            &mut self.services[i]
+        } else if i < SERVICE_TIMERS + RPDOS {
+            &mut self.rpdo_deadlines[i - SERVICE_TIMERS]
+        } else {
+            &mut self.tpdo_events[i - SERVICE_TIMERS - RPDOS]
+        }
     }
 
     /// The heartbeat consumers' slots, in 1016h order (see `ErrorControl::configure_consumers`).
@@ -155,13 +176,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// Runs every timer due at `now`: heartbeat production and consumption, life guarding,
     /// SYNC production and monitoring, RPDO deadlines, TPDO event timers, then SDO timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        Timer::each::<RPDOS, TPDOS>(|timer| {
-            let slot = self.timers.slot(timer);
+        for i in 0..TimerTable::<RPDOS, TPDOS>::LEN {
+            let slot = self.timers.nth_slot(i);
             if let Some(at) = slot.filter(|&at| at <= now) {
                 *slot = None;
-                self.expire(timer, at, now);
+                self.expire(Timer::nth::<RPDOS>(i), at, now);
             }
-        });
+        }
         let channels = self.sdo_channels();
         let mut guard = CommGuard {
             od: &mut self.od,
