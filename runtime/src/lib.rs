@@ -12,11 +12,11 @@
 //! - `node-guarding` (default): node guarding and life guarding (100Ch × 100Dh, the answer to an
 //!   RTR on 700h + node-ID, `Event::LifeGuardingLost` and EMCY 8130h). Without it that RTR is
 //!   ignored and 100Ch/100Dh are ordinary entries; heartbeat is the error-control protocol.
-//! - `dp`: PROFIBUS-DP, the FDL telegrams and the DP-V0 slave ([`dp`]).
-//! - `profinet`: PROFINET IO's wire formats as views ([`profinet`]).
+//! - `dp`: PROFIBUS-DP, the FDL telegrams and the DP-V0 slave (module `dp`).
+//! - `profinet`: PROFINET IO's wire formats as views (module `profinet`).
 //! - `ethercrab`: code generated from an EtherCAT ESI file on the ethercrab MainDevice: process
 //!   images as ethercrab-wire types, typed CoE SDO access (`ethercat::ethercrab`).
-//! - `enip`: EtherNet/IP and CIP wire formats ([`enip`]), `no_std` like the rest.
+//! - `enip`: EtherNet/IP and CIP wire formats (module `enip`), `no_std` like the rest.
 //! - `alloc`: conveniences that return vectors (`enip::wire::Emit::to_vec`), for hosts.
 //! - `ethercat-wire`: EtherCAT's frames, datagrams, mailbox and CoE headers as views
 //!   (`ethercat::wire`), for SubDevices, masters and decoders.
