@@ -328,11 +328,10 @@ impl Layout {
 
     /// The limits of the entry at `position`, if it has any.
     fn limit(&self, position: usize) -> Option<Limit> {
-        let found = self
-            .limits
-            .binary_search_by_key(&position, |&(p, _)| usize::from(p))
-            .ok()?;
-        self.limits.get(found).map(|&(_, limit)| limit)
+        self.limits
+            .iter()
+            .find(|&&(p, _)| usize::from(p) == position)
+            .map(|&(_, limit)| limit)
     }
 
     /// The position of `entry`: the one generated code recorded in it when that is right (a
