@@ -110,7 +110,23 @@ fn answers_as_generated(card: &str, generated: impl ObjectDictionary) {
             generated.capacity(position),
             "{card}"
         );
+        // The generated dictionary answers from the position, the run-time one by the
+        // trait's default (a search by the entry's index and sub-index): the same length.
+        let entry = generated.entries()[position];
+        assert_eq!(
+            generated.value_len_at(position),
+            runtime.value_len(entry.index(), entry.sub()),
+            "{card}"
+        );
+        assert_eq!(
+            runtime.value_len_at(position),
+            generated.value_len(entry.index(), entry.sub()),
+            "{card}"
+        );
     }
+    let end = generated.entries().len();
+    assert_eq!(generated.value_len_at(end), Err(SdoAbort::NoObject));
+    assert_eq!(runtime.value_len_at(end), Err(SdoAbort::NoObject));
     let requests = requests(generated.entries());
     let expected = transcript(generated, &requests);
     let got = transcript(runtime, &requests);
@@ -178,6 +194,8 @@ fn strings_and_domains_have_their_documented_capacity() {
     );
     assert_eq!(od.value_len(0x2000, 0), Ok(3));
     assert_eq!(od.value_len(0x2001, 0), Ok(0), "no default: empty");
+    assert_eq!(od.value_len_at(label), Ok(3));
+    assert_eq!(od.value_len_at(program), Ok(0));
     assert_eq!(od.capacity(od.locate(0x2002, 0).unwrap()), Some(2));
 }
 

@@ -341,6 +341,15 @@ pub trait ObjectDictionary {
     /// server takes it from the descriptor without asking.
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort>;
 
+    /// [`value_len`](Self::value_len) of the entry at `position` in [`entries`](Self::entries),
+    /// so that the SDO server, which has located the entry, uploads a string or domain without a
+    /// second search. The default asks by the entry's (index, sub); the generated dictionaries
+    /// answer from the position.
+    fn value_len_at(&self, position: usize) -> Result<usize, SdoAbort> {
+        let entry = self.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        self.value_len(entry.index(), entry.sub())
+    }
+
     /// Copies the value's little-endian bytes, starting `offset` bytes into the value, into
     /// `buf`; returns how many bytes were copied (fewer than `buf.len()` at the end of the value).
     fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort>;

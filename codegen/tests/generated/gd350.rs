@@ -257,6 +257,12 @@ pub mod gd350 {
                     ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
                 )
         }
+        fn value_len_at(
+            &self,
+            position: usize,
+        ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+            LAYOUT.value_len(&self.values, position)
+        }
         fn read(
             &self,
             index: u16,

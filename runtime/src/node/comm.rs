@@ -286,6 +286,10 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
         self.od.value_len(index, sub)
     }
 
+    fn value_len_at(&self, position: usize) -> Result<usize, SdoAbort> {
+        self.od.value_len_at(position)
+    }
+
     fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
         self.od.read(index, sub, offset, buf)
     }

@@ -71,20 +71,16 @@ impl Limit {
     }
 
     /// Checks the little-endian `data` of a `data_type` value (exactly its size, at most 8
-    /// bytes): `ValueTooLow` below the low limit, `ValueTooHigh` above the high one. A NaN
-    /// value passes, as it compares neither below nor above.
+    /// bytes as every fixed-size type is): `ValueTooLow` below the low limit, `ValueTooHigh`
+    /// above the high one. A NaN value passes, as it compares neither below nor above.
     fn check(self, data_type: DataType, data: &[u8]) -> Result<(), SdoAbort> {
         // Widened to 64 bits, a signed value sign-extended byte by byte (a 64-bit shift by a
         // variable amount is a library call on a Cortex-M).
-        let mut value = [0u8; 8];
-        let Some(slot) = value.get_mut(..data.len()) else {
-            return Ok(());
-        };
-        slot.copy_from_slice(data);
-        if is_signed_integer(data_type) && data.last().is_some_and(|&top| top & 0x80 != 0) {
-            for byte in value.iter_mut().skip(data.len()) {
-                *byte = 0xFF;
-            }
+        let negative =
+            is_signed_integer(data_type) && data.last().is_some_and(|&top| top & 0x80 != 0);
+        let mut value = [if negative { 0xFF } else { 0 }; 8];
+        for (slot, &byte) in value.iter_mut().zip(data) {
+            *slot = byte;
         }
         let Some(value) = order_key(data_type, u64::from_le_bytes(value)) else {
             return Ok(());
@@ -332,11 +328,10 @@ impl Layout {
 
     /// The limits of the entry at `position`, if it has any.
     fn limit(&self, position: usize) -> Option<Limit> {
-        let found = self
-            .limits
-            .binary_search_by_key(&position, |&(p, _)| usize::from(p))
-            .ok()?;
-        self.limits.get(found).map(|&(_, limit)| limit)
+        self.limits
+            .iter()
+            .find(|&&(p, _)| usize::from(p) == position)
+            .map(|&(_, limit)| limit)
     }
 
     /// The position of `entry`: the one generated code recorded in it when that is right (a

@@ -458,7 +458,7 @@ impl SdoServer {
         let (position, entry) = Self::readable_entry(mux, od)?;
         let len = match entry.data_type().fixed_size() {
             Some(size) => size,
-            None => od.value_len(mux.index, mux.sub)?,
+            None => od.value_len_at(position)?,
         };
         Ok((position, len))
     }

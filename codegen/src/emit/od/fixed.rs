@@ -45,6 +45,12 @@ pub const OD_IMPL: &str = r##"    impl ::edsgen_runtime::ObjectDictionary for Od
                     ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
                 )
         }
+        fn value_len_at(
+            &self,
+            position: usize,
+        ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+            LAYOUT.value_len(&self.values, position)
+        }
         fn read(
             &self,
             index: u16,
