@@ -452,7 +452,9 @@ fn exchange(
     let mut shown: Vec<String> = Vec::new();
     loop {
         let until = Instant::now() + ar.interval;
-        link.pump(ar, until, |_, _| false)?;
+        // A late cycle can be followed by the next within one interval: stop at the count.
+        let counted = |ar: &Ar| args.cycles.is_some_and(|n| ar.cycles >= n);
+        link.pump(ar, until, |_, ar| counted(ar))?;
         if let Some((data, _)) = &ar.last {
             let lines = inputs(ar, subs, data);
             for (n, line) in lines.iter().enumerate() {
@@ -469,7 +471,7 @@ fn exchange(
                 last.elapsed().as_millis()
             )));
         }
-        if args.cycles.is_some_and(|n| ar.cycles >= n) || crate::cmd::signals::requested() {
+        if counted(ar) || crate::cmd::signals::requested() {
             return Ok(());
         }
     }
