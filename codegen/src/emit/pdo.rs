@@ -318,6 +318,32 @@ type CobId = (
     bool,
 );
 
+/// A PDO struct's rustdoc lines: its mapping, each field's or dummy's bits, its transmission
+/// type (the same for the token and the text writer).
+fn struct_doc(p: &PdoPlan, word: &str, len: impl std::fmt::Display) -> Vec<String> {
+    let mut doc = vec![
+        format!(
+            " {word} {} with its default mapping ({:04X}h), {len} bytes:",
+            p.number, p.mapping_index
+        ),
+        String::new(),
+    ];
+    let mut offset = 0u32;
+    for slot in &p.slots {
+        let (bits, what) = match slot {
+            Slot::Dummy { bits } => (*bits, "dummy".to_owned()),
+            Slot::Field { name, bits, .. } => (*bits, format!("`{name}`")),
+        };
+        doc.push(format!(" - bits {offset} to {}: {what}", offset + bits - 1));
+        offset += bits;
+    }
+    if let Some(t) = p.transmission {
+        doc.push(String::new());
+        doc.push(format!(" Default transmission type {t}."));
+    }
+    doc
+}
+
 fn emit_pdo(p: &PdoPlan) -> TokenStream {
     let (prefix, word, kind) = match p.direction {
         Direction::Rx => ("Rpdo", "RPDO", quote!(Receive)),
@@ -341,14 +367,10 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
     let mut eq = true;
     let mut default = true;
     let mut fallible = false;
-    let mut layout = Vec::new();
     let mut offset = 0u32;
     for slot in &p.slots {
         match slot {
-            Slot::Dummy { bits } => {
-                layout.push(format!(" - bits {offset} to {}: dummy", offset + bits - 1));
-                offset += bits;
-            }
+            Slot::Dummy { bits } => offset += bits,
             Slot::Field {
                 name,
                 ty,
@@ -358,10 +380,6 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
                 let field = id(name);
                 let off = Literal::u32_unsuffixed(offset);
                 let nbits = Literal::u32_unsuffixed(*bits);
-                layout.push(format!(
-                    " - bits {offset} to {}: `{name}`",
-                    offset + bits - 1
-                ));
                 match ty {
                     FieldType::Scalar(prim) => {
                         let t = prim.tokens();
@@ -456,18 +474,7 @@ fn emit_pdo(p: &PdoPlan) -> TokenStream {
             }
         }
     }
-    let mut doc = vec![
-        format!(
-            " {word} {} with its default mapping ({:04X}h), {len} bytes:",
-            p.number, p.mapping_index
-        ),
-        String::new(),
-    ];
-    doc.extend(layout);
-    if let Some(t) = p.transmission {
-        doc.push(String::new());
-        doc.push(format!(" Default transmission type {t}."));
-    }
+    let doc = struct_doc(p, word, len);
     let doc_attrs = doc.iter().map(|l| quote!(#[doc = #l]));
     let derives = pdo_derives(eq, default);
     let node_param = if p.uses_node_id {

@@ -54,15 +54,11 @@ fn pdo(out: &mut String, p: &PdoPlan) -> Option<()> {
     };
     let name = format!("{prefix}{}", p.number);
     let mut fields = Vec::new();
-    let mut layout = Vec::new();
     let mut eq = true;
     let mut offset = 0u32;
     for slot in &p.slots {
         match slot {
-            Slot::Dummy { bits } => {
-                layout.push(format!(" - bits {offset} to {}: dummy", offset + bits - 1));
-                offset += bits;
-            }
+            Slot::Dummy { bits } => offset += bits,
             Slot::Field {
                 name,
                 ty,
@@ -76,10 +72,6 @@ fn pdo(out: &mut String, p: &PdoPlan) -> Option<()> {
                     return None;
                 }
                 eq &= !matches!(prim, Prim::F32 | Prim::F64);
-                layout.push(format!(
-                    " - bits {offset} to {}: `{name}`",
-                    offset + bits - 1
-                ));
                 fields.push(Field {
                     name,
                     prim,
@@ -95,19 +87,7 @@ fn pdo(out: &mut String, p: &PdoPlan) -> Option<()> {
         return None;
     }
     let len = offset.div_ceil(8);
-    let mut doc = vec![
-        format!(
-            " {word} {} with its default mapping ({:04X}h), {len} bytes:",
-            p.number, p.mapping_index
-        ),
-        String::new(),
-    ];
-    doc.extend(layout);
-    if let Some(t) = p.transmission {
-        doc.push(String::new());
-        doc.push(format!(" Default transmission type {t}."));
-    }
-    text::docs(out, AT, &doc);
+    text::docs(out, AT, &super::struct_doc(p, word, len));
     let derives = if eq {
         "#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]"
     } else {
