@@ -6,6 +6,7 @@
 //! per PDO.
 
 mod mapping;
+mod params;
 mod rpdo;
 mod tpdo;
 

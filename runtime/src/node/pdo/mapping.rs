@@ -252,18 +252,6 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     })
 }
 
-/// Reads and checks the mapping record at `index` (1600h+n or 1A00h+n) into `mapping`, which
-/// is empty (see [`check_mapping`]).
-pub(crate) fn load_mapping<O: ObjectDictionary + ?Sized>(
-    od: &O,
-    index: u16,
-    direction: Direction,
-    mapping: &mut Mapping,
-) -> Result<(), SdoAbort> {
-    let count = crate::node::read_uint(od, index, 0).ok_or(SdoAbort::NoObject)?;
-    check_mapping(od, index, count, direction, mapping)
-}
-
 /// Checks that the first `count` entries of the mapping record at `index` form a valid mapping:
 /// 0604 0042 if there are too many or they exceed 8 bytes, 0604 0041 if one cannot be mapped.
 ///

@@ -3,9 +3,9 @@
 
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
-use crate::wire::pdo::CobIdEntry;
 
-use super::mapping::{load_mapping, Direction, Mapping};
+use super::mapping::{Direction, Mapping};
+use super::params::PdoParams;
 
 /// A receive PDO.
 /// Word-aligned (its widest field has 2 bytes) so that [`Rpdo::load`]'s clear is a word-wise
@@ -14,11 +14,9 @@ use super::mapping::{load_mapping, Direction, Mapping};
 #[derive(Debug, Clone, Copy)]
 #[repr(align(4))]
 pub(crate) struct Rpdo {
-    /// Whether the PDO exists and is valid.
-    enabled: bool,
-    cob_id: u16,
-    transmission: u8,
-    mapping: Mapping,
+    /// Its configuration (deadline monitoring: the event timer, 1400h+n sub 05h, ms; 0 = off:
+    /// the PDO must arrive again within this time of its last reception).
+    params: PdoParams,
     /// Data received for a synchronous RPDO, applied at the next SYNC.
     buffered: Option<[u8; 8]>,
     /// Some TPDO maps an object this PDO writes (change-of-state detection must look).
@@ -28,9 +26,6 @@ pub(crate) struct Rpdo {
     too_long: bool,
     /// The last frame was not applied: the OD refused one of its values (EMCY 8200h).
     refused: bool,
-    /// Deadline monitoring (1400h+n sub 05h, ms; 0 = off): the PDO must arrive again within
-    /// this time of its last reception.
-    event_timer_ms: u16,
     /// The deadline passed and the PDO has not arrived since (EMCY 8250h is active for it).
     timed_out: bool,
 }
@@ -40,16 +35,12 @@ impl Rpdo {
     /// zeros and `None`s rather than a (derived) `Default`, so that power-on and [`Rpdo::load`]
     /// clear it with one word-aligned memset instead of building a copy to move.
     pub const OFF: Rpdo = Rpdo {
-        enabled: false,
-        cob_id: 0,
-        transmission: 0,
-        mapping: Mapping::EMPTY,
+        params: PdoParams::OFF,
         buffered: None,
         feeds_tpdo: false,
         too_short: false,
         too_long: false,
         refused: false,
-        event_timer_ms: 0,
         timed_out: false,
     };
 
@@ -58,35 +49,24 @@ impl Rpdo {
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
         *self = Rpdo::OFF;
-        let comm = 0x1400 + n;
-        let cob = CobIdEntry(crate::node::read_uint(od, comm, 1)?);
-        self.cob_id = cob.can_id();
-        self.transmission = crate::node::read_uint_or(od, comm, 2, 255) as u8;
-        self.event_timer_ms = crate::node::read_uint_or(od, comm, 5, 0) as u16;
-        match load_mapping(od, 0x1600 + n, Direction::Receive, &mut self.mapping) {
-            Ok(()) => {
-                self.enabled = cob.valid() && !cob.extended();
-                None
-            }
-            Err(reason) => cob.valid().then_some(reason),
-        }
+        self.params.load(od, 0x1400 + n, Direction::Receive)
     }
 
     #[inline]
     fn synchronous(&self) -> bool {
-        self.transmission <= 240
+        self.params.transmission <= 240
     }
 
     /// Whether a frame on `id` is this PDO.
     #[inline]
     pub fn accepts(&self, id: u16) -> bool {
-        self.enabled && id == self.cob_id
+        self.params.enabled && id == self.params.cob_id
     }
 
     /// The checked mapping.
     #[inline]
     pub fn mapping(&self) -> &Mapping {
-        &self.mapping
+        &self.params.mapping
     }
 
     /// Whether a TPDO maps an object this PDO writes (so that a reception looks for changes
@@ -132,7 +112,7 @@ impl Rpdo {
         data: &'d [u8],
         deadline: &mut Option<Instant>,
     ) -> (Option<&'d [u8]>, bool) {
-        let expected = usize::from(self.mapping.len);
+        let expected = usize::from(self.params.mapping.len);
         self.too_short = data.len() < expected;
         self.too_long = data.len() > expected;
         if self.too_short {
@@ -142,8 +122,8 @@ impl Rpdo {
         // monitoring is activated with the next reception of the RPDO (after entering
         // operational or configuring the event timer) and restarts with each one. Without an
         // event timer the slot stays empty ([`Rpdo::reload`]).
-        if self.event_timer_ms != 0 {
-            *deadline = Some(now + Duration::from_millis(u64::from(self.event_timer_ms)));
+        if self.params.event_timer_ms != 0 {
+            *deadline = Some(now + Duration::from_millis(u64::from(self.params.event_timer_ms)));
         }
         let recovered = core::mem::take(&mut self.timed_out);
         if self.synchronous() {
@@ -169,7 +149,7 @@ impl Rpdo {
         od: &mut O,
         data: &[u8],
     ) -> Result<bool, SdoAbort> {
-        match self.mapping.unpack(od, data) {
+        match self.params.mapping.unpack(od, data) {
             Ok(()) => Ok(core::mem::take(&mut self.refused)),
             Err(abort) => {
                 self.refused = true;
@@ -197,12 +177,12 @@ impl Rpdo {
     ) -> bool {
         let timed_out = self.timed_out;
         self.load(od, n);
-        let keeps_monitoring = self.enabled && !event_timer_written;
+        let keeps_monitoring = self.params.enabled && !event_timer_written;
         if keeps_monitoring {
             self.timed_out = timed_out;
         }
         // Without an event timer, the slot stays empty (a reception arms none).
-        if !keeps_monitoring || self.event_timer_ms == 0 {
+        if !keeps_monitoring || self.params.event_timer_ms == 0 {
             *deadline = None;
         }
         timed_out && !self.timed_out

@@ -4,23 +4,14 @@
 use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
-use crate::wire::pdo::CobIdEntry;
 
-use super::mapping::{load_mapping, Direction, Mapping};
+use super::mapping::Direction;
+use super::params::PdoParams;
 
 /// A transmit PDO.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Tpdo {
-    enabled: bool,
-    cob_id: u16,
-    rtr_allowed: bool,
-    transmission: u8,
-    /// The inhibit time (1800h+n sub 03h, in 100 µs) and event timer (sub 05h, ms) as read:
-    /// 32 bits each rather than 64-bit `Duration`s.
-    inhibit_100us: u32,
-    event_timer_ms: u32,
-    sync_start: u8,
-    mapping: Mapping,
+    params: PdoParams,
     /// A frame is waiting to be sent; `data` holds it if it was sampled already (synchronous,
     /// `sampled`). A flag beside a plain array rather than an `Option`, which keeps the array
     /// word-aligned (it is copied into a frame as whole words).
@@ -47,14 +38,7 @@ impl Tpdo {
     /// A PDO that does not exist (yet): nothing configured, nothing running. A constant, like
     /// [`Rpdo::OFF`](super::Rpdo::OFF).
     pub const OFF: Tpdo = Tpdo {
-        enabled: false,
-        cob_id: 0,
-        rtr_allowed: false,
-        transmission: 0,
-        inhibit_100us: 0,
-        event_timer_ms: 0,
-        sync_start: 0,
-        mapping: Mapping::EMPTY,
+        params: PdoParams::OFF,
         pending: false,
         sampled: false,
         data: [0; 8],
@@ -72,26 +56,12 @@ impl Tpdo {
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
         *self = Tpdo::OFF;
-        let comm = 0x1800 + n;
-        let cob = CobIdEntry(crate::node::read_uint(od, comm, 1)?);
-        self.cob_id = cob.can_id();
-        self.rtr_allowed = !cob.bit30();
-        self.transmission = crate::node::read_uint_or(od, comm, 2, 255) as u8;
-        self.inhibit_100us = crate::node::read_uint_or(od, comm, 3, 0);
-        self.event_timer_ms = crate::node::read_uint_or(od, comm, 5, 0);
-        self.sync_start = crate::node::read_uint_or(od, comm, 6, 0) as u8;
-        match load_mapping(od, 0x1A00 + n, Direction::Transmit, &mut self.mapping) {
-            Ok(()) => {
-                self.enabled = cob.valid() && !cob.extended();
-                None
-            }
-            Err(reason) => cob.valid().then_some(reason),
-        }
+        self.params.load(od, 0x1800 + n, Direction::Transmit)
     }
 
     #[inline]
     pub fn event_driven(&self) -> bool {
-        self.transmission >= 254
+        self.params.transmission >= 254
     }
 
     /// Forgets everything a running PDO accumulated (leaving operational, reconfiguring).
@@ -107,18 +77,18 @@ impl Tpdo {
 
     /// The inhibit time.
     pub fn inhibit(&self) -> Duration {
-        Duration::from_micros(u64::from(self.inhibit_100us) * 100)
+        Duration::from_micros(u64::from(self.params.inhibit_100us) * 100)
     }
 
     /// The event timer (zero: off).
     pub fn event_timer(&self) -> Duration {
-        Duration::from_millis(u64::from(self.event_timer_ms))
+        Duration::from_millis(u64::from(self.params.event_timer_ms))
     }
 
     /// Whether its mapping holds (index, sub).
     #[inline]
     pub fn maps(&self, index: u16, sub: u8) -> bool {
-        self.mapping.contains(index, sub)
+        self.params.mapping.contains(index, sub)
     }
 
     /// A mapped object may have changed: compare before the next transmission decision.
@@ -140,12 +110,13 @@ impl Tpdo {
         operational: bool,
         event_timer: &mut Option<Instant>,
     ) -> bool {
-        let (last_sent, last_data, was_enabled) = (self.last_sent, self.last_data, self.enabled);
+        let (last_sent, last_data, was_enabled) =
+            (self.last_sent, self.last_data, self.params.enabled);
         self.load(od, n);
         self.last_sent = last_sent;
         self.last_data = last_data;
         *event_timer = None;
-        if operational && self.enabled && self.event_driven() {
+        if operational && self.params.enabled && self.event_driven() {
             *event_timer = self.event_timer_from(now);
             if !was_enabled {
                 self.pending = true;
@@ -156,7 +127,7 @@ impl Tpdo {
 
     /// Entering operational: an event-driven PDO is sent once. Returns whether it is waiting.
     pub fn start(&mut self) -> bool {
-        if self.enabled && self.event_driven() {
+        if self.params.enabled && self.event_driven() {
             self.pending = true;
         }
         self.pending
@@ -166,10 +137,10 @@ impl Tpdo {
     /// inhibit time allows, an acyclic synchronous one at the next SYNC. `false` if the PDO is
     /// not valid or has another transmission type.
     pub fn trigger(&mut self) -> bool {
-        if !self.enabled {
+        if !self.params.enabled {
             return false;
         }
-        match self.transmission {
+        match self.params.transmission {
             0 => self.acyclic_request = true,
             254 | 255 => self.pending = true,
             _ => return false,
@@ -180,10 +151,10 @@ impl Tpdo {
     /// A remote request on `id`: a PDO of type 252 sends its sample of the last SYNC, one of
     /// 253 (or event-driven) a fresh one. Returns whether it was for this PDO.
     pub fn remote_request(&mut self, id: u16) -> bool {
-        if !(self.enabled && self.rtr_allowed && self.cob_id == id) {
+        if !(self.params.enabled && self.params.rtr_allowed && self.params.cob_id == id) {
             return false;
         }
-        match self.transmission {
+        match self.params.transmission {
             252 => {
                 if let Some(sample) = self.rtr_sample {
                     self.data = sample;
@@ -209,13 +180,13 @@ impl Tpdo {
         use_start: bool,
         window_end: Option<Instant>,
     ) -> bool {
-        if !self.enabled {
+        if !self.params.enabled {
             return false;
         }
-        let send = match self.transmission {
+        let send = match self.params.transmission {
             0 => {
                 if self.check_change {
-                    let data = self.mapping.pack(od);
+                    let data = self.params.mapping.pack(od);
                     self.check_change = false;
                     if data != self.last_data {
                         self.acyclic_request = true;
@@ -224,7 +195,7 @@ impl Tpdo {
                 core::mem::take(&mut self.acyclic_request)
             }
             every @ 1..=240 => {
-                let start = if use_start { self.sync_start } else { 0 };
+                let start = if use_start { self.params.sync_start } else { 0 };
                 // SYNCs left until the next transmission, counting this one.
                 let left = match self.sync_countdown {
                     Some(left) => Some(left),
@@ -244,13 +215,13 @@ impl Tpdo {
                 }
             }
             252 => {
-                self.rtr_sample = Some(self.mapping.pack(od));
+                self.rtr_sample = Some(self.params.mapping.pack(od));
                 false
             }
             _ => false,
         };
         if send {
-            self.data = self.mapping.pack(od);
+            self.data = self.params.mapping.pack(od);
             self.sampled = true;
             self.pending = true;
             self.sync_deadline = window_end;
@@ -268,11 +239,11 @@ impl Tpdo {
         now: Instant,
         event_timer: &mut Option<Instant>,
     ) -> Option<CanFrame> {
-        if !self.enabled {
+        if !self.params.enabled {
             return None;
         }
         if self.event_driven() && core::mem::take(&mut self.check_change) {
-            let data = self.mapping.pack(od);
+            let data = self.params.mapping.pack(od);
             if data != self.last_data {
                 self.pending = true;
             }
@@ -295,7 +266,7 @@ impl Tpdo {
         let data = if core::mem::take(&mut self.sampled) {
             self.data
         } else {
-            self.mapping.pack(od)
+            self.params.mapping.pack(od)
         };
         self.pending = false;
         self.sync_deadline = None;
@@ -304,7 +275,11 @@ impl Tpdo {
         if self.event_driven() {
             *event_timer = self.event_timer_from(now);
         }
-        Some(CanFrame::from_parts(self.cob_id, data, self.mapping.len))
+        Some(CanFrame::from_parts(
+            self.params.cob_id,
+            data,
+            self.params.mapping.len,
+        ))
     }
 
     /// Whether a frame is waiting (perhaps for its inhibit time).
@@ -315,7 +290,7 @@ impl Tpdo {
 
     /// When an event timer started at `now` runs out (1800h+n sub 05h), if it is not 0.
     fn event_timer_from(&self, now: Instant) -> Option<Instant> {
-        (self.event_timer_ms != 0).then(|| now + self.event_timer())
+        (self.params.event_timer_ms != 0).then(|| now + self.event_timer())
     }
 
     /// When the inhibit time of an event-driven PDO's waiting frame ends (it may go out
