@@ -97,19 +97,27 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// changes of state only when it can cause one.
     pub(super) fn link_pdos(&mut self) {
         for rpdo in &mut self.rpdos {
-            let feeds = rpdo.mapping().objects().iter().any(|object| {
-                self.tpdos
-                    .iter()
-                    .any(|tpdo| tpdo.maps(object.index, object.sub))
-            });
+            let feeds = rpdo
+                .mapping()
+                .objects()
+                .iter()
+                .any(|object| self.tpdos.iter().any(|tpdo| tpdo.maps(object.position)));
             rpdo.set_feeds_tpdo(feeds);
         }
     }
 
     /// An OD entry changed: TPDOs that map it compare before their next transmission.
     pub(super) fn mark_changed(&mut self, index: u16, sub: u8) {
+        if let Ok(position) = self.od.locate(index, sub) {
+            // Positions beyond 16 bits are never mapped.
+            self.mark_changed_at(position as u16);
+        }
+    }
+
+    /// [`Node::mark_changed`] of the entry at `position` in the OD's table.
+    pub(super) fn mark_changed_at(&mut self, position: u16) {
         for tpdo in &mut self.tpdos {
-            if tpdo.maps(index, sub) {
+            if tpdo.maps(position) {
                 tpdo.mark_changed();
                 self.tpdo_attention = true;
             }

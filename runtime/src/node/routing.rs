@@ -192,7 +192,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if rpdo.feeds_tpdo() {
             let mapping = *rpdo.mapping();
             for object in mapping.objects() {
-                self.mark_changed(object.index, object.sub);
+                self.mark_changed_at(object.position);
             }
         }
         if recovered && !self.rpdos.iter().any(|r| r.refused()) {

@@ -7,53 +7,20 @@ use crate::wire::pdo::MappingEntry;
 /// The most objects one PDO can map.
 pub const MAX_MAPPED: usize = 8;
 
-/// One mapped object, checked: where its bytes go in the payload.
+/// One mapped object, checked: where its value is in the OD's table and how many bytes of the
+/// payload it takes. Its position rather than its index and sub-index: packing and unpacking do
+/// not search, and a mapping takes 4 bytes an object.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(crate) struct MappedObject {
-    pub index: u16,
-    pub sub: u8,
-    pub len: u8,
-    /// Its position in the OD's table (found when the mapping was checked), so that packing and
-    /// unpacking do not search; [`BY_ADDRESS`] for a dummy or a table too long for 16 bits.
+    /// Its position in the OD's table (found when the mapping was checked); [`DUMMY`] for a
+    /// dummy entry.
     pub position: u16,
+    pub len: u8,
 }
 
-/// [`MappedObject::position`] of an object read and written by (index, sub).
-const BY_ADDRESS: u16 = u16::MAX;
-
-impl MappedObject {
-    /// Reads the object's value into `slot`.
-    #[inline]
-    fn read<O: ObjectDictionary + ?Sized>(
-        self,
-        od: &O,
-        slot: &mut [u8],
-    ) -> Result<usize, SdoAbort> {
-        match self.position {
-            BY_ADDRESS => od.read(self.index, self.sub, 0, slot),
-            position => od.read_at(usize::from(position), 0, slot),
-        }
-    }
-
-    /// Writes `bytes` into the object.
-    #[inline]
-    fn write<O: ObjectDictionary + ?Sized>(self, od: &mut O, bytes: &[u8]) -> Result<(), SdoAbort> {
-        match self.position {
-            BY_ADDRESS => od.write(self.index, self.sub, bytes),
-            position => od.write_at(usize::from(position), bytes),
-        }
-    }
-
-    #[inline]
-    fn is_dummy(self) -> bool {
-        MappingEntry {
-            index: self.index,
-            sub: self.sub,
-            bits: 0,
-        }
-        .is_dummy()
-    }
-}
+/// [`MappedObject::position`] of a dummy entry, which has none: an RPDO skips its bytes, a TPDO
+/// sends zeros there.
+const DUMMY: u16 = u16::MAX;
 
 /// The checked mapping of one PDO.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -81,10 +48,8 @@ impl Mapping {
     /// No objects, for [`Rpdo::OFF`](super::Rpdo::OFF) and [`Tpdo::OFF`](super::Tpdo::OFF).
     pub const EMPTY: Mapping = Mapping {
         objects: [MappedObject {
-            index: 0,
-            sub: 0,
-            len: 0,
             position: 0,
+            len: 0,
         }; MAX_MAPPED],
         count: 0,
         len: 0,
@@ -95,11 +60,10 @@ impl Mapping {
         &self.objects[..self.count as usize]
     }
 
+    /// Whether the object at `position` in the OD's table is mapped.
     #[inline]
-    pub fn contains(&self, index: u16, sub: u8) -> bool {
-        self.objects()
-            .iter()
-            .any(|o| o.index == index && o.sub == sub)
+    pub fn contains(&self, position: u16) -> bool {
+        self.objects().iter().any(|o| o.position == position)
     }
 
     /// Reads the mapped objects into a payload (dummies give zeros).
@@ -109,14 +73,12 @@ impl Mapping {
         let mut offset = 0usize;
         for object in self.objects() {
             let end = offset + object.len as usize;
-            if object.is_dummy() {
-                offset = end;
-                continue;
-            }
-            if let Some(slot) = data.get_mut(offset..end) {
-                // A failed read leaves zeros: the mapping was checked, so this only happens
-                // when the OD refuses its own entry.
-                let _ = object.read(od, slot);
+            if object.position != DUMMY {
+                if let Some(slot) = data.get_mut(offset..end) {
+                    // A failed read leaves zeros: the mapping was checked, so this only happens
+                    // when the OD refuses its own entry.
+                    let _ = od.read_at(usize::from(object.position), 0, slot);
+                }
             }
             offset = end;
         }
@@ -133,9 +95,9 @@ impl Mapping {
         od: &mut O,
         data: &[u8],
     ) -> Result<(), SdoAbort> {
-        // One object at a known position (a PDO's most common mapping; a dummy has none).
+        // One object that is not a dummy (a PDO's most common mapping).
         let object = self.objects[0];
-        if self.count == 1 && object.position != BY_ADDRESS {
+        if self.count == 1 && object.position != DUMMY {
             return match data.get(..usize::from(object.len)) {
                 Some(bytes) => od.write_at(usize::from(object.position), bytes),
                 None => Ok(()),
@@ -144,8 +106,7 @@ impl Mapping {
         self.unpack_any(od, data)
     }
 
-    /// [`Mapping::unpack`] of any mapping (several objects, a dummy, an object written by its
-    /// address): the previous values are kept to restore. Cold, so that a speed-optimized build
+    /// [`Mapping::unpack`] of any mapping (several objects, a dummy): the previous values are kept to restore. Cold, so that a speed-optimized build
     /// keeps it and its calls out of the one-object path, which then needs a small frame and is
     /// inlined; a size-optimized build inlines it at its one call, at no cost in flash.
     #[cold]
@@ -174,9 +135,10 @@ impl Mapping {
         let mut offset = 0usize;
         for (n, object) in self.objects().iter().take(count).enumerate() {
             let end = offset + object.len as usize;
-            if !object.is_dummy() {
+            if object.position != DUMMY {
                 if let Some(bytes) = data.get(offset..end) {
-                    object.write(od, bytes).map_err(|abort| (n, abort))?;
+                    od.write_at(usize::from(object.position), bytes)
+                        .map_err(|abort| (n, abort))?;
                 }
             }
             offset = end;
@@ -220,10 +182,8 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
         // with them (the Goodrive350 card's TPDO1), which then carry zeros there.
         return match dummy_bits(entry.index) {
             Some(bits) if bits == entry.bits => Ok(MappedObject {
-                index: entry.index,
-                sub: entry.sub,
+                position: DUMMY,
                 len,
-                position: BY_ADDRESS,
             }),
             _ => Err(SdoAbort::NotMappable),
         };
@@ -244,12 +204,12 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     {
         return Err(SdoAbort::NotMappable);
     }
-    Ok(MappedObject {
-        index: entry.index,
-        sub: entry.sub,
-        len,
-        position: u16::try_from(position).unwrap_or(BY_ADDRESS),
-    })
+    // A table of more than 65,535 entries maps only its first 65,535.
+    let position = u16::try_from(position)
+        .ok()
+        .filter(|&position| position != DUMMY)
+        .ok_or(SdoAbort::NotMappable)?;
+    Ok(MappedObject { position, len })
 }
 
 /// Checks that the first `count` entries of the mapping record at `index` form a valid mapping:

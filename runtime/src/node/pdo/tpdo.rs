@@ -85,10 +85,10 @@ impl Tpdo {
         Duration::from_millis(u64::from(self.params.event_timer_ms))
     }
 
-    /// Whether its mapping holds (index, sub).
+    /// Whether its mapping holds the object at `position` in the OD's table.
     #[inline]
-    pub fn maps(&self, index: u16, sub: u8) -> bool {
-        self.params.mapping.contains(index, sub)
+    pub fn maps(&self, position: u16) -> bool {
+        self.params.mapping.contains(position)
     }
 
     /// A mapped object may have changed: compare before the next transmission decision.
