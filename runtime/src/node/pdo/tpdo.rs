@@ -110,11 +110,12 @@ impl Tpdo {
         operational: bool,
         event_timer: &mut Option<Instant>,
     ) -> bool {
-        let (last_sent, last_data, was_enabled) =
-            (self.last_sent, self.last_data, self.params.enabled);
-        self.load(od, n);
-        self.last_sent = last_sent;
-        self.last_data = last_data;
+        let was_enabled = self.params.enabled;
+        // The running state goes as with a stop (`data` is read only when `sampled`); the
+        // timing history stays.
+        self.stop();
+        self.params = PdoParams::OFF;
+        let _ = self.params.load(od, 0x1800 + n, Direction::Transmit);
         *event_timer = None;
         if operational && self.params.enabled && self.event_driven() {
             *event_timer = self.event_timer_from(now);
