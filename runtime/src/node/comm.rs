@@ -91,9 +91,10 @@ fn check_cob_id(old: Option<u32>, new: u32, exempt: (u16, u16)) -> Result<(), Sd
 /// No exemption from the restricted CAN-IDs.
 const NOT_EXEMPT: (u16, u16) = (1, 0);
 
-/// The restricted CAN-IDs an SDO parameter (1200h+n server, 1280h+n client; `sub` 1 client to
-/// server, 2 server to client) may use: the default server (1200h) its own pre-defined pair, a
-/// client any node's pre-defined pair (how it reaches another node's default server).
+/// The restricted CAN-IDs a COB-ID entry may use: an SDO parameter (1200h+n server, 1280h+n
+/// client; `sub` 1 client to server, 2 server to client) the default server's (1200h) own
+/// pre-defined pair, a client's any node's pre-defined pair (how it reaches another node's
+/// default server); any other entry none.
 fn sdo_exempt(index: u16, sub: u8, node_id: u8) -> (u16, u16) {
     let node = u16::from(node_id);
     let base = if sub == 1 {
@@ -121,7 +122,6 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         receive: bool,
     ) -> Result<(), SdoAbort> {
         match sub {
-            1 => check_cob_id(read_uint(self.od, index, 1), value, NOT_EXEMPT),
             2 => match value {
                 0..=240 | 254 | 255 => Ok(()),
                 252 | 253 if !receive => Ok(()),
@@ -179,6 +179,15 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
     /// Checks a write to a communication object against the rules.
     fn check(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<Checked, SdoAbort> {
         let value = value_u32(data);
+        // The COB-ID entries with a valid bit (EMCY, SDO and PDO parameters): one call.
+        if matches!(
+            (index, sub),
+            (0x1014, _) | (0x1200..=0x12FF, 1 | 2) | (0x1400..=0x15FF | 0x1800..=0x19FF, 1)
+        ) {
+            let exempt = sdo_exempt(index, sub, self.node_id);
+            return check_cob_id(read_uint(self.od, index, sub), value, exempt)
+                .map(|()| Checked::Write);
+        }
         match index {
             // No rule's code for the objects a dictionary lacks: they are never written.
             0x1003 if !self.od.services().error_history => Ok(Checked::Write),
@@ -221,8 +230,6 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 self.hooks.restore_defaults(sub).map(|()| Checked::Done)
             }
             0x1012 => check_plain_cob_id(value).map(|()| Checked::Write),
-            0x1014 => check_cob_id(read_uint(self.od, 0x1014, 0), value, NOT_EXEMPT)
-                .map(|()| Checked::Write),
             0x1016 if sub >= 1 => self
                 .check_heartbeat_consumer(sub, value)
                 .map(|()| Checked::Write),
@@ -234,10 +241,6 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 } else {
                     Ok(Checked::Write)
                 }
-            }
-            0x1200..=0x12FF if sub == 1 || sub == 2 => {
-                let exempt = sdo_exempt(index, sub, self.node_id);
-                check_cob_id(read_uint(self.od, index, sub), value, exempt).map(|()| Checked::Write)
             }
             // One call for both directions' parameters: bit 11 of the index tells them apart
             // (receive 1400h/1600h, transmit 1800h/1A00h), bit 9 communication from mapping.
