@@ -22,9 +22,9 @@ pub(crate) struct Tpdo {
     sync_deadline: Option<Instant>,
     /// Type 0: an event occurred since the last SYNC.
     acyclic_request: bool,
-    /// SYNCs left until the next cyclic transmission; `None` before the first SYNC, `Some(0)`
-    /// while waiting for the SYNC start value.
-    sync_countdown: Option<u8>,
+    /// SYNCs left until the next cyclic transmission (1 to 240); 0 before the first SYNC and
+    /// while waiting for the SYNC start value. A plain count rather than an `Option`.
+    sync_countdown: u8,
     /// Type 252: the data sampled at the last SYNC, sent on a remote request.
     rtr_sample: Option<[u8; 8]>,
     /// The payload last sent (change-of-state detection).
@@ -44,7 +44,7 @@ impl Tpdo {
         data: [0; 8],
         sync_deadline: None,
         acyclic_request: false,
-        sync_countdown: None,
+        sync_countdown: 0,
         rtr_sample: None,
         last_data: [0; 8],
         last_sent: None,
@@ -71,7 +71,7 @@ impl Tpdo {
         self.rtr_sample = None;
         self.sync_deadline = None;
         self.acyclic_request = false;
-        self.sync_countdown = None;
+        self.sync_countdown = 0;
         self.check_change = false;
     }
 
@@ -198,21 +198,22 @@ impl Tpdo {
             every @ 1..=240 => {
                 let start = if use_start { self.params.sync_start } else { 0 };
                 // SYNCs left until the next transmission, counting this one.
+                // SYNCs left until the next transmission, counting this one (0: not yet).
                 let left = match self.sync_countdown {
-                    Some(left) => Some(left),
-                    None if start != 0 => (counter == Some(start)).then_some(1),
-                    None => Some(every),
+                    0 if start != 0 => u8::from(counter == Some(start)),
+                    0 => every,
+                    left => left,
                 };
                 match left {
-                    Some(left) if left <= 1 => {
-                        self.sync_countdown = Some(every);
+                    0 => false,
+                    1 => {
+                        self.sync_countdown = every;
                         true
                     }
-                    Some(left) => {
-                        self.sync_countdown = Some(left - 1);
+                    left => {
+                        self.sync_countdown = left - 1;
                         false
                     }
-                    None => false,
                 }
             }
             252 => {
