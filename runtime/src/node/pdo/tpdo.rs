@@ -25,8 +25,9 @@ pub(crate) struct Tpdo {
     /// SYNCs left until the next cyclic transmission (1 to 240); 0 before the first SYNC and
     /// while waiting for the SYNC start value. A plain count rather than an `Option`.
     sync_countdown: u8,
-    /// Type 252: the data sampled at the last SYNC, sent on a remote request.
-    rtr_sample: Option<[u8; 8]>,
+    /// Type 252: `data` holds the sample of the last SYNC, sent on a remote request (a PDO of
+    /// type 252 uses `data` for nothing else).
+    rtr_sampled: bool,
     /// The payload last sent (change-of-state detection).
     last_data: [u8; 8],
     last_sent: Option<Instant>,
@@ -45,7 +46,7 @@ impl Tpdo {
         sync_deadline: None,
         acyclic_request: false,
         sync_countdown: 0,
-        rtr_sample: None,
+        rtr_sampled: false,
         last_data: [0; 8],
         last_sent: None,
         check_change: false,
@@ -68,7 +69,7 @@ impl Tpdo {
     pub fn stop(&mut self) {
         self.pending = false;
         self.sampled = false;
-        self.rtr_sample = None;
+        self.rtr_sampled = false;
         self.sync_deadline = None;
         self.acyclic_request = false;
         self.sync_countdown = 0;
@@ -157,8 +158,7 @@ impl Tpdo {
         }
         match self.params.transmission {
             252 => {
-                if let Some(sample) = self.rtr_sample {
-                    self.data = sample;
+                if self.rtr_sampled {
                     self.sampled = true;
                     self.pending = true;
                 }
@@ -217,7 +217,8 @@ impl Tpdo {
                 }
             }
             252 => {
-                self.rtr_sample = Some(self.params.mapping.pack(od));
+                self.data = self.params.mapping.pack(od);
+                self.rtr_sampled = true;
                 false
             }
             _ => false,
