@@ -60,30 +60,53 @@ fn restricted(can_id: u16) -> bool {
     )
 }
 
-/// A COB-ID without a valid bit (1005h SYNC, 1012h TIME): its CAN-ID must not be restricted
-/// and 29-bit identifiers are not served.
-fn check_plain_cob_id(value: u32) -> Result<(), SdoAbort> {
-    let cob = CobIdEntry(value);
-    if cob.extended() || restricted(cob.can_id()) {
-        return Err(SdoAbort::InvalidValue);
-    }
-    Ok(())
+/// How a COB-ID entry's top bits read, for [`check_cob_id`]: a value with an `invalid` bit set
+/// has no rule to pass; the CAN-ID is in use while a bit of `in_use` is set once `invalid` is
+/// flipped. One rule for three kinds rather than a function each.
+#[derive(Clone, Copy)]
+struct CobIdKind {
+    invalid: u32,
+    in_use: u32,
 }
 
-/// A COB-ID entry may change its CAN-ID only while invalid; a valid one must not use a
-/// restricted CAN-ID unless it is in `exempt` (an SDO channel's pre-defined ones); 29-bit
-/// identifiers are not served.
-fn check_cob_id(old: Option<u32>, new: u32, exempt: (u16, u16)) -> Result<(), SdoAbort> {
-    let new = CobIdEntry(new);
-    if !new.valid() {
+/// EMCY (1014h), SDO and PDO parameters: bit 31 is the valid bit (set: not valid), and a valid
+/// entry's CAN-ID is in use.
+const WITH_VALID_BIT: CobIdKind = CobIdKind {
+    invalid: CobIdEntry::INVALID,
+    in_use: CobIdEntry::INVALID,
+};
+/// SYNC (1005h): no valid bit; the CAN-ID is in use while the node produces SYNC (bit 30).
+const SYNC: CobIdKind = CobIdKind {
+    invalid: 0,
+    in_use: CobIdEntry::BIT30,
+};
+/// TIME (1012h): no valid bit, and the CAN-ID may always change.
+const TIME: CobIdKind = CobIdKind {
+    invalid: 0,
+    in_use: 0,
+};
+
+/// A COB-ID entry of `kind` may change its CAN-ID only while the CAN-ID is not in use; a value
+/// that is not invalid must not use a restricted CAN-ID unless it is in `exempt` (an SDO
+/// channel's pre-defined ones); 29-bit identifiers are not served.
+fn check_cob_id(
+    old: Option<u32>,
+    new: u32,
+    exempt: (u16, u16),
+    kind: CobIdKind,
+) -> Result<(), SdoAbort> {
+    if new & kind.invalid != 0 {
         return Ok(());
     }
-    let id = new.can_id();
-    if new.extended() || (restricted(id) && !(exempt.0 <= id && id <= exempt.1)) {
+    let id = CobIdEntry(new).can_id();
+    if CobIdEntry(new).extended() || (restricted(id) && !(exempt.0 <= id && id <= exempt.1)) {
         return Err(SdoAbort::InvalidValue);
     }
-    match old.map(CobIdEntry) {
-        Some(old) if old.valid() && old.can_id() != id => Err(SdoAbort::InvalidValue),
+    let in_use = |value: u32| (value ^ kind.invalid) & kind.in_use != 0;
+    match old {
+        Some(old) if in_use(old) && in_use(new) && CobIdEntry(old).can_id() != id => {
+            Err(SdoAbort::InvalidValue)
+        }
         _ => Ok(()),
     }
 }
@@ -179,13 +202,18 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
     /// Checks a write to a communication object against the rules.
     fn check(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<Checked, SdoAbort> {
         let value = value_u32(data);
-        // The COB-ID entries with a valid bit (EMCY, SDO and PDO parameters): one call.
-        if matches!(
-            (index, sub),
-            (0x1014, _) | (0x1200..=0x12FF, 1 | 2) | (0x1400..=0x15FF | 0x1800..=0x19FF, 1)
-        ) {
+        // The COB-ID entries (SYNC, TIME, EMCY, SDO and PDO parameters): one call.
+        let cob_id = match (index, sub) {
+            (0x1005, _) => Some(SYNC),
+            (0x1012, _) => Some(TIME),
+            (0x1014, _) | (0x1200..=0x12FF, 1 | 2) | (0x1400..=0x15FF | 0x1800..=0x19FF, 1) => {
+                Some(WITH_VALID_BIT)
+            }
+            _ => None,
+        };
+        if let Some(kind) = cob_id {
             let exempt = sdo_exempt(index, sub, self.node_id);
-            return check_cob_id(read_uint(self.od, index, sub), value, exempt)
+            return check_cob_id(read_uint(self.od, index, sub), value, exempt, kind)
                 .map(|()| Checked::Write);
         }
         match index {
@@ -206,17 +234,6 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 }
                 Ok(Checked::Write)
             }
-            0x1005 => {
-                check_plain_cob_id(value)?;
-                let old = read_uint(self.od, 0x1005, 0).map(CobIdEntry);
-                let new = CobIdEntry(value);
-                match old {
-                    Some(old) if old.bit30() && new.bit30() && old.can_id() != new.can_id() => {
-                        Err(SdoAbort::InvalidValue)
-                    }
-                    _ => Ok(Checked::Write),
-                }
-            }
             0x1010 if sub >= 1 => {
                 if data != SAVE_SIGNATURE.as_slice() {
                     return Err(SdoAbort::CannotStore);
@@ -229,7 +246,6 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 }
                 self.hooks.restore_defaults(sub).map(|()| Checked::Done)
             }
-            0x1012 => check_plain_cob_id(value).map(|()| Checked::Write),
             0x1016 if sub >= 1 => self
                 .check_heartbeat_consumer(sub, value)
                 .map(|()| Checked::Write),
