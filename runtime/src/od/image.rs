@@ -11,7 +11,7 @@
 
 use crate::od::entry::{Entry, OdValue};
 use crate::od::typed::{copy_value, position, read_bytes};
-use crate::od::{DataType, EntryDescriptor, SdoAbort};
+use crate::od::{DataType, EntryDescriptor, EntryKind, SdoAbort};
 
 /// An entry's LowLimit and HighLimit, as keys whose signed order is the numeric order of the
 /// entry's data type (REAL32/REAL64 by sign and magnitude), computed when the generated table is
@@ -169,9 +169,28 @@ impl Layout {
         }
     }
 
-    /// Every entry's descriptor, sorted by (index, sub-index).
-    pub const fn entries(&self) -> &'static [EntryDescriptor] {
-        self.entries
+    /// `ObjectDictionary::entry_count`.
+    #[inline]
+    pub const fn entry_count(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// `ObjectDictionary::entry`: the descriptor of the entry at `position`.
+    #[inline]
+    pub fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.entries.get(position).copied()
+    }
+
+    /// `ObjectDictionary::kind`: the kind of the entry at `position`.
+    #[inline]
+    pub fn kind(&self, position: usize) -> Option<EntryKind> {
+        Some(self.entries.get(position)?.kind())
+    }
+
+    /// `ObjectDictionary::locate`: where (index, sub) is.
+    #[inline]
+    pub fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        position(self.entries, index, sub)
     }
 
     /// `ObjectDictionary::capacity`: the size of the value at `position`, a string's, octet

@@ -51,7 +51,7 @@
 //! This module holds the channel's state and dispatches each request; `segmented` serves the
 //! expedited and segmented transfers and `block` the block transfers.
 
-use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
+use crate::od::{EntryKind, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 use crate::wire::sdo::command::{self, ccs, scs};
 use crate::wire::sdo::{frame, mux_frame, Frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
@@ -420,7 +420,7 @@ impl SdoServer {
         od: &O,
     ) -> Result<WriteTarget, SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
-        let entry = od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = od.kind(position).ok_or(SdoAbort::NoObject)?;
         if !entry.access().writable() {
             return Err(SdoAbort::ReadOnly);
         }
@@ -438,9 +438,9 @@ impl SdoServer {
     fn readable_entry<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
         od: &O,
-    ) -> Result<(usize, EntryDescriptor), SdoAbort> {
+    ) -> Result<(usize, EntryKind), SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
-        let entry = *od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = od.kind(position).ok_or(SdoAbort::NoObject)?;
         if !entry.access().readable() {
             return Err(SdoAbort::WriteOnly);
         }
