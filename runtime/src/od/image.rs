@@ -79,8 +79,8 @@ impl Limit {
         let negative =
             is_signed_integer(data_type) && data.last().is_some_and(|&top| top & 0x80 != 0);
         let mut value = [if negative { 0xFF } else { 0 }; 8];
-        for (slot, &byte) in value.iter_mut().zip(data) {
-            *slot = byte;
+        if let Some(low) = value.get_mut(..data.len()) {
+            low.copy_from_slice(data);
         }
         let Some(value) = order_key(data_type, u64::from_le_bytes(value)) else {
             return Ok(());
