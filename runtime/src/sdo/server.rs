@@ -54,7 +54,7 @@
 use crate::od::{EntryKind, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 use crate::wire::sdo::command::{self, ccs, scs};
-use crate::wire::sdo::{frame, mux_frame, Frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
+use crate::wire::sdo::{frame, Frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
 
 #[cfg(feature = "sdo-block")]
 mod block;
@@ -305,8 +305,10 @@ impl SdoServer {
     /// Queues a response naming the addressed entry: the command byte, the multiplexer and
     /// `value` in bytes 4 to 7.
     fn respond_mux(&mut self, command: u8, value: u32) {
-        self.response = mux_frame(command, self.mux, value);
-        self.pending = true;
+        // Through `respond`: one routine stores every response.
+        let [index_lo, index_hi] = self.mux.index.to_le_bytes();
+        let [v0, v1, v2, v3] = value.to_le_bytes();
+        self.respond(command, [index_lo, index_hi, self.mux.sub, v0, v1, v2, v3]);
     }
 
     /// Handles an 8-byte request: a block-download sub-block segment, or a request.
