@@ -477,40 +477,30 @@ pub const fn unpack_defaults(values: &mut [u8], runs: &[u8]) {
 /// [`unpack_defaults`] into the bytes `window.0..window.1` only, which it sets whole: the runs'
 /// bytes there, zero in the gaps (a reset restores part of an image that is not all zero).
 const fn unpack_defaults_within(values: &mut [u8], runs: &[u8], window: (usize, usize)) {
-    let (mut at, mut i) = (0usize, 0usize);
-    // A gap, then a run of `len` bytes from `runs[i]` on; after the last run, a gap to the end.
-    let (mut gap, mut len) = (0usize, 0usize);
     let end = if window.1 < values.len() {
         window.1
     } else {
         values.len()
     };
+    // The window cleared, then each run's bytes that fall in it written (a run cut short by the
+    // end of the runs is the last: its missing bytes stay zero).
+    let mut at = window.0;
     while at < end {
-        if gap == 0 && len == 0 {
-            if i + 1 < runs.len() {
-                (gap, len) = (runs[i] as usize, runs[i + 1] as usize);
-                i += 2;
-            } else {
-                gap = usize::MAX;
-            }
-            continue;
-        }
-        let byte = if gap > 0 {
-            gap -= 1;
-            0
-        } else {
-            len -= 1;
-            i += 1;
-            if i - 1 < runs.len() {
-                runs[i - 1]
-            } else {
-                0
-            }
-        };
-        if at >= window.0 {
-            values[at] = byte;
-        }
+        values[at] = 0;
         at += 1;
+    }
+    let (mut at, mut i) = (0usize, 0usize);
+    while i + 1 < runs.len() {
+        at += runs[i] as usize;
+        let run_end = i + 2 + runs[i + 1] as usize;
+        i += 2;
+        while i < run_end && i < runs.len() {
+            if at >= window.0 && at < end {
+                values[at] = runs[i];
+            }
+            at += 1;
+            i += 1;
+        }
     }
 }
 
