@@ -449,19 +449,19 @@ const fn add_node_id_within(
     let mut p = 0;
     while p < places.len() {
         let (offset, width) = places[p];
+        p += 1;
         let (mut at, end) = (offset as usize, offset as usize + width as usize);
-        let mut carry = if at >= window.0 && at < window.1 {
-            node_id as u16
-        } else {
-            0
-        };
-        while at < end && at < values.len() {
+        if at < window.0 || at >= window.1 {
+            continue;
+        }
+        // Added byte by byte until the carry is spent.
+        let mut carry = node_id as u16;
+        while carry != 0 && at < end && at < values.len() {
             let sum = values[at] as u16 + carry;
             values[at] = sum as u8;
             carry = sum >> 8;
             at += 1;
         }
-        p += 1;
     }
 }
 
