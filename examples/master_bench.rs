@@ -46,8 +46,12 @@ const DOMAIN: [EntryDescriptor; 1] = [EntryDescriptor::new(
 struct DomainOd<'a>(&'a [u8]);
 
 impl ObjectDictionary for DomainOd<'_> {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &DOMAIN
+    fn entry_count(&self) -> usize {
+        DOMAIN.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        DOMAIN.get(position).copied()
     }
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         self.find(index, sub).map(|_| self.0.len())

@@ -3,7 +3,7 @@
 //! table and one 32-bit slot per entry.
 
 use edsgen_runtime::od::{
-    Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort, Services,
+    Access, DataType, EntryDescriptor, EntryKind, ObjectDictionary, SdoAbort, Services,
 };
 
 const fn e(index: u16, sub: u8, data_type: DataType, access: Access) -> EntryDescriptor {
@@ -178,8 +178,21 @@ fn position(index: u16, sub: u8) -> Result<usize, SdoAbort> {
 }
 
 impl ObjectDictionary for MinimalOd {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &ENTRIES
+    fn entry_count(&self) -> usize {
+        ENTRIES.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        ENTRIES.get(position).copied()
+    }
+
+    fn kind(&self, position: usize) -> Option<EntryKind> {
+        Some(ENTRIES.get(position)?.kind())
+    }
+
+    /// The search generated dictionaries make, on the table here.
+    fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        edsgen_runtime::support::position(&ENTRIES, index, sub)
     }
 
     /// The services of the objects above: no 1007h, 100Ch/100Dh or 1201h.
@@ -193,11 +206,11 @@ impl ObjectDictionary for MinimalOd {
     }
 
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
-        Ok(size(self.find(index, sub)?))
+        Ok(size(&ENTRIES[self.locate(index, sub)?]))
     }
 
     fn read(&self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
-        let pos = self.find(index, sub).and_then(|_| position(index, sub))?;
+        let pos = self.locate(index, sub)?;
         let bytes = self.values[pos].to_le_bytes();
         let value = &bytes[..size(&ENTRIES[pos])];
         let rest = value.get(offset..).unwrap_or(&[]);
@@ -207,7 +220,7 @@ impl ObjectDictionary for MinimalOd {
     }
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        let pos = self.find(index, sub).and_then(|_| position(index, sub))?;
+        let pos = self.locate(index, sub)?;
         let size = size(&ENTRIES[pos]);
         if data.len() != size {
             return Err(if data.len() > size {

@@ -52,8 +52,7 @@ macro_rules! resettable_generated {
             fn reset_range(&mut self, range: core::ops::RangeInclusive<u16>) {
                 let defaults = <$od>::new(NODE_ID);
                 let mut buf = [0u8; 256];
-                for position in 0..self.entries().len() {
-                    let entry = self.entries()[position];
+                for (position, entry) in edsgen_runtime::od::descriptors(&*self).collect::<Vec<_>>() {
                     if range.contains(&entry.index()) {
                         let len = defaults.read_at(position, 0, &mut buf).expect("entry exists");
                         assert!(len < buf.len(), "a default longer than the buffer");
@@ -82,7 +81,7 @@ impl<O: ObjectDictionary> Watched<O> {
 
     /// Every entry's value.
     fn values(&self) -> Vec<Vec<u8>> {
-        (0..self.0.entries().len())
+        (0..self.0.entry_count())
             .map(|p| self.value_at(p))
             .collect()
     }
@@ -108,8 +107,12 @@ impl<O: ObjectDictionary> Watched<O> {
 }
 
 impl<O: ObjectDictionary> ObjectDictionary for Watched<O> {
-    fn entries(&self) -> &[EntryDescriptor] {
-        self.0.entries()
+    fn entry_count(&self) -> usize {
+        self.0.entry_count()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.0.entry(position)
     }
     fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
         self.0.locate(index, sub)
@@ -141,7 +144,7 @@ impl<O: ObjectDictionary> ObjectDictionary for Watched<O> {
                 "a refused commit at {position} changed the OD"
             );
         } else {
-            let entry = self.0.entries()[position];
+            let entry = self.0.entry(position).expect("entry exists");
             assert!(
                 entry.access().writable(),
                 "commit to non-writable {position}"
@@ -160,7 +163,7 @@ impl<O: ObjectDictionary> ObjectDictionary for Watched<O> {
     }
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let position = self.0.locate(index, sub)?;
-        let descriptor = *self.0.find(index, sub)?;
+        let descriptor = self.0.find(index, sub)?;
         let capacity = self.0.capacity(position);
         // The state the write meets, judged only if the write changes the OD.
         let mapping = (0x1600..=0x17FF).contains(&index) || (0x1A00..=0x1BFF).contains(&index);
@@ -307,7 +310,7 @@ fn accounted<O: Resettable>(node: &mut Node<Watched<O>, Hooks>, before: &[Vec<u8
         return;
     }
     let after = node.od().values();
-    for (position, entry) in node.od().entries().iter().enumerate() {
+    for (position, entry) in edsgen_runtime::od::descriptors(node.od()) {
         if after[position] == before[position] {
             continue;
         }

@@ -58,5 +58,5 @@ pub use frame::{CanFrame, CanId};
 pub use node::{Event, NmtState, Node, NodeHooks, ResetKind};
 pub use od::entry::{AnyDictionary, Entry, OdValue};
 pub use od::typed::{FixedBytes, PdoError};
-pub use od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort, Services};
+pub use od::{Access, DataType, EntryDescriptor, EntryKind, ObjectDictionary, SdoAbort, Services};
 pub use time::{Duration, Instant};

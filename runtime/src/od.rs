@@ -1,15 +1,14 @@
 //! The object-dictionary interface between the protocol cores and a device's data.
 //!
-//! Generated code implements [`ObjectDictionary`] for each device struct: a sorted `const` table
-//! of [`EntryDescriptor`]s plus `read`/`write` by (index, sub) into byte buffers. The OD checks
+//! Generated code implements [`ObjectDictionary`] for each device struct: [`EntryDescriptor`]s
+//! by position (sorted by index and sub-index) plus `read`/`write` by (index, sub) into byte buffers. The OD checks
 //! what only it can know (lengths, LowLimit/HighLimit, value ranges of odd-width integers); the
 //! protocols check access rights against the descriptor (an SDO write to a `ro` entry, a PDO
 //! mapping of a non-mappable one), so the same OD serves SDO, PDO and the node's own updates.
 //!
 //! What builds on the contract lives beside it: [`entry`] (typed addresses of entries and the
 //! values they hold), [`access`] (the access rights in an address's type), [`image`] (the
-//! packed value image a generated OD keeps its values in), [`stage`] (where a download collects
-//! until it completes) and [`typed`] (the values' byte and
+//! packed value image a generated OD keeps its values in), [`stage`] (where a download collects until it completes) and [`typed`] (the values' byte and
 //! bit encodings, for PDO payloads). What only generated code calls is gathered in the crate's
 //! hidden `support` module.
 
@@ -104,9 +103,8 @@ impl Access {
     }
 }
 
-/// What the protocols need to know about one entry, without touching its value: 5 bytes in a
-/// generated table (packed: the index, the sub-index, the data type, and the access rights
-/// with the PDO mappability in one byte). The size is the data type's
+/// What the protocols need to know about one entry, without touching its value: its index and
+/// sub-index and its [`EntryKind`] (5 bytes, packed). The size is the data type's
 /// ([`DataType::fixed_size`]); a string's, octet string's or domain's capacity comes from
 /// [`ObjectDictionary::capacity`].
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
@@ -114,6 +112,13 @@ impl Access {
 pub struct EntryDescriptor {
     index: u16,
     sub: u8,
+    kind: EntryKind,
+}
+
+/// The kind of an entry: its data type, its access rights and whether it is PDO-mappable: what
+/// the SDO server and the PDOs ask of an entry they have located ([`ObjectDictionary::kind`]).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct EntryKind {
     data_type: DataType,
     rights: Rights,
 }
@@ -158,33 +163,13 @@ impl Rights {
     }
 }
 
-impl EntryDescriptor {
-    /// A descriptor from its parts (the compact form generated tables use).
-    pub const fn new(
-        index: u16,
-        sub: u8,
-        data_type: DataType,
-        access: Access,
-        pdo_mappable: bool,
-    ) -> Self {
-        EntryDescriptor {
-            index,
-            sub,
+impl EntryKind {
+    /// A kind from its parts.
+    pub const fn new(data_type: DataType, access: Access, pdo_mappable: bool) -> Self {
+        EntryKind {
             data_type,
             rights: Rights::new(access, pdo_mappable),
         }
-    }
-
-    /// OD index.
-    #[inline]
-    pub const fn index(&self) -> u16 {
-        self.index
-    }
-
-    /// Sub-index.
-    #[inline]
-    pub const fn sub(&self) -> u8 {
-        self.sub
     }
 
     /// Data type.
@@ -203,6 +188,70 @@ impl EntryDescriptor {
     #[inline]
     pub const fn pdo_mappable(&self) -> bool {
         self.rights.pdo_mappable()
+    }
+}
+
+impl core::fmt::Debug for EntryKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("EntryKind")
+            .field("data_type", &self.data_type())
+            .field("access", &self.access())
+            .field("pdo_mappable", &self.pdo_mappable())
+            .finish()
+    }
+}
+
+impl EntryDescriptor {
+    /// A descriptor from its parts (the compact form generated tables use).
+    pub const fn new(
+        index: u16,
+        sub: u8,
+        data_type: DataType,
+        access: Access,
+        pdo_mappable: bool,
+    ) -> Self {
+        Self::of_kind(index, sub, EntryKind::new(data_type, access, pdo_mappable))
+    }
+
+    /// A descriptor from its address and kind.
+    pub const fn of_kind(index: u16, sub: u8, kind: EntryKind) -> Self {
+        EntryDescriptor { index, sub, kind }
+    }
+
+    /// OD index.
+    #[inline]
+    pub const fn index(&self) -> u16 {
+        self.index
+    }
+
+    /// Sub-index.
+    #[inline]
+    pub const fn sub(&self) -> u8 {
+        self.sub
+    }
+
+    /// The entry's kind: data type, access and PDO mappability.
+    #[inline]
+    pub const fn kind(&self) -> EntryKind {
+        self.kind
+    }
+
+    /// Data type.
+    #[inline]
+    pub const fn data_type(&self) -> DataType {
+        self.kind.data_type
+    }
+
+    /// Access rights.
+    #[inline]
+    pub const fn access(&self) -> Access {
+        self.kind.rights.access()
+    }
+
+    /// Whether the entry may be mapped into a PDO.
+    #[inline]
+    pub const fn pdo_mappable(&self) -> bool {
+        self.kind.rights.pdo_mappable()
     }
 }
 
@@ -298,8 +347,19 @@ impl SdoAbort {
 /// `read` and `write` do not check access rights: the caller (SDO server, PDO engine, the node
 /// itself) does, using [`ObjectDictionary::find`]. They do check lengths and value limits.
 pub trait ObjectDictionary {
-    /// Every entry, sorted by (index, sub).
-    fn entries(&self) -> &[EntryDescriptor];
+    /// How many entries there are: their positions are `0..entry_count()`.
+    fn entry_count(&self) -> usize;
+
+    /// The descriptor of the entry at `position` (entries sorted by (index, sub)), `None` past
+    /// the end.
+    fn entry(&self, position: usize) -> Option<EntryDescriptor>;
+
+    /// The kind of the entry at `position`: all a protocol that has located an entry needs to
+    /// know of it (a generated dictionary answers without finding the entry's index).
+    #[inline]
+    fn kind(&self, position: usize) -> Option<EntryKind> {
+        self.entry(position).map(|entry| entry.kind())
+    }
 
     /// Which of the node's optional services the dictionary has the objects of ([`Services`]).
     /// A node builds no code for the others, so the answer must not change at run time: every
@@ -309,20 +369,18 @@ pub trait ObjectDictionary {
         Services::ALL
     }
 
-    /// Where (index, sub) is in [`entries`](Self::entries): the position
-    /// [`read_at`](Self::read_at) and [`write_at`](Self::write_at) take. `NoObject` if the index
-    /// is absent, `NoSubIndex` if only the sub-index is.
+    /// Where (index, sub) is among the entries: the position [`entry`](Self::entry),
+    /// [`read_at`](Self::read_at) and [`write_at`](Self::write_at) take. `NoObject` if the
+    /// index is absent, `NoSubIndex` if only the sub-index is. The default is a binary search
+    /// through [`entry`](Self::entry).
     fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
-        // The search generated `read`/`write` dispatch on too: one copy in flash.
-        crate::od::typed::position(self.entries(), index, sub)
+        crate::od::typed::search(self.entry_count(), |p| self.entry(p), index, sub)
     }
 
     /// The descriptor of (index, sub): `NoObject` if the index is absent, `NoSubIndex` if only
     /// the sub-index is.
-    fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
-        let entries = self.entries();
-        entries
-            .get(self.locate(index, sub)?)
+    fn find(&self, index: u16, sub: u8) -> Result<EntryDescriptor, SdoAbort> {
+        self.entry(self.locate(index, sub)?)
             .ok_or(SdoAbort::NoObject)
     }
 
@@ -333,7 +391,7 @@ pub trait ObjectDictionary {
     /// [`write_part`](Self::write_part) when a piece passes the end); a dictionary holding
     /// strings or domains says their capacity.
     fn capacity(&self, position: usize) -> Option<usize> {
-        self.entries().get(position)?.data_type().fixed_size()
+        self.kind(position)?.data_type().fixed_size()
     }
 
     /// The current length in bytes of the value at (index, sub) (shorter than the capacity for a
@@ -341,12 +399,12 @@ pub trait ObjectDictionary {
     /// server takes it from the descriptor without asking.
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort>;
 
-    /// [`value_len`](Self::value_len) of the entry at `position` in [`entries`](Self::entries),
+    /// [`value_len`](Self::value_len) of the entry at `position` among the entries,
     /// so that the SDO server, which has located the entry, uploads a string or domain without a
     /// second search. The default asks by the entry's (index, sub); the generated dictionaries
     /// answer from the position.
     fn value_len_at(&self, position: usize) -> Result<usize, SdoAbort> {
-        let entry = self.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = self.entry(position).ok_or(SdoAbort::NoObject)?;
         self.value_len(entry.index(), entry.sub())
     }
 
@@ -358,12 +416,12 @@ pub trait ObjectDictionary {
     /// and limits. On error the value is unchanged.
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort>;
 
-    /// [`read`](Self::read) of the entry at `position` in [`entries`](Self::entries) (from
+    /// [`read`](Self::read) of the entry at `position` among the entries (from
     /// [`locate`](Self::locate)), so that a protocol that has looked an entry up reads it without
     /// a second search: the SDO server's expedited upload, a TPDO's mapped objects. The default
     /// reads by the entry's (index, sub); the generated dictionaries dispatch on the position.
     fn read_at(&self, position: usize, offset: usize, buf: &mut [u8]) -> Result<usize, SdoAbort> {
-        let entry = self.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = self.entry(position).ok_or(SdoAbort::NoObject)?;
         self.read(entry.index(), entry.sub(), offset, buf)
     }
 
@@ -449,12 +507,19 @@ pub trait ObjectDictionary {
         false
     }
 
-    /// [`write`](Self::write) of the entry at `position` in [`entries`](Self::entries), as
+    /// [`write`](Self::write) of the entry at `position` among the entries, as
     /// [`read_at`](Self::read_at) reads: an RPDO's mapped objects, an SDO expedited download.
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
-        let entry = *self.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = self.entry(position).ok_or(SdoAbort::NoObject)?;
         self.write(entry.index(), entry.sub(), data)
     }
+}
+
+/// Every entry of `od` with its position, in order.
+pub fn descriptors<O: ObjectDictionary + ?Sized>(
+    od: &O,
+) -> impl Iterator<Item = (usize, EntryDescriptor)> + '_ {
+    (0..od.entry_count()).filter_map(|position| Some((position, od.entry(position)?)))
 }
 
 #[cfg(test)]

@@ -32,8 +32,12 @@ impl Od {
 }
 
 impl ObjectDictionary for Od {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &ENTRIES
+    fn entry_count(&self) -> usize {
+        ENTRIES.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        ENTRIES.get(position).copied()
     }
     fn capacity(&self, position: usize) -> Option<usize> {
         LAYOUT.capacity(position)

@@ -24,8 +24,12 @@ struct Lacking {
 }
 
 impl ObjectDictionary for Lacking {
-    fn entries(&self) -> &[EntryDescriptor] {
-        self.od.entries()
+    fn entry_count(&self) -> usize {
+        self.od.entry_count()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.od.entry(position)
     }
     fn services(&self) -> Services {
         self.services

@@ -88,8 +88,12 @@ impl AtomicOd {
 }
 
 impl ObjectDictionary for AtomicOd {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &ENTRIES
+    fn entry_count(&self) -> usize {
+        ENTRIES.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        ENTRIES.get(position).copied()
     }
     fn capacity(&self, position: usize) -> Option<usize> {
         LAYOUT.capacity(position)

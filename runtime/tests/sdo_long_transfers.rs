@@ -67,8 +67,12 @@ impl DeviceOd {
 }
 
 impl ObjectDictionary for DeviceOd {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &ENTRIES
+    fn entry_count(&self) -> usize {
+        ENTRIES.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        ENTRIES.get(position).copied()
     }
 
     fn capacity(&self, position: usize) -> Option<usize> {

@@ -236,8 +236,22 @@ pub mod gd350 {
         second_sdo: false,
     };
     impl ::edsgen_runtime::ObjectDictionary for Od {
-        fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
-            &ENTRIES
+        fn entry_count(&self) -> usize {
+            LAYOUT.entry_count()
+        }
+        fn entry(&self, position: usize) -> Option<::edsgen_runtime::EntryDescriptor> {
+            LAYOUT.entry(position)
+        }
+        #[inline]
+        fn kind(&self, position: usize) -> Option<::edsgen_runtime::EntryKind> {
+            LAYOUT.kind(position)
+        }
+        fn locate(
+            &self,
+            index: u16,
+            sub: u8,
+        ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+            LAYOUT.locate(index, sub)
         }
         #[inline]
         fn services(&self) -> ::edsgen_runtime::Services {
@@ -251,11 +265,7 @@ pub mod gd350 {
             index: u16,
             sub: u8,
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-            LAYOUT
-                .value_len(
-                    &self.values,
-                    ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
-                )
+            LAYOUT.value_len(&self.values, LAYOUT.locate(index, sub)?)
         }
         fn value_len_at(
             &self,
@@ -270,11 +280,7 @@ pub mod gd350 {
             offset: usize,
             buf: &mut [u8],
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-            self.read_at(
-                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
-                offset,
-                buf,
-            )
+            self.read_at(LAYOUT.locate(index, sub)?, offset, buf)
         }
         fn write(
             &mut self,
@@ -282,10 +288,7 @@ pub mod gd350 {
             sub: u8,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            self.write_at(
-                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
-                data,
-            )
+            self.write_at(LAYOUT.locate(index, sub)?, data)
         }
         fn read_at(
             &self,

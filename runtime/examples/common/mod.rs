@@ -101,8 +101,12 @@ fn exact<const L: usize>(data: &[u8]) -> Result<[u8; L], SdoAbort> {
 }
 
 impl ObjectDictionary for DriveOd {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &ENTRIES
+    fn entry_count(&self) -> usize {
+        ENTRIES.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        ENTRIES.get(position).copied()
     }
 
     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {

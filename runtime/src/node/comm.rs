@@ -16,7 +16,7 @@
 
 use super::pdo::{self, Direction, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
-use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort, Services};
+use crate::od::{EntryDescriptor, EntryKind, ObjectDictionary, SdoAbort, Services};
 use crate::wire::pdo::{CobIdEntry, MappingEntry};
 use crate::wire::sdo::{SDO_REQUEST_BASE, SDO_RESPONSE_BASE};
 
@@ -223,11 +223,8 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
             0x1003 if sub == 0 && value != 0 => Err(SdoAbort::InvalidValue),
             0x1003 if sub == 0 => {
                 // Deleting the history: the codes go too, so the sub-indices read 0.
-                let recorded = self
-                    .od
-                    .entries()
-                    .iter()
-                    .filter(|e| e.index() == 0x1003)
+                let recorded = crate::od::descriptors(&*self.od)
+                    .filter(|(_, e)| e.index() == 0x1003)
                     .count();
                 for sub in 1..recorded.min(255) as u8 {
                     let _ = self.od.write(0x1003, sub, &[0; 4]);
@@ -280,8 +277,16 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
 }
 
 impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGuard<'_, O, H> {
-    fn entries(&self) -> &[EntryDescriptor] {
-        self.od.entries()
+    fn entry_count(&self) -> usize {
+        self.od.entry_count()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.od.entry(position)
+    }
+
+    fn kind(&self, position: usize) -> Option<EntryKind> {
+        self.od.kind(position)
     }
 
     #[inline]
@@ -293,7 +298,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
         self.od.locate(index, sub)
     }
 
-    fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
+    fn find(&self, index: u16, sub: u8) -> Result<EntryDescriptor, SdoAbort> {
         self.od.find(index, sub)
     }
 
@@ -340,7 +345,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> ObjectDictionary for CommGua
     }
 
     fn write_at(&mut self, position: usize, data: &[u8]) -> Result<(), SdoAbort> {
-        let entry = *self.od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = self.od.entry(position).ok_or(SdoAbort::NoObject)?;
         // Range checks in the node are `matches!` patterns: `RangeInclusive::contains` is a
         // function call on the device, some 120 B more flash over its five uses.
         if matches!(entry.index(), 0x1000..=0x1FFF) {

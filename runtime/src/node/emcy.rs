@@ -105,9 +105,8 @@ impl Emcy {
             Duration::ZERO
         };
         self.history_len = if od.services().error_history {
-            od.entries()
-                .iter()
-                .filter(|e| e.index() == 0x1003 && e.sub() > 0)
+            crate::od::descriptors(od)
+                .filter(|(_, e)| e.index() == 0x1003 && e.sub() > 0)
                 .count()
                 .min(254) as u8
         } else {

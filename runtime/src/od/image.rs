@@ -11,7 +11,7 @@
 
 use crate::od::entry::{Entry, OdValue};
 use crate::od::typed::{copy_value, position, read_bytes};
-use crate::od::{DataType, EntryDescriptor, SdoAbort};
+use crate::od::{DataType, EntryDescriptor, EntryKind, SdoAbort};
 
 /// An entry's LowLimit and HighLimit, as keys whose signed order is the numeric order of the
 /// entry's data type (REAL32/REAL64 by sign and magnitude), computed when the generated table is
@@ -79,8 +79,8 @@ impl Limit {
         let negative =
             is_signed_integer(data_type) && data.last().is_some_and(|&top| top & 0x80 != 0);
         let mut value = [if negative { 0xFF } else { 0 }; 8];
-        for (slot, &byte) in value.iter_mut().zip(data) {
-            *slot = byte;
+        if let Some(low) = value.get_mut(..data.len()) {
+            low.copy_from_slice(data);
         }
         let Some(value) = order_key(data_type, u64::from_le_bytes(value)) else {
             return Ok(());
@@ -169,9 +169,28 @@ impl Layout {
         }
     }
 
-    /// Every entry's descriptor, sorted by (index, sub-index).
-    pub const fn entries(&self) -> &'static [EntryDescriptor] {
-        self.entries
+    /// `ObjectDictionary::entry_count`.
+    #[inline]
+    pub const fn entry_count(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// `ObjectDictionary::entry`: the descriptor of the entry at `position`.
+    #[inline]
+    pub fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.entries.get(position).copied()
+    }
+
+    /// `ObjectDictionary::kind`: the kind of the entry at `position`.
+    #[inline]
+    pub fn kind(&self, position: usize) -> Option<EntryKind> {
+        Some(self.entries.get(position)?.kind())
+    }
+
+    /// `ObjectDictionary::locate`: where (index, sub) is.
+    #[inline]
+    pub fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        position(self.entries, index, sub)
     }
 
     /// `ObjectDictionary::capacity`: the size of the value at `position`, a string's, octet
@@ -430,19 +449,19 @@ const fn add_node_id_within(
     let mut p = 0;
     while p < places.len() {
         let (offset, width) = places[p];
+        p += 1;
         let (mut at, end) = (offset as usize, offset as usize + width as usize);
-        let mut carry = if at >= window.0 && at < window.1 {
-            node_id as u16
-        } else {
-            0
-        };
-        while at < end && at < values.len() {
+        if at < window.0 || at >= window.1 {
+            continue;
+        }
+        // Added byte by byte until the carry is spent.
+        let mut carry = node_id as u16;
+        while carry != 0 && at < end && at < values.len() {
             let sum = values[at] as u16 + carry;
             values[at] = sum as u8;
             carry = sum >> 8;
             at += 1;
         }
-        p += 1;
     }
 }
 
@@ -458,40 +477,30 @@ pub const fn unpack_defaults(values: &mut [u8], runs: &[u8]) {
 /// [`unpack_defaults`] into the bytes `window.0..window.1` only, which it sets whole: the runs'
 /// bytes there, zero in the gaps (a reset restores part of an image that is not all zero).
 const fn unpack_defaults_within(values: &mut [u8], runs: &[u8], window: (usize, usize)) {
-    let (mut at, mut i) = (0usize, 0usize);
-    // A gap, then a run of `len` bytes from `runs[i]` on; after the last run, a gap to the end.
-    let (mut gap, mut len) = (0usize, 0usize);
     let end = if window.1 < values.len() {
         window.1
     } else {
         values.len()
     };
+    // The window cleared, then each run's bytes that fall in it written (a run cut short by the
+    // end of the runs is the last: its missing bytes stay zero).
+    let mut at = window.0;
     while at < end {
-        if gap == 0 && len == 0 {
-            if i + 1 < runs.len() {
-                (gap, len) = (runs[i] as usize, runs[i + 1] as usize);
-                i += 2;
-            } else {
-                gap = usize::MAX;
-            }
-            continue;
-        }
-        let byte = if gap > 0 {
-            gap -= 1;
-            0
-        } else {
-            len -= 1;
-            i += 1;
-            if i - 1 < runs.len() {
-                runs[i - 1]
-            } else {
-                0
-            }
-        };
-        if at >= window.0 {
-            values[at] = byte;
-        }
+        values[at] = 0;
         at += 1;
+    }
+    let (mut at, mut i) = (0usize, 0usize);
+    while i + 1 < runs.len() {
+        at += runs[i] as usize;
+        let run_end = i + 2 + runs[i + 1] as usize;
+        i += 2;
+        while i < run_end && i < runs.len() {
+            if at >= window.0 && at < end {
+                values[at] = runs[i];
+            }
+            at += 1;
+            i += 1;
+        }
     }
 }
 

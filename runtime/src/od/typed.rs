@@ -152,6 +152,34 @@ pub fn position(entries: &[EntryDescriptor], index: u16, sub: u8) -> Result<usiz
     Err(SdoAbort::NoSubIndex)
 }
 
+/// Where (index, sub) is among `count` entries sorted by (index, sub), `entry(p)` the one at
+/// position `p`: a binary search, for a dictionary that has no table to search (the default
+/// [`ObjectDictionary::locate`](crate::ObjectDictionary::locate)). `NoObject` if the index is
+/// absent, `NoSubIndex` if only the sub-index is.
+pub fn search(
+    count: usize,
+    entry: impl Fn(usize) -> Option<EntryDescriptor>,
+    index: u16,
+    sub: u8,
+) -> Result<usize, SdoAbort> {
+    let key = |p| entry(p).map(|e| (e.index(), e.sub()));
+    let (mut low, mut high) = (0, count);
+    while low < high {
+        let mid = low + (high - low) / 2;
+        if key(mid).is_some_and(|k| k < (index, sub)) {
+            low = mid + 1;
+        } else {
+            high = mid;
+        }
+    }
+    match key(low) {
+        Some(k) if k == (index, sub) => Ok(low),
+        Some((i, _)) if i == index => Err(SdoAbort::NoSubIndex),
+        _ if low > 0 && key(low - 1).is_some_and(|(i, _)| i == index) => Err(SdoAbort::NoSubIndex),
+        _ => Err(SdoAbort::NoObject),
+    }
+}
+
 /// The low `bits` bits of `raw` read as a two's-complement number (`bits` in 1..=64).
 #[inline]
 pub const fn sign_extend(raw: u64, bits: u32) -> i64 {
@@ -359,6 +387,12 @@ mod tests {
                         position(entries, index, sub),
                         linear,
                         "{len} {index:04X} {sub}"
+                    );
+                    let by_entry = |p: usize| entries.get(p).copied();
+                    assert_eq!(
+                        search(len, by_entry, index, sub),
+                        linear,
+                        "search {len} {index:04X} {sub}"
                     );
                 }
             }

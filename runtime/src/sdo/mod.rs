@@ -22,8 +22,11 @@
 //! )];
 //!
 //! impl ObjectDictionary for Heartbeat {
-//!     fn entries(&self) -> &[EntryDescriptor] {
-//!         &ENTRIES
+//!     fn entry_count(&self) -> usize {
+//!         ENTRIES.len()
+//!     }
+//!     fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+//!         ENTRIES.get(position).copied()
 //!     }
 //!     fn value_len(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
 //!         self.find(index, sub).map(|_| 2)

@@ -51,10 +51,10 @@
 //! This module holds the channel's state and dispatches each request; `segmented` serves the
 //! expedited and segmented transfers and `block` the block transfers.
 
-use crate::od::{EntryDescriptor, ObjectDictionary, SdoAbort};
+use crate::od::{EntryKind, ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 use crate::wire::sdo::command::{self, ccs, scs};
-use crate::wire::sdo::{frame, mux_frame, Frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
+use crate::wire::sdo::{frame, Frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
 
 #[cfg(feature = "sdo-block")]
 mod block;
@@ -305,8 +305,10 @@ impl SdoServer {
     /// Queues a response naming the addressed entry: the command byte, the multiplexer and
     /// `value` in bytes 4 to 7.
     fn respond_mux(&mut self, command: u8, value: u32) {
-        self.response = mux_frame(command, self.mux, value);
-        self.pending = true;
+        // Through `respond`: one routine stores every response.
+        let [index_lo, index_hi] = self.mux.index.to_le_bytes();
+        let [v0, v1, v2, v3] = value.to_le_bytes();
+        self.respond(command, [index_lo, index_hi, self.mux.sub, v0, v1, v2, v3]);
     }
 
     /// Handles an 8-byte request: a block-download sub-block segment, or a request.
@@ -420,7 +422,7 @@ impl SdoServer {
         od: &O,
     ) -> Result<WriteTarget, SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
-        let entry = od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = od.kind(position).ok_or(SdoAbort::NoObject)?;
         if !entry.access().writable() {
             return Err(SdoAbort::ReadOnly);
         }
@@ -438,9 +440,9 @@ impl SdoServer {
     fn readable_entry<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
         od: &O,
-    ) -> Result<(usize, EntryDescriptor), SdoAbort> {
+    ) -> Result<(usize, EntryKind), SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
-        let entry = *od.entries().get(position).ok_or(SdoAbort::NoObject)?;
+        let entry = od.kind(position).ok_or(SdoAbort::NoObject)?;
         if !entry.access().readable() {
             return Err(SdoAbort::WriteOnly);
         }

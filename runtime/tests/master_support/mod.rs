@@ -25,8 +25,12 @@ const ENTRIES: [EntryDescriptor; 2] = [
 pub const DOMAIN_CAPACITY: usize = 64 * 1024;
 
 impl ObjectDictionary for DomainOd {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &ENTRIES
+    fn entry_count(&self) -> usize {
+        ENTRIES.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        ENTRIES.get(position).copied()
     }
     fn capacity(&self, position: usize) -> Option<usize> {
         Some(if position == 0 { DOMAIN_CAPACITY } else { 2 })

@@ -4,7 +4,9 @@
 #![allow(dead_code)]
 
 use edsgen_runtime::node::{NodeHooks, ResetKind};
-use edsgen_runtime::od::{Access, DataType, EntryDescriptor, ObjectDictionary, SdoAbort};
+use edsgen_runtime::od::{
+    Access, DataType, EntryDescriptor, EntryKind, ObjectDictionary, SdoAbort,
+};
 
 /// The test device's OD: a sorted table of descriptors and one 8-byte slot per entry.
 #[derive(Debug, Clone)]
@@ -244,13 +246,26 @@ impl TestOd {
 }
 
 impl ObjectDictionary for TestOd {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &self.entries
+    fn entry_count(&self) -> usize {
+        self.entries.len()
     }
 
-    fn find(&self, index: u16, sub: u8) -> Result<&EntryDescriptor, SdoAbort> {
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.entries.get(position).copied()
+    }
+
+    fn kind(&self, position: usize) -> Option<EntryKind> {
+        Some(self.entries.get(position)?.kind())
+    }
+
+    /// The search generated dictionaries make, on the table here.
+    fn locate(&self, index: u16, sub: u8) -> Result<usize, SdoAbort> {
+        edsgen_runtime::support::position(&self.entries, index, sub)
+    }
+
+    fn find(&self, index: u16, sub: u8) -> Result<EntryDescriptor, SdoAbort> {
         match self.keys.binary_search(&key(index, sub)) {
-            Ok(pos) => Ok(&self.entries[pos]),
+            Ok(pos) => Ok(self.entries[pos]),
             Err(pos) => {
                 let index_exists = self.entries.get(pos).is_some_and(|e| e.index() == index)
                     || (pos > 0 && self.entries[pos - 1].index() == index);

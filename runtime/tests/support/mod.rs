@@ -155,8 +155,12 @@ impl Default for TestOd {
 }
 
 impl ObjectDictionary for TestOd {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &self.descriptors
+    fn entry_count(&self) -> usize {
+        self.descriptors.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.descriptors.get(position).copied()
     }
 
     fn capacity(&self, position: usize) -> Option<usize> {

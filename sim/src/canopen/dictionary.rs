@@ -49,6 +49,11 @@ struct Slot {
 }
 
 impl RuntimeDictionary {
+    /// Every entry's descriptor, sorted by (index, sub-index): positions are indices here.
+    pub fn entries(&self) -> &[EntryDescriptor] {
+        &self.entries
+    }
+
     /// Every object of `device` from 1000h on, with `$NODEID` defaults computed for `node_id`.
     /// An object the generated code could not represent either (an entry without a basic data
     /// type, a default that does not fit its type) is left out whole; see
@@ -158,8 +163,12 @@ impl RuntimeDictionary {
 }
 
 impl ObjectDictionary for RuntimeDictionary {
-    fn entries(&self) -> &[EntryDescriptor] {
-        &self.entries
+    fn entry_count(&self) -> usize {
+        self.entries.len()
+    }
+
+    fn entry(&self, position: usize) -> Option<EntryDescriptor> {
+        self.entries.get(position).copied()
     }
 
     /// Recomputes the `$NODEID` defaults for `node_id` (the node-ID may have changed, by LSS)

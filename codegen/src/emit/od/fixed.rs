@@ -22,10 +22,24 @@ pub fn od_struct(node_relative: bool) -> String {
 }
 
 /// `impl ObjectDictionary for Od`: every access goes through `LAYOUT`, by position in
-/// `ENTRIES`; `read` and `write` find the position with one binary search.
+/// `ENTRIES`; `read` and `write` find the position with one search of `DESCRIPTORS`.
 pub const OD_IMPL: &str = r##"    impl ::edsgen_runtime::ObjectDictionary for Od {
-        fn entries(&self) -> &[::edsgen_runtime::EntryDescriptor] {
-            &ENTRIES
+        fn entry_count(&self) -> usize {
+            LAYOUT.entry_count()
+        }
+        fn entry(&self, position: usize) -> Option<::edsgen_runtime::EntryDescriptor> {
+            LAYOUT.entry(position)
+        }
+        #[inline]
+        fn kind(&self, position: usize) -> Option<::edsgen_runtime::EntryKind> {
+            LAYOUT.kind(position)
+        }
+        fn locate(
+            &self,
+            index: u16,
+            sub: u8,
+        ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
+            LAYOUT.locate(index, sub)
         }
         #[inline]
         fn services(&self) -> ::edsgen_runtime::Services {
@@ -39,11 +53,7 @@ pub const OD_IMPL: &str = r##"    impl ::edsgen_runtime::ObjectDictionary for Od
             index: u16,
             sub: u8,
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-            LAYOUT
-                .value_len(
-                    &self.values,
-                    ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
-                )
+            LAYOUT.value_len(&self.values, LAYOUT.locate(index, sub)?)
         }
         fn value_len_at(
             &self,
@@ -58,11 +68,7 @@ pub const OD_IMPL: &str = r##"    impl ::edsgen_runtime::ObjectDictionary for Od
             offset: usize,
             buf: &mut [u8],
         ) -> Result<usize, ::edsgen_runtime::SdoAbort> {
-            self.read_at(
-                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
-                offset,
-                buf,
-            )
+            self.read_at(LAYOUT.locate(index, sub)?, offset, buf)
         }
         fn write(
             &mut self,
@@ -70,10 +76,7 @@ pub const OD_IMPL: &str = r##"    impl ::edsgen_runtime::ObjectDictionary for Od
             sub: u8,
             data: &[u8],
         ) -> Result<(), ::edsgen_runtime::SdoAbort> {
-            self.write_at(
-                ::edsgen_runtime::support::position(&ENTRIES, index, sub)?,
-                data,
-            )
+            self.write_at(LAYOUT.locate(index, sub)?, data)
         }
         fn read_at(
             &self,

@@ -3,13 +3,22 @@
 //! without them), with the SDO server's access rules and the caller's guard.
 
 use super::Guard;
-use crate::od::{ObjectDictionary, SdoAbort};
+use crate::od::{EntryKind, ObjectDictionary, SdoAbort};
 
 /// Whether `index` is an object with sub-indices (a record or an array).
 fn has_subs<O: ObjectDictionary + ?Sized>(od: &O, index: u16) -> bool {
-    od.entries()
-        .iter()
-        .any(|e| e.index() == index && e.sub() > 0)
+    // Entries are sorted and unique: the entry after sub-index 0 has a higher sub-index if it
+    // has the index, and an index without sub-index 0 has only others.
+    match od.locate(index, 0) {
+        Ok(position) => od.entry(position + 1).is_some_and(|e| e.index() == index),
+        Err(abort) => abort == SdoAbort::NoSubIndex,
+    }
+}
+
+/// The kind of the entry at (index, sub).
+#[inline]
+fn kind<O: ObjectDictionary + ?Sized>(od: &O, index: u16, sub: u8) -> Result<EntryKind, SdoAbort> {
+    od.kind(od.locate(index, sub)?).ok_or(SdoAbort::NoObject)
 }
 
 /// The length of a readable entry's value.
@@ -18,7 +27,7 @@ fn readable_len<O: ObjectDictionary + ?Sized>(
     index: u16,
     sub: u8,
 ) -> Result<usize, SdoAbort> {
-    if !od.find(index, sub)?.access().readable() {
+    if !kind(od, index, sub)?.access().readable() {
         return Err(SdoAbort::WriteOnly);
     }
     od.value_len(index, sub)
@@ -57,7 +66,7 @@ pub(super) fn object_len<O: ObjectDictionary + ?Sized>(
     };
     let mut total = if sub == 0 { 2 } else { 0 };
     for s in 1..=n {
-        if od.find(index, s).is_ok() {
+        if od.locate(index, s).is_ok() {
             total += readable_len(od, index, s)?;
         }
     }
@@ -100,7 +109,7 @@ pub(super) fn read_object<O: ObjectDictionary + ?Sized>(
         })?;
     }
     for s in 1..=n {
-        if od.find(index, s).is_ok() {
+        if od.locate(index, s).is_ok() {
             let len = readable_len(od, index, s)?;
             piece(len, &mut |at, buf| od.read(index, s, at, buf))?;
         }
@@ -117,7 +126,7 @@ fn write_entry<O: ObjectDictionary + ?Sized>(
     data: &[u8],
 ) -> Result<(), SdoAbort> {
     guard.check(index, sub, data)?;
-    if !od.find(index, sub)?.access().writable() {
+    if !kind(od, index, sub)?.access().writable() {
         return Err(SdoAbort::ReadOnly);
     }
     od.write(index, sub, data)

@@ -191,7 +191,7 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     let position = od
         .locate(entry.index, entry.sub)
         .map_err(|_| SdoAbort::NotMappable)?;
-    let descriptor = od.entries().get(position).ok_or(SdoAbort::NotMappable)?;
+    let descriptor = od.kind(position).ok_or(SdoAbort::NotMappable)?;
     let allowed = match direction {
         Direction::Receive => descriptor.access().writable(),
         Direction::Transmit => descriptor.access().readable(),

@@ -53,7 +53,7 @@ impl SdoServer {
 
     pub(super) fn download_segment<O: ObjectDictionary + ?Sized>(
         &mut self,
-        mut download: Download,
+        download: Download,
         toggle: bool,
         bytes: &[u8],
         last: bool,
@@ -65,16 +65,16 @@ impl SdoServer {
         let end = download.len + bytes.len();
         Self::check_received(end, download.size, download.target.capacity)?;
         self.store(&download.target, download.len, bytes, od)?;
-        download.len = end;
         if last {
             if download.size.is_some_and(|size| end != size as usize) {
                 return Err(SdoAbort::LengthMismatch);
             }
             self.transfer = Transfer::Idle;
             self.commit(&download.target, end, od)?;
-        } else {
-            download.toggle = !toggle;
-            self.transfer = Transfer::Download(download);
+        } else if let Transfer::Download(open) = &mut self.transfer {
+            // What changed, in place: writing the whole transfer back costs more flash.
+            open.len = end;
+            open.toggle = !toggle;
         }
         // The segment's toggle bit, acknowledged.
         let response = command::of(scs::DOWNLOAD_SEGMENT) | command::toggle_bit(toggle);
@@ -127,7 +127,7 @@ impl SdoServer {
 
     pub(super) fn upload_segment<O: ObjectDictionary + ?Sized>(
         &mut self,
-        mut upload: Upload,
+        upload: Upload,
         toggle: bool,
         od: &O,
     ) -> Handled {
@@ -144,13 +144,14 @@ impl SdoServer {
             // The value shrank during the upload: what was announced cannot be delivered.
             return Err(SdoAbort::General);
         }
-        upload.offset += chunk;
-        let last = upload.offset >= upload.total;
+        let offset = upload.offset + chunk;
+        let last = offset >= upload.total;
         if last {
             self.transfer = Transfer::Idle;
-        } else {
-            upload.toggle = !toggle;
-            self.transfer = Transfer::Upload(upload);
+        } else if let Transfer::Upload(open) = &mut self.transfer {
+            // What changed, in place, as for a download segment.
+            open.offset = offset;
+            open.toggle = !toggle;
         }
         // 7 - chunk unused bytes, zero as `bytes` was.
         let unused = (SEGMENT_DATA_LEN - chunk) as u8;
