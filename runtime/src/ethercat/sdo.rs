@@ -387,25 +387,16 @@ impl CoeSdoServer {
         };
         self.transfer = transfer;
         self.remaining = total;
+        answer[1..4].copy_from_slice(&[i0, i1, sub]);
         if (1..=4).contains(&total) {
-            let mut value = [0u8; 4];
-            self.pull(od, &mut value[..total])?;
+            // Expedited: the value in bytes 4..8.
+            answer[0] = 0x43 | ca | (((4 - total) as u8) << 2);
+            answer[4..FRAME_LEN].fill(0);
+            self.pull(od, &mut answer[4..4 + total])?;
             self.end(od);
-            let unused = (4 - total) as u8;
-            answer[..FRAME_LEN].copy_from_slice(&[
-                0x43 | ca | (unused << 2),
-                i0,
-                i1,
-                sub,
-                0,
-                0,
-                0,
-                0,
-            ]);
-            answer[4..4 + total].copy_from_slice(&value[..total]);
             return Ok(FRAME_LEN);
         }
-        answer[..4].copy_from_slice(&[0x41 | ca, i0, i1, sub]);
+        answer[0] = 0x41 | ca;
         answer[4..8].copy_from_slice(&(total as u32).to_le_bytes());
         let room = answer.len() - FRAME_LEN;
         let first = total.min(room);
