@@ -74,7 +74,8 @@ pub struct SubDevice<E, A, const N: usize> {
 impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
     /// A SubDevice in Init over `esc`; it reads its layout from the SII (see the module comment).
     pub fn new(esc: E, app: A) -> Self {
-        let mut device = SubDevice {
+        // No process-data SyncManager is known before the SII is read: none to deactivate.
+        SubDevice {
             esc,
             app,
             layout: Layout::default(),
@@ -86,9 +87,7 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
             last: [0; N],
             last_len: 0,
             last_outputs: None,
-        };
-        device.set_process_sms();
-        device
+        }
     }
 
     /// The AL state.
