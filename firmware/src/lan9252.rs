@@ -109,10 +109,13 @@ impl<S: Spi> Lan9252<S> {
                 let lane = if done == 0 { usize::from(address) % 4 } else { 0 };
                 (lane, (4 - lane).min(remaining))
             } else {
-                let size = [4usize, 2, 1]
-                    .into_iter()
-                    .find(|&size| size <= remaining && usize::from(at) % size == 0)
-                    .unwrap_or(1);
+                let size = if remaining >= 4 && at % 4 == 0 {
+                    4
+                } else if remaining >= 2 && at % 2 == 0 {
+                    2
+                } else {
+                    1
+                };
                 (0, size)
             };
             let size_field = ((size as u32) << 16) | u32::from(at);
