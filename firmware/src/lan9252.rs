@@ -40,8 +40,6 @@ const CSR_WRITE: u32 = 1 << 31;
 
 /// Where the process RAM starts.
 const PRAM_START: u16 = 0x1000;
-/// The SyncManagers whose events are read.
-const SYNC_MANAGERS: usize = 8;
 
 /// A LAN9252 on `S`.
 pub struct Lan9252<S> {
@@ -171,19 +169,17 @@ impl<S: Spi> Esc for Lan9252<S> {
         if self.pending == 0 {
             let mut request = [0u8; 4];
             self.read(reg::AL_EVENT, &mut request);
+            // AL control and the events of SyncManagers 0 to 7.
             self.pending = u32::from_le_bytes(request) & 0x0000_FF01;
         }
-        if self.pending & 1 != 0 {
-            self.pending &= !1;
-            return Some(Event::AlControl);
-        }
+        // The lowest bit first: AL control (bit 0), then SyncManagers 0 to 7 (bits 8 to 15).
         while self.pending != 0 {
             let bit = self.pending.trailing_zeros();
-            self.pending &= !(1 << bit);
-            let n = (bit - 8) as usize;
-            if n >= SYNC_MANAGERS {
-                continue;
+            self.pending &= self.pending - 1;
+            if bit == 0 {
+                return Some(Event::AlControl);
             }
+            let n = (bit - 8) as usize;
             let sm = self.sm(n);
             // A repeat request: the activate register's toggle differs from the acknowledge.
             if sm.is_mailbox() && (sm.activate ^ sm.pdi_control) & 0x02 != 0 {
