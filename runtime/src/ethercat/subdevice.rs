@@ -261,9 +261,7 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
             return;
         }
         if acknowledge {
-            self.esc
-                .write_u16(reg::AL_STATUS, u16::from(self.state.code()));
-            self.esc.write_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
+            self.show_status(code::NO_ERROR);
         }
         match al::request(self.state, requested) {
             Request::Stay => {}
@@ -299,8 +297,15 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
 
     /// Stays in the current state with the error indication and `status`.
     fn refuse(&mut self, status: u16) {
+        self.show_status(status);
+    }
+
+    /// Shows the state in AL status and `status` in AL status code, with the error indication
+    /// unless it is [`code::NO_ERROR`].
+    fn show_status(&mut self, status: u16) {
+        let error = if status == code::NO_ERROR { 0 } else { 0x10 };
         self.esc
-            .write_u16(reg::AL_STATUS, u16::from(self.state.code()) | 0x10);
+            .write_u16(reg::AL_STATUS, u16::from(self.state.code()) | error);
         self.esc.write_u16(reg::AL_STATUS_CODE, status);
     }
 
@@ -359,8 +364,7 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
     fn enter(&mut self, now: Instant, target: AlState) {
         let from = self.state;
         self.state = target;
-        self.esc.write_u16(reg::AL_STATUS, u16::from(target.code()));
-        self.esc.write_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
+        self.show_status(code::NO_ERROR);
         if target == AlState::Init {
             self.queued = 0;
             self.last_len = 0;
