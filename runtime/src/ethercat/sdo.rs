@@ -478,5 +478,9 @@ impl CoeSdoServer {
 
 /// The size a normal download announces.
 fn size_of(request: &[u8]) -> usize {
-    u32::from_le_bytes([request[4], request[5], request[6], request[7]]) as usize
+    let mut size = [0u8; 4];
+    if let Some(bytes) = request.get(4..8) {
+        size.copy_from_slice(bytes);
+    }
+    u32::from_le_bytes(size) as usize
 }
