@@ -266,9 +266,8 @@ impl CoeSdoServer {
             };
             &request[4..4 + len]
         } else {
-            let size = u32::from_le_bytes([request[4], request[5], request[6], request[7]]);
             let data = &request[8..];
-            &data[..data.len().min(size as usize)]
+            &data[..data.len().min(size_of(request))]
         };
         if command & COMPLETE_ACCESS != 0 {
             if !expedited && data.len() < size_of(request) {
