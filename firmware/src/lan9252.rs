@@ -107,9 +107,9 @@ impl<S: Spi> Lan9252<S> {
                 let lane = if done == 0 { usize::from(address) % 4 } else { 0 };
                 (lane, (4 - lane).min(remaining))
             } else {
-                let size = if remaining >= 4 && at % 4 == 0 {
+                let size = if remaining >= 4 && at.is_multiple_of(4) {
                     4
-                } else if remaining >= 2 && at % 2 == 0 {
+                } else if remaining >= 2 && at.is_multiple_of(2) {
                     2
                 } else {
                     1
