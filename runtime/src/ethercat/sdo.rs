@@ -64,7 +64,9 @@ pub struct CoeSdoServer {
     toggle: bool,
     /// The toggle bit of the next segment exchanged with the server.
     server_toggle: bool,
-    /// Up to one segment's bytes held between the server and the mailbox, `carried` of them.
+    /// Up to one segment's bytes held between the server and the mailbox, `carried` of them: a
+    /// download's at the start (the segment being filled), an upload's at the end (what is
+    /// left of the server's last segment).
     carry: [u8; SEGMENT_DATA_LEN],
     carried: usize,
     /// The bytes an upload has still to send.
@@ -453,15 +455,18 @@ impl CoeSdoServer {
                         let request = [0x60 | self.server_bit(), 0, 0, 0, 0, 0, 0, 0];
                         let segment = self.exchange(od, request)?;
                         self.server_toggle = !self.server_toggle;
-                        self.carried = SEGMENT_DATA_LEN - usize::from((segment[0] >> 1) & 0x07);
-                        self.carry.copy_from_slice(&segment[1..]);
+                        // The segment's data, moved to the end of the carry.
+                        let len = SEGMENT_DATA_LEN - usize::from((segment[0] >> 1) & 0x07);
+                        self.carry[SEGMENT_DATA_LEN - len..].copy_from_slice(&segment[1..1 + len]);
+                        self.carried = len;
                         if self.carried == 0 {
                             return Err(SdoAbort::General.code());
                         }
                     }
+                    // The carried bytes are the segment's last `carried`.
+                    let at = SEGMENT_DATA_LEN - self.carried;
                     let take = self.carried.min(out.len() - filled);
-                    out[filled..filled + take].copy_from_slice(&self.carry[..take]);
-                    self.carry.copy_within(take.., 0);
+                    out[filled..filled + take].copy_from_slice(&self.carry[at..at + take]);
                     self.carried -= take;
                     filled += take;
                 }
