@@ -40,8 +40,6 @@ const CSR_WRITE: u32 = 1 << 31;
 
 /// Where the process RAM starts.
 const PRAM_START: u16 = 0x1000;
-/// The SyncManagers whose events are read.
-const SYNC_MANAGERS: usize = 8;
 
 /// A LAN9252 on `S`.
 pub struct Lan9252<S> {
@@ -81,88 +79,67 @@ impl<S: Spi> Lan9252<S> {
         }
     }
 
-    /// One core register access of 1, 2 or 4 bytes.
-    fn csr_chunk(address: u16, remaining: usize) -> usize {
-        [4usize, 2, 1]
-            .into_iter()
-            .find(|&size| size <= remaining && usize::from(address) % size == 0)
-            .unwrap_or(1)
-    }
-
-    fn read_csr(&mut self, mut address: u16, buf: &mut [u8]) {
+    /// Reads into `buf` (`Some`) or writes `data` from `address` on: the core's registers
+    /// through the CSR registers, 1, 2 or 4 bytes at a time as the address's alignment allows;
+    /// the process RAM through the FIFO: whole words, the first one's bytes starting at the
+    /// address's place in its word.
+    fn access(&mut self, address: u16, mut buf: Option<&mut [u8]>, data: &[u8]) {
+        let len = buf.as_deref().map_or(data.len(), <[u8]>::len);
+        let reading = buf.is_some();
+        let pram = address >= PRAM_START;
+        if pram {
+            let (command, address_length) = if reading {
+                (PRAM_READ_COMMAND, PRAM_READ_ADDRESS_LENGTH)
+            } else {
+                (PRAM_WRITE_COMMAND, PRAM_WRITE_ADDRESS_LENGTH)
+            };
+            self.write_32(command, PRAM_ABORT);
+            self.wait_while(command, PRAM_BUSY);
+            self.write_32(address_length, ((len as u32) << 16) | u32::from(address));
+            self.write_32(command, PRAM_BUSY);
+            while self.read_32(command) & PRAM_AVAILABLE == 0 {}
+        }
+        let mut at = address;
         let mut done = 0;
-        while done < buf.len() {
-            let size = Self::csr_chunk(address, buf.len() - done);
-            self.write_32(
-                CSR_COMMAND,
-                CSR_READ | ((size as u32) << 16) | u32::from(address),
-            );
-            self.wait_while(CSR_COMMAND, CSR_BUSY);
-            let value = self.read_32(CSR_DATA).to_le_bytes();
-            buf[done..done + size].copy_from_slice(&value[..size]);
+        while done < len {
+            let remaining = len - done;
+            let (lane, size) = if pram {
+                let lane = if done == 0 { usize::from(address) % 4 } else { 0 };
+                (lane, (4 - lane).min(remaining))
+            } else {
+                let size = if remaining >= 4 && at.is_multiple_of(4) {
+                    4
+                } else if remaining >= 2 && at.is_multiple_of(2) {
+                    2
+                } else {
+                    1
+                };
+                (0, size)
+            };
+            let size_field = ((size as u32) << 16) | u32::from(at);
+            if let Some(buf) = buf.as_deref_mut() {
+                let word = if pram {
+                    self.read_32(PRAM_READ_FIFO)
+                } else {
+                    self.write_32(CSR_COMMAND, CSR_READ | size_field);
+                    self.wait_while(CSR_COMMAND, CSR_BUSY);
+                    self.read_32(CSR_DATA)
+                };
+                buf[done..done + size].copy_from_slice(&word.to_le_bytes()[lane..lane + size]);
+            } else {
+                let mut word = [0u8; 4];
+                word[lane..lane + size].copy_from_slice(&data[done..done + size]);
+                let word = u32::from_le_bytes(word);
+                if pram {
+                    self.write_32(PRAM_WRITE_FIFO, word);
+                } else {
+                    self.write_32(CSR_DATA, word);
+                    self.write_32(CSR_COMMAND, CSR_WRITE | size_field);
+                    self.wait_while(CSR_COMMAND, CSR_BUSY);
+                }
+            }
             done += size;
-            address = address.wrapping_add(size as u16);
-        }
-    }
-
-    fn write_csr(&mut self, mut address: u16, data: &[u8]) {
-        let mut done = 0;
-        while done < data.len() {
-            let size = Self::csr_chunk(address, data.len() - done);
-            let mut value = [0u8; 4];
-            value[..size].copy_from_slice(&data[done..done + size]);
-            self.write_32(CSR_DATA, u32::from_le_bytes(value));
-            self.write_32(
-                CSR_COMMAND,
-                CSR_WRITE | ((size as u32) << 16) | u32::from(address),
-            );
-            self.wait_while(CSR_COMMAND, CSR_BUSY);
-            done += size;
-            address = address.wrapping_add(size as u16);
-        }
-    }
-
-    /// Reads process RAM through the read FIFO: whole words, the first one's bytes starting at
-    /// the address's place in its word.
-    fn read_pram(&mut self, address: u16, buf: &mut [u8]) {
-        self.write_32(PRAM_READ_COMMAND, PRAM_ABORT);
-        self.wait_while(PRAM_READ_COMMAND, PRAM_BUSY);
-        self.write_32(
-            PRAM_READ_ADDRESS_LENGTH,
-            ((buf.len() as u32) << 16) | u32::from(address),
-        );
-        self.write_32(PRAM_READ_COMMAND, PRAM_BUSY);
-        while self.read_32(PRAM_READ_COMMAND) & PRAM_AVAILABLE == 0 {}
-        let mut lane = usize::from(address) % 4;
-        let mut done = 0;
-        while done < buf.len() {
-            let word = self.read_32(PRAM_READ_FIFO).to_le_bytes();
-            let take = (4 - lane).min(buf.len() - done);
-            buf[done..done + take].copy_from_slice(&word[lane..lane + take]);
-            done += take;
-            lane = 0;
-        }
-    }
-
-    /// Writes process RAM through the write FIFO, as `read_pram` reads it.
-    fn write_pram(&mut self, address: u16, data: &[u8]) {
-        self.write_32(PRAM_WRITE_COMMAND, PRAM_ABORT);
-        self.wait_while(PRAM_WRITE_COMMAND, PRAM_BUSY);
-        self.write_32(
-            PRAM_WRITE_ADDRESS_LENGTH,
-            ((data.len() as u32) << 16) | u32::from(address),
-        );
-        self.write_32(PRAM_WRITE_COMMAND, PRAM_BUSY);
-        while self.read_32(PRAM_WRITE_COMMAND) & PRAM_AVAILABLE == 0 {}
-        let mut lane = usize::from(address) % 4;
-        let mut done = 0;
-        while done < data.len() {
-            let mut word = [0u8; 4];
-            let take = (4 - lane).min(data.len() - done);
-            word[lane..lane + take].copy_from_slice(&data[done..done + take]);
-            self.write_32(PRAM_WRITE_FIFO, u32::from_le_bytes(word));
-            done += take;
-            lane = 0;
+            at = at.wrapping_add(size as u16);
         }
     }
 
@@ -181,38 +158,28 @@ impl<S: Spi> Lan9252<S> {
 
 impl<S: Spi> Esc for Lan9252<S> {
     fn read(&mut self, address: u16, buf: &mut [u8]) {
-        if address < PRAM_START {
-            self.read_csr(address, buf);
-        } else {
-            self.read_pram(address, buf);
-        }
+        self.access(address, Some(buf), &[]);
     }
 
     fn write(&mut self, address: u16, data: &[u8]) {
-        if address < PRAM_START {
-            self.write_csr(address, data);
-        } else {
-            self.write_pram(address, data);
-        }
+        self.access(address, None, data);
     }
 
     fn poll_event(&mut self) -> Option<Event> {
         if self.pending == 0 {
             let mut request = [0u8; 4];
-            self.read_csr(reg::AL_EVENT, &mut request);
+            self.read(reg::AL_EVENT, &mut request);
+            // AL control and the events of SyncManagers 0 to 7.
             self.pending = u32::from_le_bytes(request) & 0x0000_FF01;
         }
-        if self.pending & 1 != 0 {
-            self.pending &= !1;
-            return Some(Event::AlControl);
-        }
+        // The lowest bit first: AL control (bit 0), then SyncManagers 0 to 7 (bits 8 to 15).
         while self.pending != 0 {
             let bit = self.pending.trailing_zeros();
-            self.pending &= !(1 << bit);
-            let n = (bit - 8) as usize;
-            if n >= SYNC_MANAGERS {
-                continue;
+            self.pending &= self.pending - 1;
+            if bit == 0 {
+                return Some(Event::AlControl);
             }
+            let n = (bit - 8) as usize;
             let sm = self.sm(n);
             // A repeat request: the activate register's toggle differs from the acknowledge.
             if sm.is_mailbox() && (sm.activate ^ sm.pdi_control) & 0x02 != 0 {

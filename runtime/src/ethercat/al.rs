@@ -6,26 +6,22 @@
 
 /// An AL state, as the low 4 bits of AL control (0x0120) and AL status (0x0130) code it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[repr(u8)]
 pub enum AlState {
     /// 1: Init.
-    Init,
+    Init = 1,
     /// 2: Pre-Operational (mailbox).
-    PreOp,
+    PreOp = 2,
     /// 4: Safe-Operational (mailbox, inputs).
-    SafeOp,
+    SafeOp = 4,
     /// 8: Operational (mailbox, inputs, outputs).
-    Op,
+    Op = 8,
 }
 
 impl AlState {
     /// The state's code.
     pub fn code(self) -> u8 {
-        match self {
-            AlState::Init => 1,
-            AlState::PreOp => 2,
-            AlState::SafeOp => 4,
-            AlState::Op => 8,
-        }
+        self as u8
     }
 }
 

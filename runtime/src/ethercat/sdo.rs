@@ -43,35 +43,16 @@ impl<F: Fn(u16, u8, &[u8]) -> Result<(), SdoAbort>> Guard for F {
     }
 }
 
-/// Up to one segment's bytes held between the server and the mailbox.
-#[derive(Debug, Clone, Copy, Default)]
-struct Carry {
-    bytes: [u8; SEGMENT_DATA_LEN],
-    len: usize,
-}
-
-/// Where an upload's bytes come from.
-#[derive(Debug, Clone, Copy)]
-enum Source {
-    /// The server's segments (`toggle` the next one's).
-    Server { toggle: bool, carry: Carry },
-    /// A whole object by complete access, `offset` bytes in.
-    Object { index: u16, sub: u8, offset: usize },
-}
-
-#[derive(Debug, Clone, Copy)]
+/// The transfer in progress.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Transfer {
     Idle,
-    Upload {
-        toggle: bool,
-        remaining: usize,
-        source: Source,
-    },
-    Download {
-        toggle: bool,
-        server_toggle: bool,
-        carry: Carry,
-    },
+    /// A normal download, through the server's segments.
+    Download,
+    /// A normal upload, from the server's segments.
+    Upload,
+    /// A complete-access upload of the object the transfer's index names.
+    ObjectUpload,
 }
 
 /// The CoE SDO server: the runtime's [`SdoServer`] and the CoE transfer around it.
@@ -79,6 +60,19 @@ enum Transfer {
 pub struct CoeSdoServer {
     server: SdoServer,
     transfer: Transfer,
+    /// The toggle bit the master's next segment carries.
+    toggle: bool,
+    /// The toggle bit of the next segment exchanged with the server.
+    server_toggle: bool,
+    /// Up to one segment's bytes held between the server and the mailbox, `carried` of them: a
+    /// download's at the start (the segment being filled), an upload's at the end (what is
+    /// left of the server's last segment).
+    carry: [u8; SEGMENT_DATA_LEN],
+    carried: usize,
+    /// The bytes an upload has still to send.
+    remaining: usize,
+    /// How far a complete-access upload has read its object.
+    offset: usize,
     /// The index and sub-index of the transfer in progress (its initiate's bytes 1..4), which
     /// an abort of one of its segments names.
     mux: [u8; 3],
@@ -113,6 +107,12 @@ impl CoeSdoServer {
         CoeSdoServer {
             server: SdoServer::new(Duration::from_micros(u64::MAX / 2)),
             transfer: Transfer::Idle,
+            toggle: false,
+            server_toggle: false,
+            carry: [0; SEGMENT_DATA_LEN],
+            carried: 0,
+            remaining: 0,
+            offset: 0,
             mux: [0; 3],
         }
     }
@@ -218,6 +218,10 @@ impl CoeSdoServer {
     /// Ends any transfer (a download leaves the entry as it was).
     fn end<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
         self.transfer = Transfer::Idle;
+        self.toggle = false;
+        self.server_toggle = false;
+        self.carried = 0;
+        self.offset = 0;
         self.server.reset(od);
     }
 
@@ -264,9 +268,8 @@ impl CoeSdoServer {
             };
             &request[4..4 + len]
         } else {
-            let size = u32::from_le_bytes([request[4], request[5], request[6], request[7]]);
             let data = &request[8..];
-            &data[..data.len().min(size as usize)]
+            &data[..data.len().min(size_of(request))]
         };
         if command & COMPLETE_ACCESS != 0 {
             if !expedited && data.len() < size_of(request) {
@@ -282,11 +285,7 @@ impl CoeSdoServer {
             } else {
                 initiate[0] = 0x21;
                 self.exchange(od, initiate)?;
-                self.transfer = Transfer::Download {
-                    toggle: false,
-                    server_toggle: false,
-                    carry: Carry::default(),
-                };
+                self.transfer = Transfer::Download;
                 let last = data.len() >= size_of(request);
                 self.feed(od, data, last)?;
             }
@@ -301,11 +300,11 @@ impl CoeSdoServer {
         request: &[u8],
         answer: &mut [u8],
     ) -> Result<usize, u32> {
-        let Transfer::Download { toggle, .. } = self.transfer else {
+        if self.transfer != Transfer::Download {
             return Err(SdoAbort::InvalidCommand.code());
-        };
+        }
         let command = request[0];
-        if (command & TOGGLE != 0) != toggle {
+        if (command & TOGGLE != 0) != self.toggle {
             return Err(SdoAbort::ToggleBit.code());
         }
         let segment = &request[1..];
@@ -315,9 +314,7 @@ impl CoeSdoServer {
             segment.len()
         };
         self.feed(od, &segment[..len], command & 0x01 != 0)?;
-        if let Transfer::Download { toggle, .. } = &mut self.transfer {
-            *toggle = !*toggle;
-        }
+        self.toggle = !self.toggle;
         answer[..FRAME_LEN].copy_from_slice(&[0x20 | (command & TOGGLE), 0, 0, 0, 0, 0, 0, 0]);
         Ok(FRAME_LEN)
     }
@@ -330,46 +327,40 @@ impl CoeSdoServer {
         mut data: &[u8],
         last: bool,
     ) -> Result<(), u32> {
-        let Transfer::Download {
-            server_toggle,
-            mut carry,
-            ..
-        } = self.transfer
-        else {
+        if self.transfer != Transfer::Download {
             return Err(SdoAbort::InvalidCommand.code());
-        };
-        let mut server_toggle = server_toggle;
+        }
         loop {
-            let take = (SEGMENT_DATA_LEN - carry.len).min(data.len());
-            carry.bytes[carry.len..carry.len + take].copy_from_slice(&data[..take]);
-            carry.len += take;
+            let carried = self.carried;
+            let take = (SEGMENT_DATA_LEN - carried).min(data.len());
+            self.carry[carried..carried + take].copy_from_slice(&data[..take]);
+            self.carried += take;
             data = &data[take..];
             if data.is_empty() && !last {
-                break;
+                return Ok(());
             }
             let ends = data.is_empty();
-            let unused = (SEGMENT_DATA_LEN - carry.len) as u8;
+            let unused = (SEGMENT_DATA_LEN - self.carried) as u8;
             let mut segment = [0u8; FRAME_LEN];
-            segment[0] = if server_toggle { TOGGLE } else { 0 } | (unused << 1) | u8::from(ends);
-            segment[1..1 + carry.len].copy_from_slice(&carry.bytes[..carry.len]);
+            segment[0] = self.server_bit() | (unused << 1) | u8::from(ends);
+            segment[1..1 + self.carried].copy_from_slice(&self.carry[..self.carried]);
             self.exchange(od, segment)?;
-            server_toggle = !server_toggle;
-            carry = Carry::default();
+            self.server_toggle = !self.server_toggle;
+            self.carried = 0;
             if ends {
                 self.transfer = Transfer::Idle;
                 return Ok(());
             }
         }
-        if let Transfer::Download {
-            server_toggle: t,
-            carry: c,
-            ..
-        } = &mut self.transfer
-        {
-            *t = server_toggle;
-            *c = carry;
+    }
+
+    /// The toggle bit of the next segment exchanged with the server.
+    fn server_bit(&self) -> u8 {
+        if self.server_toggle {
+            TOGGLE
+        } else {
+            0
         }
-        Ok(())
     }
 
     fn upload<O: ObjectDictionary + ?Sized>(
@@ -382,17 +373,9 @@ impl CoeSdoServer {
     ) -> Result<usize, u32> {
         self.end(od);
         let [i0, i1] = index.to_le_bytes();
-        let (total, source, ca) = if command & COMPLETE_ACCESS != 0 {
+        let (total, transfer, ca) = if command & COMPLETE_ACCESS != 0 {
             let total = object_len(od, index, sub).map_err(SdoAbort::code)?;
-            (
-                total,
-                Source::Object {
-                    index,
-                    sub,
-                    offset: 0,
-                },
-                COMPLETE_ACCESS,
-            )
+            (total, Transfer::ObjectUpload, COMPLETE_ACCESS)
         } else {
             let response = self.exchange(od, [0x40, i0, i1, sub, 0, 0, 0, 0])?;
             if response[0] & 0x02 != 0 {
@@ -401,40 +384,20 @@ impl CoeSdoServer {
                 return Ok(FRAME_LEN);
             }
             let size = u32::from_le_bytes([response[4], response[5], response[6], response[7]]);
-            let carry = Carry::default();
-            (
-                size as usize,
-                Source::Server {
-                    toggle: false,
-                    carry,
-                },
-                0,
-            )
+            (size as usize, Transfer::Upload, 0)
         };
-        self.transfer = Transfer::Upload {
-            toggle: false,
-            remaining: total,
-            source,
-        };
+        self.transfer = transfer;
+        self.remaining = total;
+        answer[1..4].copy_from_slice(&[i0, i1, sub]);
         if (1..=4).contains(&total) {
-            let mut value = [0u8; 4];
-            self.pull(od, &mut value[..total])?;
+            // Expedited: the value in bytes 4..8.
+            answer[0] = 0x43 | ca | (((4 - total) as u8) << 2);
+            answer[4..FRAME_LEN].fill(0);
+            self.pull(od, &mut answer[4..4 + total])?;
             self.end(od);
-            let unused = (4 - total) as u8;
-            answer[..FRAME_LEN].copy_from_slice(&[
-                0x43 | ca | (unused << 2),
-                i0,
-                i1,
-                sub,
-                0,
-                0,
-                0,
-                0,
-            ]);
-            answer[4..4 + total].copy_from_slice(&value[..total]);
             return Ok(FRAME_LEN);
         }
-        answer[..4].copy_from_slice(&[0x41 | ca, i0, i1, sub]);
+        answer[0] = 0x41 | ca;
         answer[4..8].copy_from_slice(&(total as u32).to_le_bytes());
         let room = answer.len() - FRAME_LEN;
         let first = total.min(room);
@@ -451,15 +414,13 @@ impl CoeSdoServer {
         command: u8,
         answer: &mut [u8],
     ) -> Result<usize, u32> {
-        let Transfer::Upload {
-            toggle, remaining, ..
-        } = self.transfer
-        else {
+        if !matches!(self.transfer, Transfer::Upload | Transfer::ObjectUpload) {
             return Err(SdoAbort::InvalidCommand.code());
-        };
-        if (command & TOGGLE != 0) != toggle {
+        }
+        if (command & TOGGLE != 0) != self.toggle {
             return Err(SdoAbort::ToggleBit.code());
         }
+        let remaining = self.remaining;
         let chunk = remaining.min(answer.len() - 1);
         self.pull(od, &mut answer[1..1 + chunk])?;
         let last = chunk == remaining;
@@ -467,9 +428,7 @@ impl CoeSdoServer {
         answer[0] = (command & TOGGLE) | (unused << 1) | u8::from(last);
         let len = (1 + chunk).max(FRAME_LEN);
         answer[1 + chunk..len].fill(0);
-        if let Transfer::Upload { toggle, .. } = &mut self.transfer {
-            *toggle = !*toggle;
-        }
+        self.toggle = !self.toggle;
         if last {
             self.end(od);
         }
@@ -482,70 +441,50 @@ impl CoeSdoServer {
         od: &mut O,
         out: &mut [u8],
     ) -> Result<(), u32> {
-        let Transfer::Upload {
-            toggle,
-            remaining,
-            source,
-        } = self.transfer
-        else {
-            return Err(SdoAbort::InvalidCommand.code());
-        };
-        let source = match source {
-            Source::Object { index, sub, offset } => {
-                read_object(od, index, sub, offset, out).map_err(SdoAbort::code)?;
-                Source::Object {
-                    index,
-                    sub,
-                    offset: offset + out.len(),
-                }
+        match self.transfer {
+            Transfer::ObjectUpload => {
+                let [i0, i1, sub] = self.mux;
+                let index = u16::from_le_bytes([i0, i1]);
+                read_object(od, index, sub, self.offset, out).map_err(SdoAbort::code)?;
+                self.offset += out.len();
             }
-            Source::Server {
-                toggle: mut server_toggle,
-                mut carry,
-            } => {
+            Transfer::Upload => {
                 let mut filled = 0;
                 while filled < out.len() {
-                    if carry.len == 0 {
-                        let request = [
-                            0x60 | if server_toggle { TOGGLE } else { 0 },
-                            0,
-                            0,
-                            0,
-                            0,
-                            0,
-                            0,
-                            0,
-                        ];
+                    if self.carried == 0 {
+                        let request = [0x60 | self.server_bit(), 0, 0, 0, 0, 0, 0, 0];
                         let segment = self.exchange(od, request)?;
-                        server_toggle = !server_toggle;
-                        carry.len = SEGMENT_DATA_LEN - usize::from((segment[0] >> 1) & 0x07);
-                        carry.bytes.copy_from_slice(&segment[1..]);
-                        if carry.len == 0 {
+                        self.server_toggle = !self.server_toggle;
+                        // The segment's data, moved to the end of the carry.
+                        let len = SEGMENT_DATA_LEN - usize::from((segment[0] >> 1) & 0x07);
+                        self.carry[SEGMENT_DATA_LEN - len..].copy_from_slice(&segment[1..1 + len]);
+                        self.carried = len;
+                        if self.carried == 0 {
                             return Err(SdoAbort::General.code());
                         }
                     }
-                    let take = carry.len.min(out.len() - filled);
-                    out[filled..filled + take].copy_from_slice(&carry.bytes[..take]);
-                    carry.bytes.copy_within(take.., 0);
-                    carry.len -= take;
+                    // The carried bytes are the segment's last `carried`.
+                    let at = SEGMENT_DATA_LEN - self.carried;
+                    let take = self.carried.min(out.len() - filled);
+                    out[filled..filled + take].copy_from_slice(&self.carry[at..at + take]);
+                    self.carried -= take;
                     filled += take;
                 }
-                Source::Server {
-                    toggle: server_toggle,
-                    carry,
-                }
             }
-        };
-        self.transfer = Transfer::Upload {
-            toggle,
-            remaining: remaining - out.len(),
-            source,
-        };
+            Transfer::Idle | Transfer::Download => {
+                return Err(SdoAbort::InvalidCommand.code());
+            }
+        }
+        self.remaining -= out.len();
         Ok(())
     }
 }
 
 /// The size a normal download announces.
 fn size_of(request: &[u8]) -> usize {
-    u32::from_le_bytes([request[4], request[5], request[6], request[7]]) as usize
+    let mut size = [0u8; 4];
+    if let Some(bytes) = request.get(4..8) {
+        size.copy_from_slice(bytes);
+    }
+    u32::from_le_bytes(size) as usize
 }

@@ -61,21 +61,23 @@ pub fn read<E: Esc + ?Sized>(esc: &mut E) -> Result<Sii, SiiError> {
 
 /// [`read`] while the PDI holds the SII.
 fn read_held<E: Esc + ?Sized>(esc: &mut E) -> Result<Sii, SiiError> {
-    let word = |esc: &mut E, address: u32| -> Result<u32, SiiError> {
-        let mut b = [0u8; 4];
-        read_words(esc, address, &mut b)?;
-        Ok(u32::from_le_bytes(b))
-    };
+    // Vendor ID, product code and revision: words 8 to 0x0D, read at once.
+    let mut words = [0u8; 12];
+    read_words(esc, 0x08, &mut words)?;
+    let u32_at =
+        |i: usize| u32::from_le_bytes([words[i], words[i + 1], words[i + 2], words[i + 3]]);
     let identity = Identity {
-        vendor_id: word(esc, 0x08)?,
-        product_code: word(esc, 0x0A)?,
-        revision: word(esc, 0x0C)?,
+        vendor_id: u32_at(0),
+        product_code: u32_at(4),
+        revision: u32_at(8),
     };
     let mut layout = Layout::default();
     let mut at = CATEGORIES;
     for _ in 0..MAX_CATEGORIES {
-        let header = word(esc, at)?;
-        let (kind, len) = (header as u16, (header >> 16) as u16);
+        let mut header = [0u8; 4];
+        read_words(esc, at, &mut header)?;
+        let kind = u16::from_le_bytes([header[0], header[1]]);
+        let len = u16::from_le_bytes([header[2], header[3]]);
         if kind == END {
             return Ok(Sii {
                 identity,

@@ -62,19 +62,20 @@ pub struct SubDevice<E, A, const N: usize> {
     state: AlState,
     /// A request or process image on its way.
     scratch: [u8; N],
-    /// The answer waiting for the mailbox, `queued` bytes of it.
+    /// The answer waiting for the mailbox, `queued` bytes of it (0: none).
     next: [u8; N],
-    queued: Option<usize>,
-    /// The last answer put in the mailbox, `last_len` bytes of it.
+    queued: usize,
+    /// The last answer put in the mailbox, `last_len` bytes of it (0: none yet).
     last: [u8; N],
-    last_len: Option<usize>,
+    last_len: usize,
     last_outputs: Option<Instant>,
 }
 
 impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
     /// A SubDevice in Init over `esc`; it reads its layout from the SII (see the module comment).
     pub fn new(esc: E, app: A) -> Self {
-        let mut device = SubDevice {
+        // No process-data SyncManager is known before the SII is read: none to deactivate.
+        SubDevice {
             esc,
             app,
             layout: Layout::default(),
@@ -82,13 +83,11 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
             state: AlState::Init,
             scratch: [0; N],
             next: [0; N],
-            queued: None,
+            queued: 0,
             last: [0; N],
-            last_len: None,
+            last_len: 0,
             last_outputs: None,
-        };
-        device.set_process_sms();
-        device
+        }
     }
 
     /// The AL state.
@@ -182,18 +181,18 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
                 Event::MailboxWritten(n) if Some(n) == self.layout.mailbox_out.map(|m| m.0) => {
                     // Reading the whole buffer empties the mailbox.
                     let len = self.read_buffer(n);
-                    if self.state >= AlState::PreOp && self.queued.is_none() {
+                    if self.state >= AlState::PreOp && self.queued == 0 {
                         let request = &self.scratch[..len];
                         let room = self.layout.mailbox_in.map_or(0, |m| usize::from(m.2));
                         let answer = &mut self.next[..room.min(N)];
                         let answer = self.app.mailbox(self.state, request, answer);
-                        self.queued = (answer > 0).then_some(answer.min(N));
+                        self.queued = answer.min(N);
                         self.deliver();
                     }
                 }
                 Event::MailboxRead(_) => self.deliver(),
                 Event::RepeatRequest(n) if Some(n) == self.layout.mailbox_in.map(|m| m.0) => {
-                    if self.last_len.is_some() {
+                    if self.last_len > 0 {
                         self.put_last_in_mailbox(n);
                     }
                     // The acknowledge (PDI control bit 1) follows the request (activate bit 1).
@@ -238,9 +237,9 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
         if !sm.enabled() || sm.status & 0x08 != 0 {
             return;
         }
-        if let Some(len) = self.queued.take() {
+        if self.queued > 0 {
             core::mem::swap(&mut self.last, &mut self.next);
-            self.last_len = Some(len);
+            self.last_len = core::mem::take(&mut self.queued);
             self.put_last_in_mailbox(n);
         }
     }
@@ -248,8 +247,7 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
     /// Writes the last answer, padded with zeros to the whole buffer (which fills the mailbox).
     fn put_last_in_mailbox(&mut self, n: usize) {
         let sm = self.esc.sm(n);
-        let len = self.last_len.unwrap_or(0);
-        self.last[len..].fill(0);
+        self.last[self.last_len..].fill(0);
         let whole = usize::from(sm.len).min(N);
         self.esc.write(sm.start, &self.last[..whole]);
     }
@@ -263,9 +261,7 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
             return;
         }
         if acknowledge {
-            self.esc
-                .write_u16(reg::AL_STATUS, u16::from(self.state.code()));
-            self.esc.write_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
+            self.show_status(code::NO_ERROR);
         }
         match al::request(self.state, requested) {
             Request::Stay => {}
@@ -301,8 +297,15 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
 
     /// Stays in the current state with the error indication and `status`.
     fn refuse(&mut self, status: u16) {
+        self.show_status(status);
+    }
+
+    /// Shows the state in AL status and `status` in AL status code, with the error indication
+    /// unless it is [`code::NO_ERROR`].
+    fn show_status(&mut self, status: u16) {
+        let error = if status == code::NO_ERROR { 0 } else { 0x10 };
         self.esc
-            .write_u16(reg::AL_STATUS, u16::from(self.state.code()) | 0x10);
+            .write_u16(reg::AL_STATUS, u16::from(self.state.code()) | error);
         self.esc.write_u16(reg::AL_STATUS_CODE, status);
     }
 
@@ -361,11 +364,10 @@ impl<E: Esc, A: Application, const N: usize> SubDevice<E, A, N> {
     fn enter(&mut self, now: Instant, target: AlState) {
         let from = self.state;
         self.state = target;
-        self.esc.write_u16(reg::AL_STATUS, u16::from(target.code()));
-        self.esc.write_u16(reg::AL_STATUS_CODE, code::NO_ERROR);
+        self.show_status(code::NO_ERROR);
         if target == AlState::Init {
-            self.queued = None;
-            self.last_len = None;
+            self.queued = 0;
+            self.last_len = 0;
             // Deactivating a mailbox SyncManager resets it (empties it).
             for n in [self.layout.mailbox_out, self.layout.mailbox_in]
                 .into_iter()
