@@ -8,6 +8,7 @@ use crate::wire::heartbeat::NmtState;
 use crate::wire::nmt::NmtCommand;
 
 use super::comm::CommGuard;
+use super::config::SERVICE_OBJECTS;
 use super::error_control::ErrorControl;
 use super::timer::{Timer, TimerTable};
 use super::{Event, Node, NodeHooks, ResetKind, COMMUNICATION_ERRORS};
@@ -85,16 +86,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.reset_sdo();
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
-        self.emcy.configure(&self.od, self.node_id);
-        self.configure_second_sdo();
         self.error_control = ErrorControl::OFF;
-        let heartbeat = self.error_control.configure_producer(&self.od, now);
-        self.timers.set(Timer::Heartbeat, heartbeat);
-        #[cfg(feature = "node-guarding")]
-        self.error_control.configure_guarding(&self.od);
-        self.error_control
-            .configure_consumers(&self.od, self.timers.consumers());
-        self.sync.configure(&self.od);
+        for index in SERVICE_OBJECTS {
+            self.configure(index, 0, now);
+        }
         for n in 0..RPDOS {
             if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
