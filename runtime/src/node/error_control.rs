@@ -4,7 +4,7 @@
 //! when to arm them and what their expiry does.
 
 use super::events::EventQueue;
-use super::{next_period, read_uint, read_uint_or, Event};
+use super::{next_period, read_uint_or, Event};
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
 use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
@@ -94,43 +94,48 @@ impl ErrorControl {
 
     /// Reads 1016h. Monitoring of a consumer whose entry did not change continues (its timer
     /// moves to its new place in `timers`, and its loss stays); a removed consumer's loss ends.
-    /// `timers` are the consumers' slots of the node's timer table, in 1016h order.
+    /// `timers` are the consumers' slots of the node's timer table, in 1016h order: all
+    /// [`MAX_HEARTBEAT_CONSUMERS`] of them (a slice of another length changes nothing), taken as
+    /// one array so that they are set aside and cleared whole.
     pub fn configure_consumers<O: ObjectDictionary + ?Sized>(
         &mut self,
         od: &O,
         timers: &mut [Option<Instant>],
     ) {
         let previous = self.consumers;
-        let mut previous_timers = [None; MAX_HEARTBEAT_CONSUMERS];
-        for (previous, timer) in previous_timers.iter_mut().zip(timers.iter_mut()) {
-            *previous = timer.take();
-        }
         let previous_count = self.consumer_count;
+        let Ok(timers) = <&mut [_; MAX_HEARTBEAT_CONSUMERS]>::try_from(timers) else {
+            return;
+        };
+        let previous_timers = core::mem::replace(timers, [None; MAX_HEARTBEAT_CONSUMERS]);
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
-        self.consumer_count = 0;
+        let mut served = 0;
         for sub in 1..count + 1 {
-            let Some(value) = read_uint(od, 0x1016, sub) else {
-                continue;
+            let value = read_uint_or(od, 0x1016, sub, 0);
+            let consumer = Consumer {
+                node_id: (value >> 16) as u8,
+                period_ms: value as u16,
+                lost: false,
             };
-            let node_id = (value >> 16) as u8;
-            let ms = value as u16;
-            if node_id == 0 || node_id > 127 || ms == 0 {
+            if consumer.node_id == 0 || consumer.node_id > 127 || consumer.period_ms == 0 {
                 continue;
             }
-            if self.consumer_count == MAX_HEARTBEAT_CONSUMERS {
+            if served == MAX_HEARTBEAT_CONSUMERS {
                 break;
             }
-            let kept = previous[..previous_count]
-                .iter()
-                .position(|c| c.node_id == node_id && c.period_ms == ms);
-            self.consumers[self.consumer_count] = Consumer {
-                node_id,
-                period_ms: ms,
-                lost: kept.is_some_and(|k| previous[k].lost),
-            };
-            timers[self.consumer_count] = kept.and_then(|k| previous_timers[k]);
-            self.consumer_count += 1;
+            self.consumers[served] = consumer;
+            // A watched node whose entry is the same keeps its loss and its timer.
+            for k in 0..previous_count {
+                let old = previous[k];
+                if old.node_id == consumer.node_id && old.period_ms == consumer.period_ms {
+                    self.consumers[served] = old;
+                    timers[served] = previous_timers[k];
+                    break;
+                }
+            }
+            served += 1;
         }
+        self.consumer_count = served;
     }
 
     /// The life time (guard time × life time factor), if guarding is configured and the
