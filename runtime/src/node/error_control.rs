@@ -12,6 +12,7 @@ use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
 /// The most remote nodes whose heartbeat one node watches; 1016h entries beyond are not served.
 pub const MAX_HEARTBEAT_CONSUMERS: usize = 8;
 
+/// A watched node; a slot that watches none has node-ID 0, which no heartbeat carries.
 #[derive(Debug, Clone, Copy)]
 struct Consumer {
     node_id: u8,
@@ -19,6 +20,15 @@ struct Consumer {
     period_ms: u16,
     /// The heartbeat timed out and has not arrived since (EMCY 8130h is active for it).
     lost: bool,
+}
+
+impl Consumer {
+    /// An empty slot.
+    const NONE: Consumer = Consumer {
+        node_id: 0,
+        period_ms: 0,
+        lost: false,
+    };
 }
 
 /// Node guarding and life guarding.
@@ -39,8 +49,8 @@ pub(crate) struct ErrorControl {
     heartbeat_due: bool,
     #[cfg(feature = "node-guarding")]
     guarding: Guarding,
+    /// The watched nodes in 1016h order, then empty slots.
     consumers: [Consumer; MAX_HEARTBEAT_CONSUMERS],
-    consumer_count: usize,
 }
 
 impl ErrorControl {
@@ -58,12 +68,7 @@ impl ErrorControl {
             answer_due: false,
             life_lost: false,
         },
-        consumers: [Consumer {
-            node_id: 0,
-            period_ms: 0,
-            lost: false,
-        }; MAX_HEARTBEAT_CONSUMERS],
-        consumer_count: 0,
+        consumers: [Consumer::NONE; MAX_HEARTBEAT_CONSUMERS],
     };
 
     /// Reads 1017h; a change takes effect at once. Returns when the first heartbeat is due
@@ -102,11 +107,13 @@ impl ErrorControl {
         od: &O,
         timers: &mut [Option<Instant>],
     ) {
-        let previous = self.consumers;
-        let previous_count = self.consumer_count;
         let Ok(timers) = <&mut [_; MAX_HEARTBEAT_CONSUMERS]>::try_from(timers) else {
             return;
         };
+        let previous = core::mem::replace(
+            &mut self.consumers,
+            [Consumer::NONE; MAX_HEARTBEAT_CONSUMERS],
+        );
         let previous_timers = core::mem::replace(timers, [None; MAX_HEARTBEAT_CONSUMERS]);
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
         let mut served = 0;
@@ -124,8 +131,9 @@ impl ErrorControl {
                 break;
             }
             self.consumers[served] = consumer;
-            // A watched node whose entry is the same keeps its loss and its timer.
-            for k in 0..previous_count {
+            // A watched node whose entry is the same keeps its loss and its timer (an empty
+            // slot matches none: the new entry's node-ID is not 0).
+            for k in 0..MAX_HEARTBEAT_CONSUMERS {
                 let old = previous[k];
                 if old.node_id == consumer.node_id && old.period_ms == consumer.period_ms {
                     self.consumers[served] = old;
@@ -135,7 +143,6 @@ impl ErrorControl {
             }
             served += 1;
         }
-        self.consumer_count = served;
     }
 
     /// The life time (guard time × life time factor), if guarding is configured and the
@@ -156,7 +163,7 @@ impl ErrorControl {
         timers: &mut [Option<Instant>],
     ) -> bool {
         let mut recovered = false;
-        for (consumer, timer) in self.consumers[..self.consumer_count].iter_mut().zip(timers) {
+        for (consumer, timer) in self.consumers.iter_mut().zip(timers) {
             if consumer.node_id == node_id {
                 *timer = Some(now + Duration::from_millis(u64::from(consumer.period_ms)));
                 recovered |= core::mem::take(&mut consumer.lost);
@@ -172,7 +179,7 @@ impl ErrorControl {
         if self.guarding.life_lost {
             return true;
         }
-        self.consumers[..self.consumer_count].iter().any(|c| c.lost)
+        self.consumers.iter().any(|c| c.lost)
     }
 
     /// A node-guarding request at `now`: the answer is queued. If life guarding is configured
