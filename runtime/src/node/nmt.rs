@@ -10,7 +10,7 @@ use crate::wire::nmt::NmtCommand;
 use super::comm::CommGuard;
 use super::config::SERVICE_OBJECTS;
 use super::error_control::ErrorControl;
-use super::timer::{Timer, TimerTable};
+use super::timer::TimerTable;
 use super::{Event, Node, NodeHooks, ResetKind, COMMUNICATION_ERRORS};
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
@@ -39,15 +39,14 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     }
                 }
             }
-            NmtState::Stopped => {
-                self.reset_sdo();
-                self.sync.stop();
-                self.timers.set(Timer::SyncProducer, None);
-                self.timers.set(Timer::SyncConsumer, None);
-            }
+            NmtState::Stopped => self.reset_sdo(),
             _ => {}
         }
-        if was == NmtState::Stopped || was == NmtState::Initialising {
+        // Stopped stops the SYNC producer and monitoring (the producer serves only
+        // pre-operational and operational); leaving stopped or initialising starts them.
+        if matches!(state, NmtState::Stopped)
+            || matches!(was, NmtState::Stopped | NmtState::Initialising)
+        {
             self.restart_sync_producer(now);
         }
         self.events.push(Event::NmtStateChanged(state));
