@@ -69,8 +69,8 @@ impl Sync {
     }
 
     /// Starts (or stops) the producer for a node that `serves` SYNC (pre-operational or
-    /// operational; a stopped node drops the SYNC it had to send): returns when its first SYNC is due, if it runs. (The consumer's monitoring
-    /// restarts at the next SYNC.)
+    /// operational; a stopped node drops the SYNC it had to send): returns when its first SYNC
+    /// is due, if it runs. (The consumer's monitoring restarts at the next SYNC.)
     pub fn restart(&mut self, now: Instant, serves: bool) -> Option<Instant> {
         let active = self.producer && self.period != Duration::ZERO && serves;
         if !active {
