@@ -62,8 +62,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             hooks: &mut self.hooks,
             node_id: self.node_id,
         };
-        for channel in &mut self.sdo[..channels] {
-            channel.reset(&mut guard);
+        let [first, second] = &mut self.sdo;
+        first.reset(&mut guard);
+        if channels > 1 {
+            second.reset(&mut guard);
         }
     }
 
@@ -150,6 +152,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
+    /// An NMT command for this node. Out of line: the state changes and resets it reaches are
+    /// rare, and kept out of [`Node::handle_frame`] they leave its SDO and PDO paths alone.
+    #[inline(never)]
     pub(super) fn handle_nmt(&mut self, command: NmtCommand, now: Instant) {
         match command {
             NmtCommand::Start => self.set_state(NmtState::Operational, now),
