@@ -354,36 +354,33 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     #[inline(never)]
     fn poll_transmit_due(&mut self, now: Instant) -> Option<CanFrame> {
         let error_control_id = ErrorControlRepr::cob_id(self.node_id);
-        if core::mem::take(&mut self.boot_up_due) {
-            return Some(one_byte_frame(
-                error_control_id,
-                ErrorControlRepr::BOOT_UP.emit(),
-                1,
-            ));
-        }
-        if self.services().sync_period {
-            if let Some((id, counter, len)) = self.sync.poll_transmit() {
-                return Some(one_byte_frame(id, counter, len));
+        // The frames of at most one byte (boot-up, SYNC, error control) are built in one place,
+        // below; the others come whole from their service.
+        let sync_producer = self.services().sync_period;
+        let (id, byte, len) = if core::mem::take(&mut self.boot_up_due) {
+            (error_control_id, ErrorControlRepr::BOOT_UP.emit(), 1)
+        } else if let Some(sync) = sync_producer.then(|| self.sync.poll_transmit()).flatten() {
+            sync
+        } else {
+            if self.state != NmtState::Stopped {
+                if let Some(frame) = self.emcy.poll_transmit(now) {
+                    return Some(frame);
+                }
             }
-        }
-        if self.state != NmtState::Stopped {
-            if let Some(frame) = self.emcy.poll_transmit(now) {
-                return Some(frame);
+            if self.state == NmtState::Operational && self.tpdo_attention {
+                if let Some(frame) = self.poll_tpdo(now) {
+                    return Some(frame);
+                }
             }
-        }
-        if self.state == NmtState::Operational && self.tpdo_attention {
-            if let Some(frame) = self.poll_tpdo(now) {
-                return Some(frame);
+            let channels = self.sdo_channels();
+            for channel in &mut self.sdo[..channels] {
+                if let Some(frame) = channel.poll_transmit(now, &self.od) {
+                    return Some(frame);
+                }
             }
-        }
-        let channels = self.sdo_channels();
-        for channel in &mut self.sdo[..channels] {
-            if let Some(frame) = channel.poll_transmit(now, &self.od) {
-                return Some(frame);
-            }
-        }
-        let byte = self.error_control.poll_transmit(self.state)?;
-        Some(one_byte_frame(error_control_id, byte, 1))
+            (error_control_id, self.error_control.poll_transmit(self.state)?, 1)
+        };
+        Some(one_byte_frame(id, byte, len))
     }
 
     fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {
