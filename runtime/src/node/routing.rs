@@ -378,7 +378,11 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                     return Some(frame);
                 }
             }
-            (error_control_id, self.error_control.poll_transmit(self.state)?, 1)
+            (
+                error_control_id,
+                self.error_control.poll_transmit(self.state)?,
+                1,
+            )
         };
         Some(one_byte_frame(id, byte, len))
     }
