@@ -183,10 +183,14 @@ impl ErrorControl {
     }
 
     /// A node-guarding request at `now`: the answer is queued. If life guarding is configured
+    /// (and the dictionary has its objects: `life_guarding`, a constant for a generated one)
     /// it (re)starts: returns when it runs out, and whether it had been lost (its error ends).
     #[cfg(feature = "node-guarding")]
-    pub fn guard_request(&mut self, now: Instant) -> Option<(Instant, bool)> {
+    pub fn guard_request(&mut self, now: Instant, life_guarding: bool) -> Option<(Instant, bool)> {
         self.guarding.answer_due = true;
+        if !life_guarding {
+            return None;
+        }
         let life = self.life_time()?;
         Some((now + life, core::mem::take(&mut self.guarding.life_lost)))
     }

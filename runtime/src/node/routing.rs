@@ -111,8 +111,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
         let life_guarding = self.services().life_guarding;
-        let restarted = self.error_control.guard_request(now);
-        if let Some((life_end, recovered)) = restarted.filter(|_| life_guarding) {
+        if let Some((life_end, recovered)) = self.error_control.guard_request(now, life_guarding) {
             self.timers.set(Timer::LifeGuard, Some(life_end));
             if recovered {
                 self.end_error_control_loss();
@@ -288,7 +287,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     pub(super) fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
         self.events.push(Event::Sync { counter });
         let services = self.services();
-        if let Some(timeout) = self.sync.consumed(now).filter(|_| services.sync_period) {
+        // The services first: without their objects nothing is computed (a deadline's
+        // saturating add is a call the optimizer does not drop).
+        let timeout = services
+            .sync_period
+            .then(|| self.sync.consumed(now))
+            .flatten();
+        if let Some(timeout) = timeout {
             self.timers.set(Timer::SyncConsumer, Some(timeout));
             // Ends a SYNC timeout error, if one is active.
             self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
@@ -301,7 +306,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.apply_rpdo(n, &data);
             }
         }
-        let window_end = self.sync.window_end(now).filter(|_| services.sync_window);
+        let window_end = services
+            .sync_window
+            .then(|| self.sync.window_end(now))
+            .flatten();
         let use_start = services.sync_counter && self.sync.counting();
         for tpdo in &mut self.tpdos {
             if tpdo.on_sync(&self.od, counter, use_start, window_end) {
