@@ -119,10 +119,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     fn reset(&mut self, kind: ResetKind, now: Instant) {
         #[cfg(feature = "lss")]
         self.take_lss_node_id(kind);
+        // After a reset node that cleared errors, "no error" is announced once.
+        let announce_no_error = kind == ResetKind::Node && self.emcy.any_active();
         if kind == ResetKind::Node {
-            if self.emcy.any_active() {
-                self.announce_no_error = true;
-            }
             self.emcy.clear_all(&mut self.od);
         }
         self.hooks
@@ -130,7 +129,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.hooks.reset(kind, &mut self.od);
         self.events.push(Event::Reset(kind));
         self.reset_communication(now);
-        if core::mem::take(&mut self.announce_no_error) {
+        if announce_no_error {
             // The master saw errors before the reset: tell it they are gone.
             self.emcy.announce_no_error();
         }
