@@ -22,25 +22,25 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         let was = self.state;
         self.state = state;
-        if was == NmtState::Operational {
+        let leaving = was == NmtState::Operational;
+        let entering = state == NmtState::Operational;
+        if leaving {
             self.timers.stop_pdos();
-            for tpdo in &mut self.tpdos {
-                tpdo.stop();
-            }
             for rpdo in &mut self.rpdos {
                 rpdo.stop();
             }
         }
-        match state {
-            NmtState::Operational => {
-                for tpdo in &mut self.tpdos {
-                    if tpdo.start() {
-                        self.tpdo_attention = true;
-                    }
-                }
+        // One loop for leaving and entering operational (never both at once).
+        for tpdo in &mut self.tpdos {
+            if leaving {
+                tpdo.stop();
             }
-            NmtState::Stopped => self.reset_sdo(),
-            _ => {}
+            if entering && tpdo.start() {
+                self.tpdo_attention = true;
+            }
+        }
+        if state == NmtState::Stopped {
+            self.reset_sdo();
         }
         // Stopped stops the SYNC producer and monitoring (the producer serves only
         // pre-operational and operational); leaving stopped or initialising starts them.
