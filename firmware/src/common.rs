@@ -49,8 +49,8 @@ fn transmit(frame: CanFrame) {
 pub fn run<O: ObjectDictionary>(node: &mut Node<O>) -> ! {
     loop {
         let (now, frame) = receive();
-        if let Some(frame) = frame {
-            node.handle_frame(now, &frame);
+        if let Some(frame) = &frame {
+            node.handle_frame(now, frame);
         }
         if node.poll_timeout().is_some_and(|at| at <= now) {
             node.handle_timeout(now);

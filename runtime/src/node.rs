@@ -309,8 +309,6 @@ pub struct Node<O, H = (), const RPDOS: usize = 4, const TPDOS: usize = 4> {
     tpdos: [Tpdo; TPDOS],
     events: EventQueue,
     timers: TimerTable<RPDOS, TPDOS>,
-    /// After a reset node that cleared errors, announce "no error" once.
-    announce_no_error: bool,
     /// Some RPDO's last frame had the wrong length (8210h/8220h raised): the next frame of
     /// the right length looks whether they clear.
     length_error_raised: bool,
@@ -370,7 +368,6 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             tpdos: const { [Tpdo::OFF; TPDOS] },
             events: EventQueue::new(),
             timers: TimerTable::OFF,
-            announce_no_error: false,
             length_error_raised: false,
             tpdo_attention: false,
             #[cfg(feature = "lss")]

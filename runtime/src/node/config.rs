@@ -1,5 +1,6 @@
-//! Configuration from the dictionary: what an accepted write to a communication object changes
-//! in the running services (SDO, SYNC, guarding, PDOs) and which TPDOs a changed entry marks.
+//! Configuration from the dictionary: what reading a communication object changes in the
+//! running services (SDO, SYNC, EMCY, error control, PDOs), in one place that reset
+//! communication and an accepted SDO write both use, and which TPDOs a changed entry marks.
 
 use crate::od::ObjectDictionary;
 use crate::time::Instant;
@@ -8,16 +9,15 @@ use crate::wire::heartbeat::NmtState;
 use super::timer::Timer;
 use super::{Node, NodeHooks};
 
+/// The communication objects (besides the PDOs') that reset communication reads through
+/// [`Node::configure`], one of each service's: the SYNC (1005h, 1006h, 1007h, 1019h), the EMCY
+/// (1014h, 1015h), the heartbeat consumers (1016h), the heartbeat producer and node guarding
+/// (1017h, 100Ch, 100Dh), the second SDO server (1201h).
+pub(super) const SERVICE_OBJECTS: [u16; 5] = [0x1005, 0x1014, 0x1016, 0x1017, 0x1201];
+
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>
 {
-    /// Reads the second SDO server's COB-IDs (1201h); the default server's are fixed.
-    pub(super) fn configure_second_sdo(&mut self) {
-        if self.services().second_sdo {
-            self.sdo[1].configure(&self.od, 0x1201);
-        }
-    }
-
     pub(super) fn restart_sync_producer(&mut self, now: Instant) {
         let serves = matches!(self.state, NmtState::PreOperational | NmtState::Operational);
         // Without 1006h no SYNC is ever produced, and the consumer does not monitor.
@@ -39,8 +39,19 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
-    /// Applies an accepted SDO write to the node's running state.
+    /// Applies an accepted SDO write to the node's running state: the service the object
+    /// configures reads it again, and the TPDOs that map it look for a change.
     pub(super) fn apply_write(&mut self, index: u16, sub: u8, now: Instant) {
+        self.configure(index, sub, now);
+        self.mark_changed(index, sub);
+    }
+
+    /// Reads communication object `index` (`sub` written) into the service it configures. A
+    /// running service keeps what the new value does not change (a heartbeat consumer whose
+    /// entry is the same, a PDO's deadline monitoring and timing history). Out of line: reset
+    /// communication calls it for each of [`SERVICE_OBJECTS`], after clearing the services.
+    #[inline(never)]
+    pub(super) fn configure(&mut self, index: u16, sub: u8, now: Instant) {
         match index {
             0x1005 | 0x1006 | 0x1007 | 0x1019 => {
                 self.sync.configure(&self.od);
@@ -64,7 +75,8 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 #[cfg(feature = "node-guarding")]
                 self.configure_guarding();
             }
-            0x1201 => self.configure_second_sdo(),
+            // The default server's COB-IDs are fixed.
+            0x1201 if self.services().second_sdo => self.sdo[1].configure(&self.od, 0x1201),
             0x1400..=0x17FF => {
                 let n = usize::from((index - 0x1400) & 0x1FF);
                 if n < RPDOS {
@@ -90,7 +102,6 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         if matches!(index, 0x1400..=0x1BFF) {
             self.link_pdos();
         }
-        self.mark_changed(index, sub);
     }
 
     /// Notes which RPDOs write objects that a TPDO maps, so that a received PDO looks for

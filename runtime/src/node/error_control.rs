@@ -4,7 +4,7 @@
 //! when to arm them and what their expiry does.
 
 use super::events::EventQueue;
-use super::{next_period, read_uint, read_uint_or, Event};
+use super::{next_period, read_uint_or, Event};
 use crate::od::ObjectDictionary;
 use crate::time::{Duration, Instant};
 use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
@@ -12,6 +12,7 @@ use crate::wire::heartbeat::{ErrorControlRepr, NmtState};
 /// The most remote nodes whose heartbeat one node watches; 1016h entries beyond are not served.
 pub const MAX_HEARTBEAT_CONSUMERS: usize = 8;
 
+/// A watched node; a slot that watches none has node-ID 0, which no heartbeat carries.
 #[derive(Debug, Clone, Copy)]
 struct Consumer {
     node_id: u8,
@@ -19,6 +20,15 @@ struct Consumer {
     period_ms: u16,
     /// The heartbeat timed out and has not arrived since (EMCY 8130h is active for it).
     lost: bool,
+}
+
+impl Consumer {
+    /// An empty slot.
+    const NONE: Consumer = Consumer {
+        node_id: 0,
+        period_ms: 0,
+        lost: false,
+    };
 }
 
 /// Node guarding and life guarding.
@@ -39,8 +49,8 @@ pub(crate) struct ErrorControl {
     heartbeat_due: bool,
     #[cfg(feature = "node-guarding")]
     guarding: Guarding,
+    /// The watched nodes in 1016h order, then empty slots.
     consumers: [Consumer; MAX_HEARTBEAT_CONSUMERS],
-    consumer_count: usize,
 }
 
 impl ErrorControl {
@@ -58,12 +68,7 @@ impl ErrorControl {
             answer_due: false,
             life_lost: false,
         },
-        consumers: [Consumer {
-            node_id: 0,
-            period_ms: 0,
-            lost: false,
-        }; MAX_HEARTBEAT_CONSUMERS],
-        consumer_count: 0,
+        consumers: [Consumer::NONE; MAX_HEARTBEAT_CONSUMERS],
     };
 
     /// Reads 1017h; a change takes effect at once. Returns when the first heartbeat is due
@@ -94,42 +99,49 @@ impl ErrorControl {
 
     /// Reads 1016h. Monitoring of a consumer whose entry did not change continues (its timer
     /// moves to its new place in `timers`, and its loss stays); a removed consumer's loss ends.
-    /// `timers` are the consumers' slots of the node's timer table, in 1016h order.
+    /// `timers` are the consumers' slots of the node's timer table, in 1016h order: all
+    /// [`MAX_HEARTBEAT_CONSUMERS`] of them (a slice of another length changes nothing), taken as
+    /// one array so that they are set aside and cleared whole.
     pub fn configure_consumers<O: ObjectDictionary + ?Sized>(
         &mut self,
         od: &O,
         timers: &mut [Option<Instant>],
     ) {
-        let previous = self.consumers;
-        let mut previous_timers = [None; MAX_HEARTBEAT_CONSUMERS];
-        for (previous, timer) in previous_timers.iter_mut().zip(timers.iter_mut()) {
-            *previous = timer.take();
-        }
-        let previous_count = self.consumer_count;
+        let Ok(timers) = <&mut [_; MAX_HEARTBEAT_CONSUMERS]>::try_from(timers) else {
+            return;
+        };
+        let previous = core::mem::replace(
+            &mut self.consumers,
+            [Consumer::NONE; MAX_HEARTBEAT_CONSUMERS],
+        );
+        let previous_timers = core::mem::replace(timers, [None; MAX_HEARTBEAT_CONSUMERS]);
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
-        self.consumer_count = 0;
+        let mut served = 0;
         for sub in 1..count + 1 {
-            let Some(value) = read_uint(od, 0x1016, sub) else {
-                continue;
+            let value = read_uint_or(od, 0x1016, sub, 0);
+            let consumer = Consumer {
+                node_id: (value >> 16) as u8,
+                period_ms: value as u16,
+                lost: false,
             };
-            let node_id = (value >> 16) as u8;
-            let ms = value as u16;
-            if node_id == 0 || node_id > 127 || ms == 0 {
+            if consumer.node_id == 0 || consumer.node_id > 127 || consumer.period_ms == 0 {
                 continue;
             }
-            if self.consumer_count == MAX_HEARTBEAT_CONSUMERS {
+            if served == MAX_HEARTBEAT_CONSUMERS {
                 break;
             }
-            let kept = previous[..previous_count]
-                .iter()
-                .position(|c| c.node_id == node_id && c.period_ms == ms);
-            self.consumers[self.consumer_count] = Consumer {
-                node_id,
-                period_ms: ms,
-                lost: kept.is_some_and(|k| previous[k].lost),
-            };
-            timers[self.consumer_count] = kept.and_then(|k| previous_timers[k]);
-            self.consumer_count += 1;
+            self.consumers[served] = consumer;
+            // A watched node whose entry is the same keeps its loss and its timer (an empty
+            // slot matches none: the new entry's node-ID is not 0).
+            for k in 0..MAX_HEARTBEAT_CONSUMERS {
+                let old = previous[k];
+                if old.node_id == consumer.node_id && old.period_ms == consumer.period_ms {
+                    self.consumers[served] = old;
+                    timers[served] = previous_timers[k];
+                    break;
+                }
+            }
+            served += 1;
         }
     }
 
@@ -151,7 +163,7 @@ impl ErrorControl {
         timers: &mut [Option<Instant>],
     ) -> bool {
         let mut recovered = false;
-        for (consumer, timer) in self.consumers[..self.consumer_count].iter_mut().zip(timers) {
+        for (consumer, timer) in self.consumers.iter_mut().zip(timers) {
             if consumer.node_id == node_id {
                 *timer = Some(now + Duration::from_millis(u64::from(consumer.period_ms)));
                 recovered |= core::mem::take(&mut consumer.lost);
@@ -167,14 +179,18 @@ impl ErrorControl {
         if self.guarding.life_lost {
             return true;
         }
-        self.consumers[..self.consumer_count].iter().any(|c| c.lost)
+        self.consumers.iter().any(|c| c.lost)
     }
 
     /// A node-guarding request at `now`: the answer is queued. If life guarding is configured
+    /// (and the dictionary has its objects: `life_guarding`, a constant for a generated one)
     /// it (re)starts: returns when it runs out, and whether it had been lost (its error ends).
     #[cfg(feature = "node-guarding")]
-    pub fn guard_request(&mut self, now: Instant) -> Option<(Instant, bool)> {
+    pub fn guard_request(&mut self, now: Instant, life_guarding: bool) -> Option<(Instant, bool)> {
         self.guarding.answer_due = true;
+        if !life_guarding {
+            return None;
+        }
         let life = self.life_time()?;
         Some((now + life, core::mem::take(&mut self.guarding.life_lost)))
     }

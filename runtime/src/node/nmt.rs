@@ -8,8 +8,9 @@ use crate::wire::heartbeat::NmtState;
 use crate::wire::nmt::NmtCommand;
 
 use super::comm::CommGuard;
+use super::config::SERVICE_OBJECTS;
 use super::error_control::ErrorControl;
-use super::timer::{Timer, TimerTable};
+use super::timer::TimerTable;
 use super::{Event, Node, NodeHooks, ResetKind, COMMUNICATION_ERRORS};
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
@@ -21,32 +22,31 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
         let was = self.state;
         self.state = state;
-        if was == NmtState::Operational {
+        let leaving = was == NmtState::Operational;
+        let entering = state == NmtState::Operational;
+        if leaving {
             self.timers.stop_pdos();
-            for tpdo in &mut self.tpdos {
-                tpdo.stop();
-            }
             for rpdo in &mut self.rpdos {
                 rpdo.stop();
             }
         }
-        match state {
-            NmtState::Operational => {
-                for tpdo in &mut self.tpdos {
-                    if tpdo.start() {
-                        self.tpdo_attention = true;
-                    }
-                }
+        // One loop for leaving and entering operational (never both at once).
+        for tpdo in &mut self.tpdos {
+            if leaving {
+                tpdo.stop();
             }
-            NmtState::Stopped => {
-                self.reset_sdo();
-                self.sync.stop();
-                self.timers.set(Timer::SyncProducer, None);
-                self.timers.set(Timer::SyncConsumer, None);
+            if entering && tpdo.start() {
+                self.tpdo_attention = true;
             }
-            _ => {}
         }
-        if was == NmtState::Stopped || was == NmtState::Initialising {
+        if state == NmtState::Stopped {
+            self.reset_sdo();
+        }
+        // Stopped stops the SYNC producer and monitoring (the producer serves only
+        // pre-operational and operational); leaving stopped or initialising starts them.
+        if matches!(state, NmtState::Stopped)
+            || matches!(was, NmtState::Stopped | NmtState::Initialising)
+        {
             self.restart_sync_producer(now);
         }
         self.events.push(Event::NmtStateChanged(state));
@@ -62,8 +62,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             hooks: &mut self.hooks,
             node_id: self.node_id,
         };
-        for channel in &mut self.sdo[..channels] {
-            channel.reset(&mut guard);
+        let [first, second] = &mut self.sdo;
+        first.reset(&mut guard);
+        if channels > 1 {
+            second.reset(&mut guard);
         }
     }
 
@@ -85,16 +87,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.reset_sdo();
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
-        self.emcy.configure(&self.od, self.node_id);
-        self.configure_second_sdo();
         self.error_control = ErrorControl::OFF;
-        let heartbeat = self.error_control.configure_producer(&self.od, now);
-        self.timers.set(Timer::Heartbeat, heartbeat);
-        #[cfg(feature = "node-guarding")]
-        self.error_control.configure_guarding(&self.od);
-        self.error_control
-            .configure_consumers(&self.od, self.timers.consumers());
-        self.sync.configure(&self.od);
+        for index in SERVICE_OBJECTS {
+            self.configure(index, 0, now);
+        }
         for n in 0..RPDOS {
             if let Some(reason) = self.rpdos[n].load(&self.od, n as u16) {
                 self.events.push(Event::PdoMappingRejected {
@@ -123,10 +119,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     fn reset(&mut self, kind: ResetKind, now: Instant) {
         #[cfg(feature = "lss")]
         self.take_lss_node_id(kind);
+        // After a reset node that cleared errors, "no error" is announced once.
+        let announce_no_error = kind == ResetKind::Node && self.emcy.any_active();
         if kind == ResetKind::Node {
-            if self.emcy.any_active() {
-                self.announce_no_error = true;
-            }
             self.emcy.clear_all(&mut self.od);
         }
         self.hooks
@@ -134,7 +129,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.hooks.reset(kind, &mut self.od);
         self.events.push(Event::Reset(kind));
         self.reset_communication(now);
-        if core::mem::take(&mut self.announce_no_error) {
+        if announce_no_error {
             // The master saw errors before the reset: tell it they are gone.
             self.emcy.announce_no_error();
         }
@@ -156,6 +151,9 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         }
     }
 
+    /// An NMT command for this node. Out of line: the state changes and resets it reaches are
+    /// rare, and kept out of [`Node::handle_frame`] they leave its SDO and PDO paths alone.
+    #[inline(never)]
     pub(super) fn handle_nmt(&mut self, command: NmtCommand, now: Instant) {
         match command {
             NmtCommand::Start => self.set_state(NmtState::Operational, now),

@@ -111,8 +111,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     #[cfg(feature = "node-guarding")]
     fn handle_guard_request(&mut self, now: Instant) {
         let life_guarding = self.services().life_guarding;
-        let restarted = self.error_control.guard_request(now);
-        if let Some((life_end, recovered)) = restarted.filter(|_| life_guarding) {
+        if let Some((life_end, recovered)) = self.error_control.guard_request(now, life_guarding) {
             self.timers.set(Timer::LifeGuard, Some(life_end));
             if recovered {
                 self.end_error_control_loss();
@@ -288,7 +287,13 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     pub(super) fn handle_sync(&mut self, counter: Option<u8>, now: Instant) {
         self.events.push(Event::Sync { counter });
         let services = self.services();
-        if let Some(timeout) = self.sync.consumed(now).filter(|_| services.sync_period) {
+        // The services first: without their objects nothing is computed (a deadline's
+        // saturating add is a call the optimizer does not drop).
+        let timeout = services
+            .sync_period
+            .then(|| self.sync.consumed(now))
+            .flatten();
+        if let Some(timeout) = timeout {
             self.timers.set(Timer::SyncConsumer, Some(timeout));
             // Ends a SYNC timeout error, if one is active.
             self.emcy.clear(&mut self.od, SYNC_TIMEOUT_CODE);
@@ -301,7 +306,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 self.apply_rpdo(n, &data);
             }
         }
-        let window_end = self.sync.window_end(now).filter(|_| services.sync_window);
+        let window_end = services
+            .sync_window
+            .then(|| self.sync.window_end(now))
+            .flatten();
         let use_start = services.sync_counter && self.sync.counting();
         for tpdo in &mut self.tpdos {
             if tpdo.on_sync(&self.od, counter, use_start, window_end) {
@@ -354,36 +362,37 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     #[inline(never)]
     fn poll_transmit_due(&mut self, now: Instant) -> Option<CanFrame> {
         let error_control_id = ErrorControlRepr::cob_id(self.node_id);
-        if core::mem::take(&mut self.boot_up_due) {
-            return Some(one_byte_frame(
+        // The frames of at most one byte (boot-up, SYNC, error control) are built in one place,
+        // below; the others come whole from their service.
+        let sync_producer = self.services().sync_period;
+        let (id, byte, len) = if core::mem::take(&mut self.boot_up_due) {
+            (error_control_id, ErrorControlRepr::BOOT_UP.emit(), 1)
+        } else if let Some(sync) = sync_producer.then(|| self.sync.poll_transmit()).flatten() {
+            sync
+        } else {
+            if self.state != NmtState::Stopped {
+                if let Some(frame) = self.emcy.poll_transmit(now) {
+                    return Some(frame);
+                }
+            }
+            if self.state == NmtState::Operational && self.tpdo_attention {
+                if let Some(frame) = self.poll_tpdo(now) {
+                    return Some(frame);
+                }
+            }
+            let channels = self.sdo_channels();
+            for channel in &mut self.sdo[..channels] {
+                if let Some(frame) = channel.poll_transmit(now, &self.od) {
+                    return Some(frame);
+                }
+            }
+            (
                 error_control_id,
-                ErrorControlRepr::BOOT_UP.emit(),
+                self.error_control.poll_transmit(self.state)?,
                 1,
-            ));
-        }
-        if self.services().sync_period {
-            if let Some((id, counter, len)) = self.sync.poll_transmit() {
-                return Some(one_byte_frame(id, counter, len));
-            }
-        }
-        if self.state != NmtState::Stopped {
-            if let Some(frame) = self.emcy.poll_transmit(now) {
-                return Some(frame);
-            }
-        }
-        if self.state == NmtState::Operational && self.tpdo_attention {
-            if let Some(frame) = self.poll_tpdo(now) {
-                return Some(frame);
-            }
-        }
-        let channels = self.sdo_channels();
-        for channel in &mut self.sdo[..channels] {
-            if let Some(frame) = channel.poll_transmit(now, &self.od) {
-                return Some(frame);
-            }
-        }
-        let byte = self.error_control.poll_transmit(self.state)?;
-        Some(one_byte_frame(error_control_id, byte, 1))
+            )
+        };
+        Some(one_byte_frame(id, byte, len))
     }
 
     fn poll_tpdo(&mut self, now: Instant) -> Option<CanFrame> {

@@ -69,19 +69,14 @@ impl Sync {
     }
 
     /// Starts (or stops) the producer for a node that `serves` SYNC (pre-operational or
-    /// operational): returns when its first SYNC is due, if it runs. (The consumer's monitoring
-    /// restarts at the next SYNC.)
+    /// operational; a stopped node drops the SYNC it had to send): returns when its first SYNC
+    /// is due, if it runs. (The consumer's monitoring restarts at the next SYNC.)
     pub fn restart(&mut self, now: Instant, serves: bool) -> Option<Instant> {
         let active = self.producer && self.period != Duration::ZERO && serves;
         if !active {
             self.due = None;
         }
         active.then(|| now + self.period)
-    }
-
-    /// Stops the producer (NMT stopped); the node stops the timers.
-    pub fn stop(&mut self) {
-        self.due = None;
     }
 
     /// A SYNC was consumed at `now`. Returns when a missing SYNC becomes an error (1.5 × 1006h

@@ -12,6 +12,7 @@
 
 use super::comm::CommGuard;
 use super::error_control::MAX_HEARTBEAT_CONSUMERS;
+use super::sdo_channel::SdoChannel;
 use super::{keep_earliest, Event, Node, NodeHooks};
 use super::{RPDO_TIMEOUT_CODE, SYNC_TIMEOUT_CODE};
 use crate::od::ObjectDictionary;
@@ -167,8 +168,10 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
                 keep_earliest(&mut next, &tpdo.inhibit_end());
             }
         }
-        for channel in &self.sdo[..self.sdo_channels()] {
-            keep_earliest(&mut next, &channel.next_deadline());
+        // The default SDO channel, then the second if the dictionary has it: no loop for one.
+        keep_earliest(&mut next, &self.sdo[0].next_deadline());
+        if self.sdo_channels() > 1 {
+            keep_earliest(&mut next, &self.sdo[1].next_deadline());
         }
         next
     }
@@ -189,10 +192,16 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             hooks: &mut self.hooks,
             node_id: self.node_id,
         };
-        for channel in &mut self.sdo[..channels] {
+        let mut expire = |channel: &mut SdoChannel| {
             if channel.next_deadline().is_some_and(|at| at <= now) {
                 channel.expire(now, &mut guard);
             }
+        };
+        // As in poll_timeout: no loop for one channel.
+        let [first, second] = &mut self.sdo;
+        expire(first);
+        if channels > 1 {
+            expire(second);
         }
     }
 
