@@ -104,7 +104,11 @@ impl<S: Spi> Lan9252<S> {
         while done < len {
             let remaining = len - done;
             let (lane, size) = if pram {
-                let lane = if done == 0 { usize::from(address) % 4 } else { 0 };
+                let lane = if done == 0 {
+                    usize::from(address) % 4
+                } else {
+                    0
+                };
                 (lane, (4 - lane).min(remaining))
             } else {
                 let size = if remaining >= 4 && at.is_multiple_of(4) {
