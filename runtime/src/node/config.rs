@@ -13,7 +13,7 @@ use super::{Node, NodeHooks};
 /// [`Node::configure`], one of each service's: the SYNC (1005h, 1006h, 1007h, 1019h), the EMCY
 /// (1014h, 1015h), the heartbeat consumers (1016h), the heartbeat producer and node guarding
 /// (1017h, 100Ch, 100Dh), the second SDO server (1201h).
-pub(super) const SERVICE_OBJECTS: [u16; 5] = [0x1005, 0x1014, 0x1016, 0x1017, 0x1201];
+pub(super) static SERVICE_OBJECTS: [u16; 5] = [0x1005, 0x1014, 0x1016, 0x1017, 0x1201];
 
 impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usize>
     Node<O, H, RPDOS, TPDOS>

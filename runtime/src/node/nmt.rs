@@ -88,7 +88,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
         self.error_control = ErrorControl::OFF;
-        for index in SERVICE_OBJECTS {
+        for &index in &SERVICE_OBJECTS {
             self.configure(index, 0, now);
         }
         for n in 0..RPDOS {
