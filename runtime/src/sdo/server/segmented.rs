@@ -25,8 +25,10 @@ impl SdoServer {
                 }
                 len
             }
-            (false, true) => return self.start_download(target, Some(request.value()), od),
-            (false, false) => return self.start_download(target, None, od),
+            (false, indicated) => {
+                let size = indicated.then(|| request.value());
+                return self.start_download(target, size, od);
+            }
         };
         od.write_at(target.position, &data[..len])?;
         self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
