@@ -263,9 +263,12 @@ impl SdoServer {
             .checked_sub(usize::from(unused))
             .ok_or(SdoAbort::LengthMismatch)?;
         let len = block.received - SEGMENT_DATA_LEN + last;
-        Self::check_received(len, block.size, block.target.capacity)?;
+        // Any difference from the announced size (within the capacity) first.
         if block.size.is_some_and(|size| len != size as usize) {
             return Err(SdoAbort::LengthMismatch);
+        }
+        if len > block.target.capacity {
+            return Err(SdoAbort::LengthTooHigh);
         }
         self.flush_held(&mut block, last, od)?;
         if block.check_crc && block.crc.value() != crc {

@@ -25,8 +25,10 @@ impl SdoServer {
                 }
                 len
             }
-            (false, true) => return self.start_download(target, Some(request.value()), od),
-            (false, false) => return self.start_download(target, None, od),
+            (false, indicated) => {
+                let size = indicated.then(|| request.value());
+                return self.start_download(target, size, od);
+            }
         };
         od.write_at(target.position, &data[..len])?;
         self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
@@ -63,12 +65,19 @@ impl SdoServer {
             return Err(SdoAbort::ToggleBit);
         }
         let end = download.len + bytes.len();
-        Self::check_received(end, download.size, download.target.capacity)?;
+        // One test of the announced size: data beyond it, or a last segment ending short of it
+        // (an announced size is within the capacity, so beyond the capacity is beyond it too).
+        if download
+            .size
+            .is_some_and(|size| end > size as usize || last && end != size as usize)
+        {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        if end > download.target.capacity {
+            return Err(SdoAbort::LengthTooHigh);
+        }
         self.store(&download.target, download.len, bytes, od)?;
         if last {
-            if download.size.is_some_and(|size| end != size as usize) {
-                return Err(SdoAbort::LengthMismatch);
-            }
             self.transfer = Transfer::Idle;
             self.commit(&download.target, end, od)?;
         } else if let Transfer::Download(open) = &mut self.transfer {
