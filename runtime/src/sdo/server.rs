@@ -478,7 +478,9 @@ impl SdoServer {
         Ok(())
     }
 
-    /// Checks that `len` bytes of download data fit the announced size and the entry.
+    /// Checks that `len` bytes of download data fit the announced size and the entry (block
+    /// downloads; a segmented one tests the announced size once, in `download_segment`).
+    #[cfg(feature = "sdo-block")]
     fn check_received(len: usize, size: Option<u32>, capacity: usize) -> Result<(), SdoAbort> {
         if size.is_some_and(|size| len > size as usize) {
             return Err(SdoAbort::LengthMismatch);
