@@ -57,7 +57,7 @@ pub use self::lss::BitTiming;
 pub use self::pdo::MAX_MAPPED;
 pub use crate::wire::heartbeat::NmtState;
 
-use self::emcy::{Emcy, Raised};
+use self::emcy::Emcy;
 use self::error_control::ErrorControl;
 use self::events::EventQueue;
 use self::pdo::{Rpdo, Tpdo};
@@ -452,7 +452,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// `code` in 1003h and queues an emergency with the `manufacturer` bytes. Returns `false`
     /// (and sends nothing) if `code` is already active or [`MAX_ACTIVE_ERRORS`] are.
     pub fn raise_error(&mut self, code: u16, register: u8, manufacturer: [u8; 5]) -> bool {
-        self.emcy.raise(&mut self.od, code, register, manufacturer) == Raised::New
+        self.emcy.raise(&mut self.od, code, register, manufacturer)
     }
 
     /// Clears an active error and queues the error-reset emergency (code 0000h with the

@@ -62,17 +62,6 @@ fn write_error_register<O: ObjectDictionary + ?Sized>(od: &mut O, register: u8) 
     let _ = od.write(0x1001, 0, &[register]);
 }
 
-/// Why [`raise`](Emcy::raise) refused an error.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Raised {
-    /// New: an emergency was queued.
-    New,
-    /// The code was already active: nothing sent.
-    AlreadyActive,
-    /// The table of active errors is full.
-    Full,
-}
-
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Emcy {
     cob_id: u16,
@@ -153,71 +142,82 @@ impl Emcy {
         }
     }
 
-    /// Records an error, updates 1001h and 1003h, and queues its emergency.
+    /// Records an error, updates 1001h and 1003h, and queues its emergency. `false` (and
+    /// nothing sent) if the code is already active or the table of active errors is full.
     pub fn raise<O: ObjectDictionary + ?Sized>(
         &mut self,
         od: &mut O,
         code: u16,
         register: u8,
         manufacturer: [u8; 5],
-    ) -> Raised {
-        if self.is_active(code) {
-            return Raised::AlreadyActive;
-        }
-        if self.active_count == MAX_ACTIVE_ERRORS {
-            return Raised::Full;
-        }
-        self.active_codes[self.active_count] = code;
-        self.active_registers[self.active_count] = register;
-        self.active_count += 1;
-        let register = self.register();
-        write_error_register(od, register);
-        self.push_history(od, u32::from(code));
-        self.enqueue(EmcyRepr {
-            code,
-            register,
-            manufacturer,
-        });
-        Raised::New
-    }
-
-    /// Removes an error from the active list without an emergency (1001h is not rewritten).
-    fn remove(&mut self, code: u16) -> bool {
-        let Some(pos) = self.active_codes[..self.active_count]
-            .iter()
-            .position(|&active| active == code)
-        else {
-            return false;
-        };
-        // The last active error takes its place: the order of active errors does not matter.
-        self.active_count -= 1;
-        self.active_codes[pos] = self.active_codes[self.active_count];
-        self.active_registers[pos] = self.active_registers[self.active_count];
-        true
-    }
-
-    /// Forgets errors the communication layer raised itself (a reset communication starts its
-    /// monitoring afresh); 1001h is rewritten by [`Emcy::reset_queue`].
-    pub fn forget_communication_errors(&mut self, codes: &[u16]) {
-        for &code in codes {
-            self.remove(code);
-        }
+    ) -> bool {
+        self.change(od, code, Some(register), manufacturer)
     }
 
     /// Clears an active error; queues the error-reset emergency (code 0000h). `false` if the
     /// code was not active.
     pub fn clear<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O, code: u16) -> bool {
-        if !self.remove(code) {
-            return false;
+        self.change(od, code, None, [0; 5])
+    }
+
+    /// Raises `code` with its `raise` register bits, or clears it (`None`): one search of the
+    /// active errors, then 1001h, 1003h (a raise) and the emergency, in one routine for both.
+    /// `false` if nothing changed (raising an active code or one too many, clearing an
+    /// inactive one).
+    #[inline(never)]
+    fn change<O: ObjectDictionary + ?Sized>(
+        &mut self,
+        od: &mut O,
+        code: u16,
+        raise: Option<u8>,
+        manufacturer: [u8; 5],
+    ) -> bool {
+        let count = self.active_count;
+        let found = self.active_codes[..count]
+            .iter()
+            .position(|&active| active == code);
+        match (found, raise) {
+            (None, Some(register)) if count < MAX_ACTIVE_ERRORS => {
+                self.active_codes[count] = code;
+                self.active_registers[count] = register;
+                self.active_count += 1;
+            }
+            (Some(pos), None) => {
+                // The last active error takes its place: their order does not matter.
+                self.active_count -= 1;
+                self.active_codes[pos] = self.active_codes[count - 1];
+                self.active_registers[pos] = self.active_registers[count - 1];
+            }
+            _ => return false,
         }
         let register = self.register();
         write_error_register(od, register);
+        let code = if raise.is_some() {
+            self.push_history(od, u32::from(code));
+            code
+        } else {
+            error_code::NO_ERROR
+        };
         self.enqueue(EmcyRepr {
-            code: 0,
+            code,
             register,
-            manufacturer: [0; 5],
+            manufacturer,
         });
         true
+    }
+
+    /// Forgets errors the communication layer raised itself (a reset communication starts its
+    /// monitoring afresh), without an emergency; 1001h is rewritten by [`Emcy::reset_queue`].
+    pub fn forget_communication_errors(&mut self, codes: &[u16]) {
+        let mut kept = 0;
+        for i in 0..self.active_count {
+            if !codes.contains(&self.active_codes[i]) {
+                self.active_codes[kept] = self.active_codes[i];
+                self.active_registers[kept] = self.active_registers[i];
+                kept += 1;
+            }
+        }
+        self.active_count = kept;
     }
 
     /// Forgets every active error (reset node): 1001h becomes 0.
