@@ -256,15 +256,16 @@ impl Emcy {
         let _ = od.write(0x1003, 0, &[kept + 1]);
     }
 
-    /// When the next emergency may go out, if one is waiting.
+    /// When the next emergency may go out, if one is waiting. `inhibit_time`: the dictionary
+    /// has 1015h (a constant for a generated one); without it an emergency never waits.
     #[inline]
-    pub fn ready_at(&self) -> Option<Instant> {
+    pub fn ready_at(&self, inhibit_time: bool) -> Option<Instant> {
         if self.queued == 0 || !self.enabled {
             return None;
         }
         Some(match self.last_sent {
-            Some(sent) => sent + self.inhibit,
-            None => Instant::from_micros(0),
+            Some(sent) if inhibit_time => sent + self.inhibit,
+            _ => Instant::from_micros(0),
         })
     }
 
@@ -274,17 +275,18 @@ impl Emcy {
         self.dropped
     }
 
-    /// The next emergency frame, if one is waiting and the inhibit time has passed.
+    /// The next emergency frame, if one is waiting and the inhibit time has passed
+    /// (`inhibit_time` as for [`Emcy::ready_at`]).
     #[inline]
-    pub fn poll_transmit(&mut self, now: Instant) -> Option<CanFrame> {
-        let repr = self.poll(now)?;
+    pub fn poll_transmit(&mut self, now: Instant, inhibit_time: bool) -> Option<CanFrame> {
+        let repr = self.poll(now, inhibit_time)?;
         Some(CanFrame::from_parts(self.cob_id, repr.emit(), 8))
     }
 
     /// The next emergency, if one is waiting and the inhibit time has passed.
     #[inline]
-    fn poll(&mut self, now: Instant) -> Option<EmcyRepr> {
-        if self.ready_at()? > now {
+    fn poll(&mut self, now: Instant, inhibit_time: bool) -> Option<EmcyRepr> {
+        if self.ready_at(inhibit_time)? > now {
             return None;
         }
         let repr = self.queue[0];
@@ -292,7 +294,9 @@ impl Emcy {
             self.queue[i - 1] = self.queue[i];
         }
         self.queued -= 1;
-        self.last_sent = Some(now);
+        if inhibit_time {
+            self.last_sent = Some(now);
+        }
         Some(repr)
     }
 }

@@ -371,7 +371,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             sync
         } else {
             if self.state != NmtState::Stopped {
-                if let Some(frame) = self.emcy.poll_transmit(now) {
+                if let Some(frame) = self.emcy.poll_transmit(now, self.services().emcy_inhibit) {
                     return Some(frame);
                 }
             }

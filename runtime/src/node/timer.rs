@@ -161,7 +161,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     pub fn poll_timeout(&self) -> Option<Instant> {
         let mut next = self.timers.earliest();
         if self.state != NmtState::Stopped {
-            keep_earliest(&mut next, &self.emcy.ready_at());
+            keep_earliest(&mut next, &self.emcy.ready_at(self.services().emcy_inhibit));
         }
         if self.state == NmtState::Operational {
             for tpdo in &self.tpdos {

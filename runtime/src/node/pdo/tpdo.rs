@@ -254,7 +254,9 @@ impl Tpdo {
         if !self.pending {
             return None;
         }
-        if let Some(deadline) = self.sync_deadline {
+        // Only a dictionary with 1007h sets a window (a constant for a generated one).
+        let window = od.services().sync_window;
+        if let Some(deadline) = self.sync_deadline.filter(|_| window) {
             if now > deadline {
                 // Outside the synchronous window (1007h): this SYNC's PDO is dropped.
                 self.pending = false;
@@ -272,7 +274,10 @@ impl Tpdo {
             self.params.mapping.pack(od)
         };
         self.pending = false;
-        self.sync_deadline = None;
+        // Never set without 1007h.
+        if window {
+            self.sync_deadline = None;
+        }
         self.last_data = data;
         self.last_sent = Some(now);
         if self.event_driven() {
