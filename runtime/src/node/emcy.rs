@@ -68,7 +68,9 @@ pub(crate) struct Emcy {
     enabled: bool,
     inhibit: Duration,
     last_sent: Option<Instant>,
+    /// A ring: `queued` emergencies from `first` on, in the order raised.
     queue: [EmcyRepr; QUEUE],
+    first: usize,
     queued: usize,
     /// Emergencies dropped because the queue was full.
     dropped: u32,
@@ -135,7 +137,7 @@ impl Emcy {
 
     fn enqueue(&mut self, repr: EmcyRepr) {
         if self.queued < QUEUE {
-            self.queue[self.queued] = repr;
+            self.queue[(self.first + self.queued) % QUEUE] = repr;
             self.queued += 1;
         } else {
             self.dropped = self.dropped.saturating_add(1);
@@ -289,10 +291,8 @@ impl Emcy {
         if self.ready_at(inhibit_time)? > now {
             return None;
         }
-        let repr = self.queue[0];
-        for i in 1..self.queued {
-            self.queue[i - 1] = self.queue[i];
-        }
+        let repr = self.queue[self.first];
+        self.first = (self.first + 1) % QUEUE;
         self.queued -= 1;
         if inhibit_time {
             self.last_sent = Some(now);
