@@ -14,3 +14,13 @@ pub use mapping::MAX_MAPPED;
 pub(crate) use mapping::{check_entry, check_mapping, Direction, Mapping};
 pub(crate) use rpdo::Rpdo;
 pub(crate) use tpdo::Tpdo;
+
+use crate::time::{Duration, Instant};
+
+/// Arms a PDO's timer `slot` (a TPDO's event timer, an RPDO's deadline) to run out `ms`
+/// milliseconds after `now`, or disarms it if `ms` is 0 (the timer is off). One out-of-line
+/// copy for both directions.
+#[inline(never)]
+fn arm_timer(slot: &mut Option<Instant>, now: Instant, ms: u16) {
+    *slot = (ms != 0).then(|| now + Duration::from_millis(u64::from(ms)));
+}

@@ -2,8 +2,9 @@
 //! SYNC), deadline monitoring and the length checks.
 
 use crate::od::{ObjectDictionary, SdoAbort};
-use crate::time::{Duration, Instant};
+use crate::time::Instant;
 
+use super::arm_timer;
 use super::mapping::{Direction, Mapping};
 use super::params::PdoParams;
 
@@ -123,7 +124,7 @@ impl Rpdo {
         // operational or configuring the event timer) and restarts with each one. Without an
         // event timer the slot stays empty ([`Rpdo::reload`]).
         if self.params.event_timer_ms != 0 {
-            *deadline = Some(now + Duration::from_millis(u64::from(self.params.event_timer_ms)));
+            arm_timer(deadline, now, self.params.event_timer_ms);
         }
         let recovered = core::mem::take(&mut self.timed_out);
         if self.synchronous() {

@@ -5,6 +5,7 @@ use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 
+use super::arm_timer;
 use super::mapping::Direction;
 use super::params::PdoParams;
 
@@ -81,11 +82,6 @@ impl Tpdo {
         Duration::from_micros(u64::from(self.params.inhibit_100us) * 100)
     }
 
-    /// The event timer (zero: off).
-    pub fn event_timer(&self) -> Duration {
-        Duration::from_millis(u64::from(self.params.event_timer_ms))
-    }
-
     /// Whether its mapping holds the object at `position` in the OD's table.
     #[inline]
     pub fn maps(&self, position: u16) -> bool {
@@ -119,7 +115,7 @@ impl Tpdo {
         let _ = self.params.load(od, 0x1800 + n, Direction::Transmit);
         *event_timer = None;
         if operational && self.params.enabled && self.event_driven() {
-            *event_timer = self.event_timer_from(now);
+            arm_timer(event_timer, now, self.params.event_timer_ms);
             if !was_enabled {
                 self.pending = true;
             }
@@ -281,7 +277,7 @@ impl Tpdo {
         self.last_data = data;
         self.last_sent = Some(now);
         if self.event_driven() {
-            *event_timer = self.event_timer_from(now);
+            arm_timer(event_timer, now, self.params.event_timer_ms);
         }
         Some(CanFrame::from_parts(
             self.params.cob_id,
@@ -294,11 +290,6 @@ impl Tpdo {
     #[inline]
     pub fn pending(&self) -> bool {
         self.pending
-    }
-
-    /// When an event timer started at `now` runs out (1800h+n sub 05h), if it is not 0.
-    fn event_timer_from(&self, now: Instant) -> Option<Instant> {
-        (self.params.event_timer_ms != 0).then(|| now + self.event_timer())
     }
 
     /// When the inhibit time of an event-driven PDO's waiting frame ends (it may go out
