@@ -222,11 +222,10 @@ impl Emcy {
         self.active_count = kept;
     }
 
-    /// Forgets every active error (reset node): 1001h becomes 0.
+    /// Forgets every active error (reset node): 1001h becomes 0. The queue goes with the reset
+    /// communication that follows ([`Emcy::reset_queue`]).
     pub fn clear_all<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
         self.active_count = 0;
-        self.queued = 0;
-        self.last_sent = None;
         write_error_register(od, 0);
     }
 
@@ -234,7 +233,10 @@ impl Emcy {
     /// stay, and 1001h is rewritten from them.
     pub fn reset_queue<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
         self.queued = 0;
-        self.last_sent = None;
+        // Never set without 1015h.
+        if od.services().emcy_inhibit {
+            self.last_sent = None;
+        }
         write_error_register(od, self.register());
     }
 
