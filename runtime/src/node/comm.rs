@@ -133,40 +133,32 @@ fn sdo_exempt(index: u16, sub: u8, node_id: u8) -> (u16, u16) {
 }
 
 impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
-    fn pdo_valid(&self, comm_index: u16) -> bool {
-        read_uint(self.od, comm_index, 1).is_some_and(|cob| CobIdEntry(cob).valid())
-    }
-
-    fn check_pdo_comm(
-        &self,
-        index: u16,
-        sub: u8,
-        value: u32,
-        receive: bool,
-    ) -> Result<(), SdoAbort> {
-        match sub {
-            2 => match value {
-                0..=240 | 254 | 255 => Ok(()),
-                252 | 253 if !receive => Ok(()),
-                _ => Err(SdoAbort::InvalidValue),
-            },
-            3 if self.pdo_valid(index) => Err(SdoAbort::InvalidValue),
-            6 if self.pdo_valid(index) || value > 240 => Err(SdoAbort::InvalidValue),
-            _ => Ok(()),
+    /// Checks a write to a PDO's communication parameter (`index` 1400h+n or 1800h+n) or
+    /// mapping (1600h+n or 1A00h+n) of the given direction. Most rules look at whether the PDO
+    /// is valid, so its COB-ID is read once for all of them.
+    fn check_pdo(&self, index: u16, sub: u8, value: u32, receive: bool) -> Result<(), SdoAbort> {
+        let valid =
+            read_uint(self.od, index & !0x0200, 1).is_some_and(|cob| CobIdEntry(cob).valid());
+        if index & 0x0200 == 0 {
+            return match sub {
+                2 => match value {
+                    0..=240 | 254 | 255 => Ok(()),
+                    252 | 253 if !receive => Ok(()),
+                    _ => Err(SdoAbort::InvalidValue),
+                },
+                3 if valid => Err(SdoAbort::InvalidValue),
+                6 if valid || value > 240 => Err(SdoAbort::InvalidValue),
+                _ => Ok(()),
+            };
         }
-    }
-
-    fn check_pdo_mapping(
-        &self,
-        index: u16,
-        sub: u8,
-        value: u32,
-        direction: Direction,
-    ) -> Result<(), SdoAbort> {
-        if self.pdo_valid(index - 0x200) {
-            return Err(SdoAbort::DeviceState);
-        }
-        if sub == 0 {
+        let direction = if receive {
+            Direction::Receive
+        } else {
+            Direction::Transmit
+        };
+        if valid {
+            Err(SdoAbort::DeviceState)
+        } else if sub == 0 {
             pdo::check_mapping(self.od, index, value, direction, &mut Mapping::default())
         } else if read_uint_or(self.od, index, 0, 0) != 0 {
             Err(SdoAbort::DeviceState)
@@ -257,20 +249,9 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
             }
             // One call for both directions' parameters: bit 11 of the index tells them apart
             // (receive 1400h/1600h, transmit 1800h/1A00h), bit 9 communication from mapping.
-            0x1400..=0x1BFF => {
-                let receive = index & 0x0800 == 0;
-                if index & 0x0200 == 0 {
-                    self.check_pdo_comm(index, sub, value, receive)
-                } else {
-                    let direction = if receive {
-                        Direction::Receive
-                    } else {
-                        Direction::Transmit
-                    };
-                    self.check_pdo_mapping(index, sub, value, direction)
-                }
-                .map(|()| Checked::Write)
-            }
+            0x1400..=0x1BFF => self
+                .check_pdo(index, sub, value, index & 0x0800 == 0)
+                .map(|()| Checked::Write),
             _ => Ok(Checked::Write),
         }
     }
