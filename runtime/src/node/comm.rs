@@ -17,7 +17,7 @@
 use super::pdo::{self, Direction, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
 use crate::od::{EntryDescriptor, EntryKind, ObjectDictionary, SdoAbort, Services};
-use crate::wire::pdo::{CobIdEntry, MappingEntry};
+use crate::wire::pdo::CobIdEntry;
 use crate::wire::sdo::{SDO_REQUEST_BASE, SDO_RESPONSE_BASE};
 
 /// The "save" signature for 1010h (CiA 301 §7.5.2.13), as the little-endian bytes of 65766173h.
@@ -158,15 +158,15 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
         };
         if valid {
             Err(SdoAbort::DeviceState)
-        } else if sub == 0 {
-            pdo::check_mapping(self.od, index, value, direction, &mut Mapping::default())
-        } else if read_uint_or(self.od, index, 0, 0) != 0 {
-            Err(SdoAbort::DeviceState)
-        } else if value == 0 {
-            Ok(())
         } else {
-            let entry = MappingEntry::from_u32(value);
-            pdo::check_entry(self.od, entry, direction).map(|_| ())
+            pdo::check_mapping(
+                self.od,
+                index,
+                sub,
+                value,
+                direction,
+                &mut Mapping::default(),
+            )
         }
     }
 

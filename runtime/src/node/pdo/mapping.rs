@@ -168,7 +168,7 @@ fn dummy_bits(index: u16) -> Option<u8> {
 /// Checks one mapping entry against the OD: 0604 0041 if the object is absent, not mappable in
 /// this direction, or its length does not match. Dummy entries (0002h–0007h with their type's
 /// length) are accepted in both directions.
-pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
+fn check_entry<O: ObjectDictionary + ?Sized>(
     od: &O,
     entry: MappingEntry,
     direction: Direction,
@@ -212,8 +212,14 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
     Ok(MappedObject { position, len })
 }
 
-/// Checks that the first `count` entries of the mapping record at `index` form a valid mapping:
-/// 0604 0042 if there are too many or they exceed 8 bytes, 0604 0041 if one cannot be mapped.
+/// Checks the mapping record at `index` as it is with `value` in sub-index `sub` (CiA 301
+/// §7.4.7): one check for a PDO's mapping at reset (`sub` 0, `value` the record's count) and
+/// for an SDO write to the record.
+/// - Sub 0, the number of mapped objects: entries 1 to `value` of the record must form a valid
+///   mapping: 0604 0042 if there are too many or they exceed 8 bytes, 0604 0041 if one cannot
+///   be mapped.
+/// - Sub n, an entry: only while the mapping is deactivated (sub 0 is 0; 0800 0022 otherwise),
+///   and the entry must be mappable (0604 0041) unless it is 0.
 ///
 /// The mapping is written into `mapping`, which must be empty: its objects as they are checked,
 /// its count and length once all passed, so that a refused mapping leaves it empty. In place
@@ -221,10 +227,19 @@ pub(crate) fn check_entry<O: ObjectDictionary + ?Sized>(
 pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
     od: &O,
     index: u16,
-    count: u32,
+    sub: u8,
+    value: u32,
     direction: Direction,
     mapping: &mut Mapping,
 ) -> Result<(), SdoAbort> {
+    // The entries to check: sub-indices `first` to `first + count - 1`.
+    let (first, count) = if sub == 0 {
+        (1, value)
+    } else if crate::node::read_uint_or(od, index, 0, 0) != 0 {
+        return Err(SdoAbort::DeviceState);
+    } else {
+        (sub, u32::from(value != 0))
+    };
     if count as usize > MAX_MAPPED {
         return Err(SdoAbort::PdoTooLong);
     }
@@ -232,8 +247,11 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
     // Half-open ranges here and in the node's other sub-index loops (1003h, 1016h): an
     // inclusive one carries an exhausted flag and steps through `RangeInclusive::next`, some
     // 240 B more flash over the four loops.
-    for (slot, sub) in mapping.objects.iter_mut().zip(1..count as u8 + 1) {
-        let raw = crate::node::read_uint(od, index, sub).ok_or(SdoAbort::NotMappable)?;
+    for (slot, n) in mapping.objects.iter_mut().zip(0..count as u8) {
+        let raw = match first + n {
+            entry if entry == sub => value,
+            entry => crate::node::read_uint(od, index, entry).ok_or(SdoAbort::NotMappable)?,
+        };
         *slot = check_entry(od, MappingEntry::from_u32(raw), direction)?;
         total += slot.len as usize;
         if total > 8 {

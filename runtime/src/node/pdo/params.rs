@@ -59,7 +59,7 @@ impl PdoParams {
         let map = comm + 0x200;
         let checked = read_uint(od, map, 0)
             .ok_or(SdoAbort::NoObject)
-            .and_then(|count| check_mapping(od, map, count, direction, &mut self.mapping));
+            .and_then(|count| check_mapping(od, map, 0, count, direction, &mut self.mapping));
         match checked {
             Ok(()) => {
                 self.enabled = cob.valid() && !cob.extended();
