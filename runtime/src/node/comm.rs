@@ -14,7 +14,7 @@
 //! rules see every write on every path, in one function, and the server stays the same whoever
 //! serves it. Strings and domains, which stream (`write_part`), have no rule to pass.
 
-use super::pdo::{self, Direction, Mapping};
+use super::pdo::{self, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
 use crate::od::{EntryDescriptor, EntryKind, ObjectDictionary, SdoAbort, Services};
 use crate::wire::pdo::CobIdEntry;
@@ -134,16 +134,18 @@ fn sdo_exempt(index: u16, sub: u8, node_id: u8) -> (u16, u16) {
 
 impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
     /// Checks a write to a PDO's communication parameter (`index` 1400h+n or 1800h+n) or
-    /// mapping (1600h+n or 1A00h+n) of the given direction. Most rules look at whether the PDO
-    /// is valid, so its COB-ID is read once for all of them.
-    fn check_pdo(&self, index: u16, sub: u8, value: u32, receive: bool) -> Result<(), SdoAbort> {
+    /// mapping (1600h+n or 1A00h+n): bit 11 of the index tells the directions apart, bit 9
+    /// communication from mapping. Most rules look at whether the PDO is valid, so its COB-ID
+    /// is read once for all of them.
+    fn check_pdo(&self, index: u16, sub: u8, value: u32) -> Result<(), SdoAbort> {
         let valid =
             read_uint(self.od, index & !0x0200, 1).is_some_and(|cob| CobIdEntry(cob).valid());
         if index & 0x0200 == 0 {
             return match sub {
                 2 => match value {
                     0..=240 | 254 | 255 => Ok(()),
-                    252 | 253 if !receive => Ok(()),
+                    // Only a TPDO is sent on RTR.
+                    252 | 253 if index & 0x0800 != 0 => Ok(()),
                     _ => Err(SdoAbort::InvalidValue),
                 },
                 3 if valid => Err(SdoAbort::InvalidValue),
@@ -151,22 +153,10 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                 _ => Ok(()),
             };
         }
-        let direction = if receive {
-            Direction::Receive
-        } else {
-            Direction::Transmit
-        };
         if valid {
             Err(SdoAbort::DeviceState)
         } else {
-            pdo::check_mapping(
-                self.od,
-                index,
-                sub,
-                value,
-                direction,
-                &mut Mapping::default(),
-            )
+            pdo::check_mapping(self.od, index, sub, value, &mut Mapping::default())
         }
     }
 
@@ -247,11 +237,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                     Ok(Checked::Write)
                 }
             }
-            // One call for both directions' parameters: bit 11 of the index tells them apart
-            // (receive 1400h/1600h, transmit 1800h/1A00h), bit 9 communication from mapping.
-            0x1400..=0x1BFF => self
-                .check_pdo(index, sub, value, index & 0x0800 == 0)
-                .map(|()| Checked::Write),
+            0x1400..=0x1BFF => self.check_pdo(index, sub, value).map(|()| Checked::Write),
             _ => Ok(Checked::Write),
         }
     }

@@ -147,13 +147,6 @@ impl Mapping {
     }
 }
 
-/// Direction of a PDO, for the mapping checks.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Direction {
-    Receive,
-    Transmit,
-}
-
 /// Size in bits of a dummy-mapping data type (0002h–0007h); BOOLEAN (0001h) is bit-sized and
 /// not supported.
 fn dummy_bits(index: u16) -> Option<u8> {
@@ -166,12 +159,13 @@ fn dummy_bits(index: u16) -> Option<u8> {
 }
 
 /// Checks one mapping entry against the OD: 0604 0041 if the object is absent, not mappable in
-/// this direction, or its length does not match. Dummy entries (0002h–0007h with their type's
-/// length) are accepted in both directions.
+/// the direction (an RPDO's `receive` objects must be writable, a TPDO's readable), or its length
+/// does not match. Dummy entries (0002h–0007h with their type's length) are accepted in both
+/// directions.
 fn check_entry<O: ObjectDictionary + ?Sized>(
     od: &O,
     entry: MappingEntry,
-    direction: Direction,
+    receive: bool,
 ) -> Result<MappedObject, SdoAbort> {
     if entry.bits == 0 || entry.bits % 8 != 0 {
         return Err(SdoAbort::NotMappable);
@@ -192,9 +186,10 @@ fn check_entry<O: ObjectDictionary + ?Sized>(
         .locate(entry.index, entry.sub)
         .map_err(|_| SdoAbort::NotMappable)?;
     let descriptor = od.kind(position).ok_or(SdoAbort::NotMappable)?;
-    let allowed = match direction {
-        Direction::Receive => descriptor.access().writable(),
-        Direction::Transmit => descriptor.access().readable(),
+    let allowed = if receive {
+        descriptor.access().writable()
+    } else {
+        descriptor.access().readable()
     };
     let size = descriptor.data_type().fixed_size();
     if !descriptor.pdo_mappable()
@@ -212,7 +207,7 @@ fn check_entry<O: ObjectDictionary + ?Sized>(
     Ok(MappedObject { position, len })
 }
 
-/// Checks the mapping record at `index` as it is with `value` in sub-index `sub` (CiA 301
+/// Checks the mapping record at `index` (1600h+n of an RPDO, 1A00h+n of a TPDO) as it is with `value` in sub-index `sub` (CiA 301
 /// §7.4.7): one check for a PDO's mapping at reset (`sub` 0, `value` the record's count) and
 /// for an SDO write to the record.
 /// - Sub 0, the number of mapped objects: entries 1 to `value` of the record must form a valid
@@ -229,9 +224,10 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
     index: u16,
     sub: u8,
     value: u32,
-    direction: Direction,
     mapping: &mut Mapping,
 ) -> Result<(), SdoAbort> {
+    // Bit 11 of the index tells the directions apart.
+    let receive = index & 0x0800 == 0;
     // The entries to check: sub-indices `first` to `first + count - 1`.
     let (first, count) = if sub == 0 {
         (1, value)
@@ -252,7 +248,7 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
             entry if entry == sub => value,
             entry => crate::node::read_uint(od, index, entry).ok_or(SdoAbort::NotMappable)?,
         };
-        *slot = check_entry(od, MappingEntry::from_u32(raw), direction)?;
+        *slot = check_entry(od, MappingEntry::from_u32(raw), receive)?;
         total += slot.len as usize;
         if total > 8 {
             return Err(SdoAbort::PdoTooLong);

@@ -5,7 +5,6 @@ use crate::frame::CanFrame;
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 
-use super::mapping::Direction;
 use super::params::PdoParams;
 
 /// A transmit PDO.
@@ -57,7 +56,7 @@ impl Tpdo {
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
         *self = Tpdo::OFF;
-        self.params.load(od, 0x1800 + n, Direction::Transmit)
+        self.params.load(od, 0x1800 + n)
     }
 
     #[inline]
@@ -116,7 +115,7 @@ impl Tpdo {
         // timing history stays.
         self.stop();
         self.params = PdoParams::OFF;
-        let _ = self.params.load(od, 0x1800 + n, Direction::Transmit);
+        let _ = self.params.load(od, 0x1800 + n);
         *event_timer = None;
         if operational && self.params.enabled && self.event_driven() {
             *event_timer = self.event_timer_from(now);
