@@ -235,13 +235,13 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
 ) -> Result<(), SdoAbort> {
     // Bit 11 of the index tells the directions apart.
     let receive = index & 0x0800 == 0;
-    // The entries to check: sub-indices `first` to `first + count - 1`.
-    let (first, count) = if sub == 0 {
-        (1, value)
+    // How many entries to check: those of the record for sub 0, the one written otherwise.
+    let count = if sub == 0 {
+        value
     } else if crate::node::read_uint_or(od, index, 0, 0) != 0 {
         return Err(SdoAbort::DeviceState);
     } else {
-        (sub, u32::from(value != 0))
+        u32::from(value != 0)
     };
     if count as usize > MAX_MAPPED {
         return Err(SdoAbort::PdoTooLong);
@@ -250,10 +250,11 @@ pub(crate) fn check_mapping<O: ObjectDictionary + ?Sized>(
     // Half-open ranges here and in the node's other sub-index loops (1003h, 1016h): an
     // inclusive one carries an exhausted flag and steps through `RangeInclusive::next`, some
     // 240 B more flash over the four loops.
-    for (slot, n) in mapping.objects.iter_mut().zip(0..count as u8) {
-        let raw = match first + n {
-            entry if entry == sub => value,
-            entry => crate::node::read_uint(od, index, entry).ok_or(SdoAbort::NotMappable)?,
+    for (slot, entry) in mapping.objects.iter_mut().zip(1..count as u8 + 1) {
+        let raw = if sub == 0 {
+            crate::node::read_uint(od, index, entry).ok_or(SdoAbort::NotMappable)?
+        } else {
+            value
         };
         *slot = check_entry(od, MappingEntry::from_u32(raw), receive)?;
         total += slot.len as usize;
