@@ -142,10 +142,11 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
             };
         }
         if valid {
-            Err(SdoAbort::DeviceState)
-        } else {
-            pdo::check_mapping(self.od, index, sub, value, &mut Mapping::default())
+            return Err(SdoAbort::DeviceState);
         }
+        // The checked mapping is not kept: the node reloads the PDO once the write is done.
+        let mut checked = Mapping::EMPTY;
+        pdo::check_mapping(self.od, index, sub, value, &mut checked)
     }
 
     fn check_heartbeat_consumer(&self, sub: u8, value: u32) -> Result<(), SdoAbort> {

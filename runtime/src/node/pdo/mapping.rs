@@ -31,21 +31,9 @@ pub(crate) struct Mapping {
     pub len: u8,
 }
 
-/// By an array repeat at run time rather than derived or [`Mapping::EMPTY`]: both clear the
-/// array with the byte-wise `__aeabi_memclr` (the array is only 2-byte aligned), which nothing
-/// else on the device needs (about 200 B of flash).
-impl Default for Mapping {
-    fn default() -> Mapping {
-        Mapping {
-            objects: [MappedObject::default(); MAX_MAPPED],
-            count: 0,
-            len: 0,
-        }
-    }
-}
-
 impl Mapping {
-    /// No objects, for [`Rpdo::OFF`](super::Rpdo::OFF) and [`Tpdo::OFF`](super::Tpdo::OFF).
+    /// No objects, for [`Rpdo::OFF`](super::Rpdo::OFF), [`Tpdo::OFF`](super::Tpdo::OFF) and the
+    /// mapping an SDO write is checked into.
     pub const EMPTY: Mapping = Mapping {
         objects: [MappedObject {
             position: 0,
