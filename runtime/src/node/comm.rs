@@ -14,10 +14,10 @@
 //! rules see every write on every path, in one function, and the server stays the same whoever
 //! serves it. Strings and domains, which stream (`write_part`), have no rule to pass.
 
-use super::pdo::{self, Direction, Mapping};
+use super::pdo::{self, Mapping};
 use super::{read_uint, read_uint_or, NodeHooks};
 use crate::od::{EntryDescriptor, EntryKind, ObjectDictionary, SdoAbort, Services};
-use crate::wire::pdo::{CobIdEntry, MappingEntry};
+use crate::wire::pdo::CobIdEntry;
 use crate::wire::sdo::{SDO_REQUEST_BASE, SDO_RESPONSE_BASE};
 
 /// The "save" signature for 1010h (CiA 301 §7.5.2.13), as the little-endian bytes of 65766173h.
@@ -60,51 +60,39 @@ fn restricted(can_id: u16) -> bool {
     )
 }
 
-/// How a COB-ID entry's top bits read, for [`check_cob_id`]: a value with an `invalid` bit set
-/// has no rule to pass; the CAN-ID is in use while a bit of `in_use` is set once `invalid` is
-/// flipped. One rule for three kinds rather than a function each.
-#[derive(Clone, Copy)]
-struct CobIdKind {
-    invalid: u32,
-    in_use: u32,
+/// The bit of a COB-ID entry that marks its CAN-ID in use, for [`check_cob_id`]: the valid bit
+/// (bit 31, set: not valid) of EMCY (1014h), SDO and PDO parameters, whose valid entries use
+/// their CAN-ID; bit 30 of SYNC (1005h), set while the node produces SYNC; none for TIME
+/// (1012h), whose CAN-ID may always change. One rule for the three rather than a function each.
+fn in_use_bit(index: u16) -> u32 {
+    match index {
+        0x1005 => CobIdEntry::BIT30,
+        0x1012 => 0,
+        _ => CobIdEntry::INVALID,
+    }
 }
 
-/// EMCY (1014h), SDO and PDO parameters: bit 31 is the valid bit (set: not valid), and a valid
-/// entry's CAN-ID is in use.
-const WITH_VALID_BIT: CobIdKind = CobIdKind {
-    invalid: CobIdEntry::INVALID,
-    in_use: CobIdEntry::INVALID,
-};
-/// SYNC (1005h): no valid bit; the CAN-ID is in use while the node produces SYNC (bit 30).
-const SYNC: CobIdKind = CobIdKind {
-    invalid: 0,
-    in_use: CobIdEntry::BIT30,
-};
-/// TIME (1012h): no valid bit, and the CAN-ID may always change.
-const TIME: CobIdKind = CobIdKind {
-    invalid: 0,
-    in_use: 0,
-};
-
-/// A COB-ID entry of `kind` may change its CAN-ID only while the CAN-ID is not in use; a value
-/// that is not invalid must not use a restricted CAN-ID unless it is in `exempt` (an SDO
-/// channel's pre-defined ones); 29-bit identifiers are not served.
+/// A COB-ID entry may change its CAN-ID only while the CAN-ID is not in use (`in_use`, from
+/// [`in_use_bit`]); a value that is not invalid must not use a restricted CAN-ID unless it is
+/// in `exempt` (an SDO channel's pre-defined ones); 29-bit identifiers are not served.
 fn check_cob_id(
     old: Option<u32>,
     new: u32,
     exempt: (u16, u16),
-    kind: CobIdKind,
+    in_use: u32,
 ) -> Result<(), SdoAbort> {
-    if new & kind.invalid != 0 {
+    // Bit 31 where it is the valid bit: a value that is not valid has no rule to pass.
+    let invalid = in_use & CobIdEntry::INVALID;
+    if new & invalid != 0 {
         return Ok(());
     }
     let id = CobIdEntry(new).can_id();
     if CobIdEntry(new).extended() || (restricted(id) && !(exempt.0 <= id && id <= exempt.1)) {
         return Err(SdoAbort::InvalidValue);
     }
-    let in_use = |value: u32| (value ^ kind.invalid) & kind.in_use != 0;
+    let used = |value: u32| (value ^ invalid) & in_use != 0;
     match old {
-        Some(old) if in_use(old) && in_use(new) && CobIdEntry(old).can_id() != id => {
+        Some(old) if used(old) && used(new) && CobIdEntry(old).can_id() != id => {
             Err(SdoAbort::InvalidValue)
         }
         _ => Ok(()),
@@ -133,49 +121,32 @@ fn sdo_exempt(index: u16, sub: u8, node_id: u8) -> (u16, u16) {
 }
 
 impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
-    fn pdo_valid(&self, comm_index: u16) -> bool {
-        read_uint(self.od, comm_index, 1).is_some_and(|cob| CobIdEntry(cob).valid())
-    }
-
-    fn check_pdo_comm(
-        &self,
-        index: u16,
-        sub: u8,
-        value: u32,
-        receive: bool,
-    ) -> Result<(), SdoAbort> {
-        match sub {
-            2 => match value {
-                0..=240 | 254 | 255 => Ok(()),
-                252 | 253 if !receive => Ok(()),
-                _ => Err(SdoAbort::InvalidValue),
-            },
-            3 if self.pdo_valid(index) => Err(SdoAbort::InvalidValue),
-            6 if self.pdo_valid(index) || value > 240 => Err(SdoAbort::InvalidValue),
-            _ => Ok(()),
+    /// Checks a write to a PDO's communication parameter (`index` 1400h+n or 1800h+n) or
+    /// mapping (1600h+n or 1A00h+n): bit 11 of the index tells the directions apart, bit 9
+    /// communication from mapping. Most rules look at whether the PDO is valid, so its COB-ID
+    /// is read once for all of them.
+    fn check_pdo(&self, index: u16, sub: u8, value: u32) -> Result<(), SdoAbort> {
+        let valid =
+            read_uint(self.od, index & !0x0200, 1).is_some_and(|cob| CobIdEntry(cob).valid());
+        if index & 0x0200 == 0 {
+            return match sub {
+                2 => match value {
+                    0..=240 | 254 | 255 => Ok(()),
+                    // Only a TPDO is sent on RTR.
+                    252 | 253 if index & 0x0800 != 0 => Ok(()),
+                    _ => Err(SdoAbort::InvalidValue),
+                },
+                3 if valid => Err(SdoAbort::InvalidValue),
+                6 if valid || value > 240 => Err(SdoAbort::InvalidValue),
+                _ => Ok(()),
+            };
         }
-    }
-
-    fn check_pdo_mapping(
-        &self,
-        index: u16,
-        sub: u8,
-        value: u32,
-        direction: Direction,
-    ) -> Result<(), SdoAbort> {
-        if self.pdo_valid(index - 0x200) {
+        if valid {
             return Err(SdoAbort::DeviceState);
         }
-        if sub == 0 {
-            pdo::check_mapping(self.od, index, value, direction, &mut Mapping::default())
-        } else if read_uint_or(self.od, index, 0, 0) != 0 {
-            Err(SdoAbort::DeviceState)
-        } else if value == 0 {
-            Ok(())
-        } else {
-            let entry = MappingEntry::from_u32(value);
-            pdo::check_entry(self.od, entry, direction).map(|_| ())
-        }
+        // The checked mapping is not kept: the node reloads the PDO once the write is done.
+        let mut checked = Mapping::EMPTY;
+        pdo::check_mapping(self.od, index, sub, value, &mut checked)
     }
 
     fn check_heartbeat_consumer(&self, sub: u8, value: u32) -> Result<(), SdoAbort> {
@@ -203,18 +174,15 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
     fn check(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<Checked, SdoAbort> {
         let value = value_u32(data);
         // The COB-ID entries (SYNC, TIME, EMCY, SDO and PDO parameters): one call.
-        let cob_id = match (index, sub) {
-            (0x1005, _) => Some(SYNC),
-            (0x1012, _) => Some(TIME),
-            (0x1014, _) | (0x1200..=0x12FF, 1 | 2) | (0x1400..=0x15FF | 0x1800..=0x19FF, 1) => {
-                Some(WITH_VALID_BIT)
-            }
-            _ => None,
-        };
-        if let Some(kind) = cob_id {
+        if matches!(
+            (index, sub),
+            (0x1005 | 0x1012 | 0x1014, _)
+                | (0x1200..=0x12FF, 1 | 2)
+                | (0x1400..=0x15FF | 0x1800..=0x19FF, 1)
+        ) {
             let exempt = sdo_exempt(index, sub, self.node_id);
-            return check_cob_id(read_uint(self.od, index, sub), value, exempt, kind)
-                .map(|()| Checked::Write);
+            let old = read_uint(self.od, index, sub);
+            return check_cob_id(old, value, exempt, in_use_bit(index)).map(|()| Checked::Write);
         }
         match index {
             // No rule's code for the objects a dictionary lacks: they are never written.
@@ -255,22 +223,7 @@ impl<O: ObjectDictionary + ?Sized, H: NodeHooks<O>> CommGuard<'_, O, H> {
                     Ok(Checked::Write)
                 }
             }
-            // One call for both directions' parameters: bit 11 of the index tells them apart
-            // (receive 1400h/1600h, transmit 1800h/1A00h), bit 9 communication from mapping.
-            0x1400..=0x1BFF => {
-                let receive = index & 0x0800 == 0;
-                if index & 0x0200 == 0 {
-                    self.check_pdo_comm(index, sub, value, receive)
-                } else {
-                    let direction = if receive {
-                        Direction::Receive
-                    } else {
-                        Direction::Transmit
-                    };
-                    self.check_pdo_mapping(index, sub, value, direction)
-                }
-                .map(|()| Checked::Write)
-            }
+            0x1400..=0x1BFF => self.check_pdo(index, sub, value).map(|()| Checked::Write),
             _ => Ok(Checked::Write),
         }
     }

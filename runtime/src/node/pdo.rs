@@ -11,7 +11,7 @@ mod rpdo;
 mod tpdo;
 
 pub use mapping::MAX_MAPPED;
-pub(crate) use mapping::{check_entry, check_mapping, Direction, Mapping};
+pub(crate) use mapping::{check_mapping, Mapping};
 pub(crate) use rpdo::Rpdo;
 pub(crate) use tpdo::Tpdo;
 

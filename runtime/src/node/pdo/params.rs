@@ -5,7 +5,7 @@ use crate::node::{read_uint, read_uint_or};
 use crate::od::{ObjectDictionary, SdoAbort};
 use crate::wire::pdo::CobIdEntry;
 
-use super::mapping::{check_mapping, Direction, Mapping};
+use super::mapping::{check_mapping, Mapping};
 
 /// A PDO's configuration as read. A receive PDO has no inhibit time, SYNC start value or RTR
 /// bit (CiA 301 §7.5.2.35): those fields keep what the OD holds and go unused.
@@ -43,12 +43,7 @@ impl PdoParams {
     /// Reads the communication parameter at `comm` (1400h + n or 1800h + n) and the mapping
     /// 200h above it into these parameters, which are [`PdoParams::OFF`]. Returns why the
     /// mapping was refused if the COB-ID is valid (the PDO is then not served).
-    pub fn load<O: ObjectDictionary + ?Sized>(
-        &mut self,
-        od: &O,
-        comm: u16,
-        direction: Direction,
-    ) -> Option<SdoAbort> {
+    pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, comm: u16) -> Option<SdoAbort> {
         let cob = CobIdEntry(read_uint(od, comm, 1)?);
         self.cob_id = cob.can_id();
         self.rtr_allowed = !cob.bit30();
@@ -59,7 +54,7 @@ impl PdoParams {
         let map = comm + 0x200;
         let checked = read_uint(od, map, 0)
             .ok_or(SdoAbort::NoObject)
-            .and_then(|count| check_mapping(od, map, count, direction, &mut self.mapping));
+            .and_then(|count| check_mapping(od, map, 0, count, &mut self.mapping));
         match checked {
             Ok(()) => {
                 self.enabled = cob.valid() && !cob.extended();

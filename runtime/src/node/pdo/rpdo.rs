@@ -5,7 +5,7 @@ use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::Instant;
 
 use super::arm_timer;
-use super::mapping::{Direction, Mapping};
+use super::mapping::Mapping;
 use super::params::PdoParams;
 
 /// A receive PDO.
@@ -50,7 +50,7 @@ impl Rpdo {
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
         *self = Rpdo::OFF;
-        self.params.load(od, 0x1400 + n, Direction::Receive)
+        self.params.load(od, 0x1400 + n)
     }
 
     #[inline]

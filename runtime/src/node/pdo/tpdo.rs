@@ -6,7 +6,6 @@ use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 
 use super::arm_timer;
-use super::mapping::Direction;
 use super::params::PdoParams;
 
 /// A transmit PDO.
@@ -58,7 +57,7 @@ impl Tpdo {
     /// (the PDO is then not served).
     pub fn load<O: ObjectDictionary + ?Sized>(&mut self, od: &O, n: u16) -> Option<SdoAbort> {
         *self = Tpdo::OFF;
-        self.params.load(od, 0x1800 + n, Direction::Transmit)
+        self.params.load(od, 0x1800 + n)
     }
 
     #[inline]
@@ -112,7 +111,7 @@ impl Tpdo {
         // timing history stays.
         self.stop();
         self.params = PdoParams::OFF;
-        let _ = self.params.load(od, 0x1800 + n, Direction::Transmit);
+        let _ = self.params.load(od, 0x1800 + n);
         *event_timer = None;
         if operational && self.params.enabled && self.event_driven() {
             arm_timer(event_timer, now, self.params.event_timer_ms);
