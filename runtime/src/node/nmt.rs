@@ -122,7 +122,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         // After a reset node that cleared errors, "no error" is announced once.
         let announce_no_error = kind == ResetKind::Node && self.emcy.any_active();
         if kind == ResetKind::Node {
-            self.emcy.clear_all(&mut self.od);
+            self.emcy.forget_all();
         }
         self.hooks
             .restore_power_on(kind, self.node_id, &mut self.od);
