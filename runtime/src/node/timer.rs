@@ -95,7 +95,9 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
         tpdo_events: [None; TPDOS],
     };
 
-    /// The slot of `timer`.
+    /// The slot of `timer`. Always inlined: every caller names the kind of timer, and what is
+    /// left of the match is the index into one array.
+    #[inline(always)]
     pub fn slot(&mut self, timer: Timer) -> &mut Option<Instant> {
         let service = match timer {
             Timer::RpdoDeadline(n) => return &mut self.rpdo_deadlines[n],
