@@ -123,6 +123,17 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
         }
     }
 
+    /// The instant of [`Timer::nth`]`(i)`.
+    fn nth(&self, i: usize) -> &Option<Instant> {
+        if i < SERVICE_TIMERS {
+            &self.services[i]
+        } else if i < SERVICE_TIMERS + RPDOS {
+            &self.rpdo_deadlines[i - SERVICE_TIMERS]
+        } else {
+            &self.tpdo_events[i - SERVICE_TIMERS - RPDOS]
+        }
+    }
+
     /// The heartbeat consumers' slots, in 1016h order (see `ErrorControl::configure_consumers`).
     pub fn consumers(&mut self) -> &mut [Option<Instant>] {
         &mut self.services[CONSUMERS..CONSUMERS + MAX_HEARTBEAT_CONSUMERS]
@@ -142,14 +153,9 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
     /// The earliest armed instant.
     fn earliest(&self) -> Option<Instant> {
         let mut next = None;
-        for at in &self.services {
-            keep_earliest(&mut next, at);
-        }
-        for at in &self.rpdo_deadlines {
-            keep_earliest(&mut next, at);
-        }
-        for at in &self.tpdo_events {
-            keep_earliest(&mut next, at);
+        // One loop over the index, as `Node::handle_timeout` runs them.
+        for i in 0..Self::LEN {
+            keep_earliest(&mut next, self.nth(i));
         }
         next
     }
