@@ -222,11 +222,10 @@ impl Emcy {
         self.active_count = kept;
     }
 
-    /// Forgets every active error (reset node): 1001h becomes 0. The queue goes with the reset
-    /// communication that follows ([`Emcy::reset_queue`]).
-    pub fn clear_all<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
+    /// Forgets every active error (reset node), without an emergency; the reset communication
+    /// that follows drops the queue and rewrites 1001h ([`Emcy::reset_queue`]).
+    pub fn forget_all(&mut self) {
         self.active_count = 0;
-        write_error_register(od, 0);
     }
 
     /// Drops queued emergencies and the inhibit timer (reset communication); the active errors

@@ -110,11 +110,10 @@ impl ErrorControl {
         let Ok(timers) = <&mut [_; MAX_HEARTBEAT_CONSUMERS]>::try_from(timers) else {
             return;
         };
-        let previous = core::mem::replace(
-            &mut self.consumers,
-            [Consumer::NONE; MAX_HEARTBEAT_CONSUMERS],
-        );
-        let previous_timers = core::mem::replace(timers, [None; MAX_HEARTBEAT_CONSUMERS]);
+        let previous = self.consumers;
+        let previous_timers = *timers;
+        self.consumers.fill(Consumer::NONE);
+        timers.fill(None);
         let count = read_uint_or(od, 0x1016, 0, 0).min(127) as u8;
         let mut served = 0;
         for sub in 1..count + 1 {

@@ -71,23 +71,21 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
 
     pub(super) fn reset_communication(&mut self, now: Instant) {
         self.state = NmtState::Initialising;
+        // Cleared one after the other: where the two lie side by side, one memset clears both.
+        self.timers = TimerTable::OFF;
+        self.error_control = ErrorControl::OFF;
+        self.reset_sdo();
         #[cfg(feature = "lss")]
         {
             self.lss.load_address(&self.od);
             if self.is_unconfigured() {
                 // CiA 305: no NMT slave service but LSS until the node has an ID.
-                self.timers = TimerTable::OFF;
-                self.reset_sdo();
                 self.emcy.reset_queue(&mut self.od);
-                self.error_control = ErrorControl::OFF;
                 return;
             }
         }
-        self.timers = TimerTable::OFF;
-        self.reset_sdo();
         self.emcy.forget_communication_errors(&COMMUNICATION_ERRORS);
         self.emcy.reset_queue(&mut self.od);
-        self.error_control = ErrorControl::OFF;
         for &index in &SERVICE_OBJECTS {
             self.configure(index, 0, now);
         }
@@ -122,7 +120,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
         // After a reset node that cleared errors, "no error" is announced once.
         let announce_no_error = kind == ResetKind::Node && self.emcy.any_active();
         if kind == ResetKind::Node {
-            self.emcy.clear_all(&mut self.od);
+            self.emcy.forget_all();
         }
         self.hooks
             .restore_power_on(kind, self.node_id, &mut self.od);

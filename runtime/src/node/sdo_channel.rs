@@ -26,8 +26,7 @@ pub(crate) struct SdoChannel {
 impl SdoChannel {
     /// The default SDO server (1200h) of node `node_id`. CiA 301 fixes its COB-IDs (1200h is
     /// read-only): 600h/580h + node-ID, whatever the OD stores there (some descriptions hold
-    /// 8000 0000h, to be set at run time). Not inlined: the node builds two.
-    #[inline(never)]
+    /// 8000 0000h, to be set at run time).
     pub const fn new(node_id: u8) -> Self {
         SdoChannel {
             server: SdoServer::new(SDO_TIMEOUT),

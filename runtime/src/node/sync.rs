@@ -18,8 +18,10 @@ pub(crate) struct Sync {
     window: Duration,
     overflow: u8,
     counter: u8,
-    /// Producer: a SYNC to send.
-    due: Option<SyncRepr>,
+    /// Producer: a SYNC to send, and its counter (a flag beside the counter rather than an
+    /// `Option<SyncRepr>`, whose `None` is not zero: a new `Sync` is all zeros).
+    due: bool,
+    due_counter: Option<u8>,
 }
 
 impl Sync {
@@ -74,7 +76,7 @@ impl Sync {
     pub fn restart(&mut self, now: Instant, serves: bool) -> Option<Instant> {
         let active = self.producer && self.period != Duration::ZERO && serves;
         if !active {
-            self.due = None;
+            self.due = false;
         }
         active.then(|| now + self.period)
     }
@@ -89,13 +91,19 @@ impl Sync {
     /// Whether a produced SYNC waits to be sent.
     #[inline]
     pub fn due(&self) -> bool {
-        self.due.is_some()
+        self.due
     }
 
     /// The SYNC the producer has to send, as (CAN-ID, counter byte, length).
     #[inline]
     pub fn poll_transmit(&mut self) -> Option<(u16, u8, u8)> {
-        let ([counter], len) = self.due.take()?.emit();
+        if !core::mem::take(&mut self.due) {
+            return None;
+        }
+        let ([counter], len) = SyncRepr {
+            counter: self.due_counter,
+        }
+        .emit();
         Some((self.cob_id, counter, len as u8))
     }
 
@@ -110,7 +118,8 @@ impl Sync {
             };
             self.counter
         });
-        self.due = Some(SyncRepr { counter });
+        self.due = true;
+        self.due_counter = counter;
         (counter, next_period(at, self.period, now))
     }
 }

@@ -95,7 +95,9 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
         tpdo_events: [None; TPDOS],
     };
 
-    /// The slot of `timer`.
+    /// The slot of `timer`. Always inlined: every caller names the kind of timer, and what is
+    /// left of the match is the index into one array.
+    #[inline(always)]
     pub fn slot(&mut self, timer: Timer) -> &mut Option<Instant> {
         let service = match timer {
             Timer::RpdoDeadline(n) => return &mut self.rpdo_deadlines[n],
@@ -121,6 +123,17 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
         }
     }
 
+    /// The instant of [`Timer::nth`]`(i)`.
+    fn nth(&self, i: usize) -> &Option<Instant> {
+        if i < SERVICE_TIMERS {
+            &self.services[i]
+        } else if i < SERVICE_TIMERS + RPDOS {
+            &self.rpdo_deadlines[i - SERVICE_TIMERS]
+        } else {
+            &self.tpdo_events[i - SERVICE_TIMERS - RPDOS]
+        }
+    }
+
     /// The heartbeat consumers' slots, in 1016h order (see `ErrorControl::configure_consumers`).
     pub fn consumers(&mut self) -> &mut [Option<Instant>] {
         &mut self.services[CONSUMERS..CONSUMERS + MAX_HEARTBEAT_CONSUMERS]
@@ -140,14 +153,9 @@ impl<const RPDOS: usize, const TPDOS: usize> TimerTable<RPDOS, TPDOS> {
     /// The earliest armed instant.
     fn earliest(&self) -> Option<Instant> {
         let mut next = None;
-        for at in &self.services {
-            keep_earliest(&mut next, at);
-        }
-        for at in &self.rpdo_deadlines {
-            keep_earliest(&mut next, at);
-        }
-        for at in &self.tpdo_events {
-            keep_earliest(&mut next, at);
+        // One loop over the index, as `Node::handle_timeout` runs them.
+        for i in 0..Self::LEN {
+            keep_earliest(&mut next, self.nth(i));
         }
         next
     }
