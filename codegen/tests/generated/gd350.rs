@@ -21,9 +21,10 @@ pub mod gd350 {
     /// writable string, octet string or domain): a download changes its entry only once
     /// complete.
     pub const STAGE_SIZE: usize = 32;
-    /// The value image with every entry at its default (`$NODEID` ones at their offset from
-    /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
-    /// each (see `edsgen_runtime::od::image::unpack_defaults`).
+    /// The value image with every entry at its default, as runs of its non-zero bytes: a
+    /// gap, a length and that many bytes each, a `$NODEID` default in a run of its own (its
+    /// offset from the node-ID, which `Od::new` adds; see
+    /// `edsgen_runtime::od::image::unpack_defaults`).
     ///
     /// The non-zero defaults, at their offset in the image:
     ///
@@ -71,18 +72,16 @@ pub mod gd350 {
     /// - 0x00B5: `TAG` (2006h sub 0) = `01 02 03 04`
     /// - 0x00D7: `settings::NUMBER_OF_ENTRIES` (2100h sub 0) = `0x04`
     /// - 0x00E2: `SETTING_LIMITED` (2102h sub 0) = `0x0064`
-    const DEFAULTS: [u8; 150] = [
-        0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 29, 1, 128,
-        3, 94, 3, 216, 4, 0, 0, 82, 146, 0, 0, 1, 0, 1, 0, 2, 0, 3, 0, 0, 255, 4, 16, 0,
-        1, 33, 16, 1, 0, 33, 16, 2, 0, 33, 16, 3, 0, 33, 2, 128, 2, 0, 0, 255, 4, 16, 0,
-        1, 32, 16, 1, 0, 32, 16, 2, 0, 32, 16, 3, 0, 32, 5, 4, 0, 2, 32, 4, 0, 5, 0, 24,
-        1, 3, 32, 8, 2, 3, 32, 1, 0, 4, 32, 3, 1, 0, 4, 32, 32, 0, 6, 32, 8, 2, 3, 32, 4,
-        11, 24, 5, 251, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 1, 0, 0, 192,
-        63, 4, 0, 1, 2, 3, 4, 28, 1, 4, 10, 1, 100,
+    const DEFAULTS: [u8; 161] = [
+        0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 29, 132,
+        128, 0, 0, 0, 0, 14, 3, 216, 4, 0, 0, 82, 146, 0, 0, 1, 0, 1, 0, 2, 0, 132, 0, 3,
+        0, 0, 0, 19, 255, 4, 16, 0, 1, 33, 16, 1, 0, 33, 16, 2, 0, 33, 16, 3, 0, 33, 2,
+        0, 132, 128, 2, 0, 0, 0, 53, 255, 4, 16, 0, 1, 32, 16, 1, 0, 32, 16, 2, 0, 32,
+        16, 3, 0, 32, 5, 4, 0, 2, 32, 4, 0, 5, 0, 24, 1, 3, 32, 8, 2, 3, 32, 1, 0, 4, 32,
+        3, 1, 0, 4, 32, 32, 0, 6, 32, 8, 2, 3, 32, 4, 11, 24, 5, 251, 255, 255, 255, 255,
+        255, 255, 255, 255, 255, 0, 0, 1, 0, 0, 192, 63, 4, 0, 1, 2, 3, 4, 28, 1, 4, 10,
+        1, 100,
     ];
-    /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
-    /// image, width).
-    const NODE_RELATIVE: [(u16, u8); 3] = [(54, 4), (72, 4), (95, 4)];
     /// The object dictionary: every entry's value, little-endian, in one byte array laid out
     /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
     /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
@@ -100,10 +99,9 @@ pub mod gd350 {
                 values: [0; IMAGE_SIZE],
                 stage: ::edsgen_runtime::support::Stage::new(),
             };
-            ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
-            ::edsgen_runtime::support::add_node_id(
+            ::edsgen_runtime::support::unpack_defaults(
                 &mut od.values,
-                &NODE_RELATIVE,
+                &DEFAULTS,
                 node_id,
             );
             od
@@ -203,14 +201,16 @@ pub mod gd350 {
             E::new(0x6041, 0x00, D::Unsigned16, A::Ro, true),
         ]
     };
-    /// Where each entry of `ENTRIES` starts in the value image (a string's or domain's
-    /// capacity is the room up to the next one).
-    static OFFSETS: [u16; 60] = [
+    /// Where each entry of `ENTRIES` starts in the value image, modulo 256 (a string's or
+    /// domain's capacity is the room up to the next one).
+    static OFFSETS: [u8; 60] = [
         0, 4, 5, 9, 13, 20, 54, 58, 59, 63, 67, 71, 72, 76, 77, 78, 82, 86, 90, 94, 95,
         99, 100, 101, 105, 109, 113, 117, 118, 122, 126, 130, 134, 138, 139, 143, 147,
         151, 152, 154, 156, 158, 160, 162, 163, 164, 167, 168, 176, 177, 181, 215, 216,
         218, 220, 222, 224, 226, 228, 230,
     ];
+    /// The positions in `ENTRIES` where the starts pass 256, 512 and so on, in turn.
+    static PAGES: [u16; 0] = [];
     /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
     static LIMITS: [(u16, ::edsgen_runtime::support::Limit); 1] = {
         use ::edsgen_runtime::support::Limit as L;
@@ -221,6 +221,7 @@ pub mod gd350 {
     static LAYOUT: ::edsgen_runtime::support::Layout = ::edsgen_runtime::support::Layout::new(
         &ENTRIES,
         &OFFSETS,
+        &PAGES,
         &LIMITS,
         IMAGE_SIZE,
     );
@@ -335,14 +336,7 @@ pub mod gd350 {
             indices: ::core::ops::RangeInclusive<u16>,
             node_id: u8,
         ) -> bool {
-            LAYOUT
-                .restore_defaults(
-                    &mut self.values,
-                    &DEFAULTS,
-                    &NODE_RELATIVE,
-                    node_id,
-                    indices,
-                );
+            LAYOUT.restore_defaults(&mut self.values, &DEFAULTS, node_id, indices);
             true
         }
     }
