@@ -30,8 +30,8 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
             // The wire bytes only: a negative INTEGER16 is FF FF, not 64 bits of ones.
             (Initial::Raw(raw) | Initial::NodeRelative(raw), RustType::Scalar(_, wire)) => {
                 image[at..at + wire].copy_from_slice(&raw.to_le_bytes()[..wire]);
-                if matches!(e.init, Initial::NodeRelative(_)) {
-                    node_relative.push((at, wire));
+                if let Initial::NodeRelative(raw) = e.init {
+                    node_relative.push((at, node_id_reach(raw, wire)));
                 }
             }
             (Initial::Bytes(bytes), _) => {
@@ -56,6 +56,16 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
 
         #od
     }
+}
+
+/// How many low bytes of a `$NODEID` default of `wire` bytes holding `raw` (its offset from
+/// the node-ID) a node-ID's carry can reach: the bytes above them are zero and stay so, so its
+/// run in `DEFAULTS` leaves them out (`$NODEID+0x180` in an UNSIGNED32 needs 80 01 only).
+fn node_id_reach(raw: u64, wire: usize) -> usize {
+    let value = u128::from(raw) & ((1u128 << (8 * wire)) - 1);
+    (1..wire)
+        .find(|&bytes| value + 255 < 1u128 << (8 * bytes))
+        .unwrap_or(wire)
 }
 
 /// `DEFAULTS`, the default image as runs (see [`default_runs`]), with its doc and the table of
@@ -141,8 +151,8 @@ fn default_table(plan: &Plan) -> Vec<String> {
 /// non-zero bytes, the gap since the previous run, the length and the bytes. Zero gaps of up to
 /// two bytes stay inside a run (they cost what a new run's gap and length would); a gap longer
 /// than 255 bytes or a stretch longer than 127 takes several runs. Each `$NODEID` default
-/// (offset, width) in `node_relative` is a run of its own, its length marked with
-/// `NODE_RELATIVE`, zero bytes included (the node-ID's carry runs through them).
+/// (offset, bytes) in `node_relative` is a run of its own, its length marked with
+/// `NODE_RELATIVE`: the bytes a node-ID's carry can reach, zeros included.
 fn default_runs(image: &[u8], node_relative: &[(usize, usize)]) -> Vec<u8> {
     const LONGEST: usize = NODE_RELATIVE as usize - 1;
     // The width of the `$NODEID` default starting at each offset (0: none).
@@ -400,7 +410,7 @@ fn services(has: impl Fn(u16) -> bool) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{default_runs, pages, services, NODE_RELATIVE};
+    use super::{default_runs, node_id_reach, pages, services, NODE_RELATIVE};
     use edsgen_runtime::od::image::unpack_defaults;
     use proptest::prelude::*;
 
@@ -437,6 +447,18 @@ mod tests {
         assert_eq!(pages([0, 255, 256, 300, 511, 512].into_iter()), vec![2, 5]);
         // A value of 600 bytes at position 1: position 2 passes both 256 and 512.
         assert_eq!(pages([0, 2, 602, 603].into_iter()), vec![2, 2]);
+    }
+
+    #[test]
+    fn a_node_id_run_holds_the_bytes_a_carry_can_reach() {
+        assert_eq!(node_id_reach(0x180, 4), 2);
+        assert_eq!(node_id_reach(0x80, 4), 2);
+        assert_eq!(node_id_reach(0, 4), 1);
+        assert_eq!(node_id_reach(0, 1), 1);
+        assert_eq!(node_id_reach(0xFF00, 2), 2);
+        assert_eq!(node_id_reach(0xFEFF, 4), 2);
+        assert_eq!(node_id_reach(0xFF01, 4), 3);
+        assert_eq!(node_id_reach(u64::MAX, 8), 8);
     }
 
     #[test]
