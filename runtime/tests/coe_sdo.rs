@@ -17,9 +17,9 @@ const ENTRIES: [EntryDescriptor; 7] = [
     EntryDescriptor::new(0x2000, 0, DataType::VisibleString, Access::Rw, false),
 ];
 /// 1018h at 0, 1, 5; 1C12h at 9, 10, 12; 2000h at 14 (a 2-byte length and 30 bytes).
-const OFFSETS: [u8; 7] = [0, 1, 5, 9, 10, 12, 14];
+const OFFSETS: [u16; 7] = [0, 1, 5, 9, 10, 12, 14];
 const IMAGE_SIZE: usize = 46;
-static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &[], &[], IMAGE_SIZE);
+static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &[], IMAGE_SIZE);
 
 struct Od([u8; IMAGE_SIZE]);
 

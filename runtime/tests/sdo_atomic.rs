@@ -32,9 +32,9 @@ const ENTRIES: [EntryDescriptor; 8] = [
 ];
 /// 1000h at 0, 1200h:00 at 4, 1201h at 5, 6 and 10, 2000h (8 bytes) at 14, 2001h (a 2-byte
 /// length and 20 bytes) at 22, 2002h (a 2-byte length and 40 bytes) at 44.
-const OFFSETS: [u8; 8] = [0, 4, 5, 6, 10, 14, 22, 44];
+const OFFSETS: [u16; 8] = [0, 4, 5, 6, 10, 14, 22, 44];
 const IMAGE_SIZE: usize = 86;
-static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &[], &[], IMAGE_SIZE);
+static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &[], IMAGE_SIZE);
 /// The largest writable string or domain, as a generated `Od`'s `STAGE_SIZE`.
 const STAGE_SIZE: usize = 40;
 

@@ -27,9 +27,9 @@ const ENTRIES: [EntryDescriptor; 4] = [
 ];
 /// 1000h at 0 (4 bytes), 1F50h:00 at 4 (1 byte), 1F50h:01 at 5 (the image keeps only an empty
 /// room: its bytes are the application's), 2000h at 7 (a 2-byte length and 120 bytes).
-const OFFSETS: [u8; 4] = [0, 4, 5, 7];
+const OFFSETS: [u16; 4] = [0, 4, 5, 7];
 const IMAGE_SIZE: usize = 129;
-static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &[], &[], IMAGE_SIZE);
+static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &[], IMAGE_SIZE);
 
 /// Where 1F50h:01 is in `ENTRIES`.
 const PROGRAM: usize = 2;

@@ -107,11 +107,9 @@ pub mod ec_hand {
             E::new(0x607A, 0x00, D::Integer32, A::Rw, true),
         ]
     };
-    /// Where each entry of `ENTRIES` starts in the value image, modulo 256 (a string's or
-    /// domain's capacity is the room up to the next one).
-    static OFFSETS: [u8; 14] = [0, 4, 5, 9, 13, 17, 20, 24, 25, 35, 43, 45, 47, 48];
-    /// The positions in `ENTRIES` where the starts pass 256, 512 and so on, in turn.
-    static PAGES: [u16; 0] = [];
+    /// Where each entry of `ENTRIES` starts in the value image (a string's or domain's
+    /// capacity is the room up to the next one).
+    static OFFSETS: [u16; 14] = [0, 4, 5, 9, 13, 17, 20, 24, 25, 35, 43, 45, 47, 48];
     /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
     static LIMITS: [(u16, ::edsgen_runtime::support::Limit); 0] = [];
     /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
@@ -119,7 +117,6 @@ pub mod ec_hand {
     static LAYOUT: ::edsgen_runtime::support::Layout = ::edsgen_runtime::support::Layout::new(
         &ENTRIES,
         &OFFSETS,
-        &PAGES,
         &LIMITS,
         IMAGE_SIZE,
     );

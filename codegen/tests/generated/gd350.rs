@@ -200,16 +200,14 @@ pub mod gd350 {
             E::new(0x6041, 0x00, D::Unsigned16, A::Ro, true),
         ]
     };
-    /// Where each entry of `ENTRIES` starts in the value image, modulo 256 (a string's or
-    /// domain's capacity is the room up to the next one).
-    static OFFSETS: [u8; 60] = [
+    /// Where each entry of `ENTRIES` starts in the value image (a string's or domain's
+    /// capacity is the room up to the next one).
+    static OFFSETS: [u16; 60] = [
         0, 4, 5, 9, 13, 20, 54, 58, 59, 63, 67, 71, 72, 76, 77, 78, 82, 86, 90, 94, 95,
         99, 100, 101, 105, 109, 113, 117, 118, 122, 126, 130, 134, 138, 139, 143, 147,
         151, 152, 154, 156, 158, 160, 162, 163, 164, 167, 168, 176, 177, 181, 215, 216,
         218, 220, 222, 224, 226, 228, 230,
     ];
-    /// The positions in `ENTRIES` where the starts pass 256, 512 and so on, in turn.
-    static PAGES: [u16; 0] = [];
     /// LowLimit and HighLimit by position in `ENTRIES`, for the entries that have them.
     static LIMITS: [(u16, ::edsgen_runtime::support::Limit); 1] = {
         use ::edsgen_runtime::support::Limit as L;
@@ -220,7 +218,6 @@ pub mod gd350 {
     static LAYOUT: ::edsgen_runtime::support::Layout = ::edsgen_runtime::support::Layout::new(
         &ENTRIES,
         &OFFSETS,
-        &PAGES,
         &LIMITS,
         IMAGE_SIZE,
     );

@@ -134,8 +134,7 @@ const fn order_key(data_type: DataType, raw: u64) -> Option<i64> {
 #[derive(Debug)]
 pub struct Layout {
     entries: &'static [EntryDescriptor],
-    offsets: &'static [u8],
-    pages: &'static [u16],
+    offsets: &'static [u16],
     limits: &'static [(u16, Limit)],
     image_size: usize,
 }
@@ -150,43 +149,24 @@ struct Place {
 }
 
 impl Layout {
-    /// The layout of `entries` (sorted by index and sub-index), whose values lie in an image of
-    /// `image_size` bytes in table order and without gaps: a fixed-size value in its size, a
-    /// string, octet string or domain in its 2-byte current length and its capacity, which is
-    /// the room up to the next value (or the end of the image). Where each value starts is
-    /// stored in a byte, as the start's low byte in `offsets[i]`, with `pages` the positions at
-    /// which the starts pass 256, 512 and so on, in turn (a position twice if the value before
-    /// it is longer than 256 bytes): half the flash of 16-bit starts. `limits` holds
-    /// (position, limits) for the entries that have limits, sorted by position.
+    /// The layout of `entries` (sorted by index and sub-index), whose values start at
+    /// `offsets[i]` in an image of `image_size` bytes, in table order and without gaps: a
+    /// value's room is up to the next value (or the end of the image), which for a fixed-size
+    /// value must be its size and for a string, octet string or domain is its 2-byte current
+    /// length and its capacity. `limits` holds (position, limits) for the entries that have limits, sorted by
+    /// position.
     pub const fn new(
         entries: &'static [EntryDescriptor],
-        offsets: &'static [u8],
-        pages: &'static [u16],
+        offsets: &'static [u16],
         limits: &'static [(u16, Limit)],
         image_size: usize,
     ) -> Self {
         Layout {
             entries,
             offsets,
-            pages,
             limits,
             image_size,
         }
-    }
-
-    /// Where the value at `position` starts; the image's size past the last (where a value
-    /// after it would start).
-    fn start(&self, position: usize) -> usize {
-        let Some(&low) = self.offsets.get(position) else {
-            return self.image_size;
-        };
-        let mut start = usize::from(low);
-        for &first in self.pages {
-            if usize::from(first) <= position {
-                start += 256;
-            }
-        }
-        start
     }
 
     /// `ObjectDictionary::entry_count`.
@@ -220,22 +200,26 @@ impl Layout {
     }
 
     /// Where the value of the entry at `position` is. `NoObject` for a position past the end,
-    /// or a string whose room the next start contradicts (a malformed hand-built layout).
+    /// or a string whose room the next offset contradicts (a malformed hand-built layout).
     #[inline]
     fn place(&self, position: usize) -> Result<Place, SdoAbort> {
-        let entry = self.entries.get(position).ok_or(SdoAbort::NoObject)?;
-        let start = self.start(position);
-        let data_type = entry.data_type();
-        let size = match data_type.fixed_size() {
-            Some(size) => size,
-            // The room up to the next value, after the 2-byte length.
-            None => self
-                .start(position + 1)
-                .checked_sub(start + 2)
-                .ok_or(SdoAbort::NoObject)?,
+        let (Some(entry), Some(&start)) = (self.entries.get(position), self.offsets.get(position))
+        else {
+            return Err(SdoAbort::NoObject);
         };
+        let start = usize::from(start);
+        // Values lie in table order without gaps, so a value's room is up to the next one: a
+        // fixed-size value's size, or a string's 2-byte length and its capacity.
+        let end = match self.offsets.get(position + 1) {
+            Some(&next) => usize::from(next),
+            None => self.image_size,
+        };
+        let reserved = if holds_bytes(entry.data_type()) { 2 } else { 0 };
+        let size = end
+            .checked_sub(start + reserved)
+            .ok_or(SdoAbort::NoObject)?;
         Ok(Place {
-            data_type,
+            data_type: entry.data_type(),
             start,
             size,
         })
@@ -329,7 +313,11 @@ impl Layout {
         let end = self
             .entries
             .partition_point(|e| e.index() <= *indices.end());
-        unpack_defaults_within(values, runs, node_id, (self.start(first), self.start(end)));
+        let offset = |position: usize| match self.offsets.get(position) {
+            Some(&offset) => usize::from(offset),
+            None => self.image_size,
+        };
+        unpack_defaults_within(values, runs, node_id, (offset(first), offset(end)));
     }
 
     /// `ObjectDictionary::value_len`: the current length of the value at `position`.
@@ -521,14 +509,14 @@ mod tests {
         e(0x2005, 0, D::VisibleString),
         e(0x2006, 0, D::Unsigned8),
     ];
-    static OFFSETS: [u8; 7] = [0, 2, 5, 6, 10, 18, 24];
+    static OFFSETS: [u16; 7] = [0, 2, 5, 6, 10, 18, 24];
     static LIMITS: [(u16, Limit); 4] = [
         (0, Limit::unsigned(10, 500)),
         (1, Limit::signed(-100, 100)),
         (3, Limit::real32(-1.5, 2.5)),
         (4, Limit::real64(0.0, f64::NAN)),
     ];
-    static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &[], &LIMITS, 25);
+    static LAYOUT: Layout = Layout::new(&ENTRIES, &OFFSETS, &LIMITS, 25);
 
     fn image() -> [u8; 25] {
         let mut values = [0u8; 25];
@@ -755,24 +743,7 @@ mod tests {
         assert_eq!(LAYOUT.capacity(7), None);
         // The last entry's room ends with the image.
         static TAIL: [EntryDescriptor; 1] = [e(0x2000, 0, D::Domain)];
-        assert_eq!(Layout::new(&TAIL, &[3], &[], &[], 14).capacity(0), Some(9));
-    }
-
-    #[test]
-    fn starts_past_256_bytes_take_their_page() {
-        // A 600-byte domain (passing 256 and 512), then a u8 at 602 and a u16 at 603.
-        static LONG: [EntryDescriptor; 3] = [
-            e(0x2000, 0, D::Domain),
-            e(0x2001, 0, D::Unsigned8),
-            e(0x2002, 0, D::Unsigned16),
-        ];
-        static PAGED: Layout = Layout::new(&LONG, &[0, 90, 91], &[1, 1], &[], 605);
-        assert_eq!(PAGED.capacity(0), Some(600));
-        let mut values = [0u8; 605];
-        assert_eq!(PAGED.write(&mut values, 1, &[7]), Ok(()));
-        assert_eq!(PAGED.write(&mut values, 2, &[8, 9]), Ok(()));
-        assert_eq!(values[601..], [0, 7, 8, 9]);
-        assert_eq!(PAGED.value(&values, 2), Ok(&[8, 9][..]));
+        assert_eq!(Layout::new(&TAIL, &[3], &[], 14).capacity(0), Some(9));
     }
 
     #[test]
@@ -784,7 +755,7 @@ mod tests {
             e(0x2001, 0, D::Unsigned8),
             e(0x2002, 0, D::Unsigned32),
         ];
-        static BAD_LAYOUT: Layout = Layout::new(&BAD, &[4, 5, 6], &[], &[], 10);
+        static BAD_LAYOUT: Layout = Layout::new(&BAD, &[4, 5, 6], &[], 10);
         let mut values = [0u8; 8];
         assert_eq!(BAD_LAYOUT.value(&values, 0), Err(SdoAbort::NoObject));
         assert_eq!(

@@ -254,13 +254,11 @@ pub fn descriptors(plan: &Plan, splices: &mut Splices) -> TokenStream {
         /// How `Od` lays out its values: what the `ObjectDictionary` implementation and the typed
         /// `get`/`set` work from.
         static LAYOUT: ::edsgen_runtime::support::Layout =
-            ::edsgen_runtime::support::Layout::new(
-                &ENTRIES, &OFFSETS, &PAGES, &LIMITS, IMAGE_SIZE,
-            );
+            ::edsgen_runtime::support::Layout::new(&ENTRIES, &OFFSETS, &LIMITS, IMAGE_SIZE);
     }
 }
 
-/// `ENTRIES` (a row per entry), `OFFSETS` and `PAGES`, as text.
+/// `ENTRIES` (a row per entry) and `OFFSETS`, as text.
 fn entries_and_offsets(plan: &Plan) -> String {
     // About 100 bytes an entry: one allocation for the whole item.
     let mut out = String::with_capacity(100 * plan.entries.len() + 256);
@@ -333,37 +331,15 @@ fn entries_and_offsets(plan: &Plan) -> String {
         &mut out,
         ITEM_INDENT,
         &[
-            " Where each entry of `ENTRIES` starts in the value image, modulo 256 (a string's or",
-            " domain's capacity is the room up to the next one).",
+            " Where each entry of `ENTRIES` starts in the value image (a string's or domain's",
+            " capacity is the room up to the next one).",
         ],
     );
-    let offsets = text::Decimals::new(plan.entries.iter().map(|e| e.offset as u32 % 256));
-    let head = format!("static OFFSETS: [u8; {n}] = ");
+    // The planner keeps offsets below 65536 (EDS707).
+    let offsets = text::Decimals::new(plan.entries.iter().map(|e| e.offset as u32));
+    let head = format!("static OFFSETS: [u16; {n}] = ");
     text::literal_array(&mut out, ITEM_INDENT, &head, &offsets.cells());
-    text::docs(
-        &mut out,
-        ITEM_INDENT,
-        &[" The positions in `ENTRIES` where the starts pass 256, 512 and so on, in turn."],
-    );
-    let pages = pages(plan.entries.iter().map(|e| e.offset));
-    let head = format!("static PAGES: [u16; {}] = ", pages.len());
-    let pages = text::Decimals::new(pages.into_iter());
-    text::literal_array(&mut out, ITEM_INDENT, &head, &pages.cells());
     out
-}
-
-/// For `offsets` in ascending order, the positions where they pass each multiple of 256 in
-/// turn: the first position at or past 256, the first at or past 512, and so on (one position
-/// twice when a value is longer than 256 bytes). The planner keeps offsets below 65536
-/// (EDS707), so positions and pages fit a `u16`.
-fn pages(offsets: impl Iterator<Item = usize>) -> Vec<u32> {
-    let mut pages = Vec::new();
-    for (position, offset) in offsets.enumerate() {
-        while pages.len() < offset / 256 {
-            pages.push(position as u32);
-        }
-    }
-    pages
 }
 
 /// The node's optional services (`edsgen_runtime::Services`' fields), each with the objects it
@@ -410,7 +386,7 @@ fn services(has: impl Fn(u16) -> bool) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{default_runs, node_id_reach, pages, services, NODE_RELATIVE};
+    use super::{default_runs, node_id_reach, services, NODE_RELATIVE};
     use edsgen_runtime::od::image::unpack_defaults;
     use proptest::prelude::*;
 
@@ -439,14 +415,6 @@ mod tests {
         assert_eq!(runs.len(), 2 + 127 + 2 + 127 + 2 + 46);
         assert_eq!((runs[0], runs[1], runs[129], runs[258]), (0, 127, 0, 0));
         assert_eq!((runs[130], runs[259]), (127, 46));
-    }
-
-    #[test]
-    fn pages_are_where_the_offsets_pass_each_multiple_of_256() {
-        assert_eq!(pages([0, 4, 200].into_iter()), Vec::<u32>::new());
-        assert_eq!(pages([0, 255, 256, 300, 511, 512].into_iter()), vec![2, 5]);
-        // A value of 600 bytes at position 1: position 2 passes both 256 and 512.
-        assert_eq!(pages([0, 2, 602, 603].into_iter()), vec![2, 2]);
     }
 
     #[test]
