@@ -140,7 +140,7 @@ fn default_out_of_range_is_eds703() {
 }
 
 /// The default value image of generated code: its `DEFAULTS` runs unpacked over `IMAGE_SIZE`
-/// zeros, as `Od::new` does.
+/// zeros, as `Od::new(0)` does (`$NODEID` defaults at their offset).
 fn default_image(code: &str) -> Vec<u8> {
     let number_after = |key: &str| {
         let start = code
@@ -164,7 +164,7 @@ fn default_image(code: &str) -> Vec<u8> {
         .map(|n| n.parse().unwrap())
         .collect();
     let mut image = vec![0; size];
-    edsgen_runtime::od::image::unpack_defaults(&mut image, &runs);
+    edsgen_runtime::od::image::unpack_defaults(&mut image, &runs, 0);
     image
 }
 

@@ -3,7 +3,7 @@
 //! author uses; generated code names its plumbing by these paths only
 //! (`::edsgen_runtime::support::…`), so the modules behind them move without breaking it.
 
-pub use crate::od::image::{add_node_id, unpack_defaults, Layout, Limit};
+pub use crate::od::image::{unpack_defaults, Layout, Limit};
 pub use crate::od::stage::Stage;
 pub use crate::od::typed::{
     fits_signed, fits_unsigned, get_bits, payload, position, put_bits, read_bytes, sign_extend,

@@ -17,9 +17,10 @@ pub mod ec_hand {
     /// writable string, octet string or domain): a download changes its entry only once
     /// complete.
     pub const STAGE_SIZE: usize = 0;
-    /// The value image with every entry at its default (`$NODEID` ones at their offset from
-    /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
-    /// each (see `edsgen_runtime::od::image::unpack_defaults`).
+    /// The value image with every entry at its default, as runs of its non-zero bytes: a
+    /// gap, a length and that many bytes each, a `$NODEID` default in a run of its own (its
+    /// offset from the node-ID, which `Od::new` adds; see
+    /// `edsgen_runtime::od::image::unpack_defaults`).
     ///
     /// The non-zero defaults, at their offset in the image:
     ///
@@ -33,7 +34,6 @@ pub mod ec_hand {
         0, 14, 146, 1, 0, 0, 3, 216, 4, 0, 0, 82, 146, 0, 0, 1, 11, 10, 8, 0, 65, 66, 67,
         68, 69, 70, 71, 72,
     ];
-    const NODE_RELATIVE: [(u16, u8); 0] = [];
     /// The object dictionary: every entry's value, little-endian, in one byte array laid out
     /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
     /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
@@ -46,12 +46,16 @@ pub mod ec_hand {
     impl Od {
         /// The dictionary with every entry at its default (a DCF's ParameterValue where
         /// given); `$NODEID` defaults are computed from `node_id`.
-        pub const fn new(_node_id: u8) -> Self {
+        pub const fn new(node_id: u8) -> Self {
             let mut od = Od {
                 values: [0; IMAGE_SIZE],
                 stage: ::edsgen_runtime::support::Stage::new(),
             };
-            ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
+            ::edsgen_runtime::support::unpack_defaults(
+                &mut od.values,
+                &DEFAULTS,
+                node_id,
+            );
             od
         }
         /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
@@ -227,14 +231,7 @@ pub mod ec_hand {
             indices: ::core::ops::RangeInclusive<u16>,
             node_id: u8,
         ) -> bool {
-            LAYOUT
-                .restore_defaults(
-                    &mut self.values,
-                    &DEFAULTS,
-                    &NODE_RELATIVE,
-                    node_id,
-                    indices,
-                );
+            LAYOUT.restore_defaults(&mut self.values, &DEFAULTS, node_id, indices);
             true
         }
     }

@@ -21,9 +21,10 @@ pub mod gd350 {
     /// writable string, octet string or domain): a download changes its entry only once
     /// complete.
     pub const STAGE_SIZE: usize = 32;
-    /// The value image with every entry at its default (`$NODEID` ones at their offset from
-    /// the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes
-    /// each (see `edsgen_runtime::od::image::unpack_defaults`).
+    /// The value image with every entry at its default, as runs of its non-zero bytes: a
+    /// gap, a length and that many bytes each, a `$NODEID` default in a run of its own (its
+    /// offset from the node-ID, which `Od::new` adds; see
+    /// `edsgen_runtime::od::image::unpack_defaults`).
     ///
     /// The non-zero defaults, at their offset in the image:
     ///
@@ -71,18 +72,15 @@ pub mod gd350 {
     /// - 0x00B5: `TAG` (2006h sub 0) = `01 02 03 04`
     /// - 0x00D7: `settings::NUMBER_OF_ENTRIES` (2100h sub 0) = `0x04`
     /// - 0x00E2: `SETTING_LIMITED` (2102h sub 0) = `0x0064`
-    const DEFAULTS: [u8; 150] = [
-        0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 29, 1, 128,
-        3, 94, 3, 216, 4, 0, 0, 82, 146, 0, 0, 1, 0, 1, 0, 2, 0, 3, 0, 0, 255, 4, 16, 0,
-        1, 33, 16, 1, 0, 33, 16, 2, 0, 33, 16, 3, 0, 33, 2, 128, 2, 0, 0, 255, 4, 16, 0,
-        1, 32, 16, 1, 0, 32, 16, 2, 0, 32, 16, 3, 0, 32, 5, 4, 0, 2, 32, 4, 0, 5, 0, 24,
-        1, 3, 32, 8, 2, 3, 32, 1, 0, 4, 32, 3, 1, 0, 4, 32, 32, 0, 6, 32, 8, 2, 3, 32, 4,
-        11, 24, 5, 251, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 1, 0, 0, 192,
-        63, 4, 0, 1, 2, 3, 4, 28, 1, 4, 10, 1, 100,
+    const DEFAULTS: [u8; 155] = [
+        0, 3, 146, 1, 1, 10, 12, 5, 0, 71, 68, 51, 53, 48, 3, 0, 49, 46, 48, 29, 130,
+        128, 0, 2, 14, 3, 216, 4, 0, 0, 82, 146, 0, 0, 1, 0, 1, 0, 2, 0, 130, 0, 3, 2,
+        19, 255, 4, 16, 0, 1, 33, 16, 1, 0, 33, 16, 2, 0, 33, 16, 3, 0, 33, 2, 0, 130,
+        128, 2, 2, 53, 255, 4, 16, 0, 1, 32, 16, 1, 0, 32, 16, 2, 0, 32, 16, 3, 0, 32, 5,
+        4, 0, 2, 32, 4, 0, 5, 0, 24, 1, 3, 32, 8, 2, 3, 32, 1, 0, 4, 32, 3, 1, 0, 4, 32,
+        32, 0, 6, 32, 8, 2, 3, 32, 4, 11, 24, 5, 251, 255, 255, 255, 255, 255, 255, 255,
+        255, 255, 0, 0, 1, 0, 0, 192, 63, 4, 0, 1, 2, 3, 4, 28, 1, 4, 10, 1, 100,
     ];
-    /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
-    /// image, width).
-    const NODE_RELATIVE: [(u16, u8); 3] = [(54, 4), (72, 4), (95, 4)];
     /// The object dictionary: every entry's value, little-endian, in one byte array laid out
     /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
     /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
@@ -100,10 +98,9 @@ pub mod gd350 {
                 values: [0; IMAGE_SIZE],
                 stage: ::edsgen_runtime::support::Stage::new(),
             };
-            ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
-            ::edsgen_runtime::support::add_node_id(
+            ::edsgen_runtime::support::unpack_defaults(
                 &mut od.values,
-                &NODE_RELATIVE,
+                &DEFAULTS,
                 node_id,
             );
             od
@@ -335,14 +332,7 @@ pub mod gd350 {
             indices: ::core::ops::RangeInclusive<u16>,
             node_id: u8,
         ) -> bool {
-            LAYOUT
-                .restore_defaults(
-                    &mut self.values,
-                    &DEFAULTS,
-                    &NODE_RELATIVE,
-                    node_id,
-                    indices,
-                );
+            LAYOUT.restore_defaults(&mut self.values, &DEFAULTS, node_id, indices);
             true
         }
     }

@@ -298,14 +298,12 @@ impl Layout {
 
     /// `ObjectDictionary::restore_defaults`: sets the values of the entries whose index is in
     /// `indices` to the defaults a generated `Od::new(node_id)` starts with (`runs` as for
-    /// [`unpack_defaults`], `node_relative` as for [`add_node_id`]). Values lie in table order,
-    /// so those entries' values are one stretch of the image: it is cleared, and only the runs'
-    /// and the `$NODEID` places' bytes inside it are written.
+    /// [`unpack_defaults`]). Values lie in table order, so those entries' values are one
+    /// stretch of the image: it is cleared, and only the runs' bytes inside it are written.
     pub fn restore_defaults(
         &self,
         values: &mut [u8],
         runs: &[u8],
-        node_relative: &[(u16, u8)],
         node_id: u8,
         indices: core::ops::RangeInclusive<u16>,
     ) {
@@ -319,9 +317,7 @@ impl Layout {
             Some(&offset) => usize::from(offset),
             None => self.image_size,
         };
-        let window = (offset(first), offset(end));
-        unpack_defaults_within(values, runs, window);
-        add_node_id_within(values, node_relative, node_id, window);
+        unpack_defaults_within(values, runs, node_id, (offset(first), offset(end)));
     }
 
     /// `ObjectDictionary::value_len`: the current length of the value at `position`.
@@ -431,52 +427,29 @@ fn length_abort(too_long: bool) -> SdoAbort {
     }
 }
 
-/// Adds `node_id` to each `$NODEID` default of a generated `Od::new`: the little-endian number
-/// of `width` bytes at `offset` in `values`, (offset, width) from `places`, which the default
-/// image holds the offset of (`$NODEID+0x600` is 0x600 there). A carry out of the width is
-/// dropped, as in the entry's own arithmetic; bytes outside `values` are skipped.
-pub const fn add_node_id(values: &mut [u8], places: &[(u16, u8)], node_id: u8) {
-    add_node_id_within(values, places, node_id, (0, usize::MAX));
-}
-
-/// [`add_node_id`] for the places that start in the bytes `window.0..window.1` only.
-const fn add_node_id_within(
-    values: &mut [u8],
-    places: &[(u16, u8)],
-    node_id: u8,
-    window: (usize, usize),
-) {
-    let mut p = 0;
-    while p < places.len() {
-        let (offset, width) = places[p];
-        p += 1;
-        let (mut at, end) = (offset as usize, offset as usize + width as usize);
-        if at < window.0 || at >= window.1 {
-            continue;
-        }
-        // Added byte by byte until the carry is spent.
-        let mut carry = node_id as u16;
-        while carry != 0 && at < end && at < values.len() {
-            let sum = values[at] as u16 + carry;
-            values[at] = sum as u8;
-            carry = sum >> 8;
-            at += 1;
-        }
-    }
-}
+/// The bit of a run's length byte that marks a `$NODEID` default (see [`unpack_defaults`]).
+pub const NODE_RELATIVE: u8 = 0x80;
 
 /// Writes the non-zero bytes of a default image into `values` (all zero before): how a generated
-/// `Od::new` starts. `runs` is a sequence of runs, each a gap (how many bytes after the end of
-/// the previous run it starts, 0 to 255), a length (0 to 255) and that many bytes. Most default
-/// bytes are zero, so the runs take well under half the image's flash (CP301: 383 bytes of image,
-/// 158 bytes of runs). Bytes that would fall outside `values` or `runs` are skipped.
-pub const fn unpack_defaults(values: &mut [u8], runs: &[u8]) {
-    unpack_defaults_within(values, runs, (0, usize::MAX));
+/// `Od::new(node_id)` starts. `runs` is a sequence of runs, each a gap (how many bytes after the
+/// end of the previous run it starts, 0 to 255), a length (0 to 127) and that many bytes. A
+/// length with [`NODE_RELATIVE`] set marks a `$NODEID` default: its bytes are the little-endian
+/// number the node-ID is added to (`$NODEID+0x600` holds 0x600), a carry out of its width
+/// dropped as in the entry's own arithmetic. Most default bytes are zero, so the runs take well
+/// under half the image's flash (CP301: 383 bytes of image, 158 bytes of runs). Bytes that
+/// would fall outside `values` or `runs` are skipped.
+pub const fn unpack_defaults(values: &mut [u8], runs: &[u8], node_id: u8) {
+    unpack_defaults_within(values, runs, node_id, (0, usize::MAX));
 }
 
 /// [`unpack_defaults`] into the bytes `window.0..window.1` only, which it sets whole: the runs'
 /// bytes there, zero in the gaps (a reset restores part of an image that is not all zero).
-const fn unpack_defaults_within(values: &mut [u8], runs: &[u8], window: (usize, usize)) {
+const fn unpack_defaults_within(
+    values: &mut [u8],
+    runs: &[u8],
+    node_id: u8,
+    window: (usize, usize),
+) {
     let end = if window.1 < values.len() {
         window.1
     } else {
@@ -492,12 +465,21 @@ const fn unpack_defaults_within(values: &mut [u8], runs: &[u8], window: (usize, 
     let (mut at, mut i) = (0usize, 0usize);
     while i + 1 < runs.len() {
         at += runs[i] as usize;
-        let run_end = i + 2 + runs[i + 1] as usize;
+        let length = runs[i + 1];
+        let run_end = i + 2 + (length & !NODE_RELATIVE) as usize;
+        // Added byte by byte with its carry: the node-ID to a `$NODEID` run, nothing to others.
+        let mut carry = if length & NODE_RELATIVE != 0 {
+            node_id as u16
+        } else {
+            0
+        };
         i += 2;
         while i < run_end && i < runs.len() {
+            let sum = runs[i] as u16 + carry;
             if at >= window.0 && at < end {
-                values[at] = runs[i];
+                values[at] = sum as u8;
             }
+            carry = sum >> 8;
             at += 1;
             i += 1;
         }
@@ -539,23 +521,27 @@ mod tests {
     fn image() -> [u8; 25] {
         let mut values = [0u8; 25];
         // 2000h = 100, 2005h = "ab" (length 2).
-        unpack_defaults(&mut values, &[0, 1, 100, 17, 4, 2, 0, b'a', b'b']);
+        unpack_defaults(&mut values, &[0, 1, 100, 17, 4, 2, 0, b'a', b'b'], 0);
         values
     }
 
     #[test]
     fn the_node_id_is_added_with_carry_within_the_width() {
-        // 0x600 + 5 (2 bytes), 0x800000FF + 5 carrying into the next byte (4 bytes), -1 + 5 in one
-        // byte (the carry dropped), and a place past the end.
-        let mut values = [0x00, 0x06, 0xFF, 0x00, 0x00, 0x80, 0xFF, 0x00];
-        let places = [(0, 2), (2, 4), (6, 1), (7, 4)];
-        add_node_id(&mut values, &places[..3], 5);
-        assert_eq!(values, [0x05, 0x06, 0x04, 0x01, 0x00, 0x80, 0x04, 0x00]);
-        add_node_id(&mut values, &places[3..], 0xFF);
-        assert_eq!(values[7], 0xFF);
+        // 0x600 + 5 (2 bytes), 0x800000FF + 5 carrying into the next byte (4 bytes), -1 + 5 in
+        // one byte (the carry dropped), and a `$NODEID` run past the end of the image.
+        let runs = [
+            0, 0x82, 0x00, 0x06, 0, 0x84, 0xFF, 0x00, 0x00, 0x80, 0, 0x81, 0xFF, 0, 0x84, 0, 0, 0,
+            0,
+        ];
+        let mut values = [0xEEu8; 8];
+        unpack_defaults(&mut values, &runs, 5);
+        assert_eq!(values, [0x05, 0x06, 0x04, 0x01, 0x00, 0x80, 0x04, 0x05]);
+        // A plain run takes no node-ID.
+        unpack_defaults(&mut values, &[1, 2, 0xFF, 0x06], 5);
+        assert_eq!(values, [0, 0xFF, 0x06, 0, 0, 0, 0, 0]);
         const BUILT: [u8; 2] = {
-            let mut values = [0x80, 0x05];
-            add_node_id(&mut values, &[(0, 2)], 0x7F);
+            let mut values = [0; 2];
+            unpack_defaults(&mut values, &[0, 0x82, 0x80, 0x05], 0x7F);
             values
         };
         assert_eq!(BUILT, [0xFF, 0x05]);
@@ -569,18 +555,18 @@ mod tests {
         assert_eq!(image(), expected);
         // A run past the end of the image and one cut short by the end of the runs.
         let mut values = [0u8; 4];
-        unpack_defaults(&mut values, &[2, 5, 1, 2, 3, 4, 5]);
+        unpack_defaults(&mut values, &[2, 5, 1, 2, 3, 4, 5], 9);
         assert_eq!(values, [0, 0, 1, 2]);
         let mut values = [0u8; 4];
-        unpack_defaults(&mut values, &[1, 3, 9]);
+        unpack_defaults(&mut values, &[1, 3, 9], 9);
         assert_eq!(values, [0, 9, 0, 0]);
         // A gap without its length: nothing but zeros (the image is set whole).
-        unpack_defaults(&mut values, &[255]);
+        unpack_defaults(&mut values, &[255], 9);
         assert_eq!(values, [0, 0, 0, 0]);
         // The same at compile time.
         const BUILT: [u8; 3] = {
             let mut values = [0u8; 3];
-            unpack_defaults(&mut values, &[1, 2, 7, 8]);
+            unpack_defaults(&mut values, &[1, 2, 7, 8], 9);
             values
         };
         assert_eq!(BUILT, [0, 7, 8]);
@@ -588,16 +574,15 @@ mod tests {
 
     #[test]
     fn restoring_defaults_sets_only_the_values_of_the_indices_given() {
-        const RUNS: [u8; 9] = [0, 1, 100, 17, 4, 2, 0, b'a', b'b'];
-        // 2000h's low byte holds a $NODEID default (100 + node-ID).
-        const NODE_RELATIVE: [(u16, u8); 1] = [(0, 2)];
+        // 2000h holds a $NODEID default (100 + node-ID).
+        const RUNS: [u8; 10] = [0, 0x82, 100, 0, 16, 4, 2, 0, b'a', b'b'];
         let mut values = [0xEEu8; 25];
         // 2001h..=2004h: their bytes 2..18 only, zeros from the gaps.
-        LAYOUT.restore_defaults(&mut values, &RUNS, &NODE_RELATIVE, 3, 0x2001..=0x2004);
+        LAYOUT.restore_defaults(&mut values, &RUNS, 3, 0x2001..=0x2004);
         assert!(values[..2].iter().chain(&values[18..]).all(|&b| b == 0xEE));
         assert!(values[2..18].iter().all(|&b| b == 0));
         // 2000h (with the node-ID added) and 2005h ("ab").
-        LAYOUT.restore_defaults(&mut values, &RUNS, &NODE_RELATIVE, 3, 0x2000..=0x2005);
+        LAYOUT.restore_defaults(&mut values, &RUNS, 3, 0x2000..=0x2005);
         let mut expected = image();
         expected[0] = 103;
         expected[24] = 0xEE;

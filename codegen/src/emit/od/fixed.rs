@@ -3,20 +3,10 @@
 //! parsing and printing them again was a quarter of formatting a module. A test checks that
 //! printing them again changes nothing.
 
-/// `Od` and `impl Od`; `Od::new` adds the node-ID to the `$NODEID` defaults when
-/// `node_relative` (the module has a `NODE_RELATIVE` table to apply).
-pub fn od_struct(node_relative: bool) -> String {
-    let mut out = String::with_capacity(OD_HEAD.len() + OD_NEW.len() + OD_TAIL.len() + 256);
+/// `Od` and `impl Od`.
+pub fn od_struct() -> String {
+    let mut out = String::with_capacity(OD_HEAD.len() + OD_TAIL.len());
     out.push_str(OD_HEAD);
-    out.push_str(if node_relative {
-        "        pub const fn new(node_id: u8) -> Self {\n"
-    } else {
-        "        pub const fn new(_node_id: u8) -> Self {\n"
-    });
-    out.push_str(OD_NEW);
-    if node_relative {
-        out.push_str(ADD_NODE_ID);
-    }
     out.push_str(OD_TAIL);
     out
 }
@@ -123,20 +113,13 @@ pub const OD_IMPL: &str = r##"    impl ::edsgen_runtime::ObjectDictionary for Od
             indices: ::core::ops::RangeInclusive<u16>,
             node_id: u8,
         ) -> bool {
-            LAYOUT
-                .restore_defaults(
-                    &mut self.values,
-                    &DEFAULTS,
-                    &NODE_RELATIVE,
-                    node_id,
-                    indices,
-                );
+            LAYOUT.restore_defaults(&mut self.values, &DEFAULTS, node_id, indices);
             true
         }
     }
 "##;
 
-/// `Od` with its rustdoc, and `impl Od` up to `Od::new`'s signature.
+/// `Od` with its rustdoc, and `impl Od` up to the end of `Od::new`.
 const OD_HEAD: &str = r##"    /// The object dictionary: every entry's value, little-endian, in one byte array laid out
     /// by `LAYOUT`. The application reads and sets entries through their typed addresses in
     /// `od` (`get`/`set`), the protocols through `ObjectDictionary`.
@@ -149,25 +132,19 @@ const OD_HEAD: &str = r##"    /// The object dictionary: every entry's value, li
     impl Od {
         /// The dictionary with every entry at its default (a DCF's ParameterValue where
         /// given); `$NODEID` defaults are computed from `node_id`.
-"##;
-
-/// `Od::new`'s body up to where it adds the node-ID.
-const OD_NEW: &str = r##"            let mut od = Od {
+        pub const fn new(node_id: u8) -> Self {
+            let mut od = Od {
                 values: [0; IMAGE_SIZE],
                 stage: ::edsgen_runtime::support::Stage::new(),
             };
-            ::edsgen_runtime::support::unpack_defaults(&mut od.values, &DEFAULTS);
-"##;
-
-/// The node-ID added to the `$NODEID` defaults, in `Od::new`.
-const ADD_NODE_ID: &str = r##"            ::edsgen_runtime::support::add_node_id(
+            ::edsgen_runtime::support::unpack_defaults(
                 &mut od.values,
-                &NODE_RELATIVE,
+                &DEFAULTS,
                 node_id,
             );
 "##;
 
-/// The rest of `impl Od`: the typed `get`, `get_checked` and `set`.
+/// The rest of `impl Od` (from the end of `Od::new`): the typed `get`, `get_checked` and `set`.
 const OD_TAIL: &str = r##"            od
         }
         /// The value of `entry`, a typed address of this dictionary (`od::CONTROLWORD`,
@@ -220,10 +197,7 @@ mod tests {
     #[test]
     fn the_fixed_items_are_as_prettyplease_prints_them() {
         assert_eq!(printed_again(OD_IMPL), OD_IMPL);
-        for node_relative in [false, true] {
-            let od = od_struct(node_relative);
-            assert_eq!(printed_again(&od), od);
-            assert_eq!(od.contains("add_node_id"), node_relative);
-        }
+        let od = od_struct();
+        assert_eq!(printed_again(&od), od);
     }
 }

@@ -30,13 +30,8 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
             // The wire bytes only: a negative INTEGER16 is FF FF, not 64 bits of ones.
             (Initial::Raw(raw) | Initial::NodeRelative(raw), RustType::Scalar(_, wire)) => {
                 image[at..at + wire].copy_from_slice(&raw.to_le_bytes()[..wire]);
-                if matches!(e.init, Initial::NodeRelative(_)) {
-                    // The planner keeps offsets below 65536 (EDS707); widths are 1 to 8.
-                    let (at, wire) = (
-                        Literal::u16_unsuffixed(at as u16),
-                        Literal::u8_unsuffixed(wire as u8),
-                    );
-                    node_relative.push(quote!((#at, #wire)));
+                if let Initial::NodeRelative(raw) = e.init {
+                    node_relative.push((at, node_id_reach(raw, wire)));
                 }
             }
             (Initial::Bytes(bytes), _) => {
@@ -46,20 +41,8 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
             _ => {}
         }
     }
-    let defaults = splices.item(defaults(plan, &image));
-    let node_count = Literal::usize_unsuffixed(node_relative.len());
-    let node_table = if node_relative.is_empty() {
-        quote!(
-            const NODE_RELATIVE: [(u16, u8); 0] = [];
-        )
-    } else {
-        quote! {
-            /// Where `Od::new` adds the node-ID to a `$NODEID` default: (offset in the
-            /// image, width).
-            const NODE_RELATIVE: [(u16, u8); #node_count] = [#(#node_relative),*];
-        }
-    };
-    let od = splices.item(fixed::od_struct(!node_relative.is_empty()));
+    let defaults = splices.item(defaults(plan, &image, &node_relative));
+    let od = splices.item(fixed::od_struct());
     quote! {
         /// The size of the value image in bytes.
         const IMAGE_SIZE: usize = #size;
@@ -71,10 +54,18 @@ pub fn structs(plan: &Plan, splices: &mut Splices) -> TokenStream {
 
         #defaults
 
-        #node_table
-
         #od
     }
+}
+
+/// How many low bytes of a `$NODEID` default of `wire` bytes holding `raw` (its offset from
+/// the node-ID) a node-ID's carry can reach: the bytes above them are zero and stay so, so its
+/// run in `DEFAULTS` leaves them out (`$NODEID+0x180` in an UNSIGNED32 needs 80 01 only).
+fn node_id_reach(raw: u64, wire: usize) -> usize {
+    let value = u128::from(raw) & ((1u128 << (8 * wire)) - 1);
+    (1..wire)
+        .find(|&bytes| value + 255 < 1u128 << (8 * bytes))
+        .unwrap_or(wire)
 }
 
 /// `DEFAULTS`, the default image as runs (see [`default_runs`]), with its doc and the table of
@@ -94,16 +85,17 @@ fn stage_size(plan: &Plan) -> usize {
         .unwrap_or(0)
 }
 
-fn defaults(plan: &Plan, image: &[u8]) -> String {
+fn defaults(plan: &Plan, image: &[u8], node_relative: &[(usize, usize)]) -> String {
     let mut out = String::new();
     let doc = [
-        " The value image with every entry at its default (`$NODEID` ones at their offset from",
-        " the node-ID), as runs of its non-zero bytes: a gap, a length and that many bytes",
-        " each (see `edsgen_runtime::od::image::unpack_defaults`).",
+        " The value image with every entry at its default, as runs of its non-zero bytes: a",
+        " gap, a length and that many bytes each, a `$NODEID` default in a run of its own (its",
+        " offset from the node-ID, which `Od::new` adds; see",
+        " `edsgen_runtime::od::image::unpack_defaults`).",
     ];
     text::docs(&mut out, ITEM_INDENT, &doc);
     text::docs(&mut out, ITEM_INDENT, &default_table(plan));
-    let runs = default_runs(image);
+    let runs = default_runs(image, node_relative);
     let head = format!("const DEFAULTS: [u8; {}] = ", runs.len());
     let runs = text::Decimals::new(runs.iter().map(|&b| u32::from(b)));
     text::literal_array(&mut out, ITEM_INDENT, &head, &runs.cells());
@@ -157,39 +149,59 @@ fn default_table(plan: &Plan) -> Vec<String> {
 
 /// The runs `edsgen_runtime::od::image::unpack_defaults` turns back into `image`: for each stretch of
 /// non-zero bytes, the gap since the previous run, the length and the bytes. Zero gaps of up to
-/// two bytes stay inside a run (they cost what a new run's gap and length would); a gap or a
-/// stretch longer than 255 bytes takes several runs.
-fn default_runs(image: &[u8]) -> Vec<u8> {
+/// two bytes stay inside a run (they cost what a new run's gap and length would); a gap longer
+/// than 255 bytes or a stretch longer than 127 takes several runs. Each `$NODEID` default
+/// (offset, bytes) in `node_relative` is a run of its own, its length marked with
+/// `NODE_RELATIVE`: the bytes a node-ID's carry can reach, zeros included.
+fn default_runs(image: &[u8], node_relative: &[(usize, usize)]) -> Vec<u8> {
+    const LONGEST: usize = NODE_RELATIVE as usize - 1;
+    // The width of the `$NODEID` default starting at each offset (0: none).
+    let mut width_at = vec![0; image.len()];
+    for &(at, width) in node_relative {
+        width_at[at] = width;
+    }
     let mut runs = Vec::new();
     let (mut end_of_previous, mut start) = (0usize, 0usize);
     while start < image.len() {
-        if image[start] == 0 {
+        let (end, mark) = if width_at[start] > 0 {
+            (start + width_at[start], NODE_RELATIVE)
+        } else if image[start] == 0 {
             start += 1;
             continue;
-        }
-        let mut end = start;
-        while end < image.len() && end - start < 255 {
-            if image[end] != 0 {
-                end += 1;
-                continue;
+        } else {
+            let mut end = start;
+            while end < image.len() && end - start < LONGEST && width_at[end] == 0 {
+                if image[end] != 0 {
+                    end += 1;
+                    continue;
+                }
+                let zeros = image[end..].iter().take_while(|&&b| b == 0).count();
+                if zeros > 2
+                    || end + zeros >= image.len()
+                    || end + zeros - start >= LONGEST
+                    || width_at[end..=end + zeros].iter().any(|&w| w > 0)
+                {
+                    break;
+                }
+                end += zeros;
             }
-            let zeros = image[end..].iter().take_while(|&&b| b == 0).count();
-            if zeros > 2 || end + zeros >= image.len() || end + zeros - start >= 255 {
-                break;
-            }
-            end += zeros;
-        }
+            (end, 0)
+        };
         let mut gap = start - end_of_previous;
         while gap > 255 {
             runs.extend([255, 0]);
             gap -= 255;
         }
-        runs.extend([gap as u8, (end - start) as u8]);
+        runs.extend([gap as u8, (end - start) as u8 | mark]);
         runs.extend_from_slice(&image[start..end]);
         (end_of_previous, start) = (end, end);
     }
     runs
 }
+
+/// The bit of a run's length that marks a `$NODEID` default: the runtime's
+/// `edsgen_runtime::od::image::NODE_RELATIVE`.
+const NODE_RELATIVE: u8 = 0x80;
 
 /// A static array's initialiser: `[]`, or the rows after the `use` of the short names they need.
 fn array_body(rows: &[TokenStream], imports: TokenStream) -> TokenStream {
@@ -374,31 +386,68 @@ fn services(has: impl Fn(u16) -> bool) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{default_runs, services};
+    use super::{default_runs, node_id_reach, services, NODE_RELATIVE};
     use edsgen_runtime::od::image::unpack_defaults;
     use proptest::prelude::*;
 
-    fn unpacked(runs: &[u8], len: usize) -> Vec<u8> {
+    fn unpacked(runs: &[u8], len: usize, node_id: u8) -> Vec<u8> {
         let mut values = vec![0; len];
-        unpack_defaults(&mut values, runs);
+        unpack_defaults(&mut values, runs, node_id);
         values
     }
 
     #[test]
     fn runs_skip_zeros_and_keep_short_zero_gaps_inside() {
-        assert_eq!(default_runs(&[0; 9]), Vec::<u8>::new());
-        assert_eq!(default_runs(&[0, 0, 5]), vec![2, 1, 5]);
+        assert_eq!(default_runs(&[0; 9], &[]), Vec::<u8>::new());
+        assert_eq!(default_runs(&[0, 0, 5], &[]), vec![2, 1, 5]);
         // Two zeros stay inside the run, three start a new one.
-        assert_eq!(default_runs(&[1, 0, 0, 2]), vec![0, 4, 1, 0, 0, 2]);
-        assert_eq!(default_runs(&[1, 0, 0, 0, 2, 0]), vec![0, 1, 1, 3, 1, 2]);
+        assert_eq!(default_runs(&[1, 0, 0, 2], &[]), vec![0, 4, 1, 0, 0, 2]);
+        assert_eq!(
+            default_runs(&[1, 0, 0, 0, 2, 0], &[]),
+            vec![0, 1, 1, 3, 1, 2]
+        );
         // A gap of 300 zeros takes an empty run of gap 255 first.
         let mut image = vec![0; 301];
         image[300] = 7;
-        assert_eq!(default_runs(&image), vec![255, 0, 45, 1, 7]);
-        // 300 non-zero bytes take two runs.
-        let runs = default_runs(&[9; 300]);
-        assert_eq!(runs.len(), 2 + 255 + 2 + 45);
-        assert_eq!((runs[0], runs[1], runs[257], runs[258]), (0, 255, 0, 45));
+        assert_eq!(default_runs(&image, &[]), vec![255, 0, 45, 1, 7]);
+        // 300 non-zero bytes take three runs.
+        let runs = default_runs(&[9; 300], &[]);
+        assert_eq!(runs.len(), 2 + 127 + 2 + 127 + 2 + 46);
+        assert_eq!((runs[0], runs[1], runs[129], runs[258]), (0, 127, 0, 0));
+        assert_eq!((runs[130], runs[259]), (127, 46));
+    }
+
+    #[test]
+    fn a_node_id_run_holds_the_bytes_a_carry_can_reach() {
+        assert_eq!(node_id_reach(0x180, 4), 2);
+        assert_eq!(node_id_reach(0x80, 4), 2);
+        assert_eq!(node_id_reach(0, 4), 1);
+        assert_eq!(node_id_reach(0, 1), 1);
+        assert_eq!(node_id_reach(0xFF00, 2), 2);
+        assert_eq!(node_id_reach(0xFEFF, 4), 2);
+        assert_eq!(node_id_reach(0xFF01, 4), 3);
+        assert_eq!(node_id_reach(u64::MAX, 8), 8);
+    }
+
+    #[test]
+    fn the_node_id_mark_is_the_runtimes() {
+        assert_eq!(NODE_RELATIVE, edsgen_runtime::od::image::NODE_RELATIVE);
+    }
+
+    #[test]
+    fn a_node_id_default_is_a_run_of_its_own_with_its_zeros() {
+        // `$NODEID+0x180` (4 bytes) after a 1 and before a 2: neither run takes it in.
+        let image = [1, 0, 0x80, 0x01, 0, 0, 2];
+        assert_eq!(
+            default_runs(&image, &[(1, 4)]),
+            vec![0, 1, 1, 0, 0x84, 0, 0x80, 0x01, 0, 1, 1, 2]
+        );
+        assert_eq!(
+            unpacked(&default_runs(&image, &[(1, 4)]), 7, 5),
+            [1, 5, 0x80, 0x01, 0, 0, 2]
+        );
+        // A zero default (`$NODEID` alone) still has its run.
+        assert_eq!(default_runs(&[0, 0], &[(0, 2)]), vec![0, 0x82, 0, 0]);
     }
 
     proptest! {
@@ -407,7 +456,7 @@ mod tests {
         fn runs_unpack_to_the_image(
             image in proptest::collection::vec(prop_oneof![4 => Just(0u8), 1 => any::<u8>()], 0..700),
         ) {
-            prop_assert_eq!(unpacked(&default_runs(&image), image.len()), image);
+            prop_assert_eq!(unpacked(&default_runs(&image, &[]), image.len(), 0), image);
         }
     }
 
