@@ -16,42 +16,31 @@ impl SdoServer {
         request: Frame<'_>,
         od: &mut O,
     ) -> Handled {
-        let data = request.data();
-        let len = match (request.expedited(), request.size_indicated()) {
-            (true, true) => usize::from(request.expedited_len()),
-            (true, false) => {
-                let len = target.capacity;
-                if !(1..=data.len()).contains(&len) {
-                    return Err(SdoAbort::LengthMismatch);
-                }
-                len
+        if request.expedited() {
+            // The size indicated, else the entry's, which must fit the four bytes.
+            let len = if request.size_indicated() {
+                usize::from(request.expedited_len())
+            } else {
+                target.capacity
+            };
+            let data = request.data();
+            if !(1..=data.len()).contains(&len) {
+                return Err(SdoAbort::LengthMismatch);
             }
-            (false, indicated) => {
-                let size = indicated.then(|| request.value());
-                return self.start_download(target, size, od);
-            }
-        };
-        od.write_at(target.position, &data[..len])?;
-        self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
-        Ok(())
-    }
-
-    fn start_download<O: ObjectDictionary + ?Sized>(
-        &mut self,
-        target: WriteTarget,
-        size: Option<u32>,
-        od: &mut O,
-    ) -> Handled {
-        Self::check_announced_size(&target, size)?;
-        Self::open(&target, od)?;
-        self.transfer = Transfer::Segmented(Segmented {
-            download: true,
-            toggle: false,
-            sized: size.is_some(),
-            target,
-            end: size.map_or(target.capacity, |size| size as usize),
-            offset: 0,
-        });
+            od.write_at(target.position, &data[..len])?;
+        } else {
+            let size = request.size_indicated().then(|| request.value());
+            Self::check_announced_size(&target, size)?;
+            Self::open(&target, od)?;
+            self.transfer = Transfer::Segmented(Segmented {
+                download: true,
+                toggle: false,
+                sized: size.is_some(),
+                target,
+                end: size.map_or(target.capacity, |size| size as usize),
+                offset: 0,
+            });
+        }
         self.respond_mux(command::of(scs::INITIATE_DOWNLOAD), 0);
         Ok(())
     }
