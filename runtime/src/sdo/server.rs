@@ -481,7 +481,7 @@ impl SdoServer {
     }
 
     /// Checks that `len` bytes of download data fit the announced size and the entry (block
-    /// downloads; a segmented one tests the announced size once, in `download_segment`).
+    /// downloads; a segmented one tests the announced size once, in `segment`).
     #[cfg(feature = "sdo-block")]
     fn check_received(len: usize, size: Option<u32>, capacity: usize) -> Result<(), SdoAbort> {
         if size.is_some_and(|size| len > size as usize) {
