@@ -187,10 +187,6 @@ impl SdoServer {
         request: &[u8],
         od: &mut O,
     ) -> Option<SdoEvent> {
-        if let Transfer::Idle = self.transfer {
-            // Until an initiate request names an entry, aborts name none.
-            self.mux = Multiplexer::new(0, 0);
-        }
         let outcome = match Frame::new_checked(request) {
             Ok(frame) => self.handle_frame(frame, od).map(|()| frame.specifier()),
             Err(_) => Err(SdoAbort::InvalidCommand),
@@ -205,10 +201,15 @@ impl SdoServer {
                     specifier,
                     ccs::INITIATE_DOWNLOAD | ccs::DOWNLOAD_SEGMENT | ccs::BLOCK_DOWNLOAD
                 );
-                (download && idle).then_some(SdoEvent::Written {
+                let event = (download && idle).then_some(SdoEvent::Written {
                     index: self.mux.index,
                     sub: self.mux.sub,
-                })
+                });
+                if idle {
+                    // Until an initiate request names an entry, aborts name none.
+                    self.mux = Multiplexer::new(0, 0);
+                }
+                event
             }
             Err(abort) => {
                 self.release(od);
@@ -294,6 +295,8 @@ impl SdoServer {
     fn abort(&mut self, abort: SdoAbort) {
         self.respond_mux(command::of(scs::ABORT), abort.code());
         self.end_transfer();
+        // As after any transfer: until an initiate request names an entry, aborts name none.
+        self.mux = Multiplexer::new(0, 0);
     }
 
     /// Queues a response: its command byte and the 7 bytes that follow. The server writes its
@@ -362,9 +365,10 @@ impl SdoServer {
         // On the command specifier first, and on the transfer in progress only where a segment
         // needs it: matching a copy of the transfer with every request loads all of it first.
         match request.specifier() {
+            // The transfer ends (its deadline with it, in `handle`), without a response.
             ccs::ABORT => {
                 self.release(od);
-                self.end_transfer();
+                self.transfer = Transfer::Idle;
                 Ok(())
             }
             ccs::INITIATE_DOWNLOAD | ccs::INITIATE_UPLOAD => {
@@ -395,10 +399,11 @@ impl SdoServer {
     /// `mux`.
     #[inline]
     fn start<O: ObjectDictionary + ?Sized>(&mut self, mux: Multiplexer, od: &mut O) {
+        // Nothing to forget when idle, the most frequent case (an expedited transfer).
         if !matches!(self.transfer, Transfer::Idle) {
             self.release(od);
+            self.transfer = Transfer::Idle;
         }
-        self.transfer = Transfer::Idle;
         self.mux = mux;
     }
 
@@ -418,6 +423,7 @@ impl SdoServer {
 
     /// The addressed entry's position and, for a fixed-size type, its size, if an SDO may
     /// write it (a `download`) or read it.
+    #[inline(always)]
     fn accessible_entry<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
         download: bool,
