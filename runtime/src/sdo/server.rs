@@ -51,7 +51,7 @@
 //! This module holds the channel's state and dispatches each request; `segmented` serves the
 //! expedited and segmented transfers and `block` the block transfers.
 
-use crate::od::{EntryKind, ObjectDictionary, SdoAbort};
+use crate::od::{ObjectDictionary, SdoAbort};
 use crate::time::{Duration, Instant};
 use crate::wire::sdo::command::{self, ccs, scs};
 use crate::wire::sdo::{frame, Frame, Multiplexer, FRAME_LEN, SEGMENT_DATA_LEN};
@@ -86,31 +86,32 @@ struct WriteTarget {
     fixed: bool,
 }
 
-/// A normal (segmented) download: a fixed-size value collected in `held`, another streamed
-/// into the dictionary's staging.
+/// A normal (segmented) transfer in either direction, between its initiate and its last
+/// segment. Both directions keep the same few fields, so that one step serves a segment of
+/// either: the toggle, the bytes so far and where they end.
 #[derive(Debug, Clone, Copy)]
-struct Download {
+struct Segmented {
+    /// A download (else an upload).
+    download: bool,
+    /// The toggle bit the next segment carries.
     toggle: bool,
-    size: Option<u32>,
+    /// Whether `end` is a size the last segment must reach: an upload's, or a download's
+    /// announced size (else the entry's capacity, which a download may stop short of).
+    sized: bool,
+    /// The entry: where a download goes (a fixed-size value collected in `held`, another
+    /// streamed into the dictionary's staging), or where an upload is read from.
     target: WriteTarget,
-    /// Bytes received so far.
-    len: usize,
-}
-
-/// A normal (segmented) upload streamed from the dictionary.
-#[derive(Debug, Clone, Copy)]
-struct Upload {
-    toggle: bool,
-    position: usize,
+    /// Where the transfer ends: an upload's value length, a download's announced size or
+    /// else its entry's capacity.
+    end: usize,
+    /// Bytes transferred so far.
     offset: usize,
-    total: usize,
 }
 
 #[derive(Debug, Clone, Copy)]
 enum Transfer {
     Idle,
-    Download(Download),
-    Upload(Upload),
+    Segmented(Segmented),
     #[cfg(feature = "sdo-block")]
     BlockDownload(BlockDownload),
     #[cfg(feature = "sdo-block")]
@@ -136,10 +137,10 @@ pub struct SdoServer {
     block_size: u8,
 }
 
-/// What handling one request did, when it did not abort: whether it wrote the addressed entry
-/// (`mux`), which [`SdoServer::handle`] reports as [`SdoEvent::Written`]. A flag rather than the
-/// event, which is smaller to return through every step.
-type Handled = Result<bool, SdoAbort>;
+/// How handling one request ended: `Err` aborts the transfer. Whether it wrote the entry is
+/// not returned through every step but read from the state it left ([`SdoServer::handle`]):
+/// a `Result` of nothing but the abort code fits a register.
+type Handled = Result<(), SdoAbort>;
 
 impl SdoServer {
     /// A server with no transfer in progress, aborting a transfer after `timeout` without a
@@ -186,24 +187,29 @@ impl SdoServer {
         request: &[u8],
         od: &mut O,
     ) -> Option<SdoEvent> {
-        if let Transfer::Idle = self.transfer {
-            // Until an initiate request names an entry, aborts name none.
-            self.mux = Multiplexer::new(0, 0);
-        }
         let outcome = match Frame::new_checked(request) {
-            Ok(request) => self.handle_frame(request, od),
+            Ok(frame) => self.handle_frame(frame, od).map(|()| frame.specifier()),
             Err(_) => Err(SdoAbort::InvalidCommand),
         };
         match outcome {
-            Ok(written) => {
-                self.deadline = match self.transfer {
-                    Transfer::Idle => None,
-                    _ => Some(now + self.timeout),
-                };
-                written.then_some(SdoEvent::Written {
+            Ok(specifier) => {
+                let idle = matches!(self.transfer, Transfer::Idle);
+                self.deadline = (!idle).then(|| now + self.timeout);
+                // A download request (expedited, a segment, a block download's end) that leaves
+                // no transfer open has completed its download: the entry is written.
+                let download = matches!(
+                    specifier,
+                    ccs::INITIATE_DOWNLOAD | ccs::DOWNLOAD_SEGMENT | ccs::BLOCK_DOWNLOAD
+                );
+                let event = (download && idle).then_some(SdoEvent::Written {
                     index: self.mux.index,
                     sub: self.mux.sub,
-                })
+                });
+                if idle {
+                    // Until an initiate request names an entry, aborts name none.
+                    self.mux = Multiplexer::new(0, 0);
+                }
+                event
             }
             Err(abort) => {
                 self.release(od);
@@ -262,7 +268,7 @@ impl SdoServer {
     /// and neither committed nor aborted), and into which entry.
     fn streaming(&self) -> Option<usize> {
         let target = match &self.transfer {
-            Transfer::Download(download) => &download.target,
+            Transfer::Segmented(segmented) => &segmented.target,
             #[cfg(feature = "sdo-block")]
             Transfer::BlockDownload(block) => &block.target,
             _ => return None,
@@ -289,6 +295,8 @@ impl SdoServer {
     fn abort(&mut self, abort: SdoAbort) {
         self.respond_mux(command::of(scs::ABORT), abort.code());
         self.end_transfer();
+        // As after any transfer: until an initiate request names an entry, aborts name none.
+        self.mux = Multiplexer::new(0, 0);
     }
 
     /// Queues a response: its command byte and the 7 bytes that follow. The server writes its
@@ -357,32 +365,28 @@ impl SdoServer {
         // On the command specifier first, and on the transfer in progress only where a segment
         // needs it: matching a copy of the transfer with every request loads all of it first.
         match request.specifier() {
+            // The transfer ends (its deadline with it, in `handle`), without a response.
             ccs::ABORT => {
                 self.release(od);
-                self.end_transfer();
-                Ok(false)
+                self.transfer = Transfer::Idle;
+                Ok(())
             }
-            ccs::INITIATE_DOWNLOAD => {
+            ccs::INITIATE_DOWNLOAD | ccs::INITIATE_UPLOAD => {
+                // Both initiates address an entry the same way; only the access they need
+                // differs.
                 let mux = request.mux();
                 self.start(mux, od);
-                self.initiate_download(mux, request, od)
-            }
-            ccs::INITIATE_UPLOAD => {
-                let mux = request.mux();
-                self.start(mux, od);
-                self.initiate_upload(mux, od)
-            }
-            ccs::DOWNLOAD_SEGMENT => match self.transfer {
-                Transfer::Download(download) => {
-                    let bytes = request.segment_data();
-                    self.download_segment(download, request.toggle(), bytes, request.last(), od)
+                let download = request.specifier() == ccs::INITIATE_DOWNLOAD;
+                let (position, fixed) = Self::accessible_entry(mux, download, od)?;
+                if download {
+                    let target = Self::write_target(position, fixed, od);
+                    self.initiate_download(target, request, od)
+                } else {
+                    let total = Self::upload_len(position, fixed, od)?;
+                    self.start_upload(position, total, od)
                 }
-                _ => Err(SdoAbort::InvalidCommand),
-            },
-            ccs::UPLOAD_SEGMENT => match self.transfer {
-                Transfer::Upload(upload) => self.upload_segment(upload, request.toggle(), od),
-                _ => Err(SdoAbort::InvalidCommand),
-            },
+            }
+            ccs::DOWNLOAD_SEGMENT | ccs::UPLOAD_SEGMENT => self.segment(request, od),
             #[cfg(feature = "sdo-block")]
             ccs::BLOCK_UPLOAD | ccs::BLOCK_DOWNLOAD => {
                 self.handle_block_request(request, request.mux(), od)
@@ -395,10 +399,11 @@ impl SdoServer {
     /// `mux`.
     #[inline]
     fn start<O: ObjectDictionary + ?Sized>(&mut self, mux: Multiplexer, od: &mut O) {
+        // Nothing to forget when idle, the most frequent case (an expedited transfer).
         if !matches!(self.transfer, Transfer::Idle) {
             self.release(od);
+            self.transfer = Transfer::Idle;
         }
-        self.transfer = Transfer::Idle;
         self.mux = mux;
     }
 
@@ -416,53 +421,56 @@ impl SdoServer {
         }
     }
 
-    /// Where a download goes, if an SDO may write the entry.
-    fn writable_entry<O: ObjectDictionary + ?Sized>(
+    /// The addressed entry's position and, for a fixed-size type, its size, if an SDO may
+    /// write it (a `download`) or read it.
+    #[inline(always)]
+    fn accessible_entry<O: ObjectDictionary + ?Sized>(
         mux: Multiplexer,
+        download: bool,
         od: &O,
-    ) -> Result<WriteTarget, SdoAbort> {
+    ) -> Result<(usize, Option<usize>), SdoAbort> {
         let position = od.locate(mux.index, mux.sub)?;
         let entry = od.kind(position).ok_or(SdoAbort::NoObject)?;
-        if !entry.access().writable() {
-            return Err(SdoAbort::ReadOnly);
+        let access = entry.access();
+        if download {
+            if !access.writable() {
+                return Err(SdoAbort::ReadOnly);
+            }
+        } else if !access.readable() {
+            return Err(SdoAbort::WriteOnly);
         }
-        let fixed = entry.data_type().fixed_size();
-        Ok(WriteTarget {
+        Ok((position, entry.data_type().fixed_size()))
+    }
+
+    /// Where a download into the entry at `position` goes: its fixed size, else the most bytes
+    /// the dictionary says it holds.
+    fn write_target<O: ObjectDictionary + ?Sized>(
+        position: usize,
+        fixed: Option<usize>,
+        od: &O,
+    ) -> WriteTarget {
+        WriteTarget {
             position,
             capacity: fixed
                 .or_else(|| od.capacity(position))
                 .unwrap_or(usize::MAX),
             fixed: fixed.is_some(),
-        })
-    }
-
-    /// The entry's position in the OD's table and its descriptor, if an SDO may read it.
-    fn readable_entry<O: ObjectDictionary + ?Sized>(
-        mux: Multiplexer,
-        od: &O,
-    ) -> Result<(usize, EntryKind), SdoAbort> {
-        let position = od.locate(mux.index, mux.sub)?;
-        let entry = od.kind(position).ok_or(SdoAbort::NoObject)?;
-        if !entry.access().readable() {
-            return Err(SdoAbort::WriteOnly);
         }
-        Ok((position, entry))
     }
 
-    /// A readable entry's position and the length of its value: a fixed-size type's size from
-    /// its descriptor (no second search), else the OD's current length. Inlined into the
-    /// upload's initiate: out of line, an expedited upload pays its call and frame.
+    /// The length of a readable entry's value: a fixed-size type's size from its descriptor
+    /// (no second search), else the OD's current length. Inlined into the upload's initiate:
+    /// out of line, an expedited upload pays its call and frame.
     #[inline(always)]
     fn upload_len<O: ObjectDictionary + ?Sized>(
-        mux: Multiplexer,
+        position: usize,
+        fixed: Option<usize>,
         od: &O,
-    ) -> Result<(usize, usize), SdoAbort> {
-        let (position, entry) = Self::readable_entry(mux, od)?;
-        let len = match entry.data_type().fixed_size() {
-            Some(size) => size,
-            None => od.value_len_at(position)?,
-        };
-        Ok((position, len))
+    ) -> Result<usize, SdoAbort> {
+        match fixed {
+            Some(size) => Ok(size),
+            None => od.value_len_at(position),
+        }
     }
 
     /// Checks a download's announced size against the entry.
@@ -479,7 +487,7 @@ impl SdoServer {
     }
 
     /// Checks that `len` bytes of download data fit the announced size and the entry (block
-    /// downloads; a segmented one tests the announced size once, in `download_segment`).
+    /// downloads; a segmented one tests the announced size once, in `segment`).
     #[cfg(feature = "sdo-block")]
     fn check_received(len: usize, size: Option<u32>, capacity: usize) -> Result<(), SdoAbort> {
         if size.is_some_and(|size| len > size as usize) {

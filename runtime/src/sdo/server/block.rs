@@ -136,7 +136,7 @@ impl SdoServer {
                 if upload.phase == BlockUploadPhase::WaitEnd =>
             {
                 self.end_transfer();
-                Ok(false)
+                Ok(())
             }
             // Block upload response (cs = 2): ackseq, blksize.
             (ccs::BLOCK_UPLOAD, 2, Transfer::BlockUpload(upload))
@@ -150,7 +150,7 @@ impl SdoServer {
             {
                 upload.phase = BlockUploadPhase::Sending;
                 self.transfer = Transfer::BlockUpload(upload);
-                Ok(false)
+                Ok(())
             }
             // Initiate block download (cs = 0), with the size if indicated (s).
             (ccs::BLOCK_DOWNLOAD, 0 | 2, _) => {
@@ -174,7 +174,8 @@ impl SdoServer {
         size: Option<u32>,
         od: &mut O,
     ) -> Handled {
-        let target = Self::writable_entry(mux, od)?;
+        let (position, fixed) = Self::accessible_entry(mux, true, od)?;
+        let target = Self::write_target(position, fixed, od);
         Self::check_announced_size(&target, size)?;
         Self::open(&target, od)?;
         self.transfer = Transfer::BlockDownload(BlockDownload {
@@ -190,7 +191,7 @@ impl SdoServer {
         // Initiate block download response (ss = 0), CRC supported (sc).
         let response = command::of(scs::BLOCK_DOWNLOAD) | command::crc_bit(true);
         self.respond_mux(response, u32::from(self.block_size));
-        Ok(false)
+        Ok(())
     }
 
     /// Writes the held segment's first `len` bytes (the whole segment unless it is the last)
@@ -246,7 +247,7 @@ impl SdoServer {
             block.ackseq = 0;
         }
         self.transfer = Transfer::BlockDownload(block);
-        Ok(false)
+        Ok(())
     }
 
     fn end_block_download<O: ObjectDictionary + ?Sized>(
@@ -278,7 +279,7 @@ impl SdoServer {
         self.commit(&block.target, len, od)?;
         // End block download response (ss = 1).
         self.respond(command::of(scs::BLOCK_DOWNLOAD) | 1, [0; SEGMENT_DATA_LEN]);
-        Ok(true)
+        Ok(())
     }
 
     fn initiate_block_upload<O: ObjectDictionary + ?Sized>(
@@ -289,7 +290,8 @@ impl SdoServer {
         pst: u8,
         od: &O,
     ) -> Handled {
-        let (position, total) = Self::upload_len(mux, od)?;
+        let (position, fixed) = Self::accessible_entry(mux, false, od)?;
+        let total = Self::upload_len(position, fixed, od)?;
         if blksize == 0 || blksize > MAX_BLOCK_SIZE {
             return Err(SdoAbort::InvalidBlockSize);
         }
@@ -310,7 +312,7 @@ impl SdoServer {
         let response =
             command::of(scs::BLOCK_UPLOAD) | command::crc_bit(true) | command::BLOCK_SIZE_INDICATED;
         self.respond_mux(response, size);
-        Ok(false)
+        Ok(())
     }
 
     fn block_upload_ack<O: ObjectDictionary + ?Sized>(
@@ -345,7 +347,7 @@ impl SdoServer {
             upload.phase = BlockUploadPhase::Sending;
         }
         self.transfer = Transfer::BlockUpload(upload);
-        Ok(false)
+        Ok(())
     }
 
     /// The CRC of the first `total` bytes of the addressed value, read from the dictionary.
