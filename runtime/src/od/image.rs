@@ -268,31 +268,32 @@ impl Layout {
             start,
             size,
         } = self.place(position)?;
-        if holds_bytes(data_type) {
+        let reserved = if holds_bytes(data_type) {
             if data.len() > size {
                 return Err(SdoAbort::LengthTooHigh);
             }
-            let target = values
-                .get_mut(start..start + 2 + data.len())
-                .ok_or(SdoAbort::NoObject)?;
-            let (len, bytes) = target.split_at_mut(2);
-            len.copy_from_slice(&(data.len() as u16).to_le_bytes());
-            bytes.copy_from_slice(data);
-            return Ok(());
-        }
-        if data.len() != size {
-            return Err(length_abort(data.len() > size));
-        }
-        if data_type == DataType::Boolean && data.first().is_some_and(|&byte| byte > 1) {
-            return Err(SdoAbort::InvalidValue);
-        }
-        if !self.limits.is_empty() {
-            self.check_limit(position, data_type, data)?;
-        }
+            2
+        } else {
+            if data.len() != size {
+                return Err(length_abort(data.len() > size));
+            }
+            if data_type == DataType::Boolean && data.first().is_some_and(|&byte| byte > 1) {
+                return Err(SdoAbort::InvalidValue);
+            }
+            if !self.limits.is_empty() {
+                self.check_limit(position, data_type, data)?;
+            }
+            0
+        };
+        // One copy for both: a string's bytes follow its 2-byte current length.
         let target = values
-            .get_mut(start..start + size)
+            .get_mut(start..start + reserved + data.len())
             .ok_or(SdoAbort::NoObject)?;
-        copy_value(target, data);
+        let (len, bytes) = target.split_at_mut(reserved);
+        if let Ok(len) = <&mut [u8; 2]>::try_from(len) {
+            *len = (data.len() as u16).to_le_bytes();
+        }
+        copy_value(bytes, data);
         Ok(())
     }
 
