@@ -363,7 +363,7 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
             // The second channel is read from 1201h by reset communication below.
             sdo: [SdoChannel::new(node_id), SdoChannel::new(node_id)],
             error_control: ErrorControl::OFF,
-            sync: Sync::default(),
+            sync: Sync::OFF,
             emcy: Emcy::default(),
             rpdos: const { [Rpdo::OFF; RPDOS] },
             tpdos: const { [Tpdo::OFF; TPDOS] },

@@ -10,7 +10,7 @@ use crate::time::{Duration, Instant};
 use crate::wire::pdo::CobIdEntry;
 use crate::wire::sync::{SyncRepr, SYNC_COB_ID};
 
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Sync {
     cob_id: u16,
     producer: bool,
@@ -25,6 +25,20 @@ pub(crate) struct Sync {
 }
 
 impl Sync {
+    /// Nothing configured: the state before reset communication reads 1005h, 1006h, 1007h and
+    /// 1019h. A constant of zeros rather than a (derived) `Default`, so that power-on clears it
+    /// with one memset together with the state beside it.
+    pub const OFF: Sync = Sync {
+        cob_id: 0,
+        producer: false,
+        period: Duration::ZERO,
+        window: Duration::ZERO,
+        overflow: 0,
+        counter: 0,
+        due: false,
+        due_counter: None,
+    };
+
     /// Reads 1005h, 1006h, 1007h and 1019h, and restarts the counter.
     pub fn configure<O: ObjectDictionary + ?Sized>(&mut self, od: &O) {
         let cob = CobIdEntry(read_uint_or(od, 0x1005, 0, u32::from(SYNC_COB_ID)));
