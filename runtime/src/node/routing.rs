@@ -187,11 +187,12 @@ impl<O: ObjectDictionary, H: NodeHooks<O>, const RPDOS: usize, const TPDOS: usiz
     /// it at its one call.
     #[cold]
     fn rpdo_applied(&mut self, n: usize, recovered: bool) {
-        let rpdo = &self.rpdos[n];
-        if rpdo.feeds_tpdo() {
-            let mapping = *rpdo.mapping();
-            for object in mapping.objects() {
+        if self.rpdos[n].feeds_tpdo() {
+            // By index, the mapping read in place (no copy to loop over while marking).
+            let mut i = 0;
+            while let Some(object) = self.rpdos[n].mapping().objects().get(i) {
                 self.mark_changed_at(object.position);
+                i += 1;
             }
         }
         if recovered && !self.rpdos.iter().any(|r| r.refused()) {
