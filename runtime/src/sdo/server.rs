@@ -259,7 +259,7 @@ impl SdoServer {
     /// response (NMT reset communication).
     pub fn reset<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
         self.release(od);
-        self.end_transfer();
+        self.deadline = None;
         self.pending = false;
         self.mux = Multiplexer::new(0, 0);
     }
