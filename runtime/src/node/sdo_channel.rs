@@ -81,9 +81,12 @@ impl SdoChannel {
         if !self.busy {
             return None;
         }
-        let response = self.server.poll_transmit(now, od);
-        self.busy = response.is_some();
-        Some(CanFrame::from_parts(self.tx, response?, 8))
+        // Busy until the server has nothing left: only then is the flag written.
+        let Some(response) = self.server.poll_transmit(now, od) else {
+            self.busy = false;
+            return None;
+        };
+        Some(CanFrame::from_parts(self.tx, response, 8))
     }
 
     /// When the transfer in progress times out, if one is.

@@ -259,7 +259,7 @@ impl SdoServer {
     /// response (NMT reset communication).
     pub fn reset<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
         self.release(od);
-        self.end_transfer();
+        self.deadline = None;
         self.pending = false;
         self.mux = Multiplexer::new(0, 0);
     }
@@ -276,12 +276,13 @@ impl SdoServer {
         (!target.fixed).then_some(target.position)
     }
 
-    /// Ends the download streaming into the dictionary, if one is, without applying it: the
-    /// entry keeps its value. The caller then ends the transfer.
+    /// Forgets the transfer in progress: a download streaming into the dictionary ends without
+    /// being applied (the entry keeps its value). The deadline is the caller's.
     #[inline(never)]
     fn release<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
-        if let Some(position) = self.streaming() {
-            self.transfer = Transfer::Idle;
+        let streaming = self.streaming();
+        self.transfer = Transfer::Idle;
+        if let Some(position) = streaming {
             od.abort_write(position);
         }
     }
@@ -368,7 +369,6 @@ impl SdoServer {
             // The transfer ends (its deadline with it, in `handle`), without a response.
             ccs::ABORT => {
                 self.release(od);
-                self.transfer = Transfer::Idle;
                 Ok(())
             }
             ccs::INITIATE_DOWNLOAD | ccs::INITIATE_UPLOAD => {
@@ -402,7 +402,6 @@ impl SdoServer {
         // Nothing to forget when idle, the most frequent case (an expedited transfer).
         if !matches!(self.transfer, Transfer::Idle) {
             self.release(od);
-            self.transfer = Transfer::Idle;
         }
         self.mux = mux;
     }
