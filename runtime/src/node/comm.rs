@@ -41,12 +41,12 @@ enum Checked {
     Done,
 }
 
+/// The first four bytes of a written value (fewer for a shorter one) as a little-endian number.
 fn value_u32(data: &[u8]) -> u32 {
-    let mut bytes = [0u8; 4];
-    for (slot, byte) in bytes.iter_mut().zip(data) {
-        *slot = *byte;
-    }
-    u32::from_le_bytes(bytes)
+    data.iter()
+        .take(4)
+        .rev()
+        .fold(0, |value, &byte| value << 8 | u32::from(byte))
 }
 
 /// CAN-IDs CiA 301 §7.3.5 restricts (NMT, the node-0 SYNC/EMCY/TIME range, the default SDO,

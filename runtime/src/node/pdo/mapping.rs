@@ -1,7 +1,7 @@
 //! The mapping a PDO packs or unpacks (1600h–17FFh, 1A00h–1BFFh) and the checks a mapping entry
 //! must pass (CiA 301 §7.4.7).
 
-use crate::od::{DataType, ObjectDictionary, SdoAbort};
+use crate::od::{ObjectDictionary, SdoAbort};
 use crate::wire::pdo::MappingEntry;
 
 /// The most objects one PDO can map.
@@ -186,12 +186,9 @@ fn check_entry<O: ObjectDictionary + ?Sized>(
     } else {
         descriptor.access().readable()
     };
+    // A DOMAIN has no fixed size, so the length check refuses it too.
     let size = descriptor.data_type().fixed_size();
-    if !descriptor.pdo_mappable()
-        || !allowed
-        || size != Some(len as usize)
-        || descriptor.data_type() == DataType::Domain
-    {
+    if !descriptor.pdo_mappable() || !allowed || size != Some(len as usize) {
         return Err(SdoAbort::NotMappable);
     }
     // A table of more than 65,535 entries maps only its first 65,535.
