@@ -195,12 +195,14 @@ impl ObjectDictionary for MinimalOd {
         edsgen_runtime::support::position(&ENTRIES, index, sub)
     }
 
-    /// The services of the objects above: no 1007h, 100Ch/100Dh or 1201h.
+    /// The services of the objects above: no 1007h, 100Ch/100Dh or 1201h, and no writable
+    /// string or domain.
     fn services(&self) -> Services {
         Services {
             sync_window: false,
             life_guarding: false,
             second_sdo: false,
+            streamed_writes: false,
             ..Services::ALL
         }
     }

@@ -92,6 +92,7 @@ fn a_node_without_the_optional_services_sends_what_one_assuming_them_sends() {
         emcy_inhibit: false,
         life_guarding: false,
         second_sdo: false,
+        streamed_writes: false,
     };
     let frames = traffic(lacking);
     assert_eq!(frames, traffic(Services::ALL));

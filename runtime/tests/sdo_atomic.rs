@@ -55,6 +55,8 @@ const TARGETS: [(u16, &[u8], &[u8]); 3] = [
 struct AtomicOd {
     values: [u8; IMAGE_SIZE],
     stage: Stage<STAGE_SIZE>,
+    /// What `services` says of writable strings and domains (`Services::streamed_writes`).
+    streamed_writes: bool,
 }
 
 impl AtomicOd {
@@ -62,6 +64,7 @@ impl AtomicOd {
         let mut od = AtomicOd {
             values: [0; IMAGE_SIZE],
             stage: Stage::new(),
+            streamed_writes: true,
         };
         let init: [(usize, &[u8]); 5] = [
             (1, &[2]),
@@ -88,6 +91,13 @@ impl AtomicOd {
 }
 
 impl ObjectDictionary for AtomicOd {
+    fn services(&self) -> edsgen_runtime::Services {
+        edsgen_runtime::Services {
+            streamed_writes: self.streamed_writes,
+            ..edsgen_runtime::Services::ALL
+        }
+    }
+
     fn entry_count(&self) -> usize {
         ENTRIES.len()
     }
@@ -440,6 +450,30 @@ fn every_broken_download_leaves_the_entry_and_emits_no_written_event() {
         }
     }
     assert_eq!(checked, 2 * cases().len() * TARGETS.len());
+}
+
+/// A dictionary that says it has no writable string or domain (`streamed_writes: false`, as a
+/// generated one without them does) gets no streaming code in its server: were it to have one
+/// after all, the server collects a download of up to 8 bytes and writes it whole, refuses a
+/// longer one with 0607 0012 at the segment that passes 8 bytes, and leaves the stage unused.
+#[test]
+fn without_streamed_writes_a_download_is_collected_and_written_whole() {
+    let mut rig = Rig::new();
+    rig.node.od_mut().streamed_writes = false;
+    let (_, rx, tx) = CHANNELS[0];
+    complete_download(&mut rig, 0, 0x2000, b"12345678");
+    complete_download(&mut rig, 0, 0x2001, b"short");
+    let old = rig.node.od().value(0x2002);
+    let frames = segmented(0x2002, b"0123456789");
+    let (answers, _) = rig.send(rx, tx, &frames[0]);
+    assert_eq!(answers, [with_mux(0x60, 0x2002, 0)]);
+    let (answers, _) = rig.send(rx, tx, &frames[1]);
+    assert_eq!(answers, [[0x20, 0, 0, 0, 0, 0, 0, 0]]);
+    let (answers, written) = rig.send(rx, tx, &frames[2]);
+    assert_eq!(answers, [abort(0x2002, SdoAbort::LengthTooHigh)]);
+    assert!(written.is_empty());
+    assert_eq!(rig.node.od().value(0x2002), old);
+    assert_eq!(rig.node.od().stage, Stage::new());
 }
 
 #[test]

@@ -130,6 +130,7 @@ pub mod ec_hand {
         emcy_inhibit: false,
         life_guarding: false,
         second_sdo: false,
+        streamed_writes: false,
     };
     impl ::edsgen_runtime::ObjectDictionary for Od {
         fn entry_count(&self) -> usize {

@@ -231,6 +231,7 @@ pub mod gd350 {
         emcy_inhibit: false,
         life_guarding: false,
         second_sdo: false,
+        streamed_writes: true,
     };
     impl ::edsgen_runtime::ObjectDictionary for Od {
         fn entry_count(&self) -> usize {

@@ -28,6 +28,12 @@ pub struct Services {
     pub life_guarding: bool,
     /// 1201h, the second SDO server's parameters: its channel.
     pub second_sdo: bool,
+    /// A writable entry whose data type does not fix its size (a string, octet string or
+    /// domain): downloads the SDO server streams into the dictionary
+    /// ([`begin_write`](super::ObjectDictionary::begin_write), `write_part`, `commit_write`).
+    /// Without one the server collects every download and writes it whole, and has no
+    /// streaming code.
+    pub streamed_writes: bool,
 }
 
 impl Services {
@@ -40,5 +46,6 @@ impl Services {
         emcy_inhibit: true,
         life_guarding: true,
         second_sdo: true,
+        streamed_writes: true,
     };
 }

@@ -266,21 +266,32 @@ impl SdoServer {
 
     /// Whether a download of a string, octet string or domain is open in the dictionary (begun
     /// and neither committed nor aborted), and into which entry.
-    fn streaming(&self) -> Option<usize> {
+    fn streaming<O: ObjectDictionary + ?Sized>(&self, od: &O) -> Option<usize> {
         let target = match &self.transfer {
             Transfer::Segmented(segmented) => &segmented.target,
             #[cfg(feature = "sdo-block")]
             Transfer::BlockDownload(block) => &block.target,
             _ => return None,
         };
-        (!target.fixed).then_some(target.position)
+        Self::streams(target, od).then_some(target.position)
+    }
+
+    /// Whether a download into `target` streams into the dictionary (a string, octet string or
+    /// domain) rather than being collected in `held` and written whole: never in a dictionary
+    /// without such writable entries ([`Services::streamed_writes`](crate::od::Services), a
+    /// constant in generated code), whose server then has no streaming code. Were such a
+    /// dictionary to have one after all, its downloads of up to 8 bytes would be written whole
+    /// and longer ones refused (0607 0012).
+    #[inline(always)]
+    fn streams<O: ObjectDictionary + ?Sized>(target: &WriteTarget, od: &O) -> bool {
+        !target.fixed && od.services().streamed_writes
     }
 
     /// Forgets the transfer in progress: a download streaming into the dictionary ends without
     /// being applied (the entry keeps its value). The deadline is the caller's.
     #[inline(never)]
     fn release<O: ObjectDictionary + ?Sized>(&mut self, od: &mut O) {
-        let streaming = self.streaming();
+        let streaming = self.streaming(od);
         self.transfer = Transfer::Idle;
         if let Some(position) = streaming {
             od.abort_write(position);
@@ -413,10 +424,10 @@ impl SdoServer {
         target: &WriteTarget,
         od: &mut O,
     ) -> Result<(), SdoAbort> {
-        if target.fixed {
-            Ok(())
-        } else {
+        if Self::streams(target, od) {
             od.begin_write(target.position)
+        } else {
+            Ok(())
         }
     }
 
@@ -508,7 +519,7 @@ impl SdoServer {
         data: &[u8],
         od: &mut O,
     ) -> Result<(), SdoAbort> {
-        if target.fixed {
+        if !Self::streams(target, od) {
             self.held
                 .get_mut(offset..offset + data.len())
                 .ok_or(SdoAbort::LengthTooHigh)?
@@ -530,7 +541,7 @@ impl SdoServer {
         len: usize,
         od: &mut O,
     ) -> Result<(), SdoAbort> {
-        if target.fixed {
+        if !Self::streams(target, od) {
             let data = self.held.get(..len).ok_or(SdoAbort::LengthTooHigh)?;
             od.write_at(target.position, data)
         } else {

@@ -357,13 +357,21 @@ const SERVICE_OBJECTS: [(&str, &[u16]); 7] = [
 /// `SERVICES`, which of the node's optional services the dictionary has the objects of, and
 /// `impl ObjectDictionary for Od` (the same in every module: `fixed::OD_IMPL`).
 pub fn od_impl(plan: &Plan, splices: &mut Splices) -> TokenStream {
-    let mut out = services(|index| plan.entries.iter().any(|e| e.index == index));
+    let streamed_writes = plan
+        .entries
+        .iter()
+        .any(|e| e.access.writable() && matches!(e.ty, RustType::Bytes(_)));
+    let mut out = services(
+        |index| plan.entries.iter().any(|e| e.index == index),
+        streamed_writes,
+    );
     out.push_str(fixed::OD_IMPL);
     splices.item(out)
 }
 
-/// `SERVICES`, for a dictionary that `has` the objects of some indices.
-fn services(has: impl Fn(u16) -> bool) -> String {
+/// `SERVICES`, for a dictionary that `has` the objects of some indices, and writable strings,
+/// octet strings or domains if `streamed_writes`.
+fn services(has: impl Fn(u16) -> bool, streamed_writes: bool) -> String {
     let mut out = String::with_capacity(512);
     text::docs(
         &mut out,
@@ -379,6 +387,8 @@ fn services(has: impl Fn(u16) -> bool) -> String {
         text::indent(&mut out, ITEM_INDENT + 4);
         let _ = writeln!(out, "{field}: {},", objects.iter().all(|&index| has(index)));
     }
+    text::indent(&mut out, ITEM_INDENT + 4);
+    let _ = writeln!(out, "streamed_writes: {streamed_writes},");
     text::indent(&mut out, ITEM_INDENT);
     out.push_str("};\n");
     out
@@ -462,15 +472,20 @@ mod tests {
 
     #[test]
     fn services_say_which_service_objects_the_dictionary_has() {
-        let cp301 = services(|index| matches!(index, 0x1000..=0x1018 if index != 0x1003));
+        let cp301 = services(
+            |index| matches!(index, 0x1000..=0x1018 if index != 0x1003),
+            false,
+        );
         assert!(cp301.contains("error_history: false,\n"));
         assert!(cp301.contains("sync_period: true,\n"));
         assert!(cp301.contains("emcy_inhibit: true,\n"));
         // Life guarding needs both 100Ch and 100Dh.
         assert!(cp301.contains("life_guarding: true,\n"));
         assert!(cp301.contains("second_sdo: false,\n"));
-        let guard_time_only = services(|index| index == 0x100C);
+        assert!(cp301.contains("streamed_writes: false,\n"));
+        let guard_time_only = services(|index| index == 0x100C, true);
         assert!(guard_time_only.contains("life_guarding: false,\n"));
+        assert!(guard_time_only.contains("streamed_writes: true,\n"));
         // As prettyplease prints it.
         let module = format!("mod m {{\n{cp301}}}\n");
         let file: syn::File = syn::parse_str(&module).expect("parses");
